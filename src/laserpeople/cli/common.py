@@ -1,0 +1,87 @@
+"""What every command shares: global flags, consoles and the progress bar."""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from typing import TypeVar
+
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    ProgressColumn,
+    Task,
+    TextColumn,
+    TimeElapsedColumn,
+)
+from rich.text import Text
+
+from laserpeople.errors import NotBuiltError
+
+T = TypeVar("T")
+
+console = Console()
+err_console = Console(stderr=True)
+
+
+@dataclass
+class CliState:
+    """Global flags given before the command name."""
+
+    debug: bool = False
+    quiet: bool = False
+
+
+STATE = CliState()
+
+
+class _RateColumn(ProgressColumn):
+    def render(self, task: Task) -> Text:
+        speed = task.finished_speed or task.speed
+        return Text(f"{speed:,.0f} scans/s" if speed else "", style="progress.data.speed")
+
+
+def progress(
+    items: Iterable[T], total: int | None = None, description: str = "scans"
+) -> Iterator[T]:
+    """Iterate with a progress bar showing scans/s on a terminal; silent in a pipe or --quiet."""
+    if STATE.quiet or not sys.stderr.isatty():
+        yield from items
+        return
+    columns = [
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        _RateColumn(),
+        TimeElapsedColumn(),
+    ]
+    with Progress(*columns, console=err_console, transient=False) as bar:
+        task = bar.add_task(description, total=total)
+        last = time.monotonic()
+        pending = 0
+        for item in items:
+            yield item
+            pending += 1
+            now = time.monotonic()
+            if now - last > 0.1:
+                bar.advance(task, pending)
+                pending, last = 0, now
+        bar.advance(task, pending)
+
+
+def say(message: str) -> None:
+    """Print a status line to stderr unless --quiet."""
+    if not STATE.quiet:
+        err_console.print(message, highlight=False)
+
+
+def not_built(command: str, issue: str) -> NotBuiltError:
+    """The error a command raises while the feature behind it is not part of this version."""
+    return NotBuiltError(
+        f"`laserpeople {command}` is not built in this version yet",
+        hint=f"it arrives with {issue}",
+    )

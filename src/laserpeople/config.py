@@ -1,0 +1,164 @@
+"""Parameters as frozen dataclasses, with their source and unit, loadable from TOML.
+
+Declare a parameter with :func:`param` so that ``--print-config`` and the generated
+parameter reference can say where its default comes from::
+
+    @dataclass(frozen=True)
+    class LegTrackerParams:
+        p_occ_approved: float = param(0.79, "000 Table 10", "P(occluded | approved track)")
+
+A TOML file sets parameters by section, the section named by the dataclass's
+``config_section`` class attribute (or its snake-cased class name)::
+
+    [leg_tracker]
+    p_occ_approved = 0.8
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, TypeVar, get_type_hints
+
+from laserpeople.errors import ConfigError
+
+T = TypeVar("T")
+
+
+def param(default: Any, source: str, doc: str, unit: str = "") -> Any:
+    """A dataclass field with a default, the source of that default, a description and unit."""
+    meta = {"source": source, "doc": doc, "unit": unit}
+    if isinstance(default, list | dict | set):
+        raise TypeError("use tuples or nested frozen dataclasses for parameter defaults")
+    if dataclasses.is_dataclass(default) and not isinstance(default, type):
+        return dataclasses.field(default_factory=lambda: default, metadata=meta)
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def section_name(cls: type) -> str:
+    """The TOML section of a parameter class."""
+    explicit = getattr(cls, "config_section", None)
+    if isinstance(explicit, str):
+        return explicit
+    name = cls.__name__.removesuffix("Params").removesuffix("Config")
+    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+
+
+def from_mapping(cls: type[T], values: Mapping[str, Any], *, where: str = "") -> T:
+    """Build ``cls`` from its defaults overridden by ``values``; unknown keys are errors."""
+    if not dataclasses.is_dataclass(cls):
+        raise TypeError(f"{cls!r} is not a dataclass")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    hints = get_type_hints(cls)
+    unknown = sorted(set(values) - set(fields))
+    if unknown:
+        raise ConfigError(
+            f"unknown parameter(s) {', '.join(unknown)} in [{section_name(cls)}]",
+            path=where or None,
+            hint=f"known: {', '.join(sorted(fields))}",
+        )
+    kwargs: dict[str, Any] = {}
+    for key, value in values.items():
+        hint = hints[key]
+        if dataclasses.is_dataclass(hint) and isinstance(value, Mapping):
+            kwargs[key] = from_mapping(hint, value, where=where)  # type: ignore[arg-type]
+            continue
+        default = getattr(cls(), key) if _has_defaults(cls) else None
+        kwargs[key] = _coerce(key, value, default, cls, where)
+    try:
+        return cls(**kwargs)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"[{section_name(cls)}]: {exc}", path=where or None) from exc
+
+
+def _has_defaults(cls: type) -> bool:
+    return all(
+        f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING
+        for f in dataclasses.fields(cls)
+    )
+
+
+def _coerce(key: str, value: Any, default: Any, cls: type, where: str) -> Any:
+    if isinstance(default, bool):
+        ok = isinstance(value, bool)
+    elif isinstance(default, int):
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif isinstance(default, float):
+        ok = isinstance(value, int | float) and not isinstance(value, bool)
+        value = float(value) if ok else value
+    elif isinstance(default, tuple):
+        ok = isinstance(value, list | tuple)
+        value = tuple(value) if ok else value
+    elif isinstance(default, str):
+        ok = isinstance(value, str)
+    else:
+        ok = True
+    if not ok:
+        raise ConfigError(
+            f"[{section_name(cls)}] {key} = {value!r} has the wrong type; "
+            f"expected {type(default).__name__} like the default {default!r}",
+            path=where or None,
+        )
+    return value
+
+
+def load_config(cls: type[T], path: str | Path | None) -> T:
+    """Read ``cls``'s section from a TOML file; missing file section means all defaults."""
+    if path is None:
+        return cls()
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError as exc:
+        raise ConfigError("config file not found", path=p) from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", path=p) from exc
+    section = data.get(section_name(cls), {})
+    if not isinstance(section, Mapping):
+        raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
+    return from_mapping(cls, section, where=str(p))
+
+
+def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:
+    """Rows ``(name, value, unit, source, doc)`` for every parameter (nested ones dotted)."""
+    obj = obj_or_cls() if isinstance(obj_or_cls, type) else obj_or_cls
+    rows: list[tuple[str, Any, str, str, str]] = []
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            rows.extend((f"{f.name}.{n}", v, u, s, d) for n, v, u, s, d in describe(value))
+            continue
+        rows.append(
+            (
+                f.name,
+                value,
+                f.metadata.get("unit", ""),
+                f.metadata.get("source", ""),
+                f.metadata.get("doc", ""),
+            )
+        )
+    return rows
+
+
+def to_toml(obj: Any) -> str:
+    """The parameters of ``obj`` as a TOML section with their sources as comments."""
+    lines = [f"[{section_name(type(obj))}]"]
+    for name, value, unit, source, doc in describe(obj):
+        comment = "; ".join(x for x in (doc, f"[{unit}]" if unit else "", source) if x)
+        lines.append(f"{name} = {_toml_value(value)}" + (f"  # {comment}" if comment else ""))
+    return "\n".join(lines) + "\n"
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, tuple | list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, float) and value == float("inf"):
+        return "inf"
+    return repr(value)

@@ -1,0 +1,75 @@
+"""Errors a user can cause, each with a message that says what to do.
+
+Every error the command line reports without a traceback derives from
+:class:`LaserPeopleError`. Messages name the file and, where it applies, the
+scan (0-based index on its topic) so that a user can find the bad spot.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class LaserPeopleError(Exception):
+    """Base class of every error caused by input, files or parameters."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | Path | None = None,
+        scan: int | None = None,
+        hint: str | None = None,
+    ) -> None:
+        self.path = None if path is None else str(path)
+        self.scan = scan
+        self.hint = hint
+        self.detail = message
+        super().__init__(self._compose())
+
+    def _compose(self) -> str:
+        where = []
+        if self.path is not None:
+            where.append(self.path)
+        if self.scan is not None:
+            where.append(f"scan {self.scan}")
+        text = f"{': '.join(where)}: {self.detail}" if where else self.detail
+        if self.hint:
+            text = f"{text} ({self.hint})"
+        return text
+
+
+class RecordingError(LaserPeopleError):
+    """A recording cannot be opened or read (missing, corrupt, truncated, unknown format)."""
+
+
+class TopicNotFoundError(RecordingError):
+    """A requested topic is not in the recording; the message lists the topics that are."""
+
+
+class MessageTypeError(RecordingError):
+    """A topic carries a message type the reader cannot turn into scans or poses."""
+
+
+class ScanFormatError(RecordingError):
+    """A scan is internally inconsistent (beam count vs angles, bad increment, ...)."""
+
+
+class UnsortedStampsError(RecordingError):
+    """Scan stamps on one topic go backwards."""
+
+
+class PoseUnavailableError(RecordingError):
+    """No sensor pose can be given for a scan (no tf/odom covering its stamp)."""
+
+
+class ModelFileError(LaserPeopleError):
+    """A detector model file is missing, malformed, of a foreign format or a newer version."""
+
+
+class ConfigError(LaserPeopleError):
+    """A configuration file or parameter value is invalid."""
+
+
+class NotBuiltError(LaserPeopleError):
+    """A command or feature that this version does not provide yet."""

@@ -1,0 +1,71 @@
+"""Readers and writers of laser recordings, detections and tracks.
+
+:func:`open_recording` picks the reader by file extension; every reader offers the
+:class:`RecordingSource` protocol: ``topics()``, ``scans(topics)`` (a time-ordered stream
+of :class:`~laserpeople.scan.Scan` in constant memory), ``truth()`` and ``has_truth``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Protocol, runtime_checkable
+
+from laserpeople.errors import RecordingError
+from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
+from laserpeople.scan import Scan
+from laserpeople.truth import TruthFrame
+
+__all__ = ["NpzRecording", "RecordingSource", "TopicInfo", "open_recording", "write_recording"]
+
+
+@runtime_checkable
+class RecordingSource(Protocol):
+    """What every recording reader offers."""
+
+    path: Path
+
+    @property
+    def has_truth(self) -> bool:
+        """Whether per-frame ground truth is available."""
+        ...
+
+    def topics(self) -> list[TopicInfo]:
+        """The laser topics (sensors) with message type and count."""
+        ...
+
+    def scans(self, topics: Sequence[str] | None = None) -> Iterator[Scan]:
+        """Scans of the given topics (all laser topics when None) in time order."""
+        ...
+
+    def truth(self) -> Iterator[TruthFrame]:
+        """Ground-truth frames in time order; empty when there is none."""
+        ...
+
+    def close(self) -> None:
+        """Release files."""
+        ...
+
+
+def open_recording(path: str | Path) -> RecordingSource:
+    """Open a recording by its extension: ``.npz``, ``.bag``, ``.db3``/``.mcap`` (or a ROS 2
+    bag folder), CARMEN ``.log``/``.clf``/``.txt``."""
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError("file not found", path=p, hint="check the path")
+    suffix = p.suffix.lower()
+    if suffix == ".npz":
+        return NpzRecording(p)
+    if suffix in {".bag", ".db3", ".mcap"} or (p.is_dir() and (p / "metadata.yaml").exists()):
+        from laserpeople.io.rosbag import RosbagRecording
+
+        return RosbagRecording(p)
+    if suffix in {".log", ".clf", ".carmen", ".txt", ".gz"}:
+        from laserpeople.io.carmen import CarmenRecording
+
+        return CarmenRecording(p)
+    raise RecordingError(
+        f"unknown recording format {suffix or '(no extension)'!r}",
+        path=p,
+        hint="use .bag, .mcap, .db3, a ROS 2 bag folder, a CARMEN .log/.clf, or .npz",
+    )

@@ -1,0 +1,342 @@
+"""The data model of a 2D laser scan: :class:`Scan`, :class:`PointSet`, :class:`Segment`.
+
+Units are SI throughout: metres, seconds, radians. Angles are wrapped to
+(-pi, pi]. A scan's beam angles are computed from ``angle_min`` and
+``angle_increment`` exactly as ROS does (``angle_min + i * angle_increment``),
+so a negative increment (a scanner mounted upside down, as on the MiR robot)
+works without special cases.
+
+A beam is *valid* only when its range is finite, non-zero and inside
+``[range_min, range_max]``. Invalid beams are never treated as obstacles: they
+come out of :meth:`Scan.points` as NaN and are left out of
+:meth:`Scan.valid_points`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.errors import ScanFormatError
+
+if TYPE_CHECKING:
+    from laserpeople.truth import BeamLabels
+
+Frame = Literal["sensor", "world"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+
+def wrap_angle(angle: NDArray[np.floating] | float) -> NDArray[np.float64]:
+    """Wrap angles [rad] to (-pi, pi]; works element-wise on arrays."""
+    a = np.asarray(angle, dtype=np.float64)
+    wrapped = np.mod(a + np.pi, 2.0 * np.pi) - np.pi
+    return np.where(wrapped <= -np.pi, wrapped + 2.0 * np.pi, wrapped)
+
+
+@dataclass(frozen=True, slots=True)
+class Pose2D:
+    """A planar pose: position (x, y) [m] and heading theta [rad] in a parent frame."""
+
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+
+    def as_array(self) -> FloatArray:
+        """The pose as ``array([x, y, theta])``."""
+        return np.array([self.x, self.y, self.theta], dtype=np.float64)
+
+    def rotation(self) -> FloatArray:
+        """The 2x2 rotation matrix of ``theta``."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return np.array([[c, -s], [s, c]], dtype=np.float64)
+
+    def transform_points(self, points: NDArray[np.floating]) -> FloatArray:
+        """Map points (N, 2) from this pose's child frame into its parent frame."""
+        pts = np.asarray(points, dtype=np.float64)
+        return pts @ self.rotation().T + np.array([self.x, self.y])
+
+    def inverse_transform_points(self, points: NDArray[np.floating]) -> FloatArray:
+        """Map points (N, 2) from the parent frame into this pose's child frame."""
+        pts = np.asarray(points, dtype=np.float64) - np.array([self.x, self.y])
+        return pts @ self.rotation()
+
+    def compose(self, other: Pose2D) -> Pose2D:
+        """``self ∘ other``: the pose ``other`` (given in this pose's frame) in the parent frame."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose2D(
+            self.x + c * other.x - s * other.y,
+            self.y + s * other.x + c * other.y,
+            float(wrap_angle(self.theta + other.theta)),
+        )
+
+    def inverse(self) -> Pose2D:
+        """The inverse transform: the parent frame's pose seen from this pose."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose2D(
+            -(c * self.x + s * self.y),
+            -(-s * self.x + c * self.y),
+            float(wrap_angle(-self.theta)),
+        )
+
+    @classmethod
+    def from_array(cls, values: NDArray[np.floating] | tuple[float, float, float]) -> Pose2D:
+        """A pose from ``(x, y, theta)``."""
+        x, y, theta = (float(v) for v in values)
+        return cls(x, y, theta)
+
+
+@dataclass(frozen=True, eq=False)
+class Scan:
+    """One sweep of a 2D laser scanner, in the layout of ROS ``sensor_msgs/LaserScan``.
+
+    Attributes:
+        stamp: Acquisition time of the first beam [s].
+        angle_min: Angle of beam 0 in the sensor frame [rad].
+        angle_increment: Angle between consecutive beams [rad]; may be negative.
+        ranges: Measured ranges (N,) [m]; NaN, inf, 0 and out-of-limit values mean "no return".
+        range_min: Smallest valid range [m].
+        range_max: Largest valid range [m].
+        intensities: Optional return intensities (N,), sensor-specific units.
+        sensor: Name of the sensor (topic or CARMEN laser id) this scan came from.
+        pose: Sensor pose in the world frame at ``stamp``, if known.
+        index: 0-based index of this scan among the scans of its sensor/topic.
+        source: The file the scan was read from (for error messages); "" if none.
+        labels: Per-beam ground truth, if the recording carries it.
+    """
+
+    stamp: float
+    angle_min: float
+    angle_increment: float
+    ranges: FloatArray
+    range_min: float = 0.0
+    range_max: float = math.inf
+    intensities: FloatArray | None = None
+    sensor: str = "laser"
+    pose: Pose2D | None = None
+    index: int = 0
+    source: str = ""
+    labels: BeamLabels | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        ranges = np.asarray(self.ranges, dtype=np.float64)
+        if ranges.ndim != 1:
+            self._fail(f"ranges must be one-dimensional, got shape {ranges.shape}")
+        object.__setattr__(self, "ranges", ranges)
+        if not (math.isfinite(self.angle_increment) and self.angle_increment != 0.0):
+            self._fail(
+                f"angle_increment must be finite and non-zero, got {self.angle_increment!r}",
+                hint="the scanner driver wrote a broken header",
+            )
+        if not math.isfinite(self.angle_min):
+            self._fail(f"angle_min must be finite, got {self.angle_min!r}")
+        if not math.isfinite(self.stamp):
+            self._fail(f"stamp must be finite, got {self.stamp!r}")
+        if self.intensities is not None:
+            inten: FloatArray | None = np.asarray(self.intensities, dtype=np.float64)
+            assert inten is not None
+            if inten.size == 0:
+                inten = None
+            elif inten.shape != ranges.shape:
+                self._fail(
+                    f"{inten.size} intensities for {ranges.size} ranges",
+                    hint="intensities must be empty or have one value per beam",
+                )
+            object.__setattr__(self, "intensities", inten)
+        if self.labels is not None and len(self.labels) != ranges.size:
+            self._fail(f"{len(self.labels)} beam labels for {ranges.size} ranges")
+
+    def _fail(self, message: str, hint: str | None = None) -> None:
+        raise ScanFormatError(message, path=self.source or None, scan=self.index, hint=hint)
+
+    @classmethod
+    def from_angles(
+        cls,
+        stamp: float,
+        angle_min: float,
+        angle_max: float,
+        angle_increment: float,
+        ranges: NDArray[np.floating],
+        *,
+        tolerance_beams: float = 0.5,
+        **kwargs: object,
+    ) -> Scan:
+        """Build a scan from a ROS-style header and check the beam count against the angles.
+
+        ROS drivers write ``angle_max = angle_min + (N - 1) * angle_increment``; a scan whose
+        beam count disagrees with that by more than ``tolerance_beams`` beams is rejected,
+        because its angles would be wrong for every beam.
+        """
+        ranges = np.asarray(ranges, dtype=np.float64)
+        scan = cls(stamp, angle_min, angle_increment, ranges, **kwargs)  # type: ignore[arg-type]
+        if angle_increment != 0.0 and math.isfinite(angle_max):
+            expected = (angle_max - angle_min) / angle_increment + 1.0
+            if abs(expected - ranges.size) > max(tolerance_beams, 1e-6 * ranges.size) + 1.0:
+                scan._fail(
+                    f"{ranges.size} beams but angle_min={angle_min:.6f}, "
+                    f"angle_max={angle_max:.6f}, "
+                    f"angle_increment={angle_increment:.6g} imply {expected:.1f}",
+                    hint="the scan header disagrees with its data; re-record or fix the driver",
+                )
+        return scan
+
+    @property
+    def n_beams(self) -> int:
+        """Number of beams N."""
+        return int(self.ranges.size)
+
+    @property
+    def angle_max(self) -> float:
+        """Angle of the last beam [rad], as ROS writes it."""
+        return self.angle_min + (self.n_beams - 1) * self.angle_increment
+
+    @cached_property
+    def angles(self) -> FloatArray:
+        """Beam angles (N,) in the sensor frame [rad], wrapped to (-pi, pi]."""
+        raw = self.angle_min + np.arange(self.n_beams, dtype=np.float64) * self.angle_increment
+        return wrap_angle(raw)
+
+    @cached_property
+    def valid(self) -> BoolArray:
+        """Validity mask (N,): finite, non-zero and inside [range_min, range_max]."""
+        r = self.ranges
+        with np.errstate(invalid="ignore"):
+            return np.isfinite(r) & (r > 0.0) & (r >= self.range_min) & (r <= self.range_max)
+
+    @property
+    def n_invalid(self) -> int:
+        """Number of beams without a valid return."""
+        return int(self.n_beams - np.count_nonzero(self.valid))
+
+    @cached_property
+    def _sensor_points(self) -> FloatArray:
+        r = np.where(self.valid, self.ranges, np.nan)
+        a = self.angles
+        pts = np.empty((self.n_beams, 2), dtype=np.float64)
+        pts[:, 0] = r * np.cos(a)
+        pts[:, 1] = r * np.sin(a)
+        pts.setflags(write=False)
+        return pts
+
+    def points(self, frame: Frame = "sensor") -> FloatArray:
+        """Cartesian beam end points (N, 2) [m]; rows of invalid beams are NaN.
+
+        ``frame="world"`` applies :attr:`pose` and raises if the pose is unknown.
+        """
+        if frame == "sensor":
+            return self._sensor_points
+        return self.sensor_to_world(self._sensor_points)
+
+    def valid_points(self, frame: Frame = "sensor") -> tuple[FloatArray, IntArray]:
+        """Points (K, 2) of the valid beams only, and their beam indices (K,)."""
+        idx = np.flatnonzero(self.valid)
+        return self.points(frame)[idx], idx.astype(np.int64)
+
+    def sensor_to_world(self, points: NDArray[np.floating]) -> FloatArray:
+        """Map sensor-frame points (N, 2) into the world frame using :attr:`pose`."""
+        if self.pose is None:
+            from laserpeople.errors import PoseUnavailableError
+
+            raise PoseUnavailableError(
+                f"no sensor pose for sensor {self.sensor!r}",
+                path=self.source or None,
+                scan=self.index,
+                hint="use --output-frame sensor, or give a recording with /tf or odometry",
+            )
+        return self.pose.transform_points(points)
+
+    def with_pose(self, pose: Pose2D | None) -> Scan:
+        """A copy of this scan with another sensor pose."""
+        return replace(self, pose=pose)
+
+
+@dataclass(frozen=True, eq=False)
+class PointSet:
+    """Points from one or several scanners at one time, in a common frame.
+
+    Attributes:
+        stamp: Time of the set [s].
+        points: Positions (N, 2) [m] in ``frame``.
+        sensor_ids: Index (N,) into ``sensors`` of the scanner each point came from.
+        beams: Beam index (N,) of each point within its scan.
+        sensors: Sensor names.
+        frame: The frame of ``points``.
+        index: 0-based index of the set in its sequence.
+    """
+
+    stamp: float
+    points: FloatArray
+    sensor_ids: IntArray
+    beams: IntArray
+    sensors: tuple[str, ...] = ("laser",)
+    frame: Frame = "world"
+    index: int = 0
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=np.float64).reshape(-1, 2)
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "sensor_ids", np.asarray(self.sensor_ids, dtype=np.int64))
+        object.__setattr__(self, "beams", np.asarray(self.beams, dtype=np.int64))
+        if not (len(self.sensor_ids) == len(self.beams) == len(pts)):
+            raise ScanFormatError(
+                f"point set has {len(pts)} points, {len(self.sensor_ids)} sensor ids and "
+                f"{len(self.beams)} beam indices",
+                scan=self.index,
+            )
+
+    def __len__(self) -> int:
+        return int(self.points.shape[0])
+
+    @classmethod
+    def from_scans(cls, scans: list[Scan], frame: Frame = "world") -> PointSet:
+        """Merge the valid points of several scans into one set (world frame needs poses)."""
+        if not scans:
+            raise ScanFormatError("cannot build a point set from no scans")
+        parts, ids, beams = [], [], []
+        for i, scan in enumerate(scans):
+            pts, idx = scan.valid_points(frame)
+            parts.append(pts)
+            ids.append(np.full(idx.size, i, dtype=np.int64))
+            beams.append(idx)
+        return cls(
+            stamp=max(s.stamp for s in scans),
+            points=np.concatenate(parts) if parts else np.empty((0, 2)),
+            sensor_ids=np.concatenate(ids),
+            beams=np.concatenate(beams),
+            sensors=tuple(s.sensor for s in scans),
+            frame=frame,
+            index=scans[0].index,
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Segment:
+    """A run of neighbouring valid beams of one scan, the unit the leg detector classifies.
+
+    Attributes:
+        start: First beam index of the segment in its scan.
+        stop: One past the last beam index (the segment covers ``beams``, which lie
+            in ``[start, stop)``; invalid beams inside that range are not part of it).
+        beams: Beam indices (n,) of the segment's points, increasing.
+        points: Point coordinates (n, 2) [m] in the sensor frame.
+    """
+
+    start: int
+    stop: int
+    beams: IntArray
+    points: FloatArray
+
+    def __len__(self) -> int:
+        return int(self.beams.size)
+
+    @property
+    def centre(self) -> FloatArray:
+        """Mean of the segment's points (2,) [m]."""
+        return np.asarray(self.points.mean(axis=0), dtype=np.float64)

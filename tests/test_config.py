@@ -1,0 +1,41 @@
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from laserpeople.config import describe, load_config, param, to_toml
+from laserpeople.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class DemoParams:
+    p_occ: float = param(0.79, "000 Table 10", "P(occluded | approved)")
+    window: int = param(5, "000 Sec. 3.3", "sliding window L", "scans")
+    adaptive: bool = param(True, "000 Sec. 3.3.1", "adapt occlusion probabilities")
+
+
+def test_defaults_and_sources() -> None:
+    rows = {r[0]: r for r in describe(DemoParams)}
+    assert rows["p_occ"][1] == 0.79 and rows["p_occ"][3] == "000 Table 10"
+    assert "[demo]" in to_toml(DemoParams())
+
+
+def test_load_overrides_and_rejects_unknown(tmp_path: Path) -> None:
+    f = tmp_path / "c.toml"
+    f.write_text("[demo]\np_occ = 1\nwindow = 7\n")
+    cfg = load_config(DemoParams, f)
+    assert cfg.p_occ == 1.0 and isinstance(cfg.p_occ, float) and cfg.window == 7
+    f.write_text("[demo]\nbogus = 1\n")
+    with pytest.raises(ConfigError, match="bogus"):
+        load_config(DemoParams, f)
+    f.write_text("[demo]\nwindow = 'x'\n")
+    with pytest.raises(ConfigError, match="wrong type"):
+        load_config(DemoParams, f)
+
+
+def test_round_trip_through_toml(tmp_path: Path) -> None:
+    f = tmp_path / "c.toml"
+    f.write_text(to_toml(DemoParams(window=9)))
+    assert load_config(DemoParams, f) == DemoParams(window=9)

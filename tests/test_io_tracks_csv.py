@@ -1,0 +1,58 @@
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from laserpeople.errors import RecordingError
+from laserpeople.io.tracks_csv import HEADER, TracksCsvWriter, convert_tracks, iter_tracks_csv
+from laserpeople.scan import Pose2D
+from laserpeople.tracks import Track, Tracks
+
+
+def _tracks(k: int, pose: Pose2D | None = None) -> Tracks:
+    leg = Track(3, "leg", [1.0 + k, 2.0], [0.5, 0.0], np.diag([0.01, 0.02]))
+    grp = Track(1, "group", [0.0, k], [0.0, 0.0], np.eye(2), size=3, labels="1-0|2")
+    return Tracks(0.1 * k, k, (leg, grp), "world", pose)
+
+
+def test_round_trip_and_flush(tmp_path: Path) -> None:
+    path = tmp_path / "t.csv"
+    with TracksCsvWriter(path) as out:
+        out.write(_tracks(0))
+        # rows of the first scan are on disk before the writer is closed
+        assert path.read_text().count("\n") == 3
+        out.write(Tracks(0.1, 1))
+        out.write(_tracks(2))
+    assert path.read_text().splitlines()[0] == ",".join(HEADER)
+    back = list(iter_tracks_csv(path))
+    assert [t.scan_index for t in back] == [0, 2]
+    g = back[1].of_kind("group")[0]
+    assert (g.size, g.labels, g.track_id) == (3, "1-0|2", 1)
+    np.testing.assert_allclose(back[1].of_kind("leg")[0].position, [3.0, 2.0])
+    assert [len(t) for t in iter_tracks_csv(path, kinds=("leg",))] == [1, 1]
+
+
+def test_frame_conversion_round_trips() -> None:
+    pose = Pose2D(2.0, -1.0, math.pi / 3)
+    world = _tracks(1, pose)
+    sensor = convert_tracks(world, "sensor")
+    back = convert_tracks(sensor, "world")
+    for a, b in zip(world, back, strict=True):
+        np.testing.assert_allclose(a.position, b.position, atol=1e-12)
+        np.testing.assert_allclose(a.covariance, b.covariance, atol=1e-12)
+    np.testing.assert_allclose(
+        sensor.tracks[0].position, pose.inverse_transform_points(world.tracks[0].position[None])[0]
+    )
+
+
+def test_bad_csv_is_a_clear_error(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.csv"
+    bad.write_text("a,b\n1,2\n")
+    with pytest.raises(RecordingError, match="missing column"):
+        list(iter_tracks_csv(bad))
+    bad.write_text(",".join(HEADER) + "\n0,0.0,1,robot,0,0,0,0,1,0,1,1,\n")
+    with pytest.raises(RecordingError, match="line 2"):
+        list(iter_tracks_csv(bad))

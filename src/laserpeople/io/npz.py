@@ -327,7 +327,7 @@ def write_recording(
     if k and all(s.intensities is not None for s in scan_list):
         arrays["intensities"] = np.concatenate([s.intensities for s in scan_list]).astype(
             np.float32
-        )  # type: ignore[misc]
+        )
     if k and all(s.labels is not None for s in scan_list):
         for key in _LABEL_KEYS:
             arrays[f"beam_{key}"] = np.concatenate(

@@ -73,3 +73,8 @@ class ConfigError(LaserPeopleError):
 
 class NotBuiltError(LaserPeopleError):
     """A command or feature that this version does not provide yet."""
+
+
+class EvaluationError(LaserPeopleError):
+    """Tracks cannot be scored against the given ground truth (no truth, frames out of order,
+    duplicate ids in one scan, nothing to score)."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
@@ -47,23 +47,32 @@ class RecordingSource(Protocol):
         ...
 
 
-def open_recording(path: str | Path) -> RecordingSource:
+def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     """Open a recording by its extension: ``.npz``, ``.bag``, ``.db3``/``.mcap`` (or a ROS 2
-    bag folder), CARMEN ``.log``/``.clf``/``.txt``."""
+    bag folder), CARMEN ``.log``/``.clf``/``.txt``.
+
+    ``options`` go to the reader: e.g. ``poses=False``, ``world_frame="odom"`` or
+    ``mounts=...`` for bags (:class:`~laserpeople.io.rosbag.RosbagRecording`), ``poses`` and
+    ``skip_bad_lines`` for CARMEN logs. The ``.npz`` reader takes none.
+    """
     p = Path(path)
     if not p.exists():
         raise RecordingError("file not found", path=p, hint="check the path")
     suffix = p.suffix.lower()
     if suffix == ".npz":
+        if options:
+            raise RecordingError(
+                f"options {', '.join(sorted(options))} do not apply to .npz recordings", path=p
+            )
         return NpzRecording(p)
     if suffix in {".bag", ".db3", ".mcap"} or (p.is_dir() and (p / "metadata.yaml").exists()):
         from laserpeople.io.rosbag import RosbagRecording
 
-        return RosbagRecording(p)
+        return RosbagRecording(p, **options)
     if suffix in {".log", ".clf", ".carmen", ".txt", ".gz"}:
         from laserpeople.io.carmen import CarmenRecording
 
-        return CarmenRecording(p)
+        return CarmenRecording(p, **options)
     raise RecordingError(
         f"unknown recording format {suffix or '(no extension)'!r}",
         path=p,

@@ -1,0 +1,466 @@
+"""Reader of ROS bags (ROS 1 ``.bag``, ROS 2 ``.db3``/``.mcap`` or bag folders) via ``rosbags``.
+
+Every ``sensor_msgs/LaserScan`` topic is a sensor. :meth:`RosbagRecording.scans` streams
+the scans of one or several topics in the order of their header stamps, one message at a
+time (constant memory; each topic is read by its own bag reader and the streams are
+merged). ``Scan.sensor`` is the topic name, ``Scan.index`` the 0-based index of the
+message on its topic, ``Scan.stamp`` the header stamp (the bag's receive time only when
+the header stamp is zero; :attr:`RosbagRecording.scans_with_log_time` counts those).
+
+Sensor poses come from ``/tf`` and ``/tf_static`` and from ``nav_msgs/Odometry`` topics
+(see :mod:`laserpeople.io.poses`). The pose topics are read once, before the first scan,
+and kept in memory (a few numbers per transform message). A scan with no pose gets
+``pose=None``; :attr:`RosbagRecording.scans_without_pose` counts them and
+:meth:`RosbagRecording.pose_summary` says why.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import struct
+import zlib
+from collections import Counter, defaultdict
+from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from laserpeople.errors import (
+    MessageTypeError,
+    RecordingError,
+    TopicNotFoundError,
+    UnsortedStampsError,
+)
+from laserpeople.io.npz import TopicInfo
+from laserpeople.io.poses import (
+    PoseParams,
+    PoseSamples,
+    TransformTree,
+    add_mounts,
+    normalise_frame,
+    yaw_and_tilt,
+)
+from laserpeople.scan import Pose2D, Scan
+from laserpeople.truth import TruthFrame
+
+LASERSCAN = "sensor_msgs/msg/LaserScan"
+TF_TYPES = frozenset({"tf2_msgs/msg/TFMessage", "tf/msg/tfMessage"})
+ODOMETRY_TYPES = frozenset({"nav_msgs/msg/Odometry"})
+_LASERSCAN_FIELDS = frozenset(
+    {"header", "angle_min", "angle_max", "angle_increment", "range_min", "range_max", "ranges"}
+)
+_CORRUPT_HINT = (
+    "the bag is corrupt or truncated; for a ROS 1 bag try `rosbag reindex`, "
+    "otherwise re-record or re-copy it"
+)
+
+
+def _reader_errors() -> tuple[type[BaseException], ...]:
+    from rosbags.highlevel import AnyReaderError
+    from rosbags.rosbag1 import ReaderError as Reader1Error
+    from rosbags.rosbag2 import ReaderError as Reader2Error
+    from rosbags.serde import SerdeError
+    from rosbags.typesys import TypesysError
+
+    return (
+        AnyReaderError,
+        Reader1Error,
+        Reader2Error,
+        SerdeError,
+        TypesysError,
+        struct.error,
+        zlib.error,
+        EOFError,
+        OSError,
+        ValueError,
+        IndexError,
+        KeyError,
+        AssertionError,
+    )
+
+
+def _stamp(header: Any) -> float:
+    return float(header.stamp.sec) + 1e-9 * float(header.stamp.nanosec)
+
+
+def _is_laserscan(reader: Any, msgtype: str) -> bool:
+    """LaserScan itself, or a custom type defined in the bag with LaserScan's fields."""
+    if msgtype == LASERSCAN:
+        return True
+    fields = reader.typestore.fielddefs.get(msgtype)
+    if not fields:
+        return False
+    return {name for name, _ in fields[1]} >= _LASERSCAN_FIELDS
+
+
+class RosbagRecording:
+    """A ROS 1 or ROS 2 bag as a :class:`~laserpeople.io.RecordingSource`.
+
+    Args:
+        path: A ``.bag`` file, a ``.db3`` or ``.mcap`` file, or a ROS 2 bag folder.
+        poses: Look up sensor poses (``False``: every scan gets ``pose=None``, uncounted).
+        world_frame: Fixed frame the poses are given in; default: the first of
+            :attr:`PoseParams.world_frames` present, else the root of the lasers' frames.
+        odometry_topics: ``nav_msgs/Odometry`` topics to use (default: all of them); a
+            transform already on ``/tf`` is taken from there.
+        mounts: Extra fixed transforms ``child frame -> (parent frame, pose)`` for laser
+            mounts a bag lacks; they win over the bag's own.
+        pose_params: Interpolation tolerances.
+
+    Raises:
+        RecordingError: The file is missing, corrupt, truncated or not a bag.
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        *,
+        poses: bool = True,
+        world_frame: str | None = None,
+        odometry_topics: Sequence[str] | None = None,
+        mounts: Mapping[str, tuple[str, Pose2D]] | None = None,
+        pose_params: PoseParams | None = None,
+    ) -> None:
+        self.path = Path(path)
+        if not self.path.exists():
+            raise RecordingError("file not found", path=self.path, hint="check the path")
+        self.use_poses = poses
+        self.pose_params = pose_params or PoseParams()
+        self._world_request = world_frame
+        self._odometry_request = None if odometry_topics is None else tuple(odometry_topics)
+        self._mounts = dict(mounts or {})
+        self._reader = self._open()
+        self._connections: dict[str, list[Any]] = defaultdict(list)
+        for conn in self._reader.connections:
+            self._connections[conn.topic].append(conn)
+        self._tree: TransformTree | None = None
+        self.world_frame: str | None = None
+        self.scans_without_pose = 0
+        self.scans_with_log_time = 0
+        self.scans_read = 0
+        self.pose_misses: Counter[tuple[str, str]] = Counter()
+
+    # -- opening -------------------------------------------------------------------------
+    def _open(self) -> Any:
+        from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
+
+        errors = _reader_errors()
+        try:
+            reader = AnyReader([self.path], default_typestore=get_typestore(Stores.LATEST))
+            reader.open()
+        except errors as exc:
+            raise RecordingError(
+                f"cannot open bag: {exc}", path=self.path, hint=_CORRUPT_HINT
+            ) from exc
+        return reader
+
+    def __enter__(self) -> RosbagRecording:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Close the bag."""
+        if self._reader is not None and self._reader.stack is not None:
+            self._reader.close()
+
+    # -- topics ----------------------------------------------------------------------------
+    @property
+    def has_truth(self) -> bool:
+        """Bags carry no ground truth in this project's sense."""
+        return False
+
+    def truth(self) -> Iterator[TruthFrame]:
+        """No ground truth in bags: an empty stream."""
+        return iter(())
+
+    def all_topics(self) -> list[TopicInfo]:
+        """Every topic of the bag with its message type and count."""
+        return [
+            TopicInfo(topic, conns[0].msgtype, sum(c.msgcount for c in conns))
+            for topic, conns in self._connections.items()
+        ]
+
+    def topics(self) -> list[TopicInfo]:
+        """The laser scan topics with their message counts."""
+        return [t for t in self.all_topics() if _is_laserscan(self._reader, t.msgtype)]
+
+    def _find(self, topic: str) -> str | None:
+        if topic in self._connections:
+            return topic
+        bare = topic.lstrip("/")
+        for name in self._connections:
+            if name.lstrip("/") == bare:
+                return name
+        return None
+
+    def resolve_topics(self, topics: Sequence[str] | None) -> list[str]:
+        """Bag topic names for ``topics`` (all laser topics when None); checks they exist and
+        carry laser scans. A leading slash is optional."""
+        lasers = [t.name for t in self.topics()]
+        if not topics:
+            if not lasers:
+                raise TopicNotFoundError(
+                    "no sensor_msgs/LaserScan topic in this bag",
+                    path=self.path,
+                    hint=f"topics here: {self._topic_list()}",
+                )
+            return lasers
+        out = []
+        for requested in topics:
+            name = self._find(requested)
+            if name is None:
+                raise TopicNotFoundError(
+                    f"no topic {requested!r}",
+                    path=self.path,
+                    hint=f"laser topics here: {', '.join(lasers) or 'none'}; "
+                    f"all topics: {self._topic_list()}",
+                )
+            msgtype = self._connections[name][0].msgtype
+            if name not in lasers:
+                raise MessageTypeError(
+                    f"topic {name!r} carries {msgtype}, not sensor_msgs/LaserScan",
+                    path=self.path,
+                    hint=f"laser topics here: {', '.join(lasers) or 'none'}",
+                )
+            if name not in out:
+                out.append(name)
+        return out
+
+    def _topic_list(self) -> str:
+        return ", ".join(f"{t.name} ({t.msgtype})" for t in self.all_topics()) or "none"
+
+    # -- poses -----------------------------------------------------------------------------
+    def _pose_topics(self) -> tuple[list[Any], list[Any]]:
+        tf_conns, odom_conns = [], []
+        wanted_odom = None
+        if self._odometry_request is not None:
+            wanted_odom = set()
+            for t in self._odometry_request:
+                name = self._find(t)
+                if name is None:
+                    raise TopicNotFoundError(
+                        f"no odometry topic {t!r}",
+                        path=self.path,
+                        hint=f"all topics: {self._topic_list()}",
+                    )
+                if self._connections[name][0].msgtype not in ODOMETRY_TYPES:
+                    raise MessageTypeError(
+                        f"topic {name!r} carries {self._connections[name][0].msgtype}, "
+                        "not nav_msgs/Odometry",
+                        path=self.path,
+                    )
+                wanted_odom.add(name)
+        for topic, conns in self._connections.items():
+            msgtype = conns[0].msgtype
+            if msgtype in TF_TYPES:
+                tf_conns.extend(conns)
+            elif msgtype in ODOMETRY_TYPES and (wanted_odom is None or topic in wanted_odom):
+                odom_conns.extend(conns)
+        return tf_conns, odom_conns
+
+    def transform_tree(self) -> TransformTree:
+        """All pose data of the bag as a :class:`TransformTree` (read once, then cached).
+
+        Given mounts come first, then ``/tf_static``, ``/tf`` and odometry: the first
+        source naming a frame's parent wins.
+        """
+        if self._tree is not None:
+            return self._tree
+        tf_conns, odom_conns = self._pose_topics()
+        static, tf, odom = PoseSamples(), PoseSamples(), PoseSamples()
+        reader = self._reader
+        pose_conns = tf_conns + odom_conns
+        try:
+            # an empty connection list would mean "every topic" to rosbags
+            for conn, _, raw in reader.messages(connections=pose_conns) if pose_conns else ():
+                msg: Any = reader.deserialize(raw, conn.msgtype)
+                if conn.msgtype in TF_TYPES:
+                    target = static if "static" in conn.topic else tf
+                    for tr in msg.transforms:
+                        q, v = tr.transform.rotation, tr.transform.translation
+                        target.add(
+                            tr.header.frame_id,
+                            tr.child_frame_id,
+                            _stamp(tr.header),
+                            (float(v.x), float(v.y)),
+                            yaw_and_tilt(q.x, q.y, q.z, q.w),
+                            conn.topic,
+                        )
+                elif msg.child_frame_id.strip():
+                    q, v = msg.pose.pose.orientation, msg.pose.pose.position
+                    odom.add(
+                        msg.header.frame_id,
+                        msg.child_frame_id,
+                        _stamp(msg.header),
+                        (float(v.x), float(v.y)),
+                        yaw_and_tilt(q.x, q.y, q.z, q.w),
+                        conn.topic,
+                    )
+        except _reader_errors() as exc:
+            raise RecordingError(
+                f"cannot read pose data (/tf, odometry): {exc}", path=self.path, hint=_CORRUPT_HINT
+            ) from exc
+        tree = TransformTree(self.pose_params)
+        add_mounts(tree, self._mounts)
+        static.add_to(tree, static=True)
+        tf.add_to(tree)
+        odom.add_to(tree)
+        self._tree = tree
+        return tree
+
+    def laser_frames(self, topics: Sequence[str] | None = None) -> dict[str, str]:
+        """``header.frame_id`` of the first message of each laser topic."""
+        out: dict[str, str] = {}
+        errors = _reader_errors()
+        for name in self.resolve_topics(topics):
+            try:
+                for conn, _, raw in self._reader.messages(connections=self._connections[name]):
+                    msg = self._reader.deserialize(raw, conn.msgtype)
+                    out[name] = normalise_frame(msg.header.frame_id)
+                    break
+            except errors as exc:
+                raise RecordingError(
+                    f"cannot read topic {name!r}: {exc}", path=self.path, hint=_CORRUPT_HINT
+                ) from exc
+        return out
+
+    def _setup_poses(self) -> tuple[TransformTree | None, str | None]:
+        if not self.use_poses:
+            return None, None
+        tree = self.transform_tree()
+        if self._world_request is not None:
+            world = normalise_frame(self._world_request)
+        elif not tree.frames():
+            world = None
+        else:
+            world = tree.pick_world(self.laser_frames().values())
+        self.world_frame = world
+        return tree, world
+
+    def pose_summary(self) -> str:
+        """One line per reason why scans of the last :meth:`scans` run got no pose."""
+        if not self.use_poses:
+            return "poses not requested"
+        if self.scans_without_pose == 0:
+            return f"every scan has a pose in frame {self.world_frame!r}"
+        lines = [
+            f"{self.scans_without_pose} of {self.scans_read} scans have no pose"
+            + (f" in frame {self.world_frame!r}" if self.world_frame else "")
+        ]
+        for (topic, reason), n in sorted(self.pose_misses.items()):
+            lines.append(f"  {topic}: {n} scans: {reason}")
+        if self._tree is not None and self._tree.frames():
+            edges = ", ".join(f"{p} -> {c} ({src})" for p, c, src in self._tree.edges())
+            lines.append(f"  transforms in the recording: {edges}")
+        return "\n".join(lines)
+
+    # -- scans -----------------------------------------------------------------------------
+    def scans(self, topics: Sequence[str] | None = None) -> Iterator[Scan]:
+        """Scans of ``topics`` (all laser topics when None) in header-stamp order.
+
+        Raises:
+            TopicNotFoundError: A topic is not in the bag (the message lists those that are).
+            MessageTypeError: A topic does not carry laser scans.
+            UnsortedStampsError: Header stamps go backwards within a topic.
+            ScanFormatError: A scan's beam count disagrees with its angles.
+            RecordingError: The bag is corrupt or truncated.
+        """
+        names = self.resolve_topics(topics)
+        tree, world = self._setup_poses()
+        self.scans_without_pose = 0
+        self.scans_with_log_time = 0
+        self.scans_read = 0
+        self.pose_misses.clear()
+        streams = [self._topic_scans(name, tree, world) for name in names]
+        merged = streams[0] if len(streams) == 1 else heapq.merge(*streams, key=_by_stamp)
+        for scan in merged:
+            self.scans_read += 1
+            yield scan
+
+    def _topic_scans(
+        self, topic: str, tree: TransformTree | None, world: str | None
+    ) -> Iterator[Scan]:
+        from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
+
+        errors = _reader_errors()
+        source = str(self.path)
+        index = -1
+        last = -math.inf
+        try:
+            reader = AnyReader([self.path], default_typestore=get_typestore(Stores.LATEST))
+            reader.open()
+        except errors as exc:
+            raise RecordingError(
+                f"cannot open bag: {exc}", path=self.path, hint=_CORRUPT_HINT
+            ) from exc
+        try:
+            conns = [c for c in reader.connections if c.topic == topic]
+            messages = reader.messages(connections=conns)
+            while True:
+                try:
+                    item = next(messages, None)
+                    if item is None:
+                        return
+                    conn, log_time, raw = item
+                    msg: Any = reader.deserialize(raw, conn.msgtype)
+                except errors as exc:
+                    raise RecordingError(
+                        f"topic {topic!r}: cannot read the message after scan {index}: {exc}",
+                        path=self.path,
+                        scan=index + 1,
+                        hint=_CORRUPT_HINT,
+                    ) from exc
+                index += 1
+                stamp = _stamp(msg.header)
+                if stamp == 0.0:
+                    stamp = log_time * 1e-9
+                    self.scans_with_log_time += 1
+                if stamp < last:
+                    raise UnsortedStampsError(
+                        f"topic {topic!r}: stamp {stamp:.6f} s is {last - stamp:.6f} s before "
+                        "the previous scan's",
+                        path=self.path,
+                        scan=index,
+                        hint="sort the bag by header stamp (e.g. rosbag filter / "
+                        "ros2 bag convert) or fix the driver's clock",
+                    )
+                last = stamp
+                pose = None
+                if tree is not None:
+                    if world is None:
+                        reason = (
+                            "no pose data (no /tf, /tf_static or odometry)"
+                            if not tree.frames()
+                            else "no world frame: laser frames not connected to "
+                            + " or ".join(self.pose_params.world_frames)
+                        )
+                    else:
+                        pose, reason = tree.lookup(world, msg.header.frame_id, stamp)
+                    if pose is None:
+                        self.scans_without_pose += 1
+                        self.pose_misses[(topic, reason)] += 1
+                intensities = msg.intensities if len(msg.intensities) else None
+                yield Scan.from_angles(
+                    stamp,
+                    float(msg.angle_min),
+                    float(msg.angle_max),
+                    float(msg.angle_increment),
+                    msg.ranges,
+                    range_min=float(msg.range_min),
+                    range_max=float(msg.range_max),
+                    intensities=intensities,
+                    sensor=topic,
+                    pose=pose,
+                    index=index,
+                    source=source,
+                )
+        finally:
+            reader.close()
+
+
+def _by_stamp(scan: Scan) -> float:
+    return scan.stamp

@@ -1,0 +1,163 @@
+"""Ground truth as CSV: one row per annotated person per scan.
+
+Header (extra columns are ignored; ``group_id`` is optional)::
+
+    scan,stamp,person_id,x,y[,group_id]
+
+``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
+time [s], ``x, y`` the person's position [m] in the world frame, ``group_id`` the group
+(-1 or empty: walks alone). The annotation may be sparse: only scans that appear in the
+file are scored. A scan that was annotated and holds nobody is one row with ``person_id``,
+``x`` and ``y`` empty. Rows may come in any order; they are grouped by scan.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+
+from laserpeople.errors import RecordingError
+from laserpeople.truth import NONE_ID, TruthFrame
+
+TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
+REQUIRED = ("scan", "stamp", "person_id", "x", "y")
+STAMP_TOLERANCE = 1e-6
+"""Largest difference [s] between the stamps of rows of the same scan."""
+
+
+def read_truth_csv(path: str | Path) -> list[TruthFrame]:
+    """Read a truth CSV into one :class:`TruthFrame` per annotated scan, in scan order.
+
+    Raises:
+        RecordingError: the file is missing, lacks a column, or a row is malformed (the
+            message names the line); a person appears twice in one scan; the rows of one
+            scan disagree on its stamp.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise RecordingError("ground-truth CSV not found", path=p, hint="check the path")
+    scans: dict[int, tuple[float, list[tuple[int, float, float, int]]]] = {}
+    with open(p, newline="", encoding="utf-8") as fh:
+        reader = csv.DictReader(fh)
+        columns = [c.strip() for c in (reader.fieldnames or [])]
+        reader.fieldnames = columns
+        missing = [c for c in REQUIRED if c not in columns]
+        if missing:
+            raise RecordingError(
+                f"not a ground-truth CSV: missing column(s) {', '.join(missing)}",
+                path=p,
+                hint=f"expected header {','.join(REQUIRED)}[,group_id]",
+            )
+        for line, row in enumerate(reader, start=2):
+            scan, stamp, person = _parse_row(row, p, line)
+            stamp_seen, people = scans.setdefault(scan, (stamp, []))
+            if abs(stamp_seen - stamp) > STAMP_TOLERANCE:
+                raise RecordingError(
+                    f"line {line}: stamp {stamp} differs from {stamp_seen} given earlier "
+                    f"for the same scan",
+                    path=p,
+                    scan=scan,
+                    hint="all rows of one scan must carry the same stamp",
+                )
+            if person is None:
+                continue
+            if any(q[0] == person[0] for q in people):
+                raise RecordingError(
+                    f"line {line}: person {person[0]} appears twice in this scan",
+                    path=p,
+                    scan=scan,
+                    hint="give each person once per scan",
+                )
+            people.append(person)
+    if not scans:
+        raise RecordingError(
+            "the ground-truth CSV has no rows", path=p, hint="annotate at least one scan"
+        )
+    frames = []
+    for scan in sorted(scans):
+        stamp, people = scans[scan]
+        ids = np.array([q[0] for q in people], dtype=np.int64)
+        xy = np.array([(q[1], q[2]) for q in people], dtype=np.float64).reshape(-1, 2)
+        n = ids.size
+        frames.append(
+            TruthFrame(
+                stamp=stamp,
+                scan_index=scan,
+                person_ids=ids,
+                positions=xy,
+                velocities=np.full((n, 2), np.nan),
+                group_ids=np.array([q[3] for q in people], dtype=np.int64),
+                leg_positions=np.full((n, 2, 2), np.nan),
+                hues=np.full(n, np.nan),
+            )
+        )
+    return frames
+
+
+def _parse_row(
+    row: dict[str, str | None], path: Path, line: int
+) -> tuple[int, float, tuple[int, float, float, int] | None]:
+    def cell(key: str) -> str:
+        value = row.get(key)
+        return "" if value is None else value.strip()
+
+    try:
+        scan = int(cell("scan"))
+        stamp = float(cell("stamp"))
+        if scan < 0:
+            raise ValueError(f"scan {scan} is negative")
+        if not math.isfinite(stamp):
+            raise ValueError("stamp is not finite")
+        if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
+            return scan, stamp, None
+        person = int(cell("person_id"))
+        if person < 0:
+            raise ValueError(f"person_id {person} is negative")
+        x, y = float(cell("x")), float(cell("y"))
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise ValueError("x or y is not finite")
+        group_text = cell("group_id")
+        group = int(group_text) if group_text else NONE_ID
+        group = max(group, NONE_ID)
+    except ValueError as exc:
+        raise RecordingError(
+            f"line {line}: {exc}",
+            path=path,
+            hint="each row is scan (int), stamp (s), person_id (int), x, y (m) "
+            "[, group_id]; an empty scan is scan,stamp,,,",
+        ) from exc
+    return scan, stamp, (person, x, y, group)
+
+
+def write_truth_csv(path: str | Path, frames: Iterable[TruthFrame]) -> int:
+    """Write truth frames as a truth CSV (a frame without people becomes an empty-scan row).
+
+    Returns:
+        The number of rows written.
+    """
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    rows = 0
+    with open(p, "w", newline="", encoding="utf-8") as fh:
+        out = csv.writer(fh, lineterminator="\n")
+        out.writerow(TRUTH_CSV_HEADER)
+        for frame in frames:
+            if len(frame) == 0:
+                out.writerow((frame.scan_index, f"{frame.stamp:.6f}", "", "", "", ""))
+                rows += 1
+                continue
+            for pid, (x, y), gid in zip(
+                frame.person_ids.tolist(),
+                frame.positions.tolist(),
+                frame.group_ids.tolist(),
+                strict=True,
+            ):
+                out.writerow(
+                    (frame.scan_index, f"{frame.stamp:.6f}", pid, f"{x:.4f}", f"{y:.4f}", gid)
+                )
+                rows += 1
+    return rows

@@ -1,0 +1,188 @@
+"""Truth CSV, scan pairing and `laserpeople evaluate` end to end."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.errors import EvaluationError, RecordingError
+from laserpeople.evaluation import SUMMARY_KEYS, evaluate
+from laserpeople.evaluation.synthetic import synthetic_sequence
+from laserpeople.io import write_recording
+from laserpeople.io.tracks_csv import TracksCsvWriter
+from laserpeople.io.truth_csv import read_truth_csv, write_truth_csv
+from laserpeople.scan import Scan
+from laserpeople.tracks import Tracks
+from laserpeople.truth import TruthFrame
+
+
+def scene():
+    """Two people, 6 scans; the tracker follows both, loses person 2 in scan 4 and reports
+    nothing at all in scan 5."""
+    a = np.column_stack([0.2 * np.arange(6), np.zeros(6)])
+    b = a + np.array([0.0, 2.0])
+    tb = b + np.array([0.1, 0.0])
+    tb[4] = np.nan
+    ta = a.copy()
+    ta[5] = tb[5] = np.nan
+    return synthetic_sequence({1: a, 2: b}, {10: ta, 11: tb})
+
+
+def write_tracks(path, track_frames):
+    with TracksCsvWriter(path, frame="world") as out:
+        for tracks in track_frames:
+            out.write(tracks)
+
+
+def test_truth_csv_round_trip_sparse_and_empty_scans(tmp_path):
+    truth, _ = scene()
+    empty = TruthFrame.from_positions(9.0, 90, np.array([]), np.empty((0, 2)))
+    path = tmp_path / "truth.csv"
+    assert write_truth_csv(path, [truth[3], truth[0], empty]) == 5
+    back = read_truth_csv(path)
+    assert [f.scan_index for f in back] == [0, 3, 90]
+    assert back[1].person_ids.tolist() == [1, 2]
+    np.testing.assert_allclose(back[1].positions, truth[3].positions, atol=1e-4)
+    assert len(back[2]) == 0 and back[2].stamp == 9.0
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("scan,stamp,x,y\n0,0.0,1,2\n", "missing column"),
+        ("scan,stamp,person_id,x,y\n0,0.0,1,abc,2\n", "line 2"),
+        ("scan,stamp,person_id,x,y\n0,0.0,1,1,2\n0,0.0,1,3,4\n", "person 1 appears twice"),
+        ("scan,stamp,person_id,x,y\n0,0.0,1,1,2\n0,0.5,2,3,4\n", "stamp 0.5 differs"),
+        ("scan,stamp,person_id,x,y\n", "no rows"),
+        ("scan,stamp,person_id,x,y\n-1,0.0,1,1,2\n", "negative"),
+    ],
+)
+def test_truth_csv_errors_name_the_problem(tmp_path, text, message):
+    path = tmp_path / "t.csv"
+    path.write_text(text)
+    with pytest.raises(RecordingError, match=message) as info:
+        read_truth_csv(path)
+    assert str(path) in str(info.value)
+    with pytest.raises(RecordingError, match="not found"):
+        read_truth_csv(tmp_path / "missing.csv")
+
+
+def test_pairing_by_scan_counts_unscored_and_trackless_scans():
+    truth, tracks = scene()
+    sparse = [truth[1], truth[4], truth[5]]
+    reported = [t for t in tracks if len(t)]  # scan 5 has no rows, as in a CSV
+    run = evaluate(sparse, reported)
+    report = run.result()
+    assert report.pairing is not None
+    assert report.pairing.frames_scored == 3
+    assert report.pairing.frames_without_tracks == 1
+    assert report.pairing.track_scans_unscored == 3  # scans 0, 2, 3
+    c = report.clear_mot
+    assert (c.matches, c.misses, c.false_positives) == (3, 3, 0)
+    assert run.frames().column("scan").tolist() == [1, 4, 5]
+
+
+def test_pairing_rejects_out_of_order_scans():
+    truth, tracks = scene()
+    with pytest.raises(EvaluationError, match="comes after"):
+        evaluate([truth[2], truth[1]], tracks)
+    with pytest.raises(EvaluationError, match="come after"):
+        evaluate(truth, [tracks[2], tracks[1]])
+    with pytest.raises(EvaluationError, match="no ground-truth frame"):
+        evaluate([], tracks)
+
+
+def test_cli_json_has_exactly_the_summary_keys(tmp_path):
+    truth, tracks = scene()
+    write_tracks(tmp_path / "tracks.csv", tracks)
+    write_truth_csv(tmp_path / "truth.csv", truth)
+    per_frame = tmp_path / "frames.csv"
+    result = CliRunner().invoke(
+        app,
+        [
+            "--quiet",
+            "evaluate",
+            str(tmp_path / "tracks.csv"),
+            "--truth",
+            str(tmp_path / "truth.csv"),
+            "--json",
+            "--per-frame",
+            str(per_frame),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert set(data) == {*SUMMARY_KEYS, "detail"}
+    # 12 person-frames; 9 matched; misses: person 2 in scan 4, both in scan 5.
+    assert (data["misses"], data["false_positives"], data["id_switches"]) == (3, 0, 0)
+    assert data["mota"] == pytest.approx(1 - 3 / 12)
+    assert data["motp_m"] == pytest.approx((5 * 0.0 + 4 * 0.1) / 9)
+    assert data["motp_schenk"] == pytest.approx(9 / 12)
+    assert data["idf1"] == pytest.approx(2 * 9 / (12 + 9))
+    assert data["recall"] == pytest.approx(9 / 12) and data["precision"] == 1.0
+    lines = per_frame.read_text().splitlines()
+    assert lines[0].startswith("scan,stamp,num_truth,num_tracks,matches,misses")
+    assert len(lines) == 7
+
+
+def test_cli_reads_npz_truth_and_prints_a_table(tmp_path):
+    truth, tracks = scene()
+    scans = [
+        Scan(stamp=f.stamp, angle_min=-1.0, angle_increment=0.5, ranges=np.ones(5), index=k)
+        for k, f in enumerate(truth)
+    ]
+    write_recording(tmp_path / "rec.npz", scans, truth)
+    write_tracks(tmp_path / "tracks.csv", tracks)
+    result = CliRunner().invoke(
+        app, ["evaluate", str(tmp_path / "tracks.csv"), "--truth", str(tmp_path / "rec.npz")]
+    )
+    assert result.exit_code == 0, result.output
+    assert "MOTA" in result.stdout and "0.750" in result.stdout
+
+
+def test_cli_errors_without_truth(tmp_path):
+    _, tracks = scene()
+    scans = [
+        Scan(stamp=0.1 * k, angle_min=0.0, angle_increment=0.5, ranges=np.ones(3), index=k)
+        for k in range(3)
+    ]
+    write_recording(tmp_path / "rec.npz", scans)
+    write_tracks(tmp_path / "tracks.csv", tracks)
+    result = CliRunner().invoke(
+        app, ["evaluate", str(tmp_path / "tracks.csv"), "--truth", str(tmp_path / "rec.npz")]
+    )
+    assert result.exit_code != 0
+    assert isinstance(result.exception, EvaluationError)
+    assert "no ground truth" in str(result.exception)
+    bad = CliRunner().invoke(
+        app, ["evaluate", str(tmp_path / "tracks.csv"), "--truth", "x.csv", "--kind", "car"]
+    )
+    assert bad.exit_code != 0 and "kind 'car'" in str(bad.exception)
+
+
+def test_empty_tracks_object_means_all_missed():
+    truth, _ = scene()
+    run = evaluate(truth[:1], [Tracks(0.0, 0)])
+    assert run.result().clear_mot.misses == 2
+
+
+def test_frame_table_csv_and_join(tmp_path):
+    from laserpeople.evaluation import FrameTable
+
+    a = FrameTable(("scan", "stamp", "x"), ((3, 1700000000.123456, 0.5), (4, 1.0, float("nan"))))
+    b = FrameTable(("scan", "stamp", "y"), ((3, 0.0, 1), (4, 0.0, 2)))
+    joined = a.join(b)
+    assert joined.columns == ("scan", "stamp", "x", "y")
+    assert list(joined)[1] == {"scan": 4, "stamp": 1.0, "x": joined.rows[1][2], "y": 2}
+    joined.to_csv(tmp_path / "t.csv")
+    assert (tmp_path / "t.csv").read_text().splitlines() == [
+        "scan,stamp,x,y",
+        "3,1700000000.123456,0.5,1",
+        "4,1.000000,,2",
+    ]
+    with pytest.raises(ValueError, match="different frames"):
+        a.join(FrameTable(("scan", "stamp", "y"), ((5, 0.0, 1), (4, 0.0, 2))))

@@ -1,15 +1,78 @@
-"""`laserpeople demo`: Simulate, detect, track and evaluate a demo scene."""
+"""`laserpeople demo`: simulate a scene, detect, track, evaluate, and draw the tracks."""
 
 from __future__ import annotations
 
-import typer
+import time
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Annotated, Any
 
-from laserpeople.cli.common import not_built
+import typer
+from rich.table import Table
+
+from laserpeople.cli.common import console, progress, say
+
+
+def _fmt(value: float | int | None, digits: int = 3) -> str:
+    if value is None:
+        return "n/a"
+    if isinstance(value, int):
+        return str(value)
+    return f"{value:.{digits}f}"
 
 
 def register(app: typer.Typer) -> None:
     """Add the `demo` command to ``app``."""
 
-    @app.command("demo", help="Simulate, detect, track and evaluate a demo scene. (not built yet)")
-    def _command() -> None:
-        raise not_built("demo", "the visualisation issue")
+    @app.command("demo")
+    def demo(
+        seconds: Annotated[
+            float | None,
+            typer.Option("--seconds", help="Simulated duration [s] (default: the scenario's)."),
+        ] = None,
+        out_dir: Annotated[
+            Path, typer.Option("--out-dir", help="Where demo.gif, demo-tracks.csv go.")
+        ] = Path("."),
+        seed: Annotated[int, typer.Option("--seed", help="Random seed of the scene.")] = 0,
+        no_gif: Annotated[bool, typer.Option("--no-gif", help="Skip the animation.")] = False,
+    ) -> None:
+        """Simulate people (some in groups, one standing, leg-like clutter), detect legs,
+        track with the leg MHT and every other tracker, score against ground truth, and
+        write demo.gif and demo-tracks.csv."""
+        from laserpeople.viz.demo import run_demo
+
+        def bar(items: Iterable[Any], total: int | None, description: str) -> Iterable[Any]:
+            return progress(items, total, description)
+
+        t0 = time.perf_counter()
+        result = run_demo(out_dir, seconds=seconds, seed=seed, progress=bar, gif=not no_gif)
+        wall = time.perf_counter() - t0
+
+        table = Table(
+            title=(
+                f"demo: {result.n_people} people, {result.n_scans} scans "
+                f"({result.seconds:.1f} s), {result.n_detections} leg detections "
+                f"({result.detection_ms_per_scan:.1f} ms/scan)"
+            )
+        )
+        for col in ("tracker", "MOTA", "MOTP m", "IDF1", "ID switches", "FP", "misses", "ms/scan"):
+            table.add_column(col, justify="left" if col == "tracker" else "right")
+        for s in result.scores:
+            m = s.summary
+            table.add_row(
+                s.name,
+                _fmt(m.get("mota")),
+                _fmt(m.get("motp_m")),
+                _fmt(m.get("idf1")),
+                _fmt(m.get("id_switches")),
+                _fmt(m.get("false_positives")),
+                _fmt(m.get("misses")),
+                f"{s.ms_per_scan:.2f}",
+            )
+        console.print(table)
+        for name, reason in result.skipped:
+            say(f"tracker {name} not run: {reason}")
+        say(f"wrote {result.recording}, {result.tracks_csv}")
+        if result.gif is not None:
+            say(f"wrote {result.gif} ({result.gif_frames} frames)")
+        say(f"done in {wall:.1f} s")

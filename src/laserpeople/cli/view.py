@@ -1,15 +1,155 @@
-"""`laserpeople view`: Plot or animate a recording with tracks."""
+"""`laserpeople view`: draw a recording with tracks as PNG, GIF/MP4, or export MCAP/rerun."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Annotated
+
 import typer
 
-from laserpeople.cli.common import not_built
+from laserpeople.cli.common import progress, say
+from laserpeople.errors import LaserPeopleError
+from laserpeople.viz.scene import SceneFrame
+
+_FRAMES = ("auto", "world", "sensor")
+
+
+def _parse_size(text: str | None) -> tuple[int, int] | None:
+    if text is None:
+        return None
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError as exc:
+        raise LaserPeopleError(
+            f"--size {text!r} is not WIDTHxHEIGHT", hint="e.g. --size 800x600"
+        ) from exc
+    if not (16 <= w <= 8192 and 16 <= h <= 8192):
+        raise LaserPeopleError(f"--size {text!r} is out of range 16..8192 pixels")
+    return w, h
+
+
+def _parse_extent(text: str | None) -> tuple[float, float, float, float] | None:
+    if text is None:
+        return None
+    try:
+        x0, x1, y0, y1 = (float(v) for v in text.split(","))
+    except ValueError as exc:
+        raise LaserPeopleError(
+            f"--extent {text!r} is not XMIN,XMAX,YMIN,YMAX", hint="e.g. --extent -5,5,-2,8"
+        ) from exc
+    if not (x1 > x0 and y1 > y0):
+        raise LaserPeopleError(f"--extent {text!r} is empty: need XMIN<XMAX and YMIN<YMAX")
+    return x0, x1, y0, y1
 
 
 def register(app: typer.Typer) -> None:
     """Add the `view` command to ``app``."""
 
-    @app.command("view", help="Plot or animate a recording with tracks. (not built yet)")
-    def _command() -> None:
-        raise not_built("view", "the visualisation issue")
+    @app.command("view")
+    def view(
+        recording: Annotated[
+            Path, typer.Argument(help="Recording (.bag, .mcap, .db3, .npz, ...).")
+        ],
+        output: Annotated[
+            Path,
+            typer.Option(
+                "--output", "-o", help="Output: .png, .gif, .mp4, .mcap (Foxglove) or .rrd."
+            ),
+        ],
+        tracks: Annotated[Path | None, typer.Option("--tracks", help="Tracks CSV to draw.")] = None,
+        tracks_frame: Annotated[
+            str | None,
+            typer.Option(
+                "--tracks-frame",
+                help="Frame the tracks CSV was written in (world/sensor); default world when the "
+                "recording has sensor poses, else sensor.",
+            ),
+        ] = None,
+        truth: Annotated[
+            str | None,
+            typer.Option(
+                "--truth",
+                help="Ground truth: a CSV scan,stamp,person_id,x,y (world frame) or 'recording'. "
+                "Default: the recording's own truth when it has some.",
+            ),
+        ] = None,
+        no_truth: Annotated[
+            bool, typer.Option("--no-truth", help="Do not draw ground truth.")
+        ] = False,
+        topic: Annotated[
+            str | None, typer.Option("--topic", help="Laser topic (default: first).")
+        ] = None,
+        frame: Annotated[
+            str,
+            typer.Option(
+                "--frame", help="Display frame: auto (world if poses are known), world, sensor."
+            ),
+        ] = "auto",
+        scan: Annotated[
+            int | None,
+            typer.Option(
+                "--scan", help="PNG of this one scan (0-based); default: trajectory overview."
+            ),
+        ] = None,
+        start: Annotated[
+            int | None, typer.Option("--start", help="First scan index drawn.")
+        ] = None,
+        stop: Annotated[
+            int | None, typer.Option("--stop", help="Scan index to stop before.")
+        ] = None,
+        every: Annotated[int, typer.Option("--every", min=1, help="Draw every N-th scan.")] = 1,
+        fps: Annotated[
+            float | None, typer.Option("--fps", help="Animation frame rate (default: real time).")
+        ] = None,
+        size: Annotated[
+            str | None, typer.Option("--size", help="Image size WIDTHxHEIGHT [px].")
+        ] = None,
+        extent: Annotated[
+            str | None,
+            typer.Option(
+                "--extent", help="Shown area XMIN,XMAX,YMIN,YMAX [m] (default: fit the data)."
+            ),
+        ] = None,
+        trail: Annotated[
+            int, typer.Option("--trail", min=0, help="Scans of trail behind tracks.")
+        ] = 20,
+    ) -> None:
+        """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
+        from laserpeople.viz import Scene, render
+
+        if frame not in _FRAMES:
+            raise LaserPeopleError(f"--frame {frame!r} is not one of {', '.join(_FRAMES)}")
+        if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
+            raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
+        truth_arg: str | None = None if no_truth else (truth or "auto")
+        scene = Scene(
+            recording,
+            tracks,
+            truth_arg,
+            topic=topic,
+            frame=frame,  # type: ignore[arg-type]
+            tracks_frame=tracks_frame,  # type: ignore[arg-type]
+            start=start,
+            stop=stop,
+            every=every,
+        )
+
+        def bar(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
+            return progress(frames, total, "drawing")
+
+        result = render(
+            scene,
+            output,
+            scan=scan,
+            size=_parse_size(size),
+            extent=_parse_extent(extent),
+            fps=fps,
+            trail=trail,
+            progress=bar,
+        )
+        what = "frame" if result.frames == 1 else "frames"
+        say(
+            f"wrote {result.path} ({result.frames} {what}, topic {scene.topic}, "
+            f"{scene.frame} frame)"
+        )

@@ -1,0 +1,338 @@
+"""One reusable matplotlib figure (Agg backend) that draws a :class:`SceneFrame` per call.
+
+Speed: the axes, ticks and grid are drawn once; every frame restores that background and
+draws only the changing artists (scan points, tracks, ellipses, labels, truth), then hands
+back the RGB pixels. A 640x480 frame takes a few milliseconds this way.
+
+Matplotlib is imported here only, lazily, so the rest of the package works without the
+``plots`` extra.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Sequence
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.errors import LaserPeopleError
+from laserpeople.truth import TruthFrame
+from laserpeople.viz.colors import (
+    BACKGROUND,
+    SCAN_POINTS,
+    TRUTH,
+    label_color,
+    to_unit,
+    track_color,
+)
+from laserpeople.viz.geometry import covariance_ellipses, square_extent, velocity_segments
+from laserpeople.viz.scene import SceneFrame
+
+FloatArray = NDArray[np.float64]
+Extent = tuple[float, float, float, float]
+AXES_BOX = (0.09, 0.08, 0.88, 0.86)
+"""Axes position (left, bottom, width, height) as fractions of the image."""
+
+
+class PlotsExtraMissingError(LaserPeopleError):
+    """matplotlib (or pillow) is not installed."""
+
+
+def import_matplotlib() -> ModuleType:
+    """matplotlib with the Agg backend, or a clear error naming the extra to install."""
+    try:
+        import matplotlib
+    except ImportError as exc:
+        raise PlotsExtraMissingError(
+            "drawing needs matplotlib, which is not installed",
+            hint="pip install 'laserpeople[plots]'",
+        ) from exc
+    matplotlib.use("Agg", force=True)
+    return matplotlib
+
+
+def _rgb(color: tuple[int, int, int], alpha: float = 1.0) -> tuple[float, float, float, float]:
+    r, g, b = to_unit(color)
+    return (r, g, b, alpha)
+
+
+class FrameRenderer:
+    """Draws scene frames into a fixed-size RGB image.
+
+    Args:
+        extent: ``(xmin, xmax, ymin, ymax)`` [m] shown (widened to keep metres square).
+        size: Image ``(width, height)`` [px]; even numbers suit video encoders.
+        frame: Name of the display frame, written on the axes.
+        trail: Number of past frames whose positions are drawn as a trail behind each track.
+        title: Text at the top left of every frame (the scan time is added).
+    """
+
+    def __init__(
+        self,
+        extent: Extent,
+        *,
+        size: tuple[int, int] = (640, 480),
+        frame: str = "world",
+        trail: int = 20,
+        title: str = "",
+    ) -> None:
+        mpl = import_matplotlib()
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.collections import LineCollection, PolyCollection
+        from matplotlib.figure import Figure
+
+        self._mpl = mpl
+        self.size = (int(size[0]), int(size[1]))
+        dpi = 100.0
+        self.fig = Figure(figsize=(self.size[0] / dpi, self.size[1] / dpi), dpi=dpi)
+        self.fig.patch.set_facecolor(_rgb(BACKGROUND))
+        self.canvas = FigureCanvasAgg(self.fig)
+        ax = self.fig.add_axes(AXES_BOX)
+        self.ax = ax
+        ax.set_facecolor(_rgb(BACKGROUND))
+        self.extent = square_extent(
+            extent, (AXES_BOX[2] * self.size[0], AXES_BOX[3] * self.size[1])
+        )
+        ax.set_xlim(self.extent[0], self.extent[1])
+        ax.set_ylim(self.extent[2], self.extent[3])
+        ax.grid(True, color=(0.9, 0.9, 0.9), linewidth=0.6)
+        ax.set_axisbelow(True)
+        ax.set_xlabel(f"x [m] ({frame} frame)", fontsize=8)
+        ax.set_ylabel("y [m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        self.trail_len = max(0, int(trail))
+        self.title = title
+
+        def anim(artist: Any) -> Any:
+            artist.set_animated(True)
+            return artist
+
+        (self._scan,) = ax.plot([], [], ".", ms=2.2, color=_rgb(SCAN_POINTS), animated=True)
+        self._sensor = anim(
+            PolyCollection([], facecolors=[_rgb((30, 30, 30))], edgecolors="none", zorder=4)
+        )
+        self._groups = anim(PolyCollection([], linewidths=1.6, zorder=2))
+        self._trails = anim(LineCollection([], linewidths=1.2, zorder=3))
+        self._ellipses = anim(LineCollection([], linewidths=1.0, zorder=5))
+        self._velocity = anim(LineCollection([], linewidths=1.2, zorder=5))
+        self._truth_lines = anim(
+            LineCollection([], linewidths=0.8, colors=[_rgb(TRUTH, 0.6)], linestyles="--")
+        )
+        for coll in (
+            self._sensor,
+            self._groups,
+            self._trails,
+            self._ellipses,
+            self._velocity,
+            self._truth_lines,
+        ):
+            ax.add_collection(coll, autolim=False)
+        self._legs = ax.scatter([], [], s=22, marker="o", linewidths=0.6, zorder=6, animated=True)
+        self._people = ax.scatter([], [], s=70, marker="o", linewidths=0.8, zorder=7, animated=True)
+        self._truth = ax.scatter(
+            [],
+            [],
+            s=110,
+            marker="o",
+            facecolors="none",
+            edgecolors=[_rgb(TRUTH)],
+            linewidths=1.0,
+            zorder=8,
+            animated=True,
+        )
+        self._truth_legs = ax.scatter(
+            [], [], s=14, marker="x", c=[_rgb(TRUTH)], linewidths=0.7, zorder=8, animated=True
+        )
+        self._info = ax.text(
+            0.01,
+            0.99,
+            "",
+            transform=ax.transAxes,
+            va="top",
+            ha="left",
+            fontsize=8,
+            animated=True,
+            bbox={"facecolor": (1, 1, 1, 0.75), "edgecolor": "none", "pad": 1.5},
+            zorder=10,
+        )
+        self._labels: list[Any] = []
+        self._history: dict[tuple[str, int], deque[tuple[float, float]]] = {}
+        self._truth_history: dict[int, deque[tuple[float, float]]] = {}
+        self.canvas.draw()
+        self._background = self.canvas.copy_from_bbox(self.fig.bbox)
+
+    # ------------------------------------------------------------------------------------
+    def to_pixel(self, xy: Sequence[float] | FloatArray) -> FloatArray:
+        """Pixel ``(column, row)`` (N, 2) of points (N, 2) [m] in the rendered image
+        (row 0 at the top)."""
+        pts = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        disp = self.ax.transData.transform(pts)
+        return np.stack([disp[:, 0], self.size[1] - disp[:, 1]], axis=1)
+
+    def _label(self, i: int) -> Any:
+        while len(self._labels) <= i:
+            self._labels.append(
+                self.ax.text(0, 0, "", fontsize=7, animated=True, clip_on=True, zorder=9, ha="left")
+            )
+        return self._labels[i]
+
+    def draw(self, f: SceneFrame) -> NDArray[np.uint8]:
+        """Draw one frame; returns the image as RGB (height, width, 3) uint8 (a copy)."""
+        self.canvas.restore_region(self._background)
+        ax = self.ax
+        self._scan.set_data(f.points[:, 0], f.points[:, 1])
+        self._sensor.set_verts([_sensor_triangle(f)])
+
+        tracks = f.tracks.tracks
+        legs = [t for t in tracks if t.kind == "leg"]
+        people = [t for t in tracks if t.kind == "person"]
+        groups = [t for t in tracks if t.kind == "group"]
+        colours = {(t.kind, t.track_id): _rgb(track_color(t.track_id, t.kind)) for t in tracks}
+
+        def scatter(artist: Any, items: list[Any]) -> None:
+            if items:
+                artist.set_offsets(np.array([t.position for t in items]))
+                cols = [colours[(t.kind, t.track_id)] for t in items]
+                artist.set_facecolors(cols)
+                artist.set_edgecolors([(0.1, 0.1, 0.1, 1.0)] * len(items))
+            else:
+                artist.set_offsets(np.empty((0, 2)))
+
+        scatter(self._legs, legs)
+        scatter(self._people, people)
+
+        with_contour = [g for g in groups if g.contour.shape[0] >= 3]
+        self._groups.set_verts([g.contour for g in with_contour])
+        self._groups.set_facecolors(
+            [(*colours["group", g.track_id][:3], 0.18) for g in with_contour]
+        )
+        self._groups.set_edgecolors([colours[("group", g.track_id)] for g in with_contour])
+
+        # groups without a contour are drawn by their covariance ellipse only
+        drawn = [t for t in tracks if t.kind != "leg" or not people]
+        if drawn:
+            pos = np.array([t.position for t in drawn])
+            cov = np.array([t.covariance for t in drawn])
+            vel = np.array([t.velocity for t in drawn])
+            self._ellipses.set_segments(list(covariance_ellipses(pos, cov)))
+            self._ellipses.set_colors([colours[(t.kind, t.track_id)] for t in drawn])
+            self._velocity.set_segments(list(velocity_segments(pos, vel)))
+            self._velocity.set_colors([colours[(t.kind, t.track_id)] for t in drawn])
+        else:
+            self._ellipses.set_segments([])
+            self._velocity.set_segments([])
+
+        self._update_trails(drawn, colours)
+
+        n_label = 0
+        for t in drawn:
+            if t.kind == "group":
+                text = f"G{t.track_id} ×{t.size}"
+            else:
+                text = f"{'L' if t.kind == 'leg' else 'P'}{t.track_id}"
+            lab = self._label(n_label)
+            lab.set_text(text)
+            lab.set_position((t.position[0] + 0.15, t.position[1] + 0.15))
+            lab.set_color(to_unit(label_color(t.track_id, t.kind)))
+            lab.set_visible(True)
+            n_label += 1
+        for lab in self._labels[n_label:]:
+            lab.set_visible(False)
+
+        truth = f.truth
+        self._update_truth_trails(truth)
+        if truth is not None and len(truth):
+            self._truth.set_offsets(truth.positions)
+            legs_xy = truth.leg_positions.reshape(-1, 2)
+            legs_xy = legs_xy[np.all(np.isfinite(legs_xy), axis=1)]
+            self._truth_legs.set_offsets(legs_xy if legs_xy.size else np.empty((0, 2)))
+        else:
+            self._truth.set_offsets(np.empty((0, 2)))
+            self._truth_legs.set_offsets(np.empty((0, 2)))
+
+        n_people = f"{len(people)} people" if people else ""
+        parts = [
+            self.title,
+            f"scan {f.scan.index}  t={f.scan.stamp:.2f} s",
+            ", ".join(
+                x
+                for x in (
+                    n_people,
+                    f"{len(legs)} legs" if legs else "",
+                    f"{len(groups)} groups" if groups else "",
+                    f"truth {len(truth)}" if truth is not None else "",
+                )
+                if x
+            ),
+        ]
+        self._info.set_text("\n".join(p for p in parts if p))
+
+        for artist in (
+            self._groups,
+            self._scan,
+            self._sensor,
+            self._trails,
+            self._truth_lines,
+            self._ellipses,
+            self._velocity,
+            self._legs,
+            self._people,
+            self._truth,
+            self._truth_legs,
+            *self._labels[:n_label],
+            self._info,
+        ):
+            ax.draw_artist(artist)
+        rgba = np.asarray(self.canvas.buffer_rgba())
+        return np.ascontiguousarray(rgba[:, :, :3])
+
+    def _update_trails(
+        self, tracks: Sequence[Any], colours: dict[Any, tuple[float, float, float, float]]
+    ) -> None:
+        if self.trail_len == 0:
+            self._trails.set_segments([])
+            return
+        alive = {(t.kind, t.track_id) for t in tracks}
+        for key in [k for k in self._history if k not in alive]:
+            del self._history[key]
+        for t in tracks:
+            key = (t.kind, t.track_id)
+            hist = self._history.setdefault(key, deque(maxlen=self.trail_len))
+            hist.append((float(t.position[0]), float(t.position[1])))
+        keys = [k for k, h in self._history.items() if len(h) > 1]
+        self._trails.set_segments([np.array(self._history[k]) for k in keys])
+        self._trails.set_colors([(*colours[k][:3], 0.7) for k in keys])
+
+    def _update_truth_trails(self, truth: TruthFrame | None) -> None:
+        if self.trail_len == 0 or truth is None:
+            self._truth_history.clear()
+            self._truth_lines.set_segments([])
+            return
+        alive = {int(i) for i in truth.person_ids}
+        for key in [k for k in self._truth_history if k not in alive]:
+            del self._truth_history[key]
+        for pid, xy in zip(truth.person_ids, truth.positions, strict=True):
+            hist = self._truth_history.setdefault(int(pid), deque(maxlen=self.trail_len))
+            hist.append((float(xy[0]), float(xy[1])))
+        self._truth_lines.set_segments(
+            [np.array(h) for h in self._truth_history.values() if len(h) > 1]
+        )
+
+    def reset(self) -> None:
+        """Forget the trails (start a new sequence)."""
+        self._history.clear()
+        self._truth_history.clear()
+
+    def close(self) -> None:
+        """Free the figure."""
+        self.fig.clear()
+
+
+def _sensor_triangle(f: SceneFrame, size: float = 0.35) -> FloatArray:
+    """A triangle (3, 2) [m] at the sensor pointing along its heading."""
+    p = f.sensor_pose
+    local = np.array([[size, 0.0], [-0.5 * size, 0.45 * size], [-0.5 * size, -0.45 * size]])
+    return p.transform_points(local)

@@ -1,0 +1,452 @@
+"""Pictures and animations: one scan or a trajectory overview as PNG, every scan as GIF/MP4."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.errors import LaserPeopleError
+from laserpeople.viz.colors import (
+    BACKGROUND,
+    PALETTE,
+    SCAN_POINTS,
+    TRUTH,
+    label_color,
+    to_unit,
+    track_color,
+)
+from laserpeople.viz.figure import (
+    AXES_BOX,
+    Extent,
+    FrameRenderer,
+    PlotsExtraMissingError,
+    import_matplotlib,
+)
+from laserpeople.viz.geometry import square_extent
+from laserpeople.viz.scene import Scene, SceneFrame
+
+RGBImage = NDArray[np.uint8]
+ProgressFn = Callable[[Iterable[SceneFrame], int | None], Iterable[SceneFrame]]
+
+
+class VideoEncoderMissingError(LaserPeopleError):
+    """An output format needs a program (ffmpeg) that is not on this machine."""
+
+
+@dataclass(frozen=True)
+class RenderResult:
+    """What a drawing call wrote.
+
+    Attributes:
+        path: The output file.
+        frames: Number of images written (1 for a PNG).
+        size: Image ``(width, height)`` [px].
+        extent: The shown area ``(xmin, xmax, ymin, ymax)`` [m] before squaring the metres.
+    """
+
+    path: Path
+    frames: int
+    size: tuple[int, int]
+    extent: Extent
+
+
+def _pil() -> object:
+    try:
+        from PIL import Image
+    except ImportError as exc:
+        raise PlotsExtraMissingError(
+            "writing images needs pillow, which is not installed",
+            hint="pip install 'laserpeople[plots]'",
+        ) from exc
+    return Image
+
+
+def _no_progress(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
+    return frames
+
+
+def save_png(image: RGBImage, path: str | Path) -> Path:
+    """Write an RGB image (H, W, 3) as PNG."""
+    from PIL import Image
+
+    _pil()
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(image).save(p)
+    return p
+
+
+def plot_scan(
+    scene: Scene,
+    out: str | Path,
+    *,
+    scan: int | None = None,
+    size: tuple[int, int] = (800, 600),
+    extent: Extent | None = None,
+    trail: int = 20,
+) -> RenderResult:
+    """Draw one scan (index ``scan`` on the topic; the first of the window when None) with
+    its tracks and truth as PNG; trails show the ``trail`` scans before it."""
+    frames: list[SceneFrame] = []
+    target: SceneFrame | None = None
+    for f in scene.frames():
+        if scan is None or f.scan.index == scan:
+            target = f
+            break
+        frames.append(f)
+        if len(frames) > trail:
+            frames.pop(0)
+    if target is None:
+        raise LaserPeopleError(
+            f"scan {scan} is not in the recording window",
+            path=scene.source_name or None,
+            hint="check --scan against the topic's scan count, --start and --stop",
+        )
+    if extent is None:
+        extent = _frames_extent([*frames, target])
+    renderer = FrameRenderer(extent, size=size, frame=scene.frame, trail=trail, title=_title(scene))
+    for f in frames:
+        renderer.draw(f)
+    image = renderer.draw(target)
+    renderer.close()
+    return RenderResult(save_png(image, out), 1, size, extent)
+
+
+def _frames_extent(frames: list[SceneFrame], margin: float = 0.5) -> Extent:
+    parts = []
+    for f in frames:
+        parts.append(f.points)
+        parts.append(np.array([[f.sensor_pose.x, f.sensor_pose.y]]))
+        parts.extend(np.array([t.position]) for t in f.tracks.tracks)
+        if f.truth is not None:
+            parts.append(f.truth.positions)
+    pts = np.concatenate(parts)
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    lo, hi = pts.min(axis=0) - margin, pts.max(axis=0) + margin
+    return float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])
+
+
+def _title(scene: Scene) -> str:
+    if scene.title is not None:
+        return scene.title
+    name = Path(scene.source_name).name if scene.source_name else ""
+    return f"{name} {scene.topic or ''}".strip()
+
+
+def iter_images(
+    scene: Scene,
+    *,
+    size: tuple[int, int] = (640, 480),
+    extent: Extent | None = None,
+    trail: int = 20,
+    progress: ProgressFn | None = None,
+    total: int | None = None,
+) -> Iterator[RGBImage]:
+    """One RGB image per frame of ``scene`` (streaming; the extent takes one extra pass)."""
+    if extent is None:
+        extent = scene.extent()
+    renderer = FrameRenderer(extent, size=size, frame=scene.frame, trail=trail, title=_title(scene))
+    try:
+        for f in (progress or _no_progress)(scene.frames(), total):
+            yield renderer.draw(f)
+    finally:
+        renderer.close()
+
+
+def _frame_duration(scene: Scene, fps: float | None) -> float:
+    """Seconds each frame is shown: 1/fps, or the scans' median spacing (real time)."""
+    if fps is not None:
+        if fps <= 0:
+            raise LaserPeopleError(f"fps must be positive, got {fps}")
+        return 1.0 / fps
+    stamps = []
+    for f in scene.frames():
+        stamps.append(f.scan.stamp)
+        if len(stamps) >= 50:
+            break
+    if len(stamps) < 2:
+        return 0.1
+    dt = float(np.median(np.diff(stamps)))
+    return dt if dt > 0 else 0.1
+
+
+def gif_palette() -> list[int]:
+    """The fixed 256-colour GIF palette: background, greys, each track colour blended with
+    white at several strengths (antialiased edges and translucent fills land near one of
+    them), and the darker label shades."""
+    colours: list[tuple[int, int, int]] = [BACKGROUND, TRUTH, SCAN_POINTS]
+    colours += [(v, v, v) for v in np.linspace(0, 255, 40).astype(int).tolist()]
+    white = np.array(BACKGROUND, dtype=np.float64)
+    for c in PALETTE:
+        rgb = np.array(c, dtype=np.float64)
+        for a in (1.0, 0.75, 0.5, 0.3, 0.18, 0.1):
+            mix = np.rint(a * rgb + (1.0 - a) * white).astype(int)
+            colours.append((int(mix[0]), int(mix[1]), int(mix[2])))
+    colours += [(int(r * 0.6), int(g * 0.6), int(b * 0.6)) for r, g, b in PALETTE]  # labels
+    colours = colours[:256]
+    colours += [(0, 0, 0)] * (256 - len(colours))
+    return [v for c in colours for v in c]
+
+
+def _quantize(img: RGBImage, palette: Any) -> Any:
+    """Map an RGB image onto the fixed GIF palette. Pillow's mapping is approximate (it
+    caches on reduced colour bits) and would tint the white background; background pixels
+    are therefore set to palette entry 0 (the background colour) exactly."""
+    from PIL import Image
+
+    q = Image.fromarray(img).quantize(palette=palette, dither=Image.Dither.NONE)
+    idx = np.asarray(q).copy()
+    if BACKGROUND == (255, 255, 255):  # fast path: all three channels at 255
+        white = (img[:, :, 0] & img[:, :, 1] & img[:, :, 2]) == 255
+    else:
+        white = np.all(img == np.array(BACKGROUND, dtype=np.uint8), axis=-1)
+    idx[white] = 0
+    out = Image.fromarray(idx)  # mode L; putpalette makes it P
+    out.putpalette(q.getpalette() or [])
+    return out
+
+
+def write_gif(
+    images: Iterable[RGBImage], out: str | Path, frame_seconds: float, *, loop: bool = True
+) -> int:
+    """Write RGB images as an animated GIF with a fixed palette; returns the frame count."""
+    from PIL import Image
+
+    _pil()
+    pal = Image.new("P", (1, 1))
+    pal.putpalette(gif_palette())
+    frames = [_quantize(img, pal) for img in images]
+    if not frames:
+        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    p = Path(out)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    frames[0].save(
+        p,
+        save_all=True,
+        append_images=frames[1:],
+        duration=max(20, round(frame_seconds * 1000.0)),
+        loop=0 if loop else 1,
+        optimize=False,
+        disposal=1,
+    )
+    return len(frames)
+
+
+def require_ffmpeg(out: str | Path) -> str:
+    """The path of the ``ffmpeg`` program, or a clear error naming what to do."""
+    ffmpeg = shutil.which("ffmpeg")
+    if ffmpeg is None:
+        raise VideoEncoderMissingError(
+            "writing .mp4 needs the ffmpeg program, which is not on this machine",
+            path=out,
+            hint="install ffmpeg (e.g. apt install ffmpeg) or write a .gif instead",
+        )
+    return ffmpeg
+
+
+def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float) -> int:
+    """Encode RGB images as H.264 MP4 by piping raw frames to ``ffmpeg``."""
+    ffmpeg = require_ffmpeg(out)
+    p = Path(out)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    it = iter(images)
+    first = next(it, None)
+    if first is None:
+        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    h, w = first.shape[:2]
+    cmd = [
+        ffmpeg,
+        "-y",
+        "-loglevel",
+        "error",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+        "-s",
+        f"{w}x{h}",
+        "-r",
+        f"{1.0 / frame_seconds:.6g}",
+        "-i",
+        "-",
+        "-vf",
+        "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+        "-pix_fmt",
+        "yuv420p",
+        "-vcodec",
+        "libx264",
+        str(p),
+    ]
+    n = 0
+    with subprocess.Popen(cmd, stdin=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
+        assert proc.stdin is not None
+        try:
+            for img in _chain(first, it):
+                proc.stdin.write(np.ascontiguousarray(img).tobytes())
+                n += 1
+        except BrokenPipeError:
+            pass
+        finally:
+            proc.stdin.close()
+        err = proc.stderr.read().decode(errors="replace") if proc.stderr else ""
+        code = proc.wait()
+    if code != 0:
+        raise LaserPeopleError(f"ffmpeg failed: {err.strip()[-400:]}", path=p)
+    return n
+
+
+def _chain(first: RGBImage, rest: Iterator[RGBImage]) -> Iterator[RGBImage]:
+    yield first
+    yield from rest
+
+
+def animate(
+    scene: Scene,
+    out: str | Path,
+    *,
+    size: tuple[int, int] = (640, 480),
+    extent: Extent | None = None,
+    fps: float | None = None,
+    trail: int = 20,
+    progress: ProgressFn | None = None,
+    total: int | None = None,
+) -> RenderResult:
+    """Animate ``scene`` (one frame per drawn scan) as ``.gif`` or ``.mp4``.
+
+    ``fps`` None plays in real time (frame spacing = median scan spacing times ``every``).
+    """
+    p = Path(out)
+    suffix = p.suffix.lower()
+    if suffix not in {".gif", ".mp4"}:
+        raise LaserPeopleError(
+            f"cannot animate to {suffix or 'a file without extension'}",
+            path=p,
+            hint="use .gif or .mp4",
+        )
+    if suffix == ".mp4":
+        require_ffmpeg(p)
+    import_matplotlib()
+    if extent is None:
+        extent = scene.extent()
+    seconds = _frame_duration(scene, fps)
+    images = iter_images(
+        scene, size=size, extent=extent, trail=trail, progress=progress, total=total
+    )
+    n = write_gif(images, p, seconds) if suffix == ".gif" else write_mp4(images, p, seconds)
+    return RenderResult(p, n, size, extent)
+
+
+def plot_overview(
+    scene: Scene,
+    out: str | Path,
+    *,
+    size: tuple[int, int] = (800, 600),
+    extent: Extent | None = None,
+    max_points: int = 150_000,
+) -> RenderResult:
+    """Draw the whole window at once as PNG: the scan points (sub-sampled to at most
+    ``max_points``), the sensor's path, every track's trajectory in its colour with its id at
+    the end, group trajectories thick with their largest size, and the truth dashed black."""
+    mpl = import_matplotlib()
+    del mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+
+    points: list[np.ndarray] = []
+    n_points = 0
+    sensor: list[tuple[float, float]] = []
+    paths: dict[tuple[str, int], list[tuple[float, float]]] = {}
+    group_size: dict[int, int] = {}
+    truth_paths: dict[int, list[tuple[float, float]]] = {}
+    n_frames = 0
+    for f in scene.frames():
+        n_frames += 1
+        sensor.append((f.sensor_pose.x, f.sensor_pose.y))
+        if n_points < max_points:
+            points.append(f.points)
+            n_points += f.points.shape[0]
+        elif n_frames % 8 == 0:
+            points.append(f.points[::8])
+        for t in f.tracks.tracks:
+            paths.setdefault((t.kind, t.track_id), []).append(
+                (float(t.position[0]), float(t.position[1]))
+            )
+            if t.kind == "group":
+                group_size[t.track_id] = max(group_size.get(t.track_id, 0), t.size)
+        if f.truth is not None:
+            for pid, xy in zip(f.truth.person_ids, f.truth.positions, strict=True):
+                truth_paths.setdefault(int(pid), []).append((float(xy[0]), float(xy[1])))
+    if n_frames == 0:
+        raise LaserPeopleError(
+            "no scans in the chosen window",
+            path=scene.source_name or None,
+            hint="check --topic, --start and --stop",
+        )
+    cloud = np.concatenate(points) if points else np.empty((0, 2))
+    if cloud.shape[0] > max_points:
+        cloud = cloud[:: int(np.ceil(cloud.shape[0] / max_points))]
+    if extent is None:
+        extent = scene.extent()
+    fig = Figure(figsize=(size[0] / 100.0, size[1] / 100.0), dpi=100.0)
+    canvas = FigureCanvasAgg(fig)
+    ax = fig.add_axes(AXES_BOX)
+    shown = square_extent(extent, (AXES_BOX[2] * size[0], AXES_BOX[3] * size[1]))
+    ax.set_xlim(shown[0], shown[1])
+    ax.set_ylim(shown[2], shown[3])
+    ax.grid(True, color=(0.9, 0.9, 0.9), linewidth=0.6)
+    ax.set_axisbelow(True)
+    ax.tick_params(labelsize=7)
+    ax.set_xlabel(f"x [m] ({scene.frame} frame)", fontsize=8)
+    ax.set_ylabel("y [m]", fontsize=8)
+    ax.plot(cloud[:, 0], cloud[:, 1], ",", color=(*to_unit(SCAN_POINTS), 0.35), zorder=1)
+    s = np.array(sensor)
+    ax.plot(s[:, 0], s[:, 1], "-", color=(0.1, 0.1, 0.1), linewidth=1.0, zorder=2)
+    ax.plot(s[-1:, 0], s[-1:, 1], "^", color=(0.1, 0.1, 0.1), ms=6, zorder=2)
+    if truth_paths:
+        ax.add_collection(
+            LineCollection(
+                [np.array(v) for v in truth_paths.values()],
+                colors=[(*to_unit(TRUTH), 0.7)],
+                linestyles="--",
+                linewidths=0.9,
+                zorder=3,
+            ),
+            autolim=False,
+        )
+    has_people = any(k == "person" for k, _ in paths)
+    for (kind, tid), xy in paths.items():
+        if kind == "leg" and has_people:
+            continue
+        arr = np.array(xy)
+        colour = to_unit(track_color(tid, kind))
+        width = {"group": 3.0, "person": 1.6, "leg": 1.0}[kind]
+        ax.plot(arr[:, 0], arr[:, 1], "-", color=colour, linewidth=width, zorder=4)
+        ax.plot(arr[:1, 0], arr[:1, 1], "o", color=colour, ms=3, zorder=4)
+        label = f"G{tid} ×{group_size[tid]}" if kind == "group" else f"{kind[0].upper()}{tid}"
+        ax.text(
+            arr[-1, 0],
+            arr[-1, 1],
+            label,
+            color=to_unit(label_color(tid, kind)),
+            fontsize=8,
+            zorder=5,
+            clip_on=True,
+        )
+    n_tracks = sum(1 for k, _ in paths if not (k == "leg" and has_people))
+    ax.set_title(
+        f"{_title(scene)}  {n_frames} scans, {n_tracks} tracks"
+        + (f", truth {len(truth_paths)} people" if truth_paths else ""),
+        fontsize=9,
+    )
+    canvas.draw()
+    image = np.ascontiguousarray(np.asarray(canvas.buffer_rgba())[:, :, :3])
+    fig.clear()
+    return RenderResult(save_png(image, out), 1, size, extent)

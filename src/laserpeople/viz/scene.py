@@ -1,0 +1,338 @@
+"""What is drawn: scans, tracks and ground truth of one recording, aligned by scan index and
+expressed in the display frame.
+
+A :class:`Scene` can be iterated several times (a first pass sizes the plot, a second draws
+it) and streams: memory does not grow with the length of the recording.
+
+Alignment: tracks (from a tracks CSV or a tracker) and truth frames are matched to scans by
+their 0-based ``scan_index`` on the drawn topic. Both streams must come in increasing scan
+order, as the tracks CSV writer and every reader produce them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Literal, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.errors import LaserPeopleError, PoseUnavailableError, RecordingError
+from laserpeople.io import RecordingSource, open_recording
+from laserpeople.io.tracks_csv import convert_tracks, iter_tracks_csv
+from laserpeople.io.truth_csv import read_truth_csv
+from laserpeople.scan import Frame, Pose2D, Scan
+from laserpeople.tracks import Track, Tracks
+from laserpeople.truth import TruthFrame
+
+FloatArray = NDArray[np.float64]
+FrameChoice = Literal["auto", "world", "sensor"]
+T = TypeVar("T", Tracks, TruthFrame)
+
+_IDENTITY = Pose2D()
+
+
+@dataclass(frozen=True, eq=False)
+class SceneFrame:
+    """One scan with everything drawn on it, all in the display frame.
+
+    Attributes:
+        scan: The scan.
+        points: Valid beam end points (K, 2) [m].
+        sensor_pose: Pose of the sensor in the display frame.
+        tracks: The tracks reported after this scan (empty when none).
+        truth: The true people at this scan, or None when there is no truth for it.
+    """
+
+    scan: Scan
+    points: FloatArray
+    sensor_pose: Pose2D
+    tracks: Tracks
+    truth: TruthFrame | None
+
+
+def _aligned(stream: Iterator[T]) -> Callable[[int], T | None]:
+    """A lookup ``scan_index -> item`` over an increasing stream, consuming it lazily."""
+    pending: list[T] = []
+
+    def at(index: int) -> T | None:
+        while True:
+            if not pending:
+                nxt = next(stream, None)
+                if nxt is None:
+                    return None
+                pending.append(nxt)
+            head = pending[0]
+            if head.scan_index < index:
+                pending.pop()
+                continue
+            return head if head.scan_index == index else None
+
+    return at
+
+
+def _transform_truth(truth: TruthFrame, pose: Pose2D) -> TruthFrame:
+    """Truth (world frame) in the sensor frame of ``pose``."""
+    legs = truth.leg_positions.reshape(-1, 2)
+    rot = pose.rotation()
+    return replace(
+        truth,
+        positions=pose.inverse_transform_points(truth.positions),
+        velocities=truth.velocities @ rot,
+        leg_positions=pose.inverse_transform_points(legs).reshape(-1, 2, 2),
+    )
+
+
+class Scene:
+    """Scans of one topic with tracks and truth, ready to draw.
+
+    Args:
+        recording: A recording path, an open :class:`RecordingSource`, or a sequence of
+            scans (e.g. the scans a tracker just processed).
+        tracks: A tracks CSV path, a sequence of :class:`Tracks`, or None.
+        truth: A truth CSV path, a sequence of :class:`TruthFrame`, ``"recording"`` for
+            the recording's own truth (an error when it has none), ``"auto"`` for the
+            recording's truth when it has some, or None.
+        topic: The laser topic to draw; None takes the recording's first topic.
+        frame: Display frame; ``"auto"`` is world when the scans carry a sensor pose,
+            else sensor.
+        tracks_frame: The frame the tracks CSV was written in; None means world when the
+            scans carry a sensor pose, else sensor (what ``laserpeople track`` writes).
+        start: First scan index drawn (0-based on the topic, inclusive).
+        stop: Scan index to stop before (exclusive); None runs to the end.
+        every: Draw every ``every``-th scan of the window.
+        title: Text on the pictures; None names the file and topic.
+    """
+
+    def __init__(
+        self,
+        recording: str | Path | RecordingSource | Iterable[Scan],
+        tracks: str | Path | Iterable[Tracks] | None = None,
+        truth: str | Path | Iterable[TruthFrame] | None = None,
+        *,
+        topic: str | None = None,
+        frame: FrameChoice = "auto",
+        tracks_frame: Frame | None = None,
+        start: int | None = None,
+        stop: int | None = None,
+        every: int = 1,
+        title: str | None = None,
+    ) -> None:
+        if every < 1:
+            raise LaserPeopleError(f"every must be at least 1, got {every}")
+        if start is not None and stop is not None and stop <= start:
+            raise LaserPeopleError(f"empty scan window: start {start} >= stop {stop}")
+        # a scene is read more than once (sizing, then drawing): one-shot iterators are
+        # kept as lists so that the second pass does not silently see nothing
+        if isinstance(recording, Iterator):
+            recording = list(recording)
+        if isinstance(tracks, Iterator):
+            tracks = list(tracks)
+        if isinstance(truth, Iterator):
+            truth = list(truth)
+        self._recording = recording
+        self.source_name = (
+            str(recording) if isinstance(recording, str | Path) else getattr(recording, "path", "")
+        )
+        self.title = title
+        self._tracks = tracks
+        self._truth = truth
+        self.topic = topic
+        self.start = start if start is not None else 0
+        self.stop = stop
+        self.every = every
+        auto = self._pose_frame()
+        if frame == "world" and auto == "sensor":
+            raise PoseUnavailableError(
+                "cannot draw in the world frame: the scans carry no sensor pose",
+                path=self.source_name or None,
+                hint="use --frame sensor, or a recording with /tf or odometry",
+            )
+        self.frame: Frame = auto if frame == "auto" else frame
+        self.tracks_frame: Frame = tracks_frame or auto
+
+    # -- inputs --------------------------------------------------------------------------
+    def _open(self) -> tuple[Iterator[Scan], Iterator[TruthFrame] | None, Callable[[], None]]:
+        rec = self._recording
+        if isinstance(rec, str | Path):
+            source = open_recording(rec)
+            return self._topic_scans(source), self._recording_truth(source), source.close
+        if isinstance(rec, RecordingSource):
+            return self._topic_scans(rec), self._recording_truth(rec), lambda: None
+        scans = iter(rec)
+        first = next(scans, None)
+        if first is None:
+            return iter(()), None, lambda: None
+        name = self.topic or first.sensor
+
+        def chain() -> Iterator[Scan]:
+            if first.sensor == name:
+                yield first
+            yield from (s for s in scans if s.sensor == name)
+
+        return chain(), None, lambda: None
+
+    def _topic_scans(self, source: RecordingSource) -> Iterator[Scan]:
+        topic = self.topic
+        if topic is None:
+            topics = source.topics()
+            if not topics:
+                raise RecordingError("recording has no laser topics", path=source.path)
+            topic = topics[0].name
+            self.topic = topic
+        return source.scans([topic])
+
+    def _recording_truth(self, source: RecordingSource) -> Iterator[TruthFrame] | None:
+        return source.truth() if source.has_truth else None
+
+    def _pose_frame(self) -> Frame:
+        """World when the first scan has a sensor pose, else sensor."""
+        scans, _, close = self._open()
+        try:
+            first = next(scans, None)
+        finally:
+            close()
+        return "world" if first is not None and first.pose is not None else "sensor"
+
+    def _truth_stream(self, recording_truth: Iterator[TruthFrame] | None) -> Iterator[TruthFrame]:
+        truth = self._truth
+        if truth is None:
+            return iter(())
+        if isinstance(truth, str) and truth == "auto":
+            return recording_truth if recording_truth is not None else iter(())
+        if isinstance(truth, str) and truth == "recording":
+            if recording_truth is None:
+                raise RecordingError(
+                    "the recording carries no ground truth",
+                    path=self.source_name or None,
+                    hint="give a truth CSV (scan,stamp,person_id,x,y) or drop --truth",
+                )
+            return recording_truth
+        if isinstance(truth, str | Path):
+            return iter(read_truth_csv(truth))
+        return iter(truth)
+
+    def _tracks_stream(self) -> Iterator[Tracks]:
+        tracks = self._tracks
+        if tracks is None:
+            return iter(())
+        if isinstance(tracks, str | Path):
+            return iter_tracks_csv(tracks, frame=self.tracks_frame)
+        return iter(tracks)
+
+    def count(self) -> int | None:
+        """Number of frames the window holds, when the recording can tell without reading."""
+        rec = self._recording
+        if isinstance(rec, str | Path):
+            source = open_recording(rec)
+            try:
+                return self._count(source)
+            finally:
+                source.close()
+        if isinstance(rec, RecordingSource):
+            return self._count(rec)
+        if isinstance(rec, list | tuple) and rec:
+            name = self.topic or rec[0].sensor
+            return sum(
+                1
+                for s in rec
+                if s.sensor == name
+                and s.index >= self.start
+                and (self.stop is None or s.index < self.stop)
+                and (s.index - self.start) % self.every == 0
+            )
+        return None
+
+    def _count(self, source: RecordingSource) -> int | None:
+        topics = source.topics()
+        name = self.topic or (topics[0].name if topics else None)
+        n = next((t.count for t in topics if t.name == name), None)
+        if n is None:
+            return None
+        stop = n if self.stop is None else min(n, self.stop)
+        return max(0, -(-(stop - self.start) // self.every))
+
+    # -- output ---------------------------------------------------------------------------
+    def frames(self) -> Iterator[SceneFrame]:
+        """The frames of the window, in order, in the display frame."""
+        scans, rec_truth, close = self._open()
+        try:
+            track_at = _aligned(self._tracks_stream())
+            truth_at = _aligned(self._truth_stream(rec_truth))
+            for scan in scans:
+                if scan.index < self.start or (scan.index - self.start) % self.every:
+                    continue
+                if self.stop is not None and scan.index >= self.stop:
+                    break
+                yield self._frame(scan, track_at(scan.index), truth_at(scan.index))
+        finally:
+            close()
+
+    def _frame(self, scan: Scan, tracks: Tracks | None, truth: TruthFrame | None) -> SceneFrame:
+        pose = scan.pose
+        if self.frame == "world":
+            points, _ = scan.valid_points("world")
+            assert pose is not None  # valid_points("world") raised otherwise
+            sensor_pose = pose
+        else:
+            points, _ = scan.valid_points("sensor")
+            sensor_pose = _IDENTITY
+        if tracks is None:
+            tracks = Tracks(scan.stamp, scan.index, (), self.frame, pose)
+        elif tracks.frame != self.frame:
+            tracks = convert_tracks(
+                replace(tracks, sensor_pose=tracks.sensor_pose or pose), self.frame
+            )
+        if truth is not None and self.frame == "sensor" and pose is not None:
+            truth = _transform_truth(truth, pose)
+        return SceneFrame(scan, points, sensor_pose, tracks, truth)
+
+    def extent(
+        self, margin: float = 0.5, max_scans: int = 400, track_slack: float = 2.0
+    ) -> tuple[float, float, float, float]:
+        """``(xmin, xmax, ymin, ymax)`` [m] that holds the sensor, the truth, the bulk of
+        the scan points (1st to 99th percentile, so a few stray far returns do not shrink
+        everything else; sampled from at most ``max_scans`` scans and every 10th after)
+        and the track positions within ``track_slack`` [m] of that box."""
+        pts: list[FloatArray] = []
+        objs: list[FloatArray] = []
+        tracked: list[FloatArray] = []
+        for i, f in enumerate(self.frames()):
+            if i < max_scans or i % 10 == 0:
+                pts.append(f.points[:: max(1, f.points.shape[0] // 256)])
+            objs.append(np.array([[f.sensor_pose.x, f.sensor_pose.y]]))
+            if f.tracks.tracks:
+                tracked.append(np.array([t.position for t in f.tracks.tracks]))
+            if f.truth is not None and len(f.truth):
+                objs.append(f.truth.positions)
+        if not objs:
+            raise LaserPeopleError(
+                "no scans in the chosen window",
+                path=self.source_name or None,
+                hint="check --topic, --start, --stop and --scan",
+            )
+        o = np.concatenate(objs)
+        o = o[np.all(np.isfinite(o), axis=1)]
+        lo, hi = o.min(axis=0), o.max(axis=0)
+        cloud = np.concatenate(pts)
+        if cloud.shape[0]:
+            lo = np.minimum(lo, np.percentile(cloud, 1.0, axis=0))
+            hi = np.maximum(hi, np.percentile(cloud, 99.0, axis=0))
+        if tracked:
+            # tracks far outside everything measured (a diverging estimate) would shrink
+            # the scene to a corner; they are left out of the extent, not of the drawing
+            t = np.concatenate(tracked)
+            near = np.all((t >= lo - track_slack) & (t <= hi + track_slack), axis=1)
+            if np.any(near):
+                lo = np.minimum(lo, t[near].min(axis=0))
+                hi = np.maximum(hi, t[near].max(axis=0))
+        lo, hi = lo - margin, hi + margin
+        return float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])
+
+
+def track_positions(tracks: Iterable[Track]) -> FloatArray:
+    """Positions (T, 2) of tracks."""
+    arr = [t.position for t in tracks]
+    return np.array(arr, dtype=np.float64).reshape(-1, 2)

@@ -1,0 +1,104 @@
+"""`laserpeople view` and `laserpeople demo` from the command line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.viz import Scene
+from test_viz_support import make_scans, make_tracks, write_scene
+
+pytest.importorskip("matplotlib")
+from PIL import Image
+
+runner = CliRunner()
+
+
+def test_view_writes_png_gif_and_mcap(tmp_path: Path) -> None:
+    rec, csv = write_scene(tmp_path, n=6)
+    for name, extra in (
+        ("one.png", ["--scan", "3"]),
+        ("all.png", []),
+        ("all.gif", ["--every", "2"]),
+        ("all.mcap", []),
+    ):
+        out = tmp_path / name
+        res = runner.invoke(
+            app,
+            ["view", str(rec), "--tracks", str(csv), "-o", str(out), "--size", "320x240", *extra],
+        )
+        assert res.exit_code == 0, res.output
+        assert out.exists() and out.stat().st_size > 0
+    with Image.open(tmp_path / "all.gif") as gif:
+        assert gif.n_frames == 3
+        assert gif.size == (320, 240)
+
+
+def test_view_reports_bad_options_as_errors(tmp_path: Path) -> None:
+    rec, _csv = write_scene(tmp_path, n=3)
+    res = runner.invoke(app, ["view", str(rec), "-o", str(tmp_path / "x.png"), "--size", "big"])
+    assert res.exit_code != 0
+    assert "WIDTHxHEIGHT" in str(res.exception)
+    res = runner.invoke(app, ["view", str(rec), "-o", str(tmp_path / "x.png"), "--frame", "map"])
+    assert res.exit_code != 0
+
+
+def test_world_frame_without_poses_is_a_clear_error(tmp_path: Path) -> None:
+    scans = make_scans(2, pose=None)
+    from laserpeople.errors import PoseUnavailableError
+
+    with pytest.raises(PoseUnavailableError, match="--frame sensor"):
+        Scene(scans, frame="world")
+    assert Scene(scans).frame == "sensor"
+
+
+def test_extent_ignores_a_diverging_track_far_away(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from laserpeople.tracks import Track
+
+    tracks = make_tracks(4)
+    wild = Track(99, "leg", [500.0, -300.0], [0.0, 0.0], np.eye(2))
+    tracks[2] = replace(tracks[2], tracks=(*tracks[2].tracks, wild))
+    x0, x1, y0, y1 = Scene(make_scans(4), tracks).extent()
+    assert -10 < x0 < x1 < 15 and -10 < y0 < y1 < 15
+
+
+@pytest.mark.slow
+def test_demo_runs_end_to_end_or_names_the_missing_part(tmp_path: Path) -> None:
+    res = runner.invoke(app, ["demo", "--seconds", "4", "--out-dir", str(tmp_path)])
+    if res.exit_code != 0:
+        from laserpeople.viz.demo import DemoPartMissingError
+
+        assert isinstance(res.exception, DemoPartMissingError), res.exception
+        pytest.skip(f"pipeline part missing: {res.exception}")
+    assert "leg-mht" in res.output and "MOTA" in res.output
+    assert (tmp_path / "demo-tracks.csv").read_text().startswith("scan,stamp,track_id")
+    with Image.open(tmp_path / "demo.gif") as gif:
+        assert gif.n_frames >= 10
+
+
+def test_a_missing_pipeline_part_is_named_not_faked() -> None:
+    from laserpeople.viz.demo import DemoPartMissingError, _lookup
+
+    with pytest.raises(DemoPartMissingError, match=r"the simulator \(laserpeople\.nosuch\.run"):
+        _lookup("the simulator", ("laserpeople.nosuch",), "run_scenario")
+    with pytest.raises(DemoPartMissingError, match="does not provide yet"):
+        _lookup("the metrics", ("laserpeople.config",), "no_such_function")
+
+
+def test_demo_exits_non_zero_when_a_part_is_missing(monkeypatch: pytest.MonkeyPatch) -> None:
+    import laserpeople.viz.demo as demo_module
+
+    def missing(*args: object, **kwargs: object) -> None:
+        raise demo_module._missing("the simulator", "laserpeople.sim.run_scenario")
+
+    monkeypatch.setattr(demo_module, "simulate_demo", missing)
+    res = runner.invoke(app, ["demo", "--seconds", "1"])
+    assert res.exit_code != 0
+    assert isinstance(res.exception, demo_module.DemoPartMissingError)
+    assert "the simulator" in str(res.exception)

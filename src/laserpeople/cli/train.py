@@ -1,15 +1,234 @@
-"""`laserpeople train`: Train the AdaBoost leg detector."""
+"""`laserpeople train`: train the AdaBoost leg detector (000 Table 1) and report on it."""
 
 from __future__ import annotations
 
+import datetime
+from pathlib import Path
+from typing import Annotated
+
 import typer
 
-from laserpeople.cli.common import not_built
+from laserpeople.cli.common import console, progress, say
+from laserpeople.detection.model_file import parse_feature_set
+from laserpeople.detection.report import (
+    Confusion,
+    best_features,
+    error_table,
+    heuristic_predictions,
+    predict,
+    train_model,
+)
+from laserpeople.detection.training import (
+    LabelledSegments,
+    Unlabelled,
+    all_negative,
+    leg_tracker_positive,
+    neko_segments,
+    truth_segments,
+)
+from laserpeople.errors import ConfigError, RecordingError
+from laserpeople.segmentation import JumpDistanceParams
+
+
+def _frames(text: str | None) -> list[int] | None:
+    if text is None:
+        return None
+    try:
+        return parse_frames(text)
+    except ValueError as exc:
+        raise ConfigError(f"bad frame list {text!r}: {exc}", hint="write e.g. 0-59") from exc
+
+
+def parse_frames(text: str) -> list[int]:
+    """``"0-59"`` or ``"0,3,5-9"`` -> frame numbers."""
+    out: list[int] = []
+    for part in text.split(","):
+        part = part.strip()
+        if "-" in part:
+            a, b = (int(x) for x in part.split("-", 1))
+            out.extend(range(a, b + 1))
+        elif part:
+            out.append(int(part))
+    return out
+
+
+def load_labelled(
+    recordings: list[Path],
+    positives: list[Path],
+    negatives: list[Path],
+    neko: Path | None,
+    neko_frames: str | None,
+    unlabelled: Unlabelled,
+    segmentation: JumpDistanceParams,
+    what: str = "recordings",
+) -> LabelledSegments:
+    """Labelled segments from every kind of labelled input the command accepts."""
+    from laserpeople.io import open_recording
+
+    jobs: list[tuple[str, Path]] = (
+        [("truth", p) for p in recordings]
+        + [("positive", p) for p in positives]
+        + [("negative", p) for p in negatives]
+    )
+    parts: list[LabelledSegments] = []
+    for kind, path in progress(jobs, total=len(jobs), description=what):
+        if kind == "truth":
+            rec = open_recording(path)
+            try:
+                part = truth_segments(rec.scans(), path.name, segmentation)
+            finally:
+                rec.close()
+        elif kind == "positive":
+            part = leg_tracker_positive(path, unlabelled=unlabelled, segmentation=segmentation)
+        else:
+            part = all_negative(path, segmentation=segmentation)
+        say(f"{path.name}: {part.summary()}")
+        parts.append(part)
+    if neko is not None:
+        part = neko_segments(neko, _frames(neko_frames))
+        say(f"{neko.name} (neko7055, frames {neko_frames or 'all'}): {part.summary()}")
+        parts.append(part)
+    return LabelledSegments.concat(parts)
 
 
 def register(app: typer.Typer) -> None:
     """Add the `train` command to ``app``."""
 
-    @app.command("train", help="Train the AdaBoost leg detector. (not built yet)")
-    def _command() -> None:
-        raise not_built("train", "the leg detection issue")
+    @app.command(
+        "train",
+        help=(
+            "Train the AdaBoost leg detector (000 Table 1) from labelled segments: recordings "
+            "with per-beam ground truth (.npz from the simulator), leg_tracker-style "
+            "--positives bags (scans + /leg_cluster_positions), --negatives recordings "
+            "(every segment is not a leg) and the neko7055 data (--neko)."
+        ),
+    )
+    def _command(
+        output: Annotated[Path, typer.Option("-o", "--output", help="Model JSON to write.")],
+        recordings: Annotated[
+            list[Path] | None,
+            typer.Argument(help="Recordings with per-beam ground truth (e.g. simulated .npz)."),
+        ] = None,
+        rounds: Annotated[
+            int, typer.Option("--rounds", "-T", help="Boosting rounds T (000: 10).")
+        ] = 10,
+        features: Annotated[
+            str, typer.Option("--features", help="Features: 1-13 (geometry) or 1-14 (+ motion).")
+        ] = "1-13",
+        positives: Annotated[
+            list[Path] | None,
+            typer.Option("--positives", help="Bags with /training_scan + /leg_cluster_positions."),
+        ] = None,
+        negatives: Annotated[
+            list[Path] | None,
+            typer.Option("--negatives", help="Recordings in which no segment is a leg."),
+        ] = None,
+        neko: Annotated[
+            Path | None,
+            typer.Option("--neko", help="neko7055 directory (xy_data.txt + labels json)."),
+        ] = None,
+        neko_frames: Annotated[
+            str | None,
+            typer.Option("--neko-frames", help="neko7055 frames to use, e.g. 0-59 (default all)."),
+        ] = None,
+        unlabelled: Annotated[
+            str,
+            typer.Option(
+                "--unlabelled",
+                help="Unlabelled segments of --positives bags far from any label: negative|drop.",
+            ),
+        ] = "negative",
+        jump_distance: Annotated[
+            float, typer.Option("--jump-distance", help="Segmentation threshold [m].")
+        ] = 0.1,
+        report: Annotated[
+            bool, typer.Option("--report", help="Print confusion matrices (000 Tables 2-8).")
+        ] = False,
+        test: Annotated[
+            list[Path] | None, typer.Option("--test", help="Held-out labelled recordings.")
+        ] = None,
+        test_positives: Annotated[
+            list[Path] | None, typer.Option("--test-positives", help="Held-out positive bags.")
+        ] = None,
+        test_negatives: Annotated[
+            list[Path] | None, typer.Option("--test-negatives", help="Held-out negative bags.")
+        ] = None,
+        test_neko_frames: Annotated[
+            str | None,
+            typer.Option("--test-neko-frames", help="Held-out neko7055 frames, e.g. 60-119."),
+        ] = None,
+    ) -> None:
+        positives, negatives = positives or [], negatives or []
+        test, test_positives, test_negatives = (
+            test or [],
+            test_positives or [],
+            test_negatives or [],
+        )
+        try:
+            feature_set = parse_feature_set(features)
+        except ValueError as exc:
+            raise ConfigError(str(exc), hint="use --features 1-13 or 1-14") from exc
+        if rounds < 1:
+            raise ConfigError(f"--rounds must be at least 1, got {rounds}")
+        if unlabelled not in ("negative", "drop"):
+            raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
+        mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"
+        seg = JumpDistanceParams(threshold=jump_distance)
+        data = load_labelled(
+            list(recordings or []), positives, negatives, neko, neko_frames, mode, seg
+        )
+        if data.n_positive == 0 or data.n_negative == 0:
+            raise RecordingError(
+                f"training needs legs and non-legs, got {data.summary()}",
+                hint="add --positives/--negatives bags or recordings with ground truth",
+            )
+        say(f"training on {data.summary()}")
+        provenance = {
+            "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "data": [str(p) for p in [*(recordings or []), *positives, *negatives]]
+            + ([f"{neko} frames {neko_frames or 'all'}"] if neko else []),
+            "unlabelled_in_positives": mode,
+        }
+        model = train_model(data, feature_set, rounds, jump_distance, provenance)
+        model.save(output)
+        say(f"wrote {output} ({len(model.classifier.stumps)} weak classifiers)")
+        if not report:
+            return
+        sets = [("training set", data)]
+        if test or test_positives or test_negatives or test_neko_frames:
+            held = load_labelled(
+                list(test),
+                test_positives,
+                test_negatives,
+                neko if test_neko_frames else None,
+                test_neko_frames,
+                mode,
+                seg,
+                what="test recordings",
+            )
+            sets.append(("test set", held))
+        other = tuple(range(1, 14)) if 14 in feature_set else (*feature_set, 14)
+        other_model = train_model(data, other, rounds, jump_distance)
+        for name, part in sets:
+            if len(part) == 0:
+                continue
+            ada = Confusion.of(predict(model, part), part.labels)
+            heur = Confusion.of(heuristic_predictions(part), part.labels)
+            alt = Confusion.of(predict(other_model, part), part.labels)
+            console.print(ada.table(f"\nConfusion matrix, {name} (layout of 000 Tables 2-5)"))
+            console.print(
+                error_table(
+                    {"Heuristic Approach": heur, "AdaBoost": ada},
+                    f"\nComparison with the heuristic approach, {name} (000 Table 7)",
+                )
+            )
+            c_with, c_without = (ada, alt) if 14 in feature_set else (alt, ada)
+            console.print(
+                error_table(
+                    {"Without Motion Feature": c_without, "With Motion Feature": c_with},
+                    f"\nEffect of the motion feature #14, {name} (000 Table 8)",
+                )
+            )
+        console.print(
+            f"\nFive best features (000 Table 6): {', '.join(map(str, best_features(model)))}"
+        )

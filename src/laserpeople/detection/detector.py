@@ -1,0 +1,221 @@
+"""Leg detectors: segment a scan, compute the 14 features, classify each segment.
+
+``detect(scan) -> Detections`` with one detection per segment classified as a leg:
+position = segment centre (mean of its points) in the sensor frame, a fixed diagonal
+measurement covariance, score = AdaBoost margin F(e) (1.0 for the heuristic). A detector
+keeps the previous scan of each sensor for the motion feature (#14), so feed it the scans
+of a recording in time order; :meth:`reset` forgets them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.detection.features import (
+    FeatureParams,
+    SegmentFeatures,
+    compute_features,
+)
+from laserpeople.detection.heuristic import HeuristicLegClassifier, HeuristicParams
+from laserpeople.detection.model_file import LegModel, load_model, model_from_json
+from laserpeople.scan import Scan
+from laserpeople.segmentation import (
+    JumpDistanceParams,
+    JumpDistanceSegmenter,
+    SegmentTable,
+    covers_full_circle,
+)
+from laserpeople.tracks import Detections
+
+DEFAULT_FEATURE_PARAMS = FeatureParams()
+DEFAULT_HEURISTIC_PARAMS = HeuristicParams()
+DEFAULT_JUMP_DISTANCE_PARAMS = JumpDistanceParams()
+
+DEFAULT_MODEL = "default.json"
+
+
+@dataclass(frozen=True)
+class LegDetectorParams:
+    """Parameters shared by the segment-based leg detectors."""
+
+    config_section = "leg_detector"
+
+    leg_position_std: float = param(
+        0.1,
+        "our choice: about a leg radius; 000 Sec. 4.7 uses sigma_x = sigma_y = 0.1 m for new "
+        "tracks",
+        "standard deviation of a leg centre measurement along x and y",
+        "m",
+    )
+    score_threshold: float = param(
+        0.0,
+        "000 Table 1 (H(e) = sign(F(e)))",
+        "segments with AdaBoost margin above this are legs",
+    )
+
+
+DEFAULT_LEG_DETECTOR_PARAMS = LegDetectorParams()
+
+
+@dataclass(frozen=True, eq=False)
+class ScanClassification:
+    """Everything a detector computed for one scan (for reports and --all-segments).
+
+    Attributes:
+        table: The segments.
+        features: Their features.
+        scores: Score (M,) of every segment (NaN for segments with fewer than 3 points).
+        is_leg: Decision (M,) for every segment (False for unclassified small segments).
+    """
+
+    table: SegmentTable
+    features: SegmentFeatures
+    scores: NDArray[np.float64]
+    is_leg: NDArray[np.bool_]
+
+
+class _SegmentDetector:
+    """Shared machinery: segmentation, features, previous scan, building Detections."""
+
+    def __init__(
+        self,
+        segmentation: JumpDistanceParams,
+        params: LegDetectorParams,
+        feature_params: FeatureParams,
+    ) -> None:
+        self.segmenter = JumpDistanceSegmenter(segmentation)
+        self.params = params
+        self.feature_params = feature_params
+        self._previous: dict[str, Scan] = {}
+
+    def reset(self) -> None:
+        """Forget previous scans (start of a new recording)."""
+        self._previous.clear()
+
+    def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
+        raise NotImplementedError
+
+    def classify(self, scan: Scan) -> ScanClassification:
+        """Segment, featurise and score ``scan``; remembers it as the previous scan."""
+        table = self.segmenter(scan)
+        previous = self._previous.get(scan.sensor)
+        feats = compute_features(
+            table, scan, previous, self.feature_params, full_circle=covers_full_circle(scan)
+        )
+        self._previous[scan.sensor] = scan
+        scores = np.full(len(table), np.nan)
+        ok = feats.classifiable
+        if ok.any():
+            scores[ok] = self._scores(_subset(feats, ok))
+        with np.errstate(invalid="ignore"):
+            is_leg = ok & (scores > self.params.score_threshold)
+        return ScanClassification(table, feats, scores, is_leg)
+
+    def detect(self, scan: Scan) -> Detections:
+        """The legs found in ``scan`` (sensor frame)."""
+        return self.detections_from(scan, self.classify(scan))
+
+    def detections_from(self, scan: Scan, result: ScanClassification) -> Detections:
+        """The detections of an already classified scan."""
+        idx = np.flatnonzero(result.is_leg)
+        var = self.params.leg_position_std**2
+        cov = np.broadcast_to(np.diag([var, var]), (idx.size, 2, 2)).copy()
+        return Detections(
+            stamp=scan.stamp,
+            scan_index=scan.index,
+            positions=result.features.centres[idx],
+            covariances=cov,
+            scores=result.scores[idx],
+            frame="sensor",
+            sensor_pose=scan.pose,
+            segments=tuple(result.table.segment(int(i)) for i in idx),
+        )
+
+
+def _subset(features: SegmentFeatures, mask: NDArray[np.bool_]) -> SegmentFeatures:
+    return SegmentFeatures(
+        features.values[mask],
+        features.max_beam_motion[mask],
+        features.centres[mask],
+        features.circle_centres[mask],
+    )
+
+
+class AdaBoostLegDetector(_SegmentDetector):
+    """Leg detector with a boosted classifier (000 Sec. 2).
+
+    Args:
+        model: The trained model; its jump-distance threshold is used for segmentation
+            unless ``segmentation`` is given.
+    """
+
+    def __init__(
+        self,
+        model: LegModel,
+        params: LegDetectorParams = DEFAULT_LEG_DETECTOR_PARAMS,
+        segmentation: JumpDistanceParams | None = None,
+        feature_params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+    ) -> None:
+        seg = segmentation or JumpDistanceParams(threshold=model.segmentation_threshold)
+        super().__init__(seg, params, feature_params)
+        self.model = model
+        self._columns = np.array(model.columns, dtype=np.int64)
+
+    def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
+        return self.model.classifier.decision_function(features.values[:, self._columns])
+
+    @classmethod
+    def default(
+        cls, params: LegDetectorParams = DEFAULT_LEG_DETECTOR_PARAMS
+    ) -> AdaBoostLegDetector:
+        """The detector with the model shipped in the package."""
+        return cls(default_model(), params)
+
+    @classmethod
+    def from_file(
+        cls, path: str | Path, params: LegDetectorParams = DEFAULT_LEG_DETECTOR_PARAMS
+    ) -> AdaBoostLegDetector:
+        """The detector with the model in ``path`` (raises ModelFileError if unusable)."""
+        return cls(load_model(path), params)
+
+
+class HeuristicLegDetector(_SegmentDetector):
+    """The hand-tuned baseline of 000 Sec. 2.3.3 (score 1.0 for every detection)."""
+
+    def __init__(
+        self,
+        heuristic: HeuristicParams = DEFAULT_HEURISTIC_PARAMS,
+        params: LegDetectorParams = DEFAULT_LEG_DETECTOR_PARAMS,
+        segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+        feature_params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+    ) -> None:
+        super().__init__(segmentation, params, feature_params)
+        self.classifier = HeuristicLegClassifier(heuristic)
+
+    def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
+        return np.where(self.classifier.predict(features) > 0, 1.0, -1.0)
+
+
+def default_model() -> LegModel:
+    """The model shipped in ``laserpeople/detection/models/default.json``."""
+    import json
+
+    ref = resources.files("laserpeople.detection").joinpath("models", DEFAULT_MODEL)
+    where = str(ref)
+    try:
+        doc = json.loads(ref.read_text(encoding="utf-8"))
+    except (FileNotFoundError, json.JSONDecodeError) as exc:
+        from laserpeople.errors import ModelFileError
+
+        raise ModelFileError(
+            f"the shipped default model is missing or broken: {exc}",
+            path=where,
+            hint="reinstall laserpeople or pass --model",
+        ) from exc
+    return model_from_json(doc, where)

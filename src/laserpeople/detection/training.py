@@ -1,0 +1,355 @@
+"""Labelled segments for training and testing the leg classifier.
+
+Every builder walks the scans of one recording in time order (so feature 14 sees the
+previous scan), segments them, computes the 14 features and attaches a label to every
+segment of at least three points (000 Sec. 2.2). The result is a
+:class:`LabelledSegments` table whose ``group`` column names the recording (and topic) each
+segment came from, so that train/test splits can keep whole recordings apart.
+
+Label sources:
+
+* leg_tracker positives (``positive_*_extracted.bag``): ``/training_scan`` paired one-to-one
+  (by message order) with ``/leg_cluster_positions`` (PoseArray, laser frame). A segment
+  whose centre is within ``match_radius`` of a label is a leg. The other segments of these
+  scans are mostly walls and furniture but may include an unlabelled leg (typically the
+  other leg of a labelled person), so segments within ``ambiguous_radius`` of a label but not
+  matched are dropped and the rest become negatives (``unlabelled="negative"``), or all
+  unmatched segments are dropped (``unlabelled="drop"``).
+* leg_tracker negatives (``negative_*.bag``): every segment of every laser topic is negative.
+* neko7055: the per-frame leg segment indices (the label rule is our segmentation with
+  0.1 m and wrap-around, see :mod:`laserpeople.io.neko`).
+* recordings with per-beam ground truth (``.npz``, the simulator): a segment is a leg when
+  more than half of its beams hit a leg.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.detection.features import (
+    N_FEATURES,
+    FeatureParams,
+    SegmentFeatures,
+    compute_features,
+)
+from laserpeople.errors import RecordingError
+from laserpeople.scan import Scan
+from laserpeople.segmentation import (
+    JumpDistanceParams,
+    JumpDistanceSegmenter,
+    SegmentTable,
+    covers_full_circle,
+)
+
+DEFAULT_FEATURE_PARAMS = FeatureParams()
+DEFAULT_JUMP_DISTANCE_PARAMS = JumpDistanceParams()
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+Unlabelled = Literal["negative", "drop"]
+
+# labels of one scan: +1 leg, -1 not a leg, 0 = leave out
+Labeller = Callable[[Scan, SegmentTable, SegmentFeatures], IntArray]
+
+
+@dataclass(frozen=True, eq=False)
+class LabelledSegments:
+    """Segments with features and labels, from one or many recordings.
+
+    Attributes:
+        features: Feature matrix (N, 14).
+        max_beam_motion: Largest beam range change (N,) [m] since the previous scan.
+        labels: +1 leg / -1 not a leg (N,).
+        group: Index (N,) into ``groups`` of the recording each segment came from.
+        scan: Scan index (N,) on its topic.
+        groups: Recording names (``file`` or ``file:topic``).
+    """
+
+    features: FloatArray
+    max_beam_motion: FloatArray
+    labels: IntArray
+    group: IntArray
+    scan: IntArray
+    groups: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return int(self.labels.size)
+
+    @property
+    def n_positive(self) -> int:
+        """Number of legs."""
+        return int((self.labels > 0).sum())
+
+    @property
+    def n_negative(self) -> int:
+        """Number of non-legs."""
+        return int((self.labels < 0).sum())
+
+    def select(self, mask: NDArray[np.bool_]) -> LabelledSegments:
+        """The rows where ``mask`` is true (groups kept)."""
+        return LabelledSegments(
+            self.features[mask],
+            self.max_beam_motion[mask],
+            self.labels[mask],
+            self.group[mask],
+            self.scan[mask],
+            self.groups,
+        )
+
+    def of_groups(self, names: Iterable[str]) -> LabelledSegments:
+        """The segments of the named recordings (a name matches itself and ``name:topic``)."""
+        wanted = tuple(names)
+        keep = [
+            i
+            for i, g in enumerate(self.groups)
+            if any(g == w or g.startswith(w + ":") for w in wanted)
+        ]
+        return self.select(np.isin(self.group, keep))
+
+    def summary(self) -> str:
+        """``N segments (a legs, b non-legs) from k recordings``."""
+        return (
+            f"{len(self)} segments ({self.n_positive} legs, {self.n_negative} non-legs) "
+            f"from {len(set(self.group.tolist()))} recordings"
+        )
+
+    @classmethod
+    def empty(cls) -> LabelledSegments:
+        """No segments."""
+        return cls(
+            np.empty((0, N_FEATURES)),
+            np.empty(0),
+            np.empty(0, dtype=np.int64),
+            np.empty(0, dtype=np.int64),
+            np.empty(0, dtype=np.int64),
+            (),
+        )
+
+    @classmethod
+    def concat(cls, parts: Sequence[LabelledSegments]) -> LabelledSegments:
+        """Join tables; group names are merged."""
+        names: list[str] = []
+        groups = []
+        for part in parts:
+            mapping = []
+            for g in part.groups:
+                if g not in names:
+                    names.append(g)
+                mapping.append(names.index(g))
+            groups.append(np.asarray(mapping, dtype=np.int64)[part.group])
+        if not parts:
+            return cls.empty()
+        return cls(
+            np.concatenate([p.features for p in parts]),
+            np.concatenate([p.max_beam_motion for p in parts]),
+            np.concatenate([p.labels for p in parts]),
+            np.concatenate(groups),
+            np.concatenate([p.scan for p in parts]),
+            tuple(names),
+        )
+
+
+def label_scans(
+    scans: Iterable[Scan],
+    labeller: Labeller,
+    group_of: Callable[[Scan], str],
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+    feature_params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+) -> LabelledSegments:
+    """Segment, featurise and label a time-ordered stream of scans."""
+    segmenter = JumpDistanceSegmenter(segmentation)
+    previous: dict[str, Scan] = {}
+    names: list[str] = []
+    feats, motion, labels, group, scan_idx = [], [], [], [], []
+    for scan in scans:
+        table = segmenter(scan)
+        f = compute_features(
+            table,
+            scan,
+            previous.get(scan.sensor),
+            feature_params,
+            full_circle=covers_full_circle(scan),
+        )
+        previous[scan.sensor] = scan
+        if len(table) == 0:
+            continue
+        lab = labeller(scan, table, f)
+        keep = (lab != 0) & f.classifiable
+        if not keep.any():
+            continue
+        name = group_of(scan)
+        if name not in names:
+            names.append(name)
+        feats.append(f.values[keep])
+        motion.append(f.max_beam_motion[keep])
+        labels.append(lab[keep])
+        group.append(np.full(int(keep.sum()), names.index(name), dtype=np.int64))
+        scan_idx.append(np.full(int(keep.sum()), scan.index, dtype=np.int64))
+    if not feats:
+        return LabelledSegments.empty()
+    return LabelledSegments(
+        np.concatenate(feats),
+        np.concatenate(motion),
+        np.concatenate(labels).astype(np.int64),
+        np.concatenate(group),
+        np.concatenate(scan_idx),
+        tuple(names),
+    )
+
+
+def match_labels(
+    centres: FloatArray,
+    label_points: FloatArray,
+    match_radius: float,
+    ambiguous_radius: float,
+    unlabelled: Unlabelled,
+) -> IntArray:
+    """Labels (M,) of segments with centres (M, 2) against labelled leg positions (L, 2)."""
+    m = centres.shape[0]
+    if label_points.shape[0] == 0:
+        return np.full(m, -1 if unlabelled == "negative" else 0, dtype=np.int64)
+    dist = np.hypot(
+        centres[:, None, 0] - label_points[None, :, 0],
+        centres[:, None, 1] - label_points[None, :, 1],
+    ).min(axis=1)
+    out = np.zeros(m, dtype=np.int64)
+    out[dist <= match_radius] = 1
+    if unlabelled == "negative":
+        out[dist > ambiguous_radius] = -1
+    return out
+
+
+def leg_tracker_positive(
+    path: str | Path,
+    *,
+    match_radius: float = 0.1,
+    ambiguous_radius: float = 0.5,
+    unlabelled: Unlabelled = "negative",
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+    scan_topic: str = "/training_scan",
+    label_topic: str = "/leg_cluster_positions",
+) -> LabelledSegments:
+    """Labelled segments of a leg_tracker ``positive_*_extracted.bag`` (see module doc)."""
+    from laserpeople.io import open_recording
+
+    p = Path(path)
+    poses = read_pose_arrays(p, label_topic)
+    rec = open_recording(p)
+    try:
+        scans = list(rec.scans([scan_topic]))
+    finally:
+        rec.close()
+    if len(scans) != len(poses):
+        raise RecordingError(
+            f"{len(scans)} scans on {scan_topic} but {len(poses)} label messages on "
+            f"{label_topic}; they must pair one to one",
+            path=p,
+        )
+    scans.sort(key=lambda s: s.index)
+    by_index = {s.index: poses[i] for i, s in enumerate(scans)}
+
+    def labeller(scan: Scan, table: SegmentTable, f: SegmentFeatures) -> IntArray:
+        return match_labels(
+            f.centres, by_index[scan.index], match_radius, ambiguous_radius, unlabelled
+        )
+
+    return label_scans(scans, labeller, lambda s: p.name, segmentation)
+
+
+def read_pose_arrays(path: Path, topic: str) -> list[FloatArray]:
+    """The (x, y) of every pose (L, 2) of each ``geometry_msgs/PoseArray`` on ``topic``."""
+    from rosbags.highlevel import AnyReader
+
+    try:
+        with AnyReader([path]) as reader:
+            cons = [c for c in reader.connections if c.topic == topic]
+            if not cons:
+                raise RecordingError(
+                    f"no topic {topic!r} with leg labels",
+                    path=path,
+                    hint="give a leg_tracker positive_*_extracted.bag",
+                )
+            out = []
+            for con, _, raw in reader.messages(connections=cons):
+                msg: Any = reader.deserialize(raw, con.msgtype)
+                out.append(
+                    np.array(
+                        [[q.position.x, q.position.y] for q in msg.poses], dtype=np.float64
+                    ).reshape(-1, 2)
+                )
+            return out
+    except RecordingError:
+        raise
+    except Exception as exc:  # rosbags raises many types for a broken file
+        raise RecordingError(f"cannot read leg labels: {exc}", path=path) from exc
+
+
+def all_negative(
+    path: str | Path,
+    topics: Sequence[str] | None = None,
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+) -> LabelledSegments:
+    """Every segment of every (or the given) laser topic of a recording is a non-leg."""
+    from laserpeople.io import open_recording
+
+    p = Path(path)
+    rec = open_recording(p)
+    try:
+        return label_scans(
+            rec.scans(topics),
+            lambda scan, table, f: np.full(len(table), -1, dtype=np.int64),
+            lambda s: f"{p.name}:{s.sensor}",
+            segmentation,
+        )
+    finally:
+        rec.close()
+
+
+def neko_segments(directory: str | Path, frames: Iterable[int] | None = None) -> LabelledSegments:
+    """Labelled segments of the neko7055 data (all frames, or the given ones)."""
+    from laserpeople.io.neko import NEKO_SEGMENT_THRESHOLD, neko_segment_labels, read_neko
+
+    data = read_neko(directory)
+    wanted = set(range(len(data.scans)) if frames is None else frames)
+
+    def labeller(scan: Scan, table: SegmentTable, f: SegmentFeatures) -> IntArray:
+        if scan.index not in wanted:
+            return np.zeros(len(table), dtype=np.int64)
+        legs = neko_segment_labels(data.leg_segments.get(scan.index, frozenset()), len(table))
+        return np.where(legs, 1, -1).astype(np.int64)
+
+    return label_scans(
+        data.scans,
+        labeller,
+        lambda s: "neko7055",
+        JumpDistanceParams(threshold=NEKO_SEGMENT_THRESHOLD, wrap_around=True),
+    )
+
+
+def beam_truth_labeller(scan: Scan, table: SegmentTable, f: SegmentFeatures) -> IntArray:
+    """+1 for segments most of whose beams hit a leg (needs ``scan.labels``)."""
+    if scan.labels is None:
+        raise RecordingError(
+            "scan has no per-beam ground truth",
+            path=scan.source or None,
+            scan=scan.index,
+            hint="train from a simulated .npz or use --positives/--negatives bags",
+        )
+    is_leg = scan.labels.is_leg[table.beams % table.n_beams].astype(np.float64)
+    frac = np.add.reduceat(is_leg, table.offsets[:-1]) / np.maximum(table.sizes, 1)
+    return np.where(frac > 0.5, 1, -1).astype(np.int64)
+
+
+def truth_segments(
+    scans: Iterable[Scan],
+    name: str,
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+) -> LabelledSegments:
+    """Labelled segments of scans carrying per-beam ground truth (simulator, ``.npz``)."""
+    return label_scans(scans, beam_truth_labeller, lambda s: f"{name}:{s.sensor}", segmentation)

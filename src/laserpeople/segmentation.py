@@ -1,0 +1,195 @@
+"""Splitting a scan into segments of neighbouring beams (000 Sec. 2.2).
+
+A segmenter is any callable ``segmenter(scan) -> SegmentTable``; the table is the
+vectorised form every consumer uses (flat beam indices plus segment offsets) and
+``table.segments()`` gives the ordered list of :class:`~laserpeople.scan.Segment` the
+design names. Further segmenters (single linkage, mean shift) implement the same
+:class:`Segmenter` protocol.
+
+Jump distance (000 Sec. 2.2): walk the valid beams in beam order; a new segment starts
+whenever the Euclidean distance between a point and the previous valid point exceeds the
+threshold. Invalid beams (no return) are *skipped*: they neither break a segment nor join
+it, so a leg with one dropped beam stays one segment, and a gap of several invalid beams
+still splits whenever the two valid points on either side are farther apart than the
+threshold. The number of skipped beams is reported by ``SegmentTable.n_invalid``.
+
+For a scan covering the full circle the last and first segment are merged when their
+end points are close (``wrap_around``); the merged segment keeps index 0 and its beams
+run from the end of the scan through beam 0 (its ``stop`` then exceeds the beam count,
+beams are ``beams % n_beams``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.scan import Scan, Segment
+
+IntArray = NDArray[np.int64]
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class SegmentTable:
+    """All segments of one scan as flat arrays (M segments over K points).
+
+    Attributes:
+        beams: Beam index (K,) of every segment point, segment after segment, each segment
+            in scan order (a wrap-around segment continues past the last beam with beam 0).
+        points: Sensor-frame coordinates (K, 2) [m] of those beams.
+        offsets: Start (M + 1,) of each segment in ``beams``; segment i is
+            ``beams[offsets[i]:offsets[i + 1]]``.
+        n_beams: Beam count of the scan.
+        n_invalid: Invalid beams skipped by the segmentation.
+    """
+
+    beams: IntArray
+    points: FloatArray
+    offsets: IntArray
+    n_beams: int
+    n_invalid: int = 0
+
+    def __len__(self) -> int:
+        return int(self.offsets.size - 1)
+
+    @property
+    def sizes(self) -> IntArray:
+        """Number of points (M,) of each segment."""
+        return np.diff(self.offsets)
+
+    @property
+    def segment_ids(self) -> IntArray:
+        """Segment index (K,) of every point."""
+        return np.repeat(np.arange(len(self), dtype=np.int64), self.sizes)
+
+    def centres(self) -> FloatArray:
+        """Mean point (M, 2) [m] of each segment."""
+        if len(self) == 0:
+            return np.empty((0, 2))
+        sums = np.add.reduceat(self.points, self.offsets[:-1], axis=0)
+        return np.asarray(sums / self.sizes[:, None], dtype=np.float64)
+
+    def segment(self, i: int) -> Segment:
+        """Segment ``i`` as a :class:`Segment` (``stop`` beyond ``n_beams`` when it wraps)."""
+        a, b = int(self.offsets[i]), int(self.offsets[i + 1])
+        beams = self.beams[a:b]
+        first, last = int(beams[0]), int(beams[-1])
+        stop = last + 1 if last >= first else last + 1 + self.n_beams
+        return Segment(first, stop, beams.copy(), self.points[a:b].copy())
+
+    def segments(self) -> list[Segment]:
+        """The ordered list of segments."""
+        return [self.segment(i) for i in range(len(self))]
+
+    @classmethod
+    def empty(cls, n_beams: int, n_invalid: int = 0) -> SegmentTable:
+        """A table without segments."""
+        return cls(
+            np.empty(0, dtype=np.int64),
+            np.empty((0, 2)),
+            np.zeros(1, dtype=np.int64),
+            n_beams,
+            n_invalid,
+        )
+
+
+class Segmenter(Protocol):
+    """Anything that splits a scan into ordered segments."""
+
+    def __call__(self, scan: Scan) -> SegmentTable:
+        """The segments of ``scan``."""
+        ...
+
+
+@dataclass(frozen=True)
+class JumpDistanceParams:
+    """Parameters of the jump-distance segmentation."""
+
+    config_section = "jump_distance"
+
+    threshold: float = param(
+        0.1,
+        "000 Sec. 2.2 gives no value; 0.1 m is the rule of the neko7055 leg labels",
+        "a new segment starts where adjacent valid points are at least this far apart",
+        "m",
+    )
+    wrap_around: bool = param(
+        True,
+        "neko7055 label rule",
+        "merge the last and first segment of a full-circle scan when they are close",
+    )
+
+
+@dataclass(frozen=True)
+class JumpDistanceSegmenter:
+    """Jump-distance segmentation of 000 Sec. 2.2 (see the module docstring)."""
+
+    params: JumpDistanceParams = JumpDistanceParams()
+
+    def __call__(self, scan: Scan) -> SegmentTable:
+        """The segments of ``scan`` in beam order."""
+        pts_all = scan.points("sensor")
+        valid = scan.valid
+        idx = np.flatnonzero(valid)
+        n_invalid = scan.n_beams - idx.size
+        if idx.size == 0:
+            return SegmentTable.empty(scan.n_beams, n_invalid)
+        pts = pts_all[idx]
+        return jump_distance_table(
+            pts,
+            idx.astype(np.int64),
+            scan.n_beams,
+            self.params.threshold,
+            wrap=self.params.wrap_around and covers_full_circle(scan),
+            n_invalid=n_invalid,
+        )
+
+
+def covers_full_circle(scan: Scan) -> bool:
+    """Whether the beams of ``scan`` go all the way round (beam N-1 neighbours beam 0)."""
+    span = abs(scan.angle_increment) * scan.n_beams
+    return span >= 2.0 * math.pi - 0.5 * abs(scan.angle_increment)
+
+
+def jump_distance_table(
+    points: FloatArray,
+    beams: IntArray,
+    n_beams: int,
+    threshold: float,
+    *,
+    wrap: bool = False,
+    n_invalid: int = 0,
+) -> SegmentTable:
+    """Jump-distance segmentation of valid points (K, 2) given in beam order.
+
+    Args:
+        points: Valid points (K, 2) [m], ordered by beam.
+        beams: Their beam indices (K,).
+        n_beams: Beam count of the scan.
+        threshold: Jump distance [m]; a gap ``>= threshold`` starts a new segment.
+        wrap: Merge the last segment into the first when the last and first point are
+            closer than ``threshold`` (full-circle scans).
+        n_invalid: Skipped beams, recorded in the table.
+    """
+    k = points.shape[0]
+    if k == 0:
+        return SegmentTable.empty(n_beams, n_invalid)
+    gaps = np.hypot(*(points[1:] - points[:-1]).T)
+    starts = np.concatenate(([0], np.flatnonzero(gaps >= threshold) + 1)).astype(np.int64)
+    offsets = np.concatenate((starts, [k])).astype(np.int64)
+    if wrap and starts.size > 1:
+        closing = float(np.hypot(*(points[0] - points[-1])))
+        if closing < threshold:
+            last = int(starts[-1])
+            order = np.concatenate((np.arange(last, k), np.arange(0, last)))
+            points = points[order]
+            beams = beams[order]
+            shift = k - last
+            offsets = np.concatenate(([0], starts[1:-1] + shift, [k])).astype(np.int64)
+    return SegmentTable(beams, points, offsets, n_beams, n_invalid)

@@ -1,0 +1,155 @@
+"""The detector on real labelled legs and through the command line."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.detection.training import (
+    LabelledSegments,
+    leg_tracker_positive,
+    neko_segments,
+)
+from laserpeople.io.detections_csv import HEADER, SEGMENT_COLUMNS, iter_detections_csv
+from laserpeople.io.neko import read_neko
+from laserpeople.segmentation import JumpDistanceParams, JumpDistanceSegmenter
+
+LT = "leg_tracker/rosbags/training_scans_res=0.33"
+
+
+def test_neko_segmentation_reproduces_the_label_rule(shared_data: Path) -> None:
+    data = read_neko(shared_data / "neko7055")
+    assert len(data.scans) == 120 and data.scans[0].n_beams == 720
+    seg = JumpDistanceSegmenter(JumpDistanceParams(threshold=0.1, wrap_around=True))
+    counts = [len(seg(s)) for s in data.scans]
+    legs = sum(len(v) for v in data.leg_segments.values())
+    # README: 231 legs among 2919 segments; every labelled index must exist
+    assert sum(counts) == 2919 and legs == 231
+    assert all(max(v, default=-1) < counts[int(k)] for k, v in data.leg_segments.items())
+
+
+def test_adaboost_on_neko_held_out_frames(shared_data: Path) -> None:
+    from laserpeople.detection.report import Confusion, heuristic_predictions, train_model
+
+    data = neko_segments(shared_data / "neko7055")
+    train, test = data.select(data.scan < 60), data.select(data.scan >= 60)
+    model = train_model(train, tuple(range(1, 14)), 10, 0.1)
+    c = Confusion.of(model.classifier.predict(test.features[:, :13]), test.labels)
+    h = Confusion.of(heuristic_predictions(test), test.labels)
+    assert c.overall_error < 5.0 and c.detection_rate > 95.0
+    assert c.overall_error < h.overall_error
+
+
+def test_leg_tracker_labels_match_segments(shared_data: Path) -> None:
+    part = leg_tracker_positive(shared_data / LT / "positive_2_extracted.bag")
+    # 116 labelled leg centres in 83 scans; most fall on a segment of >= 3 points, and a
+    # leg split in two by the segmentation gives two leg segments near one label
+    assert 100 <= part.n_positive <= 130
+    assert part.n_negative > 10 * part.n_positive
+    drop = leg_tracker_positive(shared_data / LT / "positive_2_extracted.bag", unlabelled="drop")
+    assert drop.n_negative == 0 and drop.n_positive == part.n_positive
+    both = LabelledSegments.concat([part, drop])
+    assert both.groups == ("positive_2_extracted.bag",)
+
+
+def test_cli_detect_writes_csv(shared_data: Path, tmp_path: Path) -> None:
+    out = tmp_path / "det.csv"
+    bag = shared_data / LT / "positive_2_extracted.bag"
+    result = CliRunner().invoke(app, ["--quiet", "detect", str(bag), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    with out.open() as fh:
+        rows = list(csv.reader(fh))
+    assert tuple(rows[0]) == HEADER
+    assert len(rows) > 83  # at least about one leg per scan
+    parsed = list(iter_detections_csv(out))
+    assert {r["scan"] for r in parsed} <= set(range(83))
+    assert all(np.isfinite([r["x"], r["y"], r["score"]]).all() for r in parsed)
+    allseg = tmp_path / "all.csv"
+    result = CliRunner().invoke(
+        app, ["--quiet", "detect", str(bag), "-o", str(allseg), "--all-segments"]
+    )
+    assert result.exit_code == 0, result.output
+    rows2 = list(iter_detections_csv(allseg))
+    assert set(rows2[0]) == set(HEADER + SEGMENT_COLUMNS)
+    assert sum(int(r["is_leg"]) for r in rows2) == len(rows) - 1
+
+
+def test_cli_detect_heuristic_and_bad_model(shared_data: Path, tmp_path: Path) -> None:
+    bag = shared_data / LT / "positive_2_extracted.bag"
+    out = tmp_path / "det.csv"
+    ok = CliRunner().invoke(
+        app, ["--quiet", "detect", str(bag), "-o", str(out), "--detector", "heuristic"]
+    )
+    assert ok.exit_code == 0, ok.output
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": "other"}))
+    from laserpeople.errors import ModelFileError
+
+    res = CliRunner().invoke(
+        app, ["--quiet", "detect", str(bag), "-o", str(out), "--model", str(bad)]
+    )
+    assert isinstance(res.exception, ModelFileError)
+
+
+def test_cli_train_and_report(shared_data: Path, tmp_path: Path) -> None:
+    out = tmp_path / "model.json"
+    lt = shared_data / LT
+    result = CliRunner().invoke(
+        app,
+        [
+            "--quiet",
+            "train",
+            "--positives",
+            str(lt / "positive_2_extracted.bag"),
+            "--neko",
+            str(shared_data / "neko7055"),
+            "--neko-frames",
+            "0-59",
+            "--test-neko-frames",
+            "60-119",
+            "--rounds",
+            "12",
+            "--features",
+            "1-14",
+            "--report",
+            "-o",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(out.read_text())
+    assert doc["features"] == list(range(1, 15)) and len(doc["stumps"]) == 12
+    assert doc["training"]["rounds"] == 12
+    for text in ("Tables 2-5", "Table 7", "Table 8", "Table 6", "test set"):
+        assert text in result.stdout
+    assert np.isfinite([s["alpha"] for s in doc["stumps"]]).all()
+
+
+def test_cli_train_and_detect_report_on_simulated_truth(tmp_path: Path) -> None:
+    sim = pytest.importorskip("laserpeople.sim")
+    rec = tmp_path / "office.npz"
+    sim.run_scenario("office", seconds=4, seed=3).write(rec)
+    model = tmp_path / "m.json"
+    res = CliRunner().invoke(app, ["--quiet", "train", str(rec), "-o", str(model)])
+    assert res.exit_code == 0, res.output
+    res = CliRunner().invoke(
+        app,
+        [
+            "--quiet",
+            "detect",
+            str(rec),
+            "-o",
+            str(tmp_path / "d.csv"),
+            "--model",
+            str(model),
+            "--report",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "Table 7" in res.stdout and "AdaBoost" in res.stdout

@@ -1,0 +1,135 @@
+"""The named, seeded scenario library.
+
+Every scenario is a function ``build(rng, duration) -> Scene`` registered under a
+kebab-case name with a one-line description, the paper experiment it reproduces and a
+default duration. :func:`run_scenario` builds and simulates one::
+
+    >>> from laserpeople.sim import run_scenario
+    >>> result = run_scenario("speed-normal", seconds=1.0, seed=3)   # doctest: +SKIP
+
+The same name and seed always give the same recording; another seed changes the people
+(sizes, hues, speeds, start times) and the sensor noise.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from laserpeople.errors import LaserPeopleError
+from laserpeople.sim.simulator import ProgressWrapper, Scene, SimResult, simulate
+
+
+class UnknownScenarioError(LaserPeopleError):
+    """A scenario name that the library does not have; the message lists the known ones."""
+
+
+Builder = Callable[[np.random.Generator, float], Scene]
+
+
+@dataclass(frozen=True)
+class ScenarioDef:
+    """A registered scenario.
+
+    Attributes:
+        name: Kebab-case name.
+        description: One line for ``laserpeople scenarios``.
+        source: The paper experiment it follows ("004 Exp. 1", ...).
+        duration: Default length [s].
+        build: ``build(rng, duration) -> Scene``.
+    """
+
+    name: str
+    description: str
+    source: str
+    duration: float
+    build: Builder
+
+
+REGISTRY: dict[str, ScenarioDef] = {}
+
+
+def register(
+    name: str, description: str, source: str, duration: float
+) -> Callable[[Builder], Builder]:
+    """Decorator adding a scene builder to :data:`REGISTRY`."""
+
+    def deco(fn: Builder) -> Builder:
+        if name in REGISTRY:
+            raise ValueError(f"scenario {name!r} registered twice")
+        REGISTRY[name] = ScenarioDef(name, description, source, duration, fn)
+        return fn
+
+    return deco
+
+
+def scenario_names() -> list[str]:
+    """All scenario names, in library order."""
+    return list(REGISTRY)
+
+
+def get_scenario(name: str) -> ScenarioDef:
+    """The scenario called ``name``; :class:`UnknownScenarioError` lists the known names."""
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise UnknownScenarioError(
+            f"unknown scenario {name!r}",
+            hint=f"known scenarios: {', '.join(REGISTRY)} (see `laserpeople scenarios`)",
+        ) from None
+
+
+def describe_scenario(name: str) -> str:
+    """One line: what the scenario shows, and which paper experiment it follows."""
+    s = get_scenario(name)
+    return f"{s.description} [{s.source}; {s.duration:g} s]"
+
+
+def build_scene(name: str, *, seconds: float | None = None, seed: int = 0) -> Scene:
+    """The scene of scenario ``name`` for ``seed`` (not yet simulated)."""
+    s = get_scenario(name)
+    duration = s.duration if seconds is None else float(seconds)
+    return s.build(np.random.default_rng([seed, 0x5CE4E]), duration)
+
+
+def run_scenario(
+    name: str,
+    *,
+    seconds: float | None = None,
+    seed: int = 0,
+    rate: float | None = None,
+    progress: ProgressWrapper | None = None,
+) -> SimResult:
+    """Simulate scenario ``name`` for ``seconds`` (its default when None) with ``seed``;
+    ``rate`` [Hz] overrides every sensor's scan rate; ``progress`` may wrap the scan loop."""
+    s = get_scenario(name)
+    duration = s.duration if seconds is None else float(seconds)
+    if not duration > 0.0:
+        raise LaserPeopleError(
+            f"--seconds must be positive, got {seconds}", hint="e.g. --seconds 10"
+        )
+    if seed < 0:
+        raise LaserPeopleError(f"--seed must be >= 0, got {seed}", hint="e.g. --seed 0")
+    if rate is not None and not rate > 0.0:
+        raise LaserPeopleError(f"--rate must be positive, got {rate}", hint="e.g. --rate 10")
+    scene = s.build(np.random.default_rng([seed, 0x5CE4E]), duration)
+    result = simulate(
+        scene,
+        duration,
+        seed=seed,
+        rate=rate,
+        name=name,
+        description=s.description,
+        progress=progress,
+    )
+    result.meta["source"] = s.source
+    return result
+
+
+# the library modules register their scenarios on import
+from laserpeople.sim.scenarios import arras as _arras  # noqa: E402,F401
+from laserpeople.sim.scenarios import demo as _demo  # noqa: E402,F401
+from laserpeople.sim.scenarios import kraeussling as _kraeussling  # noqa: E402,F401
+from laserpeople.sim.scenarios import schenk as _schenk  # noqa: E402,F401

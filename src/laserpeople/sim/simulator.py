@@ -1,0 +1,393 @@
+"""Run a scene: plan everyone's motion, ray cast every scan of every sensor, record truth.
+
+:func:`simulate` takes a :class:`Scene` (world, people, sensors, optional robot) and
+returns a :class:`SimResult` with the scans of all sensors interleaved in time order,
+one :class:`~laserpeople.truth.TruthFrame` per scan of the first sensor, and JSON
+metadata (sensors, static map, people, robot odometry).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.errors import LaserPeopleError
+from laserpeople.scan import Pose2D, Scan, wrap_angle
+from laserpeople.sim.accessories import ACCESSORIES, accessory_geometry
+from laserpeople.sim.people import LEG_Z_MAX, TORSO_Z, PersonSpec, PlannedPerson, plan_person
+from laserpeople.sim.raycast import Primitives, cast
+from laserpeople.sim.robot import RobotSpec, integrate_odometry
+from laserpeople.sim.sensors import SensorSpec, add_range_noise
+from laserpeople.sim.world import World
+from laserpeople.truth import BeamLabels, TruthFrame
+
+FloatArray = NDArray[np.float64]
+ProgressWrapper = Callable[[Iterable[Any], int, str], Iterable[Any]]
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Everything a simulation needs.
+
+    Attributes:
+        world: Static objects.
+        people: The people.
+        sensors: The scanners; the first one sets the ground-truth frames.
+        robot: The robot carrying the ``on_robot`` sensors, if any.
+        notes: Extra JSON-ready facts for the metadata (e.g. the permutation of a crossing).
+    """
+
+    world: World
+    people: list[PersonSpec]
+    sensors: list[SensorSpec]
+    robot: RobotSpec | None = None
+    notes: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, eq=False)
+class SimResult:
+    """The output of a simulation.
+
+    Attributes:
+        scans: Scans of all sensors in time order, each with ``pose`` (sensor pose in the
+            world), ``labels`` (per-beam truth), ``sensor`` and ``index`` (per sensor).
+        truth: One frame per scan of the first sensor (``scan_index`` = that scan's index).
+        meta: JSON-ready metadata: scenario, seed, rate, sensors, static_map, people, robot.
+    """
+
+    scans: list[Scan]
+    truth: list[TruthFrame]
+    meta: dict[str, Any]
+
+    def write(self, path: str | Path) -> Path:
+        """Write the recording; ``.npz`` keeps the ground truth, ``.mcap``/``.bag`` only scans."""
+        p = Path(path)
+        suffix = p.suffix.lower()
+        if suffix == ".npz":
+            from laserpeople.io import write_recording
+
+            return write_recording(p, self.scans, self.truth, self.meta)
+        if suffix in {".mcap", ".bag", ".db3"}:
+            return _write_rosbag(p, self.scans)
+        raise LaserPeopleError(
+            f"cannot write simulated recordings as {suffix or '(no extension)'!r}",
+            path=p,
+            hint="use .npz (scans and ground truth), or .mcap/.db3/.bag (scans only)",
+        )
+
+
+def _write_rosbag(path: Path, scans: list[Scan]) -> Path:
+    """Scans (and sensor poses on /tf, parent frame "world") as a ROS bag; no ground truth."""
+    try:
+        from laserpeople.io.rosbag_writer import write_laserscan_bag
+    except ImportError as exc:  # the writer arrives with the io issue
+        raise LaserPeopleError(
+            f"writing {path.suffix} needs laserpeople.io.rosbag_writer, which this "
+            "installation does not have",
+            path=path,
+            hint="write .npz instead",
+        ) from exc
+    write_laserscan_bag(path, scans, world_frame="world")
+    return path
+
+
+@dataclass(frozen=True, eq=False)
+class _DynamicShapes:
+    """Moving shapes seen by one sensor at each of its T scan times."""
+
+    circles: FloatArray  # (T, C, 3)
+    circle_labels: NDArray[np.int32]  # (T, C, 4)
+    circle_present: NDArray[np.bool_]  # (T, C)
+    ellipses: FloatArray  # (T, E, 5)
+    ellipse_labels: NDArray[np.int32]
+    ellipse_present: NDArray[np.bool_]
+    segments: FloatArray  # (T, S, 4)
+    segment_labels: NDArray[np.int32]
+    segment_present: NDArray[np.bool_]
+
+    def at(self, k: int) -> Primitives:
+        c = self.circle_present[k]
+        e = self.ellipse_present[k]
+        s = self.segment_present[k]
+        circ = self.circles[k, c]
+        ell = self.ellipses[k, e]
+        seg = self.segments[k, s]
+        return Primitives(
+            circ[:, :2],
+            circ[:, 2],
+            self.circle_labels[k, c],
+            ell[:, :2],
+            ell[:, 2:4],
+            ell[:, 4],
+            self.ellipse_labels[k, e],
+            seg[:, :2],
+            seg[:, 2:],
+            self.segment_labels[k, s],
+        )
+
+
+def _label_rows(
+    pid: int, leg: int, group: NDArray[np.int64], obj: int, n: int
+) -> NDArray[np.int32]:
+    """(T, n, 4) label rows for n shapes of one person over T instants."""
+    t = group.size
+    rows = np.empty((t, n, 4), dtype=np.int32)
+    rows[..., 0] = pid
+    rows[..., 1] = leg
+    rows[..., 2] = group[:, None]
+    rows[..., 3] = obj
+    return rows
+
+
+def _dynamic_shapes(
+    people: list[PlannedPerson], times: FloatArray, height: float, first_accessory_id: int
+) -> _DynamicShapes:
+    t = times.size
+    circ: list[FloatArray] = []
+    ell: list[FloatArray] = []
+    seg: list[FloatArray] = []
+    clab: list[NDArray[np.int32]] = []
+    elab: list[NDArray[np.int32]] = []
+    slab: list[NDArray[np.int32]] = []
+    cpres: list[NDArray[np.bool_]] = []
+    epres: list[NDArray[np.bool_]] = []
+    spres: list[NDArray[np.bool_]] = []
+    acc_id = first_accessory_id
+    for person in people:
+        spec = person.spec
+        st = person.state(times)
+        pid = spec.person_id
+        if height <= LEG_Z_MAX:
+            for leg in (0, 1):
+                c = np.concatenate([st.legs[:, leg], np.full((t, 1), spec.leg_radius)], axis=1)
+                circ.append(c[:, None, :])
+                clab.append(_label_rows(pid, leg, st.group, -1, 1))
+                cpres.append(st.present[:, None])
+        if TORSO_Z[0] <= height <= TORSO_Z[1]:
+            a, b = spec.torso_axes
+            e = np.column_stack([st.xy, np.full(t, a), np.full(t, b), st.heading])
+            ell.append(e[:, None, :])
+            elab.append(_label_rows(pid, -1, st.group, -1, 1))
+            epres.append(st.present[:, None])
+        if spec.accessory is not None:
+            shape = ACCESSORIES[spec.accessory]
+            oid = acc_id
+            acc_id += 1
+            if shape.z_min <= height <= shape.z_max:
+                g = accessory_geometry(spec.accessory, st.xy, st.heading, st.legs, spec.leg_radius)
+                for arr, store, labs, pres in (
+                    (g.circles, circ, clab, cpres),
+                    (g.ellipses, ell, elab, epres),
+                    (g.segments, seg, slab, spres),
+                ):
+                    if arr.shape[1]:
+                        store.append(arr)
+                        labs.append(_label_rows(pid, -1, st.group, oid, arr.shape[1]))
+                        pres.append(np.repeat(st.present[:, None], arr.shape[1], axis=1))
+
+    def stack(
+        parts: list[Any], labs: list[Any], pres: list[Any], width: int
+    ) -> tuple[FloatArray, NDArray[np.int32], NDArray[np.bool_]]:
+        if not parts:
+            return (
+                np.empty((t, 0, width)),
+                np.empty((t, 0, 4), dtype=np.int32),
+                np.empty((t, 0), dtype=bool),
+            )
+        return (
+            np.concatenate(parts, axis=1),
+            np.concatenate(labs, axis=1),
+            np.concatenate(pres, axis=1),
+        )
+
+    return _DynamicShapes(
+        *stack(circ, clab, cpres, 3), *stack(ell, elab, epres, 5), *stack(seg, slab, spres, 4)
+    )
+
+
+def scan_times(duration: float, rate: float, phase: float) -> FloatArray:
+    """Stamps [s] of a sensor scanning at ``rate`` [Hz] from ``phase`` until ``duration``."""
+    n = math.floor((duration - phase) * rate + 1e-9) + 1
+    return phase + np.arange(max(n, 0)) / rate
+
+
+def _sensor_poses(spec: SensorSpec, robot: RobotSpec | None, times: FloatArray) -> FloatArray:
+    """Sensor poses (T, 3) in the world frame."""
+    m = spec.mount
+    if not spec.on_robot:
+        return np.tile([m.x, m.y, m.theta], (times.size, 1))
+    if robot is None:
+        raise ValueError(f"sensor {spec.name} rides on a robot but the scene has none")
+    xy, th, _ = robot.track.at(times)
+    c, s = np.cos(th), np.sin(th)
+    x = xy[:, 0] + c * m.x - s * m.y
+    y = xy[:, 1] + s * m.x + c * m.y
+    return np.column_stack([x, y, wrap_angle(th + m.theta)])
+
+
+def simulate(
+    scene: Scene,
+    duration: float,
+    *,
+    seed: int = 0,
+    rate: float | None = None,
+    name: str = "custom",
+    description: str = "",
+    progress: ProgressWrapper | None = None,
+) -> SimResult:
+    """Simulate ``scene`` for ``duration`` [s]; ``rate`` [Hz] overrides every sensor's rate.
+
+    ``progress(items, total, description)`` may wrap the loop over scans (e.g. the CLI's
+    progress bar).
+    """
+    if not scene.sensors:
+        raise ValueError("a scene needs at least one sensor")
+    seeds = np.random.SeedSequence(seed).spawn(len(scene.sensors) + 1)
+    planned = [plan_person(p, duration) for p in scene.people]
+    first_acc = scene.world.n_objects
+    per_sensor = []
+    events: list[tuple[float, int, int]] = []
+    for i, spec in enumerate(scene.sensors):
+        times = scan_times(duration, spec.rate(rate), spec.phase)
+        shapes = _dynamic_shapes(planned, times, spec.height, first_acc)
+        poses = _sensor_poses(spec, scene.robot, times)
+        per_sensor.append((times, shapes, poses, np.random.default_rng(seeds[i])))
+        events.extend((float(t), i, k) for k, t in enumerate(times))
+    events.sort()
+    scans: list[Scan] = []
+    loop: Iterable[tuple[float, int, int]] = events
+    if progress is not None:
+        loop = progress(events, len(events), f"simulating {name}")
+    for _stamp, i, k in loop:
+        spec = scene.sensors[i]
+        times, shapes, poses, rng = per_sensor[i]
+        scans.append(
+            render_scan(spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng)
+        )
+    truth = _truth_frames(planned, per_sensor[0][0])
+    meta = _meta(scene, planned, duration, seed, rate, name, description, per_sensor, seeds[-1])
+    return SimResult(scans, truth, meta)
+
+
+def render_scan(
+    spec: SensorSpec,
+    world: World,
+    dynamic: Primitives,
+    pose: NDArray[np.floating],
+    stamp: float,
+    index: int,
+    rng: np.random.Generator,
+) -> Scan:
+    """One scan of sensor ``spec`` at world pose ``pose`` (x, y, theta) with beam labels."""
+    x, y, th = (float(v) for v in pose)
+    c, s = math.cos(th), math.sin(th)
+    rot_t = np.array([[c, s], [-s, c]])  # world -> sensor rotation
+    shapes = Primitives.concat([world.primitives(spec.height), dynamic]).transformed(
+        rot_t, -(rot_t @ np.array([x, y]))
+    )
+    laser = spec.laser
+    hit = cast(laser.fan(), shapes)
+    ranges, echo = add_range_noise(hit.ranges, spec, rng)
+    lab = np.where(echo[:, None], hit.labels, -1).astype(np.int32)
+    fan = laser.fan()
+    return Scan(
+        stamp=stamp,
+        angle_min=fan.angle_min,
+        angle_increment=fan.increment,
+        ranges=ranges,
+        range_min=laser.range_min,
+        range_max=laser.range_max,
+        sensor=spec.name,
+        pose=Pose2D(x, y, th),
+        index=index,
+        labels=BeamLabels(lab[:, 0], lab[:, 1], lab[:, 2], lab[:, 3]),
+    )
+
+
+def _truth_frames(planned: list[PlannedPerson], times: FloatArray) -> list[TruthFrame]:
+    states = [p.state(times) for p in planned]
+    frames = []
+    for k, t in enumerate(times):
+        here = [j for j, st in enumerate(states) if st.present[k]]
+        frames.append(
+            TruthFrame(
+                stamp=float(t),
+                scan_index=k,
+                person_ids=np.array([planned[j].spec.person_id for j in here], dtype=np.int64),
+                positions=np.array([states[j].xy[k] for j in here]).reshape(-1, 2),
+                velocities=np.array([states[j].velocity[k] for j in here]).reshape(-1, 2),
+                group_ids=np.array([states[j].group[k] for j in here], dtype=np.int64),
+                leg_positions=np.array([states[j].legs[k] for j in here]).reshape(-1, 2, 2),
+                hues=np.array([planned[j].spec.hue for j in here]),
+            )
+        )
+    return frames
+
+
+def _meta(
+    scene: Scene,
+    planned: list[PlannedPerson],
+    duration: float,
+    seed: int,
+    rate: float | None,
+    name: str,
+    description: str,
+    per_sensor: list[Any],
+    odo_seed: np.random.SeedSequence,
+) -> dict[str, Any]:
+    accessory_ids: dict[int, int] = {}
+    for p in planned:  # numbered after the static objects, in person order (as rendered)
+        if p.spec.accessory is not None:
+            accessory_ids[p.spec.person_id] = scene.world.n_objects + len(accessory_ids)
+    meta: dict[str, Any] = {
+        "generator": "laserpeople.sim",
+        "scenario": name,
+        "description": description,
+        "seed": seed,
+        "rate_hz": rate,
+        "duration_s": duration,
+        "frame": "world",
+        "sensors": [
+            {**s.meta(), "rate_hz": s.rate(rate), "scans": int(per_sensor[i][0].size)}
+            for i, s in enumerate(scene.sensors)
+        ],
+        "truth_sensor": scene.sensors[0].name,
+        "static_map": scene.world.static_map(),
+        "people": [
+            {
+                "id": p.spec.person_id,
+                "hue_deg": p.spec.hue,
+                "leg_radius_m": p.spec.leg_radius,
+                "hip_half_width_m": p.spec.hip_half_width,
+                "torso_axes_m": list(p.spec.torso_axes),
+                "accessory": p.spec.accessory,
+                "accessory_obj_id": accessory_ids.get(p.spec.person_id),
+                "enter_s": p.enter,
+                "leave_s": None if math.isinf(p.leave) else p.leave,
+            }
+            for p in planned
+        ],
+        "notes": scene.notes,
+    }
+    if scene.robot is not None:
+        times = per_sensor[0][0]
+        track = scene.robot.track
+        odo_all = integrate_odometry(track, scene.robot.odometry, np.random.default_rng(odo_seed))
+        xy, th, _ = track.at(times)
+        ox = np.interp(times, track.times, odo_all[:, 0])
+        oy = np.interp(times, track.times, odo_all[:, 1])
+        oth = wrap_angle(np.interp(times, track.times, np.unwrap(odo_all[:, 2])))
+        meta["robot"] = {
+            "stamps": times.tolist(),
+            "true_poses": np.column_stack([xy, th]).round(6).tolist(),
+            "odometry_poses": np.column_stack([ox, oy, oth]).round(6).tolist(),
+            "note": "robot base poses at the first sensor's scan stamps; odometry drifts "
+            "(see laserpeople.sim.robot.OdometryParams)",
+        }
+    return meta

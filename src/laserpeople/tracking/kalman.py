@@ -1,0 +1,224 @@
+"""Constant-velocity Kalman filter on (x, y, vx, vy) with position measurements (000 Sec. 3.1).
+
+State x = (x, y, vx, vy) [m, m, m/s, m/s]; measurement z = (x, y) [m], so H = [I 0].
+The process noise is the continuous white-noise acceleration model (Bar-Shalom & Li):
+acceleration power spectral density ``q`` [m^2/s^3] per axis, integrated over the step
+``dt`` [s], so that tracks stay consistent at any scan rate. All functions work on stacks of
+tracks: means (T, 4), covariances (T, 4, 4), with one ``dt`` per track.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import chi2
+
+from laserpeople.config import param
+
+FloatArray = NDArray[np.float64]
+
+H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
+"""Measurement matrix: positions are observed directly (000 Sec. 3.1)."""
+
+LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+@dataclass(frozen=True)
+class KalmanParams:
+    """Motion and measurement model of one tracked point (a leg, a person)."""
+
+    config_section = "kalman"
+
+    accel_psd: float = param(
+        32.0,
+        "assumption (000 gives no value): a swinging leg gains ~1.5 m/s in ~0.1 s; chosen "
+        "from 8/16/24/32/48/64 on the simulated 000 Sec. 3.4 scenes, seeds 0-2",
+        "process noise: white-acceleration power spectral density per axis",
+        "m^2/s^3",
+    )
+    init_velocity_std: float = param(
+        1.0,
+        "assumption; 000 Sec. 4.6 uses 0.5 m/s for groups, legs move faster",
+        "standard deviation of the unobserved initial velocity (initialised as 0)",
+        "m/s",
+    )
+    measurement_std: float = param(
+        0.05,
+        "assumption: leg centre from a few beams of a 0.5 deg scanner",
+        "position noise used when a detection has no positive-definite covariance",
+        "m",
+    )
+    gate_probability: float = param(
+        0.999,
+        "assumption; 0.999 kept more leg tracks than 0.99 on the simulated 000 Sec. 3.4 scenes",
+        "probability mass of the Mahalanobis gate; chi-square with 2 degrees of freedom",
+    )
+    max_gate_distance: float = param(
+        1.0,
+        "assumption: a leg moves at most ~1 m between two detections (bounds the gate of "
+        "long-occluded tracks, whose covariance grows without limit)",
+        "Euclidean cap on the gate around a predicted position",
+        "m",
+    )
+    max_dt: float = param(
+        1.0,
+        "assumption",
+        "longest prediction step; a longer gap between scans is clipped to this",
+        "s",
+    )
+
+    def __post_init__(self) -> None:
+        if not self.accel_psd > 0:
+            raise ValueError("accel_psd must be positive")
+        if not 0.0 < self.gate_probability < 1.0:
+            raise ValueError("gate_probability must be in (0, 1)")
+        if not (
+            self.init_velocity_std > 0
+            and self.measurement_std > 0
+            and self.max_dt > 0
+            and self.max_gate_distance > 0
+        ):
+            raise ValueError(
+                "init_velocity_std, measurement_std, max_dt and max_gate_distance must be positive"
+            )
+
+    @property
+    def gate(self) -> float:
+        """Squared Mahalanobis distance of the gate (chi-square quantile, 2 dof)."""
+        return float(chi2.ppf(self.gate_probability, df=2))
+
+
+def transition(dt: FloatArray) -> FloatArray:
+    """Constant-velocity transition matrices (T, 4, 4) for steps ``dt`` (T,) [s]."""
+    dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+    f = np.broadcast_to(np.eye(4), (dt.size, 4, 4)).copy()
+    f[:, 0, 2] = dt
+    f[:, 1, 3] = dt
+    return f
+
+
+def process_noise(dt: FloatArray, accel_psd: float) -> FloatArray:
+    """White-acceleration process noise (T, 4, 4) for steps ``dt`` (T,) [s]."""
+    dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+    q = np.zeros((dt.size, 4, 4))
+    pp = accel_psd * dt**3 / 3.0
+    pv = accel_psd * dt**2 / 2.0
+    vv = accel_psd * dt
+    for i in (0, 1):
+        q[:, i, i] = pp
+        q[:, i, i + 2] = pv
+        q[:, i + 2, i] = pv
+        q[:, i + 2, i + 2] = vv
+    return q
+
+
+def predict(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float
+) -> tuple[FloatArray, FloatArray]:
+    """Predict means (T, 4) and covariances (T, 4, 4) over steps ``dt`` (T,) [s]."""
+    dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+    means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
+    covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    pred_means = means.copy()
+    pred_means[:, :2] += means[:, 2:] * dt[:, None]
+    f = transition(dt)
+    pred_covs = f @ covs @ f.transpose(0, 2, 1) + process_noise(dt, accel_psd)
+    return pred_means, pred_covs
+
+
+def innovation_covariances(covs: FloatArray, meas_covs: FloatArray) -> FloatArray:
+    """S (T, M, 2, 2) = H P_t H^T + R_m for every track t and measurement m."""
+    hph = covs[:, :2, :2]
+    return hph[:, None, :, :] + meas_covs[None, :, :, :]
+
+
+def mahalanobis_and_loglik(
+    means: FloatArray, covs: FloatArray, z: FloatArray, meas_covs: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Squared Mahalanobis distances and Gaussian log-likelihoods log N(z_m; H x_t, S_tm).
+
+    Args:
+        means: Predicted states (T, 4).
+        covs: Predicted covariances (T, 4, 4).
+        z: Measurements (M, 2) [m].
+        meas_covs: Measurement covariances (M, 2, 2) [m^2].
+
+    Returns:
+        ``(d2, loglik)``, both (T, M); loglik is a density per m^2 in log space.
+    """
+    s = innovation_covariances(covs, meas_covs)  # (T, M, 2, 2)
+    a, b, d = s[..., 0, 0], s[..., 0, 1], s[..., 1, 1]
+    det = a * d - b * b
+    v = z[None, :, :] - means[:, None, :2]  # (T, M, 2)
+    vx, vy = v[..., 0], v[..., 1]
+    d2 = (d * vx * vx - 2.0 * b * vx * vy + a * vy * vy) / det
+    loglik = -0.5 * d2 - LOG_2PI - 0.5 * np.log(det)
+    return d2, loglik
+
+
+def euclidean_sq(means: FloatArray, z: FloatArray) -> FloatArray:
+    """Squared distances (T, M) [m^2] between predicted positions and measurements."""
+    v = z[None, :, :] - means[:, None, :2]
+    return np.einsum("tmi,tmi->tm", v, v)
+
+
+def update(
+    mean: FloatArray, cov: FloatArray, z: FloatArray, meas_cov: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Kalman update of one state (4,), (4, 4) with measurement z (2,), covariance (2, 2).
+
+    Uses the Joseph form so the covariance stays symmetric positive definite.
+    """
+    s = cov[:2, :2] + meas_cov
+    det = s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]
+    s_inv = np.array([[s[1, 1], -s[0, 1]], [-s[1, 0], s[0, 0]]]) / det
+    k = cov[:, :2] @ s_inv  # (4, 2) = P H^T S^-1
+    new_mean = mean + k @ (z - mean[:2])
+    ikh = np.eye(4) - k @ H
+    new_cov = ikh @ cov @ ikh.T + k @ meas_cov @ k.T
+    return new_mean, 0.5 * (new_cov + new_cov.T)
+
+
+def update_batch(
+    means: FloatArray, covs: FloatArray, z: FloatArray, meas_covs: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Kalman updates of K states (K, 4), (K, 4, 4) with measurements (K, 2), (K, 2, 2) at
+    once (Joseph form)."""
+    s = covs[:, :2, :2] + meas_covs
+    det = s[:, 0, 0] * s[:, 1, 1] - s[:, 0, 1] * s[:, 1, 0]
+    s_inv = np.empty_like(s)
+    s_inv[:, 0, 0] = s[:, 1, 1]
+    s_inv[:, 1, 1] = s[:, 0, 0]
+    s_inv[:, 0, 1] = -s[:, 0, 1]
+    s_inv[:, 1, 0] = -s[:, 1, 0]
+    s_inv /= det[:, None, None]
+    k = covs[:, :, :2] @ s_inv  # (K, 4, 2)
+    new_means = means + np.einsum("kij,kj->ki", k, z - means[:, :2])
+    ikh = np.broadcast_to(np.eye(4), covs.shape).copy()
+    ikh[:, :, :2] -= k
+    new_covs = ikh @ covs @ ikh.transpose(0, 2, 1) + k @ meas_covs @ k.transpose(0, 2, 1)
+    return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
+
+
+def initiate(
+    z: FloatArray, meas_cov: FloatArray, init_velocity_std: float
+) -> tuple[FloatArray, FloatArray]:
+    """A new track at measurement z (2,) with zero velocity (000 Sec. 3.1)."""
+    mean = np.array([z[0], z[1], 0.0, 0.0])
+    cov = np.zeros((4, 4))
+    cov[:2, :2] = meas_cov
+    cov[2, 2] = cov[3, 3] = init_velocity_std**2
+    return mean, cov
+
+
+def measurement_covariances(raw: FloatArray, measurement_std: float) -> FloatArray:
+    """Detector covariances (M, 2, 2), replaced by ``measurement_std^2 I`` where not positive
+    definite (rule-based detectors may report zeros)."""
+    raw = np.asarray(raw, dtype=np.float64).reshape(-1, 2, 2)
+    a, b, d = raw[:, 0, 0], raw[:, 0, 1], raw[:, 1, 1]
+    ok = (a > 0) & (a * d - b * b > 0) & np.isfinite(raw).all(axis=(1, 2))
+    out = raw.copy()
+    out[~ok] = np.eye(2) * measurement_std**2
+    return out

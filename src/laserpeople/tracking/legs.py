@@ -1,0 +1,200 @@
+"""The multi-hypothesis leg tracker with adaptive occlusion probabilities (000 Sec. 3).
+
+Legs are tracked individually by the MHT core with a constant-velocity Kalman filter. The
+label probabilities of a leg track are conditioned on its class (000 eqs. 9-15): legs of a
+validated person are *approved* and are far more likely to be occluded (by the other leg)
+than deleted; all others are *free*. People are built from leg pairs (000 Sec. 3.3) after
+every scan, and the set of approved legs they define is used by the next scan's hypotheses.
+The non-adaptive mode uses one class's probabilities for every track (000 Sec. 3.4).
+
+Tracking happens in the world frame when the detections carry a sensor pose (a moving
+sensor; odometry or tf), otherwise in the sensor frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.errors import PoseUnavailableError
+from laserpeople.scan import Frame
+from laserpeople.tracking.kalman import KalmanParams
+from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
+from laserpeople.tracking.mht.probability import LabelProbabilities
+from laserpeople.tracking.mht.tracktree import TrackNode
+from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
+from laserpeople.tracking.point_model import KalmanPointModel, PointMeasurements
+from laserpeople.tracks import Detections, Track, Tracks
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class LegTrackerParams:
+    """Parameters of the multi-hypothesis leg tracker (000 Sec. 3, Table 10)."""
+
+    config_section = "leg_tracker"
+
+    p_det_free: float = param(0.3, "000 Table 10", "P(detected | free track)")
+    p_occ_free: float = param(0.63, "000 Table 10", "P(occluded | free track)")
+    p_del_free: float = param(0.07, "000 Table 10", "P(deleted | free track)")
+    p_det_approved: float = param(0.2, "000 Table 10", "P(detected | approved track)")
+    p_occ_approved: float = param(0.79, "000 Table 10", "P(occluded | approved track)")
+    p_del_approved: float = param(0.01, "000 Table 10", "P(deleted | approved track)")
+    lambda_new: float = param(0.001, "000 Table 10", "density of new tracks", "1/m^2")
+    lambda_fal: float = param(0.003, "000 Table 10", "density of false alarms", "1/m^2")
+    adaptive: bool = param(
+        True, "000 Sec. 3.3.1", "condition label probabilities on free/approved tracks"
+    )
+    nonadaptive_class: str = param(
+        "free",
+        "000 Sec. 3.4 (free by default; approved for Fig. 9)",
+        "without adaptation, every track uses this class's probabilities: free or approved",
+    )
+    kalman: KalmanParams = param(  # noqa: RUF009 (a frozen default instance)
+        KalmanParams(), "nested table kalman.*", "leg motion model"
+    )
+    mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
+        MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
+    )
+    person: PersonParams = param(  # noqa: RUF009 (a frozen default instance)
+        PersonParams(), "nested table person.*", "people from leg pairs"
+    )
+
+    def __post_init__(self) -> None:
+        self.free()
+        self.approved()
+        if self.nonadaptive_class not in ("free", "approved"):
+            raise ValueError("nonadaptive_class must be 'free' or 'approved'")
+        if not (self.lambda_new > 0 and self.lambda_fal > 0):
+            raise ValueError("lambda_new and lambda_fal must be positive")
+
+    def free(self) -> LabelProbabilities:
+        """Label probabilities of free tracks."""
+        return LabelProbabilities(self.p_det_free, self.p_occ_free, self.p_del_free)
+
+    def approved(self) -> LabelProbabilities:
+        """Label probabilities of approved tracks."""
+        return LabelProbabilities(self.p_det_approved, self.p_occ_approved, self.p_del_approved)
+
+
+class LegLabelModel:
+    """Label probabilities of leg tracks by class (000 eqs. 9-15).
+
+    Attributes:
+        approved: Families (leg ids) that belong to validated persons.
+    """
+
+    def __init__(self, params: LegTrackerParams) -> None:
+        self.params = params
+        self.approved: frozenset[int] = frozenset()
+        self._free = params.free().log()
+        self._approved = params.approved().log()
+        fixed: Literal["free", "approved"] = (
+            "approved" if params.nonadaptive_class == "approved" else "free"
+        )
+        self._fixed = self._approved if fixed == "approved" else self._free
+        self._log_new = float(np.log(params.lambda_new))
+        self._log_fal = float(np.log(params.lambda_fal))
+
+    def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
+        """(T, 3) log p of detected/occluded/deleted for each node's class."""
+        if not self.params.adaptive:
+            return np.tile(self._fixed, (len(nodes), 1))
+        is_app = np.fromiter(
+            (n.family in self.approved for n in nodes), dtype=bool, count=len(nodes)
+        )
+        return np.where(is_app[:, None], self._approved[None, :], self._free[None, :])
+
+    def measurement_log_rates(
+        self, measurements: PointMeasurements
+    ) -> tuple[FloatArray, FloatArray]:
+        """log lambda_new, log lambda_fal for every measurement."""
+        m = len(measurements)
+        return np.full(m, self._log_new), np.full(m, self._log_fal)
+
+
+class LegMHTTracker:
+    """Leg and person tracker: ``update(detections) -> Tracks`` once per scan.
+
+    Output: ``kind="leg"`` tracks of the best hypothesis (id = leg track family) and
+    ``kind="person"`` tracks (members = the two leg ids), in the tracking frame.
+    """
+
+    def __init__(self, params: LegTrackerParams | None = None) -> None:
+        self.params = params if params is not None else LegTrackerParams()
+        self.labels = LegLabelModel(self.params)
+        self.mht: MHT[PointMeasurements] = MHT(
+            self.params.mht, KalmanPointModel(self.params.kalman), self.labels
+        )
+        self.people = PersonFuser(self.params.person)
+        self.frame: Frame | None = None
+        self.last_stats: StepStats | None = None
+        self.leg_ids_reported: set[int] = set()
+        self.dropped_detections = 0
+        """Detections with a non-finite position, left out (counted, never silently)."""
+
+    def _measurements(self, detections: Detections) -> PointMeasurements:
+        if self.frame is None:
+            self.frame = "world" if detections.sensor_pose is not None else "sensor"
+        if self.frame == "world":
+            if detections.sensor_pose is None and detections.frame != "world":
+                raise PoseUnavailableError(
+                    "tracking in the world frame but this scan has no sensor pose",
+                    scan=detections.scan_index,
+                    hint="every scan of a moving sensor needs a pose; check /tf or odometry",
+                )
+            detections = detections.to_world()
+        elif detections.frame != "sensor":
+            raise PoseUnavailableError(
+                "tracking in the sensor frame but got world-frame detections",
+                scan=detections.scan_index,
+            )
+        meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
+        finite = np.isfinite(meas.positions).all(axis=1)
+        if not finite.all():
+            self.dropped_detections += int(np.count_nonzero(~finite))
+            meas = PointMeasurements(meas.positions[finite], meas.covariances[finite])
+        return meas
+
+    def update(self, detections: Detections) -> Tracks:
+        """Track one scan's leg detections."""
+        meas = self._measurements(detections)
+        self.last_stats = self.mht.step(meas, detections.stamp)
+        probs = self.mht.best_probabilities()
+        legs = {
+            n.family: LegState(n.family, n.mean, n.cov, probs.get(n.family, 1.0))
+            for n in self.mht.best_tracks()
+        }
+        persons = self.people.update(legs, detections.stamp)
+        self.labels.approved = self.people.approved_legs
+        self.leg_ids_reported.update(legs)
+        leg_tracks = [
+            Track(
+                track_id=leg.track_id,
+                kind="leg",
+                position=leg.mean[:2],
+                velocity=leg.mean[2:4],
+                covariance=leg.cov[:2, :2],
+                score=leg.score,
+            )
+            for leg in legs.values()
+        ]
+        assert self.frame is not None
+        return Tracks(
+            detections.stamp,
+            detections.scan_index,
+            tuple(leg_tracks + persons),
+            self.frame,
+            detections.sensor_pose,
+        )
+
+    @property
+    def n_hypotheses(self) -> int:
+        """Hypotheses after the last scan, summed over clusters."""
+        return 0 if self.last_stats is None else self.last_stats.n_hypotheses

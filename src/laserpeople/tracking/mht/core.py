@@ -1,0 +1,548 @@
+"""The MHT tracking cycle over clusters of interacting tracks (000 Sec. 3.2-3.3.2; Cox &
+Hingorani 1996).
+
+One :meth:`MHT.step` per scan:
+
+1. predict every live track node once (the track tree shares nodes between hypotheses);
+2. gate and score every node against every measurement (vectorised in the track model);
+3. cluster: families and measurements that share a gate, or families that shared one in
+   the last N scans, form a cluster; clusters that now share a measurement are merged
+   (product of their hypotheses), clusters whose families no longer interact are split
+   (marginal hypotheses per part; exact because N-scan pruning has fixed everything the
+   parts ever shared, see :meth:`MHT._drop_settled_links`);
+4. per cluster: one assignment matrix per parent hypothesis (and per model branch), the
+   globally k best children by multi-parent Murty, stopped early by the probability ratio;
+5. normalise per cluster and generation, N-scan-back pruning, ratio pruning;
+6. garbage-collect the track tree.
+
+The reported state is the best hypothesis of every cluster (their product is the globally
+best hypothesis because clusters are independent).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Hashable, Sequence, Sized
+from dataclasses import dataclass
+from typing import Generic, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.tracking.mht.hypothesis import (
+    Cluster,
+    Hypothesis,
+    n_scan_prune,
+    normalise_hypotheses,
+    ratio_prune,
+)
+from laserpeople.tracking.mht.matrix import AssignmentMatrix, build_matrix, k_best_children
+from laserpeople.tracking.mht.probability import DETECTED, OCCLUDED
+from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
+from laserpeople.tracking.mht.protocols import (
+    Branch,
+    BranchGenerator,
+    LabelModel,
+    SingleModel,
+    TrackModel,
+)
+from laserpeople.tracking.mht.tracktree import DETECTED as NODE_DETECTED
+from laserpeople.tracking.mht.tracktree import NEW, TrackNode, TrackTree
+from laserpeople.tracking.mht.tracktree import OCCLUDED as NODE_OCCLUDED
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+Meas = TypeVar("Meas", bound=Sized)
+
+
+@dataclass(frozen=True)
+class MHTParams:
+    """Branching and pruning of the hypothesis tree (000 Sec. 3.3.2)."""
+
+    config_section = "mht"
+
+    k_best: int = param(
+        20,
+        "assumption (000 Sec. 4.6 averages k over 2..200)",
+        "k of Murty's k-best branching: children per cluster and scan, over all parents",
+    )
+    n_scan: int = param(8, "000 Sec. 3.4.3 (scan-back depth of eight)", "N of N-scan-back pruning")
+    min_ratio: float = param(
+        1e-3,
+        "assumption (000 Sec. 4.5.2 names ratio pruning without a value)",
+        "drop hypotheses less probable than this times the best of their cluster",
+    )
+
+    def __post_init__(self) -> None:
+        if self.k_best < 1:
+            raise ValueError("k_best must be at least 1")
+        if self.n_scan < 0:
+            raise ValueError("n_scan must be >= 0")
+        if not 0.0 <= self.min_ratio < 1.0:
+            raise ValueError("min_ratio must be in [0, 1)")
+
+
+@dataclass(frozen=True)
+class StepStats:
+    """What one MHT step did.
+
+    Attributes:
+        n_clusters: Clusters after the step.
+        n_hypotheses: Hypotheses summed over clusters (the work done).
+        max_cluster_hypotheses: Hypotheses of the largest cluster.
+        n_live_nodes: Track nodes referred to by some hypothesis.
+        n_families: Live track families.
+        families_created: Families created since the start (any hypothesis).
+    """
+
+    n_clusters: int
+    n_hypotheses: int
+    max_cluster_hypotheses: int
+    n_live_nodes: int
+    n_families: int
+    families_created: int
+
+
+class _UnionFind:
+    def __init__(self) -> None:
+        self.parent: dict[object, object] = {}
+
+    def add(self, x: object) -> None:
+        self.parent.setdefault(x, x)
+
+    def find(self, x: object) -> object:
+        root = x
+        while self.parent[root] != root:
+            root = self.parent[root]
+        while self.parent[x] != root:
+            self.parent[x], x = root, self.parent[x]
+        return root
+
+    def union(self, a: object, b: object) -> None:
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            self.parent[rb] = ra
+
+
+def _family_key(node: TrackNode) -> int:
+    return node.family
+
+
+def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
+    """Marginal hypotheses over a subset of families: equal projections are merged and
+    their probabilities added; each keeps the history of its most probable member."""
+    merged: dict[tuple[int, ...], Hypothesis] = {}
+    for h in sorted(hyps, key=lambda h: -h.log_weight):
+        tracks = tuple(t for t in h.tracks if t.family in families)
+        key = tuple(t.node_id for t in tracks)
+        if key in merged:
+            m = merged[key]
+            m.log_weight = float(np.logaddexp(m.log_weight, h.log_weight))
+        else:
+            merged[key] = Hypothesis(h.log_weight, tracks, h.ancestors)
+    return normalise_hypotheses(list(merged.values()))
+
+
+def _joint_ancestors(a: tuple[Hashable, ...], b: tuple[Hashable, ...]) -> tuple[Hashable, ...]:
+    """Ancestry of a joint hypothesis: its ancestor g generations back is the pair of the
+    parts' ancestors g generations back."""
+    n = min(len(a), len(b))
+    if n == 0:
+        return ()
+    return tuple(zip(a[-n:], b[-n:], strict=True))
+
+
+def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
+    """Joint hypotheses of independent clusters: the ``k`` most probable combinations."""
+    acc = [(h.log_weight, h.tracks, h.ancestors) for h in parts[0]]
+    for part in parts[1:]:
+        combos = [
+            (wa + b.log_weight, ta + b.tracks, _joint_ancestors(aa, b.ancestors))
+            for wa, ta, aa in acc
+            for b in part
+        ]
+        combos.sort(key=lambda c: -c[0])
+        acc = combos[:k]
+    return normalise_hypotheses(
+        [Hypothesis(w, tuple(sorted(t, key=_family_key)), anc) for w, t, anc in acc]
+    )
+
+
+class MHT(Generic[Meas]):
+    """Multi-hypothesis tracker core, generic over the track model and label model.
+
+    Args:
+        params: Branching and pruning parameters.
+        model: Track model (prediction, gating, update, initiation).
+        labels: Label probabilities (detected/occluded/deleted, new/false alarm).
+        branches: Model branches per parent (the plain MHT has one).
+    """
+
+    def __init__(
+        self,
+        params: MHTParams,
+        model: TrackModel[Meas],
+        labels: LabelModel[Meas],
+        branches: BranchGenerator | None = None,
+    ) -> None:
+        self.params = params
+        self.model = model
+        self.labels = labels
+        self.branches: BranchGenerator = branches if branches is not None else SingleModel()
+        self.tree = TrackTree()
+        self.clusters: list[Cluster] = []
+        self.links: dict[tuple[int, int], int] = {}
+        self.generation = 0
+        self.stamp: float | None = None
+
+    # ------------------------------------------------------------------ public
+
+    def best_tracks(self) -> list[TrackNode]:
+        """Track nodes of the best hypothesis (best of every cluster), by family."""
+        out = [t for c in self.clusters for t in c.best().tracks]
+        out.sort(key=_family_key)
+        return out
+
+    def best_probabilities(self) -> dict[int, float]:
+        """Family -> probability of its cluster's best hypothesis."""
+        return {
+            t.family: math.exp(c.best().log_weight) for c in self.clusters for t in c.best().tracks
+        }
+
+    def step(self, measurements: Meas, stamp: float) -> StepStats:
+        """Process one scan's measurements taken at ``stamp`` [s]."""
+        live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
+        if live:
+            self.model.predict(live, stamp)
+        n_meas = len(measurements)
+        if live and n_meas:
+            gated, loglik = self.model.score(live, measurements)
+        else:
+            gated = np.zeros((len(live), n_meas), dtype=bool)
+            loglik = np.full((len(live), n_meas), -np.inf)
+        row_of = {n.node_id: i for i, n in enumerate(live)}
+        fam_meas = self._family_gates(live, gated)
+        self._drop_settled_links()
+        components = self._components(fam_meas, n_meas)
+        log_new, log_fal = self.labels.measurement_log_rates(measurements)
+        cluster_of = {f: c for c in self.clusters for f in c.families}
+        new_clusters: list[Cluster] = []
+        for fams, meas_idx in components:
+            parents = self._parents(fams, cluster_of)
+            children = self._branch(
+                parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
+                gated, loglik, row_of, log_new, log_fal,
+            )  # fmt: skip
+            self._link(children, fams, fam_meas, meas_idx)
+            families = frozenset(t.family for h in children for t in h.tracks)
+            if families:
+                new_clusters.append(Cluster(families, children))
+        self.clusters = new_clusters
+        self.tree.collect(
+            {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}.values()
+        )
+        self.generation += 1
+        self.stamp = stamp
+        sizes = [len(c.hypotheses) for c in self.clusters]
+        return StepStats(
+            n_clusters=len(self.clusters),
+            n_hypotheses=int(sum(sizes)),
+            max_cluster_hypotheses=max(sizes, default=0),
+            n_live_nodes=self.tree.n_nodes,
+            n_families=self.tree.n_families,
+            families_created=self.tree.families_created,
+        )
+
+    # ------------------------------------------------------------------ clustering
+
+    def _family_gates(self, live: list[TrackNode], gated: BoolArray) -> dict[int, set[int]]:
+        rows: dict[int, list[int]] = {}
+        for i, n in enumerate(live):
+            rows.setdefault(n.family, []).append(i)
+        out: dict[int, set[int]] = {}
+        for fam, r in rows.items():
+            out[fam] = set(np.flatnonzero(gated[r].any(axis=0)).tolist()) if gated.size else set()
+        return out
+
+    def _drop_settled_links(self) -> None:
+        """Forget links whose shared measurements are settled in every hypothesis.
+
+        A cluster with a single hypothesis has nothing uncertain: all its links go. Once
+        N-scan pruning has acted (every hypothesis has N ancestors) all hypotheses share the
+        ancestor N generations back, which fixes every assignment up to then; a link made at
+        or before that generation cannot make the parts' hypotheses inconsistent any more.
+        """
+        n = self.params.n_scan
+        settled_before = self.generation - 1 - n
+        settled: dict[int, bool] = {}
+        all_links: dict[int, bool] = {}
+        for c in self.clusters:
+            single = len(c.hypotheses) == 1
+            pruned = all(len(h.ancestors) >= n for h in c.hypotheses)
+            for f in c.families:
+                all_links[f] = single
+                settled[f] = pruned
+        keep: dict[tuple[int, int], int] = {}
+        for (a, b), last in self.links.items():
+            if a not in settled or b not in settled:
+                continue  # a family died
+            if all_links[a] or all_links[b]:
+                continue
+            if settled[a] and settled[b] and last <= settled_before:
+                continue
+            keep[(a, b)] = last
+        self.links = keep
+
+    def _components(
+        self, fam_meas: dict[int, set[int]], n_meas: int
+    ) -> list[tuple[frozenset[int], list[int]]]:
+        uf = _UnionFind()
+        for f in fam_meas:
+            uf.add(f)
+        for j in range(n_meas):
+            uf.add(("m", j))
+        for a, b in self.links:
+            uf.union(a, b)
+        for f, js in fam_meas.items():
+            for j in js:
+                uf.union(f, ("m", j))
+        fams: dict[object, set[int]] = {}
+        meas: dict[object, list[int]] = {}
+        for f in fam_meas:
+            fams.setdefault(uf.find(f), set()).add(f)
+        for j in range(n_meas):
+            meas.setdefault(uf.find(("m", j)), []).append(j)
+        roots = list(dict.fromkeys([*fams, *meas]))
+        return [(frozenset(fams.get(r, ())), meas.get(r, [])) for r in roots]
+
+    def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
+        touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
+        if not touching:
+            return [Hypothesis(0.0, ())]
+        parts: list[list[Hypothesis]] = []
+        whole = len(touching) == 1
+        for c in touching:
+            if c.families <= fams:
+                parts.append(c.hypotheses)
+            else:
+                parts.append(project(c.hypotheses, fams & c.families))
+                whole = False
+        if whole:
+            return parts[0]
+        return product(parts, self.params.k_best)
+
+    def _link(
+        self,
+        children: list[Hypothesis],
+        fams: frozenset[int],
+        fam_meas: dict[int, set[int]],
+        meas_idx: list[int],
+    ) -> None:
+        born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
+        for j in meas_idx:
+            sharing = [f for f in fams if j in fam_meas[f]]
+            if j in born:
+                sharing.append(born[j])
+            sharing.sort()
+            for x in range(len(sharing)):
+                for y in range(x + 1, len(sharing)):
+                    self.links[(sharing[x], sharing[y])] = self.generation
+
+    def _link_replaced(self, child: Sequence[TrackNode], parent: Sequence[TrackNode]) -> None:
+        """Link families a child created other than from a new measurement (a model's split
+        or merge tracks) with each other and with the parent's families they replaced, so
+        the cluster stays whole until these alternatives are settled."""
+        parent_fams = {t.family for t in parent}
+        born = {t.family for t in child if t.family not in parent_fams and t.label != NEW}
+        if not born:
+            return
+        child_fams = {t.family for t in child}
+        group = sorted(born | (parent_fams - child_fams))
+        for x in range(len(group)):
+            for y in range(x + 1, len(group)):
+                self.links[(group[x], group[y])] = self.generation
+
+    # ------------------------------------------------------------------ branching
+
+    def _branch(
+        self,
+        parents: list[Hypothesis],
+        measurements: Meas,
+        meas_idx: NDArray[np.intp],
+        stamp: float,
+        gated: BoolArray,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis]:
+        # the branches (models) of every parent, and the distinct track nodes among them
+        plans: list[tuple[Hypothesis, Branch]] = []
+
+        def gate_row(node: TrackNode) -> BoolArray:
+            return gated[row_of[node.node_id], meas_idx]
+
+        for parent in parents:
+            plans.extend((parent, b) for b in self.branches.branches(parent.tracks, gate_row))
+        uniq: dict[int, int] = {}
+        nodes_u: list[TrackNode] = []
+        for _, branch in plans:
+            for t in branch.tracks:
+                if t.node_id not in uniq:
+                    uniq[t.node_id] = len(nodes_u)
+                    nodes_u.append(t)
+        # per node, once: costs of matching each measurement and of the unmatched labels
+        g, ll = self._scores(nodes_u, measurements, meas_idx, gated, loglik, row_of)
+        lp = self.labels.track_log_probs(nodes_u) if nodes_u else np.empty((0, 3))
+        tm_cost = np.where(g, -(lp[:, DETECTED, None] + ll), np.inf)
+        base = build_matrix(tm_cost, lp, log_new[meas_idx], log_fal[meas_idx])
+        priors: list[float] = []
+        matrices: list[AssignmentMatrix] = []
+        for parent, branch in plans:
+            rows = [uniq[t.node_id] for t in branch.tracks]
+            matrices.append(base.subset(rows))
+            priors.append(-(parent.log_weight + branch.log_prior))
+        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
+
+        # make the children nodes each (node, label) needs, once, in batches
+        meas_list = meas_idx.tolist()
+        to_update: dict[tuple[int, int], tuple[TrackNode, int]] = {}
+        born: set[int] = set()
+        for pi, dec, _ in solutions:
+            for node, label, jl in zip(
+                plans[pi][1].tracks, dec.track_label, dec.track_measurement, strict=True
+            ):
+                if label == DETECTED:
+                    j = meas_list[jl]
+                    if j not in node.children:
+                        to_update[(node.node_id, j)] = (node, j)
+            born.update(
+                meas_list[a] for a, lab in enumerate(dec.measurement_label) if lab == NEW_LABEL
+            )
+        self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
+        new_nodes = self._new_nodes(sorted(born), measurements, stamp)
+
+        children: dict[tuple[int, ...], Hypothesis] = {}
+        n_scan = self.params.n_scan
+        for pi, dec, total in solutions:
+            parent, branch = plans[pi]
+            tracks: list[TrackNode] = []
+            for node, label, jl in zip(
+                branch.tracks, dec.track_label, dec.track_measurement, strict=True
+            ):
+                if label == DETECTED:
+                    tracks.append(node.children[meas_list[jl]])
+                elif label == OCCLUDED:
+                    tracks.append(self._occluded_child(node, stamp))
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL:
+                    tracks.append(new_nodes[meas_list[a]])
+            tracks.sort(key=_family_key)
+            key = tuple(t.node_id for t in tracks)
+            if key in children:  # two model branches led to the same content
+                c = children[key]
+                c.log_weight = float(np.logaddexp(c.log_weight, -total))
+                continue
+            ancestors = (*parent.ancestors, parent.hypothesis_id)
+            kept = ancestors[-n_scan:] if n_scan else ()
+            children[key] = Hypothesis(-total, tuple(tracks), kept, model=branch.model)
+            self._link_replaced(tracks, parent.tracks)
+        hyps = normalise_hypotheses(list(children.values()))
+        hyps = n_scan_prune(hyps, n_scan)
+        return ratio_prune(hyps, self.params.min_ratio)
+
+    def _scores(
+        self,
+        nodes: Sequence[TrackNode],
+        measurements: Meas,
+        meas_idx: NDArray[np.intp],
+        gated: BoolArray,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+    ) -> tuple[BoolArray, FloatArray]:
+        """Gate and log-likelihood rows (n, m) of ``nodes`` for the cluster's measurements;
+        nodes a branch generator re-predicted are scored here."""
+        n, m = len(nodes), int(meas_idx.size)
+        if n == 0 or m == 0:
+            return np.zeros((n, m), dtype=bool), np.zeros((n, m))
+        if all(t.node_id in row_of for t in nodes):
+            rows = [row_of[t.node_id] for t in nodes]
+            return gated[rows][:, meas_idx], loglik[rows][:, meas_idx]
+        g_all, ll_all = self.model.score(list(nodes), measurements)
+        return g_all[:, meas_idx], ll_all[:, meas_idx]
+
+    # ------------------------------------------------------------------ track tree
+
+    def _make_detected_children(
+        self,
+        pairs: list[tuple[TrackNode, int]],
+        measurements: Meas,
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+    ) -> None:
+        """Create (once) the child of each node updated with its measurement."""
+        if not pairs:
+            return
+        states = self.model.update(
+            [p[0] for p in pairs], measurements, [p[1] for p in pairs], stamp
+        )
+        for (node, j), (mean, cov, payload) in zip(pairs, states, strict=True):
+            row = row_of.get(node.node_id)
+            node.children[j] = TrackNode(
+                node_id=self.tree.new_node_id(),
+                family=node.family,
+                parent_id=node.node_id,
+                mean=mean,
+                cov=cov,
+                stamp=stamp,
+                label=NODE_DETECTED,
+                measurement=j,
+                hits=node.hits + 1,
+                misses=0,
+                age=node.age + 1,
+                loglik=float(loglik[row, j]) if row is not None else 0.0,
+                payload=payload,
+            )
+
+    def _new_nodes(self, js: list[int], measurements: Meas, stamp: float) -> dict[int, TrackNode]:
+        """One new track (a new family) per measurement labelled *new* in some child."""
+        states = self.model.initiate(measurements, js, stamp) if js else []
+        out: dict[int, TrackNode] = {}
+        for j, (mean, cov, payload) in zip(js, states, strict=True):
+            out[j] = TrackNode(
+                node_id=self.tree.new_node_id(),
+                family=self.tree.new_family(),
+                parent_id=-1,
+                mean=mean,
+                cov=cov,
+                stamp=stamp,
+                label=NEW,
+                measurement=j,
+                payload=payload,
+            )
+        return out
+
+    def _occluded_child(self, node: TrackNode, stamp: float) -> TrackNode:
+        child = node.children.get(-1)
+        if child is None:
+            mean, cov, payload = self.model.coast(node, stamp)
+            child = TrackNode(
+                node_id=self.tree.new_node_id(),
+                family=node.family,
+                parent_id=node.node_id,
+                mean=mean,
+                cov=cov,
+                stamp=stamp,
+                label=NODE_OCCLUDED,
+                measurement=-1,
+                hits=node.hits,
+                misses=node.misses + 1,
+                age=node.age + 1,
+                payload=payload,
+            )
+            node.children[-1] = child
+        return child

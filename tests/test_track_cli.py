@@ -1,0 +1,117 @@
+"""`laserpeople track`: recording in, tracks CSV out; config printing; registry."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.cli import track as track_cli
+from laserpeople.errors import ConfigError
+from laserpeople.io.tracks_csv import iter_tracks_csv
+from laserpeople.scan import Scan
+from laserpeople.tracking import registry
+from laserpeople.tracks import Detections
+
+
+class LabelDetector:
+    """A stand-in detector: the mean point of the beams of each labelled leg."""
+
+    def detect(self, scan: Scan) -> Detections:
+        assert scan.labels is not None
+        pts = scan.points("sensor")
+        keys = scan.labels.person * 2 + scan.labels.leg
+        found = []
+        for key in np.unique(keys[scan.labels.is_leg]):
+            sel = (keys == key) & scan.labels.is_leg
+            if np.count_nonzero(sel) >= 2:
+                found.append(pts[sel].mean(axis=0))
+        pos = np.array(found).reshape(-1, 2)
+        m = len(pos)
+        return Detections(
+            scan.stamp, scan.index, pos, np.tile(np.eye(2) * 0.01, (m, 1, 1)), np.ones(m),
+            "sensor", scan.pose,
+        )  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from laserpeople.sim.scenarios import run_scenario
+
+    path = tmp_path_factory.mktemp("rec") / "walk.npz"
+    run_scenario("figure-eight", seconds=6.0, seed=1).write(path)
+    return path
+
+
+def test_run_tracking_writes_legs_and_people(recording: Path, tmp_path: Path) -> None:
+    out = tmp_path / "tracks.csv"
+    stats = track_cli.run_tracking(recording, out, detector=LabelDetector())
+    assert stats["scans"] > 100 and stats["leg_tracks"] >= 2
+    frames = list(iter_tracks_csv(out, frame="world"))
+    kinds = {t.kind for f in frames for t in f}
+    assert kinds == {"leg", "person"}
+    assert stats["person_tracks"] >= 1
+
+
+def test_command_with_injected_detector(
+    recording: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(track_cli, "make_detector", lambda *a, **k: LabelDetector())
+    out = tmp_path / "t.csv"
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[nn_tracker]\nmin_hits = 3\n")
+    for tracker in ("leg-mht", "nn"):
+        result = CliRunner().invoke(
+            app,
+            ["--quiet", "track", str(recording), "--tracker", tracker, "--config", str(cfg),
+             "--output-frame", "sensor", "-o", str(out)],
+        )  # fmt: skip
+        assert result.exit_code == 0, result.output
+        rows = out.read_text().splitlines()
+        assert rows[0].startswith("scan,stamp,track_id,kind") and len(rows) > 100
+
+
+def test_print_config_shows_sources() -> None:
+    result = CliRunner().invoke(app, ["track", "--print-config"])
+    assert result.exit_code == 0, result.output
+    assert "p_occ_approved = 0.79" in result.output and "000 Table 10" in result.output
+    assert "[leg_detector]" in result.output
+
+
+def test_unknown_tracker_and_missing_output(recording: Path) -> None:
+    with pytest.raises(ConfigError):
+        registry.get("nope")
+    result = CliRunner().invoke(app, ["track", str(recording)])
+    assert result.exit_code != 0
+
+
+def test_registry_lists_builtin_trackers() -> None:
+    assert {"leg-mht", "nn"} <= set(registry.TRACKERS)
+    with pytest.raises(ValueError):
+        registry.register(registry.TRACKERS["nn"])
+
+
+def test_real_bag_end_to_end(shared_data: Path) -> None:
+    bag = shared_data / "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
+    if not bag.exists():
+        pytest.skip(f"{bag} not present")
+    from laserpeople.io import open_recording
+
+    # the first 150 scans keep the test short
+    rec = open_recording(bag)
+    scans = []
+    for scan in rec.scans():
+        scans.append(scan)
+        if len(scans) == 150:
+            break
+    rec.close()
+    det = track_cli.make_detector("adaboost", None, None)
+    from laserpeople.tracking.legs import LegMHTTracker
+
+    tracker = LegMHTTracker()
+    outs = [tracker.update(det.detect(s)) for s in scans]
+    assert len(outs) == 150
+    assert any(len(o.of_kind("leg")) > 0 for o in outs)

@@ -1,0 +1,93 @@
+"""Constant-velocity Kalman filter and gating against textbook formulas."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.stats import chi2, multivariate_normal
+
+from laserpeople.errors import ConfigError
+from laserpeople.tracking import kalman
+from laserpeople.tracking.kalman import KalmanParams
+
+
+def test_predict_matches_textbook() -> None:
+    dt, q = 0.1, 2.0
+    mean = np.array([1.0, 2.0, 0.5, -0.3])
+    cov = np.diag([0.01, 0.02, 0.3, 0.4])
+    f = np.array([[1, 0, dt, 0], [0, 1, 0, dt], [0, 0, 1, 0], [0, 0, 0, 1]], float)
+    # white-noise acceleration, continuous: Q = q * [[dt^3/3, dt^2/2], [dt^2/2, dt]] per axis
+    qm = q * np.array(
+        [
+            [dt**3 / 3, 0, dt**2 / 2, 0],
+            [0, dt**3 / 3, 0, dt**2 / 2],
+            [dt**2 / 2, 0, dt, 0],
+            [0, dt**2 / 2, 0, dt],
+        ]
+    )
+    pm, pc = kalman.predict(mean[None], cov[None], np.array([dt]), q)
+    np.testing.assert_allclose(pm[0], f @ mean)
+    np.testing.assert_allclose(pc[0], f @ cov @ f.T + qm)
+
+
+def test_update_matches_textbook_and_batch() -> None:
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(4, 4))
+    cov = a @ a.T + np.eye(4)
+    mean = rng.normal(size=4)
+    z = rng.normal(size=2)
+    r = np.array([[0.02, 0.005], [0.005, 0.03]])
+    h = kalman.H
+    s = h @ cov @ h.T + r
+    k = cov @ h.T @ np.linalg.inv(s)
+    want_mean = mean + k @ (z - h @ mean)
+    want_cov = (np.eye(4) - k @ h) @ cov
+    got_mean, got_cov = kalman.update(mean, cov, z, r)
+    np.testing.assert_allclose(got_mean, want_mean, atol=1e-12)
+    np.testing.assert_allclose(got_cov, want_cov, atol=1e-10)
+    bm, bc = kalman.update_batch(mean[None], cov[None], z[None], r[None])
+    np.testing.assert_allclose(bm[0], got_mean, atol=1e-12)
+    np.testing.assert_allclose(bc[0], got_cov, atol=1e-12)
+
+
+def test_mahalanobis_and_loglik_against_scipy() -> None:
+    rng = np.random.default_rng(1)
+    means = rng.normal(size=(3, 4))
+    covs = np.stack([np.diag(rng.uniform(0.01, 0.2, 4)) for _ in range(3)])
+    z = rng.normal(size=(5, 2))
+    r = np.stack([np.eye(2) * rng.uniform(0.001, 0.01) for _ in range(5)])
+    d2, ll = kalman.mahalanobis_and_loglik(means, covs, z, r)
+    for t in range(3):
+        for m in range(5):
+            s = covs[t, :2, :2] + r[m]
+            v = z[m] - means[t, :2]
+            assert d2[t, m] == pytest.approx(v @ np.linalg.solve(s, v))
+            assert ll[t, m] == pytest.approx(multivariate_normal(means[t, :2], s).logpdf(z[m]))
+
+
+def test_gate_is_chi_square_quantile() -> None:
+    assert KalmanParams(gate_probability=0.99).gate == pytest.approx(chi2.ppf(0.99, 2))
+    assert KalmanParams(gate_probability=0.99).gate == pytest.approx(9.2103, abs=1e-3)
+    # 2 degrees of freedom: the quantile is -2 ln(1 - p)
+    assert KalmanParams().gate == pytest.approx(-2 * np.log(1 - 0.999))
+
+
+def test_initiate_and_covariance_floor() -> None:
+    mean, cov = kalman.initiate(np.array([1.0, 2.0]), np.eye(2) * 0.01, 0.5)
+    np.testing.assert_allclose(mean, [1, 2, 0, 0])
+    np.testing.assert_allclose(np.diag(cov), [0.01, 0.01, 0.25, 0.25])
+    raw = np.stack([np.zeros((2, 2)), np.eye(2) * 0.04])
+    out = kalman.measurement_covariances(raw, 0.05)
+    np.testing.assert_allclose(out[0], np.eye(2) * 0.0025)
+    np.testing.assert_allclose(out[1], np.eye(2) * 0.04)
+
+
+def test_bad_params_are_config_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from laserpeople.config import load_config
+
+    with pytest.raises(ValueError):
+        KalmanParams(gate_probability=1.5)
+    path = tmp_path / "c.toml"
+    path.write_text("[kalman]\naccel_psd = -1.0\n")
+    with pytest.raises(ConfigError):
+        load_config(KalmanParams, path)

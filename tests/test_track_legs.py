@@ -1,0 +1,231 @@
+"""The leg tracker end to end on synthetic leg detections and simulated scenes (000 Sec. 3.4)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from laserpeople.config import load_config, to_toml
+from laserpeople.errors import PoseUnavailableError
+from laserpeople.scan import Pose2D
+from laserpeople.tracking import synthetic as syn
+from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+from laserpeople.tracks import Detections, Tracks
+
+
+def run(tracker: LegMHTTracker, dets: list[Detections]) -> list[Tracks]:
+    return [tracker.update(d) for d in dets]
+
+
+def person_mota(truth_legs: np.ndarray, outs: list[Tracks], gate: float = 0.5) -> float:
+    """A small CLEAR-MOT count for people: truth = midpoint of the legs (T, P, 2, 2)."""
+    misses = fps = switches = total = 0
+    last: dict[int, int] = {}
+    for k, out in enumerate(outs):
+        people = truth_legs[k].mean(axis=1)
+        tracks = out.of_kind("person")
+        pos = np.array([t.position for t in tracks]).reshape(-1, 2)
+        d = (
+            np.linalg.norm(people[:, None] - pos[None], axis=2)
+            if len(pos)
+            else np.empty((len(people), 0))
+        )
+        used: set[int] = set()
+        for p in np.argsort(d.min(axis=1) if d.shape[1] else np.zeros(len(people))):
+            total += 1
+            cand = (
+                [j for j in np.argsort(d[p]) if d[p, j] < gate and j not in used]
+                if d.shape[1]
+                else []
+            )
+            if not cand:
+                misses += 1
+                continue
+            j = int(cand[0])
+            used.add(j)
+            if int(p) in last and last[int(p)] != tracks[j].track_id:
+                switches += 1
+            last[int(p)] = tracks[j].track_id
+        fps += len(tracks) - len(used)
+    return 1.0 - (misses + fps + switches) / total
+
+
+def test_two_walkers_tracked_as_people() -> None:
+    scene = syn.make_scene(
+        [syn.line_path((2.0, -2.0), (0.05, 0.8)), syn.line_path((5.0, 2.0), (0.0, -0.6))],
+        12.0,
+        seed=2,
+    )
+    tracker = LegMHTTracker()
+    outs = run(tracker, scene.detections)
+    assert all(o.frame == "sensor" for o in outs)
+    assert len(outs[-1].of_kind("person")) == 2
+    for person in outs[-1].of_kind("person"):
+        assert len(person.members) == 2
+        assert set(person.members) <= {t.track_id for t in outs[-1].of_kind("leg")}
+    assert person_mota(scene.legs[30:], outs[30:]) > 0.8
+    assert tracker.labels.approved == tracker.people.approved_legs
+    assert len(tracker.labels.approved) == 4
+
+
+def test_world_frame_with_moving_sensor() -> None:
+    """Detections from a sensor moving along x: tracks in the world frame stay put."""
+    scene = syn.make_scene([syn.line_path((3.0, 0.0), (0.0, 0.0))], 6.0, seed=1)
+    dets = []
+    for k, d in enumerate(scene.detections):
+        pose = Pose2D(0.1 * k * 0.1, 0.2, 0.1)
+        world = d.positions  # the scene is in the world frame; express it in the sensor's
+        local = pose.inverse_transform_points(world)
+        dets.append(
+            Detections(d.stamp, d.scan_index, local, d.covariances, d.scores, "sensor", pose)
+        )
+    tracker = LegMHTTracker()
+    outs = run(tracker, dets)
+    assert outs[-1].frame == "world" and outs[-1].sensor_pose == dets[-1].sensor_pose
+    legs = outs[-1].of_kind("leg")
+    assert len(legs) >= 2
+    truth = scene.legs[-1].reshape(-1, 2)
+    for t in legs[:2]:
+        assert np.min(np.linalg.norm(truth - t.position, axis=1)) < 0.1
+    bad = Detections.empty(99.0, 999)
+    with pytest.raises(PoseUnavailableError):
+        tracker.update(bad)
+
+
+def test_non_finite_detections_are_counted_and_left_out() -> None:
+    tracker = LegMHTTracker()
+    pos = np.array([[1.0, 0.0], [np.nan, 1.0]])
+    tracker.update(Detections(0.0, 0, pos, np.tile(np.eye(2) * 1e-3, (2, 1, 1)), np.ones(2)))
+    assert tracker.dropped_detections == 1
+
+
+def test_nonadaptive_modes_use_one_class() -> None:
+    free = LegMHTTracker(LegTrackerParams(adaptive=False))
+    appr = LegMHTTracker(LegTrackerParams(adaptive=False, nonadaptive_class="approved"))
+    free.labels.approved = appr.labels.approved = frozenset({0})
+    from laserpeople.tracking.mht.tracktree import TrackNode
+
+    node = TrackNode(0, 0, -1, np.zeros(4), np.eye(4), 0.0, "new")
+    np.testing.assert_allclose(np.exp(free.labels.track_log_probs([node])), [[0.3, 0.63, 0.07]])
+    np.testing.assert_allclose(np.exp(appr.labels.track_log_probs([node])), [[0.2, 0.79, 0.01]])
+    adaptive = LegMHTTracker()
+    other = TrackNode(1, 1, -1, np.zeros(4), np.eye(4), 0.0, "new")
+    adaptive.labels.approved = frozenset({0})
+    np.testing.assert_allclose(
+        np.exp(adaptive.labels.track_log_probs([node, other])),
+        [[0.2, 0.79, 0.01], [0.3, 0.63, 0.07]],
+    )
+
+
+def test_every_parameter_settable_from_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    text = to_toml(LegTrackerParams())
+    path = tmp_path / "p.toml"
+    path.write_text(
+        text.replace("p_occ_approved = 0.79", "p_occ_approved = 0.8")
+        .replace("p_del_approved = 0.01", "p_del_approved = 0.0")
+        .replace("p_del_approved = 0.0", "p_del_approved = 0.005")
+        .replace("p_det_approved = 0.2", "p_det_approved = 0.195")
+        .replace("mht.k_best = 20", "mht.k_best = 7")
+        .replace("person.window = 10", "person.window = 12")
+    )
+    p = load_config(LegTrackerParams, path)
+    assert p.p_occ_approved == 0.8 and p.mht.k_best == 7 and p.person.window == 12
+    assert (
+        dataclasses.replace(
+            p,
+            p_occ_approved=0.79,
+            p_del_approved=0.01,
+            p_det_approved=0.2,
+            mht=LegTrackerParams().mht,
+            person=LegTrackerParams().person,
+        )
+        == LegTrackerParams()
+    )
+
+
+# ----------------------------------------------------------------- simulated scenes (000 Sec. 3.4)
+
+
+def _sim(name: str, seconds: float) -> tuple[list[Detections], object]:
+    from laserpeople.sim.scenarios import run_scenario
+
+    result = run_scenario(name, seconds=seconds, seed=0)
+    dets = syn.detections_from_sim(result.scans, result.truth, clutter_probability=0.9)
+    return dets, result
+
+
+def _run_modes(dets: list[Detections], truth: list, modes: dict[str, LegTrackerParams]) -> dict:
+    """Per mode: leg tracks created (all, and those born on a person's leg, not on clutter),
+    persons created, mean hypotheses, person MOTA (laserpeople.evaluation)."""
+    from laserpeople.evaluation import evaluate
+
+    out = {}
+    for label, params in modes.items():
+        tracker = LegMHTTracker(params)
+        tracks, hyps = [], []
+        born_on_leg: dict[int, bool] = {}
+        for k, d in enumerate(dets):
+            frame = tracker.update(d)
+            tracks.append(frame)
+            hyps.append(tracker.n_hypotheses)
+            legs_true = truth[k].leg_positions.reshape(-1, 2)
+            for t in frame.of_kind("leg"):
+                if t.track_id not in born_on_leg:
+                    near = len(legs_true) and np.linalg.norm(legs_true - t.position, axis=1).min()
+                    born_on_leg[t.track_id] = bool(len(legs_true)) and float(near) < 0.3
+        summary = evaluate(truth, tracks).result().summary()
+        out[label] = {
+            "legs_created": len(tracker.leg_ids_reported),
+            "person_legs_created": sum(born_on_leg.values()),
+            "persons_created": tracker.people.persons_created,
+            "mean_hypotheses": float(np.mean(hyps)),
+            "max_hypotheses": int(np.max(hyps)),
+            "mota": float(summary["mota"]),  # type: ignore[arg-type]
+        }
+    return out
+
+
+MODES = {
+    "adaptive": LegTrackerParams(),
+    "free": LegTrackerParams(adaptive=False),
+    "approved": LegTrackerParams(adaptive=False, nonadaptive_class="approved"),
+}
+
+
+@pytest.mark.slow
+def test_figure_eight_adaptive_keeps_tracks() -> None:
+    """000 Fig. 5: the same two leg tracks over the whole walk (plus clutter tracks); without
+    adaptation legs are lost at the turns."""
+    dets, result = _sim("figure-eight", 30.0)
+    res = _run_modes(dets, result.truth, {k: MODES[k] for k in ("adaptive", "free")})  # type: ignore[attr-defined]
+    a, f = res["adaptive"], res["free"]
+    assert a["person_legs_created"] == 2 and a["persons_created"] == 1
+    assert f["person_legs_created"] > 2 and f["persons_created"] > 1
+    assert a["mota"] > 0.9 and a["mota"] > f["mota"]
+
+
+@pytest.mark.slow
+def test_turn_on_stance_leg_adaptive_keeps_tracks() -> None:
+    """000 Fig. 6: heavy mutual occlusion; the adaptive tracker keeps a near-constant number
+    of leg tracks, the non-adaptive one keeps creating new ones."""
+    dets, result = _sim("turn-on-stance-leg", 20.0)
+    res = _run_modes(dets, result.truth, {k: MODES[k] for k in ("adaptive", "free")})  # type: ignore[attr-defined]
+    a, f = res["adaptive"], res["free"]
+    assert a["person_legs_created"] <= 3
+    assert f["person_legs_created"] >= 3 * a["person_legs_created"]
+    assert a["mota"] > 0.6 and a["mota"] > f["mota"] + 0.4
+
+
+@pytest.mark.slow
+def test_narrow_corridor_adaptive_beats_nonadaptive() -> None:
+    """000 Figs. 8-9: fewer created tracks than without adaptation, far fewer hypotheses than
+    the non-adaptive tracker with the approved probabilities, and a better MOTA."""
+    dets, result = _sim("narrow-corridor", 40.0)
+    res = _run_modes(dets, result.truth, MODES)  # type: ignore[attr-defined]
+    a, f, ap = res["adaptive"], res["free"], res["approved"]
+    assert a["mota"] > f["mota"]  # non-adaptive = free probabilities (000 Sec. 3.4)
+    assert a["legs_created"] < f["legs_created"]  # Fig. 8
+    assert a["mean_hypotheses"] < 0.5 * ap["mean_hypotheses"]  # Fig. 9
+    assert a["max_hypotheses"] < ap["max_hypotheses"]

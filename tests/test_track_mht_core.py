@@ -1,0 +1,244 @@
+"""The MHT core: normalisation per generation, pruning, clustering, shared track tree."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pytest
+
+from laserpeople.tracking.kalman import KalmanParams
+from laserpeople.tracking.mht.core import MHT, MHTParams, product, project
+from laserpeople.tracking.mht.hypothesis import (
+    Hypothesis,
+    cap,
+    n_scan_prune,
+    normalise_hypotheses,
+    ratio_prune,
+)
+from laserpeople.tracking.mht.tracktree import TrackNode
+from laserpeople.tracking.point_model import KalmanPointModel, PointMeasurements
+
+
+class FixedLabels:
+    """Free-track probabilities of 000 Table 10 for every track."""
+
+    def track_log_probs(self, nodes: Sequence[TrackNode]) -> np.ndarray:
+        return np.tile(np.log([0.3, 0.63, 0.07]), (len(nodes), 1))
+
+    def measurement_log_rates(self, m: PointMeasurements) -> tuple[np.ndarray, np.ndarray]:
+        return np.full(len(m), math.log(0.001)), np.full(len(m), math.log(0.003))
+
+
+def meas(points: np.ndarray, std: float = 0.03) -> PointMeasurements:
+    pts = np.asarray(points, float).reshape(-1, 2)
+    return PointMeasurements(pts, np.tile(np.eye(2) * std**2, (len(pts), 1, 1)))
+
+
+def make_mht(**kw: float) -> MHT[PointMeasurements]:
+    return MHT(MHTParams(**kw), KalmanPointModel(KalmanParams()), FixedLabels())  # type: ignore[arg-type]
+
+
+def run_targets(mht: MHT[PointMeasurements], steps: int, seed: int = 0) -> list[int]:
+    """Three targets (two close together), misses and clutter; returns hypothesis counts."""
+    rng = np.random.default_rng(seed)
+    counts = []
+    for k in range(steps):
+        t = 0.1 * k
+        pts = np.array([[1 + 0.5 * t, 0.0], [1 + 0.5 * t, 0.3], [4.0, -2 + 0.3 * t]])
+        pts = pts[rng.random(3) > 0.15] + rng.normal(0, 0.02, (0, 2)).sum()
+        if rng.random() < 0.3:
+            pts = np.vstack([pts, rng.uniform(0, 5, (1, 2))])
+        mht.step(meas(pts), t)
+        counts.append(sum(len(c.hypotheses) for c in mht.clusters))
+    return counts
+
+
+def test_probabilities_normalised_per_cluster_and_generation() -> None:
+    mht = make_mht()
+    rng = np.random.default_rng(1)
+    for k in range(60):
+        t = 0.1 * k
+        pts = np.array([[1 + 0.5 * t, 0.0], [1 + 0.5 * t, 0.3]]) + rng.normal(0, 0.02, (2, 2))
+        pts = pts[rng.random(2) > 0.2]
+        mht.step(meas(pts), t)
+        for c in mht.clusters:
+            total = sum(math.exp(h.log_weight) for h in c.hypotheses)
+            assert total == pytest.approx(1.0, abs=1e-9)
+            w = [h.log_weight for h in c.hypotheses]
+            assert w == sorted(w, reverse=True)
+            assert len(c.hypotheses) <= mht.params.k_best
+
+
+def test_tracks_follow_targets_and_ids_are_stable() -> None:
+    mht = make_mht()
+    families = []
+    for k in range(50):
+        t = 0.1 * k
+        pts = np.array([[1 + 0.5 * t, 0.0], [1.0, 2.0 + 0.4 * t]])
+        mht.step(meas(pts), t)
+        best = mht.best_tracks()
+        families.append(tuple(n.family for n in best))
+    assert len(set(families[5:])) == 1 and len(families[-1]) == 2
+    pos = np.array([n.mean[:2] for n in mht.best_tracks()])
+    want = np.array([[1 + 0.5 * 4.9, 0.0], [1.0, 2.0 + 0.4 * 4.9]])
+    np.testing.assert_allclose(np.sort(pos, axis=0), np.sort(want, axis=0), atol=0.05)
+    vel = np.array([n.mean[2:] for n in mht.best_tracks()])
+    np.testing.assert_allclose(
+        np.sort(vel, axis=0), np.sort([[0.5, 0], [0, 0.4]], axis=0), atol=0.1
+    )
+
+
+def test_independent_targets_form_separate_clusters() -> None:
+    mht = make_mht()
+    for k in range(20):
+        t = 0.1 * k
+        mht.step(meas(np.array([[1 + 0.3 * t, 0.0], [1.0, 5.0], [6.0, -3.0]])), t)
+    assert len(mht.clusters) == 3
+    assert all(len(c.families) == 1 for c in mht.clusters)
+
+
+def test_track_tree_shares_nodes_and_memory_is_bounded() -> None:
+    mht = make_mht()
+    counts = run_targets(mht, 300)
+    assert max(counts) <= 3 * mht.params.k_best
+    # every node is stored once: no two live nodes of a family derive from the same parent
+    # with the same measurement
+    seen: set[tuple[int, int, int]] = set()
+    for nodes in mht.tree.nodes_by_family.values():
+        for n in nodes:
+            key = (n.family, n.parent_id, n.measurement)
+            assert key not in seen
+            seen.add(key)
+    live_ids = {id(t) for c in mht.clusters for h in c.hypotheses for t in h.tracks}
+    assert len(live_ids) == mht.tree.n_nodes
+    assert mht.tree.n_nodes < 200
+    assert len(mht.links) < 100
+
+
+def _h(w: float, anc: tuple[int, ...]) -> Hypothesis:
+    return Hypothesis(math.log(w), (), anc)
+
+
+def test_n_scan_keeps_the_branch_with_most_mass() -> None:
+    # ancestor 1 has the single best leaf (0.40) but ancestor 2 has more mass (0.55)
+    def hyps() -> list[Hypothesis]:  # fresh objects: pruning renormalises in place
+        return [_h(0.40, (1, 10)), _h(0.05, (1, 11)), _h(0.30, (2, 12)), _h(0.25, (2, 13))]
+
+    kept = n_scan_prune(hyps(), 2)
+    assert {h.ancestors for h in kept} == {(2, 12), (2, 13)}
+    assert sum(math.exp(h.log_weight) for h in kept) == pytest.approx(1.0)
+    assert math.exp(kept[0].log_weight) == pytest.approx(0.30 / 0.55)
+    # depth 1 groups by the parent
+    kept1 = n_scan_prune(hyps(), 1)
+    assert len(kept1) == 1 and kept1[0].ancestors == (1, 10)
+    # short histories are not pruned
+    assert len(n_scan_prune([_h(0.5, (1,)), _h(0.5, (2,))], 2)) == 2
+    # depth 0 keeps the best leaf
+    assert n_scan_prune(hyps(), 0)[0].ancestors == (1, 10)
+
+
+def test_ratio_prune_keeps_best() -> None:
+    def hyps() -> list[Hypothesis]:
+        return [_h(0.5, ()), _h(0.3, ()), _h(0.0004, ()), _h(0.1996, ())]
+
+    kept = ratio_prune(hyps(), 1e-3)
+    assert len(kept) == 3
+    assert math.exp(kept[0].log_weight) == pytest.approx(0.5 / 0.9996)
+    assert len(ratio_prune(hyps(), 0.7)) == 1
+    assert len(cap(hyps(), 2)) == 2
+
+
+def test_pruning_inside_mht_keeps_the_best_branch() -> None:
+    """With N-scan depth 1 only children of one parent survive each step, and the reported
+    tracks equal those of the highest-mass branch (here, the true targets)."""
+    mht = make_mht(n_scan=1)
+    run_targets(mht, 80, seed=3)
+    for c in mht.clusters:
+        parents = {h.ancestors[-1] for h in c.hypotheses if h.ancestors}
+        assert len(parents) <= 1
+
+
+def test_product_and_projection() -> None:
+    node = lambda f: TrackNode(f * 10, f, -1, np.zeros(4), np.eye(4), 0.0, "new")  # noqa: E731
+    a = normalise_hypotheses(
+        [Hypothesis(math.log(0.6), (node(1),), (1,)), Hypothesis(math.log(0.4), (), (2,))]
+    )
+    b = normalise_hypotheses(
+        [Hypothesis(math.log(0.9), (node(2),), (3,)), Hypothesis(math.log(0.1), (), (4,))]
+    )
+    joint = product([a, b], k=10)
+    assert len(joint) == 4
+    assert math.exp(joint[0].log_weight) == pytest.approx(0.54)
+    assert joint[0].ancestors == ((1, 3),)
+    back = project(joint, frozenset({1}))
+    probs = sorted(math.exp(h.log_weight) for h in back)
+    np.testing.assert_allclose(probs, [0.4, 0.6])
+    assert len(product([a, b], k=2)) == 2
+
+
+class SplitModels:
+    """A toy interaction model (the group tracker's split, 000 Sec. 4.4): a parent track may
+    continue (p_C) or split into two new tracks that must both be matched (p_S)."""
+
+    def __init__(self, mht: MHT[PointMeasurements], p_split: float) -> None:
+        self.mht = mht
+        self.p_split = p_split
+        self.must_match: set[int] = set()
+
+    def branches(self, tracks, gate_row):  # type: ignore[no-untyped-def]
+        from laserpeople.tracking.mht.protocols import Branch
+
+        out = [Branch(math.log(1 - self.p_split), tracks, 0)]
+        for t in tracks:
+            if gate_row(t).sum() >= 2:  # data-driven: two measurements in its gate
+                halves = []
+                for _ in range(2):
+                    node = TrackNode(
+                        self.mht.tree.new_node_id(), self.mht.tree.new_family(), t.node_id,
+                        t.mean, t.cov, t.stamp, "detected",
+                    )  # fmt: skip
+                    node.pred_mean, node.pred_cov = t.pred_mean, t.pred_cov
+                    self.must_match.add(node.node_id)
+                    halves.append(node)
+                rest = tuple(x for x in tracks if x is not t)
+                split = tuple(sorted((*rest, *halves), key=lambda n: n.family))
+                out.append(Branch(math.log(self.p_split), split, 1))
+        return out
+
+
+class SplitLabels(FixedLabels):
+    def __init__(self, models: SplitModels) -> None:
+        self.models = models
+
+    def track_log_probs(self, nodes: Sequence[TrackNode]) -> np.ndarray:
+        lp = super().track_log_probs(nodes)
+        for i, n in enumerate(nodes):
+            if n.node_id in self.models.must_match:
+                lp[i, 1:] = -np.inf  # a split track cannot be occluded or deleted
+        return lp
+
+
+def test_model_branches_for_split_hypotheses() -> None:
+    """The hook the group tracker uses: branches with re-predicted tracks and a model prior;
+    children of all models of all parents compete in one k-best list."""
+    mht: MHT[PointMeasurements] = MHT(MHTParams(), KalmanPointModel(KalmanParams()), FixedLabels())
+    models = SplitModels(mht, p_split=0.2)
+    mht.branches = models
+    mht.labels = SplitLabels(models)
+    for k in range(5):
+        mht.step(meas(np.array([[2.0, 0.0]])), 0.1 * k)
+    assert len(mht.best_tracks()) == 1
+    original = mht.best_tracks()[0].family
+    # the target splits into two, 0.3 m apart
+    for k in range(5, 12):
+        mht.step(meas(np.array([[2.0, -0.15], [2.0, 0.15]])), 0.1 * k)
+        for c in mht.clusters:
+            assert sum(math.exp(h.log_weight) for h in c.hypotheses) == pytest.approx(1.0)
+    assert len(mht.clusters) == 1  # the split families stay with the family they replaced
+    best = mht.clusters[0].best()
+    assert len(best.tracks) == 2
+    assert all(t.family != original for t in best.tracks)  # the split, not continuation
+    ys = sorted(float(t.mean[1]) for t in best.tracks)
+    np.testing.assert_allclose(ys, [-0.15, 0.15], atol=0.03)

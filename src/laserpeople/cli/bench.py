@@ -1,15 +1,125 @@
-"""`laserpeople bench`: Run the speed and accuracy benchmarks."""
+"""`laserpeople bench`: how fast reading, leg detection and each tracker run on this machine."""
 
 from __future__ import annotations
 
-import typer
+import itertools
+import json
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Annotated, Any
 
-from laserpeople.cli.common import not_built
+import typer
+from rich.table import Table
+
+from laserpeople.cli.common import console, progress, say
+from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.scan import Scan
+from laserpeople.tracking.registry import TrackerEntry
 
 
 def register(app: typer.Typer) -> None:
     """Add the `bench` command to ``app``."""
 
-    @app.command("bench", help="Run the speed and accuracy benchmarks. (not built yet)")
-    def _command() -> None:
-        raise not_built("bench", "the benchmark issues")
+    @app.command("bench")
+    def bench(
+        recording: Annotated[
+            Path | None,
+            typer.Argument(help="Recording to time on (default: a simulated scenario)."),
+        ] = None,
+        topic: Annotated[str | None, typer.Option("--topic", "-t", help="Laser topic.")] = None,
+        scenario: Annotated[
+            str, typer.Option(help="Scenario simulated when no recording is given.")
+        ] = "demo",
+        seconds: Annotated[
+            float | None, typer.Option(help="Length of the simulated scenario [s].")
+        ] = None,
+        seed: Annotated[int, typer.Option(help="Seed of the simulated scenario.")] = 0,
+        tracker: Annotated[
+            list[str] | None,
+            typer.Option("--tracker", help="Tracker to time (repeatable; default: all)."),
+        ] = None,
+        detector: Annotated[
+            str, typer.Option(help="Leg detector: adaboost or heuristic.")
+        ] = "adaboost",
+        repeat: Annotated[int, typer.Option(min=1, help="Passes over the scans per stage.")] = 3,
+        max_scans: Annotated[int, typer.Option(min=1, help="Time at most this many scans.")] = 2000,
+        as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    ) -> None:
+        """Time reading, leg detection and tracking: median and p95 ms per scan, scans/s."""
+        from laserpeople.cli.track import make_detector
+        from laserpeople.evaluation.speed import (
+            StageTiming,
+            peak_memory_mib,
+            time_per_item,
+            time_reading,
+        )
+        from laserpeople.tracking import registry
+
+        names = tracker or list(registry.TRACKERS)
+        entries = [registry.get(n) for n in names]
+        timings: list[StageTiming] = []
+        if recording is None:
+            from laserpeople.sim import run_scenario
+
+            say(f"simulating scenario {scenario!r} (seed {seed})")
+            simulated = run_scenario(scenario, seconds=seconds, seed=seed).scans
+            first = simulated[0].sensor
+            scans = [s for s in simulated if s.sensor == first][:max_scans]
+            source = f"scenario {scenario} ({first})"
+        else:
+            from laserpeople.io import open_recording
+
+            def read() -> list[Scan]:
+                rec = open_recording(recording)
+                try:
+                    return list(itertools.islice(rec.scans([topic] if topic else None), max_scans))
+                finally:
+                    rec.close()
+
+            scans = read()
+            if not scans:
+                raise LaserPeopleError("no scans to time", path=recording)
+            sensors = {s.sensor for s in scans}
+            if len(sensors) > 1:
+                raise ConfigError(
+                    f"the recording has several laser topics ({', '.join(sorted(sensors))})",
+                    path=recording,
+                    hint="choose one with --topic",
+                )
+            timings.append(time_reading("read", read, repeat))
+            source = str(recording)
+        say(f"timing {len(scans)} scans of {source}, {repeat} passes per stage")
+        det = make_detector(detector, None, None)
+        detections = [det.detect(s) for s in scans]
+        stages: list[tuple[str, Callable[[], Callable[[Any], object]], Sequence[Any]]] = [
+            ("detect", lambda: make_detector(detector, None, None).detect, scans)
+        ]
+        stages += [(f"track {e.name}", _fresh_update(e), detections) for e in entries]
+        for name, make_step, items in progress(stages, len(stages), "stages"):
+            timings.append(time_per_item(name, make_step, items, repeat))
+        memory = peak_memory_mib()
+        if as_json:
+            print(
+                json.dumps(
+                    {
+                        "source": source,
+                        "scans": len(scans),
+                        "beams": scans[0].n_beams,
+                        "stages": [t.as_dict() for t in timings],
+                        "peak_memory_mib": memory,
+                    }
+                )
+            )
+            return
+        table = Table(title=f"{source}: {len(scans)} scans, {scans[0].n_beams} beams")
+        for col in ("stage", "median ms/scan", "p95 ms/scan", "scans/s"):
+            table.add_column(col, justify="left" if col == "stage" else "right")
+        for t in timings:
+            table.add_row(t.stage, f"{t.median_ms:.3f}", f"{t.p95_ms:.3f}", f"{t.scans_per_s:,.0f}")
+        console.print(table)
+        console.print(f"peak memory {memory:.0f} MiB")
+
+
+def _fresh_update(entry: TrackerEntry) -> Callable[[], Callable[[Any], object]]:
+    """A maker of a new tracker's ``update`` with default parameters, one per timing pass."""
+    return lambda: entry.factory(entry.params_cls()).update

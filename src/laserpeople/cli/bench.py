@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import itertools
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -69,14 +69,14 @@ def register(app: typer.Typer) -> None:
         else:
             from laserpeople.io import open_recording
 
-            def read() -> list[Scan]:
+            def stream() -> Iterator[Scan]:
                 rec = open_recording(recording)
                 try:
-                    return list(itertools.islice(rec.scans([topic] if topic else None), max_scans))
+                    yield from itertools.islice(rec.scans([topic] if topic else None), max_scans)
                 finally:
                     rec.close()
 
-            scans = read()
+            scans = list(stream())
             if not scans:
                 raise LaserPeopleError("no scans to time", path=recording)
             sensors = {s.sensor for s in scans}
@@ -86,7 +86,7 @@ def register(app: typer.Typer) -> None:
                     path=recording,
                     hint="choose one with --topic",
                 )
-            timings.append(time_reading("read", read, repeat))
+            timings.append(time_reading("read", stream, repeat))
             source = str(recording)
         say(f"timing {len(scans)} scans of {source}, {repeat} passes per stage")
         det = make_detector(detector, None, None)

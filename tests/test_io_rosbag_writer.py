@@ -14,7 +14,13 @@ from rosbags.highlevel import AnyReader
 from laserpeople.errors import RecordingError
 from laserpeople.io import open_recording
 from laserpeople.io.rosbag import RosbagRecording
-from laserpeople.io.rosbag_writer import write_laserscan_bag
+from laserpeople.io.rosbag_writer import (
+    open_bag,
+    sensor_frame_id,
+    sensor_topic,
+    split_stamp,
+    write_laserscan_bag,
+)
 from laserpeople.scan import Pose2D, Scan
 
 
@@ -125,6 +131,36 @@ def test_existing_file_is_replaced_and_bad_extension_refused(tmp_path: Path) -> 
         assert len(list(rec.scans())) == 2
     with pytest.raises(RecordingError, match="extension"):
         write_laserscan_bag(tmp_path / "out.txt", _scans())
+
+
+def test_stamp_splitting_and_sensor_naming() -> None:
+    assert split_stamp(12.25) == (12, 250_000_000)
+    assert split_stamp(3.9999999999) == (4, 0)  # rounding up carries into the seconds
+    with pytest.raises(RecordingError, match="negative"):
+        split_stamp(-0.5)
+    assert sensor_topic("front") == "/front" and sensor_topic("/back") == "/back"
+    assert sensor_topic("front", ros1=True) == "front"
+    assert sensor_frame_id("/robot/front/") == "robot_front" and sensor_frame_id("/") == "laser"
+
+
+def test_open_bag_adds_messages_and_discards_a_failed_block(tmp_path: Path) -> None:
+    path = tmp_path / "extra.mcap"
+    with open_bag(path) as sink:
+        sink.scan(_scans()[0], "/front", "front")
+        text = sink.typestore.types["std_msgs/msg/String"](data="hello")
+        sink.write("/note", "std_msgs/msg/String", text, 5.5)
+    assert sink.count == 1
+    with AnyReader([path]) as reader:
+        conn = next(c for c in reader.connections if c.topic == "/note")
+        _, log, raw = next(iter(reader.messages(connections=[conn])))
+        assert reader.deserialize(raw, conn.msgtype).data == "hello"
+    assert log == 5_500_000_000
+    with pytest.raises(RuntimeError, match="abandon"), open_bag(path) as sink:
+        sink.scan(_scans()[0], "/front", "front")
+        raise RuntimeError("abandon")
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]  # the old file, no temporaries
+    with RosbagRecording(path) as rec:
+        assert len(list(rec.scans())) == 1
 
 
 def test_real_bag_round_trip_keeps_the_negative_increment(

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Collection, Sequence
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -180,17 +180,7 @@ class ClusteringError:
     ) -> ClusteringFrame:
         """Score one frame given per-point labels (see :func:`frame_counts`)."""
         counts = frame_counts(true_labels, estimated_labels)
-        self._rows.append(
-            (
-                len(self._rows),
-                float(stamp),
-                counts.true_groups,
-                counts.clusters,
-                counts.under_segmented,
-                counts.over_segmented,
-                counts.missed_groups,
-            )
-        )
+        self._rows.append((len(self._rows), float(stamp), *astuple(counts)))
         return counts
 
     def accumulate_partitions(

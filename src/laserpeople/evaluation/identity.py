@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from laserpeople.evaluation.detail import FrameTable, frames_not_kept
-from laserpeople.evaluation.matching import frame_points, max_weight_assignment
-from laserpeople.evaluation.pairs import PairSums
+from laserpeople.evaluation.matching import frame_points
+from laserpeople.evaluation.pair_sums import PairSums
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
@@ -93,33 +93,21 @@ class IdentityF1:
                 )
             )
 
-    def _matching(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        counts = self._within.sums
-        rows, cols = max_weight_assignment(counts)
-        return counts, rows, cols
-
     def result(self) -> IdentityResult:
         """IDF1 over the frames accumulated so far (solves the trajectory matching)."""
-        counts, rows, cols = self._matching()
-        idtp = round(float(counts[rows, cols].sum()))
-        idfp = self._num_tracks - idtp
-        idfn = self._num_truth - idtp
+        matching = self._within.matching()
+        idtp = round(matching.total)
         total = self._num_truth + self._num_tracks
-        track_ids = self._within.rows.ids
-        truth_ids = self._within.cols.ids
         return IdentityResult(
             idf1=2.0 * idtp / total if total else math.nan,
             idp=idtp / self._num_tracks if self._num_tracks else math.nan,
             idr=idtp / self._num_truth if self._num_truth else math.nan,
             idtp=idtp,
-            idfp=idfp,
-            idfn=idfn,
+            idfp=self._num_tracks - idtp,
+            idfn=self._num_truth - idtp,
             num_truth=self._num_truth,
             num_tracks=self._num_tracks,
-            matched=tuple(
-                (int(track_ids[r]), int(truth_ids[c]))
-                for r, c in zip(rows.tolist(), cols.tolist(), strict=True)
-            ),
+            matched=matching.id_pairs,
             gate=self.params.gate,
         )
 
@@ -127,9 +115,7 @@ class IdentityF1:
         """Per frame: people, tracks and IDTP under the final trajectory matching."""
         if not self.keep_frames:
             raise frames_not_kept("IdentityF1")
-        _, rows, cols = self._matching()
-        partner = np.full(len(self._within.rows), -1, dtype=np.int64)
-        partner[rows] = cols
+        partner = self._within.matching().partner()
         out = []
         for scan, stamp, n_truth, n_tracks, t_idx, g_idx in self._frame_pairs:
             idtp = int(np.count_nonzero(partner[t_idx] == g_idx)) if t_idx.size else 0

@@ -27,8 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.evaluation.detail import FrameTable, frames_not_kept
-from laserpeople.evaluation.matching import frame_points, max_weight_assignment
-from laserpeople.evaluation.pairs import PairSums
+from laserpeople.evaluation.matching import frame_points
+from laserpeople.evaluation.pair_sums import PairSums
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
@@ -100,19 +100,13 @@ class SchenkMotp:
 
     def result(self) -> SchenkMotpResult:
         """eq. 11 over the frames accumulated so far (solves the trajectory matching)."""
-        sums = self._values.sums
-        rows, cols = max_weight_assignment(sums)
-        numerator = float(sums[rows, cols].sum())
-        track_ids = self._values.rows.ids
-        truth_ids = self._values.cols.ids
+        matching = self._values.matching()
+        numerator = matching.total
         return SchenkMotpResult(
             motp=numerator / self._denominator if self._denominator else math.nan,
             numerator=numerator,
             denominator=self._denominator,
-            matched=tuple(
-                (int(track_ids[r]), int(truth_ids[c]))
-                for r, c in zip(rows.tolist(), cols.tolist(), strict=True)
-            ),
+            matched=matching.id_pairs,
             h=self.params.schenk_h,
         )
 
@@ -121,9 +115,7 @@ class SchenkMotp:
         m < :data:`DETAIL_MIN_M` left out) and max(N^T, N^G)."""
         if not self.keep_frames:
             raise frames_not_kept("SchenkMotp")
-        rows, cols = max_weight_assignment(self._values.sums)
-        partner = np.full(len(self._values.rows), -1, dtype=np.int64)
-        partner[rows] = cols
+        partner = self._values.matching().partner()
         out = []
         for scan, stamp, count, t_idx, g_idx, m in self._frame_pairs:
             value = float(m[partner[t_idx] == g_idx].sum()) if t_idx.size else 0.0

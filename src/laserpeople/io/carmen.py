@@ -52,11 +52,11 @@ from laserpeople.config import param
 from laserpeople.errors import (
     RecordingError,
     ScanFormatError,
-    TopicNotFoundError,
     UnsortedStampsError,
 )
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import PoseParams, PoseTrack
+from laserpeople.io.topics import match_topics
 from laserpeople.scan import Pose2D, Scan, wrap_angle
 from laserpeople.truth import TruthFrame
 
@@ -331,18 +331,14 @@ class CarmenRecording:
         present = [t.name for t in self.topics()]
         if not topics:
             return present
-        out = []
-        for t in topics:
-            name = t.lstrip("/").upper()
-            if name not in present:
-                raise TopicNotFoundError(
-                    f"no laser {t!r}",
-                    path=self.path,
-                    hint=f"lasers here: {', '.join(present)}",
-                )
-            if name not in out:
-                out.append(name)
-        return out
+        return match_topics(
+            topics,
+            present,
+            key=lambda name: name.lstrip("/").upper(),
+            path=self.path,
+            what="laser",
+            hint=f"lasers here: {', '.join(present)}",
+        )
 
     def pose_summary(self) -> str:
         """Why scans of the last :meth:`scans` run got no pose, one line per reason."""

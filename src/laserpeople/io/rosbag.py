@@ -40,6 +40,7 @@ from laserpeople.io.poses import (
     normalise_frame,
     yaw_and_tilt,
 )
+from laserpeople.io.topics import match_topics
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.truth import TruthFrame
 
@@ -187,14 +188,16 @@ class RosbagRecording:
         """The laser scan topics with their message counts."""
         return [t for t in self.all_topics() if _is_laserscan(self._reader, t.msgtype)]
 
-    def _find(self, topic: str) -> str | None:
-        if topic in self._connections:
-            return topic
-        bare = topic.lstrip("/")
-        for name in self._connections:
-            if name.lstrip("/") == bare:
-                return name
-        return None
+    def _match(self, topics: Sequence[str], what: str, hint: str) -> list[str]:
+        """Bag topic names for ``topics`` (a leading slash is optional)."""
+        return match_topics(
+            topics,
+            list(self._connections),
+            key=lambda name: name.lstrip("/"),
+            path=self.path,
+            what=what,
+            hint=hint,
+        )
 
     def resolve_topics(self, topics: Sequence[str] | None) -> list[str]:
         """Bag topic names for ``topics`` (all laser topics when None); checks they exist and
@@ -208,26 +211,20 @@ class RosbagRecording:
                     hint=f"topics here: {self._topic_list()}",
                 )
             return lasers
-        out = []
-        for requested in topics:
-            name = self._find(requested)
-            if name is None:
-                raise TopicNotFoundError(
-                    f"no topic {requested!r}",
-                    path=self.path,
-                    hint=f"laser topics here: {', '.join(lasers) or 'none'}; "
-                    f"all topics: {self._topic_list()}",
-                )
-            msgtype = self._connections[name][0].msgtype
+        names = self._match(
+            topics,
+            "topic",
+            f"laser topics here: {', '.join(lasers) or 'none'}; all topics: {self._topic_list()}",
+        )
+        for name in names:
             if name not in lasers:
                 raise MessageTypeError(
-                    f"topic {name!r} carries {msgtype}, not sensor_msgs/LaserScan",
+                    f"topic {name!r} carries {self._connections[name][0].msgtype}, "
+                    "not sensor_msgs/LaserScan",
                     path=self.path,
                     hint=f"laser topics here: {', '.join(lasers) or 'none'}",
                 )
-            if name not in out:
-                out.append(name)
-        return out
+        return names
 
     def _topic_list(self) -> str:
         return ", ".join(f"{t.name} ({t.msgtype})" for t in self.all_topics()) or "none"
@@ -237,22 +234,17 @@ class RosbagRecording:
         tf_conns, odom_conns = [], []
         wanted_odom = None
         if self._odometry_request is not None:
-            wanted_odom = set()
-            for t in self._odometry_request:
-                name = self._find(t)
-                if name is None:
-                    raise TopicNotFoundError(
-                        f"no odometry topic {t!r}",
-                        path=self.path,
-                        hint=f"all topics: {self._topic_list()}",
-                    )
+            names = self._match(
+                self._odometry_request, "odometry topic", f"all topics: {self._topic_list()}"
+            )
+            for name in names:
                 if self._connections[name][0].msgtype not in ODOMETRY_TYPES:
                     raise MessageTypeError(
                         f"topic {name!r} carries {self._connections[name][0].msgtype}, "
                         "not nav_msgs/Odometry",
                         path=self.path,
                     )
-                wanted_odom.add(name)
+            wanted_odom = set(names)
         for topic, conns in self._connections.items():
             msgtype = conns[0].msgtype
             if msgtype in TF_TYPES:
@@ -383,20 +375,11 @@ class RosbagRecording:
     def _topic_scans(
         self, topic: str, tree: TransformTree | None, world: str | None
     ) -> Iterator[Scan]:
-        from rosbags.highlevel import AnyReader
-        from rosbags.typesys import Stores, get_typestore
-
         errors = _reader_errors()
         source = str(self.path)
         index = -1
         last = -math.inf
-        try:
-            reader = AnyReader([self.path], default_typestore=get_typestore(Stores.LATEST))
-            reader.open()
-        except errors as exc:
-            raise RecordingError(
-                f"cannot open bag: {exc}", path=self.path, hint=_CORRUPT_HINT
-            ) from exc
+        reader = self._open()
         try:
             conns = [c for c in reader.connections if c.topic == topic]
             messages = reader.messages(connections=conns)

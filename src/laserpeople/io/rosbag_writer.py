@@ -7,9 +7,10 @@ pose also produces a ``tf2_msgs/TFMessage`` on ``/tf`` from ``world_frame`` to t
 frame at the same stamp, so that :class:`~laserpeople.io.rosbag.RosbagRecording` reads the
 poses back.
 
-The bag is written under a temporary name beside the target and moved into place when
-done. If the scan stream fails part way, the scans written so far are still closed into a
-valid bag at the target path, then the error is raised again.
+:func:`open_bag` and :class:`BagSink` are the parts underneath, for writers that add
+messages of their own (the Foxglove export adds markers). A bag is written under a
+temporary name beside the target and moved into place when the ``with`` block ends
+normally; if the block raises, nothing is left behind.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import math
 import os
 import shutil
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -29,9 +31,16 @@ from laserpeople.scan import Pose2D, Scan
 
 ROS1_SUFFIXES = frozenset({".bag"})
 ROS2_SUFFIXES = frozenset({".mcap", ".db3"})
+SCAN_TYPE = "sensor_msgs/msg/LaserScan"
+TF_TYPE = "tf2_msgs/msg/TFMessage"
 
 
-def _split_stamp(stamp: float) -> tuple[int, int]:
+def split_stamp(stamp: float) -> tuple[int, int]:
+    """A stamp in seconds as ROS time ``(sec, nanosec)``, nanoseconds rounded.
+
+    Raises:
+        RecordingError: The stamp is negative.
+    """
     sec = math.floor(stamp)
     nanosec = round((stamp - sec) * 1e9)
     if nanosec >= 1_000_000_000:
@@ -41,70 +50,72 @@ def _split_stamp(stamp: float) -> tuple[int, int]:
     return int(sec), int(nanosec)
 
 
-def default_frame_id(sensor: str) -> str:
-    """The ``header.frame_id`` written for a sensor when none is given."""
+def sensor_topic(sensor: str, *, ros1: bool = False) -> str:
+    """The topic a sensor's scans are written to: its name, with the leading ``/`` that
+    ROS 2 requires (ROS 1 topics are written as named)."""
+    return sensor if ros1 or sensor.startswith("/") else f"/{sensor}"
+
+
+def sensor_frame_id(sensor: str) -> str:
+    """The ``header.frame_id`` written for a sensor when none is given: its name without
+    slashes."""
     return sensor.strip("/").replace("/", "_") or "laser"
 
 
-class _BagSink:
-    """Serialises scans and poses into an open rosbags writer."""
+class BagSink:
+    """Serialises messages into an open rosbags writer, one connection per topic.
+
+    Attributes:
+        typestore: The rosbags typestore the messages are built from and serialised with.
+        ros1: Whether the bag is ROS 1 (ROS 1 serialisation, headers with ``seq``).
+        count: Scans written so far with :meth:`scan`.
+    """
 
     def __init__(self, writer: Any, typestore: Any, ros1: bool) -> None:
         self.writer = writer
         self.typestore = typestore
         self.ros1 = ros1
-        self.connections: dict[str, Any] = {}
         self.count = 0
-        if "tf2_msgs/msg/TFMessage" not in typestore.types:
+        self._connections: dict[str, Any] = {}
+        if TF_TYPE not in typestore.types:
             from rosbags.typesys import get_types_from_msg
 
             typestore.register(
-                get_types_from_msg(
-                    "geometry_msgs/TransformStamped[] transforms", "tf2_msgs/msg/TFMessage"
-                )
+                get_types_from_msg("geometry_msgs/TransformStamped[] transforms", TF_TYPE)
             )
-        types = typestore.types
-        self.Time = types["builtin_interfaces/msg/Time"]
-        self.Header = types["std_msgs/msg/Header"]
-        self.LaserScan = types["sensor_msgs/msg/LaserScan"]
-        self.TFMessage = types["tf2_msgs/msg/TFMessage"]
-        self.TransformStamped = types["geometry_msgs/msg/TransformStamped"]
-        self.Transform = types["geometry_msgs/msg/Transform"]
-        self.Vector3 = types["geometry_msgs/msg/Vector3"]
-        self.Quaternion = types["geometry_msgs/msg/Quaternion"]
 
-    def _header(self, stamp: float, frame_id: str) -> Any:
-        sec, nanosec = _split_stamp(stamp)
-        time = self.Time(sec=sec, nanosec=nanosec)
+    def header(self, stamp: float, frame_id: str) -> Any:
+        """A ``std_msgs/Header`` with ``stamp`` [s] and ``frame_id``."""
+        types = self.typestore.types
+        sec, nanosec = split_stamp(stamp)
+        time = types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec)
         if self.ros1:
-            return self.Header(seq=0, stamp=time, frame_id=frame_id)
-        return self.Header(stamp=time, frame_id=frame_id)
+            return types["std_msgs/msg/Header"](seq=0, stamp=time, frame_id=frame_id)
+        return types["std_msgs/msg/Header"](stamp=time, frame_id=frame_id)
 
-    def _connection(self, topic: str, msgtype: str) -> Any:
-        conn = self.connections.get(topic)
+    def write(self, topic: str, msgtype: str, msg: Any, stamp: float) -> None:
+        """Serialise ``msg`` of type ``msgtype`` onto ``topic`` with log time ``stamp`` [s]."""
+        conn = self._connections.get(topic)
         if conn is None:
             conn = self.writer.add_connection(topic, msgtype, typestore=self.typestore)
-            self.connections[topic] = conn
-        return conn
-
-    def _write(self, topic: str, msgtype: str, msg: Any, stamp: float) -> None:
-        conn = self._connection(topic, msgtype)
+            self._connections[topic] = conn
         data = (
             self.typestore.serialize_ros1(msg, msgtype)
             if self.ros1
             else self.typestore.serialize_cdr(msg, msgtype)
         )
-        sec, nanosec = _split_stamp(stamp)
+        sec, nanosec = split_stamp(stamp)
         self.writer.write(conn, sec * 1_000_000_000 + nanosec, data)
 
     def scan(self, scan: Scan, topic: str, frame_id: str) -> None:
+        """Write ``scan`` as a ``sensor_msgs/LaserScan`` stamped ``scan.stamp``."""
         intensities = (
             np.empty(0, dtype=np.float32)
             if scan.intensities is None
             else np.asarray(scan.intensities, dtype=np.float32)
         )
-        msg = self.LaserScan(
-            header=self._header(scan.stamp, frame_id),
+        msg = self.typestore.types[SCAN_TYPE](
+            header=self.header(scan.stamp, frame_id),
             angle_min=float(scan.angle_min),
             angle_max=float(scan.angle_max),
             angle_increment=float(scan.angle_increment),
@@ -115,42 +126,30 @@ class _BagSink:
             ranges=np.asarray(scan.ranges, dtype=np.float32),
             intensities=intensities,
         )
-        self._write(topic, "sensor_msgs/msg/LaserScan", msg, scan.stamp)
+        self.write(topic, SCAN_TYPE, msg, scan.stamp)
         self.count += 1
 
     def pose(self, stamp: float, parent: str, child: str, pose: Pose2D, topic: str) -> None:
+        """Write ``pose`` of ``child`` in ``parent`` as a one-transform ``TFMessage``."""
+        types = self.typestore.types
         half = 0.5 * pose.theta
-        transform = self.Transform(
-            translation=self.Vector3(x=float(pose.x), y=float(pose.y), z=0.0),
-            rotation=self.Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)),
+        transform = types["geometry_msgs/msg/Transform"](
+            translation=types["geometry_msgs/msg/Vector3"](x=float(pose.x), y=float(pose.y), z=0.0),
+            rotation=types["geometry_msgs/msg/Quaternion"](
+                x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)
+            ),
         )
-        stamped = self.TransformStamped(
-            header=self._header(stamp, parent), child_frame_id=child, transform=transform
+        stamped = types["geometry_msgs/msg/TransformStamped"](
+            header=self.header(stamp, parent), child_frame_id=child, transform=transform
         )
-        self._write(topic, "tf2_msgs/msg/TFMessage", self.TFMessage(transforms=[stamped]), stamp)
+        self.write(topic, TF_TYPE, types[TF_TYPE](transforms=[stamped]), stamp)
 
 
-def write_laserscan_bag(
-    path: str | Path,
-    scans: Iterable[Scan],
-    *,
-    frame_ids: Mapping[str, str] | None = None,
-    world_frame: str = "odom",
-    tf_topic: str | None = "/tf",
-) -> int:
-    """Write ``scans`` as ``sensor_msgs/LaserScan`` to a ROS 1 ``.bag`` or a ROS 2 ``.mcap`` /
-    ``.db3`` file (chosen by the extension of ``path``; an existing file is replaced).
-
-    Args:
-        path: Output file.
-        scans: Scans in time order (any sensors); streamed, never held in memory.
-        frame_ids: ``header.frame_id`` per sensor name (default: the sensor name
-            without slashes).
-        world_frame: Parent frame of the poses written to ``tf_topic``.
-        tf_topic: Topic for the sensor poses, or None to write no poses.
-
-    Returns:
-        The number of scans written.
+@contextmanager
+def open_bag(path: str | Path) -> Iterator[BagSink]:
+    """Open a bag for writing; the format follows the extension (``.bag`` ROS 1 Noetic,
+    ``.mcap`` / ``.db3`` ROS 2). An existing file is replaced when the block ends normally;
+    if the block raises, the partial bag is discarded and the error passes through.
 
     Raises:
         RecordingError: Unknown extension, or the file cannot be written.
@@ -166,43 +165,84 @@ def write_laserscan_bag(
             hint="use .bag (ROS 1), .mcap or .db3 (ROS 2)",
         )
     ros1 = suffix in ROS1_SUFFIXES
-    target.parent.mkdir(parents=True, exist_ok=True)
-    workdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        workdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    except OSError as exc:
+        raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+    try:
+        try:
+            if ros1:
+                from rosbags.rosbag1 import Writer as Writer1
+
+                written = workdir / "out.bag"
+                writer: Any = Writer1(written)
+                typestore = get_typestore(Stores.ROS1_NOETIC)
+            else:
+                from rosbags.rosbag2 import StoragePlugin
+                from rosbags.rosbag2 import Writer as Writer2
+
+                plugin = StoragePlugin.MCAP if suffix == ".mcap" else StoragePlugin.SQLITE3
+                bagdir = workdir / "out"
+                written = bagdir / f"out{suffix}"
+                writer = Writer2(bagdir, version=9, storage_plugin=plugin)
+                typestore = get_typestore(Stores.LATEST)
+            writer.open()
+        except OSError as exc:
+            raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+        try:
+            yield BagSink(writer, typestore, ros1)
+        except BaseException:
+            with suppress(Exception):  # the block's own error is the one to report
+                writer.close()
+            raise
+        try:
+            writer.close()
+            os.replace(written, target)
+        except OSError as exc:
+            raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def write_laserscan_bag(
+    path: str | Path,
+    scans: Iterable[Scan],
+    *,
+    frame_ids: Mapping[str, str] | None = None,
+    world_frame: str = "odom",
+    tf_topic: str | None = "/tf",
+) -> int:
+    """Write ``scans`` as ``sensor_msgs/LaserScan`` to a ROS 1 ``.bag`` or a ROS 2 ``.mcap`` /
+    ``.db3`` file (chosen by the extension of ``path``; an existing file is replaced).
+
+    If the scan stream fails part way, the scans written so far are still closed into a
+    valid bag at ``path``, then the error is raised again.
+
+    Args:
+        path: Output file.
+        scans: Scans in time order (any sensors); streamed, never held in memory.
+        frame_ids: ``header.frame_id`` per sensor name (default: :func:`sensor_frame_id`).
+        world_frame: Parent frame of the poses written to ``tf_topic``.
+        tf_topic: Topic for the sensor poses, or None to write no poses.
+
+    Returns:
+        The number of scans written.
+
+    Raises:
+        RecordingError: Unknown extension, or the file cannot be written.
+    """
     frames = dict(frame_ids or {})
     failure: BaseException | None = None
-    try:
-        if ros1:
-            from rosbags.rosbag1 import Writer as Writer1
-
-            written = workdir / "out.bag"
-            writer: Any = Writer1(written)
-            typestore = get_typestore(Stores.ROS1_NOETIC)
-        else:
-            from rosbags.rosbag2 import StoragePlugin
-            from rosbags.rosbag2 import Writer as Writer2
-
-            plugin = StoragePlugin.MCAP if suffix == ".mcap" else StoragePlugin.SQLITE3
-            bagdir = workdir / "out"
-            written = bagdir / f"out{suffix}"
-            writer = Writer2(bagdir, version=9, storage_plugin=plugin)
-            typestore = get_typestore(Stores.LATEST)
-        writer.open()
-        sink = _BagSink(writer, typestore, ros1)
+    with open_bag(path) as sink:
         try:
             for scan in scans:
-                topic = scan.sensor if ros1 or scan.sensor.startswith("/") else f"/{scan.sensor}"
-                frame_id = frames.get(scan.sensor) or default_frame_id(scan.sensor)
-                sink.scan(scan, topic, frame_id)
+                frame_id = frames.get(scan.sensor) or sensor_frame_id(scan.sensor)
+                sink.scan(scan, sensor_topic(scan.sensor, ros1=sink.ros1), frame_id)
                 if tf_topic is not None and scan.pose is not None:
                     sink.pose(scan.stamp, world_frame, frame_id, scan.pose, tf_topic)
         except BaseException as exc:  # close what was written into a valid bag, then re-raise
             failure = exc
-        writer.close()
-        os.replace(written, target)
-    except OSError as exc:
-        raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
-    finally:
-        shutil.rmtree(workdir, ignore_errors=True)
     if failure is not None:
         raise failure
     return sink.count

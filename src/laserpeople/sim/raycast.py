@@ -164,23 +164,28 @@ def _beam_pairs(
     return beam, prim
 
 
+def _beams_near(fan: BeamFan, centres: FloatArray, bound: FloatArray) -> tuple[IntArray, IntArray]:
+    """Pairs (beam, primitive) for every beam that passes within ``bound`` (K,) [m] of a
+    primitive's centre (K, 2); primitives whose bound holds the sensor are skipped."""
+    d = np.hypot(centres[:, 0], centres[:, 1])
+    idx = np.flatnonzero(d > bound)
+    if idx.size == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    bearing = np.arctan2(centres[idx, 1], centres[idx, 0])
+    half = np.arcsin(np.clip(bound[idx] / d[idx], 0.0, 1.0))
+    beam, k = _beam_pairs(fan, bearing - half, bearing + half)
+    return beam, idx[k]
+
+
 def _cast_circles(
     fan: BeamFan, centres: FloatArray, radii: FloatArray
 ) -> tuple[IntArray, FloatArray, IntArray]:
-    d = np.hypot(centres[:, 0], centres[:, 1])
-    outside = d > radii
-    idx = np.flatnonzero(outside)
-    if idx.size == 0:
-        return np.empty(0, np.int64), np.empty(0), np.empty(0, np.int64)
-    bearing = np.arctan2(centres[idx, 1], centres[idx, 0])
-    half = np.arcsin(np.clip(radii[idx] / d[idx], 0.0, 1.0))
-    beam, k = _beam_pairs(fan, bearing - half, bearing + half)
-    prim = idx[k]
+    beam, prim = _beams_near(fan, centres, radii)
     ang = fan.angle_min + beam * fan.increment
     ux, uy = np.cos(ang), np.sin(ang)
     c = centres[prim]
     proj = ux * c[:, 0] + uy * c[:, 1]
-    disc = radii[prim] ** 2 - (d[prim] ** 2 - proj**2)
+    disc = radii[prim] ** 2 - (np.hypot(c[:, 0], c[:, 1]) ** 2 - proj**2)
     ok = (disc >= 0.0) & (proj > 0.0)
     t = proj[ok] - np.sqrt(disc[ok])
     return beam[ok], t, prim[ok]
@@ -189,15 +194,7 @@ def _cast_circles(
 def _cast_ellipses(
     fan: BeamFan, centres: FloatArray, axes: FloatArray, angles: FloatArray
 ) -> tuple[IntArray, FloatArray, IntArray]:
-    d = np.hypot(centres[:, 0], centres[:, 1])
-    bound = axes.max(axis=1)
-    idx = np.flatnonzero(d > bound)
-    if idx.size == 0:
-        return np.empty(0, np.int64), np.empty(0), np.empty(0, np.int64)
-    bearing = np.arctan2(centres[idx, 1], centres[idx, 0])
-    half = np.arcsin(np.clip(bound[idx] / d[idx], 0.0, 1.0))
-    beam, k = _beam_pairs(fan, bearing - half, bearing + half)
-    prim = idx[k]
+    beam, prim = _beams_near(fan, centres, axes.max(axis=1))
     ang = fan.angle_min + beam * fan.increment - angles[prim]
     # ray in the ellipse's frame, scaled so that the ellipse becomes the unit circle
     c, s = np.cos(angles[prim]), np.sin(angles[prim])

@@ -165,13 +165,6 @@ class FrameRenderer:
         self._background = self.canvas.copy_from_bbox(self.fig.bbox)
 
     # ------------------------------------------------------------------------------------
-    def to_pixel(self, xy: Sequence[float] | FloatArray) -> FloatArray:
-        """Pixel ``(column, row)`` (N, 2) of points (N, 2) [m] in the rendered image
-        (row 0 at the top)."""
-        pts = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
-        disp = self.ax.transData.transform(pts)
-        return np.stack([disp[:, 0], self.size[1] - disp[:, 1]], axis=1)
-
     def _label(self, i: int) -> Any:
         while len(self._labels) <= i:
             self._labels.append(

@@ -1,8 +1,8 @@
 """Export a scene to ``.mcap`` for Foxglove Studio (and ROS 2 tools).
 
-Written with rosbags' ROS 2 MCAP writer, CDR-encoded, with the message definitions
-embedded, so Foxglove decodes everything without a ROS installation. Channels, one
-message per drawn scan on each:
+Written with :func:`laserpeople.io.rosbag_writer.open_bag` (rosbags' ROS 2 MCAP writer,
+CDR-encoded, with the message definitions embedded), so Foxglove decodes everything
+without a ROS installation. Channels, one message per drawn scan on each:
 
 ==========================  ====================================  =========================
 topic                       type                                  content
@@ -25,22 +25,19 @@ Colours are the same as in the pictures.
 
 from __future__ import annotations
 
-import math
-import shutil
-import tempfile
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError
-from laserpeople.scan import Pose2D, Scan
+from laserpeople.io.rosbag_writer import open_bag, sensor_frame_id, sensor_topic
 from laserpeople.tracks import Track, TrackKind
 from laserpeople.truth import TruthFrame
 from laserpeople.viz.colors import TRUTH, to_unit, track_color
 from laserpeople.viz.geometry import covariance_ellipses
-from laserpeople.viz.scene import Scene, SceneFrame
+from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, track_positions
 
 WORLD_FRAME_ID = "world"
 MARKER_TOPICS: dict[TrackKind, str] = {
@@ -50,89 +47,28 @@ MARKER_TOPICS: dict[TrackKind, str] = {
 }
 TRUTH_TOPIC = "/laserpeople/truth"
 TF_TOPIC = "/tf"
-SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 MARKERS_TYPE = "visualization_msgs/msg/MarkerArray"
-TF_TYPE = "tf2_msgs/msg/TFMessage"
 
 # visualization_msgs/Marker constants
 ARROW, SPHERE, CYLINDER, LINE_STRIP, TEXT = 0, 2, 3, 4, 9
 ADD, DELETEALL = 0, 3
 
 
-def sensor_topic(sensor: str) -> str:
-    """The topic of a sensor's scans: its name with one leading slash."""
-    return "/" + (sensor.strip("/") or "scan")
+class _Markers:
+    """Builders of ``visualization_msgs/MarkerArray`` messages from a ROS 2 typestore."""
 
-
-def sensor_frame_id(sensor: str) -> str:
-    """The TF frame id of a sensor: its name without slashes."""
-    return sensor.strip("/").replace("/", "_") or "laser"
-
-
-class _Messages:
-    """Builders of the ROS 2 messages, from rosbags' built-in typestore."""
-
-    def __init__(self) -> None:
-        from rosbags.typesys import Stores, get_typestore
-
-        self.store = get_typestore(Stores.ROS2_HUMBLE)
-        t = self.store.types
-        self.Time = t["builtin_interfaces/msg/Time"]
+    def __init__(self, typestore: Any) -> None:
+        t = typestore.types
         self.Duration = t["builtin_interfaces/msg/Duration"]
-        self.Header = t["std_msgs/msg/Header"]
         self.ColorRGBA = t["std_msgs/msg/ColorRGBA"]
         self.Point = t["geometry_msgs/msg/Point"]
         self.Vector3 = t["geometry_msgs/msg/Vector3"]
         self.Quaternion = t["geometry_msgs/msg/Quaternion"]
         self.Pose = t["geometry_msgs/msg/Pose"]
-        self.Transform = t["geometry_msgs/msg/Transform"]
-        self.TransformStamped = t["geometry_msgs/msg/TransformStamped"]
-        self.TFMessage = t[TF_TYPE]
-        self.LaserScan = t[SCAN_TYPE]
         self.Marker = t["visualization_msgs/msg/Marker"]
         self.MarkerArray = t[MARKERS_TYPE]
         self.CompressedImage = t["sensor_msgs/msg/CompressedImage"]
         self.MeshFile = t["visualization_msgs/msg/MeshFile"]
-
-    def serialize(self, msg: Any, msgtype: str) -> bytes:
-        return bytes(self.store.serialize_cdr(msg, msgtype))
-
-    def header(self, stamp: float, frame_id: str) -> Any:
-        sec = math.floor(stamp)
-        nsec = min(round((stamp - sec) * 1e9), 999_999_999)
-        return self.Header(stamp=self.Time(sec=int(sec), nanosec=nsec), frame_id=frame_id)
-
-    def quaternion(self, theta: float) -> Any:
-        return self.Quaternion(x=0.0, y=0.0, z=math.sin(theta / 2.0), w=math.cos(theta / 2.0))
-
-    def scan(self, scan: Scan, frame_id: str) -> Any:
-        inten = (
-            np.asarray(scan.intensities, dtype=np.float32)
-            if scan.intensities is not None
-            else np.empty(0, dtype=np.float32)
-        )
-        return self.LaserScan(
-            header=self.header(scan.stamp, frame_id),
-            angle_min=float(scan.angle_min),
-            angle_max=float(scan.angle_max),
-            angle_increment=float(scan.angle_increment),
-            time_increment=0.0,
-            scan_time=0.0,
-            range_min=float(scan.range_min),
-            range_max=float(scan.range_max),
-            ranges=np.asarray(scan.ranges, dtype=np.float32),
-            intensities=inten,
-        )
-
-    def tf(self, stamp: float, pose: Pose2D, child: str) -> Any:
-        transform = self.Transform(
-            translation=self.Vector3(x=float(pose.x), y=float(pose.y), z=0.0),
-            rotation=self.quaternion(pose.theta),
-        )
-        ts = self.TransformStamped(
-            header=self.header(stamp, WORLD_FRAME_ID), child_frame_id=child, transform=transform
-        )
-        return self.TFMessage(transforms=[ts])
 
     def marker(
         self,
@@ -176,10 +112,10 @@ class _Messages:
 
     def track_markers(self, header: Any, kind: TrackKind, tracks: list[Track]) -> Any:
         markers = [self.marker(header, "", 0, 0, action=DELETEALL)]
-        if tracks:
-            pos = np.array([t.position for t in tracks])
-            ellipses = covariance_ellipses(pos, np.array([t.covariance for t in tracks]))
-        for t, ellipse in zip(tracks, ellipses if tracks else (), strict=True):
+        ellipses = covariance_ellipses(
+            track_positions(tracks), np.array([t.covariance for t in tracks]).reshape(-1, 2, 2)
+        )
+        for t, ellipse in zip(tracks, ellipses, strict=True):
             r, g, b = to_unit(track_color(t.track_id, t.kind))
             xy = (float(t.position[0]), float(t.position[1]))
             tid = t.track_id
@@ -245,7 +181,7 @@ def export_mcap(
     scene: Scene,
     out: str | Path,
     *,
-    progress: Callable[[Iterable[SceneFrame], int | None], Iterable[SceneFrame]] | None = None,
+    progress: ProgressFn | None = None,
     total: int | None = None,
 ) -> int:
     """Write ``scene`` to the MCAP file ``out``; returns the number of scans written.
@@ -253,63 +189,31 @@ def export_mcap(
     The file is assembled beside ``out`` and moved into place at the end, so an existing
     file is replaced only by a complete one.
     """
-    from rosbags.rosbag2 import StoragePlugin, Writer
-
-    p = Path(out)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    msgs = _Messages()
+    path = Path(out)
+    if path.suffix.lower() != ".mcap":
+        raise LaserPeopleError("an MCAP export needs a name ending in .mcap", path=path)
     world = scene.frame == "world"
     frames: Iterable[SceneFrame] = scene.frames()
     if progress is not None:
         frames = progress(frames, total)
-    n = 0
-    with tempfile.TemporaryDirectory(prefix=".mcap-", dir=p.parent) as tmp:
-        bag = Path(tmp) / p.stem
-        writer = Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP)
-        writer.open()
-        try:
-            conns: dict[str, Any] = {}
-
-            def conn(topic: str, msgtype: str) -> Any:
-                if topic not in conns:
-                    conns[topic] = writer.add_connection(topic, msgtype, typestore=msgs.store)
-                return conns[topic]
-
-            for f in frames:
-                scan = f.scan
-                stamp_ns = round(scan.stamp * 1e9)
-                sensor_id = sensor_frame_id(scan.sensor)
-                writer.write(
-                    conn(sensor_topic(scan.sensor), SCAN_TYPE),
-                    stamp_ns,
-                    msgs.serialize(msgs.scan(scan, sensor_id), SCAN_TYPE),
+    with open_bag(path) as sink:
+        markers = _Markers(sink.typestore)
+        truth_seen = False
+        for f in frames:
+            scan = f.scan
+            sensor_id = sensor_frame_id(scan.sensor)
+            sink.scan(scan, sensor_topic(scan.sensor), sensor_id)
+            if world:
+                sink.pose(scan.stamp, WORLD_FRAME_ID, sensor_id, f.sensor_pose, TF_TOPIC)
+            header = sink.header(scan.stamp, WORLD_FRAME_ID if world else sensor_id)
+            for kind, topic in MARKER_TOPICS.items():
+                arr = markers.track_markers(header, kind, list(f.tracks.of_kind(kind)))
+                sink.write(topic, MARKERS_TYPE, arr, scan.stamp)
+            truth_seen = truth_seen or f.truth is not None
+            if truth_seen:
+                sink.write(
+                    TRUTH_TOPIC, MARKERS_TYPE, markers.truth_markers(header, f.truth), scan.stamp
                 )
-                if world:
-                    writer.write(
-                        conn(TF_TOPIC, TF_TYPE),
-                        stamp_ns,
-                        msgs.serialize(msgs.tf(scan.stamp, f.sensor_pose, sensor_id), TF_TYPE),
-                    )
-                header = msgs.header(scan.stamp, WORLD_FRAME_ID if world else sensor_id)
-                for kind, topic in MARKER_TOPICS.items():
-                    arr = msgs.track_markers(header, kind, list(f.tracks.of_kind(kind)))
-                    writer.write(
-                        conn(topic, MARKERS_TYPE), stamp_ns, msgs.serialize(arr, MARKERS_TYPE)
-                    )
-                if f.truth is not None or TRUTH_TOPIC in conns:
-                    writer.write(
-                        conn(TRUTH_TOPIC, MARKERS_TYPE),
-                        stamp_ns,
-                        msgs.serialize(msgs.truth_markers(header, f.truth), MARKERS_TYPE),
-                    )
-                n += 1
-        finally:
-            writer.close()
-        if n == 0:
-            raise LaserPeopleError(
-                "no scans in the chosen window",
-                path=scene.source_name or None,
-                hint="check --topic, --start and --stop",
-            )
-        shutil.move(str(bag / f"{bag.name}.mcap"), str(p))
-    return n
+        if sink.count == 0:
+            raise scene.empty_window_error()
+    return sink.count

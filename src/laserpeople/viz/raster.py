@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import shutil
 import subprocess
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,10 +30,9 @@ from laserpeople.viz.figure import (
     import_matplotlib,
 )
 from laserpeople.viz.geometry import square_extent
-from laserpeople.viz.scene import Scene, SceneFrame
+from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame
 
 RGBImage = NDArray[np.uint8]
-ProgressFn = Callable[[Iterable[SceneFrame], int | None], Iterable[SceneFrame]]
 
 
 class VideoEncoderMissingError(LaserPeopleError):
@@ -385,11 +384,7 @@ def plot_overview(
             for pid, xy in zip(f.truth.person_ids, f.truth.positions, strict=True):
                 truth_paths.setdefault(int(pid), []).append((float(xy[0]), float(xy[1])))
     if n_frames == 0:
-        raise LaserPeopleError(
-            "no scans in the chosen window",
-            path=scene.source_name or None,
-            hint="check --topic, --start and --stop",
-        )
+        raise scene.empty_window_error()
     cloud = np.concatenate(points) if points else np.empty((0, 2))
     if cloud.shape[0] > max_points:
         cloud = cloud[:: int(np.ceil(cloud.shape[0] / max_points))]

@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
 from laserpeople.viz.figure import Extent
 from laserpeople.viz.raster import RenderResult, animate, plot_overview, plot_scan
-from laserpeople.viz.scene import Scene, SceneFrame
+from laserpeople.viz.scene import ProgressFn, Scene
 
 OUTPUT_KINDS = (".png", ".gif", ".mp4", ".mcap", ".rrd")
-ProgressFn = Callable[[Iterable[SceneFrame], int | None], Iterable[SceneFrame]]
 
 
 def render(

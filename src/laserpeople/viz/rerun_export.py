@@ -7,7 +7,7 @@ timelines: ``scan`` (the 0-based scan index) and ``time`` (the scan stamp [s]).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError
-from laserpeople.viz.colors import SCAN_POINTS, TRUTH, track_color
+from laserpeople.viz.colors import SCAN_POINTS, SENSOR, TRUTH, track_color
 from laserpeople.viz.geometry import covariance_ellipses
-from laserpeople.viz.scene import Scene, SceneFrame
+from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, track_positions
 
 
 class RerunMissingError(LaserPeopleError):
@@ -50,7 +50,7 @@ def export_rerun(
     scene: Scene,
     out: str | Path,
     *,
-    progress: Callable[[Iterable[SceneFrame], int | None], Iterable[SceneFrame]] | None = None,
+    progress: ProgressFn | None = None,
     total: int | None = None,
 ) -> int:
     """Write ``scene`` to the rerun file ``out``; returns the number of scans written."""
@@ -68,14 +68,14 @@ def export_rerun(
         rec.log("world/scan", rr.Points2D(f.points, radii=0.02, colors=[SCAN_POINTS]))
         rec.log(
             "world/sensor",
-            rr.Points2D([[f.sensor_pose.x, f.sensor_pose.y]], radii=0.1, colors=[(20, 20, 20)]),
+            rr.Points2D([[f.sensor_pose.x, f.sensor_pose.y]], radii=0.1, colors=[SENSOR]),
         )
         for kind, entity, radius in (("leg", "legs", 0.08), ("person", "people", 0.2)):
             tracks = f.tracks.of_kind(kind)  # type: ignore[arg-type]
             rec.log(
                 f"world/{entity}",
                 rr.Points2D(
-                    np.array([t.position for t in tracks]).reshape(-1, 2),
+                    track_positions(tracks),
                     radii=radius,
                     colors=[track_color(t.track_id, t.kind) for t in tracks],
                     labels=[f"{kind[0].upper()}{t.track_id}" for t in tracks],
@@ -92,7 +92,7 @@ def export_rerun(
         )
         all_tracks = f.tracks.tracks
         ellipses = covariance_ellipses(
-            np.array([t.position for t in all_tracks]).reshape(-1, 2),
+            track_positions(all_tracks),
             np.array([t.covariance for t in all_tracks]).reshape(-1, 2, 2),
         )
         keep = [i for i in range(len(all_tracks)) if np.all(np.isfinite(ellipses[i]))]
@@ -116,9 +116,5 @@ def export_rerun(
         n += 1
     rec.flush()
     if n == 0:
-        raise LaserPeopleError(
-            "no scans in the chosen window",
-            path=scene.source_name or None,
-            hint="check --topic, --start and --stop",
-        )
+        raise scene.empty_window_error()
     return n

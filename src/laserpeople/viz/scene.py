@@ -30,6 +30,9 @@ from laserpeople.truth import TruthFrame
 FloatArray = NDArray[np.float64]
 FrameChoice = Literal["auto", "world", "sensor"]
 T = TypeVar("T", Tracks, TruthFrame)
+ProgressFn = Callable[[Iterable["SceneFrame"], int | None], Iterable["SceneFrame"]]
+"""Wraps the frame stream of a drawing or export, e.g. in a progress bar; gets the number of
+frames when known."""
 
 _IDENTITY = Pose2D()
 
@@ -289,6 +292,13 @@ class Scene:
             truth = _transform_truth(truth, pose)
         return SceneFrame(scan, points, sensor_pose, tracks, truth)
 
+    def empty_window_error(self, options: str = "--topic, --start and --stop") -> LaserPeopleError:
+        """The error for a window without scans, naming the command-line ``options`` to
+        check."""
+        return LaserPeopleError(
+            "no scans in the chosen window", path=self.source_name or None, hint=f"check {options}"
+        )
+
     def extent(
         self, margin: float = 0.5, max_scans: int = 400, track_slack: float = 2.0
     ) -> tuple[float, float, float, float]:
@@ -308,11 +318,7 @@ class Scene:
             if f.truth is not None and len(f.truth):
                 objs.append(f.truth.positions)
         if not objs:
-            raise LaserPeopleError(
-                "no scans in the chosen window",
-                path=self.source_name or None,
-                hint="check --topic, --start, --stop and --scan",
-            )
+            raise self.empty_window_error("--topic, --start, --stop and --scan")
         o = np.concatenate(objs)
         o = o[np.all(np.isfinite(o), axis=1)]
         lo, hi = o.min(axis=0), o.max(axis=0)

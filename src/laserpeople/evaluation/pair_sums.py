@@ -8,8 +8,12 @@ float per pair of ids ever seen: O(tracks x people), independent of the recordin
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
+
+from laserpeople.evaluation.matching import max_weight_assignment
 
 
 class IdIndex:
@@ -72,6 +76,50 @@ class PairSums:
     def sums(self) -> NDArray[np.float64]:
         """The sums (rows seen, columns seen), ids in :attr:`rows`/:attr:`cols` order."""
         return self._sums[: len(self.rows), : len(self.cols)].copy()
+
+    def matching(self) -> TrajectoryMatching:
+        """The one-to-one matching of row ids to column ids with the largest summed sums."""
+        sums = self.sums
+        rows, cols = max_weight_assignment(sums)
+        return TrajectoryMatching(sums, rows, cols, self.rows.ids, self.cols.ids)
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryMatching:
+    """A one-to-one matching of the rows and columns of :class:`PairSums`.
+
+    Attributes:
+        sums: The pair sums (R, C) it was solved on.
+        rows: Matched row indices (K,).
+        cols: Matched column indices (K,), partner of ``rows``.
+        row_ids: Id (R,) of every row index.
+        col_ids: Id (C,) of every column index.
+    """
+
+    sums: NDArray[np.float64]
+    rows: NDArray[np.int64]
+    cols: NDArray[np.int64]
+    row_ids: NDArray[np.int64]
+    col_ids: NDArray[np.int64]
+
+    @property
+    def total(self) -> float:
+        """Summed value of the matched pairs."""
+        return float(self.sums[self.rows, self.cols].sum())
+
+    @property
+    def id_pairs(self) -> tuple[tuple[int, int], ...]:
+        """The matched pairs as (row id, column id)."""
+        return tuple(
+            (int(self.row_ids[r]), int(self.col_ids[c]))
+            for r, c in zip(self.rows.tolist(), self.cols.tolist(), strict=True)
+        )
+
+    def partner(self) -> NDArray[np.int64]:
+        """Matched column index (R,) of every row index, -1 where unmatched."""
+        out = np.full(self.row_ids.size, -1, dtype=np.int64)
+        out[self.rows] = self.cols
+        return out
 
 
 def _grow(n: int) -> int:

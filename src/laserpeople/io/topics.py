@@ -1,0 +1,45 @@
+"""Matching the topic names a user asks for against the names a recording has."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from laserpeople.errors import TopicNotFoundError
+
+
+def match_topics(
+    requested: Sequence[str],
+    available: Sequence[str],
+    *,
+    key: Callable[[str], str],
+    path: str | Path,
+    what: str,
+    hint: str,
+) -> list[str]:
+    """The available name for each requested one, in request order without repeats.
+
+    A requested name matches an available name that equals it, or else the first one that
+    is the same under ``key`` (for example without the leading ``/``).
+
+    Args:
+        requested: Names as the user gave them.
+        available: Names in the recording.
+        key: Normalisation under which two names are the same topic.
+        path: The recording, for the error message.
+        what: What a name names, for the error message (``"topic"``, ``"laser"``).
+        hint: What to do when a name is missing (usually the names there are).
+
+    Raises:
+        TopicNotFoundError: A requested name matches no available name.
+    """
+    out: list[str] = []
+    for name in requested:
+        found = name if name in available else None
+        if found is None:
+            found = next((a for a in available if key(a) == key(name)), None)
+        if found is None:
+            raise TopicNotFoundError(f"no {what} {name!r}", path=path, hint=hint)
+        if found not in out:
+            out.append(found)
+    return out

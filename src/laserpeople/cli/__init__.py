@@ -33,6 +33,7 @@ app = typer.Typer(
     help="Detect and track people, legs and groups of people in 2D laser range scans.",
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
 )

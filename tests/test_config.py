@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from laserpeople.config import describe, load_config, param, to_toml
+from laserpeople.config import check_sections, describe, load_config, param, to_toml
 from laserpeople.errors import ConfigError
 
 
@@ -39,3 +39,15 @@ def test_round_trip_through_toml(tmp_path: Path) -> None:
     f = tmp_path / "c.toml"
     f.write_text(to_toml(DemoParams(window=9)))
     assert load_config(DemoParams, f) == DemoParams(window=9)
+
+
+def test_unknown_sections_are_rejected(tmp_path: Path) -> None:
+    f = tmp_path / "c.toml"
+    f.write_text("[demo]\nwindow = 3\n[demoo]\nwindow = 4\n")
+    with pytest.raises(ConfigError, match=r"unknown section\(s\) \[demoo\]"):
+        check_sections(f, [DemoParams])
+    f.write_text("[demo]\nwindow = 3\n")
+    check_sections(f, [DemoParams])
+    check_sections(None, [DemoParams])
+    with pytest.raises(ConfigError, match="is a directory"):
+        load_config(DemoParams, tmp_path)

@@ -56,3 +56,27 @@ def test_bad_csv_is_a_clear_error(tmp_path: Path) -> None:
     bad.write_text(",".join(HEADER) + "\n0,0.0,1,robot,0,0,0,0,1,0,1,1,\n")
     with pytest.raises(RecordingError, match="line 2"):
         list(iter_tracks_csv(bad))
+
+
+def test_file_problems_are_one_line_errors(tmp_path: Path) -> None:
+    with pytest.raises(RecordingError, match="is a directory"):
+        list(iter_tracks_csv(tmp_path))
+    binary = tmp_path / "b.csv"
+    binary.write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(RecordingError, match="not a text CSV"):
+        list(iter_tracks_csv(binary))
+    short = tmp_path / "short.csv"
+    short.write_text(",".join(HEADER) + "\n0,0.0,1,leg,0,0\n")
+    with pytest.raises(RecordingError, match="line 2: fewer fields"):
+        list(iter_tracks_csv(short))
+    with pytest.raises(RecordingError, match="cannot write"):
+        TracksCsvWriter(binary / "sub.csv")
+
+
+def test_scans_must_not_go_backwards(tmp_path: Path) -> None:
+    path = tmp_path / "t.csv"
+    with TracksCsvWriter(path) as out:
+        out.write(_tracks(2))
+        out.write(_tracks(1))
+    with pytest.raises(RecordingError, match="scan 1 come after scan 2"):
+        list(iter_tracks_csv(path))

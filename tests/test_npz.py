@@ -101,3 +101,13 @@ def test_object_arrays_are_refused(tmp_path: Path) -> None:
         np.lib.format.write_array(fh, np.array([{"a": 1}], dtype=object), allow_pickle=True)
     with pytest.raises(RecordingError, match="objects"):
         open_recording(path)
+
+
+def test_directories_and_unwritable_paths_are_clear_errors(tmp_path: Path) -> None:
+    with pytest.raises(RecordingError, match="is a directory"):
+        open_recording(tmp_path)
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(RecordingError, match="cannot write"):
+        write_recording(blocker / "r.npz", _scans())
+    assert not list(tmp_path.glob("**/*.partial"))

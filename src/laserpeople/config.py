@@ -19,7 +19,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar, get_type_hints
 
@@ -110,16 +110,44 @@ def load_config(cls: type[T], path: str | Path | None) -> T:
     if path is None:
         return cls()
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
-        raise ConfigError("config file not found", path=p) from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", path=p) from exc
+    data = _read_toml(p)
     section = data.get(section_name(cls), {})
     if not isinstance(section, Mapping):
         raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
     return from_mapping(cls, section, where=str(p))
+
+
+def check_sections(path: str | Path | None, classes: Sequence[type]) -> None:
+    """Raise if the TOML file has a top-level section none of ``classes`` reads.
+
+    A command that reads several parameter classes from one ``--config`` file calls this
+    once, so a misspelt section (``[leg_trackr]``) is an error instead of being ignored.
+    """
+    if path is None:
+        return
+    p = Path(path)
+    known = {section_name(c) for c in classes}
+    data = _read_toml(p)
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise ConfigError(
+            f"unknown section(s) {', '.join(f'[{u}]' for u in unknown)}",
+            path=p,
+            hint=f"this command reads {', '.join(f'[{k}]' for k in sorted(known))}",
+        )
+
+
+def _read_toml(p: Path) -> dict[str, Any]:
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError as exc:
+        raise ConfigError("config file not found", path=p) from exc
+    except IsADirectoryError as exc:
+        raise ConfigError("is a directory, not a TOML config file", path=p) from exc
+    except UnicodeDecodeError as exc:
+        raise ConfigError("not a text file", path=p) from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", path=p) from exc
 
 
 def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:

@@ -99,6 +99,10 @@ def register(app: typer.Typer) -> None:
             params = EvaluationParams(gate=gate, kind=kind)
         except ConfigError as exc:
             raise ConfigError(exc.detail, hint="check --gate and --kind") from exc
+        if per_frame is not None and per_frame.is_dir():
+            raise EvaluationError(
+                "--per-frame is a directory", path=per_frame, hint="give a file name ending .csv"
+            )
         track_stream = iter_tracks_csv(tracks, frame="world", kinds=(params.kind,))  # type: ignore[arg-type]
         run = evaluate(
             progress(truth_frames(truth), description="frames"),

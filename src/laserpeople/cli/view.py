@@ -10,6 +10,7 @@ import typer
 
 from laserpeople.cli.common import progress, say
 from laserpeople.errors import LaserPeopleError
+from laserpeople.io import RecordingSource
 from laserpeople.viz.scene import SceneFrame
 
 _FRAMES = ("auto", "world", "sensor")
@@ -41,6 +42,20 @@ def _parse_extent(text: str | None) -> tuple[float, float, float, float] | None:
     if not (x1 > x0 and y1 > y0):
         raise LaserPeopleError(f"--extent {text!r} is empty: need XMIN<XMAX and YMIN<YMAX")
     return x0, x1, y0, y1
+
+
+def _open(path: Path, world_frame: str | None, mounts: list[str]) -> Path | RecordingSource:
+    """The recording as a path, or opened with the pose options when some are given."""
+    if not (world_frame or mounts):
+        return path
+    from laserpeople.io import open_recording
+    from laserpeople.io.poses import parse_mounts
+
+    if path.suffix.lower() not in {".bag", ".db3", ".mcap"} and not path.is_dir():
+        raise LaserPeopleError(
+            "--world-frame and --mount apply to ROS bags only", path=path, hint="drop them"
+        )
+    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
 
 
 def register(app: typer.Typer) -> None:
@@ -114,6 +129,21 @@ def register(app: typer.Typer) -> None:
         trail: Annotated[
             int, typer.Option("--trail", min=0, help="Scans of trail behind tracks.")
         ] = 20,
+        world_frame: Annotated[
+            str | None,
+            typer.Option(
+                "--world-frame",
+                help="Fixed frame for sensor poses in bags (default: map, else odom).",
+            ),
+        ] = None,
+        mount: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--mount",
+                help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta "
+                "(m, rad; repeatable), or a known robot: mir100.",
+            ),
+        ] = None,
     ) -> None:
         """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
         from laserpeople.viz import Scene, render
@@ -123,8 +153,9 @@ def register(app: typer.Typer) -> None:
         if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
             raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
+        source = _open(recording, world_frame, mount or [])
         scene = Scene(
-            recording,
+            source,
             tracks,
             truth_arg,
             topic=topic,
@@ -138,18 +169,28 @@ def register(app: typer.Typer) -> None:
         def bar(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
             return progress(frames, total, "drawing")
 
-        result = render(
-            scene,
-            output,
-            scan=scan,
-            size=_parse_size(size),
-            extent=_parse_extent(extent),
-            fps=fps,
-            trail=trail,
-            progress=bar,
-        )
+        try:
+            result = render(
+                scene,
+                output,
+                scan=scan,
+                size=_parse_size(size),
+                extent=_parse_extent(extent),
+                fps=fps,
+                trail=trail,
+                progress=bar,
+            )
+        finally:
+            if isinstance(source, RecordingSource):
+                source.close()
         what = "frame" if result.frames == 1 else "frames"
         say(
             f"wrote {result.path} ({result.frames} {what}, topic {scene.topic}, "
             f"{scene.frame} frame)"
         )
+        if scene.skipped_without_pose:
+            say(
+                f"[yellow]warning:[/] {scene.skipped_without_pose} scans not drawn: no sensor "
+                "pose for the world frame (`laserpeople info` says why; --frame sensor draws "
+                "them all)"
+            )

@@ -62,11 +62,18 @@ class FrameTable:
     def to_csv(self, path: str | Path) -> None:
         """Write the table as CSV with a header line (NaN written as an empty cell)."""
         p = Path(path)
-        p.parent.mkdir(parents=True, exist_ok=True)
-        with open(p, "w", newline="", encoding="utf-8") as fh:
-            out = csv.writer(fh, lineterminator="\n")
-            out.writerow(self.columns)
-            out.writerows(_format(self.columns, row) for row in self.rows)
+        try:
+            p.parent.mkdir(parents=True, exist_ok=True)
+            with open(p, "w", newline="", encoding="utf-8") as fh:
+                out = csv.writer(fh, lineterminator="\n")
+                out.writerow(self.columns)
+                out.writerows(_format(self.columns, row) for row in self.rows)
+        except OSError as exc:
+            raise EvaluationError(
+                f"cannot write the per-frame table: {exc.strerror or exc}",
+                path=p,
+                hint="give a writable file path",
+            ) from exc
 
 
 def _format(columns: Sequence[str], row: Sequence[Cell]) -> list[str]:

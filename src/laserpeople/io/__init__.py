@@ -59,6 +59,12 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     if not p.exists():
         raise RecordingError("file not found", path=p, hint="check the path")
     suffix = p.suffix.lower()
+    if p.is_dir() and not (p / "metadata.yaml").exists():
+        raise RecordingError(
+            "is a directory, not a recording",
+            path=p,
+            hint="give a file, or a ROS 2 bag folder (one with metadata.yaml)",
+        )
     if suffix == ".npz":
         if options:
             raise RecordingError(

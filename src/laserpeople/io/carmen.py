@@ -230,6 +230,10 @@ class CarmenRecording:
         self.path = Path(path)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path, hint="check the path")
+        if self.path.is_dir():
+            raise RecordingError(
+                "is a directory, not a CARMEN log", path=self.path, hint="give the log file itself"
+            )
         self.use_poses = poses
         self.skip_bad_lines = skip_bad_lines
         self.laser_offsets = dict(laser_offsets or {})
@@ -262,7 +266,8 @@ class CarmenRecording:
             raise RecordingError(
                 f"line {lineno}: {message}",
                 path=self.path,
-                hint="fix or delete the line, or read with skip_bad_lines=True",
+                hint="fix or delete the line (a log cut short: delete its last line); "
+                "from Python, CarmenRecording(path, skip_bad_lines=True) skips and counts them",
             )
         self.bad_lines += 1
         if len(self.bad_line_examples) < 5:

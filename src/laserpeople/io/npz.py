@@ -36,6 +36,7 @@ the scans of a long recording uses constant memory. ``allow_pickle`` is never en
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -136,6 +137,8 @@ class NpzRecording:
         self.path = Path(path)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path)
+        if self.path.is_dir():
+            raise RecordingError("is a directory, not an .npz recording", path=self.path)
         self._a = _open_members(self.path)
         fmt = str(self._a["format"][()]) if "format" in self._a else ""
         if fmt != FORMAT:
@@ -349,9 +352,18 @@ def write_recording(
             truth_legs=np.concatenate([f.leg_positions for f in frames]).reshape(-1, 2, 2),
             truth_hue=np.concatenate([f.hues for f in frames]).astype(np.float64),
         )
-    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".partial")
-    with open(tmp, "wb") as fh:
-        np.savez(fh, **arrays)  # type: ignore[arg-type]
-    os.replace(tmp, path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)  # type: ignore[arg-type]
+        os.replace(tmp, path)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise RecordingError(
+            f"cannot write the recording: {exc.strerror or exc}",
+            path=path,
+            hint="choose a writable file path",
+        ) from exc
     return path

@@ -33,6 +33,7 @@ from laserpeople.errors import (
 )
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
+    KNOWN_MOUNTS,
     PoseParams,
     PoseSamples,
     TransformTree,
@@ -125,6 +126,12 @@ class RosbagRecording:
         self.path = Path(path)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path, hint="check the path")
+        if self.path.is_dir() and not (self.path / "metadata.yaml").is_file():
+            raise RecordingError(
+                "is a directory, not a bag",
+                path=self.path,
+                hint="give a .bag/.mcap/.db3 file, or a ROS 2 bag folder with metadata.yaml",
+            )
         self.use_poses = poses
         self.pose_params = pose_params or PoseParams()
         self._world_request = world_frame
@@ -347,6 +354,9 @@ class RosbagRecording:
         if self._tree is not None and self._tree.frames():
             edges = ", ".join(f"{p} -> {c} ({src})" for p, c, src in self._tree.edges())
             lines.append(f"  transforms in the recording: {edges}")
+        missing = {topic for (topic, reason), _ in self.pose_misses.items() if "chain" in reason}
+        if missing:
+            lines.append("  " + _mount_hint(self._tree))
         return "\n".join(lines)
 
     # -- scans -----------------------------------------------------------------------------
@@ -399,7 +409,7 @@ class RosbagRecording:
                     ) from exc
                 index += 1
                 stamp = _stamp(msg.header)
-                if stamp == 0.0:
+                if stamp == 0.0 and log_time != 0:
                     stamp = log_time * 1e-9
                     self.scans_with_log_time += 1
                 if stamp < last:
@@ -443,6 +453,16 @@ class RosbagRecording:
                 )
         finally:
             reader.close()
+
+
+def _mount_hint(tree: TransformTree | None) -> str:
+    """What to do when laser frames are not linked to the world: name a known robot whose
+    mounts hang off a frame of the recording, else the general --mount form."""
+    frames = set(tree.frames()) if tree is not None else set()
+    for robot, mounts in KNOWN_MOUNTS.items():
+        if any(parent in frames for parent, _ in mounts.values()):
+            return f"the laser mounts are missing from /tf: try --mount {robot}"
+    return "the laser mounts are missing from /tf: give them with --mount CHILD=PARENT:x,y,theta"
 
 
 def _by_stamp(scan: Scan) -> float:

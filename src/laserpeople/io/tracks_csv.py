@@ -93,8 +93,15 @@ class TracksCsvWriter:
     def __init__(self, path: str | Path, frame: Frame = "world") -> None:
         self.path = Path(path)
         self.frame = frame
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._fh: IO[str] = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._fh: IO[str] = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115
+        except OSError as exc:
+            raise RecordingError(
+                f"cannot write the tracks CSV: {exc.strerror or exc}",
+                path=self.path,
+                hint="choose a writable file path with -o",
+            ) from exc
         self._csv = csv.writer(self._fh, lineterminator="\n")
         self._csv.writerow(HEADER)
         self._fh.flush()
@@ -138,6 +145,12 @@ class TracksCsvWriter:
 
 
 def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, Track]:
+    if None in row or any(v is None for v in row.values()):
+        raise RecordingError(
+            f"line {line}: {'more' if None in row else 'fewer'} fields than the header has",
+            path=path,
+            hint=f"tracks CSV needs the columns {','.join(HEADER)}",
+        )
     try:
         kind = row["kind"]
         if kind not in get_args(TrackKind):
@@ -164,23 +177,42 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
     return scan, stamp, track
 
 
+TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
+
+
 def iter_tracks_csv(
     path: str | Path, frame: Frame = "world", kinds: tuple[TrackKind, ...] | None = None
 ) -> Iterator[Tracks]:
-    """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in file order.
+    """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in scan order.
 
     ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds.
+
+    Raises:
+        RecordingError: the file is missing, a directory, not UTF-8 text or unreadable, lacks
+            a column, has a bad row, or its scans go backwards or repeat (rows of one scan
+            must be together, as ``laserpeople track`` writes them); the message names the
+            file and the line or scan.
     """
     p = Path(path)
     if not p.exists():
-        raise RecordingError("file not found", path=p)
+        raise RecordingError("file not found", path=p, hint=TRACKS_HINT)
+    if p.is_dir():
+        raise RecordingError("is a directory, not a tracks CSV", path=p, hint=TRACKS_HINT)
+    try:
+        yield from _read_tracks(p, frame, kinds)
+    except UnicodeDecodeError as exc:
+        raise RecordingError(
+            f"not a text CSV (byte {exc.start} is not UTF-8)", path=p, hint=TRACKS_HINT
+        ) from exc
+    except OSError as exc:
+        raise RecordingError(f"cannot read the tracks CSV: {exc.strerror or exc}", path=p) from exc
+
+
+def _read_tracks(p: Path, frame: Frame, kinds: tuple[TrackKind, ...] | None) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
-        missing = [
-            c
-            for c in ("scan", "stamp", "track_id", "kind", "x", "y")
-            if c not in (reader.fieldnames or [])
-        ]
+        columns = reader.fieldnames or []
+        missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
         if missing:
             raise RecordingError(
                 f"not a tracks CSV: missing column(s) {', '.join(missing)}",
@@ -189,14 +221,23 @@ def iter_tracks_csv(
             )
         current: list[Track] = []
         key: tuple[int, float] | None = None
+        last = -1
         for line, row in enumerate(reader, start=2):
             scan, stamp, track = _parse_row(row, p, line)
-            if kinds is not None and track.kind not in kinds:
-                continue
-            if key is not None and scan != key[0]:
-                yield Tracks(key[1], key[0], tuple(current), frame)
+            if key is None or scan != key[0]:
+                if scan <= last:
+                    raise RecordingError(
+                        f"line {line}: rows of scan {scan} come after scan {last}",
+                        path=p,
+                        scan=scan,
+                        hint="sort the tracks CSV by scan; all rows of one scan must be together",
+                    )
+                if key is not None and current:
+                    yield Tracks(key[1], key[0], tuple(current), frame)
                 current = []
-            key = (scan, stamp)
-            current.append(track)
-        if key is not None:
+                key = (scan, stamp)
+                last = scan
+            if kinds is None or track.kind in kinds:
+                current.append(track)
+        if key is not None and current:
             yield Tracks(key[1], key[0], tuple(current), frame)

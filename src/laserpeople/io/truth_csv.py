@@ -38,8 +38,27 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
             scan disagree on its stamp.
     """
     p = Path(path)
+    if p.is_dir():
+        raise RecordingError(
+            "is a directory, not a ground-truth CSV", path=p, hint="give the CSV file itself"
+        )
     if not p.is_file():
         raise RecordingError("ground-truth CSV not found", path=p, hint="check the path")
+    try:
+        return _read_truth_csv(p)
+    except UnicodeDecodeError as exc:
+        raise RecordingError(
+            f"not a text CSV (byte {exc.start} is not UTF-8)",
+            path=p,
+            hint="give a CSV scan,stamp,person_id,x,y; a recording with truth must end in .npz",
+        ) from exc
+    except OSError as exc:
+        raise RecordingError(
+            f"cannot read the ground-truth CSV: {exc.strerror or exc}", path=p
+        ) from exc
+
+
+def _read_truth_csv(p: Path) -> list[TruthFrame]:
     scans: dict[int, tuple[float, list[tuple[int, float, float, int]]]] = {}
     with open(p, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
@@ -105,23 +124,35 @@ def _parse_row(
         value = row.get(key)
         return "" if value is None else value.strip()
 
+    def number(key: str, kind: type[int] | type[float]) -> int | float:
+        text = cell(key)
+        try:
+            return kind(text)
+        except ValueError:
+            what = "an integer" if kind is int else "a number"
+            shown = repr(text) if text else "empty"
+            raise ValueError(f"column {key} is {shown}, not {what}") from None
+
     try:
-        scan = int(cell("scan"))
-        stamp = float(cell("stamp"))
+        extra = row.get(None) or []  # type: ignore[call-overload]
+        if any(str(v).strip() for v in extra):
+            raise ValueError(f"{len(extra)} more field(s) than the header has columns")
+        scan = int(number("scan", int))
+        stamp = float(number("stamp", float))
         if scan < 0:
             raise ValueError(f"scan {scan} is negative")
         if not math.isfinite(stamp):
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
-        person = int(cell("person_id"))
+        person = int(number("person_id", int))
         if person < 0:
             raise ValueError(f"person_id {person} is negative")
-        x, y = float(cell("x")), float(cell("y"))
+        x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
         group_text = cell("group_id")
-        group = int(group_text) if group_text else NONE_ID
+        group = int(number("group_id", int)) if group_text else NONE_ID
         group = max(group, NONE_ID)
     except ValueError as exc:
         raise RecordingError(

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.errors import LaserPeopleError
+from laserpeople.errors import LaserPeopleError, RecordingError
 from laserpeople.scan import Pose2D, Scan, wrap_angle
 from laserpeople.sim.accessories import ACCESSORIES, accessory_geometry
 from laserpeople.sim.people import LEG_Z_MAX, TORSO_Z, PersonSpec, PlannedPerson, plan_person
@@ -72,7 +72,14 @@ class SimResult:
         if suffix == ".npz":
             from laserpeople.io import write_recording
 
-            return write_recording(p, self.scans, self.truth, self.meta)
+            try:
+                return write_recording(p, self.scans, self.truth, self.meta)
+            except OSError as exc:  # the npz writer lets file-system errors through
+                raise RecordingError(
+                    f"cannot write the recording: {exc.strerror or exc}",
+                    path=p,
+                    hint="choose a writable directory for -o",
+                ) from exc
         if suffix in {".mcap", ".bag", ".db3"}:
             return _write_rosbag(p, self.scans)
         raise LaserPeopleError(

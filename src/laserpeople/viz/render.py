@@ -29,8 +29,33 @@ def render(
     of the whole window; ``.gif``/``.mp4``: one frame per drawn scan; ``.mcap``: Foxglove
     (LaserScan, TF, MarkerArrays); ``.rrd``: rerun. ``size`` is ``(width, height)`` [px]
     (default 800x600 for pictures, 640x480 for animations).
+
+
+    Raises:
+        LaserPeopleError: unknown extension, bad options, or the file cannot be written
+            (the message names it).
     """
     p = Path(out)
+    try:
+        return _render(scene, p, scan, size, extent, fps, trail, progress)
+    except OSError as exc:  # image and animation writers let file-system errors through
+        raise LaserPeopleError(
+            f"cannot write the output: {exc.strerror or exc}",
+            path=p,
+            hint="give -o a path in a writable directory",
+        ) from exc
+
+
+def _render(
+    scene: Scene,
+    p: Path,
+    scan: int | None,
+    size: tuple[int, int] | None,
+    extent: Extent | None,
+    fps: float | None,
+    trail: int,
+    progress: ProgressFn | None,
+) -> RenderResult:
     suffix = p.suffix.lower()
     if suffix not in OUTPUT_KINDS:
         raise LaserPeopleError(

@@ -29,6 +29,8 @@ from laserpeople.truth import TruthFrame
 
 FloatArray = NDArray[np.float64]
 FrameChoice = Literal["auto", "world", "sensor"]
+POSE_PROBE_SCANS = 50
+"""Scans looked at to decide whether the recording has sensor poses (``frame="auto"``)."""
 T = TypeVar("T", Tracks, TruthFrame)
 ProgressFn = Callable[[Iterable["SceneFrame"], int | None], Iterable["SceneFrame"]]
 """Wraps the frame stream of a drawing or export, e.g. in a progress bar; gets the number of
@@ -146,6 +148,8 @@ class Scene:
         self.start = start if start is not None else 0
         self.stop = stop
         self.every = every
+        self.skipped_without_pose = 0
+        """Scans of the last :meth:`frames` pass not drawn: world frame, but no sensor pose."""
         auto = self._pose_frame()
         if frame == "world" and auto == "sensor":
             raise PoseUnavailableError(
@@ -191,13 +195,16 @@ class Scene:
         return source.truth() if source.has_truth else None
 
     def _pose_frame(self) -> Frame:
-        """World when the first scan has a sensor pose, else sensor."""
+        """World when one of the first :data:`POSE_PROBE_SCANS` scans has a sensor pose
+        (real bags often lack one for the first scan or two), else sensor."""
         scans, _, close = self._open()
         try:
-            first = next(scans, None)
+            for _, scan in zip(range(POSE_PROBE_SCANS), scans, strict=False):
+                if scan.pose is not None:
+                    return "world"
         finally:
             close()
-        return "world" if first is not None and first.pose is not None else "sensor"
+        return "sensor"
 
     def _truth_stream(self, recording_truth: Iterator[TruthFrame] | None) -> Iterator[TruthFrame]:
         truth = self._truth
@@ -261,6 +268,7 @@ class Scene:
     def frames(self) -> Iterator[SceneFrame]:
         """The frames of the window, in order, in the display frame."""
         scans, rec_truth, close = self._open()
+        self.skipped_without_pose = 0
         try:
             track_at = _aligned(self._tracks_stream())
             truth_at = _aligned(self._truth_stream(rec_truth))
@@ -269,6 +277,9 @@ class Scene:
                     continue
                 if self.stop is not None and scan.index >= self.stop:
                     break
+                if self.frame == "world" and scan.pose is None:
+                    self.skipped_without_pose += 1
+                    continue
                 yield self._frame(scan, track_at(scan.index), truth_at(scan.index))
         finally:
             close()

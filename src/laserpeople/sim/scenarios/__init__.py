@@ -13,6 +13,7 @@ The same name and seed always give the same recording; another seed changes the 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -106,14 +107,16 @@ def run_scenario(
     ``rate`` [Hz] overrides every sensor's scan rate; ``progress`` may wrap the scan loop."""
     s = get_scenario(name)
     duration = s.duration if seconds is None else float(seconds)
-    if not duration > 0.0:
+    if not (duration > 0.0 and math.isfinite(duration)):
         raise LaserPeopleError(
-            f"--seconds must be positive, got {seconds}", hint="e.g. --seconds 10"
+            f"--seconds must be positive and finite, got {seconds}", hint="e.g. --seconds 10"
         )
     if seed < 0:
         raise LaserPeopleError(f"--seed must be >= 0, got {seed}", hint="e.g. --seed 0")
-    if rate is not None and not rate > 0.0:
-        raise LaserPeopleError(f"--rate must be positive, got {rate}", hint="e.g. --rate 10")
+    if rate is not None and not (rate > 0.0 and math.isfinite(rate)):
+        raise LaserPeopleError(
+            f"--rate must be positive and finite, got {rate}", hint="e.g. --rate 10"
+        )
     scene = s.build(np.random.default_rng([seed, 0x5CE4E]), duration)
     result = simulate(
         scene,

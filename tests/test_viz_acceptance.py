@@ -1,0 +1,69 @@
+"""Regressions from the acceptance pass of `laserpeople view`: world frame when only the
+first scans lack a pose (skipped and counted), and --mount for bags."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.errors import LaserPeopleError
+from laserpeople.io import write_recording
+from laserpeople.viz import Scene
+from test_viz_support import make_scans
+
+runner = CliRunner()
+
+
+def test_auto_frame_is_world_when_only_first_scans_lack_pose() -> None:
+    scans = make_scans(6)
+    scans[0] = replace(scans[0], pose=None)
+    scans[1] = replace(scans[1], pose=None)
+    scene = Scene(scans)
+    assert scene.frame == "world"
+    frames = list(scene.frames())
+    assert [f.scan.index for f in frames] == [2, 3, 4, 5]
+    assert scene.skipped_without_pose == 2
+
+
+def test_view_mount_only_for_bags(tmp_path: Path) -> None:
+    rec = tmp_path / "r.npz"
+    write_recording(rec, make_scans(3), [], {})
+    res = runner.invoke(app, ["view", str(rec), "--mount", "mir100", "-o", str(tmp_path / "x.png")])
+    assert res.exit_code != 0
+    assert isinstance(res.exception, LaserPeopleError)
+    assert "apply to ROS bags only" in str(res.exception)
+
+
+def test_view_mount_gives_bag_world_frame(tmp_path: Path) -> None:
+    from laserpeople.io.rosbag_writer import write_laserscan_bag
+
+    bag = tmp_path / "r.bag"
+    write_laserscan_bag(bag, [replace(s, pose=None) for s in make_scans(3)])
+    out = tmp_path / "x.png"
+    args = ["view", str(bag), "-o", str(out), "--size", "160x120"]
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert "sensor frame" in res.output
+    res = runner.invoke(app, [*args, "--mount", "front=base:1,0,0", "--world-frame", "base"])
+    assert res.exit_code == 0, res.output
+    assert "world frame" in res.output
+
+
+def test_view_unwritable_output_and_directory_tracks(tmp_path: Path) -> None:
+    rec = tmp_path / "r.npz"
+    write_recording(rec, make_scans(3), [], {})
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    for name in ("x.png", "x.gif"):
+        res = runner.invoke(app, ["view", str(rec), "-o", str(blocker / name), "--size", "64x48"])
+        assert res.exit_code != 0
+        assert isinstance(res.exception, LaserPeopleError)
+        assert f"{name}: cannot write the output" in str(res.exception)
+    res = runner.invoke(
+        app, ["view", str(rec), "--tracks", str(tmp_path), "-o", str(tmp_path / "y.png")]
+    )
+    assert isinstance(res.exception, LaserPeopleError)
+    assert "is a directory, not a tracks CSV" in str(res.exception)

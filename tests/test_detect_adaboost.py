@@ -136,3 +136,18 @@ def test_same_first_stump_as_scikit_learn_on_a_separable_feature() -> None:
     assert mine.stumps[0].feature == tree.feature[0] == 0
     assert mine.stumps[0].threshold == pytest.approx(tree.threshold[0])
     np.testing.assert_array_equal(mine.predict(X), ref.predict(X))
+
+
+def test_fast_decision_function_equals_the_sum_of_stumps() -> None:
+    """F(e) by per-feature binary search equals sum_t alpha_t h_t(e), ties included."""
+    rng = np.random.default_rng(7)
+    X = np.round(rng.normal(size=(400, 4)), 1)  # many exact ties with thresholds
+    y = np.where(X[:, 0] + 0.5 * X[:, 1] ** 2 - X[:, 2] > 0.3, 1, -1)
+    clf = AdaBoostLegClassifier(60).fit(X, y)
+    Xt = np.vstack([np.round(rng.normal(size=(300, 4)), 1), clf.thresholds_[:, None].repeat(4, 1)])
+    direct = np.zeros(Xt.shape[0])
+    for s in clf.stumps:
+        h = np.where(s.polarity * Xt[:, s.feature] < s.polarity * s.threshold, 1.0, -1.0)
+        direct += s.alpha * h
+    assert np.allclose(clf.decision_function(Xt), direct, atol=1e-9)
+    assert set(clf.polarities_.tolist()) == {-1, 1}

@@ -109,6 +109,14 @@ def test_shipped_default_model_loads_and_is_documented() -> None:
     assert model.features == tuple(range(1, 14))
     assert len(model.classifier.stumps) >= 10
     assert "data" in model.training and "created" in model.training
+    # leg_tracker label rule and the protocol are recorded
+    assert model.segmentation_threshold == pytest.approx(0.13)
+    assert "unlabelled segments dropped" in str(model.training["negatives_protocol"])
+    # T is the candidate of lowest mean validation error, recorded with the sweep
+    sweep = model.training["rounds_selection"]["validation_error_percent"]
+    mean = {int(t): float(np.mean(list(e.values()))) for t, e in sweep.items()}
+    assert model.training["rounds"] == min(mean, key=mean.__getitem__)
+    assert len(model.classifier.stumps) == model.training["rounds"]
 
 
 def test_adaboost_detector_finds_the_leg_in_sensor_frame() -> None:

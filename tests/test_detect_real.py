@@ -15,7 +15,9 @@ from laserpeople.detection.training import (
     LabelledSegments,
     leg_tracker_positive,
     neko_segments,
+    read_pose_arrays,
 )
+from laserpeople.io import open_recording
 from laserpeople.io.detections_csv import HEADER, SEGMENT_COLUMNS, iter_detections_csv
 from laserpeople.io.neko import read_neko
 from laserpeople.segmentation import JumpDistanceParams, JumpDistanceSegmenter
@@ -48,14 +50,40 @@ def test_adaboost_on_neko_held_out_frames(shared_data: Path) -> None:
 
 def test_leg_tracker_labels_match_segments(shared_data: Path) -> None:
     part = leg_tracker_positive(shared_data / LT / "positive_2_extracted.bag")
-    # 116 labelled leg centres in 83 scans; most fall on a segment of >= 3 points, and a
-    # leg split in two by the segmentation gives two leg segments near one label
-    assert 100 <= part.n_positive <= 130
-    assert part.n_negative > 10 * part.n_positive
-    drop = leg_tracker_positive(shared_data / LT / "positive_2_extracted.bag", unlabelled="drop")
-    assert drop.n_negative == 0 and drop.n_positive == part.n_positive
-    both = LabelledSegments.concat([part, drop])
+    # 116 labelled leg centres in 83 scans; with the 0.13 m rule nearly every one is the
+    # centre of one segment of >= 3 points; unlabelled segments are dropped by default
+    assert 105 <= part.n_positive <= 120
+    assert part.n_negative == 0
+    old = leg_tracker_positive(
+        shared_data / LT / "positive_2_extracted.bag",
+        unlabelled="negative",
+        segmentation=JumpDistanceParams(threshold=0.1),
+    )
+    assert old.n_negative > 10 * old.n_positive
+    both = LabelledSegments.concat([part, old])
     assert both.groups == ("positive_2_extracted.bag",)
+
+
+def test_leg_tracker_labels_are_centres_of_013_segments(shared_data: Path) -> None:
+    """The labels are cluster centres under a 0.13 m rule, not under 0.1 m."""
+    bag = shared_data / LT / "positive_2_extracted.bag"
+    poses = read_pose_arrays(bag, "/leg_cluster_positions")
+    rec = open_recording(bag)
+    try:
+        scans = list(rec.scans(["/training_scan"]))
+    finally:
+        rec.close()
+    exact = {}
+    for threshold in (0.1, 0.13):
+        seg = JumpDistanceSegmenter(JumpDistanceParams(threshold=threshold))
+        hits = 0
+        for scan, labels in zip(scans, poses, strict=True):
+            c = seg(scan).centres()
+            for label in labels:
+                hits += int(np.hypot(*(c - label).T).min() < 1e-3)
+        exact[threshold] = hits / sum(len(p) for p in poses)
+    assert exact[0.13] > 0.9
+    assert exact[0.1] < exact[0.13] - 0.05
 
 
 def test_cli_detect_writes_csv(shared_data: Path, tmp_path: Path) -> None:

@@ -70,7 +70,8 @@ def register(app: typer.Typer) -> None:
             det = AdaBoostLegDetector.from_file(model)
         else:
             det = AdaBoostLegDetector.default()
-        baseline = HeuristicLegDetector() if report else None
+        # the baseline must see the same segments as the detector it is compared with
+        baseline = HeuristicLegDetector(segmentation=det.segmenter.params) if report else None
         rec = open_recording(recording)
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []

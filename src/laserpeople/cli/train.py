@@ -135,12 +135,19 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--unlabelled",
-                help="Unlabelled segments of --positives bags far from any label: negative|drop.",
+                help=(
+                    "Unlabelled segments of --positives bags far from any label: drop "
+                    "(default; those scans contain unlabelled people) or negative."
+                ),
             ),
-        ] = "negative",
+        ] = "drop",
         jump_distance: Annotated[
-            float, typer.Option("--jump-distance", help="Segmentation threshold [m].")
-        ] = 0.1,
+            float,
+            typer.Option(
+                "--jump-distance",
+                help="Segmentation threshold [m] (0.13: the leg_tracker label rule).",
+            ),
+        ] = 0.13,
         report: Annotated[
             bool, typer.Option("--report", help="Print confusion matrices (000 Tables 2-8).")
         ] = False,

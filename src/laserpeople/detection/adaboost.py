@@ -129,6 +129,9 @@ class AdaBoostLegClassifier:
         self.r_ = np.array([s.r for s in stumps], dtype=np.float64)
         self.n_features_in_ = n_features
         self.classes_ = np.array([-1, 1], dtype=np.int64)
+        self._tables = _stump_tables(
+            self.features_, self.thresholds_, self.polarities_, self.alphas_
+        )
 
     @classmethod
     def from_stumps(cls, stumps: list[Stump], n_features: int) -> AdaBoostLegClassifier:
@@ -160,11 +163,10 @@ class AdaBoostLegClassifier:
         X = _as_matrix(X)
         if X.shape[1] != self.n_features_in_:
             raise ValueError(f"X has {X.shape[1]} features, the model {self.n_features_in_}")
-        if self.features_.size == 0:
-            return np.zeros(X.shape[0])
-        cols = X[:, self.features_]  # (N, T)
-        h = np.where(self.polarities_ * cols < self.polarities_ * self.thresholds_, 1.0, -1.0)
-        return np.asarray(h @ self.alphas_, dtype=np.float64)
+        out = np.zeros(X.shape[0])
+        for table in self._tables:
+            out += table.evaluate(X[:, table.feature])
+        return out
 
     def predict(self, X: ArrayLike) -> IntArray:
         """H(e) = sign(F(e)) in {+1, -1} (a margin of exactly 0 counts as -1)."""
@@ -181,6 +183,48 @@ class AdaBoostLegClassifier:
     def _check_fitted(self) -> None:
         if not hasattr(self, "alphas_"):
             raise RuntimeError("this AdaBoostLegClassifier is not fitted yet; call fit first")
+
+
+@dataclass(frozen=True)
+class _FeatureTable:
+    """All stumps of one feature and one polarity, evaluated by one binary search.
+
+    For polarity +1 the stumps sum to ``sum(alpha) * -1 + 2 * sum(alpha of theta > x)``, for
+    polarity -1 to ``-sum(alpha) + 2 * sum(alpha of theta < x)`` (ties x == theta give -1,
+    as in 000 eq. 1). With T stumps this costs O(N log T) instead of O(N T).
+    """
+
+    feature: int
+    polarity: int
+    thresholds: FloatArray  # sorted ascending
+    partial: FloatArray  # (k + 1,) alpha sums, see evaluate
+    total: float
+
+    def evaluate(self, values: FloatArray) -> FloatArray:
+        """The summed alpha_t h_t(x) of these stumps for feature values (N,)."""
+        if self.polarity > 0:
+            idx = np.searchsorted(self.thresholds, values, side="right")
+        else:
+            idx = np.searchsorted(self.thresholds, values, side="left")
+        return np.asarray(2.0 * self.partial[idx] - self.total, dtype=np.float64)
+
+
+def _stump_tables(
+    features: IntArray, thresholds: FloatArray, polarities: IntArray, alphas: FloatArray
+) -> list[_FeatureTable]:
+    tables = []
+    for j in np.unique(features):
+        for p in (1, -1):
+            sel = (features == j) & (polarities == p)
+            if not sel.any():
+                continue
+            order = np.argsort(thresholds[sel], kind="stable")
+            th, al = thresholds[sel][order], alphas[sel][order]
+            cum = np.concatenate(([0.0], np.cumsum(al)))
+            # +1: alpha of stumps at sorted positions >= idx; -1: those before idx
+            partial = cum[-1] - cum if p > 0 else cum
+            tables.append(_FeatureTable(int(j), p, th, partial, float(cum[-1])))
+    return tables
 
 
 def _stump_output(values: FloatArray, threshold: float, polarity: int) -> FloatArray:

@@ -18,6 +18,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command(
         "detect",
+        short_help="Detect legs in a recording and write one CSV row per leg.",
         help=(
             "Detect legs in a recording (000 Sec. 2) and write one CSV row per leg: "
             "scan,stamp,x,y,score in the sensor frame. --all-segments writes every segment "

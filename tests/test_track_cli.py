@@ -115,3 +115,44 @@ def test_real_bag_end_to_end(shared_data: Path) -> None:
     outs = [tracker.update(det.detect(s)) for s in scans]
     assert len(outs) == 150
     assert any(len(o.of_kind("leg")) > 0 for o in outs)
+
+
+@pytest.fixture(scope="module")
+def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from laserpeople.sim.scenarios import run_scenario
+
+    path = tmp_path_factory.mktemp("short") / "short.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=2).write(path)
+    return path
+
+
+def test_plot_and_animate_options(
+    short_recording: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from PIL import Image
+
+    from laserpeople.io import open_recording
+
+    monkeypatch.setattr(track_cli, "make_detector", lambda *a, **k: LabelDetector())
+    out, png, gif = tmp_path / "t.csv", tmp_path / "t.png", tmp_path / "t.gif"
+    result = CliRunner().invoke(
+        app,
+        ["--quiet", "track", str(short_recording), "-o", str(out), "--plot", str(png),
+         "--animate", str(gif)],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    rec = open_recording(short_recording)
+    n_scans = sum(1 for _ in rec.scans())
+    rec.close()
+    with Image.open(png) as im:
+        assert (
+            im.format == "PNG"
+            and im.size[0] > 100
+            and np.unique(np.asarray(im.convert("L"))).size > 2
+        )
+    with Image.open(gif) as im:
+        assert im.format == "GIF" and getattr(im, "n_frames", 1) == n_scans
+    bad = CliRunner().invoke(
+        app, ["track", str(short_recording), "-o", str(out), "--plot", "x.gif"]
+    )
+    assert bad.exit_code != 0

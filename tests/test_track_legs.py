@@ -203,7 +203,7 @@ def test_figure_eight_adaptive_keeps_tracks() -> None:
     a, f = res["adaptive"], res["free"]
     assert a["person_legs_created"] == 2 and a["persons_created"] == 1
     assert f["person_legs_created"] > 2 and f["persons_created"] > 1
-    assert a["mota"] > 0.9 and a["mota"] > f["mota"]
+    assert a["mota"] > 0.9 and a["mota"] > f["mota"] + 0.1
 
 
 @pytest.mark.slow
@@ -225,7 +225,8 @@ def test_narrow_corridor_adaptive_beats_nonadaptive() -> None:
     dets, result = _sim("narrow-corridor", 40.0)
     res = _run_modes(dets, result.truth, MODES)  # type: ignore[attr-defined]
     a, f, ap = res["adaptive"], res["free"], res["approved"]
-    assert a["mota"] > f["mota"]  # non-adaptive = free probabilities (000 Sec. 3.4)
+    assert a["mota"] > f["mota"] + 0.03  # non-adaptive = free probabilities (000 Sec. 3.4)
+    assert a["persons_created"] < f["persons_created"]
     assert a["legs_created"] < f["legs_created"]  # Fig. 8
     assert a["mean_hypotheses"] < 0.5 * ap["mean_hypotheses"]  # Fig. 9
     assert a["max_hypotheses"] < ap["max_hypotheses"]

@@ -242,3 +242,40 @@ def test_model_branches_for_split_hypotheses() -> None:
     assert all(t.family != original for t in best.tracks)  # the split, not continuation
     ys = sorted(float(t.mean[1]) for t in best.tracks)
     np.testing.assert_allclose(ys, [-0.15, 0.15], atol=0.03)
+
+
+def test_enumerated_children_match_k_best_children() -> None:
+    """The listing shortcut for small clusters gives the same children (parents, labels,
+    costs) as multi-parent Murty on the same assignment problems, with and without
+    measurements and gates."""
+    from laserpeople.tracking.mht.core import enumerate_children
+    from laserpeople.tracking.mht.matrix import build_matrix, k_best_children
+
+    rng = np.random.default_rng(3)
+    for trial in range(60):
+        n_nodes, m = int(rng.integers(0, 4)), int(rng.integers(0, 3))
+        lp = np.log(np.clip(rng.dirichlet(np.ones(3), size=n_nodes), 1e-6, None))
+        tm = rng.uniform(-3.0, 6.0, size=(n_nodes, m))
+        tm[rng.random((n_nodes, m)) < 0.3] = np.inf
+        log_new = np.log(rng.uniform(1e-4, 1e-2, size=m))
+        log_fal = np.log(rng.uniform(1e-4, 1e-2, size=m))
+        rows = [
+            sorted(rng.choice(n_nodes, size=int(rng.integers(0, n_nodes + 1)), replace=False))
+            for _ in range(int(rng.integers(1, 4)))
+        ]
+        priors = list(rng.uniform(0.0, 3.0, size=len(rows)))
+        k, gap = int(rng.integers(1, 15)), float(rng.uniform(1.0, 12.0))
+        fast = enumerate_children(priors, rows, tm, lp, log_new, log_fal, k, gap, limit=10**6)
+        base = build_matrix(tm, lp, log_new, log_fal)
+        slow = k_best_children(priors, [base.subset(list(r)) for r in rows], k, gap)
+        assert fast is not None, trial
+        np.testing.assert_allclose([c for *_, c in fast], [c for *_, c in slow])
+
+        def key(sol: tuple) -> tuple:
+            pi, dec, cost = sol
+            return (round(cost, 9), pi, tuple(dec.track_label), tuple(dec.track_measurement),
+                    tuple(dec.measurement_label))  # fmt: skip
+
+        assert sorted(map(key, fast)) == sorted(map(key, slow)), trial
+    assert enumerate_children([0.0], [[0, 1]], np.zeros((2, 3)), np.zeros((2, 3)),
+                              np.zeros(3), np.zeros(3), 5, 9.0, limit=10) is None  # fmt: skip

@@ -50,6 +50,94 @@ def test_person_validated_from_near_legs_moving_alike() -> None:
     assert all(3 not in person.members for step in out for person in step)
 
 
+def test_standing_legs_validated_only_with_the_extension() -> None:
+    """Two close legs standing still for still_time form a person (extension); without
+    the extension (000 as written) they never do; a still leg next to a moving one does not."""
+    for validate, expected in ((True, 1), (False, 0)):
+        fuser = PersonFuser(PersonParams(validate_still=validate, still_time=1.0))
+        out = []
+        for k in range(30):
+            t = 0.05 * k
+            out.append(fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0, 0.25)}, t))
+        assert len(out[-1]) == expected
+        if validate:
+            # not before both legs have been seen still for still_time
+            first = next(k for k, o in enumerate(out) if o)
+            assert 0.05 * first == pytest.approx(1.0)
+            np.testing.assert_allclose(out[-1][0].position, [2.0, 0.125])
+    fuser = PersonFuser(PersonParams())
+    for k in range(40):
+        t = 0.05 * k
+        out_k = fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0 + 0.5 * t, 0.25)}, t)
+        assert out_k == [] or 0.5 * t > 0.75
+
+
+def test_side_by_side_walkers_paired_by_lateral_spread() -> None:
+    """Two people 0.6 m apart walking along x: every leg agrees with every other, but only
+    each person's own legs (0.2 m apart across the walking direction) are paired; a
+    crossed pair is dissolved after a window of wide steps."""
+    fuser = PersonFuser(PersonParams(validate_still=False))
+    for k in range(40):
+        t = 0.05 * k
+        x = t
+        legs = {
+            1: LegState(1, np.array([x, 0.0, 1.0, 0.0]), np.eye(4) * 0.01),
+            2: LegState(2, np.array([x + 0.3, 0.2, 1.0, 0.0]), np.eye(4) * 0.01),
+            3: LegState(3, np.array([x, 0.6, 1.0, 0.0]), np.eye(4) * 0.01),
+            4: LegState(4, np.array([x + 0.3, 0.8, 1.0, 0.0]), np.eye(4) * 0.01),
+        }
+        out = fuser.update(legs, t)
+    assert sorted(p.members for p in out) == [(1, 2), (3, 4)]
+
+
+def test_wide_person_is_dissolved() -> None:
+    p = PersonParams(validate_still=False, window=5)
+    fuser = PersonFuser(p)
+    walk(fuser, 40, 0.1, 0.3)
+    # the legs drift to 0.7 m across the walking direction (still within theta_d); alone
+    # they stay a person, with a narrower partner (leg 5) for leg 2 the pair is dissolved
+    for k in range(2 * p.window):
+        t = 4.0 + 0.1 * k
+        alone = {
+            1: LegState(1, np.array([t, 0.0, 1.0, 0.0]), np.eye(4) * 0.01),
+            2: LegState(2, np.array([t, 0.7, 1.0, 0.0]), np.eye(4) * 0.01),
+        }
+        assert len(fuser.update(alone, t)) == 1
+    fuser = PersonFuser(p)
+    walk(fuser, 40, 0.1, 0.3)
+    steps = 0
+    while True:
+        t = 4.0 + 0.1 * steps
+        out = fuser.update(
+            {
+                1: LegState(1, np.array([t, 0.0, 1.0, 0.0]), np.eye(4) * 0.01),
+                2: LegState(2, np.array([t, 0.7, 1.0, 0.0]), np.eye(4) * 0.01),
+                5: LegState(5, np.array([t + 0.3, 0.9, 1.0, 0.0]), np.eye(4) * 0.01),
+            },
+            t,
+        )
+        out = [o for o in out if o.members == (1, 2)]
+        steps += 1
+        if not out:
+            break
+        assert steps < p.window
+    # mean of the last 5 spreads, 0.3 + 0.08 n after n steps at 0.7 m, exceeds 0.55 at n = 4
+    assert steps == 4
+
+
+def test_midpoint_position() -> None:
+    a = LegState(0, np.array([0.0, 0.0, 1.0, 0.0]), np.diag([0.01, 0.04, 0.1, 0.1]))
+    b = LegState(1, np.array([0.3, 0.2, 0.0, 0.0]), np.diag([0.03, 0.04, 0.3, 0.1]))
+    from laserpeople.tracking.people import leg_spread, midpoint_legs
+
+    mean, cov = midpoint_legs(a, b)
+    np.testing.assert_allclose(mean, [0.15, 0.1, 0.5, 0.0])
+    np.testing.assert_allclose(cov, 0.25 * (a.cov + b.cov))
+    # mean velocity (0.5, 0): spread is the y difference
+    assert leg_spread(a, b, 0.1) == pytest.approx(0.2)
+    assert leg_spread(a, b, 1.0) == pytest.approx(np.hypot(0.3, 0.2))
+
+
 def test_far_legs_never_form_a_person() -> None:
     fuser = PersonFuser(PersonParams())
     out = walk(fuser, 40, 0.1, 0.9)
@@ -70,7 +158,7 @@ def test_person_keeps_id_and_is_deleted_with_its_leg() -> None:
 
 
 def test_person_deleted_after_window_of_far_steps() -> None:
-    p = PersonParams(window=5, min_agreement=3.0)
+    p = PersonParams(window=5, min_agreement=3.0, dissolve_wide=False)
     fuser = PersonFuser(p)
     walk(fuser, 40, 0.1, 0.3)
     for k in range(p.window - 1):

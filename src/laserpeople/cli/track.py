@@ -83,8 +83,12 @@ def run_tracking(
     detector: Detector | None = None,
     world_frame: str | None = None,
     mounts: list[str] | None = None,
+    plot: Path | None = None,
+    animate: Path | None = None,
 ) -> dict[str, float]:
-    """Track every scan of one topic of ``recording`` and write ``output``.
+    """Track every scan of one topic of ``recording`` and write ``output``; then, when
+    given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
+    ``animate`` (.gif, or .mp4 with ffmpeg).
 
     Returns counts and timings: scans, rows, leg and person tracks created, median/mean
     tracking time per scan [ms] (detection excluded).
@@ -103,6 +107,8 @@ def run_tracking(
     leg_ids: set[int] = set()
     person_ids: set[int] = set()
     writer: TracksCsvWriter | None = None
+    name: str | None = None
+    written_frame: Frame = output_frame or "sensor"
     try:
         name = _choose_topic(rec, topic)
         total = next((t.count for t in rec.topics() if t.name == name), None)
@@ -112,8 +118,8 @@ def run_tracking(
             tracks = tracker.update(dets)
             times.append(time.perf_counter() - t0)
             if writer is None:
-                frame: Frame = output_frame or tracks.frame
-                writer = TracksCsvWriter(output, frame=frame)
+                written_frame = output_frame or tracks.frame
+                writer = TracksCsvWriter(output, frame=written_frame)
             writer.write(tracks)
             rows += len(tracks)
             leg_ids.update(t.track_id for t in tracks if t.kind == "leg")
@@ -123,8 +129,10 @@ def run_tracking(
             writer.close()
         rec.close()
     if writer is None:  # no scan at all: still leave a valid, empty file
-        with TracksCsvWriter(output, frame=output_frame or "sensor"):
+        with TracksCsvWriter(output, frame=written_frame):
             pass
+    if plot is not None or animate is not None:
+        draw_tracks(recording, output, name, written_frame, plot, animate)
     dropped = int(getattr(tracker, "dropped_detections", 0))
     if dropped:
         say(f"{dropped} detections with non-finite positions were left out")
@@ -137,6 +145,33 @@ def run_tracking(
         "median_ms": ms[len(ms) // 2] if ms else 0.0,
         "mean_ms": sum(ms) / len(ms) if ms else 0.0,
     }
+
+
+def draw_tracks(
+    recording: Path,
+    tracks_csv: Path,
+    topic: str | None,
+    tracks_frame: Frame,
+    plot: Path | None,
+    animate: Path | None,
+) -> None:
+    """Draw ``tracks_csv`` (positions in ``tracks_frame``) over the scans of ``topic``: the
+    trajectory overview PNG ``plot`` and/or the animation ``animate``."""
+    from laserpeople.viz import animate_tracks, plot_tracks
+
+    if plot is not None:
+        drawn = plot_tracks(recording, tracks_csv, plot, topic=topic, tracks_frame=tracks_frame)
+        say(f"wrote {drawn.path}")
+    if animate is not None:
+        drawn = animate_tracks(
+            recording,
+            tracks_csv,
+            animate,
+            topic=topic,
+            tracks_frame=tracks_frame,
+            progress=lambda it, n: progress(it, n, "drawing"),
+        )
+        say(f"wrote {drawn.path} ({drawn.frames} frames)")
 
 
 def register(app: typer.Typer) -> None:
@@ -189,6 +224,14 @@ def register(app: typer.Typer) -> None:
                 "repeatable), or a known robot: mir100.",
             ),
         ] = None,
+        plot: Annotated[
+            Path | None,
+            typer.Option("--plot", help="Also draw the trajectory overview to this PNG."),
+        ] = None,
+        animate: Annotated[
+            Path | None,
+            typer.Option("--animate", help="Also draw an animation (.gif, or .mp4 with ffmpeg)."),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -211,6 +254,8 @@ def register(app: typer.Typer) -> None:
             raise ConfigError(
                 "a RECORDING and -o/--output are required", hint="see laserpeople track --help"
             )
+        if plot is not None and plot.suffix.lower() != ".png":
+            raise ConfigError(f"--plot writes a .png, not {plot.name!r}")
         if output_frame not in (None, "sensor", "world"):
             raise ConfigError(f"--output-frame must be sensor or world, not {output_frame!r}")
         frame: Frame | None = (
@@ -218,7 +263,17 @@ def register(app: typer.Typer) -> None:
         )
         det = make_detector(detector, model, config)
         stats = run_tracking(
-            recording, output, tracker, topic, config, frame, det, world_frame, mount or []
+            recording,
+            output,
+            tracker,
+            topic,
+            config,
+            frame,
+            det,
+            world_frame,
+            mount or [],
+            plot=plot,
+            animate=animate,
         )
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

@@ -12,6 +12,19 @@ person advance along the walking direction. A person's state is the covariance-w
 (multivariate) mean of its two leg states. A person is deleted when one of its legs is no
 longer tracked or when the legs are farther apart than theta_d for L consecutive steps;
 while its legs are tracked (including as occluded) the person keeps its id.
+
+Extensions of 000 (each can be switched off in :class:`PersonParams`):
+
+- Standing people (``validate_still``): the orientation of a standing leg is undefined, so
+  000's rule never validates a person who stands still; two close legs that have both stood
+  still for ``still_time`` are validated too. Two leg-like static objects closer than
+  theta_d (chair legs) then also make a person unless the detector rejects them.
+- Side-by-side walkers (``max_spread``): the feet of two people walking side by side are
+  close and move alike, so 000's rule can pair legs of different people, putting the person
+  between them. Pairs are formed narrowest first (distance across the walking direction,
+  plus the mean distance over the recent past), pairs wider than ``max_spread`` are not
+  formed, and a person wider than ``max_spread`` on average over the window is dissolved
+  when another leg nearby would pair narrower with one of its legs.
 """
 
 from __future__ import annotations
@@ -71,7 +84,53 @@ class PersonParams:
         "m/s",
     )
 
+    validate_still: bool = param(
+        True,
+        "extension of 000 Sec. 3.3 (the paper validates moving legs only; the orientation "
+        "agreement of standing legs is undefined)",
+        "also validate two close legs that have both stood still for still_time",
+    )
+    still_time: float = param(
+        1.0,
+        "assumption: longer than a stance phase (~0.6 s), so walking legs never qualify",
+        "how long both legs must have stood still to be validated as a standing person",
+        "s",
+    )
+    still_radius: float = param(
+        0.08,
+        "assumption: detector noise of a leg centre (~0.03 m) plus some sway",
+        "a leg stands still when all its positions over still_time lie this close to the "
+        "current one",
+        "m",
+    )
+    max_spread: float = param(
+        0.55,
+        "extension of 000 Sec. 3.3 (assumption): the feet of one walker are ~0.2 m apart "
+        "across the walking direction, those of two people side by side ~0.5-0.6 m; chosen "
+        "from 0.4/0.55/none on the simulated demo and figure-eight scenes, seeds 0-1",
+        "a person whose legs are farther apart than this across their walking direction "
+        "(plain distance when standing), on average over the window, is dissolved when "
+        "another leg nearby would pair narrower with one of them; candidate pairs wider "
+        "than this are not formed, the narrowest pairs are formed first",
+        "m",
+    )
+    dissolve_wide: bool = param(
+        True,
+        "extension of 000 Sec. 3.3 (see max_spread)",
+        "dissolve persons whose legs are wider apart than max_spread (else only new pairs "
+        "are checked)",
+    )
+    position: str = param(
+        "weighted",
+        "000 Sec. 3.3 (weighted); midpoint is an alternative for comparison",
+        "person position: weighted (covariance-weighted mean of the legs) or midpoint",
+    )
+
     def __post_init__(self) -> None:
+        if self.position not in ("weighted", "midpoint"):
+            raise ValueError("position must be 'weighted' or 'midpoint'")
+        if not (self.still_time > 0 and self.still_radius > 0 and self.max_spread > 0):
+            raise ValueError("still_time and still_radius must be positive")
         if self.max_leg_distance <= 0 or self.window < 1:
             raise ValueError("max_leg_distance must be positive and window at least 1")
         if not self.min_agreement < self.window:
@@ -100,24 +159,43 @@ class _Person:
     person_id: int
     legs: tuple[int, int]
     far_steps: int = 0
+    spreads: deque[float] = field(default_factory=deque)
 
 
 @dataclass(eq=False)
 class _History:
-    """Orientation per step (window L) and positions with stamps (orientation span)."""
+    """Per leg: orientation per step (window L), positions with stamps (the longer of the
+    orientation span and still_time), and the pair distances are kept per person pair."""
 
     steps: deque[tuple[int, FloatArray | None]] = field(default_factory=deque)
     positions: deque[tuple[float, FloatArray]] = field(default_factory=deque)
+    first_stamp: float = 0.0
 
 
 def fuse_legs(a: LegState, b: LegState) -> tuple[FloatArray, FloatArray]:
     """Covariance-weighted mean of two leg states: P = (P_a^-1 + P_b^-1)^-1,
     x = P (P_a^-1 x_a + P_b^-1 x_b) (000 Sec. 3.3, point 1)."""
-    ia = np.linalg.inv(a.cov)
-    ib = np.linalg.inv(b.cov)
-    cov = np.linalg.inv(ia + ib)
-    mean = cov @ (ia @ a.mean + ib @ b.mean)
+    # the same with one solve: P = P_a S^-1 P_b, x = P_b S^-1 x_a + P_a S^-1 x_b, S = P_a + P_b
+    sol = np.linalg.solve(a.cov + b.cov, np.column_stack([a.mean, b.mean, b.cov]))
+    mean = b.cov @ sol[:, 0] + a.cov @ sol[:, 1]
+    cov = a.cov @ sol[:, 2:]
     return mean, 0.5 * (cov + cov.T)
+
+
+def leg_spread(a: LegState, b: LegState, min_speed: float) -> float:
+    """Distance [m] between legs ``a`` and ``b`` across their mean walking direction (their
+    mean velocity), or the plain distance when they move slower than ``min_speed`` [m/s]."""
+    d = a.mean[:2] - b.mean[:2]
+    v = 0.5 * (a.mean[2:4] + b.mean[2:4])
+    speed = float(np.hypot(v[0], v[1]))
+    if speed < min_speed:
+        return float(np.hypot(d[0], d[1]))
+    return abs(float(v[0] * d[1] - v[1] * d[0])) / speed
+
+
+def midpoint_legs(a: LegState, b: LegState) -> tuple[FloatArray, FloatArray]:
+    """Unweighted mean of two leg states, covariance (P_a + P_b) / 4."""
+    return 0.5 * (a.mean + b.mean), 0.25 * (a.cov + b.cov)
 
 
 class PersonFuser:
@@ -130,27 +208,46 @@ class PersonFuser:
         self._history: dict[int, _History] = {}
         self._step = 0
         self.persons_created = 0
+        self._keep = max(params.orientation_span, params.still_time)
 
     @property
     def approved_legs(self) -> frozenset[int]:
         """Leg ids associated with a validated person (000 Sec. 3.3.1: *approved*)."""
         return frozenset(leg for p in self._persons.values() for leg in p.legs)
 
-    def _orientation(self, hist: _History, stamp: float, position: FloatArray) -> FloatArray | None:
+    def _record(self, hist: _History, stamp: float, position: FloatArray) -> None:
+        hist.positions.append((stamp, position))
+        while len(hist.positions) > 1 and hist.positions[1][0] <= stamp - self._keep:
+            hist.positions.popleft()
+
+    def _orientation(self, hist: _History, stamp: float) -> FloatArray | None:
         """Unit direction of the displacement over the last ``orientation_span`` seconds
         (since the track's start when it is younger, but at least ``min_orientation_age``);
         None when the leg moved slower than ``min_speed`` on average."""
         p = self.params
-        hist.positions.append((stamp, position))
-        while len(hist.positions) > 1 and hist.positions[1][0] <= stamp - p.orientation_span:
-            hist.positions.popleft()
+        position = hist.positions[-1][1]
         t0, p0 = hist.positions[0]
+        for t, q in hist.positions:
+            if t > stamp - p.orientation_span:
+                break
+            t0, p0 = t, q
         elapsed = stamp - t0
         if elapsed < p.min_orientation_age or elapsed <= 0:
             return None
         d = position - p0
         dist = float(np.hypot(d[0], d[1]))
         return d / dist if dist >= p.min_speed * elapsed else None
+
+    def is_still(self, leg: int, stamp: float) -> bool:
+        """Leg ``leg`` has been tracked for ``still_time`` and all its positions over that
+        time lie within ``still_radius`` of the current one (extension, see PersonParams)."""
+        hist = self._history.get(leg)
+        p = self.params
+        if hist is None or stamp - hist.first_stamp < p.still_time - 1e-9:
+            return False
+        pts = np.stack([q for t, q in hist.positions if t >= stamp - p.still_time - 1e-9])
+        d2 = np.sum((pts - pts[-1]) ** 2, axis=1)
+        return bool(d2.max() <= p.still_radius**2)
 
     def agreement(self, a: int, b: int) -> float:
         """S of legs ``a`` and ``b`` over the window: the sum of cosines of their orientation
@@ -166,14 +263,41 @@ class PersonFuser:
                 total += float(ua @ ub)
         return total
 
+    def mean_distance(self, a: int, b: int) -> float:
+        """Mean distance [m] of legs ``a`` and ``b`` over the positions both have (within
+        the kept history), used to pair the closest legs first."""
+        ha, hb = self._history.get(a), self._history.get(b)
+        if ha is None or hb is None:
+            return float("inf")
+        pb = dict(hb.positions)
+        d = [float(np.hypot(*(q - pb[t]))) for t, q in ha.positions if t in pb]
+        return float(np.mean(d)) if d else float("inf")
+
+    def _has_narrower_partner(self, pair: tuple[int, int], legs: Mapping[int, LegState]) -> bool:
+        """Some other leg is within theta_d of a leg of ``pair`` and would make a pair
+        narrower than max_spread with it (so dissolving ``pair`` lets them re-pair)."""
+        p = self.params
+        for a in pair:
+            la = legs[a]
+            for c, lc in legs.items():
+                if c in pair:
+                    continue
+                d = float(np.hypot(*(la.mean[:2] - lc.mean[:2])))
+                if d < p.max_leg_distance and leg_spread(la, lc, p.min_speed) <= p.max_spread:
+                    return True
+        return False
+
     def update(self, legs: Mapping[int, LegState], stamp: float) -> list[Track]:
         """Advance one step (time ``stamp`` [s]) with the current leg tracks; returns the
         person tracks."""
         p = self.params
         self._step += 1
         for leg_id, leg in legs.items():
-            hist = self._history.setdefault(leg_id, _History())
-            hist.steps.append((self._step, self._orientation(hist, stamp, leg.mean[:2].copy())))
+            hist = self._history.get(leg_id)
+            if hist is None:
+                hist = self._history[leg_id] = _History(first_stamp=stamp)
+            self._record(hist, stamp, leg.mean[:2].copy())
+            hist.steps.append((self._step, self._orientation(hist, stamp)))
             while hist.steps and hist.steps[0][0] <= self._step - p.window:
                 hist.steps.popleft()
         for leg_id in [k for k in self._history if k not in legs]:
@@ -188,21 +312,40 @@ class PersonFuser:
                 continue
             d = float(np.hypot(*(legs[a].mean[:2] - legs[b].mean[:2])))
             person.far_steps = person.far_steps + 1 if d > p.max_leg_distance else 0
-            if person.far_steps >= p.window:
+            person.spreads.append(leg_spread(legs[a], legs[b], p.min_speed))
+            if len(person.spreads) > p.window:
+                person.spreads.popleft()
+            wide = (
+                p.dissolve_wide
+                and len(person.spreads) == p.window
+                and float(np.mean(person.spreads)) > p.max_spread
+                and self._has_narrower_partner(person.legs, legs)
+            )
+            if person.far_steps >= p.window or wide:
                 del self._persons[pid]
 
-        # new persons from free legs: near, and the pairs that agree best first
+        # new persons from free legs that are near and agree (or both stand still); the
+        # pairs closest on average over the recent past first, so that the legs of two
+        # people walking side by side are not crossed
         used = {leg for person in self._persons.values() for leg in person.legs}
         free = sorted(k for k in legs if k not in used)
         candidates: list[tuple[float, int, int]] = []
         if len(free) >= 2:
             pos = np.stack([legs[k].mean[:2] for k in free])
             dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
+            still: dict[int, bool] = {}
             for i, j in zip(*np.nonzero(np.triu(dist < p.max_leg_distance, k=1)), strict=True):
-                s = self.agreement(free[i], free[j])
-                if s > p.min_agreement:
-                    candidates.append((s, free[i], free[j]))
-        candidates.sort(key=lambda c: -c[0])
+                a, b = free[i], free[j]
+                ok = self.agreement(a, b) > p.min_agreement
+                if not ok and p.validate_still:
+                    for leg_id in (a, b):
+                        if leg_id not in still:
+                            still[leg_id] = self.is_still(leg_id, stamp)
+                    ok = still[a] and still[b]
+                spread = leg_spread(legs[a], legs[b], p.min_speed)
+                if ok and spread <= p.max_spread:
+                    candidates.append((spread + self.mean_distance(a, b), a, b))
+        candidates.sort()
         for _, a, b in candidates:
             if a in used or b in used:
                 continue
@@ -211,10 +354,11 @@ class PersonFuser:
             self._persons[pid] = _Person(pid, (a, b))
             used.update((a, b))
 
+        combine = fuse_legs if p.position == "weighted" else midpoint_legs
         out: list[Track] = []
         for pid in sorted(self._persons):
             a, b = self._persons[pid].legs
-            mean, cov = fuse_legs(legs[a], legs[b])
+            mean, cov = combine(legs[a], legs[b])
             out.append(
                 Track(
                     track_id=pid,

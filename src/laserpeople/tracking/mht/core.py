@@ -21,6 +21,7 @@ best hypothesis because clusters are independent).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
@@ -37,8 +38,19 @@ from laserpeople.tracking.mht.hypothesis import (
     normalise_hypotheses,
     ratio_prune,
 )
-from laserpeople.tracking.mht.matrix import AssignmentMatrix, build_matrix, k_best_children
-from laserpeople.tracking.mht.probability import DETECTED, OCCLUDED
+from laserpeople.tracking.mht.matrix import (
+    AssignmentMatrix,
+    LabelledAssignment,
+    build_matrix,
+    k_best_children,
+)
+from laserpeople.tracking.mht.probability import (
+    DELETED,
+    DETECTED,
+    FALSE_ALARM,
+    MATCHED,
+    OCCLUDED,
+)
 from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
 from laserpeople.tracking.mht.protocols import (
     Branch,
@@ -168,6 +180,98 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     return normalise_hypotheses(
         [Hypothesis(w, tuple(sorted(t, key=_family_key)), anc) for w, t, anc in acc]
     )
+
+
+_ENUMERATE_LIMIT = 128
+"""Largest number of children (an upper bound) listed directly instead of by Murty."""
+
+
+def _track_label_choices(
+    rows: Sequence[int],
+    options: list[list[int]],
+    tm: list[list[float]],
+    c_occ: list[float],
+    c_del: list[float],
+    m: int,
+) -> list[tuple[float, list[int], tuple[int, ...]]]:
+    """Every labelling of the tracks ``rows``: (cost, labels, local measurement or -1)."""
+    out: list[tuple[float, list[int], tuple[int, ...]]] = [(0.0, [], ())]
+    for i in rows:
+        nxt: list[tuple[float, list[int], tuple[int, ...]]] = []
+        for cost, labels, meas in out:
+            nxt.append((cost + c_occ[i], [*labels, OCCLUDED], (*meas, -1)))
+            nxt.append((cost + c_del[i], [*labels, DELETED], (*meas, -1)))
+            for j in options[i]:
+                if j not in meas:
+                    nxt.append((cost + tm[i][j], [*labels, DETECTED], (*meas, j)))
+        out = nxt
+    return out
+
+
+def enumerate_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    track_meas_cost: FloatArray,
+    label_log_probs: FloatArray,
+    log_new: FloatArray,
+    log_fal: FloatArray,
+    k: int,
+    max_gap: float,
+    limit: int = _ENUMERATE_LIMIT,
+) -> list[tuple[int, LabelledAssignment, float]] | None:
+    """The k best children of a small cluster by listing every labelled assignment.
+
+    Each parent's tracks (``rows`` into the node arrays) are detected with a gated
+    measurement, occluded or deleted; each measurement left over is new or a false alarm;
+    a child costs its parent's ``priors`` entry plus the sum of these label costs (000 eq.
+    15 in -log). Same children as :func:`k_best_children` (up to the order of equal
+    costs) without building assignment problems; None when an upper bound of the number
+    of children exceeds ``limit``.
+
+    Args:
+        track_meas_cost: (n, m) ``-(log p_det + log N)``, inf where not gated.
+        label_log_probs: (n, 3) log p of detected/occluded/deleted per node.
+        log_new, log_fal: (m,) log densities of new tracks and false alarms.
+    """
+    m = track_meas_cost.shape[1]
+    options: list[list[int]] = [[] for _ in range(track_meas_cost.shape[0])]
+    for i, j in zip(*np.nonzero(np.isfinite(track_meas_cost)), strict=True):
+        options[int(i)].append(int(j))
+    bound = 0
+    for r in rows:
+        count = 2**m
+        for i in r:
+            count *= len(options[i]) + 2
+        bound += count
+        if bound > limit:
+            return None
+    tm = track_meas_cost.tolist()
+    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
+    c_del = (-label_log_probs[:, DELETED]).tolist()
+    c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
+    c_fal = (-np.asarray(log_fal, dtype=np.float64)).tolist()
+    out: list[tuple[float, int, list[int], tuple[int, ...], list[int]]] = []
+    for pi, (prior, r) in enumerate(zip(priors, rows, strict=True)):
+        for cost, labels, meas in _track_label_choices(r, options, tm, c_occ, c_del, m):
+            used = set(meas)
+            free = [j for j in range(m) if j not in used]
+            for choice in itertools.product((NEW_LABEL, FALSE_ALARM), repeat=len(free)):
+                total = float(prior) + cost
+                mlab = [MATCHED] * m
+                for j, lab in zip(free, choice, strict=True):
+                    mlab[j] = lab
+                    total += c_new[j] if lab == NEW_LABEL else c_fal[j]
+                if math.isfinite(total):
+                    out.append((total, pi, labels, meas, mlab))
+    out.sort(key=lambda c: c[0])
+    if not out:
+        return []
+    best = out[0][0]
+    return [
+        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
+        for total, pi, tl, tmeas, ml in out[:k]
+        if total <= best + max_gap
+    ]
 
 
 class MHT(Generic[Meas]):
@@ -396,16 +500,18 @@ class MHT(Generic[Meas]):
         # per node, once: costs of matching each measurement and of the unmatched labels
         g, ll = self._scores(nodes_u, measurements, meas_idx, gated, loglik, row_of)
         lp = self.labels.track_log_probs(nodes_u) if nodes_u else np.empty((0, 3))
-        tm_cost = np.where(g, -(lp[:, DETECTED, None] + ll), np.inf)
-        base = build_matrix(tm_cost, lp, log_new[meas_idx], log_fal[meas_idx])
-        priors: list[float] = []
-        matrices: list[AssignmentMatrix] = []
-        for parent, branch in plans:
-            rows = [uniq[t.node_id] for t in branch.tracks]
-            matrices.append(base.subset(rows))
-            priors.append(-(parent.log_weight + branch.log_prior))
         max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
-        solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
+        priors = [-(parent.log_weight + branch.log_prior) for parent, branch in plans]
+        rows_of = [[uniq[t.node_id] for t in b.tracks] for _, b in plans]
+        tm_cost = np.where(g, -(lp[:, DETECTED, None] + ll), np.inf)
+        solutions = enumerate_children(
+            priors, rows_of, tm_cost, lp, log_new[meas_idx], log_fal[meas_idx],
+            self.params.k_best, max_gap,
+        )  # fmt: skip
+        if solutions is None:
+            base = build_matrix(tm_cost, lp, log_new[meas_idx], log_fal[meas_idx])
+            matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
+            solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()

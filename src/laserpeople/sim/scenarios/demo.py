@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -37,7 +38,8 @@ def _demo(rng: np.random.Generator, duration: float) -> Scene:
         random_person(rng, 0, pair[0], groups=((-math.inf, 0),)),
         random_person(rng, 1, pair[1], groups=((-math.inf, 0),)),
         random_person(rng, 2, loner),
-        random_person(rng, 3, standing),
+        # feet 0.28 m apart: a person at ease, whose legs the scanner sees as two segments
+        replace(random_person(rng, 3, standing), hip_half_width=0.14),
     ]
     sensors = [
         SensorSpec("laser", "hokuyo-utm-30lx", 0.2, Pose2D(4.5, 0.15, math.pi / 2), rate_hz=20.0)

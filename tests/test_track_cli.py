@@ -62,8 +62,12 @@ def test_command_with_injected_detector(
     monkeypatch.setattr(track_cli, "make_detector", lambda *a, **k: LabelDetector())
     out = tmp_path / "t.csv"
     cfg = tmp_path / "c.toml"
-    cfg.write_text("[nn_tracker]\nmin_hits = 3\n")
-    for tracker in ("leg-mht", "nn"):
+    sections = {
+        "leg-mht": "[leg_tracker]\nlambda_fal = 0.003\n",
+        "nn": "[nn_tracker]\nmin_hits = 3\n",
+    }
+    for tracker, section in sections.items():
+        cfg.write_text(section + "[leg_detector]\n")
         result = CliRunner().invoke(
             app,
             ["--quiet", "track", str(recording), "--tracker", tracker, "--config", str(cfg),
@@ -72,6 +76,29 @@ def test_command_with_injected_detector(
         assert result.exit_code == 0, result.output
         rows = out.read_text().splitlines()
         assert rows[0].startswith("scan,stamp,track_id,kind") and len(rows) > 100
+
+
+def test_misspelt_config_section_is_an_error(recording: Path, tmp_path: Path) -> None:
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[leg_trackr]\np_occ_free = 0.5\n")
+    for args in (["--print-config"], [str(recording), "-o", str(tmp_path / "t.csv")]):
+        result = CliRunner().invoke(app, ["track", *args, "--config", str(cfg)])
+        assert isinstance(result.exception, ConfigError), result.output
+        assert "[leg_trackr]" in str(result.exception) and "[leg_tracker]" in str(result.exception)
+    assert not (tmp_path / "t.csv").exists()
+    # a section of another tracker is just as unknown to this one
+    cfg.write_text("[nn_tracker]\nmin_hits = 3\n")
+    result = CliRunner().invoke(app, ["track", "--print-config", "--config", str(cfg)])
+    assert isinstance(result.exception, ConfigError)
+
+
+def test_bag_options_on_other_recordings_are_an_error(recording: Path, tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="ROS bags only"):
+        track_cli.open_for_tracking(recording, "odom", [])
+    carmen = tmp_path / "run.log"
+    carmen.write_text("")
+    with pytest.raises(ConfigError, match="ROS bags only"):
+        track_cli.open_for_tracking(carmen, None, ["mir100"])
 
 
 def test_print_config_shows_sources() -> None:

@@ -69,36 +69,19 @@ def test_extent_ignores_a_diverging_track_far_away(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
-def test_demo_runs_end_to_end_or_names_the_missing_part(tmp_path: Path) -> None:
+def test_demo_runs_end_to_end(tmp_path: Path) -> None:
     res = runner.invoke(app, ["demo", "--seconds", "4", "--out-dir", str(tmp_path)])
-    if res.exit_code != 0:
-        from laserpeople.viz.demo import DemoPartMissingError
-
-        assert isinstance(res.exception, DemoPartMissingError), res.exception
-        pytest.skip(f"pipeline part missing: {res.exception}")
+    assert res.exit_code == 0, res.output
     assert "leg-mht" in res.output and "MOTA" in res.output
     assert (tmp_path / "demo-tracks.csv").read_text().startswith("scan,stamp,track_id")
     with Image.open(tmp_path / "demo.gif") as gif:
         assert gif.n_frames >= 10
 
 
-def test_a_missing_pipeline_part_is_named_not_faked() -> None:
-    from laserpeople.viz.demo import DemoPartMissingError, _lookup
+def test_demo_runs_every_registered_tracker_leg_mht_first() -> None:
+    from laserpeople.tracking import registry
+    from laserpeople.viz.demo import MAIN_TRACKER, tracker_factories
 
-    with pytest.raises(DemoPartMissingError, match=r"the simulator \(laserpeople\.nosuch\.run"):
-        _lookup("the simulator", ("laserpeople.nosuch",), "run_scenario")
-    with pytest.raises(DemoPartMissingError, match="does not provide yet"):
-        _lookup("the metrics", ("laserpeople.config",), "no_such_function")
-
-
-def test_demo_exits_non_zero_when_a_part_is_missing(monkeypatch: pytest.MonkeyPatch) -> None:
-    import laserpeople.viz.demo as demo_module
-
-    def missing(*args: object, **kwargs: object) -> None:
-        raise demo_module._missing("the simulator", "laserpeople.sim.run_scenario")
-
-    monkeypatch.setattr(demo_module, "simulate_demo", missing)
-    res = runner.invoke(app, ["demo", "--seconds", "1"])
-    assert res.exit_code != 0
-    assert isinstance(res.exception, demo_module.DemoPartMissingError)
-    assert "the simulator" in str(res.exception)
+    names = [name for name, _make in tracker_factories()]
+    assert names[0] == MAIN_TRACKER
+    assert sorted(names) == sorted(registry.TRACKERS)

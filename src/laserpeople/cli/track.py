@@ -9,7 +9,7 @@ from typing import Annotated, Any, Protocol
 import typer
 
 from laserpeople.cli.common import progress, say
-from laserpeople.config import load_config, to_toml
+from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.scan import Frame, Scan
 from laserpeople.tracks import Detections
@@ -60,17 +60,22 @@ def open_for_tracking(path: Path, world_frame: str | None, mounts: list[str]) ->
     bag's tf let the reader give sensor poses (moving robots)."""
     from laserpeople.io import open_recording
 
-    is_bag = path.suffix.lower() in {".bag", ".db3", ".mcap"} or (
-        path.is_dir() and (path / "metadata.yaml").exists()
-    )
-    if is_bag and (world_frame or mounts) and path.exists():
-        from laserpeople.io.poses import parse_mounts
-        from laserpeople.io.rosbag import RosbagRecording
+    if not (world_frame or mounts):
+        return open_recording(path)
+    if not _is_bag(path):
+        raise ConfigError(
+            "--world-frame and --mount apply to ROS bags only",
+            path=path,
+            hint="drop them, or give a .bag, .mcap, .db3 or ROS 2 bag folder",
+        )
+    from laserpeople.io.poses import parse_mounts
 
-        return RosbagRecording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
-    if (world_frame or mounts) and not is_bag:
-        raise ConfigError("--world-frame and --mount apply to ROS bags only", path=path)
-    return open_recording(path)
+    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
+
+
+def _is_bag(path: Path) -> bool:
+    """Whether ``path`` names a ROS bag (the formats whose reader takes tf options)."""
+    return path.suffix.lower() in {".bag", ".db3", ".mcap"} or (path / "metadata.yaml").exists()
 
 
 def run_tracking(
@@ -241,13 +246,13 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
+        from laserpeople.detection.detector import LegDetectorParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
+        check_sections(config, [LegDetectorParams, entry.params_cls])
         if print_config:
             print(to_toml(load_config(entry.params_cls, config)))
-            from laserpeople.detection.detector import LegDetectorParams
-
             print(to_toml(load_config(LegDetectorParams, config)))
             return
         if recording is None or output is None:

@@ -1,14 +1,9 @@
 """The one-command demo: simulate the ``demo`` scenario, detect legs, track with every
-available tracker, score against the simulator's ground truth, and draw the leg MHT's tracks.
-
-Each pipeline stage is looked up when the demo runs; a stage that this version does not
-provide yet stops the demo with :class:`DemoPartMissingError` naming it (never a made-up
-result).
+registered tracker, score against the simulator's ground truth, and draw the leg MHT's tracks.
 """
 
 from __future__ import annotations
 
-import importlib
 import math
 import time
 from collections.abc import Callable, Iterable
@@ -16,9 +11,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
+from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.errors import LaserPeopleError
+from laserpeople.evaluation import evaluate
 from laserpeople.io.tracks_csv import TracksCsvWriter
 from laserpeople.scan import Scan
+from laserpeople.sim import SimResult, run_scenario
+from laserpeople.tracking import registry
+from laserpeople.tracking.registry import Tracker
 from laserpeople.tracks import Detections, Tracks
 from laserpeople.truth import TruthFrame
 
@@ -28,32 +28,6 @@ Progress = Callable[[Iterable[Any], int | None, str], Iterable[Any]]
 DEMO_SCENARIO = "demo"
 MAIN_TRACKER = "leg-mht"
 GIF_MAX_FRAMES = 250
-
-
-class DemoPartMissingError(LaserPeopleError):
-    """A stage of the demo pipeline is not part of this version yet."""
-
-
-def _missing(what: str, where: str, exc: BaseException | None = None) -> DemoPartMissingError:
-    detail = f" ({type(exc).__name__}: {exc})" if exc is not None else ""
-    return DemoPartMissingError(
-        f"the demo needs {what} ({where}), which this version does not provide yet{detail}",
-        hint="the demo runs once the simulator, detector, trackers and metrics are all built",
-    )
-
-
-def _lookup(what: str, modules: tuple[str, ...], name: str) -> Any:
-    """``name`` from the first of ``modules`` that has it, or a clear missing-part error."""
-    error: BaseException | None = None
-    for module in modules:
-        try:
-            mod = importlib.import_module(module)
-        except ImportError as exc:
-            error = exc
-            continue
-        if hasattr(mod, name):
-            return getattr(mod, name)
-    raise _missing(what, f"{modules[0]}.{name}", error)
 
 
 @dataclass(frozen=True)
@@ -109,17 +83,11 @@ def _no_progress(items: Iterable[T], total: int | None, description: str) -> Ite
     return items
 
 
-def simulate_demo(seconds: float | None, seed: int) -> tuple[list[Scan], list[TruthFrame], Any]:
+def simulate_demo(
+    seconds: float | None, seed: int
+) -> tuple[list[Scan], list[TruthFrame], SimResult]:
     """Run the ``demo`` scenario; returns the first sensor's scans, the truth, the result."""
-    run_scenario = _lookup(
-        "the simulator", ("laserpeople.sim", "laserpeople.sim.scenarios"), "run_scenario"
-    )
-    try:
-        result = run_scenario(DEMO_SCENARIO, seconds=seconds, seed=seed)
-    except LaserPeopleError as exc:
-        if "unknown scenario" in str(exc):
-            raise _missing("the 'demo' scenario", "laserpeople.sim scenario library") from exc
-        raise
+    result = run_scenario(DEMO_SCENARIO, seconds=seconds, seed=seed)
     scans: list[Scan] = list(result.scans)
     if not scans:
         raise LaserPeopleError("the demo scenario produced no scans", hint="try more --seconds")
@@ -127,35 +95,22 @@ def simulate_demo(seconds: float | None, seed: int) -> tuple[list[Scan], list[Tr
     return [s for s in scans if s.sensor == first], list(result.truth), result
 
 
-def tracker_factories() -> list[tuple[str, Callable[[], Any]]]:
+def tracker_factories() -> list[tuple[str, Callable[[], Tracker]]]:
     """``(name, make)`` for every tracker of :mod:`laserpeople.tracking.registry` with its
-    default parameters, the leg MHT first; only the leg MHT while there is no registry."""
-    factories: list[tuple[str, Callable[[], Any]]] = []
-    try:
-        registry = importlib.import_module("laserpeople.tracking.registry")
-        entries = dict(registry.TRACKERS)
-    except (ImportError, AttributeError):
-        entries = {}
-    for name, entry in entries.items():
-        factories.append((name, _factory(entry)))
-    if not any(name == MAIN_TRACKER for name, _ in factories):
-        leg_mht = _lookup(
-            "the leg MHT tracker",
-            ("laserpeople.tracking", "laserpeople.tracking.legs"),
-            "LegMHTTracker",
-        )
-        factories.append((MAIN_TRACKER, leg_mht))
+    default parameters, the leg MHT first."""
+    registry.get(MAIN_TRACKER)  # the demo draws its tracks: fail at once if it is gone
+    factories = [(name, _factory(entry)) for name, entry in registry.TRACKERS.items()]
     factories.sort(key=lambda item: item[0] != MAIN_TRACKER)
     return factories
 
 
-def _factory(entry: Any) -> Callable[[], Any]:
+def _factory(entry: registry.TrackerEntry) -> Callable[[], Tracker]:
     """A no-argument maker of a registry entry's tracker with its default parameters."""
     return lambda: entry.factory(entry.params_cls())
 
 
 def run_tracker(
-    make: Callable[[], Any], detections: list[Detections]
+    make: Callable[[], Tracker], detections: list[Detections]
 ) -> tuple[list[Tracks], float]:
     """All scans through a new tracker; returns its outputs and the mean time per scan [ms]."""
     tracker = make()
@@ -178,13 +133,6 @@ def run_demo(
 ) -> DemoResult:
     """Simulate, detect, track, evaluate and draw; writes ``demo.npz``, ``demo-tracks.csv``
     and ``demo.gif`` into ``out_dir``."""
-    # Resolve every stage before the slow work, so a missing one fails at once.
-    evaluate = _lookup("the tracking metrics", ("laserpeople.evaluation",), "evaluate")
-    detector_cls = _lookup(
-        "the AdaBoost leg detector",
-        ("laserpeople.detection", "laserpeople.detection.detector"),
-        "AdaBoostLegDetector",
-    )
     factories = tracker_factories()
     skipped: list[tuple[str, str]] = []
     scans, truth, sim = simulate_demo(seconds, seed)
@@ -192,7 +140,7 @@ def run_demo(
     out.mkdir(parents=True, exist_ok=True)
     recording = sim.write(out / "demo.npz")
 
-    detector = detector_cls.default()
+    detector = AdaBoostLegDetector.default()
     t0 = time.perf_counter()
     detections = [detector.detect(s) for s in progress(scans, len(scans), "detecting")]
     det_ms = 1000.0 * (time.perf_counter() - t0) / len(scans)
@@ -254,5 +202,5 @@ def run_demo(
         tracks_csv=tracks_csv,
         gif=gif_path,
         gif_frames=gif_frames,
-        meta=dict(getattr(sim, "meta", {})),
+        meta=dict(sim.meta),
     )

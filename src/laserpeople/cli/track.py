@@ -58,11 +58,11 @@ def _choose_topic(rec: Any, topic: str | None) -> str:
 def open_for_tracking(path: Path, world_frame: str | None, mounts: list[str]) -> Any:
     """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts`` missing from the
     bag's tf let the reader give sensor poses (moving robots)."""
-    from laserpeople.io import open_recording
+    from laserpeople.io import is_rosbag, open_recording
 
     if not (world_frame or mounts):
         return open_recording(path)
-    if not _is_bag(path):
+    if not is_rosbag(path):
         raise ConfigError(
             "--world-frame and --mount apply to ROS bags only",
             path=path,
@@ -71,11 +71,6 @@ def open_for_tracking(path: Path, world_frame: str | None, mounts: list[str]) ->
     from laserpeople.io.poses import parse_mounts
 
     return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
-
-
-def _is_bag(path: Path) -> bool:
-    """Whether ``path`` names a ROS bag (the formats whose reader takes tf options)."""
-    return path.suffix.lower() in {".bag", ".db3", ".mcap"} or (path / "metadata.yaml").exists()
 
 
 def run_tracking(

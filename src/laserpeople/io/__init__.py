@@ -16,7 +16,16 @@ from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
 from laserpeople.scan import Scan
 from laserpeople.truth import TruthFrame
 
-__all__ = ["NpzRecording", "RecordingSource", "TopicInfo", "open_recording", "write_recording"]
+__all__ = [
+    "NpzRecording",
+    "RecordingSource",
+    "TopicInfo",
+    "is_rosbag",
+    "open_recording",
+    "write_recording",
+]
+
+ROSBAG_SUFFIXES = frozenset({".bag", ".db3", ".mcap"})
 
 
 @runtime_checkable
@@ -47,6 +56,12 @@ class RecordingSource(Protocol):
         ...
 
 
+def is_rosbag(path: str | Path) -> bool:
+    """Whether ``path`` names a ROS 1 or ROS 2 bag (by extension, or a ROS 2 bag folder)."""
+    p = Path(path)
+    return p.suffix.lower() in ROSBAG_SUFFIXES or (p.is_dir() and (p / "metadata.yaml").exists())
+
+
 def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     """Open a recording by its extension: ``.npz``, ``.bag``, ``.db3``/``.mcap`` (or a ROS 2
     bag folder), CARMEN ``.log``/``.clf``/``.txt``.
@@ -71,7 +86,7 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
                 f"options {', '.join(sorted(options))} do not apply to .npz recordings", path=p
             )
         return NpzRecording(p)
-    if suffix in {".bag", ".db3", ".mcap"} or (p.is_dir() and (p / "metadata.yaml").exists()):
+    if is_rosbag(p):
         from laserpeople.io.rosbag import RosbagRecording
 
         return RosbagRecording(p, **options)

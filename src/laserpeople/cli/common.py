@@ -6,8 +6,9 @@ import sys
 import time
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import TypeVar
+from typing import Annotated, TypeVar
 
+import typer
 from rich.console import Console
 from rich.progress import (
     BarColumn,
@@ -23,6 +24,24 @@ from rich.text import Text
 from laserpeople.errors import NotBuiltError
 
 T = TypeVar("T")
+
+WorldFrameOption = Annotated[
+    str | None,
+    typer.Option(
+        "--world-frame", help="Fixed frame for sensor poses in bags (default: map, else odom)."
+    ),
+]
+"""The ``--world-frame`` option of commands that read sensor poses from a bag's tf."""
+
+MountOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--mount",
+        help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta (m, rad; "
+        "repeatable), or a known robot: mir100.",
+    ),
+]
+"""The ``--mount`` option: laser mounts a bag's tf lacks."""
 
 console = Console()
 err_console = Console(stderr=True)

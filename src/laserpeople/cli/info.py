@@ -14,7 +14,7 @@ from rich import box
 from rich.console import Console
 from rich.table import Table
 
-from laserpeople.cli.common import console, progress
+from laserpeople.cli.common import MountOption, WorldFrameOption, console, progress
 from laserpeople.io import RecordingSource, open_recording
 from laserpeople.scan import Scan
 
@@ -223,20 +223,8 @@ def register(app: typer.Typer) -> None:
         as_json: Annotated[
             bool, typer.Option("--json", help="Print one JSON object instead.")
         ] = False,
-        world_frame: Annotated[
-            str | None,
-            typer.Option(
-                "--world-frame", help="Fixed frame for sensor poses (default: map, else odom)."
-            ),
-        ] = None,
-        mount: Annotated[
-            list[str] | None,
-            typer.Option(
-                "--mount",
-                help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta "
-                "(m, rad; repeatable), or a known robot: mir100.",
-            ),
-        ] = None,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
         poses: Annotated[
             bool, typer.Option("--poses/--no-poses", help="Look up sensor poses.")
         ] = True,

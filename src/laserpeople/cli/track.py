@@ -8,7 +8,7 @@ from typing import Annotated, Any, Protocol
 
 import typer
 
-from laserpeople.cli.common import progress, say
+from laserpeople.cli.common import MountOption, WorldFrameOption, progress, say
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.scan import Frame, Scan
@@ -209,21 +209,8 @@ def register(app: typer.Typer) -> None:
         output: Annotated[
             Path | None, typer.Option("--output", "-o", help="Tracks CSV to write.")
         ] = None,
-        world_frame: Annotated[
-            str | None,
-            typer.Option(
-                "--world-frame",
-                help="Fixed frame for sensor poses in bags (default: map, else odom).",
-            ),
-        ] = None,
-        mount: Annotated[
-            list[str] | None,
-            typer.Option(
-                "--mount",
-                help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta (m, rad; "
-                "repeatable), or a known robot: mir100.",
-            ),
-        ] = None,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
         plot: Annotated[
             Path | None,
             typer.Option("--plot", help="Also draw the trajectory overview to this PNG."),

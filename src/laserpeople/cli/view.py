@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from laserpeople.cli.common import progress, say
+from laserpeople.cli.common import MountOption, WorldFrameOption, progress, say
 from laserpeople.errors import LaserPeopleError
 from laserpeople.io import RecordingSource
 from laserpeople.viz.scene import SceneFrame
@@ -129,21 +129,8 @@ def register(app: typer.Typer) -> None:
         trail: Annotated[
             int, typer.Option("--trail", min=0, help="Scans of trail behind tracks.")
         ] = 20,
-        world_frame: Annotated[
-            str | None,
-            typer.Option(
-                "--world-frame",
-                help="Fixed frame for sensor poses in bags (default: map, else odom).",
-            ),
-        ] = None,
-        mount: Annotated[
-            list[str] | None,
-            typer.Option(
-                "--mount",
-                help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta "
-                "(m, rad; repeatable), or a known robot: mir100.",
-            ),
-        ] = None,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
     ) -> None:
         """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
         from laserpeople.viz import Scene, render

@@ -21,8 +21,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.errors import PoseUnavailableError
 from laserpeople.scan import Frame
+from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.probability import LabelProbabilities
@@ -141,20 +141,8 @@ class LegMHTTracker:
 
     def _measurements(self, detections: Detections) -> PointMeasurements:
         if self.frame is None:
-            self.frame = "world" if detections.sensor_pose is not None else "sensor"
-        if self.frame == "world":
-            if detections.sensor_pose is None and detections.frame != "world":
-                raise PoseUnavailableError(
-                    "tracking in the world frame but this scan has no sensor pose",
-                    scan=detections.scan_index,
-                    hint="every scan of a moving sensor needs a pose; check /tf or odometry",
-                )
-            detections = detections.to_world()
-        elif detections.frame != "sensor":
-            raise PoseUnavailableError(
-                "tracking in the sensor frame but got world-frame detections",
-                scan=detections.scan_index,
-            )
+            self.frame = tracking_frame(detections)
+        detections = in_frame(detections, self.frame)
         meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
         finite = np.isfinite(meas.positions).all(axis=1)
         if not finite.all():

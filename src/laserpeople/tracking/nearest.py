@@ -16,10 +16,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.errors import PoseUnavailableError
 from laserpeople.scan import Frame
 from laserpeople.tracking import kalman
 from laserpeople.tracking.assignment import solve
+from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
 from laserpeople.tracks import Detections, Track, Tracks
@@ -72,14 +72,8 @@ class NearestNeighbourTracker:
 
     def _positions(self, detections: Detections) -> tuple[FloatArray, FloatArray]:
         if self.frame is None:
-            self.frame = "world" if detections.sensor_pose is not None else "sensor"
-        if self.frame == "world":
-            if detections.sensor_pose is None and detections.frame != "world":
-                raise PoseUnavailableError(
-                    "tracking in the world frame but this scan has no sensor pose",
-                    scan=detections.scan_index,
-                )
-            detections = detections.to_world()
+            self.frame = tracking_frame(detections)
+        detections = in_frame(detections, self.frame)
         r = kalman.measurement_covariances(
             detections.covariances, self.params.kalman.measurement_std
         )

@@ -91,3 +91,37 @@ def test_bad_params_are_config_errors(tmp_path) -> None:  # type: ignore[no-unty
     path.write_text("[kalman]\naccel_psd = -1.0\n")
     with pytest.raises(ConfigError):
         load_config(KalmanParams, path)
+
+
+def test_coast_decays_velocity_hand_computed() -> None:
+    dt, tau, q = 0.2, 0.2, 2.0
+    mean = np.array([1.0, 2.0, 1.0, -0.5])
+    cov = np.diag([0.01, 0.02, 0.3, 0.4])
+    a = np.exp(-1.0)  # exp(-dt / tau)
+    g = tau * (1.0 - a)  # 0.126424...
+    pm, pc = kalman.coast(mean[None], cov[None], np.array([dt]), q, tau)
+    np.testing.assert_allclose(pm[0], [1.0 + g, 2.0 - 0.5 * g, a, -0.5 * a])
+    np.testing.assert_allclose(g, 0.12642411176571153)
+    f = np.array([[1, 0, g, 0], [0, 1, 0, g], [0, 0, a, 0], [0, 0, 0, a]], float)
+    qm = kalman.process_noise(np.array([dt]), q)[0]
+    np.testing.assert_allclose(pc[0], f @ cov @ f.T + qm)
+
+
+def test_coast_with_infinite_tau_is_constant_velocity() -> None:
+    mean = np.array([[1.0, 2.0, 0.5, -0.3]])
+    cov = np.diag([0.01, 0.02, 0.3, 0.4])[None]
+    dt = np.array([0.1])
+    for got, want in zip(
+        kalman.coast(mean, cov, dt, 2.0, np.inf), kalman.predict(mean, cov, dt, 2.0), strict=True
+    ):
+        np.testing.assert_array_equal(got, want)
+
+
+def test_coast_travels_at_most_tau_times_speed() -> None:
+    mean = np.array([[0.0, 0.0, 1.5, 0.0]])
+    cov = np.eye(4)[None] * 0.01
+    tau = 0.3
+    for _ in range(100):  # 10 s of 0.1 s steps; constant velocity would travel 15 m
+        mean, cov = kalman.coast(mean, cov, np.array([0.1]), 2.0, tau)
+    np.testing.assert_allclose(mean[0], [1.5 * tau, 0.0, 0.0, 0.0], atol=1e-9)
+    assert np.all(np.isfinite(cov))

@@ -230,3 +230,55 @@ def test_narrow_corridor_adaptive_beats_nonadaptive() -> None:
     assert a["legs_created"] < f["legs_created"]  # Fig. 8
     assert a["mean_hypotheses"] < 0.5 * ap["mean_hypotheses"]  # Fig. 9
     assert a["max_hypotheses"] < ap["max_hypotheses"]
+
+
+def _leg_walks_then_vanishes(tau: float) -> tuple[float, float]:
+    """One leg walks along +x at 1 m/s for 2 s (10 Hz), then is unseen for 1 s. Returns the
+    last seen x [m] and the reported x of its track at the end [m]. The leg uses the
+    *approved* probabilities (as a person's leg would), so it is kept while occluded."""
+    kal = dataclasses.replace(LegTrackerParams().kalman, coast_velocity_time=tau)
+    params = LegTrackerParams(adaptive=False, nonadaptive_class="approved", kalman=kal)
+    tracker = LegMHTTracker(params)
+    cov = np.eye(2)[None] * 0.03**2
+    last_x = 0.0
+    for k in range(21):
+        last_x = 1.0 + 0.1 * k
+        tracker.update(Detections(0.1 * k, k, np.array([[last_x, 0.5]]), cov, np.ones(1)))
+    out = None
+    for k in range(21, 31):
+        out = tracker.update(
+            Detections(0.1 * k, k, np.empty((0, 2)), np.empty((0, 2, 2)), np.empty(0))
+        )
+    assert out is not None
+    legs = out.of_kind("leg")
+    assert len(legs) == 1, "the occluded approved leg is kept"
+    return last_x, float(legs[0].position[0])
+
+
+def test_occluded_leg_coasts_at_most_tau_times_speed() -> None:
+    tau = LegTrackerParams().kalman.coast_velocity_time
+    last_x, x = _leg_walks_then_vanishes(tau)
+    # the track's speed is ~1 m/s: it stops about tau * 1 m/s past the last detection
+    assert last_x < x < last_x + 1.5 * tau
+    # the constant-velocity model of 000 (tau = inf) coasts on for the whole second
+    last_x, x_cv = _leg_walks_then_vanishes(float("inf"))
+    assert x_cv > last_x + 0.8
+
+
+def test_leg_unseen_too_long_is_kept_but_not_reported() -> None:
+    params = LegTrackerParams(adaptive=False, nonadaptive_class="approved", max_report_unseen=0.5)
+    tracker = LegMHTTracker(params)
+    cov = np.eye(2)[None] * 0.03**2
+    empty = (np.empty((0, 2)), np.empty((0, 2, 2)), np.empty(0))
+    for k in range(10):
+        out = tracker.update(Detections(0.1 * k, k, np.array([[2.0, 0.5]]), cov, np.ones(1)))
+    (leg,) = out.of_kind("leg")
+    for k in range(10, 14):  # unseen for 0.1 .. 0.4 s: still reported
+        out = tracker.update(Detections(0.1 * k, k, *empty))
+        assert [t.track_id for t in out.of_kind("leg")] == [leg.track_id]
+    out = tracker.update(Detections(1.5, 15, *empty))  # unseen for 0.6 s
+    assert out.of_kind("leg") == () and tracker.hidden_tracks == 1
+    assert [n.family for n in tracker.mht.best_tracks()] == [leg.track_id]  # still tracked
+    out = tracker.update(Detections(1.6, 16, np.array([[2.0, 0.5]]), cov, np.ones(1)))
+    assert [t.track_id for t in out.of_kind("leg")] == [leg.track_id]  # back, same id
+    assert tracker.hidden_tracks == 0

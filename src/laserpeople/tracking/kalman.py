@@ -9,6 +9,7 @@ tracks: means (T, 4), covariances (T, 4, 4), with one ``dt`` per track.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -62,6 +63,16 @@ class KalmanParams:
         "Euclidean cap on the gate around a predicted position",
         "m",
     )
+    coast_velocity_time: float = param(
+        0.35,
+        "extension of 000 (assumption): a leg's velocity does not persist while it is unseen "
+        "(a foot in stance stands still; a real walker turns). From 0.1/0.15/0.2/0.25/0.35/"
+        "0.5/0.7/1/2/inf (inf = 000's constant velocity) on the demo seeds 0-4: person MOTA "
+        "0.67 (inf) -> 0.78-0.79 over 0.1-0.35; 0.35 best on the narrow-corridor scene",
+        "tau: while a track is occluded its velocity decays as exp(-dt / tau), so it "
+        "coasts at most tau * speed past where it was last seen (inf: no decay)",
+        "s",
+    )
     max_dt: float = param(
         1.0,
         "assumption",
@@ -79,9 +90,11 @@ class KalmanParams:
             and self.measurement_std > 0
             and self.max_dt > 0
             and self.max_gate_distance > 0
+            and self.coast_velocity_time > 0
         ):
             raise ValueError(
-                "init_velocity_std, measurement_std, max_dt and max_gate_distance must be positive"
+                "init_velocity_std, measurement_std, max_dt, max_gate_distance and "
+                "coast_velocity_time must be positive"
             )
 
     @property
@@ -124,6 +137,28 @@ def predict(
     pred_means = means.copy()
     pred_means[:, :2] += means[:, 2:] * dt[:, None]
     f = transition(dt)
+    pred_covs = f @ covs @ f.transpose(0, 2, 1) + process_noise(dt, accel_psd)
+    return pred_means, pred_covs
+
+
+def coast(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray]:
+    """Predict occluded tracks over ``dt`` (T,) [s] with their velocity decaying with time
+    constant ``tau`` [s] (an Ornstein-Uhlenbeck velocity mean): v' = a v, p' = p + tau (1 - a)
+    v with a = exp(-dt / tau); covariance F P F^T + Q with that F and the white-acceleration
+    Q. ``tau = inf`` is :func:`predict`."""
+    if math.isinf(tau):
+        return predict(means, covs, dt, accel_psd)
+    dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+    means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
+    covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    a = np.exp(-dt / tau)
+    gain = tau * (1.0 - a)
+    f = transition(gain)
+    f[:, 2, 2] = a
+    f[:, 3, 3] = a
+    pred_means = np.einsum("tij,tj->ti", f, means)
     pred_covs = f @ covs @ f.transpose(0, 2, 1) + process_noise(dt, accel_psd)
     return pred_means, pred_covs
 

@@ -3,6 +3,7 @@ gate, Gaussian measurement likelihood (000 Sec. 3.1 and eq. 3)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -52,6 +53,7 @@ class KalmanPointModel:
         self.params = params
         self.gate = params.gate
         self.max_gate_sq = params.max_gate_distance**2
+        self._coasted: dict[int, tuple[FloatArray, FloatArray]] = {}
 
     def _dt(self, nodes: Sequence[TrackNode], stamp: float) -> FloatArray:
         last = np.fromiter((n.stamp for n in nodes), dtype=np.float64, count=len(nodes))
@@ -63,10 +65,17 @@ class KalmanPointModel:
             return
         means = np.stack([n.mean for n in nodes])
         covs = np.stack([n.cov for n in nodes])
-        pm, pc = kalman.predict(means, covs, self._dt(nodes, stamp), self.params.accel_psd)
+        dt = self._dt(nodes, stamp)
+        pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
         for i, n in enumerate(nodes):
             n.pred_mean = pm[i]
             n.pred_cov = pc[i]
+        self._coasted.clear()
+        tau = self.params.coast_velocity_time
+        if not math.isinf(tau):
+            # the occluded children's states, in the same batch (used by coast)
+            cm, cc = kalman.coast(means, covs, dt, self.params.accel_psd, tau)
+            self._coasted.update((n.node_id, (cm[i], cc[i])) for i, n in enumerate(nodes))
 
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
@@ -102,9 +111,23 @@ class KalmanPointModel:
         return [(means[i], covs[i], None) for i in range(len(nodes))]
 
     def coast(self, node: TrackNode, stamp: float) -> tuple[FloatArray, FloatArray, Any]:
-        """The prediction, unchanged."""
-        mean, cov = _pred(node)
-        return mean, cov, None
+        """The prediction, with the velocity decaying while occluded when
+        ``coast_velocity_time`` is finite (:func:`kalman.coast`)."""
+        tau = self.params.coast_velocity_time
+        if math.isinf(tau):
+            mean, cov = _pred(node)
+            return mean, cov, None
+        coasted = self._coasted.get(node.node_id)
+        if coasted is None:
+            means, covs = kalman.coast(
+                node.mean[None, :],
+                node.cov[None],
+                self._dt([node], stamp),
+                self.params.accel_psd,
+                tau,
+            )
+            coasted = (means[0], covs[0])
+        return coasted[0], coasted[1], None
 
     def initiate(
         self, measurements: PointMeasurements, js: Sequence[int], stamp: float

@@ -649,6 +649,7 @@ class MHT(Generic[Meas]):
                 misses=node.misses + 1,
                 age=node.age + 1,
                 payload=payload,
+                detected_stamp=node.detected_stamp,
             )
             node.children[-1] = child
         return child

@@ -14,6 +14,7 @@ however long the recording. :class:`TrackTree` keeps the per-family index of the
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
@@ -41,6 +42,8 @@ class TrackNode:
         measurement: Index of the measurement that created/updated it (-1 if occluded).
         hits: Number of scans the family was detected (including birth).
         misses: Consecutive scans without detection.
+        detected_stamp: Time [s] of the family's last detection (or birth); NaN (the
+            default) means ``stamp``.
         age: Scans since birth.
         loglik: log N(z; z_hat, S) of the update that produced it (0 for new/occluded).
         payload: Model-specific data (a group's contour and labels, ...).
@@ -66,6 +69,15 @@ class TrackNode:
     pred_mean: FloatArray | None = None
     pred_cov: FloatArray | None = None
     children: dict[int, TrackNode] = field(default_factory=dict)
+    detected_stamp: float = math.nan
+
+    def __post_init__(self) -> None:
+        if math.isnan(self.detected_stamp):
+            self.detected_stamp = self.stamp
+
+    def unseen_for(self, stamp: float) -> float:
+        """Time [s] from the family's last detection to ``stamp``."""
+        return stamp - self.detected_stamp
 
 
 class TrackTree:

@@ -1,1 +1,0 @@
-"""laserpeople.identity"""

@@ -37,6 +37,7 @@ from laserpeople.detection.report import (
     Confusion,
     best_features,
     error_table,
+    errors_by_distance,
     heuristic_predictions,
     predict,
     train_model,
@@ -181,6 +182,16 @@ def reproduce(first: Split, second: Split, T: int) -> dict[str, float]:
     heur = Confusion.of(heuristic_predictions(joint.test), joint.test.labels)
     print(error_table({"Heuristic Approach": heur, "AdaBoost": c_joint}, ""))
     print(f"paper: {PAPER_TABLE7}")
+    print(
+        errors_by_distance(
+            {
+                "Heuristic": heuristic_predictions(joint.test),
+                "AdaBoost": predict(joint_model, joint.test),
+            },
+            joint.test,
+            title="\nthe same by distance from the sensor (not in 000)",
+        )
+    )
 
     print("\n--- Table 8: adding the motion feature #14 (Table 4 setting) ---")
     motion_model = train_model(joint.train, WITH_MOTION, T, 0.1)

@@ -154,7 +154,7 @@ def test_cli_train_and_report(shared_data: Path, tmp_path: Path) -> None:
     doc = json.loads(out.read_text())
     assert doc["features"] == list(range(1, 15)) and len(doc["stumps"]) == 12
     assert doc["training"]["rounds"] == 12
-    for text in ("Tables 2-5", "Table 7", "Table 8", "Table 6", "test set"):
+    for text in ("Tables 2-5", "Table 7", "Table 8", "Table 6", "test set", "by distance"):
         assert text in result.stdout
     assert np.isfinite([s["alpha"] for s in doc["stumps"]]).all()
 

@@ -14,6 +14,7 @@ from laserpeople.detection.report import (
     Confusion,
     best_features,
     error_table,
+    errors_by_distance,
     heuristic_predictions,
     predict,
     train_model,
@@ -219,14 +220,20 @@ def register(app: typer.Typer) -> None:
         for name, part in sets:
             if len(part) == 0:
                 continue
-            ada = Confusion.of(predict(model, part), part.labels)
-            heur = Confusion.of(heuristic_predictions(part), part.labels)
+            decisions = {"Heuristic": heuristic_predictions(part), "AdaBoost": predict(model, part)}
+            ada = Confusion.of(decisions["AdaBoost"], part.labels)
+            heur = Confusion.of(decisions["Heuristic"], part.labels)
             alt = Confusion.of(predict(other_model, part), part.labels)
             console.print(ada.table(f"\nConfusion matrix, {name} (layout of 000 Tables 2-5)"))
             console.print(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
                     f"\nComparison with the heuristic approach, {name} (000 Table 7)",
+                )
+            )
+            console.print(
+                errors_by_distance(
+                    decisions, part, title=f"\nErrors by distance from the sensor, {name}"
                 )
             )
             c_with, c_without = (ada, alt) if 14 in feature_set else (alt, ada)

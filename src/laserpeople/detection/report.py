@@ -5,11 +5,14 @@
 * :func:`error_table` — false negatives, false positives and overall error in percent, one
   column per classifier (Tables 7 and 8).
 * :func:`best_features` — the features of the strongest weak classifiers (Table 6).
+* :func:`errors_by_distance` — the same errors per band of distance from the sensor (not in
+  000; it shows where a detector fails, since a leg far away has few points).
 * :func:`evaluate` — train AdaBoost on one set, test it and the heuristic on another.
 """
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -108,6 +111,43 @@ def error_table(columns: Mapping[str, Confusion], title: str) -> str:
         ("Overall Error (%)", "overall_error"),
     ):
         rows.append((label, *(f"{getattr(columns[n], attr):.2f}" for n in names)))
+    return _format(title, rows)
+
+
+DISTANCE_BANDS: tuple[float, ...] = (0.0, 1.0, 2.0, 3.0, 5.0, 8.0)
+"""Band edges [m] of :func:`errors_by_distance`; the last band is open."""
+
+
+def errors_by_distance(
+    columns: Mapping[str, NDArray[np.integer]],
+    data: LabelledSegments,
+    edges: Sequence[float] = DISTANCE_BANDS,
+    title: str = "",
+) -> str:
+    """Legs, non-legs and each classifier's FN / FP [%] per band of sensor distance.
+
+    Args:
+        columns: Decisions (N,) of each classifier on ``data`` (+1 leg / -1 not).
+        data: The labelled segments the decisions are for.
+        edges: Increasing band edges [m]; the last band has no upper limit.
+        title: First line of the table.
+    """
+    names = list(columns)
+    rows = [("distance [m]", "legs", "non-legs", *(f"{n} FN / FP (%)" for n in names))]
+    bounds = [*edges, float("inf")]
+    for lo, hi in itertools.pairwise(bounds):
+        band = (data.distance >= lo) & (data.distance < hi)
+        if not band.any():
+            continue
+        truth = data.labels[band]
+        cells = []
+        for n in names:
+            c = Confusion.of(np.asarray(columns[n])[band], truth)
+            fn = f"{c.fn_rate:.1f}" if c.positives else "-"
+            fp = f"{c.fp_rate:.1f}" if c.negatives else "-"
+            cells.append(f"{fn} / {fp}")
+        label = f"{lo:g}-{hi:g}" if np.isfinite(hi) else f">= {lo:g}"
+        rows.append((label, str(int((truth > 0).sum())), str(int((truth < 0).sum())), *cells))
     return _format(title, rows)
 
 

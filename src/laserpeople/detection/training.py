@@ -72,6 +72,7 @@ class LabelledSegments:
     Attributes:
         features: Feature matrix (N, 14).
         max_beam_motion: Largest beam range change (N,) [m] since the previous scan.
+        distance: Distance (N,) [m] of each segment's centre from the sensor.
         labels: +1 leg / -1 not a leg (N,).
         group: Index (N,) into ``groups`` of the recording each segment came from.
         scan: Scan index (N,) on its topic.
@@ -80,6 +81,7 @@ class LabelledSegments:
 
     features: FloatArray
     max_beam_motion: FloatArray
+    distance: FloatArray
     labels: IntArray
     group: IntArray
     scan: IntArray
@@ -103,6 +105,7 @@ class LabelledSegments:
         return LabelledSegments(
             self.features[mask],
             self.max_beam_motion[mask],
+            self.distance[mask],
             self.labels[mask],
             self.group[mask],
             self.scan[mask],
@@ -132,6 +135,7 @@ class LabelledSegments:
         return cls(
             np.empty((0, N_FEATURES)),
             np.empty(0),
+            np.empty(0),
             np.empty(0, dtype=np.int64),
             np.empty(0, dtype=np.int64),
             np.empty(0, dtype=np.int64),
@@ -155,6 +159,7 @@ class LabelledSegments:
         return cls(
             np.concatenate([p.features for p in parts]),
             np.concatenate([p.max_beam_motion for p in parts]),
+            np.concatenate([p.distance for p in parts]),
             np.concatenate([p.labels for p in parts]),
             np.concatenate(groups),
             np.concatenate([p.scan for p in parts]),
@@ -173,7 +178,7 @@ def label_scans(
     segmenter = JumpDistanceSegmenter(segmentation)
     previous: dict[str, Scan] = {}
     names: list[str] = []
-    feats, motion, labels, group, scan_idx = [], [], [], [], []
+    feats, motion, distance, labels, group, scan_idx = [], [], [], [], [], []
     for scan in scans:
         table = segmenter(scan)
         f = compute_features(
@@ -195,6 +200,7 @@ def label_scans(
             names.append(name)
         feats.append(f.values[keep])
         motion.append(f.max_beam_motion[keep])
+        distance.append(np.hypot(f.centres[keep, 0], f.centres[keep, 1]))
         labels.append(lab[keep])
         group.append(np.full(int(keep.sum()), names.index(name), dtype=np.int64))
         scan_idx.append(np.full(int(keep.sum()), scan.index, dtype=np.int64))
@@ -203,6 +209,7 @@ def label_scans(
     return LabelledSegments(
         np.concatenate(feats),
         np.concatenate(motion),
+        np.concatenate(distance),
         np.concatenate(labels).astype(np.int64),
         np.concatenate(group),
         np.concatenate(scan_idx),

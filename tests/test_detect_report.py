@@ -1,0 +1,45 @@
+"""The report tables of leg classifiers (000 Tables 2-8 and the per-distance breakdown)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from laserpeople.detection.features import N_FEATURES
+from laserpeople.detection.report import Confusion, error_table, errors_by_distance
+from laserpeople.detection.training import LabelledSegments
+
+
+def _segments(labels: list[int], distance: list[float]) -> LabelledSegments:
+    n = len(labels)
+    return LabelledSegments(
+        np.zeros((n, N_FEATURES)),
+        np.zeros(n),
+        np.asarray(distance, dtype=np.float64),
+        np.asarray(labels, dtype=np.int64),
+        np.zeros(n, dtype=np.int64),
+        np.arange(n, dtype=np.int64),
+        ("rec",),
+    )
+
+
+def test_confusion_rates_by_hand() -> None:
+    c = Confusion.of(np.array([1, 1, -1, -1, 1]), np.array([1, -1, 1, -1, -1]))
+    assert (c.tp, c.fn, c.fp, c.tn) == (1, 1, 2, 1)
+    assert c.fn_rate == 50.0 and np.isclose(c.fp_rate, 200 / 3) and c.overall_error == 60.0
+    assert c.detection_rate == 50.0
+    text = error_table({"A": c}, "t")
+    assert "50.00" in text and "66.67" in text and "60.00" in text
+
+
+def test_errors_by_distance_by_hand() -> None:
+    # band 0-1 m: 2 legs (one missed), 2 non-legs (one false alarm);
+    # band 1-2 m: empty (not printed); band >= 2 m: one non-leg, correctly rejected
+    data = _segments([1, 1, -1, -1, -1], [0.5, 0.9, 0.2, 0.99, 7.0])
+    decisions = np.array([1, -1, 1, -1, -1])
+    text = errors_by_distance({"AdaBoost": decisions}, data, edges=(0.0, 1.0, 2.0), title="T")
+    lines = text.splitlines()
+    assert lines[0] == "T"
+    rows = {line.split()[0]: line.split() for line in lines[3:]}
+    assert set(rows) == {"0-1", ">="}
+    assert rows["0-1"][1:] == ["2", "2", "50.0", "/", "50.0"]
+    assert rows[">="][1:] == ["2", "0", "1", "-", "/", "0.0"]

@@ -132,6 +132,23 @@ def test_adaboost_detector_finds_the_leg_in_sensor_frame() -> None:
     assert len(d.segments) == 1 and len(d.segments[0]) >= 3
 
 
+def test_distance_limits_leave_segments_unclassified() -> None:
+    scan = leg_scan(0.0, 1.5)  # the leg's centroid is ~1.46 m from the sensor
+    for limits, found in (
+        ({"min_distance": 1.4}, 1),
+        ({"min_distance": 1.5}, 0),
+        ({"max_distance": 1.5}, 1),
+        ({"max_distance": 1.4}, 0),
+    ):
+        det = AdaBoostLegDetector(toy_model(), LegDetectorParams(**limits))
+        result = det.classify(scan)
+        assert int(result.is_leg.sum()) == found, limits
+        if not found:
+            assert np.isnan(result.scores[result.features.classifiable]).any()
+    with pytest.raises(ValueError, match="min_distance"):
+        LegDetectorParams(min_distance=2.0, max_distance=1.0)
+
+
 def test_default_detector_runs_and_keeps_previous_scan() -> None:
     det = AdaBoostLegDetector.default()
     det.detect(leg_scan(0.0, 1.5))

@@ -181,3 +181,28 @@ def test_cli_train_and_detect_report_on_simulated_truth(tmp_path: Path) -> None:
     )
     assert res.exit_code == 0, res.output
     assert "Table 7" in res.stdout and "AdaBoost" in res.stdout
+
+
+def test_cli_detect_config_sets_distance_limits(tmp_path: Path) -> None:
+    sim = pytest.importorskip("laserpeople.sim")
+    rec = tmp_path / "demo.npz"
+    sim.run_scenario("demo", seconds=2, seed=1).write(rec)
+    rows = {}
+    for name, text in (("none", ""), ("near", "[leg_detector]\nmax_distance = 0.3\n")):
+        cfg = tmp_path / f"{name}.toml"
+        cfg.write_text(text)
+        out = tmp_path / f"{name}.csv"
+        res = CliRunner().invoke(
+            app, ["--quiet", "detect", str(rec), "-o", str(out), "--config", str(cfg)]
+        )
+        assert res.exit_code == 0, res.output
+        rows[name] = len(out.read_text().splitlines()) - 1
+    assert rows["none"] > 10 and rows["near"] == 0
+    from laserpeople.errors import ConfigError
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[leg_detector]\nmin_distance = -1.0\n")
+    res = CliRunner().invoke(
+        app, ["detect", str(rec), "-o", str(tmp_path / "x.csv"), "--config", str(bad)]
+    )
+    assert isinstance(res.exception, ConfigError) and "min_distance" in str(res.exception)

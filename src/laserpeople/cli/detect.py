@@ -9,6 +9,8 @@ import numpy as np
 import typer
 
 from laserpeople.cli.common import console, progress, say
+from laserpeople.cli.track import make_detector
+from laserpeople.config import check_sections
 from laserpeople.detection.report import Confusion, error_table
 from laserpeople.errors import ConfigError
 
@@ -50,10 +52,15 @@ def register(app: typer.Typer) -> None:
             bool,
             typer.Option("--report", help="Print confusion matrices against beam ground truth."),
         ] = False,
+        config: Annotated[
+            Path | None,
+            typer.Option("--config", help="TOML file with [leg_detector] parameters."),
+        ] = None,
     ) -> None:
         from laserpeople.detection.detector import (
             AdaBoostLegDetector,
             HeuristicLegDetector,
+            LegDetectorParams,
             ScanClassification,
         )
         from laserpeople.detection.training import beam_truth_labeller
@@ -61,18 +68,15 @@ def register(app: typer.Typer) -> None:
         from laserpeople.io.detections_csv import DetectionsCsvWriter
 
         topic = topic or []
-        if detector_name not in ("adaboost", "heuristic"):
-            raise ConfigError(f"--detector must be adaboost or heuristic, got {detector_name!r}")
-        if detector_name == "heuristic":
-            if model is not None:
-                raise ConfigError("--model applies to the adaboost detector only")
-            det: AdaBoostLegDetector | HeuristicLegDetector = HeuristicLegDetector()
-        elif model is not None:
-            det = AdaBoostLegDetector.from_file(model)
-        else:
-            det = AdaBoostLegDetector.default()
-        # the baseline must see the same segments as the detector it is compared with
-        baseline = HeuristicLegDetector(segmentation=det.segmenter.params) if report else None
+        check_sections(config, [LegDetectorParams])
+        det = make_detector(detector_name, model, config)
+        assert isinstance(det, AdaBoostLegDetector | HeuristicLegDetector)
+        # the baseline must see the same segments and distance limits as the detector
+        baseline = (
+            HeuristicLegDetector(segmentation=det.segmenter.params, params=det.params)
+            if report
+            else None
+        )
         rec = open_recording(recording)
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []

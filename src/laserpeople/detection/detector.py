@@ -59,6 +59,21 @@ class LegDetectorParams:
         "000 Table 1 (H(e) = sign(F(e)))",
         "segments with AdaBoost margin above this are legs",
     )
+    min_distance: float = param(
+        0.0,
+        "extension (000 classifies every segment): 0 keeps that",
+        "segments whose centre is closer to the sensor are never legs; set it just beyond the "
+        "robot's own body when the laser sees parts of its robot (leg_tracker's rear laser "
+        "does, at 0.2-0.3 m)",
+        "m",
+    )
+    max_distance: float = param(
+        float("inf"),
+        "extension (000 classifies every segment): no limit keeps that",
+        "segments whose centre is farther from the sensor are never legs (few beams hit a far "
+        "leg, so far clutter is easily mistaken for one)",
+        "m",
+    )
     centre_offset: float = param(
         0.045,
         "our choice (000 uses the segment centre): the scanner sees the near half of a leg of "
@@ -66,6 +81,10 @@ class LegDetectorParams:
         "distance a leg's position is moved from its points' centroid away from the sensor",
         "m",
     )
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.min_distance < self.max_distance:
+            raise ValueError("need 0 <= min_distance < max_distance")
 
 
 DEFAULT_LEG_DETECTOR_PARAMS = LegDetectorParams()
@@ -78,8 +97,9 @@ class ScanClassification:
     Attributes:
         table: The segments.
         features: Their features.
-        scores: Score (M,) of every segment (NaN for segments with fewer than 3 points).
-        is_leg: Decision (M,) for every segment (False for unclassified small segments).
+        scores: Score (M,) of every segment (NaN for segments not classified: fewer than 3
+            points, or outside the detector's distance limits).
+        is_leg: Decision (M,) for every segment (False for unclassified segments).
     """
 
     table: SegmentTable
@@ -119,7 +139,12 @@ class _SegmentDetector(abc.ABC):
         )
         self._previous[scan.sensor] = scan
         scores = np.full(len(table), np.nan)
-        ok = feats.classifiable
+        distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
+        ok = (
+            feats.classifiable
+            & (distance >= self.params.min_distance)
+            & (distance <= self.params.max_distance)
+        )
         if ok.any():
             scores[ok] = self._scores(_subset(feats, ok))
         with np.errstate(invalid="ignore"):

@@ -25,7 +25,7 @@ import itertools
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
-from typing import Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -300,6 +300,9 @@ class MHT(Generic[Meas]):
         self.links: dict[tuple[int, int], int] = {}
         self.generation = 0
         self.stamp: float | None = None
+        # this scan's child states, computed in one batch by _prepare_children
+        self._updates: dict[tuple[int, int], tuple[FloatArray, FloatArray, Any]] = {}
+        self._initiated: dict[int, tuple[FloatArray, FloatArray, Any]] = {}
 
     # ------------------------------------------------------------------ public
 
@@ -327,6 +330,7 @@ class MHT(Generic[Meas]):
             gated = np.zeros((len(live), n_meas), dtype=bool)
             loglik = np.full((len(live), n_meas), -np.inf)
         row_of = {n.node_id: i for i, n in enumerate(live)}
+        self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()
         components = self._components(fam_meas, n_meas)
@@ -582,6 +586,24 @@ class MHT(Generic[Meas]):
 
     # ------------------------------------------------------------------ track tree
 
+    def _prepare_children(
+        self, live: list[TrackNode], gated: BoolArray, measurements: Meas, stamp: float
+    ) -> None:
+        """Compute, in one batch each, the update of every live node with every measurement
+        it gates and a new track at every measurement; the clusters then take what their
+        children need (one batch per scan instead of one per cluster)."""
+        rows, cols = np.nonzero(gated)
+        nodes = [live[i] for i in rows.tolist()]
+        js = cols.tolist()
+        states = self.model.update(nodes, measurements, js, stamp) if nodes else []
+        self._updates = {(n.node_id, j): st for n, j, st in zip(nodes, js, states, strict=True)}
+        every = list(range(len(measurements)))
+        self._initiated = dict(
+            zip(
+                every, self.model.initiate(measurements, every, stamp) if every else [], strict=True
+            )
+        )
+
     def _make_detected_children(
         self,
         pairs: list[tuple[TrackNode, int]],
@@ -593,10 +615,16 @@ class MHT(Generic[Meas]):
         """Create (once) the child of each node updated with its measurement."""
         if not pairs:
             return
-        states = self.model.update(
-            [p[0] for p in pairs], measurements, [p[1] for p in pairs], stamp
-        )
-        for (node, j), (mean, cov, payload) in zip(pairs, states, strict=True):
+        missing = [p for p in pairs if (p[0].node_id, p[1]) not in self._updates]
+        if missing:  # nodes a branch generator made or re-predicted
+            states = self.model.update(
+                [p[0] for p in missing], measurements, [p[1] for p in missing], stamp
+            )
+            self._updates.update(
+                ((node.node_id, j), st) for (node, j), st in zip(missing, states, strict=True)
+            )
+        for node, j in pairs:
+            mean, cov, payload = self._updates[(node.node_id, j)]
             row = row_of.get(node.node_id)
             node.children[j] = TrackNode(
                 node_id=self.tree.new_node_id(),
@@ -616,9 +644,9 @@ class MHT(Generic[Meas]):
 
     def _new_nodes(self, js: list[int], measurements: Meas, stamp: float) -> dict[int, TrackNode]:
         """One new track (a new family) per measurement labelled *new* in some child."""
-        states = self.model.initiate(measurements, js, stamp) if js else []
         out: dict[int, TrackNode] = {}
-        for j, (mean, cov, payload) in zip(js, states, strict=True):
+        for j in js:
+            mean, cov, payload = self._initiated[j]
             out[j] = TrackNode(
                 node_id=self.tree.new_node_id(),
                 family=self.tree.new_family(),

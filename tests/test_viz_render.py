@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -11,26 +9,19 @@ import pytest
 
 from laserpeople.errors import LaserPeopleError
 from laserpeople.viz import Scene, export_mcap, plot_scan, render, track_color
-from laserpeople.viz.figure import AXES_BOX
-from laserpeople.viz.geometry import square_extent
-from test_viz_support import SENSOR, make_scans, make_tracks, make_truth, people_at, write_scene
+from test_viz_support import (
+    SENSOR,
+    make_scans,
+    make_tracks,
+    make_truth,
+    near_colour,
+    people_at,
+    pixel_of,
+    write_scene,
+)
 
 pytest.importorskip("matplotlib")
 from PIL import Image
-
-
-def pixel_of(xy: np.ndarray, extent: tuple[float, float, float, float], size: tuple[int, int]):
-    """Where a point lands in the picture, computed from the layout alone."""
-    box_w, box_h = AXES_BOX[2] * size[0], AXES_BOX[3] * size[1]
-    x0, x1, y0, y1 = square_extent(extent, (box_w, box_h))
-    col = AXES_BOX[0] * size[0] + (xy[0] - x0) / (x1 - x0) * box_w
-    row = size[1] - (AXES_BOX[1] * size[1] + (xy[1] - y0) / (y1 - y0) * box_h)
-    return round(col), round(row)
-
-
-def near_colour(img: np.ndarray, col: int, row: int, rgb: tuple[int, int, int], r: int = 2):
-    patch = img[row - r : row + r + 1, col - r : col + r + 1].astype(int)
-    return bool(np.any(np.all(np.abs(patch - np.array(rgb)) <= 3, axis=-1)))
 
 
 def test_png_of_one_scan_has_its_size_and_tracks_where_they_are(tmp_path: Path) -> None:
@@ -114,31 +105,6 @@ def test_gif_frames_show_the_track_where_it_is_at_that_scan(tmp_path: Path) -> N
         or np.abs(img[row - 2 : row + 3, col - 2 : col + 3].astype(int) - rgb).sum(axis=-1).min()
         < 40
     )  # GIF palette rounding
-
-
-def test_mp4_needs_ffmpeg(tmp_path: Path) -> None:
-    rec, csv = write_scene(tmp_path, n=4)
-    out = tmp_path / "a.mp4"
-    if shutil.which("ffmpeg") is None:
-        with pytest.raises(LaserPeopleError, match="ffmpeg"):
-            render(Scene(rec, csv), out)
-        assert not out.exists()
-    else:
-        assert render(Scene(rec, csv), out).frames == 4
-        assert out.stat().st_size > 1000
-
-
-def test_rrd_without_rerun_names_the_extra(tmp_path: Path) -> None:
-    rec, csv = write_scene(tmp_path, n=4)
-    try:
-        import rerun  # noqa: F401
-    except ImportError:
-        with pytest.raises(LaserPeopleError, match=r"laserpeople\[rerun\]"):
-            render(Scene(rec, csv), tmp_path / "a.rrd")
-        return
-    out = tmp_path / "a.rrd"
-    assert render(Scene(rec, csv), out).frames == 4
-    assert out.stat().st_size > 0
 
 
 def test_mcap_reads_back_with_channels_counts_and_markers(tmp_path: Path) -> None:
@@ -228,31 +194,6 @@ def test_mcap_export_reads_back_through_the_project_reader(tmp_path: Path) -> No
     pose = scans[3].pose
     if pose is not None:  # the reader places the scan with /tf when it reads poses
         assert np.allclose(pose.as_array(), SENSOR.as_array(), atol=1e-6)
-
-
-def test_mp4_frames_are_piped_to_ffmpeg(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """With a stand-in ``ffmpeg`` that records what it is sent: every frame arrives whole."""
-    import sys
-
-    fake = tmp_path / "bin" / "ffmpeg"
-    fake.parent.mkdir()
-    fake.write_text(
-        f"#!{sys.executable}\n"
-        "import sys\n"
-        "args = sys.argv[1:]\n"
-        "w, h = map(int, args[args.index('-s') + 1].split('x'))\n"
-        "data = sys.stdin.buffer.read()\n"
-        "assert len(data) % (w * h * 3) == 0\n"
-        "rate = args[args.index('-r') + 1]\n"
-        "open(args[-1], 'w').write(f'{len(data) // (w * h * 3)} {w} {h} {rate}')\n"
-    )
-    fake.chmod(0o755)
-    monkeypatch.setenv("PATH", f"{fake.parent}:{os.environ.get('PATH', '')}")
-    rec, csv = write_scene(tmp_path, n=7)
-    out = tmp_path / "a.mp4"
-    result = render(Scene(rec, csv, every=2), out, size=(320, 240))
-    assert result.frames == 4
-    assert out.read_text() == "4 320 240 5"  # scans 0, 2, 4, 6 at 0.2 s each: 5 frames/s
 
 
 def test_one_shot_iterators_survive_the_sizing_pass(tmp_path: Path) -> None:

@@ -14,6 +14,8 @@ from laserpeople.io.tracks_csv import TracksCsvWriter
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracks import Track, Tracks
 from laserpeople.truth import TruthFrame
+from laserpeople.viz.figure import AXES_BOX
+from laserpeople.viz.geometry import square_extent
 
 ROOM = (-4.0, 6.0, -3.0, 5.0)  # xmin, xmax, ymin, ymax [m]
 SENSOR = Pose2D(0.5, 1.0, 0.3)
@@ -102,3 +104,23 @@ def write_scene(tmp: Path, n: int = 12) -> tuple[Path, Path]:
         for t in make_tracks(n):
             w.write(t)
     return rec, csv
+
+
+def pixel_of(
+    xy: np.ndarray, extent: tuple[float, float, float, float], size: tuple[int, int]
+) -> tuple[int, int]:
+    """Where a point lands in the picture, computed from the layout alone."""
+    box_w, box_h = AXES_BOX[2] * size[0], AXES_BOX[3] * size[1]
+    x0, x1, y0, y1 = square_extent(extent, (box_w, box_h))
+    col = AXES_BOX[0] * size[0] + (xy[0] - x0) / (x1 - x0) * box_w
+    row = size[1] - (AXES_BOX[1] * size[1] + (xy[1] - y0) / (y1 - y0) * box_h)
+    return round(col), round(row)
+
+
+def near_colour(
+    img: np.ndarray, col: int, row: int, rgb: tuple[int, int, int], r: int = 2, tol: int = 3
+) -> bool:
+    """Whether some pixel within ``r`` px of ``(col, row)`` has every channel within ``tol``
+    of ``rgb``."""
+    patch = img[row - r : row + r + 1, col - r : col + r + 1].astype(int)
+    return bool(np.any(np.all(np.abs(patch - np.array(rgb)) <= tol, axis=-1)))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import subprocess
 from collections.abc import Iterable, Iterator
@@ -238,31 +239,46 @@ def write_gif(
     return len(frames)
 
 
+def find_ffmpeg() -> str | None:
+    """The ``ffmpeg`` program: the one on the PATH, else the static binary bundled with the
+    optional ``imageio-ffmpeg`` package (extra ``plots``), else None."""
+    on_path = shutil.which("ffmpeg")
+    if on_path is not None:
+        return on_path
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return None
+    try:
+        return str(imageio_ffmpeg.get_ffmpeg_exe())
+    except RuntimeError:  # the package is there but has no binary for this platform
+        return None
+
+
 def require_ffmpeg(out: str | Path) -> str:
-    """The path of the ``ffmpeg`` program, or a clear error naming what to do."""
-    ffmpeg = shutil.which("ffmpeg")
+    """The path of the ``ffmpeg`` program (see :func:`find_ffmpeg`), or a clear error naming
+    what to install."""
+    ffmpeg = find_ffmpeg()
     if ffmpeg is None:
         raise VideoEncoderMissingError(
-            "writing .mp4 needs the ffmpeg program, which is not on this machine",
+            "writing .mp4 needs the ffmpeg program, which is neither on the PATH nor bundled "
+            "by imageio-ffmpeg",
             path=out,
-            hint="install ffmpeg (e.g. apt install ffmpeg) or write a .gif instead",
+            hint="pip install 'laserpeople[plots]' (bundles ffmpeg), or install ffmpeg "
+            "(e.g. apt install ffmpeg), or write a .gif instead",
         )
     return ffmpeg
 
 
-def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float) -> int:
-    """Encode RGB images as H.264 MP4 by piping raw frames to ``ffmpeg``."""
-    ffmpeg = require_ffmpeg(out)
-    p = Path(out)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    it = iter(images)
-    first = next(it, None)
-    if first is None:
-        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
-    h, w = first.shape[:2]
-    cmd = [
+def mp4_command(ffmpeg: str, size: tuple[int, int], frame_seconds: float, out: Path) -> list[str]:
+    """The ffmpeg command line reading raw RGB frames of ``size`` ``(width, height)`` [px]
+    from stdin and writing H.264 (yuv420p, so width and height are padded to even numbers
+    with white) at ``1 / frame_seconds`` frames/s to ``out``."""
+    w, h = size
+    return [
         ffmpeg,
         "-y",
+        "-nostdin",
         "-loglevel",
         "error",
         "-f",
@@ -275,29 +291,65 @@ def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float)
         f"{1.0 / frame_seconds:.6g}",
         "-i",
         "-",
+        "-an",
         "-vf",
-        "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+        "pad=ceil(iw/2)*2:ceil(ih/2)*2:0:0:white",
+        "-c:v",
+        "libx264",
         "-pix_fmt",
         "yuv420p",
-        "-vcodec",
-        "libx264",
-        str(p),
+        "-crf",
+        "20",
+        "-movflags",
+        "+faststart",
+        str(out),
     ]
+
+
+def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float) -> int:
+    """Encode RGB images (all the same size) as H.264 MP4 by piping raw frames to
+    ``ffmpeg``; returns the frame count."""
+    ffmpeg = require_ffmpeg(out)
+    p = Path(out)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    it = iter(images)
+    first = next(it, None)
+    if first is None:
+        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    h, w = first.shape[:2]
+    cmd = mp4_command(ffmpeg, (w, h), frame_seconds, p)
     n = 0
-    with subprocess.Popen(cmd, stdin=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
+    with subprocess.Popen(
+        cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    ) as proc:
         assert proc.stdin is not None
         try:
             for img in _chain(first, it):
-                proc.stdin.write(np.ascontiguousarray(img).tobytes())
+                if img.shape != first.shape:
+                    raise LaserPeopleError(
+                        f"frame {n} is {img.shape[1]}x{img.shape[0]} px, the first was {w}x{h}",
+                        path=p,
+                    )
+                proc.stdin.write(np.ascontiguousarray(img, dtype=np.uint8).tobytes())
                 n += 1
         except BrokenPipeError:
-            pass
+            pass  # ffmpeg stopped early; its message is reported below
+        except BaseException:
+            proc.kill()
+            raise
         finally:
-            proc.stdin.close()
+            with contextlib.suppress(BrokenPipeError):
+                proc.stdin.close()
         err = proc.stderr.read().decode(errors="replace") if proc.stderr else ""
         code = proc.wait()
     if code != 0:
-        raise LaserPeopleError(f"ffmpeg failed: {err.strip()[-400:]}", path=p)
+        p.unlink(missing_ok=True)  # a half-written file is no use
+        raise LaserPeopleError(
+            f"ffmpeg ({ffmpeg}) failed after {n} frames: {err.strip()[-400:]}",
+            path=p,
+            hint="an ffmpeg without libx264 cannot write H.264: pip install "
+            "'laserpeople[plots]' bundles one that can",
+        )
     return n
 
 

@@ -1,8 +1,12 @@
-"""Export a scene to a rerun ``.rrd`` file (needs the optional ``rerun-sdk``).
+"""Export a scene to a rerun ``.rrd`` file (needs the optional ``rerun-sdk`` >= 0.23, for
+``RecordingStream(application_id)`` and ``set_time``; the tests write and read back files
+with 0.41).
 
 Entities under ``world/``: ``scan`` (points), ``sensor``, ``legs``, ``people``,
-``groups`` (contours with labels), ``covariance`` (95 % ellipses), ``truth``. Two
-timelines: ``scan`` (the 0-based scan index) and ``time`` (the scan stamp [s]).
+``groups`` (closed contours, or the covariance ellipse when the contour is unknown, with
+labels), ``covariance`` (95 % ellipses) and ``truth``; each is logged once per drawn scan,
+empty when there is nothing to show, so that old tracks disappear. Two timelines: ``scan``
+(the 0-based scan index, a sequence) and ``time`` (the scan stamp [s], a duration).
 """
 
 from __future__ import annotations
@@ -19,9 +23,12 @@ from laserpeople.viz.colors import SCAN_POINTS, SENSOR, TRUTH, track_color
 from laserpeople.viz.geometry import covariance_ellipses
 from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, track_positions
 
+APPLICATION_ID = "laserpeople"
+MIN_RERUN_VERSION = "0.23"  # RecordingStream(application_id) and set_time(...)
+
 
 class RerunMissingError(LaserPeopleError):
-    """The rerun SDK is not installed."""
+    """The rerun SDK is not installed, or is older than :data:`MIN_RERUN_VERSION`."""
 
 
 def import_rerun() -> ModuleType:
@@ -33,17 +40,19 @@ def import_rerun() -> ModuleType:
             "writing .rrd needs the rerun SDK, which is not installed",
             hint="pip install 'laserpeople[rerun]'",
         ) from exc
+    if not hasattr(rerun.RecordingStream, "set_time"):  # before 0.23
+        raise RerunMissingError(
+            f"writing .rrd needs rerun-sdk {MIN_RERUN_VERSION} or newer, this is "
+            f"{getattr(rerun, '__version__', 'an older one')}",
+            hint=f"pip install -U 'rerun-sdk>={MIN_RERUN_VERSION}'",
+        )
     return rerun
 
 
 def _set_time(rec: Any, scan_index: int, stamp: float) -> None:
-    """Set both timelines, on rerun versions before and after the ``set_time`` API."""
-    if hasattr(rec, "set_time"):
-        rec.set_time("scan", sequence=scan_index)
-        rec.set_time("time", duration=stamp)
-    else:
-        rec.set_time_sequence("scan", scan_index)
-        rec.set_time_seconds("time", stamp)
+    """Set both timelines (the ``set_time`` API of rerun >= 0.23)."""
+    rec.set_time("scan", sequence=scan_index)
+    rec.set_time("time", duration=stamp)
 
 
 def export_rerun(
@@ -57,7 +66,7 @@ def export_rerun(
     rr = import_rerun()
     p = Path(out)
     p.parent.mkdir(parents=True, exist_ok=True)
-    rec = rr.RecordingStream("laserpeople")
+    rec = rr.RecordingStream(APPLICATION_ID)
     rec.save(str(p))
     frames: Iterable[SceneFrame] = scene.frames()
     if progress is not None:
@@ -81,21 +90,28 @@ def export_rerun(
                     labels=[f"{kind[0].upper()}{t.track_id}" for t in tracks],
                 ),
             )
-        groups = [g for g in f.tracks.of_kind("group") if g.contour.shape[0] >= 3]
-        rec.log(
-            "world/groups",
-            rr.LineStrips2D(
-                [np.vstack([g.contour, g.contour[:1]]) for g in groups],
-                colors=[track_color(g.track_id, "group") for g in groups],
-                labels=[f"G{g.track_id} x{g.size}" for g in groups],
-            ),
-        )
         all_tracks = f.tracks.tracks
         ellipses = covariance_ellipses(
             track_positions(all_tracks),
             np.array([t.covariance for t in all_tracks]).reshape(-1, 2, 2),
         )
-        keep = [i for i in range(len(all_tracks)) if np.all(np.isfinite(ellipses[i]))]
+        finite = [bool(np.all(np.isfinite(e))) for e in ellipses]
+        # a group's outline: its closed contour, else (e.g. read from a tracks CSV, which
+        # has no contours) its covariance ellipse, as in the MCAP export
+        outlines = [
+            (t, np.vstack([t.contour, t.contour[:1]]) if t.contour.shape[0] >= 3 else ellipses[i])
+            for i, t in enumerate(all_tracks)
+            if t.kind == "group" and (t.contour.shape[0] >= 3 or finite[i])
+        ]
+        rec.log(
+            "world/groups",
+            rr.LineStrips2D(
+                [outline for _, outline in outlines],
+                colors=[track_color(g.track_id, "group") for g, _ in outlines],
+                labels=[f"G{g.track_id} x{g.size}" for g, _ in outlines],
+            ),
+        )
+        keep = [i for i in range(len(all_tracks)) if finite[i]]
         rec.log(
             "world/covariance",
             rr.LineStrips2D(
@@ -114,7 +130,15 @@ def export_rerun(
             ),
         )
         n += 1
-    rec.flush()
+    _close(rec)
     if n == 0:
+        p.unlink(missing_ok=True)
         raise scene.empty_window_error()
     return n
+
+
+def _close(rec: Any) -> None:
+    """Flush and close the file sink, so the ``.rrd`` is complete (with its footer, on
+    rerun versions that write one) when this returns rather than when ``rec`` is collected."""
+    rec.flush()
+    rec.disconnect()

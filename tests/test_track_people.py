@@ -171,3 +171,22 @@ def test_person_deleted_after_window_of_far_steps() -> None:
 def test_params_validation() -> None:
     with pytest.raises(ValueError):
         PersonParams(window=0)
+
+
+def test_person_hidden_while_its_legs_are_implausibly_far_apart() -> None:
+    """Extension max_leg_separation: a person whose legs drift 2.5 m apart (one coasting
+    away while occluded) is not reported but keeps its id for when they rejoin; 000's rule
+    alone (inf) keeps reporting it between the legs."""
+    for limit, hidden in ((2.0, True), (float("inf"), False)):
+        fuser = PersonFuser(PersonParams(max_leg_separation=limit))
+        for k in range(30):
+            out = fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0, 0.25)}, 0.05 * k)
+        (person,) = out
+        apart = fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0, 2.5)}, 1.5)
+        assert (apart == []) is hidden
+        if not hidden:
+            np.testing.assert_allclose(apart[0].position, [2.0, 1.25])
+        back = fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0, 0.25)}, 1.55)
+        assert [p.track_id for p in back] == [person.track_id]
+    with pytest.raises(ValueError, match="max_leg_separation"):
+        PersonParams(max_leg_separation=0.5)

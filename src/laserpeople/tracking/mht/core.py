@@ -182,6 +182,11 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     )
 
 
+def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
+    """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log)."""
+    return np.where(gated, -(lp[:, DETECTED, None] + loglik), np.inf)
+
+
 _ENUMERATE_LIMIT = 128
 """Largest number of children (an upper bound) listed directly instead of by Murty."""
 
@@ -303,6 +308,8 @@ class MHT(Generic[Meas]):
         # this scan's child states, computed in one batch by _prepare_children
         self._updates: dict[tuple[int, int], tuple[FloatArray, FloatArray, Any]] = {}
         self._initiated: dict[int, tuple[FloatArray, FloatArray, Any]] = {}
+        self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
+        self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
 
     # ------------------------------------------------------------------ public
 
@@ -330,6 +337,8 @@ class MHT(Generic[Meas]):
             gated = np.zeros((len(live), n_meas), dtype=bool)
             loglik = np.full((len(live), n_meas), -np.inf)
         row_of = {n.node_id: i for i, n in enumerate(live)}
+        self._lp_live = self.labels.track_log_probs(live) if live else np.empty((0, 3))
+        self._cost_live = _detection_costs(gated, loglik, self._lp_live)
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()
@@ -502,12 +511,10 @@ class MHT(Generic[Meas]):
                     uniq[t.node_id] = len(nodes_u)
                     nodes_u.append(t)
         # per node, once: costs of matching each measurement and of the unmatched labels
-        g, ll = self._scores(nodes_u, measurements, meas_idx, gated, loglik, row_of)
-        lp = self.labels.track_log_probs(nodes_u) if nodes_u else np.empty((0, 3))
+        tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
         max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
         priors = [-(parent.log_weight + branch.log_prior) for parent, branch in plans]
         rows_of = [[uniq[t.node_id] for t in b.tracks] for _, b in plans]
-        tm_cost = np.where(g, -(lp[:, DETECTED, None] + ll), np.inf)
         solutions = enumerate_children(
             priors, rows_of, tm_cost, lp, log_new[meas_idx], log_fal[meas_idx],
             self.params.k_best, max_gap,
@@ -564,25 +571,23 @@ class MHT(Generic[Meas]):
         hyps = n_scan_prune(hyps, n_scan)
         return ratio_prune(hyps, self.params.min_ratio)
 
-    def _scores(
+    def _costs(
         self,
         nodes: Sequence[TrackNode],
         measurements: Meas,
         meas_idx: NDArray[np.intp],
-        gated: BoolArray,
-        loglik: FloatArray,
         row_of: dict[int, int],
-    ) -> tuple[BoolArray, FloatArray]:
-        """Gate and log-likelihood rows (n, m) of ``nodes`` for the cluster's measurements;
-        nodes a branch generator re-predicted are scored here."""
-        n, m = len(nodes), int(meas_idx.size)
-        if n == 0 or m == 0:
-            return np.zeros((n, m), dtype=bool), np.zeros((n, m))
+    ) -> tuple[FloatArray, FloatArray]:
+        """Detection costs (n, m) ``-(log p_det + log N)`` (inf where not gated) of ``nodes``
+        for the cluster's measurements, and their label log-probabilities (n, 3); taken from
+        this scan's tables, except for nodes a branch generator made or re-predicted."""
         if all(t.node_id in row_of for t in nodes):
             rows = [row_of[t.node_id] for t in nodes]
-            return gated[rows][:, meas_idx], loglik[rows][:, meas_idx]
+            return self._cost_live[rows][:, meas_idx], self._lp_live[rows]
         g_all, ll_all = self.model.score(list(nodes), measurements)
-        return g_all[:, meas_idx], ll_all[:, meas_idx]
+        lp = self.labels.track_log_probs(nodes)
+        cost = _detection_costs(g_all[:, meas_idx], ll_all[:, meas_idx], lp)
+        return cost, lp
 
     # ------------------------------------------------------------------ track tree
 

@@ -190,3 +190,37 @@ def test_person_hidden_while_its_legs_are_implausibly_far_apart() -> None:
         assert [p.track_id for p in back] == [person.track_id]
     with pytest.raises(ValueError, match="max_leg_separation"):
         PersonParams(max_leg_separation=0.5)
+
+
+def test_relinking_continues_a_lost_persons_id() -> None:
+    """Extension relink_time/relink_distance: a person whose leg track is replaced (leg 2
+    lost, leg 3 appears) takes the old id back when the new pair is validated near where
+    the old person would be; too late, too far, or with relinking off, it gets a new id."""
+
+    def run(params: PersonParams, gap: float, shift: float) -> tuple[int, int]:
+        fuser = PersonFuser(params)
+        out: list = []
+        for k in range(30):  # a person standing at (2, 0.125)
+            out = fuser.update({1: leg(1, 2.0, 0.0), 2: leg(2, 2.0, 0.25)}, 0.05 * k)
+        first = out[0].track_id
+        t = 0.05 * 29 + gap  # leg 2 is lost; leg 3 shows up `gap` s later, `shift` m away
+        for k in range(40):
+            out = fuser.update(
+                {1: leg(1, 2.0 + shift, 0.0), 3: leg(3, 2.0 + shift, 0.25)}, t + 0.05 * k
+            )
+            if out:
+                break
+        assert len(out) == 1
+        return first, out[0].track_id
+
+    on = PersonParams(relink_time=2.0, relink_distance=0.8)
+    first, again = run(on, gap=0.1, shift=0.3)
+    assert again == first
+    first, again = run(on, gap=0.1, shift=1.5)  # too far
+    assert again != first
+    first, again = run(PersonParams(relink_time=0.5, relink_distance=0.8), gap=0.1, shift=0.3)
+    assert again != first  # standing still takes still_time (1 s) > relink_time to validate
+    first, again = run(PersonParams(relink_time=0.0), gap=0.1, shift=0.3)
+    assert again != first
+    with pytest.raises(ValueError, match="relink"):
+        PersonParams(relink_distance=0.0)

@@ -245,15 +245,18 @@ def test_model_branches_for_split_hypotheses() -> None:
 
 
 def test_enumerated_children_match_k_best_children() -> None:
-    """The listing shortcut for small clusters gives the same children (parents, labels,
-    costs) as multi-parent Murty on the same assignment problems, with and without
-    measurements and gates."""
-    from laserpeople.tracking.mht.core import enumerate_children
+    """Listing by branch and bound gives the same children (parents, labels, costs) as
+    multi-parent Murty on the same assignment problems, with and without measurements and
+    gates, from one track and measurement to six tracks, five measurements and four
+    parents (where the cuts matter)."""
+    from laserpeople.tracking.mht.listing import enumerate_children
     from laserpeople.tracking.mht.matrix import build_matrix, k_best_children
 
     rng = np.random.default_rng(3)
-    for trial in range(60):
-        n_nodes, m = int(rng.integers(0, 4)), int(rng.integers(0, 3))
+    for trial in range(300):
+        big = trial >= 60
+        n_nodes = int(rng.integers(0, 7 if big else 4))
+        m = int(rng.integers(0, 6 if big else 3))
         lp = np.log(np.clip(rng.dirichlet(np.ones(3), size=n_nodes), 1e-6, None))
         tm = rng.uniform(-3.0, 6.0, size=(n_nodes, m))
         tm[rng.random((n_nodes, m)) < 0.3] = np.inf
@@ -261,11 +264,11 @@ def test_enumerated_children_match_k_best_children() -> None:
         log_fal = np.log(rng.uniform(1e-4, 1e-2, size=m))
         rows = [
             sorted(rng.choice(n_nodes, size=int(rng.integers(0, n_nodes + 1)), replace=False))
-            for _ in range(int(rng.integers(1, 4)))
+            for _ in range(int(rng.integers(1, 5 if big else 4)))
         ]
         priors = list(rng.uniform(0.0, 3.0, size=len(rows)))
-        k, gap = int(rng.integers(1, 15)), float(rng.uniform(1.0, 12.0))
-        fast = enumerate_children(priors, rows, tm, lp, log_new, log_fal, k, gap, limit=10**6)
+        k, gap = int(rng.integers(1, 25)), float(rng.uniform(1.0, 12.0))
+        fast = enumerate_children(priors, rows, tm, lp, log_new, log_fal, k, gap, limit=10**9)
         base = build_matrix(tm, lp, log_new, log_fal)
         slow = k_best_children(priors, [base.subset(list(r)) for r in rows], k, gap)
         assert fast is not None, trial
@@ -279,3 +282,25 @@ def test_enumerated_children_match_k_best_children() -> None:
         assert sorted(map(key, fast)) == sorted(map(key, slow)), trial
     assert enumerate_children([0.0], [[0, 1]], np.zeros((2, 3)), np.zeros((2, 3)),
                               np.zeros(3), np.zeros(3), 5, 9.0, limit=10) is None  # fmt: skip
+
+
+def test_listing_with_many_equal_costs_matches_murty_costs() -> None:
+    """Seven tracks all gating seven measurements at the same cost: about 10^9 children
+    (far above the default listing limit, lifted here), thousands of them tied; the cuts
+    drop ties beyond the k-th, and the costs listed are Murty's."""
+    from laserpeople.tracking.mht.listing import enumerate_children
+    from laserpeople.tracking.mht.matrix import build_matrix, k_best_children
+
+    n = m = 7
+    tm = np.ones((n, m))
+    lp = np.log(np.tile([0.5, 0.3, 0.2], (n, 1)))
+    log_new, log_fal = np.log(np.full(m, 0.01)), np.log(np.full(m, 0.02))
+    rows = [list(range(n)), list(range(n))]
+    fast = enumerate_children([0.0, 0.5], rows, tm, lp, log_new, log_fal, 20, 10.0, limit=10**12)
+    slow = k_best_children([0.0, 0.5], [build_matrix(tm, lp, log_new, log_fal)] * 2, 20, 10.0)
+    assert fast is not None and len(fast) == 20
+    np.testing.assert_allclose([c for *_, c in fast], [c for *_, c in slow])
+    # every child is a valid labelling: detected tracks use distinct measurements
+    for _, dec, _ in fast:
+        used = [j for j in dec.track_measurement if j >= 0]
+        assert len(used) == len(set(used))

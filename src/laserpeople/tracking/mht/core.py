@@ -10,8 +10,10 @@ One :meth:`MHT.step` per scan:
    (product of their hypotheses), clusters whose families no longer interact are split
    (marginal hypotheses per part; exact because N-scan pruning has fixed everything the
    parts ever shared, see :meth:`MHT._drop_settled_links`);
-4. per cluster: one assignment matrix per parent hypothesis (and per model branch), the
-   globally k best children by multi-parent Murty, stopped early by the probability ratio;
+4. per cluster: the globally k best children over all parent hypotheses (and model
+   branches), stopped early by the probability ratio: listed by branch and bound
+   (:mod:`.listing`), or for very large clusters by multi-parent Murty on one assignment
+   matrix per parent (:mod:`.matrix`);
 5. normalise per cluster and generation, N-scan-back pruning, ratio pruning;
 6. garbage-collect the track tree.
 
@@ -21,7 +23,6 @@ best hypothesis because clusters are independent).
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
@@ -38,17 +39,14 @@ from laserpeople.tracking.mht.hypothesis import (
     normalise_hypotheses,
     ratio_prune,
 )
+from laserpeople.tracking.mht.listing import enumerate_children
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
-    LabelledAssignment,
     build_matrix,
     k_best_children,
 )
 from laserpeople.tracking.mht.probability import (
-    DELETED,
     DETECTED,
-    FALSE_ALARM,
-    MATCHED,
     OCCLUDED,
 )
 from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
@@ -185,98 +183,6 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
 def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
     """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log)."""
     return np.where(gated, -(lp[:, DETECTED, None] + loglik), np.inf)
-
-
-_ENUMERATE_LIMIT = 128
-"""Largest number of children (an upper bound) listed directly instead of by Murty."""
-
-
-def _track_label_choices(
-    rows: Sequence[int],
-    options: list[list[int]],
-    tm: list[list[float]],
-    c_occ: list[float],
-    c_del: list[float],
-    m: int,
-) -> list[tuple[float, list[int], tuple[int, ...]]]:
-    """Every labelling of the tracks ``rows``: (cost, labels, local measurement or -1)."""
-    out: list[tuple[float, list[int], tuple[int, ...]]] = [(0.0, [], ())]
-    for i in rows:
-        nxt: list[tuple[float, list[int], tuple[int, ...]]] = []
-        for cost, labels, meas in out:
-            nxt.append((cost + c_occ[i], [*labels, OCCLUDED], (*meas, -1)))
-            nxt.append((cost + c_del[i], [*labels, DELETED], (*meas, -1)))
-            for j in options[i]:
-                if j not in meas:
-                    nxt.append((cost + tm[i][j], [*labels, DETECTED], (*meas, j)))
-        out = nxt
-    return out
-
-
-def enumerate_children(
-    priors: Sequence[float],
-    rows: Sequence[Sequence[int]],
-    track_meas_cost: FloatArray,
-    label_log_probs: FloatArray,
-    log_new: FloatArray,
-    log_fal: FloatArray,
-    k: int,
-    max_gap: float,
-    limit: int = _ENUMERATE_LIMIT,
-) -> list[tuple[int, LabelledAssignment, float]] | None:
-    """The k best children of a small cluster by listing every labelled assignment.
-
-    Each parent's tracks (``rows`` into the node arrays) are detected with a gated
-    measurement, occluded or deleted; each measurement left over is new or a false alarm;
-    a child costs its parent's ``priors`` entry plus the sum of these label costs (000 eq.
-    15 in -log). Same children as :func:`k_best_children` (up to the order of equal
-    costs) without building assignment problems; None when an upper bound of the number
-    of children exceeds ``limit``.
-
-    Args:
-        track_meas_cost: (n, m) ``-(log p_det + log N)``, inf where not gated.
-        label_log_probs: (n, 3) log p of detected/occluded/deleted per node.
-        log_new, log_fal: (m,) log densities of new tracks and false alarms.
-    """
-    m = track_meas_cost.shape[1]
-    options: list[list[int]] = [[] for _ in range(track_meas_cost.shape[0])]
-    for i, j in zip(*np.nonzero(np.isfinite(track_meas_cost)), strict=True):
-        options[int(i)].append(int(j))
-    bound = 0
-    for r in rows:
-        count = 2**m
-        for i in r:
-            count *= len(options[i]) + 2
-        bound += count
-        if bound > limit:
-            return None
-    tm = track_meas_cost.tolist()
-    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
-    c_del = (-label_log_probs[:, DELETED]).tolist()
-    c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
-    c_fal = (-np.asarray(log_fal, dtype=np.float64)).tolist()
-    out: list[tuple[float, int, list[int], tuple[int, ...], list[int]]] = []
-    for pi, (prior, r) in enumerate(zip(priors, rows, strict=True)):
-        for cost, labels, meas in _track_label_choices(r, options, tm, c_occ, c_del, m):
-            used = set(meas)
-            free = [j for j in range(m) if j not in used]
-            for choice in itertools.product((NEW_LABEL, FALSE_ALARM), repeat=len(free)):
-                total = float(prior) + cost
-                mlab = [MATCHED] * m
-                for j, lab in zip(free, choice, strict=True):
-                    mlab[j] = lab
-                    total += c_new[j] if lab == NEW_LABEL else c_fal[j]
-                if math.isfinite(total):
-                    out.append((total, pi, labels, meas, mlab))
-    out.sort(key=lambda c: c[0])
-    if not out:
-        return []
-    best = out[0][0]
-    return [
-        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
-        for total, pi, tl, tmeas, ml in out[:k]
-        if total <= best + max_gap
-    ]
 
 
 class MHT(Generic[Meas]):

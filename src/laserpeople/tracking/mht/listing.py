@@ -1,0 +1,231 @@
+"""The k best children of a cluster by branch and bound over its labelled assignments.
+
+A child of a parent hypothesis labels each of the parent's tracks *detected* (with one
+gated measurement, no measurement used twice), *occluded* or *deleted*, and each measurement
+left over *new* or *false alarm*; its cost is the parent's plus the sum of the label costs
+(000 eq. 15 in -log). Most clusters are small, and listing their children depth first is
+far cheaper than Murty's method on assignment matrices (:func:`~laserpeople.tracking.mht.
+matrix.k_best_children`), which gives the same children. A subtree is cut as soon as a
+lower bound of its cost exceeds what can still be kept: the current k-th best child, or
+the best child plus the ratio-pruning gap.
+
+The lower bound of a partial labelling: its cost so far, plus for every track still to
+label its cheapest label, plus for every unused measurement no track still to label can
+take its cheaper unmatched label (and 0, or that label if negative, for the others).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.tracking.mht.matrix import LabelledAssignment
+from laserpeople.tracking.mht.probability import (
+    DELETED,
+    DETECTED,
+    FALSE_ALARM,
+    MATCHED,
+    OCCLUDED,
+)
+from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
+
+FloatArray = NDArray[np.float64]
+
+LISTING_LIMIT = 100_000
+"""Largest number of children (an upper bound, before cutting) a cluster may have to be
+listed; larger ones go to Murty's method, whose cost does not grow with the number of
+children. (The cuts usually leave a few dozen of them to visit.)"""
+
+
+MAX_LISTED_MEASUREMENTS = 10
+"""Clusters with more measurements go to Murty's method (the bounds table has 2^m
+entries)."""
+
+
+def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:
+    """An upper bound of the number of children of the parents ``rows`` (track indices),
+    given each track's number of possible labels and ``m`` measurements."""
+    total = 0
+    for r in rows:
+        count = 2**m
+        for i in r:
+            count *= n_labels[i]
+        total += count
+    return total
+
+
+def enumerate_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    track_meas_cost: FloatArray,
+    label_log_probs: FloatArray,
+    log_new: FloatArray,
+    log_fal: FloatArray,
+    k: int,
+    max_gap: float,
+    limit: int = LISTING_LIMIT,
+) -> list[tuple[int, LabelledAssignment, float]] | None:
+    """The ``k`` best children (at most ``max_gap`` above the best) of the parents.
+
+    Args:
+        priors: Cost (-log weight) of each parent, with its model prior.
+        rows: Each parent's tracks, as indices into the node arrays below.
+        track_meas_cost: (n, m) ``-(log p_det + log N)``, inf where not gated.
+        label_log_probs: (n, 3) log p of detected/occluded/deleted per node.
+        log_new, log_fal: (m,) log densities of new tracks and false alarms.
+        k: Most children to return.
+        max_gap: Children costing more than the best plus this are dropped.
+        limit: Give up (None) when :func:`children_bound` exceeds this.
+
+    Returns:
+        ``(parent index, labels, total cost)`` in nondecreasing total cost (equal costs in
+        the order found), or None when the cluster is too big to list.
+    """
+    n_nodes, m = track_meas_cost.shape
+    tm = track_meas_cost.tolist()
+    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
+    c_del = (-label_log_probs[:, DELETED]).tolist()
+    # each track's finite labels, cheapest first: (cost, label, measurement or -1)
+    choices: list[list[tuple[float, int, int]]] = []
+    for i in range(n_nodes):
+        ch = [(c_occ[i], OCCLUDED, -1), (c_del[i], DELETED, -1)]
+        ch += [(c, DETECTED, j) for j, c in enumerate(tm[i]) if c < math.inf]
+        choices.append(sorted(c for c in ch if c[0] < math.inf))
+    if m > MAX_LISTED_MEASUREMENTS or children_bound(rows, [len(c) for c in choices], m) > limit:
+        return None
+    c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
+    c_fal = (-np.asarray(log_fal, dtype=np.float64)).tolist()
+    meas_choices = [
+        sorted(c for c in ((c_new[j], NEW_LABEL), (c_fal[j], FALSE_ALARM)) if c[0] < math.inf)
+        for j in range(m)
+    ]
+    meas_min = [ch[0][0] if ch else math.inf for ch in meas_choices]
+    # lower bounds of the measurements in a bit mask: unmatched for sure / perhaps matched
+    full = (1 << m) - 1
+    unmatched_lb = [0.0] * (full + 1)
+    maybe_lb = [0.0] * (full + 1)
+    for mask in range(1, full + 1):
+        low = (mask & -mask).bit_length() - 1
+        rest = mask & (mask - 1)
+        unmatched_lb[mask] = unmatched_lb[rest] + meas_min[low]
+        maybe_lb[mask] = maybe_lb[rest] + min(0.0, meas_min[low])
+
+    lister = _Lister(choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap)
+    for pi in sorted(range(len(rows)), key=lambda p: priors[p]):  # the likeliest first
+        if math.isfinite(priors[pi]):
+            lister.parent(pi, float(priors[pi]), list(rows[pi]))
+    found, best = lister.found, lister.best
+    found.sort(key=lambda f: (f[0], f[1]))
+    return [
+        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
+        for total, _, pi, tl, tmeas, ml in found[:k]
+        if total <= best + max_gap
+    ]
+
+
+class _Lister:
+    """Depth-first listing with cuts (see the module doc); children go to ``found``."""
+
+    def __init__(
+        self,
+        choices: list[list[tuple[float, int, int]]],
+        meas_choices: list[list[tuple[float, int]]],
+        meas_min: list[float],
+        unmatched_lb: list[float],
+        maybe_lb: list[float],
+        k: int,
+        max_gap: float,
+    ) -> None:
+        self.choices = choices
+        self.meas_choices = meas_choices
+        self.meas_min = meas_min
+        self.unmatched_lb = unmatched_lb
+        self.maybe_lb = maybe_lb
+        self.k = k
+        self.max_gap = max_gap
+        self.m = len(meas_choices)
+        self.full = (1 << self.m) - 1
+        self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
+        self.best = math.inf
+        self._kept: list[float] = []  # max-heap (negated) of the k best totals
+        self._free_labels = [MATCHED] * self.m
+        # the parent being listed
+        self._pi = 0
+        self._rows: list[int] = []
+        self._suffix: list[float] = []
+        self._reach: list[int] = []
+        self._labels: list[int] = []
+        self._meas: list[int] = []
+
+    def cut(self, bound: float) -> bool:
+        """Whether children costing at least ``bound`` can all be dropped: above the best
+        plus the gap, or no better than the k-th best so far (ties among equal costs are
+        kept in the order found)."""
+        if bound > self.best + self.max_gap:
+            return True
+        return len(self._kept) == self.k and bound >= -self._kept[0]
+
+    def parent(self, pi: int, prior: float, rows: list[int]) -> None:
+        """List the children of parent ``pi`` (cost ``prior``, tracks ``rows``)."""
+        depth = len(rows)
+        suffix = [0.0] * (depth + 1)  # cheapest labels of the tracks from t on
+        reach = [0] * (depth + 1)  # measurements gated by the tracks from t on
+        for t in range(depth - 1, -1, -1):
+            ch = self.choices[rows[t]]
+            suffix[t] = suffix[t + 1] + (ch[0][0] if ch else math.inf)
+            reach[t] = reach[t + 1]
+            for _, lab, j in ch:
+                if lab == DETECTED:
+                    reach[t] |= 1 << j
+        self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
+        self._labels, self._meas = [], []
+        self._tracks(0, prior, 0)
+
+    def _tracks(self, t: int, cost: float, used: int) -> None:
+        free = self.full & ~used
+        reach = self._reach[t]
+        bound = (
+            cost + self._suffix[t] + self.unmatched_lb[free & ~reach] + self.maybe_lb[free & reach]
+        )
+        if self.cut(bound):
+            return
+        if t == len(self._rows):
+            self._measurements(0, cost, used, self.unmatched_lb[free])
+            return
+        for c, lab, j in self.choices[self._rows[t]]:
+            if j >= 0 and used >> j & 1:
+                continue
+            self._labels.append(lab)
+            self._meas.append(j)
+            self._tracks(t + 1, cost + c, used | (1 << j) if j >= 0 else used)
+            self._labels.pop()
+            self._meas.pop()
+
+    def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
+        """Label the measurements from ``j`` on that no track took (new / false alarm)."""
+        while j < self.m and used >> j & 1:
+            j += 1
+        if j == self.m:
+            self._record(cost, used)
+            return
+        rest = rest_lb - self.meas_min[j]
+        for c, lab in self.meas_choices[j]:
+            if self.cut(cost + c + rest):
+                break
+            self._free_labels[j] = lab
+            self._measurements(j + 1, cost + c, used, rest)
+
+    def _record(self, total: float, used: int) -> None:
+        mlabels = [MATCHED if used >> j & 1 else self._free_labels[j] for j in range(self.m)]
+        self.found.append(
+            (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
+        )
+        self.best = min(self.best, total)
+        if len(self._kept) < self.k:
+            heapq.heappush(self._kept, -total)
+        elif total < -self._kept[0]:
+            heapq.heapreplace(self._kept, -total)

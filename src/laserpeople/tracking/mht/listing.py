@@ -35,7 +35,7 @@ from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
 
 FloatArray = NDArray[np.float64]
 
-LISTING_LIMIT = 100_000
+LISTING_LIMIT = 1_000_000
 """Largest number of children (an upper bound, before cutting) a cluster may have to be
 listed; larger ones go to Murty's method, whose cost does not grow with the number of
 children. (The cuts usually leave a few dozen of them to visit.)"""

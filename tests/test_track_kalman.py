@@ -125,3 +125,19 @@ def test_coast_travels_at_most_tau_times_speed() -> None:
         mean, cov = kalman.coast(mean, cov, np.array([0.1]), 2.0, tau)
     np.testing.assert_allclose(mean[0], [1.5 * tau, 0.0, 0.0, 0.0], atol=1e-9)
     assert np.all(np.isfinite(cov))
+
+
+def test_initiate_batch_equals_initiate_one_by_one() -> None:
+    from laserpeople.tracking.kalman import initiate, initiate_batch
+
+    rng = np.random.default_rng(5)
+    z = rng.normal(size=(4, 2))
+    a = rng.normal(size=(4, 2, 2))
+    r = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(2)
+    means, covs = initiate_batch(z, r, 0.7)
+    for i in range(4):
+        m, c = initiate(z[i], r[i], 0.7)
+        np.testing.assert_array_equal(means[i], m)
+        np.testing.assert_array_equal(covs[i], c)
+    empty_m, empty_c = initiate_batch(np.empty((0, 2)), np.empty((0, 2, 2)), 0.7)
+    assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)

@@ -248,6 +248,20 @@ def initiate(
     return mean, cov
 
 
+def initiate_batch(
+    z: FloatArray, meas_covs: FloatArray, init_velocity_std: float
+) -> tuple[FloatArray, FloatArray]:
+    """New tracks (K, 4), (K, 4, 4) at measurements z (K, 2) with covariances (K, 2, 2):
+    :func:`initiate` for each at once."""
+    k = z.shape[0]
+    means = np.zeros((k, 4))
+    means[:, :2] = z
+    covs = np.zeros((k, 4, 4))
+    covs[:, :2, :2] = meas_covs
+    covs[:, 2, 2] = covs[:, 3, 3] = init_velocity_std**2
+    return means, covs
+
+
 def measurement_covariances(raw: FloatArray, measurement_std: float) -> FloatArray:
     """Detector covariances (M, 2, 2), replaced by ``measurement_std^2 I`` where not positive
     definite (rule-based detectors may report zeros)."""

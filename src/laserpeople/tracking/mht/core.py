@@ -281,12 +281,11 @@ class MHT(Generic[Meas]):
     # ------------------------------------------------------------------ clustering
 
     def _family_gates(self, live: list[TrackNode], gated: BoolArray) -> dict[int, set[int]]:
-        rows: dict[int, list[int]] = {}
-        for i, n in enumerate(live):
-            rows.setdefault(n.family, []).append(i)
-        out: dict[int, set[int]] = {}
-        for fam, r in rows.items():
-            out[fam] = set(np.flatnonzero(gated[r].any(axis=0)).tolist()) if gated.size else set()
+        """The measurements in the gate of some node of each family."""
+        out: dict[int, set[int]] = {n.family: set() for n in live}
+        rows, cols = np.nonzero(gated)
+        for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
+            out[live[i].family].add(j)
         return out
 
     def _drop_settled_links(self) -> None:

@@ -224,3 +224,23 @@ def test_relinking_continues_a_lost_persons_id() -> None:
     assert again != first
     with pytest.raises(ValueError, match="relink"):
         PersonParams(relink_distance=0.0)
+
+
+def test_fuse_legs_batch_equals_fuse_legs_per_pair() -> None:
+    from laserpeople.tracking.people import fuse_legs_batch, midpoint_legs, midpoint_legs_batch
+
+    rng = np.random.default_rng(2)
+
+    def state(i: int) -> LegState:
+        a = rng.normal(size=(4, 4))
+        return LegState(i, rng.normal(size=4), a @ a.T + 0.1 * np.eye(4))
+
+    pairs = [(state(2 * i), state(2 * i + 1)) for i in range(5)]
+    for batch, single in ((fuse_legs_batch, fuse_legs), (midpoint_legs_batch, midpoint_legs)):
+        means, covs = batch(pairs)
+        for (a, b), mean, cov in zip(pairs, means, covs, strict=True):
+            m1, c1 = single(a, b)
+            np.testing.assert_allclose(mean, m1, atol=1e-12)
+            np.testing.assert_allclose(cov, c1, atol=1e-12)
+        empty_m, empty_c = batch([])
+        assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import itertools
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -243,6 +243,31 @@ def fuse_legs(a: LegState, b: LegState) -> tuple[FloatArray, FloatArray]:
     return mean, 0.5 * (cov + cov.T)
 
 
+def fuse_legs_batch(pairs: Sequence[tuple[LegState, LegState]]) -> tuple[FloatArray, FloatArray]:
+    """:func:`fuse_legs` of every pair at once: means (K, 4), covariances (K, 4, 4)."""
+    if not pairs:
+        return np.empty((0, 4)), np.empty((0, 4, 4))
+    ma = np.stack([a.mean for a, _ in pairs])
+    mb = np.stack([b.mean for _, b in pairs])
+    pa = np.stack([a.cov for a, _ in pairs])
+    pb = np.stack([b.cov for _, b in pairs])
+    rhs = np.concatenate([ma[:, :, None], mb[:, :, None], pb], axis=2)
+    sol = np.linalg.solve(pa + pb, rhs)
+    means = np.einsum("kij,kj->ki", pb, sol[:, :, 0]) + np.einsum("kij,kj->ki", pa, sol[:, :, 1])
+    covs = pa @ sol[:, :, 2:]
+    return means, 0.5 * (covs + covs.transpose(0, 2, 1))
+
+
+def midpoint_legs_batch(
+    pairs: Sequence[tuple[LegState, LegState]],
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`midpoint_legs` of every pair at once: means (K, 4), covariances (K, 4, 4)."""
+    if not pairs:
+        return np.empty((0, 4)), np.empty((0, 4, 4))
+    fused = [midpoint_legs(a, b) for a, b in pairs]
+    return np.stack([f[0] for f in fused]), np.stack([f[1] for f in fused])
+
+
 def leg_spread(a: LegState, b: LegState, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean walking direction (their
     mean velocity), or the plain distance when they move slower than ``min_speed`` [m/s]."""
@@ -405,7 +430,7 @@ class PersonFuser:
             wide = (
                 p.dissolve_wide
                 and len(person.spreads) == p.window
-                and float(np.mean(person.spreads)) > p.max_spread
+                and sum(person.spreads) / len(person.spreads) > p.max_spread
                 and self._has_narrower_partner(person.legs, legs)
             )
             if person.far_steps >= p.window or wide:
@@ -445,24 +470,26 @@ class PersonFuser:
             self._persons[relinked] = _Person(relinked, (a, b))
             used.update((a, b))
 
-        out: list[Track] = []
+        shown: list[tuple[_Person, LegState, LegState]] = []
         for pid in sorted(self._persons):
-            a, b = self._persons[pid].legs
-            la, lb = legs[a], legs[b]
-            if float(np.hypot(*(la.mean[:2] - lb.mean[:2]))) > p.max_leg_separation:
-                continue
-            mean, cov = combine(la, lb)
             person = self._persons[pid]
+            la, lb = legs[person.legs[0]], legs[person.legs[1]]
+            if float(np.hypot(*(la.mean[:2] - lb.mean[:2]))) <= p.max_leg_separation:
+                shown.append((person, la, lb))
+        fuse = fuse_legs_batch if p.position == "weighted" else midpoint_legs_batch
+        means, covs = fuse([(la, lb) for _, la, lb in shown])
+        out: list[Track] = []
+        for (person, la, lb), mean, cov in zip(shown, means, covs, strict=True):
             person.state, person.stamp = mean, stamp
             out.append(
                 Track(
-                    track_id=pid,
+                    track_id=person.person_id,
                     kind="person",
                     position=mean[:2],
                     velocity=mean[2:4],
                     covariance=cov[:2, :2],
-                    score=min(legs[a].score, legs[b].score),
-                    members=(a, b),
+                    score=min(la.score, lb.score),
+                    members=person.legs,
                 )
             )
         return out

@@ -282,6 +282,9 @@ def test_enumerated_children_match_k_best_children() -> None:
         assert sorted(map(key, fast)) == sorted(map(key, slow)), trial
     assert enumerate_children([0.0], [[0, 1]], np.zeros((2, 3)), np.zeros((2, 3)),
                               np.zeros(3), np.zeros(3), 5, 9.0, limit=10) is None  # fmt: skip
+    many = 11  # more measurements than are ever listed: Murty's turn
+    assert enumerate_children([0.0], [[]], np.zeros((0, many)), np.zeros((0, 3)),
+                              np.zeros(many), np.zeros(many), 5, 9.0) is None  # fmt: skip
 
 
 def test_listing_with_many_equal_costs_matches_murty_costs() -> None:

@@ -489,10 +489,11 @@ class MHT(Generic[Meas]):
         if all(t.node_id in row_of for t in nodes):
             rows = [row_of[t.node_id] for t in nodes]
             return self._cost_live[rows][:, meas_idx], self._lp_live[rows]
-        g_all, ll_all = self.model.score(list(nodes), measurements)
         lp = self.labels.track_log_probs(nodes)
-        cost = _detection_costs(g_all[:, meas_idx], ll_all[:, meas_idx], lp)
-        return cost, lp
+        if meas_idx.size == 0:
+            return np.zeros((len(nodes), 0)), lp
+        g_all, ll_all = self.model.score(list(nodes), measurements)
+        return _detection_costs(g_all[:, meas_idx], ll_all[:, meas_idx], lp), lp
 
     # ------------------------------------------------------------------ track tree
 

@@ -49,5 +49,16 @@ def test_unknown_sections_are_rejected(tmp_path: Path) -> None:
     f.write_text("[demo]\nwindow = 3\n")
     check_sections(f, [DemoParams])
     check_sections(None, [DemoParams])
+
+    @dataclass(frozen=True)
+    class OtherParams:
+        config_section = "other"
+        gain: float = param(1.0, "test", "another command's parameter")
+
+    # a section another command reads may share the file; a misspelt one still may not
+    f.write_text("[demo]\nwindow = 3\n[other]\ngain = 2.0\n")
+    check_sections(f, [DemoParams], [OtherParams])
+    with pytest.raises(ConfigError, match=r"\[other\]"):
+        check_sections(f, [DemoParams])
     with pytest.raises(ConfigError, match="is a directory"):
         load_config(DemoParams, tmp_path)

@@ -188,7 +188,9 @@ def test_cli_detect_config_sets_distance_limits(tmp_path: Path) -> None:
     rec = tmp_path / "demo.npz"
     sim.run_scenario("demo", seconds=2, seed=1).write(rec)
     rows = {}
-    for name, text in (("none", ""), ("near", "[leg_detector]\nmax_distance = 0.3\n")):
+    # one file for every command: detect ignores the tracker's section, not a misspelt one
+    shared = "[leg_detector]\nmax_distance = 0.3\n[leg_tracker]\nmax_report_unseen = 2.0\n"
+    for name, text in (("none", ""), ("near", shared)):
         cfg = tmp_path / f"{name}.toml"
         cfg.write_text(text)
         out = tmp_path / f"{name}.csv"
@@ -201,6 +203,11 @@ def test_cli_detect_config_sets_distance_limits(tmp_path: Path) -> None:
     from laserpeople.errors import ConfigError
 
     bad = tmp_path / "bad.toml"
+    bad.write_text("[leg_detectr]\nmin_distance = 1.0\n")
+    res = CliRunner().invoke(
+        app, ["detect", str(rec), "-o", str(tmp_path / "x.csv"), "--config", str(bad)]
+    )
+    assert isinstance(res.exception, ConfigError) and "leg_detectr" in str(res.exception)
     bad.write_text("[leg_detector]\nmin_distance = -1.0\n")
     res = CliRunner().invoke(
         app, ["detect", str(rec), "-o", str(tmp_path / "x.csv"), "--config", str(bad)]

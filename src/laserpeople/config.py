@@ -117,24 +117,31 @@ def load_config(cls: type[T], path: str | Path | None) -> T:
     return from_mapping(cls, section, where=str(p))
 
 
-def check_sections(path: str | Path | None, classes: Sequence[type]) -> None:
+def check_sections(
+    path: str | Path | None, classes: Sequence[type], others: Sequence[type] = ()
+) -> list[str]:
     """Raise if the TOML file has a top-level section none of ``classes`` reads.
 
     A command that reads several parameter classes from one ``--config`` file calls this
     once, so a misspelt section (``[leg_trackr]``) is an error instead of being ignored.
+    Sections of ``others`` (parameters other commands or trackers read) are allowed, so
+    one file can serve every command; they are returned, for the command to say that it
+    ignores them.
     """
     if path is None:
-        return
+        return []
     p = Path(path)
     known = {section_name(c) for c in classes}
     data = _read_toml(p)
-    unknown = sorted(set(data) - known)
+    elsewhere = {section_name(c) for c in others} - known
+    unknown = sorted(set(data) - known - elsewhere)
     if unknown:
         raise ConfigError(
             f"unknown section(s) {', '.join(f'[{u}]' for u in unknown)}",
             path=p,
             hint=f"this command reads {', '.join(f'[{k}]' for k in sorted(known))}",
         )
+    return sorted(set(data) & elsewhere)
 
 
 def _read_toml(p: Path) -> dict[str, Any]:

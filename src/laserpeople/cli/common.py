@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Annotated, TypeVar
 
 import typer
@@ -95,7 +96,18 @@ def progress(
 def say(message: str) -> None:
     """Print a status line to stderr unless --quiet."""
     if not STATE.quiet:
-        err_console.print(message, highlight=False)
+        err_console.print(message, highlight=False, markup=False)
+
+
+def warn(message: str) -> None:
+    """Print a warning to stderr, even with --quiet."""
+    err_console.print(f"warning: {message}", highlight=False, markup=False)
+
+
+def ignored_sections(path: Path | None, sections: Sequence[str]) -> None:
+    """Say which sections of a shared ``--config`` file this command does not read."""
+    for name in sections:
+        warn(f"{path}: [{name}] is read by another command or tracker, not by this one")
 
 
 def not_built(command: str, issue: str) -> NotBuiltError:

@@ -8,8 +8,8 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from laserpeople.cli.common import console, progress, say
-from laserpeople.cli.track import make_detector
+from laserpeople.cli.common import console, ignored_sections, progress, say
+from laserpeople.cli.track import make_detector, tracker_param_classes
 from laserpeople.config import check_sections
 from laserpeople.detection.report import Confusion, error_table
 from laserpeople.errors import ConfigError
@@ -68,7 +68,9 @@ def register(app: typer.Typer) -> None:
         from laserpeople.io.detections_csv import DetectionsCsvWriter
 
         topic = topic or []
-        check_sections(config, [LegDetectorParams])
+        ignored_sections(
+            config, check_sections(config, [LegDetectorParams], tracker_param_classes())
+        )
         det = make_detector(detector_name, model, config)
         assert isinstance(det, AdaBoostLegDetector | HeuristicLegDetector)
         # the baseline must see the same segments and distance limits as the detector

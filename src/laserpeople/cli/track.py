@@ -8,7 +8,13 @@ from typing import Annotated, Any, Protocol
 
 import typer
 
-from laserpeople.cli.common import MountOption, WorldFrameOption, progress, say
+from laserpeople.cli.common import (
+    MountOption,
+    WorldFrameOption,
+    ignored_sections,
+    progress,
+    say,
+)
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.scan import Frame, Scan
@@ -21,6 +27,14 @@ class Detector(Protocol):
     def detect(self, scan: Scan) -> Detections:
         """Detections of one scan (sensor frame)."""
         ...
+
+
+def tracker_param_classes() -> list[type]:
+    """The parameter classes of every registered tracker (their TOML sections may share a
+    ``--config`` file with the detector's)."""
+    from laserpeople.tracking import registry
+
+    return [entry.params_cls for entry in registry.TRACKERS.values()]
 
 
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
@@ -232,7 +246,10 @@ def register(app: typer.Typer) -> None:
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
-        check_sections(config, [LegDetectorParams, entry.params_cls])
+        ignored_sections(
+            config,
+            check_sections(config, [LegDetectorParams, entry.params_cls], tracker_param_classes()),
+        )
         if print_config:
             print(to_toml(load_config(entry.params_cls, config)))
             print(to_toml(load_config(LegDetectorParams, config)))

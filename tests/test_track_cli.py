@@ -10,6 +10,7 @@ from typer.testing import CliRunner
 
 from laserpeople.cli import app
 from laserpeople.cli import track as track_cli
+from laserpeople.cli.common import open_with_poses
 from laserpeople.errors import ConfigError
 from laserpeople.io.tracks_csv import iter_tracks_csv
 from laserpeople.scan import Scan
@@ -95,11 +96,11 @@ def test_misspelt_config_section_is_an_error(recording: Path, tmp_path: Path) ->
 
 def test_bag_options_on_other_recordings_are_an_error(recording: Path, tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="ROS bags only"):
-        track_cli.open_for_tracking(recording, "odom", [])
+        open_with_poses(recording, "odom", [])
     carmen = tmp_path / "run.log"
     carmen.write_text("")
     with pytest.raises(ConfigError, match="ROS bags only"):
-        track_cli.open_for_tracking(carmen, None, ["mir100"])
+        open_with_poses(carmen, None, ["mir100"])
 
 
 def test_print_config_shows_sources() -> None:
@@ -184,3 +185,22 @@ def test_plot_and_animate_options(
         app, ["track", str(short_recording), "-o", str(out), "--plot", "x.gif"]
     )
     assert bad.exit_code != 0
+
+
+def test_plot_of_a_moving_robot_uses_the_mounts_given_to_track(
+    shared_data: Path, tmp_path: Path
+) -> None:
+    """`track --mount mir100 --plot`: the tracks are in the world frame, and the drawing must
+    read the bag with the same mounts (it used to reopen it without, find no sensor pose,
+    and fail after the tracks were written)."""
+    bag = shared_data / "mir/rosbags/mir_data/legs-test-split-2022-11-21-15-51-02-topic-split.bag"
+    if not bag.exists():
+        pytest.skip(f"{bag} not present")
+    out, png = tmp_path / "t.csv", tmp_path / "t.png"
+    result = CliRunner().invoke(
+        app,
+        ["--quiet", "track", str(bag), "--mount", "mir100", "-o", str(out), "--plot", str(png)],
+    )
+    assert result.exit_code == 0, result.output
+    assert png.stat().st_size > 10_000
+    assert any(t.kind == "person" for tr in iter_tracks_csv(out, frame="world") for t in tr)

@@ -7,7 +7,7 @@ import time
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, TypeVar
+from typing import TYPE_CHECKING, Annotated, TypeVar
 
 import typer
 from rich.console import Console
@@ -22,7 +22,10 @@ from rich.progress import (
 )
 from rich.text import Text
 
-from laserpeople.errors import NotBuiltError
+from laserpeople.errors import ConfigError, NotBuiltError
+
+if TYPE_CHECKING:
+    from laserpeople.io import RecordingSource
 
 T = TypeVar("T")
 
@@ -97,6 +100,24 @@ def say(message: str) -> None:
     """Print a status line to stderr unless --quiet."""
     if not STATE.quiet:
         err_console.print(message, highlight=False, markup=False)
+
+
+def open_with_poses(path: Path, world_frame: str | None, mounts: list[str]) -> RecordingSource:
+    """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts`` missing from the
+    bag's tf let the reader give sensor poses (moving robots)."""
+    from laserpeople.io import is_rosbag, open_recording
+
+    if not (world_frame or mounts):
+        return open_recording(path)
+    if not is_rosbag(path):
+        raise ConfigError(
+            "--world-frame and --mount apply to ROS bags only",
+            path=path,
+            hint="drop them, or give a .bag, .mcap, .db3 or ROS 2 bag folder",
+        )
+    from laserpeople.io.poses import parse_mounts
+
+    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
 
 
 def warn(message: str) -> None:

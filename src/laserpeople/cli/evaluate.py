@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from laserpeople.cli.common import console, progress, say
+from laserpeople.cli.common import console, progress, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
 from laserpeople.evaluation import EvaluationParams, EvaluationReport, evaluate
 from laserpeople.io.tracks_csv import iter_tracks_csv
@@ -122,8 +122,8 @@ def register(app: typer.Typer) -> None:
                 "and were not scored"
             )
             if pairing.max_stamp_offset > 0.05:
-                say(
-                    f"[yellow]warning:[/] truth and track stamps differ by up to "
+                warn(
+                    f"truth and track stamps differ by up to "
                     f"{pairing.max_stamp_offset:.3f} s for the same scan index: are they from "
                     "the same recording and topic?"
                 )

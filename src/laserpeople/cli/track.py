@@ -12,11 +12,13 @@ from laserpeople.cli.common import (
     MountOption,
     WorldFrameOption,
     ignored_sections,
+    open_with_poses,
     progress,
     say,
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.io import RecordingSource
 from laserpeople.scan import Frame, Scan
 from laserpeople.tracks import Detections
 
@@ -69,24 +71,6 @@ def _choose_topic(rec: Any, topic: str | None) -> str:
     return topics[0]
 
 
-def open_for_tracking(path: Path, world_frame: str | None, mounts: list[str]) -> Any:
-    """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts`` missing from the
-    bag's tf let the reader give sensor poses (moving robots)."""
-    from laserpeople.io import is_rosbag, open_recording
-
-    if not (world_frame or mounts):
-        return open_recording(path)
-    if not is_rosbag(path):
-        raise ConfigError(
-            "--world-frame and --mount apply to ROS bags only",
-            path=path,
-            hint="drop them, or give a .bag, .mcap, .db3 or ROS 2 bag folder",
-        )
-    from laserpeople.io.poses import parse_mounts
-
-    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
-
-
 def run_tracking(
     recording: Path,
     output: Path,
@@ -115,7 +99,7 @@ def run_tracking(
     tracker = entry.factory(params)
     if detector is None:
         detector = make_detector("adaboost", None, config)
-    rec = open_for_tracking(recording, world_frame, mounts or [])
+    rec = open_with_poses(recording, world_frame, mounts or [])
     times: list[float] = []
     rows = 0
     leg_ids: set[int] = set()
@@ -146,7 +130,11 @@ def run_tracking(
         with TracksCsvWriter(output, frame=written_frame):
             pass
     if plot is not None or animate is not None:
-        draw_tracks(recording, output, name, written_frame, plot, animate)
+        source = open_with_poses(recording, world_frame, mounts or [])
+        try:
+            draw_tracks(source, output, name, written_frame, plot, animate)
+        finally:
+            source.close()
     dropped = int(getattr(tracker, "dropped_detections", 0))
     if dropped:
         say(f"{dropped} detections with non-finite positions were left out")
@@ -162,7 +150,7 @@ def run_tracking(
 
 
 def draw_tracks(
-    recording: Path,
+    recording: RecordingSource,
     tracks_csv: Path,
     topic: str | None,
     tracks_frame: Frame,

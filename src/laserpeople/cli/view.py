@@ -8,9 +8,15 @@ from typing import Annotated
 
 import typer
 
-from laserpeople.cli.common import MountOption, WorldFrameOption, progress, say
+from laserpeople.cli.common import (
+    MountOption,
+    WorldFrameOption,
+    open_with_poses,
+    progress,
+    say,
+    warn,
+)
 from laserpeople.errors import LaserPeopleError
-from laserpeople.io import RecordingSource
 from laserpeople.viz.scene import SceneFrame
 
 _FRAMES = ("auto", "world", "sensor")
@@ -42,20 +48,6 @@ def _parse_extent(text: str | None) -> tuple[float, float, float, float] | None:
     if not (x1 > x0 and y1 > y0):
         raise LaserPeopleError(f"--extent {text!r} is empty: need XMIN<XMAX and YMIN<YMAX")
     return x0, x1, y0, y1
-
-
-def _open(path: Path, world_frame: str | None, mounts: list[str]) -> Path | RecordingSource:
-    """The recording as a path, or opened with the pose options when some are given."""
-    if not (world_frame or mounts):
-        return path
-    from laserpeople.io import open_recording
-    from laserpeople.io.poses import parse_mounts
-
-    if path.suffix.lower() not in {".bag", ".db3", ".mcap"} and not path.is_dir():
-        raise LaserPeopleError(
-            "--world-frame and --mount apply to ROS bags only", path=path, hint="drop them"
-        )
-    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
 
 
 def register(app: typer.Typer) -> None:
@@ -140,7 +132,7 @@ def register(app: typer.Typer) -> None:
         if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
             raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
-        source = _open(recording, world_frame, mount or [])
+        source = open_with_poses(recording, world_frame, mount or [])
         scene = Scene(
             source,
             tracks,
@@ -168,16 +160,15 @@ def register(app: typer.Typer) -> None:
                 progress=bar,
             )
         finally:
-            if isinstance(source, RecordingSource):
-                source.close()
+            source.close()
         what = "frame" if result.frames == 1 else "frames"
         say(
             f"wrote {result.path} ({result.frames} {what}, topic {scene.topic}, "
             f"{scene.frame} frame)"
         )
         if scene.skipped_without_pose:
-            say(
-                f"[yellow]warning:[/] {scene.skipped_without_pose} scans not drawn: no sensor "
+            warn(
+                f"{scene.skipped_without_pose} scans not drawn: no sensor "
                 "pose for the world frame (`laserpeople info` says why; --frame sensor draws "
                 "them all)"
             )

@@ -27,7 +27,7 @@ from laserpeople.errors import ScanFormatError
 if TYPE_CHECKING:
     from laserpeople.truth import BeamLabels
 
-Frame = Literal["sensor", "world"]
+CoordinateFrame = Literal["sensor", "world"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -225,7 +225,7 @@ class Scan:
         pts.setflags(write=False)
         return pts
 
-    def points(self, frame: Frame = "sensor") -> FloatArray:
+    def points(self, frame: CoordinateFrame = "sensor") -> FloatArray:
         """Cartesian beam end points (N, 2) [m]; rows of invalid beams are NaN.
 
         ``frame="world"`` applies :attr:`pose` and raises if the pose is unknown.
@@ -234,7 +234,7 @@ class Scan:
             return self._sensor_points
         return self.sensor_to_world(self._sensor_points)
 
-    def valid_points(self, frame: Frame = "sensor") -> tuple[FloatArray, IntArray]:
+    def valid_points(self, frame: CoordinateFrame = "sensor") -> tuple[FloatArray, IntArray]:
         """Points (K, 2) of the valid beams only, and their beam indices (K,)."""
         idx = np.flatnonzero(self.valid)
         return self.points(frame)[idx], idx.astype(np.int64)
@@ -276,7 +276,7 @@ class PointSet:
     sensor_ids: IntArray
     beams: IntArray
     sensors: tuple[str, ...] = ("laser",)
-    frame: Frame = "world"
+    frame: CoordinateFrame = "world"
     index: int = 0
 
     def __post_init__(self) -> None:
@@ -295,7 +295,7 @@ class PointSet:
         return int(self.points.shape[0])
 
     @classmethod
-    def from_scans(cls, scans: list[Scan], frame: Frame = "world") -> PointSet:
+    def from_scans(cls, scans: list[Scan], frame: CoordinateFrame = "world") -> PointSet:
         """Merge the valid points of several scans into one set (world frame needs poses)."""
         if not scans:
             raise ScanFormatError("cannot build a point set from no scans")

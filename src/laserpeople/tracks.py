@@ -12,7 +12,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.scan import Frame, Pose2D, Segment
+from laserpeople.scan import CoordinateFrame, Pose2D, Segment
 
 TrackKind = Literal["leg", "person", "group"]
 TRACK_KINDS: tuple[TrackKind, ...] = ("leg", "person", "group")
@@ -39,7 +39,7 @@ class Detections:
     positions: NDArray[np.float64]
     covariances: NDArray[np.float64]
     scores: NDArray[np.float64]
-    frame: Frame = "sensor"
+    frame: CoordinateFrame = "sensor"
     sensor_pose: Pose2D | None = None
     segments: tuple[Segment, ...] = field(default=(), repr=False)
 
@@ -62,7 +62,7 @@ class Detections:
         cls,
         stamp: float,
         scan_index: int,
-        frame: Frame = "sensor",
+        frame: CoordinateFrame = "sensor",
         sensor_pose: Pose2D | None = None,
     ) -> Detections:
         """No detections."""
@@ -149,7 +149,7 @@ class Tracks:
     stamp: float
     scan_index: int
     tracks: tuple[Track, ...] = ()
-    frame: Frame = "world"
+    frame: CoordinateFrame = "world"
     sensor_pose: Pose2D | None = None
 
     def __len__(self) -> int:

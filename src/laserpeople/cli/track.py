@@ -19,7 +19,7 @@ from laserpeople.cli.common import (
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.io import RecordingSource
-from laserpeople.scan import Frame, Scan
+from laserpeople.scan import CoordinateFrame, Scan
 from laserpeople.tracks import Detections
 
 
@@ -77,7 +77,7 @@ def run_tracking(
     tracker_name: str = "leg-mht",
     topic: str | None = None,
     config: Path | None = None,
-    output_frame: Frame | None = None,
+    output_frame: CoordinateFrame | None = None,
     detector: Detector | None = None,
     world_frame: str | None = None,
     mounts: list[str] | None = None,
@@ -106,7 +106,7 @@ def run_tracking(
     person_ids: set[int] = set()
     writer: TracksCsvWriter | None = None
     name: str | None = None
-    written_frame: Frame = output_frame or "sensor"
+    written_frame: CoordinateFrame = output_frame or "sensor"
     try:
         name = _choose_topic(rec, topic)
         total = next((t.count for t in rec.topics() if t.name == name), None)
@@ -153,7 +153,7 @@ def draw_tracks(
     recording: RecordingSource,
     tracks_csv: Path,
     topic: str | None,
-    tracks_frame: Frame,
+    tracks_frame: CoordinateFrame,
     plot: Path | None,
     animate: Path | None,
 ) -> None:
@@ -250,7 +250,7 @@ def register(app: typer.Typer) -> None:
             raise ConfigError(f"--plot writes a .png, not {plot.name!r}")
         if output_frame not in (None, "sensor", "world"):
             raise ConfigError(f"--output-frame must be sensor or world, not {output_frame!r}")
-        frame: Frame | None = (
+        frame: CoordinateFrame | None = (
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
         det = make_detector(detector, model, config)

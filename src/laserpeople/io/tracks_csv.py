@@ -22,7 +22,7 @@ from typing import IO, Any, get_args
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
-from laserpeople.scan import Frame
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
 HEADER = (
@@ -42,7 +42,7 @@ HEADER = (
 )
 
 
-def convert_tracks(tracks: Tracks, frame: Frame) -> Tracks:
+def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
     """The same tracks expressed in ``frame`` (uses ``tracks.sensor_pose``)."""
     if tracks.frame == frame:
         return tracks
@@ -90,7 +90,7 @@ class TracksCsvWriter:
         ...         out.write(tracks)
     """
 
-    def __init__(self, path: str | Path, frame: Frame = "world") -> None:
+    def __init__(self, path: str | Path, frame: CoordinateFrame = "world") -> None:
         self.path = Path(path)
         self.frame = frame
         try:
@@ -181,7 +181,7 @@ TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
 
 
 def iter_tracks_csv(
-    path: str | Path, frame: Frame = "world", kinds: tuple[TrackKind, ...] | None = None
+    path: str | Path, frame: CoordinateFrame = "world", kinds: tuple[TrackKind, ...] | None = None
 ) -> Iterator[Tracks]:
     """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in scan order.
 
@@ -208,7 +208,9 @@ def iter_tracks_csv(
         raise RecordingError(f"cannot read the tracks CSV: {exc.strerror or exc}", path=p) from exc
 
 
-def _read_tracks(p: Path, frame: Frame, kinds: tuple[TrackKind, ...] | None) -> Iterator[Tracks]:
+def _read_tracks(
+    p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None
+) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
         columns = reader.fieldnames or []

@@ -4,18 +4,18 @@ sensor frame, fixed by the first scan so that a track never changes frame."""
 from __future__ import annotations
 
 from laserpeople.errors import PoseUnavailableError
-from laserpeople.scan import Frame
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import Detections
 
 
-def tracking_frame(detections: Detections) -> Frame:
+def tracking_frame(detections: Detections) -> CoordinateFrame:
     """The frame to track in, chosen from a recording's first scan of detections."""
     return (
         "world" if detections.sensor_pose is not None or detections.frame == "world" else "sensor"
     )
 
 
-def in_frame(detections: Detections, frame: Frame) -> Detections:
+def in_frame(detections: Detections, frame: CoordinateFrame) -> Detections:
     """``detections`` expressed in the tracking ``frame``.
 
     Raises:

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.scan import Frame
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
@@ -145,7 +145,7 @@ class LegMHTTracker:
             self.params.mht, KalmanPointModel(self.params.kalman), self.labels
         )
         self.people = PersonFuser(self.params.person)
-        self.frame: Frame | None = None
+        self.frame: CoordinateFrame | None = None
         self.last_stats: StepStats | None = None
         self.leg_ids_reported: set[int] = set()
         self.dropped_detections = 0

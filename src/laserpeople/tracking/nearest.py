@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.scan import Frame
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking import kalman
 from laserpeople.tracking.assignment import solve
 from laserpeople.tracking.frames import in_frame, tracking_frame
@@ -67,7 +67,7 @@ class NearestNeighbourTracker:
         self._t = _Tracks()
         self._ids = itertools.count()
         self._stamp: float | None = None
-        self.frame: Frame | None = None
+        self.frame: CoordinateFrame | None = None
         self.leg_ids_reported: set[int] = set()
 
     def _positions(self, detections: Detections) -> tuple[FloatArray, FloatArray]:

@@ -19,7 +19,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from laserpeople.io import RecordingSource
-from laserpeople.scan import Frame, Scan
+from laserpeople.scan import CoordinateFrame, Scan
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
 from laserpeople.viz.colors import PALETTE, track_color
@@ -70,7 +70,7 @@ def plot_tracks(
     truth: TruthLike = "auto",
     topic: str | None = None,
     frame: FrameChoice = "auto",
-    tracks_frame: Frame | None = None,
+    tracks_frame: CoordinateFrame | None = None,
     scan: int | None = None,
 ) -> RenderResult:
     """PNG of a recording's tracks: the trajectory overview, or one scan when ``scan`` is
@@ -88,7 +88,7 @@ def animate_tracks(
     truth: TruthLike = "auto",
     topic: str | None = None,
     frame: FrameChoice = "auto",
-    tracks_frame: Frame | None = None,
+    tracks_frame: CoordinateFrame | None = None,
     every: int = 1,
     fps: float | None = None,
     progress: ProgressFn | None = None,

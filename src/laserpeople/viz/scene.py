@@ -23,7 +23,7 @@ from laserpeople.errors import LaserPeopleError, PoseUnavailableError, Recording
 from laserpeople.io import RecordingSource, open_recording
 from laserpeople.io.tracks_csv import convert_tracks, iter_tracks_csv
 from laserpeople.io.truth_csv import read_truth_csv
-from laserpeople.scan import Frame, Pose2D, Scan
+from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.tracks import Track, Tracks
 from laserpeople.truth import TruthFrame
 
@@ -119,7 +119,7 @@ class Scene:
         *,
         topic: str | None = None,
         frame: FrameChoice = "auto",
-        tracks_frame: Frame | None = None,
+        tracks_frame: CoordinateFrame | None = None,
         start: int | None = None,
         stop: int | None = None,
         every: int = 1,
@@ -157,8 +157,8 @@ class Scene:
                 path=self.source_name or None,
                 hint="use --frame sensor, or a recording with /tf or odometry",
             )
-        self.frame: Frame = auto if frame == "auto" else frame
-        self.tracks_frame: Frame = tracks_frame or auto
+        self.frame: CoordinateFrame = auto if frame == "auto" else frame
+        self.tracks_frame: CoordinateFrame = tracks_frame or auto
 
     # -- inputs --------------------------------------------------------------------------
     def _open(self) -> tuple[Iterator[Scan], Iterator[TruthFrame] | None, Callable[[], None]]:
@@ -194,7 +194,7 @@ class Scene:
     def _recording_truth(self, source: RecordingSource) -> Iterator[TruthFrame] | None:
         return source.truth() if source.has_truth else None
 
-    def _pose_frame(self) -> Frame:
+    def _pose_frame(self) -> CoordinateFrame:
         """World when one of the first :data:`POSE_PROBE_SCANS` scans has a sensor pose
         (real bags often lack one for the first scan or two), else sensor."""
         scans, _, close = self._open()

@@ -111,9 +111,7 @@ class RecordingFrames:
 
     def __iter__(self) -> Iterator[Frame]:
         scans = self.recording.scans(self.topics)
-        frames = (
-            laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
-        )
+        frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
         for n, frame in enumerate(self.chooser(frames)):
             if self.max_frames is not None and n >= self.max_frames:
                 return
@@ -159,9 +157,7 @@ def output_sink(path: str | Path) -> Sink:
         return TracksCsvSink(p)
     if suffix in (".bag", ".mcap", ".db3"):
         return TracksBagSink(p)
-    raise ConfigError(
-        f"cannot write tracks to {p.name!r}", hint="use .csv, .bag, .mcap or .db3"
-    )
+    raise ConfigError(f"cannot write tracks to {p.name!r}", hint="use .csv, .bag, .mcap or .db3")
 
 
 def build(

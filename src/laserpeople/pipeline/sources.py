@@ -45,8 +45,7 @@ class GroupingParams:
     tolerance: float = param(
         0.05,
         "assumption: about half the period of a 10-15 Hz scanner (MiR: 12.7 Hz, 79 ms)",
-        "a laser's scan joins the reference scan's frame when their stamps differ by at "
-        "most this",
+        "a laser's scan joins the reference scan's frame when their stamps differ by at most this",
         "s",
     )
     policy: str = param(
@@ -158,9 +157,7 @@ class LaserGrouper:
                         frame.candidates.setdefault(other.sensor, []).append(other)
                 pending.append(frame)
             elif scan.sensor in others:
-                if t <= last_out + tol and not any(
-                    abs(p.ref.stamp - t) <= tol for p in pending
-                ):
+                if t <= last_out + tol and not any(abs(p.ref.stamp - t) <= tol for p in pending):
                     self.stats.late[scan.sensor] += 1
                     continue
                 for p in pending:

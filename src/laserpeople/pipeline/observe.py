@@ -10,7 +10,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -55,16 +55,35 @@ class DetectLegs:
     consumes: frozenset[FrameField] = frozenset({"scans"})
     provides: frozenset[FrameField] = frozenset({"legs"})
 
-    def __init__(self, detector: LegDetector, params: LegFusionParams | None = None) -> None:
+    def __init__(
+        self,
+        detector: LegDetector,
+        params: LegFusionParams | None = None,
+        *,
+        keep_classification: bool = False,
+    ) -> None:
         self.detector = detector
         self.params = params or LegFusionParams()
+        self.keep_classification = keep_classification
         self.duplicates = 0
         self.per_scan: tuple[Detections, ...] = ()
         """The last frame's detections of each scan, sensor frame (for per-laser output)."""
+        self.classifications: tuple[Any, ...] = ()
+        """With ``keep_classification``: the last frame's ``ScanClassification`` per scan
+        (every segment with its features and score; the detector needs ``classify``)."""
+
+    def _detect(self, scan: Scan) -> Detections:
+        if not self.keep_classification:
+            return self.detector.detect(scan)
+        result = self.detector.classify(scan)  # type: ignore[attr-defined]
+        self.classifications += (result,)
+        dets: Detections = self.detector.detections_from(scan, result)  # type: ignore[attr-defined]
+        return dets
 
     def __call__(self, frame: Frame) -> Frame:
         """The frame with its legs."""
-        per_scan = tuple(self.detector.detect(scan) for scan in frame.scans)
+        self.classifications = ()
+        per_scan = tuple(self._detect(scan) for scan in frame.scans)
         self.per_scan = per_scan
         if frame.frame == "world":
             placed = [d.to_world() for d in per_scan]

@@ -237,7 +237,7 @@ class FrameStats:
             if self.requested == "auto"
             else "as requested"
         )
-        text = f"tracking in the {self.frame} frame ({why})"
+        text = f"working in the {self.frame} frame ({why})"
         if self.skipped_frames or self.dropped_scans:
             text += (
                 f"; {self.skipped_frames} frames skipped and {self.dropped_scans} scans "

@@ -287,7 +287,7 @@ def iter_tracks_bag(
         current: list[Track] = []
         key: tuple[int, float, CoordinateFrame] | None = None
         for conn, _, raw in reader.messages(connections=conns):
-            msg = reader.deserialize(raw, conn.msgtype)
+            msg: Any = reader.deserialize(raw, conn.msgtype)
             stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
             frame: CoordinateFrame = "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
             for person in msg.people:
@@ -310,7 +310,7 @@ def iter_tracks_bag(
                 current.append(
                     Track(
                         track_id=int(person.name),
-                        kind=kind,  # type: ignore[arg-type]
+                        kind=kind,
                         position=np.array([person.position.x, person.position.y]),
                         velocity=np.array([person.velocity.x, person.velocity.y]),
                         covariance=np.full((2, 2), np.nan),

@@ -274,7 +274,7 @@ class FrameChooser:
         if self.stats.requested == "auto":
             chosen: CoordinateFrame = "world" if 2 * with_pose > len(head) else "sensor"
         else:
-            chosen = self.stats.requested  # type: ignore[assignment]
+            chosen = self.stats.requested
         self.stats.frame = chosen
         for frame in itertools.chain(head, it):
             out = self._place(frame, chosen)

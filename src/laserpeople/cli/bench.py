@@ -89,12 +89,18 @@ def register(app: typer.Typer) -> None:
             timings.append(time_reading("read", stream, repeat))
             source = str(recording)
         say(f"timing {len(scans)} scans of {source}, {repeat} passes per stage")
-        det = make_detector(detector, None, None)
-        detections = [det.detect(s) for s in scans]
+        from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, laser_frames
+
+        # the frames the trackers see: the pipeline's, with legs detected once
+        observe = Pipeline(
+            FrameChooser()(laser_frames(scans)),
+            observe=[DetectLegs(make_detector(detector, None, None))],
+        )
+        frames = [step.frame for step in observe]
         stages: list[tuple[str, Callable[[], Callable[[Any], object]], Sequence[Any]]] = [
             ("detect", lambda: make_detector(detector, None, None).detect, scans)
         ]
-        stages += [(f"track {e.name}", _fresh_update(e), detections) for e in entries]
+        stages += [(f"track {e.name}", _fresh_update(e), frames) for e in entries]
         for name, make_step, items in progress(stages, len(stages), "stages"):
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
@@ -121,5 +127,6 @@ def register(app: typer.Typer) -> None:
 
 
 def _fresh_update(entry: TrackerEntry) -> Callable[[], Callable[[Any], object]]:
-    """A maker of a new tracker's ``update`` with default parameters, one per timing pass."""
-    return lambda: entry.factory(entry.params_cls()).update
+    """A maker of a new tracker's ``update(frame)`` with default parameters, one per timing
+    pass."""
+    return lambda: entry.make().update

@@ -39,7 +39,7 @@ def register(app: typer.Typer) -> None:
         """Simulate people (some in groups, one standing, leg-like clutter), detect legs,
         track with the leg MHT and every other tracker, score against ground truth, and
         write demo.gif and demo-tracks.csv."""
-        from laserpeople.viz.demo import run_demo
+        from laserpeople.demo import run_demo
 
         def bar(items: Iterable[Any], total: int | None, description: str) -> Iterable[Any]:
             return progress(items, total, description)

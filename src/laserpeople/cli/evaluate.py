@@ -13,6 +13,7 @@ from rich.table import Table
 from laserpeople.cli.common import console, progress, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
 from laserpeople.evaluation import EvaluationParams, EvaluationReport, evaluate
+from laserpeople.io import is_rosbag
 from laserpeople.io.tracks_csv import iter_tracks_csv
 from laserpeople.io.truth_csv import read_truth_csv
 from laserpeople.truth import TruthFrame
@@ -20,7 +21,8 @@ from laserpeople.truth import TruthFrame
 HELP = (
     "Score tracks against ground truth (CLEAR MOT, IDF1, the adapted MOTP of Schenk et al.)."
     "\n\n"
-    "TRACKS is a tracks CSV in the world frame, as written by `laserpeople track`. TRUTH is a "
+    "TRACKS is a tracks CSV in the world frame, as written by `laserpeople track`, or the "
+    "bag it writes with --bag (.bag/.mcap/.db3, people_msgs/People). TRUTH is a "
     "recording with ground truth (.npz, e.g. from `laserpeople simulate`) or a CSV "
     "scan,stamp,person_id,x,y of which only the listed scans are scored. Tracks and truth "
     "are paired by scan index; a scored scan without track rows counts all its people as "
@@ -80,7 +82,10 @@ def register(app: typer.Typer) -> None:
 
     @app.command("evaluate", help=HELP)
     def _command(
-        tracks: Annotated[Path, typer.Argument(metavar="TRACKS", help="Tracks CSV (world frame).")],
+        tracks: Annotated[
+            Path,
+            typer.Argument(metavar="TRACKS", help="Tracks CSV (world frame) or tracks bag."),
+        ],
         truth: Annotated[
             Path, typer.Option("--truth", help="Ground truth: .npz recording or .csv.")
         ],
@@ -103,7 +108,13 @@ def register(app: typer.Typer) -> None:
             raise EvaluationError(
                 "--per-frame is a directory", path=per_frame, hint="give a file name ending .csv"
             )
-        track_stream = iter_tracks_csv(tracks, frame="world", kinds=(params.kind,))  # type: ignore[arg-type]
+        kinds = (params.kind,)
+        if is_rosbag(tracks):
+            from laserpeople.io.tracks_bag import iter_tracks_bag
+
+            track_stream = iter_tracks_bag(tracks, kinds=kinds)  # type: ignore[arg-type]
+        else:
+            track_stream = iter_tracks_csv(tracks, frame="world", kinds=kinds)  # type: ignore[arg-type]
         run = evaluate(
             progress(truth_frames(truth), description="frames"),
             track_stream,

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Annotated, Any, Protocol
 
@@ -17,7 +16,7 @@ from laserpeople.cli.common import (
     say,
 )
 from laserpeople.config import check_sections, load_config, to_toml
-from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.errors import ConfigError
 from laserpeople.io import RecordingSource
 from laserpeople.scan import CoordinateFrame, Scan
 from laserpeople.tracks import Detections
@@ -60,22 +59,37 @@ def make_detector(name: str, model: Path | None, config: Path | None) -> Detecto
     raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")
 
 
-def _choose_topic(rec: Any, topic: str | None) -> str:
-    topics = [t.name for t in rec.topics()]
-    if topic is not None:
-        return topic  # the reader raises TopicNotFoundError naming the topics it has
-    if not topics:
-        raise LaserPeopleError("the recording has no laser topic", path=rec.path)
-    if len(topics) > 1:
-        say(f"tracking topic {topics[0]} (the recording has {', '.join(topics)}; use --topic)")
-    return topics[0]
+TopicOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--topic",
+        "-t",
+        help="Laser topic (repeatable: several lasers are fused into one frame; default: "
+        "the first).",
+    ),
+]
+TopicsOption = Annotated[
+    str | None,
+    typer.Option("--topics", help="'all': fuse every laser topic of the recording."),
+]
+
+
+def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None:
+    """The topics asked for by ``--topic`` (repeatable) and ``--topics all``."""
+    if topics is not None:
+        if topics != "all":
+            raise ConfigError(f"--topics {topics!r}: only 'all' is known", hint="or use --topic")
+        if topic:
+            raise ConfigError("give --topic or --topics all, not both")
+        return ["all"]
+    return list(topic) if topic else None
 
 
 def run_tracking(
     recording: Path,
     output: Path,
     tracker_name: str = "leg-mht",
-    topic: str | None = None,
+    topic: str | list[str] | None = None,
     config: Path | None = None,
     output_frame: CoordinateFrame | None = None,
     detector: Detector | None = None,
@@ -83,69 +97,62 @@ def run_tracking(
     mounts: list[str] | None = None,
     plot: Path | None = None,
     animate: Path | None = None,
+    bag: Path | None = None,
 ) -> dict[str, float]:
-    """Track every scan of one topic of ``recording`` and write ``output``; then, when
-    given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
+    """Track ``recording`` (one topic, or several fused) through the pipeline and write the
+    tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
+    when given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
     ``animate`` (.gif, or .mp4 with ffmpeg).
 
-    Returns counts and timings: scans, rows, leg and person tracks created, median/mean
-    tracking time per scan [ms] (detection excluded).
+    Returns counts and timings: scans (frames), rows, leg and person tracks created,
+    median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.io.tracks_csv import TracksCsvWriter
+    from laserpeople.pipeline import TracksCsvSink, build, output_sink
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config)
-    tracker = entry.factory(params)
     if detector is None:
         detector = make_detector("adaboost", None, config)
-    rec = open_with_poses(recording, world_frame, mounts or [])
-    times: list[float] = []
-    rows = 0
-    leg_ids: set[int] = set()
-    person_ids: set[int] = set()
-    writer: TracksCsvWriter | None = None
-    name: str | None = None
-    written_frame: CoordinateFrame = output_frame or "sensor"
-    try:
-        name = _choose_topic(rec, topic)
-        total = next((t.count for t in rec.topics() if t.name == name), None)
-        for scan in progress(rec.scans([name]), total=total, description="tracking"):
-            dets = detector.detect(scan)
-            t0 = time.perf_counter()
-            tracks = tracker.update(dets)
-            times.append(time.perf_counter() - t0)
-            if writer is None:
-                written_frame = output_frame or tracks.frame
-                writer = TracksCsvWriter(output, frame=written_frame)
-            writer.write(tracks)
-            rows += len(tracks)
-            leg_ids.update(t.track_id for t in tracks if t.kind == "leg")
-            person_ids.update(t.track_id for t in tracks if t.kind == "person")
-    finally:
-        if writer is not None:
-            writer.close()
-        rec.close()
-    if writer is None:  # no scan at all: still leave a valid, empty file
-        with TracksCsvWriter(output, frame=written_frame):
-            pass
+    topics = [topic] if isinstance(topic, str) else topic
+    csv_sink = TracksCsvSink(output, frame=output_frame)
+    sinks: list[Any] = [csv_sink]
+    if bag is not None:
+        sinks.append(output_sink(bag))
+    pipe = build(
+        recording,
+        tracker=entry.make(params),
+        topics=topics,
+        detector=detector,
+        outputs=sinks,
+        world_frame=world_frame,
+        mounts=mounts or [],
+    )
+    source: Any = pipe.source
+    if len(source.topics) > 1:
+        say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
+    for _ in progress(pipe, total=source.total, description="tracking"):
+        pass
+    for line in source.summary():
+        say(line)
+    written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
-        source = open_with_poses(recording, world_frame, mounts or [])
+        drawn = open_with_poses(recording, world_frame, mounts or [])
         try:
-            draw_tracks(source, output, name, written_frame, plot, animate)
+            draw_tracks(drawn, output, source.topics[0], written_frame, plot, animate)
         finally:
-            source.close()
-    dropped = int(getattr(tracker, "dropped_detections", 0))
+            drawn.close()
+    dropped = int(getattr(pipe.tracker, "dropped_detections", 0))
     if dropped:
         say(f"{dropped} detections with non-finite positions were left out")
-    ms = sorted(1e3 * t for t in times)
+    stats = pipe.stats
     return {
-        "scans": float(len(times)),
-        "rows": float(rows),
-        "leg_tracks": float(len(leg_ids)),
-        "person_tracks": float(len(person_ids)),
-        "median_ms": ms[len(ms) // 2] if ms else 0.0,
-        "mean_ms": sum(ms) / len(ms) if ms else 0.0,
+        "scans": float(stats.frames),
+        "rows": float(stats.rows),
+        "leg_tracks": float(stats.count("leg")),
+        "person_tracks": float(stats.count("person")),
+        "median_ms": stats.median_ms,
+        "mean_ms": stats.mean_ms,
     }
 
 
@@ -187,9 +194,8 @@ def register(app: typer.Typer) -> None:
         tracker: Annotated[
             str, typer.Option("--tracker", help="Tracker: leg-mht (000 Sec. 3) or nn.")
         ] = "leg-mht",
-        topic: Annotated[
-            str | None, typer.Option("--topic", "-t", help="Laser topic (default: the first).")
-        ] = None,
+        topic: TopicOption = None,
+        topics: TopicsOption = None,
         config: Annotated[
             Path | None,
             typer.Option("--config", help="TOML file with tracker and detector parameters."),
@@ -210,6 +216,14 @@ def register(app: typer.Typer) -> None:
         ] = None,
         output: Annotated[
             Path | None, typer.Option("--output", "-o", help="Tracks CSV to write.")
+        ] = None,
+        bag: Annotated[
+            Path | None,
+            typer.Option(
+                "--bag",
+                help="Also write the scans and tracks as ROS messages (people_msgs/People, "
+                "visualization_msgs/MarkerArray) to this .bag, .mcap or .db3.",
+            ),
         ] = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
@@ -258,7 +272,7 @@ def register(app: typer.Typer) -> None:
             recording,
             output,
             tracker,
-            topic,
+            topics_from(topic, topics),
             config,
             frame,
             det,
@@ -266,6 +280,7 @@ def register(app: typer.Typer) -> None:
             mount or [],
             plot=plot,
             animate=animate,
+            bag=bag,
         )
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "
@@ -273,3 +288,5 @@ def register(app: typer.Typer) -> None:
             f"{output}; tracking {stats['median_ms']:.2f} ms/scan median "
             f"({stats['mean_ms']:.2f} mean)"
         )
+        if bag is not None:
+            say(f"wrote {bag}")

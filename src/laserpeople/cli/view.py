@@ -133,6 +133,18 @@ def register(app: typer.Typer) -> None:
             raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
         source = open_with_poses(recording, world_frame, mount or [])
+        if tracks is not None:
+            from laserpeople.pipeline import resolve_topics
+            from laserpeople.pipeline.checks import tracks_mismatch
+
+            try:
+                topic = resolve_topics(source, [topic] if topic else None)[0]
+                problems = tracks_mismatch(tracks, source, topic)
+            except BaseException:
+                source.close()
+                raise
+            for problem in problems:
+                warn(f"{tracks} may not belong to {recording.name}: {problem}")
         scene = Scene(
             source,
             tracks,

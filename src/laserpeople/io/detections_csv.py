@@ -5,12 +5,17 @@ Header::
     scan,stamp,x,y,score
 
 ``scan`` is the 0-based index of the scan on its topic, ``stamp`` its time [s], ``x, y`` the
-leg centre [m] in the sensor frame, ``score`` the detector's margin (AdaBoost F(e)).
+leg centre [m] in the sensor frame (or, for fused lasers, in the frame the caller states),
+``score`` the detector's margin (AdaBoost F(e)).
 
-With ``all_segments=True`` every segment of the scan gets a row (detected or not) with the
-extra columns ``segment,first_beam,n_beams,is_leg`` and the 14 features
-(``f1_n_points ... f14_mean_speed``); ``score`` is empty for segments of fewer than three
-points, which are not classified.
+With ``segment_columns`` every segment of the scan gets a row (detected or not) with the
+extra columns ``segment,first_beam,n_beams,is_leg`` and the caller's value columns (the
+``detect --all-segments`` command hands in the 14 feature names, ``f1_n_points ...
+f14_mean_speed``; this file format does not know the classifier); ``score`` is empty for
+segments of fewer than three points, which are not classified.
+
+Files written with a ``topic`` end with one more column, ``topic``: the laser topic of
+the row, or ``fused``. Readers accept files with and without it.
 """
 
 from __future__ import annotations
@@ -23,19 +28,15 @@ from typing import IO, Any
 
 import numpy as np
 
-from laserpeople.detection.features import FEATURE_NAMES
 from laserpeople.errors import RecordingError
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
 HEADER = ("scan", "stamp", "x", "y", "score")
-SEGMENT_COLUMNS = (
-    "segment",
-    "first_beam",
-    "n_beams",
-    "is_leg",
-    *(f"f{i + 1}_{name}" for i, name in enumerate(FEATURE_NAMES)),
-)
+SEGMENT_COLUMNS = ("segment", "first_beam", "n_beams", "is_leg")
+"""The per-segment columns before the caller's value columns (``--all-segments``)."""
+TOPIC_COLUMN = "topic"
+_INT_COLUMNS = frozenset({"scan", "segment", "first_beam", "n_beams", "is_leg"})
 
 
 def _num(value: float) -> str:
@@ -43,24 +44,46 @@ def _num(value: float) -> str:
 
 
 class DetectionsCsvWriter:
-    """Writes detections (or all classified segments) to a CSV file, flushing per scan."""
+    """Writes detections (or all classified segments) to a CSV file, flushing per scan.
 
-    def __init__(self, path: str | Path, *, all_segments: bool = False) -> None:
+    Args:
+        path: The CSV to write.
+        segment_columns: Names of the per-segment value columns (e.g. feature names); when
+            given, rows come from :meth:`write_segments` with
+            ``segment,first_beam,n_beams,is_leg`` and these columns after ``score``.
+        topic: When given, every row ends with a ``topic`` column (pass the row's topic to
+            :meth:`write` / :meth:`write_segments`; this value is the default).
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        *,
+        segment_columns: tuple[str, ...] | None = None,
+        topic: str | None = None,
+    ) -> None:
         self.path = Path(path)
-        self.all_segments = all_segments
+        self.segment_columns = segment_columns
+        self.all_segments = segment_columns is not None
+        self.topic = topic
         try:
             self._fh: IO[str] = self.path.open("w", newline="", encoding="utf-8")
         except OSError as exc:
             raise RecordingError(f"cannot write detections: {exc}", path=self.path) from exc
         self._writer = csv.writer(self._fh)
-        self._writer.writerow(HEADER + (SEGMENT_COLUMNS if all_segments else ()))
+        header = HEADER + ((*SEGMENT_COLUMNS, *segment_columns) if segment_columns else ())
+        self._writer.writerow(header + ((TOPIC_COLUMN,) if topic is not None else ()))
         self._fh.flush()
         self.rows = 0
 
-    def write(self, detections: Detections) -> None:
-        """One row per detection (sensor frame)."""
-        if detections.frame != "sensor":
-            raise ValueError("detections CSV holds sensor-frame positions")
+    def _tail(self, topic: str | None) -> list[str]:
+        if self.topic is None:
+            return []
+        return [topic if topic is not None else self.topic]
+
+    def write(self, detections: Detections, topic: str | None = None) -> None:
+        """One row per detection, positions as given (sensor frame for one laser)."""
+        tail = self._tail(topic)
         for (x, y), score in zip(detections.positions, detections.scores, strict=True):
             self._writer.writerow(
                 [
@@ -69,6 +92,7 @@ class DetectionsCsvWriter:
                     repr(float(x)),
                     repr(float(y)),
                     _num(score),
+                    *tail,
                 ]
             )
             self.rows += 1
@@ -82,9 +106,12 @@ class DetectionsCsvWriter:
         sizes: np.ndarray,
         is_leg: np.ndarray,
         scores: np.ndarray,
-        features: np.ndarray,
+        values: np.ndarray,
+        topic: str | None = None,
     ) -> None:
-        """One row per segment of ``scan`` with its features (the ``--all-segments`` layout)."""
+        """One row per segment of ``scan`` with its ``values`` (S, len(segment_columns))
+        (the ``--all-segments`` layout)."""
+        tail = self._tail(topic if topic is not None else scan.sensor)
         for i in range(centres.shape[0]):
             row: list[Any] = [
                 scan.index,
@@ -97,7 +124,8 @@ class DetectionsCsvWriter:
                 int(sizes[i]),
                 int(bool(is_leg[i])),
             ]
-            row.extend(_num(v) for v in features[i])
+            row.extend(_num(v) for v in values[i])
+            row.extend(tail)
             self._writer.writerow(row)
             self.rows += 1
         self._fh.flush()
@@ -113,8 +141,17 @@ class DetectionsCsvWriter:
         self.close()
 
 
-def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int]]:
-    """Rows of a detections CSV as dicts (``scan`` int, others float; empty -> NaN)."""
+def _value(key: str, value: str) -> float | int | str:
+    if key == TOPIC_COLUMN:
+        return value
+    if key in _INT_COLUMNS:
+        return int(value)
+    return float(value) if value != "" else math.nan
+
+
+def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int | str]]:
+    """Rows of a detections CSV as dicts (``scan`` int, ``topic`` str when present, others
+    float; empty -> NaN)."""
     p = Path(path)
     try:
         fh = p.open(newline="", encoding="utf-8")
@@ -130,13 +167,6 @@ def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int]]:
             )
         for line, row in enumerate(reader, start=2):
             try:
-                yield {
-                    k: (
-                        int(v)
-                        if k in ("scan", "segment", "first_beam", "n_beams", "is_leg")
-                        else (float(v) if v != "" else math.nan)
-                    )
-                    for k, v in row.items()
-                }
+                yield {k: _value(k, v) for k, v in row.items()}
             except (TypeError, ValueError) as exc:
                 raise RecordingError(f"line {line}: {exc}", path=p) from exc

@@ -7,6 +7,10 @@ Header::
 ``scan`` is the 0-based index of the scan on its topic, positions [m] and velocities
 [m/s] are in the frame chosen when writing (``--output-frame``), ``size`` is the
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
+Files written with a ``topic`` have one more column at the end, ``topic``: the laser
+topic the tracks come from, or ``fused`` when several lasers made each frame (then
+``scan`` is the index of the first laser's scan). Readers accept files with and without
+it.
 A scan with no tracks writes no row. Because every scan's rows are flushed before the
 next scan is processed, a crash leaves a valid file with the scans done so far.
 """
@@ -40,6 +44,7 @@ HEADER = (
     "size",
     "labels",
 )
+TOPIC_COLUMN = "topic"
 
 
 def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
@@ -90,9 +95,12 @@ class TracksCsvWriter:
         ...         out.write(tracks)
     """
 
-    def __init__(self, path: str | Path, frame: CoordinateFrame = "world") -> None:
+    def __init__(
+        self, path: str | Path, frame: CoordinateFrame = "world", topic: str | None = None
+    ) -> None:
         self.path = Path(path)
         self.frame = frame
+        self.topic = topic
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self._fh: IO[str] = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115
@@ -103,9 +111,10 @@ class TracksCsvWriter:
                 hint="choose a writable file path with -o",
             ) from exc
         self._csv = csv.writer(self._fh, lineterminator="\n")
-        self._csv.writerow(HEADER)
+        self._csv.writerow(HEADER if topic is None else (*HEADER, TOPIC_COLUMN))
         self._fh.flush()
         self.rows = 0
+        self._tail: tuple[str, ...] = () if topic is None else (topic,)
 
     def write(self, tracks: Tracks) -> None:
         """Append the rows of one scan and flush them to disk."""
@@ -127,6 +136,7 @@ class TracksCsvWriter:
                     f"{c[1, 1]:.6g}",
                     t.size,
                     t.labels,
+                    *self._tail,
                 )
             )
             self.rows += 1
@@ -175,6 +185,21 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
     if not (math.isfinite(track.position[0]) and math.isfinite(track.position[1])):
         raise RecordingError(f"line {line}: position is not finite", path=path)
     return scan, stamp, track
+
+
+def read_tracks_topic(path: str | Path) -> str | None:
+    """The ``topic`` of a tracks CSV's first row, or None for files without the column
+    (written before it existed) or without rows."""
+    p = Path(path)
+    try:
+        with open(p, newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(fh)
+            if TOPIC_COLUMN not in (reader.fieldnames or []):
+                return None
+            row = next(reader, None)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
+    return None if row is None else (row.get(TOPIC_COLUMN) or None)
 
 
 TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"

@@ -60,6 +60,18 @@ def make_detector(name: str, model: Path | None, config: Path | None) -> Detecto
     raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")
 
 
+def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
+    """``params`` with ``people_policy`` replaced (``--people-policy``)."""
+    from dataclasses import replace
+
+    if not hasattr(params, "people_policy"):
+        raise ConfigError(f"--people-policy applies to leg-mht, not to {tracker_name!r}")
+    try:
+        return replace(params, people_policy=policy)
+    except ValueError as exc:
+        raise ConfigError(f"--people-policy: {exc}") from None
+
+
 def _choose_topic(rec: Any, topic: str | None) -> str:
     topics = [t.name for t in rec.topics()]
     if topic is not None:
@@ -83,6 +95,7 @@ def run_tracking(
     mounts: list[str] | None = None,
     plot: Path | None = None,
     animate: Path | None = None,
+    people_policy: str | None = None,
 ) -> dict[str, float]:
     """Track every scan of one topic of ``recording`` and write ``output``; then, when
     given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
@@ -96,6 +109,8 @@ def run_tracking(
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config)
+    if people_policy is not None:
+        params = with_people_policy(params, people_policy, tracker_name)
     tracker = entry.factory(params)
     if detector is None:
         detector = make_detector("adaboost", None, config)
@@ -221,6 +236,14 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--animate", help="Also draw an animation (.gif, or .mp4 with ffmpeg)."),
         ] = None,
+        people_policy: Annotated[
+            str | None,
+            typer.Option(
+                "--people-policy",
+                help="leg-mht person layer: tracks (default; people as tracks of their own) "
+                "or arras (000 Sec. 3.3: people from validated leg pairs).",
+            ),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -266,6 +289,7 @@ def register(app: typer.Typer) -> None:
             mount or [],
             plot=plot,
             animate=animate,
+            people_policy=people_policy,
         )
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

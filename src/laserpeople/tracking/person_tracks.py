@@ -33,7 +33,10 @@ an existence score:
 - **Static world.** With a :class:`~laserpeople.background.StaticWorldModel`, a person whose
   detected legs all stand on cells static for longer than ``static_time`` is not confirmed
   until it has moved ``min_travel`` from where it was born (leg_tracker's "distance
-  travelled together"); once confirmed (seen walking) it keeps its track when it stands.
+  travelled together"), and a confirmed person that has never moved that far is
+  unconfirmed (not reported) when its place becomes static (the grid learns online, so at
+  the start of a recording nothing is static yet); a person seen walking keeps its track
+  when it stands.
 
 Reported: confirmed people whose last leg detection is at most ``max_report_unseen`` old.
 """
@@ -268,6 +271,8 @@ class PersonTrack:
         born_at: Position (2,) where the person was born.
         travelled: Largest distance [m] from ``born_at`` so far.
         scans: Scans since birth.
+        public_id: The reported id, given at the first confirmation (so that candidates
+            that never become people use no ids); None before.
     """
 
     person_id: int
@@ -281,6 +286,7 @@ class PersonTrack:
     born_at: FloatArray = field(default_factory=lambda: np.zeros(2))
     travelled: float = 0.0
     scans: int = 0
+    public_id: int | None = None
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -315,7 +321,9 @@ class PersonTracker:
         self.static_model = static_model
         self.persons: dict[int, PersonTrack] = {}
         self._ids = itertools.count()
+        self._public_ids = itertools.count()
         self.persons_created = 0
+        """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
         self._llr = params.evidence_llr()
 
@@ -465,7 +473,6 @@ class PersonTracker:
             position, np.eye(2) * p.pair_std**2, p.init_velocity_std
         )
         pid = next(self._ids)
-        self.persons_created += 1
         self.persons[pid] = PersonTrack(
             person_id=pid,
             mean=mean,
@@ -506,13 +513,25 @@ class PersonTracker:
 
     def _confirm_and_delete(self, stamp: float) -> None:
         p = self.params
-        candidates = [q for q in self.persons.values() if not q.confirmed]
-        ready = [q for q in candidates if q.llr >= p.llr_confirm]
-        if ready:
-            static = self._static(np.stack([q.mean[:2] for q in ready]))
-            for q, s in zip(ready, static, strict=True):
-                if s <= p.static_time or q.travelled >= p.min_travel:
-                    q.confirmed = True
+        # candidates with enough evidence, and confirmed people never seen walking: both
+        # are (or stay) confirmed unless they stand on cells static for static_time
+        ask = [
+            q
+            for q in self.persons.values()
+            if (q.confirmed or q.llr >= p.llr_confirm) and q.travelled < p.min_travel
+        ]
+        blocked: set[int] = set()
+        if ask and self.static_model is not None:
+            static = self._static(np.stack([q.mean[:2] for q in ask]))
+            blocked = {q.person_id for q, s in zip(ask, static, strict=True) if s > p.static_time}
+        for q in self.persons.values():
+            if q.person_id in blocked:
+                q.confirmed = False
+            elif not q.confirmed and q.llr >= p.llr_confirm:
+                q.confirmed = True
+                if q.public_id is None:
+                    q.public_id = next(self._public_ids)
+                    self.persons_created += 1
         for pid in list(self.persons):
             q = self.persons[pid]
             unseen = stamp - q.last_seen
@@ -539,9 +558,10 @@ class PersonTracker:
             q = self.persons[pid]
             if not q.confirmed or stamp - q.last_seen > max_report_unseen:
                 continue
+            assert q.public_id is not None
             out.append(
                 Track(
-                    track_id=pid,
+                    track_id=q.public_id,
                     kind="person",
                     position=q.mean[:2],
                     velocity=q.mean[2:4],

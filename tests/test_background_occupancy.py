@@ -56,8 +56,8 @@ def test_neighbourhood_and_unknown_places() -> None:
     g = OccupancyGrid()
     for k in range(30):
         g.learn(POST, 0.1 * k)
-    near = POST + [[0.1, 0.0]]  # the next cell: within the neighbourhood of 1 cell
-    far = POST + [[0.35, 0.0]]
+    near = POST + np.array([[0.1, 0.0]])  # the next cell: within the neighbourhood of 1 cell
+    far = POST + np.array([[0.35, 0.0]])
     out = g.static_time(np.vstack([POST, near, far, [[-50.0, 40.0]]]))
     assert out[0] == pytest.approx(2.7) and out[1] == pytest.approx(2.7)
     assert out[2] == 0.0 and out[3] == 0.0
@@ -95,7 +95,6 @@ def test_max_range_skips_far_returns() -> None:
 def test_frame_call_sets_foreground() -> None:
     params = OccupancyParams(background_time=1.0)
     g: StaticWorldModel = OccupancyGrid(params)
-    angles = np.linspace(-0.5, 0.5, 11)
     for k in range(30):
         ranges = np.full(11, 3.0)
         ranges[5] = 1.0 + 0.1 * k  # one beam on something moving away

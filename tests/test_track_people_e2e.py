@@ -14,7 +14,7 @@ from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 from laserpeople.viz.demo import simulate_demo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import followed_person as fp  # noqa: E402
+import followed_person as fp
 
 
 @pytest.mark.slow

@@ -28,9 +28,7 @@ P = PersonTrackParams()
 def leg(
     track_id: int, x: float, y: float, detected: bool = True, wide: bool = False
 ) -> LegObservation:
-    return LegObservation(
-        track_id, np.array([x, y]), detected, 0.0 if detected else 0.2, 0, wide
-    )
+    return LegObservation(track_id, np.array([x, y]), detected, 0.0 if detected else 0.2, 0, wide)
 
 
 def legs(*obs: LegObservation) -> dict[int, LegObservation]:

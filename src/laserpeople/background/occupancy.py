@@ -178,9 +178,7 @@ def load_ros_map(path: str | Path) -> OccupancyMap:
     except ValueError as exc:
         raise MapFileError(f"bad number in the map yaml ({exc})", path=p) from exc
     if len(origin_vals) != 3 or not resolution > 0:
-        raise MapFileError(
-            "origin must be [x, y, yaw] and resolution positive", path=p
-        )
+        raise MapFileError("origin must be [x, y, yaw] and resolution positive", path=p)
     image = Path(keys["image"])
     if not image.is_absolute():
         image = p.parent / image

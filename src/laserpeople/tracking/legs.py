@@ -20,15 +20,14 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.probability import LabelProbabilities
-from laserpeople.tracking.mht.tracktree import TrackNode
-from laserpeople.background import StaticWorldModel
-from laserpeople.tracking.mht.tracktree import OCCLUDED
+from laserpeople.tracking.mht.tracktree import OCCLUDED, TrackNode
 from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
 from laserpeople.tracking.person_tracks import (
     PersonTracker,
@@ -256,7 +255,8 @@ class LegMHTTracker:
                 n.family,
                 n.mean[:2],
                 n.unseen_for(stamp),
-                int(kept[n.measurement]) if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp
+                int(kept[n.measurement])
+                if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp
                 else -1,
             )
             for n in best

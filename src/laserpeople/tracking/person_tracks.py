@@ -295,9 +295,7 @@ def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
     return min(max(llr + step, params.llr_min), params.llr_max)
 
 
-def segment_holds_two_legs(
-    points: FloatArray, score: float, params: PersonTrackParams
-) -> bool:
+def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrackParams) -> bool:
     """A detected segment with ``points`` (n, 2) [m] and detector ``score`` is wide enough,
     dense enough and leg-like enough to be both legs of one person."""
     if points.shape[0] < params.wide_min_points or not score > params.wide_min_score:
@@ -379,9 +377,7 @@ class PersonTracker:
         r = np.broadcast_to(np.eye(2) * p.one_leg_std**2, (len(free), 2, 2))
         d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, r)
         e2 = kalman.euclidean_sq(means, z)
-        ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (
-            e2 <= p.max_gate_distance**2
-        )
+        ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
         # a person's members stay within pair_distance of each other
         for i, person in enumerate(open_):
             for m in person.members:
@@ -469,9 +465,7 @@ class PersonTracker:
 
     def _new(self, position: FloatArray, members: list[int], stamp: float) -> None:
         p = self.params
-        mean, cov = kalman.initiate(
-            position, np.eye(2) * p.pair_std**2, p.init_velocity_std
-        )
+        mean, cov = kalman.initiate(position, np.eye(2) * p.pair_std**2, p.init_velocity_std)
         pid = next(self._ids)
         self.persons[pid] = PersonTrack(
             person_id=pid,
@@ -490,17 +484,11 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
-        ps = sorted(
-            self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id)
-        )
+        ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
         kept: list[PersonTrack] = []
         for q in ps:
             host = next(
-                (
-                    k
-                    for k in kept
-                    if float(np.hypot(*(k.mean[:2] - q.mean[:2]))) < p.merge_distance
-                ),
+                (k for k in kept if float(np.hypot(*(k.mean[:2] - q.mean[:2]))) < p.merge_distance),
                 None,
             )
             if host is None:

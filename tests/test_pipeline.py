@@ -32,6 +32,7 @@ from laserpeople.pipeline import (
 )
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracking import registry
+from laserpeople.tracking.legs import LegTrackerParams
 from laserpeople.tracks import Detections, Track, Tracks
 
 # ---------------------------------------------------------------- single linkage
@@ -320,7 +321,8 @@ def test_track_bag_output_reads_back_and_evaluates(
             assert np.allclose(s.position, t.position, atol=1e-4)
             assert np.allclose(s.velocity, t.velocity, atol=1e-4)
     persons = [t for f in from_bag for t in f.of_kind("person")]
-    assert persons and all(len(p.members) == 2 for p in persons)
+    assert persons and all(1 <= len(p.members) <= 2 for p in persons)
+    assert any(len(p.members) == 2 for p in persons)
     rec = open_recording(bag)  # the scans are in the bag too: ROS users replay it
     try:
         assert sum(t.count for t in rec.topics()) > 10
@@ -380,7 +382,8 @@ def test_same_tracks_as_before_on_the_real_demo_bag(shared_data: Path, tmp_path:
     if not bag.exists():
         pytest.skip(f"{bag} not present")
     out = tmp_path / "t.csv"
-    build(bag, outputs=[out], max_frames=200).run()
+    arras = LegTrackerParams(people_policy="arras")  # the policy the golden run used
+    build(bag, params=arras, outputs=[out], max_frames=200).run()
     assert _old_format(out, 200) == (n_lines, digest)
 
 
@@ -391,7 +394,9 @@ def test_same_tracks_as_before_on_the_demo_scene(tmp_path: Path) -> None:
     rec = tmp_path / "demo.npz"
     run_scenario("demo", seed=0).write(rec)
     out = tmp_path / "t.csv"
-    result = CliRunner().invoke(app, ["--quiet", "track", str(rec), "-o", str(out)])
+    result = CliRunner().invoke(
+        app, ["--quiet", "track", str(rec), "-o", str(out), "--people-policy", "arras"]
+    )
     assert result.exit_code == 0, result.output
     assert _old_format(out, 10**9) == (
         2216,

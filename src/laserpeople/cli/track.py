@@ -85,6 +85,18 @@ def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None
     return list(topic) if topic else None
 
 
+def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
+    """``params`` with ``people_policy`` replaced (``--people-policy``)."""
+    from dataclasses import replace
+
+    if not hasattr(params, "people_policy"):
+        raise ConfigError(f"--people-policy applies to leg-mht, not to {tracker_name!r}")
+    try:
+        return replace(params, people_policy=policy)
+    except ValueError as exc:
+        raise ConfigError(f"--people-policy: {exc}") from None
+
+
 def run_tracking(
     recording: Path,
     output: Path,
@@ -98,6 +110,7 @@ def run_tracking(
     plot: Path | None = None,
     animate: Path | None = None,
     bag: Path | None = None,
+    people_policy: str | None = None,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -112,6 +125,8 @@ def run_tracking(
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config)
+    if people_policy is not None:
+        params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
     topics = [topic] if isinstance(topic, str) else topic
@@ -235,6 +250,14 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--animate", help="Also draw an animation (.gif, or .mp4 with ffmpeg)."),
         ] = None,
+        people_policy: Annotated[
+            str | None,
+            typer.Option(
+                "--people-policy",
+                help="leg-mht person layer: tracks (default; people as tracks of their own) "
+                "or arras (000 Sec. 3.3: people from validated leg pairs).",
+            ),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -281,6 +304,7 @@ def register(app: typer.Typer) -> None:
             plot=plot,
             animate=animate,
             bag=bag,
+            people_policy=people_policy,
         )
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console, progress, say
 
@@ -47,6 +46,8 @@ def register(app: typer.Typer) -> None:
         t0 = time.perf_counter()
         result = run_demo(out_dir, seconds=seconds, seed=seed, progress=bar, gif=not no_gif)
         wall = time.perf_counter() - t0
+
+        from rich.table import Table
 
         table = Table(
             title=(

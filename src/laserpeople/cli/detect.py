@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
 
 from laserpeople.cli.common import console, ignored_sections, progress, say
 from laserpeople.cli.track import make_detector, tracker_param_classes
 from laserpeople.config import check_sections
-from laserpeople.detection.report import Confusion, error_table
 from laserpeople.errors import ConfigError
+
+if TYPE_CHECKING:
+    from laserpeople.detection.report import Confusion
 
 
 def register(app: typer.Typer) -> None:
@@ -22,7 +23,7 @@ def register(app: typer.Typer) -> None:
         "detect",
         short_help="Detect legs in a recording and write one CSV row per leg.",
         help=(
-            "Detect legs in a recording (000 Sec. 2) and write one CSV row per leg: "
+            "Detect legs in a recording (Arras et al. 2008 Sec. 2) and write one CSV row per leg: "
             "scan,stamp,x,y,score in the sensor frame. --all-segments writes every segment "
             "with its 14 features; --report compares AdaBoost and the heuristic against "
             "per-beam ground truth (simulated .npz)."
@@ -42,7 +43,10 @@ def register(app: typer.Typer) -> None:
             typer.Option("--model", "-m", help="Model JSON from `laserpeople train`."),
         ] = None,
         detector_name: Annotated[
-            str, typer.Option("--detector", help="adaboost or heuristic (000 Sec. 2.3.3).")
+            str,
+            typer.Option(
+                "--detector", help="adaboost or heuristic (Arras et al. 2008 Sec. 2.3.3)."
+            ),
         ] = "adaboost",
         all_segments: Annotated[
             bool,
@@ -57,12 +61,15 @@ def register(app: typer.Typer) -> None:
             typer.Option("--config", help="TOML file with [leg_detector] parameters."),
         ] = None,
     ) -> None:
+        import numpy as np
+
         from laserpeople.detection.detector import (
             AdaBoostLegDetector,
             HeuristicLegDetector,
             LegDetectorParams,
             ScanClassification,
         )
+        from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.io import open_recording
         from laserpeople.io.detections_csv import DetectionsCsvWriter
@@ -131,17 +138,23 @@ def register(app: typer.Typer) -> None:
                 )
             ada = _sum(truth_ada)
             heur = _sum(truth_heur)
-            console.print(ada.table("Confusion matrix, AdaBoost (layout of 000 Tables 2-5)"))
-            console.print(heur.table("\nConfusion matrix, heuristic (000 Sec. 2.3.3)"))
+            console.print(
+                ada.table("Confusion matrix, AdaBoost (layout of Arras et al. 2008 Tables 2-5)")
+            )
+            console.print(
+                heur.table("\nConfusion matrix, heuristic (Arras et al. 2008 Sec. 2.3.3)")
+            )
             console.print(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
-                    "\nComparison with the heuristic approach (000 Table 7)",
+                    "\nComparison with the heuristic approach (Arras et al. 2008 Table 7)",
                 )
             )
 
 
 def _sum(parts: list[Confusion]) -> Confusion:
+    from laserpeople.detection.report import Confusion
+
     tp = fn = fp = tn = 0
     for c in parts:
         tp, fn, fp, tn = tp + c.tp, fn + c.fn, fp + c.fp, tn + c.tn

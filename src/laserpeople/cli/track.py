@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Annotated, Any, Protocol
+from typing import TYPE_CHECKING, Annotated, Any, Protocol
 
 import typer
 
@@ -18,9 +18,11 @@ from laserpeople.cli.common import (
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
-from laserpeople.io import RecordingSource
-from laserpeople.scan import CoordinateFrame, Scan
-from laserpeople.tracks import Detections
+
+if TYPE_CHECKING:
+    from laserpeople.io import RecordingSource
+    from laserpeople.scan import CoordinateFrame, Scan
+    from laserpeople.tracks import Detections
 
 
 class Detector(Protocol):
@@ -185,7 +187,8 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Argument(help="A recording (.bag, .mcap, .db3, CARMEN log, .npz).")
         ] = None,
         tracker: Annotated[
-            str, typer.Option("--tracker", help="Tracker: leg-mht (000 Sec. 3) or nn.")
+            str,
+            typer.Option("--tracker", help="Tracker: leg-mht (Arras et al. 2008 Sec. 3) or nn."),
         ] = "leg-mht",
         topic: Annotated[
             str | None, typer.Option("--topic", "-t", help="Laser topic (default: the first).")

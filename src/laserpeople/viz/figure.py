@@ -48,7 +48,7 @@ def import_matplotlib() -> ModuleType:
     except ImportError as exc:
         raise PlotsExtraMissingError(
             "drawing needs matplotlib, which is not installed",
-            hint="pip install 'laserpeople[plots]'",
+            hint="pip install 'laserpeople[all]'",
         ) from exc
     matplotlib.use("Agg", force=True)
     return matplotlib

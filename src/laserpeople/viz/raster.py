@@ -63,7 +63,7 @@ def _pil() -> object:
     except ImportError as exc:
         raise PlotsExtraMissingError(
             "writing images needs pillow, which is not installed",
-            hint="pip install 'laserpeople[plots]'",
+            hint="pip install 'laserpeople[all]'",
         ) from exc
     return Image
 
@@ -195,10 +195,11 @@ def gif_palette() -> list[int]:
     return [v for c in colours for v in c]
 
 
-def _quantize(img: RGBImage, palette: Any) -> Any:
-    """Map an RGB image onto the fixed GIF palette. Pillow's mapping is approximate (it
-    caches on reduced colour bits) and would tint the white background; background pixels
-    are therefore set to palette entry 0 (the background colour) exactly."""
+def _quantize(img: RGBImage, palette: Any) -> NDArray[np.uint8]:
+    """Map an RGB image onto the fixed GIF palette; returns palette indices (H, W). Pillow's
+    mapping is approximate (it caches on reduced colour bits) and would tint the white
+    background; background pixels are therefore set to palette entry 0 (the background
+    colour) exactly."""
     from PIL import Image
 
     q = Image.fromarray(img).quantize(palette=palette, dither=Image.Dither.NONE)
@@ -208,35 +209,42 @@ def _quantize(img: RGBImage, palette: Any) -> Any:
     else:
         white = np.all(img == np.array(BACKGROUND, dtype=np.uint8), axis=-1)
     idx[white] = 0
-    out = Image.fromarray(idx)  # mode L; putpalette makes it P
-    out.putpalette(q.getpalette() or [])
-    return out
+    return idx
 
 
 def write_gif(
     images: Iterable[RGBImage], out: str | Path, frame_seconds: float, *, loop: bool = True
 ) -> int:
-    """Write RGB images as an animated GIF with a fixed palette; returns the frame count."""
+    """Write RGB images as an animated GIF with a fixed palette; returns the frame count.
+
+    Frames are written as they come (:class:`~laserpeople.viz.gif.GifWriter`): memory
+    stays at about one frame however many there are. A failed or empty animation leaves
+    no file behind.
+    """
     from PIL import Image
+
+    from laserpeople.viz.gif import GifWriter
 
     _pil()
     pal = Image.new("P", (1, 1))
-    pal.putpalette(gif_palette())
-    frames = [_quantize(img, pal) for img in images]
-    if not frames:
-        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    palette = gif_palette()
+    pal.putpalette(palette)
     p = Path(out)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    frames[0].save(
-        p,
-        save_all=True,
-        append_images=frames[1:],
-        duration=max(20, round(frame_seconds * 1000.0)),
-        loop=0 if loop else 1,
-        optimize=False,
-        disposal=1,
-    )
-    return len(frames)
+    writer: GifWriter | None = None
+    try:
+        for img in images:
+            if writer is None:
+                writer = GifWriter(p, (img.shape[1], img.shape[0]), palette, loop=loop)
+            writer.add(_quantize(img, pal), frame_seconds)
+    except BaseException:
+        if writer is not None:
+            writer.close()
+            p.unlink(missing_ok=True)
+        raise
+    if writer is None:
+        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    writer.close()
+    return writer.frames
 
 
 def find_ffmpeg() -> str | None:
@@ -264,7 +272,7 @@ def require_ffmpeg(out: str | Path) -> str:
             "writing .mp4 needs the ffmpeg program, which is neither on the PATH nor bundled "
             "by imageio-ffmpeg",
             path=out,
-            hint="pip install 'laserpeople[plots]' (bundles ffmpeg), or install ffmpeg "
+            hint="pip install 'laserpeople[all]' (bundles ffmpeg), or install ffmpeg "
             "(e.g. apt install ffmpeg), or write a .gif instead",
         )
     return ffmpeg
@@ -348,7 +356,7 @@ def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float)
             f"ffmpeg ({ffmpeg}) failed after {n} frames: {err.strip()[-400:]}",
             path=p,
             hint="an ffmpeg without libx264 cannot write H.264: pip install "
-            "'laserpeople[plots]' bundles one that can",
+            "'laserpeople[all]' bundles one that can",
         )
     return n
 

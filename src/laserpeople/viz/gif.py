@@ -44,8 +44,8 @@ def image_block(gif: bytes) -> tuple[bytes | None, bytes, bool]:
     """The colour table and the image block of a one-frame GIF.
 
     Returns ``(table, block, interlaced)``: ``table`` is the frame's colour table (global
-    or local, raw RGB bytes) and ``block`` the image data: LZW minimum code size and the data sub-blocks
-    including the terminator (everything after the image descriptor and its local table);
+    or local, raw RGB bytes; None when it has none), ``block`` the image data (the LZW
+    minimum code size and the data sub-blocks up to and including their terminator) and
     ``interlaced`` whether the rows are stored interlaced.
     """
     if gif[:3] != b"GIF":

@@ -262,23 +262,17 @@ class FrameRenderer:
 
         if self.t0 is None:
             self.t0 = f.scan.stamp
-        parts = [
-            self.title,
-            f"scan {f.scan.index}  t = {f.scan.stamp - self.t0:.2f} s",
-            ", ".join(
-                x
-                for x in (
-                    counted(len(people), "person", "people") if people else "",
-                    counted(len(legs), "leg", "legs") if legs else "",
-                    counted(len(groups), "group", "groups") if groups else "",
-                    f"truth: {counted(len(truth), 'person', 'people')}"
-                    if truth is not None
-                    else "",
-                )
-                if x
-            ),
-        ]
-        self._info.set_text("\n".join(p for p in parts if p))
+        self._info.set_text(
+            caption(
+                self.title,
+                f.scan.index,
+                f.scan.stamp - self.t0,
+                len(people),
+                len(legs),
+                len(groups),
+                None if truth is None else len(truth),
+            )
+        )
 
         for artist in (
             self._groups,
@@ -339,6 +333,27 @@ class FrameRenderer:
     def close(self) -> None:
         """Free the figure."""
         self.fig.clear()
+
+
+def caption(
+    title: str,
+    scan: int,
+    seconds: float,
+    people: int,
+    legs: int,
+    groups: int,
+    truth: int | None,
+) -> str:
+    """The text at the top left of a frame: the title, the scan index and the seconds
+    since the recording's first scan, and what is tracked (``truth`` None: no truth)."""
+    counts = [
+        counted(people, "person", "people") if people else "",
+        counted(legs, "leg", "legs") if legs else "",
+        counted(groups, "group", "groups") if groups else "",
+        f"truth: {counted(truth, 'person', 'people')}" if truth is not None else "",
+    ]
+    lines = [title, f"scan {scan}  t = {seconds:.2f} s", ", ".join(c for c in counts if c)]
+    return "\n".join(line for line in lines if line)
 
 
 def counted(n: int, one: str, many: str) -> str:

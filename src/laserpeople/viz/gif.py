@@ -143,6 +143,7 @@ class GifWriter:
             local = table
         self._file.write(struct.pack("<BHHHHB", 0x2C, x0, y0, x1 - x0, y1 - y0, packed))
         self._file.write(local + block)
+        self._file.flush()  # a viewer or an interrupted run sees every finished frame
         self.frames += 1
 
     def _changed(self, indices: IndexImage) -> tuple[int, int, int, int]:

@@ -534,7 +534,7 @@ def plot_overview(
     ax.tick_params(labelsize=7)
     ax.set_xlabel(f"x [m] ({scene.frame} frame)", fontsize=8)
     ax.set_ylabel("y [m]", fontsize=8)
-    ax.plot(cloud[:, 0], cloud[:, 1], ",", color=(*to_unit(SCAN_POINTS), 0.35), zorder=1)
+    ax.plot(cloud[:, 0], cloud[:, 1], ",", color=(*to_unit(SCAN_POINTS), 0.2), zorder=1)
     s = np.array(sensor)
     ax.plot(s[:, 0], s[:, 1], "-", color=(0.1, 0.1, 0.1), linewidth=1.0, zorder=2)
     ax.plot(s[-1:, 0], s[-1:, 1], "^", color=(0.1, 0.1, 0.1), ms=6, zorder=2)

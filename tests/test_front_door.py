@@ -187,3 +187,17 @@ def test_fresh_clone_with_a_long_path_runs_the_demo(tmp_path: Path) -> None:
         [git, "status", "--porcelain"], cwd=fresh, capture_output=True, text=True
     )
     assert status.stdout == "", f"the demo left files git does not ignore: {status.stdout}"
+
+
+def test_demo_without_plotting_libraries_prints_its_table_and_says_how_to_draw(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import laserpeople.cli.demo as demo_cli
+
+    monkeypatch.setattr(demo_cli, "plotting_available", lambda: False)
+    result = CliRunner().invoke(app, ["demo", "--seconds", "2", "--out-dir", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "leg-mht" in result.output and "MOTA" in result.output
+    assert "pip install 'laserpeople[all]'" in result.output
+    assert not (tmp_path / "demo.gif").exists()
+    assert (tmp_path / "demo-tracks.csv").exists() and (tmp_path / "demo.npz").exists()

@@ -117,9 +117,8 @@ def test_captions_count_in_words_and_seconds_since_the_start() -> None:
 
 
 def test_animation_captions_start_at_zero_seconds(tmp_path: Path) -> None:
-    from laserpeople.viz.raster import iter_images
-
     from laserpeople.io import open_recording
+    from laserpeople.viz.raster import iter_images
 
     rec, csv = write_scene(tmp_path, n=4)
     source = open_recording(rec)

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
+from laserpeople.demo import simulate_demo
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation import evaluate
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
-from laserpeople.demo import simulate_demo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import followed_person as fp

@@ -6,15 +6,16 @@ import itertools
 import json
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console, progress, say
 from laserpeople.errors import ConfigError, LaserPeopleError
-from laserpeople.scan import Scan
-from laserpeople.tracking.registry import TrackerEntry
+
+if TYPE_CHECKING:
+    from laserpeople.scan import Scan
+    from laserpeople.tracking.registry import TrackerEntry
 
 
 def register(app: typer.Typer) -> None:
@@ -117,6 +118,8 @@ def register(app: typer.Typer) -> None:
                 )
             )
             return
+        from rich.table import Table
+
         table = Table(title=f"{source}: {len(scans)} scans, {scans[0].n_beams} beams")
         for col in ("stage", "median ms/scan", "p95 ms/scan", "scans/s"):
             table.add_column(col, justify="left" if col == "stage" else "right")

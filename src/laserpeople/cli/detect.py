@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import numpy as np
 import typer
 
 from laserpeople.cli.common import (
@@ -18,9 +17,11 @@ from laserpeople.cli.common import (
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
 from laserpeople.config import check_sections
-from laserpeople.detection.report import Confusion, error_table
 from laserpeople.errors import ConfigError
 from laserpeople.io.detections_csv import DetectionsCsvWriter
+
+if TYPE_CHECKING:
+    from laserpeople.detection.report import Confusion
 
 
 def register(app: typer.Typer) -> None:
@@ -30,7 +31,7 @@ def register(app: typer.Typer) -> None:
         "detect",
         short_help="Detect legs in a recording and write one CSV row per leg.",
         help=(
-            "Detect legs in a recording (000 Sec. 2) and write one CSV row per leg: "
+            "Detect legs in a recording (Arras et al. 2008 Sec. 2) and write one CSV row per leg: "
             "scan,stamp,x,y,score in the sensor frame, and the topic. --fuse groups several "
             "lasers into frames and writes their legs in the world frame (topic 'fused'). "
             "--all-segments writes every segment with its 14 features; --report compares "
@@ -62,7 +63,10 @@ def register(app: typer.Typer) -> None:
             typer.Option("--model", "-m", help="Model JSON from `laserpeople train`."),
         ] = None,
         detector_name: Annotated[
-            str, typer.Option("--detector", help="adaboost or heuristic (000 Sec. 2.3.3).")
+            str,
+            typer.Option(
+                "--detector", help="adaboost or heuristic (Arras et al. 2008 Sec. 2.3.3)."
+            ),
         ] = "adaboost",
         all_segments: Annotated[
             bool,
@@ -77,12 +81,15 @@ def register(app: typer.Typer) -> None:
             typer.Option("--config", help="TOML file with [leg_detector] parameters."),
         ] = None,
     ) -> None:
+        import numpy as np
+
         from laserpeople.detection.detector import (
             AdaBoostLegDetector,
             HeuristicLegDetector,
             LegDetectorParams,
         )
         from laserpeople.detection.features import FEATURE_NAMES
+        from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.pipeline import (
             DetectionsCsvSink,
@@ -183,17 +190,23 @@ def register(app: typer.Typer) -> None:
                 )
             ada = _sum(truth_ada)
             heur = _sum(truth_heur)
-            console.print(ada.table("Confusion matrix, AdaBoost (layout of 000 Tables 2-5)"))
-            console.print(heur.table("\nConfusion matrix, heuristic (000 Sec. 2.3.3)"))
+            console.print(
+                ada.table("Confusion matrix, AdaBoost (layout of Arras et al. 2008 Tables 2-5)")
+            )
+            console.print(
+                heur.table("\nConfusion matrix, heuristic (Arras et al. 2008 Sec. 2.3.3)")
+            )
             console.print(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
-                    "\nComparison with the heuristic approach (000 Table 7)",
+                    "\nComparison with the heuristic approach (Arras et al. 2008 Table 7)",
                 )
             )
 
 
 def _sum(parts: list[Confusion]) -> Confusion:
+    from laserpeople.detection.report import Confusion
+
     tp = fn = fp = tn = 0
     for c in parts:
         tp, fn, fp, tn = tp + c.tp, fn + c.fn, fp + c.fp, tn + c.tn

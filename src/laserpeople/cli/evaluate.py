@@ -5,21 +5,21 @@ from __future__ import annotations
 import json
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console, progress, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
-from laserpeople.evaluation import EvaluationParams, EvaluationReport, evaluate
-from laserpeople.io import is_rosbag
-from laserpeople.io.tracks_csv import iter_tracks_csv
-from laserpeople.io.truth_csv import read_truth_csv
-from laserpeople.truth import TruthFrame
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from laserpeople.evaluation import EvaluationReport
+    from laserpeople.truth import TruthFrame
 
 HELP = (
-    "Score tracks against ground truth (CLEAR MOT, IDF1, the adapted MOTP of Schenk et al.)."
+    "Score tracks against ground truth (CLEAR MOT, IDF1, the adapted MOTP of Schenk et al. 2011)."
     "\n\n"
     "TRACKS is a tracks CSV in the world frame, as written by `laserpeople track`, or the "
     "bag it writes with --bag (.bag/.mcap/.db3, people_msgs/People). TRUTH is a "
@@ -33,6 +33,8 @@ HELP = (
 def truth_frames(path: Path) -> Iterator[TruthFrame]:
     """Ground-truth frames from a recording with truth or a truth CSV."""
     if path.suffix.lower() == ".csv":
+        from laserpeople.io.truth_csv import read_truth_csv
+
         yield from read_truth_csv(path)
         return
     from laserpeople.io import open_recording
@@ -52,6 +54,8 @@ def truth_frames(path: Path) -> Iterator[TruthFrame]:
 
 def render(report: EvaluationReport) -> Table:
     """The headline numbers as a rich table."""
+    from rich.table import Table
+
     c, i, s = report.clear_mot, report.identity, report.schenk
 
     def num(value: float, fmt: str = ".3f") -> str:
@@ -64,7 +68,7 @@ def render(report: EvaluationReport) -> Table:
     rows = [
         ("MOTA", num(c.mota), "1 - (misses + false positives + ID switches) / people"),
         ("MOTP", num(c.motp, ".3f") + " m", f"mean distance of matches (gate {c.gate:g} m)"),
-        ("MOTP (004)", num(s.motp), f"Schenk et al. eqs. 10-11, h = {s.h:g}"),
+        ("MOTP (Schenk)", num(s.motp), f"Schenk et al. 2011 eqs. 10-11, h = {s.h:g}"),
         ("IDF1", num(i.idf1), f"IDP {num(i.idp)}, IDR {num(i.idr)}"),
         ("recall", num(c.recall), f"{c.matches} of {c.num_truth} person-frames matched"),
         ("precision", num(c.precision), f"{c.matches} of {c.num_tracks} track-frames matched"),
@@ -100,6 +104,10 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Option("--per-frame", help="Write the per-frame table to this CSV.")
         ] = None,
     ) -> None:
+        from laserpeople.evaluation import EvaluationParams, evaluate
+        from laserpeople.io import is_rosbag
+        from laserpeople.io.tracks_csv import iter_tracks_csv
+
         try:
             params = EvaluationParams(gate=gate, kind=kind)
         except ConfigError as exc:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console
 
@@ -13,6 +12,8 @@ def register(app: typer.Typer) -> None:
 
     @app.command("scenarios", help="List the named simulation scenarios.")
     def _command() -> None:
+        from rich.table import Table
+
         from laserpeople.sim.scenarios import REGISTRY
 
         table = Table(title="laserpeople simulation scenarios", show_lines=False)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Protocol
+from typing import TYPE_CHECKING, Annotated, Any, Protocol
 
 import typer
 
@@ -17,9 +17,11 @@ from laserpeople.cli.common import (
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError
-from laserpeople.io import RecordingSource
-from laserpeople.scan import CoordinateFrame, Scan
-from laserpeople.tracks import Detections
+
+if TYPE_CHECKING:
+    from laserpeople.io import RecordingSource
+    from laserpeople.scan import CoordinateFrame, Scan
+    from laserpeople.tracks import Detections
 
 
 class Detector(Protocol):
@@ -207,7 +209,8 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Argument(help="A recording (.bag, .mcap, .db3, CARMEN log, .npz).")
         ] = None,
         tracker: Annotated[
-            str, typer.Option("--tracker", help="Tracker: leg-mht (000 Sec. 3) or nn.")
+            str,
+            typer.Option("--tracker", help="Tracker: leg-mht (Arras et al. 2008 Sec. 3) or nn."),
         ] = "leg-mht",
         topic: TopicOption = None,
         topics: TopicsOption = None,
@@ -255,7 +258,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--people-policy",
                 help="leg-mht person layer: tracks (default; people as tracks of their own) "
-                "or arras (000 Sec. 3.3: people from validated leg pairs).",
+                "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
             ),
         ] = None,
         print_config: Annotated[

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -17,7 +17,9 @@ from laserpeople.cli.common import (
     warn,
 )
 from laserpeople.errors import LaserPeopleError
-from laserpeople.viz.scene import SceneFrame
+
+if TYPE_CHECKING:
+    from laserpeople.viz.scene import SceneFrame
 
 _FRAMES = ("auto", "world", "sensor")
 

@@ -1,0 +1,79 @@
+"""Start-up time of the command line: ``laserpeople --help`` and each command's ``--help``.
+
+Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR]``. Each case
+runs in a fresh interpreter ``--repeat`` times (interleaved, so a busy machine slows every
+case alike) and the median wall time is printed, next to two floors measured the same way:
+a bare interpreter and ``import typer`` (what any typer program pays). ``--src`` puts
+another source tree first on ``sys.path`` (e.g. an older checkout's ``src`` to get the
+"before" figures).
+
+Goal (issue 15): ``laserpeople --help`` under 0.3 s. The command modules import numpy,
+scipy, rosbags and matplotlib inside their functions; ``python -X importtime -m
+laserpeople.cli --help`` shows what is still imported at start.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
+
+CASES: dict[str, list[str]] = {
+    "python (bare interpreter)": ["-c", "pass"],
+    "import typer": ["-c", "import typer"],
+    "laserpeople --help": ["-c", RUN_CLI, "--help"],
+    "laserpeople --version": ["-c", RUN_CLI, "--version"],
+    "laserpeople track --help": ["-c", RUN_CLI, "track", "--help"],
+    "laserpeople view --help": ["-c", RUN_CLI, "view", "--help"],
+}
+
+
+def time_once(args: list[str], env: dict[str, str]) -> float | None:
+    """Wall time [s] of one fresh interpreter running ``args``; None when it fails (an older
+    version without ``--version``)."""
+    t0 = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, *args], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    elapsed = time.perf_counter() - t0
+    return elapsed if done.returncode == 0 else None
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--repeat", type=int, default=15)
+    parser.add_argument(
+        "--src",
+        type=Path,
+        default=Path(__file__).resolve().parents[1] / "src",
+        help="source tree to import laserpeople from (default: this checkout's src)",
+    )
+    args = parser.parse_args()
+    # bytecode caches are written (an installed package has them), whatever the caller's
+    # PYTHONDONTWRITEBYTECODE says
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPATH"] = str(args.src.resolve())
+    for argv in CASES.values():  # warm the bytecode caches and the file system
+        time_once(argv, env)
+    times: dict[str, list[float]] = {name: [] for name in CASES}
+    for _ in range(args.repeat):
+        for name, argv in CASES.items():
+            t = time_once(argv, env)
+            if t is not None:
+                times[name].append(t)
+    print(f"source: {args.src}  ({args.repeat} runs each, interleaved; median, min)")
+    for name, values in times.items():
+        if not values:
+            print(f"{name:28s} fails (not in this version)")
+            continue
+        print(f"{name:28s} median {statistics.median(values):5.3f} s   min {min(values):5.3f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -18,7 +18,6 @@ from laserpeople.cli.common import (
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
 from laserpeople.config import check_sections
 from laserpeople.errors import ConfigError
-from laserpeople.io.detections_csv import DetectionsCsvWriter
 
 if TYPE_CHECKING:
     from laserpeople.detection.report import Confusion
@@ -91,6 +90,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.features import FEATURE_NAMES
         from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
+        from laserpeople.io.detections_csv import DetectionsCsvWriter
         from laserpeople.pipeline import (
             DetectionsCsvSink,
             DetectLegs,

@@ -187,10 +187,23 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
     return scan, stamp, track
 
 
+TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
+
+
+def _existing_csv(path: str | Path) -> Path:
+    """``path`` when it names a file; RecordingError with a hint otherwise."""
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError("file not found", path=p, hint=TRACKS_HINT)
+    if p.is_dir():
+        raise RecordingError("is a directory, not a tracks CSV", path=p, hint=TRACKS_HINT)
+    return p
+
+
 def read_tracks_topic(path: str | Path) -> str | None:
     """The ``topic`` of a tracks CSV's first row, or None for files without the column
     (written before it existed) or without rows."""
-    p = Path(path)
+    p = _existing_csv(path)
     try:
         with open(p, newline="", encoding="utf-8") as fh:
             reader = csv.DictReader(fh)
@@ -200,9 +213,6 @@ def read_tracks_topic(path: str | Path) -> str | None:
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
     return None if row is None else (row.get(TOPIC_COLUMN) or None)
-
-
-TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
 
 
 def iter_tracks_csv(
@@ -218,11 +228,7 @@ def iter_tracks_csv(
             must be together, as ``laserpeople track`` writes them); the message names the
             file and the line or scan.
     """
-    p = Path(path)
-    if not p.exists():
-        raise RecordingError("file not found", path=p, hint=TRACKS_HINT)
-    if p.is_dir():
-        raise RecordingError("is a directory, not a tracks CSV", path=p, hint=TRACKS_HINT)
+    p = _existing_csv(path)
     try:
         yield from _read_tracks(p, frame, kinds)
     except UnicodeDecodeError as exc:

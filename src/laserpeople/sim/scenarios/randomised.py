@@ -26,7 +26,7 @@ test set of ``benchmarks/people_suite.py`` and must never be used for tuning.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -67,7 +67,10 @@ class RandomisedParams:
     leg_radius_min: float = param(0.05, "issue 10", "smallest leg radius", "m")
     leg_radius_max: float = param(0.09, "issue 10", "largest leg radius", "m")
     hip_half_width_min: float = param(
-        0.06, "assumed (feet close together)", "smallest foot offset from the body centre", "m"
+        0.08,
+        "assumed (feet close together); never less than the leg radius + 1.5 cm",
+        "smallest foot offset from the body centre",
+        "m",
     )
     hip_half_width_max: float = param(
         0.15, "assumed (wide stance)", "largest foot offset from the body centre", "m"
@@ -123,8 +126,8 @@ def random_laser(rng: np.random.Generator, p: RandomisedParams) -> LaserModel:
         rate_hz=float(rng.choice(p.rate_hz)),
         range_min=0.02,
         range_max=_uniform(rng, 5.6, 30.0),
-        sigma=_uniform(rng, 0.005, 0.03),
-        sigma_relative=_uniform(rng, 0.0, 0.005),
+        sigma=_uniform(rng, 0.005, 0.02),
+        sigma_relative=_uniform(rng, 0.0, 0.002),
         dropout=_uniform(rng, 0.0, 0.01),
         source="randomised (laserpeople.sim.scenarios.randomised)",
     )
@@ -323,7 +326,9 @@ def random_people(
             swing_fraction=_uniform(rng, 0.7, 0.9),
         )
         person = random_person(rng, k, routes[k], params=body, gait_params=gait)
-        people.append(person)
+        # legs never interpenetrate: the feet stand at least 3 cm apart at rest
+        hip = max(person.hip_half_width, person.leg_radius + 0.015)
+        people.append(replace(person, hip_half_width=hip))
     return people, meetings
 
 

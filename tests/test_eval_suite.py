@@ -139,3 +139,35 @@ def test_pair_legs_closest_pairs_first() -> None:
     np.testing.assert_allclose(pair_legs(legs), [[0.4, 0.0], [5.35, 5.0]])
     assert pair_legs(legs[:1]).shape == (0, 2)
     assert pair_legs(np.array([[0.0, 0.0], [0.8, 0.0]])).shape == (0, 2)
+
+
+class _FrameEcho:
+    """A frame tracker that reports a person at every leg of the frame."""
+
+    def __init__(self, consumes: frozenset[str]) -> None:
+        self.consumes = consumes
+        self.frames: list = []
+
+    def update(self, frame) -> Tracks:  # type: ignore[no-untyped-def]
+        self.frames.append(frame)
+        legs = frame.legs
+        rows = [(k, float(x), float(y)) for k, (x, y) in enumerate(legs.positions)]
+        t = _tracks(frame.index, rows)
+        return Tracks(t.stamp, t.scan_index, t.tracks, frame.frame, frame.sensor_pose)
+
+
+def test_frame_trackers_get_frames_with_world_legs() -> None:
+    from laserpeople.detection.detector import AdaBoostLegDetector
+
+    prepared = prepare(
+        SuiteScene("randomised", "randomised", 2, 1.0), AdaBoostLegDetector.default()
+    )
+    echo = _FrameEcho(frozenset({"scans", "legs"}))
+    score, outs = track_scene(prepared, lambda: echo, "echo")
+    assert [f.index for f in echo.frames] == [s.index for s in prepared.scans]
+    first = echo.frames[0]
+    assert first.frame == "world" and first.scans == (prepared.scans[0],)
+    np.testing.assert_allclose(first.legs.positions, prepared.detections[0].to_world().positions)
+    assert score.scans == len(outs)
+    with pytest.raises(ValueError, match="points"):
+        track_scene(prepared, lambda: _FrameEcho(frozenset({"points", "legs"})), "x")

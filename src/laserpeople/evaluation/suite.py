@@ -188,14 +188,48 @@ def track_scene(
 ) -> tuple[SceneScore, list[Tracks]]:
     """Run a fresh tracker over the prepared detections and score it."""
     tracker = make_tracker()
+    inputs: Sequence[Any] = prepared.detections
+    if hasattr(tracker, "consumes"):  # a FrameTracker: one Frame per scan
+        inputs = frames_for(prepared, frozenset(tracker.consumes))
     outs: list[Tracks] = []
     cpu = 0.0
-    for dets in prepared.detections:
+    for item in inputs:
         t0 = time.process_time()
-        out = tracker.update(dets)
+        out = tracker.update(item)
         cpu += time.process_time() - t0
         outs.append(out)
     return score_tracks(prepared, outs, label, cpu, params), outs
+
+
+def frames_for(prepared: PreparedScene, consumes: frozenset[str]) -> list[Any]:
+    """One :class:`~laserpeople.frame.Frame` per scan with ``scans`` and ``legs`` (in the
+    world frame when the scan has a pose) filled, for trackers that take frames.
+
+    Raises:
+        ValueError: the tracker consumes a field the suite does not fill.
+    """
+    from laserpeople.frame import Frame
+
+    missing = set(consumes) - {"scans", "legs"}
+    if missing:
+        raise ValueError(
+            f"the suite fills only scans and legs; the tracker also needs {sorted(missing)}"
+        )
+    out = []
+    for scan, dets in zip(prepared.scans, prepared.detections, strict=True):
+        world = scan.pose is not None
+        out.append(
+            Frame(
+                index=scan.index,
+                stamp=scan.stamp,
+                scans=(scan,),
+                topic=scan.sensor,
+                frame="world" if world else "sensor",
+                sensor_pose=scan.pose,
+                legs=dets.to_world() if world else dets,
+            )
+        )
+    return out
 
 
 def score_tracks(

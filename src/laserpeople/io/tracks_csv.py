@@ -13,6 +13,11 @@ topic the tracks come from, or ``fused`` when several lasers made each frame (th
 it.
 A scan with no tracks writes no row. Because every scan's rows are flushed before the
 next scan is processed, a crash leaves a valid file with the scans done so far.
+
+``track_id`` may be any text when reading (other trackers write UUIDs): an id that is not
+a plain integer gets the integer :data:`STRING_ID_BASE` + k (k = 0, 1, ... in order of
+first appearance), so that :class:`~laserpeople.tracks.Track` keeps integer ids and every
+metric and drawing works unchanged; :class:`TrackIdNames` maps them back to the text.
 """
 
 from __future__ import annotations
@@ -154,7 +159,9 @@ class TracksCsvWriter:
         self.close()
 
 
-def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, Track]:
+def _parse_row(
+    row: dict[str, Any], path: Path, line: int, ids: TrackIdNames
+) -> tuple[int, float, Track]:
     if None in row or any(v is None for v in row.values()):
         raise RecordingError(
             f"line {line}: {'more' if None in row else 'fewer'} fields than the header has",
@@ -167,7 +174,7 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
             raise ValueError(f"kind {kind!r} is not one of {', '.join(TRACK_KINDS)}")
         cxx, cxy, cyy = float(row["cov_xx"]), float(row["cov_xy"]), float(row["cov_yy"])
         track = Track(
-            track_id=int(row["track_id"]),
+            track_id=ids.to_int(row["track_id"]),
             kind=kind,
             position=np.array([float(row["x"]), float(row["y"])]),
             velocity=np.array([float(row.get("vx") or "nan"), float(row.get("vy") or "nan")]),
@@ -185,6 +192,55 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
     if not (math.isfinite(track.position[0]) and math.isfinite(track.position[1])):
         raise RecordingError(f"line {line}: position is not finite", path=path)
     return scan, stamp, track
+
+
+STRING_ID_BASE = 1 << 40
+"""First integer given to a track id that is not an integer (far above any id a tracker
+of this package writes)."""
+
+
+class TrackIdNames:
+    """The text ids of a tracks CSV and the integers that stand for them.
+
+    Example:
+        >>> names = TrackIdNames()
+        >>> names.to_int("7"), names.to_int("a1b2") == STRING_ID_BASE
+        (7, True)
+        >>> names.name(STRING_ID_BASE)
+        'a1b2'
+    """
+
+    def __init__(self) -> None:
+        self._ints: dict[str, int] = {}
+        self._names: dict[int, str] = {}
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def to_int(self, text: str) -> int:
+        """The integer id of ``text``: itself when it is a plain integer (``"7"``, ``"-3"``),
+        else a new or known id from :data:`STRING_ID_BASE` on."""
+        t = text.strip()
+        if not t:
+            raise ValueError("track_id is empty")
+        digits = t[1:] if t[:1] in "+-" else t
+        if digits.isascii() and digits.isdigit():
+            value = int(t)
+            if value >= STRING_ID_BASE:
+                raise ValueError(
+                    f"track_id {t} is too large (integer ids must stay below {STRING_ID_BASE})"
+                )
+            return value
+        got = self._ints.get(t)
+        if got is None:
+            got = STRING_ID_BASE + len(self._ints)
+            self._ints[t] = got
+            self._names[got] = t
+        return got
+
+    def name(self, track_id: int) -> str:
+        """The id as written in the CSV."""
+        return self._names.get(int(track_id), str(int(track_id)))
 
 
 TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
@@ -216,11 +272,16 @@ def read_tracks_topic(path: str | Path) -> str | None:
 
 
 def iter_tracks_csv(
-    path: str | Path, frame: CoordinateFrame = "world", kinds: tuple[TrackKind, ...] | None = None
+    path: str | Path,
+    frame: CoordinateFrame = "world",
+    kinds: tuple[TrackKind, ...] | None = None,
+    ids: TrackIdNames | None = None,
 ) -> Iterator[Tracks]:
     """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in scan order.
 
-    ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds.
+    ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds;
+    ``ids`` (if given) collects the text ids that are not integers (see the module
+    docstring), so that reports can print them as written.
 
     Raises:
         RecordingError: the file is missing, a directory, not UTF-8 text or unreadable, lacks
@@ -230,7 +291,7 @@ def iter_tracks_csv(
     """
     p = _existing_csv(path)
     try:
-        yield from _read_tracks(p, frame, kinds)
+        yield from _read_tracks(p, frame, kinds, ids if ids is not None else TrackIdNames())
     except UnicodeDecodeError as exc:
         raise RecordingError(
             f"not a text CSV (byte {exc.start} is not UTF-8)", path=p, hint=TRACKS_HINT
@@ -240,7 +301,7 @@ def iter_tracks_csv(
 
 
 def _read_tracks(
-    p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None
+    p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None, ids: TrackIdNames
 ) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
@@ -256,7 +317,7 @@ def _read_tracks(
         key: tuple[int, float] | None = None
         last = -1
         for line, row in enumerate(reader, start=2):
-            scan, stamp, track = _parse_row(row, p, line)
+            scan, stamp, track = _parse_row(row, p, line, ids)
             if key is None or scan != key[0]:
                 if scan <= last:
                     raise RecordingError(

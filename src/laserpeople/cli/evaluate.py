@@ -108,6 +108,7 @@ def render(report: EvaluationReport) -> Table:
 
 def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
     """The followed-person scores as a rich table."""
+    from rich.table import Table
 
     def num(value: float) -> str:
         return "n/a" if value != value else f"{value:.3f}"

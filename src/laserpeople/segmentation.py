@@ -193,3 +193,52 @@ def jump_distance_table(
             shift = k - last
             offsets = np.concatenate(([0], starts[1:-1] + shift, [k])).astype(np.int64)
     return SegmentTable(beams, points, offsets, n_beams, n_invalid)
+
+
+def single_linkage(points: FloatArray, distance: float) -> IntArray:
+    """Single-linkage clusters of 2D points (000 Sec. 4.1): two points are in one cluster
+    when a chain of points joins them whose links are all at most ``distance`` [m] long.
+
+    The links come from a KD-tree (all pairs within ``distance``, O(n log n) for the spacing
+    of laser points; no all-pairs distance matrix) and the clusters are the connected
+    components of that graph, found by hooking roots along the links and pointer jumping
+    (a few vectorised rounds).
+
+    Args:
+        points: (N, 2) [m]; must be finite.
+        distance: Largest link length [m], > 0.
+
+    Returns:
+        Cluster label (N,) int64, numbered 0, 1, ... in order of each cluster's first point.
+    """
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    n = pts.shape[0]
+    if not distance > 0:
+        raise ValueError(f"single-linkage distance must be positive, got {distance}")
+    if n <= 1:
+        return np.zeros(n, dtype=np.int64)
+    pairs = cKDTree(pts).query_pairs(distance, output_type="ndarray")
+    root = np.arange(n, dtype=np.int64)
+    if pairs.size:
+        a, b = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
+        while True:
+            ra, rb = root[a], root[b]
+            differ = ra != rb
+            if not differ.any():
+                break
+            ra, rb = ra[differ], rb[differ]
+            low = np.minimum(ra, rb)
+            np.minimum.at(root, ra, low)  # hook both roots onto the smaller one
+            np.minimum.at(root, rb, low)
+            while True:  # pointer jumping until every point points at its root
+                nxt = root[root]
+                if np.array_equal(nxt, root):
+                    break
+                root = nxt
+    # number the clusters in order of their first point
+    _, first, inverse = np.unique(root, return_index=True, return_inverse=True)
+    rank = np.empty(first.size, dtype=np.int64)
+    rank[np.argsort(first)] = np.arange(first.size)
+    return rank[inverse.reshape(-1)]

@@ -553,8 +553,16 @@ class MHT(Generic[Meas]):
         lp = self.labels.track_log_probs(nodes)
         if meas_idx.size == 0:
             return np.zeros((len(nodes), 0)), lp
-        g_all, ll_all = self.model.score(list(nodes), measurements)
-        return _detection_costs(g_all[:, meas_idx], ll_all[:, meas_idx], lp), lp
+        # the live nodes from the tables, only the others are scored
+        cost = np.empty((len(nodes), meas_idx.size))
+        made = [i for i, t in enumerate(nodes) if t.node_id not in row_of]
+        known = [i for i, t in enumerate(nodes) if t.node_id in row_of]
+        if known:
+            rows = [row_of[nodes[i].node_id] for i in known]
+            cost[known] = self._cost_live[rows][:, meas_idx]
+        g_m, ll_m = self.model.score([nodes[i] for i in made], measurements)
+        cost[made] = _detection_costs(g_m[:, meas_idx], ll_m[:, meas_idx], lp[made])
+        return cost, lp
 
     # ------------------------------------------------------------------ track tree
 

@@ -406,3 +406,35 @@ def test_group_size_error() -> None:
     assert r.exact_share == pytest.approx(0.5)  # 2.4 rounds to 2: exact; 2 vs 1 is not
     assert r.within_one_share == pytest.approx(1.0)
     assert r.count == 2
+
+
+def test_score_of_reclustered_parts_reuses_the_scan_distances() -> None:
+    """Parts of a scan cluster (a model's re-clustered observations) score as eqs. 19-24
+    on the parts' own points, also when computed from the scan's distance matrix."""
+    params = GroupTrackerParams()
+    model = _model(params)
+    rng = np.random.default_rng(4)
+    contour = rng.normal(0, 0.3, (10, 2))
+    node = TrackNode(0, 0, -1, np.array([1.0, 1.0, 0.0, 0.0, 2.0]), np.eye(5) * 0.05, 0.0, "new",
+                     payload=GroupPayload(contour))  # fmt: skip
+    model.predict([node], 0.1)
+    pts = np.concatenate([contour + 1.0, rng.normal([2.0, 1.0], 0.1, (6, 2))])
+    scan = GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3)
+    model.scan = scan
+    assert len(scan) == 1
+    rows = np.arange(len(scan.points))
+    left = scan.points[:, 0] < 1.5
+    parts = [(scan.points[left], scan.members[left]), (scan.points[~left], scan.members[~left])]
+    obs = GroupObservations.from_parts(parts, 0.3, [0.5, 0.5], [rows[left], rows[~left]])
+    model.score([node], scan)  # fills the per-node distances of the scan
+    gated, ll = model.score([node], obs)
+    assert node.pred_mean is not None and node.pred_cov is not None
+    s = model.innovation_cov(node.pred_cov)
+    log_pm = math.log(params.p_m)
+    for i in range(2):
+        d = min_average_hausdorff(obs.cluster(i), contour + node.pred_mean[:2], s)
+        assert gated[0, i] == (d**2 <= params.model_settings().gate_sq)
+        if gated[0, i]:
+            expected = 0.5 * (log_pm + observation_log_likelihood(d, s)) - log_pm
+            assert ll[0, i] == pytest.approx(expected)
+    assert gated[0].any()

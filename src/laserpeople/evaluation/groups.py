@@ -87,6 +87,8 @@ class GroupRunResult:
         splits: Splits in the reported hypothesis.
         merges: Merges in the reported hypothesis.
         frames: Frames scored.
+        frame_ms: CPU time of every frame [ms] (F,).
+        frame_people: People seen (with a foreground point) in every frame (F,).
     """
 
     clustering: ClusteringErrorResult
@@ -97,6 +99,8 @@ class GroupRunResult:
     splits: int
     merges: int
     frames: int
+    frame_ms: NDArray[np.float64]
+    frame_people: IntArray
 
 
 def run_groups(
@@ -108,11 +112,14 @@ def run_groups(
     tracker = GroupMHTTracker(params)
     tracked, memoryless, size = ClusteringError(), ClusteringError(), GroupSizeError()
     times: list[float] = []
+    people: list[int] = []
     n = 0
     for k, lf in enumerate(frames_from_scans(scans)):
         t0 = time.process_time()
         tracker.update(lf.frame)
         times.append(time.process_time() - t0)
+        seen = lf.true_person[np.asarray(lf.frame.foreground)]
+        people.append(int(np.unique(seen[seen >= 0]).size))
         if k < skip:
             continue
         n += 1
@@ -134,4 +141,6 @@ def run_groups(
         splits=sum(1 for e in tracker.events if e.kind == "split"),
         merges=sum(1 for e in tracker.events if e.kind == "merge"),
         frames=n,
+        frame_ms=ms,
+        frame_people=np.asarray(people, dtype=np.int64),
     )

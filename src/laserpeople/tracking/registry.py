@@ -43,6 +43,12 @@ class TrackerEntry:
 
 TRACKERS: dict[str, TrackerEntry] = {}
 
+FRAME_TRACKERS: dict[str, TrackerEntry] = {}
+"""Trackers that take a whole :class:`~laserpeople.frame.Frame` (``update(frame)``, e.g. the
+group tracker on foreground points) rather than leg detections; kept apart from
+:data:`TRACKERS` until the commands feed frames (the pipeline), so that commands looping
+over :data:`TRACKERS` keep passing detections only to detection trackers."""
+
 
 def register(entry: TrackerEntry) -> None:
     """Add a tracker (a name can be registered once)."""
@@ -54,10 +60,11 @@ def register(entry: TrackerEntry) -> None:
 def get(name: str) -> TrackerEntry:
     """The tracker called ``name``; ConfigError listing the known ones otherwise."""
     try:
-        return TRACKERS[name]
+        return TRACKERS[name] if name in TRACKERS else FRAME_TRACKERS[name]
     except KeyError:
+        known = sorted({*TRACKERS, *FRAME_TRACKERS})
         raise ConfigError(
-            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(sorted(TRACKERS))}"
+            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(known)}"
         ) from None
 
 
@@ -71,6 +78,12 @@ def _nn(params: Any) -> Tracker:
     from laserpeople.tracking.nearest import NearestNeighbourTracker
 
     return NearestNeighbourTracker(params)
+
+
+def _group_mht(params: Any) -> Any:
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    return GroupMHTTracker(params)
 
 
 def _register_builtin() -> None:
@@ -92,6 +105,14 @@ def _register_builtin() -> None:
             _nn,
             "global-nearest-neighbour Kalman leg tracker (baseline)",
         )
+    )
+    from laserpeople.tracking.groups.tracker import GroupTrackerParams
+
+    FRAME_TRACKERS["group-mht"] = TrackerEntry(
+        "group-mht",
+        GroupTrackerParams,
+        _group_mht,
+        "multi-model MHT of groups with split, merge and group size (000 Sec. 4); frames",
     )
 
 

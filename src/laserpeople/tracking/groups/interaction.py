@@ -293,12 +293,15 @@ class GroupBranches:
         if shared.size == 0:
             return None
         parts: list[tuple[FloatArray, IntArray]] = []
+        rows: list[IntArray] = []
         shares: list[float] = []
         keys: list[Hashable] = []
         origin: list[int] = []
         divided = False
         for i, j in enumerate(meas_idx.tolist()):
             pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
+            first = int(self.obs.offsets[j])
+            own = np.arange(first, first + len(mem), dtype=np.int64)
             if i in set(shared.tolist()):
                 near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
                 owner = _nearest_unit(pts, near)
@@ -308,11 +311,13 @@ class GroupBranches:
                     for u in labels.tolist():
                         sel = owner == u
                         parts.append((pts[sel], mem[sel]))
+                        rows.append(own[sel])
                         shares.append(float(sel.sum()) / len(mem))
                         keys.append((j, mem[sel].tobytes()))
                         origin.append(j)
                     continue
             parts.append((pts, mem))
+            rows.append(own)
             shares.append(1.0)
             keys.append(j)
             origin.append(j)
@@ -321,7 +326,7 @@ class GroupBranches:
         key = tuple(keys)
         if key not in self._partitions:
             self._partitions[key] = BranchObservations(
-                GroupObservations.from_parts(parts, self.s.d_hs, shares), key, tuple(origin)
+                GroupObservations.from_parts(parts, self.s.d_hs, shares, rows), key, tuple(origin)
             )
         return self._partitions[key]
 

@@ -245,6 +245,10 @@ class GroupModel:
     def __init__(self, settings: GroupModelSettings) -> None:
         self.s = settings
         self._rows: dict[tuple[int, int], tuple[BoolArray, FloatArray]] = {}
+        self._dist: dict[tuple[int, int], tuple[IntArray, FloatArray, float]] = {}
+        self.scan: GroupObservations | None = None
+        """The scan's observations (set before each MHT step); re-clustered observation
+        sets refer to its points."""
 
     # -- prediction
     def predict_one(
@@ -258,6 +262,7 @@ class GroupModel:
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict every node to ``stamp`` [s] (batched)."""
         self._rows.clear()
+        self._dist.clear()
         if not nodes:
             return
         means = np.stack([n.mean for n in nodes])
@@ -304,32 +309,36 @@ class GroupModel:
         return gated, loglik
 
     def _score_row(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
-        """Gate and log N_i (M,) of one node against every cluster (eqs. 19-24)."""
+        """Gate and log N_i (M,) of one node against every cluster (eqs. 19-24).
+
+        The Mahalanobis distances D (eq. 21) between the node's predicted contour and the
+        points of the scan's clusters near it are computed once per node and scan; a
+        model's re-clustered observations (``obs.source`` set) reuse them."""
         m = len(obs)
         gated = np.zeros(m, dtype=bool)
         loglik = np.full(m, -np.inf)
-        mean, cov = _pred(node)
-        pos = mean[:2]
-        contour = _payload(node).contour + pos
-        if contour.shape[0] == 0:
-            contour = pos[None, :]
-        r_t = float(np.max(np.hypot(*(contour - pos).T)))
-        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
-        near = np.nonzero(gap <= self.s.max_gap)[0]
+        base = self.scan if obs.source is not None and self.scan is not None else obs
+        rows = obs.source if base is not obs else np.arange(len(obs.points))
+        assert rows is not None
+        key = (node.node_id, id(base))
+        cached = self._dist.get(key)
+        if cached is None:
+            cached = self._distances(node, base)
+            self._dist[key] = cached
+        row_pos, d, det = cached
+        pos = row_pos[rows]
+        counts = obs.sizes
+        owner = np.repeat(np.arange(m), counts)
+        far = np.zeros(m, dtype=bool)
+        far[owner[pos < 0]] = True
+        near = np.nonzero(~far & (counts > 0))[0]
         if near.size == 0:
             return gated, loglik
-        s = self.innovation_cov(cov)
-        det = float(s[0, 0] * s[1, 1] - s[0, 1] ** 2)
-        starts = obs.offsets[near]
-        counts = obs.offsets[near + 1] - starts
-        rows = np.repeat(starts - np.cumsum(np.concatenate([[0], counts[:-1]])), counts)
-        rows = rows + np.arange(int(counts.sum()))  # the near clusters' point indices
-        diff = obs.points[rows][:, None, :] - contour[None, :, :]
-        dx, dy = diff[..., 0], diff[..., 1]
-        d = np.sqrt((s[1, 1] * dx * dx - 2.0 * s[0, 1] * dx * dy + s[0, 0] * dy * dy) / det)
-        local = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        z_to_p = np.add.reduceat(d.min(axis=1), local) / counts  # d(Z, P), eq. 20
-        p_to_z = np.minimum.reduceat(d, local, axis=0).mean(axis=1)  # d(P, Z)
+        keep = np.isin(owner, near)
+        sub = d[pos[keep]]
+        local = np.concatenate([[0], np.cumsum(counts[near])[:-1]])
+        z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
+        p_to_z = np.minimum.reduceat(sub, local, axis=0).mean(axis=1)  # d(P, Z)
         d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
         ok = d_hd**2 <= self.s.gate_sq
         gated[near[ok]] = True
@@ -338,6 +347,35 @@ class GroupModel:
         w = obs.share[near[ok]]
         loglik[near[ok]] = w * (self.s.log_p_match + ll) - self.s.log_p_match
         return gated, loglik
+
+    def _distances(
+        self, node: TrackNode, obs: GroupObservations
+    ) -> tuple[IntArray, FloatArray, float]:
+        """D (eq. 21) of the points of the clusters near the node's predicted contour:
+        the row of each point of ``obs`` in the matrix (-1: not near), the matrix (Q, K)
+        and det S."""
+        mean, cov = _pred(node)
+        pos = mean[:2]
+        contour = _payload(node).contour + pos
+        if contour.shape[0] == 0:
+            contour = pos[None, :]
+        r_t = float(np.max(np.hypot(*(contour - pos).T)))
+        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
+        near = np.nonzero(gap <= self.s.max_gap)[0]
+        s = self.innovation_cov(cov)
+        det = float(s[0, 0] * s[1, 1] - s[0, 1] ** 2)
+        row_pos = np.full(len(obs.points), -1, dtype=np.int64)
+        if near.size == 0:
+            return row_pos, np.empty((0, contour.shape[0])), det
+        starts = obs.offsets[near]
+        counts = obs.offsets[near + 1] - starts
+        rows = np.repeat(starts - np.cumsum(np.concatenate([[0], counts[:-1]])), counts)
+        rows = rows + np.arange(int(counts.sum()))  # the near clusters' point indices
+        row_pos[rows] = np.arange(rows.size)
+        diff = obs.points[rows][:, None, :] - contour[None, :, :]
+        dx, dy = diff[..., 0], diff[..., 1]
+        d = np.sqrt((s[1, 1] * dx * dx - 2.0 * s[0, 1] * dx * dy + s[0, 0] * dy * dy) / det)
+        return row_pos, d, det
 
     # -- update, coast, initiate
     def update(

@@ -32,6 +32,8 @@ class GroupObservations:
         n_hs: (M,) number of human-sized blobs of each cluster (Sec. 4.1).
         share: (M,) share of the scan's observation each cluster is (1; for the parts of
             a re-clustered observation their share of its points).
+        source: (P,) row of each point in the scan's observation set this one was made
+            from, or None for the scan's own set.
     """
 
     points: FloatArray
@@ -40,6 +42,7 @@ class GroupObservations:
     centroids: FloatArray
     n_hs: FloatArray
     share: FloatArray
+    source: IntArray | None = None
 
     def __len__(self) -> int:
         return int(self.offsets.size - 1)
@@ -101,10 +104,11 @@ class GroupObservations:
         parts: Sequence[tuple[FloatArray, IntArray]],
         d_hs: float,
         share: Sequence[float] | None = None,
+        source: Sequence[IntArray] | None = None,
     ) -> GroupObservations:
         """Observations made of given point sets ``(points (K, 2), members (K,))`` (e.g. the
         parts of a re-clustered observation, Sec. 4.3, with their ``share`` of it); blobs
-        counted at ``d_hs``."""
+        counted at ``d_hs``; ``source`` gives each part's rows in the scan's set."""
         if not parts:
             return cls.empty()
         pts = np.concatenate([p for p, _ in parts]).reshape(-1, 2)
@@ -116,10 +120,12 @@ class GroupObservations:
             fine_parts.append(single_linkage(p, d_hs) + base)
             base += len(m)
         fine = np.concatenate(fine_parts)
-        out = cls._from_labels(pts, idx, labels, fine)
-        if share is None:
-            return out
-        return replace(out, share=np.asarray(share, dtype=np.float64).reshape(len(parts)))
+        out = cls._from_labels(pts, idx, labels, fine)  # keeps the order of the parts
+        if share is not None:
+            out = replace(out, share=np.asarray(share, dtype=np.float64).reshape(len(parts)))
+        if source is not None:
+            out = replace(out, source=np.concatenate(source).astype(np.int64))
+        return out
 
     @classmethod
     def _from_labels(

@@ -287,6 +287,7 @@ class GroupMHTTracker:
         obs = self.observe(frame)
         self.last_observations = obs
         self.branches.begin_scan(obs)
+        self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)
         probs = self.mht.best_probabilities()
         groups: list[GroupEstimate] = []

@@ -438,3 +438,22 @@ def test_score_of_reclustered_parts_reuses_the_scan_distances() -> None:
             expected = 0.5 * (log_pm + observation_log_likelihood(d, s)) - log_pm
             assert ll[0, i] == pytest.approx(expected)
     assert gated[0].any()
+
+
+def test_joining_observations_keeps_a_group_through_a_gap() -> None:
+    """The middle one of three people in a row is unseen for four scans, leaving a gap
+    wider than d_P: 000's models split the group; with the joining extension it
+    continues whole."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        row = [(3.0, 0.0, 0), (3.9, 0.0, 0), (4.8, 0.0, 0)]
+        return [row[0], row[2]] if 30 <= k < 34 else row
+
+    plain, _, _, _ = _run(people_at, 60)
+    joined, history, result, memoryless = _run(
+        people_at, 60, params=replace(GroupTrackerParams(), join_observations=True)
+    )
+    assert "split" in [e.kind for e in plain.events]
+    assert joined.events == []
+    assert {t.labels for out in history for t in out.of_kind("group")} == {"0"}
+    assert result.over_segmented == 0 < memoryless.over_segmented

@@ -58,6 +58,8 @@ class InteractionSettings:
         d_p: Clustering distance d_P [m] (eq. 25).
         d_hs: Blob distance d_hs [m] (re-clustered observations count their blobs).
         split_merge: False for the people-only tracker (continuation only).
+        join_observations: Also offer each model with the observations that only one
+            continued track gates joined into one (extension).
         max_models: Most models per parent (the likeliest by eq. 32).
         c0: Initial covariance C_0 (5, 5) (split tracks restart from it).
     """
@@ -69,6 +71,7 @@ class InteractionSettings:
     d_hs: float
     split_merge: bool
     max_models: int
+    join_observations: bool
     c0: FloatArray
 
 
@@ -171,11 +174,15 @@ class GroupBranches:
         involved = {t.node_id for e in events for t in e.tracks}
         base = len(involved) * self._log_pc
         out: list[Branch] = []
-        for k, chosen in enumerate(enumerate_models(events, self.s.max_models)):
+        for chosen in enumerate_models(events, self.s.max_models):
             prior = base + sum(e.log_ratio for e in chosen)
             new_tracks = self._repredict(tracks, chosen)
             obs = self._recluster(new_tracks, chosen, gates, meas_idx)
-            out.append(Branch(prior, new_tracks, k, obs))
+            out.append(Branch(prior, new_tracks, len(out), obs))
+            if self.s.join_observations:
+                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True)
+                if obs is not None:
+                    out.append(Branch(prior, new_tracks, len(out), obs))
         self.models_generated += len(out)
         return out
 
@@ -274,10 +281,14 @@ class GroupBranches:
         chosen: tuple[Event, ...],
         gates: dict[int, BoolArray],
         meas_idx: NDArray[np.intp],
+        join: bool = False,
     ) -> BranchObservations | None:
-        """The model's partition of the cluster's observations, or None when no
-        observation is in the gates of two of its tracks."""
-        if len(tracks) < 2 or meas_idx.size == 0:
+        """The model's partition of the cluster's observations, or None when it is the
+        cluster's own: an observation in the gates of two of its tracks is divided among
+        them (Sec. 4.3); with ``join``, the observations in the gate of one continued
+        track and of no other track are joined into one (the extension, see the module
+        doc)."""
+        if meas_idx.size == 0 or not tracks:
             return None
         # units: a split's two halves are one; every other track is its own
         halves = {h.node_id: e.tracks[0].node_id for e in chosen if e.kind == "split"
@@ -289,25 +300,58 @@ class GroupBranches:
         unit_gate = np.stack(
             [np.any([self._gate(t, gates, meas_idx) for t in u], axis=0) for u in unit_list]
         )
-        shared = np.nonzero(unit_gate.sum(axis=0) >= 2)[0]
-        if shared.size == 0:
+        n_gating = unit_gate.sum(axis=0)
+        shared = set(np.nonzero(n_gating >= 2)[0].tolist())
+        joined: dict[int, list[int]] = {}  # first local index -> local indices joined
+        if join:
+            for u, unit in enumerate(unit_list):
+                if len(unit) > 1:
+                    continue  # split halves take their observations one each
+                mine = np.nonzero(unit_gate[u] & (n_gating == 1))[0].tolist()
+                if len(mine) >= 2:
+                    joined[mine[0]] = mine
+            if not joined:
+                return None
+        elif not shared:
             return None
+        skip = {i for group in joined.values() for i in group[1:]}
         parts: list[tuple[FloatArray, IntArray]] = []
         rows: list[IntArray] = []
         shares: list[float] = []
         keys: list[Hashable] = []
         origin: list[int] = []
-        divided = False
-        for i, j in enumerate(meas_idx.tolist()):
+        changed = False
+        js = meas_idx.tolist()
+        for i, j in enumerate(js):
+            if i in skip:
+                continue
             pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
             first = int(self.obs.offsets[j])
             own = np.arange(first, first + len(mem), dtype=np.int64)
-            if i in set(shared.tolist()):
+            if i in joined:
+                members = [js[x] for x in joined[i]]
+                parts.append(
+                    (
+                        np.concatenate([self.obs.cluster(x) for x in members]),
+                        np.concatenate([self.obs.cluster_members(x) for x in members]),
+                    )
+                )
+                rows.append(
+                    np.concatenate(
+                        [np.arange(self.obs.offsets[x], self.obs.offsets[x + 1]) for x in members]
+                    ).astype(np.int64)
+                )
+                shares.append(float(len(members)))
+                keys.append(("joined", *members))
+                origin.append(j)
+                changed = True
+                continue
+            if i in shared:
                 near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
                 owner = _nearest_unit(pts, near)
                 labels = np.unique(owner)
                 if labels.size >= 2:
-                    divided = True
+                    changed = True
                     for u in labels.tolist():
                         sel = owner == u
                         parts.append((pts[sel], mem[sel]))
@@ -321,7 +365,7 @@ class GroupBranches:
             shares.append(1.0)
             keys.append(j)
             origin.append(j)
-        if not divided:
+        if not changed:
             return None
         key = tuple(keys)
         if key not in self._partitions:

@@ -28,6 +28,7 @@ from laserpeople.tracking.groups.model import (
     group_distance_sq,
     initial_state,
     kalman_update,
+    kalman_update_batch,
     merge_log_likelihood,
     merge_state,
     min_average_hausdorff,
@@ -170,6 +171,21 @@ def test_eq28_31_kalman_update_with_group_size() -> None:
     new_mean, new_cov = kalman_update(mean, cov, np.array([2.0, 4.0]), 4.0, r)
     np.testing.assert_allclose(new_mean, [1.0, 2.0, 1.0, 1.0, 3.0])
     np.testing.assert_allclose(new_cov, np.diag([0.5, 0.5, 1.0, 1.0, 0.5]))
+
+
+def test_batched_kalman_update_equals_eq28_31() -> None:
+    rng = np.random.default_rng(2)
+    a = rng.normal(size=(4, 5, 5))
+    covs = a @ a.transpose(0, 2, 1) + np.eye(5)
+    means = rng.normal(size=(4, 5))
+    cents = rng.normal(size=(4, 2))
+    n_hs = rng.uniform(1, 4, 4)
+    r = np.diag([0.01, 0.01, 0.25])
+    bm, bc = kalman_update_batch(means, covs, cents, n_hs, r)
+    for t in range(4):
+        m, c = kalman_update(means[t], covs[t], cents[t], float(n_hs[t]), r)
+        np.testing.assert_allclose(bm[t], m, atol=1e-10)
+        np.testing.assert_allclose(bc[t], c, atol=1e-10)
 
 
 def test_eq32_model_prior() -> None:

@@ -115,6 +115,21 @@ def kalman_update(
     return new_mean, 0.5 * (new_cov + new_cov.T)
 
 
+def kalman_update_batch(
+    means: FloatArray, covs: FloatArray, centroids: FloatArray, n_hs: FloatArray, r: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`kalman_update` of many tracks at once: means (T, 5), covs (T, 5, 5),
+    centroids (T, 2), n_hs (T,), r (3, 3)."""
+    z = np.column_stack([centroids, n_hs])
+    hc = covs[:, [0, 1, 4], :]  # H~ C (T, 3, 5)
+    s = hc[:, :, [0, 1, 4]] + r  # H~ C H~^T + R (T, 3, 3)
+    gain_t = np.linalg.solve(s, hc)  # K^T = S^-1 H~ C (S and C symmetric), eq. 30
+    innov = z - means[:, [0, 1, 4]]
+    new_means = means + np.einsum("tij,ti->tj", gain_t, innov)  # eq. 28
+    new_covs = covs - np.einsum("tij,tik->tjk", gain_t, hc)  # eq. 29: C - K H~ C
+    return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
+
+
 def initial_state(
     points: FloatArray, n_hs: float, c0: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -334,7 +349,7 @@ class GroupModel:
         near = np.nonzero(~far & (counts > 0))[0]
         if near.size == 0:
             return gated, loglik
-        keep = np.isin(owner, near)
+        keep = ~far[owner]
         sub = d[pos[keep]]
         local = np.concatenate([[0], np.cumsum(counts[near])[:-1]])
         z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
@@ -388,11 +403,18 @@ class GroupModel:
         """Kalman update of each node with cluster ``js[i]`` (eqs. 28-31); the contour is
         replaced by the cluster's points relative to the new position (Sec. 4.3)."""
         out: list[tuple[FloatArray, FloatArray, Any]] = []
-        for node, j in zip(nodes, js, strict=True):
-            mean, cov = _pred(node)
-            new_mean, new_cov = kalman_update(
-                mean, cov, measurements.centroids[j], float(measurements.n_hs[j]), self.s.r_update
-            )
+        if not nodes:
+            return out
+        idx = np.asarray(js, dtype=np.intp)
+        preds = [_pred(n) for n in nodes]
+        means, covs = kalman_update_batch(
+            np.stack([p[0] for p in preds]),
+            np.stack([p[1] for p in preds]),
+            measurements.centroids[idx],
+            measurements.n_hs[idx],
+            self.s.r_update,
+        )
+        for node, j, new_mean, new_cov in zip(nodes, js, means, covs, strict=True):
             old = _payload(node)
             payload = GroupPayload(
                 measurements.cluster(j) - new_mean[:2],

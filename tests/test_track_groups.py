@@ -473,3 +473,22 @@ def test_joining_observations_keeps_a_group_through_a_gap() -> None:
     assert joined.events == []
     assert {t.labels for out in history for t in out.of_kind("group")} == {"0"}
     assert result.over_segmented == 0 < memoryless.over_segmented
+
+
+def test_empty_frames_and_missing_fields() -> None:
+    from laserpeople.errors import LaserPeopleError
+
+    tracker = GroupMHTTracker()
+    pts = legs((2.0, 0.0))
+    for k in range(3):
+        tracker.update(_frame(pts, k, 0.1 * k))
+    empty = _frame(np.empty((0, 2)), 3, 0.3)
+    out = tracker.update(empty)  # the group is occluded, still reported
+    assert [t.labels for t in out.of_kind("group")] == ["0"]
+    assert tracker.point_labels(0).size == 0
+    bare = Frame(index=4, stamp=0.4, scans=(), topic="sim")
+    with pytest.raises(LaserPeopleError, match="points and foreground"):
+        tracker.update(bare)
+    wrong = replace(_frame(pts, 5, 0.5), foreground=np.ones(3, dtype=bool))
+    with pytest.raises(LaserPeopleError, match="foreground mask"):
+        tracker.update(wrong)

@@ -100,10 +100,15 @@ def simulate_demo(
 
 
 def tracker_factories() -> list[tuple[str, Callable[[], FrameTracker]]]:
-    """``(name, make)`` for every tracker of :mod:`laserpeople.tracking.registry` with its
-    default parameters, the leg MHT first."""
+    """``(name, make)`` for every leg-fed tracker of :mod:`laserpeople.tracking.registry`
+    (those that consume only a frame's legs, as the demo's frames carry) with its default
+    parameters, the leg MHT first."""
     registry.get(MAIN_TRACKER)  # the demo draws its tracks: fail at once if it is gone
-    factories = [(name, _factory(entry)) for name, entry in registry.TRACKERS.items()]
+    factories = [
+        (name, _factory(entry))
+        for name, entry in registry.TRACKERS.items()
+        if entry.consumes == frozenset({"legs"})
+    ]
     factories.sort(key=lambda item: item[0] != MAIN_TRACKER)
     return factories
 

@@ -90,12 +90,20 @@ def register(app: typer.Typer) -> None:
             timings.append(time_reading("read", stream, repeat))
             source = str(recording)
         say(f"timing {len(scans)} scans of {source}, {repeat} passes per stage")
-        from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, laser_frames
+        from laserpeople.pipeline import (
+            FrameChooser,
+            Pipeline,
+            laser_frames,
+            observe_stages_for,
+        )
 
-        # the frames the trackers see: the pipeline's, with legs detected once
+        # the frames the trackers see: the pipeline's, observed once for all of them
+        consumes = frozenset().union(*(e.consumes for e in entries))
+        preprocess, observe_stages = observe_stages_for(
+            consumes, make_detector(detector, None, None)
+        )
         observe = Pipeline(
-            FrameChooser()(laser_frames(scans)),
-            observe=[DetectLegs(make_detector(detector, None, None))],
+            FrameChooser()(laser_frames(scans)), preprocess=preprocess, observe=observe_stages
         )
         frames = [step.frame for step in observe]
         stages: list[tuple[str, Callable[[], Callable[[Any], object]], Sequence[Any]]] = [

@@ -110,8 +110,9 @@ def get(name: str) -> TrackerEntry:
     try:
         return TRACKERS[name]
     except KeyError:
+        known = sorted(TRACKERS)
         raise ConfigError(
-            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(sorted(TRACKERS))}"
+            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(known)}"
         ) from None
 
 
@@ -125,6 +126,12 @@ def _nn(params: Any) -> FrameTracker:
     from laserpeople.tracking.nearest import NearestNeighbourTracker
 
     return LegsAdapter(NearestNeighbourTracker(params))
+
+
+def _group_mht(params: Any) -> FrameTracker:
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    return GroupMHTTracker(params)
 
 
 def _register_builtin() -> None:
@@ -145,6 +152,17 @@ def _register_builtin() -> None:
             NearestNeighbourParams,
             _nn,
             "global-nearest-neighbour Kalman leg tracker (baseline)",
+        )
+    )
+    from laserpeople.tracking.groups.tracker import GroupTrackerParams
+
+    register(
+        TrackerEntry(
+            "group-mht",
+            GroupTrackerParams,
+            _group_mht,
+            "multi-model MHT of groups with split, merge and group size (000 Sec. 4)",
+            consumes=frozenset({"points", "foreground"}),
         )
     )
 

@@ -328,13 +328,13 @@ def summarise(scores: Iterable[SceneScore]) -> list[FamilySummary]:
 def format_table(rows: Sequence[FamilySummary]) -> str:
     """The summaries as a fixed-width text table."""
     head = (
-        f"{'family':22s} {'tracker':12s} {'scenes':>6s} {'MOTA':>7s} {'IDF1':>7s} "
+        f"{'family':22s} {'tracker':15s} {'scenes':>6s} {'MOTA':>7s} {'IDF1':>7s} "
         f"{'IDsw/scene':>10s} {'static s/scene':>14s} {'static s/min':>12s} {'CPU ms/scan':>11s}"
     )
     lines = [head, "-" * len(head)]
     for r in rows:
         lines.append(
-            f"{r.family:22s} {r.tracker:12s} {r.scenes:6d} {r.mota:7.3f} {r.idf1:7.3f} "
+            f"{r.family:22s} {r.tracker:15s} {r.scenes:6d} {r.mota:7.3f} {r.idf1:7.3f} "
             f"{r.id_switches:10.1f} {r.static_seconds:14.1f} {r.static_per_minute:12.1f} "
             f"{r.cpu_ms:11.2f}"
         )

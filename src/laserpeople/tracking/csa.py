@@ -298,15 +298,16 @@ class ClusterSortingTracker:
         self.events: list[CSAEvent] = []
 
     # ------------------------------------------------------------------ helpers
-    def _new_single(self, pos: FloatArray, vel: FloatArray, stamp: float, pid: int = -1) -> None:
+    def _new_single(self, pos: FloatArray, stamp: float) -> None:
+        pid = self._s.next_pid
+        self._s.next_pid += 1
+        self._s.singles[pid] = _Single(pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp)
+
+    def _init_cov(self) -> FloatArray:
+        """Covariance (4, 4) of a new single target."""
         p = self.params
-        if pid < 0:
-            pid = self._s.next_pid
-            self._s.next_pid += 1
-        cov = np.diag(
-            [p.mean_std**2, p.mean_std**2, p.init_velocity_std**2, p.init_velocity_std**2]
-        )
-        self._s.singles[pid] = _Single(pid, np.r_[pos, vel], cov, stamp)
+        v = p.init_velocity_std**2
+        return np.diag([p.mean_std**2, p.mean_std**2, v, v])
 
     def _points(self, frame: Frame) -> FloatArray:
         if frame.points is None or frame.foreground is None:
@@ -490,7 +491,7 @@ class ClusterSortingTracker:
         labels = leader_clusters(free, self.params.init_distance)
         counts = np.bincount(labels)
         for k in np.flatnonzero(counts >= self.params.min_points):
-            self._new_single(free[labels == k].mean(axis=0), np.zeros(2), stamp)
+            self._new_single(free[labels == k].mean(axis=0), stamp)
 
     def _report(self, frame: Frame) -> Tracks:
         p = self.params

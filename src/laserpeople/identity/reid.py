@@ -18,8 +18,9 @@ the CSA, the leg MHT or a group tracker alike:
 - The crossing ends when no group holds its tracks any more and they are pairwise farther
   apart than ``separation_distance`` (002 split condition 2). From then on the colour
   log-likelihoods (eq. 6, in log space) of every clean observation of every candidate track
-  are summed per identity (eq. 7), and after ``min_observations`` per track the identities
-  are re-assigned by the Hungarian algorithm maximising eq. 8.
+  are summed per identity (eq. 7), and once there are as many tracks as identities with
+  ``min_observations`` each (or ``max_wait`` after the end) the identities are re-assigned
+  by the Hungarian algorithm maximising eq. 8.
 
 Until then every track keeps the identity it had (a new track gets a free identity of its
 crossing, or a fresh one).
@@ -158,6 +159,7 @@ class ColourReidentifier:
         self._crossings: list[_Crossing] = []
         self._lost: dict[int, tuple[FloatArray, float]] = {}  # identity -> (position, stamp)
         self._last_pos: dict[int, FloatArray] = {}  # track id -> position
+        self._absent: dict[int, float] = {}  # track id -> when it vanished
         self._next = 0
 
     # ------------------------------------------------------------------
@@ -199,25 +201,40 @@ class ColourReidentifier:
 
     # ------------------------------------------------------------------
     def _forget(self, here: set[int], stamp: float) -> None:
-        """Tracks that vanished leave their identity lost (unless a crossing holds it)."""
+        """Tracks that vanished leave their identity lost (unless a crossing holds it); a
+        track that comes back keeps its identity unless another track took it meanwhile;
+        tracks gone for longer than ``lost_memory`` are forgotten."""
         held = {i for c in self._crossings for i in c.identities}
+        memory = self.params.lost_memory
+        present_ids = {self._identity[t] for t in here if t in self._identity}
         for tid in list(self._identity):
+            ident = self._identity[tid]
             if tid in here:
+                if self._absent.pop(tid, None) is not None:
+                    taken = any(
+                        self._identity[o] == ident for o in here if o != tid and o in self._identity
+                    )
+                    if taken:
+                        self._identity[tid] = self._fresh()
+                    self._lost.pop(ident, None)
                 continue
-            ident = self._identity.pop(tid)
-            if tid in self._last_pos and ident not in held:
-                self._lost[ident] = (self._last_pos[tid], stamp)
-            self._last_pos.pop(tid, None)
-            for c in self._crossings:
-                c.tracks.discard(tid)
-        for ident in [i for i, (_, t) in self._lost.items() if stamp - t > self.params.lost_memory]:
+            if tid not in self._absent:
+                self._absent[tid] = stamp
+                if tid in self._last_pos and ident not in held and ident not in present_ids:
+                    self._lost[ident] = (self._last_pos[tid], stamp)
+            elif stamp - self._absent[tid] > memory:
+                del self._identity[tid], self._absent[tid]
+                self._last_pos.pop(tid, None)
+                for c in self._crossings:
+                    c.tracks.discard(tid)
+        for ident in [i for i, (_, t) in self._lost.items() if stamp - t > memory]:
             del self._lost[ident]
 
     def _adopt_new(self, persons: tuple[Track, ...], stamp: float) -> None:
         """Give new tracks an identity: a free one of a crossing or of a lost person nearby
         (and make them candidates of that crossing), else a fresh one."""
         p = self.params
-        used = set(self._identity.values())
+        used = {self._identity[t.track_id] for t in persons if t.track_id in self._identity}
         for t in persons:
             if t.track_id in self._identity:
                 continue
@@ -232,7 +249,7 @@ class ColourReidentifier:
                 lost = [
                     i
                     for i, (xy, _) in self._lost.items()
-                    if np.linalg.norm(xy - t.position) < p.rejoin_distance
+                    if i not in used and np.linalg.norm(xy - t.position) < p.rejoin_distance
                 ]
                 if lost:
                     c = _Crossing({lost[0]}, set(), t.position.copy(), ended_at=stamp)
@@ -338,7 +355,8 @@ class ColourReidentifier:
                 c.ended_at = stamp
                 continue
             enough = all(c.n_obs.get(t, 0) >= p.min_observations for t in present)
-            if enough or stamp - c.ended_at >= p.max_wait:
+            complete = len(present) >= len(c.identities)
+            if (enough and complete) or stamp - c.ended_at >= p.max_wait:
                 self._reassign(c, present, stamp)
                 self._crossings.remove(c)
 

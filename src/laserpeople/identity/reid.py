@@ -238,11 +238,7 @@ class ColourReidentifier:
         for t in persons:
             if t.track_id in self._identity:
                 continue
-            near = [
-                c
-                for c in self._crossings
-                if np.linalg.norm(c.centre - t.position) < p.rejoin_distance
-            ]
+            near = [c for c in self._crossings if self._near(c, t.position)]
             if near:
                 c = near[0]
             else:
@@ -266,6 +262,18 @@ class ColourReidentifier:
             c.tracks.add(t.track_id)
             self._identity[t.track_id] = ident
             used.add(ident)
+
+    def _near(self, c: _Crossing, xy: FloatArray) -> bool:
+        """Whether ``xy`` is within the rejoin distance of a crossing's centre or of where
+        one of its tracks was last seen while absent."""
+        r = self.params.rejoin_distance
+        if np.linalg.norm(c.centre - xy) < r:
+            return True
+        return any(
+            np.linalg.norm(self._last_pos[t] - xy) < r
+            for t in c.tracks
+            if t in self._absent and t in self._last_pos
+        )
 
     def _start_crossings(
         self, ids: list[int], pos: FloatArray, d: FloatArray, groups: tuple[Track, ...]
@@ -380,8 +388,12 @@ class ColourReidentifier:
         self._identity.update(given)
         for ident in idents:
             if ident not in taken:
-                xy = c.centre
-                self._lost[ident] = (xy, stamp)
+                where = [
+                    self._last_pos[t]
+                    for t in c.tracks
+                    if self._identity.get(t) == ident and t in self._last_pos
+                ]
+                self._lost[ident] = (where[0] if where else c.centre, stamp)
         self.reassignments.append(Reassignment(stamp, tuple(idents), dict(given)))
 
     def _relabel(self, tracks: Tracks) -> Tracks:

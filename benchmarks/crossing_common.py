@@ -3,9 +3,10 @@ crossing scenarios through the CSA and the leg MHT, add colour re-identification
 score the identities after every crossing.
 
 Identity after a crossing (002 Sec. 3, Figs. 7, 9, 11, 12): the id each true person is
-matched to (Hungarian, 0.5 m gate) half a second before the first merge is the person's
-reference; 1.8 s after everyone has arrived at the end positions of a crossing (before the
-next crossing starts) the person is *correct* when matched to the same id again.
+matched to (Hungarian, 0.5 m gate) before the first merge is the person's reference (the
+latest frame up to half a second before the merge in which the most people are tracked);
+1.8 s after everyone has arrived at the end positions of a crossing (before the next
+crossing starts) the person is *correct* when matched to the same id again.
 """
 
 from __future__ import annotations
@@ -140,8 +141,11 @@ class CrossingScore:
 
 def score(case: Case, tracks: list[Tracks]) -> CrossingScore:
     """Identities after every crossing, and CLEAR MOT over the run."""
-    ref_k = _frame_at(case, case.reference_time)
-    ref = _ids_at(case.result.truth[ref_k], tracks[ref_k])
+    last = _frame_at(case, case.reference_time)
+    found = [_ids_at(case.result.truth[k], tracks[k]) for k in range(last + 1)]
+    most = max(len(f) for f in found)
+    ref_k = max(k for k, f in enumerate(found) if len(f) == most)
+    ref = found[ref_k]
     correct = []
     for t in case.check_times:
         k = _frame_at(case, t)

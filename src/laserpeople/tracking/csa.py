@@ -32,12 +32,12 @@ indicate them in the graphics") or one ``group`` track holding its people in ``m
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
-from scipy.stats import chi2
 
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
@@ -144,8 +144,9 @@ class CSAParams:
 
     @property
     def gate(self) -> float:
-        """Squared Mahalanobis radius of a validation gate."""
-        return float(chi2.ppf(self.gate_probability, df=2))
+        """Squared Mahalanobis radius of a validation gate: the chi-square quantile with 2
+        degrees of freedom, -2 ln(1 - p)."""
+        return -2.0 * math.log1p(-self.gate_probability)
 
 
 @dataclass(frozen=True, eq=False)
@@ -165,6 +166,24 @@ class ViterbiStep:
     means: FloatArray
     covs: FloatArray
     scores: FloatArray
+
+
+def _gate_loglik(
+    means: FloatArray, covs: FloatArray, z: FloatArray, point_var: float, gate: float, cap: float
+) -> tuple[NDArray[np.bool_], FloatArray]:
+    """Gate membership and log N(z_m; H x_e, H P_e H^T + point_var I), both (E, M), for
+    one measurement noise shared by all measurements (cheaper than
+    :func:`kalman.mahalanobis_and_loglik`, which takes one covariance per measurement)."""
+    a = covs[:, 0, 0] + point_var
+    b = covs[:, 0, 1]
+    d = covs[:, 1, 1] + point_var
+    det = a * d - b * b
+    vx = z[None, :, 0] - means[:, 0, None]
+    vy = z[None, :, 1] - means[:, 1, None]
+    d2 = (d[:, None] * vx * vx - 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy) / det[:, None]
+    inside = (d2 <= gate) & (vx * vx + vy * vy <= cap * cap)
+    loglik = -0.5 * d2 - kalman.LOG_2PI - 0.5 * np.log(det)[:, None]
+    return inside, loglik
 
 
 def viterbi_step(
@@ -195,8 +214,7 @@ def viterbi_step(
     z = np.asarray(z, dtype=np.float64).reshape(-1, 2)
     m = z.shape[0]
     r = np.broadcast_to(np.eye(2) * point_var, (m, 2, 2))
-    d2, loglik = kalman.mahalanobis_and_loglik(pred_means, pred_covs, z, r)
-    inside = (d2 <= gate) & (kalman.euclidean_sq(pred_means, z) <= max_gate_distance**2)
+    inside, loglik = _gate_loglik(pred_means, pred_covs, z, point_var, gate, max_gate_distance)
     selected: NDArray[np.bool_] = np.asarray(inside.any(axis=0), dtype=bool)
     total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)
     total = total[:, selected]
@@ -337,7 +355,6 @@ class ClusterSortingTracker:
         self._last = stamp
         point_var = p.point_std**2
         gate2 = p.gate
-        cap2 = p.max_gate_distance**2
         s = self._s
 
         singles = list(s.singles.values())
@@ -357,15 +374,13 @@ class ClusterSortingTracker:
             for c in clusters
         ]
         # validation gates of every object over the measurements
-        r = np.broadcast_to(np.eye(2) * point_var, (z.shape[0], 2, 2))
+        cap = p.max_gate_distance
         gates = np.zeros((len(singles) + len(clusters), z.shape[0]), dtype=bool)
         if singles and z.size:
-            d2, _ = kalman.mahalanobis_and_loglik(sm, sc, z, r)
-            gates[: len(singles)] = (d2 <= gate2) & (kalman.euclidean_sq(sm, z) <= cap2)
+            gates[: len(singles)] = _gate_loglik(sm, sc, z, point_var, gate2, cap)[0]
         for k, (cm, cc) in enumerate(cpred):
             if z.size and cm.size:
-                d2, _ = kalman.mahalanobis_and_loglik(cm, cc, z, r)
-                g = (d2 <= gate2) & (kalman.euclidean_sq(cm, z) <= cap2)
+                g = _gate_loglik(cm, cc, z, point_var, gate2, cap)[0]
                 gates[len(singles) + k] = g.any(axis=0)
         comps = _components(gates)
         selected_any = gates.any(axis=0)
@@ -552,10 +567,22 @@ def _components(gates: NDArray[np.bool_]) -> list[list[int]]:
         return []
     g = gates.astype(np.float64)
     adj = (g @ g.T) > 0
-    from scipy.sparse.csgraph import connected_components
-
-    _, lab = connected_components(adj, directed=False)
-    return [np.flatnonzero(lab == k).tolist() for k in range(int(lab.max()) + 1)]
+    np.fill_diagonal(adj, True)
+    label = np.full(n, -1, dtype=np.int64)
+    out: list[list[int]] = []
+    for start in range(n):
+        if label[start] >= 0:
+            continue
+        reach = adj[start].copy()
+        while True:  # grow by neighbours of neighbours until nothing new joins
+            grown = adj[reach].any(axis=0)
+            if (grown == reach).all():
+                break
+            reach = grown
+        members = np.flatnonzero(reach)
+        label[members] = len(out)
+        out.append(members.tolist())
+    return out
 
 
 def frame_from_detections(detections: Detections) -> Frame:

@@ -275,6 +275,7 @@ class _Cluster:
     scores: FloatArray
     origin: IntArray  # person each estimate's Viterbi path started from
     last_seen: float
+    shown: dict[int, FloatArray] = field(default_factory=dict)  # person -> last shown at
 
 
 @dataclass(frozen=True)
@@ -452,6 +453,9 @@ class ClusterSortingTracker:
                 else "merge person+cluster"
             )
             self.events.append(CSAEvent(stamp, kind, members))
+        shown = {singles[i].pid: sm[i, :2] for i in objs_s}
+        for k in objs_c:
+            shown.update(clusters[k].shown)
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -467,7 +471,9 @@ class ClusterSortingTracker:
         if step.predecessor.size == 0:  # nothing seen: coast every estimate
             if stamp - last_seen > p.max_unseen:
                 return None
-            return _Cluster(cid, members, all_means, all_covs, all_scores, all_origin, last_seen)
+            return _Cluster(
+                cid, members, all_means, all_covs, all_scores, all_origin, last_seen, shown
+            )
         return _Cluster(
             cid,
             members,
@@ -476,6 +482,7 @@ class ClusterSortingTracker:
             step.scores,
             all_origin[step.predecessor],
             stamp,
+            shown,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -492,16 +499,23 @@ class ClusterSortingTracker:
 
     @staticmethod
     def _subcluster_ids(cl: _Cluster, labels: IntArray) -> list[int]:
-        """The person for each sub-cluster: the one most estimates' paths started from
-        (one-to-one, Hungarian on the vote counts)."""
+        """The person for each sub-cluster (one-to-one, Hungarian): nearest to where each
+        person was last shown (as a single target or a sub-cluster of this cluster), or,
+        when some person was never shown, the one most estimates' Viterbi paths started
+        from. An extension of 002, which leaves identities after a split to colour."""
         n = len(cl.members)
         n_sub = int(labels.max()) + 1
-        index = {m: k for k, m in enumerate(cl.members)}
-        votes = np.zeros((n_sub, n))
-        for lab, org in zip(labels, cl.origin, strict=True):
-            if int(org) in index:
-                votes[lab, index[int(org)]] += 1.0
-        rows, cols = linear_sum_assignment(-votes)
+        if all(m in cl.shown for m in cl.members):
+            cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
+            prev = np.array([cl.shown[m] for m in cl.members])
+            cost = np.linalg.norm(cents[:, None] - prev[None], axis=-1)
+        else:
+            index = {m: k for k, m in enumerate(cl.members)}
+            cost = np.zeros((n_sub, n))
+            for lab, org in zip(labels, cl.origin, strict=True):
+                if int(org) in index:
+                    cost[lab, index[int(org)]] -= 1.0
+        rows, cols = linear_sum_assignment(cost)
         ids = [-1] * n_sub
         for r_, c_ in zip(rows, cols, strict=True):
             ids[int(r_)] = cl.members[int(c_)]
@@ -528,6 +542,7 @@ class ClusterSortingTracker:
                     sel = labels == sub
                     pos = c.means[sel, :2]
                     cov = np.cov(pos.T) if pos.shape[0] > 1 else np.eye(2) * p.point_std**2
+                    c.shown[pid] = pos.mean(axis=0)
                     out.append(
                         Track(
                             pid,

@@ -238,7 +238,7 @@ class ColourReidentifier:
         for t in persons:
             if t.track_id in self._identity:
                 continue
-            near = [c for c in self._crossings if self._near(c, t.position)]
+            near = [c for c in self._crossings if self._near(c, t.position, persons)]
             if near:
                 c = near[0]
             else:
@@ -263,17 +263,22 @@ class ColourReidentifier:
             self._identity[t.track_id] = ident
             used.add(ident)
 
-    def _near(self, c: _Crossing, xy: FloatArray) -> bool:
-        """Whether ``xy`` is within the rejoin distance of a crossing's centre or of where
-        one of its tracks was last seen while absent."""
-        r = self.params.rejoin_distance
-        if np.linalg.norm(c.centre - xy) < r:
+    def _near(self, c: _Crossing, xy: FloatArray, persons: tuple[Track, ...]) -> bool:
+        """Whether a new track at ``xy`` may be one of the people of crossing ``c``: within
+        the rejoin distance of its centre or of where one of its tracks vanished, or, while
+        it has fewer tracks than people, within the separation distance of the centre of
+        its tracks' latest positions (its people spread at most that far before it ends)."""
+        p = self.params
+        if np.linalg.norm(c.centre - xy) < p.rejoin_distance:
             return True
-        return any(
-            np.linalg.norm(self._last_pos[t] - xy) < r
-            for t in c.tracks
-            if t in self._absent and t in self._last_pos
-        )
+        absent = [self._last_pos[t] for t in c.tracks if t in self._absent and t in self._last_pos]
+        if any(np.linalg.norm(a - xy) < p.rejoin_distance for a in absent):
+            return True
+        present = [t.position for t in persons if t.track_id in c.tracks]
+        if len(present) >= len(c.identities) or not present + absent:
+            return False
+        centre = np.mean(present + absent, axis=0)
+        return bool(np.linalg.norm(centre - xy) < max(p.rejoin_distance, p.separation_distance))
 
     def _start_crossings(
         self, ids: list[int], pos: FloatArray, d: FloatArray, groups: tuple[Track, ...]

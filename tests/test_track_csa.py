@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import pytest
@@ -84,7 +85,7 @@ def _blob(centre: tuple[float, float], k: int) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _frames(paths: list[list[tuple[float, float, float]]], seconds: float) -> list[Frame]:
+def _frames(paths: Sequence[Sequence[tuple[float, float, float]]], seconds: float) -> list[Frame]:
     """Frames at 10 Hz of people moving along piecewise-linear (t, x, y) paths."""
     frames = []
     for k in range(int(seconds * 10) + 1):

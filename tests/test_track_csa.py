@@ -85,13 +85,20 @@ def _blob(centre: tuple[float, float], k: int) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _frames(paths: Sequence[Sequence[tuple[float, float, float]]], seconds: float) -> list[Frame]:
-    """Frames at 10 Hz of people moving along piecewise-linear (t, x, y) paths."""
+def _frames(
+    paths: Sequence[Sequence[tuple[float, float, float]]],
+    seconds: float,
+    hidden: dict[int, tuple[float, float]] | None = None,
+) -> list[Frame]:
+    """Frames at 10 Hz of people moving along piecewise-linear (t, x, y) paths; person i is
+    not seen during ``hidden[i] = (t0, t1)``."""
     frames = []
     for k in range(int(seconds * 10) + 1):
         t = k / 10
         pts = []
-        for path in paths:
+        for i, path in enumerate(paths):
+            if hidden and i in hidden and hidden[i][0] <= t < hidden[i][1]:
+                continue
             ts = [q[0] for q in path]
             x = np.interp(t, ts, [q[1] for q in path])
             y = np.interp(t, ts, [q[2] for q in path])
@@ -167,3 +174,22 @@ def test_crossing3_end_to_end_with_colour() -> None:
         on = score(case, reidentify(case, "csa"))
         assert on.correct == (3,), variant
         assert off.correct != (3,), variant  # the laser alone does swap here
+
+
+def test_a_person_lost_in_the_cluster_is_adopted_at_the_split() -> None:
+    """002 Sec. 4: a person who walks away unseen (in the others' shadow) is lost by the VBA
+    and found again as a new target. The cluster, short of one sub-cluster, splits with that
+    target once all are 3 m apart, and the target takes the cluster's third person."""
+    a = [(0, -2.5, 3.0), (2, -0.3, 3.0), (5, -0.3, 3.0), (7, -2.2, 3.0), (9, -2.2, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.3, 3.0), (5, 0.3, 3.0), (7, 2.2, 3.0), (9, 2.2, 3.0)]
+    c = [(0, 0.0, 0.5), (2, 0.0, 2.5), (4, 0.0, 2.5), (6, 0.0, -0.5), (9, 0.0, -0.5)]
+    frames = _frames([a, b, c], 9.0, hidden={2: (4.0, 5.5)})
+    csa = ClusterSortingTracker()
+    out = [csa.update(f) for f in frames]
+    assert [e.kind for e in csa.events][-1] == "split"
+    assert csa.events[-1].members == (0, 1, 2)
+    assert sorted(t.track_id for t in out[-1].of_kind("person")) == [0, 1, 2]
+    # without the extension the cluster never splits
+    plain = ClusterSortingTracker(CSAParams(adopt_escaped=False))
+    last = [plain.update(f) for f in frames][-1]
+    assert last.of_kind("group") and "split" not in [e.kind for e in plain.events]

@@ -120,6 +120,13 @@ class CSAParams:
         1.0, "assumption", "an object without selected measurements this long is deleted", "s"
     )
     max_dt: float = param(1.0, "assumption", "longest prediction step", "s")
+    adopt_escaped: bool = param(
+        True,
+        "extension of 002 (its Sec. 4 names the failure); crossing-3 123 -> 321 seeds 0-4: "
+        "people correct with colour 6/15 -> 15/15 (docs/csa.md)",
+        "a cluster short of sub-clusters splits with the targets started since it formed "
+        "when all are pairwise separated (they take its remaining people)",
+    )
 
     def __post_init__(self) -> None:
         if not 0.0 < self.gate_probability < 1.0:
@@ -276,6 +283,7 @@ class _Cluster:
     origin: IntArray  # person each estimate's Viterbi path started from
     last_seen: float
     shown: dict[int, FloatArray] = field(default_factory=dict)  # person -> last shown at
+    born_pid: int = 0  # single targets with a larger id were started after this cluster
 
 
 @dataclass(frozen=True)
@@ -408,6 +416,8 @@ class ClusterSortingTracker:
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
+        if p.adopt_escaped:
+            self._adopt_escaped(new_singles, new_clusters, stamp)
         s.singles = new_singles
         s.clusters = new_clusters
         self._initiate(z[~selected_any], stamp)
@@ -456,6 +466,7 @@ class ClusterSortingTracker:
         shown = {singles[i].pid: sm[i, :2] for i in objs_s}
         for k in objs_c:
             shown.update(clusters[k].shown)
+        born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -472,7 +483,7 @@ class ClusterSortingTracker:
             if stamp - last_seen > p.max_unseen:
                 return None
             return _Cluster(
-                cid, members, all_means, all_covs, all_scores, all_origin, last_seen, shown
+                cid, members, all_means, all_covs, all_scores, all_origin, last_seen, shown, born
             )
         return _Cluster(
             cid,
@@ -483,6 +494,7 @@ class ClusterSortingTracker:
             all_origin[step.predecessor],
             stamp,
             shown,
+            born,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -499,27 +511,70 @@ class ClusterSortingTracker:
 
     @staticmethod
     def _subcluster_ids(cl: _Cluster, labels: IntArray) -> list[int]:
-        """The person for each sub-cluster (one-to-one, Hungarian): nearest to where each
-        person was last shown (as a single target or a sub-cluster of this cluster), or,
-        when some person was never shown, the one most estimates' Viterbi paths started
-        from. An extension of 002, which leaves identities after a split to colour."""
-        n = len(cl.members)
+        """The person for each sub-cluster (see :meth:`_assign_members`)."""
         n_sub = int(labels.max()) + 1
+        cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
+        return ClusterSortingTracker._assign_members(cl, cents, labels)
+
+    @staticmethod
+    def _assign_members(cl: _Cluster, positions: FloatArray, labels: IntArray) -> list[int]:
+        """The person for each of K positions (K, 2) of a cluster, one-to-one by the
+        Hungarian algorithm: nearest to where each person was last shown (as a single target
+        or a sub-cluster of this cluster), or, when some person was never shown, the one
+        most estimates' Viterbi paths started from (``labels`` (E,) gives each estimate's
+        position, -1 for none). An extension of 002, which leaves identities after a split
+        to colour."""
+        n = len(cl.members)
+        k = positions.shape[0]
         if all(m in cl.shown for m in cl.members):
-            cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
             prev = np.array([cl.shown[m] for m in cl.members])
-            cost = np.linalg.norm(cents[:, None] - prev[None], axis=-1)
+            cost = np.linalg.norm(positions[:, None] - prev[None], axis=-1)
         else:
-            index = {m: k for k, m in enumerate(cl.members)}
-            cost = np.zeros((n_sub, n))
+            index = {m: c for c, m in enumerate(cl.members)}
+            cost = np.zeros((k, n))
             for lab, org in zip(labels, cl.origin, strict=True):
-                if int(org) in index:
+                if lab >= 0 and int(org) in index:
                     cost[lab, index[int(org)]] -= 1.0
         rows, cols = linear_sum_assignment(cost)
-        ids = [-1] * n_sub
+        ids = [-1] * k
         for r_, c_ in zip(rows, cols, strict=True):
             ids[int(r_)] = cl.members[int(c_)]
         return ids
+
+    def _adopt_escaped(
+        self, singles: dict[int, _Single], clusters: dict[int, _Cluster], stamp: float
+    ) -> None:
+        """Extension of 002 (its Sec. 4 names the failure: a person who walks away in the
+        shadow of the others is lost by the VBA and found again as a new target). When a
+        cluster shows k sub-clusters fewer than it holds people and exactly k targets were
+        started since it formed, the sub-clusters and those targets are its people: if
+        they are all pairwise separated (002 condition 2) the cluster splits, and the new
+        targets take the remaining identities."""
+        p = self.params
+        in_clusters = {m for c in clusters.values() for m in c.members}
+        for cl in list(clusters.values()):
+            labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+            n_sub = int(labels.max()) + 1
+            missing = len(cl.members) - n_sub
+            if missing <= 0:
+                continue
+            new = [t for t in singles.values() if t.pid >= cl.born_pid and t.pid not in in_clusters]
+            if len(new) != missing:
+                continue
+            cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
+            pos = np.concatenate([cents, np.array([t.mean[:2] for t in new])])
+            d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
+            if not (d[np.triu_indices(len(pos), 1)] > p.separation_distance).all():
+                continue
+            ids = self._assign_members(cl, pos, labels)
+            for sub in range(n_sub):
+                mean = cl.means[labels == sub].mean(axis=0)
+                singles[ids[sub]] = _Single(ids[sub], mean, self._init_cov(), stamp)
+            for t, pid in zip(new, ids[n_sub:], strict=True):
+                del singles[t.pid]
+                singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
+            del clusters[cl.cid]
+            self.events.append(CSAEvent(stamp, "split", cl.members))
 
     def _initiate(self, free: FloatArray, stamp: float) -> None:
         if free.shape[0] < self.params.min_points:

@@ -271,6 +271,7 @@ class _Single:
     mean: FloatArray
     cov: FloatArray
     last_seen: float
+    spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
 
 
 @dataclass
@@ -327,9 +328,18 @@ class ClusterSortingTracker:
 
     # ------------------------------------------------------------------ helpers
     def _new_single(self, pos: FloatArray, stamp: float) -> None:
+        p = self.params
         pid = self._s.next_pid
         self._s.next_pid += 1
-        self._s.singles[pid] = _Single(pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp)
+        spawned_by = -1
+        reach = p.init_distance + p.max_gate_distance
+        for c in self._s.clusters.values():
+            if np.min(np.linalg.norm(c.means[:, :2] - pos, axis=1)) < reach:
+                spawned_by = c.cid
+                break
+        self._s.singles[pid] = _Single(
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by
+        )
 
     def _init_cov(self) -> FloatArray:
         """Covariance (4, 4) of a new single target."""
@@ -406,9 +416,9 @@ class ClusterSortingTracker:
                     mean, cov = kalman.update(
                         sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
                     )
-                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp)
+                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by)
                 elif stamp - t.last_seen <= p.max_unseen:
-                    new_singles[t.pid] = _Single(t.pid, sm[i], sc[i], t.last_seen)
+                    new_singles[t.pid] = _Single(t.pid, sm[i], sc[i], t.last_seen, t.spawned_by)
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:
@@ -448,9 +458,11 @@ class ClusterSortingTracker:
         origin = [np.array([singles[i].pid for i in objs_s], dtype=np.int64)] + [
             clusters[k].origin for k in objs_c
         ]
-        members = tuple(
-            sorted({singles[i].pid for i in objs_s}.union(*[clusters[k].members for k in objs_c]))
-        )
+        # a target started next to one of these clusters and merging back into it is a
+        # fragment of the cluster's people, not another person (extension of 002)
+        cids = {clusters[k].cid for k in objs_c}
+        joining = {singles[i].pid for i in objs_s if singles[i].spawned_by not in cids}
+        members = tuple(sorted(joining.union(*[clusters[k].members for k in objs_c])))
         last_seen = max(
             [singles[i].last_seen for i in objs_s] + [clusters[k].last_seen for k in objs_c]
         )

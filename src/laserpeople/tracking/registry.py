@@ -168,3 +168,26 @@ def _register_builtin() -> None:
 
 
 _register_builtin()
+
+
+# --- Cluster Sorting Algorithm (002 Sec. 2), a FrameTracker on raw foreground points ---
+def _csa(params: Any) -> Any:
+    from laserpeople.tracking.csa import ClusterSortingTracker
+
+    return ClusterSortingTracker(params)
+
+
+def _register_csa() -> None:
+    from laserpeople.tracking.csa import CSAParams
+
+    register(
+        TrackerEntry(
+            "csa",
+            CSAParams,
+            _csa,
+            "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
+        )
+    )
+
+
+_register_csa()

@@ -14,6 +14,7 @@ import typer
 from rich.markup import escape
 
 from laserpeople.cli import (
+    align,
     bench,
     demo,
     detect,
@@ -49,7 +50,7 @@ def _global_options(
     STATE.quiet = quiet
 
 
-for _module in (info, simulate, scenarios, detect, train, track, evaluate, bench, view, demo):
+for _module in (info, simulate, scenarios, detect, train, track, evaluate, bench, view, demo, align):
     _module.register(app)
 
 

@@ -44,7 +44,7 @@ def mean_shift(
     bandwidth: float,
     *,
     merge_radius: float | None = None,
-    tol: float = 1e-4,
+    tol: float = 1e-3,
     max_iter: int = 50,
 ) -> MeanShiftResult:
     """Cluster ``points`` (N, 2) [m] by flat-kernel mean shift of radius ``bandwidth`` [m].
@@ -63,8 +63,8 @@ def mean_shift(
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 - iteration count is returned
         idx = np.flatnonzero(moving)
-        pairs = cKDTree(modes[idx]).sparse_distance_matrix(tree, bandwidth, output_type="coo_matrix")
-        rows, cols = pairs.row, pairs.col  # zero distances are kept as explicit entries
+        pairs = cKDTree(modes[idx]).sparse_distance_matrix(tree, bandwidth, output_type="ndarray")
+        rows, cols = pairs["i"], pairs["j"]  # zero distances are kept as entries
         count = np.bincount(rows, minlength=idx.size).astype(np.float64)
         sx = np.bincount(rows, weights=pts[cols, 0], minlength=idx.size)
         sy = np.bincount(rows, weights=pts[cols, 1], minlength=idx.size)

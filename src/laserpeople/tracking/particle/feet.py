@@ -153,9 +153,17 @@ def foot_likelihood(
 ) -> NDArray[np.float64]:
     """004 eqs. 3-4: max(sum_j exp(-|foot - z_j|^2 / (2 delta^2)), P_0) for feet (F, P, 2)
     and the padded points (F, K, 2) of each filter with mask (F, K); returns (F, P)."""
-    d = feet[:, :, None, :] - points[:, None, :, :]
-    d2 = np.einsum("fpkc,fpkc->fpk", d, d)
-    total = np.einsum("fpk,fk->fp", np.exp(-d2 / (2.0 * delta * delta)), mask.astype(float))
+    # |f - z|^2 = |f|^2 + |z|^2 - 2 f.z as one batched product, in float32 (the kernels
+    # are summed, so 1e-7 relative error is harmless); padding points are masked out
+    f32 = feet.astype(np.float32)
+    z32 = points.astype(np.float32)
+    d2 = (
+        np.einsum("fpc,fpc->fp", f32, f32)[:, :, None]
+        + np.where(mask, np.einsum("fkc,fkc->fk", z32, z32), np.float32(1e6))[:, None, :]
+        - 2.0 * np.matmul(f32, z32.transpose(0, 2, 1))
+    )
+    kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (delta * delta)))
+    total = kernel.sum(axis=2, dtype=np.float64)
     return np.asarray(np.maximum(total, p0), dtype=np.float64)
 
 

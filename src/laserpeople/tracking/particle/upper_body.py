@@ -102,12 +102,15 @@ def cell_weights(
     """004 eq. 9: w_i = sum_j exp(-|p_i - z_j|^2 / zeta^2) over the points of each filter's
     cell. ``particles_xy`` (F, P, 2), ``cell_points`` (F, K, 2) padded, ``cell_mask`` (F, K)
     True for real points; returns (F, P)."""
-    d = particles_xy[:, :, None, :] - cell_points[:, None, :, :]
-    d2 = np.einsum("fpkc,fpkc->fpk", d, d)
-    return np.asarray(
-        np.einsum("fpk,fk->fp", np.exp(-d2 / (zeta * zeta)), cell_mask.astype(np.float64)),
-        dtype=np.float64,
+    f32 = particles_xy.astype(np.float32)
+    z32 = cell_points.astype(np.float32)
+    d2 = (  # |p - z|^2 as one batched product; padding points pushed far away
+        np.einsum("fpc,fpc->fp", f32, f32)[:, :, None]
+        + np.where(cell_mask, np.einsum("fkc,fkc->fk", z32, z32), np.float32(1e6))[:, None, :]
+        - 2.0 * np.matmul(f32, z32.transpose(0, 2, 1))
     )
+    kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-1.0 / (zeta * zeta)))
+    return np.asarray(kernel.sum(axis=2, dtype=np.float64), dtype=np.float64)
 
 
 def voronoi_cells(

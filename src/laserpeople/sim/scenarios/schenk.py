@@ -94,7 +94,9 @@ def _curve(rng: np.random.Generator, duration: float) -> Scene:
 def _circle(rng: np.random.Generator, duration: float) -> Scene:
     v = _speed(rng, 1.1)
     route = Route(START_X, LINE_Y, 0.0).walk_to(5.5, LINE_Y, v)
-    route.arc(5.5, LINE_Y + 1.5, 2 * math.pi, v).walk_to(END_X, LINE_Y, v)
+    # diameter 1.5 m: a radius of 1.5 m ran through the wall at y = 5.5 and the laser stand
+    # at (5.5, 4.75); this circle stays 0.5 m clear of the stand
+    route.arc(5.5, LINE_Y + 0.75, 2 * math.pi, v).walk_to(END_X, LINE_Y, v)
     return _scene(_one(rng, route))
 
 

@@ -31,6 +31,7 @@ class FilterBank:
         self.born = np.empty(0)
         self.last_seen = np.empty(0)
         self.hits = np.empty(0, dtype=np.int64)
+        self.quality = np.empty(0)
         self._next_id = 0
 
     def __len__(self) -> int:
@@ -50,6 +51,7 @@ class FilterBank:
         self.born = np.concatenate([self.born, np.full(k, stamp)])
         self.last_seen = np.concatenate([self.last_seen, np.full(k, stamp)])
         self.hits = np.concatenate([self.hits, np.ones(k, dtype=np.int64)])
+        self.quality = np.concatenate([self.quality, np.zeros(k)])
 
     def keep(self, mask: NDArray[np.bool_]) -> None:
         """Keep only the filters where ``mask`` (F,) is True."""
@@ -59,15 +61,19 @@ class FilterBank:
         self.born = self.born[mask]
         self.last_seen = self.last_seen[mask]
         self.hits = self.hits[mask]
+        self.quality = self.quality[mask]
 
     def reweight(
         self, likelihood: NDArray[np.float64], rng: np.random.Generator, threshold: float
     ) -> None:
-        """Multiply the weights by ``likelihood`` (F, P), normalise, and resample
+        """Update each filter's ``quality`` (exponentially smoothed log of the marginal
+        likelihood sum_i w_i l_i), multiply the weights by ``likelihood`` (F, P), normalise, and resample
         systematically every filter whose effective sample size fell below
         ``threshold * P``."""
         if len(self) == 0:
             return
+        marginal = np.einsum("fp,fp->f", self.weights, likelihood)
+        self.quality = 0.9 * self.quality + 0.1 * np.log(np.maximum(marginal, 1e-300))
         self.weights = normalise(self.weights * likelihood)
         low = effective_sample_size(self.weights) < threshold * self.n_particles
         if low.any():
@@ -75,6 +81,15 @@ class FilterBank:
             rows = np.flatnonzero(low)[:, None]
             self.states[low] = self.states[rows, idx]
             self.weights[low] = 1.0 / self.n_particles
+
+    def replace_by(self, loser: int, winner: int) -> None:
+        """Let filter ``winner`` take over the identity of ``loser`` when ``loser`` is the
+        older one (the person keeps the id under which it was first reported); ``loser``
+        must then be removed with :meth:`keep`."""
+        if (self.born[loser], self.ids[loser]) < (self.born[winner], self.ids[winner]):
+            self.ids[winner] = self.ids[loser]
+            self.born[winner] = self.born[loser]
+            self.hits[winner] = max(self.hits[winner], self.hits[loser])
 
     def mean(self, columns: slice | list[int]) -> NDArray[np.float64]:
         """Weighted mean (F, len(columns)) of the state columns."""

@@ -63,24 +63,27 @@ class FeetParams:
         "m",
     )
     overlap_distance: float = param(
-        0.06, "assumed: a swinging foot moves < 0.06 m between scans at 50 Hz",
+        0.12, "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
         "points of consecutive scans this close link their clusters", "m",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(
-        0.4, "assumed", "largest distance between a merge and its split", "m"
+        0.5, "assumed", "largest distance between a merge and its split", "m"
     )
     gate: float = param(
         0.7, "assumed", "points farther than this from a filter's feet are not used", "m"
     )
     sigma_repel: float = param(0.2, "assumed", "range of the repelling term", "m")
+    shared_foot: float = param(
+        0.15, "assumed", "two filters with feet this close track one person", "m"
+    )
     birth_exclusion: float = param(
         0.6, "assumed", "no filter starts this close to an existing one", "m"
     )
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
     )
-    miss_time: float = param(0.6, "assumed", "a filter without support this long dies", "s")
+    miss_time: float = param(0.4, "assumed", "a filter without support this long dies", "s")
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
     )
@@ -91,9 +94,9 @@ class FeetParams:
         (0.7, 1.6), "assumed: 1.25-2.9 steps/s", "initial and allowed period T", "s"
     )
     sigma_foot: float = param(0.05, "assumed", "foot position diffusion", "m/sqrt(s)")
-    sigma_stride: float = param(0.15, "assumed", "stride diffusion", "m/sqrt(s)")
+    sigma_stride: float = param(0.3, "assumed", "stride diffusion", "m/sqrt(s)")
     sigma_period: float = param(0.2, "assumed", "period diffusion", "s/sqrt(s)")
-    sigma_phase: float = param(0.6, "assumed", "phase diffusion", "rad/sqrt(s)")
+    sigma_phase: float = param(1.0, "assumed", "phase diffusion", "rad/sqrt(s)")
     sigma_direction: float = param(0.5, "assumed", "direction diffusion", "rad/sqrt(s)")
     confirm_scans: int = param(3, "assumed", "supported scans before a filter is reported")
     resample_threshold: float = param(
@@ -350,13 +353,26 @@ class FeetTracker:
         return self._report(frame)
 
     def _cull(self, stamp: float) -> None:
+        """Remove filters without support for ``miss_time``; of two filters that come
+        within ``merge_distance`` or share a foot (feet within ``shared_foot``), keep the
+        one with the better smoothed likelihood under the older identity."""
         p, bank = self.params, self.bank
         alive = stamp - bank.last_seen <= p.miss_time
         if len(bank) > 1:
             est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
-            for i, j in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray"):
-                young = j if (bank.born[j], bank.ids[j]) > (bank.born[i], bank.ids[i]) else i
-                alive[young] = False
+            feet = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
+            close = {tuple(e) for e in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")}
+            flat = feet.reshape(-1, 2)
+            for a, b in cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray"):
+                i, j = sorted((int(a) // 2, int(b) // 2))
+                if i != j:
+                    close.add((i, j))
+            for i, j in sorted(close):
+                if not (alive[i] and alive[j]):
+                    continue
+                loser, winner = (i, j) if bank.quality[i] < bank.quality[j] else (j, i)
+                bank.replace_by(loser, winner)
+                alive[loser] = False
         bank.keep(alive)
 
     def _births(self, pts: NDArray[np.float64], stamp: float) -> None:

@@ -54,7 +54,7 @@ class FeetParams:
     delta: float = param(
         0.06, "assumed (Shao et al.'s value not in 004)", "sigma of the foot kernels, eqs. 3-4", "m"
     )
-    p0: float = param(0.05, "assumed", "P_0, floor of o_l and o_r (eqs. 3-4)")
+    p0: float = param(0.01, "assumed", "P_0, floor of o_l and o_r (eqs. 3-4)")
     h: float = param(0.12, "assumed", "h of eq. 6 (tolerance of the feet separation)", "m")
     bandwidth: float = param(
         0.2,
@@ -74,6 +74,11 @@ class FeetParams:
         0.7, "assumed", "points farther than this from a filter's feet are not used", "m"
     )
     sigma_repel: float = param(0.2, "assumed", "range of the repelling term", "m")
+    refresh_share: float = param(
+        0.2,
+        "assumed (not in 004: a mixture proposal from the step detector)",
+        "share of a filter's particles restarted from a step detected at it",
+    )
     shared_foot: float = param(
         0.15, "assumed", "two filters with feet this close track one person", "m"
     )
@@ -97,7 +102,7 @@ class FeetParams:
     sigma_stride: float = param(0.3, "assumed", "stride diffusion", "m/sqrt(s)")
     sigma_period: float = param(0.2, "assumed", "period diffusion", "s/sqrt(s)")
     sigma_phase: float = param(1.0, "assumed", "phase diffusion", "rad/sqrt(s)")
-    sigma_direction: float = param(0.5, "assumed", "direction diffusion", "rad/sqrt(s)")
+    sigma_direction: float = param(1.2, "assumed", "direction diffusion", "rad/sqrt(s)")
     confirm_scans: int = param(3, "assumed", "supported scans before a filter is reported")
     resample_threshold: float = param(
         0.5, "Thrun et al. 2005 (common choice)", "resample when ESS < this x particles"
@@ -246,9 +251,10 @@ class StepDetector:
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
         old_pts, old_labels, old_centres = prev
-        d, j = cKDTree(old_pts).query(points, k=1, distance_upper_bound=p.overlap_distance)
-        hit = np.isfinite(d)
-        links = np.unique(np.column_stack([labels[hit], old_labels[j[hit]]]), axis=0)
+        near = cKDTree(points).sparse_distance_matrix(
+            cKDTree(old_pts), p.overlap_distance, output_type="ndarray"
+        )
+        links = np.unique(np.column_stack([labels[near["i"]], old_labels[near["j"]]]), axis=0)
         if len(links) == 0:
             return merges, splits
         new_ids, new_count = np.unique(links[:, 0], return_counts=True)
@@ -387,12 +393,31 @@ class FeetTracker:
         )
         starts: list[NDArray[np.float64]] = []
         for ev in found:
-            taken = [*est, *(f.mean(axis=0) for f in starts)]
-            if any(np.hypot(*(ev.position - e)) <= p.birth_exclusion for e in taken):
+            if len(est):
+                dist = np.hypot(*(est - ev.position).T)
+                near = int(np.argmin(dist))
+                if dist[near] <= p.birth_exclusion:
+                    self._refresh(near, ev.feet)
+                    continue
+            if any(np.hypot(*(ev.position - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
                 continue
             starts.append(ev.feet)
         if starts:
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
+
+    def _refresh(self, f: int, feet: NDArray[np.float64]) -> None:
+        """A step detected at filter ``f``: replace a share ``refresh_share`` of its
+        particles, drawn at random, by particles started from the detected feet (a mixture
+        proposal), each with the filter's mean weight, so that the next weighting chooses
+        between the filter's belief and the detection."""
+        p, bank = self.params, self.bank
+        k = int(round(p.refresh_share * p.particles))
+        if k == 0:
+            return
+        idx = self.rng.choice(p.particles, size=k, replace=False)
+        bank.states[f, idx] = self._initial(feet)[:k]
+        bank.weights[f, idx] = 1.0 / p.particles
+        bank.weights[f] /= bank.weights[f].sum()
 
     def _initial(self, feet: NDArray[np.float64]) -> NDArray[np.float64]:
         """Particles (P, 8) for a person whose feet clusters are ``feet`` (2, 2): the walking

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
 from laserpeople.clustering import cluster_covariances, mean_shift
+
+ms_module = importlib.import_module("laserpeople.clustering.mean_shift")
 
 
 def brute_force(points: np.ndarray, h: float, tol: float, max_iter: int) -> np.ndarray:
@@ -28,8 +32,13 @@ def same_partition(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.array_equal(a[:, None] == a[None, :], b[:, None] == b[None, :]))
 
 
-@pytest.mark.parametrize("seed", range(5))
-def test_modes_and_clusters_equal_brute_force(seed: int) -> None:
+@pytest.mark.parametrize("dense", [True, False])
+@pytest.mark.parametrize("seed", range(4))
+def test_modes_and_clusters_equal_brute_force(
+    seed: int, dense: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    if not dense:  # force the KD-tree path
+        monkeypatch.setattr(ms_module, "DENSE_LIMIT", 0)
     rng = np.random.default_rng(seed)
     centres = rng.uniform(0, 6, (5, 2))
     pts = np.concatenate([c + rng.normal(0, 0.06, (int(rng.integers(3, 30)), 2)) for c in centres])

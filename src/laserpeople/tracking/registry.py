@@ -73,6 +73,18 @@ def _nn(params: Any) -> Tracker:
     return NearestNeighbourTracker(params)
 
 
+def _feet_pf(params: Any) -> Any:
+    from laserpeople.tracking.particle.feet import FeetTracker
+
+    return FeetTracker(params)  # a FrameTracker: consumes points and foreground
+
+
+def _upper_body_pf(params: Any) -> Any:
+    from laserpeople.tracking.particle.upper_body import UpperBodyTracker
+
+    return UpperBodyTracker(params)  # a FrameTracker: consumes points and foreground
+
+
 def _register_builtin() -> None:
     from laserpeople.tracking.legs import LegTrackerParams
     from laserpeople.tracking.nearest import NearestNeighbourParams
@@ -91,6 +103,27 @@ def _register_builtin() -> None:
             NearestNeighbourParams,
             _nn,
             "global-nearest-neighbour Kalman leg tracker (baseline)",
+        )
+    )
+    from laserpeople.tracking.particle.feet import FeetParams
+    from laserpeople.tracking.particle.upper_body import UpperBodyParams
+
+    register(
+        TrackerEntry(
+            "feet-pf",
+            FeetParams,
+            _feet_pf,
+            "feet-height particle filters with a walking model, on fused foreground points "
+            "(004 Sec. 2.1)",
+        )
+    )
+    register(
+        TrackerEntry(
+            "upper-body-pf",
+            UpperBodyParams,
+            _upper_body_pf,
+            "upper-body-height particle filters in Voronoi cells, on fused foreground points "
+            "(004 Sec. 2.2)",
         )
     )
 

@@ -64,7 +64,8 @@ class FeetParams:
     )
     overlap_distance: float = param(
         0.12, "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
-        "points of consecutive scans this close link their clusters", "m",
+        "points of consecutive scans this close link their clusters (at 50 Hz; scaled "
+        "up with the time between scans)", "m",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(
@@ -233,6 +234,7 @@ class StepDetector:
             None
         )
         self._merges: list[StepEvent] = []
+        self._stamp: float | None = None
 
     def events(
         self, points: NDArray[np.float64], stamp: float
@@ -246,13 +248,17 @@ class StepDetector:
             labels, centres = np.empty(0, np.int64), np.empty((0, 2))
         prev = self._prev
         self._prev = (points, labels, centres)
+        dt = stamp - self._stamp if self._stamp is not None else 0.02
+        self._stamp = stamp
+        # feet move farther between slower scans: widen the link distance beyond 50 Hz
+        reach = p.overlap_distance * max(1.0, dt / 0.02)
         merges: list[StepEvent] = []
         splits: list[StepEvent] = []
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
         old_pts, old_labels, old_centres = prev
         near = cKDTree(points).sparse_distance_matrix(
-            cKDTree(old_pts), p.overlap_distance, output_type="ndarray"
+            cKDTree(old_pts), reach, output_type="ndarray"
         )
         links = np.unique(np.column_stack([labels[near["i"]], old_labels[near["j"]]]), axis=0)
         if len(links) == 0:

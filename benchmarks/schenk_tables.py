@@ -187,7 +187,11 @@ def main() -> None:
         if number not in chosen:
             continue
         print(title, flush=True)
-        lines += [f"### {title}", "", "| Scene | FT (paper) | UBT (paper) | FT (ours) | UBT (ours) |"]
+        lines += [
+            f"### {title}",
+            "",
+            "| Scene | FT (paper) | UBT (paper) | FT (ours) | UBT (ours) |",
+        ]
         lines.append("|---|---:|---:|---:|---:|")
         ft_vals, ubt_vals = [], []
         for label, scenes, p_ft, p_ubt in rows:
@@ -199,14 +203,15 @@ def main() -> None:
                 speed[k] += [r.ms_per_scan for r in res[k]]
             lines.append(f"| {label} | {p_ft:.2f} | {p_ubt:.2f} | {ft:.2f} | {ubt:.2f} |")
             print(f"{label}: FT {ft:.3f} UBT {ubt:.3f}", flush=True)
-            partial = lines + ["", "(table still running)", ""]
+            partial = [*lines, "", "(table still running)", ""]
             cpu = time.process_time() - t_start
-            Path(args.output).write_text(
-                _document(args, cpu, summary, speed, partial, [], False)
-            )
+            Path(args.output).write_text(_document(args, cpu, summary, speed, partial, [], False))
         a_ft, a_ubt = float(np.mean(ft_vals)), float(np.mean(ubt_vals))
         pa_ft, pa_ubt = PAPER_AVG[number]
-        lines += [f"| **Avg.** | {pa_ft:.2f} | {pa_ubt:.2f} | **{a_ft:.2f}** | **{a_ubt:.2f}** |", ""]
+        lines += [
+            f"| **Avg.** | {pa_ft:.2f} | {pa_ubt:.2f} | **{a_ft:.2f}** | **{a_ubt:.2f}** |",
+            "",
+        ]
         summary.append((number, a_ft, a_ubt))
     extra_lines: list[str] = []
     for label, scenes in EXTRA:

@@ -19,8 +19,15 @@ from laserpeople.scan import PointSet, Pose2D, Scan
 
 def _scan(ranges: np.ndarray, stamp: float, sensor: str = "a", index: int = 0) -> Scan:
     return Scan(
-        stamp, -math.pi / 2, math.pi / 180, ranges, 0.05, 30.0, sensor=sensor,
-        pose=Pose2D(1.0, 2.0, 0.3), index=index,
+        stamp,
+        -math.pi / 2,
+        math.pi / 180,
+        ranges,
+        0.05,
+        30.0,
+        sensor=sensor,
+        pose=Pose2D(1.0, 2.0, 0.3),
+        index=index,
     )
 
 
@@ -30,7 +37,11 @@ def _walls(n: int = 181) -> np.ndarray:
 
 def _frame(scans: list[Scan]) -> Frame:
     return Frame(
-        scans[0].index, scans[0].stamp, tuple(scans), "fused", "world",
+        scans[0].index,
+        scans[0].stamp,
+        tuple(scans),
+        "fused",
+        "world",
         points=PointSet.from_scans(scans, "world"),
     )
 
@@ -105,7 +116,7 @@ def test_bad_files_and_unknown_lasers(tmp_path: Path) -> None:
     model = BeamHistogramBackground().learn_scans([_scan(_walls(), 0.0)])
     with pytest.raises(BackgroundModelError, match="no laser 'zz'"):
         model.counts("zz")
-    with pytest.raises(BackgroundModelError, match="saved as .npz"):
+    with pytest.raises(BackgroundModelError, match=r"saved as \.npz"):
         model.save(tmp_path / "bg.json")
 
 

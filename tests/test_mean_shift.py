@@ -62,7 +62,7 @@ def test_modes_and_clusters_equal_brute_force(
 def test_two_feet_merge_or_split_with_the_bandwidth() -> None:
     rng = np.random.default_rng(3)
     foot = rng.normal(0, 0.02, (8, 2))
-    pts = np.vstack([foot, foot + [0.3, 0.0]])
+    pts = np.vstack([foot, foot + np.array([0.3, 0.0])])
     assert mean_shift(pts, 0.1).n_clusters == 2
     assert mean_shift(pts, 0.5).n_clusters == 1
 

@@ -26,7 +26,7 @@ from laserpeople.tracking.particle.upper_body import (
 )
 
 
-def state(xl, yl, xr, yr, s, t, gamma, alpha) -> np.ndarray:  # noqa: ANN001
+def state(xl, yl, xr, yr, s, t, gamma, alpha) -> np.ndarray:
     return np.array([xl, yl, xr, yr, s, t, gamma, alpha], dtype=float)
 
 
@@ -119,7 +119,9 @@ def test_body_offset_vanishes_at_quarter_periods_and_matches_a_uniform_body() ->
 def test_eq8_linear_motion() -> None:
     z = np.array([[1.0, 2.0, math.pi / 6, 1.5]])
     out = linear_motion(z, 0.2)
-    assert out[0] == pytest.approx([1.0 + 0.3 * math.cos(math.pi / 6), 2.0 + 0.15, math.pi / 6, 1.5])
+    assert out[0] == pytest.approx(
+        [1.0 + 0.3 * math.cos(math.pi / 6), 2.0 + 0.15, math.pi / 6, 1.5]
+    )
 
 
 def test_eq9_sum_over_the_cell_only() -> None:
@@ -145,7 +147,7 @@ def test_step_detector_finds_merge_then_split() -> None:
     ring = 0.04 * np.column_stack([np.cos(np.arange(6)), np.sin(np.arange(6))])
 
     def feet(gap: float) -> np.ndarray:
-        return np.vstack([ring, ring + [gap, 0.0]])
+        return np.vstack([ring, ring + np.array([gap, 0.0])])
 
     found = []
     gaps = [0.5, 0.44, 0.38, 0.32, 0.26, 0.2, 0.14, 0.08, 0.02, 0.04, 0.1, 0.16, 0.22, 0.28]

@@ -46,9 +46,7 @@ def test_a_broken_model_misses_the_threshold(walk: tuple) -> None:
     rec, bg = walk
     flat = run_tracker(rec, bg, "torso", UpperBodyTracker(UpperBodyParams(zeta=50.0)))
     assert flat.motp < 0.85
-    wrong = run_tracker(
-        rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0)))
-    )
+    wrong = run_tracker(rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0))))
     assert wrong.motp < 0.7
 
 
@@ -83,7 +81,7 @@ def test_filters_die_when_the_points_go(walk: tuple) -> None:
     assert len(out) == 0 and len(tracker.bank) == 0
 
 
-def _near_person(pts: PointSet, rec, k: int) -> np.ndarray:  # noqa: ANN001
+def _near_person(pts: PointSet, rec, k: int) -> np.ndarray:
     truth = rec.truth[k]
     if len(truth) == 0:
         return np.zeros(len(pts), bool)

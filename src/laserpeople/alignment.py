@@ -15,7 +15,8 @@ target's local line (normal from the ``normal_neighbours`` nearest target points
 residual n . (R p + t - q), and one Gauss-Newton step on (x, y, theta) per iteration
 minimises their sum of squares. Without an initial pose a coarse search over headings
 (every ``coarse_step``), each with the translation most point pairs agree on, gives the
-starts; the refined pose that explains most points wins. The RMS residual of the matched points is reported.
+starts; the refined pose that explains most points wins. The RMS residual of the matched
+points is reported.
 """
 
 from __future__ import annotations
@@ -230,10 +231,7 @@ def register_point_sets(
     if not sources or any(len(s) < 3 for s in sources) or any(len(t) < 3 for t in targets):
         raise AlignmentError("too few points to align", hint="use scans that see walls")
     tg = _targets(targets, p.normal_neighbours)
-    if initial is not None:
-        starts = [initial.as_array()]
-    else:
-        starts = _coarse_starts(sources, targets, p)
+    starts = [initial.as_array()] if initial is not None else _coarse_starts(sources, targets, p)
     if len(starts) > 1:  # rank the starts on a few pairs, refine the best on all of them
         few = np.linspace(0, len(sources) - 1, min(5, len(sources))).round().astype(int)
         s_few, t_few = [sources[i] for i in few], [tg[i] for i in few]
@@ -378,8 +376,11 @@ def align_recording(
     from laserpeople.io import open_recording
 
     given = dict(mounts or {})
-    with open_recording(path, poses=False) if _is_bag(path) else open_recording(path) as rec:
+    rec = open_recording(path, poses=False) if _is_bag(path) else open_recording(path)
+    try:
         scans = list(rec.scans())
+    finally:
+        rec.close()
     names = list(dict.fromkeys(s.sensor for s in scans))
     ref = reference or next((n for n in names if n in given), names[0] if names else "")
     anchor = given.get(ref)
@@ -470,10 +471,10 @@ def read_mounts(path: str | Path) -> dict[str, tuple[str, Pose2D]]:
 __all__ = [
     "Alignment",
     "AlignmentError",
-    "Mount",
-    "align_recording",
     "AlignmentParams",
+    "Mount",
     "align_lasers",
+    "align_recording",
     "background_points",
     "line_normals",
     "read_mounts",

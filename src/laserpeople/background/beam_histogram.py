@@ -85,7 +85,7 @@ class _BeamTable:
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
         core = self.counts >= max(1.0, p.min_fraction * self.scans)
-        reach = int(math.ceil(p.tolerance / p.bin_width))
+        reach = math.ceil(p.tolerance / p.bin_width)
         static = core.copy()
         for k in range(1, reach + 1):  # loop over bin offsets, not beams
             static[:, k:] |= core[:, :-k]
@@ -138,7 +138,7 @@ class BeamHistogramBackground:
 
     def _n_bins(self, scan: Scan) -> int:
         top = scan.range_max if math.isfinite(scan.range_max) else 80.0
-        return int(math.ceil(min(top, 80.0) / self.params.bin_width)) + 1
+        return math.ceil(min(top, 80.0) / self.params.bin_width) + 1
 
     def _add(self, scan: Scan) -> None:
         table = self._tables.get(scan.sensor)
@@ -155,7 +155,9 @@ class BeamHistogramBackground:
                 hint="learn the background from scans of the same laser",
             )
         idx = np.flatnonzero(scan.valid)
-        bins = np.minimum((scan.ranges[idx] / self.params.bin_width).astype(np.int64), -1 + table.counts.shape[1])
+        bins = np.minimum(
+            (scan.ranges[idx] / self.params.bin_width).astype(np.int64), -1 + table.counts.shape[1]
+        )
         np.add.at(table.counts, (idx, bins), 1)
         table.scans += 1
         table.static = None
@@ -307,7 +309,9 @@ class BeamHistogramBackground:
                 model = cls(BeamHistogramParams(**meta["params"]))
                 for i, s in enumerate(meta["sensors"]):
                     counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
-                    model._tables[s["name"]] = _BeamTable(counts, int(s["scans"]), float(s["seconds"]))
+                    model._tables[s["name"]] = _BeamTable(
+                        counts, int(s["scans"]), float(s["seconds"])
+                    )
                     model._geometry[s["name"]] = (
                         float(s["angle_min"]),
                         float(s["angle_increment"]),

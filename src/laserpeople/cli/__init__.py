@@ -50,7 +50,19 @@ def _global_options(
     STATE.quiet = quiet
 
 
-for _module in (info, simulate, scenarios, detect, train, track, evaluate, bench, view, demo, align):
+for _module in (
+    info,
+    simulate,
+    scenarios,
+    detect,
+    train,
+    track,
+    evaluate,
+    bench,
+    view,
+    demo,
+    align,
+):
     _module.register(app)
 
 

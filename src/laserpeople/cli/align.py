@@ -39,8 +39,16 @@ def register(app: typer.Typer) -> None:
         )
         write_mounts(output, mounts, f"from {recording.name}")
         table = Table(title=f"laser mounts of {recording.name}")
-        for col in ("laser", "parent", "x [m]", "y [m]", "theta [deg]", "residual [m]",
-                    "explained", "vs given [m / deg]"):
+        for col in (
+            "laser",
+            "parent",
+            "x [m]",
+            "y [m]",
+            "theta [deg]",
+            "residual [m]",
+            "explained",
+            "vs given [m / deg]",
+        ):
             table.add_column(col)
         for m in mounts:
             diff = ""

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.sparse.csgraph import connected_components
 from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 DENSE_LIMIT = 600
@@ -95,9 +95,7 @@ def mean_shift(
             break
     radius = bandwidth / 2.0 if merge_radius is None else merge_radius
     pairs_ij = cKDTree(modes).query_pairs(radius, output_type="ndarray")
-    graph = coo_matrix(
-        (np.ones(len(pairs_ij)), (pairs_ij[:, 0], pairs_ij[:, 1])), shape=(n, n)
-    )
+    graph = coo_matrix((np.ones(len(pairs_ij)), (pairs_ij[:, 0], pairs_ij[:, 1])), shape=(n, n))
     _, comp = connected_components(graph, directed=False)
     # renumber by first occurrence so labels are stable
     _, first, inverse = np.unique(comp, return_index=True, return_inverse=True)
@@ -125,7 +123,9 @@ def cluster_covariances(
     cov = np.empty((n_clusters, 2, 2))
     for a in (0, 1):
         for b in (0, 1):
-            cov[:, a, b] = np.bincount(labels, weights=d[:, a] * d[:, b], minlength=n_clusters) / safe
+            cov[:, a, b] = (
+                np.bincount(labels, weights=d[:, a] * d[:, b], minlength=n_clusters) / safe
+            )
     return mean, cov, cnt.astype(np.int64)
 
 

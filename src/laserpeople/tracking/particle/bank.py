@@ -67,7 +67,8 @@ class FilterBank:
         self, likelihood: NDArray[np.float64], rng: np.random.Generator, threshold: float
     ) -> None:
         """Update each filter's ``quality`` (exponentially smoothed log of the marginal
-        likelihood sum_i w_i l_i), multiply the weights by ``likelihood`` (F, P), normalise, and resample
+        likelihood sum_i w_i l_i), multiply the weights by ``likelihood`` (F, P),
+        normalise, and resample
         systematically every filter whose effective sample size fell below
         ``threshold * P``."""
         if len(self) == 0:

@@ -50,7 +50,9 @@ class FeetParams:
 
     config_section = "feet_pf"
 
-    particles: int = param(500, "issue 14 (speed target: 500 particles per filter)", "particles per filter")
+    particles: int = param(
+        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+    )
     delta: float = param(
         0.06, "assumed (Shao et al.'s value not in 004)", "sigma of the foot kernels, eqs. 3-4", "m"
     )
@@ -63,9 +65,11 @@ class FeetParams:
         "m",
     )
     overlap_distance: float = param(
-        0.12, "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
+        0.12,
+        "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
         "points of consecutive scans this close link their clusters (at 50 Hz; scaled "
-        "up with the time between scans)", "m",
+        "up with the time between scans)",
+        "m",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(
@@ -116,7 +120,7 @@ class FeetParams:
         for name in ("delta", "h", "bandwidth", "gate", "sigma_repel"):
             if not getattr(self, name) > 0.0:
                 raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")
-        if not 0.0 < self.p0:
+        if not self.p0 > 0.0:
             raise ConfigError(f"p0 must be positive, got {self.p0}")
 
 
@@ -194,8 +198,8 @@ def feet_weights(
     p: FeetParams,
 ) -> NDArray[np.float64]:
     """004 eq. 7: w = o_l o_r o_b for states (F, P, 8) and padded points (F, K, 2)."""
-    o_l = foot_likelihood(states[..., XL:YL + 1], points, mask, p.delta, p.p0)
-    o_r = foot_likelihood(states[..., XR:YR + 1], points, mask, p.delta, p.p0)
+    o_l = foot_likelihood(states[..., XL : YL + 1], points, mask, p.delta, p.p0)
+    o_r = foot_likelihood(states[..., XR : YR + 1], points, mask, p.delta, p.p0)
     return o_l * o_r * stride_likelihood(states, p.h)
 
 
@@ -230,9 +234,7 @@ class StepDetector:
 
     def __init__(self, params: FeetParams) -> None:
         self.params = params
-        self._prev: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]] | None = (
-            None
-        )
+        self._prev: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]] | None = None
         self._merges: list[StepEvent] = []
         self._stamp: float | None = None
 
@@ -256,7 +258,7 @@ class StepDetector:
         splits: list[StepEvent] = []
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
-        old_pts, old_labels, old_centres = prev
+        old_pts, old_labels, _ = prev
         near = cKDTree(points).sparse_distance_matrix(
             cKDTree(old_pts), reach, output_type="ndarray"
         )
@@ -281,8 +283,7 @@ class StepDetector:
         found = []
         for s in splits:
             if any(
-                np.hypot(*(s.position - m.position)) <= p.sequence_distance
-                for m in self._merges
+                np.hypot(*(s.position - m.position)) <= p.sequence_distance for m in self._merges
             ):
                 found.append(s)
         self._merges.extend(merges)
@@ -327,7 +328,7 @@ class FeetTracker:
     def midpoints(self) -> NDArray[np.float64]:
         """Feet midpoints (F, P, 2) of every particle."""
         st = self.bank.states
-        return np.asarray(0.5 * (st[..., XL:YL + 1] + st[..., XR:YR + 1]), dtype=np.float64)
+        return np.asarray(0.5 * (st[..., XL : YL + 1] + st[..., XR : YR + 1]), dtype=np.float64)
 
     def update(self, frame: Frame) -> Tracks:
         """Predict, weight by eqs. 3-7 and the repelling term, resample, remove dead
@@ -335,7 +336,8 @@ class FeetTracker:
         p, bank = self.params, self.bank
         if frame.points is None:
             raise ConfigError(
-                "the feet tracker needs frame points", scan=frame.index,
+                "the feet tracker needs frame points",
+                scan=frame.index,
                 hint="build frames with points and foreground (a background model)",
             )
         pts = frame.points.points
@@ -348,9 +350,13 @@ class FeetTracker:
             mids = self.midpoints()
             est = np.einsum("fp,fpc->fc", bank.weights, mids)
             near = _points_near(pts, est, p.gate)
-            local, mask = gather_cells(pts[near[0]], near[1], len(bank)) if near[0].size else (
-                np.zeros((len(bank), 1, 2)),
-                np.zeros((len(bank), 1), dtype=bool),
+            local, mask = (
+                gather_cells(pts[near[0]], near[1], len(bank))
+                if near[0].size
+                else (
+                    np.zeros((len(bank), 1, 2)),
+                    np.zeros((len(bank), 1), dtype=bool),
+                )
             )
             lik = feet_weights(bank.states, local, mask, p)
             if len(bank) > 1:
@@ -373,7 +379,9 @@ class FeetTracker:
         if len(bank) > 1:
             est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
             feet = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
-            close = {tuple(e) for e in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")}
+            close = {
+                tuple(e) for e in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
+            }
             flat = feet.reshape(-1, 2)
             for a, b in cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray"):
                 i, j = sorted((int(a) // 2, int(b) // 2))
@@ -417,7 +425,7 @@ class FeetTracker:
         proposal), each with the filter's mean weight, so that the next weighting chooses
         between the filter's belief and the detection."""
         p, bank = self.params, self.bank
-        k = int(round(p.refresh_share * p.particles))
+        k = round(p.refresh_share * p.particles)
         if k == 0:
             return
         idx = self.rng.choice(p.particles, size=k, replace=False)
@@ -448,8 +456,8 @@ class FeetTracker:
         st = np.empty((n, 8))
         left = np.where(right_front[:, None], back, front)
         right = np.where(right_front[:, None], front, back)
-        st[:, XL:YL + 1] = left + rng.normal(0.0, 0.02, (n, 2))
-        st[:, XR:YR + 1] = right + rng.normal(0.0, 0.02, (n, 2))
+        st[:, XL : YL + 1] = left + rng.normal(0.0, 0.02, (n, 2))
+        st[:, XR : YR + 1] = right + rng.normal(0.0, 0.02, (n, 2))
         st[:, S] = stride
         st[:, T] = rng.uniform(*p.period_range, n)
         st[:, GAMMA] = gamma

@@ -37,7 +37,7 @@ def systematic_resample(
     f, p = w.shape
     cum = np.cumsum(w, axis=1)
     cum[:, -1] = 1.0  # guard against round-off
-    u = (rng.random(f)[:, None] + np.arange(p)[None, :]) / p
+    u = (rng.random((f, 1)) + np.arange(p)[None, :]) / p
     rows = np.arange(f, dtype=np.float64)[:, None]
     flat = np.searchsorted((cum + rows).ravel(), (u + rows).ravel(), side="right")
     idx = flat.reshape(f, p) - (np.arange(f) * p)[:, None]

@@ -37,7 +37,9 @@ class UpperBodyParams:
 
     config_section = "upper_body_pf"
 
-    particles: int = param(500, "issue 14 (speed target: 500 particles per filter)", "particles per filter")
+    particles: int = param(
+        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+    )
     zeta: float = param(0.25, "assumed (004 eq. 9 gives no value)", "zeta of eq. 9", "m")
     bandwidth: float = param(0.35, "assumed", "mean-shift bandwidth for detection", "m")
     min_eigenvalue: float = param(
@@ -150,9 +152,7 @@ def largest_eigenvalue(cov: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray((a + d) / 2 + np.sqrt(((a - d) / 2) ** 2 + b * b), dtype=np.float64)
 
 
-def detect_bodies(
-    points: NDArray[np.float64], p: UpperBodyParams
-) -> NDArray[np.float64]:
+def detect_bodies(points: NDArray[np.float64], p: UpperBodyParams) -> NDArray[np.float64]:
     """Centres (M, 2) of the mean-shift clusters of ``points`` big enough to be a person
     (largest covariance eigenvalue >= ``min_eigenvalue``, >= ``min_points`` points)."""
     if len(points) < p.min_points:
@@ -178,7 +178,8 @@ class UpperBodyTracker:
     def _foreground(self, frame: Frame) -> NDArray[np.float64]:
         if frame.points is None:
             raise ConfigError(
-                "the upper-body tracker needs frame points", scan=frame.index,
+                "the upper-body tracker needs frame points",
+                scan=frame.index,
                 hint="build frames with points and foreground (a background model)",
             )
         pts = frame.points.points
@@ -276,9 +277,7 @@ class UpperBodyTracker:
             d = bank.states[..., :2] - centres[:, None, :]
             cov = np.einsum("fp,fpa,fpb->fab", bank.weights, d, d)
             for f in np.flatnonzero(bank.hits >= self.params.confirm_scans):
-                tracks.append(
-                    Track(int(bank.ids[f]), "person", centres[f], vel[f], cov[f])
-                )
+                tracks.append(Track(int(bank.ids[f]), "person", centres[f], vel[f], cov[f]))
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
 
 

@@ -150,7 +150,7 @@ def _document(
         head.append(f"| {number} | {pa_ft:.2f} | {a_ft:.2f} | {pa_ubt:.2f} | {a_ubt:.2f} |")
     head += [
         "",
-        "Speed (time of `update` per fused frame of two lasers, 500 particles per filter; "
+        "Speed (CPU time of `update` per fused frame of two lasers, 500 particles per filter; "
         "background subtraction not included; CPU shared with other jobs): "
         + ", ".join(
             f"{k} median {np.median(v):.1f} ms, max {np.max(v):.1f} ms per scan (mean per run)"

@@ -30,7 +30,7 @@ from laserpeople.sim.scenarios.schenk import (
 from laserpeople.sim.simulator import Scene, SimResult, simulate
 
 
-def _empty_room(sensors: list) -> SimResult:  # noqa: ANN001 - SensorSpec list
+def _empty_room(sensors: list) -> SimResult:
     return simulate(Scene(schenk_world(), [], sensors[:2]), 1.0, seed=1, rate=10.0)
 
 

@@ -26,7 +26,8 @@ from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracks import Track, Tracks
+from laserpeople.tracking.particle.frames import as_frame
+from laserpeople.tracks import Detections, Track, Tracks
 
 X, Y, THETA, V = range(4)
 
@@ -202,9 +203,10 @@ class UpperBodyTracker:
             s[..., V] + self.rng.normal(0.0, p.sigma_speed * root, shape), 0.0, p.max_speed
         )
 
-    def update(self, frame: Frame) -> Tracks:
+    def update(self, frame: Frame | Detections) -> Tracks:
         """Predict every filter to the frame's stamp, weight by eq. 9 in its Voronoi cell,
         resample, remove dead filters and start new ones."""
+        frame = as_frame(frame)
         p, bank = self.params, self.bank
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp

@@ -57,7 +57,7 @@ class FeetParams:
     delta: float = param(
         0.06, "assumed (Shao et al.'s value not in 004)", "sigma of the foot kernels, eqs. 3-4", "m"
     )
-    p0: float = param(0.01, "assumed", "P_0, floor of o_l and o_r (eqs. 3-4)")
+    p0: float = param(0.02, "assumed; tuned with miss_time", "P_0, floor of o_l and o_r (eqs. 3-4)")
     h: float = param(0.12, "assumed", "h of eq. 6 (tolerance of the feet separation)", "m")
     bandwidth: float = param(
         0.2,
@@ -94,7 +94,12 @@ class FeetParams:
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
     )
-    miss_time: float = param(0.4, "assumed", "a filter without support this long dies", "s")
+    miss_time: float = param(
+        0.2,
+        "assumed; tuned on 5 simulated runs (speed-normal, speed-fast, people-3, cross, stop)",
+        "a filter without support this long dies",
+        "s",
+    )
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
     )
@@ -109,7 +114,11 @@ class FeetParams:
     sigma_period: float = param(0.2, "assumed", "period diffusion", "s/sqrt(s)")
     sigma_phase: float = param(1.0, "assumed", "phase diffusion", "rad/sqrt(s)")
     sigma_direction: float = param(1.2, "assumed", "direction diffusion", "rad/sqrt(s)")
-    confirm_scans: int = param(3, "assumed", "supported scans before a filter is reported")
+    confirm_scans: int = param(
+        1,
+        "assumed; a step sequence already confirms",
+        "supported scans before a filter is reported",
+    )
     resample_threshold: float = param(
         0.5, "Thrun et al. 2005 (common choice)", "resample when ESS < this x particles"
     )

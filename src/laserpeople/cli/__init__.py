@@ -19,6 +19,7 @@ import typer
 from typer.core import TyperArgument, TyperGroup
 
 from laserpeople.cli import (
+    align,
     bench,
     demo,
     detect,
@@ -138,7 +139,19 @@ def _global_options(
     STATE.quiet = quiet
 
 
-for _module in (info, simulate, scenarios, detect, train, track, evaluate, bench, view, demo):
+for _module in (
+    info,
+    simulate,
+    scenarios,
+    detect,
+    train,
+    track,
+    evaluate,
+    bench,
+    view,
+    demo,
+    align,
+):
     _module.register(app)
 
 

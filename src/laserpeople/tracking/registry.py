@@ -134,6 +134,18 @@ def _group_mht(params: Any) -> FrameTracker:
     return GroupMHTTracker(params)
 
 
+def _feet_pf(params: Any) -> FrameTracker:
+    from laserpeople.tracking.particle.feet import FeetTracker
+
+    return FeetTracker(params)
+
+
+def _upper_body_pf(params: Any) -> FrameTracker:
+    from laserpeople.tracking.particle.upper_body import UpperBodyTracker
+
+    return UpperBodyTracker(params)
+
+
 def _register_builtin() -> None:
     from laserpeople.tracking.legs import LegTrackerParams
     from laserpeople.tracking.nearest import NearestNeighbourParams
@@ -165,13 +177,36 @@ def _register_builtin() -> None:
             consumes=frozenset({"points", "foreground"}),
         )
     )
+    from laserpeople.tracking.particle.feet import FeetParams
+    from laserpeople.tracking.particle.upper_body import UpperBodyParams
+
+    register(
+        TrackerEntry(
+            "feet-pf",
+            FeetParams,
+            _feet_pf,
+            "feet-height particle filters with a walking model, on fused foreground points "
+            "(004 Sec. 2.1)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
+    register(
+        TrackerEntry(
+            "upper-body-pf",
+            UpperBodyParams,
+            _upper_body_pf,
+            "upper-body-height particle filters in Voronoi cells, on fused foreground points "
+            "(004 Sec. 2.2)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
 
 
 _register_builtin()
 
 
 # --- Cluster Sorting Algorithm (002 Sec. 2), a FrameTracker on raw foreground points ---
-def _csa(params: Any) -> Any:
+def _csa(params: Any) -> FrameTracker:
     from laserpeople.tracking.csa import ClusterSortingTracker
 
     return ClusterSortingTracker(params)
@@ -186,6 +221,7 @@ def _register_csa() -> None:
             CSAParams,
             _csa,
             "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
+            consumes=frozenset({"points", "foreground"}),
         )
     )
 

@@ -9,10 +9,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from laserpeople.clustering import single_linkage
 from laserpeople.evaluation.clustering import ClusteringError, GroupSizeError, group_size_errors
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet
-from laserpeople.segmentation import single_linkage
 from laserpeople.tracking.groups import GroupMHTTracker, GroupObservations, GroupTrackerParams
 from laserpeople.tracking.groups.interaction import Event, GroupLabelModel, enumerate_models
 from laserpeople.tracking.groups.labels import (

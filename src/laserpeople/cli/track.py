@@ -129,6 +129,12 @@ def run_tracking(
         mounts=mounts or [],
     )
     source: Any = pipe.source
+    available = [t.name for t in source.recording.topics()]
+    if not topics and len(available) > 1:
+        say(
+            f"tracking topic {source.topics[0]} (the recording has {', '.join(available)}; "
+            "use --topic, or --topics all to fuse them)"
+        )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
     for _ in progress(pipe, total=source.total, description="tracking"):

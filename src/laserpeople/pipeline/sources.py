@@ -24,7 +24,7 @@ from __future__ import annotations
 import itertools
 from collections import Counter, deque
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Literal
 
 from laserpeople.config import param
@@ -290,7 +290,7 @@ class FrameChooser:
                     hint="give the laser mounts (--mount, e.g. --mount mir100) and a world "
                     "frame from /tf or odometry, or track one --topic",
                 )
-            return replace(frame, frame="sensor")
+            return frame.with_fields(frame="sensor")
         posed = tuple(s for s in frame.scans if s.pose is not None)
         if len(posed) < len(frame.scans):
             if not posed or frame.scans[0].pose is None:
@@ -299,8 +299,8 @@ class FrameChooser:
                 return None
             self.stats.dropped_scans += len(frame.scans) - len(posed)
             dropped = tuple(s.sensor for s in frame.scans if s.pose is None)
-            frame = replace(frame, scans=posed, missing=frame.missing + dropped)
-        return replace(frame, frame="world", sensor_pose=frame.scans[0].pose)
+            frame = frame.with_fields(scans=posed, missing=frame.missing + dropped)
+        return frame.with_fields(frame="world", sensor_pose=frame.scans[0].pose)
 
 
 __all__ = [

@@ -123,7 +123,7 @@ def test_grouper_policy_complete_and_second_scan_unmatched() -> None:
     scans = _two_lasers([0.0, None, 0.0])
     scans.append(_scan("back", 0.21, 9))  # a second back scan in the last frame's window
     scans.sort(key=lambda s: s.stamp)
-    grouper = LaserGrouper(["front", "back"], GroupingParams(0.03, "complete"))
+    grouper = LaserGrouper(["front", "back"], GroupingParams(tolerance=0.03, policy="complete"))
     frames = list(grouper(scans))
     assert [f.index for f in frames] == [0, 2]
     assert grouper.stats.dropped_frames == 1 and grouper.stats.unmatched["back"] == 1
@@ -404,3 +404,23 @@ def test_frames_are_not_changed_by_stages() -> None:
     out = Fuse()(frame)
     assert frame.points is None and out.points is not None and out.foreground is not None
     assert out.foreground.all() and len(out.points) == 90
+
+
+def test_frame_with_fields_is_replace() -> None:
+    frame = Frame(4, 1.5, (_scan("a", 1.5, 4),), "a")
+    legs = Detections.empty(1.5, 4)
+    a, b = frame.with_fields(legs=legs, frame="world"), replace(frame, legs=legs, frame="world")
+    assert all(getattr(a, k) is getattr(b, k) for k in vars(b))
+    assert frame.legs is None and frame.frame == "sensor"
+    with pytest.raises(TypeError, match="nope"):
+        frame.with_fields(nope=1)
+
+
+def test_grouper_tolerance_follows_the_reference_period() -> None:
+    """Default tolerance: 0.6 of the reference period (10 Hz: 60 ms)."""
+    scans = _two_lasers([0.055] * 6 + [0.07])
+    grouper = LaserGrouper(["front", "back"])
+    frames = list(grouper(scans))
+    assert [len(f.scans) for f in frames] == [2] * 6 + [1]
+    assert grouper.stats.tolerance == pytest.approx(0.06)
+    assert grouper.stats.missing["back"] == 1 and grouper.stats.unmatched["back"] == 1

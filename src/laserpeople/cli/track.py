@@ -141,6 +141,9 @@ def run_tracking(
         pass
     for line in source.summary():
         say(line)
+    merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
+    if merged:
+        say(f"{merged} leg detections dropped as another laser's view of the same leg")
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [])

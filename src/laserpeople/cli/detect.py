@@ -17,7 +17,7 @@ from laserpeople.cli.common import (
     say,
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
-from laserpeople.config import check_sections
+from laserpeople.config import check_sections, load_config
 from laserpeople.detection.report import Confusion, error_table
 from laserpeople.errors import ConfigError
 from laserpeople.io.detections_csv import DetectionsCsvWriter
@@ -88,6 +88,7 @@ def register(app: typer.Typer) -> None:
             DetectionsCsvSink,
             DetectLegs,
             FrameChooser,
+            GroupingParams,
             Pipeline,
             RecordingFrames,
             laser_frames,
@@ -97,7 +98,8 @@ def register(app: typer.Typer) -> None:
 
         wanted = topics_from(topic, topics)
         ignored_sections(
-            config, check_sections(config, [LegDetectorParams], tracker_param_classes())
+            config,
+            check_sections(config, [LegDetectorParams, GroupingParams], tracker_param_classes()),
         )
         if fuse and (all_segments or report):
             raise ConfigError("--fuse writes the legs of the fused frames only", hint=(
@@ -116,7 +118,7 @@ def register(app: typer.Typer) -> None:
         total = sum(t.count for t in rec.topics() if t.name in names)
         stage = DetectLegs(det, keep_classification=True)
         if fuse:
-            frames: Any = RecordingFrames(rec, names)
+            frames: Any = RecordingFrames(rec, names, grouping=load_config(GroupingParams, config))
             total = frames.total
         else:  # every laser in its own sensor frame, rows named by topic
             frames = FrameChooser("sensor")(laser_frames(rec.scans(names)))

@@ -107,7 +107,7 @@ def run_tracking(
     Returns counts and timings: scans (frames), rows, leg and person tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.pipeline import TracksCsvSink, build, output_sink
+    from laserpeople.pipeline import GroupingParams, TracksCsvSink, build, output_sink
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -127,6 +127,7 @@ def run_tracking(
         outputs=sinks,
         world_frame=world_frame,
         mounts=mounts or [],
+        grouping=load_config(GroupingParams, config),
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]
@@ -254,16 +255,22 @@ def register(app: typer.Typer) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
         from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.pipeline import GroupingParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
         ignored_sections(
             config,
-            check_sections(config, [LegDetectorParams, entry.params_cls], tracker_param_classes()),
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, entry.params_cls],
+                tracker_param_classes(),
+            ),
         )
         if print_config:
             print(to_toml(load_config(entry.params_cls, config)))
             print(to_toml(load_config(LegDetectorParams, config)))
+            print(to_toml(load_config(GroupingParams, config)))
             return
         if recording is None or output is None:
             raise ConfigError(

@@ -26,6 +26,7 @@ from laserpeople.pipeline import (
     GroupingParams,
     LaserGrouper,
     Pipeline,
+    RecordingFrames,
     TracksCsvSink,
     build,
     laser_frames,
@@ -424,3 +425,30 @@ def test_grouper_tolerance_follows_the_reference_period() -> None:
     assert [len(f.scans) for f in frames] == [2] * 6 + [1]
     assert grouper.stats.tolerance == pytest.approx(0.06)
     assert grouper.stats.missing["back"] == 1 and grouper.stats.unmatched["back"] == 1
+
+
+def test_grouper_counts_a_late_scan() -> None:
+    """A live source may deliver a laser's scan after its frame left: counted as late."""
+    scans = [_scan("front", 0.1 * i, i) for i in range(3)] + [_scan("back", 0.005, 0)]
+    grouper = LaserGrouper(["front", "back"], GroupingParams(tolerance=0.04))
+    frames = list(grouper(scans))
+    assert len(frames) == 3 and all(f.missing == ("back",) for f in frames)
+    assert grouper.stats.late["back"] == 1
+
+
+def test_two_real_lasers_fused(shared_data: Path, tmp_path: Path) -> None:
+    """The MiR bag's front and back lasers, grouped and tracked in the world frame."""
+    bag = shared_data / "mir/rosbags/mir_data/legs-test-split-2022-11-21-15-51-02-topic-split.bag"
+    if not bag.exists():
+        pytest.skip(f"{bag} not present")
+    out = tmp_path / "t.csv"
+    pipe = build(bag, topics=["all"], mounts=["mir100"], outputs=[out], max_frames=80)
+    stats = pipe.run()
+    source = pipe.source
+    assert isinstance(source, RecordingFrames) and source.grouper is not None
+    g = source.grouper.stats
+    assert stats.frames == 80 and g.missing["back_laser_link"] == 0
+    assert 0.03 < g.max_offset < g.tolerance < 0.06  # the back laser runs 30-45 ms behind
+    assert source.chooser.stats.frame == "world"
+    assert read_tracks_topic(out) == "fused"
+    assert sum(len(step) for step in iter_tracks_csv(out)) == stats.rows > 0

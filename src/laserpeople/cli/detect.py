@@ -89,6 +89,7 @@ def register(app: typer.Typer) -> None:
             DetectLegs,
             FrameChooser,
             GroupingParams,
+            LegFusionParams,
             Pipeline,
             RecordingFrames,
             laser_frames,
@@ -99,7 +100,11 @@ def register(app: typer.Typer) -> None:
         wanted = topics_from(topic, topics)
         ignored_sections(
             config,
-            check_sections(config, [LegDetectorParams, GroupingParams], tracker_param_classes()),
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams],
+                tracker_param_classes(),
+            ),
         )
         if fuse and (all_segments or report):
             raise ConfigError("--fuse writes the legs of the fused frames only", hint=(
@@ -116,7 +121,7 @@ def register(app: typer.Typer) -> None:
         rec = open_source(recording, world_frame, mount or [])
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)
-        stage = DetectLegs(det, keep_classification=True)
+        stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
         if fuse:
             frames: Any = RecordingFrames(rec, names, grouping=load_config(GroupingParams, config))
             total = frames.total

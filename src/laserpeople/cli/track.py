@@ -107,7 +107,13 @@ def run_tracking(
     Returns counts and timings: scans (frames), rows, leg and person tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.pipeline import GroupingParams, TracksCsvSink, build, output_sink
+    from laserpeople.pipeline import (
+        GroupingParams,
+        LegFusionParams,
+        TracksCsvSink,
+        build,
+        output_sink,
+    )
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -128,6 +134,7 @@ def run_tracking(
         world_frame=world_frame,
         mounts=mounts or [],
         grouping=load_config(GroupingParams, config),
+        leg_fusion=load_config(LegFusionParams, config),
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]
@@ -255,7 +262,7 @@ def register(app: typer.Typer) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
         from laserpeople.detection.detector import LegDetectorParams
-        from laserpeople.pipeline import GroupingParams
+        from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
@@ -263,7 +270,7 @@ def register(app: typer.Typer) -> None:
             config,
             check_sections(
                 config,
-                [LegDetectorParams, GroupingParams, entry.params_cls],
+                [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls],
                 tracker_param_classes(),
             ),
         )
@@ -271,6 +278,7 @@ def register(app: typer.Typer) -> None:
             print(to_toml(load_config(entry.params_cls, config)))
             print(to_toml(load_config(LegDetectorParams, config)))
             print(to_toml(load_config(GroupingParams, config)))
+            print(to_toml(load_config(LegFusionParams, config)))
             return
         if recording is None or output is None:
             raise ConfigError(

@@ -325,8 +325,13 @@ def test_track_bag_output_reads_back_and_evaluates(
     rec = open_recording(bag)  # the scans are in the bag too: ROS users replay it
     try:
         assert sum(t.count for t in rec.topics()) > 10
+        counts = {t.name: (t.msgtype, t.count) for t in rec.all_topics()}  # type: ignore[attr-defined]
     finally:
         rec.close()
+    n_frames = counts["/laserpeople/markers"][1]
+    assert counts["/laserpeople/markers"][0] == "visualization_msgs/msg/MarkerArray"
+    assert counts["/laserpeople/people"] == ("people_msgs/msg/People", n_frames)
+    assert n_frames >= len(from_bag)
     scores = []
     for tracks in (csv_out, bag):
         res = CliRunner().invoke(
@@ -452,3 +457,15 @@ def test_two_real_lasers_fused(shared_data: Path, tmp_path: Path) -> None:
     assert source.chooser.stats.frame == "world"
     assert read_tracks_topic(out) == "fused"
     assert sum(len(step) for step in iter_tracks_csv(out)) == stats.rows > 0
+
+
+def test_topic_options() -> None:
+    from laserpeople.cli.track import topics_from
+
+    assert topics_from(None, None) is None
+    assert topics_from(["/a", "/b"], None) == ["/a", "/b"]
+    assert topics_from(None, "all") == ["all"]
+    with pytest.raises(ConfigError):
+        topics_from(["/a"], "all")
+    with pytest.raises(ConfigError):
+        topics_from(None, "some")

@@ -26,6 +26,7 @@ from laserpeople.pipeline import (
     GroupingParams,
     LaserGrouper,
     Pipeline,
+    RecordingFrames,
     TracksCsvSink,
     build,
     laser_frames,
@@ -124,7 +125,7 @@ def test_grouper_policy_complete_and_second_scan_unmatched() -> None:
     scans = _two_lasers([0.0, None, 0.0])
     scans.append(_scan("back", 0.21, 9))  # a second back scan in the last frame's window
     scans.sort(key=lambda s: s.stamp)
-    grouper = LaserGrouper(["front", "back"], GroupingParams(0.03, "complete"))
+    grouper = LaserGrouper(["front", "back"], GroupingParams(tolerance=0.03, policy="complete"))
     frames = list(grouper(scans))
     assert [f.index for f in frames] == [0, 2]
     assert grouper.stats.dropped_frames == 1 and grouper.stats.unmatched["back"] == 1
@@ -326,8 +327,13 @@ def test_track_bag_output_reads_back_and_evaluates(
     rec = open_recording(bag)  # the scans are in the bag too: ROS users replay it
     try:
         assert sum(t.count for t in rec.topics()) > 10
+        counts = {t.name: (t.msgtype, t.count) for t in rec.all_topics()}  # type: ignore[attr-defined]
     finally:
         rec.close()
+    n_frames = counts["/laserpeople/markers"][1]
+    assert counts["/laserpeople/markers"][0] == "visualization_msgs/msg/MarkerArray"
+    assert counts["/laserpeople/people"] == ("people_msgs/msg/People", n_frames)
+    assert n_frames >= len(from_bag)
     scores = []
     for tracks in (csv_out, bag):
         res = CliRunner().invoke(
@@ -409,3 +415,62 @@ def test_frames_are_not_changed_by_stages() -> None:
     out = Fuse()(frame)
     assert frame.points is None and out.points is not None and out.foreground is not None
     assert out.foreground.all() and len(out.points) == 90
+
+
+def test_frame_with_fields_is_replace() -> None:
+    frame = Frame(4, 1.5, (_scan("a", 1.5, 4),), "a")
+    legs = Detections.empty(1.5, 4)
+    a, b = frame.with_fields(legs=legs, frame="world"), replace(frame, legs=legs, frame="world")
+    assert all(getattr(a, k) is getattr(b, k) for k in vars(b))
+    assert frame.legs is None and frame.frame == "sensor"
+    with pytest.raises(TypeError, match="nope"):
+        frame.with_fields(nope=1)
+
+
+def test_grouper_tolerance_follows_the_reference_period() -> None:
+    """Default tolerance: 0.6 of the reference period (10 Hz: 60 ms)."""
+    scans = _two_lasers([0.055] * 6 + [0.07])
+    grouper = LaserGrouper(["front", "back"])
+    frames = list(grouper(scans))
+    assert [len(f.scans) for f in frames] == [2] * 6 + [1]
+    assert grouper.stats.tolerance == pytest.approx(0.06)
+    assert grouper.stats.missing["back"] == 1 and grouper.stats.unmatched["back"] == 1
+
+
+def test_grouper_counts_a_late_scan() -> None:
+    """A live source may deliver a laser's scan after its frame left: counted as late."""
+    scans = [_scan("front", 0.1 * i, i) for i in range(3)] + [_scan("back", 0.005, 0)]
+    grouper = LaserGrouper(["front", "back"], GroupingParams(tolerance=0.04))
+    frames = list(grouper(scans))
+    assert len(frames) == 3 and all(f.missing == ("back",) for f in frames)
+    assert grouper.stats.late["back"] == 1
+
+
+def test_two_real_lasers_fused(shared_data: Path, tmp_path: Path) -> None:
+    """The MiR bag's front and back lasers, grouped and tracked in the world frame."""
+    bag = shared_data / "mir/rosbags/mir_data/legs-test-split-2022-11-21-15-51-02-topic-split.bag"
+    if not bag.exists():
+        pytest.skip(f"{bag} not present")
+    out = tmp_path / "t.csv"
+    pipe = build(bag, topics=["all"], mounts=["mir100"], outputs=[out], max_frames=80)
+    stats = pipe.run()
+    source = pipe.source
+    assert isinstance(source, RecordingFrames) and source.grouper is not None
+    g = source.grouper.stats
+    assert stats.frames == 80 and g.missing["back_laser_link"] == 0
+    assert 0.03 < g.max_offset < g.tolerance < 0.06  # the back laser runs 30-45 ms behind
+    assert source.chooser.stats.frame == "world"
+    assert read_tracks_topic(out) == "fused"
+    assert sum(len(step) for step in iter_tracks_csv(out)) == stats.rows > 0
+
+
+def test_topic_options() -> None:
+    from laserpeople.cli.track import topics_from
+
+    assert topics_from(None, None) is None
+    assert topics_from(["/a", "/b"], None) == ["/a", "/b"]
+    assert topics_from(None, "all") == ["all"]
+    with pytest.raises(ConfigError):
+        topics_from(["/a"], "all")
+    with pytest.raises(ConfigError):
+        topics_from(None, "some")

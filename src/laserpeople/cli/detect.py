@@ -16,7 +16,7 @@ from laserpeople.cli.common import (
     say,
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
-from laserpeople.config import check_sections
+from laserpeople.config import check_sections, load_config
 from laserpeople.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -95,6 +95,8 @@ def register(app: typer.Typer) -> None:
             DetectionsCsvSink,
             DetectLegs,
             FrameChooser,
+            GroupingParams,
+            LegFusionParams,
             Pipeline,
             RecordingFrames,
             laser_frames,
@@ -104,7 +106,12 @@ def register(app: typer.Typer) -> None:
 
         wanted = topics_from(topic, topics)
         ignored_sections(
-            config, check_sections(config, [LegDetectorParams], tracker_param_classes())
+            config,
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams],
+                tracker_param_classes(),
+            ),
         )
         if fuse and (all_segments or report):
             raise ConfigError("--fuse writes the legs of the fused frames only", hint=(
@@ -121,9 +128,9 @@ def register(app: typer.Typer) -> None:
         rec = open_source(recording, world_frame, mount or [])
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)
-        stage = DetectLegs(det, keep_classification=True)
+        stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
         if fuse:
-            frames: Any = RecordingFrames(rec, names)
+            frames: Any = RecordingFrames(rec, names, grouping=load_config(GroupingParams, config))
             total = frames.total
         else:  # every laser in its own sensor frame, rows named by topic
             frames = FrameChooser("sensor")(laser_frames(rec.scans(names)))

@@ -122,7 +122,13 @@ def run_tracking(
     Returns counts and timings: scans (frames), rows, leg and person tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.pipeline import TracksCsvSink, build, output_sink
+    from laserpeople.pipeline import (
+        GroupingParams,
+        LegFusionParams,
+        TracksCsvSink,
+        build,
+        output_sink,
+    )
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -144,14 +150,25 @@ def run_tracking(
         outputs=sinks,
         world_frame=world_frame,
         mounts=mounts or [],
+        grouping=load_config(GroupingParams, config),
+        leg_fusion=load_config(LegFusionParams, config),
     )
     source: Any = pipe.source
+    available = [t.name for t in source.recording.topics()]
+    if not topics and len(available) > 1:
+        say(
+            f"tracking topic {source.topics[0]} (the recording has {', '.join(available)}; "
+            "use --topic, or --topics all to fuse them)"
+        )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
     for _ in progress(pipe, total=source.total, description="tracking"):
         pass
     for line in source.summary():
         say(line)
+    merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
+    if merged:
+        say(f"{merged} leg detections dropped as another laser's view of the same leg")
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [])
@@ -271,16 +288,23 @@ def register(app: typer.Typer) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
         from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
         ignored_sections(
             config,
-            check_sections(config, [LegDetectorParams, entry.params_cls], tracker_param_classes()),
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls],
+                tracker_param_classes(),
+            ),
         )
         if print_config:
             print(to_toml(load_config(entry.params_cls, config)))
             print(to_toml(load_config(LegDetectorParams, config)))
+            print(to_toml(load_config(GroupingParams, config)))
+            print(to_toml(load_config(LegFusionParams, config)))
             return
         if recording is None or output is None:
             raise ConfigError(

@@ -20,10 +20,10 @@ def tracks_mismatch(tracks_csv: str | Path, recording: RecordingSource, topic: s
     another topic in its ``topic`` column, scan indices beyond the topic's scans, or stamps
     that differ from the scans' by more than :data:`STAMP_TOLERANCE`."""
     problems: list[str] = []
+    rows = [(t.scan_index, t.stamp) for t in iter_tracks_csv(tracks_csv)]  # checks the file
     csv_topic = read_tracks_topic(tracks_csv)
     if csv_topic not in (None, "", FUSED, topic) and csv_topic.strip("/") != topic.strip("/"):
         problems.append(f"the tracks are of topic {csv_topic}, the drawing shows {topic}")
-    rows = [(t.scan_index, t.stamp) for t in iter_tracks_csv(tracks_csv)]
     if not rows:
         return problems
     stamps = np.array([s.stamp for s in recording.scans([topic])])

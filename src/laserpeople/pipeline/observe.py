@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
@@ -96,8 +96,8 @@ class DetectLegs:
                 )
             placed = list(per_scan)
         if len(placed) == 1:
-            return replace(frame, legs=placed[0])
-        return replace(frame, legs=self._merge(frame, placed))
+            return frame.with_fields(legs=placed[0])
+        return frame.with_fields(legs=self._merge(frame, placed))
 
     def _merge(self, frame: Frame, parts: list[Detections]) -> Detections:
         positions = np.concatenate([d.positions for d in parts])
@@ -150,7 +150,7 @@ class ClusterPoints:
             frame.foreground,
             self.params.min_points,
         )
-        return replace(frame, clusters=labels)
+        return frame.with_fields(clusters=labels)
 
 
 __all__ = ["ClusterPoints", "DetectLegs", "LegDetector", "LegFusionParams"]

@@ -27,7 +27,7 @@ class Fuse:
         """The frame with its point set."""
         points = PointSet.from_scans(list(frame.scans), frame.frame)
         points = replace(points, index=frame.index, stamp=frame.stamp)
-        return replace(frame, points=points, foreground=np.ones(len(points), dtype=bool))
+        return frame.with_fields(points=points, foreground=np.ones(len(points), dtype=bool))
 
 
 __all__ = ["Fuse"]

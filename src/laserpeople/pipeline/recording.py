@@ -16,7 +16,7 @@ from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.pipeline.core import Pipeline
-from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector
+from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
 from laserpeople.pipeline.sources import (
@@ -130,7 +130,9 @@ class RecordingFrames:
 
 
 def observe_stages_for(
-    consumes: frozenset[FrameField], detector: LegDetector | None
+    consumes: frozenset[FrameField],
+    detector: LegDetector | None,
+    leg_fusion: LegFusionParams | None = None,
 ) -> tuple[list[Stage], list[Stage]]:
     """The preprocess and observe stages that provide what a tracker ``consumes``."""
     preprocess: list[Stage] = []
@@ -144,7 +146,7 @@ def observe_stages_for(
             from laserpeople.detection.detector import AdaBoostLegDetector
 
             detector = AdaBoostLegDetector.default()
-        observe.append(DetectLegs(detector))
+        observe.append(DetectLegs(detector, leg_fusion))
     return preprocess, observe
 
 
@@ -172,6 +174,7 @@ def build(
     world_frame: str | None = None,
     mounts: Sequence[str] = (),
     grouping: GroupingParams | None = None,
+    leg_fusion: LegFusionParams | None = None,
     background: Stage | None = None,
     identify: Sequence[Identifier] = (),
     max_frames: int | None = None,
@@ -196,7 +199,7 @@ def build(
             grouping=grouping,
             max_frames=max_frames,
         )
-        preprocess, observe = observe_stages_for(frozenset(tracker.consumes), detector)
+        preprocess, observe = observe_stages_for(frozenset(tracker.consumes), detector, leg_fusion)
         if background is not None:
             if not preprocess:
                 preprocess.append(Fuse())

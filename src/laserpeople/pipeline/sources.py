@@ -24,7 +24,7 @@ from __future__ import annotations
 import itertools
 from collections import Counter, deque
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Literal
 
 from laserpeople.config import param
@@ -43,10 +43,20 @@ class GroupingParams:
     config_section = "grouping"
 
     tolerance: float = param(
-        0.05,
-        "assumption: about half the period of a 10-15 Hz scanner (MiR: 12.7 Hz, 79 ms)",
-        "a laser's scan joins the reference scan's frame when their stamps differ by at most this",
+        0.0,
+        "our choice: automatic (see period_fraction)",
+        "a laser's scan joins the reference scan's frame when their stamps differ by at "
+        "most this; 0 = period_fraction of the reference laser's scan period",
         "s",
+    )
+    period_fraction: float = param(
+        0.6,
+        "measured: the MiR bag's back laser runs 30-43 ms after the front one (12.7 Hz, "
+        "period 79 ms): 0.5 of the period left 3 of 737 frames without it, 0.6 none; "
+        "negative_2.bag (3 lasers, 7.5 Hz): 0.05 s left /right_scan out of 8 of 435 "
+        "frames, 0.6 of the period out of 1",
+        "with tolerance 0: the tolerance as a fraction of the reference laser's median "
+        "scan period (over its last 20 scans)",
     )
     policy: str = param(
         "partial",
@@ -58,6 +68,8 @@ class GroupingParams:
     def __post_init__(self) -> None:
         if not self.tolerance >= 0:
             raise ValueError("grouping tolerance must be non-negative")
+        if not 0 < self.period_fraction <= 1:
+            raise ValueError("grouping period_fraction must be in (0, 1]")
         if self.policy not in ("partial", "complete"):
             raise ValueError("grouping policy must be 'partial' or 'complete'")
 
@@ -75,6 +87,7 @@ class GroupingStats:
         unmatched: Scans no frame took (a second scan within one reference period, or
             none within the tolerance).
         max_offset: Largest |stamp - reference stamp| of a grouped scan [s].
+        tolerance: The tolerance used last [s].
     """
 
     topics: tuple[str, ...]
@@ -84,6 +97,7 @@ class GroupingStats:
     late: Counter[str] = field(default_factory=Counter)
     unmatched: Counter[str] = field(default_factory=Counter)
     max_offset: float = 0.0
+    tolerance: float = 0.0
 
     def summary(self) -> str:
         """One line for the user."""
@@ -95,7 +109,10 @@ class GroupingStats:
             )
         if self.dropped_frames:
             parts.append(f"{self.dropped_frames} frames dropped for a missing laser")
-        parts.append(f"largest offset {1e3 * self.max_offset:.1f} ms")
+        parts.append(
+            f"largest offset {1e3 * self.max_offset:.1f} ms "
+            f"(tolerance {1e3 * self.tolerance:.1f} ms)"
+        )
         return "; ".join(parts)
 
 
@@ -131,17 +148,33 @@ class LaserGrouper:
         self.params = params or GroupingParams()
         self.stats = GroupingStats(self.topics)
         self._used: set[int] = set()
+        self._intervals: deque[float] = deque(maxlen=20)
+
+    def _tolerance(self) -> float:
+        """The tolerance now [s]: fixed, or a fraction of the reference period (infinite
+        until two reference scans have been seen)."""
+        if self.params.tolerance > 0:
+            return self.params.tolerance
+        if not self._intervals:
+            return float("inf")
+        period = float(sorted(self._intervals)[len(self._intervals) // 2])
+        return self.params.period_fraction * period
 
     def __call__(self, scans: Iterable[Scan]) -> Iterator[Frame]:
         """Frames from ``scans`` (any lasers of :attr:`topics`, in time order)."""
-        tol = self.params.tolerance
         ref_topic = self.topics[0]
+        last_ref: float | None = None
         others = set(self.topics[1:])
         pending: deque[_Open] = deque()
         recent: deque[Scan] = deque()  # other lasers' scans that a later frame may still take
         last_out = -float("inf")
         for scan in scans:
             t = scan.stamp
+            if scan.sensor == ref_topic:
+                if last_ref is not None and t > last_ref:
+                    self._intervals.append(t - last_ref)
+                last_ref = t
+            tol = self._tolerance()
             while pending and t > pending[0].ref.stamp + tol:
                 yield from self._emit(pending.popleft())
                 last_out = self._last_stamp
@@ -176,11 +209,17 @@ class LaserGrouper:
     def _emit(self, frame: _Open) -> Iterator[Frame]:
         ref = frame.ref
         self._last_stamp = ref.stamp
+        tol = self._tolerance()
+        self.stats.tolerance = tol
         scans = [ref]
         missing: list[str] = []
         for topic in self.topics[1:]:
             options = sorted(
-                (s for s in frame.candidates.get(topic, []) if id(s) not in self._used),
+                (
+                    s
+                    for s in frame.candidates.get(topic, [])
+                    if id(s) not in self._used and abs(s.stamp - ref.stamp) <= tol
+                ),
                 key=lambda s: abs(s.stamp - ref.stamp),
             )
             if not options:
@@ -290,7 +329,7 @@ class FrameChooser:
                     hint="give the laser mounts (--mount, e.g. --mount mir100) and a world "
                     "frame from /tf or odometry, or track one --topic",
                 )
-            return replace(frame, frame="sensor")
+            return frame.with_fields(frame="sensor")
         posed = tuple(s for s in frame.scans if s.pose is not None)
         if len(posed) < len(frame.scans):
             if not posed or frame.scans[0].pose is None:
@@ -299,8 +338,8 @@ class FrameChooser:
                 return None
             self.stats.dropped_scans += len(frame.scans) - len(posed)
             dropped = tuple(s.sensor for s in frame.scans if s.pose is None)
-            frame = replace(frame, scans=posed, missing=frame.missing + dropped)
-        return replace(frame, frame="world", sensor_pose=frame.scans[0].pose)
+            frame = frame.with_fields(scans=posed, missing=frame.missing + dropped)
+        return frame.with_fields(frame="world", sensor_pose=frame.scans[0].pose)
 
 
 __all__ = [

@@ -3,12 +3,13 @@ become too similar. Accuracy of the CSA + colour re-identification after the cro
 the hue separation of the three people shrinks, with 6 (002 Table 1) and 36 hue bins and
 three levels of lighting noise.
 
-The three people wear hues 200, 200 + d, 200 + 2d degrees (the laser does not see colour,
-so each simulated crossing is tracked once and re-identified under every colour setting).
+The three people wear hues 180, 180 + d, 180 + 2d degrees (cyan, a bin centre; the laser
+does not see colour, so each simulated crossing is tracked once and re-identified under
+every colour setting).
 Accuracy = people with their identity after the crossing / people (chance is about 1/3 for
 a random assignment, higher here because the laser alone keeps some identities).
 
-    PYTHONPATH=src .venv/bin/python benchmarks/csa_hue_limit.py [--seeds 0 1] \
+    PYTHONPATH=src .venv/bin/python benchmarks/csa_hue_limit.py [--seeds 0] \
         [--out docs/figures/csa_hue_limit.png]
 """
 
@@ -28,20 +29,20 @@ from laserpeople.identity.appearance import AppearanceParams
 from laserpeople.identity.reid import ReidParams
 from laserpeople.sim.camera import CameraParams
 
-SEPARATIONS = (0.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 90.0)
+SEPARATIONS = (0.0, 2.0, 4.0, 6.0, 8.0, 12.0, 20.0, 30.0, 60.0)
 SETTINGS = (  # (label, bins, lighting_std)
     ("6 bins, lighting 0", 6, 0.0),
     ("6 bins, lighting 0.1", 6, 0.1),
     ("6 bins, lighting 0.3", 6, 0.3),
     ("36 bins, lighting 0.1", 36, 0.1),
-    ("36 bins, lighting 0.3", 36, 0.3),
 )
-BASE_HUE = 200.0
+BASE_HUE = 180.0
+"""Cyan, the centre of a 6-bin (002 Table 1) and of a 36-bin histogram bin."""
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     ap.add_argument("--out", default="docs/figures/csa_hue_limit.png")
     args = ap.parse_args()
     cases = [laser_runs(f"crossing-3-p{k}", s, ("csa",)) for k in range(6) for s in args.seeds]

@@ -23,11 +23,11 @@ def run_scene(name: str, seconds: float, seed: int) -> dict[str, NDArray[np.floa
     (scan, kind, id, x, y, vx, vy, score, first member, hypotheses)."""
     from laserpeople.sim.scenarios import run_scenario
     from laserpeople.tracking import synthetic as syn
-    from laserpeople.tracking.legs import LegMHTTracker
+    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
     result = run_scenario(name, seconds=seconds, seed=seed)
     dets = syn.detections_from_sim(result.scans, result.truth, clutter_probability=0.9)
-    tracker = LegMHTTracker()
+    tracker = LegMHTTracker(LegTrackerParams(people_policy="arras"))  # as recorded
     rows = []
     for d in dets:
         out = tracker.update(d)

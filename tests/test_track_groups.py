@@ -71,7 +71,9 @@ def test_single_linkage_matches_all_pairs_reference() -> None:
 
 def test_single_linkage_chains_links_and_numbers_by_first_point() -> None:
     pts = np.array([[0, 0], [5, 0], [1, 0], [5.5, 0], [2.0, 0], [3.2, 0]])
-    np.testing.assert_array_equal(single_linkage(pts, 1.0), [0, 1, 0, 1, 0, 2])
+    # points exactly d_P apart are not linked ("closer than"), so a chain 1 m apart needs more
+    np.testing.assert_array_equal(single_linkage(pts, 1.05), [0, 1, 0, 1, 0, 2])
+    np.testing.assert_array_equal(single_linkage(pts, 1.0), [0, 1, 2, 1, 3, 4])
     with pytest.raises(ValueError):
         single_linkage(pts, 0.0)
 

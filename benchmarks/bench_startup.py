@@ -2,8 +2,10 @@
 
 Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR]``. Each case
 runs in a fresh interpreter ``--repeat`` times (interleaved, so a busy machine slows every
-case alike) and the median wall time is printed, next to two floors measured the same way:
-a bare interpreter and ``import typer`` (what any typer program pays). ``--src`` puts
+case alike) and the median wall time and CPU time (user + system: what the program itself
+costs, much less sensitive to other load on the machine) are printed, next to two floors
+measured the same way: a bare interpreter and ``import typer`` (what any typer program
+pays). ``--src`` puts
 another source tree first on ``sys.path`` (e.g. an older checkout's ``src`` to get the
 "before" figures).
 
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -34,15 +37,20 @@ CASES: dict[str, list[str]] = {
 }
 
 
-def time_once(args: list[str], env: dict[str, str]) -> float | None:
-    """Wall time [s] of one fresh interpreter running ``args``; None when it fails (an older
-    version without ``--version``)."""
-    t0 = time.perf_counter()
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def time_once(args: list[str], env: dict[str, str]) -> tuple[float, float] | None:
+    """Wall time and CPU time (user + system) [s] of one fresh interpreter running ``args``;
+    None when it fails (an older version without ``--version``)."""
+    cpu0, t0 = _children_cpu(), time.perf_counter()
     done = subprocess.run(
         [sys.executable, *args], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
     )
-    elapsed = time.perf_counter() - t0
-    return elapsed if done.returncode == 0 else None
+    elapsed, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
+    return (elapsed, cpu) if done.returncode == 0 else None
 
 
 def main() -> None:
@@ -61,18 +69,22 @@ def main() -> None:
     env["PYTHONPATH"] = str(args.src.resolve())
     for argv in CASES.values():  # warm the bytecode caches and the file system
         time_once(argv, env)
-    times: dict[str, list[float]] = {name: [] for name in CASES}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in CASES}
     for _ in range(args.repeat):
         for name, argv in CASES.items():
             t = time_once(argv, env)
             if t is not None:
                 times[name].append(t)
-    print(f"source: {args.src}  ({args.repeat} runs each, interleaved; median, min)")
+    print(f"source: {args.src}  ({args.repeat} runs each, interleaved)")
     for name, values in times.items():
         if not values:
             print(f"{name:28s} fails (not in this version)")
             continue
-        print(f"{name:28s} median {statistics.median(values):5.3f} s   min {min(values):5.3f} s")
+        wall, cpu = [v[0] for v in values], [v[1] for v in values]
+        print(
+            f"{name:28s} wall median {statistics.median(wall):5.3f} s (min {min(wall):5.3f}), "
+            f"CPU median {statistics.median(cpu):5.3f} s"
+        )
 
 
 if __name__ == "__main__":

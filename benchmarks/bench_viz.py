@@ -71,34 +71,35 @@ def speed(repeat: int, scans: int) -> None:
             )
 
 
-def gif_child(scans: int) -> None:
-    """Write one GIF of ``scans`` scans; print frames, seconds, peak RSS [MB] and file MB."""
+def gif_child(directory: Path) -> None:
+    """Draw the scene in ``directory`` as a GIF; print frames, seconds, peak RSS [MB] (of
+    this process: reading, drawing and writing, not making the scene) and file size [MB]."""
     import resource
 
     from laserpeople.viz import Scene, render
 
-    with tempfile.TemporaryDirectory() as tmp:
-        d = Path(tmp)
-        rec, csv = _scene(d, scans)
-        out = d / "a.gif"
-        t0 = time.perf_counter()
-        result = render(Scene(rec, csv), out)
-        seconds = time.perf_counter() - t0
-        peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
-        print(f"{result.frames} {seconds:.1f} {peak_mb:.0f} {out.stat().st_size / 1e6:.1f}")
+    out = directory / "a.gif"
+    t0 = time.perf_counter()
+    result = render(Scene(directory / "scene.npz", directory / "tracks.csv"), out)
+    seconds = time.perf_counter() - t0
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+    print(f"{result.frames} {seconds:.1f} {peak_mb:.0f} {out.stat().st_size / 1e6:.1f}")
 
 
 def memory(counts: list[int], src: Path) -> None:
-    """Peak memory of a GIF of each number of scans, each in a fresh interpreter."""
+    """Peak memory of a GIF of each number of scans, each drawn in a fresh interpreter (the
+    scene is written beforehand by this one)."""
     env = dict(os.environ, PYTHONPATH=str(src.resolve()))
     print(f"source: {src}")
     for n in counts:
-        done = subprocess.run(
-            [sys.executable, __file__, "--gif-child", str(n)],
-            env=env,
-            capture_output=True,
-            text=True,
-        )
+        with tempfile.TemporaryDirectory() as tmp:
+            _scene(Path(tmp), n)
+            done = subprocess.run(
+                [sys.executable, __file__, "--gif-child", tmp],
+                env=env,
+                capture_output=True,
+                text=True,
+            )
         if done.returncode != 0:
             print(f"gif {n:6d} scans 640x480: failed: {done.stderr.strip()[-300:]}")
             continue
@@ -117,7 +118,7 @@ def main() -> None:
         "--memory", type=str, default=None, help="comma-separated scan counts, e.g. 1000,10000"
     )
     parser.add_argument("--src", type=Path, default=REPO / "src")
-    parser.add_argument("--gif-child", type=int, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--gif-child", type=Path, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.gif_child is not None:
         gif_child(args.gif_child)

@@ -13,10 +13,10 @@ Figures on the project machine (2 cores shared with 7 other jobs, load ~20; issu
 Before (Pillow's multi-frame writer keeps every frame until the file is closed): 500 scans
 424 MB, 1,000 scans 766 MB, 2,000 scans 1,434 MB peak RSS, i.e. +0.67 MB per frame, so
 10,000 scans would need about 6.9 GB. After (``viz/gif.py``: each frame's changed
-rectangle is coded and appended to the open file): 1,000 scans 83 MB, 10,000 scans 131 MB
-(2,641 s on the loaded machine, 4.3 MB file; measured with the scene made in the same
-process, which the remaining growth is: the ``.npz`` is memory-mapped, and mapped pages
-count as resident). Files are smaller too: 1,000 scans 1.4 MB instead of 2.2 MB.
+rectangle is coded and appended to the open file): 1,000 scans 83 MB, 10,000 scans 127 MB
+(1,206 s on the loaded machine, 4.3 MB file). What still grows is not the animation: the
+``.npz`` is memory-mapped (pages read count as resident) and the extent pass keeps a few
+numbers per scan. Files are smaller too: 1,000 scans 1.4 MB instead of 2.2 MB.
 
 The scene is synthetic (a room, a 360-beam scanner, two walking people with person and
 group tracks and ground truth), so the figures do not depend on the shared data.

@@ -9,10 +9,14 @@ GIF of each number of scans in a fresh interpreter and prints its peak resident 
 (``ru_maxrss``) and wall time. ``--src DIR`` imports laserpeople from another source tree
 (an older checkout's ``src`` gives the "before" figures).
 
-Figures on the project machine (2 shared cores; issue 15): before, Pillow kept every frame
-until the file was closed: 500 scans 370 MB, 1,000 scans 690 MB, 2,000 scans 1,330 MB
-(10,000 scans would need about 6.4 GB). After (frames streamed to the file one by one):
-500 scans 150 MB, 1,000 scans 150 MB, 10,000 scans 152 MB peak.
+Figures on the project machine (2 cores shared with 7 other jobs, load ~20; issue 15).
+Before (Pillow's multi-frame writer keeps every frame until the file is closed): 500 scans
+424 MB, 1,000 scans 766 MB, 2,000 scans 1,434 MB peak RSS, i.e. +0.67 MB per frame, so
+10,000 scans would need about 6.9 GB. After (``viz/gif.py``: each frame's changed
+rectangle is coded and appended to the open file): 1,000 scans 83 MB, 10,000 scans 127 MB
+(1,206 s on the loaded machine, 4.3 MB file). What still grows is not the animation: the
+``.npz`` is memory-mapped (pages read count as resident) and the extent pass keeps a few
+numbers per scan. Files are smaller too: 1,000 scans 1.4 MB instead of 2.2 MB.
 
 The scene is synthetic (a room, a 360-beam scanner, two walking people with person and
 group tracks and ground truth), so the figures do not depend on the shared data.
@@ -71,34 +75,35 @@ def speed(repeat: int, scans: int) -> None:
             )
 
 
-def gif_child(scans: int) -> None:
-    """Write one GIF of ``scans`` scans; print frames, seconds, peak RSS [MB] and file MB."""
+def gif_child(directory: Path) -> None:
+    """Draw the scene in ``directory`` as a GIF; print frames, seconds, peak RSS [MB] (of
+    this process: reading, drawing and writing, not making the scene) and file size [MB]."""
     import resource
 
     from laserpeople.viz import Scene, render
 
-    with tempfile.TemporaryDirectory() as tmp:
-        d = Path(tmp)
-        rec, csv = _scene(d, scans)
-        out = d / "a.gif"
-        t0 = time.perf_counter()
-        result = render(Scene(rec, csv), out)
-        seconds = time.perf_counter() - t0
-        peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
-        print(f"{result.frames} {seconds:.1f} {peak_mb:.0f} {out.stat().st_size / 1e6:.1f}")
+    out = directory / "a.gif"
+    t0 = time.perf_counter()
+    result = render(Scene(directory / "scene.npz", directory / "tracks.csv"), out)
+    seconds = time.perf_counter() - t0
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+    print(f"{result.frames} {seconds:.1f} {peak_mb:.0f} {out.stat().st_size / 1e6:.1f}")
 
 
 def memory(counts: list[int], src: Path) -> None:
-    """Peak memory of a GIF of each number of scans, each in a fresh interpreter."""
+    """Peak memory of a GIF of each number of scans, each drawn in a fresh interpreter (the
+    scene is written beforehand by this one)."""
     env = dict(os.environ, PYTHONPATH=str(src.resolve()))
     print(f"source: {src}")
     for n in counts:
-        done = subprocess.run(
-            [sys.executable, __file__, "--gif-child", str(n)],
-            env=env,
-            capture_output=True,
-            text=True,
-        )
+        with tempfile.TemporaryDirectory() as tmp:
+            _scene(Path(tmp), n)
+            done = subprocess.run(
+                [sys.executable, __file__, "--gif-child", tmp],
+                env=env,
+                capture_output=True,
+                text=True,
+            )
         if done.returncode != 0:
             print(f"gif {n:6d} scans 640x480: failed: {done.stderr.strip()[-300:]}")
             continue
@@ -117,7 +122,7 @@ def main() -> None:
         "--memory", type=str, default=None, help="comma-separated scan counts, e.g. 1000,10000"
     )
     parser.add_argument("--src", type=Path, default=REPO / "src")
-    parser.add_argument("--gif-child", type=int, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--gif-child", type=Path, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.gif_child is not None:
         gif_child(args.gif_child)

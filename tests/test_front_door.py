@@ -119,6 +119,13 @@ def test_help_names_papers_by_their_authors_and_says_groups_are_coming() -> None
         assert not re.search(r"(?<![\w.,])00[024](?!\w)", text), (command, text)
 
 
+def test_scenario_list_names_papers_by_their_authors(tmp_path: Path) -> None:
+    done = _cli(["scenarios"], tmp_path)
+    assert done.returncode == 0
+    assert "Arras et al. 2008 Sec. 3.4.1" in done.stdout and "Kräußling et al." in done.stdout
+    assert not re.search(r"(?<![\w.,])00[024](?!\w)", done.stdout)
+
+
 def test_cite_names_the_papers_and_leaves_numbers_alone() -> None:
     assert cite("000 Table 10") == "Arras et al. 2008 Table 10"
     assert cite("(000 Sec. 3.3.1)") == "(Arras et al. 2008 Sec. 3.3.1)"

@@ -170,8 +170,9 @@ class FrameRenderer:
             bbox={"facecolor": (1, 1, 1, 0.75), "edgecolor": "none", "pad": 1.5},
             zorder=10,
         )
+        self._legend: Any = None
         if legend and all(a >= b for a, b in zip(self.size, LEGEND_MIN_SIZE, strict=True)):
-            _add_legend(ax, truth)
+            self._legend = _add_legend(ax, truth)  # drawn last, over the data
         self._labels: list[Any] = []
         self._history: dict[tuple[str, int], deque[tuple[float, float]]] = {}
         self._truth_history: dict[int, deque[tuple[float, float]]] = {}
@@ -288,6 +289,7 @@ class FrameRenderer:
             self._truth_legs,
             *self._labels[:n_label],
             self._info,
+            *([self._legend] if self._legend is not None else []),
         ):
             ax.draw_artist(artist)
         rgba = np.asarray(self.canvas.buffer_rgba())
@@ -361,8 +363,9 @@ def counted(n: int, one: str, many: str) -> str:
     return f"{n} {one if n == 1 else many}"
 
 
-def _add_legend(ax: Any, truth: bool) -> None:
-    """The legend of the markers a frame uses (part of the static background)."""
+def _add_legend(ax: Any, truth: bool) -> Any:
+    """The legend of the markers a frame uses, as an animated artist (drawn over the data
+    of every frame)."""
     from matplotlib.lines import Line2D
 
     grey, dark = (0.6, 0.6, 0.6, 1.0), (0.1, 0.1, 0.1, 1.0)
@@ -389,16 +392,18 @@ def _add_legend(ax: Any, truth: bool) -> None:
             marker("true person (ground truth ring)", 7.5, "none", _rgb(TRUTH)),
             marker("true leg", 3.5, _rgb(TRUTH), _rgb(TRUTH), "x"),
         ]
-    ax.legend(
+    legend = ax.legend(
         handles=handles,
         loc="lower right",
         fontsize=6,
-        framealpha=0.8,
+        framealpha=0.85,
         borderpad=0.4,
-        handlelength=1.2,
+        handlelength=2.0,
         handletextpad=0.8,
         labelspacing=0.5,
     )
+    legend.set_animated(True)
+    return legend
 
 
 def _sensor_triangle(f: SceneFrame, size: float = 0.35) -> FloatArray:

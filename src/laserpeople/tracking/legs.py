@@ -253,7 +253,7 @@ class LegMHTTracker:
         rows = [
             (
                 n.family,
-                n.mean[:2],
+                n.mean,
                 n.unseen_for(stamp),
                 int(kept[n.measurement])
                 if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp

@@ -19,7 +19,8 @@ an existence score:
   segment's centre with ``pair_std``; no member leg detected: the person coasts (velocity
   decaying with ``coast_velocity_time``).
 - **Birth.** From two free detected legs closer than ``pair_distance`` (the pair of 000)
-  and at most ``max_spread`` apart across their walking direction (narrowest pairs first) and from a single free detected leg whose segment holds both legs.
+  and at most ``max_spread`` apart across their walking direction (narrowest pairs
+  first), and from a single free detected leg whose segment holds both legs.
 - **Existence score.** The track log-likelihood ratio (Blackman & Popoli 1999, Sec. 6.2;
   SPENCER and leg_tracker keep a per-track confidence in the same role) of "a person" vs
   "clutter", summed over the scans of the track from the evidence of each scan: both legs

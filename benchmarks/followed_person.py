@@ -125,7 +125,7 @@ def score_followed(
         nearest[people[int(inside[np.argmin(d[inside])])].track_id] += 1
     n = len(labels)
     best = covering.most_common(1)
-    parts = stretches(list(labels), int(round(5.0 * scans_per_second)))
+    parts = stretches(list(labels), round(5.0 * scans_per_second))
     covered = 0
     for part in parts:
         c: Counter[int] = Counter()

@@ -235,3 +235,22 @@ def test_arras_policy_needs_both_legs() -> None:
 def test_unknown_policy_is_refused() -> None:
     with pytest.raises(ValueError, match="people_policy"):
         LegTrackerParams(people_policy="magic")
+
+
+def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from laserpeople.cli.track import with_people_policy
+    from laserpeople.config import load_config
+    from laserpeople.errors import ConfigError
+    from laserpeople.tracking.nearest import NearestNeighbourParams
+
+    assert LegTrackerParams().people_policy == "tracks"
+    p = with_people_policy(LegTrackerParams(), "arras", "leg-mht")
+    assert p.people_policy == "arras"
+    with pytest.raises(ConfigError, match="people_policy"):
+        with_people_policy(LegTrackerParams(), "magic", "leg-mht")
+    with pytest.raises(ConfigError, match="applies to leg-mht"):
+        with_people_policy(NearestNeighbourParams(), "arras", "nn")
+    path = tmp_path / "p.toml"
+    path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
+    q = load_config(LegTrackerParams, path)
+    assert q.people_policy == "arras" and q.people.max_coast == 2.5

@@ -28,7 +28,15 @@ P = PersonTrackParams()
 def leg(
     track_id: int, x: float, y: float, detected: bool = True, wide: bool = False
 ) -> LegObservation:
-    return LegObservation(track_id, np.array([x, y]), detected, 0.0 if detected else 0.2, 0, wide)
+    return LegObservation(
+        track_id,
+        np.array([x, y]),
+        detected,
+        0.0 if detected else 0.2,
+        0,
+        wide,
+        score=1.0 if detected else math.nan,
+    )
 
 
 def legs(*obs: LegObservation) -> dict[int, LegObservation]:
@@ -60,7 +68,7 @@ def test_wide_segment_holds_two_legs() -> None:
     assert not segment_holds_two_legs(seg(0.15), 1.0, P)  # one leg
     assert not segment_holds_two_legs(seg(0.8), 1.0, P)  # a wall piece
     assert not segment_holds_two_legs(seg(0.3, n=3), 1.0, P)  # too few points
-    assert not segment_holds_two_legs(seg(0.3), -0.5, P)  # the detector says no
+    assert not segment_holds_two_legs(seg(0.3), 0.4, P)  # the detector is not sure enough
 
 
 def test_pair_birth_confirmation_after_three_scans() -> None:
@@ -106,6 +114,18 @@ def test_wide_segment_births_a_person() -> None:
     for k in range(10):
         assert t2.update(legs(leg(5, 2.0, 0.0)), 0.1 * k, 1.0) == []
     assert t2.persons == {}
+
+
+def test_low_score_pair_gives_no_birth() -> None:
+    """Mean score 0.3 <= birth_min_score 0.5: no person (chair legs score ~0.2)."""
+    t = PersonTracker(P)
+    weak = [
+        LegObservation(1, np.array([1.0, 0.0]), True, 0.0, 0, score=0.2),
+        LegObservation(2, np.array([1.0, 0.3]), True, 0.0, 1, score=0.4),
+    ]
+    for k in range(10):
+        assert t.update({o.track_id: o for o in weak}, 0.1 * k, 1.0) == []
+    assert t.persons == {}
 
 
 def _confirmed(t: PersonTracker) -> None:

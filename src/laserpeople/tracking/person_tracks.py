@@ -18,9 +18,10 @@ an existence score:
   std ``one_leg_std`` (a leg is up to half a stride from the body centre) or the wide
   segment's centre with ``pair_std``; no member leg detected: the person coasts (velocity
   decaying with ``coast_velocity_time``).
-- **Birth.** From two free detected legs closer than ``pair_distance`` (the pair of 000)
-  and at most ``max_spread`` apart across their walking direction (narrowest pairs
-  first), and from a single free detected leg whose segment holds both legs.
+- **Birth.** From two free detected legs closer than ``pair_distance`` (the pair of 000),
+  at most ``max_spread`` apart across their walking direction (narrowest pairs first) and
+  with a mean detector score above ``birth_min_score``, and from a single free detected leg
+  whose segment holds both legs.
 - **Existence score.** The track log-likelihood ratio (Blackman & Popoli 1999, Sec. 6.2;
   SPENCER and leg_tracker keep a per-track confidence in the same role) of "a person" vs
   "clutter", summed over the scans of the track from the evidence of each scan: both legs
@@ -162,9 +163,18 @@ class PersonTrackParams:
         5, "assumption", "a wide segment needs at least this many points", "points"
     )
     wide_min_score: float = param(
-        0.0,
-        "000 Table 1 (the detector's own threshold)",
+        0.5,
+        "assumption, as birth_min_score: a room corner (an L of two wall pieces) was taken "
+        "for a wide segment with margin 0.43 on furniture-chairs seed 1",
         "a wide segment needs a detector score above this",
+    )
+    birth_min_score: float = param(
+        0.5,
+        "assumption: the AdaBoost margins of legs in reported people were 0.07/0.21/0.40 "
+        "(10/50/90th percentile) on 4-post chairs (furniture-chairs seed 1) and 0.62/1.55/"
+        "2.22 and 0.38/1.24/2.12 on people (demo seed 0, office seed 0)",
+        "a leg pair gives birth to a person, and counts as two-leg evidence, only when its "
+        "mean detector score exceeds this (else it is one-leg evidence)",
     )
     p_two: float = param(
         0.5,
@@ -263,6 +273,7 @@ class LegObservation:
         detection: Index of its detection in this scan's detections (-1 if none).
         wide: Its detection's segment is wide enough to hold both legs of a person.
         velocity: Filtered velocity (2,) [m/s].
+        score: Detector score of its detection in this scan (NaN if not detected).
     """
 
     track_id: int
@@ -272,6 +283,7 @@ class LegObservation:
     detection: int = -1
     wide: bool = False
     velocity: FloatArray = field(default_factory=lambda: np.zeros(2))
+    score: float = math.nan
 
 
 def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
@@ -437,7 +449,8 @@ class PersonTracker:
                 float(np.hypot(*(a - b))) <= p.pair_distance
                 and spread(seen[0], seen[1], p.min_speed) <= p.max_spread
             ):
-                return TWO, 0.5 * (a + b), p.pair_std
+                strong = 0.5 * (seen[0].score + seen[1].score) > p.birth_min_score
+                return (TWO if strong else ONE), 0.5 * (a + b), p.pair_std
             near = min(seen, key=lambda leg: float(np.hypot(*(leg.position - person.mean[:2]))))
             return ONE, near.position, p.one_leg_std
         if len(seen) == 1:
@@ -495,6 +508,8 @@ class PersonTracker:
             for k in np.argsort(widths, kind="stable"):
                 a, b = free[int(ii[k])], free[int(jj[k])]
                 if a.track_id in used or b.track_id in used or widths[k] > p.max_spread:
+                    continue
+                if not 0.5 * (a.score + b.score) > p.birth_min_score:
                     continue
                 used.update((a.track_id, b.track_id))
                 self._new(0.5 * (a.position + b.position), [a.track_id, b.track_id], stamp)
@@ -618,5 +633,6 @@ def leg_observations(
             and j < len(segments_points)
             and segment_holds_two_legs(segments_points[j], float(scores[j]), params)
         )
-        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4])
+        score = float(scores[j]) if 0 <= j < len(scores) else math.nan
+        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4], score)
     return out

@@ -11,7 +11,12 @@ other tracks are not false positives. Printed:
   (the id within the gate in the most scans) covers (the recall half of IDF1);
 - recall: the fraction of labelled scans with any person track within the gate;
 - ids: the distinct person ids that were the nearest track within the gate at least once,
-  and how many of them covered at least 1 s.
+  and how many of them covered at least 1 s;
+- per stretch: the labels split where none is given for more than 5 s (the person out of
+  view); the identity recall when each stretch may have its own id, and the largest
+  stretch's share of the labels (the identity recall a tracker reaches at best if it cannot
+  recognise a person who comes back after leaving the view: on the dev recording the person
+  leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
         [--bag PATH] [--labels PATH] [--plot timeline.png]
@@ -66,6 +71,9 @@ class FollowedScore:
         ids: Distinct ids that were the nearest match at least once.
         ids_1s: Of those, ids that were the nearest match in at least ``rate`` scans (1 s).
         best_id: The best single id.
+        stretch_identity_recall: Identity recall with one best id per stretch.
+        single_id_ceiling: Share of the labels in the largest stretch.
+        stretches: Number of stretches.
     """
 
     labels: int
@@ -74,6 +82,21 @@ class FollowedScore:
     ids: int
     ids_1s: int
     best_id: int | None
+    stretch_identity_recall: float = 0.0
+    single_id_ceiling: float = 0.0
+    stretches: int = 0
+
+
+def stretches(scans: Sequence[int], max_gap: int) -> list[list[int]]:
+    """Sorted labelled scan indices split where consecutive ones are more than ``max_gap``
+    scans apart."""
+    out: list[list[int]] = []
+    for s in sorted(scans):
+        if out and s - out[-1][-1] <= max_gap:
+            out[-1].append(s)
+        else:
+            out.append([s])
+    return out
 
 
 def score_followed(
@@ -83,6 +106,7 @@ def score_followed(
     ``labels``."""
     covering: Counter[int] = Counter()
     nearest: Counter[int] = Counter()
+    per_scan: dict[int, set[int]] = {}
     hit = 0
     for scan, truth in labels.items():
         if scan >= len(tracks):
@@ -96,10 +120,18 @@ def score_followed(
         if inside.size == 0:
             continue
         hit += 1
-        covering.update(people[i].track_id for i in inside)
+        per_scan[scan] = {people[i].track_id for i in inside}
+        covering.update(per_scan[scan])
         nearest[people[int(inside[np.argmin(d[inside])])].track_id] += 1
     n = len(labels)
     best = covering.most_common(1)
+    parts = stretches(list(labels), round(5.0 * scans_per_second))
+    covered = 0
+    for part in parts:
+        c: Counter[int] = Counter()
+        for s in part:
+            c.update(per_scan.get(s, ()))
+        covered += c.most_common(1)[0][1] if c else 0
     return FollowedScore(
         labels=n,
         identity_recall=(best[0][1] / n) if best else 0.0,
@@ -107,6 +139,9 @@ def score_followed(
         ids=len(nearest),
         ids_1s=sum(1 for c in nearest.values() if c >= scans_per_second),
         best_id=best[0][0] if best else None,
+        stretch_identity_recall=covered / n if n else 0.0,
+        single_id_ceiling=max(len(p) for p in parts) / n if n else 0.0,
+        stretches=len(parts),
     )
 
 
@@ -146,6 +181,10 @@ def main() -> None:
     print(f"identity recall      {s.identity_recall:.3f}")
     print(f"recall               {s.recall:.3f}")
     print(f"person ids           {s.ids} ({s.ids_1s} matched for at least 1 s)")
+    print(
+        f"per stretch          {s.stretches} stretches (gaps > 5 s): identity recall "
+        f"{s.stretch_identity_recall:.3f}; one id can cover at most {s.single_id_ceiling:.3f}"
+    )
     print(f"tracking ms/scan     {ms:.2f}")
 
 

@@ -28,7 +28,15 @@ P = PersonTrackParams()
 def leg(
     track_id: int, x: float, y: float, detected: bool = True, wide: bool = False
 ) -> LegObservation:
-    return LegObservation(track_id, np.array([x, y]), detected, 0.0 if detected else 0.2, 0, wide)
+    return LegObservation(
+        track_id,
+        np.array([x, y]),
+        detected,
+        0.0 if detected else 0.2,
+        0,
+        wide,
+        score=1.0 if detected else math.nan,
+    )
 
 
 def legs(*obs: LegObservation) -> dict[int, LegObservation]:
@@ -60,7 +68,7 @@ def test_wide_segment_holds_two_legs() -> None:
     assert not segment_holds_two_legs(seg(0.15), 1.0, P)  # one leg
     assert not segment_holds_two_legs(seg(0.8), 1.0, P)  # a wall piece
     assert not segment_holds_two_legs(seg(0.3, n=3), 1.0, P)  # too few points
-    assert not segment_holds_two_legs(seg(0.3), -0.5, P)  # the detector says no
+    assert not segment_holds_two_legs(seg(0.3), 0.4, P)  # the detector is not sure enough
 
 
 def test_pair_birth_confirmation_after_three_scans() -> None:
@@ -106,6 +114,18 @@ def test_wide_segment_births_a_person() -> None:
     for k in range(10):
         assert t2.update(legs(leg(5, 2.0, 0.0)), 0.1 * k, 1.0) == []
     assert t2.persons == {}
+
+
+def test_low_score_pair_gives_no_birth() -> None:
+    """Mean score 0.3 <= birth_min_score 0.5: no person (chair legs score ~0.2)."""
+    t = PersonTracker(P)
+    weak = [
+        LegObservation(1, np.array([1.0, 0.0]), True, 0.0, 0, score=0.2),
+        LegObservation(2, np.array([1.0, 0.3]), True, 0.0, 1, score=0.4),
+    ]
+    for k in range(10):
+        assert t.update({o.track_id: o for o in weak}, 0.1 * k, 1.0) == []
+    assert t.persons == {}
 
 
 def _confirmed(t: PersonTracker) -> None:
@@ -235,3 +255,22 @@ def test_arras_policy_needs_both_legs() -> None:
 def test_unknown_policy_is_refused() -> None:
     with pytest.raises(ValueError, match="people_policy"):
         LegTrackerParams(people_policy="magic")
+
+
+def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from laserpeople.cli.track import with_people_policy
+    from laserpeople.config import load_config
+    from laserpeople.errors import ConfigError
+    from laserpeople.tracking.nearest import NearestNeighbourParams
+
+    assert LegTrackerParams().people_policy == "tracks"
+    p = with_people_policy(LegTrackerParams(), "arras", "leg-mht")
+    assert p.people_policy == "arras"
+    with pytest.raises(ConfigError, match="people_policy"):
+        with_people_policy(LegTrackerParams(), "magic", "leg-mht")
+    with pytest.raises(ConfigError, match="applies to leg-mht"):
+        with_people_policy(NearestNeighbourParams(), "arras", "nn")
+    path = tmp_path / "p.toml"
+    path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
+    q = load_config(LegTrackerParams, path)
+    assert q.people_policy == "arras" and q.people.max_coast == 2.5

@@ -113,16 +113,27 @@ def run_tracking(
     animate: Path | None = None,
     bag: Path | None = None,
     people_policy: str | None = None,
+    background: str = "auto",
+    map_path: Path | None = None,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
     when given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
     ``animate`` (.gif, or .mp4 with ffmpeg).
 
-    Returns counts and timings: scans (frames), rows, leg and person tracks created,
+    A tracker that consumes foreground points gets the static world model ``background``
+    (auto, histogram, occupancy or none; ``map_path`` seeds the occupancy grid).
+
+    Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.pipeline import TracksCsvSink, build, output_sink
+    from laserpeople.pipeline import (
+        TracksCsvSink,
+        background_of,
+        build,
+        describe_background,
+        output_sink,
+    )
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -144,6 +155,8 @@ def run_tracking(
         outputs=sinks,
         world_frame=world_frame,
         mounts=mounts or [],
+        background=background,
+        map_path=map_path,
     )
     source: Any = pipe.source
     if len(source.topics) > 1:
@@ -152,6 +165,8 @@ def run_tracking(
         pass
     for line in source.summary():
         say(line)
+    if pipe.tracker is not None and "foreground" in pipe.tracker.consumes:
+        say(describe_background(background_of(pipe.stages)))
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [])
@@ -168,6 +183,7 @@ def run_tracking(
         "rows": float(stats.rows),
         "leg_tracks": float(stats.count("leg")),
         "person_tracks": float(stats.count("person")),
+        "group_tracks": float(stats.count("group")),
         "median_ms": stats.median_ms,
         "mean_ms": stats.mean_ms,
     }
@@ -210,7 +226,11 @@ def register(app: typer.Typer) -> None:
         ] = None,
         tracker: Annotated[
             str,
-            typer.Option("--tracker", help="Tracker: leg-mht (Arras et al. 2008 Sec. 3) or nn."),
+            typer.Option(
+                "--tracker",
+                help="Tracker: leg-mht (Arras et al. 2008 Sec. 3), nn, group-mht, csa, "
+                "feet-pf or upper-body-pf (see laserpeople track --help).",
+            ),
         ] = "leg-mht",
         topic: TopicOption = None,
         topics: TopicsOption = None,
@@ -261,6 +281,19 @@ def register(app: typer.Typer) -> None:
                 "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
             ),
         ] = None,
+        background: Annotated[
+            str,
+            typer.Option(
+                "--background",
+                help="Static world model for trackers of foreground points (group-mht, csa, "
+                "feet-pf, upper-body-pf): auto (per-beam histogram while the lasers stand "
+                "still, occupancy grid once they move), histogram, occupancy or none.",
+            ),
+        ] = "auto",
+        map_path: Annotated[
+            Path | None,
+            typer.Option("--map", help="ROS map.yaml seeding the occupancy grid."),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -308,10 +341,15 @@ def register(app: typer.Typer) -> None:
             animate=animate,
             bag=bag,
             people_policy=people_policy,
+            background=background,
+            map_path=map_path,
         )
+        groups = int(stats["group_tracks"])
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "
-            f"{int(stats['person_tracks'])} person tracks, {int(stats['rows'])} rows in "
+            f"{int(stats['person_tracks'])} person tracks, "
+            + (f"{groups} group tracks, " if groups else "")
+            + f"{int(stats['rows'])} rows in "
             f"{output}; tracking {stats['median_ms']:.2f} ms/scan median "
             f"({stats['mean_ms']:.2f} mean)"
         )

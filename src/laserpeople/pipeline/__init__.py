@@ -10,11 +10,19 @@ refuses to build when nothing provides it. Track a recording in three lines::
     print(stats.frames, stats.count("person"))
 
 Modules: :mod:`.sources` (one laser, several lasers grouped by time, the frame choice),
-:mod:`.preprocess` (fusion into one point set), :mod:`.observe` (legs, clusters),
+:mod:`.preprocess` (fusion into one point set), :mod:`.background` (which static world
+model follows it), :mod:`.observe` (legs, clusters),
 :mod:`.stages` (protocols and the build-time check), :mod:`.sinks` (CSV, bag),
 :mod:`.recording` (frames from a file; :func:`build`).
 """
 
+from laserpeople.pipeline.background import (
+    BACKGROUND_CHOICES,
+    AutoBackground,
+    background_of,
+    background_stage,
+    describe_background,
+)
 from laserpeople.pipeline.core import Pipeline, PipelineStats, Step
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -39,7 +47,9 @@ from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
 
 __all__ = [
     "ALL_TOPICS",
+    "BACKGROUND_CHOICES",
     "FUSED",
+    "AutoBackground",
     "ClusterPoints",
     "DetectLegs",
     "DetectionsCsvSink",
@@ -57,8 +67,11 @@ __all__ = [
     "Step",
     "TracksBagSink",
     "TracksCsvSink",
+    "background_of",
+    "background_stage",
     "build",
     "check_feeds",
+    "describe_background",
     "laser_frames",
     "observe_stages_for",
     "open_source",

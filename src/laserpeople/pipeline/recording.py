@@ -15,6 +15,7 @@ from typing import Any
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
+from laserpeople.pipeline.background import background_stage
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector
 from laserpeople.pipeline.preprocess import Fuse
@@ -130,13 +131,26 @@ class RecordingFrames:
 
 
 def observe_stages_for(
-    consumes: frozenset[FrameField], detector: LegDetector | None
+    consumes: frozenset[FrameField],
+    detector: LegDetector | None,
+    background: str | Stage | None = "auto",
+    map_path: str | Path | None = None,
 ) -> tuple[list[Stage], list[Stage]]:
-    """The preprocess and observe stages that provide what a tracker ``consumes``."""
+    """The preprocess and observe stages that provide what a tracker ``consumes``.
+
+    A consumer of ``foreground`` or ``clusters`` gets the static world model ``background``
+    after :class:`Fuse` (see :func:`~laserpeople.pipeline.background.background_stage`:
+    ``auto``, ``histogram``, ``occupancy``, ``none`` or a model object; ``map_path`` seeds
+    the occupancy grid), so that walls and furniture are not foreground.
+    """
     preprocess: list[Stage] = []
     observe: list[Stage] = []
     if consumes & {"points", "foreground", "clusters"}:
         preprocess.append(Fuse())
+    if consumes & {"foreground", "clusters"}:
+        model = background_stage(background, map_path)
+        if model is not None:
+            preprocess.append(model)
     if "clusters" in consumes:
         observe.append(ClusterPoints())
     if "legs" in consumes:
@@ -172,12 +186,14 @@ def build(
     world_frame: str | None = None,
     mounts: Sequence[str] = (),
     grouping: GroupingParams | None = None,
-    background: Stage | None = None,
+    background: str | Stage | None = "auto",
+    map_path: str | Path | None = None,
     identify: Sequence[Identifier] = (),
     max_frames: int | None = None,
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
-    tracker object, feeding it what it consumes.
+    tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
+    static world model ``background``, see :func:`observe_stages_for`).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -196,11 +212,9 @@ def build(
             grouping=grouping,
             max_frames=max_frames,
         )
-        preprocess, observe = observe_stages_for(frozenset(tracker.consumes), detector)
-        if background is not None:
-            if not preprocess:
-                preprocess.append(Fuse())
-            preprocess.append(background)
+        preprocess, observe = observe_stages_for(
+            frozenset(tracker.consumes), detector, background, map_path
+        )
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             source,

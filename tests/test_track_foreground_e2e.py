@@ -21,6 +21,7 @@ from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
 from laserpeople.io.tracks_csv import iter_tracks_csv
 from laserpeople.pipeline import (
+    AppearanceUnavailableError,
     AutoBackground,
     Fuse,
     background_of,
@@ -143,3 +144,40 @@ def test_background_choices() -> None:
     assert background_of(pre) is None
     pre, _ = observe_stages_for(frozenset({"points"}), None)
     assert background_of(pre) is None  # nobody asked for a foreground
+
+
+# ------------------------------------------------------------------ appearance
+
+
+def test_appearance_on_adds_colour_reidentification(tmp_path: Path) -> None:
+    from laserpeople.pipeline import build
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "cross.npz"
+    run_scenario("crossing-3-p3", seconds=4.0, seed=1).write(rec)
+    result = CliRunner().invoke(
+        app,
+        ["track", str(rec), "--tracker", "csa", "--topics", "all", "--appearance", "on",
+         "-o", str(tmp_path / "t.csv")],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "simulated camera" in " ".join(result.output.split())
+    pipe = build(rec, tracker="leg-mht", reidentify=True, max_frames=20)
+    seen = [step.frame.appearance for step in pipe]
+    assert type(pipe.identify[0]).__name__ == "ColourReidentifier"
+    assert sum(len(a) for a in seen) > 20  # three people, a few misses
+
+
+def test_appearance_is_refused_without_truth(tmp_path: Path) -> None:
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "scans.mcap"
+    run_scenario("crossing-3-p3", seconds=1.0, seed=1).write(rec)
+    out = tmp_path / "t.csv"
+    args = ["track", str(rec), "--topics", "all", "-o", str(out)]
+    for extra in (["--tracker", "csa", "--appearance", "on"], ["--reidentify", "colour"]):
+        result = CliRunner().invoke(app, [*args, *extra])
+        assert isinstance(result.exception, AppearanceUnavailableError)
+    result = CliRunner().invoke(app, [*args, "--tracker", "nn", "--appearance", "on"])
+    assert isinstance(result.exception, ConfigError)
+    assert "--reidentify colour" in str(result.exception.hint)

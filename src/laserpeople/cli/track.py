@@ -115,6 +115,7 @@ def run_tracking(
     people_policy: str | None = None,
     background: str = "auto",
     map_path: Path | None = None,
+    reidentify: bool = False,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -123,6 +124,8 @@ def run_tracking(
 
     A tracker that consumes foreground points gets the static world model ``background``
     (auto, histogram, occupancy or none; ``map_path`` seeds the occupancy grid).
+    ``reidentify`` adds colour re-identification from the simulated camera (recordings
+    with ground-truth hues only).
 
     Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
@@ -157,6 +160,7 @@ def run_tracking(
         mounts=mounts or [],
         background=background,
         map_path=map_path,
+        reidentify=reidentify,
     )
     source: Any = pipe.source
     if len(source.topics) > 1:
@@ -165,6 +169,10 @@ def run_tracking(
         pass
     for line in source.summary():
         say(line)
+    if reidentify:
+        say("appearance: simulated camera from the recording's ground-truth clothing hues")
+    elif tracker_name == "csa":
+        say("appearance: off (--appearance on re-identifies by colour; needs ground-truth hues)")
     if pipe.tracker is not None and "foreground" in pipe.tracker.consumes:
         say(describe_background(background_of(pipe.stages)))
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
@@ -214,6 +222,20 @@ def draw_tracks(
             progress=lambda it, n: progress(it, n, "drawing"),
         )
         say(f"wrote {drawn.path} ({drawn.frames} frames)")
+
+
+def appearance_choice(tracker: str, appearance: str, reidentify: str | None) -> bool:
+    """Whether ``--appearance`` / ``--reidentify`` ask for colour re-identification."""
+    if appearance not in ("on", "off"):
+        raise ConfigError(f"--appearance must be on or off, not {appearance!r}")
+    if reidentify not in (None, "colour"):
+        raise ConfigError(f"--reidentify {reidentify!r}: only 'colour' is known")
+    if appearance == "on" and tracker != "csa":
+        raise ConfigError(
+            "--appearance applies to the csa tracker",
+            hint=f"use --reidentify colour with {tracker}",
+        )
+    return appearance == "on" or reidentify == "colour"
 
 
 def register(app: typer.Typer) -> None:
@@ -294,6 +316,22 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--map", help="ROS map.yaml seeding the occupancy grid."),
         ] = None,
+        appearance: Annotated[
+            str,
+            typer.Option(
+                "--appearance",
+                help="csa: on = colour re-identification after crossings (002), from the "
+                "simulated camera of a recording with ground-truth hues; off (default).",
+            ),
+        ] = "off",
+        reidentify: Annotated[
+            str | None,
+            typer.Option(
+                "--reidentify",
+                help="colour: re-identify people after crossings by clothing colour (002) "
+                "for any tracker; needs appearance (simulated recordings with truth).",
+            ),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -326,6 +364,7 @@ def register(app: typer.Typer) -> None:
         frame: CoordinateFrame | None = (
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
+        colour = appearance_choice(tracker, appearance, reidentify)
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,
@@ -343,6 +382,7 @@ def register(app: typer.Typer) -> None:
             people_policy=people_policy,
             background=background,
             map_path=map_path,
+            reidentify=colour,
         )
         groups = int(stats["group_tracks"])
         say(

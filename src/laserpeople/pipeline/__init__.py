@@ -16,6 +16,11 @@ model follows it), :mod:`.observe` (legs, clusters),
 :mod:`.recording` (frames from a file; :func:`build`).
 """
 
+from laserpeople.pipeline.appearance import (
+    AppearanceUnavailableError,
+    SimulatedAppearance,
+    with_appearance,
+)
 from laserpeople.pipeline.background import (
     BACKGROUND_CHOICES,
     AutoBackground,
@@ -49,6 +54,7 @@ __all__ = [
     "ALL_TOPICS",
     "BACKGROUND_CHOICES",
     "FUSED",
+    "AppearanceUnavailableError",
     "AutoBackground",
     "ClusterPoints",
     "DetectLegs",
@@ -62,6 +68,7 @@ __all__ = [
     "Pipeline",
     "PipelineStats",
     "RecordingFrames",
+    "SimulatedAppearance",
     "Sink",
     "Stage",
     "Step",
@@ -77,4 +84,5 @@ __all__ = [
     "open_source",
     "output_sink",
     "resolve_topics",
+    "with_appearance",
 ]

@@ -189,11 +189,16 @@ def build(
     background: str | Stage | None = "auto",
     map_path: str | Path | None = None,
     identify: Sequence[Identifier] = (),
+    reidentify: bool = False,
     max_frames: int | None = None,
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
-    static world model ``background``, see :func:`observe_stages_for`).
+    static world model ``background``, see :func:`observe_stages_for`). ``reidentify``
+    adds colour re-identification (002,
+    :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
+    (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
+    ``AppearanceUnavailableError`` for a recording without ground-truth hues).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -212,17 +217,28 @@ def build(
             grouping=grouping,
             max_frames=max_frames,
         )
+        frames: Any = source
+        source_fields: set[FrameField] = {"scans"}
+        identifiers = list(identify)
+        if reidentify:
+            from laserpeople.identity.reid import ColourReidentifier
+            from laserpeople.pipeline.appearance import with_appearance
+
+            frames = with_appearance(source, rec)
+            source_fields.add("appearance")
+            identifiers.append(ColourReidentifier())
         preprocess, observe = observe_stages_for(
             frozenset(tracker.consumes), detector, background, map_path
         )
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
-            source,
+            frames,
             preprocess=preprocess,
             observe=observe,
             tracker=tracker,
-            identify=identify,
+            identify=identifiers,
             sinks=sinks,
+            source_fields=frozenset(source_fields),
         )
     except BaseException:
         rec.close()

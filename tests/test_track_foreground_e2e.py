@@ -72,6 +72,7 @@ def test_group_mht_end_to_end_needs_the_static_world(hall: Path, tmp_path: Path)
     groups = [t for f in iter_tracks_csv(out, frame="world") for t in f]
     assert groups and {t.kind for t in groups} == {"group"}
     assert max(t.size for t in groups) >= 2 and all(t.labels for t in groups)
+    assert all(t.contour.shape[0] >= 1 for t in groups)  # outlines for `view`
     said, walls = _track_and_score(hall, tmp_path / "all.csv", "group-mht", "group",
                                    "--background", "none")  # fmt: skip
     assert "none" in said and walls < 0.3
@@ -181,3 +182,37 @@ def test_appearance_is_refused_without_truth(tmp_path: Path) -> None:
     result = CliRunner().invoke(app, [*args, "--tracker", "nn", "--appearance", "on"])
     assert isinstance(result.exception, ConfigError)
     assert "--reidentify colour" in str(result.exception.hint)
+
+
+# ------------------------------------------------------------------ group outlines
+
+
+def test_group_outline_is_the_padded_hull() -> None:
+    from laserpeople.viz.geometry import group_outline
+
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 0.2]])
+    out = group_outline(pts, margin=0.1)
+    assert np.allclose(out[0], out[-1])
+    # the 12-gon has vertices at 0, 90, 180 and 270 degrees: the extremes are exact
+    assert out[:, 0].min() == pytest.approx(-0.1) and out[:, 0].max() == pytest.approx(1.1)
+    assert out[:, 1].min() == pytest.approx(-0.1) and out[:, 1].max() == pytest.approx(0.3)
+    # every vertex lies on a 0.1 m circle round one of the points
+    d = np.linalg.norm(out[:, None, :] - pts[None], axis=2).min(axis=1)
+    assert d == pytest.approx(np.full(len(out), 0.1))
+    assert group_outline(np.empty((0, 2))).shape == (0, 2)
+
+
+def test_tracks_csv_carries_group_contours(tmp_path: Path) -> None:
+    from laserpeople.io.tracks_csv import TracksCsvWriter
+    from laserpeople.tracks import Track, Tracks
+
+    contour = np.array([[1.0, 2.0], [1.5, 2.25], [2.0, 2.0]])
+    group = Track(7, "group", np.array([1.5, 2.1]), np.zeros(2), np.eye(2), 2, "A",
+                  contour=contour)  # fmt: skip
+    person = Track(8, "person", np.array([0.0, 0.0]), np.zeros(2), np.eye(2))
+    with TracksCsvWriter(tmp_path / "t.csv", frame="world", topic="l", contours=True) as out:
+        out.write(Tracks(0.0, 0, (group, person), "world"))
+    (back,) = iter_tracks_csv(tmp_path / "t.csv", frame="world")
+    g, p = back.tracks
+    assert g.contour == pytest.approx(contour) and g.size == 2 and g.labels == "A"
+    assert p.contour.shape == (0, 2)

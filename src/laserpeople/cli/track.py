@@ -146,7 +146,10 @@ def run_tracking(
     if detector is None:
         detector = make_detector("adaboost", None, config)
     topics = [topic] if isinstance(topic, str) else topic
-    csv_sink = TracksCsvSink(output, frame=output_frame)
+    # trackers of points may report groups: their outlines go into the CSV for `view`
+    csv_sink = TracksCsvSink(
+        output, frame=output_frame, contours=bool(entry.consumes & {"points", "clusters"})
+    )
     sinks: list[Any] = [csv_sink]
     if bag is not None:
         sinks.append(output_sink(bag))
@@ -320,16 +323,18 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--appearance",
-                help="csa: on = colour re-identification after crossings (002), from the "
-                "simulated camera of a recording with ground-truth hues; off (default).",
+                help="csa: on = colour re-identification after crossings (Kräußling et "
+                "al.), from the simulated camera of a recording with ground-truth hues; off "
+                "(default).",
             ),
         ] = "off",
         reidentify: Annotated[
             str | None,
             typer.Option(
                 "--reidentify",
-                help="colour: re-identify people after crossings by clothing colour (002) "
-                "for any tracker; needs appearance (simulated recordings with truth).",
+                help="colour: re-identify people after crossings by clothing colour "
+                "(Kräußling et al.) for any tracker; needs appearance (simulated recordings "
+                "with truth).",
             ),
         ] = None,
         print_config: Annotated[

@@ -110,10 +110,10 @@ def test_usage_lines_have_one_style() -> None:
         ), usage
 
 
-def test_help_names_papers_by_their_authors_and_says_groups_are_coming() -> None:
+def test_help_names_papers_by_their_authors_and_the_group_tracker() -> None:
     top = " ".join(CliRunner().invoke(app, ["--help"]).output.split())
     assert "Arras et al. 2008" in top and "Schenk et al. 2011" in top
-    assert "group tracker is coming" in top
+    assert "--tracker group-mht" in top
     for command in COMMANDS:
         text = CliRunner().invoke(app, [command, "--help"]).output
         assert not re.search(r"(?<![\w.,])00[024](?!\w)", text), (command, text)

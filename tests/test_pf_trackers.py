@@ -95,26 +95,3 @@ def test_registered_as_frame_trackers() -> None:
         tracker = entry.factory(entry.params_cls())
         assert isinstance(tracker, cls)
         assert tracker.consumes == frozenset({"points", "foreground"})
-
-
-def test_leg_detections_stand_for_points() -> None:
-    """Fed the detections of one scan (as `track`, `bench` and `demo` do), the trackers use
-    the detection centres as foreground points."""
-    from laserpeople.tracks import Detections
-
-    tracker = UpperBodyTracker(UpperBodyParams(confirm_scans=2))
-    for k in range(10):
-        x = 1.0 + 0.05 * k
-        det = Detections(
-            0.1 * k,
-            k,
-            [[x, 0.1], [x + 0.2, -0.1], [x, 0.12], [x + 0.1, 0.0]],
-            np.tile(np.eye(2), (4, 1, 1)),
-            np.ones(4),
-            "sensor",
-        )
-        out = tracker.update(det)
-    assert len(out) == 1
-    assert out.tracks[0].position == pytest.approx([1.45 + 0.075, 0.03], abs=0.1)
-    feet = FeetTracker()
-    assert len(feet.update(det)) == 0  # no step seen yet: no filter

@@ -193,31 +193,3 @@ def test_a_person_lost_in_the_cluster_is_adopted_at_the_split() -> None:
     plain = ClusterSortingTracker(CSAParams(adopt_escaped=False))
     last = [plain.update(f) for f in frames][-1]
     assert last.of_kind("group") and "split" not in [e.kind for e in plain.events]
-
-
-def test_leg_detections_are_accepted_as_foreground() -> None:
-    """Until commands feed frames, `laserpeople track --tracker csa` hands the CSA leg
-    detections: their segments' points (sensor frame, moved to the world with the pose)."""
-    from laserpeople.scan import Pose2D, Segment
-    from laserpeople.tracking.csa import frame_from_detections
-    from laserpeople.tracks import Detections
-
-    pts = _blob((2.0, 0.0), 0)
-    segs = (Segment(0, 5, np.arange(5), pts[:5]), Segment(5, 10, np.arange(5, 10), pts[5:]))
-    det = Detections(
-        1.0,
-        3,
-        np.array([[1.9, 0.0], [2.1, 0.0]]),
-        np.zeros((2, 2, 2)),
-        np.ones(2),
-        "sensor",
-        Pose2D(1.0, 0.0, np.pi / 2),
-        segs,
-    )
-    frame = frame_from_detections(det)
-    assert frame.frame == "world" and frame.points is not None
-    assert frame.points.points[:, 0] == pytest.approx(1.0 - pts[:, 1])
-    assert frame.points.points[:, 1] == pytest.approx(pts[:, 0])
-    tracks = ClusterSortingTracker().update(det)
-    (person,) = tracks.of_kind("person")
-    assert person.position == pytest.approx([1.0, 2.0], abs=0.1)

@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 from laserpeople.cli import app
 from laserpeople.errors import LaserPeopleError
 from laserpeople.viz import Scene, export_rerun, render
-from laserpeople.viz.geometry import covariance_ellipses
+from laserpeople.viz.geometry import covariance_ellipses, group_outline
 from laserpeople.viz.rerun_export import RerunMissingError
 from test_viz_support import make_scans, make_tracks, people_at, write_scene
 
@@ -111,9 +111,9 @@ def test_rrd_of_tracker_output_has_group_contours_and_empty_truth(tmp_path: Path
     assert [len(r["Points2D:positions"]) for r in rows["/world/people"]] == [2] * 4
     groups = rows["/world/groups"]
     assert [len(r["LineStrips2D:strips"]) for r in groups] == [0, 0, 1, 1]
-    for k in (2, 3):  # a closed contour: the three corners and the first again
+    for k in (2, 3):  # the closed outline round the contour points
         contour = tracks[k].of_kind("group")[0].contour
-        assert np.allclose(groups[k]["LineStrips2D:strips"][0], np.vstack([contour, contour[:1]]))
+        assert np.allclose(groups[k]["LineStrips2D:strips"][0], group_outline(contour))
 
 
 def test_rrd_without_rerun_names_the_extra(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

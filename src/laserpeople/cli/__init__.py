@@ -40,8 +40,10 @@ GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
 HELP = (
     "Detect and track people and their legs in 2D laser range scans (Arras et al. 2008), "
     "simulate scenes with ground truth, and score tracks (CLEAR MOT, IDF1, the adapted MOTP "
-    "of Schenk et al. 2011). Groups: the simulator walks people in groups and `evaluate` "
-    "scores group tracks, but the group tracker is coming, not in this version."
+    "of Schenk et al. 2011). Groups: `track --tracker group-mht` tracks groups of people "
+    "and their size (Arras et al. 2008), `evaluate --kind group` scores them; `--tracker csa` "
+    "(Kräußling et al.) and the particle filters feet-pf and upper-body-pf (Schenk et al. "
+    "2011) track people from raw laser points."
 )
 
 

@@ -113,20 +113,30 @@ def run_tracking(
     animate: Path | None = None,
     bag: Path | None = None,
     people_policy: str | None = None,
+    background: str = "auto",
+    map_path: Path | None = None,
+    reidentify: bool = False,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
     when given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
     ``animate`` (.gif, or .mp4 with ffmpeg).
 
-    Returns counts and timings: scans (frames), rows, leg and person tracks created,
+    A tracker that consumes foreground points gets the static world model ``background``
+    (auto, histogram, occupancy or none; ``map_path`` seeds the occupancy grid).
+    ``reidentify`` adds colour re-identification from the simulated camera (recordings
+    with ground-truth hues only).
+
+    Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
     from laserpeople.pipeline import (
         GroupingParams,
         LegFusionParams,
         TracksCsvSink,
+        background_of,
         build,
+        describe_background,
         output_sink,
     )
     from laserpeople.tracking import registry
@@ -138,7 +148,10 @@ def run_tracking(
     if detector is None:
         detector = make_detector("adaboost", None, config)
     topics = [topic] if isinstance(topic, str) else topic
-    csv_sink = TracksCsvSink(output, frame=output_frame)
+    # trackers of points may report groups: their outlines go into the CSV for `view`
+    csv_sink = TracksCsvSink(
+        output, frame=output_frame, contours=bool(entry.consumes & {"points", "clusters"})
+    )
     sinks: list[Any] = [csv_sink]
     if bag is not None:
         sinks.append(output_sink(bag))
@@ -152,6 +165,9 @@ def run_tracking(
         mounts=mounts or [],
         grouping=load_config(GroupingParams, config),
         leg_fusion=load_config(LegFusionParams, config),
+        background=background,
+        map_path=map_path,
+        reidentify=reidentify,
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]
@@ -169,6 +185,12 @@ def run_tracking(
     merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
     if merged:
         say(f"{merged} leg detections dropped as another laser's view of the same leg")
+    if reidentify:
+        say("appearance: simulated camera from the recording's ground-truth clothing hues")
+    elif tracker_name == "csa":
+        say("appearance: off (--appearance on re-identifies by colour; needs ground-truth hues)")
+    if pipe.tracker is not None and "foreground" in pipe.tracker.consumes:
+        say(describe_background(background_of(pipe.stages)))
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [])
@@ -185,6 +207,7 @@ def run_tracking(
         "rows": float(stats.rows),
         "leg_tracks": float(stats.count("leg")),
         "person_tracks": float(stats.count("person")),
+        "group_tracks": float(stats.count("group")),
         "median_ms": stats.median_ms,
         "mean_ms": stats.mean_ms,
     }
@@ -217,6 +240,20 @@ def draw_tracks(
         say(f"wrote {drawn.path} ({drawn.frames} frames)")
 
 
+def appearance_choice(tracker: str, appearance: str, reidentify: str | None) -> bool:
+    """Whether ``--appearance`` / ``--reidentify`` ask for colour re-identification."""
+    if appearance not in ("on", "off"):
+        raise ConfigError(f"--appearance must be on or off, not {appearance!r}")
+    if reidentify not in (None, "colour"):
+        raise ConfigError(f"--reidentify {reidentify!r}: only 'colour' is known")
+    if appearance == "on" and tracker != "csa":
+        raise ConfigError(
+            "--appearance applies to the csa tracker",
+            hint=f"use --reidentify colour with {tracker}",
+        )
+    return appearance == "on" or reidentify == "colour"
+
+
 def register(app: typer.Typer) -> None:
     """Add the `track` command to ``app``."""
 
@@ -227,7 +264,11 @@ def register(app: typer.Typer) -> None:
         ] = None,
         tracker: Annotated[
             str,
-            typer.Option("--tracker", help="Tracker: leg-mht (Arras et al. 2008 Sec. 3) or nn."),
+            typer.Option(
+                "--tracker",
+                help="Tracker: leg-mht (Arras et al. 2008 Sec. 3), nn, group-mht, csa, "
+                "feet-pf or upper-body-pf (see laserpeople track --help).",
+            ),
         ] = "leg-mht",
         topic: TopicOption = None,
         topics: TopicsOption = None,
@@ -278,6 +319,37 @@ def register(app: typer.Typer) -> None:
                 "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
             ),
         ] = None,
+        background: Annotated[
+            str,
+            typer.Option(
+                "--background",
+                help="Static world model for trackers of foreground points (group-mht, csa, "
+                "feet-pf, upper-body-pf): auto (per-beam histogram while the lasers stand "
+                "still, occupancy grid once they move), histogram, occupancy or none.",
+            ),
+        ] = "auto",
+        map_path: Annotated[
+            Path | None,
+            typer.Option("--map", help="ROS map.yaml seeding the occupancy grid."),
+        ] = None,
+        appearance: Annotated[
+            str,
+            typer.Option(
+                "--appearance",
+                help="csa: on = colour re-identification after crossings (Kräußling et "
+                "al.), from the simulated camera of a recording with ground-truth hues; off "
+                "(default).",
+            ),
+        ] = "off",
+        reidentify: Annotated[
+            str | None,
+            typer.Option(
+                "--reidentify",
+                help="colour: re-identify people after crossings by clothing colour "
+                "(Kräußling et al.) for any tracker; needs appearance (simulated recordings "
+                "with truth).",
+            ),
+        ] = None,
         print_config: Annotated[
             bool,
             typer.Option(
@@ -317,6 +389,7 @@ def register(app: typer.Typer) -> None:
         frame: CoordinateFrame | None = (
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
+        colour = appearance_choice(tracker, appearance, reidentify)
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,
@@ -332,10 +405,16 @@ def register(app: typer.Typer) -> None:
             animate=animate,
             bag=bag,
             people_policy=people_policy,
+            background=background,
+            map_path=map_path,
+            reidentify=colour,
         )
+        groups = int(stats["group_tracks"])
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "
-            f"{int(stats['person_tracks'])} person tracks, {int(stats['rows'])} rows in "
+            f"{int(stats['person_tracks'])} person tracks, "
+            + (f"{groups} group tracks, " if groups else "")
+            + f"{int(stats['rows'])} rows in "
             f"{output}; tracking {stats['median_ms']:.2f} ms/scan median "
             f"({stats['mean_ms']:.2f} mean)"
         )

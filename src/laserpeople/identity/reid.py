@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from laserpeople.config import param
-from laserpeople.frame import Frame
+from laserpeople.frame import Frame, FrameField
 from laserpeople.identity.appearance import (
     AppearanceParams,
     OnlineGaussian,
@@ -150,6 +150,8 @@ class ColourReidentifier:
         models: Identity -> its learnt colour Gaussian (002 eqs. 1-5).
         reassignments: Every re-assignment so far.
     """
+
+    consumes: frozenset[FrameField] = frozenset({"appearance"})
 
     def __init__(self, params: ReidParams | None = None) -> None:
         self.params = params or ReidParams()

@@ -9,8 +9,10 @@ Header::
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
 Files written with a ``topic`` have one more column at the end, ``topic``: the laser
 topic the tracks come from, or ``fused`` when several lasers made each frame (then
-``scan`` is the index of the first laser's scan). Readers accept files with and without
-it.
+``scan`` is the index of the first laser's scan). Files written with ``contours`` (by the
+trackers of groups) end with a ``contour`` column: a group's outline as ``x y;x y;...``
+[m] in the frame of the positions, empty for legs, persons and groups without one.
+Readers accept files with and without these columns.
 A scan with no tracks writes no row. Because every scan's rows are flushed before the
 next scan is processed, a crash leaves a valid file with the scans done so far.
 
@@ -50,6 +52,19 @@ HEADER = (
     "labels",
 )
 TOPIC_COLUMN = "topic"
+CONTOUR_COLUMN = "contour"
+
+
+def format_contour(contour: np.ndarray) -> str:
+    """``"x y;x y;..."`` [m, 3 decimals] of a contour (K, 2); empty for K = 0."""
+    return ";".join(f"{x:.3f} {y:.3f}" for x, y in np.asarray(contour).reshape(-1, 2))
+
+
+def parse_contour(text: str) -> np.ndarray:
+    """The contour (K, 2) of :func:`format_contour`'s text (K = 0 for an empty text)."""
+    if not text.strip():
+        return np.empty((0, 2))
+    return np.array([[float(v) for v in p.split()] for p in text.split(";")]).reshape(-1, 2)
 
 
 def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
@@ -101,7 +116,11 @@ class TracksCsvWriter:
     """
 
     def __init__(
-        self, path: str | Path, frame: CoordinateFrame = "world", topic: str | None = None
+        self,
+        path: str | Path,
+        frame: CoordinateFrame = "world",
+        topic: str | None = None,
+        contours: bool = False,
     ) -> None:
         self.path = Path(path)
         self.frame = frame
@@ -116,9 +135,11 @@ class TracksCsvWriter:
                 hint="choose a writable file path with -o",
             ) from exc
         self._csv = csv.writer(self._fh, lineterminator="\n")
-        self._csv.writerow(HEADER if topic is None else (*HEADER, TOPIC_COLUMN))
+        header = HEADER if topic is None else (*HEADER, TOPIC_COLUMN)
+        self._csv.writerow((*header, CONTOUR_COLUMN) if contours else header)
         self._fh.flush()
         self.rows = 0
+        self.contours = contours
         self._tail: tuple[str, ...] = () if topic is None else (topic,)
 
     def write(self, tracks: Tracks) -> None:
@@ -142,6 +163,7 @@ class TracksCsvWriter:
                     t.size,
                     t.labels,
                     *self._tail,
+                    *((format_contour(t.contour),) if self.contours else ()),
                 )
             )
             self.rows += 1
@@ -181,6 +203,7 @@ def _parse_row(
             covariance=np.array([[cxx, cxy], [cxy, cyy]]),
             size=int(row.get("size") or 1),
             labels=row.get("labels") or "",
+            contour=parse_contour(row.get(CONTOUR_COLUMN) or ""),
         )
         scan, stamp = int(row["scan"]), float(row["stamp"])
     except (KeyError, TypeError, ValueError) as exc:

@@ -10,11 +10,24 @@ refuses to build when nothing provides it. Track a recording in three lines::
     print(stats.frames, stats.count("person"))
 
 Modules: :mod:`.sources` (one laser, several lasers grouped by time, the frame choice),
-:mod:`.preprocess` (fusion into one point set), :mod:`.observe` (legs, clusters),
+:mod:`.preprocess` (fusion into one point set), :mod:`.background` (which static world
+model follows it), :mod:`.observe` (legs, clusters),
 :mod:`.stages` (protocols and the build-time check), :mod:`.sinks` (CSV, bag),
 :mod:`.recording` (frames from a file; :func:`build`).
 """
 
+from laserpeople.pipeline.appearance import (
+    AppearanceUnavailableError,
+    SimulatedAppearance,
+    with_appearance,
+)
+from laserpeople.pipeline.background import (
+    BACKGROUND_CHOICES,
+    AutoBackground,
+    background_of,
+    background_stage,
+    describe_background,
+)
 from laserpeople.pipeline.core import Pipeline, PipelineStats, Step
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -39,7 +52,10 @@ from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
 
 __all__ = [
     "ALL_TOPICS",
+    "BACKGROUND_CHOICES",
     "FUSED",
+    "AppearanceUnavailableError",
+    "AutoBackground",
     "ClusterPoints",
     "DetectLegs",
     "DetectionsCsvSink",
@@ -52,16 +68,21 @@ __all__ = [
     "Pipeline",
     "PipelineStats",
     "RecordingFrames",
+    "SimulatedAppearance",
     "Sink",
     "Stage",
     "Step",
     "TracksBagSink",
     "TracksCsvSink",
+    "background_of",
+    "background_stage",
     "build",
     "check_feeds",
+    "describe_background",
     "laser_frames",
     "observe_stages_for",
     "open_source",
     "output_sink",
     "resolve_topics",
+    "with_appearance",
 ]

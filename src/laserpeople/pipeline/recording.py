@@ -15,6 +15,7 @@ from typing import Any
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
+from laserpeople.pipeline.background import background_stage
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -133,12 +134,24 @@ def observe_stages_for(
     consumes: frozenset[FrameField],
     detector: LegDetector | None,
     leg_fusion: LegFusionParams | None = None,
+    background: str | Stage | None = "auto",
+    map_path: str | Path | None = None,
 ) -> tuple[list[Stage], list[Stage]]:
-    """The preprocess and observe stages that provide what a tracker ``consumes``."""
+    """The preprocess and observe stages that provide what a tracker ``consumes``.
+
+    A consumer of ``foreground`` or ``clusters`` gets the static world model ``background``
+    after :class:`Fuse` (see :func:`~laserpeople.pipeline.background.background_stage`:
+    ``auto``, ``histogram``, ``occupancy``, ``none`` or a model object; ``map_path`` seeds
+    the occupancy grid), so that walls and furniture are not foreground.
+    """
     preprocess: list[Stage] = []
     observe: list[Stage] = []
     if consumes & {"points", "foreground", "clusters"}:
         preprocess.append(Fuse())
+    if consumes & {"foreground", "clusters"}:
+        model = background_stage(background, map_path)
+        if model is not None:
+            preprocess.append(model)
     if "clusters" in consumes:
         observe.append(ClusterPoints())
     if "legs" in consumes:
@@ -175,12 +188,19 @@ def build(
     mounts: Sequence[str] = (),
     grouping: GroupingParams | None = None,
     leg_fusion: LegFusionParams | None = None,
-    background: Stage | None = None,
+    background: str | Stage | None = "auto",
+    map_path: str | Path | None = None,
     identify: Sequence[Identifier] = (),
+    reidentify: bool = False,
     max_frames: int | None = None,
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
-    tracker object, feeding it what it consumes.
+    tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
+    static world model ``background``, see :func:`observe_stages_for`). ``reidentify``
+    adds colour re-identification (002,
+    :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
+    (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
+    ``AppearanceUnavailableError`` for a recording without ground-truth hues).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -199,19 +219,28 @@ def build(
             grouping=grouping,
             max_frames=max_frames,
         )
-        preprocess, observe = observe_stages_for(frozenset(tracker.consumes), detector, leg_fusion)
-        if background is not None:
-            if not preprocess:
-                preprocess.append(Fuse())
-            preprocess.append(background)
+        frames: Any = source
+        source_fields: set[FrameField] = {"scans"}
+        identifiers = list(identify)
+        if reidentify:
+            from laserpeople.identity.reid import ColourReidentifier
+            from laserpeople.pipeline.appearance import with_appearance
+
+            frames = with_appearance(source, rec)
+            source_fields.add("appearance")
+            identifiers.append(ColourReidentifier())
+        preprocess, observe = observe_stages_for(
+            frozenset(tracker.consumes), detector, leg_fusion, background, map_path
+        )
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
-            source,
+            frames,
             preprocess=preprocess,
             observe=observe,
             tracker=tracker,
-            identify=identify,
+            identify=identifiers,
             sinks=sinks,
+            source_fields=frozenset(source_fields),
         )
     except BaseException:
         rec.close()

@@ -24,11 +24,15 @@ class TracksCsvSink:
     Args:
         path: The CSV to write.
         frame: Frame of the written positions (default: the tracks' own frame).
+        contours: Add the ``contour`` column (group outlines).
     """
 
-    def __init__(self, path: str | Path, frame: CoordinateFrame | None = None) -> None:
+    def __init__(
+        self, path: str | Path, frame: CoordinateFrame | None = None, contours: bool = False
+    ) -> None:
         self.path = Path(path)
         self.frame = frame
+        self.contours = contours
         self._writer: TracksCsvWriter | None = None
         self.rows = 0
 
@@ -38,7 +42,10 @@ class TracksCsvSink:
             return
         if self._writer is None:
             self._writer = TracksCsvWriter(
-                self.path, frame=self.frame or tracks.frame, topic=frame.topic
+                self.path,
+                frame=self.frame or tracks.frame,
+                topic=frame.topic,
+                contours=self.contours,
             )
         self._writer.write(tracks)
         self.rows = self._writer.rows
@@ -51,7 +58,9 @@ class TracksCsvSink:
     def close(self) -> None:
         """Close the file; with no frame at all, leave a valid file with a header only."""
         if self._writer is None:
-            self._writer = TracksCsvWriter(self.path, frame=self.frame or "sensor", topic="")
+            self._writer = TracksCsvWriter(
+                self.path, frame=self.frame or "sensor", topic="", contours=self.contours
+            )
         self._writer.close()
 
 

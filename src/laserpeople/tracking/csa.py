@@ -41,9 +41,8 @@ from scipy.optimize import linear_sum_assignment
 
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
-from laserpeople.scan import PointSet
 from laserpeople.tracking import kalman
-from laserpeople.tracks import Detections, Track, Tracks
+from laserpeople.tracks import Track, Tracks
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -359,14 +358,8 @@ class ClusterSortingTracker:
         return frame.points.points[np.asarray(frame.foreground, dtype=bool)]
 
     # ------------------------------------------------------------------ update
-    def update(self, frame: Frame | Detections) -> Tracks:
-        """Process one frame's foreground points; return the tracks after it.
-
-        Until every command feeds frames, leg detections are accepted too: the points of
-        their segments (or their centres) are taken as the foreground (see
-        :func:`frame_from_detections`)."""
-        if isinstance(frame, Detections):
-            frame = frame_from_detections(frame)
+    def update(self, frame: Frame) -> Tracks:
+        """Process one frame's foreground points; return the tracks after it."""
         p = self.params
         z = self._points(frame)
         stamp = frame.stamp
@@ -665,35 +658,3 @@ def _components(gates: NDArray[np.bool_]) -> list[list[int]]:
         label[members] = len(out)
         out.append(members.tolist())
     return out
-
-
-def frame_from_detections(detections: Detections) -> Frame:
-    """A frame whose foreground is the points of the detections' segments (their centres
-    when they carry no segments), in the world frame when the sensor pose is known."""
-    parts = [seg.points for seg in detections.segments]
-    pts = np.concatenate(parts) if parts else detections.positions
-    frame = detections.frame
-    if detections.segments and detections.sensor_pose is not None:
-        pts = detections.sensor_pose.transform_points(pts)
-        frame = "world"
-    elif detections.segments:
-        frame = "sensor"
-    n = pts.shape[0]
-    ps = PointSet(
-        detections.stamp,
-        pts,
-        np.zeros(n, dtype=np.int64),
-        np.arange(n, dtype=np.int64),
-        frame=frame,
-        index=detections.scan_index,
-    )
-    return Frame(
-        index=detections.scan_index,
-        stamp=detections.stamp,
-        scans=(),
-        topic="detections",
-        frame=frame,
-        sensor_pose=detections.sensor_pose,
-        points=ps,
-        foreground=np.ones(n, dtype=bool),
-    )

@@ -28,7 +28,12 @@ from laserpeople.viz.colors import (
     to_unit,
     track_color,
 )
-from laserpeople.viz.geometry import covariance_ellipses, square_extent, velocity_segments
+from laserpeople.viz.geometry import (
+    covariance_ellipses,
+    group_outline,
+    square_extent,
+    velocity_segments,
+)
 from laserpeople.viz.scene import SceneFrame
 
 FloatArray = NDArray[np.float64]
@@ -212,8 +217,8 @@ class FrameRenderer:
         scatter(self._legs, legs)
         scatter(self._people, people)
 
-        with_contour = [g for g in groups if g.contour.shape[0] >= 3]
-        self._groups.set_verts([g.contour for g in with_contour])
+        with_contour = [g for g in groups if g.contour.shape[0] >= 1]
+        self._groups.set_verts([group_outline(g.contour) for g in with_contour])
         self._groups.set_facecolors(
             [(*colours["group", g.track_id][:3], 0.18) for g in with_contour]
         )

@@ -71,3 +71,25 @@ def square_extent(
         dy = dx / want
     cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
     return (cx - 0.5 * dx, cx + 0.5 * dx, cy - 0.5 * dy, cy + 0.5 * dy)
+
+
+GROUP_OUTLINE_MARGIN = 0.15
+"""Margin [m] round a group's points in its drawn outline (about a leg's radius plus the
+range noise, so that the outline encloses the legs rather than cutting through them)."""
+
+
+def group_outline(contour: FloatArray, margin: float = GROUP_OUTLINE_MARGIN) -> FloatArray:
+    """Closed outline (M + 1, 2) [m] of a group: the convex hull of its contour points
+    (K, 2) [m], each widened to a 12-gon of radius ``margin``; first vertex repeated last.
+    Empty (0, 2) for K = 0."""
+    from scipy.spatial import ConvexHull
+
+    pts = np.asarray(contour, dtype=np.float64).reshape(-1, 2)
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    if pts.shape[0] == 0:
+        return np.empty((0, 2))
+    ang = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)
+    ring = margin * np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    cloud = (pts[:, None, :] + ring[None, :, :]).reshape(-1, 2)
+    hull = cloud[ConvexHull(cloud).vertices]
+    return np.vstack([hull, hull[:1]])

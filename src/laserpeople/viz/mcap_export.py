@@ -17,9 +17,10 @@ topic                       type                                  content
 ==========================  ====================================  =========================
 
 Every MarkerArray starts with a DELETEALL marker so that tracks that ended disappear.
-A track is a cylinder (person), sphere (leg) or its contour (group, a closed LINE_STRIP;
-a circle of the covariance when the contour is unknown), a text label with its id (and a
-group's size), a LINE_STRIP 95 % covariance ellipse, and an ARROW for 1 s of velocity.
+A track is a cylinder (person), sphere (leg) or its outline (group, a closed LINE_STRIP
+round its contour points; a circle of the covariance when the contour is unknown), a text
+label with its id (and a group's size), a LINE_STRIP 95 % covariance ellipse, and an
+ARROW for 1 s of velocity.
 Colours are the same as in the pictures.
 """
 
@@ -36,7 +37,7 @@ from laserpeople.io.rosbag_writer import open_bag, sensor_frame_id, sensor_topic
 from laserpeople.tracks import Track, TrackKind
 from laserpeople.truth import TruthFrame
 from laserpeople.viz.colors import TRUTH, to_unit, track_color
-from laserpeople.viz.geometry import covariance_ellipses
+from laserpeople.viz.geometry import covariance_ellipses, group_outline
 from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, track_positions
 
 WORLD_FRAME_ID = "world"
@@ -132,8 +133,11 @@ class _Markers:
                 )  # fmt: skip
                 label = f"L{tid}"
             else:
-                outline = t.contour if t.contour.shape[0] >= 3 else ellipse
-                closed = np.vstack([outline, outline[:1]])
+                closed = (
+                    group_outline(t.contour)
+                    if t.contour.shape[0]
+                    else np.vstack([ellipse, ellipse[:1]])
+                )
                 if np.all(np.isfinite(closed)):
                     markers.append(
                         self.marker(header, "group_contours", tid, LINE_STRIP,

@@ -20,7 +20,7 @@ import numpy as np
 
 from laserpeople.errors import LaserPeopleError
 from laserpeople.viz.colors import SCAN_POINTS, SENSOR, TRUTH, track_color
-from laserpeople.viz.geometry import covariance_ellipses
+from laserpeople.viz.geometry import covariance_ellipses, group_outline
 from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, track_positions
 
 APPLICATION_ID = "laserpeople"
@@ -96,12 +96,12 @@ def export_rerun(
             np.array([t.covariance for t in all_tracks]).reshape(-1, 2, 2),
         )
         finite = [bool(np.all(np.isfinite(e))) for e in ellipses]
-        # a group's outline: its closed contour, else (e.g. read from a tracks CSV, which
-        # has no contours) its covariance ellipse, as in the MCAP export
+        # a group's outline: the padded hull of its contour, else (e.g. read from an old
+        # tracks CSV without contours) its covariance ellipse, as in the MCAP export
         outlines = [
-            (t, np.vstack([t.contour, t.contour[:1]]) if t.contour.shape[0] >= 3 else ellipses[i])
+            (t, group_outline(t.contour) if t.contour.shape[0] else ellipses[i])
             for i, t in enumerate(all_tracks)
-            if t.kind == "group" and (t.contour.shape[0] >= 3 or finite[i])
+            if t.kind == "group" and (t.contour.shape[0] or finite[i])
         ]
         rec.log(
             "world/groups",

@@ -37,9 +37,8 @@ from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracking.particle.frames import as_frame
 from laserpeople.tracking.particle.upper_body import gather_cells
-from laserpeople.tracks import Detections, Track, Tracks
+from laserpeople.tracks import Track, Tracks
 
 XL, YL, XR, YR, S, T, GAMMA, ALPHA = range(8)
 TWO_PI = 2.0 * np.pi
@@ -340,12 +339,10 @@ class FeetTracker:
         st = self.bank.states
         return np.asarray(0.5 * (st[..., XL : YL + 1] + st[..., XR : YR + 1]), dtype=np.float64)
 
-    def update(self, frame: Frame | Detections) -> Tracks:
+    def update(self, frame: Frame) -> Tracks:
         """Predict, weight by eqs. 3-7 and the repelling term, resample, remove dead
-        filters and start filters at completed step sequences. Leg detections instead of a
-        frame stand for their centres (:func:`~laserpeople.tracking.particle.frames.as_frame`)."""
+        filters and start filters at completed step sequences."""
         p, bank = self.params, self.bank
-        frame = as_frame(frame)
         if frame.points is None:
             raise ConfigError(
                 "the feet tracker needs frame points",

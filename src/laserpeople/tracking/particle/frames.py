@@ -10,41 +10,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-import numpy as np
-
 from laserpeople.errors import RecordingError
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet, Scan
-from laserpeople.tracks import Detections
-
-
-def as_frame(item: Frame | Detections) -> Frame:
-    """``item`` itself when it is a frame; for the detections of one scan (the input of the
-    per-scan trackers of ``track``, ``bench`` and ``demo``) a frame whose foreground points
-    are the detection centres, so that the particle filters also run on a leg detector's
-    output (eqs. 3-4 and 9 then weigh leg centres instead of raw points)."""
-    if isinstance(item, Frame):
-        return item
-    n = len(item)
-    points = PointSet(
-        item.stamp,
-        item.positions,
-        np.zeros(n, dtype=np.int64),
-        np.arange(n, dtype=np.int64),
-        ("detections",),
-        item.frame,
-        item.scan_index,
-    )
-    return Frame(
-        item.scan_index,
-        item.stamp,
-        (),
-        "detections",
-        item.frame,
-        item.sensor_pose,
-        points=points,
-        foreground=np.ones(n, dtype=bool),
-    )
 
 
 def fused_frames(
@@ -84,4 +52,4 @@ def fused_frames(
     return frames
 
 
-__all__ = ["as_frame", "fused_frames"]
+__all__ = ["fused_frames"]

@@ -26,8 +26,7 @@ from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracking.particle.frames import as_frame
-from laserpeople.tracks import Detections, Track, Tracks
+from laserpeople.tracks import Track, Tracks
 
 X, Y, THETA, V = range(4)
 
@@ -208,10 +207,9 @@ class UpperBodyTracker:
             s[..., V] + self.rng.normal(0.0, p.sigma_speed * root, shape), 0.0, p.max_speed
         )
 
-    def update(self, frame: Frame | Detections) -> Tracks:
+    def update(self, frame: Frame) -> Tracks:
         """Predict every filter to the frame's stamp, weight by eq. 9 in its Voronoi cell,
         resample, remove dead filters and start new ones."""
-        frame = as_frame(frame)
         p, bank = self.params, self.bank
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp

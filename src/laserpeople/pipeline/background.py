@@ -1,0 +1,198 @@
+"""Which static world model a pipeline runs after :class:`~laserpeople.pipeline.Fuse`.
+
+A tracker that consumes ``foreground`` should not see walls as people or groups. The
+choices (``track --background``):
+
+- ``histogram``: per-beam range histograms (004 Sec. 2,
+  :class:`~laserpeople.background.beam_histogram.BeamHistogramBackground`), learned online
+  over the first ``learn_seconds`` of the recording; for lasers that do not move.
+- ``occupancy``: the decaying occupancy grid of
+  :class:`~laserpeople.background.occupancy.OccupancyGrid` (optionally seeded from a ROS
+  ``map.yaml``); for a moving robot.
+- ``auto``: the histogram while every laser keeps its first pose (a sensor-frame run, or
+  constant poses), switching to the occupancy grid for good at the first frame in which a
+  laser has moved by more than ``moved_distance`` or turned by more than ``moved_angle``.
+- ``none``: no model; every point stays foreground.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+from laserpeople.config import param
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.pipeline.stages import Stage, provided_by
+from laserpeople.scan import Pose2D
+
+BackgroundChoice = Literal["auto", "histogram", "occupancy", "none"]
+BACKGROUND_CHOICES: tuple[str, ...] = ("auto", "histogram", "occupancy", "none")
+
+
+@dataclass(frozen=True)
+class AutoBackgroundParams:
+    """When ``auto`` takes a laser to have moved."""
+
+    config_section = "auto_background"
+
+    moved_distance: float = param(
+        0.05,
+        "assumption: well above localisation jitter of a robot that stands (~0.01 m)",
+        "a laser that moved farther than this from its first pose is on a moving robot",
+        "m",
+    )
+    moved_angle: float = param(
+        0.02,
+        "assumption: 0.02 rad displaces a return at 5 m by 0.1 m, the histogram tolerance",
+        "a laser that turned more than this from its first pose is on a moving robot",
+        "rad",
+    )
+
+
+class AutoBackground:
+    """The per-beam histogram while the lasers stand still, the occupancy grid once one
+    moves (module docstring). A :class:`~laserpeople.background.StaticWorldModel` stage.
+
+    Attributes:
+        model: The model in use.
+        chosen: ``"histogram"`` or ``"occupancy"`` (what :attr:`model` is).
+        switched_at: Index of the frame at which a laser was seen to move (None: never).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"scans", "points"})
+    provides: frozenset[FrameField] = frozenset({"foreground"})
+
+    def __init__(
+        self,
+        params: AutoBackgroundParams | None = None,
+        map_path: str | Path | None = None,
+    ) -> None:
+        from laserpeople.background.beam_histogram import BeamHistogramBackground
+
+        self.params = params or AutoBackgroundParams()
+        self.map_path = map_path
+        self.model: Stage = _as_stage(BeamHistogramBackground())
+        self.chosen = "histogram"
+        self.switched_at: int | None = None
+        self._first: dict[str, Pose2D] = {}
+
+    def _moved(self, frame: Frame) -> bool:
+        if frame.frame == "sensor":
+            return False
+        p = self.params
+        for scan in frame.scans:
+            if scan.pose is None:
+                continue
+            first = self._first.setdefault(scan.sensor, scan.pose)
+            turn = math.remainder(scan.pose.theta - first.theta, math.tau)
+            if (
+                math.hypot(scan.pose.x - first.x, scan.pose.y - first.y) > p.moved_distance
+                or abs(turn) > p.moved_angle
+            ):
+                return True
+        return False
+
+    def __call__(self, frame: Frame) -> Frame:
+        """The frame with ``foreground`` from the model in use."""
+        if self.chosen == "histogram" and self._moved(frame):
+            self.model = occupancy_model(self.map_path)
+            self.chosen = "occupancy"
+            self.switched_at = frame.index
+        return self.model(frame)
+
+    def describe(self) -> str:
+        """One line for the user: which model ran and why."""
+        if self.switched_at is None:
+            return "static world model: per-beam range histogram (the lasers did not move)"
+        return (
+            "static world model: occupancy grid (a laser moved at frame "
+            f"{self.switched_at}; the histogram ran before)"
+        )
+
+
+def _as_stage(model: object) -> Stage:
+    """A static world model as a stage (it fills ``foreground``)."""
+    return model  # type: ignore[return-value]
+
+
+def occupancy_model(map_path: str | Path | None) -> Stage:
+    """The occupancy grid, seeded from the ROS map ``map_path`` when given."""
+    from laserpeople.background.occupancy import OccupancyGrid, load_ros_map
+
+    prior = load_ros_map(map_path) if map_path is not None else None
+    return _as_stage(OccupancyGrid(prior=prior))
+
+
+def background_stage(
+    choice: str | Stage | None, map_path: str | Path | None = None
+) -> Stage | None:
+    """The static world model stage for ``choice`` (a name of :data:`BACKGROUND_CHOICES`
+    or a model object; None or ``"none"``: no model). ``map_path`` seeds the occupancy
+    grid (``occupancy`` or ``auto``)."""
+    if choice is None or choice == "none":
+        if map_path is not None:
+            raise ConfigError(
+                "--map seeds the occupancy grid, but --background none runs no model",
+                hint="use --background occupancy or auto",
+            )
+        return None
+    if not isinstance(choice, str):
+        return choice
+    if choice == "histogram":
+        if map_path is not None:
+            raise ConfigError(
+                "--map seeds the occupancy grid, not the per-beam histogram",
+                hint="use --background occupancy or auto",
+            )
+        from laserpeople.background.beam_histogram import BeamHistogramBackground
+
+        return _as_stage(BeamHistogramBackground())
+    if choice == "occupancy":
+        return occupancy_model(map_path)
+    if choice == "auto":
+        return AutoBackground(map_path=map_path)
+    raise ConfigError(
+        f"unknown static world model {choice!r}",
+        hint=f"choose one of: {', '.join(BACKGROUND_CHOICES)}",
+    )
+
+
+def background_of(stages: Sequence[object]) -> object | None:
+    """The static world model among a pipeline's ``stages`` (None without one)."""
+    from laserpeople.pipeline.preprocess import Fuse
+
+    for stage in stages:
+        if not isinstance(stage, Fuse) and "foreground" in provided_by(stage):
+            return stage
+    return None
+
+
+def describe_background(stage: object | None) -> str:
+    """One line for the user naming the static world model of a pipeline."""
+    if stage is None:
+        return "static world model: none (every point is foreground)"
+    describe = getattr(stage, "describe", None)
+    if callable(describe):
+        return str(describe())
+    names = {
+        "BeamHistogramBackground": "per-beam range histogram",
+        "OccupancyGrid": "occupancy grid",
+    }
+    name = type(stage).__name__
+    return f"static world model: {names.get(name, name)}"
+
+
+__all__ = [
+    "BACKGROUND_CHOICES",
+    "AutoBackground",
+    "AutoBackgroundParams",
+    "BackgroundChoice",
+    "background_of",
+    "background_stage",
+    "describe_background",
+    "occupancy_model",
+]

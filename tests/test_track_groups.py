@@ -70,7 +70,8 @@ def test_single_linkage_matches_all_pairs_reference() -> None:
 
 
 def test_single_linkage_chains_links_and_numbers_by_first_point() -> None:
-    pts = np.array([[0, 0], [5, 0], [1, 0], [5.5, 0], [2.0, 0], [3.2, 0]])
+    # links are strictly closer than the threshold (laserpeople.clustering); spacing 0.9
+    pts = np.array([[0, 0], [5, 0], [0.9, 0], [5.5, 0], [1.8, 0], [3.2, 0]])
     np.testing.assert_array_equal(single_linkage(pts, 1.0), [0, 1, 0, 1, 0, 2])
     with pytest.raises(ValueError):
         single_linkage(pts, 0.0)

@@ -56,7 +56,12 @@ def single_linkage(
 
     Returns:
         (N,) int64 labels.
+
+    Raises:
+        ValueError: ``distance`` is not a positive finite number.
     """
+    if not (distance > 0.0 and np.isfinite(distance)):
+        raise ValueError(f"the single-linkage distance must be positive, got {distance}")
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree

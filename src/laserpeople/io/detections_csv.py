@@ -25,6 +25,7 @@ import numpy as np
 
 from laserpeople.detection.features import FEATURE_NAMES
 from laserpeople.errors import RecordingError
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
@@ -48,21 +49,18 @@ class DetectionsCsvWriter:
     def __init__(self, path: str | Path, *, all_segments: bool = False) -> None:
         self.path = Path(path)
         self.all_segments = all_segments
-        try:
-            self._fh: IO[str] = self.path.open("w", newline="", encoding="utf-8")
-        except OSError as exc:
-            raise RecordingError(f"cannot write detections: {exc}", path=self.path) from exc
-        self._writer = csv.writer(self._fh)
-        self._writer.writerow(HEADER + (SEGMENT_COLUMNS if all_segments else ()))
-        self._fh.flush()
+        self._out = ScanLineWriter(
+            self.path, HEADER + (SEGMENT_COLUMNS if all_segments else ()), "detections CSV"
+        )
         self.rows = 0
 
     def write(self, detections: Detections) -> None:
-        """One row per detection (sensor frame)."""
+        """One row per detection (sensor frame); the scan's rows in one ``write()``."""
         if detections.frame != "sensor":
             raise ValueError("detections CSV holds sensor-frame positions")
+        rows = []
         for (x, y), score in zip(detections.positions, detections.scores, strict=True):
-            self._writer.writerow(
+            rows.append(
                 [
                     detections.scan_index,
                     repr(float(detections.stamp)),
@@ -71,8 +69,9 @@ class DetectionsCsvWriter:
                     _num(score),
                 ]
             )
-            self.rows += 1
-        self._fh.flush()
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def write_segments(
         self,
@@ -84,7 +83,9 @@ class DetectionsCsvWriter:
         scores: np.ndarray,
         features: np.ndarray,
     ) -> None:
-        """One row per segment of ``scan`` with its features (the ``--all-segments`` layout)."""
+        """One row per segment of ``scan`` with its features (the ``--all-segments`` layout),
+        all in one ``write()``."""
+        rows = []
         for i in range(centres.shape[0]):
             row: list[Any] = [
                 scan.index,
@@ -98,13 +99,14 @@ class DetectionsCsvWriter:
                 int(bool(is_leg[i])),
             ]
             row.extend(_num(v) for v in features[i])
-            self._writer.writerow(row)
-            self.rows += 1
-        self._fh.flush()
+            rows.append(row)
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def close(self) -> None:
         """Close the file."""
-        self._fh.close()
+        self._out.close()
 
     def __enter__(self) -> DetectionsCsvWriter:
         return self
@@ -114,29 +116,62 @@ class DetectionsCsvWriter:
 
 
 def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int]]:
-    """Rows of a detections CSV as dicts (``scan`` int, others float; empty -> NaN)."""
+    """Rows of a detections CSV as dicts (``scan`` int, others float; empty -> NaN).
+
+    A last scan cut off mid-write is left out with a ``TornScanWarning``.
+
+    Raises:
+        RecordingError: the file is missing, not a detections CSV, not UTF-8, or a row is
+            malformed (the message names the line).
+    """
     p = Path(path)
     try:
         fh = p.open(newline="", encoding="utf-8")
     except OSError as exc:
         raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
-    with fh:
-        reader = csv.DictReader(fh)
-        if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
+    try:
+        with fh:
+            yield from _read_detections(fh, p)
+    except UnicodeDecodeError as exc:
+        raise RecordingError(f"not a text CSV (byte {exc.start} is not UTF-8)", path=p) from exc
+    except (OSError, csv.Error) as exc:
+        raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
+
+
+def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int]]:
+    torn: list[str] = []
+    reader = csv.DictReader(complete_lines(fh, torn))
+    if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
+        raise RecordingError(
+            f"not a detections CSV (header {reader.fieldnames!r:.200})",
+            path=p,
+            hint="expected the header " + ",".join(HEADER),
+        )
+    held: list[dict[str, float | int]] = []
+    for line, row in enumerate(reader, start=2):
+        if None in row or any(v is None for v in row.values()):
             raise RecordingError(
-                f"not a detections CSV (header {reader.fieldnames!r})",
+                f"line {line}: {'more' if None in row else 'fewer'} fields than the header",
                 path=p,
-                hint="expected the header " + ",".join(HEADER),
             )
-        for line, row in enumerate(reader, start=2):
-            try:
-                yield {
-                    k: (
-                        int(v)
-                        if k in ("scan", "segment", "first_beam", "n_beams", "is_leg")
-                        else (float(v) if v != "" else math.nan)
-                    )
-                    for k, v in row.items()
-                }
-            except (TypeError, ValueError) as exc:
-                raise RecordingError(f"line {line}: {exc}", path=p) from exc
+        try:
+            parsed: dict[str, float | int] = {
+                k: (
+                    int(v)
+                    if k in ("scan", "segment", "first_beam", "n_beams", "is_leg")
+                    else (float(v) if v != "" else math.nan)
+                )
+                for k, v in row.items()
+            }
+        except (TypeError, ValueError) as exc:
+            raise RecordingError(f"line {line}: {str(exc)[:100]}", path=p) from exc
+        if held and held[0]["scan"] != parsed["scan"]:
+            yield from held
+            held = []
+        held.append(parsed)
+    if torn:
+        cut = torn_scan(torn)
+        warn_torn(p, cut)
+        if held and cut == held[0]["scan"]:
+            return
+    yield from held

@@ -7,8 +7,10 @@ Header::
 ``scan`` is the 0-based index of the scan on its topic, positions [m] and velocities
 [m/s] are in the frame chosen when writing (``--output-frame``), ``size`` is the
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
-A scan with no tracks writes no row. Because every scan's rows are flushed before the
-next scan is processed, a crash leaves a valid file with the scans done so far.
+A scan with no tracks writes no row. Every scan's rows go to the file in one ``write()``
+before the next scan is processed (:mod:`laserpeople.io.scan_lines`), so a crash or a kill
+leaves a valid file with the scans done so far; a reader that finds the last scan cut off
+anyway (a file cut short) leaves that scan out with a ``TornScanWarning``.
 """
 
 from __future__ import annotations
@@ -17,11 +19,12 @@ import csv
 import math
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any, get_args
+from typing import Any, get_args
 
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
@@ -93,26 +96,20 @@ class TracksCsvWriter:
     def __init__(self, path: str | Path, frame: CoordinateFrame = "world") -> None:
         self.path = Path(path)
         self.frame = frame
-        try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._fh: IO[str] = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115
-        except OSError as exc:
-            raise RecordingError(
-                f"cannot write the tracks CSV: {exc.strerror or exc}",
-                path=self.path,
-                hint="choose a writable file path with -o",
-            ) from exc
-        self._csv = csv.writer(self._fh, lineterminator="\n")
-        self._csv.writerow(HEADER)
-        self._fh.flush()
+        self._out = ScanLineWriter(self.path, HEADER, "tracks CSV")
         self.rows = 0
 
     def write(self, tracks: Tracks) -> None:
-        """Append the rows of one scan and flush them to disk."""
+        """Append the rows of one scan with one ``write()`` (see the module docstring).
+
+        Raises:
+            RecordingError: The write failed (disk full); the file keeps the earlier scans.
+        """
         tracks = convert_tracks(tracks, self.frame)
+        rows = []
         for t in tracks.tracks:
             c = t.covariance
-            self._csv.writerow(
+            rows.append(
                 (
                     tracks.scan_index,
                     f"{tracks.stamp:.6f}",
@@ -129,13 +126,13 @@ class TracksCsvWriter:
                     t.labels,
                 )
             )
-            self.rows += 1
-        self._fh.flush()
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def close(self) -> None:
         """Close the file."""
-        if not self._fh.closed:
-            self._fh.close()
+        self._out.close()
 
     def __enter__(self) -> TracksCsvWriter:
         return self
@@ -144,7 +141,45 @@ class TracksCsvWriter:
         self.close()
 
 
-def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, Track]:
+NAMED_ID_BASE = 2**62
+"""Track ids that are not decimal integers below this get ids from here up (see
+:class:`TrackIdMap`)."""
+
+
+class TrackIdMap:
+    """Integer ids for the ``track_id`` column, which may hold any text.
+
+    A decimal integer ``0 <= id < 2**62`` (what ``laserpeople track`` writes, and 12-digit
+    ids of other tools) is kept as it is; any other text (``"p7"``, ``"-3"``, a 30-digit
+    number, a UUID) gets the next free integer from :data:`NAMED_ID_BASE` up, the same one
+    for every row of the file. :attr:`names` maps those integers back to the text, for
+    reports.
+    """
+
+    def __init__(self) -> None:
+        self._ids: dict[str, int] = {}
+        self.names: dict[int, str] = {}
+
+    def __call__(self, text: str) -> int:
+        """The integer id of ``text`` (raises ValueError for an empty id)."""
+        text = text.strip()
+        if not text:
+            raise ValueError("track_id is empty")
+        if text.isascii() and text.isdigit() and len(text) <= 19:
+            value = int(text)
+            if value < NAMED_ID_BASE:
+                return value
+        known = self._ids.get(text)
+        if known is None:
+            known = NAMED_ID_BASE + len(self._ids)
+            self._ids[text] = known
+            self.names[known] = text
+        return known
+
+
+def _parse_row(
+    row: dict[str, Any], path: Path, line: int, ids: TrackIdMap
+) -> tuple[int, float, Track]:
     if None in row or any(v is None for v in row.values()):
         raise RecordingError(
             f"line {line}: {'more' if None in row else 'fewer'} fields than the header has",
@@ -155,17 +190,24 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
         kind = row["kind"]
         if kind not in get_args(TrackKind):
             raise ValueError(f"kind {kind!r} is not one of {', '.join(TRACK_KINDS)}")
-        cxx, cxy, cyy = float(row["cov_xx"]), float(row["cov_xy"]), float(row["cov_yy"])
+        cxx, cxy, cyy = (_number(row, k, "nan") for k in ("cov_xx", "cov_xy", "cov_yy"))
+        size = int(row.get("size") or 1)
+        if not 0 <= size <= 1_000_000:
+            raise ValueError(f"size {size} is not a number of people")
         track = Track(
-            track_id=int(row["track_id"]),
+            track_id=ids(row["track_id"]),
             kind=kind,
             position=np.array([float(row["x"]), float(row["y"])]),
-            velocity=np.array([float(row.get("vx") or "nan"), float(row.get("vy") or "nan")]),
+            velocity=np.array([_number(row, "vx", "nan"), _number(row, "vy", "nan")]),
             covariance=np.array([[cxx, cxy], [cxy, cyy]]),
-            size=int(row.get("size") or 1),
+            size=size,
             labels=row.get("labels") or "",
         )
         scan, stamp = int(row["scan"]), float(row["stamp"])
+        if not 0 <= scan < NAMED_ID_BASE:
+            raise ValueError(f"scan {scan} is negative or too large")
+        if not math.isfinite(stamp):
+            raise ValueError("stamp is not finite")
     except (KeyError, TypeError, ValueError) as exc:
         raise RecordingError(
             f"line {line}: {exc}",
@@ -175,6 +217,11 @@ def _parse_row(row: dict[str, Any], path: Path, line: int) -> tuple[int, float, 
     if not (math.isfinite(track.position[0]) and math.isfinite(track.position[1])):
         raise RecordingError(f"line {line}: position is not finite", path=path)
     return scan, stamp, track
+
+
+def _number(row: dict[str, Any], key: str, empty: str) -> float:
+    """A float cell (``empty`` when the cell is missing or blank)."""
+    return float(row.get(key) or empty)
 
 
 TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
@@ -212,7 +259,8 @@ def _read_tracks(
     p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None
 ) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
-        reader = csv.DictReader(fh)
+        torn: list[str] = []
+        reader = csv.DictReader(complete_lines(fh, torn))
         columns = reader.fieldnames or []
         missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
         if missing:
@@ -224,8 +272,9 @@ def _read_tracks(
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1
+        ids = TrackIdMap()
         for line, row in enumerate(reader, start=2):
-            scan, stamp, track = _parse_row(row, p, line)
+            scan, stamp, track = _parse_row(row, p, line, ids)
             if key is None or scan != key[0]:
                 if scan <= last:
                     raise RecordingError(
@@ -241,5 +290,10 @@ def _read_tracks(
                 last = scan
             if kinds is None or track.kind in kinds:
                 current.append(track)
+        if torn:
+            cut = torn_scan(torn)
+            warn_torn(p, cut)
+            if key is not None and cut == key[0]:
+                return
         if key is not None and current:
             yield Tracks(key[1], key[0], tuple(current), frame)

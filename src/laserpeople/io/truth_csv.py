@@ -5,7 +5,8 @@ Header (extra columns are ignored; ``group_id`` is optional)::
     scan,stamp,person_id,x,y[,group_id]
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
-time [s], ``x, y`` the person's position [m] in the world frame, ``group_id`` the group
+time [s], ``person_id`` any text (numbered as the tracks CSV numbers track ids, see
+:class:`~laserpeople.io.tracks_csv.TrackIdMap`), ``x, y`` the person's position [m] in the world frame, ``group_id`` the group
 (-1 or empty: walks alone). The annotation may be sparse: only scans that appear in the
 file are scored. A scan that was annotated and holds nobody is one row with ``person_id``,
 ``x`` and ``y`` empty. Rows may come in any order; they are grouped by scan.
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import RecordingError
+from laserpeople.io.tracks_csv import NAMED_ID_BASE, TrackIdMap
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
@@ -71,8 +73,9 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
                 path=p,
                 hint=f"expected header {','.join(REQUIRED)}[,group_id]",
             )
+        ids = TrackIdMap()
         for line, row in enumerate(reader, start=2):
-            scan, stamp, person = _parse_row(row, p, line)
+            scan, stamp, person = _parse_row(row, p, line, ids)
             stamp_seen, people = scans.setdefault(scan, (stamp, []))
             if abs(stamp_seen - stamp) > STAMP_TOLERANCE:
                 raise RecordingError(
@@ -118,7 +121,7 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
 
 
 def _parse_row(
-    row: dict[str, str | None], path: Path, line: int
+    row: dict[str, str | None], path: Path, line: int, ids: TrackIdMap
 ) -> tuple[int, float, tuple[int, float, float, int] | None]:
     def cell(key: str) -> str:
         value = row.get(key)
@@ -139,26 +142,26 @@ def _parse_row(
             raise ValueError(f"{len(extra)} more field(s) than the header has columns")
         scan = int(number("scan", int))
         stamp = float(number("stamp", float))
-        if scan < 0:
-            raise ValueError(f"scan {scan} is negative")
+        if not 0 <= scan < NAMED_ID_BASE:
+            raise ValueError(f"scan {scan} is negative or too large")
         if not math.isfinite(stamp):
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
-        person = int(number("person_id", int))
-        if person < 0:
-            raise ValueError(f"person_id {person} is negative")
+        person = ids(cell("person_id"))
         x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
         group_text = cell("group_id")
         group = int(number("group_id", int)) if group_text else NONE_ID
+        if group >= NAMED_ID_BASE:
+            raise ValueError(f"group_id {group} is larger than {NAMED_ID_BASE - 1}")
         group = max(group, NONE_ID)
     except ValueError as exc:
         raise RecordingError(
             f"line {line}: {exc}",
             path=path,
-            hint="each row is scan (int), stamp (s), person_id (int), x, y (m) "
+            hint="each row is scan (int), stamp (s), person_id, x, y (m) "
             "[, group_id]; an empty scan is scan,stamp,,,",
         ) from exc
     return scan, stamp, (person, x, y, group)

@@ -8,7 +8,14 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from laserpeople.cli.common import console, ignored_sections, progress, say
+from laserpeople.cli.common import (
+    OnErrorOption,
+    console,
+    ignored_sections,
+    progress,
+    report_damage,
+    say,
+)
 from laserpeople.cli.track import make_detector, tracker_param_classes
 from laserpeople.config import check_sections
 from laserpeople.detection.report import Confusion, error_table
@@ -56,6 +63,7 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--config", help="TOML file with [leg_detector] parameters."),
         ] = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         from laserpeople.detection.detector import (
             AdaBoostLegDetector,
@@ -65,7 +73,9 @@ def register(app: typer.Typer) -> None:
         )
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.io import open_recording
+        from laserpeople.io.damage import check_on_error
         from laserpeople.io.detections_csv import DetectionsCsvWriter
+        from laserpeople.io.paths import check_outputs
 
         topic = topic or []
         ignored_sections(
@@ -79,7 +89,8 @@ def register(app: typer.Typer) -> None:
             if report
             else None
         )
-        rec = open_recording(recording)
+        check_outputs({"-o": output}, [recording, model, config])
+        rec = open_recording(recording, on_error=check_on_error(on_error))
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
@@ -115,6 +126,7 @@ def register(app: typer.Typer) -> None:
                         truth_ada.append(Confusion.of(np.where(result.is_leg[ok], 1, -1), truth))
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
         finally:
+            report_damage(rec)
             rec.close()
         say(
             f"{counts['scans']} scans, {counts['segments']} segments "

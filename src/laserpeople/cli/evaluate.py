@@ -13,6 +13,7 @@ from rich.table import Table
 from laserpeople.cli.common import console, progress, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
 from laserpeople.evaluation import EvaluationParams, EvaluationReport, evaluate
+from laserpeople.io.paths import check_outputs
 from laserpeople.io.tracks_csv import iter_tracks_csv
 from laserpeople.io.truth_csv import read_truth_csv
 from laserpeople.truth import TruthFrame
@@ -103,6 +104,7 @@ def register(app: typer.Typer) -> None:
             raise EvaluationError(
                 "--per-frame is a directory", path=per_frame, hint="give a file name ending .csv"
             )
+        check_outputs({"--per-frame": per_frame}, [tracks, truth])
         track_stream = iter_tracks_csv(tracks, frame="world", kinds=(params.kind,))  # type: ignore[arg-type]
         run = evaluate(
             progress(truth_frames(truth), description="frames"),

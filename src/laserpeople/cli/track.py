@@ -10,15 +10,18 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    OnErrorOption,
     WorldFrameOption,
     ignored_sections,
     open_with_poses,
     progress,
+    report_damage,
     say,
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.io import RecordingSource
+from laserpeople.io.paths import check_outputs
 from laserpeople.scan import CoordinateFrame, Scan
 from laserpeople.tracks import Detections
 
@@ -83,6 +86,7 @@ def run_tracking(
     mounts: list[str] | None = None,
     plot: Path | None = None,
     animate: Path | None = None,
+    on_error: str = "stop",
 ) -> dict[str, float]:
     """Track every scan of one topic of ``recording`` and write ``output``; then, when
     given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
@@ -99,7 +103,8 @@ def run_tracking(
     tracker = entry.factory(params)
     if detector is None:
         detector = make_detector("adaboost", None, config)
-    rec = open_with_poses(recording, world_frame, mounts or [])
+    check_outputs({"-o": output, "--plot": plot, "--animate": animate}, [recording, config])
+    rec = open_with_poses(recording, world_frame, mounts or [], on_error)
     times: list[float] = []
     rows = 0
     leg_ids: set[int] = set()
@@ -125,12 +130,13 @@ def run_tracking(
     finally:
         if writer is not None:
             writer.close()
+        report_damage(rec)
         rec.close()
     if writer is None:  # no scan at all: still leave a valid, empty file
         with TracksCsvWriter(output, frame=written_frame):
             pass
     if plot is not None or animate is not None:
-        source = open_with_poses(recording, world_frame, mounts or [])
+        source = open_with_poses(recording, world_frame, mounts or [], on_error)
         try:
             draw_tracks(source, output, name, written_frame, plot, animate)
         finally:
@@ -227,6 +233,7 @@ def register(app: typer.Typer) -> None:
                 "--print-config", help="Print the parameters with their sources and exit."
             ),
         ] = False,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
@@ -253,6 +260,7 @@ def register(app: typer.Typer) -> None:
         frame: CoordinateFrame | None = (
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
+        check_outputs({"-o": output, "--plot": plot, "--animate": animate}, [model])
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,
@@ -266,6 +274,7 @@ def register(app: typer.Typer) -> None:
             mount or [],
             plot=plot,
             animate=animate,
+            on_error=on_error,
         )
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

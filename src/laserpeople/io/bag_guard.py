@@ -69,7 +69,7 @@ def _limited(declared: int | None, error: type[Exception]) -> int:
 
 
 def _lz4(data: bytes, declared: int | None, error: type[Exception]) -> bytes:
-    import lz4.frame
+    import lz4.frame  # type: ignore[import-untyped]
 
     limit = _limited(declared, error)
     dec = lz4.frame.LZ4FrameDecompressor()
@@ -92,7 +92,7 @@ def _zstd(data: bytes, declared: int | None, error: type[Exception]) -> bytes:
     try:
         from compression import zstd  # type: ignore[import-not-found]
     except ImportError:
-        from backports import zstd  # type: ignore[import-not-found,no-redef]
+        from backports import zstd
 
     limit = _limited(declared, error)
     dec = zstd.ZstdDecompressor()
@@ -147,20 +147,22 @@ def install() -> None:
     from rosbags.rosbag2 import storage_mcap as mc
 
     e1, e2 = r1.ReaderError, mc.ReaderError
+    m1: Any = r1  # the modules are patched in place: no static types for that
+    m2: Any = mc
     if hasattr(r1, "read_bytes"):
-        r1.read_bytes = _bounded_read(e1)
+        m1.read_bytes = _bounded_read(e1)
     if hasattr(r1, "decompressors"):
-        r1.decompressors = {
+        m1.decompressors = {
             **r1.decompressors,
             "lz4": _guard(lambda d: _lz4(d, None, e1), e1),
             "bz2": _guard(lambda d: _bz2(d, None, e1), e1),
         }
     if hasattr(r1, "Reader") and hasattr(r1.Reader, "read_index_data"):
-        r1.Reader.read_index_data = _guarded_index_read(r1.Reader.read_index_data, e1)
+        m1.Reader.read_index_data = _guarded_index_read(r1.Reader.read_index_data, e1)
     if hasattr(mc, "read_exact"):
-        mc.read_exact = _bounded_read(e2)
+        m2.read_exact = _bounded_read(e2)
     if hasattr(mc, "DECOMPRESSORS"):
-        mc.DECOMPRESSORS = {
+        m2.DECOMPRESSORS = {
             **mc.DECOMPRESSORS,
             "lz4": _guard(lambda d, n: _lz4(d, n, e2), e2),
             "zstd": _guard(lambda d, n: _zstd(d, n, e2), e2),

@@ -188,8 +188,16 @@ def _check_layout(a: dict[str, NDArray[Any]], path: Path) -> None:
     f = a["truth_stamp"].shape[0] if a["truth_stamp"].ndim == 1 else -1
     if f < 0:
         raise bad("truth_stamp must be one-dimensional")
-    need = ("truth_scan_index", "truth_offset", "truth_person_id", "truth_xy", "truth_vxy")
-    need += ("truth_group", "truth_legs", "truth_hue")
+    need = (
+        "truth_scan_index",
+        "truth_offset",
+        "truth_person_id",
+        "truth_xy",
+        "truth_vxy",
+        "truth_group",
+        "truth_legs",
+        "truth_hue",
+    )
     missing = [key for key in need if key not in a]
     if missing:
         raise bad(f"truth lacks {', '.join(missing)}")

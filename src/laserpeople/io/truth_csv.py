@@ -6,9 +6,9 @@ Header (extra columns are ignored; ``group_id`` is optional)::
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
 time [s], ``person_id`` any text (numbered as the tracks CSV numbers track ids, see
-:class:`~laserpeople.io.tracks_csv.TrackIdMap`), ``x, y`` the person's position [m] in the world frame, ``group_id`` the group
-(-1 or empty: walks alone). The annotation may be sparse: only scans that appear in the
-file are scored. A scan that was annotated and holds nobody is one row with ``person_id``,
+:class:`~laserpeople.io.tracks_csv.TrackIdMap`), ``x, y`` the person's position [m] in the
+world frame, ``group_id`` the group (-1 or empty: walks alone). The annotation may be
+sparse: only scans that appear in the file are scored. A scan that was annotated and holds nobody is one row with ``person_id``,
 ``x`` and ``y`` empty. Rows may come in any order; they are grouped by scan.
 """
 
@@ -73,9 +73,9 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
                 path=p,
                 hint=f"expected header {','.join(REQUIRED)}[,group_id]",
             )
-        ids = TrackIdMap()
+        id_map = TrackIdMap()
         for line, row in enumerate(reader, start=2):
-            scan, stamp, person = _parse_row(row, p, line, ids)
+            scan, stamp, person = _parse_row(row, p, line, id_map)
             stamp_seen, people = scans.setdefault(scan, (stamp, []))
             if abs(stamp_seen - stamp) > STAMP_TOLERANCE:
                 raise RecordingError(

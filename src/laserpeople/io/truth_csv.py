@@ -9,7 +9,8 @@ time [s], ``person_id`` any text (numbered as the tracks CSV numbers track ids, 
 :class:`~laserpeople.io.tracks_csv.TrackIdMap`), ``x, y`` the person's position [m] in the
 world frame, ``group_id`` the group (-1 or empty: walks alone). The annotation may be
 sparse: only scans that appear in the file are scored. A scan that was annotated and holds
-nobody is one row with ``person_id``, ``x`` and ``y`` empty. Rows may come in any order; they are grouped by scan.
+nobody is one row with ``person_id``, ``x`` and ``y`` empty. Rows may come in any order;
+they are grouped by scan.
 """
 
 from __future__ import annotations

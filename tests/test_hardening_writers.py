@@ -184,7 +184,7 @@ def test_evaluate_scores_text_track_ids(tmp_path: Path) -> None:
     from laserpeople.io.truth_csv import read_truth_csv
 
     truth = tmp_path / "truth.csv"
-    truth.write_text("scan,stamp,person_id,x,y\n0,0.0,alice,1,1\n1,0.1,alice,1.1,1\n")
+    truth.write_text("scan,stamp,person_id,x,y\n0,0.0,7,1,1\n1,0.1,7,1.1,1\n")
     tracks = tmp_path / "t.csv"
     tracks.write_text(
         "scan,stamp,track_id,kind,x,y,vx,vy,cov_xx,cov_xy,cov_yy,size,labels\n"

@@ -174,11 +174,11 @@ def _check_layout(a: dict[str, NDArray[Any]], path: Path) -> None:
     index = np.asarray(a["scan_index"], dtype=np.int64)
     for s in np.unique(sensor):
         own = index[sensor == s]
-        if own.size and (own[0] < 0 or np.any(np.diff(own) <= 0)):
-            at = int(np.argmax(np.diff(own) <= 0)) + 1 if own.size > 1 else 0
+        if own.size and (own.min() < 0 or np.any(np.diff(own) < 0)):
+            at = int(np.argmax(np.diff(own) < 0)) + 1 if own.size > 1 else 0
             raise bad(
-                f"scan_index of sensor {str(names[s])!r} is not increasing from 0 or more "
-                f"(position {at})"
+                f"scan_index of sensor {str(names[s])!r} is negative or goes back "
+                f"(at its scan number {at})"
             )
     for key in ("intensities", *(f"beam_{x}" for x in _LABEL_KEYS)):
         if key in a and (a[key].shape != ranges.shape or a[key].dtype.kind not in "fiub"):

@@ -5,8 +5,7 @@ Header (extra columns are ignored; ``group_id`` is optional)::
     scan,stamp,person_id,x,y[,group_id]
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
-time [s], ``person_id`` any text (numbered as the tracks CSV numbers track ids, see
-:class:`~laserpeople.io.tracks_csv.TrackIdMap`), ``x, y`` the person's position [m] in the
+time [s], ``person_id`` an integer ``0 <= id < 2**62``, ``x, y`` the person's position [m] in the
 world frame, ``group_id`` the group (-1 or empty: walks alone). The annotation may be
 sparse: only scans that appear in the file are scored. A scan that was annotated and holds
 nobody is one row with ``person_id``, ``x`` and ``y`` empty. Rows may come in any order;
@@ -23,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import RecordingError
-from laserpeople.io.tracks_csv import NAMED_ID_BASE, TrackIdMap
+from laserpeople.io.tracks_csv import NAMED_ID_BASE
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
@@ -74,9 +73,8 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
                 path=p,
                 hint=f"expected header {','.join(REQUIRED)}[,group_id]",
             )
-        id_map = TrackIdMap()
         for line, row in enumerate(reader, start=2):
-            scan, stamp, person = _parse_row(row, p, line, id_map)
+            scan, stamp, person = _parse_row(row, p, line)
             stamp_seen, people = scans.setdefault(scan, (stamp, []))
             if abs(stamp_seen - stamp) > STAMP_TOLERANCE:
                 raise RecordingError(
@@ -122,7 +120,7 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
 
 
 def _parse_row(
-    row: dict[str, str | None], path: Path, line: int, ids: TrackIdMap
+    row: dict[str, str | None], path: Path, line: int
 ) -> tuple[int, float, tuple[int, float, float, int] | None]:
     def cell(key: str) -> str:
         value = row.get(key)
@@ -149,7 +147,9 @@ def _parse_row(
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
-        person = ids(cell("person_id"))
+        person = int(number("person_id", int))
+        if not 0 <= person < NAMED_ID_BASE:
+            raise ValueError(f"person_id {person} is negative or too large")
         x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
@@ -162,7 +162,7 @@ def _parse_row(
         raise RecordingError(
             f"line {line}: {exc}",
             path=path,
-            hint="each row is scan (int), stamp (s), person_id, x, y (m) "
+            hint="each row is scan (int), stamp (s), person_id (int), x, y (m) "
             "[, group_id]; an empty scan is scan,stamp,,,",
         ) from exc
     return scan, stamp, (person, x, y, group)

@@ -208,7 +208,8 @@ def test_check_outputs_refuses_an_input(tmp_path: Path) -> None:
     os.link(rec, hard)
     folder = tmp_path / "bag"
     folder.mkdir()
-    for out in (rec, tmp_path / "." / "r.npz", link, hard, folder / "metadata.yaml"):
+    (folder / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    for out in (rec, tmp_path / "." / "r.npz", link, hard, folder / "out.csv"):
         with pytest.raises(ConfigError, match=f"would write over the input .*{rec.name}|bag"):
             check_outputs({"-o": out}, [rec, folder])
     with pytest.raises(ConfigError, match="are the same file"):

@@ -2,7 +2,7 @@
 
 :func:`check_outputs` refuses an output that is one of the command's inputs (the same
 file under another name included: the paths are resolved and, when both exist, compared
-by device and inode), lies inside an input folder (a ROS 2 bag folder), or is given twice
+by device and inode), lies inside an input ROS 2 bag folder, or is given twice
 as output. Commands call it before they open anything for writing, so that
 ``laserpeople track X.npz -o X.npz`` stops with a message instead of truncating the
 recording it is about to read.
@@ -54,7 +54,8 @@ def check_outputs(
         if str(out) in ("-", "/dev/null") or out.is_char_device():
             continue
         for src in sources:
-            inside = src.is_dir() and _resolved(src) in _resolved(out).parents
+            bag_folder = src.is_dir() and (src / "metadata.yaml").is_file()
+            inside = bag_folder and _resolved(src) in _resolved(out).parents
             if same_file(out, src) or inside:
                 raise ConfigError(
                     f"{name} {out} would write over the input {src}",

@@ -11,6 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
+from laserpeople.detection.features import FEATURE_NAMES
 from laserpeople.detection.training import (
     LabelledSegments,
     leg_tracker_positive,
@@ -21,6 +22,8 @@ from laserpeople.io import open_recording
 from laserpeople.io.detections_csv import HEADER, SEGMENT_COLUMNS, iter_detections_csv
 from laserpeople.io.neko import read_neko
 from laserpeople.segmentation import JumpDistanceParams, JumpDistanceSegmenter
+
+FEATURE_COLUMNS = tuple(f"f{i + 1}_{name}" for i, name in enumerate(FEATURE_NAMES))
 
 LT = "leg_tracker/rosbags/training_scans_res=0.33"
 
@@ -93,7 +96,7 @@ def test_cli_detect_writes_csv(shared_data: Path, tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     with out.open() as fh:
         rows = list(csv.reader(fh))
-    assert tuple(rows[0]) == HEADER
+    assert tuple(rows[0]) == (*HEADER, "topic")
     assert len(rows) > 83  # at least about one leg per scan
     parsed = list(iter_detections_csv(out))
     assert {r["scan"] for r in parsed} <= set(range(83))
@@ -104,7 +107,7 @@ def test_cli_detect_writes_csv(shared_data: Path, tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     rows2 = list(iter_detections_csv(allseg))
-    assert set(rows2[0]) == set(HEADER + SEGMENT_COLUMNS)
+    assert set(rows2[0]) == {*HEADER, *SEGMENT_COLUMNS, *FEATURE_COLUMNS, "topic"}
     assert sum(int(r["is_leg"]) for r in rows2) == len(rows) - 1
 
 

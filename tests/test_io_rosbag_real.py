@@ -1,13 +1,16 @@
-"""Every bag in ../shared/data read through RosbagRecording, checked against the raw messages
-decoded with rosbags directly and against the counts stated in the data README.
+"""Every known bag in ../shared/data read through RosbagRecording, checked against the raw
+messages decoded with rosbags directly and against the counts stated in the data README.
 
 Each bag is decoded once by the reader (module fixture); the raw check decodes only the
-sampled messages.
+sampled messages. The tests check the recordings listed in EXPECTED; a bag that appears under
+../shared/data later is reported (a warning naming it) and otherwise left alone, so new data
+never turns these tests red. A listed bag that is missing still fails.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -66,7 +69,27 @@ EXPECTED: dict[str, dict[str, tuple[int, int, float]]] = {
         "front_laser_link": (737, 541, INC_MIR),
         "back_laser_link": (737, 541, INC_MIR),
     },
+    # leg_tracker_benchmarks/: 3,600 scans, 245 beams over 86 deg (0.352 deg), 10 Hz
+    "person_following_outdoor_1_first.bag": {"/scan_base2": (3600, 245, INC_033)},
 }
+
+
+def known_bags(shared_data: Path) -> list[Path]:
+    """The bags under ``shared_data`` that EXPECTED describes; every other bag is named in a
+    warning (new data is reported, not failed on). A bag EXPECTED lists but the directory
+    lacks fails: data the tests rely on was removed."""
+    found = sorted(shared_data.rglob("*.bag"))
+    unknown = [p for p in found if p.name not in EXPECTED]
+    if unknown:
+        names = ", ".join(str(p.relative_to(shared_data)) for p in unknown)
+        warnings.warn(
+            f"bags under {shared_data} that the real-data tests do not know (not checked; "
+            f"add them to EXPECTED in {Path(__file__).name}): {names}",
+            stacklevel=2,
+        )
+    missing = set(EXPECTED) - {p.name for p in found}
+    assert not missing, f"bags listed in EXPECTED are missing under {shared_data}: {missing}"
+    return [p for p in found if p.name in EXPECTED]
 
 
 @dataclass
@@ -110,17 +133,15 @@ def _read(path: Path) -> ReadResult:
 
 @pytest.fixture(scope="module")
 def bags(shared_data: Path) -> dict[str, ReadResult]:
-    paths = sorted(shared_data.rglob("*.bag"))
-    assert paths, f"no bags under {shared_data}"
-    return {p.name: _read(p) for p in paths}
+    return {p.name: _read(p) for p in known_bags(shared_data)}
 
 
 def _stamp(msg: Any) -> float:
     return msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
 
 
-def test_every_bag_is_known_and_read(bags: dict[str, ReadResult]) -> None:
-    assert set(bags) == set(EXPECTED), "a bag was added or removed: extend EXPECTED"
+def test_every_known_bag_is_read(bags: dict[str, ReadResult]) -> None:
+    assert set(bags) == set(EXPECTED)
     for name, result in bags.items():
         for topic, (n, beams, _) in EXPECTED[name].items():
             assert len(result.stamps[topic]) == n, (name, topic)
@@ -142,7 +163,7 @@ def test_readme_totals(bags: dict[str, ReadResult]) -> None:
 
 
 def test_expected_table_matches_bag_indices(shared_data: Path) -> None:
-    for path in sorted(shared_data.rglob("*.bag")):
+    for path in known_bags(shared_data):
         with AnyReader([path]) as reader:
             lasers = {
                 c.topic: c.msgcount
@@ -198,7 +219,7 @@ def test_sampled_scans_equal_raw_messages(bags: dict[str, ReadResult]) -> None:
                     np.testing.assert_array_equal(scan.valid, valid)
                     assert scan.source == str(result.path)
                     checked += 1
-    assert checked >= 4 * 21
+    assert checked >= 4 * 22
 
 
 def test_mir_negative_increment_angles_and_points(bags: dict[str, ReadResult]) -> None:
@@ -359,3 +380,18 @@ def test_open_recording_dispatches_bags(shared_data: Path) -> None:
         assert first.sensor == "/scan" and first.index == 0
     finally:
         rec.close()
+
+
+def test_an_unknown_bag_is_reported_not_failed(tmp_path: Path) -> None:
+    """A bag the table does not know, beside the known ones, gives a warning naming it."""
+    for name in EXPECTED:
+        (tmp_path / name).write_bytes(b"")
+    (tmp_path / "new").mkdir()
+    (tmp_path / "new" / "brand_new.bag").write_bytes(b"")
+    with pytest.warns(UserWarning, match=r"new/brand_new\.bag"):
+        paths = known_bags(tmp_path)
+    assert sorted(p.name for p in paths) == sorted(EXPECTED)
+    (tmp_path / "negative_2.bag").unlink()
+    with pytest.raises(AssertionError, match=r"negative_2\.bag"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        known_bags(tmp_path)

@@ -106,7 +106,10 @@ def test_bag_options_on_other_recordings_are_an_error(recording: Path, tmp_path:
 def test_print_config_shows_sources() -> None:
     result = CliRunner().invoke(app, ["track", "--print-config"])
     assert result.exit_code == 0, result.output
-    assert "p_occ_approved = 0.79" in result.output and "000 Table 10" in result.output
+    assert (
+        "p_occ_approved = 0.79" in result.output and "Arras et al. 2008 Table 10" in result.output
+    )
+    assert "# P(" in result.output and " 000 " not in result.output and "004" not in result.output
     assert "[leg_detector]" in result.output
 
 

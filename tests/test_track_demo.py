@@ -12,7 +12,7 @@ def test_demo_people_tracked_well_and_better_than_nn(tmp_path: Path) -> None:
     """Walking pair, loner and standing person: the person tracks are close to the leg
     mid-points (MOTP), most person frames are covered (MOTA) and no worse than the
     nearest-neighbour baseline with the same person layer; few identity switches."""
-    from laserpeople.viz.demo import run_demo
+    from laserpeople.demo import run_demo
 
     result = run_demo(tmp_path, seed=0, gif=False)
     scores = {s.name: s.summary for s in result.scores}

@@ -187,7 +187,7 @@ class SplitModels:
         self.p_split = p_split
         self.must_match: set[int] = set()
 
-    def branches(self, tracks, gate_row):  # type: ignore[no-untyped-def]
+    def branches(self, tracks, gate_row, meas_idx):  # type: ignore[no-untyped-def]
         from laserpeople.tracking.mht.protocols import Branch
 
         out = [Branch(math.log(1 - self.p_split), tracks, 0)]

@@ -79,9 +79,10 @@ def test_demo_runs_end_to_end(tmp_path: Path) -> None:
 
 
 def test_demo_runs_every_registered_tracker_leg_mht_first() -> None:
+    from laserpeople.demo import MAIN_TRACKER, tracker_factories
     from laserpeople.tracking import registry
-    from laserpeople.viz.demo import MAIN_TRACKER, tracker_factories
 
     names = [name for name, _make in tracker_factories()]
     assert names[0] == MAIN_TRACKER
-    assert sorted(names) == sorted(registry.TRACKERS)
+    leg_fed = [n for n, e in registry.TRACKERS.items() if e.consumes == frozenset({"legs"})]
+    assert sorted(names) == sorted(leg_fed)

@@ -24,6 +24,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar, get_type_hints
 
+from laserpeople.citations import cite
 from laserpeople.errors import ConfigError
 
 T = TypeVar("T")
@@ -258,10 +259,11 @@ def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:
 
 
 def to_toml(obj: Any) -> str:
-    """The parameters of ``obj`` as a TOML section with their sources as comments."""
+    """The parameters of ``obj`` as a TOML section with their sources as comments (papers
+    named by their authors, :func:`laserpeople.citations.cite`)."""
     lines = [f"[{section_name(type(obj))}]"]
     for name, value, unit, source, doc in describe(obj):
-        comment = "; ".join(x for x in (doc, f"[{unit}]" if unit else "", source) if x)
+        comment = cite("; ".join(x for x in (doc, f"[{unit}]" if unit else "", source) if x))
         lines.append(f"{name} = {_toml_value(value)}" + (f"  # {comment}" if comment else ""))
     return "\n".join(lines) + "\n"
 

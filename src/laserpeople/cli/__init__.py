@@ -4,16 +4,22 @@ Each command lives in its own module of this package and registers itself with
 :data:`app` through a ``register(app)`` function, so that commands stay small and
 independent. Errors a user can cause (:class:`~laserpeople.errors.LaserPeopleError`)
 are printed as one line and exit with status 1; ``--debug`` shows the traceback.
+
+Start-up stays fast (``laserpeople --help`` well under 0.3 s): the command modules import
+numpy, scipy, the readers and the plotting libraries inside the command functions, never at
+module level (``benchmarks/bench_startup.py`` measures it).
 """
 
 from __future__ import annotations
 
 import sys
+from typing import Any
 
 import typer
-from rich.markup import escape
+from typer.core import TyperArgument, TyperGroup
 
 from laserpeople.cli import (
+    align,
     bench,
     demo,
     detect,
@@ -28,9 +34,63 @@ from laserpeople.cli import (
 from laserpeople.cli.common import STATE, err_console
 from laserpeople.errors import LaserPeopleError
 
+GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
+"""Flags of the whole program that are also accepted after the command name."""
+
+HELP = (
+    "Detect and track people and their legs in 2D laser range scans (Arras et al. 2008), "
+    "simulate scenes with ground truth, and score tracks (CLEAR MOT, IDF1, the adapted MOTP "
+    "of Schenk et al. 2011). Groups: the simulator walks people in groups and `evaluate` "
+    "scores group tracks, but the group tracker is coming, not in this version."
+)
+
+
+def hoist_global_flags(args: list[str]) -> list[str]:
+    """``args`` with the global flags that follow the command name moved in front of it
+    (``laserpeople track x.bag --quiet`` = ``laserpeople --quiet track x.bag``); anything
+    after ``--`` is left alone."""
+    if "--" in args:
+        cut = args.index("--")
+        head, tail = args[:cut], args[cut:]
+    else:
+        head, tail = args, []
+    flags = [a for a in head if a in GLOBAL_FLAGS]
+    rest = [a for a in head if a not in GLOBAL_FLAGS]
+    return [*flags, *rest, *tail]
+
+
+def _usage_name(param: TyperArgument) -> Any:
+    """Usage text of an argument: ``NAME`` when required, ``[NAME]`` when optional,
+    ``...`` when repeatable (the same for every command)."""
+
+    def show() -> str:
+        name = (param.metavar or param.name or "").upper()
+        name = name if param.required else f"[{name}]"
+        return name + ("..." if param.nargs != 1 else "")
+
+    return show
+
+
+class LaserPeopleGroup(TyperGroup):
+    """The command group: global flags after the command name, one style of usage line."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        for command in self.commands.values():
+            for param in command.params:
+                if isinstance(param, TyperArgument):
+                    param.metavar = (param.metavar or param.name or "").upper()
+                    # typer writes required arguments as {name}; the instance attribute
+                    # makes every usage line read NAME / [NAME] / NAME...
+                    param._usage_display_name = _usage_name(param)  # type: ignore[method-assign]
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        return super().parse_args(ctx, hoist_global_flags(list(args)))
+
+
 app = typer.Typer(
     name="laserpeople",
-    help="Detect and track people, legs and groups of people in 2D laser range scans.",
+    cls=LaserPeopleGroup,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
@@ -39,27 +99,71 @@ app = typer.Typer(
 )
 
 
-@app.callback()
+def version() -> str:
+    """The installed version of laserpeople (the package's own when not installed)."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed
+
+    try:
+        return installed("laserpeople")
+    except PackageNotFoundError:
+        from laserpeople import __version__
+
+        return __version__
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"laserpeople {version()}")
+        raise typer.Exit()
+
+
+@app.callback(help=HELP)
 def _global_options(
-    debug: bool = typer.Option(False, "--debug", help="Show full tracebacks on errors."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bars or chatter."),
+    debug: bool = typer.Option(
+        False, "--debug", help="Show full tracebacks on errors (also after the command)."
+    ),
+    quiet: bool = typer.Option(
+        False, "--quiet", "-q", help="No progress or status lines (also after the command)."
+    ),
+    show_version: bool = typer.Option(
+        False,
+        "--version",
+        help="Print the version and exit.",
+        is_eager=True,
+        callback=_print_version,
+    ),
 ) -> None:
-    """Detect and track people, legs and groups of people in 2D laser range scans."""
+    """Global flags (the program's help text is :data:`HELP`)."""
     STATE.debug = debug
     STATE.quiet = quiet
 
 
-for _module in (info, simulate, scenarios, detect, train, track, evaluate, bench, view, demo):
+for _module in (
+    info,
+    simulate,
+    scenarios,
+    detect,
+    train,
+    track,
+    evaluate,
+    bench,
+    view,
+    demo,
+    align,
+):
     _module.register(app)
 
 
 def main() -> None:
     """Entry point of the ``laserpeople`` command."""
     try:
-        app()
+        app(prog_name="laserpeople")
     except LaserPeopleError as exc:
         if STATE.debug:
             raise
+        from rich.markup import escape
+
         err_console.print(
             f"[bold red]error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True
         )

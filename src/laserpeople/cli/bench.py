@@ -6,15 +6,16 @@ import itertools
 import json
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import OnErrorOption, console, progress, say
 from laserpeople.errors import ConfigError, LaserPeopleError
-from laserpeople.scan import Scan
-from laserpeople.tracking.registry import TrackerEntry
+
+if TYPE_CHECKING:
+    from laserpeople.scan import Scan
+    from laserpeople.tracking.registry import TrackerEntry
 
 
 def register(app: typer.Typer) -> None:
@@ -91,12 +92,26 @@ def register(app: typer.Typer) -> None:
             timings.append(time_reading("read", stream, repeat))
             source = str(recording)
         say(f"timing {len(scans)} scans of {source}, {repeat} passes per stage")
-        det = make_detector(detector, None, None)
-        detections = [det.detect(s) for s in scans]
+        from laserpeople.pipeline import (
+            FrameChooser,
+            Pipeline,
+            laser_frames,
+            observe_stages_for,
+        )
+
+        # the frames the trackers see: the pipeline's, observed once for all of them
+        consumes = frozenset().union(*(e.consumes for e in entries))
+        preprocess, observe_stages = observe_stages_for(
+            consumes, make_detector(detector, None, None)
+        )
+        observe = Pipeline(
+            FrameChooser()(laser_frames(scans)), preprocess=preprocess, observe=observe_stages
+        )
+        frames = [step.frame for step in observe]
         stages: list[tuple[str, Callable[[], Callable[[Any], object]], Sequence[Any]]] = [
             ("detect", lambda: make_detector(detector, None, None).detect, scans)
         ]
-        stages += [(f"track {e.name}", _fresh_update(e), detections) for e in entries]
+        stages += [(f"track {e.name}", _fresh_update(e), frames) for e in entries]
         for name, make_step, items in progress(stages, len(stages), "stages"):
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
@@ -113,6 +128,8 @@ def register(app: typer.Typer) -> None:
                 )
             )
             return
+        from rich.table import Table
+
         table = Table(title=f"{source}: {len(scans)} scans, {scans[0].n_beams} beams")
         for col in ("stage", "median ms/scan", "p95 ms/scan", "scans/s"):
             table.add_column(col, justify="left" if col == "stage" else "right")
@@ -123,5 +140,6 @@ def register(app: typer.Typer) -> None:
 
 
 def _fresh_update(entry: TrackerEntry) -> Callable[[], Callable[[Any], object]]:
-    """A maker of a new tracker's ``update`` with default parameters, one per timing pass."""
-    return lambda: entry.factory(entry.params_cls()).update
+    """A maker of a new tracker's ``update(frame)`` with default parameters, one per timing
+    pass."""
+    return lambda: entry.make().update

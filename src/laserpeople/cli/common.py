@@ -1,4 +1,10 @@
-"""What every command shares: global flags, consoles and the progress bar."""
+"""What every command shares: global flags, consoles and the progress bar.
+
+Output that is not a terminal (a pipe, a log file, a test runner) is never folded: status
+lines stay one line whatever the path length, and tables are laid out for
+:data:`PIPE_WIDTH` columns whatever ``COLUMNS`` says. On a terminal rich sizes everything
+to the window as usual.
+"""
 
 from __future__ import annotations
 
@@ -7,24 +13,15 @@ import time
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
-from rich.console import Console
-from rich.progress import (
-    BarColumn,
-    MofNCompleteColumn,
-    Progress,
-    ProgressColumn,
-    Task,
-    TextColumn,
-    TimeElapsedColumn,
-)
-from rich.text import Text
 
 from laserpeople.errors import ConfigError, NotBuiltError
 
 if TYPE_CHECKING:
+    from rich.console import Console
+
     from laserpeople.io import RecordingSource
 
 T = TypeVar("T")
@@ -57,8 +54,49 @@ OnErrorOption = Annotated[
 ]
 """The ``--on-error stop|skip`` option of commands that read recordings."""
 
-console = Console()
-err_console = Console(stderr=True)
+PIPE_WIDTH = 200
+"""Columns rich lays tables out for when the output is not a terminal."""
+
+PIPE_PROGRESS_SECONDS = 10.0
+"""Seconds between two progress lines when stderr is not a terminal (the first comes after
+this long, so short runs print none)."""
+
+
+def _isatty(stream: object) -> bool:
+    try:
+        return bool(stream.isatty())  # type: ignore[attr-defined]
+    except (AttributeError, ValueError):  # no isatty, or a closed stream
+        return False
+
+
+def make_console(stderr: bool = False) -> Console:
+    """A rich console for stdout (or stderr): sized to the window on a terminal; otherwise
+    :data:`PIPE_WIDTH` columns wide with soft wrapping, so that no line is ever folded."""
+    from rich.console import Console
+
+    if _isatty(sys.stderr if stderr else sys.stdout):
+        return Console(stderr=stderr)
+    return Console(stderr=stderr, soft_wrap=True, width=PIPE_WIDTH)
+
+
+class _LazyConsole:
+    """Stands for the console made by :func:`make_console` on first use, so that starting
+    the program (``--help``) does not import rich's console."""
+
+    def __init__(self, stderr: bool) -> None:
+        self._stderr = stderr
+        self._console: Console | None = None
+
+    def __getattr__(self, name: str) -> Any:
+        if self._console is None:
+            self._console = make_console(self._stderr)
+        return getattr(self._console, name)
+
+
+console = cast("Console", _LazyConsole(stderr=False))
+"""The console for results (stdout)."""
+err_console = cast("Console", _LazyConsole(stderr=True))
+"""The console for status lines, warnings and errors (stderr)."""
 
 
 @dataclass
@@ -72,24 +110,54 @@ class CliState:
 STATE = CliState()
 
 
-class _RateColumn(ProgressColumn):
-    def render(self, task: Task) -> Text:
-        speed = task.finished_speed or task.speed
-        return Text(f"{speed:,.0f} scans/s" if speed else "", style="progress.data.speed")
-
-
 def progress(
     items: Iterable[T], total: int | None = None, description: str = "scans"
 ) -> Iterator[T]:
-    """Iterate with a progress bar showing scans/s on a terminal; silent in a pipe or --quiet."""
-    if STATE.quiet or not sys.stderr.isatty():
+    """Iterate with a progress bar showing scans/s on a terminal. When stderr is not a
+    terminal, a plain line (``drawing: 500/10,000 (5 %), 48 per s``) every
+    :data:`PIPE_PROGRESS_SECONDS`, so long runs show life in a log; silent with --quiet."""
+    if STATE.quiet:
         yield from items
         return
+    if not _isatty(sys.stderr):
+        yield from _progress_lines(items, total, description)
+        return
+    yield from _progress_bar(items, total, description)
+
+
+def _progress_lines(items: Iterable[T], total: int | None, description: str) -> Iterator[T]:
+    start = last = time.monotonic()
+    for done, item in enumerate(items, start=1):
+        yield item
+        now = time.monotonic()
+        if now - last >= PIPE_PROGRESS_SECONDS:
+            last = now
+            of = f"/{total:,} ({100.0 * done / total:.0f} %)" if total else ""
+            say(f"{description}: {done:,}{of}, {done / (now - start):,.0f} per s")
+
+
+def _progress_bar(items: Iterable[T], total: int | None, description: str) -> Iterator[T]:
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        ProgressColumn,
+        Task,
+        TextColumn,
+        TimeElapsedColumn,
+    )
+    from rich.text import Text
+
+    class RateColumn(ProgressColumn):
+        def render(self, task: Task) -> Text:
+            speed = task.finished_speed or task.speed
+            return Text(f"{speed:,.0f} scans/s" if speed else "", style="progress.data.speed")
+
     columns = [
         TextColumn("{task.description}"),
         BarColumn(),
         MofNCompleteColumn(),
-        _RateColumn(),
+        RateColumn(),
         TimeElapsedColumn(),
     ]
     with Progress(*columns, console=err_console, transient=False) as bar:
@@ -109,7 +177,7 @@ def progress(
 def say(message: str) -> None:
     """Print a status line to stderr unless --quiet."""
     if not STATE.quiet:
-        err_console.print(message, highlight=False, markup=False)
+        err_console.print(message, highlight=False, markup=False, soft_wrap=True)
 
 
 def open_with_poses(
@@ -147,7 +215,7 @@ def report_damage(recording: object) -> None:
 
 def warn(message: str) -> None:
     """Print a warning to stderr, even with --quiet."""
-    err_console.print(f"warning: {message}", highlight=False, markup=False)
+    err_console.print(f"warning: {message}", highlight=False, markup=False, soft_wrap=True)
 
 
 def ignored_sections(path: Path | None, sections: Sequence[str]) -> None:

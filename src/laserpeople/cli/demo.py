@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console, progress, say
 
@@ -21,6 +20,13 @@ def _fmt(value: float | int | None, digits: int = 3) -> str:
     return f"{value:.{digits}f}"
 
 
+def plotting_available() -> bool:
+    """Whether the libraries that draw ``demo.gif`` (matplotlib, pillow) are installed."""
+    from importlib.util import find_spec
+
+    return find_spec("matplotlib") is not None and find_spec("PIL") is not None
+
+
 def register(app: typer.Typer) -> None:
     """Add the `demo` command to ``app``."""
 
@@ -31,22 +37,27 @@ def register(app: typer.Typer) -> None:
             typer.Option("--seconds", help="Simulated duration [s] (default: the scenario's)."),
         ] = None,
         out_dir: Annotated[
-            Path, typer.Option("--out-dir", help="Where demo.gif, demo-tracks.csv go.")
+            Path, typer.Option("--out-dir", help="Where demo.gif, demo-tracks.csv and demo.npz go.")
         ] = Path("."),
         seed: Annotated[int, typer.Option("--seed", help="Random seed of the scene.")] = 0,
         no_gif: Annotated[bool, typer.Option("--no-gif", help="Skip the animation.")] = False,
     ) -> None:
         """Simulate people (some in groups, one standing, leg-like clutter), detect legs,
         track with the leg MHT and every other tracker, score against ground truth, and
-        write demo.gif and demo-tracks.csv."""
-        from laserpeople.viz.demo import run_demo
+        write demo.gif, demo-tracks.csv and the simulated recording demo.npz."""
+        from laserpeople.demo import run_demo
 
         def bar(items: Iterable[Any], total: int | None, description: str) -> Iterable[Any]:
             return progress(items, total, description)
 
+        can_draw = plotting_available()
         t0 = time.perf_counter()
-        result = run_demo(out_dir, seconds=seconds, seed=seed, progress=bar, gif=not no_gif)
+        result = run_demo(
+            out_dir, seconds=seconds, seed=seed, progress=bar, gif=not no_gif and can_draw
+        )
         wall = time.perf_counter() - t0
+
+        from rich.table import Table
 
         table = Table(
             title=(
@@ -75,4 +86,9 @@ def register(app: typer.Typer) -> None:
         say(f"wrote {result.recording}, {result.tracks_csv}")
         if result.gif is not None:
             say(f"wrote {result.gif} ({result.gif_frames} frames)")
+        elif not no_gif:
+            say(
+                "no demo.gif: drawing needs matplotlib and pillow; "
+                "pip install 'laserpeople[all]' and run the demo again for the picture"
+            )
         say(f"done in {wall:.1f} s")

@@ -3,23 +3,26 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
-import numpy as np
 import typer
 
 from laserpeople.cli.common import (
+    MountOption,
     OnErrorOption,
+    WorldFrameOption,
     console,
     ignored_sections,
     progress,
     report_damage,
     say,
 )
-from laserpeople.cli.track import make_detector, tracker_param_classes
-from laserpeople.config import check_sections
-from laserpeople.detection.report import Confusion, error_table
+from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
+from laserpeople.config import check_sections, load_config
 from laserpeople.errors import ConfigError
+
+if TYPE_CHECKING:
+    from laserpeople.detection.report import Confusion
 
 
 def register(app: typer.Typer) -> None:
@@ -29,10 +32,11 @@ def register(app: typer.Typer) -> None:
         "detect",
         short_help="Detect legs in a recording and write one CSV row per leg.",
         help=(
-            "Detect legs in a recording (000 Sec. 2) and write one CSV row per leg: "
-            "scan,stamp,x,y,score in the sensor frame. --all-segments writes every segment "
-            "with its 14 features; --report compares AdaBoost and the heuristic against "
-            "per-beam ground truth (simulated .npz)."
+            "Detect legs in a recording (Arras et al. 2008 Sec. 2) and write one CSV row per leg: "
+            "scan,stamp,x,y,score in the sensor frame, and the topic. --fuse groups several "
+            "lasers into frames and writes their legs in the world frame (topic 'fused'). "
+            "--all-segments writes every segment with its 14 features; --report compares "
+            "AdaBoost and the heuristic against per-beam ground truth (simulated .npz)."
         ),
     )
     def _command(
@@ -42,14 +46,28 @@ def register(app: typer.Typer) -> None:
         output: Annotated[Path, typer.Option("-o", "--output", help="Detections CSV to write.")],
         topic: Annotated[
             list[str] | None,
-            typer.Option("--topic", "-t", help="Laser topic(s) to read (default: all)."),
+            typer.Option("--topic", "-t", help="Laser topic (repeatable; default: all)."),
         ] = None,
+        topics: TopicsOption = None,
+        fuse: Annotated[
+            bool,
+            typer.Option(
+                "--fuse",
+                help="Group the lasers into frames by time and write their legs in one frame "
+                "(world; needs poses, e.g. --mount) with topic 'fused'.",
+            ),
+        ] = False,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
         model: Annotated[
             Path | None,
             typer.Option("--model", "-m", help="Model JSON from `laserpeople train`."),
         ] = None,
         detector_name: Annotated[
-            str, typer.Option("--detector", help="adaboost or heuristic (000 Sec. 2.3.3).")
+            str,
+            typer.Option(
+                "--detector", help="adaboost or heuristic (Arras et al. 2008 Sec. 2.3.3)."
+            ),
         ] = "adaboost",
         all_segments: Annotated[
             bool,
@@ -65,22 +83,44 @@ def register(app: typer.Typer) -> None:
         ] = None,
         on_error: OnErrorOption = "stop",
     ) -> None:
+        import numpy as np
+
         from laserpeople.detection.detector import (
             AdaBoostLegDetector,
             HeuristicLegDetector,
             LegDetectorParams,
-            ScanClassification,
         )
+        from laserpeople.detection.features import FEATURE_NAMES
+        from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
-        from laserpeople.io import open_recording
-        from laserpeople.io.damage import check_on_error
         from laserpeople.io.detections_csv import DetectionsCsvWriter
         from laserpeople.io.paths import check_outputs
-
-        topic = topic or []
-        ignored_sections(
-            config, check_sections(config, [LegDetectorParams], tracker_param_classes())
+        from laserpeople.pipeline import (
+            DetectionsCsvSink,
+            DetectLegs,
+            FrameChooser,
+            GroupingParams,
+            LegFusionParams,
+            Pipeline,
+            RecordingFrames,
+            laser_frames,
+            open_source,
+            resolve_topics,
         )
+
+        wanted = topics_from(topic, topics)
+        ignored_sections(
+            config,
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams],
+                tracker_param_classes(),
+            ),
+        )
+        if fuse and (all_segments or report):
+            raise ConfigError("--fuse writes the legs of the fused frames only", hint=(
+                "drop --all-segments/--report, or --fuse"
+            ))  # fmt: skip
         det = make_detector(detector_name, model, config)
         assert isinstance(det, AdaBoostLegDetector | HeuristicLegDetector)
         # the baseline must see the same segments and distance limits as the detector
@@ -90,15 +130,30 @@ def register(app: typer.Typer) -> None:
             else None
         )
         check_outputs({"-o": output}, [recording, model, config])
-        rec = open_recording(recording, on_error=check_on_error(on_error))
+        rec = open_source(recording, world_frame, mount or [], on_error)
+        names = resolve_topics(rec, wanted or ["all"])
+        total = sum(t.count for t in rec.topics() if t.name in names)
+        stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
+        if fuse:
+            frames: Any = RecordingFrames(rec, names, grouping=load_config(GroupingParams, config))
+            total = frames.total
+        else:  # every laser in its own sensor frame, rows named by topic
+            frames = FrameChooser("sensor")(laser_frames(rec.scans(names)))
+        sink = DetectionsCsvSink(output, per_laser=not fuse, stage=stage)
+        if all_segments:
+            sink.close()
+            segments = DetectionsCsvWriter(
+                output,
+                segment_columns=tuple(f"f{i + 1}_{n}" for i, n in enumerate(FEATURE_NAMES)),
+                topic="",
+            )
+        pipe = Pipeline(frames, observe=[stage], sinks=[] if all_segments else [sink])
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
         try:
-            total = sum(t.count for t in rec.topics() if not topic or t.name in topic)
-            with DetectionsCsvWriter(output, all_segments=all_segments) as writer:
-                for scan in progress(rec.scans(topic or None), total=total):
-                    result: ScanClassification = det.classify(scan)
+            for step in progress(pipe, total=total):
+                for scan, result in zip(step.frame.scans, stage.classifications, strict=True):
                     counts["scans"] += 1
                     counts["segments"] += len(result.table)
                     counts["legs"] += int(result.is_leg.sum())
@@ -106,7 +161,7 @@ def register(app: typer.Typer) -> None:
                     counts["invalid"] += result.table.n_invalid
                     if all_segments:
                         t = result.table
-                        writer.write_segments(
+                        segments.write_segments(
                             scan,
                             result.features.centres,
                             t.beams[t.offsets[:-1]] if len(t) else np.empty(0),
@@ -115,8 +170,6 @@ def register(app: typer.Typer) -> None:
                             result.scores,
                             result.features.values,
                         )
-                    else:
-                        writer.write(det.detections_from(scan, result))
                     if baseline is not None:
                         other = baseline.classify(scan)
                         if scan.labels is None:
@@ -126,8 +179,15 @@ def register(app: typer.Typer) -> None:
                         truth_ada.append(Confusion.of(np.where(result.is_leg[ok], 1, -1), truth))
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
         finally:
+            if all_segments:
+                segments.close()
             report_damage(rec)
             rec.close()
+        if fuse:
+            for line in frames.summary():
+                say(line)
+            if stage.duplicates:
+                say(f"{stage.duplicates} detections dropped as another laser's view of a leg")
         say(
             f"{counts['scans']} scans, {counts['segments']} segments "
             f"({counts['small']} with fewer than 3 points not classified), "
@@ -143,17 +203,23 @@ def register(app: typer.Typer) -> None:
                 )
             ada = _sum(truth_ada)
             heur = _sum(truth_heur)
-            console.print(ada.table("Confusion matrix, AdaBoost (layout of 000 Tables 2-5)"))
-            console.print(heur.table("\nConfusion matrix, heuristic (000 Sec. 2.3.3)"))
+            console.print(
+                ada.table("Confusion matrix, AdaBoost (layout of Arras et al. 2008 Tables 2-5)")
+            )
+            console.print(
+                heur.table("\nConfusion matrix, heuristic (Arras et al. 2008 Sec. 2.3.3)")
+            )
             console.print(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
-                    "\nComparison with the heuristic approach (000 Table 7)",
+                    "\nComparison with the heuristic approach (Arras et al. 2008 Table 7)",
                 )
             )
 
 
 def _sum(parts: list[Confusion]) -> Confusion:
+    from laserpeople.detection.report import Confusion
+
     tp = fn = fp = tn = 0
     for c in parts:
         tp, fn, fp, tn = tp + c.tp, fn + c.fn, fp + c.fp, tn + c.tn

@@ -5,33 +5,61 @@ from __future__ import annotations
 import json
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console, progress, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
-from laserpeople.evaluation import EvaluationParams, EvaluationReport, evaluate
-from laserpeople.io.paths import check_outputs
-from laserpeople.io.tracks_csv import iter_tracks_csv
-from laserpeople.io.truth_csv import read_truth_csv
-from laserpeople.truth import TruthFrame
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from laserpeople.evaluation import EvaluationParams, EvaluationReport
+    from laserpeople.evaluation.followed import FollowedPersonResult
+    from laserpeople.io.tracks_csv import TrackIdNames
+    from laserpeople.tracks import Tracks
+    from laserpeople.truth import TruthFrame
 
 HELP = (
-    "Score tracks against ground truth (CLEAR MOT, IDF1, the adapted MOTP of Schenk et al.)."
+    "Score tracks against ground truth (CLEAR MOT, IDF1, the adapted MOTP of Schenk et al. 2011)."
     "\n\n"
-    "TRACKS is a tracks CSV in the world frame, as written by `laserpeople track`. TRUTH is a "
-    "recording with ground truth (.npz, e.g. from `laserpeople simulate`) or a CSV "
-    "scan,stamp,person_id,x,y of which only the listed scans are scored. Tracks and truth "
-    "are paired by scan index; a scored scan without track rows counts all its people as "
-    "missed."
+    "TRACKS is a tracks CSV in the world frame (or the sensor frame when the recording has no "
+    "poses), as written by `laserpeople track` (or the bag it writes with "
+    "--bag, people_msgs/People); track ids may be any text. TRUTH is a recording with "
+    "ground truth (.npz, e.g. from `laserpeople simulate`), a CSV "
+    "scan,stamp,person_id,x,y of which only the listed scans are scored, or a bag topic "
+    "BAG[:TOPIC] of leg_tracker/Person, spencer_tracking_msgs/TrackedPersons or "
+    "people_msgs/People (paired with the scans of --laser-topic). Tracks and truth are "
+    "paired by scan index; a scored scan without track rows counts all its people as "
+    "missed. --followed-person ID (or auto: the most labelled person) scores one labelled "
+    "person and counts no other track as a false positive."
 )
 
 
-def truth_frames(path: Path) -> Iterator[TruthFrame]:
-    """Ground-truth frames from a recording with truth or a truth CSV."""
+def truth_frames(
+    spec: str | Path, laser_topic: str | None = None, notes: list[str] | None = None
+) -> Iterator[TruthFrame]:
+    """Ground-truth frames from a recording with truth, a truth CSV or a bag topic
+    (``BAG[:TOPIC]``); a line about a bag's truth is appended to ``notes``."""
+    from laserpeople.io.truth_bag import is_bag_path, read_truth_bag, split_truth_spec
+
+    path, topic = split_truth_spec(str(spec))
+    if is_bag_path(path):
+        bag = read_truth_bag(path, topic, laser_topic)
+        if notes is not None:
+            notes.append(bag.summary())
+        yield from bag.frames
+        return
+    if topic is not None:
+        raise EvaluationError(
+            f"a topic ({topic!r}) can only be given for a bag",
+            path=path,
+            hint="use BAG:TOPIC with a .bag/.mcap/.db3, or a .npz/.csv without a topic",
+        )
     if path.suffix.lower() == ".csv":
+        from laserpeople.io.truth_csv import read_truth_csv
+
         yield from read_truth_csv(path)
         return
     from laserpeople.io import open_recording
@@ -51,6 +79,8 @@ def truth_frames(path: Path) -> Iterator[TruthFrame]:
 
 def render(report: EvaluationReport) -> Table:
     """The headline numbers as a rich table."""
+    from rich.table import Table
+
     c, i, s = report.clear_mot, report.identity, report.schenk
 
     def num(value: float, fmt: str = ".3f") -> str:
@@ -63,7 +93,7 @@ def render(report: EvaluationReport) -> Table:
     rows = [
         ("MOTA", num(c.mota), "1 - (misses + false positives + ID switches) / people"),
         ("MOTP", num(c.motp, ".3f") + " m", f"mean distance of matches (gate {c.gate:g} m)"),
-        ("MOTP (004)", num(s.motp), f"Schenk et al. eqs. 10-11, h = {s.h:g}"),
+        ("MOTP (Schenk)", num(s.motp), f"Schenk et al. 2011 eqs. 10-11, h = {s.h:g}"),
         ("IDF1", num(i.idf1), f"IDP {num(i.idp)}, IDR {num(i.idr)}"),
         ("recall", num(c.recall), f"{c.matches} of {c.num_truth} person-frames matched"),
         ("precision", num(c.precision), f"{c.matches} of {c.num_tracks} track-frames matched"),
@@ -76,26 +106,84 @@ def render(report: EvaluationReport) -> Table:
     return table
 
 
+def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
+    """The followed-person scores as a rich table."""
+    from rich.table import Table
+
+    def num(value: float) -> str:
+        return "n/a" if value != value else f"{value:.3f}"
+
+    table = Table(title=f"followed person {result.person_id}", show_header=True)
+    table.add_column("metric")
+    table.add_column("value", justify="right")
+    table.add_column("meaning", style="dim")
+    top = ", ".join(f"{names.name(t)}: {n}" for t, n in result.track_frames[:5])
+    rows = [
+        ("identity recall", num(result.identity_recall), "frames covered by the best single id"),
+        ("recall", num(result.recall), f"{result.matched} of {result.frames} labelled frames"),
+        ("person ids", str(result.ids), f"frames per id: {top or 'none'}"),
+        ("ID switches", str(result.id_switches), "changes of the matched id"),
+        ("MOTA", num(result.mota), "1 - (misses + switches) / frames; no false positives"),
+        ("MOTP", num(result.motp) + " m", f"mean distance of matches (gate {result.gate:g} m)"),
+    ]
+    for row in rows:
+        table.add_row(*row)
+    return table
+
+
+def _named_pairs(pairs: list[list[int]], names: TrackIdNames) -> list[list[int | str]]:
+    return [[names.name(t) if len(names) else t, p] for t, p in pairs]
+
+
 def register(app: typer.Typer) -> None:
     """Add the `evaluate` command to ``app``."""
 
     @app.command("evaluate", help=HELP)
     def _command(
-        tracks: Annotated[Path, typer.Argument(metavar="TRACKS", help="Tracks CSV (world frame).")],
+        tracks: Annotated[
+            Path,
+            typer.Argument(metavar="TRACKS", help="Tracks CSV (world frame) or tracks bag."),
+        ],
         truth: Annotated[
-            Path, typer.Option("--truth", help="Ground truth: .npz recording or .csv.")
+            str,
+            typer.Option(
+                "--truth", help="Ground truth: .npz recording, .csv, or BAG[:TOPIC] of people."
+            ),
         ],
         kind: Annotated[
             str, typer.Option("--kind", help="Track kind to score: leg/person/group.")
         ] = "person",
         gate: Annotated[
-            float, typer.Option("--gate", help="Match distance gate in metres.")
+            float,
+            typer.Option(
+                "--gate", "--match-distance", help="Match distance in metres (CLEAR MOT gate)."
+            ),
         ] = 0.75,
+        laser_topic: Annotated[
+            str | None,
+            typer.Option(
+                "--laser-topic", help="Laser topic whose scan indices a bag's labels get."
+            ),
+        ] = None,
+        followed_person: Annotated[
+            str | None,
+            typer.Option(
+                "--followed-person",
+                metavar="ID|auto",
+                help="Score only this labelled person (auto: the most labelled one); "
+                "other tracks are not false positives.",
+            ),
+        ] = None,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
         per_frame: Annotated[
             Path | None, typer.Option("--per-frame", help="Write the per-frame table to this CSV.")
         ] = None,
     ) -> None:
+        from laserpeople.evaluation import EvaluationParams, evaluate
+        from laserpeople.io import is_rosbag
+        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
+
         try:
             params = EvaluationParams(gate=gate, kind=kind)
         except ConfigError as exc:
@@ -104,15 +192,45 @@ def register(app: typer.Typer) -> None:
             raise EvaluationError(
                 "--per-frame is a directory", path=per_frame, hint="give a file name ending .csv"
             )
-        check_outputs({"--per-frame": per_frame}, [tracks, truth])
-        track_stream = iter_tracks_csv(tracks, frame="world", kinds=(params.kind,))  # type: ignore[arg-type]
+        truth_path = str(truth)
+        check_outputs(
+            {"--per-frame": per_frame}, [tracks, truth_path, truth_path.rsplit(":", 1)[0]]
+        )
+        names = TrackIdNames()
+        kinds = (params.kind,)
+        if is_rosbag(tracks):
+            from laserpeople.io.tracks_bag import iter_tracks_bag
+
+            track_stream = iter_tracks_bag(tracks, kinds=kinds)  # type: ignore[arg-type]
+        else:
+            track_stream = iter_tracks_csv(
+                tracks,
+                frame="world",
+                kinds=kinds,  # type: ignore[arg-type]
+                ids=names,
+            )
+        notes: list[str] = []
+        if followed_person is not None:
+            _followed(
+                list(truth_frames(truth, laser_topic, notes)),
+                track_stream,
+                followed_person,
+                params,
+                names,
+                notes,
+                as_json=as_json,
+                per_frame=per_frame,
+            )
+            return
         run = evaluate(
-            progress(truth_frames(truth), description="frames"),
+            progress(truth_frames(truth, laser_topic, notes), description="frames"),
             track_stream,
             params,
             keep_frames=per_frame is not None,
         )
         report = run.result()
+        for note in notes:
+            say(note)
         if per_frame is not None:
             run.frames().to_csv(per_frame)
             say(f"per-frame table written to {per_frame}")
@@ -130,6 +248,67 @@ def register(app: typer.Typer) -> None:
                     "the same recording and topic?"
                 )
         if as_json:
-            print(json.dumps(report.to_json_dict(), allow_nan=False))
+            out = report.to_json_dict()
+            for key in ("identity_matching", "schenk_matching"):
+                out["detail"][key] = _named_pairs(out["detail"][key], names)
+            print(json.dumps(out, allow_nan=False))
         else:
             console.print(render(report))
+
+
+def _person_id(text: str, frames: list[TruthFrame]) -> int:
+    from laserpeople.evaluation.followed import most_labelled_person
+
+    if text.strip().lower() == "auto":
+        return most_labelled_person(frames)
+    try:
+        return int(text)
+    except ValueError:
+        raise ConfigError(
+            f"--followed-person {text!r} is neither a person id nor auto",
+            hint="give the labelled person's integer id, or auto",
+        ) from None
+
+
+def _followed(
+    frames: list[TruthFrame],
+    track_stream: Iterator[Tracks],
+    which: str,
+    params: EvaluationParams,
+    names: TrackIdNames,
+    notes: list[str],
+    *,
+    as_json: bool,
+    per_frame: Path | None,
+) -> None:
+    from laserpeople.evaluation.followed import evaluate_followed
+
+    person = _person_id(which, frames)
+    metric, pairing = evaluate_followed(
+        frames, track_stream, person, params, keep_frames=per_frame is not None
+    )
+    result = metric.result()
+    for note in notes:
+        say(note)
+    say(
+        f"scored person {person} on {result.frames} labelled frames; "
+        f"{pairing.track_scans_unscored} track scans had no truth; other tracks are ignored"
+    )
+    if pairing.max_stamp_offset > 0.05:
+        warn(
+            f"truth and track stamps differ by up to {pairing.max_stamp_offset:.3f} s for the "
+            "same scan index (a truth CSV may carry the bag's receive time instead of the "
+            "scan's header stamp): check that they come from the same recording and topic"
+        )
+    if per_frame is not None:
+        metric.frames().to_csv(per_frame)
+        say(f"per-frame table written to {per_frame}")
+    if as_json:
+        out = {
+            **result.summary(),
+            "best_track": None if result.best_track is None else names.name(result.best_track),
+            "track_frames": [[names.name(t), n] for t, n in result.track_frames],
+        }
+        print(json.dumps(out, allow_nan=False))
+    else:
+        console.print(render_followed(result, names))

@@ -6,13 +6,9 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import numpy as np
 import typer
-from rich import box
-from rich.console import Console
-from rich.table import Table
 
 from laserpeople.cli.common import (
     MountOption,
@@ -22,8 +18,10 @@ from laserpeople.cli.common import (
     progress,
     report_damage,
 )
-from laserpeople.io import RecordingSource, open_recording
-from laserpeople.scan import Scan
+
+if TYPE_CHECKING:
+    from laserpeople.io import RecordingSource
+    from laserpeople.scan import Scan
 
 _BAG_SUFFIXES = {".bag", ".db3", ".mcap"}
 _CARMEN_SUFFIXES = {".log", ".clf", ".carmen", ".txt", ".gz"}
@@ -64,6 +62,8 @@ class TopicSummary:
         """Median scan rate [Hz] from the stamp differences (None with < 2 scans)."""
         if len(self.stamps) < 2:
             return None
+        import numpy as np
+
         diffs = np.diff(np.asarray(self.stamps))
         diffs = diffs[diffs > 0]
         return float(1.0 / np.median(diffs)) if diffs.size else None
@@ -114,6 +114,8 @@ def _open(
         from laserpeople.io.carmen import CarmenRecording
 
         return CarmenRecording(path, poses=False, on_error=policy)
+    from laserpeople.io import open_recording
+
     return open_recording(path, on_error=policy)
 
 
@@ -167,6 +169,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
 
 
 def _print_table(report: dict[str, Any]) -> None:
+    from rich import box
+    from rich.table import Table
+
     table = Table(title=report["path"], title_justify="left", box=box.SIMPLE_HEAD)
     for col, justify in (
         ("topic", "left"),
@@ -194,8 +199,7 @@ def _print_table(report: dict[str, Any]) -> None:
             "-" if invalid is None else f"{100 * invalid:.1f}%",
             f"{t['scans_with_pose']}/{t['scans']}",
         )
-    # in a pipe rich assumes 80 columns; a wider table reads better than a folded one
-    out = console if console.is_terminal else Console(width=140)
+    out = console  # in a pipe: wide and never folded (cli.common.make_console)
     out.print(table)
     out.print(f"ground truth: {'yes' if report['ground_truth'] else 'no'}", highlight=False)
     if report.get("pose_summary"):

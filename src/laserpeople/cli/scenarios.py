@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import console
 
@@ -13,6 +12,9 @@ def register(app: typer.Typer) -> None:
 
     @app.command("scenarios", help="List the named simulation scenarios.")
     def _command() -> None:
+        from rich.table import Table
+
+        from laserpeople.citations import cite
         from laserpeople.sim.scenarios import REGISTRY
 
         table = Table(title="laserpeople simulation scenarios", show_lines=False)
@@ -21,5 +23,5 @@ def register(app: typer.Typer) -> None:
         table.add_column("source")
         table.add_column("seconds", justify="right")
         for s in REGISTRY.values():
-            table.add_row(s.name, s.description, s.source, f"{s.duration:g}")
+            table.add_row(s.name, cite(s.description), cite(s.source), f"{s.duration:g}")
         console.print(table)

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
-from typing import Annotated, Any, Protocol
+from typing import TYPE_CHECKING, Annotated, Any, Protocol
 
 import typer
 
@@ -19,11 +18,12 @@ from laserpeople.cli.common import (
     say,
 )
 from laserpeople.config import check_sections, load_config, to_toml
-from laserpeople.errors import ConfigError, LaserPeopleError
-from laserpeople.io import RecordingSource
-from laserpeople.io.paths import check_outputs
-from laserpeople.scan import CoordinateFrame, Scan
-from laserpeople.tracks import Detections
+from laserpeople.errors import ConfigError
+
+if TYPE_CHECKING:
+    from laserpeople.io import RecordingSource
+    from laserpeople.scan import CoordinateFrame, Scan
+    from laserpeople.tracks import Detections
 
 
 class Detector(Protocol):
@@ -63,22 +63,49 @@ def make_detector(name: str, model: Path | None, config: Path | None) -> Detecto
     raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")
 
 
-def _choose_topic(rec: Any, topic: str | None) -> str:
-    topics = [t.name for t in rec.topics()]
-    if topic is not None:
-        return topic  # the reader raises TopicNotFoundError naming the topics it has
-    if not topics:
-        raise LaserPeopleError("the recording has no laser topic", path=rec.path)
-    if len(topics) > 1:
-        say(f"tracking topic {topics[0]} (the recording has {', '.join(topics)}; use --topic)")
-    return topics[0]
+TopicOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--topic",
+        "-t",
+        help="Laser topic (repeatable: several lasers are fused into one frame; default: "
+        "the first).",
+    ),
+]
+TopicsOption = Annotated[
+    str | None,
+    typer.Option("--topics", help="'all': fuse every laser topic of the recording."),
+]
+
+
+def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None:
+    """The topics asked for by ``--topic`` (repeatable) and ``--topics all``."""
+    if topics is not None:
+        if topics != "all":
+            raise ConfigError(f"--topics {topics!r}: only 'all' is known", hint="or use --topic")
+        if topic:
+            raise ConfigError("give --topic or --topics all, not both")
+        return ["all"]
+    return list(topic) if topic else None
+
+
+def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
+    """``params`` with ``people_policy`` replaced (``--people-policy``)."""
+    from dataclasses import replace
+
+    if not hasattr(params, "people_policy"):
+        raise ConfigError(f"--people-policy applies to leg-mht, not to {tracker_name!r}")
+    try:
+        return replace(params, people_policy=policy)
+    except ValueError as exc:
+        raise ConfigError(f"--people-policy: {exc}") from None
 
 
 def run_tracking(
     recording: Path,
     output: Path,
     tracker_name: str = "leg-mht",
-    topic: str | None = None,
+    topic: str | list[str] | None = None,
     config: Path | None = None,
     output_frame: CoordinateFrame | None = None,
     detector: Detector | None = None,
@@ -86,72 +113,92 @@ def run_tracking(
     mounts: list[str] | None = None,
     plot: Path | None = None,
     animate: Path | None = None,
+    bag: Path | None = None,
+    people_policy: str | None = None,
     on_error: str = "stop",
 ) -> dict[str, float]:
-    """Track every scan of one topic of ``recording`` and write ``output``; then, when
-    given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
+    """Track ``recording`` (one topic, or several fused) through the pipeline and write the
+    tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
+    when given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
     ``animate`` (.gif, or .mp4 with ffmpeg).
 
-    Returns counts and timings: scans, rows, leg and person tracks created, median/mean
-    tracking time per scan [ms] (detection excluded).
+    Returns counts and timings: scans (frames), rows, leg and person tracks created,
+    median/mean tracking time per frame [ms] (detection excluded).
     """
-    from laserpeople.io.tracks_csv import TracksCsvWriter
+    from laserpeople.pipeline import (
+        GroupingParams,
+        LegFusionParams,
+        TracksCsvSink,
+        build,
+        output_sink,
+    )
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config)
-    tracker = entry.factory(params)
+    if people_policy is not None:
+        params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
-    check_outputs({"-o": output, "--plot": plot, "--animate": animate}, [recording, config])
-    rec = open_with_poses(recording, world_frame, mounts or [], on_error)
-    times: list[float] = []
-    rows = 0
-    leg_ids: set[int] = set()
-    person_ids: set[int] = set()
-    writer: TracksCsvWriter | None = None
-    name: str | None = None
-    written_frame: CoordinateFrame = output_frame or "sensor"
+    from laserpeople.io.paths import check_outputs
+
+    check_outputs(
+        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [recording, config]
+    )
+    topics = [topic] if isinstance(topic, str) else topic
+    csv_sink = TracksCsvSink(output, frame=output_frame)
+    sinks: list[Any] = [csv_sink]
+    if bag is not None:
+        sinks.append(output_sink(bag))
+    pipe = build(
+        recording,
+        tracker=entry.make(params),
+        topics=topics,
+        detector=detector,
+        outputs=sinks,
+        world_frame=world_frame,
+        mounts=mounts or [],
+        grouping=load_config(GroupingParams, config),
+        leg_fusion=load_config(LegFusionParams, config),
+        on_error=on_error,
+    )
+    source: Any = pipe.source
+    available = [t.name for t in source.recording.topics()]
+    if not topics and len(available) > 1:
+        say(
+            f"tracking topic {source.topics[0]} (the recording has {', '.join(available)}; "
+            "use --topic, or --topics all to fuse them)"
+        )
+    if len(source.topics) > 1:
+        say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
     try:
-        name = _choose_topic(rec, topic)
-        total = next((t.count for t in rec.topics() if t.name == name), None)
-        for scan in progress(rec.scans([name]), total=total, description="tracking"):
-            dets = detector.detect(scan)
-            t0 = time.perf_counter()
-            tracks = tracker.update(dets)
-            times.append(time.perf_counter() - t0)
-            if writer is None:
-                written_frame = output_frame or tracks.frame
-                writer = TracksCsvWriter(output, frame=written_frame)
-            writer.write(tracks)
-            rows += len(tracks)
-            leg_ids.update(t.track_id for t in tracks if t.kind == "leg")
-            person_ids.update(t.track_id for t in tracks if t.kind == "person")
-    finally:
-        if writer is not None:
-            writer.close()
-        report_damage(rec)
-        rec.close()
-    if writer is None:  # no scan at all: still leave a valid, empty file
-        with TracksCsvWriter(output, frame=written_frame):
+        for _ in progress(pipe, total=source.total, description="tracking"):
             pass
+    finally:
+        report_damage(source.recording)
+    for line in source.summary():
+        say(line)
+    merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
+    if merged:
+        say(f"{merged} leg detections dropped as another laser's view of the same leg")
+    written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
-        source = open_with_poses(recording, world_frame, mounts or [], on_error)
+        drawn = open_with_poses(recording, world_frame, mounts or [], on_error)
         try:
-            draw_tracks(source, output, name, written_frame, plot, animate)
+            draw_tracks(drawn, output, source.topics[0], written_frame, plot, animate)
         finally:
-            source.close()
-    dropped = int(getattr(tracker, "dropped_detections", 0))
+            drawn.close()
+    dropped = int(getattr(pipe.tracker, "dropped_detections", 0))
     if dropped:
         say(f"{dropped} detections with non-finite positions were left out")
-    ms = sorted(1e3 * t for t in times)
+    stats = pipe.stats
     return {
-        "scans": float(len(times)),
-        "rows": float(rows),
-        "leg_tracks": float(len(leg_ids)),
-        "person_tracks": float(len(person_ids)),
-        "median_ms": ms[len(ms) // 2] if ms else 0.0,
-        "mean_ms": sum(ms) / len(ms) if ms else 0.0,
+        "scans": float(stats.frames),
+        "rows": float(stats.rows),
+        "leg_tracks": float(stats.count("leg")),
+        "person_tracks": float(stats.count("person")),
+        "median_ms": stats.median_ms,
+        "mean_ms": stats.mean_ms,
     }
 
 
@@ -191,11 +238,11 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Argument(help="A recording (.bag, .mcap, .db3, CARMEN log, .npz).")
         ] = None,
         tracker: Annotated[
-            str, typer.Option("--tracker", help="Tracker: leg-mht (000 Sec. 3) or nn.")
+            str,
+            typer.Option("--tracker", help="Tracker: leg-mht (Arras et al. 2008 Sec. 3) or nn."),
         ] = "leg-mht",
-        topic: Annotated[
-            str | None, typer.Option("--topic", "-t", help="Laser topic (default: the first).")
-        ] = None,
+        topic: TopicOption = None,
+        topics: TopicsOption = None,
         config: Annotated[
             Path | None,
             typer.Option("--config", help="TOML file with tracker and detector parameters."),
@@ -217,6 +264,14 @@ def register(app: typer.Typer) -> None:
         output: Annotated[
             Path | None, typer.Option("--output", "-o", help="Tracks CSV to write.")
         ] = None,
+        bag: Annotated[
+            Path | None,
+            typer.Option(
+                "--bag",
+                help="Also write the scans and tracks as ROS messages (people_msgs/People, "
+                "visualization_msgs/MarkerArray) to this .bag, .mcap or .db3.",
+            ),
+        ] = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
         plot: Annotated[
@@ -226,6 +281,14 @@ def register(app: typer.Typer) -> None:
         animate: Annotated[
             Path | None,
             typer.Option("--animate", help="Also draw an animation (.gif, or .mp4 with ffmpeg)."),
+        ] = None,
+        people_policy: Annotated[
+            str | None,
+            typer.Option(
+                "--people-policy",
+                help="leg-mht person layer: tracks (default; people as tracks of their own) "
+                "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
+            ),
         ] = None,
         print_config: Annotated[
             bool,
@@ -238,16 +301,23 @@ def register(app: typer.Typer) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
         from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
         ignored_sections(
             config,
-            check_sections(config, [LegDetectorParams, entry.params_cls], tracker_param_classes()),
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls],
+                tracker_param_classes(),
+            ),
         )
         if print_config:
             print(to_toml(load_config(entry.params_cls, config)))
             print(to_toml(load_config(LegDetectorParams, config)))
+            print(to_toml(load_config(GroupingParams, config)))
+            print(to_toml(load_config(LegFusionParams, config)))
             return
         if recording is None or output is None:
             raise ConfigError(
@@ -260,13 +330,15 @@ def register(app: typer.Typer) -> None:
         frame: CoordinateFrame | None = (
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
-        check_outputs({"-o": output, "--plot": plot, "--animate": animate}, [model])
+        from laserpeople.io.paths import check_outputs
+
+        check_outputs({"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [model])
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,
             output,
             tracker,
-            topic,
+            topics_from(topic, topics),
             config,
             frame,
             det,
@@ -274,6 +346,8 @@ def register(app: typer.Typer) -> None:
             mount or [],
             plot=plot,
             animate=animate,
+            bag=bag,
+            people_policy=people_policy,
             on_error=on_error,
         )
         say(
@@ -282,3 +356,5 @@ def register(app: typer.Typer) -> None:
             f"{output}; tracking {stats['median_ms']:.2f} ms/scan median "
             f"({stats['mean_ms']:.2f} mean)"
         )
+        if bag is not None:
+            say(f"wrote {bag}")

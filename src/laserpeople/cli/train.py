@@ -1,34 +1,19 @@
-"""`laserpeople train`: train the AdaBoost leg detector (000 Table 1) and report on it."""
+"""`laserpeople train`: train the AdaBoost leg detector (Arras et al. 2008) and report on it."""
 
 from __future__ import annotations
 
 import datetime
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from laserpeople.cli.common import console, progress, say
-from laserpeople.detection.model_file import parse_feature_set
-from laserpeople.detection.report import (
-    Confusion,
-    best_features,
-    error_table,
-    errors_by_distance,
-    heuristic_predictions,
-    predict,
-    train_model,
-)
-from laserpeople.detection.training import (
-    LabelledSegments,
-    Unlabelled,
-    all_negative,
-    leg_tracker_positive,
-    neko_segments,
-    truth_segments,
-)
 from laserpeople.errors import ConfigError, RecordingError
-from laserpeople.segmentation import JumpDistanceParams
+
+if TYPE_CHECKING:
+    from laserpeople.detection.training import LabelledSegments, Unlabelled
+    from laserpeople.segmentation import JumpDistanceParams
 
 
 def _frames(text: str | None) -> list[int] | None:
@@ -64,6 +49,13 @@ def load_labelled(
     what: str = "recordings",
 ) -> LabelledSegments:
     """Labelled segments from every kind of labelled input the command accepts."""
+    from laserpeople.detection.training import (
+        LabelledSegments,
+        all_negative,
+        leg_tracker_positive,
+        neko_segments,
+        truth_segments,
+    )
     from laserpeople.io import open_recording
 
     jobs: list[tuple[str, Path]] = (
@@ -98,7 +90,8 @@ def register(app: typer.Typer) -> None:
     @app.command(
         "train",
         help=(
-            "Train the AdaBoost leg detector (000 Table 1) from labelled segments: recordings "
+            "Train the AdaBoost leg detector (Arras et al. 2008 Table 1) from labelled segments: "
+            "recordings "
             "with per-beam ground truth (.npz from the simulator), leg_tracker-style "
             "--positives bags (scans + /leg_cluster_positions), --negatives recordings "
             "(every segment is not a leg) and the neko7055 data (--neko)."
@@ -111,7 +104,7 @@ def register(app: typer.Typer) -> None:
             typer.Argument(help="Recordings with per-beam ground truth (e.g. simulated .npz)."),
         ] = None,
         rounds: Annotated[
-            int, typer.Option("--rounds", "-T", help="Boosting rounds T (000: 10).")
+            int, typer.Option("--rounds", "-T", help="Boosting rounds T (Arras et al. 2008: 10).")
         ] = 10,
         features: Annotated[
             str, typer.Option("--features", help="Features: 1-13 (geometry) or 1-14 (+ motion).")
@@ -150,7 +143,10 @@ def register(app: typer.Typer) -> None:
             ),
         ] = 0.13,
         report: Annotated[
-            bool, typer.Option("--report", help="Print confusion matrices (000 Tables 2-8).")
+            bool,
+            typer.Option(
+                "--report", help="Print confusion matrices (Arras et al. 2008 Tables 2-8)."
+            ),
         ] = False,
         test: Annotated[
             list[Path] | None, typer.Option("--test", help="Held-out labelled recordings.")
@@ -166,6 +162,18 @@ def register(app: typer.Typer) -> None:
             typer.Option("--test-neko-frames", help="Held-out neko7055 frames, e.g. 60-119."),
         ] = None,
     ) -> None:
+        from laserpeople.detection.model_file import parse_feature_set
+        from laserpeople.detection.report import (
+            Confusion,
+            best_features,
+            error_table,
+            errors_by_distance,
+            heuristic_predictions,
+            predict,
+            train_model,
+        )
+        from laserpeople.segmentation import JumpDistanceParams
+
         positives, negatives = positives or [], negatives or []
         test, test_positives, test_negatives = (
             test or [],
@@ -238,11 +246,13 @@ def register(app: typer.Typer) -> None:
             ada = Confusion.of(decisions["AdaBoost"], part.labels)
             heur = Confusion.of(decisions["Heuristic"], part.labels)
             alt = Confusion.of(predict(other_model, part), part.labels)
-            console.print(ada.table(f"\nConfusion matrix, {name} (layout of 000 Tables 2-5)"))
+            console.print(
+                ada.table(f"\nConfusion matrix, {name} (layout of Arras et al. 2008 Tables 2-5)")
+            )
             console.print(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
-                    f"\nComparison with the heuristic approach, {name} (000 Table 7)",
+                    f"\nComparison with the heuristic approach, {name} (Arras et al. 2008 Table 7)",
                 )
             )
             console.print(
@@ -254,9 +264,10 @@ def register(app: typer.Typer) -> None:
             console.print(
                 error_table(
                     {"Without Motion Feature": c_without, "With Motion Feature": c_with},
-                    f"\nEffect of the motion feature #14, {name} (000 Table 8)",
+                    f"\nEffect of the motion feature #14, {name} (Arras et al. 2008 Table 8)",
                 )
             )
         console.print(
-            f"\nFive best features (000 Table 6): {', '.join(map(str, best_features(model)))}"
+            "\nFive best features (Arras et al. 2008 Table 6): "
+            + ", ".join(map(str, best_features(model)))
         )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -20,8 +20,9 @@ from laserpeople.cli.common import (
     warn,
 )
 from laserpeople.errors import LaserPeopleError
-from laserpeople.io.paths import check_outputs
-from laserpeople.viz.scene import SceneFrame
+
+if TYPE_CHECKING:
+    from laserpeople.viz.scene import SceneFrame
 
 _FRAMES = ("auto", "world", "sensor")
 
@@ -153,10 +154,24 @@ def register(app: typer.Typer) -> None:
         if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
             raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
+        from laserpeople.io.paths import check_outputs
+
         truth_file = truth if truth not in (None, "auto", "recording") else None
         check_outputs({"-o": output}, [recording, tracks, truth_file])
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
+        if tracks is not None:
+            from laserpeople.pipeline import resolve_topics
+            from laserpeople.pipeline.checks import tracks_mismatch
+
+            try:
+                topic = resolve_topics(source, [topic] if topic else None)[0]
+                problems = tracks_mismatch(tracks, source, topic)
+            except BaseException:
+                source.close()
+                raise
+            for problem in problems:
+                warn(f"{tracks} may not belong to {recording.name}: {problem}")
         scene = Scene(
             source,
             tracks,

@@ -25,7 +25,7 @@ People walking alone are groups of one (:func:`beam_group_labels`).
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import astuple, dataclass
 
 import numpy as np
@@ -235,3 +235,80 @@ def clustering_error(
     for truth, estimate in zip(true_partitions, estimated_partitions, strict=True):
         metric.accumulate_partitions(truth, estimate)
     return metric.result()
+
+
+@dataclass(frozen=True)
+class GroupSizeErrorResult:
+    """Group-size error over all frames (000 Sec. 4.6.3).
+
+    Attributes:
+        mean_error: Mean of |estimated n - true n| over all (track, frame) [people].
+        std_error: Its standard deviation [people].
+        exact_share: Share of estimates that, rounded, equal the true size.
+        within_one_share: Share of rounded estimates at most one person off.
+        count: (track, frame) pairs scored.
+    """
+
+    mean_error: float
+    std_error: float
+    exact_share: float
+    within_one_share: float
+    count: int
+
+
+def group_size_errors(
+    true_person: IntArray, estimated_labels: IntArray, sizes: Mapping[int, float]
+) -> NDArray[np.float64]:
+    """Absolute size errors (K,) of the groups ``sizes`` (label -> estimated n) of one
+    frame: the true size of a group is the number of distinct people among the points it
+    holds (``true_person`` -1 for non-person points). Groups holding no point are skipped.
+
+    Args:
+        true_person: Person id (N,) of each point, -1 for none.
+        estimated_labels: Estimated group (N,) of each point, -1 for none.
+        sizes: Estimated size of each group label.
+    """
+    t = np.asarray(true_person, dtype=np.int64).reshape(-1)
+    e = np.asarray(estimated_labels, dtype=np.int64).reshape(-1)
+    if t.shape != e.shape:
+        raise EvaluationError(f"{t.size} true labels but {e.size} estimated labels")
+    out = []
+    for label, n in sizes.items():
+        sel = e == label
+        if not sel.any():
+            continue
+        people = np.unique(t[sel])
+        out.append(abs(float(n) - float(np.count_nonzero(people >= 0))))
+    return np.asarray(out, dtype=np.float64)
+
+
+class GroupSizeError:
+    """Accumulates the group-size error frame by frame (:func:`group_size_errors`)."""
+
+    def __init__(self) -> None:
+        self._errors: list[NDArray[np.float64]] = []
+        self._rounded: list[NDArray[np.float64]] = []
+
+    def accumulate(
+        self, true_person: IntArray, estimated_labels: IntArray, sizes: Mapping[int, float]
+    ) -> NDArray[np.float64]:
+        """Score one frame; returns its errors."""
+        err = group_size_errors(true_person, estimated_labels, sizes)
+        rounded = {k: float(np.round(v)) for k, v in sizes.items()}
+        self._errors.append(err)
+        self._rounded.append(group_size_errors(true_person, estimated_labels, rounded))
+        return err
+
+    def result(self) -> GroupSizeErrorResult:
+        """Mean, std and shares over the frames so far (NaN without groups)."""
+        err = np.concatenate(self._errors) if self._errors else np.empty(0)
+        rnd = np.concatenate(self._rounded) if self._rounded else np.empty(0)
+        if err.size == 0:
+            return GroupSizeErrorResult(math.nan, math.nan, math.nan, math.nan, 0)
+        return GroupSizeErrorResult(
+            mean_error=float(err.mean()),
+            std_error=float(err.std()),
+            exact_share=float(np.mean(rnd < 0.5)),
+            within_one_share=float(np.mean(rnd < 1.5)),
+            count=int(err.size),
+        )

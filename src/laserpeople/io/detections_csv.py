@@ -5,12 +5,17 @@ Header::
     scan,stamp,x,y,score
 
 ``scan`` is the 0-based index of the scan on its topic, ``stamp`` its time [s], ``x, y`` the
-leg centre [m] in the sensor frame, ``score`` the detector's margin (AdaBoost F(e)).
+leg centre [m] in the sensor frame (or, for fused lasers, in the frame the caller states),
+``score`` the detector's margin (AdaBoost F(e)).
 
-With ``all_segments=True`` every segment of the scan gets a row (detected or not) with the
-extra columns ``segment,first_beam,n_beams,is_leg`` and the 14 features
-(``f1_n_points ... f14_mean_speed``); ``score`` is empty for segments of fewer than three
-points, which are not classified.
+With ``segment_columns`` every segment of the scan gets a row (detected or not) with the
+extra columns ``segment,first_beam,n_beams,is_leg`` and the caller's value columns (the
+``detect --all-segments`` command hands in the 14 feature names, ``f1_n_points ...
+f14_mean_speed``; this file format does not know the classifier); ``score`` is empty for
+segments of fewer than three points, which are not classified.
+
+Files written with a ``topic`` end with one more column, ``topic``: the laser topic of
+the row, or ``fused``. Readers accept files with and without it.
 """
 
 from __future__ import annotations
@@ -23,20 +28,16 @@ from typing import IO, Any
 
 import numpy as np
 
-from laserpeople.detection.features import FEATURE_NAMES
 from laserpeople.errors import RecordingError
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
 HEADER = ("scan", "stamp", "x", "y", "score")
-SEGMENT_COLUMNS = (
-    "segment",
-    "first_beam",
-    "n_beams",
-    "is_leg",
-    *(f"f{i + 1}_{name}" for i, name in enumerate(FEATURE_NAMES)),
-)
+SEGMENT_COLUMNS = ("segment", "first_beam", "n_beams", "is_leg")
+"""The per-segment columns before the caller's value columns (``--all-segments``)."""
+TOPIC_COLUMN = "topic"
+_INT_COLUMNS = frozenset({"scan", "segment", "first_beam", "n_beams", "is_leg"})
 
 
 def _num(value: float) -> str:
@@ -44,20 +45,45 @@ def _num(value: float) -> str:
 
 
 class DetectionsCsvWriter:
-    """Writes detections (or all classified segments) to a CSV file, flushing per scan."""
+    """Writes detections (or all classified segments) to a CSV file, flushing per scan.
 
-    def __init__(self, path: str | Path, *, all_segments: bool = False) -> None:
+    Args:
+        path: The CSV to write.
+        segment_columns: Names of the per-segment value columns (e.g. feature names); when
+            given, rows come from :meth:`write_segments` with
+            ``segment,first_beam,n_beams,is_leg`` and these columns after ``score``.
+        topic: When given, every row ends with a ``topic`` column (pass the row's topic to
+            :meth:`write` / :meth:`write_segments`; this value is the default).
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        *,
+        segment_columns: tuple[str, ...] | None = None,
+        topic: str | None = None,
+    ) -> None:
         self.path = Path(path)
-        self.all_segments = all_segments
+        self.segment_columns = segment_columns
+        self.all_segments = segment_columns is not None
+        self.topic = topic
+        header = HEADER + ((*SEGMENT_COLUMNS, *segment_columns) if segment_columns else ())
         self._out = ScanLineWriter(
-            self.path, HEADER + (SEGMENT_COLUMNS if all_segments else ()), "detections CSV"
+            self.path,
+            header + ((TOPIC_COLUMN,) if topic is not None else ()),
+            "detections CSV",
         )
         self.rows = 0
 
-    def write(self, detections: Detections) -> None:
-        """One row per detection (sensor frame); the scan's rows in one ``write()``."""
-        if detections.frame != "sensor":
-            raise ValueError("detections CSV holds sensor-frame positions")
+    def _tail(self, topic: str | None) -> list[str]:
+        if self.topic is None:
+            return []
+        return [topic if topic is not None else self.topic]
+
+    def write(self, detections: Detections, topic: str | None = None) -> None:
+        """One row per detection, positions as given (sensor frame for one laser); the
+        scan's rows go to the file in one ``write()``."""
+        tail = self._tail(topic)
         rows = []
         for (x, y), score in zip(detections.positions, detections.scores, strict=True):
             rows.append(
@@ -67,6 +93,7 @@ class DetectionsCsvWriter:
                     repr(float(x)),
                     repr(float(y)),
                     _num(score),
+                    *tail,
                 ]
             )
         if rows:
@@ -81,10 +108,12 @@ class DetectionsCsvWriter:
         sizes: np.ndarray,
         is_leg: np.ndarray,
         scores: np.ndarray,
-        features: np.ndarray,
+        values: np.ndarray,
+        topic: str | None = None,
     ) -> None:
-        """One row per segment of ``scan`` with its features (the ``--all-segments`` layout),
-        all in one ``write()``."""
+        """One row per segment of ``scan`` with its ``values`` (S, len(segment_columns))
+        (the ``--all-segments`` layout), all in one ``write()``."""
+        tail = self._tail(topic if topic is not None else scan.sensor)
         rows = []
         for i in range(centres.shape[0]):
             row: list[Any] = [
@@ -98,7 +127,8 @@ class DetectionsCsvWriter:
                 int(sizes[i]),
                 int(bool(is_leg[i])),
             ]
-            row.extend(_num(v) for v in features[i])
+            row.extend(_num(v) for v in values[i])
+            row.extend(tail)
             rows.append(row)
         if rows:
             self._out.write_rows(rows)
@@ -115,8 +145,17 @@ class DetectionsCsvWriter:
         self.close()
 
 
-def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int]]:
-    """Rows of a detections CSV as dicts (``scan`` int, others float; empty -> NaN).
+def _value(key: str, value: str) -> float | int | str:
+    if key == TOPIC_COLUMN:
+        return value
+    if key in _INT_COLUMNS:
+        return int(value)
+    return float(value) if value != "" else math.nan
+
+
+def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int | str]]:
+    """Rows of a detections CSV as dicts (``scan`` int, ``topic`` str when present, others
+    float; empty -> NaN).
 
     A last scan cut off mid-write is left out with a ``TornScanWarning``.
 
@@ -138,7 +177,7 @@ def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int]]:
         raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
 
 
-def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int]]:
+def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int | str]]:
     torn: list[str] = []
     reader = csv.DictReader(complete_lines(fh, torn))
     if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
@@ -147,7 +186,7 @@ def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int]]:
             path=p,
             hint="expected the header " + ",".join(HEADER),
         )
-    held: list[dict[str, float | int]] = []
+    held: list[dict[str, float | int | str]] = []
     for line, row in enumerate(reader, start=2):
         if None in row or any(v is None for v in row.values()):
             raise RecordingError(
@@ -155,14 +194,7 @@ def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int]]:
                 path=p,
             )
         try:
-            parsed: dict[str, float | int] = {
-                k: (
-                    int(v)
-                    if k in ("scan", "segment", "first_beam", "n_beams", "is_leg")
-                    else (float(v) if v != "" else math.nan)
-                )
-                for k, v in row.items()
-            }
+            parsed = {k: _value(k, v) for k, v in row.items()}
         except (TypeError, ValueError) as exc:
             raise RecordingError(f"line {line}: {str(exc)[:100]}", path=p) from exc
         if held and held[0]["scan"] != parsed["scan"]:

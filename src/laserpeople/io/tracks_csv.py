@@ -7,10 +7,19 @@ Header::
 ``scan`` is the 0-based index of the scan on its topic, positions [m] and velocities
 [m/s] are in the frame chosen when writing (``--output-frame``), ``size`` is the
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
+Files written with a ``topic`` have one more column at the end, ``topic``: the laser
+topic the tracks come from, or ``fused`` when several lasers made each frame (then
+``scan`` is the index of the first laser's scan). Readers accept files with and without
+it.
 A scan with no tracks writes no row. Every scan's rows go to the file in one ``write()``
 before the next scan is processed (:mod:`laserpeople.io.scan_lines`), so a crash or a kill
 leaves a valid file with the scans done so far; a reader that finds the last scan cut off
 anyway (a file cut short) leaves that scan out with a ``TornScanWarning``.
+
+``track_id`` may be any text when reading (other trackers write UUIDs): an id that is not
+a plain integer gets the integer :data:`STRING_ID_BASE` + k (k = 0, 1, ... in order of
+first appearance), so that :class:`~laserpeople.tracks.Track` keeps integer ids and every
+metric and drawing works unchanged; :class:`TrackIdNames` maps them back to the text.
 """
 
 from __future__ import annotations
@@ -43,6 +52,7 @@ HEADER = (
     "size",
     "labels",
 )
+TOPIC_COLUMN = "topic"
 
 
 def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
@@ -93,11 +103,17 @@ class TracksCsvWriter:
         ...         out.write(tracks)
     """
 
-    def __init__(self, path: str | Path, frame: CoordinateFrame = "world") -> None:
+    def __init__(
+        self, path: str | Path, frame: CoordinateFrame = "world", topic: str | None = None
+    ) -> None:
         self.path = Path(path)
         self.frame = frame
-        self._out = ScanLineWriter(self.path, HEADER, "tracks CSV")
+        self.topic = topic
+        self._out = ScanLineWriter(
+            self.path, HEADER if topic is None else (*HEADER, TOPIC_COLUMN), "tracks CSV"
+        )
         self.rows = 0
+        self._tail: tuple[str, ...] = () if topic is None else (topic,)
 
     def write(self, tracks: Tracks) -> None:
         """Append the rows of one scan with one ``write()`` (see the module docstring).
@@ -124,6 +140,7 @@ class TracksCsvWriter:
                     f"{c[1, 1]:.6g}",
                     t.size,
                     t.labels,
+                    *self._tail,
                 )
             )
         if rows:
@@ -141,44 +158,8 @@ class TracksCsvWriter:
         self.close()
 
 
-NAMED_ID_BASE = 2**62
-"""Track ids that are not decimal integers below this get ids from here up (see
-:class:`TrackIdMap`)."""
-
-
-class TrackIdMap:
-    """Integer ids for the ``track_id`` column, which may hold any text.
-
-    A decimal integer ``0 <= id < 2**62`` (what ``laserpeople track`` writes, and 12-digit
-    ids of other tools) is kept as it is; any other text (``"p7"``, ``"-3"``, a 30-digit
-    number, a UUID) gets the next free integer from :data:`NAMED_ID_BASE` up, the same one
-    for every row of the file. :attr:`names` maps those integers back to the text, for
-    reports.
-    """
-
-    def __init__(self) -> None:
-        self._ids: dict[str, int] = {}
-        self.names: dict[int, str] = {}
-
-    def __call__(self, text: str) -> int:
-        """The integer id of ``text`` (raises ValueError for an empty id)."""
-        text = text.strip()
-        if not text:
-            raise ValueError("track_id is empty")
-        if text.isascii() and text.isdigit() and len(text) <= 19:
-            value = int(text)
-            if value < NAMED_ID_BASE:
-                return value
-        known = self._ids.get(text)
-        if known is None:
-            known = NAMED_ID_BASE + len(self._ids)
-            self._ids[text] = known
-            self.names[known] = text
-        return known
-
-
 def _parse_row(
-    row: dict[str, Any], path: Path, line: int, ids: TrackIdMap
+    row: dict[str, Any], path: Path, line: int, ids: TrackIdNames
 ) -> tuple[int, float, Track]:
     if None in row or any(v is None for v in row.values()):
         raise RecordingError(
@@ -195,7 +176,7 @@ def _parse_row(
         if not 0 <= size <= 1_000_000:
             raise ValueError(f"size {size} is not a number of people")
         track = Track(
-            track_id=ids(row["track_id"]),
+            track_id=ids.to_int(row["track_id"]),
             kind=kind,
             position=np.array([float(row["x"]), float(row["y"])]),
             velocity=np.array([_number(row, "vx", "nan"), _number(row, "vy", "nan")]),
@@ -204,7 +185,7 @@ def _parse_row(
             labels=row.get("labels") or "",
         )
         scan, stamp = int(row["scan"]), float(row["stamp"])
-        if not 0 <= scan < NAMED_ID_BASE:
+        if not 0 <= scan < ID_LIMIT:
             raise ValueError(f"scan {scan} is negative or too large")
         if not math.isfinite(stamp):
             raise ValueError("stamp is not finite")
@@ -224,15 +205,96 @@ def _number(row: dict[str, Any], key: str, empty: str) -> float:
     return float(row.get(key) or empty)
 
 
+ID_LIMIT = 2**62
+"""Scan indices (and the integer ids of a truth CSV) read from a CSV stay below this, so
+that they fit int64 arrays with room to spare."""
+
+STRING_ID_BASE = 1 << 40
+"""First integer given to a track id that is not an integer (far above any id a tracker
+of this package writes)."""
+
+
+class TrackIdNames:
+    """The text ids of a tracks CSV and the integers that stand for them.
+
+    Example:
+        >>> names = TrackIdNames()
+        >>> names.to_int("7"), names.to_int("a1b2") == STRING_ID_BASE
+        (7, True)
+        >>> names.name(STRING_ID_BASE)
+        'a1b2'
+    """
+
+    def __init__(self) -> None:
+        self._ints: dict[str, int] = {}
+        self._names: dict[int, str] = {}
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def to_int(self, text: str) -> int:
+        """The integer id of ``text``: itself when it is a plain integer (``"7"``, ``"-3"``)
+        of magnitude below :data:`STRING_ID_BASE`, else (other text, or a longer number) a
+        new or known id from :data:`STRING_ID_BASE` on, the same for every row."""
+        t = text.strip()
+        if not t:
+            raise ValueError("track_id is empty")
+        digits = t[1:] if t[:1] in "+-" else t
+        if digits.isascii() and digits.isdigit():
+            value = int(t)
+            if -STRING_ID_BASE < value < STRING_ID_BASE:
+                return value
+        got = self._ints.get(t)
+        if got is None:
+            got = STRING_ID_BASE + len(self._ints)
+            self._ints[t] = got
+            self._names[got] = t
+        return got
+
+    def name(self, track_id: int) -> str:
+        """The id as written in the CSV."""
+        return self._names.get(int(track_id), str(int(track_id)))
+
+
 TRACKS_HINT = "give the tracks CSV written by `laserpeople track -o tracks.csv`"
 
 
+def _existing_csv(path: str | Path) -> Path:
+    """``path`` when it names a file; RecordingError with a hint otherwise."""
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError("file not found", path=p, hint=TRACKS_HINT)
+    if p.is_dir():
+        raise RecordingError("is a directory, not a tracks CSV", path=p, hint=TRACKS_HINT)
+    return p
+
+
+def read_tracks_topic(path: str | Path) -> str | None:
+    """The ``topic`` of a tracks CSV's first row, or None for files without the column
+    (written before it existed) or without rows."""
+    p = _existing_csv(path)
+    try:
+        with open(p, newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(fh)
+            if TOPIC_COLUMN not in (reader.fieldnames or []):
+                return None
+            row = next(reader, None)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
+    return None if row is None else (row.get(TOPIC_COLUMN) or None)
+
+
 def iter_tracks_csv(
-    path: str | Path, frame: CoordinateFrame = "world", kinds: tuple[TrackKind, ...] | None = None
+    path: str | Path,
+    frame: CoordinateFrame = "world",
+    kinds: tuple[TrackKind, ...] | None = None,
+    ids: TrackIdNames | None = None,
 ) -> Iterator[Tracks]:
     """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in scan order.
 
-    ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds.
+    ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds;
+    ``ids`` (if given) collects the text ids that are not integers (see the module
+    docstring), so that reports can print them as written.
 
     Raises:
         RecordingError: the file is missing, a directory, not UTF-8 text or unreadable, lacks
@@ -240,13 +302,9 @@ def iter_tracks_csv(
             must be together, as ``laserpeople track`` writes them); the message names the
             file and the line or scan.
     """
-    p = Path(path)
-    if not p.exists():
-        raise RecordingError("file not found", path=p, hint=TRACKS_HINT)
-    if p.is_dir():
-        raise RecordingError("is a directory, not a tracks CSV", path=p, hint=TRACKS_HINT)
+    p = _existing_csv(path)
     try:
-        yield from _read_tracks(p, frame, kinds)
+        yield from _read_tracks(p, frame, kinds, ids if ids is not None else TrackIdNames())
     except UnicodeDecodeError as exc:
         raise RecordingError(
             f"not a text CSV (byte {exc.start} is not UTF-8)", path=p, hint=TRACKS_HINT
@@ -256,7 +314,7 @@ def iter_tracks_csv(
 
 
 def _read_tracks(
-    p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None
+    p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None, ids: TrackIdNames
 ) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
         torn: list[str] = []
@@ -272,7 +330,6 @@ def _read_tracks(
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1
-        ids = TrackIdMap()
         for line, row in enumerate(reader, start=2):
             scan, stamp, track = _parse_row(row, p, line, ids)
             if key is None or scan != key[0]:

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import RecordingError
-from laserpeople.io.tracks_csv import NAMED_ID_BASE
+from laserpeople.io.tracks_csv import ID_LIMIT
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
@@ -141,22 +141,22 @@ def _parse_row(
             raise ValueError(f"{len(extra)} more field(s) than the header has columns")
         scan = int(number("scan", int))
         stamp = float(number("stamp", float))
-        if not 0 <= scan < NAMED_ID_BASE:
+        if not 0 <= scan < ID_LIMIT:
             raise ValueError(f"scan {scan} is negative or too large")
         if not math.isfinite(stamp):
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
         person = int(number("person_id", int))
-        if not 0 <= person < NAMED_ID_BASE:
+        if not 0 <= person < ID_LIMIT:
             raise ValueError(f"person_id {person} is negative or too large")
         x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
         group_text = cell("group_id")
         group = int(number("group_id", int)) if group_text else NONE_ID
-        if group >= NAMED_ID_BASE:
-            raise ValueError(f"group_id {group} is larger than {NAMED_ID_BASE - 1}")
+        if group >= ID_LIMIT:
+            raise ValueError(f"group_id {group} is larger than {ID_LIMIT - 1}")
         group = max(group, NONE_ID)
     except ValueError as exc:
         raise RecordingError(

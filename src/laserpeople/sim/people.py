@@ -80,6 +80,8 @@ class PersonSpec:
             door) instead of standing at its last point.
         gait: Ready-made (footsteps, body track), e.g. from
             :func:`~laserpeople.sim.gait.pivot_walk`.
+        gait_params: This person's footstep planner parameters (cadence, swing); the
+            defaults when None.
     """
 
     person_id: int
@@ -92,6 +94,7 @@ class PersonSpec:
     accessory: str | None = None
     leave_at_end: bool = False
     gait: tuple[FootSteps, BodyTrack] | None = field(default=None, repr=False)
+    gait_params: GaitParams | None = None
 
 
 def random_person(
@@ -176,7 +179,7 @@ def plan_person(spec: PersonSpec, t_end: float, gait: GaitParams | None = None) 
     if spec.route is None:
         raise ValueError(f"person {spec.person_id} has neither a route nor a gait")
     track = sample_route(spec.route, t_end)
-    steps = plan_footsteps(track, spec.hip_half_width, gait)
+    steps = plan_footsteps(track, spec.hip_half_width, gait or spec.gait_params)
     enter = float(spec.route.t[0])
     leave = spec.route.end_time if spec.leave_at_end else math.inf
     return PlannedPerson(spec, track, steps, enter, leave)

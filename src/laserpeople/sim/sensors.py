@@ -130,6 +130,8 @@ class SensorSpec:
         no_return: "inf" (default, like the ROS drivers) or "zero".
         sigma: Range noise [m]; the model's when None.
         dropout: Dropout probability; the model's when None.
+        laser_model: A scanner model of its own (e.g. drawn at random), used instead of
+            ``LASER_MODELS[model]``; ``model`` then only names it.
     """
 
     name: str
@@ -142,11 +144,12 @@ class SensorSpec:
     no_return: str = "inf"
     sigma: float | None = None
     dropout: float | None = None
+    laser_model: LaserModel | None = None
 
     @property
     def laser(self) -> LaserModel:
         """The scanner model."""
-        return LASER_MODELS[self.model]
+        return self.laser_model if self.laser_model is not None else LASER_MODELS[self.model]
 
     def rate(self, override: float | None = None) -> float:
         """Scan rate [Hz], ``override`` first."""

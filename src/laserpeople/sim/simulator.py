@@ -41,6 +41,15 @@ class Scene:
         sensors: The scanners; the first one sets the ground-truth frames.
         robot: The robot carrying the ``on_robot`` sensors, if any.
         notes: Extra JSON-ready facts for the metadata (e.g. the permutation of a crossing).
+        poses_from_odometry: Give the scans the robot's drifting odometry poses instead of
+            the true ones, as a real robot without localisation has them; the ground truth
+            is then expressed in that odometry frame too (each frame moved by the
+            odometry error at its instant), so tracks and truth stay comparable while
+            static objects appear to drift as they do on a real robot.
+        truth_seen_within: When set [s], a person is in a truth frame only if a beam of the
+            first sensor hit them within this many seconds before or after the frame (people
+            out of view for long are not counted as missed; short occlusions still are).
+            None keeps everyone present in the scene.
     """
 
     world: World
@@ -48,6 +57,8 @@ class Scene:
     sensors: list[SensorSpec]
     robot: RobotSpec | None = None
     notes: dict[str, Any] = field(default_factory=dict)
+    poses_from_odometry: bool = False
+    truth_seen_within: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -278,8 +289,112 @@ def simulate(
             render_scan(spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng)
         )
     truth = _truth_frames(planned, per_sensor[0][0])
+    if scene.truth_seen_within is not None:
+        first = scene.sensors[0].name
+        truth = seen_truth(
+            [sc for sc in scans if sc.sensor == first], truth, scene.truth_seen_within
+        )
     meta = _meta(scene, planned, duration, seed, rate, name, description, per_sensor, seeds[-1])
+    if scene.poses_from_odometry and scene.robot is not None:
+        scans, truth = _odometry_frame(scene.robot, scans, truth, seeds[-1])
+        meta["frame"] = "odometry"
     return SimResult(scans, truth, meta)
+
+
+def seen_truth(scans: list[Scan], truth: list[TruthFrame], window: float) -> list[TruthFrame]:
+    """``truth`` (one frame per scan of ``scans``) keeping in each frame only the people hit
+    by a beam of some scan within ``window`` [s] of it (beam labels say who was hit)."""
+    from dataclasses import replace
+
+    stamps = np.array([s.stamp for s in scans])
+    hit: dict[int, list[float]] = {}
+    for scan in scans:
+        if scan.labels is None:
+            continue
+        for pid in np.unique(scan.labels.person[scan.labels.person >= 0]).tolist():
+            hit.setdefault(int(pid), []).append(scan.stamp)
+    seen_times = {pid: np.asarray(ts) for pid, ts in hit.items()}
+
+    def seen_near(pid: int, t: float) -> bool:
+        times = seen_times.get(pid)
+        if times is None:
+            return False
+        k = int(np.searchsorted(times, t - window))  # first hit at or after t - window
+        return k < times.size and times[k] <= t + window
+
+    out = []
+    for k, frame in enumerate(truth):
+        t = float(stamps[k])
+        keep = np.array([seen_near(pid, t) for pid in frame.person_ids.tolist()], dtype=bool)
+        if keep.all():
+            out.append(frame)
+            continue
+        out.append(
+            replace(
+                frame,
+                person_ids=frame.person_ids[keep],
+                positions=frame.positions[keep],
+                velocities=frame.velocities[keep],
+                group_ids=frame.group_ids[keep],
+                leg_positions=frame.leg_positions[keep],
+                hues=frame.hues[keep],
+            )
+        )
+    return out
+
+
+def _odometry_correction(
+    robot: RobotSpec, odo_seed: np.random.SeedSequence, times: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Rotation angle (T,) and translation (T, 2) of the rigid map C(t) from the true world
+    frame to the odometry frame: C(t) = T_odo(t) T_true(t)^-1 (robot base poses)."""
+    track = robot.track
+    odo = integrate_odometry(track, robot.odometry, np.random.default_rng(odo_seed))
+    xy, th, _ = track.at(times)
+    ox = np.interp(times, track.times, odo[:, 0])
+    oy = np.interp(times, track.times, odo[:, 1])
+    oth = np.interp(times, track.times, np.unwrap(odo[:, 2]))
+    dth = oth - np.unwrap(th)
+    c, s = np.cos(dth), np.sin(dth)
+    tx = ox - (c * xy[:, 0] - s * xy[:, 1])
+    ty = oy - (s * xy[:, 0] + c * xy[:, 1])
+    return dth, np.column_stack([tx, ty])
+
+
+def _odometry_frame(
+    robot: RobotSpec,
+    scans: list[Scan],
+    truth: list[TruthFrame],
+    odo_seed: np.random.SeedSequence,
+) -> tuple[list[Scan], list[TruthFrame]]:
+    """Scans with odometry poses and truth in the odometry frame (see :class:`Scene`)."""
+    from dataclasses import replace
+
+    stamps = np.array([s.stamp for s in scans])
+    dth, t = _odometry_correction(robot, odo_seed, stamps)
+    out_scans = []
+    for k, scan in enumerate(scans):
+        pose = scan.pose
+        assert pose is not None  # simulated scans always carry their pose
+        c, s = math.cos(dth[k]), math.sin(dth[k])
+        x = c * pose.x - s * pose.y + t[k, 0]
+        y = s * pose.x + c * pose.y + t[k, 1]
+        out_scans.append(replace(scan, pose=Pose2D(x, y, float(wrap_angle(pose.theta + dth[k])))))
+    tstamps = np.array([f.stamp for f in truth])
+    fdth, ft = _odometry_correction(robot, odo_seed, tstamps)
+    out_truth = []
+    for k, f in enumerate(truth):
+        c, s = math.cos(fdth[k]), math.sin(fdth[k])
+        rot = np.array([[c, -s], [s, c]])
+        out_truth.append(
+            replace(
+                f,
+                positions=f.positions @ rot.T + ft[k],
+                velocities=f.velocities @ rot.T,
+                leg_positions=f.leg_positions @ rot.T + ft[k],
+            )
+        )
+    return out_scans, out_truth
 
 
 def render_scan(

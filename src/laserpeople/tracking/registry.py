@@ -1,27 +1,74 @@
-"""Tracker registry: name -> factory and parameter class, for the ``track`` command.
+"""Tracker registry: name -> factory and parameter class, for ``track``, ``bench``, ``demo``.
 
-Every tracker offers ``update(detections) -> Tracks`` (:class:`Tracker`). A new tracker
-registers itself with :func:`register` (or is added to :data:`TRACKERS` below) and becomes
-available as ``laserpeople track --tracker NAME`` with its parameters read from the
-``[section]`` of ``--config`` and printed by ``--print-config``.
+Every registered factory hands out a :class:`~laserpeople.frame.FrameTracker`: it declares
+what it ``consumes`` of a :class:`~laserpeople.frame.Frame` and offers
+``update(frame) -> Tracks``. A new tracker registers itself with :func:`register` (or is
+added to :func:`_register_builtin` below) and becomes available as
+``laserpeople track --tracker NAME`` with its parameters read from the ``[section]`` of
+``--config`` and printed by ``--print-config``; the pipeline checks at build time that it
+can feed the tracker what it consumes.
+
+The leg trackers of this package take one scan's leg detections
+(``update(detections) -> Tracks``, :class:`DetectionsTracker`); :class:`LegsAdapter` makes
+them frame trackers that consume ``{"legs"}``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
 from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.tracks import Detections, Tracks
 
 
-class Tracker(Protocol):
-    """A streaming tracker: one scan's detections in, the current tracks out."""
+class DetectionsTracker(Protocol):
+    """A streaming tracker of one scan's detections: detections in, the current tracks out."""
 
     def update(self, detections: Detections) -> Tracks:
         """Process one scan."""
         ...
+
+
+class LegsAdapter:
+    """A :class:`DetectionsTracker` as a frame tracker that consumes the frame's legs.
+
+    The legs arrive in the frame's coordinate frame. In the sensor frame they are handed
+    on without a sensor pose, so that the wrapped tracker (which tracks in the world frame
+    whenever its first detections carry a pose) stays in the frame the pipeline chose; the
+    pose is put back on the tracks for writers that convert frames.
+
+    Attributes:
+        tracker: The wrapped tracker (for its own statistics, e.g. ``n_hypotheses``).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"legs"})
+
+    def __init__(self, tracker: DetectionsTracker) -> None:
+        self.tracker = tracker
+
+    def update(self, frame: Frame) -> Tracks:
+        """Track the legs of ``frame``."""
+        legs = frame.legs
+        if legs is None:
+            raise ConfigError(
+                f"frame {frame.index} has no leg detections",
+                hint="put a leg detection stage before this tracker",
+            )
+        if legs.frame == "sensor" and legs.sensor_pose is not None:
+            legs = replace(legs, sensor_pose=None)
+        tracks = self.tracker.update(legs)
+        if tracks.sensor_pose is None and frame.sensor_pose is not None:
+            tracks = replace(tracks, sensor_pose=frame.sensor_pose)
+        return tracks
+
+    def __getattr__(self, name: str) -> Any:
+        # statistics of the wrapped tracker (dropped_detections, n_hypotheses, ...)
+        if name == "tracker":
+            raise AttributeError(name)
+        return getattr(self.tracker, name)
 
 
 @dataclass(frozen=True)
@@ -31,14 +78,21 @@ class TrackerEntry:
     Attributes:
         name: Command-line name.
         params_cls: Frozen parameter dataclass (its ``config_section`` is the TOML section).
-        factory: Builds the tracker from parameters.
+        factory: Builds the frame tracker from parameters.
         description: One line for ``--help``.
+        consumes: What the tracker reads of a frame (the pipeline adds the stages that fill
+            these fields, or refuses to build).
     """
 
     name: str
     params_cls: type
-    factory: Callable[[Any], Tracker]
+    factory: Callable[[Any], FrameTracker]
     description: str
+    consumes: frozenset[FrameField] = frozenset({"legs"})
+
+    def make(self, params: Any | None = None) -> FrameTracker:
+        """A new tracker with ``params`` (default: the parameter class's defaults)."""
+        return self.factory(self.params_cls() if params is None else params)
 
 
 TRACKERS: dict[str, TrackerEntry] = {}
@@ -56,21 +110,40 @@ def get(name: str) -> TrackerEntry:
     try:
         return TRACKERS[name]
     except KeyError:
+        known = sorted(TRACKERS)
         raise ConfigError(
-            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(sorted(TRACKERS))}"
+            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(known)}"
         ) from None
 
 
-def _leg_mht(params: Any) -> Tracker:
+def _leg_mht(params: Any) -> FrameTracker:
     from laserpeople.tracking.legs import LegMHTTracker
 
-    return LegMHTTracker(params)
+    return LegsAdapter(LegMHTTracker(params))
 
 
-def _nn(params: Any) -> Tracker:
+def _nn(params: Any) -> FrameTracker:
     from laserpeople.tracking.nearest import NearestNeighbourTracker
 
-    return NearestNeighbourTracker(params)
+    return LegsAdapter(NearestNeighbourTracker(params))
+
+
+def _group_mht(params: Any) -> FrameTracker:
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    return GroupMHTTracker(params)
+
+
+def _feet_pf(params: Any) -> FrameTracker:
+    from laserpeople.tracking.particle.feet import FeetTracker
+
+    return FeetTracker(params)
+
+
+def _upper_body_pf(params: Any) -> FrameTracker:
+    from laserpeople.tracking.particle.upper_body import UpperBodyTracker
+
+    return UpperBodyTracker(params)
 
 
 def _register_builtin() -> None:
@@ -93,6 +166,64 @@ def _register_builtin() -> None:
             "global-nearest-neighbour Kalman leg tracker (baseline)",
         )
     )
+    from laserpeople.tracking.groups.tracker import GroupTrackerParams
+
+    register(
+        TrackerEntry(
+            "group-mht",
+            GroupTrackerParams,
+            _group_mht,
+            "multi-model MHT of groups with split, merge and group size (000 Sec. 4)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
+    from laserpeople.tracking.particle.feet import FeetParams
+    from laserpeople.tracking.particle.upper_body import UpperBodyParams
+
+    register(
+        TrackerEntry(
+            "feet-pf",
+            FeetParams,
+            _feet_pf,
+            "feet-height particle filters with a walking model, on fused foreground points "
+            "(004 Sec. 2.1)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
+    register(
+        TrackerEntry(
+            "upper-body-pf",
+            UpperBodyParams,
+            _upper_body_pf,
+            "upper-body-height particle filters in Voronoi cells, on fused foreground points "
+            "(004 Sec. 2.2)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
 
 
 _register_builtin()
+
+
+# --- Cluster Sorting Algorithm (002 Sec. 2), a FrameTracker on raw foreground points ---
+def _csa(params: Any) -> FrameTracker:
+    from laserpeople.tracking.csa import ClusterSortingTracker
+
+    return ClusterSortingTracker(params)
+
+
+def _register_csa() -> None:
+    from laserpeople.tracking.csa import CSAParams
+
+    register(
+        TrackerEntry(
+            "csa",
+            CSAParams,
+            _csa,
+            "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
+            consumes=frozenset({"points", "foreground"}),
+        )
+    )
+
+
+_register_csa()

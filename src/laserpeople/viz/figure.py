@@ -35,6 +35,8 @@ FloatArray = NDArray[np.float64]
 Extent = tuple[float, float, float, float]
 AXES_BOX = (0.09, 0.08, 0.88, 0.86)
 """Axes position (left, bottom, width, height) as fractions of the image."""
+LEGEND_MIN_SIZE = (480, 360)
+"""Smallest image (width, height) [px] that gets a legend."""
 
 
 class PlotsExtraMissingError(LaserPeopleError):
@@ -48,7 +50,7 @@ def import_matplotlib() -> ModuleType:
     except ImportError as exc:
         raise PlotsExtraMissingError(
             "drawing needs matplotlib, which is not installed",
-            hint="pip install 'laserpeople[plots]'",
+            hint="pip install 'laserpeople[all]'",
         ) from exc
     matplotlib.use("Agg", force=True)
     return matplotlib
@@ -68,6 +70,12 @@ class FrameRenderer:
         frame: Name of the display frame, written on the axes.
         trail: Number of past frames whose positions are drawn as a trail behind each track.
         title: Text at the top left of every frame (the scan time is added).
+        t0: Time stamp [s] the captions count from (the recording's first scan); None
+            counts from the first frame drawn.
+        legend: Draw a legend of the markers (leg tracks, person tracks, true people) when
+            the image is at least :data:`LEGEND_MIN_SIZE` (it would hide too much of a
+            smaller one).
+        truth: Whether the legend lists the ground-truth markers.
     """
 
     def __init__(
@@ -78,6 +86,9 @@ class FrameRenderer:
         frame: str = "world",
         trail: int = 20,
         title: str = "",
+        t0: float | None = None,
+        legend: bool = True,
+        truth: bool = True,
     ) -> None:
         mpl = import_matplotlib()
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -105,6 +116,7 @@ class FrameRenderer:
         ax.tick_params(labelsize=7)
         self.trail_len = max(0, int(trail))
         self.title = title
+        self.t0 = t0
 
         def anim(artist: Any) -> Any:
             artist.set_animated(True)
@@ -158,6 +170,9 @@ class FrameRenderer:
             bbox={"facecolor": (1, 1, 1, 0.75), "edgecolor": "none", "pad": 1.5},
             zorder=10,
         )
+        self._legend: Any = None
+        if legend and all(a >= b for a, b in zip(self.size, LEGEND_MIN_SIZE, strict=True)):
+            self._legend = _add_legend(ax, truth)  # drawn last, over the data
         self._labels: list[Any] = []
         self._history: dict[tuple[str, int], deque[tuple[float, float]]] = {}
         self._truth_history: dict[int, deque[tuple[float, float]]] = {}
@@ -246,22 +261,19 @@ class FrameRenderer:
             self._truth.set_offsets(np.empty((0, 2)))
             self._truth_legs.set_offsets(np.empty((0, 2)))
 
-        n_people = f"{len(people)} people" if people else ""
-        parts = [
-            self.title,
-            f"scan {f.scan.index}  t={f.scan.stamp:.2f} s",
-            ", ".join(
-                x
-                for x in (
-                    n_people,
-                    f"{len(legs)} legs" if legs else "",
-                    f"{len(groups)} groups" if groups else "",
-                    f"truth {len(truth)}" if truth is not None else "",
-                )
-                if x
-            ),
-        ]
-        self._info.set_text("\n".join(p for p in parts if p))
+        if self.t0 is None:
+            self.t0 = f.scan.stamp
+        self._info.set_text(
+            caption(
+                self.title,
+                f.scan.index,
+                f.scan.stamp - self.t0,
+                len(people),
+                len(legs),
+                len(groups),
+                None if truth is None else len(truth),
+            )
+        )
 
         for artist in (
             self._groups,
@@ -277,6 +289,7 @@ class FrameRenderer:
             self._truth_legs,
             *self._labels[:n_label],
             self._info,
+            *([self._legend] if self._legend is not None else []),
         ):
             ax.draw_artist(artist)
         rgba = np.asarray(self.canvas.buffer_rgba())
@@ -322,6 +335,75 @@ class FrameRenderer:
     def close(self) -> None:
         """Free the figure."""
         self.fig.clear()
+
+
+def caption(
+    title: str,
+    scan: int,
+    seconds: float,
+    people: int,
+    legs: int,
+    groups: int,
+    truth: int | None,
+) -> str:
+    """The text at the top left of a frame: the title, the scan index and the seconds
+    since the recording's first scan, and what is tracked (``truth`` None: no truth)."""
+    counts = [
+        counted(people, "person", "people") if people else "",
+        counted(legs, "leg", "legs") if legs else "",
+        counted(groups, "group", "groups") if groups else "",
+        f"truth: {counted(truth, 'person', 'people')}" if truth is not None else "",
+    ]
+    lines = [title, f"scan {scan}  t = {seconds:.2f} s", ", ".join(c for c in counts if c)]
+    return "\n".join(line for line in lines if line)
+
+
+def counted(n: int, one: str, many: str) -> str:
+    """``"1 person"``, ``"2 people"``."""
+    return f"{n} {one if n == 1 else many}"
+
+
+def _add_legend(ax: Any, truth: bool) -> Any:
+    """The legend of the markers a frame uses, as an animated artist (drawn over the data
+    of every frame)."""
+    from matplotlib.lines import Line2D
+
+    grey, dark = (0.6, 0.6, 0.6, 1.0), (0.1, 0.1, 0.1, 1.0)
+
+    def marker(label: str, ms: float, face: Any, edge: Any, shape: str = "o") -> Any:
+        return Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker=shape,
+            markersize=ms,
+            markerfacecolor=face,
+            markeredgecolor=edge,
+            markeredgewidth=0.8,
+            label=label,
+        )
+
+    handles = [
+        marker("person track (label P + id, one colour per id)", 6.5, grey, dark),
+        marker("leg track (small dot)", 4.0, grey, dark),
+    ]
+    if truth:
+        handles += [
+            marker("true person (ground truth ring)", 7.5, "none", _rgb(TRUTH)),
+            marker("true leg", 3.5, _rgb(TRUTH), _rgb(TRUTH), "x"),
+        ]
+    legend = ax.legend(
+        handles=handles,
+        loc="lower right",
+        fontsize=6,
+        framealpha=0.85,
+        borderpad=0.4,
+        handlelength=2.0,
+        handletextpad=0.8,
+        labelspacing=0.5,
+    )
+    legend.set_animated(True)
+    return legend
 
 
 def _sensor_triangle(f: SceneFrame, size: float = 0.35) -> FloatArray:

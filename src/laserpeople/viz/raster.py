@@ -63,7 +63,7 @@ def _pil() -> object:
     except ImportError as exc:
         raise PlotsExtraMissingError(
             "writing images needs pillow, which is not installed",
-            hint="pip install 'laserpeople[plots]'",
+            hint="pip install 'laserpeople[all]'",
         ) from exc
     return Image
 
@@ -111,7 +111,15 @@ def plot_scan(
         )
     if extent is None:
         extent = _frames_extent([*frames, target])
-    renderer = FrameRenderer(extent, size=size, frame=scene.frame, trail=trail, title=_title(scene))
+    renderer = FrameRenderer(
+        extent,
+        size=size,
+        frame=scene.frame,
+        trail=trail,
+        title=_title(scene),
+        t0=scene.first_stamp(),
+        truth=scene.draws_truth(),
+    )
     for f in frames:
         renderer.draw(f)
     image = renderer.draw(target)
@@ -152,7 +160,15 @@ def iter_images(
     """One RGB image per frame of ``scene`` (streaming; the extent takes one extra pass)."""
     if extent is None:
         extent = scene.extent()
-    renderer = FrameRenderer(extent, size=size, frame=scene.frame, trail=trail, title=_title(scene))
+    renderer = FrameRenderer(
+        extent,
+        size=size,
+        frame=scene.frame,
+        trail=trail,
+        title=_title(scene),
+        t0=scene.first_stamp(),
+        truth=scene.draws_truth(),
+    )
     try:
         for f in (progress or _no_progress)(scene.frames(), total):
             yield renderer.draw(f)
@@ -195,10 +211,11 @@ def gif_palette() -> list[int]:
     return [v for c in colours for v in c]
 
 
-def _quantize(img: RGBImage, palette: Any) -> Any:
-    """Map an RGB image onto the fixed GIF palette. Pillow's mapping is approximate (it
-    caches on reduced colour bits) and would tint the white background; background pixels
-    are therefore set to palette entry 0 (the background colour) exactly."""
+def _quantize(img: RGBImage, palette: Any) -> NDArray[np.uint8]:
+    """Map an RGB image onto the fixed GIF palette; returns palette indices (H, W). Pillow's
+    mapping is approximate (it caches on reduced colour bits) and would tint the white
+    background; background pixels are therefore set to palette entry 0 (the background
+    colour) exactly."""
     from PIL import Image
 
     q = Image.fromarray(img).quantize(palette=palette, dither=Image.Dither.NONE)
@@ -208,35 +225,42 @@ def _quantize(img: RGBImage, palette: Any) -> Any:
     else:
         white = np.all(img == np.array(BACKGROUND, dtype=np.uint8), axis=-1)
     idx[white] = 0
-    out = Image.fromarray(idx)  # mode L; putpalette makes it P
-    out.putpalette(q.getpalette() or [])
-    return out
+    return idx
 
 
 def write_gif(
     images: Iterable[RGBImage], out: str | Path, frame_seconds: float, *, loop: bool = True
 ) -> int:
-    """Write RGB images as an animated GIF with a fixed palette; returns the frame count."""
+    """Write RGB images as an animated GIF with a fixed palette; returns the frame count.
+
+    Frames are written as they come (:class:`~laserpeople.viz.gif.GifWriter`): memory
+    stays at about one frame however many there are. A failed or empty animation leaves
+    no file behind.
+    """
     from PIL import Image
+
+    from laserpeople.viz.gif import GifWriter
 
     _pil()
     pal = Image.new("P", (1, 1))
-    pal.putpalette(gif_palette())
-    frames = [_quantize(img, pal) for img in images]
-    if not frames:
-        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    palette = gif_palette()
+    pal.putpalette(palette)
     p = Path(out)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    frames[0].save(
-        p,
-        save_all=True,
-        append_images=frames[1:],
-        duration=max(20, round(frame_seconds * 1000.0)),
-        loop=0 if loop else 1,
-        optimize=False,
-        disposal=1,
-    )
-    return len(frames)
+    writer: GifWriter | None = None
+    try:
+        for img in images:
+            if writer is None:
+                writer = GifWriter(p, (img.shape[1], img.shape[0]), palette, loop=loop)
+            writer.add(_quantize(img, pal), frame_seconds)
+    except BaseException:
+        if writer is not None:
+            writer.close()
+            p.unlink(missing_ok=True)
+        raise
+    if writer is None:
+        raise LaserPeopleError("no frames to animate", hint="check --start/--stop/--every")
+    writer.close()
+    return writer.frames
 
 
 def find_ffmpeg() -> str | None:
@@ -264,7 +288,7 @@ def require_ffmpeg(out: str | Path) -> str:
             "writing .mp4 needs the ffmpeg program, which is neither on the PATH nor bundled "
             "by imageio-ffmpeg",
             path=out,
-            hint="pip install 'laserpeople[plots]' (bundles ffmpeg), or install ffmpeg "
+            hint="pip install 'laserpeople[all]' (bundles ffmpeg), or install ffmpeg "
             "(e.g. apt install ffmpeg), or write a .gif instead",
         )
     return ffmpeg
@@ -348,7 +372,7 @@ def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float)
             f"ffmpeg ({ffmpeg}) failed after {n} frames: {err.strip()[-400:]}",
             path=p,
             hint="an ffmpeg without libx264 cannot write H.264: pip install "
-            "'laserpeople[plots]' bundles one that can",
+            "'laserpeople[all]' bundles one that can",
         )
     return n
 
@@ -394,6 +418,61 @@ def animate(
     return RenderResult(p, n, size, extent)
 
 
+OVERVIEW_LINE_WIDTH = {"group": 1.8, "person": 0.9, "leg": 0.6}
+"""Line width [pt] of each kind's trajectory in the overview: thin, so that a long
+recording's hundreds of tracks stay apart."""
+
+
+@dataclass(frozen=True)
+class OverviewLabel:
+    """A track's id written at the end of its trajectory.
+
+    Attributes:
+        frames: Number of scans the track was reported in (longer tracks win a place).
+        x: End position x [m].
+        y: End position y [m].
+        text: The label.
+        colour: RGB in [0, 1].
+    """
+
+    frames: int
+    x: float
+    y: float
+    text: str
+    colour: tuple[float, float, float]
+
+
+def place_labels(
+    labels: list[OverviewLabel],
+    extent: Extent,
+    size: tuple[int, int],
+    *,
+    min_frames: int = 5,
+    char_px: tuple[float, float] = (5.0, 9.0),
+) -> list[OverviewLabel]:
+    """The labels that are written: longest tracks first, each only where it overlaps no
+    label already placed, and (when more than 20 tracks) none for tracks shorter than
+    ``min_frames`` scans. ``extent`` is the shown area (xmin, xmax, ymin, ymax) [m],
+    ``size`` the image (width, height) [px], ``char_px`` the width of a character and the
+    height of a line [px] at the label font."""
+    box_w, box_h = AXES_BOX[2] * size[0], AXES_BOX[3] * size[1]
+    sx = box_w / max(extent[1] - extent[0], 1e-9)
+    sy = box_h / max(extent[3] - extent[2], 1e-9)
+    keep_short = len(labels) <= 20
+    boxes: list[tuple[float, float, float, float]] = []
+    placed: list[OverviewLabel] = []
+    for lab in sorted(labels, key=lambda lb: -lb.frames):
+        if lab.frames < min_frames and not keep_short:
+            continue
+        x0, y0 = (lab.x - extent[0]) * sx, (lab.y - extent[2]) * sy
+        box = (x0, y0, x0 + char_px[0] * len(lab.text), y0 + char_px[1])
+        if any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in boxes):
+            continue
+        boxes.append(box)
+        placed.append(lab)
+    return placed
+
+
 def plot_overview(
     scene: Scene,
     out: str | Path,
@@ -403,8 +482,10 @@ def plot_overview(
     max_points: int = 150_000,
 ) -> RenderResult:
     """Draw the whole window at once as PNG: the scan points (sub-sampled to at most
-    ``max_points``), the sensor's path, every track's trajectory in its colour with its id at
-    the end, group trajectories thick with their largest size, and the truth dashed black."""
+    ``max_points``), the sensor's path, every track's trajectory as a thin line in its
+    colour, ids at the trajectory ends (:func:`place_labels`: the longest tracks first,
+    never overlapping), group trajectories thicker with their largest size, and the truth
+    dashed black."""
     mpl = import_matplotlib()
     del mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -453,7 +534,7 @@ def plot_overview(
     ax.tick_params(labelsize=7)
     ax.set_xlabel(f"x [m] ({scene.frame} frame)", fontsize=8)
     ax.set_ylabel("y [m]", fontsize=8)
-    ax.plot(cloud[:, 0], cloud[:, 1], ",", color=(*to_unit(SCAN_POINTS), 0.35), zorder=1)
+    ax.plot(cloud[:, 0], cloud[:, 1], ",", color=(*to_unit(SCAN_POINTS), 0.2), zorder=1)
     s = np.array(sensor)
     ax.plot(s[:, 0], s[:, 1], "-", color=(0.1, 0.1, 0.1), linewidth=1.0, zorder=2)
     ax.plot(s[-1:, 0], s[-1:, 1], "^", color=(0.1, 0.1, 0.1), ms=6, zorder=2)
@@ -469,27 +550,37 @@ def plot_overview(
             autolim=False,
         )
     has_people = any(k == "person" for k, _ in paths)
-    for (kind, tid), xy in paths.items():
-        if kind == "leg" and has_people:
-            continue
-        arr = np.array(xy)
-        colour = to_unit(track_color(tid, kind))
-        width = {"group": 3.0, "person": 1.6, "leg": 1.0}[kind]
-        ax.plot(arr[:, 0], arr[:, 1], "-", color=colour, linewidth=width, zorder=4)
-        ax.plot(arr[:1, 0], arr[:1, 1], "o", color=colour, ms=3, zorder=4)
-        label = f"G{tid} ×{group_size[tid]}" if kind == "group" else f"{kind[0].upper()}{tid}"
-        ax.text(
-            arr[-1, 0],
-            arr[-1, 1],
-            label,
-            color=to_unit(label_color(tid, kind)),
-            fontsize=8,
-            zorder=5,
-            clip_on=True,
+    shown_paths = {
+        key: np.array(xy) for key, xy in paths.items() if not (key[0] == "leg" and has_people)
+    }
+    if shown_paths:
+        keys = list(shown_paths)
+        ax.add_collection(
+            LineCollection(
+                [shown_paths[k] for k in keys],
+                colors=[to_unit(track_color(tid, kind)) for kind, tid in keys],
+                linewidths=[OVERVIEW_LINE_WIDTH[kind] for kind, _ in keys],
+                zorder=4,
+            ),
+            autolim=False,
         )
-    n_tracks = sum(1 for k, _ in paths if not (k == "leg" and has_people))
+    labels = [
+        OverviewLabel(
+            len(xy),
+            float(xy[-1, 0]),
+            float(xy[-1, 1]),
+            f"G{tid} ×{group_size[tid]}" if kind == "group" else f"{kind[0].upper()}{tid}",
+            to_unit(label_color(tid, kind)),
+        )
+        for (kind, tid), xy in shown_paths.items()
+    ]
+    placed = place_labels(labels, shown, size)
+    for lab in placed:
+        ax.text(lab.x, lab.y, lab.text, color=lab.colour, fontsize=7, zorder=5, clip_on=True)
+    n_tracks = len(shown_paths)
+    labelled = "" if len(placed) == n_tracks else f" ({len(placed)} labelled at their ends)"
     ax.set_title(
-        f"{_title(scene)}  {n_frames} scans, {n_tracks} tracks"
+        f"{_title(scene)}  {n_frames} scans, {n_tracks} tracks{labelled}"
         + (f", truth {len(truth_paths)} people" if truth_paths else ""),
         fontsize=9,
     )

@@ -150,6 +150,7 @@ class Scene:
         self.every = every
         self.skipped_without_pose = 0
         """Scans of the last :meth:`frames` pass not drawn: world frame, but no sensor pose."""
+        self._first_stamp: float | None = None
         auto = self._pose_frame()
         if frame == "world" and auto == "sensor":
             raise PoseUnavailableError(
@@ -263,6 +264,35 @@ class Scene:
             return None
         stop = n if self.stop is None else min(n, self.stop)
         return max(0, -(-(stop - self.start) // self.every))
+
+    def first_stamp(self) -> float | None:
+        """Time stamp [s] of the topic's first scan (before ``start``): captions count
+        seconds from it. None when the topic has no scan."""
+        if self._first_stamp is None:
+            scans, _, close = self._open()
+            try:
+                first = next(scans, None)
+            finally:
+                close()
+            self._first_stamp = first.stamp if first is not None else None
+        return self._first_stamp
+
+    def draws_truth(self) -> bool:
+        """Whether ground truth is drawn: given explicitly, or ``"auto"`` and the recording
+        carries some."""
+        truth = self._truth
+        if truth is None:
+            return False
+        if not (isinstance(truth, str) and truth == "auto"):
+            return True
+        rec = self._recording
+        if isinstance(rec, str | Path):
+            source = open_recording(rec)
+            try:
+                return bool(source.has_truth)
+            finally:
+                source.close()
+        return isinstance(rec, RecordingSource) and bool(rec.has_truth)
 
     # -- output ---------------------------------------------------------------------------
     def frames(self) -> Iterator[SceneFrame]:

@@ -94,7 +94,9 @@ def _curve(rng: np.random.Generator, duration: float) -> Scene:
 def _circle(rng: np.random.Generator, duration: float) -> Scene:
     v = _speed(rng, 1.1)
     route = Route(START_X, LINE_Y, 0.0).walk_to(5.5, LINE_Y, v)
-    route.arc(5.5, LINE_Y + 1.5, 2 * math.pi, v).walk_to(END_X, LINE_Y, v)
+    # diameter 1.5 m: a radius of 1.5 m ran through the wall at y = 5.5 and the laser stand
+    # at (5.5, 4.75); this circle stays 0.5 m clear of the stand
+    route.arc(5.5, LINE_Y + 0.75, 2 * math.pi, v).walk_to(END_X, LINE_Y, v)
     return _scene(_one(rng, route))
 
 
@@ -156,6 +158,70 @@ for _n in (1, 2, 3, 5):
         "004 Exp. 4",
         12.0,
     )(_build_n)
+
+
+LANES = (0.0, -0.9, 0.9)
+"""Lane offsets [m] of the 1st, 2nd and 3rd person on the multi-person trajectories (b)
+and (d) of Exp. 4 (the figure draws them as parallel lines ~1 m apart)."""
+
+
+def _curve_route(rng: np.random.Generator, offset: float, start: float) -> Route:
+    x = np.linspace(START_X, END_X, 30)
+    y = LINE_Y - 1.0 + offset + 1.6 * np.sin(math.pi * (x - START_X) / (END_X - START_X))
+    return Route(float(x[0]), float(y[0]), 0.0, start=start).walk_path(
+        np.column_stack([x, y])[1:], _speed(rng, 1.2)
+    )
+
+
+def _corner_route(rng: np.random.Generator, offset: float, start: float) -> Route:
+    y0, x_turn = LINE_Y - 0.75 + offset, 8.0 - offset
+    route = Route(START_X, y0, 0.0, start=start).walk_to(x_turn, y0, _speed(rng, 1.2))
+    return route.walk_to(x_turn, 5.2, _speed(rng, 1.2))
+
+
+for _n in (2, 3):
+    for _shape, _make in (("curve", _curve_route), ("corner", _corner_route)):
+
+        def _build_multi(
+            rng: np.random.Generator, duration: float, n: int = _n, make: object = _make
+        ) -> Scene:
+            people = []
+            for i in range(n):
+                route = make(rng, LANES[i], float(rng.uniform(0.0, 0.6)))  # type: ignore[operator]
+                people.append(random_person(rng, i, route, leave_at_end=True))
+            return _scene(people)
+
+        register(
+            f"people-{_n}-{_shape}",
+            f"{_n} people walking side by side along the {_shape} "
+            f"(Fig. 2{'b' if _shape == 'curve' else 'd'})",
+            "004 Exp. 4",
+            12.0,
+        )(_build_multi)
+
+
+def schenk_sensors_one_side() -> list[SensorSpec]:
+    """Setup (h) of Fig. 2: both laser stands on the same side of the trajectory, 2 m
+    apart and 2 m from the line, looking across it."""
+    a = Pose2D(4.5, LINE_Y - 2.0, math.pi / 2)
+    b = Pose2D(6.5, LINE_Y - 2.0, math.pi / 2)
+    return [
+        SensorSpec("feet_a", "sick-lms151", FEET_HEIGHT, a, phase=0.0),
+        SensorSpec("feet_b", "sick-lms151", FEET_HEIGHT, b, phase=0.004),
+        SensorSpec("torso_a", "sick-lms151", TORSO_HEIGHT, a, phase=0.008),
+        SensorSpec("torso_b", "sick-lms151", TORSO_HEIGHT, b, phase=0.012),
+    ]
+
+
+@register(
+    "one-side",
+    "one person walking line (a) with all lasers on one side (Fig. 2h, alternative setup)",
+    "004 Sec. 3.1",
+    10.0,
+)
+def _one_side(rng: np.random.Generator, duration: float) -> Scene:
+    people = _one(rng, _line(rng, _speed(rng, 1.2)))
+    return Scene(schenk_world(), people, schenk_sensors_one_side(), notes={"setup": "h"})
 
 
 @register("join", "two people drawing near (0.6 m) without crossing (Fig. 2e)", "004 Exp. 5", 11.0)

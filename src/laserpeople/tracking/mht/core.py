@@ -42,6 +42,7 @@ from laserpeople.tracking.mht.hypothesis import (
 from laserpeople.tracking.mht.listing import enumerate_children
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
+    LabelledAssignment,
     build_matrix,
     k_best_children,
 )
@@ -212,8 +213,8 @@ class MHT(Generic[Meas]):
         self.generation = 0
         self.stamp: float | None = None
         # this scan's child states, computed in one batch by _prepare_children
-        self._updates: dict[tuple[int, int], tuple[FloatArray, FloatArray, Any]] = {}
-        self._initiated: dict[int, tuple[FloatArray, FloatArray, Any]] = {}
+        self._updates: dict[tuple[int, Hashable], tuple[FloatArray, FloatArray, Any]] = {}
+        self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
 
@@ -400,68 +401,83 @@ class MHT(Generic[Meas]):
         log_new: FloatArray,
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
-        # the branches (models) of every parent, and the distinct track nodes among them
+        # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
 
         def gate_row(node: TrackNode) -> BoolArray:
             return gated[row_of[node.node_id], meas_idx]
 
         for parent in parents:
-            plans.extend((parent, b) for b in self.branches.branches(parent.tracks, gate_row))
-        uniq: dict[int, int] = {}
-        nodes_u: list[TrackNode] = []
-        for _, branch in plans:
-            for t in branch.tracks:
-                if t.node_id not in uniq:
-                    uniq[t.node_id] = len(nodes_u)
-                    nodes_u.append(t)
-        # per node, once: costs of matching each measurement and of the unmatched labels
-        tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
+            plans.extend(
+                (parent, b) for b in self.branches.branches(parent.tracks, gate_row, meas_idx)
+            )
+        # branches that see the same observations share one k-best problem; a model that
+        # brings its own partition of the observations (re-clustering) gets its own
+        partitions: dict[tuple[Hashable, ...] | None, list[int]] = {}
+        for pi, (_, branch) in enumerate(plans):
+            obs = branch.observations
+            partitions.setdefault(None if obs is None else obs.keys, []).append(pi)
         max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
-        priors = [-(parent.log_weight + branch.log_prior) for parent, branch in plans]
-        rows_of = [[uniq[t.node_id] for t in b.tracks] for _, b in plans]
-        solutions = enumerate_children(
-            priors, rows_of, tm_cost, lp, log_new[meas_idx], log_fal[meas_idx],
-            self.params.k_best, max_gap,
-        )  # fmt: skip
-        if solutions is None:
-            base = build_matrix(tm_cost, lp, log_new[meas_idx], log_fal[meas_idx])
-            matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
-            solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
+        solutions: list[tuple[int, LabelledAssignment, float]] = []
+        for members in partitions.values():
+            solutions += self._k_best(
+                plans, members, measurements, meas_idx, row_of, log_new, log_fal, max_gap
+            )
+        if len(partitions) > 1:  # the global k best of the partitions' k best
+            solutions.sort(key=lambda sol: sol[2])
+            best = solutions[0][2] if solutions else math.inf
+            solutions = [sol for sol in solutions[: self.params.k_best] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
-        to_update: dict[tuple[int, int], tuple[TrackNode, int]] = {}
-        born: set[int] = set()
+
+        def items(branch: Branch) -> tuple[Sequence[Hashable], Sequence[int], Any]:
+            """Ids, scan origins and measurement set of a branch's observations."""
+            obs = branch.observations
+            if obs is None:
+                return meas_list, meas_list, measurements
+            return obs.keys, obs.origin, obs.measurements
+
+        to_update: dict[tuple[int, Hashable], tuple[TrackNode, Hashable, Any, int]] = {}
+        born: dict[Hashable, tuple[Any, int, int]] = {}
         for pi, dec, _ in solutions:
+            branch = plans[pi][1]
+            ids, origin, source = items(branch)
+            local = branch.observations is not None
             for node, label, jl in zip(
-                plans[pi][1].tracks, dec.track_label, dec.track_measurement, strict=True
+                branch.tracks, dec.track_label, dec.track_measurement, strict=True
             ):
                 if label == DETECTED:
-                    j = meas_list[jl]
+                    j = ids[jl]
                     if j not in node.children:
-                        to_update[(node.node_id, j)] = (node, j)
-            born.update(
-                meas_list[a] for a, lab in enumerate(dec.measurement_label) if lab == NEW_LABEL
-            )
+                        to_update[(node.node_id, j)] = (
+                            node,
+                            j,
+                            source,
+                            jl if local else meas_list[jl],
+                        )
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL and ids[a] not in born:
+                    born[ids[a]] = (source, a if local else meas_list[a], origin[a])
         self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
-        new_nodes = self._new_nodes(sorted(born), measurements, stamp)
+        new_nodes = self._new_nodes(born, measurements, stamp)
 
         children: dict[tuple[int, ...], Hypothesis] = {}
         n_scan = self.params.n_scan
         for pi, dec, total in solutions:
             parent, branch = plans[pi]
+            ids = items(branch)[0]
             tracks: list[TrackNode] = []
             for node, label, jl in zip(
                 branch.tracks, dec.track_label, dec.track_measurement, strict=True
             ):
                 if label == DETECTED:
-                    tracks.append(node.children[meas_list[jl]])
+                    tracks.append(node.children[ids[jl]])
                 elif label == OCCLUDED:
                     tracks.append(self._occluded_child(node, stamp))
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
-                    tracks.append(new_nodes[meas_list[a]])
+                    tracks.append(new_nodes[ids[a]])
             tracks.sort(key=_family_key)
             key = tuple(t.node_id for t in tracks)
             if key in children:  # two model branches led to the same content
@@ -475,6 +491,51 @@ class MHT(Generic[Meas]):
         hyps = normalise_hypotheses(list(children.values()))
         hyps = n_scan_prune(hyps, n_scan)
         return ratio_prune(hyps, self.params.min_ratio)
+
+    def _k_best(
+        self,
+        plans: list[tuple[Hypothesis, Branch]],
+        members: list[int],
+        measurements: Meas,
+        meas_idx: NDArray[np.intp],
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+        max_gap: float,
+    ) -> list[tuple[int, LabelledAssignment, float]]:
+        """The k best children of the branches ``members`` (indices into ``plans``), which
+        all see the same observations; parent indices of the result index ``plans``."""
+        uniq: dict[int, int] = {}
+        nodes_u: list[TrackNode] = []
+        for pi in members:
+            for t in plans[pi][1].tracks:
+                if t.node_id not in uniq:
+                    uniq[t.node_id] = len(nodes_u)
+                    nodes_u.append(t)
+        obs = plans[members[0]][1].observations
+        if obs is None:
+            # per node, once: costs of matching each measurement and of the unmatched labels
+            tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
+            c_new, c_fal = log_new[meas_idx], log_fal[meas_idx]
+        else:
+            lp = self.labels.track_log_probs(nodes_u)
+            m = len(obs.measurements)
+            if nodes_u and m:
+                g_b, ll_b = self.model.score(nodes_u, obs.measurements)
+                tm_cost = _detection_costs(g_b, ll_b, lp)
+            else:
+                tm_cost = np.full((len(nodes_u), m), np.inf)
+            c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
+        priors = [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members]
+        rows_of = [[uniq[t.node_id] for t in plans[pi][1].tracks] for pi in members]
+        solutions = enumerate_children(
+            priors, rows_of, tm_cost, lp, c_new, c_fal, self.params.k_best, max_gap
+        )
+        if solutions is None:
+            base = build_matrix(tm_cost, lp, c_new, c_fal)
+            matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
+            solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
+        return [(members[pi], dec, total) for pi, dec, total in solutions]
 
     def _costs(
         self,
@@ -492,8 +553,16 @@ class MHT(Generic[Meas]):
         lp = self.labels.track_log_probs(nodes)
         if meas_idx.size == 0:
             return np.zeros((len(nodes), 0)), lp
-        g_all, ll_all = self.model.score(list(nodes), measurements)
-        return _detection_costs(g_all[:, meas_idx], ll_all[:, meas_idx], lp), lp
+        # the live nodes from the tables, only the others are scored
+        cost = np.empty((len(nodes), meas_idx.size))
+        made = [i for i, t in enumerate(nodes) if t.node_id not in row_of]
+        known = [i for i, t in enumerate(nodes) if t.node_id in row_of]
+        if known:
+            rows = [row_of[nodes[i].node_id] for i in known]
+            cost[known] = self._cost_live[rows][:, meas_idx]
+        g_m, ll_m = self.model.score([nodes[i] for i in made], measurements)
+        cost[made] = _detection_costs(g_m[:, meas_idx], ll_m[:, meas_idx], lp[made])
+        return cost, lp
 
     # ------------------------------------------------------------------ track tree
 
@@ -517,26 +586,31 @@ class MHT(Generic[Meas]):
 
     def _make_detected_children(
         self,
-        pairs: list[tuple[TrackNode, int]],
+        pairs: list[tuple[TrackNode, Hashable, Any, int]],
         measurements: Meas,
         stamp: float,
         loglik: FloatArray,
         row_of: dict[int, int],
     ) -> None:
-        """Create (once) the child of each node updated with its measurement."""
+        """Create (once) the child of each node updated with an observation: ``(node, id,
+        measurement set, index in it)``, the id being the scan index or a model's key."""
         if not pairs:
             return
         missing = [p for p in pairs if (p[0].node_id, p[1]) not in self._updates]
-        if missing:  # nodes a branch generator made or re-predicted
+        by_source: dict[int, list[tuple[TrackNode, Hashable, Any, int]]] = {}
+        for p in missing:  # nodes a branch generator made or re-predicted, own observations
+            by_source.setdefault(id(p[2]), []).append(p)
+        for group in by_source.values():
             states = self.model.update(
-                [p[0] for p in missing], measurements, [p[1] for p in missing], stamp
+                [p[0] for p in group], group[0][2], [p[3] for p in group], stamp
             )
             self._updates.update(
-                ((node.node_id, j), st) for (node, j), st in zip(missing, states, strict=True)
+                ((node.node_id, j), st) for (node, j, _, _), st in zip(group, states, strict=True)
             )
-        for node, j in pairs:
+        for node, j, source, jl in pairs:
             mean, cov, payload = self._updates[(node.node_id, j)]
             row = row_of.get(node.node_id)
+            own = source is not measurements
             node.children[j] = TrackNode(
                 node_id=self.tree.new_node_id(),
                 family=node.family,
@@ -545,18 +619,29 @@ class MHT(Generic[Meas]):
                 cov=cov,
                 stamp=stamp,
                 label=NODE_DETECTED,
-                measurement=j,
+                measurement=jl if not own else -1,
                 hits=node.hits + 1,
                 misses=0,
                 age=node.age + 1,
-                loglik=float(loglik[row, j]) if row is not None else 0.0,
+                loglik=float(loglik[row, jl]) if row is not None and not own else 0.0,
                 payload=payload,
             )
 
-    def _new_nodes(self, js: list[int], measurements: Meas, stamp: float) -> dict[int, TrackNode]:
-        """One new track (a new family) per measurement labelled *new* in some child."""
-        out: dict[int, TrackNode] = {}
-        for j in js:
+    def _new_nodes(
+        self, born: dict[Hashable, tuple[Any, int, int]], measurements: Meas, stamp: float
+    ) -> dict[Hashable, TrackNode]:
+        """One new track (a new family) per observation labelled *new* in some child;
+        ``born`` maps its id to (measurement set, index in it, scan index of its origin).
+        Scan measurements first in scan order, then a model's own observations."""
+        scan_js = sorted(v[1] for v in born.values() if v[0] is measurements)
+        scan: list[Hashable] = [*scan_js]
+        own = [j for j, (src, _, _) in born.items() if src is not measurements]
+        for j in own:
+            if j not in self._initiated:
+                src, jl, _ = born[j]
+                self._initiated[j] = self.model.initiate(src, [jl], stamp)[0]
+        out: dict[Hashable, TrackNode] = {}
+        for j in [*scan, *own]:
             mean, cov, payload = self._initiated[j]
             out[j] = TrackNode(
                 node_id=self.tree.new_node_id(),
@@ -566,7 +651,7 @@ class MHT(Generic[Meas]):
                 cov=cov,
                 stamp=stamp,
                 label=NEW,
-                measurement=j,
+                measurement=born[j][2],
                 payload=payload,
             )
         return out

@@ -9,7 +9,7 @@ probabilities of 000 Sec. 3.3.1; the group tracker (000 Sec. 4) plugs in its gro
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence, Sized
+from collections.abc import Callable, Hashable, Sequence, Sized
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
@@ -69,6 +69,31 @@ class LabelModel(Protocol[M]):
 
 
 @dataclass(frozen=True, eq=False)
+class BranchObservations:
+    """A model's own observations of a cluster, replacing the cluster's measurements in
+    that branch (000 Sec. 4.3: re-clustering an observation that several tracks gate).
+
+    Attributes:
+        measurements: The branch's measurement set (same type as the scan's), m' items.
+        keys: Identity (m',) of each item: items with equal keys in different branches are
+            the same observation and share the children made from them. Use the scan index
+            (an int) for an item the model took over unchanged and any other hashable for a
+            new one (e.g. ``(j, point ids)`` for a part of measurement ``j``).
+        origin: Index (m',) into the scan's measurements of the item each was made from
+            (ties a track born from it to that measurement when clustering).
+    """
+
+    measurements: Any
+    keys: tuple[Hashable, ...]
+    origin: tuple[int, ...]
+
+    def __post_init__(self) -> None:
+        m = len(self.measurements)
+        if len(self.keys) != m or len(self.origin) != m:
+            raise ValueError(f"{len(self.keys)} keys, {len(self.origin)} origins for {m} items")
+
+
+@dataclass(frozen=True, eq=False)
 class Branch:
     """One model branch of a parent hypothesis (000 Sec. 4.5: models between parent and
     children).
@@ -78,21 +103,28 @@ class Branch:
         tracks: The (re-predicted) track nodes the model postulates, with ``pred_mean`` and
             ``pred_cov`` set, sorted by family.
         model: An index that identifies the model among the parent's branches.
+        observations: The model's own partition of the cluster's observations, or None to
+            use the cluster's measurements as they are.
     """
 
     log_prior: float
     tracks: tuple[TrackNode, ...]
     model: int = 0
+    observations: BranchObservations | None = None
 
 
 class BranchGenerator(Protocol):
     """Which models branch off a parent hypothesis."""
 
     def branches(
-        self, tracks: tuple[TrackNode, ...], gate_row: Callable[[TrackNode], BoolArray]
+        self,
+        tracks: tuple[TrackNode, ...],
+        gate_row: Callable[[TrackNode], BoolArray],
+        meas_idx: NDArray[np.intp],
     ) -> list[Branch]:
-        """Branches of a parent with ``tracks``; ``gate_row(node)`` is the node's (m,) gate
-        over the cluster's measurements (data-driven model generation, 000 Sec. 4.4)."""
+        """Branches of a parent with ``tracks``; ``gate_row(node)`` is the (m,) gate of one
+        of the parent's nodes over the cluster's measurements, whose scan indices are
+        ``meas_idx`` (m,) (data-driven model generation, 000 Sec. 4.4)."""
         ...
 
 
@@ -100,7 +132,10 @@ class SingleModel:
     """The plain MHT: one branch per parent, the parent's own tracks, prior 1."""
 
     def branches(
-        self, tracks: tuple[TrackNode, ...], gate_row: Callable[[TrackNode], BoolArray]
+        self,
+        tracks: tuple[TrackNode, ...],
+        gate_row: Callable[[TrackNode], BoolArray],
+        meas_idx: NDArray[np.intp],
     ) -> list[Branch]:
         """One branch with the parent's tracks."""
         return [Branch(0.0, tracks, 0)]

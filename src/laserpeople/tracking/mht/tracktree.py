@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable
+from collections.abc import Hashable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -50,7 +50,7 @@ class TrackNode:
         pred_mean: Predicted state for the scan being processed (set by the model).
         pred_cov: Predicted covariance for the scan being processed.
         children: Cache of the children made this scan, keyed by measurement index (or -1
-            for the occluded child).
+            for the occluded child; or a model's key of its own observation).
     """
 
     node_id: int
@@ -68,7 +68,7 @@ class TrackNode:
     payload: Any = None
     pred_mean: FloatArray | None = None
     pred_cov: FloatArray | None = None
-    children: dict[int, TrackNode] = field(default_factory=dict)
+    children: dict[Hashable, TrackNode] = field(default_factory=dict)
     detected_stamp: float = math.nan
 
     def __post_init__(self) -> None:

@@ -1,5 +1,9 @@
 """The one-command demo: simulate the ``demo`` scenario, detect legs, track with every
 registered tracker, score against the simulator's ground truth, and draw the leg MHT's tracks.
+
+The flow is the library's pipeline (:mod:`laserpeople.pipeline`): the simulated scans of
+the first sensor become frames in the world frame, one observe-only pipeline detects the
+legs once, and each tracker runs in its own pipeline over those frames.
 """
 
 from __future__ import annotations
@@ -14,12 +18,12 @@ from typing import Any, TypeVar
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.errors import LaserPeopleError
 from laserpeople.evaluation import evaluate
-from laserpeople.io.tracks_csv import TracksCsvWriter
+from laserpeople.frame import Frame, FrameTracker
+from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, TracksCsvSink, laser_frames
 from laserpeople.scan import Scan
 from laserpeople.sim import SimResult, run_scenario
 from laserpeople.tracking import registry
-from laserpeople.tracking.registry import Tracker
-from laserpeople.tracks import Detections, Tracks
+from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
 
 T = TypeVar("T")
@@ -95,32 +99,50 @@ def simulate_demo(
     return [s for s in scans if s.sensor == first], list(result.truth), result
 
 
-def tracker_factories() -> list[tuple[str, Callable[[], Tracker]]]:
-    """``(name, make)`` for every tracker of :mod:`laserpeople.tracking.registry` with its
-    default parameters, the leg MHT first."""
+def tracker_factories() -> list[tuple[str, Callable[[], FrameTracker]]]:
+    """``(name, make)`` for every leg-fed tracker of :mod:`laserpeople.tracking.registry`
+    (those that consume only a frame's legs, as the demo's frames carry) with its default
+    parameters, the leg MHT first."""
     registry.get(MAIN_TRACKER)  # the demo draws its tracks: fail at once if it is gone
-    factories = [(name, _factory(entry)) for name, entry in registry.TRACKERS.items()]
+    factories = [
+        (name, _factory(entry))
+        for name, entry in registry.TRACKERS.items()
+        if entry.consumes == frozenset({"legs"})
+    ]
     factories.sort(key=lambda item: item[0] != MAIN_TRACKER)
     return factories
 
 
-def _factory(entry: registry.TrackerEntry) -> Callable[[], Tracker]:
+def _factory(entry: registry.TrackerEntry) -> Callable[[], FrameTracker]:
     """A no-argument maker of a registry entry's tracker with its default parameters."""
-    return lambda: entry.factory(entry.params_cls())
+    return lambda: entry.make()
+
+
+def detect_frames(scans: list[Scan], progress: Progress = _no_progress) -> list[Frame]:
+    """The scans as world-frame frames with their leg detections (shipped AdaBoost model)."""
+    chooser = FrameChooser("world")
+    pipe = Pipeline(
+        progress(chooser(laser_frames(scans)), len(scans), "detecting"),
+        observe=[DetectLegs(AdaBoostLegDetector.default())],
+    )
+    return [step.frame for step in pipe]
 
 
 def run_tracker(
-    make: Callable[[], Tracker], detections: list[Detections]
+    make: Callable[[], FrameTracker],
+    frames: Iterable[Frame],
+    sinks: tuple[TracksCsvSink, ...] = (),
 ) -> tuple[list[Tracks], float]:
-    """All scans through a new tracker; returns its outputs and the mean time per scan [ms]."""
-    tracker = make()
-    outputs: list[Tracks] = []
-    elapsed = 0.0
-    for det in detections:
-        t0 = time.perf_counter()
-        outputs.append(tracker.update(det))
-        elapsed += time.perf_counter() - t0
-    return outputs, 1000.0 * elapsed / max(1, len(detections))
+    """Frames with legs through a new tracker's pipeline; returns its outputs and the mean
+    tracking time per frame [ms]."""
+    pipe = Pipeline(
+        frames,
+        tracker=make(),
+        sinks=sinks,
+        source_fields=frozenset({"scans", "legs"}),
+    )
+    outputs = [step.tracks for step in pipe if step.tracks is not None]
+    return outputs, pipe.stats.mean_ms
 
 
 def run_demo(
@@ -140,17 +162,18 @@ def run_demo(
     out.mkdir(parents=True, exist_ok=True)
     recording = sim.write(out / "demo.npz")
 
-    detector = AdaBoostLegDetector.default()
     t0 = time.perf_counter()
-    detections = [detector.detect(s) for s in progress(scans, len(scans), "detecting")]
+    frames = detect_frames(scans, progress)
     det_ms = 1000.0 * (time.perf_counter() - t0) / len(scans)
 
+    tracks_csv = out / "demo-tracks.csv"
     scores: list[TrackerScore] = []
     main_tracks: list[Tracks] = []
     for name, make in factories:
-        feed = progress(detections, len(detections), f"tracking ({name})")
+        feed = progress(frames, len(frames), f"tracking ({name})")
+        sinks = (TracksCsvSink(tracks_csv, frame="world"),) if name == MAIN_TRACKER else ()
         try:
-            outputs, ms = run_tracker(make, list(feed))
+            outputs, ms = run_tracker(make, feed, sinks)
         except LaserPeopleError as exc:
             if name == MAIN_TRACKER:
                 raise
@@ -161,11 +184,6 @@ def run_demo(
         scores.append(TrackerScore(name, report.summary(), ms, len(ids)))
         if name == MAIN_TRACKER:
             main_tracks = outputs
-
-    tracks_csv = out / "demo-tracks.csv"
-    with TracksCsvWriter(tracks_csv, frame="world") as writer:
-        for tracks in main_tracks:
-            writer.write(tracks)
 
     gif_path: Path | None = None
     gif_frames = 0
@@ -197,7 +215,7 @@ def run_demo(
         n_people=len(people),
         seconds=scans[-1].stamp - scans[0].stamp,
         detection_ms_per_scan=det_ms,
-        n_detections=sum(len(d) for d in detections),
+        n_detections=sum(len(f.legs) for f in frames if f.legs is not None),
         recording=Path(recording),
         tracks_csv=tracks_csv,
         gif=gif_path,

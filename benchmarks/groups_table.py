@@ -1,0 +1,141 @@
+"""The group tracker of 000 Sec. 4 on the simulated entrance hall: clustering error vs d_P
+for the tracker and for memory-less single linkage (000 Fig. 17 left/middle), group-size
+error (Sec. 4.6.3), split/merge events, and cycle time vs people in view for the group
+tracker and the people-only tracker (Fig. 17 right).
+
+Frames come straight from the simulator (foreground = the beams its labels put on people).
+The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other seeds.
+
+    PYTHONPATH=src python benchmarks/groups_table.py [--seeds 1 2] [--seconds 60]
+        [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png]
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+
+import numpy as np
+
+from laserpeople.evaluation.groups import GroupRunResult, run_groups
+from laserpeople.sim.scenarios import run_scenario
+from laserpeople.tracking.groups import GroupTrackerParams
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--scenario", default="entrance-hall")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--d-p", type=float, nargs="+", default=[0.7, 1.0, 1.3, 1.6, 2.0])
+    ap.add_argument("--plot", default="")
+    args = ap.parse_args()
+    base = GroupTrackerParams()
+    sweep: dict[float, list[GroupRunResult]] = {d: [] for d in args.d_p}
+    people_only: list[GroupRunResult] = []
+    for seed in args.seeds:
+        scans = run_scenario(args.scenario, seconds=args.seconds, seed=seed).scans
+        for d in args.d_p:
+            r = run_groups(scans, replace(base, cluster_distance=d))
+            sweep[d].append(r)
+            print(
+                f"seed {seed} d_P {d:.1f}: tracker {r.clustering.error:.3f} "
+                f"(under {r.clustering.under_rate:.3f}, over {r.clustering.over_rate:.3f}), "
+                f"memory-less {r.memoryless.error:.3f} (under {r.memoryless.under_rate:.3f}, "
+                f"over {r.memoryless.over_rate:.3f}); size error {r.size.mean_error:.2f} "
+                f"+- {r.size.std_error:.2f}, exact {100 * r.size.exact_share:.1f} %, within one "
+                f"{100 * r.size.within_one_share:.1f} %; splits {r.splits}, merges {r.merges}; "
+                f"{r.median_ms:.2f} ms/scan",
+                flush=True,
+            )
+        r = run_groups(scans, GroupTrackerParams.people_only())
+        people_only.append(r)
+        print(
+            f"seed {seed} people-only (d_P 0.5): {r.median_ms:.2f} ms/scan median, "
+            f"clustering error vs groups {r.clustering.error:.3f}",
+            flush=True,
+        )
+
+    print(f"\n{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each (pooled over seeds)\n")
+    print("| d_P [m] | tracker error | under | over | memory-less error | under | over |")
+    print("|---|---|---|---|---|---|---|")
+    for d, runs in sweep.items():
+        t = _pool([r.clustering for r in runs])
+        m = _pool([r.memoryless for r in runs])
+        print(
+            f"| {d:.1f} | {t[0]:.3f} | {t[1]:.3f} | {t[2]:.3f} | {m[0]:.3f} | {m[1]:.3f} | "
+            f"{m[2]:.3f} |"
+        )
+    ref = sweep.get(1.3) or next(iter(sweep.values()))
+    counts = [r.size.count for r in ref]
+    mean_err = _wmean([r.size.mean_error for r in ref], counts)
+    exact = _wmean([r.size.exact_share for r in ref], counts)
+    within = _wmean([r.size.within_one_share for r in ref], counts)
+    print(
+        f"\nGroup size at d_P = 1.3 m: mean error {mean_err:.2f} people, exact "
+        f"{100 * exact:.1f} %, within one {100 * within:.1f} %"
+    )
+    print(f"Split / merge events: {sum(r.splits for r in ref)} / {sum(r.merges for r in ref)}")
+    print("\n| people in view | group tracker ms/scan (median) | people-only ms/scan | frames |")
+    print("|---|---|---|---|")
+    g_ms = np.concatenate([r.frame_ms for r in ref])
+    g_n = np.concatenate([r.frame_people for r in ref])
+    p_ms = np.concatenate([r.frame_ms for r in people_only])
+    p_n = np.concatenate([r.frame_people for r in people_only])
+    for lo, hi in ((0, 4), (5, 9), (10, 14), (15, 20)):
+        gs = g_ms[(g_n >= lo) & (g_n <= hi)]
+        ps = p_ms[(p_n >= lo) & (p_n <= hi)]
+        if gs.size:
+            print(f"| {lo}-{hi} | {np.median(gs):.2f} | {np.median(ps):.2f} | {gs.size} |")
+    if args.plot:
+        _plot(args.plot, sweep, g_ms, g_n, p_ms, p_n)
+
+
+def _pool(results: list) -> tuple[float, float, float]:  # type: ignore[type-arg]
+    groups = sum(r.true_groups for r in results)
+    if groups == 0:
+        return float("nan"), float("nan"), float("nan")
+    under = sum(r.under_segmented for r in results) / groups
+    over = sum(r.over_segmented for r in results) / groups
+    return under + over, under, over
+
+
+def _wmean(values: list[float], weights: list[int]) -> float:
+    if sum(weights) == 0:
+        return float("nan")
+    return float(np.average(np.nan_to_num(values), weights=weights))
+
+
+def _plot(path, sweep, g_ms, g_n, p_ms, p_n) -> None:  # type: ignore[no-untyped-def]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = list(sweep)
+    t = [_pool([r.clustering for r in sweep[x]]) for x in d]
+    m = [_pool([r.memoryless for r in sweep[x]]) for x in d]
+    fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
+    ax[0].plot(d, [x[1] for x in t], "v-", label="under-segmentation")
+    ax[0].plot(d, [x[2] for x in t], "^-", label="over-segmentation")
+    ax[0].plot(d, [x[0] for x in t], "o-", label="sum")
+    ax[0].axvline(1.2, color="grey", lw=0.8)
+    ax[0].set(xlabel="d_P [m]", ylabel="error per true group", title="group tracker")
+    ax[0].legend()
+    ax[1].plot(d, [x[0] for x in t], "o-", label="group tracker")
+    ax[1].plot(d, [x[0] for x in m], "s--", label="memory-less single linkage")
+    ax[1].set(xlabel="d_P [m]", ylabel="clustering error", title="tracker vs memory-less")
+    ax[1].legend()
+    people = np.arange(0, 21)
+    for ms, n, lab, sty in ((g_ms, g_n, "group tracker", "o-"), (p_ms, p_n, "people-only", "s--")):
+        xs = [k for k in people if (n == k).sum() >= 5]
+        ax[2].plot(xs, [np.mean(ms[n == k]) for k in xs], sty, label=lab)
+    ax[2].set(xlabel="people in view", ylabel="ms per scan (CPU)", title="cycle time")
+    ax[2].legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,328 @@
+"""Per-beam range histograms as the static world of a static laser (004 Sec. 2).
+
+For every beam of every laser the model counts how often each range bin was measured while
+learning. Bins seen in at least ``min_fraction`` of the learning scans are *static* (the
+wall, a table leg, the far end of a door that is sometimes open); a later return is
+background when it falls within ``tolerance`` of a static bin of its beam and foreground
+otherwise. Learning runs over the first ``learn_seconds`` of the frames it sees (people
+walking through are rare in any one bin) or from a separate background recording
+(:meth:`BeamHistogramBackground.learn_scans`), and the histograms are saved to and loaded
+from ``.npz`` without pickle.
+
+Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
+``bin_width``; bin k covers ranges [k w, (k + 1) w).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.errors import LaserPeopleError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.scan import Pose2D, Scan
+
+FORMAT = "laserpeople-beam-histogram"
+VERSION = 1
+
+
+class BackgroundModelError(LaserPeopleError):
+    """A background model file is missing, malformed, or does not fit the lasers."""
+
+
+@dataclass(frozen=True)
+class BeamHistogramParams:
+    """Parameters of the per-beam histogram background."""
+
+    config_section = "beam_histogram"
+
+    bin_width: float = param(
+        0.05, "assumed (004 Sec. 2 gives no numbers)", "width of a range bin", "m"
+    )
+    learn_seconds: float = param(
+        2.0,
+        "assumed; 004 Sec. 2 learns the background before tracking",
+        "length of the learning period at the start of a recording",
+        "s",
+    )
+    min_fraction: float = param(
+        0.1,
+        "assumed",
+        "a bin measured in at least this fraction of the learning scans is static",
+    )
+    tolerance: float = param(
+        0.10,
+        "assumed: range noise of an LMS151 is ~0.03 m; people stand > 0.1 m off walls",
+        "a return this close to a static bin is background",
+        "m",
+    )
+
+    def __post_init__(self) -> None:
+        if not (self.bin_width > 0.0 and math.isfinite(self.bin_width)):
+            raise LaserPeopleError(f"bin_width must be positive, got {self.bin_width}")
+        if not (0.0 < self.min_fraction <= 1.0):
+            raise LaserPeopleError(f"min_fraction must be in (0, 1], got {self.min_fraction}")
+        if self.tolerance < 0.0 or self.learn_seconds < 0.0:
+            raise LaserPeopleError("tolerance and learn_seconds must not be negative")
+
+
+@dataclass
+class _BeamTable:
+    """The histograms of one laser."""
+
+    counts: NDArray[np.int32]  # (B, K)
+    scans: int
+    seconds: float
+    static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
+
+    def finish(self, p: BeamHistogramParams) -> None:
+        """Mark static bins and widen them by the tolerance (vectorised over beams)."""
+        core = self.counts >= max(1.0, p.min_fraction * self.scans)
+        reach = math.ceil(p.tolerance / p.bin_width)
+        static = core.copy()
+        for k in range(1, reach + 1):  # loop over bin offsets, not beams
+            static[:, k:] |= core[:, :-k]
+            static[:, :-k] |= core[:, k:]
+        self.static = static
+
+
+class BeamHistogramBackground:
+    """The static world model of static lasers by per-beam range histograms.
+
+    Call it on every frame (:class:`~laserpeople.background.StaticWorldModel`): while
+    learning it adds the frame's scans to the histograms; after that it fills ``foreground``.
+    During learning the foreground comes from the histograms so far.
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"scans", "points"})
+
+    def __init__(self, params: BeamHistogramParams | None = None) -> None:
+        self.params = params or BeamHistogramParams()
+        self._tables: dict[str, _BeamTable] = {}
+        self._first_stamp: float | None = None
+        self._frozen = False
+        self._poses: dict[str, Pose2D | None] = {}
+        self._geometry: dict[str, tuple[float, float, int]] = {}
+
+    # ----------------------------------------------------------------- learning
+    @property
+    def learning(self) -> bool:
+        """True while the model still adds scans to its histograms."""
+        return not self._frozen
+
+    @property
+    def sensors(self) -> tuple[str, ...]:
+        """Names of the lasers the model knows."""
+        return tuple(self._tables)
+
+    def counts(self, sensor: str) -> NDArray[np.int32]:
+        """The histogram (B, K) of laser ``sensor``."""
+        return self._table(sensor).counts
+
+    def _table(self, sensor: str) -> _BeamTable:
+        try:
+            return self._tables[sensor]
+        except KeyError:
+            raise BackgroundModelError(
+                f"the background model has no laser {sensor!r}",
+                hint=f"it knows {', '.join(self._tables) or 'none'}; learn it from this "
+                "recording or a background recording of the same lasers",
+            ) from None
+
+    def _n_bins(self, scan: Scan) -> int:
+        top = scan.range_max if math.isfinite(scan.range_max) else 80.0
+        return math.ceil(min(top, 80.0) / self.params.bin_width) + 1
+
+    def _add(self, scan: Scan) -> None:
+        table = self._tables.get(scan.sensor)
+        if table is None:
+            table = _BeamTable(np.zeros((scan.n_beams, self._n_bins(scan)), np.int32), 0, 0.0)
+            self._tables[scan.sensor] = table
+            self._geometry[scan.sensor] = (scan.angle_min, scan.angle_increment, scan.n_beams)
+        elif table.counts.shape[0] != scan.n_beams:
+            raise BackgroundModelError(
+                f"laser {scan.sensor!r} has {scan.n_beams} beams, the model "
+                f"{table.counts.shape[0]}",
+                path=scan.source or None,
+                scan=scan.index,
+                hint="learn the background from scans of the same laser",
+            )
+        idx = np.flatnonzero(scan.valid)
+        bins = np.minimum(
+            (scan.ranges[idx] / self.params.bin_width).astype(np.int64), -1 + table.counts.shape[1]
+        )
+        np.add.at(table.counts, (idx, bins), 1)
+        table.scans += 1
+        table.static = None
+
+    def learn_scans(self, scans: Iterable[Scan]) -> BeamHistogramBackground:
+        """Learn from a background recording (all of ``scans``) and stop learning."""
+        stamps: dict[str, list[float]] = {}
+        for scan in scans:
+            self._add(scan)
+            stamps.setdefault(scan.sensor, []).append(scan.stamp)
+        if not self._tables:
+            raise BackgroundModelError(
+                "no scans to learn the background from", hint="give a background recording"
+            )
+        for name, st in stamps.items():
+            self._tables[name].seconds = max(st) - min(st)
+        self.freeze()
+        return self
+
+    def freeze(self) -> None:
+        """Stop learning; later frames only get their foreground."""
+        self._frozen = True
+        for table in self._tables.values():
+            table.finish(self.params)
+
+    # --------------------------------------------------------------- foreground
+    def foreground_of(self, scan: Scan) -> NDArray[np.bool_]:
+        """Foreground mask (N,) over the beams of ``scan``; invalid beams are False."""
+        table = self._tables.get(scan.sensor)
+        valid = scan.valid
+        if table is None:
+            return valid.copy()
+        if table.static is None:
+            table.finish(self.params)
+        assert table.static is not None
+        out = np.zeros(scan.n_beams, dtype=bool)
+        idx = np.flatnonzero(valid)
+        bins = np.minimum(
+            (scan.ranges[idx] / self.params.bin_width).astype(np.int64), table.static.shape[1] - 1
+        )
+        out[idx] = ~table.static[idx, bins]
+        return out
+
+    def __call__(self, frame: Frame) -> Frame:
+        """Learn from ``frame`` (during the learning period) and set its ``foreground``."""
+        if frame.points is None:
+            raise BackgroundModelError(
+                "the frame has no points", scan=frame.index, hint="fill points before"
+            )
+        if not self._frozen:
+            if self._first_stamp is None:
+                self._first_stamp = frame.stamp
+            for scan in frame.scans:
+                self._add(scan)
+                self._tables[scan.sensor].seconds = frame.stamp - self._first_stamp
+            if frame.stamp - self._first_stamp >= self.params.learn_seconds:
+                self.freeze()
+        for scan in frame.scans:
+            self._poses[scan.sensor] = scan.pose
+        by_name = {scan.sensor: self.foreground_of(scan) for scan in frame.scans}
+        pts = frame.points
+        fg = np.zeros(len(pts), dtype=bool)
+        for i, name in enumerate(pts.sensors):
+            if name not in by_name:
+                continue
+            sel = pts.sensor_ids == i
+            fg[sel] = by_name[name][pts.beams[sel]]
+        return replace(frame, foreground=fg)
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Seconds of learning during which ``positions`` (M, 2) [m] (frame of the last
+        frame) lay on a static bin of a laser that looks at them; 0 elsewhere."""
+        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        out = np.zeros(len(pos))
+        for name, table in self._tables.items():
+            pose = self._poses.get(name)
+            if pose is None or name not in self._geometry:
+                continue
+            if table.static is None:
+                table.finish(self.params)
+            assert table.static is not None
+            a0, inc, n = self._geometry[name]
+            local = pose.inverse_transform_points(pos)
+            rng = np.hypot(local[:, 0], local[:, 1])
+            ang = np.arctan2(local[:, 1], local[:, 0])
+            turn = np.mod((ang - a0) * math.copysign(1.0, inc), 2 * np.pi)
+            beam = np.rint(turn / abs(inc)).astype(np.int64)
+            k = (rng / self.params.bin_width).astype(np.int64)
+            ok = (beam >= 0) & (beam < n) & (k < table.static.shape[1])
+            hit = np.zeros(len(pos), dtype=bool)
+            hit[ok] = table.static[beam[ok], k[ok]]
+            out = np.where(hit, np.maximum(out, table.seconds), out)
+        return out
+
+    # ------------------------------------------------------------------ storage
+    def save(self, path: str | Path) -> Path:
+        """Write the histograms to ``path`` (.npz; metadata as a JSON string, no pickle)."""
+        p = Path(path)
+        if p.suffix.lower() != ".npz":
+            raise BackgroundModelError(
+                "background models are saved as .npz", path=p, hint="use a .npz file name"
+            )
+        meta = {
+            "format": FORMAT,
+            "version": VERSION,
+            "params": {
+                "bin_width": self.params.bin_width,
+                "learn_seconds": self.params.learn_seconds,
+                "min_fraction": self.params.min_fraction,
+                "tolerance": self.params.tolerance,
+            },
+            "sensors": [
+                {
+                    "name": name,
+                    "scans": t.scans,
+                    "seconds": t.seconds,
+                    "angle_min": self._geometry[name][0],
+                    "angle_increment": self._geometry[name][1],
+                }
+                for name, t in self._tables.items()
+            ],
+        }
+        arrays = {f"counts_{i}": t.counts for i, t in enumerate(self._tables.values())}
+        try:
+            np.savez_compressed(p, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
+        except OSError as exc:
+            raise BackgroundModelError(
+                f"cannot write the background model: {exc}", path=p, hint="check the directory"
+            ) from exc
+        return p
+
+    @classmethod
+    def load(cls, path: str | Path) -> BeamHistogramBackground:
+        """Read a model written by :meth:`save`; it does not learn any more."""
+        p = Path(path)
+        try:
+            with np.load(p, allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                if meta.get("format") != FORMAT:
+                    raise BackgroundModelError(
+                        "not a laserpeople background model", path=p, hint="save one first"
+                    )
+                if int(meta.get("version", 0)) > VERSION:
+                    raise BackgroundModelError(
+                        f"model version {meta['version']} is newer than {VERSION}",
+                        path=p,
+                        hint="update laserpeople",
+                    )
+                model = cls(BeamHistogramParams(**meta["params"]))
+                for i, s in enumerate(meta["sensors"]):
+                    counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
+                    model._tables[s["name"]] = _BeamTable(
+                        counts, int(s["scans"]), float(s["seconds"])
+                    )
+                    model._geometry[s["name"]] = (
+                        float(s["angle_min"]),
+                        float(s["angle_increment"]),
+                        counts.shape[0],
+                    )
+        except (OSError, KeyError, ValueError, TypeError) as exc:
+            raise BackgroundModelError(
+                f"cannot read the background model: {exc}", path=p, hint="save it again"
+            ) from exc
+        model.freeze()
+        return model
+
+
+__all__ = ["BackgroundModelError", "BeamHistogramBackground", "BeamHistogramParams"]

@@ -1,0 +1,338 @@
+"""A decaying occupancy grid of returns that stay put, for a moving robot (issue 10), and
+the ROS ``map_server`` map loader.
+
+Every cell of a regular grid in the frame of the frames it is fed (the world frame when the
+robot's poses are known) keeps an occupancy evidence ``e`` that grows by ``hit_evidence``
+in each frame with a return in the cell (capped at ``max_evidence``) and decays with time
+constant ``decay_time`` in between: ``e(t) = e(t0) exp(-(t - t0) / decay_time)``. A cell is
+occupied while ``e >= occupied_evidence``; its *static time* is the time since it last became
+occupied. Returns of things that stay put keep their cells occupied for as long as they are
+seen; a walker's legs leave a trail whose cells fall free within about
+``decay_time * ln(max_evidence / occupied_evidence)`` seconds. The decay is applied lazily
+(per cell, when the cell is read or hit), so one frame costs O(points).
+
+leg_tracker (Leigh et al. 2015) keeps a local occupancy grid for the same purpose (a leg
+track must be in free space to start a person); here the grid answers
+:meth:`OccupancyGrid.static_time`, and a prior map's obstacles count as static for ever.
+
+The ROS map format (``map.yaml`` with ``image``, ``resolution``, ``origin``, ``negate``,
+``occupied_thresh``, ``free_thresh``; the image a PGM or PNG whose first row is the top,
+i.e. the largest y): a pixel's occupancy probability is ``(255 - v) / 255`` (``v / 255``
+with ``negate: 1``), and it is an obstacle above ``occupied_thresh``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.errors import LaserPeopleError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.scan import CoordinateFrame, PointSet, Scan
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+class MapFileError(LaserPeopleError):
+    """A ROS map (``map.yaml`` and its image) cannot be read."""
+
+
+@dataclass(frozen=True)
+class OccupancyParams:
+    """The decaying occupancy grid of static returns."""
+
+    config_section = "occupancy"
+
+    resolution: float = param(
+        0.1,
+        "assumption: about a leg's diameter",
+        "cell size",
+        "m",
+    )
+    hit_evidence: float = param(1.0, "assumption", "evidence added by a frame with a return")
+    occupied_evidence: float = param(
+        2.0, "assumption: two frames with a return", "evidence at which a cell is occupied"
+    )
+    max_evidence: float = param(
+        5.0,
+        "assumption: a cell left alone falls free after decay_time * ln(5/2) = 1.8 s",
+        "cap of the evidence",
+    )
+    decay_time: float = param(
+        2.0,
+        "assumption: longer than a stance phase (~0.6 s), shorter than a person who waits",
+        "time constant of the evidence's decay",
+        "s",
+    )
+    neighbourhood: int = param(
+        1,
+        "assumption: a leg's points lie up to ~0.1 m from its centre",
+        "static_time looks this many cells around each position (the largest wins)",
+        "cells",
+    )
+    max_range: float = param(
+        30.0,
+        "assumption: farther returns are sparse and bound the grid's size",
+        "returns farther than this from the sensor are not learned",
+        "m",
+    )
+    background_time: float = param(
+        30.0,
+        "assumption: longer than most people stand still",
+        "points on cells static for at least this long are background (foreground False)",
+        "s",
+    )
+
+    def __post_init__(self) -> None:
+        if min(self.resolution, self.hit_evidence, self.decay_time, self.max_range) <= 0:
+            raise ValueError("resolution, hit_evidence, decay_time and max_range must be > 0")
+        if not 0 < self.occupied_evidence <= self.max_evidence:
+            raise ValueError("need 0 < occupied_evidence <= max_evidence")
+        if self.neighbourhood < 0:
+            raise ValueError("neighbourhood must be >= 0")
+
+
+@dataclass(frozen=True, eq=False)
+class OccupancyMap:
+    """A prior map of obstacles (ROS ``map_server`` format).
+
+    Attributes:
+        occupied: (H, W) bool, row 0 = largest y (the image's top row).
+        resolution: Cell size [m].
+        origin: (x [m], y [m], yaw [rad]) of the lower-left pixel's corner in the world.
+        path: The yaml file.
+    """
+
+    occupied: NDArray[np.bool_]
+    resolution: float
+    origin: tuple[float, float, float]
+    path: str = ""
+
+    def contains_obstacle(self, positions: FloatArray, radius: int = 0) -> NDArray[np.bool_]:
+        """(M,) True where ``positions`` (M, 2) [m] fall on an obstacle pixel (or one
+        within ``radius`` pixels)."""
+        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        x0, y0, yaw = self.origin
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = pos[:, 0] - x0, pos[:, 1] - y0
+        u = (c * dx + s * dy) / self.resolution  # along image columns
+        v = (-s * dx + c * dy) / self.resolution  # up from the bottom row
+        h, w = self.occupied.shape
+        col = np.floor(u).astype(np.int64)
+        row = h - 1 - np.floor(v).astype(np.int64)
+        hit = np.zeros(pos.shape[0], dtype=bool)
+        for dr in range(-radius, radius + 1):
+            for dc in range(-radius, radius + 1):
+                r, q = row + dr, col + dc
+                ok = (r >= 0) & (r < h) & (q >= 0) & (q < w)
+                hit[ok] |= self.occupied[r[ok], q[ok]]
+        return hit
+
+
+def _parse_map_yaml(path: Path) -> dict[str, str]:
+    """The flat ``key: value`` pairs of a map_server yaml (comments dropped)."""
+    out: dict[str, str] = {}
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise MapFileError(f"cannot read the map file ({exc})", path=path) from exc
+    for line in text.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        key, sep, value = line.partition(":")
+        if not sep:
+            raise MapFileError(f"not a 'key: value' line: {line!r}", path=path)
+        out[key.strip()] = value.strip().strip("'\"")
+    return out
+
+
+def load_ros_map(path: str | Path) -> OccupancyMap:
+    """Read a ROS ``map_server`` map: ``map.yaml`` and the PGM/PNG image it names.
+
+    Raises:
+        MapFileError: the yaml or image is missing or malformed.
+    """
+    from PIL import Image
+
+    p = Path(path)
+    keys = _parse_map_yaml(p)
+    missing = [k for k in ("image", "resolution", "origin") if k not in keys]
+    if missing:
+        raise MapFileError(
+            f"the map yaml lacks {', '.join(missing)}",
+            path=p,
+            hint="a map_server map needs image, resolution and origin",
+        )
+    try:
+        resolution = float(keys["resolution"])
+        origin_vals = [float(v) for v in keys["origin"].strip("[]").split(",")]
+        negate = int(keys.get("negate", "0"))
+        occupied_thresh = float(keys.get("occupied_thresh", "0.65"))
+    except ValueError as exc:
+        raise MapFileError(f"bad number in the map yaml ({exc})", path=p) from exc
+    if len(origin_vals) != 3 or not resolution > 0:
+        raise MapFileError("origin must be [x, y, yaw] and resolution positive", path=p)
+    image = Path(keys["image"])
+    if not image.is_absolute():
+        image = p.parent / image
+    try:
+        with Image.open(image) as im:
+            pixels = np.asarray(im.convert("L"), dtype=np.float64)
+    except (OSError, ValueError) as exc:
+        raise MapFileError(
+            f"cannot read the map image {image} ({exc})",
+            path=p,
+            hint="the yaml's image must be a PGM or PNG beside it",
+        ) from exc
+    prob = pixels / 255.0 if negate else (255.0 - pixels) / 255.0
+    return OccupancyMap(
+        occupied=prob > occupied_thresh,
+        resolution=resolution,
+        origin=(origin_vals[0], origin_vals[1], origin_vals[2]),
+        path=str(p),
+    )
+
+
+class OccupancyGrid:
+    """Decaying world-frame occupancy grid of static returns, a
+    :class:`~laserpeople.background.StaticWorldModel` (see the module docstring).
+
+    Args:
+        params: Parameters.
+        prior: Optional prior map; its obstacles are static for ever (``inf``).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"points"})
+
+    def __init__(
+        self, params: OccupancyParams | None = None, prior: OccupancyMap | None = None
+    ) -> None:
+        self.params = params if params is not None else OccupancyParams()
+        self.prior = prior
+        self.stamp = -math.inf
+        self._origin = np.zeros(2, dtype=np.int64)  # cell index of array element [0, 0]
+        self._evidence = np.zeros((0, 0))
+        self._touched = np.zeros((0, 0))  # time [s] the evidence was last brought up to date
+        self._since = np.zeros((0, 0))  # time [s] the cell became occupied (nan: free)
+
+    # ------------------------------------------------------------------ storage
+
+    def _cells(self, positions: FloatArray) -> IntArray:
+        return np.floor(positions / self.params.resolution).astype(np.int64)
+
+    def _ensure(self, cells: IntArray) -> None:
+        """Grow the arrays to hold ``cells`` (K, 2) (with a margin)."""
+        if cells.shape[0] == 0:
+            return
+        lo, hi = cells.min(axis=0), cells.max(axis=0)
+        shape = np.array(self._evidence.shape, dtype=np.int64)
+        if shape.prod() > 0 and (lo >= self._origin).all() and (hi < self._origin + shape).all():
+            return
+        margin = 64
+        if shape.prod() == 0:
+            new_lo, new_hi = lo - margin, hi + margin
+        else:
+            new_lo = np.minimum(self._origin, lo - margin)
+            new_hi = np.maximum(self._origin + shape - 1, hi + margin)
+        size = new_hi - new_lo + 1
+        ev = np.zeros(tuple(size))
+        touched = np.full(tuple(size), -np.inf)
+        since = np.full(tuple(size), np.nan)
+        if shape.prod() > 0:
+            a = self._origin - new_lo
+            sl = (slice(a[0], a[0] + shape[0]), slice(a[1], a[1] + shape[1]))
+            ev[sl], touched[sl], since[sl] = self._evidence, self._touched, self._since
+        self._origin, self._evidence, self._touched, self._since = new_lo, ev, touched, since
+
+    def _decayed(self, i: IntArray, j: IntArray, stamp: float) -> FloatArray:
+        dt = np.maximum(stamp - self._touched[i, j], 0.0)
+        return np.asarray(self._evidence[i, j] * np.exp(-dt / self.params.decay_time))
+
+    # ------------------------------------------------------------------ learning
+
+    def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
+        """Add one frame's returns ``points`` (N, 2) [m] seen at ``stamp`` [s] from the sensor
+        position ``sensor`` (2,) (returns beyond ``max_range`` from it are skipped)."""
+        p = self.params
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        pts = pts[np.isfinite(pts).all(axis=1)]
+        if sensor is not None:
+            pts = pts[np.hypot(*(pts - sensor).T) <= p.max_range]
+        self.stamp = max(self.stamp, stamp)
+        if pts.shape[0] == 0:
+            return
+        cells = np.unique(self._cells(pts), axis=0)
+        self._ensure(cells)
+        i, j = (cells - self._origin).T
+        before = self._decayed(i, j, stamp)
+        was = before >= p.occupied_evidence
+        after = np.minimum(before + p.hit_evidence, p.max_evidence)
+        now = after >= p.occupied_evidence
+        self._evidence[i, j] = after
+        self._touched[i, j] = stamp
+        since = self._since[i, j]
+        self._since[i, j] = np.where(was & ~np.isnan(since), since, np.where(now, stamp, np.nan))
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Static time [s] (M,) of ``positions`` (M, 2) [m] at the last frame's time: the
+        largest over the cells within ``neighbourhood``; ``inf`` on a prior map's obstacle,
+        0 where free or never seen."""
+        p = self.params
+        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        out = np.zeros(pos.shape[0])
+        if self._evidence.size and pos.shape[0]:
+            base = self._cells(pos) - self._origin
+            h, w = self._evidence.shape
+            n = p.neighbourhood
+            for di in range(-n, n + 1):
+                for dj in range(-n, n + 1):
+                    i, j = base[:, 0] + di, base[:, 1] + dj
+                    ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
+                    if not ok.any():
+                        continue
+                    ii, jj = i[ok], j[ok]
+                    occ = self._decayed(ii, jj, self.stamp) >= p.occupied_evidence
+                    since = self._since[ii, jj]
+                    t = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
+                    out[ok] = np.maximum(out[ok], t)
+        if self.prior is not None and pos.shape[0]:
+            out[self.prior.contains_obstacle(pos, p.neighbourhood)] = np.inf
+        return out
+
+    def __call__(self, frame: Frame) -> Frame:
+        """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
+        the frame with ``foreground``: False on cells static for ``background_time``."""
+        points = frame.points
+        if points is None:
+            points = PointSet.from_scans(list(frame.scans), frame.frame)
+        sensor = None
+        if frame.frame == "world" and frame.sensor_pose is not None:
+            sensor = np.array([frame.sensor_pose.x, frame.sensor_pose.y])
+        elif frame.frame == "sensor":
+            sensor = np.zeros(2)
+        self.learn(points.points, frame.stamp, sensor)
+        foreground = self.static_time(points.points) < self.params.background_time
+        return replace(frame, points=points, foreground=foreground)
+
+
+def frame_from_scan(scan: Scan, frame: CoordinateFrame = "sensor") -> Frame:
+    """A :class:`~laserpeople.frame.Frame` of one scan with its valid points in ``frame``
+    (the world frame needs the scan's pose), for feeding a static world model before the
+    pipeline does it."""
+    points = PointSet.from_scans([scan], frame)
+    return Frame(
+        index=scan.index,
+        stamp=scan.stamp,
+        scans=(scan,),
+        topic=scan.sensor,
+        frame=frame,
+        sensor_pose=scan.pose,
+        points=points,
+    )

@@ -1,0 +1,334 @@
+"""Tracks as ROS messages in a bag: what ROS users replay, and what ``evaluate`` reads back.
+
+Topics written by :class:`TracksBagWriter` (ROS 1 ``.bag`` or ROS 2 ``.mcap``/``.db3``),
+one message per frame on each:
+
+=========================  ====================================  ==========================
+topic                      type                                  content
+=========================  ====================================  ==========================
+``/<laser>``               ``sensor_msgs/LaserScan``             the scans of the frame
+``/tf``                    ``tf2_msgs/TFMessage``                world -> laser (with poses)
+``/laserpeople/people``    ``people_msgs/People``                person tracks
+``/laserpeople/legs``      ``people_msgs/People``                leg tracks
+``/laserpeople/groups``    ``people_msgs/People``                group tracks
+``/laserpeople/markers``   ``visualization_msgs/MarkerArray``    all tracks, for rviz/Foxglove
+=========================  ====================================  ==========================
+
+``people_msgs/Person`` (as in ROS's ``people`` stack): ``name`` is the track id, ``position``
+and ``velocity`` are in the header's frame [m, m/s], ``reliability`` the tracker's score,
+and ``tagnames``/``tags`` carry ``kind``, ``scan`` (the frame index), ``size`` and
+``members`` (the legs of a person, ``;``-separated). The types are registered with rosbags
+from their ``.msg`` text, so no ROS installation is needed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from laserpeople.errors import RecordingError
+from laserpeople.io.rosbag_writer import BagSink, sensor_frame_id, sensor_topic
+from laserpeople.scan import CoordinateFrame, Scan
+from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
+
+PERSON_TYPE = "people_msgs/msg/Person"
+PEOPLE_TYPE = "people_msgs/msg/People"
+MARKERS_TYPE = "visualization_msgs/msg/MarkerArray"
+PERSON_MSG = """string name
+geometry_msgs/Point position
+geometry_msgs/Point velocity
+float64 reliability
+string[] tagnames
+string[] tags
+"""
+PEOPLE_MSG = """std_msgs/Header header
+people_msgs/Person[] people
+"""
+TRACK_TOPICS: dict[TrackKind, str] = {
+    "person": "/laserpeople/people",
+    "leg": "/laserpeople/legs",
+    "group": "/laserpeople/groups",
+}
+MARKER_TOPIC = "/laserpeople/markers"
+WORLD_FRAME_ID = "world"
+
+# visualization_msgs/Marker constants
+_ARROW, _SPHERE, _CYLINDER, _TEXT = 0, 2, 3, 9
+_ADD, _DELETEALL = 0, 3
+_MARKER_LOOK: dict[TrackKind, tuple[int, float, float, tuple[float, float, float]]] = {
+    # kind: (marker type, diameter [m], height [m], rgb)
+    "leg": (_SPHERE, 0.15, 0.15, (0.2, 0.5, 1.0)),
+    "person": (_CYLINDER, 0.35, 1.2, (1.0, 0.45, 0.1)),
+    "group": (_CYLINDER, 1.0, 0.3, (0.3, 0.8, 0.3)),
+}
+
+
+def register_people_types(typestore: Any) -> None:
+    """Add ``people_msgs/Person`` and ``People`` to a rosbags typestore (once)."""
+    if PEOPLE_TYPE in typestore.types:
+        return
+    from rosbags.typesys import get_types_from_msg
+
+    types = get_types_from_msg(PERSON_MSG, PERSON_TYPE)
+    types.update(get_types_from_msg(PEOPLE_MSG, PEOPLE_TYPE))
+    typestore.register(types)
+
+
+def build_message(typestore: Any, msgtype: str, **given: Any) -> Any:
+    """A message of ``msgtype`` with the ``given`` fields and zero/empty defaults for the
+    rest, so that one call works for both ROS 1 and ROS 2 definitions of a type."""
+    _, fields = typestore.fielddefs[msgtype]
+    values: dict[str, Any] = {}
+    for name, (node, detail) in fields:
+        if name in given:
+            values[name] = given[name]
+        else:
+            values[name] = _default(typestore, node, detail)
+    return typestore.types[msgtype](**values)
+
+
+def _default(typestore: Any, node: Any, detail: Any) -> Any:
+    kind = int(node)
+    if kind == 1:  # BASE
+        base = detail[0]
+        if base == "string":
+            return ""
+        if base == "bool":
+            return False
+        if base in ("float32", "float64"):
+            return 0.0
+        return 0
+    if kind == 2:  # NAME (a nested message)
+        return build_message(typestore, detail)
+    # ARRAY (3) or SEQUENCE (4): ((node, detail), length)
+    (inner_node, inner_detail), length = detail
+    if int(inner_node) == 1 and inner_detail[0] not in ("string",):
+        dtype = {"bool": np.bool_, "float32": np.float32, "float64": np.float64}.get(
+            inner_detail[0], np.dtype(inner_detail[0]) if inner_detail[0] != "char" else np.uint8
+        )
+        return np.zeros(length if kind == 3 else 0, dtype=dtype)
+    if kind == 3:
+        return [_default(typestore, inner_node, inner_detail) for _ in range(length)]
+    return []
+
+
+class TracksBagWriter:
+    """Writes frames' scans and tracks into an open :class:`BagSink` as ROS messages.
+
+    Args:
+        sink: From :func:`laserpeople.io.rosbag_writer.open_bag`.
+        scans: Also write the scans (and their poses on ``/tf`` when in the world frame).
+    """
+
+    def __init__(self, sink: BagSink, *, scans: bool = True) -> None:
+        self.sink = sink
+        self.scans = scans
+        self.frames = 0
+        register_people_types(sink.typestore)
+
+    def write(self, scans: Sequence[Scan], tracks: Tracks) -> None:
+        """One frame: its ``scans`` and its ``tracks`` (in ``tracks.frame``)."""
+        world = tracks.frame == "world"
+        first = sensor_frame_id(scans[0].sensor) if scans else "laser"
+        frame_id = WORLD_FRAME_ID if world else first
+        stamp = tracks.stamp
+        if self.scans:
+            for scan in scans:
+                sid = sensor_frame_id(scan.sensor)
+                self.sink.scan(scan, sensor_topic(scan.sensor, ros1=self.sink.ros1), sid)
+                if world and scan.pose is not None:
+                    self.sink.pose(scan.stamp, WORLD_FRAME_ID, sid, scan.pose, "/tf")
+        header = self.sink.header(stamp, frame_id)
+        for kind, topic in TRACK_TOPICS.items():
+            people = [self._person(t, tracks.scan_index) for t in tracks.of_kind(kind)]
+            msg = build_message(self.sink.typestore, PEOPLE_TYPE, header=header, people=people)
+            self.sink.write(topic, PEOPLE_TYPE, msg, stamp)
+        self.sink.write(MARKER_TOPIC, MARKERS_TYPE, self._markers(header, tracks), stamp)
+        self.frames += 1
+
+    def _point(self, xy: np.ndarray, z: float = 0.0) -> Any:
+        return build_message(
+            self.sink.typestore,
+            "geometry_msgs/msg/Point",
+            x=_finite(xy[0]),
+            y=_finite(xy[1]),
+            z=z,
+        )
+
+    def _person(self, track: Track, scan_index: int) -> Any:
+        tags = {
+            "kind": track.kind,
+            "scan": str(scan_index),
+            "size": str(track.size),
+            "members": ";".join(str(m) for m in track.members),
+            "labels": track.labels,
+        }
+        return build_message(
+            self.sink.typestore,
+            PERSON_TYPE,
+            name=str(track.track_id),
+            position=self._point(track.position),
+            velocity=self._point(track.velocity),
+            reliability=float(track.score),
+            tagnames=list(tags),
+            tags=list(tags.values()),
+        )
+
+    def _markers(self, header: Any, tracks: Tracks) -> Any:
+        ts = self.sink.typestore
+        make = lambda t, **kw: build_message(ts, t, **kw)  # noqa: E731
+        markers = [make("visualization_msgs/msg/Marker", header=header, action=_DELETEALL)]
+        for track in tracks:
+            shape, diameter, height, rgb = _MARKER_LOOK[track.kind]
+            color = make("std_msgs/msg/ColorRGBA", r=rgb[0], g=rgb[1], b=rgb[2], a=0.85)
+            pose = make(
+                "geometry_msgs/msg/Pose",
+                position=self._point(track.position, height / 2),
+                orientation=make("geometry_msgs/msg/Quaternion", w=1.0),
+            )
+            tid = _marker_id(track.track_id)
+            markers.append(
+                make(
+                    "visualization_msgs/msg/Marker",
+                    header=header,
+                    ns=f"{track.kind}s",
+                    id=tid,
+                    type=shape,
+                    action=_ADD,
+                    pose=pose,
+                    scale=make("geometry_msgs/msg/Vector3", x=diameter, y=diameter, z=height),
+                    color=color,
+                )
+            )
+            markers.append(
+                make(
+                    "visualization_msgs/msg/Marker",
+                    header=header,
+                    ns=f"{track.kind}_ids",
+                    id=tid,
+                    type=_TEXT,
+                    action=_ADD,
+                    pose=make(
+                        "geometry_msgs/msg/Pose",
+                        position=self._point(track.position, height + 0.2),
+                        orientation=make("geometry_msgs/msg/Quaternion", w=1.0),
+                    ),
+                    scale=make("geometry_msgs/msg/Vector3", z=0.25),
+                    color=color,
+                    text=f"{track.kind[0].upper()}{track.track_id}",
+                )
+            )
+            v = np.nan_to_num(track.velocity)
+            if math.hypot(v[0], v[1]) > 0.05:
+                markers.append(
+                    make(
+                        "visualization_msgs/msg/Marker",
+                        header=header,
+                        ns=f"{track.kind}_velocities",
+                        id=tid,
+                        type=_ARROW,
+                        action=_ADD,
+                        pose=make(
+                            "geometry_msgs/msg/Pose",
+                            orientation=make("geometry_msgs/msg/Quaternion", w=1.0),
+                        ),
+                        scale=make("geometry_msgs/msg/Vector3", x=0.04, y=0.08, z=0.1),
+                        color=color,
+                        points=[
+                            self._point(track.position, 0.1),
+                            self._point(track.position + v, 0.1),
+                        ],
+                    )
+                )
+        return make(MARKERS_TYPE, markers=markers)
+
+
+def _finite(value: float) -> float:
+    return float(value) if math.isfinite(value) else 0.0
+
+
+def _marker_id(track_id: int) -> int:
+    return int(track_id) % (2**31)
+
+
+def iter_tracks_bag(
+    path: str | Path, kinds: tuple[TrackKind, ...] | None = None
+) -> Iterator[Tracks]:
+    """Read the tracks a :class:`TracksBagWriter` wrote back, one :class:`Tracks` per frame
+    with tracks, in frame order; positions in the frame of the messages (``world`` when
+    their ``frame_id`` is ``world``, else ``sensor``).
+
+    Raises:
+        RecordingError: The bag has no ``/laserpeople/*`` people topics, or a message lacks
+            the ``kind``/``scan`` tags.
+    """
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError("file not found", path=p)
+    wanted = kinds or TRACK_KINDS
+    topics = {TRACK_TOPICS[k] for k in wanted}
+    store = get_typestore(Stores.LATEST)
+    register_people_types(store)
+    with AnyReader([p], default_typestore=store) as reader:
+        conns = [c for c in reader.connections if c.topic in topics]
+        if not conns:
+            raise RecordingError(
+                f"no tracks in the bag (none of the topics {', '.join(sorted(topics))})",
+                path=p,
+                hint="give a bag written by `laserpeople track --bag`",
+            )
+        current: list[Track] = []
+        key: tuple[int, float, CoordinateFrame] | None = None
+        for conn, _, raw in reader.messages(connections=conns):
+            msg: Any = reader.deserialize(raw, conn.msgtype)
+            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+            frame: CoordinateFrame = "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
+            for person in msg.people:
+                tags = dict(zip(person.tagnames, person.tags, strict=False))
+                try:
+                    scan = int(tags["scan"])
+                    kind = tags["kind"]
+                except (KeyError, ValueError) as exc:
+                    raise RecordingError(
+                        f"topic {conn.topic}: a person lacks the kind/scan tags", path=p
+                    ) from exc
+                if kind not in wanted:
+                    continue
+                if key is not None and scan != key[0]:
+                    if current:
+                        yield Tracks(key[1], key[0], tuple(current), key[2])
+                    current = []
+                key = (scan, stamp, frame)
+                members = tuple(int(m) for m in tags.get("members", "").split(";") if m)
+                current.append(
+                    Track(
+                        track_id=int(person.name),
+                        kind=kind,
+                        position=np.array([person.position.x, person.position.y]),
+                        velocity=np.array([person.velocity.x, person.velocity.y]),
+                        covariance=np.full((2, 2), np.nan),
+                        size=int(tags.get("size") or 1),
+                        labels=tags.get("labels", ""),
+                        score=float(person.reliability),
+                        members=members,
+                    )
+                )
+        if key is not None and current:
+            yield Tracks(key[1], key[0], tuple(current), key[2])
+
+
+__all__ = [
+    "MARKER_TOPIC",
+    "TRACK_TOPICS",
+    "TracksBagWriter",
+    "build_message",
+    "iter_tracks_bag",
+    "register_people_types",
+]

@@ -1,0 +1,240 @@
+"""Frames from a recording file, and a whole pipeline for one in a single call.
+
+:class:`RecordingFrames` reads one laser (frames = its scans) or several (grouped by time,
+:class:`~laserpeople.pipeline.sources.LaserGrouper`) and fixes the coordinate frame for the
+run (:class:`~laserpeople.pipeline.sources.FrameChooser`). :func:`build` adds the stages a
+registered tracker consumes and the sinks named by file extension.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.io import RecordingSource, is_rosbag, open_recording
+from laserpeople.io.damage import check_on_error
+from laserpeople.pipeline.core import Pipeline
+from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
+from laserpeople.pipeline.preprocess import Fuse
+from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
+from laserpeople.pipeline.sources import (
+    FUSED,
+    FrameChoice,
+    FrameChooser,
+    GroupingParams,
+    LaserGrouper,
+    laser_frames,
+)
+from laserpeople.pipeline.stages import Identifier, Sink, Stage
+
+ALL_TOPICS = "all"
+
+
+def open_source(
+    path: str | Path,
+    world_frame: str | None = None,
+    mounts: Sequence[str] = (),
+    on_error: str = "stop",
+) -> RecordingSource:
+    """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts``
+    (``CHILD=PARENT:x,y,theta`` or a known robot such as ``mir100``) give sensor poses.
+    ``on_error`` is the reader's policy for a damaged scan (``stop`` or ``skip``,
+    :mod:`laserpeople.io.damage`); skipped scans are counted in the reader's ``damaged``."""
+    policy = check_on_error(on_error)
+    if not (world_frame or mounts):
+        return open_recording(path, on_error=policy)
+    if not is_rosbag(path):
+        raise ConfigError(
+            "--world-frame and --mount apply to ROS bags only",
+            path=path,
+            hint="drop them, or give a .bag, .mcap, .db3 or ROS 2 bag folder",
+        )
+    from laserpeople.io.poses import parse_mounts
+
+    return open_recording(
+        path, world_frame=world_frame, mounts=parse_mounts(list(mounts)), on_error=policy
+    )
+
+
+def resolve_topics(recording: RecordingSource, topics: Sequence[str] | None) -> list[str]:
+    """The laser topics to read: ``topics`` as given (``["all"]``: every laser topic; a
+    leading ``/`` is optional for bags), default the first laser topic."""
+    names = [t.name for t in recording.topics()]
+    if not names:
+        raise LaserPeopleError("the recording has no laser topic", path=recording.path)
+    if not topics:
+        return names[:1]
+    if list(topics) == [ALL_TOPICS]:
+        return names
+    if ALL_TOPICS in topics:
+        raise ConfigError("--topics all cannot be combined with named topics")
+    resolve = getattr(recording, "resolve_topics", None)
+    if callable(resolve):
+        return list(resolve(list(topics)))
+    return list(topics)  # the reader raises TopicNotFoundError naming the topics it has
+
+
+class RecordingFrames:
+    """The frames of one or several lasers of a recording (iterate once).
+
+    Args:
+        recording: An open recording (closed with this object).
+        topics: Laser topics; several are grouped into ``fused`` frames.
+        frame: ``auto`` (world when most frames have sensor poses), ``world`` or ``sensor``.
+        grouping: Tolerance and missing-laser policy for several lasers.
+        window: Frames looked at before choosing the coordinate frame.
+        max_frames: Stop after this many frames (None: all).
+
+    Attributes:
+        chooser: The frame choice and what it dropped (``chooser.stats``).
+        grouper: The grouping and its counts (None for one laser).
+    """
+
+    def __init__(
+        self,
+        recording: RecordingSource,
+        topics: Sequence[str],
+        *,
+        frame: FrameChoice = "auto",
+        grouping: GroupingParams | None = None,
+        window: int = 200,
+        max_frames: int | None = None,
+    ) -> None:
+        self.recording = recording
+        self.topics = list(topics)
+        self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
+        self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
+        self.chooser = FrameChooser(frame, window)
+        self.max_frames = max_frames
+
+    @property
+    def total(self) -> int | None:
+        """Frames to expect (the first laser's scan count), when the reader knows it."""
+        count = next((t.count for t in self.recording.topics() if t.name == self.topics[0]), None)
+        if count is not None and self.max_frames is not None:
+            return min(count, self.max_frames)
+        return count
+
+    def __iter__(self) -> Iterator[Frame]:
+        scans = self.recording.scans(self.topics)
+        frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        for n, frame in enumerate(self.chooser(frames)):
+            if self.max_frames is not None and n >= self.max_frames:
+                return
+            yield frame
+
+    def summary(self) -> list[str]:
+        """Lines for the user: the frame used and why; the grouping figures."""
+        lines = [self.chooser.stats.summary()]
+        if self.grouper is not None:
+            lines.append(self.grouper.stats.summary())
+        return lines
+
+    def close(self) -> None:
+        """Close the recording."""
+        self.recording.close()
+
+
+def observe_stages_for(
+    consumes: frozenset[FrameField],
+    detector: LegDetector | None,
+    leg_fusion: LegFusionParams | None = None,
+) -> tuple[list[Stage], list[Stage]]:
+    """The preprocess and observe stages that provide what a tracker ``consumes``."""
+    preprocess: list[Stage] = []
+    observe: list[Stage] = []
+    if consumes & {"points", "foreground", "clusters"}:
+        preprocess.append(Fuse())
+    if "clusters" in consumes:
+        observe.append(ClusterPoints())
+    if "legs" in consumes:
+        if detector is None:
+            from laserpeople.detection.detector import AdaBoostLegDetector
+
+            detector = AdaBoostLegDetector.default()
+        observe.append(DetectLegs(detector, leg_fusion))
+    return preprocess, observe
+
+
+def output_sink(path: str | Path) -> Sink:
+    """A tracks sink by extension: ``.csv`` tracks CSV, ``.bag``/``.mcap``/``.db3`` a bag
+    with the scans and the tracks as ROS messages."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix == ".csv":
+        return TracksCsvSink(p)
+    if suffix in (".bag", ".mcap", ".db3"):
+        return TracksBagSink(p)
+    raise ConfigError(f"cannot write tracks to {p.name!r}", hint="use .csv, .bag, .mcap or .db3")
+
+
+def build(
+    recording: str | Path,
+    *,
+    tracker: str | Any = "leg-mht",
+    params: Any = None,
+    topics: Sequence[str] | None = None,
+    detector: LegDetector | None = None,
+    outputs: Sequence[str | Path | Sink] = (),
+    frame: FrameChoice = "auto",
+    world_frame: str | None = None,
+    mounts: Sequence[str] = (),
+    grouping: GroupingParams | None = None,
+    leg_fusion: LegFusionParams | None = None,
+    background: Stage | None = None,
+    identify: Sequence[Identifier] = (),
+    max_frames: int | None = None,
+    on_error: str = "stop",
+) -> Pipeline:
+    """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
+    tracker object, feeding it what it consumes. ``on_error`` (``stop``/``skip``) is the
+    reader's policy for a damaged scan (see :func:`open_source`).
+
+    Example:
+        >>> from laserpeople.pipeline import build  # doctest: +SKIP
+        >>> stats = build("run.bag", outputs=["tracks.csv", "tracks.mcap"]).run()
+    """
+    from laserpeople.tracking import registry
+
+    if isinstance(tracker, str):
+        tracker = registry.get(tracker).make(params)
+    rec = open_source(recording, world_frame, mounts, on_error)
+    try:
+        source = RecordingFrames(
+            rec,
+            resolve_topics(rec, topics),
+            frame=frame,
+            grouping=grouping,
+            max_frames=max_frames,
+        )
+        preprocess, observe = observe_stages_for(frozenset(tracker.consumes), detector, leg_fusion)
+        if background is not None:
+            if not preprocess:
+                preprocess.append(Fuse())
+            preprocess.append(background)
+        sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
+        return Pipeline(
+            source,
+            preprocess=preprocess,
+            observe=observe,
+            tracker=tracker,
+            identify=identify,
+            sinks=sinks,
+        )
+    except BaseException:
+        rec.close()
+        raise
+
+
+__all__ = [
+    "ALL_TOPICS",
+    "RecordingFrames",
+    "build",
+    "observe_stages_for",
+    "open_source",
+    "output_sink",
+    "resolve_topics",
+]

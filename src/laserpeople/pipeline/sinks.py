@@ -1,0 +1,125 @@
+"""Sinks: where a pipeline's frames and tracks go (CSV files, a bag of ROS messages).
+
+Each sink opens its file on the first frame, so that the tracks' frame and the topic are
+known, writes one frame at a time (flushed, so that a crash leaves a valid file) and
+closes in :meth:`close`.
+"""
+
+from __future__ import annotations
+
+from contextlib import AbstractContextManager
+from pathlib import Path
+from typing import Any
+
+from laserpeople.frame import Frame
+from laserpeople.io.detections_csv import DetectionsCsvWriter
+from laserpeople.io.tracks_csv import TracksCsvWriter
+from laserpeople.scan import CoordinateFrame
+from laserpeople.tracks import Tracks
+
+
+class TracksCsvSink:
+    """Tracks CSV with a ``topic`` column (the laser, or ``fused``).
+
+    Args:
+        path: The CSV to write.
+        frame: Frame of the written positions (default: the tracks' own frame).
+    """
+
+    def __init__(self, path: str | Path, frame: CoordinateFrame | None = None) -> None:
+        self.path = Path(path)
+        self.frame = frame
+        self._writer: TracksCsvWriter | None = None
+        self.rows = 0
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Append the frame's tracks."""
+        if tracks is None:
+            return
+        if self._writer is None:
+            self._writer = TracksCsvWriter(
+                self.path, frame=self.frame or tracks.frame, topic=frame.topic
+            )
+        self._writer.write(tracks)
+        self.rows = self._writer.rows
+
+    @property
+    def written_frame(self) -> CoordinateFrame | None:
+        """The frame of the written positions (None before the first frame)."""
+        return None if self._writer is None else self._writer.frame
+
+    def close(self) -> None:
+        """Close the file; with no frame at all, leave a valid file with a header only."""
+        if self._writer is None:
+            self._writer = TracksCsvWriter(self.path, frame=self.frame or "sensor", topic="")
+        self._writer.close()
+
+
+class DetectionsCsvSink:
+    """Detections CSV with a ``topic`` column.
+
+    Args:
+        path: The CSV to write.
+        per_laser: Write every laser's detections in its own sensor frame with its topic
+            (needs the :class:`~laserpeople.pipeline.observe.DetectLegs` stage as
+            ``stage``); otherwise the frame's legs in the frame's coordinate frame with the
+            frame's topic (``fused`` for several lasers).
+        stage: The leg detection stage (for ``per_laser``).
+    """
+
+    def __init__(self, path: str | Path, *, per_laser: bool = False, stage: Any = None) -> None:
+        self.path = Path(path)
+        self.per_laser = per_laser
+        self.stage = stage
+        self._writer = DetectionsCsvWriter(self.path, topic="")
+
+    @property
+    def rows(self) -> int:
+        """Rows written."""
+        return self._writer.rows
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Append the frame's detections."""
+        if self.per_laser:
+            for scan, dets in zip(frame.scans, self.stage.per_scan, strict=True):
+                self._writer.write(dets, topic=scan.sensor)
+        elif frame.legs is not None:
+            self._writer.write(frame.legs, topic=frame.topic)
+
+    def close(self) -> None:
+        """Close the file."""
+        self._writer.close()
+
+
+class TracksBagSink:
+    """A ROS bag (``.bag``) or MCAP/db3 (ROS 2) with the frames' scans and the tracks as
+    ``people_msgs/People`` and ``visualization_msgs/MarkerArray`` (see
+    :mod:`laserpeople.io.tracks_bag`)."""
+
+    def __init__(self, path: str | Path, *, scans: bool = True) -> None:
+        from laserpeople.io.rosbag_writer import open_bag
+        from laserpeople.io.tracks_bag import TracksBagWriter
+
+        self.path = Path(path)
+        self._context: AbstractContextManager[Any] = open_bag(self.path)
+        self._writer = TracksBagWriter(self._context.__enter__(), scans=scans)
+        self._closed = False
+
+    @property
+    def frames(self) -> int:
+        """Frames written."""
+        return self._writer.frames
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Append the frame's scans and tracks."""
+        if tracks is not None:
+            self._writer.write(frame.scans, tracks)
+
+    def close(self) -> None:
+        """Close the bag and move it into place."""
+        if not self._closed:
+            self._closed = True
+            self._context.__exit__(None, None, None)
+
+
+__all__ = ["DetectionsCsvSink", "TracksBagSink", "TracksCsvSink"]

@@ -1,0 +1,699 @@
+"""The Cluster Sorting Algorithm (CSA) of 002 Sec. 2 (Kräußling et al.).
+
+The CSA tracks people directly on the raw foreground laser points of a frame. Every tracked
+object has a validation gate; the points inside a gate are that object's *selected
+measurements*. Two kinds of objects:
+
+- a *single target* (one person) is tracked by the Kalman Filter Algorithm (KFA): its
+  constant-velocity Kalman filter is updated with the unweighted mean of its selected
+  measurements;
+- a *cluster* (at least two interacting people) is tracked by the Viterbi-based algorithm
+  (VBA): it keeps one position estimate and gate per old selected measurement; the new
+  selected measurements are those inside at least one of these gates, and each of them gets
+  the estimate of its most likely predecessor (a Viterbi step, :func:`viterbi_step`), so
+  the cluster's belief is multi-modal.
+
+Objects whose gates share a measurement merge (person+person, person+cluster,
+cluster+cluster), and the cluster remembers which people it holds. A cluster splits
+back into single targets when its estimates form as many sub-clusters (leader clustering
+at 1.5 m) as it holds people and every pair of sub-clusters is more than 3.0 m apart
+(002 split conditions 1 and 2). 002 leaves the identities after a split to the colour
+stage (:mod:`laserpeople.identity`); on its own the CSA hands each sub-cluster the person
+most of its estimates' Viterbi paths started from (an extension: the laser-only guess).
+
+Initiation and deletion are not in 002 (an assumption here): foreground points selected by
+no object are grouped by leader clustering, each group of at least ``min_points`` points
+starts a single target; an object unseen for ``max_unseen`` is deleted.
+
+Output: one ``person`` track per single target, and per cluster either its people at its
+sub-clusters (when there are as many sub-clusters as people, 002 split condition 3 "to
+indicate them in the graphics") or one ``group`` track holding its people in ``members``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
+
+from laserpeople.config import param
+from laserpeople.frame import Frame, FrameField
+from laserpeople.scan import PointSet
+from laserpeople.tracking import kalman
+from laserpeople.tracks import Detections, Track, Tracks
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class CSAParams:
+    """Parameters of the Cluster Sorting Algorithm (002 Sec. 2)."""
+
+    config_section = "csa"
+
+    subcluster_distance: float = param(
+        1.5,
+        "002 Sec. 2, split condition 1 (150 cm, the largest distance between the legs of a "
+        "walking person)",
+        "estimates closer than this to a sub-cluster's first estimate join that sub-cluster",
+        "m",
+    )
+    separation_distance: float = param(
+        3.0,
+        "002 Sec. 2, split condition 2 (300 cm)",
+        "a cluster splits only when every pair of sub-clusters is farther apart than this "
+        "(distance between sub-cluster centroids)",
+        "m",
+    )
+    gate_probability: float = param(
+        0.99,
+        "assumption (002 cites Bar-Shalom & Fortmann for the gates, no value)",
+        "probability mass of each validation gate (chi-square, 2 dof)",
+    )
+    max_gate_distance: float = param(
+        1.0,
+        "assumption: bounds the gate of a long-unseen target",
+        "Euclidean cap on every validation gate",
+        "m",
+    )
+    point_std: float = param(
+        0.15,
+        "assumption: laser points of a person lie on two legs about 0.1-0.3 m from its centre",
+        "spread of one laser point about the tracked position (gates; VBA updates)",
+        "m",
+    )
+    mean_std: float = param(
+        0.08,
+        "assumption: the mean of the leg points swings with the gait",
+        "noise of the mean of the selected measurements (KFA update)",
+        "m",
+    )
+    person_accel_psd: float = param(
+        4.0,
+        "assumption: a walking person's centre accelerates by ~1 m/s^2",
+        "process noise of single targets (KFA)",
+        "m^2/s^3",
+    )
+    point_accel_psd: float = param(
+        32.0,
+        "assumption: as the leg tracker's Kalman filter (tracking/kalman.py), an estimate "
+        "follows single leg points",
+        "process noise of the per-measurement estimates of a cluster (VBA)",
+        "m^2/s^3",
+    )
+    init_velocity_std: float = param(
+        1.0, "assumption", "velocity uncertainty of a new single target", "m/s"
+    )
+    init_distance: float = param(
+        0.6,
+        "assumption (002 does not describe initiation): a person's leg points lie within "
+        "0.6 m of each other",
+        "unselected points within this of a group's first point start one new target",
+        "m",
+    )
+    min_points: int = param(3, "assumption", "points needed to start a new single target")
+    max_unseen: float = param(
+        1.0, "assumption", "an object without selected measurements this long is deleted", "s"
+    )
+    max_dt: float = param(1.0, "assumption", "longest prediction step", "s")
+    adopt_escaped: bool = param(
+        True,
+        "extension of 002 (its Sec. 4 names the failure); crossing-3 123 -> 321 seeds 0-4: "
+        "people correct with colour 6/15 -> 15/15 (docs/csa.md)",
+        "a cluster short of sub-clusters splits with the targets started since it formed "
+        "when all are pairwise separated (they take its remaining people)",
+    )
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.gate_probability < 1.0:
+            raise ValueError("gate_probability must be in (0, 1)")
+        for name in (
+            "subcluster_distance",
+            "separation_distance",
+            "max_gate_distance",
+            "point_std",
+            "mean_std",
+            "person_accel_psd",
+            "point_accel_psd",
+            "init_velocity_std",
+            "init_distance",
+            "max_unseen",
+            "max_dt",
+        ):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive")
+        if self.min_points < 1:
+            raise ValueError("min_points must be at least 1")
+
+    @property
+    def gate(self) -> float:
+        """Squared Mahalanobis radius of a validation gate: the chi-square quantile with 2
+        degrees of freedom, -2 ln(1 - p)."""
+        return -2.0 * math.log1p(-self.gate_probability)
+
+
+@dataclass(frozen=True, eq=False)
+class ViterbiStep:
+    """The result of one VBA step (:func:`viterbi_step`) on M measurements and E estimates.
+
+    Attributes:
+        selected: (M,) bool, measurements inside at least one estimate's gate.
+        predecessor: (S,) index of the old estimate each selected measurement continues.
+        means: New estimates (S, 4), the predecessors updated with their measurements.
+        covs: Their covariances (S, 4, 4).
+        scores: Path log-likelihoods (S,), shifted so that the best is 0.
+    """
+
+    selected: NDArray[np.bool_]
+    predecessor: IntArray
+    means: FloatArray
+    covs: FloatArray
+    scores: FloatArray
+
+
+def _gate_loglik(
+    means: FloatArray, covs: FloatArray, z: FloatArray, point_var: float, gate: float, cap: float
+) -> tuple[NDArray[np.bool_], FloatArray]:
+    """Gate membership and log N(z_m; H x_e, H P_e H^T + point_var I), both (E, M), for
+    one measurement noise shared by all measurements (cheaper than
+    :func:`kalman.mahalanobis_and_loglik`, which takes one covariance per measurement)."""
+    a = covs[:, 0, 0] + point_var
+    b = covs[:, 0, 1]
+    d = covs[:, 1, 1] + point_var
+    det = a * d - b * b
+    vx = z[None, :, 0] - means[:, 0, None]
+    vy = z[None, :, 1] - means[:, 1, None]
+    d2 = (d[:, None] * vx * vx - 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy) / det[:, None]
+    inside = (d2 <= gate) & (vx * vx + vy * vy <= cap * cap)
+    loglik = -0.5 * d2 - kalman.LOG_2PI - 0.5 * np.log(det)[:, None]
+    return inside, loglik
+
+
+def viterbi_step(
+    pred_means: FloatArray,
+    pred_covs: FloatArray,
+    scores: FloatArray,
+    z: FloatArray,
+    point_var: float,
+    gate: float,
+    max_gate_distance: float,
+) -> ViterbiStep:
+    """One step of the Viterbi-based algorithm (002 Sec. 2; Kräußling et al. 2004a).
+
+    Every old estimate e (predicted to ``pred_means[e]``) has a validation gate; a
+    measurement in at least one gate is selected, and its new estimate continues the old
+    estimate with the best path score ``scores[e] + log N(z; H x_e, H P_e H^T + R)`` among
+    the estimates gating it (the Viterbi recursion), updated with the measurement.
+
+    Args:
+        pred_means: Predicted estimates (E, 4).
+        pred_covs: Their covariances (E, 4, 4).
+        scores: Path log-likelihoods of the old estimates (E,).
+        z: Measurements (M, 2) [m].
+        point_var: Variance of one measurement about the estimate, R = point_var * I [m^2].
+        gate: Squared Mahalanobis radius of a gate.
+        max_gate_distance: Euclidean cap on a gate [m].
+    """
+    z = np.asarray(z, dtype=np.float64).reshape(-1, 2)
+    m = z.shape[0]
+    r = np.broadcast_to(np.eye(2) * point_var, (m, 2, 2))
+    inside, loglik = _gate_loglik(pred_means, pred_covs, z, point_var, gate, max_gate_distance)
+    selected: NDArray[np.bool_] = np.asarray(inside.any(axis=0), dtype=bool)
+    total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)
+    total = total[:, selected]
+    pred = np.argmax(total, axis=0).astype(np.int64)
+    best = total[pred, np.arange(pred.size)]
+    zs = z[selected]
+    means, covs = kalman.update_batch(pred_means[pred], pred_covs[pred], zs, r[: zs.shape[0]])
+    if best.size:
+        best = best - best.max()
+    return ViterbiStep(selected, pred, means, covs, best)
+
+
+def leader_clusters(positions: FloatArray, distance: float) -> IntArray:
+    """Sub-cluster label (N,) of each position (N, 2) by 002's procedure: the first
+    unassigned position opens a sub-cluster, every unassigned position closer than
+    ``distance`` to it joins; repeat until all are assigned."""
+    pts = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+    labels = np.full(pts.shape[0], -1, dtype=np.int64)
+    k = 0
+    while True:
+        free = np.flatnonzero(labels < 0)
+        if free.size == 0:
+            return labels
+        first = pts[free[0]]
+        near = np.linalg.norm(pts[free] - first, axis=1) < distance
+        labels[free[near]] = k
+        k += 1
+
+
+def split_ready(positions: FloatArray, n_people: int, params: CSAParams) -> tuple[bool, IntArray]:
+    """002's split conditions 1 and 2 for a cluster of ``n_people`` with estimates at
+    ``positions`` (E, 2); returns (split?, sub-cluster label per estimate)."""
+    labels = leader_clusters(positions, params.subcluster_distance)
+    n_sub = int(labels.max()) + 1 if labels.size else 0
+    if n_sub != n_people:
+        return False, labels
+    centroids = np.array([positions[labels == s].mean(axis=0) for s in range(n_sub)])
+    d = np.linalg.norm(centroids[:, None] - centroids[None], axis=-1)
+    iu = np.triu_indices(n_sub, 1)
+    separated = int((d[iu] > params.separation_distance).sum())
+    return separated == n_sub * (n_sub - 1) // 2, labels
+
+
+@dataclass
+class _Single:
+    pid: int
+    mean: FloatArray
+    cov: FloatArray
+    last_seen: float
+    spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
+
+
+@dataclass
+class _Cluster:
+    cid: int
+    members: tuple[int, ...]
+    means: FloatArray
+    covs: FloatArray
+    scores: FloatArray
+    origin: IntArray  # person each estimate's Viterbi path started from
+    last_seen: float
+    shown: dict[int, FloatArray] = field(default_factory=dict)  # person -> last shown at
+    born_pid: int = 0  # single targets with a larger id were started after this cluster
+
+
+@dataclass(frozen=True)
+class CSAEvent:
+    """A merge or split, for inspection and tests.
+
+    Attributes:
+        stamp: Time [s].
+        kind: "merge person+person", "merge person+cluster", "merge cluster+cluster" or
+            "split".
+        members: The people of the cluster after a merge / before a split.
+    """
+
+    stamp: float
+    kind: str
+    members: tuple[int, ...]
+
+
+@dataclass
+class _State:
+    singles: dict[int, _Single] = field(default_factory=dict)
+    clusters: dict[int, _Cluster] = field(default_factory=dict)
+    next_pid: int = 0
+    next_cid: int = 0
+
+
+class ClusterSortingTracker:
+    """The CSA as a :class:`~laserpeople.frame.FrameTracker` on raw foreground points.
+
+    Attributes:
+        events: Every merge and split so far (:class:`CSAEvent`).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+
+    def __init__(self, params: CSAParams | None = None) -> None:
+        self.params = params or CSAParams()
+        self._s = _State()
+        self._last: float | None = None
+        self.events: list[CSAEvent] = []
+
+    # ------------------------------------------------------------------ helpers
+    def _new_single(self, pos: FloatArray, stamp: float) -> None:
+        p = self.params
+        pid = self._s.next_pid
+        self._s.next_pid += 1
+        spawned_by = -1
+        reach = p.init_distance + p.max_gate_distance
+        for c in self._s.clusters.values():
+            if np.min(np.linalg.norm(c.means[:, :2] - pos, axis=1)) < reach:
+                spawned_by = c.cid
+                break
+        self._s.singles[pid] = _Single(
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by
+        )
+
+    def _init_cov(self) -> FloatArray:
+        """Covariance (4, 4) of a new single target."""
+        p = self.params
+        v = p.init_velocity_std**2
+        return np.diag([p.mean_std**2, p.mean_std**2, v, v])
+
+    def _points(self, frame: Frame) -> FloatArray:
+        if frame.points is None or frame.foreground is None:
+            from laserpeople.errors import LaserPeopleError
+
+            raise LaserPeopleError(
+                "the CSA needs the frame's points and foreground mask",
+                scan=frame.index,
+                hint="run the preprocess stage before the csa tracker",
+            )
+        return frame.points.points[np.asarray(frame.foreground, dtype=bool)]
+
+    # ------------------------------------------------------------------ update
+    def update(self, frame: Frame | Detections) -> Tracks:
+        """Process one frame's foreground points; return the tracks after it.
+
+        Until every command feeds frames, leg detections are accepted too: the points of
+        their segments (or their centres) are taken as the foreground (see
+        :func:`frame_from_detections`)."""
+        if isinstance(frame, Detections):
+            frame = frame_from_detections(frame)
+        p = self.params
+        z = self._points(frame)
+        stamp = frame.stamp
+        dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
+        self._last = stamp
+        point_var = p.point_std**2
+        gate2 = p.gate
+        s = self._s
+
+        singles = list(s.singles.values())
+        clusters = list(s.clusters.values())
+        # predict every single target and every cluster estimate
+        if singles:
+            sm, sc = kalman.predict(
+                np.array([t.mean for t in singles]),
+                np.array([t.cov for t in singles]),
+                np.full(len(singles), dt),
+                p.person_accel_psd,
+            )
+        else:
+            sm, sc = np.empty((0, 4)), np.empty((0, 4, 4))
+        cpred = [
+            kalman.predict(c.means, c.covs, np.full(len(c.means), dt), p.point_accel_psd)
+            for c in clusters
+        ]
+        # validation gates of every object over the measurements
+        cap = p.max_gate_distance
+        gates = np.zeros((len(singles) + len(clusters), z.shape[0]), dtype=bool)
+        if singles and z.size:
+            gates[: len(singles)] = _gate_loglik(sm, sc, z, point_var, gate2, cap)[0]
+        for k, (cm, cc) in enumerate(cpred):
+            if z.size and cm.size:
+                g = _gate_loglik(cm, cc, z, point_var, gate2, cap)[0]
+                gates[len(singles) + k] = g.any(axis=0)
+        comps = _components(gates)
+        selected_any = gates.any(axis=0)
+
+        new_singles: dict[int, _Single] = {}
+        new_clusters: dict[int, _Cluster] = {}
+        for comp in comps:
+            objs_s = [i for i in comp if i < len(singles)]
+            if len(comp) == 1 and objs_s:
+                i = objs_s[0]
+                t = singles[i]
+                sel = gates[i]
+                if sel.any():  # KFA: the mean of the selected measurements
+                    mean, cov = kalman.update(
+                        sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
+                    )
+                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by)
+                elif stamp - t.last_seen <= p.max_unseen:
+                    new_singles[t.pid] = _Single(t.pid, sm[i], sc[i], t.last_seen, t.spawned_by)
+                continue
+            cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
+            if cl is None:
+                continue
+            done = self._maybe_split(cl, stamp, new_singles)
+            if not done:
+                new_clusters[cl.cid] = cl
+        if p.adopt_escaped:
+            self._adopt_escaped(new_singles, new_clusters, stamp)
+        s.singles = new_singles
+        s.clusters = new_clusters
+        self._initiate(z[~selected_any], stamp)
+        return self._report(frame)
+
+    def _vba(
+        self,
+        comp: list[int],
+        singles: list[_Single],
+        sm: FloatArray,
+        sc: FloatArray,
+        clusters: list[_Cluster],
+        cpred: list[tuple[FloatArray, FloatArray]],
+        z: FloatArray,
+        stamp: float,
+        point_var: float,
+    ) -> _Cluster | None:
+        """Run the VBA on a cluster, merging the objects of ``comp`` first."""
+        p = self.params
+        ns = len(singles)
+        objs_s = [i for i in comp if i < ns]
+        objs_c = [i - ns for i in comp if i >= ns]
+        means = [sm[objs_s]] + [cpred[k][0] for k in objs_c]
+        covs = [sc[objs_s]] + [cpred[k][1] for k in objs_c]
+        scores = [np.zeros(len(objs_s))] + [
+            clusters[k].scores - clusters[k].scores.max() for k in objs_c
+        ]
+        origin = [np.array([singles[i].pid for i in objs_s], dtype=np.int64)] + [
+            clusters[k].origin for k in objs_c
+        ]
+        # a target started next to one of these clusters and merging back into it is a
+        # fragment of the cluster's people, not another person (extension of 002)
+        cids = {clusters[k].cid for k in objs_c}
+        joining = {singles[i].pid for i in objs_s if singles[i].spawned_by not in cids}
+        members = tuple(sorted(joining.union(*[clusters[k].members for k in objs_c])))
+        last_seen = max(
+            [singles[i].last_seen for i in objs_s] + [clusters[k].last_seen for k in objs_c]
+        )
+        if len(comp) > 1:
+            kind = (
+                "merge person+person"
+                if not objs_c
+                else "merge cluster+cluster"
+                if len(objs_c) > 1
+                else "merge person+cluster"
+            )
+            self.events.append(CSAEvent(stamp, kind, members))
+        shown = {singles[i].pid: sm[i, :2] for i in objs_s}
+        for k in objs_c:
+            shown.update(clusters[k].shown)
+        born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
+        if objs_c:
+            cid = clusters[objs_c[0]].cid
+        else:
+            cid = self._s.next_cid
+            self._s.next_cid += 1
+        all_means = np.concatenate(means)
+        all_covs = np.concatenate(covs)
+        all_scores = np.concatenate(scores)
+        all_origin = np.concatenate(origin)
+        step = viterbi_step(
+            all_means, all_covs, all_scores, z, point_var, p.gate, p.max_gate_distance
+        )
+        if step.predecessor.size == 0:  # nothing seen: coast every estimate
+            if stamp - last_seen > p.max_unseen:
+                return None
+            return _Cluster(
+                cid, members, all_means, all_covs, all_scores, all_origin, last_seen, shown, born
+            )
+        return _Cluster(
+            cid,
+            members,
+            step.means,
+            step.covs,
+            step.scores,
+            all_origin[step.predecessor],
+            stamp,
+            shown,
+            born,
+        )
+
+    def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
+        """Split ``cl`` into single targets when 002's conditions 1 and 2 hold."""
+        ok, labels = split_ready(cl.means[:, :2], len(cl.members), self.params)
+        if not ok:
+            return False
+        ids = self._subcluster_ids(cl, labels)
+        for sub, pid in enumerate(ids):
+            sel = labels == sub
+            out[pid] = _Single(pid, cl.means[sel].mean(axis=0), self._init_cov(), stamp)
+        self.events.append(CSAEvent(stamp, "split", cl.members))
+        return True
+
+    @staticmethod
+    def _subcluster_ids(cl: _Cluster, labels: IntArray) -> list[int]:
+        """The person for each sub-cluster (see :meth:`_assign_members`)."""
+        n_sub = int(labels.max()) + 1
+        cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
+        return ClusterSortingTracker._assign_members(cl, cents, labels)
+
+    @staticmethod
+    def _assign_members(cl: _Cluster, positions: FloatArray, labels: IntArray) -> list[int]:
+        """The person for each of K positions (K, 2) of a cluster, one-to-one by the
+        Hungarian algorithm: nearest to where each person was last shown (as a single target
+        or a sub-cluster of this cluster), or, when some person was never shown, the one
+        most estimates' Viterbi paths started from (``labels`` (E,) gives each estimate's
+        position, -1 for none). An extension of 002, which leaves identities after a split
+        to colour."""
+        n = len(cl.members)
+        k = positions.shape[0]
+        if all(m in cl.shown for m in cl.members):
+            prev = np.array([cl.shown[m] for m in cl.members])
+            cost = np.linalg.norm(positions[:, None] - prev[None], axis=-1)
+        else:
+            index = {m: c for c, m in enumerate(cl.members)}
+            cost = np.zeros((k, n))
+            for lab, org in zip(labels, cl.origin, strict=True):
+                if lab >= 0 and int(org) in index:
+                    cost[lab, index[int(org)]] -= 1.0
+        rows, cols = linear_sum_assignment(cost)
+        ids = [-1] * k
+        for r_, c_ in zip(rows, cols, strict=True):
+            ids[int(r_)] = cl.members[int(c_)]
+        return ids
+
+    def _adopt_escaped(
+        self, singles: dict[int, _Single], clusters: dict[int, _Cluster], stamp: float
+    ) -> None:
+        """Extension of 002 (its Sec. 4 names the failure: a person who walks away in the
+        shadow of the others is lost by the VBA and found again as a new target). When a
+        cluster shows k sub-clusters fewer than it holds people and exactly k targets were
+        started since it formed, the sub-clusters and those targets are its people: if
+        they are all pairwise separated (002 condition 2) the cluster splits, and the new
+        targets take the remaining identities."""
+        p = self.params
+        in_clusters = {m for c in clusters.values() for m in c.members}
+        for cl in list(clusters.values()):
+            labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+            n_sub = int(labels.max()) + 1
+            missing = len(cl.members) - n_sub
+            if missing <= 0:
+                continue
+            new = [t for t in singles.values() if t.pid >= cl.born_pid and t.pid not in in_clusters]
+            if len(new) != missing:
+                continue
+            cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in range(n_sub)])
+            pos = np.concatenate([cents, np.array([t.mean[:2] for t in new])])
+            d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
+            if not (d[np.triu_indices(len(pos), 1)] > p.separation_distance).all():
+                continue
+            ids = self._assign_members(cl, pos, labels)
+            for sub in range(n_sub):
+                mean = cl.means[labels == sub].mean(axis=0)
+                singles[ids[sub]] = _Single(ids[sub], mean, self._init_cov(), stamp)
+            for t, pid in zip(new, ids[n_sub:], strict=True):
+                del singles[t.pid]
+                singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
+            del clusters[cl.cid]
+            self.events.append(CSAEvent(stamp, "split", cl.members))
+
+    def _initiate(self, free: FloatArray, stamp: float) -> None:
+        if free.shape[0] < self.params.min_points:
+            return
+        labels = leader_clusters(free, self.params.init_distance)
+        counts = np.bincount(labels)
+        for k in np.flatnonzero(counts >= self.params.min_points):
+            self._new_single(free[labels == k].mean(axis=0), stamp)
+
+    def _report(self, frame: Frame) -> Tracks:
+        p = self.params
+        out: list[Track] = []
+        for t in self._s.singles.values():
+            out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
+        for c in self._s.clusters.values():
+            labels = leader_clusters(c.means[:, :2], p.subcluster_distance)
+            n_sub = int(labels.max()) + 1
+            if n_sub == len(c.members):
+                for sub, pid in enumerate(self._subcluster_ids(c, labels)):
+                    sel = labels == sub
+                    pos = c.means[sel, :2]
+                    cov = np.cov(pos.T) if pos.shape[0] > 1 else np.eye(2) * p.point_std**2
+                    c.shown[pid] = pos.mean(axis=0)
+                    out.append(
+                        Track(
+                            pid,
+                            "person",
+                            pos.mean(axis=0),
+                            c.means[sel, 2:].mean(axis=0),
+                            cov + np.eye(2) * 1e-6,
+                            score=0.5,
+                        )
+                    )
+            pos = c.means[:, :2]
+            cov = np.cov(pos.T) if pos.shape[0] > 1 else np.eye(2) * p.point_std**2
+            out.append(
+                Track(
+                    c.cid,
+                    "group",
+                    pos.mean(axis=0),
+                    c.means[:, 2:].mean(axis=0),
+                    cov + np.eye(2) * 1e-6,
+                    size=len(c.members),
+                    members=c.members,
+                )
+            )
+        frame_name = frame.points.frame if frame.points is not None else frame.frame
+        return Tracks(frame.stamp, frame.index, tuple(out), frame_name, frame.sensor_pose)
+
+    @property
+    def clusters(self) -> dict[int, tuple[int, ...]]:
+        """Cluster id -> the people it holds (the memory of who merged)."""
+        return {c.cid: c.members for c in self._s.clusters.values()}
+
+
+def _components(gates: NDArray[np.bool_]) -> list[list[int]]:
+    """Groups of objects (rows of ``gates`` (O, M)) connected by shared measurements."""
+    n = gates.shape[0]
+    if n == 0:
+        return []
+    g = gates.astype(np.float64)
+    adj = (g @ g.T) > 0
+    np.fill_diagonal(adj, True)
+    label = np.full(n, -1, dtype=np.int64)
+    out: list[list[int]] = []
+    for start in range(n):
+        if label[start] >= 0:
+            continue
+        reach = adj[start].copy()
+        while True:  # grow by neighbours of neighbours until nothing new joins
+            grown = adj[reach].any(axis=0)
+            if (grown == reach).all():
+                break
+            reach = grown
+        members = np.flatnonzero(reach)
+        label[members] = len(out)
+        out.append(members.tolist())
+    return out
+
+
+def frame_from_detections(detections: Detections) -> Frame:
+    """A frame whose foreground is the points of the detections' segments (their centres
+    when they carry no segments), in the world frame when the sensor pose is known."""
+    parts = [seg.points for seg in detections.segments]
+    pts = np.concatenate(parts) if parts else detections.positions
+    frame = detections.frame
+    if detections.segments and detections.sensor_pose is not None:
+        pts = detections.sensor_pose.transform_points(pts)
+        frame = "world"
+    elif detections.segments:
+        frame = "sensor"
+    n = pts.shape[0]
+    ps = PointSet(
+        detections.stamp,
+        pts,
+        np.zeros(n, dtype=np.int64),
+        np.arange(n, dtype=np.int64),
+        frame=frame,
+        index=detections.scan_index,
+    )
+    return Frame(
+        index=detections.scan_index,
+        stamp=detections.stamp,
+        scans=(),
+        topic="detections",
+        frame=frame,
+        sensor_pose=detections.sensor_pose,
+        points=ps,
+        foreground=np.ones(n, dtype=bool),
+    )

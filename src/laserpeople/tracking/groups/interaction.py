@@ -1,0 +1,432 @@
+"""The model level of the group tracker (000 Secs. 4.3-4.5): which split / merge /
+continue models branch off a parent hypothesis, the re-prediction of the tracks each model
+postulates, the re-clustering of the observations per model, and the label probabilities.
+
+Model generation (Sec. 4.4) is data-driven and binary: a track may split into two only when
+two observations fall in its gate (and both halves must then be matched); two tracks may
+merge only when one observation falls in both gates; a track takes part in at most one
+event per scan. A model is a set of such events with no track in two of them; its prior is
+eq. 32. Tracks that could take part in no event have no choice to make: their continuation
+is certain given the data-driven generation and contributes no factor p_C (a departure
+from a literal eq. 32, which would charge p_C to every track of every hypothesis every
+scan).
+
+Re-clustering (Sec. 4.3): an observation in the gate of more than one of a model's tracks
+(not merged by the model) is divided among them by the nearest-track rule: each point goes
+to the track with the nearest predicted contour point. The two halves of a split share
+their parent's contour and count as one track here (the split itself divides the
+observations between them). The model then brings its own partition of the observations
+to the MHT core (:class:`~laserpeople.tracking.mht.protocols.BranchObservations`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Hashable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.tracking.groups.labels import merge_labels, split_labels
+from laserpeople.tracking.groups.model import (
+    GroupModel,
+    GroupPayload,
+    group_distance_sq,
+    merge_log_likelihood,
+    merge_state,
+    split_state,
+)
+from laserpeople.tracking.groups.observations import GroupObservations
+from laserpeople.tracking.mht.protocols import Branch, BranchObservations
+from laserpeople.tracking.mht.tracktree import DETECTED, TrackNode, TrackTree
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+MAX_EVENTS = 12
+"""Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
+
+
+@dataclass(frozen=True)
+class InteractionSettings:
+    """Group formation probabilities and limits (000 Sec. 4.4, 4.6).
+
+    Attributes:
+        p_c, p_s, p_g: Priors of continuation, split and merge.
+        d_p: Clustering distance d_P [m] (eq. 25).
+        d_hs: Blob distance d_hs [m] (re-clustered observations count their blobs).
+        split_merge: False for the people-only tracker (continuation only).
+        join_observations: Also offer each model with the observations that only one
+            continued track gates joined into one (extension).
+        max_models: Most models per parent (the likeliest by eq. 32).
+        c0: Initial covariance C_0 (5, 5) (split tracks restart from it).
+    """
+
+    p_c: float
+    p_s: float
+    p_g: float
+    d_p: float
+    d_hs: float
+    split_merge: bool
+    max_models: int
+    join_observations: bool
+    c0: FloatArray
+
+
+@dataclass(frozen=True, eq=False)
+class Event:
+    """A candidate split (one track) or merge (two tracks) and its log prior ratio to
+    continuing them (p_S / p_C, or p_G N_ij / p_C^2)."""
+
+    kind: str
+    tracks: tuple[TrackNode, ...]
+    log_ratio: float
+    merge_loglik: float = 0.0
+
+
+def enumerate_models(events: Sequence[Event], limit: int) -> list[tuple[Event, ...]]:
+    """Sets of events no track takes part in twice, the ``limit`` likeliest (by the sum of
+    log ratios; the empty set, all continue, is always first among equals)."""
+    ranked = sorted(events, key=lambda e: -e.log_ratio)[:MAX_EVENTS]
+    found: list[tuple[float, int, tuple[Event, ...]]] = []
+
+    def rec(k: int, used: frozenset[int], chosen: tuple[Event, ...], score: float) -> None:
+        if k == len(ranked):
+            found.append((score, len(found), chosen))
+            return
+        e = ranked[k]
+        ids = {t.node_id for t in e.tracks}
+        if not ids & used:
+            rec(k + 1, used | ids, (*chosen, e), score + e.log_ratio)
+        rec(k + 1, used, chosen, score)
+
+    rec(0, frozenset(), (), 0.0)
+    found.sort(key=lambda f: (-f[0], len(f[2]), f[1]))
+    return [f[2] for f in found[:limit]]
+
+
+class GroupBranches:
+    """The :class:`~laserpeople.tracking.mht.protocols.BranchGenerator` of the group
+    tracker. Call :meth:`begin_scan` with the scan's observations before each MHT step.
+
+    Args:
+        model: The group track model (gates of re-predicted tracks, Q, C_0).
+        tree: The MHT's track tree (ids of the tracks the models make).
+        settings: Probabilities and limits.
+        name: The label set of a track (names a new group when first needed).
+    """
+
+    def __init__(
+        self,
+        model: GroupModel,
+        tree: TrackTree,
+        settings: InteractionSettings,
+        name: Callable[[TrackNode], tuple[str, ...]],
+    ) -> None:
+        self.model = model
+        self.tree = tree
+        self.s = settings
+        self.name = name
+        self.obs = GroupObservations.empty()
+        self._log_pc = math.log(settings.p_c)
+        self._log_ps = math.log(settings.p_s)
+        self._log_pg = math.log(settings.p_g)
+        self._split: dict[int, tuple[TrackNode, TrackNode]] = {}
+        self._merged: dict[tuple[int, int], TrackNode] = {}
+        self._merge_ll: dict[tuple[int, int], float] = {}
+        self._gates: dict[int, BoolArray] = {}
+        self._partitions: dict[tuple[Hashable, ...], BranchObservations] = {}
+        self.models_generated = 0
+
+    def begin_scan(self, obs: GroupObservations) -> None:
+        """Set this scan's observations and forget the last scan's re-predicted tracks."""
+        self.obs = obs
+        self._split.clear()
+        self._merged.clear()
+        self._merge_ll.clear()
+        self._gates.clear()
+        self._partitions.clear()
+
+    # ------------------------------------------------------------------ models
+
+    def branches(
+        self,
+        tracks: tuple[TrackNode, ...],
+        gate_row: Callable[[TrackNode], BoolArray],
+        meas_idx: NDArray[np.intp],
+    ) -> list[Branch]:
+        """One branch per model of a parent with ``tracks`` (see the module doc)."""
+        gates = {t.node_id: gate_row(t) for t in tracks}
+        events: list[Event] = []
+        if self.s.split_merge and meas_idx.size:
+            for t in tracks:
+                if int(gates[t.node_id].sum()) >= 2:
+                    events.append(Event("split", (t,), self._log_ps - self._log_pc))
+            for a in range(len(tracks)):
+                for b in range(a + 1, len(tracks)):
+                    ta, tb = tracks[a], tracks[b]
+                    if (gates[ta.node_id] & gates[tb.node_id]).any():
+                        ll = self._merge_loglik(ta, tb)
+                        ratio = self._log_pg + ll - 2.0 * self._log_pc
+                        events.append(Event("merge", (ta, tb), ratio, ll))
+        involved = {t.node_id for e in events for t in e.tracks}
+        base = len(involved) * self._log_pc
+        out: list[Branch] = []
+        for chosen in enumerate_models(events, self.s.max_models):
+            prior = base + sum(e.log_ratio for e in chosen)
+            new_tracks = self._repredict(tracks, chosen)
+            obs = self._recluster(new_tracks, chosen, gates, meas_idx)
+            out.append(Branch(prior, new_tracks, len(out), obs))
+            if self.s.join_observations:
+                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True)
+                if obs is not None:
+                    out.append(Branch(prior, new_tracks, len(out), obs))
+        self.models_generated += len(out)
+        return out
+
+    def _merge_loglik(self, a: TrackNode, b: TrackNode) -> float:
+        """log N_ij of the pair (eqs. 25-27), once per scan."""
+        key = (a.node_id, b.node_id)
+        if key not in self._merge_ll:
+            pa, pb = _payload(a), _payload(b)
+            ma, ca = _pred(a)
+            mb, cb = _pred(b)
+            d2 = group_distance_sq(pa.contour, ma, ca, pb.contour, mb, cb, self.s.d_p)
+            self._merge_ll[key] = merge_log_likelihood(d2, ca, cb)
+        return self._merge_ll[key]
+
+    # ------------------------------------------------------------------ re-prediction
+
+    def _repredict(
+        self, tracks: tuple[TrackNode, ...], chosen: tuple[Event, ...]
+    ) -> tuple[TrackNode, ...]:
+        """The tracks of a model: the parent's, with split tracks replaced by their halves
+        and merging pairs by their merged track (made once per scan and shared)."""
+        gone: set[int] = set()
+        made: list[TrackNode] = []
+        for e in chosen:
+            gone.update(t.node_id for t in e.tracks)
+            if e.kind == "split":
+                made.extend(self.split(e.tracks[0]))
+            else:
+                made.append(self.merge(e.tracks[0], e.tracks[1]))
+        kept = [t for t in tracks if t.node_id not in gone]
+        return tuple(sorted((*kept, *made), key=lambda n: n.family))
+
+    def split(self, node: TrackNode) -> tuple[TrackNode, TrackNode]:
+        """The two predicted tracks ``node`` splits into (000 Sec. 4.2.3): copies of its
+        prediction with n/2 people each, C_0, its contour, labels X-0 and X-1."""
+        if node.node_id not in self._split:
+            mean, _ = _pred(node)
+            pm, pc = split_state(mean, self.s.c0)
+            old = _payload(node)
+            halves = []
+            for labels in split_labels(self.name(node)):
+                payload = GroupPayload(old.contour, labels, must_match=True, event="split")
+                halves.append(self._made(node, pm, pc, payload))
+            self._split[node.node_id] = (halves[0], halves[1])
+        return self._split[node.node_id]
+
+    def merge(self, a: TrackNode, b: TrackNode) -> TrackNode:
+        """The predicted track of ``a`` and ``b`` merged (eqs. 17-18): contour the union,
+        labels the union (pruned)."""
+        key = (a.node_id, b.node_id)
+        if key not in self._merged:
+            pa, pb = _payload(a), _payload(b)
+            ma, ca = _pred(a)
+            mb, cb = _pred(b)
+            na, nb = max(len(pa.contour), 1), max(len(pb.contour), 1)
+            pm, pc = merge_state(ma, ca, na, mb, cb, nb)
+            points = np.concatenate([pa.contour + ma[:2], pb.contour + mb[:2]])
+            labels = merge_labels(self.name(a), self.name(b))
+            payload = GroupPayload(points - pm[:2], labels, must_match=True, event="merge")
+            self._merged[key] = self._made(a, pm, pc, payload)
+        return self._merged[key]
+
+    def _made(
+        self, parent: TrackNode, mean: FloatArray, cov: FloatArray, payload: GroupPayload
+    ) -> TrackNode:
+        node = TrackNode(
+            node_id=self.tree.new_node_id(),
+            family=self.tree.new_family(),
+            parent_id=parent.node_id,
+            mean=mean,
+            cov=cov,
+            stamp=parent.stamp,
+            label=DETECTED,
+            hits=parent.hits,
+            age=parent.age,
+            payload=payload,
+            detected_stamp=parent.detected_stamp,
+        )
+        node.pred_mean, node.pred_cov = mean, cov
+        return node
+
+    # ------------------------------------------------------------------ re-clustering
+
+    def _gate(
+        self, node: TrackNode, gates: dict[int, BoolArray], meas_idx: NDArray[np.intp]
+    ) -> BoolArray:
+        if node.node_id in gates:
+            return gates[node.node_id]
+        if node.node_id not in self._gates:
+            self._gates[node.node_id] = self.model.score([node], self.obs)[0][0]
+        return self._gates[node.node_id][meas_idx]
+
+    def _recluster(
+        self,
+        tracks: tuple[TrackNode, ...],
+        chosen: tuple[Event, ...],
+        gates: dict[int, BoolArray],
+        meas_idx: NDArray[np.intp],
+        join: bool = False,
+    ) -> BranchObservations | None:
+        """The model's partition of the cluster's observations, or None when it is the
+        cluster's own: an observation in the gates of two of its tracks is divided among
+        them (Sec. 4.3); with ``join``, the observations in the gate of one continued
+        track and of no other track are joined into one (the extension, see the module
+        doc)."""
+        if meas_idx.size == 0 or not tracks:
+            return None
+        # units: a split's two halves are one; every other track is its own
+        halves = {h.node_id: e.tracks[0].node_id for e in chosen if e.kind == "split"
+                  for h in self._split[e.tracks[0].node_id]}  # fmt: skip
+        units: dict[int, list[TrackNode]] = {}
+        for t in tracks:
+            units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
+        unit_list = list(units.values())
+        unit_gate = np.stack(
+            [np.any([self._gate(t, gates, meas_idx) for t in u], axis=0) for u in unit_list]
+        )
+        n_gating = unit_gate.sum(axis=0)
+        shared = set(np.nonzero(n_gating >= 2)[0].tolist())
+        joined: dict[int, list[int]] = {}  # first local index -> local indices joined
+        if join:
+            for u, unit in enumerate(unit_list):
+                if len(unit) > 1:
+                    continue  # split halves take their observations one each
+                mine = np.nonzero(unit_gate[u] & (n_gating == 1))[0].tolist()
+                if len(mine) >= 2:
+                    joined[mine[0]] = mine
+            if not joined:
+                return None
+        elif not shared:
+            return None
+        skip = {i for group in joined.values() for i in group[1:]}
+        parts: list[tuple[FloatArray, IntArray]] = []
+        rows: list[IntArray] = []
+        shares: list[float] = []
+        keys: list[Hashable] = []
+        origin: list[int] = []
+        changed = False
+        js = meas_idx.tolist()
+        for i, j in enumerate(js):
+            if i in skip:
+                continue
+            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
+            first = int(self.obs.offsets[j])
+            own = np.arange(first, first + len(mem), dtype=np.int64)
+            if i in joined:
+                members = [js[x] for x in joined[i]]
+                parts.append(
+                    (
+                        np.concatenate([self.obs.cluster(x) for x in members]),
+                        np.concatenate([self.obs.cluster_members(x) for x in members]),
+                    )
+                )
+                rows.append(
+                    np.concatenate(
+                        [np.arange(self.obs.offsets[x], self.obs.offsets[x + 1]) for x in members]
+                    ).astype(np.int64)
+                )
+                shares.append(float(len(members)))
+                keys.append(("joined", *members))
+                origin.append(j)
+                changed = True
+                continue
+            if i in shared:
+                near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
+                owner = _nearest_unit(pts, near)
+                labels = np.unique(owner)
+                if labels.size >= 2:
+                    changed = True
+                    for u in labels.tolist():
+                        sel = owner == u
+                        parts.append((pts[sel], mem[sel]))
+                        rows.append(own[sel])
+                        shares.append(float(sel.sum()) / len(mem))
+                        keys.append((j, mem[sel].tobytes()))
+                        origin.append(j)
+                    continue
+            parts.append((pts, mem))
+            rows.append(own)
+            shares.append(1.0)
+            keys.append(j)
+            origin.append(j)
+        if not changed:
+            return None
+        key = tuple(keys)
+        if key not in self._partitions:
+            self._partitions[key] = BranchObservations(
+                GroupObservations.from_parts(parts, self.s.d_hs, shares, rows), key, tuple(origin)
+            )
+        return self._partitions[key]
+
+
+def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> IntArray:
+    """Index into ``units`` (K,) of the unit whose predicted contour point is nearest to
+    each point (Euclidean; the nearest-neighbour rule of 000 Sec. 4.3)."""
+    best = np.full(points.shape[0], np.inf)
+    owner = np.zeros(points.shape[0], dtype=np.int64)
+    for u, unit in enumerate(units):
+        node = unit[0]
+        mean, _ = _pred(node)
+        contour = _payload(node).contour + mean[:2]
+        if contour.shape[0] == 0:
+            contour = mean[None, :2]
+        diff = points[:, None, :] - contour[None, :, :]
+        d = np.einsum("ijk,ijk->ij", diff, diff).min(axis=1)
+        closer = d < best
+        best[closer] = d[closer]
+        owner[closer] = u
+    return owner
+
+
+class GroupLabelModel:
+    """Assignment probabilities of 000 eqs. 36-37: matched p_M, occluded p_O, obsolete p_T
+    for tracks; new p_N and false alarm p_F for observations. With the data likelihood of
+    eq. 37 the observation volume V cancels (000 Sec. 4.5.1), so the log rates are log p_N
+    and log p_F. A split or merged track of this scan must be matched (000 Sec. 4.4)."""
+
+    def __init__(self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float) -> None:
+        self._lp = np.log(np.array([p_m, p_o, p_t]))
+        self._must = np.array([math.log(p_m), -np.inf, -np.inf])
+        self._log_new = math.log(p_n)
+        self._log_fal = math.log(p_f)
+
+    def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
+        """(T, 3) log p of matched/occluded/obsolete per track."""
+        must = np.fromiter((_payload(n).must_match for n in nodes), dtype=bool, count=len(nodes))
+        return np.where(must[:, None], self._must[None, :], self._lp[None, :])
+
+    def measurement_log_rates(
+        self, measurements: GroupObservations
+    ) -> tuple[FloatArray, FloatArray]:
+        """log p_N and log p_F (M,) for every observation."""
+        m = len(measurements)
+        return np.full(m, self._log_new), np.full(m, self._log_fal)
+
+
+def _pred(node: TrackNode) -> tuple[FloatArray, FloatArray]:
+    if node.pred_mean is None or node.pred_cov is None:
+        raise RuntimeError(f"group track node {node.node_id} was not predicted before use")
+    return node.pred_mean, node.pred_cov
+
+
+def _payload(node: TrackNode) -> GroupPayload:
+    payload = node.payload
+    if not isinstance(payload, GroupPayload):
+        raise TypeError(f"track node {node.node_id} carries no GroupPayload")
+    return payload

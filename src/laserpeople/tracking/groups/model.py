@@ -1,0 +1,464 @@
+"""Group tracks and their equations (000 Sec. 4.2-4.3): G = <x, C, P, L>.
+
+State x = (x, y, vx, vy, n) [m, m, m/s, m/s, people] with covariance C (5, 5); the contour P
+is a set of points relative to the position (x, y); the labels L are the group's history
+(:mod:`.labels`). Every function here is one numbered equation of 000 and is tested
+against hand-computed values.
+
+:class:`GroupModel` is the MHT core's :class:`~laserpeople.tracking.mht.protocols.
+TrackModel` for groups: constant-velocity prediction with constant size, the
+Hausdorff-based gate and likelihood (eqs. 19-24), the Kalman update with the group size as
+observation (eqs. 28-31) and initiation from a cluster (eq. 16).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.tracking.groups.observations import GroupObservations
+from laserpeople.tracking.mht.tracktree import TrackNode
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+H = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0]])
+"""Measurement Jacobian of a contour point (000 eq. 23)."""
+H_TILDE = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
+"""Measurement Jacobian of (centroid, n_hs) (000 eq. 31)."""
+
+
+@dataclass(frozen=True, eq=False)
+class GroupPayload:
+    """What a group track carries besides x and C.
+
+    Attributes:
+        contour: P, points (K, 2) [m] relative to the position of the state.
+        labels: L, the label set (e.g. ``("0-1", "2")``); empty for a group not named yet
+            (the tracker names it by its family when first needed).
+        members: Frame point indices (K,) of the observation the contour came from (empty
+            when the contour was not observed this scan).
+        must_match: A split or merged track of this scan: it must be matched (000 Sec. 4.4).
+        event: How the track's family began: "split" or "merge" when a model made it, ""
+            when it was born from an observation.
+    """
+
+    contour: FloatArray
+    labels: tuple[str, ...] = ()
+    members: IntArray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    must_match: bool = False
+    event: str = ""
+
+
+def transition(dt: float) -> FloatArray:
+    """A of 000 Sec. 4.2.3 (5, 5): constant velocity, constant size."""
+    a = np.eye(5)
+    a[0, 2] = a[1, 3] = dt
+    return a
+
+
+def directed_hausdorff(z: FloatArray, p: FloatArray, s: FloatArray) -> float:
+    """Directed average Hausdorff distance d(Z, P) in the Mahalanobis sense (eqs. 20-21):
+    the mean over z_l in Z of the smallest D(v, S) over the points of P.
+
+    Args:
+        z: (K_z, 2) points [m].
+        p: (K_p, 2) points [m] (absolute, i.e. H x + x_P as in eq. 22).
+        s: (2, 2) innovation covariance S (eq. 23) [m^2].
+    """
+    return float(np.mean(_whitened_distances(z, p, s).min(axis=1)))
+
+
+def min_average_hausdorff(z: FloatArray, p: FloatArray, s: FloatArray) -> float:
+    """d_HD(Z, G) = min{d(Z, P), d(P, Z)} (eq. 19) with the Mahalanobis D of eq. 21."""
+    d = _whitened_distances(z, p, s)
+    return float(min(d.min(axis=1).mean(), d.min(axis=0).mean()))
+
+
+def _whitened_distances(z: FloatArray, p: FloatArray, s: FloatArray) -> FloatArray:
+    """D(v_lj, S) (K_z, K_p) for v = z_l - p_j (eqs. 21-22)."""
+    chol = np.linalg.cholesky(s)
+    zw = np.linalg.solve(chol, np.asarray(z, dtype=np.float64).T).T
+    pw = np.linalg.solve(chol, np.asarray(p, dtype=np.float64).T).T
+    diff = zw[:, None, :] - pw[None, :, :]
+    return np.asarray(np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)), dtype=np.float64)
+
+
+def observation_log_likelihood(d_hd: float, s: FloatArray) -> float:
+    """log N_i of eq. 24: log of exp(-d_HD^2 / 2) / (2 pi sqrt(det S))."""
+    return -math.log(2.0 * math.pi) - 0.5 * math.log(float(np.linalg.det(s))) - 0.5 * d_hd**2
+
+
+def kalman_update(
+    mean: FloatArray, cov: FloatArray, centroid: FloatArray, n_hs: float, r: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """x(k+1|k+1) and C(k+1|k+1) from the observation (centroid, n_hs) (eqs. 28-31).
+
+    Args:
+        mean: Predicted state (5,).
+        cov: Predicted covariance (5, 5).
+        centroid: Cluster centroid (2,) [m].
+        n_hs: Human-sized blobs of the cluster.
+        r: Observation covariance (3, 3) of (x, y, n).
+    """
+    z = np.array([centroid[0], centroid[1], n_hs], dtype=np.float64)
+    s = H_TILDE @ cov @ H_TILDE.T + r
+    gain = cov @ H_TILDE.T @ np.linalg.inv(s)  # eq. 30
+    new_mean = mean + gain @ (z - H_TILDE @ mean)  # eq. 28
+    new_cov = cov - gain @ H_TILDE @ cov  # eq. 29
+    return new_mean, 0.5 * (new_cov + new_cov.T)
+
+
+def kalman_update_batch(
+    means: FloatArray, covs: FloatArray, centroids: FloatArray, n_hs: FloatArray, r: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`kalman_update` of many tracks at once: means (T, 5), covs (T, 5, 5),
+    centroids (T, 2), n_hs (T,), r (3, 3)."""
+    z = np.column_stack([centroids, n_hs])
+    hc = covs[:, [0, 1, 4], :]  # H~ C (T, 3, 5)
+    s = hc[:, :, [0, 1, 4]] + r  # H~ C H~^T + R (T, 3, 3)
+    gain_t = np.linalg.solve(s, hc)  # K^T = S^-1 H~ C (S and C symmetric), eq. 30
+    innov = z - means[:, [0, 1, 4]]
+    new_means = means + np.einsum("tij,ti->tj", gain_t, innov)  # eq. 28
+    new_covs = covs - np.einsum("tij,tik->tjk", gain_t, hc)  # eq. 29: C - K H~ C
+    return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
+
+
+def initial_state(
+    points: FloatArray, n_hs: float, c0: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """State, covariance and contour of a new group from its cluster (eq. 16): position at
+    the centroid, zero velocity, n = n_hs, C = C_0, P = the points minus the centroid."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    centroid = pts.mean(axis=0)
+    mean = np.array([centroid[0], centroid[1], 0.0, 0.0, n_hs])
+    return mean, c0.copy(), pts - centroid
+
+
+def merge_state(
+    mean_i: FloatArray,
+    cov_i: FloatArray,
+    n_points_i: int,
+    mean_j: FloatArray,
+    cov_j: FloatArray,
+    n_points_j: int,
+) -> tuple[FloatArray, FloatArray]:
+    """State and covariance of two merging groups (eqs. 17-18).
+
+    Position and velocity are the mean weighted by the contour sizes w = |P_i| / |P_ij|,
+    their covariance the weighted sum with squared weights (independent tracks); the sizes
+    add, and so do their variances (000 Sec. 4.2.3). The cross-covariances of size and
+    kinematics follow the same rule (w_i C_i + w_j C_j), the covariance of
+    (w_i x_i + w_j x_j, n_i + n_j) for independent tracks.
+    """
+    total = n_points_i + n_points_j
+    w_i, w_j = n_points_i / total, n_points_j / total
+    mean = np.empty(5)
+    mean[:4] = w_i * mean_i[:4] + w_j * mean_j[:4]  # eq. 17
+    mean[4] = mean_i[4] + mean_j[4]
+    cov = np.empty((5, 5))
+    cov[:4, :4] = w_i**2 * cov_i[:4, :4] + w_j**2 * cov_j[:4, :4]  # eq. 18
+    cross = w_i * cov_i[:4, 4] + w_j * cov_j[:4, 4]
+    cov[:4, 4] = cov[4, :4] = cross
+    cov[4, 4] = cov_i[4, 4] + cov_j[4, 4]
+    return mean, cov
+
+
+def split_state(mean: FloatArray, c0: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """State and covariance of each of the two tracks a group splits into (Sec. 4.2.3):
+    the predicted state with n/2 people, and the covariance re-initialised to C_0."""
+    out = np.asarray(mean, dtype=np.float64).copy()
+    out[4] = 0.5 * out[4]
+    return out, c0.copy()
+
+
+def group_distance_sq(
+    contour_i: FloatArray,
+    mean_i: FloatArray,
+    cov_i: FloatArray,
+    contour_j: FloatArray,
+    mean_j: FloatArray,
+    cov_j: FloatArray,
+    d_p: float,
+) -> float:
+    """d_min^2(G_i, G_j) (eqs. 25-26): over all pairs of contour points (absolute
+    positions), the squared Mahalanobis distance of (dx', vx_i - vx_j, vy_i - vy_j) with
+    C_i + C_j (upper-left 4x4 blocks), where dx' is the point difference shortened by d_P
+    along itself and zero when the points are within d_P."""
+    pi = np.asarray(contour_i, dtype=np.float64) + mean_i[:2]
+    pj = np.asarray(contour_j, dtype=np.float64) + mean_j[:2]
+    delta = (pi[:, None, :] - pj[None, :, :]).reshape(-1, 2)
+    length = np.hypot(delta[:, 0], delta[:, 1])
+    scale = np.where(length > d_p, 1.0 - d_p / np.where(length > 0, length, 1.0), 0.0)
+    star = np.empty((delta.shape[0], 4))
+    star[:, :2] = delta * scale[:, None]  # max(0, dx - d_P u)
+    star[:, 2:] = mean_i[2:4] - mean_j[2:4]  # eq. 25
+    s = cov_i[:4, :4] + cov_j[:4, :4]
+    sol = np.linalg.solve(s, star.T)
+    return float(np.min(np.einsum("ij,ji->i", star, sol)))  # eq. 26
+
+
+def merge_log_likelihood(d_min_sq: float, cov_i: FloatArray, cov_j: FloatArray) -> float:
+    """log N_ij of eq. 27: log of exp(-d_min^2 / 2) / ((2 pi)^2 sqrt(det(C_i + C_j)))."""
+    det = float(np.linalg.det(cov_i[:4, :4] + cov_j[:4, :4]))
+    return -2.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 0.5 * d_min_sq
+
+
+def model_log_prior(
+    n_continued: int,
+    n_split: int,
+    merge_log_liks: Sequence[float],
+    p_c: float,
+    p_s: float,
+    p_g: float,
+) -> float:
+    """log P(M | parent) of eq. 32: p_C^N_C p_S^N_S prod over merges of p_G N_ij."""
+    return (
+        n_continued * math.log(p_c)
+        + n_split * math.log(p_s)
+        + sum(math.log(p_g) + ll for ll in merge_log_liks)
+    )
+
+
+@dataclass(frozen=True)
+class GroupModelSettings:
+    """The numbers :class:`GroupModel` needs (from the tracker's parameters).
+
+    Attributes:
+        c0: Initial covariance C_0 (5, 5).
+        q: Process noise Q (5, 5) per ``period``.
+        period: Scan period Q is given for [s]; Q scales with dt / period.
+        max_dt: Longest prediction step [s].
+        r_point: Observation covariance R_l (2, 2) of a point [m^2].
+        r_update: Observation covariance (3, 3) of (centroid, n_hs).
+        gate_sq: Gate on d_HD^2.
+        max_gap: Contour-to-cluster distance beyond which no gate is computed [m].
+        log_p_match: log p_M (a part of a re-clustered observation counts as its share of
+            one matched observation, see :meth:`GroupModel.score`).
+    """
+
+    c0: FloatArray
+    q: FloatArray
+    period: float
+    max_dt: float
+    r_point: FloatArray
+    r_update: FloatArray
+    gate_sq: float
+    max_gap: float
+    log_p_match: float = 0.0
+
+
+class GroupModel:
+    """The MHT core's track model for groups (see the module doc)."""
+
+    def __init__(self, settings: GroupModelSettings) -> None:
+        self.s = settings
+        self._rows: dict[tuple[int, int], tuple[BoolArray, FloatArray]] = {}
+        self._dist: dict[tuple[int, int], tuple[IntArray, FloatArray, float]] = {}
+        self.scan: GroupObservations | None = None
+        """The scan's observations (set before each MHT step); re-clustered observation
+        sets refer to its points."""
+
+    # -- prediction
+    def predict_one(
+        self, mean: FloatArray, cov: FloatArray, dt: float
+    ) -> tuple[FloatArray, FloatArray]:
+        """x(k+1|k) = A x, C(k+1|k) = A C A^T + Q (000 Sec. 4.2.3)."""
+        a = transition(dt)
+        q = self.s.q * (dt / self.s.period)
+        return a @ mean, a @ cov @ a.T + q
+
+    def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
+        """Predict every node to ``stamp`` [s] (batched)."""
+        self._rows.clear()
+        self._dist.clear()
+        if not nodes:
+            return
+        means = np.stack([n.mean for n in nodes])
+        covs = np.stack([n.cov for n in nodes])
+        dt = np.clip(stamp - np.array([n.stamp for n in nodes]), 0.0, self.s.max_dt)
+        a = np.broadcast_to(np.eye(5), (len(nodes), 5, 5)).copy()
+        a[:, 0, 2] = a[:, 1, 3] = dt
+        pm = np.einsum("nij,nj->ni", a, means)
+        pc = a @ covs @ a.transpose(0, 2, 1) + self.s.q[None] * (dt / self.s.period)[:, None, None]
+        for i, n in enumerate(nodes):
+            n.pred_mean = pm[i]
+            n.pred_cov = pc[i]
+
+    # -- gating and likelihood
+    def innovation_cov(self, pred_cov: FloatArray) -> FloatArray:
+        """S = H C H^T + R_l (eq. 23)."""
+        return np.asarray(H @ pred_cov @ H.T + self.s.r_point, dtype=np.float64)
+
+    def score(
+        self, nodes: Sequence[TrackNode], measurements: GroupObservations
+    ) -> tuple[BoolArray, FloatArray]:
+        """Gate d_HD^2 <= gate and log N_i (eq. 24) of every (node, cluster) (T, M); rows
+        are remembered per node and observation set until the next :meth:`predict`.
+
+        A part of a re-clustered observation with share w of its points scores
+        w (log p_M + log N_i) - log p_M, so that the parts of one observation matched to
+        their tracks contribute p_M once and the point-weighted geometric mean of their
+        N_i: one observation counts as one, however a model divides it (a departure from
+        000, where dividing an observation always adds a factor p_M N_i > 1 and a merge
+        could never explain one observation better than the tracks re-clustered; see
+        docs/groups.md)."""
+        t, m = len(nodes), len(measurements)
+        gated = np.zeros((t, m), dtype=bool)
+        loglik = np.full((t, m), -np.inf)
+        if t == 0 or m == 0:
+            return gated, loglik
+        for a, node in enumerate(nodes):
+            key = (node.node_id, id(measurements))
+            row = self._rows.get(key)
+            if row is None:
+                row = self._score_row(node, measurements)
+                self._rows[key] = row
+            gated[a], loglik[a] = row
+        return gated, loglik
+
+    def _score_row(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
+        """Gate and log N_i (M,) of one node against every cluster (eqs. 19-24).
+
+        The Mahalanobis distances D (eq. 21) between the node's predicted contour and the
+        points of the scan's clusters near it are computed once per node and scan; a
+        model's re-clustered observations (``obs.source`` set) reuse them."""
+        m = len(obs)
+        gated = np.zeros(m, dtype=bool)
+        loglik = np.full(m, -np.inf)
+        base = self.scan if obs.source is not None and self.scan is not None else obs
+        rows = obs.source if base is not obs else np.arange(len(obs.points))
+        assert rows is not None
+        key = (node.node_id, id(base))
+        cached = self._dist.get(key)
+        if cached is None:
+            cached = self._distances(node, base)
+            self._dist[key] = cached
+        row_pos, d, det = cached
+        pos = row_pos[rows]
+        counts = obs.sizes
+        owner = np.repeat(np.arange(m), counts)
+        far = np.zeros(m, dtype=bool)
+        far[owner[pos < 0]] = True
+        near = np.nonzero(~far & (counts > 0))[0]
+        if near.size == 0:
+            return gated, loglik
+        keep = ~far[owner]
+        sub = d[pos[keep]]
+        local = np.concatenate([[0], np.cumsum(counts[near])[:-1]])
+        z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
+        p_to_z = np.minimum.reduceat(sub, local, axis=0).mean(axis=1)  # d(P, Z)
+        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
+        ok = d_hd**2 <= self.s.gate_sq
+        gated[near[ok]] = True
+        log_norm = -math.log(2.0 * math.pi) - 0.5 * math.log(det)
+        ll = log_norm - 0.5 * d_hd[ok] ** 2  # eq. 24
+        w = obs.share[near[ok]]
+        loglik[near[ok]] = w * (self.s.log_p_match + ll) - self.s.log_p_match
+        return gated, loglik
+
+    def _distances(
+        self, node: TrackNode, obs: GroupObservations
+    ) -> tuple[IntArray, FloatArray, float]:
+        """D (eq. 21) of the points of the clusters near the node's predicted contour:
+        the row of each point of ``obs`` in the matrix (-1: not near), the matrix (Q, K)
+        and det S."""
+        mean, cov = _pred(node)
+        pos = mean[:2]
+        contour = _payload(node).contour + pos
+        if contour.shape[0] == 0:
+            contour = pos[None, :]
+        r_t = float(np.max(np.hypot(*(contour - pos).T)))
+        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
+        near = np.nonzero(gap <= self.s.max_gap)[0]
+        s = self.innovation_cov(cov)
+        det = float(s[0, 0] * s[1, 1] - s[0, 1] ** 2)
+        row_pos = np.full(len(obs.points), -1, dtype=np.int64)
+        if near.size == 0:
+            return row_pos, np.empty((0, contour.shape[0])), det
+        starts = obs.offsets[near]
+        counts = obs.offsets[near + 1] - starts
+        rows = np.repeat(starts - np.cumsum(np.concatenate([[0], counts[:-1]])), counts)
+        rows = rows + np.arange(int(counts.sum()))  # the near clusters' point indices
+        row_pos[rows] = np.arange(rows.size)
+        diff = obs.points[rows][:, None, :] - contour[None, :, :]
+        dx, dy = diff[..., 0], diff[..., 1]
+        d = np.sqrt((s[1, 1] * dx * dx - 2.0 * s[0, 1] * dx * dy + s[0, 0] * dy * dy) / det)
+        return row_pos, d, det
+
+    # -- update, coast, initiate
+    def update(
+        self,
+        nodes: Sequence[TrackNode],
+        measurements: GroupObservations,
+        js: Sequence[int],
+        stamp: float,
+    ) -> list[tuple[FloatArray, FloatArray, Any]]:
+        """Kalman update of each node with cluster ``js[i]`` (eqs. 28-31); the contour is
+        replaced by the cluster's points relative to the new position (Sec. 4.3)."""
+        out: list[tuple[FloatArray, FloatArray, Any]] = []
+        if not nodes:
+            return out
+        idx = np.asarray(js, dtype=np.intp)
+        preds = [_pred(n) for n in nodes]
+        means, covs = kalman_update_batch(
+            np.stack([p[0] for p in preds]),
+            np.stack([p[1] for p in preds]),
+            measurements.centroids[idx],
+            measurements.n_hs[idx],
+            self.s.r_update,
+        )
+        for node, j, new_mean, new_cov in zip(nodes, js, means, covs, strict=True):
+            old = _payload(node)
+            payload = GroupPayload(
+                measurements.cluster(j) - new_mean[:2],
+                old.labels,
+                measurements.cluster_members(j).copy(),
+                event=old.event,
+            )
+            out.append((new_mean, new_cov, payload))
+        return out
+
+    def coast(self, node: TrackNode, stamp: float) -> tuple[FloatArray, FloatArray, Any]:
+        """The prediction (an occluded group keeps its contour)."""
+        mean, cov = _pred(node)
+        old = _payload(node)
+        return mean, cov, GroupPayload(old.contour, old.labels, event=old.event)
+
+    def initiate(
+        self, measurements: GroupObservations, js: Sequence[int], stamp: float
+    ) -> list[tuple[FloatArray, FloatArray, Any]]:
+        """New groups from clusters ``js`` (eq. 16)."""
+        out: list[tuple[FloatArray, FloatArray, Any]] = []
+        for j in js:
+            mean, cov, contour = initial_state(
+                measurements.cluster(j), float(measurements.n_hs[j]), self.s.c0
+            )
+            out.append(
+                (mean, cov, GroupPayload(contour, (), measurements.cluster_members(j).copy()))
+            )
+        return out
+
+
+def _pred(node: TrackNode) -> tuple[FloatArray, FloatArray]:
+    if node.pred_mean is None or node.pred_cov is None:
+        raise RuntimeError(f"group track node {node.node_id} was not predicted before use")
+    return node.pred_mean, node.pred_cov
+
+
+def _payload(node: TrackNode) -> GroupPayload:
+    payload = node.payload
+    if not isinstance(payload, GroupPayload):
+        raise TypeError(f"track node {node.node_id} carries no GroupPayload")
+    return payload
+
+
+def with_payload(payload: GroupPayload, **changes: Any) -> GroupPayload:
+    """A copy of ``payload`` with fields changed."""
+    return replace(payload, **changes)

@@ -1,0 +1,359 @@
+"""The group tracker of 000 Sec. 4: a multi-model MHT over groups of people.
+
+Each frame: the foreground points are clustered by single linkage (d_P) into observations
+with their number of human-sized blobs (Sec. 4.1); the MHT core predicts the group tracks,
+the branch generator spawns the continue/split/merge models of every parent hypothesis with
+re-predicted tracks and re-clustered observations (Secs. 4.3-4.4), and the core lists the k
+best children over all models and parents with the hypothesis probability of eqs. 33-37,
+prunes (ratio, N-scan-back) and updates the matched groups (eqs. 28-31).
+
+The people-only mode (:meth:`GroupTrackerParams.people_only`) inhibits splits and merges
+and clusters with a small d_P, the comparison tracker of 000 Fig. 17 (right).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import chi2
+
+from laserpeople.config import param
+from laserpeople.errors import LaserPeopleError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.tracking.groups.interaction import (
+    GroupBranches,
+    GroupLabelModel,
+    InteractionSettings,
+)
+from laserpeople.tracking.groups.labels import format_labels, sort_labels
+from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, GroupPayload
+from laserpeople.tracking.groups.observations import GroupObservations
+from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
+from laserpeople.tracking.mht.tracktree import TrackNode
+from laserpeople.tracks import Track, Tracks
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class GroupTrackerParams:
+    """Parameters of the group tracker (000 Sec. 4)."""
+
+    config_section = "group_tracker"
+
+    p_m: float = param(0.79, "000 Sec. 4.6", "P(matched) of a group track")
+    p_o: float = param(0.19, "000 Sec. 4.6", "P(occluded) of a group track")
+    p_t: float = param(0.02, "000 Sec. 4.6", "P(obsolete, terminated) of a group track")
+    p_f: float = param(0.06, "000 Sec. 4.6", "P(false alarm) of an observation")
+    p_n: float = param(0.02, "000 Sec. 4.6", "P(new track) of an observation")
+    p_c: float = param(0.63, "000 Sec. 4.6", "prior of a continuation")
+    p_s: float = param(0.16, "000 Sec. 4.6", "prior of a split")
+    p_g: float = param(0.21, "000 Sec. 4.6", "prior of a merge (times N_ij, eq. 32)")
+    sigma_pos: float = param(0.1, "000 Sec. 4.6", "initial position std sigma_x, sigma_y", "m")
+    sigma_vel: float = param(0.5, "000 Sec. 4.6", "initial velocity std", "m/s")
+    sigma_n: float = param(0.2, "000 Sec. 4.6", "initial group size std", "people")
+    eps_pos: float = param(
+        0.2, "000 Sec. 4.6", "process noise epsilon_x, epsilon_y per period", "m"
+    )
+    eps_vel: float = param(0.3, "000 Sec. 4.6", "process noise of the velocity per period", "m/s")
+    eps_n: float = param(0.1, "000 Sec. 4.6", "process noise of the size per period", "people")
+    period: float = param(
+        1.0,
+        "our reading of 000 Sec. 4.6 (the epsilons per second, Q = diag(eps^2) dt): read "
+        "per 0.1 s scan, the velocity is unobservable (steady-state std 0.87 m/s) and a "
+        "person passing a pair is merged with it (Fig. 18 fails); see docs/groups.md",
+        "time the process noise variances diag(eps^2) accumulate over; Q = diag(eps^2) dt / period",
+        "s",
+    )
+    cluster_distance: float = param(
+        1.3, "000 Sec. 4.6.1 (least clustering error)", "single-linkage distance d_P", "m"
+    )
+    blob_distance: float = param(
+        0.3, "000 Sec. 4.6.3", "single-linkage distance d_hs of human-sized blobs", "m"
+    )
+    point_std: float = param(
+        0.05,
+        "assumption: range noise of a SICK LMS plus beam footprint",
+        "std of a measured point (R_l of eq. 23)",
+        "m",
+    )
+    centroid_std: float = param(
+        0.1,
+        "assumption: the centroid of a group moves with its members' legs",
+        "std of the observed centroid in the update (eq. 30)",
+        "m",
+    )
+    size_std: float = param(
+        0.5,
+        "assumption: n_hs miscounts by about one blob (legs apart, occlusion)",
+        "std of the observed number of blobs in the update (eq. 30)",
+        "people",
+    )
+    gate_probability: float = param(
+        0.99,
+        "assumption (000 Sec. 4.4 names a significance level alpha without its value)",
+        "gate: d_HD^2 below the chi-square quantile with 2 degrees of freedom",
+    )
+    max_gate_gap: float = param(
+        2.0,
+        "assumption (speed only): far beyond any gate at these covariances",
+        "no gate is computed between a contour and a cluster farther apart than this",
+        "m",
+    )
+    max_dt: float = param(1.0, "assumption", "longest prediction step", "s")
+    split_merge: bool = param(
+        True, "000 Sec. 4.4", "hypothesise splits and merges (False: people-only tracker)"
+    )
+    join_observations: bool = param(
+        False,
+        "extension of 000 (the converse of re-clustering), off: on the simulated hall "
+        "(seed 0) it lowers the error at d_P 0.7 m (0.360 -> 0.292, memory-less 0.353) "
+        "but raises it at 1.0-1.3 m (0.198 -> 0.232 at 1.3), see docs/groups.md",
+        "also offer every model with the observations that only one continued group gates "
+        "joined into one (a group seen as two clusters for a moment need not split)",
+    )
+    max_models: int = param(
+        16,
+        "assumption (000 bounds models only by binary events and gating)",
+        "most models per parent hypothesis (the likeliest by eq. 32)",
+    )
+    mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
+        MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
+    )
+
+    def __post_init__(self) -> None:
+        for name in ("p_m", "p_o", "p_t", "p_f", "p_n", "p_c", "p_s", "p_g"):
+            if not 0.0 < getattr(self, name) < 1.0:
+                raise ValueError(f"{name} must be in (0, 1)")
+        if abs(self.p_m + self.p_o + self.p_t - 1.0) > 1e-6:
+            raise ValueError("p_m + p_o + p_t must be 1")
+        if abs(self.p_c + self.p_s + self.p_g - 1.0) > 1e-6:
+            raise ValueError("p_c + p_s + p_g must be 1")
+        if not 0.0 < self.blob_distance <= self.cluster_distance:
+            raise ValueError("need 0 < blob_distance <= cluster_distance")
+        if self.max_models < 1:
+            raise ValueError("max_models must be at least 1")
+
+    @classmethod
+    def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
+        """The people tracker of 000 Fig. 17 (right): no splits or merges, a small d_P
+        (0.5 m by default: two legs of one person, not two people; see docs/groups.md)."""
+        base = cls(cluster_distance=cluster_distance, split_merge=False)
+        return replace(base, **changes) if changes else base  # type: ignore[arg-type]
+
+    def c0(self) -> FloatArray:
+        """C_0 (Sec. 4.2.2)."""
+        return np.diag(
+            np.square(
+                [self.sigma_pos, self.sigma_pos, self.sigma_vel, self.sigma_vel, self.sigma_n]
+            )
+        )
+
+    def model_settings(self) -> GroupModelSettings:
+        """What the track model needs."""
+        return GroupModelSettings(
+            c0=self.c0(),
+            q=np.diag(
+                np.square([self.eps_pos, self.eps_pos, self.eps_vel, self.eps_vel, self.eps_n])
+            ),
+            period=self.period,
+            max_dt=self.max_dt,
+            r_point=np.eye(2) * self.point_std**2,
+            r_update=np.diag(np.square([self.centroid_std, self.centroid_std, self.size_std])),
+            gate_sq=float(chi2.ppf(self.gate_probability, df=2)),
+            max_gap=self.max_gate_gap,
+            log_p_match=math.log(self.p_m),
+        )
+
+    def interaction_settings(self) -> InteractionSettings:
+        """What the model generator needs."""
+        return InteractionSettings(
+            p_c=self.p_c,
+            p_s=self.p_s,
+            p_g=self.p_g,
+            d_p=self.cluster_distance,
+            d_hs=self.blob_distance,
+            split_merge=self.split_merge,
+            max_models=self.max_models,
+            join_observations=self.join_observations,
+            c0=self.c0(),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class GroupEstimate:
+    """One group of the best hypothesis after a frame.
+
+    Attributes:
+        track_id: The track's family (unique over the run; a split or merge starts new ones).
+        labels: Its label set.
+        mean: State (5,): x, y [m], vx, vy [m/s], n [people].
+        cov: Covariance (5, 5).
+        members: Frame point indices (K,) of the observation it was matched with this frame
+            (empty when occluded).
+        contour: Contour (K, 2) [m], absolute.
+        event: "split" or "merge" when a model made this track's family, else "".
+    """
+
+    track_id: int
+    labels: tuple[str, ...]
+    mean: FloatArray
+    cov: FloatArray
+    members: IntArray
+    contour: FloatArray
+    event: str
+
+    @property
+    def size(self) -> float:
+        """Estimated number of people n."""
+        return float(self.mean[4])
+
+
+@dataclass(frozen=True)
+class GroupEvent:
+    """A split or merge in the reported (best) hypothesis, recorded when the family it
+    made is first reported.
+
+    Attributes:
+        stamp: Time of that report [s].
+        kind: "split" or "merge".
+        labels: Labels of the group it made.
+    """
+
+    stamp: float
+    kind: str
+    labels: tuple[str, ...]
+
+
+class GroupMHTTracker:
+    """Group tracker: ``update(frame) -> Tracks`` with ``kind="group"`` tracks carrying the
+    size (rounded n), the labels and the contour (absolute) (see the module doc)."""
+
+    consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+
+    def __init__(self, params: GroupTrackerParams | None = None) -> None:
+        self.params = params if params is not None else GroupTrackerParams()
+        p = self.params
+        self.model = GroupModel(p.model_settings())
+        self.label_model = GroupLabelModel(p.p_m, p.p_o, p.p_t, p.p_n, p.p_f)
+        self.mht: MHT[GroupObservations] = MHT(p.mht, self.model, self.label_model)
+        self.branches = GroupBranches(
+            self.model, self.mht.tree, p.interaction_settings(), self.name
+        )
+        self.mht.branches = self.branches
+        self._roots: dict[int, str] = {}  # root family -> reported number
+        self._reported: set[int] = set()
+        self.events: list[GroupEvent] = []
+        self.last_stats: StepStats | None = None
+        self.last_groups: list[GroupEstimate] = []
+        self.last_observations = GroupObservations.empty()
+
+    def name(self, node: TrackNode) -> tuple[str, ...]:
+        """The internal label set of ``node``: a new group is named by its family until it
+        is reported (labels made from it by splits keep that root)."""
+        labels = _payload(node).labels
+        return labels if labels else (str(node.family),)
+
+    def display_labels(self, labels: tuple[str, ...]) -> tuple[str, ...]:
+        """Labels as reported: each root family is numbered 0, 1, ... in the order the
+        groups are first reported (000's naming: ``0`` -> ``0-0``, ``0-1`` on a split)."""
+        out = []
+        for label in labels:
+            root, _, rest = label.partition("-")
+            number = self._roots.setdefault(int(root), str(len(self._roots)))
+            out.append(f"{number}-{rest}" if rest else number)
+        return sort_labels(out)
+
+    def observe(self, frame: Frame) -> GroupObservations:
+        """The observation clusters of a frame's foreground points (Sec. 4.1)."""
+        if frame.points is None or frame.foreground is None:
+            raise LaserPeopleError(
+                "the group tracker needs the frame's points and foreground mask",
+                scan=frame.index,
+                hint="run the preprocessing stage (points, background subtraction) first",
+            )
+        fg = np.asarray(frame.foreground, dtype=bool)
+        if fg.shape != (len(frame.points),):
+            raise LaserPeopleError(
+                f"foreground mask of {fg.size} values for {len(frame.points)} points",
+                scan=frame.index,
+                hint="the mask must have one value per point of frame.points",
+            )
+        idx = np.nonzero(fg)[0].astype(np.int64)
+        pts = frame.points.points[idx]
+        finite = np.isfinite(pts).all(axis=1)
+        return GroupObservations.from_points(
+            pts[finite], idx[finite], self.params.cluster_distance, self.params.blob_distance
+        )
+
+    def update(self, frame: Frame) -> Tracks:
+        """Track one frame."""
+        obs = self.observe(frame)
+        self.last_observations = obs
+        self.branches.begin_scan(obs)
+        self.model.scan = obs
+        self.last_stats = self.mht.step(obs, frame.stamp)
+        probs = self.mht.best_probabilities()
+        groups: list[GroupEstimate] = []
+        tracks: list[Track] = []
+        for node in self.mht.best_tracks():
+            payload = _payload(node)
+            labels = self.display_labels(self.name(node))
+            contour = payload.contour + node.mean[:2]
+            members = payload.members  # empty when occluded (coasted)
+            groups.append(
+                GroupEstimate(
+                    node.family, labels, node.mean, node.cov, members, contour, payload.event
+                )
+            )
+            if node.family not in self._reported:
+                self._reported.add(node.family)
+                if payload.event:
+                    self.events.append(GroupEvent(frame.stamp, payload.event, labels))
+            tracks.append(
+                Track(
+                    track_id=node.family,
+                    kind="group",
+                    position=node.mean[:2],
+                    velocity=node.mean[2:4],
+                    covariance=node.cov[:2, :2],
+                    size=max(1, round(float(node.mean[4]))),
+                    labels=format_labels(labels),
+                    score=probs.get(node.family, 1.0),
+                    contour=contour,
+                )
+            )
+        self.last_groups = groups
+        return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    def point_labels(self, n_points: int) -> IntArray:
+        """Group (track id) of each of the last frame's ``n_points`` points, -1 outside
+        every group observed this frame (for the clustering error, 000 Sec. 4.6.1)."""
+        out = np.full(n_points, -1, dtype=np.int64)
+        for g in self.last_groups:
+            out[g.members] = g.track_id
+        return out
+
+    @property
+    def n_hypotheses(self) -> int:
+        """Hypotheses after the last frame, summed over clusters."""
+        return 0 if self.last_stats is None else self.last_stats.n_hypotheses
+
+
+def _payload(node: TrackNode) -> GroupPayload:
+    payload = node.payload
+    if not isinstance(payload, GroupPayload):
+        raise TypeError(f"track node {node.node_id} carries no GroupPayload")
+    return payload
+
+
+__all__ = [
+    "GroupEstimate",
+    "GroupEvent",
+    "GroupMHTTracker",
+    "GroupTrackerParams",
+]

@@ -1,0 +1,102 @@
+"""A bank of particle filters, one per person, stored as arrays (F filters x P particles).
+
+The trackers of 004 keep one particle filter per person (Sec. 2); here all filters live in
+one (F, P, D) state array and one (F, P) weight array so that prediction, weighting and
+resampling run once per scan for every filter together. The bank also keeps each
+filter's identity, birth time, the last time it saw support, and its number of supported
+scans, and it adds and removes filters.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.tracking.particle.resampling import (
+    effective_sample_size,
+    normalise,
+    systematic_resample,
+)
+
+
+class FilterBank:
+    """F particle filters of P particles with D state parameters each."""
+
+    def __init__(self, n_particles: int, dim: int) -> None:
+        self.n_particles = n_particles
+        self.dim = dim
+        self.states = np.empty((0, n_particles, dim))
+        self.weights = np.empty((0, n_particles))
+        self.ids = np.empty(0, dtype=np.int64)
+        self.born = np.empty(0)
+        self.last_seen = np.empty(0)
+        self.hits = np.empty(0, dtype=np.int64)
+        self.quality = np.empty(0)
+        self._next_id = 0
+
+    def __len__(self) -> int:
+        return int(self.ids.size)
+
+    def add(self, states: NDArray[np.float64], stamp: float) -> None:
+        """Append filters with initial particles ``states`` (K, P, D) and uniform weights."""
+        k = states.shape[0]
+        if k == 0:
+            return
+        self.states = np.concatenate([self.states, states])
+        self.weights = np.concatenate(
+            [self.weights, np.full((k, self.n_particles), 1.0 / self.n_particles)]
+        )
+        self.ids = np.concatenate([self.ids, self._next_id + np.arange(k, dtype=np.int64)])
+        self._next_id += k
+        self.born = np.concatenate([self.born, np.full(k, stamp)])
+        self.last_seen = np.concatenate([self.last_seen, np.full(k, stamp)])
+        self.hits = np.concatenate([self.hits, np.ones(k, dtype=np.int64)])
+        self.quality = np.concatenate([self.quality, np.zeros(k)])
+
+    def keep(self, mask: NDArray[np.bool_]) -> None:
+        """Keep only the filters where ``mask`` (F,) is True."""
+        self.states = self.states[mask]
+        self.weights = self.weights[mask]
+        self.ids = self.ids[mask]
+        self.born = self.born[mask]
+        self.last_seen = self.last_seen[mask]
+        self.hits = self.hits[mask]
+        self.quality = self.quality[mask]
+
+    def reweight(
+        self, likelihood: NDArray[np.float64], rng: np.random.Generator, threshold: float
+    ) -> None:
+        """Update each filter's ``quality`` (exponentially smoothed log of the marginal
+        likelihood sum_i w_i l_i), multiply the weights by ``likelihood`` (F, P),
+        normalise, and resample
+        systematically every filter whose effective sample size fell below
+        ``threshold * P``."""
+        if len(self) == 0:
+            return
+        marginal = np.einsum("fp,fp->f", self.weights, likelihood)
+        self.quality = 0.9 * self.quality + 0.1 * np.log(np.maximum(marginal, 1e-300))
+        self.weights = normalise(self.weights * likelihood)
+        low = effective_sample_size(self.weights) < threshold * self.n_particles
+        if low.any():
+            idx = systematic_resample(self.weights[low], rng)
+            rows = np.flatnonzero(low)[:, None]
+            self.states[low] = self.states[rows, idx]
+            self.weights[low] = 1.0 / self.n_particles
+
+    def replace_by(self, loser: int, winner: int) -> None:
+        """Let filter ``winner`` take over the identity of ``loser`` when ``loser`` is the
+        older one (the person keeps the id under which it was first reported); ``loser``
+        must then be removed with :meth:`keep`."""
+        if (self.born[loser], self.ids[loser]) < (self.born[winner], self.ids[winner]):
+            self.ids[winner] = self.ids[loser]
+            self.born[winner] = self.born[loser]
+            self.hits[winner] = max(self.hits[winner], self.hits[loser])
+
+    def mean(self, columns: slice | list[int]) -> NDArray[np.float64]:
+        """Weighted mean (F, len(columns)) of the state columns."""
+        return np.asarray(
+            np.einsum("fp,fpd->fd", self.weights, self.states[:, :, columns]), dtype=np.float64
+        )
+
+
+__all__ = ["FilterBank"]

@@ -1,0 +1,532 @@
+"""The feet tracker of 004 Sec. 2.1 (after Shao et al. 2008): one particle filter per person
+at feet height with a walking model.
+
+- Detection (Fig. 1): the feet of a walking person form two clusters, merge into one while
+  the moving foot passes the standing one, and split again. Mean-shift clusters of two
+  consecutive scans are compared by their overlap (a point of the new scan within
+  ``overlap_distance`` of a point of the old one links the two clusters): one new cluster
+  linked to two old ones is a *merge*, one old cluster linked to two new ones a *split*.
+  A split within ``sequence_time`` and ``sequence_distance`` of a merge completes the
+  sequence and starts a filter at the two split clusters.
+- State (eqs. 1-2): feet (x_l, y_l, x_r, y_r) [m], stride s [m], period T [s], phase gamma
+  [rad], direction alpha [rad]; in each half period one foot moves along alpha by
+  s |cos gamma_t - cos gamma_{t-1}|, plus Gaussian diffusion of every parameter.
+- Weight (eqs. 3-7): o_l and o_r sum Gaussian kernels (sigma ``delta``) of the foreground
+  points around each foot, floored at P_0; o_b scores the feet's separation along alpha
+  against -s cos gamma with tolerance h; w = o_l o_r o_b.
+- Repelling term: each particle's weight is multiplied by prod_g (1 - exp(-|c - c_g|^2 /
+  (2 sigma_r^2))) over the other filters g, with c the particle's feet midpoint and c_g
+  filter g's estimate, so that two filters do not collapse onto one person.
+- Death: no foreground point near the feet for ``miss_time``, or a filter within
+  ``merge_distance`` of an older one.
+
+The reported person position is the weighted mean of the body positions the walking model
+implies (the feet midpoint moved by :func:`body_offset`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from laserpeople.clustering import mean_shift
+from laserpeople.config import param
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.tracking.particle.bank import FilterBank
+from laserpeople.tracking.particle.frames import as_frame
+from laserpeople.tracking.particle.upper_body import gather_cells
+from laserpeople.tracks import Detections, Track, Tracks
+
+XL, YL, XR, YR, S, T, GAMMA, ALPHA = range(8)
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass(frozen=True)
+class FeetParams:
+    """Parameters of the feet particle-filter tracker (004 Sec. 2.1, Shao et al. 2008)."""
+
+    config_section = "feet_pf"
+
+    particles: int = param(
+        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+    )
+    delta: float = param(
+        0.06, "assumed (Shao et al.'s value not in 004)", "sigma of the foot kernels, eqs. 3-4", "m"
+    )
+    p0: float = param(0.02, "assumed; tuned with miss_time", "P_0, floor of o_l and o_r (eqs. 3-4)")
+    h: float = param(0.12, "assumed", "h of eq. 6 (tolerance of the feet separation)", "m")
+    bandwidth: float = param(
+        0.2,
+        "assumed: merges feet passing 0.2 m apart, splits them at a step's length",
+        "mean-shift bandwidth for detection",
+        "m",
+    )
+    overlap_distance: float = param(
+        0.12,
+        "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
+        "points of consecutive scans this close link their clusters (at 50 Hz; scaled "
+        "up with the time between scans)",
+        "m",
+    )
+    sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
+    sequence_distance: float = param(
+        0.5, "assumed", "largest distance between a merge and its split", "m"
+    )
+    gate: float = param(
+        0.7, "assumed", "points farther than this from a filter's feet are not used", "m"
+    )
+    sigma_repel: float = param(0.2, "assumed", "range of the repelling term", "m")
+    refresh_share: float = param(
+        0.2,
+        "assumed (not in 004: a mixture proposal from the step detector)",
+        "share of a filter's particles restarted from a step detected at it",
+    )
+    shared_foot: float = param(
+        0.15, "assumed", "two filters with feet this close track one person", "m"
+    )
+    birth_exclusion: float = param(
+        0.6, "assumed", "no filter starts this close to an existing one", "m"
+    )
+    support_radius: float = param(
+        0.25, "assumed", "a point this close to a foot supports the filter", "m"
+    )
+    miss_time: float = param(
+        0.2,
+        "assumed; tuned on 5 simulated runs (speed-normal, speed-fast, people-3, cross, stop)",
+        "a filter without support this long dies",
+        "s",
+    )
+    merge_distance: float = param(
+        0.3, "assumed", "a filter this close to an older one is removed", "m"
+    )
+    stride_range: tuple[float, float] = param(
+        (0.15, 1.0), "assumed: adult walking", "initial and allowed stride s", "m"
+    )
+    period_range: tuple[float, float] = param(
+        (0.7, 1.6), "assumed: 1.25-2.9 steps/s", "initial and allowed period T", "s"
+    )
+    sigma_foot: float = param(0.05, "assumed", "foot position diffusion", "m/sqrt(s)")
+    sigma_stride: float = param(0.3, "assumed", "stride diffusion", "m/sqrt(s)")
+    sigma_period: float = param(0.2, "assumed", "period diffusion", "s/sqrt(s)")
+    sigma_phase: float = param(1.0, "assumed", "phase diffusion", "rad/sqrt(s)")
+    sigma_direction: float = param(1.2, "assumed", "direction diffusion", "rad/sqrt(s)")
+    confirm_scans: int = param(
+        1,
+        "assumed; a step sequence already confirms",
+        "supported scans before a filter is reported",
+    )
+    resample_threshold: float = param(
+        0.5, "Thrun et al. 2005 (common choice)", "resample when ESS < this x particles"
+    )
+    seed: int = param(0, "reproducibility", "random seed of the filters")
+
+    def __post_init__(self) -> None:
+        if self.particles < 1:
+            raise ConfigError(f"particles must be >= 1, got {self.particles}")
+        for name in ("delta", "h", "bandwidth", "gate", "sigma_repel"):
+            if not getattr(self, name) > 0.0:
+                raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")
+        if not self.p0 > 0.0:
+            raise ConfigError(f"p0 must be positive, got {self.p0}")
+
+
+def walking_model(states: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
+    """004 eqs. 1-2 for states (..., 8) over a time step ``dt`` [s]: the phase advances by
+    2 pi dt / T; the left foot moves when mod(gamma_t, 2 pi) > pi, else the right one, by
+    s |cos gamma_t - cos gamma_{t-1}| along alpha. Returns a new array."""
+    out = np.array(states, dtype=np.float64, copy=True)
+    g0 = states[..., GAMMA]
+    g1 = g0 + TWO_PI * dt / states[..., T]
+    move = states[..., S] * np.abs(np.cos(g1) - np.cos(g0))
+    left = np.mod(g1, TWO_PI) > np.pi
+    m_l = np.where(left, move, 0.0)
+    m_r = np.where(left, 0.0, move)
+    ca, sa = np.cos(states[..., ALPHA]), np.sin(states[..., ALPHA])
+    out[..., XL] += ca * m_l
+    out[..., YL] += sa * m_l
+    out[..., XR] += ca * m_r
+    out[..., YR] += sa * m_r
+    out[..., GAMMA] = g1
+    return out
+
+
+def body_offset(states: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Where the body is relative to the feet midpoint under eqs. 1-2 (..., 2) [m].
+
+    In each half period one foot moves s (1 - cos phi), phi = mod(gamma, pi), so the
+    midpoint moves (s / 2)(1 - cos phi) while a body walking at the constant speed 2 s / T
+    moves s phi / pi; the body is ahead of the midpoint by s (phi / pi - (1 - cos phi) / 2)
+    along alpha (zero at phi = 0, pi / 2 and pi)."""
+    phi = np.mod(states[..., GAMMA], np.pi)
+    ahead = states[..., S] * (phi / np.pi - 0.5 * (1.0 - np.cos(phi)))
+    a = states[..., ALPHA]
+    return np.asarray(np.stack([ahead * np.cos(a), ahead * np.sin(a)], axis=-1), dtype=np.float64)
+
+
+def foot_likelihood(
+    feet: NDArray[np.float64],
+    points: NDArray[np.float64],
+    mask: NDArray[np.bool_],
+    delta: float,
+    p0: float,
+) -> NDArray[np.float64]:
+    """004 eqs. 3-4: max(sum_j exp(-|foot - z_j|^2 / (2 delta^2)), P_0) for feet (F, P, 2)
+    and the padded points (F, K, 2) of each filter with mask (F, K); returns (F, P)."""
+    # |f - z|^2 = |f|^2 + |z|^2 - 2 f.z as one batched product, in float32 (the kernels
+    # are summed, so 1e-7 relative error is harmless); padding points are masked out
+    f32 = feet.astype(np.float32)
+    z32 = points.astype(np.float32)
+    d2 = (
+        np.einsum("fpc,fpc->fp", f32, f32)[:, :, None]
+        + np.where(mask, np.einsum("fkc,fkc->fk", z32, z32), np.float32(1e6))[:, None, :]
+        - 2.0 * np.matmul(f32, z32.transpose(0, 2, 1))
+    )
+    kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (delta * delta)))
+    total = kernel.sum(axis=2, dtype=np.float64)
+    return np.asarray(np.maximum(total, p0), dtype=np.float64)
+
+
+def stride_likelihood(states: NDArray[np.float64], h: float) -> NDArray[np.float64]:
+    """004 eqs. 5-6: s_d = (x_r - x_l) cos alpha + (y_r - y_l) sin alpha and
+    o_b = exp(-(s_d + s cos gamma)^2 / (2 h^2)), for states (..., 8)."""
+    a = states[..., ALPHA]
+    s_d = (states[..., XR] - states[..., XL]) * np.cos(a) + (
+        states[..., YR] - states[..., YL]
+    ) * np.sin(a)
+    r = s_d + states[..., S] * np.cos(states[..., GAMMA])
+    return np.asarray(np.exp(-(r * r) / (2.0 * h * h)), dtype=np.float64)
+
+
+def feet_weights(
+    states: NDArray[np.float64],
+    points: NDArray[np.float64],
+    mask: NDArray[np.bool_],
+    p: FeetParams,
+) -> NDArray[np.float64]:
+    """004 eq. 7: w = o_l o_r o_b for states (F, P, 8) and padded points (F, K, 2)."""
+    o_l = foot_likelihood(states[..., XL : YL + 1], points, mask, p.delta, p.p0)
+    o_r = foot_likelihood(states[..., XR : YR + 1], points, mask, p.delta, p.p0)
+    return o_l * o_r * stride_likelihood(states, p.h)
+
+
+def repelling(
+    midpoints: NDArray[np.float64], estimates: NDArray[np.float64], sigma: float
+) -> NDArray[np.float64]:
+    """Repelling factor (F, P): prod over other filters g of
+    1 - exp(-|c_fi - e_g|^2 / (2 sigma^2)) for particle midpoints ``midpoints`` (F, P, 2)
+    and filter estimates ``estimates`` (F, 2)."""
+    f = midpoints.shape[0]
+    d = midpoints[:, :, None, :] - estimates[None, None, :, :]
+    d2 = np.einsum("fpgc,fpgc->fpg", d, d)
+    factor = 1.0 - np.exp(-d2 / (2.0 * sigma * sigma))
+    own = np.arange(f)
+    factor[own, :, own] = 1.0  # a filter does not repel itself
+    return np.asarray(np.prod(factor, axis=2), dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class StepEvent:
+    """A merge or split of feet clusters: where [m], when [s], and for a split the two
+    clusters' centres (2, 2)."""
+
+    kind: str
+    position: NDArray[np.float64]
+    stamp: float
+    feet: NDArray[np.float64]
+
+
+class StepDetector:
+    """Finds the merge -> split sequence of a step (004 Fig. 1) in consecutive scans."""
+
+    def __init__(self, params: FeetParams) -> None:
+        self.params = params
+        self._prev: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]] | None = None
+        self._merges: list[StepEvent] = []
+        self._stamp: float | None = None
+
+    def events(
+        self, points: NDArray[np.float64], stamp: float
+    ) -> tuple[list[StepEvent], list[StepEvent]]:
+        """Merges and splits between the previous scan and ``points`` (N, 2)."""
+        p = self.params
+        if len(points):
+            ms = mean_shift(points, p.bandwidth)
+            labels, centres = ms.labels, ms.centres
+        else:
+            labels, centres = np.empty(0, np.int64), np.empty((0, 2))
+        prev = self._prev
+        self._prev = (points, labels, centres)
+        dt = stamp - self._stamp if self._stamp is not None else 0.02
+        self._stamp = stamp
+        # feet move farther between slower scans: widen the link distance beyond 50 Hz
+        reach = p.overlap_distance * max(1.0, dt / 0.02)
+        merges: list[StepEvent] = []
+        splits: list[StepEvent] = []
+        if prev is None or len(points) == 0 or len(prev[0]) == 0:
+            return merges, splits
+        old_pts, old_labels, _ = prev
+        near = cKDTree(points).sparse_distance_matrix(
+            cKDTree(old_pts), reach, output_type="ndarray"
+        )
+        links = np.unique(np.column_stack([labels[near["i"]], old_labels[near["j"]]]), axis=0)
+        if len(links) == 0:
+            return merges, splits
+        new_ids, new_count = np.unique(links[:, 0], return_counts=True)
+        for b in new_ids[new_count >= 2]:
+            merges.append(StepEvent("merge", centres[b], stamp, np.empty((0, 2))))
+        old_ids, old_count = np.unique(links[:, 1], return_counts=True)
+        for a in old_ids[old_count == 2]:
+            parts = links[links[:, 1] == a, 0]
+            feet = centres[parts]
+            splits.append(StepEvent("split", feet.mean(axis=0), stamp, feet))
+        return merges, splits
+
+    def detections(self, points: NDArray[np.float64], stamp: float) -> list[StepEvent]:
+        """Splits of this scan that complete a merge -> split sequence."""
+        p = self.params
+        merges, splits = self.events(points, stamp)
+        self._merges = [m for m in self._merges if stamp - m.stamp <= p.sequence_time]
+        found = []
+        for s in splits:
+            if any(
+                np.hypot(*(s.position - m.position)) <= p.sequence_distance for m in self._merges
+            ):
+                found.append(s)
+        self._merges.extend(merges)
+        return found
+
+
+class FeetTracker:
+    """Multi-person tracker at feet height (004 Sec. 2.1); a ``FrameTracker`` on the fused
+    foreground points of the feet-height lasers."""
+
+    consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+
+    def __init__(self, params: FeetParams | None = None) -> None:
+        self.params = params or FeetParams()
+        self.rng = np.random.default_rng(self.params.seed)
+        self.bank = FilterBank(self.params.particles, 8)
+        self.detector = StepDetector(self.params)
+        self._stamp: float | None = None
+
+    def _predict(self, dt: float) -> None:
+        p, bank = self.params, self.bank
+        if len(bank) == 0 or dt <= 0.0:
+            return
+        s = walking_model(bank.states, dt)
+        root = np.sqrt(dt)
+        shape = s.shape[:2]
+        for col, sig in (
+            (XL, p.sigma_foot),
+            (YL, p.sigma_foot),
+            (XR, p.sigma_foot),
+            (YR, p.sigma_foot),
+            (S, p.sigma_stride),
+            (T, p.sigma_period),
+            (GAMMA, p.sigma_phase),
+            (ALPHA, p.sigma_direction),
+        ):
+            s[..., col] += self.rng.normal(0.0, sig * root, shape)
+        s[..., S] = np.clip(s[..., S], 0.0, p.stride_range[1])
+        s[..., T] = np.clip(s[..., T], *p.period_range)
+        bank.states = s
+
+    def midpoints(self) -> NDArray[np.float64]:
+        """Feet midpoints (F, P, 2) of every particle."""
+        st = self.bank.states
+        return np.asarray(0.5 * (st[..., XL : YL + 1] + st[..., XR : YR + 1]), dtype=np.float64)
+
+    def update(self, frame: Frame | Detections) -> Tracks:
+        """Predict, weight by eqs. 3-7 and the repelling term, resample, remove dead
+        filters and start filters at completed step sequences. Leg detections instead of a
+        frame stand for their centres (:func:`~laserpeople.tracking.particle.frames.as_frame`)."""
+        p, bank = self.params, self.bank
+        frame = as_frame(frame)
+        if frame.points is None:
+            raise ConfigError(
+                "the feet tracker needs frame points",
+                scan=frame.index,
+                hint="build frames with points and foreground (a background model)",
+            )
+        pts = frame.points.points
+        if frame.foreground is not None:
+            pts = pts[frame.foreground]
+        dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
+        self._stamp = frame.stamp
+        self._predict(dt)
+        if len(bank):
+            mids = self.midpoints()
+            est = np.einsum("fp,fpc->fc", bank.weights, mids)
+            near = _points_near(pts, est, p.gate)
+            local, mask = (
+                gather_cells(pts[near[0]], near[1], len(bank))
+                if near[0].size
+                else (
+                    np.zeros((len(bank), 1, 2)),
+                    np.zeros((len(bank), 1), dtype=bool),
+                )
+            )
+            lik = feet_weights(bank.states, local, mask, p)
+            if len(bank) > 1:
+                lik = lik * repelling(mids, est, p.sigma_repel)
+            bank.reweight(lik + 1e-300, self.rng, p.resample_threshold)
+            feet_est = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
+            supported = _supported(pts, feet_est, p.support_radius)
+            bank.last_seen[supported] = frame.stamp
+            bank.hits[supported] += 1
+            self._cull(frame.stamp)
+        self._births(pts, frame.stamp)
+        return self._report(frame)
+
+    def _cull(self, stamp: float) -> None:
+        """Remove filters without support for ``miss_time``; of two filters that come
+        within ``merge_distance`` or share a foot (feet within ``shared_foot``), keep the
+        one with the better smoothed likelihood under the older identity."""
+        p, bank = self.params, self.bank
+        alive = stamp - bank.last_seen <= p.miss_time
+        if len(bank) > 1:
+            est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
+            feet = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
+            close = {
+                tuple(e) for e in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
+            }
+            flat = feet.reshape(-1, 2)
+            for a, b in cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray"):
+                i, j = sorted((int(a) // 2, int(b) // 2))
+                if i != j:
+                    close.add((i, j))
+            for i, j in sorted(close):
+                if not (alive[i] and alive[j]):
+                    continue
+                loser, winner = (i, j) if bank.quality[i] < bank.quality[j] else (j, i)
+                bank.replace_by(loser, winner)
+                alive[loser] = False
+        bank.keep(alive)
+
+    def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
+        p, bank = self.params, self.bank
+        found = self.detector.detections(pts, stamp)
+        if not found:
+            return
+        est = (
+            np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
+            if len(bank)
+            else np.empty((0, 2))
+        )
+        starts: list[NDArray[np.float64]] = []
+        for ev in found:
+            if len(est):
+                dist = np.hypot(*(est - ev.position).T)
+                near = int(np.argmin(dist))
+                if dist[near] <= p.birth_exclusion:
+                    self._refresh(near, ev.feet)
+                    continue
+            if any(np.hypot(*(ev.position - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
+                continue
+            starts.append(ev.feet)
+        if starts:
+            bank.add(np.stack([self._initial(f) for f in starts]), stamp)
+
+    def _refresh(self, f: int, feet: NDArray[np.float64]) -> None:
+        """A step detected at filter ``f``: replace a share ``refresh_share`` of its
+        particles, drawn at random, by particles started from the detected feet (a mixture
+        proposal), each with the filter's mean weight, so that the next weighting chooses
+        between the filter's belief and the detection."""
+        p, bank = self.params, self.bank
+        k = round(p.refresh_share * p.particles)
+        if k == 0:
+            return
+        idx = self.rng.choice(p.particles, size=k, replace=False)
+        bank.states[f, idx] = self._initial(feet)[:k]
+        bank.weights[f, idx] = 1.0 / p.particles
+        bank.weights[f] /= bank.weights[f].sum()
+
+    def _initial(self, feet: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Particles (P, 8) for a person whose feet clusters are ``feet`` (2, 2): the walking
+        direction along the feet (either sense), either foot the left one, stride and period
+        from their ranges, and the phase that makes eq. 6 hold exactly."""
+        p, rng, n = self.params, self.rng, self.params.particles
+        a, b = feet
+        base = float(np.arctan2(*(b - a)[::-1]))
+        alpha = base + np.pi * rng.integers(0, 2, n) + rng.normal(0.0, 0.15, n)
+        u = np.column_stack([np.cos(alpha), np.sin(alpha)])
+        proj = (b - a) @ u.T  # (P,) b ahead of a along alpha when > 0
+        front = np.where(proj[:, None] > 0, b, a)
+        back = np.where(proj[:, None] > 0, a, b)
+        gap = np.abs(proj)
+        stride = rng.uniform(*p.stride_range, n)
+        stride = np.maximum(stride, gap + 0.01)
+        right_front = rng.integers(0, 2, n).astype(bool)
+        ratio = np.clip(gap / stride, 0.0, 1.0)
+        # right foot ahead: s_d = +gap = -s cos(gamma), gamma in (pi/2, pi] (right moving)
+        # left foot ahead: s_d = -gap = -s cos(gamma), gamma in [3pi/2, 2pi) (left moving)
+        gamma = np.where(right_front, np.arccos(-ratio), TWO_PI - np.arccos(ratio))
+        st = np.empty((n, 8))
+        left = np.where(right_front[:, None], back, front)
+        right = np.where(right_front[:, None], front, back)
+        st[:, XL : YL + 1] = left + rng.normal(0.0, 0.02, (n, 2))
+        st[:, XR : YR + 1] = right + rng.normal(0.0, 0.02, (n, 2))
+        st[:, S] = stride
+        st[:, T] = rng.uniform(*p.period_range, n)
+        st[:, GAMMA] = gamma
+        st[:, ALPHA] = alpha
+        return st
+
+    def _report(self, frame: Frame) -> Tracks:
+        bank = self.bank
+        tracks = []
+        if len(bank):
+            mids = self.midpoints()
+            body = mids + body_offset(bank.states)
+            est = np.einsum("fp,fpc->fc", bank.weights, body)
+            st = bank.states
+            speed = 2.0 * st[..., S] / st[..., T]  # the body covers 2 s per period
+            vel = np.einsum(
+                "fp,fpc->fc",
+                bank.weights,
+                np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1),
+            )
+            d = body - est[:, None, :]
+            cov = np.einsum("fp,fpa,fpb->fab", bank.weights, d, d)
+            for f in np.flatnonzero(bank.hits >= self.params.confirm_scans):
+                tracks.append(Track(int(bank.ids[f]), "person", est[f], vel[f], cov[f]))
+        return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+
+def _points_near(
+    points: NDArray[np.float64], centres: NDArray[np.float64], radius: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """(point index, filter index) pairs within ``radius`` (a point may serve several
+    filters; the repelling term keeps them apart)."""
+    if len(points) == 0 or len(centres) == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    m = cKDTree(centres).sparse_distance_matrix(cKDTree(points), radius, output_type="coo_matrix")
+    return m.col.astype(np.int64), m.row.astype(np.int64)
+
+
+def _supported(
+    points: NDArray[np.float64], feet: NDArray[np.float64], radius: float
+) -> NDArray[np.bool_]:
+    """(F,) True where a point lies within ``radius`` of either estimated foot (F, 2, 2)."""
+    if len(points) == 0 or len(feet) == 0:
+        return np.zeros(len(feet), dtype=bool)
+    d, _ = cKDTree(points).query(feet.reshape(-1, 2), k=1)
+    return np.asarray((d.reshape(-1, 2) <= radius).any(axis=1), dtype=bool)
+
+
+__all__ = [
+    "FeetParams",
+    "FeetTracker",
+    "StepDetector",
+    "StepEvent",
+    "body_offset",
+    "feet_weights",
+    "foot_likelihood",
+    "repelling",
+    "stride_likelihood",
+    "walking_model",
+]

@@ -1,0 +1,300 @@
+"""The upper-body tracker of 004 Sec. 2.2: one particle filter per person at torso height.
+
+- Detection: mean-shift clusters of foreground points whose covariance has a largest
+  eigenvalue of at least ``min_eigenvalue`` (the minimal body size) and that no filter
+  already explains start a filter at the cluster centre.
+- State (x, y, theta, v): position [m], direction of motion [rad], speed [m/s]; linear
+  motion (eq. 8) plus Gaussian diffusion of every parameter.
+- Weight of a particle (eq. 9): sum over the foreground points of its filter's Voronoi cell
+  of exp(-d^2 / zeta^2); a point belongs to the cell of the nearest filter (and to none
+  when farther than ``cell_radius`` from all), so a filter never takes the points of a
+  person another filter tracks.
+- Death: a filter without points in its cell for ``miss_time``, or one that comes within
+  ``merge_distance`` of an older filter, is removed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from laserpeople.clustering import cluster_covariances, mean_shift
+from laserpeople.config import param
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.tracking.particle.bank import FilterBank
+from laserpeople.tracking.particle.frames import as_frame
+from laserpeople.tracks import Detections, Track, Tracks
+
+X, Y, THETA, V = range(4)
+
+
+@dataclass(frozen=True)
+class UpperBodyParams:
+    """Parameters of the upper-body particle-filter tracker (004 Sec. 2.2)."""
+
+    config_section = "upper_body_pf"
+
+    particles: int = param(
+        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+    )
+    zeta: float = param(0.25, "assumed (004 eq. 9 gives no value)", "zeta of eq. 9", "m")
+    bandwidth: float = param(0.35, "assumed", "mean-shift bandwidth for detection", "m")
+    min_eigenvalue: float = param(
+        0.003,
+        "assumed: a torso arc >= ~0.2 m wide (004 Sec. 2.2 'minimal human body size')",
+        "smallest largest-eigenvalue of a cluster's covariance that starts a filter",
+        "m^2",
+    )
+    min_points: int = param(4, "assumed", "fewest points of a cluster that starts a filter")
+    cell_radius: float = param(
+        0.6, "assumed", "points farther than this from every filter belong to no cell", "m"
+    )
+    birth_exclusion: float = param(
+        0.6, "assumed", "no filter starts this close to an existing one", "m"
+    )
+    sigma_position: float = param(0.15, "assumed", "position diffusion", "m/sqrt(s)")
+    sigma_heading: float = param(1.5, "assumed", "direction diffusion", "rad/sqrt(s)")
+    sigma_speed: float = param(1.0, "assumed", "speed diffusion", "m/s/sqrt(s)")
+    max_speed: float = param(3.5, "assumed (running in 004 Exp. 1)", "largest speed", "m/s")
+    initial_speed: float = param(1.5, "assumed", "initial speeds are drawn in [0, this]", "m/s")
+    miss_time: float = param(
+        0.2,
+        "assumed; tuned on 5 simulated runs (speed-normal, speed-fast, people-3, cross, stop)",
+        "a filter without points in its cell this long is removed",
+        "s",
+    )
+    merge_distance: float = param(
+        0.25, "assumed", "a filter this close to an older one is removed", "m"
+    )
+    confirm_scans: int = param(
+        2,
+        "assumed; tuned with miss_time",
+        "scans with points in its cell before a filter is reported",
+    )
+    resample_threshold: float = param(
+        0.5, "Thrun et al. 2005 (common choice)", "resample when ESS < this x particles"
+    )
+    weight_floor: float = param(
+        1e-9, "assumed", "added to every eq. 9 weight so that no filter degenerates"
+    )
+    seed: int = param(0, "reproducibility", "random seed of the filters")
+
+    def __post_init__(self) -> None:
+        if self.particles < 1:
+            raise ConfigError(f"particles must be >= 1, got {self.particles}")
+        for name in ("zeta", "bandwidth", "cell_radius", "max_speed"):
+            if not getattr(self, name) > 0.0:
+                raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")
+
+
+def linear_motion(states: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
+    """004 eq. 8: (x, y, theta, v) + (cos theta, sin theta, 0, 0) * dt * v, for states
+    (..., 4); returns a new array."""
+    out = np.array(states, dtype=np.float64, copy=True)
+    step = dt * states[..., V]
+    out[..., X] += np.cos(states[..., THETA]) * step
+    out[..., Y] += np.sin(states[..., THETA]) * step
+    return out
+
+
+def cell_weights(
+    particles_xy: NDArray[np.float64],
+    cell_points: NDArray[np.float64],
+    cell_mask: NDArray[np.bool_],
+    zeta: float,
+) -> NDArray[np.float64]:
+    """004 eq. 9: w_i = sum_j exp(-|p_i - z_j|^2 / zeta^2) over the points of each filter's
+    cell. ``particles_xy`` (F, P, 2), ``cell_points`` (F, K, 2) padded, ``cell_mask`` (F, K)
+    True for real points; returns (F, P)."""
+    f32 = particles_xy.astype(np.float32)
+    z32 = cell_points.astype(np.float32)
+    d2 = (  # |p - z|^2 as one batched product; padding points pushed far away
+        np.einsum("fpc,fpc->fp", f32, f32)[:, :, None]
+        + np.where(cell_mask, np.einsum("fkc,fkc->fk", z32, z32), np.float32(1e6))[:, None, :]
+        - 2.0 * np.matmul(f32, z32.transpose(0, 2, 1))
+    )
+    kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-1.0 / (zeta * zeta)))
+    return np.asarray(kernel.sum(axis=2, dtype=np.float64), dtype=np.float64)
+
+
+def voronoi_cells(
+    points: NDArray[np.float64], centres: NDArray[np.float64], radius: float
+) -> NDArray[np.int64]:
+    """The filter (index into ``centres`` (F, 2)) whose Voronoi cell holds each point
+    (N, 2): the nearest centre, or -1 when it is farther than ``radius``."""
+    if len(centres) == 0 or len(points) == 0:
+        return np.full(len(points), -1, dtype=np.int64)
+    d, j = cKDTree(centres).query(points, k=1)
+    return np.where(d <= radius, j, -1).astype(np.int64)
+
+
+def gather_cells(
+    points: NDArray[np.float64], cell: NDArray[np.int64], n_filters: int
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Points grouped by cell into a padded (F, K, 2) array and its (F, K) mask."""
+    inside = cell >= 0
+    c = cell[inside]
+    pts = points[inside]
+    counts = np.bincount(c, minlength=n_filters)
+    k = int(counts.max()) if counts.size else 0
+    order = np.argsort(c, kind="stable")
+    c, pts = c[order], pts[order]
+    start = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    slot = np.arange(c.size) - start[c]
+    out = np.zeros((n_filters, max(k, 1), 2))
+    mask = np.zeros((n_filters, max(k, 1)), dtype=bool)
+    out[c, slot] = pts
+    mask[c, slot] = True
+    return out, mask
+
+
+def largest_eigenvalue(cov: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Largest eigenvalue of symmetric 2x2 matrices (C, 2, 2), in closed form."""
+    a, b, d = cov[:, 0, 0], cov[:, 0, 1], cov[:, 1, 1]
+    return np.asarray((a + d) / 2 + np.sqrt(((a - d) / 2) ** 2 + b * b), dtype=np.float64)
+
+
+def detect_bodies(points: NDArray[np.float64], p: UpperBodyParams) -> NDArray[np.float64]:
+    """Centres (M, 2) of the mean-shift clusters of ``points`` big enough to be a person
+    (largest covariance eigenvalue >= ``min_eigenvalue``, >= ``min_points`` points)."""
+    if len(points) < p.min_points:
+        return np.empty((0, 2))
+    ms = mean_shift(points, p.bandwidth)
+    mean, cov, cnt = cluster_covariances(points, ms.labels, ms.n_clusters)
+    ok = (cnt >= p.min_points) & (largest_eigenvalue(cov) >= p.min_eigenvalue)
+    return np.asarray(mean[ok], dtype=np.float64)
+
+
+class UpperBodyTracker:
+    """Multi-person tracker at upper-body height (004 Sec. 2.2); a ``FrameTracker`` on the
+    fused foreground points of the torso-height lasers."""
+
+    consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+
+    def __init__(self, params: UpperBodyParams | None = None) -> None:
+        self.params = params or UpperBodyParams()
+        self.rng = np.random.default_rng(self.params.seed)
+        self.bank = FilterBank(self.params.particles, 4)
+        self._stamp: float | None = None
+
+    def _foreground(self, frame: Frame) -> NDArray[np.float64]:
+        if frame.points is None:
+            raise ConfigError(
+                "the upper-body tracker needs frame points",
+                scan=frame.index,
+                hint="build frames with points and foreground (a background model)",
+            )
+        pts = frame.points.points
+        if frame.foreground is not None:
+            pts = pts[frame.foreground]
+        return np.asarray(pts, dtype=np.float64)
+
+    def _predict(self, dt: float) -> None:
+        p, bank = self.params, self.bank
+        if len(bank) == 0 or dt <= 0.0:
+            return
+        s = bank.states
+        s[:] = linear_motion(s, dt)
+        root = np.sqrt(dt)
+        shape = s.shape[:2]
+        s[..., X] += self.rng.normal(0.0, p.sigma_position * root, shape)
+        s[..., Y] += self.rng.normal(0.0, p.sigma_position * root, shape)
+        s[..., THETA] += self.rng.normal(0.0, p.sigma_heading * root, shape)
+        s[..., V] = np.clip(
+            s[..., V] + self.rng.normal(0.0, p.sigma_speed * root, shape), 0.0, p.max_speed
+        )
+
+    def update(self, frame: Frame | Detections) -> Tracks:
+        """Predict every filter to the frame's stamp, weight by eq. 9 in its Voronoi cell,
+        resample, remove dead filters and start new ones."""
+        frame = as_frame(frame)
+        p, bank = self.params, self.bank
+        dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
+        self._stamp = frame.stamp
+        pts = self._foreground(frame)
+        self._predict(dt)
+        if len(bank):
+            centres = bank.mean([X, Y])
+            cell = voronoi_cells(pts, centres, p.cell_radius)
+            cell_pts, mask = gather_cells(pts, cell, len(bank))
+            lik = cell_weights(bank.states[..., :2], cell_pts, mask, p.zeta) + p.weight_floor
+            bank.reweight(lik, self.rng, p.resample_threshold)
+            seen = mask.any(axis=1)
+            bank.last_seen[seen] = frame.stamp
+            bank.hits[seen] += 1
+            self._cull(frame.stamp)
+        self._births(pts, frame.stamp)
+        return self._report(frame)
+
+    def _cull(self, stamp: float) -> None:
+        p, bank = self.params, self.bank
+        alive = stamp - bank.last_seen <= p.miss_time
+        centres = bank.mean([X, Y])
+        if len(bank) > 1:
+            pairs = cKDTree(centres).query_pairs(p.merge_distance, output_type="ndarray")
+            for i, j in pairs:  # few pairs; remove the younger (later-born) filter
+                young = j if (bank.born[j], bank.ids[j]) > (bank.born[i], bank.ids[i]) else i
+                alive[young] = False
+        bank.keep(alive)
+
+    def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
+        p, bank = self.params, self.bank
+        if len(pts) == 0:
+            return
+        if len(bank):
+            d, _ = cKDTree(bank.mean([X, Y])).query(pts, k=1)
+            pts = pts[d > p.birth_exclusion]
+        found = detect_bodies(pts, p)
+        if len(found) == 0:
+            return
+        # one birth per spot even when clusters lie close together
+        keep: list[int] = []
+        for i in range(len(found)):
+            if all(np.hypot(*(found[i] - found[j])) > p.birth_exclusion for j in keep):
+                keep.append(i)
+        found = found[keep]
+        n, k = p.particles, len(found)
+        init = np.empty((k, n, 4))
+        init[..., X] = found[:, None, 0] + self.rng.normal(0.0, 0.05, (k, n))
+        init[..., Y] = found[:, None, 1] + self.rng.normal(0.0, 0.05, (k, n))
+        init[..., THETA] = self.rng.uniform(-np.pi, np.pi, (k, n))
+        init[..., V] = self.rng.uniform(0.0, p.initial_speed, (k, n))
+        bank.add(init, stamp)
+
+    def _report(self, frame: Frame) -> Tracks:
+        bank = self.bank
+        tracks = []
+        if len(bank):
+            centres = bank.mean([X, Y])
+            vel = np.einsum(
+                "fp,fpc->fc",
+                bank.weights,
+                np.stack(
+                    [
+                        bank.states[..., V] * np.cos(bank.states[..., THETA]),
+                        bank.states[..., V] * np.sin(bank.states[..., THETA]),
+                    ],
+                    axis=-1,
+                ),
+            )
+            d = bank.states[..., :2] - centres[:, None, :]
+            cov = np.einsum("fp,fpa,fpb->fab", bank.weights, d, d)
+            for f in np.flatnonzero(bank.hits >= self.params.confirm_scans):
+                tracks.append(Track(int(bank.ids[f]), "person", centres[f], vel[f], cov[f]))
+        return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+
+__all__ = [
+    "UpperBodyParams",
+    "UpperBodyTracker",
+    "cell_weights",
+    "detect_bodies",
+    "gather_cells",
+    "largest_eigenvalue",
+    "linear_motion",
+    "voronoi_cells",
+]

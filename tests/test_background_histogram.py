@@ -1,0 +1,134 @@
+"""The per-beam histogram background of 004 Sec. 2."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from laserpeople.background.beam_histogram import (
+    BackgroundModelError,
+    BeamHistogramBackground,
+    BeamHistogramParams,
+)
+from laserpeople.frame import Frame
+from laserpeople.scan import PointSet, Pose2D, Scan
+
+
+def _scan(ranges: np.ndarray, stamp: float, sensor: str = "a", index: int = 0) -> Scan:
+    return Scan(
+        stamp,
+        -math.pi / 2,
+        math.pi / 180,
+        ranges,
+        0.05,
+        30.0,
+        sensor=sensor,
+        pose=Pose2D(1.0, 2.0, 0.3),
+        index=index,
+    )
+
+
+def _walls(n: int = 181) -> np.ndarray:
+    return np.linspace(4.0, 6.0, n)
+
+
+def _frame(scans: list[Scan]) -> Frame:
+    return Frame(
+        scans[0].index,
+        scans[0].stamp,
+        tuple(scans),
+        "fused",
+        "world",
+        points=PointSet.from_scans(scans, "world"),
+    )
+
+
+def test_walls_are_background_and_a_person_is_foreground() -> None:
+    rng = np.random.default_rng(0)
+    learn = [_scan(_walls() + rng.normal(0, 0.01, 181), 0.1 * k) for k in range(20)]
+    model = BeamHistogramBackground().learn_scans(learn)
+    test = _walls() + rng.normal(0, 0.01, 181)
+    test[90:96] = 2.0  # a person 2 m in front of the laser
+    test[10] = np.nan  # no return
+    fg = model.foreground_of(_scan(test, 5.0))
+    assert np.flatnonzero(fg).tolist() == list(range(90, 96))
+
+
+def test_tolerance_and_minimum_fraction() -> None:
+    p = BeamHistogramParams(bin_width=0.05, tolerance=0.10, min_fraction=0.2)
+    walls = _walls()
+    learn = [_scan(walls, float(k)) for k in range(10)]
+    # beam 5 saw something at 1 m in 1 of 10 scans: below min_fraction, not static
+    learn[3] = _scan(np.where(np.arange(181) == 5, 1.0, walls), 3.0)
+    model = BeamHistogramBackground(p).learn_scans(learn)
+    probe = walls.copy()
+    probe[0] += 0.07  # within the 0.10 m tolerance of its wall bin
+    probe[1] += 0.25  # beyond it
+    probe[5] = 1.0
+    fg = model.foreground_of(_scan(probe, 11.0))
+    assert not fg[0] and fg[1] and fg[5]
+    assert fg.sum() == 2
+
+
+def test_learns_from_the_first_seconds_of_frames_then_stops() -> None:
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    walls = _walls()
+    for k in range(11):  # 0.0 .. 1.0 s
+        out = model(_frame([_scan(walls, 0.1 * k, index=k)]))
+        assert out.foreground is not None
+    assert not model.learning
+    probe = walls.copy()
+    probe[40:44] = 1.5
+    out = model(_frame([_scan(probe, 2.0, index=20)]))
+    assert out.foreground is not None and out.points is not None
+    assert out.foreground.sum() == 4
+    assert set(out.points.beams[out.foreground].tolist()) == {40, 41, 42, 43}
+    # frozen: the person is not learned into the background
+    assert model.counts("a")[40].sum() == 11
+
+
+def test_save_load_round_trip_without_pickle(tmp_path: Path) -> None:
+    rng = np.random.default_rng(1)
+    model = BeamHistogramBackground().learn_scans(
+        [_scan(_walls() + rng.normal(0, 0.01, 181), k * 0.1, s) for k in range(5) for s in "ab"]
+    )
+    path = model.save(tmp_path / "bg.npz")
+    with np.load(path, allow_pickle=False) as data:
+        assert data["meta"].dtype.kind == "U"
+    again = BeamHistogramBackground.load(path)
+    assert again.sensors == ("a", "b")
+    for s in "ab":
+        assert np.array_equal(again.counts(s), model.counts(s))
+    probe = _scan(np.where(np.arange(181) < 20, 1.0, _walls()), 9.0, "b")
+    assert np.array_equal(again.foreground_of(probe), model.foreground_of(probe))
+
+
+def test_bad_files_and_unknown_lasers(tmp_path: Path) -> None:
+    bad = tmp_path / "x.npz"
+    np.savez(bad, meta=np.array('{"format": "other"}'))
+    with pytest.raises(BackgroundModelError, match="not a laserpeople background"):
+        BeamHistogramBackground.load(bad)
+    with pytest.raises(BackgroundModelError, match="cannot read"):
+        BeamHistogramBackground.load(tmp_path / "missing.npz")
+    model = BeamHistogramBackground().learn_scans([_scan(_walls(), 0.0)])
+    with pytest.raises(BackgroundModelError, match="no laser 'zz'"):
+        model.counts("zz")
+    with pytest.raises(BackgroundModelError, match=r"saved as \.npz"):
+        model.save(tmp_path / "bg.json")
+
+
+def test_static_time_marks_walls_only() -> None:
+    walls = _walls()
+    model = BeamHistogramBackground()
+    for k in range(25):
+        model(_frame([_scan(walls, 0.1 * k, index=k)]))
+    scan = _scan(walls, 3.0, index=30)
+    model(_frame([scan]))
+    wall_pts = scan.points("world")[[20, 100]]
+    free = scan.pose.transform_points(np.array([[1.0, 0.0]]))  # type: ignore[union-attr]
+    t = model.static_time(np.vstack([wall_pts, free]))
+    assert t[0] > 1.9 and t[1] > 1.9
+    assert t[2] == 0.0

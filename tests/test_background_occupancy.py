@@ -1,0 +1,146 @@
+"""The decaying occupancy grid of static returns and the ROS map loader."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from laserpeople.background import StaticWorldModel
+from laserpeople.background.occupancy import (
+    MapFileError,
+    OccupancyGrid,
+    OccupancyParams,
+    frame_from_scan,
+    load_ros_map,
+)
+from laserpeople.scan import Scan
+
+P = OccupancyParams()
+POST = np.array([[2.03, 1.07]])  # a return that stays put
+
+
+def test_evidence_and_static_time_by_hand() -> None:
+    """Hits at 0, 0.1, 0.2 s: e = 1, 1 + e^-0.05 = 1.951 (< 2, free), 1 + 1.951 e^-0.05 =
+    2.856 (occupied since 0.2 s). Hit every 0.1 s to 5.2 s: static for 5.0 s."""
+    g = OccupancyGrid()
+    g.learn(POST, 0.0)
+    g.learn(POST, 0.1)
+    assert g.static_time(POST) == pytest.approx([0.0])
+    g.learn(POST, 0.2)
+    assert g.static_time(POST) == pytest.approx([0.0])  # became occupied just now
+    for k in range(3, 53):
+        g.learn(POST, 0.1 * k)
+    assert g.static_time(POST) == pytest.approx([5.0])
+    i, j = (np.floor(POST[0] / P.resolution).astype(int) - g._origin).tolist()
+    assert g._evidence[i, j] == pytest.approx(P.max_evidence)
+
+
+def test_cell_falls_free_after_the_decay() -> None:
+    """From the cap e = 5, free when 5 exp(-dt / 2) < 2: dt > 2 ln 2.5 = 1.833 s."""
+    g = OccupancyGrid()
+    for k in range(40):
+        g.learn(POST, 0.1 * k)
+    last = 3.9
+    far = np.array([[9.0, 9.0]])
+    g.learn(far, last + 1.8)  # advances the clock only
+    assert g.static_time(POST)[0] == pytest.approx(1.8 + 3.7)  # occupied since 0.2 s
+    g.learn(far, last + 1.85)
+    assert g.static_time(POST)[0] == 0.0
+    assert 2.0 * math.log(2.5) == pytest.approx(1.8326, abs=1e-4)
+
+
+def test_neighbourhood_and_unknown_places() -> None:
+    g = OccupancyGrid()
+    for k in range(30):
+        g.learn(POST, 0.1 * k)
+    near = POST + np.array([[0.1, 0.0]])  # the next cell: within the neighbourhood of 1 cell
+    far = POST + np.array([[0.35, 0.0]])
+    out = g.static_time(np.vstack([POST, near, far, [[-50.0, 40.0]]]))
+    assert out[0] == pytest.approx(2.7) and out[1] == pytest.approx(2.7)
+    assert out[2] == 0.0 and out[3] == 0.0
+    tight = OccupancyGrid(OccupancyParams(neighbourhood=0))
+    for k in range(30):
+        tight.learn(POST, 0.1 * k)
+    assert tight.static_time(near)[0] == 0.0
+
+
+def test_walker_trail_never_becomes_static_for_long() -> None:
+    g = OccupancyGrid()
+    worst = 0.0
+    for k in range(100):  # 1 m/s along x, a return every 0.1 s
+        pos = np.array([[0.1 * k, 0.0]])
+        g.learn(pos, 0.1 * k)
+        worst = max(worst, float(g.static_time(pos)[0]))
+    assert worst < 2.0
+
+
+def test_grid_grows_and_keeps_what_it_learnt() -> None:
+    g = OccupancyGrid()
+    for k in range(30):
+        g.learn(POST, 0.1 * k)
+    g.learn(np.array([[-40.0, 55.0]]), 3.0)  # far away: the arrays grow
+    assert g.static_time(POST)[0] == pytest.approx(2.8)
+
+
+def test_max_range_skips_far_returns() -> None:
+    g = OccupancyGrid(OccupancyParams(max_range=5.0))
+    for k in range(30):
+        g.learn(np.array([[6.0, 0.0]]), 0.1 * k, sensor=np.zeros(2))
+    assert g.static_time(np.array([[6.0, 0.0]]))[0] == 0.0
+
+
+def test_frame_call_sets_foreground() -> None:
+    params = OccupancyParams(background_time=1.0)
+    g: StaticWorldModel = OccupancyGrid(params)
+    for k in range(30):
+        ranges = np.full(11, 3.0)
+        ranges[5] = 1.0 + 0.1 * k  # one beam on something moving away
+        scan = Scan(
+            stamp=0.1 * k, index=k, angle_min=-0.5, angle_increment=0.1, ranges=ranges,
+            range_max=10.0,
+        )  # fmt: skip
+        frame = g(frame_from_scan(scan))
+    assert frame.foreground is not None and frame.points is not None
+    assert frame.foreground.tolist() == [i == 5 for i in range(11)]
+
+
+def _write_map(tmp_path, negate: int = 0, image: str = "map.pgm"):  # type: ignore[no-untyped-def]
+    pixels = np.full((4, 5), 254, dtype=np.uint8)  # free
+    pixels[0, 0] = 0  # top-left obstacle: the largest y, the smallest x
+    pixels[3, 4] = 0  # bottom-right obstacle
+    if negate:
+        pixels = 255 - pixels
+    Image.fromarray(pixels).save(tmp_path / image)
+    yaml = tmp_path / "map.yaml"
+    yaml.write_text(
+        f"image: {image}\nresolution: 0.5\norigin: [-1.0, 2.0, 0.0]\n"
+        f"negate: {negate}\noccupied_thresh: 0.65\nfree_thresh: 0.196  # comment\n"
+    )
+    return yaml
+
+
+@pytest.mark.parametrize(("negate", "image"), [(0, "map.pgm"), (1, "map.png")])
+def test_ros_map_loading(tmp_path, negate: int, image: str) -> None:  # type: ignore[no-untyped-def]
+    m = load_ros_map(_write_map(tmp_path, negate, image))
+    assert m.occupied.shape == (4, 5) and m.occupied.sum() == 2
+    # pixel (row 0, col 0) covers x in [-1, -0.5], y in [3.5, 4.0]
+    # pixel (row 3, col 4) covers x in [1, 1.5], y in [2, 2.5]
+    pts = np.array([[-0.75, 3.75], [1.25, 2.25], [0.25, 3.0], [10.0, 10.0]])
+    assert m.contains_obstacle(pts).tolist() == [True, True, False, False]
+    g = OccupancyGrid(prior=m)
+    assert g.static_time(pts).tolist()[:3] == [math.inf, math.inf, 0.0]
+
+
+def test_ros_map_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(MapFileError):
+        load_ros_map(tmp_path / "none.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("image: missing.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n")
+    with pytest.raises(MapFileError, match="cannot read the map image"):
+        load_ros_map(bad)
+    bad.write_text("image: missing.pgm\n")
+    with pytest.raises(MapFileError, match="lacks resolution, origin"):
+        load_ros_map(bad)

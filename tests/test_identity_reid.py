@@ -1,0 +1,128 @@
+"""Colour re-identification after crossings (002 Sec. 2) and the simulated camera."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.frame import Frame
+from laserpeople.identity.appearance import hue_histogram
+from laserpeople.identity.reid import ColourReidentifier
+from laserpeople.sim.camera import CameraParams, SimulatedCamera
+from laserpeople.tracks import Track, Tracks
+
+HUES = np.array([0.0, 240.0])  # person 0 red, person 1 blue
+
+
+def _truth_xy(t: float) -> np.ndarray:
+    """Two people 6 m apart walk through each other along x (crossing at t = 5 s) and on."""
+    x = -3.0 + 0.6 * t
+    return np.array([[x, 2.0 + 0.2 * np.exp(-((t - 5) ** 2))], [-x, 2.0]])
+
+
+def _run(
+    track_ids: Callable[[float], tuple[int, int]],
+    group_window: tuple[float, float] | None = None,
+    seconds: float = 12.0,
+) -> tuple[list[Tracks], list[np.ndarray], ColourReidentifier]:
+    cam = SimulatedCamera(CameraParams(miss_probability=0.0), seed=3)
+    reid = ColourReidentifier()
+    outs, truths = [], []
+    for k in range(int(seconds * 10)):
+        t = k / 10
+        xy = _truth_xy(t)
+        obs = cam.observe(t, np.array([0, 1]), xy, HUES)
+        ids = track_ids(t)
+        grouped = group_window is not None and group_window[0] <= t < group_window[1]
+        tracks: tuple[Track, ...]
+        if grouped:
+            tracks = (Track(99, "group", xy.mean(axis=0), np.zeros(2), np.eye(2), 2, members=ids),)
+        else:
+            tracks = tuple(
+                Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01) for i in range(2)
+            )
+        frame = Frame(k, t, (), "synthetic", "world", appearance=obs)
+        outs.append(reid.update(Tracks(t, k, tracks), frame))
+        truths.append(xy)
+    return outs, truths, reid
+
+
+def _identity_of_person(out: Tracks, xy: np.ndarray, person: int) -> int:
+    d = [np.linalg.norm(t.position - xy[person]) for t in out.of_kind("person")]
+    return out.of_kind("person")[int(np.argmin(d))].track_id
+
+
+def test_swapped_tracks_get_their_identities_back() -> None:
+    """The tracker swaps its ids while the two cross; the stage restores them."""
+    outs, truths, reid = _run(lambda t: (0, 1) if t < 5.0 else (1, 0))
+    before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
+    after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
+    assert after == before
+    assert len(reid.reassignments) == 1
+    # the learnt colours peak where the clothes are: red bin 0, blue bin 4
+    assert reid.models[before[0]].mean.argmax() == 0
+    assert reid.models[before[1]].mean.argmax() == 4
+
+
+def test_without_a_swap_nothing_changes() -> None:
+    outs, truths, _ = _run(lambda t: (0, 1))
+    for k in (20, len(outs) - 1):
+        assert [_identity_of_person(outs[k], truths[k], p) for p in (0, 1)] == [0, 1]
+
+
+def test_new_track_ids_after_the_crossing_take_the_old_identities() -> None:
+    """A tracker that loses both people in the crossing and starts new tracks (as the leg
+    MHT may): the new tracks are candidates and get the identities back by colour."""
+    outs, truths, _ = _run(lambda t: (0, 1) if t < 5.0 else (8, 7))
+    before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
+    after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
+    assert after == before
+
+
+def test_a_group_track_holds_its_members_until_it_splits() -> None:
+    """A CSA cluster reported as one group track between 4 and 6 s; after it the tracker
+    hands the ids out the wrong way round, and colour fixes it."""
+    outs, truths, reid = _run(lambda t: (0, 1) if t < 5.0 else (1, 0), group_window=(4.0, 6.0))
+    assert any(o.of_kind("group") and o.of_kind("group")[0].members for o in outs)
+    before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
+    after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
+    assert after == before and len(reid.reassignments) == 1
+
+
+def test_camera_observations_show_the_clothing_hue() -> None:
+    cam = SimulatedCamera(CameraParams(lighting_std=0.0, miss_probability=0.0), seed=0)
+    obs = cam.observe(0.0, np.array([4, 5]), np.array([[0.0, 0.0], [5.0, 0.0]]), HUES)
+    assert [o.person_hint for o in obs] == [4, 5]
+    for o, hue in zip(obs, HUES, strict=True):
+        hist = hue_histogram(o.hues, 6)
+        assert hist.argmax() == int(hue // 60) and hist.max() > 0.7
+        assert np.linalg.norm(o.position - (0.0 if hue == 0 else 5.0) * np.array([1, 0])) < 0.5
+
+
+def test_camera_misses_leaks_and_lighting() -> None:
+    cam = SimulatedCamera(CameraParams(miss_probability=0.5), seed=1)
+    seen = sum(
+        len(cam.observe(float(k), np.array([0]), np.zeros((1, 2)), HUES[:1])) for k in range(400)
+    )
+    assert 150 < seen < 250
+    # a neighbour at 0.1 m leaks into the region
+    close = SimulatedCamera(CameraParams(miss_probability=0.0, lighting_std=0.0), seed=2)
+    o = close.observe(0.0, np.array([0, 1]), np.array([[0.0, 0.0], [0.1, 0.0]]), HUES)[0]
+    assert hue_histogram(o.hues, 6)[4] > 0.2
+    # strong lighting shifts the mean hue of a yellow shirt
+    params = CameraParams(miss_probability=0.0, lighting_std=0.4, clutter_fraction=0.0)
+    shifts = []
+    for seed in range(5):
+        c = SimulatedCamera(params, seed=seed)
+        h = c.observe(0.0, np.array([0]), np.zeros((1, 2)), np.array([60.0]))[0].hues
+        shifts.append(abs(np.rad2deg(np.angle(np.mean(np.exp(1j * h)))) - 60.0))
+    assert max(shifts) > 3.0
+    assert replace(params, lighting_std=0.0).lighting_std == 0.0
+
+
+def test_camera_rejects_bad_parameters() -> None:
+    with pytest.raises(ValueError):
+        CameraParams(miss_probability=1.5)

@@ -1,0 +1,223 @@
+"""The Cluster Sorting Algorithm (002 Sec. 2)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pytest
+
+from laserpeople.frame import Frame
+from laserpeople.scan import PointSet
+from laserpeople.tracking.csa import (
+    ClusterSortingTracker,
+    CSAParams,
+    leader_clusters,
+    split_ready,
+    viterbi_step,
+)
+
+LOG_2PI = math.log(2 * math.pi)
+
+
+def test_viterbi_step_by_hand() -> None:
+    """Two old estimates at x = 0 and x = 1 (position variance 0.01, R = 0.01, so
+    S = 0.02 I and the Kalman gain on position is 1/2), path scores 0 and -1.
+
+    - z0 = (0.1, 0) is only in the gate of estimate 0: d2 = 0.5 -> position 0.05.
+    - z1 = (0.9, 0) is only in the gate of estimate 1: d2 = 0.5 -> position 0.95,
+      score -1 - 0.25 = -1.25.
+    - z2 = (0.55, 0) is in both gates (d2 = 15.125 and 10.125 < 16). Path scores:
+      0 - 7.5625 = -7.5625 via estimate 0, -1 - 5.0625 = -6.0625 via estimate 1, so the
+      Viterbi step continues estimate 1 although its old score is worse; position
+      1 + (0.55 - 1) / 2 = 0.775.
+    - z3 = (5, 5) is in no gate.
+    Scores are shifted so that z0's (-0.25 + const) is 0: [0, -1, -5.8125]. Position
+    variance after the update: (1/2)^2 0.01 + (1/2)^2 0.01 = 0.005.
+    """
+    means = np.array([[0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]])
+    covs = np.array([np.diag([0.01, 0.01, 1.0, 1.0])] * 2)
+    z = np.array([[0.1, 0.0], [0.9, 0.0], [0.55, 0.0], [5.0, 5.0]])
+    step = viterbi_step(means, covs, np.array([0.0, -1.0]), z, 0.01, 16.0, 10.0)
+    assert step.selected.tolist() == [True, True, True, False]
+    assert step.predecessor.tolist() == [0, 1, 1]
+    assert step.means[:, 0] == pytest.approx([0.05, 0.95, 0.775])
+    assert step.means[:, 1:] == pytest.approx(np.zeros((3, 3)))
+    assert step.scores == pytest.approx([0.0, -1.0, -5.8125])
+    assert step.covs[:, 0, 0] == pytest.approx([0.005] * 3)
+
+
+def test_viterbi_euclidean_cap_closes_the_gate() -> None:
+    means = np.zeros((1, 4))
+    covs = np.diag([10.0, 10.0, 1.0, 1.0])[None]
+    z = np.array([[0.5, 0.0], [1.5, 0.0]])
+    step = viterbi_step(means, covs, np.zeros(1), z, 0.01, 9.21, 1.0)
+    assert step.selected.tolist() == [True, False]
+
+
+def test_leader_clusters_follow_002() -> None:
+    # the first estimate opens a sub-cluster; 1.4 m from it joins, 1.6 m does not, and the
+    # third point (2.9 m) is within 1.5 m of the second *unassigned* one, not of the first
+    pts = np.array([[0.0, 0.0], [1.4, 0.0], [1.6, 0.0], [2.9, 0.0], [10.0, 0.0]])
+    assert leader_clusters(pts, 1.5).tolist() == [0, 0, 1, 1, 2]
+
+
+def test_split_conditions() -> None:
+    p = CSAParams()
+    three = np.array([[0.0, 0.0], [0.3, 0.0], [3.5, 0.0], [3.6, 0.2], [0.0, 3.5], [0.2, 3.4]])
+    ok, labels = split_ready(three, 3, p)
+    assert ok and labels.max() == 2
+    # condition 1: number of sub-clusters must equal the number of people
+    assert not split_ready(three, 2, p)[0]
+    # condition 2: every pair more than 3.0 m apart
+    close = three.copy()
+    close[4:] = [[0.0, 2.5], [0.2, 2.4]]
+    assert not split_ready(close, 3, p)[0]
+
+
+def _blob(centre: tuple[float, float], k: int) -> np.ndarray:
+    """Ten points on two legs of a person at ``centre`` (legs 0.2 m apart)."""
+    ang = np.linspace(0, np.pi, 5) + 0.1 * k
+    out = []
+    for dx in (-0.1, 0.1):
+        out.append(np.c_[centre[0] + dx + 0.05 * np.cos(ang), centre[1] - 0.05 * np.sin(ang)])
+    return np.concatenate(out)
+
+
+def _frames(
+    paths: Sequence[Sequence[tuple[float, float, float]]],
+    seconds: float,
+    hidden: dict[int, tuple[float, float]] | None = None,
+) -> list[Frame]:
+    """Frames at 10 Hz of people moving along piecewise-linear (t, x, y) paths; person i is
+    not seen during ``hidden[i] = (t0, t1)``."""
+    frames = []
+    for k in range(int(seconds * 10) + 1):
+        t = k / 10
+        pts = []
+        for i, path in enumerate(paths):
+            if hidden and i in hidden and hidden[i][0] <= t < hidden[i][1]:
+                continue
+            ts = [q[0] for q in path]
+            x = np.interp(t, ts, [q[1] for q in path])
+            y = np.interp(t, ts, [q[2] for q in path])
+            pts.append(_blob((float(x), float(y)), k))
+        xy = np.concatenate(pts)
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        frames.append(Frame(k, t, (), "synthetic", "world", None, ps, np.ones(len(xy), dtype=bool)))
+    return frames
+
+
+def _run(frames: list[Frame]) -> tuple[ClusterSortingTracker, list]:
+    csa = ClusterSortingTracker()
+    return csa, [csa.update(f) for f in frames]
+
+
+def test_person_person_merge_and_split() -> None:
+    a = [(0, -2.5, 3.0), (2, -0.25, 3.0), (4, -0.25, 3.0), (6, -2.5, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.25, 3.0), (4, 0.25, 3.0), (6, 2.5, 3.0)]
+    csa, out = _run(_frames([a, b], 7.0))
+    kinds = [e.kind for e in csa.events]
+    assert kinds == ["merge person+person", "split"]
+    assert csa.events[0].members == (0, 1)
+    mid = out[35]  # t = 3.5 s: one cluster that remembers both people
+    groups = mid.of_kind("group")
+    assert len(groups) == 1 and groups[0].members == (0, 1)
+    assert not mid.of_kind("person")
+    end = out[-1].of_kind("person")
+    assert sorted(t.track_id for t in end) == [0, 1] and not out[-1].of_kind("group")
+    # the split happens only once the two are more than 3.0 m apart
+    split_t = csa.events[1].stamp
+    assert 2 * (0.25 + (split_t - 4.0) / 2 * 2.25) > 3.0 - 0.4
+
+
+def test_person_cluster_and_cluster_cluster_merges() -> None:
+    # a and b meet at (0, 3); c joins them (person + cluster)
+    a = [(0, -2.5, 3.0), (2, -0.25, 3.0), (6, -0.25, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.25, 3.0), (6, 0.25, 3.0)]
+    c = [(0, 0.0, 0.0), (2, 0.0, 0.0), (4, 0.0, 2.6), (6, 0.0, 2.6)]
+    csa, _ = _run(_frames([a, b, c], 6.0))
+    kinds = [e.kind for e in csa.events]
+    assert kinds == ["merge person+person", "merge person+cluster"]
+    assert csa.events[-1].members == (0, 1, 2)
+    assert list(csa.clusters.values()) == [(0, 1, 2)]
+    # two pairs, each merged, then the pairs meet (cluster + cluster)
+    p1 = [(0, -4.0, 3.0), (2, -4.0, 2.7), (4, -0.5, 2.7), (6, -0.5, 2.7)]
+    p2 = [(0, -4.0, 0.0), (2, -4.0, 2.3), (4, -0.5, 2.3), (6, -0.5, 2.3)]
+    q1 = [(0, 4.0, 3.0), (2, 4.0, 2.7), (4, 0.5, 2.7), (6, 0.5, 2.7)]
+    q2 = [(0, 4.0, 0.0), (2, 4.0, 2.3), (4, 0.5, 2.3), (6, 0.5, 2.3)]
+    csa, _ = _run(_frames([p1, p2, q1, q2], 6.0))
+    kinds = [e.kind for e in csa.events]
+    assert kinds.count("merge person+person") == 2
+    assert kinds[-1] == "merge cluster+cluster"
+    assert csa.events[-1].members == (0, 1, 2, 3)
+
+
+def test_crossing3_end_to_end_with_colour() -> None:
+    """002 Sec. 3 on the simulator: the CSA loses nobody on crossing-3, and with the colour
+    stage all three people keep their identity after the crossing for permutations where
+    the laser alone swaps them."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from crossing_common import laser_runs, reidentify, score
+
+    for variant in ("crossing-3-p1", "crossing-3-p3"):
+        case = laser_runs(variant, 0, ("csa",))
+        tracks = case.tracks["csa"]
+        # no track lost: 3 people at the end, and the cluster held all three
+        assert len(tracks[-1].of_kind("person")) == 3
+        assert max(len(g.members) for t in tracks for g in t.of_kind("group")) == 3
+        off = score(case, tracks)
+        on = score(case, reidentify(case, "csa"))
+        assert on.correct == (3,), variant
+        assert off.correct != (3,), variant  # the laser alone does swap here
+
+
+def test_a_person_lost_in_the_cluster_is_adopted_at_the_split() -> None:
+    """002 Sec. 4: a person who walks away unseen (in the others' shadow) is lost by the VBA
+    and found again as a new target. The cluster, short of one sub-cluster, splits with that
+    target once all are 3 m apart, and the target takes the cluster's third person."""
+    a = [(0, -2.5, 3.0), (2, -0.3, 3.0), (5, -0.3, 3.0), (7, -2.2, 3.0), (9, -2.2, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.3, 3.0), (5, 0.3, 3.0), (7, 2.2, 3.0), (9, 2.2, 3.0)]
+    c = [(0, 0.0, 0.5), (2, 0.0, 2.5), (4, 0.0, 2.5), (6, 0.0, -0.5), (9, 0.0, -0.5)]
+    frames = _frames([a, b, c], 9.0, hidden={2: (4.0, 5.5)})
+    csa = ClusterSortingTracker()
+    out = [csa.update(f) for f in frames]
+    assert [e.kind for e in csa.events][-1] == "split"
+    assert csa.events[-1].members == (0, 1, 2)
+    assert sorted(t.track_id for t in out[-1].of_kind("person")) == [0, 1, 2]
+    # without the extension the cluster never splits
+    plain = ClusterSortingTracker(CSAParams(adopt_escaped=False))
+    last = [plain.update(f) for f in frames][-1]
+    assert last.of_kind("group") and "split" not in [e.kind for e in plain.events]
+
+
+def test_leg_detections_are_accepted_as_foreground() -> None:
+    """Until commands feed frames, `laserpeople track --tracker csa` hands the CSA leg
+    detections: their segments' points (sensor frame, moved to the world with the pose)."""
+    from laserpeople.scan import Pose2D, Segment
+    from laserpeople.tracking.csa import frame_from_detections
+    from laserpeople.tracks import Detections
+
+    pts = _blob((2.0, 0.0), 0)
+    segs = (Segment(0, 5, np.arange(5), pts[:5]), Segment(5, 10, np.arange(5, 10), pts[5:]))
+    det = Detections(
+        1.0,
+        3,
+        np.array([[1.9, 0.0], [2.1, 0.0]]),
+        np.zeros((2, 2, 2)),
+        np.ones(2),
+        "sensor",
+        Pose2D(1.0, 0.0, np.pi / 2),
+        segs,
+    )
+    frame = frame_from_detections(det)
+    assert frame.frame == "world" and frame.points is not None
+    assert frame.points.points[:, 0] == pytest.approx(1.0 - pts[:, 1])
+    assert frame.points.points[:, 1] == pytest.approx(pts[:, 0])
+    tracks = ClusterSortingTracker().update(det)
+    (person,) = tracks.of_kind("person")
+    assert person.position == pytest.approx([1.0, 2.0], abs=0.1)

@@ -1,0 +1,496 @@
+"""The group tracker (000 Sec. 4): every equation against hand-computed values, label
+naming on split/merge, and scripted scenes run through the tracker."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.clustering import single_linkage
+from laserpeople.evaluation.clustering import ClusteringError, GroupSizeError, group_size_errors
+from laserpeople.frame import Frame
+from laserpeople.scan import PointSet
+from laserpeople.tracking.groups import GroupMHTTracker, GroupObservations, GroupTrackerParams
+from laserpeople.tracking.groups.interaction import Event, GroupLabelModel, enumerate_models
+from laserpeople.tracking.groups.labels import (
+    format_labels,
+    merge_labels,
+    prune_labels,
+    split_labels,
+)
+from laserpeople.tracking.groups.model import (
+    GroupModel,
+    GroupPayload,
+    directed_hausdorff,
+    group_distance_sq,
+    initial_state,
+    kalman_update,
+    kalman_update_batch,
+    merge_log_likelihood,
+    merge_state,
+    min_average_hausdorff,
+    model_log_prior,
+    observation_log_likelihood,
+    split_state,
+)
+from laserpeople.tracking.mht.tracktree import TrackNode
+
+# ---------------------------------------------------------------- observations (Sec. 4.1)
+
+
+def _brute_single_linkage(points: np.ndarray, d: float) -> np.ndarray:
+    n = len(points)
+    adj = np.linalg.norm(points[:, None] - points[None], axis=2) <= d
+    labels = -np.ones(n, dtype=int)
+    k = 0
+    for s in range(n):
+        if labels[s] >= 0:
+            continue
+        stack = [s]
+        labels[s] = k
+        while stack:
+            i = stack.pop()
+            for j in np.nonzero(adj[i] & (labels < 0))[0]:
+                labels[j] = k
+                stack.append(j)
+        k += 1
+    return labels
+
+
+def test_single_linkage_matches_all_pairs_reference() -> None:
+    rng = np.random.default_rng(0)
+    for _ in range(100):
+        n = int(rng.integers(0, 60))
+        pts = rng.uniform(0, 6, (n, 2))
+        d = float(rng.uniform(0.2, 1.5))
+        np.testing.assert_array_equal(single_linkage(pts, d), _brute_single_linkage(pts, d))
+
+
+def test_single_linkage_chains_links_and_numbers_by_first_point() -> None:
+    pts = np.array([[0, 0], [5, 0], [1, 0], [5.5, 0], [2.0, 0], [3.2, 0]])
+    # points exactly d_P apart are not linked ("closer than"), so a chain 1 m apart needs more
+    np.testing.assert_array_equal(single_linkage(pts, 1.05), [0, 1, 0, 1, 0, 2])
+    np.testing.assert_array_equal(single_linkage(pts, 1.0), [0, 1, 2, 1, 3, 4])
+    with pytest.raises(ValueError):
+        single_linkage(pts, 0.0)
+
+
+def legs(centre: tuple[float, float], n: int = 4) -> np.ndarray:
+    """Points of one person: two legs 0.3 m apart, ``n`` points on each (radius 0.06 m)."""
+    out = []
+    for dx in (-0.15, 0.15):
+        ang = np.linspace(-1.0, 1.0, n)
+        out.append(
+            np.column_stack([centre[0] + dx + 0.06 * np.sin(ang), centre[1] - 0.06 * np.cos(ang)])
+        )
+    return np.concatenate(out)
+
+
+def test_observations_count_human_sized_blobs_fig12() -> None:
+    """Fig. 12: four people within d_P of each other are one cluster of four blobs (the
+    legs of one person are within d_hs); a pair 2.6 m away is a second cluster, and, as
+    in Fig. 12 (right), counts as one blob because the two stand closer than d_hs."""
+    people = [(0.0, 0.0), (0.8, 0.0), (1.6, 0.0), (2.4, 0.0), (5.0, 0.0), (5.7, 0.0)]
+    pts = np.concatenate([legs(p) for p in people])
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3)
+    assert len(obs) == 2
+    np.testing.assert_array_equal(obs.n_hs, [4.0, 1.0])
+    np.testing.assert_array_equal(obs.sizes, [32, 16])
+    np.testing.assert_allclose(obs.centroids[0], [1.2, pts[:32, 1].mean()])
+    np.testing.assert_array_equal(np.sort(obs.cluster_members(1)), np.arange(32, 48))
+
+
+# ---------------------------------------------------------------- equations of Sec. 4.2
+
+
+def test_eq16_initial_state() -> None:
+    c0 = np.diag([0.01, 0.01, 0.25, 0.25, 0.04])
+    mean, cov, contour = initial_state(np.array([[1.0, 2.0], [3.0, 2.0], [2.0, 5.0]]), 2.0, c0)
+    np.testing.assert_allclose(mean, [2.0, 3.0, 0.0, 0.0, 2.0])
+    np.testing.assert_allclose(cov, c0)
+    np.testing.assert_allclose(contour, [[-1, -1], [1, -1], [0, 2]])
+
+
+def test_eq17_18_merge_state() -> None:
+    mi = np.array([0.0, 0.0, 1.0, 0.0, 2.0])
+    mj = np.array([4.0, 0.0, 0.0, 1.0, 3.0])
+    ci = np.diag([1.0, 1.0, 1.0, 1.0, 0.5])
+    cj = np.diag([2.0, 2.0, 2.0, 2.0, 0.25])
+    mean, cov = merge_state(mi, ci, 1, mj, cj, 3)  # w_i = 1/4, w_j = 3/4
+    np.testing.assert_allclose(mean, [3.0, 0.0, 0.25, 0.75, 5.0])
+    expected = (1 / 16) * 1.0 + (9 / 16) * 2.0
+    np.testing.assert_allclose(np.diag(cov), [expected] * 4 + [0.75])
+    assert cov[0, 4] == 0.0
+
+
+def test_split_state_halves_the_size_and_restarts_the_covariance() -> None:
+    c0 = np.eye(5) * 0.3
+    mean, cov = split_state(np.array([1.0, 2.0, 0.5, 0.0, 3.0]), c0)
+    np.testing.assert_allclose(mean, [1.0, 2.0, 0.5, 0.0, 1.5])
+    np.testing.assert_allclose(cov, c0)
+
+
+def test_eq19_21_hausdorff_distances() -> None:
+    z = np.array([[0.0, 0.0], [2.0, 0.0]])
+    p = np.array([[0.0, 0.0]])
+    s = np.diag([4.0, 1.0])  # D((2, 0)) = 2 / sqrt(4) = 1
+    assert directed_hausdorff(z, p, s) == pytest.approx(0.5)  # (0 + 1) / 2
+    assert directed_hausdorff(p, z, s) == pytest.approx(0.0)
+    assert min_average_hausdorff(z, p, s) == pytest.approx(0.0)  # eq. 19: the smaller
+    z2 = np.array([[0.0, 3.0], [0.0, 5.0]])
+    # d(Z, P): D((0, 3)) = 3, D((0, 5)) = 5 -> 4; d(P, Z): min(3, 5) = 3 -> d_HD = 3
+    assert min_average_hausdorff(z2, p, s) == pytest.approx(3.0)
+
+
+def test_eq24_observation_likelihood() -> None:
+    s = np.diag([4.0, 1.0])
+    expected = math.log(math.exp(-0.5 * 1.5**2) / (2 * math.pi * math.sqrt(4.0)))
+    assert observation_log_likelihood(1.5, s) == pytest.approx(expected)
+
+
+def test_eq25_27_group_to_group_distance_and_likelihood() -> None:
+    ci = cj = np.eye(5) * 0.5  # C_i + C_j = I
+    mi = np.array([0.0, 0.0, 1.0, 0.0, 1.0])
+    mj = np.array([2.0, 0.0, 0.0, 0.0, 1.0])
+    one = np.zeros((1, 2))
+    # dx = (-2, 0) shortened by d_P = 1.3 -> (-0.7, 0); dv = (1, 0): d^2 = 0.49 + 1
+    d2 = group_distance_sq(one, mi, ci, one, mj, cj, 1.3)
+    assert d2 == pytest.approx(1.49)
+    # within d_P the position part is zero; the closest pair of contour points counts
+    two = np.array([[0.0, 0.0], [1.5, 0.0]])
+    assert group_distance_sq(two, mi, ci, one, mj, cj, 1.3) == pytest.approx(1.0)
+    expected = math.log(math.exp(-0.5 * 1.49) / ((2 * math.pi) ** 2 * 1.0))
+    assert merge_log_likelihood(1.49, ci, cj) == pytest.approx(expected)
+
+
+def test_eq28_31_kalman_update_with_group_size() -> None:
+    mean = np.array([0.0, 0.0, 1.0, 1.0, 2.0])
+    cov = np.eye(5)
+    r = np.eye(3)  # K = C H~^T (H~ C H~^T + R)^-1 = H~^T / 2
+    new_mean, new_cov = kalman_update(mean, cov, np.array([2.0, 4.0]), 4.0, r)
+    np.testing.assert_allclose(new_mean, [1.0, 2.0, 1.0, 1.0, 3.0])
+    np.testing.assert_allclose(new_cov, np.diag([0.5, 0.5, 1.0, 1.0, 0.5]))
+
+
+def test_batched_kalman_update_equals_eq28_31() -> None:
+    rng = np.random.default_rng(2)
+    a = rng.normal(size=(4, 5, 5))
+    covs = a @ a.transpose(0, 2, 1) + np.eye(5)
+    means = rng.normal(size=(4, 5))
+    cents = rng.normal(size=(4, 2))
+    n_hs = rng.uniform(1, 4, 4)
+    r = np.diag([0.01, 0.01, 0.25])
+    bm, bc = kalman_update_batch(means, covs, cents, n_hs, r)
+    for t in range(4):
+        m, c = kalman_update(means[t], covs[t], cents[t], float(n_hs[t]), r)
+        np.testing.assert_allclose(bm[t], m, atol=1e-10)
+        np.testing.assert_allclose(bc[t], c, atol=1e-10)
+
+
+def test_eq32_model_prior() -> None:
+    lp = model_log_prior(2, 1, [math.log(3.0)], 0.63, 0.16, 0.21)
+    assert lp == pytest.approx(math.log(0.63**2 * 0.16 * 0.21 * 3.0))
+    assert model_log_prior(0, 0, [], 0.63, 0.16, 0.21) == 0.0
+
+
+# ---------------------------------------------------------------- labels
+
+
+def test_label_naming_on_split_and_merge() -> None:
+    assert split_labels(("0",)) == (("0-0",), ("0-1",))
+    assert split_labels(("1-0", "2")) == (("1-0-0", "2-0"), ("1-0-1", "2-1"))
+    assert merge_labels(("0-0",), ("0-1",)) == ("0",)  # the split undone
+    assert merge_labels(("0-0",), ("0-1",), prune=False) == ("0-0", "0-1")
+    assert merge_labels(("1-0",), ("2",)) == ("1-0", "2")
+    assert prune_labels(("0-0-0", "0-0-1", "0-1")) == ("0",)
+    assert format_labels(("10", "2", "1-1")) == "1-1|2|10"
+
+
+def test_model_enumeration_is_binary_and_disjoint() -> None:
+    def node(i: int) -> TrackNode:
+        return TrackNode(i, i, -1, np.zeros(5), np.eye(5), 0.0, "new")
+
+    a, b, c = node(0), node(1), node(2)
+    events = [
+        Event("split", (a,), -1.0),
+        Event("merge", (a, b), -0.5),
+        Event("merge", (b, c), -2.0),
+        Event("split", (c,), -1.0),
+    ]
+    models = enumerate_models(events, 100)
+    assert models[0] == ()  # all continue: the likeliest when every event costs
+    for m in models:
+        ids = [t.node_id for e in m for t in e.tracks]
+        assert len(ids) == len(set(ids))  # no track in two events
+    # {split a, split c}, {merge ab, split c}, {split a, merge bc} are among them
+    kinds = {tuple(sorted((e.kind, tuple(t.node_id for t in e.tracks)) for e in m)) for m in models}
+    assert (("merge", (0, 1)), ("split", (2,))) in kinds
+    assert (("merge", (1, 2)), ("split", (0,))) in kinds
+    assert len(models) == 1 + 4 + 3  # empty, singles, the three disjoint pairs
+    assert len(enumerate_models(events, 3)) == 3
+
+
+# ---------------------------------------------------------------- the model and the MHT
+
+
+def _model(params: GroupTrackerParams | None = None) -> GroupModel:
+    return GroupModel((params or GroupTrackerParams()).model_settings())
+
+
+def test_score_is_eq19_24_with_the_predicted_contour() -> None:
+    """The vectorised gate/likelihood equals eqs. 19-24 computed point by point."""
+    params = GroupTrackerParams()
+    model = _model(params)
+    rng = np.random.default_rng(1)
+    contour = rng.normal(0, 0.3, (12, 2))
+    node = TrackNode(0, 0, -1, np.array([1.0, 1.0, 0.5, 0.0, 2.0]), np.eye(5) * 0.05, 0.0, "new",
+                     payload=GroupPayload(contour))  # fmt: skip
+    model.predict([node], 0.1)
+    near = contour + np.array([1.05, 1.0]) + rng.normal(0, 0.05, contour.shape)
+    far = rng.normal([4.0, 1.0], 0.2, (6, 2))
+    beside = rng.normal([1.5, 2.2], 0.2, (5, 2))
+    pts = np.concatenate([near, far, beside])
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 0.9, 0.3)
+    gated, ll = model.score([node], obs)
+    assert node.pred_mean is not None and node.pred_cov is not None
+    s = model.innovation_cov(node.pred_cov)
+    for i in range(len(obs)):
+        d = min_average_hausdorff(obs.cluster(i), contour + node.pred_mean[:2], s)
+        inside = d**2 <= params.model_settings().gate_sq
+        assert gated[0, i] == inside
+        if inside:
+            assert ll[0, i] == pytest.approx(observation_log_likelihood(d, s))
+    assert gated[0].any() and not gated[0].all()
+
+
+def test_hypothesis_probabilities_eq33_37() -> None:
+    """One isolated group and one observation: the children are matched (p_M N),
+    occluded or obsolete with the observation a false alarm or new track (p_O, p_T times
+    p_F, p_N), normalised; no model choice, so no p_C (Sec. 4.4)."""
+    p = GroupTrackerParams()
+    tracker = GroupMHTTracker(replace(p, mht=replace(p.mht, n_scan=0)))  # one parent
+    pts = legs((2.0, 0.0))
+    for k in range(5):
+        tracker.mht.params = replace(p.mht, n_scan=0) if k == 4 else p.mht
+        tracker.update(_frame(pts, k, 0.1 * k))
+    tracker.mht.params = replace(p.mht, min_ratio=1e-9)
+    node = tracker.mht.best_tracks()[0]
+    moved = pts + np.array([0.02, 0.0])
+    obs = GroupObservations.from_points(
+        moved, np.arange(len(moved)), p.cluster_distance, p.blob_distance
+    )
+    tracker.model.predict([node], 0.5)
+    _, ll = tracker.model.score([node], obs)
+    n_i = math.exp(ll[0, 0])
+    before = dict(
+        zip([h.key() for h in tracker.mht.clusters[0].hypotheses], range(10), strict=False)
+    )
+    assert len(before) == 1  # a single parent
+    tracker.update(_frame(moved, 5, 0.5))
+    got = sorted(math.exp(h.log_weight) for c in tracker.mht.clusters for h in c.hypotheses)
+    raw = np.array([p.p_m * n_i, p.p_o * p.p_f, p.p_o * p.p_n, p.p_t * p.p_f, p.p_t * p.p_n])
+    np.testing.assert_allclose(got, np.sort(raw / raw.sum()), rtol=1e-9)
+
+
+def test_label_model_split_tracks_must_match() -> None:
+    lm = GroupLabelModel(0.79, 0.19, 0.02, 0.02, 0.06)
+    free = TrackNode(
+        0, 0, -1, np.zeros(5), np.eye(5), 0.0, "new", payload=GroupPayload(np.zeros((1, 2)))
+    )
+    must = TrackNode(1, 1, -1, np.zeros(5), np.eye(5), 0.0, "new",
+                     payload=GroupPayload(np.zeros((1, 2)), must_match=True))  # fmt: skip
+    lp = lm.track_log_probs([free, must])
+    np.testing.assert_allclose(np.exp(lp[0]), [0.79, 0.19, 0.02])
+    assert np.exp(lp[1, 0]) == pytest.approx(0.79) and np.isneginf(lp[1, 1:]).all()
+    new, fal = lm.measurement_log_rates(GroupObservations.empty())
+    assert new.size == fal.size == 0
+
+
+# ---------------------------------------------------------------- scripted scenes
+
+
+def _frame(points: np.ndarray, index: int, stamp: float) -> Frame:
+    n = len(points)
+    ps = PointSet(
+        stamp, points, np.zeros(n, dtype=np.int64), np.arange(n), frame="world", index=index
+    )
+    return Frame(index=index, stamp=stamp, scans=(), topic="sim", frame="world", points=ps,
+                 foreground=np.ones(n, dtype=bool))  # fmt: skip
+
+
+def _run(people_at, steps: int, dt: float = 0.1, params: GroupTrackerParams | None = None):  # type: ignore[no-untyped-def]
+    """Track hand-made frames; ``people_at(k)`` -> list of (x, y, true group)."""
+    tracker = GroupMHTTracker(params)
+    tracked, memoryless = ClusteringError(), ClusteringError()
+    history = []
+    for k in range(steps):
+        people = people_at(k)
+        pts = np.concatenate([legs((x, y)) for x, y, _ in people])
+        truth = np.repeat([g for _, _, g in people], len(legs((0, 0))))
+        out = tracker.update(_frame(pts, k, k * dt))
+        history.append(out)
+        tracked.accumulate_labels(truth, tracker.point_labels(len(pts)))
+        d_p = tracker.params.cluster_distance
+        memoryless.accumulate_labels(truth, single_linkage(pts, d_p))
+    return tracker, history, tracked.result(), memoryless.result()
+
+
+def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
+    """Three people stand together (group 0); two walk away (0-0 and 0-1 after the split),
+    come back and rejoin: the merge undoes the split (label 0 again)."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        if k < 20:
+            y = 0.0
+        elif k < 45:
+            y = 0.12 * (k - 20)  # 1.2 m/s away
+        elif k < 70:
+            y = 0.12 * (70 - k)
+        else:
+            y = 0.0
+        return [(3.0, 0.0, 0), (3.8, y, 0), (4.6, y, 0)]
+
+    tracker, history, _, _ = _run(people_at, 130)
+    first = history[10].of_kind("group")
+    assert [t.labels for t in first] == ["0"]
+    assert first[0].size == 3
+    labels_seen = {t.labels for out in history for t in out.of_kind("group")}
+    assert {"0-0", "0-1"} <= labels_seen
+    last = history[-1].of_kind("group")
+    assert [t.labels for t in last] == ["0"]
+    kinds = [e.kind for e in tracker.events]
+    assert "split" in kinds and "merge" in kinds
+    assert kinds.index("split") < kinds.index("merge")
+
+
+def test_two_groups_meeting_merge_their_labels() -> None:
+    """Two separate groups walk together and stand: one group labelled 0|1 of size 4."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        gap = max(0.8, 4.0 - 0.1 * k)
+        return [(2.0, 0.0, 0), (2.8, 0.0, 0), (2.8 + gap, 0.0, 1), (3.6 + gap, 0.0, 1)]
+
+    tracker, history, _, _ = _run(people_at, 80)
+    start = history[5].of_kind("group")
+    assert sorted(t.labels for t in start) == ["0", "1"]
+    last = history[-1].of_kind("group")
+    assert [t.labels for t in last] == ["0|1"]
+    assert last[0].size == 4
+    assert [e.kind for e in tracker.events] == ["merge"]
+
+
+def test_fig18_tracker_keeps_a_passing_person_apart() -> None:
+    """Fig. 18: one person walks through a pair walking the other way. Memory-less single
+    linkage joins them while they pass; the tracker continues both tracks and
+    re-clusters the shared observation by nearest track, keeping the groups apart."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        pair_x = 1.0 + 0.12 * k
+        lone_x = 9.0 - 0.12 * k
+        return [(pair_x, 0.0, 0), (pair_x, 0.9, 0), (lone_x, 0.45, 1)]
+
+    _, history, tracked, memoryless = _run(people_at, 70)
+    assert memoryless.under_segmented >= 10  # they do come within d_P of each other
+    assert tracked.error <= 0.5 * memoryless.error
+    ids = {t.track_id for out in history[20:] for t in out.of_kind("group")}
+    assert len(ids) == 2  # the same two tracks throughout, no merge
+
+
+def test_people_only_mode_never_splits_or_merges() -> None:
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        y = 0.0 if k < 10 else min(0.12 * (k - 10), 2.0)
+        return [(3.0, 0.0, 0), (3.7, y, 0)]
+
+    tracker, _, _, _ = _run(people_at, 40, params=GroupTrackerParams.people_only())
+    assert tracker.events == []
+    assert tracker.params.cluster_distance == 0.5 and not tracker.params.split_merge
+
+
+# ---------------------------------------------------------------- group-size error (Sec. 4.6.3)
+
+
+def test_group_size_error() -> None:
+    true_person = np.array([0, 0, 1, 1, 2, -1, 3])
+    estimated = np.array([5, 5, 5, 5, 6, 6, -1])
+    err = group_size_errors(true_person, estimated, {5: 2.4, 6: 2.0, 7: 3.0})
+    np.testing.assert_allclose(err, [0.4, 1.0])  # group 7 holds no point
+    acc = GroupSizeError()
+    acc.accumulate(true_person, estimated, {5: 2.4, 6: 2.0})
+    r = acc.result()
+    assert r.mean_error == pytest.approx(0.7)
+    assert r.exact_share == pytest.approx(0.5)  # 2.4 rounds to 2: exact; 2 vs 1 is not
+    assert r.within_one_share == pytest.approx(1.0)
+    assert r.count == 2
+
+
+def test_score_of_reclustered_parts_reuses_the_scan_distances() -> None:
+    """Parts of a scan cluster (a model's re-clustered observations) score as eqs. 19-24
+    on the parts' own points, also when computed from the scan's distance matrix."""
+    params = GroupTrackerParams()
+    model = _model(params)
+    rng = np.random.default_rng(4)
+    contour = rng.normal(0, 0.3, (10, 2))
+    node = TrackNode(0, 0, -1, np.array([1.0, 1.0, 0.0, 0.0, 2.0]), np.eye(5) * 0.05, 0.0, "new",
+                     payload=GroupPayload(contour))  # fmt: skip
+    model.predict([node], 0.1)
+    pts = np.concatenate([contour + 1.0, rng.normal([2.0, 1.0], 0.1, (6, 2))])
+    scan = GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3)
+    model.scan = scan
+    assert len(scan) == 1
+    rows = np.arange(len(scan.points))
+    left = scan.points[:, 0] < 1.5
+    parts = [(scan.points[left], scan.members[left]), (scan.points[~left], scan.members[~left])]
+    obs = GroupObservations.from_parts(parts, 0.3, [0.5, 0.5], [rows[left], rows[~left]])
+    model.score([node], scan)  # fills the per-node distances of the scan
+    gated, ll = model.score([node], obs)
+    assert node.pred_mean is not None and node.pred_cov is not None
+    s = model.innovation_cov(node.pred_cov)
+    log_pm = math.log(params.p_m)
+    for i in range(2):
+        d = min_average_hausdorff(obs.cluster(i), contour + node.pred_mean[:2], s)
+        assert gated[0, i] == (d**2 <= params.model_settings().gate_sq)
+        if gated[0, i]:
+            expected = 0.5 * (log_pm + observation_log_likelihood(d, s)) - log_pm
+            assert ll[0, i] == pytest.approx(expected)
+    assert gated[0].any()
+
+
+def test_joining_observations_keeps_a_group_through_a_gap() -> None:
+    """The middle one of three people in a row is unseen for four scans, leaving a gap
+    wider than d_P: 000's models split the group; with the joining extension it
+    continues whole."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        row = [(3.0, 0.0, 0), (3.9, 0.0, 0), (4.8, 0.0, 0)]
+        return [row[0], row[2]] if 30 <= k < 34 else row
+
+    plain, _, _, _ = _run(people_at, 60)
+    joined, history, result, memoryless = _run(
+        people_at, 60, params=replace(GroupTrackerParams(), join_observations=True)
+    )
+    assert "split" in [e.kind for e in plain.events]
+    assert joined.events == []
+    assert {t.labels for out in history for t in out.of_kind("group")} == {"0"}
+    assert result.over_segmented == 0 < memoryless.over_segmented
+
+
+def test_empty_frames_and_missing_fields() -> None:
+    from laserpeople.errors import LaserPeopleError
+
+    tracker = GroupMHTTracker()
+    pts = legs((2.0, 0.0))
+    for k in range(3):
+        tracker.update(_frame(pts, k, 0.1 * k))
+    empty = _frame(np.empty((0, 2)), 3, 0.3)
+    out = tracker.update(empty)  # the group is occluded, still reported
+    assert [t.labels for t in out.of_kind("group")] == ["0"]
+    assert tracker.point_labels(0).size == 0
+    bare = Frame(index=4, stamp=0.4, scans=(), topic="sim")
+    with pytest.raises(LaserPeopleError, match="points and foreground"):
+        tracker.update(bare)
+    wrong = replace(_frame(pts, 5, 0.5), foreground=np.ones(3, dtype=bool))
+    with pytest.raises(LaserPeopleError, match="foreground mask"):
+        tracker.update(wrong)

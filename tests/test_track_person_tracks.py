@@ -1,0 +1,276 @@
+"""People as tracks of their own (people policy ``tracks``): existence score, person filter,
+births, occlusions, static world, against hand-computed values."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+
+from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+from laserpeople.tracking.person_tracks import (
+    NONE,
+    ONE,
+    TWO,
+    LegObservation,
+    PersonTracker,
+    PersonTrackParams,
+    segment_holds_two_legs,
+    update_llr,
+)
+from laserpeople.tracks import Detections
+
+P = PersonTrackParams()
+
+
+def leg(
+    track_id: int, x: float, y: float, detected: bool = True, wide: bool = False
+) -> LegObservation:
+    return LegObservation(
+        track_id,
+        np.array([x, y]),
+        detected,
+        0.0 if detected else 0.2,
+        0,
+        wide,
+        score=1.0 if detected else math.nan,
+    )
+
+
+def legs(*obs: LegObservation) -> dict[int, LegObservation]:
+    return {o.track_id: o for o in obs}
+
+
+def test_evidence_llr_by_hand() -> None:
+    # p = (0.5, 0.4, 0.1), q = (0.1, 0.4, 0.5)
+    llr = P.evidence_llr()
+    assert llr == pytest.approx([math.log(5.0), 0.0, math.log(0.2)])
+    assert update_llr(0.0, TWO, P) == pytest.approx(1.6094379)
+    assert update_llr(11.0, TWO, P) == P.llr_max  # clamped above
+    assert update_llr(-2.5, NONE, P) == P.llr_min  # clamped below
+    assert update_llr(1.0, ONE, P) == pytest.approx(1.0)
+
+
+def test_params_are_checked() -> None:
+    with pytest.raises(ValueError):
+        PersonTrackParams(p_two=0.7, p_one=0.4)
+    with pytest.raises(ValueError):
+        PersonTrackParams(llr_confirm=-5.0)
+
+
+def test_wide_segment_holds_two_legs() -> None:
+    def seg(width: float, n: int = 8) -> NDArray[np.float64]:
+        return np.column_stack([np.full(n, 2.0), np.linspace(0.0, width, n)])
+
+    assert segment_holds_two_legs(seg(0.3), 1.0, P)
+    assert not segment_holds_two_legs(seg(0.15), 1.0, P)  # one leg
+    assert not segment_holds_two_legs(seg(0.8), 1.0, P)  # a wall piece
+    assert not segment_holds_two_legs(seg(0.3, n=3), 1.0, P)  # too few points
+    assert not segment_holds_two_legs(seg(0.3), 0.4, P)  # the detector is not sure enough
+
+
+def test_pair_birth_confirmation_after_three_scans() -> None:
+    """llr after k scans of both legs = k log 5: 1.61, 3.22 (< 4), 4.83 (confirmed)."""
+    t = PersonTracker(P)
+    for k in range(3):
+        out = t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.1 * k, 1.0)
+        assert (len(out) == 1) == (k == 2)
+    (person,) = out
+    assert person.track_id == 0 and person.members == (1, 2)
+    assert person.position == pytest.approx([1.0, 0.15], abs=1e-9)
+    (q,) = t.persons.values()
+    assert q.llr == pytest.approx(3 * math.log(5.0))
+    assert person.score == pytest.approx(1.0 / (1.0 + math.exp(-3 * math.log(5.0))))
+    assert t.approved_legs == frozenset({1, 2})
+
+
+def test_person_filter_update_by_hand() -> None:
+    """Second scan: the position variance is predicted over dt = 0.1 s (P0 = pair_std^2,
+    velocity variance init_velocity_std^2, white acceleration q) and corrected with a pair
+    midpoint of variance pair_std^2; x moves by K * innovation."""
+    t = PersonTracker(P)
+    t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.0, 1.0)
+    t.update(legs(leg(1, 1.1, 0.0), leg(2, 1.1, 0.3)), 0.1, 1.0)
+    (q,) = t.persons.values()
+    dt, r = 0.1, P.pair_std**2
+    pxx = r + dt**2 * P.init_velocity_std**2 + P.accel_psd * dt**3 / 3.0
+    pxv = dt * P.init_velocity_std**2 + P.accel_psd * dt**2 / 2.0
+    k_pos, k_vel = pxx / (pxx + r), pxv / (pxx + r)
+    assert q.mean[0] == pytest.approx(1.0 + k_pos * 0.1)
+    assert q.mean[2] == pytest.approx(k_vel * 0.1)
+    assert q.mean[1] == pytest.approx(0.15)
+    assert q.cov[0, 0] == pytest.approx(pxx * r / (pxx + r))
+
+
+def test_wide_segment_births_a_person() -> None:
+    t = PersonTracker(P)
+    for k in range(3):
+        out = t.update(legs(leg(5, 2.0, 0.0, wide=True)), 0.1 * k, 1.0)
+    assert [p.members for p in out] == [(5,)]
+    # a single narrow leg gives no person
+    t2 = PersonTracker(P)
+    for k in range(10):
+        assert t2.update(legs(leg(5, 2.0, 0.0)), 0.1 * k, 1.0) == []
+    assert t2.persons == {}
+
+
+def test_low_score_pair_gives_no_birth() -> None:
+    """Mean score 0.3 <= birth_min_score 0.5: no person (chair legs score ~0.2)."""
+    t = PersonTracker(P)
+    weak = [
+        LegObservation(1, np.array([1.0, 0.0]), True, 0.0, 0, score=0.2),
+        LegObservation(2, np.array([1.0, 0.3]), True, 0.0, 1, score=0.4),
+    ]
+    for k in range(10):
+        assert t.update({o.track_id: o for o in weak}, 0.1 * k, 1.0) == []
+    assert t.persons == {}
+
+
+def _confirmed(t: PersonTracker) -> None:
+    for k in range(4):
+        t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.1 * k, 1.0)
+
+
+def test_one_visible_leg_keeps_the_person() -> None:
+    t = PersonTracker(P)
+    _confirmed(t)
+    (q,) = t.persons.values()
+    llr = q.llr
+    for k in range(4, 40):  # 3.6 s with only leg 1 seen (leg 2 deleted by the MHT)
+        out = t.update(legs(leg(1, 1.0, 0.0)), 0.1 * k, 1.0)
+        assert [p.track_id for p in out] == [0]
+    assert q.llr == pytest.approx(llr)  # one leg is neutral evidence: log(0.4 / 0.4) = 0
+    assert q.members == [1]
+
+
+def test_occlusion_of_seconds_keeps_the_id_when_the_motion_agrees() -> None:
+    t = PersonTracker(P)
+    _confirmed(t)
+    for k in range(4, 30):  # 2.6 s without any leg: not reported after 1 s, kept
+        out = t.update({}, 0.1 * k, 1.0)
+        assert (out == []) == (0.1 * k - 0.3 > 1.0 + 1e-9)
+    # new leg tracks (new MHT ids) near where the person stood
+    for k in range(30, 33):
+        out = t.update(legs(leg(7, 1.1, 0.1), leg(8, 1.0, 0.4)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+    assert sorted(t.persons[0].members) == [7, 8]
+    assert t.persons_created == 1
+
+
+def test_person_deleted_after_max_coast_and_new_id_after() -> None:
+    t = PersonTracker(P)
+    _confirmed(t)
+    t.update({}, 0.3 + P.max_coast + 0.05, 1.0)
+    assert t.persons == {}
+    for k in range(3):
+        out = t.update(legs(leg(7, 1.0, 0.0), leg(8, 1.0, 0.3)), 10.0 + 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [1]
+
+
+def test_far_leg_does_not_join() -> None:
+    t = PersonTracker(P)
+    _confirmed(t)
+    t.update(legs(leg(1, 1.0, 0.0), leg(9, 3.0, 0.0)), 0.4, 1.0)
+    assert t.persons[0].members == [1]
+
+
+class FakeStatic:
+    """Everything static for a minute, except x > 1.5 m."""
+
+    consumes = frozenset({"points"})
+
+    def __call__(self, frame):  # type: ignore[no-untyped-def]
+        return frame
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.where(positions[:, 0] > 1.5, 0.0, 60.0)
+
+
+def test_static_place_blocks_confirmation_until_the_person_moves() -> None:
+    t = PersonTracker(P, FakeStatic())
+    for k in range(20):
+        out = t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.1 * k, 1.0)
+        assert out == []
+    # walks off: 0.05 m per scan; confirmed once 0.5 m from its birth place
+    x = 1.0
+    seen = False
+    for k in range(20, 40):
+        x += 0.05
+        out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3)), 0.1 * k, 1.0)
+        seen = seen or bool(out)
+    assert seen
+    # walks back onto the static place and stands: keeps its track (seen walking)
+    for k in range(40, 80):
+        x = max(x - 0.05, 1.0)
+        out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+
+
+def test_confirmed_clutter_is_dropped_once_its_place_is_static() -> None:
+    class LaterStatic(FakeStatic):
+        def __init__(self) -> None:
+            self.value = 0.0
+
+        def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.full(positions.shape[0], self.value)
+
+    model = LaterStatic()
+    t = PersonTracker(P, model)
+    _confirmed(t)
+    assert t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.4, 1.0) != []
+    model.value = 60.0  # the grid has learnt the place
+    assert t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.5, 1.0) == []
+
+
+# ------------------------------------------------------------------ through the leg MHT
+
+
+def _dets(stamp: float, k: int, pts: list[tuple[float, float]]) -> Detections:
+    arr = np.array(pts, dtype=np.float64).reshape(-1, 2)
+    return Detections(stamp, k, arr, np.repeat(np.eye(2)[None] * 0.03**2, len(arr), 0),
+                      np.ones(len(arr)))  # fmt: skip
+
+
+def test_leg_mht_tracks_policy_reports_a_standing_pair_and_keeps_it_on_one_leg() -> None:
+    tracker = LegMHTTracker(LegTrackerParams(people_policy="tracks"))
+    for k in range(10):
+        out = tracker.update(_dets(0.1 * k, k, [(2.0, 0.0), (2.0, 0.3)]))
+    (person,) = out.of_kind("person")
+    assert person.position == pytest.approx([2.0, 0.15], abs=0.02)
+    for k in range(10, 40):  # the second leg hidden for 3 s
+        out = tracker.update(_dets(0.1 * k, k, [(2.0, 0.0)]))
+        assert [p.track_id for p in out.of_kind("person")] == [person.track_id]
+
+
+def test_arras_policy_needs_both_legs() -> None:
+    tracker = LegMHTTracker(LegTrackerParams(people_policy="arras"))
+    for k in range(60):  # a standing pair: validated after still_time
+        out = tracker.update(_dets(0.1 * k, k, [(2.0, 0.0), (2.0, 0.3)]))
+    assert len(out.of_kind("person")) == 1
+    assert tracker.person_tracks is None
+
+
+def test_unknown_policy_is_refused() -> None:
+    with pytest.raises(ValueError, match="people_policy"):
+        LegTrackerParams(people_policy="magic")
+
+
+def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from laserpeople.cli.track import with_people_policy
+    from laserpeople.config import load_config
+    from laserpeople.errors import ConfigError
+    from laserpeople.tracking.nearest import NearestNeighbourParams
+
+    assert LegTrackerParams().people_policy == "tracks"
+    p = with_people_policy(LegTrackerParams(), "arras", "leg-mht")
+    assert p.people_policy == "arras"
+    with pytest.raises(ConfigError, match="people_policy"):
+        with_people_policy(LegTrackerParams(), "magic", "leg-mht")
+    with pytest.raises(ConfigError, match="applies to leg-mht"):
+        with_people_policy(NearestNeighbourParams(), "arras", "nn")
+    path = tmp_path / "p.toml"
+    path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
+    q = load_config(LegTrackerParams, path)
+    assert q.people_policy == "arras" and q.people.max_coast == 2.5

@@ -17,6 +17,7 @@ A TOML file sets parameters by section, the section named by the dataclass's
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import tomllib
 from collections.abc import Mapping, Sequence
@@ -64,7 +65,13 @@ def from_mapping(cls: type[T], values: Mapping[str, Any], *, where: str = "") ->
     kwargs: dict[str, Any] = {}
     for key, value in values.items():
         hint = hints[key]
-        if dataclasses.is_dataclass(hint) and isinstance(value, Mapping):
+        if dataclasses.is_dataclass(hint):
+            if not isinstance(value, Mapping):
+                raise ConfigError(
+                    f"[{section_name(cls)}] {key} = {value!r:.60} must be a table of "
+                    f"parameters ([{section_name(cls)}.{key}])",
+                    path=where or None,
+                )
             kwargs[key] = from_mapping(hint, value, where=where)  # type: ignore[arg-type]
             continue
         default = getattr(cls(), key) if _has_defaults(cls) else None
@@ -99,11 +106,40 @@ def _coerce(key: str, value: Any, default: Any, cls: type, where: str) -> Any:
         ok = True
     if not ok:
         raise ConfigError(
-            f"[{section_name(cls)}] {key} = {value!r} has the wrong type; "
+            f"[{section_name(cls)}] {key} = {value!r:.60} has the wrong type; "
             f"expected {type(default).__name__} like the default {default!r}",
             path=where or None,
         )
+    _check_number(key, value, default, cls, where)
     return value
+
+
+INT_LIMIT = 2**53
+"""Largest magnitude of an integer parameter (beyond it no count or size makes sense)."""
+
+
+def _check_number(key: str, value: Any, default: Any, cls: type, where: str) -> None:
+    """NaN is never a parameter value; infinity only where the default is infinite; integers
+    stay below :data:`INT_LIMIT` in magnitude. Elements of tuples are checked alike."""
+    if isinstance(value, tuple):
+        for i, v in enumerate(value):
+            d = default[i] if isinstance(default, tuple) and i < len(default) else None
+            _check_number(f"{key}[{i}]", v, d if d is not None else 0.0, cls, where)
+        return
+    problem = None
+    if isinstance(value, float):
+        if math.isnan(value):
+            problem = "is NaN"
+        elif math.isinf(value) and not (isinstance(default, float) and default == value):
+            problem = "is infinite"
+    elif isinstance(value, int) and not isinstance(value, bool) and abs(value) > INT_LIMIT:
+        problem = f"is larger than {INT_LIMIT}"
+    if problem:
+        raise ConfigError(
+            f"[{section_name(cls)}] {key} {problem}",
+            path=where or None,
+            hint=f"give a finite number like the default {default!r}",
+        )
 
 
 def load_config(cls: type[T], path: str | Path | None) -> T:
@@ -145,9 +181,48 @@ def check_sections(
     return sorted(set(data) & elsewhere)
 
 
+TOML_LIMIT = 1 * 2**20
+"""Largest config file [bytes] that is read."""
+TOML_DEPTH = 32
+"""Deepest nesting (arrays, inline tables, dotted key parts) a config file may have."""
+
+
+def _precheck_toml(text: str, p: Path) -> None:
+    """Refuse files that would make the TOML parser recurse deeply or run for minutes
+    (tomllib takes quadratic time in the number of dotted key parts)."""
+    if len(text) > TOML_LIMIT:
+        raise ConfigError(f"config file is larger than {TOML_LIMIT} bytes", path=p)
+    depth = deepest = 0
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped.startswith("#"):
+            continue
+        key = stripped.split("=", 1)[0] if "=" in stripped else stripped
+        if key.count(".") > TOML_DEPTH:
+            raise ConfigError(
+                f"a key has more than {TOML_DEPTH} dotted parts: {key[:40]!r}...", path=p
+            )
+        for ch in line:
+            if ch in "[{":
+                depth += 1
+                deepest = max(deepest, depth)
+            elif ch in "]}":
+                depth = max(depth - 1, 0)
+        if stripped.startswith("[") and not stripped.startswith("[["):
+            depth = 0  # a table header closes on its own line
+    if deepest > TOML_DEPTH:
+        raise ConfigError(
+            f"arrays or inline tables nest {deepest} deep (at most {TOML_DEPTH})",
+            path=p,
+            hint="parameters are numbers, strings or short lists",
+        )
+
+
 def _read_toml(p: Path) -> dict[str, Any]:
     try:
-        return tomllib.loads(p.read_text(encoding="utf-8"))
+        text = p.read_text(encoding="utf-8")
+        _precheck_toml(text, p)
+        return tomllib.loads(text)
     except FileNotFoundError as exc:
         raise ConfigError("config file not found", path=p) from exc
     except IsADirectoryError as exc:
@@ -156,6 +231,10 @@ def _read_toml(p: Path) -> dict[str, Any]:
         raise ConfigError("not a text file", path=p) from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", path=p) from exc
+    except RecursionError as exc:
+        raise ConfigError("nested too deeply to read", path=p) from exc
+    except OSError as exc:
+        raise ConfigError(f"cannot read config file: {exc.strerror or exc}", path=p) from exc
 
 
 def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:

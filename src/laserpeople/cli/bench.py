@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import console, progress, say
+from laserpeople.cli.common import OnErrorOption, console, progress, say
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 if TYPE_CHECKING:
@@ -45,6 +45,7 @@ def register(app: typer.Typer) -> None:
         repeat: Annotated[int, typer.Option(min=1, help="Passes over the scans per stage.")] = 3,
         max_scans: Annotated[int, typer.Option(min=1, help="Time at most this many scans.")] = 2000,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         """Time reading, leg detection and tracking: median and p95 ms per scan, scans/s."""
         from laserpeople.cli.track import make_detector
@@ -69,9 +70,10 @@ def register(app: typer.Typer) -> None:
             source = f"scenario {scenario} ({first})"
         else:
             from laserpeople.io import open_recording
+            from laserpeople.io.damage import check_on_error
 
             def stream() -> Iterator[Scan]:
-                rec = open_recording(recording)
+                rec = open_recording(recording, on_error=check_on_error(on_error))
                 try:
                     yield from itertools.islice(rec.scans([topic] if topic else None), max_scans)
                 finally:

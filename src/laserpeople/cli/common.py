@@ -44,6 +44,16 @@ MountOption = Annotated[
 ]
 """The ``--mount`` option: laser mounts a bag's tf lacks."""
 
+OnErrorOption = Annotated[
+    str,
+    typer.Option(
+        "--on-error",
+        help="A damaged scan in the middle of a recording: stop (default; the error names "
+        "the scan and how many were read) or skip (leave it out, count it, read on).",
+    ),
+]
+"""The ``--on-error stop|skip`` option of commands that read recordings."""
+
 PIPE_WIDTH = 200
 """Columns rich lays tables out for when the output is not a terminal."""
 
@@ -170,13 +180,18 @@ def say(message: str) -> None:
         err_console.print(message, highlight=False, markup=False, soft_wrap=True)
 
 
-def open_with_poses(path: Path, world_frame: str | None, mounts: list[str]) -> RecordingSource:
+def open_with_poses(
+    path: Path, world_frame: str | None, mounts: list[str], on_error: str = "stop"
+) -> RecordingSource:
     """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts`` missing from the
-    bag's tf let the reader give sensor poses (moving robots)."""
+    bag's tf let the reader give sensor poses (moving robots). ``on_error`` is the reader's
+    damaged-scan policy (``stop`` or ``skip``, :mod:`laserpeople.io.damage`)."""
     from laserpeople.io import is_rosbag, open_recording
+    from laserpeople.io.damage import check_on_error
 
+    policy = check_on_error(on_error)
     if not (world_frame or mounts):
-        return open_recording(path)
+        return open_recording(path, on_error=policy)
     if not is_rosbag(path):
         raise ConfigError(
             "--world-frame and --mount apply to ROS bags only",
@@ -185,7 +200,17 @@ def open_with_poses(path: Path, world_frame: str | None, mounts: list[str]) -> R
         )
     from laserpeople.io.poses import parse_mounts
 
-    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(mounts))
+    return open_recording(
+        path, world_frame=world_frame, mounts=parse_mounts(mounts), on_error=policy
+    )
+
+
+def report_damage(recording: object) -> None:
+    """Warn about the damaged scans a reader skipped (``--on-error skip``), if any."""
+    damaged = getattr(recording, "damaged", None)
+    text = damaged.summary() if damaged is not None else ""
+    if text:
+        warn(text)
 
 
 def warn(message: str) -> None:

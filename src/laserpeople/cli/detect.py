@@ -9,10 +9,12 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    OnErrorOption,
     WorldFrameOption,
     console,
     ignored_sections,
     progress,
+    report_damage,
     say,
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
@@ -79,6 +81,7 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--config", help="TOML file with [leg_detector] parameters."),
         ] = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         import numpy as np
 
@@ -91,6 +94,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.io.detections_csv import DetectionsCsvWriter
+        from laserpeople.io.paths import check_outputs
         from laserpeople.pipeline import (
             DetectionsCsvSink,
             DetectLegs,
@@ -125,7 +129,8 @@ def register(app: typer.Typer) -> None:
             if report
             else None
         )
-        rec = open_source(recording, world_frame, mount or [])
+        check_outputs({"-o": output}, [recording, model, config])
+        rec = open_source(recording, world_frame, mount or [], on_error)
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)
         stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
@@ -176,6 +181,7 @@ def register(app: typer.Typer) -> None:
         finally:
             if all_segments:
                 segments.close()
+            report_damage(rec)
             rec.close()
         if fuse:
             for line in frames.summary():

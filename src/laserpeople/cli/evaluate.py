@@ -181,6 +181,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from laserpeople.evaluation import EvaluationParams, evaluate
         from laserpeople.io import is_rosbag
+        from laserpeople.io.paths import check_outputs
         from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
 
         try:
@@ -191,6 +192,10 @@ def register(app: typer.Typer) -> None:
             raise EvaluationError(
                 "--per-frame is a directory", path=per_frame, hint="give a file name ending .csv"
             )
+        truth_path = str(truth)
+        check_outputs(
+            {"--per-frame": per_frame}, [tracks, truth_path, truth_path.rsplit(":", 1)[0]]
+        )
         names = TrackIdNames()
         kinds = (params.kind,)
         if is_rosbag(tracks):

@@ -10,7 +10,14 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import MountOption, WorldFrameOption, console, progress
+from laserpeople.cli.common import (
+    MountOption,
+    OnErrorOption,
+    WorldFrameOption,
+    console,
+    progress,
+    report_damage,
+)
 
 if TYPE_CHECKING:
     from laserpeople.io import RecordingSource
@@ -83,7 +90,12 @@ def _fmt(values: list[float], digits: int) -> str:
     return ", ".join(f"{v:.{digits}f}" for v in values) if values else "-"
 
 
-def _open(path: Path, world_frame: str | None, mounts: list[str], poses: bool) -> RecordingSource:
+def _open(
+    path: Path, world_frame: str | None, mounts: list[str], poses: bool, on_error: str = "stop"
+) -> RecordingSource:
+    from laserpeople.io.damage import check_on_error
+
+    policy = check_on_error(on_error)
     is_bag = path.suffix.lower() in _BAG_SUFFIXES or (
         path.is_dir() and (path / "metadata.yaml").exists()
     )
@@ -92,15 +104,19 @@ def _open(path: Path, world_frame: str | None, mounts: list[str], poses: bool) -
         from laserpeople.io.rosbag import RosbagRecording
 
         return RosbagRecording(
-            path, poses=poses, world_frame=world_frame, mounts=parse_mounts(mounts)
+            path,
+            poses=poses,
+            world_frame=world_frame,
+            mounts=parse_mounts(mounts),
+            on_error=policy,
         )
     if path.suffix.lower() in _CARMEN_SUFFIXES and not poses and path.exists():
         from laserpeople.io.carmen import CarmenRecording
 
-        return CarmenRecording(path, poses=False)
+        return CarmenRecording(path, poses=False, on_error=policy)
     from laserpeople.io import open_recording
 
-    return open_recording(path)
+    return open_recording(path, on_error=policy)
 
 
 def _finite(value: Any) -> Any:
@@ -232,14 +248,16 @@ def register(app: typer.Typer) -> None:
         poses: Annotated[
             bool, typer.Option("--poses/--no-poses", help="Look up sensor poses.")
         ] = True,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         """Summarise a recording: per laser topic the scan count, rate, field of view, beams,
         angular resolution, range limits, share of invalid beams and how many scans have a
         sensor pose; and whether it carries ground truth."""
-        rec = _open(recording, world_frame, mount or [], poses)
+        rec = _open(recording, world_frame, mount or [], poses, on_error)
         try:
             report = summarise(rec, topic or None)
         finally:
+            report_damage(rec)
             rec.close()
         if as_json:
             print(json.dumps(_finite(report), allow_nan=False))

@@ -9,10 +9,12 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    OnErrorOption,
     WorldFrameOption,
     ignored_sections,
     open_with_poses,
     progress,
+    report_damage,
     say,
 )
 from laserpeople.config import check_sections, load_config, to_toml
@@ -116,6 +118,7 @@ def run_tracking(
     background: str = "auto",
     map_path: Path | None = None,
     reidentify: bool = False,
+    on_error: str = "stop",
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -147,6 +150,11 @@ def run_tracking(
         params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
+    from laserpeople.io.paths import check_outputs
+
+    check_outputs(
+        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [recording, config]
+    )
     topics = [topic] if isinstance(topic, str) else topic
     # trackers of points may report groups: their outlines go into the CSV for `view`
     csv_sink = TracksCsvSink(
@@ -168,6 +176,7 @@ def run_tracking(
         background=background,
         map_path=map_path,
         reidentify=reidentify,
+        on_error=on_error,
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]
@@ -178,8 +187,11 @@ def run_tracking(
         )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
-    for _ in progress(pipe, total=source.total, description="tracking"):
-        pass
+    try:
+        for _ in progress(pipe, total=source.total, description="tracking"):
+            pass
+    finally:
+        report_damage(source.recording)
     for line in source.summary():
         say(line)
     merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
@@ -193,7 +205,7 @@ def run_tracking(
         say(describe_background(background_of(pipe.stages)))
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
-        drawn = open_with_poses(recording, world_frame, mounts or [])
+        drawn = open_with_poses(recording, world_frame, mounts or [], on_error)
         try:
             draw_tracks(drawn, output, source.topics[0], written_frame, plot, animate)
         finally:
@@ -356,6 +368,7 @@ def register(app: typer.Typer) -> None:
                 "--print-config", help="Print the parameters with their sources and exit."
             ),
         ] = False,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
@@ -390,6 +403,9 @@ def register(app: typer.Typer) -> None:
             "sensor" if output_frame == "sensor" else ("world" if output_frame == "world" else None)
         )
         colour = appearance_choice(tracker, appearance, reidentify)
+        from laserpeople.io.paths import check_outputs
+
+        check_outputs({"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [model])
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,
@@ -408,6 +424,7 @@ def register(app: typer.Typer) -> None:
             background=background,
             map_path=map_path,
             reidentify=colour,
+            on_error=on_error,
         )
         groups = int(stats["group_tracks"])
         say(

@@ -189,6 +189,20 @@ def register(app: typer.Typer) -> None:
         if unlabelled not in ("negative", "drop"):
             raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
         mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"
+        from laserpeople.io.paths import check_outputs
+
+        check_outputs(
+            {"-o": output},
+            [
+                *(recordings or []),
+                *positives,
+                *negatives,
+                neko,
+                *test,
+                *test_positives,
+                *test_negatives,
+            ],
+        )
         seg = JumpDistanceParams(threshold=jump_distance)
         data = load_labelled(
             list(recordings or []), positives, negatives, neko, neko_frames, mode, seg

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -10,9 +11,11 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    OnErrorOption,
     WorldFrameOption,
     open_with_poses,
     progress,
+    report_damage,
     say,
     warn,
 )
@@ -47,9 +50,25 @@ def _parse_extent(text: str | None) -> tuple[float, float, float, float] | None:
         raise LaserPeopleError(
             f"--extent {text!r} is not XMIN,XMAX,YMIN,YMAX", hint="e.g. --extent -5,5,-2,8"
         ) from exc
+    if not all(math.isfinite(v) and abs(v) <= EXTENT_LIMIT for v in (x0, x1, y0, y1)):
+        raise LaserPeopleError(
+            f"--extent {text!r} must be finite numbers within +-{EXTENT_LIMIT:g} m"
+        )
     if not (x1 > x0 and y1 > y0):
         raise LaserPeopleError(f"--extent {text!r} is empty: need XMIN<XMAX and YMIN<YMAX")
     return x0, x1, y0, y1
+
+
+EXTENT_LIMIT = 1e6
+"""Largest coordinate [m] of ``--extent`` (a laser sees a few hundred metres at most)."""
+FPS_LIMIT = 1000.0
+"""Highest ``--fps`` accepted [frames/s]."""
+
+
+def _check_fps(fps: float | None) -> float | None:
+    if fps is not None and not (math.isfinite(fps) and 0.0 < fps <= FPS_LIMIT):
+        raise LaserPeopleError(f"--fps {fps!r} must be a number in (0, {FPS_LIMIT:g}]")
+    return fps
 
 
 def register(app: typer.Typer) -> None:
@@ -125,6 +144,7 @@ def register(app: typer.Typer) -> None:
         ] = 20,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
         from laserpeople.viz import Scene, render
@@ -134,7 +154,12 @@ def register(app: typer.Typer) -> None:
         if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
             raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
-        source = open_with_poses(recording, world_frame, mount or [])
+        from laserpeople.io.paths import check_outputs
+
+        truth_file = truth if truth not in (None, "auto", "recording") else None
+        check_outputs({"-o": output}, [recording, tracks, truth_file])
+        size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
+        source = open_with_poses(recording, world_frame, mount or [], on_error)
         if tracks is not None:
             from laserpeople.pipeline import resolve_topics
             from laserpeople.pipeline.checks import tracks_mismatch
@@ -167,13 +192,14 @@ def register(app: typer.Typer) -> None:
                 scene,
                 output,
                 scan=scan,
-                size=_parse_size(size),
-                extent=_parse_extent(extent),
+                size=size_px,
+                extent=extent_m,
                 fps=fps,
                 trail=trail,
                 progress=bar,
             )
         finally:
+            report_damage(source)
             source.close()
         what = "frame" if result.frames == 1 else "frames"
         say(

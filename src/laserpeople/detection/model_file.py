@@ -28,6 +28,10 @@ from laserpeople.errors import ModelFileError
 
 MODEL_FORMAT = "laserpeople-leg-model"
 MODEL_VERSION = 1
+MODEL_LIMIT = 64 * 2**20
+"""Largest model file [characters] that is read (the default model is ~20 KB)."""
+VALUE_LIMIT = 1e12
+"""Largest magnitude of a stump's threshold or weight (real ones are below 1e3)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,11 +106,23 @@ def load_model(path: str | Path) -> LegModel:
         raise ModelFileError("model file not found", path=p, hint="check the path") from exc
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelFileError(f"cannot read model file: {exc}", path=p) from exc
+    if len(text) > MODEL_LIMIT:
+        raise ModelFileError(
+            f"model file is larger than {MODEL_LIMIT} characters",
+            path=p,
+            hint="give a model written by `laserpeople train`",
+        )
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ModelFileError(
             f"not JSON ({exc.msg} at line {exc.lineno})",
+            path=p,
+            hint="give a model written by `laserpeople train`",
+        ) from exc
+    except (ValueError, RecursionError) as exc:  # e.g. a 5,000-digit number, deep nesting
+        raise ModelFileError(
+            f"not a readable model JSON ({type(exc).__name__}: {str(exc)[:80]})",
             path=p,
             hint="give a model written by `laserpeople train`",
         ) from exc
@@ -136,13 +152,19 @@ def model_from_json(doc: Any, path: str | Path | None = None) -> LegModel:
     if (
         not isinstance(feats, list)
         or not feats
-        or not all(isinstance(f, int) and 1 <= f <= N_FEATURES for f in feats)
+        or not all(
+            isinstance(f, int) and not isinstance(f, bool) and 1 <= f <= N_FEATURES for f in feats
+        )
         or len(set(feats)) != len(feats)
     ):
         bad(f"'features' must be distinct feature numbers 1..{N_FEATURES}, got {feats!r}")
     seg = doc.get("segmentation", {})
     threshold = seg.get("threshold") if isinstance(seg, dict) else None
-    if not isinstance(threshold, int | float) or not 0.0 < float(threshold) < math.inf:
+    if (
+        not isinstance(threshold, int | float)
+        or isinstance(threshold, bool)
+        or not 0.0 < threshold < VALUE_LIMIT
+    ):
         bad(f"'segmentation.threshold' must be a positive number, got {threshold!r}")
     raw = doc.get("stumps")
     if not isinstance(raw, list) or not raw:
@@ -151,15 +173,23 @@ def model_from_json(doc: Any, path: str | Path | None = None) -> LegModel:
     for i, s in enumerate(raw):
         try:
             feature = s["feature"]
+            if isinstance(s["polarity"], float | str):
+                raise TypeError(f"polarity {s['polarity']!r} is not 1 or -1")
             values = [float(s[k]) for k in ("threshold", "alpha")]
             polarity = int(s["polarity"])
             r = float(s.get("r", math.nan))
-        except (TypeError, KeyError, ValueError) as exc:
-            bad(f"stump {i} is malformed ({exc!r}); it needs feature, threshold, polarity, alpha")
-        if feature not in feats:
-            bad(f"stump {i} uses feature {feature!r}, which is not in 'features' {feats}")
-        if polarity not in (1, -1) or not all(math.isfinite(v) for v in values):
-            bad(f"stump {i} has polarity {polarity} or non-finite threshold/alpha")
+        except (TypeError, KeyError, ValueError, OverflowError) as exc:
+            bad(
+                f"stump {i} is malformed ({str(exc)[:80]}); "
+                "it needs feature, threshold, polarity, alpha"
+            )
+        if isinstance(feature, bool) or feature not in feats:
+            bad(f"stump {i} uses feature {feature!r:.40}, which is not in 'features' {feats}")
+        if polarity not in (1, -1) or not all(abs(v) <= VALUE_LIMIT for v in values):
+            bad(
+                f"stump {i} has polarity {polarity} or a threshold/alpha that is not finite "
+                f"or beyond {VALUE_LIMIT:g}"
+            )
         stumps.append(Stump(feats.index(feature), values[0], polarity, values[1], r))
     training = doc.get("training", {})
     clf = AdaBoostLegClassifier.from_stumps(stumps, len(feats))

@@ -68,7 +68,9 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
 
     ``options`` go to the reader: e.g. ``poses=False``, ``world_frame="odom"`` or
     ``mounts=...`` for bags (:class:`~laserpeople.io.rosbag.RosbagRecording`), ``poses`` and
-    ``skip_bad_lines`` for CARMEN logs. The ``.npz`` reader takes none.
+    ``skip_bad_lines`` for CARMEN logs. Every reader takes ``on_error="stop"|"skip"``:
+    what to do with a damaged scan in the middle of a recording (see
+    :mod:`laserpeople.io.damage`); the ``.npz`` reader takes no other option.
     """
     p = Path(path)
     if not p.exists():
@@ -81,11 +83,12 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
             hint="give a file, or a ROS 2 bag folder (one with metadata.yaml)",
         )
     if suffix == ".npz":
-        if options:
+        extra = set(options) - {"on_error"}
+        if extra:
             raise RecordingError(
-                f"options {', '.join(sorted(options))} do not apply to .npz recordings", path=p
+                f"options {', '.join(sorted(extra))} do not apply to .npz recordings", path=p
             )
-        return NpzRecording(p)
+        return NpzRecording(p, **options)
     if is_rosbag(p):
         from laserpeople.io.rosbag import RosbagRecording
 

@@ -54,6 +54,7 @@ from laserpeople.errors import (
     ScanFormatError,
     UnsortedStampsError,
 )
+from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import PoseParams, PoseTrack
 from laserpeople.io.topics import match_topics
@@ -93,7 +94,10 @@ class _Parsed:
     laser_pose: Pose2D | None
 
 
-def _pose(values: np.ndarray) -> Pose2D:
+def _pose(values: np.ndarray) -> Pose2D | None:
+    """The pose ``x y theta`` of a line; None when a value is not finite."""
+    if not np.all(np.isfinite(values[:3])):
+        return None
     theta = float(values[2])
     if not -math.pi < theta <= math.pi:
         theta = float(wrap_angle(theta))
@@ -215,6 +219,8 @@ class CarmenRecording:
             composed with the interpolated ODOM pose.
         params: Range limit for FLASER.
         pose_params: Interpolation tolerances for ODOM.
+        on_error: ``"skip"`` is ``skip_bad_lines=True`` and also skips scan lines whose
+            header disagrees with their data; ``"stop"`` (default) raises at the first.
     """
 
     def __init__(
@@ -226,8 +232,10 @@ class CarmenRecording:
         laser_offsets: Mapping[str, Pose2D] | None = None,
         params: CarmenParams | None = None,
         pose_params: PoseParams | None = None,
+        on_error: OnError = "stop",
     ) -> None:
         self.path = Path(path)
+        self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path, hint="check the path")
         if self.path.is_dir():
@@ -235,7 +243,7 @@ class CarmenRecording:
                 "is a directory, not a CARMEN log", path=self.path, hint="give the log file itself"
             )
         self.use_poses = poses
-        self.skip_bad_lines = skip_bad_lines
+        self.skip_bad_lines = skip_bad_lines or on_error == "skip"
         self.laser_offsets = dict(laser_offsets or {})
         self.params = params or CarmenParams()
         self.pose_params = pose_params or PoseParams()
@@ -270,8 +278,10 @@ class CarmenRecording:
                 "from Python, CarmenRecording(path, skip_bad_lines=True) skips and counts them",
             )
         self.bad_lines += 1
+        self.damaged.count += 1
         if len(self.bad_line_examples) < 5:
             self.bad_line_examples.append(f"line {lineno}: {message}")
+            self.damaged.examples.append(f"line {lineno}: {message}")
 
     def _scan_pass(self) -> None:
         odom_rows: list[tuple[float, float, float, float]] = []
@@ -290,6 +300,9 @@ class CarmenRecording:
                             stamp = _stamp_at(tokens, 7)
                         except _BadLineError as exc:
                             self._bad(lineno, f"ODOM: {exc}")
+                            continue
+                        if not np.all(np.isfinite(xyt)):
+                            self._bad(lineno, "ODOM: pose is not finite")
                             continue
                         odom_rows.append((stamp, float(xyt[0]), float(xyt[1]), float(xyt[2])))
                     else:
@@ -441,6 +454,9 @@ class CarmenRecording:
                             source=source,
                         )
                     except ScanFormatError as exc:
+                        if self.skip_bad_lines:
+                            self._bad(lineno, f"{keyword}: {exc.detail}")
+                            continue
                         raise ScanFormatError(
                             f"line {lineno}: {exc.detail}",
                             path=self.path,

@@ -29,6 +29,7 @@ from typing import IO, Any
 import numpy as np
 
 from laserpeople.errors import RecordingError
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
@@ -66,14 +67,12 @@ class DetectionsCsvWriter:
         self.segment_columns = segment_columns
         self.all_segments = segment_columns is not None
         self.topic = topic
-        try:
-            self._fh: IO[str] = self.path.open("w", newline="", encoding="utf-8")
-        except OSError as exc:
-            raise RecordingError(f"cannot write detections: {exc}", path=self.path) from exc
-        self._writer = csv.writer(self._fh)
         header = HEADER + ((*SEGMENT_COLUMNS, *segment_columns) if segment_columns else ())
-        self._writer.writerow(header + ((TOPIC_COLUMN,) if topic is not None else ()))
-        self._fh.flush()
+        self._out = ScanLineWriter(
+            self.path,
+            header + ((TOPIC_COLUMN,) if topic is not None else ()),
+            "detections CSV",
+        )
         self.rows = 0
 
     def _tail(self, topic: str | None) -> list[str]:
@@ -82,10 +81,12 @@ class DetectionsCsvWriter:
         return [topic if topic is not None else self.topic]
 
     def write(self, detections: Detections, topic: str | None = None) -> None:
-        """One row per detection, positions as given (sensor frame for one laser)."""
+        """One row per detection, positions as given (sensor frame for one laser); the
+        scan's rows go to the file in one ``write()``."""
         tail = self._tail(topic)
+        rows = []
         for (x, y), score in zip(detections.positions, detections.scores, strict=True):
-            self._writer.writerow(
+            rows.append(
                 [
                     detections.scan_index,
                     repr(float(detections.stamp)),
@@ -95,8 +96,9 @@ class DetectionsCsvWriter:
                     *tail,
                 ]
             )
-            self.rows += 1
-        self._fh.flush()
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def write_segments(
         self,
@@ -110,8 +112,9 @@ class DetectionsCsvWriter:
         topic: str | None = None,
     ) -> None:
         """One row per segment of ``scan`` with its ``values`` (S, len(segment_columns))
-        (the ``--all-segments`` layout)."""
+        (the ``--all-segments`` layout), all in one ``write()``."""
         tail = self._tail(topic if topic is not None else scan.sensor)
+        rows = []
         for i in range(centres.shape[0]):
             row: list[Any] = [
                 scan.index,
@@ -126,13 +129,14 @@ class DetectionsCsvWriter:
             ]
             row.extend(_num(v) for v in values[i])
             row.extend(tail)
-            self._writer.writerow(row)
-            self.rows += 1
-        self._fh.flush()
+            rows.append(row)
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def close(self) -> None:
         """Close the file."""
-        self._fh.close()
+        self._out.close()
 
     def __enter__(self) -> DetectionsCsvWriter:
         return self
@@ -151,22 +155,55 @@ def _value(key: str, value: str) -> float | int | str:
 
 def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int | str]]:
     """Rows of a detections CSV as dicts (``scan`` int, ``topic`` str when present, others
-    float; empty -> NaN)."""
+    float; empty -> NaN).
+
+    A last scan cut off mid-write is left out with a ``TornScanWarning``.
+
+    Raises:
+        RecordingError: the file is missing, not a detections CSV, not UTF-8, or a row is
+            malformed (the message names the line).
+    """
     p = Path(path)
     try:
         fh = p.open(newline="", encoding="utf-8")
     except OSError as exc:
         raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
-    with fh:
-        reader = csv.DictReader(fh)
-        if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
+    try:
+        with fh:
+            yield from _read_detections(fh, p)
+    except UnicodeDecodeError as exc:
+        raise RecordingError(f"not a text CSV (byte {exc.start} is not UTF-8)", path=p) from exc
+    except (OSError, csv.Error) as exc:
+        raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
+
+
+def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int | str]]:
+    torn: list[str] = []
+    reader = csv.DictReader(complete_lines(fh, torn))
+    if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
+        raise RecordingError(
+            f"not a detections CSV (header {reader.fieldnames!r:.200})",
+            path=p,
+            hint="expected the header " + ",".join(HEADER),
+        )
+    held: list[dict[str, float | int | str]] = []
+    for line, row in enumerate(reader, start=2):
+        if None in row or any(v is None for v in row.values()):
             raise RecordingError(
-                f"not a detections CSV (header {reader.fieldnames!r})",
+                f"line {line}: {'more' if None in row else 'fewer'} fields than the header",
                 path=p,
-                hint="expected the header " + ",".join(HEADER),
             )
-        for line, row in enumerate(reader, start=2):
-            try:
-                yield {k: _value(k, v) for k, v in row.items()}
-            except (TypeError, ValueError) as exc:
-                raise RecordingError(f"line {line}: {exc}", path=p) from exc
+        try:
+            parsed = {k: _value(k, v) for k, v in row.items()}
+        except (TypeError, ValueError) as exc:
+            raise RecordingError(f"line {line}: {str(exc)[:100]}", path=p) from exc
+        if held and held[0]["scan"] != parsed["scan"]:
+            yield from held
+            held = []
+        held.append(parsed)
+    if torn:
+        cut = torn_scan(torn)
+        warn_torn(p, cut)
+        if held and cut == held[0]["scan"]:
+            return
+    yield from held

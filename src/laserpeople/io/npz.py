@@ -51,6 +51,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError, TopicNotFoundError
+from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.truth import BeamLabels, TruthFrame
 
@@ -100,7 +101,7 @@ def _open_members(path: Path) -> dict[str, NDArray[Any]]:
                         hint="recordings must contain plain numeric or string arrays",
                     )
                 offset = fh.tell()
-                count = int(np.prod(shape)) if shape else 1
+                count = math.prod(int(d) for d in shape)
                 if offset + count * dtype.itemsize > os.path.getsize(path):
                     raise RecordingError(f"array {key!r} is truncated", path=path)
                 if count == 0:
@@ -114,7 +115,9 @@ def _open_members(path: Path) -> dict[str, NDArray[Any]]:
                         shape=shape,
                         order="F" if fortran else "C",
                     )
-    except (zipfile.BadZipFile, ValueError, OSError, struct.error) as exc:
+    except RecordingError:
+        raise
+    except Exception as exc:  # zipfile/numpy parsing a damaged file: any exception type
         if isinstance(exc, FileNotFoundError):
             raise RecordingError("file not found", path=path) from exc
         raise RecordingError(
@@ -125,6 +128,114 @@ def _open_members(path: Path) -> dict[str, NDArray[Any]]:
     return arrays
 
 
+def _text_scalar(array: NDArray[Any] | None) -> str:
+    """The text of a 0-d string array ("" when missing or not a text scalar)."""
+    if array is None or array.shape != () or array.dtype.kind not in "US":
+        return ""
+    value = array[()]
+    return value.decode("utf-8", "replace") if isinstance(value, bytes) else str(value)
+
+
+def _check_layout(a: dict[str, NDArray[Any]], path: Path) -> None:
+    """Shapes, types and offsets of the scan and truth arrays agree (else RecordingError).
+
+    Values inside a scan (stamps, angles) are checked when the scan is read, so that one
+    damaged scan can be skipped.
+    """
+
+    def bad(message: str) -> RecordingError:
+        return RecordingError(
+            message, path=path, hint="the file is damaged or truncated; re-create it"
+        )
+
+    names = a["sensor_names"]
+    if names.ndim != 1 or names.dtype.kind not in "US":
+        raise bad(f"sensor_names must be a list of names, got {names.dtype} {names.shape}")
+    k = a["scan_stamp"].shape[0] if a["scan_stamp"].ndim == 1 else -1
+    if k < 0:
+        raise bad(f"scan_stamp must be one-dimensional, got shape {a['scan_stamp'].shape}")
+    for key in ("scan_sensor", "scan_index", "scan_angle_min", "scan_angle_incr"):
+        _check_column(a, key, (k,), bad)
+    for key in ("scan_stamp", "scan_range_min", "scan_range_max"):
+        _check_column(a, key, (k,), bad)
+    _check_column(a, "scan_pose", (k, 3), bad)
+    for key in ("scan_sensor", "scan_index", "scan_offset"):
+        if a[key].dtype.kind not in "iu":
+            raise bad(f"{key} must hold integers, got {a[key].dtype}")
+    ranges = a["ranges"]
+    if ranges.ndim != 1 or ranges.dtype.kind not in "fiu":
+        raise bad(f"ranges must be a one-dimensional numeric array, got {ranges.dtype}")
+    _check_offsets(a["scan_offset"], k, ranges.shape[0], "scan_offset", bad)
+    if k and names.shape[0] == 0:
+        raise bad("sensor_names is empty but there are scans")
+    sensor = np.asarray(a["scan_sensor"], dtype=np.int64)
+    if k and (sensor.min() < 0 or sensor.max() >= names.shape[0]):
+        raise bad(f"scan_sensor holds values outside 0..{names.shape[0] - 1}")
+    index = np.asarray(a["scan_index"], dtype=np.int64)
+    for s in np.unique(sensor):
+        own = index[sensor == s]
+        if own.size and (own.min() < 0 or np.any(np.diff(own) < 0)):
+            at = int(np.argmax(np.diff(own) < 0)) + 1 if own.size > 1 else 0
+            raise bad(
+                f"scan_index of sensor {str(names[s])!r} is negative or goes back "
+                f"(at its scan number {at})"
+            )
+    for key in ("intensities", *(f"beam_{x}" for x in _LABEL_KEYS)):
+        if key in a and (a[key].shape != ranges.shape or a[key].dtype.kind not in "fiub"):
+            raise bad(f"{key} must be numeric with one value per beam")
+    if "truth_stamp" not in a:
+        return
+    f = a["truth_stamp"].shape[0] if a["truth_stamp"].ndim == 1 else -1
+    if f < 0:
+        raise bad("truth_stamp must be one-dimensional")
+    need = (
+        "truth_scan_index",
+        "truth_offset",
+        "truth_person_id",
+        "truth_xy",
+        "truth_vxy",
+        "truth_group",
+        "truth_legs",
+        "truth_hue",
+    )
+    missing = [key for key in need if key not in a]
+    if missing:
+        raise bad(f"truth lacks {', '.join(missing)}")
+    _check_column(a, "truth_scan_index", (f,), bad)
+    if a["truth_offset"].dtype.kind not in "iu" or a["truth_scan_index"].dtype.kind not in "iu":
+        raise bad("truth_offset and truth_scan_index must hold integers")
+    p = a["truth_person_id"].shape[0] if a["truth_person_id"].ndim == 1 else -1
+    _check_offsets(a["truth_offset"], f, p, "truth_offset", bad)
+    for key, shape in (
+        ("truth_person_id", (p,)),
+        ("truth_xy", (p, 2)),
+        ("truth_vxy", (p, 2)),
+        ("truth_group", (p,)),
+        ("truth_legs", (p, 2, 2)),
+        ("truth_hue", (p,)),
+    ):
+        _check_column(a, key, shape, bad)
+    if a["truth_person_id"].dtype.kind not in "iu" or a["truth_group"].dtype.kind not in "iu":
+        raise bad("truth_person_id and truth_group must hold integers")
+    stamps = np.asarray(a["truth_stamp"], dtype=np.float64)
+    if not np.all(np.isfinite(stamps)):
+        raise bad("truth_stamp holds a value that is not finite")
+
+
+def _check_column(a: dict[str, NDArray[Any]], key: str, shape: tuple[int, ...], bad: Any) -> None:
+    arr = a[key]
+    if arr.shape != shape or arr.dtype.kind not in "fiu":
+        raise bad(f"{key} must be numeric of shape {shape}, got {arr.dtype} {arr.shape}")
+
+
+def _check_offsets(off: NDArray[Any], n: int, total: int, key: str, bad: Any) -> None:
+    if off.shape != (n + 1,) or off.dtype.kind not in "iu":
+        raise bad(f"{key} must be {n + 1} integers, got {off.dtype} {off.shape}")
+    o = np.asarray(off, dtype=np.int64)
+    if o[0] != 0 or o[-1] != total or np.any(np.diff(o) < 0):
+        raise bad(f"{key} does not run from 0 to {total} without going back")
+
+
 class NpzRecording:
     """Reader of a ``.npz`` recording; scans stream from memory-mapped arrays.
 
@@ -133,24 +244,32 @@ class NpzRecording:
         >>> for scan in rec.scans(): ...               # doctest: +SKIP
     """
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path, *, on_error: OnError = "stop") -> None:
         self.path = Path(path)
+        self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path)
         if self.path.is_dir():
             raise RecordingError("is a directory, not an .npz recording", path=self.path)
         self._a = _open_members(self.path)
-        fmt = str(self._a["format"][()]) if "format" in self._a else ""
+        fmt = _text_scalar(self._a.get("format"))
         if fmt != FORMAT:
             raise RecordingError(
                 f"not a laserpeople recording (format {fmt or 'missing'!r})",
                 path=self.path,
                 hint="create recordings with `laserpeople simulate` or io.write_recording",
             )
-        version = int(self._a["version"][()])
-        if version > VERSION:
+        version = self._a.get("version")
+        if version is None or version.shape != () or version.dtype.kind not in "iu":
             raise RecordingError(
-                f"recording version {version} is newer than this laserpeople reads ({VERSION})",
+                "the 'version' entry is not an integer scalar",
+                path=self.path,
+                hint="the file is damaged or was not written by laserpeople; re-create it",
+            )
+        if int(version[()]) > VERSION:
+            raise RecordingError(
+                f"recording version {int(version[()])} is newer than this laserpeople reads "
+                f"({VERSION})",
                 path=self.path,
                 hint="upgrade laserpeople",
             )
@@ -170,19 +289,17 @@ class NpzRecording:
         missing = [k for k in required if k not in self._a]
         if missing:
             raise RecordingError(f"recording lacks {', '.join(missing)}", path=self.path)
+        _check_layout(self._a, self.path)
         self.sensor_names: tuple[str, ...] = tuple(str(s) for s in self._a["sensor_names"])
-        offsets = self._a["scan_offset"]
-        if offsets.size != self._a["scan_stamp"].size + 1 or (
-            offsets.size and int(offsets[-1]) != self._a["ranges"].size
-        ):
-            raise RecordingError(
-                "scan offsets do not match the ranges",
-                path=self.path,
-                hint="the file is corrupt or truncated; re-create it",
-            )
-        self.meta: dict[str, Any] = (
-            json.loads(str(self._a["meta_json"][()])) if "meta_json" in self._a else {}
-        )
+        self.meta: dict[str, Any] = {}
+        if "meta_json" in self._a:
+            try:
+                meta = json.loads(_text_scalar(self._a["meta_json"]) or "{}")
+            except (ValueError, RecursionError) as exc:
+                raise RecordingError(
+                    f"meta_json is not valid JSON: {str(exc)[:100]}", path=self.path
+                ) from exc
+            self.meta = meta if isinstance(meta, dict) else {}
 
     def __enter__(self) -> NpzRecording:
         return self
@@ -241,6 +358,8 @@ class NpzRecording:
         sensor = a["scan_sensor"]
         offsets = a["scan_offset"]
         have_int = "intensities" in a
+        self.damaged.reset()
+        read: dict[int, int] = {}
         for k in range(self.n_scans):
             s = int(sensor[k])
             if s not in wanted:
@@ -251,20 +370,45 @@ class NpzRecording:
             labels = None
             if self.has_labels:
                 labels = BeamLabels(*(np.array(a[f"beam_{key}"][lo:hi]) for key in _LABEL_KEYS))
-            yield Scan(
-                stamp=float(a["scan_stamp"][k]),
-                angle_min=float(a["scan_angle_min"][k]),
-                angle_increment=float(a["scan_angle_incr"][k]),
-                ranges=np.array(a["ranges"][lo:hi], dtype=np.float64),
-                range_min=float(a["scan_range_min"][k]),
-                range_max=float(a["scan_range_max"][k]),
-                intensities=np.array(a["intensities"][lo:hi]) if have_int else None,
-                sensor=self.sensor_names[s],
-                pose=pose,
-                index=int(a["scan_index"][k]),
-                source=str(self.path),
-                labels=labels,
-            )
+            try:
+                scan = self._scan(k, s, lo, hi, pose, labels, have_int)
+            except RecordingError as exc:
+                self.damaged.record(
+                    exc.detail,
+                    topic=self.sensor_names[s],
+                    scan=int(a["scan_index"][k]),
+                    read=read.get(s, 0),
+                    kind=type(exc),
+                )
+                continue
+            read[s] = read.get(s, 0) + 1
+            yield scan
+
+    def _scan(
+        self,
+        k: int,
+        s: int,
+        lo: int,
+        hi: int,
+        pose: Pose2D | None,
+        labels: BeamLabels | None,
+        have_int: bool,
+    ) -> Scan:
+        a = self._a
+        return Scan(
+            stamp=float(a["scan_stamp"][k]),
+            angle_min=float(a["scan_angle_min"][k]),
+            angle_increment=float(a["scan_angle_incr"][k]),
+            ranges=np.array(a["ranges"][lo:hi], dtype=np.float64),
+            range_min=float(a["scan_range_min"][k]),
+            range_max=float(a["scan_range_max"][k]),
+            intensities=np.array(a["intensities"][lo:hi]) if have_int else None,
+            sensor=self.sensor_names[s],
+            pose=pose,
+            index=int(a["scan_index"][k]),
+            source=str(self.path),
+            labels=labels,
+        )
 
     def truth(self) -> Iterator[TruthFrame]:
         """Ground-truth frames in time order (none when the recording has no truth)."""

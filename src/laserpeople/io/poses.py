@@ -290,6 +290,8 @@ class PoseSamples:
         self._rows: dict[tuple[str, str], list[tuple[float, float, float, float]]] = {}
         self._tilt: dict[tuple[str, str], float] = {}
         self._source: dict[tuple[str, str], str] = {}
+        self.dropped = 0
+        """Samples left out because a value is not finite (NaN/inf, a zero quaternion)."""
 
     def add(
         self,
@@ -301,7 +303,12 @@ class PoseSamples:
         source: str,
     ) -> None:
         """One sample of ``child`` in ``parent`` at ``stamp`` [s]: position [m], yaw and tilt
-        [rad] (as :func:`yaw_and_tilt` gives them)."""
+        [rad] (as :func:`yaw_and_tilt` gives them). A sample with a value that is not finite
+        (a NaN or infinite translation, a zero quaternion) is left out and counted in
+        :attr:`dropped`."""
+        if not all(math.isfinite(v) for v in (stamp, xy[0], xy[1], yaw_tilt[0])):
+            self.dropped += 1
+            return
         key = (normalise_frame(parent), normalise_frame(child))
         self._rows.setdefault(key, []).append((stamp, xy[0], xy[1], yaw_tilt[0]))
         self._tilt[key] = max(self._tilt.get(key, 0.0), yaw_tilt[1])

@@ -18,10 +18,9 @@ from __future__ import annotations
 
 import heapq
 import math
-import struct
-import zlib
 from collections import Counter, defaultdict
 from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +30,7 @@ from laserpeople.errors import (
     TopicNotFoundError,
     UnsortedStampsError,
 )
+from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
     KNOWN_MOUNTS,
@@ -57,28 +57,64 @@ _CORRUPT_HINT = (
 )
 
 
-def _reader_errors() -> tuple[type[BaseException], ...]:
-    from rosbags.highlevel import AnyReaderError
-    from rosbags.rosbag1 import ReaderError as Reader1Error
-    from rosbags.rosbag2 import ReaderError as Reader2Error
-    from rosbags.serde import SerdeError
-    from rosbags.typesys import TypesysError
+METADATA_LIMIT = 1 * 2**20
+"""Largest ``metadata.yaml`` of a ROS 2 bag folder [bytes] (real ones are a few KiB)."""
+METADATA_DEPTH = 64
+"""Deepest nesting of ``[`` / ``{`` in ``metadata.yaml`` (real ones nest 3 deep)."""
 
-    return (
-        AnyReaderError,
-        Reader1Error,
-        Reader2Error,
-        SerdeError,
-        TypesysError,
-        struct.error,
-        zlib.error,
-        EOFError,
-        OSError,
-        ValueError,
-        IndexError,
-        KeyError,
-        AssertionError,
+
+def _check_metadata(path: Path) -> None:
+    """Refuse a ``metadata.yaml`` that is too large or nested too deep to parse quickly."""
+    try:
+        size = path.stat().st_size
+        if size > METADATA_LIMIT:
+            raise RecordingError(
+                f"metadata.yaml is {size} bytes, more than the {METADATA_LIMIT} accepted",
+                path=path,
+                hint="the bag's metadata is damaged; regenerate it with `ros2 bag reindex`",
+            )
+        text = path.read_bytes()
+    except OSError as exc:
+        raise RecordingError(f"cannot read metadata.yaml: {exc}", path=path) from exc
+    depth = deepest = 0
+    for byte in text:
+        if byte in b"[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif byte in b"]}":
+            depth = max(depth - 1, 0)
+    if deepest > METADATA_DEPTH:
+        raise RecordingError(
+            f"metadata.yaml nests {deepest} levels deep (at most {METADATA_DEPTH} accepted)",
+            path=path,
+            hint="the bag's metadata is damaged; regenerate it with `ros2 bag reindex`",
+        )
+
+
+def _check_connection(conn: Any, path: Path) -> None:
+    """The bag's index entry of a topic has a text name and type and an integer count."""
+    ok = (
+        isinstance(conn.topic, str)
+        and isinstance(conn.msgtype, str)
+        and isinstance(conn.msgcount, int)
+        and not isinstance(conn.msgcount, bool)
+        and conn.msgcount >= 0
     )
+    if not ok:
+        raise RecordingError(
+            f"the bag's index describes a topic as name {conn.topic!r:.60}, type "
+            f"{conn.msgtype!r:.60}, count {conn.msgcount!r:.30}",
+            path=path,
+            hint=_CORRUPT_HINT,
+        )
+
+
+def _describe(exc: BaseException) -> str:
+    """An exception of a third-party parser as text for an error message."""
+    text = str(exc)
+    if len(text) > 300:
+        text = text[:300] + "..."
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def _stamp(header: Any) -> float:
@@ -108,6 +144,9 @@ class RosbagRecording:
         mounts: Extra fixed transforms ``child frame -> (parent frame, pose)`` for laser
             mounts a bag lacks; they win over the bag's own.
         pose_params: Interpolation tolerances.
+        on_error: ``"stop"`` (default) ends at the first damaged scan with an error naming
+            it; ``"skip"`` leaves damaged scans out and counts them in :attr:`damaged`
+            (see :mod:`laserpeople.io.damage`).
 
     Raises:
         RecordingError: The file is missing, corrupt, truncated or not a bag.
@@ -122,8 +161,10 @@ class RosbagRecording:
         odometry_topics: Sequence[str] | None = None,
         mounts: Mapping[str, tuple[str, Pose2D]] | None = None,
         pose_params: PoseParams | None = None,
+        on_error: OnError = "stop",
     ) -> None:
         self.path = Path(path)
+        self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
             raise RecordingError("file not found", path=self.path, hint="check the path")
         if self.path.is_dir() and not (self.path / "metadata.yaml").is_file():
@@ -137,9 +178,12 @@ class RosbagRecording:
         self._world_request = world_frame
         self._odometry_request = None if odometry_topics is None else tuple(odometry_topics)
         self._mounts = dict(mounts or {})
+        if self.path.is_dir():
+            _check_metadata(self.path / "metadata.yaml")
         self._reader = self._open()
         self._connections: dict[str, list[Any]] = defaultdict(list)
         for conn in self._reader.connections:
+            _check_connection(conn, self.path)
             self._connections[conn.topic].append(conn)
         self._tree: TransformTree | None = None
         self.world_frame: str | None = None
@@ -147,19 +191,23 @@ class RosbagRecording:
         self.scans_with_log_time = 0
         self.scans_read = 0
         self.pose_misses: Counter[tuple[str, str]] = Counter()
+        self.pose_messages_skipped = 0
+        self.pose_samples_dropped = 0
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
         from rosbags.highlevel import AnyReader
         from rosbags.typesys import Stores, get_typestore
 
-        errors = _reader_errors()
+        from laserpeople.io import bag_guard
+
+        bag_guard.install()
         try:
             reader = AnyReader([self.path], default_typestore=get_typestore(Stores.LATEST))
             reader.open()
-        except errors as exc:
+        except Exception as exc:  # any failure of the third-party parser on a damaged file
             raise RecordingError(
-                f"cannot open bag: {exc}", path=self.path, hint=_CORRUPT_HINT
+                f"cannot open bag: {_describe(exc)}", path=self.path, hint=_CORRUPT_HINT
             ) from exc
         return reader
 
@@ -275,7 +323,21 @@ class RosbagRecording:
         try:
             # an empty connection list would mean "every topic" to rosbags
             for conn, _, raw in reader.messages(connections=pose_conns) if pose_conns else ():
-                msg: Any = reader.deserialize(raw, conn.msgtype)
+                try:
+                    msg: Any = reader.deserialize(raw, conn.msgtype)
+                    if conn.msgtype in TF_TYPES:
+                        msg.transforms  # noqa: B018  (a record filed under another type)
+                    else:
+                        msg.pose.pose  # noqa: B018
+                except Exception as exc:
+                    if self.damaged.on_error == "stop":
+                        raise RecordingError(
+                            f"damaged pose message on {conn.topic!r}: {_describe(exc)}",
+                            path=self.path,
+                            hint="use --on-error skip to leave damaged messages out",
+                        ) from exc
+                    self.pose_messages_skipped += 1
+                    continue
                 if conn.msgtype in TF_TYPES:
                     target = static if "static" in conn.topic else tf
                     for tr in msg.transforms:
@@ -298,10 +360,15 @@ class RosbagRecording:
                         yaw_and_tilt(q.x, q.y, q.z, q.w),
                         conn.topic,
                     )
-        except _reader_errors() as exc:
+        except RecordingError:
+            raise
+        except Exception as exc:  # any failure of the third-party parser on a damaged file
             raise RecordingError(
-                f"cannot read pose data (/tf, odometry): {exc}", path=self.path, hint=_CORRUPT_HINT
+                f"cannot read pose data (/tf, odometry): {_describe(exc)}",
+                path=self.path,
+                hint=_CORRUPT_HINT,
             ) from exc
+        self.pose_samples_dropped = static.dropped + tf.dropped + odom.dropped
         tree = TransformTree(self.pose_params)
         add_mounts(tree, self._mounts)
         static.add_to(tree, static=True)
@@ -313,16 +380,22 @@ class RosbagRecording:
     def laser_frames(self, topics: Sequence[str] | None = None) -> dict[str, str]:
         """``header.frame_id`` of the first message of each laser topic."""
         out: dict[str, str] = {}
-        errors = _reader_errors()
         for name in self.resolve_topics(topics):
             try:
                 for conn, _, raw in self._reader.messages(connections=self._connections[name]):
-                    msg = self._reader.deserialize(raw, conn.msgtype)
-                    out[name] = normalise_frame(msg.header.frame_id)
+                    try:
+                        msg = self._reader.deserialize(raw, conn.msgtype)
+                        out[name] = normalise_frame(str(msg.header.frame_id))
+                    except Exception:
+                        if self.damaged.on_error == "stop":
+                            raise
+                        continue
                     break
-            except errors as exc:
+            except Exception as exc:  # any failure of the third-party parser
                 raise RecordingError(
-                    f"cannot read topic {name!r}: {exc}", path=self.path, hint=_CORRUPT_HINT
+                    f"cannot read topic {name!r}: {_describe(exc)}",
+                    path=self.path,
+                    hint=_CORRUPT_HINT,
                 ) from exc
         return out
 
@@ -376,6 +449,7 @@ class RosbagRecording:
         self.scans_with_log_time = 0
         self.scans_read = 0
         self.pose_misses.clear()
+        self.damaged.reset()
         streams = [self._topic_scans(name, tree, world) for name in names]
         merged = streams[0] if len(streams) == 1 else heapq.merge(*streams, key=_by_stamp)
         for scan in merged:
@@ -385,33 +459,57 @@ class RosbagRecording:
     def _topic_scans(
         self, topic: str, tree: TransformTree | None, world: str | None
     ) -> Iterator[Scan]:
-        errors = _reader_errors()
         source = str(self.path)
         index = -1
+        read = 0
         last = -math.inf
         reader = self._open()
         try:
             conns = [c for c in reader.connections if c.topic == topic]
-            messages = reader.messages(connections=conns)
+            try:
+                messages = reader.messages(connections=conns)
+            except Exception as exc:
+                self.damaged.end(_describe(exc), topic=topic, scan=0, read=0)
+                return
             while True:
                 try:
                     item = next(messages, None)
-                    if item is None:
-                        return
-                    conn, log_time, raw = item
-                    msg: Any = reader.deserialize(raw, conn.msgtype)
-                except errors as exc:
-                    raise RecordingError(
-                        f"topic {topic!r}: cannot read the message after scan {index}: {exc}",
-                        path=self.path,
-                        scan=index + 1,
-                        hint=_CORRUPT_HINT,
-                    ) from exc
+                except Exception as exc:  # the storage itself is damaged: no way to go on
+                    self.damaged.end(_describe(exc), topic=topic, scan=index + 1, read=read)
+                    return
+                if item is None:
+                    return
                 index += 1
-                stamp = _stamp(msg.header)
-                if stamp == 0.0 and log_time != 0:
-                    stamp = log_time * 1e-9
-                    self.scans_with_log_time += 1
+                try:
+                    conn, log_time, raw = item
+                    msg = self._decode(reader, conn, topic, raw)
+                    stamp = _stamp(msg.header)
+                    if stamp == 0.0 and log_time != 0:
+                        stamp = log_time * 1e-9
+                        self.scans_with_log_time += 1
+                    intensities = msg.intensities if len(msg.intensities) else None
+                    scan = Scan.from_angles(
+                        stamp,
+                        float(msg.angle_min),
+                        float(msg.angle_max),
+                        float(msg.angle_increment),
+                        msg.ranges,
+                        range_min=float(msg.range_min),
+                        range_max=float(msg.range_max),
+                        intensities=intensities,
+                        sensor=topic,
+                        pose=None,
+                        index=index,
+                        source=source,
+                    )
+                except RecordingError as exc:
+                    self.damaged.record(
+                        exc.detail, topic=topic, scan=index, read=read, kind=type(exc)
+                    )
+                    continue
+                except Exception as exc:  # a message the deserialiser cannot decode
+                    self.damaged.record(_describe(exc), topic=topic, scan=index, read=read)
+                    continue
                 if stamp < last:
                     raise UnsortedStampsError(
                         f"topic {topic!r}: stamp {stamp:.6f} s is {last - stamp:.6f} s before "
@@ -422,37 +520,43 @@ class RosbagRecording:
                         "ros2 bag convert) or fix the driver's clock",
                     )
                 last = stamp
-                pose = None
                 if tree is not None:
-                    if world is None:
-                        reason = (
-                            "no pose data (no /tf, /tf_static or odometry)"
-                            if not tree.frames()
-                            else "no world frame: laser frames not connected to "
-                            + " or ".join(self.pose_params.world_frames)
-                        )
-                    else:
-                        pose, reason = tree.lookup(world, msg.header.frame_id, stamp)
+                    pose, reason = self._pose(tree, world, str(msg.header.frame_id), stamp)
                     if pose is None:
                         self.scans_without_pose += 1
                         self.pose_misses[(topic, reason)] += 1
-                intensities = msg.intensities if len(msg.intensities) else None
-                yield Scan.from_angles(
-                    stamp,
-                    float(msg.angle_min),
-                    float(msg.angle_max),
-                    float(msg.angle_increment),
-                    msg.ranges,
-                    range_min=float(msg.range_min),
-                    range_max=float(msg.range_max),
-                    intensities=intensities,
-                    sensor=topic,
-                    pose=pose,
-                    index=index,
-                    source=source,
-                )
+                    else:
+                        scan = replace(scan, pose=pose)
+                read += 1
+                yield scan
         finally:
             reader.close()
+
+    def _decode(self, reader: Any, conn: Any, topic: str, raw: Any) -> Any:
+        """Deserialise one scan message; a record filed under a connection of another topic
+        or type (a damaged connection id) is a :class:`RecordingError`."""
+        if conn.topic != topic or not _is_laserscan(reader, conn.msgtype):
+            raise RecordingError(
+                f"record belongs to connection {conn.topic!r} ({conn.msgtype}), "
+                "not to this laser topic",
+                path=self.path,
+            )
+        if not isinstance(raw, bytes | bytearray | memoryview):
+            raise RecordingError(f"message data is {type(raw).__name__}, not bytes", path=self.path)
+        return reader.deserialize(raw, conn.msgtype)
+
+    def _pose(
+        self, tree: TransformTree, world: str | None, frame: str, stamp: float
+    ) -> tuple[Pose2D | None, str]:
+        if world is None:
+            reason = (
+                "no pose data (no /tf, /tf_static or odometry)"
+                if not tree.frames()
+                else "no world frame: laser frames not connected to "
+                + " or ".join(self.pose_params.world_frames)
+            )
+            return None, reason
+        return tree.lookup(world, frame, stamp)
 
 
 def _mount_hint(tree: TransformTree | None) -> str:

@@ -13,8 +13,10 @@ topic the tracks come from, or ``fused`` when several lasers made each frame (th
 trackers of groups) end with a ``contour`` column: a group's outline as ``x y;x y;...``
 [m] in the frame of the positions, empty for legs, persons and groups without one.
 Readers accept files with and without these columns.
-A scan with no tracks writes no row. Because every scan's rows are flushed before the
-next scan is processed, a crash leaves a valid file with the scans done so far.
+A scan with no tracks writes no row. Every scan's rows go to the file in one ``write()``
+before the next scan is processed (:mod:`laserpeople.io.scan_lines`), so a crash or a kill
+leaves a valid file with the scans done so far; a reader that finds the last scan cut off
+anyway (a file cut short) leaves that scan out with a ``TornScanWarning``.
 
 ``track_id`` may be any text when reading (other trackers write UUIDs): an id that is not
 a plain integer gets the integer :data:`STRING_ID_BASE` + k (k = 0, 1, ... in order of
@@ -28,11 +30,12 @@ import csv
 import math
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any, get_args
+from typing import Any, get_args
 
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
@@ -125,29 +128,25 @@ class TracksCsvWriter:
         self.path = Path(path)
         self.frame = frame
         self.topic = topic
-        try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._fh: IO[str] = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115
-        except OSError as exc:
-            raise RecordingError(
-                f"cannot write the tracks CSV: {exc.strerror or exc}",
-                path=self.path,
-                hint="choose a writable file path with -o",
-            ) from exc
-        self._csv = csv.writer(self._fh, lineterminator="\n")
         header = HEADER if topic is None else (*HEADER, TOPIC_COLUMN)
-        self._csv.writerow((*header, CONTOUR_COLUMN) if contours else header)
-        self._fh.flush()
+        self._out = ScanLineWriter(
+            self.path, (*header, CONTOUR_COLUMN) if contours else header, "tracks CSV"
+        )
         self.rows = 0
         self.contours = contours
         self._tail: tuple[str, ...] = () if topic is None else (topic,)
 
     def write(self, tracks: Tracks) -> None:
-        """Append the rows of one scan and flush them to disk."""
+        """Append the rows of one scan with one ``write()`` (see the module docstring).
+
+        Raises:
+            RecordingError: The write failed (disk full); the file keeps the earlier scans.
+        """
         tracks = convert_tracks(tracks, self.frame)
+        rows = []
         for t in tracks.tracks:
             c = t.covariance
-            self._csv.writerow(
+            rows.append(
                 (
                     tracks.scan_index,
                     f"{tracks.stamp:.6f}",
@@ -166,13 +165,13 @@ class TracksCsvWriter:
                     *((format_contour(t.contour),) if self.contours else ()),
                 )
             )
-            self.rows += 1
-        self._fh.flush()
+        if rows:
+            self._out.write_rows(rows)
+            self.rows += len(rows)
 
     def close(self) -> None:
         """Close the file."""
-        if not self._fh.closed:
-            self._fh.close()
+        self._out.close()
 
     def __enter__(self) -> TracksCsvWriter:
         return self
@@ -194,18 +193,25 @@ def _parse_row(
         kind = row["kind"]
         if kind not in get_args(TrackKind):
             raise ValueError(f"kind {kind!r} is not one of {', '.join(TRACK_KINDS)}")
-        cxx, cxy, cyy = float(row["cov_xx"]), float(row["cov_xy"]), float(row["cov_yy"])
+        cxx, cxy, cyy = (_number(row, k, "nan") for k in ("cov_xx", "cov_xy", "cov_yy"))
+        size = int(row.get("size") or 1)
+        if not 0 <= size <= 1_000_000:
+            raise ValueError(f"size {size} is not a number of people")
         track = Track(
             track_id=ids.to_int(row["track_id"]),
             kind=kind,
             position=np.array([float(row["x"]), float(row["y"])]),
-            velocity=np.array([float(row.get("vx") or "nan"), float(row.get("vy") or "nan")]),
+            velocity=np.array([_number(row, "vx", "nan"), _number(row, "vy", "nan")]),
             covariance=np.array([[cxx, cxy], [cxy, cyy]]),
-            size=int(row.get("size") or 1),
+            size=size,
             labels=row.get("labels") or "",
             contour=parse_contour(row.get(CONTOUR_COLUMN) or ""),
         )
         scan, stamp = int(row["scan"]), float(row["stamp"])
+        if not 0 <= scan < ID_LIMIT:
+            raise ValueError(f"scan {scan} is negative or too large")
+        if not math.isfinite(stamp):
+            raise ValueError("stamp is not finite")
     except (KeyError, TypeError, ValueError) as exc:
         raise RecordingError(
             f"line {line}: {exc}",
@@ -216,6 +222,15 @@ def _parse_row(
         raise RecordingError(f"line {line}: position is not finite", path=path)
     return scan, stamp, track
 
+
+def _number(row: dict[str, Any], key: str, empty: str) -> float:
+    """A float cell (``empty`` when the cell is missing or blank)."""
+    return float(row.get(key) or empty)
+
+
+ID_LIMIT = 2**62
+"""Scan indices (and the integer ids of a truth CSV) read from a CSV stay below this, so
+that they fit int64 arrays with room to spare."""
 
 STRING_ID_BASE = 1 << 40
 """First integer given to a track id that is not an integer (far above any id a tracker
@@ -241,19 +256,17 @@ class TrackIdNames:
         return len(self._names)
 
     def to_int(self, text: str) -> int:
-        """The integer id of ``text``: itself when it is a plain integer (``"7"``, ``"-3"``),
-        else a new or known id from :data:`STRING_ID_BASE` on."""
+        """The integer id of ``text``: itself when it is a plain integer (``"7"``, ``"-3"``)
+        of magnitude below :data:`STRING_ID_BASE`, else (other text, or a longer number) a
+        new or known id from :data:`STRING_ID_BASE` on, the same for every row."""
         t = text.strip()
         if not t:
             raise ValueError("track_id is empty")
         digits = t[1:] if t[:1] in "+-" else t
         if digits.isascii() and digits.isdigit():
             value = int(t)
-            if value >= STRING_ID_BASE:
-                raise ValueError(
-                    f"track_id {t} is too large (integer ids must stay below {STRING_ID_BASE})"
-                )
-            return value
+            if -STRING_ID_BASE < value < STRING_ID_BASE:
+                return value
         got = self._ints.get(t)
         if got is None:
             got = STRING_ID_BASE + len(self._ints)
@@ -327,7 +340,8 @@ def _read_tracks(
     p: Path, frame: CoordinateFrame, kinds: tuple[TrackKind, ...] | None, ids: TrackIdNames
 ) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
-        reader = csv.DictReader(fh)
+        torn: list[str] = []
+        reader = csv.DictReader(complete_lines(fh, torn))
         columns = reader.fieldnames or []
         missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
         if missing:
@@ -356,5 +370,10 @@ def _read_tracks(
                 last = scan
             if kinds is None or track.kind in kinds:
                 current.append(track)
+        if torn:
+            cut = torn_scan(torn)
+            warn_torn(p, cut)
+            if key is not None and cut == key[0]:
+                return
         if key is not None and current:
             yield Tracks(key[1], key[0], tuple(current), frame)

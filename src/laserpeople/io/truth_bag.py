@@ -172,18 +172,20 @@ def _open(path: Path) -> Any:
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import Stores, get_typestore
 
-    from laserpeople.io.rosbag import _reader_errors
+    from laserpeople.io import bag_guard
+    from laserpeople.io.rosbag import _describe
 
     if not path.exists():
         raise RecordingError("file not found", path=path, hint="check the path of --truth")
     typestore = get_typestore(Stores.LATEST)
     register_people_types(typestore)
+    bag_guard.install()
     try:
         reader = AnyReader([path], default_typestore=typestore)
         reader.open()
-    except _reader_errors() as exc:
+    except Exception as exc:  # any failure of the third-party parser on a damaged file
         raise RecordingError(
-            f"cannot open bag: {exc}", path=path, hint="give a readable .bag/.mcap/.db3"
+            f"cannot open bag: {_describe(exc)}", path=path, hint="give a readable .bag/.mcap/.db3"
         ) from exc
     return reader
 
@@ -234,7 +236,7 @@ def read_truth_bag(
         MessageTypeError: the truth topic carries another message type.
         RecordingError: the bag cannot be read, or no label pairs with a scan.
     """
-    from laserpeople.io.rosbag import LASERSCAN, _reader_errors
+    from laserpeople.io.rosbag import LASERSCAN, _describe
 
     p = Path(path)
     reader = _open(p)
@@ -268,9 +270,11 @@ def read_truth_bag(
                     by_log.setdefault(len(scan_stamps) - 1, []).extend(people)
                 else:
                     out.unpaired += len(people)
-        except _reader_errors() as exc:
+        except RecordingError:
+            raise
+        except Exception as exc:  # any failure of the third-party parser on a damaged file
             raise RecordingError(
-                f"cannot read {truth_topic} or {laser}: {exc}",
+                f"cannot read {truth_topic} or {laser}: {_describe(exc)}",
                 path=p,
                 hint="the bag is corrupt or truncated",
             ) from exc

@@ -5,10 +5,11 @@ Header (extra columns are ignored; ``group_id`` is optional)::
     scan,stamp,person_id,x,y[,group_id]
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
-time [s], ``x, y`` the person's position [m] in the world frame, ``group_id`` the group
-(-1 or empty: walks alone). The annotation may be sparse: only scans that appear in the
-file are scored. A scan that was annotated and holds nobody is one row with ``person_id``,
-``x`` and ``y`` empty. Rows may come in any order; they are grouped by scan.
+time [s], ``person_id`` an integer ``0 <= id < 2**62``, ``x, y`` the person's position [m] in the
+world frame, ``group_id`` the group (-1 or empty: walks alone). The annotation may be
+sparse: only scans that appear in the file are scored. A scan that was annotated and holds
+nobody is one row with ``person_id``, ``x`` and ``y`` empty. Rows may come in any order;
+they are grouped by scan.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import RecordingError
+from laserpeople.io.tracks_csv import ID_LIMIT
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
@@ -139,20 +141,22 @@ def _parse_row(
             raise ValueError(f"{len(extra)} more field(s) than the header has columns")
         scan = int(number("scan", int))
         stamp = float(number("stamp", float))
-        if scan < 0:
-            raise ValueError(f"scan {scan} is negative")
+        if not 0 <= scan < ID_LIMIT:
+            raise ValueError(f"scan {scan} is negative or too large")
         if not math.isfinite(stamp):
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
         person = int(number("person_id", int))
-        if person < 0:
-            raise ValueError(f"person_id {person} is negative")
+        if not 0 <= person < ID_LIMIT:
+            raise ValueError(f"person_id {person} is negative or too large")
         x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
         group_text = cell("group_id")
         group = int(number("group_id", int)) if group_text else NONE_ID
+        if group >= ID_LIMIT:
+            raise ValueError(f"group_id {group} is larger than {ID_LIMIT - 1}")
         group = max(group, NONE_ID)
     except ValueError as exc:
         raise RecordingError(

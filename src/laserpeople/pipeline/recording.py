@@ -15,6 +15,7 @@ from typing import Any
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
+from laserpeople.io.damage import check_on_error
 from laserpeople.pipeline.background import background_stage
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
@@ -34,12 +35,18 @@ ALL_TOPICS = "all"
 
 
 def open_source(
-    path: str | Path, world_frame: str | None = None, mounts: Sequence[str] = ()
+    path: str | Path,
+    world_frame: str | None = None,
+    mounts: Sequence[str] = (),
+    on_error: str = "stop",
 ) -> RecordingSource:
     """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts``
-    (``CHILD=PARENT:x,y,theta`` or a known robot such as ``mir100``) give sensor poses."""
+    (``CHILD=PARENT:x,y,theta`` or a known robot such as ``mir100``) give sensor poses.
+    ``on_error`` is the reader's policy for a damaged scan (``stop`` or ``skip``,
+    :mod:`laserpeople.io.damage`); skipped scans are counted in the reader's ``damaged``."""
+    policy = check_on_error(on_error)
     if not (world_frame or mounts):
-        return open_recording(path)
+        return open_recording(path, on_error=policy)
     if not is_rosbag(path):
         raise ConfigError(
             "--world-frame and --mount apply to ROS bags only",
@@ -48,7 +55,9 @@ def open_source(
         )
     from laserpeople.io.poses import parse_mounts
 
-    return open_recording(path, world_frame=world_frame, mounts=parse_mounts(list(mounts)))
+    return open_recording(
+        path, world_frame=world_frame, mounts=parse_mounts(list(mounts)), on_error=policy
+    )
 
 
 def resolve_topics(recording: RecordingSource, topics: Sequence[str] | None) -> list[str]:
@@ -193,6 +202,7 @@ def build(
     identify: Sequence[Identifier] = (),
     reidentify: bool = False,
     max_frames: int | None = None,
+    on_error: str = "stop",
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
@@ -201,6 +211,8 @@ def build(
     :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
     (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
     ``AppearanceUnavailableError`` for a recording without ground-truth hues).
+    ``on_error`` (``stop``/``skip``) is the reader's policy for a damaged scan (see
+    :func:`open_source`).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -210,7 +222,7 @@ def build(
 
     if isinstance(tracker, str):
         tracker = registry.get(tracker).make(params)
-    rec = open_source(recording, world_frame, mounts)
+    rec = open_source(recording, world_frame, mounts, on_error)
     try:
         source = RecordingFrames(
             rec,

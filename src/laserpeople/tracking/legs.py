@@ -24,6 +24,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking.frames import in_frame, tracking_frame
+from laserpeople.tracking.guard import InputGuard
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.probability import LabelProbabilities
@@ -188,10 +189,12 @@ class LegMHTTracker:
         self.last_stats: StepStats | None = None
         self.leg_ids_reported: set[int] = set()
         self.dropped_detections = 0
+        """Detections with a non-finite position, left out (counted, never silently)."""
+        self.guard = InputGuard()
+        """Counts of hostile input (repeated/backward stamps, non-finite values)."""
         self._kept: NDArray[np.intp] = np.empty(0, dtype=np.intp)
         self.hidden_tracks = 0
         """Leg and person tracks of the last scan left out of the output (unseen too long)."""
-        """Detections with a non-finite position, left out (counted, never silently)."""
 
     def _measurements(self, detections: Detections) -> PointMeasurements:
         if self.frame is None:
@@ -206,7 +209,9 @@ class LegMHTTracker:
         return meas
 
     def update(self, detections: Detections) -> Tracks:
-        """Track one scan's leg detections."""
+        """Track one scan's leg detections (checked by :class:`InputGuard` first)."""
+        detections = self.guard.check(detections)
+        self.dropped_detections = self.guard.dropped_detections
         meas = self._measurements(detections)
         self.last_stats = self.mht.step(meas, detections.stamp)
         probs = self.mht.best_probabilities()

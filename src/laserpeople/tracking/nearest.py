@@ -20,6 +20,7 @@ from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking import kalman
 from laserpeople.tracking.assignment import solve
 from laserpeople.tracking.frames import in_frame, tracking_frame
+from laserpeople.tracking.guard import InputGuard
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
 from laserpeople.tracks import Detections, Track, Tracks
@@ -69,6 +70,9 @@ class NearestNeighbourTracker:
         self._stamp: float | None = None
         self.frame: CoordinateFrame | None = None
         self.leg_ids_reported: set[int] = set()
+        self.guard = InputGuard()
+        """Counts of hostile input (repeated/backward stamps, non-finite values)."""
+        self.dropped_detections = 0
 
     def _positions(self, detections: Detections) -> tuple[FloatArray, FloatArray]:
         if self.frame is None:
@@ -80,7 +84,9 @@ class NearestNeighbourTracker:
         return detections.positions, r
 
     def update(self, detections: Detections) -> Tracks:
-        """Track one scan's detections."""
+        """Track one scan's detections (checked by :class:`InputGuard` first)."""
+        detections = self.guard.check(detections)
+        self.dropped_detections = self.guard.dropped_detections
         kp = self.params.kalman
         z, r = self._positions(detections)
         t = self._t

@@ -14,12 +14,14 @@ The same name and seed always give the same recording; another seed changes the 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError
+from laserpeople.sim.sensors import SensorSpec
 from laserpeople.sim.simulator import ProgressWrapper, Scene, SimResult, simulate
 
 
@@ -95,6 +97,42 @@ def build_scene(name: str, *, seconds: float | None = None, seed: int = 0) -> Sc
     return s.build(np.random.default_rng([seed, 0x5CE4E]), duration)
 
 
+MAX_SECONDS = 1e5
+"""Longest simulation [s] (about 28 hours); longer ones cannot be held in memory."""
+BYTES_PER_BEAM = 40
+"""Memory per simulated beam [bytes]: range, intensity, four label arrays, points."""
+
+
+def memory_limit() -> int:
+    """Half the machine's physical memory [bytes] (8 GiB when it cannot be told)."""
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")) // 2
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+def check_fits_in_memory(
+    sensors: Sequence[SensorSpec], duration: float, rate: float | None
+) -> None:
+    """Refuse a simulation whose scans would not fit in memory (see :func:`memory_limit`).
+
+    Raises:
+        LaserPeopleError: naming the estimate, the limit and what to do.
+    """
+    need = 0.0
+    for spec in sensors:
+        model = spec.laser
+        hz = rate if rate is not None else model.rate_hz
+        need += duration * hz * model.n_beams * BYTES_PER_BEAM
+    limit = memory_limit()
+    if need > limit:
+        raise LaserPeopleError(
+            f"{duration:g} s of scans would take about {need / 2**30:,.1f} GiB of memory, "
+            f"more than the {limit / 2**30:,.1f} GiB allowed (half of this machine's)",
+            hint="simulate fewer seconds or a lower --rate",
+        )
+
+
 def run_scenario(
     name: str,
     *,
@@ -117,7 +155,14 @@ def run_scenario(
         raise LaserPeopleError(
             f"--rate must be positive and finite, got {rate}", hint="e.g. --rate 10"
         )
+    if duration > MAX_SECONDS:
+        raise LaserPeopleError(
+            f"--seconds {duration:g} is longer than the {MAX_SECONDS:g} s a simulation can hold "
+            "in memory",
+            hint="simulate a shorter scene, e.g. --seconds 600",
+        )
     scene = s.build(np.random.default_rng([seed, 0x5CE4E]), duration)
+    check_fits_in_memory(scene.sensors, duration, rate)
     result = simulate(
         scene,
         duration,

@@ -1,0 +1,70 @@
+"""Checks on the files a command is about to write.
+
+:func:`check_outputs` refuses an output that is one of the command's inputs (the same
+file under another name included: the paths are resolved and, when both exist, compared
+by device and inode), lies inside an input ROS 2 bag folder, or is given twice
+as output. Commands call it before they open anything for writing, so that
+``laserpeople track X.npz -o X.npz`` stops with a message instead of truncating the
+recording it is about to read.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from laserpeople.errors import ConfigError
+
+
+def _resolved(path: Path) -> Path:
+    try:
+        return path.expanduser().resolve(strict=False)
+    except (OSError, RuntimeError):
+        return path.absolute()
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether ``a`` and ``b`` name the same file (resolved paths, or device and inode)."""
+    pa, pb = Path(a), Path(b)
+    if _resolved(pa) == _resolved(pb):
+        return True
+    try:
+        return os.path.samefile(pa, pb)
+    except OSError:
+        return False
+
+
+def check_outputs(
+    outputs: Mapping[str, str | Path | None], inputs: Iterable[str | Path | None]
+) -> None:
+    """Refuse to write over an input.
+
+    Args:
+        outputs: Option name (``"-o"``, ``"--plot"``) -> the path it names (None: not given).
+        inputs: Every file or folder the command reads (None entries are ignored).
+
+    Raises:
+        ConfigError: An output is an input, lies inside an input folder, or two outputs
+            are the same file; the message names both paths.
+    """
+    given = [(name, Path(p)) for name, p in outputs.items() if p is not None]
+    sources = [Path(p) for p in inputs if p is not None]
+    for name, out in given:
+        if str(out) in ("-", "/dev/null") or out.is_char_device():
+            continue
+        for src in sources:
+            bag_folder = src.is_dir() and (src / "metadata.yaml").is_file()
+            inside = bag_folder and _resolved(src) in _resolved(out).parents
+            if same_file(out, src) or inside:
+                raise ConfigError(
+                    f"{name} {out} would write over the input {src}",
+                    hint="choose another output path; inputs are never overwritten",
+                )
+    for i, (name, out) in enumerate(given):
+        for other, path in given[i + 1 :]:
+            if same_file(out, path):
+                raise ConfigError(
+                    f"{name} {out} and {other} {path} are the same file",
+                    hint="give each output its own path",
+                )

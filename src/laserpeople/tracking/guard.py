@@ -1,0 +1,95 @@
+"""What a tracker does with hostile detections, before they reach its filters.
+
+Every tracker's ``update`` passes its input through :class:`InputGuard` first:
+
+* a detection whose position or covariance is not finite is left out and counted in
+  :attr:`InputGuard.dropped_detections`;
+* a scan stamp that is not finite is an error (:class:`~laserpeople.errors.LaserPeopleError`
+  naming the scan): no time step can be made from it;
+* a stamp equal to the previous one is counted in :attr:`InputGuard.repeated_stamps`
+  (a time step of zero);
+* a stamp before the previous one is counted in :attr:`InputGuard.backward_stamps` and
+  replaced by the previous stamp, so that the filters never predict backwards in time;
+* a step longer than :data:`JUMP` seconds is counted in :attr:`InputGuard.stamp_jumps`
+  (the filters clip their own time step).
+
+:meth:`InputGuard.summary` says what happened, for the command to print.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from laserpeople.errors import LaserPeopleError
+from laserpeople.tracks import Detections
+
+JUMP = 60.0
+"""A time step [s] longer than this is counted as a jump in time."""
+
+
+class InputGuard:
+    """Cleans one scan's detections and counts what it had to change (see module doc)."""
+
+    def __init__(self) -> None:
+        self.last_stamp: float | None = None
+        self.dropped_detections = 0
+        self.repeated_stamps = 0
+        self.backward_stamps = 0
+        self.stamp_jumps = 0
+
+    def check(self, detections: Detections) -> Detections:
+        """The detections to track: finite ones, at a stamp not before the previous one.
+
+        Raises:
+            LaserPeopleError: The stamp is not finite.
+        """
+        stamp = float(detections.stamp)
+        if not math.isfinite(stamp):
+            raise LaserPeopleError(
+                f"detections have the stamp {stamp!r}",
+                scan=detections.scan_index,
+                hint="every scan needs a finite time stamp",
+            )
+        if self.last_stamp is not None:
+            if stamp == self.last_stamp:
+                self.repeated_stamps += 1
+            elif stamp < self.last_stamp:
+                self.backward_stamps += 1
+                stamp = self.last_stamp
+            elif stamp - self.last_stamp > JUMP:
+                self.stamp_jumps += 1
+        self.last_stamp = stamp
+        pos, cov = detections.positions, detections.covariances
+        finite = np.isfinite(pos).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
+        if not finite.all():
+            self.dropped_detections += int(np.count_nonzero(~finite))
+            keep = np.flatnonzero(finite)
+            detections = replace(
+                detections,
+                positions=pos[keep],
+                covariances=cov[keep],
+                scores=detections.scores[keep],
+                segments=tuple(detections.segments[i] for i in keep) if detections.segments else (),
+            )
+        if stamp != detections.stamp:
+            detections = replace(detections, stamp=stamp)
+        return detections
+
+    def summary(self) -> str:
+        """What was changed, as one line ("" when nothing was)."""
+        parts = []
+        if self.dropped_detections:
+            parts.append(f"{self.dropped_detections} detections with non-finite values left out")
+        if self.repeated_stamps:
+            parts.append(f"{self.repeated_stamps} scans with the same stamp as the one before")
+        if self.backward_stamps:
+            parts.append(
+                f"{self.backward_stamps} scans stamped before the one before "
+                "(tracked at the previous stamp)"
+            )
+        if self.stamp_jumps:
+            parts.append(f"{self.stamp_jumps} jumps in time of more than {JUMP:g} s")
+        return "; ".join(parts)

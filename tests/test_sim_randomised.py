@@ -45,7 +45,7 @@ def test_drawn_values_stay_in_their_ranges() -> None:
         fov.append(laser.fov_deg)
         moving.append(scene.robot is not None)
         families |= {k for k, n in scene.notes["clutter"].items() if n}
-        assert 1 <= len(scene.people) <= p.people_max
+        assert len(scene.people) in range(1, p.people_max + 1)
         assert p.height_min <= scene.sensors[0].height <= p.height_max
         assert scene.poses_from_odometry == (scene.robot is not None)
     assert p.leg_radius_min <= min(radii) and max(radii) <= p.leg_radius_max
@@ -63,7 +63,8 @@ def test_scan_geometry_follows_the_drawn_scanner() -> None:
     scan = result.scans[0]
     assert scan.n_beams == laser.n_beams
     assert math.degrees(scan.angle_increment) == pytest.approx(laser.resolution_deg)
-    assert 1.0 / np.median(np.diff([s.stamp for s in result.scans])) == pytest.approx(laser.rate_hz)
+    period = float(np.median(np.diff([s.stamp for s in result.scans])))
+    assert period == pytest.approx(1.0 / laser.rate_hz)
 
 
 def test_furniture_only_scenes_have_nobody() -> None:

@@ -93,6 +93,25 @@ class Frame:
     truth: TruthFrame | None = field(default=None, repr=False)
     missing: tuple[str, ...] = ()
 
+    def foreground_points(self, consumer: str) -> NDArray[np.float64]:
+        """The points (K, 2) [m] marked foreground (all points without a mask).
+
+        Raises:
+            ConfigError: the frame has no points; ``consumer`` names who needed them.
+        """
+        if self.points is None:
+            from laserpeople.errors import ConfigError
+
+            raise ConfigError(
+                f"{consumer} needs frame points",
+                scan=self.index,
+                hint="build frames with points and foreground (a background model)",
+            )
+        pts = self.points.points
+        if self.foreground is not None:
+            pts = pts[self.foreground]
+        return np.asarray(pts, dtype=np.float64)
+
     def with_fields(self, **changes: Any) -> Frame:
         """A copy with ``changes``: :func:`dataclasses.replace` without re-running
         ``__init__`` (stages call it once per frame; it costs a few microseconds less).

@@ -343,15 +343,7 @@ class FeetTracker:
         """Predict, weight by eqs. 3-7 and the repelling term, resample, remove dead
         filters and start filters at completed step sequences."""
         p, bank = self.params, self.bank
-        if frame.points is None:
-            raise ConfigError(
-                "the feet tracker needs frame points",
-                scan=frame.index,
-                hint="build frames with points and foreground (a background model)",
-            )
-        pts = frame.points.points
-        if frame.foreground is not None:
-            pts = pts[frame.foreground]
+        pts = frame.foreground_points("the feet tracker")
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp
         self._predict(dt)

@@ -181,16 +181,7 @@ class UpperBodyTracker:
         self._stamp: float | None = None
 
     def _foreground(self, frame: Frame) -> NDArray[np.float64]:
-        if frame.points is None:
-            raise ConfigError(
-                "the upper-body tracker needs frame points",
-                scan=frame.index,
-                hint="build frames with points and foreground (a background model)",
-            )
-        pts = frame.points.points
-        if frame.foreground is not None:
-            pts = pts[frame.foreground]
-        return np.asarray(pts, dtype=np.float64)
+        return frame.foreground_points("the upper-body tracker")
 
     def _predict(self, dt: float) -> None:
         p, bank = self.params, self.bank

@@ -37,6 +37,12 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.detection.augment import (
+    Variant,
+    beam_classes,
+    resampled_stream,
+    segment_labels_from_beams,
+)
 from laserpeople.detection.features import (
     N_FEATURES,
     FeatureParams,
@@ -367,3 +373,123 @@ def truth_segments(
 ) -> LabelledSegments:
     """Labelled segments of scans carrying per-beam ground truth (simulator, ``.npz``)."""
     return label_scans(scans, beam_truth_labeller, lambda s: f"{name}:{s.sensor}", segmentation)
+
+
+# --------------------------------------------------------------------------- beam classes
+# Scans with the class of every beam (+1 leg, -1 not a leg, 0 unknown), the form in which
+# labelled scans can be resampled to other scanners (laserpeople.detection.augment).
+
+ClassedScan = tuple[Scan, IntArray]
+
+
+def classed_segments(
+    pairs: Iterable[ClassedScan],
+    name: str,
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+) -> LabelledSegments:
+    """Labelled segments of time-ordered scans whose beams carry classes.
+
+    A segment is labelled from its beams by
+    :func:`~laserpeople.detection.augment.segment_labels_from_beams`; groups are
+    ``name:sensor``.
+    """
+    current: dict[tuple[str, int], IntArray] = {}
+
+    def scans() -> Iterable[Scan]:
+        for scan, classes in pairs:
+            current.clear()
+            current[(scan.sensor, scan.index)] = classes
+            yield scan
+
+    def labeller(scan: Scan, table: SegmentTable, f: SegmentFeatures) -> IntArray:
+        return segment_labels_from_beams(table, current[(scan.sensor, scan.index)])
+
+    return label_scans(scans(), labeller, lambda s: f"{name}:{s.sensor}", segmentation)
+
+
+def leg_tracker_positive_classes(
+    path: str | Path,
+    *,
+    match_radius: float = 0.1,
+    segmentation: JumpDistanceParams = LEG_TRACKER_SEGMENTATION,
+    scan_topic: str = "/training_scan",
+    label_topic: str = "/leg_cluster_positions",
+) -> list[ClassedScan]:
+    """The scans of a leg_tracker ``positive_*_extracted.bag`` with beam classes: beams of
+    segments within ``match_radius`` of a label are legs, all others unknown (the scans show
+    unlabelled people, see the module doc)."""
+    from laserpeople.io import open_recording
+
+    p = Path(path)
+    poses = read_pose_arrays(p, label_topic)
+    rec = open_recording(p)
+    try:
+        scans = list(rec.scans([scan_topic]))
+    finally:
+        rec.close()
+    if len(scans) != len(poses):
+        raise RecordingError(
+            f"{len(scans)} scans on {scan_topic} but {len(poses)} label messages on "
+            f"{label_topic}; they must pair one to one",
+            path=p,
+        )
+    order = sorted(range(len(scans)), key=lambda i: scans[i].index)
+    segmenter = JumpDistanceSegmenter(segmentation)
+    out: list[ClassedScan] = []
+    for rank, i in enumerate(order):
+        scan = scans[i]
+        table = segmenter(scan)
+        labels = match_labels(table.centres(), poses[rank], match_radius, match_radius, "drop")
+        out.append((scan, beam_classes(table, labels)))
+    return out
+
+
+def all_negative_classes(
+    path: str | Path, topics: Sequence[str] | None = None
+) -> list[ClassedScan]:
+    """The scans of a recording without people; every beam with a return is not a leg."""
+    from laserpeople.io import open_recording
+
+    rec = open_recording(Path(path))
+    try:
+        return [(scan, np.where(scan.valid, -1, 0).astype(np.int64)) for scan in rec.scans(topics)]
+    finally:
+        rec.close()
+
+
+def neko_classes(directory: str | Path, frames: Iterable[int] | None = None) -> list[ClassedScan]:
+    """The neko7055 scans with beam classes from the per-segment labels (frames not asked
+    for are all unknown)."""
+    from laserpeople.io.neko import NEKO_SEGMENT_THRESHOLD, neko_segment_labels, read_neko
+
+    data = read_neko(directory)
+    wanted = set(range(len(data.scans)) if frames is None else frames)
+    segmenter = JumpDistanceSegmenter(
+        JumpDistanceParams(threshold=NEKO_SEGMENT_THRESHOLD, wrap_around=True)
+    )
+    out: list[ClassedScan] = []
+    for scan in data.scans:
+        if scan.index not in wanted:
+            out.append((scan, np.zeros(scan.n_beams, dtype=np.int64)))
+            continue
+        table = segmenter(scan)
+        legs = neko_segment_labels(data.leg_segments.get(scan.index, frozenset()), len(table))
+        out.append((scan, beam_classes(table, np.where(legs, 1, -1))))
+    return out
+
+
+def augmented_segments(
+    pairs: Sequence[ClassedScan],
+    name: str,
+    variants: Sequence[Variant],
+    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+) -> LabelledSegments:
+    """Labelled segments of ``pairs`` as each of ``variants``
+    sees them; groups are
+    ``name@variant:sensor``, so a recording and its variants can be kept together."""
+    return LabelledSegments.concat(
+        [
+            classed_segments(resampled_stream(pairs, v), f"{name}@{v.name}", segmentation)
+            for v in variants
+        ]
+    )

@@ -195,3 +195,46 @@ def test_detections_csv_round_trip(tmp_path: Path) -> None:
     assert rows[2]["x"] == pytest.approx(1.6, abs=0.02)
     assert rows[1]["stamp"] == pytest.approx(0.1)
     assert all(r["score"] > 0 for r in rows)
+
+
+def test_bias_travels_with_the_model(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    model = toy_model()
+    plain = tmp_path / "plain.json"
+    model.save(plain)
+    # without a bias the file stays version 1 (readable by older laserpeople)
+    doc = json.loads(plain.read_text())
+    assert doc["version"] == 1 and "bias" not in doc
+    biased = replace(model, bias=0.25)
+    path = tmp_path / "biased.json"
+    biased.save(path)
+    doc = json.loads(path.read_text())
+    assert doc["version"] == 2 and doc["bias"] == 0.25
+    loaded = load_model(path)
+    assert loaded.bias == 0.25
+    feats = np.zeros((3, 14))
+    feats[:, 8] = [0.04, 0.3, 3.0]
+    margin = model.classifier.decision_function(feats[:, [8]])
+    np.testing.assert_allclose(loaded.scores(feats), margin - 0.25)
+    # a bias in a version-1 file is not part of that format and is ignored
+    doc["version"] = 1
+    path.write_text(json.dumps(doc))
+    assert load_model(path).bias == 0.0
+    doc["version"] = 2
+    doc["bias"] = "high"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(ModelFileError, match="bias"):
+        load_model(path)
+
+
+def test_detector_scores_subtract_the_bias() -> None:
+    from dataclasses import replace
+
+    model = toy_model()
+    scan = leg_scan(0.0, 1.5)
+    plain = AdaBoostLegDetector(model).classify(scan)
+    biased = AdaBoostLegDetector(replace(model, bias=1.0)).classify(scan)
+    ok = ~np.isnan(plain.scores)
+    np.testing.assert_allclose(biased.scores[ok], plain.scores[ok] - 1.0)
+    np.testing.assert_array_equal(biased.is_leg, ok & (plain.scores > 1.0))

@@ -119,13 +119,9 @@ class LabelledSegments:
         )
 
     def of_groups(self, names: Iterable[str]) -> LabelledSegments:
-        """The segments of the named recordings (a name matches itself and ``name:topic``)."""
-        wanted = tuple(names)
-        keep = [
-            i
-            for i, g in enumerate(self.groups)
-            if any(g == w or g.startswith(w + ":") for w in wanted)
-        ]
+        """The segments of the named recordings (a name matches itself, ``name:topic`` and its
+        resampled variants ``name@variant:topic``)."""
+        keep = [i for i, g in enumerate(self.groups) if group_matches(g, names)]
         return self.select(np.isin(self.group, keep))
 
     def summary(self) -> str:
@@ -171,6 +167,11 @@ class LabelledSegments:
             np.concatenate([p.scan for p in parts]),
             tuple(names),
         )
+
+
+def group_matches(group: str, names: Iterable[str]) -> bool:
+    """Whether a group name is one of ``names`` or a topic or variant of one."""
+    return any(group == w or group.startswith((w + ":", w + "@")) for w in names)
 
 
 def label_scans(

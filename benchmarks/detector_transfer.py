@@ -48,7 +48,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import detector_tables as dtab
-from laserpeople.detection.augment import variants
+from laserpeople.detection.augment import TRANSFER_VARIANTS
 from laserpeople.detection.model_file import LegModel
 from laserpeople.detection.report import train_model
 from laserpeople.detection.training import (
@@ -94,7 +94,7 @@ def arc_feature(data: LabelledSegments, increment: float) -> LabelledSegments:
     return replace(data, features=f)
 
 
-AUGMENT = variants((0.25, 0.35, 0.5, 0.7, 1.0), (0.7, 1.0, 1.4, 2.0))
+AUGMENT = TRANSFER_VARIANTS
 NEGATIVE_EVERY = 3
 BANDS = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0), (3.0, 5.0), (5.0, math.inf))
 

@@ -19,7 +19,7 @@ other tracks are not false positives. Printed:
   leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
-        [--bag PATH] [--labels PATH] [--plot timeline.png]
+        [--bag PATH] [--labels PATH] [--plot timeline.png] [--model MODEL.json]
 """
 
 from __future__ import annotations
@@ -145,10 +145,14 @@ def score_followed(
     )
 
 
-def track_bag(bag: Path, params: LegTrackerParams) -> tuple[list[Tracks], float]:
+def track_bag(
+    bag: Path, params: LegTrackerParams, model: str | None = None
+) -> tuple[list[Tracks], float]:
     """Person/leg tracks of every scan of the bag's ``/scan_base2`` and the mean tracking
-    time per scan [ms]."""
-    detector = AdaBoostLegDetector.default()
+    time per scan [ms] (leg model: the shipped default, or a model file)."""
+    detector = (
+        AdaBoostLegDetector.default() if model is None else AdaBoostLegDetector.from_file(model)
+    )
     tracker = LegMHTTracker(params)
     rec = open_recording(bag)
     out: list[Tracks] = []
@@ -170,11 +174,12 @@ def main() -> None:
     ap.add_argument("--bag", type=Path, default=bag_default)
     ap.add_argument("--labels", type=Path, default=labels_default)
     ap.add_argument("--people-policy", default=None, help="arras or the default")
+    ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
     args = ap.parse_args()
     params = LegTrackerParams()
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
-    tracks, ms = track_bag(args.bag, params)
+    tracks, ms = track_bag(args.bag, params, args.model)
     s = score_followed(tracks, read_labels(args.labels))
     print(f"people_policy        {params.people_policy}")
     print(f"labelled scans       {s.labels}")

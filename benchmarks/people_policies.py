@@ -13,6 +13,7 @@ furniture this is the time people are reported on static objects).
 
     PYTHONPATH=src .venv/bin/python benchmarks/people_policies.py \
         --scenes demo:0-4 crossing-3:0-2 narrow-corridor:0-2 entrance-hall:0-2 [--static-model]
+        [--model MODEL.json]
 """
 
 from __future__ import annotations
@@ -88,8 +89,16 @@ def furniture_scene(name: str, seed: int) -> SimResult:
     return simulate(Scene(World(objects), [], [sensor]), 30.0, seed=seed, name=name)
 
 
-def run(scene: str, seed: int, policy: str, static_model: bool, gate: float) -> Row:
-    """Simulate, detect, track with ``policy``, score."""
+def run(
+    scene: str,
+    seed: int,
+    policy: str,
+    static_model: bool,
+    gate: float,
+    leg_model: str | None = None,
+) -> Row:
+    """Simulate, detect (the shipped leg model, or a model file), track with
+    ``policy``, score."""
     if scene.startswith("furniture-"):
         result = furniture_scene(scene, seed)
     else:
@@ -98,7 +107,11 @@ def run(scene: str, seed: int, policy: str, static_model: bool, gate: float) -> 
     first = scans[0].sensor
     scans = [s for s in scans if s.sensor == first]
     truth = list(result.truth)
-    detector = AdaBoostLegDetector.default()
+    detector = (
+        AdaBoostLegDetector.default()
+        if leg_model is None
+        else AdaBoostLegDetector.from_file(leg_model)
+    )
     params = replace(LegTrackerParams(), people_policy=policy)
     model = None
     if static_model and policy == "tracks":
@@ -149,6 +162,7 @@ def main() -> None:
     ap.add_argument("--policies", nargs="+", default=["arras", "tracks"])
     ap.add_argument("--static-model", action="store_true", help="occupancy grid for tracks")
     ap.add_argument("--static-gate", type=float, default=1.0, help="m")
+    ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
     args = ap.parse_args()
     print("scene              seed policy  MOTA   IDF1   IDsw  ids  off-truth[s]  ms/scan")
     means: dict[tuple[str, str], list[Row]] = {}
@@ -156,7 +170,7 @@ def main() -> None:
         name, seeds = parse_scene(spec)
         for seed in seeds:
             for policy in args.policies:
-                r = run(name, seed, policy, args.static_model, args.static_gate)
+                r = run(name, seed, policy, args.static_model, args.static_gate, args.model)
                 means.setdefault((name, policy), []).append(r)
                 print(
                     f"{name:18s} {seed:4d} {policy:7s} {r.mota:6.3f} {r.idf1:6.3f} "

@@ -24,6 +24,7 @@ from laserpeople.detection.training import (
     neko_classes,
     neko_segments,
 )
+from laserpeople.errors import RecordingError
 from laserpeople.scan import Scan
 from laserpeople.segmentation import JumpDistanceParams, jump_distance_table
 
@@ -168,3 +169,42 @@ def test_jump_table_helper_used_in_toys_is_consistent() -> None:
     pts = np.array([[1.0, 0.0], [1.0, 0.01], [4.0, 0.0]])
     t = jump_distance_table(pts, np.arange(3), 3, 0.1)
     assert len(t) == 2
+
+
+def test_cli_train_augment(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    sim = pytest.importorskip("laserpeople.sim")
+    rec = tmp_path / "office.npz"
+    sim.run_scenario("office", seconds=2, seed=3).write(rec)
+    counts = {}
+    for flag in ([], ["--augment"]):
+        out = tmp_path / f"m{len(flag)}.json"
+        res = CliRunner().invoke(
+            app, ["--quiet", "train", str(rec), "--rounds", "5", "-o", str(out), *flag]
+        )
+        assert res.exit_code == 0, res.output
+        import json
+
+        doc = json.loads(out.read_text())
+        counts[len(flag)] = (doc["training"]["legs"], doc["training"]["non_legs"])
+        assert ("augmentation" in doc["training"]) == bool(flag)
+    # 20 variants: many more legs and non-legs than the recorded scans alone
+    assert counts[1][0] > 5 * counts[0][0] and counts[1][1] > 5 * counts[0][1]
+
+
+def test_truth_classes_mark_leg_beams() -> None:
+    from laserpeople.detection.training import truth_classes
+
+    sim = pytest.importorskip("laserpeople.sim")
+    scan = sim.run_scenario("office", seconds=0.2, seed=3).scans[0]
+    assert scan.labels is not None
+    ((same, classes),) = truth_classes([scan])
+    assert same is scan
+    np.testing.assert_array_equal(classes[scan.labels.is_leg & scan.valid], 1)
+    np.testing.assert_array_equal(classes[~scan.valid], 0)
+    np.testing.assert_array_equal(classes[~scan.labels.is_leg & scan.valid], -1)
+    with pytest.raises(RecordingError, match="ground truth"):
+        truth_classes([Scan(0.0, 0.0, DEG, np.ones(3))])

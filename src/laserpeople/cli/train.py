@@ -47,25 +47,32 @@ def load_labelled(
     unlabelled: Unlabelled,
     segmentation: JumpDistanceParams,
     what: str = "recordings",
+    augment: bool = False,
 ) -> LabelledSegments:
-    """Labelled segments from every kind of labelled input the command accepts."""
+    """Labelled segments from every kind of labelled input the command accepts (with
+    ``augment``, each as the scanners of :data:`~laserpeople.detection.augment.TRANSFER_VARIANTS`
+    would see it, see :func:`~laserpeople.detection.training.augmented_input`)."""
     from laserpeople.detection.training import (
+        InputKind,
         LabelledSegments,
         all_negative,
+        augmented_input,
         leg_tracker_positive,
         neko_segments,
         truth_segments,
     )
     from laserpeople.io import open_recording
 
-    jobs: list[tuple[str, Path]] = (
+    jobs: list[tuple[InputKind, Path]] = (
         [("truth", p) for p in recordings]
         + [("positive", p) for p in positives]
         + [("negative", p) for p in negatives]
     )
     parts: list[LabelledSegments] = []
     for kind, path in progress(jobs, total=len(jobs), description=what):
-        if kind == "truth":
+        if augment:
+            part = augmented_input(kind, path, segmentation, unlabelled)
+        elif kind == "truth":
             rec = open_recording(path)
             try:
                 part = truth_segments(rec.scans(), path.name, segmentation)
@@ -78,7 +85,11 @@ def load_labelled(
         say(f"{path.name}: {part.summary()}")
         parts.append(part)
     if neko is not None:
-        part = neko_segments(neko, _frames(neko_frames))
+        part = (
+            augmented_input("neko", neko, segmentation, unlabelled, _frames(neko_frames))
+            if augment
+            else neko_segments(neko, _frames(neko_frames))
+        )
         say(f"{neko.name} (neko7055, frames {neko_frames or 'all'}): {part.summary()}")
         parts.append(part)
     return LabelledSegments.concat(parts)
@@ -142,6 +153,17 @@ def register(app: typer.Typer) -> None:
                 help="Segmentation threshold [m] (0.13: the leg_tracker label rule).",
             ),
         ] = 0.13,
+        augment: Annotated[
+            bool,
+            typer.Option(
+                "--augment",
+                help=(
+                    "Train on every training scan resampled to 0.25-1 deg and in a world "
+                    "scaled by 0.7-2 (for a model that must work on another scanner; see "
+                    "docs/leg-detection.md). Test sets stay as recorded."
+                ),
+            ),
+        ] = False,
         report: Annotated[
             bool,
             typer.Option(
@@ -205,7 +227,14 @@ def register(app: typer.Typer) -> None:
         )
         seg = JumpDistanceParams(threshold=jump_distance)
         data = load_labelled(
-            list(recordings or []), positives, negatives, neko, neko_frames, mode, seg
+            list(recordings or []),
+            positives,
+            negatives,
+            neko,
+            neko_frames,
+            mode,
+            seg,
+            augment=augment,
         )
         if data.n_positive == 0 or data.n_negative == 0:
             raise RecordingError(
@@ -219,6 +248,10 @@ def register(app: typer.Typer) -> None:
             + ([f"{neko} frames {neko_frames or 'all'}"] if neko else []),
             "unlabelled_in_positives": mode,
         }
+        if augment:
+            from laserpeople.detection.augment import TRANSFER_VARIANTS
+
+            provenance["augmentation"] = [v.name for v in TRANSFER_VARIANTS]
         model = train_model(data, feature_set, rounds, jump_distance, provenance)
         model.save(output)
         say(f"wrote {output} ({len(model.classifier.stumps)} weak classifiers)")

@@ -39,10 +39,6 @@ DEFAULT_HEURISTIC_PARAMS = HeuristicParams()
 DEFAULT_JUMP_DISTANCE_PARAMS = JumpDistanceParams()
 
 DEFAULT_MODEL = "default.json"
-BUNDLED_MODELS: dict[str, str] = {"default": DEFAULT_MODEL, "transfer": "transfer.json"}
-"""Models shipped in the package, by the name ``--model`` accepts: ``default`` (used when no
-model is given) and ``transfer`` (trained on scans resampled to other scanners, for a scanner
-without labelled legs; see docs/leg-detection.md)."""
 
 
 @dataclass(frozen=True)
@@ -206,9 +202,10 @@ class AdaBoostLegDetector(_SegmentDetector):
         seg = segmentation or JumpDistanceParams(threshold=model.segmentation_threshold)
         super().__init__(seg, params, feature_params)
         self.model = model
+        self._columns = np.array(model.columns, dtype=np.int64)
 
     def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
-        return self.model.scores(features.values)
+        return self.model.classifier.decision_function(features.values[:, self._columns])
 
     @classmethod
     def default(
@@ -221,11 +218,7 @@ class AdaBoostLegDetector(_SegmentDetector):
     def from_file(
         cls, path: str | Path, params: LegDetectorParams = DEFAULT_LEG_DETECTOR_PARAMS
     ) -> AdaBoostLegDetector:
-        """The detector with the model in ``path``, or the bundled model of that name
-        (:data:`BUNDLED_MODELS`) when no such file exists; raises ModelFileError if unusable."""
-        name = str(path)
-        if name in BUNDLED_MODELS and not Path(path).exists():
-            return cls(bundled_model(name), params)
+        """The detector with the model in ``path`` (raises ModelFileError if unusable)."""
         return cls(load_model(path), params)
 
 
@@ -248,28 +241,17 @@ class HeuristicLegDetector(_SegmentDetector):
 
 def default_model() -> LegModel:
     """The model shipped in ``laserpeople/detection/models/default.json``."""
-    return bundled_model("default")
-
-
-def bundled_model(name: str) -> LegModel:
-    """The model shipped in the package under ``name`` (a key of :data:`BUNDLED_MODELS`)."""
     import json
 
-    from laserpeople.errors import ModelFileError
-
-    if name not in BUNDLED_MODELS:
-        raise ModelFileError(
-            f"no bundled model {name!r}",
-            path=name,
-            hint=f"choose one of {', '.join(BUNDLED_MODELS)} or give a model file",
-        )
-    ref = resources.files("laserpeople.detection").joinpath("models", BUNDLED_MODELS[name])
+    ref = resources.files("laserpeople.detection").joinpath("models", DEFAULT_MODEL)
     where = str(ref)
     try:
         doc = json.loads(ref.read_text(encoding="utf-8"))
     except (FileNotFoundError, json.JSONDecodeError) as exc:
+        from laserpeople.errors import ModelFileError
+
         raise ModelFileError(
-            f"the shipped {name} model is missing or broken: {exc}",
+            f"the shipped default model is missing or broken: {exc}",
             path=where,
             hint="reinstall laserpeople or pass --model",
         ) from exc

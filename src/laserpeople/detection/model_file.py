@@ -1,6 +1,6 @@
 """Reading and writing AdaBoost leg-detector models as JSON.
 
-Layout (format ``laserpeople-leg-model``, version 1; version 2 adds ``bias``)::
+Layout (format ``laserpeople-leg-model``, version 1)::
 
     {
       "format": "laserpeople-leg-model",
@@ -8,15 +8,10 @@ Layout (format ``laserpeople-leg-model``, version 1; version 2 adds ``bias``)::
       "features": [1, 2, ..., 13],          # paper feature numbers, the model's columns
       "stumps": [{"feature": 9, "threshold": 0.08, "polarity": 1, "alpha": 0.9, "r": 0.7}],
       "segmentation": {"method": "jump_distance", "threshold": 0.1},
-      "bias": 0.5,                           # version 2 only: subtracted from the margin
       "training": {...}                      # free-form provenance: data, rounds, date, counts
     }
 
 ``stumps[].feature`` is the paper's feature number (1..14) and must be in ``features``.
-A model's score is its AdaBoost margin F(e) minus ``bias`` (0 when absent): a decision
-threshold chosen at training time travels with the model. A model without bias is written
-as version 1, so files of older versions of laserpeople stay readable by them; one with a
-bias is version 2, which an older reader refuses (rather than silently ignoring the bias).
 """
 
 from __future__ import annotations
@@ -27,15 +22,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NoReturn
 
-import numpy as np
-from numpy.typing import NDArray
-
 from laserpeople.detection.adaboost import AdaBoostLegClassifier, Stump
 from laserpeople.detection.features import N_FEATURES
 from laserpeople.errors import ModelFileError
 
 MODEL_FORMAT = "laserpeople-leg-model"
-MODEL_VERSION = 2
+MODEL_VERSION = 1
 MODEL_LIMIT = 64 * 2**20
 """Largest model file [characters] that is read (the default model is ~20 KB)."""
 VALUE_LIMIT = 1e12
@@ -51,19 +43,12 @@ class LegModel:
         features: Paper feature numbers (1-based) the classifier uses, e.g. 1..13.
         segmentation_threshold: Jump distance [m] the model was trained with.
         training: Free-form provenance (data sets, counts, rounds, date).
-        bias: Subtracted from the AdaBoost margin to give the model's score (a decision
-            threshold chosen when the model was trained; 0 as in 000 Table 1).
     """
 
     classifier: AdaBoostLegClassifier
     features: tuple[int, ...]
     segmentation_threshold: float
     training: dict[str, Any] = field(default_factory=dict)
-    bias: float = 0.0
-
-    def scores(self, features: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Score F(e) - bias (M,) of segments with the full feature matrix (M, 14)."""
-        return self.classifier.decision_function(features[:, self.columns]) - self.bias
 
     @property
     def columns(self) -> list[int]:
@@ -72,9 +57,9 @@ class LegModel:
 
     def to_json(self) -> dict[str, Any]:
         """The JSON document of this model."""
-        doc: dict[str, Any] = {
+        return {
             "format": MODEL_FORMAT,
-            "version": 2 if self.bias != 0.0 else 1,
+            "version": MODEL_VERSION,
             "features": list(self.features),
             "stumps": [
                 {
@@ -87,11 +72,8 @@ class LegModel:
                 for s in self.classifier.stumps
             ],
             "segmentation": {"method": "jump_distance", "threshold": self.segmentation_threshold},
+            "training": self.training,
         }
-        if self.bias != 0.0:
-            doc["bias"] = self.bias
-        doc["training"] = self.training
-        return doc
 
     def save(self, path: str | Path) -> None:
         """Write the model as JSON."""
@@ -209,15 +191,8 @@ def model_from_json(doc: Any, path: str | Path | None = None) -> LegModel:
                 f"or beyond {VALUE_LIMIT:g}"
             )
         stumps.append(Stump(feats.index(feature), values[0], polarity, values[1], r))
-    bias = doc.get("bias", 0.0) if version >= 2 else 0.0
-    if not isinstance(bias, int | float) or isinstance(bias, bool) or not abs(bias) <= VALUE_LIMIT:
-        bad(f"'bias' must be a finite number, got {bias!r:.40}")
     training = doc.get("training", {})
     clf = AdaBoostLegClassifier.from_stumps(stumps, len(feats))
     return LegModel(
-        clf,
-        tuple(feats),
-        float(threshold),
-        training if isinstance(training, dict) else {},
-        float(bias),
+        clf, tuple(feats), float(threshold), training if isinstance(training, dict) else {}
     )

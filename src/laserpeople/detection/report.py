@@ -191,7 +191,7 @@ def train_model(
 
 def predict(model: LegModel, data: LabelledSegments) -> NDArray[np.int64]:
     """The model's decisions (N,) on labelled segments."""
-    return np.where(model.scores(data.features) > 0.0, 1, -1).astype(np.int64)
+    return model.classifier.predict(data.features[:, model.columns])
 
 
 @dataclass(frozen=True)

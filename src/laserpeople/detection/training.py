@@ -66,6 +66,8 @@ LEG_TRACKER_SEGMENTATION = JumpDistanceParams(threshold=0.13)
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 Unlabelled = Literal["negative", "drop"]
+InputKind = Literal["truth", "positive", "negative", "neko"]
+"""Kinds of labelled input of ``laserpeople train`` (see :func:`augmented_input`)."""
 
 # labels of one scan: +1 leg, -1 not a leg, 0 = leave out
 Labeller = Callable[[Scan, SegmentTable, SegmentFeatures], IntArray]
@@ -119,9 +121,13 @@ class LabelledSegments:
         )
 
     def of_groups(self, names: Iterable[str]) -> LabelledSegments:
-        """The segments of the named recordings (a name matches itself, ``name:topic`` and its
-        resampled variants ``name@variant:topic``)."""
-        keep = [i for i, g in enumerate(self.groups) if group_matches(g, names)]
+        """The segments of the named recordings (a name matches itself and ``name:topic``)."""
+        wanted = tuple(names)
+        keep = [
+            i
+            for i, g in enumerate(self.groups)
+            if any(g == w or g.startswith(w + ":") for w in wanted)
+        ]
         return self.select(np.isin(self.group, keep))
 
     def summary(self) -> str:
@@ -167,11 +173,6 @@ class LabelledSegments:
             np.concatenate([p.scan for p in parts]),
             tuple(names),
         )
-
-
-def group_matches(group: str, names: Iterable[str]) -> bool:
-    """Whether a group name is one of ``names`` or a topic or variant of one."""
-    return any(group == w or group.startswith((w + ":", w + "@")) for w in names)
 
 
 def label_scans(
@@ -412,13 +413,16 @@ def leg_tracker_positive_classes(
     path: str | Path,
     *,
     match_radius: float = 0.1,
+    ambiguous_radius: float = 0.5,
+    unlabelled: Unlabelled = "drop",
     segmentation: JumpDistanceParams = LEG_TRACKER_SEGMENTATION,
     scan_topic: str = "/training_scan",
     label_topic: str = "/leg_cluster_positions",
 ) -> list[ClassedScan]:
     """The scans of a leg_tracker ``positive_*_extracted.bag`` with beam classes: beams of
-    segments within ``match_radius`` of a label are legs, all others unknown (the scans show
-    unlabelled people, see the module doc)."""
+    segments within ``match_radius`` of a label are legs; the others are unknown, or (with
+    ``unlabelled="negative"``) not legs when farther than ``ambiguous_radius`` from every
+    label (as :func:`leg_tracker_positive`)."""
     from laserpeople.io import open_recording
 
     p = Path(path)
@@ -440,7 +444,9 @@ def leg_tracker_positive_classes(
     for rank, i in enumerate(order):
         scan = scans[i]
         table = segmenter(scan)
-        labels = match_labels(table.centres(), poses[rank], match_radius, match_radius, "drop")
+        labels = match_labels(
+            table.centres(), poses[rank], match_radius, ambiguous_radius, unlabelled
+        )
         out.append((scan, beam_classes(table, labels)))
     return out
 
@@ -456,6 +462,23 @@ def all_negative_classes(
         return [(scan, np.where(scan.valid, -1, 0).astype(np.int64)) for scan in rec.scans(topics)]
     finally:
         rec.close()
+
+
+def truth_classes(scans: Iterable[Scan]) -> list[ClassedScan]:
+    """Scans with per-beam ground truth (simulator, ``.npz``) with beam classes: a beam that
+    hit a leg is a leg, any other return is not, no return is unknown."""
+    out: list[ClassedScan] = []
+    for scan in scans:
+        if scan.labels is None:
+            raise RecordingError(
+                "scan has no per-beam ground truth",
+                path=scan.source or None,
+                scan=scan.index,
+                hint="train from a simulated .npz or use --positives/--negatives bags",
+            )
+        leg = scan.labels.is_leg
+        out.append((scan, np.where(scan.valid, np.where(leg, 1, -1), 0).astype(np.int64)))
+    return out
 
 
 def neko_classes(directory: str | Path, frames: Iterable[int] | None = None) -> list[ClassedScan]:
@@ -494,3 +517,40 @@ def augmented_segments(
             for v in variants
         ]
     )
+
+
+def augmented_input(
+    kind: InputKind,
+    path: str | Path,
+    segmentation: JumpDistanceParams,
+    unlabelled: Unlabelled = "drop",
+    frames: Iterable[int] | None = None,
+    variants: Sequence[Variant] | None = None,
+) -> LabelledSegments:
+    """One labelled input of ``laserpeople train`` in every variant (default
+    :data:`~laserpeople.detection.augment.TRANSFER_VARIANTS`).
+
+    ``kind``: a recording with per-beam truth, a leg_tracker positive bag, a recording
+    without people, or the neko7055 directory (its own 0.1 m label rule, ``frames``).
+    """
+    from laserpeople.detection.augment import TRANSFER_VARIANTS
+    from laserpeople.io import open_recording
+
+    grid = TRANSFER_VARIANTS if variants is None else variants
+    p = Path(path)
+    if kind == "neko":
+        from laserpeople.io.neko import NEKO_SEGMENT_THRESHOLD
+
+        neko_seg = JumpDistanceParams(threshold=NEKO_SEGMENT_THRESHOLD, wrap_around=True)
+        return augmented_segments(neko_classes(p, frames), p.name, grid, neko_seg)
+    if kind == "positive":
+        pairs = leg_tracker_positive_classes(p, unlabelled=unlabelled, segmentation=segmentation)
+        return augmented_segments(pairs, p.name, grid, segmentation)
+    if kind == "negative":
+        return augmented_segments(all_negative_classes(p), p.name, grid, segmentation)
+    rec = open_recording(p)
+    try:
+        pairs = truth_classes(rec.scans())
+    finally:
+        rec.close()
+    return augmented_segments(pairs, p.name, grid, segmentation)

@@ -22,8 +22,8 @@ angle increment (the arc the segment spans, independent of the resolution).
 
 Then the remedy (``laserpeople.detection.augment``): every training scan of the source is
 also resampled to the angle increments 0.25, 0.35, 0.5, 0.7 and 1 deg and seen in a world
-scaled by 0.7, 1, 1.4 and 2 (20 variants, the grid fixed before looking at any result: the
-scanner range of the issue, and scales that cover legs of 0.04-0.18 m radius at 0.5-10 m).
+scaled by 0.7, 1, 1.4 and 2 (20 variants, ``augment.TRANSFER_VARIANTS``: the scanner range
+of the issue, and scales that cover legs of 0.04-0.18 m radius at 0.35-10 m).
 Labels travel with the beams. The leg_tracker negatives are thinned to every 3rd scan of
 each variant (neighbouring scans of a laser are nearly identical). It is trained with T = 10
 (the protocol above) and T = 100 (20x the data), and scored at threshold 0 and at the
@@ -31,7 +31,7 @@ threshold that keeps the false alarms on the source's own held-out test set at t
 real-only model's (the usable setting). A real-only model with T = 100 is the control for
 the rounds. The headline row is also broken down by distance from the sensor.
 
-    PYTHONPATH=src .venv/bin/python benchmarks/detector_transfer.py [--rounds 10]
+    PYTHONPATH=src .venv/bin/python benchmarks/detector_transfer.py [--rounds 10] [--ablation]
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ import argparse
 import math
 import os
 import sys
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -48,7 +49,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import detector_tables as dtab
-from laserpeople.detection.augment import TRANSFER_VARIANTS
+from laserpeople.detection.augment import TRANSFER_VARIANTS, Variant, variants
 from laserpeople.detection.model_file import LegModel
 from laserpeople.detection.report import train_model
 from laserpeople.detection.training import (
@@ -99,27 +100,27 @@ NEGATIVE_EVERY = 3
 BANDS = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0), (3.0, 5.0), (5.0, math.inf))
 
 
-def augmented_train(name: str) -> LabelledSegments:
+def augmented_train(name: str, grid: Sequence[Variant] = AUGMENT) -> LabelledSegments:
     """The training part of a real data set (the same recordings/frames as its split) in
-    every variant of :data:`AUGMENT`."""
+    every variant of ``grid``."""
     data = shared_data()
     if name == "neko7055":
         pairs = neko_classes(data / "neko7055", range(0, 60))
         seg = JumpDistanceParams(threshold=NEKO_SEGMENT_THRESHOLD, wrap_around=True)
-        return augmented_segments(pairs, "neko7055", AUGMENT, seg)
+        return augmented_segments(pairs, "neko7055", grid, seg)
     lt = data / "leg_tracker" / "rosbags" / "training_scans_res=0.33"
     parts = [
         augmented_segments(
             leg_tracker_positive_classes(lt / f"positive_{i}_extracted.bag"),
             f"positive_{i}_extracted.bag",
-            AUGMENT,
+            grid,
             LEG_TRACKER_SEGMENTATION,
         )
         for i in (1, 2, 3, 4)
     ]
     neg = all_negative_classes(lt / "negative_2.bag", ["/left_scan", "/right_scan"])
     neg = [p for p in neg if p[0].index % NEGATIVE_EVERY == 0]
-    parts.append(augmented_segments(neg, "negative_2.bag", AUGMENT, LEG_TRACKER_SEGMENTATION))
+    parts.append(augmented_segments(neg, "negative_2.bag", grid, LEG_TRACKER_SEGMENTATION))
     return LabelledSegments.concat(parts)
 
 
@@ -155,6 +156,11 @@ def rates(scores: np.ndarray, labels: np.ndarray, threshold: float = 0.0) -> tup
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--rounds", type=int, default=10)
+    ap.add_argument(
+        "--ablation",
+        action="store_true",
+        help="also train on the increments alone and on the scales alone (T = 100)",
+    )
     args = ap.parse_args()
     dtab.DATA = shared_data()
     dtab.LT = dtab.DATA / "leg_tracker" / "rosbags" / "training_scans_res=0.33"
@@ -225,6 +231,19 @@ def main() -> None:
                 print(f"    by distance: {by_distance(sa, dst.test, thr_a)}")
                 worst.setdefault("resampled + scaled, T = 100, source threshold", {})[src.name] = (
                     rb[0]
+                )
+        if args.ablation:
+            native = math.degrees(INCREMENT[src.name])
+            for label, grid in (
+                ("increments only", variants((0.25, 0.35, 0.5, 0.7, 1.0), (1.0,))),
+                ("scales only", variants((native,), (0.7, 1.0, 1.4, 2.0))),
+            ):
+                model = train_model(augmented_train(src.name, grid), dtab.GEOMETRY, 100, 0.1)
+                thr_g = fa_threshold(scores(model, src.test), own, own0[2])
+                rg = rates(scores(model, dst.test), lab, thr_g)
+                print(
+                    f"  {label + ', T = 100':30s}  {rg[0]:.3f} / {rg[1]:.3f} / {rg[2]:.3f}"
+                    f"  (threshold {thr_g:.2f}, set on the source's own test set)"
                 )
     for name, rec in worst.items():
         print(f"\nworst-case transfer recall, {name}: {min(rec.values()):.3f}")

@@ -174,8 +174,8 @@ def variants(increments_deg: Sequence[float], scales: Sequence[float]) -> tuple[
 TRANSFER_VARIANTS: tuple[Variant, ...] = variants((0.25, 0.35, 0.5, 0.7, 1.0), (0.7, 1.0, 1.4, 2.0))
 """The 20 variants of ``laserpeople train --augment`` and benchmarks/detector_transfer.py:
 angle increments of common scanners (those of the randomised simulator, 0.25-1 deg) times
-world scales that turn legs of 0.06-0.09 m radius at 0.5-5 m into 0.04-0.18 m at 0.35-10 m.
-Fixed before any transfer result was seen."""
+world scales that turn legs of 0.06-0.09 m radius at 0.5-5 m into 0.04-0.18 m at 0.35-10 m
+(see docs/leg-detection.md for how it was chosen and a grid that did less well)."""
 
 
 def resampled_stream(

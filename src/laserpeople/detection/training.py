@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.detection.augment import (
+    TRANSFER_VARIANTS,
     Variant,
     beam_classes,
     resampled_stream,
@@ -508,8 +509,7 @@ def augmented_segments(
     variants: Sequence[Variant],
     segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
 ) -> LabelledSegments:
-    """Labelled segments of ``pairs`` as each of ``variants``
-    sees them; groups are
+    """Labelled segments of ``pairs`` as each of ``variants`` sees them; groups are
     ``name@variant:sensor``, so a recording and its variants can be kept together."""
     return LabelledSegments.concat(
         [
@@ -533,7 +533,6 @@ def augmented_input(
     ``kind``: a recording with per-beam truth, a leg_tracker positive bag, a recording
     without people, or the neko7055 directory (its own 0.1 m label rule, ``frames``).
     """
-    from laserpeople.detection.augment import TRANSFER_VARIANTS
     from laserpeople.io import open_recording
 
     grid = TRANSFER_VARIANTS if variants is None else variants

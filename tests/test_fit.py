@@ -253,12 +253,15 @@ def test_followed_truth_learns_approved_and_people_only() -> None:
     )
     fitter = LegMHTFitter(settings=LegFitParams(min_events=10)).fit([rec])
     keys = {e.key for e in fitter.estimates_}
-    assert {"p_det_approved", "people.p_two", "people.accel_psd"} <= keys
-    assert "p_det_free" not in keys and "lambda_fal" not in keys
+    assert {"p_det_approved", "people.pair_distance", "people.accel_psd"} <= keys
+    assert not keys & {"p_det_free", "lambda_fal", "people.p_two", "people.q_two"}
     assert dict(fitter.kept_)["lambda_fal"].startswith("followed-person truth")
     two = sum(1 for v in dets.values() if len(v) == 2)
-    n_two = next(e for e in fitter.estimates_ if e.key == "people.p_two")
-    assert n_two.value == pytest.approx((two + 0.5) / (n + 1.5))
+    assert fitter.counts_.persons[0] == two
+    seen = sum(len(dets[k]) for k in range(1, n))  # legs after the first labelled scan
+    p_det = next(e for e in fitter.estimates_ if e.key == "p_det_approved")
+    # 2 (n - 1) approved leg-scans, nobody deleted (labelled up to the last scan)
+    assert p_det.value == pytest.approx((seen + 0.5) / (2 * (n - 1) + 1.5))
     assert fitter.params_.p_det_free == LegTrackerParams().p_det_free
 
 
@@ -460,6 +463,8 @@ def test_fit_group_tracker(tmp_path: Path) -> None:
     )
     assert res.exit_code == 0, res.output
     out = tmp_path / "groups.toml"
+    settings = tmp_path / "settings.toml"
+    settings.write_text("[fit_groups]\nmax_gap = 1.0\n")
     res = CliRunner().invoke(
         app,
         [
@@ -474,6 +479,8 @@ def test_fit_group_tracker(tmp_path: Path) -> None:
             "0.25",
             "--min-events",
             "5",
+            "--config",
+            str(settings),
         ],
     )
     assert res.exit_code == 0, res.output
@@ -483,3 +490,17 @@ def test_fit_group_tracker(tmp_path: Path) -> None:
     assert params.p_f == GroupTrackerParams().p_f
     assert "clustering error" in res.output
     assert "p_f: the labels' foreground" in out.read_text()
+
+
+def test_clutter_evidence_by_hand() -> None:
+    from laserpeople.fitting.legs import clutter_evidence
+
+    false_at = [
+        (0, np.array([[0.0, 0.0], [0.3, 0.0]])),  # site A: two
+        (1, np.array([[0.0, 0.0]])),  # one
+        (2, np.zeros((0, 2))),  # none
+        (3, np.array([[0.1, 0.0]])),  # one
+        (4, np.array([[5.0, 5.0]])),  # site B fires in one scan only: not a site
+    ]
+    assert clutter_evidence(false_at, 0.5, min_scans=2).tolist() == [1, 2, 1]
+    assert clutter_evidence([], 0.5, 1).tolist() == [0, 0, 0]

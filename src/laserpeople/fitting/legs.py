@@ -95,12 +95,37 @@ class LegFitParams:
         "time between the samples of a person's trajectory for its process noise",
         "s",
     )
+    site_distance: float = param(
+        0.5,
+        "assumption: the posts of one chair or table (0.3-0.5 m apart) are one place where "
+        "a false person may be born",
+        "false alarms closer than this (single linkage over the whole recording, world "
+        "frame) belong to one clutter site",
+        "m",
+    )
+    min_site_scans: int = param(
+        5,
+        "assumption: a site that fires in fewer scans does not keep a person candidate",
+        "a clutter site needs false alarms in at least this many scans",
+        "scans",
+    )
     min_events: int = param(
         50, "assumption", "least number of events behind any learned value", "events"
     )
 
     def __post_init__(self) -> None:
-        if min(self.leg_gate, self.person_radius, self.max_gap, self.person_span) <= 0:
+        if self.min_site_scans < 1:
+            raise ValueError("min_site_scans must be at least 1")
+        if (
+            min(
+                self.leg_gate,
+                self.person_radius,
+                self.max_gap,
+                self.person_span,
+                self.site_distance,
+            )
+            <= 0
+        ):
             raise ValueError("leg_gate, person_radius, max_gap and person_span must be positive")
         if not 0.0 < self.gate_quantile < 1.0:
             raise ValueError("gate_quantile must be in (0, 1)")
@@ -139,6 +164,7 @@ class LegEventCounts:
         area: Visible area summed over those scans [m^2 x scans].
         matched: Detections matched to a true leg (or to the followed person).
         persons: Person-scans (3,) with two, one or no leg detected.
+        clutter: Clutter-site-scans (3,) with two or more, one or no false alarm.
         leg_steps: Distances [m] between consecutive detections of one ideal leg track.
         pair_distances: Distances [m] between the two detected legs of one person.
         leg_accel: Process-noise sums of the true leg trajectories.
@@ -154,6 +180,7 @@ class LegEventCounts:
     area: float = 0.0
     matched: int = 0
     persons: IntArray = field(default_factory=lambda: np.zeros(3, dtype=np.int64))
+    clutter: IntArray = field(default_factory=lambda: np.zeros(3, dtype=np.int64))
     leg_steps: list[float] = field(default_factory=list)
     pair_distances: list[float] = field(default_factory=list)
     leg_accel: AccelTally = field(default_factory=AccelTally)
@@ -171,6 +198,7 @@ class LegEventCounts:
             self.area + other.area,
             self.matched + other.matched,
             self.persons + other.persons,
+            self.clutter + other.clutter,
             self.leg_steps + other.leg_steps,
             self.pair_distances + other.pair_distances,
             self.leg_accel.merge(other.leg_accel),
@@ -183,7 +211,8 @@ class LegEventCounts:
         return (
             f"free leg-scans det/occ/del {self.free.tolist()}, approved {self.approved.tolist()}, "
             f"new legs {self.new}, false alarms {self.false} in {self.scans} scans, "
-            f"person-scans two/one/no legs {self.persons.tolist()}"
+            f"person-scans two/one/no legs {self.persons.tolist()}, clutter-site-scans "
+            f"{self.clutter.tolist()}"
         )
 
 
@@ -251,6 +280,7 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
     detected: dict[tuple[int, int], dict[int, FloatArray]] = {}
     leg_paths: dict[tuple[int, int], list[tuple[int, FloatArray]]] = {}
     person_paths: dict[int, list[tuple[int, FloatArray]]] = {}
+    false_at: list[tuple[int, FloatArray]] = []
     for k, (scan, dets) in enumerate(zip(rec.scans, rec.detections, strict=True)):
         frame = rec.truth.get(scan.index)
         if frame is None:
@@ -264,6 +294,8 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         ti, di = associate(legs[rows], dets.positions, p.leg_gate)
         counts.matched += int(ti.size)
         counts.false += len(dets) - int(ti.size)
+        unmatched = np.setdiff1d(np.arange(len(dets)), di)
+        false_at.append((k, dets.positions[unmatched]))
         hit_of: dict[tuple[int, int], FloatArray] = {}
         for t, d in zip(rows[ti].tolist(), di.tolist(), strict=True):
             hit_of[ids[t]] = dets.positions[d]
@@ -279,12 +311,46 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         for t in rows.tolist():
             leg_paths.setdefault(ids[t], []).append((k, legs[t]))
     count_legs(stamps, detected, p.max_gap, counts)
+    counts.clutter += clutter_evidence(false_at, p.site_distance, p.min_site_scans)
     for path in leg_paths.values():
         _add_paths(counts.leg_accel, path, stamps, 1)
     span = _span_scans(stamps, p.person_span)
     for path in person_paths.values():
         _add_paths(counts.person_accel, path, stamps, span)
     return counts
+
+
+def clutter_evidence(
+    false_at: Sequence[tuple[int, FloatArray]], distance: float, min_scans: int
+) -> IntArray:
+    """What a person candidate on clutter sees: the evidence counts (3,) two / one / no
+    leg-like detection per clutter site and scan.
+
+    The false alarms of all scans (``(scan position, positions (F, 2))``, one frame for the
+    whole recording) are linked by single linkage at ``distance`` into sites; a site with
+    false alarms in at least ``min_scans`` scans is counted in every scan from its first to
+    its last false alarm: two or more false alarms there are two-leg evidence, one is
+    one-leg evidence, none is no evidence.
+    """
+    from laserpeople.clustering import single_linkage
+
+    out = np.zeros(3, dtype=np.int64)
+    ks = np.concatenate(
+        [np.full(len(xy), k, dtype=np.int64) for k, xy in false_at] or [np.empty(0, np.int64)]
+    )
+    if ks.size == 0:
+        return out
+    xy = np.concatenate([xy.reshape(-1, 2) for _, xy in false_at])
+    site = single_linkage(xy, distance)
+    for s in np.unique(site[site >= 0]):
+        scans = ks[site == s]
+        per_scan = np.bincount(scans - scans.min())
+        if np.count_nonzero(per_scan) < min_scans:
+            continue
+        out[0] += int(np.count_nonzero(per_scan >= 2))
+        out[1] += int(np.count_nonzero(per_scan == 1))
+        out[2] += int(np.count_nonzero(per_scan == 0))
+    return out
 
 
 def count_followed(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
@@ -484,16 +550,33 @@ def estimate(
             kept.append((key, why))
         kept.append(("kalman.accel_psd", "no leg positions in the truth"))
         kept.append(("kalman.max_gate_distance", "no leg identities in the truth"))
-    two_one = multinomial(
-        {
-            "people.p_two": int(c.persons[0]),
-            "people.p_one": int(c.persons[1]),
-            "none": int(c.persons[2]),
-        },
-        "person-scans",
-        m,
-    )
-    out += [e for e in two_one if e.key != "none"]
+    if full:
+        # the existence score is log(p_e / q_e): learn both sides or neither
+        p = multinomial(
+            {
+                "people.p_two": int(c.persons[0]),
+                "people.p_one": int(c.persons[1]),
+                "none": int(c.persons[2]),
+            },
+            "person-scans",
+            m,
+        )
+        q = multinomial(
+            {
+                "people.q_two": int(c.clutter[0]),
+                "people.q_one": int(c.clutter[1]),
+                "none": int(c.clutter[2]),
+            },
+            "clutter-site-scans",
+            m,
+        )
+        out += [e for e in p + q if e.key != "none"]
+    else:
+        why = (
+            "followed-person truth: clutter is not labelled, and the existence score "
+            "log(p/q) needs both sides"
+        )
+        kept += [(k, why) for k in ("people.p_two", "people.p_one", "people.q_two", "people.q_one")]
     pair = quantile(
         "people.pair_distance",
         c.pair_distances,

@@ -552,7 +552,7 @@ def estimate(
         kept.append(("kalman.max_gate_distance", "no leg identities in the truth"))
     if full:
         # the existence score is log(p_e / q_e): learn both sides or neither
-        p = multinomial(
+        on_people = multinomial(
             {
                 "people.p_two": int(c.persons[0]),
                 "people.p_one": int(c.persons[1]),
@@ -561,7 +561,7 @@ def estimate(
             "person-scans",
             m,
         )
-        q = multinomial(
+        on_clutter = multinomial(
             {
                 "people.q_two": int(c.clutter[0]),
                 "people.q_one": int(c.clutter[1]),
@@ -570,7 +570,7 @@ def estimate(
             "clutter-site-scans",
             m,
         )
-        out += [e for e in p + q if e.key != "none"]
+        out += [e for e in on_people + on_clutter if e.key != "none"]
     else:
         why = (
             "followed-person truth: clutter is not labelled, and the existence score "

@@ -496,11 +496,14 @@ def test_clutter_evidence_by_hand() -> None:
     from laserpeople.fitting.legs import clutter_evidence
 
     false_at = [
-        (0, np.array([[0.0, 0.0], [0.3, 0.0]])),  # site A: two
+        (0, np.array([[0.0, 0.0], [0.3, 0.0]])),  # site A born
         (1, np.array([[0.0, 0.0]])),  # one
         (2, np.zeros((0, 2))),  # none
-        (3, np.array([[0.1, 0.0]])),  # one
+        (3, np.array([[0.1, 0.0], [0.0, 0.1]])),  # two
         (4, np.array([[5.0, 5.0]])),  # site B fires in one scan only: not a site
+        (20, np.array([[0.0, 0.0]])),  # site A again after 1.7 s: a new candidate
+        (21, np.array([[0.0, 0.0]])),  # one
     ]
-    assert clutter_evidence(false_at, 0.5, min_scans=2).tolist() == [1, 2, 1]
-    assert clutter_evidence([], 0.5, 1).tolist() == [0, 0, 0]
+    stamps = np.arange(25) * 0.1
+    assert clutter_evidence(false_at, stamps, 0.5, 2, 1.0).tolist() == [1, 2, 1]
+    assert clutter_evidence([], stamps, 0.5, 1, 1.0).tolist() == [0, 0, 0]

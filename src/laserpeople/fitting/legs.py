@@ -311,7 +311,9 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         for t in rows.tolist():
             leg_paths.setdefault(ids[t], []).append((k, legs[t]))
     count_legs(stamps, detected, p.max_gap, counts)
-    counts.clutter += clutter_evidence(false_at, p.site_distance, p.min_site_scans)
+    counts.clutter += clutter_evidence(
+        false_at, stamps, p.site_distance, p.min_site_scans, p.max_gap
+    )
     for path in leg_paths.values():
         _add_paths(counts.leg_accel, path, stamps, 1)
     span = _span_scans(stamps, p.person_span)
@@ -321,16 +323,21 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
 
 
 def clutter_evidence(
-    false_at: Sequence[tuple[int, FloatArray]], distance: float, min_scans: int
+    false_at: Sequence[tuple[int, FloatArray]],
+    stamps: FloatArray,
+    distance: float,
+    min_scans: int,
+    max_gap: float,
 ) -> IntArray:
     """What a person candidate on clutter sees: the evidence counts (3,) two / one / no
     leg-like detection per clutter site and scan.
 
     The false alarms of all scans (``(scan position, positions (F, 2))``, one frame for the
     whole recording) are linked by single linkage at ``distance`` into sites; a site with
-    false alarms in at least ``min_scans`` scans is counted in every scan from its first to
-    its last false alarm: two or more false alarms there are two-leg evidence, one is
-    one-leg evidence, none is no evidence.
+    false alarms in at least ``min_scans`` scans holds an ideal candidate from each firing
+    until its last firing before a pause longer than ``max_gap`` [s] (as an ideal leg
+    track). In the scans after the candidate's first, two or more false alarms there are
+    two-leg evidence, one is one-leg evidence, none is no evidence.
     """
     from laserpeople.clustering import single_linkage
 
@@ -343,13 +350,15 @@ def clutter_evidence(
     xy = np.concatenate([xy.reshape(-1, 2) for _, xy in false_at])
     site = single_linkage(xy, distance)
     for s in np.unique(site[site >= 0]):
-        scans = ks[site == s]
-        per_scan = np.bincount(scans - scans.min())
-        if np.count_nonzero(per_scan) < min_scans:
+        fired = np.bincount(ks[site == s], minlength=len(stamps))
+        scans = np.flatnonzero(fired).tolist()
+        if len(scans) < min_scans:
             continue
-        out[0] += int(np.count_nonzero(per_scan >= 2))
-        out[1] += int(np.count_nonzero(per_scan == 1))
-        out[2] += int(np.count_nonzero(per_scan == 0))
+        for first, last in _ideal_tracks(scans, stamps, max_gap):
+            n = fired[first + 1 : last + 1]
+            out[0] += int(np.count_nonzero(n >= 2))
+            out[1] += int(np.count_nonzero(n == 1))
+            out[2] += int(np.count_nonzero(n == 0))
     return out
 
 

@@ -163,7 +163,8 @@ class LegEventCounts:
         scans: Scans with full truth (the exposure of the rates).
         area: Visible area summed over those scans [m^2 x scans].
         matched: Detections matched to a true leg (or to the followed person).
-        persons: Person-scans (3,) with two, one or no leg detected.
+        persons: Scans (3,) of ideal person candidates with two, one or no leg detected
+            (:func:`candidate_evidence`).
         clutter: Clutter-site-scans (3,) with two or more, one or no false alarm.
         leg_steps: Distances [m] between consecutive detections of one ideal leg track.
         pair_distances: Distances [m] between the two detected legs of one person.
@@ -281,6 +282,7 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
     leg_paths: dict[tuple[int, int], list[tuple[int, FloatArray]]] = {}
     person_paths: dict[int, list[tuple[int, FloatArray]]] = {}
     false_at: list[tuple[int, FloatArray]] = []
+    person_legs: dict[int, dict[int, int]] = {}
     for k, (scan, dets) in enumerate(zip(rec.scans, rec.detections, strict=True)):
         frame = rec.truth.get(scan.index)
         if frame is None:
@@ -303,7 +305,8 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         for j, pid in enumerate(frame.person_ids.tolist()):
             a, b = hit_of.get((pid, 0)), hit_of.get((pid, 1))
             n_legs = (a is not None) + (b is not None)
-            counts.persons[2 - n_legs] += 1
+            if n_legs:
+                person_legs.setdefault(pid, {})[k] = n_legs
             if a is not None and b is not None:
                 counts.pair_distances.append(float(math.hypot(*(a - b))))
             if np.isfinite(frame.positions[j]).all():
@@ -311,6 +314,8 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         for t in rows.tolist():
             leg_paths.setdefault(ids[t], []).append((k, legs[t]))
     count_legs(stamps, detected, p.max_gap, counts)
+    for seen in person_legs.values():
+        counts.persons += candidate_evidence(seen, stamps, p.max_gap)
     counts.clutter += clutter_evidence(
         false_at, stamps, p.site_distance, p.min_site_scans, p.max_gap
     )
@@ -322,6 +327,25 @@ def count_full(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
     return counts
 
 
+def candidate_evidence(seen: dict[int, int], stamps: FloatArray, max_gap: float) -> IntArray:
+    """Evidence counts (3,) two / one / no leg of one ideal person candidate, the quantity
+    whose ratio is the person layer's existence score (``people.p_*`` over ``q_*``).
+
+    Args:
+        seen: Scan position -> legs seen there (1 or 2; at least one leg-like detection);
+            scans not listed saw none.
+        stamps: Scan times (S,) [s].
+        max_gap: A candidate lives from a scan with evidence to its last evidence before a
+            pause longer than this [s] (as an ideal leg track); its scans after the first
+            are counted.
+    """
+    out = np.zeros(3, dtype=np.int64)
+    for first, last in _ideal_tracks(sorted(seen), stamps, max_gap):
+        n = np.array([seen.get(k, 0) for k in range(first + 1, last + 1)], dtype=np.int64)
+        out += np.bincount(np.clip(2 - n, 0, 2), minlength=3)
+    return out
+
+
 def clutter_evidence(
     false_at: Sequence[tuple[int, FloatArray]],
     stamps: FloatArray,
@@ -330,14 +354,12 @@ def clutter_evidence(
     max_gap: float,
 ) -> IntArray:
     """What a person candidate on clutter sees: the evidence counts (3,) two / one / no
-    leg-like detection per clutter site and scan.
+    leg-like detection of ideal candidates on clutter sites (:func:`candidate_evidence`).
 
     The false alarms of all scans (``(scan position, positions (F, 2))``, one frame for the
     whole recording) are linked by single linkage at ``distance`` into sites; a site with
-    false alarms in at least ``min_scans`` scans holds an ideal candidate from each firing
-    until its last firing before a pause longer than ``max_gap`` [s] (as an ideal leg
-    track). In the scans after the candidate's first, two or more false alarms there are
-    two-leg evidence, one is one-leg evidence, none is no evidence.
+    false alarms in at least ``min_scans`` scans is a place where candidates live; two or
+    more false alarms there in a scan are two-leg evidence, one is one-leg evidence.
     """
     from laserpeople.clustering import single_linkage
 
@@ -351,14 +373,11 @@ def clutter_evidence(
     site = single_linkage(xy, distance)
     for s in np.unique(site[site >= 0]):
         fired = np.bincount(ks[site == s], minlength=len(stamps))
-        scans = np.flatnonzero(fired).tolist()
-        if len(scans) < min_scans:
+        scans = np.flatnonzero(fired)
+        if scans.size < min_scans:
             continue
-        for first, last in _ideal_tracks(scans, stamps, max_gap):
-            n = fired[first + 1 : last + 1]
-            out[0] += int(np.count_nonzero(n >= 2))
-            out[1] += int(np.count_nonzero(n == 1))
-            out[2] += int(np.count_nonzero(n == 0))
+        seen = {int(k): min(2, int(fired[k])) for k in scans}
+        out += candidate_evidence(seen, stamps, max_gap)
     return out
 
 
@@ -383,7 +402,6 @@ def count_followed(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
             n_legs = int(near.size)
             seen[(pid, k)] = n_legs
             counts.matched += n_legs
-            counts.persons[2 - n_legs] += 1
             if n_legs == 2:
                 counts.pair_distances.append(float(math.hypot(*(dets[near[0]] - dets[near[1]]))))
     span = _span_scans(stamps, p.person_span)
@@ -392,6 +410,9 @@ def count_followed(rec: LabelledRecording, p: LegFitParams) -> LegEventCounts:
         # both legs of a followed person are approved: detected or occluded while labelled,
         # deleted after each labelled stretch (the person left the view)
         ks = [k for k, _ in path]
+        counts.persons += candidate_evidence(
+            {k: seen[(pid, k)] for k in ks if seen[(pid, k)]}, stamps, p.max_gap
+        )
         for first, last in _ideal_tracks(ks, stamps, p.max_gap):
             legs = [seen[(pid, k)] for k in ks if first < k <= last]
             counts.approved[DET] += sum(legs)

@@ -91,7 +91,7 @@ class LegFitParams:
     person_span: float = param(
         0.5,
         "assumption: hand or automatic labels carry centimetres of noise, which dominates "
-        "second differences over 0.1 s (6 sigma^2 / h^4)",
+        "second differences over 0.1 s (variance 6 sigma^2 / h^2)",
         "time between the samples of a person's trajectory for its process noise",
         "s",
     )

@@ -207,6 +207,47 @@ def test_count_full_by_hand() -> None:
     assert c.new == 2
 
 
+def test_probabilities_of_the_hand_sequence() -> None:
+    from laserpeople.fitting.legs import estimate
+
+    c = LegEventCounts(
+        free=np.array([0, 0, 1]),
+        approved=np.array([1, 0, 1]),
+        new=2,
+        false=1,
+        scans=3,
+        area=2.25,
+        persons=np.array([0, 1, 0]),
+        clutter=np.array([2, 0, 1]),
+        leg_steps=[0.1],
+        pair_distances=[0.3],
+    )
+    c.leg_accel.add(np.array([[0.0, 0.0], [0.1, 0.0], [0.3, 0.0]]), np.array([0.0, 0.1, 0.2]))
+    c.person_accel.add(np.array([[0.0, 0.0], [0.1, 0.0], [0.3, 0.0]]), np.array([0.0, 0.1, 0.2]))
+    got = {e.key: e.value for e in estimate(c, LegFitParams(min_events=1), full=True)[0]}
+    assert got["p_det_approved"] == pytest.approx(1.5 / 3.5)
+    assert got["p_occ_approved"] == pytest.approx(0.5 / 3.5)
+    assert got["p_del_free"] == pytest.approx(1.5 / 2.5)
+    assert got["lambda_fal"] == pytest.approx(1.5 / 2.25)
+    assert got["lambda_new"] == pytest.approx(2.5 / 2.25)
+    assert got["people.p_one"] == pytest.approx(1.5 / 2.5)
+    assert got["people.q_two"] == pytest.approx(2.5 / 4.5)
+    # velocities 1 then 2 m/s over 0.1 s steps: d = 1, weight 2 (0.2) / 3
+    assert got["kalman.accel_psd"] == pytest.approx(1.0 / (0.4 / 3))
+    assert got["people.pair_distance"] == pytest.approx(0.3)
+
+
+def test_learned_values_the_tracker_refuses_are_a_fit_error() -> None:
+    from laserpeople.fitting.legs import with_learned
+
+    # people who never move give a process noise of 0, which the Kalman filter refuses
+    still = [Estimate("kalman.accel_psd", 0.0, "fit to 12 triples", 12)]
+    with pytest.raises(FitError, match=r"not valid parameters.*accel_psd"):
+        with_learned(LegTrackerParams(), still)
+    ok = with_learned(LegTrackerParams(), [Estimate("kalman.accel_psd", 3.0, "fit", 12)])
+    assert ok.kalman.accel_psd == 3.0
+
+
 def test_count_followed_by_hand() -> None:
     # the followed person labelled in scans 0-3 of 5; detections within 0.5 m are its legs
     detections = {

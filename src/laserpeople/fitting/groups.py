@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from laserpeople.config import param
 from laserpeople.fitting.data import LabelledRecording
 from laserpeople.fitting.estimates import Estimate, FitError, multinomial, rate
-from laserpeople.fitting.legs import set_dotted
+from laserpeople.fitting.legs import with_learned
 from laserpeople.scan import Scan
 from laserpeople.tracking.groups.tracker import GroupTrackerParams
 
@@ -266,5 +266,5 @@ class GroupModelFitter:
         est.append(p_n)
         self.estimates_ = tuple(est)
         self.kept_ = (("p_f", "the labels' foreground has no false-alarm clusters"),)
-        self.params_ = set_dotted(self.base, {e.key: e.value for e in est})
+        self.params_ = with_learned(self.base, est)
         return self

@@ -474,6 +474,23 @@ class LearnedParams:
     kept: tuple[tuple[str, str], ...] = ()
 
 
+def with_learned(params: Any, estimates: Sequence[Estimate]) -> Any:
+    """``params`` with the learned values.
+
+    Raises:
+        FitError: the values are not valid parameters of the tracker (e.g. a process noise
+            of 0 from people who never move).
+    """
+    try:
+        return set_dotted(params, {e.key: e.value for e in estimates})
+    except ValueError as exc:
+        notes = "; ".join(f"{e.key} = {e.value:.4g} ({e.note})" for e in estimates)
+        raise FitError(
+            f"the learned values are not valid parameters: {exc}",
+            hint=f"learned: {notes[:600]}",
+        ) from exc
+
+
 def set_dotted(params: Any, values: dict[str, float]) -> Any:
     """``params`` with dotted keys (``kalman.accel_psd``) replaced."""
     top: dict[str, Any] = {}
@@ -527,7 +544,7 @@ class LegMHTFitter:
         estimates, kept = estimate(counts, self.settings, full)
         self.estimates_ = tuple(estimates)
         self.kept_ = tuple(kept)
-        self.params_ = set_dotted(self.base, {e.key: e.value for e in estimates})
+        self.params_ = with_learned(self.base, estimates)
         return self
 
     def learned(self) -> LearnedParams:

@@ -10,7 +10,7 @@ error of 000 Fig. 17 and the group-size error of Sec. 4.6.3).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from laserpeople.fitting.data import LabelledRecording
@@ -41,7 +41,16 @@ def track_legs(rec: LabelledRecording, params: Any) -> list[Tracks]:
 
 
 def score_legs(rec: LabelledRecording, tracks: list[Tracks]) -> dict[str, float]:
-    """Scores of person tracks against the recording's truth."""
+    """Scores of person tracks against the recording's truth.
+
+    Tracks in the sensor frame without a pose (a recording without poses, whose labels are
+    in the laser frame) are compared as they are: the scorer takes them as world-frame
+    positions, the frame the truth is written in.
+    """
+    tracks = [
+        replace(t, frame="world") if t.frame == "sensor" and t.sensor_pose is None else t
+        for t in tracks
+    ]
     frames = rec.truth_frames()
     if rec.followed:
         from laserpeople.evaluation.followed import evaluate_followed, most_labelled_person

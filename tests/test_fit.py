@@ -549,3 +549,46 @@ def test_clutter_evidence_by_hand() -> None:
     stamps = np.arange(25) * 0.1
     assert clutter_evidence(false_at, stamps, 0.5, 2, 1.0).tolist() == [1, 2, 1]
     assert clutter_evidence([], stamps, 0.5, 1, 1.0).tolist() == [0, 0, 0]
+
+
+def test_fit_with_followed_person_truth_csv(tmp_path: Path) -> None:
+    from laserpeople.io import open_recording
+    from laserpeople.io.truth_csv import write_truth_csv
+
+    npz = tmp_path / "demo.npz"
+    res = CliRunner().invoke(
+        app, ["--quiet", "simulate", "demo", "--seconds", "12", "-o", str(npz)]
+    )
+    assert res.exit_code == 0, res.output
+    rec = open_recording(npz)
+    pose = next(iter(rec.scans())).pose
+    frames = list(rec.truth())
+    rec.close()
+    assert pose is not None
+    followed = int(frames[0].person_ids[0])
+    # one person labelled, in the laser frame, as a person-following benchmark writes it
+    labels = [
+        TruthFrame.from_positions(
+            f.stamp,
+            f.scan_index,
+            np.array([followed]),
+            pose.inverse_transform_points(f.positions[f.person_ids == followed]),
+        )
+        for f in frames
+        if followed in f.person_ids
+    ]
+    csv = tmp_path / "followed.csv"
+    write_truth_csv(csv, labels)
+    out = tmp_path / "p.toml"
+    res = CliRunner().invoke(
+        app,
+        ["--quiet", "fit", str(npz), "--truth", str(csv), "-o", str(out), "--min-events", "10"],
+    )
+    assert res.exit_code == 0, res.output
+    assert "identity recall" in res.output
+    params = load_config(LegTrackerParams, out)
+    text = out.read_text()
+    assert "p_det_approved" in text and "lambda_fal =" not in text
+    assert "#   lambda_fal: followed-person truth" in text
+    assert params.lambda_fal == LegTrackerParams().lambda_fal
+    assert 0.0 < params.p_det_approved < 1.0

@@ -532,6 +532,20 @@ def test_fit_group_tracker(tmp_path: Path) -> None:
     assert params.p_f == GroupTrackerParams().p_f
     assert "clustering error" in res.output
     assert "p_f: the labels' foreground" in out.read_text()
+    # only the data-association probabilities
+    only = tmp_path / "association.toml"
+    args = ["--quiet", "fit", str(npz), "--tracker", "group-mht", "--validation", "0.25"]
+    args += ["--min-events", "5", "--config", str(settings), "-o", str(only)]
+    res = CliRunner().invoke(app, [*args, "--learn", "p_[mot]", "--learn", "p_n"])
+    assert res.exit_code == 0, res.output
+    chosen = load_config(GroupTrackerParams, only)
+    assert (chosen.p_m, chosen.p_n) == (params.p_m, params.p_n)
+    assert chosen.p_c == GroupTrackerParams().p_c
+    assert "p_c: not chosen by --learn" in only.read_text()
+    res = CliRunner().invoke(app, [*args, "--learn", "p_m"])  # p_m + p_o + p_t != 1
+    assert isinstance(res.exception, FitError) and "not valid parameters" in str(res.exception)
+    res = CliRunner().invoke(app, [*args, "--learn", "kalman.*"])
+    assert isinstance(res.exception, FitError) and "no learned value" in str(res.exception)
 
 
 def test_clutter_evidence_by_hand() -> None:

@@ -64,6 +64,14 @@ def register(app: typer.Typer) -> None:
             int | None,
             typer.Option("--min-events", help="Least events behind a learned value.", min=1),
         ] = None,
+        select: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--learn",
+                help="Write only the learned keys matching this shell pattern (repeatable; "
+                "e.g. 'p_[mot]' 'p_n' for the group tracker's association probabilities).",
+            ),
+        ] = None,
     ) -> None:
         from laserpeople.fitting.flow import learn, write_result
         from laserpeople.io.paths import check_outputs
@@ -79,6 +87,7 @@ def register(app: typer.Typer) -> None:
             topic=topic,
             config=config,
             min_events=min_events,
+            select=select or [],
             say=say,
         )
         _print(result)

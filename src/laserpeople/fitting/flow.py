@@ -70,6 +70,7 @@ def learn(
     topic: str | None = None,
     config: Path | None = None,
     min_events: int | None = None,
+    select: Sequence[str] = (),
     say: Callable[[str], None] | None = None,
 ) -> FitResult:
     """Learn ``tracker``'s parameters from ``recordings`` and score them on a held-out part.
@@ -84,6 +85,8 @@ def learn(
         config: TOML with the base parameters (kept where nothing is learned) and the
             ``[fit_legs]`` / ``[fit_groups]`` counting settings.
         min_events: Overrides the settings' least number of events per value.
+        select: Shell patterns of the keys to keep (``p_m``, ``people.*``); all when empty.
+            The others keep their base values.
         say: Receives progress lines.
 
     Raises:
@@ -115,6 +118,8 @@ def learn(
         )
         loaded.append(rec)
     train, held = data.split(loaded, validation)
+    validate: Callable[..., list[ValidationRow]]
+    base: Any
     if tracker == "leg-mht":
         from laserpeople.fitting.legs import LegFitParams, LegMHTFitter
         from laserpeople.fitting.validate import validate_legs
@@ -127,22 +132,24 @@ def learn(
         legs = LegMHTFitter(base, settings).fit(train)
         params, estimates, kept = legs.params_, legs.estimates_, legs.kept_
         counts = legs.counts_.summary()
-        tell(f"counted: {counts}")
-        rows = validate_legs(held, {"default": base, "learned": params})
+        validate = validate_legs
     else:
         from laserpeople.fitting.groups import GroupFitParams, GroupModelFitter
         from laserpeople.fitting.validate import validate_groups
         from laserpeople.tracking.groups.tracker import GroupTrackerParams
 
-        gbase = load_config(GroupTrackerParams, config)
+        base = load_config(GroupTrackerParams, config)
         gsettings = load_config(GroupFitParams, config)
         if min_events is not None:
             gsettings = replace(gsettings, min_events=min_events)
-        groups = GroupModelFitter(gbase, gsettings).fit(train)
+        groups = GroupModelFitter(base, gsettings).fit(train)
         params, estimates, kept = groups.params_, groups.estimates_, groups.kept_
         counts = groups.counts_.summary()
-        tell(f"counted: {counts}")
-        rows = validate_groups(held, {"default": gbase, "learned": params})
+        validate = validate_groups
+    tell(f"counted: {counts}")
+    if select:
+        estimates, kept, params = _select(select, estimates, kept, base)
+    rows = validate(held, {"default": base, "learned": params})
     return FitResult(
         tracker,
         params,
@@ -153,6 +160,32 @@ def learn(
         tuple(r.name for r in held),
         tuple(rows),
     )
+
+
+def _select(
+    patterns: Sequence[str],
+    estimates: Sequence[Estimate],
+    kept: Sequence[tuple[str, str]],
+    base: Any,
+) -> tuple[tuple[Estimate, ...], tuple[tuple[str, str], ...], Any]:
+    """The estimates whose keys match ``patterns``, the kept keys with the others added, and
+    the base parameters with the chosen values.
+
+    Raises:
+        FitError: no learned key matches.
+    """
+    from fnmatch import fnmatchcase
+
+    from laserpeople.fitting.legs import with_learned
+
+    chosen = tuple(e for e in estimates if any(fnmatchcase(e.key, p) for p in patterns))
+    if not chosen:
+        raise FitError(
+            f"no learned value matches --learn {' '.join(patterns)}",
+            hint=f"learned: {', '.join(e.key for e in estimates)}",
+        )
+    left = [(e.key, "not chosen by --learn") for e in estimates if e not in chosen]
+    return chosen, (*kept, *left), with_learned(base, chosen)
 
 
 def _detector(tracker: str, config: Path | None) -> Callable[[Scan], Detections]:

@@ -62,6 +62,7 @@ class LabelledRecording:
         followed: Only one followed person is labelled (no false alarms countable).
         areas: Visible area of each scan (S,) [m^2].
         source: Description of the data (recording and truth) for the TOML comments.
+        notes: What was left out while pairing (for the command to say).
     """
 
     name: str
@@ -205,7 +206,7 @@ def load(
             )
     finally:
         rec.close()
-    frames, note = read_truth(truth, scans[0].sensor if scans else topic)
+    frames, note = read_truth(truth, topic or (scans[0].sensor if scans else None))
     return build(
         path.name,
         scans,

@@ -16,14 +16,16 @@ Beyond the labels: the white-acceleration process noise of legs and people from 
 trajectories (:class:`~laserpeople.fitting.estimates.AccelTally`), the gate on a leg's
 displacement between two detections (``kalman.max_gate_distance``), the distance between
 the two legs of one person (``people.pair_distance``, ``person.max_leg_distance``: 000's
-theta_d) and how often both, one or none of a person's legs are detected (``people.p_two``,
-``people.p_one``).
+theta_d), and the evidence behind the person layer's existence score log(p_e / q_e): how
+often an ideal person candidate sees both, one or none of its legs (``people.p_two``,
+``p_one``) and how often a candidate on a clutter site sees two, one or no false alarm
+(``people.q_two``, ``q_one``), learned together (:func:`candidate_evidence`).
 
 With *followed-person* truth (only one person labelled, positions only) the detections
 within ``person_radius`` of the label are taken as that person's legs, both approved: it
-gives the approved probabilities, p_two/p_one, the pair distance and the people's process
-noise; free legs, false alarms and new tracks cannot be counted there and keep their
-defaults.
+gives the approved probabilities, the pair distance and the people's process noise; free
+legs, false alarms, new tracks and clutter (so neither p_e nor q_e) cannot be counted there
+and keep their defaults.
 """
 
 from __future__ import annotations

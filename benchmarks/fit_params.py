@@ -15,7 +15,7 @@ Parts (``--part``, repeatable; all by default):
   group-size error.
 
     PYTHONPATH=src LASERPEOPLE_SHARED_DATA=../shared/data nice -n 10 \\
-        python benchmarks/fit_params.py [--part legs-sim] [--out-dir fit-out]
+        python benchmarks/fit_params.py [--part legs-sim] [--out-dir out/fit]
 """
 
 from __future__ import annotations
@@ -154,7 +154,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     parts = ["legs-tune", "legs-sim", "legs-dev", "groups"]
     ap.add_argument("--part", action="append", choices=parts)
-    ap.add_argument("--out-dir", type=Path, default=Path("fit-out"))
+    ap.add_argument("--out-dir", type=Path, default=Path("out/fit"))
     ap.add_argument("--seconds", type=float, default=30.0, help="randomised scene length [s]")
     ap.add_argument("--group-seconds", type=float, default=60.0)
     args = ap.parse_args()

@@ -40,7 +40,7 @@ def test_leg_width_adds_one_beam_step_to_the_chord() -> None:
     b = np.linspace(0.0, 0.04, 5)
     pts = 2.0 * np.column_stack([np.cos(b), np.sin(b)])
     assert leg_width(pts) == pytest.approx(0.0799947 + 0.02, abs=1e-6)
-    # across the +-pi seam the bearings are unwrapped
+    # across the +-pi seam (bearings near pi and -pi)
     b2 = np.pi + np.linspace(-0.02, 0.02, 5)
     assert leg_width(2.0 * np.column_stack([np.cos(b2), np.sin(b2)])) == pytest.approx(
         0.0799947 + 0.02, abs=1e-6

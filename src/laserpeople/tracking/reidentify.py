@@ -170,16 +170,18 @@ class ReidentifyParams:
 
 def leg_width(points: FloatArray) -> float:
     """Width [m] of a leg's segment with ``points`` (n, 2) [m] in the sensor frame, in scan
-    order: the first-to-last distance plus one beam step at the segment's mean range (a
-    segment of n beams spans n - 1 steps of a leg that fills n; the step is the mean
-    bearing step between consecutive points). NaN for fewer than 2 points."""
+    order: the first-to-last distance plus one beam step at the segment's range (a segment
+    of n beams spans n - 1 steps of a leg that fills n; the step is the angle between the
+    first and last point over n - 1, the range their mean distance). NaN for fewer than 2
+    points."""
     n = points.shape[0]
     if n < 2:
         return math.nan
-    bearings = np.unwrap(np.arctan2(points[:, 1], points[:, 0]))
-    step = abs(float(bearings[-1] - bearings[0])) / (n - 1)
-    rng = float(np.mean(np.hypot(points[:, 0], points[:, 1])))
-    return float(np.hypot(*(points[-1] - points[0]))) + rng * step
+    x0, y0 = float(points[0, 0]), float(points[0, 1])
+    x1, y1 = float(points[-1, 0]), float(points[-1, 1])
+    angle = math.atan2(abs(x0 * y1 - y0 * x1), x0 * x1 + y0 * y1)
+    rng = 0.5 * (math.hypot(x0, y0) + math.hypot(x1, y1))
+    return math.hypot(x1 - x0, y1 - y0) + rng * angle / (n - 1)
 
 
 @dataclass

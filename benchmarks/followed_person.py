@@ -22,6 +22,7 @@ other tracks are not false positives. Printed:
   leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
+        [--no-reid]
         [--bag PATH] [--labels PATH] [--plot timeline.png]
 """
 
@@ -189,13 +190,18 @@ def main() -> None:
     ap.add_argument("--bag", type=Path, default=bag_default)
     ap.add_argument("--labels", type=Path, default=labels_default)
     ap.add_argument("--people-policy", default=None, help="arras or the default")
+    ap.add_argument("--no-reid", action="store_true", help="tracks without re-identification")
     args = ap.parse_args()
     params = LegTrackerParams()
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
+    if args.no_reid:
+        people = params.people
+        params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
     tracks, ms = track_bag(args.bag, params)
     s = score_followed(tracks, read_labels(args.labels))
-    print(f"people_policy        {params.people_policy}")
+    reid = params.people_policy == "tracks" and params.people.reid.enabled
+    print(f"people_policy        {params.people_policy}{' + re-identification' * reid}")
     print(f"labelled scans       {s.labels}")
     print(f"identity recall      {s.identity_recall:.3f}")
     print(f"recall               {s.recall:.3f}")

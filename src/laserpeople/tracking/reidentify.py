@@ -13,7 +13,9 @@ distance between the first and last point plus one beam step at the leg's range,
 variance). On the real person-following recording of the leg_tracker benchmark the median
 widths of the five people seen lay between 0.138 and 0.166 m with a per-scan spread of
 ~0.02 m; leg spacing, speed and step figures vary with the gait and, in the sensor frame of
-a moving robot, with the robot's motion, so they are not used.
+a moving robot, with the robot's motion, so they are not used. Widths need the detections'
+segments (the shipped detectors give them; detections without segments, e.g. read back from
+a CSV, give no widths, so nobody is remembered and re-identification does nothing).
 
 **Likelihood.** For a newly confirmed person ``n`` and a dormant identity ``d`` the log
 likelihood ratio of "same person" against "a stranger" is the sum of

@@ -12,6 +12,9 @@ other tracks are not false positives. Printed:
 - recall: the fraction of labelled scans with any person track within the gate;
 - ids: the distinct person ids that were the nearest track within the gate at least once,
   and how many of them covered at least 1 s;
+- best id elsewhere: scans in which the best id is on a track more than 0.75 m from the
+  label, or while the person is out of view (between stretches): that id given to someone
+  else, which identity recall cannot see (a re-identification through strangers);
 - per stretch: the labels split where none is given for more than 5 s (the person out of
   view); the identity recall when each stretch may have its own id, and the largest
   stretch's share of the labels (the identity recall a tracker reaches at best if it cannot
@@ -19,7 +22,7 @@ other tracks are not false positives. Printed:
   leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
-        [--bag PATH] [--labels PATH] [--plot timeline.png] [--model MODEL.json]
+        [--no-reid] [--bag PATH] [--labels PATH] [--plot timeline.png] [--model MODEL.json]
 """
 
 from __future__ import annotations
@@ -74,6 +77,9 @@ class FollowedScore:
         stretch_identity_recall: Identity recall with one best id per stretch.
         single_id_ceiling: Share of the labels in the largest stretch.
         stretches: Number of stretches.
+        best_id_elsewhere: Scans in which the best id is reported more than ``GATE`` from the
+            labelled person, or while the person is not labelled (outside a stretch: out of
+            view), i.e. on someone else.
     """
 
     labels: int
@@ -85,6 +91,7 @@ class FollowedScore:
     stretch_identity_recall: float = 0.0
     single_id_ceiling: float = 0.0
     stretches: int = 0
+    best_id_elsewhere: int = 0
 
 
 def stretches(scans: Sequence[int], max_gap: int) -> list[list[int]]:
@@ -132,6 +139,17 @@ def score_followed(
         for s in part:
             c.update(per_scan.get(s, ()))
         covered += c.most_common(1)[0][1] if c else 0
+    elsewhere = 0
+    if best:
+        for scan, t in enumerate(tracks):
+            mine = [p for p in t.of_kind("person") if p.track_id == best[0][0]]
+            if not mine:
+                continue
+            truth = labels.get(scan)
+            if truth is None:
+                elsewhere += int(not any(part[0] <= scan <= part[-1] for part in parts))
+            elif float(np.hypot(*(mine[0].position - truth))) > GATE:
+                elsewhere += 1
     return FollowedScore(
         labels=n,
         identity_recall=(best[0][1] / n) if best else 0.0,
@@ -142,6 +160,7 @@ def score_followed(
         stretch_identity_recall=covered / n if n else 0.0,
         single_id_ceiling=max(len(p) for p in parts) / n if n else 0.0,
         stretches=len(parts),
+        best_id_elsewhere=elsewhere,
     )
 
 
@@ -175,13 +194,18 @@ def main() -> None:
     ap.add_argument("--labels", type=Path, default=labels_default)
     ap.add_argument("--people-policy", default=None, help="arras or the default")
     ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
+    ap.add_argument("--no-reid", action="store_true", help="tracks without re-identification")
     args = ap.parse_args()
     params = LegTrackerParams()
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
+    if args.no_reid:
+        people = params.people
+        params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
     tracks, ms = track_bag(args.bag, params, args.model)
     s = score_followed(tracks, read_labels(args.labels))
-    print(f"people_policy        {params.people_policy}")
+    reid = params.people_policy == "tracks" and params.people.reid.enabled
+    print(f"people_policy        {params.people_policy}{' + re-identification' * reid}")
     print(f"labelled scans       {s.labels}")
     print(f"identity recall      {s.identity_recall:.3f}")
     print(f"recall               {s.recall:.3f}")
@@ -189,6 +213,10 @@ def main() -> None:
     print(
         f"per stretch          {s.stretches} stretches (gaps > 5 s): identity recall "
         f"{s.stretch_identity_recall:.3f}; one id can cover at most {s.single_id_ceiling:.3f}"
+    )
+    print(
+        f"best id elsewhere    {s.best_id_elsewhere} scans (on someone else: away from the "
+        "label, or while the person is out of view)"
     )
     print(f"tracking ms/scan     {ms:.2f}")
 

@@ -8,7 +8,8 @@ when the bag has poses): person ids; *walker ids*, those whose track spans at le
 ``--walk`` metres for their whole life (a person track that never moves sits on furniture,
 a wall or a standing person; on these recordings people walk through).
 
-    PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks]
+    PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
+        tracks-noreid]
         [--static-model] [--bags demo mir]
 """
 
@@ -76,7 +77,10 @@ def run(bag: Path, topic: str | None, policy: str, static_model: bool, walk: flo
     """Track one recording with ``policy`` and count."""
     rec = open_recording(bag)
     name = topic or rec.topics()[0].name
-    params = replace(LegTrackerParams(), people_policy=policy)
+    params = replace(LegTrackerParams(), people_policy=policy.removesuffix("-noreid"))
+    if policy.endswith("-noreid"):  # the tracks policy without re-identification
+        people = params.people
+        params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
     model = None
     if static_model:
         from laserpeople.background.occupancy import OccupancyGrid, frame_from_scan

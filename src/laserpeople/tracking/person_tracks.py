@@ -40,6 +40,11 @@ an existence score:
   the start of a recording nothing is static yet); a person seen walking keeps its track
   when it stands.
 
+- **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
+  identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
+  for the first time is given such an identity back when signature and motion gate make it
+  clearly the same person (:mod:`laserpeople.tracking.reidentify`), else a fresh id.
+
 Reported: confirmed people whose last leg detection is at most ``max_report_unseen`` old.
 """
 
@@ -57,6 +62,14 @@ from scipy.stats import chi2
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.tracking import kalman
+from laserpeople.tracking.reidentify import (
+    Candidate,
+    DormantIdentity,
+    Reidentifier,
+    ReidentifyParams,
+    Signature,
+    leg_width,
+)
 from laserpeople.tracks import Track
 
 FloatArray = NDArray[np.float64]
@@ -233,6 +246,11 @@ class PersonTrackParams:
         "distance from its birth place after which a person on static cells is confirmed",
         "m",
     )
+    reid: ReidentifyParams = param(  # noqa: RUF009 (a frozen default instance)
+        ReidentifyParams(),
+        "nested table people.reid.*",
+        "re-identification of people lost for long (tracking/reidentify.py)",
+    )
 
     def __post_init__(self) -> None:
         for name in ("p_two", "p_one", "q_two", "q_one"):
@@ -274,6 +292,8 @@ class LegObservation:
         wide: Its detection's segment is wide enough to hold both legs of a person.
         velocity: Filtered velocity (2,) [m/s].
         score: Detector score of its detection in this scan (NaN if not detected).
+        width: Width [m] of its detection's segment as one leg (:func:`leg_width`; NaN if
+            not detected, wide or without segment points).
     """
 
     track_id: int
@@ -284,6 +304,7 @@ class LegObservation:
     wide: bool = False
     velocity: FloatArray = field(default_factory=lambda: np.zeros(2))
     score: float = math.nan
+    width: float = math.nan
 
 
 def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
@@ -314,7 +335,13 @@ class PersonTrack:
         travelled: Largest distance [m] from ``born_at`` so far.
         scans: Scans since birth.
         public_id: The reported id, given at the first confirmation (so that candidates
-            that never become people use no ids); None before.
+            that never become people use no ids, and a returning person can be given its
+            old id); None before.
+        signature: Widths of its detected single legs (re-identification).
+        born_stamp: Time [s] of its birth.
+        confirmed_at: Time [s] of its first confirmation (NaN before).
+        pending: Confirmed with a fresh id and not yet matched to dormant identities.
+        seen_before: Time [s] its identity was tracked before a re-identification.
     """
 
     person_id: int
@@ -329,6 +356,11 @@ class PersonTrack:
     travelled: float = 0.0
     scans: int = 0
     public_id: int | None = None
+    signature: Signature = field(default_factory=Signature)
+    born_stamp: float = 0.0
+    confirmed_at: float = math.nan
+    pending: bool = False
+    seen_before: float = 0.0
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -366,6 +398,8 @@ class PersonTracker:
         """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
         self._llr = params.evidence_llr()
+        self.reid = Reidentifier(params.reid)
+        """Dormant identities of deleted people, given back to people who return."""
 
     @property
     def approved_legs(self) -> frozenset[int]:
@@ -471,6 +505,9 @@ class PersonTracker:
             evidence, z, std = self._measure(person, legs)
             person.llr = min(max(person.llr + float(self._llr[evidence]), p.llr_min), p.llr_max)
             person.scans += 1
+            for m in person.members:
+                if legs[m].detected:
+                    person.signature.add(legs[m].width)
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
@@ -531,6 +568,7 @@ class PersonTracker:
             llr=float(self._llr[TWO]),
             last_seen=stamp,
             born_at=position.copy(),
+            born_stamp=stamp,
         )
 
     def _merge(self) -> None:
@@ -575,14 +613,55 @@ class PersonTracker:
                 if q.public_id is None:
                     q.public_id = next(self._public_ids)
                     self.persons_created += 1
+                    q.confirmed_at = stamp
+                    q.pending = p.reid.enabled
+        self._reidentify(stamp)
         for pid in list(self.persons):
             q = self.persons[pid]
             unseen = stamp - q.last_seen
             if q.confirmed:
                 if unseen > p.max_coast:
+                    assert q.public_id is not None
+                    seen = q.seen_before + q.last_seen - q.confirmed_at
+                    self.reid.remember(
+                        DormantIdentity(
+                            q.public_id, q.mean[:2].copy(), q.last_seen, q.signature, seen
+                        )
+                    )
                     del self.persons[pid]
             elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast:
                 del self.persons[pid]
+
+    def _reidentify(self, stamp: float) -> None:
+        """Match the new people whose signature is ready (``reid.min_samples`` widths, or
+        ``reid.decide_time`` after confirmation) to the dormant identities; a matched person
+        takes the identity's id, signature and tracked time from now on."""
+        r = self.params.reid
+        self.reid.forget_old(stamp)
+        ready = [
+            q
+            for q in self.persons.values()
+            if q.pending
+            and q.confirmed
+            and (q.signature.count >= r.min_samples or stamp - q.confirmed_at >= r.decide_time)
+        ]
+        if not ready:
+            return
+        dormant = dict(self.reid.dormant)
+        given = self.reid.match(
+            [
+                Candidate(q.person_id, q.mean[:2].copy(), stamp, q.signature, q.born_stamp)
+                for q in ready
+            ]
+        )
+        for q in ready:
+            q.pending = False
+            ident = given.get(q.person_id)
+            if ident is not None:
+                d = dormant[ident]
+                q.public_id = ident
+                q.signature = d.signature.merged(q.signature)
+                q.seen_before = d.seen_for
 
     def update(
         self, legs: Mapping[int, LegObservation], stamp: float, max_report_unseen: float
@@ -634,5 +713,10 @@ def leg_observations(
             and segment_holds_two_legs(segments_points[j], float(scores[j]), params)
         )
         score = float(scores[j]) if 0 <= j < len(scores) else math.nan
-        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4], score)
+        width = (
+            leg_width(segments_points[j])
+            if 0 <= j < len(segments_points) and not wide
+            else math.nan
+        )
+        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4], score, width)
     return out

@@ -303,7 +303,9 @@ class OccupancyGrid:
                     t = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
                     out[ok] = np.maximum(out[ok], t)
         if self.prior is not None and pos.shape[0]:
-            out[self.prior.contains_obstacle(pos, p.neighbourhood)] = np.inf
+            # as far as the grid's neighbourhood reaches: up to (neighbourhood + 1) cells
+            reach = math.ceil((p.neighbourhood + 1) * p.resolution / self.prior.resolution - 1e-9)
+            out[self.prior.contains_obstacle(pos, reach)] = np.inf
         return out
 
     def __call__(self, frame: Frame) -> Frame:

@@ -148,7 +148,8 @@ def test_ros_map_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
 
 def test_free_space_cast_by_hand() -> None:
     """A beam from the origin to a return at (1.05, 0.01): cells x = 0..8 (samples 0.05,
-    0.15, ..., 0.85 < |(1.05, 0.01)| - free_margin = 0.8500) are seen free, the return's cell (10, 0) is not."""
+    0.15, ..., 0.85 < |(1.05, 0.01)| - free_margin = 0.8500) are seen free, the return's
+    cell (10, 0) is not."""
     g = OccupancyGrid()
     ret = np.array([[1.05, 0.01]])
     g.learn(ret, 0.0, sensor=np.zeros(2))

@@ -305,8 +305,9 @@ class OccupancyGrid:
 
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
-        (N, 2) pass through, sampled every ``resolution`` from half a cell on, up to ``free_margin`` before the
-        return and at most ``free_range`` from the sensor (vectorised over beams)."""
+        (N, 2) pass through, sampled every ``resolution`` from half a cell on, up to
+        ``free_margin`` before the return and at most ``free_range`` from the sensor
+        (vectorised over beams)."""
         p = self.params
         d = points - origins
         r = np.hypot(d[:, 0], d[:, 1])

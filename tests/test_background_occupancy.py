@@ -166,13 +166,14 @@ def test_free_space_cast_by_hand() -> None:
 
 def test_occupied_at_first_sight_is_static_after_the_hold() -> None:
     """A post seen from the start (never seen free): occupied since 0.2 s (third hit); at
-    3.1 s static 2.9 s (< hold 3 s); at 3.2 s 3.0 + first_sight_static = 33 s."""
+    6.1 s static 5.9 s (< hold 6 s); at 6.2 s 6.0 + first_sight_static = 36 s."""
+    assert P.first_sight_hold == 6.0
     g = OccupancyGrid()
-    for k in range(32):
+    for k in range(62):
         g.learn(POST, 0.1 * k, sensor=np.zeros(2))
-    assert g.static_time(POST)[0] == pytest.approx(2.9)
-    g.learn(POST, 3.2, sensor=np.zeros(2))
-    assert g.static_time(POST)[0] == pytest.approx(3.0 + P.first_sight_static)
+    assert g.static_time(POST)[0] == pytest.approx(5.9)
+    g.learn(POST, 6.2, sensor=np.zeros(2))
+    assert g.static_time(POST)[0] == pytest.approx(6.0 + P.first_sight_static)
 
 
 def test_something_that_arrived_in_seen_free_space_gets_no_head_start() -> None:

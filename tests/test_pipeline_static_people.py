@@ -156,7 +156,7 @@ def test_sensor_frame_model_is_dropped_when_the_laser_moves() -> None:
 
     def sensor_frames(speed: float) -> list[Frame]:
         frames = []
-        for f in _frames(12.0, robot_speed=speed):
+        for f in _frames(15.0, robot_speed=speed):
             scan = Scan(f.stamp, 0.0, INC, f.scans[0].ranges, sensor="laser", index=f.index)
             frames.append(Fuse()(Frame(f.index, f.stamp, (scan,), "laser")))
         return frames

@@ -35,7 +35,8 @@ an existence score:
 - **Static world.** With a :class:`~laserpeople.background.StaticWorldModel`, a person whose
   detected legs all stand on cells static for longer than ``static_time`` is not confirmed
   until it has moved ``min_travel`` from where it was born (leg_tracker's "distance
-  travelled together"), and a confirmed person that has never moved that far is
+  travelled together"; only positions off static places count, so a track hopping between
+  the posts of a railing or a chair does not walk), and a confirmed person that has never moved that far is
   unconfirmed (not reported) when its place becomes static (the grid learns online, so at
   the start of a recording nothing is static yet); a person seen walking keeps its track
   when it stands.
@@ -311,7 +312,8 @@ class PersonTrack:
         confirmed: Reached ``llr_confirm`` once (and not deleted since).
         last_seen: Time [s] of the last scan with a member leg detected.
         born_at: Position (2,) where the person was born.
-        travelled: Largest distance [m] from ``born_at`` so far.
+        travelled: Largest distance [m] from ``born_at`` so far, at places not static for
+            longer than ``static_time`` (all places without a static world model).
         scans: Scans since birth.
         public_id: The reported id, given at the first confirmation (so that candidates
             that never become people use no ids); None before.
@@ -481,11 +483,14 @@ class PersonTracker:
                 np.stack([r[1] for r in rows]),
                 np.stack([np.eye(2) * r[2] ** 2 for r in rows]),
             )
+            # travel counts only off static places: hopping between static posts is not walking
+            static = self._static(means[:, :2])
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                person.travelled = max(
-                    person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
-                )
+                if static[i] <= p.static_time:
+                    person.travelled = max(
+                        person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
+                    )
 
     def _births(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params

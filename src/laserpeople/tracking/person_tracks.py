@@ -36,10 +36,10 @@ an existence score:
   detected legs all stand on cells static for longer than ``static_time`` is not confirmed
   until it has moved ``min_travel`` from where it was born (leg_tracker's "distance
   travelled together"; only positions off static places count, so a track hopping between
-  the posts of a railing or a chair does not walk), and a confirmed person that has never moved that far is
-  unconfirmed (not reported) when its place becomes static (the grid learns online, so at
-  the start of a recording nothing is static yet); a person seen walking keeps its track
-  when it stands.
+  the posts of a railing or a chair does not walk), and a confirmed person that has never
+  moved that far is unconfirmed (not reported) when its place becomes static (the grid
+  learns online, so at the start of a recording nothing is static yet); a person seen
+  walking keeps its track when it stands.
 
 Reported: confirmed people whose last leg detection is at most ``max_report_unseen`` old.
 """

@@ -327,12 +327,14 @@ class OccupancyGrid:
         keep = reach > 0
         if not keep.any():
             return np.zeros((0, 2), dtype=np.int64)
+        res = p.resolution
         u = d[keep] / r[keep, None]
-        steps = np.arange(0.5 * p.resolution, float(reach[keep].max()), p.resolution)
+        steps = np.arange(0.5 * res, float(reach[keep].max()), res)
         inside = steps[None, :] < reach[keep, None]  # (N, S)
-        xs = origins[keep, 0, None] + u[:, 0, None] * steps[None, :]
-        ys = origins[keep, 1, None] + u[:, 1, None] * steps[None, :]
-        return self._cells(np.stack([xs[inside], ys[inside]], axis=1))
+        o = origins[keep]
+        xs = (o[:, 0, None] + u[:, 0, None] * steps[None, :])[inside]
+        ys = (o[:, 1, None] + u[:, 1, None] * steps[None, :])[inside]
+        return np.stack([np.floor(xs / res), np.floor(ys / res)], axis=1).astype(np.int64)
 
     def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
         """Add one frame's returns ``points`` (N, 2) [m] seen at ``stamp`` [s] from the sensor
@@ -357,8 +359,10 @@ class OccupancyGrid:
         free = np.zeros((0, 2), dtype=np.int64)
         if origins is not None and p.free_range > 0:
             self.casting = True
+            # the free cells lie between the sensors and the returns: grow the arrays for
+            # those (few) cells first
+            self._ensure(np.vstack([cells, self._cells(np.unique(origins, axis=0))]))
             free = self._free_cells(origins, pts)
-            self._ensure(np.vstack([free, self._cells(origins[:1])]))
         self._ensure(cells)
         i, j = (cells - self._origin).T
         if free.shape[0]:

@@ -39,9 +39,9 @@ an existence score:
   the posts of a railing or a chair does not walk), and a confirmed person that has never
   moved that far is unconfirmed (not reported) when its place becomes static (the grid
   learns online, so at the start of a recording nothing is static yet); a person seen
-  walking keeps its track when it stands, unless its place was static more than
-  ``arrival_slack`` longer than the person has been there (a track that slid onto
-  furniture it passed).
+  walking keeps its track when it stands, unless it stands (slower than ``min_speed``) at
+  a place that was static more than ``arrival_slack`` longer than the person has been
+  there (a track that slid onto furniture it passed).
 
 Reported: confirmed people whose last leg detection is at most ``max_report_unseen`` old.
 """
@@ -241,8 +241,8 @@ class PersonTrackParams:
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
         "before it stops",
-        "a person seen walking is not reported at a place that was static this much longer "
-        "than the person has been there (a track that slid onto furniture)",
+        "a person seen walking who stands (slower than min_speed) is not reported at a place "
+        "that was static this much longer than it has been there (slid onto furniture)",
         "s",
     )
 
@@ -590,7 +590,13 @@ class PersonTracker:
                 q.person_id
                 for q, s in zip(ask, static, strict=True)
                 if s > p.static_time
-                and (q.travelled < p.min_travel or s > stamp - q.arrived[0] + p.arrival_slack)
+                and (
+                    q.travelled < p.min_travel
+                    or (
+                        s > stamp - q.arrived[0] + p.arrival_slack
+                        and float(np.hypot(*q.mean[2:4])) < p.min_speed
+                    )
+                )
             }
         for q in self.persons.values():
             if q.person_id in blocked:

@@ -18,6 +18,7 @@ tracker's update, detection excluded.
 
     PYTHONPATH=src .venv/bin/python benchmarks/people_suite.py --tracker leg-mht --tracker nn \\
         [--config params.toml] [--seconds 30] [--seeds 100-119] [--json out.json]
+        [--background none --background auto]
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ from laserpeople.evaluation.suite import (
     summarise,
     track_scene,
 )
+from laserpeople.pipeline.static_people import uses_static_model
 from laserpeople.sim.scenarios.randomised import HELD_BACK_SEEDS, TUNING_SEEDS
 from laserpeople.tracking import registry
 
@@ -72,10 +74,24 @@ def suite_scenes(
     return scenes
 
 
-def make_factory(name: str, config: Path | None) -> Any:
+def make_factory(name: str, config: Path | None, background: str = "auto") -> Any:
+    """A maker of a new tracker; a tracker that asks a static world model (the leg MHT's
+    people) gets the model ``background`` fed from each frame, as the pipeline does."""
+    from laserpeople.pipeline.static_people import StaticFed, people_static_model, uses_static_model
+
     entry = registry.get(name)
     params = load_config(entry.params_cls, config)
-    return lambda: entry.factory(params)
+
+    def make() -> Any:
+        tracker = entry.factory(params)
+        if uses_static_model(tracker):
+            model = people_static_model(background)
+            tracker.use_static_model(model)
+            if model is not None:
+                return StaticFed(tracker, model)
+        return tracker
+
+    return make
 
 
 def run(
@@ -84,11 +100,21 @@ def run(
     scenes: list[SuiteScene],
     extra: dict[str, Any] | None = None,
     log: Any = sys.stderr,
+    backgrounds: list[str] | None = None,
 ) -> list[SceneScore]:
     """Prepare each scene once and run every tracker on it. ``extra`` maps more labels to
-    callables ``(prepared) -> SceneScore`` (the peers script adds Stone Soup's trackers)."""
+    callables ``(prepared) -> SceneScore`` (the peers script adds Stone Soup's trackers).
+    With several ``backgrounds`` (static world models), a tracker that asks one runs once
+    per model, labelled ``name[model]``."""
     detector = AdaBoostLegDetector.default(load_config(LegDetectorParams, config))
-    factories = {name: make_factory(name, config) for name in trackers}
+    factories: dict[str, Any] = {}
+    for name in trackers:
+        probe = registry.get(name).make()
+        if backgrounds and len(backgrounds) > 1 and uses_static_model(probe):
+            for bg in backgrounds:
+                factories[f"{name}[{bg}]"] = make_factory(name, config, bg)
+        else:
+            factories[name] = make_factory(name, config, (backgrounds or ["auto"])[0])
     scores: list[SceneScore] = []
     for scene in scenes:
         prepared: PreparedScene = prepare(scene, detector)
@@ -133,13 +159,19 @@ def main() -> None:
     ap.add_argument("--named-seeds", default="0", help="seeds of crossing-3 etc.")
     ap.add_argument("--family", action="append", help="run only these families")
     ap.add_argument("--json", type=Path, help="write every scene's scores here")
+    ap.add_argument(
+        "--background",
+        action="append",
+        help="static world model of the leg MHT's people (auto, histogram, occupancy, none; "
+        "repeatable: one run per model; default auto, as `laserpeople track`)",
+    )
     args = ap.parse_args()
     seeds = parse_seeds(args.seeds)
     tuning = sorted(set(seeds) & set(TUNING_SEEDS))
     if tuning and set(seeds) != set(HELD_BACK_SEEDS):
         print(f"note: seeds {tuning} are tuning seeds, not the held-back set", file=sys.stderr)
     scenes = suite_scenes(seeds, args.seconds, parse_seeds(args.named_seeds), args.family)
-    scores = run(args.tracker or ["leg-mht"], args.config, scenes)
+    scores = run(args.tracker or ["leg-mht"], args.config, scenes, backgrounds=args.background)
     print(format_table(summarise(scores)))
     if args.json:
         args.json.write_text(json.dumps(to_json(scores), indent=1))

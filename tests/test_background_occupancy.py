@@ -144,3 +144,57 @@ def test_ros_map_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
     bad.write_text("image: missing.pgm\n")
     with pytest.raises(MapFileError, match="lacks resolution, origin"):
         load_ros_map(bad)
+
+
+def test_free_space_cast_by_hand() -> None:
+    """A beam from the origin to a return at (1.05, 0.01): cells x = 0..8 (samples 0.05,
+    0.15, ..., 0.85 < |(1.05, 0.01)| - free_margin = 0.8500) are seen free, the return's
+    cell (10, 0) is not."""
+    g = OccupancyGrid()
+    ret = np.array([[1.05, 0.01]])
+    g.learn(ret, 0.0, sensor=np.zeros(2))
+    assert g.casting
+    free = g._free_cells(np.zeros((1, 2)), ret)
+    assert len(free) == 9 and {tuple(c) for c in free.tolist()} == {(x, 0) for x in range(9)}
+    seen = np.isfinite(g._seen_free)
+    cells = {
+        (int(a) + int(g._origin[0]), int(b) + int(g._origin[1]))
+        for a, b in zip(*np.nonzero(seen), strict=True)
+    }
+    assert cells == {(x, 0) for x in range(9)}
+
+
+def test_occupied_at_first_sight_is_static_after_the_hold() -> None:
+    """A post seen from the start (never seen free): occupied since 0.2 s (third hit); at
+    6.1 s static 5.9 s (< hold 6 s); at 6.2 s 6.0 + first_sight_static = 36 s."""
+    assert P.first_sight_hold == 6.0
+    g = OccupancyGrid()
+    for k in range(62):
+        g.learn(POST, 0.1 * k, sensor=np.zeros(2))
+    assert g.static_time(POST)[0] == pytest.approx(5.9)
+    g.learn(POST, 6.2, sensor=np.zeros(2))
+    assert g.static_time(POST)[0] == pytest.approx(6.0 + P.first_sight_static)
+
+
+def test_something_that_arrived_in_seen_free_space_gets_no_head_start() -> None:
+    """The post's cell is seen free (a wall behind it) for 1 s, then the post stands there:
+    static only for the time it has stood."""
+    g = OccupancyGrid()
+    wall = POST * 2.0  # on the same beam, behind the post
+    for k in range(10):
+        g.learn(wall, 0.1 * k, sensor=np.zeros(2))
+    for k in range(10, 60):
+        g.learn(POST, 0.1 * k, sensor=np.zeros(2))
+    assert g.static_time(POST)[0] == pytest.approx(5.9 - 1.2)
+
+
+def test_walker_leaving_the_sensor_gets_no_head_start() -> None:
+    """Walking straight away from the sensor, each footprint lands in cells the walker's own
+    legs hid (never seen free), but no footprint stays occupied for first_sight_hold."""
+    g = OccupancyGrid()
+    worst = 0.0
+    for k in range(100):  # 1 m/s along x, feet planted for 0.6 s, a return every 0.1 s
+        foot = np.array([[1.0 + 0.6 * (k // 6) * 1.0, 0.0]])
+        g.learn(foot, 0.1 * k, sensor=np.zeros(2))
+        worst = max(worst, float(g.static_time(foot)[0]))
+    assert worst < P.first_sight_hold

@@ -27,7 +27,7 @@ def test_followed_person_on_the_real_dev_recording(shared_data: Path) -> None:
     bag, labels = base.with_suffix(".bag"), Path(f"{base}.people.csv")
     if not bag.exists():
         pytest.skip(f"{bag} not found")
-    tracks, _ = fp.track_bag(bag, LegTrackerParams(people_policy="tracks"))
+    tracks, _, _ = fp.track_bag(bag, LegTrackerParams(people_policy="tracks"))
     s = fp.score_followed(tracks, fp.read_labels(labels))
     assert s.labels == 2709
     assert s.recall >= 0.95

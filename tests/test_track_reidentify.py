@@ -249,7 +249,7 @@ def test_followed_person_keeps_one_id_on_the_real_dev_recording(shared_data: Pat
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from followed_person import read_labels, score_followed, track_bag
 
-    tracks, _ = track_bag(bag, LegTrackerParams())
+    tracks, _, _ = track_bag(bag, LegTrackerParams())
     s = score_followed(tracks, read_labels(labels))
     assert s.identity_recall >= 0.90 and s.recall >= 0.90
     assert s.ids <= 2

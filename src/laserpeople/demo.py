@@ -132,12 +132,20 @@ def run_tracker(
     make: Callable[[], FrameTracker],
     frames: Iterable[Frame],
     sinks: tuple[TracksCsvSink, ...] = (),
+    background: str = "auto",
 ) -> tuple[list[Tracks], float]:
-    """Frames with legs through a new tracker's pipeline; returns its outputs and the mean
-    tracking time per frame [ms]."""
+    """Frames with legs through a new tracker's pipeline (the leg MHT's people ask the
+    static world model ``background``, learned from the frames' scans); returns its outputs
+    and the mean tracking time per frame [ms] (the model's included)."""
+    from laserpeople.pipeline.recording import add_people_static_model
+
+    tracker = make()
+    preprocess: list[Any] = []
+    add_people_static_model(tracker, preprocess, background)  # the leg MHT's people
     pipe = Pipeline(
         frames,
-        tracker=make(),
+        preprocess=preprocess,
+        tracker=tracker,
         sinks=sinks,
         source_fields=frozenset({"scans", "legs"}),
     )

@@ -110,6 +110,8 @@ class BeamHistogramBackground:
         self._frozen = False
         self._poses: dict[str, Pose2D | None] = {}
         self._geometry: dict[str, tuple[float, float, int]] = {}
+        self._watch: tuple[float, float] | None = None  # (first, last) stamp of the frames seen
+        self._offline_seconds = 0.0  # seconds learned from a separate background recording
 
     # ----------------------------------------------------------------- learning
     @property
@@ -174,6 +176,7 @@ class BeamHistogramBackground:
             )
         for name, st in stamps.items():
             self._tables[name].seconds = max(st) - min(st)
+        self._offline_seconds = max(t.seconds for t in self._tables.values())
         self.freeze()
         return self
 
@@ -207,6 +210,8 @@ class BeamHistogramBackground:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
             )
+        first = frame.stamp if self._watch is None else self._watch[0]
+        self._watch = (first, max(frame.stamp, first))
         if not self._frozen:
             if self._first_stamp is None:
                 self._first_stamp = frame.stamp
@@ -227,11 +232,20 @@ class BeamHistogramBackground:
             fg[sel] = by_name[name][pts.beams[sel]]
         return replace(frame, foreground=fg)
 
+    def watched_seconds(self) -> float:
+        """Seconds the static bins have been known to be static at the last frame: the
+        seconds of a separate background recording (:meth:`learn_scans`) plus the time from
+        the first to the last frame this model was called on."""
+        seen = 0.0 if self._watch is None else self._watch[1] - self._watch[0]
+        return self._offline_seconds + seen
+
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Seconds of learning during which ``positions`` (M, 2) [m] (frame of the last
-        frame) lay on a static bin of a laser that looks at them; 0 elsewhere."""
+        """How long [s] ``positions`` (M, 2) [m] (frame of the last frame) have been static:
+        on a static bin of a laser that looks at them, :meth:`watched_seconds` (the bin was
+        static when learned, and the model assumes it has been ever since); 0 elsewhere."""
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         out = np.zeros(len(pos))
+        watched = self.watched_seconds()
         for name, table in self._tables.items():
             pose = self._poses.get(name)
             if pose is None or name not in self._geometry:
@@ -249,7 +263,7 @@ class BeamHistogramBackground:
             ok = (beam >= 0) & (beam < n) & (k < table.static.shape[1])
             hit = np.zeros(len(pos), dtype=bool)
             hit[ok] = table.static[beam[ok], k[ok]]
-            out = np.where(hit, np.maximum(out, table.seconds), out)
+            out = np.where(hit, np.maximum(out, max(watched, table.seconds)), out)
         return out
 
     # ------------------------------------------------------------------ storage
@@ -321,6 +335,7 @@ class BeamHistogramBackground:
             raise BackgroundModelError(
                 f"cannot read the background model: {exc}", path=p, hint="save it again"
             ) from exc
+        model._offline_seconds = max((t.seconds for t in model._tables.values()), default=0.0)
         model.freeze()
         return model
 

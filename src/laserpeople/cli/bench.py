@@ -141,5 +141,13 @@ def register(app: typer.Typer) -> None:
 
 def _fresh_update(entry: TrackerEntry) -> Callable[[], Callable[[Any], object]]:
     """A maker of a new tracker's ``update(frame)`` with default parameters, one per timing
-    pass."""
-    return lambda: entry.make().update
+    pass; the leg MHT's people learn and ask their static world model (``auto``) in it, as
+    in ``track``."""
+    from laserpeople.pipeline.static_people import StaticFed, people_static_model, uses_static_model
+
+    def make() -> Callable[[Any], object]:
+        tracker = entry.make()
+        model = people_static_model("auto") if uses_static_model(tracker) else None
+        return StaticFed(tracker, model).update if model is not None else tracker.update
+
+    return make

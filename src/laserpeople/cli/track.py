@@ -125,8 +125,9 @@ def run_tracking(
     when given, draw the tracks over the scans as a PNG overview ``plot`` and an animation
     ``animate`` (.gif, or .mp4 with ffmpeg).
 
-    A tracker that consumes foreground points gets the static world model ``background``
-    (auto, histogram, occupancy or none; ``map_path`` seeds the occupancy grid).
+    A tracker that consumes foreground points, and the leg MHT's person layer (policy
+    ``tracks``), get the static world model ``background`` (auto, histogram, occupancy or
+    none; ``map_path`` seeds the occupancy grid).
     ``reidentify`` adds colour re-identification from the simulated camera (recordings
     with ground-truth hues only).
 
@@ -142,6 +143,7 @@ def run_tracking(
         describe_background,
         output_sink,
     )
+    from laserpeople.pipeline.static_people import describe_people_model
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -203,6 +205,9 @@ def run_tracking(
         say("appearance: off (--appearance on re-identifies by colour; needs ground-truth hues)")
     if pipe.tracker is not None and "foreground" in pipe.tracker.consumes:
         say(describe_background(background_of(pipe.stages)))
+    people_model = describe_people_model(pipe.tracker, pipe.stages)
+    if people_model:
+        say(people_model)
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [], on_error)
@@ -335,14 +340,18 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--background",
-                help="Static world model for trackers of foreground points (group-mht, csa, "
-                "feet-pf, upper-body-pf): auto (per-beam histogram while the lasers stand "
-                "still, occupancy grid once they move), histogram, occupancy or none.",
+                help="Static world model: for trackers of foreground points (group-mht, csa, "
+                "feet-pf, upper-body-pf) and for leg-mht's people (not confirmed on places "
+                "static for long until they move): auto (per-beam histogram while the lasers "
+                "stand still, occupancy grid once they move; none for a moving laser without "
+                "poses), histogram, occupancy or none.",
             ),
         ] = "auto",
         map_path: Annotated[
             Path | None,
-            typer.Option("--map", help="ROS map.yaml seeding the occupancy grid."),
+            typer.Option(
+                "--map", help="ROS map.yaml seeding the occupancy grid (world frame only)."
+            ),
         ] = None,
         appearance: Annotated[
             str,

@@ -23,6 +23,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -103,6 +107,11 @@ class AutoBackground:
             self.chosen = "occupancy"
             self.switched_at = frame.index
         return self.model(frame)
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """How long [s] ``positions`` (M, 2) [m] have been static, from the model in use."""
+        model: StaticWorldModel = self.model  # type: ignore[assignment]
+        return np.asarray(model.static_time(positions), dtype=np.float64)
 
     def describe(self) -> str:
         """One line for the user: which model ran and why."""

@@ -16,7 +16,7 @@ from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
-from laserpeople.pipeline.background import background_stage
+from laserpeople.pipeline.background import background_of, background_stage
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -30,6 +30,11 @@ from laserpeople.pipeline.sources import (
     laser_frames,
 )
 from laserpeople.pipeline.stages import Identifier, Sink, Stage
+from laserpeople.pipeline.static_people import (
+    PeopleStaticModel,
+    people_static_model,
+    uses_static_model,
+)
 
 ALL_TOPICS = "all"
 
@@ -172,6 +177,33 @@ def observe_stages_for(
     return preprocess, observe
 
 
+def add_people_static_model(
+    tracker: object,
+    preprocess: list[Stage],
+    background: str | Stage | None,
+    map_path: str | Path | None = None,
+) -> PeopleStaticModel | None:
+    """For a tracker that asks a static world model (the leg MHT with people policy
+    ``tracks``): append to ``preprocess`` (after a :class:`Fuse`, added when missing) the
+    :class:`~laserpeople.pipeline.static_people.PeopleStaticModel` of ``background`` and
+    hand it to the tracker; returns it (None: the tracker asks none, or ``none``)."""
+    if not uses_static_model(tracker):
+        if map_path is not None and background_of(preprocess) is None:
+            raise ConfigError(
+                "--map seeds the static world model, but this tracker uses none",
+                hint="drop --map (the leg MHT's arras people policy has no static world model)",
+            )
+        return None
+    model = people_static_model(background, map_path)
+    tracker.use_static_model(model)
+    if model is None:
+        return None
+    if not any(isinstance(s, Fuse) for s in preprocess):
+        preprocess.append(Fuse())
+    preprocess.append(model)
+    return model
+
+
 def output_sink(path: str | Path) -> Sink:
     """A tracks sink by extension: ``.csv`` tracks CSV, ``.bag``/``.mcap``/``.db3`` a bag
     with the scans and the tracks as ROS messages."""
@@ -244,6 +276,7 @@ def build(
         preprocess, observe = observe_stages_for(
             frozenset(tracker.consumes), detector, leg_fusion, background, map_path
         )
+        add_people_static_model(tracker, preprocess, background, map_path)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             frames,
@@ -262,6 +295,7 @@ def build(
 __all__ = [
     "ALL_TOPICS",
     "RecordingFrames",
+    "add_people_static_model",
     "build",
     "observe_stages_for",
     "open_source",

@@ -35,10 +35,13 @@ an existence score:
 - **Static world.** With a :class:`~laserpeople.background.StaticWorldModel`, a person whose
   detected legs all stand on cells static for longer than ``static_time`` is not confirmed
   until it has moved ``min_travel`` from where it was born (leg_tracker's "distance
-  travelled together"), and a confirmed person that has never moved that far is
-  unconfirmed (not reported) when its place becomes static (the grid learns online, so at
-  the start of a recording nothing is static yet); a person seen walking keeps its track
-  when it stands.
+  travelled together"; only positions off static places count, so a track hopping between
+  the posts of a railing or a chair does not walk), and a confirmed person that has never
+  moved that far is unconfirmed (not reported) when its place becomes static (the grid
+  learns online, so at the start of a recording nothing is static yet); a person seen
+  walking keeps its track when it stands, unless it stands (slower than ``min_speed``) at
+  a place that was static more than ``arrival_slack`` longer than the person has been
+  there (a track that slid onto furniture it passed).
 
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
   identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
@@ -252,6 +255,15 @@ class PersonTrackParams:
         "re-identification of people lost for long (tracking/reidentify.py)",
     )
 
+    arrival_slack: float = param(
+        2.0,
+        "assumption: the cells of a person's last step are occupied up to about a second "
+        "before it stops",
+        "a person seen walking who stands (slower than min_speed) is not reported at a place "
+        "that was static this much longer than it has been there (slid onto furniture)",
+        "s",
+    )
+
     def __post_init__(self) -> None:
         for name in ("p_two", "p_one", "q_two", "q_one"):
             if not 0.0 < getattr(self, name) < 1.0:
@@ -332,7 +344,10 @@ class PersonTrack:
         confirmed: Reached ``llr_confirm`` once (and not deleted since).
         last_seen: Time [s] of the last scan with a member leg detected.
         born_at: Position (2,) where the person was born.
-        travelled: Largest distance [m] from ``born_at`` so far.
+        travelled: Largest distance [m] from ``born_at`` so far, at places not static for
+            longer than ``static_time`` (all places without a static world model).
+        arrived: (time [s], position (2,)) of the last time the person was ``min_travel``
+            or farther from where it was before (when it came to its current place).
         scans: Scans since birth.
         public_id: The reported id, given at the first confirmation (so that candidates
             that never become people use no ids, and a returning person can be given its
@@ -354,6 +369,7 @@ class PersonTrack:
     last_seen: float = 0.0
     born_at: FloatArray = field(default_factory=lambda: np.zeros(2))
     travelled: float = 0.0
+    arrived: tuple[float, FloatArray] = (0.0, np.zeros(2))
     scans: int = 0
     public_id: int | None = None
     signature: Signature = field(default_factory=Signature)
@@ -518,11 +534,16 @@ class PersonTracker:
                 np.stack([r[1] for r in rows]),
                 np.stack([np.eye(2) * r[2] ** 2 for r in rows]),
             )
+            # travel counts only off static places: hopping between static posts is not walking
+            static = self._static(means[:, :2])
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                person.travelled = max(
-                    person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
-                )
+                if static[i] <= p.static_time:
+                    person.travelled = max(
+                        person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
+                    )
+                if float(np.hypot(*(person.mean[:2] - person.arrived[1]))) >= p.min_travel:
+                    person.arrived = (stamp, person.mean[:2].copy())
 
     def _births(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
@@ -569,6 +590,7 @@ class PersonTracker:
             last_seen=stamp,
             born_at=position.copy(),
             born_stamp=stamp,
+            arrived=(stamp, position.copy()),
         )
 
     def _merge(self) -> None:
@@ -596,15 +618,24 @@ class PersonTracker:
         p = self.params
         # candidates with enough evidence, and confirmed people never seen walking: both
         # are (or stay) confirmed unless they stand on cells static for static_time
-        ask = [
-            q
-            for q in self.persons.values()
-            if (q.confirmed or q.llr >= p.llr_confirm) and q.travelled < p.min_travel
-        ]
+        # people seen walking are asked too: one standing where it was static long before
+        # it came there is a track that slid onto furniture
+        ask = [q for q in self.persons.values() if q.confirmed or q.llr >= p.llr_confirm]
         blocked: set[int] = set()
         if ask and self.static_model is not None:
             static = self._static(np.stack([q.mean[:2] for q in ask]))
-            blocked = {q.person_id for q, s in zip(ask, static, strict=True) if s > p.static_time}
+            blocked = {
+                q.person_id
+                for q, s in zip(ask, static, strict=True)
+                if s > p.static_time
+                and (
+                    q.travelled < p.min_travel
+                    or (
+                        s > stamp - q.arrived[0] + p.arrival_slack
+                        and float(np.hypot(*q.mean[2:4])) < p.min_speed
+                    )
+                )
+            }
         for q in self.persons.values():
             if q.person_id in blocked:
                 q.confirmed = False

@@ -19,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
+from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.tracks import Detections, Tracks
@@ -71,6 +72,30 @@ class LegsAdapter:
         return getattr(self.tracker, name)
 
 
+class LegMHTAdapter(LegsAdapter):
+    """The leg MHT as a frame tracker that also asks a static world model (the pipeline
+    feeds the model each frame before :meth:`update`; people policy ``tracks`` only)."""
+
+    @property
+    def wants_static_model(self) -> bool:
+        """True when the person layer asks a static world model (policy ``tracks``)."""
+        return getattr(self.tracker, "person_tracks", None) is not None
+
+    def use_static_model(self, model: StaticWorldModel | None) -> None:
+        """Let the person layer ask ``model`` (None: no model).
+
+        Raises:
+            ConfigError: the people policy (``arras``, 000 Sec. 3.3) has no use for one.
+        """
+        people = getattr(self.tracker, "person_tracks", None)
+        if people is None:
+            raise ConfigError(
+                "the arras people policy (000 Sec. 3.3) does not use a static world model",
+                hint="use --people-policy tracks, or --background none",
+            )
+        people.static_model = model
+
+
 @dataclass(frozen=True)
 class TrackerEntry:
     """A registered tracker.
@@ -119,7 +144,7 @@ def get(name: str) -> TrackerEntry:
 def _leg_mht(params: Any) -> FrameTracker:
     from laserpeople.tracking.legs import LegMHTTracker
 
-    return LegsAdapter(LegMHTTracker(params))
+    return LegMHTAdapter(LegMHTTracker(params))
 
 
 def _nn(params: Any) -> FrameTracker:

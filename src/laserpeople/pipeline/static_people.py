@@ -1,0 +1,318 @@
+"""The static world model that a people tracker asks, fed by the pipeline (issue 10).
+
+The leg MHT (people policy ``tracks``) does not read the foreground: it asks a
+:class:`~laserpeople.background.StaticWorldModel` how long the place of a person candidate
+has been static (:meth:`~laserpeople.background.StaticWorldModel.static_time`) and does not
+confirm a candidate on a place static for longer than ``people.static_time`` until it has
+moved (``tracking/person_tracks.py``). :class:`PeopleStaticModel` is the preprocess stage
+(after :class:`~laserpeople.pipeline.Fuse`) that learns that model from every frame and
+answers the tracker. It holds one of the models of ``track --background``
+(:func:`~laserpeople.pipeline.background.background_stage`) and adds one rule:
+
+**No sensor-frame model on a moving laser.** A run without poses is tracked in the sensor
+frame, where a person walking with the robot (a followed person) stays in one place and
+would look like furniture. In the sensor frame the stage therefore watches the lasers
+themselves: a per-beam range histogram learned over its first seconds explains most returns
+of a laser that stands still (people cover a few beams) and few of one that moves. When the
+median share of returns it does not explain, over ``window`` seconds, exceeds
+``moved_share``, the laser moves: the model is dropped for the rest of the run (every place
+is 0 s static, every point foreground) and :meth:`PeopleStaticModel.describe` says so.
+Until the lasers have been seen still for ``still_seconds`` after learning, the model
+learns but answers 0 s static (a person walking with a robot that has not yet been found
+moving must not look static).
+Measured shares (histogram of the first 2 s, 0.05 m bins): static lasers, median (90th
+percentile) over the scans after learning 0.20 (0.27) on the leg_tracker demo bag, 0.09
+(0.17) on corridor.bag, 0.05 (0.10) on the MiR bag; the robot following a person outdoors
+1.00 (1.00; 10th percentile 0.75). A ``--map`` is in the world frame and is refused in a
+sensor-frame run.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, Protocol, TypeGuard
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.background import StaticWorldModel
+from laserpeople.config import param
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField
+from laserpeople.pipeline.background import (
+    background_stage,
+    describe_background,
+    occupancy_model,
+)
+from laserpeople.pipeline.stages import Stage
+
+
+@dataclass(frozen=True)
+class SensorMotionParams:
+    """When a laser of a sensor-frame run counts as moving (module docstring)."""
+
+    config_section = "sensor_motion"
+
+    moved_share: float = param(
+        0.5,
+        "measured: median unexplained share <= 0.27 (90th pct.) on three static real lasers, "
+        ">= 0.75 (10th pct.) on the real person-following robot",
+        "a laser whose returns are this much off its learned per-beam ranges moves",
+    )
+    window: float = param(
+        2.0,
+        "assumption: longer than a person crossing close in front of the laser",
+        "the share is the median over this many seconds",
+        "s",
+    )
+
+    still_seconds: float = param(
+        10.0,
+        "measured: the real person-following robot is found moving 5.5 s after the 2 s of "
+        "learning; a person it follows must not look static before that",
+        "the model answers (static times above 0) only once the laser has been seen still "
+        "this long after learning",
+        "s",
+    )
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.moved_share < 1.0:
+            raise ValueError("moved_share must be in (0, 1)")
+        if not self.window > 0.0 or self.still_seconds < 0.0:
+            raise ValueError("window must be positive and still_seconds not negative")
+
+
+class SensorMotionCheck:
+    """Tells from the scans alone whether a laser moves (sensor-frame runs; module
+    docstring): the median share of returns off a per-beam range histogram learned over the
+    first seconds.
+
+    Attributes:
+        moved_at: Index of the frame at which a laser was seen to move (None: not yet).
+        share: The last median share of unexplained returns (nan while learning).
+    """
+
+    def __init__(self, params: SensorMotionParams | None = None) -> None:
+        from laserpeople.background.beam_histogram import BeamHistogramBackground
+
+        self.params = params or SensorMotionParams()
+        self._histogram = BeamHistogramBackground()
+        self._shares: deque[tuple[float, float]] = deque()
+        self.moved_at: int | None = None
+        self.share = math.nan
+        self._checked: tuple[float, float] | None = None  # first and last stamp checked
+
+    @property
+    def still_for(self) -> float:
+        """Seconds the lasers have been seen still after learning (0 once one moved)."""
+        if self.moved_at is not None or self._checked is None:
+            return 0.0
+        return self._checked[1] - self._checked[0]
+
+    @property
+    def settled(self) -> bool:
+        """True once the lasers have been seen still for ``still_seconds``."""
+        return self.still_for >= self.params.still_seconds
+
+    def __call__(self, frame: Frame) -> bool:
+        """Learn from ``frame`` (it needs ``points``); True once a laser has moved."""
+        if self.moved_at is not None:
+            return True
+        learning = self._histogram.learning
+        fg = self._histogram(frame).foreground
+        if learning or fg is None or len(fg) == 0:
+            return False
+        first = frame.stamp if self._checked is None else self._checked[0]
+        self._checked = (first, frame.stamp)
+        self._shares.append((frame.stamp, float(np.mean(fg))))
+        while self._shares and frame.stamp - self._shares[0][0] > self.params.window:
+            self._shares.popleft()
+        self.share = float(np.median([s for _, s in self._shares]))
+        if self.share > self.params.moved_share:
+            self.moved_at = frame.index
+            return True
+        return False
+
+
+class PeopleStaticModel:
+    """The static world model of a people tracker as a preprocess stage (module docstring).
+
+    Args:
+        choice: ``auto`` (the occupancy grid, which answers how long a place has been
+            static; measured on the real MiR bag, see docs/people-benchmarks.md),
+            ``histogram``, ``occupancy`` (see
+            :func:`~laserpeople.pipeline.background.background_stage`) or a model object.
+        map_path: ROS ``map.yaml`` seeding the occupancy grid (world-frame runs only).
+        motion: When a laser of a sensor-frame run counts as moving.
+
+    Attributes:
+        model: The model in use (None once dropped).
+        frame: The coordinate frame of the run (None before the first frame).
+        motion: The sensor-frame motion check (None in a world-frame run).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"scans", "points"})
+    provides: frozenset[FrameField] = frozenset({"foreground"})
+
+    def __init__(
+        self,
+        choice: str | Stage,
+        map_path: str | Path | None = None,
+        motion: SensorMotionParams | None = None,
+    ) -> None:
+        model = (
+            occupancy_model(map_path) if choice == "auto" else background_stage(choice, map_path)
+        )
+        if model is None:
+            raise ConfigError("PeopleStaticModel needs a model", hint="give auto or occupancy")
+        self.model: Any = model
+        self.map_path = map_path
+        self.frame: str | None = None
+        self._motion_params = motion
+        self.motion: SensorMotionCheck | None = None
+        self._name = describe_background(model)
+
+    @property
+    def dropped_at(self) -> int | None:
+        """Frame index at which the model was dropped because the laser moves (None: kept)."""
+        return None if self.motion is None else self.motion.moved_at
+
+    def __call__(self, frame: Frame) -> Frame:
+        """Learn from ``frame`` and return it with ``foreground`` from the model (all True
+        once the model is dropped)."""
+        if self.frame is None:
+            self.frame = frame.frame
+            if frame.frame == "sensor":
+                if self.map_path is not None:
+                    raise ConfigError(
+                        "--map is a world-frame map, but this run is tracked in the sensor "
+                        "frame (the recording has no sensor poses)",
+                        hint="give poses (--world-frame, --mount) or drop --map",
+                    )
+                self.motion = SensorMotionCheck(self._motion_params)
+        if self.motion is not None and self.model is not None:
+            self.motion(frame)
+            if self.motion.moved_at is not None:
+                self.model = None
+        if self.model is None:
+            n = 0 if frame.points is None else len(frame.points)
+            return replace(frame, foreground=np.ones(n, dtype=bool))
+        out: Frame = self.model(frame)
+        return out
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """How long [s] ``positions`` (M, 2) [m] have been static; zeros once dropped, and in
+        a sensor-frame run until the lasers have been seen still for ``still_seconds``."""
+        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        if self.model is None or (self.motion is not None and not self.motion.settled):
+            return np.zeros(len(pos))
+        return np.asarray(self.model.static_time(pos), dtype=np.float64)
+
+    def describe(self) -> str:
+        """One line for the user: which model the people tracker used, and in which frame."""
+        if self.dropped_at is not None:
+            return (
+                f"static world model for people: none from frame {self.dropped_at} (the "
+                "laser moves and the recording has no poses: in the sensor frame a person "
+                "walking with the robot would look static; give poses with --world-frame or "
+                "--mount to use the occupancy grid)"
+            )
+        inner = self.model if self.model is not None else None
+        text = describe_background(inner).replace("static world model:", "").strip()
+        where = f" in the {self.frame} frame" if self.frame is not None else ""
+        return f"static world model for people: {text}{where}"
+
+
+def people_static_model(
+    choice: str | Stage | None,
+    map_path: str | Path | None = None,
+    motion: SensorMotionParams | None = None,
+) -> PeopleStaticModel | None:
+    """The stage for ``choice`` (None or ``"none"``: no model; ``--map`` with ``none`` is a
+    ConfigError)."""
+    if choice is None or choice == "none":
+        background_stage("none", map_path)  # raises for --map with none
+        return None
+    return PeopleStaticModel(choice, map_path, motion)
+
+
+class StaticModelUser(Protocol):
+    """A tracker that asks a static world model (the leg MHT's ``tracks`` people policy,
+    :class:`~laserpeople.tracking.registry.LegMHTAdapter`)."""
+
+    @property
+    def wants_static_model(self) -> bool:
+        """True when the tracker asks a model (it may depend on its parameters)."""
+        ...
+
+    def use_static_model(self, model: StaticWorldModel | None) -> None:
+        """Ask ``model`` from now on (None: none)."""
+        ...
+
+
+def uses_static_model(tracker: object) -> TypeGuard[StaticModelUser]:
+    """True when ``tracker`` asks a static world model (``use_static_model``) and wants one
+    (its ``wants_static_model`` is true)."""
+    return callable(getattr(tracker, "use_static_model", None)) and bool(
+        getattr(tracker, "wants_static_model", False)
+    )
+
+
+def describe_people_model(tracker: object, stages: Sequence[object]) -> str:
+    """One line for the user naming the static world model of a leg MHT's people (empty
+    for a tracker that has no use for one)."""
+    model = next((s for s in stages if isinstance(s, PeopleStaticModel)), None)
+    if model is not None:
+        return model.describe()
+    if uses_static_model(tracker):
+        return "static world model for people: none (--background none)"
+    if callable(getattr(tracker, "use_static_model", None)):
+        return "static world model for people: none (the arras people policy has none)"
+    return ""
+
+
+class StaticFed:
+    """A frame tracker that feeds a static world model itself (for callers without a
+    pipeline, e.g. ``benchmarks/people_suite.py``): each frame goes through
+    :class:`~laserpeople.pipeline.Fuse` and ``model`` before ``tracker.update``.
+
+    Attributes:
+        tracker: The wrapped frame tracker (its model set with ``use_static_model``).
+        model: The model stage.
+    """
+
+    def __init__(self, tracker: Any, model: PeopleStaticModel) -> None:
+        from laserpeople.pipeline.preprocess import Fuse
+
+        self.tracker = tracker
+        self.model = model
+        self._fuse = Fuse()
+        tracker.use_static_model(model)
+        self.consumes: frozenset[FrameField] = frozenset(tracker.consumes) | {"scans"}
+
+    def update(self, frame: Frame) -> Any:
+        """Learn the model from ``frame``, then track it."""
+        if frame.points is None:
+            frame = self._fuse(frame)
+        return self.tracker.update(self.model(frame))
+
+    def __getattr__(self, name: str) -> Any:
+        if name == "tracker":
+            raise AttributeError(name)
+        return getattr(self.tracker, name)
+
+
+__all__ = [
+    "PeopleStaticModel",
+    "SensorMotionCheck",
+    "SensorMotionParams",
+    "StaticFed",
+    "StaticModelUser",
+    "describe_people_model",
+    "people_static_model",
+    "uses_static_model",
+]

@@ -36,6 +36,7 @@ from laserpeople.tracking.groups.model import (
     observation_log_likelihood,
     split_state,
 )
+from laserpeople.tracking.groups.observations import SizeCounting, count_people
 from laserpeople.tracking.mht.tracktree import TrackNode
 
 # ---------------------------------------------------------------- observations (Sec. 4.1)
@@ -101,6 +102,64 @@ def test_observations_count_human_sized_blobs_fig12() -> None:
     np.testing.assert_array_equal(obs.sizes, [32, 16])
     np.testing.assert_allclose(obs.centroids[0], [1.2, pts[:32, 1].mean()])
     np.testing.assert_array_equal(np.sort(obs.cluster_members(1)), np.arange(32, 48))
+
+
+def _leg(x: float, y: float, n: int = 5, r: float = 0.06) -> np.ndarray:
+    """``n`` points on the front half of a leg of radius ``r`` [m] centred at (x, y)."""
+    ang = np.linspace(-1.2, 1.2, n)
+    return np.column_stack([x + r * np.sin(ang), y - r * np.cos(ang)])
+
+
+def test_leg_counting_pairs_one_walkers_legs() -> None:
+    """A walker mid-stride (legs 0.5 m apart) is two blobs at d_hs = 0.3 m (000) but one
+    person when mutual-nearest leg blobs within 0.7 m are paired; two such walkers 0.75 m
+    apart side by side are 4 blobs and 2 people (each leg's nearest is its own other leg:
+    0.5 m against 0.75 m)."""
+    legs_count = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)
+    one = np.concatenate([_leg(0.0, 0.25), _leg(0.0, -0.25)])
+    obs = GroupObservations.from_points(one, np.arange(len(one)), 1.3, 0.3)
+    assert obs.n_hs.tolist() == [2.0]
+    obs = GroupObservations.from_points(one, np.arange(len(one)), 1.3, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [1.0]
+    two = np.concatenate([one, one + np.array([0.75, 0.0])])
+    assert GroupObservations.from_points(two, np.arange(20), 1.3, 0.3).n_hs.tolist() == [4.0]
+    got = GroupObservations.from_points(two, np.arange(20), 1.3, 0.3, legs_count).n_hs
+    assert got.tolist() == [2.0]
+
+
+def test_leg_counting_leaves_wide_blobs_and_other_clusters_alone() -> None:
+    """A person with the legs together is one blob wider than a leg (radius > 0.12 m): it
+    is not paired with the single visible leg of a neighbour 0.5 m away (2 people). Two
+    single legs 0.6 m apart in different clusters (d_P 0.4 m) are one person each."""
+    legs_count = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)
+    wide = np.concatenate([_leg(-0.09, 0.0), _leg(0.09, 0.0)])  # one blob, radius ~0.15
+    pts = np.concatenate([wide, _leg(0.6, 0.0)])
+    obs = GroupObservations.from_points(pts, np.arange(15), 1.3, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [2.0]
+    apart = np.concatenate([_leg(0.0, 0.0), _leg(0.6, 0.0)])
+    obs = GroupObservations.from_points(apart, np.arange(10), 0.4, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [1.0, 1.0]
+    # count_people itself: clusters 0 and 1, blobs 0..3; blobs 0 and 1 are a leg pair
+    labels = np.array([0] * 5 + [0] * 5 + [1] * 5 + [1] * 5)
+    fine = np.repeat(np.arange(4), 5)
+    four = np.concatenate([_leg(0, 0), _leg(0, 0.4), _leg(5, 0), _leg(5, 2.0)])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, legs_count), [1.0, 2.0])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, None), [2.0, 2.0])
+
+
+def test_reclustered_parts_take_the_scans_blobs() -> None:
+    """Parts of a re-clustered observation count their people from the scan's blob labels
+    (no second single linkage): a blob cut by the part boundary counts on both sides."""
+    pts = np.concatenate([_leg(0.0, 0.0), _leg(0.0, 0.45), _leg(0.8, 0.0)])
+    scan = GroupObservations.from_points(pts, np.arange(15), 1.3, 0.3)
+    assert scan.blobs is not None and np.unique(scan.blobs).size == 3
+    cut = [(scan.points[:7], scan.members[:7]), (scan.points[7:], scan.members[7:])]
+    parts = GroupObservations.from_parts(cut, 0.3, blobs=scan.blobs)
+    # the first part holds blob 0 and two points of blob 1; the second the rest of blob 1
+    # and blob 2
+    np.testing.assert_array_equal(parts.n_hs, [2.0, 2.0])
+    again = GroupObservations.from_parts(cut, 0.3)  # clustered again: the same here
+    np.testing.assert_array_equal(again.n_hs, parts.n_hs)
 
 
 # ---------------------------------------------------------------- equations of Sec. 4.2

@@ -252,6 +252,7 @@ class GroupModelSettings:
     gate_sq: float
     max_gap: float
     log_p_match: float = 0.0
+    rms: bool = False
 
 
 class GroupModel:
@@ -352,8 +353,12 @@ class GroupModel:
         keep = ~far[owner]
         sub = d[pos[keep]]
         local = np.concatenate([[0], np.cumsum(counts[near])[:-1]])
-        z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
-        p_to_z = np.minimum.reduceat(sub, local, axis=0).mean(axis=1)  # d(P, Z)
+        if self.s.rms:  # root mean square of the nearest distances
+            z_to_p = np.sqrt(np.add.reduceat(sub.min(axis=1) ** 2, local) / counts[near])
+            p_to_z = np.sqrt((np.minimum.reduceat(sub, local, axis=0) ** 2).mean(axis=1))
+        else:
+            z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
+            p_to_z = np.minimum.reduceat(sub, local, axis=0).mean(axis=1)  # d(P, Z)
         d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
         ok = d_hd**2 <= self.s.gate_sq
         gated[near[ok]] = True

@@ -333,9 +333,11 @@ class GroupBranches:
         for t in tracks:
             units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
         unit_list = list(units.values())
-        unit_gate = np.stack(
-            [np.any([self._gate(t, gates, meas_idx) for t in u], axis=0) for u in unit_list]
-        )
+        unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
+        for u, unit in enumerate(unit_list):
+            unit_gate[u] = self._gate(unit[0], gates, meas_idx)
+            for t in unit[1:]:
+                unit_gate[u] |= self._gate(t, gates, meas_idx)
         n_gating = unit_gate.sum(axis=0)
         shared = set(np.nonzero(n_gating >= 2)[0].tolist())
         joined: dict[int, list[int]] = {}  # first local index -> local indices joined

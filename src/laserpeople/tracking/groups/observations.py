@@ -109,8 +109,12 @@ class GroupObservations:
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
         if pts.shape[0] == 0:
             return cls.empty()
-        labels = single_linkage(pts, d_p)
-        fine = single_linkage(pts, d_hs) if d_hs < d_p else labels
+        finite = np.isfinite(pts).all(axis=1)
+        if not finite.all():
+            pts, idx = pts[finite], idx[finite]
+            if pts.shape[0] == 0:
+                return cls.empty()
+        labels, fine = linkage_levels(pts, (d_p, min(d_hs, d_p)))
         return cls._from_labels(pts, idx, labels, fine, counting)
 
     @classmethod
@@ -172,6 +176,50 @@ class GroupObservations:
         )
         n_hs = count_people(pts, labels, fine, m, counting)
         return cls(pts, offsets, idx, centroids, n_hs, np.ones(m), blobs=fine)
+
+
+def linkage_levels(points: FloatArray, distances: Sequence[float]) -> list[IntArray]:
+    """Single-linkage labels (N,) of finite ``points`` (N, 2) [m] at each of ``distances``
+    [m] (strictly closer points are linked; labels numbered by each cluster's first point,
+    as :func:`laserpeople.clustering.single_linkage`), from one KD-tree query at the
+    largest distance: the pairs closer than a smaller distance are a subset."""
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    n = pts.shape[0]
+    if any(not d > 0 for d in distances):
+        raise ValueError(f"single-linkage distances must be positive, got {list(distances)}")
+    pairs = cKDTree(pts).query_pairs(max(distances), output_type="ndarray")
+    length = np.hypot(*(pts[pairs[:, 0]] - pts[pairs[:, 1]]).T) if pairs.size else np.empty(0)
+    out = []
+    for d in distances:
+        link = pairs[length < d]
+        root = _components(n, link[:, 0], link[:, 1])
+        out.append(np.unique(root, return_inverse=True)[1].astype(np.int64).reshape(n))
+    return out
+
+
+def _components(n: int, i: IntArray, j: IntArray) -> IntArray:
+    """The smallest point index (n,) of each point's connected component in the graph
+    with edges ``(i[k], j[k])``: roots hook onto the smaller root of every edge, then
+    pointer jumping flattens the forest, until nothing changes."""
+    root = np.arange(n, dtype=np.int64)
+    if i.size == 0:
+        return root
+    while True:
+        ri, rj = root[i], root[j]
+        low = np.minimum(ri, rj)
+        hooked = root.copy()
+        np.minimum.at(hooked, ri, low)
+        np.minimum.at(hooked, rj, low)
+        while True:
+            jumped = hooked[hooked]
+            if np.array_equal(jumped, hooked):
+                break
+            hooked = jumped
+        if np.array_equal(hooked, root):
+            return root
+        root = hooked
 
 
 @dataclass(frozen=True)

@@ -33,6 +33,8 @@ def main() -> None:
     base = GroupTrackerParams()
     sweep: dict[float, list[GroupRunResult]] = {d: [] for d in args.d_p}
     people_only: list[GroupRunResult] = []
+    paper_size: list[GroupRunResult] = []
+    paper = replace(base, cluster_distance=1.3, size_count="blobs", eps_n=0.1, size_std=0.5)
     for seed in args.seeds:
         scans = run_scenario(args.scenario, seconds=args.seconds, seed=seed).scans
         for d in args.d_p:
@@ -50,6 +52,13 @@ def main() -> None:
                 f"{r.median_ms:.2f} ms/scan",
                 flush=True,
             )
+        r = run_groups(scans, paper)
+        paper_size.append(r)
+        print(
+            f"seed {seed} d_P 1.3, 000's size counting (blobs at d_hs 0.3 m, eps_n 0.1, size "
+            f"std 0.5): size error {r.size.mean_error:.2f}, exact {100 * r.size.exact_share:.1f} %",
+            flush=True,
+        )
         r = run_groups(scans, GroupTrackerParams.people_only())
         people_only.append(r)
         print(
@@ -92,6 +101,13 @@ def main() -> None:
     print(
         f"\nGroup size at d_P = 1.3 m: mean error {mean_err:.2f} people, exact "
         f"{100 * exact:.1f} %, within one {100 * within:.1f} %"
+    )
+    counts = [r.size.count for r in paper_size]
+    print(
+        f"  000's counting (size_count blobs, d_hs 0.3 m, eps_n 0.1, size std 0.5): mean error "
+        f"{_wmean([r.size.mean_error for r in paper_size], counts):.2f} people, exact "
+        f"{100 * _wmean([r.size.exact_share for r in paper_size], counts):.1f} %, within one "
+        f"{100 * _wmean([r.size.within_one_share for r in paper_size], counts):.1f} %"
     )
     print(f"Split / merge events: {sum(r.splits for r in ref)} / {sum(r.merges for r in ref)}")
     print("\n| people in view | group tracker ms/scan (median) | people-only ms/scan | frames |")

@@ -380,10 +380,16 @@ class GroupModel:
         if contour.shape[0] == 0:
             contour = pos[None, :]
         r_t = float(np.max(np.hypot(*(contour - pos).T)))
-        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
-        near = np.nonzero(gap <= self.s.max_gap)[0]
         s = self.innovation_cov(cov)
         det = float(s[0, 0] * s[1, 1] - s[0, 1] ** 2)
+        # no point of a cluster whose bounding circle is more than sqrt(gate * largest
+        # eigenvalue of S) from the contour's can be gated: every distance of eq. 21 and
+        # so both averages of eq. 20 exceed the gate (exact, not an approximation)
+        half_trace = 0.5 * (s[0, 0] + s[1, 1])
+        lam_max = half_trace + math.sqrt(max(half_trace**2 - det, 0.0))
+        reach = min(self.s.max_gap, math.sqrt(self.s.gate_sq * lam_max))
+        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
+        near = np.nonzero(gap <= reach)[0]
         row_pos = np.full(len(obs.points), -1, dtype=np.int64)
         if near.size == 0:
             return row_pos, np.empty((0, contour.shape[0])), det

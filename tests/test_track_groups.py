@@ -425,6 +425,26 @@ def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
     assert kinds.index("split") < kinds.index("merge")
 
 
+def test_a_group_of_three_leaving_one_by_one_splits_twice() -> None:
+    """Three people stand together (group 0); one walks off south, half a second later
+    another north. Splits are binary (000 Sec. 4.4): the history is two splits, the labels
+    end as a binary tree under 0 (0-0, 0-1-0, 0-1-1 or 0-0-0, 0-0-1, 0-1), one per person,
+    and nothing merges. (When both leave in the same scan, the third cluster is a new
+    group: no track's gate holds two clusters any more; docs/groups.md.)"""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        south = 0.12 * max(0, k - 20)
+        north = 0.12 * max(0, k - 25)
+        return [(3.0, -south, 0), (3.8, 0.0, 0), (4.6, north, 0)]
+
+    tracker, history, _, _ = _run(people_at, 60)
+    assert [t.labels for t in history[10].of_kind("group")] == ["0"]
+    last = sorted(t.labels for t in history[-1].of_kind("group"))
+    assert last in (["0-0", "0-1-0", "0-1-1"], ["0-0-0", "0-0-1", "0-1"])
+    assert sorted(t.size for t in history[-1].of_kind("group")) == [1, 1, 1]
+    assert [e.kind for e in tracker.events] == ["split", "split"]
+
+
 def test_two_groups_meeting_merge_their_labels() -> None:
     """Two separate groups walk together and stand: one group labelled 0|1 of size 4."""
 

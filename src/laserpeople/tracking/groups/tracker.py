@@ -289,13 +289,13 @@ class GroupEstimate:
 
 @dataclass(frozen=True)
 class GroupEvent:
-    """A split or merge in the reported (best) hypothesis, recorded when the family it
-    made is first reported.
+    """A split or merge in the reported (best) hypothesis, recorded when a group it made
+    is first reported (a split once, though it makes two groups).
 
     Attributes:
         stamp: Time of that report [s].
         kind: "split" or "merge".
-        labels: Labels of the group it made.
+        labels: Labels of the group it made (of a split: the first half reported).
     """
 
     stamp: float
@@ -391,7 +391,7 @@ class GroupMHTTracker:
             if node.family not in self._reported:
                 self._reported.add(node.family)
                 if payload.event:
-                    self.events.append(GroupEvent(frame.stamp, payload.event, labels))
+                    self._record(GroupEvent(frame.stamp, payload.event, labels))
             tracks.append(
                 Track(
                     track_id=node.family,
@@ -407,6 +407,18 @@ class GroupMHTTracker:
             )
         self.last_groups = groups
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    def _record(self, event: GroupEvent) -> None:
+        """Append ``event`` unless it is the second half of a split already recorded at
+        this stamp (the halves X-0 and X-1 of one split share the stem X)."""
+        if event.kind == "split":
+            stem = tuple(label.rsplit("-", 1)[0] for label in event.labels)
+            for e in reversed(self.events):
+                if e.stamp != event.stamp:
+                    break
+                if e.kind == "split" and tuple(x.rsplit("-", 1)[0] for x in e.labels) == stem:
+                    return
+        self.events.append(event)
 
     def point_labels(self, n_points: int) -> IntArray:
         """Group (track id) of each of the last frame's ``n_points`` points, -1 outside

@@ -347,6 +347,40 @@ def test_score_is_eq19_24_with_the_predicted_contour() -> None:
     assert gated[0].any() and not gated[0].all()
 
 
+def test_batched_score_of_many_tracks_is_eq19_24_per_track() -> None:
+    """Scoring several tracks against the scan in one pass gives, for each, eqs. 19-24
+    computed point by point (gate and log N_i), including an empty contour (the track's
+    position stands in for it) and tracks near several clusters."""
+    params = GroupTrackerParams()
+    model = _model(params)
+    rng = np.random.default_rng(4)
+    pts = np.concatenate(
+        [rng.normal(c, 0.15, (8, 2)) for c in ([0.0, 0.0], [1.2, 0.3], [3.0, 0.0], [3.6, 1.2])]
+    )
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 0.9, 0.3)
+    nodes = []
+    for i, (centre, k) in enumerate((([0.0, 0.0], 9), ([1.2, 0.3], 4), ([3.2, 0.5], 0))):
+        contour = rng.normal(0.0, 0.15, (k, 2))
+        mean = np.array([*centre, 0.2 * i, 0.0, 2.0])
+        cov = np.eye(5) * (0.02 + 0.03 * i)
+        nodes.append(TrackNode(i, i, -1, mean, cov, 0.0, "new", payload=GroupPayload(contour)))
+    model.predict(nodes, 0.1)
+    gated, ll = model.score(nodes, obs)
+    gate_sq = params.model_settings().gate_sq
+    for a, node in enumerate(nodes):
+        assert node.pred_mean is not None and node.pred_cov is not None
+        contour = node.payload.contour + node.pred_mean[:2]
+        if contour.shape[0] == 0:
+            contour = node.pred_mean[None, :2]
+        s = model.innovation_cov(node.pred_cov)
+        for i in range(len(obs)):
+            d = min_average_hausdorff(obs.cluster(i), contour, s)
+            assert gated[a, i] == (d**2 <= gate_sq)
+            if gated[a, i]:
+                assert ll[a, i] == pytest.approx(observation_log_likelihood(d, s))
+    assert gated.sum() >= 3
+
+
 def test_hypothesis_probabilities_eq33_37() -> None:
     """One isolated group and one observation: the children are matched (p_M N),
     occluded or obsolete with the observation a false alarm or new track (p_O, p_T times

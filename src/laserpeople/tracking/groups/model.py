@@ -317,8 +317,8 @@ class GroupModel:
             return gated, loglik
         todo = [n for n in nodes if (n.node_id, id(measurements)) not in self._rows]
         if measurements.source is None and len(todo) > 1 and not self.s.rms:
-            for node, row in zip(todo, self._score_rows(todo, measurements), strict=True):
-                self._rows[(node.node_id, id(measurements))] = row
+            for node, made in zip(todo, self._score_rows(todo, measurements), strict=True):
+                self._rows[(node.node_id, id(measurements))] = made
         for a, node in enumerate(nodes):
             key = (node.node_id, id(measurements))
             row = self._rows.get(key)

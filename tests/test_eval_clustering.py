@@ -81,9 +81,12 @@ def test_beam_group_labels_give_people_alone_their_own_label():
     assert g[3] >= 0 and g[3] != 2
 
 
-def test_tracker_beats_memoryless_clustering_when_groups_pass():
-    # 000 Fig. 18: one person crosses a group of two. Memory-less clustering merges them
-    # while they are close (3 frames); the tracker keeps them apart.
+def test_clustering_error_counts_a_memoryless_merge_of_passing_groups():
+    # The arithmetic of the measure on 000 Fig. 18 written as partitions: a clustering that
+    # joins a person and a passing pair for 3 of 5 frames scores 3 under-segmentations per
+    # 10 true groups. (The tracker itself against memory-less clustering on that scene:
+    # tests/test_track_groups.py::test_fig18_tracker_keeps_a_passing_person_apart and
+    # tests/test_track_groups_sim.py.)
     truth = [[{1, 2}, {3}]] * 5
     tracker = [[{1, 2}, {3}]] * 5
     memoryless = [[{1, 2}, {3}]] + [[{1, 2, 3}]] * 3 + [[{1, 2}, {3}]]

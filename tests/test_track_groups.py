@@ -36,6 +36,11 @@ from laserpeople.tracking.groups.model import (
     observation_log_likelihood,
     split_state,
 )
+from laserpeople.tracking.groups.observations import (
+    SizeCounting,
+    count_people,
+    linkage_levels,
+)
 from laserpeople.tracking.mht.tracktree import TrackNode
 
 # ---------------------------------------------------------------- observations (Sec. 4.1)
@@ -89,6 +94,24 @@ def legs(centre: tuple[float, float], n: int = 4) -> np.ndarray:
     return np.concatenate(out)
 
 
+def test_linkage_levels_equal_single_linkage_at_each_distance() -> None:
+    """Both levels from one KD-tree query give the labels of two single_linkage calls
+    (numbered by first point), including points exactly d apart (not linked)."""
+    rng = np.random.default_rng(3)
+    for n in (1, 2, 17, 150):
+        pts = rng.uniform(0.0, 6.0, (n, 2))
+        coarse, fine = linkage_levels(pts, (1.3, 0.3))
+        np.testing.assert_array_equal(coarse, single_linkage(pts, 1.3))
+        np.testing.assert_array_equal(fine, single_linkage(pts, 0.3))
+    grid = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [3.0, 0.0]])
+    coarse, fine = linkage_levels(grid, (2.0, 0.5))
+    # 0.5 m and 2.0 m apart exactly: not linked at 0.5 and 2.0 (strictly closer)
+    assert coarse.tolist() == [0, 0, 0, 1] and fine.tolist() == [0, 1, 2, 3]
+    np.testing.assert_array_equal(coarse, single_linkage(grid, 2.0))
+    with pytest.raises(ValueError, match="positive"):
+        linkage_levels(grid, (1.0, 0.0))
+
+
 def test_observations_count_human_sized_blobs_fig12() -> None:
     """Fig. 12: four people within d_P of each other are one cluster of four blobs (the
     legs of one person are within d_hs); a pair 2.6 m away is a second cluster, and, as
@@ -101,6 +124,64 @@ def test_observations_count_human_sized_blobs_fig12() -> None:
     np.testing.assert_array_equal(obs.sizes, [32, 16])
     np.testing.assert_allclose(obs.centroids[0], [1.2, pts[:32, 1].mean()])
     np.testing.assert_array_equal(np.sort(obs.cluster_members(1)), np.arange(32, 48))
+
+
+def _leg(x: float, y: float, n: int = 5, r: float = 0.06) -> np.ndarray:
+    """``n`` points on the front half of a leg of radius ``r`` [m] centred at (x, y)."""
+    ang = np.linspace(-1.2, 1.2, n)
+    return np.column_stack([x + r * np.sin(ang), y - r * np.cos(ang)])
+
+
+def test_leg_counting_pairs_one_walkers_legs() -> None:
+    """A walker mid-stride (legs 0.5 m apart) is two blobs at d_hs = 0.3 m (000) but one
+    person when mutual-nearest leg blobs within 0.7 m are paired; two such walkers 0.75 m
+    apart side by side are 4 blobs and 2 people (each leg's nearest is its own other leg:
+    0.5 m against 0.75 m)."""
+    legs_count = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)
+    one = np.concatenate([_leg(0.0, 0.25), _leg(0.0, -0.25)])
+    obs = GroupObservations.from_points(one, np.arange(len(one)), 1.3, 0.3)
+    assert obs.n_hs.tolist() == [2.0]
+    obs = GroupObservations.from_points(one, np.arange(len(one)), 1.3, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [1.0]
+    two = np.concatenate([one, one + np.array([0.75, 0.0])])
+    assert GroupObservations.from_points(two, np.arange(20), 1.3, 0.3).n_hs.tolist() == [4.0]
+    got = GroupObservations.from_points(two, np.arange(20), 1.3, 0.3, legs_count).n_hs
+    assert got.tolist() == [2.0]
+
+
+def test_leg_counting_leaves_wide_blobs_and_other_clusters_alone() -> None:
+    """A person with the legs together is one blob wider than a leg (radius > 0.12 m): it
+    is not paired with the single visible leg of a neighbour 0.5 m away (2 people). Two
+    single legs 0.6 m apart in different clusters (d_P 0.4 m) are one person each."""
+    legs_count = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)
+    wide = np.concatenate([_leg(-0.09, 0.0), _leg(0.09, 0.0)])  # one blob, radius ~0.15
+    pts = np.concatenate([wide, _leg(0.6, 0.0)])
+    obs = GroupObservations.from_points(pts, np.arange(15), 1.3, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [2.0]
+    apart = np.concatenate([_leg(0.0, 0.0), _leg(0.6, 0.0)])
+    obs = GroupObservations.from_points(apart, np.arange(10), 0.4, 0.3, legs_count)
+    assert obs.n_hs.tolist() == [1.0, 1.0]
+    # count_people itself: clusters 0 and 1, blobs 0..3; blobs 0 and 1 are a leg pair
+    labels = np.array([0] * 5 + [0] * 5 + [1] * 5 + [1] * 5)
+    fine = np.repeat(np.arange(4), 5)
+    four = np.concatenate([_leg(0, 0), _leg(0, 0.4), _leg(5, 0), _leg(5, 2.0)])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, legs_count), [1.0, 2.0])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, None), [2.0, 2.0])
+
+
+def test_reclustered_parts_take_the_scans_blobs() -> None:
+    """Parts of a re-clustered observation count their people from the scan's blob labels
+    (no second single linkage): a blob cut by the part boundary counts on both sides."""
+    pts = np.concatenate([_leg(0.0, 0.0), _leg(0.0, 0.45), _leg(0.8, 0.0)])
+    scan = GroupObservations.from_points(pts, np.arange(15), 1.3, 0.3)
+    assert scan.blobs is not None and np.unique(scan.blobs).size == 3
+    cut = [(scan.points[:7], scan.members[:7]), (scan.points[7:], scan.members[7:])]
+    parts = GroupObservations.from_parts(cut, 0.3, blobs=scan.blobs)
+    # the first part holds blob 0 and two points of blob 1; the second the rest of blob 1
+    # and blob 2
+    np.testing.assert_array_equal(parts.n_hs, [2.0, 2.0])
+    again = GroupObservations.from_parts(cut, 0.3)  # clustered again: the same here
+    np.testing.assert_array_equal(again.n_hs, parts.n_hs)
 
 
 # ---------------------------------------------------------------- equations of Sec. 4.2
@@ -266,6 +347,40 @@ def test_score_is_eq19_24_with_the_predicted_contour() -> None:
     assert gated[0].any() and not gated[0].all()
 
 
+def test_batched_score_of_many_tracks_is_eq19_24_per_track() -> None:
+    """Scoring several tracks against the scan in one pass gives, for each, eqs. 19-24
+    computed point by point (gate and log N_i), including an empty contour (the track's
+    position stands in for it) and tracks near several clusters."""
+    params = GroupTrackerParams()
+    model = _model(params)
+    rng = np.random.default_rng(4)
+    pts = np.concatenate(
+        [rng.normal(c, 0.15, (8, 2)) for c in ([0.0, 0.0], [1.2, 0.3], [3.0, 0.0], [3.6, 1.2])]
+    )
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 0.9, 0.3)
+    nodes = []
+    for i, (centre, k) in enumerate((([0.0, 0.0], 9), ([1.2, 0.3], 4), ([3.2, 0.5], 0))):
+        contour = rng.normal(0.0, 0.15, (k, 2))
+        mean = np.array([*centre, 0.2 * i, 0.0, 2.0])
+        cov = np.eye(5) * (0.02 + 0.03 * i)
+        nodes.append(TrackNode(i, i, -1, mean, cov, 0.0, "new", payload=GroupPayload(contour)))
+    model.predict(nodes, 0.1)
+    gated, ll = model.score(nodes, obs)
+    gate_sq = params.model_settings().gate_sq
+    for a, node in enumerate(nodes):
+        assert node.pred_mean is not None and node.pred_cov is not None
+        contour = node.payload.contour + node.pred_mean[:2]
+        if contour.shape[0] == 0:
+            contour = node.pred_mean[None, :2]
+        s = model.innovation_cov(node.pred_cov)
+        for i in range(len(obs)):
+            d = min_average_hausdorff(obs.cluster(i), contour, s)
+            assert gated[a, i] == (d**2 <= gate_sq)
+            if gated[a, i]:
+                assert ll[a, i] == pytest.approx(observation_log_likelihood(d, s))
+    assert gated.sum() >= 3
+
+
 def test_hypothesis_probabilities_eq33_37() -> None:
     """One isolated group and one observation: the children are matched (p_M N),
     occluded or obsolete with the observation a false alarm or new track (p_O, p_T times
@@ -364,6 +479,26 @@ def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
     kinds = [e.kind for e in tracker.events]
     assert "split" in kinds and "merge" in kinds
     assert kinds.index("split") < kinds.index("merge")
+
+
+def test_a_group_of_three_leaving_one_by_one_splits_twice() -> None:
+    """Three people stand together (group 0); one walks off south, half a second later
+    another north. Splits are binary (000 Sec. 4.4): the history is two splits, the labels
+    end as a binary tree under 0 (0-0, 0-1-0, 0-1-1 or 0-0-0, 0-0-1, 0-1), one per person,
+    and nothing merges. (When both leave in the same scan, the third cluster is a new
+    group: no track's gate holds two clusters any more; docs/groups.md.)"""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        south = 0.12 * max(0, k - 20)
+        north = 0.12 * max(0, k - 25)
+        return [(3.0, -south, 0), (3.8, 0.0, 0), (4.6, north, 0)]
+
+    tracker, history, _, _ = _run(people_at, 60)
+    assert [t.labels for t in history[10].of_kind("group")] == ["0"]
+    last = sorted(t.labels for t in history[-1].of_kind("group"))
+    assert last in (["0-0", "0-1-0", "0-1-1"], ["0-0-0", "0-0-1", "0-1"])
+    assert sorted(t.size for t in history[-1].of_kind("group")) == [1, 1, 1]
+    assert [e.kind for e in tracker.events] == ["split", "split"]
 
 
 def test_two_groups_meeting_merge_their_labels() -> None:

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from laserpeople.evaluation.groups import run_groups
+from laserpeople.evaluation.groups import _classify, _mixed_clusters, run_groups
 from laserpeople.scan import Pose2D
 from laserpeople.sim.motion import Route
 from laserpeople.sim.people import random_person
@@ -48,3 +48,18 @@ def test_group_tracker_keeps_passing_groups_apart_on_simulated_scans() -> None:
     assert run.size.within_one_share >= 0.9
     assert run.size.mean_error <= 1.2
     assert run.merges == 0
+
+
+def test_under_segmentation_is_split_into_transitions_and_distinct_groups() -> None:
+    """A cluster holding people 1 and 2 (true groups 0 and 1) at scan 5 is a transition
+    when they are one group within the window (scan 7), distinct otherwise; a cluster of
+    one true group is not under-segmented at all."""
+    true_group = np.array([0, 0, 1, 1, 2])
+    true_person = np.array([1, 1, 2, 2, 3])
+    est = np.array([4, 4, 4, 4, 5])
+    mixed = _mixed_clusters(true_group, true_person, est)
+    assert [m.tolist() for m in mixed] == [[1, 2]]
+    apart = {1: 0, 2: 1, 3: 2}
+    group_of = [apart] * 7 + [{1: 9, 2: 9, 3: 2}] + [apart] * 4
+    assert _classify([(5, mixed[0])], group_of, window=2).transition == 1
+    assert _classify([(5, mixed[0])], group_of, window=1).distinct == 1

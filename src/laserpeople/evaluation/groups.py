@@ -73,6 +73,31 @@ def frames_from_scans(scans: list[Scan]) -> Iterator[LabelledFrame]:
         yield LabelledFrame(frame, group, person)
 
 
+TRANSITION_WINDOW = 3.0
+"""Seconds either side of a scan within which the people of an under-segmented cluster
+must be one true group for the error to count as a transition error [s]."""
+
+
+@dataclass(frozen=True)
+class UnderSegmentation:
+    """Under-segmented clusters (a cluster holding people of two or more true groups) by
+    cause, summed over frames.
+
+    Attributes:
+        transition: The cluster's people are one true group within
+            :data:`TRANSITION_WINDOW` of the scan: the simulator's truth joins two parties
+            when the last member arrives and parts them 0.3 s after they start to leave,
+            while the points meet or part earlier; no clustering of the points can follow
+            that, with or without memory.
+        distinct: The cluster's people belong to groups that are not one group anywhere
+            near that scan (parties passing each other or a meeting): what tracking can
+            keep apart (000 Fig. 18).
+    """
+
+    transition: int
+    distinct: int
+
+
 @dataclass(frozen=True)
 class GroupRunResult:
     """The scores of one run over a recording.
@@ -89,6 +114,8 @@ class GroupRunResult:
         frames: Frames scored.
         frame_ms: CPU time of every frame [ms] (F,).
         frame_people: People seen (with a foreground point) in every frame (F,).
+        tracker_under: The tracker's under-segmentation by cause.
+        memoryless_under: Memory-less clustering's under-segmentation by cause.
     """
 
     clustering: ClusteringErrorResult
@@ -101,6 +128,39 @@ class GroupRunResult:
     frames: int
     frame_ms: NDArray[np.float64]
     frame_people: IntArray
+    tracker_under: UnderSegmentation
+    memoryless_under: UnderSegmentation
+
+
+def _mixed_clusters(true_group: IntArray, true_person: IntArray, est: IntArray) -> list[IntArray]:
+    """People (sorted ids) of every cluster of ``est`` (N,) holding points of two or more
+    true groups (``true_group`` (N,), ``true_person`` (N,); -1 outside)."""
+    out = []
+    inside = est >= 0
+    for k in np.unique(est[inside]):
+        sel = est == k
+        groups = np.unique(true_group[sel])
+        if np.count_nonzero(groups >= 0) > 1:
+            people = np.unique(true_person[sel])
+            out.append(people[people >= 0])
+    return out
+
+
+def _classify(
+    mixed: list[tuple[int, IntArray]], group_of: list[dict[int, int]], window: int
+) -> UnderSegmentation:
+    """Split under-segmented clusters ``(frame, people)`` into transitions (one true group
+    in some frame within ``window`` frames, from ``group_of[frame]``: person -> group) and
+    distinct groups."""
+    transition = 0
+    for k, people in mixed:
+        lo, hi = max(0, k - window), min(len(group_of), k + window + 1)
+        for f in range(lo, hi):
+            groups = {group_of[f].get(int(p), -1 - int(p)) for p in people}
+            if len(groups) == 1:
+                transition += 1
+                break
+    return UnderSegmentation(transition, len(mixed) - transition)
 
 
 def run_groups(
@@ -113,6 +173,11 @@ def run_groups(
     tracked, memoryless, size = ClusteringError(), ClusteringError(), GroupSizeError()
     times: list[float] = []
     people: list[int] = []
+    group_of: list[dict[int, int]] = []
+    mixed_tracker: list[tuple[int, IntArray]] = []
+    mixed_memoryless: list[tuple[int, IntArray]] = []
+    stamps = [s.stamp for s in scans if s.sensor == scans[0].sensor] if scans else []
+    period = float(np.median(np.diff(stamps))) if len(stamps) > 1 else 0.1
     n = 0
     for k, lf in enumerate(frames_from_scans(scans)):
         t0 = time.process_time()
@@ -120,6 +185,9 @@ def run_groups(
         times.append(time.process_time() - t0)
         seen = lf.true_person[np.asarray(lf.frame.foreground)]
         people.append(int(np.unique(seen[seen >= 0]).size))
+        on = lf.true_person >= 0
+        pairs = zip(lf.true_person[on].tolist(), lf.true_group[on].tolist(), strict=True)
+        group_of.append(dict(pairs))
         if k < skip:
             continue
         n += 1
@@ -129,9 +197,13 @@ def run_groups(
         tracked.accumulate_labels(lf.true_group[fg], est[fg], lf.frame.stamp)
         ml = single_linkage(lf.frame.points.points[fg], params.cluster_distance)
         memoryless.accumulate_labels(lf.true_group[fg], ml, lf.frame.stamp)
+        tg, tp = lf.true_group[fg], lf.true_person[fg]
+        mixed_tracker += [(k, p) for p in _mixed_clusters(tg, tp, est[fg])]
+        mixed_memoryless += [(k, p) for p in _mixed_clusters(tg, tp, ml)]
         sizes = {g.track_id: g.size for g in tracker.last_groups if g.members.size}
         size.accumulate(lf.true_person[fg], est[fg], sizes)
     ms = np.asarray(times) * 1e3
+    window = round(TRANSITION_WINDOW / period) if period > 0 else 0
     return GroupRunResult(
         clustering=tracked.result(),
         memoryless=memoryless.result(),
@@ -143,4 +215,6 @@ def run_groups(
         frames=n,
         frame_ms=ms,
         frame_people=np.asarray(people, dtype=np.int64),
+        tracker_under=_classify(mixed_tracker, group_of, window),
+        memoryless_under=_classify(mixed_memoryless, group_of, window),
     )

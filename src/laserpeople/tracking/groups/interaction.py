@@ -6,10 +6,12 @@ Model generation (Sec. 4.4) is data-driven and binary: a track may split into tw
 two observations fall in its gate (and both halves must then be matched); two tracks may
 merge only when one observation falls in both gates; a track takes part in at most one
 event per scan. A model is a set of such events with no track in two of them; its prior is
-eq. 32. Tracks that could take part in no event have no choice to make: their continuation
-is certain given the data-driven generation and contributes no factor p_C (a departure
-from a literal eq. 32, which would charge p_C to every track of every hypothesis every
-scan).
+eq. 32 normalised over the models generated for the parent, so that P(M | parent) is a
+distribution (eq. 35). Printed as is, eq. 32 charges p_C to every continued track: two
+tracks that share an observation pay p_C^2 every scan while the track made by merging
+them pays p_C once (or, with p_C only for tracks that have a choice, nothing), so a wrong
+merge overtakes the continuation within a few scans whatever the velocities say
+(docs/groups.md).
 
 Re-clustering (Sec. 4.3): an observation in the gate of more than one of a model's tracks
 (not merged by the model) is divided among them by the nearest-track rule: each point goes
@@ -28,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.clustering import single_linkage
 from laserpeople.tracking.groups.labels import merge_labels, split_labels
 from laserpeople.tracking.groups.model import (
     GroupModel,
@@ -37,7 +40,7 @@ from laserpeople.tracking.groups.model import (
     merge_state,
     split_state,
 )
-from laserpeople.tracking.groups.observations import GroupObservations
+from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.mht.protocols import Branch, BranchObservations
 from laserpeople.tracking.mht.tracktree import DETECTED, TrackNode, TrackTree
 
@@ -62,6 +65,10 @@ class InteractionSettings:
             continued track gates joined into one (extension).
         max_models: Most models per parent (the likeliest by eq. 32).
         c0: Initial covariance C_0 (5, 5) (split tracks restart from it).
+        recluster_blobs: Re-cluster by blobs instead of points (extension).
+        counting: How re-clustered parts count their people (000's blob count if None).
+        model_prior: How eq. 32 becomes P(M | parent): "normalised", "choice" or
+            "literal" (see :meth:`GroupBranches._model_priors`).
     """
 
     p_c: float
@@ -73,6 +80,10 @@ class InteractionSettings:
     max_models: int
     join_observations: bool
     c0: FloatArray
+    model_prior: str = "normalised"
+    merge_likelihood: str = "compatibility"
+    recluster_blobs: bool = False
+    counting: SizeCounting | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,11 +182,10 @@ class GroupBranches:
                         ll = self._merge_loglik(ta, tb)
                         ratio = self._log_pg + ll - 2.0 * self._log_pc
                         events.append(Event("merge", (ta, tb), ratio, ll))
-        involved = {t.node_id for e in events for t in e.tracks}
-        base = len(involved) * self._log_pc
+        models = enumerate_models(events, self.s.max_models)
+        priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
-        for chosen in enumerate_models(events, self.s.max_models):
-            prior = base + sum(e.log_ratio for e in chosen)
+        for chosen, prior in zip(models, priors, strict=True):
             new_tracks = self._repredict(tracks, chosen)
             obs = self._recluster(new_tracks, chosen, gates, meas_idx)
             out.append(Branch(prior, new_tracks, len(out), obs))
@@ -186,6 +196,29 @@ class GroupBranches:
         self.models_generated += len(out)
         return out
 
+    def _model_priors(
+        self,
+        tracks: tuple[TrackNode, ...],
+        events: Sequence[Event],
+        models: Sequence[tuple[Event, ...]],
+    ) -> list[float]:
+        """log P(M | parent) of each model (eq. 32, read as ``self.s.model_prior`` says):
+
+        * ``"normalised"``: eq. 32 divided by its sum over the parent's models, so that
+          P(M | parent) is a distribution over the models the data allow (eq. 35 needs
+          one); a parent whose tracks have no choice has one model of probability 1;
+        * ``"choice"``: p_C only for tracks some event could involve, not normalised;
+        * ``"literal"``: eq. 32 as printed, p_C for every continued track.
+        """
+        ratios = [sum(e.log_ratio for e in chosen) for chosen in models]
+        if self.s.model_prior == "normalised":
+            total = float(np.logaddexp.reduce(ratios)) if ratios else 0.0
+            return [r - total for r in ratios]
+        if self.s.model_prior == "choice":
+            involved = {t.node_id for e in events for t in e.tracks}
+            return [len(involved) * self._log_pc + r for r in ratios]
+        return [len(tracks) * self._log_pc + r for r in ratios]
+
     def _merge_loglik(self, a: TrackNode, b: TrackNode) -> float:
         """log N_ij of the pair (eqs. 25-27), once per scan."""
         key = (a.node_id, b.node_id)
@@ -194,7 +227,10 @@ class GroupBranches:
             ma, ca = _pred(a)
             mb, cb = _pred(b)
             d2 = group_distance_sq(pa.contour, ma, ca, pb.contour, mb, cb, self.s.d_p)
-            self._merge_ll[key] = merge_log_likelihood(d2, ca, cb)
+            if self.s.merge_likelihood == "density":
+                self._merge_ll[key] = merge_log_likelihood(d2, ca, cb)
+            else:  # the compatibility exp(-d^2 / 2), at most 1
+                self._merge_ll[key] = -0.5 * d2
         return self._merge_ll[key]
 
     # ------------------------------------------------------------------ re-prediction
@@ -297,9 +333,11 @@ class GroupBranches:
         for t in tracks:
             units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
         unit_list = list(units.values())
-        unit_gate = np.stack(
-            [np.any([self._gate(t, gates, meas_idx) for t in u], axis=0) for u in unit_list]
-        )
+        unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
+        for u, unit in enumerate(unit_list):
+            unit_gate[u] = self._gate(unit[0], gates, meas_idx)
+            for t in unit[1:]:
+                unit_gate[u] |= self._gate(t, gates, meas_idx)
         n_gating = unit_gate.sum(axis=0)
         shared = set(np.nonzero(n_gating >= 2)[0].tolist())
         joined: dict[int, list[int]] = {}  # first local index -> local indices joined
@@ -349,6 +387,12 @@ class GroupBranches:
             if i in shared:
                 near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
                 owner = _nearest_unit(pts, near)
+                if self.s.recluster_blobs:
+                    if self.obs.blobs is None:
+                        blobs = single_linkage(pts, self.s.d_hs)
+                    else:
+                        blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
+                    owner = _blob_majority(owner, blobs.astype(np.int64))
                 labels = np.unique(owner)
                 if labels.size >= 2:
                     changed = True
@@ -370,9 +414,27 @@ class GroupBranches:
         key = tuple(keys)
         if key not in self._partitions:
             self._partitions[key] = BranchObservations(
-                GroupObservations.from_parts(parts, self.s.d_hs, shares, rows), key, tuple(origin)
+                GroupObservations.from_parts(
+                    parts,
+                    self.s.d_hs,
+                    shares,
+                    rows,
+                    self.s.counting,
+                    None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
+                ),
+                key,
+                tuple(origin),
             )
         return self._partitions[key]
+
+
+def _blob_majority(owner: IntArray, blobs: IntArray) -> IntArray:
+    """Each point's owner (K,) replaced by the owner most of its blob's points have
+    (``blobs`` (K,) labels 0..B-1; ties to the lower owner index)."""
+    n_units = int(owner.max()) + 1
+    votes = np.zeros((int(blobs.max()) + 1, n_units), dtype=np.int64)
+    np.add.at(votes, (blobs, owner), 1)
+    return np.asarray(np.argmax(votes, axis=1)[blobs], dtype=np.int64)
 
 
 def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> IntArray:

@@ -1,0 +1,94 @@
+"""Cycle time of the group tracker (000 Sec. 4.6.2): median CPU ms per scan by people in
+view on the simulated entrance hall (up to 20 people), and on the real leg_tracker demo
+bag (people walking past a static laser; foreground from the pipeline's static world
+model) when the shared data are there.
+
+CPU time of this process (``time.process_time``), so that other jobs on the machine do
+not inflate it; ``laserpeople bench`` reports wall-clock time.
+
+    PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from laserpeople.evaluation.groups import frames_from_scans
+from laserpeople.frame import Frame
+from laserpeople.sim.scenarios import run_scenario
+from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
+
+DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
+BINS = ((0, 4), (5, 9), (10, 14), (15, 20))
+
+
+def time_frames(frames: list[Frame], params: GroupTrackerParams) -> np.ndarray:
+    """CPU ms (F,) of each ``update`` of a fresh tracker over ``frames``."""
+    tracker = GroupMHTTracker(params)
+    out = np.empty(len(frames))
+    for k, frame in enumerate(frames):
+        t0 = time.process_time()
+        tracker.update(frame)
+        out[k] = (time.process_time() - t0) * 1e3
+    return out
+
+
+def demo_frames(root: Path) -> list[Frame]:
+    """Frames of the real demo bag as the pipeline makes them for a foreground tracker."""
+    from laserpeople.io import open_recording
+    from laserpeople.pipeline import FrameChooser, Pipeline, laser_frames, observe_stages_for
+
+    rec = open_recording(root / DEMO_BAG)
+    try:
+        scans = list(rec.scans(None))
+    finally:
+        rec.close()
+    pre, obs = observe_stages_for(GroupMHTTracker.consumes, None)
+    pipe = Pipeline(FrameChooser()(laser_frames(scans)), preprocess=pre, observe=obs)
+    return [step.frame for step in pipe]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--scenario", default="entrance-hall")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[3, 4])
+    ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--no-bag", action="store_true", help="skip the real demo bag")
+    args = ap.parse_args()
+    params = GroupTrackerParams()
+    ms_all, people_all = [], []
+    for seed in args.seeds:
+        scans = run_scenario(args.scenario, seconds=args.seconds, seed=seed).scans
+        labelled = list(frames_from_scans(scans))
+        ms_all.append(time_frames([lf.frame for lf in labelled], params))
+        people = []
+        for lf in labelled:
+            seen = lf.true_person[np.asarray(lf.frame.foreground)]
+            people.append(np.unique(seen[seen >= 0]).size)
+        people_all.append(np.asarray(people))
+    ms, people = np.concatenate(ms_all), np.concatenate(people_all)
+    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each: CPU ms per scan\n")
+    print("| people in view | median | p95 | frames |")
+    print("|---|---|---|---|")
+    for lo, hi in BINS:
+        sel = ms[(people >= lo) & (people <= hi)]
+        if sel.size:
+            p95 = np.percentile(sel, 95)
+            print(f"| {lo}-{hi} | {np.median(sel):.2f} | {p95:.2f} | {sel.size} |")
+    print(f"| all | {np.median(ms):.2f} | {np.percentile(ms, 95):.2f} | {ms.size} |")
+    root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))
+    if not args.no_bag and (root / DEMO_BAG).is_file():
+        bag_ms = time_frames(demo_frames(root), params)
+        print(
+            f"\nreal demo bag ({DEMO_BAG}, {bag_ms.size} scans): median {np.median(bag_ms):.2f} "
+            f"ms, p95 {np.percentile(bag_ms, 95):.2f} ms per scan (CPU)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import console, progress, say
+from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
 from laserpeople.errors import ConfigError, RecordingError
 
 if TYPE_CHECKING:
@@ -47,8 +47,10 @@ def load_labelled(
     unlabelled: Unlabelled,
     segmentation: JumpDistanceParams,
     what: str = "recordings",
+    on_error: str = "stop",
 ) -> LabelledSegments:
-    """Labelled segments from every kind of labelled input the command accepts."""
+    """Labelled segments from every kind of labelled input the command accepts;
+    ``on_error`` is the readers' policy for damaged scans (skipped ones are warned of)."""
     from laserpeople.detection.training import (
         LabelledSegments,
         all_negative,
@@ -57,24 +59,36 @@ def load_labelled(
         truth_segments,
     )
     from laserpeople.io import open_recording
+    from laserpeople.io.damage import check_on_error
 
     jobs: list[tuple[str, Path]] = (
         [("truth", p) for p in recordings]
         + [("positive", p) for p in positives]
         + [("negative", p) for p in negatives]
     )
+    policy = check_on_error(on_error)
     parts: list[LabelledSegments] = []
     for kind, path in progress(jobs, total=len(jobs), description=what):
+        damage: list[str] = []
         if kind == "truth":
-            rec = open_recording(path)
+            rec = open_recording(path, on_error=policy)
             try:
                 part = truth_segments(rec.scans(), path.name, segmentation)
             finally:
+                report_damage(rec)
                 rec.close()
         elif kind == "positive":
-            part = leg_tracker_positive(path, unlabelled=unlabelled, segmentation=segmentation)
+            part = leg_tracker_positive(
+                path,
+                unlabelled=unlabelled,
+                segmentation=segmentation,
+                on_error=policy,
+                damage=damage,
+            )
         else:
-            part = all_negative(path, segmentation=segmentation)
+            part = all_negative(path, segmentation=segmentation, on_error=policy, damage=damage)
+        for text in damage:
+            warn(text)
         say(f"{path.name}: {part.summary()}")
         parts.append(part)
     if neko is not None:
@@ -161,6 +175,7 @@ def register(app: typer.Typer) -> None:
             str | None,
             typer.Option("--test-neko-frames", help="Held-out neko7055 frames, e.g. 60-119."),
         ] = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         from laserpeople.detection.model_file import parse_feature_set
         from laserpeople.detection.report import (
@@ -205,7 +220,14 @@ def register(app: typer.Typer) -> None:
         )
         seg = JumpDistanceParams(threshold=jump_distance)
         data = load_labelled(
-            list(recordings or []), positives, negatives, neko, neko_frames, mode, seg
+            list(recordings or []),
+            positives,
+            negatives,
+            neko,
+            neko_frames,
+            mode,
+            seg,
+            on_error=on_error,
         )
         if data.n_positive == 0 or data.n_negative == 0:
             raise RecordingError(
@@ -235,6 +257,7 @@ def register(app: typer.Typer) -> None:
                 mode,
                 seg,
                 what="test recordings",
+                on_error=on_error,
             )
             sets.append(("test set", held))
         other = tuple(range(1, 14)) if 14 in feature_set else (*feature_set, 14)

@@ -51,22 +51,7 @@ class InputGuard:
         Raises:
             LaserPeopleError: The stamp is not finite.
         """
-        stamp = float(detections.stamp)
-        if not math.isfinite(stamp):
-            raise LaserPeopleError(
-                f"detections have the stamp {stamp!r}",
-                scan=detections.scan_index,
-                hint="every scan needs a finite time stamp",
-            )
-        if self.last_stamp is not None:
-            if stamp == self.last_stamp:
-                self.repeated_stamps += 1
-            elif stamp < self.last_stamp:
-                self.backward_stamps += 1
-                stamp = self.last_stamp
-            elif stamp - self.last_stamp > JUMP:
-                self.stamp_jumps += 1
-        self.last_stamp = stamp
+        stamp = self.check_stamp(float(detections.stamp), detections.scan_index)
         pos, cov = detections.positions, detections.covariances
         finite = np.isfinite(pos).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
         if not finite.all():
@@ -82,6 +67,30 @@ class InputGuard:
         if stamp != detections.stamp:
             detections = replace(detections, stamp=stamp)
         return detections
+
+    def check_stamp(self, stamp: float, scan_index: int) -> float:
+        """The stamp to track a scan at (the previous one when ``stamp`` is before it),
+        counting repeated, backward and jumping stamps.
+
+        Raises:
+            LaserPeopleError: The stamp is not finite.
+        """
+        if not math.isfinite(stamp):
+            raise LaserPeopleError(
+                f"the scan has the stamp {stamp!r}",
+                scan=scan_index,
+                hint="every scan needs a finite time stamp",
+            )
+        if self.last_stamp is not None:
+            if stamp == self.last_stamp:
+                self.repeated_stamps += 1
+            elif stamp < self.last_stamp:
+                self.backward_stamps += 1
+                stamp = self.last_stamp
+            elif stamp - self.last_stamp > JUMP:
+                self.stamp_jumps += 1
+        self.last_stamp = stamp
+        return stamp
 
     def degraded(self, scan_index: int) -> None:
         """Count a scan that was processed in a degraded way (work bounds reached)."""

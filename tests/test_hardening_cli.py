@@ -46,3 +46,35 @@ def test_train_on_error_skips_damaged_scans(tmp_path: Path) -> None:
     )
     assert skip.exit_code == 0, skip.output
     assert "skipped 1 damaged scan" in skip.output and model.exists()
+
+
+def test_track_reports_all_equal_stamps(tmp_path: Path) -> None:
+    from laserpeople.sim.scenarios import run_scenario
+
+    result = run_scenario("figure-eight", seconds=2.0, seed=1)
+    scans = [replace(s, stamp=5.0) for s in result.scans]
+    path = tmp_path / "equal.npz"
+    SimResult(scans, result.truth, result.meta).write(path)
+    run = CliRunner().invoke(app, ["track", str(path), "-o", str(tmp_path / "t.csv")])
+    assert run.exit_code == 0, run.output
+    assert f"{len(scans) - 1} scans with the same stamp as the one before" in run.output
+
+
+def test_nonsense_parameters_and_mounts_are_errors() -> None:
+    import math
+
+    import pytest
+
+    from laserpeople.errors import ConfigError
+    from laserpeople.io.poses import parse_mounts
+    from laserpeople.tracking.kalman import KalmanParams
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    with pytest.raises(ValueError, match="finite"):
+        LegTrackerParams(lambda_new=math.inf)
+    with pytest.raises(ValueError, match="finite"):
+        KalmanParams(accel_psd=math.inf)
+    for bad in ("laser=base:1e308,0,0", "laser=base:0,nan,0", "laser=base:0,0,inf"):
+        with pytest.raises(ConfigError, match="off its robot"):
+            parse_mounts([bad])
+    assert parse_mounts(["laser=base:0.2,0,1.57"])["laser"][1].x == 0.2

@@ -107,8 +107,8 @@ class LegTrackerParams:
             raise ValueError(f"people_policy must be one of {', '.join(PEOPLE_POLICIES)}")
         if self.nonadaptive_class not in ("free", "approved"):
             raise ValueError("nonadaptive_class must be 'free' or 'approved'")
-        if not (self.lambda_new > 0 and self.lambda_fal > 0):
-            raise ValueError("lambda_new and lambda_fal must be positive")
+        if not (0 < self.lambda_new < np.inf and 0 < self.lambda_fal < np.inf):
+            raise ValueError("lambda_new and lambda_fal must be positive and finite")
         if not self.max_report_unseen >= 0:
             raise ValueError("max_report_unseen must be non-negative (inf: report all)")
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import console, progress, say, warn
+from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
 from laserpeople.errors import ConfigError, EvaluationError
 
 if TYPE_CHECKING:
@@ -38,10 +38,14 @@ HELP = (
 
 
 def truth_frames(
-    spec: str | Path, laser_topic: str | None = None, notes: list[str] | None = None
+    spec: str | Path,
+    laser_topic: str | None = None,
+    notes: list[str] | None = None,
+    on_error: str = "stop",
 ) -> Iterator[TruthFrame]:
     """Ground-truth frames from a recording with truth, a truth CSV or a bag topic
-    (``BAG[:TOPIC]``); a line about a bag's truth is appended to ``notes``."""
+    (``BAG[:TOPIC]``); a line about a bag's truth is appended to ``notes``. ``on_error`` is
+    the recording reader's policy for damaged scans (skipped ones are warned of)."""
     from laserpeople.io.truth_bag import is_bag_path, read_truth_bag, split_truth_spec
 
     path, topic = split_truth_spec(str(spec))
@@ -63,8 +67,9 @@ def truth_frames(
         yield from read_truth_csv(path)
         return
     from laserpeople.io import open_recording
+    from laserpeople.io.damage import check_on_error
 
-    recording = open_recording(path)
+    recording = open_recording(path, on_error=check_on_error(on_error))
     try:
         if not recording.has_truth:
             raise EvaluationError(
@@ -74,6 +79,7 @@ def truth_frames(
             )
         yield from recording.truth()
     finally:
+        report_damage(recording)
         recording.close()
 
 
@@ -178,6 +184,7 @@ def register(app: typer.Typer) -> None:
         per_frame: Annotated[
             Path | None, typer.Option("--per-frame", help="Write the per-frame table to this CSV.")
         ] = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         from laserpeople.evaluation import EvaluationParams, evaluate
         from laserpeople.io import is_rosbag
@@ -212,7 +219,7 @@ def register(app: typer.Typer) -> None:
         notes: list[str] = []
         if followed_person is not None:
             _followed(
-                list(truth_frames(truth, laser_topic, notes)),
+                list(truth_frames(truth, laser_topic, notes, on_error)),
                 track_stream,
                 followed_person,
                 params,
@@ -223,7 +230,7 @@ def register(app: typer.Typer) -> None:
             )
             return
         run = evaluate(
-            progress(truth_frames(truth, laser_topic, notes), description="frames"),
+            progress(truth_frames(truth, laser_topic, notes, on_error), description="frames"),
             track_stream,
             params,
             keep_frames=per_frame is not None,

@@ -215,8 +215,12 @@ def run_tracking(
             draw_tracks(drawn, output, source.topics[0], written_frame, plot, animate)
         finally:
             drawn.close()
+    guard = getattr(pipe.tracker, "guard", None)
+    checked = guard.summary() if guard is not None else ""
     dropped = int(getattr(pipe.tracker, "dropped_detections", 0))
-    if dropped:
+    if checked:
+        say(f"input guard: {checked}")
+    elif dropped:
         say(f"{dropped} detections with non-finite positions were left out")
     stats = pipe.stats
     return {

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import console, progress, say
+from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
 from laserpeople.errors import ConfigError, RecordingError
 
 if TYPE_CHECKING:
@@ -48,10 +48,13 @@ def load_labelled(
     segmentation: JumpDistanceParams,
     what: str = "recordings",
     augment: bool = False,
+    on_error: str = "stop",
 ) -> LabelledSegments:
     """Labelled segments from every kind of labelled input the command accepts (with
     ``augment``, each as the scanners of :data:`~laserpeople.detection.augment.TRANSFER_VARIANTS`
-    would see it, see :func:`~laserpeople.detection.training.augmented_input`)."""
+    would see it, see :func:`~laserpeople.detection.training.augmented_input`);
+    ``on_error`` is the readers' policy for damaged scans (skipped ones are warned of; with
+    ``augment`` a damaged input stops the command)."""
     from laserpeople.detection.training import (
         InputKind,
         LabelledSegments,
@@ -62,26 +65,38 @@ def load_labelled(
         truth_segments,
     )
     from laserpeople.io import open_recording
+    from laserpeople.io.damage import check_on_error
 
     jobs: list[tuple[InputKind, Path]] = (
         [("truth", p) for p in recordings]
         + [("positive", p) for p in positives]
         + [("negative", p) for p in negatives]
     )
+    policy = check_on_error(on_error)
     parts: list[LabelledSegments] = []
     for kind, path in progress(jobs, total=len(jobs), description=what):
+        damage: list[str] = []
         if augment:
             part = augmented_input(kind, path, segmentation, unlabelled)
         elif kind == "truth":
-            rec = open_recording(path)
+            rec = open_recording(path, on_error=policy)
             try:
                 part = truth_segments(rec.scans(), path.name, segmentation)
             finally:
+                report_damage(rec)
                 rec.close()
         elif kind == "positive":
-            part = leg_tracker_positive(path, unlabelled=unlabelled, segmentation=segmentation)
+            part = leg_tracker_positive(
+                path,
+                unlabelled=unlabelled,
+                segmentation=segmentation,
+                on_error=policy,
+                damage=damage,
+            )
         else:
-            part = all_negative(path, segmentation=segmentation)
+            part = all_negative(path, segmentation=segmentation, on_error=policy, damage=damage)
+        for text in damage:
+            warn(text)
         say(f"{path.name}: {part.summary()}")
         parts.append(part)
     if neko is not None:
@@ -183,6 +198,7 @@ def register(app: typer.Typer) -> None:
             str | None,
             typer.Option("--test-neko-frames", help="Held-out neko7055 frames, e.g. 60-119."),
         ] = None,
+        on_error: OnErrorOption = "stop",
     ) -> None:
         from laserpeople.detection.model_file import parse_feature_set
         from laserpeople.detection.report import (
@@ -235,6 +251,7 @@ def register(app: typer.Typer) -> None:
             mode,
             seg,
             augment=augment,
+            on_error=on_error,
         )
         if data.n_positive == 0 or data.n_negative == 0:
             raise RecordingError(
@@ -268,6 +285,7 @@ def register(app: typer.Typer) -> None:
                 mode,
                 seg,
                 what="test recordings",
+                on_error=on_error,
             )
             sets.append(("test set", held))
         other = tuple(range(1, 14)) if 14 in feature_set else (*feature_set, 14)

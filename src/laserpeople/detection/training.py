@@ -51,6 +51,7 @@ from laserpeople.detection.features import (
     compute_features,
 )
 from laserpeople.errors import RecordingError
+from laserpeople.io.damage import OnError
 from laserpeople.scan import Scan
 from laserpeople.segmentation import (
     JumpDistanceParams,
@@ -257,16 +258,21 @@ def leg_tracker_positive(
     segmentation: JumpDistanceParams = LEG_TRACKER_SEGMENTATION,
     scan_topic: str = "/training_scan",
     label_topic: str = "/leg_cluster_positions",
+    on_error: OnError = "stop",
+    damage: list[str] | None = None,
 ) -> LabelledSegments:
-    """Labelled segments of a leg_tracker ``positive_*_extracted.bag`` (see module doc)."""
+    """Labelled segments of a leg_tracker ``positive_*_extracted.bag`` (see module doc);
+    ``on_error`` is the reader's policy for damaged scans, whose summary goes to
+    ``damage``."""
     from laserpeople.io import open_recording
 
     p = Path(path)
     poses = read_pose_arrays(p, label_topic)
-    rec = open_recording(p)
+    rec = open_recording(p, on_error=on_error)
     try:
         scans = list(rec.scans([scan_topic]))
     finally:
+        _note_damage(rec, damage)
         rec.close()
     if len(scans) != len(poses):
         raise RecordingError(
@@ -317,12 +323,15 @@ def all_negative(
     path: str | Path,
     topics: Sequence[str] | None = None,
     segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
+    on_error: OnError = "stop",
+    damage: list[str] | None = None,
 ) -> LabelledSegments:
-    """Every segment of every (or the given) laser topic of a recording is a non-leg."""
+    """Every segment of every (or the given) laser topic of a recording is a non-leg
+    (``on_error``, ``damage``: as for :func:`leg_tracker_positive`)."""
     from laserpeople.io import open_recording
 
     p = Path(path)
-    rec = open_recording(p)
+    rec = open_recording(p, on_error=on_error)
     try:
         return label_scans(
             rec.scans(topics),
@@ -331,7 +340,16 @@ def all_negative(
             segmentation,
         )
     finally:
+        _note_damage(rec, damage)
         rec.close()
+
+
+def _note_damage(recording: object, damage: list[str] | None) -> None:
+    """Append the reader's summary of the damaged scans it skipped to ``damage``."""
+    damaged = getattr(recording, "damaged", None)
+    text = damaged.summary() if damaged is not None else ""
+    if text and damage is not None:
+        damage.append(text)
 
 
 def neko_segments(directory: str | Path, frames: Iterable[int] | None = None) -> LabelledSegments:

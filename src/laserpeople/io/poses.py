@@ -328,6 +328,11 @@ class PoseSamples:
                 tree.add_track(parent, child, arr[:, 0], arr[:, 1:], tilt=tilt, source=source)
 
 
+MAX_MOUNT_OFFSET = 1000.0
+"""Largest |x|, |y| [m] of a laser mount given on the command line (a mount of 1e308 m
+made every point NaN)."""
+
+
 def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
     """Parse laser mounts ``CHILD=PARENT:x,y,theta`` (metres, radians) as given on a command
     line, or the name of a known robot (``mir100``, see :data:`KNOWN_MOUNTS`).
@@ -353,6 +358,13 @@ def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
                 hint="write CHILD=PARENT:x,y,theta, e.g. laser=base_link:0.2,0,0, "
                 f"or one of {', '.join(KNOWN_MOUNTS)}",
             ) from None
+        x, y, theta = values
+        if not (abs(x) <= MAX_MOUNT_OFFSET and abs(y) <= MAX_MOUNT_OFFSET and abs(theta) <= 100.0):
+            raise ConfigError(
+                f"mount {spec!r} is off its robot: x and y must be within "
+                f"{MAX_MOUNT_OFFSET:g} m and theta a finite angle in radians",
+                hint="give the laser's offset from its parent frame in metres, e.g. 0.2,0,0",
+            )
         out[normalise_frame(child)] = (normalise_frame(parent), Pose2D(*values))
     return out
 

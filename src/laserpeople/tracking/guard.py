@@ -11,7 +11,10 @@ Every tracker's ``update`` passes its input through :class:`InputGuard` first:
 * a stamp before the previous one is counted in :attr:`InputGuard.backward_stamps` and
   replaced by the previous stamp, so that the filters never predict backwards in time;
 * a step longer than :data:`JUMP` seconds is counted in :attr:`InputGuard.stamp_jumps`
-  (the filters clip their own time step).
+  (the filters clip their own time step);
+* a scan the tracker could not process in full within its work bounds (e.g. the leg MHT's
+  ``max_cluster_size``: hundreds of detections in one place) is counted by the tracker in
+  :attr:`InputGuard.degraded_scans` through :meth:`InputGuard.degraded`.
 
 :meth:`InputGuard.summary` says what happened, for the command to print.
 """
@@ -39,6 +42,8 @@ class InputGuard:
         self.repeated_stamps = 0
         self.backward_stamps = 0
         self.stamp_jumps = 0
+        self.degraded_scans = 0
+        self.first_degraded: int | None = None
 
     def check(self, detections: Detections) -> Detections:
         """The detections to track: finite ones, at a stamp not before the previous one.
@@ -46,22 +51,7 @@ class InputGuard:
         Raises:
             LaserPeopleError: The stamp is not finite.
         """
-        stamp = float(detections.stamp)
-        if not math.isfinite(stamp):
-            raise LaserPeopleError(
-                f"detections have the stamp {stamp!r}",
-                scan=detections.scan_index,
-                hint="every scan needs a finite time stamp",
-            )
-        if self.last_stamp is not None:
-            if stamp == self.last_stamp:
-                self.repeated_stamps += 1
-            elif stamp < self.last_stamp:
-                self.backward_stamps += 1
-                stamp = self.last_stamp
-            elif stamp - self.last_stamp > JUMP:
-                self.stamp_jumps += 1
-        self.last_stamp = stamp
+        stamp = self.check_stamp(float(detections.stamp), detections.scan_index)
         pos, cov = detections.positions, detections.covariances
         finite = np.isfinite(pos).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
         if not finite.all():
@@ -78,6 +68,36 @@ class InputGuard:
             detections = replace(detections, stamp=stamp)
         return detections
 
+    def check_stamp(self, stamp: float, scan_index: int) -> float:
+        """The stamp to track a scan at (the previous one when ``stamp`` is before it),
+        counting repeated, backward and jumping stamps.
+
+        Raises:
+            LaserPeopleError: The stamp is not finite.
+        """
+        if not math.isfinite(stamp):
+            raise LaserPeopleError(
+                f"the scan has the stamp {stamp!r}",
+                scan=scan_index,
+                hint="every scan needs a finite time stamp",
+            )
+        if self.last_stamp is not None:
+            if stamp == self.last_stamp:
+                self.repeated_stamps += 1
+            elif stamp < self.last_stamp:
+                self.backward_stamps += 1
+                stamp = self.last_stamp
+            elif stamp - self.last_stamp > JUMP:
+                self.stamp_jumps += 1
+        self.last_stamp = stamp
+        return stamp
+
+    def degraded(self, scan_index: int) -> None:
+        """Count a scan that was processed in a degraded way (work bounds reached)."""
+        self.degraded_scans += 1
+        if self.first_degraded is None:
+            self.first_degraded = scan_index
+
     def summary(self) -> str:
         """What was changed, as one line ("" when nothing was)."""
         parts = []
@@ -92,4 +112,9 @@ class InputGuard:
             )
         if self.stamp_jumps:
             parts.append(f"{self.stamp_jumps} jumps in time of more than {JUMP:g} s")
+        if self.degraded_scans:
+            parts.append(
+                f"{self.degraded_scans} scans degraded to bound the work per scan (too many "
+                f"detections close together; first: scan {self.first_degraded})"
+            )
         return "; ".join(parts)

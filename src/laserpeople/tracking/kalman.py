@@ -81,8 +81,10 @@ class KalmanParams:
     )
 
     def __post_init__(self) -> None:
-        if not self.accel_psd > 0:
-            raise ValueError("accel_psd must be positive")
+        if not 0 < self.accel_psd < math.inf:
+            raise ValueError("accel_psd must be positive and finite")
+        if not (0 < self.init_velocity_std < math.inf and 0 < self.measurement_std < math.inf):
+            raise ValueError("init_velocity_std and measurement_std must be positive and finite")
         if not 0.0 < self.gate_probability < 1.0:
             raise ValueError("gate_probability must be in (0, 1)")
         if not (

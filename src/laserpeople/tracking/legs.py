@@ -36,6 +36,7 @@ from laserpeople.tracking.person_tracks import (
     leg_observations,
 )
 from laserpeople.tracking.point_model import KalmanPointModel, PointMeasurements
+from laserpeople.tracking.seen_ids import SeenIds
 from laserpeople.tracks import Detections, Track, Tracks
 
 FloatArray = NDArray[np.float64]
@@ -106,8 +107,8 @@ class LegTrackerParams:
             raise ValueError(f"people_policy must be one of {', '.join(PEOPLE_POLICIES)}")
         if self.nonadaptive_class not in ("free", "approved"):
             raise ValueError("nonadaptive_class must be 'free' or 'approved'")
-        if not (self.lambda_new > 0 and self.lambda_fal > 0):
-            raise ValueError("lambda_new and lambda_fal must be positive")
+        if not (0 < self.lambda_new < np.inf and 0 < self.lambda_fal < np.inf):
+            raise ValueError("lambda_new and lambda_fal must be positive and finite")
         if not self.max_report_unseen >= 0:
             raise ValueError("max_report_unseen must be non-negative (inf: report all)")
 
@@ -187,7 +188,8 @@ class LegMHTTracker:
         self.people = PersonFuser(self.params.person)
         self.frame: CoordinateFrame | None = None
         self.last_stats: StepStats | None = None
-        self.leg_ids_reported: set[int] = set()
+        self.leg_ids_reported = SeenIds()
+        """Distinct leg ids reported since the start (``len``), in bounded memory."""
         self.dropped_detections = 0
         """Detections with a non-finite position, left out (counted, never silently)."""
         self.guard = InputGuard()
@@ -214,6 +216,8 @@ class LegMHTTracker:
         self.dropped_detections = self.guard.dropped_detections
         meas = self._measurements(detections)
         self.last_stats = self.mht.step(meas, detections.stamp)
+        if self.last_stats.degraded_clusters:
+            self.guard.degraded(detections.scan_index)
         probs = self.mht.best_probabilities()
         best = self.mht.best_tracks()
         legs = {n.family: LegState(n.family, n.mean, n.cov, probs.get(n.family, 1.0)) for n in best}
@@ -230,7 +234,8 @@ class LegMHTTracker:
         persons = [p for p in persons if any(m in shown for m in p.members)]
         legs = {k: v for k, v in legs.items() if k in shown}
         self.hidden_tracks = n_tracks - len(legs) - len(persons)
-        self.leg_ids_reported.update(legs)
+        self.leg_ids_reported.prune(self.mht.tree.nodes_by_family)
+        self.leg_ids_reported.add(legs)
         leg_tracks = [
             Track(
                 track_id=leg.track_id,
@@ -277,6 +282,26 @@ class LegMHTTracker:
         if self.person_tracks is not None:
             return self.person_tracks.persons_created
         return self.people.persons_created
+
+    def state_counts(self) -> dict[str, int]:
+        """Sizes of what the tracker keeps between scans: live leg families, track nodes,
+        hypotheses, cluster links of the MHT and the person layer's stored people and leg
+        histories (for the soak benchmark and the bounded-state tests)."""
+        mht = self.mht
+        if self.person_tracks is not None:
+            persons = len(self.person_tracks.persons)
+            memory = 0
+        else:
+            persons = len(self.people._persons) + len(self.people._lost)
+            memory = len(self.people._history)
+        return {
+            "families": mht.tree.n_families,
+            "nodes": mht.tree.n_nodes,
+            "hypotheses": sum(len(c.hypotheses) for c in mht.clusters),
+            "links": len(mht.links),
+            "persons": persons,
+            "leg_history": memory,
+        }
 
     @property
     def n_hypotheses(self) -> int:

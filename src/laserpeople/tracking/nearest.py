@@ -23,6 +23,7 @@ from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.guard import InputGuard
 from laserpeople.tracking.kalman import KalmanParams
 from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
+from laserpeople.tracking.seen_ids import SeenIds
 from laserpeople.tracks import Detections, Track, Tracks
 
 FloatArray = NDArray[np.float64]
@@ -69,7 +70,8 @@ class NearestNeighbourTracker:
         self._ids = itertools.count()
         self._stamp: float | None = None
         self.frame: CoordinateFrame | None = None
-        self.leg_ids_reported: set[int] = set()
+        self.leg_ids_reported = SeenIds()
+        """Distinct leg ids reported since the start (``len``), in bounded memory."""
         self.guard = InputGuard()
         """Counts of hostile input (repeated/backward stamps, non-finite values)."""
         self.dropped_detections = 0
@@ -137,7 +139,8 @@ class NearestNeighbourTracker:
             for i, tid in enumerate(t.ids)
             if t.hits[i] >= self.params.min_hits
         }
-        self.leg_ids_reported.update(legs)
+        self.leg_ids_reported.prune(t.ids)
+        self.leg_ids_reported.add(legs)
         persons = self.people.update(legs, detections.stamp)
         leg_tracks = [
             Track(tid, "leg", s.mean[:2], s.mean[2:4], s.cov[:2, :2]) for tid, s in legs.items()

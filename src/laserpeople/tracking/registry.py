@@ -22,6 +22,7 @@ from typing import Any, Protocol
 from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField, FrameTracker
+from laserpeople.tracking.point_guard import GuardedTracker
 from laserpeople.tracks import Detections, Tracks
 
 
@@ -116,9 +117,17 @@ class TrackerEntry:
     consumes: frozenset[FrameField] = frozenset({"legs"})
 
     def make(self, params: Any | None = None) -> FrameTracker:
-        """A new tracker with ``params`` (default: the parameter class's defaults)."""
-        return self.factory(self.params_cls() if params is None else params)
+        """A new tracker with ``params`` (default: the parameter class's defaults); one
+        that reads frame points comes behind the shared point guard
+        (:class:`~laserpeople.tracking.point_guard.GuardedTracker`)."""
+        tracker = self.factory(self.params_cls() if params is None else params)
+        if self.consumes & POINT_FIELDS:
+            return GuardedTracker(tracker)
+        return tracker
 
+
+POINT_FIELDS: frozenset[FrameField] = frozenset({"points", "foreground", "clusters"})
+"""Frame fields of point trackers: those get the shared point guard."""
 
 TRACKERS: dict[str, TrackerEntry] = {}
 

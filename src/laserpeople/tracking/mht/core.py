@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.tracking.mht.expiry import drop_nodes, expired
 from laserpeople.tracking.mht.hypothesis import (
     Cluster,
     Hypothesis,
@@ -43,6 +44,7 @@ from laserpeople.tracking.mht.listing import enumerate_children
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
     LabelledAssignment,
+    Work,
     build_matrix,
     k_best_children,
 )
@@ -85,6 +87,30 @@ class MHTParams:
         "assumption (000 Sec. 4.5.2 names ratio pruning without a value)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
+    max_cluster_size: int = param(
+        200,
+        "issue 16 (bounded work per scan; assumption: ~3x the largest cluster measured, 72 "
+        "items on the simulated 60-s entrance hall, 43 on narrow-corridor, 50 on demo)",
+        "a cluster with more tracks plus measurements is degraded: only its best parent "
+        "hypothesis is extended, by its best matching of tracks and measurements (one "
+        "assignment problem) with the k best labellings of what it leaves unmatched",
+    )
+    max_assignment_solves: int = param(
+        2000,
+        "issue 16 (bounded work per scan; assumption: ~3x the most measured in one scan, 640 "
+        "on the simulated entrance hall, 221 on demo)",
+        "assignment problems (Murty subproblems) solved per cluster and scan at most; "
+        "then the children found so far are kept and the cluster counts as degraded",
+    )
+    existence_ratio: float = param(
+        1e-3,
+        "000 eqs. 8-10 (the deletion mass N-scan-back pruning cuts off, see mht/expiry.py); "
+        "value: that of min_ratio. Issue 16: without it an approved leg that left the view "
+        "was never deleted and state and cycle time grew without bound",
+        "a track unseen for m scans is deleted from every hypothesis once the odds of it still "
+        "existing under its label probabilities fall below this (0: never; 000 Table 10 "
+        "free: 19 scans, approved: 43)",
+    )
 
     def __post_init__(self) -> None:
         if self.k_best < 1:
@@ -93,6 +119,10 @@ class MHTParams:
             raise ValueError("n_scan must be >= 0")
         if not 0.0 <= self.min_ratio < 1.0:
             raise ValueError("min_ratio must be in [0, 1)")
+        if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
+            raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
+        if not 0.0 <= self.existence_ratio < 1.0:
+            raise ValueError("existence_ratio must be in [0, 1)")
 
 
 @dataclass(frozen=True)
@@ -106,6 +136,11 @@ class StepStats:
         n_live_nodes: Track nodes referred to by some hypothesis.
         n_families: Live track families.
         families_created: Families created since the start (any hypothesis).
+        assignment_solves: Assignment problems solved in the step (Murty subproblems).
+        degraded_clusters: Clusters of the step over ``max_cluster_size`` or
+            ``max_assignment_solves``, whose children were not all the k best.
+        largest_cluster: Most tracks plus measurements of one cluster's problem.
+        max_cluster_solves: Most assignment problems solved for one cluster.
     """
 
     n_clusters: int
@@ -114,6 +149,10 @@ class StepStats:
     n_live_nodes: int
     n_families: int
     families_created: int
+    assignment_solves: int = 0
+    degraded_clusters: int = 0
+    largest_cluster: int = 0
+    max_cluster_solves: int = 0
 
 
 class _UnionFind:
@@ -217,6 +256,10 @@ class MHT(Generic[Meas]):
         self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
+        self._solves = 0  # this step's assignment problems solved
+        self._degraded = 0  # this step's degraded clusters
+        self._largest = 0  # this step's largest cluster problem (tracks + measurements)
+        self._most_solves = 0  # this step's most assignment problems of one cluster
 
     # ------------------------------------------------------------------ public
 
@@ -234,6 +277,7 @@ class MHT(Generic[Meas]):
 
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
+        self._solves = self._degraded = self._largest = self._most_solves = 0
         live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
         if live:
             self.model.predict(live, stamp)
@@ -263,9 +307,9 @@ class MHT(Generic[Meas]):
             families = frozenset(t.family for h in children for t in h.tracks)
             if families:
                 new_clusters.append(Cluster(families, children))
-        self.clusters = new_clusters
+        self.clusters = self._expire(new_clusters)
         self.tree.collect(
-            {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}.values()
+            {id(t): t for c in self.clusters for h in c.hypotheses for t in h.tracks}.values()
         )
         self.generation += 1
         self.stamp = stamp
@@ -277,7 +321,36 @@ class MHT(Generic[Meas]):
             n_live_nodes=self.tree.n_nodes,
             n_families=self.tree.n_families,
             families_created=self.tree.families_created,
+            assignment_solves=self._solves,
+            degraded_clusters=self._degraded,
+            largest_cluster=self._largest,
+            max_cluster_solves=self._most_solves,
         )
+
+    def _expire(self, clusters: list[Cluster]) -> list[Cluster]:
+        """The clusters without the tracks unseen for longer than their label
+        probabilities allow (:mod:`.expiry`); clusters left without a family go."""
+        ratio = self.params.existence_ratio
+        if ratio <= 0:
+            return clusters
+        unseen = {
+            t.node_id: t for c in clusters for h in c.hypotheses for t in h.tracks if t.misses
+        }
+        if not unseen:
+            return clusters
+        nodes = list(unseen.values())
+        gone = expired(nodes, self.labels.track_log_probs(nodes), math.log(ratio))
+        if not gone:
+            return clusters
+        out: list[Cluster] = []
+        for c in clusters:
+            if any(t.node_id in gone for h in c.hypotheses for t in h.tracks):
+                kept = drop_nodes(c, gone)
+                if kept is not None:
+                    out.append(kept)
+            else:
+                out.append(c)
+        return out
 
     # ------------------------------------------------------------------ clustering
 
@@ -527,14 +600,27 @@ class MHT(Generic[Meas]):
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
         priors = [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members]
+        k = self.params.k_best
+        size = tm_cost.shape[0] + tm_cost.shape[1]
+        self._largest = max(self._largest, size)
+        degraded = size > self.params.max_cluster_size
+        budget = self.params.max_assignment_solves
+        if degraded:  # the best parent's best matching and its label variants only
+            best = min(range(len(members)), key=lambda i: priors[i])
+            members, priors, budget = [members[best]], [priors[best]], 1
         rows_of = [[uniq[t.node_id] for t in plans[pi][1].tracks] for pi in members]
-        solutions = enumerate_children(
-            priors, rows_of, tm_cost, lp, c_new, c_fal, self.params.k_best, max_gap
-        )
+        solutions = None
+        if not degraded:
+            solutions = enumerate_children(priors, rows_of, tm_cost, lp, c_new, c_fal, k, max_gap)
         if solutions is None:
             base = build_matrix(tm_cost, lp, c_new, c_fal)
             matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
-            solutions = k_best_children(priors, matrices, self.params.k_best, max_gap)
+            work = Work(max_solves=budget)
+            solutions = k_best_children(priors, matrices, k, max_gap, work=work)
+            self._solves += work.solves
+            self._most_solves = max(self._most_solves, work.solves)
+            degraded = degraded or work.truncated
+        self._degraded += int(degraded)
         return [(members[pi], dec, total) for pi, dec, total in solutions]
 
     def _costs(

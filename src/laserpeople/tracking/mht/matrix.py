@@ -254,9 +254,12 @@ class _MatchingStream:
     def front_solved(self) -> bool:
         return self._murty.front_solved() if self._murty is not None else True
 
-    def refine(self) -> None:
-        if self._murty is not None:
+    def refine(self) -> bool:
+        """Solve the front subproblem; whether an assignment problem was solved."""
+        if self._murty is not None and not self._murty.front_solved():
             self._murty.refine()
+            return True
+        return False
 
     def pop(self) -> Matching:
         if self._murty is not None:
@@ -325,12 +328,30 @@ def _penalties(matrix: AssignmentMatrix, matching: Matching) -> list[float]:
     return [*(tp[i] for i in tracks_u), *(mp[j] for j in meas_u)]
 
 
+@dataclass
+class Work:
+    """Work done by :func:`k_best_children`, and its budget.
+
+    Attributes:
+        max_solves: Assignment problems it may solve (Murty subproblems); once they are
+            spent (and a child was found), no further matching is looked for, and the
+            children are the label variants of the matchings in hand.
+        solves: Assignment problems solved.
+        truncated: The budget ran out before the k best were all found.
+    """
+
+    max_solves: float = math.inf
+    solves: int = 0
+    truncated: bool = False
+
+
 def k_best_children(
     priors: Sequence[float],
     matrices: Sequence[AssignmentMatrix],
     k: int,
     max_gap: float = np.inf,
     enumerate_limit: int = 32,
+    work: Work | None = None,
 ) -> list[tuple[int, LabelledAssignment, float]]:
     """The ``k`` globally best labelled assignments over several parents.
 
@@ -342,6 +363,7 @@ def k_best_children(
             (ratio pruning, ``-log(min_ratio)``).
         enumerate_limit: Problems with at most this many matchings are enumerated
             directly instead of by Murty's method.
+        work: Counts the assignment problems solved and bounds them (see :class:`Work`).
 
     Returns:
         ``(parent index, labels, total cost)`` in nondecreasing total cost.
@@ -361,9 +383,14 @@ def k_best_children(
         if out and total > best + max_gap:
             break
         if kind == _BOUND:
+            if work is not None and out and work.solves >= work.max_solves:
+                work.truncated = True  # this parent's further matchings are given up;
+                continue  # the label variants of those in hand still come out
             if i not in streams:
                 streams[i] = _MatchingStream(matrices[i], enumerate_limit)
-            streams[i].refine()
+            solved = streams[i].refine()
+            if work is not None and solved:
+                work.solves += 1
             _push_stream(heap, counter, priors[i], i, streams[i])
         elif kind == _MATCHING:
             matching = streams[i].pop()
@@ -378,9 +405,12 @@ def k_best_children(
     return out
 
 
-_BOUND, _MATCHING, _VARIANT = 0, 1, 2
-"""Queue entry kinds: a lower bound of a parent's next matching (its stream must be
-refined), a parent's next matching, the next label variant of a matching."""
+_VARIANT, _MATCHING, _BOUND = 0, 1, 2
+"""Queue entry kinds: the next label variant of a matching, a parent's next matching, a
+lower bound of a parent's next matching (its stream must be refined). At equal cost a
+known child comes out before a bound is refined: a bound equal to the cost of a child
+already in hand cannot beat it, and refining first solved, for a cluster of 100 tracks
+and measurements, some 1,900 Murty subproblems before the first child (issue 16)."""
 
 
 @dataclass(eq=False)

@@ -65,6 +65,7 @@ def test_nonsense_parameters_and_mounts_are_errors() -> None:
 
     import pytest
 
+    from laserpeople.detection.detector import LegDetectorParams
     from laserpeople.errors import ConfigError
     from laserpeople.io.poses import parse_mounts
     from laserpeople.tracking.kalman import KalmanParams
@@ -74,6 +75,10 @@ def test_nonsense_parameters_and_mounts_are_errors() -> None:
         LegTrackerParams(lambda_new=math.inf)
     with pytest.raises(ValueError, match="finite"):
         KalmanParams(accel_psd=math.inf)
+    with pytest.raises(ValueError, match="centre_offset must be finite"):
+        LegDetectorParams(centre_offset=math.nan)
+    with pytest.raises(ValueError, match="score_threshold must be finite"):
+        LegDetectorParams(score_threshold=-math.inf)
     for bad in ("laser=base:1e308,0,0", "laser=base:0,nan,0", "laser=base:0,0,inf"):
         with pytest.raises(ConfigError, match="off its robot"):
             parse_mounts([bad])

@@ -10,6 +10,7 @@ of a recording in time order; :meth:`reset` forgets them.
 from __future__ import annotations
 
 import abc
+import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -85,6 +86,9 @@ class LegDetectorParams:
     def __post_init__(self) -> None:
         if not 0.0 <= self.min_distance < self.max_distance:
             raise ValueError("need 0 <= min_distance < max_distance")
+        for name in ("score_threshold", "centre_offset"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
 
 
 DEFAULT_LEG_DETECTOR_PARAMS = LegDetectorParams()

@@ -95,3 +95,35 @@ def test_registered_as_frame_trackers() -> None:
         tracker = entry.factory(entry.params_cls())
         assert isinstance(tracker, cls)
         assert tracker.consumes == frozenset({"points", "foreground"})
+
+
+def test_a_person_standing_while_the_background_learns_is_tracked_once_walking() -> None:
+    """The histogram background learns online over the first 2 s while the person stands
+    at the start of line (a); once they walk, the upper-body tracker follows them (the
+    beams they hid relearn the wall behind them; no track stays at the start)."""
+    from laserpeople.background.beam_histogram import BeamHistogramBackground
+    from laserpeople.evaluation.schenk_motp import SchenkMotp
+    from laserpeople.evaluation.schenk_scenes import lasers_of
+    from laserpeople.sim.motion import Route
+    from laserpeople.sim.people import random_person
+    from laserpeople.sim.scenarios.schenk import LINE_Y, schenk_sensors, schenk_world
+    from laserpeople.sim.simulator import Scene, simulate
+    from laserpeople.tracking.particle.frames import fused_frames
+
+    rng = np.random.default_rng(7)
+    route = Route(3.0, LINE_Y, 0.0).wait(3.0).walk_to(9.0, LINE_Y, 1.2)
+    scene = Scene(schenk_world(), [random_person(rng, 0, route)], schenk_sensors())
+    rec = simulate(scene, 8.0, seed=7, rate=25.0, name="stand-then-walk")
+    model = BeamHistogramBackground()
+    frames = fused_frames(rec.scans, lasers_of(rec, "torso"), model)
+    truth = {t.scan_index: t for t in rec.truth}
+    tracker, motp = UpperBodyTracker(), SchenkMotp(keep_frames=False)
+    left_behind = 0
+    for frame in frames:
+        tracks = tracker.update(frame)
+        if frame.stamp >= 4.0:  # walking, 1 s after learning ended
+            motp.accumulate(truth[frame.index], tracks)
+            left_behind += sum(abs(t.position[0] - 3.0) < 0.3 for t in tracks)
+    assert sum(model.relearned(s) for s in model.sensors) > 0
+    assert motp.result().motp > 0.9
+    assert left_behind == 0

@@ -42,11 +42,14 @@ def test_feet_tracker_follows_one_person(walk: tuple) -> None:
 
 def test_a_broken_model_misses_the_threshold(walk: tuple) -> None:
     """The thresholds above mean something: with eq. 9 made flat (huge zeta) or the walking
-    model fed a wrong stride (feet pulled apart), the same scene scores far lower."""
+    model fed a wrong stride and step width (feet pulled apart along and across the walking
+    direction), the same scene scores far lower."""
     rec, bg = walk
     flat = run_tracker(rec, bg, "torso", UpperBodyTracker(UpperBodyParams(zeta=50.0)))
     assert flat.motp < 0.85
-    wrong = run_tracker(rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0))))
+    wrong = run_tracker(
+        rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0), step_width=0.6))
+    )
     assert wrong.motp < 0.7
 
 

@@ -80,7 +80,7 @@ def test_eq5_6_stride_term() -> None:
 
 
 def test_eq7_is_the_product() -> None:
-    p = FeetParams(delta=0.1, p0=0.05, h=0.1)
+    p = FeetParams(delta=0.1, p0=0.05, h=0.1, h_width=0.0)  # 004's eq. 7 exactly
     z = state(0.0, 0.0, 0.3, 0.0, 0.5, 1.0, 2.0, 0.0).reshape(1, 1, 8)
     pts = np.array([[[0.05, 0.0], [0.3, 0.05]]])
     mask = np.ones((1, 2), bool)
@@ -88,6 +88,10 @@ def test_eq7_is_the_product() -> None:
     o_r = foot_likelihood(z[..., 2:4], pts, mask, 0.1, 0.05)
     o_b = stride_likelihood(z, 0.1)
     assert feet_weights(z, pts, mask, p) == pytest.approx(o_l * o_r * o_b)
+    # the default adds the sideways step-width factor (feet 0 m apart across alpha = 0)
+    q = FeetParams(delta=0.1, p0=0.05, h=0.1)
+    o_w = math.exp(-(q.step_width**2) / (2 * q.h_width**2))
+    assert feet_weights(z, pts, mask, q) == pytest.approx(o_l * o_r * o_b * o_w)
 
 
 def test_repelling_term() -> None:

@@ -132,3 +132,65 @@ def test_static_time_marks_walls_only() -> None:
     t = model.static_time(np.vstack([wall_pts, free]))
     assert t[0] > 1.9 and t[1] > 1.9
     assert t[2] == 0.0
+
+
+def test_a_person_standing_while_learning_does_not_stay_background() -> None:
+    """Beams 40-43 see a person at 2 m during the whole learning period; the wall behind
+    is never learned. Once the person leaves, the wall there is foreground for
+    ``relearn_seconds``, then background; the person coming back is foreground."""
+    p = BeamHistogramParams(learn_seconds=1.0, relearn_seconds=0.5)
+    model = BeamHistogramBackground(p)
+    walls = _walls()
+    person = walls.copy()
+    person[40:44] = 2.0
+    k = 0
+    for k in range(11):  # learning 0.0 .. 1.0 s with the person standing
+        model(_frame([_scan(person, 0.1 * k, index=k)]))
+    assert not model.learning
+    fg_at = []
+    for j in range(1, 11):  # the person has gone: the wall is seen, 1.1 .. 2.0 s
+        out = model(_frame([_scan(walls, 1.0 + 0.1 * j, index=k + j)]))
+        assert out.foreground is not None
+        fg_at.append(int(out.foreground.sum()))
+    # foreground until the candidate held 0.5 s (1.1 .. 1.6 s), then background
+    assert fg_at[:5] == [4] * 5 and fg_at[6:] == [0] * 4
+    assert model.relearned("a") == 4
+    back = model(_frame([_scan(person, 2.5, index=30)]))
+    assert back.foreground is not None and int(back.foreground.sum()) == 4
+
+
+def test_a_person_standing_after_learning_stays_foreground() -> None:
+    """Relearning goes only towards farther returns: someone who stops in front of the
+    wall after learning is never learned into the background, and a short flicker beyond
+    the wall does not relearn."""
+    p = BeamHistogramParams(learn_seconds=1.0, relearn_seconds=0.5)
+    model = BeamHistogramBackground(p)
+    walls = _walls()
+    for k in range(11):
+        model(_frame([_scan(walls, 0.1 * k, index=k)]))
+    person = walls.copy()
+    person[40:44] = 2.0
+    flicker = walls.copy()
+    flicker[100] += 1.0  # beyond the wall in single scans only
+    for j in range(1, 41):  # ends on a scan with the person
+        ranges = flicker if j % 3 == 0 else person
+        out = model(_frame([_scan(ranges, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+    assert int(out.foreground.sum()) == 4
+    assert model.relearned("a") == 0
+
+
+def test_relearned_model_survives_save_and_load(tmp_path: Path) -> None:
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=0.5, relearn_seconds=0.3))
+    walls = _walls()
+    person = walls.copy()
+    person[10:12] = 1.0
+    for k in range(6):
+        model(_frame([_scan(person, 0.1 * k, index=k)]))
+    for j in range(1, 6):
+        model(_frame([_scan(walls, 0.5 + 0.1 * j, index=5 + j)]))
+    assert model.relearned("a") == 2
+    again = BeamHistogramBackground.load(model.save(tmp_path / "bg.npz"))
+    assert again.params.relearn_seconds == 0.3
+    assert not again.foreground_of(_scan(walls, 9.0)).any()
+    assert again.foreground_of(_scan(person, 9.0)).sum() == 2

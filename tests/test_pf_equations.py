@@ -80,7 +80,7 @@ def test_eq5_6_stride_term() -> None:
 
 
 def test_eq7_is_the_product() -> None:
-    p = FeetParams(delta=0.1, p0=0.05, h=0.1)
+    p = FeetParams(delta=0.1, p0=0.05, h=0.1, h_width=0.0)  # 004's eq. 7 exactly
     z = state(0.0, 0.0, 0.3, 0.0, 0.5, 1.0, 2.0, 0.0).reshape(1, 1, 8)
     pts = np.array([[[0.05, 0.0], [0.3, 0.05]]])
     mask = np.ones((1, 2), bool)
@@ -88,6 +88,10 @@ def test_eq7_is_the_product() -> None:
     o_r = foot_likelihood(z[..., 2:4], pts, mask, 0.1, 0.05)
     o_b = stride_likelihood(z, 0.1)
     assert feet_weights(z, pts, mask, p) == pytest.approx(o_l * o_r * o_b)
+    # the default adds the sideways step-width factor (feet 0 m apart across alpha = 0)
+    q = FeetParams(delta=0.1, p0=0.05, h=0.1)
+    o_w = math.exp(-(q.step_width**2) / (2 * q.h_width**2))
+    assert feet_weights(z, pts, mask, q) == pytest.approx(o_l * o_r * o_b * o_w)
 
 
 def test_repelling_term() -> None:
@@ -156,3 +160,74 @@ def test_step_detector_finds_merge_then_split() -> None:
     assert len(found) == 1
     assert found[0].feet[:, 0].min() == pytest.approx(0.0, abs=0.01)
     assert found[0].feet[:, 0].max() > 0.2
+
+
+def test_sideways_step_width_term() -> None:
+    from laserpeople.tracking.particle.feet import width_likelihood
+
+    # walking along +x (alpha 0): the sideways distance is |y_r - y_l| = 0.3
+    z = state(0.0, 0.1, 0.4, -0.2, 0.5, 1.0, 0.0, 0.0)
+    assert width_likelihood(z, 0.2, 0.05) == pytest.approx(math.exp(-(0.1**2) / (2 * 0.05**2)))
+    # along +y (alpha pi/2) the sideways distance is |x_r - x_l| = 0.4
+    z[7] = math.pi / 2
+    assert width_likelihood(z, 0.4, 0.05) == pytest.approx(1.0)
+    assert width_likelihood(z, 0.2, 0.0) == 1.0  # 004: no such term
+
+
+def test_small_objects_drops_a_cart_side_and_keeps_a_torso() -> None:
+    from laserpeople.tracking.particle.objects import small_objects
+
+    torso = np.column_stack([np.linspace(0.0, 0.4, 15), np.zeros(15)])  # eig 0.4^2/12
+    cart = np.column_stack([np.linspace(2.0, 3.0, 30), np.ones(30)])  # eig ~1/12
+    keep = small_objects(np.vstack([torso, cart]), 0.1, 0.03)
+    assert keep[:15].all() and not keep[15:].any()
+    assert small_objects(np.vstack([torso, cart]), 0.1, 0.0).all()
+    # a gap wider than the link distance splits the cart into two small objects
+    split = np.column_stack(
+        [np.r_[np.linspace(2.0, 2.4, 12), np.linspace(2.6, 3.0, 12)], np.ones(24)]
+    )
+    assert small_objects(split, 0.1, 0.03).all()
+
+
+def test_points_move_along_their_beams() -> None:
+    from laserpeople.frame import Frame
+    from laserpeople.scan import PointSet, Pose2D, Scan
+    from laserpeople.tracking.particle.frames import shifted_foreground
+
+    # a laser at (1, 1) looking along +x sees a wall 2 m ahead in beams at 0 and 90 deg
+    scan = Scan(
+        0.0,
+        0.0,
+        math.pi / 2,
+        np.array([2.0, 3.0]),
+        0.05,
+        30.0,
+        sensor="a",
+        pose=Pose2D(1.0, 1.0, 0.0),
+    )
+    pts = PointSet.from_scans([scan], "world")
+    frame = Frame(0, 0.0, (scan,), "fused", "world", points=pts, foreground=np.array([True, True]))
+    moved = shifted_foreground(frame, 0.15, "test")
+    assert moved == pytest.approx(np.array([[3.15, 1.0], [1.0, 4.15]]))
+    assert shifted_foreground(frame, 0.0, "test") == pytest.approx(
+        np.array([[3.0, 1.0], [1.0, 4.0]])
+    )
+
+
+def test_bank_cull_removes_unsupported_and_the_worse_of_a_pair() -> None:
+    from laserpeople.tracking.particle.bank import FilterBank
+
+    bank = FilterBank(3, 2)
+    bank.add(np.zeros((3, 3, 2)), 0.0)  # ids 0, 1, 2 born at 0
+    bank.add(np.ones((1, 3, 2)), 0.5)  # id 3 born later
+    bank.support(np.array([True, True, False, True]), 1.0)
+    bank.quality[:] = [-5.0, 0.0, 0.0, -1.0]
+    # id 2 unsupported for 1 s; pair (0, 3): 3 has the better likelihood and takes id 0
+    bank.cull(1.0, 0.2, [(3, 0)], by_quality=True)
+    assert bank.ids.tolist() == [1, 0]
+    assert bank.hits.tolist() == [2, 2]
+    young = FilterBank(3, 2)
+    young.add(np.zeros((2, 3, 2)), 0.0)
+    young.add(np.zeros((1, 3, 2)), 1.0)
+    young.cull(1.0, 5.0, [(0, 2)], by_quality=False)  # the younger (id 2) goes
+    assert young.ids.tolist() == [0, 1]

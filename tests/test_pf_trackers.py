@@ -42,11 +42,14 @@ def test_feet_tracker_follows_one_person(walk: tuple) -> None:
 
 def test_a_broken_model_misses_the_threshold(walk: tuple) -> None:
     """The thresholds above mean something: with eq. 9 made flat (huge zeta) or the walking
-    model fed a wrong stride (feet pulled apart), the same scene scores far lower."""
+    model fed a wrong stride and step width (feet pulled apart along and across the walking
+    direction), the same scene scores far lower."""
     rec, bg = walk
     flat = run_tracker(rec, bg, "torso", UpperBodyTracker(UpperBodyParams(zeta=50.0)))
     assert flat.motp < 0.85
-    wrong = run_tracker(rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0))))
+    wrong = run_tracker(
+        rec, bg, "feet", FeetTracker(FeetParams(h=0.005, stride_range=(0.9, 1.0), step_width=0.6))
+    )
     assert wrong.motp < 0.7
 
 
@@ -95,3 +98,35 @@ def test_registered_as_frame_trackers() -> None:
         tracker = entry.factory(entry.params_cls())
         assert isinstance(tracker, cls)
         assert tracker.consumes == frozenset({"points", "foreground"})
+
+
+def test_a_person_standing_while_the_background_learns_is_tracked_once_walking() -> None:
+    """The histogram background learns online over the first 2 s while the person stands
+    at the start of line (a); once they walk, the upper-body tracker follows them (the
+    beams they hid relearn the wall behind them; no track stays at the start)."""
+    from laserpeople.background.beam_histogram import BeamHistogramBackground
+    from laserpeople.evaluation.schenk_motp import SchenkMotp
+    from laserpeople.evaluation.schenk_scenes import lasers_of
+    from laserpeople.sim.motion import Route
+    from laserpeople.sim.people import random_person
+    from laserpeople.sim.scenarios.schenk import LINE_Y, schenk_sensors, schenk_world
+    from laserpeople.sim.simulator import Scene, simulate
+    from laserpeople.tracking.particle.frames import fused_frames
+
+    rng = np.random.default_rng(7)
+    route = Route(3.0, LINE_Y, 0.0).wait(3.0).walk_to(9.0, LINE_Y, 1.2)
+    scene = Scene(schenk_world(), [random_person(rng, 0, route)], schenk_sensors())
+    rec = simulate(scene, 8.0, seed=7, rate=25.0, name="stand-then-walk")
+    model = BeamHistogramBackground()
+    frames = fused_frames(rec.scans, lasers_of(rec, "torso"), model)
+    truth = {t.scan_index: t for t in rec.truth}
+    tracker, motp = UpperBodyTracker(), SchenkMotp(keep_frames=False)
+    left_behind = 0
+    for frame in frames:
+        tracks = tracker.update(frame)
+        if frame.stamp >= 4.0:  # walking, 1 s after learning ended
+            motp.accumulate(truth[frame.index], tracks)
+            left_behind += sum(abs(t.position[0] - 3.0) < 0.3 for t in tracks)
+    assert sum(model.relearned(s) for s in model.sensors) > 0
+    assert motp.result().motp > 0.9
+    assert left_behind == 0

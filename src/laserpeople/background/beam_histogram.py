@@ -9,6 +9,18 @@ walking through are rare in any one bin) or from a separate background recording
 (:meth:`BeamHistogramBackground.learn_scans`), and the histograms are saved to and loaded
 from ``.npz`` without pickle.
 
+004 Sec. 2 learns the background before tracking and says no more. A person who stands
+still while the model learns would stay background for good (and the wall behind them
+foreground once they leave). So the model keeps learning per beam after it froze: a return
+*farther* than a static bin of its beam proves that nothing static stands there, and when
+a beam shows such a farther return steadily (within ``tolerance`` of where it first
+appeared, for ``relearn_seconds``), the static bins nearer than it are dropped and its bin
+becomes static (the histogram of that beam is rewritten, so a saved model keeps it). A
+beam never relearns towards nearer returns: a person who stands still after learning
+stays foreground. The price: something static only part of the time (a door that was
+closed while learning and stands open for ``relearn_seconds``) is foreground once it
+comes back.
+
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
 """
@@ -63,14 +75,24 @@ class BeamHistogramParams:
         "a return this close to a static bin is background",
         "m",
     )
+    relearn_seconds: float = param(
+        0.5,
+        "assumed (not in 004): a wall uncovered by a person who stood while learning is "
+        "foreground this long; measured on crossing-3 (docs/schenk-tables.md)",
+        "a beam whose returns stay farther than its static bins this long relearns: the "
+        "nearer static bins are dropped and the farther return becomes static",
+        "s",
+    )
 
     def __post_init__(self) -> None:
         if not (self.bin_width > 0.0 and math.isfinite(self.bin_width)):
             raise LaserPeopleError(f"bin_width must be positive, got {self.bin_width}")
         if not (0.0 < self.min_fraction <= 1.0):
             raise LaserPeopleError(f"min_fraction must be in (0, 1], got {self.min_fraction}")
-        if self.tolerance < 0.0 or self.learn_seconds < 0.0:
-            raise LaserPeopleError("tolerance and learn_seconds must not be negative")
+        if self.tolerance < 0.0 or self.learn_seconds < 0.0 or self.relearn_seconds < 0.0:
+            raise LaserPeopleError(
+                "tolerance, learn_seconds and relearn_seconds must not be negative"
+            )
 
 
 @dataclass
@@ -80,17 +102,67 @@ class _BeamTable:
     counts: NDArray[np.int32]  # (B, K)
     scans: int
     seconds: float
+    relearned: int = 0  # beams relearned after freezing
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
+    nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
+    candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
+    since: NDArray[np.float64] | None = None  # (B,) stamp the candidate first appeared
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
         core = self.counts >= max(1.0, p.min_fraction * self.scans)
+        self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
+        k = core.shape[1]
+        self.nearest = np.where(core.any(axis=1), np.argmax(core, axis=1), k).astype(np.int64)
+        if self.candidate is None or self.since is None:
+            self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
+            self.since = np.zeros(core.shape[0])
+
+    def relearn(
+        self,
+        beams: NDArray[np.int64],
+        bins: NDArray[np.int64],
+        stamp: float,
+        p: BeamHistogramParams,
+    ) -> None:
+        """Follow the returns (``beams`` (M,), range ``bins`` (M,)) of one scan: a return
+        farther than its beam's nearest static bin (by more than the tolerance; itself on a
+        static bin or not: a wall the person hid for part of the learning) starts or
+        continues that beam's candidate; a candidate that held for ``relearn_seconds``
+        replaces the beam's nearer static bins. Vectorised over beams."""
+        assert self.static is not None and self.nearest is not None
+        assert self.candidate is not None and self.since is not None
         reach = math.ceil(p.tolerance / p.bin_width)
-        static = core.copy()
-        for k in range(1, reach + 1):  # loop over bin offsets, not beams
-            static[:, k:] |= core[:, :-k]
-            static[:, :-k] |= core[:, k:]
-        self.static = static
+        beyond = bins > self.nearest[beams] + reach
+        cand = self.candidate[beams]
+        same = beyond & (cand >= 0) & (np.abs(bins - cand) <= reach)
+        fresh = beyond & ~same
+        self.candidate[beams[fresh]] = bins[fresh]
+        self.since[beams[fresh]] = stamp
+        self.candidate[beams[~beyond]] = -1  # the beam sees its static world again
+        ripe = beams[same & (stamp - self.since[beams] >= p.relearn_seconds)]
+        if ripe.size == 0:
+            return
+        k_new = self.candidate[ripe]
+        cols = np.arange(self.counts.shape[1])
+        drop = cols[None, :] < (k_new - reach)[:, None]
+        self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
+        need = max(1, math.ceil(p.min_fraction * self.scans))
+        self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
+        core = self.counts[ripe] >= max(1.0, p.min_fraction * self.scans)
+        self.static[ripe] = _dilate(core, reach)
+        self.nearest[ripe] = np.argmax(core, axis=1)
+        self.candidate[ripe] = -1
+        self.relearned += int(ripe.size)
+
+
+def _dilate(core: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
+    """``core`` (B, K) widened by ``reach`` bins either way (loop over offsets, not beams)."""
+    static = core.copy()
+    for k in range(1, reach + 1):
+        static[:, k:] |= core[:, :-k]
+        static[:, :-k] |= core[:, k:]
+    return static
 
 
 class BeamHistogramBackground:
@@ -204,6 +276,21 @@ class BeamHistogramBackground:
         out[idx] = ~table.static[idx, bins]
         return out
 
+    def _relearn(self, scan: Scan) -> None:
+        """After learning: let beams that see farther than their static bins relearn."""
+        table = self._tables.get(scan.sensor)
+        if table is None or table.static is None or table.counts.shape[0] != scan.n_beams:
+            return
+        idx = np.flatnonzero(scan.valid)
+        bins = np.minimum(
+            (scan.ranges[idx] / self.params.bin_width).astype(np.int64), table.static.shape[1] - 1
+        )
+        table.relearn(idx, bins, scan.stamp, self.params)
+
+    def relearned(self, sensor: str) -> int:
+        """How many times a beam of laser ``sensor`` relearned after learning."""
+        return self._table(sensor).relearned
+
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame`` (during the learning period) and set its ``foreground``."""
         if frame.points is None:
@@ -223,6 +310,9 @@ class BeamHistogramBackground:
         for scan in frame.scans:
             self._poses[scan.sensor] = scan.pose
         by_name = {scan.sensor: self.foreground_of(scan) for scan in frame.scans}
+        if self._frozen and self.params.relearn_seconds > 0.0:
+            for scan in frame.scans:
+                self._relearn(scan)
         pts = frame.points
         fg = np.zeros(len(pts), dtype=bool)
         for i, name in enumerate(pts.sensors):
@@ -282,6 +372,7 @@ class BeamHistogramBackground:
                 "learn_seconds": self.params.learn_seconds,
                 "min_fraction": self.params.min_fraction,
                 "tolerance": self.params.tolerance,
+                "relearn_seconds": self.params.relearn_seconds,
             },
             "sensors": [
                 {

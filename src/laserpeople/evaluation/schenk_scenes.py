@@ -5,6 +5,9 @@ simulated for ``background_seconds`` and learned by the per-beam histogram
 (:class:`~laserpeople.background.beam_histogram.BeamHistogramBackground`). Frames fuse
 the two feet-height lasers (``"feet"``) or the two upper-body lasers (``"torso"``); the
 truth frames belong to the first laser of the scene, whose scan index every laser shares.
+A tracker that consumes ``legs`` (the leg MHT) gets the leg detections of the fused lasers
+from the pipeline's leg detection stage
+(:class:`~laserpeople.pipeline.observe.DetectLegs` with the shipped AdaBoost detector).
 """
 
 from __future__ import annotations
@@ -83,6 +86,12 @@ def run_tracker(
         s for s in background.scans if s.sensor in sensors
     )
     frames = fused_frames(rec.scans, sensors, bg)
+    if "legs" in tracker.consumes:
+        from laserpeople.detection.detector import AdaBoostLegDetector
+        from laserpeople.pipeline.observe import DetectLegs
+
+        legs = DetectLegs(AdaBoostLegDetector.default())
+        frames = [legs(f) for f in frames]
     truth = {t.scan_index: t for t in rec.truth}
     motp = SchenkMotp(keep_frames=False)
     ids: set[int] = set()

@@ -4,19 +4,24 @@ The trackers of 004 keep one particle filter per person (Sec. 2); here all filte
 one (F, P, D) state array and one (F, P) weight array so that prediction, weighting and
 resampling run once per scan for every filter together. The bank also keeps each
 filter's identity, birth time, the last time it saw support, and its number of supported
-scans, and it adds and removes filters.
+scans, and it adds and removes filters: the birth/death bookkeeping and the reported
+tracks the feet and the upper-body tracker share.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.frame import Frame
 from laserpeople.tracking.particle.resampling import (
     effective_sample_size,
     normalise,
     systematic_resample,
 )
+from laserpeople.tracks import Track, Tracks
 
 
 class FilterBank:
@@ -82,6 +87,56 @@ class FilterBank:
             rows = np.flatnonzero(low)[:, None]
             self.states[low] = self.states[rows, idx]
             self.weights[low] = 1.0 / self.n_particles
+
+    def support(self, seen: NDArray[np.bool_], stamp: float) -> None:
+        """Filters where ``seen`` (F,) is True had support in the frame at ``stamp``."""
+        self.last_seen[seen] = stamp
+        self.hits[seen] += 1
+
+    def cull(
+        self,
+        stamp: float,
+        miss_time: float,
+        pairs: Iterable[tuple[int, int]],
+        by_quality: bool,
+    ) -> None:
+        """Filter death (004 Sec. 2): remove every filter without support for longer than
+        ``miss_time`` [s], and one of each pair of alive filters in ``pairs`` (two filters
+        on one person): the younger one, or with ``by_quality`` the one with the lower
+        smoothed likelihood, whose survivor then keeps the older identity
+        (:meth:`replace_by`)."""
+        alive = stamp - self.last_seen <= miss_time
+        for i, j in sorted({(min(a, b), max(a, b)) for a, b in pairs if a != b}):
+            if not (alive[i] and alive[j]):
+                continue
+            if by_quality:
+                loser, winner = (i, j) if self.quality[i] < self.quality[j] else (j, i)
+                self.replace_by(loser, winner)
+            else:
+                older = (self.born[i], self.ids[i]) < (self.born[j], self.ids[j])
+                loser = j if older else i
+            alive[loser] = False
+        self.keep(alive)
+
+    def tracks(
+        self,
+        positions: NDArray[np.float64],
+        velocities: NDArray[np.float64],
+        confirm: int,
+        frame: Frame,
+    ) -> Tracks:
+        """The frame's tracks: for every filter with at least ``confirm`` supported scans,
+        the weighted mean of the particles' ``positions`` (F, P, 2) [m] and
+        ``velocities`` (F, P, 2) [m/s], with the positions' weighted covariance."""
+        out = []
+        if len(self):
+            est = np.einsum("fp,fpc->fc", self.weights, positions)
+            vel = np.einsum("fp,fpc->fc", self.weights, velocities)
+            d = positions - est[:, None, :]
+            cov = np.einsum("fp,fpa,fpb->fab", self.weights, d, d)
+            for f in np.flatnonzero(self.hits >= confirm):
+                out.append(Track(int(self.ids[f]), "person", est[f], vel[f], cov[f]))
+        return Tracks(frame.stamp, frame.index, tuple(out), frame.frame, frame.sensor_pose)
 
     def replace_by(self, loser: int, winner: int) -> None:
         """Let filter ``winner`` take over the identity of ``loser`` when ``loser`` is the

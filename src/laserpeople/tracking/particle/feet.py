@@ -19,6 +19,9 @@ at feet height with a walking model.
   filter g's estimate, so that two filters do not collapse onto one person.
 - Death: no foreground point near the feet for ``miss_time``, or a filter within
   ``merge_distance`` of an older one.
+- A departure from 004: o_b also scores the feet's sideways distance against a step width
+  (``step_width``, tolerance ``h_width``; 0 switches it off), so that both feet cannot
+  settle on one object (a suitcase, one leg).
 
 The reported person position is the weighted mean of the body positions the walking model
 implies (the feet midpoint moved by :func:`body_offset`).
@@ -38,7 +41,7 @@ from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.upper_body import gather_cells
-from laserpeople.tracks import Track, Tracks
+from laserpeople.tracks import Tracks
 
 XL, YL, XR, YR, S, T, GAMMA, ALPHA = range(8)
 TWO_PI = 2.0 * np.pi
@@ -58,6 +61,20 @@ class FeetParams:
     )
     p0: float = param(0.02, "assumed; tuned with miss_time", "P_0, floor of o_l and o_r (eqs. 3-4)")
     h: float = param(0.12, "assumed", "h of eq. 6 (tolerance of the feet separation)", "m")
+    step_width: float = param(
+        0.2,
+        "assumed: about the hip width (not in 004)",
+        "sideways distance between the feet across the walking direction",
+        "m",
+    )
+    h_width: float = param(
+        0.06,
+        "departure from 004, which scores the feet's distance only along the walking "
+        "direction (eq. 6; 0 here); measured on seeds 0-1 of 7 scenes: MOTP 0.69 at 0, "
+        "0.77 at 0.06 (docs/schenk-tables.md)",
+        "tolerance of the sideways distance between the feet (0: not scored)",
+        "m",
+    )
     bandwidth: float = param(
         0.2,
         "assumed: merges feet passing 0.2 m apart, splits them at a step's length",
@@ -65,8 +82,10 @@ class FeetParams:
         "m",
     )
     overlap_distance: float = param(
-        0.12,
-        "assumed: a swinging foot moves up to ~0.08 m between scans at 50 Hz",
+        0.25,
+        "assumed; a running foot (~5 m/s) moves 0.1 m between scans at 50 Hz and leaves "
+        "the cluster it merged with in one scan, so 0.12 m missed running steps; measured "
+        "on seeds 6-7 of 'fast': MOTP 0.67 at 0.12, 0.86 at 0.25",
         "points of consecutive scans this close link their clusters (at 50 Hz; scaled "
         "up with the time between scans)",
         "m",
@@ -88,7 +107,13 @@ class FeetParams:
         0.15, "assumed", "two filters with feet this close track one person", "m"
     )
     birth_exclusion: float = param(
-        0.6, "assumed", "no filter starts this close to an existing one", "m"
+        0.85,
+        "assumed; measured on seeds 3-4 (circle, 3 pers., cross, normal: MOTP 0.68 at "
+        "0.6, 0.78 at 0.85: a filter lagging in a tight turn is refreshed by the next "
+        "step instead of replaced by a new filter under a new identity)",
+        "no filter starts this close to an existing one; a step detected this close "
+        "refreshes the nearest filter",
+        "m",
     )
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
@@ -200,6 +225,21 @@ def stride_likelihood(states: NDArray[np.float64], h: float) -> NDArray[np.float
     return np.asarray(np.exp(-(r * r) / (2.0 * h * h)), dtype=np.float64)
 
 
+def width_likelihood(states: NDArray[np.float64], width: float, h: float) -> NDArray[np.float64]:
+    """The feet's sideways distance s_w = |-(x_r - x_l) sin alpha + (y_r - y_l) cos alpha|
+    scored against the step width: exp(-(s_w - width)^2 / (2 h^2)) for states (..., 8);
+    all ones when ``h`` is 0 (004 has no such term)."""
+    if h <= 0.0:
+        return np.ones(states.shape[:-1])
+    a = states[..., ALPHA]
+    s_w = np.abs(
+        -(states[..., XR] - states[..., XL]) * np.sin(a)
+        + (states[..., YR] - states[..., YL]) * np.cos(a)
+    )
+    r = s_w - width
+    return np.asarray(np.exp(-(r * r) / (2.0 * h * h)), dtype=np.float64)
+
+
 def feet_weights(
     states: NDArray[np.float64],
     points: NDArray[np.float64],
@@ -209,7 +249,8 @@ def feet_weights(
     """004 eq. 7: w = o_l o_r o_b for states (F, P, 8) and padded points (F, K, 2)."""
     o_l = foot_likelihood(states[..., XL : YL + 1], points, mask, p.delta, p.p0)
     o_r = foot_likelihood(states[..., XR : YR + 1], points, mask, p.delta, p.p0)
-    return o_l * o_r * stride_likelihood(states, p.h)
+    o_b = stride_likelihood(states, p.h) * width_likelihood(states, p.step_width, p.h_width)
+    return o_l * o_r * o_b
 
 
 def repelling(
@@ -365,8 +406,7 @@ class FeetTracker:
             bank.reweight(lik + 1e-300, self.rng, p.resample_threshold)
             feet_est = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
             supported = _supported(pts, feet_est, p.support_radius)
-            bank.last_seen[supported] = frame.stamp
-            bank.hits[supported] += 1
+            bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
         self._births(pts, frame.stamp)
         return self._report(frame)
@@ -376,25 +416,15 @@ class FeetTracker:
         within ``merge_distance`` or share a foot (feet within ``shared_foot``), keep the
         one with the better smoothed likelihood under the older identity."""
         p, bank = self.params, self.bank
-        alive = stamp - bank.last_seen <= p.miss_time
+        pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
             est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
-            feet = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
-            close = {
-                tuple(e) for e in cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
-            }
-            flat = feet.reshape(-1, 2)
-            for a, b in cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray"):
-                i, j = sorted((int(a) // 2, int(b) // 2))
-                if i != j:
-                    close.add((i, j))
-            for i, j in sorted(close):
-                if not (alive[i] and alive[j]):
-                    continue
-                loser, winner = (i, j) if bank.quality[i] < bank.quality[j] else (j, i)
-                bank.replace_by(loser, winner)
-                alive[loser] = False
-        bank.keep(alive)
+            close = cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
+            pairs = [(int(a), int(b)) for a, b in close]
+            flat = bank.mean([XL, YL, XR, YR]).reshape(-1, 2)
+            shared = cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray")
+            pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
+        bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 
     def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
         p, bank = self.params, self.bank
@@ -466,24 +496,13 @@ class FeetTracker:
         return st
 
     def _report(self, frame: Frame) -> Tracks:
-        bank = self.bank
-        tracks = []
-        if len(bank):
-            mids = self.midpoints()
-            body = mids + body_offset(bank.states)
-            est = np.einsum("fp,fpc->fc", bank.weights, body)
-            st = bank.states
-            speed = 2.0 * st[..., S] / st[..., T]  # the body covers 2 s per period
-            vel = np.einsum(
-                "fp,fpc->fc",
-                bank.weights,
-                np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1),
-            )
-            d = body - est[:, None, :]
-            cov = np.einsum("fp,fpa,fpb->fab", bank.weights, d, d)
-            for f in np.flatnonzero(bank.hits >= self.params.confirm_scans):
-                tracks.append(Track(int(bank.ids[f]), "person", est[f], vel[f], cov[f]))
-        return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+        """Tracks at the body positions the walking model implies (feet midpoint moved by
+        :func:`body_offset`), moving at 2 s / T along alpha."""
+        st = self.bank.states
+        body = self.midpoints() + body_offset(st)
+        speed = 2.0 * st[..., S] / st[..., T]  # the body covers 2 s per period
+        vel = np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1)
+        return self.bank.tracks(body, vel, self.params.confirm_scans, frame)
 
 
 def _points_near(
@@ -518,4 +537,5 @@ __all__ = [
     "repelling",
     "stride_likelihood",
     "walking_model",
+    "width_likelihood",
 ]

@@ -1,4 +1,5 @@
-"""Frames of several static lasers from a list of scans (for benchmarks and tests).
+"""Frames of several static lasers from a list of scans (for benchmarks and tests), and
+the foreground points of a frame moved from a body's surface towards its centre.
 
 The pipeline (``laserpeople.pipeline``) is the general way to make frames; this helper
 only groups the scans of the named lasers by their per-laser index, as the simulator
@@ -9,6 +10,9 @@ frame.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError
 from laserpeople.frame import Frame
@@ -52,4 +56,28 @@ def fused_frames(
     return frames
 
 
-__all__ = ["fused_frames"]
+def shifted_foreground(frame: Frame, offset: float, consumer: str) -> NDArray[np.float64]:
+    """The frame's foreground points (K, 2) [m], each moved ``offset`` [m] farther along
+    the beam that measured it (away from its laser): a laser sees the near surface of a
+    body, whose centre lies about half the body's depth behind it along the beam.
+    Lasers without a pose in a world frame (and ``offset`` 0) leave the points as they
+    are."""
+    pts = frame.foreground_points(consumer)
+    if offset == 0.0 or frame.points is None or len(pts) == 0:
+        return pts
+    ps = frame.points
+    ids = ps.sensor_ids if frame.foreground is None else ps.sensor_ids[frame.foreground]
+    origins = np.zeros((len(ps.sensors), 2))
+    if frame.frame == "world":
+        poses = {s.sensor: s.pose for s in frame.scans}
+        for i, name in enumerate(ps.sensors):
+            pose = poses.get(name)
+            if pose is None:
+                return pts
+            origins[i] = (pose.x, pose.y)
+    ray = pts - origins[ids]
+    norm = np.maximum(np.hypot(ray[:, 0], ray[:, 1]), 1e-9)
+    return np.asarray(pts + offset * ray / norm[:, None], dtype=np.float64)
+
+
+__all__ = ["fused_frames", "shifted_foreground"]

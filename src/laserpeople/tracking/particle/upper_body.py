@@ -6,11 +6,18 @@
 - State (x, y, theta, v): position [m], direction of motion [rad], speed [m/s]; linear
   motion (eq. 8) plus Gaussian diffusion of every parameter.
 - Weight of a particle (eq. 9): sum over the foreground points of its filter's Voronoi cell
-  of exp(-d^2 / zeta^2); a point belongs to the cell of the nearest filter (and to none
+  of exp(-d^2 / zeta^2), each point first moved ``surface_offset`` along its beam away
+  from its laser (the torso's centre lies behind the surface the laser sees; a departure
+  from 004); a point belongs to the cell of the nearest filter (and to none
   when farther than ``cell_radius`` from all), so a filter never takes the points of a
   person another filter tracks.
 - Death: a filter without points in its cell for ``miss_time``, or one that comes within
   ``merge_distance`` of an older filter, is removed.
+- Objects too big to be a person (a departure from 004, measured on the baggage cart of
+  Exp. 6; :mod:`~laserpeople.tracking.particle.objects`): points of a connected object
+  whose covariance has a largest eigenvalue above ``max_eigenvalue`` neither start a
+  filter nor count as a filter's support, so a filter born on a cart while it was half
+  hidden dies once the whole cart is seen.
 """
 
 from __future__ import annotations
@@ -26,7 +33,9 @@ from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracks import Track, Tracks
+from laserpeople.tracking.particle.frames import shifted_foreground
+from laserpeople.tracking.particle.objects import largest_eigenvalue, small_objects
+from laserpeople.tracks import Tracks
 
 X, Y, THETA, V = range(4)
 
@@ -49,6 +58,31 @@ class UpperBodyParams:
         "m^2",
     )
     min_points: int = param(4, "assumed", "fewest points of a cluster that starts a filter")
+    max_eigenvalue: float = param(
+        0.065,
+        "departure from 004 (which bounds size only by the mean-shift bandwidth); measured "
+        "on seeds 0..2: people (with shoulder bag or carried box) <= 0.057, a whole "
+        "baggage cart 0.08-0.11",
+        "an object (single-linkage points) whose covariance has a larger largest eigenvalue "
+        "is no person: it starts no filter and supports none; 0 disables",
+        "m^2",
+    )
+    link_distance: float = param(
+        0.15,
+        "assumed: 3x the point spacing of an LMS151 at 5 m, below the ~0.2 m gap between a "
+        "person and the cart they push",
+        "points closer than this belong to one object (for max_eigenvalue)",
+        "m",
+    )
+    surface_offset: float = param(
+        0.15,
+        "departure from 004 (eq. 9 uses the points as measured, 0): about half a torso's "
+        "depth; measured on seeds 0-1 (join, shoulder bag, carried item, cart, 5 people: "
+        "MOTP 0.85 at 0, 0.90 at 0.15, 0.80 at 0.2)",
+        "in eq. 9 every foreground point is moved this far along its beam, away from its "
+        "laser (a body's centre lies behind the surface the laser sees)",
+        "m",
+    )
     cell_radius: float = param(
         0.6, "assumed", "points farther than this from every filter belong to no cell", "m"
     )
@@ -151,12 +185,6 @@ def gather_cells(
     return out, mask
 
 
-def largest_eigenvalue(cov: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Largest eigenvalue of symmetric 2x2 matrices (C, 2, 2), in closed form."""
-    a, b, d = cov[:, 0, 0], cov[:, 0, 1], cov[:, 1, 1]
-    return np.asarray((a + d) / 2 + np.sqrt(((a - d) / 2) ** 2 + b * b), dtype=np.float64)
-
-
 def detect_bodies(points: NDArray[np.float64], p: UpperBodyParams) -> NDArray[np.float64]:
     """Centres (M, 2) of the mean-shift clusters of ``points`` big enough to be a person
     (largest covariance eigenvalue >= ``min_eigenvalue``, >= ``min_points`` points)."""
@@ -180,9 +208,6 @@ class UpperBodyTracker:
         self.bank = FilterBank(self.params.particles, 4)
         self._stamp: float | None = None
 
-    def _foreground(self, frame: Frame) -> NDArray[np.float64]:
-        return frame.foreground_points("the upper-body tracker")
-
     def _predict(self, dt: float) -> None:
         p, bank = self.params, self.bank
         if len(bank) == 0 or dt <= 0.0:
@@ -204,31 +229,34 @@ class UpperBodyTracker:
         p, bank = self.params, self.bank
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp
-        pts = self._foreground(frame)
+        pts = frame.foreground_points("the upper-body tracker")
+        sized = small_objects(pts, p.link_distance, p.max_eigenvalue)
         self._predict(dt)
         if len(bank):
             centres = bank.mean([X, Y])
             cell = voronoi_cells(pts, centres, p.cell_radius)
-            cell_pts, mask = gather_cells(pts, cell, len(bank))
+            surface = pts
+            if p.surface_offset:
+                surface = shifted_foreground(frame, p.surface_offset, "the upper-body tracker")
+            cell_pts, mask = gather_cells(surface, cell, len(bank))
             lik = cell_weights(bank.states[..., :2], cell_pts, mask, p.zeta) + p.weight_floor
             bank.reweight(lik, self.rng, p.resample_threshold)
-            seen = mask.any(axis=1)
-            bank.last_seen[seen] = frame.stamp
-            bank.hits[seen] += 1
+            seen = np.zeros(len(bank), dtype=bool)
+            seen[cell[sized & (cell >= 0)]] = True
+            bank.support(seen, frame.stamp)
             self._cull(frame.stamp)
-        self._births(pts, frame.stamp)
+        self._births(pts[sized], frame.stamp)
         return self._report(frame)
 
     def _cull(self, stamp: float) -> None:
+        """Remove filters without points in their cell for ``miss_time`` and the younger
+        of two filters closer than ``merge_distance``."""
         p, bank = self.params, self.bank
-        alive = stamp - bank.last_seen <= p.miss_time
-        centres = bank.mean([X, Y])
+        pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
-            pairs = cKDTree(centres).query_pairs(p.merge_distance, output_type="ndarray")
-            for i, j in pairs:  # few pairs; remove the younger (later-born) filter
-                young = j if (bank.born[j], bank.ids[j]) > (bank.born[i], bank.ids[i]) else i
-                alive[young] = False
-        bank.keep(alive)
+            found = cKDTree(bank.mean([X, Y])).query_pairs(p.merge_distance, output_type="ndarray")
+            pairs = [(int(a), int(b)) for a, b in found]
+        bank.cull(stamp, p.miss_time, pairs, by_quality=False)
 
     def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
         p, bank = self.params, self.bank
@@ -255,26 +283,11 @@ class UpperBodyTracker:
         bank.add(init, stamp)
 
     def _report(self, frame: Frame) -> Tracks:
-        bank = self.bank
-        tracks = []
-        if len(bank):
-            centres = bank.mean([X, Y])
-            vel = np.einsum(
-                "fp,fpc->fc",
-                bank.weights,
-                np.stack(
-                    [
-                        bank.states[..., V] * np.cos(bank.states[..., THETA]),
-                        bank.states[..., V] * np.sin(bank.states[..., THETA]),
-                    ],
-                    axis=-1,
-                ),
-            )
-            d = bank.states[..., :2] - centres[:, None, :]
-            cov = np.einsum("fp,fpa,fpb->fab", bank.weights, d, d)
-            for f in np.flatnonzero(bank.hits >= self.params.confirm_scans):
-                tracks.append(Track(int(bank.ids[f]), "person", centres[f], vel[f], cov[f]))
-        return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+        st = self.bank.states
+        vel = np.stack(
+            [st[..., V] * np.cos(st[..., THETA]), st[..., V] * np.sin(st[..., THETA])], -1
+        )
+        return self.bank.tracks(st[..., :2], vel, self.params.confirm_scans, frame)
 
 
 __all__ = [

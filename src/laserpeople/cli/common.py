@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
-from laserpeople.errors import ConfigError, NotBuiltError
+from laserpeople.errors import NotBuiltError
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -186,23 +186,9 @@ def open_with_poses(
     """Open a recording; for ROS bags, ``world_frame`` and laser ``mounts`` missing from the
     bag's tf let the reader give sensor poses (moving robots). ``on_error`` is the reader's
     damaged-scan policy (``stop`` or ``skip``, :mod:`laserpeople.io.damage`)."""
-    from laserpeople.io import is_rosbag, open_recording
-    from laserpeople.io.damage import check_on_error
+    from laserpeople.pipeline.recording import open_source
 
-    policy = check_on_error(on_error)
-    if not (world_frame or mounts):
-        return open_recording(path, on_error=policy)
-    if not is_rosbag(path):
-        raise ConfigError(
-            "--world-frame and --mount apply to ROS bags only",
-            path=path,
-            hint="drop them, or give a .bag, .mcap, .db3 or ROS 2 bag folder",
-        )
-    from laserpeople.io.poses import parse_mounts
-
-    return open_recording(
-        path, world_frame=world_frame, mounts=parse_mounts(mounts), on_error=policy
-    )
+    return open_source(path, world_frame, mounts, on_error)
 
 
 def report_damage(recording: object) -> None:

@@ -36,8 +36,10 @@ from laserpeople.tracking.groups.model import (
     GroupModel,
     GroupPayload,
     group_distance_sq,
+    group_payload,
     merge_log_likelihood,
     merge_state,
+    node_prediction,
     split_state,
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
@@ -223,9 +225,9 @@ class GroupBranches:
         """log N_ij of the pair (eqs. 25-27), once per scan."""
         key = (a.node_id, b.node_id)
         if key not in self._merge_ll:
-            pa, pb = _payload(a), _payload(b)
-            ma, ca = _pred(a)
-            mb, cb = _pred(b)
+            pa, pb = group_payload(a), group_payload(b)
+            ma, ca = node_prediction(a)
+            mb, cb = node_prediction(b)
             d2 = group_distance_sq(pa.contour, ma, ca, pb.contour, mb, cb, self.s.d_p)
             if self.s.merge_likelihood == "density":
                 self._merge_ll[key] = merge_log_likelihood(d2, ca, cb)
@@ -255,9 +257,9 @@ class GroupBranches:
         """The two predicted tracks ``node`` splits into (000 Sec. 4.2.3): copies of its
         prediction with n/2 people each, C_0, its contour, labels X-0 and X-1."""
         if node.node_id not in self._split:
-            mean, _ = _pred(node)
+            mean, _ = node_prediction(node)
             pm, pc = split_state(mean, self.s.c0)
-            old = _payload(node)
+            old = group_payload(node)
             halves = []
             for labels in split_labels(self.name(node)):
                 payload = GroupPayload(old.contour, labels, must_match=True, event="split")
@@ -270,9 +272,9 @@ class GroupBranches:
         labels the union (pruned)."""
         key = (a.node_id, b.node_id)
         if key not in self._merged:
-            pa, pb = _payload(a), _payload(b)
-            ma, ca = _pred(a)
-            mb, cb = _pred(b)
+            pa, pb = group_payload(a), group_payload(b)
+            ma, ca = node_prediction(a)
+            mb, cb = node_prediction(b)
             na, nb = max(len(pa.contour), 1), max(len(pb.contour), 1)
             pm, pc = merge_state(ma, ca, na, mb, cb, nb)
             points = np.concatenate([pa.contour + ma[:2], pb.contour + mb[:2]])
@@ -444,8 +446,8 @@ def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> I
     owner = np.zeros(points.shape[0], dtype=np.int64)
     for u, unit in enumerate(units):
         node = unit[0]
-        mean, _ = _pred(node)
-        contour = _payload(node).contour + mean[:2]
+        mean, _ = node_prediction(node)
+        contour = group_payload(node).contour + mean[:2]
         if contour.shape[0] == 0:
             contour = mean[None, :2]
         diff = points[:, None, :] - contour[None, :, :]
@@ -470,7 +472,9 @@ class GroupLabelModel:
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
-        must = np.fromiter((_payload(n).must_match for n in nodes), dtype=bool, count=len(nodes))
+        must = np.fromiter(
+            (group_payload(n).must_match for n in nodes), dtype=bool, count=len(nodes)
+        )
         return np.where(must[:, None], self._must[None, :], self._lp[None, :])
 
     def measurement_log_rates(
@@ -479,16 +483,3 @@ class GroupLabelModel:
         """log p_N and log p_F (M,) for every observation."""
         m = len(measurements)
         return np.full(m, self._log_new), np.full(m, self._log_fal)
-
-
-def _pred(node: TrackNode) -> tuple[FloatArray, FloatArray]:
-    if node.pred_mean is None or node.pred_cov is None:
-        raise RuntimeError(f"group track node {node.node_id} was not predicted before use")
-    return node.pred_mean, node.pred_cov
-
-
-def _payload(node: TrackNode) -> GroupPayload:
-    payload = node.payload
-    if not isinstance(payload, GroupPayload):
-        raise TypeError(f"track node {node.node_id} carries no GroupPayload")
-    return payload

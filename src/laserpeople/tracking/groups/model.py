@@ -336,13 +336,13 @@ class GroupModel:
         every contour point of the node in one flat array, and segment reductions for the
         two directed averages of eq. 20 (the same numbers, without a numpy pass per node)."""
         t, m = len(nodes), len(obs)
-        preds = [_pred(n) for n in nodes]
+        preds = [node_prediction(n) for n in nodes]
         pos = np.stack([p[0][:2] for p in preds])
         s_all = np.stack([p[1][:2, :2] for p in preds]) + self.s.r_point  # eq. 23
         det = s_all[:, 0, 0] * s_all[:, 1, 1] - s_all[:, 0, 1] ** 2
         contours = []
         for node, p in zip(nodes, pos, strict=True):
-            c = _payload(node).contour
+            c = group_payload(node).contour
             contours.append(c + p if c.shape[0] else p[None, :])
         k_t = np.array([c.shape[0] for c in contours], dtype=np.int64)
         c_all = np.concatenate(contours)
@@ -457,9 +457,9 @@ class GroupModel:
         """D (eq. 21) of the points of the clusters near the node's predicted contour:
         the row of each point of ``obs`` in the matrix (-1: not near), the matrix (Q, K)
         and det S."""
-        mean, cov = _pred(node)
+        mean, cov = node_prediction(node)
         pos = mean[:2]
-        contour = _payload(node).contour + pos
+        contour = group_payload(node).contour + pos
         if contour.shape[0] == 0:
             contour = pos[None, :]
         r_t = float(np.max(np.hypot(*(contour - pos).T)))
@@ -500,7 +500,7 @@ class GroupModel:
         if not nodes:
             return out
         idx = np.asarray(js, dtype=np.intp)
-        preds = [_pred(n) for n in nodes]
+        preds = [node_prediction(n) for n in nodes]
         means, covs = kalman_update_batch(
             np.stack([p[0] for p in preds]),
             np.stack([p[1] for p in preds]),
@@ -509,7 +509,7 @@ class GroupModel:
             self.s.r_update,
         )
         for node, j, new_mean, new_cov in zip(nodes, js, means, covs, strict=True):
-            old = _payload(node)
+            old = group_payload(node)
             payload = GroupPayload(
                 measurements.cluster(j) - new_mean[:2],
                 old.labels,
@@ -521,8 +521,8 @@ class GroupModel:
 
     def coast(self, node: TrackNode, stamp: float) -> tuple[FloatArray, FloatArray, Any]:
         """The prediction (an occluded group keeps its contour)."""
-        mean, cov = _pred(node)
-        old = _payload(node)
+        mean, cov = node_prediction(node)
+        old = group_payload(node)
         return mean, cov, GroupPayload(old.contour, old.labels, event=old.event)
 
     def initiate(
@@ -540,13 +540,15 @@ class GroupModel:
         return out
 
 
-def _pred(node: TrackNode) -> tuple[FloatArray, FloatArray]:
+def node_prediction(node: TrackNode) -> tuple[FloatArray, FloatArray]:
+    """Predicted mean (5,) and covariance (5, 5) of a group track node."""
     if node.pred_mean is None or node.pred_cov is None:
         raise RuntimeError(f"group track node {node.node_id} was not predicted before use")
     return node.pred_mean, node.pred_cov
 
 
-def _payload(node: TrackNode) -> GroupPayload:
+def group_payload(node: TrackNode) -> GroupPayload:
+    """The group payload (contour, labels, members) a track node carries."""
     payload = node.payload
     if not isinstance(payload, GroupPayload):
         raise TypeError(f"track node {node.node_id} carries no GroupPayload")

@@ -29,7 +29,11 @@ from laserpeople.tracking.groups.interaction import (
     InteractionSettings,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
-from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, GroupPayload
+from laserpeople.tracking.groups.model import (
+    GroupModel,
+    GroupModelSettings,
+    group_payload,
+)
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
@@ -329,7 +333,7 @@ class GroupMHTTracker:
     def name(self, node: TrackNode) -> tuple[str, ...]:
         """The internal label set of ``node``: a new group is named by its family until it
         is reported (labels made from it by splits keep that root)."""
-        labels = _payload(node).labels
+        labels = group_payload(node).labels
         return labels if labels else (str(node.family),)
 
     def display_labels(self, labels: tuple[str, ...]) -> tuple[str, ...]:
@@ -379,7 +383,7 @@ class GroupMHTTracker:
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
         for node in self.mht.best_tracks():
-            payload = _payload(node)
+            payload = group_payload(node)
             labels = self.display_labels(self.name(node))
             contour = payload.contour + node.mean[:2]
             members = payload.members  # empty when occluded (coasted)
@@ -432,13 +436,6 @@ class GroupMHTTracker:
     def n_hypotheses(self) -> int:
         """Hypotheses after the last frame, summed over clusters."""
         return 0 if self.last_stats is None else self.last_stats.n_hypotheses
-
-
-def _payload(node: TrackNode) -> GroupPayload:
-    payload = node.payload
-    if not isinstance(payload, GroupPayload):
-        raise TypeError(f"track node {node.node_id} carries no GroupPayload")
-    return payload
 
 
 __all__ = [

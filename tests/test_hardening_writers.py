@@ -72,19 +72,32 @@ def _kill_while_writing(kind: str, path: Path, seed: int) -> None:
     time.sleep(random.Random(seed).uniform(0.05, 0.6))
     proc.send_signal(signal.SIGKILL)
     proc.wait()
+    proc.stdout.close()
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_tracks_csv_killed_mid_run_is_complete_to_the_last_scan(tmp_path: Path, seed: int) -> None:
     path = tmp_path / "tracks.csv"
     _kill_while_writing("tracks", path, seed)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", TornScanWarning)  # whole-scan writes never tear
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", TornScanWarning)
         scans = list(iter_tracks_csv(path))
     assert scans, "the writer had time to write some scans"
     assert [t.scan_index for t in scans] == list(range(len(scans)))
-    assert all(len(t) == ROWS for t in scans)
-    assert path.read_bytes().endswith(b"\n")
+    # A kill inside the write of a scan can cut it (see scan_lines); only the last one.
+    assert all(len(t) == ROWS for t in scans[:-1])
+    assert 0 < len(scans[-1]) <= ROWS
+    _assert_torn_only_at_the_end(path, caught, len(scans))
+
+
+def _assert_torn_only_at_the_end(
+    path: Path, caught: list[warnings.WarningMessage], scans: int
+) -> None:
+    torn = [w for w in caught if issubclass(w.category, TornScanWarning)]
+    if path.read_bytes().endswith(b"\n"):
+        assert not torn
+    else:
+        assert len(torn) == 1 and f"scan {scans}" in str(torn[0].message)
 
 
 @pytest.mark.parametrize("seed", [3, 4])
@@ -93,12 +106,12 @@ def test_detections_csv_killed_mid_run_is_complete_to_the_last_scan(
 ) -> None:
     path = tmp_path / "detections.csv"
     _kill_while_writing("detections", path, seed)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", TornScanWarning)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", TornScanWarning)
         rows = list(iter_detections_csv(path))
-    scans = [int(r["scan"]) for r in rows]
-    assert scans and len(scans) % ROWS == 0
-    assert np.all(np.bincount(scans) == ROWS)
+    scans = np.bincount([int(r["scan"]) for r in rows])
+    assert len(scans) and np.all(scans[:-1] == ROWS) and 0 < scans[-1] <= ROWS
+    _assert_torn_only_at_the_end(path, caught, len(scans))
 
 
 def _tracks(k: int, rows: int = 3) -> Tracks:

@@ -1,8 +1,11 @@
 """Line files written scan by scan, so that a killed writer leaves a valid file.
 
 :class:`ScanLineWriter` writes the rows of one scan with a single ``write()`` system call
-on an unbuffered file: a process killed at any moment (SIGKILL, power loss of the process)
-leaves every scan either complete or absent, never cut between two rows. A failing write
+on an unbuffered file, so a process killed between two scans leaves only whole scans. A
+kill *during* that call can still cut it: Linux checks for a fatal signal between the
+pages it copies, so a scan larger than a page may be left half written. The cut then
+falls inside a row (detected below) unless a page boundary happens to fall just after a
+row's newline, in which case the last scan is short by its remaining rows. A failing write
 (a full disk, ``-o /dev/full``) raises a :class:`~laserpeople.errors.RecordingError` that
 says how many scans the file holds; those stay valid.
 

@@ -55,7 +55,11 @@ class ScanLineWriter:
                 path=self.path,
                 hint="choose a writable file path with -o",
             ) from exc
-        self.write_rows([header], count=False)
+        try:
+            self.write_rows([header], count=False)
+        except RecordingError:
+            self._fh.close()  # the caller never gets the writer to close it
+            raise
 
     def write_rows(self, rows: Iterable[Sequence[Any]], *, count: bool = True) -> None:
         """Write ``rows`` (one scan's) with one system call.

@@ -29,7 +29,7 @@ from typing import IO, Any
 import numpy as np
 
 from laserpeople.errors import RecordingError
-from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
@@ -202,8 +202,7 @@ def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int | s
             held = []
         held.append(parsed)
     if torn:
-        cut = torn_scan(torn)
-        warn_torn(p, cut)
+        cut = warn_torn(p, torn)
         if held and cut == held[0]["scan"]:
             return
     yield from held

@@ -1,24 +1,28 @@
 """Line files written scan by scan, so that a killed writer leaves a valid file.
 
-:class:`ScanLineWriter` writes the rows of one scan with a single ``write()`` system call
-on an unbuffered file, so a process killed between two scans leaves only whole scans. A
-kill *during* that call can still cut it: Linux checks for a fatal signal between the
-pages it copies, so a scan larger than a page may be left half written. The cut then
-falls inside a row (detected below) unless a page boundary happens to fall just after a
-row's newline, in which case the last scan is short by its remaining rows. A failing write
+:class:`ScanLineWriter` writes the rows of one scan so that a process killed at any
+moment (SIGKILL, a power cut of the process) leaves every scan either complete or
+detectably torn, never silently short. A single ``write()`` is not enough: Linux checks
+for a fatal signal between the pages it copies, so a kill can cut a scan larger than a
+page at a page boundary, which may fall just after a row. The writer therefore writes a
+scan page by page *from its end backwards* (``pwrite``): until the page holding the
+scan's first byte is written, the scan's start is a hole that reads as NUL bytes, and
+one page is copied whole or not at all. A failing write
 (a full disk, ``-o /dev/full``) raises a :class:`~laserpeople.errors.RecordingError` that
 says how many scans the file holds; those stay valid.
 
 :func:`complete_lines` is the reading side: it yields the lines of a file and notices a
-last line without its newline, which only a writer killed in the middle of a write (or a
-file cut short) leaves. The readers of the tracks and detections CSV then drop the scan
-that line belongs to and say so with a :class:`TornScanWarning`.
+last line without its newline (a file cut short, or written by another program) or a line
+with NUL bytes (the hole a killed writer leaves). The readers of the tracks and detections
+CSV then drop the scan that line belongs to and say so with a :class:`TornScanWarning`.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import mmap
+import os
 import warnings
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
@@ -26,13 +30,15 @@ from typing import IO, Any
 
 from laserpeople.errors import RecordingError
 
+PAGE = mmap.PAGESIZE  # bytes the kernel copies between two checks for a fatal signal
+
 
 class TornScanWarning(UserWarning):
     """The last scan of a CSV was cut off mid-write and is left out."""
 
 
 class ScanLineWriter:
-    """CSV rows written whole scans at a time (one ``write()`` per scan, unbuffered).
+    """CSV rows written whole scans at a time, a scan's pages from its end backwards.
 
     Args:
         path: The file to write (created or truncated).
@@ -44,11 +50,13 @@ class ScanLineWriter:
         self.path = Path(path)
         self.what = what
         self.scans = 0
+        self._end = 0  # bytes of complete rows in the file
         self._buf = io.StringIO()
         self._csv = csv.writer(self._buf, lineterminator="\n")
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self._fh: IO[bytes] = open(self.path, "wb", buffering=0)  # noqa: SIM115
+            self._seekable = self._fh.seekable()  # False for a pipe or a terminal
         except OSError as exc:
             raise RecordingError(
                 f"cannot write the {what}: {exc.strerror or exc}",
@@ -62,7 +70,7 @@ class ScanLineWriter:
             raise
 
     def write_rows(self, rows: Iterable[Sequence[Any]], *, count: bool = True) -> None:
-        """Write ``rows`` (one scan's) with one system call.
+        """Write ``rows`` (one scan's), complete or detectably torn if the process dies.
 
         Raises:
             RecordingError: The write failed (disk full, file system gone); the file holds
@@ -71,20 +79,48 @@ class ScanLineWriter:
         self._buf.seek(0)
         self._buf.truncate()
         self._csv.writerows(rows)
-        data = memoryview(self._buf.getvalue().encode("utf-8"))
+        data = self._buf.getvalue().encode("utf-8")
         try:
-            while data:  # a regular file takes it all at once; loop for the rare short write
-                n = self._fh.write(data)
-                data = data[n or 0 :]
+            if self._seekable:
+                self._write_backwards(data)
+            else:
+                self._write_forwards(data)
         except OSError as exc:
+            if self._seekable:
+                self._undo()
             raise RecordingError(
                 f"cannot write the {self.what}: {exc.strerror or exc}; it holds the "
                 f"{self.scans} complete scan(s) written before",
                 path=self.path,
                 hint="free disk space or choose another path with -o",
             ) from exc
+        self._end += len(data)
         if count:
             self.scans += 1
+
+    def _write_backwards(self, data: bytes) -> None:
+        fd = self._fh.fileno()
+        start = self._end
+        cuts = list(range(start - start % PAGE + PAGE, start + len(data), PAGE))
+        for lo, hi in reversed(list(zip([start, *cuts], [*cuts, start + len(data)], strict=True))):
+            view = memoryview(data)[lo - start : hi - start]
+            at = lo
+            while view:  # a regular file takes a page at once; loop for the rare short write
+                n = os.pwrite(fd, view, at)
+                view, at = view[n:], at + n
+
+    def _write_forwards(self, data: bytes) -> None:
+        view = memoryview(data)
+        while view:
+            n = self._fh.write(view)
+            view = view[n or 0 :]
+
+    def _undo(self) -> None:
+        """Cut the file back to its complete scans after a failed write (best effort)."""
+        try:
+            os.ftruncate(self._fh.fileno(), self._end)
+        except OSError:
+            return
 
     def close(self) -> None:
         """Close the file."""
@@ -93,28 +129,32 @@ class ScanLineWriter:
 
 
 def complete_lines(fh: IO[str], torn: list[str]) -> Iterator[str]:
-    """The lines of ``fh``; a last line without ``\\n`` is not yielded but put in ``torn``."""
+    """The lines of ``fh`` up to the first torn one, which goes into ``torn`` with the rest.
+
+    A line is torn when it lacks its ``\\n`` (only the last line can) or holds a NUL byte
+    (the unwritten start of a scan a killed writer leaves; no later line is whole).
+    """
     for line in fh:
-        if line.endswith("\n"):
-            yield line
-        else:
+        if "\0" in line or not line.endswith("\n"):
             torn.append(line)
+            torn.extend(fh)
+            return
+        yield line
 
 
-def warn_torn(path: Path, scan: int | None) -> None:
-    """Say that the last scan of ``path`` was cut off and left out."""
-    what = f"scan {scan}" if scan is not None else "its last line"
+def warn_torn(path: Path, torn: list[str]) -> int | None:
+    """Say that the last scan of ``path`` was cut off and is left out; return its index.
+
+    The index is ``None`` when the torn part starts with the scan's unwritten first bytes,
+    so every complete line before it belongs to a complete scan.
+    """
+    head = torn[0].split(",", 1)[0].strip()
+    scan = int(head) if head.isdigit() else None
+    what = f"scan {scan}" if scan is not None else "the scan after the last complete one"
     warnings.warn(
         f"{path}: the file ends in the middle of {what} (the writer was stopped while "
-        f"writing it); {what} is left out",
+        f"writing it); {what} ({len(torn)} torn line(s)) is left out",
         TornScanWarning,
         stacklevel=3,
     )
-
-
-def torn_scan(torn: list[str]) -> int | None:
-    """The scan index the torn last line starts with, if it can be read."""
-    if not torn:
-        return None
-    head = torn[0].split(",", 1)[0].strip()
-    return int(head) if head.isdigit() else None
+    return scan

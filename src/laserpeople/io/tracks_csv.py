@@ -35,7 +35,7 @@ from typing import Any, get_args
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
-from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, torn_scan, warn_torn
+from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
@@ -371,8 +371,7 @@ def _read_tracks(
             if kinds is None or track.kind in kinds:
                 current.append(track)
         if torn:
-            cut = torn_scan(torn)
-            warn_torn(p, cut)
+            cut = warn_torn(p, torn)
             if key is not None and cut == key[0]:
                 return
         if key is not None and current:

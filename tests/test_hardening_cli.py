@@ -48,16 +48,59 @@ def test_train_on_error_skips_damaged_scans(tmp_path: Path) -> None:
     assert "skipped 1 damaged scan" in skip.output and model.exists()
 
 
-def test_track_reports_all_equal_stamps(tmp_path: Path) -> None:
+def test_track_refuses_a_stuck_clock_and_restamps_on_request(tmp_path: Path) -> None:
+    from laserpeople.io.tracks_csv import iter_tracks_csv
     from laserpeople.sim.scenarios import run_scenario
 
-    result = run_scenario("figure-eight", seconds=2.0, seed=1)
-    scans = [replace(s, stamp=5.0) for s in result.scans]
+    result = run_scenario("figure-eight", seconds=8.0, seed=1)  # 37.5 Hz
+    good = tmp_path / "good.npz"
+    result.write(good)
+    scans = [replace(s, stamp=5.0) if s.index >= 220 else s for s in result.scans]
     path = tmp_path / "equal.npz"
     SimResult(scans, result.truth, result.meta).write(path)
-    run = CliRunner().invoke(app, ["track", str(path), "-o", str(tmp_path / "t.csv")])
-    assert run.exit_code == 0, run.output
-    assert f"{len(scans) - 1} scans with the same stamp as the one before" in run.output
+    out = tmp_path / "t.csv"
+    run = CliRunner().invoke(app, ["track", str(path), "-o", str(out)])
+    assert run.exit_code != 0
+    message = str(run.exception)
+    assert "scans 220-239" in message and "--restamp HZ" in message
+    written = list(iter_tracks_csv(out))  # what was written before stays valid
+    assert written and written[-1].scan_index < 239
+
+    runs = {}
+    for name, rec, extra in [("recorded", good, []), ("restamped", path, ["--restamp", "37.5"])]:
+        csv = tmp_path / f"{name}.csv"
+        run = CliRunner().invoke(app, ["track", str(rec), "-o", str(csv), *extra])
+        assert run.exit_code == 0, run.output
+        runs[name] = [(t.scan_index, len(t)) for t in iter_tracks_csv(csv)]
+    assert "re-stamped 301 scans at 37.5 Hz" in run.output
+    assert runs["restamped"] == runs["recorded"]  # the simulator's own rate: same tracks
+    assert any(n for _, n in runs["restamped"])
+
+
+def test_restamp_counts_per_laser_and_rejects_nonsense() -> None:
+    import math
+
+    import numpy as np
+    import pytest
+
+    from laserpeople.errors import ConfigError, LaserPeopleError
+    from laserpeople.pipeline.stamps import Restamp, StampCheck
+    from laserpeople.scan import Scan
+
+    def scan(sensor: str, stamp: float, index: int) -> Scan:
+        return Scan(stamp, -1.0, 0.1, np.ones(21), sensor=sensor, index=index)
+
+    seq = [scan("a", 3.0, 0), scan("b", 3.05, 0), scan("a", 3.0, 1), scan("b", 9.0, 1)]
+    restamp = Restamp(20.0)
+    assert [s.stamp for s in restamp(seq)] == pytest.approx([3.0, 3.05, 3.05, 3.1])
+    assert (restamp.restamped, restamp.changed) == (4, 2)
+    for bad in (0.0, -1.0, math.nan, math.inf):
+        with pytest.raises(ConfigError, match="--restamp"):
+            Restamp(bad)
+    check = StampCheck(limit=3)
+    assert len(list(check(seq))) == 4  # two laser, each advancing: fine
+    with pytest.raises(LaserPeopleError, match="scans 1-3 of laser 'a'"):
+        list(check([scan("a", 1.0, 0), scan("a", 2.0, 1), scan("a", 2.0, 2), scan("a", 2.0, 3)]))
 
 
 def test_nonsense_parameters_and_mounts_are_errors() -> None:

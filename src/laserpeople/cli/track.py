@@ -119,6 +119,7 @@ def run_tracking(
     map_path: Path | None = None,
     reidentify: bool = False,
     on_error: str = "stop",
+    restamp: float | None = None,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -129,7 +130,8 @@ def run_tracking(
     ``tracks``), get the static world model ``background`` (auto, histogram, occupancy or
     none; ``map_path`` seeds the occupancy grid).
     ``reidentify`` adds colour re-identification from the simulated camera (recordings
-    with ground-truth hues only).
+    with ground-truth hues only). ``restamp`` [Hz] replaces the recorded stamps by a fixed
+    rate (:class:`~laserpeople.pipeline.stamps.Restamp`).
 
     Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
@@ -179,6 +181,7 @@ def run_tracking(
         map_path=map_path,
         reidentify=reidentify,
         on_error=on_error,
+        restamp=restamp,
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]
@@ -382,6 +385,16 @@ def register(app: typer.Typer) -> None:
             ),
         ] = False,
         on_error: OnErrorOption = "stop",
+        restamp: Annotated[
+            float | None,
+            typer.Option(
+                "--restamp",
+                metavar="HZ",
+                help="Track at this fixed scan rate [Hz] from each laser's first stamp "
+                "instead of the recorded stamps (for a recording whose clock does not "
+                "advance; without it such a recording is refused).",
+            ),
+        ] = None,
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
@@ -438,6 +451,7 @@ def register(app: typer.Typer) -> None:
             map_path=map_path,
             reidentify=colour,
             on_error=on_error,
+            restamp=restamp,
         )
         groups = int(stats["group_tracks"])
         say(

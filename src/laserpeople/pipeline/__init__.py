@@ -49,6 +49,7 @@ from laserpeople.pipeline.sources import (
     laser_frames,
 )
 from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
+from laserpeople.pipeline.stamps import Restamp, StampCheck
 
 __all__ = [
     "ALL_TOPICS",
@@ -68,9 +69,11 @@ __all__ = [
     "Pipeline",
     "PipelineStats",
     "RecordingFrames",
+    "Restamp",
     "SimulatedAppearance",
     "Sink",
     "Stage",
+    "StampCheck",
     "Step",
     "TracksBagSink",
     "TracksCsvSink",

@@ -30,6 +30,7 @@ from laserpeople.pipeline.sources import (
     laser_frames,
 )
 from laserpeople.pipeline.stages import Identifier, Sink, Stage
+from laserpeople.pipeline.stamps import Restamp, StampCheck
 from laserpeople.pipeline.static_people import (
     PeopleStaticModel,
     people_static_model,
@@ -93,10 +94,14 @@ class RecordingFrames:
         grouping: Tolerance and missing-laser policy for several lasers.
         window: Frames looked at before choosing the coordinate frame.
         max_frames: Stop after this many frames (None: all).
+        restamp: Track at this fixed rate [Hz] instead of the recorded stamps
+            (:class:`~laserpeople.pipeline.stamps.Restamp`). Without it, stamps that stay
+            put for many scans are an error (:class:`~laserpeople.pipeline.stamps.StampCheck`).
 
     Attributes:
         chooser: The frame choice and what it dropped (``chooser.stats``).
         grouper: The grouping and its counts (None for one laser).
+        restamper: The re-stamping and its counts (None without ``restamp``).
     """
 
     def __init__(
@@ -108,8 +113,10 @@ class RecordingFrames:
         grouping: GroupingParams | None = None,
         window: int = 200,
         max_frames: int | None = None,
+        restamp: float | None = None,
     ) -> None:
         self.recording = recording
+        self.restamper = Restamp(restamp) if restamp is not None else None
         self.topics = list(topics)
         self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
         self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
@@ -126,6 +133,7 @@ class RecordingFrames:
 
     def __iter__(self) -> Iterator[Frame]:
         scans = self.recording.scans(self.topics)
+        scans = self.restamper(scans) if self.restamper is not None else StampCheck()(scans)
         frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
         for n, frame in enumerate(self.chooser(frames)):
             if self.max_frames is not None and n >= self.max_frames:
@@ -135,6 +143,8 @@ class RecordingFrames:
     def summary(self) -> list[str]:
         """Lines for the user: the frame used and why; the grouping figures."""
         lines = [self.chooser.stats.summary()]
+        if self.restamper is not None:
+            lines.append(self.restamper.summary())
         if self.grouper is not None:
             lines.append(self.grouper.stats.summary())
         return lines
@@ -235,6 +245,7 @@ def build(
     reidentify: bool = False,
     max_frames: int | None = None,
     on_error: str = "stop",
+    restamp: float | None = None,
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
@@ -244,7 +255,8 @@ def build(
     (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
     ``AppearanceUnavailableError`` for a recording without ground-truth hues).
     ``on_error`` (``stop``/``skip``) is the reader's policy for a damaged scan (see
-    :func:`open_source`).
+    :func:`open_source`). ``restamp`` [Hz] tracks at a fixed scan rate instead of the
+    recorded stamps (see :class:`RecordingFrames`).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -262,6 +274,7 @@ def build(
             frame=frame,
             grouping=grouping,
             max_frames=max_frames,
+            restamp=restamp,
         )
         frames: Any = source
         source_fields: set[FrameField] = {"scans"}

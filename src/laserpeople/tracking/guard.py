@@ -7,7 +7,8 @@ Every tracker's ``update`` passes its input through :class:`InputGuard` first:
 * a scan stamp that is not finite is an error (:class:`~laserpeople.errors.LaserPeopleError`
   naming the scan): no time step can be made from it;
 * a stamp equal to the previous one is counted in :attr:`InputGuard.repeated_stamps`
-  (a time step of zero);
+  (a time step of zero; a recording whose stamps stay put for many scans is refused
+  before it reaches a tracker, :mod:`laserpeople.pipeline.stamps`);
 * a stamp before the previous one is counted in :attr:`InputGuard.backward_stamps` and
   replaced by the previous stamp, so that the filters never predict backwards in time;
 * a step longer than :data:`JUMP` seconds is counted in :attr:`InputGuard.stamp_jumps`

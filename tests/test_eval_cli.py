@@ -144,6 +144,38 @@ def test_cli_reads_npz_truth_and_prints_a_table(tmp_path):
     assert "MOTA" in result.stdout and "0.750" in result.stdout
 
 
+@pytest.mark.parametrize(
+    ("damage", "reason"),
+    [
+        (lambda a: a["truth_xy"].__setitem__((0, 0), np.nan), "a position is not finite"),
+        (lambda a: a["truth_scan_index"].__setitem__(1, 0), "does not come after scan 0"),
+        (lambda a: a["truth_person_id"].__setitem__(1, a["truth_person_id"][0]), "id repeats"),
+    ],
+)
+def test_cli_npz_truth_damaged_frame_stops_or_is_skipped(tmp_path, damage, reason):
+    truth, tracks = scene()
+    scans = [
+        Scan(stamp=f.stamp, angle_min=-1.0, angle_increment=0.5, ranges=np.ones(5), index=k)
+        for k, f in enumerate(truth)
+    ]
+    write_recording(tmp_path / "rec.npz", scans, truth)
+    with np.load(tmp_path / "rec.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    damage(arrays)
+    np.savez(tmp_path / "rec.npz", **arrays)
+    write_tracks(tmp_path / "tracks.csv", tracks)
+    args = ["evaluate", str(tmp_path / "tracks.csv"), "--truth", str(tmp_path / "rec.npz")]
+    stop = CliRunner().invoke(app, [*args, "--json"])
+    assert isinstance(stop.exception, RecordingError)
+    assert reason in str(stop.exception) and "--on-error skip" in str(stop.exception)
+    skip = CliRunner().invoke(app, ["--quiet", *args, "--json", "--on-error", "skip"])
+    assert skip.exit_code == 0, skip.output
+    data = json.loads(skip.stdout)
+    # frame 0 or 1 is left out: two matched person-frames fewer, the three misses remain
+    assert data["misses"] == 3 and data["recall"] == pytest.approx(7 / 10)
+    assert "skipped 1 damaged scan(s) (truth scan" in skip.stderr + skip.output
+
+
 def test_cli_errors_without_truth(tmp_path):
     _, tracks = scene()
     scans = [

@@ -411,14 +411,20 @@ class NpzRecording:
         )
 
     def truth(self) -> Iterator[TruthFrame]:
-        """Ground-truth frames in time order (none when the recording has no truth)."""
+        """Ground-truth frames in time order (none when the recording has no truth).
+
+        A frame whose positions are not finite, whose person ids repeat or whose scan index
+        does not come after the previous frame's is damaged: it ends the read or is skipped
+        and counted, by the recording's ``on_error`` (see :mod:`laserpeople.io.damage`).
+        """
         if not self.has_truth:
             return
         a = self._a
         off = a["truth_offset"]
+        last, read = -1, 0
         for f in range(int(a["truth_stamp"].size)):
             lo, hi = int(off[f]), int(off[f + 1])
-            yield TruthFrame(
+            frame = TruthFrame(
                 stamp=float(a["truth_stamp"][f]),
                 scan_index=int(a["truth_scan_index"][f]),
                 person_ids=np.array(a["truth_person_id"][lo:hi]),
@@ -428,6 +434,23 @@ class NpzRecording:
                 leg_positions=np.array(a["truth_legs"][lo:hi]),
                 hues=np.array(a["truth_hue"][lo:hi]),
             )
+            reason = _truth_damage(frame, last)
+            if reason:
+                self.damaged.record(reason, topic="truth", scan=frame.scan_index, read=read)
+                continue
+            last, read = frame.scan_index, read + 1
+            yield frame
+
+
+def _truth_damage(frame: TruthFrame, last: int) -> str:
+    """Why ``frame`` cannot be used after a frame of scan ``last`` ("" when it can)."""
+    if frame.scan_index <= last:
+        return f"its scan index does not come after scan {last}"
+    if not np.isfinite(frame.positions).all():
+        return "a position is not finite"
+    if np.unique(frame.person_ids).size != frame.person_ids.size:
+        return "a person id repeats"
+    return ""
 
 
 def write_recording(

@@ -937,6 +937,8 @@ def plan(seeds: dict[str, list[Seed]], n: int, master: int, only: set[str] | Non
     """The first ``n`` cases of the run with seed ``master``."""
     rng = random.Random(master)
     fmts = [f for f in WEIGHTS if f in seeds and (not only or f in only)]
+    if not fmts:
+        raise SystemExit(f"no seed files for the formats {sorted(only or WEIGHTS)}")
     weights = [WEIGHTS[f] for f in fmts]
     cases = []
     for i in range(n):
@@ -1160,7 +1162,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--time-limit", type=float, default=10.0, help="seconds per case")
     ap.add_argument("--mem-mb", type=int, default=768, help="address space per worker [MiB]")
     ap.add_argument("--batch", type=int, default=250)
-    ap.add_argument("--only", action="append", help="formats to fuzz (repeatable)")
+    ap.add_argument(
+        "--only",
+        action="append",
+        choices=sorted(WEIGHTS),
+        help="formats to fuzz (repeatable)",
+    )
     ap.add_argument("--show", type=int, default=3, help="bad cases to print per format")
     ap.add_argument("--replay", type=int, action="append", help="run one case in-process")
     ap.add_argument("--json", type=Path, help="write every result to this file")

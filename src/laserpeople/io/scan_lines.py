@@ -151,9 +151,10 @@ def warn_torn(path: Path, torn: list[str]) -> int | None:
     head = torn[0].split(",", 1)[0].strip()
     scan = int(head) if head.isdigit() else None
     what = f"scan {scan}" if scan is not None else "the scan after the last complete one"
+    after = f", with the {len(torn) - 1} line(s) after it" if len(torn) > 1 else ""
     warnings.warn(
-        f"{path}: the file ends in the middle of {what} (the writer was stopped while "
-        f"writing it); {what} ({len(torn)} torn line(s)) is left out",
+        f"{path}: {what} is cut off (the writer was stopped while writing it, or the file is "
+        f"damaged there); it is left out{after}",
         TornScanWarning,
         stacklevel=3,
     )

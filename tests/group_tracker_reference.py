@@ -26,6 +26,9 @@ SIM = ("entrance-hall", 30.0, 0)
 in view)."""
 PEOPLE_ONLY = ("entrance-hall", 15.0, 1)
 """Scenario, seconds, seed of the people-only run (no split/merge, d_P = 0.5 m)."""
+EXTENSIONS = ("entrance-hall", 20.0, 2)
+"""Scenario, seconds, seed of the run with the non-default options (joined observations,
+re-clustering by blobs, rms Hausdorff, normalised priors, compatibility merge term)."""
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
 BAG_SCANS = 300
 """Scans of the demo bag tracked (its first ones)."""
@@ -115,6 +118,27 @@ def people_only_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     return track_frames(frames, "people_", GroupTrackerParams.people_only())
 
 
+def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
+    """The arrays (prefix ``ext_``) of :data:`EXTENSIONS` with every optional path on."""
+    from dataclasses import replace
+
+    from laserpeople.evaluation.groups import frames_from_scans
+    from laserpeople.sim.scenarios import run_scenario
+
+    name, seconds, seed = EXTENSIONS
+    scans = run_scenario(name, seconds=seconds, seed=seed).scans
+    frames = [lf.frame for lf in frames_from_scans(scans)]
+    params = replace(
+        GroupTrackerParams(),
+        join_observations=True,
+        recluster_blobs=True,
+        hausdorff="rms",
+        model_prior="normalised",
+        merge_likelihood="compatibility",
+    )
+    return track_frames(frames, "ext_", params)
+
+
 def bag_frames(root: Path) -> list:  # type: ignore[type-arg]
     """Frames of the demo bag's first :data:`BAG_SCANS` scans as the pipeline makes them
     for the group tracker (foreground from the static world model)."""
@@ -144,6 +168,7 @@ def shared_root() -> Path:
 if __name__ == "__main__":
     arrays = sim_arrays()
     arrays.update(people_only_arrays())
+    arrays.update(extensions_arrays())
     root = shared_root()
     if (root / DEMO_BAG).is_file():
         arrays.update(bag_arrays(root))

@@ -14,6 +14,7 @@ from group_tracker_reference import (
     DEMO_BAG,
     REFERENCE,
     bag_arrays,
+    extensions_arrays,
     people_only_arrays,
     sim_arrays,
 )
@@ -40,6 +41,10 @@ def test_group_tracker_output_identical_on_simulated_hall() -> None:
 
 def test_people_only_tracker_output_identical_on_simulated_hall() -> None:
     _assert_same(people_only_arrays(), "people_")
+
+
+def test_optional_paths_output_identical_on_simulated_hall() -> None:
+    _assert_same(extensions_arrays(), "ext_")
 
 
 def test_group_tracker_output_identical_on_demo_bag(shared_data: Path) -> None:

@@ -151,6 +151,8 @@ class GroupBranches:
         self._merge_ll: dict[tuple[int, int], float] = {}
         self._gates: dict[int, BoolArray] = {}
         self._partitions: dict[tuple[Hashable, ...], BranchObservations] = {}
+        self._divided: dict[tuple[int, tuple[int, ...]], list[_Piece] | None] = {}
+        self._half_of: dict[int, int] = {}  # node id of a split half -> its parent's
         self.models_generated = 0
 
     def begin_scan(self, obs: GroupObservations) -> None:
@@ -161,6 +163,8 @@ class GroupBranches:
         self._merge_ll.clear()
         self._gates.clear()
         self._partitions.clear()
+        self._divided.clear()
+        self._half_of.clear()
 
     # ------------------------------------------------------------------ models
 
@@ -173,26 +177,29 @@ class GroupBranches:
         """One branch per model of a parent with ``tracks`` (see the module doc)."""
         gates = {t.node_id: gate_row(t) for t in tracks}
         events: list[Event] = []
-        if self.s.split_merge and meas_idx.size:
-            for t in tracks:
-                if int(gates[t.node_id].sum()) >= 2:
-                    events.append(Event("split", (t,), self._log_ps - self._log_pc))
-            for a in range(len(tracks)):
-                for b in range(a + 1, len(tracks)):
+        if self.s.split_merge and meas_idx.size and tracks:
+            g = np.array([gates[t.node_id] for t in tracks])
+            for a in np.nonzero(g.sum(axis=1) >= 2)[0].tolist():
+                events.append(Event("split", (tracks[a],), self._log_ps - self._log_pc))
+            if len(tracks) > 1:  # pairs (a < b) sharing a gated observation, in order
+                gi = g.astype(np.int64)
+                share = np.triu((gi @ gi.T) > 0, k=1)
+                pairs = np.nonzero(share)
+                for a, b in zip(pairs[0].tolist(), pairs[1].tolist(), strict=True):
                     ta, tb = tracks[a], tracks[b]
-                    if (gates[ta.node_id] & gates[tb.node_id]).any():
-                        ll = self._merge_loglik(ta, tb)
-                        ratio = self._log_pg + ll - 2.0 * self._log_pc
-                        events.append(Event("merge", (ta, tb), ratio, ll))
+                    ll = self._merge_loglik(ta, tb)
+                    ratio = self._log_pg + ll - 2.0 * self._log_pc
+                    events.append(Event("merge", (ta, tb), ratio, ll))
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
+        mkey = meas_idx.tobytes()
         for chosen, prior in zip(models, priors, strict=True):
             new_tracks = self._repredict(tracks, chosen)
-            obs = self._recluster(new_tracks, chosen, gates, meas_idx)
+            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey)
             out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
-                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True)
+                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True, mkey=mkey)
                 if obs is not None:
                     out.append(Branch(prior, new_tracks, len(out), obs))
         self.models_generated += len(out)
@@ -265,6 +272,8 @@ class GroupBranches:
                 payload = GroupPayload(old.contour, labels, must_match=True, event="split")
                 halves.append(self._made(node, pm, pc, payload))
             self._split[node.node_id] = (halves[0], halves[1])
+            for half in halves:
+                self._half_of[half.node_id] = node.node_id
         return self._split[node.node_id]
 
     def merge(self, a: TrackNode, b: TrackNode) -> TrackNode:
@@ -307,8 +316,9 @@ class GroupBranches:
     def _gate(
         self, node: TrackNode, gates: dict[int, BoolArray], meas_idx: NDArray[np.intp]
     ) -> BoolArray:
-        if node.node_id in gates:
-            return gates[node.node_id]
+        row = gates.get(node.node_id)
+        if row is not None:
+            return row
         if node.node_id not in self._gates:
             self._gates[node.node_id] = self.model.score([node], self.obs)[0][0]
         return self._gates[node.node_id][meas_idx]
@@ -320,17 +330,19 @@ class GroupBranches:
         gates: dict[int, BoolArray],
         meas_idx: NDArray[np.intp],
         join: bool = False,
+        mkey: bytes | None = None,
     ) -> BranchObservations | None:
         """The model's partition of the cluster's observations, or None when it is the
         cluster's own: an observation in the gates of two of its tracks is divided among
         them (Sec. 4.3); with ``join``, the observations in the gate of one continued
         track and of no other track are joined into one (the extension, see the module
-        doc)."""
+        doc). The division of an observation among given tracks and the partition made
+        of a given list of parts are computed once per scan and shared by the models of
+        all parents."""
         if meas_idx.size == 0 or not tracks:
             return None
         # units: a split's two halves are one; every other track is its own
-        halves = {h.node_id: e.tracks[0].node_id for e in chosen if e.kind == "split"
-                  for h in self._split[e.tracks[0].node_id]}  # fmt: skip
+        halves = self._half_of
         units: dict[int, list[TrackNode]] = {}
         for t in tracks:
             units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
@@ -341,7 +353,7 @@ class GroupBranches:
             for t in unit[1:]:
                 unit_gate[u] |= self._gate(t, gates, meas_idx)
         n_gating = unit_gate.sum(axis=0)
-        shared = set(np.nonzero(n_gating >= 2)[0].tolist())
+        shared_idx = np.nonzero(n_gating >= 2)[0]
         joined: dict[int, list[int]] = {}  # first local index -> local indices joined
         if join:
             for u, unit in enumerate(unit_list):
@@ -352,24 +364,58 @@ class GroupBranches:
                     joined[mine[0]] = mine
             if not joined:
                 return None
-        elif not shared:
+        elif shared_idx.size == 0:
             return None
+        shared = set(shared_idx.tolist())
         skip = {i for group in joined.values() for i in group[1:]}
-        parts: list[tuple[FloatArray, IntArray]] = []
-        rows: list[IntArray] = []
-        shares: list[float] = []
-        keys: list[Hashable] = []
-        origin: list[int] = []
-        changed = False
         js = meas_idx.tolist()
+        keys: list[Hashable] = []
+        # per item: its scan observation, and its pieces (divided) or members (joined)
+        plan: list[tuple[int, list[_Piece] | None, list[int] | None]] = []
+        changed = False
         for i, j in enumerate(js):
             if i in skip:
                 continue
-            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
-            first = int(self.obs.offsets[j])
-            own = np.arange(first, first + len(mem), dtype=np.int64)
             if i in joined:
-                members = [js[x] for x in joined[i]]
+                together = [js[x] for x in joined[i]]
+                keys.append(("joined", *together))
+                plan.append((j, None, together))
+                changed = True
+                continue
+            if i in shared:
+                near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
+                pieces = self._divide(j, near)
+                if pieces is not None:
+                    changed = True
+                    keys.extend(p[4] for p in pieces)
+                    plan.append((j, pieces, None))
+                    continue
+            keys.append(j)
+            plan.append((j, None, None))
+        if not changed:
+            return None
+        key = tuple(keys)
+        found = self._partitions.get(key)
+        if found is not None:
+            return found
+        parts: list[tuple[FloatArray, IntArray]] = []
+        rows: list[IntArray] = []
+        shares: list[float] = []
+        origin: list[int] = []
+        offsets = self.obs.offsets
+        for j, divided, members in plan:
+            if divided is None and members is None:
+                parts.append((self.obs.cluster(j), self.obs.cluster_members(j)))
+                rows.append(np.arange(offsets[j], offsets[j + 1], dtype=np.int64))
+                shares.append(1.0)
+                origin.append(j)
+            elif divided is not None:  # the pieces of a divided observation
+                for pts, mem, own, share, _ in divided:
+                    parts.append((pts, mem))
+                    rows.append(own)
+                    shares.append(share)
+                    origin.append(j)
+            elif members is not None:  # observations joined into one
                 parts.append(
                     (
                         np.concatenate([self.obs.cluster(x) for x in members]),
@@ -377,57 +423,59 @@ class GroupBranches:
                     )
                 )
                 rows.append(
-                    np.concatenate(
-                        [np.arange(self.obs.offsets[x], self.obs.offsets[x + 1]) for x in members]
-                    ).astype(np.int64)
+                    np.concatenate([np.arange(offsets[x], offsets[x + 1]) for x in members]).astype(
+                        np.int64
+                    )
                 )
                 shares.append(float(len(members)))
-                keys.append(("joined", *members))
                 origin.append(j)
-                changed = True
-                continue
-            if i in shared:
-                near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
-                owner = _nearest_unit(pts, near)
-                if self.s.recluster_blobs:
-                    if self.obs.blobs is None:
-                        blobs = single_linkage(pts, self.s.d_hs)
-                    else:
-                        blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
-                    owner = _blob_majority(owner, blobs.astype(np.int64))
-                labels = np.unique(owner)
-                if labels.size >= 2:
-                    changed = True
-                    for u in labels.tolist():
-                        sel = owner == u
-                        parts.append((pts[sel], mem[sel]))
-                        rows.append(own[sel])
-                        shares.append(float(sel.sum()) / len(mem))
-                        keys.append((j, mem[sel].tobytes()))
-                        origin.append(j)
-                    continue
-            parts.append((pts, mem))
-            rows.append(own)
-            shares.append(1.0)
-            keys.append(j)
-            origin.append(j)
-        if not changed:
-            return None
-        key = tuple(keys)
-        if key not in self._partitions:
-            self._partitions[key] = BranchObservations(
-                GroupObservations.from_parts(
-                    parts,
-                    self.s.d_hs,
-                    shares,
-                    rows,
-                    self.s.counting,
-                    None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
-                ),
-                key,
-                tuple(origin),
-            )
-        return self._partitions[key]
+        made = BranchObservations(
+            GroupObservations.from_parts(
+                parts,
+                self.s.d_hs,
+                shares,
+                rows,
+                self.s.counting,
+                None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
+            ),
+            key,
+            tuple(origin),
+        )
+        self._partitions[key] = made
+        return made
+
+    def _divide(self, j: int, near: list[list[TrackNode]]) -> list[_Piece] | None:
+        """The pieces of scan observation ``j`` divided among the units ``near`` by the
+        nearest-track rule (Sec. 4.3), or None when every point goes to one unit; once
+        per scan for each observation and list of units."""
+        key = (j, tuple(unit[0].node_id for unit in near))
+        if key in self._divided:
+            return self._divided[key]
+        pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
+        first = int(self.obs.offsets[j])
+        own = np.arange(first, first + len(mem), dtype=np.int64)
+        owner = _nearest_unit(pts, near)
+        if self.s.recluster_blobs:
+            if self.obs.blobs is None:
+                blobs = single_linkage(pts, self.s.d_hs)
+            else:
+                blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
+            owner = _blob_majority(owner, blobs.astype(np.int64))
+        labels = np.unique(owner)
+        pieces: list[_Piece] | None = None
+        if labels.size >= 2:
+            pieces = []
+            for u in labels.tolist():
+                sel = owner == u
+                share = float(sel.sum()) / len(mem)
+                pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
+        self._divided[key] = pieces
+        return pieces
+
+
+_Piece = tuple[FloatArray, IntArray, IntArray, float, Hashable]
+"""A piece of a divided observation: points (K, 2), frame point indices (K,), rows in the
+scan's observations (K,), share of the observation, key."""
 
 
 def _blob_majority(owner: IntArray, blobs: IntArray) -> IntArray:

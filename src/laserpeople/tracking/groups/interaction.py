@@ -50,6 +50,8 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
+MERGED_LABELS_MEMO = 4096
+"""Label-set pairs whose merged labels are remembered across scans (then all forgotten)."""
 MAX_EVENTS = 12
 """Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
 
@@ -153,6 +155,8 @@ class GroupBranches:
         self._partitions: dict[tuple[Hashable, ...], BranchObservations] = {}
         self._divided: dict[tuple[int, tuple[int, ...]], list[_Piece] | None] = {}
         self._half_of: dict[int, int] = {}  # node id of a split half -> its parent's
+        self._rows: dict[int, tuple[BoolArray, int]] = {}  # node id -> gate row, its bits
+        self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
         self.models_generated = 0
 
     def begin_scan(self, obs: GroupObservations) -> None:
@@ -165,6 +169,7 @@ class GroupBranches:
         self._partitions.clear()
         self._divided.clear()
         self._half_of.clear()
+        self._rows.clear()
 
     # ------------------------------------------------------------------ models
 
@@ -175,21 +180,28 @@ class GroupBranches:
         meas_idx: NDArray[np.intp],
     ) -> list[Branch]:
         """One branch per model of a parent with ``tracks`` (see the module doc)."""
-        gates = {t.node_id: gate_row(t) for t in tracks}
+        known = self._rows  # a node belongs to one cluster of the scan: one row each
+        gates: dict[int, BoolArray] = {}
+        masks: list[int] = []
+        for t in tracks:
+            got = known.get(t.node_id)
+            if got is None:
+                row = gate_row(t)
+                got = known[t.node_id] = (row, _bits(row))
+            gates[t.node_id] = got[0]
+            masks.append(got[1])
         events: list[Event] = []
-        if self.s.split_merge and meas_idx.size and tracks:
-            g = np.array([gates[t.node_id] for t in tracks])
-            for a in np.nonzero(g.sum(axis=1) >= 2)[0].tolist():
-                events.append(Event("split", (tracks[a],), self._log_ps - self._log_pc))
-            if len(tracks) > 1:  # pairs (a < b) sharing a gated observation, in order
-                gi = g.astype(np.int64)
-                share = np.triu((gi @ gi.T) > 0, k=1)
-                pairs = np.nonzero(share)
-                for a, b in zip(pairs[0].tolist(), pairs[1].tolist(), strict=True):
-                    ta, tb = tracks[a], tracks[b]
-                    ll = self._merge_loglik(ta, tb)
-                    ratio = self._log_pg + ll - 2.0 * self._log_pc
-                    events.append(Event("merge", (ta, tb), ratio, ll))
+        if self.s.split_merge and meas_idx.size:
+            for t, mask in zip(tracks, masks, strict=True):
+                if mask.bit_count() >= 2:  # two observations in the gate
+                    events.append(Event("split", (t,), self._log_ps - self._log_pc))
+            for a in range(len(tracks)):
+                for b in range(a + 1, len(tracks)):
+                    if masks[a] & masks[b]:  # one observation in both gates
+                        ta, tb = tracks[a], tracks[b]
+                        ll = self._merge_loglik(ta, tb)
+                        ratio = self._log_pg + ll - 2.0 * self._log_pc
+                        events.append(Event("merge", (ta, tb), ratio, ll))
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
@@ -287,7 +299,12 @@ class GroupBranches:
             na, nb = max(len(pa.contour), 1), max(len(pb.contour), 1)
             pm, pc = merge_state(ma, ca, na, mb, cb, nb)
             points = np.concatenate([pa.contour + ma[:2], pb.contour + mb[:2]])
-            labels = merge_labels(self.name(a), self.name(b))
+            names = (self.name(a), self.name(b))
+            labels = self._merged_labels.get(names)
+            if labels is None:  # a pure function of the two sets, remembered over scans
+                if len(self._merged_labels) >= MERGED_LABELS_MEMO:
+                    self._merged_labels.clear()
+                labels = self._merged_labels[names] = merge_labels(*names)
             payload = GroupPayload(points - pm[:2], labels, must_match=True, event="merge")
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]
@@ -323,6 +340,16 @@ class GroupBranches:
             self._gates[node.node_id] = self.model.score([node], self.obs)[0][0]
         return self._gates[node.node_id][meas_idx]
 
+    def _gate_bits(
+        self, node: TrackNode, gates: dict[int, BoolArray], meas_idx: NDArray[np.intp]
+    ) -> int:
+        """:meth:`_gate` as the bits of an int (bit i: observation ``meas_idx[i]``)."""
+        got = self._rows.get(node.node_id)
+        if got is None:
+            row = self._gate(node, gates, meas_idx)
+            got = self._rows[node.node_id] = (row, _bits(row))
+        return got[1]
+
     def _recluster(
         self,
         tracks: tuple[TrackNode, ...],
@@ -347,6 +374,16 @@ class GroupBranches:
         for t in tracks:
             units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
         unit_list = list(units.values())
+        if not join:  # is any observation in the gates of two units?
+            seen = twice = 0
+            for unit in unit_list:
+                mask = 0
+                for t in unit:
+                    mask |= self._gate_bits(t, gates, meas_idx)
+                twice |= seen & mask
+                seen |= mask
+            if not twice:
+                return None
         unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
         for u, unit in enumerate(unit_list):
             unit_gate[u] = self._gate(unit[0], gates, meas_idx)
@@ -471,6 +508,11 @@ class GroupBranches:
                 pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
         self._divided[key] = pieces
         return pieces
+
+
+def _bits(row: BoolArray) -> int:
+    """A boolean row (m,) as an int with bit i set where ``row[i]``."""
+    return int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
 
 
 _Piece = tuple[FloatArray, IntArray, IntArray, float, Hashable]

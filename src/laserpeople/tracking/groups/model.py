@@ -433,11 +433,17 @@ class GroupModel:
         z_min = np.sqrt(np.minimum.reduceat(q, n_start, axis=1) / ddet[None, :])  # (Z, T')
         c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / ddet[col_owner])  # (M', K)
         if self.s.rms:  # root mean square of the nearest distances
-            z_to_p = np.sqrt(np.add.reduceat(z_min**2, z_start, axis=0) / n_z[:, None])
-            p_to_z = np.sqrt(np.add.reduceat(c_min**2, n_start, axis=1) / n_c[None, :])
-        else:
-            z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
+            z_min, c_min = z_min**2, c_min**2
+        z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
+        if batch:
             p_to_z = np.add.reduceat(c_min, n_start, axis=1) / n_c[None, :]  # d(P, Z)
+        else:  # the same mean, summed in numpy's order for a row (not a segment)
+            ends = (n_start + n_c).tolist()
+            p_to_z = np.column_stack(
+                [c_min[:, a:b].mean(axis=1) for a, b in zip(n_start.tolist(), ends, strict=True)]
+            )
+        if self.s.rms:
+            z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
         d_hd = np.minimum(z_to_p, p_to_z).T  # eq. 19, (T', M')
         sub_near = near[np.ix_(rows_t, cols_m)]
         ok = sub_near & (d_hd**2 <= self.s.gate_sq)

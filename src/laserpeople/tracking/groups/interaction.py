@@ -156,6 +156,7 @@ class GroupBranches:
         self._divided: dict[tuple[int, tuple[int, ...]], list[_Piece] | None] = {}
         self._half_of: dict[int, int] = {}  # node id of a split half -> its parent's
         self._rows: dict[int, tuple[BoolArray, int]] = {}  # node id -> gate row, its bits
+        self._pending: list[TrackNode] = []  # tracks made and not gated yet
         self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
         self.models_generated = 0
 
@@ -170,6 +171,7 @@ class GroupBranches:
         self._divided.clear()
         self._half_of.clear()
         self._rows.clear()
+        self._pending.clear()
 
     # ------------------------------------------------------------------ models
 
@@ -206,8 +208,9 @@ class GroupBranches:
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
         mkey = meas_idx.tobytes()
-        for chosen, prior in zip(models, priors, strict=True):
-            new_tracks = self._repredict(tracks, chosen)
+        # every model's tracks first (the tracks splits and merges make are gated together)
+        reconfigured = [self._repredict(tracks, chosen) for chosen in models]
+        for chosen, prior, new_tracks in zip(models, priors, reconfigured, strict=True):
             obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey)
             out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
@@ -326,6 +329,7 @@ class GroupBranches:
             detected_stamp=parent.detected_stamp,
         )
         node.pred_mean, node.pred_cov = mean, cov
+        self._pending.append(node)
         return node
 
     # ------------------------------------------------------------------ re-clustering
@@ -337,7 +341,14 @@ class GroupBranches:
         if row is not None:
             return row
         if node.node_id not in self._gates:
-            self._gates[node.node_id] = self.model.score([node], self.obs)[0][0]
+            # with every track made since the last gating, each scored as if alone
+            pending = [n for n in self._pending if n.node_id not in self._gates]
+            self._pending.clear()
+            if all(n.node_id != node.node_id for n in pending):
+                pending.append(node)
+            self.model.score_apart(pending, self.obs)
+            for n in pending:
+                self._gates[n.node_id] = self.model.score([n], self.obs)[0][0]
         return self._gates[node.node_id][meas_idx]
 
     def _gate_bits(

@@ -329,6 +329,17 @@ class GroupModel:
         made = [rows[(n.node_id, key)] for n in nodes]
         return np.stack([r[0] for r in made]), np.stack([r[1] for r in made])
 
+    def score_apart(self, nodes: Sequence[TrackNode], measurements: GroupObservations) -> None:
+        """Remember the rows of ``nodes`` against ``measurements`` as :meth:`score` of each
+        node alone would make them (the same roundings), in one pass."""
+        key = id(measurements)
+        todo = [n for n in nodes if (n.node_id, key) not in self._rows]
+        if not todo or len(measurements) == 0:
+            return
+        gated, loglik = self._score_nodes(todo, measurements, False)
+        for node, g_row, ll_row in zip(todo, gated, loglik, strict=True):
+            self._rows[(node.node_id, key)] = (g_row, ll_row)
+
     def _score_nodes(
         self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
     ) -> tuple[BoolArray, FloatArray]:

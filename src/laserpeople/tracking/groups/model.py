@@ -432,15 +432,19 @@ class GroupModel:
             ds00, ds01, ds11, ddet = s00[rows_t], s01[rows_t], s11[rows_t], det[rows_t]
         col_owner = np.repeat(np.arange(rows_t.size), n_c)
         n_start = np.concatenate([[0], np.cumsum(n_c)[:-1]])
-        dx = points[:, 0, None] - cols_c[None, :, 0]
-        dy = points[:, 1, None] - cols_c[None, :, 1]
-        # D^2 det S (eq. 21): the square root and the division are monotonic, so they are
-        # taken after the minima (the same numbers as before the minima)
-        q = (
-            ds11[col_owner] * dx * dx
-            - (2.0 * ds01)[col_owner] * dx * dy
-            + ds00[col_owner] * dy * dy
-        )
+        dx = np.subtract.outer(points[:, 0], cols_c[:, 0])
+        dy = np.subtract.outer(points[:, 1], cols_c[:, 1])
+        # D^2 det S (eq. 21) = s11 dx dx - 2 s01 dx dy + s00 dy dy, in place (the same
+        # operations in the same order); the square root and the division are monotonic,
+        # so they are taken after the minima (the same numbers as before the minima)
+        q = np.multiply(dx, ds11[col_owner])
+        q *= dx
+        tmp = np.multiply(dx, (2.0 * ds01)[col_owner], out=dx)
+        tmp *= dy
+        q -= tmp
+        tmp = np.multiply(dy, ds00[col_owner], out=tmp)
+        tmp *= dy
+        q += tmp
         z_min = np.sqrt(np.minimum.reduceat(q, n_start, axis=1) / ddet[None, :])  # (Z, T')
         c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / ddet[col_owner])  # (M', K)
         if self.s.rms:  # root mean square of the nearest distances

@@ -390,7 +390,7 @@ class GroupModel:
         owner = np.repeat(np.arange(t), k_t)
         rel = np.concatenate([c if c.shape[0] else _ORIGIN for c in contours])
         c_abs = rel + pos[owner]  # the predicted contours, absolute (eq. 22)
-        c_start = np.concatenate([[0], np.cumsum(k_t)[:-1]])
+        c_start = np.cumsum(k_t) - k_t
         r_t = np.maximum.reduceat(np.hypot(*(c_abs - pos[owner]).T), c_start)
         half_trace = 0.5 * (s00 + s11)
         lam_max = half_trace + np.sqrt(np.maximum(half_trace**2 - det, 0.0))
@@ -421,7 +421,7 @@ class GroupModel:
         else:
             n_z = counts[cols_m]
             points = obs.points[_ranges(obs.offsets[cols_m], n_z)]
-        z_start = np.concatenate([[0], np.cumsum(n_z)[:-1]])
+        z_start = np.cumsum(n_z) - n_z
         # the contour points of the nodes near some cluster
         if rows_t.size == t:
             n_c, cols_c = k_t, c_abs
@@ -431,7 +431,7 @@ class GroupModel:
             cols_c = c_abs[_ranges(c_start[rows_t], n_c)]
             ds00, ds01, ds11, ddet = s00[rows_t], s01[rows_t], s11[rows_t], det[rows_t]
         col_owner = np.repeat(np.arange(rows_t.size), n_c)
-        n_start = np.concatenate([[0], np.cumsum(n_c)[:-1]])
+        n_start = np.cumsum(n_c) - n_c
         dx = np.subtract.outer(points[:, 0], cols_c[:, 0])
         dy = np.subtract.outer(points[:, 1], cols_c[:, 1])
         # D^2 det S (eq. 21) = s11 dx dx - 2 s01 dx dy + s00 dy dy, in place (the same
@@ -452,7 +452,9 @@ class GroupModel:
         z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
         if batch:
             p_to_z = np.add.reduceat(c_min, n_start, axis=1) / n_c[None, :]  # d(P, Z)
-        else:  # the same mean, summed in numpy's order for a row (not a segment)
+        elif rows_t.size == 1:  # the same mean, summed in numpy's order for a row
+            p_to_z = c_min.mean(axis=1)[:, None]
+        else:
             ends = (n_start + n_c).tolist()
             p_to_z = np.column_stack(
                 [c_min[:, a:b].mean(axis=1) for a, b in zip(n_start.tolist(), ends, strict=True)]
@@ -460,7 +462,7 @@ class GroupModel:
         if self.s.rms:
             z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
         d_hd = np.minimum(z_to_p, p_to_z).T  # eq. 19, (T', M')
-        sub_near = near[np.ix_(rows_t, cols_m)]
+        sub_near = near if cols_m.size == m and rows_t.size == t else near[rows_t][:, cols_m]
         ok = sub_near & (d_hd**2 <= self.s.gate_sq)
         w = obs.share[cols_m][None, :]
         lpm = self.s.log_p_match
@@ -534,7 +536,7 @@ class GroupModel:
 def _ranges(starts: IntArray, lengths: IntArray) -> IntArray:
     """The concatenated ranges ``starts[i] .. starts[i] + lengths[i] - 1`` (sum of lengths,)."""
     total = int(lengths.sum())
-    shift = starts - np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    shift = starts - (np.cumsum(lengths) - lengths)
     return np.asarray(np.repeat(shift, lengths) + np.arange(total), dtype=np.int64)
 
 

@@ -171,3 +171,23 @@ def test_remembered_rows_are_returned_for_any_order_of_tracks() -> None:
     g2, ll2 = model.score([nodes[i] for i in order], obs)
     np.testing.assert_array_equal(g2, g[order])
     np.testing.assert_array_equal(ll2, ll[order])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("rms", [False, True])
+def test_score_of_one_track_alone_equals_eq19_24(seed: int, rms: bool) -> None:
+    """A track scored alone (the one-track path) gives eqs. 19-24, and the same numbers
+    as the same track scored with others by :meth:`GroupModel.score_apart`."""
+    params = replace(GroupTrackerParams(), hausdorff="rms" if rms else "mean")
+    nodes, obs = _scene(seed)
+    alone = GroupModel(params.model_settings())
+    alone.predict(nodes, 0.2)
+    for node in nodes:
+        _check(alone, [node], obs, obs)
+    together = GroupModel(params.model_settings())
+    together.predict(nodes, 0.2)
+    together.score_apart(nodes, obs)
+    g1, l1 = alone.score(nodes, obs)
+    g2, l2 = together.score(nodes, obs)
+    np.testing.assert_array_equal(g1, g2)
+    np.testing.assert_array_equal(l1, l2)

@@ -345,6 +345,8 @@ class GroupModel:
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` (eqs.
         19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
+        if len(nodes) == 1 and not batch and obs.source is None:
+            return self._score_one(nodes[0], obs)
         sizes = [max(len(group_payload(n).contour), 1) for n in nodes]
         n_points = max(len(obs.points), 1)
         if n_points * sum(sizes) <= SCORE_BLOCK:
@@ -358,6 +360,58 @@ class GroupModel:
             width += k
         blocks.append(self._score_block(nodes[start:], obs, batch))
         return np.concatenate([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks])
+
+    def _score_one(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
+        """:meth:`_score_block` of one track against the scan's own observations, with
+        scalars where the block has arrays (the same operations, the same numbers)."""
+        m = len(obs)
+        gated = np.zeros((1, m), dtype=bool)
+        loglik = np.full((1, m), -np.inf)
+        mean, cov = node_prediction(node)
+        pos = mean[:2]
+        s = cov[:2, :2] + self.s.r_point  # eq. 23
+        s00, s01, s11 = float(s[0, 0]), float(s[0, 1]), float(s[1, 1])
+        det = s00 * s11 - s01 * s01
+        contour = group_payload(node).contour
+        c_abs = (contour if contour.shape[0] else _ORIGIN) + pos
+        r_t = float(np.max(np.hypot(*(c_abs - pos).T)))
+        half_trace = 0.5 * (s00 + s11)
+        lam_max = half_trace + math.sqrt(max(half_trace * half_trace - det, 0.0))
+        reach = min(self.s.max_gap, math.sqrt(self.s.gate_sq * lam_max))
+        counts = obs.sizes
+        gap = np.hypot(obs.centroids[:, 0] - pos[0], obs.centroids[:, 1] - pos[1])
+        near = np.nonzero((gap - obs.radii - r_t <= reach) & (counts > 0))[0]
+        if near.size == 0:
+            return gated, loglik
+        n_z = counts[near]
+        points = obs.points if near.size == m else obs.points[_ranges(obs.offsets[near], n_z)]
+        z_start = np.cumsum(n_z) - n_z
+        dx = np.subtract.outer(points[:, 0], c_abs[:, 0])
+        dy = np.subtract.outer(points[:, 1], c_abs[:, 1])
+        q = np.multiply(dx, s11)  # D^2 det S (eq. 21), as in _score_block
+        q *= dx
+        tmp = np.multiply(dx, 2.0 * s01, out=dx)
+        tmp *= dy
+        q -= tmp
+        tmp = np.multiply(dy, s00, out=tmp)
+        tmp *= dy
+        q += tmp
+        z_min = np.sqrt(q.min(axis=1) / det)
+        c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / det)
+        if self.s.rms:
+            z_min, c_min = z_min**2, c_min**2
+        z_to_p = np.add.reduceat(z_min, z_start) / n_z  # d(Z, P), eq. 20
+        p_to_z = c_min.mean(axis=1)  # d(P, Z)
+        if self.s.rms:
+            z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
+        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
+        ok = d_hd**2 <= self.s.gate_sq
+        lpm = self.s.log_p_match
+        log_norm = _LOG_2PI_NEG - 0.5 * math.log(det)
+        ll = obs.share[near] * (lpm + (log_norm - 0.5 * d_hd**2)) - lpm  # eq. 24
+        gated[0, near] = ok
+        loglik[0, near] = np.where(ok, ll, -np.inf)
+        return gated, loglik
 
     def _score_block(
         self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool

@@ -7,14 +7,21 @@ CPU time of this process (``time.process_time``), so that other jobs on the mach
 not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
+        [--breakdown]
+
+``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
+(median over those scans of each part's ms; parts nest as indented).
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -23,6 +30,22 @@ from laserpeople.frame import Frame
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
 
+PARTS = (
+    ("update (whole scan)", "laserpeople.tracking.groups.tracker", "GroupMHTTracker", "update"),
+    ("  observe: clustering, blob counts", "laserpeople.tracking.groups.tracker",
+     "GroupMHTTracker", "observe"),
+    ("  MHT step", "laserpeople.tracking.mht.core", "MHT", "step"),
+    ("    predict", "laserpeople.tracking.groups.model", "GroupModel", "predict"),
+    ("    score (all calls, eqs. 19-24)", "laserpeople.tracking.groups.model", "GroupModel",
+     "_score_nodes"),
+    ("    updates of gated pairs, initiations", "laserpeople.tracking.mht.core", "MHT",
+     "_prepare_children"),
+    ("    model generation (branches)", "laserpeople.tracking.groups.interaction",
+     "GroupBranches", "branches"),
+    ("      re-clustering", "laserpeople.tracking.groups.interaction", "GroupBranches",
+     "_recluster"),
+    ("    k-best listing", "laserpeople.tracking.mht.core", "MHT", "_k_best"),
+)  # fmt: skip
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
 BINS = ((0, 4), (5, 9), (10, 14), (15, 20))
 
@@ -36,6 +59,66 @@ def time_frames(frames: list[Frame], params: GroupTrackerParams) -> np.ndarray:
         tracker.update(frame)
         out[k] = (time.process_time() - t0) * 1e3
     return out
+
+
+def instrument(spent: dict[str, float]) -> Callable[[], None]:
+    """Wrap the functions of :data:`PARTS` so that their CPU time [ms] adds up in
+    ``spent`` (nested calls of one function count once); returns the undo."""
+    import importlib
+
+    undo = []
+    for label, module, cls_name, name in PARTS:
+        cls = getattr(importlib.import_module(module), cls_name)
+        orig = getattr(cls, name)
+        depth = [0]
+
+        def wrapped(*a: Any, _f: Any = orig, _l: str = label, _d: list[int] = depth,
+                    **k: Any) -> Any:  # fmt: skip
+            _d[0] += 1
+            t0 = time.process_time()
+            try:
+                return _f(*a, **k)
+            finally:
+                _d[0] -= 1
+                if _d[0] == 0:
+                    spent[_l] = spent.get(_l, 0.0) + (time.process_time() - t0) * 1e3
+
+        setattr(cls, name, functools.wraps(orig)(wrapped))
+        undo.append((cls, name, orig))
+
+    def restore() -> None:
+        for cls, name, orig in undo:
+            setattr(cls, name, orig)
+
+    return restore
+
+
+def breakdown(runs: list[tuple[list[Frame], np.ndarray]], params: GroupTrackerParams) -> None:
+    """Print the median ms of each part of :data:`PARTS` over the frames with 15-20
+    people in view, ``runs`` being (frames, people in view) per recording, each tracked
+    by a fresh tracker (the wrappers add a little time of their own)."""
+    spent: dict[str, float] = {}
+    rows: list[dict[str, float]] = []
+    restore = instrument(spent)
+    try:
+        for frames, people in runs:
+            tracker = GroupMHTTracker(params)
+            for frame, n in zip(frames, people, strict=True):
+                spent.clear()
+                tracker.update(frame)
+                if 15 <= n <= 20:
+                    rows.append(dict(spent))
+    finally:
+        restore()
+    if not rows:
+        return
+    print(f"\nwhere the time goes, {len(rows)} scans with 15-20 people (median ms):\n")
+    print("| part | median ms |")
+    print("|---|---|")
+    for label, *_ in PARTS:
+        depth = (len(label) - len(label.lstrip())) // 2
+        values = [r.get(label, 0.0) for r in rows]
+        print(f"| {'. ' * depth}{label.strip()} | {np.median(values):.2f} |")
 
 
 def demo_frames(root: Path) -> list[Frame]:
@@ -59,9 +142,11 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[3, 4])
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--no-bag", action="store_true", help="skip the real demo bag")
+    ap.add_argument("--breakdown", action="store_true", help="time the parts at 15-20 people")
     args = ap.parse_args()
     params = GroupTrackerParams()
     ms_all, people_all = [], []
+    runs = []
     for seed in args.seeds:
         scans = run_scenario(args.scenario, seconds=args.seconds, seed=seed).scans
         labelled = list(frames_from_scans(scans))
@@ -71,6 +156,7 @@ def main() -> None:
             seen = lf.true_person[np.asarray(lf.frame.foreground)]
             people.append(np.unique(seen[seen >= 0]).size)
         people_all.append(np.asarray(people))
+        runs.append(([lf.frame for lf in labelled], people_all[-1]))
     ms, people = np.concatenate(ms_all), np.concatenate(people_all)
     print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each: CPU ms per scan\n")
     print("| people in view | median | p95 | frames |")
@@ -81,6 +167,8 @@ def main() -> None:
             p95 = np.percentile(sel, 95)
             print(f"| {lo}-{hi} | {np.median(sel):.2f} | {p95:.2f} | {sel.size} |")
     print(f"| all | {np.median(ms):.2f} | {np.percentile(ms, 95):.2f} | {ms.size} |")
+    if args.breakdown:
+        breakdown(runs, params)
     root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))
     if not args.no_bag and (root / DEMO_BAG).is_file():
         bag_ms = time_frames(demo_frames(root), params)

@@ -50,6 +50,8 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
+MERGED_LABELS_MEMO = 4096
+"""Label-set pairs whose merged labels are remembered across scans (then all forgotten)."""
 MAX_EVENTS = 12
 """Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
 
@@ -151,6 +153,11 @@ class GroupBranches:
         self._merge_ll: dict[tuple[int, int], float] = {}
         self._gates: dict[int, BoolArray] = {}
         self._partitions: dict[tuple[Hashable, ...], BranchObservations] = {}
+        self._divided: dict[tuple[int, tuple[int, ...]], list[_Piece] | None] = {}
+        self._half_of: dict[int, int] = {}  # node id of a split half -> its parent's
+        self._rows: dict[int, tuple[BoolArray, int]] = {}  # node id -> gate row, its bits
+        self._pending: list[TrackNode] = []  # tracks made and not gated yet
+        self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
         self.models_generated = 0
 
     def begin_scan(self, obs: GroupObservations) -> None:
@@ -161,6 +168,10 @@ class GroupBranches:
         self._merge_ll.clear()
         self._gates.clear()
         self._partitions.clear()
+        self._divided.clear()
+        self._half_of.clear()
+        self._rows.clear()
+        self._pending.clear()
 
     # ------------------------------------------------------------------ models
 
@@ -171,28 +182,39 @@ class GroupBranches:
         meas_idx: NDArray[np.intp],
     ) -> list[Branch]:
         """One branch per model of a parent with ``tracks`` (see the module doc)."""
-        gates = {t.node_id: gate_row(t) for t in tracks}
+        known = self._rows  # a node belongs to one cluster of the scan: one row each
+        gates: dict[int, BoolArray] = {}
+        masks: list[int] = []
+        for t in tracks:
+            got = known.get(t.node_id)
+            if got is None:
+                row = gate_row(t)
+                got = known[t.node_id] = (row, _bits(row))
+            gates[t.node_id] = got[0]
+            masks.append(got[1])
         events: list[Event] = []
         if self.s.split_merge and meas_idx.size:
-            for t in tracks:
-                if int(gates[t.node_id].sum()) >= 2:
+            for t, mask in zip(tracks, masks, strict=True):
+                if mask.bit_count() >= 2:  # two observations in the gate
                     events.append(Event("split", (t,), self._log_ps - self._log_pc))
             for a in range(len(tracks)):
                 for b in range(a + 1, len(tracks)):
-                    ta, tb = tracks[a], tracks[b]
-                    if (gates[ta.node_id] & gates[tb.node_id]).any():
+                    if masks[a] & masks[b]:  # one observation in both gates
+                        ta, tb = tracks[a], tracks[b]
                         ll = self._merge_loglik(ta, tb)
                         ratio = self._log_pg + ll - 2.0 * self._log_pc
                         events.append(Event("merge", (ta, tb), ratio, ll))
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
-        for chosen, prior in zip(models, priors, strict=True):
-            new_tracks = self._repredict(tracks, chosen)
-            obs = self._recluster(new_tracks, chosen, gates, meas_idx)
+        mkey = meas_idx.tobytes()
+        # every model's tracks first (the tracks splits and merges make are gated together)
+        reconfigured = [self._repredict(tracks, chosen) for chosen in models]
+        for chosen, prior, new_tracks in zip(models, priors, reconfigured, strict=True):
+            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey)
             out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
-                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True)
+                obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True, mkey=mkey)
                 if obs is not None:
                     out.append(Branch(prior, new_tracks, len(out), obs))
         self.models_generated += len(out)
@@ -265,6 +287,8 @@ class GroupBranches:
                 payload = GroupPayload(old.contour, labels, must_match=True, event="split")
                 halves.append(self._made(node, pm, pc, payload))
             self._split[node.node_id] = (halves[0], halves[1])
+            for half in halves:
+                self._half_of[half.node_id] = node.node_id
         return self._split[node.node_id]
 
     def merge(self, a: TrackNode, b: TrackNode) -> TrackNode:
@@ -278,7 +302,12 @@ class GroupBranches:
             na, nb = max(len(pa.contour), 1), max(len(pb.contour), 1)
             pm, pc = merge_state(ma, ca, na, mb, cb, nb)
             points = np.concatenate([pa.contour + ma[:2], pb.contour + mb[:2]])
-            labels = merge_labels(self.name(a), self.name(b))
+            names = (self.name(a), self.name(b))
+            labels = self._merged_labels.get(names)
+            if labels is None:  # a pure function of the two sets, remembered over scans
+                if len(self._merged_labels) >= MERGED_LABELS_MEMO:
+                    self._merged_labels.clear()
+                labels = self._merged_labels[names] = merge_labels(*names)
             payload = GroupPayload(points - pm[:2], labels, must_match=True, event="merge")
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]
@@ -300,6 +329,7 @@ class GroupBranches:
             detected_stamp=parent.detected_stamp,
         )
         node.pred_mean, node.pred_cov = mean, cov
+        self._pending.append(node)
         return node
 
     # ------------------------------------------------------------------ re-clustering
@@ -307,11 +337,29 @@ class GroupBranches:
     def _gate(
         self, node: TrackNode, gates: dict[int, BoolArray], meas_idx: NDArray[np.intp]
     ) -> BoolArray:
-        if node.node_id in gates:
-            return gates[node.node_id]
+        row = gates.get(node.node_id)
+        if row is not None:
+            return row
         if node.node_id not in self._gates:
-            self._gates[node.node_id] = self.model.score([node], self.obs)[0][0]
+            # with every track made since the last gating, each scored as if alone
+            pending = [n for n in self._pending if n.node_id not in self._gates]
+            self._pending.clear()
+            if all(n.node_id != node.node_id for n in pending):
+                pending.append(node)
+            self.model.score_apart(pending, self.obs)
+            for n in pending:
+                self._gates[n.node_id] = self.model.score([n], self.obs)[0][0]
         return self._gates[node.node_id][meas_idx]
+
+    def _gate_bits(
+        self, node: TrackNode, gates: dict[int, BoolArray], meas_idx: NDArray[np.intp]
+    ) -> int:
+        """:meth:`_gate` as the bits of an int (bit i: observation ``meas_idx[i]``)."""
+        got = self._rows.get(node.node_id)
+        if got is None:
+            row = self._gate(node, gates, meas_idx)
+            got = self._rows[node.node_id] = (row, _bits(row))
+        return got[1]
 
     def _recluster(
         self,
@@ -320,28 +368,40 @@ class GroupBranches:
         gates: dict[int, BoolArray],
         meas_idx: NDArray[np.intp],
         join: bool = False,
+        mkey: bytes | None = None,
     ) -> BranchObservations | None:
         """The model's partition of the cluster's observations, or None when it is the
         cluster's own: an observation in the gates of two of its tracks is divided among
         them (Sec. 4.3); with ``join``, the observations in the gate of one continued
         track and of no other track are joined into one (the extension, see the module
-        doc)."""
+        doc). The division of an observation among given tracks and the partition made
+        of a given list of parts are computed once per scan and shared by the models of
+        all parents."""
         if meas_idx.size == 0 or not tracks:
             return None
         # units: a split's two halves are one; every other track is its own
-        halves = {h.node_id: e.tracks[0].node_id for e in chosen if e.kind == "split"
-                  for h in self._split[e.tracks[0].node_id]}  # fmt: skip
+        halves = self._half_of
         units: dict[int, list[TrackNode]] = {}
         for t in tracks:
             units.setdefault(halves.get(t.node_id, t.node_id), []).append(t)
         unit_list = list(units.values())
+        if not join:  # is any observation in the gates of two units?
+            seen = twice = 0
+            for unit in unit_list:
+                mask = 0
+                for t in unit:
+                    mask |= self._gate_bits(t, gates, meas_idx)
+                twice |= seen & mask
+                seen |= mask
+            if not twice:
+                return None
         unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
         for u, unit in enumerate(unit_list):
             unit_gate[u] = self._gate(unit[0], gates, meas_idx)
             for t in unit[1:]:
                 unit_gate[u] |= self._gate(t, gates, meas_idx)
         n_gating = unit_gate.sum(axis=0)
-        shared = set(np.nonzero(n_gating >= 2)[0].tolist())
+        shared_idx = np.nonzero(n_gating >= 2)[0]
         joined: dict[int, list[int]] = {}  # first local index -> local indices joined
         if join:
             for u, unit in enumerate(unit_list):
@@ -352,24 +412,58 @@ class GroupBranches:
                     joined[mine[0]] = mine
             if not joined:
                 return None
-        elif not shared:
+        elif shared_idx.size == 0:
             return None
+        shared = set(shared_idx.tolist())
         skip = {i for group in joined.values() for i in group[1:]}
-        parts: list[tuple[FloatArray, IntArray]] = []
-        rows: list[IntArray] = []
-        shares: list[float] = []
-        keys: list[Hashable] = []
-        origin: list[int] = []
-        changed = False
         js = meas_idx.tolist()
+        keys: list[Hashable] = []
+        # per item: its scan observation, and its pieces (divided) or members (joined)
+        plan: list[tuple[int, list[_Piece] | None, list[int] | None]] = []
+        changed = False
         for i, j in enumerate(js):
             if i in skip:
                 continue
-            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
-            first = int(self.obs.offsets[j])
-            own = np.arange(first, first + len(mem), dtype=np.int64)
             if i in joined:
-                members = [js[x] for x in joined[i]]
+                together = [js[x] for x in joined[i]]
+                keys.append(("joined", *together))
+                plan.append((j, None, together))
+                changed = True
+                continue
+            if i in shared:
+                near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
+                pieces = self._divide(j, near)
+                if pieces is not None:
+                    changed = True
+                    keys.extend(p[4] for p in pieces)
+                    plan.append((j, pieces, None))
+                    continue
+            keys.append(j)
+            plan.append((j, None, None))
+        if not changed:
+            return None
+        key = tuple(keys)
+        found = self._partitions.get(key)
+        if found is not None:
+            return found
+        parts: list[tuple[FloatArray, IntArray]] = []
+        rows: list[IntArray] = []
+        shares: list[float] = []
+        origin: list[int] = []
+        offsets = self.obs.offsets
+        for j, divided, members in plan:
+            if divided is None and members is None:
+                parts.append((self.obs.cluster(j), self.obs.cluster_members(j)))
+                rows.append(np.arange(offsets[j], offsets[j + 1], dtype=np.int64))
+                shares.append(1.0)
+                origin.append(j)
+            elif divided is not None:  # the pieces of a divided observation
+                for pts, mem, own, share, _ in divided:
+                    parts.append((pts, mem))
+                    rows.append(own)
+                    shares.append(share)
+                    origin.append(j)
+            elif members is not None:  # observations joined into one
                 parts.append(
                     (
                         np.concatenate([self.obs.cluster(x) for x in members]),
@@ -377,57 +471,64 @@ class GroupBranches:
                     )
                 )
                 rows.append(
-                    np.concatenate(
-                        [np.arange(self.obs.offsets[x], self.obs.offsets[x + 1]) for x in members]
-                    ).astype(np.int64)
+                    np.concatenate([np.arange(offsets[x], offsets[x + 1]) for x in members]).astype(
+                        np.int64
+                    )
                 )
                 shares.append(float(len(members)))
-                keys.append(("joined", *members))
                 origin.append(j)
-                changed = True
-                continue
-            if i in shared:
-                near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
-                owner = _nearest_unit(pts, near)
-                if self.s.recluster_blobs:
-                    if self.obs.blobs is None:
-                        blobs = single_linkage(pts, self.s.d_hs)
-                    else:
-                        blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
-                    owner = _blob_majority(owner, blobs.astype(np.int64))
-                labels = np.unique(owner)
-                if labels.size >= 2:
-                    changed = True
-                    for u in labels.tolist():
-                        sel = owner == u
-                        parts.append((pts[sel], mem[sel]))
-                        rows.append(own[sel])
-                        shares.append(float(sel.sum()) / len(mem))
-                        keys.append((j, mem[sel].tobytes()))
-                        origin.append(j)
-                    continue
-            parts.append((pts, mem))
-            rows.append(own)
-            shares.append(1.0)
-            keys.append(j)
-            origin.append(j)
-        if not changed:
-            return None
-        key = tuple(keys)
-        if key not in self._partitions:
-            self._partitions[key] = BranchObservations(
-                GroupObservations.from_parts(
-                    parts,
-                    self.s.d_hs,
-                    shares,
-                    rows,
-                    self.s.counting,
-                    None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
-                ),
-                key,
-                tuple(origin),
-            )
-        return self._partitions[key]
+        made = BranchObservations(
+            GroupObservations.from_parts(
+                parts,
+                self.s.d_hs,
+                shares,
+                rows,
+                self.s.counting,
+                None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
+            ),
+            key,
+            tuple(origin),
+        )
+        self._partitions[key] = made
+        return made
+
+    def _divide(self, j: int, near: list[list[TrackNode]]) -> list[_Piece] | None:
+        """The pieces of scan observation ``j`` divided among the units ``near`` by the
+        nearest-track rule (Sec. 4.3), or None when every point goes to one unit; once
+        per scan for each observation and list of units."""
+        key = (j, tuple(unit[0].node_id for unit in near))
+        if key in self._divided:
+            return self._divided[key]
+        pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
+        first = int(self.obs.offsets[j])
+        own = np.arange(first, first + len(mem), dtype=np.int64)
+        owner = _nearest_unit(pts, near)
+        if self.s.recluster_blobs:
+            if self.obs.blobs is None:
+                blobs = single_linkage(pts, self.s.d_hs)
+            else:
+                blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
+            owner = _blob_majority(owner, blobs.astype(np.int64))
+        labels = np.unique(owner)
+        pieces: list[_Piece] | None = None
+        if labels.size >= 2:
+            pieces = []
+            for u in labels.tolist():
+                sel = owner == u
+                share = float(sel.sum()) / len(mem)
+                pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
+        self._divided[key] = pieces
+        return pieces
+
+
+def _bits(row: BoolArray) -> int:
+    """A boolean row (m,) as an int with bit i set where ``row[i]``."""
+    return int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
+
+
+_Piece = tuple[FloatArray, IntArray, IntArray, float, Hashable]
+"""A piece of a divided observation: points (K, 2), frame point indices (K,), rows in the
+scan's observations (K,), share of the observation, key."""
 
 
 def _blob_majority(owner: IntArray, blobs: IntArray) -> IntArray:

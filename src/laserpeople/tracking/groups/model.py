@@ -30,6 +30,11 @@ BoolArray = NDArray[np.bool_]
 
 H = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0]])
 """Measurement Jacobian of a contour point (000 eq. 23)."""
+SCORE_BLOCK = 400_000
+"""Most Mahalanobis distances (observed points x contour points) :class:`GroupModel` holds
+in memory at once when scoring (larger problems are scored in blocks of tracks)."""
+_ORIGIN = np.zeros((1, 2))
+_LOG_2PI_NEG = -math.log(2.0 * math.pi)
 H_TILDE = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
 """Measurement Jacobian of (centroid, n_hs) (000 eq. 31)."""
 
@@ -261,7 +266,6 @@ class GroupModel:
     def __init__(self, settings: GroupModelSettings) -> None:
         self.s = settings
         self._rows: dict[tuple[int, int], tuple[BoolArray, FloatArray]] = {}
-        self._dist: dict[tuple[int, int], tuple[IntArray, FloatArray, float]] = {}
         self.scan: GroupObservations | None = None
         """The scan's observations (set before each MHT step); re-clustered observation
         sets refer to its points."""
@@ -278,7 +282,6 @@ class GroupModel:
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict every node to ``stamp`` [s] (batched)."""
         self._rows.clear()
-        self._dist.clear()
         if not nodes:
             return
         means = np.stack([n.mean for n in nodes])
@@ -311,180 +314,224 @@ class GroupModel:
         could never explain one observation better than the tracks re-clustered; see
         docs/groups.md)."""
         t, m = len(nodes), len(measurements)
-        gated = np.zeros((t, m), dtype=bool)
-        loglik = np.full((t, m), -np.inf)
         if t == 0 or m == 0:
-            return gated, loglik
-        todo = [n for n in nodes if (n.node_id, id(measurements)) not in self._rows]
-        if measurements.source is None and len(todo) > 1 and not self.s.rms:
-            for node, made in zip(todo, self._score_rows(todo, measurements), strict=True):
-                self._rows[(node.node_id, id(measurements))] = made
-        for a, node in enumerate(nodes):
-            key = (node.node_id, id(measurements))
-            row = self._rows.get(key)
-            if row is None:
-                row = self._score_row(node, measurements)
-                self._rows[key] = row
-            gated[a], loglik[a] = row
-        return gated, loglik
+            return np.zeros((t, m), dtype=bool), np.full((t, m), -np.inf)
+        key = id(measurements)
+        rows = self._rows
+        todo = [n for n in nodes if (n.node_id, key) not in rows]
+        if todo:
+            batch = measurements.source is None and len(todo) > 1 and not self.s.rms
+            gated, loglik = self._score_nodes(todo, measurements, batch)
+            for node, g_row, ll_row in zip(todo, gated, loglik, strict=True):
+                rows[(node.node_id, key)] = (g_row, ll_row)
+            if len(todo) == t:
+                return gated, loglik
+        made = [rows[(n.node_id, key)] for n in nodes]
+        return np.stack([r[0] for r in made]), np.stack([r[1] for r in made])
 
-    def _score_rows(
-        self, nodes: Sequence[TrackNode], obs: GroupObservations
-    ) -> list[tuple[BoolArray, FloatArray]]:
-        """:meth:`_score_row` of many nodes against one observation set in one pass: the
-        (node, cluster) pairs that pass the pre-gate, every point of the cluster against
-        every contour point of the node in one flat array, and segment reductions for the
-        two directed averages of eq. 20 (the same numbers, without a numpy pass per node)."""
-        t, m = len(nodes), len(obs)
-        preds = [node_prediction(n) for n in nodes]
-        pos = np.stack([p[0][:2] for p in preds])
-        s_all = np.stack([p[1][:2, :2] for p in preds]) + self.s.r_point  # eq. 23
-        det = s_all[:, 0, 0] * s_all[:, 1, 1] - s_all[:, 0, 1] ** 2
-        contours = []
-        for node, p in zip(nodes, pos, strict=True):
-            c = group_payload(node).contour
-            contours.append(c + p if c.shape[0] else p[None, :])
-        k_t = np.array([c.shape[0] for c in contours], dtype=np.int64)
-        c_all = np.concatenate(contours)
-        c_off = np.concatenate([[0], np.cumsum(k_t)[:-1]])
-        owner_c = np.repeat(np.arange(t), k_t)
-        r_t = np.zeros(t)
-        np.maximum.at(r_t, owner_c, np.hypot(*(c_all - pos[owner_c]).T))
-        half_trace = 0.5 * (s_all[:, 0, 0] + s_all[:, 1, 1])
-        lam_max = half_trace + np.sqrt(np.maximum(half_trace**2 - det, 0.0))
-        reach = np.minimum(self.s.max_gap, np.sqrt(self.s.gate_sq * lam_max))
-        gap = (
-            np.hypot(
-                obs.centroids[None, :, 0] - pos[:, None, 0],
-                obs.centroids[None, :, 1] - pos[:, None, 1],
-            )
-            - obs.radii[None, :]
-            - r_t[:, None]
-        )
-        pt, pm = np.nonzero(gap <= reach[:, None])
-        out = [(np.zeros(m, dtype=bool), np.full(m, -np.inf)) for _ in range(t)]
-        if pt.size == 0:
-            return out
-        n_z = obs.sizes[pm]
-        n_c = k_t[pt]
-        size = n_z * n_c
-        start = np.concatenate([[0], np.cumsum(size)[:-1]])
-        pair = np.repeat(np.arange(pt.size), size)
-        o = np.arange(int(size.sum())) - start[pair]
-        zi = obs.offsets[pm][pair] + o // n_c[pair]
-        ci = c_off[pt][pair] + o % n_c[pair]
-        dx = obs.points[zi, 0] - c_all[ci, 0]
-        dy = obs.points[zi, 1] - c_all[ci, 1]
-        sp = s_all[pt][pair]
-        d = np.sqrt(
-            (sp[:, 1, 1] * dx * dx - 2.0 * sp[:, 0, 1] * dx * dy + sp[:, 0, 0] * dy * dy)
-            / det[pt][pair]
-        )  # eq. 21, entries in (pair, z, contour) order
-        z_starts = np.repeat(start, n_z) + (
-            np.arange(int(n_z.sum())) - np.repeat(np.cumsum(n_z) - n_z, n_z)
-        ) * np.repeat(n_c, n_z)
-        z_min = np.minimum.reduceat(d, z_starts)  # per (pair, z): nearest contour point
-        z_pair = np.concatenate([[0], np.cumsum(n_z)[:-1]])
-        z_to_p = np.add.reduceat(z_min, z_pair) / n_z  # d(Z, P), eq. 20
-        # the same entries in (pair, contour, z) order for d(P, Z)
-        o2 = o  # position within the pair, now read as contour-major
-        perm = start[pair] + (o2 % n_z[pair]) * n_c[pair] + o2 // n_z[pair]
-        d2 = d[perm]
-        c_starts = np.repeat(start, n_c) + (
-            np.arange(int(n_c.sum())) - np.repeat(np.cumsum(n_c) - n_c, n_c)
-        ) * np.repeat(n_z, n_c)
-        c_min = np.minimum.reduceat(d2, c_starts)
-        c_pair = np.concatenate([[0], np.cumsum(n_c)[:-1]])
-        p_to_z = np.add.reduceat(c_min, c_pair) / n_c  # d(P, Z)
-        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
-        ok = d_hd**2 <= self.s.gate_sq
-        log_norm = -math.log(2.0 * math.pi) - 0.5 * np.log(det[pt])
-        ll = obs.share[pm] * (self.s.log_p_match + log_norm - 0.5 * d_hd**2)
-        ll -= self.s.log_p_match  # eq. 24, a part counting its share
-        for k in np.nonzero(ok)[0].tolist():
-            row = out[int(pt[k])]
-            row[0][pm[k]] = True
-            row[1][pm[k]] = ll[k]
-        return out
+    def score_apart(self, nodes: Sequence[TrackNode], measurements: GroupObservations) -> None:
+        """Remember the rows of ``nodes`` against ``measurements`` as :meth:`score` of each
+        node alone would make them (the same roundings), in one pass."""
+        key = id(measurements)
+        todo = [n for n in nodes if (n.node_id, key) not in self._rows]
+        if not todo or len(measurements) == 0:
+            return
+        gated, loglik = self._score_nodes(todo, measurements, False)
+        for node, g_row, ll_row in zip(todo, gated, loglik, strict=True):
+            self._rows[(node.node_id, key)] = (g_row, ll_row)
 
-    def _score_row(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
-        """Gate and log N_i (M,) of one node against every cluster (eqs. 19-24).
+    def _score_nodes(
+        self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
+    ) -> tuple[BoolArray, FloatArray]:
+        """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` (eqs.
+        19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
+        if len(nodes) == 1 and not batch and obs.source is None:
+            return self._score_one(nodes[0], obs)
+        sizes = [max(len(group_payload(n).contour), 1) for n in nodes]
+        n_points = max(len(obs.points), 1)
+        if n_points * sum(sizes) <= SCORE_BLOCK:
+            return self._score_block(nodes, obs, batch)
+        blocks: list[tuple[BoolArray, FloatArray]] = []
+        start, width = 0, 0
+        for end, k in enumerate(sizes):
+            if width and (width + k) * n_points > SCORE_BLOCK:
+                blocks.append(self._score_block(nodes[start:end], obs, batch))
+                start, width = end, 0
+            width += k
+        blocks.append(self._score_block(nodes[start:], obs, batch))
+        return np.concatenate([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks])
 
-        The Mahalanobis distances D (eq. 21) between the node's predicted contour and the
-        points of the scan's clusters near it are computed once per node and scan; a
-        model's re-clustered observations (``obs.source`` set) reuse them."""
+    def _score_one(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
+        """:meth:`_score_block` of one track against the scan's own observations, with
+        scalars where the block has arrays (the same operations, the same numbers)."""
         m = len(obs)
-        gated = np.zeros(m, dtype=bool)
-        loglik = np.full(m, -np.inf)
-        base = self.scan if obs.source is not None and self.scan is not None else obs
-        rows = obs.source if base is not obs else np.arange(len(obs.points))
-        assert rows is not None
-        key = (node.node_id, id(base))
-        cached = self._dist.get(key)
-        if cached is None:
-            cached = self._distances(node, base)
-            self._dist[key] = cached
-        row_pos, d, det = cached
-        pos = row_pos[rows]
-        counts = obs.sizes
-        owner = np.repeat(np.arange(m), counts)
-        far = np.zeros(m, dtype=bool)
-        far[owner[pos < 0]] = True
-        near = np.nonzero(~far & (counts > 0))[0]
-        if near.size == 0:
-            return gated, loglik
-        keep = ~far[owner]
-        sub = d[pos[keep]]
-        local = np.concatenate([[0], np.cumsum(counts[near])[:-1]])
-        if self.s.rms:  # root mean square of the nearest distances
-            z_to_p = np.sqrt(np.add.reduceat(sub.min(axis=1) ** 2, local) / counts[near])
-            p_to_z = np.sqrt((np.minimum.reduceat(sub, local, axis=0) ** 2).mean(axis=1))
-        else:
-            z_to_p = np.add.reduceat(sub.min(axis=1), local) / counts[near]  # d(Z, P), eq. 20
-            p_to_z = np.minimum.reduceat(sub, local, axis=0).mean(axis=1)  # d(P, Z)
-        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
-        ok = d_hd**2 <= self.s.gate_sq
-        gated[near[ok]] = True
-        log_norm = -math.log(2.0 * math.pi) - 0.5 * math.log(det)
-        ll = log_norm - 0.5 * d_hd[ok] ** 2  # eq. 24
-        w = obs.share[near[ok]]
-        loglik[near[ok]] = w * (self.s.log_p_match + ll) - self.s.log_p_match
-        return gated, loglik
-
-    def _distances(
-        self, node: TrackNode, obs: GroupObservations
-    ) -> tuple[IntArray, FloatArray, float]:
-        """D (eq. 21) of the points of the clusters near the node's predicted contour:
-        the row of each point of ``obs`` in the matrix (-1: not near), the matrix (Q, K)
-        and det S."""
+        gated = np.zeros((1, m), dtype=bool)
+        loglik = np.full((1, m), -np.inf)
         mean, cov = node_prediction(node)
         pos = mean[:2]
-        contour = group_payload(node).contour + pos
-        if contour.shape[0] == 0:
-            contour = pos[None, :]
-        r_t = float(np.max(np.hypot(*(contour - pos).T)))
-        s = self.innovation_cov(cov)
-        det = float(s[0, 0] * s[1, 1] - s[0, 1] ** 2)
-        # no point of a cluster whose bounding circle is more than sqrt(gate * largest
-        # eigenvalue of S) from the contour's can be gated: every distance of eq. 21 and
-        # so both averages of eq. 20 exceed the gate (exact, not an approximation)
-        half_trace = 0.5 * (s[0, 0] + s[1, 1])
-        lam_max = half_trace + math.sqrt(max(half_trace**2 - det, 0.0))
+        s = cov[:2, :2] + self.s.r_point  # eq. 23
+        s00, s01, s11 = float(s[0, 0]), float(s[0, 1]), float(s[1, 1])
+        det = s00 * s11 - s01 * s01
+        contour = group_payload(node).contour
+        c_abs = (contour if contour.shape[0] else _ORIGIN) + pos
+        r_t = float(np.max(np.hypot(*(c_abs - pos).T)))
+        half_trace = 0.5 * (s00 + s11)
+        lam_max = half_trace + math.sqrt(max(half_trace * half_trace - det, 0.0))
         reach = min(self.s.max_gap, math.sqrt(self.s.gate_sq * lam_max))
-        gap = np.hypot(*(obs.centroids - pos).T) - obs.radii - r_t
-        near = np.nonzero(gap <= reach)[0]
-        row_pos = np.full(len(obs.points), -1, dtype=np.int64)
+        counts = obs.sizes
+        gap = np.hypot(obs.centroids[:, 0] - pos[0], obs.centroids[:, 1] - pos[1])
+        near = np.nonzero((gap - obs.radii - r_t <= reach) & (counts > 0))[0]
         if near.size == 0:
-            return row_pos, np.empty((0, contour.shape[0])), det
-        starts = obs.offsets[near]
-        counts = obs.offsets[near + 1] - starts
-        rows = np.repeat(starts - np.cumsum(np.concatenate([[0], counts[:-1]])), counts)
-        rows = rows + np.arange(int(counts.sum()))  # the near clusters' point indices
-        row_pos[rows] = np.arange(rows.size)
-        diff = obs.points[rows][:, None, :] - contour[None, :, :]
-        dx, dy = diff[..., 0], diff[..., 1]
-        d = np.sqrt((s[1, 1] * dx * dx - 2.0 * s[0, 1] * dx * dy + s[0, 0] * dy * dy) / det)
-        return row_pos, d, det
+            return gated, loglik
+        n_z = counts[near]
+        points = obs.points if near.size == m else obs.points[_ranges(obs.offsets[near], n_z)]
+        z_start = np.cumsum(n_z) - n_z
+        dx = np.subtract.outer(points[:, 0], c_abs[:, 0])
+        dy = np.subtract.outer(points[:, 1], c_abs[:, 1])
+        q = np.multiply(dx, s11)  # D^2 det S (eq. 21), as in _score_block
+        q *= dx
+        tmp = np.multiply(dx, 2.0 * s01, out=dx)
+        tmp *= dy
+        q -= tmp
+        tmp = np.multiply(dy, s00, out=tmp)
+        tmp *= dy
+        q += tmp
+        z_min = np.sqrt(q.min(axis=1) / det)
+        c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / det)
+        if self.s.rms:
+            z_min, c_min = z_min**2, c_min**2
+        z_to_p = np.add.reduceat(z_min, z_start) / n_z  # d(Z, P), eq. 20
+        p_to_z = c_min.mean(axis=1)  # d(P, Z)
+        if self.s.rms:
+            z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
+        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
+        ok = d_hd**2 <= self.s.gate_sq
+        lpm = self.s.log_p_match
+        log_norm = _LOG_2PI_NEG - 0.5 * math.log(det)
+        ll = obs.share[near] * (lpm + (log_norm - 0.5 * d_hd**2)) - lpm  # eq. 24
+        gated[0, near] = ok
+        loglik[0, near] = np.where(ok, ll, -np.inf)
+        return gated, loglik
+
+    def _score_block(
+        self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
+    ) -> tuple[BoolArray, FloatArray]:
+        """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` in one
+        pass (eqs. 19-24): the Mahalanobis distances D (eq. 21) of every point of the
+        clusters near some node to every predicted contour point of the nodes near some
+        cluster, one dense matrix, and segment reductions (``reduceat``) over contour
+        points (nearest contour point of each observed point, per node) and over
+        observed points (nearest observed point of each contour point, per cluster) for
+        the two directed averages of eq. 20.
+
+        Only (node, cluster) pairs within reach are scored: no point of a cluster whose
+        bounding circle is more than sqrt(gate * largest eigenvalue of S) from the
+        contour's can be gated, as every distance of eq. 21 and so both averages of eq.
+        20 exceed the gate (exact, not an approximation; ``max_gap`` caps the reach). For
+        a model's re-clustered observations (``obs.source`` set) the reach is that of the
+        scan's clusters the points came from, so a part scores exactly when its
+        observation would."""
+        t, m = len(nodes), len(obs)
+        gated = np.zeros((t, m), dtype=bool)
+        loglik = np.full((t, m), -np.inf)
+        preds = [node_prediction(n) for n in nodes]
+        pos = np.array([p[0][:2] for p in preds])
+        s = np.array([p[1][:2, :2] for p in preds]) + self.s.r_point  # eq. 23
+        s00, s01, s11 = s[:, 0, 0], s[:, 0, 1], s[:, 1, 1]
+        det = s00 * s11 - s01**2
+        contours = [group_payload(n).contour for n in nodes]
+        k_t = np.array([max(c.shape[0], 1) for c in contours], dtype=np.int64)
+        owner = np.repeat(np.arange(t), k_t)
+        rel = np.concatenate([c if c.shape[0] else _ORIGIN for c in contours])
+        c_abs = rel + pos[owner]  # the predicted contours, absolute (eq. 22)
+        c_start = np.cumsum(k_t) - k_t
+        r_t = np.maximum.reduceat(np.hypot(*(c_abs - pos[owner]).T), c_start)
+        half_trace = 0.5 * (s00 + s11)
+        lam_max = half_trace + np.sqrt(np.maximum(half_trace**2 - det, 0.0))
+        reach = np.minimum(self.s.max_gap, np.sqrt(self.s.gate_sq * lam_max))
+        base = self.scan if obs.source is not None and self.scan is not None else obs
+        gap = (
+            np.hypot(
+                base.centroids[None, :, 0] - pos[:, None, 0],
+                base.centroids[None, :, 1] - pos[:, None, 1],
+            )
+            - base.radii[None, :]
+            - r_t[:, None]
+        )
+        near = gap <= reach[:, None]  # (T, M) of the scan's clusters
+        counts = obs.sizes
+        if base is not obs:  # a part is near when every point's scan cluster is
+            assert obs.source is not None
+            cluster_of = np.repeat(np.arange(len(base)), base.sizes)[obs.source]
+            near = np.logical_and.reduceat(near[:, cluster_of], obs.offsets[:-1], axis=1)
+        near &= counts[None, :] > 0
+        rows_t = np.nonzero(near.any(axis=1))[0]
+        cols_m = np.nonzero(near.any(axis=0))[0]
+        if rows_t.size == 0:
+            return gated, loglik
+        # the observed points of the clusters near some node
+        if cols_m.size == m:
+            points, n_z = obs.points, counts
+        else:
+            n_z = counts[cols_m]
+            points = obs.points[_ranges(obs.offsets[cols_m], n_z)]
+        z_start = np.cumsum(n_z) - n_z
+        # the contour points of the nodes near some cluster
+        if rows_t.size == t:
+            n_c, cols_c = k_t, c_abs
+            ds00, ds01, ds11, ddet = s00, s01, s11, det
+        else:
+            n_c = k_t[rows_t]
+            cols_c = c_abs[_ranges(c_start[rows_t], n_c)]
+            ds00, ds01, ds11, ddet = s00[rows_t], s01[rows_t], s11[rows_t], det[rows_t]
+        col_owner = np.repeat(np.arange(rows_t.size), n_c)
+        n_start = np.cumsum(n_c) - n_c
+        dx = np.subtract.outer(points[:, 0], cols_c[:, 0])
+        dy = np.subtract.outer(points[:, 1], cols_c[:, 1])
+        # D^2 det S (eq. 21) = s11 dx dx - 2 s01 dx dy + s00 dy dy, in place (the same
+        # operations in the same order); the square root and the division are monotonic,
+        # so they are taken after the minima (the same numbers as before the minima)
+        q = np.multiply(dx, ds11[col_owner])
+        q *= dx
+        tmp = np.multiply(dx, (2.0 * ds01)[col_owner], out=dx)
+        tmp *= dy
+        q -= tmp
+        tmp = np.multiply(dy, ds00[col_owner], out=tmp)
+        tmp *= dy
+        q += tmp
+        z_min = np.sqrt(np.minimum.reduceat(q, n_start, axis=1) / ddet[None, :])  # (Z, T')
+        c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / ddet[col_owner])  # (M', K)
+        if self.s.rms:  # root mean square of the nearest distances
+            z_min, c_min = z_min**2, c_min**2
+        z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
+        if batch:
+            p_to_z = np.add.reduceat(c_min, n_start, axis=1) / n_c[None, :]  # d(P, Z)
+        elif rows_t.size == 1:  # the same mean, summed in numpy's order for a row
+            p_to_z = c_min.mean(axis=1)[:, None]
+        else:
+            ends = (n_start + n_c).tolist()
+            p_to_z = np.column_stack(
+                [c_min[:, a:b].mean(axis=1) for a, b in zip(n_start.tolist(), ends, strict=True)]
+            )
+        if self.s.rms:
+            z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
+        d_hd = np.minimum(z_to_p, p_to_z).T  # eq. 19, (T', M')
+        sub_near = near if cols_m.size == m and rows_t.size == t else near[rows_t][:, cols_m]
+        ok = sub_near & (d_hd**2 <= self.s.gate_sq)
+        w = obs.share[cols_m][None, :]
+        lpm = self.s.log_p_match
+        if batch:  # eq. 24, a part counting its share
+            log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)
+            sub_ll = w * (lpm + log_norm[:, None] - 0.5 * d_hd**2) - lpm
+        else:
+            log_norm = np.array([_LOG_2PI_NEG - 0.5 * math.log(d) for d in ddet.tolist()])
+            sub_ll = w * (lpm + (log_norm[:, None] - 0.5 * d_hd**2)) - lpm
+        sub_ll = np.where(ok, sub_ll, -np.inf)
+        if rows_t.size == t and cols_m.size == m:
+            return ok, sub_ll
+        gated[np.ix_(rows_t, cols_m)] = ok
+        loglik[np.ix_(rows_t, cols_m)] = sub_ll
+        return gated, loglik
 
     # -- update, coast, initiate
     def update(
@@ -538,6 +585,13 @@ class GroupModel:
                 (mean, cov, GroupPayload(contour, (), measurements.cluster_members(j).copy()))
             )
         return out
+
+
+def _ranges(starts: IntArray, lengths: IntArray) -> IntArray:
+    """The concatenated ranges ``starts[i] .. starts[i] + lengths[i] - 1`` (sum of lengths,)."""
+    total = int(lengths.sum())
+    shift = starts - (np.cumsum(lengths) - lengths)
+    return np.asarray(np.repeat(shift, lengths) + np.arange(total), dtype=np.int64)
 
 
 def node_prediction(node: TrackNode) -> tuple[FloatArray, FloatArray]:

@@ -195,7 +195,9 @@ def linkage_levels(points: FloatArray, distances: Sequence[float]) -> list[IntAr
     for d in distances:
         link = pairs[length < d]
         root = _components(n, link[:, 0], link[:, 1])
-        out.append(np.unique(root, return_inverse=True)[1].astype(np.int64).reshape(n))
+        # each component's smallest index is its root: number the roots in index order
+        rank = np.cumsum(root == np.arange(n)) - 1
+        out.append(rank[root].astype(np.int64))
     return out
 
 

@@ -43,6 +43,10 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
+LABEL_MEMO = 4096
+"""Label sets whose displayed and formatted forms a tracker remembers (then forgets all)."""
+
+
 @dataclass(frozen=True)
 class GroupTrackerParams:
     """Parameters of the group tracker (000 Sec. 4)."""
@@ -324,6 +328,8 @@ class GroupMHTTracker:
         )
         self.mht.branches = self.branches
         self._roots: dict[int, str] = {}  # root family -> reported number
+        self._shown: dict[tuple[str, ...], tuple[str, ...]] = {}  # labels -> display_labels
+        self._formatted: dict[tuple[str, ...], str] = {}  # display labels -> format_labels
         self._reported: set[int] = set()
         self.events: list[GroupEvent] = []
         self.last_stats: StepStats | None = None
@@ -339,12 +345,18 @@ class GroupMHTTracker:
     def display_labels(self, labels: tuple[str, ...]) -> tuple[str, ...]:
         """Labels as reported: each root family is numbered 0, 1, ... in the order the
         groups are first reported (000's naming: ``0`` -> ``0-0``, ``0-1`` on a split)."""
+        shown = self._shown.get(labels)
+        if shown is not None:  # its roots are numbered already; numbers never change
+            return shown
         out = []
         for label in labels:
             root, _, rest = label.partition("-")
             number = self._roots.setdefault(int(root), str(len(self._roots)))
             out.append(f"{number}-{rest}" if rest else number)
-        return sort_labels(out)
+        if len(self._shown) >= LABEL_MEMO:
+            self._shown.clear()
+        shown = self._shown[labels] = sort_labels(out)
+        return shown
 
     def observe(self, frame: Frame) -> GroupObservations:
         """The observation clusters of a frame's foreground points (Sec. 4.1)."""
@@ -404,13 +416,22 @@ class GroupMHTTracker:
                     velocity=node.mean[2:4],
                     covariance=node.cov[:2, :2],
                     size=max(1, round(float(node.mean[4]))),
-                    labels=format_labels(labels),
+                    labels=self._format(labels),
                     score=probs.get(node.family, 1.0),
                     contour=contour,
                 )
             )
         self.last_groups = groups
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    def _format(self, labels: tuple[str, ...]) -> str:
+        """:func:`format_labels`, remembered."""
+        text = self._formatted.get(labels)
+        if text is None:
+            if len(self._formatted) >= LABEL_MEMO:
+                self._formatted.clear()
+            text = self._formatted[labels] = format_labels(labels)
+        return text
 
     def _record(self, event: GroupEvent) -> None:
         """Append ``event`` unless it is the second half of a split already recorded at

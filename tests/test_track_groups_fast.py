@@ -1,0 +1,193 @@
+"""The group tracker's fast paths against the per-equation reference: the one-pass score
+of many tracks (dense distances, segment reductions, blocks) is eqs. 19-24 computed per
+track and cluster with the reach pre-gate; the same for a model's re-clustered parts, for
+the root-mean-square variant, and whatever the block size."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.tracking.groups import GroupObservations, GroupTrackerParams
+from laserpeople.tracking.groups import model as model_mod
+from laserpeople.tracking.groups.model import (
+    GroupModel,
+    GroupPayload,
+    min_average_hausdorff,
+    observation_log_likelihood,
+)
+from laserpeople.tracking.mht.tracktree import TrackNode
+
+
+def _scene(seed: int) -> tuple[list[TrackNode], GroupObservations]:
+    """Tracks (some with empty contours, some far from every cluster) and a scan."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(-4.0, 4.0, (6, 2))
+    pts = np.concatenate([rng.normal(c, 0.25, (int(rng.integers(3, 14)), 2)) for c in centres])
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 0.6, 0.3)
+    nodes = []
+    for i in range(9):
+        centre = centres[i % 6] + rng.normal(0.0, 0.4, 2) if i < 8 else np.array([30.0, 0.0])
+        k = 0 if i % 4 == 3 else int(rng.integers(1, 12))
+        contour = rng.normal(0.0, 0.25, (k, 2))
+        mean = np.array([*centre, rng.normal(0, 0.3), rng.normal(0, 0.3), 2.0])
+        cov = np.diag(rng.uniform(0.01, 0.4, 5))
+        nodes.append(TrackNode(i, i, -1, mean, cov, 0.0, "new", payload=GroupPayload(contour)))
+    return nodes, obs
+
+
+def _reference(
+    model: GroupModel, nodes: list[TrackNode], obs: GroupObservations, scan: GroupObservations
+) -> tuple[np.ndarray, np.ndarray]:
+    """Gate and log-likelihood per (track, cluster) from eqs. 19-24 (one cluster and one
+    track at a time), with the reach pre-gate on the clusters of ``scan`` the points of
+    each cluster came from."""
+    st = model.s
+    gated = np.zeros((len(nodes), len(obs)), dtype=bool)
+    loglik = np.full((len(nodes), len(obs)), -np.inf)
+    source = obs.source if obs.source is not None else np.arange(len(obs.points))
+    scan_cluster = np.repeat(np.arange(len(scan)), scan.sizes)
+    for a, node in enumerate(nodes):
+        assert node.pred_mean is not None and node.pred_cov is not None
+        pos = node.pred_mean[:2]
+        contour = node.payload.contour + pos
+        if contour.shape[0] == 0:
+            contour = pos[None, :]
+        s = model.innovation_cov(node.pred_cov)
+        lam = float(np.linalg.eigvalsh(s).max())
+        reach = min(st.max_gap, math.sqrt(st.gate_sq * lam))
+        r_t = float(np.max(np.hypot(*(contour - pos).T)))
+        for i in range(len(obs)):
+            rows = source[obs.offsets[i] : obs.offsets[i + 1]]
+            near = all(
+                math.hypot(*(scan.centroids[c] - pos)) - scan.radii[c] - r_t <= reach
+                for c in np.unique(scan_cluster[rows])
+            )
+            if not near:
+                continue
+            z = obs.cluster(i)
+            if st.rms:
+                from laserpeople.tracking.groups.model import _whitened_distances
+
+                d2 = _whitened_distances(z, contour, s)
+                d = min(
+                    math.sqrt(np.mean(d2.min(axis=1) ** 2)), math.sqrt(np.mean(d2.min(axis=0) ** 2))
+                )
+            else:
+                d = min_average_hausdorff(z, contour, s)
+            if d**2 <= st.gate_sq:
+                gated[a, i] = True
+                w = obs.share[i]
+                ll = observation_log_likelihood(d, s)
+                loglik[a, i] = w * (st.log_p_match + ll) - st.log_p_match
+    return gated, loglik
+
+
+def _check(model: GroupModel, nodes: list[TrackNode], obs: GroupObservations, scan) -> None:  # type: ignore[no-untyped-def]
+    ref_g, ref_ll = _reference(model, nodes, obs, scan)
+    gated, loglik = model.score(nodes, obs)
+    np.testing.assert_array_equal(gated, ref_g)
+    np.testing.assert_allclose(loglik[gated], ref_ll[ref_g], rtol=0, atol=1e-9)
+    assert np.all(np.isneginf(loglik[~gated]))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+@pytest.mark.parametrize("rms", [False, True])
+def test_one_pass_score_equals_eq19_24_per_track(seed: int, rms: bool) -> None:
+    params = replace(GroupTrackerParams(), hausdorff="rms" if rms else "mean")
+    nodes, obs = _scene(seed)
+    model = GroupModel(params.model_settings())
+    model.predict(nodes, 0.2)
+    model.scan = obs
+    _check(model, nodes, obs, obs)
+    assert model.score(nodes, obs)[0].sum() >= 3
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_one_pass_score_with_a_short_reach_cap(seed: int) -> None:
+    """``max_gap`` below the gate's reach cuts pairs (the cap is not exact): the fast path
+    cuts the same pairs."""
+    settings = replace(GroupTrackerParams().model_settings(), max_gap=0.3)
+    nodes, obs = _scene(seed)
+    model = GroupModel(settings)
+    model.predict(nodes, 0.5)
+    model.scan = obs
+    _check(model, nodes, obs, obs)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_one_pass_score_of_reclustered_parts(seed: int) -> None:
+    """A model's parts (each cluster cut in two, one pair of clusters joined) score as
+    eqs. 19-24 on their own points, with the reach of the scan clusters they came from."""
+    nodes, scan = _scene(seed)
+    model = GroupModel(GroupTrackerParams().model_settings())
+    model.predict(nodes, 0.2)
+    model.scan = scan
+    parts, rows, shares = [], [], []
+    for i in range(1, len(scan)):
+        own = np.arange(scan.offsets[i], scan.offsets[i + 1])
+        left = scan.points[own, 0] < scan.centroids[i, 0]
+        for sel in (left, ~left):
+            if sel.any():
+                parts.append((scan.points[own[sel]], scan.members[own[sel]]))
+                rows.append(own[sel])
+                shares.append(float(sel.sum()) / own.size)
+    joined = np.concatenate([np.arange(scan.offsets[0], scan.offsets[2])])
+    parts.append((scan.points[joined], scan.members[joined]))
+    rows.append(joined)
+    shares.append(2.0)
+    obs = GroupObservations.from_parts(
+        parts, 0.3, shares, rows, None, scan.blobs[np.concatenate(rows)]
+    )
+    _check(model, nodes, obs, scan)
+
+
+def test_score_in_blocks_equals_one_block(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Scoring in blocks of tracks (large scans) gives the same numbers as one block."""
+    nodes, obs = _scene(5)
+    settings = GroupTrackerParams().model_settings()
+    whole = GroupModel(settings)
+    whole.predict(nodes, 0.2)
+    g1, l1 = whole.score(nodes, obs)
+    monkeypatch.setattr(model_mod, "SCORE_BLOCK", 40)
+    blocks = GroupModel(settings)
+    blocks.predict(nodes, 0.2)
+    g2, l2 = blocks.score(nodes, obs)
+    np.testing.assert_array_equal(g1, g2)
+    np.testing.assert_array_equal(l1, l2)
+
+
+def test_remembered_rows_are_returned_for_any_order_of_tracks() -> None:
+    """Rows remembered from an earlier call are the ones a new call in another order
+    returns (the MHT core asks for subsets of the live tracks)."""
+    nodes, obs = _scene(6)
+    model = GroupModel(GroupTrackerParams().model_settings())
+    model.predict(nodes, 0.2)
+    g, ll = model.score(nodes, obs)
+    order = [4, 0, 7, 2]
+    g2, ll2 = model.score([nodes[i] for i in order], obs)
+    np.testing.assert_array_equal(g2, g[order])
+    np.testing.assert_array_equal(ll2, ll[order])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("rms", [False, True])
+def test_score_of_one_track_alone_equals_eq19_24(seed: int, rms: bool) -> None:
+    """A track scored alone (the one-track path) gives eqs. 19-24, and the same numbers
+    as the same track scored with others by :meth:`GroupModel.score_apart`."""
+    params = replace(GroupTrackerParams(), hausdorff="rms" if rms else "mean")
+    nodes, obs = _scene(seed)
+    alone = GroupModel(params.model_settings())
+    alone.predict(nodes, 0.2)
+    for node in nodes:
+        _check(alone, [node], obs, obs)
+    together = GroupModel(params.model_settings())
+    together.predict(nodes, 0.2)
+    together.score_apart(nodes, obs)
+    g1, l1 = alone.score(nodes, obs)
+    g2, l2 = together.score(nodes, obs)
+    np.testing.assert_array_equal(g1, g2)
+    np.testing.assert_array_equal(l1, l2)

@@ -309,25 +309,30 @@ class OccupancyGrid:
         self._origin, self._evidence, self._touched, self._since = new_lo, ev, touched, since
         self._seen_free, self._first_sight = seen_free, first
 
-    def _decayed(self, i: IntArray, j: IntArray, stamp: float) -> FloatArray:
-        dt = np.maximum(stamp - self._touched[i, j], 0.0)
-        return np.asarray(self._evidence[i, j] * np.exp(-dt / self.params.decay_time))
+    def _decayed(self, flat: IntArray, stamp: float) -> FloatArray:
+        """Evidence of the cells ``flat`` (flat indices into the arrays) decayed to ``stamp``."""
+        dt = np.maximum(stamp - np.take(self._touched, flat), 0.0)
+        return np.asarray(np.take(self._evidence, flat) * np.exp(-dt / self.params.decay_time))
+
+    def _flat(self, cells: IntArray) -> IntArray:
+        """Flat indices into the arrays of ``cells`` (K, 2) (which they must hold)."""
+        w = self._evidence.shape[1]
+        return np.asarray((cells[:, 0] - self._origin[0]) * w + (cells[:, 1] - self._origin[1]))
 
     # ------------------------------------------------------------------ learning
 
-    def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
-        """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
-        (N, 2) pass through, sampled every ``resolution`` from half a cell on, up to
-        ``free_margin`` before the return and at most ``free_range`` from the sensor
-        (vectorised over beams: the samples of all beams in one flat array, beam after
-        beam)."""
+    def _beam_samples(self, origins: FloatArray, points: FloatArray) -> tuple[FloatArray, ...]:
+        """Points ``(x, y)`` every ``resolution`` along the beams from ``origins`` (N, 2) to
+        their returns ``points`` (N, 2), from half a cell on, up to ``free_margin`` before
+        the return and at most ``free_range`` from the sensor (vectorised over beams: the
+        samples of all beams in one flat array, beam after beam)."""
         p = self.params
         d = points - origins
         r = np.hypot(d[:, 0], d[:, 1])
         reach = np.minimum(r - p.free_margin, p.free_range)
         keep = reach > 0
         if not keep.any():
-            return np.zeros((0, 2), dtype=np.int64)
+            return np.zeros(0), np.zeros(0)
         res = p.resolution
         u = d[keep] / r[keep, None]
         steps = np.arange(0.5 * res, float(reach[keep].max()), res)
@@ -336,8 +341,13 @@ class OccupancyGrid:
         start = np.cumsum(counts) - counts
         step = steps[np.arange(beam.size) - np.repeat(start, counts)]
         o = origins[keep]
-        xs = o[beam, 0] + u[beam, 0] * step
-        ys = o[beam, 1] + u[beam, 1] * step
+        return o[beam, 0] + u[beam, 0] * step, o[beam, 1] + u[beam, 1] * step
+
+    def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
+        """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
+        (N, 2) pass through (see :meth:`_beam_samples`)."""
+        xs, ys = self._beam_samples(origins, points)
+        res = self.params.resolution
         return np.stack([np.floor(xs / res), np.floor(ys / res)], axis=1).astype(np.int64)
 
     def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
@@ -359,35 +369,42 @@ class OccupancyGrid:
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
-        cells = _unique_cells(self._cells(pts))
-        free = np.zeros((0, 2), dtype=np.int64)
-        if origins is not None and p.free_range > 0:
+        cells = self._cells(pts)
+        casting = origins is not None and p.free_range > 0
+        if origins is not None and casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
-            # those cells first (the corners of the sensors' bounding box suffice)
+            # those cells too (the corners of the sensors' bounding box suffice)
             corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
             self._ensure(np.vstack([cells, corners]))
-            free = self._free_cells(origins, pts)
-        self._ensure(cells)
-        i, j = (cells - self._origin).T
-        if free.shape[0]:
-            w = self._seen_free.shape[1]
-            flat = (free[:, 0] - self._origin[0]) * w + (free[:, 1] - self._origin[1])
-            kept = self._seen_free[i, j]  # a cell with a return in this frame is not free
-            np.put(self._seen_free, flat, stamp)
-            self._seen_free[i, j] = kept
-        before = self._decayed(i, j, stamp)
+        else:
+            self._ensure(cells)
+        hit = np.unique(self._flat(cells))  # each cell with a return once
+        if origins is not None and casting:
+            xs, ys = self._beam_samples(origins, pts)
+            if xs.size:
+                res = p.resolution
+                w = self._seen_free.shape[1]
+                free = (np.floor(xs / res).astype(np.int64) - self._origin[0]) * w + (
+                    np.floor(ys / res).astype(np.int64) - self._origin[1]
+                )
+                kept = np.take(self._seen_free, hit)  # a cell with a return now is not free
+                np.put(self._seen_free, free, stamp)
+                np.put(self._seen_free, hit, kept)
+        before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
         now = after >= p.occupied_evidence
-        self._evidence[i, j] = after
-        self._touched[i, j] = stamp
-        since = self._since[i, j]
+        np.put(self._evidence, hit, after)
+        np.put(self._touched, hit, stamp)
+        since = np.take(self._since, hit)
         kept_since = was & ~np.isnan(since)
-        self._since[i, j] = np.where(kept_since, since, np.where(now, stamp, np.nan))
-        arrived = stamp - self._seen_free[i, j] <= p.arrival_window
-        self._first_sight[i, j] = np.where(
-            kept_since, self._first_sight[i, j], now & self.casting & ~arrived
+        np.put(self._since, hit, np.where(kept_since, since, np.where(now, stamp, np.nan)))
+        arrived = stamp - np.take(self._seen_free, hit) <= p.arrival_window
+        np.put(
+            self._first_sight,
+            hit,
+            np.where(kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived),
         )
 
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -408,11 +425,11 @@ class OccupancyGrid:
             ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
             t = np.zeros(i.size)
             if ok.any():
-                ii, jj = i[ok], j[ok]
-                occ = self._decayed(ii, jj, self.stamp) >= p.occupied_evidence
-                since = self._since[ii, jj]
+                flat = i[ok] * w + j[ok]
+                occ = self._decayed(flat, self.stamp) >= p.occupied_evidence
+                since = np.take(self._since, flat)
                 tk = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
-                held = self._first_sight[ii, jj] & (tk >= p.first_sight_hold)
+                held = np.take(self._first_sight, flat) & (tk >= p.first_sight_hold)
                 t[ok] = np.where(held, tk + p.first_sight_static, tk)
             out = np.maximum(t.reshape(pos.shape[0], -1).max(axis=1), 0.0)
         if self.prior is not None and pos.shape[0]:
@@ -430,17 +447,6 @@ class OccupancyGrid:
         self.learn(points.points, frame.stamp, sensor_positions(frame, points))
         foreground = self.static_time(points.points) < self.params.background_time
         return replace(frame, points=points, foreground=foreground)
-
-
-def _unique_cells(cells: IntArray) -> IntArray:
-    """The distinct rows of ``cells`` (K, 2), in lexicographic order (as
-    ``np.unique(cells, axis=0)``, through one integer key per row: far cheaper)."""
-    if cells.shape[0] == 0:
-        return cells.reshape(0, 2)
-    lo = cells.min(axis=0)
-    span = int(cells[:, 1].max() - lo[1]) + 1
-    key = np.unique((cells[:, 0] - lo[0]) * span + (cells[:, 1] - lo[1]))
-    return np.stack([key // span + lo[0], key % span + lo[1]], axis=1)
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

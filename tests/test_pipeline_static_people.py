@@ -345,3 +345,31 @@ def test_track_reads_the_static_world_sections(recording: Path, tmp_path: Path) 
     )
     assert result.exit_code == 0, result.output
     assert "[sensor_motion] is read by another command" in result.output
+
+
+def test_the_foreground_is_skipped_only_when_nobody_reads_it(recording: Path) -> None:
+    """The leg MHT does not read the foreground: its people model then learns without
+    computing it, and answers the same static times."""
+    frames = _frames(7.0)  # the walls are background after the first-sight hold (6 s)
+    full, lean = PeopleStaticModel("auto"), PeopleStaticModel("auto")
+    lean.fill_foreground = False
+    fuse = Fuse()
+    for f in frames:
+        a, b = full(fuse(f)), lean(fuse(f))
+        assert a.foreground is not None and b.foreground is not None
+        assert b.foreground.all()  # Fuse's, untouched
+        q = np.vstack([CHAIR, _walker(f.stamp)])
+        np.testing.assert_array_equal(full.static_time(q), lean.static_time(q))
+    assert not full(fuse(frames[-1])).foreground.all()  # the grid's: walls are static
+    pipe = build(recording, tracker="leg-mht")
+    model = next(s for s in pipe.stages if isinstance(s, PeopleStaticModel))
+    assert model.fill_foreground is False
+
+    class ReadsForeground:  # a tracker of foreground points that also asks the model
+        consumes = frozenset({"scans", "foreground"})
+
+        def use_static_model(self, model: object) -> None:
+            self.model = model
+
+    fed = StaticFed(ReadsForeground(), PeopleStaticModel("auto"))
+    assert fed.model.fill_foreground is True

@@ -441,12 +441,21 @@ class OccupancyGrid:
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
         the frame with ``foreground``: False on cells static for ``background_time``."""
+        frame = self.learn_frame(frame)
+        assert frame.points is not None
+        foreground = self.static_time(frame.points.points) < self.params.background_time
+        return replace(frame, foreground=foreground)
+
+    def learn_frame(self, frame: Frame) -> Frame:
+        """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
+        the frame with its points, its ``foreground`` untouched (for a caller that asks only
+        :meth:`static_time`)."""
         points = frame.points
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
+            frame = replace(frame, points=points)
         self.learn(points.points, frame.stamp, sensor_positions(frame, points))
-        foreground = self.static_time(points.points) < self.params.background_time
-        return replace(frame, points=points, foreground=foreground)
+        return frame
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

@@ -33,6 +33,7 @@ from laserpeople.pipeline.stages import Identifier, Sink, Stage
 from laserpeople.pipeline.static_people import (
     PeopleStaticModel,
     people_static_model,
+    reads_foreground,
     uses_static_model,
 )
 
@@ -202,6 +203,7 @@ def add_people_static_model(
     tracker.use_static_model(model)
     if model is None:
         return None
+    model.fill_foreground = reads_foreground(tracker)
     if not any(isinstance(s, Fuse) for s in preprocess):
         preprocess.append(Fuse())
     preprocess.append(model)

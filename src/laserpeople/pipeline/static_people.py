@@ -147,6 +147,10 @@ class PeopleStaticModel:
         self._motion_params = motion if motion is not None else static.sensor_motion
         self.motion: SensorMotionCheck | None = None
         self._name = describe_background(model)
+        self.fill_foreground = True
+        """False when nothing after this stage reads ``foreground`` (the leg MHT does not):
+        a model that can learn without it (the occupancy grid) then leaves the frame's
+        foreground as it is, which saves computing every point's static time."""
 
     @property
     def dropped_at(self) -> int | None:
@@ -155,7 +159,8 @@ class PeopleStaticModel:
 
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame`` and return it with ``foreground`` from the model (all True
-        once the model is dropped)."""
+        once the model is dropped; left as it is when :attr:`fill_foreground` is False and
+        the model can learn without it)."""
         if self.frame is None:
             self.frame = frame.frame
             if frame.frame == "sensor":
@@ -173,6 +178,10 @@ class PeopleStaticModel:
         if self.model is None:
             n = 0 if frame.points is None else len(frame.points)
             return replace(frame, foreground=np.ones(n, dtype=bool))
+        learn_only = getattr(self.model, "learn_frame", None)
+        if not self.fill_foreground and learn_only is not None:
+            learnt: Frame = learn_only(frame)  # nobody reads the foreground: not computed
+            return learnt
         out: Frame = self.model(frame)
         return out
 
@@ -235,6 +244,11 @@ def uses_static_model(tracker: object) -> TypeGuard[StaticModelUser]:
     )
 
 
+def reads_foreground(tracker: object) -> bool:
+    """Whether ``tracker`` reads the frames' ``foreground`` (directly or via clusters)."""
+    return bool(frozenset(getattr(tracker, "consumes", ())) & {"foreground", "clusters"})
+
+
 def describe_people_model(tracker: object, stages: Sequence[object]) -> str:
     """One line for the user naming the static world model of a leg MHT's people (empty
     for a tracker that has no use for one)."""
@@ -266,6 +280,7 @@ class StaticFed:
         self._fuse = Fuse()
         tracker.use_static_model(model)
         self.consumes: frozenset[FrameField] = frozenset(tracker.consumes) | {"scans"}
+        model.fill_foreground = reads_foreground(tracker)
 
     def update(self, frame: Frame) -> Any:
         """Learn the model from ``frame``, then track it."""
@@ -287,5 +302,6 @@ __all__ = [
     "StaticModelUser",
     "describe_people_model",
     "people_static_model",
+    "reads_foreground",
     "uses_static_model",
 ]

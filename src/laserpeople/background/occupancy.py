@@ -321,14 +321,18 @@ class OccupancyGrid:
 
     # ------------------------------------------------------------------ learning
 
-    def _beam_samples(self, origins: FloatArray, points: FloatArray) -> tuple[FloatArray, ...]:
+    def _beam_samples(
+        self, origins: FloatArray, points: FloatArray, r: FloatArray | None = None
+    ) -> tuple[FloatArray, FloatArray]:
         """Points ``(x, y)`` every ``resolution`` along the beams from ``origins`` (N, 2) to
-        their returns ``points`` (N, 2), from half a cell on, up to ``free_margin`` before
-        the return and at most ``free_range`` from the sensor (vectorised over beams: the
-        samples of all beams in one flat array, beam after beam)."""
+        their returns ``points`` (N, 2) (``r``: their lengths, when known), from half a cell
+        on, up to ``free_margin`` before the return and at most ``free_range`` from the
+        sensor (vectorised over beams: the samples of all beams in one flat array, beam
+        after beam)."""
         p = self.params
         d = points - origins
-        r = np.hypot(d[:, 0], d[:, 1])
+        if r is None:
+            r = np.hypot(d[:, 0], d[:, 1])
         reach = np.minimum(r - p.free_margin, p.free_range)
         keep = reach > 0
         if not keep.any():
@@ -337,11 +341,16 @@ class OccupancyGrid:
         u = d[keep] / r[keep, None]
         steps = np.arange(0.5 * res, float(reach[keep].max()), res)
         counts = np.searchsorted(steps, reach[keep], side="left")  # steps < reach per beam
-        beam = np.repeat(np.arange(counts.size), counts)
         start = np.cumsum(counts) - counts
-        step = steps[np.arange(beam.size) - np.repeat(start, counts)]
+        step = steps[np.arange(int(counts.sum())) - np.repeat(start, counts)]
         o = origins[keep]
-        return o[beam, 0] + u[beam, 0] * step, o[beam, 1] + u[beam, 1] * step
+        single = bool((o == o[0]).all())  # one sensor position: a scalar (same values)
+        ox = o[0, 0] if single else np.repeat(o[:, 0], counts)
+        oy = o[0, 1] if single else np.repeat(o[:, 1], counts)
+        return (
+            ox + np.repeat(u[:, 0], counts) * step,
+            oy + np.repeat(u[:, 1], counts) * step,
+        )
 
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
@@ -361,11 +370,14 @@ class OccupancyGrid:
         finite = np.isfinite(pts).all(axis=1)
         pts = pts[finite]
         origins: FloatArray | None = None
+        r: FloatArray | None = None  # distances of the returns from their sensor
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
             origins = np.broadcast_to(sen if sen.ndim == 1 else sen[finite], pts.shape)
-            near = np.hypot(*(pts - origins).T) <= p.max_range
-            pts, origins = pts[near], origins[near]
+            d = pts - origins
+            r = np.hypot(d[:, 0], d[:, 1])
+            near = r <= p.max_range
+            pts, origins, r = pts[near], origins[near], r[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
@@ -381,7 +393,7 @@ class OccupancyGrid:
             self._ensure(cells)
         hit = np.unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            xs, ys = self._beam_samples(origins, pts)
+            xs, ys = self._beam_samples(origins, pts, r)
             if xs.size:
                 res = p.resolution
                 w = self._seen_free.shape[1]

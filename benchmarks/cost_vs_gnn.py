@@ -58,7 +58,8 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--rounds", type=int, default=1)
     args = ap.parse_args()
-    scenes = [SuiteScene("randomised", "randomised", s, args.seconds) for s in parse_seeds(args.seeds)]
+    seeds = parse_seeds(args.seeds)
+    scenes = [SuiteScene("randomised", "randomised", s, args.seconds) for s in seeds]
     for name in ("narrow-corridor", "crossing-3"):
         scenes += [SuiteScene(name, name, s) for s in parse_seeds(args.named_seeds)]
     detector = AdaBoostLegDetector.default(LegDetectorParams())

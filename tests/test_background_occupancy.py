@@ -198,3 +198,29 @@ def test_walker_leaving_the_sensor_gets_no_head_start() -> None:
         g.learn(foot, 0.1 * k, sensor=np.zeros(2))
         worst = max(worst, float(g.static_time(foot)[0]))
     assert worst < P.first_sight_hold
+
+
+def test_free_cells_of_many_beams_match_a_loop_over_beams() -> None:
+    """The flat (all beams at once) sampling gives, beam after beam, the cells of a plain
+    loop that walks each beam every resolution from half a cell on while the sample is
+    closer than min(range - free_margin, free_range); one sensor or one per beam."""
+    rng = np.random.default_rng(5)
+    g = OccupancyGrid(OccupancyParams(free_range=4.0))
+    p = g.params
+    for per_beam in (False, True):
+        pts = rng.uniform(-7.0, 7.0, size=(60, 2))
+        pts[0] = [0.1, 0.0]  # shorter than the margin: no free cell
+        sensor = rng.normal(size=(60, 2)) * 0.3 if per_beam else np.tile([0.2, -0.1], (60, 1))
+        expected = []
+        for o, q in zip(sensor, pts, strict=True):
+            r = float(np.hypot(*(q - o)))
+            reach = min(r - p.free_margin, p.free_range)
+            s = 0.5 * p.resolution
+            k = 0
+            while s < reach:
+                x, y = o + (q - o) / r * s
+                expected.append((math.floor(x / p.resolution), math.floor(y / p.resolution)))
+                k += 1
+                s = 0.5 * p.resolution + k * p.resolution
+        got = [tuple(c) for c in g._free_cells(sensor, pts).tolist()]
+        assert got == expected

@@ -240,3 +240,136 @@ def test_track_prints_the_model(recording: Path, tmp_path: Path) -> None:
         app, ["track", str(recording), "-o", str(out), "--people-policy", "arras"]
     )
     assert "the arras people policy has none" in result.output
+
+
+# ------------------------------------------------------------------ --config sections
+
+
+def test_static_world_sections_are_read_from_the_config(tmp_path: Path) -> None:
+    from laserpeople.pipeline.background import StaticWorldParams, load_static_world
+
+    path = tmp_path / "p.toml"
+    path.write_text(
+        "[occupancy]\ndecay_time = 3\nfree_range = 0.0\n[beam_histogram]\nbin_width = 0.1\n"
+        "[auto_background]\nmoved_distance = 0.2\n[sensor_motion]\nmoved_share = 0.6\n"
+    )
+    p = load_static_world(path)
+    assert p.occupancy.decay_time == 3.0 and isinstance(p.occupancy.decay_time, float)
+    assert p.occupancy.free_range == 0.0 and p.occupancy.resolution == 0.1  # default kept
+    assert p.beam_histogram.bin_width == 0.1 and p.auto_background.moved_distance == 0.2
+    assert p.sensor_motion.moved_share == 0.6 and p.sensor_motion.window == 2.0
+    assert load_static_world(None) == StaticWorldParams()
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("[occupancy]\ndecay_tme = 3.0\n", "decay_tme"),
+        ("[occupancy]\nneighbourhood = 1.5\n", "neighbourhood"),
+        ("[occupancy]\nfirst_sight_hold = nan\n", "first_sight_hold is NaN"),
+        ("[occupancy]\nfree_range = inf\n", "free_range is infinite"),
+        ("[occupancy]\nmax_evidence = 1.0\n", "occupied_evidence <= max_evidence"),
+        ('[beam_histogram]\nlearn_seconds = "x"\n', "learn_seconds"),
+        ("[auto_background]\nmoved_angle = nan\n", "moved_angle is NaN"),
+        ("[sensor_motion]\nwindow = -inf\n", "window is infinite"),
+        ("[sensor_motion]\nmoved_share = 1.5\n", "moved_share must be in"),
+        ("[sensor_motion]\nstill = 1.0\n", "still"),
+    ],
+)
+def test_bad_static_world_values_are_config_errors(tmp_path: Path, text: str, match: str) -> None:
+    from laserpeople.pipeline.background import load_static_world
+
+    path = tmp_path / "p.toml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=match):
+        load_static_world(path)
+
+
+def test_build_hands_the_static_world_parameters_to_the_models(recording: Path) -> None:
+    from laserpeople.background.occupancy import OccupancyGrid, OccupancyParams
+    from laserpeople.pipeline.background import (
+        AutoBackground,
+        SensorMotionParams,
+        StaticWorldParams,
+        background_stage,
+    )
+
+    static = StaticWorldParams(
+        occupancy=OccupancyParams(free_range=0.0, decay_time=3.0),
+        sensor_motion=SensorMotionParams(moved_share=0.6),
+    )
+    pipe = build(recording, tracker="leg-mht", static_world=static)
+    model = next(s for s in pipe.stages if isinstance(s, PeopleStaticModel))
+    assert isinstance(model.model, OccupancyGrid) and model.model.params is static.occupancy
+    pipe.run()
+    assert not model.model.casting  # free_range 0: no free space was cast
+    # the default casts
+    pipe = build(recording, tracker="leg-mht")
+    model = next(s for s in pipe.stages if isinstance(s, PeopleStaticModel))
+    pipe.run()
+    assert model.model.casting
+    # the sensor-frame motion check and the foreground trackers' models get theirs too
+    people = PeopleStaticModel("auto", static=static)
+    scan = Scan(0.0, 0.0, INC, np.full(N_BEAMS, 3.0), sensor="l", index=0)
+    people(Fuse()(Frame(0, 0.0, (scan,), "l")))
+    assert people.motion is not None and people.motion.params.moved_share == 0.6
+    auto = background_stage("auto", None, static)
+    assert isinstance(auto, AutoBackground)
+    assert auto.params is static.auto_background and auto.static is static
+    grid = background_stage("occupancy", None, static)
+    assert isinstance(grid, OccupancyGrid) and grid.params is static.occupancy
+
+
+def test_track_reads_the_static_world_sections(recording: Path, tmp_path: Path) -> None:
+    out = tmp_path / "t.csv"
+    cfg = tmp_path / "p.toml"
+    cfg.write_text("[occupancy]\ndecay_time = 3.0\n[sensor_motion]\nwindow = 4.0\n")
+    result = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(out), "--config", str(cfg)]
+    )
+    assert result.exit_code == 0, result.output
+    shown = CliRunner().invoke(app, ["track", "--print-config", "--config", str(cfg)])
+    assert "decay_time = 3.0" in shown.output and "window = 4.0" in shown.output
+    cfg.write_text("[occupancy]\ndecay_time = nan\n")
+    result = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(out), "--config", str(cfg)]
+    )
+    assert result.exit_code != 0 and "decay_time is NaN" in f"{result.exception}{result.output}"
+    cfg.write_text("[occupancy]\nhold = 1.0\n")
+    result = CliRunner().invoke(app, ["track", "--print-config", "--config", str(cfg)])
+    assert result.exit_code != 0 and "hold" in f"{result.exception}{result.output}"
+    # another command sharing the file says it ignores the section, and does not fail
+    cfg.write_text("[sensor_motion]\nwindow = 4.0\n")
+    result = CliRunner().invoke(
+        app, ["detect", str(recording), "-o", str(tmp_path / "d.csv"), "--config", str(cfg)]
+    )
+    assert result.exit_code == 0, result.output
+    assert "[sensor_motion] is read by another command" in result.output
+
+
+def test_the_foreground_is_skipped_only_when_nobody_reads_it(recording: Path) -> None:
+    """The leg MHT does not read the foreground: its people model then learns without
+    computing it, and answers the same static times."""
+    frames = _frames(7.0)  # the walls are background after the first-sight hold (6 s)
+    full, lean = PeopleStaticModel("auto"), PeopleStaticModel("auto")
+    lean.fill_foreground = False
+    fuse = Fuse()
+    for f in frames:
+        a, b = full(fuse(f)), lean(fuse(f))
+        assert a.foreground is not None and b.foreground is not None
+        assert b.foreground.all()  # Fuse's, untouched
+        q = np.vstack([CHAIR, _walker(f.stamp)])
+        np.testing.assert_array_equal(full.static_time(q), lean.static_time(q))
+    assert not full(fuse(frames[-1])).foreground.all()  # the grid's: walls are static
+    pipe = build(recording, tracker="leg-mht")
+    model = next(s for s in pipe.stages if isinstance(s, PeopleStaticModel))
+    assert model.fill_foreground is False
+
+    class ReadsForeground:  # a tracker of foreground points that also asks the model
+        consumes = frozenset({"scans", "foreground"})
+
+        def use_static_model(self, model: object) -> None:
+            self.model = model
+
+    fed = StaticFed(ReadsForeground(), PeopleStaticModel("auto"))
+    assert fed.model.fill_foreground is True

@@ -309,31 +309,54 @@ class OccupancyGrid:
         self._origin, self._evidence, self._touched, self._since = new_lo, ev, touched, since
         self._seen_free, self._first_sight = seen_free, first
 
-    def _decayed(self, i: IntArray, j: IntArray, stamp: float) -> FloatArray:
-        dt = np.maximum(stamp - self._touched[i, j], 0.0)
-        return np.asarray(self._evidence[i, j] * np.exp(-dt / self.params.decay_time))
+    def _decayed(self, flat: IntArray, stamp: float) -> FloatArray:
+        """Evidence of the cells ``flat`` (flat indices into the arrays) decayed to ``stamp``."""
+        dt = np.maximum(stamp - np.take(self._touched, flat), 0.0)
+        return np.asarray(np.take(self._evidence, flat) * np.exp(-dt / self.params.decay_time))
+
+    def _flat(self, cells: IntArray) -> IntArray:
+        """Flat indices into the arrays of ``cells`` (K, 2) (which they must hold)."""
+        w = self._evidence.shape[1]
+        return np.asarray((cells[:, 0] - self._origin[0]) * w + (cells[:, 1] - self._origin[1]))
 
     # ------------------------------------------------------------------ learning
 
-    def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
-        """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
-        (N, 2) pass through, sampled every ``resolution`` from half a cell on, up to
-        ``free_margin`` before the return and at most ``free_range`` from the sensor
-        (vectorised over beams)."""
+    def _beam_samples(
+        self, origins: FloatArray, points: FloatArray, r: FloatArray | None = None
+    ) -> tuple[FloatArray, FloatArray]:
+        """Points ``(x, y)`` every ``resolution`` along the beams from ``origins`` (N, 2) to
+        their returns ``points`` (N, 2) (``r``: their lengths, when known), from half a cell
+        on, up to ``free_margin`` before the return and at most ``free_range`` from the
+        sensor (vectorised over beams: the samples of all beams in one flat array, beam
+        after beam)."""
         p = self.params
         d = points - origins
-        r = np.hypot(d[:, 0], d[:, 1])
+        if r is None:
+            r = np.hypot(d[:, 0], d[:, 1])
         reach = np.minimum(r - p.free_margin, p.free_range)
         keep = reach > 0
         if not keep.any():
-            return np.zeros((0, 2), dtype=np.int64)
+            return np.zeros(0), np.zeros(0)
         res = p.resolution
         u = d[keep] / r[keep, None]
         steps = np.arange(0.5 * res, float(reach[keep].max()), res)
-        inside = steps[None, :] < reach[keep, None]  # (N, S)
+        counts = np.searchsorted(steps, reach[keep], side="left")  # steps < reach per beam
+        start = np.cumsum(counts) - counts
+        step = steps[np.arange(int(counts.sum())) - np.repeat(start, counts)]
         o = origins[keep]
-        xs = (o[:, 0, None] + u[:, 0, None] * steps[None, :])[inside]
-        ys = (o[:, 1, None] + u[:, 1, None] * steps[None, :])[inside]
+        single = bool((o == o[0]).all())  # one sensor position: a scalar (same values)
+        ox = o[0, 0] if single else np.repeat(o[:, 0], counts)
+        oy = o[0, 1] if single else np.repeat(o[:, 1], counts)
+        return (
+            ox + np.repeat(u[:, 0], counts) * step,
+            oy + np.repeat(u[:, 1], counts) * step,
+        )
+
+    def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
+        """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
+        (N, 2) pass through (see :meth:`_beam_samples`)."""
+        xs, ys = self._beam_samples(origins, points)
+        res = self.params.resolution
         return np.stack([np.floor(xs / res), np.floor(ys / res)], axis=1).astype(np.int64)
 
     def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
@@ -347,41 +370,53 @@ class OccupancyGrid:
         finite = np.isfinite(pts).all(axis=1)
         pts = pts[finite]
         origins: FloatArray | None = None
+        r: FloatArray | None = None  # distances of the returns from their sensor
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
             origins = np.broadcast_to(sen if sen.ndim == 1 else sen[finite], pts.shape)
-            near = np.hypot(*(pts - origins).T) <= p.max_range
-            pts, origins = pts[near], origins[near]
+            d = pts - origins
+            r = np.hypot(d[:, 0], d[:, 1])
+            near = r <= p.max_range
+            pts, origins, r = pts[near], origins[near], r[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
-        cells = np.unique(self._cells(pts), axis=0)
-        free = np.zeros((0, 2), dtype=np.int64)
-        if origins is not None and p.free_range > 0:
+        cells = self._cells(pts)
+        casting = origins is not None and p.free_range > 0
+        if origins is not None and casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
-            # those (few) cells first
-            self._ensure(np.vstack([cells, self._cells(np.unique(origins, axis=0))]))
-            free = self._free_cells(origins, pts)
-        self._ensure(cells)
-        i, j = (cells - self._origin).T
-        if free.shape[0]:
-            fi, fj = (free - self._origin).T
-            kept = self._seen_free[i, j]  # a cell with a return in this frame is not free
-            self._seen_free[fi, fj] = stamp
-            self._seen_free[i, j] = kept
-        before = self._decayed(i, j, stamp)
+            # those cells too (the corners of the sensors' bounding box suffice)
+            corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
+            self._ensure(np.vstack([cells, corners]))
+        else:
+            self._ensure(cells)
+        hit = np.unique(self._flat(cells))  # each cell with a return once
+        if origins is not None and casting:
+            xs, ys = self._beam_samples(origins, pts, r)
+            if xs.size:
+                res = p.resolution
+                w = self._seen_free.shape[1]
+                free = (np.floor(xs / res).astype(np.int64) - self._origin[0]) * w + (
+                    np.floor(ys / res).astype(np.int64) - self._origin[1]
+                )
+                kept = np.take(self._seen_free, hit)  # a cell with a return now is not free
+                np.put(self._seen_free, free, stamp)
+                np.put(self._seen_free, hit, kept)
+        before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
         now = after >= p.occupied_evidence
-        self._evidence[i, j] = after
-        self._touched[i, j] = stamp
-        since = self._since[i, j]
+        np.put(self._evidence, hit, after)
+        np.put(self._touched, hit, stamp)
+        since = np.take(self._since, hit)
         kept_since = was & ~np.isnan(since)
-        self._since[i, j] = np.where(kept_since, since, np.where(now, stamp, np.nan))
-        arrived = stamp - self._seen_free[i, j] <= p.arrival_window
-        self._first_sight[i, j] = np.where(
-            kept_since, self._first_sight[i, j], now & self.casting & ~arrived
+        np.put(self._since, hit, np.where(kept_since, since, np.where(now, stamp, np.nan)))
+        arrived = stamp - np.take(self._seen_free, hit) <= p.arrival_window
+        np.put(
+            self._first_sight,
+            hit,
+            np.where(kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived),
         )
 
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -392,22 +427,23 @@ class OccupancyGrid:
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         out = np.zeros(pos.shape[0])
         if self._evidence.size and pos.shape[0]:
-            base = self._cells(pos) - self._origin
-            h, w = self._evidence.shape
             n = p.neighbourhood
-            for di in range(-n, n + 1):
-                for dj in range(-n, n + 1):
-                    i, j = base[:, 0] + di, base[:, 1] + dj
-                    ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
-                    if not ok.any():
-                        continue
-                    ii, jj = i[ok], j[ok]
-                    occ = self._decayed(ii, jj, self.stamp) >= p.occupied_evidence
-                    since = self._since[ii, jj]
-                    t = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
-                    held = self._first_sight[ii, jj] & (t >= p.first_sight_hold)
-                    t = np.where(held, t + p.first_sight_static, t)
-                    out[ok] = np.maximum(out[ok], t)
+            off = np.arange(-n, n + 1)
+            base = self._cells(pos) - self._origin
+            # (M, K): the K = (2n + 1)^2 cells round each position, row offset major
+            i = (base[:, 0, None] + np.repeat(off, off.size)[None, :]).ravel()
+            j = (base[:, 1, None] + np.tile(off, off.size)[None, :]).ravel()
+            h, w = self._evidence.shape
+            ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
+            t = np.zeros(i.size)
+            if ok.any():
+                flat = i[ok] * w + j[ok]
+                occ = self._decayed(flat, self.stamp) >= p.occupied_evidence
+                since = np.take(self._since, flat)
+                tk = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
+                held = np.take(self._first_sight, flat) & (tk >= p.first_sight_hold)
+                t[ok] = np.where(held, tk + p.first_sight_static, tk)
+            out = np.maximum(t.reshape(pos.shape[0], -1).max(axis=1), 0.0)
         if self.prior is not None and pos.shape[0]:
             # as far as the grid's neighbourhood reaches: up to (neighbourhood + 1) cells
             reach = math.ceil((p.neighbourhood + 1) * p.resolution / self.prior.resolution - 1e-9)
@@ -417,12 +453,21 @@ class OccupancyGrid:
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
         the frame with ``foreground``: False on cells static for ``background_time``."""
+        frame = self.learn_frame(frame)
+        assert frame.points is not None
+        foreground = self.static_time(frame.points.points) < self.params.background_time
+        return replace(frame, foreground=foreground)
+
+    def learn_frame(self, frame: Frame) -> Frame:
+        """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
+        the frame with its points, its ``foreground`` untouched (for a caller that asks only
+        :meth:`static_time`)."""
         points = frame.points
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
+            frame = replace(frame, points=points)
         self.learn(points.points, frame.stamp, sensor_positions(frame, points))
-        foreground = self.static_time(points.points) < self.params.background_time
-        return replace(frame, points=points, foreground=foreground)
+        return frame
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

@@ -35,11 +35,15 @@ class Detector(Protocol):
 
 
 def tracker_param_classes() -> list[type]:
-    """The parameter classes of every registered tracker (their TOML sections may share a
-    ``--config`` file with the detector's)."""
+    """The parameter classes of every registered tracker and of the static world models
+    that ``track`` feeds them (their TOML sections may share a ``--config`` file with the
+    detector's)."""
+    from laserpeople.pipeline.background import StaticWorldParams
     from laserpeople.tracking import registry
 
-    return [entry.params_cls for entry in registry.TRACKERS.values()]
+    return [entry.params_cls for entry in registry.TRACKERS.values()] + list(
+        StaticWorldParams.sections()
+    )
 
 
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
@@ -145,11 +149,13 @@ def run_tracking(
         describe_background,
         output_sink,
     )
+    from laserpeople.pipeline.background import load_static_world
     from laserpeople.pipeline.static_people import describe_people_model
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config)
+    static_world = load_static_world(config)
     if people_policy is not None:
         params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
@@ -179,6 +185,7 @@ def run_tracking(
         leg_fusion=load_config(LegFusionParams, config),
         background=background,
         map_path=map_path,
+        static_world=static_world,
         reidentify=reidentify,
         on_error=on_error,
         restamp=restamp,
@@ -400,22 +407,30 @@ def register(app: typer.Typer) -> None:
         per scan (kind leg and person; members of a person are its legs)."""
         from laserpeople.detection.detector import LegDetectorParams
         from laserpeople.pipeline import GroupingParams, LegFusionParams
+        from laserpeople.pipeline.background import StaticWorldParams
         from laserpeople.tracking import registry
 
         entry = registry.get(tracker)
+        static_sections = StaticWorldParams.sections()
         ignored_sections(
             config,
             check_sections(
                 config,
-                [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls],
+                [
+                    LegDetectorParams,
+                    GroupingParams,
+                    LegFusionParams,
+                    entry.params_cls,
+                    *static_sections,
+                ],
                 tracker_param_classes(),
             ),
         )
         if print_config:
-            print(to_toml(load_config(entry.params_cls, config)))
-            print(to_toml(load_config(LegDetectorParams, config)))
-            print(to_toml(load_config(GroupingParams, config)))
-            print(to_toml(load_config(LegFusionParams, config)))
+            classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
+            loaded: list[Any] = [load_config(cls, config) for cls in [*classes, *static_sections]]
+            for obj in loaded:  # all read (and checked) before any is printed
+                print(to_toml(obj))
             return
         if recording is None or output is None:
             raise ConfigError(

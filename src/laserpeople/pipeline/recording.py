@@ -16,7 +16,7 @@ from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
-from laserpeople.pipeline.background import background_of, background_stage
+from laserpeople.pipeline.background import StaticWorldParams, background_of, background_stage
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -34,6 +34,7 @@ from laserpeople.pipeline.stamps import Restamp, StampCheck
 from laserpeople.pipeline.static_people import (
     PeopleStaticModel,
     people_static_model,
+    reads_foreground,
     uses_static_model,
 )
 
@@ -160,20 +161,22 @@ def observe_stages_for(
     leg_fusion: LegFusionParams | None = None,
     background: str | Stage | None = "auto",
     map_path: str | Path | None = None,
+    static_world: StaticWorldParams | None = None,
 ) -> tuple[list[Stage], list[Stage]]:
     """The preprocess and observe stages that provide what a tracker ``consumes``.
 
     A consumer of ``foreground`` or ``clusters`` gets the static world model ``background``
     after :class:`Fuse` (see :func:`~laserpeople.pipeline.background.background_stage`:
     ``auto``, ``histogram``, ``occupancy``, ``none`` or a model object; ``map_path`` seeds
-    the occupancy grid), so that walls and furniture are not foreground.
+    the occupancy grid; ``static_world`` the models' parameters), so that walls and
+    furniture are not foreground.
     """
     preprocess: list[Stage] = []
     observe: list[Stage] = []
     if consumes & {"points", "foreground", "clusters"}:
         preprocess.append(Fuse())
     if consumes & {"foreground", "clusters"}:
-        model = background_stage(background, map_path)
+        model = background_stage(background, map_path, static_world)
         if model is not None:
             preprocess.append(model)
     if "clusters" in consumes:
@@ -192,11 +195,13 @@ def add_people_static_model(
     preprocess: list[Stage],
     background: str | Stage | None,
     map_path: str | Path | None = None,
+    static_world: StaticWorldParams | None = None,
 ) -> PeopleStaticModel | None:
     """For a tracker that asks a static world model (the leg MHT with people policy
     ``tracks``): append to ``preprocess`` (after a :class:`Fuse`, added when missing) the
     :class:`~laserpeople.pipeline.static_people.PeopleStaticModel` of ``background`` and
-    hand it to the tracker; returns it (None: the tracker asks none, or ``none``)."""
+    hand it to the tracker; returns it (None: the tracker asks none, or ``none``).
+    ``static_world`` holds the models' parameters (None: defaults)."""
     if not uses_static_model(tracker):
         if map_path is not None and background_of(preprocess) is None:
             raise ConfigError(
@@ -204,10 +209,11 @@ def add_people_static_model(
                 hint="drop --map (the leg MHT's arras people policy has no static world model)",
             )
         return None
-    model = people_static_model(background, map_path)
+    model = people_static_model(background, map_path, static=static_world)
     tracker.use_static_model(model)
     if model is None:
         return None
+    model.fill_foreground = reads_foreground(tracker)
     if not any(isinstance(s, Fuse) for s in preprocess):
         preprocess.append(Fuse())
     preprocess.append(model)
@@ -241,6 +247,7 @@ def build(
     leg_fusion: LegFusionParams | None = None,
     background: str | Stage | None = "auto",
     map_path: str | Path | None = None,
+    static_world: StaticWorldParams | None = None,
     identify: Sequence[Identifier] = (),
     reidentify: bool = False,
     max_frames: int | None = None,
@@ -249,7 +256,8 @@ def build(
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
-    static world model ``background``, see :func:`observe_stages_for`). ``reidentify``
+    static world model ``background``, see :func:`observe_stages_for`; the leg MHT's
+    people get theirs too; ``static_world``: the models' parameters). ``reidentify``
     adds colour re-identification (002,
     :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
     (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
@@ -287,9 +295,9 @@ def build(
             source_fields.add("appearance")
             identifiers.append(ColourReidentifier())
         preprocess, observe = observe_stages_for(
-            frozenset(tracker.consumes), detector, leg_fusion, background, map_path
+            frozenset(tracker.consumes), detector, leg_fusion, background, map_path, static_world
         )
-        add_people_static_model(tracker, preprocess, background, map_path)
+        add_people_static_model(tracker, preprocess, background, map_path, static_world)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             frames,

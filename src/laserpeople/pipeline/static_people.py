@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Protocol, TypeGuard
 
@@ -40,50 +40,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.background import StaticWorldModel
-from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.pipeline.background import (
+    SensorMotionParams,
+    StaticWorldParams,
     background_stage,
     describe_background,
     occupancy_model,
 )
 from laserpeople.pipeline.stages import Stage
-
-
-@dataclass(frozen=True)
-class SensorMotionParams:
-    """When a laser of a sensor-frame run counts as moving (module docstring)."""
-
-    config_section = "sensor_motion"
-
-    moved_share: float = param(
-        0.5,
-        "measured: median unexplained share <= 0.27 (90th pct.) on three static real lasers, "
-        ">= 0.75 (10th pct.) on the real person-following robot",
-        "a laser whose returns are this much off its learned per-beam ranges moves",
-    )
-    window: float = param(
-        2.0,
-        "assumption: longer than a person crossing close in front of the laser",
-        "the share is the median over this many seconds",
-        "s",
-    )
-
-    still_seconds: float = param(
-        10.0,
-        "measured: the real person-following robot is found moving 5.5 s after the 2 s of "
-        "learning; a person it follows must not look static before that",
-        "the model answers (static times above 0) only once the laser has been seen still "
-        "this long after learning",
-        "s",
-    )
-
-    def __post_init__(self) -> None:
-        if not 0.0 < self.moved_share < 1.0:
-            raise ValueError("moved_share must be in (0, 1)")
-        if not self.window > 0.0 or self.still_seconds < 0.0:
-            raise ValueError("window must be positive and still_seconds not negative")
 
 
 class SensorMotionCheck:
@@ -147,7 +113,9 @@ class PeopleStaticModel:
             ``histogram``, ``occupancy`` (see
             :func:`~laserpeople.pipeline.background.background_stage`) or a model object.
         map_path: ROS ``map.yaml`` seeding the occupancy grid (world-frame runs only).
-        motion: When a laser of a sensor-frame run counts as moving.
+        motion: When a laser of a sensor-frame run counts as moving (default: that of
+            ``static``).
+        static: The models' parameters (None: defaults).
 
     Attributes:
         model: The model in use (None once dropped).
@@ -163,18 +131,26 @@ class PeopleStaticModel:
         choice: str | Stage,
         map_path: str | Path | None = None,
         motion: SensorMotionParams | None = None,
+        static: StaticWorldParams | None = None,
     ) -> None:
+        static = static if static is not None else StaticWorldParams()
         model = (
-            occupancy_model(map_path) if choice == "auto" else background_stage(choice, map_path)
+            occupancy_model(map_path, static.occupancy)
+            if choice == "auto"
+            else background_stage(choice, map_path, static)
         )
         if model is None:
             raise ConfigError("PeopleStaticModel needs a model", hint="give auto or occupancy")
         self.model: Any = model
         self.map_path = map_path
         self.frame: str | None = None
-        self._motion_params = motion
+        self._motion_params = motion if motion is not None else static.sensor_motion
         self.motion: SensorMotionCheck | None = None
         self._name = describe_background(model)
+        self.fill_foreground = True
+        """False when nothing after this stage reads ``foreground`` (the leg MHT does not):
+        a model that can learn without it (the occupancy grid) then leaves the frame's
+        foreground as it is, which saves computing every point's static time."""
 
     @property
     def dropped_at(self) -> int | None:
@@ -183,7 +159,8 @@ class PeopleStaticModel:
 
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame`` and return it with ``foreground`` from the model (all True
-        once the model is dropped)."""
+        once the model is dropped; left as it is when :attr:`fill_foreground` is False and
+        the model can learn without it)."""
         if self.frame is None:
             self.frame = frame.frame
             if frame.frame == "sensor":
@@ -201,6 +178,10 @@ class PeopleStaticModel:
         if self.model is None:
             n = 0 if frame.points is None else len(frame.points)
             return replace(frame, foreground=np.ones(n, dtype=bool))
+        learn_only = getattr(self.model, "learn_frame", None)
+        if not self.fill_foreground and learn_only is not None:
+            learnt: Frame = learn_only(frame)  # nobody reads the foreground: not computed
+            return learnt
         out: Frame = self.model(frame)
         return out
 
@@ -231,13 +212,14 @@ def people_static_model(
     choice: str | Stage | None,
     map_path: str | Path | None = None,
     motion: SensorMotionParams | None = None,
+    static: StaticWorldParams | None = None,
 ) -> PeopleStaticModel | None:
     """The stage for ``choice`` (None or ``"none"``: no model; ``--map`` with ``none`` is a
-    ConfigError)."""
+    ConfigError); ``static`` holds the models' parameters (None: defaults)."""
     if choice is None or choice == "none":
         background_stage("none", map_path)  # raises for --map with none
         return None
-    return PeopleStaticModel(choice, map_path, motion)
+    return PeopleStaticModel(choice, map_path, motion, static)
 
 
 class StaticModelUser(Protocol):
@@ -260,6 +242,11 @@ def uses_static_model(tracker: object) -> TypeGuard[StaticModelUser]:
     return callable(getattr(tracker, "use_static_model", None)) and bool(
         getattr(tracker, "wants_static_model", False)
     )
+
+
+def reads_foreground(tracker: object) -> bool:
+    """Whether ``tracker`` reads the frames' ``foreground`` (directly or via clusters)."""
+    return bool(frozenset(getattr(tracker, "consumes", ())) & {"foreground", "clusters"})
 
 
 def describe_people_model(tracker: object, stages: Sequence[object]) -> str:
@@ -293,6 +280,7 @@ class StaticFed:
         self._fuse = Fuse()
         tracker.use_static_model(model)
         self.consumes: frozenset[FrameField] = frozenset(tracker.consumes) | {"scans"}
+        model.fill_foreground = reads_foreground(tracker)
 
     def update(self, frame: Frame) -> Any:
         """Learn the model from ``frame``, then track it."""
@@ -314,5 +302,6 @@ __all__ = [
     "StaticModelUser",
     "describe_people_model",
     "people_static_model",
+    "reads_foreground",
     "uses_static_model",
 ]

@@ -183,27 +183,39 @@ class _Lister:
                     reach[t] |= 1 << j
         self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
         self._labels, self._meas = [], []
-        self._tracks(0, prior, 0)
+        full = self.full
+        bound = (
+            prior + suffix[0] + self.unmatched_lb[full & ~reach[0]] + self.maybe_lb[full & reach[0]]
+        )
+        if not self.cut(bound):
+            self._tracks(0, prior, 0)
 
     def _tracks(self, t: int, cost: float, used: int) -> None:
-        free = self.full & ~used
-        reach = self._reach[t]
-        bound = (
-            cost + self._suffix[t] + self.unmatched_lb[free & ~reach] + self.maybe_lb[free & reach]
-        )
-        if self.cut(bound):
-            return
+        """Label the tracks from ``t`` on (the caller has checked this subtree's bound)."""
         if t == len(self._rows):
-            self._measurements(0, cost, used, self.unmatched_lb[free])
+            self._measurements(0, cost, used, self.unmatched_lb[self.full & ~used])
             return
+        # each child's bound is checked here, before the call (most children are cut)
+        full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
+        suffix, reach = self._suffix[t + 1], self._reach[t + 1]
+        labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
         for c, lab, j in self.choices[self._rows[t]]:
-            if j >= 0 and used >> j & 1:
+            if j >= 0:
+                if used >> j & 1:
+                    continue
+                child_used = used | (1 << j)
+            else:
+                child_used = used
+            child_cost = cost + c
+            free = full & ~child_used
+            bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]
+            if bound > self.best + self.max_gap or (len(kept) == k and bound >= -kept[0]):
                 continue
-            self._labels.append(lab)
-            self._meas.append(j)
-            self._tracks(t + 1, cost + c, used | (1 << j) if j >= 0 else used)
-            self._labels.pop()
-            self._meas.pop()
+            labels.append(lab)
+            meas.append(j)
+            self._tracks(t + 1, child_cost, child_used)
+            labels.pop()
+            meas.pop()
 
     def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
         """Label the measurements from ``j`` on that no track took (new / false alarm)."""

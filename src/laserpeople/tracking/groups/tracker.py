@@ -23,6 +23,7 @@ from scipy.stats import chi2
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
+from laserpeople.tracking.groups.coherence import CoherenceSettings, CoherentGroupModel
 from laserpeople.tracking.groups.interaction import (
     GroupBranches,
     GroupLabelModel,
@@ -30,7 +31,6 @@ from laserpeople.tracking.groups.interaction import (
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
 from laserpeople.tracking.groups.model import (
-    GroupModel,
     GroupModelSettings,
     group_payload,
 )
@@ -180,6 +180,31 @@ class GroupTrackerParams:
         "assumption (000 bounds models only by binary events and gating)",
         "most models per parent hypothesis (the likeliest by eq. 32)",
     )
+    coherence_lag: float = param(
+        0.0,
+        "extension of 000 (0: off, 000's likelihood); docs/groups.md",
+        "age of the snapshot of a group's points its observation is compared with, moved "
+        "by the group's velocity (motion coherence over several scans, groups/coherence.py)",
+        "s",
+    )
+    coherence_sigma: float = param(
+        0.15,
+        "assumption: gait and occlusion jitter of a group that moves as one",
+        "point spread per axis of a group that moves as one (motion coherence)",
+        "m",
+    )
+    coherence_min_age: float = param(
+        0.3, "assumption", "youngest snapshot the motion coherence compares with", "s"
+    )
+    coherence_align: int = param(
+        0,
+        "assumption",
+        "ICP steps aligning the snapshot with the observation by a translation (0: moved "
+        "by the group's velocity only)",
+    )
+    coherence_step: float = param(
+        0.2, "assumption (memory only)", "least time between two kept snapshots", "s"
+    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -206,6 +231,8 @@ class GroupTrackerParams:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
         if self.max_models < 1:
             raise ValueError("max_models must be at least 1")
+        if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
+            raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
 
     @classmethod
     def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
@@ -243,6 +270,16 @@ class GroupTrackerParams:
             rms=self.hausdorff == "rms",
         )
 
+    def coherence_settings(self) -> CoherenceSettings:
+        """The motion-coherence term (off when coherence_lag is 0)."""
+        return CoherenceSettings(
+            lag=self.coherence_lag,
+            min_age=self.coherence_min_age,
+            step=self.coherence_step,
+            sigma=self.coherence_sigma,
+            align=self.coherence_align,
+        )
+
     def interaction_settings(self) -> InteractionSettings:
         """What the model generator needs."""
         return InteractionSettings(
@@ -259,6 +296,7 @@ class GroupTrackerParams:
             merge_likelihood=self.merge_likelihood,
             recluster_blobs=self.recluster_blobs,
             counting=self.counting(),
+            coherence_step=self.coherence_step,
         )
 
 
@@ -316,7 +354,7 @@ class GroupMHTTracker:
     def __init__(self, params: GroupTrackerParams | None = None) -> None:
         self.params = params if params is not None else GroupTrackerParams()
         p = self.params
-        self.model = GroupModel(p.model_settings())
+        self.model = CoherentGroupModel(p.model_settings(), p.coherence_settings())
         self.label_model = GroupLabelModel(p.p_m, p.p_o, p.p_t, p.p_n, p.p_f)
         self.mht: MHT[GroupObservations] = MHT(p.mht, self.model, self.label_model)
         self.branches = GroupBranches(

@@ -91,7 +91,8 @@ def test_alignment_finds_the_rigid_translation() -> None:
     assert aligned_distance_sq(tree, moved, np.zeros(2), 0) == pytest.approx(0.1)
     assert aligned_distance_sq(tree, moved, np.zeros(2), 1) == pytest.approx(0.0, abs=1e-12)
     # two parts moving apart cannot be aligned by one translation: each is 0.5 m off
-    apart = np.concatenate([past[:1] - [0.5, 0.0], past[1:] + [0.5, 0.0]])
+    half = np.array([0.5, 0.0])
+    apart = np.concatenate([past[:1] - half, past[1:] + half])
     d_sq = aligned_distance_sq(tree, apart, np.zeros(2), 3)
     assert d_sq == pytest.approx(0.25 * 8 / 9, rel=1e-9)  # best shift (1/6, 0)
 
@@ -113,7 +114,7 @@ def test_model_adds_log_c_to_the_gated_likelihoods() -> None:
     base.predict([node_a], 1.1)
     model.predict([node_b], 1.1)
     # the observation: the contour moved by 0.1 m, plus a point 0.2 m off the group
-    pts = np.concatenate([contour + [0.1, 0.0], _pts(0.1, 0.5)])
+    pts = np.concatenate([contour + np.array([0.1, 0.0]), _pts(0.1, 0.5)])
     obs = GroupObservations.from_points(pts, np.arange(4), 1.3, 0.3)
     g0, ll0 = base.score([node_a], obs)
     g1, ll1 = model.score([node_b], obs)
@@ -151,7 +152,9 @@ def test_coherence_keeps_an_overtaking_pair_apart_on_simulated_scans() -> None:
     000's likelihood 0.147 (it merges the pairs), the default 0.008."""
     result = simulate(overtaking_scene(1), 12.0, seed=1)
     paper = run_groups(result.scans, replace(GroupTrackerParams(), coherence_lag=0.0))
-    run = run_groups(result.scans, replace(GroupTrackerParams(), coherence_lag=2.0, coherence_align=3))
+    run = run_groups(
+        result.scans, replace(GroupTrackerParams(), coherence_lag=2.0, coherence_align=3)
+    )
     # the pairs come within d_P: memory-less clustering joins them for seconds
     assert run.memoryless.under_segmented >= 25
     # without the term the tracker merges them as well (why the term exists)

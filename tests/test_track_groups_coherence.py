@@ -152,9 +152,7 @@ def test_coherence_keeps_an_overtaking_pair_apart_on_simulated_scans() -> None:
     000's likelihood 0.147 (it merges the pairs), the default 0.008."""
     result = simulate(overtaking_scene(1), 12.0, seed=1)
     paper = run_groups(result.scans, replace(GroupTrackerParams(), coherence_lag=0.0))
-    run = run_groups(
-        result.scans, replace(GroupTrackerParams(), coherence_lag=2.0, coherence_align=3)
-    )
+    run = run_groups(result.scans, replace(GroupTrackerParams(), coherence_lag=2.0))
     # the pairs come within d_P: memory-less clustering joins them for seconds
     assert run.memoryless.under_segmented >= 25
     # without the term the tracker merges them as well (why the term exists)

@@ -72,6 +72,8 @@ class CoherenceSettings:
         align: Translation-only ICP steps that refine the shift v tau to the rigid
             translation that best aligns the snapshot with the observation (0: the
             track's velocity alone).
+        both_ways: Average d^2 over both directions: also the moved snapshot's points
+            to their nearest observed point (a part that left the group shows).
     """
 
     lag: float
@@ -79,6 +81,7 @@ class CoherenceSettings:
     step: float
     sigma: float
     align: int = 0
+    both_ways: bool = False
 
     @property
     def enabled(self) -> bool:
@@ -128,17 +131,24 @@ def coherence_distance_sq(points: FloatArray, past: FloatArray, shift: FloatArra
     return float(np.einsum("ijk,ijk->ij", diff, diff).min(axis=1).mean())
 
 
-def aligned_distance_sq(tree: Any, points: FloatArray, shift: FloatArray, steps: int) -> float:
+def aligned_distance_sq(
+    tree: Any, points: FloatArray, shift: FloatArray, steps: int, both_ways: bool = False
+) -> float:
     """d^2 of :func:`coherence_distance_sq` with the past points in ``tree`` (a KD-tree),
     after ``steps`` translation-only ICP steps from ``shift`` (each: the shift becomes the
-    mean offset of the points from their nearest past points)."""
+    mean offset of the points from their nearest past points); with ``both_ways`` the
+    mean of it and of the same from the moved past points to the points."""
     s = np.asarray(shift, dtype=np.float64)
     past = tree.data
     for _ in range(steps):
         _, idx = tree.query(points - s)
         s = np.mean(points - past[idx], axis=0)
     dist, _ = tree.query(points - s)
-    return float(np.mean(np.square(dist)))
+    d_sq = float(np.mean(np.square(dist)))
+    if both_ways:
+        back, _ = cKDTree(points).query(past + s)
+        d_sq = 0.5 * (d_sq + float(np.mean(np.square(back))))
+    return d_sq
 
 
 def coherence_log_likelihood(d_sq: float, sigma: float, share: float = 1.0) -> float:
@@ -203,7 +213,9 @@ class CoherentGroupModel(GroupModel):
         sigma = self.coherence.sigma
         for j in np.nonzero(gated)[0].tolist():
             z = obs.cluster(j)
-            d_sq = aligned_distance_sq(tree, z, shift, self.coherence.align)
+            d_sq = aligned_distance_sq(
+                tree, z, shift, self.coherence.align, self.coherence.both_ways
+            )
             row[j] = coherence_log_likelihood(d_sq, sigma, float(obs.share[j]))
         return row
 

@@ -160,3 +160,25 @@ def test_coherence_keeps_an_overtaking_pair_apart_on_simulated_scans() -> None:
     # with it the tracker keeps them apart: a tracker that merges is as bad as memory-less
     assert run.clustering.error <= 0.25 * run.memoryless.error
     assert run.clustering.under_segmented <= 5
+
+
+def test_merged_only_scores_merged_tracks_over_snapshots_from_before_the_merge() -> None:
+    params = GroupTrackerParams()
+    settings = CoherenceSettings(lag=1.0, min_age=0.3, step=0.2, sigma=0.05, merged_only=True)
+    contour = _pts(-0.3, 0, 0.3, 0, 0, 0.3)
+    past = contour + np.array([-0.5, 0.0])
+    pts = np.concatenate([contour + np.array([0.1, 0.0]), _pts(0.1, 0.5)])
+    obs = GroupObservations.from_points(pts, np.arange(4), 1.3, 0.3)
+    base = GroupModel(params.model_settings())
+    ref_node = _node(((0.5, past),), contour)
+    base.predict([ref_node], 1.1)
+    _, ll0 = base.score([ref_node], obs)
+    got = []
+    for merged in (math.nan, 0.4, 0.7):  # never merged; merged before / after the snapshot
+        model = CoherentGroupModel(params.model_settings(), settings)
+        node = _node(((0.5, past),), contour)
+        node.payload = GroupPayload(contour, history=((0.5, past),), merged_stamp=merged)
+        model.predict([node], 1.1)
+        got.append(model.score([node], obs)[1][0, 0] - ll0[0, 0])
+    # d^2 = 0.01 (see above): -1/2 (0.01 / 0.05^2 - 2) = -1 only for the merge at 0.7
+    assert got == pytest.approx([0.0, 0.0, -1.0])

@@ -74,6 +74,9 @@ class CoherenceSettings:
             track's velocity alone).
         both_ways: Average d^2 over both directions: also the moved snapshot's points
             to their nearest observed point (a part that left the group shows).
+        merged_only: Only tracks made by a merge, while their reference snapshot is from
+            before it (the union of the parents' points): what a merge must explain; a
+            track whose members start to leave is then not penalised before it can split.
     """
 
     lag: float
@@ -82,6 +85,7 @@ class CoherenceSettings:
     sigma: float
     align: int = 0
     both_ways: bool = False
+    merged_only: bool = False
 
     @property
     def enabled(self) -> bool:
@@ -196,6 +200,9 @@ class CoherentGroupModel(GroupModel):
         if node.node_id not in self._trees:
             payload = group_payload(node)
             ref = reference_snapshot(payload.history, self._stamp, self.coherence.min_age)
+            if ref is not None and self.coherence.merged_only:
+                # NaN (never merged) compares False: no term
+                ref = ref if ref[0] <= payload.merged_stamp + 1e-9 else None
             if ref is None or node.pred_mean is None or ref[1].shape[0] == 0:
                 self._trees[node.node_id] = None
             else:
@@ -236,14 +243,16 @@ class CoherentGroupModel(GroupModel):
             history = push_snapshot(
                 group_payload(node).history, stamp, measurements.cluster(j), c.lag, c.step
             )
-            made.append((mean, cov, with_payload(payload, history=history)))
+            merged = group_payload(node).merged_stamp
+            made.append((mean, cov, with_payload(payload, history=history, merged_stamp=merged)))
         return made
 
     def coast(self, node: TrackNode, stamp: float) -> tuple[FloatArray, FloatArray, Any]:
         """The prediction; the history is kept."""
         mean, cov, payload = super().coast(node, stamp)
         if self.coherence.enabled:
-            payload = with_payload(payload, history=group_payload(node).history)
+            old = group_payload(node)
+            payload = with_payload(payload, history=old.history, merged_stamp=old.merged_stamp)
         return mean, cov, payload
 
     def initiate(

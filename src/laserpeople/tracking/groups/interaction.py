@@ -289,6 +289,7 @@ class GroupBranches:
                 must_match=True,
                 event="merge",
                 history=merge_histories(pa.history, pb.history, 0.5 * self.s.coherence_step),
+                merged_stamp=max(a.stamp, b.stamp),
             )
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]

@@ -51,6 +51,7 @@ class GroupPayload:
             when it was born from an observation.
         history: Snapshots of the points the track observed over the last seconds, oldest
             first (only with the motion-coherence term, :mod:`.coherence`).
+        merged_stamp: Time [s] of the merge that made the track's family (NaN: none).
     """
 
     contour: FloatArray
@@ -59,6 +60,7 @@ class GroupPayload:
     must_match: bool = False
     event: str = ""
     history: tuple[Snapshot, ...] = ()
+    merged_stamp: float = math.nan
 
 
 def transition(dt: float) -> FloatArray:

@@ -209,6 +209,11 @@ class GroupTrackerParams:
         "motion coherence measured both ways (also the snapshot's points to the "
         "observation: a part that left the group shows)",
     )
+    coherence_merged_only: bool = param(
+        False,
+        "assumption",
+        "apply the motion coherence only to merged tracks, over snapshots from before the merge",
+    )
     coherence_min_age: float = param(
         0.3, "assumption", "youngest snapshot the motion coherence compares with", "s"
     )
@@ -290,6 +295,7 @@ class GroupTrackerParams:
             sigma=self.coherence_sigma,
             align=self.coherence_align,
             both_ways=self.coherence_both_ways,
+            merged_only=self.coherence_merged_only,
         )
 
     def interaction_settings(self) -> InteractionSettings:

@@ -7,7 +7,9 @@ Frames come straight from the simulator (foreground = the beams its labels put o
 The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other seeds.
 
     PYTHONPATH=src python benchmarks/groups_table.py [--seeds 1 2] [--seconds 60]
-        [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png]
+        [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png] [--set NAME=VALUE ...]
+
+    e.g. --set coherence_lag=2 --plot docs/groups_fig17_coherence.png (motion coherence)
 """
 
 from __future__ import annotations

@@ -183,7 +183,7 @@ class GroupTrackerParams:
     coherence_lag: float = param(
         0.0,
         "000 (0: off, the likelihood of eqs. 19-24 alone); 2 s is the extension tuned on "
-        "entrance-hall seeds 0 and 1 (60 s, d_P 1.3 m: error 0.242 -> 0.229, memory-less "
+        "entrance-hall seeds 0 and 1 (60 s, d_P 1.3 m: error 0.242 -> 0.226, memory-less "
         "0.235; lags 1 and 3 s: 0.240 and 0.237 one way), see docs/groups.md for why it is "
         "not the default",
         "age of the snapshot of a group's points its observation is compared with, moved "
@@ -205,7 +205,7 @@ class GroupTrackerParams:
     )
     coherence_both_ways: bool = param(
         True,
-        "chosen on seeds 0 and 1 (30 s: 0.173 -> 0.163; 60 s: 0.235 -> 0.229)",
+        "chosen on seeds 0 and 1 (30 s: 0.173 -> 0.163; 60 s: 0.235 -> 0.226)",
         "motion coherence measured both ways (also the snapshot's points to the "
         "observation: a part that left the group shows)",
     )

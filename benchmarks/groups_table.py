@@ -7,7 +7,9 @@ Frames come straight from the simulator (foreground = the beams its labels put o
 The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other seeds.
 
     PYTHONPATH=src python benchmarks/groups_table.py [--seeds 1 2] [--seconds 60]
-        [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png]
+        [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png] [--set NAME=VALUE ...]
+
+    e.g. --set coherence_lag=2 --plot docs/groups_fig17_coherence.png (motion coherence)
 """
 
 from __future__ import annotations
@@ -29,8 +31,16 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--d-p", type=float, nargs="+", default=[0.7, 1.0, 1.3, 1.6, 2.0])
     ap.add_argument("--plot", default="")
+    ap.add_argument(
+        "--set",
+        nargs="*",
+        default=[],
+        metavar="NAME=VALUE",
+        help="tracker parameters to change, e.g. coherence_lag=0 (000's likelihood alone)",
+    )
     args = ap.parse_args()
-    base = GroupTrackerParams()
+    base = _with(GroupTrackerParams(), args.set)
+    print(f"parameters changed: {args.set or 'none (defaults)'}")
     sweep: dict[float, list[GroupRunResult]] = {d: [] for d in args.d_p}
     people_only: list[GroupRunResult] = []
     paper_size: list[GroupRunResult] = []
@@ -123,6 +133,19 @@ def main() -> None:
             print(f"| {lo}-{hi} | {np.median(gs):.2f} | {np.median(ps):.2f} | {gs.size} |")
     if args.plot:
         _plot(args.plot, sweep, g_ms, g_n, p_ms, p_n)
+
+
+def _with(params: GroupTrackerParams, settings: list[str]) -> GroupTrackerParams:
+    """``params`` with ``NAME=VALUE`` changes (values parsed as the field's type)."""
+    changes: dict[str, object] = {}
+    for item in settings:
+        name, _, value = item.partition("=")
+        old = getattr(params, name)
+        if isinstance(old, bool):
+            changes[name] = value.lower() in ("1", "true", "yes")
+        else:
+            changes[name] = type(old)(value)
+    return replace(params, **changes)  # type: ignore[arg-type]
 
 
 def _pool(results: list) -> tuple[float, float, float]:  # type: ignore[type-arg]

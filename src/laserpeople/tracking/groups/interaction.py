@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
+from laserpeople.tracking.groups.coherence import merge_histories
 from laserpeople.tracking.groups.labels import merge_labels, split_labels
 from laserpeople.tracking.groups.model import (
     GroupModel,
@@ -73,6 +74,8 @@ class InteractionSettings:
         counting: How re-clustered parts count their people (000's blob count if None).
         model_prior: How eq. 32 becomes P(M | parent): "normalised", "choice" or
             "literal" (see :meth:`GroupBranches._model_priors`).
+        coherence_step: Snapshot spacing of the motion-coherence history [s] (a merged
+            track joins its parents' snapshots taken within half of it).
     """
 
     p_c: float
@@ -88,6 +91,7 @@ class InteractionSettings:
     merge_likelihood: str = "compatibility"
     recluster_blobs: bool = False
     counting: SizeCounting | None = None
+    coherence_step: float = 0.2
 
 
 @dataclass(frozen=True, eq=False)
@@ -308,7 +312,14 @@ class GroupBranches:
                 if len(self._merged_labels) >= MERGED_LABELS_MEMO:
                     self._merged_labels.clear()
                 labels = self._merged_labels[names] = merge_labels(*names)
-            payload = GroupPayload(points - pm[:2], labels, must_match=True, event="merge")
+            payload = GroupPayload(
+                points - pm[:2],
+                labels,
+                must_match=True,
+                event="merge",
+                history=merge_histories(pa.history, pb.history, 0.5 * self.s.coherence_step),
+                merged_stamp=max(a.stamp, b.stamp),
+            )
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]
 

@@ -27,6 +27,8 @@ from laserpeople.tracking.mht.tracktree import TrackNode
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
+Snapshot = tuple[float, FloatArray]
+"""A group's observed points (K, 2) [m], absolute, and the time they were seen [s]."""
 
 H = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0]])
 """Measurement Jacobian of a contour point (000 eq. 23)."""
@@ -52,6 +54,9 @@ class GroupPayload:
         must_match: A split or merged track of this scan: it must be matched (000 Sec. 4.4).
         event: How the track's family began: "split" or "merge" when a model made it, ""
             when it was born from an observation.
+        history: Snapshots of the points the track observed over the last seconds, oldest
+            first (only with the motion-coherence term, :mod:`.coherence`).
+        merged_stamp: Time [s] of the merge that made the track's family (NaN: none).
     """
 
     contour: FloatArray
@@ -59,6 +64,8 @@ class GroupPayload:
     members: IntArray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     must_match: bool = False
     event: str = ""
+    history: tuple[Snapshot, ...] = ()
+    merged_stamp: float = math.nan
 
 
 def transition(dt: float) -> FloatArray:

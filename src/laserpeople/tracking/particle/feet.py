@@ -348,7 +348,10 @@ class StepDetector:
         near = cKDTree(points).sparse_distance_matrix(
             cKDTree(old_pts), reach, output_type="ndarray"
         )
-        links = np.unique(np.column_stack([labels[near["i"]], old_labels[near["j"]]]), axis=0)
+        # distinct (new cluster, old cluster) pairs, by a 1-D unique of one integer key
+        width = int(old_labels.max()) + 1
+        key = np.unique(labels[near["i"]] * width + old_labels[near["j"]])
+        links = np.column_stack([key // width, key % width])
         if len(links) == 0:
             return merges, splits
         new_ids, new_count = np.unique(links[:, 0], return_counts=True)

@@ -38,8 +38,6 @@ def small_objects(
     return np.asarray(largest_eigenvalue(cov)[labels] <= max_eigenvalue, dtype=bool)
 
 
-
-
 class ObjectMemory:
     """Remembers where too-big objects were, so that the pieces a big object breaks into
     (a baggage cart seen at a grazing angle, or cut in two by the person in front of it)

@@ -86,3 +86,39 @@ def test_cluster_covariances_equal_numpy() -> None:
         assert cnt[k] == len(sel)
         assert mean[k] == pytest.approx(sel.mean(axis=0))
         assert cov[k] == pytest.approx(np.cov(sel.T, bias=True))
+
+
+def test_duplicate_points_and_shared_positions_give_the_brute_force_modes() -> None:
+    """Estimates at one position are shifted once (the distinct-position step): with many
+    duplicated points the clusters and centres still equal the textbook loop's."""
+    rng = np.random.default_rng(7)
+    base = np.concatenate([c + rng.normal(0, 0.05, (12, 2)) for c in ((0, 0), (1, 0), (1.2, 0.1))])
+    pts = np.concatenate([base, base[::2], base[::3]])  # exact duplicates
+    res = mean_shift(pts, 0.2, tol=1e-9, max_iter=300)
+    modes = brute_force(pts, 0.2, 1e-9, 300)
+    for k in range(res.n_clusters):
+        assert res.centres[k] == pytest.approx(modes[res.labels == k].mean(axis=0), abs=1e-9)
+    # duplicates share their label
+    n = len(base)
+    assert np.array_equal(res.labels[n : n + len(base[::2])], res.labels[:n][::2])
+
+
+def test_components_equal_scipy_connected_components() -> None:
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    from laserpeople.clustering.single_linkage import components
+
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        n = int(rng.integers(1, 300))
+        pts = rng.uniform(0, rng.uniform(0.5, 8.0), (n, 2))
+        pairs = cKDTree(pts).query_pairs(0.2, output_type="ndarray")
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        _, expect = connected_components(graph, directed=False)
+        got = components(n, pairs)
+        assert same_partition(got, expect)
+        # each node's label is the smallest index of its component
+        for c in np.unique(got):
+            assert c == np.flatnonzero(got == c).min()

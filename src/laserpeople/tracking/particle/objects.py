@@ -5,13 +5,15 @@
 Here the foreground points are linked into connected objects (single linkage); an object
 whose covariance has a largest eigenvalue above a bound is no person (nor a person's
 feet), and the particle trackers neither start filters on its points nor count them as a
-filter's support.
+filter's support; :class:`ObjectMemory` keeps the pieces such an object breaks into
+from starting filters for a while.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
 from laserpeople.clustering import cluster_covariances, single_linkage
 
@@ -36,4 +38,43 @@ def small_objects(
     return np.asarray(largest_eigenvalue(cov)[labels] <= max_eigenvalue, dtype=bool)
 
 
-__all__ = ["largest_eigenvalue", "small_objects"]
+class ObjectMemory:
+    """Remembers where too-big objects were, so that the pieces a big object breaks into
+    (a baggage cart seen at a grazing angle, or cut in two by the person in front of it)
+    start no filter while they are still small.
+
+    A point is *remembered* when its object is too big in this scan, or when it lies
+    within ``reach`` [m] (at 50 Hz; scaled up with the time between scans) of a point
+    remembered in the previous scan whose object was last seen too big at most
+    ``duration`` [s] ago. The age is inherited from the nearest such point, so a chain of
+    pieces ends ``duration`` after the object was last seen whole. ``duration`` 0 remembers
+    nothing beyond the scan itself.
+    """
+
+    def __init__(self, reach: float, duration: float) -> None:
+        self.reach = reach
+        self.duration = duration
+        self._points = np.empty((0, 2))
+        self._seen = np.empty(0)
+        self._stamp: float | None = None
+
+    def update(
+        self, points: NDArray[np.float64], big: NDArray[np.bool_], stamp: float
+    ) -> NDArray[np.bool_]:
+        """(N,) True for the points of ``points`` (N, 2) [m] that are part of a big object
+        now (``big`` (N,)) or were remembered as one (see the class)."""
+        seen = np.where(big, stamp, -np.inf)
+        dt = 0.02 if self._stamp is None else stamp - self._stamp
+        self._stamp = stamp
+        if self.duration > 0.0 and len(self._points) and len(points):
+            reach = self.reach * max(1.0, dt / 0.02)
+            d, j = cKDTree(self._points).query(points, k=1, distance_upper_bound=reach)
+            near = np.isfinite(d)
+            seen[near] = np.maximum(seen[near], self._seen[j[near]])
+        remembered = stamp - seen <= self.duration
+        self._points = np.asarray(points[remembered], dtype=np.float64).reshape(-1, 2)
+        self._seen = seen[remembered]
+        return np.asarray(remembered, dtype=bool)
+
+
+__all__ = ["ObjectMemory", "largest_eigenvalue", "small_objects"]

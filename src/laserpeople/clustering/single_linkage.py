@@ -4,7 +4,7 @@ Two points belong to the same cluster when a chain of points links them in which
 step is shorter than the threshold ``d_P``: the connected components of the graph whose
 edges join points closer than ``d_P``. The pairs are found with a KD-tree
 (``scipy.spatial.cKDTree.query_pairs``, O(n log n) for points of bounded density) and the
-components with ``scipy.sparse.csgraph.connected_components``, so no distance matrix is
+components by vectorised label propagation (:func:`components`), so no distance matrix is
 ever built.
 """
 

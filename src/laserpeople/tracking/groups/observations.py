@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
+from laserpeople.clustering.single_linkage import components
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -194,34 +195,11 @@ def linkage_levels(points: FloatArray, distances: Sequence[float]) -> list[IntAr
     out = []
     for d in distances:
         link = pairs[length < d]
-        root = _components(n, link[:, 0], link[:, 1])
+        root = components(n, link)
         # each component's smallest index is its root: number the roots in index order
         rank = np.cumsum(root == np.arange(n)) - 1
         out.append(rank[root].astype(np.int64))
     return out
-
-
-def _components(n: int, i: IntArray, j: IntArray) -> IntArray:
-    """The smallest point index (n,) of each point's connected component in the graph
-    with edges ``(i[k], j[k])``: roots hook onto the smaller root of every edge, then
-    pointer jumping flattens the forest, until nothing changes."""
-    root = np.arange(n, dtype=np.int64)
-    if i.size == 0:
-        return root
-    while True:
-        ri, rj = root[i], root[j]
-        low = np.minimum(ri, rj)
-        hooked = root.copy()
-        np.minimum.at(hooked, ri, low)
-        np.minimum.at(hooked, rj, low)
-        while True:
-            jumped = hooked[hooked]
-            if np.array_equal(jumped, hooked):
-                break
-            hooked = jumped
-        if np.array_equal(hooked, root):
-            return root
-        root = hooked
 
 
 @dataclass(frozen=True)

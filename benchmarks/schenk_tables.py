@@ -228,6 +228,16 @@ def row_tasks(scenes: tuple[str, ...], runs: int, first_seed: int) -> list[tuple
     return [(scenes[k % len(scenes)], first_seed + k) for k in range(runs)]
 
 
+def all_row_tasks(chosen: set[int], runs: int, first_seed: int) -> list[list[tuple[str, int]]]:
+    """The runs of every row of the ``chosen`` tables and of the extra rows, row by row."""
+    return [
+        row_tasks(scenes, runs, first_seed)
+        for number, (_, rows) in enumerate(TABLES, start=1)
+        if number in chosen
+        for _, scenes, _, _ in rows
+    ] + [row_tasks(scenes, runs, first_seed) for _, scenes in EXTRA]
+
+
 BEFORE = ("FT", "UBT")  # the trackers compared with an earlier version (--before)
 
 
@@ -354,12 +364,7 @@ def _render(
     version of the trackers, their FT and UBT means beside): every row averages the same number of
     runs, the largest n for which the first n runs of every row are in (runs go in
     passes over all rows, so the document is whole after the first pass)."""
-    every = [
-        row_tasks(scenes, args.runs, args.first_seed)
-        for number, (_, rows) in enumerate(TABLES, start=1)
-        if number in chosen
-        for _, scenes, _, _ in rows
-    ] + [row_tasks(scenes, args.runs, args.first_seed) for _, scenes in EXTRA]
+    every = all_row_tasks(chosen, args.runs, args.first_seed)
     n = 0
     while n < args.runs and all(keys[n] in results for keys in every):
         n += 1
@@ -452,12 +457,7 @@ def main() -> None:
     args = ap.parse_args()
     chosen = {int(t) for t in args.tables.split(",")}
     w_start = time.perf_counter()
-    every = [
-        row_tasks(scenes, args.runs, args.first_seed)
-        for number, (_, rows) in enumerate(TABLES, start=1)
-        if number in chosen
-        for _, scenes, _, _ in rows
-    ] + [row_tasks(scenes, args.runs, args.first_seed) for _, scenes in EXTRA]
+    every = all_row_tasks(chosen, args.runs, args.first_seed)
     # in passes: run k of every row before run k + 1 of any
     tasks = list(dict.fromkeys(keys[k] for k in range(args.runs) for keys in every))
     store = Path(args.results) if args.results else None

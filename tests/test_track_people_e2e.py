@@ -1,10 +1,8 @@
-"""End to end: the people policies on the real dev recording (followed person) and on a
-simulated scene with the shipped leg detector; ``arras`` reproduces 000's people as before."""
+"""End to end: the people policies on a simulated scene with the shipped leg detector;
+``arras`` reproduces 000's people as before (the real dev recording is in
+test_track_reidentify.py)."""
 
 from __future__ import annotations
-
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -12,28 +10,6 @@ from laserpeople.demo import simulate_demo
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation import evaluate
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import followed_person as fp
-
-
-@pytest.mark.slow
-def test_followed_person_on_the_real_dev_recording(shared_data: Path) -> None:
-    """arras: identity recall 0.24 (0.43 per stretch), recall 0.72, 8 ids. tracks: 0.658
-    (0.986 per stretch), 0.986, 2 ids: the person keeps one id for as long as it stays in
-    view (it leaves the 86 deg view for 86 s once, from scan 1842 to 2702, so one id can
-    cover at most 0.669 of the labels)."""
-    base = shared_data / "leg_tracker_benchmarks" / "person_following_outdoor_1_first"
-    bag, labels = base.with_suffix(".bag"), Path(f"{base}.people.csv")
-    if not bag.exists():
-        pytest.skip(f"{bag} not found")
-    tracks, _, _ = fp.track_bag(bag, LegTrackerParams(people_policy="tracks"))
-    s = fp.score_followed(tracks, fp.read_labels(labels))
-    assert s.labels == 2709
-    assert s.recall >= 0.95
-    assert s.identity_recall >= 0.62
-    assert s.ids <= 3
-    assert s.stretches == 2 and s.stretch_identity_recall >= 0.95
 
 
 def _demo(seed: int, policy: str) -> dict[str, object]:

@@ -240,8 +240,9 @@ def test_reidentify_parameters_load_from_toml(tmp_path: Path) -> None:
 
 def test_followed_person_keeps_one_id_on_the_real_dev_recording(shared_data: Path) -> None:
     """The leg_tracker benchmark's person-following recording: the person leaves the 86 deg
-    view for 86 s. With re-identification one id covers >= 0.90 of the labelled scans
-    (without: at most 0.669, the longest stretch in view) at recall >= 0.90."""
+    view for 86 s (scans 1842-2702). With re-identification one id covers >= 0.90 of the
+    labelled scans (without: at most 0.669, the longest stretch in view; 000's ``arras``
+    policy: 0.24 with 8 ids, recall 0.72) at recall >= 0.95."""
     bag = shared_data / "leg_tracker_benchmarks" / "person_following_outdoor_1_first.bag"
     labels = bag.with_name(bag.stem + ".people.csv")
     if not bag.exists() or not labels.exists():
@@ -251,5 +252,8 @@ def test_followed_person_keeps_one_id_on_the_real_dev_recording(shared_data: Pat
 
     tracks, _, _ = track_bag(bag, LegTrackerParams())
     s = score_followed(tracks, read_labels(labels))
-    assert s.identity_recall >= 0.90 and s.recall >= 0.90
+    assert s.labels == 2709
+    assert s.identity_recall >= 0.90 and s.recall >= 0.95
     assert s.ids <= 2
+    # each of the two stretches in view is covered by one id (0.986 per stretch)
+    assert s.stretches == 2 and s.stretch_identity_recall >= 0.95

@@ -436,6 +436,7 @@ def test_fit_help() -> None:
     assert "--truth" in result.output and "--validation" in result.output
 
 
+@pytest.mark.slow
 def test_fit_writes_toml_that_track_reads(sims: list[Path], tmp_path: Path) -> None:
     from laserpeople.fitting.flow import learn
 

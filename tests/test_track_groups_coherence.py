@@ -147,6 +147,7 @@ def overtaking_scene(seed: int) -> Scene:
     return Scene(World(room(0.0, 0.0, 16.0, 6.0)), people, [sensor])
 
 
+@pytest.mark.slow
 def test_coherence_keeps_an_overtaking_pair_apart_on_simulated_scans() -> None:
     """Seed 1 (the same on seeds 2, 3): memory-less 0.151 (36 under-segmented clusters),
     000's likelihood (the default, coherence_lag 0) 0.147: it merges the pairs; with the

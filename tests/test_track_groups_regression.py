@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from numpy.typing import NDArray
 
 from group_tracker_reference import (
@@ -32,6 +33,7 @@ def _assert_same(got: dict[str, NDArray], prefix: str) -> None:  # type: ignore[
     np.testing.assert_allclose(rows[:, 3:], ref[:, 3:], rtol=0.0, atol=FLOAT_TOL)
 
 
+@pytest.mark.slow
 def test_group_tracker_output_identical_on_simulated_hall() -> None:
     got = sim_arrays()
     _assert_same(got, "sim_")
@@ -39,10 +41,12 @@ def test_group_tracker_output_identical_on_simulated_hall() -> None:
     np.testing.assert_allclose(got["sim_errors"], expected, rtol=0.0, atol=FLOAT_TOL)
 
 
+@pytest.mark.slow
 def test_people_only_tracker_output_identical_on_simulated_hall() -> None:
     _assert_same(people_only_arrays(), "people_")
 
 
+@pytest.mark.slow
 def test_optional_paths_output_identical_on_simulated_hall() -> None:
     _assert_same(extensions_arrays(), "ext_")
 

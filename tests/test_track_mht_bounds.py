@@ -133,6 +133,7 @@ def test_without_expiry_n_scan_pruning_keeps_approved_legs_for_ever() -> None:
     assert tracker.state_counts()["families"] == 2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("policy", ["arras", "tracks"])
 def test_state_bounded_by_what_is_in_view_over_many_crowds(policy: str) -> None:
     """Crowds of 4 people walk through the view and leave, one after the other, for 12

@@ -2,7 +2,9 @@
 
 Every tracker's ``update`` passes its input through :class:`InputGuard` first:
 
-* a detection whose position or covariance is not finite is left out and counted in
+* a detection whose position or covariance is not finite, or whose position is farther
+  than :data:`MAX_COORDINATE` from the origin (no place on Earth: its squares would
+  overflow the filters' arithmetic), is left out and counted in
   :attr:`InputGuard.dropped_detections`;
 * a scan stamp that is not finite is an error (:class:`~laserpeople.errors.LaserPeopleError`
   naming the scan): no time step can be made from it;
@@ -33,6 +35,10 @@ from laserpeople.tracks import Detections
 JUMP = 60.0
 """A time step [s] longer than this is counted as a jump in time."""
 
+MAX_COORDINATE = 1e8
+"""A detection coordinate [m] beyond this magnitude is left out (UTM northings, the largest
+world coordinates in use, stay below 1e7 m)."""
+
 
 class InputGuard:
     """Cleans one scan's detections and counts what it had to change (see module doc)."""
@@ -47,14 +53,16 @@ class InputGuard:
         self.first_degraded: int | None = None
 
     def check(self, detections: Detections) -> Detections:
-        """The detections to track: finite ones, at a stamp not before the previous one.
+        """The detections to track: finite ones within :data:`MAX_COORDINATE`, at a stamp not
+        before the previous one.
 
         Raises:
             LaserPeopleError: The stamp is not finite.
         """
         stamp = self.check_stamp(float(detections.stamp), detections.scan_index)
         pos, cov = detections.positions, detections.covariances
-        finite = np.isfinite(pos).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
+        with np.errstate(invalid="ignore"):
+            finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
         if not finite.all():
             self.dropped_detections += int(np.count_nonzero(~finite))
             keep = np.flatnonzero(finite)
@@ -103,7 +111,10 @@ class InputGuard:
         """What was changed, as one line ("" when nothing was)."""
         parts = []
         if self.dropped_detections:
-            parts.append(f"{self.dropped_detections} detections with non-finite values left out")
+            parts.append(
+                f"{self.dropped_detections} detections with non-finite values or positions "
+                f"beyond {MAX_COORDINATE:g} m left out"
+            )
         if self.repeated_stamps:
             parts.append(f"{self.repeated_stamps} scans with the same stamp as the one before")
         if self.backward_stamps:

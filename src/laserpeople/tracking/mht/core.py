@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
+from operator import attrgetter
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -178,6 +179,10 @@ class _UnionFind:
 
 def _family_key(node: TrackNode) -> int:
     return node.family
+
+
+_FAMILY = attrgetter("family")
+"""Sort key of track nodes by family (as :func:`_family_key`, without a Python call)."""
 
 
 def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
@@ -476,6 +481,7 @@ class MHT(Generic[Meas]):
     ) -> list[Hypothesis]:
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
+        plain = type(self.branches) is SingleModel
 
         def gate_row(node: TrackNode) -> BoolArray:
             return gated[row_of[node.node_id], meas_idx]
@@ -503,24 +509,23 @@ class MHT(Generic[Meas]):
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
-
-        def items(branch: Branch) -> tuple[Sequence[Hashable], Sequence[int], Any]:
-            """Ids, scan origins and measurement set of a branch's observations."""
+        # per plan: ids, scan origins and measurement set of its branch's observations
+        plan_items: list[tuple[Sequence[Hashable], Sequence[int], Any, bool]] = []
+        for _, branch in plans:
             obs = branch.observations
             if obs is None:
-                return meas_list, meas_list, measurements
-            return obs.keys, obs.origin, obs.measurements
+                plan_items.append((meas_list, meas_list, measurements, False))
+            else:
+                plan_items.append((obs.keys, obs.origin, obs.measurements, True))
 
         to_update: dict[tuple[int, Hashable], tuple[TrackNode, Hashable, Any, int]] = {}
         born: dict[Hashable, tuple[Any, int, int]] = {}
         for pi, dec, _ in solutions:
-            branch = plans[pi][1]
-            ids, origin, source = items(branch)
-            local = branch.observations is not None
-            for node, label, jl in zip(
-                branch.tracks, dec.track_label, dec.track_measurement, strict=True
-            ):
-                if label == DETECTED:
+            ids, origin, source, local = plan_items[pi]
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(plans[pi][1].tracks):
+                if tlabels[i] == DETECTED:
+                    jl = tmeas[i]
                     j = ids[jl]
                     if j not in node.children:
                         to_update[(node.node_id, j)] = (
@@ -539,20 +544,21 @@ class MHT(Generic[Meas]):
         n_scan = self.params.n_scan
         for pi, dec, total in solutions:
             parent, branch = plans[pi]
-            ids = items(branch)[0]
+            ids = plan_items[pi][0]
             tracks: list[TrackNode] = []
-            for node, label, jl in zip(
-                branch.tracks, dec.track_label, dec.track_measurement, strict=True
-            ):
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(branch.tracks):
+                label = tlabels[i]
                 if label == DETECTED:
-                    tracks.append(node.children[ids[jl]])
+                    tracks.append(node.children[ids[tmeas[i]]])
                 elif label == OCCLUDED:
-                    tracks.append(self._occluded_child(node, stamp))
+                    child = node.children.get(-1)
+                    tracks.append(child if child is not None else self._occluded_child(node, stamp))
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
-            tracks.sort(key=_family_key)
-            key = tuple(t.node_id for t in tracks)
+            tracks.sort(key=_FAMILY)
+            key = tuple([t.node_id for t in tracks])
             if key in children:  # two model branches led to the same content
                 c = children[key]
                 c.log_weight = float(np.logaddexp(c.log_weight, -total))
@@ -560,7 +566,13 @@ class MHT(Generic[Meas]):
             ancestors = (*parent.ancestors, parent.hypothesis_id)
             kept = ancestors[-n_scan:] if n_scan else ()
             children[key] = Hypothesis(-total, tuple(tracks), kept, model=branch.model)
-            self._link_replaced(tracks, parent.tracks)
+            if not plain:  # the plain MHT's children hold their parent's families or new ones
+                self._link_replaced(tracks, parent.tracks)
+        if len(children) == 1:
+            (only,) = children.values()
+            if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
+                only.log_weight = 0.0
+                return [only]
         hyps = normalise_hypotheses(list(children.values()))
         hyps = n_scan_prune(hyps, n_scan)
         return ratio_prune(hyps, self.params.min_ratio)
@@ -634,8 +646,8 @@ class MHT(Generic[Meas]):
         for the cluster's measurements, and their label log-probabilities (n, 3); taken from
         this scan's tables, except for nodes a branch generator made or re-predicted."""
         if all(t.node_id in row_of for t in nodes):
-            rows = [row_of[t.node_id] for t in nodes]
-            return self._cost_live[rows][:, meas_idx], self._lp_live[rows]
+            rows = np.array([row_of[t.node_id] for t in nodes], dtype=np.intp)
+            return self._cost_live[rows[:, None], meas_idx], self._lp_live[rows]
         lp = self.labels.track_log_probs(nodes)
         if meas_idx.size == 0:
             return np.zeros((len(nodes), 0)), lp

@@ -68,6 +68,7 @@ def enumerate_children(
     k: int,
     max_gap: float,
     limit: int = LISTING_LIMIT,
+    shortcut: bool = True,
 ) -> list[tuple[int, LabelledAssignment, float]] | None:
     """The ``k`` best children (at most ``max_gap`` above the best) of the parents.
 
@@ -80,12 +81,19 @@ def enumerate_children(
         k: Most children to return.
         max_gap: Children costing more than the best plus this are dropped.
         limit: Give up (None) when :func:`children_bound` exceeds this.
+        shortcut: Clusters of at most one track per parent and at most one measurement
+            (most clusters: one leg, its own detection) are listed by
+            :func:`enumerate_single`, which gives the same children without the bounds.
 
     Returns:
         ``(parent index, labels, total cost)`` in nondecreasing total cost (equal costs in
         the order found), or None when the cluster is too big to list.
     """
     n_nodes, m = track_meas_cost.shape
+    if shortcut and m <= 1 and all(len(r) <= 1 for r in rows):
+        return enumerate_single(
+            priors, rows, track_meas_cost, label_log_probs, log_new, log_fal, k, max_gap
+        )
     tm = track_meas_cost.tolist()
     c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
     c_del = (-label_log_probs[:, DELETED]).tolist()
@@ -123,6 +131,72 @@ def enumerate_children(
     return [
         (pi, LabelledAssignment(tl, tmeas, ml, total), total)
         for total, _, pi, tl, tmeas, ml in found[:k]
+        if total <= best + max_gap
+    ]
+
+
+def enumerate_single(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    track_meas_cost: FloatArray,
+    label_log_probs: FloatArray,
+    log_new: FloatArray,
+    log_fal: FloatArray,
+    k: int,
+    max_gap: float,
+) -> list[tuple[int, LabelledAssignment, float]]:
+    """:func:`enumerate_children` of a cluster whose parents have at most one track each and
+    which has at most one measurement: every child is written out (at most five per parent),
+    in the order the depth-first listing visits them, then the ``k`` best within
+    ``max_gap`` of the best are kept, equal costs in that order.
+
+    The result is the listing's: its cuts only drop children that would not be kept (a cut
+    child costs at least a lower bound above the best plus the gap, or at least the k-th
+    best found before it), and the costs are summed in the same order (parent, track label,
+    measurement label), so they are the same floats.
+    """
+    n_nodes, m = track_meas_cost.shape
+    if m > 1 or any(len(r) > 1 for r in rows):
+        raise ValueError("enumerate_single takes at most one track per parent and one measurement")
+    tm = track_meas_cost.tolist()
+    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
+    c_del = (-label_log_probs[:, DELETED]).tolist()
+    meas: list[tuple[float, int]] = []
+    if m:
+        c_new = -float(log_new[0])
+        c_fal = -float(log_fal[0])
+        meas = sorted(c for c in ((c_new, NEW_LABEL), (c_fal, FALSE_ALARM)) if c[0] < math.inf)
+    # (total, parent, track labels, track measurements, measurement labels), in listing order
+    found: list[tuple[float, int, list[int], tuple[int, ...], list[int]]] = []
+    for pi in sorted(range(len(rows)), key=lambda p: priors[p]):
+        if not math.isfinite(priors[pi]):
+            continue
+        prior = float(priors[pi])
+        if not rows[pi]:
+            if m:
+                found += [(prior + c, pi, [], (), [lab]) for c, lab in meas]
+            else:
+                found.append((prior, pi, [], (), []))
+            continue
+        i = rows[pi][0]
+        ch = [(c_occ[i], OCCLUDED, -1), (c_del[i], DELETED, -1)]
+        if m and tm[i][0] < math.inf:
+            ch.append((tm[i][0], DETECTED, 0))
+        for c, lab, j in sorted(c for c in ch if c[0] < math.inf):
+            cost = prior + c
+            if j >= 0:
+                found.append((cost, pi, [lab], (j,), [MATCHED]))
+            elif m:
+                found += [(cost + cm, pi, [lab], (-1,), [ml]) for cm, ml in meas]
+            else:
+                found.append((cost, pi, [lab], (-1,), []))
+    if not found:
+        return []
+    best = min(f[0] for f in found)
+    found.sort(key=lambda f: f[0])  # stable: equal costs stay in listing order
+    return [
+        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
+        for total, pi, tl, tmeas, ml in found[:k]
         if total <= best + max_gap
     ]
 
@@ -199,6 +273,7 @@ class _Lister:
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
+        last = t + 1 == len(self._rows)
         for c, lab, j in self.choices[self._rows[t]]:
             if j >= 0:
                 if used >> j & 1:
@@ -213,7 +288,10 @@ class _Lister:
                 continue
             labels.append(lab)
             meas.append(j)
-            self._tracks(t + 1, child_cost, child_used)
+            if last:  # the measurements next (what _tracks(t + 1, ...) would do)
+                self._measurements(0, child_cost, child_used, unmatched_lb[full & ~child_used])
+            else:
+                self._tracks(t + 1, child_cost, child_used)
             labels.pop()
             meas.pop()
 
@@ -232,7 +310,8 @@ class _Lister:
             self._measurements(j + 1, cost + c, used, rest)
 
     def _record(self, total: float, used: int) -> None:
-        mlabels = [MATCHED if used >> j & 1 else self._free_labels[j] for j in range(self.m)]
+        free = self._free_labels
+        mlabels = [MATCHED if used >> j & 1 else free[j] for j in range(self.m)]
         self.found.append(
             (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
         )

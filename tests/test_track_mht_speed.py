@@ -25,7 +25,10 @@ def _random_single_cluster(rng: np.random.Generator, ties: bool) -> tuple:
         [int(rng.integers(0, n_nodes))] if n_nodes and rng.random() < 0.8 else []
         for _ in range(n_parents)
     ]
-    priors = list(rng.choice([0.0, 0.5, 1.0, np.inf], size=n_parents) if ties else rng.uniform(0.0, 3.0, size=n_parents))
+    if ties:
+        priors = list(rng.choice([0.0, 0.5, 1.0, np.inf], size=n_parents))
+    else:
+        priors = list(rng.uniform(0.0, 3.0, size=n_parents))
     k, gap = int(rng.integers(1, 12)), float(rng.uniform(0.5, 12.0))
     return priors, rows, tm, lp, log_new, log_fal, k, gap
 

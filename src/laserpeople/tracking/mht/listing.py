@@ -155,7 +155,7 @@ def enumerate_single(
     best found before it), and the costs are summed in the same order (parent, track label,
     measurement label), so they are the same floats.
     """
-    n_nodes, m = track_meas_cost.shape
+    m = track_meas_cost.shape[1]
     if m > 1 or any(len(r) > 1 for r in rows):
         raise ValueError("enumerate_single takes at most one track per parent and one measurement")
     tm = track_meas_cost.tolist()

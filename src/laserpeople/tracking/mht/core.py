@@ -646,8 +646,8 @@ class MHT(Generic[Meas]):
         for the cluster's measurements, and their label log-probabilities (n, 3); taken from
         this scan's tables, except for nodes a branch generator made or re-predicted."""
         if all(t.node_id in row_of for t in nodes):
-            rows = np.array([row_of[t.node_id] for t in nodes], dtype=np.intp)
-            return self._cost_live[rows[:, None], meas_idx], self._lp_live[rows]
+            live_rows = np.array([row_of[t.node_id] for t in nodes], dtype=np.intp)
+            return self._cost_live[live_rows[:, None], meas_idx], self._lp_live[live_rows]
         lp = self.labels.track_log_probs(nodes)
         if meas_idx.size == 0:
             return np.zeros((len(nodes), 0)), lp

@@ -68,3 +68,55 @@ def test_single_track_shortcut_refuses_larger_clusters() -> None:
     with pytest.raises(ValueError):
         enumerate_single([0.0], [[0]], np.zeros((1, 2)), np.zeros((1, 3)),
                          np.zeros(2), np.zeros(2), 5, 9.0)  # fmt: skip
+
+
+def _state(tracker: object) -> list:
+    """Every cluster's hypotheses: weights, ancestry length and the tracks' full content."""
+    mht = tracker.mht  # type: ignore[attr-defined]
+    return [
+        [
+            (
+                h.log_weight,
+                len(h.ancestors),
+                [
+                    (t.node_id, t.family, t.label, t.measurement, t.hits, t.misses, t.loglik,
+                     t.mean.tobytes(), t.cov.tobytes())
+                    for t in h.tracks
+                ],
+            )
+            for h in c.hypotheses
+        ]
+        for c in mht.clusters
+    ]  # fmt: skip
+
+
+def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan() -> None:
+    """Six walkers with clutter and misses: the leg MHT with the shortcuts (lone clusters,
+    closed-form listing) holds exactly the hypotheses (weights, node ids, states) of the
+    one without, after every scan, and reports the same tracks."""
+    import math
+
+    from laserpeople.tracking import synthetic as syn
+    from laserpeople.tracking.legs import LegMHTTracker
+
+    rng = np.random.default_rng(5)
+    paths = [
+        syn.line_path(
+            (float(rng.uniform(1.5, 6.0)), float(rng.uniform(-3.0, 3.0))),
+            (0.3 * math.cos(h := float(rng.uniform(-math.pi, math.pi))), math.sin(h)),
+        )
+        for _ in range(6)
+    ]
+    sensor = syn.SensorModel(false_alarms_per_scan=1.0, box=(0.5, -5.0, 8.0, 5.0))
+    scene = syn.make_scene(paths, 8.0, rate=37.5, sensor=sensor)
+    fast, slow = LegMHTTracker(), LegMHTTracker()
+    slow.mht.shortcuts = False
+    lone = 0
+    for d in scene.detections:
+        out_fast, out_slow = fast.update(d), slow.update(d)
+        assert _state(fast) == _state(slow), d.scan_index
+        assert [(t.track_id, t.kind, t.position.tobytes(), t.score) for t in out_fast] == [
+            (t.track_id, t.kind, t.position.tobytes(), t.score) for t in out_slow
+        ]
+        lone += sum(len(c.families) == 1 for c in fast.mht.clusters)
+    assert lone > 100  # the shortcut was taken

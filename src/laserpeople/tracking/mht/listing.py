@@ -158,47 +158,88 @@ def enumerate_single(
     m = track_meas_cost.shape[1]
     if m > 1 or any(len(r) > 1 for r in rows):
         raise ValueError("enumerate_single takes at most one track per parent and one measurement")
-    tm = track_meas_cost.tolist()
+    tm = track_meas_cost[:, 0].tolist() if m else [math.inf] * track_meas_cost.shape[0]
     c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
     c_del = (-label_log_probs[:, DELETED]).tolist()
-    meas: list[tuple[float, int]] = []
-    if m:
-        c_new = -float(log_new[0])
-        c_fal = -float(log_fal[0])
-        meas = sorted(c for c in ((c_new, NEW_LABEL), (c_fal, FALSE_ALARM)) if c[0] < math.inf)
-    # (total, parent, track labels, track measurements, measurement labels), in listing order
-    found: list[tuple[float, int, list[int], tuple[int, ...], list[int]]] = []
+    meas = (-float(log_new[0]), -float(log_fal[0])) if m else None
+    return [
+        (
+            pi,
+            LabelledAssignment(
+                [] if tl < 0 else [tl],
+                () if tl < 0 else ((0,) if tl == DETECTED else (-1,)),
+                [] if ml < 0 else [ml],
+                total,
+            ),
+            total,
+        )
+        for total, pi, tl, ml in single_children(priors, rows, tm, c_occ, c_del, meas, k, max_gap)
+    ]
+
+
+def single_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    tm: Sequence[float],
+    c_occ: Sequence[float],
+    c_del: Sequence[float],
+    meas: tuple[float, float] | None,
+    k: int,
+    max_gap: float,
+) -> list[tuple[float, int, int, int]]:
+    """The children of :func:`enumerate_single` from plain floats (the core's shortcut for
+    such clusters calls this directly).
+
+    Args:
+        priors: Cost of each parent.
+        rows: Each parent's track (a node index) or none.
+        tm: Per node, the cost of matching it with the measurement (inf: not gated, or no
+            measurement).
+        c_occ, c_del: Per node, the costs of its occluded and deleted labels.
+        meas: The costs (new, false alarm) of the measurement, or None without one.
+        k, max_gap: As :func:`enumerate_children`.
+
+    Returns:
+        ``(total cost, parent, track label or -1 without a track, measurement label or -1
+        without a measurement)``, best first (equal costs in listing order); a detected
+        track is matched with the measurement.
+    """
+    meas_ch: list[tuple[float, int]] = []
+    if meas is not None:
+        both = ((meas[0], NEW_LABEL), (meas[1], FALSE_ALARM))
+        meas_ch = sorted(c for c in both if c[0] < math.inf)
+    found: list[tuple[float, int, int, int]] = []  # in listing order
     for pi in sorted(range(len(rows)), key=lambda p: priors[p]):
         if not math.isfinite(priors[pi]):
             continue
         prior = float(priors[pi])
         if not rows[pi]:
-            if m:
-                found += [(prior + c, pi, [], (), [lab]) for c, lab in meas]
+            if meas is not None:
+                found += [(prior + c, pi, -1, lab) for c, lab in meas_ch]
             else:
-                found.append((prior, pi, [], (), []))
+                found.append((prior, pi, -1, -1))
             continue
         i = rows[pi][0]
-        ch = [(c_occ[i], OCCLUDED, -1), (c_del[i], DELETED, -1)]
-        if m and tm[i][0] < math.inf:
-            ch.append((tm[i][0], DETECTED, 0))
-        for c, lab, j in sorted(c for c in ch if c[0] < math.inf):
+        ch = [(c_occ[i], OCCLUDED), (c_del[i], DELETED)]
+        if tm[i] < math.inf:
+            ch.append((tm[i], DETECTED))
+        for c, lab in sorted(c for c in ch if c[0] < math.inf):
             cost = prior + c
-            if j >= 0:
-                found.append((cost, pi, [lab], (j,), [MATCHED]))
-            elif m:
-                found += [(cost + cm, pi, [lab], (-1,), [ml]) for cm, ml in meas]
+            if lab == DETECTED:
+                found.append((cost, pi, lab, MATCHED))
+            elif meas is not None:
+                found += [(cost + cm, pi, lab, ml) for cm, ml in meas_ch]
             else:
-                found.append((cost, pi, [lab], (-1,), []))
+                found.append((cost, pi, lab, -1))
     if not found:
         return []
     best = min(f[0] for f in found)
-    found.sort(key=lambda f: f[0])  # stable: equal costs stay in listing order
-    return [
-        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
-        for total, pi, tl, tmeas, ml in found[:k]
-        if total <= best + max_gap
-    ]
+    found.sort(key=_total)  # stable: equal costs stay in listing order
+    return [f for f in found[:k] if f[0] <= best + max_gap]
+
+
+def _total(child: tuple[float, int, int, int]) -> float:
+    return child[0]
 
 
 class _Lister:

@@ -97,11 +97,12 @@ def enumerate_children(
     tm = track_meas_cost.tolist()
     c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
     c_del = (-label_log_probs[:, DELETED]).tolist()
-    # each track's finite labels, cheapest first: (cost, label, measurement or -1)
-    choices: list[list[tuple[float, int, int]]] = []
+    # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
+    # or 0), with the cheapest cost and the measurements in the gate (a bit mask)
+    choices: list[list[tuple[float, int, int, int]]] = []
     for i in range(n_nodes):
-        ch = [(c_occ[i], OCCLUDED, -1), (c_del[i], DELETED, -1)]
-        ch += [(c, DETECTED, j) for j, c in enumerate(tm[i]) if c < math.inf]
+        ch = [(c_occ[i], OCCLUDED, -1, 0), (c_del[i], DELETED, -1, 0)]
+        ch += [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < math.inf]
         choices.append(sorted(c for c in ch if c[0] < math.inf))
     if m > MAX_LISTED_MEASUREMENTS or children_bound(rows, [len(c) for c in choices], m) > limit:
         return None
@@ -247,7 +248,7 @@ class _Lister:
 
     def __init__(
         self,
-        choices: list[list[tuple[float, int, int]]],
+        choices: list[list[tuple[float, int, int, int]]],
         meas_choices: list[list[tuple[float, int]]],
         meas_min: list[float],
         unmatched_lb: list[float],
@@ -263,6 +264,8 @@ class _Lister:
         self.k = k
         self.max_gap = max_gap
         self.m = len(meas_choices)
+        self.cheapest = [ch[0][0] if ch else math.inf for ch in choices]
+        self.gates = [sum(bit for *_, bit in ch) for ch in choices]
         self.full = (1 << self.m) - 1
         self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
         self.best = math.inf
@@ -289,13 +292,10 @@ class _Lister:
         depth = len(rows)
         suffix = [0.0] * (depth + 1)  # cheapest labels of the tracks from t on
         reach = [0] * (depth + 1)  # measurements gated by the tracks from t on
+        cheapest, gates = self.cheapest, self.gates
         for t in range(depth - 1, -1, -1):
-            ch = self.choices[rows[t]]
-            suffix[t] = suffix[t + 1] + (ch[0][0] if ch else math.inf)
-            reach[t] = reach[t + 1]
-            for _, lab, j in ch:
-                if lab == DETECTED:
-                    reach[t] |= 1 << j
+            suffix[t] = suffix[t + 1] + cheapest[rows[t]]
+            reach[t] = reach[t + 1] | gates[rows[t]]
         self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
         self._labels, self._meas = [], []
         full = self.full
@@ -315,13 +315,10 @@ class _Lister:
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
         last = t + 1 == len(self._rows)
-        for c, lab, j in self.choices[self._rows[t]]:
-            if j >= 0:
-                if used >> j & 1:
-                    continue
-                child_used = used | (1 << j)
-            else:
-                child_used = used
+        for c, lab, j, bit in self.choices[self._rows[t]]:
+            if used & bit:
+                continue
+            child_used = used | bit
             child_cost = cost + c
             free = full & ~child_used
             bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]

@@ -53,7 +53,10 @@ class KalmanPointModel:
         self.params = params
         self.gate = params.gate
         self.max_gate_sq = params.max_gate_distance**2
-        self._coasted: dict[int, tuple[FloatArray, FloatArray]] = {}
+        # the occluded states of the last predict() call (N, 4), (N, 4, 4), rows by node id
+        self._coast_batch: tuple[FloatArray, FloatArray] = (np.empty((0, 4)), np.empty((0, 4, 4)))
+        self._coast_rows: dict[int, int] = {}
+        self._rows: dict[int, int] = {}  # id(node) -> row of the last predict() call
         # the node list of the last predict() call and its predictions (N, 4), (N, 4, 4)
         self._predicted: tuple[Sequence[TrackNode], FloatArray, FloatArray] = (
             (),
@@ -69,20 +72,23 @@ class KalmanPointModel:
         """Predict all nodes to ``stamp`` at once."""
         if not nodes:
             return
-        means = np.stack([n.mean for n in nodes])
-        covs = np.stack([n.cov for n in nodes])
+        means = np.array([n.mean for n in nodes], dtype=np.float64).reshape(-1, 4)
+        covs = np.array([n.cov for n in nodes], dtype=np.float64).reshape(-1, 4, 4)
         dt = self._dt(nodes, stamp)
         pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
-        for i, n in enumerate(nodes):
-            n.pred_mean = pm[i]
-            n.pred_cov = pc[i]
+        for n, mean, cov in zip(nodes, pm, pc, strict=True):
+            n.pred_mean = mean
+            n.pred_cov = cov
         self._predicted = (nodes, pm, pc)
-        self._coasted.clear()
+        # where each node's prediction is in the batch (update takes its rows from there)
+        self._rows = {id(n): i for i, n in enumerate(nodes)}
+        self._coast_rows.clear()
         tau = self.params.coast_velocity_time
         if not math.isinf(tau):
             # the occluded children's states, in the same batch (used by coast)
             cm, cc = kalman.coast(means, covs, dt, self.params.accel_psd, tau)
-            self._coasted.update((n.node_id, (cm[i], cc[i])) for i, n in enumerate(nodes))
+            self._coast_batch = (cm, cc)
+            self._coast_rows = {n.node_id: i for i, n in enumerate(nodes)}
 
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
@@ -111,15 +117,23 @@ class KalmanPointModel:
         """Kalman updates of ``nodes[i]`` with measurement ``js[i]``, all at once."""
         if not nodes:
             return []
-        preds = [_pred(n) for n in nodes]
         idx = np.asarray(js, dtype=np.intp)
-        means, covs = kalman.update_batch(
-            np.stack([p[0] for p in preds]),
-            np.stack([p[1] for p in preds]),
-            measurements.positions[idx],
-            measurements.covariances[idx],
+        done, pm, pc = self._predicted
+        rows = [self._rows.get(id(n), -1) for n in nodes]
+        fresh = (
+            r >= 0 and done[r] is n and n.pred_mean is not None
+            for r, n in zip(rows, nodes, strict=True)
         )
-        return [(means[i], covs[i], None) for i in range(len(nodes))]
+        if all(fresh):  # all predicted in the last batch (and not cleared since): its rows
+            pred_means, pred_covs = pm[rows], pc[rows]
+        else:
+            preds = [_pred(n) for n in nodes]
+            pred_means = np.stack([p[0] for p in preds])
+            pred_covs = np.stack([p[1] for p in preds])
+        means, covs = kalman.update_batch(
+            pred_means, pred_covs, measurements.positions[idx], measurements.covariances[idx]
+        )
+        return [(mean, cov, None) for mean, cov in zip(means, covs, strict=True)]
 
     def coast(self, node: TrackNode, stamp: float) -> tuple[FloatArray, FloatArray, Any]:
         """The prediction, with the velocity decaying while occluded when
@@ -128,17 +142,14 @@ class KalmanPointModel:
         if math.isinf(tau):
             mean, cov = _pred(node)
             return mean, cov, None
-        coasted = self._coasted.get(node.node_id)
-        if coasted is None:
-            means, covs = kalman.coast(
-                node.mean[None, :],
-                node.cov[None],
-                self._dt([node], stamp),
-                self.params.accel_psd,
-                tau,
-            )
-            coasted = (means[0], covs[0])
-        return coasted[0], coasted[1], None
+        row = self._coast_rows.get(node.node_id)
+        if row is not None:
+            cm, cc = self._coast_batch
+            return cm[row], cc[row], None
+        means, covs = kalman.coast(
+            node.mean[None, :], node.cov[None], self._dt([node], stamp), self.params.accel_psd, tau
+        )
+        return means[0], covs[0], None
 
     def initiate(
         self, measurements: PointMeasurements, js: Sequence[int], stamp: float

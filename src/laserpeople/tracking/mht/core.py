@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
+from operator import attrgetter
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -40,7 +41,7 @@ from laserpeople.tracking.mht.hypothesis import (
     normalise_hypotheses,
     ratio_prune,
 )
-from laserpeople.tracking.mht.listing import enumerate_children
+from laserpeople.tracking.mht.listing import enumerate_children, single_children
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
     LabelledAssignment,
@@ -49,6 +50,7 @@ from laserpeople.tracking.mht.matrix import (
     k_best_children,
 )
 from laserpeople.tracking.mht.probability import (
+    DELETED,
     DETECTED,
     OCCLUDED,
 )
@@ -180,6 +182,10 @@ def _family_key(node: TrackNode) -> int:
     return node.family
 
 
+_FAMILY = attrgetter("family")
+"""Sort key of track nodes by family (as :func:`_family_key`, without a Python call)."""
+
+
 def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
     """Marginal hypotheses over a subset of families: equal projections are merged and
     their probabilities added; each keeps the history of its most probable member."""
@@ -260,6 +266,10 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
+        self.shortcuts = True
+        """Whether clusters of one track and at most one measurement take the shortcuts
+        (:meth:`_branch_lone`, :func:`~.listing.enumerate_single`); they give the same
+        hypotheses as the general path (off only to test that)."""
 
     # ------------------------------------------------------------------ public
 
@@ -297,9 +307,20 @@ class MHT(Generic[Meas]):
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
+        plain = type(self.branches) is SingleModel
         for fams, meas_idx in components:
             parents = self._parents(fams, cluster_of)
-            children = self._branch(
+            lone = None
+            if (
+                self.shortcuts
+                and plain
+                and len(meas_idx) <= 1
+                and all(len(p.tracks) <= 1 for p in parents)
+            ):
+                lone = self._branch_lone(
+                    parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+                )
+            children = lone if lone is not None else self._branch(
                 parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
                 gated, loglik, row_of, log_new, log_fal,
             )  # fmt: skip
@@ -476,6 +497,7 @@ class MHT(Generic[Meas]):
     ) -> list[Hypothesis]:
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
+        plain = type(self.branches) is SingleModel
 
         def gate_row(node: TrackNode) -> BoolArray:
             return gated[row_of[node.node_id], meas_idx]
@@ -503,24 +525,23 @@ class MHT(Generic[Meas]):
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
-
-        def items(branch: Branch) -> tuple[Sequence[Hashable], Sequence[int], Any]:
-            """Ids, scan origins and measurement set of a branch's observations."""
+        # per plan: ids, scan origins and measurement set of its branch's observations
+        plan_items: list[tuple[Sequence[Hashable], Sequence[int], Any, bool]] = []
+        for _, branch in plans:
             obs = branch.observations
             if obs is None:
-                return meas_list, meas_list, measurements
-            return obs.keys, obs.origin, obs.measurements
+                plan_items.append((meas_list, meas_list, measurements, False))
+            else:
+                plan_items.append((obs.keys, obs.origin, obs.measurements, True))
 
         to_update: dict[tuple[int, Hashable], tuple[TrackNode, Hashable, Any, int]] = {}
         born: dict[Hashable, tuple[Any, int, int]] = {}
         for pi, dec, _ in solutions:
-            branch = plans[pi][1]
-            ids, origin, source = items(branch)
-            local = branch.observations is not None
-            for node, label, jl in zip(
-                branch.tracks, dec.track_label, dec.track_measurement, strict=True
-            ):
-                if label == DETECTED:
+            ids, origin, source, local = plan_items[pi]
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(plans[pi][1].tracks):
+                if tlabels[i] == DETECTED:
+                    jl = tmeas[i]
                     j = ids[jl]
                     if j not in node.children:
                         to_update[(node.node_id, j)] = (
@@ -539,20 +560,21 @@ class MHT(Generic[Meas]):
         n_scan = self.params.n_scan
         for pi, dec, total in solutions:
             parent, branch = plans[pi]
-            ids = items(branch)[0]
+            ids = plan_items[pi][0]
             tracks: list[TrackNode] = []
-            for node, label, jl in zip(
-                branch.tracks, dec.track_label, dec.track_measurement, strict=True
-            ):
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(branch.tracks):
+                label = tlabels[i]
                 if label == DETECTED:
-                    tracks.append(node.children[ids[jl]])
+                    tracks.append(node.children[ids[tmeas[i]]])
                 elif label == OCCLUDED:
-                    tracks.append(self._occluded_child(node, stamp))
+                    child = node.children.get(-1)
+                    tracks.append(child if child is not None else self._occluded_child(node, stamp))
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
-            tracks.sort(key=_family_key)
-            key = tuple(t.node_id for t in tracks)
+            tracks.sort(key=_FAMILY)
+            key = tuple([t.node_id for t in tracks])
             if key in children:  # two model branches led to the same content
                 c = children[key]
                 c.log_weight = float(np.logaddexp(c.log_weight, -total))
@@ -560,7 +582,112 @@ class MHT(Generic[Meas]):
             ancestors = (*parent.ancestors, parent.hypothesis_id)
             kept = ancestors[-n_scan:] if n_scan else ()
             children[key] = Hypothesis(-total, tuple(tracks), kept, model=branch.model)
-            self._link_replaced(tracks, parent.tracks)
+            if not plain:  # the plain MHT's children hold their parent's families or new ones
+                self._link_replaced(tracks, parent.tracks)
+        if len(children) == 1:
+            (only,) = children.values()
+            if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
+                only.log_weight = 0.0
+                return [only]
+        hyps = normalise_hypotheses(list(children.values()))
+        hyps = n_scan_prune(hyps, n_scan)
+        return ratio_prune(hyps, self.params.min_ratio)
+
+    def _branch_lone(
+        self,
+        parents: list[Hypothesis],
+        measurements: Meas,
+        meas_idx: list[int],
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis] | None:
+        """:meth:`_branch` of a plain-MHT cluster whose parents hold at most one track (one
+        family) and which has at most one measurement, most clusters (a leg and its own
+        detection, or a leg unseen): the same children, hypotheses and node, family and
+        hypothesis ids in the same order, from :func:`~.listing.single_children` on this
+        scan's tables, without the general path's per-cluster arrays and objects. None
+        (use :meth:`_branch`) for a cluster it does not cover: over ``max_cluster_size``, or
+        with a node not scored this scan."""
+        uniq: dict[int, int] = {}
+        nodes_u: list[TrackNode] = []
+        rows_of: list[list[int]] = []
+        for parent in parents:
+            if parent.tracks:
+                t = parent.tracks[0]
+                i = uniq.get(t.node_id)
+                if i is None:
+                    if t.node_id not in row_of:
+                        return None
+                    i = uniq[t.node_id] = len(nodes_u)
+                    nodes_u.append(t)
+                rows_of.append([i])
+            else:
+                rows_of.append([])
+        m = len(meas_idx)
+        size = len(nodes_u) + m
+        if size > self.params.max_cluster_size:
+            return None
+        self._largest = max(self._largest, size)
+        j = meas_idx[0] if m else -1
+        cost_live, lp_live = self._cost_live, self._lp_live
+        tm: list[float] = []
+        c_occ: list[float] = []
+        c_del: list[float] = []
+        for t in nodes_u:
+            row = row_of[t.node_id]
+            tm.append(float(cost_live[row, j]) if m else math.inf)
+            c_occ.append(-float(lp_live[row, OCCLUDED]))
+            c_del.append(-float(lp_live[row, DELETED]))
+        meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
+        priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
+        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        solutions = single_children(
+            priors, rows_of, tm, c_occ, c_del, meas, self.params.k_best, max_gap
+        )
+        # the nodes, in the order _branch makes them: detected children, new track, occluded
+        to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
+        new_track = False
+        for _, pi, tl, ml in solutions:
+            if tl == DETECTED:
+                node = parents[pi].tracks[0]
+                if j not in node.children and all(node is not u[0] for u in to_update):
+                    to_update.append((node, j, measurements, j))
+            elif ml == NEW_LABEL:
+                new_track = True
+        self._make_detected_children(to_update, measurements, stamp, loglik, row_of)
+        new_node = None
+        if new_track:
+            new_node = self._new_nodes({j: (measurements, j, j)}, measurements, stamp)[j]
+        children: dict[tuple[int, ...], Hypothesis] = {}
+        n_scan = self.params.n_scan
+        for total, pi, tl, ml in solutions:
+            parent = parents[pi]
+            tracks: list[TrackNode] = []
+            if tl == DETECTED:
+                tracks.append(parent.tracks[0].children[j])
+            elif tl == OCCLUDED:
+                node = parent.tracks[0]
+                child = node.children.get(-1)
+                tracks.append(child if child is not None else self._occluded_child(node, stamp))
+            if ml == NEW_LABEL:
+                assert new_node is not None
+                tracks.append(new_node)  # a new family: after the parent's
+            key = tuple([t.node_id for t in tracks])
+            if key in children:
+                c = children[key]
+                c.log_weight = float(np.logaddexp(c.log_weight, -total))
+                continue
+            ancestors = (*parent.ancestors, parent.hypothesis_id)
+            kept = ancestors[-n_scan:] if n_scan else ()
+            children[key] = Hypothesis(-total, tuple(tracks), kept, model=0)
+        if len(children) == 1:
+            (only,) = children.values()
+            if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
+                only.log_weight = 0.0
+                return [only]
         hyps = normalise_hypotheses(list(children.values()))
         hyps = n_scan_prune(hyps, n_scan)
         return ratio_prune(hyps, self.params.min_ratio)
@@ -611,7 +738,9 @@ class MHT(Generic[Meas]):
         rows_of = [[uniq[t.node_id] for t in plans[pi][1].tracks] for pi in members]
         solutions = None
         if not degraded:
-            solutions = enumerate_children(priors, rows_of, tm_cost, lp, c_new, c_fal, k, max_gap)
+            solutions = enumerate_children(
+                priors, rows_of, tm_cost, lp, c_new, c_fal, k, max_gap, shortcut=self.shortcuts
+            )
         if solutions is None:
             base = build_matrix(tm_cost, lp, c_new, c_fal)
             matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
@@ -634,8 +763,8 @@ class MHT(Generic[Meas]):
         for the cluster's measurements, and their label log-probabilities (n, 3); taken from
         this scan's tables, except for nodes a branch generator made or re-predicted."""
         if all(t.node_id in row_of for t in nodes):
-            rows = [row_of[t.node_id] for t in nodes]
-            return self._cost_live[rows][:, meas_idx], self._lp_live[rows]
+            live_rows = np.array([row_of[t.node_id] for t in nodes], dtype=np.intp)
+            return self._cost_live[live_rows[:, None], meas_idx], self._lp_live[live_rows]
         lp = self.labels.track_log_probs(nodes)
         if meas_idx.size == 0:
             return np.zeros((len(nodes), 0)), lp

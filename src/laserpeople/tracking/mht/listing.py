@@ -68,6 +68,7 @@ def enumerate_children(
     k: int,
     max_gap: float,
     limit: int = LISTING_LIMIT,
+    shortcut: bool = True,
 ) -> list[tuple[int, LabelledAssignment, float]] | None:
     """The ``k`` best children (at most ``max_gap`` above the best) of the parents.
 
@@ -80,20 +81,28 @@ def enumerate_children(
         k: Most children to return.
         max_gap: Children costing more than the best plus this are dropped.
         limit: Give up (None) when :func:`children_bound` exceeds this.
+        shortcut: Clusters of at most one track per parent and at most one measurement
+            (most clusters: one leg, its own detection) are listed by
+            :func:`enumerate_single`, which gives the same children without the bounds.
 
     Returns:
         ``(parent index, labels, total cost)`` in nondecreasing total cost (equal costs in
         the order found), or None when the cluster is too big to list.
     """
     n_nodes, m = track_meas_cost.shape
+    if shortcut and m <= 1 and all(len(r) <= 1 for r in rows):
+        return enumerate_single(
+            priors, rows, track_meas_cost, label_log_probs, log_new, log_fal, k, max_gap
+        )
     tm = track_meas_cost.tolist()
     c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
     c_del = (-label_log_probs[:, DELETED]).tolist()
-    # each track's finite labels, cheapest first: (cost, label, measurement or -1)
-    choices: list[list[tuple[float, int, int]]] = []
+    # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
+    # or 0), with the cheapest cost and the measurements in the gate (a bit mask)
+    choices: list[list[tuple[float, int, int, int]]] = []
     for i in range(n_nodes):
-        ch = [(c_occ[i], OCCLUDED, -1), (c_del[i], DELETED, -1)]
-        ch += [(c, DETECTED, j) for j, c in enumerate(tm[i]) if c < math.inf]
+        ch = [(c_occ[i], OCCLUDED, -1, 0), (c_del[i], DELETED, -1, 0)]
+        ch += [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < math.inf]
         choices.append(sorted(c for c in ch if c[0] < math.inf))
     if m > MAX_LISTED_MEASUREMENTS or children_bound(rows, [len(c) for c in choices], m) > limit:
         return None
@@ -127,12 +136,119 @@ def enumerate_children(
     ]
 
 
+def enumerate_single(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    track_meas_cost: FloatArray,
+    label_log_probs: FloatArray,
+    log_new: FloatArray,
+    log_fal: FloatArray,
+    k: int,
+    max_gap: float,
+) -> list[tuple[int, LabelledAssignment, float]]:
+    """:func:`enumerate_children` of a cluster whose parents have at most one track each and
+    which has at most one measurement: every child is written out (at most five per parent),
+    in the order the depth-first listing visits them, then the ``k`` best within
+    ``max_gap`` of the best are kept, equal costs in that order.
+
+    The result is the listing's: its cuts only drop children that would not be kept (a cut
+    child costs at least a lower bound above the best plus the gap, or at least the k-th
+    best found before it), and the costs are summed in the same order (parent, track label,
+    measurement label), so they are the same floats.
+    """
+    m = track_meas_cost.shape[1]
+    if m > 1 or any(len(r) > 1 for r in rows):
+        raise ValueError("enumerate_single takes at most one track per parent and one measurement")
+    tm = track_meas_cost[:, 0].tolist() if m else [math.inf] * track_meas_cost.shape[0]
+    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
+    c_del = (-label_log_probs[:, DELETED]).tolist()
+    meas = (-float(log_new[0]), -float(log_fal[0])) if m else None
+    return [
+        (
+            pi,
+            LabelledAssignment(
+                [] if tl < 0 else [tl],
+                () if tl < 0 else ((0,) if tl == DETECTED else (-1,)),
+                [] if ml < 0 else [ml],
+                total,
+            ),
+            total,
+        )
+        for total, pi, tl, ml in single_children(priors, rows, tm, c_occ, c_del, meas, k, max_gap)
+    ]
+
+
+def single_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    tm: Sequence[float],
+    c_occ: Sequence[float],
+    c_del: Sequence[float],
+    meas: tuple[float, float] | None,
+    k: int,
+    max_gap: float,
+) -> list[tuple[float, int, int, int]]:
+    """The children of :func:`enumerate_single` from plain floats (the core's shortcut for
+    such clusters calls this directly).
+
+    Args:
+        priors: Cost of each parent.
+        rows: Each parent's track (a node index) or none.
+        tm: Per node, the cost of matching it with the measurement (inf: not gated, or no
+            measurement).
+        c_occ, c_del: Per node, the costs of its occluded and deleted labels.
+        meas: The costs (new, false alarm) of the measurement, or None without one.
+        k, max_gap: As :func:`enumerate_children`.
+
+    Returns:
+        ``(total cost, parent, track label or -1 without a track, measurement label or -1
+        without a measurement)``, best first (equal costs in listing order); a detected
+        track is matched with the measurement.
+    """
+    meas_ch: list[tuple[float, int]] = []
+    if meas is not None:
+        both = ((meas[0], NEW_LABEL), (meas[1], FALSE_ALARM))
+        meas_ch = sorted(c for c in both if c[0] < math.inf)
+    found: list[tuple[float, int, int, int]] = []  # in listing order
+    for pi in sorted(range(len(rows)), key=lambda p: priors[p]):
+        if not math.isfinite(priors[pi]):
+            continue
+        prior = float(priors[pi])
+        if not rows[pi]:
+            if meas is not None:
+                found += [(prior + c, pi, -1, lab) for c, lab in meas_ch]
+            else:
+                found.append((prior, pi, -1, -1))
+            continue
+        i = rows[pi][0]
+        ch = [(c_occ[i], OCCLUDED), (c_del[i], DELETED)]
+        if tm[i] < math.inf:
+            ch.append((tm[i], DETECTED))
+        for c, lab in sorted(c for c in ch if c[0] < math.inf):
+            cost = prior + c
+            if lab == DETECTED:
+                found.append((cost, pi, lab, MATCHED))
+            elif meas is not None:
+                found += [(cost + cm, pi, lab, ml) for cm, ml in meas_ch]
+            else:
+                found.append((cost, pi, lab, -1))
+    if not found:
+        return []
+    best = min(f[0] for f in found)
+    found.sort(key=_total)  # stable: equal costs stay in listing order
+    return [f for f in found[:k] if f[0] <= best + max_gap]
+
+
+def _total(child: tuple[float, int, int, int]) -> float:
+    return child[0]
+
+
 class _Lister:
     """Depth-first listing with cuts (see the module doc); children go to ``found``."""
 
     def __init__(
         self,
-        choices: list[list[tuple[float, int, int]]],
+        choices: list[list[tuple[float, int, int, int]]],
         meas_choices: list[list[tuple[float, int]]],
         meas_min: list[float],
         unmatched_lb: list[float],
@@ -148,6 +264,8 @@ class _Lister:
         self.k = k
         self.max_gap = max_gap
         self.m = len(meas_choices)
+        self.cheapest = [ch[0][0] if ch else math.inf for ch in choices]
+        self.gates = [sum(bit for *_, bit in ch) for ch in choices]
         self.full = (1 << self.m) - 1
         self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
         self.best = math.inf
@@ -174,13 +292,10 @@ class _Lister:
         depth = len(rows)
         suffix = [0.0] * (depth + 1)  # cheapest labels of the tracks from t on
         reach = [0] * (depth + 1)  # measurements gated by the tracks from t on
+        cheapest, gates = self.cheapest, self.gates
         for t in range(depth - 1, -1, -1):
-            ch = self.choices[rows[t]]
-            suffix[t] = suffix[t + 1] + (ch[0][0] if ch else math.inf)
-            reach[t] = reach[t + 1]
-            for _, lab, j in ch:
-                if lab == DETECTED:
-                    reach[t] |= 1 << j
+            suffix[t] = suffix[t + 1] + cheapest[rows[t]]
+            reach[t] = reach[t + 1] | gates[rows[t]]
         self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
         self._labels, self._meas = [], []
         full = self.full
@@ -199,13 +314,11 @@ class _Lister:
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
-        for c, lab, j in self.choices[self._rows[t]]:
-            if j >= 0:
-                if used >> j & 1:
-                    continue
-                child_used = used | (1 << j)
-            else:
-                child_used = used
+        last = t + 1 == len(self._rows)
+        for c, lab, j, bit in self.choices[self._rows[t]]:
+            if used & bit:
+                continue
+            child_used = used | bit
             child_cost = cost + c
             free = full & ~child_used
             bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]
@@ -213,7 +326,10 @@ class _Lister:
                 continue
             labels.append(lab)
             meas.append(j)
-            self._tracks(t + 1, child_cost, child_used)
+            if last:  # the measurements next (what _tracks(t + 1, ...) would do)
+                self._measurements(0, child_cost, child_used, unmatched_lb[full & ~child_used])
+            else:
+                self._tracks(t + 1, child_cost, child_used)
             labels.pop()
             meas.pop()
 
@@ -232,7 +348,8 @@ class _Lister:
             self._measurements(j + 1, cost + c, used, rest)
 
     def _record(self, total: float, used: int) -> None:
-        mlabels = [MATCHED if used >> j & 1 else self._free_labels[j] for j in range(self.m)]
+        free = self._free_labels
+        mlabels = [MATCHED if used >> j & 1 else free[j] for j in range(self.m)]
         self.found.append(
             (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
         )

@@ -208,6 +208,12 @@ class GroupBranches:
                         ll = self._merge_loglik(ta, tb)
                         ratio = self._log_pg + ll - 2.0 * self._log_pc
                         events.append(Event("merge", (ta, tb), ratio, ll))
+        if not events and self.s.split_merge and not self.s.join_observations:
+            # the common case: one model, all continue; no observation is in two gates
+            # (that would be a merge event), so nothing is re-clustered
+            prior = 0.0 if self.s.model_prior != "literal" else len(tracks) * self._log_pc
+            self.models_generated += 1
+            return [Branch(prior, tuple(sorted(tracks, key=_family)), 0, None)]
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
@@ -530,6 +536,10 @@ class GroupBranches:
                 pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
         self._divided[key] = pieces
         return pieces
+
+
+def _family(node: TrackNode) -> int:
+    return node.family
 
 
 def _bits(row: BoolArray) -> int:

@@ -41,9 +41,11 @@ H_TILDE = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
 """Measurement Jacobian of (centroid, n_hs) (000 eq. 31)."""
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class GroupPayload:
-    """What a group track carries besides x and C.
+    """What a group track carries besides x and C. Treated as immutable (nodes share
+    payloads and their arrays); not a frozen dataclass only because some 60 are made per
+    scan and a frozen one's ``__init__`` costs eight times as much.
 
     Attributes:
         contour: P, points (K, 2) [m] relative to the position of the state.
@@ -351,7 +353,20 @@ class GroupModel:
         self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` (eqs.
-        19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
+        19-24), in blocks of at most :data:`SCORE_BLOCK` distances. Nodes with the same
+        prediction and contour (the two halves of a split) are scored once: a row depends
+        only on its own node, so the copy is the number scoring it would give."""
+        first: dict[tuple[int, int, int], int] = {}
+        where = [
+            first.setdefault((id(group_payload(n).contour), id(n.pred_mean), id(n.pred_cov)), i)
+            for i, n in enumerate(nodes)
+        ]
+        if len(first) < len(nodes):
+            keep = sorted(first.values())
+            gated, loglik = self._score_nodes([nodes[i] for i in keep], obs, batch)
+            row = {i: r for r, i in enumerate(keep)}
+            pick = [row[i] for i in where]
+            return gated[pick], loglik[pick]
         if len(nodes) == 1 and not batch and obs.source is None:
             return self._score_one(nodes[0], obs)
         sizes = [max(len(group_payload(n).contour), 1) for n in nodes]
@@ -554,22 +569,23 @@ class GroupModel:
         if not nodes:
             return out
         idx = np.asarray(js, dtype=np.intp)
-        preds = [node_prediction(n) for n in nodes]
         means, covs = kalman_update_batch(
-            np.stack([p[0] for p in preds]),
-            np.stack([p[1] for p in preds]),
+            np.stack([node_prediction(n)[0] for n in nodes]),
+            np.stack([node_prediction(n)[1] for n in nodes]),
             measurements.centroids[idx],
             measurements.n_hs[idx],
             self.s.r_update,
         )
-        for node, j, new_mean, new_cov in zip(nodes, js, means, covs, strict=True):
+        # every contour (cluster points minus the new position) and member list at once
+        sizes = measurements.sizes[idx]
+        rows = _ranges(measurements.offsets[idx], sizes)
+        contours = measurements.points[rows] - np.repeat(means[:, :2], sizes, axis=0)
+        members = measurements.members[rows]
+        ends = np.cumsum(sizes).tolist()
+        starts = [0, *ends[:-1]]
+        for node, a, b, new_mean, new_cov in zip(nodes, starts, ends, means, covs, strict=True):
             old = group_payload(node)
-            payload = GroupPayload(
-                measurements.cluster(j) - new_mean[:2],
-                old.labels,
-                measurements.cluster_members(j).copy(),
-                event=old.event,
-            )
+            payload = GroupPayload(contours[a:b], old.labels, members[a:b], event=old.event)
             out.append((new_mean, new_cov, payload))
         return out
 

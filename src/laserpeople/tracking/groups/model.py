@@ -345,28 +345,24 @@ class GroupModel:
         todo = [n for n in nodes if (n.node_id, key) not in self._rows]
         if not todo or len(measurements) == 0:
             return
-        gated, loglik = self._score_nodes(todo, measurements, False)
-        for node, g_row, ll_row in zip(todo, gated, loglik, strict=True):
-            self._rows[(node.node_id, key)] = (g_row, ll_row)
+        # nodes with the same prediction and contour (the two halves of a split) are
+        # scored once: a row depends only on its own node
+        first: dict[tuple[int, int, int], TrackNode] = {}
+        same = [
+            first.setdefault((id(group_payload(n).contour), id(n.pred_mean), id(n.pred_cov)), n)
+            for n in todo
+        ]
+        unique = list(first.values())
+        gated, loglik = self._score_nodes(unique, measurements, False)
+        rows = {n.node_id: r for n, r in zip(unique, zip(gated, loglik, strict=True), strict=True)}
+        for node, twin in zip(todo, same, strict=True):
+            self._rows[(node.node_id, key)] = rows[twin.node_id]
 
     def _score_nodes(
         self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` (eqs.
-        19-24), in blocks of at most :data:`SCORE_BLOCK` distances. Nodes with the same
-        prediction and contour (the two halves of a split) are scored once: a row depends
-        only on its own node, so the copy is the number scoring it would give."""
-        first: dict[tuple[int, int, int], int] = {}
-        where = [
-            first.setdefault((id(group_payload(n).contour), id(n.pred_mean), id(n.pred_cov)), i)
-            for i, n in enumerate(nodes)
-        ]
-        if len(first) < len(nodes):
-            keep = sorted(first.values())
-            gated, loglik = self._score_nodes([nodes[i] for i in keep], obs, batch)
-            row = {i: r for r, i in enumerate(keep)}
-            pick = [row[i] for i in where]
-            return gated[pick], loglik[pick]
+        19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
         if len(nodes) == 1 and not batch and obs.source is None:
             return self._score_one(nodes[0], obs)
         sizes = [max(len(group_payload(n).contour), 1) for n in nodes]

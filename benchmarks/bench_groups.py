@@ -7,10 +7,15 @@ CPU time of this process (``time.process_time``), so that other jobs on the mach
 not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
-        [--breakdown]
+        [--breakdown] [--against OTHER/src]
 
 ``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
 (median over those scans of each part's ms; parts nest as indented).
+
+``--against OTHER/src`` compares this code with another checkout (e.g. the code before a
+change) in lock step: two worker processes, one per code, track the same frames and take
+turns scan by scan (which one goes first alternates), so both see the same load on a
+shared machine; prints both medians and their ratio per bin of people in view.
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ from __future__ import annotations
 import argparse
 import functools
 import os
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -136,6 +143,98 @@ def demo_frames(root: Path) -> list[Frame]:
     return [step.frame for step in pipe]
 
 
+def hall_runs(
+    scenario: str, seeds: list[int], seconds: float
+) -> list[tuple[list[Frame], np.ndarray]]:
+    """(frames, people in view (F,)) of each simulated run."""
+    runs = []
+    for seed in seeds:
+        scans = run_scenario(scenario, seconds=seconds, seed=seed).scans
+        labelled = list(frames_from_scans(scans))
+        people = []
+        for lf in labelled:
+            seen = lf.true_person[np.asarray(lf.frame.foreground)]
+            people.append(np.unique(seen[seen >= 0]).size)
+        runs.append(([lf.frame for lf in labelled], np.asarray(people)))
+    return runs
+
+
+def worker(args: argparse.Namespace) -> None:
+    """Lock-step worker: print the number of frames, then track one frame per line read
+    from stdin and print its CPU ms and people in view (-1 for the bag)."""
+    runs = [] if args.worker == "bag" else hall_runs(args.scenario, args.seeds, args.seconds)
+    if args.worker == "bag":
+        root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))
+        frames = demo_frames(root)
+        runs = [(frames, np.full(len(frames), -1))]
+    print(sum(len(f) for f, _ in runs), flush=True)
+    for frames, people in runs:
+        tracker = GroupMHTTracker(GroupTrackerParams())
+        for frame, n in zip(frames, people, strict=True):
+            sys.stdin.readline()
+            t0 = time.process_time()
+            tracker.update(frame)
+            print(f"{(time.process_time() - t0) * 1e3!r} {n}", flush=True)
+
+
+def lock_step(args: argparse.Namespace, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """CPU ms (F,) of this code and of ``args.against``, and people in view (F,), tracked
+    in turns by two worker processes (see the module doc)."""
+    import laserpeople
+
+    here = str(Path(laserpeople.__file__).resolve().parents[1])
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", kind,
+           "--scenario", args.scenario, "--seconds", str(args.seconds),
+           "--seeds", *map(str, args.seeds)]  # fmt: skip
+    procs = []
+    for src in (here, args.against):
+        env = dict(os.environ, PYTHONPATH=src)
+        procs.append(
+            subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env)
+        )
+    pipes = [(p.stdin, p.stdout) for p in procs]
+    counts = {int(out.readline()) for _, out in pipes if out is not None}
+    if len(counts) != 1:
+        raise RuntimeError(f"the two codes made different numbers of frames: {counts}")
+    n = counts.pop()
+    ms = np.empty((2, n))
+    people = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        for w in (0, 1) if k % 2 == 0 else (1, 0):
+            inp, out = pipes[w]
+            assert inp is not None and out is not None
+            inp.write("\n")
+            inp.flush()
+            value, seen = out.readline().split()
+            ms[w, k], people[k] = float(value), int(seen)
+    for p in procs:
+        p.wait()
+    return ms[0], ms[1], people
+
+
+def print_against(args: argparse.Namespace) -> None:
+    """The lock-step comparison with ``args.against`` (hall, then the demo bag)."""
+    here, other, people = lock_step(args, "hall")
+    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each, lock step: CPU ms "
+          f"per scan, this code vs {args.against}\n")  # fmt: skip
+    print("| people in view | other | this | this / other | median of per-scan ratios | frames |")
+    print("|---|---|---|---|---|---|")
+    bins = [*BINS, (0, 10**6)]
+    for lo, hi in bins:
+        sel = (people >= lo) & (people <= hi)
+        if sel.any():
+            a, b = np.median(other[sel]), np.median(here[sel])
+            name = f"{lo}-{hi}" if hi < 10**6 else "all"
+            print(f"| {name} | {a:.2f} | {b:.2f} | {b / a:.2f} | "
+                  f"{np.median(here[sel] / other[sel]):.2f} | {sel.sum()} |")  # fmt: skip
+    root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))
+    if not args.no_bag and (root / DEMO_BAG).is_file():
+        here, other, _ = lock_step(args, "bag")
+        a, b = np.median(other), np.median(here)
+        print(f"| real demo bag ({here.size} scans) | {a:.2f} | {b:.2f} | {b / a:.2f} | "
+              f"{np.median(here / other):.2f} | {here.size} |")  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--scenario", default="entrance-hall")
@@ -143,21 +242,19 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--no-bag", action="store_true", help="skip the real demo bag")
     ap.add_argument("--breakdown", action="store_true", help="time the parts at 15-20 people")
+    ap.add_argument("--against", default="", help="src directory of the code to compare with")
+    ap.add_argument("--worker", default="", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.worker:
+        worker(args)
+        return
+    if args.against:
+        print_against(args)
+        return
     params = GroupTrackerParams()
-    ms_all, people_all = [], []
-    runs = []
-    for seed in args.seeds:
-        scans = run_scenario(args.scenario, seconds=args.seconds, seed=seed).scans
-        labelled = list(frames_from_scans(scans))
-        ms_all.append(time_frames([lf.frame for lf in labelled], params))
-        people = []
-        for lf in labelled:
-            seen = lf.true_person[np.asarray(lf.frame.foreground)]
-            people.append(np.unique(seen[seen >= 0]).size)
-        people_all.append(np.asarray(people))
-        runs.append(([lf.frame for lf in labelled], people_all[-1]))
-    ms, people = np.concatenate(ms_all), np.concatenate(people_all)
+    runs = hall_runs(args.scenario, args.seeds, args.seconds)
+    ms = np.concatenate([time_frames(frames, params) for frames, _ in runs])
+    people = np.concatenate([p for _, p in runs])
     print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each: CPU ms per scan\n")
     print("| people in view | median | p95 | frames |")
     print("|---|---|---|---|")

@@ -290,6 +290,34 @@ def test_label_naming_on_split_and_merge() -> None:
     assert format_labels(("10", "2", "1-1")) == "1-1|2|10"
 
 
+def _prune_by_restarting(labels: set[str]) -> tuple[str, ...]:
+    """000's pruning written plainly: replace the first pair X-0, X-1 in natural order by
+    X and start again from the first label, until no pair is left."""
+    out = set(labels)
+    while True:
+        for label in sorted(out, key=lambda x: [int(p) for p in x.split("-")]):
+            stem, sep, last = label.rpartition("-")
+            if sep and last in "01" and {f"{stem}-0", f"{stem}-1"} <= out:
+                out -= {f"{stem}-0", f"{stem}-1"}
+                out.add(stem)
+                break
+        else:
+            return tuple(sorted(out, key=lambda x: [int(p) for p in x.split("-")]))
+
+
+def test_label_pruning_equals_restarting_from_the_first_label() -> None:
+    # nested and overlapping sets (X with X-0, X-0-0 ...), where the order of the
+    # replacements decides the result: {0-0, 0-1, 0-0-0, 0-0-1} -> {0, 0-0}
+    assert prune_labels({"0-0", "0-1", "0-0-0", "0-0-1"}) == ("0", "0-0")
+    rng = np.random.default_rng(5)
+    for _ in range(3000):
+        labels = {
+            "-".join(map(str, [rng.integers(3), *rng.integers(2, size=rng.integers(5))]))
+            for _ in range(int(rng.integers(1, 25)))
+        }
+        assert prune_labels(labels) == _prune_by_restarting(labels), labels
+
+
 def test_model_enumeration_is_binary_and_disjoint() -> None:
     def node(i: int) -> TrackNode:
         return TrackNode(i, i, -1, np.zeros(5), np.eye(5), 0.0, "new")

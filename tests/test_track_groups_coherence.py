@@ -87,14 +87,35 @@ def test_coherence_distance_and_likelihood_by_hand() -> None:
 def test_alignment_finds_the_rigid_translation() -> None:
     past = _pts(0, 0, 2, 0, 0, 2)
     moved = past + np.array([0.3, -0.1])
-    tree = cKDTree(past)
-    assert aligned_distance_sq(tree, moved, np.zeros(2), 0) == pytest.approx(0.1)
-    assert aligned_distance_sq(tree, moved, np.zeros(2), 1) == pytest.approx(0.0, abs=1e-12)
+    assert aligned_distance_sq(past, moved, np.zeros(2), 0) == pytest.approx(0.1)
+    assert aligned_distance_sq(past, moved, np.zeros(2), 1) == pytest.approx(0.0, abs=1e-12)
     # two parts moving apart cannot be aligned by one translation: each is 0.5 m off
     half = np.array([0.5, 0.0])
     apart = np.concatenate([past[:1] - half, past[1:] + half])
-    d_sq = aligned_distance_sq(tree, apart, np.zeros(2), 3)
+    d_sq = aligned_distance_sq(past, apart, np.zeros(2), 3)
     assert d_sq == pytest.approx(0.25 * 8 / 9, rel=1e-9)  # best shift (1/6, 0)
+
+
+def test_alignment_equals_a_kd_tree_icp_both_ways() -> None:
+    """The dense distances give what nearest-neighbour queries of a KD-tree give (an
+    independent computation of the same ICP), one way and both ways."""
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        past = rng.normal(size=(int(rng.integers(3, 40)), 2)) * 0.5
+        points = past[: int(rng.integers(2, len(past) + 1))] + rng.normal(size=2) * 0.3
+        points = points + rng.normal(size=points.shape) * 0.05
+        shift0 = rng.normal(size=2) * 0.2
+        tree = cKDTree(past)
+        s = shift0.copy()
+        for _ in range(3):
+            _, idx = tree.query(points - s)
+            s = np.mean(points - past[idx], axis=0)
+        dist, _ = tree.query(points - s)
+        back, _ = cKDTree(points).query(past + s)
+        one = float(np.mean(dist**2))
+        both = 0.5 * (one + float(np.mean(back**2)))
+        assert aligned_distance_sq(past, points, shift0, 3) == pytest.approx(one, rel=1e-9)
+        assert aligned_distance_sq(past, points, shift0, 3, True) == pytest.approx(both, rel=1e-9)
 
 
 def _node(history: tuple[tuple[float, np.ndarray], ...], contour: np.ndarray) -> TrackNode:

@@ -191,3 +191,56 @@ def test_score_of_one_track_alone_equals_eq19_24(seed: int, rms: bool) -> None:
     g2, l2 = together.score(nodes, obs)
     np.testing.assert_array_equal(g1, g2)
     np.testing.assert_array_equal(l1, l2)
+
+
+def test_split_halves_scored_apart_equal_each_half_alone() -> None:
+    """The two halves of a split (same prediction and contour) are scored once by
+    :meth:`GroupModel.score_apart`; each half's rows are what scoring it alone gives."""
+    nodes, obs = _scene(4)
+    params = GroupTrackerParams()
+    model = GroupModel(params.model_settings())
+    model.predict(nodes, 0.2)
+    mean, cov = model_mod.split_state(nodes[1].pred_mean, params.c0())
+    halves = []
+    for i, labels in enumerate((("0-0",), ("0-1",))):
+        half = TrackNode(100 + i, 100 + i, 1, mean, cov, 0.2, "detected",
+                         payload=GroupPayload(nodes[1].payload.contour, labels))  # fmt: skip
+        half.pred_mean, half.pred_cov = mean, cov
+        halves.append(half)
+    model.score_apart([*halves, nodes[2]], obs)
+    g, ll = model.score([*halves, nodes[2]], obs)
+    for row, node in enumerate([*halves, nodes[2]]):
+        alone = GroupModel(params.model_settings())
+        alone.predict([n for n in nodes if n is not nodes[1]], 0.2)
+        node_alone = TrackNode(200, 200, 1, node.mean, node.cov, 0.2, "detected",
+                               payload=node.payload)  # fmt: skip
+        node_alone.pred_mean, node_alone.pred_cov = node.pred_mean, node.pred_cov
+        g1, l1 = alone.score([node_alone], obs)
+        np.testing.assert_array_equal(g[row], g1[0])
+        np.testing.assert_array_equal(ll[row], l1[0])
+
+
+def test_nearest_unit_equals_a_plain_loop_over_units() -> None:
+    """Re-clustering by nearest predicted contour point (Sec. 4.3) in one matrix equals
+    the rule applied unit by unit (the first unit wins a tie; an empty contour counts as
+    the track's position)."""
+    from laserpeople.tracking.groups.interaction import _nearest_unit
+
+    nodes, obs = _scene(5)
+    model = GroupModel(GroupTrackerParams().model_settings())
+    model.predict(nodes, 0.2)
+    units = [[n] for n in nodes[:8]]
+    owner = _nearest_unit(obs.points, units)
+    for k, p in enumerate(obs.points):
+        best, want = math.inf, 0
+        for u, (node,) in enumerate(units):
+            c = node.payload.contour + node.pred_mean[:2]
+            if c.shape[0] == 0:
+                c = node.pred_mean[None, :2]
+            d = float(np.min(np.sum((c - p) ** 2, axis=1)))
+            if d < best:
+                best, want = d, u
+        assert owner[k] == want
+    # a tie: two units with the same contour, the point goes to the first
+    twin = [[nodes[0]], [nodes[0]]]
+    assert (_nearest_unit(obs.points, twin) == 0).all()

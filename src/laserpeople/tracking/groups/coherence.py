@@ -41,7 +41,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
 
 from laserpeople.tracking.groups.model import (
     GroupModel,
@@ -136,22 +135,33 @@ def coherence_distance_sq(points: FloatArray, past: FloatArray, shift: FloatArra
 
 
 def aligned_distance_sq(
-    tree: Any, points: FloatArray, shift: FloatArray, steps: int, both_ways: bool = False
+    past: FloatArray, points: FloatArray, shift: FloatArray, steps: int, both_ways: bool = False
 ) -> float:
-    """d^2 of :func:`coherence_distance_sq` with the past points in ``tree`` (a KD-tree),
-    after ``steps`` translation-only ICP steps from ``shift`` (each: the shift becomes the
-    mean offset of the points from their nearest past points); with ``both_ways`` the
-    mean of it and of the same from the moved past points to the points."""
-    s = np.asarray(shift, dtype=np.float64)
-    past = tree.data
-    for _ in range(steps):
-        _, idx = tree.query(points - s)
-        s = np.mean(points - past[idx], axis=0)
-    dist, _ = tree.query(points - s)
-    d_sq = float(np.mean(np.square(dist)))
+    """d^2 of :func:`coherence_distance_sq` of ``points`` (K, 2) to the ``past`` points
+    (J, 2) [m], after ``steps`` translation-only ICP steps from ``shift`` (2,) [m] (each:
+    the shift becomes the mean offset of the points from their nearest past points); with
+    ``both_ways`` the mean of it and of the same from the moved past points to the points.
+
+    The squared distances of every point to every past point, one (K, J) matrix per step
+    (a group's few dozen points: cheaper than building and querying a KD-tree); the
+    moved past points' nearest points are the matrix's column minima."""
+    pts = np.asarray(points, dtype=np.float64)
+    ref = np.asarray(past, dtype=np.float64)
+    sx, sy = float(shift[0]), float(shift[1])
+    zx, zy, px, py = pts[:, 0], pts[:, 1], ref[:, 0], ref[:, 1]
+    for step in range(steps + 1):
+        dx = np.subtract.outer(zx - sx, px)
+        dy = np.subtract.outer(zy - sy, py)
+        d = np.multiply(dx, dx, out=dx)
+        d += np.multiply(dy, dy, out=dy)
+        if step == steps:
+            break
+        k = d.argmin(axis=1)
+        sx = float((zx - px[k]).sum()) / zx.size  # the mean offset
+        sy = float((zy - py[k]).sum()) / zy.size
+    d_sq = float(d.min(axis=1).sum()) / zx.size
     if both_ways:
-        back, _ = cKDTree(points).query(past + s)
-        d_sq = 0.5 * (d_sq + float(np.mean(np.square(back))))
+        d_sq = 0.5 * (d_sq + float(d.min(axis=0).sum()) / px.size)
     return d_sq
 
 
@@ -167,13 +177,13 @@ class CoherentGroupModel(GroupModel):
     def __init__(self, settings: GroupModelSettings, coherence: CoherenceSettings) -> None:
         super().__init__(settings)
         self.coherence = coherence
-        self._trees: dict[int, tuple[Any, FloatArray] | None] = {}
+        self._refs: dict[int, tuple[FloatArray, FloatArray] | None] = {}
         self._terms: dict[tuple[int, int], FloatArray] = {}
 
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict (see the base class) and forget the last scan's coherence terms."""
         super().predict(nodes, stamp)
-        self._trees.clear()
+        self._refs.clear()
         self._terms.clear()
         self._stamp = stamp
 
@@ -195,20 +205,20 @@ class CoherentGroupModel(GroupModel):
             loglik[a] += term
         return gated, loglik
 
-    def _reference(self, node: TrackNode) -> tuple[Any, FloatArray] | None:
-        """KD-tree of the node's reference snapshot and its shift v tau, once per scan."""
-        if node.node_id not in self._trees:
+    def _reference(self, node: TrackNode) -> tuple[FloatArray, FloatArray] | None:
+        """The node's reference snapshot (J, 2) [m] and its shift v tau (2,), once per scan."""
+        if node.node_id not in self._refs:
             payload = group_payload(node)
             ref = reference_snapshot(payload.history, self._stamp, self.coherence.min_age)
             if ref is not None and self.coherence.merged_only:
                 # NaN (never merged) compares False: no term
                 ref = ref if ref[0] <= payload.merged_stamp + 1e-9 else None
             if ref is None or node.pred_mean is None or ref[1].shape[0] == 0:
-                self._trees[node.node_id] = None
+                self._refs[node.node_id] = None
             else:
                 shift = node.pred_mean[2:4] * (self._stamp - ref[0])
-                self._trees[node.node_id] = (cKDTree(ref[1]), shift)
-        return self._trees[node.node_id]
+                self._refs[node.node_id] = (ref[1], shift)
+        return self._refs[node.node_id]
 
     def _term_row(self, node: TrackNode, obs: GroupObservations, gated: BoolArray) -> FloatArray:
         """log c (M,) of the node against every gated cluster (0 elsewhere)."""
@@ -216,12 +226,12 @@ class CoherentGroupModel(GroupModel):
         ref = self._reference(node)
         if ref is None:
             return row
-        tree, shift = ref
+        past, shift = ref
         sigma = self.coherence.sigma
         for j in np.nonzero(gated)[0].tolist():
             z = obs.cluster(j)
             d_sq = aligned_distance_sq(
-                tree, z, shift, self.coherence.align, self.coherence.both_ways
+                past, z, shift, self.coherence.align, self.coherence.both_ways
             )
             row[j] = coherence_log_likelihood(d_sq, sigma, float(obs.share[j]))
         return row

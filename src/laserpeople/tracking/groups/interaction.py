@@ -208,6 +208,12 @@ class GroupBranches:
                         ll = self._merge_loglik(ta, tb)
                         ratio = self._log_pg + ll - 2.0 * self._log_pc
                         events.append(Event("merge", (ta, tb), ratio, ll))
+        if not events and self.s.split_merge and not self.s.join_observations:
+            # the common case: one model, all continue; no observation is in two gates
+            # (that would be a merge event), so nothing is re-clustered
+            prior = 0.0 if self.s.model_prior != "literal" else len(tracks) * self._log_pc
+            self.models_generated += 1
+            return [Branch(prior, tuple(sorted(tracks, key=_family)), 0, None)]
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
@@ -532,6 +538,10 @@ class GroupBranches:
         return pieces
 
 
+def _family(node: TrackNode) -> int:
+    return node.family
+
+
 def _bits(row: BoolArray) -> int:
     """A boolean row (m,) as an int with bit i set where ``row[i]``."""
     return int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
@@ -553,21 +563,23 @@ def _blob_majority(owner: IntArray, blobs: IntArray) -> IntArray:
 
 def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> IntArray:
     """Index into ``units`` (K,) of the unit whose predicted contour point is nearest to
-    each point (Euclidean; the nearest-neighbour rule of 000 Sec. 4.3)."""
-    best = np.full(points.shape[0], np.inf)
-    owner = np.zeros(points.shape[0], dtype=np.int64)
-    for u, unit in enumerate(units):
+    each point (Euclidean; the nearest-neighbour rule of 000 Sec. 4.3; a tie goes to the
+    first unit). One matrix of squared distances from every point to every unit's
+    contour points, its minima per unit, and the unit of the least."""
+    contours = []
+    for unit in units:
         node = unit[0]
         mean, _ = node_prediction(node)
         contour = group_payload(node).contour + mean[:2]
-        if contour.shape[0] == 0:
-            contour = mean[None, :2]
-        diff = points[:, None, :] - contour[None, :, :]
-        d = np.einsum("ijk,ijk->ij", diff, diff).min(axis=1)
-        closer = d < best
-        best[closer] = d[closer]
-        owner[closer] = u
-    return owner
+        contours.append(contour if contour.shape[0] else mean[None, :2])
+    sizes = np.array([c.shape[0] for c in contours], dtype=np.int64)
+    cols = np.concatenate(contours)
+    dx = np.subtract.outer(points[:, 0], cols[:, 0])
+    dy = np.subtract.outer(points[:, 1], cols[:, 1])
+    d = np.multiply(dx, dx, out=dx)
+    d += np.multiply(dy, dy, out=dy)
+    per_unit = np.minimum.reduceat(d, np.cumsum(sizes) - sizes, axis=1)  # (K, U)
+    return np.asarray(np.argmin(per_unit, axis=1), dtype=np.int64)
 
 
 class GroupLabelModel:

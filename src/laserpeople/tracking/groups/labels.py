@@ -8,10 +8,12 @@ split (``"X-0"`` and ``"X-1"``) is relabelled ``"X"`` again.
 
 from __future__ import annotations
 
-import re
+from bisect import bisect_left, bisect_right
 from collections.abc import Iterable
+from functools import lru_cache
 
 
+@lru_cache(maxsize=1 << 16)
 def _natural(label: str) -> tuple[int, ...]:
     return tuple(int(p) if p.isdigit() else -1 for p in label.split("-"))
 
@@ -27,26 +29,44 @@ def split_labels(labels: Iterable[str]) -> tuple[tuple[str, ...], tuple[str, ...
     return tuple(f"{x}-0" for x in labels), tuple(f"{x}-1" for x in labels)
 
 
-_HALF = re.compile(r"^(.*)-([01])$")
-
-
 def prune_labels(labels: Iterable[str]) -> tuple[str, ...]:
-    """Replace every pair ``X-0``, ``X-1`` by ``X``, repeatedly (000's optional pruning)."""
+    """Replace every pair ``X-0``, ``X-1`` by ``X``, repeatedly (000's optional pruning),
+    always the first pair in natural order first. After a replacement the search goes on
+    from ``X`` or its sibling, whichever comes first: the labels before them had no
+    sibling before and still have none."""
     out = set(labels)
-    changed = True
-    while changed:
-        changed = False
-        for label in sorted(out, key=_natural):
-            m = _HALF.match(label)
-            if m is None:
-                continue
-            stem = m.group(1)
-            if f"{stem}-0" in out and f"{stem}-1" in out:
-                out -= {f"{stem}-0", f"{stem}-1"}
-                out.add(stem)
-                changed = True
-                break
+    order = sorted(out, key=_natural)
+    keys = [_natural(x) for x in order]
+    i = 0
+    while i < len(order):
+        stem, sep, last = order[i].rpartition("-")
+        zero, one = f"{stem}-0", f"{stem}-1"
+        if not (sep and last in ("0", "1") and zero in out and one in out):
+            i += 1
+            continue
+        for gone in (zero, one):
+            out.discard(gone)
+            at = bisect_left(keys, _natural(gone))
+            while order[at] != gone:
+                at += 1
+            del order[at], keys[at]
+        i = _insert(order, keys, stem) if stem not in out else bisect_left(keys, _natural(stem))
+        out.add(stem)
+        head, dash, tail = stem.rpartition("-")
+        if dash and tail in ("0", "1"):
+            sibling = f"{head}-{1 - int(tail)}"
+            if sibling in out:
+                i = min(i, bisect_left(keys, _natural(sibling)))
     return sort_labels(out)
+
+
+def _insert(order: list[str], keys: list[tuple[int, ...]], label: str) -> int:
+    """Insert ``label`` into the naturally sorted ``order`` (``keys`` its keys); its index."""
+    key = _natural(label)
+    at = bisect_right(keys, key)
+    order.insert(at, label)
+    keys.insert(at, key)
+    return bisect_left(keys, key)
 
 
 def merge_labels(a: Iterable[str], b: Iterable[str], prune: bool = True) -> tuple[str, ...]:

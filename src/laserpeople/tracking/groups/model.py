@@ -41,9 +41,11 @@ H_TILDE = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
 """Measurement Jacobian of (centroid, n_hs) (000 eq. 31)."""
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class GroupPayload:
-    """What a group track carries besides x and C.
+    """What a group track carries besides x and C. Treated as immutable (nodes share
+    payloads and their arrays); not a frozen dataclass only because some 60 are made per
+    scan and a frozen one's ``__init__`` costs eight times as much.
 
     Attributes:
         contour: P, points (K, 2) [m] relative to the position of the state.
@@ -343,9 +345,18 @@ class GroupModel:
         todo = [n for n in nodes if (n.node_id, key) not in self._rows]
         if not todo or len(measurements) == 0:
             return
-        gated, loglik = self._score_nodes(todo, measurements, False)
-        for node, g_row, ll_row in zip(todo, gated, loglik, strict=True):
-            self._rows[(node.node_id, key)] = (g_row, ll_row)
+        # nodes with the same prediction and contour (the two halves of a split) are
+        # scored once: a row depends only on its own node
+        first: dict[tuple[int, int, int], TrackNode] = {}
+        same = [
+            first.setdefault((id(group_payload(n).contour), id(n.pred_mean), id(n.pred_cov)), n)
+            for n in todo
+        ]
+        unique = list(first.values())
+        gated, loglik = self._score_nodes(unique, measurements, False)
+        rows = {n.node_id: r for n, r in zip(unique, zip(gated, loglik, strict=True), strict=True)}
+        for node, twin in zip(todo, same, strict=True):
+            self._rows[(node.node_id, key)] = rows[twin.node_id]
 
     def _score_nodes(
         self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
@@ -554,22 +565,23 @@ class GroupModel:
         if not nodes:
             return out
         idx = np.asarray(js, dtype=np.intp)
-        preds = [node_prediction(n) for n in nodes]
         means, covs = kalman_update_batch(
-            np.stack([p[0] for p in preds]),
-            np.stack([p[1] for p in preds]),
+            np.stack([node_prediction(n)[0] for n in nodes]),
+            np.stack([node_prediction(n)[1] for n in nodes]),
             measurements.centroids[idx],
             measurements.n_hs[idx],
             self.s.r_update,
         )
-        for node, j, new_mean, new_cov in zip(nodes, js, means, covs, strict=True):
+        # every contour (cluster points minus the new position) and member list at once
+        sizes = measurements.sizes[idx]
+        rows = _ranges(measurements.offsets[idx], sizes)
+        contours = measurements.points[rows] - np.repeat(means[:, :2], sizes, axis=0)
+        members = measurements.members[rows]
+        ends = np.cumsum(sizes).tolist()
+        starts = [0, *ends[:-1]]
+        for node, a, b, new_mean, new_cov in zip(nodes, starts, ends, means, covs, strict=True):
             old = group_payload(node)
-            payload = GroupPayload(
-                measurements.cluster(j) - new_mean[:2],
-                old.labels,
-                measurements.cluster_members(j).copy(),
-                event=old.event,
-            )
+            payload = GroupPayload(contours[a:b], old.labels, members[a:b], event=old.event)
             out.append((new_mean, new_cov, payload))
         return out
 

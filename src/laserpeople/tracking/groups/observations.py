@@ -77,9 +77,9 @@ class GroupObservations:
         np.maximum.at(out, owner, dist)
         return out
 
-    @property
+    @cached_property
     def sizes(self) -> IntArray:
-        """Points per cluster (M,)."""
+        """Points per cluster (M,) (one array, read only by convention)."""
         return np.diff(self.offsets)
 
     @classmethod

@@ -194,6 +194,7 @@ class CoherentGroupModel(GroupModel):
         gated, loglik = super().score(nodes, measurements)
         if not self.coherence.enabled:
             return gated, loglik
+        loglik = loglik.copy()  # the base model may hand out rows of its cache
         for a, node in enumerate(nodes):
             if not gated[a].any():
                 continue

@@ -285,3 +285,76 @@ def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-unt
     path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
     q = load_config(LegTrackerParams, path)
     assert q.people_policy == "arras" and q.people.max_coast == 2.5
+
+
+def _walker(t: PersonTracker, scans: int = 10) -> None:
+    """A person confirmed walking along +x at 1 m/s: legs 1 and 2 at x = 0.1 k, k < scans."""
+    for k in range(scans):
+        t.update(legs(leg(1, 0.1 * k, 0.0), leg(2, 0.1 * k, 0.3)), 0.1 * k, 1.0)
+
+
+def _vanish(t: PersonTracker, until: float) -> None:
+    """No leg from 1.0 s to ``until`` [s] (the walker is hidden)."""
+    for k in range(10, round(until * 10)):
+        t.update({}, 0.1 * k, 1.0)
+
+
+def test_passer_by_behind_a_held_walker_does_not_take_its_id() -> None:
+    """A walker (last seen at x = 0.9 m, 1 m/s along +x) vanishes; 1.5 s later the legs of
+    a passer-by appear near where it vanished, behind its prediction (x ~ 1.7 m) and more
+    than held_gate_distance from it, but inside max_gate_distance. The walker is held:
+    the legs are not ahead along its motion, so they make a new person (id 1) and the
+    walker's id does not move onto the passer-by (the 1.5 m gate alone gave them id 0)."""
+    t = PersonTracker(P)
+    _walker(t)
+    q0 = t.persons[0]
+    assert q0.confirmed and q0.seen_velocity[0] > 0.6
+    _vanish(t, 2.5)
+    pred = t.persons[0].mean[:2]
+    passer = np.array([0.7, 0.15])  # the passer-by's body centre, walking along -x
+    d = float(np.hypot(*(passer - pred)))
+    assert P.held_gate_distance < d < P.max_gate_distance
+    for k in range(25, 29):
+        x = passer[0] - 0.1 * (k - 25)
+        out = t.update(legs(leg(7, x, 0.0), leg(8, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [1]
+    assert t.persons[0].members == []  # the walker is still held, unseen
+    assert t.persons_created == 2
+
+
+def test_walker_returning_ahead_of_its_motion_keeps_its_id() -> None:
+    """The same walker comes back 1.5 s later at x = 2.9 m, ahead along its motion and
+    farther than held_gate_distance from its coasted prediction (x ~ 1.7 m): same id."""
+    t = PersonTracker(P)
+    _walker(t)
+    _vanish(t, 2.5)
+    pred = t.persons[0].mean[:2]
+    back = np.array([2.9, 0.15])
+    assert P.held_gate_distance < float(np.hypot(*(back - pred))) < P.max_gate_distance
+    for k in range(25, 29):
+        x = back[0] + 0.1 * (k - 25)
+        out = t.update(legs(leg(7, x, 0.0), leg(8, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+    assert sorted(t.persons[0].members) == [7, 8]
+    assert t.persons_created == 1
+
+
+def test_standing_person_takes_legs_in_its_whole_gate() -> None:
+    """A person who stood (slower than held_min_speed) has no direction to keep: legs 1.2 m
+    away, beyond held_gate_distance but inside its gate, join it after 1.5 s unseen."""
+    t = PersonTracker(P)
+    for k in range(10):
+        t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.1 * k, 1.0)
+    assert float(np.hypot(*t.persons[0].seen_velocity)) < P.held_min_speed
+    _vanish(t, 2.5)
+    for k in range(25, 28):
+        out = t.update(legs(leg(7, 2.2, 0.0), leg(8, 2.2, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+    assert sorted(t.persons[0].members) == [7, 8]
+
+
+def test_held_params_are_checked() -> None:
+    with pytest.raises(ValueError):
+        PersonTrackParams(held_gate_distance=2.0)  # above max_gate_distance
+    with pytest.raises(ValueError):
+        PersonTrackParams(held_max_angle=200.0)

@@ -11,12 +11,7 @@ an existence score:
   farther than ``max_member_distance`` from the person. Free legs that were detected in
   this scan join the nearest person with a free slot within its gate (Mahalanobis gate of
   the person's predicted position, Euclidean cap ``max_gate_distance``), so a person keeps
-  its id when its leg tracks are replaced and when it comes back after an occlusion. A
-  confirmed person unseen for longer than ``hold_after`` is *held*: beyond
-  ``held_gate_distance`` it takes only legs that lie ahead of where it was last seen along
-  its velocity then (within ``held_max_angle``; any leg when it was slower than
-  ``held_min_speed``), so that a passer-by walking the other way past the place where a
-  walker vanished does not take that walker's id.
+  its id when its leg tracks are replaced and when it comes back after an occlusion.
 - **Measurement.** Both member legs detected and closer than ``pair_distance``: their
   midpoint with std ``pair_std``; one detected leg (or one segment wide enough to hold both
   legs, ``wide_min_width``, ``wide_min_points``, ``wide_min_score``): that leg's position with
@@ -155,39 +150,6 @@ class PersonTrackParams:
         "a free leg farther than this never joins a person",
         "m",
     )
-    hold_after: float = param(
-        0.5,
-        "assumption, as member_unseen: by then the person has lost its leg tracks",
-        "a confirmed person with no member leg detected for longer is held: it takes a free "
-        "leg farther than held_gate_distance only when the leg lies ahead along its motion "
-        "when last seen (held_max_angle)",
-        "s",
-    )
-    held_gate_distance: float = param(
-        1.0,
-        "tuning seeds (narrow-corridor 1-6, crossing-3 and entrance-hall 1, randomised 0-3): "
-        "a coasting person took the legs of passers-by within the 1.5 m gate; 0.75 / 1.0 "
-        "/ 1.5 m: narrow-corridor IDF1 .437 / .421 / .399, entrance-hall .381 / .423 / .422",
-        "a held person takes a free leg farther than this from its prediction only when the "
-        "leg lies ahead along its motion when last seen",
-        "m",
-    )
-    held_max_angle: float = param(
-        45.0,
-        "tuning seeds: 30 deg lost a walker's return on crossing-3 (IDF1 .981 -> .571); 60 deg "
-        "narrow-corridor IDF1 .430 vs .437 (held_gate_distance 0.75)",
-        "a leg lies ahead of a held person when its direction from where the person was last "
-        "seen is at most this far off the person's velocity then",
-        "deg",
-    )
-    held_min_speed: float = param(
-        0.6,
-        "tuning seeds: a person who stood or walked slowly has no direction to keep; 0.5 / "
-        "0.6 / 0.8 m/s: entrance-hall IDF1 .381 / .398 / .422, narrow-corridor .437 / .437 "
-        "/ .424 (held_gate_distance 0.75)",
-        "a held person slower than this when last seen takes free legs in its whole gate",
-        "m/s",
-    )
     member_unseen: float = param(
         0.5,
         "assumption: a leg track unseen this long has most likely lost its leg",
@@ -312,10 +274,6 @@ class PersonTrackParams:
             raise ValueError("need llr_min <= llr_delete < llr_confirm <= llr_max")
         if not 0.0 < self.min_gate_distance <= self.max_gate_distance:
             raise ValueError("need 0 < min_gate_distance <= max_gate_distance")
-        if not 0.0 < self.held_gate_distance <= self.max_gate_distance:
-            raise ValueError("need 0 < held_gate_distance <= max_gate_distance")
-        if min(self.hold_after, self.held_min_speed) < 0 or not 0 <= self.held_max_angle <= 180:
-            raise ValueError("need hold_after, held_min_speed >= 0 and 0 <= held_max_angle <= 180")
         if not self.wide_min_width < self.wide_max_width:
             raise ValueError("wide_min_width must be below wide_max_width")
         if min(self.pair_std, self.one_leg_std, self.accel_psd, self.pair_distance) <= 0:
@@ -399,8 +357,6 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
-        seen_velocity: Velocity (2,) [m/s] after its last update from a member leg.
-        seen_position: Position (2,) [m] after its last update from a member leg.
     """
 
     person_id: int
@@ -421,8 +377,6 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
-    seen_velocity: FloatArray = field(default_factory=lambda: np.zeros(2))
-    seen_position: FloatArray = field(default_factory=lambda: np.zeros(2))
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -459,7 +413,6 @@ class PersonTracker:
         self.persons_created = 0
         """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
-        self._held_cos = math.cos(math.radians(params.held_max_angle))
         self._llr = params.evidence_llr()
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
@@ -517,11 +470,6 @@ class PersonTracker:
         d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, r)
         e2 = kalman.euclidean_sq(means, z)
         ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
-        # a held person (coasting for long) takes a leg farther than held_gate_distance
-        # only when the leg lies ahead of where it was last seen, along its motion then
-        for i, person in enumerate(open_):
-            if self._held(person):
-                ok[i] &= (e2[i] <= p.held_gate_distance**2) | self._ahead(person, z)
         # a person's members stay within pair_distance of each other
         for i, person in enumerate(open_):
             for m in person.members:
@@ -590,8 +538,6 @@ class PersonTracker:
             static = self._static(means[:, :2])
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                person.seen_velocity = person.mean[2:4].copy()
-                person.seen_position = person.mean[:2].copy()
                 if static[i] <= p.static_time:
                     person.travelled = max(
                         person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
@@ -630,24 +576,6 @@ class PersonTracker:
                 used.add(leg.track_id)
                 self._new(leg.position, [leg.track_id], stamp)
 
-    def _ahead(self, person: PersonTrack, z: FloatArray) -> NDArray[np.bool_]:
-        """Which positions ``z`` (n, 2) [m] lie ahead of where ``person`` was last seen,
-        within ``held_max_angle`` of its velocity then (all of them when it was slower than
-        ``held_min_speed``)."""
-        v = person.seen_velocity
-        speed = float(np.hypot(v[0], v[1]))
-        if speed < self.params.held_min_speed:
-            return np.ones(z.shape[0], dtype=bool)
-        d = z - person.seen_position
-        along = d @ v / speed
-        return np.asarray(
-            (along > 0.0) & (along >= self._held_cos * np.hypot(d[:, 0], d[:, 1])), dtype=bool
-        )
-
-    def _held(self, person: PersonTrack) -> bool:
-        """A confirmed person with no member leg detected for longer than ``hold_after``."""
-        return person.confirmed and person.stamp - person.last_seen > self.params.hold_after
-
     def _new(self, position: FloatArray, members: list[int], stamp: float) -> None:
         p = self.params
         mean, cov = kalman.initiate(position, np.eye(2) * p.pair_std**2, p.init_velocity_std)
@@ -661,7 +589,6 @@ class PersonTracker:
             llr=float(self._llr[TWO]),
             last_seen=stamp,
             born_at=position.copy(),
-            seen_position=position.copy(),
             born_stamp=stamp,
             arrived=(stamp, position.copy()),
         )

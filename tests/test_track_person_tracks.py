@@ -285,3 +285,59 @@ def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-unt
     path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
     q = load_config(LegTrackerParams, path)
     assert q.people_policy == "arras" and q.people.max_coast == 2.5
+
+
+def _walker(t: PersonTracker, scans: int = 10) -> None:
+    """A person confirmed walking along +x at 1 m/s: legs 1 and 2 at x = 0.1 k, k < scans."""
+    for k in range(scans):
+        t.update(legs(leg(1, 0.1 * k, 0.0), leg(2, 0.1 * k, 0.3)), 0.1 * k, 1.0)
+
+
+def _hidden(t: PersonTracker, until: float) -> None:
+    """No leg from 1.0 s to ``until`` [s] (the walker is hidden)."""
+    for k in range(10, round(until * 10)):
+        t.update({}, 0.1 * k, 1.0)
+
+
+def test_passer_by_where_a_walker_vanished_does_not_take_its_id() -> None:
+    """A walker (last seen at x = 0.9 m, ~1 m/s along +x) is hidden for 1.5 s; then the legs
+    of a passer-by walking the other way appear near where it vanished (x = 0.7 m). The
+    walker's prediction keeps its velocity (coast_velocity_time = inf: x ~ 2.3 m), so the
+    passer-by is outside its gate and becomes a new person (id 1). With the velocity
+    decaying in 1 s the prediction stopped at x ~ 1.7 m, 1.0 m from the passer-by and inside
+    the 1.5 m gate, and the walker's id moved onto the passer-by."""
+    t = PersonTracker(P)
+    _walker(t)
+    assert t.persons[0].confirmed and t.persons[0].mean[2] > 0.6
+    _hidden(t, 2.5)
+    assert t.persons[0].mean[0] > 2.0  # coasted on at its velocity
+    for k in range(25, 29):
+        x = 0.7 - 0.1 * (k - 25)
+        out = t.update(legs(leg(7, x, 0.0), leg(8, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [1]
+    assert t.persons[0].members == []  # the walker is still unseen
+    assert t.persons_created == 2
+
+
+def test_walker_reappearing_ahead_keeps_its_id() -> None:
+    """The same walker comes back after 1.5 s where it would be had it kept walking."""
+    t = PersonTracker(P)
+    _walker(t)
+    _hidden(t, 2.5)
+    x0 = float(t.persons[0].mean[0])
+    for k in range(25, 29):
+        x = x0 + 0.1 * (k - 25)
+        out = t.update(legs(leg(7, x, 0.0), leg(8, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+    assert sorted(t.persons[0].members) == [7, 8]
+    assert t.persons_created == 1
+
+
+def test_coasting_keeps_the_velocity_by_default() -> None:
+    """coast_velocity_time = inf: 1 s unseen moves the person by its velocity x 1 s."""
+    t = PersonTracker(P)
+    _walker(t)
+    x, vx = float(t.persons[0].mean[0]), float(t.persons[0].mean[2])
+    t.update({}, 1.9, 1.0)
+    assert t.persons[0].mean[0] == pytest.approx(x + vx * 1.0)
+    assert t.persons[0].mean[2] == pytest.approx(vx)

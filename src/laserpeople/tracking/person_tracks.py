@@ -130,11 +130,8 @@ class PersonTrackParams:
         1.0, "assumption: walking speed", "std of the initial velocity", "m/s"
     )
     coast_velocity_time: float = param(
-        math.inf,
-        "tuning seeds (narrow-corridor 1-6, crossing-3 and entrance-hall 1) and validation "
-        "seeds (narrow-corridor 7-14, entrance-hall 2-4): 1 s / inf: narrow-corridor IDF1 "
-        ".398 / .415 and .431 / .462, entrance-hall .422 / .421 and .388 / .397; a decaying "
-        "velocity left the prediction where a walker vanished, so passers-by took its id",
+        1.0,
+        "assumption: a person unseen for a while has most likely slowed or turned",
         "time constant of the velocity decay while no leg is detected (inf: keep it)",
         "s",
     )

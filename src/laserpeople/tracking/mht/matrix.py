@@ -373,7 +373,7 @@ def k_best_children(
     streams: dict[int, _MatchingStream] = {}
     for i, (prior, mat) in enumerate(zip(priors, matrices, strict=True)):
         bound = mat.lower_bound()
-        if np.isfinite(bound):
+        if math.isfinite(bound):
             heap.append((prior + bound, _BOUND, next(counter), i, None))
     heapq.heapify(heap)
     out: list[tuple[int, LabelledAssignment, float]] = []
@@ -433,7 +433,7 @@ def _push_stream(
     heap: list[_Entry], counter: Iterator[int], prior: float, i: int, stream: _MatchingStream
 ) -> None:
     nxt = stream.peek_cost()
-    if np.isfinite(nxt):
+    if math.isfinite(nxt):
         kind = _MATCHING if stream.front_solved() else _BOUND
         heapq.heappush(heap, (prior + nxt, kind, next(counter), i, None))
 
@@ -442,7 +442,7 @@ def _push_variant(
     heap: list[_Entry], counter: Iterator[int], prior: float, state: _VariantState
 ) -> None:
     nxt = next(state.variants, None)
-    if nxt is not None and np.isfinite(nxt[0]):
+    if nxt is not None and math.isfinite(nxt[0]):
         state.extra, state.flipped = nxt
         cost = prior + state.matching.cost + state.extra
         heapq.heappush(heap, (cost, _VARIANT, next(counter), state.parent, state))

@@ -6,12 +6,14 @@ after the same number of solves, also through the MHT's multi-parent k best."""
 from __future__ import annotations
 
 import functools
+import heapq
+import itertools
 
 import numpy as np
 import pytest
 
 import laserpeople.tracking.mht.matrix as matrix_mod
-from laserpeople.tracking.assignment import MurtyStream, solve
+from laserpeople.tracking.assignment import MurtyStream, solve, subset_sums
 from laserpeople.tracking.mht.matrix import AssignmentMatrix, Work, k_best_children
 from laserpeople.tracking.mht.probability import DELETED, FALSE_ALARM, NEW, OCCLUDED
 
@@ -112,3 +114,74 @@ def test_k_best_children_same_with_incremental_murty(
     old = children(priors, mats, budget)
     assert new == old
     assert new[0]  # some child
+
+
+def reference_k_best_children(
+    priors: list[float], matrices: list[AssignmentMatrix], k: int, max_gap: float, work: Work
+) -> list[tuple[int, matrix_mod.LabelledAssignment, float]]:
+    """:func:`k_best_children` as it was before the bound refinements were run in a loop
+    (every refined bound queued and popped again), with every subproblem matrix built from
+    the base: the reference the current code must match exactly."""
+    counter = itertools.count()
+    heap: list[matrix_mod._Entry] = []
+    streams: dict[int, matrix_mod._MatchingStream] = {}
+    for i, (prior, mat) in enumerate(zip(priors, matrices, strict=True)):
+        bound = mat.lower_bound()
+        if np.isfinite(bound):
+            heap.append((prior + bound, matrix_mod._BOUND, next(counter), i, None))
+    heapq.heapify(heap)
+    out: list[tuple[int, matrix_mod.LabelledAssignment, float]] = []
+    best = np.inf
+    while heap and len(out) < k:
+        total, kind, _, i, state = heapq.heappop(heap)
+        if out and total > best + max_gap:
+            break
+        if kind == matrix_mod._BOUND:
+            if out and work.solves >= work.max_solves:
+                work.truncated = True
+                continue
+            if i not in streams:
+                streams[i] = matrix_mod._MatchingStream(matrices[i], 1)
+                if streams[i]._murty is not None:
+                    cost, key = matrices[i].square()
+                    streams[i]._murty = MurtyStream(cost, key, incremental=False)
+            if streams[i].refine():
+                work.solves += 1
+            matrix_mod._push_stream(heap, counter, priors[i], i, streams[i])
+        elif kind == matrix_mod._MATCHING:
+            matching = streams[i].pop()
+            variants = subset_sums(matrix_mod._penalties(matrices[i], matching))
+            state = matrix_mod._VariantState(i, matching, variants)
+            matrix_mod._push_variant(heap, counter, priors[i], state)
+            matrix_mod._push_stream(heap, counter, priors[i], i, streams[i])
+        else:
+            assert state is not None
+            labels = matrix_mod.decode(matrices[i], state.matching, state.flipped, state.extra)
+            out.append((i, labels, total))
+            best = min(best, total)
+            matrix_mod._push_variant(heap, counter, priors[i], state)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(150))
+def test_k_best_children_same_as_reference(seed: int) -> None:
+    rng = np.random.default_rng(5000 + seed)
+    n, m = int(rng.integers(1, 5)), int(rng.integers(1, 6))
+    mats = [random_matrix(rng, n, m) for _ in range(int(rng.integers(1, 5)))]
+    priors = [float(p) for p in rng.integers(0, 3, len(mats))]
+    budget = float(rng.choice([np.inf, 1, 3, 10, 30]))
+    gap = float(rng.choice([np.inf, 2.0, 6.0]))
+    k = int(rng.integers(1, 25))
+    work_new, work_old = Work(max_solves=budget), Work(max_solves=budget)
+    new = k_best_children(priors, mats, k, gap, enumerate_limit=1, work=work_new)
+    old = reference_k_best_children(priors, mats, k, gap, work_old)
+
+    def flat(res: list[tuple[int, matrix_mod.LabelledAssignment, float]]) -> list[object]:
+        return [
+            (i, d.track_label, d.track_measurement, d.measurement_label, d.cost.hex(), t.hex())
+            for i, d, t in res
+        ]
+
+    assert flat(new) == flat(old)
+    assert (work_new.solves, work_new.truncated) == (work_old.solves, work_old.truncated)
+    assert new

@@ -80,11 +80,17 @@ def solve(cost: FloatArray) -> Assignment | None:
 @dataclass(eq=False)
 class _Node:
     """A Murty subproblem: the base cost with forced and forbidden pairs, and its best
-    solution once solved (None while only a lower bound is known)."""
+    solution once solved (None while only a lower bound is known).
+
+    ``matrix`` is the subproblem's cost matrix: the base with the forbidden pairs at inf
+    and the rows and columns of the forced pairs at inf except those pairs. It is made
+    when the node is queued (from its parent's, one pair at a time) and dropped once the
+    node's own subproblems are queued."""
 
     solution: Assignment | None
     forced: tuple[tuple[int, int], ...]
     forbidden: tuple[tuple[int, int], ...]
+    matrix: FloatArray | None = None
 
 
 class MurtyStream:
@@ -98,9 +104,15 @@ class MurtyStream:
     Args:
         cost: (R, C) cost matrix, ``inf`` = infeasible pair.
         key: (R, C) mask of the pairs that identify a solution (default: all pairs).
+        incremental: Make each subproblem's matrix from its sibling's when the subproblems
+            are queued (one copy and a few entries each) instead of from the base matrix
+            when it is solved (a copy and every constraint again); the matrices, hence the
+            solutions, are the same (False is kept to test that).
     """
 
-    def __init__(self, cost: FloatArray, key: BoolArray | None = None) -> None:
+    def __init__(
+        self, cost: FloatArray, key: BoolArray | None = None, incremental: bool = True
+    ) -> None:
         self.cost = np.asarray(cost, dtype=np.float64)
         self.key = np.ones(self.cost.shape, dtype=bool) if key is None else np.asarray(key)
         if self.key.shape != self.cost.shape:
@@ -108,7 +120,8 @@ class MurtyStream:
         self._heap: list[tuple[float, int, _Node]] = []
         self._counter = itertools.count()
         self.n_solved = 0
-        self._push(0.0, _Node(None, (), ()))
+        self.incremental = incremental
+        self._push(0.0, _Node(None, (), (), self.cost if incremental else None))
 
     def _push(self, bound: float, node: _Node) -> None:
         cost = node.solution.cost if node.solution is not None else bound
@@ -128,7 +141,10 @@ class MurtyStream:
         if self.front_solved():
             return
         bound, _, node = heapq.heappop(self._heap)
-        node.solution = self._solve_sub(node.forced, node.forbidden)
+        if node.matrix is None:
+            node.solution = self._solve_sub(node.forced, node.forbidden)
+        else:
+            node.solution = solve(node.matrix)
         self.n_solved += 1
         if node.solution is not None:
             self._push(bound, node)
@@ -136,17 +152,9 @@ class MurtyStream:
     def _solve_sub(
         self, forced: tuple[tuple[int, int], ...], forbidden: tuple[tuple[int, int], ...]
     ) -> Assignment | None:
-        if not forced and not forbidden:
-            return solve(self.cost)
-        cost = self.cost.copy()
-        for r, c in forbidden:
-            cost[r, c] = np.inf
-        for r, c in forced:
-            keep = cost[r, c]
-            cost[r, :] = np.inf
-            cost[:, c] = np.inf
-            cost[r, c] = keep
-        return solve(cost)
+        """The best solution of the subproblem (built from the base matrix; the queued
+        nodes carry theirs, see :meth:`pop`)."""
+        return solve(_constrained(self.cost, forced, forbidden))
 
     def pop(self) -> Assignment | None:
         """The next best solution, or None when there is none left."""
@@ -164,14 +172,54 @@ class MurtyStream:
             if self.key[r, c] and (r, c) not in forced_set
         ]
         forced = node.forced
-        for pair in key_pairs:
-            self._push(sol.cost, _Node(None, forced, (*node.forbidden, pair)))
-            forced = (*forced, pair)
+        if not self.incremental:
+            for pair in key_pairs:
+                self._push(sol.cost, _Node(None, forced, (*node.forbidden, pair)))
+                forced = (*forced, pair)
+            return sol
+        # the subproblems' matrices, each from the previous one: forbid the next pair,
+        # force it for the ones after (the same matrices as built from the base, since the
+        # forced pairs have distinct rows and columns and are never forbidden)
+        matrix = node.matrix
+        if matrix is None:
+            matrix = _constrained(self.cost, node.forced, node.forbidden)
+        node.matrix = None
+        last = len(key_pairs) - 1
+        for t, (r, c) in enumerate(key_pairs):
+            sub = matrix.copy()
+            sub[r, c] = np.inf
+            self._push(sol.cost, _Node(None, forced, (*node.forbidden, (r, c)), sub))
+            forced = (*forced, (r, c))
+            if t < last:
+                matrix = matrix.copy() if t == 0 else matrix
+                keep = matrix[r, c]
+                matrix[r, :] = np.inf
+                matrix[:, c] = np.inf
+                matrix[r, c] = keep
         return sol
 
     def __iter__(self) -> Iterator[Assignment]:
         while (sol := self.pop()) is not None:
             yield sol
+
+
+def _constrained(
+    cost: FloatArray, forced: tuple[tuple[int, int], ...], forbidden: tuple[tuple[int, int], ...]
+) -> FloatArray:
+    """``cost`` with the ``forbidden`` pairs at inf and the rows and columns of the
+    ``forced`` pairs at inf except those pairs (a copy; ``cost`` itself when there are no
+    constraints)."""
+    if not forced and not forbidden:
+        return cost
+    out = cost.copy()
+    for r, c in forbidden:
+        out[r, c] = np.inf
+    for r, c in forced:
+        keep = out[r, c]
+        out[r, :] = np.inf
+        out[:, c] = np.inf
+        out[r, c] = keep
+    return out
 
 
 def murty(

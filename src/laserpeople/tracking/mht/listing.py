@@ -94,6 +94,8 @@ def enumerate_children(
         return enumerate_single(
             priors, rows, track_meas_cost, label_log_probs, log_new, log_fal, k, max_gap
         )
+    if m > MAX_LISTED_MEASUREMENTS:  # (before building the choices it would not use)
+        return None
     tm = track_meas_cost.tolist()
     c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
     c_del = (-label_log_probs[:, DELETED]).tolist()
@@ -104,7 +106,7 @@ def enumerate_children(
         ch = [(c_occ[i], OCCLUDED, -1, 0), (c_del[i], DELETED, -1, 0)]
         ch += [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < math.inf]
         choices.append(sorted(c for c in ch if c[0] < math.inf))
-    if m > MAX_LISTED_MEASUREMENTS or children_bound(rows, [len(c) for c in choices], m) > limit:
+    if children_bound(rows, [len(c) for c in choices], m) > limit:
         return None
     c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
     c_fal = (-np.asarray(log_fal, dtype=np.float64)).tolist()

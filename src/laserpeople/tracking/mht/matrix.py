@@ -373,7 +373,7 @@ def k_best_children(
     streams: dict[int, _MatchingStream] = {}
     for i, (prior, mat) in enumerate(zip(priors, matrices, strict=True)):
         bound = mat.lower_bound()
-        if np.isfinite(bound):
+        if math.isfinite(bound):
             heap.append((prior + bound, _BOUND, next(counter), i, None))
     heapq.heapify(heap)
     out: list[tuple[int, LabelledAssignment, float]] = []
@@ -383,15 +383,28 @@ def k_best_children(
         if out and total > best + max_gap:
             break
         if kind == _BOUND:
-            if work is not None and out and work.solves >= work.max_solves:
-                work.truncated = True  # this parent's further matchings are given up;
-                continue  # the label variants of those in hand still come out
             if i not in streams:
                 streams[i] = _MatchingStream(matrices[i], enumerate_limit)
-            solved = streams[i].refine()
-            if work is not None and solved:
-                work.solves += 1
-            _push_stream(heap, counter, priors[i], i, streams[i])
+            stream, prior = streams[i], priors[i]
+            while True:
+                if work is not None and out and work.solves >= work.max_solves:
+                    work.truncated = True  # this parent's further matchings are given up;
+                    break  # the label variants of those in hand still come out
+                solved = stream.refine()
+                if work is not None and solved:
+                    work.solves += 1
+                nxt = stream.peek_cost()
+                if not math.isfinite(nxt):
+                    break
+                total = prior + nxt
+                if stream.front_solved() or (heap and total >= heap[0][0]):
+                    kind = _MATCHING if stream.front_solved() else _BOUND
+                    heapq.heappush(heap, (total, kind, next(counter), i, None))
+                    break
+                # a bound below every queued entry would come out next: refine it now
+                # (what the next turn would do, without queueing it)
+                if out and total > best + max_gap:
+                    return out
         elif kind == _MATCHING:
             matching = streams[i].pop()
             variants = subset_sums(_penalties(matrices[i], matching))
@@ -433,7 +446,7 @@ def _push_stream(
     heap: list[_Entry], counter: Iterator[int], prior: float, i: int, stream: _MatchingStream
 ) -> None:
     nxt = stream.peek_cost()
-    if np.isfinite(nxt):
+    if math.isfinite(nxt):
         kind = _MATCHING if stream.front_solved() else _BOUND
         heapq.heappush(heap, (prior + nxt, kind, next(counter), i, None))
 
@@ -442,7 +455,7 @@ def _push_variant(
     heap: list[_Entry], counter: Iterator[int], prior: float, state: _VariantState
 ) -> None:
     nxt = next(state.variants, None)
-    if nxt is not None and np.isfinite(nxt[0]):
+    if nxt is not None and math.isfinite(nxt[0]):
         state.extra, state.flipped = nxt
         cost = prior + state.matching.cost + state.extra
         heapq.heappush(heap, (cost, _VARIANT, next(counter), state.parent, state))

@@ -12,7 +12,11 @@ from laserpeople.frame import Frame
 from laserpeople.scan import PointSet
 from laserpeople.tracking.particle.feet import FeetParams, FeetTracker
 from laserpeople.tracking.particle.objects import ObjectMemory
-from laserpeople.tracking.particle.upper_body import UpperBodyParams, UpperBodyTracker
+from laserpeople.tracking.particle.upper_body import (
+    UpperBodyParams,
+    UpperBodyTracker,
+    carried_ahead,
+)
 
 
 def line(x0: float, x1: float, y: float, n: int) -> np.ndarray:
@@ -122,3 +126,64 @@ def test_cart_feet_tracker_follows_the_pusher(cart: tuple) -> None:
     assert run_tracker(rec, bg, "feet", FeetTracker()).motp > 0.45
     before = FeetParams(max_eigenvalue=0.0)
     assert run_tracker(rec, bg, "feet", FeetTracker(before)).motp < 0.4
+
+
+def carried_box_frame(x: float, stamp: float, index: int) -> Frame:
+    """A torso (ellipse, semi-axes 0.14 m along +x and 0.2 m across) centred at (x, 4)
+    with a 0.3 x 0.5 m box carried 0.35 m ahead of it (its sides and front face), as in
+    the simulator's carried item of 004 Exp. 6."""
+    a = np.linspace(0.0, 2.0 * np.pi, 24, endpoint=False)
+    torso = np.column_stack([x + 0.14 * np.cos(a), 4.0 + 0.2 * np.sin(a)])
+    box = np.vstack(
+        [
+            line(x + 0.2, x + 0.5, 3.75, 12),
+            line(x + 0.2, x + 0.5, 4.25, 12),
+            np.column_stack([np.full(19, x + 0.5), np.linspace(3.77, 4.23, 19)]),
+        ]
+    )
+    return frame_of(np.vstack([torso, box]), stamp, index)
+
+
+@pytest.mark.parametrize("depth", [0.45, 0.0])
+def test_upper_body_filter_stays_on_the_torso_behind_a_carried_box(depth: float) -> None:
+    """Walking at 1.2 m/s with a box in front: with ``carry_depth`` the points more than
+    0.45 m ahead of the cell's rearmost point (most of the box) weigh nothing and the
+    estimate stays on the body (< 0.1 m); without (004's eq. 9 on every point of the cell)
+    it sits between torso and box, more than 0.15 m ahead."""
+    params = UpperBodyParams(carry_depth=depth, surface_offset=0.0, seed=2, particles=300)
+    tracker = UpperBodyTracker(params)
+    errors = []
+    for k in range(100):
+        x = 2.0 + 1.2 * 0.02 * k
+        out = tracker.update(carried_box_frame(x, 0.02 * k, k))
+        if k >= 60:
+            assert len(out) == 1
+            errors.append(np.hypot(*(out.tracks[0].position - [x, 4.0])))
+    if depth:
+        assert np.mean(errors) < 0.1
+    else:
+        assert np.mean(errors) > 0.15
+
+
+def test_carried_ahead_by_hand() -> None:
+    """Filter 0 moves along +x at 1 m/s; its cell's rearmost point is at x = 1, so with
+    depth 0.45 the points at x = 1.5 and 1.6 are ahead, 1.4 is not. Filter 1 moves along
+    +y: its rearmost point is at y = -1, so (5, -0.5) is ahead. Filter 2 is too slow and
+    points of no cell are never ahead."""
+    pts = np.array(
+        [
+            [1.0, 0.0],
+            [1.4, 0.3],
+            [1.5, 0.0],
+            [1.6, -0.2],
+            [5.0, -1.0],
+            [5.2, -0.5],
+            [9.0, 9.0],
+            [20.0, 0.0],
+            [21.0, 0.0],
+        ]
+    )
+    cell = np.array([0, 0, 0, 0, 1, 1, -1, 2, 2])
+    vel = np.array([[1.0, 0.0], [0.0, 0.8], [0.1, 0.1]])
+    got = carried_ahead(pts, cell, vel, 0.45, 0.3)
+    assert got.tolist() == [False, False, True, True, False, True, False, False, False]

@@ -600,15 +600,17 @@ class PersonTracker:
         if len(self.persons) < 2:
             return
         ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
-        kept: list[PersonTrack] = []
-        for q in ps:
-            host = next(
-                (k for k in kept if float(np.hypot(*(k.mean[:2] - q.mean[:2]))) < p.merge_distance),
-                None,
-            )
-            if host is None:
-                kept.append(q)
+        xy = np.stack([q.mean[:2] for q in ps])
+        close = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)) < p.merge_distance
+        if not (close & ~np.eye(len(ps), dtype=bool)).any():  # nobody near anybody else
+            return
+        kept: list[int] = []
+        for i, q in enumerate(ps):
+            near = close[i, kept]
+            if not near.any():
+                kept.append(i)
                 continue
+            host = ps[kept[int(np.argmax(near))]]
             for m in q.members:
                 if len(host.members) < 2 and m not in host.members:
                     host.members.append(m)

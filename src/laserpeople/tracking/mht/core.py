@@ -557,7 +557,6 @@ class MHT(Generic[Meas]):
         new_nodes = self._new_nodes(born, measurements, stamp)
 
         children: dict[tuple[int, ...], Hypothesis] = {}
-        n_scan = self.params.n_scan
         for pi, dec, total in solutions:
             parent, branch = plans[pi]
             ids = plan_items[pi][0]
@@ -574,23 +573,42 @@ class MHT(Generic[Meas]):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
             tracks.sort(key=_FAMILY)
-            key = tuple([t.node_id for t in tracks])
-            if key in children:  # two model branches led to the same content
-                c = children[key]
-                c.log_weight = float(np.logaddexp(c.log_weight, -total))
-                continue
-            ancestors = (*parent.ancestors, parent.hypothesis_id)
-            kept = ancestors[-n_scan:] if n_scan else ()
-            children[key] = Hypothesis(-total, tuple(tracks), kept, model=branch.model)
-            if not plain:  # the plain MHT's children hold their parent's families or new ones
+            added = self._add_child(children, parent, tracks, total, branch.model)
+            if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)
+        return self._prune_children(children)
+
+    def _add_child(
+        self,
+        children: dict[tuple[int, ...], Hypothesis],
+        parent: Hypothesis,
+        tracks: list[TrackNode],
+        total: float,
+        model: int,
+    ) -> bool:
+        """Add the child hypothesis of ``parent`` holding ``tracks`` at cost ``total``; when
+        another child (of another model branch) already holds the same tracks, its weight
+        gains this one's instead. Returns whether a new child was made."""
+        key = tuple([t.node_id for t in tracks])
+        if key in children:
+            c = children[key]
+            c.log_weight = float(np.logaddexp(c.log_weight, -total))
+            return False
+        n_scan = self.params.n_scan
+        ancestors = (*parent.ancestors, parent.hypothesis_id)
+        kept = ancestors[-n_scan:] if n_scan else ()
+        children[key] = Hypothesis(-total, tuple(tracks), kept, model=model)
+        return True
+
+    def _prune_children(self, children: dict[tuple[int, ...], Hypothesis]) -> list[Hypothesis]:
+        """A cluster's children normalised, N-scan and ratio pruned."""
         if len(children) == 1:
             (only,) = children.values()
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
         hyps = normalise_hypotheses(list(children.values()))
-        hyps = n_scan_prune(hyps, n_scan)
+        hyps = n_scan_prune(hyps, self.params.n_scan)
         return ratio_prune(hyps, self.params.min_ratio)
 
     def _branch_lone(
@@ -662,7 +680,6 @@ class MHT(Generic[Meas]):
         if new_track:
             new_node = self._new_nodes({j: (measurements, j, j)}, measurements, stamp)[j]
         children: dict[tuple[int, ...], Hypothesis] = {}
-        n_scan = self.params.n_scan
         for total, pi, tl, ml in solutions:
             parent = parents[pi]
             tracks: list[TrackNode] = []
@@ -675,22 +692,8 @@ class MHT(Generic[Meas]):
             if ml == NEW_LABEL:
                 assert new_node is not None
                 tracks.append(new_node)  # a new family: after the parent's
-            key = tuple([t.node_id for t in tracks])
-            if key in children:
-                c = children[key]
-                c.log_weight = float(np.logaddexp(c.log_weight, -total))
-                continue
-            ancestors = (*parent.ancestors, parent.hypothesis_id)
-            kept = ancestors[-n_scan:] if n_scan else ()
-            children[key] = Hypothesis(-total, tuple(tracks), kept, model=0)
-        if len(children) == 1:
-            (only,) = children.values()
-            if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
-                only.log_weight = 0.0
-                return [only]
-        hyps = normalise_hypotheses(list(children.values()))
-        hyps = n_scan_prune(hyps, n_scan)
-        return ratio_prune(hyps, self.params.min_ratio)
+            self._add_child(children, parent, tracks, total, 0)
+        return self._prune_children(children)
 
     def _k_best(
         self,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -101,6 +102,20 @@ def test_non_finite_detections_are_counted_and_left_out() -> None:
     pos = np.array([[1.0, 0.0], [np.nan, 1.0]])
     tracker.update(Detections(0.0, 0, pos, np.tile(np.eye(2) * 1e-3, (2, 1, 1)), np.ones(2)))
     assert tracker.dropped_detections == 1
+
+
+def test_detections_made_non_finite_by_the_sensor_pose_stay_counted() -> None:
+    """A scan whose sensor pose holds a NaN: its detections are left out in the world frame
+    and stay counted after later scans (the count used to be reset by the next scan)."""
+    tracker = LegMHTTracker()
+    pos = np.array([[1.0, 0.0], [1.3, 0.0]])
+    cov = np.tile(np.eye(2) * 1e-3, (2, 1, 1))
+    good, bad = Pose2D(0.0, 0.0, 0.0), Pose2D(math.nan, 0.0, 0.0)
+    tracker.update(Detections(0.0, 0, pos, cov, np.ones(2), sensor_pose=good))
+    tracker.update(Detections(0.1, 1, pos, cov, np.ones(2), sensor_pose=bad))
+    assert tracker.dropped_detections == 2
+    tracker.update(Detections(0.2, 2, pos, cov, np.ones(2), sensor_pose=good))
+    assert tracker.dropped_detections == 2
 
 
 def test_nonadaptive_modes_use_one_class() -> None:

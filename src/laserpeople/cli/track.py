@@ -228,10 +228,11 @@ def run_tracking(
     guard = getattr(pipe.tracker, "guard", None)
     checked = guard.summary() if guard is not None else ""
     dropped = int(getattr(pipe.tracker, "dropped_detections", 0))
+    dropped -= int(guard.dropped_detections) if guard is not None else 0
     if checked:
         say(f"input guard: {checked}")
-    elif dropped:
-        say(f"{dropped} detections with non-finite positions were left out")
+    if dropped:
+        say(f"{dropped} detections with non-finite positions in the tracking frame were left out")
     stats = pipe.stats
     return {
         "scans": float(stats.frames),

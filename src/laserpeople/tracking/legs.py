@@ -191,7 +191,9 @@ class LegMHTTracker:
         self.leg_ids_reported = SeenIds()
         """Distinct leg ids reported since the start (``len``), in bounded memory."""
         self.dropped_detections = 0
-        """Detections with a non-finite position, left out (counted, never silently)."""
+        """Detections with a non-finite position, left out (counted, never silently): the
+        input guard's and those made non-finite by the move to the tracking frame."""
+        self._dropped_in_frame = 0
         self.guard = InputGuard()
         """Counts of hostile input (repeated/backward stamps, non-finite values)."""
         self._kept: NDArray[np.intp] = np.empty(0, dtype=np.intp)
@@ -205,16 +207,16 @@ class LegMHTTracker:
         meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
         finite = np.isfinite(meas.positions).all(axis=1)
         self._kept = np.flatnonzero(finite)
-        if not finite.all():
-            self.dropped_detections += int(np.count_nonzero(~finite))
+        if not finite.all():  # e.g. a sensor pose with a NaN
+            self._dropped_in_frame += int(np.count_nonzero(~finite))
             meas = PointMeasurements(meas.positions[finite], meas.covariances[finite])
         return meas
 
     def update(self, detections: Detections) -> Tracks:
         """Track one scan's leg detections (checked by :class:`InputGuard` first)."""
         detections = self.guard.check(detections)
-        self.dropped_detections = self.guard.dropped_detections
         meas = self._measurements(detections)
+        self.dropped_detections = self.guard.dropped_detections + self._dropped_in_frame
         self.last_stats = self.mht.step(meas, detections.stamp)
         if self.last_stats.degraded_clusters:
             self.guard.degraded(detections.scan_index)

@@ -45,7 +45,7 @@ from laserpeople.tracking.groups.model import (
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.mht.protocols import Branch, BranchObservations
-from laserpeople.tracking.mht.tracktree import DETECTED, TrackNode, TrackTree
+from laserpeople.tracking.mht.tracktree import BY_FAMILY, DETECTED, TrackNode, TrackTree
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -213,7 +213,7 @@ class GroupBranches:
             # (that would be a merge event), so nothing is re-clustered
             prior = 0.0 if self.s.model_prior != "literal" else len(tracks) * self._log_pc
             self.models_generated += 1
-            return [Branch(prior, tuple(sorted(tracks, key=_family)), 0, None)]
+            return [Branch(prior, tuple(sorted(tracks, key=BY_FAMILY)), 0, None)]
         models = enumerate_models(events, self.s.max_models)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
@@ -283,7 +283,7 @@ class GroupBranches:
             else:
                 made.append(self.merge(e.tracks[0], e.tracks[1]))
         kept = [t for t in tracks if t.node_id not in gone]
-        return tuple(sorted((*kept, *made), key=lambda n: n.family))
+        return tuple(sorted((*kept, *made), key=BY_FAMILY))
 
     def split(self, node: TrackNode) -> tuple[TrackNode, TrackNode]:
         """The two predicted tracks ``node`` splits into (000 Sec. 4.2.3): copies of its
@@ -536,10 +536,6 @@ class GroupBranches:
                 pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
         self._divided[key] = pieces
         return pieces
-
-
-def _family(node: TrackNode) -> int:
-    return node.family
 
 
 def _bits(row: BoolArray) -> int:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 from collections.abc import Hashable, Sequence, Sized
 from dataclasses import dataclass
-from operator import attrgetter
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -62,8 +61,8 @@ from laserpeople.tracking.mht.protocols import (
     SingleModel,
     TrackModel,
 )
+from laserpeople.tracking.mht.tracktree import BY_FAMILY, NEW, TrackNode, TrackTree
 from laserpeople.tracking.mht.tracktree import DETECTED as NODE_DETECTED
-from laserpeople.tracking.mht.tracktree import NEW, TrackNode, TrackTree
 from laserpeople.tracking.mht.tracktree import OCCLUDED as NODE_OCCLUDED
 
 FloatArray = NDArray[np.float64]
@@ -178,14 +177,6 @@ class _UnionFind:
             self.parent[rb] = ra
 
 
-def _family_key(node: TrackNode) -> int:
-    return node.family
-
-
-_FAMILY = attrgetter("family")
-"""Sort key of track nodes by family (as :func:`_family_key`, without a Python call)."""
-
-
 def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
     """Marginal hypotheses over a subset of families: equal projections are merged and
     their probabilities added; each keeps the history of its most probable member."""
@@ -222,7 +213,7 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
         combos.sort(key=lambda c: -c[0])
         acc = combos[:k]
     return normalise_hypotheses(
-        [Hypothesis(w, tuple(sorted(t, key=_family_key)), anc) for w, t, anc in acc]
+        [Hypothesis(w, tuple(sorted(t, key=BY_FAMILY)), anc) for w, t, anc in acc]
     )
 
 
@@ -276,7 +267,7 @@ class MHT(Generic[Meas]):
     def best_tracks(self) -> list[TrackNode]:
         """Track nodes of the best hypothesis (best of every cluster), by family."""
         out = [t for c in self.clusters for t in c.best().tracks]
-        out.sort(key=_family_key)
+        out.sort(key=BY_FAMILY)
         return out
 
     def best_probabilities(self) -> dict[int, float]:
@@ -572,7 +563,7 @@ class MHT(Generic[Meas]):
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
-            tracks.sort(key=_FAMILY)
+            tracks.sort(key=BY_FAMILY)
             added = self._add_child(children, parent, tracks, total, branch.model)
             if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)

@@ -398,8 +398,7 @@ def k_best_children(
                     break
                 total = prior + nxt
                 if stream.front_solved() or (heap and total >= heap[0][0]):
-                    kind = _MATCHING if stream.front_solved() else _BOUND
-                    heapq.heappush(heap, (total, kind, next(counter), i, None))
+                    _push_stream(heap, counter, prior, i, stream)
                     break
                 # a bound below every queued entry would come out next: refine it now
                 # (what the next turn would do, without queueing it)

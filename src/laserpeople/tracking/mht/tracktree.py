@@ -17,6 +17,7 @@ import itertools
 import math
 from collections.abc import Hashable, Iterable
 from dataclasses import dataclass, field
+from operator import attrgetter
 from typing import Any
 
 import numpy as np
@@ -78,6 +79,10 @@ class TrackNode:
     def unseen_for(self, stamp: float) -> float:
         """Time [s] from the family's last detection to ``stamp``."""
         return stamp - self.detected_stamp
+
+
+BY_FAMILY = attrgetter("family")
+"""Sort key of track nodes by family (no Python-level call per node)."""
 
 
 class TrackTree:

@@ -285,3 +285,102 @@ def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-unt
     path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
     q = load_config(LegTrackerParams, path)
     assert q.people_policy == "arras" and q.people.max_coast == 2.5
+
+
+def test_turned_back_by_hand() -> None:
+    """cos of the angle between the velocities below cos(handover_max_turn = 120 deg) = -0.5,
+    both speeds at least handover_min_speed (0.5 m/s)."""
+    from laserpeople.tracking.person_tracks import turned_back
+
+    east = np.array([1.0, 0.0])
+    assert turned_back(east, np.array([-1.0, 0.0]), P)  # 180 deg
+    assert turned_back(east, np.array([-0.8, 0.55]), P)  # cos = -0.824: 145 deg
+    assert not turned_back(east, np.array([-0.5, 0.9]), P)  # cos = -0.486: 119 deg
+    assert not turned_back(east, np.array([0.0, 1.0]), P)  # 90 deg
+    assert not turned_back(east, np.array([-0.4, 0.0]), P)  # too slow after
+    assert not turned_back(np.array([-0.45, 0.0]), east, P)  # too slow before
+
+
+def _walk(
+    t: PersonTracker, ids: tuple[int, int], x0: float, vx: float, k0: int, k1: int
+) -> list[list[int]]:
+    """Legs ``ids`` walking along y = 0 / 0.3 from ``x0`` at ``vx`` [m/s], scans k0..k1-1
+    (0.1 s apart); the reported ids of each scan."""
+    out = []
+    for k in range(k0, k1):
+        x = x0 + vx * 0.1 * (k - k0)
+        tracks = t.update(legs(leg(ids[0], x, 0.0), leg(ids[1], x + 0.05, 0.3)), 0.1 * k, 1.0)
+        out.append([p.track_id for p in tracks])
+    return out
+
+
+def _hide_walker(t: PersonTracker) -> None:
+    """A walker (id 0) going +x at 1 m/s from x = 0, then hidden for 1.5 s after x = 1 m."""
+    assert _walk(t, (1, 2), 0.0, 1.0, 0, 11)[-1] == [0]
+    for k in range(11, 26):
+        assert t.update({}, 0.1 * k, 1.0) == [] or k < 21
+
+
+def test_passer_by_walking_the_other_way_gives_the_id_back_when_the_hidden_person_returns() -> None:
+    """While the walker is hidden a passer-by comes the other way through its gate and takes
+    its free slot (and id). Half a second later the person filter moves at about -1 m/s
+    against the walker's +1 m/s: the walker is put back as an unreported shadow. When it
+    reappears farther along +x, it takes its id back and the passer-by goes on with a new
+    one."""
+    t = PersonTracker(P)
+    _hide_walker(t)
+    assert _walk(t, (7, 8), 1.6, -1.0, 26, 36) == [[0]] * 10  # the passer-by holds id 0
+    (shadow,) = [q for q in t.persons.values() if q.shadow_of is not None]
+    assert shadow.public_id == 0 and shadow.members == []
+    assert shadow.last_seen == pytest.approx(1.0)
+    assert t.handovers == 0
+    for k in range(36, 46):  # the walker reappears ahead; the passer-by walks on
+        x = 2.4 + 0.1 * (k - 36)
+        xp = 0.6 - 0.1 * (k - 36)
+        out = t.update(
+            legs(leg(11, x, 0.0), leg(12, x + 0.05, 0.3), leg(7, xp, 0.0), leg(8, xp + 0.05, 0.3)),
+            0.1 * k,
+            1.0,
+        )
+        by_x = sorted(out, key=lambda p: p.position[0])
+        assert [p.track_id for p in by_x] == [1, 0]
+    assert t.persons_created == 2 and t.handovers == 1
+    assert all(q.shadow_of is None for q in t.persons.values())
+
+
+def test_walker_who_turned_back_while_hidden_keeps_the_id() -> None:
+    """The same first half, but nobody reappears ahead: the walker turned back. The shadow is
+    dropped ``max_coast`` after the walker was last seen; no new id."""
+    t = PersonTracker(P)
+    _hide_walker(t)
+    _walk(t, (7, 8), 1.6, -1.0, 26, 36)
+    assert any(q.shadow_of is not None for q in t.persons.values())
+    k1 = round((1.0 + P.max_coast) / 0.1) + 2
+    assert _walk(t, (7, 8), 0.6, -1.0, 36, k1) == [[0]] * (k1 - 36)
+    assert all(q.shadow_of is None for q in t.persons.values())
+    assert len(t.persons) == 1 and t.persons_created == 1 and t.handovers == 0
+
+
+def test_handover_split_at_once_when_not_waiting_for_the_return() -> None:
+    """``handover_on_return = False``: the passer-by gets a new id at the check and the
+    walker, put back as it was, keeps its own."""
+    t = PersonTracker(PersonTrackParams(handover_on_return=False))
+    _hide_walker(t)
+    passer = _walk(t, (7, 8), 1.6, -1.0, 26, 36)
+    assert passer[0] == [0] and passer[-1] == [1] and t.handovers == 1
+    (hidden,) = [q for q in t.persons.values() if q.public_id == 0]
+    assert hidden.members == [] and hidden.shadow_of is None
+
+
+def test_person_coming_back_the_same_way_keeps_the_id() -> None:
+    """No hand-over for a walker who reappears ahead moving on (same direction), nor with
+    the check off (handover_window = 0), where the passer-by keeps the hidden id."""
+    for params in (P, PersonTrackParams(handover_window=0.0)):
+        t = PersonTracker(params)
+        _hide_walker(t)
+        assert _walk(t, (7, 8), 2.0, 1.0, 26, 36)[-1] == [0]
+        assert t.handovers == 0 and all(q.shadow_of is None for q in t.persons.values())
+    t = PersonTracker(PersonTrackParams(handover_window=0.0))
+    _hide_walker(t)
+    assert _walk(t, (7, 8), 1.6, -1.0, 26, 36)[-1] == [0]
+    assert all(q.shadow_of is None for q in t.persons.values())

@@ -314,6 +314,9 @@ def _walk(
     return out
 
 
+WAIT = PersonTrackParams(handover_fast_speed=math.inf)
+
+
 def _hide_walker(t: PersonTracker) -> None:
     """A walker (id 0) going +x at 1 m/s from x = 0, then hidden for 1.5 s after x = 1 m."""
     assert _walk(t, (1, 2), 0.0, 1.0, 0, 11)[-1] == [0]
@@ -324,10 +327,11 @@ def _hide_walker(t: PersonTracker) -> None:
 def test_passer_by_walking_the_other_way_gives_the_id_back_when_the_hidden_person_returns() -> None:
     """While the walker is hidden a passer-by comes the other way through its gate and takes
     its free slot (and id). Half a second later the person filter moves at about -1 m/s
-    against the walker's +1 m/s: the walker is put back as an unreported shadow. When it
+    against the walker's +1 m/s: the walker is put back as an unreported shadow (with
+    ``handover_fast_speed = inf`` the passer-by keeps the id for now). When the walker
     reappears farther along +x, it takes its id back and the passer-by goes on with a new
     one."""
-    t = PersonTracker(P)
+    t = PersonTracker(WAIT)
     _hide_walker(t)
     assert _walk(t, (7, 8), 1.6, -1.0, 26, 36) == [[0]] * 10  # the passer-by holds id 0
     (shadow,) = [q for q in t.persons.values() if q.shadow_of is not None]
@@ -351,7 +355,7 @@ def test_passer_by_walking_the_other_way_gives_the_id_back_when_the_hidden_perso
 def test_walker_who_turned_back_while_hidden_keeps_the_id() -> None:
     """The same first half, but nobody reappears ahead: the walker turned back. The shadow is
     dropped ``max_coast`` after the walker was last seen; no new id."""
-    t = PersonTracker(P)
+    t = PersonTracker(WAIT)
     _hide_walker(t)
     _walk(t, (7, 8), 1.6, -1.0, 26, 36)
     assert any(q.shadow_of is not None for q in t.persons.values())
@@ -361,15 +365,23 @@ def test_walker_who_turned_back_while_hidden_keeps_the_id() -> None:
     assert len(t.persons) == 1 and t.persons_created == 1 and t.handovers == 0
 
 
-def test_handover_split_at_once_when_not_waiting_for_the_return() -> None:
-    """``handover_on_return = False``: the passer-by gets a new id at the check and the
-    walker, put back as it was, keeps its own."""
-    t = PersonTracker(PersonTrackParams(handover_on_return=False))
+def test_fast_passer_by_gets_a_new_id_at_the_check() -> None:
+    """A passer-by moving faster than ``handover_fast_speed`` (0.8 m/s) at the check gets a
+    new id then; the walker, put back as it was, keeps its own and takes its legs when it
+    reappears."""
+    t = PersonTracker(P)
     _hide_walker(t)
     passer = _walk(t, (7, 8), 1.6, -1.0, 26, 36)
     assert passer[0] == [0] and passer[-1] == [1] and t.handovers == 1
     (hidden,) = [q for q in t.persons.values() if q.public_id == 0]
     assert hidden.members == [] and hidden.shadow_of is None
+    out = t.update(legs(leg(11, 2.4, 0.0), leg(12, 2.45, 0.3)), 3.6, 1.0)
+    assert 0 in [p.track_id for p in out] and hidden.members == [11, 12]
+    # a slow one (0.6 m/s) waits for the hidden person's return
+    t = PersonTracker(P)
+    _hide_walker(t)
+    assert _walk(t, (7, 8), 1.6, -0.6, 26, 36)[-1] == [0] and t.handovers == 0
+    assert any(q.shadow_of is not None for q in t.persons.values())
 
 
 def test_person_coming_back_the_same_way_keeps_the_id() -> None:

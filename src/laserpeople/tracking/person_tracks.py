@@ -43,6 +43,18 @@ an existence score:
   a place that was static more than ``arrival_slack`` longer than the person has been
   there (a track that slid onto furniture it passed).
 
+- **Hand-over check** (session 7). A confirmed person coasting unseen for up to
+  ``max_coast`` takes the legs of whoever passes through its gate, often a passer-by walking
+  the other way (narrow corridors). A person that gets a leg after more than
+  ``handover_after`` unseen is checked ``handover_window`` later: when it now moves more
+  than ``handover_max_turn`` against its velocity when last seen (both at least
+  ``handover_min_speed``), the hidden person is put back as it was, as an unreported
+  *shadow* that coasts on. If the one now seen moves at ``handover_fast_speed`` or more it
+  is taken for a passer-by at once: it gets a new id and the shadow becomes the hidden
+  person again, with its id. Otherwise (it may be the person who turned back while hidden)
+  the id stays until the shadow gets a leg of its own farther than ``pair_distance`` from
+  it; a shadow never seen again is dropped after ``max_coast``.
+
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
   identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
   for the first time is given such an identity back when signature and motion gate make it
@@ -275,7 +287,7 @@ class PersonTrackParams:
         0.5,
         "assumption: a walker moves at ~1 m/s; a standing person has no direction",
         "both velocities (before the occlusion and after the rejoin) must be at least this "
-        "fast for the check to split off a passer-by",
+        "fast for the check to find a turn",
         "m/s",
     )
     handover_fast_speed: float = param(
@@ -292,7 +304,7 @@ class PersonTrackParams:
         "assumption: a passer-by walking the other way turns ~180 deg against the hidden "
         "person; a walker rarely turns back while hidden",
         "a person that comes back moving more than this away from its direction before the "
-        "occlusion is a passer-by: it gets a new id and the hidden person keeps its own",
+        "occlusion has turned back or is a passer-by: the hidden person is kept as a shadow",
         "deg",
     )
 

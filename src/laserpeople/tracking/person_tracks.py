@@ -43,18 +43,6 @@ an existence score:
   a place that was static more than ``arrival_slack`` longer than the person has been
   there (a track that slid onto furniture it passed).
 
-- **Hand-over check** (session 7). A confirmed person coasting unseen for up to
-  ``max_coast`` takes the legs of whoever passes through its gate, often a passer-by walking
-  the other way (narrow corridors). A person that gets a leg after more than
-  ``handover_after`` unseen is checked ``handover_window`` later: when it now moves more
-  than ``handover_max_turn`` against its velocity when last seen (both at least
-  ``handover_min_speed``), the hidden person is put back as it was, as an unreported
-  *shadow* that coasts on. If the one now seen moves at ``handover_fast_speed`` or more it
-  is taken for a passer-by at once: it gets a new id and the shadow becomes the hidden
-  person again, with its id. Otherwise (it may be the person who turned back while hidden)
-  the id stays until the shadow gets a leg of its own farther than ``pair_distance`` from
-  it; a shadow never seen again is dropped after ``max_coast``.
-
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
   identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
   for the first time is given such an identity back when signature and motion gate make it
@@ -68,7 +56,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -267,47 +255,6 @@ class PersonTrackParams:
         "re-identification of people lost for long (tracking/reidentify.py)",
     )
 
-    handover_after: float = param(
-        0.5,
-        "assumption, session 7: on narrow-corridor tuning seeds the ids handed to a passer-by "
-        "were those of people unseen for 1-4 s (docs/people-benchmarks.md, Passers-by)",
-        "a confirmed person unseen for longer than this who gets a leg again is checked "
-        "handover_window later: has it turned back?",
-        "s",
-    )
-    handover_window: float = param(
-        0.5,
-        "assumption: a new leg track's velocity is near zero when it joins; the person "
-        "filter's velocity has settled about half a second later",
-        "time after such a rejoin at which the person's velocity is compared with its "
-        "velocity when last seen before (0: no check)",
-        "s",
-    )
-    handover_min_speed: float = param(
-        0.5,
-        "assumption: a walker moves at ~1 m/s; a standing person has no direction",
-        "both velocities (before the occlusion and after the rejoin) must be at least this "
-        "fast for the check to find a turn",
-        "m/s",
-    )
-    handover_fast_speed: float = param(
-        0.8,
-        "assumption, session 7: passers-by walk at ~1-1.4 m/s (narrow-corridor draws "
-        "0.9-1.4 m/s); a walker who turned back while hidden was seen at 0.5-0.6 m/s half "
-        "a second after coming back on the real demo bag",
-        "a person that turned back and moves at least this fast at the check is a passer-by "
-        "at once: it gets a new id then (inf: only when the hidden person is seen again)",
-        "m/s",
-    )
-    handover_max_turn: float = param(
-        120.0,
-        "assumption: a passer-by walking the other way turns ~180 deg against the hidden "
-        "person; a walker rarely turns back while hidden",
-        "a person that comes back moving more than this away from its direction before the "
-        "occlusion has turned back or is a passer-by: the hidden person is kept as a shadow",
-        "deg",
-    )
-
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -410,13 +357,6 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
-        seen_velocity: Filtered velocity (2,) [m/s] after its last update with a leg.
-        rejoin: Set when a confirmed person unseen for longer than ``handover_after`` got a
-            leg again, until the hand-over check ``handover_window`` later; None otherwise.
-            For a shadow, the rejoin whose ``before`` is the person holding its id.
-        shadow_of: For a hidden person put back after a hand-over check (a shadow, not
-            reported), the internal id of the person that took its legs and id; None
-            otherwise.
     """
 
     person_id: int
@@ -437,35 +377,6 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
-    seen_velocity: FloatArray = field(default_factory=lambda: np.zeros(2))
-    rejoin: Rejoin | None = None
-    shadow_of: int | None = None
-
-
-@dataclass(eq=False)
-class Rejoin:
-    """A confirmed person who got a leg again after ``handover_after`` or more unseen.
-
-    Attributes:
-        stamp: Time [s] of the scan it got the leg.
-        before: The person as it was then, before the update, with no member legs.
-        widths: Leg widths of its detected single legs since then (the newcomer's).
-    """
-
-    stamp: float
-    before: PersonTrack
-    widths: Signature = field(default_factory=Signature)
-
-
-def turned_back(before: FloatArray, after: FloatArray, params: PersonTrackParams) -> bool:
-    """A person seen moving with ``before`` (2,) [m/s] and, after an occlusion, with
-    ``after`` (2,) has turned more than ``handover_max_turn`` while both speeds are at
-    least ``handover_min_speed``: the one now seen is a passer-by, not that person."""
-    s0, s1 = float(np.hypot(*before)), float(np.hypot(*after))
-    if min(s0, s1) < params.handover_min_speed:
-        return False
-    cos = float(np.dot(before, after)) / (s0 * s1)
-    return cos < math.cos(math.radians(params.handover_max_turn))
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -505,18 +416,11 @@ class PersonTracker:
         self._llr = params.evidence_llr()
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
-        self.handovers = 0
-        """Passers-by split off a hidden person's identity (:meth:`_handovers`)."""
 
     @property
     def approved_legs(self) -> frozenset[int]:
         """Member legs of confirmed people (the *approved* legs of 000 Sec. 3.3.1)."""
-        return frozenset(
-            m
-            for p in self.persons.values()
-            if p.confirmed and p.shadow_of is None
-            for m in p.members
-        )
+        return frozenset(m for p in self.persons.values() if p.confirmed for m in p.members)
 
     # ------------------------------------------------------------------ steps
 
@@ -615,22 +519,11 @@ class PersonTracker:
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
-            if (
-                z is not None
-                and person.confirmed
-                and person.rejoin is None
-                and p.handover_window > 0.0
-                and stamp - person.last_seen > p.handover_after
-            ):
-                before = replace(person, members=[], signature=replace(person.signature))
-                person.rejoin = Rejoin(stamp, before)
             person.llr = min(max(person.llr + float(self._llr[evidence]), p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
                     person.signature.add(legs[m].width)
-                    if person.rejoin is not None and person.shadow_of is None:
-                        person.rejoin.widths.add(legs[m].width)
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
@@ -645,65 +538,12 @@ class PersonTracker:
             static = self._static(means[:, :2])
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                person.seen_velocity = means[i, 2:4].copy()
                 if static[i] <= p.static_time:
                     person.travelled = max(
                         person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
                     )
                 if float(np.hypot(*(person.mean[:2] - person.arrived[1]))) >= p.min_travel:
                     person.arrived = (stamp, person.mean[:2].copy())
-
-    def _handovers(self, stamp: float) -> None:
-        """People that came back from an occlusion ``handover_window`` ago moving against
-        their direction before it (:func:`turned_back`) may be passers-by who took the legs
-        of a hidden person, or that person turned back. The hidden person is put back as it
-        was before, as a *shadow* that coasts unreported; if the shadow gets a leg of its
-        own (farther than ``pair_distance`` from the one who took its id) before
-        ``max_coast``, it was a passer-by: the shadow takes its id back and the passer-by
-        goes on with a new one. A shadow never seen again is dropped (a turn)."""
-        p = self.params
-        for person in list(self.persons.values()):
-            if person.rejoin is None or person.shadow_of is not None:
-                continue
-            if stamp - person.rejoin.stamp < p.handover_window - 1e-9:
-                continue
-            rejoin, person.rejoin = person.rejoin, None
-            if not turned_back(rejoin.before.seen_velocity, person.mean[2:4], p):
-                continue
-            shadow = rejoin.before
-            shadow.person_id = next(self._ids)
-            shadow.shadow_of = person.person_id
-            shadow.rejoin = replace(rejoin, before=person)  # for the hand-back
-            self.persons[shadow.person_id] = shadow
-            if float(np.hypot(*person.mean[2:4])) >= p.handover_fast_speed:
-                self._hand_back(shadow, stamp)
-        for shadow in list(self.persons.values()):
-            if shadow.shadow_of is None or shadow.last_seen < stamp:
-                continue
-            host = self.persons.get(shadow.shadow_of)
-            if host is not None and host.public_id == shadow.public_id:
-                if float(np.hypot(*(host.mean[:2] - shadow.mean[:2]))) <= p.pair_distance:
-                    continue
-                self._hand_back(shadow, stamp)
-            shadow.shadow_of = None
-            shadow.rejoin = None
-
-    def _hand_back(self, shadow: PersonTrack, stamp: float) -> None:
-        """The passer-by who holds ``shadow``'s id goes on with a new id."""
-        p = self.params
-        assert shadow.rejoin is not None
-        host = self.persons.get(shadow.shadow_of) if shadow.shadow_of is not None else None
-        if host is not None:
-            host.public_id = next(self._public_ids)
-            self.persons_created += 1
-            host.confirmed_at = stamp
-            host.born_stamp = shadow.rejoin.stamp
-            host.signature = shadow.rejoin.widths
-            host.seen_before = 0.0
-            host.pending = p.reid.enabled
-            self.handovers += 1
-        shadow.shadow_of = None
-        shadow.rejoin = None
 
     def _births(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
@@ -759,12 +599,7 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
-        ps = sorted(
-            (q for q in self.persons.values() if q.shadow_of is None),
-            key=lambda q: (not q.confirmed, -q.llr, q.person_id),
-        )
-        if len(ps) < 2:
-            return
+        ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
         xy = np.stack([q.mean[:2] for q in ps])
         close = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)) < p.merge_distance
         if not (close & ~np.eye(len(ps), dtype=bool)).any():  # nobody near anybody else
@@ -817,10 +652,7 @@ class PersonTracker:
         for pid in list(self.persons):
             q = self.persons[pid]
             unseen = stamp - q.last_seen
-            if q.shadow_of is not None:
-                if unseen > p.max_coast:
-                    del self.persons[pid]  # never seen again: the one who took its id turned
-            elif q.confirmed:
+            if q.confirmed:
                 if unseen > p.max_coast:
                     assert q.public_id is not None
                     seen = q.seen_before + q.last_seen - q.confirmed_at
@@ -844,7 +676,6 @@ class PersonTracker:
             for q in self.persons.values()
             if q.pending
             and q.confirmed
-            and q.shadow_of is None
             and (q.signature.count >= r.min_samples or stamp - q.confirmed_at >= r.decide_time)
         ]
         if not ready:
@@ -874,16 +705,13 @@ class PersonTracker:
         self._release(legs)
         self._join(legs)
         self._update_people(legs, stamp)
-        self._handovers(stamp)
         self._births(legs, stamp)
         self._merge()
         self._confirm_and_delete(stamp)
         out: list[Track] = []
         for pid in sorted(self.persons):
             q = self.persons[pid]
-            if q.shadow_of is not None or not q.confirmed:
-                continue
-            if stamp - q.last_seen > max_report_unseen:
+            if not q.confirmed or stamp - q.last_seen > max_report_unseen:
                 continue
             assert q.public_id is not None
             out.append(

@@ -155,6 +155,31 @@ def initial_state(
     return mean, c0.copy(), pts - centroid
 
 
+def initial_states(
+    obs: GroupObservations, js: Sequence[int], c0: FloatArray
+) -> list[tuple[FloatArray, FloatArray, GroupPayload]]:
+    """:func:`initial_state` of clusters ``js`` of ``obs`` with their payloads (contour
+    and members), the states, covariances and contours of all made in one array each
+    (each centroid is still its cluster's own ``mean``: the same numbers)."""
+    idx = np.asarray(js, dtype=np.intp)
+    sizes = obs.sizes[idx]
+    starts = obs.offsets[idx]
+    bounds = zip(starts.tolist(), (starts + sizes).tolist(), strict=True)
+    centroids = np.array([obs.points[a:b].mean(axis=0) for a, b in bounds]).reshape(-1, 2)
+    means = np.zeros((idx.size, 5))
+    means[:, :2] = centroids
+    means[:, 4] = obs.n_hs[idx]
+    covs = np.broadcast_to(c0, (idx.size, 5, 5)).copy()
+    rows = _ranges(starts, sizes)
+    contours = obs.points[rows] - np.repeat(centroids, sizes, axis=0)
+    members = obs.members[rows]
+    ends = np.cumsum(sizes).tolist()
+    return [
+        (means[k], covs[k], GroupPayload(contours[a:b], (), members[a:b]))
+        for k, (a, b) in enumerate(zip([0, *ends[:-1]], ends, strict=True))
+    ]
+
+
 def merge_state(
     mean_i: FloatArray,
     cov_i: FloatArray,
@@ -304,9 +329,9 @@ class GroupModel:
         pm = np.einsum("nij,nj->ni", a, means)
         pc = a @ covs @ a.transpose(0, 2, 1) + self.s.q[None] * (dt / self.s.period)[:, None, None]
         self._pred = (pm, pc)
-        for i, n in enumerate(nodes):
-            n.pred_mean = pm[i]
-            n.pred_cov = pc[i]
+        for n, m_i, c_i in zip(nodes, pm, pc, strict=True):
+            n.pred_mean = m_i
+            n.pred_cov = c_i
 
     def _predictions(self, nodes: Sequence[TrackNode]) -> tuple[FloatArray, FloatArray]:
         """Predicted means (T, 5) and covariances (T, 5, 5) of ``nodes``: rows of the
@@ -613,6 +638,8 @@ class GroupModel:
     ) -> list[tuple[FloatArray, FloatArray, Any]]:
         """New groups from clusters ``js`` (eq. 16)."""
         out: list[tuple[FloatArray, FloatArray, Any]] = []
+        if len(js) > 1:
+            return initial_states(measurements, js, self.s.c0)
         for j in js:
             mean, cov, contour = initial_state(
                 measurements.cluster(j), float(measurements.n_hs[j]), self.s.c0

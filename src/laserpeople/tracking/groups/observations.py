@@ -241,7 +241,10 @@ def count_people(
     closer than ``pair_distance``."""
     if pts.shape[0] == 0:
         return np.zeros(m)
-    _, blob = np.unique(fine, return_inverse=True)
+    if np.bincount(fine).all():  # labels 0..B-1 already (the scan's): np.unique's inverse
+        blob = fine
+    else:
+        _, blob = np.unique(fine, return_inverse=True)
     n_blobs = int(blob.max()) + 1
     blob_cluster = np.zeros(n_blobs, dtype=np.int64)
     blob_cluster[blob] = labels

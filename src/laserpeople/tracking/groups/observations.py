@@ -151,11 +151,12 @@ class GroupObservations:
                 base += len(m)
             fine = np.concatenate(fine_parts)
         out = cls._from_labels(pts, idx, labels, fine, counting)  # keeps the parts' order
+        changes: dict[str, IntArray | FloatArray] = {}
         if share is not None:
-            out = replace(out, share=np.asarray(share, dtype=np.float64).reshape(len(parts)))
+            changes["share"] = np.asarray(share, dtype=np.float64).reshape(len(parts))
         if source is not None:
-            out = replace(out, source=np.concatenate(source).astype(np.int64))
-        return out
+            changes["source"] = np.concatenate(source).astype(np.int64)
+        return replace(out, **changes) if changes else out  # type: ignore[arg-type]
 
     @classmethod
     def _from_labels(

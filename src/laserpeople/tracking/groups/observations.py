@@ -242,7 +242,7 @@ def count_people(
     closer than ``pair_distance``."""
     if pts.shape[0] == 0:
         return np.zeros(m)
-    if np.bincount(fine).all():  # labels 0..B-1 already (the scan's): np.unique's inverse
+    if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
         blob = fine
     else:
         _, blob = np.unique(fine, return_inverse=True)

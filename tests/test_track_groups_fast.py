@@ -244,3 +244,96 @@ def test_nearest_unit_equals_a_plain_loop_over_units() -> None:
     # a tie: two units with the same contour, the point goes to the first
     twin = [[nodes[0]], [nodes[0]]]
     assert (_nearest_unit(obs.points, twin) == 0).all()
+
+
+def test_row_block_min_equals_minimum_reduceat_along_rows() -> None:
+    """The per-cluster minima of the score (one ``min`` per block of rows) are
+    ``np.minimum.reduceat`` along the rows, bit for bit, for one or many blocks."""
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        n, k = int(rng.integers(1, 60)), int(rng.integers(1, 40))
+        q = rng.normal(0.0, 10.0 ** rng.uniform(-3, 3), (n, k))
+        n_cuts = min(n - 1, int(rng.integers(0, 6)))
+        cuts = np.sort(rng.choice(np.arange(1, max(n, 2)), size=n_cuts, replace=False))
+        starts = np.concatenate([[0], cuts]).astype(np.int64)
+        lengths = np.diff(np.append(starts, n))
+        got = model_mod._row_block_min(q, starts, lengths)
+        np.testing.assert_array_equal(got, np.minimum.reduceat(q, starts, axis=0))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_initial_states_in_one_batch_equal_eq16_per_cluster(seed: int) -> None:
+    """New groups made in one batch have the states, covariances, contours and members
+    that :func:`initial_state` (eq. 16) gives cluster by cluster, bit for bit."""
+    _, obs = _scene(seed)
+    model = GroupModel(GroupTrackerParams().model_settings())
+    js = list(range(len(obs)))[::-1][: max(2, len(obs) - 1)]
+    made = model.initiate(obs, js, 0.0)
+    assert len(made) == len(js)
+    for j, (mean, cov, payload) in zip(js, made, strict=True):
+        want_mean, want_cov, want_contour = model_mod.initial_state(
+            obs.cluster(j), float(obs.n_hs[j]), model.s.c0
+        )
+        np.testing.assert_array_equal(mean, want_mean)
+        np.testing.assert_array_equal(cov, want_cov)
+        np.testing.assert_array_equal(payload.contour, want_contour)
+        np.testing.assert_array_equal(payload.members, obs.cluster_members(j))
+        assert payload.labels == () and not payload.must_match and payload.event == ""
+
+
+@pytest.mark.parametrize("method", ["blobs", "legs"])
+def test_people_count_of_dense_blob_labels_equals_relabelled_ones(method: str) -> None:
+    """The blob count takes labels 0..B-1 as they are (no ``np.unique``): the same counts
+    as for the same blobs under labels with gaps (which go through ``np.unique``)."""
+    from laserpeople.tracking.groups.observations import SizeCounting, count_people
+
+    rng = np.random.default_rng(3)
+    counting = SizeCounting(method)
+    for _ in range(100):
+        n = int(rng.integers(1, 80))
+        pts = rng.uniform(-3.0, 3.0, (n, 2))
+        m = int(rng.integers(1, 6))
+        labels = np.sort(rng.integers(0, m, n))
+        m = int(labels.max()) + 1
+        blobs = labels * 10 + rng.integers(0, 4, n)  # blobs inside clusters
+        _, dense = np.unique(blobs, return_inverse=True)
+        dense = dense.astype(np.int64)
+        gappy = dense * 3 + 5
+        got = count_people(pts, labels, dense, m, counting)
+        np.testing.assert_array_equal(got, count_people(pts, labels, gappy, m, counting))
+
+
+def test_gate_bits_equal_packbits() -> None:
+    """A gate row as the bits of an int: the short loop equals numpy's packbits, for
+    short rows and for rows longer than 64."""
+    from laserpeople.tracking.groups.interaction import _bits
+
+    rng = np.random.default_rng(5)
+    for m in [0, 1, 2, 5, 17, 63, 64, 65, 130]:
+        for _ in range(20):
+            row = rng.random(m) < 0.3
+            want = int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
+            assert _bits(row) == want
+
+
+def test_predictions_gathered_from_predict_equal_the_nodes_own() -> None:
+    """Predictions taken as rows of :meth:`GroupModel.predict`'s arrays equal the nodes'
+    ``pred_mean`` / ``pred_cov`` stacked, in any order and for a node predicted elsewhere
+    (a model's split half); a remembered single row comes back as the computed one."""
+    nodes, obs = _scene(6)
+    model = GroupModel(GroupTrackerParams().model_settings())
+    model.predict(nodes, 0.3)
+    order = [nodes[i] for i in (4, 0, 7, 2, 2)]
+    means, covs = model._predictions(order)
+    np.testing.assert_array_equal(means, np.stack([n.pred_mean for n in order]))
+    np.testing.assert_array_equal(covs, np.stack([n.pred_cov for n in order]))
+    other = TrackNode(500, 500, 1, nodes[1].mean, nodes[1].cov, 0.3, "detected",
+                      payload=nodes[1].payload)  # fmt: skip
+    other.pred_mean, other.pred_cov = nodes[1].pred_mean * 0.5, nodes[1].pred_cov
+    means, _ = model._predictions([nodes[3], other])
+    np.testing.assert_array_equal(means, np.stack([nodes[3].pred_mean, other.pred_mean]))
+    g_all, ll_all = model.score(nodes, obs)
+    for i, node in enumerate(nodes):
+        g1, ll1 = model.score([node], obs)
+        np.testing.assert_array_equal(g1, g_all[i : i + 1])
+        np.testing.assert_array_equal(ll1, ll_all[i : i + 1])

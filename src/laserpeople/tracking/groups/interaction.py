@@ -540,7 +540,13 @@ class GroupBranches:
 
 def _bits(row: BoolArray) -> int:
     """A boolean row (m,) as an int with bit i set where ``row[i]``."""
-    return int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
+    if row.size > 64:
+        return int.from_bytes(np.packbits(row, bitorder="little").tobytes(), "little")
+    out = 0
+    for i, x in enumerate(row.tolist()):  # a few items: faster than numpy's packbits
+        if x:
+            out |= 1 << i
+    return out
 
 
 _Piece = tuple[FloatArray, IntArray, IntArray, float, Hashable]

@@ -155,6 +155,34 @@ def initial_state(
     return mean, c0.copy(), pts - centroid
 
 
+def initial_states(
+    obs: GroupObservations, js: Sequence[int], c0: FloatArray
+) -> list[tuple[FloatArray, FloatArray, GroupPayload]]:
+    """:func:`initial_state` of clusters ``js`` of ``obs`` with their payloads (contour
+    and members), the states, covariances and contours of all made in one array each
+    (each centroid is still its cluster's own ``mean``: the same numbers)."""
+    idx = np.asarray(js, dtype=np.intp)
+    sizes = obs.sizes[idx]
+    starts = obs.offsets[idx]
+    bounds = zip(starts.tolist(), (starts + sizes).tolist(), strict=True)
+    # ndarray.mean is add.reduce divided by the count; called directly (no Python wrapper)
+    add = np.add.reduce
+    centroids = np.array([add(obs.points[a:b], axis=0) / (b - a) for a, b in bounds])
+    centroids = centroids.reshape(-1, 2)
+    means = np.zeros((idx.size, 5))
+    means[:, :2] = centroids
+    means[:, 4] = obs.n_hs[idx]
+    covs = np.broadcast_to(c0, (idx.size, 5, 5)).copy()
+    rows = _ranges(starts, sizes)
+    contours = obs.points[rows] - np.repeat(centroids, sizes, axis=0)
+    members = obs.members[rows]
+    ends = np.cumsum(sizes).tolist()
+    return [
+        (means[k], covs[k], GroupPayload(contours[a:b], (), members[a:b]))
+        for k, (a, b) in enumerate(zip([0, *ends[:-1]], ends, strict=True))
+    ]
+
+
 def merge_state(
     mean_i: FloatArray,
     cov_i: FloatArray,
@@ -275,6 +303,8 @@ class GroupModel:
     def __init__(self, settings: GroupModelSettings) -> None:
         self.s = settings
         self._rows: dict[tuple[int, int], tuple[BoolArray, FloatArray]] = {}
+        self._pred_row: dict[int, int] = {}  # node id -> row of the last predict's arrays
+        self._pred: tuple[FloatArray, FloatArray] = (np.empty((0, 5)), np.empty((0, 5, 5)))
         self.scan: GroupObservations | None = None
         """The scan's observations (set before each MHT step); re-clustered observation
         sets refer to its points."""
@@ -291,6 +321,7 @@ class GroupModel:
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict every node to ``stamp`` [s] (batched)."""
         self._rows.clear()
+        self._pred_row = {n.node_id: i for i, n in enumerate(nodes)}
         if not nodes:
             return
         means = np.stack([n.mean for n in nodes])
@@ -300,9 +331,22 @@ class GroupModel:
         a[:, 0, 2] = a[:, 1, 3] = dt
         pm = np.einsum("nij,nj->ni", a, means)
         pc = a @ covs @ a.transpose(0, 2, 1) + self.s.q[None] * (dt / self.s.period)[:, None, None]
-        for i, n in enumerate(nodes):
-            n.pred_mean = pm[i]
-            n.pred_cov = pc[i]
+        self._pred = (pm, pc)
+        for n, m_i, c_i in zip(nodes, pm, pc, strict=True):
+            n.pred_mean = m_i
+            n.pred_cov = c_i
+
+    def _predictions(self, nodes: Sequence[TrackNode]) -> tuple[FloatArray, FloatArray]:
+        """Predicted means (T, 5) and covariances (T, 5, 5) of ``nodes``: rows of the
+        last :meth:`predict`'s arrays when it predicted them all (the nodes' own
+        ``pred_mean`` and ``pred_cov`` are views of these rows), else stacked."""
+        rows = self._pred_row
+        idx = [rows.get(n.node_id, -1) for n in nodes]
+        if -1 not in idx:
+            take = np.array(idx, dtype=np.intp)
+            return self._pred[0][take], self._pred[1][take]
+        preds = [node_prediction(n) for n in nodes]
+        return np.stack([p[0] for p in preds]), np.stack([p[1] for p in preds])
 
     # -- gating and likelihood
     def innovation_cov(self, pred_cov: FloatArray) -> FloatArray:
@@ -336,6 +380,8 @@ class GroupModel:
             if len(todo) == t:
                 return gated, loglik
         made = [rows[(n.node_id, key)] for n in nodes]
+        if t == 1:  # a remembered row as a (1, M) view (callers do not write into rows)
+            return made[0][0][None], made[0][1][None]
         return np.stack([r[0] for r in made]), np.stack([r[1] for r in made])
 
     def score_apart(self, nodes: Sequence[TrackNode], measurements: GroupObservations) -> None:
@@ -415,7 +461,7 @@ class GroupModel:
         tmp *= dy
         q += tmp
         z_min = np.sqrt(q.min(axis=1) / det)
-        c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / det)
+        c_min = np.sqrt(_row_block_min(q, z_start, n_z) / det)
         if self.s.rms:
             z_min, c_min = z_min**2, c_min**2
         z_to_p = np.add.reduceat(z_min, z_start) / n_z  # d(Z, P), eq. 20
@@ -452,9 +498,9 @@ class GroupModel:
         t, m = len(nodes), len(obs)
         gated = np.zeros((t, m), dtype=bool)
         loglik = np.full((t, m), -np.inf)
-        preds = [node_prediction(n) for n in nodes]
-        pos = np.array([p[0][:2] for p in preds])
-        s = np.array([p[1][:2, :2] for p in preds]) + self.s.r_point  # eq. 23
+        means, covs = self._predictions(nodes)
+        pos = means[:, :2]
+        s = covs[:, :2, :2] + self.s.r_point  # eq. 23
         s00, s01, s11 = s[:, 0, 0], s[:, 0, 1], s[:, 1, 1]
         det = s00 * s11 - s01**2
         contours = [group_payload(n).contour for n in nodes]
@@ -518,7 +564,7 @@ class GroupModel:
         tmp *= dy
         q += tmp
         z_min = np.sqrt(np.minimum.reduceat(q, n_start, axis=1) / ddet[None, :])  # (Z, T')
-        c_min = np.sqrt(np.minimum.reduceat(q, z_start, axis=0) / ddet[col_owner])  # (M', K)
+        c_min = np.sqrt(_row_block_min(q, z_start, n_z) / ddet[col_owner])  # (M', K)
         if self.s.rms:  # root mean square of the nearest distances
             z_min, c_min = z_min**2, c_min**2
         z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
@@ -566,8 +612,7 @@ class GroupModel:
             return out
         idx = np.asarray(js, dtype=np.intp)
         means, covs = kalman_update_batch(
-            np.stack([node_prediction(n)[0] for n in nodes]),
-            np.stack([node_prediction(n)[1] for n in nodes]),
+            *self._predictions(nodes),
             measurements.centroids[idx],
             measurements.n_hs[idx],
             self.s.r_update,
@@ -596,6 +641,8 @@ class GroupModel:
     ) -> list[tuple[FloatArray, FloatArray, Any]]:
         """New groups from clusters ``js`` (eq. 16)."""
         out: list[tuple[FloatArray, FloatArray, Any]] = []
+        if len(js) > 1:
+            return initial_states(measurements, js, self.s.c0)
         for j in js:
             mean, cov, contour = initial_state(
                 measurements.cluster(j), float(measurements.n_hs[j]), self.s.c0
@@ -604,6 +651,17 @@ class GroupModel:
                 (mean, cov, GroupPayload(contour, (), measurements.cluster_members(j).copy()))
             )
         return out
+
+
+def _row_block_min(q: FloatArray, starts: IntArray, lengths: IntArray) -> FloatArray:
+    """``np.minimum.reduceat(q, starts, axis=0)`` (B, K) of ``q`` (N, K) cut into the
+    consecutive, non-empty row blocks ``starts[b] .. starts[b] + lengths[b] - 1`` that
+    cover it: one ``min`` per block, several times faster than ``reduceat`` along the
+    rows (the minimum is exact, so the same numbers)."""
+    if starts.size == 1:
+        return q.min(axis=0, keepdims=True)
+    ends = (starts + lengths).tolist()
+    return np.stack([q[a:b].min(axis=0) for a, b in zip(starts.tolist(), ends, strict=True)])
 
 
 def _ranges(starts: IntArray, lengths: IntArray) -> IntArray:

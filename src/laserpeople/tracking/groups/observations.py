@@ -151,11 +151,12 @@ class GroupObservations:
                 base += len(m)
             fine = np.concatenate(fine_parts)
         out = cls._from_labels(pts, idx, labels, fine, counting)  # keeps the parts' order
+        changes: dict[str, IntArray | FloatArray] = {}
         if share is not None:
-            out = replace(out, share=np.asarray(share, dtype=np.float64).reshape(len(parts)))
+            changes["share"] = np.asarray(share, dtype=np.float64).reshape(len(parts))
         if source is not None:
-            out = replace(out, source=np.concatenate(source).astype(np.int64))
-        return out
+            changes["source"] = np.concatenate(source).astype(np.int64)
+        return replace(out, **changes) if changes else out  # type: ignore[arg-type]
 
     @classmethod
     def _from_labels(
@@ -241,7 +242,10 @@ def count_people(
     closer than ``pair_distance``."""
     if pts.shape[0] == 0:
         return np.zeros(m)
-    _, blob = np.unique(fine, return_inverse=True)
+    if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
+        blob = fine
+    else:
+        _, blob = np.unique(fine, return_inverse=True)
     n_blobs = int(blob.max()) + 1
     blob_cluster = np.zeros(n_blobs, dtype=np.int64)
     blob_cluster[blob] = labels

@@ -391,6 +391,7 @@ class GroupMHTTracker:
         self.last_stats: StepStats | None = None
         self.last_groups: list[GroupEstimate] = []
         self.last_observations = GroupObservations.empty()
+        self._counting = p.counting()
 
     def name(self, node: TrackNode) -> tuple[str, ...]:
         """The internal label set of ``node``: a new group is named by its family until it
@@ -432,12 +433,10 @@ class GroupMHTTracker:
         idx = np.nonzero(fg)[0].astype(np.int64)
         pts = frame.points.points[idx]
         finite = np.isfinite(pts).all(axis=1)
+        if not finite.all():
+            pts, idx = pts[finite], idx[finite]
         return GroupObservations.from_points(
-            pts[finite],
-            idx[finite],
-            self.params.cluster_distance,
-            self.params.blob_distance,
-            self.params.counting(),
+            pts, idx, self.params.cluster_distance, self.params.blob_distance, self._counting
         )
 
     def update(self, frame: Frame) -> Tracks:

@@ -24,6 +24,7 @@ from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.groups.coherence import CoherenceSettings, CoherentGroupModel
+from laserpeople.tracking.groups.history_split import HistorySplitSettings
 from laserpeople.tracking.groups.interaction import (
     GroupBranches,
     GroupLabelModel,
@@ -224,6 +225,39 @@ class GroupTrackerParams:
     coherence_step: float = param(
         0.2, "assumption (memory only)", "least time between two kept snapshots", "s"
     )
+    history_split: bool = param(
+        False,
+        "000 (splits only on two observations); the extension is docs/groups.md 'History split'",
+        "also offer the split of a track whose one observation the motion coherence finds "
+        "incoherent into the two velocity modes its history shows (needs coherence_lag > 0)",
+    )
+    split_min_age: float = param(
+        0.5,
+        "assumption",
+        "shortest history a split by velocity modes is traced over (history_split)",
+        "s",
+    )
+    split_window: float = param(
+        1.0,
+        "assumption",
+        "longest history a split by velocity modes is traced over (the motion now)",
+        "s",
+    )
+    split_min_dv: float = param(
+        0.5,
+        "assumption",
+        "least difference of the two velocity modes of a history split",
+        "m/s",
+    )
+    split_separation: float = param(
+        2.0,
+        "assumption",
+        "least ratio of the modes' difference to the blob velocities' spread about them "
+        "(history_split)",
+    )
+    split_min_points: int = param(
+        4, "assumption", "fewest points of each velocity mode of a history split"
+    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -252,6 +286,8 @@ class GroupTrackerParams:
             raise ValueError("max_models must be at least 1")
         if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
             raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
+        if self.history_split and self.coherence_lag <= 0.0:
+            raise ValueError("history_split needs the snapshots of coherence_lag > 0")
 
     @classmethod
     def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
@@ -319,6 +355,15 @@ class GroupTrackerParams:
             recluster_blobs=self.recluster_blobs,
             counting=self.counting(),
             coherence_step=self.coherence_step,
+            history_split=HistorySplitSettings(
+                min_age=self.split_min_age,
+                window=self.split_window,
+                min_dv=self.split_min_dv,
+                separation=self.split_separation,
+                min_points=self.split_min_points,
+            )
+            if self.history_split
+            else None,
         )
 
 
@@ -444,7 +489,7 @@ class GroupMHTTracker:
         """Track one frame."""
         obs = self.observe(frame)
         self.last_observations = obs
-        self.branches.begin_scan(obs)
+        self.branches.begin_scan(obs, frame.stamp)
         self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)
         probs = self.mht.best_probabilities()

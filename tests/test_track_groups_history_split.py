@@ -1,0 +1,142 @@
+"""The split driven by a track's own history (groups/history_split.py): tracing, velocity
+modes and the division of contour and history against hand-computed values, and end to
+end on a scripted scene of two parties in one cluster walking at different speeds."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.tracking.groups import GroupTrackerParams
+from laserpeople.tracking.groups.history_split import (
+    HistorySplitSettings,
+    divide_contour,
+    divide_history,
+    mode_velocities,
+    trace_velocities,
+    velocity_modes,
+)
+from test_track_groups import _run
+
+
+def _pts(*xy: float) -> np.ndarray:
+    return np.array(xy, dtype=float).reshape(-1, 2)
+
+
+def _history(stamps: list[float]) -> list[tuple[float, np.ndarray]]:
+    """Point a at (t, 0) (1 m/s along x), point b standing at (5, 1)."""
+    return [(t, _pts(t, 0.0, 5.0, 1.0)) for t in stamps]
+
+
+def test_trace_follows_each_point_back_and_gives_its_mean_velocity() -> None:
+    # now (t = 1.0): a at (1, 0), b at (5, 1); snapshots at 0.2 .. 0.8 s
+    history = _history([0.2, 0.4, 0.6, 0.8])
+    got = trace_velocities(_pts(1.0, 0.0, 5.0, 1.0), history, 1.0, np.zeros(2), min_age=0.3)
+    assert got is not None
+    u, age, path = got
+    assert age == pytest.approx(0.8)
+    # a: (1 - 0.2) / 0.8 = 1 m/s; b: 0
+    np.testing.assert_allclose(u, [[1.0, 0.0], [0.0, 0.0]], atol=1e-12)
+    assert [t for t, _ in path] == [0.2, 0.4, 0.6, 0.8]
+    np.testing.assert_allclose(path[0][1], [[0.2, 0.0], [5.0, 1.0]])
+    # the window keeps the snapshots at most 0.5 s old: 0.6 and 0.8 s, a trace of 0.4 s
+    got = trace_velocities(_pts(1.0, 0.0), history, 1.0, np.zeros(2), 0.3, window=0.5)
+    assert got is not None and got[1] == pytest.approx(0.4)
+    np.testing.assert_allclose(got[0], [[1.0, 0.0]], atol=1e-12)
+    # no snapshot min_age old: no trace
+    assert trace_velocities(_pts(1.0, 0.0), history[-1:], 1.0, np.zeros(2), 0.3) is None
+    assert trace_velocities(np.empty((0, 2)), history, 1.0, np.zeros(2), 0.3) is None
+
+
+def test_trace_moves_back_by_the_velocity_before_matching() -> None:
+    """Two points 0.3 m apart on x, both walking at 1 m/s: moved back by the track's
+    velocity each point finds itself in the snapshot 0.2 s before (nearest to the raw
+    position it would find the other's old position half of the time)."""
+    history = [(0.8, _pts(0.8, 0.0, 1.1, 0.0))]
+    u, _, _ = trace_velocities(_pts(1.0, 0.0, 1.3, 0.0), history, 1.0, np.array([1.0, 0.0]), 0.1)  # type: ignore[misc]
+    np.testing.assert_allclose(u, [[1.0, 0.0], [1.0, 0.0]], atol=1e-12)
+
+
+SETTINGS = HistorySplitSettings(min_dv=0.5, separation=2.0, min_points=2)
+
+
+def test_velocity_modes_by_hand() -> None:
+    # three blobs: two at 1 m/s (+-0.1 on y), one standing; blob sizes 2, 2, 3
+    u = _pts(1.0, 0.1, 1.0, 0.1, 1.0, -0.1, 1.0, -0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    blobs = np.array([7, 7, 9, 9, 3, 3, 3])
+    modes = velocity_modes(u, blobs, SETTINGS)
+    assert modes is not None
+    # mode means (1, 0) and (0, 0): dv = 1; spread sqrt(4 * 0.01 / 7) = 0.0756
+    assert modes[0] == modes[1] == modes[2] == modes[3] != modes[4] == modes[5] == modes[6]
+    np.testing.assert_allclose(mode_velocities(u, modes)[modes[0]], [1.0, 0.0], atol=1e-12)
+    # dv 0.4 < min_dv 0.5
+    assert velocity_modes(u * 0.4, blobs, SETTINGS) is None
+    # separation: blob velocities (1, +-0.45) and (0, 0): dv = 1 against a spread of
+    # sqrt(4 * 0.45^2 / 7) = 0.3402, a ratio of 2.94
+    wide = u.copy()
+    wide[:4, 1] *= 4.5
+    assert velocity_modes(wide, blobs, replace(SETTINGS, separation=2.9)) is not None
+    assert velocity_modes(wide, blobs, replace(SETTINGS, separation=3.0)) is None
+    # a mode of fewer than min_points points
+    assert velocity_modes(u, blobs, replace(SETTINGS, min_points=4)) is None
+    # one blob, or one velocity: no modes
+    assert velocity_modes(u, np.zeros(7, dtype=np.int64), SETTINGS) is None
+    assert velocity_modes(np.zeros((7, 2)), blobs, SETTINGS) is None
+
+
+def test_velocity_modes_keep_a_blob_whole() -> None:
+    """A blob's points take the mode of the blob's mean velocity, whatever their own."""
+    u = _pts(1.0, 0.0, 1.0, 0.0, 0.4, 0.0, 0.0, 0.0, 0.0, 0.0)
+    blobs = np.array([0, 0, 1, 1, 1])  # blob 1: mean 0.133 m/s
+    modes = velocity_modes(u, blobs, SETTINGS)
+    assert modes is not None
+    assert modes[0] == modes[1] != modes[2] == modes[3] == modes[4]
+
+
+def test_contour_and_history_divided_by_the_nearest_mode() -> None:
+    points = _pts(0.0, 0.0, 1.0, 0.0, 3.0, 0.0)
+    modes = np.array([0, 0, 1])
+    contour = _pts(0.4, 0.0, 1.9, 0.0, 2.1, 0.0, 5.0, 0.0)
+    np.testing.assert_array_equal(divide_contour(contour, points, modes), [0, 0, 1, 1])
+    assert divide_contour(np.empty((0, 2)), points, modes).size == 0
+    history = [(0.0, _pts(9.0, 9.0)), (0.2, _pts(0.1, 0.0, 2.9, 0.0, 2.5, 0.0))]
+    path = [(0.2, _pts(0.1, 0.0, 0.1, 0.0, 2.9, 0.0))]  # the 0.0 s snapshot not traced
+    half0 = divide_history(history, path, modes, 0)
+    half1 = divide_history(history, path, modes, 1)
+    assert [t for t, _ in half0] == [0.2] == [t for t, _ in half1]
+    np.testing.assert_allclose(half0[0][1], [[0.1, 0.0]])
+    np.testing.assert_allclose(half1[0][1], [[2.9, 0.0], [2.5, 0.0]])
+
+
+def _parties(k: int) -> list[tuple[float, float, int]]:
+    """A pair walking at 1 m/s beside a pair walking at 0.2 m/s, 0.6 m between their
+    nearest members: one cluster at d_P = 1.3 m until they are 1.15 m apart along x
+    (scan 14); truth groups 0 and 1."""
+    xa, xb = 0.1 * k, 0.02 * k
+    return [(xa, 0.0, 0), (xa, 0.6, 0), (xb, 1.2, 1), (xb, 1.8, 1)]
+
+
+def test_history_split_separates_parties_walking_at_different_speeds_in_one_cluster() -> None:
+    """000's splits need two observations: the pairs are one track until scan 14 or
+    later. The history split finds the two velocity modes of the track's one
+    observation and splits it while they are one cluster (labels 0-0, 0-1), halving the
+    memory-less clustering error; the coherence term alone does not."""
+    coherent = replace(GroupTrackerParams(), coherence_lag=2.0)
+    tracker, history, result, memoryless = _run(
+        _parties, 40, params=replace(coherent, history_split=True)
+    )
+    assert memoryless.under_segmented >= 14
+    first_two = next(k for k, out in enumerate(history) if len(out.of_kind("group")) == 2)
+    assert first_two < 14
+    assert sorted(t.labels for t in history[-1].of_kind("group")) == ["0-0", "0-1"]
+    assert "merge" not in [e.kind for e in tracker.events]
+    assert result.error <= 0.6 * memoryless.error
+    _, _, plain, _ = _run(_parties, 40, params=coherent)
+    assert plain.error > 0.8 * memoryless.error
+
+
+def test_history_split_needs_the_coherence_snapshots() -> None:
+    with pytest.raises(ValueError, match="history_split"):
+        GroupTrackerParams(history_split=True)

@@ -258,6 +258,21 @@ class GroupTrackerParams:
     split_min_points: int = param(
         4, "assumption", "fewest points of each velocity mode of a history split"
     )
+    split_unit_distance: float = param(
+        0.0,
+        "assumption",
+        "single-linkage distance of the units a history split divides into velocity modes "
+        "(0: the human-sized blobs at d_hs)",
+        "m",
+    )
+    spread_sigma: float = param(
+        0.0,
+        "000 (0: off); extension, docs/groups.md 'History split'",
+        "velocity spread per axis of the units of one group moving as one: a model's "
+        "partition gains -1/2 max(0, s^2 / sigma^2 - 2) for each item whose units' velocities "
+        "(traced through the scan history) spread by s^2 (observation coherence)",
+        "m/s",
+    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -286,8 +301,8 @@ class GroupTrackerParams:
             raise ValueError("max_models must be at least 1")
         if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
             raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
-        if self.history_split and self.coherence_lag <= 0.0:
-            raise ValueError("history_split needs the snapshots of coherence_lag > 0")
+        if self.history_split and self.coherence_lag <= 0.0 and self.spread_sigma <= 0.0:
+            raise ValueError("history_split needs coherence_lag > 0 or spread_sigma > 0")
 
     @classmethod
     def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
@@ -361,8 +376,12 @@ class GroupTrackerParams:
                 min_dv=self.split_min_dv,
                 separation=self.split_separation,
                 min_points=self.split_min_points,
+                unit_distance=self.split_unit_distance,
+                offer_split=self.history_split,
+                spread_sigma=self.spread_sigma,
+                step=self.coherence_step,
             )
-            if self.history_split
+            if self.history_split or self.spread_sigma > 0.0
             else None,
         )
 
@@ -433,6 +452,8 @@ class GroupMHTTracker:
         self._formatted: dict[tuple[str, ...], str] = {}  # display labels -> format_labels
         self._reported: set[int] = set()
         self.events: list[GroupEvent] = []
+        # (kind, split stem or merged labels) -> frame it was last reported in
+        self._event_at: dict[tuple[str, tuple[str, ...]], int] = {}
         self.last_stats: StepStats | None = None
         self.last_groups: list[GroupEstimate] = []
         self.last_observations = GroupObservations.empty()
@@ -508,7 +529,7 @@ class GroupMHTTracker:
             if node.family not in self._reported:
                 self._reported.add(node.family)
                 if payload.event:
-                    self._record(GroupEvent(frame.stamp, payload.event, labels))
+                    self._record(GroupEvent(frame.stamp, payload.event, labels), frame.index)
             tracks.append(
                 Track(
                     track_id=node.family,
@@ -534,9 +555,13 @@ class GroupMHTTracker:
             text = self._formatted[labels] = format_labels(labels)
         return text
 
-    def _record(self, event: GroupEvent) -> None:
+    def _record(self, event: GroupEvent, index: int = -1) -> None:
         """Append ``event`` unless it is the second half of a split already recorded at
-        this stamp (the halves X-0 and X-1 of one split share the stem X)."""
+        this stamp (the halves X-0 and X-1 of one split share the stem X), or a split of
+        the same stem (a merge of the same labels) recorded at most N-scan-back scans
+        before (frame ``index``): the reported hypothesis changed its mind about the scan
+        of one event."""
+        key = (event.kind, event.labels)
         if event.kind == "split":
             stem = tuple(label.rsplit("-", 1)[0] for label in event.labels)
             for e in reversed(self.events):
@@ -544,6 +569,11 @@ class GroupMHTTracker:
                     break
                 if e.kind == "split" and tuple(x.rsplit("-", 1)[0] for x in e.labels) == stem:
                     return
+            key = ("split", stem)
+        last = self._event_at.get(key)
+        self._event_at[key] = index
+        if last is not None and 0 <= index - last <= self.params.mht.n_scan:
+            return
         self.events.append(event)
 
     def point_labels(self, n_points: int) -> IntArray:

@@ -15,12 +15,9 @@ from laserpeople.tracking.groups.history_split import (
     divide_contour,
     divide_history,
     mode_velocities,
-    spread_log_likelihood,
     trace_velocities,
-    unit_spread_sq,
     velocity_modes,
 )
-from scipy.spatial import cKDTree
 from test_track_groups import _run
 
 
@@ -113,31 +110,6 @@ def test_contour_and_history_divided_by_the_nearest_mode() -> None:
     np.testing.assert_allclose(half1[0][1], [[2.9, 0.0], [2.5, 0.0]])
 
 
-def test_trace_with_kd_trees_equals_the_dense_nearest_points() -> None:
-    rng = np.random.default_rng(3)
-    history = [(0.2 * i, rng.uniform(0, 4, (60, 2))) for i in range(6)]
-    points = rng.uniform(0, 4, (25, 2))
-    dense = trace_velocities(points, history, 1.2, np.array([0.3, 0.0]), 0.3)
-    trees = [cKDTree(p) for _, p in history]
-    fast = trace_velocities(points, history, 1.2, np.array([0.3, 0.0]), 0.3, trees=trees)
-    assert dense is not None and fast is not None
-    np.testing.assert_allclose(fast[0], dense[0])
-
-
-def test_unit_spread_and_its_log_likelihood_by_hand() -> None:
-    # units: a (2 points at (1, 0)), b (2 points at (0, 0)); weighted mean (0.5, 0);
-    # s^2 = (2 * 0.25 + 2 * 0.25) / 4 = 0.25
-    u = _pts(1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    assert unit_spread_sq(u, np.array([4, 4, 1, 1])) == pytest.approx(0.25)
-    # unequal units: 3 points at (1, 0), 1 at (0, 0): mean 0.75, (3 * 0.0625 + 0.5625) / 4
-    assert unit_spread_sq(u[[0, 1, 0, 2]], np.array([0, 0, 0, 1])) == pytest.approx(0.1875)
-    # within a unit the points' own velocities do not count
-    assert unit_spread_sq(u, np.zeros(4, dtype=np.int64)) == pytest.approx(0.0)
-    # log c_v = -1/2 max(0, 0.25 / 0.2^2 - 2) = -2.125; nothing below 2 sigma^2
-    assert spread_log_likelihood(0.25, 0.2) == pytest.approx(-2.125)
-    assert spread_log_likelihood(0.07, 0.2) == 0.0
-
-
 def _parties(k: int) -> list[tuple[float, float, int]]:
     """A pair walking at 1 m/s beside a pair walking at 0.2 m/s, 0.6 m between their
     nearest members: one cluster at d_P = 1.3 m until they are 1.15 m apart along x
@@ -163,21 +135,6 @@ def test_history_split_separates_parties_walking_at_different_speeds_in_one_clus
     assert result.error <= 0.6 * memoryless.error
     _, _, plain, _ = _run(_parties, 40, params=coherent)
     assert plain.error > 0.8 * memoryless.error
-
-
-def test_spread_term_and_history_split_separate_the_parties_without_the_coherence_term() -> None:
-    """The same scene with the observation-coherence (spread) term instead of the track
-    coherence term: the split is taken while the pairs are one cluster; with the spread
-    term alone (no split to offer) the one track stays."""
-    spread = replace(GroupTrackerParams(), spread_sigma=0.25)
-    _, history, result, memoryless = _run(
-        _parties, 40, params=replace(spread, history_split=True)
-    )
-    first_two = next(k for k, out in enumerate(history) if len(out.of_kind("group")) == 2)
-    assert first_two < 14
-    assert result.error <= 0.6 * memoryless.error
-    _, history, plain, _ = _run(_parties, 40, params=spread)
-    assert all(len(out.of_kind("group")) <= 1 for out in history[:14])
 
 
 def test_an_event_reported_again_by_another_hypothesis_is_one_event() -> None:

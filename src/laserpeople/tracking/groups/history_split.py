@@ -47,8 +47,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from scipy.spatial import cKDTree
-
 from laserpeople.tracking.groups.model import Snapshot
 
 FloatArray = NDArray[np.float64]
@@ -70,10 +68,6 @@ class HistorySplitSettings:
         min_points: Fewest points of a mode.
         unit_distance: Single-linkage distance [m] of the units whose mean velocities
             are divided into modes (0: the scan's human-sized blobs at d_hs).
-        offer_split: Offer the history split (False: only the spread term).
-        spread_sigma: Velocity spread [m/s] per axis of the units of one group that
-            moves as one, of the observation-coherence term (0: off).
-        step: Least time between two snapshots of the scan history [s].
         iterations: 2-means iterations.
     """
 
@@ -84,9 +78,6 @@ class HistorySplitSettings:
     min_points: int = 4
     unit_distance: float = 0.0
     iterations: int = 8
-    offer_split: bool = True
-    spread_sigma: float = 0.0
-    step: float = 0.2
 
 
 def trace_velocities(
@@ -96,7 +87,6 @@ def trace_velocities(
     velocity: FloatArray,
     min_age: float,
     window: float = np.inf,
-    trees: Sequence[cKDTree | None] | None = None,
 ) -> tuple[FloatArray, float, list[Snapshot]] | None:
     """Mean velocity (K, 2) [m/s] of each of ``points`` (K, 2) [m] over the track's
     snapshots ``history`` (oldest first; absolute points), traced back from ``stamp`` [s]
@@ -104,29 +94,20 @@ def trace_velocities(
     snapshots at most ``window`` [s] old; the length of the trace [s]; and the trace, per
     snapshot traced through (oldest first) its time [s] and the positions (K, 2) [m]
     the points were traced to. None when no such snapshot is ``min_age`` seconds old or
-    there are no points. ``trees`` (one per snapshot of ``history``, or None) are KD-trees
-    of the snapshots' points for the nearest-point queries (large snapshots)."""
+    there are no points."""
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    tree_of = trees if trees is not None else [None] * len(history)
-    snaps = [
-        (t, p, tree)
-        for (t, p), tree in zip(history, tree_of, strict=True)
-        if stamp - window - 1e-9 <= t < stamp - 1e-9 and len(p)
-    ]
+    snaps = [(t, p) for t, p in history if stamp - window - 1e-9 <= t < stamp - 1e-9 and len(p)]
     if pts.shape[0] == 0 or not snaps or stamp - snaps[0][0] < min_age - 1e-9:
         return None
     x = pts.copy()
     u = np.broadcast_to(np.asarray(velocity, dtype=np.float64)[:2], pts.shape)
     t_prev = stamp
     path: list[Snapshot] = []
-    for t_s, past, tree in reversed(snaps):
+    for t_s, past in reversed(snaps):
         guess = x - u * (t_prev - t_s)
-        if tree is not None:
-            x = past[tree.query(guess)[1]]
-        else:
-            dx = np.subtract.outer(guess[:, 0], past[:, 0])
-            dy = np.subtract.outer(guess[:, 1], past[:, 1])
-            x = past[np.argmin(dx * dx + dy * dy, axis=1)]
+        dx = np.subtract.outer(guess[:, 0], past[:, 0])
+        dy = np.subtract.outer(guess[:, 1], past[:, 1])
+        x = past[np.argmin(dx * dx + dy * dy, axis=1)]
         path.append((t_s, x))
         t_prev = t_s
         if stamp - t_s >= min_age - 1e-9:
@@ -199,26 +180,6 @@ def velocity_modes(
     return np.asarray(mode[blob], dtype=np.int64)
 
 
-def unit_spread_sq(velocities: FloatArray, units: IntArray) -> float:
-    """s^2 [m^2/s^2]: the point-weighted mean squared deviation of the units' mean
-    velocities u_b from their weighted mean, sum_b k_b |u_b - u|^2 / sum_b k_b, for the
-    points' velocities (K, 2) [m/s] and their unit labels (K,) (any integers)."""
-    u = np.asarray(velocities, dtype=np.float64)
-    _, unit, count = np.unique(np.asarray(units), return_inverse=True, return_counts=True)
-    k = count.astype(np.float64)
-    n = count.size
-    ub = np.column_stack([np.bincount(unit, u[:, 0], n), np.bincount(unit, u[:, 1], n)]) / k[:, None]
-    mean = (k[:, None] * ub).sum(axis=0) / k.sum()
-    return float((k * ((ub - mean) ** 2).sum(axis=1)).sum() / k.sum())
-
-
-def spread_log_likelihood(spread_sq: float, sigma: float) -> float:
-    """log c_v = -1/2 max(0, s^2 / sigma^2 - 2) of an observation whose units' velocities
-    spread by s^2 [m^2/s^2] (:func:`unit_spread_sq`) against a spread of ``sigma`` [m/s]
-    per axis of one group that moves as one (module doc)."""
-    return -0.5 * max(0.0, spread_sq / sigma**2 - 2.0)
-
-
 def mode_velocities(velocities: FloatArray, modes: IntArray) -> FloatArray:
     """Mean velocity (2, 2) [m/s] of the points of mode 0 and of mode 1."""
     u = np.asarray(velocities, dtype=np.float64)
@@ -241,8 +202,6 @@ __all__ = [
     "divide_contour",
     "divide_history",
     "mode_velocities",
-    "spread_log_likelihood",
-    "unit_spread_sq",
     "trace_velocities",
     "velocity_modes",
 ]

@@ -30,8 +30,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from scipy.spatial import cKDTree
-
 from laserpeople.clustering import single_linkage
 from laserpeople.tracking.groups.coherence import CoherentGroupModel, merge_histories
 from laserpeople.tracking.groups.history_split import (
@@ -39,9 +37,7 @@ from laserpeople.tracking.groups.history_split import (
     divide_contour,
     divide_history,
     mode_velocities,
-    spread_log_likelihood,
     trace_velocities,
-    unit_spread_sq,
     velocity_modes,
 )
 from laserpeople.tracking.groups.labels import merge_labels, split_labels
@@ -180,20 +176,15 @@ class GroupBranches:
         self._pending: list[TrackNode] = []  # tracks made and not gated yet
         self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
         self._history: dict[int, _HistorySplit | None] = {}  # node id -> its history split
-        self._scan_history: list[tuple[float, FloatArray, cKDTree]] = []
-        self._spread: dict[Hashable, float] = {}  # item key -> log c_v, this scan
         self.stamp = math.nan
         self.models_generated = 0
 
     def begin_scan(self, obs: GroupObservations, stamp: float = math.nan) -> None:
         """Set this scan's observations (and its time [s], for the history split) and
         forget the last scan's re-predicted tracks."""
-        if self.s.history_split is not None:
-            self._push_scan(stamp)
         self.obs = obs
         self.stamp = stamp
         self._history.clear()
-        self._spread.clear()
         self._split.clear()
         self._merged.clear()
         self._merge_ll.clear()
@@ -252,12 +243,11 @@ class GroupBranches:
         for chosen, prior, new_tracks in zip(models, priors, reconfigured, strict=True):
             extra = {h.j: h.pieces for h in self._chosen_history(chosen)}
             obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey, extra=extra)
-            out.append(Branch(prior + self._partition_term(obs), new_tracks, len(out), obs))
+            out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
                 obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True, mkey=mkey)
                 if obs is not None:
-                    term = self._partition_term(obs)
-                    out.append(Branch(prior + term, new_tracks, len(out), obs))
+                    out.append(Branch(prior, new_tracks, len(out), obs))
         self.models_generated += len(out)
         return out
 
@@ -612,29 +602,16 @@ class GroupBranches:
         settings = self.s.history_split
         found: _HistorySplit | None = None
         model = self.model
-        spread = settings is not None and settings.spread_sigma > 0.0
-        pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
         if (
             settings is not None
-            and settings.offer_split
-            and (
-                (spread and self._spread_term(j, pts) < 0.0)
-                or (
-                    not spread
-                    and isinstance(model, CoherentGroupModel)
-                    and model.coherence_term(node, self.obs, j) < 0.0
-                )
-            )
+            and isinstance(model, CoherentGroupModel)
+            and model.coherence_term(node, self.obs, j) < 0.0
         ):
             payload = group_payload(node)
             mean, _ = node_prediction(node)
-            if spread:  # the scan history
-                history = [(t, p) for t, p, _ in self._scan_history]
-                trees = [tree for _, _, tree in self._scan_history]
-            else:  # the track's own snapshots
-                history, trees = list(payload.history), None
+            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
             traced = trace_velocities(
-                pts, history, self.stamp, mean[2:4], settings.min_age, settings.window, trees
+                pts, payload.history, self.stamp, mean[2:4], settings.min_age, settings.window
             )
             if traced is not None:
                 first = int(self.obs.offsets[j])
@@ -678,7 +655,6 @@ class GroupBranches:
                 (pts[sel], mem[sel], own[sel], float(sel.sum()) / len(mem), (j, mem[sel].tobytes()))
             )
             part = contour[owner == c] if np.any(owner == c) else pts[sel]
-            # (with the scan history, the track's snapshots the trace went through)
             half_mean = split_mean.copy()
             half_mean[:2] = part.mean(axis=0)
             half_mean[2:4] = vel[c]
@@ -693,74 +669,6 @@ class GroupBranches:
             self._half_of[half.node_id] = node.node_id
             halves.append(half)
         return _HistorySplit(j, pieces, (halves[0], halves[1]))
-
-    # ------------------------------------------------------------------ spread term
-
-    def _push_scan(self, stamp: float) -> None:
-        """Keep the last scan's points in the scan history (one snapshot per grid slot of
-        ``step`` seconds, the last ``window`` + ``step`` seconds)."""
-        settings = self.s.history_split
-        assert settings is not None
-        last = self.stamp
-        if math.isfinite(last) and len(self.obs.points):
-            slot = math.floor(last / settings.step + 1e-9)
-            hist = self._scan_history
-            if not hist or math.floor(hist[-1][0] / settings.step + 1e-9) != slot:
-                hist.append((last, self.obs.points, cKDTree(self.obs.points)))
-        keep = settings.window + settings.step
-        while self._scan_history and stamp - self._scan_history[0][0] > keep + 1e-9:
-            self._scan_history.pop(0)
-
-    def _spread_term(self, key: Hashable, points: FloatArray) -> float:
-        """log c_v of an item (observation or part) with ``points`` (K, 2) [m], traced
-        through the scan history from rest (:func:`~.history_split.unit_spread_sq`); 0
-        without a trace; once per scan and key."""
-        found = self._spread.get(key)
-        if found is not None:
-            return found
-        settings = self.s.history_split
-        assert settings is not None
-        term = 0.0
-        traced = trace_velocities(
-            points,
-            [(t, p) for t, p, _ in self._scan_history],
-            self.stamp,
-            np.zeros(2),
-            settings.min_age,
-            settings.window,
-            [tree for _, _, tree in self._scan_history],
-        )
-        if traced is not None and len(points) > 1:
-            unit = settings.unit_distance if settings.unit_distance > 0.0 else self.s.d_hs
-            units = single_linkage(points, unit).astype(np.int64)
-            term = spread_log_likelihood(unit_spread_sq(traced[0], units), settings.spread_sigma)
-        self._spread[key] = term
-        return term
-
-    def _partition_term(self, obs: BranchObservations | None) -> float:
-        """The spread term of a model's partition relative to the scan's own
-        observations: its new items' log c_v (parts weighted by their share) minus that of
-        the observations they were made from (0 when the term is off or the model keeps
-        the scan's observations)."""
-        settings = self.s.history_split
-        if obs is None or settings is None or settings.spread_sigma <= 0.0:
-            return 0.0
-        total = 0.0
-        sources: set[int] = set()
-        items = obs.measurements
-        for i, key in enumerate(obs.keys):
-            if isinstance(key, int):
-                continue
-            if isinstance(key, tuple) and key and key[0] == "joined":
-                sources.update(int(j) for j in key[1:])
-                total += self._spread_term(key, items.cluster(i))
-            else:
-                sources.add(obs.origin[i])
-                share = min(1.0, float(items.share[i]))
-                total += share * self._spread_term(key, items.cluster(i))
-        for j in sources:
-            total -= self._spread_term(j, self.obs.cluster(j))
-        return total
 
 
 @dataclass(frozen=True, eq=False)

@@ -265,14 +265,6 @@ class GroupTrackerParams:
         "(0: the human-sized blobs at d_hs)",
         "m",
     )
-    spread_sigma: float = param(
-        0.0,
-        "000 (0: off); extension, docs/groups.md 'History split'",
-        "velocity spread per axis of the units of one group moving as one: a model's "
-        "partition gains -1/2 max(0, s^2 / sigma^2 - 2) for each item whose units' velocities "
-        "(traced through the scan history) spread by s^2 (observation coherence)",
-        "m/s",
-    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -301,8 +293,8 @@ class GroupTrackerParams:
             raise ValueError("max_models must be at least 1")
         if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
             raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
-        if self.history_split and self.coherence_lag <= 0.0 and self.spread_sigma <= 0.0:
-            raise ValueError("history_split needs coherence_lag > 0 or spread_sigma > 0")
+        if self.history_split and self.coherence_lag <= 0.0:
+            raise ValueError("history_split needs the snapshots of coherence_lag > 0")
 
     @classmethod
     def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
@@ -377,11 +369,8 @@ class GroupTrackerParams:
                 separation=self.split_separation,
                 min_points=self.split_min_points,
                 unit_distance=self.split_unit_distance,
-                offer_split=self.history_split,
-                spread_sigma=self.spread_sigma,
-                step=self.coherence_step,
             )
-            if self.history_split or self.spread_sigma > 0.0
+            if self.history_split
             else None,
         )
 

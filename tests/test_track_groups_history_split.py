@@ -111,30 +111,32 @@ def test_contour_and_history_divided_by_the_nearest_mode() -> None:
 
 
 def _parties(k: int) -> list[tuple[float, float, int]]:
-    """A pair walking at 1 m/s beside a pair walking at 0.2 m/s, 0.6 m between their
+    """A pair walking at 1.2 m/s beside a pair walking at 0.2 m/s, 0.6 m between their
     nearest members: one cluster at d_P = 1.3 m until they are 1.15 m apart along x
-    (scan 14); truth groups 0 and 1."""
-    xa, xb = 0.1 * k, 0.02 * k
+    (scan 12); truth groups 0 and 1."""
+    xa, xb = 0.12 * k, 0.02 * k
     return [(xa, 0.0, 0), (xa, 0.6, 0), (xb, 1.2, 1), (xb, 1.8, 1)]
 
 
 def test_history_split_separates_parties_walking_at_different_speeds_in_one_cluster() -> None:
-    """000's splits need two observations: the pairs are one track until scan 14 or
-    later. The history split finds the two velocity modes of the track's one
-    observation and splits it while they are one cluster (labels 0-0, 0-1), halving the
-    memory-less clustering error; the coherence term alone does not."""
-    coherent = replace(GroupTrackerParams(), coherence_lag=2.0)
-    tracker, history, result, memoryless = _run(
-        _parties, 40, params=replace(coherent, history_split=True)
-    )
-    assert memoryless.under_segmented >= 14
+    """000's splits need two observations: the pairs are one track until scan 12 or
+    later. The history split (default) finds the two velocity modes of the track's one
+    observation and splits it while they are one cluster (labels 0-0, 0-1), at about
+    half the memory-less clustering error; without it (the coherence term alone, or
+    000's setting) the error stays near memory-less clustering's."""
+    tracker, history, result, memoryless = _run(_parties, 40)
+    assert memoryless.under_segmented >= 12
     first_two = next(k for k, out in enumerate(history) if len(out.of_kind("group")) == 2)
-    assert first_two < 14
+    assert first_two < 12
     assert sorted(t.labels for t in history[-1].of_kind("group")) == ["0-0", "0-1"]
     assert "merge" not in [e.kind for e in tracker.events]
     assert result.error <= 0.6 * memoryless.error
-    _, _, plain, _ = _run(_parties, 40, params=coherent)
-    assert plain.error > 0.8 * memoryless.error
+    for params in (
+        replace(GroupTrackerParams(), history_split=False),
+        GroupTrackerParams.paper_likelihood(),
+    ):
+        _, _, plain, _ = _run(_parties, 40, params=params)
+        assert plain.error > 0.8 * memoryless.error
 
 
 def test_an_event_reported_again_by_another_hypothesis_is_one_event() -> None:
@@ -157,6 +159,17 @@ def test_an_event_reported_again_by_another_hypothesis_is_one_event() -> None:
     assert [e.kind for e in tracker.events] == ["split", "split", "split", "merge", "merge"]
 
 
-def test_history_split_needs_the_coherence_snapshots() -> None:
-    with pytest.raises(ValueError, match="history_split needs"):
-        GroupTrackerParams(history_split=True)
+def test_default_is_the_history_split_and_000s_setting_is_a_preset() -> None:
+    """The defaults are the history split with the motion coherence over 1 s; 000's
+    setting (the likelihood of eqs. 19-24 alone, splits on two observations) is the
+    preset; the history split needs the snapshots of the coherence term and is off
+    without them."""
+    default = GroupTrackerParams()
+    assert default.history_split and default.coherence_lag == 1.0
+    paper = GroupTrackerParams.paper_likelihood()
+    assert not paper.history_split and paper.coherence_lag == 0.0
+    assert paper.interaction_settings().history_split is None
+    assert default.interaction_settings().history_split is not None
+    lagless = replace(default, coherence_lag=0.0)
+    assert lagless.interaction_settings().history_split is None
+    assert GroupTrackerParams.people_only().interaction_settings().history_split is None

@@ -266,8 +266,7 @@ class GroupTrackerParams:
     )
     split_unit_distance: float = param(
         0.0,
-        "chosen on entrance-hall seeds 0 and 1 (0.6 m with coherence_lag 2 s: 0.222 against "
-        "0.217)",
+        "chosen on entrance-hall seeds 0 and 1 (0.6 m with coherence_lag 2 s: 0.222 against 0.217)",
         "single-linkage distance of the units a history split divides into velocity modes "
         "(0: the human-sized blobs at d_hs)",
         "m",

@@ -173,3 +173,66 @@ def test_default_is_the_history_split_and_000s_setting_is_a_preset() -> None:
     lagless = replace(default, coherence_lag=0.0)
     assert lagless.interaction_settings().history_split is None
     assert GroupTrackerParams.people_only().interaction_settings().history_split is None
+
+
+def test_history_split_model_makes_halves_of_the_two_motions() -> None:
+    """A track (velocity 0.5 m/s, the mean of its parties) whose one observation is a
+    party walking at 1 m/s beside one standing, 1.25 m apart: the branch generator offers
+    the history split; its halves carry the labels X-0 and X-1, the modes' velocities,
+    positions at the means of the contour parts nearest each mode, n/2, must match, and
+    the pieces are the two parties' points."""
+    from laserpeople.tracking.groups.coherence import CoherentGroupModel
+    from laserpeople.tracking.groups.interaction import GroupBranches
+    from laserpeople.tracking.groups.model import GroupPayload
+    from laserpeople.tracking.groups.observations import GroupObservations
+    from laserpeople.tracking.mht.tracktree import TrackNode, TrackTree
+
+    params = GroupTrackerParams()
+    ring = 0.08 * np.column_stack(
+        [np.cos(np.arange(8) * np.pi / 4), np.sin(np.arange(8) * np.pi / 4)]
+    )
+
+    def scene(t: float) -> np.ndarray:
+        return np.concatenate([ring + np.array([t, 0.0]), ring + np.array([0.0, 0.6])])
+
+    history = tuple((0.2 * i, scene(0.2 * i)) for i in range(6))  # 0.0 .. 1.0 s
+    last = scene(1.0)
+    mean = np.array([*last.mean(axis=0), 0.5, 0.0, 2.0])
+    node = TrackNode(0, 0, -1, mean, np.eye(5) * 0.01, 1.0, "detected",
+                     payload=GroupPayload(last - mean[:2], ("0",), history=history))  # fmt: skip
+    model = CoherentGroupModel(params.model_settings(), params.coherence_settings())
+    tree = TrackTree()
+    tree.new_family()
+    branches = GroupBranches(model, tree, params.interaction_settings(), lambda n: ("0",))
+    now = scene(1.1)
+    obs = GroupObservations.from_points(now, np.arange(16), 1.3, 0.3)
+    assert len(obs) == 1
+    model.predict([node], 1.1)
+    model.scan = obs
+    branches.begin_scan(obs, 1.1)
+    assert model.coherence_term(node, obs, 0) < 0.0
+    split = branches._history_split(node, 0)
+    assert split is not None
+    walker = next(i for i, h in enumerate(split.halves) if h.mean[2] > 0.5)
+    for i, half in enumerate(split.halves):
+        payload = half.payload
+        assert isinstance(payload, GroupPayload)
+        assert payload.labels == (("0-0",), ("0-1",))[i]
+        assert payload.must_match and payload.event == "split"
+        assert half.mean[4] == pytest.approx(1.0)  # n/2
+        # the predicted contour: the last observation moved by 0.05 m (0.5 m/s, 0.1 s)
+        part = (last[:8] if i == walker else last[8:]) + (0.05, 0.0)
+        np.testing.assert_allclose(half.mean[:2], part.mean(axis=0), atol=1e-9)
+        np.testing.assert_allclose(payload.contour + half.mean[:2], part, atol=1e-9)
+        speed = 1.0 if i == walker else 0.0
+        np.testing.assert_allclose(half.mean[2:4], (speed, 0.0), atol=0.1)
+        assert len(payload.history) >= 5  # the snapshots its points were traced through
+        pts, _, _, share, _ = split.pieces[i]
+        assert share == pytest.approx(0.5)
+        np.testing.assert_allclose(
+            np.sort(pts, axis=0), np.sort(now[:8] if i == walker else now[8:], axis=0)
+        )
+    # the model offers it as an event with p_S / p_C
+    events = branches._history_events((node,), [1], np.array([0]))
+    assert [e.kind for e in events] == ["history"]
+    assert events[0].log_ratio == pytest.approx(np.log(params.p_s / params.p_c))

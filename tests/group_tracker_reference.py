@@ -39,8 +39,9 @@ def track_frames(
     prefix: str,
     params: GroupTrackerParams | None = None,
 ) -> dict[str, NDArray]:  # type: ignore[type-arg]
-    """Track ``frames`` with a fresh group tracker (default parameters unless ``params``
-    are given). Arrays (``prefix`` + name):
+    """Track ``frames`` with a fresh group tracker (000's setting,
+    :meth:`GroupTrackerParams.paper_likelihood`, unless ``params`` are given). Arrays
+    (``prefix`` + name):
 
     * ``rows`` (R, 33): per reported track and frame: frame, track id, size (rounded),
       mean (5), covariance (25, row-major);
@@ -52,6 +53,8 @@ def track_frames(
     """
     from laserpeople.tracking.groups import GroupMHTTracker
 
+    if params is None:
+        params = GroupTrackerParams.paper_likelihood()
     tracker = GroupMHTTracker(params)
     rows: list[list[float]] = []
     labels: list[str] = []
@@ -94,7 +97,7 @@ def sim_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = SIM
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     out = track_frames([lf.frame for lf in frames_from_scans(scans)], "sim_")
-    run = run_groups(scans)
+    run = run_groups(scans, GroupTrackerParams.paper_likelihood())
     out["sim_errors"] = np.array(
         [
             run.clustering.error,
@@ -129,7 +132,7 @@ def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     frames = [lf.frame for lf in frames_from_scans(scans)]
     params = replace(
-        GroupTrackerParams(),
+        GroupTrackerParams.paper_likelihood(),
         join_observations=True,
         recluster_blobs=True,
         hausdorff="rms",

@@ -237,6 +237,15 @@ class CoherentGroupModel(GroupModel):
             row[j] = coherence_log_likelihood(d_sq, sigma, float(obs.share[j]))
         return row
 
+    def coherence_term(self, node: TrackNode, measurements: GroupObservations, j: int) -> float:
+        """log c of ``node`` against cluster ``j`` of ``measurements`` (0 when the term is
+        off, the node has no reference snapshot or does not gate ``j``)."""
+        if not self.coherence.enabled:
+            return 0.0
+        self.score([node], measurements)
+        term = self._terms.get((node.node_id, id(measurements)))
+        return 0.0 if term is None else float(term[j])
+
     def update(
         self,
         nodes: Sequence[TrackNode],

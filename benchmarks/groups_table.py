@@ -9,9 +9,10 @@ The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other se
     PYTHONPATH=src python benchmarks/groups_table.py [--seeds 1 2] [--seconds 60]
         [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png] [--set NAME=VALUE ...]
 
-    e.g. --set coherence_lag=0 history_split=false (000's setting, the default before the
-    history split; GroupTrackerParams.paper_likelihood()), --set coherence_lag=2
-    history_split=false --plot docs/groups_fig17_coherence.png (motion coherence alone)
+    e.g. --set coherence_lag=1 history_split=true --plot docs/groups_fig17_history_split.png
+    (the history-split preset, GroupTrackerParams.history_splitting(); the default is
+    000's setting), --set coherence_lag=2 --plot docs/groups_fig17_coherence.png (motion
+    coherence alone)
 """
 
 from __future__ import annotations

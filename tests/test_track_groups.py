@@ -464,6 +464,15 @@ def _frame(points: np.ndarray, index: int, stamp: float) -> Frame:
                  foreground=np.ones(n, dtype=bool))  # fmt: skip
 
 
+# The scripted label histories hold for the default (000's setting) and for the history
+# split preset (docs/groups.md).
+SETTINGS = pytest.mark.parametrize(
+    "params",
+    [GroupTrackerParams(), GroupTrackerParams.history_splitting()],
+    ids=["default", "history-splitting"],
+)
+
+
 def _run(people_at, steps: int, dt: float = 0.1, params: GroupTrackerParams | None = None):  # type: ignore[no-untyped-def]
     """Track hand-made frames; ``people_at(k)`` -> list of (x, y, true group)."""
     tracker = GroupMHTTracker(params)
@@ -481,7 +490,8 @@ def _run(people_at, steps: int, dt: float = 0.1, params: GroupTrackerParams | No
     return tracker, history, tracked.result(), memoryless.result()
 
 
-def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
+@SETTINGS
+def test_split_and_merge_labels_on_a_scripted_sequence(params: GroupTrackerParams) -> None:
     """Three people stand together (group 0); two walk away (0-0 and 0-1 after the split),
     come back and rejoin: the merge undoes the split (label 0 again)."""
 
@@ -496,7 +506,7 @@ def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
             y = 0.0
         return [(3.0, 0.0, 0), (3.8, y, 0), (4.6, y, 0)]
 
-    tracker, history, _, _ = _run(people_at, 130)
+    tracker, history, _, _ = _run(people_at, 130, params=params)
     first = history[10].of_kind("group")
     assert [t.labels for t in first] == ["0"]
     assert first[0].size == 3
@@ -509,7 +519,8 @@ def test_split_and_merge_labels_on_a_scripted_sequence() -> None:
     assert kinds.index("split") < kinds.index("merge")
 
 
-def test_a_group_of_three_leaving_one_by_one_splits_twice() -> None:
+@SETTINGS
+def test_a_group_of_three_leaving_one_by_one_splits_twice(params: GroupTrackerParams) -> None:
     """Three people stand together (group 0); one walks off south, half a second later
     another north. Splits are binary (000 Sec. 4.4): the history is two splits, the labels
     end as a binary tree under 0 (0-0, 0-1-0, 0-1-1 or 0-0-0, 0-0-1, 0-1), one per person,
@@ -521,7 +532,7 @@ def test_a_group_of_three_leaving_one_by_one_splits_twice() -> None:
         north = 0.12 * max(0, k - 25)
         return [(3.0, -south, 0), (3.8, 0.0, 0), (4.6, north, 0)]
 
-    tracker, history, _, _ = _run(people_at, 60)
+    tracker, history, _, _ = _run(people_at, 60, params=params)
     assert [t.labels for t in history[10].of_kind("group")] == ["0"]
     last = sorted(t.labels for t in history[-1].of_kind("group"))
     assert last in (["0-0", "0-1-0", "0-1-1"], ["0-0-0", "0-0-1", "0-1"])
@@ -529,14 +540,15 @@ def test_a_group_of_three_leaving_one_by_one_splits_twice() -> None:
     assert [e.kind for e in tracker.events] == ["split", "split"]
 
 
-def test_two_groups_meeting_merge_their_labels() -> None:
+@SETTINGS
+def test_two_groups_meeting_merge_their_labels(params: GroupTrackerParams) -> None:
     """Two separate groups walk together and stand: one group labelled 0|1 of size 4."""
 
     def people_at(k: int) -> list[tuple[float, float, int]]:
         gap = max(0.8, 4.0 - 0.1 * k)
         return [(2.0, 0.0, 0), (2.8, 0.0, 0), (2.8 + gap, 0.0, 1), (3.6 + gap, 0.0, 1)]
 
-    tracker, history, _, _ = _run(people_at, 80)
+    tracker, history, _, _ = _run(people_at, 80, params=params)
     start = history[5].of_kind("group")
     assert sorted(t.labels for t in start) == ["0", "1"]
     last = history[-1].of_kind("group")
@@ -545,7 +557,8 @@ def test_two_groups_meeting_merge_their_labels() -> None:
     assert [e.kind for e in tracker.events] == ["merge"]
 
 
-def test_fig18_tracker_keeps_a_passing_person_apart() -> None:
+@SETTINGS
+def test_fig18_tracker_keeps_a_passing_person_apart(params: GroupTrackerParams) -> None:
     """Fig. 18: one person walks through a pair walking the other way. Memory-less single
     linkage joins them while they pass; the tracker continues both tracks and
     re-clusters the shared observation by nearest track, keeping the groups apart."""
@@ -555,7 +568,7 @@ def test_fig18_tracker_keeps_a_passing_person_apart() -> None:
         lone_x = 9.0 - 0.12 * k
         return [(pair_x, 0.0, 0), (pair_x, 0.9, 0), (lone_x, 0.45, 1)]
 
-    _, history, tracked, memoryless = _run(people_at, 70)
+    _, history, tracked, memoryless = _run(people_at, 70, params=params)
     assert memoryless.under_segmented >= 10  # they do come within d_P of each other
     assert tracked.error <= 0.5 * memoryless.error
     ids = {t.track_id for out in history[20:] for t in out.of_kind("group")}

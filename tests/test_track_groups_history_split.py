@@ -120,11 +120,13 @@ def _parties(k: int) -> list[tuple[float, float, int]]:
 
 def test_history_split_separates_parties_walking_at_different_speeds_in_one_cluster() -> None:
     """000's splits need two observations: the pairs are one track until scan 12 or
-    later. The history split (default) finds the two velocity modes of the track's one
+    later. The history split (preset) finds the two velocity modes of the track's one
     observation and splits it while they are one cluster (labels 0-0, 0-1), at about
     half the memory-less clustering error; without it (the coherence term alone, or
     000's setting) the error stays near memory-less clustering's."""
-    tracker, history, result, memoryless = _run(_parties, 40)
+    tracker, history, result, memoryless = _run(
+        _parties, 40, params=GroupTrackerParams.history_splitting()
+    )
     assert memoryless.under_segmented >= 12
     first_two = next(k for k, out in enumerate(history) if len(out.of_kind("group")) == 2)
     assert first_two < 12
@@ -132,8 +134,8 @@ def test_history_split_separates_parties_walking_at_different_speeds_in_one_clus
     assert "merge" not in [e.kind for e in tracker.events]
     assert result.error <= 0.6 * memoryless.error
     for params in (
-        replace(GroupTrackerParams(), history_split=False),
-        GroupTrackerParams.paper_likelihood(),
+        GroupTrackerParams.history_splitting(history_split=False),
+        GroupTrackerParams(),
     ):
         _, _, plain, _ = _run(_parties, 40, params=params)
         assert plain.error > 0.8 * memoryless.error
@@ -159,18 +161,19 @@ def test_an_event_reported_again_by_another_hypothesis_is_one_event() -> None:
     assert [e.kind for e in tracker.events] == ["split", "split", "split", "merge", "merge"]
 
 
-def test_default_is_the_history_split_and_000s_setting_is_a_preset() -> None:
-    """The defaults are the history split with the motion coherence over 1 s; 000's
-    setting (the likelihood of eqs. 19-24 alone, splits on two observations) is the
-    preset; the history split needs the snapshots of the coherence term and is off
-    without them."""
+def test_default_is_000s_setting_and_the_history_split_is_a_preset() -> None:
+    """The default is 000's setting (the likelihood of eqs. 19-24 alone, splits on two
+    observations), also spelled out as paper_likelihood(); the history split with the
+    motion coherence over 1 s is the preset history_splitting(); the history split needs
+    the snapshots of the coherence term and is off without them."""
     default = GroupTrackerParams()
-    assert default.history_split and default.coherence_lag == 1.0
-    paper = GroupTrackerParams.paper_likelihood()
-    assert not paper.history_split and paper.coherence_lag == 0.0
-    assert paper.interaction_settings().history_split is None
-    assert default.interaction_settings().history_split is not None
-    lagless = replace(default, coherence_lag=0.0)
+    assert default == GroupTrackerParams.paper_likelihood()
+    assert not default.history_split and default.coherence_lag == 0.0
+    assert default.interaction_settings().history_split is None
+    preset = GroupTrackerParams.history_splitting()
+    assert preset.history_split and preset.coherence_lag == 1.0
+    assert preset.interaction_settings().history_split is not None
+    lagless = replace(preset, coherence_lag=0.0)
     assert lagless.interaction_settings().history_split is None
     assert GroupTrackerParams.people_only().interaction_settings().history_split is None
 
@@ -187,7 +190,7 @@ def test_history_split_model_makes_halves_of_the_two_motions() -> None:
     from laserpeople.tracking.groups.observations import GroupObservations
     from laserpeople.tracking.mht.tracktree import TrackNode, TrackTree
 
-    params = GroupTrackerParams()
+    params = GroupTrackerParams.history_splitting()
     ring = 0.08 * np.column_stack(
         [np.cos(np.arange(8) * np.pi / 4), np.sin(np.arange(8) * np.pi / 4)]
     )

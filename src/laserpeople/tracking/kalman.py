@@ -262,9 +262,9 @@ def update_batch(
     s_inv /= det[:, None, None]
     k = covs[:, :, :2] @ s_inv  # (K, 4, 2)
     new_means = means + np.einsum("kij,kj->ki", k, z - means[:, :2])
-    ikh = np.zeros((covs.shape[0], 16))
-    ikh[:, ::5] = 1.0  # I - K H (K H fills the first two columns)
-    ikh = ikh.reshape(-1, 4, 4)
+    eye = np.zeros((covs.shape[0], 16))
+    eye[:, ::5] = 1.0
+    ikh = eye.reshape(-1, 4, 4)  # I - K H (K H fills the first two columns)
     ikh[:, :, :2] -= k
     new_covs = ikh @ covs @ ikh.transpose(0, 2, 1) + k @ meas_covs @ k.transpose(0, 2, 1)
     return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))

@@ -534,13 +534,11 @@ class MHT(Generic[Meas]):
                 if tlabels[i] == DETECTED:
                     jl = tmeas[i]
                     j = ids[jl]
+                    key = (node.node_id, j)
+                    if not local and key in to_update:  # the same entry again
+                        continue
                     if j not in node.children:
-                        to_update[(node.node_id, j)] = (
-                            node,
-                            j,
-                            source,
-                            jl if local else meas_list[jl],
-                        )
+                        to_update[key] = (node, j, source, jl if local else meas_list[jl])
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL and ids[a] not in born:
                     born[ids[a]] = (source, a if local else meas_list[a], origin[a])
@@ -564,10 +562,13 @@ class MHT(Generic[Meas]):
                 elif label == OCCLUDED:
                     child = node.children.get(-1)
                     tracks.append(child if child is not None else self._occluded_child(node, stamp))
+            born_here = False
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
-            tracks.sort(key=BY_FAMILY)
+                    born_here = True
+            if born_here or not plain:  # (the plain MHT's parents are sorted by family)
+                tracks.sort(key=BY_FAMILY)
             added = self._add_child(children, kept, tracks, total, branch.model)
             if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)

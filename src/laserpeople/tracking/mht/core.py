@@ -494,9 +494,8 @@ class MHT(Generic[Meas]):
             return gated[row_of[node.node_id], meas_idx]
 
         for parent in parents:
-            plans.extend(
-                (parent, b) for b in self.branches.branches(parent.tracks, gate_row, meas_idx)
-            )
+            for b in self.branches.branches(parent.tracks, gate_row, meas_idx):
+                plans.append((parent, b))
         # branches that see the same observations share one k-best problem; a model that
         # brings its own partition of the observations (re-clustering) gets its own
         partitions: dict[tuple[Hashable, ...] | None, list[int]] = {}
@@ -712,11 +711,16 @@ class MHT(Generic[Meas]):
         all see the same observations; parent indices of the result index ``plans``."""
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
+        rows_of: list[list[int]] = []  # each member's tracks as indices into nodes_u
         for pi in members:
+            rows = []
             for t in plans[pi][1].tracks:
-                if t.node_id not in uniq:
-                    uniq[t.node_id] = len(nodes_u)
+                i = uniq.get(t.node_id)
+                if i is None:
+                    i = uniq[t.node_id] = len(nodes_u)
                     nodes_u.append(t)
+                rows.append(i)
+            rows_of.append(rows)
         obs = plans[members[0]][1].observations
         if obs is None:
             # per node, once: costs of matching each measurement and of the unmatched labels
@@ -740,7 +744,7 @@ class MHT(Generic[Meas]):
         if degraded:  # the best parent's best matching and its label variants only
             best = min(range(len(members)), key=lambda i: priors[i])
             members, priors, budget = [members[best]], [priors[best]], 1
-        rows_of = [[uniq[t.node_id] for t in plans[pi][1].tracks] for pi in members]
+            rows_of = [rows_of[best]]
         solutions = None
         if not degraded:
             solutions = enumerate_children(

@@ -367,7 +367,8 @@ class _Lister:
         self.found.append(
             (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
         )
-        self.best = min(self.best, total)
+        if total < self.best:
+            self.best = total
         if len(self._kept) < self.k:
             heapq.heappush(self._kept, -total)
         elif total < -self._kept[0]:

@@ -271,6 +271,7 @@ class MHT(Generic[Meas]):
         # this scan's child states, computed in one batch by _prepare_children
         self._updates: dict[tuple[int, Hashable], tuple[FloatArray, FloatArray, Any]] = {}
         self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
+        self._scan_initiated = False  # whether _initiated holds this scan's measurements
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
         self._solves = 0  # this step's assignment problems solved
@@ -794,19 +795,16 @@ class MHT(Generic[Meas]):
         self, live: list[TrackNode], gated: BoolArray, measurements: Meas, stamp: float
     ) -> None:
         """Compute, in one batch each, the update of every live node with every measurement
-        it gates and a new track at every measurement; the clusters then take what their
-        children need (one batch per scan instead of one per cluster)."""
+        it gates (and, at the first birth of the scan, a new track at every measurement:
+        :meth:`_new_nodes`); the clusters then take what their children need (one batch per
+        scan instead of one per cluster)."""
         rows, cols = np.nonzero(gated)
         nodes = [live[i] for i in rows.tolist()]
         js = cols.tolist()
         states = self.model.update(nodes, measurements, js, stamp) if nodes else []
         self._updates = {(n.node_id, j): st for n, j, st in zip(nodes, js, states, strict=True)}
-        every = list(range(len(measurements)))
-        self._initiated = dict(
-            zip(
-                every, self.model.initiate(measurements, every, stamp) if every else [], strict=True
-            )
-        )
+        self._initiated = {}
+        self._scan_initiated = False
 
     def _make_detected_children(
         self,
@@ -857,6 +855,11 @@ class MHT(Generic[Meas]):
         """One new track (a new family) per observation labelled *new* in some child;
         ``born`` maps its id to (measurement set, index in it, scan index of its origin).
         Scan measurements first in scan order, then a model's own observations."""
+        if born and not self._scan_initiated:  # the scan's batch, once (most scans: none)
+            every = list(range(len(measurements)))
+            states = self.model.initiate(measurements, every, stamp) if every else []
+            self._initiated.update(zip(every, states, strict=True))
+            self._scan_initiated = True
         scan_js = sorted(v[1] for v in born.values() if v[0] is measurements)
         scan: list[Hashable] = [*scan_js]
         own = [j for j, (src, _, _) in born.items() if src is not measurements]

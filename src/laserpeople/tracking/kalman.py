@@ -108,25 +108,24 @@ class KalmanParams:
 def transition(dt: FloatArray) -> FloatArray:
     """Constant-velocity transition matrices (T, 4, 4) for steps ``dt`` (T,) [s]."""
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
-    f = np.broadcast_to(np.eye(4), (dt.size, 4, 4)).copy()
-    f[:, 0, 2] = dt
-    f[:, 1, 3] = dt
-    return f
+    f = np.zeros((dt.size, 16))
+    f[:, ::5] = 1.0  # the diagonal
+    f[:, 2] = dt  # (0, 2)
+    f[:, 7] = dt  # (1, 3)
+    return f.reshape(-1, 4, 4)
 
 
 def process_noise(dt: FloatArray, accel_psd: float) -> FloatArray:
     """White-acceleration process noise (T, 4, 4) for steps ``dt`` (T,) [s]."""
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
-    q = np.zeros((dt.size, 4, 4))
+    q = np.zeros((dt.size, 16))
     pp = accel_psd * dt**3 / 3.0
     pv = accel_psd * dt**2 / 2.0
     vv = accel_psd * dt
-    for i in (0, 1):
-        q[:, i, i] = pp
-        q[:, i, i + 2] = pv
-        q[:, i + 2, i] = pv
-        q[:, i + 2, i + 2] = vv
-    return q
+    q[:, 0] = q[:, 5] = pp  # (0, 0), (1, 1)
+    q[:, 2] = q[:, 7] = q[:, 8] = q[:, 13] = pv  # (0, 2), (1, 3) and their mirrors
+    q[:, 10] = q[:, 15] = vv  # (2, 2), (3, 3)
+    return q.reshape(-1, 4, 4)
 
 
 def predict(
@@ -136,10 +135,17 @@ def predict(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    return _predict(means, covs, dt, process_noise(dt, accel_psd))
+
+
+def _predict(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, q: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`predict` with the process noise ``q`` (T, 4, 4) given."""
     pred_means = means.copy()
     pred_means[:, :2] += means[:, 2:] * dt[:, None]
     f = transition(dt)
-    pred_covs = f @ covs @ f.transpose(0, 2, 1) + process_noise(dt, accel_psd)
+    pred_covs = f @ covs @ f.transpose(0, 2, 1) + q
     return pred_means, pred_covs
 
 
@@ -155,14 +161,37 @@ def coast(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    return _coast(means, covs, dt, process_noise(dt, accel_psd), tau)
+
+
+def _coast(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, q: FloatArray, tau: float
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`coast` (finite ``tau``) with the process noise ``q`` (T, 4, 4) given."""
     a = np.exp(-dt / tau)
     gain = tau * (1.0 - a)
     f = transition(gain)
     f[:, 2, 2] = a
     f[:, 3, 3] = a
     pred_means = np.einsum("tij,tj->ti", f, means)
-    pred_covs = f @ covs @ f.transpose(0, 2, 1) + process_noise(dt, accel_psd)
+    pred_covs = f @ covs @ f.transpose(0, 2, 1) + q
     return pred_means, pred_covs
+
+
+def predict_and_coast(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict` and :func:`coast` of the same tracks at once (the process noise is
+    computed once): predicted means (T, 4), covariances (T, 4, 4), then the coasted ones."""
+    dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+    means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
+    covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    q = process_noise(dt, accel_psd)
+    pm, pc = _predict(means, covs, dt, q)
+    if math.isinf(tau):
+        return pm, pc, pm, pc
+    cm, cc = _coast(means, covs, dt, q, tau)
+    return pm, pc, cm, cc
 
 
 def innovation_covariances(covs: FloatArray, meas_covs: FloatArray) -> FloatArray:
@@ -233,7 +262,9 @@ def update_batch(
     s_inv /= det[:, None, None]
     k = covs[:, :, :2] @ s_inv  # (K, 4, 2)
     new_means = means + np.einsum("kij,kj->ki", k, z - means[:, :2])
-    ikh = np.broadcast_to(np.eye(4), covs.shape).copy()
+    eye = np.zeros((covs.shape[0], 16))
+    eye[:, ::5] = 1.0
+    ikh = eye.reshape(-1, 4, 4)  # I - K H (K H fills the first two columns)
     ikh[:, :, :2] -= k
     new_covs = ikh @ covs @ ikh.transpose(0, 2, 1) + k @ meas_covs @ k.transpose(0, 2, 1)
     return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))

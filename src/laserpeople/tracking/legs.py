@@ -222,8 +222,9 @@ class LegMHTTracker:
             self.guard.degraded(detections.scan_index)
         probs = self.mht.best_probabilities()
         best = self.mht.best_tracks()
-        legs = {n.family: LegState(n.family, n.mean, n.cov, probs.get(n.family, 1.0)) for n in best}
+        nodes = {n.family: n for n in best}  # (one node per family)
         if self.person_tracks is None:
+            legs = {f: LegState(f, n.mean, n.cov, probs.get(f, 1.0)) for f, n in nodes.items()}
             persons = self.people.update(legs, detections.stamp)
             self.labels.approved = self.people.approved_legs
         else:
@@ -232,22 +233,22 @@ class LegMHTTracker:
         # legs unseen for too long stay in the MHT and the person layer, but are not reported
         limit = self.params.max_report_unseen
         shown = {n.family for n in best if n.unseen_for(detections.stamp) <= limit}
-        n_tracks = len(legs) + len(persons)
+        n_tracks = len(nodes) + len(persons)
         persons = [p for p in persons if any(m in shown for m in p.members)]
-        legs = {k: v for k, v in legs.items() if k in shown}
-        self.hidden_tracks = n_tracks - len(legs) - len(persons)
+        nodes = {k: v for k, v in nodes.items() if k in shown}
+        self.hidden_tracks = n_tracks - len(nodes) - len(persons)
         self.leg_ids_reported.prune(self.mht.tree.nodes_by_family)
-        self.leg_ids_reported.add(legs)
+        self.leg_ids_reported.add(nodes)
         leg_tracks = [
             Track(
-                track_id=leg.track_id,
+                track_id=f,
                 kind="leg",
-                position=leg.mean[:2],
-                velocity=leg.mean[2:4],
-                covariance=leg.cov[:2, :2],
-                score=leg.score,
+                position=n.mean[:2],
+                velocity=n.mean[2:4],
+                covariance=n.cov[:2, :2],
+                score=probs.get(f, 1.0),
             )
-            for leg in legs.values()
+            for f, n in nodes.items()
         ]
         assert self.frame is not None
         return Tracks(

@@ -75,7 +75,9 @@ class KalmanPointModel:
         means = np.array([n.mean for n in nodes], dtype=np.float64).reshape(-1, 4)
         covs = np.array([n.cov for n in nodes], dtype=np.float64).reshape(-1, 4, 4)
         dt = self._dt(nodes, stamp)
-        pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
+        tau = self.params.coast_velocity_time
+        # the occluded children's states come from the same batch (used by coast)
+        pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
         for n, mean, cov in zip(nodes, pm, pc, strict=True):
             n.pred_mean = mean
             n.pred_cov = cov
@@ -83,10 +85,7 @@ class KalmanPointModel:
         # where each node's prediction is in the batch (update takes its rows from there)
         self._rows = {id(n): i for i, n in enumerate(nodes)}
         self._coast_rows.clear()
-        tau = self.params.coast_velocity_time
         if not math.isinf(tau):
-            # the occluded children's states, in the same batch (used by coast)
-            cm, cc = kalman.coast(means, covs, dt, self.params.accel_psd, tau)
             self._coast_batch = (cm, cc)
             self._coast_rows = {n.node_id: i for i, n in enumerate(nodes)}
 

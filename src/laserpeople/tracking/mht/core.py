@@ -24,7 +24,7 @@ best hypothesis because clusters are independent).
 from __future__ import annotations
 
 import math
-from collections.abc import Hashable, Sequence, Sized
+from collections.abc import Hashable, Iterable, Sequence, Sized
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
@@ -36,9 +36,8 @@ from laserpeople.tracking.mht.expiry import drop_nodes, expired
 from laserpeople.tracking.mht.hypothesis import (
     Cluster,
     Hypothesis,
-    n_scan_prune,
     normalise_hypotheses,
-    ratio_prune,
+    prune_children,
 )
 from laserpeople.tracking.mht.listing import enumerate_children, single_children
 from laserpeople.tracking.mht.matrix import (
@@ -156,25 +155,46 @@ class StepStats:
     max_cluster_solves: int = 0
 
 
-class _UnionFind:
-    def __init__(self) -> None:
-        self.parent: dict[object, object] = {}
+def components(
+    fam_meas: dict[int, set[int]], links: Iterable[tuple[int, int]], n_meas: int
+) -> list[tuple[frozenset[int], list[int]]]:
+    """Connected components of families (ints >= 0) and measurements ``0..n_meas-1``:
+    a family is joined to the measurements in its gate (``fam_meas``) and to the families
+    it is linked with (``links``, pairs of families in ``fam_meas``). Per component its
+    families and its measurements (increasing); components in the order of their first
+    family in ``fam_meas``, then those of measurements alone in measurement order."""
+    up: dict[int, int] = {f: f for f in fam_meas}  # union-find; measurement j is ~j (< 0)
+    for j in range(n_meas):
+        up[~j] = ~j
 
-    def add(self, x: object) -> None:
-        self.parent.setdefault(x, x)
+    def root(x: int) -> int:
+        r = up[x]
+        if r == x:
+            return x
+        while up[r] != r:
+            r = up[r]
+        while x != r:  # path compression
+            up[x], x = r, up[x]
+        return r
 
-    def find(self, x: object) -> object:
-        root = x
-        while self.parent[root] != root:
-            root = self.parent[root]
-        while self.parent[x] != root:
-            self.parent[x], x = root, self.parent[x]
-        return root
-
-    def union(self, a: object, b: object) -> None:
-        ra, rb = self.find(a), self.find(b)
+    for a, b in links:
+        ra, rb = root(a), root(b)
         if ra != rb:
-            self.parent[rb] = ra
+            up[rb] = ra
+    for f, js in fam_meas.items():
+        ra = root(f)  # stays a root: the others join it
+        for j in js:
+            rb = root(~j)
+            if rb != ra:
+                up[rb] = ra
+    fams: dict[int, set[int]] = {}
+    meas: dict[int, list[int]] = {}
+    for f in fam_meas:
+        fams.setdefault(root(f), set()).add(f)
+    for j in range(n_meas):
+        meas.setdefault(root(~j), []).append(j)
+    roots = list(dict.fromkeys([*fams, *meas]))
+    return [(frozenset(fams.get(r, ())), meas.get(r, [])) for r in roots]
 
 
 def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
@@ -251,6 +271,7 @@ class MHT(Generic[Meas]):
         # this scan's child states, computed in one batch by _prepare_children
         self._updates: dict[tuple[int, Hashable], tuple[FloatArray, FloatArray, Any]] = {}
         self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
+        self._scan_initiated = False  # whether _initiated holds this scan's measurements
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
         self._solves = 0  # this step's assignment problems solved
@@ -294,12 +315,12 @@ class MHT(Generic[Meas]):
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()
-        components = self._components(fam_meas, n_meas)
+        parts = components(fam_meas, self.links, n_meas)
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
         plain = type(self.branches) is SingleModel
-        for fams, meas_idx in components:
+        for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
             lone = None
             if (
@@ -319,10 +340,11 @@ class MHT(Generic[Meas]):
             families = frozenset(t.family for h in children for t in h.tracks)
             if families:
                 new_clusters.append(Cluster(families, children))
-        self.clusters = self._expire(new_clusters)
-        self.tree.collect(
-            {id(t): t for c in self.clusters for h in c.hypotheses for t in h.tracks}.values()
-        )
+        live_nodes = {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}
+        self.clusters = self._expire(new_clusters, live_nodes.values())
+        if self.clusters is not new_clusters:  # some nodes went
+            live_nodes = {id(t): t for c in self.clusters for h in c.hypotheses for t in h.tracks}
+        self.tree.collect(live_nodes.values())
         self.generation += 1
         self.stamp = stamp
         sizes = [len(c.hypotheses) for c in self.clusters]
@@ -339,19 +361,18 @@ class MHT(Generic[Meas]):
             max_cluster_solves=self._most_solves,
         )
 
-    def _expire(self, clusters: list[Cluster]) -> list[Cluster]:
+    def _expire(self, clusters: list[Cluster], nodes: Iterable[TrackNode]) -> list[Cluster]:
         """The clusters without the tracks unseen for longer than their label
-        probabilities allow (:mod:`.expiry`); clusters left without a family go."""
+        probabilities allow (:mod:`.expiry`); clusters left without a family go (the list
+        ``clusters`` itself when nothing goes). ``nodes`` are the clusters' track nodes,
+        each once, in the order of their first appearance."""
         ratio = self.params.existence_ratio
         if ratio <= 0:
             return clusters
-        unseen = {
-            t.node_id: t for c in clusters for h in c.hypotheses for t in h.tracks if t.misses
-        }
+        unseen = [t for t in nodes if t.misses]
         if not unseen:
             return clusters
-        nodes = list(unseen.values())
-        gone = expired(nodes, self.labels.track_log_probs(nodes), math.log(ratio))
+        gone = expired(unseen, self.labels.track_log_probs(unseen), math.log(ratio))
         if not gone:
             return clusters
         out: list[Cluster] = []
@@ -403,28 +424,6 @@ class MHT(Generic[Meas]):
             keep[(a, b)] = last
         self.links = keep
 
-    def _components(
-        self, fam_meas: dict[int, set[int]], n_meas: int
-    ) -> list[tuple[frozenset[int], list[int]]]:
-        uf = _UnionFind()
-        for f in fam_meas:
-            uf.add(f)
-        for j in range(n_meas):
-            uf.add(("m", j))
-        for a, b in self.links:
-            uf.union(a, b)
-        for f, js in fam_meas.items():
-            for j in js:
-                uf.union(f, ("m", j))
-        fams: dict[object, set[int]] = {}
-        meas: dict[object, list[int]] = {}
-        for f in fam_meas:
-            fams.setdefault(uf.find(f), set()).add(f)
-        for j in range(n_meas):
-            meas.setdefault(uf.find(("m", j)), []).append(j)
-        roots = list(dict.fromkeys([*fams, *meas]))
-        return [(frozenset(fams.get(r, ())), meas.get(r, [])) for r in roots]
-
     def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
         touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
         if not touching:
@@ -449,6 +448,8 @@ class MHT(Generic[Meas]):
         meas_idx: list[int],
     ) -> None:
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
+        if len(fams) + bool(born) < 2:  # no two families can share a measurement
+            return
         for j in meas_idx:
             sharing = [f for f in fams if j in fam_meas[f]]
             if j in born:
@@ -494,9 +495,8 @@ class MHT(Generic[Meas]):
             return gated[row_of[node.node_id], meas_idx]
 
         for parent in parents:
-            plans.extend(
-                (parent, b) for b in self.branches.branches(parent.tracks, gate_row, meas_idx)
-            )
+            for b in self.branches.branches(parent.tracks, gate_row, meas_idx):
+                plans.append((parent, b))
         # branches that see the same observations share one k-best problem; a model that
         # brings its own partition of the observations (re-clustering) gets its own
         partitions: dict[tuple[Hashable, ...] | None, list[int]] = {}
@@ -534,13 +534,11 @@ class MHT(Generic[Meas]):
                 if tlabels[i] == DETECTED:
                     jl = tmeas[i]
                     j = ids[jl]
+                    key = (node.node_id, j)
+                    if not local and key in to_update:  # the same entry again
+                        continue
                     if j not in node.children:
-                        to_update[(node.node_id, j)] = (
-                            node,
-                            j,
-                            source,
-                            jl if local else meas_list[jl],
-                        )
+                        to_update[key] = (node, j, source, jl if local else meas_list[jl])
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL and ids[a] not in born:
                     born[ids[a]] = (source, a if local else meas_list[a], origin[a])
@@ -548,8 +546,12 @@ class MHT(Generic[Meas]):
         new_nodes = self._new_nodes(born, measurements, stamp)
 
         children: dict[tuple[int, ...], Hypothesis] = {}
+        history: dict[int, tuple[Hashable, ...]] = {}  # per parent (most have several children)
         for pi, dec, total in solutions:
             parent, branch = plans[pi]
+            kept = history.get(id(parent))
+            if kept is None:
+                kept = history[id(parent)] = self._history(parent)
             ids = plan_items[pi][0]
             tracks: list[TrackNode] = []
             tlabels, tmeas = dec.track_label, dec.track_measurement
@@ -560,11 +562,14 @@ class MHT(Generic[Meas]):
                 elif label == OCCLUDED:
                     child = node.children.get(-1)
                     tracks.append(child if child is not None else self._occluded_child(node, stamp))
+            born_here = False
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
                     tracks.append(new_nodes[ids[a]])
-            tracks.sort(key=BY_FAMILY)
-            added = self._add_child(children, parent, tracks, total, branch.model)
+                    born_here = True
+            if born_here or not plain:  # (the plain MHT's parents are sorted by family)
+                tracks.sort(key=BY_FAMILY)
+            added = self._add_child(children, kept, tracks, total, branch.model)
             if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)
         return self._prune_children(children)
@@ -572,24 +577,28 @@ class MHT(Generic[Meas]):
     def _add_child(
         self,
         children: dict[tuple[int, ...], Hypothesis],
-        parent: Hypothesis,
+        history: tuple[Hashable, ...],
         tracks: list[TrackNode],
         total: float,
         model: int,
     ) -> bool:
-        """Add the child hypothesis of ``parent`` holding ``tracks`` at cost ``total``; when
-        another child (of another model branch) already holds the same tracks, its weight
-        gains this one's instead. Returns whether a new child was made."""
+        """Add the child hypothesis holding ``tracks`` at cost ``total`` of a parent whose
+        :meth:`_history` is ``history``; when another child (of another model branch)
+        already holds the same tracks, its weight gains this one's instead. Returns whether
+        a new child was made."""
         key = tuple([t.node_id for t in tracks])
         if key in children:
             c = children[key]
             c.log_weight = float(np.logaddexp(c.log_weight, -total))
             return False
+        children[key] = Hypothesis(-total, tuple(tracks), history, model=model)
+        return True
+
+    def _history(self, parent: Hypothesis) -> tuple[Hashable, ...]:
+        """The ancestors of ``parent``'s children: its own and itself, the last N."""
         n_scan = self.params.n_scan
         ancestors = (*parent.ancestors, parent.hypothesis_id)
-        kept = ancestors[-n_scan:] if n_scan else ()
-        children[key] = Hypothesis(-total, tuple(tracks), kept, model=model)
-        return True
+        return ancestors[-n_scan:] if n_scan else ()
 
     def _prune_children(self, children: dict[tuple[int, ...], Hypothesis]) -> list[Hypothesis]:
         """A cluster's children normalised, N-scan and ratio pruned."""
@@ -598,9 +607,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        hyps = normalise_hypotheses(list(children.values()))
-        hyps = n_scan_prune(hyps, self.params.n_scan)
-        return ratio_prune(hyps, self.params.min_ratio)
+        return prune_children(list(children.values()), self.params.n_scan, self.params.min_ratio)
 
     def _branch_lone(
         self,
@@ -671,8 +678,12 @@ class MHT(Generic[Meas]):
         if new_track:
             new_node = self._new_nodes({j: (measurements, j, j)}, measurements, stamp)[j]
         children: dict[tuple[int, ...], Hypothesis] = {}
+        history: dict[int, tuple[Hashable, ...]] = {}
         for total, pi, tl, ml in solutions:
             parent = parents[pi]
+            kept = history.get(pi)
+            if kept is None:
+                kept = history[pi] = self._history(parent)
             tracks: list[TrackNode] = []
             if tl == DETECTED:
                 tracks.append(parent.tracks[0].children[j])
@@ -683,7 +694,7 @@ class MHT(Generic[Meas]):
             if ml == NEW_LABEL:
                 assert new_node is not None
                 tracks.append(new_node)  # a new family: after the parent's
-            self._add_child(children, parent, tracks, total, 0)
+            self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
 
     def _k_best(
@@ -701,11 +712,16 @@ class MHT(Generic[Meas]):
         all see the same observations; parent indices of the result index ``plans``."""
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
+        rows_of: list[list[int]] = []  # each member's tracks as indices into nodes_u
         for pi in members:
+            rows = []
             for t in plans[pi][1].tracks:
-                if t.node_id not in uniq:
-                    uniq[t.node_id] = len(nodes_u)
+                i = uniq.get(t.node_id)
+                if i is None:
+                    i = uniq[t.node_id] = len(nodes_u)
                     nodes_u.append(t)
+                rows.append(i)
+            rows_of.append(rows)
         obs = plans[members[0]][1].observations
         if obs is None:
             # per node, once: costs of matching each measurement and of the unmatched labels
@@ -729,7 +745,7 @@ class MHT(Generic[Meas]):
         if degraded:  # the best parent's best matching and its label variants only
             best = min(range(len(members)), key=lambda i: priors[i])
             members, priors, budget = [members[best]], [priors[best]], 1
-        rows_of = [[uniq[t.node_id] for t in plans[pi][1].tracks] for pi in members]
+            rows_of = [rows_of[best]]
         solutions = None
         if not degraded:
             solutions = enumerate_children(
@@ -779,19 +795,16 @@ class MHT(Generic[Meas]):
         self, live: list[TrackNode], gated: BoolArray, measurements: Meas, stamp: float
     ) -> None:
         """Compute, in one batch each, the update of every live node with every measurement
-        it gates and a new track at every measurement; the clusters then take what their
-        children need (one batch per scan instead of one per cluster)."""
+        it gates (and, at the first birth of the scan, a new track at every measurement:
+        :meth:`_new_nodes`); the clusters then take what their children need (one batch per
+        scan instead of one per cluster)."""
         rows, cols = np.nonzero(gated)
         nodes = [live[i] for i in rows.tolist()]
         js = cols.tolist()
         states = self.model.update(nodes, measurements, js, stamp) if nodes else []
         self._updates = {(n.node_id, j): st for n, j, st in zip(nodes, js, states, strict=True)}
-        every = list(range(len(measurements)))
-        self._initiated = dict(
-            zip(
-                every, self.model.initiate(measurements, every, stamp) if every else [], strict=True
-            )
-        )
+        self._initiated = {}
+        self._scan_initiated = False
 
     def _make_detected_children(
         self,
@@ -842,6 +855,11 @@ class MHT(Generic[Meas]):
         """One new track (a new family) per observation labelled *new* in some child;
         ``born`` maps its id to (measurement set, index in it, scan index of its origin).
         Scan measurements first in scan order, then a model's own observations."""
+        if born and not self._scan_initiated:  # the scan's batch, once (most scans: none)
+            every = list(range(len(measurements)))
+            states = self.model.initiate(measurements, every, stamp) if every else []
+            self._initiated.update(zip(every, states, strict=True))
+            self._scan_initiated = True
         scan_js = sorted(v[1] for v in born.values() if v[0] is measurements)
         scan: list[Hashable] = [*scan_js]
         own = [j for j, (src, _, _) in born.items() if src is not measurements]

@@ -27,7 +27,7 @@ def logsumexp(values: Sequence[float]) -> float:
     top = max(values)
     if top == -math.inf:
         return top
-    return top + math.log(math.fsum(math.exp(v - top) for v in values))
+    return top + math.log(math.fsum([math.exp(v - top) for v in values]))
 
 
 def new_hypothesis_id() -> int:
@@ -122,6 +122,51 @@ def n_scan_prune(hyps: Sequence[Hypothesis], depth: int) -> list[Hypothesis]:
     mass = {a: logsumexp([h.log_weight for h in g]) for a, g in groups.items()}
     keep = max(mass, key=lambda a: mass[a])
     return normalise_hypotheses(groups[keep])
+
+
+def prune_children(hyps: list[Hypothesis], depth: int, min_ratio: float) -> list[Hypothesis]:
+    """``ratio_prune(n_scan_prune(normalise_hypotheses(hyps), depth), min_ratio)`` with the
+    same floats and order, without the work that cannot change them: a list that is already
+    sorted best first stays so when one finite total is subtracted from every log weight
+    (rounding is monotone), so the later normalisations do not sort again, and an N-scan
+    step whose hypotheses all share the ancestor ``depth`` generations back keeps them all
+    without summing its mass."""
+    if not hyps:
+        return []
+    hyps = normalise_hypotheses(hyps)
+    if depth <= 0:
+        hyps = _renormalise([max(hyps, key=_weight)])
+    elif any(len(h.ancestors) < depth for h in hyps):
+        hyps = _renormalise(hyps)
+    else:
+        groups: dict[Hashable, list[Hypothesis]] = {}
+        for h in hyps:
+            groups.setdefault(h.ancestors[-depth], []).append(h)
+        if len(groups) == 1:
+            hyps = _renormalise(hyps)
+        else:
+            mass = {a: logsumexp([h.log_weight for h in g]) for a, g in groups.items()}
+            keep = max(mass, key=lambda a: mass[a])
+            hyps = _renormalise(groups[keep])  # a sublist keeps the order
+    best = max(h.log_weight for h in hyps)
+    floor = best + math.log(min_ratio) if min_ratio > 0 else -math.inf
+    return _renormalise([h for h in hyps if h.log_weight >= floor])
+
+
+def _weight(h: Hypothesis) -> float:
+    return h.log_weight
+
+
+def _renormalise(hyps: list[Hypothesis]) -> list[Hypothesis]:
+    """:func:`normalise_hypotheses` of a list sorted best first."""
+    if not hyps:
+        return hyps
+    total = logsumexp([h.log_weight for h in hyps])
+    if not math.isfinite(total):  # (NaN weights after; sort as normalise_hypotheses does)
+        return normalise_hypotheses(hyps)
+    for h in hyps:
+        h.log_weight -= total
+    return hyps
 
 
 def cap(hyps: list[Hypothesis], k: int) -> list[Hypothesis]:

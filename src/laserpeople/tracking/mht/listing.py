@@ -19,6 +19,7 @@ from __future__ import annotations
 import heapq
 import math
 from collections.abc import Sequence
+from operator import itemgetter
 
 import numpy as np
 from numpy.typing import NDArray
@@ -102,10 +103,15 @@ def enumerate_children(
     # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
     # or 0), with the cheapest cost and the measurements in the gate (a bit mask)
     choices: list[list[tuple[float, int, int, int]]] = []
+    inf = math.inf
     for i in range(n_nodes):
-        ch = [(c_occ[i], OCCLUDED, -1, 0), (c_del[i], DELETED, -1, 0)]
-        ch += [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < math.inf]
-        choices.append(sorted(c for c in ch if c[0] < math.inf))
+        ch = [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < inf]
+        if c_occ[i] < inf:
+            ch.append((c_occ[i], OCCLUDED, -1, 0))
+        if c_del[i] < inf:
+            ch.append((c_del[i], DELETED, -1, 0))
+        ch.sort()
+        choices.append(ch)
     if children_bound(rows, [len(c) for c in choices], m) > limit:
         return None
     c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
@@ -130,7 +136,7 @@ def enumerate_children(
         if math.isfinite(priors[pi]):
             lister.parent(pi, float(priors[pi]), list(rows[pi]))
     found, best = lister.found, lister.best
-    found.sort(key=lambda f: (f[0], f[1]))
+    found.sort(key=itemgetter(0))  # stable: equal totals stay in the order found
     return [
         (pi, LabelledAssignment(tl, tmeas, ml, total), total)
         for total, _, pi, tl, tmeas, ml in found[:k]
@@ -267,7 +273,7 @@ class _Lister:
         self.max_gap = max_gap
         self.m = len(meas_choices)
         self.cheapest = [ch[0][0] if ch else math.inf for ch in choices]
-        self.gates = [sum(bit for *_, bit in ch) for ch in choices]
+        self.gates = [sum([c[3] for c in ch]) for ch in choices]
         self.full = (1 << self.m) - 1
         self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
         self.best = math.inf
@@ -329,7 +335,10 @@ class _Lister:
             labels.append(lab)
             meas.append(j)
             if last:  # the measurements next (what _tracks(t + 1, ...) would do)
-                self._measurements(0, child_cost, child_used, unmatched_lb[full & ~child_used])
+                if child_used == full:  # none left to label
+                    self._record(child_cost, child_used)
+                else:
+                    self._measurements(0, child_cost, child_used, unmatched_lb[free])
             else:
                 self._tracks(t + 1, child_cost, child_used)
             labels.pop()
@@ -350,12 +359,16 @@ class _Lister:
             self._measurements(j + 1, cost + c, used, rest)
 
     def _record(self, total: float, used: int) -> None:
-        free = self._free_labels
-        mlabels = [MATCHED if used >> j & 1 else free[j] for j in range(self.m)]
+        if used == self.full:
+            mlabels = [MATCHED] * self.m
+        else:
+            free = self._free_labels
+            mlabels = [MATCHED if used >> j & 1 else free[j] for j in range(self.m)]
         self.found.append(
             (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
         )
-        self.best = min(self.best, total)
+        if total < self.best:
+            self.best = total
         if len(self._kept) < self.k:
             heapq.heappush(self._kept, -total)
         elif total < -self._kept[0]:

@@ -274,9 +274,10 @@ class _MatchingStream:
         return out
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class LabelledAssignment:
-    """The labels one child hypothesis gives.
+    """The labels one child hypothesis gives (not frozen: one is made per child listed, and
+    a frozen dataclass costs several times as much to make; nothing changes it).
 
     Attributes:
         track_label: Per track: DETECTED / OCCLUDED / DELETED.

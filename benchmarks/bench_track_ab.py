@@ -1,0 +1,119 @@
+"""Speed of the leg MHT against another version of the code, in one process (A/B).
+
+On a shared machine the CPU time of a run drifts by tens of per cent with the other jobs'
+load, so two runs minutes apart cannot be compared. This script imports both versions in
+one process (the other version's ``src/laserpeople`` copied to a temporary directory as
+the package ``laserpeople_ab``) and updates the two trackers alternately, scan by scan, on
+the same synthetic crowd as ``bench_track.py`` (4 and 20 people by default), so both see
+the same load; it prints the median process CPU per scan of each and their ratio per round
+(the order within a pair alternates between rounds). The other version's results are
+compared too: the reported tracks must be the same, or the script says where they differ.
+
+    PYTHONPATH=src .venv/bin/python benchmarks/bench_track_ab.py --other /path/to/old/src
+        [--people 4 20] [--seconds 30] [--rounds 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import math
+import re
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+PACKAGE = "laserpeople_ab"
+
+
+def load_other(src: Path, into: Path) -> ModuleType:
+    """The package ``src/laserpeople`` copied to ``into`` under the name ``laserpeople_ab``
+    (its imports of itself renamed) and imported."""
+    target = into / PACKAGE
+    shutil.copytree(src / "laserpeople", target)
+    pattern = re.compile(r"\blaserpeople\b")
+    for path in target.rglob("*.py"):
+        path.write_text(pattern.sub(PACKAGE, path.read_text()))
+    sys.path.insert(0, str(into))
+    return importlib.import_module(PACKAGE)
+
+
+def crowd(syn: Any, n_people: int) -> list[Any]:
+    """bench_track.crowd built with the given version's synthetic module."""
+    rng = np.random.default_rng(n_people)
+    paths = []
+    for _ in range(n_people):
+        start = (float(rng.uniform(1.5, 8.0)), float(rng.uniform(-4.0, 4.0)))
+        heading = float(rng.uniform(-math.pi, math.pi))
+        speed = float(rng.uniform(0.6, 1.3))
+        paths.append(
+            syn.line_path(start, (speed * math.cos(heading) * 0.3, speed * math.sin(heading)))
+        )
+    return paths
+
+
+def setup(package: str, n_people: int, seconds: float) -> tuple[list[Any], Any]:
+    """The scene's detections and a default leg MHT, both from ``package``."""
+    syn = importlib.import_module(f"{package}.tracking.synthetic")
+    registry = importlib.import_module(f"{package}.tracking.registry")
+    sensor = syn.SensorModel(false_alarms_per_scan=0.5, box=(0.5, -6.0, 10.0, 6.0))
+    scene = syn.make_scene(crowd(syn, n_people), seconds, rate=37.5, sensor=sensor)
+    entry = registry.get("leg-mht")
+    frame_tracker = entry.factory(entry.params_cls())
+    tracker = getattr(frame_tracker, "tracker", None) or frame_tracker
+    return list(scene.detections), tracker
+
+
+def rows(tracks: Any) -> list[tuple[Any, ...]]:
+    """The reported tracks of one scan as comparable rows."""
+    return [
+        (t.track_id, t.kind, t.members, t.score, t.position.tobytes(), t.covariance.tobytes())
+        for t in tracks
+    ]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--other", type=Path, required=True, help="the other version's src/")
+    ap.add_argument("--people", type=int, nargs="+", default=[4, 20])
+    ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--rounds", type=int, default=3)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        load_other(args.other, Path(tmp))
+        for n in args.people:
+            for r in range(args.rounds):
+                this_dets, this = setup("laserpeople", n, args.seconds)
+                other_dets, other = setup(PACKAGE, n, args.seconds)
+                cpu: dict[str, list[float]] = {"this": [], "other": []}
+                differ = 0
+                for scan, (d_this, d_other) in enumerate(zip(this_dets, other_dets, strict=True)):
+                    pair = [("this", this, d_this), ("other", other, d_other)]
+                    if r % 2:
+                        pair.reverse()
+                    out = {}
+                    for name, tracker, d in pair:
+                        t0 = time.process_time()
+                        out[name] = tracker.update(d)
+                        cpu[name].append(time.process_time() - t0)
+                    if rows(out["this"]) != rows(out["other"]):
+                        differ += 1
+                        if differ == 1:
+                            print(f"  tracks differ first at scan {scan}")
+                a, b = 1e3 * np.median(cpu["this"]), 1e3 * np.median(cpu["other"])
+                print(
+                    f"{n:3d} people, round {r + 1}: this {a:.3f} ms/scan, other {b:.3f} ms/scan "
+                    f"(median process CPU), this/other {a / b:.3f}; scans with different "
+                    f"tracks: {differ}",
+                    flush=True,
+                )
+
+
+if __name__ == "__main__":
+    main()

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from laserpeople.evaluation.schenk_scenes import run_tracker, simulate_scene
+from laserpeople.frame import Frame
+from laserpeople.scan import PointSet
 from laserpeople.tracking.particle.feet import (
     FeetParams,
     FeetTracker,
@@ -124,3 +126,34 @@ def test_skirt_reports_the_blob_centre(skirt: tuple) -> None:
     on = run_tracker(rec, bg, "feet", FeetTracker()).motp
     off = run_tracker(rec, bg, "feet", FeetTracker(FeetParams(blob_body=False))).motp
     assert on > 0.7 and on > off + 0.05
+
+
+@pytest.mark.parametrize("rescue", [True, False])
+def test_a_foot_touching_a_cart_still_supports_its_filter(rescue: bool) -> None:
+    """A cart's side (1 m, 41 points at y = 0.3, largest eigenvalue 0.083 m^2 > 0.065)
+    with a foot's arc (radius 0.06 m about (0, 0.12), 7 points) 0.1 m from it: linked at
+    ``link_distance`` 0.15 m the two are one too-big object, apart at ``segment_link``
+    0.06 m the arc is leg-shaped. A filter with feet at (0, +-0.12) is supported (within
+    ``support_radius`` 0.1 m) by the arc with ``rescue_legs`` only; the cart's side lies
+    0.18 m from the foot and supports it in neither case."""
+    cart = segment(-0.5, 0.5, 0.3, 41)
+    foot = arc(0.0, 0.12, 0.06, 0.3, 2.8, 7)
+    tracker = FeetTracker(FeetParams(particles=20, seed=1, rescue_legs=rescue, support_radius=0.1))
+    init = np.zeros((1, 20, 8))
+    init[..., 5] = 1.0  # period; stride 0: the walking model moves no foot
+    init[0, :, 0:4] = [0.0, 0.12, 0.0, -0.12]
+    tracker.bank.add(init, 0.0)
+    tracker.bank.hits[:] = 0
+    pts = np.vstack([cart, foot])
+    n = len(pts)
+    frame = Frame(
+        0,
+        0.0,
+        (),
+        "fused",
+        "world",
+        points=PointSet(0.0, pts, np.zeros(n, np.int64), np.arange(n), ("laser",), "world", 0),
+    )
+    tracker.update(frame)
+    assert len(tracker.bank) == 1
+    assert tracker.bank.hits[0] == (1 if rescue else 0)

@@ -191,6 +191,14 @@ class FeetParams:
         "weight in eqs. 3-4 of a point on a surface segment longer than a leg's "
         "(``leg_eigenvalue``); 1 disables",
     )
+    rescue_legs: bool = param(
+        True,
+        "departure from 004 (which bounds no object); False: a too-big object's points "
+        "are all dropped",
+        "leg-shaped segments (``leg_eigenvalue``, ``blob_leg_points``) of an object too "
+        "big for a person (``max_eigenvalue``) still weigh and support filters (a foot "
+        "touching a cart), though they start none",
+    )
     blob_body: bool = param(
         True,
         "departure from 004 (False here: always the walking model's body position)",
@@ -505,6 +513,9 @@ class FeetTracker:
         sized = small_objects(pts, p.link_distance, p.max_eigenvalue)
         remembered = self.objects.update(pts, ~sized, frame.stamp)
         births = pts[~remembered]
+        if p.rescue_legs and len(pts) and not sized.all():
+            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points)
+            sized = sized | legs
         pts = pts[sized]
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp

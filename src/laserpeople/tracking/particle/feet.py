@@ -30,6 +30,14 @@ at feet height with a walking model.
 - A departure from 004: o_b also scores the feet's sideways distance against a step width
   (``step_width``, tolerance ``h_width``; 0 switches it off), so that both feet cannot
   settle on one object (a suitcase, one leg).
+- Departures from 004 for accessories, by the shape of the surface segments the points
+  form (single linkage at ``segment_link``; leg-shaped: largest covariance eigenvalue at
+  most ``leg_eigenvalue``): a point on a segment longer than a leg (a suitcase's face, a
+  skirt's side) weighs ``long_weight`` in eqs. 3-4, so that feet settle on legs rather
+  than on a carried suitcase; leg-shaped segments of an object too big for a person
+  still weigh and support filters (``rescue_legs``: the foot of a person pushing a cart
+  touches it); and a filter on a blob without legs (a long skirt hides them) reports the
+  blob's centre instead of the walking model's body position (``blob_body``).
 
 The reported person position is the weighted mean of the body positions the walking model
 implies (the feet midpoint moved by :func:`body_offset`).
@@ -43,12 +51,17 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from laserpeople.clustering import mean_shift
+from laserpeople.clustering import cluster_covariances, mean_shift, single_linkage
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracking.particle.objects import ObjectMemory, small_objects
+from laserpeople.tracking.particle.objects import (
+    ObjectMemory,
+    largest_eigenvalue,
+    object_eigenvalues,
+    small_objects,
+)
 from laserpeople.tracking.particle.upper_body import gather_cells, voronoi_cells
 from laserpeople.tracks import Tracks
 
@@ -166,6 +179,56 @@ class FeetParams:
         "(at 50 Hz; scaled up with the time between scans)",
         "m",
     )
+    segment_link: float = param(
+        0.06,
+        "assumed: 3x the 0.017 m between beams of an LMS151 (0.5 deg) at 2 m",
+        "points closer than this form one surface segment (for ``leg_eigenvalue``)",
+        "m",
+    )
+    leg_eigenvalue: float = param(
+        0.007,
+        "assumed: a leg's arc (<= 0.12 m) is < 0.0015, two legs side by side < 0.005, a "
+        "suitcase's 0.40-0.45 m face 0.013-0.017",
+        "a surface segment (single linkage at ``segment_link``) whose covariance has a "
+        "larger largest eigenvalue is no leg",
+        "m^2",
+    )
+    long_weight: float = param(
+        0.1,
+        "departure from 004 (1 here: every point weighs the same in eqs. 3-4); carry "
+        "case, seeds 200-203: MOTP 0.59 at 1, 0.74 at 0.1, 0.76 at 0.02 (skirt 0.65)",
+        "weight in eqs. 3-4 of a point on a surface segment longer than a leg's "
+        "(``leg_eigenvalue``); 1 disables",
+    )
+    rescue_legs: bool = param(
+        True,
+        "departure from 004 (which bounds no object); False: a too-big object's points "
+        "are all dropped; cart, seeds 200-203: MOTP 0.36 with False, 0.50 with True",
+        "leg-shaped segments (``leg_eigenvalue``, ``blob_leg_points``) of an object too "
+        "big for a person (``max_eigenvalue``) still weigh and support filters (a foot "
+        "touching a cart), though they start none",
+    )
+    blob_body: bool = param(
+        True,
+        "departure from 004 (False here: always the walking model's body position); "
+        "skirt, seeds 200-203: MOTP 0.68 with False, 0.83 with True",
+        "a filter whose nearby objects (``link_distance``, within ``blob_reach`` of its "
+        "feet midpoint) hold no leg-shaped segment (``leg_eigenvalue``) reports the centre "
+        "of those objects (a long skirt: the feet cannot be seen, the skirt moves as one "
+        "body) instead of the walking model's body position",
+    )
+    blob_leg_points: int = param(
+        3,
+        "assumed: a leg 2-6 m from an LMS151 (0.5 deg) shows 2-6 beams; stray points and "
+        "pairs at a skirt's edge are no legs",
+        "fewest points of a leg-shaped segment that keeps a filter off its blob",
+    )
+    blob_reach: float = param(
+        0.3,
+        "assumed: a skirt's sides are 0.2 m either side of the legs",
+        "objects with a point this close to a filter's feet midpoint are its blob",
+        "m",
+    )
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
     )
@@ -202,11 +265,22 @@ class FeetParams:
     def __post_init__(self) -> None:
         if self.particles < 1:
             raise ConfigError(f"particles must be >= 1, got {self.particles}")
-        for name in ("delta", "h", "bandwidth", "gate", "sigma_repel"):
+        for name in (
+            "delta",
+            "h",
+            "bandwidth",
+            "gate",
+            "sigma_repel",
+            "segment_link",
+            "leg_eigenvalue",
+            "blob_reach",
+        ):
             if not getattr(self, name) > 0.0:
                 raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")
         if not self.p0 > 0.0:
             raise ConfigError(f"p0 must be positive, got {self.p0}")
+        if not 0.0 <= self.long_weight <= 1.0:
+            raise ConfigError(f"long_weight must be in [0, 1], got {self.long_weight}")
 
 
 def walking_model(states: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
@@ -248,9 +322,11 @@ def foot_likelihood(
     mask: NDArray[np.bool_],
     delta: float,
     p0: float,
+    weights: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """004 eqs. 3-4: max(sum_j exp(-|foot - z_j|^2 / (2 delta^2)), P_0) for feet (F, P, 2)
-    and the padded points (F, K, 2) of each filter with mask (F, K); returns (F, P)."""
+    and the padded points (F, K, 2) of each filter with mask (F, K); returns (F, P). With
+    ``weights`` (F, K) each point's kernel is multiplied by its weight (004: all 1)."""
     # |f - z|^2 = |f|^2 + |z|^2 - 2 f.z as one batched product, in float32 (the kernels
     # are summed, so 1e-7 relative error is harmless); padding points are masked out
     f32 = feet.astype(np.float32)
@@ -261,6 +337,8 @@ def foot_likelihood(
         - 2.0 * np.matmul(f32, z32.transpose(0, 2, 1))
     )
     kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (delta * delta)))
+    if weights is not None:
+        kernel = kernel * weights.astype(np.float32)[:, None, :]
     total = kernel.sum(axis=2, dtype=np.float64)
     return np.asarray(np.maximum(total, p0), dtype=np.float64)
 
@@ -296,10 +374,12 @@ def feet_weights(
     points: NDArray[np.float64],
     mask: NDArray[np.bool_],
     p: FeetParams,
+    weights: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
-    """004 eq. 7: w = o_l o_r o_b for states (F, P, 8) and padded points (F, K, 2)."""
-    o_l = foot_likelihood(states[..., XL : YL + 1], points, mask, p.delta, p.p0)
-    o_r = foot_likelihood(states[..., XR : YR + 1], points, mask, p.delta, p.p0)
+    """004 eq. 7: w = o_l o_r o_b for states (F, P, 8) and padded points (F, K, 2), the
+    points' kernels in eqs. 3-4 multiplied by ``weights`` (F, K) if given."""
+    o_l = foot_likelihood(states[..., XL : YL + 1], points, mask, p.delta, p.p0, weights)
+    o_r = foot_likelihood(states[..., XR : YR + 1], points, mask, p.delta, p.p0, weights)
     o_b = stride_likelihood(states, p.h) * width_likelihood(states, p.step_width, p.h_width)
     return o_l * o_r * o_b
 
@@ -443,6 +523,9 @@ class FeetTracker:
         sized = small_objects(pts, p.link_distance, p.max_eigenvalue)
         remembered = self.objects.update(pts, ~sized, frame.stamp)
         births = pts[~remembered]
+        if p.rescue_legs and len(pts) and not sized.all():
+            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points)
+            sized = sized | legs
         pts = pts[sized]
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp
@@ -457,15 +540,16 @@ class FeetTracker:
                 near = (inside, cell[inside] // 2)
             else:
                 near = _points_near(pts, est, p.gate)
+            rows = np.column_stack([pts, self._leg_weights(pts)])
             local, mask = (
-                gather_cells(pts[near[0]], near[1], len(bank))
+                gather_cells(rows[near[0]], near[1], len(bank))
                 if near[0].size
                 else (
-                    np.zeros((len(bank), 1, 2)),
+                    np.zeros((len(bank), 1, 3)),
                     np.zeros((len(bank), 1), dtype=bool),
                 )
             )
-            lik = feet_weights(bank.states, local, mask, p)
+            lik = feet_weights(bank.states, local[..., :2], mask, p, local[..., 2])
             if len(bank) > 1:
                 lik = lik * repelling(mids, est, p.sigma_repel)
             bank.reweight(lik + 1e-300, self.rng, p.resample_threshold)
@@ -474,7 +558,16 @@ class FeetTracker:
             bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
         self._births(births, frame.stamp)
-        return self._report(frame)
+        return self._report(frame, pts)
+
+    def _leg_weights(self, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(N,) weight of each point in eqs. 3-4: ``long_weight`` on a surface segment
+        longer than a leg's (``leg_eigenvalue``), else 1."""
+        p = self.params
+        if p.long_weight == 1.0 or len(pts) == 0:
+            return np.ones(len(pts))
+        long = object_eigenvalues(pts, p.segment_link) > p.leg_eigenvalue
+        return np.where(long, p.long_weight, 1.0)
 
     def _cull(self, stamp: float) -> None:
         """Remove filters without support for ``miss_time``; of two filters that come
@@ -560,14 +653,75 @@ class FeetTracker:
         st[:, ALPHA] = alpha
         return st
 
-    def _report(self, frame: Frame) -> Tracks:
+    def _report(self, frame: Frame, pts: NDArray[np.float64]) -> Tracks:
         """Tracks at the body positions the walking model implies (feet midpoint moved by
-        :func:`body_offset`), moving at 2 s / T along alpha."""
-        st = self.bank.states
+        :func:`body_offset`), moving at 2 s / T along alpha; a filter on a blob without
+        legs (``blob_body``) at the blob's centre (:func:`blob_centres`)."""
+        p, st = self.params, self.bank.states
         body = self.midpoints() + body_offset(st)
         speed = 2.0 * st[..., S] / st[..., T]  # the body covers 2 s per period
         vel = np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1)
-        return self.bank.tracks(body, vel, self.params.confirm_scans, frame)
+        if p.blob_body and len(self.bank) and len(pts):
+            mids = np.einsum("fp,fpc->fc", self.bank.weights, self.midpoints())
+            est = np.einsum("fp,fpc->fc", self.bank.weights, body)
+            heading = np.einsum("fp,fpc->fc", self.bank.weights, vel)
+            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points)
+            centre = blob_centres(pts, legs, mids, heading, p.link_distance, p.blob_reach)
+            shift = np.where(np.isfinite(centre), centre - est, 0.0)
+            body = body + shift[:, None, :]
+        return self.bank.tracks(body, vel, p.confirm_scans, frame)
+
+
+def blob_centres(
+    points: NDArray[np.float64],
+    legs: NDArray[np.bool_],
+    anchors: NDArray[np.float64],
+    headings: NDArray[np.float64],
+    link_distance: float,
+    reach: float,
+) -> NDArray[np.float64]:
+    """Centres (F, 2) [m] of the blobs of F filters, NaN where a filter has none.
+
+    A filter's blob is the union of the objects (single linkage of ``points`` (N, 2) at
+    ``link_distance``) with a point within ``reach`` of its ``anchor`` (F, 2), when no
+    point of them is leg-shaped (``legs`` (N,) False everywhere). Its centre is the
+    middle of its extent along the filter's ``heading`` (F, 2) (the sides a laser sees of
+    a body passing it lie ahead of the body before the laser and behind it afterwards,
+    while the extent spans the body) and the mean of its points across it; the mean of
+    its points when the heading is zero."""
+    out = np.full((len(anchors), 2), np.nan)
+    if len(points) == 0 or len(anchors) == 0:
+        return out
+    labels = single_linkage(points, link_distance)
+    n = int(labels.max()) + 1
+    has_leg = np.bincount(labels, weights=legs.astype(np.float64), minlength=n) > 0
+    near = cKDTree(points).query_ball_point(anchors, reach)
+    for f, idx in enumerate(near):
+        objs = np.unique(labels[np.asarray(idx, dtype=np.int64)])
+        if objs.size == 0 or has_leg[objs].any():
+            continue
+        blob = points[np.isin(labels, objs)]
+        centre = blob.mean(axis=0)
+        norm = float(np.hypot(*headings[f]))
+        if norm > 0.0:
+            u = headings[f] / norm
+            along = (blob - centre) @ u
+            centre = centre + u * 0.5 * (along.max() + along.min())
+        out[f] = centre
+    return out
+
+
+def _leg_segments(
+    points: NDArray[np.float64], link: float, max_eigenvalue: float, min_points: int
+) -> NDArray[np.bool_]:
+    """(N,) True for the points of surface segments (single linkage at ``link`` [m]) of at
+    least ``min_points`` points whose largest covariance eigenvalue is at most
+    ``max_eigenvalue`` [m^2]: leg-shaped."""
+    labels = single_linkage(points, link)
+    n = int(labels.max()) + 1
+    _, cov, count = cluster_covariances(points, labels, n)
+    leg = (largest_eigenvalue(cov) <= max_eigenvalue) & (count >= min_points)
+    return np.asarray(leg[labels], dtype=bool)
 
 
 def _points_near(
@@ -596,6 +750,7 @@ __all__ = [
     "FeetTracker",
     "StepDetector",
     "StepEvent",
+    "blob_centres",
     "body_offset",
     "feet_weights",
     "foot_likelihood",

@@ -32,10 +32,18 @@ def small_objects(
     ``max_eigenvalue`` [m^2]; all True when ``max_eigenvalue`` is 0 (no bound)."""
     if max_eigenvalue <= 0.0 or len(points) == 0:
         return np.ones(len(points), dtype=bool)
+    return np.asarray(object_eigenvalues(points, link_distance) <= max_eigenvalue, dtype=bool)
+
+
+def object_eigenvalues(points: NDArray[np.float64], link_distance: float) -> NDArray[np.float64]:
+    """(N,) the largest covariance eigenvalue [m^2] of the object (single linkage at
+    ``link_distance`` [m]) each point of ``points`` (N, 2) [m] belongs to."""
+    if len(points) == 0:
+        return np.empty(0)
     labels = single_linkage(points, link_distance)
     n = int(labels.max()) + 1
     _, cov, _ = cluster_covariances(points, labels, n)
-    return np.asarray(largest_eigenvalue(cov)[labels] <= max_eigenvalue, dtype=bool)
+    return np.asarray(largest_eigenvalue(cov)[labels], dtype=np.float64)
 
 
 class ObjectMemory:
@@ -77,4 +85,4 @@ class ObjectMemory:
         return np.asarray(remembered, dtype=bool)
 
 
-__all__ = ["ObjectMemory", "largest_eigenvalue", "small_objects"]
+__all__ = ["ObjectMemory", "largest_eigenvalue", "object_eigenvalues", "small_objects"]

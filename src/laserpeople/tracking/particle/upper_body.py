@@ -219,7 +219,8 @@ def voronoi_cells(
 def gather_cells(
     points: NDArray[np.float64], cell: NDArray[np.int64], n_filters: int
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Points grouped by cell into a padded (F, K, 2) array and its (F, K) mask."""
+    """Points (N, ...) grouped by cell into a padded (F, K, ...) array and its (F, K) mask
+    (rows of any width: (N, 2) points, or (N, 3) points with a weight)."""
     inside = cell >= 0
     c = cell[inside]
     pts = points[inside]
@@ -229,7 +230,7 @@ def gather_cells(
     c, pts = c[order], pts[order]
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     slot = np.arange(c.size) - start[c]
-    out = np.zeros((n_filters, max(k, 1), 2))
+    out = np.zeros((n_filters, max(k, 1), *points.shape[1:]))
     mask = np.zeros((n_filters, max(k, 1)), dtype=bool)
     out[c, slot] = pts
     mask[c, slot] = True

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import math
 import re
 import shutil
 import sys
@@ -29,7 +28,12 @@ from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_track import crowd_scene
+
 PACKAGE = "laserpeople_ab"
+RATE = 37.5
+"""Scan rate of the scene [Hz], as bench_track's default."""
 
 
 def load_other(src: Path, into: Path) -> ModuleType:
@@ -44,26 +48,12 @@ def load_other(src: Path, into: Path) -> ModuleType:
     return importlib.import_module(PACKAGE)
 
 
-def crowd(syn: Any, n_people: int) -> list[Any]:
-    """bench_track.crowd built with the given version's synthetic module."""
-    rng = np.random.default_rng(n_people)
-    paths = []
-    for _ in range(n_people):
-        start = (float(rng.uniform(1.5, 8.0)), float(rng.uniform(-4.0, 4.0)))
-        heading = float(rng.uniform(-math.pi, math.pi))
-        speed = float(rng.uniform(0.6, 1.3))
-        paths.append(
-            syn.line_path(start, (speed * math.cos(heading) * 0.3, speed * math.sin(heading)))
-        )
-    return paths
-
-
 def setup(package: str, n_people: int, seconds: float) -> tuple[list[Any], Any]:
-    """The scene's detections and a default leg MHT, both from ``package``."""
+    """The scene's detections (``bench_track.crowd_scene``) and a default leg MHT, both
+    from ``package``."""
     syn = importlib.import_module(f"{package}.tracking.synthetic")
     registry = importlib.import_module(f"{package}.tracking.registry")
-    sensor = syn.SensorModel(false_alarms_per_scan=0.5, box=(0.5, -6.0, 10.0, 6.0))
-    scene = syn.make_scene(crowd(syn, n_people), seconds, rate=37.5, sensor=sensor)
+    scene = crowd_scene(n_people, seconds, RATE, synthetic=syn)
     entry = registry.get("leg-mht")
     frame_tracker = entry.factory(entry.params_cls())
     tracker = getattr(frame_tracker, "tracker", None) or frame_tracker

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Hashable, Iterable, Sequence, Sized
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -70,6 +70,11 @@ BoolArray = NDArray[np.bool_]
 Meas = TypeVar("Meas", bound=Sized)
 
 
+MIN_RATIO = 1e-3
+"""Ratio pruning's threshold where ``MHTParams.min_ratio`` is unset and the tracker sets
+none: an assumption (000 Sec. 4.5.2 names ratio pruning without a value)."""
+
+
 @dataclass(frozen=True)
 class MHTParams:
     """Branching and pruning of the hypothesis tree (000 Sec. 3.3.2)."""
@@ -82,9 +87,11 @@ class MHTParams:
         "k of Murty's k-best branching: children per cluster and scan, over all parents",
     )
     n_scan: int = param(8, "000 Sec. 3.4.3 (scan-back depth of eight)", "N of N-scan-back pruning")
-    min_ratio: float = param(
-        1e-3,
-        "assumption (000 Sec. 4.5.2 names ratio pruning without a value)",
+    min_ratio: float | None = param(
+        None,
+        "unset: the tracker's default, MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
+        "ratio pruning without a value) for the group tracker and the leg tracker's people "
+        "policy arras, 1e-2 for its policy tracks (issue 10, see LegTrackerParams.mht_params)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
     max_cluster_size: int = param(
@@ -105,8 +112,8 @@ class MHTParams:
     existence_ratio: float = param(
         1e-3,
         "000 eqs. 8-10 (the deletion mass N-scan-back pruning cuts off, see mht/expiry.py); "
-        "value: that of min_ratio. Issue 16: without it an approved leg that left the view "
-        "was never deleted and state and cycle time grew without bound",
+        "value: MIN_RATIO, ratio pruning's. Issue 16: without it an approved leg that left "
+        "the view was never deleted and state and cycle time grew without bound",
         "a track unseen for m scans is deleted from every hypothesis once the odds of it still "
         "existing under its label probabilities fall below this (0: never; 000 Table 10 "
         "free: 19 scans, approved: 43)",
@@ -117,12 +124,26 @@ class MHTParams:
             raise ValueError("k_best must be at least 1")
         if self.n_scan < 0:
             raise ValueError("n_scan must be >= 0")
-        if not 0.0 <= self.min_ratio < 1.0:
-            raise ValueError("min_ratio must be in [0, 1)")
+        if self.min_ratio is not None and (
+            isinstance(self.min_ratio, bool)
+            or not isinstance(self.min_ratio, int | float)
+            or not 0.0 <= self.min_ratio < 1.0
+        ):
+            raise ValueError("min_ratio must be a number in [0, 1)")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
             raise ValueError("existence_ratio must be in [0, 1)")
+
+    @property
+    def ratio(self) -> float:
+        """The ratio pruning threshold in use: ``min_ratio``, or :data:`MIN_RATIO` unset."""
+        return MIN_RATIO if self.min_ratio is None else float(self.min_ratio)
+
+    def with_min_ratio(self, default: float) -> MHTParams:
+        """These parameters with ``min_ratio`` set to ``default`` when it is unset (a
+        tracker's own default); an explicit value stays."""
+        return self if self.min_ratio is not None else replace(self, min_ratio=default)
 
 
 @dataclass(frozen=True)
@@ -235,6 +256,11 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     return normalise_hypotheses(
         [Hypothesis(w, tuple(sorted(t, key=BY_FAMILY)), anc) for w, t, anc in acc]
     )
+
+
+def _max_gap(min_ratio: float) -> float:
+    """The largest cost gap to the best child that ratio pruning keeps, ``-log min_ratio``."""
+    return -math.log(min_ratio) if min_ratio > 0 else math.inf
 
 
 def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
@@ -503,7 +529,7 @@ class MHT(Generic[Meas]):
         for pi, (_, branch) in enumerate(plans):
             obs = branch.observations
             partitions.setdefault(None if obs is None else obs.keys, []).append(pi)
-        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        max_gap = _max_gap(self.params.ratio)
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
             solutions += self._k_best(
@@ -607,7 +633,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.n_scan, self.params.min_ratio)
+        return prune_children(list(children.values()), self.params.n_scan, self.params.ratio)
 
     def _branch_lone(
         self,
@@ -659,7 +685,7 @@ class MHT(Generic[Meas]):
             c_del.append(-float(lp_live[row, DELETED]))
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
-        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        max_gap = _max_gap(self.params.ratio)
         solutions = single_children(
             priors, rows_of, tm, c_occ, c_del, meas, self.params.k_best, max_gap
         )

@@ -57,19 +57,6 @@ def test_single_track_shortcut_lists_the_same_children_as_the_full_listing() -> 
     assert listed > 3000  # the clusters had children to compare
 
 
-def test_single_track_shortcut_refuses_larger_clusters() -> None:
-    import pytest
-
-    from laserpeople.tracking.mht.listing import enumerate_single
-
-    with pytest.raises(ValueError):
-        enumerate_single([0.0], [[0, 1]], np.zeros((2, 1)), np.zeros((2, 3)),
-                         np.zeros(1), np.zeros(1), 5, 9.0)  # fmt: skip
-    with pytest.raises(ValueError):
-        enumerate_single([0.0], [[0]], np.zeros((1, 2)), np.zeros((1, 3)),
-                         np.zeros(2), np.zeros(2), 5, 9.0)  # fmt: skip
-
-
 def _state(tracker: object) -> list:
     """Every cluster's hypotheses: weights, ancestry length and the tracks' full content."""
     mht = tracker.mht  # type: ignore[attr-defined]

@@ -306,7 +306,7 @@ class MHT(Generic[Meas]):
         self._most_solves = 0  # this step's most assignment problems of one cluster
         self.shortcuts = True
         """Whether clusters of one track and at most one measurement take the shortcuts
-        (:meth:`_branch_lone`, :func:`~.listing.enumerate_single`); they give the same
+        (:meth:`_branch_lone`, :func:`~.listing.single_children`); they give the same
         hypotheses as the general path (off only to test that)."""
 
     # ------------------------------------------------------------------ public

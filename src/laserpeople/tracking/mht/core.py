@@ -451,6 +451,11 @@ class MHT(Generic[Meas]):
         self.links = keep
 
     def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
+        if len(fams) == 1:  # (most clusters: the general path below, without its objects)
+            (f,) = fams
+            c = cluster_of[f]
+            if c.families <= fams:
+                return c.hypotheses
         touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
         if not touching:
             return [Hypothesis(0.0, ())]
@@ -653,6 +658,12 @@ class MHT(Generic[Meas]):
         scan's tables, without the general path's per-cluster arrays and objects. None
         (use :meth:`_branch`) for a cluster it does not cover: over ``max_cluster_size``, or
         with a node not scored this scan."""
+        if len(parents) == 1 and len(meas_idx) == 1 and len(parents[0].tracks) == 1:
+            obvious = self._branch_obvious(
+                parents[0], measurements, meas_idx[0], stamp, loglik, row_of, log_new, log_fal
+            )
+            if obvious is not None:
+                return obvious
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
         rows_of: list[list[int]] = []
@@ -722,6 +733,45 @@ class MHT(Generic[Meas]):
                 tracks.append(new_node)  # a new family: after the parent's
             self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
+
+    def _branch_obvious(
+        self,
+        parent: Hypothesis,
+        measurements: Meas,
+        j: int,
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis] | None:
+        """:meth:`_branch_lone` of the commonest cluster, one parent hypothesis with one
+        track and one measurement (a leg and its own detection), when its only child kept
+        is the track detected with the measurement: every other child (occluded or deleted,
+        the measurement new or a false alarm) costs more than that one plus the ratio gap.
+        The costs are the floats :func:`~.listing.single_children` sums, so the child, its
+        node and its ids are the same; None (take the listing) in any other case."""
+        t = parent.tracks[0]
+        row = row_of.get(t.node_id)
+        if row is None or self.params.max_cluster_size < 2:
+            return None
+        tm = float(self._cost_live[row, j])
+        prior = -(parent.log_weight + 0.0)
+        detected = prior + tm
+        if not (math.isfinite(detected) and math.isfinite(prior)):
+            return None
+        limit = detected + _max_gap(self.params.ratio)
+        lp = self._lp_live
+        c_new, c_fal = -float(log_new[j]), -float(log_fal[j])
+        for c in (-float(lp[row, OCCLUDED]), -float(lp[row, DELETED])):
+            cost = prior + c
+            if not (cost + c_new > limit and cost + c_fal > limit):
+                return None
+        self._largest = max(self._largest, 2)
+        child = t.children.get(j)
+        if child is None:  # (its update is in this scan's batch: the measurement is gated)
+            child = self._detected_child(t, j, j, float(loglik[row, j]), stamp)
+        return [Hypothesis(0.0, (child,), self._history(parent))]
 
     def _k_best(
         self,
@@ -856,24 +906,39 @@ class MHT(Generic[Meas]):
                 ((node.node_id, j), st) for (node, j, _, _), st in zip(group, states, strict=True)
             )
         for node, j, source, jl in pairs:
-            mean, cov, payload = self._updates[(node.node_id, j)]
             row = row_of.get(node.node_id)
             own = source is not measurements
-            node.children[j] = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=node.family,
-                parent_id=node.node_id,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NODE_DETECTED,
-                measurement=jl if not own else -1,
-                hits=node.hits + 1,
-                misses=0,
-                age=node.age + 1,
-                loglik=float(loglik[row, jl]) if row is not None and not own else 0.0,
-                payload=payload,
+            self._detected_child(
+                node,
+                j,
+                jl if not own else -1,
+                float(loglik[row, jl]) if row is not None and not own else 0.0,
+                stamp,
             )
+
+    def _detected_child(
+        self, node: TrackNode, j: Hashable, jl: int, loglik: float, stamp: float
+    ) -> TrackNode:
+        """The child of ``node`` updated with observation ``j`` (its update computed
+        already), made and stored in ``node.children``; ``jl`` is its scan measurement
+        (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
+        mean, cov, payload = self._updates[(node.node_id, j)]
+        child = node.children[j] = TrackNode(
+            node_id=self.tree.new_node_id(),
+            family=node.family,
+            parent_id=node.node_id,
+            mean=mean,
+            cov=cov,
+            stamp=stamp,
+            label=NODE_DETECTED,
+            measurement=jl,
+            hits=node.hits + 1,
+            misses=0,
+            age=node.age + 1,
+            loglik=loglik,
+            payload=payload,
+        )
+        return child
 
     def _new_nodes(
         self, born: dict[Hashable, tuple[Any, int, int]], measurements: Meas, stamp: float

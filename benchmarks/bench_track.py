@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from typing import Any
 
 import numpy as np
 
@@ -30,23 +31,32 @@ from laserpeople.tracking import registry
 from laserpeople.tracking import synthetic as syn
 
 
-def crowd(n_people: int, seed: int) -> list[syn.Path]:
-    """People walking back and forth across an 8 m x 8 m area in front of the sensor."""
+def crowd(n_people: int, seed: int, synthetic: Any = syn) -> list[Any]:
+    """People walking back and forth across an 8 m x 8 m area in front of the sensor, as
+    paths of the module ``synthetic`` (``laserpeople.tracking.synthetic`` or another
+    version's copy of it, for ``bench_track_ab.py``)."""
     rng = np.random.default_rng(seed)
-    paths: list[syn.Path] = []
+    paths: list[Any] = []
     for _ in range(n_people):
         start = (float(rng.uniform(1.5, 8.0)), float(rng.uniform(-4.0, 4.0)))
         heading = float(rng.uniform(-math.pi, math.pi))
         speed = float(rng.uniform(0.6, 1.3))
         paths.append(
-            syn.line_path(start, (speed * math.cos(heading) * 0.3, speed * math.sin(heading)))
+            synthetic.line_path(start, (speed * math.cos(heading) * 0.3, speed * math.sin(heading)))
         )
     return paths
 
 
+def crowd_scene(n_people: int, seconds: float, rate: float, synthetic: Any = syn) -> Any:
+    """The benchmark's scene of ``n_people`` walkers (seeded by their number) with clutter,
+    built by the module ``synthetic`` (see :func:`crowd`)."""
+    sensor = synthetic.SensorModel(false_alarms_per_scan=0.5, box=(0.5, -6.0, 10.0, 6.0))
+    paths = crowd(n_people, seed=n_people, synthetic=synthetic)
+    return synthetic.make_scene(paths, seconds, rate=rate, sensor=sensor)
+
+
 def bench(n_people: int, seconds: float, rate: float, tracker_name: str) -> dict[str, float]:
-    sensor = syn.SensorModel(false_alarms_per_scan=0.5, box=(0.5, -6.0, 10.0, 6.0))
-    scene = syn.make_scene(crowd(n_people, seed=n_people), seconds, rate=rate, sensor=sensor)
+    scene = crowd_scene(n_people, seconds, rate)
     entry = registry.get(tracker_name)
     params = entry.params_cls()
     # the registry hands out frame trackers; time the leg tracker inside the adapter
@@ -133,9 +143,9 @@ def main() -> None:
         return
     entry = registry.get(args.tracker)
     params = entry.params_cls()
-    mht = getattr(params, "mht", None)
+    mht = params.mht_params() if hasattr(params, "mht_params") else getattr(params, "mht", None)
     if mht is not None:
-        print(f"{args.tracker}: k = {mht.k_best}, N-scan = {mht.n_scan}, ratio = {mht.min_ratio}")
+        print(f"{args.tracker}: k = {mht.k_best}, N-scan = {mht.n_scan}, ratio = {mht.ratio}")
     for n in args.people:
         r = bench(n, args.seconds, args.rate, args.tracker)
         print(

@@ -74,6 +74,8 @@ def format_value(value: Any) -> str:
         text = "inf" if math.isinf(value) and value > 0 else repr(value)
     elif isinstance(value, str):
         text = f'"{value}"'
+    elif value is None:
+        return "unset"
     elif isinstance(value, tuple | list):
         text = "[" + ", ".join(format_value(v).strip("`") for v in value) + "]"
     else:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 
 def _random_single_cluster(rng: np.random.Generator, ties: bool) -> tuple:
@@ -57,19 +58,6 @@ def test_single_track_shortcut_lists_the_same_children_as_the_full_listing() -> 
     assert listed > 3000  # the clusters had children to compare
 
 
-def test_single_track_shortcut_refuses_larger_clusters() -> None:
-    import pytest
-
-    from laserpeople.tracking.mht.listing import enumerate_single
-
-    with pytest.raises(ValueError):
-        enumerate_single([0.0], [[0, 1]], np.zeros((2, 1)), np.zeros((2, 3)),
-                         np.zeros(1), np.zeros(1), 5, 9.0)  # fmt: skip
-    with pytest.raises(ValueError):
-        enumerate_single([0.0], [[0]], np.zeros((1, 2)), np.zeros((1, 3)),
-                         np.zeros(2), np.zeros(2), 5, 9.0)  # fmt: skip
-
-
 def _state(tracker: object) -> list:
     """Every cluster's hypotheses: weights, ancestry length and the tracks' full content."""
     mht = tracker.mht  # type: ignore[attr-defined]
@@ -90,14 +78,29 @@ def _state(tracker: object) -> list:
     ]  # fmt: skip
 
 
-def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan() -> None:
+@pytest.mark.parametrize("policy", ["tracks", "arras"])
+def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan(
+    policy: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Six walkers with clutter and misses: the leg MHT with the shortcuts (lone clusters,
-    closed-form listing) holds exactly the hypotheses (weights, node ids, states) of the
-    one without, after every scan, and reports the same tracks."""
+    the obvious detected child, closed-form listing) holds exactly the hypotheses (weights,
+    node ids, states) of the one without, after every scan, and reports the same tracks;
+    under both people policies (ratio pruning 1e-2 and 1e-3)."""
     import math
 
     from laserpeople.tracking import synthetic as syn
-    from laserpeople.tracking.legs import LegMHTTracker
+    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+    from laserpeople.tracking.mht.core import MHT
+
+    obvious = {"taken": 0, "declined": 0}
+    original = MHT._branch_obvious
+
+    def counted(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+        out = original(self, *args, **kwargs)
+        obvious["taken" if out is not None else "declined"] += 1
+        return out
+
+    monkeypatch.setattr(MHT, "_branch_obvious", counted)
 
     rng = np.random.default_rng(5)
     paths = [
@@ -109,7 +112,8 @@ def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan() -> None:
     ]
     sensor = syn.SensorModel(false_alarms_per_scan=1.0, box=(0.5, -5.0, 8.0, 5.0))
     scene = syn.make_scene(paths, 8.0, rate=37.5, sensor=sensor)
-    fast, slow = LegMHTTracker(), LegMHTTracker()
+    params = LegTrackerParams(people_policy=policy)
+    fast, slow = LegMHTTracker(params), LegMHTTracker(params)
     slow.mht.shortcuts = False
     lone = 0
     for d in scene.detections:
@@ -120,3 +124,4 @@ def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan() -> None:
         ]
         lone += sum(len(c.families) == 1 for c in fast.mht.clusters)
     assert lone > 100  # the shortcut was taken
+    assert obvious["taken"] > 1000 and obvious["declined"] > 0  # both ways, and compared

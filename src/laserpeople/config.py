@@ -264,6 +264,9 @@ def to_toml(obj: Any) -> str:
     lines = [f"[{section_name(type(obj))}]"]
     for name, value, unit, source, doc in describe(obj):
         comment = cite("; ".join(x for x in (doc, f"[{unit}]" if unit else "", source) if x))
+        if value is None:  # unset (TOML has no null): the line says so, as a comment
+            lines.append(f"# {name} unset" + (f"  # {comment}" if comment else ""))
+            continue
         lines.append(f"{name} = {_toml_value(value)}" + (f"  # {comment}" if comment else ""))
     return "\n".join(lines) + "\n"
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Hashable, Iterable, Sequence, Sized
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -70,6 +70,11 @@ BoolArray = NDArray[np.bool_]
 Meas = TypeVar("Meas", bound=Sized)
 
 
+MIN_RATIO = 1e-3
+"""Ratio pruning's threshold where ``MHTParams.min_ratio`` is unset and the tracker sets
+none: an assumption (000 Sec. 4.5.2 names ratio pruning without a value)."""
+
+
 @dataclass(frozen=True)
 class MHTParams:
     """Branching and pruning of the hypothesis tree (000 Sec. 3.3.2)."""
@@ -82,9 +87,11 @@ class MHTParams:
         "k of Murty's k-best branching: children per cluster and scan, over all parents",
     )
     n_scan: int = param(8, "000 Sec. 3.4.3 (scan-back depth of eight)", "N of N-scan-back pruning")
-    min_ratio: float = param(
-        1e-3,
-        "assumption (000 Sec. 4.5.2 names ratio pruning without a value)",
+    min_ratio: float | None = param(
+        None,
+        "unset: the tracker's default, MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
+        "ratio pruning without a value) for the group tracker and the leg tracker's people "
+        "policy arras, 1e-2 for its policy tracks (issue 10, see LegTrackerParams.mht_params)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
     max_cluster_size: int = param(
@@ -105,8 +112,8 @@ class MHTParams:
     existence_ratio: float = param(
         1e-3,
         "000 eqs. 8-10 (the deletion mass N-scan-back pruning cuts off, see mht/expiry.py); "
-        "value: that of min_ratio. Issue 16: without it an approved leg that left the view "
-        "was never deleted and state and cycle time grew without bound",
+        "value: MIN_RATIO, ratio pruning's. Issue 16: without it an approved leg that left "
+        "the view was never deleted and state and cycle time grew without bound",
         "a track unseen for m scans is deleted from every hypothesis once the odds of it still "
         "existing under its label probabilities fall below this (0: never; 000 Table 10 "
         "free: 19 scans, approved: 43)",
@@ -117,12 +124,26 @@ class MHTParams:
             raise ValueError("k_best must be at least 1")
         if self.n_scan < 0:
             raise ValueError("n_scan must be >= 0")
-        if not 0.0 <= self.min_ratio < 1.0:
-            raise ValueError("min_ratio must be in [0, 1)")
+        if self.min_ratio is not None and (
+            isinstance(self.min_ratio, bool)
+            or not isinstance(self.min_ratio, int | float)
+            or not 0.0 <= self.min_ratio < 1.0
+        ):
+            raise ValueError("min_ratio must be a number in [0, 1)")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
             raise ValueError("existence_ratio must be in [0, 1)")
+
+    @property
+    def ratio(self) -> float:
+        """The ratio pruning threshold in use: ``min_ratio``, or :data:`MIN_RATIO` unset."""
+        return MIN_RATIO if self.min_ratio is None else float(self.min_ratio)
+
+    def with_min_ratio(self, default: float) -> MHTParams:
+        """These parameters with ``min_ratio`` set to ``default`` when it is unset (a
+        tracker's own default); an explicit value stays."""
+        return self if self.min_ratio is not None else replace(self, min_ratio=default)
 
 
 @dataclass(frozen=True)
@@ -237,6 +258,11 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     )
 
 
+def _max_gap(min_ratio: float) -> float:
+    """The largest cost gap to the best child that ratio pruning keeps, ``-log min_ratio``."""
+    return -math.log(min_ratio) if min_ratio > 0 else math.inf
+
+
 def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
     """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log)."""
     return np.where(gated, -(lp[:, DETECTED, None] + loglik), np.inf)
@@ -280,7 +306,7 @@ class MHT(Generic[Meas]):
         self._most_solves = 0  # this step's most assignment problems of one cluster
         self.shortcuts = True
         """Whether clusters of one track and at most one measurement take the shortcuts
-        (:meth:`_branch_lone`, :func:`~.listing.enumerate_single`); they give the same
+        (:meth:`_branch_lone`, :func:`~.listing.single_children`); they give the same
         hypotheses as the general path (off only to test that)."""
 
     # ------------------------------------------------------------------ public
@@ -425,6 +451,11 @@ class MHT(Generic[Meas]):
         self.links = keep
 
     def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
+        if len(fams) == 1:  # (most clusters: the general path below, without its objects)
+            (f,) = fams
+            c = cluster_of[f]
+            if c.families <= fams:
+                return c.hypotheses
         touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
         if not touching:
             return [Hypothesis(0.0, ())]
@@ -503,7 +534,7 @@ class MHT(Generic[Meas]):
         for pi, (_, branch) in enumerate(plans):
             obs = branch.observations
             partitions.setdefault(None if obs is None else obs.keys, []).append(pi)
-        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        max_gap = _max_gap(self.params.ratio)
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
             solutions += self._k_best(
@@ -607,7 +638,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.n_scan, self.params.min_ratio)
+        return prune_children(list(children.values()), self.params.n_scan, self.params.ratio)
 
     def _branch_lone(
         self,
@@ -627,6 +658,12 @@ class MHT(Generic[Meas]):
         scan's tables, without the general path's per-cluster arrays and objects. None
         (use :meth:`_branch`) for a cluster it does not cover: over ``max_cluster_size``, or
         with a node not scored this scan."""
+        if len(parents) == 1 and len(meas_idx) == 1 and len(parents[0].tracks) == 1:
+            obvious = self._branch_obvious(
+                parents[0], measurements, meas_idx[0], stamp, loglik, row_of, log_new, log_fal
+            )
+            if obvious is not None:
+                return obvious
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
         rows_of: list[list[int]] = []
@@ -659,7 +696,7 @@ class MHT(Generic[Meas]):
             c_del.append(-float(lp_live[row, DELETED]))
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
-        max_gap = -math.log(self.params.min_ratio) if self.params.min_ratio > 0 else np.inf
+        max_gap = _max_gap(self.params.ratio)
         solutions = single_children(
             priors, rows_of, tm, c_occ, c_del, meas, self.params.k_best, max_gap
         )
@@ -696,6 +733,45 @@ class MHT(Generic[Meas]):
                 tracks.append(new_node)  # a new family: after the parent's
             self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
+
+    def _branch_obvious(
+        self,
+        parent: Hypothesis,
+        measurements: Meas,
+        j: int,
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis] | None:
+        """:meth:`_branch_lone` of the commonest cluster, one parent hypothesis with one
+        track and one measurement (a leg and its own detection), when its only child kept
+        is the track detected with the measurement: every other child (occluded or deleted,
+        the measurement new or a false alarm) costs more than that one plus the ratio gap.
+        The costs are the floats :func:`~.listing.single_children` sums, so the child, its
+        node and its ids are the same; None (take the listing) in any other case."""
+        t = parent.tracks[0]
+        row = row_of.get(t.node_id)
+        if row is None or self.params.max_cluster_size < 2:
+            return None
+        tm = float(self._cost_live[row, j])
+        prior = -(parent.log_weight + 0.0)
+        detected = prior + tm
+        if not (math.isfinite(detected) and math.isfinite(prior)):
+            return None
+        limit = detected + _max_gap(self.params.ratio)
+        lp = self._lp_live
+        c_new, c_fal = -float(log_new[j]), -float(log_fal[j])
+        for c in (-float(lp[row, OCCLUDED]), -float(lp[row, DELETED])):
+            cost = prior + c
+            if not (cost + c_new > limit and cost + c_fal > limit):
+                return None
+        self._largest = max(self._largest, 2)
+        child = t.children.get(j)
+        if child is None:  # (its update is in this scan's batch: the measurement is gated)
+            child = self._detected_child(t, j, j, float(loglik[row, j]), stamp)
+        return [Hypothesis(0.0, (child,), self._history(parent))]
 
     def _k_best(
         self,
@@ -830,24 +906,39 @@ class MHT(Generic[Meas]):
                 ((node.node_id, j), st) for (node, j, _, _), st in zip(group, states, strict=True)
             )
         for node, j, source, jl in pairs:
-            mean, cov, payload = self._updates[(node.node_id, j)]
             row = row_of.get(node.node_id)
             own = source is not measurements
-            node.children[j] = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=node.family,
-                parent_id=node.node_id,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NODE_DETECTED,
-                measurement=jl if not own else -1,
-                hits=node.hits + 1,
-                misses=0,
-                age=node.age + 1,
-                loglik=float(loglik[row, jl]) if row is not None and not own else 0.0,
-                payload=payload,
+            self._detected_child(
+                node,
+                j,
+                jl if not own else -1,
+                float(loglik[row, jl]) if row is not None and not own else 0.0,
+                stamp,
             )
+
+    def _detected_child(
+        self, node: TrackNode, j: Hashable, jl: int, loglik: float, stamp: float
+    ) -> TrackNode:
+        """The child of ``node`` updated with observation ``j`` (its update computed
+        already), made and stored in ``node.children``; ``jl`` is its scan measurement
+        (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
+        mean, cov, payload = self._updates[(node.node_id, j)]
+        child = node.children[j] = TrackNode(
+            node_id=self.tree.new_node_id(),
+            family=node.family,
+            parent_id=node.node_id,
+            mean=mean,
+            cov=cov,
+            stamp=stamp,
+            label=NODE_DETECTED,
+            measurement=jl,
+            hits=node.hits + 1,
+            misses=0,
+            age=node.age + 1,
+            loglik=loglik,
+            payload=payload,
+        )
+        return child
 
     def _new_nodes(
         self, born: dict[Hashable, tuple[Any, int, int]], measurements: Meas, stamp: float

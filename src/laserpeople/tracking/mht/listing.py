@@ -84,22 +84,23 @@ def enumerate_children(
         limit: Give up (None) when :func:`children_bound` exceeds this.
         shortcut: Clusters of at most one track per parent and at most one measurement
             (most clusters: one leg, its own detection) are listed by
-            :func:`enumerate_single`, which gives the same children without the bounds.
+            :func:`single_children`, which gives the same children without the bounds.
 
     Returns:
         ``(parent index, labels, total cost)`` in nondecreasing total cost (equal costs in
         the order found), or None when the cluster is too big to list.
     """
     n_nodes, m = track_meas_cost.shape
+    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
+    c_del = (-label_log_probs[:, DELETED]).tolist()
     if shortcut and m <= 1 and all(len(r) <= 1 for r in rows):
-        return enumerate_single(
-            priors, rows, track_meas_cost, label_log_probs, log_new, log_fal, k, max_gap
-        )
+        tm_single = track_meas_cost[:, 0].tolist() if m else [math.inf] * n_nodes
+        meas = (-float(log_new[0]), -float(log_fal[0])) if m else None
+        single = single_children(priors, rows, tm_single, c_occ, c_del, meas, k, max_gap)
+        return [(pi, _single_labels(tl, ml, total), total) for total, pi, tl, ml in single]
     if m > MAX_LISTED_MEASUREMENTS:  # (before building the choices it would not use)
         return None
     tm = track_meas_cost.tolist()
-    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
-    c_del = (-label_log_probs[:, DELETED]).tolist()
     # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
     # or 0), with the cheapest cost and the measurements in the gate (a bit mask)
     choices: list[list[tuple[float, int, int, int]]] = []
@@ -144,46 +145,15 @@ def enumerate_children(
     ]
 
 
-def enumerate_single(
-    priors: Sequence[float],
-    rows: Sequence[Sequence[int]],
-    track_meas_cost: FloatArray,
-    label_log_probs: FloatArray,
-    log_new: FloatArray,
-    log_fal: FloatArray,
-    k: int,
-    max_gap: float,
-) -> list[tuple[int, LabelledAssignment, float]]:
-    """:func:`enumerate_children` of a cluster whose parents have at most one track each and
-    which has at most one measurement: every child is written out (at most five per parent),
-    in the order the depth-first listing visits them, then the ``k`` best within
-    ``max_gap`` of the best are kept, equal costs in that order.
-
-    The result is the listing's: its cuts only drop children that would not be kept (a cut
-    child costs at least a lower bound above the best plus the gap, or at least the k-th
-    best found before it), and the costs are summed in the same order (parent, track label,
-    measurement label), so they are the same floats.
-    """
-    m = track_meas_cost.shape[1]
-    if m > 1 or any(len(r) > 1 for r in rows):
-        raise ValueError("enumerate_single takes at most one track per parent and one measurement")
-    tm = track_meas_cost[:, 0].tolist() if m else [math.inf] * track_meas_cost.shape[0]
-    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
-    c_del = (-label_log_probs[:, DELETED]).tolist()
-    meas = (-float(log_new[0]), -float(log_fal[0])) if m else None
-    return [
-        (
-            pi,
-            LabelledAssignment(
-                [] if tl < 0 else [tl],
-                () if tl < 0 else ((0,) if tl == DETECTED else (-1,)),
-                [] if ml < 0 else [ml],
-                total,
-            ),
-            total,
-        )
-        for total, pi, tl, ml in single_children(priors, rows, tm, c_occ, c_del, meas, k, max_gap)
-    ]
+def _single_labels(tl: int, ml: int, total: float) -> LabelledAssignment:
+    """The labels of a :func:`single_children` child: track label ``tl`` (-1: the parent
+    has no track) and measurement label ``ml`` (-1: no measurement)."""
+    return LabelledAssignment(
+        [] if tl < 0 else [tl],
+        () if tl < 0 else ((0,) if tl == DETECTED else (-1,)),
+        [] if ml < 0 else [ml],
+        total,
+    )
 
 
 def single_children(
@@ -196,8 +166,16 @@ def single_children(
     k: int,
     max_gap: float,
 ) -> list[tuple[float, int, int, int]]:
-    """The children of :func:`enumerate_single` from plain floats (the core's shortcut for
-    such clusters calls this directly).
+    """The children of a cluster whose parents have at most one track each and which has
+    at most one measurement, from plain floats (:func:`enumerate_children`'s shortcut; the
+    core's shortcut for such clusters calls this directly): every child is written out (at
+    most five per parent), in the order the depth-first listing visits them, then the ``k``
+    best within ``max_gap`` of the best are kept, equal costs in that order.
+
+    The result is the listing's: its cuts only drop children that would not be kept (a cut
+    child costs at least a lower bound above the best plus the gap, or at least the k-th
+    best found before it), and the costs are summed in the same order (parent, track label,
+    measurement label), so they are the same floats.
 
     Args:
         priors: Cost of each parent.

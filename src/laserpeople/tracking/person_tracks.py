@@ -322,12 +322,14 @@ class LegObservation:
 def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean velocity, or the plain
     distance when their mean speed is below ``min_speed`` [m/s]."""
-    d = a.position - b.position
-    v = 0.5 * (a.velocity + b.velocity)
-    speed = float(np.hypot(v[0], v[1]))
+    (ax, ay), (bx, by) = a.position.tolist(), b.position.tolist()
+    (avx, avy), (bvx, bvy) = a.velocity.tolist(), b.velocity.tolist()
+    dx, dy = ax - bx, ay - by
+    vx, vy = 0.5 * (avx + bvx), 0.5 * (avy + bvy)
+    speed = math.hypot(vx, vy)
     if speed < min_speed:
-        return float(np.hypot(d[0], d[1]))
-    return abs(float(v[0] * d[1] - v[1] * d[0])) / speed
+        return math.hypot(dx, dy)
+    return abs(vx * dy - vy * dx) / speed
 
 
 @dataclass(eq=False)
@@ -414,6 +416,9 @@ class PersonTracker:
         """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
         self._llr = params.evidence_llr()
+        self._llr_steps = [float(x) for x in self._llr]  # (plain floats: per person and scan)
+        self._static_now: dict[int, float] = {}
+        """Static time [s] of the people's positions asked in this scan (by person id)."""
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
 
@@ -428,14 +433,16 @@ class PersonTracker:
         if not self.persons:
             return
         ps = list(self.persons.values())
-        means = np.stack([p.mean for p in ps])
-        covs = np.stack([p.cov for p in ps])
-        dt = np.clip(np.array([stamp - p.stamp for p in ps]), 0.0, 1.0)
-        seen = np.array([p.last_seen >= p.stamp - 1e-9 for p in ps])
-        pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
+        means = np.array([p.mean for p in ps])
+        covs = np.array([p.cov for p in ps])
+        dt = np.array([min(max(stamp - p.stamp, 0.0), 1.0) for p in ps])
+        seen_list = [p.last_seen >= p.stamp - 1e-9 for p in ps]
         tau = self.params.coast_velocity_time
-        if not math.isinf(tau) and not seen.all():
-            cm, cc = kalman.coast(means, covs, dt, self.params.accel_psd, tau)
+        if math.isinf(tau) or all(seen_list):
+            pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
+        else:  # people with no leg detected in their last scan coast
+            pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
+            seen = np.array(seen_list)
             pm = np.where(seen[:, None], pm, cm)
             pc = np.where(seen[:, None, None], pc, cc)
         for i, p in enumerate(ps):
@@ -444,12 +451,16 @@ class PersonTracker:
     def _release(self, legs: Mapping[int, LegObservation]) -> None:
         p = self.params
         for person in self.persons.values():
+            if not person.members:
+                continue
             keep = []
+            px, py = person.mean[:2].tolist()
             for m in person.members:
                 leg = legs.get(m)
                 if leg is None or leg.unseen_for > p.member_unseen:
                     continue
-                if float(np.hypot(*(leg.position - person.mean[:2]))) > p.max_member_distance:
+                lx, ly = leg.position.tolist()
+                if math.hypot(lx - px, ly - py) > p.max_member_distance:
                     continue
                 keep.append(m)
             person.members = keep
@@ -495,14 +506,20 @@ class PersonTracker:
         seen = [legs[m] for m in person.members if legs[m].detected]
         if len(seen) == 2:
             a, b = seen[0].position, seen[1].position
+            (ax, ay), (bx, by) = a.tolist(), b.tolist()
             if (
-                float(np.hypot(*(a - b))) <= p.pair_distance
+                math.hypot(ax - bx, ay - by) <= p.pair_distance
                 and spread(seen[0], seen[1], p.min_speed) <= p.max_spread
             ):
                 strong = 0.5 * (seen[0].score + seen[1].score) > p.birth_min_score
                 return (TWO if strong else ONE), 0.5 * (a + b), p.pair_std
-            near = min(seen, key=lambda leg: float(np.hypot(*(leg.position - person.mean[:2]))))
-            return ONE, near.position, p.one_leg_std
+            px, py = person.mean[:2].tolist()
+
+            def off(leg: LegObservation) -> float:
+                lx, ly = leg.position.tolist()
+                return math.hypot(lx - px, ly - py)
+
+            return ONE, min(seen, key=off).position, p.one_leg_std
         if len(seen) == 1:
             if seen[0].wide:
                 return TWO, seen[0].position, p.pair_std
@@ -517,9 +534,10 @@ class PersonTracker:
     def _update_people(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
+        steps = self._llr_steps
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
-            person.llr = min(max(person.llr + float(self._llr[evidence]), p.llr_min), p.llr_max)
+            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -528,21 +546,28 @@ class PersonTracker:
                 person.last_seen = stamp
                 rows.append((person, z, std))
         if rows:
+            var = np.array([r[2] ** 2 for r in rows])
+            meas_covs = np.zeros((len(rows), 2, 2))
+            meas_covs[:, 0, 0] = var
+            meas_covs[:, 1, 1] = var
             means, covs = kalman.update_batch(
-                np.stack([r[0].mean for r in rows]),
-                np.stack([r[0].cov for r in rows]),
-                np.stack([r[1] for r in rows]),
-                np.stack([np.eye(2) * r[2] ** 2 for r in rows]),
+                np.array([r[0].mean for r in rows]),
+                np.array([r[0].cov for r in rows]),
+                np.array([r[1] for r in rows]),
+                meas_covs,
             )
             # travel counts only off static places: hopping between static posts is not walking
-            static = self._static(means[:, :2])
+            static = self._static(means[:, :2]).tolist()
+            xy = means[:, :2].tolist()
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
+                self._static_now[person.person_id] = static[i]
+                x, y = xy[i]
                 if static[i] <= p.static_time:
-                    person.travelled = max(
-                        person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
-                    )
-                if float(np.hypot(*(person.mean[:2] - person.arrived[1]))) >= p.min_travel:
+                    bx, by = person.born_at.tolist()
+                    person.travelled = max(person.travelled, math.hypot(x - bx, y - by))
+                ax, ay = person.arrived[1].tolist()
+                if math.hypot(x - ax, y - ay) >= p.min_travel:
                     person.arrived = (stamp, person.mean[:2].copy())
 
     def _births(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
@@ -625,7 +650,13 @@ class PersonTracker:
         ask = [q for q in self.persons.values() if q.confirmed or q.llr >= p.llr_confirm]
         blocked: set[int] = set()
         if ask and self.static_model is not None:
-            static = self._static(np.stack([q.mean[:2] for q in ask]))
+            # people updated in this scan were asked there (their means have not moved since)
+            known = self._static_now
+            new = [q for q in ask if q.person_id not in known]
+            if new:
+                values = self._static(np.array([q.mean[:2] for q in new])).tolist()
+                known.update(zip((q.person_id for q in new), values, strict=True))
+            static = [known[q.person_id] for q in ask]
             blocked = {
                 q.person_id
                 for q, s in zip(ask, static, strict=True)
@@ -634,7 +665,7 @@ class PersonTracker:
                     q.travelled < p.min_travel
                     or (
                         s > stamp - q.arrived[0] + p.arrival_slack
-                        and float(np.hypot(*q.mean[2:4])) < p.min_speed
+                        and math.hypot(*q.mean[2:4].tolist()) < p.min_speed
                     )
                 )
             }
@@ -701,6 +732,7 @@ class PersonTracker:
     ) -> list[Track]:
         """Advance to ``stamp`` [s] with this scan's leg tracks; returns the confirmed people
         whose last leg detection is at most ``max_report_unseen`` [s] old."""
+        self._static_now = {}
         self._predict(stamp)
         self._release(legs)
         self._join(legs)

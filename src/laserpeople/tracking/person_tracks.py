@@ -347,7 +347,8 @@ class PersonTrack:
         last_seen: Time [s] of the last scan with a member leg detected.
         born_at: Position (2,) where the person was born.
         travelled: Largest distance [m] from ``born_at`` so far, at places not static for
-            longer than ``static_time`` (all places without a static world model).
+            longer than ``static_time`` (all places without a static world model); no
+            longer updated once it has reached ``min_travel`` (it is only compared with it).
         arrived: (time [s], position (2,)) of the last time the person was ``min_travel``
             or farther from where it was before (when it came to its current place).
         scans: Scans since birth.
@@ -488,10 +489,10 @@ class PersonTracker:
                 ok[i] &= np.hypot(*(z - other.position).T) <= p.pair_distance
                 ok[i] &= [spread(f, other, p.min_speed) <= p.max_spread for f in free]
         cost = np.where(ok, e2, np.inf)
-        for flat in np.argsort(cost, axis=None):
-            i, j = divmod(int(flat), len(free))
-            if not np.isfinite(cost[i, j]):
-                break
+        # the allowed pairs (finite costs: e2 is within the gate) sort first
+        order = np.argsort(cost, axis=None)[: int(np.count_nonzero(ok))]
+        for flat in order.tolist():
+            i, j = divmod(flat, len(free))
             person, leg = open_[i], free[j]
             if len(person.members) >= 2 or leg.track_id in owned:
                 continue
@@ -557,15 +558,19 @@ class PersonTracker:
                 meas_covs,
             )
             # travel counts only off static places: hopping between static posts is not walking
-            static = self._static(means[:, :2]).tolist()
+            # (asked only of people who have not yet travelled min_travel: travelled is only
+            # compared with it)
+            walking = [i for i, r in enumerate(rows) if r[0].travelled < p.min_travel]
+            static = dict(zip(walking, self._static(means[walking, :2]).tolist(), strict=True))
             xy = means[:, :2].tolist()
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                self._static_now[person.person_id] = static[i]
                 x, y = xy[i]
-                if static[i] <= p.static_time:
-                    bx, by = person.born_at.tolist()
-                    person.travelled = max(person.travelled, math.hypot(x - bx, y - by))
+                if i in static:
+                    self._static_now[person.person_id] = static[i]
+                    if static[i] <= p.static_time:
+                        bx, by = person.born_at.tolist()
+                        person.travelled = max(person.travelled, math.hypot(x - bx, y - by))
                 ax, ay = person.arrived[1].tolist()
                 if math.hypot(x - ax, y - ay) >= p.min_travel:
                     person.arrived = (stamp, person.mean[:2].copy())
@@ -647,7 +652,14 @@ class PersonTracker:
         # are (or stay) confirmed unless they stand on cells static for static_time
         # people seen walking are asked too: one standing where it was static long before
         # it came there is a track that slid onto furniture
-        ask = [q for q in self.persons.values() if q.confirmed or q.llr >= p.llr_confirm]
+        # (a person that has travelled min_travel and moves faster than min_speed is not
+        # blocked whatever its place: not asked)
+        ask = [
+            q
+            for q in self.persons.values()
+            if (q.confirmed or q.llr >= p.llr_confirm)
+            and (q.travelled < p.min_travel or math.hypot(*q.mean[2:4].tolist()) < p.min_speed)
+        ]
         blocked: set[int] = set()
         if ask and self.static_model is not None:
             # people updated in this scan were asked there (their means have not moved since)

@@ -111,14 +111,6 @@ class OccupancyParams:
         "the part of a beam this close before its return is not taken as free",
         "m",
     )
-    cast_stride: int = param(
-        1,
-        "assumption",
-        "free space is cast along every cast_stride-th beam of a frame, a different subset "
-        "in each frame, so every beam is cast once in cast_stride frames (1: all beams in "
-        "every frame)",
-        "beams",
-    )
     arrival_window: float = param(
         10.0,
         "assumption",
@@ -150,8 +142,6 @@ class OccupancyParams:
             raise ValueError("need 0 < occupied_evidence <= max_evidence")
         if self.neighbourhood < 0:
             raise ValueError("neighbourhood must be >= 0")
-        if self.cast_stride < 1:
-            raise ValueError("cast_stride must be >= 1")
         if min(self.free_range, self.free_margin, self.arrival_window) < 0:
             raise ValueError("free_range, free_margin and arrival_window must be >= 0")
         if min(self.first_sight_hold, self.first_sight_static) < 0:
@@ -285,7 +275,6 @@ class OccupancyGrid:
         self._first_sight = np.zeros((0, 0), dtype=bool)  # occupied when first seen
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
-        self._casts = 0  # frames in which free space was cast (picks the beams of a stride)
 
     # ------------------------------------------------------------------ storage
 
@@ -436,13 +425,7 @@ class OccupancyGrid:
             self._ensure(cells)
         hit = np.unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            k = p.cast_stride
-            if k > 1:  # a different subset of the beams in each frame
-                pick = slice(self._casts % k, None, k)
-                free = self._free_flat(origins[pick], pts[pick], None if r is None else r[pick])
-            else:
-                free = self._free_flat(origins, pts, r)
-            self._casts += 1
+            free = self._free_flat(origins, pts, r)
             if free.size:
                 # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
                 seen_free = self._seen_free.reshape(-1)

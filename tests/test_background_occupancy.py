@@ -224,3 +224,62 @@ def test_free_cells_of_many_beams_match_a_loop_over_beams() -> None:
                 s = 0.5 * p.resolution + k * p.resolution
         got = [tuple(c) for c in g._free_cells(sensor, pts).tolist()]
         assert got == expected
+
+
+def _learnt_grid(seed: int, params: OccupancyParams | None = None) -> OccupancyGrid:
+    """A grid fed 40 frames of a random room (some returns stay, some move) from a sensor
+    that drifts, with NaN returns in some frames."""
+    rng = np.random.default_rng(seed)
+    g = OccupancyGrid(params)
+    posts = rng.uniform(-4.0, 4.0, size=(30, 2))
+    for k in range(40):
+        walkers = rng.uniform(-4.0, 4.0, size=(10, 2))
+        pts = np.vstack([posts + rng.normal(scale=0.01, size=posts.shape), walkers])
+        if k % 7 == 3:
+            pts[rng.integers(0, len(pts), 3)] = np.nan
+        g.learn(pts, 0.15 * k, sensor=np.array([0.02 * k, -0.01 * k]))
+    return g
+
+
+def test_static_time_inside_and_at_the_edge_of_the_arrays_matches_a_loop() -> None:
+    """static_time (one flat index per neighbour cell inside the arrays, a masked path at
+    their edge) equals a plain loop over each position's neighbour cells."""
+    p = P
+    for seed in range(4):
+        g = _learnt_grid(seed)
+        h, w = g._evidence.shape
+        lo = (g._origin * p.resolution).astype(float)
+        hi = ((g._origin + np.array([h, w])) * p.resolution).astype(float)
+        rng = np.random.default_rng(100 + seed)
+        inside = rng.uniform(-4.0, 4.0, size=(40, 2))
+        edge = np.vstack([lo + 0.03, hi - 0.03, [lo[0] - 1.0, 0.0], [0.0, hi[1] + 1.0]])
+        for pos in (inside, edge, np.vstack([inside[:5], edge])):
+            expected = []
+            for x, y in pos:
+                ci = math.floor(x / p.resolution) - int(g._origin[0])
+                cj = math.floor(y / p.resolution) - int(g._origin[1])
+                best = 0.0
+                for i in range(ci - 1, ci + 2):
+                    for j in range(cj - 1, cj + 2):
+                        if not (0 <= i < h and 0 <= j < w):
+                            continue
+                        dt = max(g.stamp - g._touched[i, j], 0.0)
+                        e = g._evidence[i, j] * math.exp(-dt / p.decay_time)
+                        since = g._since[i, j]
+                        t = g.stamp - since if e >= p.occupied_evidence and since == since else 0.0
+                        if g._first_sight[i, j] and t >= p.first_sight_hold:
+                            t += p.first_sight_static
+                        best = max(best, t)
+                expected.append(best)
+            assert g.static_time(pos) == pytest.approx(expected, abs=1e-12)
+
+
+def test_free_flat_indices_are_the_free_cells() -> None:
+    """The flat indices of the casting are those of _free_cells, sample by sample."""
+    rng = np.random.default_rng(7)
+    g = _learnt_grid(1)
+    sensor = np.tile([0.3, -0.2], (50, 1))
+    pts = rng.uniform(-3.5, 3.5, size=(50, 2))
+    cells = g._free_cells(sensor, pts)
+    assert len(cells) > 100
+    assert g._free_flat(sensor, pts).tolist() == g._flat(cells).tolist()

@@ -285,3 +285,24 @@ def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-unt
     path.write_text('[leg_tracker]\npeople_policy = "arras"\npeople.max_coast = 2.5\n')
     q = load_config(LegTrackerParams, path)
     assert q.people_policy == "arras" and q.people.max_coast == 2.5
+
+
+def test_each_person_is_asked_once_per_scan() -> None:
+    """The static time of a person updated in a scan is not asked again when it is
+    confirmed in the same scan (the grid has not changed in between)."""
+
+    class Counting(FakeStatic):
+        def __init__(self) -> None:
+            self.asked: list[tuple[float, float]] = []
+
+        def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+            self.asked += [(float(x), float(y)) for x, y in positions]
+            return np.zeros(positions.shape[0])
+
+    model = Counting()
+    t = PersonTracker(P, model)
+    for k in range(10):
+        model.asked = []
+        out = t.update(legs(leg(1, 1.0 + 0.05 * k, 0.0), leg(2, 1.0 + 0.05 * k, 0.3)), 0.1 * k, 1.0)
+        assert len(model.asked) == len(set(model.asked)) <= 1
+    assert [p.track_id for p in out] == [0]

@@ -286,9 +286,12 @@ class OccupancyGrid:
         if cells.shape[0] == 0:
             return
         lo, hi = cells.min(axis=0), cells.max(axis=0)
+        h, w = self._evidence.shape
+        if h * w > 0:
+            (i0, j0), (i1, j1), (o0, o1) = lo.tolist(), hi.tolist(), self._origin.tolist()
+            if i0 >= o0 and j0 >= o1 and i1 < o0 + h and j1 < o1 + w:
+                return
         shape = np.array(self._evidence.shape, dtype=np.int64)
-        if shape.prod() > 0 and (lo >= self._origin).all() and (hi < self._origin + shape).all():
-            return
         margin = 64
         if shape.prod() == 0:
             new_lo, new_hi = lo - margin, hi + margin
@@ -342,15 +345,41 @@ class OccupancyGrid:
         steps = np.arange(0.5 * res, float(reach[keep].max()), res)
         counts = np.searchsorted(steps, reach[keep], side="left")  # steps < reach per beam
         start = np.cumsum(counts) - counts
-        step = steps[np.arange(int(counts.sum())) - np.repeat(start, counts)]
+        k = np.arange(int(counts.sum()))
+        k -= np.repeat(start, counts)  # the step number of each sample along its beam
+        step = np.take(steps, k)
         o = origins[keep]
         single = bool((o == o[0]).all())  # one sensor position: a scalar (same values)
         ox = o[0, 0] if single else np.repeat(o[:, 0], counts)
         oy = o[0, 1] if single else np.repeat(o[:, 1], counts)
-        return (
-            ox + np.repeat(u[:, 0], counts) * step,
-            oy + np.repeat(u[:, 1], counts) * step,
-        )
+        xs = np.repeat(u[:, 0], counts)
+        xs *= step
+        xs += ox
+        ys = np.repeat(u[:, 1], counts)
+        ys *= step
+        ys += oy
+        return xs, ys
+
+    def _free_flat(
+        self, origins: FloatArray, points: FloatArray, r: FloatArray | None = None
+    ) -> IntArray:
+        """Flat indices into the arrays (which must hold them) of the cells of the samples
+        of :meth:`_beam_samples` (one per sample; cells repeat)."""
+        xs, ys = self._beam_samples(origins, points, r)
+        if not xs.size:
+            return np.zeros(0, dtype=np.int64)
+        res = self.params.resolution
+        # floor(x / res) - origin, times the row length, plus the same of y, in place and in
+        # floating point: exact, as all values are integers far below 2**53
+        np.divide(xs, res, out=xs)
+        np.floor(xs, out=xs)
+        xs -= self._origin[0]
+        xs *= self._seen_free.shape[1]
+        np.divide(ys, res, out=ys)
+        np.floor(ys, out=ys)
+        ys -= self._origin[1]
+        xs += ys
+        return xs.astype(np.int64)
 
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
@@ -368,16 +397,19 @@ class OccupancyGrid:
         p = self.params
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         finite = np.isfinite(pts).all(axis=1)
-        pts = pts[finite]
+        every = bool(finite.all())  # (the usual case: no copies)
+        if not every:
+            pts = pts[finite]
         origins: FloatArray | None = None
         r: FloatArray | None = None  # distances of the returns from their sensor
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
-            origins = np.broadcast_to(sen if sen.ndim == 1 else sen[finite], pts.shape)
+            origins = np.broadcast_to(sen if sen.ndim == 1 or every else sen[finite], pts.shape)
             d = pts - origins
             r = np.hypot(d[:, 0], d[:, 1])
             near = r <= p.max_range
-            pts, origins, r = pts[near], origins[near], r[near]
+            if not near.all():
+                pts, origins, r = pts[near], origins[near], r[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
@@ -393,31 +425,36 @@ class OccupancyGrid:
             self._ensure(cells)
         hit = np.unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            xs, ys = self._beam_samples(origins, pts, r)
-            if xs.size:
-                res = p.resolution
-                w = self._seen_free.shape[1]
-                free = (np.floor(xs / res).astype(np.int64) - self._origin[0]) * w + (
-                    np.floor(ys / res).astype(np.int64) - self._origin[1]
-                )
-                kept = np.take(self._seen_free, hit)  # a cell with a return now is not free
-                np.put(self._seen_free, free, stamp)
-                np.put(self._seen_free, hit, kept)
+            free = self._free_flat(origins, pts, r)
+            if free.size:
+                # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
+                seen_free = self._seen_free.reshape(-1)
+                kept = np.take(seen_free, hit)  # a cell with a return now is not free
+                seen_free[free] = stamp
+                seen_free[hit] = kept
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
         now = after >= p.occupied_evidence
-        np.put(self._evidence, hit, after)
-        np.put(self._touched, hit, stamp)
+        self._evidence.reshape(-1)[hit] = after
+        self._touched.reshape(-1)[hit] = stamp
         since = np.take(self._since, hit)
         kept_since = was & ~np.isnan(since)
-        np.put(self._since, hit, np.where(kept_since, since, np.where(now, stamp, np.nan)))
+        self._since.reshape(-1)[hit] = np.where(kept_since, since, np.where(now, stamp, np.nan))
         arrived = stamp - np.take(self._seen_free, hit) <= p.arrival_window
-        np.put(
-            self._first_sight,
-            hit,
-            np.where(kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived),
+        self._first_sight.reshape(-1)[hit] = np.where(
+            kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived
         )
+
+    def _cell_static(self, flat: IntArray) -> FloatArray:
+        """Static time [s] of the cells ``flat`` (flat indices into the arrays) at the last
+        frame's time (0 where free)."""
+        p = self.params
+        occ = self._decayed(flat, self.stamp) >= p.occupied_evidence
+        since = np.take(self._since, flat)
+        tk = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
+        held = np.take(self._first_sight, flat) & (tk >= p.first_sight_hold)
+        return np.asarray(np.where(held, tk + p.first_sight_static, tk))
 
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
         """Static time [s] (M,) of ``positions`` (M, 2) [m] at the last frame's time: the
@@ -430,19 +467,22 @@ class OccupancyGrid:
             n = p.neighbourhood
             off = np.arange(-n, n + 1)
             base = self._cells(pos) - self._origin
-            # (M, K): the K = (2n + 1)^2 cells round each position, row offset major
-            i = (base[:, 0, None] + np.repeat(off, off.size)[None, :]).ravel()
-            j = (base[:, 1, None] + np.tile(off, off.size)[None, :]).ravel()
             h, w = self._evidence.shape
-            ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
-            t = np.zeros(i.size)
-            if ok.any():
-                flat = i[ok] * w + j[ok]
-                occ = self._decayed(flat, self.stamp) >= p.occupied_evidence
-                since = np.take(self._since, flat)
-                tk = np.where(occ & ~np.isnan(since), self.stamp - since, 0.0)
-                held = np.take(self._first_sight, flat) & (tk >= p.first_sight_hold)
-                t[ok] = np.where(held, tk + p.first_sight_static, tk)
+            (i0, j0), (i1, j1) = base.min(axis=0).tolist(), base.max(axis=0).tolist()
+            if i0 >= n and j0 >= n and i1 < h - n and j1 < w - n:
+                # (the usual case) every neighbour cell is in the arrays: (M, K) flat indices
+                # of the K = (2n + 1)^2 cells round each position
+                ring = (off[:, None] * w + off[None, :]).ravel()
+                flat = ((base[:, 0] * w + base[:, 1])[:, None] + ring[None, :]).ravel()
+                t = self._cell_static(flat)
+            else:
+                # (M, K): the K cells round each position, row offset major; outside: 0 s
+                i = (base[:, 0, None] + np.repeat(off, off.size)[None, :]).ravel()
+                j = (base[:, 1, None] + np.tile(off, off.size)[None, :]).ravel()
+                ok = (i >= 0) & (i < h) & (j >= 0) & (j < w)
+                t = np.zeros(i.size)
+                if ok.any():
+                    t[ok] = self._cell_static(i[ok] * w + j[ok])
             out = np.maximum(t.reshape(pos.shape[0], -1).max(axis=1), 0.0)
         if self.prior is not None and pos.shape[0]:
             # as far as the grid's neighbourhood reaches: up to (neighbourhood + 1) cells

@@ -30,6 +30,7 @@ sensor-frame run.
 from __future__ import annotations
 
 import math
+import statistics
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import replace
@@ -94,10 +95,10 @@ class SensorMotionCheck:
             return False
         first = frame.stamp if self._checked is None else self._checked[0]
         self._checked = (first, frame.stamp)
-        self._shares.append((frame.stamp, float(np.mean(fg))))
+        self._shares.append((frame.stamp, int(np.count_nonzero(fg)) / len(fg)))
         while self._shares and frame.stamp - self._shares[0][0] > self.params.window:
             self._shares.popleft()
-        self.share = float(np.median([s for _, s in self._shares]))
+        self.share = statistics.median(s for _, s in self._shares)  # (as np.median)
         if self.share > self.params.moved_share:
             self.moved_at = frame.index
             return True

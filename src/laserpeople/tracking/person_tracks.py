@@ -322,12 +322,14 @@ class LegObservation:
 def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean velocity, or the plain
     distance when their mean speed is below ``min_speed`` [m/s]."""
-    d = a.position - b.position
-    v = 0.5 * (a.velocity + b.velocity)
-    speed = float(np.hypot(v[0], v[1]))
+    (ax, ay), (bx, by) = a.position.tolist(), b.position.tolist()
+    (avx, avy), (bvx, bvy) = a.velocity.tolist(), b.velocity.tolist()
+    dx, dy = ax - bx, ay - by
+    vx, vy = 0.5 * (avx + bvx), 0.5 * (avy + bvy)
+    speed = math.hypot(vx, vy)
     if speed < min_speed:
-        return float(np.hypot(d[0], d[1]))
-    return abs(float(v[0] * d[1] - v[1] * d[0])) / speed
+        return math.hypot(dx, dy)
+    return abs(vx * dy - vy * dx) / speed
 
 
 @dataclass(eq=False)
@@ -345,7 +347,8 @@ class PersonTrack:
         last_seen: Time [s] of the last scan with a member leg detected.
         born_at: Position (2,) where the person was born.
         travelled: Largest distance [m] from ``born_at`` so far, at places not static for
-            longer than ``static_time`` (all places without a static world model).
+            longer than ``static_time`` (all places without a static world model); no
+            longer updated once it has reached ``min_travel`` (it is only compared with it).
         arrived: (time [s], position (2,)) of the last time the person was ``min_travel``
             or farther from where it was before (when it came to its current place).
         scans: Scans since birth.
@@ -414,6 +417,9 @@ class PersonTracker:
         """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
         self._llr = params.evidence_llr()
+        self._llr_steps = [float(x) for x in self._llr]  # (plain floats: per person and scan)
+        self._static_now: dict[int, float] = {}
+        """Static time [s] of the people's positions asked in this scan (by person id)."""
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
 
@@ -428,14 +434,16 @@ class PersonTracker:
         if not self.persons:
             return
         ps = list(self.persons.values())
-        means = np.stack([p.mean for p in ps])
-        covs = np.stack([p.cov for p in ps])
-        dt = np.clip(np.array([stamp - p.stamp for p in ps]), 0.0, 1.0)
-        seen = np.array([p.last_seen >= p.stamp - 1e-9 for p in ps])
-        pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
+        means = np.array([p.mean for p in ps])
+        covs = np.array([p.cov for p in ps])
+        dt = np.array([min(max(stamp - p.stamp, 0.0), 1.0) for p in ps])
+        seen_list = [p.last_seen >= p.stamp - 1e-9 for p in ps]
         tau = self.params.coast_velocity_time
-        if not math.isinf(tau) and not seen.all():
-            cm, cc = kalman.coast(means, covs, dt, self.params.accel_psd, tau)
+        if math.isinf(tau) or all(seen_list):
+            pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
+        else:  # people with no leg detected in their last scan coast
+            pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
+            seen = np.array(seen_list)
             pm = np.where(seen[:, None], pm, cm)
             pc = np.where(seen[:, None, None], pc, cc)
         for i, p in enumerate(ps):
@@ -444,12 +452,16 @@ class PersonTracker:
     def _release(self, legs: Mapping[int, LegObservation]) -> None:
         p = self.params
         for person in self.persons.values():
+            if not person.members:
+                continue
             keep = []
+            px, py = person.mean[:2].tolist()
             for m in person.members:
                 leg = legs.get(m)
                 if leg is None or leg.unseen_for > p.member_unseen:
                     continue
-                if float(np.hypot(*(leg.position - person.mean[:2]))) > p.max_member_distance:
+                lx, ly = leg.position.tolist()
+                if math.hypot(lx - px, ly - py) > p.max_member_distance:
                     continue
                 keep.append(m)
             person.members = keep
@@ -477,10 +489,10 @@ class PersonTracker:
                 ok[i] &= np.hypot(*(z - other.position).T) <= p.pair_distance
                 ok[i] &= [spread(f, other, p.min_speed) <= p.max_spread for f in free]
         cost = np.where(ok, e2, np.inf)
-        for flat in np.argsort(cost, axis=None):
-            i, j = divmod(int(flat), len(free))
-            if not np.isfinite(cost[i, j]):
-                break
+        # the allowed pairs (finite costs: e2 is within the gate) sort first
+        order = np.argsort(cost, axis=None)[: int(np.count_nonzero(ok))]
+        for flat in order.tolist():
+            i, j = divmod(flat, len(free))
             person, leg = open_[i], free[j]
             if len(person.members) >= 2 or leg.track_id in owned:
                 continue
@@ -495,14 +507,20 @@ class PersonTracker:
         seen = [legs[m] for m in person.members if legs[m].detected]
         if len(seen) == 2:
             a, b = seen[0].position, seen[1].position
+            (ax, ay), (bx, by) = a.tolist(), b.tolist()
             if (
-                float(np.hypot(*(a - b))) <= p.pair_distance
+                math.hypot(ax - bx, ay - by) <= p.pair_distance
                 and spread(seen[0], seen[1], p.min_speed) <= p.max_spread
             ):
                 strong = 0.5 * (seen[0].score + seen[1].score) > p.birth_min_score
                 return (TWO if strong else ONE), 0.5 * (a + b), p.pair_std
-            near = min(seen, key=lambda leg: float(np.hypot(*(leg.position - person.mean[:2]))))
-            return ONE, near.position, p.one_leg_std
+            px, py = person.mean[:2].tolist()
+
+            def off(leg: LegObservation) -> float:
+                lx, ly = leg.position.tolist()
+                return math.hypot(lx - px, ly - py)
+
+            return ONE, min(seen, key=off).position, p.one_leg_std
         if len(seen) == 1:
             if seen[0].wide:
                 return TWO, seen[0].position, p.pair_std
@@ -517,9 +535,10 @@ class PersonTracker:
     def _update_people(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
+        steps = self._llr_steps
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
-            person.llr = min(max(person.llr + float(self._llr[evidence]), p.llr_min), p.llr_max)
+            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -528,21 +547,32 @@ class PersonTracker:
                 person.last_seen = stamp
                 rows.append((person, z, std))
         if rows:
+            var = np.array([r[2] ** 2 for r in rows])
+            meas_covs = np.zeros((len(rows), 2, 2))
+            meas_covs[:, 0, 0] = var
+            meas_covs[:, 1, 1] = var
             means, covs = kalman.update_batch(
-                np.stack([r[0].mean for r in rows]),
-                np.stack([r[0].cov for r in rows]),
-                np.stack([r[1] for r in rows]),
-                np.stack([np.eye(2) * r[2] ** 2 for r in rows]),
+                np.array([r[0].mean for r in rows]),
+                np.array([r[0].cov for r in rows]),
+                np.array([r[1] for r in rows]),
+                meas_covs,
             )
             # travel counts only off static places: hopping between static posts is not walking
-            static = self._static(means[:, :2])
+            # (asked only of people who have not yet travelled min_travel: travelled is only
+            # compared with it)
+            walking = [i for i, r in enumerate(rows) if r[0].travelled < p.min_travel]
+            static = dict(zip(walking, self._static(means[walking, :2]).tolist(), strict=True))
+            xy = means[:, :2].tolist()
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
-                if static[i] <= p.static_time:
-                    person.travelled = max(
-                        person.travelled, float(np.hypot(*(person.mean[:2] - person.born_at)))
-                    )
-                if float(np.hypot(*(person.mean[:2] - person.arrived[1]))) >= p.min_travel:
+                x, y = xy[i]
+                if i in static:
+                    self._static_now[person.person_id] = static[i]
+                    if static[i] <= p.static_time:
+                        bx, by = person.born_at.tolist()
+                        person.travelled = max(person.travelled, math.hypot(x - bx, y - by))
+                ax, ay = person.arrived[1].tolist()
+                if math.hypot(x - ax, y - ay) >= p.min_travel:
                     person.arrived = (stamp, person.mean[:2].copy())
 
     def _births(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
@@ -622,10 +652,23 @@ class PersonTracker:
         # are (or stay) confirmed unless they stand on cells static for static_time
         # people seen walking are asked too: one standing where it was static long before
         # it came there is a track that slid onto furniture
-        ask = [q for q in self.persons.values() if q.confirmed or q.llr >= p.llr_confirm]
+        # (a person that has travelled min_travel and moves faster than min_speed is not
+        # blocked whatever its place: not asked)
+        ask = [
+            q
+            for q in self.persons.values()
+            if (q.confirmed or q.llr >= p.llr_confirm)
+            and (q.travelled < p.min_travel or math.hypot(*q.mean[2:4].tolist()) < p.min_speed)
+        ]
         blocked: set[int] = set()
         if ask and self.static_model is not None:
-            static = self._static(np.stack([q.mean[:2] for q in ask]))
+            # people updated in this scan were asked there (their means have not moved since)
+            known = self._static_now
+            new = [q for q in ask if q.person_id not in known]
+            if new:
+                values = self._static(np.array([q.mean[:2] for q in new])).tolist()
+                known.update(zip((q.person_id for q in new), values, strict=True))
+            static = [known[q.person_id] for q in ask]
             blocked = {
                 q.person_id
                 for q, s in zip(ask, static, strict=True)
@@ -634,7 +677,7 @@ class PersonTracker:
                     q.travelled < p.min_travel
                     or (
                         s > stamp - q.arrived[0] + p.arrival_slack
-                        and float(np.hypot(*q.mean[2:4])) < p.min_speed
+                        and math.hypot(*q.mean[2:4].tolist()) < p.min_speed
                     )
                 )
             }
@@ -701,6 +744,7 @@ class PersonTracker:
     ) -> list[Track]:
         """Advance to ``stamp`` [s] with this scan's leg tracks; returns the confirmed people
         whose last leg detection is at most ``max_report_unseen`` [s] old."""
+        self._static_now = {}
         self._predict(stamp)
         self._release(legs)
         self._join(legs)

@@ -71,11 +71,16 @@ class GroupObservations:
         m = len(self)
         if m == 0:
             return np.empty(0)
-        owner = np.repeat(np.arange(m), self.sizes)
+        owner = self.point_cluster
         dist = np.hypot(*(self.points - self.centroids[owner]).T)
         out = np.zeros(m)
         np.maximum.at(out, owner, dist)
         return out
+
+    @cached_property
+    def point_cluster(self) -> IntArray:
+        """Cluster (P,) of each point (one array, read only by convention)."""
+        return np.repeat(np.arange(len(self)), self.sizes)
 
     @cached_property
     def sizes(self) -> IntArray:

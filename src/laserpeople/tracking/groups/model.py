@@ -540,8 +540,8 @@ class GroupModel:
                 near[:, base.point_cluster[obs.source]], obs.offsets[:-1], axis=1
             )
         near &= counts[None, :] > 0
-        row_near = near.any(axis=1)
-        col_near = near.any(axis=0)
+        row_near: BoolArray = np.any(near, axis=1)
+        col_near: BoolArray = np.any(near, axis=0)
         rows_t = np.flatnonzero(row_near)
         cols_m = np.flatnonzero(col_near)
         if rows_t.size == 0:

@@ -216,16 +216,26 @@ class GroupBranches:
             masks.append(got[1])
         events: list[Event] = []
         if self.s.split_merge and meas_idx.size:
-            for t, mask in zip(tracks, masks, strict=True):
-                if mask.bit_count() >= 2:  # two observations in the gate
-                    events.append(Event("split", (t,), self._log_ps - self._log_pc))
-            for a in range(len(tracks)):
-                for b in range(a + 1, len(tracks)):
-                    if masks[a] & masks[b]:  # one observation in both gates
-                        ta, tb = tracks[a], tracks[b]
-                        ll = self._merge_loglik(ta, tb)
-                        ratio = self._log_pg + ll - 2.0 * self._log_pc
-                        events.append(Event("merge", (ta, tb), ratio, ll))
+            # most parents have no event: no gate holds two observations (bits of the
+            # union = the summed bits) and none holds two (a split); tested at once
+            union = counted = most = 0
+            for mask in masks:
+                union |= mask
+                bits = mask.bit_count()
+                counted += bits
+                most = max(most, bits)
+            if most >= 2:
+                for t, mask in zip(tracks, masks, strict=True):
+                    if mask.bit_count() >= 2:  # two observations in the gate
+                        events.append(Event("split", (t,), self._log_ps - self._log_pc))
+            if counted > union.bit_count():
+                for a in range(len(tracks)):
+                    for b in range(a + 1, len(tracks)):
+                        if masks[a] & masks[b]:  # one observation in both gates
+                            ta, tb = tracks[a], tracks[b]
+                            ll = self._merge_loglik(ta, tb)
+                            ratio = self._log_pg + ll - 2.0 * self._log_pc
+                            events.append(Event("merge", (ta, tb), ratio, ll))
             if self.s.history_split is not None:
                 events.extend(self._history_events(tracks, masks, meas_idx))
         if not events and self.s.split_merge and not self.s.join_observations:
@@ -741,9 +751,7 @@ class GroupLabelModel:
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
-        must = np.fromiter(
-            (group_payload(n).must_match for n in nodes), dtype=bool, count=len(nodes)
-        )
+        must = np.array([group_payload(n).must_match for n in nodes], dtype=bool)
         return np.where(must[:, None], self._must[None, :], self._lp[None, :])
 
     def measurement_log_rates(

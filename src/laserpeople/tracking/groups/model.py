@@ -419,10 +419,11 @@ class GroupModel:
         19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
         if len(nodes) == 1 and not batch and obs.source is None:
             return self._score_one(nodes[0], obs)
-        sizes = [max(len(group_payload(n).contour), 1) for n in nodes]
+        contours = [group_payload(n).contour for n in nodes]
+        sizes = [len(c) or 1 for c in contours]
         n_points = max(len(obs.points), 1)
         if n_points * sum(sizes) <= SCORE_BLOCK:
-            return self._score_block(nodes, obs, batch)
+            return self._score_block(nodes, obs, batch, contours)
         blocks: list[tuple[BoolArray, FloatArray]] = []
         start, width = 0, 0
         for end, k in enumerate(sizes):
@@ -488,7 +489,11 @@ class GroupModel:
         return gated, loglik
 
     def _score_block(
-        self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
+        self,
+        nodes: Sequence[TrackNode],
+        obs: GroupObservations,
+        batch: bool,
+        contours: Sequence[FloatArray] | None = None,
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` in one
         pass (eqs. 19-24): the Mahalanobis distances D (eq. 21) of every point of the
@@ -504,7 +509,8 @@ class GroupModel:
         20 exceed the gate (exact, not an approximation; ``max_gap`` caps the reach). For
         a model's re-clustered observations (``obs.source`` set) the reach is that of the
         scan's clusters the points came from, so a part scores exactly when its
-        observation would."""
+        observation would. ``contours``: the nodes' contours (taken from their payloads
+        when None)."""
         t, m = len(nodes), len(obs)
         gated = np.zeros((t, m), dtype=bool)
         loglik = np.full((t, m), -np.inf)
@@ -513,8 +519,9 @@ class GroupModel:
         s = covs[:, :2, :2] + self.s.r_point  # eq. 23
         s00, s01, s11 = s[:, 0, 0], s[:, 0, 1], s[:, 1, 1]
         det = s00 * s11 - s01**2
-        contours = [group_payload(n).contour for n in nodes]
-        k_t = np.array([max(c.shape[0], 1) for c in contours], dtype=np.int64)
+        if contours is None:
+            contours = [group_payload(n).contour for n in nodes]
+        k_t = np.array([len(c) or 1 for c in contours], dtype=np.int64)
         owner = np.repeat(np.arange(t), k_t)
         rel = np.concatenate([c if c.shape[0] else _ORIGIN for c in contours])
         c_abs = rel + pos[owner]  # the predicted contours, absolute (eq. 22)

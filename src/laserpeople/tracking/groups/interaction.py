@@ -566,14 +566,15 @@ class GroupBranches:
             else:
                 blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
             owner = _blob_majority(owner, blobs.astype(np.int64))
-        labels = np.unique(owner)
+        counts = np.bincount(owner)
+        labels = np.flatnonzero(counts)  # the units given points, ascending
         pieces: list[_Piece] | None = None
         if labels.size >= 2:
             pieces = []
-            for u in labels.tolist():
+            for u, k in zip(labels.tolist(), counts[labels].tolist(), strict=True):
                 sel = owner == u
-                share = float(sel.sum()) / len(mem)
-                pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
+                mine = mem[sel]
+                pieces.append((pts[sel], mine, own[sel], float(k) / len(mem), (j, mine.tobytes())))
         self._divided[key] = pieces
         return pieces
 

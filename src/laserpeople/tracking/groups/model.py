@@ -332,8 +332,8 @@ class GroupModel:
         self._pred_row = {n.node_id: i for i, n in enumerate(nodes)}
         if not nodes:
             return
-        means = np.stack([n.mean for n in nodes])
-        covs = np.stack([n.cov for n in nodes])
+        means = np.array([n.mean for n in nodes])  # np.stack's rows, without its checks
+        covs = np.array([n.cov for n in nodes])
         dt = np.clip(stamp - np.array([n.stamp for n in nodes]), 0.0, self.s.max_dt)
         a = np.broadcast_to(np.eye(5), (len(nodes), 5, 5)).copy()
         a[:, 0, 2] = a[:, 1, 3] = dt

@@ -216,19 +216,12 @@ class GroupBranches:
             masks.append(got[1])
         events: list[Event] = []
         if self.s.split_merge and meas_idx.size:
-            # most parents have no event: no gate holds two observations (bits of the
-            # union = the summed bits) and none holds two (a split); tested at once
-            union = counted = most = 0
-            for mask in masks:
-                union |= mask
-                bits = mask.bit_count()
-                counted += bits
-                most = max(most, bits)
-            if most >= 2:
+            wide, shared = _gate_events(masks)  # most parents have neither
+            if wide:
                 for t, mask in zip(tracks, masks, strict=True):
                     if mask.bit_count() >= 2:  # two observations in the gate
                         events.append(Event("split", (t,), self._log_ps - self._log_pc))
-            if counted > union.bit_count():
+            if shared:
                 for a in range(len(tracks)):
                     for b in range(a + 1, len(tracks)):
                         if masks[a] & masks[b]:  # one observation in both gates
@@ -690,6 +683,20 @@ class _HistorySplit:
     j: int
     pieces: list[_Piece]
     halves: tuple[TrackNode, TrackNode]
+
+
+def _gate_events(masks: Sequence[int]) -> tuple[bool, bool]:
+    """Whether some gate (bits of an int, one per observation) holds two observations
+    (a split may be), and whether some observation is in two gates (a merge may be:
+    the gates' bits overlap exactly when their counts add up to more than their
+    union's)."""
+    union = counted = most = 0
+    for mask in masks:
+        union |= mask
+        bits = mask.bit_count()
+        counted += bits
+        most = max(most, bits)
+    return most >= 2, counted > union.bit_count()
 
 
 def _bits(row: BoolArray) -> int:

@@ -405,3 +405,37 @@ def test_gate_event_pretest_equals_the_split_and_merge_loops() -> None:
             masks[a] & masks[b] for a in range(len(masks)) for b in range(a + 1, len(masks))
         )
         assert _gate_events(masks) == (wide, shared)
+
+
+def _aligned_reference(past, points, shift, steps, both_ways):  # type: ignore[no-untyped-def]
+    """Translation-only ICP of the motion-coherence term, every step taken."""
+    zx, zy, px, py = points[:, 0], points[:, 1], past[:, 0], past[:, 1]
+    sx, sy = float(shift[0]), float(shift[1])
+    for step in range(steps + 1):
+        d = np.subtract.outer(zx - sx, px) ** 2 + np.subtract.outer(zy - sy, py) ** 2
+        if step == steps:
+            break
+        k = d.argmin(axis=1)
+        sx = float((zx - px[k]).sum()) / zx.size
+        sy = float((zy - py[k]).sum()) / zy.size
+    d_sq = float(d.min(axis=1).sum()) / zx.size
+    if both_ways:
+        d_sq = 0.5 * (d_sq + float(d.min(axis=0).sum()) / px.size)
+    return d_sq
+
+
+def test_alignment_stopping_when_the_nearest_points_repeat_equals_every_step() -> None:
+    """:func:`aligned_distance_sq` ends early once a step's nearest points repeat the
+    step before's; the d^2 is the one of all steps, to the bit."""
+    from laserpeople.tracking.groups.coherence import aligned_distance_sq
+
+    rng = np.random.default_rng(21)
+    for _ in range(500):
+        past = rng.normal(0.0, 0.4, (int(rng.integers(1, 30)), 2))
+        points = past[rng.integers(0, len(past), int(rng.integers(1, 30)))]
+        points = points + rng.normal(0.3, 0.1, points.shape)
+        shift = rng.normal(0.0, 0.3, 2)
+        steps = int(rng.integers(0, 6))
+        both = bool(rng.integers(0, 2))
+        got = aligned_distance_sq(past, points, shift, steps, both)
+        assert got == _aligned_reference(past, points, shift, steps, both)

@@ -7,7 +7,7 @@ CPU time of this process (``time.process_time``), so that other jobs on the mach
 not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
-        [--breakdown] [--against OTHER/src]
+        [--breakdown] [--against OTHER/src] [--preset paper|history] [--digest]
 
 ``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
 (median over those scans of each part's ms; parts nest as indented).
@@ -16,12 +16,21 @@ not inflate it; ``laserpeople bench`` reports wall-clock time.
 change) in lock step: two worker processes, one per code, track the same frames and take
 turns scan by scan (which one goes first alternates), so both see the same load on a
 shared machine; prints both medians and their ratio per bin of people in view.
+
+``--preset history`` runs ``GroupTrackerParams.history_splitting()`` instead of 000's
+setting (``paper``, the default).
+
+``--digest`` prints, per simulated run (and the bag), a SHA-256 of the tracker's whole
+state after every scan (every hypothesis' log weight; every node's ids, label, counts,
+state, covariance, contour, members, labels and history; the reported tracks and
+events): equal digests of two codes mean bit-identical outputs.
 """
 
 from __future__ import annotations
 
 import argparse
 import functools
+import hashlib
 import os
 import subprocess
 import sys
@@ -55,6 +64,36 @@ PARTS = (
 )  # fmt: skip
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
 BINS = ((0, 4), (5, 9), (10, 14), (15, 20))
+PRESETS = {
+    "paper": GroupTrackerParams.paper_likelihood,
+    "history": GroupTrackerParams.history_splitting,
+}
+
+
+def digest(frames: list[Frame], params: GroupTrackerParams) -> str:
+    """SHA-256 (hex) of a fresh tracker's state after every one of ``frames`` (see the
+    module doc)."""
+    tracker = GroupMHTTracker(params)
+    h = hashlib.sha256()
+    for frame in frames:
+        out = tracker.update(frame)
+        for c in tracker.mht.clusters:
+            h.update(repr(sorted(c.families)).encode())
+            for hyp in c.hypotheses:
+                h.update(np.float64(hyp.log_weight).tobytes())
+                for t in hyp.tracks:
+                    p = t.payload
+                    h.update(repr((t.node_id, t.family, t.parent_id, t.label, t.measurement,
+                                   t.hits, t.misses, t.age, t.loglik, p.labels, p.must_match,
+                                   p.event, p.merged_stamp)).encode())  # fmt: skip
+                    for a in (t.mean, t.cov, p.contour, p.members):
+                        h.update(np.ascontiguousarray(a).tobytes())
+                    for stamp, pts in p.history:
+                        h.update(np.float64(stamp).tobytes())
+                        h.update(np.ascontiguousarray(pts).tobytes())
+        h.update(repr([(t.track_id, t.size, t.labels, t.score) for t in out.tracks]).encode())
+        h.update(repr([(e.stamp, e.kind, e.labels) for e in tracker.events]).encode())
+    return h.hexdigest()
 
 
 def time_frames(frames: list[Frame], params: GroupTrackerParams) -> np.ndarray:
@@ -169,7 +208,7 @@ def worker(args: argparse.Namespace) -> None:
         runs = [(frames, np.full(len(frames), -1))]
     print(sum(len(f) for f, _ in runs), flush=True)
     for frames, people in runs:
-        tracker = GroupMHTTracker(GroupTrackerParams())
+        tracker = GroupMHTTracker(PRESETS[args.preset]())
         for frame, n in zip(frames, people, strict=True):
             sys.stdin.readline()
             t0 = time.process_time()
@@ -185,7 +224,7 @@ def lock_step(args: argparse.Namespace, kind: str) -> tuple[np.ndarray, np.ndarr
     here = str(Path(laserpeople.__file__).resolve().parents[1])
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", kind,
            "--scenario", args.scenario, "--seconds", str(args.seconds),
-           "--seeds", *map(str, args.seeds)]  # fmt: skip
+           "--seeds", *map(str, args.seeds), "--preset", args.preset]  # fmt: skip
     procs = []
     for src in (here, args.against):
         env = dict(os.environ, PYTHONPATH=src)
@@ -215,8 +254,8 @@ def lock_step(args: argparse.Namespace, kind: str) -> tuple[np.ndarray, np.ndarr
 def print_against(args: argparse.Namespace) -> None:
     """The lock-step comparison with ``args.against`` (hall, then the demo bag)."""
     here, other, people = lock_step(args, "hall")
-    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each, lock step: CPU ms "
-          f"per scan, this code vs {args.against}\n")  # fmt: skip
+    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each, preset {args.preset}, "
+          f"lock step: CPU ms per scan, this code vs {args.against}\n")  # fmt: skip
     print("| people in view | other | this | this / other | median of per-scan ratios | frames |")
     print("|---|---|---|---|---|---|")
     bins = [*BINS, (0, 10**6)]
@@ -243,6 +282,13 @@ def main() -> None:
     ap.add_argument("--no-bag", action="store_true", help="skip the real demo bag")
     ap.add_argument("--breakdown", action="store_true", help="time the parts at 15-20 people")
     ap.add_argument("--against", default="", help="src directory of the code to compare with")
+    ap.add_argument(
+        "--preset",
+        choices=sorted(PRESETS),
+        default="paper",
+        help="paper: 000's setting (default); history: the history split",
+    )
+    ap.add_argument("--digest", action="store_true", help="print state digests, no timing")
     ap.add_argument("--worker", default="", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.worker:
@@ -251,11 +297,19 @@ def main() -> None:
     if args.against:
         print_against(args)
         return
-    params = GroupTrackerParams()
+    params = PRESETS[args.preset]()
     runs = hall_runs(args.scenario, args.seeds, args.seconds)
+    if args.digest:
+        root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))
+        for seed, (frames, _) in zip(args.seeds, runs, strict=True):
+            print(f"{args.scenario} seed {seed}, {args.seconds:g} s: {digest(frames, params)}")
+        if not args.no_bag and (root / DEMO_BAG).is_file():
+            print(f"demo bag: {digest(demo_frames(root), params)}")
+        return
     ms = np.concatenate([time_frames(frames, params) for frames, _ in runs])
     people = np.concatenate([p for _, p in runs])
-    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each: CPU ms per scan\n")
+    print(f"{args.scenario}, seeds {args.seeds}, {args.seconds:g} s each, preset {args.preset}: "
+          "CPU ms per scan\n")  # fmt: skip
     print("| people in view | median | p95 | frames |")
     print("|---|---|---|---|")
     for lo, hi in BINS:

@@ -337,3 +337,105 @@ def test_predictions_gathered_from_predict_equal_the_nodes_own() -> None:
         g1, ll1 = model.score([node], obs)
         np.testing.assert_array_equal(g1, g_all[i : i + 1])
         np.testing.assert_array_equal(ll1, ll_all[i : i + 1])
+
+
+def _group_distance_sq_reference(ci, mi, cvi, cj, mj, cvj, d_p):  # type: ignore[no-untyped-def]
+    """Eqs. 25-26 as written before the in-place version: pairs as rows, the shortening
+    by two ``where``s, the quadratic form by einsum over (pairs, 4)."""
+    pi = ci + mi[:2]
+    pj = cj + mj[:2]
+    delta = (pi[:, None, :] - pj[None, :, :]).reshape(-1, 2)
+    length = np.hypot(delta[:, 0], delta[:, 1])
+    scale = np.where(length > d_p, 1.0 - d_p / np.where(length > 0, length, 1.0), 0.0)
+    star = np.empty((delta.shape[0], 4))
+    star[:, :2] = delta * scale[:, None]
+    star[:, 2:] = mi[2:4] - mj[2:4]
+    sol = np.linalg.solve(cvi[:4, :4] + cvj[:4, :4], star.T)
+    return float(np.min(np.einsum("ij,ji->i", star, sol)))
+
+
+def test_group_distance_in_place_equals_eq25_26_bit_for_bit() -> None:
+    """The in-place d_min^2 (one (4, pairs) array, the shortening as 1 - d_P / max(|dx|,
+    d_P)) is the number the pairs-as-rows version gives, to the bit, also for point
+    pairs exactly d_P apart, within d_P and at the same place."""
+    rng = np.random.default_rng(12)
+    for trial in range(400):
+        ki, kj = rng.integers(1, 40, 2)
+        ci = rng.normal(0.0, 0.6, (ki, 2))
+        cj = rng.normal(0.0, 0.6, (kj, 2))
+        if trial % 5 == 0:  # a pair exactly d_P apart and a pair at one place
+            cj[0] = ci[0] + np.array([1.3, 0.0])
+            cj[-1] = ci[-1]
+        mi = np.array([*rng.normal(0, 1, 2), *rng.normal(0, 0.8, 2), 2.0])
+        mj = np.array([*rng.normal(0, 1, 2), *rng.normal(0, 0.8, 2), 1.0])
+        a = rng.normal(size=(5, 5))
+        b = rng.normal(size=(5, 5))
+        cvi = a @ a.T * 0.05 + np.eye(5) * 0.01
+        cvj = b @ b.T * 0.05 + np.eye(5) * 0.01
+        got = model_mod.group_distance_sq(ci, mi, cvi, cj, mj, cvj, 1.3)
+        assert got == _group_distance_sq_reference(ci, mi, cvi, cj, mj, cvj, 1.3)
+
+
+def test_observations_of_ordered_parts_skip_the_sort_with_the_same_arrays() -> None:
+    """``_from_labels(..., ordered=True)`` (labels already non-decreasing, as from_parts
+    makes them) equals the sorting path."""
+    rng = np.random.default_rng(3)
+    sizes = rng.integers(1, 9, 6)
+    labels = np.repeat(np.arange(6), sizes)
+    pts = rng.normal(0.0, 1.0, (labels.size, 2))
+    idx = rng.permutation(labels.size).astype(np.int64)
+    fine = np.arange(labels.size, dtype=np.int64) // 2
+    counting = GroupTrackerParams().counting()
+    a = GroupObservations._from_labels(pts, idx, labels, fine, counting)
+    b = GroupObservations._from_labels(pts, idx, labels, fine, counting, ordered=True)
+    for name in ("points", "offsets", "members", "centroids", "n_hs", "share", "blobs"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+
+
+def test_gate_event_pretest_equals_the_split_and_merge_loops() -> None:
+    """The pre-test of :meth:`GroupBranches.branches` (some gate with two observations;
+    some observation in two gates) says what its loops over tracks and pairs find."""
+    from laserpeople.tracking.groups.interaction import _gate_events
+
+    rng = np.random.default_rng(8)
+    for _ in range(3000):
+        masks = [int(x) for x in rng.integers(0, 2 ** int(rng.integers(1, 9)), rng.integers(0, 7))]
+        wide = any(m.bit_count() >= 2 for m in masks)
+        shared = any(
+            masks[a] & masks[b] for a in range(len(masks)) for b in range(a + 1, len(masks))
+        )
+        assert _gate_events(masks) == (wide, shared)
+
+
+def _aligned_reference(past, points, shift, steps, both_ways):  # type: ignore[no-untyped-def]
+    """Translation-only ICP of the motion-coherence term, every step taken."""
+    zx, zy, px, py = points[:, 0], points[:, 1], past[:, 0], past[:, 1]
+    sx, sy = float(shift[0]), float(shift[1])
+    for step in range(steps + 1):
+        d = np.subtract.outer(zx - sx, px) ** 2 + np.subtract.outer(zy - sy, py) ** 2
+        if step == steps:
+            break
+        k = d.argmin(axis=1)
+        sx = float((zx - px[k]).sum()) / zx.size
+        sy = float((zy - py[k]).sum()) / zy.size
+    d_sq = float(d.min(axis=1).sum()) / zx.size
+    if both_ways:
+        d_sq = 0.5 * (d_sq + float(d.min(axis=0).sum()) / px.size)
+    return d_sq
+
+
+def test_alignment_stopping_when_the_nearest_points_repeat_equals_every_step() -> None:
+    """:func:`aligned_distance_sq` ends early once a step's nearest points repeat the
+    step before's; the d^2 is the one of all steps, to the bit."""
+    from laserpeople.tracking.groups.coherence import aligned_distance_sq
+
+    rng = np.random.default_rng(21)
+    for _ in range(500):
+        past = rng.normal(0.0, 0.4, (int(rng.integers(1, 30)), 2))
+        points = past[rng.integers(0, len(past), int(rng.integers(1, 30)))]
+        points = points + rng.normal(0.3, 0.1, points.shape)
+        shift = rng.normal(0.0, 0.3, 2)
+        steps = int(rng.integers(0, 6))
+        both = bool(rng.integers(0, 2))
+        got = aligned_distance_sq(past, points, shift, steps, both)
+        assert got == _aligned_reference(past, points, shift, steps, both)

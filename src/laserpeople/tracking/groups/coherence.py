@@ -144,11 +144,14 @@ def aligned_distance_sq(
 
     The squared distances of every point to every past point, one (K, J) matrix per step
     (a group's few dozen points: cheaper than building and querying a KD-tree); the
-    moved past points' nearest points are the matrix's column minima."""
+    moved past points' nearest points are the matrix's column minima. A step whose
+    nearest points are those of the step before ends the alignment (the shift would not
+    change again; the result is that of all ``steps``)."""
     pts = np.asarray(points, dtype=np.float64)
     ref = np.asarray(past, dtype=np.float64)
     sx, sy = float(shift[0]), float(shift[1])
     zx, zy, px, py = pts[:, 0], pts[:, 1], ref[:, 0], ref[:, 1]
+    last: NDArray[np.intp] | None = None
     for step in range(steps + 1):
         dx = np.subtract.outer(zx - sx, px)
         dy = np.subtract.outer(zy - sy, py)
@@ -157,6 +160,11 @@ def aligned_distance_sq(
         if step == steps:
             break
         k = d.argmin(axis=1)
+        if last is not None and np.array_equal(k, last):
+            # the same nearest points as the step before, so the same shift as this
+            # step's: every further step repeats this one (the same numbers)
+            break
+        last = k
         sx = float((zx - px[k]).sum()) / zx.size  # the mean offset
         sy = float((zy - py[k]).sum()) / zy.size
     d_sq = float(d.min(axis=1).sum()) / zx.size
@@ -179,12 +187,16 @@ class CoherentGroupModel(GroupModel):
         self.coherence = coherence
         self._refs: dict[int, tuple[FloatArray, FloatArray] | None] = {}
         self._terms: dict[tuple[int, int], FloatArray] = {}
+        # (node id, frame point indices of a cluster) -> d^2 of the node's snapshot and
+        # those points, this scan (a cluster recurs in the observations of many models)
+        self._d_sq: dict[tuple[int, bytes], float] = {}
 
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict (see the base class) and forget the last scan's coherence terms."""
         super().predict(nodes, stamp)
         self._refs.clear()
         self._terms.clear()
+        self._d_sq.clear()
         self._stamp = stamp
 
     def score(
@@ -229,11 +241,17 @@ class CoherentGroupModel(GroupModel):
             return row
         past, shift = ref
         sigma = self.coherence.sigma
-        for j in np.nonzero(gated)[0].tolist():
-            z = obs.cluster(j)
-            d_sq = aligned_distance_sq(
-                past, z, shift, self.coherence.align, self.coherence.both_ways
-            )
+        known = self._d_sq
+        for j in np.flatnonzero(gated).tolist():
+            # the frame's points, in order, are named by their indices: a cluster met
+            # again in another observation set (a part a model left whole) is not
+            # aligned again
+            key = (node.node_id, obs.cluster_members(j).tobytes())
+            d_sq = known.get(key)
+            if d_sq is None:
+                d_sq = known[key] = aligned_distance_sq(
+                    past, obs.cluster(j), shift, self.coherence.align, self.coherence.both_ways
+                )
             row[j] = coherence_log_likelihood(d_sq, sigma, float(obs.share[j]))
         return row
 

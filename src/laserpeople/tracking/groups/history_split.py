@@ -159,8 +159,7 @@ def velocity_modes(
     for _ in range(settings.iterations):
         if mode.min() == mode.max():
             return None
-        means = np.array([(k[mode == c, None] * ub[mode == c]).sum(0) / k[mode == c].sum()
-                          for c in (0, 1)])  # fmt: skip
+        means = _mode_means(ub, k, mode)
         d = ((ub[:, None, :] - means[None, :, :]) ** 2).sum(axis=2)
         new = np.argmin(d, axis=1).astype(np.int64)
         if np.array_equal(new, mode):
@@ -168,8 +167,7 @@ def velocity_modes(
         mode = new
     if mode.min() == mode.max():
         return None
-    means = np.array([(k[mode == c, None] * ub[mode == c]).sum(0) / k[mode == c].sum()
-                      for c in (0, 1)])  # fmt: skip
+    means = _mode_means(ub, k, mode)
     points_per_mode = np.bincount(mode, k, 2)
     if points_per_mode.min() < settings.min_points:
         return None
@@ -178,6 +176,15 @@ def velocity_modes(
     if dv < settings.min_dv or dv < settings.separation * spread:
         return None
     return np.asarray(mode[blob], dtype=np.int64)
+
+
+def _mode_means(ub: FloatArray, k: FloatArray, mode: IntArray) -> FloatArray:
+    """Mean velocity (2, 2) [m/s] of mode 0 and of mode 1: the blob velocities ``ub``
+    (B, 2) of each mode (``mode`` (B,)) weighted by their points ``k`` (B,) (the centre
+    step of the 2-means of :func:`velocity_modes`, also its final modes)."""
+    return np.array(
+        [(k[mode == c, None] * ub[mode == c]).sum(0) / k[mode == c].sum() for c in (0, 1)]
+    )
 
 
 def mode_velocities(velocities: FloatArray, modes: IntArray) -> FloatArray:

@@ -216,16 +216,19 @@ class GroupBranches:
             masks.append(got[1])
         events: list[Event] = []
         if self.s.split_merge and meas_idx.size:
-            for t, mask in zip(tracks, masks, strict=True):
-                if mask.bit_count() >= 2:  # two observations in the gate
-                    events.append(Event("split", (t,), self._log_ps - self._log_pc))
-            for a in range(len(tracks)):
-                for b in range(a + 1, len(tracks)):
-                    if masks[a] & masks[b]:  # one observation in both gates
-                        ta, tb = tracks[a], tracks[b]
-                        ll = self._merge_loglik(ta, tb)
-                        ratio = self._log_pg + ll - 2.0 * self._log_pc
-                        events.append(Event("merge", (ta, tb), ratio, ll))
+            wide, shared = _gate_events(masks)  # most parents have neither
+            if wide:
+                for t, mask in zip(tracks, masks, strict=True):
+                    if mask.bit_count() >= 2:  # two observations in the gate
+                        events.append(Event("split", (t,), self._log_ps - self._log_pc))
+            if shared:
+                for a in range(len(tracks)):
+                    for b in range(a + 1, len(tracks)):
+                        if masks[a] & masks[b]:  # one observation in both gates
+                            ta, tb = tracks[a], tracks[b]
+                            ll = self._merge_loglik(ta, tb)
+                            ratio = self._log_pg + ll - 2.0 * self._log_pc
+                            events.append(Event("merge", (ta, tb), ratio, ll))
             if self.s.history_split is not None:
                 events.extend(self._history_events(tracks, masks, meas_idx))
         if not events and self.s.split_merge and not self.s.join_observations:
@@ -556,14 +559,15 @@ class GroupBranches:
             else:
                 blobs = np.unique(self.obs.blobs[own], return_inverse=True)[1]
             owner = _blob_majority(owner, blobs.astype(np.int64))
-        labels = np.unique(owner)
+        counts = np.bincount(owner)
+        labels = np.flatnonzero(counts)  # the units given points, ascending
         pieces: list[_Piece] | None = None
         if labels.size >= 2:
             pieces = []
-            for u in labels.tolist():
+            for u, k in zip(labels.tolist(), counts[labels].tolist(), strict=True):
                 sel = owner == u
-                share = float(sel.sum()) / len(mem)
-                pieces.append((pts[sel], mem[sel], own[sel], share, (j, mem[sel].tobytes())))
+                mine = mem[sel]
+                pieces.append((pts[sel], mine, own[sel], float(k) / len(mem), (j, mine.tobytes())))
         self._divided[key] = pieces
         return pieces
 
@@ -681,6 +685,20 @@ class _HistorySplit:
     halves: tuple[TrackNode, TrackNode]
 
 
+def _gate_events(masks: Sequence[int]) -> tuple[bool, bool]:
+    """Whether some gate (bits of an int, one per observation) holds two observations
+    (a split may be), and whether some observation is in two gates (a merge may be:
+    the gates' bits overlap exactly when their counts add up to more than their
+    union's)."""
+    union = counted = most = 0
+    for mask in masks:
+        union |= mask
+        bits = mask.bit_count()
+        counted += bits
+        most = max(most, bits)
+    return most >= 2, counted > union.bit_count()
+
+
 def _bits(row: BoolArray) -> int:
     """A boolean row (m,) as an int with bit i set where ``row[i]``."""
     if row.size > 64:
@@ -741,9 +759,7 @@ class GroupLabelModel:
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
-        must = np.fromiter(
-            (group_payload(n).must_match for n in nodes), dtype=bool, count=len(nodes)
-        )
+        must = np.array([group_payload(n).must_match for n in nodes], dtype=bool)
         return np.where(must[:, None], self._must[None, :], self._lp[None, :])
 
     def measurement_log_rates(

@@ -235,15 +235,23 @@ def group_distance_sq(
     along itself and zero when the points are within d_P."""
     pi = np.asarray(contour_i, dtype=np.float64) + mean_i[:2]
     pj = np.asarray(contour_j, dtype=np.float64) + mean_j[:2]
-    delta = (pi[:, None, :] - pj[None, :, :]).reshape(-1, 2)
-    length = np.hypot(delta[:, 0], delta[:, 1])
-    scale = np.where(length > d_p, 1.0 - d_p / np.where(length > 0, length, 1.0), 0.0)
-    star = np.empty((delta.shape[0], 4))
-    star[:, :2] = delta * scale[:, None]  # max(0, dx - d_P u)
-    star[:, 2:] = mean_i[2:4] - mean_j[2:4]  # eq. 25
+    # star (4, pairs): rows dx', dy', vx_i - vx_j, vy_i - vy_j, written in place
+    star = np.empty((4, pi.shape[0], pj.shape[0]))
+    dx = np.subtract(pi[:, None, 0], pj[None, :, 0], out=star[0])
+    dy = np.subtract(pi[:, None, 1], pj[None, :, 1], out=star[1])
+    # the shortening 1 - d_P / |dx| beyond d_P, 0 within (1 - d_P / d_P is exactly 0)
+    scale = np.hypot(dx, dy)
+    np.maximum(scale, d_p, out=scale)
+    np.divide(d_p, scale, out=scale)
+    np.subtract(1.0, scale, out=scale)
+    dx *= scale  # max(0, dx - d_P u)
+    dy *= scale
+    star[2] = mean_i[2] - mean_j[2]  # eq. 25
+    star[3] = mean_i[3] - mean_j[3]
+    flat = star.reshape(4, -1)
     s = cov_i[:4, :4] + cov_j[:4, :4]
-    sol = np.linalg.solve(s, star.T)
-    return float(np.min(np.einsum("ij,ji->i", star, sol)))  # eq. 26
+    sol = np.linalg.solve(s, flat)
+    return float(np.einsum("ji,ji->i", flat, sol).min())  # eq. 26
 
 
 def merge_log_likelihood(d_min_sq: float, cov_i: FloatArray, cov_j: FloatArray) -> float:
@@ -324,8 +332,8 @@ class GroupModel:
         self._pred_row = {n.node_id: i for i, n in enumerate(nodes)}
         if not nodes:
             return
-        means = np.stack([n.mean for n in nodes])
-        covs = np.stack([n.cov for n in nodes])
+        means = np.array([n.mean for n in nodes])  # np.stack's rows, without its checks
+        covs = np.array([n.cov for n in nodes])
         dt = np.clip(stamp - np.array([n.stamp for n in nodes]), 0.0, self.s.max_dt)
         a = np.broadcast_to(np.eye(5), (len(nodes), 5, 5)).copy()
         a[:, 0, 2] = a[:, 1, 3] = dt
@@ -411,10 +419,11 @@ class GroupModel:
         19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
         if len(nodes) == 1 and not batch and obs.source is None:
             return self._score_one(nodes[0], obs)
-        sizes = [max(len(group_payload(n).contour), 1) for n in nodes]
+        contours = [group_payload(n).contour for n in nodes]
+        sizes = [len(c) or 1 for c in contours]
         n_points = max(len(obs.points), 1)
         if n_points * sum(sizes) <= SCORE_BLOCK:
-            return self._score_block(nodes, obs, batch)
+            return self._score_block(nodes, obs, batch, contours)
         blocks: list[tuple[BoolArray, FloatArray]] = []
         start, width = 0, 0
         for end, k in enumerate(sizes):
@@ -438,17 +447,19 @@ class GroupModel:
         det = s00 * s11 - s01 * s01
         contour = group_payload(node).contour
         c_abs = (contour if contour.shape[0] else _ORIGIN) + pos
-        r_t = float(np.max(np.hypot(*(c_abs - pos).T)))
+        rel = c_abs - pos
+        r_t = float(np.hypot(rel[:, 0], rel[:, 1]).max())
         half_trace = 0.5 * (s00 + s11)
         lam_max = half_trace + math.sqrt(max(half_trace * half_trace - det, 0.0))
         reach = min(self.s.max_gap, math.sqrt(self.s.gate_sq * lam_max))
         counts = obs.sizes
         gap = np.hypot(obs.centroids[:, 0] - pos[0], obs.centroids[:, 1] - pos[1])
-        near = np.nonzero((gap - obs.radii - r_t <= reach) & (counts > 0))[0]
+        close = (gap - obs.radii - r_t <= reach) & (counts > 0)
+        near = np.flatnonzero(close)
         if near.size == 0:
             return gated, loglik
         n_z = counts[near]
-        points = obs.points if near.size == m else obs.points[_ranges(obs.offsets[near], n_z)]
+        points = obs.points if near.size == m else obs.points[close[obs.point_cluster]]
         z_start = np.cumsum(n_z) - n_z
         dx = np.subtract.outer(points[:, 0], c_abs[:, 0])
         dy = np.subtract.outer(points[:, 1], c_abs[:, 1])
@@ -460,12 +471,12 @@ class GroupModel:
         tmp = np.multiply(dy, s00, out=tmp)
         tmp *= dy
         q += tmp
-        z_min = np.sqrt(q.min(axis=1) / det)
+        z_min = np.sqrt(np.minimum.reduce(q, axis=1) / det)
         c_min = np.sqrt(_row_block_min(q, z_start, n_z) / det)
         if self.s.rms:
             z_min, c_min = z_min**2, c_min**2
         z_to_p = np.add.reduceat(z_min, z_start) / n_z  # d(Z, P), eq. 20
-        p_to_z = c_min.mean(axis=1)  # d(P, Z)
+        p_to_z = np.add.reduce(c_min, axis=1) / c_min.shape[1]  # d(P, Z), as ndarray.mean
         if self.s.rms:
             z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
         d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
@@ -478,7 +489,11 @@ class GroupModel:
         return gated, loglik
 
     def _score_block(
-        self, nodes: Sequence[TrackNode], obs: GroupObservations, batch: bool
+        self,
+        nodes: Sequence[TrackNode],
+        obs: GroupObservations,
+        batch: bool,
+        contours: Sequence[FloatArray] | None = None,
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` in one
         pass (eqs. 19-24): the Mahalanobis distances D (eq. 21) of every point of the
@@ -494,7 +509,8 @@ class GroupModel:
         20 exceed the gate (exact, not an approximation; ``max_gap`` caps the reach). For
         a model's re-clustered observations (``obs.source`` set) the reach is that of the
         scan's clusters the points came from, so a part scores exactly when its
-        observation would."""
+        observation would. ``contours``: the nodes' contours (taken from their payloads
+        when None)."""
         t, m = len(nodes), len(obs)
         gated = np.zeros((t, m), dtype=bool)
         loglik = np.full((t, m), -np.inf)
@@ -503,8 +519,9 @@ class GroupModel:
         s = covs[:, :2, :2] + self.s.r_point  # eq. 23
         s00, s01, s11 = s[:, 0, 0], s[:, 0, 1], s[:, 1, 1]
         det = s00 * s11 - s01**2
-        contours = [group_payload(n).contour for n in nodes]
-        k_t = np.array([max(c.shape[0], 1) for c in contours], dtype=np.int64)
+        if contours is None:
+            contours = [group_payload(n).contour for n in nodes]
+        k_t = np.array([len(c) or 1 for c in contours], dtype=np.int64)
         owner = np.repeat(np.arange(t), k_t)
         rel = np.concatenate([c if c.shape[0] else _ORIGIN for c in contours])
         c_abs = rel + pos[owner]  # the predicted contours, absolute (eq. 22)
@@ -526,11 +543,14 @@ class GroupModel:
         counts = obs.sizes
         if base is not obs:  # a part is near when every point's scan cluster is
             assert obs.source is not None
-            cluster_of = np.repeat(np.arange(len(base)), base.sizes)[obs.source]
-            near = np.logical_and.reduceat(near[:, cluster_of], obs.offsets[:-1], axis=1)
+            near = np.logical_and.reduceat(
+                near[:, base.point_cluster[obs.source]], obs.offsets[:-1], axis=1
+            )
         near &= counts[None, :] > 0
-        rows_t = np.nonzero(near.any(axis=1))[0]
-        cols_m = np.nonzero(near.any(axis=0))[0]
+        row_near: BoolArray = np.any(near, axis=1)
+        col_near: BoolArray = np.any(near, axis=0)
+        rows_t = np.flatnonzero(row_near)
+        cols_m = np.flatnonzero(col_near)
         if rows_t.size == 0:
             return gated, loglik
         # the observed points of the clusters near some node
@@ -538,17 +558,52 @@ class GroupModel:
             points, n_z = obs.points, counts
         else:
             n_z = counts[cols_m]
-            points = obs.points[_ranges(obs.offsets[cols_m], n_z)]
-        z_start = np.cumsum(n_z) - n_z
+            points = obs.points[col_near[obs.point_cluster]]
         # the contour points of the nodes near some cluster
         if rows_t.size == t:
             n_c, cols_c = k_t, c_abs
             ds00, ds01, ds11, ddet = s00, s01, s11, det
         else:
             n_c = k_t[rows_t]
-            cols_c = c_abs[_ranges(c_start[rows_t], n_c)]
+            cols_c = c_abs[row_near[owner]]
             ds00, ds01, ds11, ddet = s00[rows_t], s01[rows_t], s11[rows_t], det[rows_t]
-        col_owner = np.repeat(np.arange(rows_t.size), n_c)
+        sub_near = near if cols_m.size == m and rows_t.size == t else near[rows_t][:, cols_m]
+        coef = (ds00, ds01, ds11, ddet)
+        d_hd = self._hausdorff(points, n_z, cols_c, n_c, coef, batch)
+        ok = sub_near & (d_hd**2 <= self.s.gate_sq)
+        w = obs.share[cols_m][None, :]
+        lpm = self.s.log_p_match
+        if batch:  # eq. 24, a part counting its share
+            log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)
+            sub_ll = w * (lpm + log_norm[:, None] - 0.5 * d_hd**2) - lpm
+        else:
+            log_norm = np.array([_LOG_2PI_NEG - 0.5 * math.log(d) for d in ddet.tolist()])
+            sub_ll = w * (lpm + (log_norm[:, None] - 0.5 * d_hd**2)) - lpm
+        sub_ll = np.where(ok, sub_ll, -np.inf)
+        if rows_t.size == t and cols_m.size == m:
+            return ok, sub_ll
+        gated[np.ix_(rows_t, cols_m)] = ok
+        loglik[np.ix_(rows_t, cols_m)] = sub_ll
+        return gated, loglik
+
+    def _hausdorff(
+        self,
+        points: FloatArray,
+        n_z: IntArray,
+        cols_c: FloatArray,
+        n_c: IntArray,
+        coef: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+        batch: bool,
+    ) -> FloatArray:
+        """d_HD (T', M') (eqs. 19-21) of the nodes whose predicted contours (absolute,
+        ``n_c`` (T',) points each, ``cols_c`` (K, 2)) and innovation covariances S
+        (``coef``: s00, s01, s11, det S, each (T',)) are given against the clusters of
+        ``points`` (Z, 2) (``n_z`` (M',) points each), from one dense matrix of the
+        Mahalanobis distances D (eq. 21); ``batch`` chooses how d(P, Z) is summed (see
+        :meth:`_score_block`)."""
+        ds00, ds01, ds11, ddet = coef
+        z_start = np.cumsum(n_z) - n_z
+        col_owner = np.repeat(np.arange(n_c.size), n_c)
         n_start = np.cumsum(n_c) - n_c
         dx = np.subtract.outer(points[:, 0], cols_c[:, 0])
         dy = np.subtract.outer(points[:, 1], cols_c[:, 1])
@@ -570,32 +625,19 @@ class GroupModel:
         z_to_p = np.add.reduceat(z_min, z_start, axis=0) / n_z[:, None]  # d(Z, P), eq. 20
         if batch:
             p_to_z = np.add.reduceat(c_min, n_start, axis=1) / n_c[None, :]  # d(P, Z)
-        elif rows_t.size == 1:  # the same mean, summed in numpy's order for a row
-            p_to_z = c_min.mean(axis=1)[:, None]
-        else:
+        elif n_c.size == 1:  # the same mean, summed in numpy's order for a row
+            p_to_z = (np.add.reduce(c_min, axis=1) / c_min.shape[1])[:, None]
+        else:  # each node's own mean (ndarray.mean is add.reduce divided by the count)
             ends = (n_start + n_c).tolist()
             p_to_z = np.column_stack(
-                [c_min[:, a:b].mean(axis=1) for a, b in zip(n_start.tolist(), ends, strict=True)]
+                [
+                    np.add.reduce(c_min[:, a:b], axis=1) / (b - a)
+                    for a, b in zip(n_start.tolist(), ends, strict=True)
+                ]
             )
         if self.s.rms:
             z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
-        d_hd = np.minimum(z_to_p, p_to_z).T  # eq. 19, (T', M')
-        sub_near = near if cols_m.size == m and rows_t.size == t else near[rows_t][:, cols_m]
-        ok = sub_near & (d_hd**2 <= self.s.gate_sq)
-        w = obs.share[cols_m][None, :]
-        lpm = self.s.log_p_match
-        if batch:  # eq. 24, a part counting its share
-            log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)
-            sub_ll = w * (lpm + log_norm[:, None] - 0.5 * d_hd**2) - lpm
-        else:
-            log_norm = np.array([_LOG_2PI_NEG - 0.5 * math.log(d) for d in ddet.tolist()])
-            sub_ll = w * (lpm + (log_norm[:, None] - 0.5 * d_hd**2)) - lpm
-        sub_ll = np.where(ok, sub_ll, -np.inf)
-        if rows_t.size == t and cols_m.size == m:
-            return ok, sub_ll
-        gated[np.ix_(rows_t, cols_m)] = ok
-        loglik[np.ix_(rows_t, cols_m)] = sub_ll
-        return gated, loglik
+        return np.asarray(np.minimum(z_to_p, p_to_z).T)  # eq. 19, (T', M')
 
     # -- update, coast, initiate
     def update(
@@ -658,10 +700,11 @@ def _row_block_min(q: FloatArray, starts: IntArray, lengths: IntArray) -> FloatA
     consecutive, non-empty row blocks ``starts[b] .. starts[b] + lengths[b] - 1`` that
     cover it: one ``min`` per block, several times faster than ``reduceat`` along the
     rows (the minimum is exact, so the same numbers)."""
+    least = np.minimum.reduce
     if starts.size == 1:
-        return q.min(axis=0, keepdims=True)
+        return least(q, axis=0, keepdims=True)
     ends = (starts + lengths).tolist()
-    return np.stack([q[a:b].min(axis=0) for a, b in zip(starts.tolist(), ends, strict=True)])
+    return np.stack([least(q[a:b], axis=0) for a, b in zip(starts.tolist(), ends, strict=True)])
 
 
 def _ranges(starts: IntArray, lengths: IntArray) -> IntArray:

@@ -71,11 +71,16 @@ class GroupObservations:
         m = len(self)
         if m == 0:
             return np.empty(0)
-        owner = np.repeat(np.arange(m), self.sizes)
+        owner = self.point_cluster
         dist = np.hypot(*(self.points - self.centroids[owner]).T)
         out = np.zeros(m)
         np.maximum.at(out, owner, dist)
         return out
+
+    @cached_property
+    def point_cluster(self) -> IntArray:
+        """Cluster (P,) of each point (one array, read only by convention)."""
+        return np.repeat(np.arange(len(self)), self.sizes)
 
     @cached_property
     def sizes(self) -> IntArray:
@@ -150,7 +155,7 @@ class GroupObservations:
                 fine_parts.append(single_linkage(p, d_hs) + base)
                 base += len(m)
             fine = np.concatenate(fine_parts)
-        out = cls._from_labels(pts, idx, labels, fine, counting)  # keeps the parts' order
+        out = cls._from_labels(pts, idx, labels, fine, counting, ordered=True)
         changes: dict[str, IntArray | FloatArray] = {}
         if share is not None:
             changes["share"] = np.asarray(share, dtype=np.float64).reshape(len(parts))
@@ -166,9 +171,15 @@ class GroupObservations:
         labels: IntArray,
         fine: IntArray,
         counting: SizeCounting | None = None,
+        ordered: bool = False,
     ) -> GroupObservations:
-        order = np.argsort(labels, kind="stable")
-        pts, idx, labels, fine = pts[order], idx[order], labels[order], fine[order]
+        """The observations of points ``pts`` (N, 2) with frame indices ``idx`` (N,),
+        cluster labels ``labels`` (N,) 0..M-1 and blob labels ``fine`` (N,); the points
+        are put cluster after cluster (in their order within each), which they are
+        already when ``ordered`` (labels non-decreasing: the sort is skipped)."""
+        if not ordered:
+            order = np.argsort(labels, kind="stable")
+            pts, idx, labels, fine = pts[order], idx[order], labels[order], fine[order]
         m = int(labels.max()) + 1
         counts = np.bincount(labels, minlength=m)
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
@@ -192,13 +203,16 @@ def linkage_levels(points: FloatArray, distances: Sequence[float]) -> list[IntAr
     if any(not d > 0 for d in distances):
         raise ValueError(f"single-linkage distances must be positive, got {list(distances)}")
     pairs = cKDTree(pts).query_pairs(max(distances), output_type="ndarray")
-    length = np.hypot(*(pts[pairs[:, 0]] - pts[pairs[:, 1]]).T) if pairs.size else np.empty(0)
+    a, b = pairs[:, 0], pairs[:, 1]
+    x, y = pts[:, 0], pts[:, 1]
+    length = np.hypot(x[a] - x[b], y[a] - y[b])  # gathers of one coordinate: faster
+    index = np.arange(n)
     out = []
     for d in distances:
         link = pairs[length < d]
         root = components(n, link)
         # each component's smallest index is its root: number the roots in index order
-        rank = np.cumsum(root == np.arange(n)) - 1
+        rank = np.cumsum(root == index) - 1
         out.append(rank[root].astype(np.int64))
     return out
 

@@ -39,12 +39,7 @@ from laserpeople.tracking.mht.hypothesis import (
     normalise_hypotheses,
     prune_children,
 )
-from laserpeople.tracking.mht.listing import (
-    MAX_LISTED_MEASUREMENTS,
-    clear_child,
-    enumerate_children,
-    single_children,
-)
+from laserpeople.tracking.mht.listing import enumerate_children, single_children
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
     LabelledAssignment,
@@ -311,8 +306,7 @@ class MHT(Generic[Meas]):
         self._most_solves = 0  # this step's most assignment problems of one cluster
         self.shortcuts = True
         """Whether clusters of one track and at most one measurement take the shortcuts
-        (:meth:`_branch_lone`, :func:`~.listing.single_children`), and clusters of several
-        tracks with a clear single child :meth:`_branch_clear`; they give the same
+        (:meth:`_branch_lone`, :func:`~.listing.single_children`); they give the same
         hypotheses as the general path (off only to test that)."""
 
     # ------------------------------------------------------------------ public
@@ -362,11 +356,6 @@ class MHT(Generic[Meas]):
                 and all(len(p.tracks) <= 1 for p in parents)
             ):
                 lone = self._branch_lone(
-                    parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
-                )
-            elif self.shortcuts and plain and len(meas_idx) >= 2 and len(parents) <= 2:
-                # (where a single child is common: two legs and their detections)
-                lone = self._branch_clear(
                     parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
                 )
             children = lone if lone is not None else self._branch(
@@ -783,91 +772,6 @@ class MHT(Generic[Meas]):
         if child is None:  # (its update is in this scan's batch: the measurement is gated)
             child = self._detected_child(t, j, j, float(loglik[row, j]), stamp)
         return [Hypothesis(0.0, (child,), self._history(parent))]
-
-    def _branch_clear(
-        self,
-        parents: list[Hypothesis],
-        measurements: Meas,
-        meas_idx: list[int],
-        stamp: float,
-        loglik: FloatArray,
-        row_of: dict[int, int],
-        log_new: FloatArray,
-        log_fal: FloatArray,
-    ) -> list[Hypothesis] | None:
-        """:meth:`_branch` of a plain-MHT cluster whose listing keeps a single child, made
-        directly (many clusters of several tracks: two legs, each with its own detection,
-        that gate each other's). The child gives every track of one parent its cheapest
-        label and every measurement left over its cheaper one; :func:`clear_child` proves
-        that every other child of every parent costs more than it plus the ratio gap. None
-        (take the general path) when that is not clear, or when the listing would not be
-        used (Murty's method, or a degraded cluster).
-
-        The child, its nodes and its ids are the ones :meth:`_branch` makes: detected
-        children in track order, then new tracks by scan index, then occluded children; a
-        single child normalises to log weight 0."""
-        m = len(meas_idx)
-        if m > MAX_LISTED_MEASUREMENTS:
-            return None
-        uniq: dict[int, int] = {}  # the parents of a cluster share most of their nodes
-        nodes_u: list[TrackNode] = []
-        live_rows: list[int] = []
-        rows_of: list[list[int]] = []
-        for parent in parents:
-            rows = []
-            for t in parent.tracks:
-                i = uniq.get(t.node_id)
-                if i is None:
-                    row = row_of.get(t.node_id)
-                    if row is None:
-                        return None
-                    i = uniq[t.node_id] = len(nodes_u)
-                    nodes_u.append(t)
-                    live_rows.append(row)
-                rows.append(i)
-            rows_of.append(rows)
-        size = len(nodes_u) + m
-        if size > self.params.max_cluster_size:
-            return None
-        cost_live = self._cost_live
-        tm = [cost_live[r].take(meas_idx).tolist() for r in live_rows]
-        lp = self._lp_live
-        c_occ = [-float(lp[r, OCCLUDED]) for r in live_rows]
-        c_del = [-float(lp[r, DELETED]) for r in live_rows]
-        priors = [-(p.log_weight + 0.0) for p in parents]  # (a single branch's log prior: 0)
-        c_new = (-log_new[meas_idx]).tolist()
-        c_fal = (-log_fal[meas_idx]).tolist()
-        found = clear_child(
-            priors, rows_of, tm, c_occ, c_del, c_new, c_fal, _max_gap(self.params.ratio)
-        )
-        if found is None:
-            return None
-        best_pi, labels, meas_labels = found
-        self._largest = max(self._largest, size)
-        parent = parents[best_pi]
-        rows = rows_of[best_pi]
-        for i, (lab, j) in zip(rows, labels, strict=True):
-            node = nodes_u[i]
-            if lab == DETECTED and meas_idx[j] not in node.children:
-                jm = meas_idx[j]
-                self._detected_child(node, jm, jm, float(loglik[live_rows[i], jm]), stamp)
-        born: dict[Hashable, tuple[Any, int, int]] = {
-            meas_idx[j]: (measurements, meas_idx[j], meas_idx[j])
-            for j, lab in enumerate(meas_labels)
-            if lab == NEW_LABEL
-        }
-        new_nodes = self._new_nodes(born, measurements, stamp) if born else {}
-        tracks: list[TrackNode] = []
-        for i, (lab, j) in zip(rows, labels, strict=True):
-            node = nodes_u[i]
-            if lab == DETECTED:
-                tracks.append(node.children[meas_idx[j]])
-            elif lab == OCCLUDED:
-                tracks.append(self._occluded_child(node, stamp))
-        if new_nodes:
-            tracks += new_nodes.values()
-            tracks.sort(key=BY_FAMILY)
-        return [Hypothesis(0.0, tuple(tracks), self._history(parent))]
 
     def _k_best(
         self,

@@ -145,178 +145,6 @@ def enumerate_children(
     ]
 
 
-def _unmatched_bound(costs: list[float], at_least: int) -> float:
-    """A lower bound of the summed costs of any set of at least ``at_least`` of the
-    measurements whose cheaper unmatched labels cost ``costs`` (sorted increasing): the
-    ``at_least`` cheapest, plus the negative ones after them (inf: no such set)."""
-    r = max(at_least, 0)
-    if r > len(costs):
-        return math.inf
-    return sum(costs[:r]) + sum([min(0.0, c) for c in costs[r:]])
-
-
-def clear_child(
-    priors: Sequence[float],
-    rows: Sequence[Sequence[int]],
-    tm: Sequence[Sequence[float]],
-    c_occ: Sequence[float],
-    c_del: Sequence[float],
-    c_new: Sequence[float],
-    c_fal: Sequence[float],
-    max_gap: float,
-) -> tuple[int, list[tuple[int, int]], list[int]] | None:
-    """The only child :func:`enumerate_children` keeps, when bounds make that clear: a
-    parent whose tracks' cheapest labels use no measurement twice gives ``g`` (those
-    labels, and the measurements left over at their cheaper labels), and every other child
-    of every parent provably costs more than ``g`` plus ``max_gap``. None when that is not
-    clear (the caller lists the cluster), or when the listing would not be used (more
-    children than :data:`LISTING_LIMIT`).
-
-    A child's cost minus ``g``'s, ``d``, sums over the tracks it labels otherwise (the set
-    ``D``) each one's change: its label's cost minus its cheapest, minus the cheaper label
-    of a measurement ``g`` leaves over if it takes one, plus the cheaper label of the
-    measurement it had (``m1``) unless another track of ``D`` takes that; plus, for the
-    measurements left over, the change of their labels (never negative). So: ``D`` empty,
-    ``d >=`` the smallest step between a left-over measurement's two labels; one track,
-    the least of its changes (labels that take another track's measurement need that
-    track in ``D``); two tracks, the least over who takes whose measurement; three or
-    more, the three least changes without the freed measurements, plus every negative
-    ``m1``. A child of another parent costs at least its cost plus its tracks' cheapest
-    labels plus the cheapest ``m1`` of the measurements its tracks cannot all take
-    (:func:`_unmatched_bound`). Each must exceed the gap by a margin (1e-9 of the sum of
-    the magnitudes of the costs) far above the rounding of these sums, so the listing
-    keeps ``g`` alone, whatever its order of equal costs.
-
-    Args:
-        priors, rows: As :func:`enumerate_children`.
-        tm: Per node, the costs of detecting it with each measurement (inf: not gated).
-        c_occ, c_del: Per node, the costs of its occluded and deleted labels.
-        c_new, c_fal: Per measurement, the costs of its new and false-alarm labels.
-        max_gap: As :func:`enumerate_children`.
-
-    Returns:
-        ``(parent index, per track of it (label, measurement or -1), per measurement its
-        label (MATCHED for those the tracks take))``; the child's cost is not returned (a
-        single child normalises to log weight 0).
-    """
-    if not math.isfinite(max_gap):
-        return None
-    inf = math.inf
-    m = len(c_new)
-    # per node: its finite labels, cheapest first (the listing's choices)
-    choices: list[list[tuple[float, int, int]]] = []
-    scale = 0.0  # the sum of the magnitudes of every finite cost, for the margin
-    for i in range(len(tm)):
-        ch = [(c, DETECTED, j) for j, c in enumerate(tm[i]) if c < inf]
-        if c_occ[i] < inf:
-            ch.append((c_occ[i], OCCLUDED, -1))
-        if c_del[i] < inf:
-            ch.append((c_del[i], DELETED, -1))
-        ch.sort()
-        for c in ch:
-            scale += abs(c[0])
-        choices.append(ch)
-    m1: list[float] = []  # each measurement's cheaper unmatched label, the label, its step
-    m_label: list[int] = []
-    m_step: list[float] = []
-    negative = 0.0
-    for j in range(m):
-        cn, cf = c_new[j], c_fal[j]
-        lo, hi, lab = (
-            (cn, cf, NEW_LABEL) if (cn, NEW_LABEL) < (cf, FALSE_ALARM) else (cf, cn, FALSE_ALARM)
-        )
-        if lo == inf:
-            return None  # (a measurement that must be taken: leave it to the listing)
-        scale += abs(lo) + (abs(hi) if hi < inf else 0.0)
-        m1.append(lo)
-        m_label.append(lab)
-        m_step.append(hi - lo)
-        negative += min(0.0, lo)
-    if children_bound(rows, [len(c) for c in choices], m) > LISTING_LIMIT:
-        return None
-    m1_sorted = sorted(m1)
-    bounds: list[float] = []  # each parent's lower bound; g comes from the least
-    for pi, r in enumerate(rows):
-        prior = float(priors[pi])
-        if not math.isfinite(prior) or any(not choices[i] for i in r):
-            bounds.append(inf)  # no child
-            continue
-        scale += abs(prior)
-        cheapest = 0.0
-        for i in r:
-            cheapest += choices[i][0][0]
-        bounds.append(prior + cheapest + _unmatched_bound(m1_sorted, m - len(r)))
-    best_pi = min(range(len(rows)), key=bounds.__getitem__)
-    if not math.isfinite(bounds[best_pi]):
-        return None
-    r = rows[best_pi]
-    taken = [-1] * m  # the track (position in r) of g that takes each measurement
-    for t, i in enumerate(r):
-        j = choices[i][0][2]
-        if j >= 0:
-            if taken[j] >= 0:
-                return None  # two tracks' cheapest labels take one measurement
-            taken[j] = t
-    meas_g = 0.0
-    for j in range(m):
-        if taken[j] < 0:
-            meas_g += m1[j]
-    cost_g = float(priors[best_pi]) + sum([choices[i][0][0] for i in r]) + meas_g
-    limit = max_gap + 1e-9 * (1.0 + scale)  # what every d must exceed
-    for pi, b in enumerate(bounds):  # another parent's children
-        if pi != best_pi and b - cost_g <= limit:
-            return None
-    for j in range(m):  # only left-over measurements relabelled
-        if taken[j] < 0 and m_step[j] <= limit:
-            return None
-    # per track of g: its changes by the measurement they take (-1: none or a left-over
-    # one; that one's m1 subtracted), the least, and m1 of the measurement it frees
-    least: list[float] = []
-    freed: list[float] = []
-    change: list[dict[int, float]] = []
-    for i in r:
-        c1, _, j1 = choices[i][0]
-        own = m1[j1] if j1 >= 0 else 0.0
-        by_meas: dict[int, float] = {}
-        alone = inf  # the least change that takes no other track's measurement
-        for cost, _, j in choices[i][1:]:
-            if j >= 0 and taken[j] >= 0:  # another track's measurement
-                d = cost - c1
-                if d < by_meas.get(j, inf):
-                    by_meas[j] = d
-            else:
-                d = cost - c1 - (m1[j] if j >= 0 else 0.0)
-                alone = min(alone, d)
-        if alone + own <= limit:  # this track alone relabelled
-            return None
-        least.append(min([alone, *by_meas.values()]))
-        freed.append(own)
-        by_meas[-1] = alone
-        change.append(by_meas)
-    n = len(r)
-    for a in range(n):  # two tracks relabelled: who takes whose measurement
-        for b in range(a + 1, n):
-            ja, jb = choices[r[a]][0][2], choices[r[b]][0][2]
-            a_alone, b_alone = change[a][-1], change[b][-1]
-            a_takes = change[a].get(jb, inf) if jb >= 0 else inf
-            b_takes = change[b].get(ja, inf) if ja >= 0 else inf
-            d = min(
-                a_alone + freed[a] + b_alone + freed[b],
-                a_takes + freed[a] + b_alone,
-                b_takes + freed[b] + a_alone,
-                a_takes + b_takes,
-            )
-            if d <= limit:
-                return None
-    if n >= 3:  # three or more
-        ys = sorted(least)
-        d = ys[0] + ys[1] + ys[2] + sum([min(0.0, y) for y in ys[3:]]) + negative
-        if d <= limit:
-            return None
-    labels = [(choices[i][0][1], choices[i][0][2]) for i in r]
-    return best_pi, labels, [MATCHED if taken[j] >= 0 else m_label[j] for j in range(m)]
-
-
 def _single_labels(tl: int, ml: int, total: float) -> LabelledAssignment:
     """The labels of a :func:`single_children` child: track label ``tl`` (-1: the parent
     has no track) and measurement label ``ml`` (-1: no measurement)."""
@@ -428,11 +256,6 @@ class _Lister:
         self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
         self.best = math.inf
         self._kept: list[float] = []  # max-heap (negated) of the k best totals
-        # the two cut thresholds, kept up to date by _record: a bound above ``limit`` (the
-        # best plus the gap, the same float) or at least ``kth`` (the k-th best total once
-        # k are found; NaN before, which no comparison passes) is cut
-        self.limit = self.best + max_gap
-        self.kth = math.nan
         self._free_labels = [MATCHED] * self.m
         # the parent being listed
         self._pi = 0
@@ -446,7 +269,9 @@ class _Lister:
         """Whether children costing at least ``bound`` can all be dropped: above the best
         plus the gap, or no better than the k-th best so far (ties among equal costs are
         kept in the order found)."""
-        return bound > self.limit or bound >= self.kth
+        if bound > self.best + self.max_gap:
+            return True
+        return len(self._kept) == self.k and bound >= -self._kept[0]
 
     def parent(self, pi: int, prior: float, rows: list[int]) -> None:
         """List the children of parent ``pi`` (cost ``prior``, tracks ``rows``)."""
@@ -474,7 +299,7 @@ class _Lister:
         # each child's bound is checked here, before the call (most children are cut)
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
-        labels, meas = self._labels, self._meas
+        labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
         last = t + 1 == len(self._rows)
         for c, lab, j, bit in self.choices[self._rows[t]]:
             if used & bit:
@@ -483,7 +308,7 @@ class _Lister:
             child_cost = cost + c
             free = full & ~child_used
             bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]
-            if bound > self.limit or bound >= self.kth:  # (self.cut, inline)
+            if bound > self.best + self.max_gap or (len(kept) == k and bound >= -kept[0]):
                 continue
             labels.append(lab)
             meas.append(j)
@@ -506,8 +331,7 @@ class _Lister:
             return
         rest = rest_lb - self.meas_min[j]
         for c, lab in self.meas_choices[j]:
-            bound = cost + c + rest
-            if bound > self.limit or bound >= self.kth:  # (self.cut, inline)
+            if self.cut(cost + c + rest):
                 break
             self._free_labels[j] = lab
             self._measurements(j + 1, cost + c, used, rest)
@@ -523,12 +347,7 @@ class _Lister:
         )
         if total < self.best:
             self.best = total
-            self.limit = total + self.max_gap
-        kept = self._kept
-        if len(kept) < self.k:
-            heapq.heappush(kept, -total)
-            if len(kept) == self.k:
-                self.kth = -kept[0]
-        elif total < -kept[0]:
-            heapq.heapreplace(kept, -total)
-            self.kth = -kept[0]
+        if len(self._kept) < self.k:
+            heapq.heappush(self._kept, -total)
+        elif total < -self._kept[0]:
+            heapq.heapreplace(self._kept, -total)

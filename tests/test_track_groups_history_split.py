@@ -19,10 +19,7 @@ from laserpeople.tracking.groups.history_split import (
     velocity_modes,
 )
 from test_track_groups import _run
-
-
-def _pts(*xy: float) -> np.ndarray:
-    return np.array(xy, dtype=float).reshape(-1, 2)
+from test_track_groups_coherence import _pts
 
 
 def _history(stamps: list[float]) -> list[tuple[float, np.ndarray]]:

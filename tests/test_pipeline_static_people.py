@@ -5,6 +5,7 @@ wires the model to leg-mht, and no sensor-frame model is used on a moving laser.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -373,3 +374,19 @@ def test_the_foreground_is_skipped_only_when_nobody_reads_it(recording: Path) ->
 
     fed = StaticFed(ReadsForeground(), PeopleStaticModel("auto"))
     assert fed.model.fill_foreground is True
+
+
+def test_track_says_how_many_furniture_legs_it_left_out(tmp_path: Path) -> None:
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "furniture.npz"
+    run_scenario("randomised-furniture", seconds=15.0, seed=3).write(rec)
+    out = tmp_path / "t.csv"
+    result = CliRunner().invoke(app, ["track", str(rec), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert re.search(r"\d+ leg detections on places static for longer", result.output)
+    config = tmp_path / "keep.toml"
+    config.write_text("[leg_tracker]\npeople.static_legs = true\n")
+    result = CliRunner().invoke(app, ["track", str(rec), "-o", str(out), "--config", str(config)])
+    assert result.exit_code == 0, result.output
+    assert "leg detections on places static" not in result.output

@@ -306,3 +306,47 @@ def test_each_person_is_asked_once_per_scan() -> None:
         out = t.update(legs(leg(1, 1.0 + 0.05 * k, 0.0), leg(2, 1.0 + 0.05 * k, 0.3)), 0.1 * k, 1.0)
         assert len(model.asked) == len(set(model.asked)) <= 1
     assert [p.track_id for p in out] == [0]
+
+
+# ------------------------------------------------------------------ furniture legs left out
+
+
+def test_on_furniture_leaves_out_static_legs_far_from_walkers() -> None:
+    t = PersonTracker(P, FakeStatic())  # static for 60 s where x <= 1.5 m
+    pos = np.array([[1.0, 0.0], [2.0, 0.0], [0.1, 0.0]])
+    assert t.on_furniture(pos).tolist() == [True, False, True]
+    # a person that has walked min_travel keeps the static legs within walker_radius
+    t._new(np.array([1.2, 0.0]), [7], 0.0)
+    (q,) = t.persons.values()
+    q.travelled = P.min_travel
+    assert t.on_furniture(pos).tolist() == [False, False, True]  # 0.2 m and 1.1 m away
+    q.travelled = 0.0  # a candidate that never walked: furniture for all we know
+    assert t.on_furniture(pos).tolist() == [True, False, True]
+    q.public_id = 3  # ... unless it was reported: people standing still keep their legs
+    assert t.on_furniture(pos).tolist() == [False, False, True]
+    # tracked as before when asked to, or without a static world model
+    assert not PersonTracker(P, None).on_furniture(pos).any()
+    kept = PersonTracker(PersonTrackParams(static_legs=True), FakeStatic())
+    assert not kept.on_furniture(pos).any()
+
+
+def test_leg_mht_counts_the_furniture_legs_it_leaves_out() -> None:
+    tracker = LegMHTTracker(LegTrackerParams(people_policy="tracks"))
+    tracker.person_tracks.static_model = FakeStatic()  # type: ignore[union-attr]
+    # two posts on a static place (x <= 1.5) and a pair of legs off it
+    for k in range(10):
+        out = tracker.update(_dets(0.1 * k, k, [(1.0, 0.0), (1.0, 0.3), (2.0, 0.0), (2.0, 0.3)]))
+    assert tracker.static_legs_left_out == 20
+    assert all(t.position[0] > 1.5 for t in out.of_kind("leg"))
+    (person,) = out.of_kind("person")
+    assert person.position == pytest.approx([2.0, 0.15], abs=0.02)
+    # with static_legs the posts are tracked as legs (and not confirmed as a person)
+    both = LegMHTTracker(
+        LegTrackerParams(people_policy="tracks", people=PersonTrackParams(static_legs=True))
+    )
+    both.person_tracks.static_model = FakeStatic()  # type: ignore[union-attr]
+    for k in range(10):
+        out = both.update(_dets(0.1 * k, k, [(1.0, 0.0), (1.0, 0.3), (2.0, 0.0), (2.0, 0.3)]))
+    assert both.static_legs_left_out == 0
+    assert sum(t.position[0] <= 1.5 for t in out.of_kind("leg")) == 2
+    assert len(out.of_kind("person")) == 1

@@ -233,6 +233,13 @@ def run_tracking(
         say(f"input guard: {checked}")
     if dropped:
         say(f"{dropped} detections with non-finite positions in the tracking frame were left out")
+    furniture = int(getattr(pipe.tracker, "static_legs_left_out", 0))
+    if furniture:
+        say(
+            f"{furniture} leg detections on places static for longer than people.static_time, "
+            "with nobody near who had walked, were not tracked as legs "
+            "(people.static_legs = true tracks them)"
+        )
     stats = pipe.stats
     return {
         "scans": float(stats.frames),

@@ -213,6 +213,9 @@ class LegMHTTracker:
         """Detections with a non-finite position, left out (counted, never silently): the
         input guard's and those made non-finite by the move to the tracking frame."""
         self._dropped_in_frame = 0
+        self.static_legs_left_out = 0
+        """Leg detections left out of the MHT as furniture (``people.static_legs`` false):
+        on places static for long with nobody who has walked near."""
         self.guard = InputGuard()
         """Counts of hostile input (repeated/backward stamps, non-finite values)."""
         self._kept: NDArray[np.intp] = np.empty(0, dtype=np.intp)
@@ -224,11 +227,17 @@ class LegMHTTracker:
             self.frame = tracking_frame(detections)
         detections = in_frame(detections, self.frame)
         meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
-        finite = np.isfinite(meas.positions).all(axis=1)
-        self._kept = np.flatnonzero(finite)
-        if not finite.all():  # e.g. a sensor pose with a NaN
-            self._dropped_in_frame += int(np.count_nonzero(~finite))
-            meas = PointMeasurements(meas.positions[finite], meas.covariances[finite])
+        keep = np.isfinite(meas.positions).all(axis=1)
+        if not keep.all():  # e.g. a sensor pose with a NaN
+            self._dropped_in_frame += int(np.count_nonzero(~keep))
+        if self.person_tracks is not None:
+            finite = np.flatnonzero(keep)
+            furniture = finite[self.person_tracks.on_furniture(meas.positions[finite])]
+            keep[furniture] = False
+            self.static_legs_left_out += int(furniture.size)
+        self._kept = np.flatnonzero(keep)
+        if self._kept.size < len(meas):
+            meas = PointMeasurements(meas.positions[keep], meas.covariances[keep])
         return meas
 
     def update(self, detections: Detections) -> Tracks:

@@ -255,6 +255,23 @@ class PersonTrackParams:
         "re-identification of people lost for long (tracking/reidentify.py)",
     )
 
+    static_legs: bool = param(
+        False,
+        "assumption: a leg on a place static for longer than static_time, with nobody seen "
+        "walking near it, is furniture; tracking it only costs CPU (measured in "
+        "docs/people-benchmarks.md, session 9)",
+        "track leg detections on places static for longer than static_time with no person "
+        "that has walked (or been reported) within walker_radius; false leaves them out of "
+        "the leg MHT (counted and reported)",
+    )
+    walker_radius: float = param(
+        1.0,
+        "assumption: a person's legs are within about half a metre of its centre, plus a "
+        "scan's motion and the position error",
+        "leg detections on static places this close to a person that has walked (or been "
+        "reported) are tracked whatever static_legs says",
+        "m",
+    )
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -531,6 +548,30 @@ class PersonTracker:
         if self.static_model is None or positions.shape[0] == 0:
             return np.zeros(positions.shape[0])
         return np.asarray(self.static_model.static_time(positions), dtype=np.float64)
+
+    def on_furniture(self, positions: FloatArray) -> NDArray[np.bool_]:
+        """Which leg detections at ``positions`` (M, 2) [m] are left out of the leg MHT when
+        ``static_legs`` is false: on places static for longer than ``static_time`` and
+        farther than ``walker_radius`` from every person that has walked ``min_travel`` or
+        been reported (people standing still keep their legs; furniture does not get any).
+        """
+        p = self.params
+        m = positions.shape[0]
+        if p.static_legs or self.static_model is None or m == 0:
+            return np.zeros(m, dtype=bool)
+        out = self._static(positions) > p.static_time
+        if out.any():
+            walkers = [
+                q.mean[:2]
+                for q in self.persons.values()
+                if q.travelled >= p.min_travel or q.public_id is not None
+            ]
+            if walkers:
+                idx = np.flatnonzero(out)
+                d = positions[idx, None, :] - np.array(walkers)[None, :, :]
+                near = (np.einsum("mwk,mwk->mw", d, d) <= p.walker_radius**2).any(axis=1)
+                out[idx[near]] = False
+        return out
 
     def _update_people(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params

@@ -227,7 +227,7 @@ class LegMHTTracker:
             self.frame = tracking_frame(detections)
         detections = in_frame(detections, self.frame)
         meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
-        keep: NDArray[np.bool_] = np.isfinite(meas.positions).all(axis=1)
+        keep = np.asarray(np.isfinite(meas.positions).all(axis=1))
         if not keep.all():  # e.g. a sensor pose with a NaN
             self._dropped_in_frame += int(np.count_nonzero(~keep))
         if self.person_tracks is not None:

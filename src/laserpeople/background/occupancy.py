@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.background.cast_cache import CastCache
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -275,6 +276,10 @@ class OccupancyGrid:
         self._first_sight = np.zeros((0, 0), dtype=bool)  # occupied when first seen
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
+        res = self.params.resolution
+        # the casting's sample distances: arange's k-th element does not depend on its stop
+        self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
+        self._cast_cache = CastCache(res, self._steps)
 
     # ------------------------------------------------------------------ storage
 
@@ -361,10 +366,23 @@ class OccupancyGrid:
         return xs, ys
 
     def _free_flat(
-        self, origins: FloatArray, points: FloatArray, r: FloatArray | None = None
+        self,
+        origins: FloatArray,
+        points: FloatArray,
+        r: FloatArray | None = None,
+        beams: IntArray | None = None,
     ) -> IntArray:
         """Flat indices into the arrays (which must hold them) of the cells of the samples
-        of :meth:`_beam_samples` (one per sample; cells repeat)."""
+        of :meth:`_beam_samples` (one per sample; cells repeat). With ``beams`` (N,), ids of
+        the beams increasing (each once), and one sensor position, the cells come from the
+        cache of a laser that stands still (``background/cast_cache.py``; the same cells)."""
+        if (
+            beams is not None
+            and r is not None
+            and bool((origins == origins[0]).all())
+            and bool((np.diff(beams) > 0).all())
+        ):
+            return self._free_flat_cached(origins[0], points, r, beams)
         xs, ys = self._beam_samples(origins, points, r)
         if not xs.size:
             return np.zeros(0, dtype=np.int64)
@@ -381,6 +399,24 @@ class OccupancyGrid:
         xs += ys
         return xs.astype(np.int64)
 
+    def _free_flat_cached(
+        self, origin: FloatArray, points: FloatArray, r: FloatArray, beams: IntArray
+    ) -> IntArray:
+        """:meth:`_free_flat` of the beams ``beams`` from one sensor position ``origin``
+        (2,), from the cache."""
+        p = self.params
+        reach = np.minimum(r - p.free_margin, p.free_range)
+        keep = reach > 0
+        if not keep.all():
+            if not keep.any():
+                return np.zeros(0, dtype=np.int64)
+            points, r, reach, beams = points[keep], r[keep], reach[keep], beams[keep]
+        u = points - origin
+        u /= r[:, None]
+        n = np.searchsorted(self._steps, reach, side="left")  # samples below the reach
+        grid = (int(self._origin[0]), int(self._origin[1]), int(self._seen_free.shape[1]))
+        return self._cast_cache.free_flat(origin, beams, u, n, grid)
+
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
         (N, 2) pass through (see :meth:`_beam_samples`)."""
@@ -388,18 +424,29 @@ class OccupancyGrid:
         res = self.params.resolution
         return np.stack([np.floor(xs / res), np.floor(ys / res)], axis=1).astype(np.int64)
 
-    def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
+    def learn(
+        self,
+        points: FloatArray,
+        stamp: float,
+        sensor: FloatArray | None = None,
+        beams: IntArray | None = None,
+    ) -> None:
         """Add one frame's returns ``points`` (N, 2) [m] seen at ``stamp`` [s] from the sensor
         position ``sensor`` ((2,), or (N, 2) one per return; returns beyond ``max_range`` from
         it are skipped). With the sensor position, the cells each beam passed through are
         marked seen free (free-space casting), which tells a cell occupied at first sight
-        from one whose occupant arrived."""
+        from one whose occupant arrived. ``beams`` (N,) names the beam of each return (the
+        same id for the same beam in every frame, increasing along ``points``): a laser
+        that stands still then casts from a cache of its beams' cells (the same cells,
+        ``background/cast_cache.py``)."""
         p = self.params
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         finite = np.isfinite(pts).all(axis=1)
         every = bool(finite.all())  # (the usual case: no copies)
+        ids = None if beams is None else np.asarray(beams, dtype=np.int64).reshape(-1)
         if not every:
             pts = pts[finite]
+            ids = None if ids is None else ids[finite]
         origins: FloatArray | None = None
         r: FloatArray | None = None  # distances of the returns from their sensor
         if sensor is not None:
@@ -410,6 +457,7 @@ class OccupancyGrid:
             near = r <= p.max_range
             if not near.all():
                 pts, origins, r = pts[near], origins[near], r[near]
+                ids = None if ids is None else ids[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
@@ -425,7 +473,7 @@ class OccupancyGrid:
             self._ensure(cells)
         hit = np.unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            free = self._free_flat(origins, pts, r)
+            free = self._free_flat(origins, pts, r, ids)
             if free.size:
                 # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
                 seen_free = self._seen_free.reshape(-1)
@@ -506,7 +554,8 @@ class OccupancyGrid:
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
             frame = replace(frame, points=points)
-        self.learn(points.points, frame.stamp, sensor_positions(frame, points))
+        ids = (points.sensor_ids << 32) | points.beams  # (sensor, beam): one id per beam
+        self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
         return frame
 
 

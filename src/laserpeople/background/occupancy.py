@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.background.cast_cache import CastCache
+from laserpeople.background.still_cast import StillCast
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -279,7 +279,7 @@ class OccupancyGrid:
         res = self.params.resolution
         # the casting's sample distances: arange's k-th element does not depend on its stop
         self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
-        self._cast_cache = CastCache(res, self._steps)
+        self._still = StillCast(res, self._steps)  # the casting of a laser standing still
 
     # ------------------------------------------------------------------ storage
 
@@ -304,6 +304,7 @@ class OccupancyGrid:
             new_lo = np.minimum(self._origin, lo - margin)
             new_hi = np.maximum(self._origin + shape - 1, hi + margin)
         size = new_hi - new_lo + 1
+        self._still.settle(self._seen_free.reshape(-1))  # its flat indices are about to move
         ev = np.zeros(tuple(size))
         touched = np.full(tuple(size), -np.inf)
         since = np.full(tuple(size), np.nan)
@@ -366,23 +367,10 @@ class OccupancyGrid:
         return xs, ys
 
     def _free_flat(
-        self,
-        origins: FloatArray,
-        points: FloatArray,
-        r: FloatArray | None = None,
-        beams: IntArray | None = None,
+        self, origins: FloatArray, points: FloatArray, r: FloatArray | None = None
     ) -> IntArray:
         """Flat indices into the arrays (which must hold them) of the cells of the samples
-        of :meth:`_beam_samples` (one per sample; cells repeat). With ``beams`` (N,), ids of
-        the beams increasing (each once), and one sensor position, the cells come from the
-        cache of a laser that stands still (``background/cast_cache.py``; the same cells)."""
-        if (
-            beams is not None
-            and r is not None
-            and bool((origins == origins[0]).all())
-            and bool((np.diff(beams) > 0).all())
-        ):
-            return self._free_flat_cached(origins[0], points, r, beams)
+        of :meth:`_beam_samples` (one per sample; cells repeat)."""
         xs, ys = self._beam_samples(origins, points, r)
         if not xs.size:
             return np.zeros(0, dtype=np.int64)
@@ -399,23 +387,32 @@ class OccupancyGrid:
         xs += ys
         return xs.astype(np.int64)
 
-    def _free_flat_cached(
-        self, origin: FloatArray, points: FloatArray, r: FloatArray, beams: IntArray
-    ) -> IntArray:
-        """:meth:`_free_flat` of the beams ``beams`` from one sensor position ``origin``
-        (2,), from the cache."""
+    def _cast_still(
+        self,
+        origin: FloatArray,
+        points: FloatArray,
+        r: FloatArray,
+        beams: IntArray,
+        hit: IntArray,
+        stamp: float,
+    ) -> None:
+        """Cast the beams ``beams`` from one sensor position ``origin`` (2,) that has not
+        moved since the frame before, through :class:`StillCast` (the same ``seen_free``)."""
         p = self.params
         reach = np.minimum(r - p.free_margin, p.free_range)
         keep = reach > 0
         if not keep.all():
-            if not keep.any():
-                return np.zeros(0, dtype=np.int64)
             points, r, reach, beams = points[keep], r[keep], reach[keep], beams[keep]
         u = points - origin
         u /= r[:, None]
         n = np.searchsorted(self._steps, reach, side="left")  # samples below the reach
-        grid = (int(self._origin[0]), int(self._origin[1]), int(self._seen_free.shape[1]))
-        return self._cast_cache.free_flat(origin, beams, u, n, grid)
+        self._still.cast(self._seen_free.reshape(-1), origin, beams, u, n, hit, stamp)
+
+    def _seen_free_now(self) -> FloatArray:
+        """``seen_free`` [s] of every cell (the array's shape), the still laser's live cells
+        included."""
+        flat = np.arange(self._seen_free.size)
+        return self._still.value(self._seen_free.reshape(-1), flat).reshape(self._seen_free.shape)
 
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
@@ -471,15 +468,28 @@ class OccupancyGrid:
             self._ensure(np.vstack([cells, corners]))
         else:
             self._ensure(cells)
-        hit = np.unique(self._flat(cells))  # each cell with a return once
+        hit = sorted_unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            free = self._free_flat(origins, pts, r, ids)
-            if free.size:
-                # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
-                seen_free = self._seen_free.reshape(-1)
-                kept = np.take(seen_free, hit)  # a cell with a return now is not free
-                seen_free[free] = stamp
-                seen_free[hit] = kept
+            assert r is not None
+            # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
+            seen_free = self._seen_free.reshape(-1)
+            one = bool((origins == origins[0]).all())
+            still = False
+            if ids is not None and one and bool((np.diff(ids) > 0).all()):
+                (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
+                ox, oy = float(origins[0, 0]), float(origins[0, 1])
+                still = self._still.still((ox, oy, i0, j0, w, h * w))
+            else:
+                self._still.still(None)
+            if still and ids is not None:
+                self._cast_still(origins[0], pts, r, ids, hit, stamp)
+            else:
+                self._still.settle(seen_free)
+                free = self._free_flat(origins, pts, r)
+                if free.size:
+                    kept = np.take(seen_free, hit)  # a cell with a return now is not free
+                    seen_free[free] = stamp
+                    seen_free[hit] = kept
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
@@ -489,7 +499,8 @@ class OccupancyGrid:
         since = np.take(self._since, hit)
         kept_since = was & ~np.isnan(since)
         self._since.reshape(-1)[hit] = np.where(kept_since, since, np.where(now, stamp, np.nan))
-        arrived = stamp - np.take(self._seen_free, hit) <= p.arrival_window
+        seen = self._still.value(self._seen_free.reshape(-1), hit)
+        arrived = stamp - seen <= p.arrival_window
         self._first_sight.reshape(-1)[hit] = np.where(
             kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived
         )
@@ -557,6 +568,17 @@ class OccupancyGrid:
         ids = (points.sensor_ids << 32) | points.beams  # (sensor, beam): one id per beam
         self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
         return frame
+
+
+def sorted_unique(values: IntArray) -> IntArray:
+    """The distinct ``values`` (N,), sorted: ``np.unique(values)``, which on a few hundred
+    values takes several times as long (numpy 2.4)."""
+    s = np.sort(values)
+    if s.size < 2:
+        return s
+    keep = np.ones(s.size, dtype=bool)
+    np.not_equal(s[1:], s[:-1], out=keep[1:])
+    return s[keep]
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

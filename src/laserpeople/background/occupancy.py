@@ -434,21 +434,26 @@ class OccupancyGrid:
         marked seen free (free-space casting), which tells a cell occupied at first sight
         from one whose occupant arrived. ``beams`` (N,) names the beam of each return (the
         same id for the same beam in every frame, increasing along ``points``): a laser
-        that stands still then casts from a cache of its beams' cells (the same cells,
-        ``background/cast_cache.py``)."""
+        that stands still then casts from lists of its beams' cells (the same cells,
+        ``background/still_cast.py``)."""
         p = self.params
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        finite = np.isfinite(pts).all(axis=1)
-        every = bool(finite.all())  # (the usual case: no copies)
+        every = bool(np.isfinite(pts).all())  # (the usual case: no copies)
         ids = None if beams is None else np.asarray(beams, dtype=np.int64).reshape(-1)
+        finite = None
         if not every:
+            finite = np.isfinite(pts).all(axis=1)
             pts = pts[finite]
             ids = None if ids is None else ids[finite]
         origins: FloatArray | None = None
         r: FloatArray | None = None  # distances of the returns from their sensor
+        one = False  # one sensor position for all returns
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
-            origins = np.broadcast_to(sen if sen.ndim == 1 or every else sen[finite], pts.shape)
+            one = sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0)  # (broadcast)
+            if one and sen.ndim == 2:
+                sen = sen[0]
+            origins = np.broadcast_to(sen if finite is None or one else sen[finite], pts.shape)
             d = pts - origins
             r = np.hypot(d[:, 0], d[:, 1])
             near = r <= p.max_range
@@ -464,7 +469,10 @@ class OccupancyGrid:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
             # those cells too (the corners of the sensors' bounding box suffice)
-            corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
+            if one:
+                corners = self._cells(np.asarray(origins[:1]))
+            else:
+                corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
             self._ensure(np.vstack([cells, corners]))
         else:
             self._ensure(cells)
@@ -473,7 +481,7 @@ class OccupancyGrid:
             assert r is not None
             # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
             seen_free = self._seen_free.reshape(-1)
-            one = bool((origins == origins[0]).all())
+            one = one or bool((origins == origins[0]).all())
             still = False
             if ids is not None and one and bool((np.diff(ids) > 0).all()):
                 (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
@@ -584,9 +592,10 @@ def sorted_unique(values: IntArray) -> IntArray:
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:
     """The position (N, 2) [m] of the laser that measured each of ``points``, in the
     frame's coordinate frame: each scan's pose in the world frame, the origin in the sensor
-    frame (one laser); None when a world-frame scan has no pose."""
+    frame (one laser); None when a world-frame scan has no pose. With one laser, one row
+    broadcast to all (read-only)."""
     if frame.frame == "sensor":
-        return np.zeros((len(points), 2))
+        return np.broadcast_to(np.zeros(2), (len(points), 2))
     where: dict[str, tuple[float, float]] = {}
     for scan in frame.scans:
         pose = scan.pose if scan.pose is not None else frame.sensor_pose
@@ -597,6 +606,8 @@ def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:
         table = np.array([where[name] for name in points.sensors], dtype=np.float64)
     except KeyError:
         return None
+    if table.shape[0] == 1:  # one laser: one position (a read-only view)
+        return np.broadcast_to(table[0], (len(points), 2))
     return table[points.sensor_ids].reshape(-1, 2)
 
 

@@ -20,7 +20,10 @@ stayed occupied for ``first_sight_hold`` seconds (longer than a walker's footpri
 occupied) its static time is raised by ``first_sight_static``. Walls and furniture in view
 from the start thus count as static after 6 s instead of after ``background_time`` (30 s)
 or the people's 10 s, while something that arrived in seen-free space (a person who walked
-there and stands) is static only for as long as it has stood.
+there and stands) is static only for as long as it has stood. For a laser that stands
+still (one sensor position, unchanged since the frame before, and beam ids from
+:meth:`OccupancyGrid.learn_frame`) the casting is kept up to date beam by beam instead of
+sampled afresh (``background/still_cast.py``): the same ``seen_free``, bit for bit.
 
 leg_tracker (Leigh et al. 2015) keeps a local occupancy grid for the same purpose (a leg
 track must be in free space to start a person); here the grid answers

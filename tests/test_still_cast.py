@@ -146,3 +146,22 @@ def test_still_casting_with_free_space_off_casts_nothing() -> None:
         g.learn(np.array([[1.0, 0.0]]), t, sensor=np.zeros(2), beams=np.array([0]))
     assert not g.casting and not g._still.active
     assert not np.isfinite(g._seen_free_now()).any()
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_one_sensor_row_broadcast_equals_one_row_per_return(seed: int) -> None:
+    """A sensor given as one row broadcast to all returns (what sensor_positions gives for
+    one laser), as a full (N, 2) copy, or as (2,) leaves the same grid, NaN returns and
+    returns beyond max_range included."""
+    grids = [OccupancyGrid(OccupancyParams(max_range=6.0)) for _ in range(3)]
+    for pts, stamp, sensor, beams in _room(seed)[:30]:
+        if sensor is None:
+            continue
+        rows = np.broadcast_to(sensor, pts.shape)
+        for g, sen in zip(grids, (rows, np.array(rows), sensor), strict=True):
+            g.learn(pts, stamp, sensor=sen, beams=beams)
+    for g in grids[1:]:
+        assert np.array_equal(g._origin, grids[0]._origin)
+        assert np.array_equal(g._seen_free_now(), grids[0]._seen_free_now())
+        assert np.array_equal(g._first_sight, grids[0]._first_sight)
+        assert np.array_equal(g._since, grids[0]._since, equal_nan=True)

@@ -20,7 +20,10 @@ stayed occupied for ``first_sight_hold`` seconds (longer than a walker's footpri
 occupied) its static time is raised by ``first_sight_static``. Walls and furniture in view
 from the start thus count as static after 6 s instead of after ``background_time`` (30 s)
 or the people's 10 s, while something that arrived in seen-free space (a person who walked
-there and stands) is static only for as long as it has stood.
+there and stands) is static only for as long as it has stood. For a laser that stands
+still (one sensor position, unchanged since the frame before, and beam ids from
+:meth:`OccupancyGrid.learn_frame`) the casting is kept up to date beam by beam instead of
+sampled afresh (``background/still_cast.py``): the same ``seen_free``, bit for bit.
 
 leg_tracker (Leigh et al. 2015) keeps a local occupancy grid for the same purpose (a leg
 track must be in free space to start a person); here the grid answers
@@ -41,6 +44,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.background.still_cast import StillCast
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -275,6 +279,10 @@ class OccupancyGrid:
         self._first_sight = np.zeros((0, 0), dtype=bool)  # occupied when first seen
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
+        res = self.params.resolution
+        # the casting's sample distances: arange's k-th element does not depend on its stop
+        self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
+        self._still = StillCast(res, self._steps)  # the casting of a laser standing still
 
     # ------------------------------------------------------------------ storage
 
@@ -299,6 +307,7 @@ class OccupancyGrid:
             new_lo = np.minimum(self._origin, lo - margin)
             new_hi = np.maximum(self._origin + shape - 1, hi + margin)
         size = new_hi - new_lo + 1
+        self._still.settle(self._seen_free.reshape(-1))  # its flat indices are about to move
         ev = np.zeros(tuple(size))
         touched = np.full(tuple(size), -np.inf)
         since = np.full(tuple(size), np.nan)
@@ -381,6 +390,33 @@ class OccupancyGrid:
         xs += ys
         return xs.astype(np.int64)
 
+    def _cast_still(
+        self,
+        origin: FloatArray,
+        points: FloatArray,
+        r: FloatArray,
+        beams: IntArray,
+        hit: IntArray,
+        stamp: float,
+    ) -> None:
+        """Cast the beams ``beams`` from one sensor position ``origin`` (2,) that has not
+        moved since the frame before, through :class:`StillCast` (the same ``seen_free``)."""
+        p = self.params
+        reach = np.minimum(r - p.free_margin, p.free_range)
+        keep = reach > 0
+        if not keep.all():
+            points, r, reach, beams = points[keep], r[keep], reach[keep], beams[keep]
+        u = points - origin
+        u /= r[:, None]
+        n = np.searchsorted(self._steps, reach, side="left")  # samples below the reach
+        self._still.cast(self._seen_free.reshape(-1), origin, beams, u, n, hit, stamp)
+
+    def _seen_free_now(self) -> FloatArray:
+        """``seen_free`` [s] of every cell (the array's shape), the still laser's live cells
+        included."""
+        flat = np.arange(self._seen_free.size)
+        return self._still.value(self._seen_free.reshape(-1), flat).reshape(self._seen_free.shape)
+
     def _free_cells(self, origins: FloatArray, points: FloatArray) -> IntArray:
         """Cells (K, 2) that the beams from ``origins`` (N, 2) to their returns ``points``
         (N, 2) pass through (see :meth:`_beam_samples`)."""
@@ -388,28 +424,45 @@ class OccupancyGrid:
         res = self.params.resolution
         return np.stack([np.floor(xs / res), np.floor(ys / res)], axis=1).astype(np.int64)
 
-    def learn(self, points: FloatArray, stamp: float, sensor: FloatArray | None = None) -> None:
+    def learn(
+        self,
+        points: FloatArray,
+        stamp: float,
+        sensor: FloatArray | None = None,
+        beams: IntArray | None = None,
+    ) -> None:
         """Add one frame's returns ``points`` (N, 2) [m] seen at ``stamp`` [s] from the sensor
         position ``sensor`` ((2,), or (N, 2) one per return; returns beyond ``max_range`` from
         it are skipped). With the sensor position, the cells each beam passed through are
         marked seen free (free-space casting), which tells a cell occupied at first sight
-        from one whose occupant arrived."""
+        from one whose occupant arrived. ``beams`` (N,) names the beam of each return (the
+        same id for the same beam in every frame, increasing along ``points``): a laser
+        that stands still then casts from lists of its beams' cells (the same cells,
+        ``background/still_cast.py``)."""
         p = self.params
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        finite = np.isfinite(pts).all(axis=1)
-        every = bool(finite.all())  # (the usual case: no copies)
+        every = bool(np.isfinite(pts).all())  # (the usual case: no copies)
+        ids = None if beams is None else np.asarray(beams, dtype=np.int64).reshape(-1)
+        finite = None
         if not every:
+            finite = np.isfinite(pts).all(axis=1)
             pts = pts[finite]
+            ids = None if ids is None else ids[finite]
         origins: FloatArray | None = None
         r: FloatArray | None = None  # distances of the returns from their sensor
+        one = False  # one sensor position for all returns
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
-            origins = np.broadcast_to(sen if sen.ndim == 1 or every else sen[finite], pts.shape)
+            one = sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0)  # (broadcast)
+            if one and sen.ndim == 2:
+                sen = sen[0]
+            origins = np.broadcast_to(sen if finite is None or one else sen[finite], pts.shape)
             d = pts - origins
             r = np.hypot(d[:, 0], d[:, 1])
             near = r <= p.max_range
             if not near.all():
                 pts, origins, r = pts[near], origins[near], r[near]
+                ids = None if ids is None else ids[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
@@ -419,19 +472,35 @@ class OccupancyGrid:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
             # those cells too (the corners of the sensors' bounding box suffice)
-            corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
+            if one:
+                corners = self._cells(np.asarray(origins[:1]))
+            else:
+                corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
             self._ensure(np.vstack([cells, corners]))
         else:
             self._ensure(cells)
-        hit = np.unique(self._flat(cells))  # each cell with a return once
+        hit = sorted_unique(self._flat(cells))  # each cell with a return once
         if origins is not None and casting:
-            free = self._free_flat(origins, pts, r)
-            if free.size:
-                # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
-                seen_free = self._seen_free.reshape(-1)
-                kept = np.take(seen_free, hit)  # a cell with a return now is not free
-                seen_free[free] = stamp
-                seen_free[hit] = kept
+            assert r is not None
+            # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
+            seen_free = self._seen_free.reshape(-1)
+            one = one or bool((origins == origins[0]).all())
+            still = False
+            if ids is not None and one and bool((np.diff(ids) > 0).all()):
+                (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
+                ox, oy = float(origins[0, 0]), float(origins[0, 1])
+                still = self._still.still((ox, oy, i0, j0, w, h * w))
+            else:
+                self._still.still(None)
+            if still and ids is not None:
+                self._cast_still(origins[0], pts, r, ids, hit, stamp)
+            else:
+                self._still.settle(seen_free)
+                free = self._free_flat(origins, pts, r)
+                if free.size:
+                    kept = np.take(seen_free, hit)  # a cell with a return now is not free
+                    seen_free[free] = stamp
+                    seen_free[hit] = kept
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
@@ -441,7 +510,8 @@ class OccupancyGrid:
         since = np.take(self._since, hit)
         kept_since = was & ~np.isnan(since)
         self._since.reshape(-1)[hit] = np.where(kept_since, since, np.where(now, stamp, np.nan))
-        arrived = stamp - np.take(self._seen_free, hit) <= p.arrival_window
+        seen = self._still.value(self._seen_free.reshape(-1), hit)
+        arrived = stamp - seen <= p.arrival_window
         self._first_sight.reshape(-1)[hit] = np.where(
             kept_since, np.take(self._first_sight, hit), now & self.casting & ~arrived
         )
@@ -506,16 +576,29 @@ class OccupancyGrid:
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
             frame = replace(frame, points=points)
-        self.learn(points.points, frame.stamp, sensor_positions(frame, points))
+        ids = (points.sensor_ids << 32) | points.beams  # (sensor, beam): one id per beam
+        self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
         return frame
+
+
+def sorted_unique(values: IntArray) -> IntArray:
+    """The distinct ``values`` (N,), sorted: ``np.unique(values)``, which on a few hundred
+    values takes several times as long (numpy 2.4)."""
+    s = np.sort(values)
+    if s.size < 2:
+        return s
+    keep = np.ones(s.size, dtype=bool)
+    np.not_equal(s[1:], s[:-1], out=keep[1:])
+    return s[keep]
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:
     """The position (N, 2) [m] of the laser that measured each of ``points``, in the
     frame's coordinate frame: each scan's pose in the world frame, the origin in the sensor
-    frame (one laser); None when a world-frame scan has no pose."""
+    frame (one laser); None when a world-frame scan has no pose. With one laser, one row
+    broadcast to all (read-only)."""
     if frame.frame == "sensor":
-        return np.zeros((len(points), 2))
+        return np.broadcast_to(np.zeros(2), (len(points), 2))
     where: dict[str, tuple[float, float]] = {}
     for scan in frame.scans:
         pose = scan.pose if scan.pose is not None else frame.sensor_pose
@@ -526,6 +609,8 @@ def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:
         table = np.array([where[name] for name in points.sensors], dtype=np.float64)
     except KeyError:
         return None
+    if table.shape[0] == 1:  # one laser: one position (a read-only view)
+        return np.broadcast_to(table[0], (len(points), 2))
     return table[points.sensor_ids].reshape(-1, 2)
 
 

@@ -8,6 +8,7 @@ not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
         [--breakdown] [--against OTHER/src] [--preset paper|history] [--digest]
+        [--min-ratio R]
 
 ``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
 (median over those scans of each part's ms; parts nest as indented).
@@ -19,6 +20,9 @@ shared machine; prints both medians and their ratio per bin of people in view.
 
 ``--preset history`` runs ``GroupTrackerParams.history_splitting()`` instead of 000's
 setting (``paper``, the default).
+
+``--min-ratio R`` sets the MHT's ratio pruning (``mht.min_ratio``) of the preset, e.g.
+``1e-3``, the group tracker's default before session 9 (now ``GROUP_MIN_RATIO``, 3e-3).
 
 ``--digest`` prints, per simulated run (and the bag), a SHA-256 of the tracker's whole
 state after every scan (every hypothesis' log weight; every node's ids, label, counts,
@@ -36,6 +40,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -68,6 +73,14 @@ PRESETS = {
     "paper": GroupTrackerParams.paper_likelihood,
     "history": GroupTrackerParams.history_splitting,
 }
+
+
+def preset_params(args: argparse.Namespace) -> GroupTrackerParams:
+    """The parameters of ``args.preset`` with ``args.min_ratio`` (when given)."""
+    params = PRESETS[args.preset]()
+    if args.min_ratio is None:
+        return params
+    return replace(params, mht=replace(params.mht, min_ratio=args.min_ratio))
 
 
 def digest(frames: list[Frame], params: GroupTrackerParams) -> str:
@@ -208,7 +221,7 @@ def worker(args: argparse.Namespace) -> None:
         runs = [(frames, np.full(len(frames), -1))]
     print(sum(len(f) for f, _ in runs), flush=True)
     for frames, people in runs:
-        tracker = GroupMHTTracker(PRESETS[args.preset]())
+        tracker = GroupMHTTracker(preset_params(args))
         for frame, n in zip(frames, people, strict=True):
             sys.stdin.readline()
             t0 = time.process_time()
@@ -224,7 +237,8 @@ def lock_step(args: argparse.Namespace, kind: str) -> tuple[np.ndarray, np.ndarr
     here = str(Path(laserpeople.__file__).resolve().parents[1])
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", kind,
            "--scenario", args.scenario, "--seconds", str(args.seconds),
-           "--seeds", *map(str, args.seeds), "--preset", args.preset]  # fmt: skip
+           "--seeds", *map(str, args.seeds), "--preset", args.preset,
+           *([] if args.min_ratio is None else ["--min-ratio", repr(args.min_ratio)])]  # fmt: skip
     procs = []
     for src in (here, args.against):
         env = dict(os.environ, PYTHONPATH=src)
@@ -289,6 +303,9 @@ def main() -> None:
         help="paper: 000's setting (default); history: the history split",
     )
     ap.add_argument("--digest", action="store_true", help="print state digests, no timing")
+    ap.add_argument(
+        "--min-ratio", type=float, default=None, help="ratio pruning (mht.min_ratio), e.g. 1e-3"
+    )
     ap.add_argument("--worker", default="", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.worker:
@@ -297,7 +314,7 @@ def main() -> None:
     if args.against:
         print_against(args)
         return
-    params = PRESETS[args.preset]()
+    params = preset_params(args)
     runs = hall_runs(args.scenario, args.seeds, args.seconds)
     if args.digest:
         root = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data"))

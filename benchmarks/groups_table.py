@@ -12,7 +12,8 @@ The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other se
     e.g. --set coherence_lag=1 history_split=true --plot docs/groups_fig17_history_split.png
     (the history-split preset, GroupTrackerParams.history_splitting(); the default is
     000's setting), --set coherence_lag=2 --plot docs/groups_fig17_coherence.png (motion
-    coherence alone)
+    coherence alone), --set mht.min_ratio=1e-3 (the group tracker's ratio pruning before
+    session 9; the default is GROUP_MIN_RATIO, 3e-3)
 """
 
 from __future__ import annotations
@@ -141,13 +142,21 @@ def main() -> None:
 def _with(params: GroupTrackerParams, settings: list[str]) -> GroupTrackerParams:
     """``params`` with ``NAME=VALUE`` changes (values parsed as the field's type)."""
     changes: dict[str, object] = {}
+    mht: dict[str, object] = {}
     for item in settings:
         name, _, value = item.partition("=")
+        if name.startswith("mht."):  # the nested MHT table, e.g. mht.min_ratio=1e-3
+            field = name.removeprefix("mht.")
+            old_mht = getattr(params.mht, field)
+            mht[field] = float(value) if old_mht is None else type(old_mht)(value)
+            continue
         old = getattr(params, name)
         if isinstance(old, bool):
             changes[name] = value.lower() in ("1", "true", "yes")
         else:
             changes[name] = type(old)(value)
+    if mht:
+        changes["mht"] = replace(params.mht, **mht)  # type: ignore[arg-type]
     return replace(params, **changes)  # type: ignore[arg-type]
 
 

@@ -203,6 +203,218 @@ class MurtyStream:
             yield sol
 
 
+@dataclass(eq=False, slots=True)
+class _Sub:
+    """A subproblem of :class:`BoundedMurtyStream`: subproblem ``t`` of the solution of
+    its parent subproblem, whose matrix is ``parent`` and unforced key pairs ``pairs``
+    (it forces ``pairs[:t]`` and forbids ``pairs[t]``); a lower bound of its best cost; and
+    once solved, its matrix and best solution."""
+
+    parent: FloatArray
+    pairs: list[tuple[int, int]]
+    t: int
+    forced: tuple[tuple[int, int], ...]
+    forbidden: tuple[tuple[int, int], ...]
+    lower: float
+    matrix: FloatArray | None = None
+    solution: Assignment | None = None
+
+    def build(self) -> FloatArray:
+        """The subproblem's matrix: what :meth:`MurtyStream.pop`'s chain of siblings makes
+        (the same entries: the parent's, or inf)."""
+        out = self.parent.copy()
+        for r, c in self.pairs[: self.t]:
+            keep = out[r, c]
+            out[r, :] = np.inf
+            out[:, c] = np.inf
+            out[r, c] = keep
+        r, c = self.pairs[self.t]
+        out[r, c] = np.inf
+        return out
+
+
+class BoundedMurtyStream:
+    """:class:`MurtyStream` (incremental), seen from outside exactly: the same
+    :meth:`peek_cost`, :meth:`front_solved` and :attr:`n_solved` after every call and the
+    same solutions from :meth:`pop` in the same order, equal costs included; but a
+    subproblem :class:`MurtyStream` would have solved is only solved when its solution is
+    needed (to know the cost of the front, or the order of two subproblems).
+
+    :class:`MurtyStream` queues the subproblems of a popped solution at that solution's
+    cost and solves each as it reaches its front; a caller merging streams
+    (:func:`~laserpeople.tracking.mht.matrix.k_best_children`) refines a stream whose front
+    is unsolved, so nearly every subproblem queued is solved, although few of their
+    solutions are ever popped. Here a refined subproblem is only marked solved: its entry
+    gets the counter :class:`MurtyStream` gives its solution and waits at a lower bound of
+    its cost (:func:`sibling_bounds`, from the dual solution of the popped solution; inf:
+    infeasible). The front of the marked entries is solved when it could come before the
+    front of the unmarked ones, or is popped. Entries compare as ``(cost, counter)`` in
+    both classes and a bound is never above its cost, so the front is the same.
+
+    :attr:`n_solved` counts the subproblems :class:`MurtyStream` would have solved (what a
+    caller's budget counts), :attr:`n_assignments` those solved here.
+
+    Args:
+        cost: (R, C) cost matrix, ``inf`` = infeasible pair (square: bounds; otherwise
+            every subproblem waits at its parent's cost, and is solved when refined).
+        key: (R, C) mask of the pairs that identify a solution (default: all pairs).
+    """
+
+    def __init__(self, cost: FloatArray, key: BoolArray | None = None) -> None:
+        self.cost = np.asarray(cost, dtype=np.float64)
+        self.key = np.ones(self.cost.shape, dtype=bool) if key is None else np.asarray(key)
+        if self.key.shape != self.cost.shape:
+            raise ValueError(f"key shape {self.key.shape} != cost shape {self.cost.shape}")
+        self._counter = itertools.count()
+        # MurtyStream's unsolved entries: (bound, counter, subproblem)
+        self._open: list[tuple[float, int, _Sub]] = []
+        # its solved ones: (cost, or a lower bound while not solved here, counter, sub)
+        self._marked: list[tuple[float, int, _Sub]] = []
+        self.n_solved = 0
+        self.n_assignments = 0
+        root = _Sub(self.cost, [], 0, (), (), -math.inf, matrix=self.cost)
+        self._open.append((0.0, next(self._counter), root))
+        self._known: tuple[float, bool] | None = None  # the front until the queues change
+
+    def _marked_front(self, limit: tuple[float, int] | None) -> tuple[float, int] | None:
+        """The front entry of the marked ones when it comes before ``limit`` (the front of
+        the unmarked ones; None: there is none), else None; solves marked subproblems
+        (dropping the infeasible ones) until that is known."""
+        marked = self._marked
+        while marked:
+            value, count, sub = marked[0]
+            if sub.solution is not None:
+                return (value, count) if limit is None or (value, count) < limit else None
+            if limit is not None and (value, count) > limit:
+                return None
+            heapq.heappop(marked)
+            if sub.matrix is None:
+                sub.matrix = sub.build()
+            self.n_assignments += 1
+            sol = solve(sub.matrix)
+            if sol is not None:
+                sub.solution = sol
+                heapq.heappush(marked, (sol.cost, count, sub))
+        return None
+
+    def _front(self) -> tuple[float, bool]:
+        """MurtyStream's front: its cost (or bound) and whether it is solved."""
+        if self._known is None:
+            limit = (self._open[0][0], self._open[0][1]) if self._open else None
+            front = self._marked_front(limit)
+            if front is not None:
+                self._known = (front[0], True)
+            elif limit is not None:
+                self._known = (limit[0], False)
+            else:
+                self._known = (math.inf, True)
+        return self._known
+
+    def peek_cost(self) -> float:
+        """As :meth:`MurtyStream.peek_cost`."""
+        return self._front()[0]
+
+    def front_solved(self) -> bool:
+        """As :meth:`MurtyStream.front_solved`."""
+        return self._front()[1]
+
+    def refine(self) -> None:
+        """As :meth:`MurtyStream.refine` (the subproblem is marked solved, see above)."""
+        if self.front_solved():
+            return
+        self._known = None
+        bound, _, sub = heapq.heappop(self._open)
+        self.n_solved += 1
+        count = next(self._counter)  # the counter MurtyStream gives its solution
+        if sub.lower < math.inf:
+            heapq.heappush(self._marked, (max(bound, sub.lower), count, sub))
+
+    def pop(self) -> Assignment | None:
+        """As :meth:`MurtyStream.pop`."""
+        while not self.front_solved():
+            self.refine()
+        if not self._marked:
+            return None
+        self._known = None
+        _, _, sub = heapq.heappop(self._marked)  # (solved: _front made sure)
+        sol, matrix = sub.solution, sub.matrix
+        assert sol is not None and matrix is not None
+        forced_set = set(sub.forced)
+        pairs = [
+            (r, c)
+            for r, c in zip(sol.rows.tolist(), sol.cols.tolist(), strict=True)
+            if self.key[r, c] and (r, c) not in forced_set
+        ]
+        if not pairs:
+            return sol
+        if matrix.shape[0] == matrix.shape[1]:
+            bounds = sibling_bounds(matrix, sol, pairs)
+        else:
+            bounds = [-math.inf] * len(pairs)
+        forced = sub.forced
+        for t, pair in enumerate(pairs):
+            child = _Sub(matrix, pairs, t, forced, (*sub.forbidden, pair), bounds[t])
+            heapq.heappush(self._open, (sol.cost, next(self._counter), child))
+            forced = (*forced, pair)
+        return sol
+
+    def __iter__(self) -> Iterator[Assignment]:
+        while (sol := self.pop()) is not None:
+            yield sol
+
+
+def optimal_duals(cost: FloatArray, cols: IntArray) -> tuple[FloatArray, FloatArray] | None:
+    """Dual variables ``(u, v)`` of the optimal assignment row i -> ``cols[i]`` of the
+    square matrix ``cost``: ``u_i + v_j <= cost_ij`` everywhere, with equality on the
+    assignment, so their sum is its cost. ``v`` are shortest distances in the graph of
+    reassignments (column ``cols[i]`` -> column j at ``cost_ij - cost_i,cols[i]``), by
+    Bellman-Ford from 0; None when that does not settle in N rounds (rounding in an
+    assignment that is optimal only up to it)."""
+    n = cost.shape[0]
+    on = cost[np.arange(n), cols]
+    step = cost - on[:, None]  # (inf where cost is)
+    v = np.minimum(step.min(axis=0), 0.0)  # (the first round, from 0)
+    for _ in range(n):
+        nxt = np.minimum(v, (v[cols][:, None] + step).min(axis=0))
+        if not (nxt < v).any():
+            return on - v[cols], v
+        v = nxt
+    return None
+
+
+def sibling_bounds(
+    matrix: FloatArray, sol: Assignment, pairs: list[tuple[int, int]]
+) -> list[float]:
+    """Lower bounds of the best costs of the subproblems of ``sol`` (the optimal assignment
+    of the square ``matrix``) whose unforced key pairs are ``pairs``: subproblem t forces
+    ``pairs[:t]`` and forbids ``pairs[t]`` (Murty); inf when it has no assignment.
+
+    With optimal duals ``(u, v)`` (:func:`optimal_duals`; their sum is ``sol.cost``) and
+    reduced costs ``R = cost - u - v >= 0``, subproblem t's row ``r_t`` must take another
+    column than those of ``pairs[:t + 1]``, and column ``c_t`` another row than theirs:
+    raising ``u_r`` by the least such ``R`` in the row, then ``v_c`` by the least in the
+    column keeps the duals feasible for the subproblem, so its cost is at least ``sol.cost``
+    plus both (Miller, Stone and Cox 1997). Lowered by a relative 1e-9 (rounding of the
+    duals); ``-inf`` for all when the duals cannot be had."""
+    k, n = len(pairs), matrix.shape[0]
+    duals = optimal_duals(matrix, sol.col_of_row(n))
+    if duals is None:
+        return [-math.inf] * k
+    u, v = duals
+    rs = np.array([p[0] for p in pairs], dtype=np.intp)
+    cs = np.array([p[1] for p in pairs], dtype=np.intp)
+    order = np.arange(k)[:, None]
+    col_pos = np.full(n, k)
+    col_pos[cs] = order[:, 0]
+    row_pos = np.full(n, k)
+    row_pos[rs] = order[:, 0]
+    # reduced costs of row r_t (K, N) and of column c_t (K, N), without what t rules out
+    in_row = np.where(col_pos <= order, np.inf, matrix[rs] - u[rs, None] - v)
+    in_col = np.where(row_pos <= order, np.inf, matrix[:, cs].T - u - v[cs, None])
+    lower = (sol.cost + in_row.min(axis=1) + in_col.min(axis=1)).tolist()
+    return [b - 1e-9 * (1.0 + abs(b)) if b < math.inf else math.inf for b in lower]
+
+
 def _constrained(
     cost: FloatArray, forced: tuple[tuple[int, int], ...], forbidden: tuple[tuple[int, int], ...]
 ) -> FloatArray:

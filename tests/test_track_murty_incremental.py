@@ -109,7 +109,7 @@ def test_k_best_children_same_with_incremental_murty(
     budget = float(rng.choice([np.inf, 5, 20]))
     new = children(priors, mats, budget)
     monkeypatch.setattr(
-        matrix_mod, "BoundedMurtyStream", functools.partial(MurtyStream, incremental=False)
+        matrix_mod, "MurtyStream", functools.partial(MurtyStream, incremental=False)
     )
     old = children(priors, mats, budget)
     assert new == old

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.tracking.assignment import BoundedMurtyStream, subset_sums
+from laserpeople.tracking.assignment import MurtyStream, subset_sums
 from laserpeople.tracking.mht.probability import (
     DELETED,
     DETECTED,
@@ -240,10 +240,10 @@ class _MatchingStream:
         listed = enumerate_matchings(matrix, enumerate_limit)
         self._list = listed
         self._pos = 0
-        self._murty: BoundedMurtyStream | None = None
+        self._murty: MurtyStream | None = None
         if listed is None:
             cost, key = matrix.square()
-            self._murty = BoundedMurtyStream(cost, key)
+            self._murty = MurtyStream(cost, key)
 
     def peek_cost(self) -> float:
         if self._murty is not None:

@@ -10,8 +10,14 @@ the same load; it prints the median process CPU per scan of each and their ratio
 the rare scans with large clusters weigh. The other version's results are
 compared too: the reported tracks must be the same, or the script says where they differ.
 
+With ``--scenes`` it runs instead the default tracker as ``benchmarks/people_suite.py`` and
+``cost_vs_gnn.py`` run it (leg MHT, people ``tracks``, the static world model ``auto`` fed
+from each frame) on suite scenes, each simulated and detected by both versions, and
+compares every scan's person and leg tracks.
+
     PYTHONPATH=src .venv/bin/python benchmarks/bench_track_ab.py --other /path/to/old/src
         [--people 4 20] [--seconds 30] [--rounds 3]
+        [--scenes randomised:0 randomised:3 crossing-3:1 ...]
 """
 
 from __future__ import annotations
@@ -61,6 +67,33 @@ def setup(package: str, n_people: int, seconds: float) -> tuple[list[Any], Any]:
     return list(scene.detections), tracker
 
 
+def prepare_scene(scenario: str, seed: int, seconds: float) -> Any:
+    """A suite scene simulated and detected by this version (the simulator and detector
+    are not what is compared; both trackers get the same detections)."""
+    from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
+    from laserpeople.evaluation.suite import SuiteScene, prepare
+
+    detector = AdaBoostLegDetector.default(LegDetectorParams())
+    return prepare(SuiteScene(scenario, scenario, seed, seconds), detector)
+
+
+def setup_scene(package: str, prepared: Any) -> tuple[list[Any], Any]:
+    """The frames of a prepared scene and ``package``'s default frame tracker with its
+    static world model, as ``people_suite.make_factory`` makes it."""
+    from laserpeople.evaluation.suite import frames_for
+
+    static = importlib.import_module(f"{package}.pipeline.static_people")
+    registry = importlib.import_module(f"{package}.tracking.registry")
+    entry = registry.get("leg-mht")
+    tracker = entry.factory(entry.params_cls())
+    if static.uses_static_model(tracker):
+        model = static.people_static_model("auto")
+        tracker.use_static_model(model)
+        if model is not None:
+            tracker = static.StaticFed(tracker, model)
+    return frames_for(prepared, frozenset(tracker.consumes)), tracker
+
+
 def rows(tracks: Any, score: bool = True) -> list[tuple[Any, ...]]:
     """The reported tracks of one scan as comparable rows (``score=False``: without their
     scores, the probabilities of their clusters' best hypotheses; ids, members and states
@@ -84,13 +117,30 @@ def main() -> None:
     ap.add_argument("--people", type=int, nargs="+", default=[4, 20])
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument(
+        "--scenes",
+        nargs="+",
+        default=None,
+        help="suite scenes SCENARIO:SEED (default tracker with its static model) instead "
+        "of the crowds",
+    )
     args = ap.parse_args()
+    runs: list[tuple[str, Any]] = [(f"{n:3d} people", n) for n in args.people]
+    if args.scenes:
+        runs = [(text, tuple(text.split(":"))) for text in args.scenes]
     with tempfile.TemporaryDirectory() as tmp:
         load_other(args.other, Path(tmp))
-        for n in args.people:
+        for label, what in runs:
+            prepared = None
+            if isinstance(what, tuple):
+                prepared = prepare_scene(what[0], int(what[1]), args.seconds)
             for r in range(args.rounds):
-                this_dets, this = setup("laserpeople", n, args.seconds)
-                other_dets, other = setup(PACKAGE, n, args.seconds)
+                if prepared is not None:
+                    this_dets, this = setup_scene("laserpeople", prepared)
+                    other_dets, other = setup_scene(PACKAGE, prepared)
+                else:
+                    this_dets, this = setup("laserpeople", what, args.seconds)
+                    other_dets, other = setup(PACKAGE, what, args.seconds)
                 cpu: dict[str, list[float]] = {"this": [], "other": []}
                 differ = states = 0
                 for scan, (d_this, d_other) in enumerate(zip(this_dets, other_dets, strict=True)):
@@ -110,7 +160,7 @@ def main() -> None:
                 a, b = 1e3 * np.median(cpu["this"]), 1e3 * np.median(cpu["other"])
                 ma, mb = 1e3 * np.mean(cpu["this"]), 1e3 * np.mean(cpu["other"])
                 print(
-                    f"{n:3d} people, round {r + 1}: this {a:.3f} ms/scan, other {b:.3f} ms/scan "
+                    f"{label}, round {r + 1}: this {a:.3f} ms/scan, other {b:.3f} ms/scan "
                     f"(median process CPU), this/other {a / b:.3f}; mean {ma:.3f} / {mb:.3f} "
                     f"ms/scan, this/other {ma / mb:.3f}; scans with different "
                     f"tracks: {differ} ({states} beyond the scores)",

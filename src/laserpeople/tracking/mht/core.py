@@ -89,9 +89,10 @@ class MHTParams:
     n_scan: int = param(8, "000 Sec. 3.4.3 (scan-back depth of eight)", "N of N-scan-back pruning")
     min_ratio: float | None = param(
         None,
-        "unset: the tracker's default, MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
-        "ratio pruning without a value) for the group tracker and the leg tracker's people "
-        "policy arras, 1e-2 for its policy tracks (issue 10, see LegTrackerParams.mht_params)",
+        "unset: the tracker's default: MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
+        "ratio pruning without a value) for the leg tracker's people policy arras, 1e-2 for "
+        "its policy tracks (issue 10, see LegTrackerParams.mht_params), 3e-3 for the group "
+        "tracker (GROUP_MIN_RATIO, docs/groups.md fifth round)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
     max_cluster_size: int = param(

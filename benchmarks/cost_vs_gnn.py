@@ -11,30 +11,16 @@ narrow-corridor / crossing-3 seed 1 (never the held-back seeds 100-119).
     PYTHONPATH=src .venv/bin/python benchmarks/cost_vs_gnn.py [--tracker ours|gnn|both]
         [--seeds 0-3] [--named-seeds 1] [--seconds 30] [--rounds 1]
 
-``--other SRC`` times ours against another version of the code (its ``src/``) instead of
-GNN, in one process (as ``bench_track_ab.py``): each version prepares the scenes and builds
-its tracker, the two are updated alternately, scan by scan (the order within a pair
-alternating between rounds), and the script prints each version's median and mean process
-CPU per scan, their ratios, and the scans whose reported tracks differ.
-
-    PYTHONPATH=src .venv/bin/python benchmarks/cost_vs_gnn.py --other /tmp/old/src
-        [--seeds 2] [--named-seeds 1] [--rounds 3]
+For an A/B of ours against another version of the code (its ``src/``) on these scenes,
+scan by scan in one process, use ``benchmarks/bench_track_ab.py --other SRC --scenes ...``.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
-import re
-import shutil
 import sys
-import tempfile
 import time
 from pathlib import Path
-from types import ModuleType
-from typing import Any
-
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
@@ -67,78 +53,6 @@ def gnn_ms(prepared: PreparedScene) -> float:
     return 1e3 * cpu / max(len(prepared.detections), 1)
 
 
-OTHER = "laserpeople_ab"
-"""Package name of the other version (``--other``)."""
-
-
-def load_other(src: Path, into: Path) -> ModuleType:
-    """The package ``src/laserpeople`` copied to ``into`` as ``laserpeople_ab``, its imports
-    of itself renamed (not its file-format names such as ``laserpeople-leg-model``)."""
-    target = into / OTHER
-    shutil.copytree(src / "laserpeople", target)
-    pattern = re.compile(r"\blaserpeople\b(?!-)")
-    for path in target.rglob("*.py"):
-        path.write_text(pattern.sub(OTHER, path.read_text()))
-    sys.path.insert(0, str(into))
-    return importlib.import_module(OTHER)
-
-
-def ours_in(package: str, scene: Any) -> tuple[Any, list[Any]]:
-    """The default leg MHT with its static world model ``auto`` (as ``make_factory``) and
-    the frames of ``scene`` (a ``(family, scenario, seed, seconds)`` tuple), both made by
-    ``package``."""
-    suite = importlib.import_module(f"{package}.evaluation.suite")
-    det = importlib.import_module(f"{package}.detection.detector")
-    registry = importlib.import_module(f"{package}.tracking.registry")
-    static = importlib.import_module(f"{package}.pipeline.static_people")
-    prepared = suite.prepare(
-        suite.SuiteScene(*scene), det.AdaBoostLegDetector.default(det.LegDetectorParams())
-    )
-    entry = registry.get("leg-mht")
-    tracker = entry.factory(entry.params_cls())
-    if static.uses_static_model(tracker):
-        model = static.people_static_model("auto")
-        tracker.use_static_model(model)
-        if model is not None:
-            tracker = static.StaticFed(tracker, model)
-    return tracker, suite.frames_for(prepared, frozenset(tracker.consumes))
-
-
-def _rows(tracks: Any) -> list[tuple[Any, ...]]:
-    return [(t.track_id, t.kind, t.members, t.position.tobytes()) for t in tracks]
-
-
-def against_other(scenes: list[Any], rounds: int) -> None:
-    """Time this version against ``laserpeople_ab`` scan by scan (module docstring)."""
-    print(f"{'scene':24s} {'this':>8s} {'other':>8s}  median ms/scan (CPU)  this/other")
-    for scene in scenes:
-        for r in range(rounds):
-            this, this_frames = ours_in("laserpeople", scene)
-            other, other_frames = ours_in(OTHER, scene)
-            cpu: dict[str, list[float]] = {"this": [], "other": []}
-            differ = 0
-            for a, b in zip(this_frames, other_frames, strict=True):
-                pair = [("this", this, a), ("other", other, b)]
-                if r % 2:
-                    pair.reverse()
-                out = {}
-                for name, tracker, frame in pair:
-                    t0 = time.process_time()
-                    out[name] = tracker.update(frame)
-                    cpu[name].append(time.process_time() - t0)
-                differ += _rows(out["this"]) != _rows(out["other"])
-            med = {k: 1e3 * float(np.median(v)) for k, v in cpu.items()}
-            mean = {k: 1e3 * float(np.mean(v)) for k, v in cpu.items()}
-            label = f"{scene[1]} {scene[2]} r{r + 1}"
-            print(
-                f"{label:24s} {med['this']:8.3f} {med['other']:8.3f}  "
-                f"{med['this'] / med['other']:.3f} (mean {mean['this']:.3f} / "
-                f"{mean['other']:.3f} = {mean['this'] / mean['other']:.3f}); scans with "
-                f"different tracks: {differ}",
-                flush=True,
-            )
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--tracker", choices=("ours", "gnn", "both"), default="both")
@@ -146,19 +60,8 @@ def main() -> None:
     ap.add_argument("--named-seeds", default="1", help="seeds of narrow-corridor, crossing-3")
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--rounds", type=int, default=1)
-    ap.add_argument("--other", type=Path, default=None, help="another version's src/ (A/B)")
     args = ap.parse_args()
     seeds = parse_seeds(args.seeds)
-    if args.other is not None:
-        ab: list[tuple[str, str, int, float | None]] = [
-            ("randomised", "randomised", s, args.seconds) for s in seeds
-        ]
-        for name in ("narrow-corridor", "crossing-3"):
-            ab += [(name, name, s, None) for s in parse_seeds(args.named_seeds)]
-        with tempfile.TemporaryDirectory() as tmp:
-            load_other(args.other, Path(tmp))
-            against_other(ab, args.rounds)
-        return
     scenes = [SuiteScene("randomised", "randomised", s, args.seconds) for s in seeds]
     for name in ("narrow-corridor", "crossing-3"):
         scenes += [SuiteScene(name, name, s) for s in parse_seeds(args.named_seeds)]

@@ -10,9 +10,14 @@ life (a person track that never moves sits on furniture, a wall or a standing pe
 these recordings people walk through); and *gaps*, the times a walker's id stops being
 reported for at least 1 s and comes back.
 
+With ``--groups`` the same counts for the group tracker's groups (``--tracker group-mht``,
+000 Sec. 4) instead of people, for ``group_tracker.static_groups`` false (the default: groups
+on static places that never walked are not reported) and true (000: every group); a
+column counts the ids reported for at most 3 scans.
+
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]
-        [--backgrounds none auto] [--bags demo mir mir-all corridor]
+        [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups]
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.pipeline import build
 from laserpeople.pipeline.static_people import describe_people_model
 from laserpeople.tracking import registry
+from laserpeople.tracking.groups.tracker import GroupTrackerParams
 from laserpeople.tracking.legs import LegTrackerParams
 from laserpeople.tracks import Tracks
 
@@ -55,17 +61,18 @@ class RealCount:
     gaps: int
     ms: float
     model: str = ""
+    short_ids: int = 0
 
 
-def count(tracks: list[Tracks], walk: float, gap: float = 1.0) -> RealCount:
-    """Person ids, walkers, person-track-seconds, static seconds and walker gaps (see the
-    module docstring)."""
+def count(tracks: list[Tracks], walk: float, gap: float = 1.0, kind: str = "person") -> RealCount:
+    """Ids, walkers, track-seconds, static seconds, walker gaps (see the module docstring)
+    and ids reported in at most 3 scans, of the tracks of ``kind``."""
     positions: dict[int, list[np.ndarray]] = {}
     seconds: dict[int, float] = {}
     stamps: dict[int, list[float]] = {}
     for k in range(1, len(tracks)):
         dt = tracks[k].stamp - tracks[k - 1].stamp
-        for t in tracks[k].of_kind("person"):
+        for t in tracks[k].of_kind(kind):
             positions.setdefault(t.track_id, []).append(t.position)
             seconds[t.track_id] = seconds.get(t.track_id, 0.0) + dt
             stamps.setdefault(t.track_id, []).append(tracks[k].stamp)
@@ -82,7 +89,10 @@ def count(tracks: list[Tracks], walk: float, gap: float = 1.0) -> RealCount:
             gaps += int(np.sum(np.diff(np.asarray(stamps[pid])) >= gap))
         else:
             static += seconds[pid]
-    return RealCount(len(positions), walkers, sum(seconds.values()), walker_s, static, gaps, 0.0)
+    short = sum(len(p) <= 3 for p in positions.values())
+    return RealCount(
+        len(positions), walkers, sum(seconds.values()), walker_s, static, gaps, 0.0, "", short
+    )
 
 
 def run(key: str, policy: str, background: str, walk: float) -> RealCount:
@@ -113,13 +123,49 @@ def run(key: str, policy: str, background: str, walk: float) -> RealCount:
     )
 
 
+def run_groups(key: str, static_groups: bool, walk: float) -> RealCount:
+    """Track one recording's groups through the pipeline (``--tracker group-mht``)."""
+    bag, topics, mounts = BAGS[key]
+    params = replace(GroupTrackerParams(), static_groups=static_groups)
+    tracker = registry.get("group-mht").make(params)
+    pipe = build(bag, tracker=tracker, topics=topics, mounts=mounts)
+    out: list[Tracks] = []
+    t0 = time.process_time()
+    for step in pipe:
+        assert step.tracks is not None
+        out.append(step.tracks)
+    spent = time.process_time() - t0
+    c = count(out, walk, kind="group")
+    return replace(c, ms=1e3 * spent / max(len(out), 1))
+
+
+def main_groups(bags: list[str], walk: float) -> None:
+    """The group table (``--groups``)."""
+    print(
+        "bag      static_groups  ids  walkers  short  group-s  walker-s  static-s  gaps  ms/frame"
+    )
+    for key in bags:
+        for static_groups in (True, False):
+            c = run_groups(key, static_groups, walk)
+            print(
+                f"{key:8s} {static_groups!s:13s} {c.ids:4d} {c.walker_ids:8d} {c.short_ids:6d} "
+                f"{c.person_seconds:8.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "
+                f"{c.gaps:5d} {c.ms:8.2f}",
+                flush=True,
+            )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bags", nargs="+", default=list(BAGS), choices=list(BAGS))
     ap.add_argument("--policies", nargs="+", default=["arras", "tracks"])
     ap.add_argument("--backgrounds", nargs="+", default=["none", "auto"])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
+    ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
     args = ap.parse_args()
+    if args.groups:
+        main_groups(args.bags, args.walk)
+        return
     print(
         "bag      policy        background  ids  walkers  person-s  walker-s  static-s  gaps  "
         "ms/frame (detection included)"

@@ -240,6 +240,19 @@ def run_tracking(
             "with nobody near who had walked, were not tracked as legs "
             "(people.static_legs = true tracks them)"
         )
+    wide = int(getattr(pipe.tracker, "wide_points_left_out", 0))
+    if wide:
+        say(
+            f"{wide} foreground points in blobs wider than group_tracker.max_blob_size were "
+            "not grouped (walls the static world model has not learned yet; 0 groups them)"
+        )
+    hidden = int(getattr(pipe.tracker, "static_groups_hidden", 0))
+    if hidden:
+        say(
+            f"{hidden} group-scans on places static for longer than group_tracker.static_time, "
+            "of groups never seen walking, were not reported "
+            "(group_tracker.static_groups = true reports them)"
+        )
     stats = pipe.stats
     return {
         "scans": float(stats.frames),

@@ -213,7 +213,9 @@ def add_people_static_model(
     tracker.use_static_model(model)
     if model is None:
         return None
-    model.fill_foreground = reads_foreground(tracker)
+    # a tracker that reads the foreground of its own background stage (the group tracker)
+    # asks this model only how long places have been static
+    model.fill_foreground = reads_foreground(tracker) and background_of(preprocess) is None
     if not any(isinstance(s, Fuse) for s in preprocess):
         preprocess.append(Fuse())
     preprocess.append(model)

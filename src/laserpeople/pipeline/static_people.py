@@ -225,7 +225,8 @@ def people_static_model(
 
 class StaticModelUser(Protocol):
     """A tracker that asks a static world model (the leg MHT's ``tracks`` people policy,
-    :class:`~laserpeople.tracking.registry.LegMHTAdapter`)."""
+    :class:`~laserpeople.tracking.registry.LegMHTAdapter`; the group tracker). One that
+    can do without may say why in a ``static_model_off`` string attribute."""
 
     @property
     def wants_static_model(self) -> bool:
@@ -259,7 +260,8 @@ def describe_people_model(tracker: object, stages: Sequence[object]) -> str:
     if uses_static_model(tracker):
         return "static world model for people: none (--background none)"
     if callable(getattr(tracker, "use_static_model", None)):
-        return "static world model for people: none (the arras people policy has none)"
+        why = getattr(tracker, "static_model_off", "it wants none")
+        return f"static world model for people: none ({why})"
     return ""
 
 

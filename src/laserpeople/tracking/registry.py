@@ -82,6 +82,9 @@ class LegMHTAdapter(LegsAdapter):
         """True when the person layer asks a static world model (policy ``tracks``)."""
         return getattr(self.tracker, "person_tracks", None) is not None
 
+    static_model_off = "the arras people policy has none"
+    """Why no static world model is wanted, when it is not (for the user)."""
+
     def use_static_model(self, model: StaticWorldModel | None) -> None:
         """Let the person layer ask ``model`` (None: no model).
 

@@ -28,6 +28,23 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
+def within_size(points: FloatArray, d_hs: float, max_size: float) -> NDArray[np.bool_]:
+    """Mask (N,) of the ``points`` (N, 2) [m] whose blob (single linkage at ``d_hs`` [m])
+    spans at most ``max_size`` [m] (the diagonal of its bounding box)."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    if pts.shape[0] == 0:
+        return np.ones(0, dtype=bool)
+    labels = single_linkage(pts, d_hs)
+    order = np.argsort(labels, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(labels[order]) != 0])
+    lo = np.minimum.reduceat(pts[order], starts, axis=0)
+    hi = np.maximum.reduceat(pts[order], starts, axis=0)
+    span = np.hypot(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
+    blob = np.empty(pts.shape[0], dtype=np.int64)
+    blob[order] = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, pts.shape[0]]))
+    return np.asarray(span[blob] <= max_size)
+
+
 @dataclass(frozen=True, eq=False)
 class GroupObservations:
     """The observation clusters of one scan, M clusters over P points.

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import chi2
 
+from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -35,7 +36,11 @@ from laserpeople.tracking.groups.model import (
     GroupModelSettings,
     group_payload,
 )
-from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
+from laserpeople.tracking.groups.observations import (
+    GroupObservations,
+    SizeCounting,
+    within_size,
+)
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
@@ -98,6 +103,16 @@ class GroupTrackerParams:
     )
     blob_distance: float = param(
         0.3, "000 Sec. 4.6.3", "single-linkage distance d_hs of human-sized blobs", "m"
+    )
+    max_blob_size: float = param(
+        2.0,
+        "extension of 000 (its foreground holds people only): on the simulated hall the "
+        "largest blob of people at d_hs is 1.71 m across (99.9th percentile 0.97 m, "
+        "entrance-hall seeds 0 and 1); walls a moving robot has not yet learned are longer, "
+        "and cost seconds a scan as group observations",
+        "points of blobs (single linkage at d_hs) wider than this (bounding-box diagonal) "
+        "are left out of the observations, as not people (0: keep every point)",
+        "m",
     )
     size_count: str = param(
         "legs",
@@ -280,6 +295,41 @@ class GroupTrackerParams:
         "(0: the human-sized blobs at d_hs)",
         "m",
     )
+    static_groups: bool = param(
+        False,
+        "extension of 000 (issue 12, real data): on the leg_tracker demo bag a static object "
+        "was reported as a group for 95 s under five ids, and returns at the edges of walls "
+        "as some 50 groups of 1-3 scans (docs/groups.md 'Groups on static places')",
+        "report groups on places static for longer than static_time that have never been "
+        "seen walking (true: every group of the best hypothesis, as 000); false hides them "
+        "(still tracked, counted and reported by laserpeople track)",
+    )
+    static_time: float = param(
+        10.0,
+        "as people.static_time",
+        "a group whose points lie on places static for longer is hidden (see arrival_slack)",
+        "s",
+    )
+    min_travel: float = param(
+        0.5,
+        "as people.min_travel (leg_tracker's distance travelled to initiate a person)",
+        "distance from where a group (or a group it split from or merged with) was first "
+        "tracked after which it has walked (see arrival_slack)",
+        "m",
+    )
+    arrival_slack: float = param(
+        2.0,
+        "as people.arrival_slack",
+        "a group that stands since its last walk is hidden only on places static this much "
+        "longer than it has stood there",
+        "s",
+    )
+    static_share: float = param(
+        0.75,
+        "assumption: a person who passes something static within d_P is one observation "
+        "with it, half of whose points are on static places",
+        "a group lies on a static place when at least this share of its contour points do",
+    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -308,6 +358,12 @@ class GroupTrackerParams:
             raise ValueError("max_models must be at least 1")
         if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
             raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
+        if min(self.static_time, self.min_travel, self.arrival_slack) < 0.0:
+            raise ValueError("static_time, min_travel and arrival_slack must not be negative")
+        if self.max_blob_size < 0.0:
+            raise ValueError("max_blob_size must not be negative (0 keeps every point)")
+        if not 0.0 < self.static_share <= 1.0:
+            raise ValueError("static_share must be in (0, 1]")
 
     @classmethod
     def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
@@ -485,6 +541,29 @@ class GroupMHTTracker:
         self.last_groups: list[GroupEstimate] = []
         self.last_observations = GroupObservations.empty()
         self._counting = p.counting()
+        self.static_model: StaticWorldModel | None = None
+        """Asked how long a group's place has been static (the pipeline sets it when
+        ``static_groups`` is false; None: every group is reported)."""
+        self.wide_points_left_out = 0
+        """Foreground points left out of the observations as parts of blobs wider than
+        ``max_blob_size``, summed over the frames."""
+        self.static_groups_hidden = 0
+        """Group-scans not reported because the group sat on a static place, never walked."""
+        # family -> (time [s], position) of its last walk, or of when it was first tracked
+        self._anchors: dict[int, tuple[float, FloatArray]] = {}
+        self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
+
+    @property
+    def wants_static_model(self) -> bool:
+        """True when groups on static places are hidden (``static_groups`` false)."""
+        return not self.params.static_groups
+
+    static_model_off = "group_tracker.static_groups = true"
+    """Why no static world model is wanted, when it is not (for the user)."""
+
+    def use_static_model(self, model: StaticWorldModel | None) -> None:
+        """Ask ``model`` how long a group's place has been static (None: none)."""
+        self.static_model = model
 
     def name(self, node: TrackNode) -> tuple[str, ...]:
         """The internal label set of ``node``: a new group is named by its family until it
@@ -528,6 +607,11 @@ class GroupMHTTracker:
         finite = np.isfinite(pts).all(axis=1)
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
+        if self.params.max_blob_size > 0.0 and len(pts):
+            keep = within_size(pts, self.params.blob_distance, self.params.max_blob_size)
+            if not keep.all():
+                self.wide_points_left_out += int(keep.size - np.count_nonzero(keep))
+                pts, idx = pts[keep], idx[keep]
         return GroupObservations.from_points(
             pts, idx, self.params.cluster_distance, self.params.blob_distance, self._counting
         )
@@ -542,7 +626,10 @@ class GroupMHTTracker:
         probs = self.mht.best_probabilities()
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
-        for node in self.mht.best_tracks():
+        nodes = self.mht.best_tracks()
+        if self.static_model is not None:
+            nodes = self._off_static_places(nodes, frame.stamp)
+        for node in nodes:
             payload = group_payload(node)
             labels = self.display_labels(self.name(node))
             contour = payload.contour + node.mean[:2]
@@ -571,6 +658,69 @@ class GroupMHTTracker:
             )
         self.last_groups = groups
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    def _off_static_places(self, nodes: list[TrackNode], stamp: float) -> list[TrackNode]:
+        """``nodes`` without the groups on static places (counted in
+        :attr:`static_groups_hidden`).
+
+        A group *walks* when it is ``min_travel`` from where it last walked (or was first
+        tracked); the walk of a group of one label is that label's last walk (a merged
+        group's centroid also moves as members come and go). Of a group's labels, and the
+        labels they came from by splits (:meth:`_walks`), the latest last walk tells
+        whether someone in it walked lately, the earliest since when it has stood. A group
+        is hidden when nobody in it walked within ``static_time`` and at least
+        ``static_share`` of its contour lies on places static for longer than
+        ``static_time`` and longer than it has stood there (plus ``arrival_slack``). A
+        group that walked in and stands is therefore kept, and so is the half of a group
+        that holds something static (a person who walked past it, then on) until
+        ``static_time`` after the person's last walk."""
+        assert self.static_model is not None
+        p = self.params
+        anchors: dict[int, tuple[float, FloatArray]] = {}
+        asked: list[tuple[TrackNode, float]] = []
+        for node in nodes:
+            position = node.mean[:2]
+            anchor = anchors[node.family] = self._anchors.get(node.family, (stamp, position))
+            labels = self.name(node)
+            if math.dist(position, anchor[1]) >= p.min_travel:
+                anchors[node.family] = (stamp, position)
+                if len(labels) == 1:
+                    self._walked_at[labels[0]] = stamp
+            earliest, latest = self._walks(labels)
+            if stamp - latest >= p.static_time:
+                stood = stamp - earliest + p.arrival_slack if earliest > -math.inf else 0.0
+                asked.append((node, max(p.static_time, stood)))
+        self._anchors = anchors
+        contours = [group_payload(node).contour + node.mean[:2] for node, _ in asked]
+        if not contours:
+            return nodes
+        static = self.static_model.static_time(np.concatenate(contours))
+        hidden: set[int] = set()
+        end = 0
+        for (node, limit), contour in zip(asked, contours, strict=True):
+            end += len(contour)
+            on_static = np.count_nonzero(static[end - len(contour) : end] > limit)
+            if len(contour) and on_static >= p.static_share * len(contour):
+                hidden.add(node.family)
+        self.static_groups_hidden += len(hidden)
+        return [node for node in nodes if node.family not in hidden]
+
+    def _walks(self, labels: tuple[str, ...]) -> tuple[float, float]:
+        """(earliest, latest) over ``labels`` of a label's last walk [s]: its own or that
+        of a label it came from by splits (its stems, ``3-0-1`` -> ``3-0``, ``3``); labels
+        that never walked are left out, and both are -inf when none walked."""
+        walks = []
+        for label in labels:
+            last = -math.inf
+            stem = label
+            while True:
+                last = max(last, self._walked_at.get(stem, -math.inf))
+                stem, dash, _ = stem.rpartition("-")
+                if not dash:
+                    break
+            if last > -math.inf:
+                walks.append(last)
+        return (min(walks), max(walks)) if walks else (-math.inf, -math.inf)
 
     def _format(self, labels: tuple[str, ...]) -> str:
         """:func:`format_labels`, remembered."""

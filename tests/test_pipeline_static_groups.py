@@ -100,7 +100,7 @@ def test_track_says_how_many_group_scans_it_did_not_report(tmp_path: Path) -> No
     from laserpeople.sim.scenarios import run_scenario
 
     rec = tmp_path / "furniture.npz"
-    run_scenario("randomised-furniture", seconds=20.0, seed=3).write(rec)
+    run_scenario("randomised-furniture", seconds=14.0, seed=3).write(rec)
     out = tmp_path / "g.csv"
     result = CliRunner().invoke(app, ["track", str(rec), "-o", str(out), "--tracker", "group-mht"])
     assert result.exit_code == 0, result.output

@@ -91,7 +91,7 @@ def pairwise_sum(values: FloatArray) -> float:  # pragma: no cover - jit
     depth = 64
     los = np.empty(depth, dtype=np.intp)
     ns = np.empty(depth, dtype=np.intp)
-    stage = np.zeros(depth, dtype=np.intp)  # 0: left half pending, 1: right half pending
+    stage = np.empty(depth, dtype=np.intp)  # 0: left half pending, 1: right half pending
     left = np.empty(depth)
     los[0] = 0
     ns[0] = n
@@ -131,29 +131,36 @@ def _solve_wide(
 ) -> int:  # pragma: no cover - jit
     """Solve the (R, C) problem ``cost`` with R <= C in place: ``col4row`` (R,) gets each
     row's column, ``u`` (R,) and ``v`` (C,) the optimal duals (all three are overwritten).
-    Returns a status (:data:`OK`, :data:`INFEASIBLE`, :data:`INVALID`)."""
+    Returns a status (:data:`OK`, :data:`INFEASIBLE`, :data:`INVALID`).
+
+    Written with plain loops (no slicing or numpy calls): numba compiles them several
+    times faster, which is what a first run without a cache pays."""
     n_rows, n_cols = cost.shape
     for i in range(n_rows):
         for j in range(n_cols):
             c = cost[i, j]
             if c != c or c == -np.inf:
                 return INVALID
-    u[:] = 0.0
-    v[:] = 0.0
-    col4row[:] = -1
-    row4col = np.full(n_cols, -1, dtype=np.intp)
+    row4col = np.empty(n_cols, dtype=np.intp)
     pred = np.empty(n_cols, dtype=np.intp)  # the row before each column on its path
     dist = np.empty(n_cols)  # reduced length of the shortest path to each column
     todo = np.empty(n_cols, dtype=np.intp)  # columns not yet settled
-    row_seen = np.zeros(n_rows, dtype=np.bool_)
-    col_seen = np.zeros(n_cols, dtype=np.bool_)
+    row_seen = np.empty(n_rows, dtype=np.bool_)
+    col_seen = np.empty(n_cols, dtype=np.bool_)
+    for i in range(n_rows):
+        u[i] = 0.0
+        col4row[i] = -1
+    for j in range(n_cols):
+        v[j] = 0.0
+        row4col[j] = -1
     for start in range(n_rows):
-        for k in range(n_cols):
-            todo[k] = n_cols - 1 - k
+        for j in range(n_cols):
+            todo[j] = n_cols - 1 - j
+            dist[j] = np.inf
+            col_seen[j] = False
+        for i in range(n_rows):
+            row_seen[i] = False
         n_todo = n_cols
-        dist[:] = np.inf
-        row_seen[:] = False
-        col_seen[:] = False
         reach = 0.0  # length of the path to the last settled column
         row = start
         sink = -1
@@ -212,9 +219,12 @@ def _solve(
     L = min(R, C) (rows increasing, as scipy returns them), and the duals ``u`` (R,),
     ``v`` (C,). Returns the status and the cost (numpy's summation order)."""
     n_rows, n_cols = cost.shape
-    if n_rows == 0 or n_cols == 0:
-        u[:] = 0.0
-        v[:] = 0.0
+    size = min(n_rows, n_cols)
+    if size == 0:
+        for i in range(n_rows):
+            u[i] = 0.0
+        for j in range(n_cols):
+            v[j] = 0.0
         return OK, 0.0
     if n_rows <= n_cols:
         status = _solve_wide(cost, cols, u, v)
@@ -222,17 +232,28 @@ def _solve(
             return status, 0.0
         for i in range(n_rows):
             rows[i] = i
-    else:
+    else:  # solve the transpose; list the pairs by row
+        tall = np.empty((n_cols, n_rows))
+        for i in range(n_rows):
+            for j in range(n_cols):
+                tall[j, i] = cost[i, j]
         row4col = np.empty(n_cols, dtype=np.intp)
-        status = _solve_wide(np.ascontiguousarray(cost.T), row4col, v, u)
+        status = _solve_wide(tall, row4col, v, u)
         if status != OK:
             return status, 0.0
-        order = np.argsort(row4col)
-        for k in range(n_cols):
-            cols[k] = order[k]
-            rows[k] = row4col[order[k]]
-    picked = np.empty(rows.shape[0])
-    for k in range(rows.shape[0]):
+        col4row = np.empty(n_rows, dtype=np.intp)
+        for i in range(n_rows):
+            col4row[i] = -1
+        for j in range(n_cols):
+            col4row[row4col[j]] = j
+        k = 0
+        for i in range(n_rows):
+            if col4row[i] >= 0:
+                rows[k] = i
+                cols[k] = col4row[i]
+                k += 1
+    picked = np.empty(size)
+    for k in range(size):
         picked[k] = cost[rows[k], cols[k]]
     return status, pairwise_sum(picked)
 
@@ -293,16 +314,23 @@ def murty_children(
     costs = np.empty(n_sub)
     u = np.empty(n_rows)
     v = np.empty(n_cols)
-    chain = matrix.copy()  # the earlier pairs forced
+    chain = np.empty((n_rows, n_cols))  # the earlier pairs forced
+    for i in range(n_rows):
+        for j in range(n_cols):
+            chain[i, j] = matrix[i, j]
     for t in range(n_sub):
         r = pair_rows[t]
         c = pair_cols[t]
         sub = mats[t]
-        sub[:, :] = chain
+        for i in range(n_rows):
+            for j in range(n_cols):
+                sub[i, j] = chain[i, j]
         sub[r, c] = np.inf
         status[t], costs[t] = _solve(sub, rows[t], cols[t], u, v)
-        keep = chain[r, c]
-        chain[r, :] = np.inf
-        chain[:, c] = np.inf
-        chain[r, c] = keep
+        for j in range(n_cols):
+            if j != c:
+                chain[r, j] = np.inf
+        for i in range(n_rows):
+            if i != r:
+                chain[i, c] = np.inf
     return mats, status, rows, cols, costs

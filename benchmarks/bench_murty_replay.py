@@ -135,9 +135,10 @@ def main() -> None:
                     spent[who] += time.process_time() - t0
                 same += results["this"] == results["other"]
             matrix_mod.MurtyStream = this_stream  # type: ignore[misc]
+            ratio = spent["this"] / max(spent["other"], 1e-9)
             print(
                 f"{text}, round {r + 1}: {len(calls)} calls, this {spent['this']:.3f} s, "
-                f"other {spent['other']:.3f} s, this/other {spent['this'] / spent['other']:.3f}; "
+                f"other {spent['other']:.3f} s, this/other {ratio:.3f}; "
                 f"same children and solve counts: {same} of {len(calls)}",
                 flush=True,
             )

@@ -26,31 +26,14 @@ import itertools
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
-
-if TYPE_CHECKING:
-    from types import ModuleType
+from scipy.optimize import linear_sum_assignment
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 BoolArray = NDArray[np.bool_]
-
-_compiled: ModuleType | None = None
-
-
-def _lsap() -> ModuleType:
-    """The compiled solver (:mod:`laserpeople.tracking.lsap`), imported on first use:
-    numba takes ~0.4 s to import, which the command line and the light modules must not
-    pay."""
-    global _compiled
-    if _compiled is None:
-        from laserpeople.tracking import lsap
-
-        _compiled = lsap
-    return _compiled
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,42 +62,19 @@ class Assignment:
 
 
 def solve(cost: FloatArray) -> Assignment | None:
-    """The minimum-cost assignment, or None when no assignment of finite cost exists (or
-    the matrix holds NaN or -inf). The same assignment as
-    :func:`scipy.optimize.linear_sum_assignment`, ties included (compiled:
-    :func:`laserpeople.tracking.lsap.solve_duals`)."""
-    cost = np.ascontiguousarray(cost, dtype=np.float64)
-    if cost.ndim != 2:
-        raise ValueError(f"cost must be a matrix, got shape {cost.shape}")
-    status, rows, cols, total, _, _ = _lsap().solve_duals(cost)
-    if status != 0 or total == np.inf:
+    """The minimum-cost assignment, or None when no assignment of finite cost exists."""
+    cost = np.asarray(cost, dtype=np.float64)
+    if cost.size == 0:
+        empty = np.empty(0, dtype=np.intp)
+        return Assignment(0.0, empty, empty)
+    try:
+        rows, cols = linear_sum_assignment(cost)
+    except ValueError:  # scipy: "cost matrix is infeasible"
+        return None
+    total = float(cost[rows, cols].sum())
+    if total == np.inf:
         return None
     return Assignment(total, rows, cols)
-
-
-class _Children:
-    """The subproblems of one popped solution, all made and solved in one compiled call
-    (:func:`laserpeople.tracking.lsap.murty_children`): matrices (K, R, C), status (K,),
-    rows and columns (K, L) of the best assignments, costs (K,)."""
-
-    __slots__ = ("cols", "costs", "matrices", "rows", "status")
-
-    def __init__(self, matrix: FloatArray, pairs: list[tuple[int, int]]) -> None:
-        pair_rows = np.array([p[0] for p in pairs], dtype=np.intp)
-        pair_cols = np.array([p[1] for p in pairs], dtype=np.intp)
-        mats, status, rows, cols, costs = _lsap().murty_children(matrix, pair_rows, pair_cols)
-        self.matrices: FloatArray = mats
-        self.status: list[int] = status.tolist()
-        self.rows: IntArray = rows
-        self.cols: IntArray = cols
-        self.costs: list[float] = costs.tolist()
-
-    def solution(self, t: int) -> Assignment | None:
-        """The best assignment of subproblem t (None: infeasible)."""
-        cost = self.costs[t]
-        if self.status[t] != 0 or cost == math.inf:
-            return None
-        return Assignment(cost, self.rows[t], self.cols[t])
 
 
 @dataclass(eq=False)
@@ -124,17 +84,13 @@ class _Node:
 
     ``matrix`` is the subproblem's cost matrix: the base with the forbidden pairs at inf
     and the rows and columns of the forced pairs at inf except those pairs. It is made
-    when the node is queued (with its siblings, from its parent's, one pair at a time)
-    and dropped once the node's own subproblems are queued. ``batch`` and ``index``: the
-    siblings made and solved together, and which one this is (its solution is taken from
-    there when the node is refined)."""
+    when the node is queued (from its parent's, one pair at a time) and dropped once the
+    node's own subproblems are queued."""
 
     solution: Assignment | None
     forced: tuple[tuple[int, int], ...]
     forbidden: tuple[tuple[int, int], ...]
     matrix: FloatArray | None = None
-    batch: _Children | None = None
-    index: int = 0
 
 
 class MurtyStream:
@@ -148,18 +104,16 @@ class MurtyStream:
     Args:
         cost: (R, C) cost matrix, ``inf`` = infeasible pair.
         key: (R, C) mask of the pairs that identify a solution (default: all pairs).
-        incremental: Make the subproblems' matrices from their parent's when they are
-            queued, one pair at a time, and solve them all at once in compiled code
-            (:class:`_Children`), each solution revealed only when the subproblem is
-            refined; instead of building each from the base matrix and solving it when it
-            is refined. The matrices, hence the solutions, the order and the counts seen
-            from outside are the same (False is kept to test that).
+        incremental: Make each subproblem's matrix from its sibling's when the subproblems
+            are queued (one copy and a few entries each) instead of from the base matrix
+            when it is solved (a copy and every constraint again); the matrices, hence the
+            solutions, are the same (False is kept to test that).
     """
 
     def __init__(
         self, cost: FloatArray, key: BoolArray | None = None, incremental: bool = True
     ) -> None:
-        self.cost = np.ascontiguousarray(cost, dtype=np.float64)
+        self.cost = np.asarray(cost, dtype=np.float64)
         self.key = np.ones(self.cost.shape, dtype=bool) if key is None else np.asarray(key)
         if self.key.shape != self.cost.shape:
             raise ValueError(f"key shape {self.key.shape} != cost shape {self.cost.shape}")
@@ -187,12 +141,10 @@ class MurtyStream:
         if self.front_solved():
             return
         bound, _, node = heapq.heappop(self._heap)
-        if node.batch is not None:
-            node.solution = node.batch.solution(node.index)
-        elif node.matrix is not None:
-            node.solution = solve(node.matrix)
-        else:
+        if node.matrix is None:
             node.solution = self._solve_sub(node.forced, node.forbidden)
+        else:
+            node.solution = solve(node.matrix)
         self.n_solved += 1
         if node.solution is not None:
             self._push(bound, node)
@@ -230,16 +182,20 @@ class MurtyStream:
         # forced pairs have distinct rows and columns and are never forbidden)
         matrix = node.matrix
         if matrix is None:
-            matrix = np.ascontiguousarray(_constrained(self.cost, node.forced, node.forbidden))
+            matrix = _constrained(self.cost, node.forced, node.forbidden)
         node.matrix = None
-        node.batch = None
-        if not key_pairs:
-            return sol
-        batch = _Children(matrix, key_pairs)
-        for t, pair in enumerate(key_pairs):
-            child = _Node(None, forced, (*node.forbidden, pair), batch.matrices[t], batch, t)
-            self._push(sol.cost, child)
-            forced = (*forced, pair)
+        last = len(key_pairs) - 1
+        for t, (r, c) in enumerate(key_pairs):
+            sub = matrix.copy()
+            sub[r, c] = np.inf
+            self._push(sol.cost, _Node(None, forced, (*node.forbidden, (r, c)), sub))
+            forced = (*forced, (r, c))
+            if t < last:
+                matrix = matrix.copy() if t == 0 else matrix
+                keep = matrix[r, c]
+                matrix[r, :] = np.inf
+                matrix[:, c] = np.inf
+                matrix[r, c] = keep
         return sol
 
     def __iter__(self) -> Iterator[Assignment]:

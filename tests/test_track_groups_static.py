@@ -207,3 +207,16 @@ def test_a_wall_in_the_foreground_is_not_a_group() -> None:
     assert all(len(t.of_kind("group")[0].contour) == 68 for t in out[1:])  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="max_blob_size"):
         GroupTrackerParams(max_blob_size=-1.0)
+
+
+def test_walk_times_are_forgotten_for_groups_long_gone() -> None:
+    from laserpeople.tracking.groups.tracker import LABEL_MEMO, _stems
+
+    assert _stems("3-0-1") == ["3-0-1", "3-0", "3"]
+    model = PlaceModel(_near_object)
+    tracker, _ = _track(lambda k: [np.array([0.1 * k, 2.0])], 12, model)  # a walker
+    assert tracker._walked_at  # it walked
+    kept = dict(tracker._walked_at)
+    tracker._walked_at.update({f"{9000 + i}": 1.0 for i in range(LABEL_MEMO)})
+    tracker.update(_frame(_blob(np.array([1.2, 2.0])), 12))
+    assert tracker._walked_at == kept  # only the walker's labels are left

@@ -691,6 +691,9 @@ class GroupMHTTracker:
                 stood = stamp - earliest + p.arrival_slack if earliest > -math.inf else 0.0
                 asked.append((node, max(p.static_time, stood)))
         self._anchors = anchors
+        if len(self._walked_at) > LABEL_MEMO:  # keep what the groups of now can ask
+            live = {stem for node in nodes for label in self.name(node) for stem in _stems(label)}
+            self._walked_at = {k: t for k, t in self._walked_at.items() if k in live}
         contours = [group_payload(node).contour + node.mean[:2] for node, _ in asked]
         if not contours:
             return nodes
@@ -711,13 +714,7 @@ class GroupMHTTracker:
         that never walked are left out, and both are -inf when none walked."""
         walks = []
         for label in labels:
-            last = -math.inf
-            stem = label
-            while True:
-                last = max(last, self._walked_at.get(stem, -math.inf))
-                stem, dash, _ = stem.rpartition("-")
-                if not dash:
-                    break
+            last = max(self._walked_at.get(stem, -math.inf) for stem in _stems(label))
             if last > -math.inf:
                 walks.append(last)
         return (min(walks), max(walks)) if walks else (-math.inf, -math.inf)
@@ -764,6 +761,13 @@ class GroupMHTTracker:
     def n_hypotheses(self) -> int:
         """Hypotheses after the last frame, summed over clusters."""
         return 0 if self.last_stats is None else self.last_stats.n_hypotheses
+
+
+def _stems(label: str) -> list[str]:
+    """``label`` and the labels it came from by splits: ``3-0-1`` -> ``3-0-1``, ``3-0``,
+    ``3``."""
+    parts = label.split("-")
+    return ["-".join(parts[:k]) for k in range(len(parts), 0, -1)]
 
 
 __all__ = [

@@ -299,7 +299,7 @@ class GroupTrackerParams:
         False,
         "extension of 000 (issue 12, real data): on the leg_tracker demo bag a static object "
         "was reported as a group for 95 s under five ids, and returns at the edges of walls "
-        "as some 50 groups of 1-3 scans (docs/groups.md 'Groups on static places')",
+        "as some 50 groups of 1-3 scans (docs/groups.md 'Real recordings')",
         "report groups on places static for longer than static_time that have never been "
         "seen walking (true: every group of the best hypothesis, as 000); false hides them "
         "(still tracked, counted and reported by laserpeople track)",
@@ -313,8 +313,9 @@ class GroupTrackerParams:
     min_travel: float = param(
         0.5,
         "as people.min_travel (leg_tracker's distance travelled to initiate a person)",
-        "distance from where a group (or a group it split from or merged with) was first "
-        "tracked after which it has walked (see arrival_slack)",
+        "distance from where a group last walked (or was first tracked) that is a walk; "
+        "the walks of its labels (and of the groups they split from) tell how long it has "
+        "stood (see arrival_slack)",
         "m",
     )
     arrival_slack: float = param(

@@ -141,3 +141,39 @@ def test_initiate_batch_equals_initiate_one_by_one() -> None:
         np.testing.assert_array_equal(covs[i], c)
     empty_m, empty_c = initiate_batch(np.empty((0, 2)), np.empty((0, 2, 2)), 0.7)
     assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)
+
+
+def test_few_tracks_predict_and_coast_are_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_BATCH`` tracks, :func:`kalman.predict` and
+    :func:`kalman.predict_and_coast` build their matrices from plain floats: the same
+    means and covariances, bit for bit, as the array path (random states, steps of 0 s,
+    scan periods with jitter and long gaps, finite and infinite ``tau``)."""
+    rng = np.random.default_rng(11)
+    cases = []
+    for _ in range(400):
+        t = int(rng.integers(1, kalman.SMALL_BATCH + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        dt = rng.choice([0.0, 1.0 / 37.5, 0.1, 0.7, 2.0], size=t) + rng.normal(scale=1e-4, size=t)
+        dt = np.clip(dt, 0.0, None)
+        tau = float(rng.choice([0.8, np.inf]))
+        cases.append((means, covs, dt, float(rng.uniform(0.1, 3.0)), tau))
+
+    def run() -> list[tuple[np.ndarray, ...]]:
+        out = []
+        for means, covs, dt, q, tau in cases:
+            out.append(kalman.predict(means, covs, dt, q))
+            out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
+        return out
+
+    few = run()
+    monkeypatch.setattr(kalman, "SMALL_BATCH", 0)
+    arrays = run()
+    for got, want in zip(few, arrays, strict=True):
+        assert len(got) == len(want)
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()

@@ -128,6 +128,14 @@ def process_noise(dt: FloatArray, accel_psd: float) -> FloatArray:
     return q.reshape(-1, 4, 4)
 
 
+SMALL_BATCH = 6
+"""Up to this many tracks :func:`predict` and :func:`predict_and_coast` build their
+transition and noise matrices from plain floats (:func:`_few_predict_and_coast`: the
+same arrays bit for bit, with about half the numpy calls; the leg MHT of a sparse scene
+predicts one node in most scans). Measured ``predict_and_coast``: 24 / 27 / 33 / 38 us
+against 45 / 46 / 49 / 53 us for 1 / 2 / 4 / 6 tracks, even at 8."""
+
+
 def predict(
     means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float
 ) -> tuple[FloatArray, FloatArray]:
@@ -135,7 +143,46 @@ def predict(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    if 0 < dt.size <= SMALL_BATCH:
+        pm, pc, _, _ = _few_predict_and_coast(means, covs, dt, accel_psd, math.inf)
+        return pm, pc
     return _predict(means, covs, dt, process_noise(dt, accel_psd))
+
+
+def _few_predict_and_coast(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict_and_coast` of a few tracks (``means`` (T, 4) and ``covs`` (T, 4, 4)
+    float64, ``dt`` (T,)) with the process noise, the transition matrices and the predicted
+    means formed in plain floats: each element by the same IEEE operations as the array
+    functions (``dt**2`` as ``dt * dt``, numpy's square; ``dt**3`` by ``pow`` in both), the
+    matrix products and ``exp`` left to numpy, so the results are the same bit for bit."""
+    a = accel_psd
+    q_rows: list[float] = []
+    f_rows: list[float] = []
+    m_rows: list[float] = []
+    dts = dt.tolist()
+    for d, (x, y, vx, vy) in zip(dts, means.tolist(), strict=True):
+        pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
+        q_rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
+        f_rows += (1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+        m_rows += (x + vx * d, y + vy * d, vx, vy)
+    t = len(dts)
+    q = np.array(q_rows).reshape(t, 4, 4)
+    f = np.array(f_rows).reshape(t, 4, 4)
+    pm = np.array(m_rows).reshape(t, 4)
+    pc = f @ covs @ f.transpose(0, 2, 1) + q
+    if math.isinf(tau):
+        return pm, pc, pm, pc
+    decay = np.exp(-dt / tau).tolist()
+    c_rows: list[float] = []
+    for k in decay:
+        g = tau * (1.0 - k)
+        c_rows += (1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k)
+    fc = np.array(c_rows).reshape(t, 4, 4)
+    cm = np.einsum("tij,tj->ti", fc, means)
+    cc = fc @ covs @ fc.transpose(0, 2, 1) + q
+    return pm, pc, cm, cc
 
 
 def _predict(
@@ -186,6 +233,8 @@ def predict_and_coast(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    if 0 < dt.size <= SMALL_BATCH:
+        return _few_predict_and_coast(means, covs, dt, accel_psd, tau)
     q = process_noise(dt, accel_psd)
     pm, pc = _predict(means, covs, dt, q)
     if math.isinf(tau):

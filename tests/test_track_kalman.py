@@ -177,3 +177,29 @@ def test_few_tracks_predict_and_coast_are_the_array_path_bit_for_bit(
         for g, w in zip(got, want, strict=True):
             assert g.shape == w.shape and g.dtype == w.dtype
             assert g.tobytes() == w.tobytes()
+
+
+def test_few_states_update_batch_is_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_UPDATE`` states, :func:`kalman.update_batch` forms the inverse
+    innovation covariances and ``I - K H`` in plain floats: the same means and covariances,
+    bit for bit, as the array path (random states, measurements and covariances)."""
+    rng = np.random.default_rng(12)
+    cases = []
+    for _ in range(400):
+        k = int(rng.integers(1, kalman.SMALL_UPDATE + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(k, 4))
+        a = rng.normal(size=(k, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        b = rng.normal(scale=0.1, size=(k, 2, 2))
+        meas_covs = b @ b.transpose(0, 2, 1) + 1e-3 * np.eye(2)
+        z = means[:, :2] + rng.normal(scale=0.3, size=(k, 2))
+        cases.append((means, covs, z, meas_covs))
+    few = [kalman.update_batch(*c) for c in cases]
+    monkeypatch.setattr(kalman, "SMALL_UPDATE", 0)
+    arrays = [kalman.update_batch(*c) for c in cases]
+    for got, want in zip(few, arrays, strict=True):
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()

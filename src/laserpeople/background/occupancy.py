@@ -299,12 +299,17 @@ class OccupancyGrid:
         """Grow the arrays to hold ``cells`` (K, 2) (with a margin)."""
         if cells.shape[0] == 0:
             return
-        lo, hi = cells.min(axis=0), cells.max(axis=0)
+        # (one column at a time: four 1-d reductions take a quarter of min/max(axis=0)'s
+        # time on (K, 2))
+        rows, cols = cells[:, 0], cells[:, 1]
+        i0, i1, j0, j1 = int(rows.min()), int(rows.max()), int(cols.min()), int(cols.max())
         h, w = self._evidence.shape
         if h * w > 0:
-            (i0, j0), (i1, j1), (o0, o1) = lo.tolist(), hi.tolist(), self._origin.tolist()
+            o0, o1 = self._origin.tolist()
             if i0 >= o0 and j0 >= o1 and i1 < o0 + h and j1 < o1 + w:
                 return
+        lo = np.array([i0, j0], dtype=np.int64)
+        hi = np.array([i1, j1], dtype=np.int64)
         shape = np.array(self._evidence.shape, dtype=np.int64)
         margin = 64
         if shape.prod() == 0:

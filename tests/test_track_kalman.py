@@ -203,3 +203,27 @@ def test_few_states_update_batch_is_the_array_path_bit_for_bit(
         for g, w in zip(got, want, strict=True):
             assert g.shape == w.shape and g.dtype == w.dtype
             assert g.tobytes() == w.tobytes()
+
+
+def test_measurement_covariances_of_few_detections_are_the_array_path(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The plain-float test of a few detector covariances replaces the same ones (zero,
+    negative, singular, non-finite) as the array path, bit for bit."""
+    rng = np.random.default_rng(13)
+    bad = [np.zeros((2, 2)), -np.eye(2), np.ones((2, 2)), np.array([[1.0, np.nan], [0.0, 1.0]])]
+    bad += [np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[1.0, 0.0], [np.nan, 1.0]])]
+    cases = []
+    for _ in range(300):
+        m = int(rng.integers(0, kalman.SMALL_BATCH + 1))
+        a = rng.normal(scale=0.05, size=(m, 2, 2))
+        raw = a @ a.transpose(0, 2, 1)
+        for i in range(m):
+            if rng.random() < 0.3:
+                raw[i] = bad[int(rng.integers(len(bad)))]
+        cases.append(raw)
+    few = [kalman.measurement_covariances(r, 0.03) for r in cases]
+    monkeypatch.setattr(kalman, "SMALL_BATCH", -1)
+    arrays = [kalman.measurement_covariances(r, 0.03) for r in cases]
+    for got, want in zip(few, arrays, strict=True):
+        assert got.shape == want.shape and got.tobytes() == want.tobytes()

@@ -377,6 +377,13 @@ def measurement_covariances(raw: FloatArray, measurement_std: float) -> FloatArr
     """Detector covariances (M, 2, 2), replaced by ``measurement_std^2 I`` where not positive
     definite (rule-based detectors may report zeros)."""
     raw = np.asarray(raw, dtype=np.float64).reshape(-1, 2, 2)
+    if raw.shape[0] <= SMALL_BATCH:  # (a few detections: the same test in plain floats)
+        out = raw.copy()
+        for i, (a, b, c, d) in enumerate(raw.reshape(-1, 4).tolist()):
+            finite = math.isfinite(a) and math.isfinite(b) and math.isfinite(c)
+            if not (a > 0 and a * d - b * b > 0 and finite and math.isfinite(d)):
+                out[i] = np.eye(2) * measurement_std**2
+        return out
     a, b, d = raw[:, 0, 0], raw[:, 0, 1], raw[:, 1, 1]
     ok = (a > 0) & (a * d - b * b > 0) & np.isfinite(raw).all(axis=(1, 2))
     out = raw.copy()

@@ -379,9 +379,9 @@ def measurement_covariances(raw: FloatArray, measurement_std: float) -> FloatArr
     raw = np.asarray(raw, dtype=np.float64).reshape(-1, 2, 2)
     if raw.shape[0] <= SMALL_BATCH:  # (a few detections: the same test in plain floats)
         out = raw.copy()
-        for i, (a, b, c, d) in enumerate(raw.reshape(-1, 4).tolist()):
-            finite = math.isfinite(a) and math.isfinite(b) and math.isfinite(c)
-            if not (a > 0 and a * d - b * b > 0 and finite and math.isfinite(d)):
+        for i, (xx, xy, yx, yy) in enumerate(raw.reshape(-1, 4).tolist()):
+            finite = math.isfinite(xx) and math.isfinite(xy) and math.isfinite(yx)
+            if not (xx > 0 and xx * yy - xy * xy > 0 and finite and math.isfinite(yy)):
                 out[i] = np.eye(2) * measurement_std**2
         return out
     a, b, d = raw[:, 0, 0], raw[:, 0, 1], raw[:, 1, 1]

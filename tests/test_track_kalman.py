@@ -227,3 +227,29 @@ def test_measurement_covariances_of_few_detections_are_the_array_path(
     arrays = [kalman.measurement_covariances(r, 0.03) for r in cases]
     for got, want in zip(few, arrays, strict=True):
         assert got.shape == want.shape and got.tobytes() == want.tobytes()
+
+
+def test_few_pairs_mahalanobis_and_loglik_are_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_PAIRS`` (track, measurement) pairs the squared Mahalanobis distances
+    and log-likelihoods are formed in plain floats: the array path's values bit for bit."""
+    rng = np.random.default_rng(14)
+    cases = []
+    for _ in range(400):
+        t = int(rng.integers(1, 5))
+        m = int(rng.integers(1, kalman.SMALL_PAIRS // t + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        b = rng.normal(scale=0.1, size=(m, 2, 2))
+        meas_covs = b @ b.transpose(0, 2, 1) + 1e-3 * np.eye(2)
+        z = rng.normal(scale=5.0, size=(m, 2))
+        cases.append((means, covs, z, meas_covs))
+    few = [kalman.mahalanobis_and_loglik(*c) for c in cases]
+    monkeypatch.setattr(kalman, "SMALL_PAIRS", 0)
+    arrays = [kalman.mahalanobis_and_loglik(*c) for c in cases]
+    for got, want in zip(few, arrays, strict=True):
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()

@@ -670,6 +670,10 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
+        if len(self.persons) <= 12 and _all_apart(
+            [q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance
+        ):
+            return
         ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
         xy = np.stack([q.mean[:2] for q in ps])
         close = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)) < p.merge_distance
@@ -811,6 +815,19 @@ class PersonTracker:
                 )
             )
         return out
+
+
+def _all_apart(xy: Sequence[Sequence[float]], distance: float) -> bool:
+    """Whether every two of the positions ``xy`` (N lists ``[x, y]`` [m]) are at least
+    ``distance`` [m] apart along x or along y, so that no ``np.hypot`` of their differences
+    is below ``distance`` (a rounded hypot is never below the larger leg): the merge's
+    "nobody near anybody" without its arrays. False when unsure (a pair closer than
+    ``distance`` along both axes, or NaN in both)."""
+    for i, (ax, ay) in enumerate(xy):
+        for bx, by in xy[i + 1 :]:
+            if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+                return False
+    return True
 
 
 def leg_observations(

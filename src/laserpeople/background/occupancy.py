@@ -361,15 +361,18 @@ class OccupancyGrid:
         if not keep.any():
             return np.zeros(0), np.zeros(0)
         res = p.resolution
-        u = d[keep] / r[keep, None]
-        steps = np.arange(0.5 * res, float(reach[keep].max()), res)
-        counts = np.searchsorted(steps, reach[keep], side="left")  # steps < reach per beam
+        o = origins
+        if not keep.all():  # (else the arrays as they are: the same rows, no copies)
+            d, r, reach, o = d[keep], r[keep], reach[keep], origins[keep]
+        u = d / r[:, None]
+        steps = np.arange(0.5 * res, float(reach.max()), res)
+        counts = np.searchsorted(steps, reach, side="left")  # steps < reach per beam
         start = np.cumsum(counts) - counts
         k = np.arange(int(counts.sum()))
         k -= np.repeat(start, counts)  # the step number of each sample along its beam
         step = np.take(steps, k)
-        o = origins[keep]
-        single = bool((o == o[0]).all())  # one sensor position: a scalar (same values)
+        # one sensor position (a broadcast row, or equal rows): a scalar (same values)
+        single = o.strides[0] == 0 or bool((o == o[0]).all())
         ox = o[0, 0] if single else np.repeat(o[:, 0], counts)
         oy = o[0, 1] if single else np.repeat(o[:, 1], counts)
         xs = np.repeat(u[:, 0], counts)

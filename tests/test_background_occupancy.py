@@ -283,3 +283,49 @@ def test_free_flat_indices_are_the_free_cells() -> None:
     cells = g._free_cells(sensor, pts)
     assert len(cells) > 100
     assert g._free_flat(sensor, pts).tolist() == g._flat(cells).tolist()
+
+
+def test_static_time_of_few_positions_is_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The plain-float path for a few positions (``FEW_POSITIONS``) gives the array path's
+    values bit for bit, inside the arrays, at their edge (where it hands over to the array
+    path), for non-finite positions, and for cells whose decayed evidence lies exactly at
+    ``occupied_evidence`` (decided by numpy's exp)."""
+    from laserpeople.background import occupancy
+
+    for seed in range(6):
+        g = _learnt_grid(seed, OccupancyParams(neighbourhood=seed % 3))
+        h, w = g._evidence.shape
+        lo = (g._origin * P.resolution).astype(float)
+        hi = ((g._origin + np.array([h, w])) * P.resolution).astype(float)
+        rng = np.random.default_rng(200 + seed)
+        cases = [rng.uniform(-4.5, 4.5, size=(m, 2)) for m in (1, 2, 3, 5, 8, 9)]
+        cases += [np.vstack([lo + 0.03, [0.5, 0.5]]), np.vstack([hi - 0.03, [0.5, 0.5]])]
+        cases.append(np.array([[np.nan, 0.0], [1.0, 1.0]]))
+        # a cell whose decayed evidence is the threshold itself: evidence 2 touched now
+        flat = int(np.flatnonzero(np.isfinite(g._touched.reshape(-1)))[0])
+        g._evidence.reshape(-1)[flat] = P.occupied_evidence
+        g._touched.reshape(-1)[flat] = g.stamp
+        g._since.reshape(-1)[flat] = g.stamp - 7.0
+        i, j = divmod(flat, w)
+        at = (np.array([i, j]) + g._origin + 0.5) * P.resolution
+        cases.append(at[None, :])
+        with np.errstate(invalid="ignore"):  # (the array path casts the nan position)
+            fast = [g.static_time(pos) for pos in cases]
+            assert fast[-1][0] >= 7.0  # (the cell at the threshold is occupied)
+            monkeypatch.setattr(occupancy, "FEW_POSITIONS", 0)
+            slow = [g.static_time(pos) for pos in cases]
+            monkeypatch.undo()
+        for a, b in zip(fast, slow, strict=True):
+            assert a.dtype == b.dtype and a.shape == b.shape
+            assert a.tobytes() == b.tobytes()
+
+
+def test_plain_float_exp_agrees_with_numpy_away_from_the_guard() -> None:
+    """``math.exp`` and ``np.exp`` of the decay exponents the grid forms differ by at most
+    an ulp or two, far inside the 1e-9 guard of the plain-float path."""
+    rng = np.random.default_rng(3)
+    x = -rng.uniform(0.0, 40.0, size=20_000) / P.decay_time
+    ours = np.array([math.exp(v) for v in x.tolist()])
+    assert np.allclose(ours, np.exp(x), rtol=1e-14, atol=0.0)

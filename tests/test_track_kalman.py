@@ -141,3 +141,115 @@ def test_initiate_batch_equals_initiate_one_by_one() -> None:
         np.testing.assert_array_equal(covs[i], c)
     empty_m, empty_c = initiate_batch(np.empty((0, 2)), np.empty((0, 2, 2)), 0.7)
     assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)
+
+
+def test_few_tracks_predict_and_coast_are_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_BATCH`` tracks, :func:`kalman.predict` and
+    :func:`kalman.predict_and_coast` build their matrices from plain floats: the same
+    means and covariances, bit for bit, as the array path (random states, steps of 0 s,
+    scan periods with jitter and long gaps, finite and infinite ``tau``)."""
+    rng = np.random.default_rng(11)
+    cases = []
+    for _ in range(400):
+        t = int(rng.integers(1, kalman.SMALL_BATCH + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        dt = rng.choice([0.0, 1.0 / 37.5, 0.1, 0.7, 2.0], size=t) + rng.normal(scale=1e-4, size=t)
+        dt = np.clip(dt, 0.0, None)
+        tau = float(rng.choice([0.8, np.inf]))
+        cases.append((means, covs, dt, float(rng.uniform(0.1, 3.0)), tau))
+
+    def run() -> list[tuple[np.ndarray, ...]]:
+        out = []
+        for means, covs, dt, q, tau in cases:
+            out.append(kalman.predict(means, covs, dt, q))
+            out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
+        return out
+
+    few = run()
+    monkeypatch.setattr(kalman, "SMALL_BATCH", 0)
+    arrays = run()
+    for got, want in zip(few, arrays, strict=True):
+        assert len(got) == len(want)
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()
+
+
+def test_few_states_update_batch_is_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_UPDATE`` states, :func:`kalman.update_batch` forms the inverse
+    innovation covariances and ``I - K H`` in plain floats: the same means and covariances,
+    bit for bit, as the array path (random states, measurements and covariances)."""
+    rng = np.random.default_rng(12)
+    cases = []
+    for _ in range(400):
+        k = int(rng.integers(1, kalman.SMALL_UPDATE + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(k, 4))
+        a = rng.normal(size=(k, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        b = rng.normal(scale=0.1, size=(k, 2, 2))
+        meas_covs = b @ b.transpose(0, 2, 1) + 1e-3 * np.eye(2)
+        z = means[:, :2] + rng.normal(scale=0.3, size=(k, 2))
+        cases.append((means, covs, z, meas_covs))
+    few = [kalman.update_batch(*c) for c in cases]
+    monkeypatch.setattr(kalman, "SMALL_UPDATE", 0)
+    arrays = [kalman.update_batch(*c) for c in cases]
+    for got, want in zip(few, arrays, strict=True):
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()
+
+
+def test_measurement_covariances_of_few_detections_are_the_array_path(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The plain-float test of a few detector covariances replaces the same ones (zero,
+    negative, singular, non-finite) as the array path, bit for bit."""
+    rng = np.random.default_rng(13)
+    bad = [np.zeros((2, 2)), -np.eye(2), np.ones((2, 2)), np.array([[1.0, np.nan], [0.0, 1.0]])]
+    bad += [np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[1.0, 0.0], [np.nan, 1.0]])]
+    cases = []
+    for _ in range(300):
+        m = int(rng.integers(0, kalman.SMALL_BATCH + 1))
+        a = rng.normal(scale=0.05, size=(m, 2, 2))
+        raw = a @ a.transpose(0, 2, 1)
+        for i in range(m):
+            if rng.random() < 0.3:
+                raw[i] = bad[int(rng.integers(len(bad)))]
+        cases.append(raw)
+    few = [kalman.measurement_covariances(r, 0.03) for r in cases]
+    monkeypatch.setattr(kalman, "SMALL_BATCH", -1)
+    arrays = [kalman.measurement_covariances(r, 0.03) for r in cases]
+    for got, want in zip(few, arrays, strict=True):
+        assert got.shape == want.shape and got.tobytes() == want.tobytes()
+
+
+def test_few_pairs_mahalanobis_and_loglik_are_the_array_path_bit_for_bit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to ``SMALL_PAIRS`` (track, measurement) pairs the squared Mahalanobis distances
+    and log-likelihoods are formed in plain floats: the array path's values bit for bit."""
+    rng = np.random.default_rng(14)
+    cases = []
+    for _ in range(400):
+        t = int(rng.integers(1, 5))
+        m = int(rng.integers(1, kalman.SMALL_PAIRS // t + 1))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        b = rng.normal(scale=0.1, size=(m, 2, 2))
+        meas_covs = b @ b.transpose(0, 2, 1) + 1e-3 * np.eye(2)
+        z = rng.normal(scale=5.0, size=(m, 2))
+        cases.append((means, covs, z, meas_covs))
+    few = [kalman.mahalanobis_and_loglik(*c) for c in cases]
+    monkeypatch.setattr(kalman, "SMALL_PAIRS", 0)
+    arrays = [kalman.mahalanobis_and_loglik(*c) for c in cases]
+    for got, want in zip(few, arrays, strict=True):
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == w.shape and g.dtype == w.dtype
+            assert g.tobytes() == w.tobytes()

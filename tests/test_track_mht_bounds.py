@@ -208,3 +208,30 @@ def test_a_dense_scan_of_500_is_degraded_and_said() -> None:
     assert max(largest) > tracker.params.mht.max_cluster_size
     assert tracker.guard.degraded_scans == sum(x > 200 for x in largest) >= 1
     assert "scans degraded" in tracker.guard.summary()
+
+
+def test_expiry_odds_table_expires_the_same_nodes() -> None:
+    """``ExpiryOdds`` (odds remembered per label probabilities and misses) expires the
+    same nodes as :func:`expired` over random node sets of two classes, scan after scan,
+    also when its table is emptied for being full."""
+    from laserpeople.tracking.mht.expiry import ExpiryOdds
+
+    free = LabelProbabilities(0.3, 0.63, 0.07).log()
+    approved = LabelProbabilities(0.2, 0.79, 0.01).log()
+    rng = np.random.default_rng(5)
+    for limit in (4096, 8):
+        table = ExpiryOdds(limit)
+        for _ in range(200):
+            n = int(rng.integers(1, 12))
+            nodes = [
+                TrackNode(
+                    node_id=i, family=i, parent_id=-1, mean=np.zeros(4), cov=np.eye(4),
+                    stamp=0.0, label="occluded", misses=int(rng.integers(0, 60)),
+                )
+                for i in range(n)
+            ]  # fmt: skip
+            lp = np.array([free if rng.random() < 0.5 else approved for _ in range(n)])
+            for ratio in (1e-3, 1e-2):
+                want = expired(nodes, lp, math.log(ratio))
+                assert table.expired(nodes, lp, math.log(ratio)) == want
+            assert len(table) <= max(limit, 11)  # (one call may bring up to 11)

@@ -350,3 +350,31 @@ def test_leg_mht_counts_the_furniture_legs_it_leaves_out() -> None:
     assert both.static_legs_left_out == 0
     assert sum(t.position[0] <= 1.5 for t in out.of_kind("leg")) == 2
     assert len(out.of_kind("person")) == 1
+
+
+def test_all_apart_never_misses_a_pair_np_hypot_finds_close() -> None:
+    """``_all_apart`` (the merge's plain-float pre-check) says "all apart" only when no
+    ``np.hypot`` of two positions' differences is below the distance; on random sets with
+    pairs at the distance, along an axis and diagonally, and NaN coordinates, it also says
+    so for most sets where that holds."""
+    from laserpeople.tracking.person_tracks import _all_apart
+
+    rng = np.random.default_rng(21)
+    d = 0.4
+    said_apart = 0
+    for _ in range(3000):
+        n = int(rng.integers(2, 7))
+        xy = rng.uniform(-2.0, 2.0, size=(n, 2))
+        if rng.random() < 0.3:  # a pair exactly at the distance along x, or diagonally
+            xy[1] = xy[0] + (np.array([d, 0.0]) if rng.random() < 0.5 else d / np.sqrt(2.0))
+        if rng.random() < 0.05:
+            xy[-1, int(rng.integers(2))] = np.nan
+        near = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)) < d
+        any_close = bool((near & ~np.eye(n, dtype=bool)).any())
+        apart = _all_apart(xy.tolist(), d)
+        assert not (apart and any_close)
+        said_apart += apart
+    assert said_apart > 300
+    assert _all_apart([[0.0, 0.0], [0.4, 0.0]], 0.4)
+    assert not _all_apart([[0.0, 0.0], [0.3, 0.3]], 0.4)  # (0.42 m apart, but not along an axis)
+    assert not _all_apart([[0.0, 0.0], [float("nan"), float("nan")]], 0.4)

@@ -54,6 +54,12 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
+FEW_POSITIONS = 8
+"""Up to this many positions :meth:`OccupancyGrid.static_time` works in plain floats (the
+same values; fewer numpy calls), beyond it on arrays (measured: 12 / 21 / 44 us against
+48 / 44 / 51 us for 1 / 3 / 8 positions)."""
+
+
 class MapFileError(LaserPeopleError):
     """A ROS map (``map.yaml`` and its image) cannot be read."""
 
@@ -293,12 +299,17 @@ class OccupancyGrid:
         """Grow the arrays to hold ``cells`` (K, 2) (with a margin)."""
         if cells.shape[0] == 0:
             return
-        lo, hi = cells.min(axis=0), cells.max(axis=0)
+        # (one column at a time: four 1-d reductions take a quarter of min/max(axis=0)'s
+        # time on (K, 2))
+        rows, cols = cells[:, 0], cells[:, 1]
+        i0, i1, j0, j1 = int(rows.min()), int(rows.max()), int(cols.min()), int(cols.max())
         h, w = self._evidence.shape
         if h * w > 0:
-            (i0, j0), (i1, j1), (o0, o1) = lo.tolist(), hi.tolist(), self._origin.tolist()
+            o0, o1 = self._origin.tolist()
             if i0 >= o0 and j0 >= o1 and i1 < o0 + h and j1 < o1 + w:
                 return
+        lo = np.array([i0, j0], dtype=np.int64)
+        hi = np.array([i1, j1], dtype=np.int64)
         shape = np.array(self._evidence.shape, dtype=np.int64)
         margin = 64
         if shape.prod() == 0:
@@ -350,15 +361,18 @@ class OccupancyGrid:
         if not keep.any():
             return np.zeros(0), np.zeros(0)
         res = p.resolution
-        u = d[keep] / r[keep, None]
-        steps = np.arange(0.5 * res, float(reach[keep].max()), res)
-        counts = np.searchsorted(steps, reach[keep], side="left")  # steps < reach per beam
+        o = origins
+        if not keep.all():  # (else the arrays as they are: the same rows, no copies)
+            d, r, reach, o = d[keep], r[keep], reach[keep], origins[keep]
+        u = d / r[:, None]
+        steps = np.arange(0.5 * res, float(reach.max()), res)
+        counts = np.searchsorted(steps, reach, side="left")  # steps < reach per beam
         start = np.cumsum(counts) - counts
         k = np.arange(int(counts.sum()))
         k -= np.repeat(start, counts)  # the step number of each sample along its beam
         step = np.take(steps, k)
-        o = origins[keep]
-        single = bool((o == o[0]).all())  # one sensor position: a scalar (same values)
+        # one sensor position (a broadcast row, or equal rows): a scalar (same values)
+        single = o.strides[0] == 0 or bool((o == o[0]).all())
         ox = o[0, 0] if single else np.repeat(o[:, 0], counts)
         oy = o[0, 1] if single else np.repeat(o[:, 1], counts)
         xs = np.repeat(u[:, 0], counts)
@@ -526,14 +540,70 @@ class OccupancyGrid:
         held = np.take(self._first_sight, flat) & (tk >= p.first_sight_hold)
         return np.asarray(np.where(held, tk + p.first_sight_static, tk))
 
+    def _static_few(self, xy: list[list[float]]) -> list[float] | None:
+        """:meth:`static_time` without the prior map of a few positions ``xy`` (M lists
+        ``[x, y]`` [m]) in plain floats: the same values, at a fraction of the ~40 numpy
+        calls of the array path (which costs ~60 us whatever M; the people layer asks 1-3
+        positions a few times a scan). None (take the array path) when a position is not
+        finite or a neighbour cell lies outside the arrays.
+
+        The same IEEE operations as :meth:`_cell_static` on the same floats (division,
+        floor, subtraction, multiplication are exact in both), except ``exp``: ``math.exp``
+        may differ from ``np.exp`` in the last bit, so a decayed evidence within a relative
+        1e-9 of ``occupied_evidence`` is decided by ``np.exp`` itself. None also when the
+        grid's time is not finite."""
+        p = self.params
+        if not math.isfinite(self.stamp):
+            return None
+        res, n = p.resolution, p.neighbourhood
+        h, w = self._evidence.shape
+        o0, o1 = int(self._origin[0]), int(self._origin[1])
+        flat: list[int] = []
+        for x, y in xy:
+            if not (math.isfinite(x) and math.isfinite(y)):
+                return None
+            i, j = math.floor(x / res) - o0, math.floor(y / res) - o1
+            if i < n or j < n or i >= h - n or j >= w - n:
+                return None
+            for a in range(i - n, i + n + 1):
+                row = a * w
+                flat.extend(range(row + j - n, row + j + n + 1))
+        idx = np.array(flat, dtype=np.intp)
+        ev = self._evidence.reshape(-1).take(idx).tolist()
+        touched = self._touched.reshape(-1).take(idx).tolist()
+        since = self._since.reshape(-1).take(idx).tolist()
+        first = self._first_sight.reshape(-1).take(idx).tolist()
+        stamp, tau, thr = self.stamp, p.decay_time, p.occupied_evidence
+        hold, extra = p.first_sight_hold, p.first_sight_static
+        near = 1e-9 * thr
+        times: list[float] = []
+        for e, t, s, f in zip(ev, touched, since, first, strict=True):
+            dt = stamp - t
+            if dt < 0.0:  # np.maximum(dt, 0.0) (dt is never nan: the stamp is finite)
+                dt = 0.0
+            decayed = e * math.exp(-dt / tau)
+            if abs(decayed - thr) <= near:  # at the threshold: numpy's own exp decides
+                decayed = e * float(np.exp(np.array([-dt / tau]))[0])
+            tk = stamp - s if decayed >= thr and not math.isnan(s) else 0.0
+            times.append(tk + extra if f and tk >= hold else tk)
+        k = (2 * n + 1) ** 2
+        out: list[float] = []
+        for m in range(len(xy)):
+            best = max(times[m * k : (m + 1) * k])
+            out.append(best if best > 0.0 else 0.0)
+        return out
+
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
         """Static time [s] (M,) of ``positions`` (M, 2) [m] at the last frame's time: the
         largest over the cells within ``neighbourhood``; ``inf`` on a prior map's obstacle,
         0 where free or never seen."""
         p = self.params
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        out = np.zeros(pos.shape[0])
-        if self._evidence.size and pos.shape[0]:
+        few = None
+        if self._evidence.size and 0 < pos.shape[0] <= FEW_POSITIONS:
+            few = self._static_few(pos.tolist())
+        out = np.zeros(pos.shape[0]) if few is None else np.array(few, dtype=np.float64)
+        if few is None and self._evidence.size and pos.shape[0]:
             n = p.neighbourhood
             off = np.arange(-n, n + 1)
             base = self._cells(pos) - self._origin

@@ -69,6 +69,7 @@ class StillCast:
         self.active = False
         self._where: Where | None = None
         self._k = np.arange(steps.size)
+        self._arange = np.arange(0)
         self._reset()
 
     def _reset(self) -> None:
@@ -81,6 +82,13 @@ class StillCast:
         self._hit_frame = np.zeros(0, dtype=np.int64)  # last frame with a return per cell
         self._frame = 0  # number of the last frame cast
         self._stamp = -np.inf  # its stamp
+
+    def _identity(self, n: int) -> IntArray:
+        """``arange(n)`` (kept between frames: the positions of the beams in the lists when
+        a frame has the listed beams)."""
+        if self._arange.size != n:
+            self._arange = np.arange(n)
+        return self._arange
 
     def __len__(self) -> int:
         """Number of beams listed."""
@@ -160,14 +168,24 @@ class StillCast:
             self._hit_frame = np.full(where[5], -1, dtype=np.int64)
             self.active = True
         listed = self._ids
-        pos = np.minimum(np.searchsorted(listed, ids), max(listed.size - 1, 0))
-        known = listed[pos] == ids if listed.size else np.zeros(ids.size, dtype=bool)
+        same = listed.size == ids.size and listed.size > 0 and bool((listed == ids).all())
+        if same:  # (the usual frame: the same beams as the lists, in the same order)
+            pos = self._identity(ids.size)
+            known = np.ones(ids.size, dtype=bool)
+            listed_u, listed_safe = self._u, self._safe
+        else:
+            pos = np.minimum(np.searchsorted(listed, ids), max(listed.size - 1, 0))
+            known = listed[pos] == ids if listed.size else np.zeros(ids.size, dtype=bool)
+            if listed.size:
+                listed_u, listed_safe = self._u[pos], self._safe[pos]
         keep = known
         if listed.size:
             # the same direction bit for bit gives the same cells; a close one, when safe
-            dev = np.abs(u - self._u[pos])
+            dev = np.abs(u - listed_u)
             off = np.maximum(dev[:, 0], dev[:, 1])
-            keep = known & ((off == 0.0) | (self._safe[pos] & (off <= DIRECTION_TOL)))
+            keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))
+            if not same:
+                keep &= known
         # samples gained (+1) and lost (-1) per cell: cells of [lo, hi) of each changed list
         lost: list[IntArray] = []  # the old samples of beams listed again
         if not keep.all():

@@ -62,8 +62,13 @@ class InputGuard:
         stamp = self.check_stamp(float(detections.stamp), detections.scan_index)
         pos, cov = detections.positions, detections.covariances
         with np.errstate(invalid="ignore"):
-            finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
-        if not finite.all():
+            # (the usual case first: everything in bounds, two flat checks)
+            clean = bool((np.abs(pos) <= MAX_COORDINATE).all()) and bool(np.isfinite(cov).all())
+            if not clean:
+                finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(
+                    axis=(1, 2)
+                )
+        if not clean:
             self.dropped_detections += int(np.count_nonzero(~finite))
             keep = np.flatnonzero(finite)
             detections = replace(

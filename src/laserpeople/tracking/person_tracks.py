@@ -433,6 +433,8 @@ class PersonTracker:
         self.persons_created = 0
         """People confirmed at least once since the start (reported ids)."""
         self._gate = params.gate
+        self._one_leg_cov = np.eye(2) * params.one_leg_std**2
+        """Measurement covariance [m^2] of a person's position from one leg (constant)."""
         self._llr = params.evidence_llr()
         self._llr_steps = [float(x) for x in self._llr]  # (plain floats: per person and scan)
         self._static_now: dict[int, float] = {}
@@ -492,10 +494,11 @@ class PersonTracker:
         open_ = [person for person in self.persons.values() if len(person.members) < 2]
         if not free or not open_:
             return
-        z = np.stack([leg.position for leg in free])
-        means = np.stack([q.mean for q in open_])
-        covs = np.stack([q.cov for q in open_])
-        r = np.broadcast_to(np.eye(2) * p.one_leg_std**2, (len(free), 2, 2))
+        # (np.array of the rows: np.stack's values at half its cost on a few)
+        z = np.array([leg.position for leg in free], dtype=np.float64)
+        means = np.array([q.mean for q in open_], dtype=np.float64)
+        covs = np.array([q.cov for q in open_], dtype=np.float64)
+        r = np.broadcast_to(self._one_leg_cov, (len(free), 2, 2))
         d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, r)
         e2 = kalman.euclidean_sq(means, z)
         ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
@@ -625,7 +628,7 @@ class PersonTracker:
         )
         used: set[int] = set()
         if len(free) >= 2:
-            pos = np.stack([leg.position for leg in free])
+            pos = np.array([leg.position for leg in free], dtype=np.float64)
             dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
             ii, jj = np.nonzero(np.triu(dist < p.pair_distance, k=1))
             widths = np.array(
@@ -670,8 +673,12 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
+        if len(self.persons) <= 12 and _all_apart(
+            [q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance
+        ):
+            return
         ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
-        xy = np.stack([q.mean[:2] for q in ps])
+        xy = np.array([q.mean[:2] for q in ps], dtype=np.float64)
         close = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)) < p.merge_distance
         if not (close & ~np.eye(len(ps), dtype=bool)).any():  # nobody near anybody else
             return
@@ -811,6 +818,19 @@ class PersonTracker:
                 )
             )
         return out
+
+
+def _all_apart(xy: Sequence[Sequence[float]], distance: float) -> bool:
+    """Whether every two of the positions ``xy`` (N lists ``[x, y]`` [m]) are at least
+    ``distance`` [m] apart along x or along y, so that no ``np.hypot`` of their differences
+    is below ``distance`` (a rounded hypot is never below the larger leg): the merge's
+    "nobody near anybody" without its arrays. False when unsure (a pair closer than
+    ``distance`` along both axes, or NaN in both)."""
+    for i, (ax, ay) in enumerate(xy):
+        for bx, by in xy[i + 1 :]:
+            if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+                return False
+    return True
 
 
 def leg_observations(

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.tracking.mht.expiry import drop_nodes, expired
+from laserpeople.tracking.mht.expiry import ExpiryOdds, drop_nodes
 from laserpeople.tracking.mht.hypothesis import (
     Cluster,
     Hypothesis,
@@ -301,6 +301,7 @@ class MHT(Generic[Meas]):
         self._scan_initiated = False  # whether _initiated holds this scan's measurements
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
+        self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
         self._solves = 0  # this step's assignment problems solved
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
@@ -399,7 +400,7 @@ class MHT(Generic[Meas]):
         unseen = [t for t in nodes if t.misses]
         if not unseen:
             return clusters
-        gone = expired(unseen, self.labels.track_log_probs(unseen), math.log(ratio))
+        gone = self._expiry.expired(unseen, self.labels.track_log_probs(unseen), math.log(ratio))
         if not gone:
             return clusters
         out: list[Cluster] = []

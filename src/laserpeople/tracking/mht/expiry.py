@@ -71,6 +71,46 @@ def expired(nodes: Sequence[TrackNode], log_probs: FloatArray, log_ratio: float)
     return {n.node_id for n, o in zip(nodes, odds.tolist(), strict=True) if o < log_ratio}
 
 
+class ExpiryOdds:
+    """:func:`expired` with its log odds remembered per (label log probabilities of
+    occluded and deleted, misses): the odds depend on nothing else, so a tracker asks
+    :func:`log_existence_odds` only for pairs it has not met (a few dozen over a run)
+    instead of a dozen numpy calls per scan. Each value is computed by the same function
+    (element by element the same floats), so the nodes that expire are the same.
+
+    Args:
+        limit: Remembered pairs at most (the table is emptied when full).
+    """
+
+    def __init__(self, limit: int = 4096) -> None:
+        self.limit = limit
+        self._odds: dict[tuple[float, float, int], float] = {}
+
+    def __len__(self) -> int:
+        return len(self._odds)
+
+    def expired(
+        self, nodes: Sequence[TrackNode], log_probs: FloatArray, log_ratio: float
+    ) -> set[int]:
+        """:func:`expired` of ``nodes`` with label log probabilities ``log_probs`` (n, 3)."""
+        rows = log_probs.tolist()
+        keys = [(r[OCCLUDED], r[DELETED], n.misses) for n, r in zip(nodes, rows, strict=True)]
+        table = self._odds
+        new = list(dict.fromkeys(k for k in keys if k[2] > 0 and k not in table))
+        if new:
+            if len(table) + len(new) > self.limit:  # full: start afresh with this call's
+                table.clear()
+                new = list(dict.fromkeys(k for k in keys if k[2] > 0))
+            probs = np.zeros((len(new), 3))
+            probs[:, OCCLUDED] = [k[0] for k in new]
+            probs[:, DELETED] = [k[1] for k in new]
+            misses = np.array([k[2] for k in new], dtype=np.float64)
+            table.update(zip(new, log_existence_odds(misses, probs).tolist(), strict=True))
+        return {
+            n.node_id for n, k in zip(nodes, keys, strict=True) if k[2] > 0 and table[k] < log_ratio
+        }
+
+
 def drop_nodes(cluster: Cluster, gone: set[int]) -> Cluster | None:
     """``cluster`` without the nodes ``gone``: hypotheses that become equal are merged
     (probabilities added, the more probable one's history kept); None when no family is

@@ -131,6 +131,48 @@ def test_auto_switches_to_the_grid_when_the_laser_moves() -> None:
     assert "frame 2" in model.describe()
 
 
+def _rotating_scan(index: int, turn: int) -> Scan:
+    """A sensor-frame scan of a room whose walls stand at a range that changes with the
+    beam, the whole pattern turned by ``turn`` beams (a laser turning on the spot)."""
+    ranges = 3.0 + 2.0 * np.abs(np.sin(np.arange(90) * np.pi / 30.0))
+    return Scan(
+        0.1 * index,
+        -np.pi / 4,
+        np.pi / 180,
+        np.roll(ranges, turn),
+        0.1,
+        10.0,
+        sensor="l",
+        index=index,
+    )
+
+
+def test_auto_in_the_sensor_frame_keeps_the_histogram_while_the_laser_stands() -> None:
+    model = AutoBackground()
+    for i in range(60):
+        out = model(_frame(_rotating_scan(i, 0)))
+    assert model.chosen == "histogram" and model.motion is not None
+    assert model.motion.moved_at is None
+    assert out.foreground is not None and not out.foreground.any()
+    assert "did not move" in model.describe()
+
+
+def test_auto_in_the_sensor_frame_drops_the_model_when_the_laser_moves() -> None:
+    """Without poses the laser's motion shows as returns the histogram does not explain:
+    the model is dropped, every point is foreground, and the user is told from when."""
+    model = AutoBackground()
+    for i in range(25):  # still for 2.5 s: learned over the first 2 s
+        model(_frame(_rotating_scan(i, 0)))
+    assert model.chosen == "histogram"
+    for i in range(25, 80):  # then it turns 3 beams a scan
+        out = model(_frame(_rotating_scan(i, 3 * (i - 24))))
+    assert model.chosen == "none" and model.model is None
+    assert model.switched_at is not None and 25 < model.switched_at < 60
+    assert out.foreground is not None and out.foreground.all()
+    np.testing.assert_array_equal(model.static_time(np.zeros((3, 2))), np.zeros(3))
+    assert f"none from frame {model.switched_at} (the laser moves" in model.describe()
+
+
 def test_background_choices() -> None:
     assert background_stage("none") is None
     assert type(background_stage("histogram")).__name__ == "BeamHistogramBackground"

@@ -12,14 +12,20 @@ choices (``track --background``):
 - ``auto``: the histogram while every laser keeps its first pose (a sensor-frame run, or
   constant poses), switching to the occupancy grid for good at the first frame in which a
   laser has moved by more than ``moved_distance`` or turned by more than ``moved_angle``.
+  A sensor-frame run has no poses to tell: there :class:`SensorMotionCheck` watches the
+  histogram's own share of returns it does not explain, and once a laser moves no model
+  is left (in the sensor frame of a moving laser nothing stays put): every point is
+  foreground from then on, and :meth:`AutoBackground.describe` says from which frame.
 - ``none``: no model; every point stays foreground.
 """
 
 from __future__ import annotations
 
 import math
+import statistics
+from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Literal
 
@@ -94,6 +100,69 @@ class SensorMotionParams:
             raise ValueError("window must be positive and still_seconds not negative")
 
 
+class SensorMotionCheck:
+    """Tells from the scans alone whether a laser moves (sensor-frame runs; module
+    docstring): the median share of returns off a per-beam range histogram learned over the
+    first seconds.
+
+    Attributes:
+        moved_at: Index of the frame at which a laser was seen to move (None: not yet).
+        share: The last median share of unexplained returns (nan while learning).
+    """
+
+    def __init__(self, params: SensorMotionParams | None = None) -> None:
+        from laserpeople.background.beam_histogram import BeamHistogramBackground
+
+        self.params = params or SensorMotionParams()
+        self._histogram = BeamHistogramBackground()
+        self._shares: deque[tuple[float, float]] = deque()
+        self.moved_at: int | None = None
+        self.share = math.nan
+        self._checked: tuple[float, float] | None = None  # first and last stamp checked
+
+    @property
+    def still_for(self) -> float:
+        """Seconds the lasers have been seen still after learning (0 once one moved)."""
+        if self.moved_at is not None or self._checked is None:
+            return 0.0
+        return self._checked[1] - self._checked[0]
+
+    @property
+    def settled(self) -> bool:
+        """True once the lasers have been seen still for ``still_seconds``."""
+        return self.still_for >= self.params.still_seconds
+
+    def __call__(self, frame: Frame) -> bool:
+        """Learn from ``frame`` (it needs ``points``); True once a laser has moved."""
+        if self.moved_at is not None:
+            return True
+        learning = self._histogram.learning
+        fg = self._histogram(frame).foreground
+        if learning or fg is None:
+            return False
+        return self.record(frame, fg)
+
+    def record(self, frame: Frame, foreground: NDArray[np.bool_]) -> bool:
+        """Count ``foreground`` (N,), the returns of ``frame`` that a per-beam histogram
+        learned beforehand does not explain (a caller's own histogram; :meth:`__call__`
+        uses this check's); True once a laser has moved."""
+        if self.moved_at is not None:
+            return True
+        fg = np.asarray(foreground, dtype=bool)
+        if len(fg) == 0:
+            return False
+        first = frame.stamp if self._checked is None else self._checked[0]
+        self._checked = (first, frame.stamp)
+        self._shares.append((frame.stamp, int(np.count_nonzero(fg)) / len(fg)))
+        while self._shares and frame.stamp - self._shares[0][0] > self.params.window:
+            self._shares.popleft()
+        self.share = statistics.median(s for _, s in self._shares)  # (as np.median)
+        if self.share > self.params.moved_share:
+            self.moved_at = frame.index
+            return True
+        return False
+
+
 @dataclass(frozen=True)
 class StaticWorldParams:
     """The parameters of every static world model, each read from its own ``--config``
@@ -130,9 +199,11 @@ class AutoBackground:
     moves (module docstring). A :class:`~laserpeople.background.StaticWorldModel` stage.
 
     Attributes:
-        model: The model in use.
-        chosen: ``"histogram"`` or ``"occupancy"`` (what :attr:`model` is).
+        model: The model in use (None once dropped).
+        chosen: ``"histogram"``, ``"occupancy"`` or ``"none"`` (what :attr:`model` is;
+            ``"none"``: a sensor-frame run whose laser moves).
         switched_at: Index of the frame at which a laser was seen to move (None: never).
+        motion: The check of a sensor-frame run (None in a world-frame run).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -149,9 +220,10 @@ class AutoBackground:
         self.static = static if static is not None else StaticWorldParams()
         self.params = params or self.static.auto_background
         self.map_path = map_path
-        self.model: Stage = _as_stage(BeamHistogramBackground(self.static.beam_histogram))
+        self.model: Stage | None = _as_stage(BeamHistogramBackground(self.static.beam_histogram))
         self.chosen = "histogram"
         self.switched_at: int | None = None
+        self.motion: SensorMotionCheck | None = None
         self._first: dict[str, Pose2D] = {}
 
     def _moved(self, frame: Frame) -> bool:
@@ -171,20 +243,46 @@ class AutoBackground:
         return False
 
     def __call__(self, frame: Frame) -> Frame:
-        """The frame with ``foreground`` from the model in use."""
+        """The frame with ``foreground`` from the model in use (every point once dropped)."""
         if self.chosen == "histogram" and self._moved(frame):
             self.model = occupancy_model(self.map_path, self.static.occupancy)
             self.chosen = "occupancy"
             self.switched_at = frame.index
-        return self.model(frame)
+        if self.model is None:
+            n = 0 if frame.points is None else len(frame.points)
+            return replace(frame, foreground=np.ones(n, dtype=bool))
+        learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
+        out: Frame = self.model(frame)
+        if self.chosen == "histogram" and frame.frame == "sensor":
+            if self.motion is None:
+                self.motion = SensorMotionCheck(self.static.sensor_motion)
+            if (
+                not learning
+                and out.foreground is not None
+                and self.motion.record(frame, out.foreground)
+            ):
+                self.model = None
+                self.chosen = "none"
+                self.switched_at = frame.index
+                return replace(out, foreground=np.ones(len(out.foreground), dtype=bool))
+        return out
 
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """How long [s] ``positions`` (M, 2) [m] have been static, from the model in use."""
+        """How long [s] ``positions`` (M, 2) [m] have been static, from the model in use
+        (0 everywhere once dropped)."""
+        if self.model is None:
+            return np.zeros(np.asarray(positions).reshape(-1, 2).shape[0])
         model: StaticWorldModel = self.model  # type: ignore[assignment]
         return np.asarray(model.static_time(positions), dtype=np.float64)
 
     def describe(self) -> str:
         """One line for the user: which model ran and why."""
+        if self.chosen == "none":
+            return (
+                f"static world model: none from frame {self.switched_at} (the laser moves and "
+                "the recording has no poses: every point is foreground; give poses with "
+                "--world-frame or --mount to use the occupancy grid)"
+            )
         if self.switched_at is None:
             return "static world model: per-beam range histogram (the lasers did not move)"
         return (
@@ -274,6 +372,7 @@ __all__ = [
     "AutoBackground",
     "AutoBackgroundParams",
     "BackgroundChoice",
+    "SensorMotionCheck",
     "SensorMotionParams",
     "StaticWorldParams",
     "background_of",

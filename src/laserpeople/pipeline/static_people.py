@@ -29,9 +29,6 @@ sensor-frame run.
 
 from __future__ import annotations
 
-import math
-import statistics
-from collections import deque
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -44,6 +41,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.pipeline.background import (
+    SensorMotionCheck,
     SensorMotionParams,
     StaticWorldParams,
     background_stage,
@@ -51,58 +49,6 @@ from laserpeople.pipeline.background import (
     occupancy_model,
 )
 from laserpeople.pipeline.stages import Stage
-
-
-class SensorMotionCheck:
-    """Tells from the scans alone whether a laser moves (sensor-frame runs; module
-    docstring): the median share of returns off a per-beam range histogram learned over the
-    first seconds.
-
-    Attributes:
-        moved_at: Index of the frame at which a laser was seen to move (None: not yet).
-        share: The last median share of unexplained returns (nan while learning).
-    """
-
-    def __init__(self, params: SensorMotionParams | None = None) -> None:
-        from laserpeople.background.beam_histogram import BeamHistogramBackground
-
-        self.params = params or SensorMotionParams()
-        self._histogram = BeamHistogramBackground()
-        self._shares: deque[tuple[float, float]] = deque()
-        self.moved_at: int | None = None
-        self.share = math.nan
-        self._checked: tuple[float, float] | None = None  # first and last stamp checked
-
-    @property
-    def still_for(self) -> float:
-        """Seconds the lasers have been seen still after learning (0 once one moved)."""
-        if self.moved_at is not None or self._checked is None:
-            return 0.0
-        return self._checked[1] - self._checked[0]
-
-    @property
-    def settled(self) -> bool:
-        """True once the lasers have been seen still for ``still_seconds``."""
-        return self.still_for >= self.params.still_seconds
-
-    def __call__(self, frame: Frame) -> bool:
-        """Learn from ``frame`` (it needs ``points``); True once a laser has moved."""
-        if self.moved_at is not None:
-            return True
-        learning = self._histogram.learning
-        fg = self._histogram(frame).foreground
-        if learning or fg is None or len(fg) == 0:
-            return False
-        first = frame.stamp if self._checked is None else self._checked[0]
-        self._checked = (first, frame.stamp)
-        self._shares.append((frame.stamp, int(np.count_nonzero(fg)) / len(fg)))
-        while self._shares and frame.stamp - self._shares[0][0] > self.params.window:
-            self._shares.popleft()
-        self.share = statistics.median(s for _, s in self._shares)  # (as np.median)
-        if self.share > self.params.moved_share:
-            self.moved_at = frame.index
-            return True
-        return False
 
 
 class PeopleStaticModel:

@@ -116,6 +116,27 @@ def test_captions_count_in_words_and_seconds_since_the_start() -> None:
     assert caption("", 0, 0.0, 0, 1, 1, None) == "scan 0  t = 0.00 s\n1 leg, 1 group"
 
 
+def test_legend_lists_the_kinds_of_track_drawn(tmp_path: Path) -> None:
+    from laserpeople.viz.figure import FrameRenderer
+
+    def entries(kinds: frozenset[str] | None, truth: bool = False) -> list[str]:
+        r = FrameRenderer((0.0, 10.0, 0.0, 8.0), size=(800, 600), truth=truth, kinds=kinds)
+        try:
+            return [] if r._legend is None else [t.get_text() for t in r._legend.get_texts()]
+        finally:
+            r.close()
+
+    groups = entries(frozenset({"group"}))
+    assert len(groups) == 1 and groups[0].startswith("group track")
+    both = entries(None)  # legs and people
+    assert [e.split()[0] for e in both] == ["person", "leg"]
+    assert entries(frozenset()) == []  # no tracks, no truth: no legend
+    assert [e.split()[0] for e in entries(frozenset(), truth=True)] == ["true", "true"]
+    rec, csv = write_scene(tmp_path, n=3)
+    assert Scene(rec, csv, None).track_kinds() == {"group", "person"}  # what write_scene writes
+    assert Scene(rec, None, None).track_kinds() == frozenset()
+
+
 def test_animation_captions_start_at_zero_seconds(tmp_path: Path) -> None:
     from laserpeople.io import open_recording
     from laserpeople.viz.raster import iter_images

@@ -81,6 +81,8 @@ class FrameRenderer:
             the image is at least :data:`LEGEND_MIN_SIZE` (it would hide too much of a
             smaller one).
         truth: Whether the legend lists the ground-truth markers.
+        kinds: The kinds of track the legend lists (``leg``, ``person``, ``group``);
+            None: legs and people.
     """
 
     def __init__(
@@ -94,6 +96,7 @@ class FrameRenderer:
         t0: float | None = None,
         legend: bool = True,
         truth: bool = True,
+        kinds: frozenset[str] | None = None,
     ) -> None:
         mpl = import_matplotlib()
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -177,7 +180,7 @@ class FrameRenderer:
         )
         self._legend: Any = None
         if legend and all(a >= b for a, b in zip(self.size, LEGEND_MIN_SIZE, strict=True)):
-            self._legend = _add_legend(ax, truth)  # drawn last, over the data
+            self._legend = _add_legend(ax, truth, kinds)  # drawn last, over the data
         self._labels: list[Any] = []
         self._history: dict[tuple[str, int], deque[tuple[float, float]]] = {}
         self._truth_history: dict[int, deque[tuple[float, float]]] = {}
@@ -368,10 +371,12 @@ def counted(n: int, one: str, many: str) -> str:
     return f"{n} {one if n == 1 else many}"
 
 
-def _add_legend(ax: Any, truth: bool) -> Any:
-    """The legend of the markers a frame uses, as an animated artist (drawn over the data
-    of every frame)."""
+def _add_legend(ax: Any, truth: bool, kinds: frozenset[str] | None = None) -> Any:
+    """The legend of the markers a frame uses (tracks of ``kinds``; None: legs and
+    people), as an animated artist (drawn over the data of every frame); None when there
+    is nothing to list."""
     from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
     grey, dark = (0.6, 0.6, 0.6, 1.0), (0.1, 0.1, 0.1, 1.0)
 
@@ -388,15 +393,27 @@ def _add_legend(ax: Any, truth: bool) -> Any:
             label=label,
         )
 
-    handles = [
-        marker("person track (label P + id, one colour per id)", 6.5, grey, dark),
-        marker("leg track (small dot)", 4.0, grey, dark),
-    ]
+    kinds = frozenset({"person", "leg"}) if kinds is None else kinds
+    handles = []
+    if "group" in kinds:
+        handles.append(
+            Patch(
+                facecolor=(*grey[:3], 0.18),
+                edgecolor=dark,
+                label="group track (outline; label G + id ×people)",
+            )
+        )
+    if "person" in kinds:
+        handles.append(marker("person track (label P + id, one colour per id)", 6.5, grey, dark))
+    if "leg" in kinds:
+        handles.append(marker("leg track (small dot)", 4.0, grey, dark))
     if truth:
         handles += [
             marker("true person (ground truth ring)", 7.5, "none", _rgb(TRUTH)),
             marker("true leg", 3.5, _rgb(TRUTH), _rgb(TRUTH), "x"),
         ]
+    if not handles:
+        return None
     legend = ax.legend(
         handles=handles,
         loc="lower right",

@@ -119,6 +119,7 @@ def plot_scan(
         title=_title(scene),
         t0=scene.first_stamp(),
         truth=scene.draws_truth(),
+        kinds=scene.track_kinds(),
     )
     for f in frames:
         renderer.draw(f)
@@ -168,6 +169,7 @@ def iter_images(
         title=_title(scene),
         t0=scene.first_stamp(),
         truth=scene.draws_truth(),
+        kinds=scene.track_kinds(),
     )
     try:
         for f in (progress or _no_progress)(scene.frames(), total):

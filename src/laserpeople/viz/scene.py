@@ -233,6 +233,11 @@ class Scene:
             return iter_tracks_csv(tracks, frame=self.tracks_frame)
         return iter(tracks)
 
+    def track_kinds(self) -> frozenset[str]:
+        """The kinds of the tracks to draw (``leg``, ``person``, ``group``; one pass over
+        them)."""
+        return frozenset(t.kind for tracks in self._tracks_stream() for t in tracks.tracks)
+
     def count(self) -> int | None:
         """Number of frames the window holds, when the recording can tell without reading."""
         rec = self._recording

@@ -25,6 +25,7 @@ from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.tracking.groups.coherence import CoherenceSettings, CoherentGroupModel
+from laserpeople.tracking.groups.confirm import Candidate, Confirmation, ConfirmSettings
 from laserpeople.tracking.groups.history_split import HistorySplitSettings
 from laserpeople.tracking.groups.interaction import (
     GroupBranches,
@@ -331,6 +332,24 @@ class GroupTrackerParams:
         "with it, half of whose points are on static places",
         "a group lies on a static place when at least this share of its contour points do",
     )
+    confirm_scans: int = param(
+        1,
+        "000 (1: every group of the best hypothesis is reported in every scan)",
+        "scans a group born from an observation must have been in the best hypothesis "
+        "(within confirm_window) before it is reported; the MHT is not changed",
+    )
+    confirm_window: int = param(
+        0,
+        "assumption",
+        "the last scans confirm_scans and confirm_event_scans are counted over "
+        "(0: the larger of the two, i.e. consecutive scans)",
+    )
+    confirm_event_scans: int = param(
+        1,
+        "000 (1: at once)",
+        "confirm_scans for a group made by a split or merge of a group already reported "
+        "(its people were reported)",
+    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -365,6 +384,9 @@ class GroupTrackerParams:
             raise ValueError("max_blob_size must not be negative (0 keeps every point)")
         if not 0.0 < self.static_share <= 1.0:
             raise ValueError("static_share must be in (0, 1]")
+        if self.confirm_window < 0:
+            raise ValueError("confirm_window must not be negative (0: consecutive scans)")
+        self.confirm_settings()  # checks the confirmation values
 
     @classmethod
     def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
@@ -403,6 +425,15 @@ class GroupTrackerParams:
             np.square(
                 [self.sigma_pos, self.sigma_pos, self.sigma_vel, self.sigma_vel, self.sigma_n]
             )
+        )
+
+    def confirm_settings(self) -> ConfirmSettings:
+        """When a group of the best hypothesis is reported (:mod:`.confirm`)."""
+        longest = max(self.confirm_scans, self.confirm_event_scans)
+        return ConfirmSettings(
+            scans=self.confirm_scans,
+            window=self.confirm_window if self.confirm_window > 0 else longest,
+            event_scans=self.confirm_event_scans,
         )
 
     def counting(self) -> SizeCounting:
@@ -550,6 +581,9 @@ class GroupMHTTracker:
         ``max_blob_size``, summed over the frames."""
         self.static_groups_hidden = 0
         """Group-scans not reported because the group sat on a static place, never walked."""
+        self.confirmation = Confirmation(p.confirm_settings())
+        """Which groups of the best hypothesis are confirmed (``confirm_scans``)."""
+        self._scans = 0
         # family -> (time [s], position) of its last walk, or of when it was first tracked
         self._anchors: dict[int, tuple[float, FloatArray]] = {}
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
@@ -627,9 +661,7 @@ class GroupMHTTracker:
         probs = self.mht.best_probabilities()
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
-        nodes = self.mht.best_tracks()
-        if self.static_model is not None:
-            nodes = self._off_static_places(nodes, frame.stamp)
+        nodes = self._confirmed(self.mht.best_tracks(), frame.stamp)
         for node in nodes:
             payload = group_payload(node)
             labels = self.display_labels(self.name(node))
@@ -659,6 +691,26 @@ class GroupMHTTracker:
             )
         self.last_groups = groups
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    @property
+    def unconfirmed_groups_withheld(self) -> int:
+        """Group-scans not reported because their group was not confirmed yet
+        (``confirm_scans``; groups hidden on static places are not counted here)."""
+        return self.confirmation.withheld
+
+    def _confirmed(self, nodes: list[TrackNode], stamp: float) -> list[TrackNode]:
+        """The groups of the best hypothesis ``nodes`` that are reported: not on a static
+        place (:meth:`_off_static_places`, when a static world model is set) and
+        confirmed (:mod:`.confirm`; every group counts as present, hidden or not)."""
+        shown = nodes if self.static_model is None else self._off_static_places(nodes, stamp)
+        visible = {node.family for node in shown}
+        candidates = [
+            Candidate(n.family, group_payload(n).event, self.name(n), n.family in visible)
+            for n in nodes
+        ]
+        self._scans += 1
+        keep = self.confirmation.select(self._scans, candidates)
+        return [node for node, k in zip(nodes, keep, strict=True) if k]
 
     def _off_static_places(self, nodes: list[TrackNode], stamp: float) -> list[TrackNode]:
         """``nodes`` without the groups on static places (counted in

@@ -16,7 +16,7 @@ from laserpeople.cli import app
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracking.groups.confirm import Candidate, Confirmation, ConfirmSettings
 from laserpeople.tracks import Tracks
-from test_track_groups_static import _blob, _frame
+from test_track_groups_static import OBJECT, PlaceModel, _blob, _frame, _near_object
 
 PAPER = GroupTrackerParams(confirm_scans=1, confirm_event_scans=1)
 
@@ -114,6 +114,24 @@ def test_a_split_of_a_reported_group_is_reported_at_once_with_event_scans_one() 
     assert len(gap) == 2
     assert waited.confirmation.withheld_event == 4  # two halves, two scans each
     assert [e.kind for e in waited.events] == ["split"]
+
+
+def test_a_group_hidden_on_a_static_place_is_not_counted_as_unconfirmed() -> None:
+    """An object on a static place and a walker, with the default (confirm_scans 3): the
+    object is counted by the static rule only, the walker's first two scans as
+    unconfirmed."""
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    model = PlaceModel(_near_object)
+    tracker.use_static_model(model)  # type: ignore[arg-type]
+    out = []
+    for k in range(30):
+        model.now = 0.1 * k
+        pts = np.concatenate([_blob(OBJECT), _blob(np.array([0.1 * k, 3.0]))])
+        out.append(tracker.update(_frame(pts, k)))
+    assert [len(t.of_kind("group")) for t in out] == [0, 0, 0] + [1] * 27
+    assert not any(_near(t, OBJECT) for t in out)
+    assert tracker.static_groups_hidden == 29
+    assert tracker.unconfirmed_groups_withheld == 2
 
 
 def test_confirmation_counts_n_of_the_last_m_scans() -> None:

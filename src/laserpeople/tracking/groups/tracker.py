@@ -7,6 +7,10 @@ re-predicted tracks and re-clustered observations (Secs. 4.3-4.4), and the core 
 best children over all models and parents with the hypothesis probability of eqs. 33-37,
 prunes (ratio, N-scan-back) and updates the matched groups (eqs. 28-31).
 
+Reported are the groups of the best hypothesis that are confirmed (in it for
+``confirm_scans`` consecutive scans, :mod:`.confirm`; 1 reports every group, as 000) and,
+with a static world model, not on a static place.
+
 The people-only mode (:meth:`GroupTrackerParams.people_only`) inhibits splits and merges
 and clusters with a small d_P, the comparison tracker of 000 Fig. 17 (right).
 """
@@ -508,7 +512,7 @@ class GroupTrackerParams:
 
 @dataclass(frozen=True, eq=False)
 class GroupEstimate:
-    """One group of the best hypothesis after a frame.
+    """One reported group of the best hypothesis after a frame.
 
     Attributes:
         track_id: The track's family (unique over the run; a split or merge starts new ones).
@@ -811,7 +815,8 @@ class GroupMHTTracker:
 
     def point_labels(self, n_points: int) -> IntArray:
         """Group (track id) of each of the last frame's ``n_points`` points, -1 outside
-        every group observed this frame (for the clustering error, 000 Sec. 4.6.1)."""
+        every reported group observed this frame (for the clustering error, 000 Sec. 4.6.1;
+        the points of a group not reported yet are in none)."""
         out = np.full(n_points, -1, dtype=np.int64)
         for g in self.last_groups:
             out[g.members] = g.track_id

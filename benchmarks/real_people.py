@@ -13,7 +13,8 @@ reported for at least 1 s and comes back.
 With ``--groups`` the same counts for the group tracker's groups (``--tracker group-mht``,
 000 Sec. 4) instead of people, for ``group_tracker.static_groups`` false (the default: groups
 on static places that never walked are not reported) and true (000: every group); a
-column counts the ids reported for at most 3 scans.
+column counts the ids reported for at most 3 scans. Both with the default confirmation
+(``group_tracker.confirm_scans``; ``benchmarks/groups_confirm.py`` compares its settings).
 
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]

@@ -37,6 +37,14 @@ REFERENCE_MHT = MHTParams(min_ratio=1e-3)
 """Ratio pruning of every run here: the group tracker's default until session 9 (now
 ``GROUP_MIN_RATIO``, 3e-3, docs/groups.md "Fifth round"), pinned so that the reference
 recorded before keeps checking that speed work leaves the decisions unchanged."""
+REFERENCE_REPORTING: dict[str, int] = {
+    "confirm_scans": 1,
+    "confirm_window": 0,
+    "confirm_event_scans": 1,
+}
+"""Every group of the best hypothesis reported in every scan (000; the default confirms a
+group after 3 scans since session 10, docs/groups.md "Confirmed groups"), pinned so that
+the reference recorded before keeps checking the tracker's decisions."""
 
 
 def track_frames(
@@ -45,7 +53,8 @@ def track_frames(
     params: GroupTrackerParams | None = None,
 ) -> dict[str, NDArray]:  # type: ignore[type-arg]
     """Track ``frames`` with a fresh group tracker (000's setting,
-    :meth:`GroupTrackerParams.paper_likelihood` with :data:`REFERENCE_MHT`, unless
+    :meth:`GroupTrackerParams.paper_likelihood` with :data:`REFERENCE_MHT` and
+    :data:`REFERENCE_REPORTING`, unless
     ``params`` are given). Arrays
     (``prefix`` + name):
 
@@ -60,7 +69,7 @@ def track_frames(
     from laserpeople.tracking.groups import GroupMHTTracker
 
     if params is None:
-        params = GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT)
+        params = GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
     tracker = GroupMHTTracker(params)
     rows: list[list[float]] = []
     labels: list[str] = []
@@ -103,7 +112,9 @@ def sim_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = SIM
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     out = track_frames([lf.frame for lf in frames_from_scans(scans)], "sim_")
-    run = run_groups(scans, GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT))
+    run = run_groups(
+        scans, GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+    )
     out["sim_errors"] = np.array(
         [
             run.clustering.error,
@@ -124,7 +135,9 @@ def people_only_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = PEOPLE_ONLY
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     frames = [lf.frame for lf in frames_from_scans(scans)]
-    return track_frames(frames, "people_", GroupTrackerParams.people_only(mht=REFERENCE_MHT))
+    return track_frames(
+        frames, "people_", GroupTrackerParams.people_only(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+    )
 
 
 def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
@@ -145,6 +158,7 @@ def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
         model_prior="normalised",
         merge_likelihood="compatibility",
         mht=REFERENCE_MHT,
+        **REFERENCE_REPORTING,  # type: ignore[arg-type]
     )
     return track_frames(frames, "ext_", params)
 

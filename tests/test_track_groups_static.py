@@ -16,6 +16,9 @@ from laserpeople.tracks import Tracks
 
 OBJECT = np.array([5.0, 0.0])
 DT = 0.1
+EVERY_SCAN = GroupTrackerParams(confirm_scans=1)
+"""Every group reported from its first scan in the best hypothesis (000), so that the
+tests here see the static-place rule alone (confirmation: test_track_groups_confirm.py)."""
 
 
 def _blob(centre: np.ndarray) -> np.ndarray:
@@ -70,7 +73,7 @@ def _track(
     model: PlaceModel | None,
     params: GroupTrackerParams | None = None,
 ) -> tuple[GroupMHTTracker, list[Tracks]]:
-    tracker = GroupMHTTracker(params)
+    tracker = GroupMHTTracker(params if params is not None else EVERY_SCAN)
     if model is not None:
         assert tracker.wants_static_model
         tracker.use_static_model(model)  # type: ignore[arg-type]
@@ -97,7 +100,7 @@ def _holds(tracks: Tracks, place: np.ndarray, radius: float = 0.3) -> bool:
 
 def test_a_group_on_a_static_place_is_not_reported() -> None:
     # 000's behaviour (static_groups = true): the object is a group from the second scan on
-    params = GroupTrackerParams(static_groups=True)
+    params = GroupTrackerParams(static_groups=True, confirm_scans=1)
     assert not GroupMHTTracker(params).wants_static_model
     _, out = _track(lambda k: [OBJECT], 30, None, params)
     assert [len(t.of_kind("group")) for t in out] == [0] + [1] * 29
@@ -196,13 +199,13 @@ def test_a_wall_in_the_foreground_is_not_a_group() -> None:
             out.append(tracker.update(_frame(np.vstack([wall, person]), k)))
         return tracker, out
 
-    tracker, out = run(GroupTrackerParams(static_groups=True))
+    tracker, out = run(GroupTrackerParams(static_groups=True, confirm_scans=1))
     assert tracker.wide_points_left_out == 20 * len(wall)
     for k, tracks in enumerate(out[1:], start=1):
         (group,) = tracks.of_kind("group")  # the person alone, not joined to the wall
         assert group.contour is not None and len(group.contour) == 8
         assert np.linalg.norm(group.position - [0.1 * k, 2.2]) < 0.15
-    tracker, out = run(GroupTrackerParams(static_groups=True, max_blob_size=0.0))
+    tracker, out = run(GroupTrackerParams(static_groups=True, max_blob_size=0.0, confirm_scans=1))
     assert tracker.wide_points_left_out == 0  # 0 keeps every point: person and wall are one
     assert all(len(t.of_kind("group")[0].contour) == 68 for t in out[1:])  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="max_blob_size"):

@@ -253,6 +253,13 @@ def run_tracking(
             "of groups never seen walking, were not reported "
             "(group_tracker.static_groups = true reports them)"
         )
+    unconfirmed = int(getattr(pipe.tracker, "unconfirmed_groups_withheld", 0))
+    if unconfirmed:
+        say(
+            f"{unconfirmed} group-scans of groups not yet confirmed were not reported "
+            "(in the best hypothesis for fewer than group_tracker.confirm_scans scans; "
+            "confirm_scans = 1 reports them)"
+        )
     stats = pipe.stats
     return {
         "scans": float(stats.frames),

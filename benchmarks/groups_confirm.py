@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -46,7 +45,7 @@ from laserpeople.tracking.groups.confirm import (
 )
 from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracks import Tracks
-from real_people import BAGS, ROOT, count
+from real_people import BAGS, ROOT, count, track_all
 
 DEV = ROOT / "leg_tracker_benchmarks/person_following_outdoor_1_first.bag"
 ALL_BAGS = {**BAGS, "dev": (DEV, None, [])}
@@ -101,13 +100,7 @@ def run(key: str, params: GroupTrackerParams, others: Sequence[Confirmation]) ->
     assert isinstance(inner, GroupMHTTracker)
     fan = Fanout(inner.confirmation, others)
     inner.confirmation = fan  # type: ignore[assignment]
-    pipe = build(bag, tracker=tracker, topics=topics, mounts=mounts)
-    out: list[Tracks] = []
-    t0 = time.process_time()
-    for step in pipe:
-        assert step.tracks is not None
-        out.append(step.tracks)
-    ms = 1e3 * (time.process_time() - t0) / max(len(out), 1)
+    out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
     return out, fan, inner, ms
 
 

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.detection.detector import AdaBoostLegDetector
-from laserpeople.pipeline import build
+from laserpeople.pipeline import Pipeline, build
 from laserpeople.pipeline.static_people import describe_people_model
 from laserpeople.tracking import registry
 from laserpeople.tracking.groups.tracker import GroupTrackerParams
@@ -112,16 +112,18 @@ def run(key: str, policy: str, background: str, walk: float) -> RealCount:
         detector=AdaBoostLegDetector.default(),
         background=background if params.people_policy == "tracks" else "none",
     )
+    out, ms = track_all(pipe)
+    return replace(count(out, walk), ms=ms, model=describe_people_model(tracker, pipe.stages))
+
+
+def track_all(pipe: Pipeline) -> tuple[list[Tracks], float]:
+    """Every frame's tracks of ``pipe`` and the process CPU [ms] per frame."""
     out: list[Tracks] = []
     t0 = time.process_time()
     for step in pipe:
         assert step.tracks is not None
         out.append(step.tracks)
-    spent = time.process_time() - t0
-    c = count(out, walk)
-    return replace(
-        c, ms=1e3 * spent / max(len(out), 1), model=describe_people_model(tracker, pipe.stages)
-    )
+    return out, 1e3 * (time.process_time() - t0) / max(len(out), 1)
 
 
 def run_groups(key: str, static_groups: bool, walk: float) -> RealCount:
@@ -129,15 +131,8 @@ def run_groups(key: str, static_groups: bool, walk: float) -> RealCount:
     bag, topics, mounts = BAGS[key]
     params = replace(GroupTrackerParams(), static_groups=static_groups)
     tracker = registry.get("group-mht").make(params)
-    pipe = build(bag, tracker=tracker, topics=topics, mounts=mounts)
-    out: list[Tracks] = []
-    t0 = time.process_time()
-    for step in pipe:
-        assert step.tracks is not None
-        out.append(step.tracks)
-    spent = time.process_time() - t0
-    c = count(out, walk, kind="group")
-    return replace(c, ms=1e3 * spent / max(len(out), 1))
+    out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
+    return replace(count(out, walk, kind="group"), ms=ms)
 
 
 def main_groups(bags: list[str], walk: float) -> None:

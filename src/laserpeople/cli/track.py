@@ -105,6 +105,32 @@ def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
         raise ConfigError(f"--people-policy: {exc}") from None
 
 
+LEFT_OUT = (
+    (
+        "static_legs_left_out",
+        "leg detections on places static for longer than people.static_time, with nobody "
+        "near who had walked, were not tracked as legs (people.static_legs = true tracks them)",
+    ),
+    (
+        "wide_points_left_out",
+        "foreground points in blobs wider than group_tracker.max_blob_size were not grouped "
+        "(walls the static world model has not learned yet; 0 groups them)",
+    ),
+    (
+        "static_groups_hidden",
+        "group-scans on places static for longer than group_tracker.static_time, of groups "
+        "never seen walking, were not reported (group_tracker.static_groups = true reports "
+        "them)",
+    ),
+    (
+        "unconfirmed_groups_withheld",
+        "group-scans of groups not yet confirmed were not reported (in the best hypothesis "
+        "for fewer than group_tracker.confirm_scans scans; confirm_scans = 1 reports them)",
+    ),
+)
+"""What a tracker left out (its counter attribute) and what ``track`` says about it."""
+
+
 def run_tracking(
     recording: Path,
     output: Path,
@@ -233,33 +259,10 @@ def run_tracking(
         say(f"input guard: {checked}")
     if dropped:
         say(f"{dropped} detections with non-finite positions in the tracking frame were left out")
-    furniture = int(getattr(pipe.tracker, "static_legs_left_out", 0))
-    if furniture:
-        say(
-            f"{furniture} leg detections on places static for longer than people.static_time, "
-            "with nobody near who had walked, were not tracked as legs "
-            "(people.static_legs = true tracks them)"
-        )
-    wide = int(getattr(pipe.tracker, "wide_points_left_out", 0))
-    if wide:
-        say(
-            f"{wide} foreground points in blobs wider than group_tracker.max_blob_size were "
-            "not grouped (walls the static world model has not learned yet; 0 groups them)"
-        )
-    hidden = int(getattr(pipe.tracker, "static_groups_hidden", 0))
-    if hidden:
-        say(
-            f"{hidden} group-scans on places static for longer than group_tracker.static_time, "
-            "of groups never seen walking, were not reported "
-            "(group_tracker.static_groups = true reports them)"
-        )
-    unconfirmed = int(getattr(pipe.tracker, "unconfirmed_groups_withheld", 0))
-    if unconfirmed:
-        say(
-            f"{unconfirmed} group-scans of groups not yet confirmed were not reported "
-            "(in the best hypothesis for fewer than group_tracker.confirm_scans scans; "
-            "confirm_scans = 1 reports them)"
-        )
+    for attribute, text in LEFT_OUT:
+        left_out = int(getattr(pipe.tracker, attribute, 0))
+        if left_out:
+            say(f"{left_out} {text}")
     stats = pipe.stats
     return {
         "scans": float(stats.frames),

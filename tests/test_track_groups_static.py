@@ -8,10 +8,11 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
+from laserpeople.clustering import single_linkage
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
-from laserpeople.tracking.groups.observations import within_size
+from laserpeople.tracking.groups.observations import GroupObservations, within_size
 from laserpeople.tracks import Tracks
 
 OBJECT = np.array([5.0, 0.0])
@@ -182,10 +183,14 @@ def test_within_size_by_hand() -> None:
     person = _blob(np.array([0.0, 0.0]))  # 0.42 m across
     far = np.array([[10.0, 10.0]])  # a blob of one point spans 0 m
     pts = np.vstack([person, wall, far])
-    keep = within_size(pts, 0.3, 2.0)
+    blobs = single_linkage(pts, 0.3)
+    keep = within_size(pts, blobs, 2.0)
     np.testing.assert_array_equal(keep, [True] * len(person) + [False] * 30 + [True])
-    assert within_size(pts, 0.3, 3.0).all()  # 2.9 m is within 3 m
-    assert within_size(np.empty((0, 2)), 0.3, 2.0).shape == (0,)
+    assert within_size(pts, blobs, 3.0).all()  # 2.9 m is within 3 m
+    assert within_size(np.empty((0, 2)), np.empty(0, dtype=np.int64), 2.0).shape == (0,)
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3, None, 2.0)
+    assert len(obs.points) == len(person) + 1 and len(obs) == 2  # the wall left out
+    assert len(GroupObservations.from_points(wall, np.arange(30), 1.3, 0.3, None, 2.0)) == 0
 
 
 def test_a_wall_in_the_foreground_is_not_a_group() -> None:

@@ -28,21 +28,20 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
-def within_size(points: FloatArray, d_hs: float, max_size: float) -> NDArray[np.bool_]:
-    """Mask (N,) of the ``points`` (N, 2) [m] whose blob (single linkage at ``d_hs`` [m])
-    spans at most ``max_size`` [m] (the diagonal of its bounding box)."""
+def within_size(points: FloatArray, blobs: IntArray, max_size: float) -> NDArray[np.bool_]:
+    """Mask (N,) of the ``points`` (N, 2) [m] whose blob spans at most ``max_size`` [m]
+    (the diagonal of its bounding box); ``blobs`` (N,) labels them 0..B-1, every label
+    used (as :func:`linkage_levels` numbers them)."""
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if pts.shape[0] == 0:
         return np.ones(0, dtype=bool)
-    labels = single_linkage(pts, d_hs)
-    order = np.argsort(labels, kind="stable")
-    starts = np.flatnonzero(np.r_[True, np.diff(labels[order]) != 0])
-    lo = np.minimum.reduceat(pts[order], starts, axis=0)
-    hi = np.maximum.reduceat(pts[order], starts, axis=0)
-    span = np.hypot(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
-    blob = np.empty(pts.shape[0], dtype=np.int64)
-    blob[order] = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, pts.shape[0]]))
-    return np.asarray(span[blob] <= max_size)
+    labels = np.asarray(blobs, dtype=np.int64)
+    counts = np.bincount(labels)
+    starts = np.cumsum(counts) - counts
+    ordered = pts[np.argsort(labels, kind="stable")]
+    extent = np.maximum.reduceat(ordered, starts) - np.minimum.reduceat(ordered, starts)
+    wide = np.einsum("bk,bk->b", extent, extent) > max_size * max_size
+    return ~wide[labels]
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,10 +123,13 @@ class GroupObservations:
         d_p: float,
         d_hs: float,
         counting: SizeCounting | None = None,
+        max_blob_size: float = 0.0,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
-        count when None); ``members`` (N,) are their indices in the frame."""
+        count when None); ``members`` (N,) are their indices in the frame. With
+        ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
+        clusters are then made again from the rest; the blobs are those of one linkage)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
         if pts.shape[0] == 0:
@@ -138,6 +140,13 @@ class GroupObservations:
             if pts.shape[0] == 0:
                 return cls.empty()
         labels, fine = linkage_levels(pts, (d_p, min(d_hs, d_p)))
+        if max_blob_size > 0.0:
+            keep = within_size(pts, fine, max_blob_size)
+            if not keep.all():
+                pts, idx = pts[keep], idx[keep]
+                if pts.shape[0] == 0:
+                    return cls.empty()
+                labels, fine = linkage_levels(pts, (d_p, min(d_hs, d_p)))
         return cls._from_labels(pts, idx, labels, fine, counting)
 
     @classmethod

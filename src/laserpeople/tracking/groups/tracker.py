@@ -41,11 +41,7 @@ from laserpeople.tracking.groups.model import (
     GroupModelSettings,
     group_payload,
 )
-from laserpeople.tracking.groups.observations import (
-    GroupObservations,
-    SizeCounting,
-    within_size,
-)
+from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
@@ -653,14 +649,12 @@ class GroupMHTTracker:
         finite = np.isfinite(pts).all(axis=1)
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
-        if self.params.max_blob_size > 0.0 and len(pts):
-            keep = within_size(pts, self.params.blob_distance, self.params.max_blob_size)
-            if not keep.all():
-                self.wide_points_left_out += int(keep.size - np.count_nonzero(keep))
-                pts, idx = pts[keep], idx[keep]
-        return GroupObservations.from_points(
-            pts, idx, self.params.cluster_distance, self.params.blob_distance, self._counting
+        p = self.params
+        obs = GroupObservations.from_points(
+            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size
         )
+        self.wide_points_left_out += len(pts) - len(obs.points)
+        return obs
 
     def update(self, frame: Frame) -> Tracks:
         """Track one frame."""

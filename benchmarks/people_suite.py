@@ -42,7 +42,9 @@ from laserpeople.evaluation.suite import (
     summarise,
     track_scene,
 )
+from laserpeople.pipeline.recording import add_static_track_filter
 from laserpeople.pipeline.static_people import uses_static_model
+from laserpeople.pipeline.static_tracks import StaticTrackFilter
 from laserpeople.sim.scenarios.randomised import HELD_BACK_SEEDS, TUNING_SEEDS
 from laserpeople.tracking import registry
 
@@ -74,10 +76,29 @@ def suite_scenes(
     return scenes
 
 
+class StaticFiltered:
+    """A tracker without a static world of its own behind the static-track filter, its
+    model fed from each frame, as :func:`laserpeople.pipeline.build` wires it
+    (``pipeline/static_tracks.py``)."""
+
+    def __init__(self, tracker: Any, stages: list[Any], hide: StaticTrackFilter) -> None:
+        self.tracker = tracker
+        self.stages = stages
+        self.hide = hide
+        self.consumes = frozenset(tracker.consumes) | {"scans"}
+
+    def update(self, frame: Any) -> Any:
+        """Learn the model from ``frame``, track it, leave out the people on static places."""
+        for stage in self.stages:
+            frame = stage(frame)
+        return self.hide.update(self.tracker.update(frame), frame)
+
+
 def make_factory(name: str, config: Path | None, background: str = "auto") -> Any:
     """A maker of a new tracker; a tracker that asks a static world model (the leg MHT's
-    people) gets the model ``background`` fed from each frame, as the pipeline does."""
-    from laserpeople.pipeline.static_people import StaticFed, people_static_model, uses_static_model
+    people) gets the model ``background`` fed from each frame, and one without a model of
+    its own the static-track filter on that model, as the pipeline does."""
+    from laserpeople.pipeline.static_people import StaticFed, people_static_model
 
     entry = registry.get(name)
     params = load_config(entry.params_cls, config)
@@ -89,9 +110,19 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
             tracker.use_static_model(model)
             if model is not None:
                 return StaticFed(tracker, model)
+        stages: list[Any] = []
+        hide = add_static_track_filter(tracker, stages, background)
+        if hide is not None:
+            return StaticFiltered(tracker, stages, hide)
         return tracker
 
     return make
+
+
+def _takes_model(tracker: Any) -> bool:
+    """Whether ``background`` changes what ``tracker`` reports (it asks a model, or has none
+    of its own and gets the static-track filter)."""
+    return uses_static_model(tracker) or not callable(getattr(tracker, "use_static_model", None))
 
 
 def run(
@@ -110,7 +141,7 @@ def run(
     factories: dict[str, Any] = {}
     for name in trackers:
         probe = registry.get(name).make()
-        if backgrounds and len(backgrounds) > 1 and uses_static_model(probe):
+        if backgrounds and len(backgrounds) > 1 and _takes_model(probe):
             for bg in backgrounds:
                 factories[f"{name}[{bg}]"] = make_factory(name, config, bg)
         else:

@@ -16,9 +16,16 @@ on static places that never walked are not reported) and true (000: every group)
 column counts the ids reported for at most 3 scans. Both with the default confirmation
 (``group_tracker.confirm_scans``; ``benchmarks/groups_confirm.py`` compares its settings).
 
+With ``--trackers`` the same counts for the person tracks of other registered trackers
+(``csa``, ``feet-pf``, ``upper-body-pf``, ``nn``; each with its defaults and the default
+static world model, as ``laserpeople track --tracker NAME`` runs it), with their person
+tracks on static places reported (``static_tracks.hide`` false, the papers) and left out
+(true, the default; ``pipeline/static_tracks.py``).
+
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]
         [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups]
+        [--trackers csa feet-pf upper-body-pf]
 """
 
 from __future__ import annotations
@@ -32,8 +39,11 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.detection.detector import AdaBoostLegDetector
+from laserpeople.frame import Frame
 from laserpeople.pipeline import Pipeline, build
+from laserpeople.pipeline.background import StaticWorldParams
 from laserpeople.pipeline.static_people import describe_people_model
+from laserpeople.pipeline.static_tracks import StaticTrackFilter, StaticTrackParams
 from laserpeople.tracking import registry
 from laserpeople.tracking.groups.tracker import GroupTrackerParams
 from laserpeople.tracking.legs import LegTrackerParams
@@ -151,6 +161,92 @@ def main_groups(bags: list[str], walk: float) -> None:
             )
 
 
+def leg_mht_people(key: str) -> dict[int, np.ndarray]:
+    """Per scan index, the default leg MHT's person positions (M, 2) on recording ``key``:
+    the reference that ``--trackers`` splits hidden rows by (near a person or not)."""
+    bag, topics, mounts = BAGS[key]
+    pipe = build(bag, topics=topics, mounts=mounts, detector=AdaBoostLegDetector.default())
+    out, _ = track_all(pipe)
+    return {
+        t.scan_index: np.array([p.position for p in t.of_kind("person")]).reshape(-1, 2)
+        for t in out
+    }
+
+
+@dataclass(frozen=True)
+class HiddenSplit:
+    """Person-seconds of the rows ``static_tracks`` kept and hid, near (within 0.5 m) a
+    person of the default leg MHT and elsewhere."""
+
+    near_kept: float
+    near_hidden: float
+    far_kept: float
+    far_hidden: float
+
+
+def run_tracker(
+    key: str, name: str, hide: bool, walk: float, reference: dict[int, np.ndarray]
+) -> tuple[RealCount, HiddenSplit | None]:
+    """Track one recording's people with the registered tracker ``name`` (its defaults),
+    its person tracks on static places left out when ``hide`` (``static_tracks.hide``);
+    with ``hide``, also where the hidden rows were (see :class:`HiddenSplit`)."""
+    bag, topics, mounts = BAGS[key]
+    tracker = registry.get(name).make(None)
+    detector = AdaBoostLegDetector.default() if "legs" in tracker.consumes else None
+    static = StaticWorldParams(static_tracks=StaticTrackParams(hide=hide))
+    pipe = build(
+        bag, tracker=tracker, topics=topics, mounts=mounts, detector=detector, static_world=static
+    )
+    seconds = np.zeros((2, 2))  # [near, far] x [kept, hidden]
+    stage = next((i for i in pipe.identify if isinstance(i, StaticTrackFilter)), None)
+    if stage is not None:
+        update = stage.update
+        last: list[float] = []
+
+        def split(tracks: Tracks, frame: Frame) -> Tracks:
+            out = update(tracks, frame)
+            dt = tracks.stamp - last[0] if last else 0.0
+            last[:] = [tracks.stamp]
+            kept = {t.track_id for t in out.of_kind("person")}
+            ref = reference.get(tracks.scan_index, np.zeros((0, 2)))
+            for t in tracks.of_kind("person"):
+                far = len(ref) == 0 or float(np.min(np.hypot(*(ref - t.position).T))) >= 0.5
+                seconds[int(far), int(t.track_id not in kept)] += dt
+            return out
+
+        stage.update = split  # type: ignore[method-assign]
+    out, ms = track_all(pipe)
+    hidden = HiddenSplit(*seconds.ravel().tolist()) if stage is not None else None
+    return replace(count(out, walk), ms=ms), hidden
+
+
+def main_trackers(bags: list[str], names: list[str], walk: float) -> None:
+    """The table of other trackers' people (``--trackers``), with ``static_tracks.hide``
+    false (the papers: every track) and true (the default), and where the hidden rows were:
+    near a person of the default leg MHT (4 ids for 4 walkers on the demo bag) or not."""
+    print(
+        "bag      tracker        hide   ids  walkers  person-s  walker-s  static-s  gaps  "
+        "ms/frame  | person-s near a leg-MHT person: kept / hidden, elsewhere: kept / hidden"
+    )
+    for key in bags:
+        reference = leg_mht_people(key)
+        for name in names:
+            for hide in (False, True):
+                c, h = run_tracker(key, name, hide, walk, reference)
+                where = (
+                    f"  | {h.near_kept:6.1f} / {h.near_hidden:5.1f}, "
+                    f"{h.far_kept:6.1f} / {h.far_hidden:5.1f}"
+                    if h is not None
+                    else ""
+                )
+                print(
+                    f"{key:8s} {name:13s} {hide!s:5s} {c.ids:4d} {c.walker_ids:8d} "
+                    f"{c.person_seconds:9.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "
+                    f"{c.gaps:5d} {c.ms:8.2f}{where}",
+                    flush=True,
+                )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bags", nargs="+", default=list(BAGS), choices=list(BAGS))
@@ -158,7 +254,13 @@ def main() -> None:
     ap.add_argument("--backgrounds", nargs="+", default=["none", "auto"])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
+    ap.add_argument(
+        "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
+    )
     args = ap.parse_args()
+    if args.trackers:
+        main_trackers(args.bags, args.trackers, args.walk)
+        return
     if args.groups:
         main_groups(args.bags, args.walk)
         return

@@ -177,6 +177,7 @@ def run_tracking(
     )
     from laserpeople.pipeline.background import load_static_world
     from laserpeople.pipeline.static_people import describe_people_model
+    from laserpeople.pipeline.static_tracks import StaticTrackFilter
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
@@ -259,6 +260,13 @@ def run_tracking(
         say(f"input guard: {checked}")
     if dropped:
         say(f"{dropped} detections with non-finite positions in the tracking frame were left out")
+    for ident in pipe.identify:
+        if isinstance(ident, StaticTrackFilter) and ident.hidden:
+            say(
+                f"{ident.hidden} person-scans of {len(ident.hidden_ids)} tracks on places static "
+                "for longer than static_tracks.static_time, never seen walking there, were not "
+                "reported (static_tracks.hide = false reports them)"
+            )
     for attribute, text in LEFT_OUT:
         left_out = int(getattr(pipe.tracker, attribute, 0))
         if left_out:

@@ -39,6 +39,7 @@ from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.pipeline.stages import Stage, provided_by
+from laserpeople.pipeline.static_tracks import StaticTrackParams
 from laserpeople.scan import Pose2D
 
 BackgroundChoice = Literal["auto", "histogram", "occupancy", "none"]
@@ -167,18 +168,27 @@ class SensorMotionCheck:
 class StaticWorldParams:
     """The parameters of every static world model, each read from its own ``--config``
     section (:func:`load_static_world`): ``[occupancy]`` (the grid), ``[beam_histogram]``
-    (the per-beam histogram), ``[auto_background]`` (when ``auto`` switches to the grid)
-    and ``[sensor_motion]`` (when the people's model of a sensor-frame run is dropped)."""
+    (the per-beam histogram), ``[auto_background]`` (when ``auto`` switches to the grid),
+    ``[sensor_motion]`` (when the people's model of a sensor-frame run is dropped) and
+    ``[static_tracks]`` (which person tracks of trackers without a static world of their
+    own are left out, :mod:`laserpeople.pipeline.static_tracks`)."""
 
     occupancy: OccupancyParams = field(default_factory=OccupancyParams)
     beam_histogram: BeamHistogramParams = field(default_factory=BeamHistogramParams)
     auto_background: AutoBackgroundParams = field(default_factory=AutoBackgroundParams)
     sensor_motion: SensorMotionParams = field(default_factory=SensorMotionParams)
+    static_tracks: StaticTrackParams = field(default_factory=StaticTrackParams)
 
     @staticmethod
     def sections() -> list[type]:
         """The parameter classes (TOML sections) it reads."""
-        return [OccupancyParams, BeamHistogramParams, AutoBackgroundParams, SensorMotionParams]
+        return [
+            OccupancyParams,
+            BeamHistogramParams,
+            AutoBackgroundParams,
+            SensorMotionParams,
+            StaticTrackParams,
+        ]
 
 
 def load_static_world(path: str | Path | None) -> StaticWorldParams:
@@ -191,6 +201,7 @@ def load_static_world(path: str | Path | None) -> StaticWorldParams:
         beam_histogram=load_config(BeamHistogramParams, path),
         auto_background=load_config(AutoBackgroundParams, path),
         sensor_motion=load_config(SensorMotionParams, path),
+        static_tracks=load_config(StaticTrackParams, path),
     )
 
 

@@ -37,6 +37,7 @@ from laserpeople.pipeline.static_people import (
     reads_foreground,
     uses_static_model,
 )
+from laserpeople.pipeline.static_tracks import StaticTrackFilter
 
 ALL_TOPICS = "all"
 
@@ -222,6 +223,32 @@ def add_people_static_model(
     return model
 
 
+def add_static_track_filter(
+    tracker: object,
+    preprocess: list[Stage],
+    background: str | Stage | None,
+    map_path: str | Path | None = None,
+    static_world: StaticWorldParams | None = None,
+) -> StaticTrackFilter | None:
+    """For a tracker without a static world model of its own (one that has no
+    ``use_static_model``: ``nn``, ``csa``, ``feet-pf``, ``upper-body-pf``): append to
+    ``preprocess`` (after a :class:`Fuse`, added when missing) the people's
+    :class:`~laserpeople.pipeline.static_people.PeopleStaticModel` of ``background`` and
+    return the identify stage that leaves out its person tracks on static places (None:
+    ``static_tracks.hide`` is false, the tracker has a model of its own, or ``none``)."""
+    static_world = static_world if static_world is not None else StaticWorldParams()
+    if not static_world.static_tracks.hide or callable(getattr(tracker, "use_static_model", None)):
+        return None
+    model = people_static_model(background, map_path, static=static_world)
+    if model is None:
+        return None
+    model.fill_foreground = False  # asked only how long places have been static
+    if not any(isinstance(s, Fuse) for s in preprocess):
+        preprocess.append(Fuse())
+    preprocess.append(model)
+    return StaticTrackFilter(model, static_world.static_tracks)
+
+
 def output_sink(path: str | Path) -> Sink:
     """A tracks sink by extension: ``.csv`` tracks CSV, ``.bag``/``.mcap``/``.db3`` a bag
     with the scans and the tracks as ROS messages."""
@@ -300,6 +327,11 @@ def build(
             frozenset(tracker.consumes), detector, leg_fusion, background, map_path, static_world
         )
         add_people_static_model(tracker, preprocess, background, map_path, static_world)
+        hide_static = add_static_track_filter(
+            tracker, preprocess, background, map_path, static_world
+        )
+        if hide_static is not None:
+            identifiers.insert(0, hide_static)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             frames,
@@ -319,6 +351,7 @@ __all__ = [
     "ALL_TOPICS",
     "RecordingFrames",
     "add_people_static_model",
+    "add_static_track_filter",
     "build",
     "observe_stages_for",
     "open_source",

@@ -42,11 +42,17 @@ from laserpeople.evaluation.suite import (
     summarise,
     track_scene,
 )
-from laserpeople.pipeline.recording import add_static_track_filter
+from laserpeople.pipeline.background import load_static_world
+from laserpeople.pipeline.recording import (
+    add_people_static_model,
+    add_static_track_filter,
+    observe_stages_for,
+)
 from laserpeople.pipeline.static_people import uses_static_model
 from laserpeople.pipeline.static_tracks import StaticTrackFilter
 from laserpeople.sim.scenarios.randomised import HELD_BACK_SEEDS, TUNING_SEEDS
 from laserpeople.tracking import registry
+from laserpeople.tracking.registry import POINT_FIELDS
 
 NAMED = ("crossing-3", "narrow-corridor", "entrance-hall")
 
@@ -76,44 +82,52 @@ def suite_scenes(
     return scenes
 
 
-class StaticFiltered:
-    """A tracker without a static world of its own behind the static-track filter, its
-    model fed from each frame, as :func:`laserpeople.pipeline.build` wires it
-    (``pipeline/static_tracks.py``)."""
+class Staged:
+    """A tracker behind the stages that :func:`laserpeople.pipeline.build` gives it: the
+    points' stages of a tracker of points (fusion, background, clustering; the suite fills
+    only scans and legs), the people's static world model, and the static-track filter of a
+    tracker without a static world of its own (``pipeline/static_tracks.py``)."""
 
-    def __init__(self, tracker: Any, stages: list[Any], hide: StaticTrackFilter) -> None:
+    def __init__(self, tracker: Any, stages: list[Any], hide: StaticTrackFilter | None) -> None:
         self.tracker = tracker
         self.stages = stages
         self.hide = hide
-        self.consumes = frozenset(tracker.consumes) | {"scans"}
+        self.consumes = (frozenset(tracker.consumes) & {"legs"}) | {"scans"}
 
     def update(self, frame: Any) -> Any:
-        """Learn the model from ``frame``, track it, leave out the people on static places."""
+        """Run the stages on ``frame``, track it, leave out the people on static places."""
         for stage in self.stages:
             frame = stage(frame)
-        return self.hide.update(self.tracker.update(frame), frame)
+        tracks = self.tracker.update(frame)
+        return tracks if self.hide is None else self.hide.update(tracks, frame)
 
 
 def make_factory(name: str, config: Path | None, background: str = "auto") -> Any:
     """A maker of a new tracker; a tracker that asks a static world model (the leg MHT's
-    people) gets the model ``background`` fed from each frame, and one without a model of
-    its own the static-track filter on that model, as the pipeline does."""
+    people) gets the model ``background`` fed from each frame, a tracker of points its
+    points' stages, and one without a model of its own the static-track filter
+    (``[static_tracks]`` of ``config``), as the pipeline does."""
     from laserpeople.pipeline.static_people import StaticFed, people_static_model
 
     entry = registry.get(name)
     params = load_config(entry.params_cls, config)
+    static = load_static_world(config)
 
     def make() -> Any:
         tracker = entry.factory(params)
-        if uses_static_model(tracker):
-            model = people_static_model(background)
+        if uses_static_model(tracker) and not tracker.consumes & POINT_FIELDS:
+            model = people_static_model(background, static=static)
             tracker.use_static_model(model)
             if model is not None:
                 return StaticFed(tracker, model)
-        stages: list[Any] = []
-        hide = add_static_track_filter(tracker, stages, background)
-        if hide is not None:
-            return StaticFiltered(tracker, stages, hide)
+            return tracker
+        stages, observe = observe_stages_for(
+            frozenset(tracker.consumes) - {"legs"}, None, None, background, None, static
+        )
+        add_people_static_model(tracker, stages, background, None, static)
+        hide = add_static_track_filter(tracker, stages, background, None, static)
+        if stages or observe or hide is not None:
+            return Staged(tracker, [*stages, *observe], hide)
         return tracker
 
     return make

@@ -17,6 +17,10 @@ the one that ``static_share`` of those points reach (the centre's when no point 
   ``static_time``): hopping between the posts of a chair or railing is not walking;
 - a track that has not travelled ``min_travel`` from where it was first reported is
   hidden while its place has been static for longer than ``static_time``;
+- either only once tracks have stood on that static place for ``stand_time``, one id
+  after another with gaps of at most ``place_gap`` (a tracker may give the same thing a
+  new id every few seconds): people who stand in a crowd for a few seconds, on places the
+  grid first saw when they stood there, are not hidden;
 - a track that has travelled is hidden only when it stands (slower than ``min_speed``) on
   a place that was static ``arrival_slack`` longer than it has stood there (a track that
   slid onto furniture it passed); a person who walks in and stands keeps its track.
@@ -87,6 +91,20 @@ class StaticTrackParams:
         "near it on the wall",
         "a place is static for as long as this share of its points are",
     )
+    stand_time: float = param(
+        10.0,
+        "measured: on the simulated entrance hall, people standing in a meeting (4-10 s) "
+        "on places the grid counts static from first sight (occluded by the crowd before)",
+        "a track is hidden only once tracks have stood on its static place this long",
+        "s",
+    )
+    place_gap: float = param(
+        2.0,
+        "assumption: a tracker that loses a thing gives it a new id within a second or two",
+        "tracks on a static place follow each other when the next one is there within this "
+        "many seconds of the last (within radius of it)",
+        "s",
+    )
     forget_after: float = param(
         60.0,
         "assumption: longer than the trackers' own coasting and re-identification gaps",
@@ -101,11 +119,13 @@ class StaticTrackParams:
             self.arrival_slack,
             self.min_speed,
             self.radius,
+            self.stand_time,
+            self.place_gap,
         )
         if min(values) < 0.0 or not all(math.isfinite(v) for v in values):
             raise ValueError(
-                "static_time, min_travel, arrival_slack, min_speed and radius must be finite "
-                "and not negative"
+                "static_time, min_travel, arrival_slack, min_speed, radius, stand_time and "
+                "place_gap must be finite and not negative"
             )
         if not 0.0 < self.static_share <= 1.0:
             raise ValueError("static_share must be in (0, 1]")
@@ -121,6 +141,16 @@ class _Seen:
     travelled: float
     arrived: tuple[float, float, float]  # time [s], x, y [m] of the last walk's end
     last: float  # time [s] last reported by the tracker
+
+
+@dataclass
+class _Place:
+    """A static place where tracks stand, one after another."""
+
+    x: float
+    y: float
+    since: float  # time [s] the first of them stood there
+    last: float  # time [s] one stood there last
 
 
 class StaticTrackFilter:
@@ -144,6 +174,7 @@ class StaticTrackFilter:
         self.hidden = 0
         self.hidden_ids: set[int] = set()
         self._seen: dict[int, _Seen] = {}
+        self._places: list[_Place] = []
 
     def update(self, tracks: Tracks, frame: Frame) -> Tracks:
         """``tracks`` without the person tracks that stand on static places."""
@@ -161,11 +192,12 @@ class StaticTrackFilter:
             if seen is None:
                 seen = self._seen[t.track_id] = _Seen((x, y), 0.0, (now, x, y), now)
             seen.last = now
-            if s <= p.static_time:
-                seen.travelled = max(seen.travelled, math.hypot(x - seen.born[0], y - seen.born[1]))
             if math.hypot(x - seen.arrived[1], y - seen.arrived[2]) >= p.min_travel:
                 seen.arrived = (now, x, y)
             if s <= p.static_time:
+                seen.travelled = max(seen.travelled, math.hypot(x - seen.born[0], y - seen.born[1]))
+                continue
+            if now - self._stood_at(x, y, now) < p.stand_time:
                 continue
             standing = math.hypot(*(float(v) for v in t.velocity)) < p.min_speed
             if seen.travelled < p.min_travel or (
@@ -183,12 +215,11 @@ class StaticTrackFilter:
         """Per track centre (M, 2): the static time [s] reached by ``static_share`` of the
         frame's points within ``radius`` (the centre's own without such points)."""
         p = self.params
-        points = frame.points.points if frame is not None and frame.points is not None else None
-        if points is None or len(points) == 0:
-            near = np.zeros((len(centres), 0), dtype=bool)
-        else:
-            d = points[None, :, :] - centres[:, None, :]
-            near = np.einsum("mnk,mnk->mn", d, d) <= p.radius**2
+        points = np.zeros((0, 2))
+        if frame is not None and frame.points is not None:
+            points = frame.points.points
+        d = points[None, :, :] - centres[:, None, :]
+        near = np.einsum("mnk,mnk->mn", d, d) <= p.radius**2
         used = np.flatnonzero(near.any(axis=0))
         asked = np.concatenate([centres, points[used]]) if len(used) else centres
         times = np.asarray(self.model.static_time(asked), dtype=np.float64)
@@ -200,10 +231,23 @@ class StaticTrackFilter:
                 out[i] = mine[math.ceil(p.static_share * len(mine)) - 1]
         return out
 
+    def _stood_at(self, x: float, y: float, now: float) -> float:
+        """Since when [s] tracks have stood on the static place at (x, y) [m]."""
+        p = self.params
+        near = [q for q in self._places if math.hypot(q.x - x, q.y - y) <= p.radius]
+        place = min(near, key=lambda q: q.since) if near else None
+        if place is None:
+            place = _Place(x, y, now, now)
+            self._places.append(place)
+        place.x, place.y, place.last = x, y, now
+        return place.since
+
     def _forget(self, now: float) -> None:
         horizon = now - self.params.forget_after
         if any(s.last < horizon for s in self._seen.values()):
             self._seen = {k: s for k, s in self._seen.items() if s.last >= horizon}
+        gap = now - self.params.place_gap
+        self._places = [q for q in self._places if q.last >= gap]
 
 
 __all__ = ["StaticTrackFilter", "StaticTrackParams"]

@@ -56,6 +56,7 @@ from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
 from laserpeople.tracking.mht.protocols import (
     Branch,
     BranchGenerator,
+    BranchObservations,
     LabelModel,
     SingleModel,
     TrackModel,
@@ -520,9 +521,13 @@ class MHT(Generic[Meas]):
         log_new: FloatArray,
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
+        plain = type(self.branches) is SingleModel
+        if plain:
+            return self._branch_plain(
+                parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+            )
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
-        plain = type(self.branches) is SingleModel
 
         def gate_row(node: TrackNode) -> BoolArray:
             return gated[row_of[node.node_id], meas_idx]
@@ -539,9 +544,18 @@ class MHT(Generic[Meas]):
         max_gap = _max_gap(self.params.ratio)
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
-            solutions += self._k_best(
-                plans, members, measurements, meas_idx, row_of, log_new, log_fal, max_gap
+            found = self._k_best(
+                [plans[pi][1].tracks for pi in members],
+                [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members],
+                plans[members[0]][1].observations,
+                measurements,
+                meas_idx,
+                row_of,
+                log_new,
+                log_fal,
+                max_gap,
             )
+            solutions += [(members[pi], dec, total) for pi, dec, total in found]
         if len(partitions) > 1:  # the global k best of the partitions' k best
             solutions.sort(key=lambda sol: sol[2])
             best = solutions[0][2] if solutions else math.inf
@@ -605,6 +619,78 @@ class MHT(Generic[Meas]):
             added = self._add_child(children, kept, tracks, total, branch.model)
             if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)
+        return self._prune_children(children)
+
+    def _branch_plain(
+        self,
+        parents: list[Hypothesis],
+        measurements: Meas,
+        meas_idx: NDArray[np.intp],
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis]:
+        """:meth:`_branch` of the plain MHT (one branch per parent: its own tracks, prior
+        1, the cluster's measurements): the same children, nodes and ids in the same order,
+        without the branch objects and their bookkeeping."""
+        tracks_of = [p.tracks for p in parents]
+        max_gap = _max_gap(self.params.ratio)
+        solutions = self._k_best(
+            tracks_of,
+            [-(p.log_weight + 0.0) for p in parents],  # (+ the single branch's log prior)
+            None,
+            measurements,
+            meas_idx,
+            row_of,
+            log_new,
+            log_fal,
+            max_gap,
+        )
+        # make the children nodes each (node, label) needs, once, in batches
+        meas_list = meas_idx.tolist()
+        to_update: dict[tuple[int, int], tuple[TrackNode, Hashable, Any, int]] = {}
+        born: dict[Hashable, tuple[Any, int, int]] = {}
+        for pi, dec, _ in solutions:
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(tracks_of[pi]):
+                if tlabels[i] == DETECTED:
+                    j = meas_list[tmeas[i]]
+                    key = (node.node_id, j)
+                    if key not in to_update and j not in node.children:
+                        to_update[key] = (node, j, measurements, j)
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL:
+                    j = meas_list[a]
+                    if j not in born:
+                        born[j] = (measurements, j, j)
+        self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
+        new_nodes = self._new_nodes(born, measurements, stamp)
+
+        children: dict[tuple[int, ...], Hypothesis] = {}
+        history: dict[int, tuple[Hashable, ...]] = {}  # per parent (most have several children)
+        for pi, dec, total in solutions:
+            kept = history.get(pi)
+            if kept is None:
+                kept = history[pi] = self._history(parents[pi])
+            tracks: list[TrackNode] = []
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(tracks_of[pi]):
+                label = tlabels[i]
+                if label == DETECTED:
+                    tracks.append(node.children[meas_list[tmeas[i]]])
+                elif label == OCCLUDED:
+                    child = node.children.get(-1)
+                    tracks.append(child if child is not None else self._occluded_child(node, stamp))
+            born_here = False
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL:
+                    tracks.append(new_nodes[meas_list[a]])
+                    born_here = True
+            if born_here:  # (the parents' tracks are sorted by family)
+                tracks.sort(key=BY_FAMILY)
+            self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
 
     def _add_child(
@@ -777,8 +863,9 @@ class MHT(Generic[Meas]):
 
     def _k_best(
         self,
-        plans: list[tuple[Hypothesis, Branch]],
-        members: list[int],
+        tracks_of: list[tuple[TrackNode, ...]],
+        priors: list[float],
+        obs: BranchObservations | None,
         measurements: Meas,
         meas_idx: NDArray[np.intp],
         row_of: dict[int, int],
@@ -786,21 +873,22 @@ class MHT(Generic[Meas]):
         log_fal: FloatArray,
         max_gap: float,
     ) -> list[tuple[int, LabelledAssignment, float]]:
-        """The k best children of the branches ``members`` (indices into ``plans``), which
-        all see the same observations; parent indices of the result index ``plans``."""
+        """The k best children of parents (or branches) with tracks ``tracks_of`` and costs
+        ``priors`` (-log weight, with the model prior) that all see the same observations
+        (``obs``, or the cluster's measurements when None); parent indices of the result
+        index ``tracks_of``."""
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
-        rows_of: list[list[int]] = []  # each member's tracks as indices into nodes_u
-        for pi in members:
+        rows_of: list[list[int]] = []  # each parent's tracks as indices into nodes_u
+        for tracks in tracks_of:
             rows = []
-            for t in plans[pi][1].tracks:
+            for t in tracks:
                 i = uniq.get(t.node_id)
                 if i is None:
                     i = uniq[t.node_id] = len(nodes_u)
                     nodes_u.append(t)
                 rows.append(i)
             rows_of.append(rows)
-        obs = plans[members[0]][1].observations
         if obs is None:
             # per node, once: costs of matching each measurement and of the unmatched labels
             tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
@@ -814,12 +902,12 @@ class MHT(Generic[Meas]):
             else:
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
-        priors = [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members]
         k = self.params.k_best
         size = tm_cost.shape[0] + tm_cost.shape[1]
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size
         budget = self.params.max_assignment_solves
+        members = list(range(len(tracks_of)))
         if degraded:  # the best parent's best matching and its label variants only
             best = min(range(len(members)), key=lambda i: priors[i])
             members, priors, budget = [members[best]], [priors[best]], 1
@@ -838,7 +926,9 @@ class MHT(Generic[Meas]):
             self._most_solves = max(self._most_solves, work.solves)
             degraded = degraded or work.truncated
         self._degraded += int(degraded)
-        return [(members[pi], dec, total) for pi, dec, total in solutions]
+        if degraded:
+            return [(members[pi], dec, total) for pi, dec, total in solutions]
+        return solutions
 
     def _costs(
         self,
@@ -925,20 +1015,22 @@ class MHT(Generic[Meas]):
         already), made and stored in ``node.children``; ``jl`` is its scan measurement
         (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
         mean, cov, payload = self._updates[(node.node_id, j)]
+        # (positional: the fields in their order, node_id to payload; a third of the cost
+        # of passing them by keyword)
         child = node.children[j] = TrackNode(
-            node_id=self.tree.new_node_id(),
-            family=node.family,
-            parent_id=node.node_id,
-            mean=mean,
-            cov=cov,
-            stamp=stamp,
-            label=NODE_DETECTED,
-            measurement=jl,
-            hits=node.hits + 1,
-            misses=0,
-            age=node.age + 1,
-            loglik=loglik,
-            payload=payload,
+            self.tree.new_node_id(),
+            node.family,
+            node.node_id,
+            mean,
+            cov,
+            stamp,
+            NODE_DETECTED,
+            jl,  # measurement
+            node.hits + 1,
+            0,  # misses
+            node.age + 1,
+            loglik,
+            payload,
         )
         return child
 
@@ -963,16 +1055,20 @@ class MHT(Generic[Meas]):
         out: dict[Hashable, TrackNode] = {}
         for j in [*scan, *own]:
             mean, cov, payload = self._initiated[j]
-            out[j] = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=self.tree.new_family(),
-                parent_id=-1,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NEW,
-                measurement=born[j][2],
-                payload=payload,
+            out[j] = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                self.tree.new_family(),
+                -1,  # parent_id
+                mean,
+                cov,
+                stamp,
+                NEW,
+                born[j][2],  # measurement
+                1,  # hits
+                0,  # misses
+                0,  # age
+                0.0,  # loglik
+                payload,
             )
         return out
 
@@ -980,20 +1076,24 @@ class MHT(Generic[Meas]):
         child = node.children.get(-1)
         if child is None:
             mean, cov, payload = self.model.coast(node, stamp)
-            child = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=node.family,
-                parent_id=node.node_id,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NODE_OCCLUDED,
-                measurement=-1,
-                hits=node.hits,
-                misses=node.misses + 1,
-                age=node.age + 1,
-                payload=payload,
-                detected_stamp=node.detected_stamp,
+            child = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                node.family,
+                node.node_id,
+                mean,
+                cov,
+                stamp,
+                NODE_OCCLUDED,
+                -1,  # measurement
+                node.hits,
+                node.misses + 1,
+                node.age + 1,
+                0.0,  # loglik
+                payload,
+                None,  # pred_mean
+                None,  # pred_cov
+                {},  # children
+                node.detected_stamp,
             )
             node.children[-1] = child
         return child

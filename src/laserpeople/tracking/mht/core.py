@@ -260,6 +260,11 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     )
 
 
+_DEFERRED: FloatArray = np.full(0, np.nan)
+"""The state of a node whose state is made at the end of the step
+(:meth:`MHT._fill_deferred`); it never leaves the step."""
+
+
 def _max_gap(min_ratio: float) -> float:
     """The largest cost gap to the best child that ratio pruning keeps, ``-log min_ratio``."""
     return -math.log(min_ratio) if min_ratio > 0 else math.inf
@@ -300,6 +305,12 @@ class MHT(Generic[Meas]):
         self._updates: dict[tuple[int, Hashable], tuple[FloatArray, FloatArray, Any]] = {}
         self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
         self._scan_initiated = False  # whether _initiated holds this scan's measurements
+        # the plain MHT defers its children's states to one batch at the end of the step,
+        # for the children some hypothesis kept (:meth:`_fill_deferred`): (child, parent
+        # node, scan measurement) updated, (new node, scan measurement) initiated
+        self._defer = False
+        self._deferred: list[tuple[TrackNode, TrackNode, int]] = []
+        self._deferred_births: list[tuple[TrackNode, int]] = []
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
         self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
@@ -341,6 +352,8 @@ class MHT(Generic[Meas]):
         row_of = {n.node_id: i for i, n in enumerate(live)}
         self._lp_live = self.labels.track_log_probs(live) if live else np.empty((0, 3))
         self._cost_live = _detection_costs(gated, loglik, self._lp_live)
+        plain = type(self.branches) is SingleModel
+        self._defer = plain
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()
@@ -348,7 +361,6 @@ class MHT(Generic[Meas]):
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
-        plain = type(self.branches) is SingleModel
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
             lone = None
@@ -370,6 +382,8 @@ class MHT(Generic[Meas]):
             if families:
                 new_clusters.append(Cluster(families, children))
         live_nodes = {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}
+        if self._defer:
+            self._fill_deferred(measurements, stamp, live_nodes)
         self.clusters = self._expire(new_clusters, live_nodes.values())
         if self.clusters is not new_clusters:  # some nodes went
             live_nodes = {id(t): t for c in self.clusters for h in c.hypotheses for t in h.tracks}
@@ -965,14 +979,43 @@ class MHT(Generic[Meas]):
         """Compute, in one batch each, the update of every live node with every measurement
         it gates (and, at the first birth of the scan, a new track at every measurement:
         :meth:`_new_nodes`); the clusters then take what their children need (one batch per
-        scan instead of one per cluster)."""
+        scan instead of one per cluster). The plain MHT defers them instead
+        (:meth:`_fill_deferred`)."""
+        self._updates = {}
+        self._initiated = {}
+        self._scan_initiated = False
+        self._deferred = []
+        self._deferred_births = []
+        if self._defer:
+            return
         rows, cols = np.nonzero(gated)
         nodes = [live[i] for i in rows.tolist()]
         js = cols.tolist()
         states = self.model.update(nodes, measurements, js, stamp) if nodes else []
         self._updates = {(n.node_id, j): st for n, j, st in zip(nodes, js, states, strict=True)}
-        self._initiated = {}
-        self._scan_initiated = False
+
+    def _fill_deferred(
+        self, measurements: Meas, stamp: float, live_nodes: dict[int, TrackNode]
+    ) -> None:
+        """The states of the plain MHT's children made this scan that some hypothesis
+        kept (``live_nodes``, by ``id``): the Kalman updates in one batch, the new tracks
+        in another. The others were pruned; their nodes are dropped with the tree's next
+        collection, stateless. (The track model's batches give every item the same floats
+        whatever the batch holds, so this gives the states the per-scan batch gave.)"""
+        kept = [d for d in self._deferred if id(d[0]) in live_nodes]
+        if kept:
+            states = self.model.update(
+                [d[1] for d in kept], measurements, [d[2] for d in kept], stamp
+            )
+            for (child, _, _), (mean, cov, payload) in zip(kept, states, strict=True):
+                child.mean, child.cov, child.payload = mean, cov, payload
+        born = [b for b in self._deferred_births if id(b[0]) in live_nodes]
+        if born:
+            states = self.model.initiate(measurements, [b[1] for b in born], stamp)
+            for (node, _), (mean, cov, payload) in zip(born, states, strict=True):
+                node.mean, node.cov, node.payload = mean, cov, payload
+        self._deferred = []
+        self._deferred_births = []
 
     def _make_detected_children(
         self,
@@ -985,6 +1028,10 @@ class MHT(Generic[Meas]):
         """Create (once) the child of each node updated with an observation: ``(node, id,
         measurement set, index in it)``, the id being the scan index or a model's key."""
         if not pairs:
+            return
+        if self._defer:  # (the plain MHT: scan measurements, states made at the end)
+            for node, j, _, jl in pairs:
+                self._detected_child(node, j, jl, float(loglik[row_of[node.node_id], jl]), stamp)
             return
         missing = [p for p in pairs if (p[0].node_id, p[1]) not in self._updates]
         by_source: dict[int, list[tuple[TrackNode, Hashable, Any, int]]] = {}
@@ -1014,7 +1061,10 @@ class MHT(Generic[Meas]):
         """The child of ``node`` updated with observation ``j`` (its update computed
         already), made and stored in ``node.children``; ``jl`` is its scan measurement
         (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
-        mean, cov, payload = self._updates[(node.node_id, j)]
+        if self._defer:
+            mean, cov, payload = _DEFERRED, _DEFERRED, None
+        else:
+            mean, cov, payload = self._updates[(node.node_id, j)]
         # (positional: the fields in their order, node_id to payload; a third of the cost
         # of passing them by keyword)
         child = node.children[j] = TrackNode(
@@ -1032,6 +1082,8 @@ class MHT(Generic[Meas]):
             loglik,
             payload,
         )
+        if self._defer:
+            self._deferred.append((child, node, jl))
         return child
 
     def _new_nodes(
@@ -1040,6 +1092,8 @@ class MHT(Generic[Meas]):
         """One new track (a new family) per observation labelled *new* in some child;
         ``born`` maps its id to (measurement set, index in it, scan index of its origin).
         Scan measurements first in scan order, then a model's own observations."""
+        if self._defer:  # (the plain MHT: scan measurements, states made at the end)
+            return self._new_nodes_deferred(born, stamp)
         if born and not self._scan_initiated:  # the scan's batch, once (most scans: none)
             every = list(range(len(measurements)))
             states = self.model.initiate(measurements, every, stamp) if every else []
@@ -1070,6 +1124,26 @@ class MHT(Generic[Meas]):
                 0.0,  # loglik
                 payload,
             )
+        return out
+
+    def _new_nodes_deferred(
+        self, born: dict[Hashable, tuple[Any, int, int]], stamp: float
+    ) -> dict[Hashable, TrackNode]:
+        """:meth:`_new_nodes` of the plain MHT (every observation a scan measurement, its
+        own id): the nodes in scan order, their states made by :meth:`_fill_deferred`."""
+        out: dict[Hashable, TrackNode] = {}
+        for jl in sorted(v[1] for v in born.values()):
+            node = out[jl] = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                self.tree.new_family(),
+                -1,  # parent_id
+                _DEFERRED,
+                _DEFERRED,
+                stamp,
+                NEW,
+                born[jl][2],  # measurement
+            )
+            self._deferred_births.append((node, jl))
         return out
 
     def _occluded_child(self, node: TrackNode, stamp: float) -> TrackNode:

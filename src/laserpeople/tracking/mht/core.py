@@ -318,6 +318,10 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
+        self.deferred_states = True
+        """Whether the plain MHT makes its children's states at the end of the step, for
+        the children kept only (:meth:`_fill_deferred`); the same states as made per scan
+        for every gated pair before branching (off only to test that)."""
         self.shortcuts = True
         """Whether clusters of one track and at most one measurement take the shortcuts
         (:meth:`_branch_lone`, :func:`~.listing.single_children`); they give the same
@@ -353,7 +357,7 @@ class MHT(Generic[Meas]):
         self._lp_live = self.labels.track_log_probs(live) if live else np.empty((0, 3))
         self._cost_live = _detection_costs(gated, loglik, self._lp_live)
         plain = type(self.branches) is SingleModel
-        self._defer = plain
+        self._defer = plain and self.deferred_states
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()

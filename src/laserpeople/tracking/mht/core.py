@@ -15,7 +15,9 @@ One :meth:`MHT.step` per scan:
    (:mod:`.listing`), or for very large clusters by multi-parent Murty on one assignment
    matrix per parent (:mod:`.matrix`);
 5. normalise per cluster and generation, N-scan-back pruning, ratio pruning;
-6. garbage-collect the track tree.
+6. the plain MHT (one model per parent) makes the states of the children kept, in one
+   batch (:meth:`MHT._fill_deferred`; with branch models they were made before step 4);
+7. garbage-collect the track tree.
 
 The reported state is the best hypothesis of every cluster (their product is the globally
 best hypothesis because clusters are independent).

@@ -1065,8 +1065,9 @@ class MHT(Generic[Meas]):
         self, node: TrackNode, j: Hashable, jl: int, loglik: float, stamp: float
     ) -> TrackNode:
         """The child of ``node`` updated with observation ``j`` (its update computed
-        already), made and stored in ``node.children``; ``jl`` is its scan measurement
-        (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
+        already, or, in the plain MHT, made at the end of the step by
+        :meth:`_fill_deferred`), made and stored in ``node.children``; ``jl`` is its scan
+        measurement (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
         if self._defer:
             mean, cov, payload = _DEFERRED, _DEFERRED, None
         else:

@@ -10,6 +10,10 @@ the same load; it prints the median process CPU per scan of each and their ratio
 the rare scans with large clusters weigh. The other version's results are
 compared too: the reported tracks must be the same, or the script says where they differ.
 
+With ``--parts`` it also times the parts of the MHT step of both versions (those of
+``bench_track_parts.py``, by process CPU time, accumulated over the alternated scans) and
+prints them per round side by side, with their ratio.
+
 With ``--scenes`` it runs instead the default tracker as ``benchmarks/people_suite.py`` and
 ``cost_vs_gnn.py`` run it (leg MHT, people ``tracks``, the static world model ``auto`` fed
 from each frame) on suite scenes, each simulated and detected by both versions, and
@@ -17,7 +21,7 @@ compares every scan's person and leg tracks.
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_track_ab.py --other /path/to/old/src
         [--people 4 20] [--seconds 30] [--rounds 3]
-        [--scenes randomised:0 randomised:3 crossing-3:1 ...]
+        [--scenes randomised:0 randomised:3 crossing-3:1 ...] [--parts]
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import shutil
 import sys
 import tempfile
 import time
+from collections import defaultdict
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -94,6 +99,34 @@ def setup_scene(package: str, prepared: Any) -> tuple[list[Any], Any]:
     return frames_for(prepared, frozenset(tracker.consumes)), tracker
 
 
+def time_parts(package: str, spent: dict[str, float]) -> None:
+    """Wrap the MHT parts of ``bench_track_parts.PARTS`` in ``package`` (those it has) so
+    that their process CPU time adds up in ``spent`` by label."""
+    import bench_track_parts
+
+    ours = importlib.import_module("laserpeople.tracking.mht.core")
+    core = importlib.import_module(f"{package}.tracking.mht.core")
+    for owner, name, label in bench_track_parts.PARTS:
+        target = core.MHT if owner is ours.MHT else core
+        if hasattr(target, name):
+            fn = bench_track_parts.timed(spent, label, getattr(target, name), time.process_time)
+            setattr(target, name, fn)
+
+
+def print_parts(spent: dict[str, dict[str, float]], scans: int) -> None:
+    """The parts' ms per scan of this and the other version, and their ratio."""
+    import bench_track_parts
+
+    for _, _, label in bench_track_parts.PARTS:
+        a, b = spent["this"].get(label), spent["other"].get(label)
+        if a is None and b is None:
+            continue
+        ta = f"{1e3 * a / scans:7.3f}" if a is not None else "      -"
+        tb = f"{1e3 * b / scans:7.3f}" if b is not None else "      -"
+        ratio = f"{a / b:.3f}" if a is not None and b else "-"
+        print(f"    {label:<42s} this {ta}  other {tb} ms/scan  this/other {ratio}")
+
+
 def rows(tracks: Any, score: bool = True) -> list[tuple[Any, ...]]:
     """The reported tracks of one scan as comparable rows (``score=False``: without their
     scores, the probabilities of their clusters' best hypotheses; ids, members and states
@@ -124,12 +157,20 @@ def main() -> None:
         help="suite scenes SCENARIO:SEED (default tracker with its static model) instead "
         "of the crowds",
     )
+    ap.add_argument("--parts", action="store_true", help="time the MHT step's parts too")
     args = ap.parse_args()
     runs: list[tuple[str, Any]] = [(f"{n:3d} people", n) for n in args.people]
     if args.scenes:
         runs = [(text, tuple(text.split(":"))) for text in args.scenes]
     with tempfile.TemporaryDirectory() as tmp:
         load_other(args.other, Path(tmp))
+        spent: dict[str, dict[str, float]] = {
+            "this": defaultdict(float),
+            "other": defaultdict(float),
+        }
+        if args.parts:
+            time_parts("laserpeople", spent["this"])
+            time_parts(PACKAGE, spent["other"])
         for label, what in runs:
             prepared = None
             if isinstance(what, tuple):
@@ -142,6 +183,8 @@ def main() -> None:
                     this_dets, this = setup("laserpeople", what, args.seconds)
                     other_dets, other = setup(PACKAGE, what, args.seconds)
                 cpu: dict[str, list[float]] = {"this": [], "other": []}
+                for side in spent.values():
+                    side.clear()
                 differ = states = 0
                 for scan, (d_this, d_other) in enumerate(zip(this_dets, other_dets, strict=True)):
                     pair = [("this", this, d_this), ("other", other, d_other)]
@@ -166,6 +209,8 @@ def main() -> None:
                     f"tracks: {differ} ({states} beyond the scores)",
                     flush=True,
                 )
+                if args.parts:
+                    print_parts(spent, len(cpu["this"]))
 
 
 if __name__ == "__main__":

@@ -15,7 +15,9 @@ One :meth:`MHT.step` per scan:
    (:mod:`.listing`), or for very large clusters by multi-parent Murty on one assignment
    matrix per parent (:mod:`.matrix`);
 5. normalise per cluster and generation, N-scan-back pruning, ratio pruning;
-6. garbage-collect the track tree.
+6. the plain MHT (one model per parent) makes the states of the children kept, in one
+   batch (:meth:`MHT._fill_deferred`; with branch models they were made before step 4);
+7. garbage-collect the track tree.
 
 The reported state is the best hypothesis of every cluster (their product is the globally
 best hypothesis because clusters are independent).
@@ -56,6 +58,7 @@ from laserpeople.tracking.mht.probability import NEW as NEW_LABEL
 from laserpeople.tracking.mht.protocols import (
     Branch,
     BranchGenerator,
+    BranchObservations,
     LabelModel,
     SingleModel,
     TrackModel,
@@ -259,6 +262,11 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
     )
 
 
+_DEFERRED: FloatArray = np.full(0, np.nan)
+"""The state of a node whose state is made at the end of the step
+(:meth:`MHT._fill_deferred`); it never leaves the step."""
+
+
 def _max_gap(min_ratio: float) -> float:
     """The largest cost gap to the best child that ratio pruning keeps, ``-log min_ratio``."""
     return -math.log(min_ratio) if min_ratio > 0 else math.inf
@@ -299,6 +307,12 @@ class MHT(Generic[Meas]):
         self._updates: dict[tuple[int, Hashable], tuple[FloatArray, FloatArray, Any]] = {}
         self._initiated: dict[Hashable, tuple[FloatArray, FloatArray, Any]] = {}
         self._scan_initiated = False  # whether _initiated holds this scan's measurements
+        # the plain MHT defers its children's states to one batch at the end of the step,
+        # for the children some hypothesis kept (:meth:`_fill_deferred`): (child, parent
+        # node, scan measurement) updated, (new node, scan measurement) initiated
+        self._defer = False
+        self._deferred: list[tuple[TrackNode, TrackNode, int]] = []
+        self._deferred_births: list[tuple[TrackNode, int]] = []
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
         self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
@@ -306,6 +320,10 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
+        self.deferred_states = True
+        """Whether the plain MHT makes its children's states at the end of the step, for
+        the children kept only (:meth:`_fill_deferred`); the same states as made per scan
+        for every gated pair before branching (off only to test that)."""
         self.shortcuts = True
         """Whether clusters of one track and at most one measurement take the shortcuts
         (:meth:`_branch_lone`, :func:`~.listing.single_children`); they give the same
@@ -340,6 +358,8 @@ class MHT(Generic[Meas]):
         row_of = {n.node_id: i for i, n in enumerate(live)}
         self._lp_live = self.labels.track_log_probs(live) if live else np.empty((0, 3))
         self._cost_live = _detection_costs(gated, loglik, self._lp_live)
+        plain = type(self.branches) is SingleModel
+        self._defer = plain and self.deferred_states
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
         self._drop_settled_links()
@@ -347,7 +367,6 @@ class MHT(Generic[Meas]):
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
-        plain = type(self.branches) is SingleModel
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
             lone = None
@@ -369,6 +388,8 @@ class MHT(Generic[Meas]):
             if families:
                 new_clusters.append(Cluster(families, children))
         live_nodes = {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}
+        if self._defer:
+            self._fill_deferred(measurements, stamp, live_nodes)
         self.clusters = self._expire(new_clusters, live_nodes.values())
         if self.clusters is not new_clusters:  # some nodes went
             live_nodes = {id(t): t for c in self.clusters for h in c.hypotheses for t in h.tracks}
@@ -520,9 +541,13 @@ class MHT(Generic[Meas]):
         log_new: FloatArray,
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
+        plain = type(self.branches) is SingleModel
+        if plain:
+            return self._branch_plain(
+                parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+            )
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
-        plain = type(self.branches) is SingleModel
 
         def gate_row(node: TrackNode) -> BoolArray:
             return gated[row_of[node.node_id], meas_idx]
@@ -539,9 +564,18 @@ class MHT(Generic[Meas]):
         max_gap = _max_gap(self.params.ratio)
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
-            solutions += self._k_best(
-                plans, members, measurements, meas_idx, row_of, log_new, log_fal, max_gap
+            found = self._k_best(
+                [plans[pi][1].tracks for pi in members],
+                [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members],
+                plans[members[0]][1].observations,
+                measurements,
+                meas_idx,
+                row_of,
+                log_new,
+                log_fal,
+                max_gap,
             )
+            solutions += [(members[pi], dec, total) for pi, dec, total in found]
         if len(partitions) > 1:  # the global k best of the partitions' k best
             solutions.sort(key=lambda sol: sol[2])
             best = solutions[0][2] if solutions else math.inf
@@ -605,6 +639,78 @@ class MHT(Generic[Meas]):
             added = self._add_child(children, kept, tracks, total, branch.model)
             if added and not plain:  # the plain MHT's children hold their parent's families
                 self._link_replaced(tracks, parent.tracks)
+        return self._prune_children(children)
+
+    def _branch_plain(
+        self,
+        parents: list[Hypothesis],
+        measurements: Meas,
+        meas_idx: NDArray[np.intp],
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+        log_new: FloatArray,
+        log_fal: FloatArray,
+    ) -> list[Hypothesis]:
+        """:meth:`_branch` of the plain MHT (one branch per parent: its own tracks, prior
+        1, the cluster's measurements): the same children, nodes and ids in the same order,
+        without the branch objects and their bookkeeping."""
+        tracks_of = [p.tracks for p in parents]
+        max_gap = _max_gap(self.params.ratio)
+        solutions = self._k_best(
+            tracks_of,
+            [-(p.log_weight + 0.0) for p in parents],  # (+ the single branch's log prior)
+            None,
+            measurements,
+            meas_idx,
+            row_of,
+            log_new,
+            log_fal,
+            max_gap,
+        )
+        # make the children nodes each (node, label) needs, once, in batches
+        meas_list = meas_idx.tolist()
+        to_update: dict[tuple[int, int], tuple[TrackNode, Hashable, Any, int]] = {}
+        born: dict[Hashable, tuple[Any, int, int]] = {}
+        for pi, dec, _ in solutions:
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(tracks_of[pi]):
+                if tlabels[i] == DETECTED:
+                    j = meas_list[tmeas[i]]
+                    key = (node.node_id, j)
+                    if key not in to_update and j not in node.children:
+                        to_update[key] = (node, j, measurements, j)
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL:
+                    j = meas_list[a]
+                    if j not in born:
+                        born[j] = (measurements, j, j)
+        self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
+        new_nodes = self._new_nodes(born, measurements, stamp)
+
+        children: dict[tuple[int, ...], Hypothesis] = {}
+        history: dict[int, tuple[Hashable, ...]] = {}  # per parent (most have several children)
+        for pi, dec, total in solutions:
+            kept = history.get(pi)
+            if kept is None:
+                kept = history[pi] = self._history(parents[pi])
+            tracks: list[TrackNode] = []
+            tlabels, tmeas = dec.track_label, dec.track_measurement
+            for i, node in enumerate(tracks_of[pi]):
+                label = tlabels[i]
+                if label == DETECTED:
+                    tracks.append(node.children[meas_list[tmeas[i]]])
+                elif label == OCCLUDED:
+                    child = node.children.get(-1)
+                    tracks.append(child if child is not None else self._occluded_child(node, stamp))
+            born_here = False
+            for a, lab in enumerate(dec.measurement_label):
+                if lab == NEW_LABEL:
+                    tracks.append(new_nodes[meas_list[a]])
+                    born_here = True
+            if born_here:  # (the parents' tracks are sorted by family)
+                tracks.sort(key=BY_FAMILY)
+            self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
 
     def _add_child(
@@ -777,8 +883,9 @@ class MHT(Generic[Meas]):
 
     def _k_best(
         self,
-        plans: list[tuple[Hypothesis, Branch]],
-        members: list[int],
+        tracks_of: list[tuple[TrackNode, ...]],
+        priors: list[float],
+        obs: BranchObservations | None,
         measurements: Meas,
         meas_idx: NDArray[np.intp],
         row_of: dict[int, int],
@@ -786,21 +893,22 @@ class MHT(Generic[Meas]):
         log_fal: FloatArray,
         max_gap: float,
     ) -> list[tuple[int, LabelledAssignment, float]]:
-        """The k best children of the branches ``members`` (indices into ``plans``), which
-        all see the same observations; parent indices of the result index ``plans``."""
+        """The k best children of parents (or branches) with tracks ``tracks_of`` and costs
+        ``priors`` (-log weight, with the model prior) that all see the same observations
+        (``obs``, or the cluster's measurements when None); parent indices of the result
+        index ``tracks_of``."""
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
-        rows_of: list[list[int]] = []  # each member's tracks as indices into nodes_u
-        for pi in members:
+        rows_of: list[list[int]] = []  # each parent's tracks as indices into nodes_u
+        for tracks in tracks_of:
             rows = []
-            for t in plans[pi][1].tracks:
+            for t in tracks:
                 i = uniq.get(t.node_id)
                 if i is None:
                     i = uniq[t.node_id] = len(nodes_u)
                     nodes_u.append(t)
                 rows.append(i)
             rows_of.append(rows)
-        obs = plans[members[0]][1].observations
         if obs is None:
             # per node, once: costs of matching each measurement and of the unmatched labels
             tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
@@ -814,12 +922,12 @@ class MHT(Generic[Meas]):
             else:
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
-        priors = [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members]
         k = self.params.k_best
         size = tm_cost.shape[0] + tm_cost.shape[1]
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size
         budget = self.params.max_assignment_solves
+        members = list(range(len(tracks_of)))
         if degraded:  # the best parent's best matching and its label variants only
             best = min(range(len(members)), key=lambda i: priors[i])
             members, priors, budget = [members[best]], [priors[best]], 1
@@ -838,7 +946,9 @@ class MHT(Generic[Meas]):
             self._most_solves = max(self._most_solves, work.solves)
             degraded = degraded or work.truncated
         self._degraded += int(degraded)
-        return [(members[pi], dec, total) for pi, dec, total in solutions]
+        if degraded:
+            return [(members[pi], dec, total) for pi, dec, total in solutions]
+        return solutions
 
     def _costs(
         self,
@@ -875,14 +985,43 @@ class MHT(Generic[Meas]):
         """Compute, in one batch each, the update of every live node with every measurement
         it gates (and, at the first birth of the scan, a new track at every measurement:
         :meth:`_new_nodes`); the clusters then take what their children need (one batch per
-        scan instead of one per cluster)."""
+        scan instead of one per cluster). The plain MHT defers them instead
+        (:meth:`_fill_deferred`)."""
+        self._updates = {}
+        self._initiated = {}
+        self._scan_initiated = False
+        self._deferred = []
+        self._deferred_births = []
+        if self._defer:
+            return
         rows, cols = np.nonzero(gated)
         nodes = [live[i] for i in rows.tolist()]
         js = cols.tolist()
         states = self.model.update(nodes, measurements, js, stamp) if nodes else []
         self._updates = {(n.node_id, j): st for n, j, st in zip(nodes, js, states, strict=True)}
-        self._initiated = {}
-        self._scan_initiated = False
+
+    def _fill_deferred(
+        self, measurements: Meas, stamp: float, live_nodes: dict[int, TrackNode]
+    ) -> None:
+        """The states of the plain MHT's children made this scan that some hypothesis
+        kept (``live_nodes``, by ``id``): the Kalman updates in one batch, the new tracks
+        in another. The others were pruned; their nodes are dropped with the tree's next
+        collection, stateless. (The track model's batches give every item the same floats
+        whatever the batch holds, so this gives the states the per-scan batch gave.)"""
+        kept = [d for d in self._deferred if id(d[0]) in live_nodes]
+        if kept:
+            states = self.model.update(
+                [d[1] for d in kept], measurements, [d[2] for d in kept], stamp
+            )
+            for (child, _, _), (mean, cov, payload) in zip(kept, states, strict=True):
+                child.mean, child.cov, child.payload = mean, cov, payload
+        born = [b for b in self._deferred_births if id(b[0]) in live_nodes]
+        if born:
+            states = self.model.initiate(measurements, [b[1] for b in born], stamp)
+            for (node, _), (mean, cov, payload) in zip(born, states, strict=True):
+                node.mean, node.cov, node.payload = mean, cov, payload
+        self._deferred = []
+        self._deferred_births = []
 
     def _make_detected_children(
         self,
@@ -895,6 +1034,10 @@ class MHT(Generic[Meas]):
         """Create (once) the child of each node updated with an observation: ``(node, id,
         measurement set, index in it)``, the id being the scan index or a model's key."""
         if not pairs:
+            return
+        if self._defer:  # (the plain MHT: scan measurements, states made at the end)
+            for node, j, _, jl in pairs:
+                self._detected_child(node, j, jl, float(loglik[row_of[node.node_id], jl]), stamp)
             return
         missing = [p for p in pairs if (p[0].node_id, p[1]) not in self._updates]
         by_source: dict[int, list[tuple[TrackNode, Hashable, Any, int]]] = {}
@@ -922,24 +1065,32 @@ class MHT(Generic[Meas]):
         self, node: TrackNode, j: Hashable, jl: int, loglik: float, stamp: float
     ) -> TrackNode:
         """The child of ``node`` updated with observation ``j`` (its update computed
-        already), made and stored in ``node.children``; ``jl`` is its scan measurement
-        (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
-        mean, cov, payload = self._updates[(node.node_id, j)]
+        already, or, in the plain MHT, made at the end of the step by
+        :meth:`_fill_deferred`), made and stored in ``node.children``; ``jl`` is its scan
+        measurement (-1 for a model's own observation) and ``loglik`` its log-likelihood."""
+        if self._defer:
+            mean, cov, payload = _DEFERRED, _DEFERRED, None
+        else:
+            mean, cov, payload = self._updates[(node.node_id, j)]
+        # (positional: the fields in their order, node_id to payload; a third of the cost
+        # of passing them by keyword)
         child = node.children[j] = TrackNode(
-            node_id=self.tree.new_node_id(),
-            family=node.family,
-            parent_id=node.node_id,
-            mean=mean,
-            cov=cov,
-            stamp=stamp,
-            label=NODE_DETECTED,
-            measurement=jl,
-            hits=node.hits + 1,
-            misses=0,
-            age=node.age + 1,
-            loglik=loglik,
-            payload=payload,
+            self.tree.new_node_id(),
+            node.family,
+            node.node_id,
+            mean,
+            cov,
+            stamp,
+            NODE_DETECTED,
+            jl,  # measurement
+            node.hits + 1,
+            0,  # misses
+            node.age + 1,
+            loglik,
+            payload,
         )
+        if self._defer:
+            self._deferred.append((child, node, jl))
         return child
 
     def _new_nodes(
@@ -948,6 +1099,8 @@ class MHT(Generic[Meas]):
         """One new track (a new family) per observation labelled *new* in some child;
         ``born`` maps its id to (measurement set, index in it, scan index of its origin).
         Scan measurements first in scan order, then a model's own observations."""
+        if self._defer:  # (the plain MHT: scan measurements, states made at the end)
+            return self._new_nodes_deferred(born, stamp)
         if born and not self._scan_initiated:  # the scan's batch, once (most scans: none)
             every = list(range(len(measurements)))
             states = self.model.initiate(measurements, every, stamp) if every else []
@@ -963,37 +1116,65 @@ class MHT(Generic[Meas]):
         out: dict[Hashable, TrackNode] = {}
         for j in [*scan, *own]:
             mean, cov, payload = self._initiated[j]
-            out[j] = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=self.tree.new_family(),
-                parent_id=-1,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NEW,
-                measurement=born[j][2],
-                payload=payload,
+            out[j] = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                self.tree.new_family(),
+                -1,  # parent_id
+                mean,
+                cov,
+                stamp,
+                NEW,
+                born[j][2],  # measurement
+                1,  # hits
+                0,  # misses
+                0,  # age
+                0.0,  # loglik
+                payload,
             )
+        return out
+
+    def _new_nodes_deferred(
+        self, born: dict[Hashable, tuple[Any, int, int]], stamp: float
+    ) -> dict[Hashable, TrackNode]:
+        """:meth:`_new_nodes` of the plain MHT (every observation a scan measurement, its
+        own id): the nodes in scan order, their states made by :meth:`_fill_deferred`."""
+        out: dict[Hashable, TrackNode] = {}
+        for jl in sorted(v[1] for v in born.values()):
+            node = out[jl] = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                self.tree.new_family(),
+                -1,  # parent_id
+                _DEFERRED,
+                _DEFERRED,
+                stamp,
+                NEW,
+                born[jl][2],  # measurement
+            )
+            self._deferred_births.append((node, jl))
         return out
 
     def _occluded_child(self, node: TrackNode, stamp: float) -> TrackNode:
         child = node.children.get(-1)
         if child is None:
             mean, cov, payload = self.model.coast(node, stamp)
-            child = TrackNode(
-                node_id=self.tree.new_node_id(),
-                family=node.family,
-                parent_id=node.node_id,
-                mean=mean,
-                cov=cov,
-                stamp=stamp,
-                label=NODE_OCCLUDED,
-                measurement=-1,
-                hits=node.hits,
-                misses=node.misses + 1,
-                age=node.age + 1,
-                payload=payload,
-                detected_stamp=node.detected_stamp,
+            child = TrackNode(  # (positional, as in _detected_child)
+                self.tree.new_node_id(),
+                node.family,
+                node.node_id,
+                mean,
+                cov,
+                stamp,
+                NODE_OCCLUDED,
+                -1,  # measurement
+                node.hits,
+                node.misses + 1,
+                node.age + 1,
+                0.0,  # loglik
+                payload,
+                None,  # pred_mean
+                None,  # pred_cov
+                {},  # children
+                node.detected_stamp,
             )
             node.children[-1] = child
         return child

@@ -138,11 +138,15 @@ def enumerate_children(
             lister.parent(pi, float(priors[pi]), list(rows[pi]))
     found, best = lister.found, lister.best
     found.sort(key=itemgetter(0))  # stable: equal totals stay in the order found
-    return [
-        (pi, LabelledAssignment(tl, tmeas, ml, total), total)
-        for total, _, pi, tl, tmeas, ml in found[:k]
-        if total <= best + max_gap
-    ]
+    out: list[tuple[int, LabelledAssignment, float]] = []
+    for total, _, pi, tl, tmeas, used, free in found[:k]:
+        if total <= best + max_gap:
+            if free is None:
+                ml = [MATCHED] * m
+            else:
+                ml = [MATCHED if used >> j & 1 else free[j] for j in range(m)]
+            out.append((pi, LabelledAssignment(tl, tmeas, ml, total), total))
+    return out
 
 
 def _single_labels(tl: int, ml: int, total: float) -> LabelledAssignment:
@@ -230,7 +234,12 @@ def _total(child: tuple[float, int, int, int]) -> float:
 
 
 class _Lister:
-    """Depth-first listing with cuts (see the module doc); children go to ``found``."""
+    """Depth-first listing with cuts (see the module doc); children go to ``found``.
+
+    The cut thresholds are kept as two floats, updated by :meth:`_record`: ``_limit``, the
+    best total so far plus the gap (the same float the sum gives each time), and ``_kth``,
+    the k-th best total once k children are kept, NaN before (no bound compares ``>=`` to
+    NaN, as no bound is cut by the k-th best before there is one)."""
 
     def __init__(
         self,
@@ -253,8 +262,14 @@ class _Lister:
         self.cheapest = [ch[0][0] if ch else math.inf for ch in choices]
         self.gates = [sum([c[3] for c in ch]) for ch in choices]
         self.full = (1 << self.m) - 1
-        self.found: list[tuple[float, int, int, list[int], tuple[int, ...], list[int]]] = []
+        # (total, order found, parent, track labels, their measurements, measurements used
+        # (bit mask), the unmatched measurements' labels or None when all are used)
+        self.found: list[
+            tuple[float, int, int, list[int], tuple[int, ...], int, tuple[int, ...] | None]
+        ] = []
         self.best = math.inf
+        self._limit = math.inf + max_gap  # best + max_gap
+        self._kth = math.nan  # the k-th best total once there are k
         self._kept: list[float] = []  # max-heap (negated) of the k best totals
         self._free_labels = [MATCHED] * self.m
         # the parent being listed
@@ -264,14 +279,6 @@ class _Lister:
         self._reach: list[int] = []
         self._labels: list[int] = []
         self._meas: list[int] = []
-
-    def cut(self, bound: float) -> bool:
-        """Whether children costing at least ``bound`` can all be dropped: above the best
-        plus the gap, or no better than the k-th best so far (ties among equal costs are
-        kept in the order found)."""
-        if bound > self.best + self.max_gap:
-            return True
-        return len(self._kept) == self.k and bound >= -self._kept[0]
 
     def parent(self, pi: int, prior: float, rows: list[int]) -> None:
         """List the children of parent ``pi`` (cost ``prior``, tracks ``rows``)."""
@@ -283,24 +290,27 @@ class _Lister:
             suffix[t] = suffix[t + 1] + cheapest[rows[t]]
             reach[t] = reach[t + 1] | gates[rows[t]]
         self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
-        self._labels, self._meas = [], []
+        self._labels, self._meas = [0] * depth, [0] * depth
         full = self.full
         bound = (
             prior + suffix[0] + self.unmatched_lb[full & ~reach[0]] + self.maybe_lb[full & reach[0]]
         )
-        if not self.cut(bound):
+        if bound > self._limit or bound >= self._kth:
+            return
+        if depth:
             self._tracks(0, prior, 0)
+        else:
+            self._measurements(0, prior, 0, self.unmatched_lb[full])
 
     def _tracks(self, t: int, cost: float, used: int) -> None:
-        """Label the tracks from ``t`` on (the caller has checked this subtree's bound)."""
-        if t == len(self._rows):
-            self._measurements(0, cost, used, self.unmatched_lb[self.full & ~used])
-            return
-        # each child's bound is checked here, before the call (most children are cut)
+        """Label the tracks from ``t`` on, at least one (the caller has checked this
+        subtree's bound); each child's bound is checked here, before the call (most
+        children are cut)."""
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
-        labels, meas, kept, k = self._labels, self._meas, self._kept, self.k
+        labels, meas = self._labels, self._meas
         last = t + 1 == len(self._rows)
+        limit, kth = self._limit, self._kth
         for c, lab, j, bit in self.choices[self._rows[t]]:
             if used & bit:
                 continue
@@ -308,46 +318,56 @@ class _Lister:
             child_cost = cost + c
             free = full & ~child_used
             bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]
-            if bound > self.best + self.max_gap or (len(kept) == k and bound >= -kept[0]):
+            if bound > limit or bound >= kth:
                 continue
-            labels.append(lab)
-            meas.append(j)
-            if last:  # the measurements next (what _tracks(t + 1, ...) would do)
-                if child_used == full:  # none left to label
-                    self._record(child_cost, child_used)
-                else:
-                    self._measurements(0, child_cost, child_used, unmatched_lb[free])
-            else:
+            labels[t] = lab
+            meas[t] = j
+            if not last:
                 self._tracks(t + 1, child_cost, child_used)
-            labels.pop()
-            meas.pop()
+            elif child_used == full:  # the measurements next: none left to label
+                self._record(child_cost, child_used)
+            else:
+                self._measurements(0, child_cost, child_used, unmatched_lb[free])
+            limit, kth = self._limit, self._kth
 
     def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
         """Label the measurements from ``j`` on that no track took (new / false alarm)."""
-        while j < self.m and used >> j & 1:
+        m = self.m
+        while j < m and used >> j & 1:
             j += 1
-        if j == self.m:
+        if j == m:
             self._record(cost, used)
             return
         rest = rest_lb - self.meas_min[j]
+        free = self._free_labels
         for c, lab in self.meas_choices[j]:
-            if self.cut(cost + c + rest):
+            bound = cost + c + rest
+            if bound > self._limit or bound >= self._kth:
                 break
-            self._free_labels[j] = lab
+            free[j] = lab
             self._measurements(j + 1, cost + c, used, rest)
 
     def _record(self, total: float, used: int) -> None:
-        if used == self.full:
-            mlabels = [MATCHED] * self.m
-        else:
-            free = self._free_labels
-            mlabels = [MATCHED if used >> j & 1 else free[j] for j in range(self.m)]
-        self.found.append(
-            (total, len(self.found), self._pi, list(self._labels), tuple(self._meas), mlabels)
+        found = self.found
+        found.append(
+            (
+                total,
+                len(found),
+                self._pi,
+                self._labels[:],
+                tuple(self._meas),
+                used,
+                None if used == self.full else tuple(self._free_labels),
+            )
         )
         if total < self.best:
             self.best = total
-        if len(self._kept) < self.k:
-            heapq.heappush(self._kept, -total)
-        elif total < -self._kept[0]:
-            heapq.heapreplace(self._kept, -total)
+            self._limit = total + self.max_gap
+        kept = self._kept
+        if len(kept) < self.k:
+            heapq.heappush(kept, -total)
+            if len(kept) == self.k:
+                self._kth = -kept[0]
+        elif total < -kept[0]:
+            heapq.heapreplace(kept, -total)
+            self._kth = -kept[0]

@@ -541,8 +541,7 @@ class MHT(Generic[Meas]):
         log_new: FloatArray,
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
-        plain = type(self.branches) is SingleModel
-        if plain:
+        if type(self.branches) is SingleModel:
             return self._branch_plain(
                 parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
             )
@@ -612,34 +611,16 @@ class MHT(Generic[Meas]):
         self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
         new_nodes = self._new_nodes(born, measurements, stamp)
 
-        children: dict[tuple[int, ...], Hypothesis] = {}
-        history: dict[int, tuple[Hashable, ...]] = {}  # per parent (most have several children)
-        for pi, dec, total in solutions:
-            parent, branch = plans[pi]
-            kept = history.get(id(parent))
-            if kept is None:
-                kept = history[id(parent)] = self._history(parent)
-            ids = plan_items[pi][0]
-            tracks: list[TrackNode] = []
-            tlabels, tmeas = dec.track_label, dec.track_measurement
-            for i, node in enumerate(branch.tracks):
-                label = tlabels[i]
-                if label == DETECTED:
-                    tracks.append(node.children[ids[tmeas[i]]])
-                elif label == OCCLUDED:
-                    child = node.children.get(-1)
-                    tracks.append(child if child is not None else self._occluded_child(node, stamp))
-            born_here = False
-            for a, lab in enumerate(dec.measurement_label):
-                if lab == NEW_LABEL:
-                    tracks.append(new_nodes[ids[a]])
-                    born_here = True
-            if born_here or not plain:  # (the plain MHT's parents are sorted by family)
-                tracks.sort(key=BY_FAMILY)
-            added = self._add_child(children, kept, tracks, total, branch.model)
-            if added and not plain:  # the plain MHT's children hold their parent's families
-                self._link_replaced(tracks, parent.tracks)
-        return self._prune_children(children)
+        return self._assemble(
+            solutions,
+            [p for p, _ in plans],
+            [b.tracks for _, b in plans],
+            [items[0] for items in plan_items],
+            [b.model for _, b in plans],
+            new_nodes,
+            stamp,
+            models=True,
+        )
 
     def _branch_plain(
         self,
@@ -688,29 +669,54 @@ class MHT(Generic[Meas]):
         self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
         new_nodes = self._new_nodes(born, measurements, stamp)
 
+        n = len(parents)
+        return self._assemble(
+            solutions, parents, tracks_of, [meas_list] * n, [0] * n, new_nodes, stamp, models=False
+        )
+
+    def _assemble(
+        self,
+        solutions: list[tuple[int, LabelledAssignment, float]],
+        parents: Sequence[Hypothesis],
+        tracks_of: Sequence[Sequence[TrackNode]],
+        ids_of: Sequence[Sequence[Hashable]],
+        model_of: Sequence[int],
+        new_nodes: dict[Hashable, TrackNode],
+        stamp: float,
+        models: bool,
+    ) -> list[Hypothesis]:
+        """The pruned children of ``solutions`` ((plan, assignment, cost)): plan ``pi`` is
+        parent ``parents[pi]`` with tracks ``tracks_of[pi]``, model ``model_of[pi]`` and
+        the ids ``ids_of[pi]`` of the measurements its assignment indexes (children made
+        beforehand). ``models``: branch models (the plain MHT's parents' tracks are sorted
+        by family, and its children hold their parent's families)."""
         children: dict[tuple[int, ...], Hypothesis] = {}
         history: dict[int, tuple[Hashable, ...]] = {}  # per parent (most have several children)
         for pi, dec, total in solutions:
-            kept = history.get(pi)
+            parent = parents[pi]
+            kept = history.get(id(parent))
             if kept is None:
-                kept = history[pi] = self._history(parents[pi])
+                kept = history[id(parent)] = self._history(parent)
+            ids = ids_of[pi]
             tracks: list[TrackNode] = []
             tlabels, tmeas = dec.track_label, dec.track_measurement
             for i, node in enumerate(tracks_of[pi]):
                 label = tlabels[i]
                 if label == DETECTED:
-                    tracks.append(node.children[meas_list[tmeas[i]]])
+                    tracks.append(node.children[ids[tmeas[i]]])
                 elif label == OCCLUDED:
                     child = node.children.get(-1)
                     tracks.append(child if child is not None else self._occluded_child(node, stamp))
             born_here = False
             for a, lab in enumerate(dec.measurement_label):
                 if lab == NEW_LABEL:
-                    tracks.append(new_nodes[meas_list[a]])
+                    tracks.append(new_nodes[ids[a]])
                     born_here = True
-            if born_here:  # (the parents' tracks are sorted by family)
+            if born_here or models:
                 tracks.sort(key=BY_FAMILY)
-            self._add_child(children, kept, tracks, total, 0)
+            added = self._add_child(children, kept, tracks, total, model_of[pi])
+            if added and models:
+                self._link_replaced(tracks, parent.tracks)
         return self._prune_children(children)
 
     def _add_child(

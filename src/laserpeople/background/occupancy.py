@@ -295,14 +295,19 @@ class OccupancyGrid:
     def _cells(self, positions: FloatArray) -> IntArray:
         return np.floor(positions / self.params.resolution).astype(np.int64)
 
-    def _ensure(self, cells: IntArray) -> None:
-        """Grow the arrays to hold ``cells`` (K, 2) (with a margin)."""
+    def _ensure(self, cells: IntArray, more: IntArray | None = None) -> None:
+        """Grow the arrays to hold ``cells`` (K, 2) and ``more`` (L, 2) (with a margin)."""
         if cells.shape[0] == 0:
-            return
+            if more is None:
+                return
+            cells, more = more, None
         # (one column at a time: four 1-d reductions take a quarter of min/max(axis=0)'s
         # time on (K, 2))
         rows, cols = cells[:, 0], cells[:, 1]
         i0, i1, j0, j1 = int(rows.min()), int(rows.max()), int(cols.min()), int(cols.max())
+        if more is not None:  # (a few rows: in plain ints, without stacking the arrays)
+            for a, b in more.tolist():
+                i0, i1, j0, j1 = min(i0, a), max(i1, a), min(j0, b), max(j1, b)
         h, w = self._evidence.shape
         if h * w > 0:
             o0, o1 = self._origin.tolist()
@@ -462,54 +467,64 @@ class OccupancyGrid:
             finite = np.isfinite(pts).all(axis=1)
             pts = pts[finite]
             ids = None if ids is None else ids[finite]
-        origins: FloatArray | None = None
+        origins: FloatArray | None = None  # the sensor position of each return (N, 2)
+        single: FloatArray | None = None  # the one sensor position of all returns (2,)
         r: FloatArray | None = None  # distances of the returns from their sensor
-        one = False  # one sensor position for all returns
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
-            one = sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0)  # (broadcast)
-            if one and sen.ndim == 2:
-                sen = sen[0]
-            origins = np.broadcast_to(sen if finite is None or one else sen[finite], pts.shape)
-            d = pts - origins
+            if sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0):  # (broadcast)
+                single = sen if sen.ndim == 1 else sen[0]
+                d = pts - single
+            else:
+                origins = sen if finite is None else sen[finite]
+                d = pts - origins
             r = np.hypot(d[:, 0], d[:, 1])
             near = r <= p.max_range
             if not near.all():
-                pts, origins, r = pts[near], origins[near], r[near]
+                pts, r = pts[near], r[near]
+                origins = None if origins is None else origins[near]
                 ids = None if ids is None else ids[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
         cells = self._cells(pts)
-        casting = origins is not None and p.free_range > 0
-        if origins is not None and casting:
+        casting = sensor is not None and p.free_range > 0
+        if casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
             # those cells too (the corners of the sensors' bounding box suffice)
-            if one:
-                corners = self._cells(np.asarray(origins[:1]))
+            if single is not None:
+                corners = self._cells(single.reshape(1, 2))
             else:
+                assert origins is not None
                 corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
-            self._ensure(np.vstack([cells, corners]))
+            self._ensure(cells, corners)
         else:
             self._ensure(cells)
         hit = sorted_unique(self._flat(cells))  # each cell with a return once
-        if origins is not None and casting:
+        if casting:
             assert r is not None
             # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
             seen_free = self._seen_free.reshape(-1)
-            one = one or bool((origins == origins[0]).all())
+            if single is None:
+                assert origins is not None
+                if bool((origins == origins[0]).all()):
+                    single = origins[0]
             still = False
-            if ids is not None and one and bool((np.diff(ids) > 0).all()):
+            if ids is not None and single is not None and bool((ids[1:] > ids[:-1]).all()):
                 (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
-                ox, oy = float(origins[0, 0]), float(origins[0, 1])
+                ox, oy = single.tolist()
                 still = self._still.still((ox, oy, i0, j0, w, h * w))
             else:
                 self._still.still(None)
             if still and ids is not None:
-                self._cast_still(origins[0], pts, r, ids, hit, stamp)
+                assert single is not None
+                self._cast_still(single, pts, r, ids, hit, stamp)
             else:
                 self._still.settle(seen_free)
+                if origins is None:
+                    assert single is not None
+                    origins = np.broadcast_to(single, pts.shape)
                 free = self._free_flat(origins, pts, r)
                 if free.size:
                     kept = np.take(seen_free, hit)  # a cell with a return now is not free
@@ -646,7 +661,8 @@ class OccupancyGrid:
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
             frame = replace(frame, points=points)
-        ids = (points.sensor_ids << 32) | points.beams  # (sensor, beam): one id per beam
+        # (sensor, beam): one id per beam (the beam index itself with one laser)
+        ids = points.beams if len(points.sensors) == 1 else (points.sensor_ids << 32) | points.beams
         self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
         return frame
 

@@ -76,6 +76,7 @@ class StillCast:
         self._ids = np.zeros(0, dtype=np.int64)  # sorted beam ids
         self._u = np.zeros((0, 2))  # the direction each list was computed from
         self._safe = np.zeros(0, dtype=bool)  # every listed sample clear of the boundaries
+        self._all_safe = True  # every listed beam safe
         self._cells = np.zeros((0, self.steps.size), dtype=np.int64)  # flat index per sample
         self._n = np.zeros(0, dtype=np.int64)  # samples of each listed beam in the last frame
         self._cover = np.zeros(0, dtype=np.int32)  # samples per cell in the last frame
@@ -179,13 +180,20 @@ class StillCast:
             if listed.size:
                 listed_u, listed_safe = self._u[pos], self._safe[pos]
         keep = known
-        if listed.size:
+        if same:
+            # (the usual frame: every direction within the tolerance of a safe list, or
+            # the same bit for bit: one reduction instead of the test per beam below)
+            dev = np.abs(u - listed_u)
+            top = float(dev.max())
+            if not (top == 0.0 or (top <= DIRECTION_TOL and self._all_safe)):
+                off = np.maximum(dev[:, 0], dev[:, 1])
+                keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))
+        elif listed.size:
             # the same direction bit for bit gives the same cells; a close one, when safe
             dev = np.abs(u - listed_u)
             off = np.maximum(dev[:, 0], dev[:, 1])
             keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))
-            if not same:
-                keep &= known
+            keep &= known
         # samples gained (+1) and lost (-1) per cell: cells of [lo, hi) of each changed list
         lost: list[IntArray] = []  # the old samples of beams listed again
         if not keep.all():
@@ -210,17 +218,23 @@ class StillCast:
                 self._cells = np.concatenate([self._cells, lists[~sub]])[order]
                 self._n = np.concatenate([self._n, np.zeros(int(new.sum()), np.int64)])[order]
                 pos = np.searchsorted(self._ids, ids)
-        n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
-        n_new[pos] = n
-        changed = np.nonzero(n_new != self._n)[0]
+            self._all_safe = bool(self._safe.all())
+        if same:  # (every listed beam is in this frame, in the same order)
+            n_new = np.array(n, dtype=np.int64)
+        else:
+            n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
+            n_new[pos] = n
+        changed = np.flatnonzero(n_new != self._n)
         n_old = self._n[changed]
-        grows = n_new[changed] > n_old
-        lo = np.where(grows, n_old, n_new[changed])
-        count = np.abs(n_new[changed] - n_old)  # the samples [lo, lo + count) of each
+        n_now = n_new[changed]
+        grows = n_now > n_old
+        lo = np.where(grows, n_old, n_now)
+        count = np.abs(n_now - n_old)  # the samples [lo, lo + count) of each
         total = int(count.sum())
-        step = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
-        step += np.repeat(lo, count)
-        span = self._cells[np.repeat(changed, count), step]
+        # flat indices into the lists (C-contiguous): row * K + lo + the sample's rank
+        cum = np.cumsum(count)
+        first_sample = changed * self.steps.size + lo - (cum - count)
+        span = self._cells.reshape(-1).take(np.arange(total) + np.repeat(first_sample, count))
         sign = np.repeat(np.where(grows, 1, -1), count)
         if lost:  # (rare) the old samples of re-listed beams
             span = np.concatenate([span, lost[0]])

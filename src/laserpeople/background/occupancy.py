@@ -593,13 +593,16 @@ class OccupancyGrid:
         near = 1e-9 * thr
         times: list[float] = []
         for e, t, s, f in zip(ev, touched, since, first, strict=True):
-            dt = stamp - t
-            if dt < 0.0:  # np.maximum(dt, 0.0) (dt is never nan: the stamp is finite)
-                dt = 0.0
-            decayed = e * math.exp(-dt / tau)
-            if abs(decayed - thr) <= near:  # at the threshold: numpy's own exp decides
-                decayed = e * float(np.exp(np.array([-dt / tau]))[0])
-            tk = stamp - s if decayed >= thr and not math.isnan(s) else 0.0
+            tk = 0.0
+            if s == s:  # (a free cell, since nan, is 0 s static whatever its evidence)
+                dt = stamp - t
+                if dt < 0.0:  # np.maximum(dt, 0.0) (dt is never nan: the stamp is finite)
+                    dt = 0.0
+                decayed = e * math.exp(-dt / tau)
+                if abs(decayed - thr) <= near:  # at the threshold: numpy's own exp decides
+                    decayed = e * float(np.exp(np.array([-dt / tau]))[0])
+                if decayed >= thr:
+                    tk = stamp - s
             times.append(tk + extra if f and tk >= hold else tk)
         k = (2 * n + 1) ** 2
         out: list[float] = []

@@ -47,6 +47,9 @@ when its direction changed (above ``DIRECTION_TOL`` times the sample's distance,
 MAX_COORDINATE = 1e4
 """Sensors farther than this [m] from the origin of the frame are never taken as still."""
 
+TABLE_SIZE = 1 << 16
+"""Beam ids below this are looked up in a table of positions (one laser's beam indices)."""
+
 Where = tuple[float, float, int, int, int, int]
 """Sensor x, y [m]; the grid arrays' row and column origin [cells], row length and size."""
 
@@ -74,6 +77,7 @@ class StillCast:
 
     def _reset(self) -> None:
         self._ids = np.zeros(0, dtype=np.int64)  # sorted beam ids
+        self._table = np.zeros(0, dtype=np.int64)  # position of each id in _ids (-1: none)
         self._u = np.zeros((0, 2))  # the direction each list was computed from
         self._safe = np.zeros(0, dtype=bool)  # every listed sample clear of the boundaries
         self._all_safe = True  # every listed beam safe
@@ -90,6 +94,30 @@ class StillCast:
         if self._arange.size != n:
             self._arange = np.arange(n)
         return self._arange
+
+    def _make_table(self) -> None:
+        """The table of :meth:`_positions`, when the ids are few and small (one laser's
+        beam indices; none for several lasers' ids, which are large)."""
+        ids = self._ids
+        if ids.size and ids[0] >= 0 and ids[-1] < TABLE_SIZE:
+            self._table = np.full(int(ids[-1]) + 1, -1, dtype=np.int64)
+            self._table[ids] = np.arange(ids.size)
+        else:
+            self._table = np.zeros(0, dtype=np.int64)
+
+    def _positions(self, ids: IntArray) -> tuple[IntArray, NDArray[np.bool_]]:
+        """Where the beams ``ids`` (increasing) are in the lists, and whether they are
+        listed (the position of an id not listed is any valid index, never read): by
+        the table when it holds them, else by bisection."""
+        listed, table = self._ids, self._table
+        if not listed.size:
+            return np.zeros(ids.size, dtype=np.int64), np.zeros(ids.size, dtype=bool)
+        if ids.size and table.size and ids[0] >= 0 and ids[-1] < table.size:
+            pos = table.take(ids)
+            known = pos >= 0
+            return np.maximum(pos, 0), known
+        pos = np.minimum(np.searchsorted(listed, ids), listed.size - 1)
+        return pos, listed[pos] == ids
 
     def __len__(self) -> int:
         """Number of beams listed."""
@@ -175,10 +203,9 @@ class StillCast:
             known = np.ones(ids.size, dtype=bool)
             listed_u, listed_safe = self._u, self._safe
         else:
-            pos = np.minimum(np.searchsorted(listed, ids), max(listed.size - 1, 0))
-            known = listed[pos] == ids if listed.size else np.zeros(ids.size, dtype=bool)
+            pos, known = self._positions(ids)
             if listed.size:
-                listed_u, listed_safe = self._u[pos], self._safe[pos]
+                listed_u, listed_safe = self._u.take(pos, axis=0), self._safe[pos]
         keep = known
         if same:
             # (the usual frame: every direction within the tolerance of a safe list, or
@@ -218,6 +245,7 @@ class StillCast:
                 self._cells = np.concatenate([self._cells, lists[~sub]])[order]
                 self._n = np.concatenate([self._n, np.zeros(int(new.sum()), np.int64)])[order]
                 pos = np.searchsorted(self._ids, ids)
+                self._make_table()
             self._all_safe = bool(self._safe.all())
         if same:  # (every listed beam is in this frame, in the same order)
             n_new = np.array(n, dtype=np.int64)

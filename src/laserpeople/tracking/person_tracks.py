@@ -462,13 +462,14 @@ class PersonTracker:
         tau = self.params.coast_velocity_time
         if math.isinf(tau) or all(seen_list):
             pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
-        else:  # people with no leg detected in their last scan coast
-            pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
-            seen = np.array(seen_list)
-            pm = np.where(seen[:, None], pm, cm)
-            pc = np.where(seen[:, None, None], pc, cc)
-        for i, p in enumerate(ps):
-            p.mean, p.cov, p.stamp = pm[i], pc[i], stamp
+            for i, p in enumerate(ps):
+                p.mean, p.cov, p.stamp = pm[i], pc[i], stamp
+            return
+        # people with no leg detected in their last scan coast
+        pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
+        for i, (p, seen) in enumerate(zip(ps, seen_list, strict=True)):
+            p.mean, p.cov = (pm[i], pc[i]) if seen else (cm[i], cc[i])
+            p.stamp = stamp
 
     def _release(self, legs: Mapping[int, LegObservation]) -> None:
         p = self.params

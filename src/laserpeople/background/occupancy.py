@@ -144,6 +144,15 @@ class OccupancyParams:
         "static time added to a cell occupied at first sight once held first_sight_hold",
         "s",
     )
+    free_period: float = param(
+        0.0,
+        "option (session 11, not the default: it changes outputs): seen-free stamps are only "
+        "compared with arrival_window (10 s), and casting is about half of the grid's CPU "
+        "per frame; measured in docs/people-benchmarks.md, session 11",
+        "free space is cast at most once per this many seconds (0: in every frame); the "
+        "frames in between only add their returns",
+        "s",
+    )
 
     def __post_init__(self) -> None:
         if min(self.resolution, self.hit_evidence, self.decay_time, self.max_range) <= 0:
@@ -152,8 +161,8 @@ class OccupancyParams:
             raise ValueError("need 0 < occupied_evidence <= max_evidence")
         if self.neighbourhood < 0:
             raise ValueError("neighbourhood must be >= 0")
-        if min(self.free_range, self.free_margin, self.arrival_window) < 0:
-            raise ValueError("free_range, free_margin and arrival_window must be >= 0")
+        if min(self.free_range, self.free_margin, self.arrival_window, self.free_period) < 0:
+            raise ValueError("free_range, free_margin, arrival_window and free_period must be >= 0")
         if min(self.first_sight_hold, self.first_sight_static) < 0:
             raise ValueError("first_sight_hold and first_sight_static must be >= 0")
 
@@ -285,6 +294,7 @@ class OccupancyGrid:
         self._first_sight = np.zeros((0, 0), dtype=bool)  # occupied when first seen
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
+        self._cast_at = -math.inf  # stamp [s] of the last frame whose free space was cast
         res = self.params.resolution
         # the casting's sample distances: arange's k-th element does not depend on its stop
         self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
@@ -489,6 +499,13 @@ class OccupancyGrid:
             return
         cells = self._cells(pts)
         casting = sensor is not None and p.free_range > 0
+        if casting and p.free_period > 0.0:  # (the option: cast once per free_period)
+            since_cast = stamp - self._cast_at
+            if 0.0 <= since_cast < p.free_period:
+                self.casting = True
+                casting = False
+            else:
+                self._cast_at = stamp
         if casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for

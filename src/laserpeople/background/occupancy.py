@@ -683,7 +683,7 @@ class OccupancyGrid:
             frame = replace(frame, points=points)
         # (sensor, beam): one id per beam (the beam index itself with one laser)
         ids = points.beams if len(points.sensors) == 1 else (points.sensor_ids << 32) | points.beams
-        self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
+        self.learn(points.points, frame.stamp, _one_sensor_position(frame, points), ids)
         return frame
 
 
@@ -696,6 +696,19 @@ def sorted_unique(values: IntArray) -> IntArray:
     keep = np.ones(s.size, dtype=bool)
     np.not_equal(s[1:], s[:-1], out=keep[1:])
     return s[keep]
+
+
+def _one_sensor_position(frame: Frame, points: PointSet) -> FloatArray | None:
+    """:func:`sensor_positions` for :meth:`OccupancyGrid.learn`: the one position (2,) of
+    a frame of one laser (the same values, without broadcasting them to every point), else
+    :func:`sensor_positions` itself."""
+    if len(frame.scans) != 1 or points.sensors != (frame.scans[0].sensor,):
+        return sensor_positions(frame, points)
+    if frame.frame == "sensor":
+        return np.zeros(2)
+    scan = frame.scans[0]
+    pose = scan.pose if scan.pose is not None else frame.sensor_pose
+    return None if pose is None else np.array([pose.x, pose.y], dtype=np.float64)
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

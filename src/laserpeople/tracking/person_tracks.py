@@ -308,9 +308,10 @@ class PersonTrackParams:
         return float(chi2.ppf(self.gate_probability, df=2))
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class LegObservation:
-    """A leg track as the person layer sees it in one scan.
+    """A leg track as the person layer sees it in one scan (read-only by convention: not
+    frozen, whose ``__init__`` costs about three times as much, once per leg and scan).
 
     Attributes:
         track_id: Leg id (MHT family).
@@ -410,7 +411,8 @@ def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrack
     dense enough and leg-like enough to be both legs of one person."""
     if points.shape[0] < params.wide_min_points or not score > params.wide_min_score:
         return False
-    width = float(np.hypot(*(points[-1] - points[0])))
+    (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()
+    width = float(np.hypot(x1 - x0, y1 - y0))  # (numpy's hypot of the same differences)
     return params.wide_min_width <= width <= params.wide_max_width
 
 

@@ -8,14 +8,20 @@ person-track-seconds, static seconds, gaps (``real_people.count``), the process 
 frame of the whole pipeline, and the frames whose tracks differ from those of period 0
 (ids, kinds, members and positions bit for bit).
 
+With ``--scenes`` it runs instead the default tracker as ``cost_vs_gnn.py`` runs it on
+suite scenes, once with period 0 and once with each other period, the two updated
+alternately scan by scan in one process (the machine is shared): the median and mean
+process CPU per scan of each, their ratio, and the scans whose tracks differ.
+
     PYTHONPATH=src .venv/bin/python benchmarks/free_period.py [--periods 0 0.5 1 2]
-        [--bags demo mir corridor]
+        [--bags demo mir corridor] [--scenes randomised:0 randomised:2 ...]
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -62,12 +68,65 @@ def same(a: Tracks, b: Tracks) -> bool:
     )
 
 
+def scene_tracker(period: float) -> object:
+    """The default frame tracker with its static world model ``auto`` (as
+    ``people_suite.make_factory`` makes it), the grid's ``free_period`` = ``period``."""
+    from laserpeople.pipeline.static_people import StaticFed, people_static_model
+
+    tracker = registry.get("leg-mht").make(None)
+    static = StaticWorldParams(occupancy=OccupancyParams(free_period=period))
+    model = people_static_model("auto", static=static)
+    assert model is not None
+    return StaticFed(tracker, model)
+
+
+def main_scenes(scenes: list[str], periods: list[float]) -> None:
+    """The ``--scenes`` table (module docstring)."""
+    from laserpeople.detection.detector import LegDetectorParams
+    from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
+
+    detector = AdaBoostLegDetector.default(LegDetectorParams())
+    print("scene               period  ms/scan median (period 0)  ratio  mean ratio  differ")
+    for text in scenes:
+        scenario, seed = text.split(":")
+        scene = (  # (as cost_vs_gnn.py: 30 s of the randomised family, named scenes whole)
+            SuiteScene(scenario, scenario, int(seed), 30.0)
+            if scenario == "randomised"
+            else SuiteScene(scenario, scenario, int(seed))
+        )
+        prepared = prepare(scene, detector)
+        for period in [q for q in periods if q > 0]:
+            pair = [scene_tracker(0.0), scene_tracker(period)]
+            frames = frames_for(prepared, frozenset(pair[0].consumes))  # type: ignore[attr-defined]
+            cpu: list[list[float]] = [[], []]
+            differ = 0
+            for k, frame in enumerate(frames):
+                out = []
+                for i in (0, 1) if k % 2 == 0 else (1, 0):
+                    t0 = time.process_time()
+                    out.append((i, pair[i].update(frame)))  # type: ignore[attr-defined]
+                    cpu[i].append(time.process_time() - t0)
+                a, b = (t for _, t in sorted(out, key=lambda x: x[0]))
+                differ += not same(a, b)
+            med = [1e3 * float(np.median(c)) for c in cpu]
+            mean = [1e3 * float(np.mean(c)) for c in cpu]
+            print(
+                f"{text:18s} {period:6.2f}  {med[1]:6.3f} ({med[0]:6.3f})         "
+                f"{med[1] / med[0]:5.3f}  {mean[1] / mean[0]:10.3f}  {differ:5d}/{len(frames)}",
+                flush=True,
+            )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bags", nargs="+", default=["demo", "mir", "corridor"], choices=list(BAGS))
     ap.add_argument("--periods", nargs="+", type=float, default=[0.0, 0.5, 1.0, 2.0])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
+    ap.add_argument("--scenes", nargs="+", default=None, help="suite scenes SCENARIO:SEED")
     args = ap.parse_args()
+    if args.scenes:
+        main_scenes(args.scenes, args.periods)
+        return
     print("bag      period  ids  walkers  person-s  walker-s  static-s  gaps  ms/frame  differ")
     for key in args.bags:
         base: list[Tracks] | None = None

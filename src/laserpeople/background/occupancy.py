@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.background.still_cast import StillCast
+from laserpeople.background.still_cast import StillCast, Where
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -148,9 +148,11 @@ class OccupancyParams:
         0.0,
         "option (session 11, not the default: it changes outputs): seen-free stamps are only "
         "compared with arrival_window (10 s), and casting is about half of the grid's CPU "
-        "per frame; measured in docs/people-benchmarks.md, session 11",
-        "free space is cast at most once per this many seconds (0: in every frame); the "
-        "frames in between only add their returns",
+        "per frame of a still laser (a moving one sees new cells in the skipped frames); "
+        "measured in docs/people-benchmarks.md, session 11",
+        "a laser standing still (the same sensor position as in the last cast frame) casts "
+        "free space at most once per this many seconds (0: in every frame); the frames in "
+        "between only add their returns. A moving laser casts in every frame",
         "s",
     )
 
@@ -440,6 +442,37 @@ class OccupancyGrid:
         n = np.searchsorted(self._steps, reach, side="left")  # samples below the reach
         self._still.cast(self._seen_free.reshape(-1), origin, beams, u, n, hit, stamp)
 
+    def _cast(
+        self,
+        pts: FloatArray,
+        r: FloatArray,
+        ids: IntArray | None,
+        hit: IntArray,
+        stamp: float,
+        single: FloatArray | None,
+        origins: FloatArray | None,
+        where: Where | None,
+    ) -> None:
+        """Cast the free space of one frame's returns ``pts`` (N, 2) at distances ``r`` (N,)
+        from their sensors (``single`` (2,) for all, else ``origins`` (N, 2)), beams ``ids``
+        (N,), the cells with a return ``hit``: through :class:`StillCast` when the laser
+        stands where it stood (``where``, None: not one still laser), else beam by beam."""
+        seen_free = self._seen_free.reshape(-1)  # (C-contiguous, made in _ensure: a view)
+        self._cast_at = stamp
+        if self._still.still(where) and ids is not None:
+            assert single is not None
+            self._cast_still(single, pts, r, ids, hit, stamp)
+            return
+        self._still.settle(seen_free)
+        if origins is None:
+            assert single is not None
+            origins = np.broadcast_to(single, pts.shape)
+        free = self._free_flat(origins, pts, r)
+        if free.size:
+            kept = np.take(seen_free, hit)  # a cell with a return now is not free
+            seen_free[free] = stamp
+            seen_free[hit] = kept
+
     def _seen_free_now(self) -> FloatArray:
         """``seen_free`` [s] of every cell (the array's shape), the still laser's live cells
         included."""
@@ -499,13 +532,6 @@ class OccupancyGrid:
             return
         cells = self._cells(pts)
         casting = sensor is not None and p.free_range > 0
-        if casting and p.free_period > 0.0:  # (the option: cast once per free_period)
-            since_cast = stamp - self._cast_at
-            if 0.0 <= since_cast < p.free_period:
-                self.casting = True
-                casting = False
-            else:
-                self._cast_at = stamp
         if casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
@@ -521,32 +547,22 @@ class OccupancyGrid:
         hit = sorted_unique(self._flat(cells))  # each cell with a return once
         if casting:
             assert r is not None
-            # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
-            seen_free = self._seen_free.reshape(-1)
             if single is None:
                 assert origins is not None
                 if bool((origins == origins[0]).all()):
                     single = origins[0]
-            still = False
+            where: Where | None = None
             if ids is not None and single is not None and bool((ids[1:] > ids[:-1]).all()):
                 (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
                 ox, oy = single.tolist()
-                still = self._still.still((ox, oy, i0, j0, w, h * w))
-            else:
-                self._still.still(None)
-            if still and ids is not None:
-                assert single is not None
-                self._cast_still(single, pts, r, ids, hit, stamp)
-            else:
-                self._still.settle(seen_free)
-                if origins is None:
-                    assert single is not None
-                    origins = np.broadcast_to(single, pts.shape)
-                free = self._free_flat(origins, pts, r)
-                if free.size:
-                    kept = np.take(seen_free, hit)  # a cell with a return now is not free
-                    seen_free[free] = stamp
-                    seen_free[hit] = kept
+                where = (ox, oy, i0, j0, w, h * w)
+            skip = (  # (the option: a laser standing still casts once per free_period)
+                p.free_period > 0.0
+                and self._still.stays(where)
+                and 0.0 <= stamp - self._cast_at < p.free_period
+            )
+            if not skip:
+                self._cast(pts, r, ids, hit, stamp, single, origins, where)
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)

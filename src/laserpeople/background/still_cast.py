@@ -142,6 +142,13 @@ class StillCast:
         self.active = False
         self._reset()
 
+    def stays(self, where: Where | None) -> bool:
+        """True when ``where`` is where the sensor and the arrays were at the last
+        :meth:`still` (bit for bit; None: never), which it does not change."""
+        if where is None or max(abs(where[0]), abs(where[1])) > MAX_COORDINATE:
+            return False
+        return where == self._where
+
     def still(self, where: Where | None) -> bool:
         """Remember ``where`` the sensor and the arrays are (None: not one still laser);
         True when they were there in the frame before too (bit for bit)."""

@@ -214,11 +214,12 @@ class StillCast:
             if listed.size:
                 listed_u, listed_safe = self._u.take(pos, axis=0), self._safe[pos]
         keep = known
-        if same:
-            # (the usual frame: every direction within the tolerance of a safe list, or
-            # the same bit for bit: one reduction instead of the test per beam below)
+        if same or (listed.size and bool(known.all())):
+            # (the usual frames: every beam listed, and every direction within the tolerance
+            # of a safe list or the same bit for bit: one reduction instead of the test per
+            # beam below)
             dev = np.abs(u - listed_u)
-            top = float(dev.max())
+            top = float(dev.max()) if dev.size else 0.0
             if not (top == 0.0 or (top <= DIRECTION_TOL and self._all_safe)):
                 off = np.maximum(dev[:, 0], dev[:, 1])
                 keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))

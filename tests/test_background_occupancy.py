@@ -329,3 +329,31 @@ def test_plain_float_exp_agrees_with_numpy_away_from_the_guard() -> None:
     x = -rng.uniform(0.0, 40.0, size=20_000) / P.decay_time
     ours = np.array([math.exp(v) for v in x.tolist()])
     assert np.allclose(ours, np.exp(x), rtol=1e-14, atol=0.0)
+
+
+def test_free_period_casts_once_per_period_while_the_laser_stands_still() -> None:
+    """``free_period`` 0.5 s with a frame every 0.1 s from a laser standing still: free
+    space is cast at 0, 0.5, 1.0 s (the frames in between only add their returns), so the
+    beam's free cells hold the stamp of the last cast frame, 1.0 s, after the frames up to
+    1.2 s; with the default (0) they hold the last frame's, 1.2 s. The return's cell is
+    occupied alike. A laser that moves casts in every frame: the same grid as the
+    default's."""
+    ret = np.array([[1.05, 0.01]])
+    beam = np.array([0])
+    every, sparse = OccupancyGrid(), OccupancyGrid(OccupancyParams(free_period=0.5))
+    for k in range(13):
+        for g in (every, sparse):
+            g.learn(ret, 0.1 * k, sensor=np.zeros(2), beams=beam)
+    free = every._flat(every._free_cells(np.zeros((1, 2)), ret))
+    assert np.all(every._seen_free_now().reshape(-1)[free] == pytest.approx(1.2))
+    assert np.all(sparse._seen_free_now().reshape(-1)[free] == pytest.approx(1.0))
+    assert np.array_equal(every._evidence, sparse._evidence)
+    assert every.static_time(ret)[0] == sparse.static_time(ret)[0] > 0.0
+    every, sparse = OccupancyGrid(), OccupancyGrid(OccupancyParams(free_period=0.5))
+    for k in range(13):
+        sensor = np.array([0.0, 0.01 * k])
+        for g in (every, sparse):
+            g.learn(ret, 0.1 * k, sensor=sensor, beams=beam)
+    assert np.array_equal(every._seen_free_now(), sparse._seen_free_now())
+    with pytest.raises(ValueError, match="free_period"):
+        OccupancyParams(free_period=-1.0)

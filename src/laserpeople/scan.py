@@ -236,8 +236,9 @@ class Scan:
 
     def valid_points(self, frame: CoordinateFrame = "sensor") -> tuple[FloatArray, IntArray]:
         """Points (K, 2) of the valid beams only, and their beam indices (K,)."""
-        idx = np.flatnonzero(self.valid)
-        return self.points(frame)[idx], idx.astype(np.int64)
+        idx = np.flatnonzero(self.valid).astype(np.int64)
+        # (take along rows: the rows of ``[idx]`` at a tenth of its cost on ~700 beams)
+        return self.points(frame).take(idx, axis=0), idx
 
     def sensor_to_world(self, points: NDArray[np.floating]) -> FloatArray:
         """Map sensor-frame points (N, 2) into the world frame using :attr:`pose`."""
@@ -295,10 +296,35 @@ class PointSet:
         return int(self.points.shape[0])
 
     @classmethod
-    def from_scans(cls, scans: list[Scan], frame: CoordinateFrame = "world") -> PointSet:
-        """Merge the valid points of several scans into one set (world frame needs poses)."""
+    def from_scans(
+        cls,
+        scans: list[Scan],
+        frame: CoordinateFrame = "world",
+        *,
+        stamp: float | None = None,
+        index: int | None = None,
+    ) -> PointSet:
+        """Merge the valid points of several scans into one set (world frame needs poses);
+        ``stamp`` [s] and ``index`` of the set default to the latest scan's stamp and the
+        first scan's index."""
         if not scans:
             raise ScanFormatError("cannot build a point set from no scans")
+        when = max(s.stamp for s in scans) if stamp is None else stamp
+        where = scans[0].index if index is None else index
+        if len(scans) == 1:  # (one laser: its arrays as they are, no concatenation)
+            pts, idx = scans[0].valid_points(frame)
+            one = object.__new__(cls)
+            for name, value in (
+                ("stamp", when),
+                ("points", pts),
+                ("sensor_ids", np.zeros(idx.size, dtype=np.int64)),
+                ("beams", idx),
+                ("sensors", (scans[0].sensor,)),
+                ("frame", frame),
+                ("index", where),
+            ):
+                object.__setattr__(one, name, value)
+            return one
         parts, ids, beams = [], [], []
         for i, scan in enumerate(scans):
             pts, idx = scan.valid_points(frame)
@@ -306,13 +332,13 @@ class PointSet:
             ids.append(np.full(idx.size, i, dtype=np.int64))
             beams.append(idx)
         return cls(
-            stamp=max(s.stamp for s in scans),
-            points=np.concatenate(parts) if parts else np.empty((0, 2)),
+            stamp=when,
+            points=np.concatenate(parts),
             sensor_ids=np.concatenate(ids),
             beams=np.concatenate(beams),
             sensors=tuple(s.sensor for s in scans),
             frame=frame,
-            index=scans[0].index,
+            index=where,
         )
 
 

@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.background.still_cast import StillCast
+from laserpeople.background.still_cast import StillCast, Where
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -144,6 +144,17 @@ class OccupancyParams:
         "static time added to a cell occupied at first sight once held first_sight_hold",
         "s",
     )
+    free_period: float = param(
+        0.0,
+        "option (session 11, not the default: it changes outputs): seen-free stamps are only "
+        "compared with arrival_window (10 s), and casting is about half of the grid's CPU "
+        "per frame of a still laser (a moving one sees new cells in the skipped frames); "
+        "measured in docs/people-benchmarks.md, session 11",
+        "a laser standing still (the same sensor position as in the last cast frame) casts "
+        "free space at most once per this many seconds (0: in every frame); the frames in "
+        "between only add their returns. A moving laser casts in every frame",
+        "s",
+    )
 
     def __post_init__(self) -> None:
         if min(self.resolution, self.hit_evidence, self.decay_time, self.max_range) <= 0:
@@ -152,8 +163,8 @@ class OccupancyParams:
             raise ValueError("need 0 < occupied_evidence <= max_evidence")
         if self.neighbourhood < 0:
             raise ValueError("neighbourhood must be >= 0")
-        if min(self.free_range, self.free_margin, self.arrival_window) < 0:
-            raise ValueError("free_range, free_margin and arrival_window must be >= 0")
+        if min(self.free_range, self.free_margin, self.arrival_window, self.free_period) < 0:
+            raise ValueError("free_range, free_margin, arrival_window and free_period must be >= 0")
         if min(self.first_sight_hold, self.first_sight_static) < 0:
             raise ValueError("first_sight_hold and first_sight_static must be >= 0")
 
@@ -285,6 +296,7 @@ class OccupancyGrid:
         self._first_sight = np.zeros((0, 0), dtype=bool)  # occupied when first seen
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
+        self._cast_at = -math.inf  # stamp [s] of the last frame whose free space was cast
         res = self.params.resolution
         # the casting's sample distances: arange's k-th element does not depend on its stop
         self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
@@ -295,14 +307,19 @@ class OccupancyGrid:
     def _cells(self, positions: FloatArray) -> IntArray:
         return np.floor(positions / self.params.resolution).astype(np.int64)
 
-    def _ensure(self, cells: IntArray) -> None:
-        """Grow the arrays to hold ``cells`` (K, 2) (with a margin)."""
+    def _ensure(self, cells: IntArray, more: IntArray | None = None) -> None:
+        """Grow the arrays to hold ``cells`` (K, 2) and ``more`` (L, 2) (with a margin)."""
         if cells.shape[0] == 0:
-            return
+            if more is None:
+                return
+            cells, more = more, None
         # (one column at a time: four 1-d reductions take a quarter of min/max(axis=0)'s
         # time on (K, 2))
         rows, cols = cells[:, 0], cells[:, 1]
         i0, i1, j0, j1 = int(rows.min()), int(rows.max()), int(cols.min()), int(cols.max())
+        if more is not None:  # (a few rows: in plain ints, without stacking the arrays)
+            for a, b in more.tolist():
+                i0, i1, j0, j1 = min(i0, a), max(i1, a), min(j0, b), max(j1, b)
         h, w = self._evidence.shape
         if h * w > 0:
             o0, o1 = self._origin.tolist()
@@ -340,7 +357,12 @@ class OccupancyGrid:
     def _flat(self, cells: IntArray) -> IntArray:
         """Flat indices into the arrays of ``cells`` (K, 2) (which they must hold)."""
         w = self._evidence.shape[1]
-        return np.asarray((cells[:, 0] - self._origin[0]) * w + (cells[:, 1] - self._origin[1]))
+        o0, o1 = self._origin.tolist()
+        # (i - o0) w + (j - o1) as i w + j - (o0 w + o1): the same integers, one pass fewer
+        flat = cells[:, 0] * w
+        flat += cells[:, 1]
+        flat -= o0 * w + o1
+        return flat
 
     # ------------------------------------------------------------------ learning
 
@@ -425,6 +447,37 @@ class OccupancyGrid:
         n = np.searchsorted(self._steps, reach, side="left")  # samples below the reach
         self._still.cast(self._seen_free.reshape(-1), origin, beams, u, n, hit, stamp)
 
+    def _cast(
+        self,
+        pts: FloatArray,
+        r: FloatArray,
+        ids: IntArray | None,
+        hit: IntArray,
+        stamp: float,
+        single: FloatArray | None,
+        origins: FloatArray | None,
+        where: Where | None,
+    ) -> None:
+        """Cast the free space of one frame's returns ``pts`` (N, 2) at distances ``r`` (N,)
+        from their sensors (``single`` (2,) for all, else ``origins`` (N, 2)), beams ``ids``
+        (N,), the cells with a return ``hit``: through :class:`StillCast` when the laser
+        stands where it stood (``where``, None: not one still laser), else beam by beam."""
+        seen_free = self._seen_free.reshape(-1)  # (C-contiguous, made in _ensure: a view)
+        self._cast_at = stamp
+        if self._still.still(where) and ids is not None:
+            assert single is not None
+            self._cast_still(single, pts, r, ids, hit, stamp)
+            return
+        self._still.settle(seen_free)
+        if origins is None:
+            assert single is not None
+            origins = np.broadcast_to(single, pts.shape)
+        free = self._free_flat(origins, pts, r)
+        if free.size:
+            kept = np.take(seen_free, hit)  # a cell with a return now is not free
+            seen_free[free] = stamp
+            seen_free[hit] = kept
+
     def _seen_free_now(self) -> FloatArray:
         """``seen_free`` [s] of every cell (the array's shape), the still laser's live cells
         included."""
@@ -462,59 +515,59 @@ class OccupancyGrid:
             finite = np.isfinite(pts).all(axis=1)
             pts = pts[finite]
             ids = None if ids is None else ids[finite]
-        origins: FloatArray | None = None
+        origins: FloatArray | None = None  # the sensor position of each return (N, 2)
+        single: FloatArray | None = None  # the one sensor position of all returns (2,)
         r: FloatArray | None = None  # distances of the returns from their sensor
-        one = False  # one sensor position for all returns
         if sensor is not None:
             sen = np.asarray(sensor, dtype=np.float64)
-            one = sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0)  # (broadcast)
-            if one and sen.ndim == 2:
-                sen = sen[0]
-            origins = np.broadcast_to(sen if finite is None or one else sen[finite], pts.shape)
-            d = pts - origins
+            if sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0):  # (broadcast)
+                single = sen if sen.ndim == 1 else sen[0]
+                d = pts - single
+            else:
+                origins = sen if finite is None else sen[finite]
+                d = pts - origins
             r = np.hypot(d[:, 0], d[:, 1])
             near = r <= p.max_range
             if not near.all():
-                pts, origins, r = pts[near], origins[near], r[near]
+                pts, r = pts[near], r[near]
+                origins = None if origins is None else origins[near]
                 ids = None if ids is None else ids[near]
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
         cells = self._cells(pts)
-        casting = origins is not None and p.free_range > 0
-        if origins is not None and casting:
+        casting = sensor is not None and p.free_range > 0
+        if casting:
             self.casting = True
             # the free cells lie between the sensors and the returns: grow the arrays for
             # those cells too (the corners of the sensors' bounding box suffice)
-            if one:
-                corners = self._cells(np.asarray(origins[:1]))
+            if single is not None:
+                corners = self._cells(single.reshape(1, 2))
             else:
+                assert origins is not None
                 corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
-            self._ensure(np.vstack([cells, corners]))
+            self._ensure(cells, corners)
         else:
             self._ensure(cells)
         hit = sorted_unique(self._flat(cells))  # each cell with a return once
-        if origins is not None and casting:
+        if casting:
             assert r is not None
-            # the arrays are C-contiguous (made in _ensure): reshape(-1) is a view
-            seen_free = self._seen_free.reshape(-1)
-            one = one or bool((origins == origins[0]).all())
-            still = False
-            if ids is not None and one and bool((np.diff(ids) > 0).all()):
+            if single is None:
+                assert origins is not None
+                if bool((origins == origins[0]).all()):
+                    single = origins[0]
+            where: Where | None = None
+            if ids is not None and single is not None and bool((ids[1:] > ids[:-1]).all()):
                 (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
-                ox, oy = float(origins[0, 0]), float(origins[0, 1])
-                still = self._still.still((ox, oy, i0, j0, w, h * w))
-            else:
-                self._still.still(None)
-            if still and ids is not None:
-                self._cast_still(origins[0], pts, r, ids, hit, stamp)
-            else:
-                self._still.settle(seen_free)
-                free = self._free_flat(origins, pts, r)
-                if free.size:
-                    kept = np.take(seen_free, hit)  # a cell with a return now is not free
-                    seen_free[free] = stamp
-                    seen_free[hit] = kept
+                ox, oy = single.tolist()
+                where = (ox, oy, i0, j0, w, h * w)
+            skip = (  # (the option: a laser standing still casts once per free_period)
+                p.free_period > 0.0
+                and self._still.stays(where)
+                and 0.0 <= stamp - self._cast_at < p.free_period
+            )
+            if not skip:
+                self._cast(pts, r, ids, hit, stamp, single, origins, where)
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
@@ -578,13 +631,16 @@ class OccupancyGrid:
         near = 1e-9 * thr
         times: list[float] = []
         for e, t, s, f in zip(ev, touched, since, first, strict=True):
-            dt = stamp - t
-            if dt < 0.0:  # np.maximum(dt, 0.0) (dt is never nan: the stamp is finite)
-                dt = 0.0
-            decayed = e * math.exp(-dt / tau)
-            if abs(decayed - thr) <= near:  # at the threshold: numpy's own exp decides
-                decayed = e * float(np.exp(np.array([-dt / tau]))[0])
-            tk = stamp - s if decayed >= thr and not math.isnan(s) else 0.0
+            tk = 0.0
+            if s == s:  # (a free cell, since nan, is 0 s static whatever its evidence)
+                dt = stamp - t
+                if dt < 0.0:  # np.maximum(dt, 0.0) (dt is never nan: the stamp is finite)
+                    dt = 0.0
+                decayed = e * math.exp(-dt / tau)
+                if abs(decayed - thr) <= near:  # at the threshold: numpy's own exp decides
+                    decayed = e * float(np.exp(np.array([-dt / tau]))[0])
+                if decayed >= thr:
+                    tk = stamp - s
             times.append(tk + extra if f and tk >= hold else tk)
         k = (2 * n + 1) ** 2
         out: list[float] = []
@@ -646,8 +702,9 @@ class OccupancyGrid:
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
             frame = replace(frame, points=points)
-        ids = (points.sensor_ids << 32) | points.beams  # (sensor, beam): one id per beam
-        self.learn(points.points, frame.stamp, sensor_positions(frame, points), ids)
+        # (sensor, beam): one id per beam (the beam index itself with one laser)
+        ids = points.beams if len(points.sensors) == 1 else (points.sensor_ids << 32) | points.beams
+        self.learn(points.points, frame.stamp, _one_sensor_position(frame, points), ids)
         return frame
 
 
@@ -660,6 +717,19 @@ def sorted_unique(values: IntArray) -> IntArray:
     keep = np.ones(s.size, dtype=bool)
     np.not_equal(s[1:], s[:-1], out=keep[1:])
     return s[keep]
+
+
+def _one_sensor_position(frame: Frame, points: PointSet) -> FloatArray | None:
+    """:func:`sensor_positions` for :meth:`OccupancyGrid.learn`: the one position (2,) of
+    a frame of one laser (the same values, without broadcasting them to every point), else
+    :func:`sensor_positions` itself."""
+    if len(frame.scans) != 1 or points.sensors != (frame.scans[0].sensor,):
+        return sensor_positions(frame, points)
+    if frame.frame == "sensor":
+        return np.zeros(2)
+    scan = frame.scans[0]
+    pose = scan.pose if scan.pose is not None else frame.sensor_pose
+    return None if pose is None else np.array([pose.x, pose.y], dtype=np.float64)
 
 
 def sensor_positions(frame: Frame, points: PointSet) -> FloatArray | None:

@@ -47,6 +47,9 @@ when its direction changed (above ``DIRECTION_TOL`` times the sample's distance,
 MAX_COORDINATE = 1e4
 """Sensors farther than this [m] from the origin of the frame are never taken as still."""
 
+TABLE_SIZE = 1 << 16
+"""Beam ids below this are looked up in a table of positions (one laser's beam indices)."""
+
 Where = tuple[float, float, int, int, int, int]
 """Sensor x, y [m]; the grid arrays' row and column origin [cells], row length and size."""
 
@@ -74,8 +77,10 @@ class StillCast:
 
     def _reset(self) -> None:
         self._ids = np.zeros(0, dtype=np.int64)  # sorted beam ids
+        self._table = np.zeros(0, dtype=np.int64)  # position of each id in _ids (-1: none)
         self._u = np.zeros((0, 2))  # the direction each list was computed from
         self._safe = np.zeros(0, dtype=bool)  # every listed sample clear of the boundaries
+        self._all_safe = True  # every listed beam safe
         self._cells = np.zeros((0, self.steps.size), dtype=np.int64)  # flat index per sample
         self._n = np.zeros(0, dtype=np.int64)  # samples of each listed beam in the last frame
         self._cover = np.zeros(0, dtype=np.int32)  # samples per cell in the last frame
@@ -89,6 +94,30 @@ class StillCast:
         if self._arange.size != n:
             self._arange = np.arange(n)
         return self._arange
+
+    def _make_table(self) -> None:
+        """The table of :meth:`_positions`, when the ids are few and small (one laser's
+        beam indices; none for several lasers' ids, which are large)."""
+        ids = self._ids
+        if ids.size and ids[0] >= 0 and ids[-1] < TABLE_SIZE:
+            self._table = np.full(int(ids[-1]) + 1, -1, dtype=np.int64)
+            self._table[ids] = np.arange(ids.size)
+        else:
+            self._table = np.zeros(0, dtype=np.int64)
+
+    def _positions(self, ids: IntArray) -> tuple[IntArray, NDArray[np.bool_]]:
+        """Where the beams ``ids`` (increasing) are in the lists, and whether they are
+        listed (the position of an id not listed is any valid index, never read): by
+        the table when it holds them, else by bisection."""
+        listed, table = self._ids, self._table
+        if not listed.size:
+            return np.zeros(ids.size, dtype=np.int64), np.zeros(ids.size, dtype=bool)
+        if ids.size and table.size and ids[0] >= 0 and ids[-1] < table.size:
+            pos = table.take(ids)
+            known = pos >= 0
+            return np.maximum(pos, 0), known
+        pos = np.minimum(np.searchsorted(listed, ids), listed.size - 1)
+        return pos, listed[pos] == ids
 
     def __len__(self) -> int:
         """Number of beams listed."""
@@ -112,6 +141,13 @@ class StillCast:
             seen_free[live] = self._stamp
         self.active = False
         self._reset()
+
+    def stays(self, where: Where | None) -> bool:
+        """True when ``where`` is where the sensor and the arrays were at the last
+        :meth:`still` (bit for bit; None: never), which it does not change."""
+        if where is None or max(abs(where[0]), abs(where[1])) > MAX_COORDINATE:
+            return False
+        return where == self._where
 
     def still(self, where: Where | None) -> bool:
         """Remember ``where`` the sensor and the arrays are (None: not one still laser);
@@ -174,18 +210,25 @@ class StillCast:
             known = np.ones(ids.size, dtype=bool)
             listed_u, listed_safe = self._u, self._safe
         else:
-            pos = np.minimum(np.searchsorted(listed, ids), max(listed.size - 1, 0))
-            known = listed[pos] == ids if listed.size else np.zeros(ids.size, dtype=bool)
+            pos, known = self._positions(ids)
             if listed.size:
-                listed_u, listed_safe = self._u[pos], self._safe[pos]
+                listed_u, listed_safe = self._u.take(pos, axis=0), self._safe[pos]
         keep = known
-        if listed.size:
+        if same or (listed.size and bool(known.all())):
+            # (the usual frames: every beam listed, and every direction within the tolerance
+            # of a safe list or the same bit for bit: one reduction instead of the test per
+            # beam below)
+            dev = np.abs(u - listed_u)
+            top = float(dev.max()) if dev.size else 0.0
+            if not (top == 0.0 or (top <= DIRECTION_TOL and self._all_safe)):
+                off = np.maximum(dev[:, 0], dev[:, 1])
+                keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))
+        elif listed.size:
             # the same direction bit for bit gives the same cells; a close one, when safe
             dev = np.abs(u - listed_u)
             off = np.maximum(dev[:, 0], dev[:, 1])
             keep = (off == 0.0) | (listed_safe & (off <= DIRECTION_TOL))
-            if not same:
-                keep &= known
+            keep &= known
         # samples gained (+1) and lost (-1) per cell: cells of [lo, hi) of each changed list
         lost: list[IntArray] = []  # the old samples of beams listed again
         if not keep.all():
@@ -210,17 +253,24 @@ class StillCast:
                 self._cells = np.concatenate([self._cells, lists[~sub]])[order]
                 self._n = np.concatenate([self._n, np.zeros(int(new.sum()), np.int64)])[order]
                 pos = np.searchsorted(self._ids, ids)
-        n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
-        n_new[pos] = n
-        changed = np.nonzero(n_new != self._n)[0]
+                self._make_table()
+            self._all_safe = bool(self._safe.all())
+        if same:  # (every listed beam is in this frame, in the same order)
+            n_new = np.array(n, dtype=np.int64)
+        else:
+            n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
+            n_new[pos] = n
+        changed = np.flatnonzero(n_new != self._n)
         n_old = self._n[changed]
-        grows = n_new[changed] > n_old
-        lo = np.where(grows, n_old, n_new[changed])
-        count = np.abs(n_new[changed] - n_old)  # the samples [lo, lo + count) of each
+        n_now = n_new[changed]
+        grows = n_now > n_old
+        lo = np.where(grows, n_old, n_now)
+        count = np.abs(n_now - n_old)  # the samples [lo, lo + count) of each
         total = int(count.sum())
-        step = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
-        step += np.repeat(lo, count)
-        span = self._cells[np.repeat(changed, count), step]
+        # flat indices into the lists (C-contiguous): row * K + lo + the sample's rank
+        cum = np.cumsum(count)
+        first_sample = changed * self.steps.size + lo - (cum - count)
+        span = self._cells.reshape(-1).take(np.arange(total) + np.repeat(first_sample, count))
         sign = np.repeat(np.where(grows, 1, -1), count)
         if lost:  # (rare) the old samples of re-listed beams
             span = np.concatenate([span, lost[0]])

@@ -9,8 +9,6 @@ foreground down.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from laserpeople.frame import Frame, FrameField
@@ -25,8 +23,9 @@ class Fuse:
 
     def __call__(self, frame: Frame) -> Frame:
         """The frame with its point set."""
-        points = PointSet.from_scans(list(frame.scans), frame.frame)
-        points = replace(points, index=frame.index, stamp=frame.stamp)
+        points = PointSet.from_scans(
+            list(frame.scans), frame.frame, stamp=frame.stamp, index=frame.index
+        )
         return frame.with_fields(points=points, foreground=np.ones(len(points), dtype=bool))
 
 

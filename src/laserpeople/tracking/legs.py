@@ -163,9 +163,10 @@ class LegLabelModel:
         """(T, 3) log p of detected/occluded/deleted for each node's class."""
         if not self.params.adaptive:
             return np.tile(self._fixed, (len(nodes), 1))
-        is_app = np.fromiter(
-            (n.family in self.approved for n in nodes), dtype=bool, count=len(nodes)
-        )
+        approved = self.approved
+        if not approved:  # (no person confirmed: every track free, without the test per node)
+            return np.repeat(self._free[None, :], len(nodes), axis=0)
+        is_app = np.fromiter((n.family in approved for n in nodes), dtype=bool, count=len(nodes))
         return np.where(is_app[:, None], self._approved[None, :], self._free[None, :])
 
     def measurement_log_rates(
@@ -231,13 +232,15 @@ class LegMHTTracker:
         if not keep.all():  # e.g. a sensor pose with a NaN
             self._dropped_in_frame += int(np.count_nonzero(~keep))
         if self.person_tracks is not None:
-            finite = np.flatnonzero(keep)
-            furniture = finite[self.person_tracks.on_furniture(meas.positions[finite])]
+            finite = keep.nonzero()[0]
+            furniture = finite[self.person_tracks.on_furniture(meas.positions.take(finite, axis=0))]
             keep[furniture] = False
             self.static_legs_left_out += int(furniture.size)
-        self._kept = np.flatnonzero(keep)
+        self._kept = keep.nonzero()[0]
         if self._kept.size < len(meas):
-            meas = PointMeasurements(meas.positions[keep], meas.covariances[keep])
+            meas = PointMeasurements(
+                meas.positions.take(self._kept, axis=0), meas.covariances.take(self._kept, axis=0)
+            )
         return meas
 
     def update(self, detections: Detections) -> Tracks:

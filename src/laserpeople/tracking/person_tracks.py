@@ -308,9 +308,10 @@ class PersonTrackParams:
         return float(chi2.ppf(self.gate_probability, df=2))
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class LegObservation:
-    """A leg track as the person layer sees it in one scan.
+    """A leg track as the person layer sees it in one scan (read-only by convention: not
+    frozen, whose ``__init__`` costs about three times as much, once per leg and scan).
 
     Attributes:
         track_id: Leg id (MHT family).
@@ -410,7 +411,8 @@ def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrack
     dense enough and leg-like enough to be both legs of one person."""
     if points.shape[0] < params.wide_min_points or not score > params.wide_min_score:
         return False
-    width = float(np.hypot(*(points[-1] - points[0])))
+    (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()
+    width = float(np.hypot(x1 - x0, y1 - y0))  # (numpy's hypot of the same differences)
     return params.wide_min_width <= width <= params.wide_max_width
 
 
@@ -435,6 +437,8 @@ class PersonTracker:
         self._gate = params.gate
         self._one_leg_cov = np.eye(2) * params.one_leg_std**2
         """Measurement covariance [m^2] of a person's position from one leg (constant)."""
+        self._one_leg_stack = np.repeat(self._one_leg_cov[None], 16, axis=0)
+        self._one_leg_stack.setflags(write=False)
         self._llr = params.evidence_llr()
         self._llr_steps = [float(x) for x in self._llr]  # (plain floats: per person and scan)
         self._static_now: dict[int, float] = {}
@@ -460,13 +464,14 @@ class PersonTracker:
         tau = self.params.coast_velocity_time
         if math.isinf(tau) or all(seen_list):
             pm, pc = kalman.predict(means, covs, dt, self.params.accel_psd)
-        else:  # people with no leg detected in their last scan coast
-            pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
-            seen = np.array(seen_list)
-            pm = np.where(seen[:, None], pm, cm)
-            pc = np.where(seen[:, None, None], pc, cc)
-        for i, p in enumerate(ps):
-            p.mean, p.cov, p.stamp = pm[i], pc[i], stamp
+            for i, p in enumerate(ps):
+                p.mean, p.cov, p.stamp = pm[i], pc[i], stamp
+            return
+        # people with no leg detected in their last scan coast
+        pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
+        for i, (p, seen) in enumerate(zip(ps, seen_list, strict=True)):
+            p.mean, p.cov = (pm[i], pc[i]) if seen else (cm[i], cc[i])
+            p.stamp = stamp
 
     def _release(self, legs: Mapping[int, LegObservation]) -> None:
         p = self.params
@@ -498,19 +503,19 @@ class PersonTracker:
         z = np.array([leg.position for leg in free], dtype=np.float64)
         means = np.array([q.mean for q in open_], dtype=np.float64)
         covs = np.array([q.cov for q in open_], dtype=np.float64)
-        r = np.broadcast_to(self._one_leg_cov, (len(free), 2, 2))
-        d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, r)
+        d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, self._one_leg_covs(len(free)))
         e2 = kalman.euclidean_sq(means, z)
         ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
         # a person's members stay within pair_distance of each other
         for i, person in enumerate(open_):
             for m in person.members:
                 other = legs[m]
-                ok[i] &= np.hypot(*(z - other.position).T) <= p.pair_distance
+                d = z - other.position
+                ok[i] &= np.hypot(d[:, 0], d[:, 1]) <= p.pair_distance
                 ok[i] &= [spread(f, other, p.min_speed) <= p.max_spread for f in free]
         cost = np.where(ok, e2, np.inf)
         # the allowed pairs (finite costs: e2 is within the gate) sort first
-        order = np.argsort(cost, axis=None)[: int(np.count_nonzero(ok))]
+        order = cost.argsort(axis=None)[: int(np.count_nonzero(ok))]
         for flat in order.tolist():
             i, j = divmod(flat, len(free))
             person, leg = open_[i], free[j]
@@ -518,6 +523,15 @@ class PersonTracker:
                 continue
             person.members.append(leg.track_id)
             owned.add(leg.track_id)
+
+    def _one_leg_covs(self, n: int) -> FloatArray:
+        """``n`` copies (n, 2, 2) of the one-leg measurement covariance (kept between
+        scans; read-only)."""
+        if self._one_leg_stack.shape[0] < n:
+            stack = np.repeat(self._one_leg_cov[None], max(n, 2 * self._one_leg_stack.shape[0]), 0)
+            stack.setflags(write=False)
+            self._one_leg_stack = stack
+        return self._one_leg_stack[:n]
 
     def _measure(
         self, person: PersonTrack, legs: Mapping[int, LegObservation]
@@ -570,8 +584,8 @@ class PersonTracker:
                 if q.travelled >= p.min_travel or q.public_id is not None
             ]
             if walkers:
-                idx = np.flatnonzero(out)
-                d = positions[idx, None, :] - np.array(walkers)[None, :, :]
+                idx = out.nonzero()[0]
+                d = positions.take(idx, axis=0)[:, None, :] - np.array(walkers)[None, :, :]
                 near = (np.einsum("mwk,mwk->mw", d, d) <= p.walker_radius**2).any(axis=1)
                 out[idx[near]] = False
         return out

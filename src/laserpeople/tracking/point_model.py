@@ -85,11 +85,12 @@ class KalmanPointModel:
             n.pred_cov = cov
         self._predicted = (nodes, pm, pc)
         # where each node's prediction is in the batch (update takes its rows from there)
-        self._rows = {id(n): i for i, n in enumerate(nodes)}
+        rank = range(len(nodes))
+        self._rows = dict(zip(map(id, nodes), rank, strict=True))
         self._coast_rows.clear()
         if not math.isinf(tau):
             self._coast_batch = (cm, cc)
-            self._coast_rows = {n.node_id: i for i, n in enumerate(nodes)}
+            self._coast_rows = dict(zip([n.node_id for n in nodes], rank, strict=True))
 
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
@@ -126,13 +127,16 @@ class KalmanPointModel:
             for r, n in zip(rows, nodes, strict=True)
         )
         if all(fresh):  # all predicted in the last batch (and not cleared since): its rows
-            pred_means, pred_covs = pm[rows], pc[rows]
+            pred_means, pred_covs = pm.take(rows, axis=0), pc.take(rows, axis=0)
         else:
             preds = [_pred(n) for n in nodes]
             pred_means = np.stack([p[0] for p in preds])
             pred_covs = np.stack([p[1] for p in preds])
         means, covs = kalman.update_batch(
-            pred_means, pred_covs, measurements.positions[idx], measurements.covariances[idx]
+            pred_means,
+            pred_covs,
+            measurements.positions.take(idx, axis=0),
+            measurements.covariances.take(idx, axis=0),
         )
         return [(mean, cov, None) for mean, cov in zip(means, covs, strict=True)]
 
@@ -158,8 +162,8 @@ class KalmanPointModel:
         """New tracks at measurements ``js`` with zero velocity (000 Sec. 3.1), at once."""
         idx = np.asarray(js, dtype=np.intp)
         means, covs = kalman.initiate_batch(
-            measurements.positions[idx],
-            measurements.covariances[idx],
+            measurements.positions.take(idx, axis=0),
+            measurements.covariances.take(idx, axis=0),
             self.params.init_velocity_std,
         )
         return [(means[i], covs[i], None) for i in range(idx.size)]

@@ -335,12 +335,12 @@ def test_free_period_casts_once_per_period_while_the_laser_stands_still() -> Non
     """``free_period`` 0.5 s with a frame every 0.1 s from a laser standing still: free
     space is cast at 0, 0.5, 1.0 s (the frames in between only add their returns), so the
     beam's free cells hold the stamp of the last cast frame, 1.0 s, after the frames up to
-    1.2 s; with the default (0) they hold the last frame's, 1.2 s. The return's cell is
-    occupied alike. A laser that moves casts in every frame: the same grid as the
-    default's."""
+    1.2 s; with 0 (every frame) they hold the last frame's, 1.2 s. The return's cell is
+    occupied alike. A laser that moves casts in every frame: the same grid as with 0."""
     ret = np.array([[1.05, 0.01]])
     beam = np.array([0])
-    every, sparse = OccupancyGrid(), OccupancyGrid(OccupancyParams(free_period=0.5))
+    every = OccupancyGrid(OccupancyParams(free_period=0.0))
+    sparse = OccupancyGrid(OccupancyParams(free_period=0.5))
     for k in range(13):
         for g in (every, sparse):
             g.learn(ret, 0.1 * k, sensor=np.zeros(2), beams=beam)
@@ -349,7 +349,8 @@ def test_free_period_casts_once_per_period_while_the_laser_stands_still() -> Non
     assert np.all(sparse._seen_free_now().reshape(-1)[free] == pytest.approx(1.0))
     assert np.array_equal(every._evidence, sparse._evidence)
     assert every.static_time(ret)[0] == sparse.static_time(ret)[0] > 0.0
-    every, sparse = OccupancyGrid(), OccupancyGrid(OccupancyParams(free_period=0.5))
+    every = OccupancyGrid(OccupancyParams(free_period=0.0))
+    sparse = OccupancyGrid(OccupancyParams(free_period=0.5))
     for k in range(13):
         sensor = np.array([0.0, 0.01 * k])
         for g in (every, sparse):

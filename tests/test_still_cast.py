@@ -9,6 +9,9 @@ import pytest
 from laserpeople.background.occupancy import OccupancyGrid, OccupancyParams, sorted_unique
 from laserpeople.background.still_cast import BOUNDARY_MARGIN, StillCast
 
+EVERY_FRAME = OccupancyParams(free_period=0.0)
+"""Free space cast in every frame (the casting these tests compare; not the default)."""
+
 
 def _at(g: OccupancyGrid, values: np.ndarray, cells: list[tuple[int, int]]) -> list[float]:
     """Values of the grid-shaped array ``values`` at absolute ``cells``."""
@@ -21,7 +24,7 @@ def test_a_beam_that_shortens_keeps_the_stamp_of_its_last_frame_by_hand() -> Non
     t = 2 (reach 0.3: cells 0-2), at 1.03 again at t = 3 with a return in cell 5 from a
     second beam (not free at t = 3). seen_free: t = 0: cells 0-7 at 0; t = 1 (the cache
     starts): 1; t = 2: cells 0-2 at 2, 3-7 keep 1; t = 3: 0-4, 6, 7 at 3, cell 5 keeps 1."""
-    g = OccupancyGrid()
+    g = OccupancyGrid(EVERY_FRAME)
     sensor = np.array([0.03, 0.02])
     beam = np.array([7])
 
@@ -80,7 +83,7 @@ def test_still_casting_equals_casting_every_sample(seed: int) -> None:
     """After every frame the grid fed beam ids (still casting) and the grid fed none (every
     sample cast) hold the same seen-free stamps, first sights, occupied-since times and
     evidence, cell for cell."""
-    fast, slow = OccupancyGrid(), OccupancyGrid()
+    fast, slow = OccupancyGrid(EVERY_FRAME), OccupancyGrid(EVERY_FRAME)
     used = 0
     for pts, stamp, sensor, beams in _room(seed):
         fast.learn(pts, stamp, sensor=sensor, beams=beams)
@@ -99,7 +102,7 @@ def test_still_casting_equals_casting_every_sample(seed: int) -> None:
 def test_two_lasers_or_unordered_beams_take_the_sampling_path() -> None:
     """Two sensor positions in one frame, or beam ids that do not increase: every sample is
     cast (the still casting is not used)."""
-    g = OccupancyGrid()
+    g = OccupancyGrid(EVERY_FRAME)
     pts = np.array([[1.0, 0.3], [2.0, -0.4]])
     for t in (0.0, 0.1, 0.2):
         g.learn(pts, t, sensor=np.array([[0.0, 0.0], [0.5, 0.0]]), beams=np.array([0, 1]))

@@ -218,13 +218,14 @@ def test_a_wall_in_the_foreground_is_not_a_group() -> None:
 
 
 def test_walk_times_are_forgotten_for_groups_long_gone() -> None:
-    from laserpeople.tracking.groups.tracker import LABEL_MEMO, _stems
+    from laserpeople.tracking.groups.tracker import _stems
 
     assert _stems("3-0-1") == ["3-0-1", "3-0", "3"]
     model = PlaceModel(_near_object)
     tracker, _ = _track(lambda k: [np.array([0.1 * k, 2.0])], 12, model)  # a walker
     assert tracker._walked_at  # it walked
     kept = dict(tracker._walked_at)
-    tracker._walked_at.update({f"{9000 + i}": 1.0 for i in range(LABEL_MEMO)})
+    tracker._walked_at.update({f"{9000 + i}": 1.0 for i in range(100)})  # gone long ago
     tracker.update(_frame(_blob(np.array([1.2, 2.0])), 12))
+    tracker.forget_gone(12)  # every FORGET_EVERY scans (since session 11)
     assert tracker._walked_at == kept  # only the walker's labels are left

@@ -7,12 +7,15 @@ the best hypothesis in at least ``scans`` of the last ``window`` scans, and from
 for as long as it is there. A family made by a split or merge whose labels come from a
 group already reported (its people were reported) waits ``event_scans`` instead. The MHT
 itself (hypotheses, scores, pruning) does not see any of this.
+
+What it remembers is bounded by what is alive (:meth:`Confirmation.prune`): families and
+label roots that no track of any hypothesis carries any more can never be asked again.
 """
 
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 
@@ -94,6 +97,25 @@ class Confirmation:
         if len(self._seen) > 4 * (len(candidates) + 1):  # forget families gone for long
             self._seen = {f: s for f, s in self._seen.items() if index - s[-1] < self.s.window}
         return out
+
+    def prune(self, families: Iterable[int], roots: Iterable[str] | None = None) -> None:
+        """Forget the confirmed families not in ``families`` and, when given, the label
+        roots not in ``roots``: the families and roots of every track still alive in some
+        hypothesis. Family ids are never reused, and every label a track will carry comes
+        from its own family or from the labels of tracks alive now (splits append to them,
+        merges unite them), so nothing forgotten can be asked again and :meth:`select`
+        answers as before."""
+        self._confirmed.intersection_update(families)
+        if roots is not None:
+            self._roots.intersection_update(roots)
+
+    def sizes(self) -> dict[str, int]:
+        """How many families and roots are remembered (for soak tests)."""
+        return {
+            "confirmed": len(self._confirmed),
+            "seen": len(self._seen),
+            "reported_roots": len(self._roots),
+        }
 
     def _confirm(self, index: int, c: Candidate) -> bool:
         """Count scan ``index`` for ``c``'s family; True (and remembered) once confirmed."""

@@ -24,7 +24,7 @@ to the MHT core (:class:`~laserpeople.tracking.mht.protocols.BranchObservations`
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Collection, Hashable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,7 +61,9 @@ IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
 MERGED_LABELS_MEMO = 4096
-"""Label-set pairs whose merged labels are remembered across scans (then all forgotten)."""
+"""Label-set pairs whose merged labels are remembered across scans at most (then all
+forgotten); below that, :meth:`GroupBranches.forget_gone` keeps only the pairs of live
+label sets."""
 MAX_EVENTS = 12
 """Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
 
@@ -178,6 +180,19 @@ class GroupBranches:
         self._history: dict[int, _HistorySplit | None] = {}  # node id -> its history split
         self.stamp = math.nan
         self.models_generated = 0
+
+    @property
+    def memo_size(self) -> int:
+        """Label-set pairs whose merged labels are remembered."""
+        return len(self._merged_labels)
+
+    def forget_gone(self, names: Collection[tuple[str, ...]]) -> None:
+        """Forget the merged labels of pairs of which a set is not in ``names`` (the label
+        sets of the tracks alive in some hypothesis); a pure function of the two sets,
+        computed again should such a pair meet again."""
+        self._merged_labels = {
+            k: v for k, v in self._merged_labels.items() if k[0] in names and k[1] in names
+        }
 
     def begin_scan(self, obs: GroupObservations, stamp: float = math.nan) -> None:
         """Set this scan's observations (and its time [s], for the history split) and

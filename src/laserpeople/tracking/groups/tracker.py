@@ -51,7 +51,16 @@ IntArray = NDArray[np.int64]
 
 
 LABEL_MEMO = 4096
-"""Label sets whose displayed and formatted forms a tracker remembers (then forgets all)."""
+"""Label sets whose displayed and formatted forms a tracker remembers at most (then it
+forgets all); below that, :meth:`GroupMHTTracker.forget_gone` keeps only the label sets of
+tracks alive in some hypothesis."""
+FORGET_EVERY = 64
+"""Scans between two rounds of :meth:`GroupMHTTracker.forget_gone` (what it keeps of gone
+tracks in between is at most this many scans' worth)."""
+EVENTS_KEPT = 1024
+"""Splits and merges :attr:`GroupMHTTracker.events` keeps at least (the latest; at most
+twice as many, all are counted in :attr:`GroupMHTTracker.event_counts`): the 20-people
+hall records about 75 per 1,000 scans, some 65,000 in a robot's day at 10 scans/s."""
 GROUP_MIN_RATIO = 3e-3
 """Ratio pruning of group hypotheses where ``mht.min_ratio`` is unset: drop a hypothesis
 below 0.3 % of its cluster's best (000 Sec. 4.5.2 names ratio pruning without a value; the
@@ -569,11 +578,17 @@ class GroupMHTTracker:
             self.model, self.mht.tree, p.interaction_settings(), self.name
         )
         self.mht.branches = self.branches
-        self._roots: dict[int, str] = {}  # root family -> reported number
+        # root family -> reported number (roots of live tracks only, see forget_gone)
+        self._roots: dict[int, str] = {}
+        self._numbered = 0  # root families numbered so far
         self._shown: dict[tuple[str, ...], tuple[str, ...]] = {}  # labels -> display_labels
         self._formatted: dict[tuple[str, ...], str] = {}  # display labels -> format_labels
-        self._reported: set[int] = set()
+        self._reported: set[int] = set()  # live families reported (their event recorded)
         self.events: list[GroupEvent] = []
+        """The latest splits and merges of the reported hypothesis, oldest first (all of
+        them up to :data:`EVENTS_KEPT`; at most twice that many are kept)."""
+        self.event_counts: dict[str, int] = {"split": 0, "merge": 0}
+        """Splits and merges recorded since the start (all of them, unlike ``events``)."""
         # (kind, split stem or merged labels) -> frame it was last reported in
         self._event_at: dict[tuple[str, tuple[str, ...]], int] = {}
         self.last_stats: StepStats | None = None
@@ -622,7 +637,10 @@ class GroupMHTTracker:
         out = []
         for label in labels:
             root, _, rest = label.partition("-")
-            number = self._roots.setdefault(int(root), str(len(self._roots)))
+            number = self._roots.get(int(root))
+            if number is None:
+                number = self._roots[int(root)] = str(self._numbered)
+                self._numbered += 1
             out.append(f"{number}-{rest}" if rest else number)
         if len(self._shown) >= LABEL_MEMO:
             self._shown.clear()
@@ -695,6 +713,9 @@ class GroupMHTTracker:
                 )
             )
         self.last_groups = groups
+        self._reported.intersection_update(self.mht.tree.nodes_by_family)
+        if self._scans % FORGET_EVERY == 0:
+            self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
 
     @property
@@ -749,9 +770,6 @@ class GroupMHTTracker:
                 stood = stamp - earliest + p.arrival_slack if earliest > -math.inf else 0.0
                 asked.append((node, max(p.static_time, stood)))
         self._anchors = anchors
-        if len(self._walked_at) > LABEL_MEMO:  # keep what the groups of now can ask
-            live = {stem for node in nodes for label in self.name(node) for stem in _stems(label)}
-            self._walked_at = {k: t for k, t in self._walked_at.items() if k in live}
         contours = [group_payload(node).contour + node.mean[:2] for node, _ in asked]
         if not contours:
             return nodes
@@ -765,6 +783,55 @@ class GroupMHTTracker:
                 hidden.add(node.family)
         self.static_groups_hidden += len(hidden)
         return [node for node in nodes if node.family not in hidden]
+
+    def forget_gone(self, index: int) -> None:
+        """Forget what only tracks gone from every hypothesis could ask (called every
+        :data:`FORGET_EVERY` scans; ``index`` is the frame index of now): reported families,
+        numbers of roots no live track's labels hold, last walks of labels that are neither
+        a live track's nor a stem of one, the label memos of sets no live track carries
+        (pure functions of the set and the root numbers, computed again if needed) and the
+        events recorded more than N-scan-back frames ago. Family ids are never reused, and
+        the labels of every future track are its new family or come from the labels of
+        tracks alive now (a split appends ``-0``/``-1``, a merge unites two sets and
+        prunes ``X-0``, ``X-1`` to their stem ``X``), so the output is the same as with
+        everything kept; the memory is bounded by the live tracks instead of growing with
+        the length of the run."""
+        live = [n for nodes in self.mht.tree.nodes_by_family.values() for n in nodes]
+        names = {self.name(node) for node in live}
+        labels = {label for name in names for label in name}
+        roots = {int(label.partition("-")[0]) for label in labels}
+        self._roots = {r: k for r, k in self._roots.items() if r in roots}
+        self._shown = {k: v for k, v in self._shown.items() if k in names}
+        shown = set(self._shown.values())
+        self._formatted = {k: v for k, v in self._formatted.items() if k in shown}
+        self.confirmation.prune(self.mht.tree.nodes_by_family, {str(r) for r in roots})
+        self.branches.forget_gone(names)
+        if self._walked_at:  # a label's walk counts for the labels split from it
+            stems = {stem for label in labels for stem in _stems(label)}
+            self._walked_at = {k: t for k, t in self._walked_at.items() if k in stems}
+        n_scan = self.params.mht.n_scan
+        self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
+
+    def state_counts(self) -> dict[str, int]:
+        """Sizes of what the tracker keeps from scan to scan (for soak runs and tests):
+        live track nodes and families, hypotheses, and the bookkeeping
+        :meth:`forget_gone` bounds."""
+        stats = self.last_stats
+        return {
+            "nodes": self.mht.tree.n_nodes,
+            "families": self.mht.tree.n_families,
+            "hypotheses": 0 if stats is None else stats.n_hypotheses,
+            "reported": len(self._reported),
+            "roots": len(self._roots),
+            "shown": len(self._shown),
+            "formatted": len(self._formatted),
+            "event_at": len(self._event_at),
+            "events": len(self.events),
+            "walked_at": len(self._walked_at),
+            "anchors": len(self._anchors),
+            "merged_labels": self.branches.memo_size,
+            **self.confirmation.sizes(),
+        }
 
     def _walks(self, labels: tuple[str, ...]) -> tuple[float, float]:
         """(earliest, latest) over ``labels`` of a label's last walk [s]: its own or that
@@ -806,6 +873,9 @@ class GroupMHTTracker:
         if last is not None and 0 <= index - last <= self.params.mht.n_scan:
             return
         self.events.append(event)
+        if len(self.events) > 2 * EVENTS_KEPT:
+            del self.events[:-EVENTS_KEPT]
+        self.event_counts[event.kind] = self.event_counts.get(event.kind, 0) + 1
 
     def point_labels(self, n_points: int) -> IntArray:
         """Group (track id) of each of the last frame's ``n_points`` points, -1 outside

@@ -25,12 +25,12 @@ import sys
 import tempfile
 import time
 from collections import defaultdict
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bench_track_parts import timed
 from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
 from people_suite import make_factory
@@ -72,19 +72,6 @@ def parts(package: str) -> list[tuple[Any, str, str]]:
 PARTS = parts("laserpeople")
 
 
-def timed(seconds: dict[str, float], label: str, fn: Callable[..., Any]) -> Callable[..., Any]:
-    """``fn`` adding its process CPU time to ``seconds[label]``."""
-
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        t0 = time.process_time()
-        try:
-            return fn(*args, **kwargs)
-        finally:
-            seconds[label] += time.process_time() - t0
-
-    return wrapper
-
-
 def run(prepared: Any) -> tuple[int, float, dict[str, float]]:
     """Scans, process CPU ms per scan of the whole update and ms per scan in each part."""
     tracker = make_factory("leg-mht", None, "auto")()
@@ -93,7 +80,7 @@ def run(prepared: Any) -> tuple[int, float, dict[str, float]]:
     saved = [(owner, name, owner.__dict__[name]) for owner, name, _ in PARTS]
     try:
         for owner, name, label in PARTS:
-            setattr(owner, name, timed(spent, label, getattr(owner, name)))
+            setattr(owner, name, timed(spent, label, getattr(owner, name), time.process_time))
         t0 = time.process_time()
         for frame in frames:
             tracker.update(frame)
@@ -142,7 +129,9 @@ def run_ab(
     try:
         for i, table in enumerate(tables):
             for owner, name, label in table:
-                setattr(owner, name, timed(spent[i], label, getattr(owner, name)))
+                setattr(
+                    owner, name, timed(spent[i], label, getattr(owner, name), time.process_time)
+                )
         for k, pair in enumerate(zip(frames, frames_other, strict=True)):
             for i in (0, 1) if k % 2 == 0 else (1, 0):
                 t0 = time.process_time()

@@ -43,6 +43,7 @@ from laserpeople.evaluation.suite import (
     track_scene,
 )
 from laserpeople.pipeline.background import load_static_world
+from laserpeople.pipeline.leg_foreground import needs_steady_points
 from laserpeople.pipeline.recording import (
     add_people_static_model,
     add_static_track_filter,
@@ -122,7 +123,13 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
                 return StaticFed(tracker, model)
             return tracker
         stages, observe = observe_stages_for(
-            frozenset(tracker.consumes) - {"legs"}, None, None, background, None, static
+            frozenset(tracker.consumes) - {"legs"},
+            None,
+            None,
+            background,
+            None,
+            static,
+            steady=needs_steady_points(tracker),
         )
         add_people_static_model(tracker, stages, background, None, static)
         hide = add_static_track_filter(tracker, stages, background, None, static)

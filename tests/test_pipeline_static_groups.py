@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 
 from laserpeople.cli import app
 from laserpeople.frame import Frame
+from laserpeople.pipeline.background import background_of
 from laserpeople.pipeline.recording import add_people_static_model, observe_stages_for
 from laserpeople.pipeline.static_people import PeopleStaticModel
 from laserpeople.scan import Pose2D, Scan
@@ -56,7 +57,9 @@ def _track(params: GroupTrackerParams, frames: list[Frame]) -> tuple[object, lis
     if params.static_groups:
         assert model is None
     else:
-        assert isinstance(model, PeopleStaticModel) and model is preprocess[-1]
+        # before the group tracker's own model, whose foreground it must not undo
+        assert isinstance(model, PeopleStaticModel) and model is preprocess[-2]
+        assert background_of(preprocess) is preprocess[-1]
         assert tracker.static_model is model  # type: ignore[attr-defined]
         assert model.fill_foreground is False  # the histogram's foreground is kept
     out = []

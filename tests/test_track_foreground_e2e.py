@@ -28,6 +28,8 @@ from laserpeople.pipeline import (
     background_stage,
     observe_stages_for,
 )
+from laserpeople.pipeline.background import StaticWorldParams
+from laserpeople.pipeline.leg_foreground import LegForegroundParams
 from laserpeople.scan import Pose2D, Scan
 
 
@@ -159,8 +161,11 @@ def test_auto_in_the_sensor_frame_keeps_the_histogram_while_the_laser_stands() -
 
 def test_auto_in_the_sensor_frame_drops_the_model_when_the_laser_moves() -> None:
     """Without poses the laser's motion shows as returns the histogram does not explain:
-    the model is dropped, every point is foreground, and the user is told from when."""
-    model = AutoBackground()
+    the model is dropped, every point is foreground (``[leg_foreground] use = never``, the
+    papers' setting; the default's points near legs: test_pipeline_leg_foreground), and the
+    user is told from when."""
+    papers = StaticWorldParams(leg_foreground=LegForegroundParams(use="never"))
+    model = AutoBackground(static=papers)
     for i in range(25):  # still for 2.5 s: learned over the first 2 s
         model(_frame(_rotating_scan(i, 0)))
     assert model.chosen == "histogram"

@@ -173,6 +173,7 @@ def run_tracking(
         background_of,
         build,
         describe_background,
+        describe_foreground,
         output_sink,
     )
     from laserpeople.pipeline.background import load_static_world
@@ -242,6 +243,9 @@ def run_tracking(
         say("appearance: off (--appearance on re-identifies by colour; needs ground-truth hues)")
     if pipe.tracker is not None and "foreground" in pipe.tracker.consumes:
         say(describe_background(background_of(pipe.stages)))
+        foreground = describe_foreground(background_of(pipe.stages))
+        if foreground:
+            say(foreground)
     people_model = describe_people_model(pipe.tracker, pipe.stages)
     if people_model:
         say(people_model)

@@ -27,8 +27,10 @@ from laserpeople.pipeline.background import (
     background_of,
     background_stage,
     describe_background,
+    describe_foreground,
 )
 from laserpeople.pipeline.core import Pipeline, PipelineStats, Step
+from laserpeople.pipeline.leg_foreground import LegForeground, LegForegroundParams
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.recording import (
@@ -65,6 +67,8 @@ __all__ = [
     "GroupingParams",
     "Identifier",
     "LaserGrouper",
+    "LegForeground",
+    "LegForegroundParams",
     "LegFusionParams",
     "Pipeline",
     "PipelineStats",
@@ -82,6 +86,7 @@ __all__ = [
     "build",
     "check_feeds",
     "describe_background",
+    "describe_foreground",
     "laser_frames",
     "observe_stages_for",
     "open_source",

@@ -17,6 +17,13 @@ choices (``track --background``):
   is left (in the sensor frame of a moving laser nothing stays put): every point is
   foreground from then on, and :meth:`AutoBackground.describe` says from which frame.
 - ``none``: no model; every point stays foreground.
+
+Under ``auto`` the foreground is then narrowed to the points near leg detections
+(:mod:`laserpeople.pipeline.leg_foreground`, ``[leg_foreground] use``): by default once a
+laser moves (without poses, where every point would be foreground; with poses, where the
+occupancy grid has not learned what the robot drives past), not while the lasers stand
+still. :meth:`AutoBackground.describe_foreground` says which foreground ran from which
+frame.
 """
 
 from __future__ import annotations
@@ -38,6 +45,7 @@ from laserpeople.background.occupancy import OccupancyParams
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
+from laserpeople.pipeline.leg_foreground import LegForeground, LegForegroundParams
 from laserpeople.pipeline.stages import Stage, provided_by
 from laserpeople.pipeline.static_tracks import StaticTrackParams
 from laserpeople.scan import Pose2D
@@ -169,15 +177,17 @@ class StaticWorldParams:
     """The parameters of every static world model, each read from its own ``--config``
     section (:func:`load_static_world`): ``[occupancy]`` (the grid), ``[beam_histogram]``
     (the per-beam histogram), ``[auto_background]`` (when ``auto`` switches to the grid),
-    ``[sensor_motion]`` (when the people's model of a sensor-frame run is dropped) and
+    ``[sensor_motion]`` (when the people's model of a sensor-frame run is dropped),
     ``[static_tracks]`` (which person tracks of trackers without a static world of their
-    own are left out, :mod:`laserpeople.pipeline.static_tracks`)."""
+    own are left out, :mod:`laserpeople.pipeline.static_tracks`) and ``[leg_foreground]``
+    (when ``auto`` keeps only points near legs, :mod:`laserpeople.pipeline.leg_foreground`)."""
 
     occupancy: OccupancyParams = field(default_factory=OccupancyParams)
     beam_histogram: BeamHistogramParams = field(default_factory=BeamHistogramParams)
     auto_background: AutoBackgroundParams = field(default_factory=AutoBackgroundParams)
     sensor_motion: SensorMotionParams = field(default_factory=SensorMotionParams)
     static_tracks: StaticTrackParams = field(default_factory=StaticTrackParams)
+    leg_foreground: LegForegroundParams = field(default_factory=LegForegroundParams)
 
     @staticmethod
     def sections() -> list[type]:
@@ -188,6 +198,7 @@ class StaticWorldParams:
             AutoBackgroundParams,
             SensorMotionParams,
             StaticTrackParams,
+            LegForegroundParams,
         ]
 
 
@@ -202,6 +213,7 @@ def load_static_world(path: str | Path | None) -> StaticWorldParams:
         auto_background=load_config(AutoBackgroundParams, path),
         sensor_motion=load_config(SensorMotionParams, path),
         static_tracks=load_config(StaticTrackParams, path),
+        leg_foreground=load_config(LegForegroundParams, path),
     )
 
 
@@ -215,6 +227,9 @@ class AutoBackground:
             ``"none"``: a sensor-frame run whose laser moves).
         switched_at: Index of the frame at which a laser was seen to move (None: never).
         motion: The check of a sensor-frame run (None in a world-frame run).
+        legs: The stage that narrows the foreground to points near legs (None: not used
+            yet, :mod:`laserpeople.pipeline.leg_foreground`).
+        legs_from: Index of the first frame narrowed to points near legs (None: none).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -225,6 +240,9 @@ class AutoBackground:
         params: AutoBackgroundParams | None = None,
         map_path: str | Path | None = None,
         static: StaticWorldParams | None = None,
+        detector: object | None = None,
+        *,
+        steady: bool = False,
     ) -> None:
         from laserpeople.background.beam_histogram import BeamHistogramBackground
 
@@ -236,6 +254,33 @@ class AutoBackground:
         self.switched_at: int | None = None
         self.motion: SensorMotionCheck | None = None
         self._first: dict[str, Pose2D] = {}
+        self._detector = detector
+        self._steady = steady
+        self.legs: LegForeground | None = None
+        self.legs_from: int | None = None
+
+    def _wants_legs(self) -> bool:
+        """Whether the model in use is narrowed to points near legs (``[leg_foreground]
+        use``)."""
+        use = self.static.leg_foreground.use
+        if use == "always":
+            return True
+        if use == "moving":
+            return self.chosen in ("none", "occupancy")
+        if use == "no-poses":
+            return self.chosen == "none"
+        return False
+
+    def _near_legs(self, frame: Frame) -> Frame:
+        """``frame`` with its foreground narrowed to the points near legs, when wanted."""
+        if not self._wants_legs():
+            return frame
+        if self.legs is None:
+            self.legs = LegForeground(
+                self.static.leg_foreground, self._detector, steady=self._steady
+            )
+            self.legs_from = frame.index
+        return self.legs(frame)
 
     def _moved(self, frame: Frame) -> bool:
         if frame.frame == "sensor":
@@ -254,7 +299,11 @@ class AutoBackground:
         return False
 
     def __call__(self, frame: Frame) -> Frame:
-        """The frame with ``foreground`` from the model in use (every point once dropped)."""
+        """The frame with ``foreground`` from the model in use (every point once dropped),
+        narrowed to the points near legs when ``[leg_foreground] use`` says so."""
+        return self._near_legs(self._model_foreground(frame))
+
+    def _model_foreground(self, frame: Frame) -> Frame:
         if self.chosen == "histogram" and self._moved(frame):
             self.model = occupancy_model(self.map_path, self.static.occupancy)
             self.chosen = "occupancy"
@@ -289,9 +338,10 @@ class AutoBackground:
     def describe(self) -> str:
         """One line for the user: which model ran and why."""
         if self.chosen == "none":
+            what = "no point is explained" if self.legs is not None else "every point is foreground"
             return (
                 f"static world model: none from frame {self.switched_at} (the laser moves and "
-                "the recording has no poses: every point is foreground; give poses with "
+                f"the recording has no poses: {what}; give poses with "
                 "--world-frame or --mount to use the occupancy grid)"
             )
         if self.switched_at is None:
@@ -299,6 +349,36 @@ class AutoBackground:
         return (
             "static world model: occupancy grid (a laser moved at frame "
             f"{self.switched_at}; the histogram ran before)"
+        )
+
+    def describe_foreground(self) -> str:
+        """One line for the user: which foreground the trackers of points got, from which
+        frame, and why."""
+        p = self.static.leg_foreground
+        if self.legs is None:
+            if p.use == "never":
+                return (
+                    "foreground: every point the static world model does not explain "
+                    "([leg_foreground] use = never, the papers' setting)"
+                )
+            return (
+                "foreground: every point the static world model does not explain (the "
+                f"lasers did not move; [leg_foreground] use = {p.use})"
+            )
+        why = {
+            "none": "the laser moves and the recording has no poses, so no static world "
+            "model is left and walls and bushes would be foreground",
+            "occupancy": "a laser moved, and the occupancy grid has not yet learned what "
+            "the robot drives past",
+            "histogram": "[leg_foreground] use = always",
+        }[self.chosen]
+        share = self.legs.kept_share
+        kept = f"; kept {100 * share:.1f} % of the foreground points" if share == share else ""
+        held = f", held {self.legs.memory:g} s when missed" if self.legs.memory > 0 else ""
+        return (
+            f"foreground: points within {p.radius:g} m of leg detections{held} from frame "
+            f"{self.legs_from} ({why}{kept}; [leg_foreground] use = never keeps every point, "
+            "the papers' setting)"
         )
 
 
@@ -319,11 +399,16 @@ def background_stage(
     choice: str | Stage | None,
     map_path: str | Path | None = None,
     static: StaticWorldParams | None = None,
+    detector: object | None = None,
+    *,
+    steady: bool = False,
 ) -> Stage | None:
     """The static world model stage for ``choice`` (a name of :data:`BACKGROUND_CHOICES`
     or a model object; None or ``"none"``: no model). ``map_path`` seeds the occupancy
     grid (``occupancy`` or ``auto``); ``static`` holds the models' parameters (None:
-    defaults)."""
+    defaults); ``detector`` is the leg detector with which ``auto`` narrows the foreground
+    to points near legs (None: the shipped one; :mod:`laserpeople.pipeline.leg_foreground`;
+    ``steady``: for a tracker that needs steady points, which holds missed legs longer)."""
     static = static if static is not None else StaticWorldParams()
     if choice is None or choice == "none":
         if map_path is not None:
@@ -346,7 +431,7 @@ def background_stage(
     if choice == "occupancy":
         return occupancy_model(map_path, static.occupancy)
     if choice == "auto":
-        return AutoBackground(map_path=map_path, static=static)
+        return AutoBackground(map_path=map_path, static=static, detector=detector, steady=steady)
     raise ConfigError(
         f"unknown static world model {choice!r}",
         hint=f"choose one of: {', '.join(BACKGROUND_CHOICES)}",
@@ -354,13 +439,27 @@ def background_stage(
 
 
 def background_of(stages: Sequence[object]) -> object | None:
-    """The static world model among a pipeline's ``stages`` (None without one)."""
+    """The static world model among a pipeline's ``stages`` (None without one; the people's
+    model of :mod:`laserpeople.pipeline.static_people`, which only answers static times
+    when a model follows it, is not it)."""
     from laserpeople.pipeline.preprocess import Fuse
+    from laserpeople.pipeline.static_people import PeopleStaticModel
 
     for stage in stages:
-        if not isinstance(stage, Fuse) and "foreground" in provided_by(stage):
+        if isinstance(stage, Fuse) or (
+            isinstance(stage, PeopleStaticModel) and not stage.fill_foreground
+        ):
+            continue
+        if "foreground" in provided_by(stage):
             return stage
     return None
+
+
+def describe_foreground(stage: object | None) -> str:
+    """One line for the user naming the foreground of a pipeline's trackers of points, when
+    its static world model narrows it (``auto``; "" otherwise)."""
+    describe = getattr(stage, "describe_foreground", None)
+    return str(describe()) if callable(describe) else ""
 
 
 def describe_background(stage: object | None) -> str:
@@ -389,6 +488,7 @@ __all__ = [
     "background_of",
     "background_stage",
     "describe_background",
+    "describe_foreground",
     "load_static_world",
     "occupancy_model",
 ]

@@ -163,6 +163,8 @@ def observe_stages_for(
     background: str | Stage | None = "auto",
     map_path: str | Path | None = None,
     static_world: StaticWorldParams | None = None,
+    *,
+    steady: bool = False,
 ) -> tuple[list[Stage], list[Stage]]:
     """The preprocess and observe stages that provide what a tracker ``consumes``.
 
@@ -170,14 +172,25 @@ def observe_stages_for(
     after :class:`Fuse` (see :func:`~laserpeople.pipeline.background.background_stage`:
     ``auto``, ``histogram``, ``occupancy``, ``none`` or a model object; ``map_path`` seeds
     the occupancy grid; ``static_world`` the models' parameters), so that walls and
-    furniture are not foreground.
+    furniture are not foreground; ``auto`` narrows it to the points near legs found with
+    ``detector`` on a moving laser (:mod:`laserpeople.pipeline.leg_foreground`; ``steady``:
+    for a tracker that dies without points for a few scans, see
+    :func:`~laserpeople.pipeline.leg_foreground.needs_steady_points`).
     """
+    from laserpeople.pipeline.leg_foreground import own_detector
+
     preprocess: list[Stage] = []
     observe: list[Stage] = []
     if consumes & {"points", "foreground", "clusters"}:
         preprocess.append(Fuse())
     if consumes & {"foreground", "clusters"}:
-        model = background_stage(background, map_path, static_world)
+        model = background_stage(
+            background,
+            map_path,
+            static_world,
+            own_detector(detector, "legs" in consumes),
+            steady=steady,
+        )
         if model is not None:
             preprocess.append(model)
     if "clusters" in consumes:
@@ -217,9 +230,7 @@ def add_people_static_model(
     # a tracker that reads the foreground of its own background stage (the group tracker)
     # asks this model only how long places have been static
     model.fill_foreground = reads_foreground(tracker) and background_of(preprocess) is None
-    if not any(isinstance(s, Fuse) for s in preprocess):
-        preprocess.append(Fuse())
-    preprocess.append(model)
+    _add_before_background(preprocess, model)
     return model
 
 
@@ -243,10 +254,22 @@ def add_static_track_filter(
     if model is None:
         return None
     model.fill_foreground = False  # asked only how long places have been static
+    _add_before_background(preprocess, model)
+    return StaticTrackFilter(model, static_world.static_tracks)
+
+
+def _add_before_background(preprocess: list[Stage], model: PeopleStaticModel) -> None:
+    """Add the people's ``model`` to ``preprocess``: after a :class:`Fuse` (added when
+    missing) and before the static world model that fills the trackers' foreground, so that
+    the people's model, which once dropped marks every point foreground, does not undo
+    that foreground (:mod:`laserpeople.pipeline.leg_foreground`)."""
     if not any(isinstance(s, Fuse) for s in preprocess):
         preprocess.append(Fuse())
-    preprocess.append(model)
-    return StaticTrackFilter(model, static_world.static_tracks)
+    background = background_of(preprocess)
+    if background is None or model.fill_foreground:
+        preprocess.append(model)
+        return
+    preprocess.insert(next(i for i, s in enumerate(preprocess) if s is background), model)
 
 
 def output_sink(path: str | Path) -> Sink:
@@ -299,6 +322,7 @@ def build(
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
         >>> stats = build("run.bag", outputs=["tracks.csv", "tracks.mcap"]).run()
     """
+    from laserpeople.pipeline.leg_foreground import needs_steady_points
     from laserpeople.tracking import registry
 
     if isinstance(tracker, str):
@@ -324,7 +348,13 @@ def build(
             source_fields.add("appearance")
             identifiers.append(ColourReidentifier())
         preprocess, observe = observe_stages_for(
-            frozenset(tracker.consumes), detector, leg_fusion, background, map_path, static_world
+            frozenset(tracker.consumes),
+            detector,
+            leg_fusion,
+            background,
+            map_path,
+            static_world,
+            steady=needs_steady_points(tracker),
         )
         add_people_static_model(tracker, preprocess, background, map_path, static_world)
         hide_static = add_static_track_filter(

@@ -279,6 +279,10 @@ class UpperBodyTracker:
     fused foreground points of the torso-height lasers."""
 
     consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+    needs_steady_points = True
+    """A filter dies after ``miss_time`` without points: on a moving laser the pipeline's
+    foreground of points near legs holds missed legs for it
+    (:mod:`laserpeople.pipeline.leg_foreground`)."""
 
     def __init__(self, params: UpperBodyParams | None = None) -> None:
         self.params = params or UpperBodyParams()

@@ -1,0 +1,240 @@
+"""Foreground that holds on a moving laser: the points near the legs the leg detector finds.
+
+The point trackers (``csa`` of 002, ``feet-pf`` and ``upper-body-pf`` of 004, the group
+tracker) were built for still lasers, whose static world a per-beam background explains.
+On a moving laser without poses no static world model is left (in the sensor frame nothing
+stays put, :class:`~laserpeople.pipeline.background.AutoBackground`): every point, walls
+and bushes included, is foreground, and a tracker of points sees clutter as people. On a
+moving laser with poses the occupancy grid has not yet learned what the robot drives past.
+
+:class:`LegForeground` keeps, of the points a frame's foreground holds (every point without
+one), only those within ``radius`` of a leg detection of the shipped leg detector (000 Sec.
+2; the pipeline's :class:`~laserpeople.pipeline.observe.DetectLegs` stage, reused: a frame
+that already holds ``legs`` is not detected again). A leg's points lie within about 0.1 m
+of its detection (leg radius ~0.07 m, the detection moved 0.045 m behind the points'
+centroid); a larger radius also keeps a second leg the detector missed in this scan.
+
+When :class:`~laserpeople.pipeline.background.AutoBackground` uses it is
+``[leg_foreground] use`` (:class:`LegForegroundParams`): ``never`` (the papers: every
+point, or plain background subtraction), ``no-poses`` (only once the model is dropped on a
+moving laser without poses), ``moving`` (also intersected with the occupancy grid's
+foreground once a laser with poses moves) or ``always`` (also with the still lasers'
+per-beam histogram). Measured choice: docs/people-benchmarks.md, "Foreground on moving
+robots".
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.config import param
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame, FrameField
+
+LEG_FOREGROUND_USES: tuple[str, ...] = ("never", "no-poses", "moving", "always")
+"""When ``auto`` keeps only points near legs (module docstring), from never to always."""
+
+
+@dataclass(frozen=True)
+class LegForegroundParams:
+    """When and how the foreground is narrowed to the points near leg detections."""
+
+    config_section = "leg_foreground"
+
+    use: str = param(
+        "moving",
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'): on the real "
+        "person-following robot and on simulated moving robots; 'never' is the papers' "
+        "behaviour (002, 004: every point, or plain background subtraction)",
+        "when --background auto keeps only foreground points near leg detections: never, "
+        "no-poses (a moving laser without poses, where no static world model is left), "
+        "moving (also a moving laser with poses, with the occupancy grid) or always (also "
+        "still lasers, with the per-beam histogram)",
+    )
+    memory: float = param(
+        0.0,
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0 and "
+        "0.5 s): held legs keep clutter alive and draw the CSA's targets into groups that "
+        "never split (real person-following robot: identity recall 0.37 with 0 s, 0.33 "
+        "with 0.5 s)",
+        "for trackers other than those in steady_memory: a leg detection is held this long "
+        "at its last position while no later detection comes within radius of it, and the "
+        "points near held legs are kept too (0: the frame's own detections only)",
+        "s",
+    )
+    steady_memory: float = param(
+        0.5,
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0 and "
+        "0.5 s): the particle filters of 004 die after miss_time = 0.2 s without points and "
+        "the detector misses a walking person's legs for a few scans (real person-following "
+        "robot: feet-pf identity recall 0.17 with 0 s, 0.35 with 0.5 s)",
+        "memory for trackers that die without points for a few scans (feet-pf, "
+        "upper-body-pf: their needs_steady_points)",
+        "s",
+    )
+    radius: float = param(
+        0.35,
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0.15, "
+        "0.35, 0.6 m)",
+        "a foreground point is kept when it lies within this distance of a leg detection",
+        "m",
+    )
+
+    def __post_init__(self) -> None:
+        if self.use not in LEG_FOREGROUND_USES:
+            raise ValueError(
+                f"use must be one of {', '.join(LEG_FOREGROUND_USES)}, not {self.use!r}"
+            )
+        if not 0.0 < self.radius < float("inf"):
+            raise ValueError(f"radius must be positive and finite, got {self.radius}")
+        if not 0.0 <= self.memory < float("inf"):
+            raise ValueError(f"memory must be finite and not negative, got {self.memory}")
+        if not 0.0 <= self.steady_memory < float("inf"):
+            raise ValueError(
+                f"steady_memory must be finite and not negative, got {self.steady_memory}"
+            )
+
+
+def near_legs(
+    points: NDArray[np.float64], legs: NDArray[np.float64], radius: float
+) -> NDArray[np.bool_]:
+    """Which of ``points`` (N, 2) [m] lie within ``radius`` [m] of one of ``legs`` (M, 2) [m]
+    (inclusive)."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    centres = np.asarray(legs, dtype=np.float64).reshape(-1, 2)
+    keep = np.zeros(len(pts), dtype=bool)
+    if len(pts) == 0 or len(centres) == 0:
+        return keep
+    r2 = radius * radius
+    for c in centres:  # M is a few dozen at most; N a few thousand
+        d = pts - c
+        keep |= np.einsum("ij,ij->i", d, d) <= r2
+    return keep
+
+
+class LegForeground:
+    """Keeps of a frame's foreground the points near its leg detections (module docstring).
+
+    A stage: after :class:`~laserpeople.pipeline.Fuse` (and a static world model, whose
+    foreground it narrows). Legs come from the frame when an earlier stage filled them,
+    else from its own :class:`~laserpeople.pipeline.observe.DetectLegs` with ``detector``
+    (None: the shipped AdaBoost detector). ``steady``: the tracker dies without points for
+    a few scans (:func:`needs_steady_points`), so legs are held ``steady_memory`` seconds
+    instead of ``memory``.
+
+    Attributes:
+        frames: Frames narrowed.
+        points_in: Foreground points seen, summed over those frames.
+        points_kept: Foreground points kept, summed over those frames.
+        detected: Frames whose legs it detected itself (the others held legs).
+    """
+
+    consumes: frozenset[FrameField] = frozenset({"scans", "points"})
+    provides: frozenset[FrameField] = frozenset({"foreground"})
+
+    def __init__(
+        self,
+        params: LegForegroundParams | None = None,
+        detector: Any = None,
+        *,
+        steady: bool = False,
+    ) -> None:
+        self.params = params or LegForegroundParams()
+        self.memory = self.params.steady_memory if steady else self.params.memory
+        """How long [s] legs are held (``steady_memory`` for a tracker that needs steady
+        points, else ``memory``)."""
+        self._detector = detector
+        self._detect: Any = None
+        self.frames = 0
+        self.points_in = 0
+        self.points_kept = 0
+        self.detected = 0
+        self._held = np.empty((0, 2))
+        self._held_stamps = np.empty(0)
+        self._last_stamp = -np.inf
+
+    def remembered(self, stamp: float, legs: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``legs`` (M, 2) [m] of the frame at ``stamp`` [s] and the held legs: each leg of
+        the last ``memory`` seconds that no leg of a later frame came within ``radius``
+        of, at its last position (so a leg the detector misses for a few scans keeps its
+        points, and one it sees again is not smeared along its path). A stamp before the
+        previous one forgets them."""
+        legs = np.asarray(legs, dtype=np.float64).reshape(-1, 2)
+        if self._held_stamps.size and stamp < self._last_stamp:
+            self._held_stamps = np.empty(0)
+            self._held = np.empty((0, 2))
+        self._last_stamp = stamp
+        keep = stamp - self._held_stamps <= self.memory
+        if keep.any() and len(legs):
+            d = self._held[:, None, :] - legs[None, :, :]
+            seen = (np.einsum("hmk,hmk->hm", d, d) <= self.params.radius**2).any(axis=1)
+            keep &= ~seen
+        held = self._held[keep]
+        self._held_stamps = np.concatenate([self._held_stamps[keep], np.full(len(legs), stamp)])
+        self._held = np.concatenate([held, legs])
+        return self._held
+
+    def legs_of(self, frame: Frame) -> NDArray[np.float64]:
+        """Leg positions (M, 2) [m] of ``frame``, in its coordinate frame."""
+        if frame.legs is not None:
+            return frame.legs.positions
+        if self._detect is None:
+            from laserpeople.pipeline.observe import DetectLegs
+
+            detector = self._detector
+            if detector is None:
+                from laserpeople.detection.detector import AdaBoostLegDetector
+
+                detector = AdaBoostLegDetector.default()
+            self._detect = DetectLegs(detector)
+        self.detected += 1
+        legs = self._detect(frame).legs
+        return np.empty((0, 2)) if legs is None else legs.positions
+
+    def __call__(self, frame: Frame) -> Frame:
+        """The frame with ``foreground`` narrowed to the points near its legs."""
+        if frame.points is None:
+            raise ConfigError(f"frame {frame.index} has no points", hint="run Fuse first")
+        n = len(frame.points)
+        fg = np.ones(n, dtype=bool) if frame.foreground is None else frame.foreground
+        legs = self.remembered(float(frame.stamp), self.legs_of(frame))
+        kept = fg & near_legs(frame.points.points, legs, self.params.radius)
+        self.frames += 1
+        self.points_in += int(np.count_nonzero(fg))
+        self.points_kept += int(np.count_nonzero(kept))
+        return frame.with_fields(foreground=kept)
+
+    @property
+    def kept_share(self) -> float:
+        """Share of the foreground points kept, over every frame narrowed (nan: none)."""
+        return self.points_kept / self.points_in if self.points_in else float("nan")
+
+
+def needs_steady_points(tracker: object) -> bool:
+    """Whether ``tracker`` dies without points for a few scans (its class sets
+    ``needs_steady_points``: the particle filters of 004), so that missed legs are held."""
+    return bool(getattr(tracker, "needs_steady_points", False))
+
+
+def own_detector(detector: Any, shared: bool) -> Any:
+    """``detector`` for a :class:`LegForeground` (a copy when ``shared``: a detector
+    remembers each laser's previous scan for its motion features, so two stages must not
+    classify the same scans with one object); None stays None (the shipped detector)."""
+    if detector is None or not shared:
+        return detector
+    return copy.deepcopy(detector)
+
+
+__all__ = [
+    "LEG_FOREGROUND_USES",
+    "LegForeground",
+    "LegForegroundParams",
+    "near_legs",
+    "needs_steady_points",
+    "own_detector",
+]

@@ -1,0 +1,258 @@
+"""The foreground of moving lasers: the points near leg detections
+(``pipeline/leg_foreground.py``), on hand-made frames, and when ``--background auto`` uses it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.frame import Frame
+from laserpeople.pipeline import AutoBackground, Fuse, background_of, observe_stages_for
+from laserpeople.pipeline.background import StaticWorldParams, describe_foreground
+from laserpeople.pipeline.leg_foreground import (
+    LegForeground,
+    LegForegroundParams,
+    near_legs,
+    needs_steady_points,
+    own_detector,
+)
+from laserpeople.scan import PointSet, Pose2D, Scan
+from laserpeople.tracks import Detections
+
+
+def _legs(positions: list[tuple[float, float]], frame: str = "sensor") -> Detections:
+    pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+    n = len(pos)
+    return Detections(0.0, 0, pos, np.tile(np.eye(2) * 0.01, (n, 1, 1)), np.ones(n), frame)  # type: ignore[arg-type]
+
+
+def _points_frame(
+    points: list[tuple[float, float]],
+    stamp: float = 0.0,
+    legs: list[tuple[float, float]] | None = None,
+    foreground: list[bool] | None = None,
+) -> Frame:
+    pts = np.asarray(points, dtype=np.float64)
+    scan = Scan(stamp, 0.0, 0.01, np.full(4, 2.0), sensor="l")
+    return Frame(
+        0,
+        stamp,
+        (scan,),
+        "l",
+        points=PointSet(stamp, pts, np.zeros(len(pts)), np.arange(len(pts)), ("l",), "sensor"),
+        foreground=None if foreground is None else np.asarray(foreground),
+        legs=None if legs is None else _legs(legs),
+    )
+
+
+# ------------------------------------------------------------------ the rule by hand
+
+
+def test_near_legs_by_hand() -> None:
+    points = np.array([[0.0, 0.0], [0.3, 0.0], [0.0, 0.35], [0.36, 0.0], [2.0, 2.0], [2.1, 2.2]])
+    # |(2.1, 2.2) - (2, 2)| = sqrt(0.05) = 0.224 <= 0.35; (0, 0.35) lies on the circle
+    keep = near_legs(points, np.array([[0.0, 0.0], [2.0, 2.0]]), 0.35)
+    assert keep.tolist() == [True, True, True, False, True, True]
+    assert near_legs(points, np.empty((0, 2)), 0.35).tolist() == [False] * 6
+    assert near_legs(np.empty((0, 2)), np.zeros((1, 2)), 0.35).shape == (0,)
+
+
+def test_stage_keeps_foreground_points_near_the_frames_legs() -> None:
+    stage = LegForeground(LegForegroundParams(radius=0.35, memory=0.0))
+    frame = _points_frame(
+        [(1.0, 0.0), (1.2, 0.1), (1.0, 1.0), (3.0, 0.0), (1.1, -0.1)],
+        legs=[(1.05, 0.0)],
+        foreground=[True, True, True, True, False],  # the last is background
+    )
+    out = stage(frame)
+    assert out.foreground is not None
+    assert out.foreground.tolist() == [True, True, False, False, False]
+    assert stage.points_in == 4 and stage.points_kept == 2 and stage.kept_share == 0.5
+    assert stage.detected == 0  # the frame held its legs
+    # without a foreground every point counts as foreground
+    again = stage(replace(frame, foreground=None))
+    assert again.foreground is not None
+    assert again.foreground.tolist() == [True, True, False, False, True]
+
+
+def test_held_legs_keep_their_points_for_memory_seconds() -> None:
+    """A leg missed by the detector keeps its points for ``memory`` s at its last position;
+    one detected again moves (its old place is not kept)."""
+    stage = LegForeground(LegForegroundParams(radius=0.3, memory=0.5))
+    points = [(0.0, 0.0), (2.0, 0.0), (2.25, 0.0)]
+    out = stage(_points_frame(points, 0.0, legs=[(0.0, 0.0), (2.0, 0.0)]))
+    assert out.foreground is not None and out.foreground.tolist() == [True, True, True]
+    # 0.4 s later only the second leg is seen, moved 0.25 m: the first is held, and the
+    # second's old place (2.0, 0) is replaced by its new one (2.25, 0)
+    out = stage(_points_frame([(0.0, 0.0), (1.8, 0.0), (2.5, 0.0)], 0.4, legs=[(2.25, 0.0)]))
+    assert out.foreground is not None and out.foreground.tolist() == [True, False, True]
+    # 0.6 s after it was last seen the first leg is forgotten
+    out = stage(_points_frame([(0.0, 0.0), (2.3, 0.0)], 0.6, legs=[]))
+    assert out.foreground is not None and out.foreground.tolist() == [False, True]
+    # without memory only the frame's own legs count
+    plain = LegForeground(LegForegroundParams(radius=0.3, memory=0.0))
+    plain(_points_frame(points, 0.0, legs=[(0.0, 0.0)]))
+    out = plain(_points_frame(points, 0.1, legs=[]))
+    assert out.foreground is not None and not out.foreground.any()
+
+
+def test_a_stamp_going_back_forgets_the_held_legs() -> None:
+    stage = LegForeground(LegForegroundParams(radius=0.3, memory=0.5))
+    stage(_points_frame([(0.0, 0.0)], 5.0, legs=[(0.0, 0.0)]))
+    out = stage(_points_frame([(0.0, 0.0)], 1.0, legs=[]))
+    assert out.foreground is not None and out.foreground.tolist() == [False]
+
+
+class _FixedDetector:
+    """A leg detector that finds one leg at a fixed sensor-frame position in every scan."""
+
+    def __init__(self, where: tuple[float, float]) -> None:
+        self.where = where
+        self.calls = 0
+
+    def detect(self, scan: Scan) -> Detections:
+        self.calls += 1
+        found = _legs([self.where])
+        return replace(found, stamp=scan.stamp, scan_index=scan.index, sensor_pose=scan.pose)
+
+
+def test_stage_detects_legs_itself_when_the_frame_has_none() -> None:
+    detector = _FixedDetector((1.0, 0.0))
+    stage = LegForeground(LegForegroundParams(radius=0.2, memory=0.0), detector)
+    out = stage(_points_frame([(1.1, 0.0), (0.5, 0.0)]))
+    assert out.foreground is not None and out.foreground.tolist() == [True, False]
+    assert detector.calls == 1 and stage.detected == 1
+    assert out.legs is None  # it fills only the foreground
+
+
+def test_trackers_that_die_without_points_hold_legs_longer() -> None:
+    from laserpeople.tracking import registry
+
+    params = LegForegroundParams(memory=0.0, steady_memory=0.5)
+    assert LegForeground(params).memory == 0.0
+    assert LegForeground(params, steady=True).memory == 0.5
+    steady = {name: needs_steady_points(registry.get(name).make()) for name in registry.TRACKERS}
+    assert {n for n, s in steady.items() if s} == {"feet-pf", "upper-body-pf"}
+
+
+def test_params_are_checked() -> None:
+    with pytest.raises(ValueError, match="use must be one of"):
+        LegForegroundParams(use="sometimes")
+    with pytest.raises(ValueError, match="radius"):
+        LegForegroundParams(radius=0.0)
+    with pytest.raises(ValueError, match="memory"):
+        LegForegroundParams(memory=-1.0)
+    with pytest.raises(ValueError, match="steady_memory"):
+        LegForegroundParams(steady_memory=float("inf"))
+
+
+def test_a_shared_detector_is_copied() -> None:
+    detector = _FixedDetector((1.0, 0.0))
+    assert own_detector(detector, shared=False) is detector
+    copied = own_detector(detector, shared=True)
+    assert copied is not detector and copied.where == detector.where
+    assert own_detector(None, shared=True) is None
+
+
+# ------------------------------------------------------------------ when auto uses it
+
+
+def _rotating_scan(index: int, turn: int, pose: Pose2D | None = None) -> Scan:
+    """A room whose wall ranges change with the beam, turned by ``turn`` beams (a laser
+    turning on the spot, as in test_track_foreground_e2e)."""
+    ranges = 3.0 + 2.0 * np.abs(np.sin(np.arange(90) * np.pi / 30.0))
+    return Scan(
+        0.1 * index, -np.pi / 4, np.pi / 180, np.roll(ranges, turn), 0.1, 10.0,
+        sensor="l", index=index, pose=pose,
+    )  # fmt: skip
+
+
+def _frame(scan: Scan) -> Frame:
+    frame = "world" if scan.pose is not None else "sensor"
+    return Fuse()(Frame(scan.index, scan.stamp, (scan,), "l", frame, scan.pose))
+
+
+def _auto(use: str, where: tuple[float, float] = (3.0, 0.0)) -> AutoBackground:
+    static = StaticWorldParams(leg_foreground=LegForegroundParams(use=use, memory=0.0))
+    return AutoBackground(static=static, detector=_FixedDetector(where))
+
+
+def _near(frame: Frame, where: tuple[float, float], radius: float = 0.35) -> np.ndarray:
+    assert frame.points is not None
+    return np.hypot(*(frame.points.points - np.asarray(where)).T) <= radius
+
+
+def test_auto_without_poses_keeps_points_near_legs_once_the_laser_moves() -> None:
+    """Sensor frame: while the laser stands the histogram's foreground; once it moves (the
+    model is dropped) only the points near legs, and the user is told from which frame."""
+    model = _auto("moving")
+    for i in range(25):
+        model(_frame(_rotating_scan(i, 0)))
+    assert model.legs is None and "did not move" in describe_foreground(model)
+    for i in range(25, 80):
+        frame = _frame(_rotating_scan(i, 3 * (i - 24)))
+        out = model(frame)
+    assert model.chosen == "none" and model.legs_from == model.switched_at
+    assert out.foreground is not None and out.foreground.any()
+    np.testing.assert_array_equal(out.foreground, _near(frame, (3.0, 0.0)))
+    said = model.describe_foreground()
+    assert f"from frame {model.switched_at}" in said and "no poses" in said
+    assert "every point" not in model.describe()
+
+
+def test_auto_with_use_never_keeps_every_point_as_the_papers() -> None:
+    model = _auto("never")
+    for i in range(25):
+        model(_frame(_rotating_scan(i, 0)))
+    for i in range(25, 80):
+        out = model(_frame(_rotating_scan(i, 3 * (i - 24))))
+    assert model.chosen == "none" and model.legs is None
+    assert out.foreground is not None and out.foreground.all()
+    assert "the papers' setting" in model.describe_foreground()
+    assert "every point is foreground" in model.describe()
+
+
+def test_auto_with_poses_narrows_the_grid_once_the_laser_moves() -> None:
+    """World frame: the grid's foreground (every point at first sight) narrowed to the
+    points near legs from the frame the laser moved on (``moving``); ``no-poses`` leaves
+    the grid's foreground as it is."""
+    for use, narrowed in (("moving", True), ("no-poses", False)):
+        model = _auto(use, where=(5.0, 0.0))  # beam 45 returns at 5 m straight ahead
+        for i in range(6):
+            pose = Pose2D(0.03 * i, 0.0, 0.0)
+            out = model(_frame(_rotating_scan(i, 0, pose)))
+        assert model.chosen == "occupancy" and model.switched_at == 2
+        assert out.foreground is not None and out.points is not None
+        legs_world = pose.transform_points(np.array([[5.0, 0.0]]))[0]
+        if narrowed:
+            assert model.legs_from == 2 and out.foreground.any()
+            assert not (out.foreground & ~_near(out, tuple(legs_world))).any()
+        else:
+            assert model.legs is None
+            assert (out.foreground & ~_near(out, tuple(legs_world))).any()
+
+
+def test_auto_on_a_still_laser_narrows_only_with_always() -> None:
+    for use, narrowed in (("moving", False), ("always", True)):
+        model = _auto(use)
+        for i in range(30):
+            out = model(_frame(_rotating_scan(i, 0)))
+        assert model.chosen == "histogram"
+        assert (model.legs is not None) == narrowed
+        if narrowed:
+            assert model.legs_from == 0 and "use = always" in model.describe_foreground()
+
+
+def test_observe_stages_hand_the_detector_to_auto() -> None:
+    detector = _FixedDetector((1.0, 0.0))
+    pre, _ = observe_stages_for(frozenset({"points", "foreground"}), detector)
+    model = background_of(pre)
+    assert isinstance(model, AutoBackground) and model._detector is detector
+    # a tracker that also consumes legs gets DetectLegs with the detector; auto a copy
+    pre, observe = observe_stages_for(frozenset({"points", "foreground", "legs"}), detector)
+    model = background_of(pre)
+    assert isinstance(model, AutoBackground) and model._detector is not detector
+    assert type(observe[0]).__name__ == "DetectLegs" and observe[0].detector is detector

@@ -30,7 +30,7 @@ from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation.suite import SuiteScene, prepare, track_scene
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from people_suite import make_factory, parse_seeds  # noqa: E402
+from people_suite import make_factory, parse_seeds
 
 DEFAULT_SETTINGS = (
     ("never", 'use = "never"'),

@@ -239,11 +239,14 @@ def test_auto_on_a_still_laser_narrows_only_with_always() -> None:
     for use, narrowed in (("moving", False), ("always", True)):
         model = _auto(use)
         for i in range(30):
-            out = model(_frame(_rotating_scan(i, 0)))
+            frame = _frame(_rotating_scan(i, 0))
+            out = model(frame)
         assert model.chosen == "histogram"
         assert (model.legs is not None) == narrowed
+        assert out.foreground is not None
         if narrowed:
             assert model.legs_from == 0 and "use = always" in model.describe_foreground()
+            assert not (out.foreground & ~_near(frame, (3.0, 0.0))).any()
 
 
 def test_observe_stages_hand_the_detector_to_auto() -> None:

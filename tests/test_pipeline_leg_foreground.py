@@ -78,6 +78,15 @@ def test_stage_keeps_foreground_points_near_the_frames_legs() -> None:
     assert again.foreground.tolist() == [True, True, False, False, True]
 
 
+def test_only_legs_scoring_above_min_score_keep_points() -> None:
+    stage = LegForeground(LegForegroundParams(radius=0.2, memory=0.0, min_score=0.4))
+    frame = _points_frame([(1.0, 0.0), (2.0, 0.0)], legs=[(1.0, 0.0), (2.0, 0.0)])
+    assert frame.legs is not None
+    scored = replace(frame, legs=replace(frame.legs, scores=np.array([0.3, 0.5])))
+    out = stage(scored)
+    assert out.foreground is not None and out.foreground.tolist() == [False, True]
+
+
 def test_held_legs_keep_their_points_for_memory_seconds() -> None:
     """A leg missed by the detector keeps its points for ``memory`` s at its last position;
     one detected again moves (its old place is not kept)."""

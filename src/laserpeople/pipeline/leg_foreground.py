@@ -77,6 +77,12 @@ class LegForegroundParams:
         "upper-body-pf: their needs_steady_points)",
         "s",
     )
+    min_score: float = param(
+        0.0,
+        "the detector's own threshold (000 Table 1: score above 0)",
+        "only leg detections scoring above this keep points (AdaBoost margin; with the "
+        "detector's [leg_detector] score_threshold lowered, lower this too)",
+    )
     radius: float = param(
         0.35,
         "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0.15, "
@@ -182,7 +188,7 @@ class LegForeground:
     def legs_of(self, frame: Frame) -> NDArray[np.float64]:
         """Leg positions (M, 2) [m] of ``frame``, in its coordinate frame."""
         if frame.legs is not None:
-            return frame.legs.positions
+            return self._confident(frame.legs)
         if self._detect is None:
             from laserpeople.pipeline.observe import DetectLegs
 
@@ -194,7 +200,11 @@ class LegForeground:
             self._detect = DetectLegs(detector)
         self.detected += 1
         legs = self._detect(frame).legs
-        return np.empty((0, 2)) if legs is None else legs.positions
+        return np.empty((0, 2)) if legs is None else self._confident(legs)
+
+    def _confident(self, legs: Any) -> NDArray[np.float64]:
+        """Positions of the ``legs`` (Detections) scoring above ``min_score``."""
+        return np.asarray(legs.positions[legs.scores > self.params.min_score], dtype=np.float64)
 
     def __call__(self, frame: Frame) -> Frame:
         """The frame with ``foreground`` narrowed to the points near its legs."""

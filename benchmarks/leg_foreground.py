@@ -10,9 +10,14 @@ the scenes with a moving robot and those with a still laser apart.
 
 Tune only on the tuning seeds 0-49; the held-back seeds 100-119 are for people_suite.py.
 
+With ``--recording`` instead: the process CPU per frame of every stage and the tracker on a
+recording (``laserpeople track`` as a pipeline), with the default and with ``use = "never"``.
+
     PYTHONPATH=src .venv/bin/python benchmarks/leg_foreground.py --seeds 0-49 \\
         [--tracker csa --tracker feet-pf --tracker upper-body-pf] [--seconds 30] \\
         [--setting never 'use = "never"' --setting r35 'radius = 0.35'] [--json out.json]
+    PYTHONPATH=src .venv/bin/python benchmarks/leg_foreground.py --recording BAG \\
+        --topic /scan_base2
 """
 
 from __future__ import annotations
@@ -47,6 +52,45 @@ def moved(scans: Any, distance: float = 0.05) -> bool:
     return any(math.hypot(p.x - poses[0].x, p.y - poses[0].y) > distance for p in poses)
 
 
+def cpu_on_recording(recording: Path, topic: str | None, trackers: list[str]) -> None:
+    """Print the process CPU per frame [ms] of each stage and the tracker on ``recording``,
+    with the default foreground and with ``[leg_foreground] use = "never"``."""
+    import time
+
+    from laserpeople.pipeline import build
+    from laserpeople.pipeline.background import StaticWorldParams
+    from laserpeople.pipeline.leg_foreground import LegForegroundParams
+
+    never = StaticWorldParams(leg_foreground=LegForegroundParams(use="never"))
+    for name, static in (("default", StaticWorldParams()), ("never", never)):
+        for t in trackers:
+            pipe = build(recording, tracker=t, topics=[topic] if topic else None,
+                         static_world=static)  # fmt: skip
+            cpu: dict[str, float] = {}
+
+            def timed(stage: Any, cpu: dict[str, float] = cpu) -> Any:
+                def run(frame: Any) -> Any:
+                    t0 = time.process_time()
+                    out = stage(frame)
+                    key = type(stage).__name__
+                    cpu[key] = cpu.get(key, 0.0) + time.process_time() - t0
+                    return out
+
+                return run
+
+            pipe.stages = tuple(timed(s) for s in pipe.stages)
+            t0 = time.process_time()
+            stats = pipe.run()
+            total = time.process_time() - t0
+            n = max(stats.frames, 1)
+            parts = ", ".join(f"{k} {1e3 * v / n:.2f}" for k, v in cpu.items())
+            print(
+                f"{name:8s} {t:14s} {stats.frames} frames: {1e3 * total / n:.2f} ms/frame "
+                f"(tracker {stats.mean_ms:.2f}; {parts})",
+                flush=True,
+            )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", default="0-49", help="randomised seeds (tune on 0-49)")
@@ -64,8 +108,13 @@ def main() -> None:
     ap.add_argument(
         "--moving-only", action="store_true", help="only the scenes whose scanner rides a robot"
     )
+    ap.add_argument("--recording", type=Path, help="time the stages on this recording instead")
+    ap.add_argument("--topic", help="laser topic of --recording (default: the first)")
     args = ap.parse_args()
     trackers = args.tracker or ["csa", "feet-pf", "upper-body-pf"]
+    if args.recording is not None:
+        cpu_on_recording(args.recording, args.topic, trackers)
+        return
     settings = [tuple(s) for s in args.setting] if args.setting else list(DEFAULT_SETTINGS)
     tmp = Path(tempfile.mkdtemp(prefix="leg_foreground_"))
     factories: dict[tuple[str, str], Any] = {}

@@ -208,7 +208,7 @@ def test_auto_without_poses_keeps_points_near_legs_once_the_laser_moves() -> Non
     assert out.foreground is not None and out.foreground.any()
     np.testing.assert_array_equal(out.foreground, _near(frame, (3.0, 0.0)))
     said = model.describe_foreground()
-    assert f"from frame {model.switched_at}" in said and "no poses" in said
+    assert f"foreground from frame {model.switched_at}:" in said and "no poses" in said
     assert "every point" not in model.describe()
 
 

@@ -374,10 +374,10 @@ class AutoBackground:
         }[self.chosen]
         share = self.legs.kept_share
         kept = f"; kept {100 * share:.1f} % of the foreground points" if share == share else ""
-        held = f", held {self.legs.memory:g} s when missed" if self.legs.memory > 0 else ""
+        held = f", missed legs held {self.legs.memory:g} s" if self.legs.memory > 0 else ""
         return (
-            f"foreground: points within {p.radius:g} m of leg detections{held} from frame "
-            f"{self.legs_from} ({why}{kept}; [leg_foreground] use = never keeps every point, "
+            f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "
+            f"detections{held} ({why}{kept}; [leg_foreground] use = never keeps every point, "
             "the papers' setting)"
         )
 

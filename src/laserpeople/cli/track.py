@@ -401,7 +401,8 @@ def register(app: typer.Typer) -> None:
                 "feet-pf, upper-body-pf) and for leg-mht's people (not confirmed on places "
                 "static for long until they move): auto (per-beam histogram while the lasers "
                 "stand still, occupancy grid once they move; none for a moving laser without "
-                "poses), histogram, occupancy or none.",
+                "poses; once a laser moves the trackers of points keep only the points near "
+                "leg detections, [leg_foreground] in --config), histogram, occupancy or none.",
             ),
         ] = "auto",
         map_path: Annotated[

@@ -163,7 +163,7 @@ class MurtyStream:
         heap = self._heap
         if not heap or heap[0][2].solution is not None:
             return
-        bound, _, node = heapq.heappop(heap)
+        _, _, node = heapq.heappop(heap)
         matrix = node.matrix
         if matrix is None:
             node.solution = self._solve_sub(node.forced, node.forbidden)

@@ -4,6 +4,8 @@ from its base's, and a popped matching's columns read without ``col_of_row``."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
@@ -105,3 +107,59 @@ def test_matching_stream_from_the_base_square_is_the_same(seed: int) -> None:
         want = tuple(int(c) if c < m else -1 for c in sol.col_of_row(len(rows) + m)[: len(rows)])
         got = fast.pop()
         assert (got.cost.hex(), got.track_meas) == (sol.cost.hex(), want)
+
+
+def _old_choices(
+    tm: np.ndarray, lp: np.ndarray
+) -> tuple[list[list[tuple[float, int, int, int]]], list[float], list[int]]:
+    """Each track's sorted labels, cheapest label and gate as the session-11 listing made
+    them (one comprehension per track; cheapest and gates by ``_Lister`` itself)."""
+    from laserpeople.tracking.mht.listing import _Lister
+    from laserpeople.tracking.mht.probability import DELETED, DETECTED, OCCLUDED
+
+    c_occ, c_del = (-lp[:, OCCLUDED]).tolist(), (-lp[:, DELETED]).tolist()
+    rows = tm.tolist()
+    choices = []
+    for i in range(tm.shape[0]):
+        ch = [(c, DETECTED, j, 1 << j) for j, c in enumerate(rows[i]) if c < np.inf]
+        if c_occ[i] < np.inf:
+            ch.append((c_occ[i], OCCLUDED, -1, 0))
+        if c_del[i] < np.inf:
+            ch.append((c_del[i], DELETED, -1, 0))
+        ch.sort()
+        choices.append(ch)
+    lister = _Lister(choices, [], [], [0.0], [0.0], 1, 1.0)
+    return choices, lister.cheapest, lister.gates
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_listing_setup_in_one_pass_is_the_old_one(
+    seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The listing's per-track labels, cheapest label and gate made in one pass are those
+    the old setup made (ties and impossible labels included), so the children are too."""
+    import laserpeople.tracking.mht.listing as listing
+
+    rng = np.random.default_rng(3000 + seed)
+    n, m = int(rng.integers(1, 9)), int(rng.integers(0, 6))
+    tm = rng.integers(-2, 3, (n, m)).astype(np.float64)  # many equal costs
+    tm[rng.random((n, m)) < 0.4] = np.inf
+    lp = np.log(rng.dirichlet(np.ones(3), n)).round(0)
+    lp[rng.random((n, 3)) < 0.2] = -np.inf
+    want = _old_choices(tm, lp)
+    seen: list[tuple[object, object, object]] = []
+    original = listing._Lister.__init__
+
+    def spy(self: object, *args: Any) -> None:
+        choices, cheapest, gates = args[0], args[7], args[8]
+        seen.append((choices, cheapest, gates))
+        original(self, *args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(listing._Lister, "__init__", spy)
+    rows = [sorted(rng.choice(n, size=int(rng.integers(1, n + 1)), replace=False).tolist())]
+    rows.append([int(n - 1), 0] if n > 1 else [0])
+    listing.enumerate_children(
+        [0.5, 0.25], rows, tm, lp, np.full(m, -1.0), np.full(m, -2.0), 20, 9.0, shortcut=False
+    )
+    assert len(seen) == 1
+    assert seen[0] == want

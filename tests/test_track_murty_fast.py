@@ -163,3 +163,57 @@ def test_listing_setup_in_one_pass_is_the_old_one(
     )
     assert len(seen) == 1
     assert seen[0] == want
+
+
+@pytest.mark.parametrize("seed", range(80))
+def test_last_track_listed_inline_gives_the_recursions_children(
+    seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The last track's labels listed inside the loop of the track before it: the same
+    children (parents, labels, cost floats, order) as the recursion, with ties (small
+    integer costs), impossible labels, 0-6 tracks per parent and 0-5 measurements."""
+    import laserpeople.tracking.mht.listing as listing
+
+    rng = np.random.default_rng(4000 + seed)
+    n, m = int(rng.integers(1, 9)), int(rng.integers(0, 6))
+    tm = rng.integers(-2, 4, (n, m)).astype(np.float64)
+    tm[rng.random((n, m)) < 0.35] = np.inf
+    lp = np.log(rng.dirichlet(np.ones(3), n)).round(0)
+    lp[rng.random((n, 3)) < 0.15] = -np.inf
+    rows = [
+        sorted(rng.choice(n, size=int(rng.integers(0, min(n, 6) + 1)), replace=False).tolist())
+        for _ in range(int(rng.integers(1, 12)))
+    ]
+    priors = rng.integers(0, 4, len(rows)).astype(np.float64).tolist()
+    log_new, log_fal = -rng.integers(0, 3, m).astype(np.float64), -rng.integers(0, 3, m) - 0.5
+    k, gap = int(rng.integers(1, 25)), float(rng.choice([2.0, 4.6, 50.0]))
+
+    def listed() -> list[tuple[object, ...]]:
+        out = listing.enumerate_children(
+            priors, rows, tm, lp, log_new, log_fal, k, gap, limit=10**9, shortcut=False
+        )
+        assert out is not None
+        return [
+            (pi, d.track_label, d.track_measurement, d.measurement_label, d.cost.hex(), t.hex())
+            for pi, d, t in out
+        ]
+
+    calls = {"inline": 0}
+    original = listing._Lister._tracks
+
+    def counting(self: listing._Lister, t: int, cost: float, used: int) -> None:
+        calls["inline"] += self.inline_last and t + 2 == len(self._rows)
+        original(self, t, cost, used)
+
+    monkeypatch.setattr(listing._Lister, "_tracks", counting)
+    inline = listed()
+
+    class Recursive(listing._Lister):
+        def __init__(self, *args: Any) -> None:
+            super().__init__(*args)
+            self.inline_last = False
+
+    monkeypatch.setattr(listing, "_Lister", Recursive)
+    assert inline == listed()
+    if any(len(r) >= 2 for r in rows) and calls["inline"] == 0:
+        pytest.skip("no parent listed as far as its last two tracks")

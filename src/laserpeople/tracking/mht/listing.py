@@ -274,9 +274,6 @@ class _Lister:
         self.maybe_lb = maybe_lb
         self.k = k
         self.max_gap = max_gap
-        self.inline_last = True
-        """List the last track's labels inside the loop of the track before it (False: by
-        the recursion, the same children; kept to test that)."""
         self.m = len(meas_choices)
         # (each track's cheapest label and gate, unless the caller has them)
         self.cheapest = (
@@ -327,17 +324,11 @@ class _Lister:
     def _tracks(self, t: int, cost: float, used: int) -> None:
         """Label the tracks from ``t`` on, at least one (the caller has checked this
         subtree's bound); each child's bound is checked here, before the call (most
-        children are cut). The last track's labels are listed in the loop of the track
-        before it (:attr:`inline_last`), not by a call per choice of that track."""
+        children are cut)."""
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas = self._labels, self._meas
-        depth = len(self._rows)
-        last = t + 1 == depth
-        inline = self.inline_last and t + 2 == depth
-        if inline:  # the last track: its choices, and its (empty) suffix of tracks
-            last_choices = self.choices[self._rows[t + 1]]
-            suffix2, reach2 = self._suffix[depth], self._reach[depth]
+        last = t + 1 == len(self._rows)
         limit, kth = self._limit, self._kth
         for c, lab, j, bit in self.choices[self._rows[t]]:
             if used & bit:
@@ -350,26 +341,7 @@ class _Lister:
                 continue
             labels[t] = lab
             meas[t] = j
-            if inline:  # self._tracks(t + 1, child_cost, child_used), written out
-                for c2, lab2, j2, bit2 in last_choices:
-                    if child_used & bit2:
-                        continue
-                    used2 = child_used | bit2
-                    cost2 = child_cost + c2
-                    free2 = full & ~used2
-                    bound = (
-                        cost2 + suffix2 + unmatched_lb[free2 & ~reach2] + maybe_lb[free2 & reach2]
-                    )
-                    if bound > limit or bound >= kth:
-                        continue
-                    labels[t + 1] = lab2
-                    meas[t + 1] = j2
-                    if used2 == full:  # the measurements next: none left to label
-                        self._record(cost2, used2)
-                    else:
-                        self._measurements(0, cost2, used2, unmatched_lb[free2])
-                    limit, kth = self._limit, self._kth
-            elif not last:
+            if not last:
                 self._tracks(t + 1, child_cost, child_used)
             elif child_used == full:  # the measurements next: none left to label
                 self._record(child_cost, child_used)

@@ -14,8 +14,11 @@ children (parents, labels, cost floats, order) and the solve counts are the same
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import importlib
 import importlib.util
 import sys
+import tempfile
 import time
 from pathlib import Path
 from types import ModuleType
@@ -108,18 +111,88 @@ def replay(call: tuple[Any, ...]) -> tuple[list[object], int]:
     return flat, work.solves if work is not None else -1
 
 
+def fresh_problems(module: ModuleType, matrices: list[Any]) -> list[Any]:
+    """New ``AssignmentMatrix`` objects of ``module`` with the recorded problems' lists (no
+    square made yet); a recorded subset of a base problem stays a subset of one new base
+    when ``module`` has subsets that keep their base (this version)."""
+    cls = module.AssignmentMatrix
+    names = [f.name for f in dataclasses.fields(matrix_mod.AssignmentMatrix)][:8]
+    keeps_base = "base" in {f.name for f in dataclasses.fields(cls)}
+    bases: dict[int, Any] = {}
+    out = []
+    for m in matrices:
+        base = getattr(m, "base", None)
+        if keeps_base and base is not None:
+            if id(base) not in bases:
+                bases[id(base)] = cls(*[getattr(base, n) for n in names])
+            out.append(bases[id(base)].subset(list(m.base_rows)))
+        else:
+            out.append(cls(*[getattr(m, n) for n in names]))
+    return out
+
+
+def replay_whole(module: ModuleType, call: tuple[Any, ...], matrices: list[Any]) -> tuple[Any, ...]:
+    """One recorded call with ``module``'s ``k_best_children`` on ``matrices``: the children
+    as comparable values, and the assignment problems solved."""
+    priors, _, args, kwargs, budget = call
+    kwargs = dict(kwargs)
+    work = module.Work(max_solves=budget) if budget is not None else None
+    if "work" in kwargs:
+        kwargs["work"] = work
+    out = module.k_best_children(priors, matrices, *args, **kwargs)
+    flat = [
+        (i, d.track_label, tuple(d.track_measurement), d.measurement_label, d.cost.hex(), t.hex())
+        for i, d, t in out
+    ]
+    return flat, work.solves if work is not None else -1
+
+
+def compare_whole(text: str, calls: list[tuple[Any, ...]], other: ModuleType, rounds: int) -> None:
+    """``--whole``: this version's and the other's ``k_best_children`` alternately."""
+    modules = {"this": matrix_mod, "other": other}
+    for r in range(rounds):
+        spent = {"this": 0.0, "other": 0.0}
+        same = 0
+        for n, call in enumerate(calls):
+            results = {}
+            order = ("this", "other") if (n + r) % 2 == 0 else ("other", "this")
+            for who in order:
+                problems = fresh_problems(modules[who], call[1])
+                t0 = time.process_time()
+                results[who] = replay_whole(modules[who], call, problems)
+                spent[who] += time.process_time() - t0
+            same += results["this"] == results["other"]
+        ratio = spent["this"] / max(spent["other"], 1e-9)
+        print(
+            f"{text}, round {r + 1} (whole k_best_children): {len(calls)} calls, this "
+            f"{spent['this']:.3f} s, other {spent['other']:.3f} s, this/other {ratio:.3f}; "
+            f"same children and solve counts: {same} of {len(calls)}",
+            flush=True,
+        )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--other", type=Path, required=True, help="the other version's src/")
     ap.add_argument("--scenes", nargs="+", default=["randomised:0", "entrance-hall:1"])
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--whole", action="store_true", help="replay all of k_best_children")
     args = ap.parse_args()
     other = load_assignment(args.other)
+    other_matrix = None
+    if args.whole:
+        from bench_track_ab import PACKAGE, load_other
+
+        load_other(args.other, Path(tempfile.mkdtemp()))
+        other_matrix = importlib.import_module(f"{PACKAGE}.tracking.mht.matrix")
     this_stream = matrix_mod.MurtyStream
     for text in args.scenes:
         scenario, seed = text.split(":")
         calls = record(scenario, int(seed), args.seconds)
+        if other_matrix is not None:
+            compare_whole(text, calls, other_matrix, args.rounds)
+            continue
         for call in calls[:3]:  # warm both (compilation, caches)
             replay(call)
         for r in range(args.rounds):

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import time
+from array import array
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
+from laserpeople.distinct_ids import DistinctIds
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
 from laserpeople.tracks import TrackKind, Tracks
@@ -33,14 +35,15 @@ class PipelineStats:
     Attributes:
         frames: Frames processed.
         rows: Tracks reported, summed over frames.
-        track_ids: Distinct track ids per kind.
-        track_ms: Tracking time per frame [ms].
+        track_ids: Distinct track ids per kind (runs of consecutive ids, see
+            :class:`~laserpeople.distinct_ids.DistinctIds`).
+        track_ms: Tracking time per frame [ms] (8 bytes a frame).
     """
 
     frames: int = 0
     rows: int = 0
-    track_ids: dict[str, set[int]] = field(default_factory=dict)
-    track_ms: list[float] = field(default_factory=list)
+    track_ids: dict[str, DistinctIds] = field(default_factory=dict)
+    track_ms: array[float] = field(default_factory=lambda: array("d"))
 
     def count(self, kind: TrackKind) -> int:
         """Distinct track ids of one kind."""
@@ -119,7 +122,7 @@ class Pipeline:
                     stats.track_ms.append(1e3 * seconds)
                     stats.rows += len(tracks)
                     for t in tracks.tracks:
-                        stats.track_ids.setdefault(t.kind, set()).add(t.track_id)
+                        stats.track_ids.setdefault(t.kind, DistinctIds()).add(t.track_id)
                 for sink in self.sinks:
                     sink.write(frame, tracks)
                 stats.frames += 1

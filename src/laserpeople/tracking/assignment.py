@@ -36,9 +36,11 @@ IntArray = NDArray[np.intp]
 BoolArray = NDArray[np.bool_]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False, slots=True)
 class Assignment:
-    """One solution of an assignment problem.
+    """One solution of an assignment problem (not frozen: one is made per Murty subproblem
+    solved, and a frozen dataclass costs several times as much to make; nothing changes
+    it).
 
     Attributes:
         cost: Sum of the chosen entries.
@@ -67,17 +69,37 @@ def solve(cost: FloatArray) -> Assignment | None:
     if cost.size == 0:
         empty = np.empty(0, dtype=np.intp)
         return Assignment(0.0, empty, empty)
+    return _solve(cost)
+
+
+_ROW_STARTS: dict[tuple[int, int], IntArray] = {}
+"""Flat index of each row's first entry, per (R, C) with R <= C (few shapes occur)."""
+
+
+def _solve(cost: FloatArray) -> Assignment | None:
+    """:func:`solve` of a non-empty float64 matrix: the same solver call, and the cost as
+    the same sum of the same entries in the same order (the chosen entries gathered by one
+    flat ``take`` instead of two-dimensional fancy indexing; with R <= C the solver's rows
+    are 0..R-1)."""
     try:
         rows, cols = linear_sum_assignment(cost)
     except ValueError:  # scipy: "cost matrix is infeasible"
         return None
-    total = float(cost[rows, cols].sum())
-    if total == np.inf:
+    r, c = cost.shape
+    if r <= c:
+        starts = _ROW_STARTS.get((r, c))
+        if starts is None:
+            starts = _ROW_STARTS[(r, c)] = np.arange(0, r * c, c, dtype=np.intp)
+        flat = cols + starts
+    else:
+        flat = rows * c + cols
+    total = float(np.add.reduce(cost.take(flat)))
+    if total == math.inf:
         return None
     return Assignment(total, rows, cols)
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class _Node:
     """A Murty subproblem: the base cost with forced and forbidden pairs, and its best
     solution once solved (None while only a lower bound is known).
@@ -138,16 +160,18 @@ class MurtyStream:
 
     def refine(self) -> None:
         """Solve the subproblem at the front (dropping it when infeasible)."""
-        if self.front_solved():
+        heap = self._heap
+        if not heap or heap[0][2].solution is not None:
             return
-        bound, _, node = heapq.heappop(self._heap)
-        if node.matrix is None:
+        _, _, node = heapq.heappop(heap)
+        matrix = node.matrix
+        if matrix is None:
             node.solution = self._solve_sub(node.forced, node.forbidden)
         else:
-            node.solution = solve(node.matrix)
+            node.solution = _solve(matrix) if matrix.size else solve(matrix)
         self.n_solved += 1
         if node.solution is not None:
-            self._push(bound, node)
+            heapq.heappush(heap, (node.solution.cost, next(self._counter), node))
 
     def _solve_sub(
         self, forced: tuple[tuple[int, int], ...], forbidden: tuple[tuple[int, int], ...]
@@ -165,12 +189,13 @@ class MurtyStream:
         _, _, node = heapq.heappop(self._heap)
         sol = node.solution
         assert sol is not None
-        forced_set = set(node.forced)
-        key_pairs = [
-            (r, c)
-            for r, c in zip(sol.rows.tolist(), sol.cols.tolist(), strict=True)
-            if self.key[r, c] and (r, c) not in forced_set
-        ]
+        rows, cols = sol.rows, sol.cols
+        pairs = zip(rows.tolist(), cols.tolist(), self.key[rows, cols].tolist(), strict=True)
+        if node.forced:
+            forced_set = set(node.forced)
+            key_pairs = [(r, c) for r, c, k in pairs if k and (r, c) not in forced_set]
+        else:
+            key_pairs = [(r, c) for r, c, k in pairs if k]
         forced = node.forced
         if not self.incremental:
             for pair in key_pairs:
@@ -179,23 +204,33 @@ class MurtyStream:
             return sol
         # the subproblems' matrices, each from the previous one: forbid the next pair,
         # force it for the ones after (the same matrices as built from the base, since the
-        # forced pairs have distinct rows and columns and are never forbidden)
+        # forced pairs have distinct rows and columns and are never forbidden); the
+        # entries are written through a flat view (a row is a slice, a column a stride)
         matrix = node.matrix
         if matrix is None:
             matrix = _constrained(self.cost, node.forced, node.forbidden)
         node.matrix = None
+        heap, counter, bound, forbidden = self._heap, self._counter, sol.cost, node.forbidden
+        n_cols = matrix.shape[1]
         last = len(key_pairs) - 1
+        inf = math.inf
+        flat = matrix.reshape(-1)
         for t, (r, c) in enumerate(key_pairs):
             sub = matrix.copy()
-            sub[r, c] = np.inf
-            self._push(sol.cost, _Node(None, forced, (*node.forbidden, (r, c)), sub))
+            at = r * n_cols + c
+            sub.reshape(-1)[at] = inf
+            heapq.heappush(
+                heap, (bound, next(counter), _Node(None, forced, (*forbidden, (r, c)), sub))
+            )
             forced = (*forced, (r, c))
             if t < last:
-                matrix = matrix.copy() if t == 0 else matrix
-                keep = matrix[r, c]
-                matrix[r, :] = np.inf
-                matrix[:, c] = np.inf
-                matrix[r, c] = keep
+                if t == 0:
+                    matrix = matrix.copy()
+                    flat = matrix.reshape(-1)
+                keep = flat[at]
+                flat[r * n_cols : (r + 1) * n_cols] = inf
+                flat[c::n_cols] = inf
+                flat[at] = keep
         return sol
 
     def __iter__(self) -> Iterator[Assignment]:

@@ -102,17 +102,28 @@ def enumerate_children(
         return None
     tm = track_meas_cost.tolist()
     # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
-    # or 0), with the cheapest cost and the measurements in the gate (a bit mask)
+    # or 0), with the cheapest cost and the measurements in the gate (a bit mask), in one
+    # pass per track
     choices: list[list[tuple[float, int, int, int]]] = []
+    cheapest: list[float] = []
+    gates: list[int] = []
     inf = math.inf
-    for i in range(n_nodes):
-        ch = [(c, DETECTED, j, 1 << j) for j, c in enumerate(tm[i]) if c < inf]
-        if c_occ[i] < inf:
-            ch.append((c_occ[i], OCCLUDED, -1, 0))
-        if c_del[i] < inf:
-            ch.append((c_del[i], DELETED, -1, 0))
+    bits = [1 << j for j in range(m)]
+    for row, occ, dele in zip(tm, c_occ, c_del, strict=True):
+        ch: list[tuple[float, int, int, int]] = []
+        gate = 0
+        for j, c in enumerate(row):
+            if c < inf:
+                ch.append((c, DETECTED, j, bits[j]))
+                gate |= bits[j]
+        if occ < inf:
+            ch.append((occ, OCCLUDED, -1, 0))
+        if dele < inf:
+            ch.append((dele, DELETED, -1, 0))
         ch.sort()
         choices.append(ch)
+        cheapest.append(ch[0][0] if ch else inf)
+        gates.append(gate)
     if children_bound(rows, [len(c) for c in choices], m) > limit:
         return None
     c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
@@ -132,8 +143,11 @@ def enumerate_children(
         unmatched_lb[mask] = unmatched_lb[rest] + meas_min[low]
         maybe_lb[mask] = maybe_lb[rest] + min(0.0, meas_min[low])
 
-    lister = _Lister(choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap)
-    for pi in sorted(range(len(rows)), key=lambda p: priors[p]):  # the likeliest first
+    lister = _Lister(
+        choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap, cheapest, gates
+    )
+    by_prior = priors.__getitem__ if isinstance(priors, list) else lambda p: priors[p]
+    for pi in sorted(range(len(rows)), key=by_prior):  # the likeliest first
         if math.isfinite(priors[pi]):
             lister.parent(pi, float(priors[pi]), list(rows[pi]))
     found, best = lister.found, lister.best
@@ -250,6 +264,8 @@ class _Lister:
         maybe_lb: list[float],
         k: int,
         max_gap: float,
+        cheapest: list[float] | None = None,
+        gates: list[int] | None = None,
     ) -> None:
         self.choices = choices
         self.meas_choices = meas_choices
@@ -259,8 +275,11 @@ class _Lister:
         self.k = k
         self.max_gap = max_gap
         self.m = len(meas_choices)
-        self.cheapest = [ch[0][0] if ch else math.inf for ch in choices]
-        self.gates = [sum([c[3] for c in ch]) for ch in choices]
+        # (each track's cheapest label and gate, unless the caller has them)
+        self.cheapest = (
+            [ch[0][0] if ch else math.inf for ch in choices] if cheapest is None else cheapest
+        )
+        self.gates = [sum([c[3] for c in ch]) for ch in choices] if gates is None else gates
         self.full = (1 << self.m) - 1
         # (total, order found, parent, track labels, their measurements, measurements used
         # (bit mask), the unmatched measurements' labels or None when all are used)

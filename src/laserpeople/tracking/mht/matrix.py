@@ -26,7 +26,7 @@ import heapq
 import itertools
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -61,6 +61,8 @@ class AssignmentMatrix:
         meas_unmatched: Per measurement, the cheaper unmatched label (NEW/FALSE_ALARM).
         meas_unmatched_cost: Its cost.
         meas_penalty: Extra cost of the other one (>= 0, inf if impossible).
+        base: The problem this one is a :meth:`subset` of (None: made directly).
+        base_rows: The tracks of ``base`` this one holds, in order.
     """
 
     track_meas_cost: list[list[float]]
@@ -71,6 +73,11 @@ class AssignmentMatrix:
     meas_unmatched: list[int]
     meas_unmatched_cost: list[float]
     meas_penalty: list[float]
+    base: AssignmentMatrix | None = field(default=None, repr=False)
+    base_rows: tuple[int, ...] = ()
+    _squares: dict[int, tuple[FloatArray, BoolArray]] = field(
+        default_factory=dict, repr=False, compare=False
+    )
 
     @property
     def n_tracks(self) -> int:
@@ -83,7 +90,8 @@ class AssignmentMatrix:
         return len(self.meas_unmatched)
 
     def subset(self, rows: Sequence[int]) -> AssignmentMatrix:
-        """The problem of the tracks ``rows`` only (same measurements)."""
+        """The problem of the tracks ``rows`` only (same measurements); its :meth:`square`
+        is taken from this one's, made once for all the subsets."""
         return AssignmentMatrix(
             [self.track_meas_cost[r] for r in rows],
             [self.options[r] for r in rows],
@@ -93,6 +101,8 @@ class AssignmentMatrix:
             self.meas_unmatched,
             self.meas_unmatched_cost,
             self.meas_penalty,
+            self,
+            tuple(rows),
         )
 
     def square(self) -> tuple[FloatArray, BoolArray]:
@@ -103,18 +113,29 @@ class AssignmentMatrix:
         pairs cost 0 (Cox & Hingorani's layout). Only pairs in track rows and measurement
         columns identify a matching; the zero-cost slot pairings do not.
         """
+        made = self._squares.get(0)
+        if made is not None:
+            return made
         n, m = self.n_tracks, self.n_measurements
-        size = n + m
-        cost = np.full((size, size), np.inf)
-        if n and m:
-            cost[:n, :m] = np.array(self.track_meas_cost, dtype=np.float64).reshape(n, m)
-        cost[np.arange(n), m + np.arange(n)] = self.track_unmatched_cost
-        cost[n + np.arange(m), np.arange(m)] = self.meas_unmatched_cost
-        cost[n:, m:] = 0.0
-        key = np.zeros((size, size), dtype=bool)
-        key[:n, :] = True
-        key[:, :m] = True
-        return cost, key
+        if self.base is not None:
+            # the base's square with the rows [these tracks | every measurement slot] and
+            # the columns [every measurement | these tracks' slots]: the same entries
+            full, _ = self.base.square()
+            base_n = self.base.n_tracks
+            rows = np.array([*self.base_rows, *range(base_n, base_n + m)], dtype=np.intp)
+            cols = np.array([*range(m), *(m + i for i in self.base_rows)], dtype=np.intp)
+            cost = full.take(rows, axis=0).take(cols, axis=1)
+        else:
+            size = n + m
+            cost = np.full((size, size), np.inf)
+            if n and m:
+                cost[:n, :m] = np.array(self.track_meas_cost, dtype=np.float64).reshape(n, m)
+            cost[np.arange(n), m + np.arange(n)] = self.track_unmatched_cost
+            cost[n + np.arange(m), np.arange(m)] = self.meas_unmatched_cost
+            cost[n:, m:] = 0.0
+        cost.flags.writeable = False  # shared by the streams of this problem
+        made = self._squares[0] = (cost, _square_key(n, m))
+        return made
 
     def lower_bound(self) -> float:
         """A lower bound of the cost of every matching: the larger of "every track at its
@@ -136,6 +157,22 @@ class AssignmentMatrix:
         by_rows = rows + sum(min(0.0, c) for c in self.meas_unmatched_cost)
         by_cols = sum(col_min) + sum(min(0.0, c) for c in self.track_unmatched_cost)
         return max(by_rows, by_cols)
+
+
+_SQUARE_KEYS: dict[tuple[int, int], BoolArray] = {}
+
+
+def _square_key(n: int, m: int) -> BoolArray:
+    """The identifying-pairs mask of :meth:`AssignmentMatrix.square` for n tracks and m
+    measurements: track rows and measurement columns (read-only, shared)."""
+    key = _SQUARE_KEYS.get((n, m))
+    if key is None:
+        key = np.zeros((n + m, n + m), dtype=bool)
+        key[:n, :] = True
+        key[:, :m] = True
+        key.flags.writeable = False
+        _SQUARE_KEYS[(n, m)] = key
+    return key
 
 
 def build_matrix(
@@ -266,7 +303,9 @@ class _MatchingStream:
             sol = self._murty.pop()
             assert sol is not None
             n, m = self.matrix.n_tracks, self.matrix.n_measurements
-            col_of_row = sol.col_of_row(n + m)[:n].tolist()
+            # square: every row is assigned, so the rows are 0..n+m-1 and the first n
+            # columns are the tracks'
+            col_of_row = sol.cols[:n].tolist()
             return Matching(sol.cost, tuple(c if c < m else -1 for c in col_of_row))
         assert self._list is not None
         out = self._list[self._pos]

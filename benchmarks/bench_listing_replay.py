@@ -1,0 +1,115 @@
+"""The leg MHT's branch-and-bound listing, this version against another, on recorded calls.
+
+Runs the default tracker (as ``bench_track_parts.py`` does) on suite scenes and records every
+call of ``enumerate_children`` (the listing of a cluster's k best children); then replays
+the recorded calls with this version's listing and with the other version's (its
+``tracking/mht/listing.py`` loaded as a module of its own), call by call alternately, in
+rounds, and prints the CPU of each, their ratio, and how many calls gave the same children
+(parents, labels, cost floats, order).
+
+    PYTHONPATH=src .venv/bin/python benchmarks/bench_listing_replay.py --other OLD/src
+        [--scenes crossing-3:1 randomised:0] [--seconds 30] [--rounds 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import time
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import laserpeople.tracking.mht.core as core
+import laserpeople.tracking.mht.listing as listing
+from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
+from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
+from people_suite import make_factory
+
+
+def load_listing(src: Path) -> ModuleType:
+    """The other version's ``laserpeople/tracking/mht/listing.py`` as a module of its own
+    (it imports only numpy and this version's label constants and ``LabelledAssignment``)."""
+    path = src / "laserpeople" / "tracking" / "mht" / "listing.py"
+    spec = importlib.util.spec_from_file_location("listing_other", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["listing_other"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+Call = tuple[tuple[Any, ...], dict[str, Any]]
+"""A recorded call: (args, kwargs)."""
+
+
+def record(scenario: str, seed: int, seconds: float) -> list[Call]:
+    """The ``enumerate_children`` calls of one scene."""
+    detector = AdaBoostLegDetector.default(LegDetectorParams())
+    prepared = prepare(SuiteScene(scenario, scenario, seed, seconds), detector)
+    tracker = make_factory("leg-mht", None, "auto")()
+    calls: list[Call] = []
+    original = core.enumerate_children
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        calls.append((args, dict(kwargs)))
+        return original(*args, **kwargs)
+
+    core.enumerate_children = wrapper  # type: ignore[assignment]
+    try:
+        for frame in frames_for(prepared, frozenset(tracker.consumes)):
+            tracker.update(frame)
+    finally:
+        core.enumerate_children = original  # type: ignore[assignment]
+    return calls
+
+
+def children(module: ModuleType, call: Call) -> object:
+    """One recorded call with ``module``'s listing, as comparable values."""
+    args, kwargs = call
+    out = module.enumerate_children(*args, **kwargs)
+    if out is None:
+        return None
+    return [
+        (i, d.track_label, tuple(d.track_measurement), d.measurement_label, d.cost.hex(), t.hex())
+        for i, d, t in out
+    ]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--other", type=Path, required=True, help="the other version's src/")
+    ap.add_argument("--scenes", nargs="+", default=["crossing-3:1", "randomised:0"])
+    ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--rounds", type=int, default=3)
+    args = ap.parse_args()
+    other = load_listing(args.other)
+    modules = {"this": listing, "other": other}
+    for text in args.scenes:
+        scenario, seed = text.split(":")
+        calls = record(scenario, int(seed), args.seconds)
+        for r in range(args.rounds):
+            spent = {"this": 0.0, "other": 0.0}
+            same = 0
+            for n, call in enumerate(calls):
+                results = {}
+                order = ("this", "other") if (n + r) % 2 == 0 else ("other", "this")
+                for who in order:
+                    t0 = time.process_time()
+                    results[who] = children(modules[who], call)
+                    spent[who] += time.process_time() - t0
+                same += results["this"] == results["other"]
+            ratio = spent["this"] / max(spent["other"], 1e-9)
+            print(
+                f"{text}, round {r + 1}: {len(calls)} calls, this {spent['this']:.3f} s, "
+                f"other {spent['other']:.3f} s, this/other {ratio:.3f}; same children: "
+                f"{same} of {len(calls)}",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()

@@ -268,3 +268,24 @@ def test_observe_stages_hand_the_detector_to_auto() -> None:
     model = background_of(pre)
     assert isinstance(model, AutoBackground) and model._detector is not detector
     assert type(observe[0]).__name__ == "DetectLegs" and observe[0].detector is detector
+
+
+def test_build_gives_each_point_tracker_its_foreground(tmp_path: object) -> None:
+    """``build``: the particle filters' ``auto`` holds missed legs, csa's does not, and the
+    people's model of the static-track filter runs before it (so that, once dropped, its
+    every-point foreground does not undo the narrowing)."""
+    from pathlib import Path
+
+    from laserpeople.pipeline import build
+    from laserpeople.pipeline.static_people import PeopleStaticModel
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = Path(str(tmp_path)) / "cross.npz"
+    run_scenario("crossing-3-p3", seconds=1.0, seed=1).write(rec)
+    for tracker, steady in (("csa", False), ("feet-pf", True), ("upper-body-pf", True)):
+        pipe = build(rec, tracker=tracker, topics=["all"], max_frames=2)
+        model = background_of(pipe.stages)
+        assert isinstance(model, AutoBackground) and model._steady is steady
+        people = [i for i, s in enumerate(pipe.stages) if isinstance(s, PeopleStaticModel)]
+        assert people and people[0] < pipe.stages.index(model)
+        pipe.run()

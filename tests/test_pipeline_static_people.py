@@ -175,6 +175,24 @@ def test_sensor_frame_model_is_dropped_when_the_laser_moves() -> None:
     assert "sensor frame" in still.describe()
 
 
+def test_a_model_nobody_reads_leaves_the_frames_foreground() -> None:
+    """A people's model with ``fill_foreground`` False never overwrites the foreground an
+    earlier stage gave (the trackers' own model): not while it runs a histogram, and not
+    once it is dropped on a moving laser (it used to mark every point foreground then)."""
+    for speed, kind in ((0.0, "histogram"), (0.3, "occupancy")):
+        model = PeopleStaticModel(kind)
+        model.fill_foreground = False
+        for f in _frames(15.0, robot_speed=speed):
+            scan = Scan(f.stamp, 0.0, INC, f.scans[0].ranges, sensor="laser", index=f.index)
+            frame = Fuse()(Frame(f.index, f.stamp, (scan,), "laser"))
+            assert frame.points is not None
+            given = np.arange(len(frame.points)) % 3 == 0
+            out = model(frame.with_fields(foreground=given))
+            assert out.foreground is not None
+            np.testing.assert_array_equal(out.foreground, given)
+        assert (model.dropped_at is not None) == (speed > 0)
+
+
 def test_motion_check_share_by_hand() -> None:
     """The share of returns off the learned ranges: half the beams moved -> 0.5."""
     check = SensorMotionCheck()

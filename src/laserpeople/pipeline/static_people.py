@@ -106,8 +106,9 @@ class PeopleStaticModel:
 
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame`` and return it with ``foreground`` from the model (all True
-        once the model is dropped; left as it is when :attr:`fill_foreground` is False and
-        the model can learn without it)."""
+        once the model is dropped), or with its own foreground when :attr:`fill_foreground`
+        is False (the foreground of another stage, e.g. the trackers' static world model,
+        is not overwritten)."""
         if self.frame is None:
             self.frame = frame.frame
             if frame.frame == "sensor":
@@ -123,6 +124,8 @@ class PeopleStaticModel:
             if self.motion.moved_at is not None:
                 self.model = None
         if self.model is None:
+            if not self.fill_foreground:
+                return frame
             n = 0 if frame.points is None else len(frame.points)
             return replace(frame, foreground=np.ones(n, dtype=bool))
         learn_only = getattr(self.model, "learn_frame", None)
@@ -130,6 +133,8 @@ class PeopleStaticModel:
             learnt: Frame = learn_only(frame)  # nobody reads the foreground: not computed
             return learnt
         out: Frame = self.model(frame)
+        if not self.fill_foreground:  # another stage's foreground stays the trackers'
+            return replace(out, foreground=frame.foreground)
         return out
 
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import sys
-import time
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -25,6 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import laserpeople.tracking.mht.core as core
 import laserpeople.tracking.mht.listing as listing
+from bench_murty_replay import alternate, timed
 from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
 from people_suite import make_factory
@@ -91,24 +91,13 @@ def main() -> None:
     for text in args.scenes:
         scenario, seed = text.split(":")
         calls = record(scenario, int(seed), args.seconds)
-        for r in range(args.rounds):
-            spent = {"this": 0.0, "other": 0.0}
-            same = 0
-            for n, call in enumerate(calls):
-                results = {}
-                order = ("this", "other") if (n + r) % 2 == 0 else ("other", "this")
-                for who in order:
-                    t0 = time.process_time()
-                    results[who] = children(modules[who], call)
-                    spent[who] += time.process_time() - t0
-                same += results["this"] == results["other"]
-            ratio = spent["this"] / max(spent["other"], 1e-9)
-            print(
-                f"{text}, round {r + 1}: {len(calls)} calls, this {spent['this']:.3f} s, "
-                f"other {spent['other']:.3f} s, this/other {ratio:.3f}; same children: "
-                f"{same} of {len(calls)}",
-                flush=True,
-            )
+        alternate(
+            text,
+            calls,
+            lambda who, call: timed(lambda: children(modules[who], call)),
+            args.rounds,
+            " (listing)",
+        )
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ import importlib.util
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -95,20 +96,45 @@ def record(scenario: str, seed: int, seconds: float) -> list[tuple[Any, ...]]:
     return calls
 
 
-def replay(call: tuple[Any, ...]) -> tuple[list[object], int]:
+def replay(call: tuple[Any, ...]) -> tuple[Any, ...]:
     """One recorded call with whatever ``matrix_mod.MurtyStream`` is now: the children as
     comparable values, and the assignment problems solved."""
-    priors, matrices, args, kwargs, budget = call
-    kwargs = dict(kwargs)
-    work = matrix_mod.Work(max_solves=budget) if budget is not None else None
-    if "work" in kwargs:
-        kwargs["work"] = work
-    out = matrix_mod.k_best_children(priors, matrices, *args, **kwargs)
-    flat = [
-        (i, d.track_label, d.track_measurement, d.measurement_label, d.cost.hex(), t.hex())
-        for i, d, t in out
-    ]
-    return flat, work.solves if work is not None else -1
+    return replay_whole(matrix_mod, call, call[1])
+
+
+def alternate(
+    text: str,
+    calls: list[Any],
+    run: Callable[[str, Any], tuple[object, float]],
+    rounds: int,
+    what: str,
+) -> None:
+    """Replay ``calls`` with ``run(who, call) -> (result, CPU seconds)`` for ``who`` "this"
+    and "other", alternating which goes first call by call, and print per round the CPU of
+    each, their ratio and how many calls gave the same result."""
+    for r in range(rounds):
+        spent = {"this": 0.0, "other": 0.0}
+        same = 0
+        for n, call in enumerate(calls):
+            results = {}
+            for who in ("this", "other") if (n + r) % 2 == 0 else ("other", "this"):
+                results[who], seconds = run(who, call)
+                spent[who] += seconds
+            same += results["this"] == results["other"]
+        ratio = spent["this"] / max(spent["other"], 1e-9)
+        print(
+            f"{text}, round {r + 1}{what}: {len(calls)} calls, this {spent['this']:.3f} s, "
+            f"other {spent['other']:.3f} s, this/other {ratio:.3f}; same results: "
+            f"{same} of {len(calls)}",
+            flush=True,
+        )
+
+
+def timed(replay_one: Callable[[], object]) -> tuple[object, float]:
+    """``replay_one()`` and the process CPU [s] it took."""
+    t0 = time.process_time()
+    out = replay_one()
+    return out, time.process_time() - t0
 
 
 def fresh_problems(module: ModuleType, matrices: list[Any]) -> list[Any]:
@@ -148,27 +174,15 @@ def replay_whole(module: ModuleType, call: tuple[Any, ...], matrices: list[Any])
 
 
 def compare_whole(text: str, calls: list[tuple[Any, ...]], other: ModuleType, rounds: int) -> None:
-    """``--whole``: this version's and the other's ``k_best_children`` alternately."""
+    """``--whole``: this version's and the other's ``k_best_children`` alternately (each on
+    fresh problems of its own, made outside the timing)."""
     modules = {"this": matrix_mod, "other": other}
-    for r in range(rounds):
-        spent = {"this": 0.0, "other": 0.0}
-        same = 0
-        for n, call in enumerate(calls):
-            results = {}
-            order = ("this", "other") if (n + r) % 2 == 0 else ("other", "this")
-            for who in order:
-                problems = fresh_problems(modules[who], call[1])
-                t0 = time.process_time()
-                results[who] = replay_whole(modules[who], call, problems)
-                spent[who] += time.process_time() - t0
-            same += results["this"] == results["other"]
-        ratio = spent["this"] / max(spent["other"], 1e-9)
-        print(
-            f"{text}, round {r + 1} (whole k_best_children): {len(calls)} calls, this "
-            f"{spent['this']:.3f} s, other {spent['other']:.3f} s, this/other {ratio:.3f}; "
-            f"same children and solve counts: {same} of {len(calls)}",
-            flush=True,
-        )
+
+    def run(who: str, call: tuple[Any, ...]) -> tuple[object, float]:
+        problems = fresh_problems(modules[who], call[1])
+        return timed(lambda: replay_whole(modules[who], call, problems))
+
+    alternate(text, calls, run, rounds, " (whole k_best_children)")
 
 
 def main() -> None:
@@ -195,26 +209,15 @@ def main() -> None:
             continue
         for call in calls[:3]:  # warm both (compilation, caches)
             replay(call)
-        for r in range(args.rounds):
-            spent = {"this": 0.0, "other": 0.0}
-            same = 0
-            for n, call in enumerate(calls):
-                results = {}
-                order = ("this", "other") if (n + r) % 2 == 0 else ("other", "this")
-                for who in order:
-                    matrix_mod.MurtyStream = this_stream if who == "this" else other.MurtyStream  # type: ignore[misc]
-                    t0 = time.process_time()
-                    results[who] = replay(call)
-                    spent[who] += time.process_time() - t0
-                same += results["this"] == results["other"]
-            matrix_mod.MurtyStream = this_stream  # type: ignore[misc]
-            ratio = spent["this"] / max(spent["other"], 1e-9)
-            print(
-                f"{text}, round {r + 1}: {len(calls)} calls, this {spent['this']:.3f} s, "
-                f"other {spent['other']:.3f} s, this/other {ratio:.3f}; "
-                f"same children and solve counts: {same} of {len(calls)}",
-                flush=True,
-            )
+
+        def run(who: str, call: tuple[Any, ...]) -> tuple[object, float]:
+            matrix_mod.MurtyStream = this_stream if who == "this" else other.MurtyStream  # type: ignore[misc]
+            try:
+                return timed(lambda: replay(call))
+            finally:
+                matrix_mod.MurtyStream = this_stream  # type: ignore[misc]
+
+        alternate(text, calls, run, args.rounds, "")
 
 
 if __name__ == "__main__":

@@ -338,7 +338,11 @@ class AutoBackground:
     def describe(self) -> str:
         """One line for the user: which model ran and why."""
         if self.chosen == "none":
-            what = "no point is explained" if self.legs is not None else "every point is foreground"
+            what = (
+                "no point is explained as static; the trackers get the points near legs"
+                if self.legs is not None
+                else "every point is foreground"
+            )
             return (
                 f"static world model: none from frame {self.switched_at} (the laser moves and "
                 f"the recording has no poses: {what}; give poses with "

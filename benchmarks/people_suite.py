@@ -43,12 +43,7 @@ from laserpeople.evaluation.suite import (
     track_scene,
 )
 from laserpeople.pipeline.background import load_static_world
-from laserpeople.pipeline.leg_foreground import needs_steady_points
-from laserpeople.pipeline.recording import (
-    add_people_static_model,
-    add_static_track_filter,
-    observe_stages_for,
-)
+from laserpeople.pipeline.recording import tracker_stages
 from laserpeople.pipeline.static_people import uses_static_model
 from laserpeople.pipeline.static_tracks import StaticTrackFilter
 from laserpeople.sim.scenarios.randomised import HELD_BACK_SEEDS, TUNING_SEEDS
@@ -122,17 +117,12 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
             if model is not None:
                 return StaticFed(tracker, model)
             return tracker
-        stages, observe = observe_stages_for(
-            frozenset(tracker.consumes) - {"legs"},
-            None,
-            None,
-            background,
-            None,
-            static,
-            steady=needs_steady_points(tracker),
+        stages, observe, hide = tracker_stages(  # the suite's frames hold legs already
+            tracker,
+            consumes=frozenset(tracker.consumes) - {"legs"},
+            background=background,
+            static_world=static,
         )
-        add_people_static_model(tracker, stages, background, None, static)
-        hide = add_static_track_filter(tracker, stages, background, None, static)
         if stages or observe or hide is not None:
             return Staged(tracker, [*stages, *observe], hide)
         return tracker

@@ -272,6 +272,38 @@ def _add_before_background(preprocess: list[Stage], model: PeopleStaticModel) ->
     preprocess.insert(next(i for i, s in enumerate(preprocess) if s is background), model)
 
 
+def tracker_stages(
+    tracker: Any,
+    *,
+    consumes: frozenset[FrameField] | None = None,
+    detector: LegDetector | None = None,
+    leg_fusion: LegFusionParams | None = None,
+    background: str | Stage | None = "auto",
+    map_path: str | Path | None = None,
+    static_world: StaticWorldParams | None = None,
+) -> tuple[list[Stage], list[Stage], StaticTrackFilter | None]:
+    """Everything :func:`build` puts between the frames and ``tracker``: the preprocess and
+    observe stages of what it ``consumes`` (None: ``tracker.consumes``; a caller whose
+    frames already hold some fields leaves them out, see :func:`observe_stages_for`), the
+    people's static model of the leg MHT (:func:`add_people_static_model`) and the filter
+    of person tracks on static places (:func:`add_static_track_filter`, None when not
+    used)."""
+    from laserpeople.pipeline.leg_foreground import needs_steady_points
+
+    preprocess, observe = observe_stages_for(
+        frozenset(tracker.consumes if consumes is None else consumes),
+        detector,
+        leg_fusion,
+        background,
+        map_path,
+        static_world,
+        steady=needs_steady_points(tracker),
+    )
+    add_people_static_model(tracker, preprocess, background, map_path, static_world)
+    hide = add_static_track_filter(tracker, preprocess, background, map_path, static_world)
+    return preprocess, observe, hide
+
+
 def output_sink(path: str | Path) -> Sink:
     """A tracks sink by extension: ``.csv`` tracks CSV, ``.bag``/``.mcap``/``.db3`` a bag
     with the scans and the tracks as ROS messages."""
@@ -322,7 +354,6 @@ def build(
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
         >>> stats = build("run.bag", outputs=["tracks.csv", "tracks.mcap"]).run()
     """
-    from laserpeople.pipeline.leg_foreground import needs_steady_points
     from laserpeople.tracking import registry
 
     if isinstance(tracker, str):
@@ -347,18 +378,13 @@ def build(
             frames = with_appearance(source, rec)
             source_fields.add("appearance")
             identifiers.append(ColourReidentifier())
-        preprocess, observe = observe_stages_for(
-            frozenset(tracker.consumes),
-            detector,
-            leg_fusion,
-            background,
-            map_path,
-            static_world,
-            steady=needs_steady_points(tracker),
-        )
-        add_people_static_model(tracker, preprocess, background, map_path, static_world)
-        hide_static = add_static_track_filter(
-            tracker, preprocess, background, map_path, static_world
+        preprocess, observe, hide_static = tracker_stages(
+            tracker,
+            detector=detector,
+            leg_fusion=leg_fusion,
+            background=background,
+            map_path=map_path,
+            static_world=static_world,
         )
         if hide_static is not None:
             identifiers.insert(0, hide_static)
@@ -387,4 +413,5 @@ __all__ = [
     "open_source",
     "output_sink",
     "resolve_topics",
+    "tracker_stages",
 ]

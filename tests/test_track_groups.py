@@ -38,8 +38,9 @@ from laserpeople.tracking.groups.model import (
 )
 from laserpeople.tracking.groups.observations import (
     SizeCounting,
+    close_pairs,
+    component_labels,
     count_people,
-    linkage_levels,
 )
 from laserpeople.tracking.mht.tracktree import TrackNode
 
@@ -94,22 +95,28 @@ def legs(centre: tuple[float, float], n: int = 4) -> np.ndarray:
     return np.concatenate(out)
 
 
-def test_linkage_levels_equal_single_linkage_at_each_distance() -> None:
+def _levels(pts: np.ndarray, coarse: float, fine: float) -> tuple[np.ndarray, np.ndarray]:
+    pairs, length = close_pairs(pts, coarse)
+    n = len(pts)
+    return component_labels(n, pairs[length < coarse]), component_labels(n, pairs[length < fine])
+
+
+def test_close_pairs_give_single_linkage_at_each_distance() -> None:
     """Both levels from one KD-tree query give the labels of two single_linkage calls
     (numbered by first point), including points exactly d apart (not linked)."""
     rng = np.random.default_rng(3)
     for n in (1, 2, 17, 150):
         pts = rng.uniform(0.0, 6.0, (n, 2))
-        coarse, fine = linkage_levels(pts, (1.3, 0.3))
+        coarse, fine = _levels(pts, 1.3, 0.3)
         np.testing.assert_array_equal(coarse, single_linkage(pts, 1.3))
         np.testing.assert_array_equal(fine, single_linkage(pts, 0.3))
     grid = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [3.0, 0.0]])
-    coarse, fine = linkage_levels(grid, (2.0, 0.5))
+    coarse, fine = _levels(grid, 2.0, 0.5)
     # 0.5 m and 2.0 m apart exactly: not linked at 0.5 and 2.0 (strictly closer)
     assert coarse.tolist() == [0, 0, 0, 1] and fine.tolist() == [0, 1, 2, 3]
     np.testing.assert_array_equal(coarse, single_linkage(grid, 2.0))
     with pytest.raises(ValueError, match="positive"):
-        linkage_levels(grid, (1.0, 0.0))
+        close_pairs(grid, 0.0)
 
 
 def test_observations_count_human_sized_blobs_fig12() -> None:

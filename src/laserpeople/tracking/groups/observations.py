@@ -14,7 +14,7 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -31,7 +31,7 @@ IntArray = NDArray[np.int64]
 def within_size(points: FloatArray, blobs: IntArray, max_size: float) -> NDArray[np.bool_]:
     """Mask (N,) of the ``points`` (N, 2) [m] whose blob spans at most ``max_size`` [m]
     (the diagonal of its bounding box); ``blobs`` (N,) labels them 0..B-1, every label
-    used (as :func:`linkage_levels` numbers them)."""
+    used (as :func:`component_labels` numbers them)."""
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if pts.shape[0] == 0:
         return np.ones(0, dtype=bool)
@@ -124,29 +124,38 @@ class GroupObservations:
         d_hs: float,
         counting: SizeCounting | None = None,
         max_blob_size: float = 0.0,
+        keep_links: LinkFilter | None = None,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
         count when None); ``members`` (N,) are their indices in the frame. With
         ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
-        clusters are then made again from the rest; the blobs are those of one linkage)."""
+        clusters are then made again from the rest; the blobs are those of one linkage).
+        ``keep_links`` (called once, with the points kept, their blob labels and the links
+        closer than ``d_p``) may cut links (:mod:`.walkers`)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
-        if pts.shape[0] == 0:
-            return cls.empty()
         finite = np.isfinite(pts).all(axis=1)
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
-            if pts.shape[0] == 0:
-                return cls.empty()
-        labels, fine = linkage_levels(pts, (d_p, min(d_hs, d_p)))
-        if max_blob_size > 0.0:
+        d_blob = min(d_hs, d_p)
+        pairs, length = close_pairs(pts, max(d_p, d_blob))
+        fine = component_labels(pts.shape[0], pairs[length < d_blob])
+        if max_blob_size > 0.0 and pts.shape[0]:
             keep = within_size(pts, fine, max_blob_size)
             if not keep.all():
+                # the pairs among the points kept are theirs: no second search
+                new_index = np.cumsum(keep) - 1
+                inside = keep[pairs[:, 0]] & keep[pairs[:, 1]]
+                pairs, length = new_index[pairs[inside]], length[inside]
                 pts, idx = pts[keep], idx[keep]
-                if pts.shape[0] == 0:
-                    return cls.empty()
-                labels, fine = linkage_levels(pts, (d_p, min(d_hs, d_p)))
+                fine = component_labels(pts.shape[0], pairs[length < d_blob])
+        links = pairs[length < d_p]
+        if keep_links is not None:
+            links = links[keep_links(pts, fine, links)]
+        if pts.shape[0] == 0:
+            return cls.empty()
+        labels = component_labels(pts.shape[0], links)
         return cls._from_labels(pts, idx, labels, fine, counting)
 
     @classmethod
@@ -217,30 +226,33 @@ class GroupObservations:
         return cls(pts, offsets, idx, centroids, n_hs, np.ones(m), blobs=fine)
 
 
-def linkage_levels(points: FloatArray, distances: Sequence[float]) -> list[IntArray]:
-    """Single-linkage labels (N,) of finite ``points`` (N, 2) [m] at each of ``distances``
-    [m] (strictly closer points are linked; labels numbered by each cluster's first point,
-    as :func:`laserpeople.clustering.single_linkage`), from one KD-tree query at the
-    largest distance: the pairs closer than a smaller distance are a subset."""
+def close_pairs(points: FloatArray, distance: float) -> tuple[IntArray, FloatArray]:
+    """Pairs (E, 2) of finite ``points`` (N, 2) [m] closer than ``distance`` [m] (one
+    KD-tree query) and their lengths (E,) [m]."""
     from scipy.spatial import cKDTree
 
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    n = pts.shape[0]
-    if any(not d > 0 for d in distances):
-        raise ValueError(f"single-linkage distances must be positive, got {list(distances)}")
-    pairs = cKDTree(pts).query_pairs(max(distances), output_type="ndarray")
+    if not distance > 0:
+        raise ValueError(f"single-linkage distances must be positive, got {distance}")
+    if pts.shape[0] == 0:
+        return np.empty((0, 2), dtype=np.int64), np.empty(0)
+    pairs = cKDTree(pts).query_pairs(distance, output_type="ndarray").astype(np.int64)
     a, b = pairs[:, 0], pairs[:, 1]
     x, y = pts[:, 0], pts[:, 1]
-    length = np.hypot(x[a] - x[b], y[a] - y[b])  # gathers of one coordinate: faster
+    return pairs, np.hypot(x[a] - x[b], y[a] - y[b])  # gathers of one coordinate: faster
+
+
+def component_labels(n: int, links: IntArray) -> IntArray:
+    """Single-linkage labels (n,) of ``n`` points joined by ``links`` (E, 2), numbered by
+    each cluster's first point (as :func:`laserpeople.clustering.single_linkage`)."""
+    root = components(n, links)
     index = np.arange(n)
-    out = []
-    for d in distances:
-        link = pairs[length < d]
-        root = components(n, link)
-        # each component's smallest index is its root: number the roots in index order
-        rank = np.cumsum(root == index) - 1
-        out.append(rank[root].astype(np.int64))
-    return out
+    rank = np.cumsum(root == index) - 1  # each component's smallest index is its root
+    return rank[root].astype(np.int64)
+
+
+LinkFilter = Callable[[FloatArray, IntArray, IntArray], NDArray[np.bool_]]
+"""``(points (N, 2), blob labels (N,), links (E, 2)) -> which links to keep (E,)``."""
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,7 @@ from laserpeople.tracking.groups.model import (
     group_payload,
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
+from laserpeople.tracking.groups.walkers import WalkerSettings, WalkerTracker
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
@@ -142,6 +143,52 @@ class GroupTrackerParams:
         0.12,
         "chosen on entrance-hall seeds 0 and 1 (a leg is about 0.1-0.15 m across)",
         "largest radius of a blob that may be one leg (size_count legs)",
+        "m",
+    )
+    walkers: bool = param(
+        False,
+        "extension of 000 Sec. 4.1 (tracking/groups/walkers.py; docs/groups.md 'Walkers'); "
+        "false is 000's clustering",
+        "track the walkers (human-sized blobs, leg pairs joined, a Kalman filter each) and "
+        "do not link a standing walker with one walking past, nor walkers heading apart, "
+        "into one observation",
+    )
+    walker_standing_speed: float = param(
+        0.3,
+        "chosen on entrance-hall seeds 0 and 1 (0.2/0.3)",
+        "a walker slower than this stands",
+        "m/s",
+    )
+    walker_walking_speed: float = param(
+        0.8,
+        "chosen on entrance-hall seeds 0 and 1 (0.6/0.8); an estimate of a walker in a "
+        "moving party is off by 0.3 m/s at the median",
+        "a walker faster than this walks (passes a standing one)",
+        "m/s",
+    )
+    walker_min_scans: int = param(
+        10,
+        "chosen on entrance-hall seeds 0 and 1 (5/10)",
+        "detections a walker needs before its links can be cut",
+    )
+    walker_accel_psd: float = param(
+        0.2,
+        "chosen on entrance-hall seeds 0 and 1 (0.2/0.5/2): heavy smoothing, since a walker "
+        "seen as one leg is off by up to half a stride",
+        "white-acceleration power spectral density of a walker",
+        "m^2/s^3",
+    )
+    walker_measurement_std: float = param(
+        0.3,
+        "chosen on entrance-hall seeds 0 and 1 (0.1/0.2/0.3)",
+        "position noise of a walker detection",
+        "m",
+    )
+    walker_gate: float = param(
+        0.6,
+        "assumption: a walker moves 0.15 m a scan; its detection jumps by half a stride "
+        "when one leg is hidden",
+        "largest distance from a walker's predicted place to its detection",
         "m",
     )
     point_std: float = param(
@@ -403,6 +450,7 @@ class GroupTrackerParams:
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
         self.confirm_settings()  # checks the confirmation values
+        self.walker_settings()  # and the walkers'
 
     @classmethod
     def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
@@ -471,6 +519,20 @@ class GroupTrackerParams:
             max_gap=self.max_gate_gap,
             log_p_match=math.log(self.p_m),
             rms=self.hausdorff == "rms",
+        )
+
+    def walker_settings(self) -> WalkerSettings:
+        """How walkers are tracked and their links cut (:mod:`.walkers`)."""
+        return WalkerSettings(
+            on=self.walkers,
+            standing_speed=self.walker_standing_speed,
+            walking_speed=self.walker_walking_speed,
+            gate=self.walker_gate,
+            accel_psd=self.walker_accel_psd,
+            min_scans=self.walker_min_scans,
+            measurement_std=self.walker_measurement_std,
+            pair_distance=self.leg_pair_distance,
+            leg_radius=self.leg_radius,
         )
 
     def coherence_settings(self) -> CoherenceSettings:
@@ -595,6 +657,9 @@ class GroupMHTTracker:
         self.last_groups: list[GroupEstimate] = []
         self.last_observations = GroupObservations.empty()
         self._counting = p.counting()
+        walkers = p.walker_settings()
+        self.walkers = WalkerTracker(walkers) if walkers.on else None
+        """The walkers whose velocities cut observation links (None: 000's clustering)."""
         self.static_model: StaticWorldModel | None = None
         """Asked how long a group's place has been static (the pipeline sets it when
         ``static_groups`` is false; None: every group is reported)."""
@@ -668,8 +733,19 @@ class GroupMHTTracker:
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
         p = self.params
+        walkers = self.walkers
         obs = GroupObservations.from_points(
-            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size
+            pts,
+            idx,
+            p.cluster_distance,
+            p.blob_distance,
+            self._counting,
+            p.max_blob_size,
+            None
+            if walkers is None
+            else lambda points, blobs, links: walkers.coherent_links(
+                points, blobs, links, frame.stamp
+            ),
         )
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs

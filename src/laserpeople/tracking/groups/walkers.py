@@ -1,0 +1,233 @@
+"""Walker velocities for the group observations (extension of 000 Sec. 4.1).
+
+000 links two foreground points into one observation whenever they are closer than d_P,
+so a person passing a standing group, or two parties walking past each other, are one
+observation for as long as they are within d_P, and the tracker can only keep them apart
+through its models (000 Fig. 18). In a crowded hall that fails: a wrong merge wins within
+a few scans and cannot be undone while the parties stay close (docs/groups.md, "Why the
+tracker does not beat memory-less clustering"). People who walk together move together.
+
+This module tracks the walkers of the scene - the human-sized blobs at d_hs, with the two
+leg blobs of one person paired as in :func:`~.observations.count_people` - with a
+constant-velocity Kalman filter each and one-to-one nearest-neighbour association, and
+cuts the d_P links between the points of two walkers whose velocities differ by more
+than ``max_velocity_difference``. A walker whose velocity is not known yet (younger than
+``min_scans``) keeps all of its links, so new people are clustered as by 000.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
+
+from laserpeople.tracking import kalman
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class WalkerSettings:
+    """How walkers are tracked and when their links are cut.
+
+    Attributes:
+        max_velocity_difference: Two walkers whose velocities differ by more than this are
+            not linked [m/s]; 0 turns the walkers off (000's clustering).
+        gate: Largest distance from a walker's predicted place to a detection it takes [m].
+        accel_psd: White-acceleration power spectral density of a walker [m^2/s^3].
+        measurement_std: Position noise of a walker detection (the midpoint of its leg
+            blobs, or one blob) [m].
+        init_velocity_std: Velocity std of a new walker [m/s].
+        min_scans: Detections a walker needs before its velocity is used.
+        max_unseen: A walker not seen for longer than this is dropped [s].
+        pair_distance: Largest distance between one person's two leg blobs [m].
+        leg_radius: Largest radius of a blob that can be one leg [m].
+    """
+
+    on: bool = False
+    standing_speed: float = 0.3
+    walking_speed: float = 0.8
+    gate: float = 0.6
+    accel_psd: float = 0.2
+    measurement_std: float = 0.3
+    init_velocity_std: float = 1.0
+    min_scans: int = 10
+    max_unseen: float = 0.5
+    pair_distance: float = 0.7
+    leg_radius: float = 0.12
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.standing_speed <= self.walking_speed:
+            raise ValueError("walkers need 0 < standing_speed <= walking_speed")
+        positive = (
+            self.gate,
+            self.accel_psd,
+            self.measurement_std,
+            self.init_velocity_std,
+            self.pair_distance,
+            self.leg_radius,
+        )
+        if min(positive) <= 0.0:
+            raise ValueError(
+                "walker gate, accel_psd, measurement_std, init_velocity_std, pair_distance "
+                "and leg_radius must be positive"
+            )
+        if self.min_scans < 1 or self.max_unseen < 0.0:
+            raise ValueError("walker min_scans must be >= 1 and max_unseen >= 0")
+
+
+def walker_detections(
+    points: FloatArray, blobs: IntArray, pair_distance: float, leg_radius: float
+) -> tuple[FloatArray, IntArray]:
+    """Walker detections of one scan: ``points`` (N, 2) [m] with blob labels ``blobs``
+    (N,) 0..B-1. Two leg-sized blobs (radius at most ``leg_radius``) that are each other's
+    nearest leg blob and closer than ``pair_distance`` are one walker at their midpoint;
+    every other blob is a walker at its centre. Returns the places (W, 2) and the walker
+    (B,) of every blob."""
+    n_blobs = int(blobs.max()) + 1 if blobs.size else 0
+    if n_blobs == 0:
+        return np.empty((0, 2)), np.empty(0, dtype=np.int64)
+    size = np.bincount(blobs, minlength=n_blobs)
+    centre = (
+        np.column_stack(
+            [np.bincount(blobs, points[:, 0], n_blobs), np.bincount(blobs, points[:, 1], n_blobs)]
+        )
+        / size[:, None]
+    )
+    radius = np.zeros(n_blobs)
+    np.maximum.at(radius, blobs, np.hypot(*(points - centre[blobs]).T))
+    walker = np.arange(n_blobs)
+    leg = np.nonzero(radius <= leg_radius)[0]
+    if leg.size >= 2:
+        c = centre[leg]
+        dist = np.hypot(c[:, None, 0] - c[None, :, 0], c[:, None, 1] - c[None, :, 1])
+        np.fill_diagonal(dist, np.inf)
+        nearest = np.argmin(dist, axis=1)
+        k = np.arange(leg.size)
+        paired = (dist[k, nearest] < pair_distance) & (nearest[nearest] == k)
+        # the pair's walker is the smaller blob label of the two
+        walker[leg[paired]] = np.minimum(leg[paired], leg[nearest[paired]])
+    used, walker = np.unique(walker, return_inverse=True)
+    counts = np.bincount(walker, minlength=used.size)
+    places = (
+        np.column_stack(
+            [
+                np.bincount(walker, centre[:, 0], used.size),
+                np.bincount(walker, centre[:, 1], used.size),
+            ]
+        )
+        / counts[:, None]
+    )
+    return places, walker.astype(np.int64)
+
+
+class WalkerTracker:
+    """Walkers of the scene, tracked scan to scan (see the module doc).
+
+    Attributes:
+        means: (T, 4) state (x, y, vx, vy) [m, m/s] of every walker.
+        covs: (T, 4, 4) covariances.
+        hits: (T,) detections taken by every walker.
+        seen: (T,) time [s] every walker was last detected.
+    """
+
+    def __init__(self, settings: WalkerSettings | None = None) -> None:
+        self.settings = settings if settings is not None else WalkerSettings()
+        self.means = np.empty((0, 4))
+        self.covs = np.empty((0, 4, 4))
+        self.hits = np.empty(0, dtype=np.int64)
+        self.seen = np.empty(0)
+        self.stamp: float | None = None
+
+    def __len__(self) -> int:
+        return int(self.hits.size)
+
+    def update(
+        self, places: FloatArray, stamp: float
+    ) -> tuple[FloatArray, BoolArray]:
+        """Take the walker detections ``places`` (W, 2) [m] of the scan at ``stamp`` [s];
+        returns the velocity (W, 2) [m/s] of the walker each detection went to and whether
+        it is known (W,) (the walker has at least ``min_scans`` detections)."""
+        s = self.settings
+        dt = 0.0 if self.stamp is None else max(0.0, stamp - self.stamp)
+        self.stamp = stamp
+        if len(self) and dt > 0.0:
+            self.means, self.covs = kalman.predict(
+                self.means, self.covs, np.full(len(self), dt), s.accel_psd
+            )
+        w = places.shape[0]
+        track_of = np.full(w, -1, dtype=np.int64)
+        if len(self) and w:
+            d = np.hypot(
+                self.means[:, None, 0] - places[None, :, 0],
+                self.means[:, None, 1] - places[None, :, 1],
+            )
+            cost = np.where(d < s.gate, d, 1e6)
+            rows, cols = linear_sum_assignment(cost)
+            ok = cost[rows, cols] < s.gate
+            rows, cols = rows[ok], cols[ok]
+            if rows.size:
+                r = np.broadcast_to(np.eye(2) * s.measurement_std**2, (rows.size, 2, 2))
+                self.means[rows], self.covs[rows] = kalman.update_batch(
+                    self.means[rows], self.covs[rows], places[cols], r
+                )
+                self.hits[rows] += 1
+                self.seen[rows] = stamp
+                track_of[cols] = rows
+        new = np.nonzero(track_of < 0)[0]
+        if new.size:
+            r = np.broadcast_to(np.eye(2) * s.measurement_std**2, (new.size, 2, 2))
+            m, c = kalman.initiate_batch(places[new], np.array(r), s.init_velocity_std)
+            track_of[new] = np.arange(len(self), len(self) + new.size)
+            self.means = np.concatenate([self.means, m])
+            self.covs = np.concatenate([self.covs, c])
+            self.hits = np.concatenate([self.hits, np.ones(new.size, dtype=np.int64)])
+            self.seen = np.concatenate([self.seen, np.full(new.size, stamp)])
+        velocity = self.means[track_of, 2:4]
+        known = self.hits[track_of] >= s.min_scans
+        alive = stamp - self.seen <= s.max_unseen
+        if not alive.all():
+            self.means, self.covs = self.means[alive], self.covs[alive]
+            self.hits, self.seen = self.hits[alive], self.seen[alive]
+        return velocity, known
+
+    def coherent_links(
+        self, points: FloatArray, blobs: IntArray, links: IntArray, stamp: float
+    ) -> BoolArray:
+        """Track the walkers of a scan (``points`` (N, 2) [m], blob labels ``blobs`` (N,)
+        0..B-1) and tell which point ``links`` (E, 2) join walkers that move alike (E,)."""
+        s = self.settings
+        if points.shape[0] == 0:
+            self.update(np.empty((0, 2)), stamp)
+            return np.ones(len(links), dtype=bool)
+        places, walker_of_blob = walker_detections(
+            points, blobs, s.pair_distance, s.leg_radius
+        )
+        velocity, known = self.update(places, stamp)
+        if len(links) == 0:
+            return np.ones(0, dtype=bool)
+        wa = walker_of_blob[blobs[links[:, 0]]]
+        wb = walker_of_blob[blobs[links[:, 1]]]
+        apart = moving_apart(velocity[wa], velocity[wb], s.standing_speed, s.walking_speed)
+        return ~(apart & known[wa] & known[wb])
+
+
+
+def moving_apart(
+    va: FloatArray, vb: FloatArray, standing_speed: float, walking_speed: float
+) -> BoolArray:
+    """Which pairs of walkers with velocities ``va`` (E, 2) and ``vb`` (E, 2) [m/s] do not
+    move as one (E,): one stands (slower than ``standing_speed``) while the other walks
+    (faster than ``walking_speed``), or both move (faster than ``standing_speed``) in
+    directions more than 90 degrees apart. Walkers heading the same way are never cut: a
+    party walking together differs only by the noise of its members' estimates."""
+    sa = np.hypot(va[:, 0], va[:, 1])
+    sb = np.hypot(vb[:, 0], vb[:, 1])
+    slow, fast = np.minimum(sa, sb), np.maximum(sa, sb)
+    passing = (slow < standing_speed) & (fast > walking_speed)
+    crossing = (slow >= standing_speed) & (np.einsum("ij,ij->i", va, vb) < 0.0)
+    return passing | crossing

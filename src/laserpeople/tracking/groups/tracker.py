@@ -171,6 +171,11 @@ class GroupTrackerParams:
         "chosen on entrance-hall seeds 0 and 1 (5/10)",
         "detections a walker needs before its links can be cut",
     )
+    walker_apart_scans: int = param(
+        1,
+        "chosen on entrance-hall seeds 0 and 1",
+        "scans in a row two linked walkers must move apart before their link is cut",
+    )
     walker_accel_psd: float = param(
         0.2,
         "chosen on entrance-hall seeds 0 and 1 (0.2/0.5/2): heavy smoothing, since a walker "
@@ -530,6 +535,7 @@ class GroupTrackerParams:
             gate=self.walker_gate,
             accel_psd=self.walker_accel_psd,
             min_scans=self.walker_min_scans,
+            apart_scans=self.walker_apart_scans,
             measurement_std=self.walker_measurement_std,
             pair_distance=self.leg_pair_distance,
             leg_radius=self.leg_radius,

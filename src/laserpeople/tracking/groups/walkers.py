@@ -56,6 +56,7 @@ class WalkerSettings:
     measurement_std: float = 0.3
     init_velocity_std: float = 1.0
     min_scans: int = 10
+    apart_scans: int = 1
     max_unseen: float = 0.5
     pair_distance: float = 0.7
     leg_radius: float = 0.12
@@ -76,8 +77,8 @@ class WalkerSettings:
                 "walker gate, accel_psd, measurement_std, init_velocity_std, pair_distance "
                 "and leg_radius must be positive"
             )
-        if self.min_scans < 1 or self.max_unseen < 0.0:
-            raise ValueError("walker min_scans must be >= 1 and max_unseen >= 0")
+        if self.min_scans < 1 or self.apart_scans < 1 or self.max_unseen < 0.0:
+            raise ValueError("walker min_scans and apart_scans must be >= 1, max_unseen >= 0")
 
 
 def walker_detections(
@@ -141,17 +142,20 @@ class WalkerTracker:
         self.covs = np.empty((0, 4, 4))
         self.hits = np.empty(0, dtype=np.int64)
         self.seen = np.empty(0)
+        self.ids = np.empty(0, dtype=np.int64)
         self.stamp: float | None = None
+        self._next_id = 0
+        # (walker id, walker id) -> consecutive scans the two moved apart while linked
+        self._apart_for: dict[tuple[int, int], int] = {}
 
     def __len__(self) -> int:
         return int(self.hits.size)
 
-    def update(
-        self, places: FloatArray, stamp: float
-    ) -> tuple[FloatArray, BoolArray]:
+    def update(self, places: FloatArray, stamp: float) -> tuple[FloatArray, BoolArray, IntArray]:
         """Take the walker detections ``places`` (W, 2) [m] of the scan at ``stamp`` [s];
-        returns the velocity (W, 2) [m/s] of the walker each detection went to and whether
-        it is known (W,) (the walker has at least ``min_scans`` detections)."""
+        returns the velocity (W, 2) [m/s] of the walker each detection went to, whether
+        it is known (W,) (the walker has at least ``min_scans`` detections) and its id
+        (W,)."""
         s = self.settings
         dt = 0.0 if self.stamp is None else max(0.0, stamp - self.stamp)
         self.stamp = stamp
@@ -187,13 +191,17 @@ class WalkerTracker:
             self.covs = np.concatenate([self.covs, c])
             self.hits = np.concatenate([self.hits, np.ones(new.size, dtype=np.int64)])
             self.seen = np.concatenate([self.seen, np.full(new.size, stamp)])
+            fresh = np.arange(self._next_id, self._next_id + new.size, dtype=np.int64)
+            self.ids = np.concatenate([self.ids, fresh])
+            self._next_id += new.size
         velocity = self.means[track_of, 2:4]
         known = self.hits[track_of] >= s.min_scans
+        ids = self.ids[track_of]
         alive = stamp - self.seen <= s.max_unseen
         if not alive.all():
             self.means, self.covs = self.means[alive], self.covs[alive]
-            self.hits, self.seen = self.hits[alive], self.seen[alive]
-        return velocity, known
+            self.hits, self.seen, self.ids = self.hits[alive], self.seen[alive], self.ids[alive]
+        return velocity, known, ids
 
     def coherent_links(
         self, points: FloatArray, blobs: IntArray, links: IntArray, stamp: float
@@ -204,17 +212,24 @@ class WalkerTracker:
         if points.shape[0] == 0:
             self.update(np.empty((0, 2)), stamp)
             return np.ones(len(links), dtype=bool)
-        places, walker_of_blob = walker_detections(
-            points, blobs, s.pair_distance, s.leg_radius
-        )
-        velocity, known = self.update(places, stamp)
-        if len(links) == 0:
-            return np.ones(0, dtype=bool)
+        places, walker_of_blob = walker_detections(points, blobs, s.pair_distance, s.leg_radius)
+        velocity, known, ids = self.update(places, stamp)
         wa = walker_of_blob[blobs[links[:, 0]]]
         wb = walker_of_blob[blobs[links[:, 1]]]
         apart = moving_apart(velocity[wa], velocity[wb], s.standing_speed, s.walking_speed)
-        return ~(apart & known[wa] & known[wb])
-
+        apart &= known[wa] & known[wb]
+        # a pair of walkers is cut once it has moved apart for apart_scans scans in a row
+        streaks: dict[tuple[int, int], int] = {}
+        lo, hi = np.minimum(ids[wa], ids[wb]), np.maximum(ids[wa], ids[wb])
+        for a, b, now in set(zip(lo.tolist(), hi.tolist(), apart.tolist(), strict=True)):
+            if now:
+                streaks[a, b] = self._apart_for.get((a, b), 0) + 1
+        self._apart_for = streaks
+        if not streaks:
+            return np.ones(len(links), dtype=bool)
+        pairs = zip(lo.tolist(), hi.tolist(), strict=True)
+        cut = [streaks.get(pair, 0) >= s.apart_scans for pair in pairs]
+        return ~np.asarray(cut, dtype=bool)
 
 
 def moving_apart(

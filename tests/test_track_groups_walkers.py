@@ -136,7 +136,8 @@ def _standing_pair_and_passer(seed: int) -> Scene:
 
 def test_walkers_keep_a_person_passing_a_standing_pair_apart() -> None:
     """000's setting merges the passer into the standing pair (0.124, as bad as memory-less
-    clustering, 0.132); with walkers the tracker keeps them apart (0.000)."""
+    clustering, 0.132); with walkers the tracker keeps them apart (0.004: one scan's merge
+    while the cut waits ``walker_apart_scans``)."""
     scans = simulate(_standing_pair_and_passer(3), 12.0, seed=3).scans
     paper = run_groups(scans, GroupTrackerParams())
     walkers = run_groups(scans, GroupTrackerParams(walkers=True))
@@ -144,7 +145,7 @@ def test_walkers_keep_a_person_passing_a_standing_pair_apart() -> None:
     assert paper.clustering.error >= 0.5 * paper.memoryless.error  # 000's setting merges
     assert walkers.clustering.error <= 0.2 * walkers.memoryless.error
     assert walkers.clustering.over_rate <= 0.02
-    assert walkers.merges == 0
+    assert walkers.merges <= 1  # while a cut waits apart_scans scans, one merge may win
 
 
 def test_walker_settings_are_checked() -> None:

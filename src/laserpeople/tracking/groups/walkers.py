@@ -35,14 +35,17 @@ class WalkerSettings:
     """How walkers are tracked and when their links are cut.
 
     Attributes:
-        max_velocity_difference: Two walkers whose velocities differ by more than this are
-            not linked [m/s]; 0 turns the walkers off (000's clustering).
+        on: Whether links are cut at all (False: 000's clustering).
+        standing_speed: A walker slower than this stands [m/s].
+        walking_speed: A walker faster than this walks [m/s] (see :func:`moving_apart`).
         gate: Largest distance from a walker's predicted place to a detection it takes [m].
         accel_psd: White-acceleration power spectral density of a walker [m^2/s^3].
         measurement_std: Position noise of a walker detection (the midpoint of its leg
             blobs, or one blob) [m].
         init_velocity_std: Velocity std of a new walker [m/s].
         min_scans: Detections a walker needs before its velocity is used.
+        apart_scans: Scans in a row two linked walkers must move apart before their
+            links are cut.
         max_unseen: A walker not seen for longer than this is dropped [s].
         pair_distance: Largest distance between one person's two leg blobs [m].
         leg_radius: Largest radius of a blob that can be one leg [m].
@@ -56,7 +59,7 @@ class WalkerSettings:
     measurement_std: float = 0.3
     init_velocity_std: float = 1.0
     min_scans: int = 10
-    apart_scans: int = 1
+    apart_scans: int = 3
     max_unseen: float = 0.5
     pair_distance: float = 0.7
     leg_radius: float = 0.12

@@ -54,7 +54,7 @@ def main() -> None:
                 t = truth[lf.frame.index]
                 velocity = {int(p): t.velocities[i] for i, p in enumerate(t.person_ids)}
                 seen = {int(p): rng.normal(0.0, noise, 2) for p in np.unique(person)}
-                v_point = np.array([velocity[int(p)] + seen[int(p)] for p in person])
+                v_point = np.array([velocity[int(p)] + seen[int(p)] for p in person]).reshape(-1, 2)
                 pairs, length = close_pairs(pts, args.d_p)
                 links = pairs[length < args.d_p]
                 dv = np.hypot(*(v_point[links[:, 0]] - v_point[links[:, 1]]).T)

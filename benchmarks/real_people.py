@@ -157,7 +157,8 @@ def main_groups(bags: list[str], walk: float, walkers: bool) -> None:
         for static_groups, on in settings:
             c = run_groups(key, static_groups, walk, on)
             print(
-                f"{key:8s} {static_groups!s:6s}/{on!s:14s} {c.ids:4d} {c.walker_ids:8d} {c.short_ids:6d} "
+                f"{key:8s} {static_groups!s:6s}/{on!s:14s} {c.ids:4d} {c.walker_ids:8d} "
+                f"{c.short_ids:6d} "
                 f"{c.person_seconds:8.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "
                 f"{c.gaps:5d} {c.ms:8.2f}",
                 flush=True,
@@ -257,9 +258,7 @@ def main() -> None:
     ap.add_argument("--backgrounds", nargs="+", default=["none", "auto"])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
-    ap.add_argument(
-        "--walkers", action="store_true", help="with --groups: the walkers off and on"
-    )
+    ap.add_argument("--walkers", action="store_true", help="with --groups: the walkers off and on")
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
     )

@@ -304,6 +304,20 @@ def count_people(
     out = np.bincount(blob_cluster, minlength=m).astype(np.float64)
     if counting is None or counting.method == "blobs" or n_blobs < 2:
         return out
+    centre, radius = blob_shapes(pts, blob, n_blobs)
+    leg, partner = leg_pairs(
+        centre, radius, counting.leg_radius, counting.pair_distance, blob_cluster
+    )
+    paired = partner >= 0
+    # each mutual pair is seen from both of its blobs: half a person less per blob
+    np.subtract.at(out, blob_cluster[leg[paired]], 0.5)
+    return out
+
+
+def blob_shapes(pts: FloatArray, blob: IntArray, n_blobs: int) -> tuple[FloatArray, FloatArray]:
+    """Centre (B, 2) [m] and radius (B,) [m] (largest distance of a point from the centre)
+    of each of ``n_blobs`` blobs, ``blob`` (N,) the label 0..B-1 of each point ``pts``
+    (N, 2), every label used."""
     size = np.bincount(blob, minlength=n_blobs)
     centre = (
         np.column_stack(
@@ -313,17 +327,32 @@ def count_people(
     )
     radius = np.zeros(n_blobs)
     np.maximum.at(radius, blob, np.hypot(*(pts - centre[blob]).T))
-    leg = np.nonzero(radius <= counting.leg_radius)[0]
+    return centre, radius
+
+
+def leg_pairs(
+    centre: FloatArray,
+    radius: FloatArray,
+    leg_radius: float,
+    pair_distance: float,
+    cluster: IntArray | None = None,
+) -> tuple[IntArray, IntArray]:
+    """One person's two legs among blobs with ``centre`` (B, 2) and ``radius`` (B,) [m]:
+    blobs of radius at most ``leg_radius`` that are each other's nearest such blob (within
+    the same ``cluster`` (B,) label, any when None) and closer than ``pair_distance`` [m].
+    Returns the leg-sized blobs (L,) and each one's partner blob (L,), -1 if unpaired."""
+    leg = np.nonzero(radius <= leg_radius)[0]
+    partner = np.full(leg.size, -1, dtype=np.int64)
     if leg.size < 2:
-        return out
+        return leg, partner
     c = centre[leg]
     dist = np.hypot(c[:, None, 0] - c[None, :, 0], c[:, None, 1] - c[None, :, 1])
-    same = blob_cluster[leg][:, None] == blob_cluster[leg][None, :]
-    dist = np.where(same, dist, np.inf)
+    if cluster is not None:
+        same = cluster[leg][:, None] == cluster[leg][None, :]
+        dist = np.where(same, dist, np.inf)
     np.fill_diagonal(dist, np.inf)
     nearest = np.argmin(dist, axis=1)
     k = np.arange(leg.size)
-    paired = (dist[k, nearest] < counting.pair_distance) & (nearest[nearest] == k)
-    # each mutual pair is seen from both of its blobs: half a person less per blob
-    np.subtract.at(out, blob_cluster[leg[paired]], 0.5)
-    return out
+    paired = (dist[k, nearest] < pair_distance) & (nearest[nearest] == k)
+    partner[paired] = leg[nearest[paired]]
+    return leg, partner

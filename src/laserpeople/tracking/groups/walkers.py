@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from laserpeople.tracking import kalman
+from laserpeople.tracking.groups.observations import blob_shapes, leg_pairs
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -95,26 +96,12 @@ def walker_detections(
     n_blobs = int(blobs.max()) + 1 if blobs.size else 0
     if n_blobs == 0:
         return np.empty((0, 2)), np.empty(0, dtype=np.int64)
-    size = np.bincount(blobs, minlength=n_blobs)
-    centre = (
-        np.column_stack(
-            [np.bincount(blobs, points[:, 0], n_blobs), np.bincount(blobs, points[:, 1], n_blobs)]
-        )
-        / size[:, None]
-    )
-    radius = np.zeros(n_blobs)
-    np.maximum.at(radius, blobs, np.hypot(*(points - centre[blobs]).T))
+    centre, radius = blob_shapes(points, blobs, n_blobs)
+    leg, partner = leg_pairs(centre, radius, leg_radius, pair_distance)
     walker = np.arange(n_blobs)
-    leg = np.nonzero(radius <= leg_radius)[0]
-    if leg.size >= 2:
-        c = centre[leg]
-        dist = np.hypot(c[:, None, 0] - c[None, :, 0], c[:, None, 1] - c[None, :, 1])
-        np.fill_diagonal(dist, np.inf)
-        nearest = np.argmin(dist, axis=1)
-        k = np.arange(leg.size)
-        paired = (dist[k, nearest] < pair_distance) & (nearest[nearest] == k)
-        # the pair's walker is the smaller blob label of the two
-        walker[leg[paired]] = np.minimum(leg[paired], leg[nearest[paired]])
+    paired = partner >= 0
+    # the pair's walker is the smaller blob label of the two
+    walker[leg[paired]] = np.minimum(leg[paired], partner[paired])
     used, walker = np.unique(walker, return_inverse=True)
     counts = np.bincount(walker, minlength=used.size)
     places = (

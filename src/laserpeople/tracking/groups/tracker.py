@@ -197,6 +197,50 @@ class GroupTrackerParams:
         "largest distance from a walker's predicted place to its detection",
         "m",
     )
+    walker_lone_std: float = param(
+        0.3,
+        "assumption: a lone leg is off the walker's place by up to half a stride",
+        "position noise of a walker seen as one leg-sized blob",
+        "m",
+    )
+    walker_association: str = param(
+        "pairs",
+        "extension (docs/groups.md 'Walkers')",
+        "walker detections: 'pairs' (mutual-nearest leg pairs, matched to the walkers) or "
+        "'tracks' (each walker takes up to two leg blobs near its prediction)",
+    )
+    walker_second_leg_cost: float = param(
+        0.0,
+        "assumption",
+        "extra cost of a walker's second leg blob in the 'tracks' association",
+        "m",
+    )
+    walker_velocity: str = param(
+        "kalman",
+        "extension (docs/groups.md 'Walkers')",
+        "walker velocity: 'kalman' (the filter's) or 'window' (least-squares slope of the "
+        "walker's places over walker_window)",
+    )
+    walker_window: float = param(
+        1.0,
+        "assumption: about two steps of a walker",
+        "length of the window velocity's fit",
+        "s",
+    )
+    walker_cut: str = param(
+        "stand_walk",
+        "extension (docs/groups.md 'Walkers')",
+        "when two linked walkers move apart: 'stand_walk' (one stands, one walks, or they "
+        "head more than 90 degrees apart) or 'difference' (velocities differ by more than "
+        "walker_max_velocity_difference)",
+    )
+    walker_max_velocity_difference: float = param(
+        0.6,
+        "the ceiling with true velocities: 0.4-0.7 m/s (docs/groups.md 'Walkers')",
+        "walkers whose velocities differ by more than this move apart (walker_cut "
+        "'difference')",
+        "m/s",
+    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -538,8 +582,15 @@ class GroupTrackerParams:
             min_scans=self.walker_min_scans,
             apart_scans=self.walker_apart_scans,
             measurement_std=self.walker_measurement_std,
+            lone_std=self.walker_lone_std,
             pair_distance=self.leg_pair_distance,
             leg_radius=self.leg_radius,
+            association=self.walker_association,
+            second_leg_cost=self.walker_second_leg_cost,
+            velocity=self.walker_velocity,
+            window=self.walker_window,
+            cut=self.walker_cut,
+            max_velocity_difference=self.walker_max_velocity_difference,
         )
 
     def coherence_settings(self) -> CoherenceSettings:

@@ -241,6 +241,25 @@ class GroupTrackerParams:
         "'difference')",
         "m/s",
     )
+    walker_min_span: float = param(
+        0.0,
+        "assumption",
+        "a window velocity is known only if the walker's places span this share of "
+        "walker_window",
+    )
+    walker_max_residual: float = param(
+        math.inf,
+        "assumption",
+        "a window velocity is known only if the walker's places are within this weighted "
+        "RMS distance of the fitted line (inf: any)",
+        "m",
+    )
+    walker_blob_distance: float = param(
+        0.0,
+        "assumption",
+        "single-linkage distance of the walkers' own blobs (0: the observations' at d_hs)",
+        "m",
+    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -591,6 +610,9 @@ class GroupTrackerParams:
             window=self.walker_window,
             cut=self.walker_cut,
             max_velocity_difference=self.walker_max_velocity_difference,
+            min_span=self.walker_min_span,
+            max_residual=self.walker_max_residual,
+            blob_distance=self.walker_blob_distance,
         )
 
     def coherence_settings(self) -> CoherenceSettings:

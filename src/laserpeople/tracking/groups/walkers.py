@@ -51,7 +51,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from laserpeople.tracking import kalman
-from laserpeople.tracking.groups.observations import blob_shapes, leg_pairs
+from laserpeople.tracking.groups.observations import blob_shapes, component_labels, leg_pairs
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -117,6 +117,9 @@ class WalkerSettings:
     window: float = 1.0
     cut: str = "stand_walk"
     max_velocity_difference: float = 0.6
+    min_span: float = 0.0
+    max_residual: float = float("inf")
+    blob_distance: float = 0.0
 
     def __post_init__(self) -> None:
         if not 0.0 < self.standing_speed <= self.walking_speed:
@@ -139,8 +142,8 @@ class WalkerSettings:
             )
         if self.min_scans < 1 or self.apart_scans < 1 or self.max_unseen < 0.0:
             raise ValueError("walker min_scans and apart_scans must be >= 1, max_unseen >= 0")
-        if self.second_leg_cost < 0.0:
-            raise ValueError("walker second_leg_cost must not be negative")
+        if self.second_leg_cost < 0.0 or self.blob_distance < 0.0:
+            raise ValueError("walker second_leg_cost and blob_distance must not be negative")
         for name, value, allowed in (
             ("association", self.association, ASSOCIATIONS),
             ("velocity", self.velocity, VELOCITIES),
@@ -240,11 +243,12 @@ def assign_blobs(
 
 def window_velocity(
     stamps: FloatArray, places: FloatArray, weights: FloatArray, now: float, window: float
-) -> tuple[FloatArray, FloatArray]:
-    """Weighted least-squares slope of places over the last ``window`` seconds before
-    ``now``: ``stamps`` (T, K) [s], ``places`` (T, K, 2) [m], ``weights`` (T, K) (0: no
-    place). Returns the velocities (T, 2) [m/s] (0 where fewer than two distinct times)
-    and the time span (T,) [s] of the places used."""
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Weighted least-squares line through a walker's places over the last ``window``
+    seconds before ``now``: ``stamps`` (T, K) [s], ``places`` (T, K, 2) [m], ``weights``
+    (T, K) (0: no place). Returns the slopes (T, 2) [m/s] (0 where fewer than two distinct
+    times), the time span (T,) [s] of the places used and the weighted RMS distance (T,)
+    [m] of the places from the line."""
     w = np.where(now - stamps <= window + 1e-9, weights, 0.0)
     tau = np.where(w > 0.0, stamps - now, 0.0)
     s = w.sum(axis=1)
@@ -256,8 +260,12 @@ def window_velocity(
     ok = den > 1e-12
     v = np.zeros((stamps.shape[0], 2))
     v[ok] = (s[ok, None] * stx[ok] - st[ok, None] * sx[ok]) / den[ok, None]
+    safe = np.maximum(s, 1e-12)
+    a = (sx - v * st[:, None]) / safe[:, None]
+    r = places - a[:, None, :] - v[:, None, :] * tau[:, :, None]
+    rms = np.sqrt(np.einsum("tk,tkc->t", w, r * r) / safe)
     oldest = np.where(w > 0.0, tau, 0.0).min(axis=1)
-    return v, -oldest
+    return v, -oldest, rms
 
 
 class WalkerTracker:
@@ -352,7 +360,8 @@ class WalkerTracker:
         known = self.hits >= s.min_scans
         if s.velocity == "kalman":
             return self.means[:, 2:4].copy(), known
-        v, _ = window_velocity(self._t, self._xy, self._w, stamp, s.window)
+        v, span, rms = window_velocity(self._t, self._xy, self._w, stamp, s.window)
+        known &= (span >= s.min_span * s.window) & (rms <= s.max_residual)
         return v, known
 
     def _drop_lost(self, stamp: float) -> None:
@@ -451,6 +460,10 @@ class WalkerTracker:
         if points.shape[0] == 0:
             self.update(np.empty((0, 2)), stamp)
             return np.ones(len(links), dtype=bool)
+        if s.blob_distance > 0.0:
+            a, b = links[:, 0], links[:, 1]
+            length = np.hypot(points[a, 0] - points[b, 0], points[a, 1] - points[b, 1])
+            blobs = component_labels(points.shape[0], links[length < s.blob_distance])
         n_blobs = int(blobs.max()) + 1
         centre, radius = blob_shapes(points, blobs, n_blobs)
         walker_of_blob, velocity, known, ids = self.update_blobs(centre, radius, stamp)

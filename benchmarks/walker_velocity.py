@@ -96,10 +96,9 @@ def measure(seed: int, seconds: float, params: GroupTrackerParams, groups: bool)
         )
         if tracker.last_scan is None or not len(pts):
             continue
-        walker_of_blob, velocity, known, _ = tracker.last_scan
+        walker, velocity, known, _ = tracker.last_scan
         t = truth[lf.frame.index]
         true_v = {int(p): t.velocities[i] for i, p in enumerate(t.person_ids)}
-        walker = walker_of_blob[blobs]
         scan_kinds = _scan_kinds(tracker, velocity.shape[0])
         for w in np.nonzero(known)[0].tolist():
             mine = person[walker == w]

@@ -299,7 +299,7 @@ class WalkerTracker:
         # (walker id, walker id) -> consecutive scans the two moved apart while linked
         self._apart_for: dict[tuple[int, int], int] = {}
         self.last_scan: tuple[IntArray, FloatArray, BoolArray, IntArray] | None = None
-        """The last scan's walker of every blob, and every walker's velocity, whether it
+        """The last scan's walker of every point, and every walker's velocity, whether it
         is known and its id (for diagnostics; None before the first scan with points)."""
 
     def __len__(self) -> int:
@@ -467,7 +467,7 @@ class WalkerTracker:
         n_blobs = int(blobs.max()) + 1
         centre, radius = blob_shapes(points, blobs, n_blobs)
         walker_of_blob, velocity, known, ids = self.update_blobs(centre, radius, stamp)
-        self.last_scan = (walker_of_blob, velocity, known, ids)
+        self.last_scan = (walker_of_blob[blobs], velocity, known, ids)
         wa = walker_of_blob[blobs[links[:, 0]]]
         wb = walker_of_blob[blobs[links[:, 1]]]
         if s.cut == "difference":

@@ -19,9 +19,8 @@ Detections (``association``):
   ``pair_distance`` are one walker at their midpoint (as the size count); every other blob
   is a walker; walkers are matched one to one to the nearest detection (Hungarian).
 * ``"tracks"``: the tracks choose their blobs. Every walker has two slots; a blob may go
-  to either (the second slot only takes a leg-sized blob, at ``second_leg_cost`` more),
-  and one Hungarian assignment over all slots and blobs within ``gate`` of the predicted
-  places decides. So in a crowd a walker keeps its own legs rather than whatever leg is
+  to either (the second slot only takes a leg-sized blob), and one Hungarian assignment
+  over all slots and blobs within ``gate`` of the predicted places decides. So in a crowd a walker keeps its own legs rather than whatever leg is
   its mutual nearest. Blobs no walker takes are paired as in ``"pairs"`` and start walkers.
 
 The walker's place is the midpoint of its two legs, the centre of a wider blob, or a lone
@@ -64,8 +63,9 @@ CUTS = ("stand_walk", "difference")
 PAIR, WIDE, LONE = 0, 1, 2
 """Kinds of walker detection: two leg blobs, one wider blob, one leg-sized blob alone."""
 
-HISTORY = 64
-"""Places kept per walker for the window velocity (64 scans: 1 s at up to 64 Hz)."""
+HISTORY = 128
+"""Places kept per walker for the window velocity (128 scans: a 1.2 s window at up to
+100 Hz; at faster scan rates the window is shorter than ``window``)."""
 
 
 @dataclass(frozen=True)
@@ -90,12 +90,20 @@ class WalkerSettings:
         pair_distance: Largest distance between one person's two leg blobs [m].
         leg_radius: Largest radius of a blob that can be one leg [m].
         association: ``"pairs"`` or ``"tracks"`` (module doc).
-        second_leg_cost: Extra cost of a walker's second leg in ``"tracks"`` [m].
         velocity: ``"kalman"`` or ``"window"`` (module doc).
         window: Length of the window velocity's fit [s].
         cut: ``"stand_walk"`` or ``"difference"`` (module doc).
         max_velocity_difference: Walkers whose velocities differ by more than this move
             apart (``cut = "difference"``) [m/s].
+        max_residual: A window velocity is known only if the walker's places are within
+            this weighted RMS distance of the fitted line [m] (a walker whose track
+            jumped to another person mid-window mostly is not).
+        blob_distance: Single-linkage distance of the walkers' own blobs [m] (0: the
+            observations' blobs at d_hs). Finer blobs split the legs of two people that
+            touch, which one blob at d_hs welds.
+        line_prediction: ``"tracks"``: a walker whose window spans at least half of
+            ``window`` is predicted on its window's line rather than by its Kalman
+            filter (which a lone stance leg holds back).
     """
 
     on: bool = False
@@ -104,22 +112,21 @@ class WalkerSettings:
     gate: float = 0.6
     accel_psd: float = 0.2
     measurement_std: float = 0.3
-    lone_std: float = 0.3
+    lone_std: float = 1.0
     init_velocity_std: float = 1.0
     min_scans: int = 10
-    apart_scans: int = 3
+    apart_scans: int = 1
     max_unseen: float = 0.5
     pair_distance: float = 0.7
     leg_radius: float = 0.12
-    association: str = "pairs"
-    second_leg_cost: float = 0.0
-    velocity: str = "kalman"
-    window: float = 1.0
-    cut: str = "stand_walk"
+    association: str = "tracks"
+    velocity: str = "window"
+    window: float = 1.2
+    cut: str = "difference"
     max_velocity_difference: float = 0.6
-    min_span: float = 0.0
-    max_residual: float = float("inf")
-    blob_distance: float = 0.0
+    max_residual: float = 0.1
+    blob_distance: float = 0.15
+    line_prediction: bool = True
 
     def __post_init__(self) -> None:
         if not 0.0 < self.standing_speed <= self.walking_speed:
@@ -134,16 +141,18 @@ class WalkerSettings:
             self.leg_radius,
             self.window,
             self.max_velocity_difference,
+            self.max_residual,
         )
         if min(positive) <= 0.0:
             raise ValueError(
                 "walker gate, accel_psd, measurement_std, lone_std, init_velocity_std, "
-                "pair_distance, leg_radius, window and max_velocity_difference must be positive"
+                "pair_distance, leg_radius, window, max_velocity_difference and max_residual "
+                "must be positive"
             )
         if self.min_scans < 1 or self.apart_scans < 1 or self.max_unseen < 0.0:
             raise ValueError("walker min_scans and apart_scans must be >= 1, max_unseen >= 0")
-        if self.second_leg_cost < 0.0 or self.blob_distance < 0.0:
-            raise ValueError("walker second_leg_cost and blob_distance must not be negative")
+        if self.blob_distance < 0.0:
+            raise ValueError("walker blob_distance must not be negative")
         for name, value, allowed in (
             ("association", self.association, ASSOCIATIONS),
             ("velocity", self.velocity, VELOCITIES),
@@ -202,12 +211,11 @@ def assign_blobs(
     is_leg: BoolArray,
     gate: float,
     pair_distance: float,
-    second_leg_cost: float,
 ) -> tuple[IntArray, IntArray]:
     """Track-guided detections: walkers predicted at ``predicted`` (T, 2) [m] choose among
     blobs at ``centre`` (B, 2) [m] (``is_leg`` (B,): leg-sized). Each walker has two slots;
-    the first takes any blob within ``gate``, the second a leg-sized one within ``gate`` at
-    ``second_leg_cost`` [m] more; one Hungarian assignment minimises the summed distances.
+    the first takes any blob within ``gate``, the second a leg-sized one within ``gate``;
+    one Hungarian assignment minimises the summed distances.
     A walker keeps two blobs only if both are legs closer than ``pair_distance`` to each
     other (else the farther is released). Returns the walker (B,) of every blob (-1: none)
     and the number of blobs (T,) every walker took."""
@@ -222,7 +230,7 @@ def assign_blobs(
     near = d < gate
     big = 1e6
     first = np.where(near, d, big)
-    second = np.where(near & is_leg[None, :], d + second_leg_cost, big)
+    second = np.where(near & is_leg[None, :], d, big)
     rows, cols = linear_sum_assignment(np.concatenate([first, second]))
     cost = np.concatenate([first, second])[rows, cols]
     ok = cost < big
@@ -243,12 +251,12 @@ def assign_blobs(
 
 def window_velocity(
     stamps: FloatArray, places: FloatArray, weights: FloatArray, now: float, window: float
-) -> tuple[FloatArray, FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Weighted least-squares line through a walker's places over the last ``window``
     seconds before ``now``: ``stamps`` (T, K) [s], ``places`` (T, K, 2) [m], ``weights``
     (T, K) (0: no place). Returns the slopes (T, 2) [m/s] (0 where fewer than two distinct
-    times), the time span (T,) [s] of the places used and the weighted RMS distance (T,)
-    [m] of the places from the line."""
+    times), the line's place (T, 2) [m] at ``now``, the time span (T,) [s] of the places
+    used and the weighted RMS distance (T,) [m] of the places from the line."""
     w = np.where(now - stamps <= window + 1e-9, weights, 0.0)
     tau = np.where(w > 0.0, stamps - now, 0.0)
     s = w.sum(axis=1)
@@ -265,7 +273,7 @@ def window_velocity(
     r = places - a[:, None, :] - v[:, None, :] * tau[:, :, None]
     rms = np.sqrt(np.einsum("tk,tkc->t", w, r * r) / safe)
     oldest = np.where(w > 0.0, tau, 0.0).min(axis=1)
-    return v, -oldest, rms
+    return v, a, -oldest, rms
 
 
 class WalkerTracker:
@@ -360,8 +368,8 @@ class WalkerTracker:
         known = self.hits >= s.min_scans
         if s.velocity == "kalman":
             return self.means[:, 2:4].copy(), known
-        v, span, rms = window_velocity(self._t, self._xy, self._w, stamp, s.window)
-        known &= (span >= s.min_span * s.window) & (rms <= s.max_residual)
+        v, _, _, rms = window_velocity(self._t, self._xy, self._w, stamp, s.window)
+        known &= rms <= s.max_residual
         return v, known
 
     def _drop_lost(self, stamp: float) -> None:
@@ -419,8 +427,12 @@ class WalkerTracker:
             return walker, velocity, known, ids
         self._predict(stamp)
         is_leg = radius <= s.leg_radius
+        predicted = self.means[:, :2]
+        if s.line_prediction and len(self):
+            _, line, span, _ = window_velocity(self._t, self._xy, self._w, stamp, s.window)
+            predicted = np.where((span >= 0.5 * s.window)[:, None], line, predicted)
         owner, taken = assign_blobs(
-            self.means[:, :2], centre, is_leg, s.gate, s.pair_distance, s.second_leg_cost
+            predicted, centre, is_leg, s.gate, s.pair_distance
         )
         rows = np.nonzero(taken > 0)[0].astype(np.int64)
         n_rows = rows.size

@@ -91,9 +91,7 @@ def measure(seed: int, seconds: float, params: GroupTrackerParams, groups: bool)
         kept = tracker.coherent_links(pts, blobs, links, lf.frame.stamp)
         ms.append((time.process_time() - t0) * 1e3)
         ml_err.accumulate_labels(group, single_linkage(pts, d_p), lf.frame.stamp)
-        cut_err.accumulate_labels(
-            group, component_labels(len(pts), links[kept]), lf.frame.stamp
-        )
+        cut_err.accumulate_labels(group, component_labels(len(pts), links[kept]), lf.frame.stamp)
         if tracker.last_scan is None or not len(pts):
             continue
         walker, velocity, known, _ = tracker.last_scan
@@ -122,7 +120,8 @@ def measure(seed: int, seconds: float, params: GroupTrackerParams, groups: bool)
     )
     for kind, name in KIND_NAMES.items():
         row = [_quantiles(errors.get((kind, band), [])) for band in range(len(SPEEDS))]
-        print(f"  {name:10s} " + " | ".join(f"{s[2]}: {r}" for s, r in zip(SPEEDS, row)))
+        cells = [f"{band[2]}: {r}" for band, r in zip(SPEEDS, row, strict=True)]
+        print(f"  {name:10s} " + " | ".join(cells))
     if groups:
         g = run_groups(result.scans, params)
         print(

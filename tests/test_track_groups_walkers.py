@@ -28,6 +28,7 @@ from laserpeople.tracking.groups.walkers import (
     assign_blobs,
     moving_apart,
     paired_detections,
+    passing,
     velocity_apart,
     walker_detections,
     window_velocity,
@@ -103,6 +104,25 @@ def test_velocity_apart_cuts_walkers_whose_velocities_differ(
     va: tuple[float, float], vb: tuple[float, float], apart: bool
 ) -> None:
     assert velocity_apart(np.array([va]), np.array([vb]), 0.6).tolist() == [apart]
+
+
+@pytest.mark.parametrize(
+    ("va", "vb", "apart"),
+    [
+        ((0.0, 0.0), (0.7, 0.0), True),  # one stands, one walks past
+        ((0.2, 0.0), (0.7, 0.0), False),  # 0.5 m/s apart only
+        ((0.25, 0.0), (0.9, 0.1), True),  # standing (0.25 < 0.3), 0.66 m/s apart
+        ((0.4, 0.0), (1.2, 0.0), False),  # 0.8 m/s apart, but the same heading
+        ((0.5, 0.0), (-0.5, 0.0), True),  # opposite headings, 1.0 m/s apart
+        ((0.35, 0.0), (-0.1, 0.3), False),  # heading apart, sqrt(0.45^2 + 0.3^2) = 0.54
+        ((0.4, 0.0), (-0.3, 0.1), True),  # heading apart, sqrt(0.7^2 + 0.1^2) = 0.71
+    ],
+)
+def test_passing_cuts_a_standing_or_opposing_walker_whose_velocity_differs(
+    va: tuple[float, float], vb: tuple[float, float], apart: bool
+) -> None:
+    assert passing(np.array([va]), np.array([vb]), 0.3, 0.6).tolist() == [apart]
+    assert passing(np.array([vb]), np.array([va]), 0.3, 0.6).tolist() == [apart]
 
 
 def test_walkers_take_their_own_legs() -> None:

@@ -7,38 +7,49 @@ through its models (000 Fig. 18). In a crowded hall that fails: a wrong merge wi
 a few scans and cannot be undone while the parties stay close (docs/groups.md, "Why the
 tracker does not beat memory-less clustering"). People who walk together move together.
 
-This module tracks the walkers of the scene - the human-sized blobs at d_hs, a person's
-two leg blobs joined - with a constant-velocity Kalman filter each, and cuts the d_P
-links between the points of two walkers that do not move alike. A walker whose velocity
-is not known yet (younger than ``min_scans``) keeps all of its links, so new people are
-clustered as by 000.
+This module tracks the walkers of the scene - a person's leg blobs, or one wider blob -
+and cuts the d_P links between the points of two walkers that do not move alike. A walker
+whose velocity is not known (younger than ``min_scans``, or whose places do not lie on a
+line) keeps all of its links, so such people are clustered as by 000.
+
+Blobs: single linkage at ``blob_distance`` (0: the observations' blobs at d_hs). At 0.15 m
+the legs of two people who touch are two blobs; at d_hs = 0.3 m they are one, and one
+walker with one velocity.
 
 Detections (``association``):
 
 * ``"pairs"``: two leg-sized blobs that are each other's nearest and closer than
   ``pair_distance`` are one walker at their midpoint (as the size count); every other blob
   is a walker; walkers are matched one to one to the nearest detection (Hungarian).
-* ``"tracks"``: the tracks choose their blobs. Every walker has two slots; a blob may go
+* ``"tracks"``: the walkers choose their blobs. Every walker has two slots; a blob may go
   to either (the second slot only takes a leg-sized blob), and one Hungarian assignment
-  over all slots and blobs within ``gate`` of the predicted places decides. So in a crowd a walker keeps its own legs rather than whatever leg is
-  its mutual nearest. Blobs no walker takes are paired as in ``"pairs"`` and start walkers.
+  over all slots and the blobs within ``gate`` of the predicted places decides, so in a
+  crowd a walker keeps its own legs rather than whichever leg is its mutual nearest. Blobs
+  no walker takes are paired as in ``"pairs"`` and start walkers. A walker is predicted on
+  the line of its window velocity (``line_prediction``) once that spans half a window,
+  else by its Kalman filter.
 
 The walker's place is the midpoint of its two legs, the centre of a wider blob, or a lone
 leg (one leg hidden), which is off by up to half a stride and is given the std
 ``lone_std`` instead of ``measurement_std``.
 
-Velocities (``velocity``): the Kalman filter's, or (``"window"``) the weighted
-least-squares slope of the walker's places over the last ``window`` seconds. The
-midpoint of the legs stands still while both feet are planted and moves while one foot
-swings, so it oscillates once per step (0.5 s at 1.2 m/s in the simulator's gait); a
-slope over about two steps averages that out, which a Kalman filter quick enough to
-follow a walker does not.
+Velocities (``velocity``): the Kalman filter's (constant velocity), or (``"window"``) the
+weighted least-squares slope of the walker's places over the last ``window`` seconds
+(weights 1 / std^2). The midpoint of the legs stands still while both feet are planted
+and moves while one foot swings, so it oscillates once per step (0.5 s at 1.2 m/s in the
+simulator's gait); a slope over two to three steps averages that out, which a Kalman
+filter quick enough to follow a walker does not. A window velocity is known only if the
+places lie within ``max_residual`` (weighted RMS) of their line: a walker whose track
+jumped to another person mostly does not.
 
 Cut (``cut``): ``"stand_walk"`` - one stands (under ``standing_speed``) while the other
 walks (over ``walking_speed``), or both move in directions more than 90 degrees apart
 (:func:`moving_apart`); ``"difference"`` - their velocities differ by more than
-``max_velocity_difference`` (:func:`velocity_apart`). Either must hold for
-``apart_scans`` scans in a row.
+``max_velocity_difference`` (:func:`velocity_apart`, the rule of the ceiling with true
+velocities); ``"passing"`` - both: they differ by more than ``max_velocity_difference``
+while one stands (under ``standing_speed``) or they head apart (:func:`passing`). Each
+must hold for ``apart_scans`` scans in a row. Session 13's walkers were ``"pairs"``, ``"kalman"``,
+``"stand_walk"`` over 3 scans with the blobs at d_hs.
 """
 
 from __future__ import annotations
@@ -58,7 +69,7 @@ BoolArray = NDArray[np.bool_]
 
 ASSOCIATIONS = ("pairs", "tracks")
 VELOCITIES = ("kalman", "window")
-CUTS = ("stand_walk", "difference")
+CUTS = ("stand_walk", "difference", "passing")
 
 PAIR, WIDE, LONE = 0, 1, 2
 """Kinds of walker detection: two leg blobs, one wider blob, one leg-sized blob alone."""
@@ -92,9 +103,9 @@ class WalkerSettings:
         association: ``"pairs"`` or ``"tracks"`` (module doc).
         velocity: ``"kalman"`` or ``"window"`` (module doc).
         window: Length of the window velocity's fit [s].
-        cut: ``"stand_walk"`` or ``"difference"`` (module doc).
+        cut: ``"stand_walk"``, ``"difference"`` or ``"passing"`` (module doc).
         max_velocity_difference: Walkers whose velocities differ by more than this move
-            apart (``cut = "difference"``) [m/s].
+            apart (``cut = "difference"`` or ``"passing"``) [m/s].
         max_residual: A window velocity is known only if the walker's places are within
             this weighted RMS distance of the fitted line [m] (a walker whose track
             jumped to another person mid-window mostly is not).
@@ -115,14 +126,14 @@ class WalkerSettings:
     lone_std: float = 1.0
     init_velocity_std: float = 1.0
     min_scans: int = 10
-    apart_scans: int = 1
+    apart_scans: int = 2
     max_unseen: float = 0.5
     pair_distance: float = 0.7
     leg_radius: float = 0.12
     association: str = "tracks"
     velocity: str = "window"
     window: float = 1.2
-    cut: str = "difference"
+    cut: str = "passing"
     max_velocity_difference: float = 0.6
     max_residual: float = 0.1
     blob_distance: float = 0.15
@@ -420,9 +431,7 @@ class WalkerTracker:
         (W, 2) [m/s], whether it is known (W,) and its id (W,), W walkers this scan."""
         s = self.settings
         if s.association == "pairs":
-            places, walker, kinds = paired_detections(
-                centre, radius, s.pair_distance, s.leg_radius
-            )
+            places, walker, kinds = paired_detections(centre, radius, s.pair_distance, s.leg_radius)
             velocity, known, ids = self.update(places, stamp, kinds)
             return walker, velocity, known, ids
         self._predict(stamp)
@@ -431,9 +440,7 @@ class WalkerTracker:
         if s.line_prediction and len(self):
             _, line, span, _ = window_velocity(self._t, self._xy, self._w, stamp, s.window)
             predicted = np.where((span >= 0.5 * s.window)[:, None], line, predicted)
-        owner, taken = assign_blobs(
-            predicted, centre, is_leg, s.gate, s.pair_distance
-        )
+        owner, taken = assign_blobs(predicted, centre, is_leg, s.gate, s.pair_distance)
         rows = np.nonzero(taken > 0)[0].astype(np.int64)
         n_rows = rows.size
         # the place and kind of each walker that took blobs
@@ -484,6 +491,8 @@ class WalkerTracker:
         wb = walker_of_blob[blobs[links[:, 1]]]
         if s.cut == "difference":
             apart = velocity_apart(velocity[wa], velocity[wb], s.max_velocity_difference)
+        elif s.cut == "passing":
+            apart = passing(velocity[wa], velocity[wb], s.standing_speed, s.max_velocity_difference)
         else:
             apart = moving_apart(velocity[wa], velocity[wb], s.standing_speed, s.walking_speed)
         apart &= known[wa] & known[wb] & (wa != wb)
@@ -521,3 +530,15 @@ def velocity_apart(va: FloatArray, vb: FloatArray, max_difference: float) -> Boo
     """Which pairs of walkers with velocities ``va`` (E, 2) and ``vb`` (E, 2) [m/s] differ
     by more than ``max_difference`` [m/s] (E,)."""
     return np.hypot(va[:, 0] - vb[:, 0], va[:, 1] - vb[:, 1]) > max_difference
+
+
+def passing(
+    va: FloatArray, vb: FloatArray, standing_speed: float, max_difference: float
+) -> BoolArray:
+    """Which pairs of walkers with velocities ``va`` (E, 2) and ``vb`` (E, 2) [m/s] pass
+    each other (E,): their velocities differ by more than ``max_difference`` [m/s] while
+    one stands (slower than ``standing_speed`` [m/s]) or both move in directions more than
+    90 degrees apart. Walkers heading the same way are not cut, however their speeds
+    differ: on the real recordings those are mostly one party's noisy estimates."""
+    apart = velocity_apart(va, vb, max_difference)
+    return apart & moving_apart(va, vb, standing_speed, standing_speed)

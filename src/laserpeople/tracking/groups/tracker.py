@@ -149,9 +149,9 @@ class GroupTrackerParams:
         False,
         "extension of 000 Sec. 4.1 (tracking/groups/walkers.py; docs/groups.md 'Walkers'); "
         "false is 000's clustering",
-        "track the walkers (leg blobs a track takes, a Kalman filter and a window "
-        "velocity each) and do not link walkers whose velocities differ into one "
-        "observation",
+        "track the walkers (the leg blobs each walker takes, a Kalman filter and a window "
+        "velocity each) and do not link walkers that pass each other (walker_cut) into "
+        "one observation",
     )
     walker_standing_speed: float = param(
         0.3,

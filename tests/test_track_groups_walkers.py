@@ -253,7 +253,8 @@ def _standing_pair_and_passer(seed: int) -> Scene:
 def test_walkers_keep_a_person_passing_a_standing_pair_apart(session_13: bool) -> None:
     """000's setting merges the passer into the standing pair (0.124, as bad as memory-less
     clustering, 0.132); with walkers the tracker keeps them apart (0.004 with session 13's
-    walkers: one scan's merge while the cut waits ``walker_apart_scans``)."""
+    walkers: one scan's merge while the cut waits ``walker_apart_scans``; 0.000 with the
+    preset)."""
     scans = simulate(_standing_pair_and_passer(3), 12.0, seed=3).scans
     paper = run_groups(scans, GroupTrackerParams())
     changes = SESSION_13 if session_13 else {}

@@ -1,7 +1,6 @@
-"""Walkers (extension of 000 Sec. 4.1): walker detections from blobs (mutual-nearest pairs,
-and blobs chosen by the tracks), the Kalman filter and the window velocity per walker, the
-rules that cut links, and the group tracker keeping a person who walks past a standing pair
-apart from it, where 000's setting merges them."""
+"""Walkers (extension of 000 Sec. 4.1): walker detections from blobs, the Kalman filter
+per walker, the rule that cuts links, and the group tracker keeping a person who walks past
+a standing pair apart from it, where 000's setting merges them."""
 
 from __future__ import annotations
 
@@ -20,29 +19,11 @@ from laserpeople.sim.world import World, room
 from laserpeople.tracking.groups import GroupTrackerParams
 from laserpeople.tracking.groups.observations import GroupObservations
 from laserpeople.tracking.groups.walkers import (
-    LONE,
-    PAIR,
-    WIDE,
     WalkerSettings,
     WalkerTracker,
-    assign_blobs,
     moving_apart,
-    paired_detections,
-    passing,
-    velocity_apart,
     walker_detections,
-    window_velocity,
 )
-
-SESSION_13 = {
-    "walker_association": "pairs",
-    "walker_velocity": "kalman",
-    "walker_cut": "stand_walk",
-    "walker_apart_scans": 3,
-    "walker_blob_distance": 0.0,
-    "walker_lone_std": 0.3,
-}
-"""The walkers as first built (session 13): the GroupTrackerParams fields that differ."""
 
 
 def _disc(cx: float, cy: float, r: float, n: int = 6) -> np.ndarray:
@@ -60,9 +41,6 @@ def test_two_leg_blobs_close_together_are_one_walker_at_their_midpoint() -> None
     places, walker = walker_detections(pts, blobs, pair_distance=0.7, leg_radius=0.12)
     assert walker.tolist() == [0, 0, 1, 2]
     np.testing.assert_allclose(places, [[0.2, 0.0], [2.0, 0.0], [5.0, 0.0]], atol=1e-12)
-    centre = np.array([[0.0, 0.0], [0.4, 0.0], [2.0, 0.0], [5.0, 0.0]])
-    _, _, kinds = paired_detections(centre, np.array([0.05, 0.05, 0.05, 0.2]), 0.7, 0.12)
-    assert kinds.tolist() == [PAIR, LONE, WIDE]
     empty_places, empty_walker = walker_detections(
         np.empty((0, 2)), np.empty(0, dtype=np.int64), 0.7, 0.12
     )
@@ -88,99 +66,6 @@ def test_moving_apart_cuts_passing_and_opposing_walkers_only(
     got = moving_apart(np.array([va]), np.array([vb]), 0.3, 0.8)
     assert got.tolist() == [apart]
     assert moving_apart(np.array([vb]), np.array([va]), 0.3, 0.8).tolist() == [apart]
-
-
-@pytest.mark.parametrize(
-    ("va", "vb", "apart"),
-    [
-        ((0.0, 0.0), (0.61, 0.0), True),
-        ((0.0, 0.0), (0.59, 0.0), False),
-        ((1.0, 0.0), (1.0, 0.5), False),  # 0.5 m/s apart: a party, noisy
-        ((1.0, 0.0), (0.6, 0.5), True),  # sqrt(0.4^2 + 0.5^2) = 0.64
-        ((0.3, 0.4), (-0.3, -0.4), True),  # 1.0 m/s apart, both slow
-    ],
-)
-def test_velocity_apart_cuts_walkers_whose_velocities_differ(
-    va: tuple[float, float], vb: tuple[float, float], apart: bool
-) -> None:
-    assert velocity_apart(np.array([va]), np.array([vb]), 0.6).tolist() == [apart]
-
-
-@pytest.mark.parametrize(
-    ("va", "vb", "apart"),
-    [
-        ((0.0, 0.0), (0.7, 0.0), True),  # one stands, one walks past
-        ((0.2, 0.0), (0.7, 0.0), False),  # 0.5 m/s apart only
-        ((0.25, 0.0), (0.9, 0.1), True),  # standing (0.25 < 0.3), 0.66 m/s apart
-        ((0.4, 0.0), (1.2, 0.0), False),  # 0.8 m/s apart, but the same heading
-        ((0.5, 0.0), (-0.5, 0.0), True),  # opposite headings, 1.0 m/s apart
-        ((0.35, 0.0), (-0.1, 0.3), False),  # heading apart, sqrt(0.45^2 + 0.3^2) = 0.54
-        ((0.4, 0.0), (-0.3, 0.1), True),  # heading apart, sqrt(0.7^2 + 0.1^2) = 0.71
-    ],
-)
-def test_passing_cuts_a_standing_or_opposing_walker_whose_velocity_differs(
-    va: tuple[float, float], vb: tuple[float, float], apart: bool
-) -> None:
-    assert passing(np.array([va]), np.array([vb]), 0.3, 0.6).tolist() == [apart]
-    assert passing(np.array([vb]), np.array([va]), 0.3, 0.6).tolist() == [apart]
-
-
-def test_walkers_take_their_own_legs() -> None:
-    """Walker 0 predicted at (0, 0), walker 1 at (0.85, 0). Legs at x = -0.35, 0.1, 0.4,
-    1.05: each walker takes its two legs (0.35 + 0.1 + 0.45 + 0.2 = 1.1 m in all; walker 0
-    taking 0.1 and 0.4 would leave the leg at -0.35 1.2 m from walker 1, out of its gate).
-    Mutual-nearest pairing joins the legs at 0.1 and 0.4 (0.3 m apart, each other's
-    nearest) and leaves two lone legs."""
-    centre = np.array([[-0.35, 0.0], [0.1, 0.0], [0.4, 0.0], [1.05, 0.0]])
-    predicted = np.array([[0.0, 0.0], [0.85, 0.0]])
-    owner, taken = assign_blobs(predicted, centre, np.ones(4, dtype=bool), 0.6, 0.7)
-    assert owner.tolist() == [0, 0, 1, 1] and taken.tolist() == [2, 2]
-    _, walker, _ = paired_detections(centre, np.full(4, 0.05), 0.7, 0.12)
-    assert walker[1] == walker[2]  # what the tracks avoid
-    # the second blob must be a leg within a stride of the first, else the farther goes
-    centre = np.array([[-0.1, 0.0], [0.45, 0.0], [0.0, 3.0]])
-    owner, taken = assign_blobs(
-        np.array([[0.0, 0.0]]), centre, np.array([False, True, True]), 0.6, 0.7
-    )
-    assert owner.tolist() == [0, -1, -1] and taken.tolist() == [1]  # a wide blob + a leg
-    owner, _ = assign_blobs(np.array([[0.0, 0.0]]), centre, np.ones(3, dtype=bool), 0.6, 0.5)
-    assert owner.tolist() == [0, -1, -1]  # 0.55 m apart, more than 0.5 m: not one person
-    owner, _ = assign_blobs(np.array([[0.0, 0.0]]), centre, np.ones(3, dtype=bool), 0.6, 0.7)
-    assert owner.tolist() == [0, 0, -1]  # (0, 3) is out of the gate
-
-
-def test_window_velocity_is_the_weighted_least_squares_slope() -> None:
-    """Places 0, 0.1, 0.3 m at t = 0, 0.1, 0.2 s (now 0.2 s), weights 1: tau = -0.2, -0.1,
-    0; S = 3, St = -0.3, Stt = 0.05, Sx = 0.4, Stx = -0.01; slope = (3 * -0.01 + 0.3 *
-    0.4) / (3 * 0.05 - 0.09) = 0.09 / 0.06 = 1.5 m/s; the line at now: (0.4 - 1.5 * -0.3)
-    / 3 = 0.85 / 3 = 0.2833 m; residuals 1/60, -1/30, 1/60 m: squares 6/3600 (y = 2x:
-    4 times that), so RMS sqrt(5/1800) over both. A place older than the window and one of
-    weight 0 are left out."""
-    stamps = np.array([[-1.0, 0.0, 0.1, 0.2, 0.15]])
-    x = np.array([[9.0, 0.0, 0.1, 0.3, 5.0]])
-    places = np.stack([x, 2.0 * x], axis=-1)
-    weights = np.array([[1.0, 1.0, 1.0, 1.0, 0.0]])
-    v, line, span, rms = window_velocity(stamps, places, weights, 0.2, 1.0)
-    np.testing.assert_allclose(v, [[1.5, 3.0]])
-    np.testing.assert_allclose(line, [[0.85 / 3.0, 1.7 / 3.0]])
-    np.testing.assert_allclose(span, [0.2])
-    np.testing.assert_allclose(rms, [math.sqrt(5.0 / 1800.0)])
-    # a lone place: no slope
-    v, _, span, _ = window_velocity(stamps[:, 1:2], places[:, 1:2], weights[:, 1:2], 0.2, 1.0)
-    assert v.tolist() == [[0.0, 0.0]] and span.tolist() == [0.2]
-
-
-def test_a_walker_whose_places_leave_a_line_has_no_velocity() -> None:
-    """A walker at rest, then 0.5 m off for a scan (another person's legs): the residual
-    of its window's line is over max_residual, so its velocity is not used."""
-    tracker = WalkerTracker(WalkerSettings(on=True, min_scans=3, max_residual=0.1))
-    known = []
-    for k in range(12):
-        place = np.array([[0.0, 0.5 if k == 8 else 0.0]])
-        _, now, _ = tracker.update(place, 0.1 * k)
-        known.append(bool(now[0]))
-    assert known[2:8] == [True] * 6
-    assert known[8:] == [False] * 4  # within 1.2 s of the jump
 
 
 def test_walker_velocity_converges_and_is_known_after_min_scans() -> None:
@@ -249,16 +134,13 @@ def _standing_pair_and_passer(seed: int) -> Scene:
     return Scene(World(room(0.0, 0.0, 14.0, 6.0)), people, [sensor])
 
 
-@pytest.mark.parametrize("session_13", [False, True])
-def test_walkers_keep_a_person_passing_a_standing_pair_apart(session_13: bool) -> None:
+def test_walkers_keep_a_person_passing_a_standing_pair_apart() -> None:
     """000's setting merges the passer into the standing pair (0.124, as bad as memory-less
-    clustering, 0.132); with walkers the tracker keeps them apart (0.004 with session 13's
-    walkers: one scan's merge while the cut waits ``walker_apart_scans``; 0.000 with the
-    preset)."""
+    clustering, 0.132); with walkers the tracker keeps them apart (0.004: one scan's merge
+    while the cut waits ``walker_apart_scans``)."""
     scans = simulate(_standing_pair_and_passer(3), 12.0, seed=3).scans
     paper = run_groups(scans, GroupTrackerParams())
-    changes = SESSION_13 if session_13 else {}
-    walkers = run_groups(scans, GroupTrackerParams(walkers=True, **changes))  # type: ignore[arg-type]
+    walkers = run_groups(scans, GroupTrackerParams(walkers=True))
     assert paper.memoryless.under_segmented >= 20  # they do come within d_P
     assert paper.clustering.error >= 0.5 * paper.memoryless.error  # 000's setting merges
     assert walkers.clustering.error <= 0.2 * walkers.memoryless.error
@@ -273,9 +155,3 @@ def test_walker_settings_are_checked() -> None:
         WalkerSettings(gate=0.0)
     with pytest.raises(ValueError, match="apart_scans"):
         GroupTrackerParams(walker_apart_scans=0)
-    with pytest.raises(ValueError, match="association"):
-        WalkerSettings(association="nearest")
-    with pytest.raises(ValueError, match="blob_distance"):
-        WalkerSettings(blob_distance=-0.1)
-    with pytest.raises(ValueError, match="positive"):
-        WalkerSettings(max_residual=0.0)

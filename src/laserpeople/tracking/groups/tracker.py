@@ -149,114 +149,53 @@ class GroupTrackerParams:
         False,
         "extension of 000 Sec. 4.1 (tracking/groups/walkers.py; docs/groups.md 'Walkers'); "
         "false is 000's clustering",
-        "track the walkers (the leg blobs each walker takes, a Kalman filter and a window "
-        "velocity each) and do not link walkers that pass each other (walker_cut) into "
-        "one observation",
+        "track the walkers (human-sized blobs, leg pairs joined, a Kalman filter each) and "
+        "do not link a standing walker with one walking past, nor walkers heading apart, "
+        "into one observation",
     )
     walker_standing_speed: float = param(
         0.3,
-        "session 13, chosen on entrance-hall seeds 0 and 1 (0.2/0.3); walker_cut 'stand_walk' only",
+        "chosen on entrance-hall seeds 0 and 1 (0.2/0.3)",
         "a walker slower than this stands",
         "m/s",
     )
     walker_walking_speed: float = param(
         0.8,
-        "session 13, chosen on entrance-hall seeds 0 and 1 (0.6/0.8); walker_cut 'stand_walk' only",
+        "chosen on entrance-hall seeds 0 and 1 (0.6/0.8); an estimate of a walker in a "
+        "moving party is off by 0.3 m/s at the median",
         "a walker faster than this walks (passes a standing one)",
         "m/s",
     )
     walker_min_scans: int = param(
         10,
-        "chosen on entrance-hall seeds 0 and 1 (5/6/10)",
+        "chosen on entrance-hall seeds 0 and 1 (5/10)",
         "detections a walker needs before its links can be cut",
     )
     walker_apart_scans: int = param(
-        2,
-        "chosen on entrance-hall seeds 0 and 1 (1/2/3: 1 and 2 tie) and the corridor bag "
-        "(81 / 74 group ids); session 13's 'stand_walk' cut: 3",
+        3,
+        "chosen on entrance-hall seeds 0 and 1: 1 and 3 tie (0.173 / 0.175 mean error), "
+        "3 over-segments less (seed 0: 0.033 -> 0.015); 6 under-segments more",
         "scans in a row two linked walkers must move apart before their link is cut",
     )
     walker_accel_psd: float = param(
         0.2,
-        "chosen on entrance-hall seeds 0 and 1 (0.2/0.5/1/2); used by the Kalman filter, "
-        "which predicts a walker until its window spans half of walker_window",
+        "chosen on entrance-hall seeds 0 and 1 (0.2/0.5/2): heavy smoothing, since a walker "
+        "seen as one leg is off by up to half a stride",
         "white-acceleration power spectral density of a walker",
         "m^2/s^3",
     )
     walker_measurement_std: float = param(
         0.3,
-        "chosen on entrance-hall seeds 0 and 1 (0.1/0.15/0.2/0.3)",
-        "position noise of a walker detection (two legs or a wider blob)",
+        "chosen on entrance-hall seeds 0 and 1 (0.1/0.2/0.3)",
+        "position noise of a walker detection",
         "m",
     )
     walker_gate: float = param(
         0.6,
-        "assumption: a walker moves 0.15 m a scan; a leg is up to half a stride from it "
-        "(0.5/0.6/0.7 on entrance-hall seeds 0 and 1: 0.6)",
-        "largest distance from a walker's predicted place to a blob it takes",
+        "assumption: a walker moves 0.15 m a scan; its detection jumps by half a stride "
+        "when one leg is hidden",
+        "largest distance from a walker's predicted place to its detection",
         "m",
-    )
-    walker_lone_std: float = param(
-        1.0,
-        "chosen on entrance-hall seeds 0 and 1 (0.3/0.5/1/3): a lone leg is off the "
-        "walker's place by up to half a stride, so it counts a tenth of two legs",
-        "position noise of a walker seen as one leg-sized blob",
-        "m",
-    )
-    walker_association: str = param(
-        "tracks",
-        "chosen on entrance-hall seeds 0 and 1 ('pairs' was session 13's)",
-        "walker detections: 'pairs' (mutual-nearest leg pairs, matched to the walkers) or "
-        "'tracks' (each walker takes up to two leg blobs near its prediction)",
-    )
-    walker_velocity: str = param(
-        "window",
-        "chosen on entrance-hall seeds 0 and 1 ('kalman' was session 13's)",
-        "walker velocity: 'kalman' (the filter's) or 'window' (weighted least-squares "
-        "slope of the walker's places over walker_window)",
-    )
-    walker_window: float = param(
-        1.2,
-        "chosen on entrance-hall seeds 0 and 1 (0.5/0.8/1.0/1.2/1.5): two to three steps "
-        "of a walker",
-        "length of the window velocity's fit",
-        "s",
-    )
-    walker_cut: str = param(
-        "passing",
-        "chosen on entrance-hall seeds 0 and 1 and the real recordings: 'difference' is "
-        "as good on the hall (0.160 vs 0.163, 30 s) but gives the corridor bag 215 group "
-        "ids against 74 ('stand_walk' was session 13's)",
-        "when two linked walkers move apart: 'stand_walk' (one stands, one walks, or they "
-        "head more than 90 degrees apart), 'difference' (velocities differ by more than "
-        "walker_max_velocity_difference) or 'passing' (they differ so while one stands or "
-        "they head apart)",
-    )
-    walker_max_velocity_difference: float = param(
-        0.6,
-        "chosen on entrance-hall seeds 0 and 1 (0.5/0.55/0.6/0.65/0.7/0.9); the ceiling "
-        "with true velocities is at 0.4-0.7 m/s",
-        "walkers whose velocities differ by more than this move apart (walker_cut 'difference')",
-        "m/s",
-    )
-    walker_max_residual: float = param(
-        0.1,
-        "chosen on entrance-hall seeds 0 and 1 (0.08/0.1/0.12/0.15/inf)",
-        "a window velocity is known only if the walker's places are within this weighted "
-        "RMS distance of the fitted line (inf: any)",
-        "m",
-    )
-    walker_blob_distance: float = param(
-        0.15,
-        "chosen on entrance-hall seeds 0 and 1 (0.1/0.15/0.2; 0 was session 13's)",
-        "single-linkage distance of the walkers' own blobs (0: the observations' at d_hs)",
-        "m",
-    )
-    walker_line_prediction: bool = param(
-        True,
-        "chosen on entrance-hall seeds 0 and 1",
-        "'tracks' association: predict a walker whose window spans half of walker_window "
-        "on the window's line (else by its Kalman filter)",
     )
     point_std: float = param(
         0.05,
@@ -599,17 +538,8 @@ class GroupTrackerParams:
             min_scans=self.walker_min_scans,
             apart_scans=self.walker_apart_scans,
             measurement_std=self.walker_measurement_std,
-            lone_std=self.walker_lone_std,
             pair_distance=self.leg_pair_distance,
             leg_radius=self.leg_radius,
-            association=self.walker_association,
-            velocity=self.walker_velocity,
-            window=self.walker_window,
-            cut=self.walker_cut,
-            max_velocity_difference=self.walker_max_velocity_difference,
-            max_residual=self.walker_max_residual,
-            blob_distance=self.walker_blob_distance,
-            line_prediction=self.walker_line_prediction,
         )
 
     def coherence_settings(self) -> CoherenceSettings:

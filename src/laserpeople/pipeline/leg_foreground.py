@@ -39,7 +39,6 @@ from laserpeople.frame import Frame, FrameField
 LEG_FOREGROUND_USES: tuple[str, ...] = ("never", "no-poses", "moving", "always")
 """When ``auto`` keeps only points near legs (module docstring), from never to always."""
 
-
 @dataclass(frozen=True)
 class LegForegroundParams:
     """When and how the foreground is narrowed to the points near leg detections."""
@@ -93,6 +92,21 @@ class LegForegroundParams:
         "m",
     )
 
+    person_memory: float = param(
+        0.0,
+        "prototype",
+        "for trackers other than those in steady_memory: a leg detection that belongs to a "
+        "person of a leg MHT run on the detections is held this long instead of memory "
+        "(0: no leg MHT is run)",
+        "s",
+    )
+    steady_person_memory: float = param(
+        0.0,
+        "prototype",
+        "person_memory for trackers that die without points for a few scans",
+        "s",
+    )
+
     def __post_init__(self) -> None:
         if self.use not in LEG_FOREGROUND_USES:
             raise ValueError(
@@ -106,6 +120,10 @@ class LegForegroundParams:
             raise ValueError(
                 f"steady_memory must be finite and not negative, got {self.steady_memory}"
             )
+        for name in ("person_memory", "steady_person_memory"):
+            value = getattr(self, name)
+            if not 0.0 <= value < float("inf"):
+                raise ValueError(f"{name} must be finite and not negative, got {value}")
 
 
 def near_legs(
@@ -156,6 +174,10 @@ class LegForeground:
         self.memory = self.params.steady_memory if steady else self.params.memory
         """How long [s] legs are held (``steady_memory`` for a tracker that needs steady
         points, else ``memory``)."""
+        self.person_memory = (
+            self.params.steady_person_memory if steady else self.params.person_memory
+        )
+        """How long [s] legs of the leg MHT's people are held (0: no leg MHT)."""
         self._detector = detector
         self._detect: Any = None
         self.frames = 0
@@ -164,33 +186,65 @@ class LegForeground:
         self.detected = 0
         self._held = np.empty((0, 2))
         self._held_stamps = np.empty(0)
+        self._held_long = np.empty(0, dtype=bool)
         self._last_stamp = -np.inf
+        self._tracker: Any = None
 
-    def remembered(self, stamp: float, legs: NDArray[np.float64]) -> NDArray[np.float64]:
+    def remembered(
+        self,
+        stamp: float,
+        legs: NDArray[np.float64],
+        people: NDArray[np.bool_] | None = None,
+    ) -> NDArray[np.float64]:
         """``legs`` (M, 2) [m] of the frame at ``stamp`` [s] and the held legs: each leg of
-        the last ``memory`` seconds that no leg of a later frame came within ``radius``
-        of, at its last position (so a leg the detector misses for a few scans keeps its
-        points, and one it sees again is not smeared along its path). A stamp before the
-        previous one forgets them."""
+        the last ``memory`` seconds (``person_memory`` for those flagged in ``people``, (M,),
+        a person's legs) that no leg of a later frame came within ``radius`` of, at its
+        last position (so a leg the detector misses for a few scans keeps its points, and
+        one it sees again is not smeared along its path). A stamp before the previous one
+        forgets them."""
         legs = np.asarray(legs, dtype=np.float64).reshape(-1, 2)
+        flags = np.zeros(len(legs), dtype=bool) if people is None else np.asarray(people, bool)
         if self._held_stamps.size and stamp < self._last_stamp:
             self._held_stamps = np.empty(0)
             self._held = np.empty((0, 2))
+            self._held_long = np.empty(0, dtype=bool)
         self._last_stamp = stamp
-        keep = stamp - self._held_stamps <= self.memory
+        limit = np.where(self._held_long, max(self.memory, self.person_memory), self.memory)
+        keep = stamp - self._held_stamps <= limit
         if keep.any() and len(legs):
             d = self._held[:, None, :] - legs[None, :, :]
             seen = (np.einsum("hmk,hmk->hm", d, d) <= self.params.radius**2).any(axis=1)
             keep &= ~seen
         held = self._held[keep]
         self._held_stamps = np.concatenate([self._held_stamps[keep], np.full(len(legs), stamp)])
+        self._held_long = np.concatenate([self._held_long[keep], flags])
         self._held = np.concatenate([held, legs])
         return self._held
 
     def legs_of(self, frame: Frame) -> NDArray[np.float64]:
         """Leg positions (M, 2) [m] of ``frame``, in its coordinate frame."""
+        return self._confident(self.detections_of(frame))
+
+    def people_flags(self, frame: Frame, legs: Any, mine: NDArray[np.float64]) -> Any:
+        """Which of the positions ``mine`` (M, 2) [m] lie within ``radius`` of a leg of a
+        person track of the leg MHT fed with ``legs`` (None: person_memory 0, no MHT)."""
+        if self.person_memory <= 0:
+            return None
+        if self._tracker is None:
+            from laserpeople.tracking.legs import LegMHTTracker
+            from laserpeople.tracking.registry import LegsAdapter
+
+            self._tracker = LegsAdapter(LegMHTTracker())
+        tracks = self._tracker.update(frame.with_fields(legs=legs))
+        members = {m for t in tracks.of_kind("person") for m in t.members}
+        pos = [t.position for t in tracks.of_kind("leg") if t.track_id in members]
+        return near_legs(mine, np.asarray(pos, dtype=np.float64).reshape(-1, 2),
+                         self.params.radius)
+
+    def detections_of(self, frame: Frame) -> Any:
+        """Leg detections of ``frame``, in its coordinate frame."""
         if frame.legs is not None:
-            return self._confident(frame.legs)
+            return frame.legs
         if self._detect is None:
             from laserpeople.pipeline.observe import DetectLegs
 
@@ -202,7 +256,11 @@ class LegForeground:
             self._detect = DetectLegs(detector)
         self.detected += 1
         legs = self._detect(frame).legs
-        return np.empty((0, 2)) if legs is None else self._confident(legs)
+        if legs is None:
+            from laserpeople.tracks import Detections
+
+            return Detections.empty(frame.stamp, frame.index, frame.frame, frame.sensor_pose)
+        return legs
 
     def _confident(self, legs: Any) -> NDArray[np.float64]:
         """Positions of the ``legs`` (Detections) scoring above ``min_score``."""
@@ -214,7 +272,10 @@ class LegForeground:
             raise ConfigError(f"frame {frame.index} has no points", hint="run Fuse first")
         n = len(frame.points)
         fg = np.ones(n, dtype=bool) if frame.foreground is None else frame.foreground
-        legs = self.remembered(float(frame.stamp), self.legs_of(frame))
+        detections = self.detections_of(frame)
+        mine = self._confident(detections)
+        people = self.people_flags(frame, detections, mine)
+        legs = self.remembered(float(frame.stamp), mine, people)
         kept = fg & near_legs(frame.points.points, legs, self.params.radius)
         self.frames += 1
         self.points_in += int(np.count_nonzero(fg))

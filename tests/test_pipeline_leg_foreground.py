@@ -163,6 +163,16 @@ def test_the_leg_mht_tells_which_legs_are_a_persons() -> None:
     assert off.person_memory == 0.0 and stage.person_memory == 1.0
 
 
+def test_the_hold_is_described() -> None:
+    params = LegForegroundParams(memory=0.0, steady_memory=0.0, person_memory=0.0,
+                                 steady_person_memory=1.0)  # fmt: skip
+    assert LegForeground(params).describe_hold() == ""
+    said = LegForeground(params, steady=True).describe_hold()
+    assert said == ", missed legs held 0 s (1 s those of the people a leg MHT tracks)"
+    same = LegForeground(replace(params, memory=0.5, person_memory=0.5)).describe_hold()
+    assert same == ", missed legs held 0.5 s"
+
+
 def test_a_stamp_going_back_forgets_the_held_legs() -> None:
     stage = LegForeground(LegForegroundParams(radius=0.3, memory=0.5))
     stage(_points_frame([(0.0, 0.0)], 5.0, legs=[(0.0, 0.0)]))

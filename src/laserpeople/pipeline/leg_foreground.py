@@ -14,6 +14,14 @@ that already holds ``legs`` is not detected again). A leg's points lie within ab
 of its detection (leg radius ~0.07 m, the detection moved 0.045 m behind the points'
 centroid); a larger radius also keeps a second leg the detector missed in this scan.
 
+A leg the detector misses for a few scans can be held at its last position: every leg for
+``memory`` seconds, and a leg of a person that a leg MHT tracks (the shipped ``leg-mht``
+run by the stage on the same detections; its people coast through missed detections with
+their own existence) for ``person_memory`` seconds; for the particle filters, which die
+without points after 0.2 s, ``steady_memory`` and ``steady_person_memory``. By default
+only the legs of people are held, and only for the particle filters (1 s): held clutter
+legs keep the point trackers' false tracks alive.
+
 When :class:`~laserpeople.pipeline.background.AutoBackground` uses it is
 ``[leg_foreground] use`` (:class:`LegForegroundParams`): ``never`` (the papers: every
 point, or plain background subtraction), ``no-poses`` (only once the model is dropped on a
@@ -38,6 +46,7 @@ from laserpeople.frame import Frame, FrameField
 
 LEG_FOREGROUND_USES: tuple[str, ...] = ("never", "no-poses", "moving", "always")
 """When ``auto`` keeps only points near legs (module docstring), from never to always."""
+
 
 @dataclass(frozen=True)
 class LegForegroundParams:
@@ -67,11 +76,13 @@ class LegForegroundParams:
         "s",
     )
     steady_memory: float = param(
-        0.5,
-        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0 and "
-        "0.5 s): the particle filters of 004 die after miss_time = 0.2 s without points and "
-        "the detector misses a walking person's legs for a few scans (real person-following "
-        "robot: feet-pf identity recall 0.17 with 0 s, 0.35 with 0.5 s)",
+        0.0,
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots' and 'Session 13: "
+        "holding the legs of people'; tried 0, 0.5, 1 and 2 s): with the legs of the leg "
+        "MHT's people held steady_person_memory, holding the other legs too only keeps "
+        "clutter (real person-following robot: feet-pf identity recall / ids 0.51 / 5 with "
+        "0 s, 0.51 / 5 with 0.2 s; simulated moving robots, tuning seeds: feet-pf MOTA 0.16 "
+        "with 0 s, -0.25 with 0.2 s)",
         "memory for trackers that die without points for a few scans (feet-pf, "
         "upper-body-pf: their needs_steady_points)",
         "s",
@@ -91,19 +102,29 @@ class LegForegroundParams:
         "a foreground point is kept when it lies within this distance of a leg detection",
         "m",
     )
-
     person_memory: float = param(
         0.0,
-        "prototype",
-        "for trackers other than those in steady_memory: a leg detection that belongs to a "
-        "person of a leg MHT run on the detections is held this long instead of memory "
-        "(0: no leg MHT is run)",
+        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "tried 0, 0.5 and 1 s): as memory, held legs draw the CSA's targets into groups "
+        "that never split (real person-following robot: csa identity recall / recall 0.37 / "
+        "0.84 with 0 s, 0.32 / 0.33 with 0.5 and 1 s; group-mht's groups 0.33 / 14 ids with "
+        "0 s, 0.48 / 7 ids with 1 s)",
+        "for trackers other than those in steady_person_memory: a leg detection within "
+        "radius of a leg of a person the leg MHT tracks (the shipped leg-mht with its "
+        "default parameters, run on the same detections) is held this long instead of "
+        "memory, if longer (0 for both: no leg MHT is run)",
         "s",
     )
     steady_person_memory: float = param(
-        0.0,
-        "prototype",
-        "person_memory for trackers that die without points for a few scans",
+        1.0,
+        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "tried 0.5, 1 and 2 s): the particle filters of 004 die after miss_time = 0.2 s "
+        "without points and the detector misses the followed person's legs for up to a "
+        "second while the leg MHT still holds them (real person-following robot: feet-pf / "
+        "upper-body-pf identity recall 0.37 / 0.37 with 0.5 s, 0.51 / 0.57 with 1 s and "
+        "2 s)",
+        "person_memory for trackers that die without points for a few scans (feet-pf, "
+        "upper-body-pf: their needs_steady_points)",
         "s",
     )
 
@@ -151,7 +172,8 @@ class LegForeground:
     else from its own :class:`~laserpeople.pipeline.observe.DetectLegs` with ``detector``
     (None: the shipped AdaBoost detector). ``steady``: the tracker dies without points for
     a few scans (:func:`needs_steady_points`), so legs are held ``steady_memory`` seconds
-    instead of ``memory``.
+    instead of ``memory`` (and people's legs ``steady_person_memory`` instead of
+    ``person_memory``).
 
     Attributes:
         frames: Frames narrowed.
@@ -177,7 +199,8 @@ class LegForeground:
         self.person_memory = (
             self.params.steady_person_memory if steady else self.params.person_memory
         )
-        """How long [s] legs of the leg MHT's people are held (0: no leg MHT)."""
+        """How long [s] legs of the leg MHT's people are held (``steady_person_memory`` or
+        ``person_memory``; 0: no leg MHT is run)."""
         self._detector = detector
         self._detect: Any = None
         self.frames = 0
@@ -227,8 +250,9 @@ class LegForeground:
 
     def people_flags(self, frame: Frame, legs: Any, mine: NDArray[np.float64]) -> Any:
         """Which of the positions ``mine`` (M, 2) [m] lie within ``radius`` of a leg of a
-        person track of the leg MHT fed with ``legs`` (None: person_memory 0, no MHT)."""
-        if self.person_memory <= 0:
+        person track of the leg MHT fed with ``legs`` (None: ``person_memory`` is not
+        longer than ``memory``, no MHT is run)."""
+        if self.person_memory <= self.memory:
             return None
         if self._tracker is None:
             from laserpeople.tracking.legs import LegMHTTracker
@@ -238,8 +262,7 @@ class LegForeground:
         tracks = self._tracker.update(frame.with_fields(legs=legs))
         members = {m for t in tracks.of_kind("person") for m in t.members}
         pos = [t.position for t in tracks.of_kind("leg") if t.track_id in members]
-        return near_legs(mine, np.asarray(pos, dtype=np.float64).reshape(-1, 2),
-                         self.params.radius)
+        return near_legs(mine, np.asarray(pos, dtype=np.float64).reshape(-1, 2), self.params.radius)
 
     def detections_of(self, frame: Frame) -> Any:
         """Leg detections of ``frame``, in its coordinate frame."""
@@ -281,6 +304,17 @@ class LegForeground:
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
         return frame.with_fields(foreground=kept)
+
+    def describe_hold(self) -> str:
+        """How long missed legs are held, for the user (empty: not held)."""
+        memory, people = self.memory, max(self.memory, self.person_memory)
+        if people <= 0:
+            return ""
+        if people == memory:
+            return f", missed legs held {memory:g} s"
+        return (
+            f", missed legs held {memory:g} s ({people:g} s those of the people a leg MHT tracks)"
+        )
 
     @property
     def kept_share(self) -> float:

@@ -168,7 +168,9 @@ def test_the_hold_is_described() -> None:
                                  steady_person_memory=1.0)  # fmt: skip
     assert LegForeground(params).describe_hold() == ""
     said = LegForeground(params, steady=True).describe_hold()
-    assert said == ", missed legs held 0 s (1 s those of the people a leg MHT tracks)"
+    assert said == ", missed legs of the people a leg MHT tracks held 1 s"
+    both = LegForeground(replace(params, memory=0.2, person_memory=1.0)).describe_hold()
+    assert both == ", missed legs held 0.2 s (1 s those of the people a leg MHT tracks)"
     same = LegForeground(replace(params, memory=0.5, person_memory=0.5)).describe_hold()
     assert same == ", missed legs held 0.5 s"
 

@@ -108,6 +108,6 @@ def test_particle_filters_keep_the_person_on_the_real_following_robot(
         pytest.skip(f"{DEV_BAG} not found under {shared_data}")
     out = tmp_path / f"{tracker}.csv"
     said = _track(bag, out, tracker, "--topic", "/scan_base2")
-    assert "(1 s those of the people a leg MHT tracks)" in said
+    assert "missed legs of the people a leg MHT tracks held 1 s" in said
     score = _score(out, bag, "--laser-topic", "/scan_base2", "--followed-person", "auto")
     assert score["identity_recall"] > 0.45 and score["ids"] <= 6 and score["recall"] > 0.95, score

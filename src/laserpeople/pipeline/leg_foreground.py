@@ -312,6 +312,8 @@ class LegForeground:
             return ""
         if people == memory:
             return f", missed legs held {memory:g} s"
+        if memory <= 0:
+            return f", missed legs of the people a leg MHT tracks held {people:g} s"
         return (
             f", missed legs held {memory:g} s ({people:g} s those of the people a leg MHT tracks)"
         )

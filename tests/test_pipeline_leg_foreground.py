@@ -163,6 +163,23 @@ def test_the_leg_mht_tells_which_legs_are_a_persons() -> None:
     assert off.person_memory == 0.0 and stage.person_memory == 1.0
 
 
+def test_scans_the_leg_mht_could_not_process_in_full_are_said() -> None:
+    model = _auto("moving")
+    model.static = replace(
+        model.static,
+        leg_foreground=LegForegroundParams(memory=0.0, person_memory=1.0),
+    )
+    for i in range(25):
+        model(_frame(_rotating_scan(i, 0)))
+    for i in range(25, 40):
+        model(_frame(_rotating_scan(i, 3 * (i - 24))))
+    assert model.legs is not None and model.legs.degraded_scans == 0
+    assert "could not process" not in model.describe_foreground()
+    model.legs._tracker.tracker.guard.degraded(7)  # as the MHT does over max_cluster_size
+    assert model.legs.degraded_scans == 1
+    assert "could not process 1 scans in full" in model.describe_foreground()
+
+
 def test_the_hold_is_described() -> None:
     params = LegForegroundParams(memory=0.0, steady_memory=0.0, person_memory=0.0,
                                  steady_person_memory=1.0)  # fmt: skip

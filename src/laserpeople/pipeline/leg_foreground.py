@@ -319,6 +319,14 @@ class LegForeground:
         )
 
     @property
+    def degraded_scans(self) -> int:
+        """Scans the stage's leg MHT could not process in full within its work bounds (0:
+        none, or no leg MHT run)."""
+        if self._tracker is None:
+            return 0
+        return int(self._tracker.tracker.guard.degraded_scans)
+
+    @property
     def kept_share(self) -> float:
         """Share of the foreground points kept, over every frame narrowed (nan: none)."""
         return self.points_kept / self.points_in if self.points_in else float("nan")

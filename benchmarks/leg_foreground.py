@@ -17,7 +17,7 @@ recording (``laserpeople track`` as a pipeline), with the default and with ``use
         [--tracker csa --tracker feet-pf --tracker upper-body-pf] [--seconds 30] \\
         [--setting never 'use = "never"' --setting r35 'radius = 0.35'] [--json out.json]
     PYTHONPATH=src .venv/bin/python benchmarks/leg_foreground.py --recording BAG \\
-        --topic /scan_base2
+        --topic /scan_base2 [--setting NAME TOML ...] [--rounds 2]
 """
 
 from __future__ import annotations
@@ -52,17 +52,32 @@ def moved(scans: Any, distance: float = 0.05) -> bool:
     return any(math.hypot(p.x - poses[0].x, p.y - poses[0].y) > distance for p in poses)
 
 
-def cpu_on_recording(recording: Path, topic: str | None, trackers: list[str]) -> None:
+def cpu_on_recording(
+    recording: Path,
+    topic: str | None,
+    trackers: list[str],
+    settings: list[tuple[str, str]] | None = None,
+    rounds: int = 1,
+) -> None:
     """Print the process CPU per frame [ms] of each stage and the tracker on ``recording``,
-    with the default foreground and with ``[leg_foreground] use = "never"``."""
+    with the default foreground and with ``[leg_foreground] use = "never"`` (or with each
+    of ``settings``: name and ``[leg_foreground]`` TOML body), ``rounds`` times in turn."""
     import time
 
     from laserpeople.pipeline import build
-    from laserpeople.pipeline.background import StaticWorldParams
+    from laserpeople.pipeline.background import StaticWorldParams, load_static_world
     from laserpeople.pipeline.leg_foreground import LegForegroundParams
 
     never = StaticWorldParams(leg_foreground=LegForegroundParams(use="never"))
-    for name, static in (("default", StaticWorldParams()), ("never", never)):
+    chosen = [("default", StaticWorldParams()), ("never", never)]
+    if settings:
+        tmp = Path(tempfile.mkdtemp(prefix="leg_foreground_"))
+        chosen = []
+        for name, body in settings:
+            path = tmp / f"{name}.toml"
+            path.write_text(f"[leg_foreground]\n{body}\n")
+            chosen.append((name, load_static_world(path)))
+    for name, static in [c for _ in range(rounds) for c in chosen]:
         for t in trackers:
             pipe = build(recording, tracker=t, topics=[topic] if topic else None,
                          static_world=static)  # fmt: skip
@@ -110,10 +125,12 @@ def main() -> None:
     )
     ap.add_argument("--recording", type=Path, help="time the stages on this recording instead")
     ap.add_argument("--topic", help="laser topic of --recording (default: the first)")
+    ap.add_argument("--rounds", type=int, default=1, help="with --recording: runs per setting")
     args = ap.parse_args()
     trackers = args.tracker or ["csa", "feet-pf", "upper-body-pf"]
     if args.recording is not None:
-        cpu_on_recording(args.recording, args.topic, trackers)
+        chosen = [(n, b) for n, b in args.setting] if args.setting else None
+        cpu_on_recording(args.recording, args.topic, trackers, chosen, args.rounds)
         return
     settings = [tuple(s) for s in args.setting] if args.setting else list(DEFAULT_SETTINGS)
     tmp = Path(tempfile.mkdtemp(prefix="leg_foreground_"))

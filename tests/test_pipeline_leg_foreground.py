@@ -108,6 +108,90 @@ def test_held_legs_keep_their_points_for_memory_seconds() -> None:
     assert out.foreground is not None and not out.foreground.any()
 
 
+def test_legs_of_people_are_held_for_person_memory() -> None:
+    """A leg flagged as a person's is held ``person_memory`` s (inclusive), the others
+    ``memory`` s; a person's leg seen again is replaced by its new place."""
+    stage = LegForeground(LegForegroundParams(radius=0.3, memory=0.2, person_memory=1.0))
+    legs = np.array([[0.0, 0.0], [2.0, 0.0]])
+    held = stage.remembered(0.0, legs, np.array([True, False]))
+    assert held.tolist() == [[0.0, 0.0], [2.0, 0.0]]
+    # 0.5 s later nothing is detected: the person's leg (age 0.5 <= 1.0) is held, the
+    # other (0.5 > 0.2) is not
+    assert stage.remembered(0.5, np.empty((0, 2))).tolist() == [[0.0, 0.0]]
+    # at 1.0 s exactly it is still held; at 1.1 s it is gone
+    assert stage.remembered(1.0, np.empty((0, 2))).tolist() == [[0.0, 0.0]]
+    assert stage.remembered(1.1, np.empty((0, 2))).shape == (0, 2)
+    # seen again 0.25 m away (within radius): the old place is dropped at once
+    stage.remembered(2.0, np.array([[0.0, 0.0]]), np.array([True]))
+    assert stage.remembered(2.1, np.array([[0.25, 0.0]]), np.array([False])).tolist() == [
+        [0.25, 0.0]
+    ]
+    # no longer a person's leg: held memory = 0.2 s only (0.35 - 0.1 = 0.25 > 0.2)
+    assert stage.remembered(2.35, np.empty((0, 2))).shape == (0, 2)
+    # a person_memory below memory holds for memory
+    short = LegForeground(LegForegroundParams(radius=0.3, memory=0.5, person_memory=0.1))
+    short.remembered(0.0, legs[:1], np.array([True]))
+    assert short.remembered(0.4, np.empty((0, 2))).tolist() == [[0.0, 0.0]]
+
+
+def _walking_pair(stage: LegForeground, scans: int) -> list[list[bool] | None]:
+    """Feed ``stage`` two legs of a person walking at 0.5 m/s along x (their steps 0.1 m
+    apart) and a lone still leg at (3, 2), 10 scans per second; each scan's person flags."""
+    flags: list[list[bool] | None] = []
+    for k in range(scans):
+        t = 0.1 * k
+        swing = 0.1 * np.sin(2 * np.pi * t)
+        x = 1.0 + 0.5 * t
+        frame = _points_frame([(x + swing, 0.15), (x - swing, -0.15), (3.0, 2.0)], t,
+                              legs=[(x + swing, 0.15), (x - swing, -0.15), (3.0, 2.0)])  # fmt: skip
+        assert frame.legs is not None
+        legs = replace(frame.legs, stamp=t, scan_index=k)
+        got = stage.people_flags(replace(frame, index=k, legs=legs), legs, legs.positions)
+        flags.append(None if got is None else got.tolist())
+    return flags
+
+
+def test_the_leg_mht_tells_which_legs_are_a_persons() -> None:
+    """The leg MHT run on the detections confirms the walking pair as a person within a
+    second; the lone still leg never is. With person_memory 0 no MHT runs."""
+    stage = LegForeground(LegForegroundParams(steady_person_memory=1.0), steady=True)
+    flags = _walking_pair(stage, 20)
+    assert flags[0] == [False, False, False]
+    assert all(f == [True, True, False] for f in flags[10:]), flags
+    off = LegForeground(LegForegroundParams(person_memory=0.0, steady_person_memory=1.0))
+    assert _walking_pair(off, 3) == [None, None, None]
+    assert off.person_memory == 0.0 and stage.person_memory == 1.0
+
+
+def test_scans_the_leg_mht_could_not_process_in_full_are_said() -> None:
+    model = _auto("moving")
+    model.static = replace(
+        model.static,
+        leg_foreground=LegForegroundParams(memory=0.0, person_memory=1.0),
+    )
+    for i in range(25):
+        model(_frame(_rotating_scan(i, 0)))
+    for i in range(25, 40):
+        model(_frame(_rotating_scan(i, 3 * (i - 24))))
+    assert model.legs is not None and model.legs.degraded_scans == 0
+    assert "could not process" not in model.describe_foreground()
+    model.legs._tracker.tracker.guard.degraded(7)  # as the MHT does over max_cluster_size
+    assert model.legs.degraded_scans == 1
+    assert "could not process 1 scans in full" in model.describe_foreground()
+
+
+def test_the_hold_is_described() -> None:
+    params = LegForegroundParams(memory=0.0, steady_memory=0.0, person_memory=0.0,
+                                 steady_person_memory=1.0)  # fmt: skip
+    assert LegForeground(params).describe_hold() == ""
+    said = LegForeground(params, steady=True).describe_hold()
+    assert said == ", missed legs of the people a leg MHT tracks held 1 s"
+    both = LegForeground(replace(params, memory=0.2, person_memory=1.0)).describe_hold()
+    assert both == ", missed legs held 0.2 s (1 s those of the people a leg MHT tracks)"
+    same = LegForeground(replace(params, memory=0.5, person_memory=0.5)).describe_hold()
+    assert same == ", missed legs held 0.5 s"
+
+
 def test_a_stamp_going_back_forgets_the_held_legs() -> None:
     stage = LegForeground(LegForegroundParams(radius=0.3, memory=0.5))
     stage(_points_frame([(0.0, 0.0)], 5.0, legs=[(0.0, 0.0)]))
@@ -156,6 +240,10 @@ def test_params_are_checked() -> None:
         LegForegroundParams(memory=-1.0)
     with pytest.raises(ValueError, match="steady_memory"):
         LegForegroundParams(steady_memory=float("inf"))
+    with pytest.raises(ValueError, match="person_memory"):
+        LegForegroundParams(person_memory=-0.1)
+    with pytest.raises(ValueError, match="steady_person_memory"):
+        LegForegroundParams(steady_person_memory=float("nan"))
 
 
 def test_a_shared_detector_is_copied() -> None:

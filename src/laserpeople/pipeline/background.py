@@ -378,7 +378,14 @@ class AutoBackground:
         }[self.chosen]
         share = self.legs.kept_share
         kept = f"; kept {100 * share:.1f} % of the foreground points" if share == share else ""
-        held = f", missed legs held {self.legs.memory:g} s" if self.legs.memory > 0 else ""
+        held = self.legs.describe_hold()
+        degraded = self.legs.degraded_scans
+        if degraded:
+            kept += (
+                f"; the leg MHT that tells people's legs could not process {degraded} scans "
+                "in full (too many detections in one place, [leg_tracker] mht.max_cluster_size):"
+                " their legs may be held too briefly"
+            )
         return (
             f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "
             f"detections{held} ({why}{kept}; [leg_foreground] use = never keeps every point, "

@@ -14,6 +14,14 @@ that already holds ``legs`` is not detected again). A leg's points lie within ab
 of its detection (leg radius ~0.07 m, the detection moved 0.045 m behind the points'
 centroid); a larger radius also keeps a second leg the detector missed in this scan.
 
+A leg the detector misses for a few scans can be held at its last position: every leg for
+``memory`` seconds, and a leg of a person that a leg MHT tracks (the shipped ``leg-mht``
+run by the stage on the same detections; its people coast through missed detections with
+their own existence) for ``person_memory`` seconds; for the particle filters, which die
+without points after 0.2 s, ``steady_memory`` and ``steady_person_memory``. By default
+only the legs of people are held, and only for the particle filters (1 s): held clutter
+legs keep the point trackers' false tracks alive.
+
 When :class:`~laserpeople.pipeline.background.AutoBackground` uses it is
 ``[leg_foreground] use`` (:class:`LegForegroundParams`): ``never`` (the papers: every
 point, or plain background subtraction), ``no-poses`` (only once the model is dropped on a
@@ -68,11 +76,13 @@ class LegForegroundParams:
         "s",
     )
     steady_memory: float = param(
-        0.5,
-        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0 and "
-        "0.5 s): the particle filters of 004 die after miss_time = 0.2 s without points and "
-        "the detector misses a walking person's legs for a few scans (real person-following "
-        "robot: feet-pf identity recall 0.17 with 0 s, 0.35 with 0.5 s)",
+        0.0,
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots' and 'Session 13: "
+        "holding the legs of people'; tried 0, 0.5, 1 and 2 s): with the legs of the leg "
+        "MHT's people held steady_person_memory, holding the other legs too only keeps "
+        "clutter (real person-following robot: feet-pf identity recall / ids 0.51 / 5 with "
+        "0 s, 0.51 / 5 with 0.2 s; simulated moving robots, tuning seeds: feet-pf MOTA 0.16 "
+        "with 0 s, -0.25 with 0.2 s)",
         "memory for trackers that die without points for a few scans (feet-pf, "
         "upper-body-pf: their needs_steady_points)",
         "s",
@@ -92,6 +102,31 @@ class LegForegroundParams:
         "a foreground point is kept when it lies within this distance of a leg detection",
         "m",
     )
+    person_memory: float = param(
+        0.0,
+        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "tried 0, 0.5 and 1 s): as memory, held legs draw the CSA's targets into groups "
+        "that never split (real person-following robot: csa identity recall / recall 0.37 / "
+        "0.84 with 0 s, 0.32 / 0.33 with 0.5 and 1 s; group-mht's groups 0.33 / 14 ids with "
+        "0 s, 0.48 / 7 ids with 1 s)",
+        "for trackers other than those in steady_person_memory: a leg detection within "
+        "radius of a leg of a person the leg MHT tracks (the shipped leg-mht with its "
+        "default parameters, run on the same detections) is held this long instead of "
+        "memory, if longer (0 for both: no leg MHT is run)",
+        "s",
+    )
+    steady_person_memory: float = param(
+        1.0,
+        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "tried 0.5, 1 and 2 s): the particle filters of 004 die after miss_time = 0.2 s "
+        "without points and the detector misses the followed person's legs for up to a "
+        "second while the leg MHT still holds them (real person-following robot: feet-pf / "
+        "upper-body-pf identity recall 0.37 / 0.37 with 0.5 s, 0.51 / 0.57 with 1 s and "
+        "2 s)",
+        "person_memory for trackers that die without points for a few scans (feet-pf, "
+        "upper-body-pf: their needs_steady_points)",
+        "s",
+    )
 
     def __post_init__(self) -> None:
         if self.use not in LEG_FOREGROUND_USES:
@@ -106,6 +141,10 @@ class LegForegroundParams:
             raise ValueError(
                 f"steady_memory must be finite and not negative, got {self.steady_memory}"
             )
+        for name in ("person_memory", "steady_person_memory"):
+            value = getattr(self, name)
+            if not 0.0 <= value < float("inf"):
+                raise ValueError(f"{name} must be finite and not negative, got {value}")
 
 
 def near_legs(
@@ -133,7 +172,8 @@ class LegForeground:
     else from its own :class:`~laserpeople.pipeline.observe.DetectLegs` with ``detector``
     (None: the shipped AdaBoost detector). ``steady``: the tracker dies without points for
     a few scans (:func:`needs_steady_points`), so legs are held ``steady_memory`` seconds
-    instead of ``memory``.
+    instead of ``memory`` (and people's legs ``steady_person_memory`` instead of
+    ``person_memory``).
 
     Attributes:
         frames: Frames narrowed.
@@ -156,6 +196,11 @@ class LegForeground:
         self.memory = self.params.steady_memory if steady else self.params.memory
         """How long [s] legs are held (``steady_memory`` for a tracker that needs steady
         points, else ``memory``)."""
+        self.person_memory = (
+            self.params.steady_person_memory if steady else self.params.person_memory
+        )
+        """How long [s] legs of the leg MHT's people are held (``steady_person_memory`` or
+        ``person_memory``; 0: no leg MHT is run)."""
         self._detector = detector
         self._detect: Any = None
         self.frames = 0
@@ -164,33 +209,65 @@ class LegForeground:
         self.detected = 0
         self._held = np.empty((0, 2))
         self._held_stamps = np.empty(0)
+        self._held_long = np.empty(0, dtype=bool)
         self._last_stamp = -np.inf
+        self._tracker: Any = None
 
-    def remembered(self, stamp: float, legs: NDArray[np.float64]) -> NDArray[np.float64]:
+    def remembered(
+        self,
+        stamp: float,
+        legs: NDArray[np.float64],
+        people: NDArray[np.bool_] | None = None,
+    ) -> NDArray[np.float64]:
         """``legs`` (M, 2) [m] of the frame at ``stamp`` [s] and the held legs: each leg of
-        the last ``memory`` seconds that no leg of a later frame came within ``radius``
-        of, at its last position (so a leg the detector misses for a few scans keeps its
-        points, and one it sees again is not smeared along its path). A stamp before the
-        previous one forgets them."""
+        the last ``memory`` seconds (``person_memory`` for those flagged in ``people``, (M,),
+        a person's legs) that no leg of a later frame came within ``radius`` of, at its
+        last position (so a leg the detector misses for a few scans keeps its points, and
+        one it sees again is not smeared along its path). A stamp before the previous one
+        forgets them."""
         legs = np.asarray(legs, dtype=np.float64).reshape(-1, 2)
+        flags = np.zeros(len(legs), dtype=bool) if people is None else np.asarray(people, bool)
         if self._held_stamps.size and stamp < self._last_stamp:
             self._held_stamps = np.empty(0)
             self._held = np.empty((0, 2))
+            self._held_long = np.empty(0, dtype=bool)
         self._last_stamp = stamp
-        keep = stamp - self._held_stamps <= self.memory
+        limit = np.where(self._held_long, max(self.memory, self.person_memory), self.memory)
+        keep = stamp - self._held_stamps <= limit
         if keep.any() and len(legs):
             d = self._held[:, None, :] - legs[None, :, :]
             seen = (np.einsum("hmk,hmk->hm", d, d) <= self.params.radius**2).any(axis=1)
             keep &= ~seen
         held = self._held[keep]
         self._held_stamps = np.concatenate([self._held_stamps[keep], np.full(len(legs), stamp)])
+        self._held_long = np.concatenate([self._held_long[keep], flags])
         self._held = np.concatenate([held, legs])
         return self._held
 
     def legs_of(self, frame: Frame) -> NDArray[np.float64]:
         """Leg positions (M, 2) [m] of ``frame``, in its coordinate frame."""
+        return self._confident(self.detections_of(frame))
+
+    def people_flags(self, frame: Frame, legs: Any, mine: NDArray[np.float64]) -> Any:
+        """Which of the positions ``mine`` (M, 2) [m] lie within ``radius`` of a leg of a
+        person track of the leg MHT fed with ``legs`` (None: ``person_memory`` is not
+        longer than ``memory``, no MHT is run)."""
+        if self.person_memory <= self.memory:
+            return None
+        if self._tracker is None:
+            from laserpeople.tracking.legs import LegMHTTracker
+            from laserpeople.tracking.registry import LegsAdapter
+
+            self._tracker = LegsAdapter(LegMHTTracker())
+        tracks = self._tracker.update(frame.with_fields(legs=legs))
+        members = {m for t in tracks.of_kind("person") for m in t.members}
+        pos = [t.position for t in tracks.of_kind("leg") if t.track_id in members]
+        return near_legs(mine, np.asarray(pos, dtype=np.float64).reshape(-1, 2), self.params.radius)
+
+    def detections_of(self, frame: Frame) -> Any:
+        """Leg detections of ``frame``, in its coordinate frame."""
         if frame.legs is not None:
-            return self._confident(frame.legs)
+            return frame.legs
         if self._detect is None:
             from laserpeople.pipeline.observe import DetectLegs
 
@@ -202,7 +279,11 @@ class LegForeground:
             self._detect = DetectLegs(detector)
         self.detected += 1
         legs = self._detect(frame).legs
-        return np.empty((0, 2)) if legs is None else self._confident(legs)
+        if legs is None:
+            from laserpeople.tracks import Detections
+
+            return Detections.empty(frame.stamp, frame.index, frame.frame, frame.sensor_pose)
+        return legs
 
     def _confident(self, legs: Any) -> NDArray[np.float64]:
         """Positions of the ``legs`` (Detections) scoring above ``min_score``."""
@@ -214,12 +295,36 @@ class LegForeground:
             raise ConfigError(f"frame {frame.index} has no points", hint="run Fuse first")
         n = len(frame.points)
         fg = np.ones(n, dtype=bool) if frame.foreground is None else frame.foreground
-        legs = self.remembered(float(frame.stamp), self.legs_of(frame))
+        detections = self.detections_of(frame)
+        mine = self._confident(detections)
+        people = self.people_flags(frame, detections, mine)
+        legs = self.remembered(float(frame.stamp), mine, people)
         kept = fg & near_legs(frame.points.points, legs, self.params.radius)
         self.frames += 1
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
         return frame.with_fields(foreground=kept)
+
+    def describe_hold(self) -> str:
+        """How long missed legs are held, for the user (empty: not held)."""
+        memory, people = self.memory, max(self.memory, self.person_memory)
+        if people <= 0:
+            return ""
+        if people == memory:
+            return f", missed legs held {memory:g} s"
+        if memory <= 0:
+            return f", missed legs of the people a leg MHT tracks held {people:g} s"
+        return (
+            f", missed legs held {memory:g} s ({people:g} s those of the people a leg MHT tracks)"
+        )
+
+    @property
+    def degraded_scans(self) -> int:
+        """Scans the stage's leg MHT could not process in full within its work bounds (0:
+        none, or no leg MHT run)."""
+        if self._tracker is None:
+            return 0
+        return int(self._tracker.tracker.guard.degraded_scans)
 
     @property
     def kept_share(self) -> float:

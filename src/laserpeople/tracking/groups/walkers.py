@@ -10,8 +10,9 @@ tracker does not beat memory-less clustering"). People who walk together move to
 This module tracks the walkers of the scene - the human-sized blobs at d_hs, with the two
 leg blobs of one person paired as in :func:`~.observations.count_people` - with a
 constant-velocity Kalman filter each and one-to-one nearest-neighbour association, and
-cuts the d_P links between the points of two walkers whose velocities differ by more
-than ``max_velocity_difference``. A walker whose velocity is not known yet (younger than
+cuts the d_P links between the points of two walkers that move apart (:func:`moving_apart`:
+one stands while the other walks past, or they head more than 90 degrees apart) for
+``apart_scans`` scans in a row. A walker whose velocity is not known yet (younger than
 ``min_scans``) keeps all of its links, so new people are clustered as by 000.
 """
 
@@ -209,17 +210,18 @@ class WalkerTracker:
         apart = moving_apart(velocity[wa], velocity[wb], s.standing_speed, s.walking_speed)
         apart &= known[wa] & known[wb]
         # a pair of walkers is cut once it has moved apart for apart_scans scans in a row
-        streaks: dict[tuple[int, int], int] = {}
         lo, hi = np.minimum(ids[wa], ids[wb]), np.maximum(ids[wa], ids[wb])
-        for a, b, now in set(zip(lo.tolist(), hi.tolist(), apart.tolist(), strict=True)):
-            if now:
-                streaks[a, b] = self._apart_for.get((a, b), 0) + 1
+        pairs, first, link_pair = np.unique(
+            np.column_stack([lo, hi]), axis=0, return_index=True, return_inverse=True
+        )
+        streaks: dict[tuple[int, int], int] = {}
+        cut = np.zeros(len(pairs), dtype=bool)
+        for k in np.nonzero(apart[first])[0].tolist():
+            pair = (int(pairs[k, 0]), int(pairs[k, 1]))
+            streaks[pair] = self._apart_for.get(pair, 0) + 1
+            cut[k] = streaks[pair] >= s.apart_scans
         self._apart_for = streaks
-        if not streaks:
-            return np.ones(len(links), dtype=bool)
-        pairs = zip(lo.tolist(), hi.tolist(), strict=True)
-        cut = [streaks.get(pair, 0) >= s.apart_scans for pair in pairs]
-        return ~np.asarray(cut, dtype=bool)
+        return ~cut[link_pair.reshape(-1)]
 
 
 def moving_apart(

@@ -524,6 +524,24 @@ def test_split_and_merge_labels_on_a_scripted_sequence(params: GroupTrackerParam
     kinds = [e.kind for e in tracker.events]
     assert "split" in kinds and "merge" in kinds
     assert kinds.index("split") < kinds.index("merge")
+    # the rejoined group is the group of before the split (its labels say so): same id
+    assert last[0].track_id == first[0].track_id
+    split_ids = {t.track_id for out in history for t in out.of_kind("group") if t.labels != "0"}
+    assert first[0].track_id not in split_ids
+
+
+def test_without_reuse_ids_a_rejoined_group_gets_a_new_id() -> None:
+    """``reuse_ids = false``: every track is reported with its own id, so the group of
+    three that split and rejoined (the scripted sequence above) ends with a new id."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        y = 0.0 if k < 20 or k >= 70 else 0.12 * min(k - 20, 70 - k)
+        return [(3.0, 0.0, 0), (3.8, y, 0), (4.6, y, 0)]
+
+    _, history, _, _ = _run(people_at, 130, params=GroupTrackerParams(reuse_ids=False))
+    first, last = history[10].of_kind("group"), history[-1].of_kind("group")
+    assert [t.labels for t in first] == [t.labels for t in last] == ["0"]
+    assert last[0].track_id != first[0].track_id
 
 
 @SETTINGS

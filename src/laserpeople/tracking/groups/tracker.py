@@ -404,6 +404,14 @@ class GroupTrackerParams:
         "scans a group born from an observation must have been in the best hypothesis "
         "(within confirm_window) before it is reported; the MHT is not changed",
     )
+    reuse_ids: bool = param(
+        True,
+        "extension of 000, from its labels (Sec. 4.6.1: 'from the history of group splits "
+        "and merges stored in the group labels, the correct group relations can be "
+        "determined'); docs/groups.md 'Ids from labels'",
+        "a group whose labels are those of a group reported before (its parts merged back) "
+        "is reported with that group's id (false: every track its own id, as before)",
+    )
     confirm_window: int = param(
         0,
         "chosen on the real recordings (3 of 4 or 5 scans: the same or more ids than 3 "
@@ -681,6 +689,7 @@ class GroupMHTTracker:
         # family -> (time [s], position) of its last walk, or of when it was first tracked
         self._anchors: dict[int, tuple[float, FloatArray]] = {}
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
+        self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
 
     @property
     def wants_static_model(self) -> bool:
@@ -768,7 +777,8 @@ class GroupMHTTracker:
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
         nodes = self._confirmed(self.mht.best_tracks(), frame.stamp)
-        for node in nodes:
+        ids = self._reported_ids(nodes)
+        for node, track_id in zip(nodes, ids, strict=True):
             payload = group_payload(node)
             labels = self.display_labels(self.name(node))
             contour = payload.contour + node.mean[:2]
@@ -784,7 +794,7 @@ class GroupMHTTracker:
                     self._record(GroupEvent(frame.stamp, payload.event, labels), frame.index)
             tracks.append(
                 Track(
-                    track_id=node.family,
+                    track_id=track_id,
                     kind="group",
                     position=node.mean[:2],
                     velocity=node.mean[2:4],
@@ -800,6 +810,30 @@ class GroupMHTTracker:
         if self._scans % FORGET_EVERY == 0:
             self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
+
+    def _reported_ids(self, nodes: list[TrackNode]) -> list[int]:
+        """The id each of ``nodes`` is reported with: its family, or with ``reuse_ids`` the
+        id of the group reported before with the same internal labels (a split group whose
+        parts merged back: ``0`` -> ``0-0``, ``0-1`` -> ``0``), unless another node of this
+        scan has that id."""
+        if not self.params.reuse_ids:
+            return [node.family for node in nodes]
+        keys = [self.name(node) for node in nodes]
+        out: list[int] = []
+        taken: set[int] = set()
+        # a node that keeps its own id first, so that a merged-back group never takes it
+        for node, key in zip(nodes, keys, strict=True):
+            if self._ids.get(key, node.family) == node.family:
+                taken.add(node.family)
+        for node, key in zip(nodes, keys, strict=True):
+            track_id = self._ids.get(key)
+            if track_id is None:
+                track_id = self._ids[key] = node.family
+            elif track_id != node.family and track_id in taken:
+                track_id = node.family
+            taken.add(track_id)
+            out.append(track_id)
+        return out
 
     @property
     def unconfirmed_groups_withheld(self) -> int:
@@ -870,15 +904,15 @@ class GroupMHTTracker:
     def forget_gone(self, index: int) -> None:
         """Forget what only tracks gone from every hypothesis could ask (called every
         :data:`FORGET_EVERY` scans; ``index`` is the frame index of now): reported families,
-        numbers of roots no live track's labels hold, last walks of labels that are neither
-        a live track's nor a stem of one, the label memos of sets no live track carries
-        (pure functions of the set and the root numbers, computed again if needed) and the
-        events recorded more than N-scan-back frames ago. Family ids are never reused, and
-        the labels of every future track are its new family or come from the labels of
-        tracks alive now (a split appends ``-0``/``-1``, a merge unites two sets and
-        prunes ``X-0``, ``X-1`` to their stem ``X``), so the output is the same as with
-        everything kept; the memory is bounded by the live tracks instead of growing with
-        the length of the run."""
+        numbers of roots no live track's labels hold, last walks of labels and reported ids
+        of label sets that are neither a live track's nor stems of one, the label memos of
+        sets no live track carries (pure functions of the set and the root numbers, computed
+        again if needed) and the events recorded more than N-scan-back frames ago. Family
+        ids are never reused, and the labels of every future track are its new family or
+        come from the labels of tracks alive now (a split appends ``-0``/``-1``, a merge
+        unites two sets and prunes ``X-0``, ``X-1`` to their stem ``X``), so the output is
+        the same as with everything kept; the memory is bounded by the live tracks instead
+        of growing with the length of the run."""
         live = [n for nodes in self.mht.tree.nodes_by_family.values() for n in nodes]
         names = {self.name(node) for node in live}
         labels = {label for name in names for label in name}
@@ -889,9 +923,11 @@ class GroupMHTTracker:
         self._formatted = {k: v for k, v in self._formatted.items() if k in shown}
         self.confirmation.prune(self.mht.tree.nodes_by_family, {str(r) for r in roots})
         self.branches.forget_gone(names)
+        stems = {stem for label in labels for stem in _stems(label)}
         if self._walked_at:  # a label's walk counts for the labels split from it
-            stems = {stem for label in labels for stem in _stems(label)}
             self._walked_at = {k: t for k, t in self._walked_at.items() if k in stems}
+        # a label set comes back only from its live parts merging back
+        self._ids = {k: i for k, i in self._ids.items() if all(x in stems for x in k)}
         n_scan = self.params.mht.n_scan
         self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
 

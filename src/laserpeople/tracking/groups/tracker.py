@@ -828,6 +828,8 @@ class GroupMHTTracker:
         for node, key in zip(nodes, keys, strict=True):
             track_id = self._ids.get(key)
             if track_id is None:
+                if len(self._ids) >= LABEL_MEMO:  # a bound for pathological runs only
+                    self._ids = {k: self._ids[k] for k in keys if k in self._ids}
                 track_id = self._ids[key] = node.family
             elif track_id != node.family and track_id in taken:
                 track_id = node.family

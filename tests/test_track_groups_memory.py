@@ -23,6 +23,7 @@ BOOKKEEPING = (
     "formatted",
     "event_at",
     "walked_at",
+    "reported_ids",
     "anchors",
     "merged_labels",
     "confirmed",
@@ -30,7 +31,7 @@ BOOKKEEPING = (
     "reported_roots",
 )
 """Sizes of :meth:`GroupMHTTracker.state_counts` that grew with the run before session 11
-(or could, as ``walked_at`` with a static world model)."""
+(or could, as ``walked_at`` with a static world model, and ``reported_ids``, session 13)."""
 BOUND = 24
 """Most entries any of them may hold: one episode makes some 10 families and labels."""
 

@@ -949,6 +949,7 @@ class GroupMHTTracker:
             "event_at": len(self._event_at),
             "events": len(self.events),
             "walked_at": len(self._walked_at),
+            "reported_ids": len(self._ids),
             "anchors": len(self._anchors),
             "merged_labels": self.branches.memo_size,
             **self.confirmation.sizes(),

@@ -14,7 +14,6 @@ rounds, and prints the CPU of each, their ratio, and how many calls gave the sam
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 from pathlib import Path
 from types import ModuleType
@@ -24,22 +23,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import laserpeople.tracking.mht.core as core
 import laserpeople.tracking.mht.listing as listing
-from bench_murty_replay import alternate, timed
+from bench_murty_replay import alternate, load_other, timed
 from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
 from people_suite import make_factory
 
 
 def load_listing(src: Path) -> ModuleType:
-    """The other version's ``laserpeople/tracking/mht/listing.py`` as a module of its own
-    (it imports only numpy and this version's label constants and ``LabelledAssignment``)."""
-    path = src / "laserpeople" / "tracking" / "mht" / "listing.py"
-    spec = importlib.util.spec_from_file_location("listing_other", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["listing_other"] = module
-    spec.loader.exec_module(module)
-    return module
+    """The other version's ``laserpeople/tracking/mht/listing.py`` (it imports only numpy
+    and this version's label constants and ``LabelledAssignment``)."""
+    return load_other(src, "tracking/mht/listing.py", "listing_other")
 
 
 Call = tuple[tuple[Any, ...], dict[str, Any]]

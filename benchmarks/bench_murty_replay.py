@@ -36,16 +36,21 @@ from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
 from people_suite import make_factory
 
 
-def load_assignment(src: Path) -> ModuleType:
-    """The other version's ``laserpeople/tracking/assignment.py`` as a module of its own
-    (it imports numpy and scipy only, or this version's compiled solver)."""
-    path = src / "laserpeople" / "tracking" / "assignment.py"
-    spec = importlib.util.spec_from_file_location("assignment_other", path)
+def load_other(src: Path, relative: str, name: str) -> ModuleType:
+    """The other version's module ``src/laserpeople/<relative>`` as a module of its own,
+    registered as ``name`` (the module must import nothing of the other version)."""
+    spec = importlib.util.spec_from_file_location(name, src / "laserpeople" / relative)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
-    sys.modules["assignment_other"] = module
+    sys.modules[name] = module
     spec.loader.exec_module(module)
     return module
+
+
+def load_assignment(src: Path) -> ModuleType:
+    """The other version's ``laserpeople/tracking/assignment.py`` (it imports numpy and
+    scipy only, or this version's compiled solver)."""
+    return load_other(src, "tracking/assignment.py", "assignment_other")
 
 
 def record(scenario: str, seed: int, seconds: float) -> list[tuple[Any, ...]]:

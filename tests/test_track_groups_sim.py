@@ -17,19 +17,24 @@ from laserpeople.sim.simulator import Scene, simulate
 from laserpeople.sim.world import World, room
 
 
-def fig18_scene(seed: int) -> Scene:
-    """A pair walks east through a 14 m x 6 m room, 1.2 m apart (one group); a person walks
-    west between them (000 Fig. 18). Scanner 30 cm high at the south wall, 10 scans/s."""
+def pair_and_passer(seed: int, pair: list[Route], passer: Route) -> Scene:
+    """Two people of one group following ``pair`` and one alone following ``passer`` in a
+    14 m x 6 m room; scanner 30 cm high at the south wall, 10 scans/s."""
     rng = np.random.default_rng(seed)
+    people = [random_person(rng, i, r, groups=((-math.inf, 0),)) for i, r in enumerate(pair)]
+    people.append(random_person(rng, 2, passer))
+    sensor = SensorSpec("laser", "sick-lms200", 0.30, Pose2D(7.0, 0.2, math.pi / 2), rate_hz=10.0)
+    return Scene(World(room(0.0, 0.0, 14.0, 6.0)), people, [sensor])
+
+
+def fig18_scene(seed: int) -> Scene:
+    """A pair walks east, 1.2 m apart (one group); a person walks west between them (000
+    Fig. 18)."""
     pair = [
         Route(1.0, 2.4, 0.0).walk_to(13.0, 2.4, 1.0),
         Route(1.0, 3.6, 0.0).walk_to(13.0, 3.6, 1.0),
     ]
-    lone = Route(13.0, 3.0, math.pi).walk_to(1.0, 3.0, 1.1)
-    people = [random_person(rng, i, r, groups=((-math.inf, 0),)) for i, r in enumerate(pair)]
-    people.append(random_person(rng, 2, lone))
-    sensor = SensorSpec("laser", "sick-lms200", 0.30, Pose2D(7.0, 0.2, math.pi / 2), rate_hz=10.0)
-    return Scene(World(room(0.0, 0.0, 14.0, 6.0)), people, [sensor])
+    return pair_and_passer(seed, pair, Route(13.0, 3.0, math.pi).walk_to(1.0, 3.0, 1.1))
 
 
 def test_group_tracker_keeps_passing_groups_apart_on_simulated_scans() -> None:

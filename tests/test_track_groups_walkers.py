@@ -10,12 +10,8 @@ import numpy as np
 import pytest
 
 from laserpeople.evaluation.groups import run_groups
-from laserpeople.scan import Pose2D
 from laserpeople.sim.motion import Route
-from laserpeople.sim.people import random_person
-from laserpeople.sim.sensors import SensorSpec
 from laserpeople.sim.simulator import Scene, simulate
-from laserpeople.sim.world import World, room
 from laserpeople.tracking.groups import GroupTrackerParams
 from laserpeople.tracking.groups.observations import GroupObservations
 from laserpeople.tracking.groups.walkers import (
@@ -24,6 +20,7 @@ from laserpeople.tracking.groups.walkers import (
     moving_apart,
     walker_detections,
 )
+from test_track_groups_sim import pair_and_passer
 
 
 def _disc(cx: float, cy: float, r: float, n: int = 6) -> np.ndarray:
@@ -123,15 +120,10 @@ def test_keep_links_sees_only_the_points_kept() -> None:
 
 
 def _standing_pair_and_passer(seed: int) -> Scene:
-    """Two people stand and talk in a 14 m x 6 m room; a third walks past them at 1.1 m/s,
-    0.9 m from the nearer one (within d_P). Scanner 30 cm high at the south wall."""
-    rng = np.random.default_rng(seed)
+    """Two people stand and talk; a third walks past them at 1.1 m/s, 0.9 m from the
+    nearer one (within d_P)."""
     pair = [Route(6.6, 3.4, 0.0).wait(14.0), Route(7.4, 3.4, math.pi).wait(14.0)]
-    lone = Route(13.0, 2.5, math.pi).walk_to(1.0, 2.5, 1.1)
-    people = [random_person(rng, i, r, groups=((-math.inf, 0),)) for i, r in enumerate(pair)]
-    people.append(random_person(rng, 2, lone))
-    sensor = SensorSpec("laser", "sick-lms200", 0.30, Pose2D(7.0, 0.2, math.pi / 2), rate_hz=10.0)
-    return Scene(World(room(0.0, 0.0, 14.0, 6.0)), people, [sensor])
+    return pair_and_passer(seed, pair, Route(13.0, 2.5, math.pi).walk_to(1.0, 2.5, 1.1))
 
 
 def test_walkers_keep_a_person_passing_a_standing_pair_apart() -> None:

@@ -37,12 +37,12 @@ from laserpeople.tracking.groups.interaction import (
     InteractionSettings,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
+from laserpeople.tracking.groups.leg_split import SplitSettings, SplitWalkerTracker
 from laserpeople.tracking.groups.model import (
     GroupModelSettings,
     group_payload,
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
-from laserpeople.tracking.groups.leg_split import SplitSettings, SplitWalkerTracker
 from laserpeople.tracking.groups.walkers import WalkerSettings, WalkerTracker
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode

@@ -22,7 +22,6 @@ from laserpeople.evaluation.clustering import ClusteringError
 from laserpeople.evaluation.groups import frames_from_scans
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups.leg_split import SplitSettings, SplitWalkerTracker
-from laserpeople.tracking.groups.leg_traces import LegTracer, TraceSettings
 from laserpeople.tracking.groups.observations import close_pairs, component_labels
 from laserpeople.tracking.groups.walkers import WalkerSettings, walker_detections
 
@@ -54,14 +53,6 @@ def main() -> None:
         help="also the true people with this share [%%] of all points moved to the part of "
         "another person's point within d_hs (how pure a partition must be)",
     )
-    ap.add_argument(
-        "--traces",
-        nargs="*",
-        default=None,
-        metavar="NAME=VALUE",
-        help="also cut with the leg traces' estimated velocities (tracking/groups/"
-        "leg_traces.py), with these settings changed",
-    )
     args = ap.parse_args()
     split = SplitSettings()
     kinds = {f.name: f.type for f in fields(SplitSettings)}
@@ -73,15 +64,6 @@ def main() -> None:
         result = run_scenario("entrance-hall", seconds=args.seconds, seed=seed)
         truth = {t.scan_index: t for t in result.truth}
         tracker = SplitWalkerTracker(WalkerSettings(on=True), split)
-        tracer = None
-        traced = ClusteringError()
-        speed_error: list[float] = []
-        if args.traces is not None:
-            trace_settings = TraceSettings()
-            for item in args.traces:
-                name, value = item.split("=")
-                trace_settings = replace(trace_settings, **{name: float(value)})
-            tracer = LegTracer(trace_settings)
         flips = [f"flip {f:.2f} %" for f in args.flip]
         names = ("person", "blob", "seg 0.10", "seg 0.15", "walker", "split", *flips)
         rng = np.random.default_rng(seed)
@@ -98,8 +80,6 @@ def main() -> None:
             memoryless.accumulate_labels(group, single_linkage(pts, args.d_p), stamp)
             if len(pts) == 0:
                 tracker.assign(pts, np.empty((0, 2), np.int64), np.empty(0), args.d_hs, stamp)
-                if tracer is not None:
-                    tracer.step(np.empty((0, 2)), stamp)
                 continue
             pairs, length = close_pairs(pts, args.d_p)
             links, length = pairs[length < args.d_p], length[length < args.d_p]
@@ -125,19 +105,6 @@ def main() -> None:
                 parts[name] = flipped
             t = truth[lf.frame.index]
             velocity = {int(p): t.velocities[i] for i, p in enumerate(t.person_ids)}
-            if tracer is not None:
-                keep = tracer.coherent_links(pts, blobs, links, stamp)
-                traced.accumulate_labels(group, component_labels(len(pts), links[keep]), stamp)
-                seg = component_labels(len(pts), links[length < tracer.settings.segment_distance])
-                rows = tracer.last_trace
-                known = tracer.span[rows] >= tracer.settings.min_span - 1e-9
-                main = main_person(seg, person)
-                for k in np.nonzero(known)[0]:
-                    p = int(main[np.nonzero(seg == k)[0][0]])
-                    if np.hypot(*velocity[p]) > 0.5:
-                        speed_error.append(
-                            float(np.hypot(*(tracer.velocity[rows[k]] - velocity[p])))
-                        )
             for name, part in parts.items():
                 main = main_person(part, person)
                 impure[name][0] += int(np.count_nonzero(main != person))
@@ -150,16 +117,6 @@ def main() -> None:
                     errors[(name, v)].accumulate_labels(group, labels, stamp)
         ml = memoryless.result()
         print(f"seed {seed}: memory-less {ml.error:.3f} (under {ml.under_rate:.3f})", flush=True)
-        if tracer is not None:
-            r = traced.result()
-            e = np.asarray(speed_error)
-            print(
-                f"  leg traces, estimated velocities: {r.error:.3f} (under {r.under_rate:.3f}, "
-                f"over {r.over_rate:.3f}); velocity error of known segments of people faster "
-                f"than 0.5 m/s: median {np.median(e):.2f}, 90th percentile "
-                f"{np.percentile(e, 90):.2f} m/s",
-                flush=True,
-            )
         for (name, v), err in errors.items():
             r = err.result()
             bad, total, bad_group = impure[name]

@@ -44,6 +44,8 @@ def main() -> None:
     ap.add_argument("--d-p", type=float, default=1.3)
     ap.add_argument("--d-hs", type=float, default=0.3)
     ap.add_argument("--v", type=float, nargs="+", default=[0.6])
+    ap.add_argument("--psd", type=float, default=0.2, help="walker_accel_psd, m^2/s^3")
+    ap.add_argument("--std", type=float, default=0.3, help="walker_measurement_std, m")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE")
     ap.add_argument(
         "--flip",
@@ -63,7 +65,7 @@ def main() -> None:
     for seed in args.seeds:
         result = run_scenario("entrance-hall", seconds=args.seconds, seed=seed)
         truth = {t.scan_index: t for t in result.truth}
-        tracker = SplitWalkerTracker(WalkerSettings(on=True), split)
+        tracker = SplitWalkerTracker(WalkerSettings(on=True, accel_psd=args.psd, measurement_std=args.std), split)
         flips = [f"flip {f:.2f} %" for f in args.flip]
         names = ("person", "blob", "seg 0.10", "seg 0.15", "walker", "split", *flips)
         rng = np.random.default_rng(seed)

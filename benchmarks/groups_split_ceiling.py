@@ -65,7 +65,8 @@ def main() -> None:
     for seed in args.seeds:
         result = run_scenario("entrance-hall", seconds=args.seconds, seed=seed)
         truth = {t.scan_index: t for t in result.truth}
-        tracker = SplitWalkerTracker(WalkerSettings(on=True, accel_psd=args.psd, measurement_std=args.std), split)
+        walkers = WalkerSettings(on=True, accel_psd=args.psd, measurement_std=args.std)
+        tracker = SplitWalkerTracker(walkers, split)
         flips = [f"flip {f:.2f} %" for f in args.flip]
         names = ("person", "blob", "seg 0.10", "seg 0.15", "walker", "split", *flips)
         rng = np.random.default_rng(seed)

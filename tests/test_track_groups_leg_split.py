@@ -55,7 +55,9 @@ def test_segments_go_to_the_walker_most_of_their_points_vote_for() -> None:
     owner = claim_segments(points, segments, previous, previous_owner, centres, 0.25, 0.4)
     assert owner.tolist() == [0, 1, -1, -1]
     # no walkers: nothing is claimed
-    none = claim_segments(points, segments, previous[:0], previous_owner[:0], centres[:0], 0.25, 0.5)
+    none = claim_segments(
+        points, segments, previous[:0], previous_owner[:0], centres[:0], 0.25, 0.5
+    )
     assert none.tolist() == [-1, -1, -1, -1]
 
 
@@ -106,9 +108,9 @@ def _step(tracker: SplitWalkerTracker, pts: np.ndarray, stamp: float) -> np.ndar
 
 def test_two_walkers_legs_in_one_blob_are_split_between_them() -> None:
     """A walks east along y = 0, B west along y = 0.42: A's left leg (y = 0.1) and B's right
-    leg (y = 0.32) are 0.12 m apart at the edges (two segments at 0.1 m), one blob at d_hs = 0.3 m while they pass;
-    the walkers of session 13 (unions of blobs) make them one walker there, the split keeps
-    every point with its own walker."""
+    leg (y = 0.32) are 0.12 m apart at the edges (two segments at 0.1 m), one blob at d_hs =
+    0.3 m while they pass; the walkers of session 13 (unions of blobs) make them one walker
+    there, the split keeps every point with its own walker."""
     tracker = SplitWalkerTracker(WalkerSettings(on=True), SplitSettings())
     welded = 0
     for k in range(40):

@@ -209,28 +209,29 @@ class GroupTrackerParams:
     )
     walker_segment_distance: float = param(
         0.1,
-        "chosen on entrance-hall seeds 0 and 1 (0.05/0.07/0.1 within 0.01 of the ceiling)",
+        "chosen on entrance-hall seeds 0 and 1 (ceiling with true velocities, 30 s: 0.05 m "
+        "0.164 / 0.219, 0.1 m 0.152 / 0.218; groups_split_ceiling.py)",
         "single-linkage distance of the segments the walkers take",
         "m",
     )
     walker_point_gate: float = param(
         0.25,
-        "chosen on entrance-hall seeds 0 and 1 (0.15/0.2/0.25); a walker moves 0.12 m a "
-        "scan, a swinging leg up to twice that",
+        "chosen on entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.15 m 0.164 / 0.212, 0.25 m "
+        "0.152 / 0.218); a walker moves 0.12 m a scan, a swinging leg up to twice that",
         "a point votes for the walker of its nearest moved last-scan point within this",
         "m",
     )
     walker_centre_gate: float = param(
         0.5,
-        "assumption (a leg is up to 0.38 m from its walker's centre); 0.35/0.5 tie on "
-        "entrance-hall seeds 0 and 1",
+        "assumption (a leg is up to 0.38 m from its walker's centre); 0.35 and 0.5 m tie on "
+        "entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.151 / 0.214 and 0.152 / 0.218)",
         "a segment without votes goes to the nearest predicted walker centre within this",
         "m",
     )
     walker_release_distance: float = param(
         0.15,
-        "chosen on entrance-hall seeds 0 and 1 (0.1/0.15/0.2/0.3: 0.3 leaves a walker "
-        "holding a neighbour's leg that touches its own)",
+        "chosen on entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.1 m 0.162 / 0.211, 0.15 m "
+        "0.152 / 0.218, 0.2 m 0.165 / 0.221, 0.3 m 0.175 / 0.216)",
         "a walker keeps the one person (two paired leg blobs, or one blob, at this "
         "single-linkage distance) of its points nearest its prediction; the rest start "
         "walkers",
@@ -238,8 +239,9 @@ class GroupTrackerParams:
     )
     walker_max_velocity_difference: float = param(
         0.0,
-        "0: the rule of session 13's walkers; the ceiling with true velocities cuts at "
-        "0.6 m/s (docs/groups.md 'Walkers')",
+        "0: the rule of session 13's walkers; 0.6 in split_walkers(), chosen on "
+        "entrance-hall seeds 0 and 1 (60 s, with walker_split: 0.206 / 0.243 against 0.213 "
+        "/ 0.248 with the rule of session 13)",
         "with walker_split: cut the links of two walkers whose velocities differ by more "
         "than this (0: walker_standing_speed / walker_walking_speed / heading apart)",
         "m/s",
@@ -538,6 +540,18 @@ class GroupTrackerParams:
         d_P 1.3 m: clustering error 0.235 -> 0.219, memory-less 0.238) at 3-4x the CPU.
         From a TOML file: ``coherence_lag = 1.0`` and ``history_split = true``."""
         base = cls(coherence_lag=1.0, history_split=True)
+        return replace(base, **changes) if changes else base  # type: ignore[arg-type]
+
+    @classmethod
+    def split_walkers(cls, **changes: object) -> GroupTrackerParams:
+        """The walkers taking the points (docs/groups.md 'Walkers', 'Third round'): the
+        walkers of session 13 split the scan's points between them (a blob at d_hs that
+        holds two people's legs is cut) and the links of two walkers whose velocities
+        differ by more than 0.6 m/s are cut (held-out entrance hall, d_P 1.3 m: 0.214
+        against 0.221 for the walkers alone, 0.235 for 000's setting, 0.238 memory-less).
+        From a TOML file: ``walkers = true``, ``walker_split = true`` and
+        ``walker_max_velocity_difference = 0.6``."""
+        base = cls(walkers=True, walker_split=True, walker_max_velocity_difference=0.6)
         return replace(base, **changes) if changes else base  # type: ignore[arg-type]
 
     @classmethod

@@ -4,10 +4,15 @@ between two parts cut when their TRUE velocities differ by ``v`` or more, where 
 are (a) the true people, (b) the blobs at d_hs (each given its main person's velocity),
 (c) the walkers of :mod:`.walkers` (blob unions), (d) the walkers of the point split
 (each given its main person's velocity). Also the share of points whose part's main
-person is not their own (the partition's impurity). docs/groups.md "Third round".
+person is not their own (the partition's impurity), and with ``--flip`` the true people
+with a share of the points moved to a neighbour's part (how pure a partition must be).
+
+``--tracker`` runs the group tracker (000's setting) on observations cut that way instead
+of memory-less clustering, for the parts (a) and (d): what the MHT keeps of the ceiling.
+docs/groups.md "Third round".
 
     PYTHONPATH=src python benchmarks/groups_split_ceiling.py [--seeds 0 1] [--seconds 30]
-        [--v 0.6] [--set segment_distance=0.1 point_gate=0.25 ...]
+        [--v 0.6] [--flip 0.1 0.25] [--tracker] [--set segment_distance=0.1 ...]
 """
 
 from __future__ import annotations
@@ -19,10 +24,11 @@ import numpy as np
 
 from laserpeople.clustering import single_linkage
 from laserpeople.evaluation.clustering import ClusteringError
-from laserpeople.evaluation.groups import frames_from_scans
+from laserpeople.evaluation.groups import LabelledFrame, frames_from_scans
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups.leg_split import SplitSettings, SplitWalkerTracker
 from laserpeople.tracking.groups.observations import close_pairs, component_labels
+from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracking.groups.walkers import WalkerSettings, walker_detections
 
 IntArray = np.ndarray
@@ -35,6 +41,62 @@ def main_person(part: IntArray, person: IntArray) -> IntArray:
     counts = np.zeros((part_index.max() + 1, people.size), dtype=np.int64)
     np.add.at(counts, (part_index, person_index), 1)
     return people[np.argmax(counts, axis=1)][part_index]
+
+
+class TruthCut:
+    """A link filter for the group tracker's observations (as the walkers'): the links
+    between two parts whose main people's TRUE velocities differ by ``v`` or more are cut;
+    the parts are the true people (``split`` None) or the split walkers' parts. Set
+    ``person`` (N,) and ``velocity`` (person id -> (2,) [m/s]) before every frame."""
+
+    def __init__(self, v: float, split: SplitWalkerTracker | None, d_hs: float) -> None:
+        self.v, self.split, self.d_hs = v, split, d_hs
+        self.person = np.empty(0, dtype=np.int64)
+        self.velocity: dict[int, np.ndarray] = {}
+
+    def coherent_links(
+        self,
+        points: np.ndarray,
+        blobs: np.ndarray,
+        links: np.ndarray,
+        stamp: float,
+        d_hs: float | None = None,
+    ) -> np.ndarray:
+        if len(points) != len(self.person):
+            raise ValueError("the tracker left points out: the truth no longer lines up")
+        length = np.hypot(*(points[links[:, 0]] - points[links[:, 1]]).T)
+        part = self.person
+        if self.split is not None:
+            part = self.split.assign(points, links, length, self.d_hs, stamp)
+        if len(points) == 0 or len(links) == 0:
+            return np.ones(len(links), dtype=bool)
+        main = main_person(part, self.person)
+        v = np.array([self.velocity[int(p)] for p in main]).reshape(-1, 2)
+        return np.hypot(*(v[links[:, 0]] - v[links[:, 1]]).T) < self.v
+
+
+def through_tracker(
+    frames: list[LabelledFrame], truth: dict, cut: TruthCut, d_p: float
+) -> tuple[ClusteringError, ClusteringError]:
+    """Clustering errors of 000's group tracker and of its observations (the cut clusters)
+    when ``cut`` cuts the observations' links."""
+    tracker = GroupMHTTracker(GroupTrackerParams.paper_likelihood(cluster_distance=d_p))
+    tracker.walkers = cut  # type: ignore[assignment]
+    tracked, observed = ClusteringError(), ClusteringError()
+    for lf in frames:
+        fg = np.asarray(lf.frame.foreground)
+        assert lf.frame.points is not None
+        t = truth[lf.frame.index]
+        cut.person = lf.true_person[fg]
+        cut.velocity = {int(p): t.velocities[i] for i, p in enumerate(t.person_ids)}
+        tracker.update(lf.frame)
+        est = tracker.point_labels(len(lf.frame.points))
+        tracked.accumulate_labels(lf.true_group[fg], est[fg], lf.frame.stamp)
+        obs = tracker.last_observations
+        labels = np.full(len(lf.frame.points), -1, dtype=np.int64)
+        labels[obs.members] = obs.point_cluster
+        observed.accumulate_labels(lf.true_group[fg], labels[fg], lf.frame.stamp)
+    return tracked, observed
 
 
 def main() -> None:
@@ -54,6 +116,9 @@ def main() -> None:
         default=[],
         help="also the true people with this share [%%] of all points moved to the part of "
         "another person's point within d_hs (how pure a partition must be)",
+    )
+    ap.add_argument(
+        "--tracker", action="store_true", help="also through 000's group tracker (slower)"
     )
     args = ap.parse_args()
     split = SplitSettings()
@@ -118,6 +183,23 @@ def main() -> None:
                 for v in args.v:
                     labels = component_labels(len(pts), links[dv < v])
                     errors[(name, v)].accumulate_labels(group, labels, stamp)
+        if args.tracker:
+            frames = list(frames_from_scans(result.scans))
+            for name in ("person", "split"):
+                for v in args.v:
+                    walkers = WalkerSettings(on=True, accel_psd=args.psd, measurement_std=args.std)
+                    parts = None if name == "person" else SplitWalkerTracker(walkers, split)
+                    cut = TruthCut(v, parts, args.d_hs)
+                    tracked, observed = (
+                        e.result() for e in through_tracker(frames, truth, cut, args.d_p)
+                    )
+                    print(
+                        f"  tracker on observations cut by {name} parts at {v:.2f} m/s: "
+                        f"{tracked.error:.3f} (under {tracked.under_rate:.3f}, over "
+                        f"{tracked.over_rate:.3f}); the observations {observed.error:.3f} "
+                        f"(under {observed.under_rate:.3f}, over {observed.over_rate:.3f})",
+                        flush=True,
+                    )
         ml = memoryless.result()
         print(f"seed {seed}: memory-less {ml.error:.3f} (under {ml.under_rate:.3f})", flush=True)
         for (name, v), err in errors.items():

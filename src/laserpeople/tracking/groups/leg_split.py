@@ -362,16 +362,21 @@ class SplitWalkerTracker:
             apart &= np.einsum("ij,ij->i", dv, dv) > sp.max_velocity_difference**2
         else:
             apart &= moving_apart(velocity[wa], velocity[wb], s.standing_speed, s.walking_speed)
-        ids = self.ids
-        lo, hi = np.minimum(ids[wa], ids[wb]), np.maximum(ids[wa], ids[wb])
-        pairs, first, link_pair = np.unique(
-            np.column_stack([lo, hi]), axis=0, return_index=True, return_inverse=True
-        )
+        # a pair of walkers is cut once it has moved apart for apart_scans scans in a row
+        # (apart is the same for every link of a pair: only those links are looked at)
+        keep = np.ones(len(links), dtype=bool)
         streaks: dict[tuple[int, int], int] = {}
-        cut = np.zeros(len(pairs), dtype=bool)
-        for k in np.nonzero(apart[first])[0].tolist():
-            pair = (int(pairs[k, 0]), int(pairs[k, 1]))
-            streaks[pair] = self._apart_for.get(pair, 0) + 1
-            cut[k] = streaks[pair] >= s.apart_scans
+        on = np.nonzero(apart)[0]
+        if on.size:
+            a_id, b_id = self.ids[wa[on]], self.ids[wb[on]]
+            span = int(self.ids.max()) + 1
+            key = np.minimum(a_id, b_id) * span + np.maximum(a_id, b_id)
+            pair_keys, link_pair = np.unique(key, return_inverse=True)
+            cut = np.zeros(pair_keys.size, dtype=bool)
+            for k, code in enumerate(pair_keys.tolist()):
+                pair = (code // span, code % span)
+                streaks[pair] = self._apart_for.get(pair, 0) + 1
+                cut[k] = streaks[pair] >= s.apart_scans
+            keep[on] = ~cut[link_pair.reshape(-1)]
         self._apart_for = streaks
-        return ~cut[link_pair.reshape(-1)]
+        return keep

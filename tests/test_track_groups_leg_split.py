@@ -161,5 +161,7 @@ def test_a_blob_cut_between_two_clusters_counts_on_both_sides() -> None:
 def test_split_settings_are_checked() -> None:
     with pytest.raises(ValueError, match="positive"):
         SplitSettings(point_gate=0.0)
+    with pytest.raises(ValueError, match="must not be negative"):
+        SplitSettings(release_distance=-0.1)
     with pytest.raises(ValueError, match="walker_split needs walkers"):
         GroupTrackerParams(walker_split=True)

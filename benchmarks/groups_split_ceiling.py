@@ -77,12 +77,14 @@ class TruthCut:
 
 def through_tracker(
     frames: list[LabelledFrame], truth: dict, cut: TruthCut, d_p: float
-) -> tuple[ClusteringError, ClusteringError]:
+) -> tuple[ClusteringError, ClusteringError, dict[str, int]]:
     """Clustering errors of 000's group tracker and of its observations (the cut clusters)
-    when ``cut`` cuts the observations' links."""
+    when ``cut`` cuts the observations' links, and counts of the true group-scans the
+    tracker does not keep together, by kind (they overlap)."""
     tracker = GroupMHTTracker(GroupTrackerParams.paper_likelihood(cluster_distance=d_p))
     tracker.walkers = cut  # type: ignore[assignment]
     tracked, observed = ClusteringError(), ClusteringError()
+    kinds = {"group-scans": 0, "cut observations": 0, "observation divided": 0, "unreported": 0}
     for lf in frames:
         fg = np.asarray(lf.frame.foreground)
         assert lf.frame.points is not None
@@ -96,7 +98,16 @@ def through_tracker(
         labels = np.full(len(lf.frame.points), -1, dtype=np.int64)
         labels[obs.members] = obs.point_cluster
         observed.accumulate_labels(lf.true_group[fg], labels[fg], lf.frame.stamp)
-    return tracked, observed
+        group, own, seen = lf.true_group[fg], est[fg], labels[fg]
+        for g in np.unique(group[group >= 0]).tolist():
+            mine = group == g
+            n_obs = np.unique(seen[mine]).size
+            n_tracks = np.unique(own[mine][own[mine] >= 0]).size
+            kinds["group-scans"] += 1
+            kinds["cut observations"] += int(n_obs > 1)
+            kinds["observation divided"] += int(n_obs == 1 and n_tracks > 1)
+            kinds["unreported"] += int((own[mine] < 0).any())
+    return tracked, observed, kinds
 
 
 def main() -> None:
@@ -190,14 +201,14 @@ def main() -> None:
                     walkers = WalkerSettings(on=True, accel_psd=args.psd, measurement_std=args.std)
                     parts = None if name == "person" else SplitWalkerTracker(walkers, split)
                     cut = TruthCut(v, parts, args.d_hs)
-                    tracked, observed = (
-                        e.result() for e in through_tracker(frames, truth, cut, args.d_p)
-                    )
+                    run = through_tracker(frames, truth, cut, args.d_p)
+                    tracked, observed, kinds = run[0].result(), run[1].result(), run[2]
                     print(
                         f"  tracker on observations cut by {name} parts at {v:.2f} m/s: "
                         f"{tracked.error:.3f} (under {tracked.under_rate:.3f}, over "
                         f"{tracked.over_rate:.3f}); the observations {observed.error:.3f} "
-                        f"(under {observed.under_rate:.3f}, over {observed.over_rate:.3f})",
+                        f"(under {observed.under_rate:.3f}, over {observed.over_rate:.3f}); "
+                        f"group-scans not kept together: {kinds}",
                         flush=True,
                     )
         ml = memoryless.result()

@@ -7,7 +7,7 @@ CPU time of this process (``time.process_time``), so that other jobs on the mach
 not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
-        [--breakdown] [--against OTHER/src] [--preset paper|history|walkers|split] [--digest]
+        [--breakdown] [--against OTHER/src] [--preset paper|history] [--digest]
         [--min-ratio R]
 
 ``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
@@ -19,8 +19,7 @@ turns scan by scan (which one goes first alternates), so both see the same load 
 shared machine; prints both medians and their ratio per bin of people in view.
 
 ``--preset history`` runs ``GroupTrackerParams.history_splitting()`` instead of 000's
-setting (``paper``, the default); ``walkers`` the walkers of session 13
-(``walkers = true``), ``split`` ``GroupTrackerParams.split_walkers()``.
+setting (``paper``, the default).
 
 ``--min-ratio R`` sets the MHT's ratio pruning (``mht.min_ratio``) of the preset, e.g.
 ``1e-3``, the group tracker's default before session 9 (now ``GROUP_MIN_RATIO``, 3e-3).
@@ -73,8 +72,6 @@ BINS = ((0, 4), (5, 9), (10, 14), (15, 20))
 PRESETS = {
     "paper": GroupTrackerParams.paper_likelihood,
     "history": GroupTrackerParams.history_splitting,
-    "walkers": lambda: GroupTrackerParams(walkers=True),
-    "split": GroupTrackerParams.split_walkers,
 }
 
 
@@ -303,8 +300,7 @@ def main() -> None:
         "--preset",
         choices=sorted(PRESETS),
         default="paper",
-        help="paper: 000's setting (default); history: the history split; walkers: the "
-        "walkers of session 13; split: the walkers taking the points (split_walkers)",
+        help="paper: 000's setting (default); history: the history split",
     )
     ap.add_argument("--digest", action="store_true", help="print state digests, no timing")
     ap.add_argument(

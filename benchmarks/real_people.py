@@ -24,8 +24,7 @@ tracks on static places reported (``static_tracks.hide`` false, the papers) and 
 
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]
-        [--backgrounds none auto] [--bags demo mir mir-all corridor]
-        [--groups [--walkers [--set NAME=VALUE ...]]]
+        [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups [--walkers]]
         [--trackers csa feet-pf upper-body-pf]
 """
 
@@ -39,7 +38,6 @@ from pathlib import Path
 
 import numpy as np
 
-from groups_table import _with
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.frame import Frame
 from laserpeople.pipeline import Pipeline, build
@@ -138,28 +136,18 @@ def track_all(pipe: Pipeline) -> tuple[list[Tracks], float]:
     return out, 1e3 * (time.process_time() - t0) / max(len(out), 1)
 
 
-def run_groups(
-    key: str,
-    static_groups: bool,
-    walk: float,
-    walkers: bool = False,
-    changes: list[str] | None = None,
-) -> RealCount:
-    """Track one recording's groups through the pipeline (``--tracker group-mht``), with
-    the walkers on or off and, when they are on, the ``NAME=VALUE`` ``changes`` (``--set``)."""
+def run_groups(key: str, static_groups: bool, walk: float, walkers: bool = False) -> RealCount:
+    """Track one recording's groups through the pipeline (``--tracker group-mht``)."""
     bag, topics, mounts = BAGS[key]
     params = replace(GroupTrackerParams(), static_groups=static_groups, walkers=walkers)
-    if walkers and changes:
-        params = _with(params, changes)
     tracker = registry.get("group-mht").make(params)
     out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
     return replace(count(out, walk, kind="group"), ms=ms)
 
 
-def main_groups(bags: list[str], walk: float, walkers: bool, changes: list[str]) -> None:
+def main_groups(bags: list[str], walk: float, walkers: bool) -> None:
     """The group table (``--groups``; ``--walkers``: the default static_groups with the
-    walkers off and on instead of static_groups true and false; ``changes``: parameters
-    changed in the walkers-on runs, e.g. ``walker_split=true``)."""
+    walkers off and on instead of static_groups true and false)."""
     settings = [(False, False), (False, True)] if walkers else [(True, False), (False, False)]
     print(
         "bag      static_groups/walkers  ids  walkers  short  group-s  walker-s  static-s  gaps  "
@@ -167,7 +155,7 @@ def main_groups(bags: list[str], walk: float, walkers: bool, changes: list[str])
     )
     for key in bags:
         for static_groups, on in settings:
-            c = run_groups(key, static_groups, walk, on, changes)
+            c = run_groups(key, static_groups, walk, on)
             print(
                 f"{key:8s} {static_groups!s:6s}/{on!s:14s} {c.ids:4d} {c.walker_ids:8d} "
                 f"{c.short_ids:6d} "
@@ -272,14 +260,6 @@ def main() -> None:
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
     ap.add_argument("--walkers", action="store_true", help="with --groups: the walkers off and on")
     ap.add_argument(
-        "--set",
-        nargs="*",
-        default=[],
-        metavar="NAME=VALUE",
-        help="with --groups --walkers: group tracker parameters of the walkers-on runs, e.g. "
-        "walker_split=true walker_max_velocity_difference=0.6",
-    )
-    ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
     )
     args = ap.parse_args()
@@ -287,7 +267,7 @@ def main() -> None:
         main_trackers(args.bags, args.trackers, args.walk)
         return
     if args.groups:
-        main_groups(args.bags, args.walk, args.walkers, args.set)
+        main_groups(args.bags, args.walk, args.walkers)
         return
     print(
         "bag      policy        background  ids  walkers  person-s  walker-s  static-s  gaps  "

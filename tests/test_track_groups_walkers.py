@@ -1,7 +1,6 @@
 """Walkers (extension of 000 Sec. 4.1): walker detections from blobs, the Kalman filter
 per walker, the rule that cuts links, and the group tracker keeping a person who walks past
-a standing pair apart from it, where 000's setting merges them; the walkers taking the points
-(tracking/groups/leg_split.py) keep apart a passer whose legs touch the pair's in one blob."""
+a standing pair apart from it, where 000's setting merges them."""
 
 from __future__ import annotations
 
@@ -139,24 +138,6 @@ def test_walkers_keep_a_person_passing_a_standing_pair_apart() -> None:
     assert walkers.clustering.error <= 0.2 * walkers.memoryless.error
     assert walkers.clustering.over_rate <= 0.02
     assert walkers.merges <= 1  # while a cut waits apart_scans scans, one merge may win
-
-
-def test_split_walkers_keep_a_person_passing_a_pair_member_closely_apart() -> None:
-    """The passer walks 0.45 m behind one of the standing pair (centre to centre): its legs
-    and that member's are one blob at d_hs = 0.3 m while it passes, and the walkers of
-    session 13 (unions of blobs) weld them (0.087 on seed 3, memory-less 0.149); with the
-    walkers taking the points the blob is cut between them (0.000)."""
-    pair = [Route(6.6, 3.4, 0.0).wait(14.0), Route(7.4, 3.4, math.pi).wait(14.0)]
-    scans = simulate(
-        pair_and_passer(3, pair, Route(13.0, 3.85, math.pi).walk_to(1.0, 3.85, 1.1)), 12.0, seed=3
-    ).scans
-    blob_walkers = run_groups(scans, GroupTrackerParams(walkers=True))
-    split = run_groups(scans, GroupTrackerParams.split_walkers())
-    assert split.memoryless.under_segmented >= 20  # they do come within d_P
-    assert blob_walkers.clustering.error >= 0.3 * blob_walkers.memoryless.error  # welded
-    assert split.clustering.error <= 0.05 * split.memoryless.error
-    assert split.clustering.over_rate <= 0.01
-    assert split.merges == 0
 
 
 def test_walker_settings_are_checked() -> None:

@@ -156,12 +156,6 @@ class GroupObservations:
         if pts.shape[0] == 0:
             return cls.empty()
         labels = component_labels(pts.shape[0], links)
-        if keep_links is not None:
-            # a blob whose links were cut inside it (the walkers' split) is one blob on
-            # each side, as the parts of a re-clustered observation (from_parts)
-            cut = np.unique(labels * (int(fine.max()) + 1) + fine, return_inverse=True)[1]
-            if int(cut.max()) > int(fine.max()):
-                fine = cut.astype(np.int64)
         return cls._from_labels(pts, idx, labels, fine, counting)
 
     @classmethod

@@ -37,7 +37,6 @@ from laserpeople.tracking.groups.interaction import (
     InteractionSettings,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
-from laserpeople.tracking.groups.leg_split import SplitSettings, SplitWalkerTracker
 from laserpeople.tracking.groups.model import (
     GroupModelSettings,
     group_payload,
@@ -196,60 +195,6 @@ class GroupTrackerParams:
         "assumption: a walker moves 0.15 m a scan; its detection jumps by half a stride "
         "when one leg is hidden",
         "largest distance from a walker's predicted place to its detection",
-        "m",
-    )
-    walker_split: bool = param(
-        False,
-        "extension of 000 Sec. 4.1 (tracking/groups/leg_split.py; docs/groups.md 'Walkers', "
-        "'Third round'), only with walkers true; false: walkers are unions of whole blobs "
-        "at d_hs (session 13)",
-        "the tracked walkers take the points (each small segment goes to the walker of its "
-        "nearest last-scan point, moved by the walker's velocity), so a blob at d_hs holding "
-        "two people's legs is cut between them",
-    )
-    walker_segment_distance: float = param(
-        0.1,
-        "chosen on entrance-hall seeds 0 and 1 (ceiling with true velocities, 30 s: 0.05 m "
-        "0.164 / 0.219, 0.1 m 0.152 / 0.218; groups_split_ceiling.py)",
-        "single-linkage distance of the segments the walkers take",
-        "m",
-    )
-    walker_point_gate: float = param(
-        0.25,
-        "chosen on entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.15 m 0.164 / 0.212, 0.25 m "
-        "0.152 / 0.218); a walker moves 0.12 m a scan, a swinging leg up to twice that",
-        "a point votes for the walker of its nearest moved last-scan point within this",
-        "m",
-    )
-    walker_centre_gate: float = param(
-        0.5,
-        "assumption (a leg is up to 0.38 m from its walker's centre); 0.35 and 0.5 m tie on "
-        "entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.151 / 0.214 and 0.152 / 0.218)",
-        "a segment without votes goes to the nearest predicted walker centre within this",
-        "m",
-    )
-    walker_release_distance: float = param(
-        0.15,
-        "chosen on entrance-hall seeds 0 and 1 (ceiling, 30 s: 0.1 m 0.162 / 0.211, 0.15 m "
-        "0.152 / 0.218, 0.2 m 0.165 / 0.221, 0.3 m 0.175 / 0.216)",
-        "a walker keeps the one person (two paired leg blobs, or one blob, at this "
-        "single-linkage distance) of its points nearest its prediction; the rest start "
-        "walkers",
-        "m",
-    )
-    walker_max_velocity_difference: float = param(
-        0.0,
-        "0: the rule of session 13's walkers; 0.6 in split_walkers(), chosen on "
-        "entrance-hall seeds 0 and 1 (60 s, with walker_split: 0.206 / 0.243 against 0.213 "
-        "/ 0.248 with the rule of session 13)",
-        "with walker_split: cut the links of two walkers whose velocities differ by more "
-        "than this (0: walker_standing_speed / walker_walking_speed / heading apart)",
-        "m/s",
-    )
-    walker_lone_std: float = param(
-        0.6,
-        "assumption: a walker seen as one leg is off by up to half a stride",
-        "position noise of a walker seen as one leg-sized blob (walker_split)",
         "m",
     )
     point_std: float = param(
@@ -520,9 +465,6 @@ class GroupTrackerParams:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
         self.confirm_settings()  # checks the confirmation values
         self.walker_settings()  # and the walkers'
-        self.split_settings()
-        if self.walker_split and not self.walkers:
-            raise ValueError("walker_split needs walkers = true")
 
     @classmethod
     def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
@@ -540,18 +482,6 @@ class GroupTrackerParams:
         d_P 1.3 m: clustering error 0.235 -> 0.219, memory-less 0.238) at 3-4x the CPU.
         From a TOML file: ``coherence_lag = 1.0`` and ``history_split = true``."""
         base = cls(coherence_lag=1.0, history_split=True)
-        return replace(base, **changes) if changes else base  # type: ignore[arg-type]
-
-    @classmethod
-    def split_walkers(cls, **changes: object) -> GroupTrackerParams:
-        """The walkers taking the points (docs/groups.md 'Walkers', 'Third round'): the
-        walkers of session 13 split the scan's points between them (a blob at d_hs that
-        holds two people's legs is cut) and the links of two walkers whose velocities
-        differ by more than 0.6 m/s are cut (held-out entrance hall, d_P 1.3 m: 0.214
-        against 0.221 for the walkers alone, 0.235 for 000's setting, 0.238 memory-less).
-        From a TOML file: ``walkers = true``, ``walker_split = true`` and
-        ``walker_max_velocity_difference = 0.6``."""
-        base = cls(walkers=True, walker_split=True, walker_max_velocity_difference=0.6)
         return replace(base, **changes) if changes else base  # type: ignore[arg-type]
 
     @classmethod
@@ -618,17 +548,6 @@ class GroupTrackerParams:
             measurement_std=self.walker_measurement_std,
             pair_distance=self.leg_pair_distance,
             leg_radius=self.leg_radius,
-        )
-
-    def split_settings(self) -> SplitSettings:
-        """How the walkers take the points (:mod:`.leg_split`, with ``walker_split``)."""
-        return SplitSettings(
-            segment_distance=self.walker_segment_distance,
-            point_gate=self.walker_point_gate,
-            centre_gate=self.walker_centre_gate,
-            lone_std=self.walker_lone_std,
-            release_distance=self.walker_release_distance,
-            max_velocity_difference=self.walker_max_velocity_difference,
         )
 
     def coherence_settings(self) -> CoherenceSettings:
@@ -754,14 +673,8 @@ class GroupMHTTracker:
         self.last_observations = GroupObservations.empty()
         self._counting = p.counting()
         walkers = p.walker_settings()
-        self.walkers: WalkerTracker | SplitWalkerTracker | None = None
+        self.walkers = WalkerTracker(walkers) if walkers.on else None
         """The walkers whose velocities cut observation links (None: 000's clustering)."""
-        if walkers.on:
-            self.walkers = (
-                SplitWalkerTracker(walkers, p.split_settings())
-                if p.walker_split
-                else WalkerTracker(walkers)
-            )
         self.static_model: StaticWorldModel | None = None
         """Asked how long a group's place has been static (the pipeline sets it when
         ``static_groups`` is false; None: every group is reported)."""
@@ -847,7 +760,7 @@ class GroupMHTTracker:
             None
             if walkers is None
             else lambda points, blobs, links: walkers.coherent_links(
-                points, blobs, links, frame.stamp, p.blob_distance
+                points, blobs, links, frame.stamp
             ),
         )
         self.wide_points_left_out += len(pts) - len(obs.points)

@@ -195,16 +195,10 @@ class WalkerTracker:
         return velocity, known, ids
 
     def coherent_links(
-        self,
-        points: FloatArray,
-        blobs: IntArray,
-        links: IntArray,
-        stamp: float,
-        d_hs: float | None = None,
+        self, points: FloatArray, blobs: IntArray, links: IntArray, stamp: float
     ) -> BoolArray:
         """Track the walkers of a scan (``points`` (N, 2) [m], blob labels ``blobs`` (N,)
-        0..B-1) and tell which point ``links`` (E, 2) join walkers that move alike (E,)
-        (``d_hs`` is not used: the blobs are given)."""
+        0..B-1) and tell which point ``links`` (E, 2) join walkers that move alike (E,)."""
         s = self.settings
         if points.shape[0] == 0:
             self.update(np.empty((0, 2)), stamp)

@@ -145,7 +145,7 @@ def main() -> None:
     params = entry.params_cls()
     mht = params.mht_params() if hasattr(params, "mht_params") else getattr(params, "mht", None)
     if mht is not None:
-        print(f"{args.tracker}: k = {mht.k_best}, N-scan = {mht.n_scan}, ratio = {mht.ratio}")
+        print(f"{args.tracker}: k = {mht.k}, N-scan = {mht.depth}, ratio = {mht.ratio}")
     for n in args.people:
         r = bench(n, args.seconds, args.rate, args.tracker)
         print(

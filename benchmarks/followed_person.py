@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.pipeline import build
 from laserpeople.pipeline.static_people import describe_people_model
@@ -202,8 +203,9 @@ def main() -> None:
     ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
     ap.add_argument("--no-reid", action="store_true", help="tracks without re-identification")
     ap.add_argument("--background", default="auto", help="static world model (track --background)")
+    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section is used")
     args = ap.parse_args()
-    params = LegTrackerParams()
+    params = load_config(LegTrackerParams, args.config)
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
     if args.no_reid:

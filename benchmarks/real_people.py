@@ -25,7 +25,7 @@ tracks on static places reported (``static_tracks.hide`` false, the papers) and 
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]
         [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups [--walkers]]
-        [--trackers csa feet-pf upper-body-pf]
+        [--trackers csa feet-pf upper-body-pf] [--config params.toml]
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.frame import Frame
 from laserpeople.pipeline import Pipeline, build
@@ -106,10 +107,14 @@ def count(tracks: list[Tracks], walk: float, gap: float = 1.0, kind: str = "pers
     )
 
 
-def run(key: str, policy: str, background: str, walk: float) -> RealCount:
-    """Track one recording through the pipeline with ``policy`` and ``background``."""
+def run(
+    key: str, policy: str, background: str, walk: float, config: Path | None = None
+) -> RealCount:
+    """Track one recording through the pipeline with ``policy`` and ``background`` (the
+    leg MHT's other parameters from ``config``'s ``[leg_tracker]``; None: defaults)."""
     bag, topics, mounts = BAGS[key]
-    params = replace(LegTrackerParams(), people_policy=policy.removesuffix("-noreid"))
+    base = load_config(LegTrackerParams, config)
+    params = replace(base, people_policy=policy.removesuffix("-noreid"))
     if policy.endswith("-noreid"):  # the tracks policy without re-identification
         people = params.people
         params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
@@ -259,6 +264,7 @@ def main() -> None:
     ap.add_argument("--walk", type=float, default=1.0, help="m")
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
     ap.add_argument("--walkers", action="store_true", help="with --groups: the walkers off and on")
+    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section the leg MHT uses")
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
     )
@@ -276,7 +282,7 @@ def main() -> None:
     for key in args.bags:
         for policy in args.policies:
             for background in args.backgrounds if policy != "arras" else ["none"]:
-                c = run(key, policy, background, args.walk)
+                c = run(key, policy, background, args.walk, args.config)
                 print(
                     f"{key:8s} {policy:13s} {background:10s} {c.ids:4d} {c.walker_ids:8d} "
                     f"{c.person_seconds:9.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "

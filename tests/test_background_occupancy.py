@@ -16,6 +16,7 @@ from laserpeople.background.occupancy import (
     frame_from_scan,
     load_ros_map,
 )
+from laserpeople.frame import Frame
 from laserpeople.scan import Scan
 
 P = OccupancyParams()
@@ -358,3 +359,42 @@ def test_free_period_casts_once_per_period_while_the_laser_stands_still() -> Non
     assert np.array_equal(every._seen_free_now(), sparse._seen_free_now())
     with pytest.raises(ValueError, match="free_period"):
         OccupancyParams(free_period=-1.0)
+
+
+def _post_frame(stamp: float, sensor: str) -> Frame:
+    """A frame of one laser ``sensor`` whose middle beam returns at 1 m (its other beams
+    see nothing within range)."""
+    ranges = np.full(3, np.inf)
+    ranges[1] = 1.0
+    scan = Scan(
+        stamp=stamp, angle_min=-0.1, angle_increment=0.1, ranges=ranges, range_max=10.0,
+        sensor=sensor,
+    )  # fmt: skip
+    return frame_from_scan(scan)
+
+
+def test_learn_period_learns_each_sensor_at_most_once_per_period() -> None:
+    """``learn_period`` 0.05 s with one laser at 50 Hz: of the frames at 0, 0.02, ..., 0.10 s
+    those at 0 and 0.06 s are learned (0.10 - 0.06 < 0.05), 4 are not. The return's cell
+    then has two hits, e = 1 + e^(-0.06 / 2) = 1.970 < 2 (free: static 0 s), where learning
+    every frame gives it six (1.990 at 0.02 s, occupied since 0.04 s: static 0.06 s at
+    0.10 s). Two lasers
+    whose frames alternate every 0.02 s are each learned: A at 0 and 0.08, B at 0.02."""
+    every = OccupancyGrid(OccupancyParams(learn_period=0.0))
+    period = OccupancyGrid(OccupancyParams(learn_period=0.05))
+    for k in range(6):
+        for g in (every, period):
+            g.learn_frame(_post_frame(0.02 * k, "a"))
+    post = np.array([[1.0, 0.0]])
+    assert (every.skipped, period.skipped) == (0, 4)
+    assert period.stamp == every.stamp == pytest.approx(0.10)  # aged to the last frame
+    assert every.static_time(post)[0] == pytest.approx(0.06)
+    assert period.static_time(post)[0] == 0.0
+    i, j = (np.floor(post[0] / P.resolution).astype(int) - period._origin).tolist()
+    assert period._evidence[i, j] == pytest.approx(1.0 + math.exp(-0.03))
+    two = OccupancyGrid(OccupancyParams(learn_period=0.05))
+    for k in range(5):
+        two.learn_frame(_post_frame(0.02 * k, "ab"[k % 2]))
+    assert two.skipped == 2 and two._learned_at == pytest.approx({"a": 0.08, "b": 0.02})
+    with pytest.raises(ValueError, match="learn_period"):
+        OccupancyParams(learn_period=-0.1)

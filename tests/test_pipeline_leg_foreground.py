@@ -18,6 +18,7 @@ from laserpeople.pipeline.leg_foreground import (
     near_legs,
     needs_steady_points,
     own_detector,
+    stage_leg_tracker,
 )
 from laserpeople.scan import PointSet, Pose2D, Scan
 from laserpeople.tracks import Detections
@@ -377,3 +378,36 @@ def test_build_gives_each_point_tracker_its_foreground(tmp_path: object) -> None
         people = [i for i, s in enumerate(pipe.stages) if isinstance(s, PeopleStaticModel)]
         assert people and people[0] < pipe.stages.index(model)
         pipe.run()
+
+
+def test_the_stages_leg_mht_uses_the_leg_tracker_section(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """``[leg_tracker]`` of ``--config`` reaches the leg MHT the stage runs (before, it ran
+    with the shipped parameters whatever the file said)."""
+    from laserpeople.pipeline.background import load_static_world
+
+    path = tmp_path / "p.toml"
+    path.write_text('[leg_tracker]\npeople_policy = "arras"\nmht.k_best = 3\n')
+    model = _auto("moving")
+    model.static = replace(
+        load_static_world(path), leg_foreground=LegForegroundParams(memory=0.0, person_memory=1.0)
+    )
+    for i in range(25):
+        model(_frame(_rotating_scan(i, 0)))
+    for i in range(25, 30):
+        model(_frame(_rotating_scan(i, 3 * (i - 24))))
+    assert model.legs is not None and model.legs._tracker is not None
+    used = model.legs._tracker.tracker.params
+    assert used.people_policy == "arras" and used.mht_params().k == 3
+    assert used.mht_params().depth == 8  # unset: the stage's own 8
+    assert load_static_world(None).leg_tracker == StaticWorldParams().leg_tracker
+
+
+def test_the_stages_leg_mht_keeps_000s_k_and_depth_where_unset() -> None:
+    from laserpeople.tracking.legs import LegTrackerParams
+    from laserpeople.tracking.mht.core import MHTParams
+
+    mht = stage_leg_tracker(None).mht_params()
+    assert (mht.k, mht.depth, mht.ratio) == (20, 8, 1e-2)  # the tracks policy's ratio
+    assert LegTrackerParams().mht_params().k == 5  # the tracker's own default differs
+    mine = stage_leg_tracker(LegTrackerParams(mht=MHTParams(k_best=7, n_scan=2)))
+    assert (mine.mht_params().k, mine.mht_params().depth) == (7, 2)

@@ -24,7 +24,7 @@ def test_group_tracker_resolves_an_unset_min_ratio_to_its_own_default() -> None:
         assert GroupMHTTracker(params).mht.params.ratio == GROUP_MIN_RATIO
     pinned = GroupTrackerParams.paper_likelihood(mht=MHTParams(min_ratio=1e-3))
     assert GroupMHTTracker(pinned).mht.params.ratio == 1e-3
-    assert GroupMHTTracker(pinned).mht.params.k_best == MHTParams().k_best
+    assert GroupMHTTracker(pinned).mht.params.k == MHTParams().k == 20
 
 
 def _ratios(params: GroupTrackerParams) -> list[float]:

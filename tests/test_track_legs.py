@@ -144,7 +144,7 @@ def test_every_parameter_settable_from_toml(tmp_path) -> None:  # type: ignore[n
         .replace("p_del_approved = 0.01", "p_del_approved = 0.0")
         .replace("p_del_approved = 0.0", "p_del_approved = 0.005")
         .replace("p_det_approved = 0.2", "p_det_approved = 0.195")
-        .replace("mht.k_best = 20", "mht.k_best = 7")
+        .replace("# mht.k_best unset", "mht.k_best = 7  #")
         .replace("person.window = 10", "person.window = 12")
     )
     p = load_config(LegTrackerParams, path)

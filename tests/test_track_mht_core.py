@@ -68,7 +68,7 @@ def test_probabilities_normalised_per_cluster_and_generation() -> None:
             assert total == pytest.approx(1.0, abs=1e-9)
             w = [h.log_weight for h in c.hypotheses]
             assert w == sorted(w, reverse=True)
-            assert len(c.hypotheses) <= mht.params.k_best
+            assert len(c.hypotheses) <= mht.params.k
 
 
 def test_tracks_follow_targets_and_ids_are_stable() -> None:
@@ -102,7 +102,7 @@ def test_independent_targets_form_separate_clusters() -> None:
 def test_track_tree_shares_nodes_and_memory_is_bounded() -> None:
     mht = make_mht()
     counts = run_targets(mht, 300)
-    assert max(counts) <= 3 * mht.params.k_best
+    assert max(counts) <= 3 * mht.params.k
     # every node is stored once: no two live nodes of a family derive from the same parent
     # with the same measurement
     seen: set[tuple[int, int, int]] = set()

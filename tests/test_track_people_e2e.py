@@ -32,7 +32,9 @@ def test_arras_policy_reproduces_todays_demo_numbers() -> None:
 
 @pytest.mark.slow
 def test_tracks_policy_on_a_simulated_scene_with_the_real_detector() -> None:
-    """Demo seed 2: arras MOTA 0.803 IDF1 0.711; tracks 0.899 / 0.880."""
+    """Demo seed 2: arras MOTA 0.803 IDF1 0.711; tracks 0.830 / 0.803 (0.899 / 0.880 with
+    the MHT's k 20 and N-scan 8, the tracks policy's defaults before session 14: fewer
+    hypotheses cost this seed most of the five, see ``legs.POLICY_K_BEST``)."""
     s = _demo(2, "tracks")
-    assert float(s["mota"]) >= 0.87  # type: ignore[arg-type]
-    assert float(s["idf1"]) >= 0.85  # type: ignore[arg-type]
+    assert float(s["mota"]) >= 0.82  # type: ignore[arg-type]
+    assert float(s["idf1"]) >= 0.78  # type: ignore[arg-type]

@@ -38,6 +38,7 @@ with ``negate: 1``), and it is an obstacle above ``occupied_thresh``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -157,6 +158,19 @@ class OccupancyParams:
         "s",
     )
 
+    learn_period: float = param(
+        0.05,
+        "measured (issue 10, session 14, docs/people-benchmarks.md): at most 20 frames a "
+        "second; the 10-13 Hz real recordings are unchanged, and on the simulated 50 Hz "
+        "narrow-corridor the tuning scenes score the same at about 0.8x of the CPU per scan",
+        "each sensor's frames are learned at most once per this many seconds: a frame all "
+        "of whose sensors were learned less than this long ago is not learned (it is asked "
+        "the last learned grid, aged to its stamp); 0: every frame. Bounds the grid's cost "
+        "on fast scanners and makes its evidence grow at about the same rate whatever the "
+        "scan rate",
+        "s",
+    )
+
     def __post_init__(self) -> None:
         if min(self.resolution, self.hit_evidence, self.decay_time, self.max_range) <= 0:
             raise ValueError("resolution, hit_evidence, decay_time and max_range must be > 0")
@@ -166,6 +180,8 @@ class OccupancyParams:
             raise ValueError("neighbourhood must be >= 0")
         if min(self.free_range, self.free_margin, self.arrival_window, self.free_period) < 0:
             raise ValueError("free_range, free_margin, arrival_window and free_period must be >= 0")
+        if not self.learn_period >= 0:
+            raise ValueError("learn_period must be >= 0")
         if min(self.first_sight_hold, self.first_sight_static) < 0:
             raise ValueError("first_sight_hold and first_sight_static must be >= 0")
 
@@ -298,6 +314,9 @@ class OccupancyGrid:
         self.casting = False
         """True once free space has been cast (the learn calls gave sensor positions)."""
         self._cast_at = -math.inf  # stamp [s] of the last frame whose free space was cast
+        self._learned_at: dict[str, float] = {}  # stamp [s] each sensor was last learned at
+        self.skipped = 0
+        """Frames not learned (``learn_period``)."""
         res = self.params.resolution
         # the casting's sample distances: arange's k-th element does not depend on its stop
         self._steps = np.arange(0.5 * res, self.params.free_range + res, res)
@@ -695,6 +714,20 @@ class OccupancyGrid:
         foreground = self.static_time(frame.points.points) < self.params.background_time
         return replace(frame, foreground=foreground)
 
+    def _recently_learned(self, sensors: Sequence[str], stamp: float) -> bool:
+        """Whether every one of ``sensors`` was learned less than ``learn_period`` before
+        ``stamp`` [s] (then the frame is not learned); otherwise their stamps become
+        ``stamp``. A stamp before a sensor's last one counts as not recent."""
+        period = self.params.learn_period
+        if period <= 0.0:
+            return False
+        last = self._learned_at
+        if sensors and all(0.0 <= stamp - last.get(s, -math.inf) < period for s in sensors):
+            return True
+        for s in sensors:
+            last[s] = stamp
+        return False
+
     def learn_frame(self, frame: Frame) -> Frame:
         """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
         the frame with its points, its ``foreground`` untouched (for a caller that asks only
@@ -703,6 +736,10 @@ class OccupancyGrid:
         if points is None:
             points = PointSet.from_scans(list(frame.scans), frame.frame)
             frame = replace(frame, points=points)
+        if self._recently_learned(points.sensors, frame.stamp):
+            self.stamp = max(self.stamp, frame.stamp)
+            self.skipped += 1
+            return frame
         # (sensor, beam): one id per beam (the beam index itself with one laser)
         ids = points.beams if len(points.sensors) == 1 else (points.sensor_ids << 32) | points.beams
         self.learn(points.points, frame.stamp, _one_sensor_position(frame, points), ids)

@@ -41,9 +41,8 @@ def tracker_param_classes() -> list[type]:
     from laserpeople.pipeline.background import StaticWorldParams
     from laserpeople.tracking import registry
 
-    return [entry.params_cls for entry in registry.TRACKERS.values()] + list(
-        StaticWorldParams.sections()
-    )
+    classes = [entry.params_cls for entry in registry.TRACKERS.values()]
+    return list(dict.fromkeys([*classes, *StaticWorldParams.sections()]))
 
 
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
@@ -472,7 +471,8 @@ def register(app: typer.Typer) -> None:
         )
         if print_config:
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
-            loaded: list[Any] = [load_config(cls, config) for cls in [*classes, *static_sections]]
+            every = dict.fromkeys([*classes, *static_sections])  # [leg_tracker] is in both
+            loaded: list[Any] = [load_config(cls, config) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
                 print(to_toml(obj))
             return

@@ -34,7 +34,7 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,6 +49,9 @@ from laserpeople.pipeline.leg_foreground import LegForeground, LegForegroundPara
 from laserpeople.pipeline.stages import Stage, provided_by
 from laserpeople.pipeline.static_tracks import StaticTrackParams
 from laserpeople.scan import Pose2D
+
+if TYPE_CHECKING:
+    from laserpeople.tracking.legs import LegTrackerParams
 
 BackgroundChoice = Literal["auto", "histogram", "occupancy", "none"]
 BACKGROUND_CHOICES: tuple[str, ...] = ("auto", "histogram", "occupancy", "none")
@@ -172,6 +175,14 @@ class SensorMotionCheck:
         return False
 
 
+def _leg_tracker_defaults() -> LegTrackerParams:
+    """The leg MHT's default parameters (imported at use: the tracker imports pipeline
+    modules)."""
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    return LegTrackerParams()
+
+
 @dataclass(frozen=True)
 class StaticWorldParams:
     """The parameters of every static world model, each read from its own ``--config``
@@ -179,8 +190,9 @@ class StaticWorldParams:
     (the per-beam histogram), ``[auto_background]`` (when ``auto`` switches to the grid),
     ``[sensor_motion]`` (when the people's model of a sensor-frame run is dropped),
     ``[static_tracks]`` (which person tracks of trackers without a static world of their
-    own are left out, :mod:`laserpeople.pipeline.static_tracks`) and ``[leg_foreground]``
-    (when ``auto`` keeps only points near legs, :mod:`laserpeople.pipeline.leg_foreground`)."""
+    own are left out, :mod:`laserpeople.pipeline.static_tracks`), ``[leg_foreground]``
+    (when ``auto`` keeps only points near legs, :mod:`laserpeople.pipeline.leg_foreground`)
+    and ``[leg_tracker]`` (the leg MHT that stage runs)."""
 
     occupancy: OccupancyParams = field(default_factory=OccupancyParams)
     beam_histogram: BeamHistogramParams = field(default_factory=BeamHistogramParams)
@@ -188,10 +200,15 @@ class StaticWorldParams:
     sensor_motion: SensorMotionParams = field(default_factory=SensorMotionParams)
     static_tracks: StaticTrackParams = field(default_factory=StaticTrackParams)
     leg_foreground: LegForegroundParams = field(default_factory=LegForegroundParams)
+    leg_tracker: LegTrackerParams = field(default_factory=_leg_tracker_defaults)
+    """The ``[leg_tracker]`` section: the leg MHT that ``[leg_foreground]`` runs to hold its
+    people's legs uses it (see :func:`~.leg_foreground.stage_leg_tracker`)."""
 
     @staticmethod
     def sections() -> list[type]:
         """The parameter classes (TOML sections) it reads."""
+        from laserpeople.tracking.legs import LegTrackerParams
+
         return [
             OccupancyParams,
             BeamHistogramParams,
@@ -199,6 +216,7 @@ class StaticWorldParams:
             SensorMotionParams,
             StaticTrackParams,
             LegForegroundParams,
+            LegTrackerParams,
         ]
 
 
@@ -206,6 +224,7 @@ def load_static_world(path: str | Path | None) -> StaticWorldParams:
     """The static world models' parameters from the TOML file ``path`` (None: defaults);
     unknown keys, wrong types and non-finite values are a ConfigError naming the key."""
     from laserpeople.config import load_config
+    from laserpeople.tracking.legs import LegTrackerParams
 
     return StaticWorldParams(
         occupancy=load_config(OccupancyParams, path),
@@ -214,6 +233,7 @@ def load_static_world(path: str | Path | None) -> StaticWorldParams:
         sensor_motion=load_config(SensorMotionParams, path),
         static_tracks=load_config(StaticTrackParams, path),
         leg_foreground=load_config(LegForegroundParams, path),
+        leg_tracker=load_config(LegTrackerParams, path),
     )
 
 
@@ -277,7 +297,10 @@ class AutoBackground:
             return frame
         if self.legs is None:
             self.legs = LegForeground(
-                self.static.leg_foreground, self._detector, steady=self._steady
+                self.static.leg_foreground,
+                self._detector,
+                steady=self._steady,
+                leg_tracker=self.static.leg_tracker,
             )
             self.legs_from = frame.index
         return self.legs(frame)

@@ -26,7 +26,7 @@ from laserpeople.scan import CoordinateFrame
 from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.guard import InputGuard
 from laserpeople.tracking.kalman import KalmanParams
-from laserpeople.tracking.mht.core import MHT, MIN_RATIO, MHTParams, StepStats
+from laserpeople.tracking.mht.core import K_BEST, MHT, MIN_RATIO, N_SCAN, MHTParams, StepStats
 from laserpeople.tracking.mht.probability import LabelProbabilities
 from laserpeople.tracking.mht.tracktree import OCCLUDED, TrackNode
 from laserpeople.tracking.people import LegState, PersonFuser, PersonParams
@@ -53,6 +53,21 @@ drops hypotheses below 1 % of their cluster's best (issue 10, sessions 7-8): the
 recording identity recall / recall / ids 0.979 / 0.985 / 2 -> 0.977 / 0.984 / 2, the other
 real bags' ids and static seconds unchanged; held-back randomised seeds 100-119 MOTA / IDF1
 0.335 / 0.403 -> 0.338 / 0.410."""
+
+POLICY_K_BEST = {"arras": K_BEST, "tracks": 5}
+"""Children per cluster and scan per people policy where ``mht.k_best`` is unset. ``arras``
+keeps :data:`~.mht.core.K_BEST` (20, an assumption: 000 averages k over 2..200); ``tracks``
+keeps 5 (issue 10, session 14; docs/people-benchmarks.md, "Session 14: fewer hypotheses").
+With N-scan 4: tuning seeds (randomised 0-9; crossing-3, narrow-corridor, entrance-hall 1-4)
+MOTA / IDF1 0.288 / 0.323 -> 0.302 / 0.326, crossing-3 unchanged, narrow-corridor 0.348 /
+0.369 -> 0.345 / 0.363, entrance-hall 0.346 / 0.380 -> 0.335 / 0.371, at 0.52-0.76x of the
+CPU per scan; real dev recording identity recall / recall / ids 0.977 / 0.984 / 2 -> 0.979 /
+0.985 / 2, the unlabelled real bags' ids, walkers and static seconds unchanged."""
+
+POLICY_N_SCAN = {"arras": N_SCAN, "tracks": 4}
+"""N-scan-back depth per people policy where ``mht.n_scan`` is unset: ``arras`` keeps 000's
+eight (:data:`~.mht.core.N_SCAN`), ``tracks`` 4 (with :data:`POLICY_K_BEST`; with k 5 a
+depth of 8 gave 0.293 / 0.319 on randomised 0-9 and 0.333 / 0.349 on entrance-hall 1-4)."""
 
 
 @dataclass(frozen=True)
@@ -102,8 +117,8 @@ class LegTrackerParams:
     )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(),
-        "nested table mht.*; mht.min_ratio unset: by people policy (POLICY_MIN_RATIO: "
-        "arras 1e-3, tracks 1e-2)",
+        "nested table mht.*; mht.min_ratio, k_best and n_scan unset: by people policy "
+        "(POLICY_MIN_RATIO, POLICY_K_BEST, POLICY_N_SCAN: arras 1e-3, 20, 8; tracks 1e-2, 5, 4)",
         "hypothesis branching and pruning",
     )
     person: PersonParams = param(  # noqa: RUF009 (a frozen default instance)
@@ -126,10 +141,14 @@ class LegTrackerParams:
             raise ValueError("max_report_unseen must be non-negative (inf: report all)")
 
     def mht_params(self) -> MHTParams:
-        """The MHT's parameters in use: ``mht`` with an unset ``min_ratio`` resolved by the
-        people policy (:data:`POLICY_MIN_RATIO`). Resolved here, at use, so that
-        ``replace(params, people_policy=...)`` changes it too."""
-        return self.mht.with_min_ratio(POLICY_MIN_RATIO[self.people_policy])
+        """The MHT's parameters in use: ``mht`` with an unset ``min_ratio``, ``k_best`` and
+        ``n_scan`` resolved by the people policy (:data:`POLICY_MIN_RATIO`,
+        :data:`POLICY_K_BEST`, :data:`POLICY_N_SCAN`). Resolved here, at use, so that
+        ``replace(params, people_policy=...)`` changes them too."""
+        policy = self.people_policy
+        return self.mht.with_defaults(
+            POLICY_MIN_RATIO[policy], POLICY_K_BEST[policy], POLICY_N_SCAN[policy]
+        )
 
     def free(self) -> LabelProbabilities:
         """Label probabilities of free tracks."""

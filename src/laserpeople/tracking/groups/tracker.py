@@ -649,7 +649,7 @@ class GroupMHTTracker:
         self.model = CoherentGroupModel(p.model_settings(), p.coherence_settings())
         self.label_model = GroupLabelModel(p.p_m, p.p_o, p.p_t, p.p_n, p.p_f)
         self.mht: MHT[GroupObservations] = MHT(
-            p.mht.with_min_ratio(GROUP_MIN_RATIO), self.model, self.label_model
+            p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO), self.model, self.label_model
         )
         self.branches = GroupBranches(
             self.model, self.mht.tree, p.interaction_settings(), self.name
@@ -930,7 +930,7 @@ class GroupMHTTracker:
             self._walked_at = {k: t for k, t in self._walked_at.items() if k in stems}
         # a label set comes back only from its live parts merging back
         self._ids = {k: i for k, i in self._ids.items() if all(x in stems for x in k)}
-        n_scan = self.params.mht.n_scan
+        n_scan = self.params.mht.depth
         self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
 
     def state_counts(self) -> dict[str, int]:
@@ -992,7 +992,7 @@ class GroupMHTTracker:
             key = ("split", stem)
         last = self._event_at.get(key)
         self._event_at[key] = index
-        if last is not None and 0 <= index - last <= self.params.mht.n_scan:
+        if last is not None and 0 <= index - last <= self.params.mht.depth:
             return
         self.events.append(event)
         if len(self.events) > 2 * EVENTS_KEPT:

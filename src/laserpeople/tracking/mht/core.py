@@ -77,6 +77,14 @@ MIN_RATIO = 1e-3
 """Ratio pruning's threshold where ``MHTParams.min_ratio`` is unset and the tracker sets
 none: an assumption (000 Sec. 4.5.2 names ratio pruning without a value)."""
 
+K_BEST = 20
+"""Children per cluster and scan where ``MHTParams.k_best`` is unset and the tracker sets
+none: an assumption (000 Sec. 4.6 averages its cycle times over k from 2 to 200)."""
+
+N_SCAN = 8
+"""N-scan-back depth where ``MHTParams.n_scan`` is unset and the tracker sets none: 000
+Sec. 3.4.3 (a scan-back depth of eight)."""
+
 
 @dataclass(frozen=True)
 class MHTParams:
@@ -84,12 +92,20 @@ class MHTParams:
 
     config_section = "mht"
 
-    k_best: int = param(
-        20,
-        "assumption (000 Sec. 4.6 averages k over 2..200)",
+    k_best: int | None = param(
+        None,
+        "unset: the tracker's default: K_BEST = 20 (assumption; 000 Sec. 4.6 averages k over "
+        "2..200) for the group tracker and the leg tracker's people policy arras, 5 for its "
+        "policy tracks (issue 10, see LegTrackerParams.mht_params)",
         "k of Murty's k-best branching: children per cluster and scan, over all parents",
     )
-    n_scan: int = param(8, "000 Sec. 3.4.3 (scan-back depth of eight)", "N of N-scan-back pruning")
+    n_scan: int | None = param(
+        None,
+        "unset: the tracker's default: N_SCAN = 8 (000 Sec. 3.4.3, a scan-back depth of "
+        "eight) for the group tracker and the leg tracker's people policy arras, 4 for its "
+        "policy tracks (issue 10, see LegTrackerParams.mht_params)",
+        "N of N-scan-back pruning",
+    )
     min_ratio: float | None = param(
         None,
         "unset: the tracker's default: MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
@@ -124,9 +140,9 @@ class MHTParams:
     )
 
     def __post_init__(self) -> None:
-        if self.k_best < 1:
+        if self.k_best is not None and (isinstance(self.k_best, bool) or self.k_best < 1):
             raise ValueError("k_best must be at least 1")
-        if self.n_scan < 0:
+        if self.n_scan is not None and (isinstance(self.n_scan, bool) or self.n_scan < 0):
             raise ValueError("n_scan must be >= 0")
         if self.min_ratio is not None and (
             isinstance(self.min_ratio, bool)
@@ -144,10 +160,27 @@ class MHTParams:
         """The ratio pruning threshold in use: ``min_ratio``, or :data:`MIN_RATIO` unset."""
         return MIN_RATIO if self.min_ratio is None else float(self.min_ratio)
 
-    def with_min_ratio(self, default: float) -> MHTParams:
-        """These parameters with ``min_ratio`` set to ``default`` when it is unset (a
-        tracker's own default); an explicit value stays."""
-        return self if self.min_ratio is not None else replace(self, min_ratio=default)
+    @property
+    def k(self) -> int:
+        """k of the k-best branching in use: ``k_best``, or :data:`K_BEST` unset."""
+        return K_BEST if self.k_best is None else int(self.k_best)
+
+    @property
+    def depth(self) -> int:
+        """N-scan-back depth in use: ``n_scan``, or :data:`N_SCAN` unset."""
+        return N_SCAN if self.n_scan is None else int(self.n_scan)
+
+    def with_defaults(
+        self, min_ratio: float = MIN_RATIO, k_best: int = K_BEST, n_scan: int = N_SCAN
+    ) -> MHTParams:
+        """These parameters with each unset one of ``min_ratio``, ``k_best`` and ``n_scan``
+        set to the given value (a tracker's own default); explicit values stay."""
+        return replace(
+            self,
+            min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
+            k_best=k_best if self.k_best is None else self.k_best,
+            n_scan=n_scan if self.n_scan is None else self.n_scan,
+        )
 
 
 @dataclass(frozen=True)
@@ -452,7 +485,7 @@ class MHT(Generic[Meas]):
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
         """
-        n = self.params.n_scan
+        n = self.params.depth
         settled_before = self.generation - 1 - n
         settled: dict[int, bool] = {}
         all_links: dict[int, bool] = {}
@@ -492,7 +525,7 @@ class MHT(Generic[Meas]):
                 whole = False
         if whole:
             return parts[0]
-        return product(parts, self.params.k_best)
+        return product(parts, self.params.k)
 
     def _link(
         self,
@@ -578,7 +611,7 @@ class MHT(Generic[Meas]):
         if len(partitions) > 1:  # the global k best of the partitions' k best
             solutions.sort(key=lambda sol: sol[2])
             best = solutions[0][2] if solutions else math.inf
-            solutions = [sol for sol in solutions[: self.params.k_best] if sol[2] <= best + max_gap]
+            solutions = [sol for sol in solutions[: self.params.k] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
@@ -741,7 +774,7 @@ class MHT(Generic[Meas]):
 
     def _history(self, parent: Hypothesis) -> tuple[Hashable, ...]:
         """The ancestors of ``parent``'s children: its own and itself, the last N."""
-        n_scan = self.params.n_scan
+        n_scan = self.params.depth
         ancestors = (*parent.ancestors, parent.hypothesis_id)
         return ancestors[-n_scan:] if n_scan else ()
 
@@ -752,7 +785,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.n_scan, self.params.ratio)
+        return prune_children(list(children.values()), self.params.depth, self.params.ratio)
 
     def _branch_lone(
         self,
@@ -811,9 +844,7 @@ class MHT(Generic[Meas]):
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
         max_gap = _max_gap(self.params.ratio)
-        solutions = single_children(
-            priors, rows_of, tm, c_occ, c_del, meas, self.params.k_best, max_gap
-        )
+        solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self.params.k, max_gap)
         # the nodes, in the order _branch makes them: detected children, new track, occluded
         to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
         new_track = False
@@ -928,7 +959,7 @@ class MHT(Generic[Meas]):
             else:
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
-        k = self.params.k_best
+        k = self.params.k
         size = tm_cost.shape[0] + tm_cost.shape[1]
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size

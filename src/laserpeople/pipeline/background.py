@@ -508,7 +508,12 @@ def describe_background(stage: object | None) -> str:
         "OccupancyGrid": "occupancy grid",
     }
     name = type(stage).__name__
-    return f"static world model: {names.get(name, name)}"
+    skipped = int(getattr(stage, "skipped", 0))
+    rate = ""
+    if skipped:
+        period = stage.params.learn_period  # type: ignore[attr-defined]
+        rate = f" ({skipped} frames not learned: each laser at most every {period:g} s)"
+    return f"static world model: {names.get(name, name)}{rate}"
 
 
 __all__ = [

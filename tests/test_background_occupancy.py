@@ -408,4 +408,4 @@ def test_frames_not_learned_are_said() -> None:
     for k in range(3):
         g.learn_frame(_post_frame(0.02 * k, "a"))
     said = describe_background(g)
-    assert said.endswith("(2 frames not learned: each laser at most every 0.05 s)"), said
+    assert said.endswith("grid; 2 frames not learned (each laser at most every 0.05 s)"), said

@@ -69,6 +69,12 @@ POLICY_N_SCAN = {"arras": N_SCAN, "tracks": 4}
 eight (:data:`~.mht.core.N_SCAN`), ``tracks`` 4 (with :data:`POLICY_K_BEST`; with k 5 a
 depth of 8 gave 0.293 / 0.319 on randomised 0-9 and 0.333 / 0.349 on entrance-hall 1-4)."""
 
+POLICY_K_AMBIGUOUS = {"arras": 0, "tracks": 8}
+"""At least this many children for a cluster whose best parent hypothesis is less probable
+than ``mht.ambiguous_below``, per people policy, where ``mht.k_ambiguous`` is unset:
+``arras`` 0 (off: k everywhere, 000), ``tracks`` 8 (issue 10, session 14 follow-up;
+docs/people-benchmarks.md, "Adaptive k")."""
+
 
 @dataclass(frozen=True)
 class LegTrackerParams:
@@ -147,7 +153,10 @@ class LegTrackerParams:
         ``replace(params, people_policy=...)`` changes them too."""
         policy = self.people_policy
         return self.mht.with_defaults(
-            POLICY_MIN_RATIO[policy], POLICY_K_BEST[policy], POLICY_N_SCAN[policy]
+            POLICY_MIN_RATIO[policy],
+            POLICY_K_BEST[policy],
+            POLICY_N_SCAN[policy],
+            POLICY_K_AMBIGUOUS[policy],
         )
 
     def free(self) -> LabelProbabilities:

@@ -114,6 +114,29 @@ class MHTParams:
         "tracker (GROUP_MIN_RATIO, docs/groups.md fifth round)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
+    k_ambiguous: int | None = param(
+        None,
+        "unset: the tracker's default: 0 (off) for the group tracker and the leg tracker's "
+        "people policy arras, 8 for its policy tracks (issue 10, session 14 follow-up: demo "
+        "seed 2's lost person at k 5, see LegTrackerParams.mht_params and "
+        "docs/people-benchmarks.md)",
+        "children per scan, at least, of an ambiguous cluster (see ambiguous_below; 0 or at "
+        "most k_best: k_best for every cluster)",
+    )
+    ambiguous_below: float = param(
+        0.5,
+        "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10: 0.3 "
+        "keeps k 5's losses, 0.5-0.9 give k 10's scores)",
+        "a cluster is ambiguous (branches k_ambiguous children) when its best parent "
+        "hypothesis is less probable than this and one of its parents holds at least "
+        "ambiguous_tracks tracks",
+    )
+    ambiguous_tracks: int = param(
+        6,
+        "issue 10, session 14 follow-up (demo seed 2 loses a person in a cluster of 6 legs; "
+        "4 and 6 keep the demo's gain, 6 costs least on the randomised tuning scenes)",
+        "tracks (legs) a parent hypothesis of an ambiguous cluster holds at least",
+    )
     max_cluster_size: int = param(
         200,
         "issue 16 (bounded work per scan; assumption: ~3x the largest cluster measured, 72 "
@@ -150,6 +173,14 @@ class MHTParams:
             or not 0.0 <= self.min_ratio < 1.0
         ):
             raise ValueError("min_ratio must be a number in [0, 1)")
+        if self.k_ambiguous is not None and (
+            isinstance(self.k_ambiguous, bool) or self.k_ambiguous < 0
+        ):
+            raise ValueError("k_ambiguous must be >= 0 (0: off)")
+        if not 0.0 <= self.ambiguous_below <= 1.0:
+            raise ValueError("ambiguous_below must be in [0, 1]")
+        if isinstance(self.ambiguous_tracks, bool) or self.ambiguous_tracks < 0:
+            raise ValueError("ambiguous_tracks must be >= 0")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
@@ -166,17 +197,37 @@ class MHTParams:
         return K_BEST if self.k_best is None else int(self.k_best)
 
     @property
+    def k_wide(self) -> int:
+        """Children of an ambiguous cluster: ``max(k, k_ambiguous)`` (unset: ``k``)."""
+        return max(self.k, int(self.k_ambiguous or 0))
+
+    def is_ambiguous(self, best_log_weight: float, most_tracks: int) -> bool:
+        """Whether a cluster whose best parent hypothesis has log probability
+        ``best_log_weight`` and whose largest parent holds ``most_tracks`` tracks is
+        ambiguous: ``exp(best_log_weight) < ambiguous_below`` and ``most_tracks >=
+        ambiguous_tracks``."""
+        if most_tracks < self.ambiguous_tracks or self.ambiguous_below <= 0.0:
+            return False
+        return best_log_weight < math.log(self.ambiguous_below)
+
+    @property
     def depth(self) -> int:
         """N-scan-back depth in use: ``n_scan``, or :data:`N_SCAN` unset."""
         return N_SCAN if self.n_scan is None else int(self.n_scan)
 
     def with_defaults(
-        self, min_ratio: float = MIN_RATIO, k_best: int = K_BEST, n_scan: int = N_SCAN
+        self,
+        min_ratio: float = MIN_RATIO,
+        k_best: int = K_BEST,
+        n_scan: int = N_SCAN,
+        k_ambiguous: int = 0,
     ) -> MHTParams:
-        """These parameters with each unset one of ``min_ratio``, ``k_best`` and ``n_scan``
-        set to the given value (a tracker's own default); explicit values stay."""
+        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``
+        and ``k_ambiguous`` set to the given value (a tracker's own default); explicit
+        values stay."""
         return replace(
             self,
+            k_ambiguous=k_ambiguous if self.k_ambiguous is None else self.k_ambiguous,
             min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
             k_best=k_best if self.k_best is None else self.k_best,
             n_scan=n_scan if self.n_scan is None else self.n_scan,
@@ -353,6 +404,7 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
+        self._k = params.k  # the cluster being branched's k (:meth:`_cluster_k`)
         self.deferred_states = True
         """Whether the plain MHT makes its children's states at the end of the step, for
         the children kept only (:meth:`_fill_deferred`); the same states as made per scan
@@ -402,6 +454,7 @@ class MHT(Generic[Meas]):
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
+            self._k = self._cluster_k(parents)
             lone = None
             if (
                 self.shortcuts
@@ -527,6 +580,17 @@ class MHT(Generic[Meas]):
             return parts[0]
         return product(parts, self.params.k)
 
+    def _cluster_k(self, parents: list[Hypothesis]) -> int:
+        """k of the k-best branching for a cluster with parent hypotheses ``parents``: an
+        ambiguous cluster (:meth:`MHTParams.is_ambiguous`) branches ``k_wide``, any other
+        ``k`` (:class:`MHTParams`)."""
+        p = self.params
+        if p.k_wide <= p.k or not parents:
+            return p.k
+        best = max(h.log_weight for h in parents)
+        tracks = max(len(h.tracks) for h in parents)
+        return p.k_wide if p.is_ambiguous(best, tracks) else p.k
+
     def _link(
         self,
         children: list[Hypothesis],
@@ -611,7 +675,7 @@ class MHT(Generic[Meas]):
         if len(partitions) > 1:  # the global k best of the partitions' k best
             solutions.sort(key=lambda sol: sol[2])
             best = solutions[0][2] if solutions else math.inf
-            solutions = [sol for sol in solutions[: self.params.k] if sol[2] <= best + max_gap]
+            solutions = [sol for sol in solutions[: self._k] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
@@ -844,7 +908,7 @@ class MHT(Generic[Meas]):
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
         max_gap = _max_gap(self.params.ratio)
-        solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self.params.k, max_gap)
+        solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self._k, max_gap)
         # the nodes, in the order _branch makes them: detected children, new track, occluded
         to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
         new_track = False
@@ -959,7 +1023,7 @@ class MHT(Generic[Meas]):
             else:
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
-        k = self.params.k
+        k = self._k
         size = tm_cost.shape[0] + tm_cost.shape[1]
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size

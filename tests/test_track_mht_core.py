@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from laserpeople.tracking.kalman import KalmanParams
-from laserpeople.tracking.mht.core import MHT, MHTParams, product, project
+from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats, product, project
 from laserpeople.tracking.mht.hypothesis import (
     Hypothesis,
     cap,
@@ -307,3 +307,61 @@ def test_listing_with_many_equal_costs_matches_murty_costs() -> None:
     for _, dec, _ in fast:
         used = [j for j in dec.track_measurement if j >= 0]
         assert len(used) == len(set(used))
+
+
+def test_ambiguous_cluster_rule_hand_computed() -> None:
+    """``MHTParams.is_ambiguous`` and ``k_wide`` (the adaptive k): best parent below 0.5
+    and a parent with at least 6 tracks; ``max(k, k_ambiguous)`` children."""
+    p = MHTParams(k_best=5, k_ambiguous=8, ambiguous_below=0.5, ambiguous_tracks=6)
+    assert p.k_wide == 8
+    assert p.is_ambiguous(math.log(0.49), 6)
+    assert not p.is_ambiguous(math.log(0.51), 6)  # one hypothesis dominates
+    assert not p.is_ambiguous(math.log(0.49), 5)  # too few legs
+    assert not MHTParams(ambiguous_below=0.0).is_ambiguous(-50.0, 10)
+    assert MHTParams(k_best=5, k_ambiguous=3).k_wide == 5  # never fewer than k
+    assert MHTParams(k_best=5).k_wide == 5  # unset: off
+    assert MHTParams().with_defaults(k_ambiguous=8).k_ambiguous == 8
+    assert MHTParams(k_ambiguous=0).with_defaults(k_ambiguous=8).k_ambiguous == 0
+    with pytest.raises(ValueError, match="k_ambiguous"):
+        MHTParams(k_ambiguous=-1)
+    with pytest.raises(ValueError, match="ambiguous_below"):
+        MHTParams(ambiguous_below=1.5)
+
+
+def test_cluster_k_from_parents() -> None:
+    """Parents 0.45 / 0.35 / 0.2 with 6 tracks each: ambiguous, k 8; 0.7 / 0.3: k 5;
+    0.45 / 0.55 with 4 tracks: k 5."""
+    node = lambda f: TrackNode(f * 10, f, -1, np.zeros(4), np.eye(4), 0.0, "new")  # noqa: E731
+    six = tuple(node(f) for f in range(1, 7))
+    mht = make_mht(k_best=5, k_ambiguous=8)
+    hyps = [Hypothesis(math.log(w), six) for w in (0.45, 0.35, 0.2)]
+    assert mht._cluster_k(hyps) == 8
+    assert mht._cluster_k([Hypothesis(math.log(w), six) for w in (0.7, 0.3)]) == 5
+    assert mht._cluster_k([Hypothesis(math.log(w), six[:4]) for w in (0.45, 0.55)]) == 5
+
+
+def test_ambiguous_clusters_branch_more_children() -> None:
+    """Two close targets and clutter: with k 2 no cluster holds more than 2 hypotheses;
+    with k_ambiguous 6 for clusters whose best is below 0.9 and that hold 2 tracks, some
+    do (and none more than 6); with the rule off (ambiguous_below 0) it is k 2 again."""
+    counts = []
+    for kw in (
+        {"k_best": 2},
+        {"k_best": 2, "k_ambiguous": 6, "ambiguous_below": 0.9, "ambiguous_tracks": 2},
+        {"k_best": 2, "k_ambiguous": 6, "ambiguous_below": 0.0, "ambiguous_tracks": 2},
+    ):
+        mht = make_mht(**kw)
+        most = [0]
+        step = mht.step
+
+        def recording(m: PointMeasurements, t: float, step=step, most=most, mht=mht) -> StepStats:
+            stats = step(m, t)
+            most[0] = max(most[0], stats.max_cluster_hypotheses)
+            return stats
+
+        mht.step = recording  # type: ignore[method-assign]
+        run_targets(mht, 40)
+        counts.append(most[0])
+    assert counts[0] <= 2
+    assert 2 < counts[1] <= 6
+    assert counts[2] <= 2

@@ -32,9 +32,11 @@ def test_arras_policy_reproduces_todays_demo_numbers() -> None:
 
 @pytest.mark.slow
 def test_tracks_policy_on_a_simulated_scene_with_the_real_detector() -> None:
-    """Demo seed 2: arras MOTA 0.803 IDF1 0.711; tracks 0.830 / 0.803 (0.899 / 0.880 with
-    the MHT's k 20 and N-scan 8, the tracks policy's defaults before session 14: fewer
-    hypotheses cost this seed most of the five, see ``legs.POLICY_K_BEST``)."""
+    """Demo seed 2: arras MOTA 0.803 IDF1 0.711; tracks 0.910 / 0.894 (0.899 / 0.880 with
+    the MHT's k 20 and N-scan 8, the tracks policy's defaults before session 14; 0.830 /
+    0.803 with k 5 and N-scan 4 and no adaptive k: a person is lost at scans 80-82 in a
+    cluster of six legs whose best hypothesis holds about 0.2-0.3, see
+    ``legs.POLICY_K_AMBIGUOUS``)."""
     s = _demo(2, "tracks")
-    assert float(s["mota"]) >= 0.82  # type: ignore[arg-type]
-    assert float(s["idf1"]) >= 0.78  # type: ignore[arg-type]
+    assert float(s["mota"]) >= 0.88  # type: ignore[arg-type]
+    assert float(s["idf1"]) >= 0.85  # type: ignore[arg-type]

@@ -314,15 +314,15 @@ def test_leg_unseen_too_long_is_kept_but_not_reported() -> None:
 
 
 def test_people_policy_resolves_the_adaptive_k() -> None:
-    """``mht.k_ambiguous`` unset: 8 under tracks (k 5), 0 (off) under arras (000's k 20
+    """``mht.k_ambiguous`` unset: 0 (off) under tracks (k 5) and arras (000's k 20
     everywhere); an explicit value wins under either policy."""
     from laserpeople.tracking.mht.core import MHTParams
 
     tracks = LegTrackerParams(people_policy="tracks").mht_params()
-    assert (tracks.k, tracks.k_wide, tracks.depth) == (5, 8, 4)
+    assert (tracks.k, tracks.k_wide, tracks.depth, tracks.k_ambiguous) == (5, 5, 4, 0)
     arras = LegTrackerParams(people_policy="arras").mht_params()
     assert (arras.k, arras.k_wide, arras.k_ambiguous) == (20, 20, 0)
-    mine = LegTrackerParams(people_policy="tracks", mht=MHTParams(k_ambiguous=0)).mht_params()
-    assert mine.k_wide == 5
+    mine = LegTrackerParams(people_policy="tracks", mht=MHTParams(k_ambiguous=8)).mht_params()
+    assert (mine.k, mine.k_wide) == (5, 8)
     mine = LegTrackerParams(people_policy="arras", mht=MHTParams(k_ambiguous=30)).mht_params()
     assert mine.k_wide == 30

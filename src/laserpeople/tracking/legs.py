@@ -69,11 +69,14 @@ POLICY_N_SCAN = {"arras": N_SCAN, "tracks": 4}
 eight (:data:`~.mht.core.N_SCAN`), ``tracks`` 4 (with :data:`POLICY_K_BEST`; with k 5 a
 depth of 8 gave 0.293 / 0.319 on randomised 0-9 and 0.333 / 0.349 on entrance-hall 1-4)."""
 
-POLICY_K_AMBIGUOUS = {"arras": 0, "tracks": 8}
-"""At least this many children for a cluster whose best parent hypothesis is less probable
-than ``mht.ambiguous_below``, per people policy, where ``mht.k_ambiguous`` is unset:
-``arras`` 0 (off: k everywhere, 000), ``tracks`` 8 (issue 10, session 14 follow-up;
-docs/people-benchmarks.md, "Adaptive k")."""
+POLICY_K_AMBIGUOUS = {"arras": 0, "tracks": 0}
+"""At least this many children for an ambiguous cluster (``mht.ambiguous_below``,
+``mht.ambiguous_tracks``) per people policy where ``mht.k_ambiguous`` is unset: 0 (off, k
+everywhere) under both. ``k_ambiguous = 8`` (issue 10, session 14 follow-up;
+docs/people-benchmarks.md, "Adaptive k") wins back demo seed 2's person lost at k 5 (MOTA
+0.830 -> 0.910) but lets a swap win on seed 3 (IDF1 0.962 -> 0.762): demo seeds 0-4 MOTA
+0.903 -> 0.912, IDF1 0.889 -> 0.867; randomised tuning 0.302 / 0.326 -> 0.299 / 0.322; the
+real recordings unchanged; so it is a setting, not the default."""
 
 
 @dataclass(frozen=True)

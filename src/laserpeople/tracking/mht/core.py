@@ -116,17 +116,17 @@ class MHTParams:
     )
     k_ambiguous: int | None = param(
         None,
-        "unset: the tracker's default: 0 (off) for the group tracker and the leg tracker's "
-        "people policy arras, 8 for its policy tracks (issue 10, session 14 follow-up: demo "
-        "seed 2's lost person at k 5, see LegTrackerParams.mht_params and "
-        "docs/people-benchmarks.md)",
+        "unset: the tracker's default: 0 (off) for the group tracker and both of the leg "
+        "tracker's people policies (issue 10, session 14 follow-up: 8 wins back demo seed "
+        "2's person lost at k 5 but loses seed 3's identity; legs.POLICY_K_AMBIGUOUS, "
+        "docs/people-benchmarks.md 'Adaptive k')",
         "children per scan, at least, of an ambiguous cluster (see ambiguous_below; 0 or at "
         "most k_best: k_best for every cluster)",
     )
     ambiguous_below: float = param(
         0.5,
-        "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10: 0.3 "
-        "keeps k 5's losses, 0.5-0.9 give k 10's scores)",
+        "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10 and any "
+        "number of tracks: 0.3 keeps k 5's losses, 0.5-0.9 give k 10's scores)",
         "a cluster is ambiguous (branches k_ambiguous children) when its best parent "
         "hypothesis is less probable than this and one of its parents holds at least "
         "ambiguous_tracks tracks",

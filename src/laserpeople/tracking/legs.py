@@ -78,6 +78,10 @@ docs/people-benchmarks.md, "Adaptive k") wins back demo seed 2's person lost at 
 0.903 -> 0.912, IDF1 0.889 -> 0.867; randomised tuning 0.302 / 0.326 -> 0.299 / 0.322; the
 real recordings unchanged; so it is a setting, not the default."""
 
+POLICY_AMBIGUOUS_N_SCAN = {"arras": 0, "tracks": 0}
+"""N-scan depth, at least, of an ambiguous cluster per people policy where
+``mht.ambiguous_n_scan`` is unset: 0 (n_scan everywhere) under both."""
+
 
 @dataclass(frozen=True)
 class LegTrackerParams:
@@ -160,6 +164,7 @@ class LegTrackerParams:
             POLICY_K_BEST[policy],
             POLICY_N_SCAN[policy],
             POLICY_K_AMBIGUOUS[policy],
+            POLICY_AMBIGUOUS_N_SCAN[policy],
         )
 
     def free(self) -> LabelProbabilities:

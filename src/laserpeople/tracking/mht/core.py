@@ -123,6 +123,15 @@ class MHTParams:
         "children per scan, at least, of an ambiguous cluster (see ambiguous_below; 0 or at "
         "most k_best: k_best for every cluster)",
     )
+    ambiguous_n_scan: int | None = param(
+        None,
+        "unset: the tracker's default: 0 (n_scan for every cluster) for the group tracker and "
+        "both of the leg tracker's people policies (issue 10, session 14 follow-up: see "
+        "legs.POLICY_AMBIGUOUS_N_SCAN)",
+        "N-scan depth, at least, of an ambiguous cluster's pruning (see ambiguous_below; 0 or "
+        "at most n_scan: n_scan for every cluster); every hypothesis then keeps this many "
+        "ancestors",
+    )
     ambiguous_below: float = param(
         0.5,
         "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10 and any "
@@ -177,6 +186,10 @@ class MHTParams:
             isinstance(self.k_ambiguous, bool) or self.k_ambiguous < 0
         ):
             raise ValueError("k_ambiguous must be >= 0 (0: off)")
+        if self.ambiguous_n_scan is not None and (
+            isinstance(self.ambiguous_n_scan, bool) or self.ambiguous_n_scan < 0
+        ):
+            raise ValueError("ambiguous_n_scan must be >= 0 (0: off)")
         if not 0.0 <= self.ambiguous_below <= 1.0:
             raise ValueError("ambiguous_below must be in [0, 1]")
         if isinstance(self.ambiguous_tracks, bool) or self.ambiguous_tracks < 0:
@@ -201,6 +214,21 @@ class MHTParams:
         """Children of an ambiguous cluster: ``max(k, k_ambiguous)`` (unset: ``k``)."""
         return max(self.k, int(self.k_ambiguous or 0))
 
+    @property
+    def depth_wide(self) -> int:
+        """N-scan depth of an ambiguous cluster: ``max(depth, ambiguous_n_scan)``."""
+        return max(self.depth, int(self.ambiguous_n_scan or 0))
+
+    @property
+    def depth_kept(self) -> int:
+        """Ancestors each hypothesis keeps (``depth_wide``: at least ``depth``)."""
+        return self.depth_wide
+
+    @property
+    def adaptive(self) -> bool:
+        """Whether ambiguous clusters branch or prune other than the rest."""
+        return self.k_wide > self.k or self.depth_wide > self.depth
+
     def is_ambiguous(self, best_log_weight: float, most_tracks: int) -> bool:
         """Whether a cluster whose best parent hypothesis has log probability
         ``best_log_weight`` and whose largest parent holds ``most_tracks`` tracks is
@@ -221,12 +249,16 @@ class MHTParams:
         k_best: int = K_BEST,
         n_scan: int = N_SCAN,
         k_ambiguous: int = 0,
+        ambiguous_n_scan: int = 0,
     ) -> MHTParams:
-        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``
-        and ``k_ambiguous`` set to the given value (a tracker's own default); explicit
-        values stay."""
+        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``,
+        ``k_ambiguous`` and ``ambiguous_n_scan`` set to the given value (a tracker's own
+        default); explicit values stay."""
         return replace(
             self,
+            ambiguous_n_scan=(
+                ambiguous_n_scan if self.ambiguous_n_scan is None else self.ambiguous_n_scan
+            ),
             k_ambiguous=k_ambiguous if self.k_ambiguous is None else self.k_ambiguous,
             min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
             k_best=k_best if self.k_best is None else self.k_best,
@@ -405,6 +437,7 @@ class MHT(Generic[Meas]):
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
         self._k = params.k  # the cluster being branched's k (:meth:`_cluster_k`)
+        self._depth = params.depth  # ... and its N-scan depth
         self.deferred_states = True
         """Whether the plain MHT makes its children's states at the end of the step, for
         the children kept only (:meth:`_fill_deferred`); the same states as made per scan
@@ -454,7 +487,7 @@ class MHT(Generic[Meas]):
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
-            self._k = self._cluster_k(parents)
+            self._k, self._depth = self._cluster_k(parents)
             lone = None
             if (
                 self.shortcuts
@@ -538,7 +571,7 @@ class MHT(Generic[Meas]):
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
         """
-        n = self.params.depth
+        n = self.params.depth_kept
         settled_before = self.generation - 1 - n
         settled: dict[int, bool] = {}
         all_links: dict[int, bool] = {}
@@ -580,16 +613,19 @@ class MHT(Generic[Meas]):
             return parts[0]
         return product(parts, self.params.k)
 
-    def _cluster_k(self, parents: list[Hypothesis]) -> int:
-        """k of the k-best branching for a cluster with parent hypotheses ``parents``: an
-        ambiguous cluster (:meth:`MHTParams.is_ambiguous`) branches ``k_wide``, any other
-        ``k`` (:class:`MHTParams`)."""
+    def _cluster_k(self, parents: list[Hypothesis]) -> tuple[int, int]:
+        """k of the k-best branching and the N-scan depth for a cluster with parent
+        hypotheses ``parents``: an ambiguous cluster (:meth:`MHTParams.is_ambiguous`)
+        branches ``k_wide`` children and prunes at ``depth_wide``, any other ``k`` and
+        ``depth`` (:class:`MHTParams`)."""
         p = self.params
-        if p.k_wide <= p.k or not parents:
-            return p.k
+        if not p.adaptive or not parents:
+            return p.k, p.depth
         best = max(h.log_weight for h in parents)
         tracks = max(len(h.tracks) for h in parents)
-        return p.k_wide if p.is_ambiguous(best, tracks) else p.k
+        if p.is_ambiguous(best, tracks):
+            return p.k_wide, p.depth_wide
+        return p.k, p.depth
 
     def _link(
         self,
@@ -838,7 +874,7 @@ class MHT(Generic[Meas]):
 
     def _history(self, parent: Hypothesis) -> tuple[Hashable, ...]:
         """The ancestors of ``parent``'s children: its own and itself, the last N."""
-        n_scan = self.params.depth
+        n_scan = self.params.depth_kept
         ancestors = (*parent.ancestors, parent.hypothesis_id)
         return ancestors[-n_scan:] if n_scan else ()
 
@@ -849,7 +885,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.depth, self.params.ratio)
+        return prune_children(list(children.values()), self._depth, self.params.ratio)
 
     def _branch_lone(
         self,

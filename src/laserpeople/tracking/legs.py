@@ -72,15 +72,17 @@ depth of 8 gave 0.293 / 0.319 on randomised 0-9 and 0.333 / 0.349 on entrance-ha
 POLICY_K_AMBIGUOUS = {"arras": 0, "tracks": 0}
 """At least this many children for an ambiguous cluster (``mht.ambiguous_below``,
 ``mht.ambiguous_tracks``) per people policy where ``mht.k_ambiguous`` is unset: 0 (off, k
-everywhere) under both. ``k_ambiguous = 8`` (issue 10, session 14 follow-up;
-docs/people-benchmarks.md, "Adaptive k") wins back demo seed 2's person lost at k 5 (MOTA
-0.830 -> 0.910) but lets a swap win on seed 3 (IDF1 0.962 -> 0.762): demo seeds 0-4 MOTA
-0.903 -> 0.912, IDF1 0.889 -> 0.867; randomised tuning 0.302 / 0.326 -> 0.299 / 0.322; the
-real recordings unchanged; so it is a setting, not the default."""
+everywhere) under both. The setting ``k_ambiguous = 8`` with ``ambiguous_n_scan = 6``
+(issue 10, session 14 follow-up; docs/people-benchmarks.md, "Adaptive k") wins back demo
+seeds 0-4 (MOTA 0.903 -> 0.923, IDF1 0.889 -> 0.906) and the entrance-hall tuning seeds
+(0.335 / 0.371 -> 0.346 / 0.388) at +2-4 % CPU per scan, the real recordings unchanged,
+but not the held-back entrance-hall seeds 100-109 (0.357 / 0.383 -> 0.355 / 0.379): a
+setting, not the default."""
 
 POLICY_AMBIGUOUS_N_SCAN = {"arras": 0, "tracks": 0}
 """N-scan depth, at least, of an ambiguous cluster per people policy where
-``mht.ambiguous_n_scan`` is unset: 0 (n_scan everywhere) under both."""
+``mht.ambiguous_n_scan`` is unset: 0 (n_scan everywhere) under both (see
+:data:`POLICY_K_AMBIGUOUS`)."""
 
 
 @dataclass(frozen=True)

@@ -438,6 +438,8 @@ class MHT(Generic[Meas]):
         self._most_solves = 0  # this step's most assignment problems of one cluster
         self._k = params.k  # the cluster being branched's k (:meth:`_cluster_k`)
         self._depth = params.depth  # ... and its N-scan depth
+        self._adaptive = params.adaptive  # (resolved once: a few property calls per cluster)
+        self._depth_kept = params.depth_kept
         self.deferred_states = True
         """Whether the plain MHT makes its children's states at the end of the step, for
         the children kept only (:meth:`_fill_deferred`); the same states as made per scan
@@ -487,7 +489,8 @@ class MHT(Generic[Meas]):
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
-            self._k, self._depth = self._cluster_k(parents)
+            if self._adaptive:  # (else k and depth, set once)
+                self._k, self._depth = self._cluster_k(parents)
             lone = None
             if (
                 self.shortcuts
@@ -571,7 +574,7 @@ class MHT(Generic[Meas]):
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
         """
-        n = self.params.depth_kept
+        n = self._depth_kept
         settled_before = self.generation - 1 - n
         settled: dict[int, bool] = {}
         all_links: dict[int, bool] = {}
@@ -619,7 +622,7 @@ class MHT(Generic[Meas]):
         branches ``k_wide`` children and prunes at ``depth_wide``, any other ``k`` and
         ``depth`` (:class:`MHTParams`)."""
         p = self.params
-        if not p.adaptive or not parents:
+        if not self._adaptive or not parents:
             return p.k, p.depth
         best = max(h.log_weight for h in parents)
         tracks = max(len(h.tracks) for h in parents)
@@ -874,7 +877,7 @@ class MHT(Generic[Meas]):
 
     def _history(self, parent: Hypothesis) -> tuple[Hashable, ...]:
         """The ancestors of ``parent``'s children: its own and itself, the last N."""
-        n_scan = self.params.depth_kept
+        n_scan = self._depth_kept
         ancestors = (*parent.ancestors, parent.hypothesis_id)
         return ancestors[-n_scan:] if n_scan else ()
 

@@ -118,8 +118,9 @@ class MHTParams:
         None,
         "unset: the tracker's default: 0 (off) for the group tracker and both of the leg "
         "tracker's people policies (issue 10, session 14 follow-up: 8 wins back demo seed "
-        "2's person lost at k 5 but loses seed 3's identity; legs.POLICY_K_AMBIGUOUS, "
-        "docs/people-benchmarks.md 'Adaptive k')",
+        "2's person lost at k 5, with ambiguous_n_scan 6 also seed 3's identity, but not the "
+        "held-back entrance hall; legs.POLICY_K_AMBIGUOUS, docs/people-benchmarks.md "
+        "'Adaptive k')",
         "children per scan, at least, of an ambiguous cluster (see ambiguous_below; 0 or at "
         "most k_best: k_best for every cluster)",
     )
@@ -127,7 +128,8 @@ class MHTParams:
         None,
         "unset: the tracker's default: 0 (n_scan for every cluster) for the group tracker and "
         "both of the leg tracker's people policies (issue 10, session 14 follow-up: see "
-        "legs.POLICY_AMBIGUOUS_N_SCAN)",
+        "legs.POLICY_AMBIGUOUS_N_SCAN; 6 with k_ambiguous 8 keeps demo seed 3's identity, "
+        "which N-scan 4 with the wider k loses, 8 does not)",
         "N-scan depth, at least, of an ambiguous cluster's pruning (see ambiguous_below; 0 or "
         "at most n_scan: n_scan for every cluster); every hypothesis then keeps this many "
         "ancestors",
@@ -136,7 +138,8 @@ class MHTParams:
         0.5,
         "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10 and any "
         "number of tracks: 0.3 keeps k 5's losses, 0.5-0.9 give k 10's scores)",
-        "a cluster is ambiguous (branches k_ambiguous children) when its best parent "
+        "a cluster is ambiguous (branches k_ambiguous children, prunes at ambiguous_n_scan) "
+        "when its best parent "
         "hypothesis is less probable than this and one of its parents holds at least "
         "ambiguous_tracks tracks",
     )

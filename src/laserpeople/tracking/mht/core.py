@@ -439,10 +439,11 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
+        # resolved from ``params`` at each step (:meth:`_resolve`)
         self._k = params.k  # the cluster being branched's k (:meth:`_cluster_k`)
         self._depth = params.depth  # ... and its N-scan depth
-        self._adaptive = params.adaptive  # (resolved once: a few property calls per cluster)
-        self._depth_kept = params.depth_kept
+        self._adaptive = params.adaptive  # whether clusters may differ in k and depth
+        self._depth_kept = params.depth_kept  # ancestors kept
         self.deferred_states = True
         """Whether the plain MHT makes its children's states at the end of the step, for
         the children kept only (:meth:`_fill_deferred`); the same states as made per scan
@@ -469,6 +470,7 @@ class MHT(Generic[Meas]):
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
         self._solves = self._degraded = self._largest = self._most_solves = 0
+        self._resolve()
         live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
         if live:
             self.model.predict(live, stamp)
@@ -492,7 +494,7 @@ class MHT(Generic[Meas]):
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
-            if self._adaptive:  # (else k and depth, set once)
+            if self._adaptive:  # (else this step's k and depth)
                 self._k, self._depth = self._cluster_k(parents)
             lone = None
             if (
@@ -618,6 +620,13 @@ class MHT(Generic[Meas]):
         if whole:
             return parts[0]
         return product(parts, self.params.k)
+
+    def _resolve(self) -> None:
+        """This step's k, N-scan depth and ancestors kept from ``params`` (which may be
+        replaced between steps), once per step rather than per cluster."""
+        p = self.params
+        self._k, self._depth = p.k, p.depth
+        self._adaptive, self._depth_kept = p.adaptive, p.depth_kept
 
     def _cluster_k(self, parents: list[Hypothesis]) -> tuple[int, int]:
         """k of the k-best branching and the N-scan depth for a cluster with parent

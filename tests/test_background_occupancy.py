@@ -398,3 +398,14 @@ def test_learn_period_learns_each_sensor_at_most_once_per_period() -> None:
     assert two.skipped == 2 and two._learned_at == pytest.approx({"a": 0.08, "b": 0.02})
     with pytest.raises(ValueError, match="learn_period"):
         OccupancyParams(learn_period=-0.1)
+
+
+def test_frames_not_learned_are_said() -> None:
+    from laserpeople.pipeline.background import describe_background
+
+    g = OccupancyGrid(OccupancyParams(learn_period=0.05))
+    assert describe_background(g) == "static world model: occupancy grid"
+    for k in range(3):
+        g.learn_frame(_post_frame(0.02 * k, "a"))
+    said = describe_background(g)
+    assert said.endswith("grid; 2 frames not learned (each laser at most every 0.05 s)"), said

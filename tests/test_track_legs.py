@@ -311,18 +311,3 @@ def test_leg_unseen_too_long_is_kept_but_not_reported() -> None:
     out = tracker.update(Detections(1.6, 16, np.array([[2.0, 0.5]]), cov, np.ones(1)))
     assert [t.track_id for t in out.of_kind("leg")] == [leg.track_id]  # back, same id
     assert tracker.hidden_tracks == 0
-
-
-def test_people_policy_resolves_the_adaptive_k() -> None:
-    """``mht.k_ambiguous`` unset: 0 (off) under tracks (k 5) and arras (000's k 20
-    everywhere); an explicit value wins under either policy."""
-    from laserpeople.tracking.mht.core import MHTParams
-
-    tracks = LegTrackerParams(people_policy="tracks").mht_params()
-    assert (tracks.k, tracks.k_wide, tracks.depth, tracks.k_ambiguous) == (5, 5, 4, 0)
-    arras = LegTrackerParams(people_policy="arras").mht_params()
-    assert (arras.k, arras.k_wide, arras.k_ambiguous) == (20, 20, 0)
-    mine = LegTrackerParams(people_policy="tracks", mht=MHTParams(k_ambiguous=8)).mht_params()
-    assert (mine.k, mine.k_wide) == (5, 8)
-    mine = LegTrackerParams(people_policy="arras", mht=MHTParams(k_ambiguous=30)).mht_params()
-    assert mine.k_wide == 30

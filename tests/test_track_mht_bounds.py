@@ -177,7 +177,7 @@ def test_hundreds_of_detections_per_scan_bounded_work(
 ) -> None:
     params = LegTrackerParams(mht=MHTParams(max_cluster_size=120, max_assignment_solves=300))
     tracker = LegMHTTracker(params)
-    k_best = params.mht_params().k_wide  # (an ambiguous cluster's k, at least k)
+    k_best = params.mht_params().k
     degraded = 0
     for k, (n, side, seed) in enumerate(scans):
         xy = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))

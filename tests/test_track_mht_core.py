@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from laserpeople.tracking.kalman import KalmanParams
-from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats, product, project
+from laserpeople.tracking.mht.core import MHT, MHTParams, product, project
 from laserpeople.tracking.mht.hypothesis import (
     Hypothesis,
     cap,
@@ -307,96 +307,3 @@ def test_listing_with_many_equal_costs_matches_murty_costs() -> None:
     for _, dec, _ in fast:
         used = [j for j in dec.track_measurement if j >= 0]
         assert len(used) == len(set(used))
-
-
-def test_ambiguous_cluster_rule_hand_computed() -> None:
-    """``MHTParams.is_ambiguous`` and ``k_wide`` (the adaptive k): best parent below 0.5
-    and a parent with at least 6 tracks; ``max(k, k_ambiguous)`` children."""
-    p = MHTParams(k_best=5, k_ambiguous=8, ambiguous_below=0.5, ambiguous_tracks=6)
-    assert p.k_wide == 8
-    assert p.is_ambiguous(math.log(0.49), 6)
-    assert not p.is_ambiguous(math.log(0.51), 6)  # one hypothesis dominates
-    assert not p.is_ambiguous(math.log(0.49), 5)  # too few legs
-    assert not MHTParams(ambiguous_below=0.0).is_ambiguous(-50.0, 10)
-    assert MHTParams(k_best=5, k_ambiguous=3).k_wide == 5  # never fewer than k
-    assert MHTParams(k_best=5).k_wide == 5  # unset: off
-    assert MHTParams().with_defaults(k_ambiguous=8).k_ambiguous == 8
-    assert MHTParams(k_ambiguous=0).with_defaults(k_ambiguous=8).k_ambiguous == 0
-    with pytest.raises(ValueError, match="k_ambiguous"):
-        MHTParams(k_ambiguous=-1)
-    with pytest.raises(ValueError, match="ambiguous_below"):
-        MHTParams(ambiguous_below=1.5)
-    with pytest.raises(ValueError, match="ambiguous_n_scan"):
-        MHTParams(ambiguous_n_scan=-1)
-    q = MHTParams(n_scan=4, ambiguous_n_scan=6)
-    assert (q.depth, q.depth_wide, q.depth_kept, q.adaptive) == (4, 6, 6, True)
-    assert MHTParams(n_scan=4, ambiguous_n_scan=3).depth_wide == 4  # never shallower
-    assert not MHTParams(k_best=5, n_scan=4).adaptive
-
-
-def test_cluster_k_from_parents() -> None:
-    """k 5 / N 4, k_ambiguous 8, ambiguous_n_scan 6. Parents 0.45 / 0.35 / 0.2 with 6 tracks
-    each: ambiguous, (8, 6); 0.7 / 0.3: (5, 4); 0.45 / 0.55 with 4 tracks: (5, 4); the
-    ancestors kept: 6 whatever the cluster."""
-    node = lambda f: TrackNode(f * 10, f, -1, np.zeros(4), np.eye(4), 0.0, "new")  # noqa: E731
-    six = tuple(node(f) for f in range(1, 7))
-    mht = make_mht(k_best=5, n_scan=4, k_ambiguous=8, ambiguous_n_scan=6)
-    hyps = [Hypothesis(math.log(w), six) for w in (0.45, 0.35, 0.2)]
-    assert mht._cluster_k(hyps) == (8, 6)
-    assert mht._cluster_k([Hypothesis(math.log(w), six) for w in (0.7, 0.3)]) == (5, 4)
-    assert mht._cluster_k([Hypothesis(math.log(w), six[:4]) for w in (0.45, 0.55)]) == (5, 4)
-    assert mht.params.depth_kept == 6
-    parent = Hypothesis(0.0, six, tuple(range(10)), hypothesis_id=99)
-    assert mht._history(parent) == (5, 6, 7, 8, 9, 99)
-    only_k = make_mht(k_best=5, n_scan=4, k_ambiguous=8)
-    assert only_k._cluster_k(hyps) == (8, 4)
-    assert make_mht(k_best=5, n_scan=4)._cluster_k(hyps) == (5, 4)  # off
-
-
-def test_ambiguous_cluster_prunes_deeper() -> None:
-    """N-scan with depth 1 keeps one branch of the previous scan; an ambiguous cluster with
-    ambiguous_n_scan 3 keeps children of both (hand-made: four children 0.25 of six tracks,
-    two from each of the parents 10 and 11, which share their older ancestors): parents
-    0.4 / 0.3 / 0.3 are ambiguous (4 kept), 0.6 / 0.4 are not (2 kept)."""
-    from laserpeople.tracking.mht.hypothesis import prune_children
-
-    node = lambda f: TrackNode(f * 10, f, -1, np.zeros(4), np.eye(4), 0.0, "new")  # noqa: E731
-    six = tuple(node(f) for f in range(1, 7))
-    children = [
-        Hypothesis(math.log(0.25), six, (1, 2, a)) for a in (10, 10, 11, 11)
-    ]  # two children of each of the parents 10 and 11
-    assert len(prune_children(list(children), 1, 1e-3)) == 2
-    assert len(prune_children(list(children), 3, 1e-3)) == 4
-    mht = make_mht(k_best=5, n_scan=1, k_ambiguous=8, ambiguous_n_scan=3)
-    for weights, kept in (((0.4, 0.3, 0.3), 4), ((0.6, 0.4), 2)):
-        parents = [Hypothesis(math.log(w), six) for w in weights]
-        mht._k, mht._depth = mht._cluster_k(parents)
-        fresh = [Hypothesis(h.log_weight, h.tracks, h.ancestors) for h in children]
-        assert len(mht._prune_children({(i,): h for i, h in enumerate(fresh)})) == kept
-
-
-def test_ambiguous_clusters_branch_more_children() -> None:
-    """Two close targets and clutter: with k 2 no cluster holds more than 2 hypotheses;
-    with k_ambiguous 6 for clusters whose best is below 0.9 and that hold 2 tracks, some
-    do (and none more than 6); with the rule off (ambiguous_below 0) it is k 2 again."""
-    counts = []
-    for kw in (
-        {"k_best": 2},
-        {"k_best": 2, "k_ambiguous": 6, "ambiguous_below": 0.9, "ambiguous_tracks": 2},
-        {"k_best": 2, "k_ambiguous": 6, "ambiguous_below": 0.0, "ambiguous_tracks": 2},
-    ):
-        mht = make_mht(**kw)
-        most = [0]
-        step = mht.step
-
-        def recording(m: PointMeasurements, t: float, step=step, most=most, mht=mht) -> StepStats:
-            stats = step(m, t)
-            most[0] = max(most[0], stats.max_cluster_hypotheses)
-            return stats
-
-        mht.step = recording  # type: ignore[method-assign]
-        run_targets(mht, 40)
-        counts.append(most[0])
-    assert counts[0] <= 2
-    assert 2 < counts[1] <= 6
-    assert counts[2] <= 2

@@ -10,7 +10,6 @@ from laserpeople.demo import simulate_demo
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation import evaluate
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
-from laserpeople.tracking.mht.core import MHTParams
 
 
 def _demo(seed: int, policy: str) -> dict[str, object]:
@@ -39,22 +38,3 @@ def test_tracks_policy_on_a_simulated_scene_with_the_real_detector() -> None:
     s = _demo(2, "tracks")
     assert float(s["mota"]) >= 0.82  # type: ignore[arg-type]
     assert float(s["idf1"]) >= 0.78  # type: ignore[arg-type]
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize(("seed", "mota", "idf1"), [(2, 0.88, 0.85), (3, 0.90, 0.90)])
-def test_adaptive_k_setting_on_demo(seed: int, mota: float, idf1: float) -> None:
-    """The adaptive k as a setting (``mht.k_ambiguous = 8``, ``mht.ambiguous_n_scan = 6``).
-    Demo seed 2: 0.910 / 0.894 against 0.830 / 0.803 with k 5 everywhere (at scans 80-82
-    a cluster of six legs whose best hypothesis holds 0.2-0.3 needs more than 5 children to
-    keep a person). Seed 3: 0.934 / 0.966 against 0.893 / 0.762 with the wider k but N-scan
-    4 (a swap wins the pruning) and 0.927 / 0.962 with k 5 (docs/people-benchmarks.md,
-    "Adaptive k")."""
-    scans, truth, _ = simulate_demo(None, seed)
-    detector = AdaBoostLegDetector.default()
-    mht = MHTParams(k_ambiguous=8, ambiguous_n_scan=6)
-    tracker = LegMHTTracker(LegTrackerParams(people_policy="tracks", mht=mht))
-    outs = [tracker.update(detector.detect(s)) for s in scans]
-    s = evaluate(truth, outs).result().summary()
-    assert float(s["mota"]) >= mota  # type: ignore[arg-type]
-    assert float(s["idf1"]) >= idf1  # type: ignore[arg-type]

@@ -496,10 +496,11 @@ def describe_foreground(stage: object | None) -> str:
     return str(describe()) if callable(describe) else ""
 
 
-def describe_background(stage: object | None) -> str:
-    """One line for the user naming the static world model of a pipeline."""
+def describe_background(stage: object | None, where: str = "") -> str:
+    """One line for the user naming the static world model of a pipeline (``where``, e.g.
+    " in the world frame", follows its name)."""
     if stage is None:
-        return "static world model: none (every point is foreground)"
+        return f"static world model: none (every point is foreground){where}"
     describe = getattr(stage, "describe", None)
     if callable(describe):
         return str(describe())
@@ -508,7 +509,17 @@ def describe_background(stage: object | None) -> str:
         "OccupancyGrid": "occupancy grid",
     }
     name = type(stage).__name__
-    return f"static world model: {names.get(name, name)}"
+    return f"static world model: {names.get(name, name)}{where}{_not_learned(stage)}"
+
+
+def _not_learned(stage: object | None) -> str:
+    """``"; N frames not learned (...)"`` for a model that skipped frames
+    (``[occupancy] learn_period``), else empty."""
+    skipped = int(getattr(stage, "skipped", 0))
+    if not skipped:
+        return ""
+    period = stage.params.learn_period  # type: ignore[union-attr]
+    return f"; {skipped} frames not learned (each laser at most every {period:g} s)"
 
 
 __all__ = [

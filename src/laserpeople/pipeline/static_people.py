@@ -154,10 +154,9 @@ class PeopleStaticModel:
                 "walking with the robot would look static; give poses with --world-frame or "
                 "--mount to use the occupancy grid)"
             )
-        inner = self.model if self.model is not None else None
-        text = describe_background(inner).replace("static world model:", "").strip()
         where = f" in the {self.frame} frame" if self.frame is not None else ""
-        return f"static world model for people: {text}{where}"
+        line = describe_background(self.model, where)
+        return line.replace("static world model:", "static world model for people:", 1)
 
 
 def people_static_model(

@@ -62,27 +62,16 @@ With N-scan 4: tuning seeds (randomised 0-9; crossing-3, narrow-corridor, entran
 MOTA / IDF1 0.288 / 0.323 -> 0.302 / 0.326, crossing-3 unchanged, narrow-corridor 0.348 /
 0.369 -> 0.345 / 0.363, entrance-hall 0.346 / 0.380 -> 0.335 / 0.371, at 0.52-0.76x of the
 CPU per scan; real dev recording identity recall / recall / ids 0.977 / 0.984 / 2 -> 0.979 /
-0.985 / 2, the unlabelled real bags' ids, walkers and static seconds unchanged."""
+0.985 / 2, the unlabelled real bags' ids, walkers and static seconds unchanged. Held back
+(with ``[occupancy] learn_period``): randomised 100-119 MOTA / IDF1 0.343 / 0.413 -> 0.336 /
+0.413, crossing-3 0.924 / 0.901 -> 0.923 / 0.893, narrow-corridor 0.365 / 0.392 -> 0.365 /
+0.393, entrance-hall 0.352 / 0.389 -> 0.357 / 0.383, at 0.50-0.91x of Stone Soup GNN's CPU
+per scan (1.2-3.6x before); demo seeds 0-4 MOTA 0.865 -> 0.844."""
 
 POLICY_N_SCAN = {"arras": N_SCAN, "tracks": 4}
 """N-scan-back depth per people policy where ``mht.n_scan`` is unset: ``arras`` keeps 000's
 eight (:data:`~.mht.core.N_SCAN`), ``tracks`` 4 (with :data:`POLICY_K_BEST`; with k 5 a
 depth of 8 gave 0.293 / 0.319 on randomised 0-9 and 0.333 / 0.349 on entrance-hall 1-4)."""
-
-POLICY_K_AMBIGUOUS = {"arras": 0, "tracks": 0}
-"""At least this many children for an ambiguous cluster (``mht.ambiguous_below``,
-``mht.ambiguous_tracks``) per people policy where ``mht.k_ambiguous`` is unset: 0 (off, k
-everywhere) under both. The setting ``k_ambiguous = 8`` with ``ambiguous_n_scan = 6``
-(issue 10, session 14 follow-up; docs/people-benchmarks.md, "Adaptive k") wins back demo
-seeds 0-4 (MOTA 0.903 -> 0.923, IDF1 0.889 -> 0.906) and the entrance-hall tuning seeds
-(0.335 / 0.371 -> 0.346 / 0.388) at +2-4 % CPU per scan, the real recordings unchanged,
-but not the held-back entrance-hall seeds 100-109 (0.357 / 0.383 -> 0.355 / 0.379): a
-setting, not the default."""
-
-POLICY_AMBIGUOUS_N_SCAN = {"arras": 0, "tracks": 0}
-"""N-scan depth, at least, of an ambiguous cluster per people policy where
-``mht.ambiguous_n_scan`` is unset: 0 (n_scan everywhere) under both (see
-:data:`POLICY_K_AMBIGUOUS`)."""
 
 
 @dataclass(frozen=True)
@@ -162,11 +151,7 @@ class LegTrackerParams:
         ``replace(params, people_policy=...)`` changes them too."""
         policy = self.people_policy
         return self.mht.with_defaults(
-            POLICY_MIN_RATIO[policy],
-            POLICY_K_BEST[policy],
-            POLICY_N_SCAN[policy],
-            POLICY_K_AMBIGUOUS[policy],
-            POLICY_AMBIGUOUS_N_SCAN[policy],
+            POLICY_MIN_RATIO[policy], POLICY_K_BEST[policy], POLICY_N_SCAN[policy]
         )
 
     def free(self) -> LabelProbabilities:

@@ -114,41 +114,6 @@ class MHTParams:
         "tracker (GROUP_MIN_RATIO, docs/groups.md fifth round)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
-    k_ambiguous: int | None = param(
-        None,
-        "unset: the tracker's default: 0 (off) for the group tracker and both of the leg "
-        "tracker's people policies (issue 10, session 14 follow-up: 8 wins back demo seed "
-        "2's person lost at k 5, with ambiguous_n_scan 6 also seed 3's identity, but not the "
-        "held-back entrance hall; legs.POLICY_K_AMBIGUOUS, docs/people-benchmarks.md "
-        "'Adaptive k')",
-        "children per scan, at least, of an ambiguous cluster (see ambiguous_below; 0 or at "
-        "most k_best: k_best for every cluster)",
-    )
-    ambiguous_n_scan: int | None = param(
-        None,
-        "unset: the tracker's default: 0 (n_scan for every cluster) for the group tracker and "
-        "both of the leg tracker's people policies (issue 10, session 14 follow-up: see "
-        "legs.POLICY_AMBIGUOUS_N_SCAN; 6 with k_ambiguous 8 keeps demo seed 3's identity, "
-        "which N-scan 4 with the wider k loses, 8 does not)",
-        "N-scan depth, at least, of an ambiguous cluster's pruning (see ambiguous_below; 0 or "
-        "at most n_scan: n_scan for every cluster); every hypothesis then keeps this many "
-        "ancestors",
-    )
-    ambiguous_below: float = param(
-        0.5,
-        "issue 10, session 14 follow-up (demo tuning seeds 0-4 with k_ambiguous 10 and any "
-        "number of tracks: 0.3 keeps k 5's losses, 0.5-0.9 give k 10's scores)",
-        "a cluster is ambiguous (branches k_ambiguous children, prunes at ambiguous_n_scan) "
-        "when its best parent "
-        "hypothesis is less probable than this and one of its parents holds at least "
-        "ambiguous_tracks tracks",
-    )
-    ambiguous_tracks: int = param(
-        6,
-        "issue 10, session 14 follow-up (demo seed 2 loses a person in a cluster of 6 legs; "
-        "4 and 6 keep the demo's gain, 6 costs least on the randomised tuning scenes)",
-        "tracks (legs) a parent hypothesis of an ambiguous cluster holds at least",
-    )
     max_cluster_size: int = param(
         200,
         "issue 16 (bounded work per scan; assumption: ~3x the largest cluster measured, 72 "
@@ -185,18 +150,6 @@ class MHTParams:
             or not 0.0 <= self.min_ratio < 1.0
         ):
             raise ValueError("min_ratio must be a number in [0, 1)")
-        if self.k_ambiguous is not None and (
-            isinstance(self.k_ambiguous, bool) or self.k_ambiguous < 0
-        ):
-            raise ValueError("k_ambiguous must be >= 0 (0: off)")
-        if self.ambiguous_n_scan is not None and (
-            isinstance(self.ambiguous_n_scan, bool) or self.ambiguous_n_scan < 0
-        ):
-            raise ValueError("ambiguous_n_scan must be >= 0 (0: off)")
-        if not 0.0 <= self.ambiguous_below <= 1.0:
-            raise ValueError("ambiguous_below must be in [0, 1]")
-        if isinstance(self.ambiguous_tracks, bool) or self.ambiguous_tracks < 0:
-            raise ValueError("ambiguous_tracks must be >= 0")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
@@ -213,56 +166,17 @@ class MHTParams:
         return K_BEST if self.k_best is None else int(self.k_best)
 
     @property
-    def k_wide(self) -> int:
-        """Children of an ambiguous cluster: ``max(k, k_ambiguous)`` (unset: ``k``)."""
-        return max(self.k, int(self.k_ambiguous or 0))
-
-    @property
-    def depth_wide(self) -> int:
-        """N-scan depth of an ambiguous cluster: ``max(depth, ambiguous_n_scan)``."""
-        return max(self.depth, int(self.ambiguous_n_scan or 0))
-
-    @property
-    def depth_kept(self) -> int:
-        """Ancestors each hypothesis keeps (``depth_wide``: at least ``depth``)."""
-        return self.depth_wide
-
-    @property
-    def adaptive(self) -> bool:
-        """Whether ambiguous clusters branch or prune other than the rest."""
-        return self.k_wide > self.k or self.depth_wide > self.depth
-
-    def is_ambiguous(self, best_log_weight: float, most_tracks: int) -> bool:
-        """Whether a cluster whose best parent hypothesis has log probability
-        ``best_log_weight`` and whose largest parent holds ``most_tracks`` tracks is
-        ambiguous: ``exp(best_log_weight) < ambiguous_below`` and ``most_tracks >=
-        ambiguous_tracks``."""
-        if most_tracks < self.ambiguous_tracks or self.ambiguous_below <= 0.0:
-            return False
-        return best_log_weight < math.log(self.ambiguous_below)
-
-    @property
     def depth(self) -> int:
         """N-scan-back depth in use: ``n_scan``, or :data:`N_SCAN` unset."""
         return N_SCAN if self.n_scan is None else int(self.n_scan)
 
     def with_defaults(
-        self,
-        min_ratio: float = MIN_RATIO,
-        k_best: int = K_BEST,
-        n_scan: int = N_SCAN,
-        k_ambiguous: int = 0,
-        ambiguous_n_scan: int = 0,
+        self, min_ratio: float = MIN_RATIO, k_best: int = K_BEST, n_scan: int = N_SCAN
     ) -> MHTParams:
-        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``,
-        ``k_ambiguous`` and ``ambiguous_n_scan`` set to the given value (a tracker's own
-        default); explicit values stay."""
+        """These parameters with each unset one of ``min_ratio``, ``k_best`` and ``n_scan``
+        set to the given value (a tracker's own default); explicit values stay."""
         return replace(
             self,
-            ambiguous_n_scan=(
-                ambiguous_n_scan if self.ambiguous_n_scan is None else self.ambiguous_n_scan
-            ),
-            k_ambiguous=k_ambiguous if self.k_ambiguous is None else self.k_ambiguous,
             min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
             k_best=k_best if self.k_best is None else self.k_best,
             n_scan=n_scan if self.n_scan is None else self.n_scan,
@@ -439,11 +353,6 @@ class MHT(Generic[Meas]):
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
         self._most_solves = 0  # this step's most assignment problems of one cluster
-        # resolved from ``params`` at each step (:meth:`_resolve`)
-        self._k = params.k  # the cluster being branched's k (:meth:`_cluster_k`)
-        self._depth = params.depth  # ... and its N-scan depth
-        self._adaptive = params.adaptive  # whether clusters may differ in k and depth
-        self._depth_kept = params.depth_kept  # ancestors kept
         self.deferred_states = True
         """Whether the plain MHT makes its children's states at the end of the step, for
         the children kept only (:meth:`_fill_deferred`); the same states as made per scan
@@ -470,7 +379,6 @@ class MHT(Generic[Meas]):
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
         self._solves = self._degraded = self._largest = self._most_solves = 0
-        self._resolve()
         live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
         if live:
             self.model.predict(live, stamp)
@@ -494,8 +402,6 @@ class MHT(Generic[Meas]):
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
-            if self._adaptive:  # (else this step's k and depth)
-                self._k, self._depth = self._cluster_k(parents)
             lone = None
             if (
                 self.shortcuts
@@ -579,7 +485,7 @@ class MHT(Generic[Meas]):
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
         """
-        n = self._depth_kept
+        n = self.params.depth
         settled_before = self.generation - 1 - n
         settled: dict[int, bool] = {}
         all_links: dict[int, bool] = {}
@@ -620,27 +526,6 @@ class MHT(Generic[Meas]):
         if whole:
             return parts[0]
         return product(parts, self.params.k)
-
-    def _resolve(self) -> None:
-        """This step's k, N-scan depth and ancestors kept from ``params`` (which may be
-        replaced between steps), once per step rather than per cluster."""
-        p = self.params
-        self._k, self._depth = p.k, p.depth
-        self._adaptive, self._depth_kept = p.adaptive, p.depth_kept
-
-    def _cluster_k(self, parents: list[Hypothesis]) -> tuple[int, int]:
-        """k of the k-best branching and the N-scan depth for a cluster with parent
-        hypotheses ``parents``: an ambiguous cluster (:meth:`MHTParams.is_ambiguous`)
-        branches ``k_wide`` children and prunes at ``depth_wide``, any other ``k`` and
-        ``depth`` (:class:`MHTParams`)."""
-        p = self.params
-        if not self._adaptive or not parents:
-            return p.k, p.depth
-        best = max(h.log_weight for h in parents)
-        tracks = max(len(h.tracks) for h in parents)
-        if p.is_ambiguous(best, tracks):
-            return p.k_wide, p.depth_wide
-        return p.k, p.depth
 
     def _link(
         self,
@@ -726,7 +611,7 @@ class MHT(Generic[Meas]):
         if len(partitions) > 1:  # the global k best of the partitions' k best
             solutions.sort(key=lambda sol: sol[2])
             best = solutions[0][2] if solutions else math.inf
-            solutions = [sol for sol in solutions[: self._k] if sol[2] <= best + max_gap]
+            solutions = [sol for sol in solutions[: self.params.k] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
@@ -889,7 +774,7 @@ class MHT(Generic[Meas]):
 
     def _history(self, parent: Hypothesis) -> tuple[Hashable, ...]:
         """The ancestors of ``parent``'s children: its own and itself, the last N."""
-        n_scan = self._depth_kept
+        n_scan = self.params.depth
         ancestors = (*parent.ancestors, parent.hypothesis_id)
         return ancestors[-n_scan:] if n_scan else ()
 
@@ -900,7 +785,7 @@ class MHT(Generic[Meas]):
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self._depth, self.params.ratio)
+        return prune_children(list(children.values()), self.params.depth, self.params.ratio)
 
     def _branch_lone(
         self,
@@ -959,7 +844,7 @@ class MHT(Generic[Meas]):
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
         max_gap = _max_gap(self.params.ratio)
-        solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self._k, max_gap)
+        solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self.params.k, max_gap)
         # the nodes, in the order _branch makes them: detected children, new track, occluded
         to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
         new_track = False
@@ -1074,7 +959,7 @@ class MHT(Generic[Meas]):
             else:
                 tm_cost = np.full((len(nodes_u), m), np.inf)
             c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
-        k = self._k
+        k = self.params.k
         size = tm_cost.shape[0] + tm_cost.shape[1]
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size

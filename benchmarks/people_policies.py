@@ -21,9 +21,11 @@ from __future__ import annotations
 import argparse
 import time
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
+from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation import evaluate
 from laserpeople.sim import SimResult, run_scenario
@@ -96,6 +98,7 @@ def run(
     static_model: bool,
     gate: float,
     leg_model: str | None = None,
+    base: LegTrackerParams | None = None,
 ) -> Row:
     """Simulate, detect (the shipped leg model, or a model file), track with
     ``policy``, score."""
@@ -112,7 +115,7 @@ def run(
         if leg_model is None
         else AdaBoostLegDetector.from_file(leg_model)
     )
-    params = replace(LegTrackerParams(), people_policy=policy)
+    params = replace(base if base is not None else LegTrackerParams(), people_policy=policy)
     model = None
     if static_model and policy == "tracks":
         from laserpeople.background.occupancy import OccupancyGrid, frame_from_scan
@@ -163,14 +166,16 @@ def main() -> None:
     ap.add_argument("--static-model", action="store_true", help="occupancy grid for tracks")
     ap.add_argument("--static-gate", type=float, default=1.0, help="m")
     ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
+    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] the tracker reads")
     args = ap.parse_args()
+    base = load_config(LegTrackerParams, args.config) if args.config else None
     print("scene              seed policy  MOTA   IDF1   IDsw  ids  off-truth[s]  ms/scan")
     means: dict[tuple[str, str], list[Row]] = {}
     for spec in args.scenes:
         name, seeds = parse_scene(spec)
         for seed in seeds:
             for policy in args.policies:
-                r = run(name, seed, policy, args.static_model, args.static_gate, args.model)
+                r = run(name, seed, policy, args.static_model, args.static_gate, args.model, base)
                 means.setdefault((name, policy), []).append(r)
                 print(
                     f"{name:18s} {seed:4d} {policy:7s} {r.mota:6.3f} {r.idf1:6.3f} "

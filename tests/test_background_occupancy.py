@@ -409,3 +409,16 @@ def test_frames_not_learned_are_said() -> None:
         g.learn_frame(_post_frame(0.02 * k, "a"))
     said = describe_background(g)
     assert said.endswith("grid; 2 frames not learned (each laser at most every 0.05 s)"), said
+
+
+def test_the_auto_models_grid_says_its_frames_not_learned() -> None:
+    from laserpeople.pipeline.background import AutoBackground
+
+    auto = AutoBackground()
+    grid = OccupancyGrid(OccupancyParams(learn_period=0.05))
+    for k in range(3):
+        grid.learn_frame(_post_frame(0.02 * k, "a"))
+    auto.model, auto.chosen, auto.switched_at = grid, "occupancy", 4
+    said = auto.describe()
+    assert said.startswith("static world model: occupancy grid (a laser moved at frame 4")
+    assert said.endswith("; 2 frames not learned (each laser at most every 0.05 s)"), said

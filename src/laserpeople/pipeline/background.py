@@ -375,7 +375,7 @@ class AutoBackground:
             return "static world model: per-beam range histogram (the lasers did not move)"
         return (
             "static world model: occupancy grid (a laser moved at frame "
-            f"{self.switched_at}; the histogram ran before)"
+            f"{self.switched_at}; the histogram ran before){_not_learned(self.model)}"
         )
 
     def describe_foreground(self) -> str:
@@ -405,9 +405,9 @@ class AutoBackground:
         degraded = self.legs.degraded_scans
         if degraded:
             kept += (
-                f"; the leg MHT that tells people's legs (shipped parameters) could not "
-                f"process {degraded} scans in full (too many detections in one place): "
-                "their legs may be held too briefly"
+                f"; the leg MHT that tells people's legs could not process {degraded} scans "
+                "in full (too many detections in one place; [leg_tracker] "
+                "mht.max_cluster_size): their legs may be held too briefly"
             )
         return (
             f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "

@@ -15,9 +15,10 @@ of its detection (leg radius ~0.07 m, the detection moved 0.045 m behind the poi
 centroid); a larger radius also keeps a second leg the detector missed in this scan.
 
 A leg the detector misses for a few scans can be held at its last position: every leg for
-``memory`` seconds, and a leg of a person that a leg MHT tracks (the shipped ``leg-mht``
-run by the stage on the same detections; its people coast through missed detections with
-their own existence) for ``person_memory`` seconds; for the particle filters, which die
+``memory`` seconds, and a leg of a person that a leg MHT tracks (``leg-mht`` with the
+``[leg_tracker]`` parameters, run by the stage on the same detections, see
+:func:`stage_leg_tracker`; its people coast through missed detections with their own
+existence) for ``person_memory`` seconds; for the particle filters, which die
 without points after 0.2 s, ``steady_memory`` and ``steady_person_memory``. By default
 only the legs of people are held, and only for the particle filters (1 s): held clutter
 legs keep the point trackers' false tracks alive.
@@ -35,7 +36,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,6 +44,9 @@ from numpy.typing import NDArray
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
+
+if TYPE_CHECKING:
+    from laserpeople.tracking.legs import LegTrackerParams
 
 LEG_FOREGROUND_USES: tuple[str, ...] = ("never", "no-poses", "moving", "always")
 """When ``auto`` keeps only points near legs (module docstring), from never to always."""
@@ -110,9 +114,9 @@ class LegForegroundParams:
         "0.84 with 0 s, 0.32 / 0.33 with 0.5 and 1 s; group-mht's groups 0.33 / 14 ids with "
         "0 s, 0.48 / 7 ids with 1 s)",
         "for trackers other than those in steady_person_memory: a leg detection within "
-        "radius of a leg of a person the leg MHT tracks (the shipped leg-mht with its "
-        "default parameters, run on the same detections) is held this long instead of "
-        "memory, if longer (0 for both: no leg MHT is run)",
+        "radius of a leg of a person the leg MHT tracks (leg-mht with [leg_tracker], k 20 "
+        "and N-scan 8 where unset, run on the same detections) is held this long instead "
+        "of memory, if longer (0 for both: no leg MHT is run)",
         "s",
     )
     steady_person_memory: float = param(
@@ -164,7 +168,7 @@ def near_legs(
     return keep
 
 
-def stage_leg_tracker(params: Any = None) -> Any:
+def stage_leg_tracker(params: LegTrackerParams | None = None) -> LegTrackerParams:
     """The leg MHT's parameters this stage runs with: ``params`` (``LegTrackerParams``;
     None: its defaults), with ``mht.k_best`` and ``mht.n_scan`` where unset at 000's 20 and 8
     rather than the ``tracks`` policy's 5 and 4. Measured on the real person-following
@@ -206,7 +210,7 @@ class LegForeground:
         detector: Any = None,
         *,
         steady: bool = False,
-        leg_tracker: Any = None,
+        leg_tracker: LegTrackerParams | None = None,
     ) -> None:
         self.params = params or LegForegroundParams()
         self._leg_tracker = leg_tracker

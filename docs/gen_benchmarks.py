@@ -1,0 +1,409 @@
+"""Generate ``docs/benchmarks.md``: every benchmark script, the command that reproduces it,
+how long it runs, the current figures, and the output of its last run here.
+
+The figures are kept in :data:`BENCHMARKS` next to the command that measured them; a run
+(``--run``) executes the commands and stores each one's output under
+``benchmarks/results/KEY.txt`` (with the date, the commit and the wall time), which the page
+then shows beside the figures. So the page is reproducible: ``--run all`` redoes every
+measurement on your machine (about 3.5 hours on 2 cores, most of it in ``schenk`` and
+``suite``; ``--run quick`` takes about 3 minutes), and the page says when each output was
+made.
+
+Usage::
+
+    python docs/gen_benchmarks.py                  # rewrite docs/benchmarks.md
+    python docs/gen_benchmarks.py --check          # exit 1 when the page is out of date
+    python docs/gen_benchmarks.py --run quick      # run the quick benchmarks, then rewrite
+    python docs/gen_benchmarks.py --run detect io  # run the named ones
+    python docs/gen_benchmarks.py --run all        # everything (hours)
+    python docs/gen_benchmarks.py --list           # keys, minutes, commands
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+PAGE = REPO / "docs" / "benchmarks.md"
+RESULTS = REPO / "benchmarks" / "results"
+TAIL_LINES = 40
+"""Lines of a stored output shown on the page (the summary is at the end)."""
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    """One benchmark: how to run it and what it measured.
+
+    Attributes:
+        key: Short name for ``--run`` and the stored output's file name.
+        title: What is measured.
+        command: Arguments after ``python`` (run from the repository root).
+        minutes: Wall time of one run on the 2-core project machine [min].
+        figures: The current figures (markdown).
+        page: The results page with the details (relative link), or "".
+        needs_data: True when it reads the real recordings (``../shared/data``).
+    """
+
+    key: str
+    title: str
+    command: tuple[str, ...]
+    minutes: float
+    figures: str
+    page: str = ""
+    needs_data: bool = False
+
+    @property
+    def quick(self) -> bool:
+        """Short enough for ``--run quick``."""
+        return self.minutes <= 1.0
+
+
+BENCHMARKS: tuple[Benchmark, ...] = (
+    Benchmark(
+        "detect",
+        "Leg detection speed, 720-beam scans",
+        ("benchmarks/bench_detect.py",),
+        0.3,
+        "about 2,800 scans/s (median, one core)",
+        "leg-detection.md",
+    ),
+    Benchmark(
+        "io",
+        "Reading a 768-beam ROS 1 bag",
+        ("benchmarks/bench_io.py", "--runs", "3"),
+        0.5,
+        "8,000–22,000 scans/s, 2 MiB Python heap",
+        needs_data=True,
+    ),
+    Benchmark(
+        "sim",
+        "Ray-cast simulation, 720 beams, 10 people",
+        ("benchmarks/bench_sim.py",),
+        0.3,
+        "about 4,000 scans/s",
+    ),
+    Benchmark(
+        "startup",
+        "Start-up of the command line",
+        ("benchmarks/bench_startup.py", "--repeat", "5"),
+        0.8,
+        "`laserpeople --help` 0.20 s CPU (`import typer` alone 0.13 s); a command's "
+        "`--help` 0.40 s",
+    ),
+    Benchmark(
+        "pipeline",
+        "Pipeline overhead against the bare read → detect → track loop",
+        ("benchmarks/bench_pipeline.py", "--scans", "200", "--repeat", "3"),
+        0.8,
+        "20–46 µs per frame (0.3–1.4 %)",
+    ),
+    Benchmark(
+        "track",
+        "Leg MHT cycle time, 4 and 20 simulated walkers",
+        ("benchmarks/bench_track.py", "--seconds", "15"),
+        1.0,
+        "1.10 ms and 2.70 ms per scan (median CPU, quiet machine; Arras et al. 2008: "
+        "44.5 ms for 4 people)",
+        "people-benchmarks.md",
+    ),
+    Benchmark(
+        "particle",
+        "Particle filters, 5 people, 500 particles each",
+        ("benchmarks/bench_particle.py",),
+        2.0,
+        "feet 101–139 scans/s, upper body 245–381 scans/s (median, loaded machine)",
+        "schenk-tables.md",
+    ),
+    Benchmark(
+        "groups",
+        "Group tracker CPU by people in view",
+        ("benchmarks/bench_groups.py",),
+        3.0,
+        "3.3–3.5 ms per scan with 15–20 people (quiet machine), real demo bag 2.2–2.9 ms",
+        "groups.md",
+    ),
+    Benchmark(
+        "detector-tables",
+        "Leg detection error, Arras et al. 2008 Tables 2–8",
+        ("benchmarks/detector_tables.py",),
+        6.0,
+        "real neko7055 3.4 % (T = 10), 1.1 % (T = 100); simulated corridor 0.07 %; real "
+        "leg_tracker 21.9 % (T = 10), 11 % (T = 1000) against the paper's 2.63 %",
+        "leg-detection.md",
+        needs_data=True,
+    ),
+    Benchmark(
+        "detector-transfer",
+        "Leg detection across scanners (train on one, test on the other)",
+        ("benchmarks/detector_transfer.py",),
+        10.0,
+        "neko7055 0.5° → leg_tracker 0.35°, recall / precision / false-alarm rate 0.489 / "
+        "0.103 / 0.222, with `train --augment` 0.750 / 0.151 / 0.219",
+        "leg-detection.md#across-scanners",
+        needs_data=True,
+    ),
+    Benchmark(
+        "followed",
+        "Followed person, real person-following recording",
+        ("benchmarks/followed_person.py",),
+        4.0,
+        "leg MHT identity recall 0.979, recall 0.985, 2 ids (re-identification off 0.658; "
+        "`arras` 0.241, 0.724, 8 ids)",
+        "people-benchmarks.md",
+        needs_data=True,
+    ),
+    Benchmark(
+        "real-people",
+        "Person tracks on static places, real bags",
+        ("benchmarks/real_people.py", "--trackers", "nn", "csa", "feet-pf", "upper-body-pf"),
+        20.0,
+        "demo bag feet-pf 32.3 s, upper-body-pf 33.8 s; MiR front nn 11.3 s, both lasers "
+        "13.2 s; no hidden person-second near a leg-MHT person",
+        "people-benchmarks.md",
+        needs_data=True,
+    ),
+    Benchmark(
+        "peers",
+        "Leg MHT against Stone Soup GNN, held-back randomised scenes",
+        ("benchmarks/peers.py", "--tracker", "leg-mht", "--peer", "gnn", "--family", "randomised"),
+        15.0,
+        "MOTA / IDF1 0.336 / 0.413 against 0.266 / 0.344 at 0.90× GNN's CPU; crossing-3 "
+        "0.923 / 0.893 against 0.785 / 0.776 at 0.78×; narrow corridor 0.365 / 0.393 against "
+        "0.302 / 0.377 at 0.91×; entrance hall 0.357 / 0.383 against 0.279 / 0.344 at 0.50× "
+        "(needs the `peers` extra)",
+        "people-benchmarks.md",
+    ),
+    Benchmark(
+        "suite",
+        "People trackers on held-back simulated scenes",
+        ("benchmarks/people_suite.py", "--tracker", "leg-mht", "--tracker", "nn"),
+        40.0,
+        "randomised MOTA leg MHT 0.34, `arras` 0.27, nn 0.22; crossing-3 0.93 / 0.68 / 0.64; "
+        "person-track-seconds on static objects 7.6 / 7.0 / 3.1 per 30 s scene",
+        "people-benchmarks.md",
+    ),
+    Benchmark(
+        "policies",
+        "The demo scene, seeds 0–4, both people policies",
+        ("benchmarks/people_policies.py",),
+        5.0,
+        "default MOTA 0.84 with the static world model (0.90 without), `arras` 0.79",
+        "people-benchmarks.md",
+    ),
+    Benchmark(
+        "fit",
+        "Parameters learned by `fit` against the defaults",
+        ("benchmarks/fit_params.py",),
+        20.0,
+        "not better: held-back MOTA −0.073 → −0.224; real recording identity recall 0.987 → "
+        "0.987; groups clustering error 0.255 → 0.513",
+        "fit.md",
+        needs_data=True,
+    ),
+    Benchmark(
+        "csa-crossings",
+        "Colour re-identification after crossings (8 variants × 5 seeds, 135 people)",
+        ("benchmarks/csa_crossings.py",),
+        10.0,
+        "people right after the crossing: CSA 44 → 135 with colour, leg MHT 62 → 124",
+        "csa.md",
+    ),
+    Benchmark(
+        "groups-table",
+        "Group tracker, simulated entrance hall, held-out seeds 2–4 (Fig. 17 analogue)",
+        ("benchmarks/groups_table.py", "--seeds", "2", "3", "4", "--plot", "docs/groups_fig17.png"),
+        25.0,
+        "clustering error 0.235 against 0.238 memory-less at d_P = 1.3 m (paper 3.1 % "
+        "against 7.0 %); group size within 0.22 people, 82 % exact",
+        "groups.md",
+    ),
+    Benchmark(
+        "schenk",
+        "Feet and upper-body particle filters, Schenk et al. 2011 Tables 1–6",
+        ("benchmarks/schenk_tables.py", "--jobs", "2", "--results", "benchmarks/schenk_runs.jsonl"),
+        35.0,
+        "adapted MOTP upper body 0.94–0.98, feet 0.76–0.94, leg MHT on the feet lasers 0.65–0.93",
+        "schenk-tables.md",
+    ),
+    Benchmark(
+        "soak",
+        "Long runs: 60-s entrance-hall scenes back to back",
+        ("benchmarks/soak.py", "--scans", "30000", "--every", "2000"),
+        30.0,
+        "default people: leg families ≤ 34 (slope 0.0 per 100k scans), 9–15 ms per scan "
+        "(slope −5.9 ms per 100k), 143.5 MB peak RSS",
+    ),
+    Benchmark(
+        "fuzz",
+        "Hostile files: mutated recordings, models, configs and CSVs",
+        ("benchmarks/fuzz_readers.py", "--cases", "10000"),
+        25.0,
+        "10,000 cases: 0 tracebacks, hangs or memory blow-ups",
+    ),
+    Benchmark(
+        "viz",
+        "GIF memory, 640×480",
+        ("benchmarks/bench_viz.py", "--memory", "1000,10000"),
+        8.0,
+        "10,000 scans 127 MB peak, 1,000 scans 83 MB",
+    ),
+)
+
+PLOTS: tuple[tuple[str, str, str], ...] = (
+    (
+        "groups_fig17.png",
+        "Clustering error against d_P, group tracker and memory-less clustering "
+        "(Arras et al. 2008 Fig. 17 analogue)",
+        "groups-table",
+    ),
+    (
+        "groups_fig17_history_split.png",
+        "The same with the history-split preset",
+        "groups-table",
+    ),
+    ("figures/csa_hue_limit.png", "Colour re-identification against hue difference", "csa"),
+    (
+        "img/static-mir-none-vs-auto.png",
+        "Person tracks on the real MiR bag without and with the static world model",
+        "real-people",
+    ),
+)
+
+
+def stored_output(key: str) -> str | None:
+    """The stored output of ``key``'s last run, or None."""
+    path = RESULTS / f"{key}.txt"
+    return path.read_text(encoding="utf-8") if path.exists() else None
+
+
+def render() -> str:
+    """The whole page."""
+    lines = [
+        "# Benchmarks",
+        "",
+        "Generated by `python docs/gen_benchmarks.py` from the list in that script and the",
+        "outputs of the last runs in `benchmarks/results/`; do not edit by hand.",
+        "`python docs/gen_benchmarks.py --run quick` reruns the quick ones (about 3",
+        "minutes), `--run KEY` one of them, `--run all` everything (about 3.5 hours on the",
+        "project's 2-core machine). Scripts marked *real data* need the real recordings",
+        "(`../shared/data` beside the repository, or `LASERPEOPLE_SHARED_DATA`).",
+        "",
+        "CPU times are process CPU time (`time.process_time`) on a machine whose 2 cores were",
+        "shared with other jobs: compare ratios measured in one run, not absolute times",
+        "across runs. Accuracy figures on simulated scenes are on seeds never used for",
+        "tuning.",
+        "",
+        "| benchmark | current figures | run (from the repository root) | minutes, about |",
+        "|---|---|---|---|",
+    ]
+    for b in BENCHMARKS:
+        title = f"[{b.title}]({b.page})" if b.page else b.title
+        data = " *real data*" if b.needs_data else ""
+        cmd = "python " + " ".join(b.command)
+        lines.append(f"| {title}{data} | {b.figures} | `{cmd}` | {b.minutes:g} |")
+    lines += ["", "## Plots", ""]
+    for path, caption, key in PLOTS:
+        lines += [f"![{caption}]({path})", "", f"*{caption}* (`{key}`).", ""]
+    lines += ["## Outputs of the last runs", ""]
+    shown = 0
+    for b in BENCHMARKS:
+        text = stored_output(b.key)
+        if text is None:
+            continue
+        shown += 1
+        tail = text.rstrip("\n").splitlines()
+        head, body = tail[0], tail[1:][-TAIL_LINES:]
+        lines += [f'??? note "{b.key}: {head}"', "", "    ```text"]
+        lines += [f"    {line}".rstrip() for line in body]
+        lines += ["    ```", ""]
+    if not shown:
+        lines += ["No run stored yet: `python docs/gen_benchmarks.py --run quick`.", ""]
+    return "\n".join(lines)
+
+
+def commit() -> str:
+    """The checked-out commit (short), or 'unknown'."""
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            cwd=REPO,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return out.stdout.strip()
+
+
+def run(bench: Benchmark) -> int:
+    """Run one benchmark and store its output; returns its exit status."""
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(REPO / "src") + os.pathsep + env.get("PYTHONPATH", "")
+    env.setdefault("COLUMNS", "120")
+    print(f"running {bench.key}: python {' '.join(bench.command)}", file=sys.stderr)
+    start = time.monotonic()
+    proc = subprocess.run(
+        [sys.executable, *bench.command],
+        cwd=REPO,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    wall = time.monotonic() - start
+    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    head = f"{date}, commit {commit()}, {wall:.0f} s wall, exit {proc.returncode}"
+    (RESULTS / f"{bench.key}.txt").write_text(
+        head + "\n" + proc.stdout + proc.stderr, encoding="utf-8"
+    )
+    print(f"  {head}", file=sys.stderr)
+    return proc.returncode
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry; returns the exit status."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--check", action="store_true", help="fail when the page is stale")
+    parser.add_argument("--list", action="store_true", help="list the benchmarks")
+    parser.add_argument("--run", nargs="+", metavar="KEY", help="quick, all, or keys")
+    args = parser.parse_args(argv)
+    keys = {b.key: b for b in BENCHMARKS}
+    if args.list:
+        for b in BENCHMARKS:
+            print(f"{b.key:18} {b.minutes:5g} min  python {' '.join(b.command)}")
+        return 0
+    failed = 0
+    if args.run:
+        if args.run == ["quick"]:
+            chosen = [b for b in BENCHMARKS if b.quick]
+        elif args.run == ["all"]:
+            chosen = list(BENCHMARKS)
+        else:
+            unknown = [k for k in args.run if k not in keys]
+            if unknown:
+                parser.error(f"unknown benchmark(s) {', '.join(unknown)}; see --list")
+            chosen = [keys[k] for k in args.run]
+        failed = sum(run(b) != 0 for b in chosen)
+    text = render()
+    if args.check:
+        current = PAGE.read_text(encoding="utf-8") if PAGE.exists() else ""
+        if current != text:
+            print(f"{PAGE} is out of date: run python docs/gen_benchmarks.py", file=sys.stderr)
+            return 1
+        return 0
+    PAGE.write_text(text, encoding="utf-8")
+    print(f"wrote {PAGE}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -143,7 +143,7 @@ def tracker_sections() -> list[tuple[str, str, list[str]]]:
 
     return [
         (name, entry.description, print_config_sections(name))
-        for name, entry in sorted(registry.TRACKERS.items())
+        for name, entry in registry.TRACKERS.items()  # registry order: the default first
     ]
 
 

@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -102,3 +104,20 @@ def test_every_page_is_in_the_site_nav() -> None:
     pages = {p.relative_to(REPO / "docs").as_posix() for p in (REPO / "docs").rglob("*.md")}
     assert pages <= listed, f"pages missing from mkdocs.yml's nav: {sorted(pages - listed)}"
     assert listed <= pages, f"nav entries without a page: {sorted(listed - pages)}"
+
+
+def test_api_pages_show_sphinx_roles_and_doctests_as_markdown() -> None:
+    pytest.importorskip("griffe")  # the docs extra (part of dev)
+    roles = load_script("griffe_roles")
+    text = (
+        "A :class:`~laserpeople.frame.Frame` and :func:`laserpeople.io.open_recording`\n"
+        "in three lines::\n\n    x = 1\n\nExample:\n"
+        "    >>> from laserpeople.pipeline import build  # doctest: +SKIP\n"
+        "    >>> build('run.bag')\nEnd."
+    )
+    assert roles.markdown(text) == (
+        "A `Frame` and `laserpeople.io.open_recording`\n"
+        "in three lines:\n\n    x = 1\n\nExample:\n"
+        "    ```python\n    from laserpeople.pipeline import build\n    build('run.bag')\n"
+        "    ```\nEnd."
+    )

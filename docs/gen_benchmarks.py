@@ -292,9 +292,9 @@ def render() -> str:
         "outputs of the last runs in `benchmarks/results/`; do not edit by hand.",
         "`python docs/gen_benchmarks.py --run quick` reruns the quick ones (6 minutes on the",
         "project's 2-core machine under heavy load), `--run KEY` one of them, `--run all`",
-        "everything (about 3.5 hours; the minutes column is per benchmark). Scripts marked",
-        "*real data* need the real recordings (`../shared/data` beside the repository, or",
-        "`LASERPEOPLE_SHARED_DATA`).",
+        "everything (about 3.5 hours). Run them from the repository root; those that need",
+        "the real recordings find them in `../shared/data` beside the repository, or in",
+        "`LASERPEOPLE_SHARED_DATA`.",
         "",
         "CPU times are process CPU time (`time.process_time`) on a machine whose 2 cores were",
         "shared with other jobs: compare ratios measured in one run, not absolute times",
@@ -302,15 +302,25 @@ def render() -> str:
         "load above the core count slows every figure, so store runs from a quiet machine.",
         "Accuracy figures on simulated scenes are on seeds never used for tuning.",
         "",
-        "| benchmark | current figures | run (from the repository root) | minutes, about |",
-        "|---|---|---|---|",
+        "## Figures",
+        "",
     ]
     for b in BENCHMARKS:
-        title = f"[{b.title}]({b.page})" if b.page else b.title
-        data = " *real data*" if b.needs_data else ""
-        cmd = "python " + " ".join(b.command)
-        lines.append(f"| {title}{data} | {b.figures} | `{cmd}` | {b.minutes:g} |")
-    lines += ["", "## Plots", ""]
+        more = f" [Details]({b.page})." if b.page else ""
+        data = " Needs the real recordings." if b.needs_data else ""
+        lines += [
+            f"### {b.title} {{ #{b.key} }}",
+            "",
+            f"{b.figures[:1].upper()}{b.figures[1:]}.{more}",
+            "",
+            "```bash",
+            "python " + " ".join(b.command),
+            "```",
+            "",
+            f"About {b.minutes:g} min on the project's 2-core machine.{data}",
+            "",
+        ]
+    lines += ["## Plots", ""]
     for path, caption, key in PLOTS:
         lines += [f"![{caption}]({path})", "", f"*{caption}* (`{key}`).", ""]
     lines += ["## Outputs of the last runs", ""]

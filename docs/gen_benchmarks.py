@@ -204,7 +204,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         20.0,
         "not better: held-back MOTA −0.067 → −0.122 (leg MHT alone); real recording "
         "identity recall 0.987 → "
-        "0.987; groups clustering error 0.255 → 0.513",
+        "0.987; groups clustering error 0.252 → 0.507",
         "fit.md",
         needs_data=True,
     ),

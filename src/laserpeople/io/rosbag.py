@@ -433,6 +433,7 @@ class RosbagRecording:
         for scan in merged:
             self.scans_read += 1
             yield scan
+        self.damaged.check_read(self.scans_read)
 
     def _topic_scans(
         self, topic: str, tree: TransformTree | None, world: str | None

@@ -265,6 +265,19 @@ def _parse_map_yaml(path: Path) -> dict[str, str]:
     return out
 
 
+def map_files(path: str | Path | None) -> list[Path]:
+    """The files of a ROS map: ``map.yaml`` and the image it names (just the yaml when it
+    cannot be read; nothing for None), so that a command can refuse to write over them."""
+    if path is None:
+        return []
+    p = Path(path)
+    try:
+        image = Path(_parse_map_yaml(p)["image"])
+    except (LaserPeopleError, KeyError, ValueError):
+        return [p]
+    return [p, image if image.is_absolute() else p.parent / image]
+
+
 def load_ros_map(path: str | Path) -> OccupancyMap:
     """Read a ROS ``map_server`` map: ``map.yaml`` and the PGM/PNG image it names.
 

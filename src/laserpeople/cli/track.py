@@ -189,8 +189,11 @@ def run_tracking(
         detector = make_detector("adaboost", None, config)
     from laserpeople.io.paths import check_outputs
 
+    from laserpeople.background.occupancy import map_files
+
     check_outputs(
-        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [recording, config]
+        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate},
+        [recording, config, *map_files(map_path)],
     )
     topics = [topic] if isinstance(topic, str) else topic
     # trackers of points may report groups: their outlines go into the CSV for `view`

@@ -187,9 +187,8 @@ def run_tracking(
         params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
-    from laserpeople.io.paths import check_outputs
-
     from laserpeople.background.occupancy import map_files
+    from laserpeople.io.paths import check_outputs
 
     check_outputs(
         {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate},

@@ -98,7 +98,9 @@ class DamagedRecords:
     def end(self, reason: str, *, topic: str, scan: int, read: int) -> None:
         """Structural damage ends the stream of ``topic``: raise (``stop``) or note it
         (``skip``, the scans before it are kept)."""
-        where = "cannot read its first scan" if scan <= 0 else f"cannot read on after scan {scan - 1}"
+        where = (
+            "cannot read its first scan" if scan <= 0 else f"cannot read on after scan {scan - 1}"
+        )
         if self.on_error == "stop":
             raise RecordingError(
                 f"topic {topic!r}: {where} ({reason}); {read} scans of this topic were read",

@@ -64,7 +64,7 @@ def read_neko_scans(path: str | Path, frame_period: float = 0.1) -> list[Scan]:
         raise RecordingError(f"cannot parse neko7055 xy data: {exc}", path=p) from exc
     try:
         beams, dims, frames = (int(v) for v in header)
-        if not (0 < beams <= NEKO_BEAM_LIMIT and 0 <= frames):
+        if not (0 < beams <= NEKO_BEAM_LIMIT and frames >= 0):
             raise ValueError(f"{beams} beams")
     except ValueError as exc:
         raise RecordingError(

@@ -293,10 +293,10 @@ def leg_tracker_positive(
 
 def read_pose_arrays(path: Path, topic: str) -> list[FloatArray]:
     """The (x, y) of every pose (L, 2) of each ``geometry_msgs/PoseArray`` on ``topic``
-    (the bag opened and read through :func:`~laserpeople.io.bag_guard.open_bag`)."""
-    from laserpeople.io.bag_guard import bag_messages, open_bag
+    (the bag opened and read through :func:`~laserpeople.io.bag_guard.open_reader`)."""
+    from laserpeople.io.bag_guard import bag_messages, open_reader
 
-    reader = open_bag(path)
+    reader = open_reader(path)
     try:
         cons = [c for c in reader.connections if c.topic == topic]
         if not cons:

@@ -1,5 +1,5 @@
 """Bounds on what a damaged bag can make the ``rosbags`` readers allocate, and the one
-guarded way to open a bag (:func:`open_bag`) and read its messages (:func:`bag_messages`).
+guarded way to open a bag (:func:`open_reader`) and read its messages (:func:`bag_messages`).
 
 A ROS 1 record or an MCAP record starts with its length. In a damaged file that length
 can be anything (``0xFFFFFFFF``, ``2**64 - 1``), and ``rosbags`` passes it straight to
@@ -189,7 +189,7 @@ def describe(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
-def open_bag(
+def open_reader(
     path: str | Path,
     *,
     register: Callable[[Any], None] | None = None,

@@ -30,7 +30,7 @@ from laserpeople.errors import (
     TopicNotFoundError,
     UnsortedStampsError,
 )
-from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_bag
+from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
@@ -187,7 +187,7 @@ class RosbagRecording:
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
-        return open_bag(self.path)
+        return open_reader(self.path)
 
     def __enter__(self) -> RosbagRecording:
         return self

@@ -120,7 +120,7 @@ class TracksBagWriter:
     """Writes frames' scans and tracks into an open :class:`BagSink` as ROS messages.
 
     Args:
-        sink: From :func:`laserpeople.io.rosbag_writer.open_bag`.
+        sink: From :func:`laserpeople.io.rosbag_writer.open_reader`.
         scans: Also write the scans (and their poses on ``/tf`` when in the world frame).
     """
 
@@ -262,7 +262,7 @@ def iter_tracks_bag(
     with tracks, in frame order; positions in the frame of the messages (``world`` when
     their ``frame_id`` is ``world``, else ``sensor``).
 
-    The bag is opened and read through :func:`~laserpeople.io.bag_guard.open_bag` and
+    The bag is opened and read through :func:`~laserpeople.io.bag_guard.open_reader` and
     :func:`~laserpeople.io.bag_guard.bag_messages`, as every other bag of this package.
 
     Raises:
@@ -270,12 +270,12 @@ def iter_tracks_bag(
             people topics, or a person lacks the ``kind``/``scan`` tags or carries a value
             that is not a number within bounds (the message names the file and message).
     """
-    from laserpeople.io.bag_guard import bag_messages, open_bag
+    from laserpeople.io.bag_guard import bag_messages, open_reader
 
     p = Path(path)
     wanted = kinds or TRACK_KINDS
     topics = {TRACK_TOPICS[k] for k in wanted}
-    reader = open_bag(p, register=register_people_types, hint=TRACKS_BAG_HINT)
+    reader = open_reader(p, register=register_people_types, hint=TRACKS_BAG_HINT)
     try:
         conns = [c for c in reader.connections if c.topic in topics]
         if not conns:

@@ -169,11 +169,11 @@ def _people(msg: Any, msgtype: str, ids: _PersonIds) -> list[tuple[int, float, f
 
 
 def _open(path: Path) -> Any:
-    from laserpeople.io.bag_guard import open_bag
+    from laserpeople.io.bag_guard import open_reader
 
     if not path.exists():
         raise RecordingError("file not found", path=path, hint="check the path of --truth")
-    return open_bag(path, register=register_people_types, hint="give a readable .bag/.mcap/.db3")
+    return open_reader(path, register=register_people_types, hint="give a readable .bag/.mcap/.db3")
 
 
 def _pick_topic(

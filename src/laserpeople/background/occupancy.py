@@ -331,7 +331,14 @@ def load_ros_map(path: str | Path) -> OccupancyMap:
             pixels = np.asarray(im.convert("L"), dtype=np.float64)
     except MapFileError:
         raise
-    except (OSError, ValueError, Image.DecompressionBombError, MemoryError) as exc:
+    except Image.DecompressionBombError as exc:  # Pillow's own check, for the largest claims
+        raise MapFileError(
+            f"the map image {image} claims more than the {MAP_PIXEL_LIMIT:,} pixels accepted "
+            f"({exc})",
+            path=p,
+            hint="the image is damaged, or crop the map to the recorded area",
+        ) from exc
+    except (OSError, ValueError, MemoryError) as exc:
         raise MapFileError(
             f"cannot read the map image {image} ({exc})",
             path=p,

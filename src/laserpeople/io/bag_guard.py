@@ -186,7 +186,9 @@ def describe(exc: BaseException) -> str:
     text = str(exc)
     if len(text) > 300:
         text = text[:300] + "..."
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    kind = type(exc)
+    name = kind.__name__ if kind.__name__ != "error" else f"{kind.__module__}.error"
+    return f"{name}: {text}" if text else name
 
 
 def open_reader(

@@ -63,14 +63,24 @@ def _tracks(k: int) -> Any:
 
 
 def tracks_bag(path: Path, frames: int = 4) -> None:
-    """A tracks bag as ``track --bag`` writes it (people topics only, no scans)."""
+    """A tracks bag as ``track --bag`` writes it, cut down to its person topic (no scans,
+    no markers: a small file)."""
     from laserpeople.io.rosbag_writer import open_bag
-    from laserpeople.io.tracks_bag import TracksBagWriter
+    from laserpeople.io.tracks_bag import (
+        PEOPLE_TYPE,
+        TRACK_TOPICS,
+        TracksBagWriter,
+        build_message,
+    )
 
     with open_bag(path) as sink:
         writer = TracksBagWriter(sink, scans=False)
         for k in range(frames):
-            writer.write([], _tracks(k))
+            tracks = _tracks(k)
+            people = [writer._person(t, k) for t in tracks.tracks]
+            header = sink.header(tracks.stamp, "world")
+            msg = build_message(sink.typestore, PEOPLE_TYPE, header=header, people=people)
+            sink.write(TRACK_TOPICS["person"], PEOPLE_TYPE, msg, tracks.stamp)
 
 
 def ros1_records(data: bytes) -> list[tuple[int, int, dict[str, bytes]]]:
@@ -115,7 +125,7 @@ def make_tracks_bags(out: Path) -> None:
     con.close()
     raw = bytearray(db3.read_bytes())
     page = 512
-    raw[2 * page : 3 * page] = b"\xa5" * page  # "database disk image is malformed"
+    raw[3 * page : 4 * page] = b"\xa5" * page  # "database disk image is malformed"
     db3.write_bytes(bytes(raw))
 
     bag = out / "tracks_chunk_length.bag"

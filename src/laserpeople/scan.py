@@ -148,7 +148,7 @@ class Scan:
             self._fail(f"stamp must be finite, got {self.stamp!r}")
         if not (self.range_max > 0.0 and self.range_min <= self.range_max):  # NaN fails too
             self._fail(
-                f"range limits range_min={self.range_min!r}, range_max={self.range_max!r} "
+                f"range limits range_min={self.range_min:.6g} m, range_max={self.range_max:.6g} m "
                 "leave no usable beam",
                 hint="the scanner driver wrote broken range limits",
             )

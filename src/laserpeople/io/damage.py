@@ -106,8 +106,13 @@ class DamagedRecords:
                 f"topic {topic!r}: {where} ({reason}); {read} scans of this topic were read",
                 path=self.path,
                 scan=scan,
-                hint="the recording is damaged here; the scans before it can be used with "
-                "--on-error skip; for a ROS 1 bag try `rosbag reindex`",
+                hint=(
+                    "the recording is damaged from its start; re-copy or re-record it"
+                    if scan <= 0
+                    else "the recording is damaged here; the scans before it can be used with "
+                    "--on-error skip"
+                )
+                + "; for a ROS 1 bag try `rosbag reindex`",
             )
         self.truncated = f"topic {topic!r} ends early after {read} scans: {reason}"
 

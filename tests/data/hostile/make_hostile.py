@@ -216,7 +216,7 @@ def make_range_limits(out: Path) -> None:
 def make_misc(out: Path) -> None:
     """Causes 6, 7, 8, 10 and the extras: a TOML with a huge free range, a small recording
     for the option values, a tracks CSV whose rows of one scan disagree on the stamp, a
-    recording bag whose first chunk has a corrupt length."""
+    recording whose first chunk is damaged before its first scan."""
     from laserpeople.io import write_recording
     from laserpeople.io.rosbag_writer import write_laserscan_bag
     from laserpeople.io.tracks_csv import TracksCsvWriter
@@ -230,9 +230,16 @@ def make_misc(out: Path) -> None:
     lines = csv.read_text(encoding="utf-8").splitlines()
     lines[2] = lines[2].replace("10.000000", "10.500000", 1)  # scan 0's second row
     csv.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    bag = out / "first_chunk_length.bag"
-    write_laserscan_bag(bag, small_scans(3))
-    _corrupt_first_chunk_length(bag)
+    bag = out / "first_chunk.mcap"
+    write_laserscan_bag(bag, small_scans(3, pose=False))
+    raw = bytearray(bag.read_bytes())
+    pos = 8  # after the magic: records of opcode (1 byte) and length (8 bytes)
+    while raw[pos] != 0x06:  # the first chunk
+        pos += 9 + struct.unpack_from("<Q", raw, pos + 1)[0]
+    start = pos + 9 + 8 + 8 + 8 + 4  # its compression string
+    start += 4 + struct.unpack_from("<I", raw, start)[0] + 8  # its records
+    raw[start : start + 9] = b"\xff" * 9  # the first record's opcode and length
+    bag.write_bytes(bytes(raw))
 
 
 def long_field_csv(path: Path, header: str, row_head: str) -> Path:

@@ -1534,6 +1534,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--show", type=int, default=3, help="bad cases to print per format")
     ap.add_argument("--replay", type=int, action="append", help="run one case in-process")
     ap.add_argument("--json", type=Path, help="write every result to this file")
+    ap.add_argument(
+        "--log",
+        type=Path,
+        help="append each result to this JSON-lines file as it comes (a long run can be "
+        "read while it goes)",
+    )
     ap.add_argument("--stop-only", action="store_true", help="run every case with on_error='stop'")
     args = ap.parse_args(argv)
 
@@ -1561,7 +1567,13 @@ def main(argv: list[str] | None = None) -> int:
         results: list[dict[str, Any]] = []
         for start in range(0, len(cases), args.batch):
             batch = cases[start : start + args.batch]
-            results.extend(run_batch(batch, work, args.max_scans, args.time_limit, args.mem_mb))
+            done = run_batch(batch, work, args.max_scans, args.time_limit, args.mem_mb)
+            results.extend(done)
+            if args.log:
+                with args.log.open("a", encoding="utf-8") as log:
+                    for r in done:
+                        fmt = cases[r["index"]].fmt
+                        log.write(json.dumps({**r, "fmt": fmt, "seed": args.seed}) + "\n")
             print(
                 f"\r{len(results)}/{len(cases)} cases, {time.monotonic() - t0:.0f} s",
                 end="",

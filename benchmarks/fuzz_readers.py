@@ -10,7 +10,7 @@ per-case time limit. The outcome of each case is one of:
 ``error``          it raised a :class:`~laserpeople.errors.LaserPeopleError` (what we want
                    for damaged input)
 ``bad-exception``  any other exception (a traceback for the user)
-``bad-timeout``    the case ran past the time limit
+``bad-timeout``    the case ran past the time limit (CPU seconds of the worker)
 ``bad-memory``     ``MemoryError`` or the worker died (address-space cap)
 ``bad-empty``      a silent empty: the read path returned nothing from an input that
                    holds something (a recording whose topics list scans but none came, a
@@ -54,6 +54,7 @@ import time
 import traceback
 from collections import Counter, defaultdict
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -1170,7 +1171,7 @@ def materialise(case: Case, work: Path) -> tuple[Path, str]:
         storage = next(p for p in out.iterdir() if p.suffix in (".mcap", ".db3"))
         data = storage.read_bytes()
         if storage.suffix == ".db3":
-            tmp = work / "tmp.db3"
+            tmp = work / f"tmp{case.index}.db3"
             what = _db3_mutation(storage, data, rng, tmp)
             os.replace(tmp, storage)
         else:
@@ -1393,8 +1394,10 @@ def run_case(case: Case, work: Path, max_scans: int, time_limit: float) -> tuple
     from laserpeople.errors import LaserPeopleError
 
     path, what = materialise(case, work)
-    signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, time_limit)
+    # the limit is CPU time (user + system) of the worker: on a loaded machine the wall
+    # clock says nothing about a hang; the parent's wall-clock deadline is the backstop
+    signal.signal(signal.SIGPROF, _on_alarm)
+    signal.setitimer(signal.ITIMER_PROF, time_limit)
     try:
         READ_PATHS[case.fmt](path, max_scans, case.on_error)
         outcome, detail = "ok", what
@@ -1416,7 +1419,7 @@ def run_case(case: Case, work: Path, max_scans: int, time_limit: float) -> tuple
             f"{what} -> {type(exc).__name__}: {str(exc)[:200]} [{where}]",
         )
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.setitimer(signal.ITIMER_PROF, 0)
     if path.is_dir():
         shutil.rmtree(path, ignore_errors=True)
     else:
@@ -1450,6 +1453,11 @@ def _vm_bytes() -> int:
         return int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
 
 
+WALL_FACTOR = 20
+"""A worker silent for this many times the per-case CPU limit (plus 30 s) of wall time is
+killed as hung (generous: the machine may be loaded)."""
+
+
 def run_batch(
     cases: list[Case], work: Path, max_scans: int, time_limit: float, mem_mb: int
 ) -> list[dict[str, Any]]:
@@ -1472,7 +1480,7 @@ def run_batch(
         current: int | None = None
         done: set[int] = set()
         buf = b""
-        deadline = time.monotonic() + 4 * time_limit + 5
+        deadline = time.monotonic() + WALL_FACTOR * time_limit + 30
         killed = False
         with os.fdopen(rfd, "rb", buffering=0) as fh:
             os.set_blocking(fh.fileno(), False)
@@ -1490,7 +1498,7 @@ def run_batch(
                         msg = json.loads(line)
                         if "start" in msg:
                             current = msg["start"]
-                            deadline = time.monotonic() + 4 * time_limit + 5
+                            deadline = time.monotonic() + WALL_FACTOR * time_limit + 30
                         else:
                             results.append(msg)
                             done.add(msg["index"])
@@ -1525,6 +1533,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--time-limit", type=float, default=10.0, help="seconds per case")
     ap.add_argument("--mem-mb", type=int, default=768, help="address space per worker [MiB]")
     ap.add_argument("--batch", type=int, default=250)
+    ap.add_argument("--jobs", type=int, default=1, help="batches run at the same time")
     ap.add_argument(
         "--only",
         action="append",
@@ -1565,9 +1574,14 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         t0 = time.monotonic()
         results: list[dict[str, Any]] = []
-        for start in range(0, len(cases), args.batch):
-            batch = cases[start : start + args.batch]
-            done = run_batch(batch, work, args.max_scans, args.time_limit, args.mem_mb)
+        batches = [cases[i : i + args.batch] for i in range(0, len(cases), args.batch)]
+        pool = ThreadPoolExecutor(max_workers=max(args.jobs, 1))
+        runs = [
+            pool.submit(run_batch, batch, work, args.max_scans, args.time_limit, args.mem_mb)
+            for batch in batches
+        ]
+        for future in as_completed(runs):
+            done = future.result()
             results.extend(done)
             if args.log:
                 with args.log.open("a", encoding="utf-8") as log:
@@ -1580,6 +1594,7 @@ def main(argv: list[str] | None = None) -> int:
                 file=sys.stderr,
                 flush=True,
             )
+        pool.shutdown()
         print(file=sys.stderr)
     finally:
         shutil.rmtree(root, ignore_errors=True)

@@ -457,6 +457,15 @@ class RosbagRecording:
                     self.damaged.end(_describe(exc), topic=topic, scan=index + 1, read=read)
                     return
                 if item is None:
+                    listed = sum(c.msgcount for c in conns)
+                    if index < 0 and listed > 0:  # index and storage disagree: not "no scans"
+                        self.damaged.end(
+                            f"the bag's index lists {listed} messages on this topic but its "
+                            "storage gives none",
+                            topic=topic,
+                            scan=0,
+                            read=0,
+                        )
                     return
                 index += 1
                 try:

@@ -144,7 +144,7 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         trail: Annotated[
-            int, typer.Option("--trail", min=0, help="Scans of trail behind tracks.")
+            int, typer.Option("--trail", min=0, max=10_000, help="Scans of trail behind tracks.")
         ] = 20,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,

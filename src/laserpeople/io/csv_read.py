@@ -46,8 +46,8 @@ class CsvRows:
         text = str(exc)
         if "field larger than field limit" in text:
             text = f"a field is longer than {FIELD_LIMIT:,} characters (the limit)"
-        return RecordingError(
-            f"line {self._reader.line_num}: not a readable {self.what}: {text}",
+        return RecordingError(  # (line_num counts the lines read before the bad one)
+            f"line {self._reader.line_num + 1}: not a readable {self.what}: {text}",
             path=self.path,
             hint=self.hint,
         )

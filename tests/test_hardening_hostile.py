@@ -121,7 +121,7 @@ def test_cause_1_a_person_with_a_huge_scan_tag(tmp_path: Path) -> None:
             sink.typestore, PEOPLE_TYPE, header=sink.header(1.0, "world"), people=[person]
         )
         sink.write(TRACK_TOPICS["person"], PEOPLE_TYPE, msg, 1.0)
-    with pytest.raises(RecordingError, match="scan tag .* too large"):
+    with pytest.raises(RecordingError, match=r"scan tag .* too large"):
         list(iter_tracks_bag(path))
 
 
@@ -373,7 +373,7 @@ def test_long_option_values_are_cut_in_errors(tmp_path: Path) -> None:
 def test_tracks_csv_refuses_differing_stamps_in_one_scan() -> None:
     from laserpeople.io.tracks_csv import iter_tracks_csv
 
-    with pytest.raises(RecordingError, match="line 3: stamp 10.5 differs from 10.0") as err:
+    with pytest.raises(RecordingError, match=r"line 3: stamp 10\.5 differs from 10\.0") as err:
         list(iter_tracks_csv(HOSTILE / "tracks_stamps_differ.csv"))
     assert err.value.scan == 0
 

@@ -408,3 +408,29 @@ def test_view_closes_the_tracks_csv_on_an_error_path(tmp_path: Path) -> None:
     finally:
         gc.enable()
     assert str(tracks.resolve()) not in open_files
+
+
+# -- found by benchmarks/fuzz_readers.py while this round ran ----------------------------------
+
+
+def test_neko_labels_nested_too_deep(tmp_path: Path) -> None:
+    from laserpeople.io.neko import read_neko_labels
+
+    path = tmp_path / "leg_segment_labels.json"
+    path.write_text('{"labels": {"0": ' + "[" * 100_000 + "]" * 100_000 + "}}", encoding="utf-8")
+    with pytest.raises(RecordingError, match="not a neko7055 label file"):
+        read_neko_labels(path)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["view", "{rec}", "-o", "{out}.gif", "--trail", "99999999999"],
+        ["bench", "{rec}", "--tracker", "nn", "--repeat", "99999999999"],
+    ],
+)
+def test_counts_that_ran_for_ever_are_bounded(argv: list[str], tmp_path: Path) -> None:
+    names = {"rec": str(HOSTILE / "small.npz"), "out": str(tmp_path / "out")}
+    run = _cli(*(a.format(**names) for a in argv))
+    assert run.exit_code == 2, run.output  # a usage error naming the bound
+    assert "less than or equal to" in run.output

@@ -113,7 +113,15 @@ def read_neko_labels(path: str | Path) -> tuple[dict[int, frozenset[int]], str]:
         rule = str(doc.get("description", ""))
     except FileNotFoundError as exc:
         raise RecordingError("file not found", path=p) from exc
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as exc:
+    except (
+        OSError,
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,
+        OverflowError,
+        RecursionError,
+    ) as exc:
         raise RecordingError(
             f"not a neko7055 label file: {str(exc)[:200]}",
             path=p,

@@ -30,12 +30,15 @@ from laserpeople.io import open_recording
 
 HOSTILE = Path(__file__).parent / "data" / "hostile"
 sys.path.insert(0, str(HOSTILE))
-import make_hostile  # noqa: E402  (the writer of the hostile files)
+import make_hostile  # type: ignore[import-not-found]  # noqa: E402  (writes the files)
 
 
 def _read_all(path: Path, **options: Any) -> int:
-    with open_recording(path, **options) as rec:
+    rec = open_recording(path, **options)
+    try:
         return sum(1 for _ in rec.scans())
+    finally:
+        rec.close()
 
 
 def _cli(*argv: str | Path) -> Any:
@@ -326,7 +329,8 @@ def test_cause_9_no_usable_beam(name: str, says: str, tmp_path: Path) -> None:
     with pytest.raises(RecordingError, match="every scan is damaged, none could be used"):
         _read_all(HOSTILE / name, on_error="skip")
     out = tmp_path / "t.csv"
-    for command in (["track", "-o", out], ["detect", "-o", out], ["info"]):
+    commands: list[list[str | Path]] = [["track", "-o", out], ["detect", "-o", out], ["info"]]
+    for command in commands:
         run = _cli(command[0], HOSTILE / name, *command[1:], "--on-error", "skip")
         message = _refused(run, "every scan is damaged")
         assert "-inf" not in message
@@ -398,7 +402,7 @@ def test_view_closes_the_tracks_csv_on_an_error_path(tmp_path: Path) -> None:
     with np.load(HOSTILE / "small.npz") as z:
         arrays = {k: z[k] for k in z.files}
     arrays["scan_stamp"][5] = np.nan
-    np.savez(rec, **arrays)  # type: ignore[arg-type]
+    np.savez(rec, **arrays)
     gc.disable()  # only the command's own closing counts
     try:
         run = _cli("view", rec, "-o", tmp_path / "v.gif", "--tracks", tracks)

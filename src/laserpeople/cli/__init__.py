@@ -106,8 +106,10 @@ def _short_usage_errors() -> Iterator[None]:
     try:
         yield
     except UsageError as exc:
-        exc.message = cut_long_values(exc.message)
-        raise
+        short = cut_long_values(exc.message)
+        if short == exc.message:
+            raise
+        raise UsageError(short, ctx=exc.ctx) from exc
 
 
 app = typer.Typer(

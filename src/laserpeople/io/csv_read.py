@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 from laserpeople.errors import RecordingError
 
@@ -64,11 +65,11 @@ class CsvRows:
     def fieldnames(self, names: list[str]) -> None:
         self._reader.fieldnames = names
 
-    def __iter__(self) -> Iterator[dict[str, str | None]]:
+    def __iter__(self) -> Iterator[dict[str, Any]]:
         return self
 
-    def __next__(self) -> dict[str, str | None]:
+    def __next__(self) -> dict[str, Any]:
         try:
-            return next(self._reader)  # type: ignore[return-value]
+            return next(self._reader)
         except csv.Error as exc:
             raise self._error(exc) from exc

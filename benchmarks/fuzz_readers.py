@@ -10,8 +10,17 @@ per-case time limit. The outcome of each case is one of:
 ``error``          it raised a :class:`~laserpeople.errors.LaserPeopleError` (what we want
                    for damaged input)
 ``bad-exception``  any other exception (a traceback for the user)
-``bad-timeout``    the case ran past the time limit
+``bad-timeout``    the case ran past the time limit (CPU seconds of the worker)
 ``bad-memory``     ``MemoryError`` or the worker died (address-space cap)
+``bad-empty``      a silent empty: the read path returned nothing from an input that
+                   holds something (a recording whose topics list scans but none came, a
+                   tracking run over no scan) without an error
+
+Besides the recordings, CSVs, models and TOML files, it covers tracks bags (what
+``evaluate TRACKS.bag|.mcap|.db3`` reads), ROS maps (``map.yaml`` and its PGM, as
+``track --map`` loads them), neko7055 directories (xy data and labels JSON, as ``train
+--neko`` reads them), whole tracking runs under a mutated ``--config`` of each tracker, and
+option values: every command run in-process with a hostile value for one of its options.
 
 Usage::
 
@@ -45,6 +54,7 @@ import time
 import traceback
 from collections import Counter, defaultdict
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -52,7 +62,7 @@ from typing import Any
 import numpy as np
 
 DATA = Path(os.environ.get("LASERPEOPLE_SHARED_DATA", Path(__file__).parents[2] / "shared/data"))
-OUTCOMES = ("ok", "error", "bad-exception", "bad-timeout", "bad-memory")
+OUTCOMES = ("ok", "error", "bad-exception", "bad-timeout", "bad-memory", "bad-empty")
 
 # -- seed files ---------------------------------------------------------------------------
 
@@ -194,6 +204,89 @@ def _ros1_lz4(path: Path) -> None:
     writer.close()
 
 
+def _tracks_bag(path: Path) -> None:
+    """A tracks bag as `laserpeople track --bag` writes it (scans, /tf, people, markers)."""
+    from laserpeople.io.rosbag_writer import open_bag
+    from laserpeople.io.tracks_bag import TracksBagWriter
+    from laserpeople.tracks import Track, Tracks
+
+    with open_bag(path) as sink:
+        writer = TracksBagWriter(sink)
+        for k, scan in enumerate(_sim_scans(25)):
+            tracks = tuple(
+                Track(
+                    track_id=j + 1,
+                    kind=("leg", "person", "group")[j % 3],
+                    position=np.array([1.0 + 0.1 * k, float(j)]),
+                    velocity=np.array([0.5, 0.0]),
+                    covariance=np.eye(2) * 0.01,
+                    members=(1, 2) if j % 3 == 1 else (),
+                )
+                for j in range(k % 4)
+            )
+            writer.write([scan], Tracks(scan.stamp, k, tracks, "world", scan.pose))
+
+
+def _map_dir(target: Path) -> None:
+    """A map_server map: map.yaml and a 120 x 80 PGM with a wall."""
+    target.mkdir(parents=True, exist_ok=True)
+    pixels = np.full((80, 120), 254, dtype=np.uint8)
+    pixels[10, :] = 0
+    pixels[:, 100] = 0
+    (target / "map.pgm").write_bytes(b"P5\n120 80\n255\n" + pixels.tobytes())
+    (target / "map.yaml").write_text(
+        "image: map.pgm\nresolution: 0.05\norigin: [-2.0, -1.0, 0.0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+        encoding="utf-8",
+    )
+
+
+def _neko_dir(target: Path, scans: list[Any]) -> None:
+    """A neko7055 directory (xy_data.txt + leg_segment_labels.json) of full-circle scans."""
+    target.mkdir(parents=True, exist_ok=True)
+    beams = 90
+    rows = [f"{beams} 2 {len(scans)}"]
+    labels: dict[str, list[int]] = {}
+    for k, scan in enumerate(scans):
+        r = np.resize(np.nan_to_num(np.asarray(scan.ranges), posinf=0.0), beams)
+        a = -math.pi + 2 * math.pi * np.arange(beams) / beams
+        rows.extend(f"{x:.4f} {y:.4f}" for x, y in zip(r * np.cos(a), r * np.sin(a), strict=True))
+        labels[str(k)] = [0, 2] if k % 2 else [1]
+    (target / "xy_data.txt").write_text("\n".join(rows) + "\n", encoding="utf-8")
+    (target / "leg_segment_labels.json").write_text(
+        json.dumps({"description": "jump 0.1 m, wrap around", "labels": labels}), encoding="utf-8"
+    )
+
+
+TOML_TRACKERS = ("leg-mht", "nn", "csa", "group-mht", "feet-pf")
+"""Trackers whose ``--print-config`` is a TOML seed for whole tracking runs."""
+
+
+def _print_config(tracker: str, recording: Path) -> str:
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = recording.with_suffix(".printed.csv")
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(out), "--tracker", tracker, "--print-config"]
+    )
+    if run.exit_code != 0:
+        raise SystemExit(f"--print-config for {tracker} failed: {run.output[-500:]}")
+    return run.stdout
+
+
+def _options_dir(target: Path, recording: Path) -> None:
+    """The inputs of the option-value cases: a recording, tracks and truth CSVs."""
+    from laserpeople.io.truth_csv import write_truth_csv
+
+    target.mkdir(parents=True, exist_ok=True)
+    shutil.copy(recording, target / "rec.npz")
+    _tracks_csv(target / "tracks.csv")
+    write_truth_csv(target / "truth.csv", _truth_frames(30))
+    (target / "commands.json").write_text(json.dumps(OPTION_CASES), encoding="utf-8")
+
+
 def build_seeds(work: Path) -> dict[str, list[Seed]]:
     """Write the project's own files into ``work`` and collect the real ones."""
     from laserpeople.detection.detector import default_model
@@ -248,6 +341,26 @@ def build_seeds(work: Path) -> dict[str, list[Seed]]:
     write_truth_csv(p, _truth_frames(30))
     add("truth_csv", "truth.csv", p)
 
+    for suffix, fmt in ((".bag", "tracks_ros1"), (".mcap", "tracks_mcap"), (".db3", "tracks_db3")):
+        p = work / f"tracks{suffix}"
+        _tracks_bag(p)
+        add(fmt, f"tracks{suffix}", p)
+    d = work / "map"
+    _map_dir(d)
+    add("map", "map.yaml + map.pgm", d)
+    d = work / "neko_sim"
+    _neko_dir(d, _sim_scans(4, pose=False))
+    add("neko", "simulated neko dir", d)
+    small = work / "small.npz"
+    write_recording(small, _sim_scans(20), _truth_frames(20), {"scenario": "fuzz"})
+    for tracker in TOML_TRACKERS:
+        p = work / f"track_{tracker}.toml"
+        p.write_text(f"# tracker: {tracker}\n" + _print_config(tracker, small), encoding="utf-8")
+        add("toml_track", f"{tracker} --print-config", p)
+    d = work / "options"
+    _options_dir(d, small)
+    add("options", "command lines", d)
+
     real_bags = [
         "leg_tracker/rosbags/training_scans_res=0.33/positive_2_extracted.bag",
         "leg_tracker/rosbags/training_scans_res=0.33/positive_not_extracted/positive_2.bag",
@@ -270,10 +383,9 @@ def build_seeds(work: Path) -> dict[str, list[Seed]]:
         p = work / "neko_as_carmen.log"
         write_carmen_log(p, real)
         add("carmen", "neko7055 as CARMEN", p)
-        rows = neko.read_text(encoding="utf-8").splitlines(keepends=True)
-        p = work / "neko_xy.txt"
-        p.write_text("720 2 3\n" + "".join(rows[1 : 1 + 3 * 720]), encoding="utf-8")
-        add("neko", "xy_data (3 frames)", p)
+        d = work / "neko_real"
+        _neko_dir(d, real[:3])
+        add("neko", "neko7055 (3 frames)", d)
     return dict(seeds)
 
 
@@ -825,11 +937,15 @@ def read_recording(path: Path, max_scans: int, on_error: str) -> None:
     options: dict[str, Any] = {} if on_error == "stop" else {"on_error": on_error}
     rec = open_recording(path, **options)
     try:
-        rec.topics()
+        listed = sum(max(int(t.count), 0) for t in rec.topics())
+        n = 0
         for i, scan in enumerate(rec.scans()):
             scan.points()
+            n += 1
             if i + 1 >= max_scans:
                 break
+        if n == 0 and listed > 0:
+            raise SilentEmptyError(f"topics list {listed} scans, none read and no error")
         for i, _frame in enumerate(rec.truth()):
             if i + 1 >= max_scans:
                 break
@@ -882,10 +998,86 @@ def read_truth(path: Path, max_scans: int, on_error: str) -> None:
 
 
 def read_neko(path: Path, max_scans: int, on_error: str) -> None:
-    """Read neko7055 xy data."""
-    from laserpeople.io.neko import read_neko_scans
+    """Read a neko7055 directory as `train --neko` does (scans, labels, segment features)."""
+    from laserpeople.detection.training import neko_segments
 
-    read_neko_scans(path)
+    neko_segments(path)
+
+
+class SilentEmptyError(Exception):
+    """A read path returned nothing from an input that holds something, without an error."""
+
+
+def read_tracks_bag(path: Path, max_scans: int, on_error: str) -> None:
+    """Read a tracks bag as `evaluate TRACKS.bag` does."""
+    from laserpeople.io.tracks_bag import iter_tracks_bag
+
+    for i, _ in enumerate(iter_tracks_bag(path)):
+        if i + 1 >= max_scans:
+            break
+
+
+def read_map(path: Path, max_scans: int, on_error: str) -> None:
+    """Load a ROS map as `track --map` does and ask the seeded grid about a few points."""
+    from laserpeople.background.occupancy import OccupancyGrid, load_ros_map
+
+    grid = OccupancyGrid(prior=load_ros_map(path / "map.yaml"))
+    grid.static_time(np.array([[0.0, 0.0], [1.0, -0.5], [3.0, 2.0]]))
+
+
+def read_toml_track(path: Path, max_scans: int, on_error: str) -> None:
+    """A whole `track --config` run of the tracker named in the file's first line."""
+    from laserpeople.cli.track import run_tracking
+    from laserpeople.tracking import registry
+
+    head = path.read_bytes()[:80].decode("utf-8", "replace").splitlines()[:1]
+    tracker = head[0].split(":", 1)[1].strip() if head and head[0].startswith("# tracker:") else ""
+    if tracker not in registry.TRACKERS:
+        tracker = "leg-mht"
+    small = path.parent.parent / "seeds" / "small.npz"
+    out = path.with_suffix(".tracks.csv")
+    try:
+        stats = run_tracking(small, out, tracker_name=tracker, config=path)
+    finally:
+        with contextlib.suppress(OSError):
+            out.unlink()
+    if not stats.get("scans"):
+        raise SilentEmptyError(f"{tracker}: tracking ran over no scan")
+
+
+MESSAGE_LIMIT = 1500
+"""Longest error message an option value may produce (long values are cut)."""
+
+
+def run_options(path: Path, max_scans: int, on_error: str) -> None:
+    """Run one command line with a hostile option value in-process (as a user would)."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.cli.common import STATE
+    from laserpeople.errors import LaserPeopleError
+
+    argv = json.loads(path.read_text(encoding="utf-8"))["argv"]
+    STATE.quiet = True
+    try:
+        run = CliRunner().invoke(app, argv)
+    finally:
+        for out in path.parent.glob(path.stem + "_out*"):
+            with contextlib.suppress(OSError):
+                shutil.rmtree(out) if out.is_dir() else out.unlink()
+    exc = run.exception
+    if exc is None or (isinstance(exc, SystemExit) and exc.code == 0):
+        return
+    if isinstance(exc, SystemExit):
+        text = run.output
+        if len(text) > MESSAGE_LIMIT:
+            raise ValueError(f"usage error message of {len(text)} characters")
+        raise LaserPeopleError(f"exit {exc.code}: {text.strip()[-300:]}")
+    if isinstance(exc, LaserPeopleError):
+        if len(str(exc)) > MESSAGE_LIMIT:
+            raise ValueError(f"error message of {len(str(exc))} characters: {str(exc)[:200]}")
+        raise exc
+    raise exc
 
 
 READ_PATHS: dict[str, Callable[[Path, int, str], None]] = {
@@ -896,6 +1088,12 @@ READ_PATHS: dict[str, Callable[[Path, int, str], None]] = {
     "npz": read_recording,
     "carmen": read_recording,
     "neko": read_neko,
+    "tracks_ros1": read_tracks_bag,
+    "tracks_mcap": read_tracks_bag,
+    "tracks_db3": read_tracks_bag,
+    "map": read_map,
+    "toml_track": read_toml_track,
+    "options": run_options,
     "model": read_model,
     "toml": read_toml,
     "tracks_csv": read_tracks_csv,
@@ -910,7 +1108,13 @@ WEIGHTS = {
     "ros2dir": 5,
     "npz": 12,
     "carmen": 8,
-    "neko": 2,
+    "neko": 4,
+    "tracks_ros1": 6,
+    "tracks_mcap": 6,
+    "tracks_db3": 5,
+    "map": 6,
+    "toml_track": 5,
+    "options": 8,
     "model": 8,
     "toml": 8,
     "tracks_csv": 6,
@@ -967,27 +1171,41 @@ def materialise(case: Case, work: Path) -> tuple[Path, str]:
         storage = next(p for p in out.iterdir() if p.suffix in (".mcap", ".db3"))
         data = storage.read_bytes()
         if storage.suffix == ".db3":
-            tmp = work / "tmp.db3"
+            tmp = work / f"tmp{case.index}.db3"
             what = _db3_mutation(storage, data, rng, tmp)
             os.replace(tmp, storage)
         else:
             mutated, what = _mcap_mutation(data, rng)
             storage.write_bytes(mutated)
         return out, f"{storage.name} {what}"
+    if fmt in ("map", "neko"):
+        out = work / f"case{case.index}"
+        if out.exists():
+            shutil.rmtree(out)
+        shutil.copytree(src, out)
+        what = (_map_mutation if fmt == "map" else _neko_mutation)(out, rng)
+        return out, what
+    if fmt == "options":
+        out = work / f"case{case.index}.json"
+        argv, what = _option_case(src, out, rng)
+        out.write_text(json.dumps({"argv": argv}), encoding="utf-8")
+        return out, what
     data = src.read_bytes()
     out = (
         work
         / f"case{case.index}{''.join(src.suffixes[-2:]) if src.suffix == '.gz' else src.suffix}"
     )
-    if fmt == "db3":
+    if fmt in ("db3", "tracks_db3"):
         what = _db3_mutation(src, data, rng, out)
         return out, what
     mutate: dict[str, Callable[[bytes, random.Random], tuple[bytes, str]]] = {
         "ros1": _ros1_mutation,
         "mcap": _mcap_mutation,
+        "tracks_ros1": _ros1_mutation,
+        "tracks_mcap": _mcap_mutation,
+        "toml_track": _toml_mutation,
         "npz": _npz_mutation,
         "carmen": lambda d, r: _carmen_mutation(d, r, src.suffix == ".gz"),
-        "neko": _neko,
         "model": _json_mutation,
         "toml": _toml_mutation,
         "tracks_csv": _csv_mutation,
@@ -995,7 +1213,7 @@ def materialise(case: Case, work: Path) -> tuple[Path, str]:
         "truth_csv": _csv_mutation,
     }
     mutated, what = _apply(mutate[fmt], data, rng)
-    if rng.random() < 0.15 and fmt not in ("model", "toml"):
+    if rng.random() < 0.15 and fmt not in ("model", "toml", "toml_track"):
         mutated, w2 = _apply(mutate[fmt], mutated, rng)
         what = f"{what}; {w2}"
     out.write_bytes(mutated)
@@ -1012,11 +1230,152 @@ def _apply(
         return _byte_mutation(data, rng)
 
 
-def _neko(data: bytes, rng: random.Random) -> tuple[bytes, str]:
-    if rng.random() < 0.3:
-        return _byte_mutation(data, rng)
-    text, what = _text_token_mutation(data.decode("utf-8"), rng, " ")
-    return text.encode("utf-8"), what
+def _neko_mutation(folder: Path, rng: random.Random) -> str:
+    """Mutate the xy data (tokens, bytes, huge coordinates) or the labels JSON of a neko
+    directory in place."""
+    xy, labels = folder / "xy_data.txt", folder / "leg_segment_labels.json"
+    kind = rng.choice(("xy", "xy", "labels", "labels", "special"))
+    if kind == "xy":
+        data = xy.read_bytes()
+        if rng.random() < 0.3:
+            mutated, what = _byte_mutation(data, rng)
+        else:
+            text, what = _text_token_mutation(data.decode("utf-8"), rng, " ")
+            mutated = text.encode("utf-8")
+        xy.write_bytes(mutated)
+        return f"xy_data {what}"
+    if kind == "labels":
+        mutated, what = _apply(_json_mutation, labels.read_bytes(), rng)
+        labels.write_bytes(mutated)
+        return f"labels {what}"
+    value = rng.choice(("Infinity", "-Infinity", "NaN", "1e300", "-1", "4294967296", '"x"'))
+    labels.write_text(
+        '{"description": "x", "labels": {"0": [' + value + '], "1": [0]}}', encoding="utf-8"
+    )
+    if rng.random() < 0.5:
+        lines = xy.read_text(encoding="utf-8").splitlines()
+        lines[1 + rng.randrange(len(lines) - 1)] = rng.choice(("1e308 0", "-1e308 1e308", "1e30 0"))
+        xy.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        return f"label index {value}; a huge xy point"
+    return f"label index {value}"
+
+
+MAP_VALUES = (
+    "1e-300",
+    "1e300",
+    "0",
+    "-0.05",
+    "nan",
+    "inf",
+    "[1e300, 0, 0]",
+    "[nan, 0, 0]",
+    "[0, 0]",
+    "abc",
+    "missing.pgm",
+    "/dev/zero",
+    "map.yaml",
+    "2",
+    "-1",
+    "",
+)
+
+
+def _map_mutation(folder: Path, rng: random.Random) -> str:
+    """Mutate a map folder in place: a yaml value, the PGM header's size, or PGM bytes."""
+    yaml, pgm = folder / "map.yaml", folder / "map.pgm"
+    kind = rng.choice(("yaml", "yaml", "header", "header", "bytes"))
+    if kind == "yaml":
+        lines = yaml.read_text(encoding="utf-8").splitlines()
+        i = rng.randrange(len(lines))
+        key = lines[i].split(":", 1)[0]
+        value = rng.choice(MAP_VALUES)
+        lines[i] = f"{key}: {value}"
+        yaml.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        return f"map.yaml {key} = {value}"
+    data = pgm.read_bytes()
+    if kind == "header":
+        w, h = rng.choice(
+            ((100000, 100000), (65535, 65535), (0, 0), (1, 10**9), (4294967295, 1), (12000, 12000))
+        )
+        body = data.split(b"255\n", 1)[1]
+        pgm.write_bytes(f"P5\n{w} {h}\n255\n".encode() + body)
+        return f"PGM header {w} x {h}"
+    mutated, what = _byte_mutation(data, rng)
+    pgm.write_bytes(mutated)
+    return f"map.pgm {what}"
+
+
+OPTION_CASES: list[tuple[list[str], str]] = [
+    (["info", "{rec}"], "--topic"),
+    (["simulate", "demo", "-o", "{out}.npz", "-s", "2"], "--rate"),
+    (["simulate", "demo", "-o", "{out}.npz"], "--seconds"),
+    (["simulate", "demo", "-o", "{out}.npz", "-s", "2"], "--seed"),
+    (["detect", "{rec}", "-o", "{out}.csv"], "--topic"),
+    (["detect", "{rec}", "-o", "{out}.csv"], "--detector"),
+    (["train", "{rec}", "-o", "{out}.json"], "--rounds"),
+    (["train", "{rec}", "-o", "{out}.json"], "--jump-distance"),
+    (["train", "{rec}", "-o", "{out}.json"], "--features"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--restamp"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--topic"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--output-frame"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--tracker"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--people-policy"),
+    (["track", "{rec}", "-o", "{out}.csv", "--tracker", "csa"], "--background"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--mount"),
+    (["track", "{rec}", "-o", "{out}.csv"], "--on-error"),
+    (["evaluate", "{tracks}", "--truth", "{truth}"], "--gate"),
+    (["evaluate", "{tracks}", "--truth", "{truth}"], "--kind"),
+    (["evaluate", "{tracks}", "--truth", "{truth}"], "--followed-person"),
+    (["view", "{rec}", "-o", "{out}.gif", "--stop", "5"], "--fps"),
+    (["view", "{rec}", "-o", "{out}.png"], "--size"),
+    (["view", "{rec}", "-o", "{out}.png"], "--extent"),
+    (["view", "{rec}", "-o", "{out}.png"], "--scan"),
+    (["view", "{rec}", "-o", "{out}.gif", "--stop", "5"], "--every"),
+    (["view", "{rec}", "-o", "{out}.gif", "--stop", "5"], "--trail"),
+    (["view", "{rec}", "-o", "{out}.png"], "--start"),
+    (["fit", "{rec}", "--truth", "{truth}", "-o", "{out}.toml"], "--validation"),
+    (["fit", "{rec}", "--truth", "{truth}", "-o", "{out}.toml"], "--min-events"),
+    (["bench", "{rec}", "--tracker", "nn"], "--repeat"),
+    (["bench", "{rec}", "--tracker", "nn"], "--max-scans"),
+    (["align", "{rec}", "-o", "{out}.toml"], "--reference"),
+]
+"""Command lines (``{rec}`` a small recording, ``{tracks}``/``{truth}`` CSVs, ``{out}`` an
+output stem) and the option that gets a hostile value."""
+
+OPTION_VALUES = (
+    *HOSTILE_NUMBERS,
+    "1e-300",
+    "1e-9",
+    "99999999999",
+    "-5",
+    "x" * 5000,
+    "all",
+    "world",
+    "sensor",
+    "mir100",
+    "a=b:1e308,0,0",
+    "a=b:1,2",
+    "10x10",
+    "0x0",
+    "99999x99999",
+    "-1,1,-1,1",
+    "0,0,0,0",
+    "1,2,3",
+)
+
+
+def _option_case(folder: Path, out: Path, rng: random.Random) -> tuple[list[str], str]:
+    spec = json.loads((folder / "commands.json").read_text(encoding="utf-8"))
+    argv, option = rng.choice(spec)
+    value = rng.choice(OPTION_VALUES)
+    names = {
+        "rec": str(folder / "rec.npz"),
+        "tracks": str(folder / "tracks.csv"),
+        "truth": str(folder / "truth.csv"),
+        "out": str(out.with_name(out.stem + "_out")),
+    }
+    full = [a.format(**names) for a in argv] + [option, value]
+    return full, f"{' '.join(argv[:1])} {option} {value[:30]!r}"
 
 
 # -- running ---------------------------------------------------------------------------------
@@ -1035,8 +1394,10 @@ def run_case(case: Case, work: Path, max_scans: int, time_limit: float) -> tuple
     from laserpeople.errors import LaserPeopleError
 
     path, what = materialise(case, work)
-    signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, time_limit)
+    # the limit is CPU time (user + system) of the worker: on a loaded machine the wall
+    # clock says nothing about a hang; the parent's wall-clock deadline is the backstop
+    signal.signal(signal.SIGPROF, _on_alarm)
+    signal.setitimer(signal.ITIMER_PROF, time_limit)
     try:
         READ_PATHS[case.fmt](path, max_scans, case.on_error)
         outcome, detail = "ok", what
@@ -1046,6 +1407,8 @@ def run_case(case: Case, work: Path, max_scans: int, time_limit: float) -> tuple
         outcome, detail = "bad-timeout", what
     except MemoryError:
         outcome, detail = "bad-memory", what
+    except SilentEmptyError as exc:
+        outcome, detail = "bad-empty", f"{what} -> {exc}"
     except RecursionError as exc:
         outcome, detail = "bad-exception", f"{what} -> RecursionError {str(exc)[:80]}"
     except Exception as exc:
@@ -1056,7 +1419,7 @@ def run_case(case: Case, work: Path, max_scans: int, time_limit: float) -> tuple
             f"{what} -> {type(exc).__name__}: {str(exc)[:200]} [{where}]",
         )
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.setitimer(signal.ITIMER_PROF, 0)
     if path.is_dir():
         shutil.rmtree(path, ignore_errors=True)
     else:
@@ -1073,6 +1436,9 @@ def _worker(
     vm = _vm_bytes()
     cap = vm + mem_mb * 2**20
     resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+    quiet = os.open(os.devnull, os.O_WRONLY)  # the commands' status lines and warnings
+    os.dup2(quiet, 1)
+    os.dup2(quiet, 2)
     with os.fdopen(wfd, "w", buffering=1) as out:
         for case in cases:
             out.write(json.dumps({"start": case.index}) + "\n")
@@ -1085,6 +1451,11 @@ def _worker(
 def _vm_bytes() -> int:
     with open("/proc/self/statm") as fh:
         return int(fh.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+
+
+WALL_FACTOR = 20
+"""A worker silent for this many times the per-case CPU limit (plus 30 s) of wall time is
+killed as hung (generous: the machine may be loaded)."""
 
 
 def run_batch(
@@ -1109,7 +1480,7 @@ def run_batch(
         current: int | None = None
         done: set[int] = set()
         buf = b""
-        deadline = time.monotonic() + 4 * time_limit + 5
+        deadline = time.monotonic() + WALL_FACTOR * time_limit + 30
         killed = False
         with os.fdopen(rfd, "rb", buffering=0) as fh:
             os.set_blocking(fh.fileno(), False)
@@ -1127,7 +1498,7 @@ def run_batch(
                         msg = json.loads(line)
                         if "start" in msg:
                             current = msg["start"]
-                            deadline = time.monotonic() + 4 * time_limit + 5
+                            deadline = time.monotonic() + WALL_FACTOR * time_limit + 30
                         else:
                             results.append(msg)
                             done.add(msg["index"])
@@ -1162,6 +1533,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--time-limit", type=float, default=10.0, help="seconds per case")
     ap.add_argument("--mem-mb", type=int, default=768, help="address space per worker [MiB]")
     ap.add_argument("--batch", type=int, default=250)
+    ap.add_argument("--jobs", type=int, default=1, help="batches run at the same time")
     ap.add_argument(
         "--only",
         action="append",
@@ -1171,6 +1543,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--show", type=int, default=3, help="bad cases to print per format")
     ap.add_argument("--replay", type=int, action="append", help="run one case in-process")
     ap.add_argument("--json", type=Path, help="write every result to this file")
+    ap.add_argument(
+        "--log",
+        type=Path,
+        help="append each result to this JSON-lines file as it comes (a long run can be "
+        "read while it goes)",
+    )
     ap.add_argument("--stop-only", action="store_true", help="run every case with on_error='stop'")
     args = ap.parse_args(argv)
 
@@ -1196,15 +1574,27 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         t0 = time.monotonic()
         results: list[dict[str, Any]] = []
-        for start in range(0, len(cases), args.batch):
-            batch = cases[start : start + args.batch]
-            results.extend(run_batch(batch, work, args.max_scans, args.time_limit, args.mem_mb))
+        batches = [cases[i : i + args.batch] for i in range(0, len(cases), args.batch)]
+        pool = ThreadPoolExecutor(max_workers=max(args.jobs, 1))
+        runs = [
+            pool.submit(run_batch, batch, work, args.max_scans, args.time_limit, args.mem_mb)
+            for batch in batches
+        ]
+        for future in as_completed(runs):
+            done = future.result()
+            results.extend(done)
+            if args.log:
+                with args.log.open("a", encoding="utf-8") as log:
+                    for r in done:
+                        fmt = cases[r["index"]].fmt
+                        log.write(json.dumps({**r, "fmt": fmt, "seed": args.seed}) + "\n")
             print(
                 f"\r{len(results)}/{len(cases)} cases, {time.monotonic() - t0:.0f} s",
                 end="",
                 file=sys.stderr,
                 flush=True,
             )
+        pool.shutdown()
         print(file=sys.stderr)
     finally:
         shutil.rmtree(root, ignore_errors=True)

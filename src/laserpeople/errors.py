@@ -7,7 +7,26 @@ scan (0-based index on its topic) so that a user can find the bad spot.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
+
+ECHO_LIMIT = 80
+"""Characters of a long value (an option value, a token of a file) an error message shows
+before it is cut with "…"."""
+LONG_WORD = 200
+"""A run of this many characters without a space in a message is a long value and cut."""
+_LONG = re.compile(r"\S{" + str(LONG_WORD + 1) + ",}")
+
+
+def shorten(text: str, limit: int = ECHO_LIMIT) -> str:
+    """``text`` cut to its first ``limit`` characters and "…" when it is longer."""
+    return text if len(text) <= limit else text[:limit] + "…"
+
+
+def cut_long_values(text: str) -> str:
+    """``text`` with every run of more than :data:`LONG_WORD` non-space characters cut to
+    :func:`shorten` (a 5,000-character option value is echoed as its first 80)."""
+    return _LONG.sub(lambda m: shorten(m.group(0)), text)
 
 
 class LaserPeopleError(Exception):
@@ -23,8 +42,8 @@ class LaserPeopleError(Exception):
     ) -> None:
         self.path = None if path is None else str(path)
         self.scan = scan
-        self.hint = hint
-        self.detail = message
+        self.hint = None if hint is None else cut_long_values(hint)
+        self.detail = cut_long_values(message)
         super().__init__(self._compose())
 
     def _compose(self) -> str:

@@ -29,6 +29,11 @@ if TYPE_CHECKING:
 
 CoordinateFrame = Literal["sensor", "world"]
 
+POSE_LIMIT = 1.0e7
+"""Largest |x|, |y| [m] of a sensor pose (10,000 km: room for UTM coordinates). A scan
+whose pose lies beyond it is damaged (a corrupt transform or odometry record): its points
+would overflow the grids built from them."""
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
@@ -103,10 +108,12 @@ class Scan:
         angle_increment: Angle between consecutive beams [rad]; may be negative.
         ranges: Measured ranges (N,) [m]; NaN, inf, 0 and out-of-limit values mean "no return".
         range_min: Smallest valid range [m].
-        range_max: Largest valid range [m].
+        range_max: Largest valid range [m]; must be > 0 and >= ``range_min`` (limits
+            that leave no usable beam make the scan damaged: ``ScanFormatError``).
         intensities: Optional return intensities (N,), sensor-specific units.
         sensor: Name of the sensor (topic or CARMEN laser id) this scan came from.
-        pose: Sensor pose in the world frame at ``stamp``, if known.
+        pose: Sensor pose in the world frame at ``stamp``, if known; |x|, |y| at most
+            :data:`POSE_LIMIT`.
         index: 0-based index of this scan among the scans of its sensor/topic.
         source: The file the scan was read from (for error messages); "" if none.
         labels: Per-beam ground truth, if the recording carries it.
@@ -139,6 +146,21 @@ class Scan:
             self._fail(f"angle_min must be finite, got {self.angle_min!r}")
         if not math.isfinite(self.stamp):
             self._fail(f"stamp must be finite, got {self.stamp!r}")
+        if not (self.range_max > 0.0 and self.range_min <= self.range_max):  # NaN fails too
+            self._fail(
+                f"range limits range_min={self.range_min:.6g} m, range_max={self.range_max:.6g} m "
+                "leave no usable beam",
+                hint="the scanner driver wrote broken range limits",
+            )
+        pose = self.pose
+        if pose is not None and not (
+            abs(pose.x) <= POSE_LIMIT and abs(pose.y) <= POSE_LIMIT and math.isfinite(pose.theta)
+        ):
+            self._fail(
+                f"sensor pose ({pose.x:.6g}, {pose.y:.6g}, {pose.theta:.6g}) is beyond "
+                f"{POSE_LIMIT:g} m or not finite",
+                hint="a transform or odometry record is corrupt",
+            )
         if self.intensities is not None:
             inten: FloatArray | None = np.asarray(self.intensities, dtype=np.float64)
             assert inten is not None

@@ -125,6 +125,10 @@ class JumpDistanceParams:
         "merge the last and first segment of a full-circle scan when they are close",
     )
 
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.threshold) and self.threshold > 0.0):
+            raise ValueError(f"threshold must be a positive, finite distance, not {self.threshold}")
+
 
 @dataclass(frozen=True)
 class JumpDistanceSegmenter:

@@ -49,7 +49,7 @@ from laserpeople.background.still_cast import StillCast, Where
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.scan import CoordinateFrame, PointSet, Scan
+from laserpeople.scan import POSE_LIMIT, CoordinateFrame, PointSet, Scan
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -63,6 +63,22 @@ same values; fewer numpy calls), beyond it on arrays (measured: 12 / 21 / 44 us 
 
 class MapFileError(LaserPeopleError):
     """A ROS map (``map.yaml`` and its image) cannot be read."""
+
+
+MAP_RESOLUTION_RANGE = (0.01, 100.0)
+"""Smallest and largest cell size [m] of a prior map (map_server maps use 0.02-0.1)."""
+MAP_PIXEL_LIMIT = 50_000_000
+"""Most pixels of a prior map image (e.g. 7,000 x 7,000: 350 m square at 0.05 m), checked
+from the image header before the pixels are read."""
+GRID_CELL_LIMIT = 2**25
+"""Most cells the occupancy grid may hold (about 1.1 GB; e.g. 580 m x 580 m at 0.1 m).
+A grid that would grow beyond it stops the run with an error: the sensor poses span more
+ground than any recording this grid is meant for (or they are corrupt)."""
+FREE_RANGE_LIMIT = 1000.0
+"""Largest ``free_range`` [m] (the casting's samples per beam are ``free_range /
+resolution``)."""
+MIN_RESOLUTION = 0.001
+"""Smallest cell size [m] of the grid (1 mm)."""
 
 
 @dataclass(frozen=True)
@@ -182,6 +198,12 @@ class OccupancyParams:
             raise ValueError("neighbourhood must be >= 0")
         if min(self.free_range, self.free_margin, self.arrival_window, self.free_period) < 0:
             raise ValueError("free_range, free_margin, arrival_window and free_period must be >= 0")
+        if not self.resolution >= MIN_RESOLUTION:
+            raise ValueError(f"resolution must be at least {MIN_RESOLUTION:g} m")
+        if not self.free_range <= FREE_RANGE_LIMIT:
+            raise ValueError(f"free_range must be at most {FREE_RANGE_LIMIT:g} m")
+        if not self.free_range / self.resolution <= 1e5:
+            raise ValueError("free_range / resolution must be at most 100,000 samples per beam")
         if not self.learn_period >= 0:
             raise ValueError("learn_period must be >= 0")
         if min(self.first_sight_hold, self.first_sight_static) < 0:
@@ -243,6 +265,19 @@ def _parse_map_yaml(path: Path) -> dict[str, str]:
     return out
 
 
+def map_files(path: str | Path | None) -> list[Path]:
+    """The files of a ROS map: ``map.yaml`` and the image it names (just the yaml when it
+    cannot be read; nothing for None), so that a command can refuse to write over them."""
+    if path is None:
+        return []
+    p = Path(path)
+    try:
+        image = Path(_parse_map_yaml(p)["image"])
+    except (LaserPeopleError, KeyError, ValueError):
+        return [p]
+    return [p, image if image.is_absolute() else p.parent / image]
+
+
 def load_ros_map(path: str | Path) -> OccupancyMap:
     """Read a ROS ``map_server`` map: ``map.yaml`` and the PGM/PNG image it names.
 
@@ -267,15 +302,43 @@ def load_ros_map(path: str | Path) -> OccupancyMap:
         occupied_thresh = float(keys.get("occupied_thresh", "0.65"))
     except ValueError as exc:
         raise MapFileError(f"bad number in the map yaml ({exc})", path=p) from exc
-    if len(origin_vals) != 3 or not resolution > 0:
-        raise MapFileError("origin must be [x, y, yaw] and resolution positive", path=p)
+    if len(origin_vals) != 3:
+        raise MapFileError("origin must be [x, y, yaw]", path=p)
+    lo, hi = MAP_RESOLUTION_RANGE
+    if not lo <= resolution <= hi:
+        raise MapFileError(
+            f"resolution {resolution:g} m is outside {lo:g}-{hi:g} m per pixel",
+            path=p,
+            hint="a map_server map gives its cell size in metres, e.g. 0.05",
+        )
+    if not all(abs(v) <= POSE_LIMIT for v in origin_vals):
+        raise MapFileError(
+            f"origin {keys['origin'][:80]} is beyond {POSE_LIMIT:g} m or not finite", path=p
+        )
     image = Path(keys["image"])
     if not image.is_absolute():
         image = p.parent / image
     try:
         with Image.open(image) as im:
+            width, height = im.size
+            if width * height > MAP_PIXEL_LIMIT:
+                raise MapFileError(
+                    f"the map image {image} claims {width} x {height} pixels, more than the "
+                    f"{MAP_PIXEL_LIMIT:,} accepted",
+                    path=p,
+                    hint="the image is damaged, or crop the map to the recorded area",
+                )
             pixels = np.asarray(im.convert("L"), dtype=np.float64)
-    except (OSError, ValueError) as exc:
+    except MapFileError:
+        raise
+    except Image.DecompressionBombError as exc:  # Pillow's own check, for the largest claims
+        raise MapFileError(
+            f"the map image {image} claims more than the {MAP_PIXEL_LIMIT:,} pixels accepted "
+            f"({exc})",
+            path=p,
+            hint="the image is damaged, or crop the map to the recorded area",
+        ) from exc
+    except (OSError, ValueError, MemoryError) as exc:
         raise MapFileError(
             f"cannot read the map image {image} ({exc})",
             path=p,
@@ -357,6 +420,15 @@ class OccupancyGrid:
             new_lo = np.minimum(self._origin, lo - margin)
             new_hi = np.maximum(self._origin + shape - 1, hi + margin)
         size = new_hi - new_lo + 1
+        if int(size[0]) * int(size[1]) > GRID_CELL_LIMIT:
+            res = self.params.resolution
+            raise LaserPeopleError(
+                f"the occupancy grid would span {float(size[0]) * res:.6g} m x "
+                f"{float(size[1]) * res:.6g} m ({int(size[0]) * int(size[1]):,} cells, more "
+                f"than the {GRID_CELL_LIMIT:,} accepted)",
+                hint="the sensor poses jump far apart (a corrupt /tf or odometry record?); "
+                "check them with `laserpeople info`, or raise [occupancy] resolution",
+            )
         self._still.settle(self._seen_free.reshape(-1))  # its flat indices are about to move
         ev = np.zeros(tuple(size))
         touched = np.full(tuple(size), -np.inf)

@@ -12,7 +12,9 @@ module level (``benchmarks/bench_startup.py`` measures it).
 
 from __future__ import annotations
 
+import contextlib
 import sys
+from collections.abc import Iterator
 from typing import Any
 
 import typer
@@ -33,7 +35,7 @@ from laserpeople.cli import (
     view,
 )
 from laserpeople.cli.common import STATE, err_console
-from laserpeople.errors import LaserPeopleError
+from laserpeople.errors import LaserPeopleError, cut_long_values
 
 GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
 """Flags of the whole program that are also accepted after the command name."""
@@ -88,7 +90,26 @@ class LaserPeopleGroup(TyperGroup):
                     param._usage_display_name = _usage_name(param)  # type: ignore[method-assign]
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
-        return super().parse_args(ctx, hoist_global_flags(list(args)))
+        with _short_usage_errors():
+            return super().parse_args(ctx, hoist_global_flags(list(args)))
+
+    def invoke(self, ctx: Any) -> Any:
+        with _short_usage_errors():
+            return super().invoke(ctx)
+
+
+@contextlib.contextmanager
+def _short_usage_errors() -> Iterator[None]:
+    """Usage errors (a bad option value) echo long values cut to their first characters."""
+    from click.exceptions import UsageError
+
+    try:
+        yield
+    except UsageError as exc:
+        short = cut_long_values(exc.message)
+        if short == exc.message:
+            raise
+        raise UsageError(short, ctx=exc.ctx) from exc
 
 
 app = typer.Typer(

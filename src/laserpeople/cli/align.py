@@ -32,8 +32,10 @@ def register(app: typer.Typer) -> None:
         mount: MountOption = None,
     ) -> None:
         from laserpeople.alignment import align_recording, write_mounts
+        from laserpeople.io.paths import check_outputs
         from laserpeople.io.poses import parse_mounts
 
+        check_outputs({"-o": output}, [recording])
         mounts = align_recording(
             recording, reference=reference, static=static, mounts=parse_mounts(mount or [])
         )

@@ -187,10 +187,12 @@ def run_tracking(
         params = with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
+    from laserpeople.background.occupancy import map_files
     from laserpeople.io.paths import check_outputs
 
     check_outputs(
-        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [recording, config]
+        {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate},
+        [recording, config, *map_files(map_path)],
     )
     topics = [topic] if isinstance(topic, str) else topic
     # trackers of points may report groups: their outlines go into the CSV for `view`

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -10,6 +11,11 @@ import typer
 
 from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
 from laserpeople.errors import ConfigError, RecordingError
+
+MAX_ROUNDS = 1000
+"""Most boosting rounds ``train -T`` accepts (100 times the paper's 10)."""
+MAX_JUMP_DISTANCE = 10.0
+"""Largest ``--jump-distance`` [m] (a leg segment is a few decimetres wide)."""
 
 if TYPE_CHECKING:
     from laserpeople.detection.training import LabelledSegments, Unlabelled
@@ -222,8 +228,17 @@ def register(app: typer.Typer) -> None:
             feature_set = parse_feature_set(features)
         except ValueError as exc:
             raise ConfigError(str(exc), hint="use --features 1-13 or 1-14") from exc
-        if rounds < 1:
-            raise ConfigError(f"--rounds must be at least 1, got {rounds}")
+        if not 1 <= rounds <= MAX_ROUNDS:
+            raise ConfigError(
+                f"--rounds must be 1-{MAX_ROUNDS:,}, got {rounds}",
+                hint="Arras et al. 2008 use 10 boosting rounds",
+            )
+        if not (math.isfinite(jump_distance) and 0.0 < jump_distance <= MAX_JUMP_DISTANCE):
+            raise ConfigError(
+                f"--jump-distance must be a distance in (0, {MAX_JUMP_DISTANCE:g}] m, "
+                f"got {jump_distance}",
+                hint="0.13 is the leg_tracker label rule, 0.1 the neko7055 one",
+            )
         if unlabelled not in ("negative", "drop"):
             raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
         mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -63,11 +63,15 @@ EXTENT_LIMIT = 1e6
 """Largest coordinate [m] of ``--extent`` (a laser sees a few hundred metres at most)."""
 FPS_LIMIT = 1000.0
 """Highest ``--fps`` accepted [frames/s]."""
+FPS_MIN = 0.01
+"""Lowest ``--fps`` accepted [frames/s] (a GIF shows a frame at most 655.35 s)."""
 
 
 def _check_fps(fps: float | None) -> float | None:
-    if fps is not None and not (math.isfinite(fps) and 0.0 < fps <= FPS_LIMIT):
-        raise LaserPeopleError(f"--fps {fps!r} must be a number in (0, {FPS_LIMIT:g}]")
+    if fps is not None and not (math.isfinite(fps) and FPS_MIN <= fps <= FPS_LIMIT):
+        raise LaserPeopleError(
+            f"--fps {fps!r} must be a number in [{FPS_MIN:g}, {FPS_LIMIT:g}] frames per second"
+        )
     return fps
 
 
@@ -140,15 +144,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         trail: Annotated[
-            int, typer.Option("--trail", min=0, help="Scans of trail behind tracks.")
+            int, typer.Option("--trail", min=0, max=10_000, help="Scans of trail behind tracks.")
         ] = 20,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
         on_error: OnErrorOption = "stop",
     ) -> None:
         """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
-        from laserpeople.viz import Scene, render
-
         if frame not in _FRAMES:
             raise LaserPeopleError(f"--frame {frame!r} is not one of {', '.join(_FRAMES)}")
         if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
@@ -160,46 +162,12 @@ def register(app: typer.Typer) -> None:
         check_outputs({"-o": output}, [recording, tracks, truth_file])
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
-        if tracks is not None:
-            from laserpeople.pipeline import resolve_topics
-            from laserpeople.pipeline.checks import tracks_mismatch
-
-            try:
-                topic = resolve_topics(source, [topic] if topic else None)[0]
-                problems = tracks_mismatch(tracks, source, topic)
-            except BaseException:
-                source.close()
-                raise
-            for problem in problems:
-                warn(f"{tracks} may not belong to {recording.name}: {problem}")
-        scene = Scene(
-            source,
-            tracks,
-            truth_arg,
-            topic=topic,
-            frame=frame,  # type: ignore[arg-type]
-            tracks_frame=tracks_frame,  # type: ignore[arg-type]
-            start=start,
-            stop=stop,
-            every=every,
-        )
-
-        def bar(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
-            return progress(frames, total, "drawing")
-
-        try:
-            result = render(
-                scene,
-                output,
-                scan=scan,
-                size=size_px,
-                extent=extent_m,
-                fps=fps,
-                trail=trail,
-                progress=bar,
-            )
+        try:  # the recording is closed on every path, the error paths included
+            result, scene = _draw(
+                source, recording, output, tracks, tracks_frame, truth_arg, topic, frame,
+                (start, stop, every), scan, size_px, extent_m, fps, trail,
+            )  # fmt: skip
         finally:
-            report_damage(source)
             source.close()
         what = "frame" if result.frames == 1 else "frames"
         say(
@@ -212,3 +180,62 @@ def register(app: typer.Typer) -> None:
                 "pose for the world frame (`laserpeople info` says why; --frame sensor draws "
                 "them all)"
             )
+
+
+def _draw(
+    source: Any,
+    recording: Path,
+    output: Path,
+    tracks: Path | None,
+    tracks_frame: str | None,
+    truth_arg: str | None,
+    topic: str | None,
+    frame: str,
+    scans: tuple[int | None, int | None, int],
+    scan: int | None,
+    size_px: tuple[int, int] | None,
+    extent_m: tuple[float, float, float, float] | None,
+    fps: float | None,
+    trail: int,
+) -> tuple[Any, Any]:
+    """Check the tracks against the recording, build the scene and render it; returns the
+    render result and the scene. The caller closes ``source``."""
+    from laserpeople.viz import Scene, render
+
+    if tracks is not None:
+        from laserpeople.pipeline import resolve_topics
+        from laserpeople.pipeline.checks import tracks_mismatch
+
+        topic = resolve_topics(source, [topic] if topic else None)[0]
+        for problem in tracks_mismatch(tracks, source, topic):
+            warn(f"{tracks} may not belong to {recording.name}: {problem}")
+    start, stop, every = scans
+    scene = Scene(
+        source,
+        tracks,
+        truth_arg,
+        topic=topic,
+        frame=frame,  # type: ignore[arg-type]
+        tracks_frame=tracks_frame,  # type: ignore[arg-type]
+        start=start,
+        stop=stop,
+        every=every,
+    )
+
+    def bar(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
+        return progress(frames, total, "drawing")
+
+    try:
+        result = render(
+            scene,
+            output,
+            scan=scan,
+            size=size_px,
+            extent=extent_m,
+            fps=fps,
+            trail=trail,
+            progress=bar,
+        )
+    finally:
+        report_damage(source)
+    return result, scene

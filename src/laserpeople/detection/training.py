@@ -32,7 +32,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -292,31 +292,29 @@ def leg_tracker_positive(
 
 
 def read_pose_arrays(path: Path, topic: str) -> list[FloatArray]:
-    """The (x, y) of every pose (L, 2) of each ``geometry_msgs/PoseArray`` on ``topic``."""
-    from rosbags.highlevel import AnyReader
+    """The (x, y) of every pose (L, 2) of each ``geometry_msgs/PoseArray`` on ``topic``
+    (the bag opened and read through :func:`~laserpeople.io.bag_guard.open_reader`)."""
+    from laserpeople.io.bag_guard import bag_messages, open_reader
 
+    reader = open_reader(path)
     try:
-        with AnyReader([path]) as reader:
-            cons = [c for c in reader.connections if c.topic == topic]
-            if not cons:
-                raise RecordingError(
-                    f"no topic {topic!r} with leg labels",
-                    path=path,
-                    hint="give a leg_tracker positive_*_extracted.bag",
-                )
-            out = []
-            for con, _, raw in reader.messages(connections=cons):
-                msg: Any = reader.deserialize(raw, con.msgtype)
-                out.append(
-                    np.array(
-                        [[q.position.x, q.position.y] for q in msg.poses], dtype=np.float64
-                    ).reshape(-1, 2)
-                )
-            return out
-    except RecordingError:
-        raise
-    except Exception as exc:  # rosbags raises many types for a broken file
-        raise RecordingError(f"cannot read leg labels: {exc}", path=path) from exc
+        cons = [c for c in reader.connections if c.topic == topic]
+        if not cons:
+            raise RecordingError(
+                f"no topic {topic!r} with leg labels",
+                path=path,
+                hint="give a leg_tracker positive_*_extracted.bag",
+            )
+        out = []
+        for _, _, msg in bag_messages(reader, cons, path, f"leg labels on {topic}"):
+            try:
+                xy = [[float(q.position.x), float(q.position.y)] for q in msg.poses]
+            except (AttributeError, TypeError, ValueError) as exc:
+                raise RecordingError(f"cannot read leg labels: {exc}", path=path) from exc
+            out.append(np.array(xy, dtype=np.float64).reshape(-1, 2))
+        return out
+    finally:
+        reader.close()
 
 
 def all_negative(

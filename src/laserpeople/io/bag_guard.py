@@ -1,4 +1,5 @@
-"""Bounds on what a damaged bag can make the ``rosbags`` readers allocate.
+"""Bounds on what a damaged bag can make the ``rosbags`` readers allocate, and the one
+guarded way to open a bag (:func:`open_reader`) and read its messages (:func:`bag_messages`).
 
 A ROS 1 record or an MCAP record starts with its length. In a damaged file that length
 can be anything (``0xFFFFFFFF``, ``2**64 - 1``), and ``rosbags`` passes it straight to
@@ -21,9 +22,11 @@ The replacement raises the reader's own ``ReaderError``, which
 from __future__ import annotations
 
 import bz2
+import contextlib
 import io
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from typing import Any, BinaryIO
 
 CHUNK_LIMIT = 256 * 2**20
@@ -168,3 +171,96 @@ def install() -> None:
             "zstd": _guard(lambda d, n: _zstd(d, n, e2), e2),
         }
     _installed = True
+
+
+CORRUPT_HINT = (
+    "the bag is corrupt or truncated; for a ROS 1 bag try `rosbag reindex`, "
+    "otherwise re-record or re-copy it"
+)
+"""What to do about a bag the parser cannot read."""
+
+
+def describe(exc: BaseException) -> str:
+    """An exception of a third-party parser as text for an error message (cut to 300
+    characters)."""
+    text = str(exc)
+    if len(text) > 300:
+        text = text[:300] + "..."
+    kind = type(exc)
+    name = kind.__name__ if kind.__name__ != "error" else f"{kind.__module__}.error"
+    return f"{name}: {text}" if text else name
+
+
+def open_reader(
+    path: str | Path,
+    *,
+    register: Callable[[Any], None] | None = None,
+    hint: str = CORRUPT_HINT,
+) -> Any:
+    """Open a bag-like file (ROS 1 ``.bag``, ROS 2 ``.mcap``/``.db3`` or bag folder) with
+    the bounds of :func:`install` in place: the one way every reader of this package opens a
+    bag (recordings, truth bags, tracks bags, leg labels).
+
+    Args:
+        path: The bag.
+        register: Adds message types to the typestore before the bag is opened.
+        hint: What the user should do when the bag cannot be opened.
+
+    Returns:
+        An open ``rosbags.highlevel.AnyReader`` (close it, or use it in ``with``).
+
+    Raises:
+        RecordingError: The file is missing, or any failure of the parser on a damaged
+            file (rosbags' own errors, ``OverflowError``, ``struct.error``, sqlite/apsw
+            errors, ``UnicodeDecodeError``, ``MemoryError``), naming the file.
+    """
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    from laserpeople.errors import RecordingError
+
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError("file not found", path=p, hint="check the path")
+    install()
+    reader = None
+    try:
+        typestore = get_typestore(Stores.LATEST)
+        if register is not None:
+            register(typestore)
+        reader = AnyReader([p], default_typestore=typestore)
+        reader.open()
+    except Exception as exc:  # any failure of the third-party parser on a damaged file
+        if reader is not None:
+            with contextlib.suppress(Exception):
+                reader.close()
+        raise RecordingError(f"cannot open bag: {describe(exc)}", path=p, hint=hint) from exc
+    return reader
+
+
+def bag_messages(
+    reader: Any, connections: Sequence[Any], path: str | Path, what: str
+) -> Iterator[tuple[Any, int, Any]]:
+    """``(connection, log time [ns], decoded message)`` of ``connections`` in log-time order;
+    a record the parser cannot read or decode ends the read with a
+    :class:`~laserpeople.errors.RecordingError` naming the file, ``what`` is read and the
+    index of the bad message.
+    """
+    from laserpeople.errors import RecordingError
+
+    if not connections:  # an empty list would mean "every topic" to rosbags
+        return
+    index = -1
+    try:
+        messages = reader.messages(connections=list(connections))
+        for conn, log_time, raw in messages:
+            index += 1
+            yield conn, log_time, reader.deserialize(raw, conn.msgtype)
+    except RecordingError:
+        raise
+    except Exception as exc:  # any failure of the third-party parser on a damaged file
+        raise RecordingError(
+            f"cannot read {what} (message {index + 1}): {describe(exc)}",
+            path=path,
+            hint=CORRUPT_HINT,
+        ) from exc

@@ -392,6 +392,7 @@ class CarmenRecording:
         for scan in merged:
             self.scans_read += 1
             yield scan
+        self.damaged.check_read(self.scans_read)
 
     def _pose_for(self, parsed: _Parsed) -> tuple[Pose2D | None, str]:
         if parsed.laser_pose is not None:

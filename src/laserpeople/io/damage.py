@@ -98,16 +98,39 @@ class DamagedRecords:
     def end(self, reason: str, *, topic: str, scan: int, read: int) -> None:
         """Structural damage ends the stream of ``topic``: raise (``stop``) or note it
         (``skip``, the scans before it are kept)."""
+        where = (
+            "cannot read its first scan" if scan <= 0 else f"cannot read on after scan {scan - 1}"
+        )
         if self.on_error == "stop":
             raise RecordingError(
-                f"topic {topic!r}: cannot read on after scan {scan - 1} ({reason}); "
-                f"{read} scans of this topic were read",
+                f"topic {topic!r}: {where} ({reason}); {read} scans of this topic were read",
                 path=self.path,
                 scan=scan,
-                hint="the recording is damaged here; the scans before it can be used with "
-                "--on-error skip; for a ROS 1 bag try `rosbag reindex`",
+                hint=(
+                    "the recording is damaged from its start; re-copy or re-record it"
+                    if scan <= 0
+                    else "the recording is damaged here; the scans before it can be used with "
+                    "--on-error skip"
+                )
+                + "; for a ROS 1 bag try `rosbag reindex`",
             )
         self.truncated = f"topic {topic!r} ends early after {read} scans: {reason}"
+
+    def check_read(self, read: int) -> None:
+        """At the end of a whole read of ``read`` good scans: a read whose every scan was
+        damaged (skipped, or the stream ended before the first good one) is an error,
+        never an empty result.
+
+        Raises:
+            RecordingError: ``read`` is 0 and damage was met.
+        """
+        if read == 0 and (self.count or self.truncated):
+            details = self.summary().replace(f"{self.path}: ", "")
+            raise RecordingError(
+                f"every scan is damaged, none could be used ({details})",
+                path=self.path,
+                hint="the recording is corrupt throughout; re-record or re-copy it",
+            )
 
     def summary(self) -> str:
         """One line for the user; empty when nothing was skipped."""

@@ -29,6 +29,7 @@ from typing import IO, Any
 import numpy as np
 
 from laserpeople.errors import RecordingError
+from laserpeople.io.csv_read import CsvRows
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
@@ -179,8 +180,10 @@ def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int | st
 
 def _read_detections(fh: IO[str], p: Path) -> Iterator[dict[str, float | int | str]]:
     torn: list[str] = []
-    reader = csv.DictReader(complete_lines(fh, torn))
-    if reader.fieldnames is None or tuple(reader.fieldnames[:5]) != HEADER:
+    reader = CsvRows(
+        complete_lines(fh, torn), p, "detections CSV", "expected the header " + ",".join(HEADER)
+    )
+    if tuple(reader.fieldnames[:5]) != HEADER:
         raise RecordingError(
             f"not a detections CSV (header {reader.fieldnames!r:.200})",
             path=p,

@@ -28,6 +28,11 @@ from laserpeople.scan import Scan
 
 NEKO_SEGMENT_THRESHOLD = 0.1
 """Jump distance [m] of the neko7055 label rule."""
+NEKO_XY_LIMIT = 1000.0
+"""Largest |x|, |y| [m] of a point in ``xy_data.txt`` (a 2D laser sees at most a few
+hundred metres; larger values are damage and overflow the segment features)."""
+NEKO_BEAM_LIMIT = 100_000
+"""Most beams per frame (and so segments) a neko7055 file may declare."""
 NEKO_TRAIN_FRAMES = range(0, 60)
 NEKO_TEST_FRAMES = range(60, 120)
 
@@ -59,6 +64,8 @@ def read_neko_scans(path: str | Path, frame_period: float = 0.1) -> list[Scan]:
         raise RecordingError(f"cannot parse neko7055 xy data: {exc}", path=p) from exc
     try:
         beams, dims, frames = (int(v) for v in header)
+        if not (0 < beams <= NEKO_BEAM_LIMIT and frames >= 0):
+            raise ValueError(f"{beams} beams")
     except ValueError as exc:
         raise RecordingError(
             f"bad header {' '.join(header)!r}; expected '<beams> 2 <frames>'", path=p
@@ -69,6 +76,15 @@ def read_neko_scans(path: str | Path, frame_period: float = 0.1) -> list[Scan]:
             f"{data.shape[0]} rows of {data.shape[1] if data.ndim == 2 else 0}",
             path=p,
             hint="the file is truncated or not in the neko7055 layout",
+        )
+    far = np.abs(data) > NEKO_XY_LIMIT
+    if far.any():
+        row = int(np.flatnonzero(far.any(axis=1))[0])
+        raise RecordingError(
+            f"line {row + 2}: point ({data[row, 0]:.6g}, {data[row, 1]:.6g}) is more than "
+            f"{NEKO_XY_LIMIT:g} m from the sensor",
+            path=p,
+            hint="the file is damaged; neko7055 points are metres within the scanner's range",
         )
     xy = data.reshape(frames, beams, 2)
     ranges = np.hypot(xy[..., 0], xy[..., 1])
@@ -93,13 +109,36 @@ def read_neko_labels(path: str | Path) -> tuple[dict[int, frozenset[int]], str]:
     p = Path(path)
     try:
         doc = json.loads(p.read_text(encoding="utf-8"))
-        labels = {int(k): frozenset(int(i) for i in v) for k, v in doc["labels"].items()}
+        labels = {int(k): frozenset(_label_index(i) for i in v) for k, v in doc["labels"].items()}
         rule = str(doc.get("description", ""))
     except FileNotFoundError as exc:
         raise RecordingError("file not found", path=p) from exc
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise RecordingError(f"not a neko7055 label file: {exc!r}", path=p) from exc
+    except (
+        OSError,
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,
+        OverflowError,
+        RecursionError,
+    ) as exc:
+        raise RecordingError(
+            f"not a neko7055 label file: {str(exc)[:200]}",
+            path=p,
+            hint="labels must map frame numbers to lists of segment indices "
+            f"(integers 0-{NEKO_BEAM_LIMIT - 1})",
+        ) from exc
     return labels, rule
+
+
+def _label_index(value: object) -> int:
+    """A segment index of the labels JSON: an integer (or integral number) in
+    ``[0, NEKO_BEAM_LIMIT)``; ValueError otherwise (``Infinity``, ``1e300``, text)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ValueError(f"segment index {str(value)[:40]!r} is not a number")
+    if not (math.isfinite(value) and value == int(value) and 0 <= value < NEKO_BEAM_LIMIT):
+        raise ValueError(f"segment index {value!r} is not an integer 0-{NEKO_BEAM_LIMIT - 1}")
+    return int(value)
 
 
 def read_neko(directory: str | Path, frame_period: float = 0.1) -> NekoData:

@@ -383,6 +383,7 @@ class NpzRecording:
                 continue
             read[s] = read.get(s, 0) + 1
             yield scan
+        self.damaged.check_read(sum(read.values()))
 
     def _scan(
         self,

@@ -30,6 +30,7 @@ from laserpeople.errors import (
     TopicNotFoundError,
     UnsortedStampsError,
 )
+from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
@@ -51,10 +52,8 @@ ODOMETRY_TYPES = frozenset({"nav_msgs/msg/Odometry"})
 _LASERSCAN_FIELDS = frozenset(
     {"header", "angle_min", "angle_max", "angle_increment", "range_min", "range_max", "ranges"}
 )
-_CORRUPT_HINT = (
-    "the bag is corrupt or truncated; for a ROS 1 bag try `rosbag reindex`, "
-    "otherwise re-record or re-copy it"
-)
+_CORRUPT_HINT = CORRUPT_HINT
+_describe = describe
 
 
 METADATA_LIMIT = 1 * 2**20
@@ -107,14 +106,6 @@ def _check_connection(conn: Any, path: Path) -> None:
             path=path,
             hint=_CORRUPT_HINT,
         )
-
-
-def _describe(exc: BaseException) -> str:
-    """An exception of a third-party parser as text for an error message."""
-    text = str(exc)
-    if len(text) > 300:
-        text = text[:300] + "..."
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def _stamp(header: Any) -> float:
@@ -196,20 +187,7 @@ class RosbagRecording:
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
-        from rosbags.highlevel import AnyReader
-        from rosbags.typesys import Stores, get_typestore
-
-        from laserpeople.io import bag_guard
-
-        bag_guard.install()
-        try:
-            reader = AnyReader([self.path], default_typestore=get_typestore(Stores.LATEST))
-            reader.open()
-        except Exception as exc:  # any failure of the third-party parser on a damaged file
-            raise RecordingError(
-                f"cannot open bag: {_describe(exc)}", path=self.path, hint=_CORRUPT_HINT
-            ) from exc
-        return reader
+        return open_reader(self.path)
 
     def __enter__(self) -> RosbagRecording:
         return self
@@ -455,6 +433,7 @@ class RosbagRecording:
         for scan in merged:
             self.scans_read += 1
             yield scan
+        self.damaged.check_read(self.scans_read)
 
     def _topic_scans(
         self, topic: str, tree: TransformTree | None, world: str | None
@@ -478,6 +457,15 @@ class RosbagRecording:
                     self.damaged.end(_describe(exc), topic=topic, scan=index + 1, read=read)
                     return
                 if item is None:
+                    listed = sum(c.msgcount for c in conns)
+                    if index < 0 and listed > 0:  # index and storage disagree: not "no scans"
+                        self.damaged.end(
+                            f"the bag's index lists {listed} messages on this topic but its "
+                            "storage gives none",
+                            topic=topic,
+                            scan=0,
+                            read=0,
+                        )
                     return
                 index += 1
                 try:
@@ -526,7 +514,13 @@ class RosbagRecording:
                         self.scans_without_pose += 1
                         self.pose_misses[(topic, reason)] += 1
                     else:
-                        scan = replace(scan, pose=pose)
+                        try:  # a pose beyond the bounds of Scan makes the scan damaged
+                            scan = replace(scan, pose=pose)
+                        except RecordingError as exc:
+                            self.damaged.record(
+                                exc.detail, topic=topic, scan=index, read=read, kind=type(exc)
+                            )
+                            continue
                 read += 1
                 yield scan
         finally:

@@ -120,7 +120,7 @@ class TracksBagWriter:
     """Writes frames' scans and tracks into an open :class:`BagSink` as ROS messages.
 
     Args:
-        sink: From :func:`laserpeople.io.rosbag_writer.open_bag`.
+        sink: From :func:`laserpeople.io.rosbag_writer.open_reader`.
         scans: Also write the scans (and their poses on ``/tf`` when in the world frame).
     """
 
@@ -262,21 +262,21 @@ def iter_tracks_bag(
     with tracks, in frame order; positions in the frame of the messages (``world`` when
     their ``frame_id`` is ``world``, else ``sensor``).
 
+    The bag is opened and read through :func:`~laserpeople.io.bag_guard.open_reader` and
+    :func:`~laserpeople.io.bag_guard.bag_messages`, as every other bag of this package.
+
     Raises:
-        RecordingError: The bag has no ``/laserpeople/*`` people topics, or a message lacks
-            the ``kind``/``scan`` tags.
+        RecordingError: The bag is missing, damaged or truncated, has no ``/laserpeople/*``
+            people topics, or a person lacks the ``kind``/``scan`` tags or carries a value
+            that is not a number within bounds (the message names the file and message).
     """
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
+    from laserpeople.io.bag_guard import bag_messages, open_reader
 
     p = Path(path)
-    if not p.exists():
-        raise RecordingError("file not found", path=p)
     wanted = kinds or TRACK_KINDS
     topics = {TRACK_TOPICS[k] for k in wanted}
-    store = get_typestore(Stores.LATEST)
-    register_people_types(store)
-    with AnyReader([p], default_typestore=store) as reader:
+    reader = open_reader(p, register=register_people_types, hint=TRACKS_BAG_HINT)
+    try:
         conns = [c for c in reader.connections if c.topic in topics]
         if not conns:
             raise RecordingError(
@@ -286,42 +286,75 @@ def iter_tracks_bag(
             )
         current: list[Track] = []
         key: tuple[int, float, CoordinateFrame] | None = None
-        for conn, _, raw in reader.messages(connections=conns):
-            msg: Any = reader.deserialize(raw, conn.msgtype)
-            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
-            frame: CoordinateFrame = "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
-            for person in msg.people:
-                tags = dict(zip(person.tagnames, person.tags, strict=False))
-                try:
-                    scan = int(tags["scan"])
-                    kind = tags["kind"]
-                except (KeyError, ValueError) as exc:
-                    raise RecordingError(
-                        f"topic {conn.topic}: a person lacks the kind/scan tags", path=p
-                    ) from exc
-                if kind not in wanted:
+        for number, (conn, _, msg) in enumerate(bag_messages(reader, conns, p, "the tracks")):
+            try:
+                stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
+                frame: CoordinateFrame = (
+                    "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
+                )
+                people = [_person_track(person, wanted) for person in msg.people]
+            except (AttributeError, KeyError, TypeError, ValueError, OverflowError) as exc:
+                raise RecordingError(
+                    f"topic {conn.topic}, message {number}: {exc}",
+                    path=p,
+                    hint=TRACKS_BAG_HINT,
+                ) from exc
+            for scan, track in people:
+                if track is None:
                     continue
                 if key is not None and scan != key[0]:
                     if current:
                         yield Tracks(key[1], key[0], tuple(current), key[2])
                     current = []
                 key = (scan, stamp, frame)
-                members = tuple(int(m) for m in tags.get("members", "").split(";") if m)
-                current.append(
-                    Track(
-                        track_id=int(person.name),
-                        kind=kind,
-                        position=np.array([person.position.x, person.position.y]),
-                        velocity=np.array([person.velocity.x, person.velocity.y]),
-                        covariance=np.full((2, 2), np.nan),
-                        size=int(tags.get("size") or 1),
-                        labels=tags.get("labels", ""),
-                        score=float(person.reliability),
-                        members=members,
-                    )
-                )
+                current.append(track)
         if key is not None and current:
             yield Tracks(key[1], key[0], tuple(current), key[2])
+    finally:
+        reader.close()
+
+
+TRACKS_BAG_HINT = "give a bag written by `laserpeople track --bag`, whole and readable"
+
+
+def _person_track(person: Any, wanted: tuple[TrackKind, ...]) -> tuple[int, Track | None]:
+    """(scan index, track) of one ``people_msgs/Person`` (track None: a kind not wanted).
+
+    Raises:
+        ValueError: a tag is missing or a value is not a number within bounds.
+    """
+    from laserpeople.io.tracks_csv import ID_LIMIT
+
+    tags = dict(zip(person.tagnames, person.tags, strict=False))
+    if "scan" not in tags or "kind" not in tags:
+        raise ValueError("a person lacks the kind/scan tags")
+    scan = int(tags["scan"])
+    if not 0 <= scan < ID_LIMIT:
+        raise ValueError(f"scan tag {scan} is negative or too large")
+    kind = tags["kind"]
+    if kind not in wanted:
+        if kind not in TRACK_KINDS:
+            raise ValueError(f"kind {kind[:40]!r} is not one of {', '.join(TRACK_KINDS)}")
+        return scan, None
+    track_id = int(person.name)
+    size = int(tags.get("size") or 1)
+    if not (abs(track_id) < ID_LIMIT and 0 <= size <= 1_000_000):
+        raise ValueError(f"track id {track_id} or size {size} out of bounds")
+    members = tuple(int(m) for m in tags.get("members", "").split(";") if m)
+    position = np.array([float(person.position.x), float(person.position.y)])
+    if not np.all(np.isfinite(position)):
+        raise ValueError(f"track {track_id}: position is not finite")
+    return scan, Track(
+        track_id=track_id,
+        kind=kind,
+        position=position,
+        velocity=np.array([float(person.velocity.x), float(person.velocity.y)]),
+        covariance=np.full((2, 2), np.nan),
+        size=size,
+        labels=str(tags.get("labels", "")),
+        score=float(person.reliability),
+        members=members,
+    )
 
 
 __all__ = [

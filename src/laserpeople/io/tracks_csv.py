@@ -26,7 +26,6 @@ metric and drawing works unchanged; :class:`TrackIdNames` maps them back to the 
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Iterator
 from pathlib import Path
@@ -35,6 +34,7 @@ from typing import Any, get_args
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
+from laserpeople.io.csv_read import CsvRows
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
@@ -232,6 +232,10 @@ ID_LIMIT = 2**62
 """Scan indices (and the integer ids of a truth CSV) read from a CSV stay below this, so
 that they fit int64 arrays with room to spare."""
 
+STAMP_TOLERANCE = 1e-6
+"""Largest difference [s] between the stamps of rows of the same scan (tracks and truth
+CSVs)."""
+
 STRING_ID_BASE = 1 << 40
 """First integer given to a track id that is not an integer (far above any id a tracker
 of this package writes)."""
@@ -298,8 +302,8 @@ def read_tracks_topic(path: str | Path) -> str | None:
     p = _existing_csv(path)
     try:
         with open(p, newline="", encoding="utf-8") as fh:
-            reader = csv.DictReader(fh)
-            if TOPIC_COLUMN not in (reader.fieldnames or []):
+            reader = CsvRows(fh, p, "tracks CSV", TRACKS_HINT)
+            if TOPIC_COLUMN not in reader.fieldnames:
                 return None
             row = next(reader, None)
     except (OSError, UnicodeDecodeError) as exc:
@@ -341,8 +345,8 @@ def _read_tracks(
 ) -> Iterator[Tracks]:
     with open(p, newline="", encoding="utf-8") as fh:
         torn: list[str] = []
-        reader = csv.DictReader(complete_lines(fh, torn))
-        columns = reader.fieldnames or []
+        reader = CsvRows(complete_lines(fh, torn), p, "tracks CSV", TRACKS_HINT)
+        columns = reader.fieldnames
         missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
         if missing:
             raise RecordingError(
@@ -368,6 +372,14 @@ def _read_tracks(
                 current = []
                 key = (scan, stamp)
                 last = scan
+            elif abs(stamp - key[1]) > STAMP_TOLERANCE:
+                raise RecordingError(
+                    f"line {line}: stamp {stamp} differs from {key[1]} given earlier "
+                    "for the same scan",
+                    path=p,
+                    scan=scan,
+                    hint="all rows of one scan must carry the same stamp",
+                )
             if kinds is None or track.kind in kinds:
                 current.append(track)
         if torn:

@@ -169,25 +169,11 @@ def _people(msg: Any, msgtype: str, ids: _PersonIds) -> list[tuple[int, float, f
 
 
 def _open(path: Path) -> Any:
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-
-    from laserpeople.io import bag_guard
-    from laserpeople.io.rosbag import _describe
+    from laserpeople.io.bag_guard import open_reader
 
     if not path.exists():
         raise RecordingError("file not found", path=path, hint="check the path of --truth")
-    typestore = get_typestore(Stores.LATEST)
-    register_people_types(typestore)
-    bag_guard.install()
-    try:
-        reader = AnyReader([path], default_typestore=typestore)
-        reader.open()
-    except Exception as exc:  # any failure of the third-party parser on a damaged file
-        raise RecordingError(
-            f"cannot open bag: {_describe(exc)}", path=path, hint="give a readable .bag/.mcap/.db3"
-        ) from exc
-    return reader
+    return open_reader(path, register=register_people_types, hint="give a readable .bag/.mcap/.db3")
 
 
 def _pick_topic(
@@ -236,7 +222,8 @@ def read_truth_bag(
         MessageTypeError: the truth topic carries another message type.
         RecordingError: the bag cannot be read, or no label pairs with a scan.
     """
-    from laserpeople.io.rosbag import LASERSCAN, _describe
+    from laserpeople.io.bag_guard import bag_messages, describe
+    from laserpeople.io.rosbag import LASERSCAN
 
     p = Path(path)
     reader = _open(p)
@@ -252,8 +239,8 @@ def read_truth_bag(
         by_log: dict[int, list[tuple[int, float, float]]] = {}
         by_stamp: list[tuple[float, list[tuple[int, float, float]]]] = []
         try:
-            for conn, log_time, raw in reader.messages(connections=conns):
-                msg: Any = reader.deserialize(raw, conn.msgtype)
+            what = f"{truth_topic} or {laser}"
+            for conn, log_time, msg in bag_messages(reader, conns, p, what):
                 if conn.topic == laser:
                     stamp = _stamp(msg.header)
                     scan_stamps.append(stamp if stamp != 0.0 else log_time * 1e-9)
@@ -274,7 +261,7 @@ def read_truth_bag(
             raise
         except Exception as exc:  # any failure of the third-party parser on a damaged file
             raise RecordingError(
-                f"cannot read {truth_topic} or {laser}: {_describe(exc)}",
+                f"cannot read {truth_topic} or {laser}: {describe(exc)}",
                 path=p,
                 hint="the bag is corrupt or truncated",
             ) from exc

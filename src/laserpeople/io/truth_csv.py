@@ -22,13 +22,13 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import RecordingError
-from laserpeople.io.tracks_csv import ID_LIMIT
+from laserpeople.io.csv_read import CsvRows
+from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
 REQUIRED = ("scan", "stamp", "person_id", "x", "y")
-STAMP_TOLERANCE = 1e-6
-"""Largest difference [s] between the stamps of rows of the same scan."""
+TRUTH_HINT = "give a CSV scan,stamp,person_id,x,y[,group_id]"
 
 
 def read_truth_csv(path: str | Path) -> list[TruthFrame]:
@@ -63,8 +63,8 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
 def _read_truth_csv(p: Path) -> list[TruthFrame]:
     scans: dict[int, tuple[float, list[tuple[int, float, float, int]]]] = {}
     with open(p, newline="", encoding="utf-8") as fh:
-        reader = csv.DictReader(fh)
-        columns = [c.strip() for c in (reader.fieldnames or [])]
+        reader = CsvRows(fh, p, "ground-truth CSV", TRUTH_HINT)
+        columns = [c.strip() for c in reader.fieldnames]
         reader.fieldnames = columns
         missing = [c for c in REQUIRED if c not in columns]
         if missing:

@@ -58,6 +58,11 @@ class StampCheck:
             yield scan
 
 
+RESTAMP_RANGE = (0.1, 1000.0)
+"""Lowest and highest ``--restamp`` rate [Hz]: laser scanners run at 5-100 Hz; outside this
+range the new stamps would all be equal (1e308 Hz) or overflow (1e-300 Hz)."""
+
+
 class Restamp:
     """Replaces every scan's stamp by a fixed rate: stamp_k = t_0 + k / rate, per laser.
 
@@ -74,8 +79,12 @@ class Restamp:
     """
 
     def __init__(self, rate: float) -> None:
-        if not (math.isfinite(rate) and rate > 0.0):
-            raise ConfigError(f"--restamp must be a positive, finite rate in Hz, got {rate}")
+        lo, hi = RESTAMP_RANGE
+        if not (math.isfinite(rate) and lo <= rate <= hi):
+            raise ConfigError(
+                f"--restamp must be a scan rate in [{lo:g}, {hi:g}] Hz, got {rate:.6g}",
+                hint="give the scanner's rate, e.g. --restamp 12.5",
+            )
         self.rate = float(rate)
         self.restamped = 0
         self.changed = 0
@@ -107,4 +116,4 @@ class Restamp:
         )
 
 
-__all__ = ["STUCK_SCANS", "Restamp", "StampCheck"]
+__all__ = ["RESTAMP_RANGE", "STUCK_SCANS", "Restamp", "StampCheck"]

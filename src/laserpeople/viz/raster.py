@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import math
 import shutil
 import subprocess
 from collections.abc import Iterable, Iterator
@@ -178,11 +179,20 @@ def iter_images(
         renderer.close()
 
 
+MAX_FRAME_SECONDS = 600.0
+"""Longest time [s] an animation frame is shown (a GIF frame delay is a 16-bit count of
+centiseconds: at most 655.35 s)."""
+
+
 def _frame_duration(scene: Scene, fps: float | None) -> float:
-    """Seconds each frame is shown: 1/fps, or the scans' median spacing (real time)."""
+    """Seconds each frame is shown: 1/fps, or the scans' median spacing (real time); at
+    most :data:`MAX_FRAME_SECONDS`."""
     if fps is not None:
-        if fps <= 0:
-            raise LaserPeopleError(f"fps must be positive, got {fps}")
+        if not (math.isfinite(fps) and fps >= 1.0 / MAX_FRAME_SECONDS):
+            raise LaserPeopleError(
+                f"fps {fps!r} is too low: a frame is shown at most {MAX_FRAME_SECONDS:g} s "
+                f"(fps at least {1.0 / MAX_FRAME_SECONDS:.4g})"
+            )
         return 1.0 / fps
     stamps = []
     for f in scene.frames():
@@ -192,6 +202,12 @@ def _frame_duration(scene: Scene, fps: float | None) -> float:
     if len(stamps) < 2:
         return 0.1
     dt = float(np.median(np.diff(stamps)))
+    if dt > MAX_FRAME_SECONDS:
+        raise LaserPeopleError(
+            f"the scans are {dt:.6g} s apart: real time would show each frame longer than "
+            f"{MAX_FRAME_SECONDS:g} s",
+            hint="give --fps",
+        )
     return dt if dt > 0 else 0.1
 
 

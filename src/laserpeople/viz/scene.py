@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Literal, TypeVar
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -304,9 +304,12 @@ class Scene:
         """The frames of the window, in order, in the display frame."""
         scans, rec_truth, close = self._open()
         self.skipped_without_pose = 0
+        streams: list[Iterator[Any]] = []
         try:
-            track_at = _aligned(self._tracks_stream())
-            truth_at = _aligned(self._truth_stream(rec_truth))
+            streams.append(self._tracks_stream())
+            streams.append(self._truth_stream(rec_truth))
+            track_at = _aligned(streams[0])
+            truth_at = _aligned(streams[1])
             for scan in scans:
                 if scan.index < self.start or (scan.index - self.start) % self.every:
                     continue
@@ -317,6 +320,10 @@ class Scene:
                     continue
                 yield self._frame(scan, track_at(scan.index), truth_at(scan.index))
         finally:
+            for stream in (*streams, scans):  # the CSV files they hold open, on every path
+                shut = getattr(stream, "close", None)
+                if shut is not None:
+                    shut()
             close()
 
     def _frame(self, scan: Scan, tracks: Tracks | None, truth: TruthFrame | None) -> SceneFrame:

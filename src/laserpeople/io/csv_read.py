@@ -1,0 +1,75 @@
+"""The one way this package reads a CSV file: :class:`CsvRows`.
+
+Python's :mod:`csv` refuses a field longer than its field limit with a bare
+``_csv.Error``, and a damaged file can hold one (a line without a newline, a quote that
+never closes). :class:`CsvRows` reads with an explicit :data:`FIELD_LIMIT` and turns any
+``csv.Error`` into a :class:`~laserpeople.errors.RecordingError` that names the file, the
+line and what to do. Every CSV reader (tracks, truth, detections) uses it.
+"""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import Any
+
+from laserpeople.errors import RecordingError
+
+FIELD_LIMIT = 131_072
+"""Longest field [characters] a CSV cell may hold (Python's default limit; a tracks CSV's
+longest cells, group contours, are a few hundred characters)."""
+
+
+class CsvRows:
+    """Rows of a CSV as dicts keyed by the header (like :class:`csv.DictReader`).
+
+    Args:
+        lines: The file's lines (an open text file or any iterable of lines).
+        path: The file, for error messages.
+        what: What the file is ("tracks CSV"), for error messages.
+        hint: What to do about a damaged file.
+
+    Raises:
+        RecordingError: (when reading the header or a row) a field is longer than
+            :data:`FIELD_LIMIT` or the CSV is malformed; names the file and the line.
+    """
+
+    def __init__(self, lines: Iterable[str], path: str | Path, what: str, hint: str) -> None:
+        if csv.field_size_limit() != FIELD_LIMIT:
+            csv.field_size_limit(FIELD_LIMIT)
+        self._reader = csv.DictReader(lines)
+        self.path = Path(path)
+        self.what = what
+        self.hint = hint
+
+    def _error(self, exc: csv.Error) -> RecordingError:
+        text = str(exc)
+        if "field larger than field limit" in text:
+            text = f"a field is longer than {FIELD_LIMIT:,} characters (the limit)"
+        return RecordingError(  # (line_num counts the lines read before the bad one)
+            f"line {self._reader.line_num + 1}: not a readable {self.what}: {text}",
+            path=self.path,
+            hint=self.hint,
+        )
+
+    @property
+    def fieldnames(self) -> list[str]:
+        """The header's column names (empty for an empty file)."""
+        try:
+            return list(self._reader.fieldnames or [])
+        except csv.Error as exc:
+            raise self._error(exc) from exc
+
+    @fieldnames.setter
+    def fieldnames(self, names: list[str]) -> None:
+        self._reader.fieldnames = names
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return self
+
+    def __next__(self) -> dict[str, Any]:
+        try:
+            return next(self._reader)
+        except csv.Error as exc:
+            raise self._error(exc) from exc

@@ -20,6 +20,7 @@ from typer.core import TyperArgument, TyperGroup
 
 from laserpeople.cli import (
     align,
+    batch,
     bench,
     demo,
     detect,
@@ -155,6 +156,7 @@ for _module in (
     view,
     demo,
     align,
+    batch,
 ):
     _module.register(app)
 

@@ -11,13 +11,15 @@ buffered and written as row groups of :data:`ROW_GROUP` rows; numbers are not ro
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from laserpeople.errors import RecordingError
 from laserpeople.frame import Frame
-from laserpeople.io.tracks_csv import convert_tracks, format_contour
+from laserpeople.io.tracks_csv import convert_tracks, format_contour, parse_contour
 from laserpeople.scan import CoordinateFrame
-from laserpeople.tracks import Tracks
+from laserpeople.tracks import Track, TrackKind, Tracks
 
 ROW_GROUP = 65_536
 """Rows per Parquet row group."""
@@ -126,11 +128,60 @@ class TracksParquetSink:
         self._closed = True
 
 
-def read_tracks_parquet(path: str | Path) -> Any:
-    """A tracks Parquet file as a ``pyarrow.Table`` (its metadata names the ``frame``)."""
+def iter_tracks_parquet(
+    path: str | Path,
+    frame: CoordinateFrame = "world",
+    kinds: tuple[TrackKind, ...] | None = None,
+) -> Iterator[Tracks]:
+    """Read a tracks Parquet file back as one :class:`Tracks` per scan that has rows, in
+    file order (``frame`` states the frame it was written in, as for
+    :func:`~laserpeople.io.tracks_csv.iter_tracks_csv`; ``kinds`` keeps only those kinds).
+
+    Raises:
+        RecordingError: The file is missing or not a tracks Parquet file.
+    """
+    import numpy as np
     import pyarrow.parquet as pq
 
-    return pq.read_table(Path(path))
+    p = Path(path)
+    try:
+        table = pq.read_table(p)
+    except (OSError, ValueError) as exc:
+        raise RecordingError(f"cannot read the tracks Parquet file: {exc}", path=p) from None
+    missing = [name for name, _ in COLUMNS if name not in table.column_names]
+    if missing:
+        raise RecordingError(
+            f"not a tracks Parquet file: no column {', '.join(missing)}",
+            path=p,
+            hint="give a file written by `laserpeople batch --format parquet`",
+        )
+    cols = {name: table.column(name).to_pylist() for name, _ in COLUMNS}
+    current: list[Track] = []
+    scan: int | None = None
+    stamp = 0.0
+    for k in range(table.num_rows):
+        if scan is not None and cols["scan"][k] != scan:
+            yield Tracks(stamp, scan, tuple(current), frame=frame)
+            current = []
+        scan, stamp = cols["scan"][k], cols["stamp"][k]
+        if kinds is not None and cols["kind"][k] not in kinds:
+            continue
+        current.append(
+            Track(
+                cols["track_id"][k],
+                cols["kind"][k],
+                np.array([cols["x"][k], cols["y"][k]]),
+                np.array([cols["vx"][k], cols["vy"][k]]),
+                np.array(
+                    [[cols["cov_xx"][k], cols["cov_xy"][k]], [cols["cov_xy"][k], cols["cov_yy"][k]]]
+                ),
+                size=cols["size"][k],
+                labels=cols["labels"][k],
+                contour=parse_contour(cols["contour"][k]),
+            )
+        )
+    if scan is not None:
+        yield Tracks(stamp, scan, tuple(current), frame=frame)
 
 
-__all__ = ["COLUMNS", "ROW_GROUP", "TracksParquetSink", "read_tracks_parquet", "tracks_schema"]
+__all__ = ["COLUMNS", "ROW_GROUP", "TracksParquetSink", "iter_tracks_parquet", "tracks_schema"]

@@ -235,7 +235,14 @@ class Hota:
             s = f.sim[r, c]
             keep = s >= 0.5 - EPS
             rows.append(
-                (f.scan, f.stamp, len(f.truth), len(f.tracks), int(keep.sum()), float(s[keep].sum()))
+                (
+                    f.scan,
+                    f.stamp,
+                    len(f.truth),
+                    len(f.tracks),
+                    int(keep.sum()),
+                    float(s[keep].sum()),
+                )
             )
         return FrameTable(HOTA_COLUMNS, tuple(rows))
 

@@ -15,7 +15,7 @@ from laserpeople.errors import ConfigError
 if TYPE_CHECKING:
     from rich.table import Table
 
-    from laserpeople.batch import BatchResult, TopicRow
+    from laserpeople.batch import BatchResult, ClusterSpec, TopicRow, TrackOptions
 
 HELP = (
     "Track many recordings at once on a Dask cluster: one task per recording (every laser "
@@ -196,6 +196,14 @@ def register(app: typer.Typer) -> None:
         force: Annotated[
             bool, typer.Option("--force", help="Track every recording, even those done.")
         ] = False,
+        sweep: Annotated[
+            Path | None,
+            typer.Option(
+                "--sweep",
+                help="TOML grid of settings: track the labelled recordings with each, rank "
+                "them by a metric, score the best on the held-out recordings (docs/batch.md).",
+            ),
+        ] = None,
     ) -> None:
         from laserpeople.batch import ClusterSpec, TrackOptions, parse_topics, run_batch
         from laserpeople.cli.common import JobProgress
@@ -226,6 +234,8 @@ def register(app: typer.Typer) -> None:
             retries=retries,
         )
         paths = expand(recordings)
+        if sweep is not None:
+            raise typer.Exit(_sweep(sweep, paths, out, options, cluster, force))
         with JobProgress(len(paths)) as bar:
             seen: set[str] = set()
 
@@ -241,3 +251,63 @@ def register(app: typer.Typer) -> None:
             result = run_batch(paths, out, options, cluster, force=force, on_done=on_done)
         report(result, out)
         raise typer.Exit(min(result.failed, MAX_EXIT))
+
+
+def _sweep(
+    path: Path,
+    recordings: list[Path],
+    out: Path,
+    options: TrackOptions,
+    cluster: ClusterSpec,
+    force: bool,
+) -> int:
+    """Run a sweep, print its ranking; returns the exit code (settings with failures)."""
+    from rich.table import Table
+
+    from laserpeople.batch.sweep import METRICS, load_sweep, run_sweep
+
+    spec = load_sweep(path)
+    say(f"sweep: {len(spec.settings())} settings, ranked by pooled {spec.metric}")
+    result = run_sweep(
+        recordings,
+        out,
+        options,
+        spec,
+        cluster,
+        force=force,
+        on_setting=lambda s: say(
+            f"settings-{s.index:03d} {s.label}: {spec.metric} {s.tune[spec.metric]:.3f}"
+        ),
+    )
+    table = Table(
+        title=f"sweep ranked by {spec.metric}: tuned on {len(result.tune)} recordings, "
+        f"held out {len(result.held_out)}",
+        show_header=True,
+    )
+    table.add_column("rank", justify="right")
+    table.add_column("settings")
+    for m in METRICS:
+        table.add_column(m, justify="right")
+    for m in METRICS:
+        table.add_column(f"held-out {m}", justify="right")
+    table.add_column("failed", justify="right")
+
+    def num(value: float | None) -> str:
+        return "" if value is None else ("n/a" if value != value else f"{value:.3f}")
+
+    for rank, s in enumerate(result.ranked, start=1):
+        table.add_row(
+            str(rank),
+            s.label,
+            *(num(s.tune.get(m)) for m in METRICS),
+            *(num(s.held_out.get(m)) for m in METRICS),
+            str(s.failed),
+        )
+    console.print(table)
+    best = result.ranked[0]
+    say(
+        f"best: settings-{best.index:03d}; its --config is "
+        f"{out / f'settings-{best.index:03d}' / 'config.toml'}"
+    )
+    say(f"wrote {out / 'sweep.csv'}")
+    return min(sum(s.failed > 0 for s in result.ranked), MAX_EXIT)

@@ -108,7 +108,7 @@ def open_client(spec: ClusterSpec) -> Iterator[Any]:
             threads_per_worker=spec.threads,
             processes=spec.processes,
             memory_limit=spec.memory_limit,
-            dashboard_address=None,
+            dashboard_address=":0",
             silence_logs=logging.ERROR,
         ) as cluster,
         Client(cluster) as client,

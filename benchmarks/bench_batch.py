@@ -72,8 +72,8 @@ def make_data(folder: Path, count: int, seconds: float) -> list[Path]:
     source = paths[0].read_bytes()
     bag = real[0].read_bytes() if real else source
     bad = [
-        ("bad-truncated.npz", source[: len(source) // 3]),
-        ("bad-truncated.bag", bag[: len(bag) // 2]),
+        ("bad-truncated-sim.npz", source[: len(source) // 3]),
+        ("bad-truncated-real.bag", bag[: len(bag) // 2]),
         ("bad-empty.npz", b""),
         ("bad-corrupt.npz", source[:100] + bytes(200) + source[300:]),
     ]

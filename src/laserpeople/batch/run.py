@@ -156,9 +156,9 @@ class BatchResult:
 
 
 def recording_names(paths: Sequence[Path]) -> list[str]:
-    """Unique output stems: the file name without its extension, with a short hash of the
-    full path added where two recordings share a name."""
-    stems = [p.name.removesuffix(".people.csv").split(".")[0] or p.name for p in paths]
+    """Unique output stems: the file name without its last extension, with a short hash of
+    the full path added where two recordings share a name."""
+    stems = [p.stem or p.name for p in paths]
     counts: dict[str, int] = {}
     for s in stems:
         counts[s] = counts.get(s, 0) + 1

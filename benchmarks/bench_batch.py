@@ -138,19 +138,14 @@ def resume_run(paths: list[Path], out: Path) -> dict[str, object]:
     cmd = [sys.executable, "-m", "laserpeople.cli", "-q", "batch", *map(str, paths)]
     cmd += ["--out", str(out), "--topics", "all", "--workers", "2"]
     proc = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.DEVNULL)
-    manifest = out / "manifest.json"
+    manifest = out / "manifest.jsonl"
     while proc.poll() is None:
         time.sleep(0.5)
-        if manifest.exists():
-            try:
-                entries = json.loads(manifest.read_text())["entries"]
-            except (ValueError, KeyError):
-                continue
-            if len(entries) >= len(paths) // 3:
-                os.killpg(proc.pid, signal.SIGKILL)
-                break
+        if manifest.exists() and len(manifest.read_text().splitlines()) >= len(paths) // 3:
+            os.killpg(proc.pid, signal.SIGKILL)
+            break
     proc.wait()
-    finished = len(json.loads(manifest.read_text())["entries"])
+    finished = len(manifest.read_text().splitlines())
     start = time.perf_counter()
     result = run_batch(paths, out, OPTIONS, ClusterSpec(workers=2))
     return {

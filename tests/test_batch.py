@@ -171,8 +171,12 @@ def test_killed_run_resumes_with_only_unfinished_recordings(recordings, client, 
     out = tmp_path / "out"
     killed = run_batch(paths, out, ONE_TOPIC, client=client, task_function=fail_on_crossing)
     assert by_name(killed.rows)["crossing-3"].status == "failed"
-    # a temp file as a killed worker leaves it is never taken for done
+    # a temp file as a killed worker leaves it is never taken for done, nor is a manifest
+    # line cut off by the kill
     (out / "tracks" / ".crossing-3.csv.999-abcdef.tmp").write_text("scan,stamp\n0,")
+    with (out / "manifest.jsonl").open("a") as f:
+        f.write('{"version": 1, "name": "crossing-3", "input_hash": "')
+    assert Manifest(out).torn == 1
     resumed = run_batch(paths, out, ONE_TOPIC, client=client)
     assert {r.name: r.status for r in resumed.rows} == {
         "demo": "skipped",
@@ -246,8 +250,9 @@ def test_cli_exit_code_table_and_evaluate_over_the_folder(recordings, tmp_path):
     res = runner.invoke(app, [*args, "--out", str(out), "--topics", "all", "--no-processes"])
     assert res.exit_code == 1, res.output  # one failed recording
     assert "garbage" in res.output and "failed" in res.output
-    assert (out / "summary.csv").is_file() and (out / "manifest.json").is_file()
-    json.loads((out / "manifest.json").read_text())  # JSON, not pickle
+    assert (out / "summary.csv").is_file()
+    lines = (out / "manifest.jsonl").read_text().splitlines()
+    assert len(lines) == 3 and all(json.loads(line)["version"] == 1 for line in lines)
     res = runner.invoke(app, ["evaluate", str(out), "--json"])
     assert res.exit_code == 0, res.output
     rows = json.loads(res.stdout.strip().splitlines()[-1])

@@ -186,7 +186,7 @@ def run_batch(
 
     Args:
         recordings: Recording paths (bags, .npz, CARMEN logs; ROS 2 bag folders).
-        out: Output folder: ``tracks/``, ``manifest.json``, ``summary.parquet``,
+        out: Output folder: ``tracks/``, ``manifest.jsonl``, ``summary.parquet``,
             ``summary.csv``.
         options: The options (or already resolved ones).
         cluster: Where to run (None: a local cluster sized to the machine).
@@ -239,6 +239,7 @@ def run_batch(
             with open_client(spec) as own:
                 result.workers = len(own.scheduler_info().get("workers", {}))
                 _gather(own, tasks, slots, manifest, spec, on_done, task_function)
+    manifest.compact()
     result.rows = [row for rows in slots for row in (rows or [])]
     result.submitted = len(tasks)
     result.summary = write_summary(result.rows, folder)

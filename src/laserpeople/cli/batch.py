@@ -21,7 +21,7 @@ HELP = (
     "Track many recordings at once on a Dask cluster: one task per recording (every laser "
     "topic on its own, or fused with --topics all), every tracker and option of `track`. "
     "Writes DIR/tracks/NAME[.TOPIC].csv (or .parquet), DIR/summary.parquet and "
-    "DIR/summary.csv (one row per recording and topic) and DIR/manifest.json: a rerun skips "
+    "DIR/summary.csv (one row per recording and topic) and DIR/manifest.jsonl: a rerun skips "
     "the recordings done with the same content and configuration (--force redoes them). A "
     "bad recording gets a row with its error and never stops the rest; the exit code is the "
     "number of failed rows (at most 100). Needs the batch extra (dask, pyarrow)."

@@ -256,7 +256,7 @@ def test_cli_exit_code_table_and_evaluate_over_the_folder(recordings, tmp_path):
     res = runner.invoke(app, ["evaluate", str(out), "--json"])
     assert res.exit_code == 0, res.output
     rows = json.loads(res.stdout.strip().splitlines()[-1])
-    assert [r["recording"] for r in rows] == ["demo fused", "crossing-3 fused", "pooled (2)"]
+    assert [r["recording"] for r in rows] == ["demo laser", "crossing-3 fused", "pooled (2)"]
     assert all(0.0 < r["hota"] <= 1.0 for r in rows)
     res = runner.invoke(app, ["batch", str(tmp_path / "*.nothing"), "--out", str(out)])
     assert res.exit_code != 0 and "matches no file" in str(res.exception or res.output)

@@ -237,6 +237,7 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
             on_error=options.on_error,
             restamp=options.restamp,
         )
+        topic = getattr(pipe.source, "topic", row.topic)  # the laser, when "all" is one
         counts = _Counts()
         for step in pipe:
             _count(counts, step.frame.stamp, step.tracks)
@@ -247,6 +248,7 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
     return TopicRow(
         **dict(
             row.__dict__,
+            topic=topic if isinstance(topic, str) else row.topic,
             scans=stats.frames,
             duration_s=counts.duration,
             people=counts.people,

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from laserpeople.cli.common import MountOption, OnErrorOption, WorldFrameOption, console, say
-from laserpeople.cli.track import TopicOption
 from laserpeople.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -129,7 +128,15 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--config", help="TOML file with tracker and detector parameters."),
         ] = None,
-        topic: TopicOption = None,
+        topic: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--topic",
+                "-t",
+                help="Laser topic (repeatable: several are fused into one frame; default: "
+                "every laser topic on its own).",
+            ),
+        ] = None,
         topics: Annotated[
             str | None,
             typer.Option(

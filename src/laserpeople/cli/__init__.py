@@ -22,6 +22,7 @@ from typer.core import TyperArgument, TyperGroup
 
 from laserpeople.cli import (
     align,
+    batch,
     bench,
     demo,
     detect,
@@ -176,6 +177,7 @@ for _module in (
     view,
     demo,
     align,
+    batch,
 ):
     _module.register(app)
 

@@ -174,6 +174,70 @@ def _progress_bar(items: Iterable[T], total: int | None, description: str) -> It
         bar.advance(task, pending)
 
 
+class JobProgress:
+    """One progress display for a job of many items (recordings): items done of ``total``,
+    scans per second and failures. A bar on a terminal; a plain line every
+    :data:`PIPE_PROGRESS_SECONDS` when stderr is not one; nothing with --quiet. Use as a
+    context manager and call :meth:`advance` per finished item."""
+
+    def __init__(self, total: int, description: str = "recordings") -> None:
+        self.total = total
+        self.description = description
+        self.done = self.scans = self.failed = 0
+        self._start = self._last = time.monotonic()
+        self._bar: Any = None
+        self._task: Any = None
+
+    def __enter__(self) -> JobProgress:
+        if not STATE.quiet and _isatty(sys.stderr):
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+            )
+
+            self._bar = Progress(
+                TextColumn("{task.description}"),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("{task.fields[rate]}", style="progress.data.speed"),
+                TextColumn("{task.fields[failed]}", style="red"),
+                TimeElapsedColumn(),
+                console=err_console,
+                transient=False,
+            )
+            self._bar.__enter__()
+            self._task = self._bar.add_task(self.description, total=self.total, rate="", failed="")
+        return self
+
+    def advance(self, items: int = 1, scans: int = 0, failed: int = 0) -> None:
+        """Count ``items`` finished with ``scans`` scans, ``failed`` of them failed."""
+        self.done += items
+        self.scans += scans
+        self.failed += failed
+        now = time.monotonic()
+        rate = self.scans / max(now - self._start, 1e-9)
+        if self._bar is not None:
+            self._bar.update(
+                self._task,
+                advance=items,
+                rate=f"{rate:,.0f} scans/s",
+                failed=f"{self.failed} failed" if self.failed else "",
+            )
+        elif not STATE.quiet and now - self._last >= PIPE_PROGRESS_SECONDS:
+            self._last = now
+            say(
+                f"{self.description}: {self.done:,}/{self.total:,}, {rate:,.0f} scans/s, "
+                f"{self.failed} failed"
+            )
+
+    def __exit__(self, *exc: object) -> None:
+        if self._bar is not None:
+            self._bar.__exit__(None, None, None)
+
+
 def say(message: str) -> None:
     """Print a status line to stderr unless --quiet."""
     if not STATE.quiet:

@@ -44,43 +44,11 @@ def truth_frames(
     on_error: str = "stop",
 ) -> Iterator[TruthFrame]:
     """Ground-truth frames from a recording with truth, a truth CSV or a bag topic
-    (``BAG[:TOPIC]``); a line about a bag's truth is appended to ``notes``. ``on_error`` is
-    the recording reader's policy for damaged scans (skipped ones are warned of)."""
-    from laserpeople.io.truth_bag import is_bag_path, read_truth_bag, split_truth_spec
+    (``BAG[:TOPIC]``), damaged scans skipped warned of (see
+    :func:`laserpeople.evaluation.recordings.truth_frames`)."""
+    from laserpeople.evaluation.recordings import truth_frames as frames
 
-    path, topic = split_truth_spec(str(spec))
-    if is_bag_path(path):
-        bag = read_truth_bag(path, topic, laser_topic)
-        if notes is not None:
-            notes.append(bag.summary())
-        yield from bag.frames
-        return
-    if topic is not None:
-        raise EvaluationError(
-            f"a topic ({topic!r}) can only be given for a bag",
-            path=path,
-            hint="use BAG:TOPIC with a .bag/.mcap/.db3, or a .npz/.csv without a topic",
-        )
-    if path.suffix.lower() == ".csv":
-        from laserpeople.io.truth_csv import read_truth_csv
-
-        yield from read_truth_csv(path)
-        return
-    from laserpeople.io import open_recording
-    from laserpeople.io.damage import check_on_error
-
-    recording = open_recording(path, on_error=check_on_error(on_error))
-    try:
-        if not recording.has_truth:
-            raise EvaluationError(
-                "the recording has no ground truth",
-                path=path,
-                hint="use a simulated .npz recording or a truth CSV scan,stamp,person_id,x,y",
-            )
-        yield from recording.truth()
-    finally:
-        report_damage(recording)
-        recording.close()
+    return frames(spec, laser_topic, notes, on_error, on_damage=report_damage)
 
 
 def render(report: EvaluationReport) -> Table:
@@ -146,16 +114,23 @@ def register(app: typer.Typer) -> None:
 
     @app.command("evaluate", help=HELP)
     def _command(
-        tracks: Annotated[
-            Path,
-            typer.Argument(metavar="TRACKS", help="Tracks CSV (world frame) or tracks bag."),
-        ],
-        truth: Annotated[
-            str,
-            typer.Option(
-                "--truth", help="Ground truth: .npz recording, .csv, or BAG[:TOPIC] of people."
+        tracks_args: Annotated[
+            list[Path],
+            typer.Argument(
+                metavar="TRACKS...",
+                help="Tracks CSV (world frame), tracks bag or Parquet; several, or the --out "
+                "folder of `laserpeople batch`, give one table of every recording and pooled.",
             ),
         ],
+        truth_args: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--truth",
+                help="Ground truth: .npz recording, .csv, or BAG[:TOPIC] of people (one per "
+                "TRACKS file, in order; for a batch folder found by name: X.people.csv beside "
+                "X.bag, or the .npz itself).",
+            ),
+        ] = None,
         kind: Annotated[
             str, typer.Option("--kind", help="Track kind to score: leg/person/group.")
         ] = "person",
@@ -188,6 +163,21 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from laserpeople.evaluation import EvaluationParams, evaluate
         from laserpeople.io import is_rosbag
+
+        if len(tracks_args) > 1 or (tracks_args[0] / "summary.csv").is_file():
+            if followed_person is not None or per_frame is not None:
+                raise ConfigError(
+                    "--followed-person and --per-frame score one recording",
+                    hint="give one TRACKS file and its --truth",
+                )
+            _many(tracks_args, truth_args or [], kind, gate, as_json, on_error)
+            return
+        if not truth_args or len(truth_args) != 1:
+            raise ConfigError(
+                "one TRACKS file needs one --truth",
+                hint="e.g. laserpeople evaluate tracks.csv --truth run.npz",
+            )
+        tracks, truth = tracks_args[0], truth_args[0]
         from laserpeople.io.paths import check_outputs
         from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
 
@@ -319,3 +309,108 @@ def _followed(
         print(json.dumps(out, allow_nan=False))
     else:
         console.print(render_followed(result, names))
+
+
+def _many(
+    tracks: list[Path], truth: list[str], kind: str, gate: float, as_json: bool, on_error: str
+) -> None:
+    """Score several tracks files (or a batch output folder): one row per recording and the
+    pooled row (CLEAR MOT, IDF1, HOTA)."""
+    from laserpeople.evaluation import EvaluationParams
+    from laserpeople.evaluation.recordings import (
+        batch_pairs,
+        score_recording,
+        score_rows,
+    )
+
+    pairs: list[tuple[str, Path, str | None, str | None]] = []
+    files = [t for t in tracks if not t.is_dir()]
+    for folder in (t for t in tracks if t.is_dir()):
+        pairs.extend(batch_pairs(folder))
+    if truth and len(truth) != len(files):
+        raise ConfigError(
+            f"{len(files)} TRACKS files but {len(truth)} --truth",
+            hint="give one --truth per TRACKS file, in the same order",
+        )
+    if files and not truth:
+        raise ConfigError(
+            "TRACKS files need their --truth (one each, in order)",
+            hint="or give the --out folder of `laserpeople batch`: truth is then found by name",
+        )
+    pairs.extend((f.stem, f, t, None) for f, t in zip(files, truth, strict=True))
+    params = EvaluationParams(gate=gate, kind=kind)
+    scores = []
+    for name, path, spec, topic in progress(pairs, len(pairs), "recordings"):
+        if spec is None:
+            warn(f"{name}: no truth found (no X.people.csv beside it, not a .npz); not scored")
+            continue
+        scores.append(
+            score_recording(name, path, spec, params, laser_topic=topic, on_error=on_error)
+        )
+    if not scores:
+        raise EvaluationError("no recording with truth to score", hint="see --truth")
+    rows = score_rows(scores)
+    for s in scores:
+        if s.error:
+            warn(f"{s.name}: {s.error}")
+    if as_json:
+        safe = [
+            {k: (None if isinstance(v, float) and v != v else v) for k, v in r.items()}
+            for r in rows
+        ]
+        print(json.dumps(safe, allow_nan=False))
+    else:
+        console.print(render_many(rows, gate))
+
+
+def render_many(rows: list[dict[str, object]], gate: float) -> Table:
+    """Per-recording and pooled scores as a rich table."""
+    from rich.table import Table
+
+    from laserpeople.evaluation.hota import HotaParams
+
+    d0 = HotaParams().zero_distance
+    table = Table(
+        title=f"tracks vs ground truth (gate {gate:g} m; HOTA: S = max(0, 1 - d / {d0:g} m))",
+        show_header=True,
+    )
+    columns = (
+        "recording",
+        "MOTA",
+        "MOTP m",
+        "IDF1",
+        "HOTA",
+        "DetA",
+        "AssA",
+        "LocA",
+        "IDSW",
+        "FP",
+        "FN",
+    )
+    keys = (
+        "recording",
+        "mota",
+        "motp_m",
+        "idf1",
+        "hota",
+        "deta",
+        "assa",
+        "loca",
+        "id_switches",
+        "false_positives",
+        "misses",
+    )
+    for c in columns:
+        table.add_column(c, justify="left" if c == "recording" else "right")
+    for r in rows:
+        cells = []
+        for k in keys:
+            v = r[k]
+            if isinstance(v, float):
+                cells.append("n/a" if v != v else (f"{v:.0f}" if k in keys[-3:] else f"{v:.3f}"))
+            else:
+                cells.append(str(v))
+        if r.get("error"):
+            cells[1] = f"error: {r['error']}"
+        table.add_row(*cells)
+    return table

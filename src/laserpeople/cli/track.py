@@ -48,22 +48,9 @@ def tracker_param_classes() -> list[type]:
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
     """The leg detector ``adaboost`` (shipped or ``model`` file) or ``heuristic``, with its
     ``[leg_detector]`` parameters from ``config``."""
-    from laserpeople.detection.detector import (
-        AdaBoostLegDetector,
-        HeuristicLegDetector,
-        LegDetectorParams,
-    )
+    from laserpeople.detection.detector import LegDetectorParams, make_leg_detector
 
-    params = load_config(LegDetectorParams, config)
-    if name == "adaboost":
-        if model is not None:
-            return AdaBoostLegDetector.from_file(model, params)
-        return AdaBoostLegDetector.default(params)
-    if name == "heuristic":
-        if model is not None:
-            raise ConfigError("--model applies to the adaboost detector only")
-        return HeuristicLegDetector(params=params)
-    raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")
+    return make_leg_detector(name, model, load_config(LegDetectorParams, config))
 
 
 TopicOption = Annotated[

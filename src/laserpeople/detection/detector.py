@@ -260,3 +260,22 @@ def default_model() -> LegModel:
             hint="reinstall laserpeople or pass --model",
         ) from exc
     return model_from_json(doc, where)
+
+
+def make_leg_detector(
+    name: str = "adaboost", model: str | Path | None = None, params: LegDetectorParams | None = None
+) -> AdaBoostLegDetector | HeuristicLegDetector:
+    """The leg detector ``adaboost`` (the shipped model, or the model file ``model``) or
+    ``heuristic``, with ``params`` (None: defaults); what ``track --detector`` builds."""
+    from laserpeople.errors import ConfigError
+
+    params = params if params is not None else LegDetectorParams()
+    if name == "adaboost":
+        if model is not None:
+            return AdaBoostLegDetector.from_file(model, params)
+        return AdaBoostLegDetector.default(params)
+    if name == "heuristic":
+        if model is not None:
+            raise ConfigError("--model applies to the adaboost detector only")
+        return HeuristicLegDetector(params=params)
+    raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")

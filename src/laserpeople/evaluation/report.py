@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -13,6 +13,7 @@ from laserpeople.evaluation.detail import FrameTable
 from laserpeople.evaluation.identity import IdentityF1, IdentityResult
 from laserpeople.evaluation.pairing import PairingCounts, pair_by_scan
 from laserpeople.evaluation.params import EvaluationParams
+from laserpeople.evaluation.protocol import Metric
 from laserpeople.evaluation.schenk_motp import SchenkMotp, SchenkMotpResult
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
@@ -130,11 +131,15 @@ def evaluate(
     params: EvaluationParams | None = None,
     *,
     keep_frames: bool = True,
+    also: Sequence[Metric[Any]] = (),
 ) -> TrackingEvaluation:
     """Score a tracker's output against ground truth, pairing them by scan index.
 
     Only scans that have a truth frame are scored (a sparse annotation scores only its
     scans); a truth frame whose scan has no tracks counts all its people as missed.
+
+    ``also``: more metrics (e.g. :class:`~laserpeople.evaluation.hota.Hota`) fed the same
+    pairs of truth frame and tracks.
 
     ``keep_frames=False`` keeps memory independent of the number of frames (one number per
     pair of track and person ids) but gives no per-frame table.
@@ -151,6 +156,8 @@ def evaluate(
     evaluation.pairing = counts
     for truth, frame_tracks in pair_by_scan(truth_frames, tracks, counts):
         evaluation.accumulate(truth, frame_tracks)
+        for metric in also:
+            metric.accumulate(truth, frame_tracks)
     if counts.frames_scored == 0:
         raise EvaluationError(
             "there is no ground-truth frame to score",

@@ -1,0 +1,109 @@
+"""The manifest of a batch output folder: what is done, keyed by content and configuration.
+
+``manifest.jsonl`` in the output folder (JSON lines, never pickle) holds one line per
+finished task: the recording's name, its content hash, the configuration digest and the
+summary rows its task returned; a later line for the same name replaces an earlier one. A
+recording is done when its entry has the same content hash and digest, every row is
+``done`` and every tracks file it names exists; a rerun skips it. A changed recording or
+configuration, a failed row or a missing tracks file makes it run again.
+
+Each finished task appends one line and flushes it, so that a run killed at any moment
+leaves the lines of what had finished (a line cut off by the kill is ignored, its
+recording runs again) and the cost of recording stays constant per task however many
+recordings a run has. :meth:`Manifest.compact` (at the end of a run) rewrites the file with
+one line per recording, to a temporary name and then renamed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+from laserpeople.batch.task import DONE, SKIPPED, TopicRow
+from laserpeople.errors import ConfigError
+
+MANIFEST = "manifest.jsonl"
+VERSION = 1
+
+
+class Manifest:
+    """The entries of ``out/manifest.jsonl`` (see the module docstring).
+
+    Args:
+        out: The output folder.
+
+    Attributes:
+        torn: Lines that could not be read (cut off by a kill); their recordings run again.
+    """
+
+    def __init__(self, out: str | Path) -> None:
+        self.path = Path(out) / MANIFEST
+        self.entries: dict[str, dict[str, Any]] = {}
+        self.torn = 0
+        if self.path.exists():
+            self._read()
+
+    def _read(self) -> None:
+        try:
+            lines = self.path.read_text(encoding="utf-8").splitlines()
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ConfigError(
+                f"the manifest cannot be read: {exc}",
+                path=self.path,
+                hint="delete it (every recording is then tracked again) or use --force",
+            ) from None
+        for line in lines:
+            try:
+                entry = json.loads(line)
+            except ValueError:
+                self.torn += 1
+                continue
+            if not isinstance(entry, dict) or entry.get("version") != VERSION:
+                raise ConfigError(
+                    f"not a batch manifest of version {VERSION}",
+                    path=self.path,
+                    hint="delete it, or choose another --out folder",
+                )
+            self.entries[str(entry.get("name"))] = entry
+
+    def done_rows(self, name: str, input_hash: str, digest: str) -> list[TopicRow] | None:
+        """The rows of ``name`` when it is done with this content and configuration (each
+        marked ``skipped``), else None."""
+        entry = self.entries.get(name)
+        if not entry or entry.get("input_hash") != input_hash or entry.get("config_hash") != digest:
+            return None
+        rows = [TopicRow(**r) for r in entry.get("rows", [])]
+        out = self.path.parent
+        if not rows or any(r.status != DONE or not (out / r.output).is_file() for r in rows):
+            return None
+        return [TopicRow(**dict(r.__dict__, status=SKIPPED, attempts=0)) for r in rows]
+
+    def record(self, name: str, input_hash: str, digest: str, rows: list[TopicRow]) -> None:
+        """Store ``name``'s rows: append one line and flush it."""
+        entry = {
+            "version": VERSION,
+            "name": name,
+            "input_hash": input_hash,
+            "config_hash": digest,
+            "rows": [asdict(r) for r in rows],
+        }
+        self.entries[name] = entry
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.path.open("a", encoding="utf-8") as f:
+            f.write(json.dumps(entry) + "\n")
+            f.flush()
+
+    def compact(self) -> None:
+        """Rewrite the file with one line per recording (temporary name, then rename)."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        temp = self.path.with_name(f".{MANIFEST}.{os.getpid()}.tmp")
+        text = "".join(json.dumps(e) + "\n" for e in self.entries.values())
+        temp.write_text(text, encoding="utf-8")
+        os.replace(temp, self.path)
+        self.torn = 0
+
+
+__all__ = ["MANIFEST", "Manifest"]

@@ -1,0 +1,320 @@
+"""`laserpeople batch`: track many recordings on a Dask cluster, with one summary table."""
+
+from __future__ import annotations
+
+import glob
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from laserpeople.cli.common import MountOption, OnErrorOption, WorldFrameOption, console, say
+from laserpeople.errors import ConfigError
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from laserpeople.batch import BatchResult, ClusterSpec, TopicRow, TrackOptions
+
+HELP = (
+    "Track many recordings at once on a Dask cluster: one task per recording (every laser "
+    "topic on its own, or fused with --topics all), every tracker and option of `track`. "
+    "Writes DIR/tracks/NAME[.TOPIC].csv (or .parquet), DIR/summary.parquet and "
+    "DIR/summary.csv (one row per recording and topic) and DIR/manifest.jsonl: a rerun skips "
+    "the recordings done with the same content and configuration (--force redoes them). A "
+    "bad recording gets a row with its error and never stops the rest; the exit code is the "
+    "number of failed rows (at most 100). Needs the batch extra (dask, pyarrow)."
+)
+
+MAX_EXIT = 100
+"""Largest exit code (the number of failed rows, capped)."""
+
+TABLE_ROWS = 40
+"""Rows printed in full; a larger run prints its failed and retried rows only."""
+
+
+def expand(patterns: list[str]) -> list[Path]:
+    """Recording paths from paths and globs (``**`` recurses), in the order given, each
+    once. A glob matching nothing is a ConfigError; a missing plain path is kept (its row
+    then says so)."""
+    out: list[Path] = []
+    for pattern in patterns:
+        if glob.has_magic(pattern):
+            found = sorted(glob.glob(pattern, recursive=True))
+            found = [f for f in found if not f.endswith(".people.csv")]
+            if not found:
+                raise ConfigError(f"{pattern!r} matches no file", hint="check the glob")
+            out.extend(Path(f) for f in found)
+        else:
+            out.append(Path(pattern))
+    return list(dict.fromkeys(out))
+
+
+def render(rows: list[TopicRow], title: str) -> Table:
+    """The summary rows as a rich table."""
+    from rich.table import Table
+
+    table = Table(title=title, show_header=True)
+    for name, justify in (
+        ("recording", "left"),
+        ("topic", "left"),
+        ("scans", "right"),
+        ("s", "right"),
+        ("people", "right"),
+        ("ids", "right"),
+        ("person-s", "right"),
+        ("ms/scan", "right"),
+        ("status", "left"),
+        ("tries", "right"),
+        ("error", "left"),
+    ):
+        table.add_column(name, justify=justify)  # type: ignore[arg-type]
+    for r in rows:
+        table.add_row(
+            r.name,
+            r.topic,
+            str(r.scans),
+            f"{r.duration_s:.1f}",
+            str(r.people),
+            str(r.ids),
+            f"{r.person_seconds:.1f}",
+            f"{r.track_ms_per_scan:.2f}",
+            r.status,
+            str(r.attempts),
+            r.error,
+        )
+    return table
+
+
+def report(result: BatchResult, out: Path) -> None:
+    """Print the summary table and the totals."""
+    rows = result.rows
+    if len(rows) > TABLE_ROWS:
+        shown = [r for r in rows if r.status == "failed" or r.attempts > 1]
+        title = f"{len(shown)} of {len(rows)} rows: failed or retried (all in summary.csv)"
+    else:
+        shown, title = rows, "batch summary"
+    if shown:
+        console.print(render(shown, title))
+    done = sum(r.status == "done" for r in rows)
+    rate = result.scans / result.seconds if result.seconds > 0 else 0.0
+    say(
+        f"{len(rows)} rows: {done} tracked, {result.skipped} done before (skipped), "
+        f"{result.failed} failed; {result.scans:,} scans in {result.seconds:.1f} s "
+        f"({rate:,.0f} scans/s) on {result.workers} workers"
+    )
+    for r in result.retried:
+        say(f"{r.name} {r.topic}: started {r.attempts} times (a worker died under it)")
+    say(
+        f"wrote {out / 'summary.parquet'}, {out / 'summary.csv'} and the tracks in {out / 'tracks'}"
+    )
+
+
+def register(app: typer.Typer) -> None:
+    """Add the `batch` command to ``app``."""
+
+    @app.command("batch", help=HELP)
+    def _command(
+        recordings: Annotated[
+            list[str],
+            typer.Argument(help="Recordings or globs (quote them: 'runs/**/*.bag')."),
+        ],
+        out: Annotated[Path, typer.Option("--out", "-o", help="Output folder.")],
+        tracker: Annotated[
+            str,
+            typer.Option("--tracker", help="Tracker (as `track`): leg-mht, nn, group-mht, ..."),
+        ] = "leg-mht",
+        config: Annotated[
+            Path | None,
+            typer.Option("--config", help="TOML file with tracker and detector parameters."),
+        ] = None,
+        topic: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--topic",
+                "-t",
+                help="Laser topic (repeatable: several are fused into one frame; default: "
+                "every laser topic on its own).",
+            ),
+        ] = None,
+        topics: Annotated[
+            str | None,
+            typer.Option(
+                "--topics", help="all: fuse every laser topic; each (default): one run per topic."
+            ),
+        ] = None,
+        detector: Annotated[
+            str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
+        ] = "adaboost",
+        model: Annotated[
+            Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
+        ] = None,
+        output_frame: Annotated[
+            str | None, typer.Option("--output-frame", help="sensor or world (as `track`).")
+        ] = None,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
+        people_policy: Annotated[
+            str | None, typer.Option("--people-policy", help="leg-mht: tracks or arras.")
+        ] = None,
+        background: Annotated[
+            str,
+            typer.Option("--background", help="auto, histogram, occupancy or none (as `track`)."),
+        ] = "auto",
+        map_path: Annotated[
+            Path | None, typer.Option("--map", help="ROS map.yaml seeding the occupancy grid.")
+        ] = None,
+        reidentify: Annotated[
+            str | None,
+            typer.Option("--reidentify", help="colour: re-identify by clothing colour."),
+        ] = None,
+        on_error: OnErrorOption = "stop",
+        restamp: Annotated[
+            float | None,
+            typer.Option("--restamp", metavar="HZ", help="Track at this fixed scan rate [Hz]."),
+        ] = None,
+        fmt: Annotated[
+            str, typer.Option("--format", help="Tracks files: csv (as `track`) or parquet.")
+        ] = "csv",
+        scheduler: Annotated[
+            str | None,
+            typer.Option(
+                "--scheduler",
+                help="Address of a running Dask scheduler (tcp://HOST:PORT); default: a local "
+                "cluster. Its workers must see the recordings and --out under the same paths.",
+            ),
+        ] = None,
+        workers: Annotated[
+            int | None,
+            typer.Option("--workers", help="Local workers (default: one per core)."),
+        ] = None,
+        threads: Annotated[int, typer.Option("--threads", help="Threads per local worker.")] = 1,
+        processes: Annotated[
+            bool,
+            typer.Option(
+                "--processes/--no-processes",
+                help="Local workers as processes (default) or as threads of this process.",
+            ),
+        ] = True,
+        retries: Annotated[
+            int,
+            typer.Option("--retries", help="Times a task is restarted after its worker died."),
+        ] = 2,
+        force: Annotated[
+            bool, typer.Option("--force", help="Track every recording, even those done.")
+        ] = False,
+        sweep: Annotated[
+            Path | None,
+            typer.Option(
+                "--sweep",
+                help="TOML grid of settings: track the labelled recordings with each, rank "
+                "them by a metric, score the best on the held-out recordings (docs/batch.md).",
+            ),
+        ] = None,
+    ) -> None:
+        from laserpeople.batch import ClusterSpec, TrackOptions, parse_topics, run_batch
+        from laserpeople.cli.common import JobProgress
+        from laserpeople.cli.track import appearance_choice
+
+        options = TrackOptions(
+            tracker=tracker,
+            config=config,
+            topics=parse_topics(topic, topics),
+            detector=detector,
+            model=model,
+            output_frame=output_frame,
+            world_frame=world_frame,
+            mounts=tuple(mount or ()),
+            people_policy=people_policy,
+            background=background,
+            map_path=map_path,
+            reidentify=appearance_choice(tracker, "off", reidentify),
+            on_error=on_error,
+            restamp=restamp,
+            format=fmt,
+        )
+        cluster = ClusterSpec(
+            scheduler=scheduler,
+            workers=workers,
+            threads=threads,
+            processes=processes,
+            retries=retries,
+        )
+        paths = expand(recordings)
+        if sweep is not None:
+            raise typer.Exit(_sweep(sweep, paths, out, options, cluster, force))
+        with JobProgress(len(paths)) as bar:
+            seen: set[str] = set()
+
+            def on_done(rows: list[TopicRow]) -> None:
+                fresh = rows[0].name not in seen
+                seen.add(rows[0].name)
+                bar.advance(
+                    int(fresh),
+                    sum(r.scans for r in rows if r.status == "done"),
+                    sum(r.status == "failed" for r in rows),
+                )
+
+            result = run_batch(paths, out, options, cluster, force=force, on_done=on_done)
+        report(result, out)
+        raise typer.Exit(min(result.failed, MAX_EXIT))
+
+
+def _sweep(
+    path: Path,
+    recordings: list[Path],
+    out: Path,
+    options: TrackOptions,
+    cluster: ClusterSpec,
+    force: bool,
+) -> int:
+    """Run a sweep, print its ranking; returns the exit code (settings with failures)."""
+    from rich.table import Table
+
+    from laserpeople.batch.sweep import METRICS, load_sweep, run_sweep
+
+    spec = load_sweep(path)
+    say(f"sweep: {len(spec.settings())} settings, ranked by pooled {spec.metric}")
+    result = run_sweep(
+        recordings,
+        out,
+        options,
+        spec,
+        cluster,
+        force=force,
+        on_setting=lambda s: say(
+            f"settings-{s.index:03d} {s.label}: {spec.metric} {s.tune[spec.metric]:.3f}"
+        ),
+    )
+    table = Table(
+        title=f"sweep ranked by {spec.metric}: tuned on {len(result.tune)} recordings, "
+        f"held out {len(result.held_out)}",
+        show_header=True,
+    )
+    table.add_column("rank", justify="right")
+    table.add_column("settings")
+    for m in METRICS:
+        table.add_column(m, justify="right")
+    for m in METRICS:
+        table.add_column(f"held-out {m}", justify="right")
+    table.add_column("failed", justify="right")
+
+    def num(value: float | None) -> str:
+        return "" if value is None else ("n/a" if value != value else f"{value:.3f}")
+
+    for rank, s in enumerate(result.ranked, start=1):
+        table.add_row(
+            str(rank),
+            s.label,
+            *(num(s.tune.get(m)) for m in METRICS),
+            *(num(s.held_out.get(m)) for m in METRICS),
+            str(s.failed),
+        )
+    console.print(table)
+    best = result.ranked[0]
+    say(
+        f"best: settings-{best.index:03d}; its --config is "
+        f"{out / f'settings-{best.index:03d}' / 'config.toml'}"
+    )
+    say(f"wrote {out / 'sweep.csv'}")
+    return min(sum(s.failed > 0 for s in result.ranked), MAX_EXIT)

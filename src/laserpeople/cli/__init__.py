@@ -26,6 +26,7 @@ from laserpeople.cli import (
     evaluate,
     fit,
     info,
+    live,
     scenarios,
     simulate,
     track,
@@ -155,6 +156,7 @@ for _module in (
     view,
     demo,
     align,
+    live,
 ):
     _module.register(app)
 

@@ -57,7 +57,10 @@ def mangle(name: str) -> str:
 class KeyStyle(Protocol):
     """Key expressions of one way of putting ROS 2 on Zenoh."""
 
-    name: Transport
+    @property
+    def name(self) -> Transport:
+        """``bridge`` or ``rmw``."""
+        ...
 
     def key(self, topic: str, msgtype: str) -> str:
         """The key a message of ``msgtype`` on ``topic`` is published on."""

@@ -259,8 +259,8 @@ class RosEncoder:
 
 __all__ = [
     "OUTPUT_PREFIX",
-    "Message",
     "MemorySink",
+    "Message",
     "RosDecoder",
     "RosEncoder",
     "TrackEncoder",

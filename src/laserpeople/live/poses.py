@@ -12,6 +12,7 @@ from the last sample (a live source waits a little for that, see
 
 from __future__ import annotations
 
+import itertools
 import threading
 from collections import deque
 from collections.abc import Iterable, Mapping
@@ -112,8 +113,7 @@ class LiveTransforms:
             pose, reason = tree.lookup(world, frame_id, stamp)
             path = tree.chain(world, frame_id) or []
             settled = all(
-                self._settled(parent, child, stamp)
-                for child, parent in zip(path[:-1], path[1:], strict=True)
+                self._settled(parent, child, stamp) for child, parent in itertools.pairwise(path)
             )
             return pose, reason, settled
 

@@ -233,7 +233,9 @@ class LiveRun:
         """Run until the scans end (:meth:`LiveScans.finish` / :meth:`LiveScans.close`),
         giving each step as its frame is done."""
         try:
-            while not self.scans.finished or self.scans._pushed_back is not None:
+            jumped = True
+            while jumped:
+                jumped = False
                 self.frames = LiveFrames(
                     self.scans, frame=self.frame, grouping=self.grouping, window=self.window
                 )
@@ -245,12 +247,9 @@ class LiveRun:
                         yield step
                 except TimeJump as jump:
                     self.on_reset(str(jump))
-                    transforms = self.scans.transforms
-                    if transforms is not None:
-                        transforms.reset()
-                    continue
-                if self.scans.finished:
-                    break
+                    jumped = True
+                    if self.scans.transforms is not None:
+                        self.scans.transforms.reset()
         finally:
             for sink in self._kept:
                 sink.close_now()

@@ -26,7 +26,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import Counter, deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 
 from laserpeople.errors import ConfigError
@@ -41,7 +41,6 @@ from laserpeople.pipeline.sources import (
     laser_frames,
 )
 from laserpeople.scan import Scan
-
 
 MAX_ARRIVALS = 4096
 """Arrival times kept for scans not yet published (scans that no frame takes are forgotten
@@ -123,7 +122,7 @@ class LiveScans:
         tf_wait: float = 0.1,
         jump_back: float = 0.5,
         jump_ahead: float = 30.0,
-        clock: object = time.monotonic,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         if depth < 1:
             raise ConfigError("the queue depth per laser must be at least 1")
@@ -135,7 +134,7 @@ class LiveScans:
         self.tf_wait = tf_wait
         self.jump_back = jump_back
         self.jump_ahead = jump_ahead
-        self.clock = clock  # type: ignore[assignment]
+        self.clock = clock
         self.counts = LiveCounts()
         self.arrivals: dict[tuple[str, int], float] = {}
         """Arrival time [s, ``clock``] per (laser, scan index) of the scans taken and not
@@ -152,7 +151,7 @@ class LiveScans:
 
     def now(self) -> float:
         """The clock's time [s]."""
-        return float(self.clock())  # type: ignore[operator]
+        return float(self.clock())
 
     def next_index(self, topic: str) -> int:
         """The index the next scan of ``topic`` gets (0-based count of scans received)."""

@@ -89,6 +89,7 @@ def live_rows(
     depth: int = 100_000,
     extra_sinks: Sequence[Any] = (),
     make_pipeline: Any = None,
+    tf_wait: float = 2.0,
 ) -> LiveResult:
     """Play ``bag`` into a Zenoh session on loopback, run live on it, and receive the
     published people and legs in a third session."""
@@ -108,6 +109,8 @@ def live_rows(
         use_poses=frame != "sensor",
         frame=frame,  # type: ignore[arg-type]
         depth=depth,
+        tf_wait=tf_wait,
+        order_wait=tf_wait,
         extra_sinks=extra_sinks,
     )
     session.scans.limit = max_scans

@@ -187,6 +187,7 @@ def test_live_equals_track_on_the_mir_bag_through_rmw_zenoh_keys(shared_data: Pa
     )
     counts = result.session.scans.counts
     assert sum(counts.dropped.values()) == 0 and sum(counts.without_pose.values()) == 0
+    assert counts.tf_timeouts == 0
     assert compare(result.rows, offline) == []
     assert all(k.startswith("0/laserpeople/") for k in result.people_keys)
     kinds = {t.split("/")[5] for t in result.tokens}
@@ -203,7 +204,11 @@ def test_foxglove_client_receives_scans_and_people(sim_bag: Path) -> None:
     from laserpeople.io import open_recording
     from laserpeople.live.foxglove import FoxgloveSink
 
-    viewer = FoxgloveSink(0)
+    with open_recording(sim_bag) as rec:
+        n = rec.topics()[0].count
+        topic = rec.topics()[0].name
+    scan_topic = topic if topic.startswith("/") else "/" + topic
+    viewer = FoxgloveSink(0, lasers=[topic])
     url = f"ws://127.0.0.1:{viewer.port}"
     got: dict[str, int] = {}
     ready = threading.Event()
@@ -235,15 +240,13 @@ def test_foxglove_client_receives_scans_and_people(sim_bag: Path) -> None:
                     sub_id = struct.unpack_from("<I", raw, 1)[0]
                     topic = channels[sub_id]
                     got[topic] = got.get(topic, 0) + 1
-                    if got.get("/laserpeople/people", 0) > 5 and len(got) >= 3:
+                    wanted = ("/laserpeople/people", "/laserpeople/legs", scan_topic)
+                    if all(got.get(t, 0) > 5 for t in wanted):
                         return
 
     thread = threading.Thread(target=lambda: asyncio.run(client()), daemon=True)
     thread.start()
     assert ready.wait(10)
-    with open_recording(sim_bag) as rec:
-        n = rec.topics()[0].count
-        topic = rec.topics()[0].name
     try:
         # the channels are advertised on first use; keep the run going until the client has data
         result = live_rows(sim_bag, [topic], max_scans=n, speed=2.0, extra_sinks=[viewer])
@@ -252,7 +255,7 @@ def test_foxglove_client_receives_scans_and_people(sim_bag: Path) -> None:
     finally:
         done.set()
     assert result.stats.frames > 0
-    assert got.get(topic if topic.startswith("/") else "/" + topic, 0) > 0, got
+    assert got.get(scan_topic, 0) > 0, got
     assert got.get("/laserpeople/people", 0) > 0 and got.get("/laserpeople/legs", 0) > 0, got
 
 
@@ -274,3 +277,71 @@ def test_live_without_the_extra_says_what_to_install(monkeypatch: pytest.MonkeyP
     result = CliRunner().invoke(app, ["live", "--max-scans", "1"])
     assert result.exit_code != 0
     assert "pip install 'laserpeople[live]'" in str(result.exception)
+
+
+def test_scans_leave_in_stamp_order_across_lasers() -> None:
+    clock = [0.0]
+    scans = LiveScans(["/front", "/back"], depth=10, order_wait=0.5, clock=lambda: clock[0])
+    scans.put(_scan(10.00, "/front"), "f")
+    scans.put(_scan(10.08, "/front"), "f")
+    assert scans.take(0.0) is None  # /back has sent nothing as new as 10.00 yet
+    scans.put(_scan(10.04, "/back"), "b")  # arrives late but is older than the second front
+    order = [scans.take(0.0), scans.take(0.0)]
+    assert [(i.scan.sensor, i.scan.stamp) for i in order if i is not None] == [
+        ("/front", 10.00),
+        ("/back", 10.04),
+    ]
+    assert scans.take(0.0) is None  # 10.08 waits for /back ...
+    clock[0] = 0.6
+    item = scans.take(0.0)  # ... at most order_wait
+    assert item is not None and item.scan.stamp == 10.08
+
+
+@pytest.mark.slow
+def test_live_command_records_what_track_replays(sim_bag: Path, tmp_path: Path) -> None:
+    """`laserpeople live --record`: the recording, tracked by `track`, gives the tracks live
+    published; the summary names the latency."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.io import open_recording
+    from laserpeople.io.tracks_bag import iter_tracks_bag
+    from laserpeople.live.replay import replay_bag
+    from laserpeople.live.runner import key_style
+    from laserpeople.live.zenoh_link import Publishers, ZenohSettings, open_session
+    from live_harness import free_port
+
+    with open_recording(sim_bag) as rec:
+        topic, n = rec.topics()[0].name, rec.topics()[0].count
+    port = free_port()
+    out = tmp_path / "live.mcap"
+
+    def play() -> None:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:  # until the command listens and has subscribed
+            tx = open_session(ZenohSettings(connect=(f"tcp/127.0.0.1:{port}",)))
+            pubs = Publishers(tx, key_style("bridge"), block=True)
+            if pubs.matched(topic, "sensor_msgs/msg/LaserScan", timeout=2.0):
+                time.sleep(0.5)
+                replay_bag(sim_bag, pubs.publish, speed=2.0)
+                tx.close()
+                return
+            tx.close()
+
+    player = threading.Thread(target=play, daemon=True)
+    player.start()
+    args = ["live", "--topic", topic, "--listen", f"tcp/127.0.0.1:{port}", "--frame", "sensor"]
+    args += ["--queue", "100000", "--max-scans", str(n), "--record", str(out), "--duration", "120"]
+    result = CliRunner().invoke(app, args)
+    player.join(30)
+    assert result.exit_code == 0, result.output
+    assert f"{topic}: {n} scans received, 0 dropped" in result.output
+    assert "latency from arrival to publication: median" in result.output
+    live_tracks = {t.scan_index: t for t in iter_tracks_bag(out, ("person", "leg"))}
+    replayed = track_rows(out, [topic])
+    assert len(live_tracks) > 10
+    recorded = {
+        i: sorted((tr.kind, tr.track_id, float(tr.position[0]), float(tr.position[1])) for tr in t)
+        for i, t in live_tracks.items()
+    }
+    assert compare(recorded, replayed) == []

@@ -162,6 +162,14 @@ def register(app: typer.Typer) -> None:
                 "--tf-wait", help="Longest wait for a transform covering a scan's stamp [s]."
             ),
         ] = 0.1,
+        order_wait: Annotated[
+            float,
+            typer.Option(
+                "--order-wait",
+                help="Several lasers: longest wait of a scan for the other lasers' scans of "
+                "the same instant, so frames group as in a recording [s].",
+            ),
+        ] = 0.05,
         record: Annotated[
             Path | None,
             typer.Option(
@@ -262,7 +270,7 @@ def register(app: typer.Typer) -> None:
         if foxglove is not None:
             from laserpeople.live.foxglove import FoxgloveSink
 
-            viewer = FoxgloveSink(foxglove, foxglove_host)
+            viewer = FoxgloveSink(foxglove, foxglove_host, lasers=topic or ["/scan"])
             sinks.append(viewer)
         if record is not None:
             from laserpeople.pipeline.sinks import TracksBagSink
@@ -282,6 +290,7 @@ def register(app: typer.Typer) -> None:
             frame=frame,  # type: ignore[arg-type]
             depth=queue,
             tf_wait=tf_wait,
+            order_wait=order_wait,
             grouping=load_config(GroupingParams, config),
             extra_sinks=sinks,
             on_reset=warn,
@@ -335,6 +344,11 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
     if counts.reasons:
         for reason, n in counts.reasons.most_common():
             say(f"{n} scans without a pose: {reason}")
+    if counts.tf_timeouts:
+        say(
+            f"{counts.tf_timeouts} scans waited --tf-wait for a transform in vain and took the "
+            "last one held (within the pose tolerance)"
+        )
     if counts.resets:
         say(f"{counts.resets} time jumps reset tracking")
     say(

@@ -11,11 +11,12 @@ definitions, so Foxglove draws them without ROS. Open Foxglove, "Open connection
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
-from laserpeople.io.rosbag_writer import sensor_frame_id, sensor_topic
+from laserpeople.io.rosbag_writer import SCAN_TYPE, TF_TYPE, sensor_frame_id, sensor_topic
 from laserpeople.live.messages import MemorySink, ros2_typestore
 from laserpeople.live.zenoh_link import INSTALL_HINT
 from laserpeople.tracks import Tracks
@@ -47,10 +48,16 @@ class FoxgloveSink:
         port: TCP port of the WebSocket server (0: any free port, see :attr:`port`).
         host: Address to listen on (``0.0.0.0`` for other machines).
         name: Server name shown by Foxglove.
+        lasers: Laser topics whose channels are advertised from the start (with ``/tf``
+            and the markers), so that a client that connects gets every channel at once.
     """
 
     def __init__(
-        self, port: int = 8765, host: str = "127.0.0.1", name: str = "laserpeople"
+        self,
+        port: int = 8765,
+        host: str = "127.0.0.1",
+        name: str = "laserpeople",
+        lasers: Sequence[str] = (),
     ) -> None:
         foxglove = import_foxglove()
         self._foxglove = foxglove
@@ -68,6 +75,11 @@ class FoxgloveSink:
         self.host = host
         self._channels: dict[str, Any] = {}
         self.frames = 0
+        for laser in lasers:
+            self._channel(sensor_topic(laser), SCAN_TYPE)
+        self._channel(TF_TOPIC, TF_TYPE)
+        for topic in MARKER_TOPICS.values():
+            self._channel(topic, MARKERS_TYPE)
 
     def _channel(self, topic: str, msgtype: str) -> Any:
         channel = self._channels.get(topic)

@@ -29,7 +29,8 @@ class LiveTransforms:
 
     Args:
         world_frame: The world frame; None picks it as ``track`` does (``map``, else
-            ``odom``, else the lasers' common root) at the first lookup that can.
+            ``odom``, else the lasers' common root) at the first lookup after a transform
+            of the robot's arrived (not from the given mounts alone).
         mounts: Fixed laser mounts (child -> (parent, pose)), as ``--mount`` gives them.
         params: Interpolation tolerance and largest gap (as for bags).
         keep: Seconds of samples kept per time-varying transform [s].
@@ -103,11 +104,14 @@ class LiveTransforms:
             if self._tree is None:
                 self._tree = self._build()
             tree = self._tree
-            if self.world_frame is None:
+            if self.world_frame is None and (
+                self._series or any(w in tree.frames() for w in self.params.world_frames)
+            ):
+                # not from the mounts alone: the robot's own transforms may not have come yet
                 self.world_frame = tree.pick_world([frame_id])
             world = self.world_frame
             if world is None:
-                if not tree.frames():
+                if not self._series and not self._static:
                     return None, "no transforms received yet (/tf, /tf_static, odometry)", False
                 return None, "no world frame: laser frame not connected to map or odom", False
             pose, reason = tree.lookup(world, frame_id, stamp)

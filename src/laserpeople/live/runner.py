@@ -280,6 +280,7 @@ class LiveSession:
         frame: See :class:`LiveRun`.
         depth: Scans kept per laser before the oldest is dropped.
         tf_wait: Longest wait for a transform covering a scan [s].
+        order_wait: Several lasers: longest wait for the others' scans of an instant [s].
         grouping: Grouping of several lasers.
         extra_sinks: More outputs after the publisher (a recording, the Foxglove server).
         block: Publishers block on congestion instead of dropping.
@@ -298,6 +299,7 @@ class LiveSession:
     frame: FrameChoice = "auto"
     depth: int = 1
     tf_wait: float = 0.1
+    order_wait: float = 0.05
     grouping: GroupingParams | None = None
     extra_sinks: Sequence[Sink] = ()
     block: bool = False
@@ -312,7 +314,11 @@ class LiveSession:
                 LiveTransforms(self.world_frame, self.mounts) if self.use_poses else None
             )
             self.scans = LiveScans(
-                self.topics.lasers, self.transforms, depth=self.depth, tf_wait=self.tf_wait
+                self.topics.lasers,
+                self.transforms,
+                depth=self.depth,
+                tf_wait=self.tf_wait,
+                order_wait=self.order_wait,
             )
             self.publishers = Publishers(self.session, self.keys, block=self.block)
             self.publishers.declare(output_topics(self.topics.output_prefix))

@@ -6,6 +6,10 @@
   A scan arriving at a full queue pushes out the oldest one, which is *dropped* and counted
   (:attr:`LiveCounts.dropped`), so a slow tracker never builds a backlog: it always works
   on the newest scans.
+- **Order**: scans leave in stamp order over the lasers; with several lasers a scan waits
+  until every other laser has sent one at least as new, at most ``order_wait`` seconds
+  after its arrival (the lasers' different delays would otherwise group frames
+  differently from the recording of the same scans).
 - **Poses**: a scan's pose comes from :class:`~laserpeople.live.poses.LiveTransforms`;
   when the transforms have no sample at or after the scan's stamp yet, the scan waits for
   one up to ``tf_wait`` seconds (as a ROS tf message filter does), then takes what there is
@@ -76,6 +80,8 @@ class LiveCounts:
             topic in :attr:`errors`).
         without_pose: Scans taken without a pose (world frame wanted; see ``reasons``).
         waited_for_tf: Scans that waited for a transform [count].
+        tf_timeouts: Scans whose wait ran out: their pose is the last transform held (within
+            the pose tolerance) rather than interpolated.
         resets: Time jumps that reset tracking.
         errors: The first decoding error per topic.
         reasons: Why scans had no pose, counted.
@@ -87,6 +93,7 @@ class LiveCounts:
     undecodable: Counter[str] = field(default_factory=Counter)
     without_pose: Counter[str] = field(default_factory=Counter)
     waited_for_tf: int = 0
+    tf_timeouts: int = 0
     resets: int = 0
     errors: dict[str, str] = field(default_factory=dict)
     reasons: Counter[str] = field(default_factory=Counter)
@@ -108,6 +115,8 @@ class LiveScans:
         transforms: Pose source (None: no poses, sensor frame).
         depth: Scans kept per laser (the newest); older ones are dropped and counted.
         tf_wait: Longest wait for a transform covering a scan's stamp [s].
+        order_wait: Several lasers: longest wait of a scan for the other lasers' scans of
+            the same instant, so that scans leave in stamp order [s].
         jump_back: A stamp this much before the previous one of its laser is a time jump [s].
         jump_ahead: A stamp this much after the previous one of its laser is a time jump [s].
         clock: Monotonic clock for arrival times [s] (``time.monotonic``).
@@ -120,6 +129,7 @@ class LiveScans:
         *,
         depth: int = 1,
         tf_wait: float = 0.1,
+        order_wait: float = 0.05,
         jump_back: float = 0.5,
         jump_ahead: float = 30.0,
         clock: Callable[[], float] = time.monotonic,
@@ -132,6 +142,7 @@ class LiveScans:
         self.transforms = transforms
         self.depth = depth
         self.tf_wait = tf_wait
+        self.order_wait = order_wait if len(self.topics) > 1 else 0.0
         self.jump_back = jump_back
         self.jump_ahead = jump_ahead
         self.clock = clock
@@ -142,6 +153,7 @@ class LiveScans:
         self._queues: dict[str, deque[_Queued]] = {t: deque() for t in self.topics}
         self._index: Counter[str] = Counter()
         self._last: dict[str, float] = {}
+        self._newest: dict[str, float] = {}
         self._pushed_back: _Queued | None = None
         self._cond = threading.Condition()
         self._closed = False
@@ -174,6 +186,7 @@ class LiveScans:
                 queue.popleft()
                 self.counts.dropped[scan.sensor] += 1
             queue.append(_Queued(scan, frame_id, arrival))
+            self._newest[scan.sensor] = max(self._newest.get(scan.sensor, scan.stamp), scan.stamp)
             self._cond.notify_all()
 
     def undecodable(self, topic: str, error: str) -> None:
@@ -217,6 +230,20 @@ class LiveScans:
                 best = topic
         return best
 
+    def _in_order(self, topic: str) -> bool:
+        """Whether the oldest queued scan (of ``topic``) may leave: every other laser has
+        sent a scan at least as new, or it has waited ``order_wait`` (so that scans leave in
+        stamp order across lasers, as a recording's are read, and a grouped frame does not
+        leave before another laser's scan of the same instant arrived)."""
+        head = self._queues[topic][0]
+        if self._finished or self.now() >= head.arrival + self.order_wait:
+            return True
+        return all(
+            self._newest.get(other, -float("inf")) >= head.scan.stamp
+            for other in self.topics
+            if other != topic
+        )
+
     def take(self, timeout: float | None = None) -> _Queued | None:
         """The oldest queued scan (by stamp, over the lasers), waiting for one; None when
         closed or after ``timeout`` seconds."""
@@ -229,16 +256,21 @@ class LiveScans:
                 if self._closed:
                     return None
                 topic = self._oldest()
-                if topic is not None:
+                if topic is not None and self._in_order(topic):
                     item = self._queues[topic].popleft()
                     self.counts.taken[topic] += 1
                     return item
                 if self._finished:
                     return None
-                left = None if deadline is None else deadline - self.now()
+                now = self.now()
+                left = None if deadline is None else deadline - now
                 if left is not None and left <= 0:
                     return None
-                self._cond.wait(0.2 if left is None else min(left, 0.2))
+                step = 0.2 if left is None else min(left, 0.2)
+                if topic is not None:  # waiting for the other lasers, at most order_wait
+                    head = self._queues[topic][0]
+                    step = min(step, max(1e-3, head.arrival + self.order_wait - now))
+                self._cond.wait(step)
 
     def push_back(self, item: _Queued) -> None:
         """Give ``item`` out again at the next :meth:`take` (the scan that jumped)."""
@@ -259,6 +291,8 @@ class LiveScans:
                         break
                     self._cond.wait(min(left, 0.01))
                     pose, reason, settled = self.transforms.lookup(item.frame_id, scan.stamp)
+            if not settled:
+                self.counts.tf_timeouts += 1
         if pose is None:
             self.counts.without_pose[scan.sensor] += 1
             self.counts.reasons[reason] += 1

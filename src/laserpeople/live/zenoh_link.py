@@ -169,6 +169,16 @@ class Publishers:
         for topic, msgtype in topics.items():
             self._publisher(topic, msgtype)
 
+    def matched(self, topic: str, msgtype: str, timeout: float = 0.0) -> bool:
+        """Whether a subscriber of ``topic`` is reachable, waiting up to ``timeout`` [s]."""
+        pub, _ = self._publisher(topic, msgtype)
+        deadline = time.monotonic() + timeout
+        while not pub.matching_status.matching:
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.05)
+        return True
+
     def publish(self, messages: Sequence[Message]) -> None:
         """Put each message on its topic's key."""
         with self._lock:

@@ -36,7 +36,7 @@ from laserpeople.live.zenoh_link import Publishers, Subscriptions, ZenohSettings
 from laserpeople.pipeline.core import Pipeline, Step
 from laserpeople.pipeline.sources import FrameChoice, GroupingParams
 from laserpeople.pipeline.stages import Sink
-from laserpeople.scan import Pose2D
+from laserpeople.scan import Pose2D, Scan
 
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 
@@ -225,9 +225,19 @@ class LiveRun:
     frames: LiveFrames | None = None
     pipeline: Pipeline | None = None
     last_step: Step | None = None
+    _ready: tuple[LiveFrames, Pipeline] | None = None
 
     def __post_init__(self) -> None:
         self._kept = [KeepOpen(s) for s in self.sinks]
+        self._ready = self._new_pipeline()  # built before scans arrive, not on the first
+
+    def _new_pipeline(self) -> tuple[LiveFrames, Pipeline]:
+        frames = LiveFrames(
+            self.scans, frame=self.frame, grouping=self.grouping, window=self.window
+        )
+        pipeline = self.make_pipeline(frames, self._kept)
+        pipeline.stats = self.stats
+        return frames, pipeline
 
     def steps(self) -> Iterable[Step]:
         """Run until the scans end (:meth:`LiveScans.finish` / :meth:`LiveScans.close`),
@@ -236,11 +246,8 @@ class LiveRun:
             jumped = True
             while jumped:
                 jumped = False
-                self.frames = LiveFrames(
-                    self.scans, frame=self.frame, grouping=self.grouping, window=self.window
-                )
-                self.pipeline = self.make_pipeline(self.frames, self._kept)
-                self.pipeline.stats = self.stats
+                ready, self._ready = self._ready, None
+                self.frames, self.pipeline = ready or self._new_pipeline()
                 try:
                     for step in self.pipeline:
                         self.last_step = step
@@ -284,6 +291,8 @@ class LiveSession:
         grouping: Grouping of several lasers.
         extra_sinks: More outputs after the publisher (a recording, the Foxglove server).
         block: Publishers block on congestion instead of dropping.
+        on_reset: Told the reason of each reset (a time jump).
+        warm: Run :func:`warm_up` before subscribing.
     """
 
     topics: LiveTopics
@@ -304,8 +313,10 @@ class LiveSession:
     extra_sinks: Sequence[Sink] = ()
     block: bool = False
     on_reset: Callable[[str], None] = lambda reason: None
+    warm: bool = True
 
     def __post_init__(self) -> None:
+        self.warm_up_seconds = warm_up(self.make_pipeline) if self.warm else 0.0
         typestore = ros2_typestore()
         self.keys = key_style(self.transport, self.domain, self.hashes, self.key_prefix, typestore)
         self.session = open_session(self.settings)
@@ -374,6 +385,29 @@ class LiveSession:
             self.session.close()
 
 
+def warm_up(make_pipeline: PipelineFactory, scans: int = 5) -> float:
+    """Run a throwaway pipeline over a few synthetic scans (a wall at 3 m, two leg-sized
+    bumps at 1.5 m), so that lazy imports and first-call set-up do not delay the first
+    real scans; returns the seconds it took."""
+    import numpy as np
+
+    from laserpeople.pipeline.sources import laser_frames
+
+    start = time.monotonic()
+    angles = np.linspace(-np.pi / 2, np.pi / 2, 361)
+    ranges = np.full(angles.size, 3.0)
+    for centre in (-0.1, 0.1):
+        ranges[np.abs(angles - centre) < 0.04] = 1.5
+    fake = [
+        Scan.from_angles(i * 0.1, float(angles[0]), float(angles[-1]), float(angles[1] - angles[0]),
+                         ranges, sensor="warm-up", index=i)
+        for i in range(scans)
+    ]  # fmt: skip
+    frames = (f.with_fields(frame="sensor") for f in laser_frames(fake))
+    make_pipeline(frames, []).run()
+    return time.monotonic() - start
+
+
 class StatusMeter:
     """Figures for a one-line status: scans/s over the last seconds, people now, latency,
     dropped.
@@ -418,4 +452,5 @@ __all__ = [
     "StatusMeter",
     "key_style",
     "tracker_pipelines",
+    "warm_up",
 ]

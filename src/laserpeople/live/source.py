@@ -348,7 +348,8 @@ class LiveFrames:
         self.topics = list(scans.topics)
         self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
         self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
-        self.chooser = FrameChooser(frame, window)
+        # a fixed choice needs no look-ahead: a window of one frame adds no latency
+        self.chooser = FrameChooser(frame, window if frame == "auto" else 1)
 
     def __iter__(self) -> Iterator[Frame]:
         scans = self.live.scans()

@@ -357,10 +357,16 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
         f"{stats.median_ms:.2f} ms/scan median"
     )
     if stats.published:
+        stamp = stats.latency("stamp")
+        said = (
+            f"from the scan's stamp: median {stamp:.1f} ms"
+            if abs(stamp) < 60_000
+            else f"the scans' stamps are {stamp / 1e3:.0f} s off this computer's clock (a "
+            "replay, or the robot's clock is not synchronised), so no latency from them"
+        )
         say(
             f"latency from arrival to publication: median {stats.latency('arrival'):.1f} ms, "
-            f"p99 {stats.latency('arrival', 0.99):.1f} ms; from the scan's stamp: median "
-            f"{stats.latency('stamp'):.1f} ms (needs the robot's clock to match ours)"
+            f"p99 {stats.latency('arrival', 0.99):.1f} ms; {said}"
         )
     if record is not None:
         say(f"wrote {record}")

@@ -303,6 +303,8 @@ def register(app: typer.Typer) -> None:
         stop = threading.Event()
 
         def on_signal(signum: int, _frame: Any) -> None:
+            if stop.is_set():  # a second Ctrl-C: stop at once
+                raise KeyboardInterrupt
             session.scans.close()
             stop.set()
 
@@ -316,15 +318,17 @@ def register(app: typer.Typer) -> None:
                 timer.start()
             status.start()
             stats = session.run.run()
-        finally:
             stop.set()
             status.join(timeout=1.0)
+            session.close()
+            _summary(session, stats, record)
+        finally:
+            stop.set()
             if timer is not None:
                 timer.cancel()
+            session.close()
             for s, handler in old.items():
                 signal.signal(s, handler)
-            session.close()
-        _summary(session, stats, record)
 
 
 def _summary(session: Any, stats: Any, record: Path | None) -> None:

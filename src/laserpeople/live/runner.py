@@ -376,7 +376,10 @@ class LiveSession:
         return make_named
 
     def close(self) -> None:
-        """Stop receiving, undeclare everything, close the session."""
+        """Stop receiving, undeclare everything, close the session (once; later calls do
+        nothing)."""
+        if self.session.is_closed():
+            return
         self.scans.close()
         try:
             self.subscriptions.close()

@@ -345,3 +345,30 @@ def test_live_command_records_what_track_replays(sim_bag: Path, tmp_path: Path) 
         for i, t in live_tracks.items()
     }
     assert compare(recorded, replayed) == []
+
+
+def test_live_transforms_interpolate_like_track_and_wait_for_the_robot() -> None:
+    from laserpeople.io.poses import parse_mounts
+    from laserpeople.live.messages import TransformSample
+    from laserpeople.live.poses import LiveTransforms
+
+    tf = LiveTransforms(mounts=parse_mounts(["laser=base_link:0.5,0,0"]))
+    # the mount alone names no world frame: wait for the robot's transforms
+    pose, reason, settled = tf.lookup("laser", 1.0)
+    assert pose is None and not settled and "no transforms" in reason
+    tf.add([TransformSample("odom", "base_link", 0.98, Pose2D(1.0, 0.0, 0.0), 0.0)], static=False,
+           source="/tf")  # fmt: skip
+    pose, _, settled = tf.lookup("laser", 1.0)
+    assert not settled  # no sample at or after 1.0 s yet: held (within 0.05 s)
+    assert pose is not None and (pose.x, pose.y) == pytest.approx((1.5, 0.0))
+    tf.add([TransformSample("odom", "base_link", 1.02, Pose2D(2.0, 0.0, np.pi / 2), 0.0)],
+           static=False, source="/tf")  # fmt: skip
+    pose, _, settled = tf.lookup("laser", 1.0)
+    assert settled and tf.world_frame == "odom"
+    # halfway: base at (1.5, 0) heading pi/4; the laser 0.5 m ahead of it
+    assert pose is not None
+    assert (pose.x, pose.y, pose.theta) == pytest.approx(
+        (1.5 + 0.5 * np.cos(np.pi / 4), 0.5 * np.sin(np.pi / 4), np.pi / 4)
+    )
+    tf.reset()
+    assert tf.lookup("laser", 1.0)[0] is None  # time-varying transforms forgotten

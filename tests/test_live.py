@@ -119,6 +119,7 @@ def test_time_jump_resets_and_the_scan_is_not_lost() -> None:
     assert scans.counts.resets == 1
 
 
+@pytest.mark.slow
 def test_live_run_resets_tracking_on_a_time_jump() -> None:
     """A bag played twice in a loop: the second pass starts new tracks, with a warning."""
     from laserpeople.live.runner import LiveRun, tracker_pipelines
@@ -260,20 +261,11 @@ def test_foxglove_client_receives_scans_and_people(sim_bag: Path) -> None:
 
 
 def test_live_without_the_extra_says_what_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
-    import builtins
-
     from typer.testing import CliRunner
 
     from laserpeople.cli import app
 
-    real = builtins.__import__
-
-    def no_zenoh(name: str, *args: object, **kwargs: object) -> object:
-        if name == "zenoh":
-            raise ImportError(name)
-        return real(name, *args, **kwargs)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(builtins, "__import__", no_zenoh)
+    monkeypatch.setitem(sys.modules, "zenoh", None)  # `import zenoh` raises ImportError
     result = CliRunner().invoke(app, ["live", "--max-scans", "1"])
     assert result.exit_code != 0
     assert "pip install 'laserpeople[live]'" in str(result.exception)

@@ -207,6 +207,10 @@ def register(app: typer.Typer) -> None:
         import signal
         import threading
 
+        from laserpeople.live.zenoh_link import ZenohSettings, import_zenoh
+
+        import_zenoh()  # says what to install before anything else is loaded
+
         from laserpeople.cli.common import ignored_sections
         from laserpeople.cli.track import tracker_param_classes
         from laserpeople.config import check_sections, load_config
@@ -217,12 +221,10 @@ def register(app: typer.Typer) -> None:
             StatusMeter,
             tracker_pipelines,
         )
-        from laserpeople.live.zenoh_link import ZenohSettings, import_zenoh
         from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.pipeline.background import StaticWorldParams, load_static_world
         from laserpeople.tracking import registry
 
-        import_zenoh()  # says what to install before anything else
         if transport not in ("bridge", "rmw"):
             raise ConfigError(f"--transport {transport!r}: choose bridge or rmw")
         if frame not in ("auto", "world", "sensor"):

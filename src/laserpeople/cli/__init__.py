@@ -29,6 +29,7 @@ from laserpeople.cli import (
     evaluate,
     fit,
     info,
+    live,
     scenarios,
     simulate,
     track,
@@ -178,6 +179,7 @@ for _module in (
     demo,
     align,
     batch,
+    live,
 ):
     _module.register(app)
 

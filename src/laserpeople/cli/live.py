@@ -1,0 +1,378 @@
+"""`laserpeople live`: track a running ROS 2 robot's laser scans over Zenoh, publish people."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from laserpeople.cli.common import MountOption, WorldFrameOption, say, warn
+from laserpeople.cli.track import TopicOption, make_detector, with_people_policy
+from laserpeople.errors import ConfigError
+
+
+def _optional_topic(name: str) -> str | None:
+    """A topic option: empty or ``none`` turns the subscription off."""
+    return None if name.strip().lower() in ("", "none") else name
+
+
+def _status_printer(meter: Any, stop: Any) -> None:
+    """Refresh the status line every half second (a line every 10 s when not a terminal)."""
+    import sys
+
+    from laserpeople.cli.common import STATE
+
+    tty = sys.stderr.isatty()
+    period = 0.5 if tty else 10.0
+    while not stop.wait(period):
+        if STATE.quiet:
+            continue
+        line = meter.line()
+        if tty:
+            sys.stderr.write("\r" + line + "\x1b[K")
+            sys.stderr.flush()
+        else:
+            print(line, file=sys.stderr, flush=True)
+    if tty and not STATE.quiet:
+        sys.stderr.write("\n")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the `live` command to ``app``."""
+
+    @app.command("live")
+    def live(
+        tracker: Annotated[
+            str,
+            typer.Option(
+                "--tracker",
+                help="Tracker, as for track: leg-mht, nn, group-mht, csa, "
+                "feet-pf or upper-body-pf.",
+            ),
+        ] = "leg-mht",
+        topic: TopicOption = None,
+        config: Annotated[
+            Path | None,
+            typer.Option("--config", help="TOML file with tracker and detector parameters."),
+        ] = None,
+        detector: Annotated[
+            str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
+        ] = "adaboost",
+        model: Annotated[
+            Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
+        ] = None,
+        people_policy: Annotated[
+            str | None,
+            typer.Option("--people-policy", help="leg-mht person layer: tracks or arras."),
+        ] = None,
+        background: Annotated[
+            str,
+            typer.Option(
+                "--background",
+                help="Static world model, as for track: auto, histogram, occupancy or none.",
+            ),
+        ] = "auto",
+        map_path: Annotated[
+            Path | None,
+            typer.Option("--map", help="ROS map.yaml seeding the occupancy grid (world frame)."),
+        ] = None,
+        world_frame: WorldFrameOption = None,
+        mount: MountOption = None,
+        frame: Annotated[
+            str,
+            typer.Option(
+                "--frame",
+                help="Tracking frame: world (poses from tf/odometry), sensor (no transforms "
+                "subscribed; one laser) or auto (world when most of the first 20 frames have "
+                "poses).",
+            ),
+        ] = "auto",
+        transport: Annotated[
+            str,
+            typer.Option(
+                "--transport",
+                help="How the robot puts ROS 2 on Zenoh: bridge (zenoh-bridge-ros2dds: keys "
+                "are topic names) or rmw (rmw_zenoh: <domain>/<topic>/<type>/<hash> keys and "
+                "liveliness tokens).",
+            ),
+        ] = "bridge",
+        connect: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--connect",
+                help="Zenoh endpoint of the bridge or router (repeatable), e.g. "
+                "tcp/192.168.1.10:7447.",
+            ),
+        ] = None,
+        listen: Annotated[
+            list[str] | None,
+            typer.Option("--listen", help="Zenoh endpoint to listen on (repeatable)."),
+        ] = None,
+        mode: Annotated[
+            str, typer.Option("--mode", help="Zenoh session mode: peer or client.")
+        ] = "peer",
+        scouting: Annotated[
+            bool,
+            typer.Option(
+                "--scouting/--no-scouting", help="Find Zenoh peers by multicast on the LAN."
+            ),
+        ] = False,
+        domain: Annotated[int, typer.Option("--domain", help="ROS domain id (rmw transport).")] = 0,
+        type_hashes: Annotated[
+            str,
+            typer.Option(
+                "--type-hashes",
+                help="rmw transport: rihs01 (Iron, Jazzy and later) or none (Humble).",
+            ),
+        ] = "rihs01",
+        key_prefix: Annotated[
+            str,
+            typer.Option("--key-prefix", help="bridge transport: prefix of every Zenoh key."),
+        ] = "",
+        tf_topic: Annotated[
+            str, typer.Option("--tf-topic", help="tf topic ('none': off).")
+        ] = "/tf",
+        tf_static_topic: Annotated[
+            str, typer.Option("--tf-static-topic", help="Static tf topic ('none': off).")
+        ] = "/tf_static",
+        odom_topic: Annotated[
+            str,
+            typer.Option("--odom-topic", help="nav_msgs/Odometry topic ('none': off)."),
+        ] = "/odom",
+        output_prefix: Annotated[
+            str,
+            typer.Option(
+                "--output-prefix",
+                help="Tracks are published on PREFIX/people, /legs, /groups "
+                "(people_msgs/People) and PREFIX/markers (visualization_msgs/MarkerArray).",
+            ),
+        ] = "/laserpeople",
+        queue: Annotated[
+            int,
+            typer.Option(
+                "--queue",
+                help="Scans kept per laser while the tracker is busy; older ones are dropped "
+                "and counted (1: always the newest).",
+            ),
+        ] = 1,
+        tf_wait: Annotated[
+            float,
+            typer.Option(
+                "--tf-wait", help="Longest wait for a transform covering a scan's stamp [s]."
+            ),
+        ] = 0.1,
+        order_wait: Annotated[
+            float,
+            typer.Option(
+                "--order-wait",
+                help="Several lasers: longest wait of a scan for the other lasers' scans of "
+                "the same instant, so frames group as in a recording [s].",
+            ),
+        ] = 0.05,
+        record: Annotated[
+            Path | None,
+            typer.Option(
+                "--record",
+                help="Write the scans tracked and the published tracks to this .mcap (replay "
+                "it with track).",
+            ),
+        ] = None,
+        foxglove: Annotated[
+            int | None,
+            typer.Option(
+                "--foxglove",
+                metavar="PORT",
+                help="Serve scans, legs, people and groups to Foxglove on this port "
+                "(ws://HOST:PORT; 8765 is Foxglove's default).",
+            ),
+        ] = None,
+        foxglove_host: Annotated[
+            str,
+            typer.Option("--foxglove-host", help="Address the Foxglove server listens on."),
+        ] = "127.0.0.1",
+        duration: Annotated[
+            float | None,
+            typer.Option("--duration", help="Stop after this many seconds."),
+        ] = None,
+        max_scans: Annotated[
+            int | None,
+            typer.Option("--max-scans", help="Stop after receiving this many scans."),
+        ] = None,
+    ) -> None:
+        """Track a running ROS 2 robot without ROS installed: subscribe to its LaserScan
+        topics, /tf and /odom over Zenoh, run the same pipeline as track, and publish the
+        people, legs and groups back (the messages track --bag writes). Runs until Ctrl-C,
+        SIGTERM, --duration or --max-scans; prints a refreshing status line and a summary."""
+        import signal
+        import threading
+
+        from laserpeople.live.zenoh_link import ZenohSettings, import_zenoh
+
+        import_zenoh()  # says what to install before anything else is loaded
+
+        from laserpeople.cli.common import ignored_sections
+        from laserpeople.cli.track import tracker_param_classes
+        from laserpeople.config import check_sections, load_config
+        from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.live.runner import (
+            LiveSession,
+            LiveTopics,
+            StatusMeter,
+            tracker_pipelines,
+        )
+        from laserpeople.pipeline import GroupingParams, LegFusionParams
+        from laserpeople.pipeline.background import StaticWorldParams, load_static_world
+        from laserpeople.tracking import registry
+
+        if transport not in ("bridge", "rmw"):
+            raise ConfigError(f"--transport {transport!r}: choose bridge or rmw")
+        if frame not in ("auto", "world", "sensor"):
+            raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
+        if record is not None and record.suffix.lower() != ".mcap":
+            raise ConfigError(f"--record writes a .mcap, not {record.name!r}")
+        if record is not None:
+            from laserpeople.io.paths import check_outputs
+
+            check_outputs({"--record": record}, [config, model, map_path])
+        entry = registry.get(tracker)
+        ignored_sections(
+            config,
+            check_sections(
+                config,
+                [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls,
+                 *StaticWorldParams.sections()],
+                tracker_param_classes(),
+            ),
+        )  # fmt: skip
+        params: Any = load_config(entry.params_cls, config)
+        if people_policy is not None:
+            params = with_people_policy(params, people_policy, tracker)
+        from laserpeople.io.poses import parse_mounts
+
+        make = tracker_pipelines(
+            tracker,
+            params,
+            detector=make_detector(detector, model, config),
+            leg_fusion=load_config(LegFusionParams, config),
+            background=background,
+            map_path=map_path,
+            static_world=load_static_world(config),
+        )
+        use_poses = frame != "sensor"
+        topics = LiveTopics(
+            lasers=tuple(topic or ["/scan"]),
+            tf=_optional_topic(tf_topic) if use_poses else None,
+            tf_static=_optional_topic(tf_static_topic) if use_poses else None,
+            odometry=_optional_topic(odom_topic) if use_poses else None,
+            output_prefix=output_prefix,
+        )
+        sinks: list[Any] = []
+        viewer = None
+        if foxglove is not None:
+            from laserpeople.live.foxglove import FoxgloveSink
+
+            viewer = FoxgloveSink(foxglove, foxglove_host, lasers=topic or ["/scan"])
+            sinks.append(viewer)
+        if record is not None:
+            from laserpeople.pipeline.sinks import TracksBagSink
+
+            sinks.append(TracksBagSink(record))
+        session = LiveSession(
+            topics,
+            ZenohSettings(mode, tuple(connect or ()), tuple(listen or ()), scouting),  # type: ignore[arg-type]
+            transport,  # type: ignore[arg-type]
+            make,
+            domain=domain,
+            hashes=type_hashes,
+            key_prefix=key_prefix,
+            world_frame=world_frame,
+            mounts=parse_mounts(mount or []),
+            use_poses=use_poses,
+            frame=frame,  # type: ignore[arg-type]
+            depth=queue,
+            tf_wait=tf_wait,
+            order_wait=order_wait,
+            grouping=load_config(GroupingParams, config),
+            extra_sinks=sinks,
+            on_reset=warn,
+        )
+        session.scans.limit = max_scans
+        for laser in topics.lasers:
+            say(f"listening to {laser} on key {session.receiver.keys[laser]}")
+        if viewer is not None:
+            say(f"Foxglove: open ws://{viewer.host}:{viewer.port}")
+        stop = threading.Event()
+
+        def on_signal(signum: int, _frame: Any) -> None:
+            if stop.is_set():  # a second Ctrl-C: stop at once
+                raise KeyboardInterrupt
+            session.scans.close()
+            stop.set()
+
+        old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+        timer = threading.Timer(duration, session.scans.finish) if duration else None
+        status = threading.Thread(
+            target=_status_printer, args=(StatusMeter(session), stop), daemon=True
+        )
+        try:
+            if timer is not None:
+                timer.start()
+            status.start()
+            stats = session.run.run()
+            stop.set()
+            status.join(timeout=1.0)
+            session.close()
+            _summary(session, stats, record)
+        finally:
+            stop.set()
+            if timer is not None:
+                timer.cancel()
+            session.close()
+            for s, handler in old.items():
+                signal.signal(s, handler)
+
+
+def _summary(session: Any, stats: Any, record: Path | None) -> None:
+    """The lines printed when a live run ends."""
+    counts = session.scans.counts
+    run = session.run
+    for laser in session.topics.lasers:
+        say(
+            f"{laser}: {counts.received[laser]} scans received, {counts.dropped[laser]} dropped "
+            f"(queue full), {counts.undecodable[laser]} undecodable"
+        )
+        if laser in counts.errors:
+            warn(f"{laser}: {counts.errors[laser]}")
+    if run.frames is not None:
+        for line in run.frames.summary():
+            say(line)
+    if counts.reasons:
+        for reason, n in counts.reasons.most_common():
+            say(f"{n} scans without a pose: {reason}")
+    if counts.tf_timeouts:
+        say(
+            f"{counts.tf_timeouts} scans waited --tf-wait for a transform in vain and took the "
+            "last one held (within the pose tolerance)"
+        )
+    if counts.resets:
+        say(f"{counts.resets} time jumps reset tracking")
+    say(
+        f"{stats.frames} frames tracked, {stats.published} published: "
+        f"{stats.count('person')} person tracks, {stats.count('leg')} leg tracks; tracking "
+        f"{stats.median_ms:.2f} ms/scan median"
+    )
+    if stats.published:
+        stamp = stats.latency("stamp")
+        said = (
+            f"from the scan's stamp: median {stamp:.1f} ms"
+            if abs(stamp) < 60_000
+            else f"the scans' stamps are {stamp / 1e3:.0f} s off this computer's clock (a "
+            "replay, or the robot's clock is not synchronised), so no latency from them"
+        )
+        say(
+            f"latency from arrival to publication: median {stats.latency('arrival'):.1f} ms, "
+            f"p99 {stats.latency('arrival', 0.99):.1f} ms; {said}"
+        )
+    if record is not None:
+        say(f"wrote {record}")

@@ -1,0 +1,115 @@
+"""Live sinks: publish the tracks, measure latency, and keep sinks open across resets.
+
+:class:`LiveStats` is the run's :class:`~laserpeople.pipeline.core.PipelineStats` with the
+latency of every published frame: from the scan's stamp to publication (needs the robot's
+clock and ours to agree) and from the scan's arrival to publication (our clock only; for a
+fused frame, the arrival of its last scan).
+"""
+
+from __future__ import annotations
+
+import time
+from array import array
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from laserpeople.frame import Frame
+from laserpeople.live.messages import Message, TrackEncoder
+from laserpeople.live.source import LiveScans
+from laserpeople.pipeline.core import PipelineStats
+from laserpeople.pipeline.stages import Sink
+from laserpeople.tracks import Tracks
+
+
+def percentile(values: Sequence[float], q: float) -> float:
+    """The ``q`` quantile (0..1) of ``values`` by the nearest-rank rule (0 when empty)."""
+    if not values:
+        return 0.0
+    ordered = sorted(values)
+    rank = min(len(ordered) - 1, max(0, int(-(-q * len(ordered) // 1)) - 1))
+    return float(ordered[rank])
+
+
+@dataclass
+class LiveStats(PipelineStats):
+    """Pipeline counts and timings, plus latencies of the published frames.
+
+    Attributes:
+        published: Frames whose tracks were published.
+        stamp_ms: Publication time minus the frame's stamp [ms] (wall clocks).
+        arrival_ms: Publication time minus the arrival of the frame's last scan [ms].
+    """
+
+    published: int = 0
+    stamp_ms: array[float] = field(default_factory=lambda: array("d"))
+    arrival_ms: array[float] = field(default_factory=lambda: array("d"))
+
+    def latency(self, which: str = "arrival", q: float = 0.5) -> float:
+        """The ``q`` quantile of the ``arrival`` or ``stamp`` latency [ms]."""
+        values = self.arrival_ms if which == "arrival" else self.stamp_ms
+        return percentile(values, q)
+
+
+class PublishSink:
+    """Publishes each frame's tracks (the ``track --bag`` messages) and records latency.
+
+    Args:
+        publish: Puts messages on the wire (e.g. :meth:`Publishers.publish`).
+        encoder: Turns tracks into messages.
+        scans: The live scans (their arrival times).
+        stats: Where latencies go.
+        wall: Wall clock [s] (``time.time``), compared with stamps.
+    """
+
+    def __init__(
+        self,
+        publish: Callable[[Sequence[Message]], None],
+        encoder: TrackEncoder,
+        scans: LiveScans,
+        stats: LiveStats,
+        wall: Callable[[], float] = time.time,
+    ) -> None:
+        self.publish = publish
+        self.encoder = encoder
+        self.scans = scans
+        self.stats = stats
+        self.wall = wall
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Publish ``tracks`` and record the latencies."""
+        if tracks is None:
+            return
+        self.publish(self.encoder.encode(frame.scans, tracks))
+        now_wall = self.wall()
+        now = self.scans.now()
+        arrivals = [self.scans.arrivals.pop((s.sensor, s.index), None) for s in frame.scans]
+        known = [a for a in arrivals if a is not None]
+        if known:
+            self.stats.arrival_ms.append(1e3 * (now - max(known)))
+        self.stats.stamp_ms.append(1e3 * (now_wall - frame.stamp))
+        self.stats.published += 1
+
+    def close(self) -> None:
+        """Nothing to close (the publishers belong to the run)."""
+
+
+class KeepOpen:
+    """A sink that outlives one pipeline: a reset after a time jump builds a new pipeline,
+    which closes its sinks when it ends; this one closes only with :meth:`close_now`."""
+
+    def __init__(self, sink: Sink) -> None:
+        self.sink = sink
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Pass the frame on."""
+        self.sink.write(frame, tracks)
+
+    def close(self) -> None:
+        """Keep the sink open (see the class notes)."""
+
+    def close_now(self) -> None:
+        """Close the sink."""
+        self.sink.close()
+
+
+__all__ = ["KeepOpen", "LiveStats", "PublishSink", "percentile"]

@@ -1,0 +1,367 @@
+"""A live source: scans as they arrive -> frames for the pipeline, with bounded latency.
+
+:class:`LiveScans` sits between the transport's receiving thread and the pipeline:
+
+- **Keep newest per laser**: each laser has a queue of at most ``depth`` scans (default 1).
+  A scan arriving at a full queue pushes out the oldest one, which is *dropped* and counted
+  (:attr:`LiveCounts.dropped`), so a slow tracker never builds a backlog: it always works
+  on the newest scans.
+- **Order**: scans leave in stamp order over the lasers; with several lasers a scan waits
+  until every other laser has sent one at least as new, at most ``order_wait`` seconds
+  after its arrival (the lasers' different delays would otherwise group frames
+  differently from the recording of the same scans).
+- **Poses**: a scan's pose comes from :class:`~laserpeople.live.poses.LiveTransforms`;
+  when the transforms have no sample at or after the scan's stamp yet, the scan waits for
+  one up to ``tf_wait`` seconds (as a ROS tf message filter does), then takes what there is
+  (the last sample, within the pose tolerance).
+- **Time jumps**: a scan whose stamp is more than ``jump_back`` seconds before the previous
+  scan of its laser (a bag replayed in a loop, a clock reset), or more than ``jump_ahead``
+  seconds after it, raises :class:`TimeJump`; the run resets tracking and says so
+  (:class:`~laserpeople.live.runner.LiveRun`) instead of letting every track die silently.
+
+:class:`LiveFrames` turns the scans into frames exactly as a recording's are made
+(:func:`~laserpeople.pipeline.sources.laser_frames` for one laser,
+:class:`~laserpeople.pipeline.sources.LaserGrouper` for several,
+:class:`~laserpeople.pipeline.sources.FrameChooser` for the coordinate frame).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import Counter, deque
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field, replace
+
+from laserpeople.errors import ConfigError
+from laserpeople.frame import Frame
+from laserpeople.live.poses import LiveTransforms
+from laserpeople.pipeline.sources import (
+    FUSED,
+    FrameChoice,
+    FrameChooser,
+    GroupingParams,
+    LaserGrouper,
+    laser_frames,
+)
+from laserpeople.scan import Scan
+
+MAX_ARRIVALS = 4096
+"""Arrival times kept for scans not yet published (scans that no frame takes are forgotten
+after this many)."""
+
+
+class TimeJump(Exception):  # noqa: N818 (a signal to the run, not an error)
+    """A laser's stamps jumped; the scan that jumped is put back for the next run.
+
+    Attributes:
+        topic: The laser.
+        previous: Stamp of its previous scan [s].
+        stamp: Stamp of the scan that jumped [s].
+    """
+
+    def __init__(self, topic: str, previous: float, stamp: float) -> None:
+        self.topic, self.previous, self.stamp = topic, previous, stamp
+        super().__init__(
+            f"{topic}: stamp jumped {stamp - previous:+.3f} s (from {previous:.3f} to "
+            f"{stamp:.3f}); tracking reset"
+        )
+
+
+@dataclass
+class LiveCounts:
+    """What arrived and what was dropped, per laser.
+
+    Attributes:
+        received: Scans received.
+        dropped: Scans pushed out of a full queue before the pipeline took them.
+        taken: Scans the pipeline took.
+        undecodable: Messages that were not valid scans (each one reported once per
+            topic in :attr:`errors`).
+        without_pose: Scans taken without a pose (world frame wanted; see ``reasons``).
+        waited_for_tf: Scans that waited for a transform [count].
+        tf_timeouts: Scans whose wait ran out: their pose is the last transform held (within
+            the pose tolerance) rather than interpolated.
+        resets: Time jumps that reset tracking.
+        errors: The first decoding error per topic.
+        reasons: Why scans had no pose, counted.
+    """
+
+    received: Counter[str] = field(default_factory=Counter)
+    dropped: Counter[str] = field(default_factory=Counter)
+    taken: Counter[str] = field(default_factory=Counter)
+    undecodable: Counter[str] = field(default_factory=Counter)
+    without_pose: Counter[str] = field(default_factory=Counter)
+    waited_for_tf: int = 0
+    tf_timeouts: int = 0
+    resets: int = 0
+    errors: dict[str, str] = field(default_factory=dict)
+    reasons: Counter[str] = field(default_factory=Counter)
+
+
+@dataclass
+class _Queued:
+    scan: Scan
+    frame_id: str
+    arrival: float
+
+
+class LiveScans:
+    """Thread-safe per-laser bounded queues between a receiver and the pipeline.
+
+    Args:
+        topics: The laser topics, in the order of ``--topic`` (the first is the reference
+            laser of fused frames).
+        transforms: Pose source (None: no poses, sensor frame).
+        depth: Scans kept per laser (the newest); older ones are dropped and counted.
+        tf_wait: Longest wait for a transform covering a scan's stamp [s].
+        order_wait: Several lasers: longest wait of a scan for the other lasers' scans of
+            the same instant, so that scans leave in stamp order [s].
+        jump_back: A stamp this much before the previous one of its laser is a time jump [s].
+        jump_ahead: A stamp this much after the previous one of its laser is a time jump [s].
+        clock: Monotonic clock for arrival times [s] (``time.monotonic``).
+    """
+
+    def __init__(
+        self,
+        topics: Sequence[str],
+        transforms: LiveTransforms | None = None,
+        *,
+        depth: int = 1,
+        tf_wait: float = 0.1,
+        order_wait: float = 0.05,
+        jump_back: float = 0.5,
+        jump_ahead: float = 30.0,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        if depth < 1:
+            raise ConfigError("the queue depth per laser must be at least 1")
+        if not topics:
+            raise ConfigError("give at least one laser topic")
+        self.topics = tuple(topics)
+        self.transforms = transforms
+        self.depth = depth
+        self.tf_wait = tf_wait
+        self.order_wait = order_wait if len(self.topics) > 1 else 0.0
+        self.jump_back = jump_back
+        self.jump_ahead = jump_ahead
+        self.clock = clock
+        self.counts = LiveCounts()
+        self.arrivals: dict[tuple[str, int], float] = {}
+        """Arrival time [s, ``clock``] per (laser, scan index) of the scans taken and not
+        yet published."""
+        self._queues: dict[str, deque[_Queued]] = {t: deque() for t in self.topics}
+        self._index: Counter[str] = Counter()
+        self._last: dict[str, float] = {}
+        self._newest: dict[str, float] = {}
+        self._pushed_back: _Queued | None = None
+        self._cond = threading.Condition()
+        self._closed = False
+        self._finished = False
+        self.limit: int | None = None
+        """Scans to receive before the input ends (None: no limit); later ones are ignored."""
+
+    def now(self) -> float:
+        """The clock's time [s]."""
+        return float(self.clock())
+
+    def next_index(self, topic: str) -> int:
+        """The index the next scan of ``topic`` gets (0-based count of scans received)."""
+        return self._index[topic]
+
+    def put(self, scan: Scan, frame_id: str) -> None:
+        """Add a received scan (from the receiving thread; its ``index`` is set to the count
+        of scans of its laser before it); a full queue drops its oldest scan."""
+        arrival = self.now()
+        with self._cond:
+            if self._finished or self._closed:
+                return
+            queue = self._queues[scan.sensor]
+            scan = replace(scan, index=self._index[scan.sensor])
+            self.counts.received[scan.sensor] += 1
+            self._index[scan.sensor] += 1
+            if self.limit is not None and sum(self.counts.received.values()) >= self.limit:
+                self._finished = True
+            if len(queue) >= self.depth:
+                queue.popleft()
+                self.counts.dropped[scan.sensor] += 1
+            queue.append(_Queued(scan, frame_id, arrival))
+            self._newest[scan.sensor] = max(self._newest.get(scan.sensor, scan.stamp), scan.stamp)
+            self._cond.notify_all()
+
+    def undecodable(self, topic: str, error: str) -> None:
+        """Count a message that was not a valid scan (the first error per topic is kept)."""
+        with self._cond:
+            self.counts.undecodable[topic] += 1
+            self.counts.errors.setdefault(topic, error)
+
+    def poke(self) -> None:
+        """Wake a waiting :meth:`take` (a transform arrived, or the run stops)."""
+        with self._cond:
+            self._cond.notify_all()
+
+    def finish(self) -> None:
+        """End the input: scans already queued are still given out, then :meth:`take`
+        returns None."""
+        with self._cond:
+            self._finished = True
+            self._cond.notify_all()
+
+    def close(self) -> None:
+        """End :meth:`scans` now: the next take returns None (queued scans are left)."""
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
+
+    @property
+    def closed(self) -> bool:
+        """Whether :meth:`close` was called."""
+        return self._closed
+
+    @property
+    def finished(self) -> bool:
+        """Whether the input ended (:meth:`finish`, or the scan limit was reached)."""
+        return self._finished or self._closed
+
+    def _oldest(self) -> str | None:
+        best: str | None = None
+        for topic, queue in self._queues.items():
+            if queue and (best is None or queue[0].scan.stamp < self._queues[best][0].scan.stamp):
+                best = topic
+        return best
+
+    def _in_order(self, topic: str) -> bool:
+        """Whether the oldest queued scan (of ``topic``) may leave: every other laser has
+        sent a scan at least as new, or it has waited ``order_wait`` (so that scans leave in
+        stamp order across lasers, as a recording's are read, and a grouped frame does not
+        leave before another laser's scan of the same instant arrived)."""
+        head = self._queues[topic][0]
+        if self._finished or self.now() >= head.arrival + self.order_wait:
+            return True
+        return all(
+            self._newest.get(other, -float("inf")) >= head.scan.stamp
+            for other in self.topics
+            if other != topic
+        )
+
+    def take(self, timeout: float | None = None) -> _Queued | None:
+        """The oldest queued scan (by stamp, over the lasers), waiting for one; None when
+        closed or after ``timeout`` seconds."""
+        if self._pushed_back is not None:
+            item, self._pushed_back = self._pushed_back, None
+            return item
+        deadline = None if timeout is None else self.now() + timeout
+        with self._cond:
+            while True:
+                if self._closed:
+                    return None
+                topic = self._oldest()
+                if topic is not None and self._in_order(topic):
+                    item = self._queues[topic].popleft()
+                    self.counts.taken[topic] += 1
+                    return item
+                if self._finished:
+                    return None
+                now = self.now()
+                left = None if deadline is None else deadline - now
+                if left is not None and left <= 0:
+                    return None
+                step = 0.2 if left is None else min(left, 0.2)
+                if topic is not None:  # waiting for the other lasers, at most order_wait
+                    head = self._queues[topic][0]
+                    step = min(step, max(1e-3, head.arrival + self.order_wait - now))
+                self._cond.wait(step)
+
+    def push_back(self, item: _Queued) -> None:
+        """Give ``item`` out again at the next :meth:`take` (the scan that jumped)."""
+        self._pushed_back = item
+
+    def _posed(self, item: _Queued) -> Scan:
+        scan = item.scan
+        if self.transforms is None:
+            return scan
+        pose, reason, settled = self.transforms.lookup(item.frame_id, scan.stamp)
+        if not settled:
+            deadline = item.arrival + self.tf_wait
+            self.counts.waited_for_tf += 1
+            with self._cond:
+                while not settled and not self._closed:
+                    left = deadline - self.now()
+                    if left <= 0:
+                        break
+                    self._cond.wait(min(left, 0.01))
+                    pose, reason, settled = self.transforms.lookup(item.frame_id, scan.stamp)
+            if not settled:
+                self.counts.tf_timeouts += 1
+        if pose is None:
+            self.counts.without_pose[scan.sensor] += 1
+            self.counts.reasons[reason] += 1
+            return scan
+        return replace(scan, pose=pose)
+
+    def scans(self) -> Iterator[Scan]:
+        """Scans in the order taken, with poses, until :meth:`close`.
+
+        Raises:
+            TimeJump: A laser's stamp jumped (the scan is pushed back first).
+        """
+        while True:
+            item = self.take()
+            if item is None:
+                return
+            scan = item.scan
+            previous = self._last.get(scan.sensor)
+            if previous is not None and (
+                scan.stamp < previous - self.jump_back or scan.stamp > previous + self.jump_ahead
+            ):
+                self._last.clear()
+                self.counts.resets += 1
+                self.push_back(item)
+                raise TimeJump(scan.sensor, previous, scan.stamp)
+            self._last[scan.sensor] = max(scan.stamp, previous or scan.stamp)
+            self.arrivals[(scan.sensor, scan.index)] = item.arrival
+            while len(self.arrivals) > MAX_ARRIVALS:  # scans no frame published
+                del self.arrivals[next(iter(self.arrivals))]
+            yield self._posed(item)
+
+
+class LiveFrames:
+    """Frames from :class:`LiveScans`, made as a recording's are (iterate once per run).
+
+    Args:
+        scans: The live scans.
+        frame: ``world`` or ``sensor`` (``auto``: world when most of the first ``window``
+            frames have poses).
+        grouping: Grouping of several lasers.
+        window: Frames looked at by ``auto`` before the first frame leaves (its latency).
+    """
+
+    def __init__(
+        self,
+        scans: LiveScans,
+        *,
+        frame: FrameChoice = "auto",
+        grouping: GroupingParams | None = None,
+        window: int = 20,
+    ) -> None:
+        self.live = scans
+        self.topics = list(scans.topics)
+        self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
+        self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
+        # a fixed choice needs no look-ahead: a window of one frame adds no latency
+        self.chooser = FrameChooser(frame, window if frame == "auto" else 1)
+
+    def __iter__(self) -> Iterator[Frame]:
+        scans = self.live.scans()
+        frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        yield from self.chooser(frames)
+
+    def summary(self) -> list[str]:
+        """Lines for the user: the frame used; the grouping figures."""
+        lines = [self.chooser.stats.summary()]
+        if self.grouper is not None:
+            lines.append(self.grouper.stats.summary())
+        return lines
+
+
+__all__ = ["LiveCounts", "LiveFrames", "LiveScans", "TimeJump"]

@@ -3,7 +3,7 @@
 A sweep file (TOML)::
 
     metric = "hota"                 # hota, deta, assa, mota or idf1 (higher is better)
-    held_out = ["*seed-1??*"]       # recordings (name globs) not used to choose
+    held_out = ["*seed-1[0-9][0-9].npz"]   # file-name globs: not used to choose
     best = 3                        # settings scored on the held-out recordings
 
     [grid.leg_tracker]              # a --config section: every key a list of values

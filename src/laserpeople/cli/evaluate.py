@@ -117,7 +117,7 @@ def register(app: typer.Typer) -> None:
         tracks_args: Annotated[
             list[Path],
             typer.Argument(
-                metavar="TRACKS...",
+                metavar="TRACKS",
                 help="Tracks CSV (world frame), tracks bag or Parquet; several, or the --out "
                 "folder of `laserpeople batch`, give one table of every recording and pooled.",
             ),

@@ -269,7 +269,7 @@ def test_unknown_policy_is_refused() -> None:
 
 
 def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from laserpeople.cli.track import with_people_policy
+    from laserpeople.tracking.registry import with_people_policy
     from laserpeople.config import load_config
     from laserpeople.errors import ConfigError
     from laserpeople.tracking.nearest import NearestNeighbourParams

@@ -153,7 +153,7 @@ def resolve(
 
     params = load(entry.params_cls)
     if options.people_policy is not None:
-        from laserpeople.cli.track import with_people_policy
+        from laserpeople.tracking.registry import with_people_policy
 
         params = with_people_policy(params, options.people_policy, options.tracker)
     static = load_static_world(options.config)

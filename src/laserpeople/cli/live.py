@@ -8,7 +8,7 @@ from typing import Annotated, Any
 import typer
 
 from laserpeople.cli.common import MountOption, WorldFrameOption, say, warn
-from laserpeople.cli.track import TopicOption, make_detector, with_people_policy
+from laserpeople.cli.track import TopicOption, make_detector
 from laserpeople.errors import ConfigError
 
 
@@ -247,7 +247,7 @@ def register(app: typer.Typer) -> None:
         )  # fmt: skip
         params: Any = load_config(entry.params_cls, config)
         if people_policy is not None:
-            params = with_people_policy(params, people_policy, tracker)
+            params = registry.with_people_policy(params, people_policy, tracker)
         from laserpeople.io.poses import parse_mounts
 
         make = tracker_pipelines(

@@ -79,18 +79,6 @@ def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None
     return list(topic) if topic else None
 
 
-def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
-    """``params`` with ``people_policy`` replaced (``--people-policy``)."""
-    from dataclasses import replace
-
-    if not hasattr(params, "people_policy"):
-        raise ConfigError(f"--people-policy applies to leg-mht, not to {tracker_name!r}")
-    try:
-        return replace(params, people_policy=policy)
-    except ValueError as exc:
-        raise ConfigError(f"--people-policy: {exc}") from None
-
-
 LEFT_OUT = (
     (
         "static_legs_left_out",
@@ -171,7 +159,7 @@ def run_tracking(
     params: Any = load_config(entry.params_cls, config)
     static_world = load_static_world(config)
     if people_policy is not None:
-        params = with_people_policy(params, people_policy, tracker_name)
+        params = registry.with_people_policy(params, people_policy, tracker_name)
     if detector is None:
         detector = make_detector("adaboost", None, config)
     from laserpeople.background.occupancy import map_files

@@ -264,3 +264,17 @@ def _register_csa() -> None:
 
 
 _register_csa()
+
+
+def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:
+    """``params`` with ``people_policy`` replaced (``--people-policy``).
+
+    Raises :class:`~laserpeople.errors.ConfigError` when the tracker has no people policy
+    (only ``leg-mht`` has one) or the policy is unknown.
+    """
+    if not hasattr(params, "people_policy"):
+        raise ConfigError(f"--people-policy applies to leg-mht, not to {tracker_name!r}")
+    try:
+        return replace(params, people_policy=policy)
+    except ValueError as exc:
+        raise ConfigError(f"--people-policy: {exc}") from None

@@ -269,10 +269,10 @@ def test_unknown_policy_is_refused() -> None:
 
 
 def test_people_policy_option_and_toml(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from laserpeople.tracking.registry import with_people_policy
     from laserpeople.config import load_config
     from laserpeople.errors import ConfigError
     from laserpeople.tracking.nearest import NearestNeighbourParams
+    from laserpeople.tracking.registry import with_people_policy
 
     assert LegTrackerParams().people_policy == "tracks"
     p = with_people_policy(LegTrackerParams(), "arras", "leg-mht")

@@ -10,7 +10,7 @@ model (``auto``, or ``--background``), through
 :func:`laserpeople.pipeline.recording.tracker_stages` and
 :class:`laserpeople.pipeline.Pipeline` (reading and writing excluded). With ``--before
 SRC`` the other tree is imported in the same process as the package ``laserpeople_ab``
-and the two pipelines are stepped alternately, scan by scan
+(``bench_track_ab.load_other``) and the two pipelines are stepped alternately, scan by scan
 (who goes first alternates), each step timed by process CPU time: on a shared machine,
 whose load makes two runs minutes apart differ by tens of per cent, both trees then see the
 same load. Printed: CPU ms per scan (mean over the scene, median over ``--passes``),
@@ -37,9 +37,7 @@ import itertools
 import json
 import math
 import os
-import re
 import resource
-import shutil
 import statistics
 import subprocess
 import sys
@@ -53,6 +51,9 @@ THIS_SRC = HERE.parents[1] / "src"
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
 RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
 sys.path.insert(0, str(HERE.parent))
+
+sys.path.insert(0, str(HERE.parent))
+from bench_track_ab import PACKAGE, load_other  # noqa: E402
 
 HALL = (16.0, 12.0)
 """Size of the hall [m]."""
@@ -91,23 +92,6 @@ def hall_recording(n_people: int, seconds: float, path: Path) -> Path:
     sensors = [SensorSpec("laser", "hokuyo-utm-30lx", 0.2, Pose2D(w / 2, 0.1, math.pi / 2))]
     result = simulate(Scene(world, people, sensors), seconds, seed=n_people, name="hall")
     return write_recording(path, result.scans, result.truth, result.meta)
-
-
-PACKAGE = "laserpeople_ab"
-"""The name the other tree is imported under."""
-
-
-def load_other(src: Path, into: Path) -> None:
-    """Import the package ``src/laserpeople`` copied to ``into`` as ``laserpeople_ab``: its
-    imports of itself renamed (``from laserpeople.x``, ``import laserpeople``, module paths
-    in strings), not its file formats' names (``laserpeople-recording``)."""
-    target = into / PACKAGE
-    shutil.copytree(src / "laserpeople", target)
-    pattern = re.compile(r"\blaserpeople(?=\.[a-z_])|(?<=import )laserpeople\b")
-    for path in target.rglob("*.py"):
-        path.write_text(pattern.sub(PACKAGE, path.read_text()))
-    sys.path.insert(0, str(into))
-    importlib.import_module(PACKAGE)
 
 
 def pipeline(package: str, path: Path, background: str) -> Any:

@@ -50,10 +50,12 @@ RATE = 37.5
 
 def load_other(src: Path, into: Path) -> ModuleType:
     """The package ``src/laserpeople`` copied to ``into`` under the name ``laserpeople_ab``
-    (its imports of itself renamed) and imported."""
+    (its imports of itself renamed: ``from laserpeople.x``, ``import laserpeople``, module
+    paths in strings; not its file formats' names such as ``laserpeople-recording``) and
+    imported."""
     target = into / PACKAGE
     shutil.copytree(src / "laserpeople", target)
-    pattern = re.compile(r"\blaserpeople\b")
+    pattern = re.compile(r"\blaserpeople(?=\.[a-z_])|(?<=import )laserpeople\b")
     for path in target.rglob("*.py"):
         path.write_text(pattern.sub(PACKAGE, path.read_text()))
     sys.path.insert(0, str(into))

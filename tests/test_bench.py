@@ -27,6 +27,21 @@ def test_time_per_item_uses_a_fresh_step_per_repeat() -> None:
         time_per_item("empty", make, [])
 
 
+def test_time_per_item_cpu_is_not_wall_time() -> None:
+    """A step that sleeps 5 ms takes at least 5 ms of wall time but almost no CPU time: the
+    CPU columns are the process's own cost, not the clock."""
+    import time
+
+    def make() -> Callable[[int], None]:
+        return lambda _: time.sleep(0.005)
+
+    t = time_per_item("sleep", make, [1, 2, 3, 4], repeats=1)
+    assert t.median_ms >= 4.9
+    assert 0.0 <= t.cpu_median_ms < 1.0
+    assert t.cpu_scans_per_s > 4 * t.scans_per_s
+    assert set(t.as_dict()) >= {"cpu_median_ms", "cpu_scans_per_s"}
+
+
 def test_time_reading_counts_scans() -> None:
     t = time_reading("read", lambda: iter(range(5)), repeats=3)  # type: ignore[arg-type,return-value]
     assert (t.scans, t.repeats) == (5, 3)
@@ -40,3 +55,4 @@ def test_bench_command_json() -> None:
     data = json.loads(result.stdout)
     assert [s["stage"] for s in data["stages"]] == ["detect", "track nn"]
     assert data["scans"] > 5 and data["peak_memory_mib"] > 0
+    assert all(s["cpu_median_ms"] >= 0.0 for s in data["stages"])

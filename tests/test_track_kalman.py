@@ -72,6 +72,19 @@ def test_gate_is_chi_square_quantile() -> None:
     assert KalmanParams().gate == pytest.approx(-2 * np.log(1 - 0.999))
 
 
+def test_chi2_quantile_2dof_closed_form() -> None:
+    """The closed form against hand-computed quantiles and near misses: 0.95 -> 5.9915
+    (1 dof would give 3.8415, -ln(1 - p) 2.9957, 3 dof 7.8147), and scipy's own to 1e-12."""
+    assert kalman.chi2_quantile_2dof(0.95) == pytest.approx(5.991465, abs=1e-6)
+    assert kalman.chi2_quantile_2dof(0.99) == pytest.approx(9.210340, abs=1e-6)
+    assert kalman.chi2_quantile_2dof(0.0) == 0.0
+    for p in (1e-9, 0.1, 0.5, 0.9, 0.999, 1 - 1e-12):
+        assert kalman.chi2_quantile_2dof(p) == pytest.approx(chi2.ppf(p, 2), rel=1e-12)
+    for bad in (-0.1, 1.0, 1.5):
+        with pytest.raises(ValueError, match="gate probability"):
+            kalman.chi2_quantile_2dof(bad)
+
+
 def test_initiate_and_covariance_floor() -> None:
     mean, cov = kalman.initiate(np.array([1.0, 2.0]), np.eye(2) * 0.01, 0.5)
     np.testing.assert_allclose(mean, [1, 2, 0, 0])

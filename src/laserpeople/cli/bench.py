@@ -49,7 +49,9 @@ def register(app: typer.Typer) -> None:
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
         on_error: OnErrorOption = "stop",
     ) -> None:
-        """Time reading, leg detection and tracking: median and p95 ms per scan, scans/s."""
+        """Time reading, leg detection and tracking: median and p95 ms per scan, scans/s
+        (wall time), and the median process CPU time per scan with its scans/s (what the
+        stage costs, apart from other work on the machine)."""
         from laserpeople.cli.track import make_detector
         from laserpeople.evaluation.speed import (
             StageTiming,
@@ -133,10 +135,25 @@ def register(app: typer.Typer) -> None:
         from rich.table import Table
 
         table = Table(title=f"{source}: {len(scans)} scans, {scans[0].n_beams} beams")
-        for col in ("stage", "median ms/scan", "p95 ms/scan", "scans/s"):
+        columns = (
+            "stage",
+            "median ms/scan",
+            "p95 ms/scan",
+            "scans/s",
+            "CPU ms/scan",
+            "CPU scans/s",
+        )
+        for col in columns:
             table.add_column(col, justify="left" if col == "stage" else "right")
         for t in timings:
-            table.add_row(t.stage, f"{t.median_ms:.3f}", f"{t.p95_ms:.3f}", f"{t.scans_per_s:,.0f}")
+            table.add_row(
+                t.stage,
+                f"{t.median_ms:.3f}",
+                f"{t.p95_ms:.3f}",
+                f"{t.scans_per_s:,.0f}",
+                f"{t.cpu_median_ms:.3f}",
+                f"{t.cpu_scans_per_s:,.0f}",
+            )
         console.print(table)
         console.print(f"peak memory {memory:.0f} MiB")
 

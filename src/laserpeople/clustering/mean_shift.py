@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
 
 from laserpeople.clustering.single_linkage import components
+from laserpeople.lazy_scipy import cKDTree
 
 DENSE_LIMIT = 600
 """Up to this many points the neighbour sums use a dense distance mask, above it the

@@ -213,7 +213,8 @@ def _stump_tables(
     features: IntArray, thresholds: FloatArray, polarities: IntArray, alphas: FloatArray
 ) -> list[_FeatureTable]:
     tables = []
-    for j in np.unique(features):
+    # (sorted(set()), not np.unique: that imports numpy.ma, 0.1-0.3 s of every start-up)
+    for j in sorted(set(features.tolist())):
         for p in (1, -1):
             sel = (features == j) & (polarities == p)
             if not sel.any():

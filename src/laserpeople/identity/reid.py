@@ -32,7 +32,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
@@ -43,6 +42,7 @@ from laserpeople.identity.appearance import (
     log_likelihoods,
     measurement,
 )
+from laserpeople.lazy_scipy import linear_sum_assignment
 from laserpeople.tracks import Track, Tracks
 
 FloatArray = NDArray[np.float64]

@@ -225,10 +225,14 @@ def open_reader(
     install()
     reader = None
     try:
-        typestore = get_typestore(Stores.LATEST)
-        if register is not None:
-            register(typestore)
-        reader = AnyReader([p], default_typestore=typestore)
+        reader = AnyReader([p])
+        # ROS 1 bags carry their message definitions: the default types (0.15 s to import)
+        # are needed only for ROS 2 bags and for types registered by the caller
+        if reader.is2 or register is not None:
+            typestore = get_typestore(Stores.LATEST)
+            if register is not None:
+                register(typestore)
+            reader.default_typestore = typestore
         reader.open()
     except Exception as exc:  # any failure of the third-party parser on a damaged file
         if reader is not None:

@@ -29,7 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
+
+from laserpeople.lazy_scipy import linear_sum_assignment
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]

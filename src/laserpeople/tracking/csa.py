@@ -37,10 +37,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
+from laserpeople.lazy_scipy import linear_sum_assignment
 from laserpeople.tracking import kalman
 from laserpeople.tracks import Track, Tracks
 

@@ -60,7 +60,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.stats import chi2
 
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
@@ -305,7 +304,7 @@ class PersonTrackParams:
     @property
     def gate(self) -> float:
         """Squared Mahalanobis distance of the joining gate (chi-square, 2 dof)."""
-        return float(chi2.ppf(self.gate_probability, df=2))
+        return kalman.chi2_quantile_2dof(self.gate_probability)
 
 
 @dataclass(eq=False, slots=True)

@@ -60,9 +60,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from laserpeople.config import param
+from laserpeople.lazy_scipy import linear_sum_assignment
 
 FloatArray = NDArray[np.float64]
 

@@ -22,7 +22,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.stats import chi2
 
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
@@ -43,6 +42,7 @@ from laserpeople.tracking.groups.model import (
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.groups.walkers import WalkerSettings, WalkerTracker
+from laserpeople.tracking.kalman import chi2_quantile_2dof
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
@@ -529,7 +529,7 @@ class GroupTrackerParams:
             max_dt=self.max_dt,
             r_point=np.eye(2) * self.point_std**2,
             r_update=np.diag(np.square([self.centroid_std, self.centroid_std, self.size_std])),
-            gate_sq=float(chi2.ppf(self.gate_probability, df=2)),
+            gate_sq=chi2_quantile_2dof(self.gate_probability),
             max_gap=self.max_gate_gap,
             log_p_match=math.log(self.p_m),
             rms=self.hausdorff == "rms",

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
+from laserpeople.lazy_scipy import linear_sum_assignment
 from laserpeople.tracking import kalman
 from laserpeople.tracking.groups.observations import blob_shapes, leg_pairs
 

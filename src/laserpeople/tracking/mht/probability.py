@@ -20,7 +20,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.special import logsumexp
 
 FloatArray = NDArray[np.float64]
 
@@ -91,6 +90,8 @@ def normalise(log_weights: FloatArray) -> FloatArray:
     w = np.asarray(log_weights, dtype=np.float64)
     if w.size == 0:
         return w
+    from scipy.special import logsumexp  # here: scipy.special costs a start-up of 0.2 s
+
     return w - float(logsumexp(w))
 
 

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
 
 from laserpeople.clustering import cluster_covariances, single_linkage
+from laserpeople.lazy_scipy import cKDTree
 
 
 def largest_eigenvalue(cov: NDArray[np.float64]) -> NDArray[np.float64]:

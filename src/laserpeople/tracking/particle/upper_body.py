@@ -32,12 +32,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
 
 from laserpeople.clustering import cluster_covariances, mean_shift
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
+from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.frames import shifted_foreground
 from laserpeople.tracking.particle.objects import (

@@ -339,8 +339,11 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--tracker",
-                help="Tracker: leg-mht (Arras et al. 2008 Sec. 3), nn, group-mht, csa, "
-                "feet-pf or upper-body-pf (see laserpeople track --help).",
+                help="Tracker: leg-mht (legs and people from leg detections, Arras et al. "
+                "2008 Sec. 3), nn (nearest neighbour), group-mht (groups and their size), "
+                "csa (people from laser points, Kräußling et al.), feet-pf or upper-body-pf "
+                "(particle filters, Schenk et al. 2011; upper-body-pf needs a laser at "
+                "upper-body height).",
             ),
         ] = "leg-mht",
         topic: TopicOption = None,
@@ -396,12 +399,9 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--background",
-                help="Static world model: for trackers of foreground points (group-mht, csa, "
-                "feet-pf, upper-body-pf) and for leg-mht's people (not confirmed on places "
-                "static for long until they move): auto (per-beam histogram while the lasers "
-                "stand still, occupancy grid once they move; none for a moving laser without "
-                "poses; once a laser moves the trackers of points keep only the points near "
-                "leg detections, [leg_foreground] in --config), histogram, occupancy or none.",
+                help="Static world model, which tells people from furniture: auto (a "
+                "histogram per beam while the lasers stand still, an occupancy grid once "
+                "they move), histogram, occupancy or none.",
             ),
         ] = "auto",
         map_path: Annotated[

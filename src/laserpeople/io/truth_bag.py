@@ -173,13 +173,14 @@ def _open(path: Path) -> Any:
     from rosbags.typesys import Stores, get_typestore
 
     from laserpeople.io import bag_guard
-    from laserpeople.io.rosbag import _describe
+    from laserpeople.io.rosbag import _describe, check_bag_file
 
     if not path.exists():
         raise RecordingError("file not found", path=path, hint="check the path of --truth")
     typestore = get_typestore(Stores.LATEST)
     register_people_types(typestore)
     bag_guard.install()
+    check_bag_file(path)
     try:
         reader = AnyReader([path], default_typestore=typestore)
         reader.open()

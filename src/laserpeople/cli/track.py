@@ -16,6 +16,7 @@ from laserpeople.cli.common import (
     progress,
     report_damage,
     say,
+    warn,
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError
@@ -226,9 +227,20 @@ def run_tracking(
         )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
+    from laserpeople.pipeline.laser_height import laser_heights, upper_body_warning
+
+    height_warning = upper_body_warning(
+        tracker_name, list(source.topics), laser_heights(source.recording)
+    )
+    if height_warning:
+        warn(height_warning)
+    interrupted = False
     try:
         for _ in progress(pipe, total=source.total, description="tracking"):
             pass
+    except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
+        interrupted = True
+        pipe.close()
     finally:
         report_damage(source.recording)
     for line in source.summary():
@@ -276,6 +288,7 @@ def run_tracking(
             say(f"{left_out} {text}")
     stats = pipe.stats
     return {
+        "interrupted": float(interrupted),
         "scans": float(stats.frames),
         "rows": float(stats.rows),
         "leg_tracks": float(stats.count("leg")),
@@ -469,9 +482,10 @@ def register(app: typer.Typer) -> None:
                 tracker_param_classes(),
             ),
         )
-        if print_config:
+        if print_config:  # the sections this tracker reads, nothing else
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
-            every = dict.fromkeys([*classes, *static_sections])  # [leg_tracker] is in both
+            read = StaticWorldParams.sections_for(entry.consumes)  # type: ignore[arg-type]
+            every = dict.fromkeys([*classes, *read])  # [leg_tracker] may be in both
             loaded: list[Any] = [load_config(cls, config) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
                 print(to_toml(obj))
@@ -523,3 +537,9 @@ def register(app: typer.Typer) -> None:
         )
         if bag is not None:
             say(f"wrote {bag}")
+        if stats["interrupted"]:
+            warn(
+                f"interrupted (Ctrl-C) after {int(stats['scans'])} scans: {output} holds the "
+                "tracks of those scans and is a complete CSV"
+            )
+            raise typer.Exit(130)

@@ -307,6 +307,23 @@ def read_tracks_topic(path: str | Path) -> str | None:
     return None if row is None else (row.get(TOPIC_COLUMN) or None)
 
 
+def count_track_kinds(path: str | Path) -> dict[str, int]:
+    """Rows per ``kind`` of a tracks CSV (empty for a file without the column or rows)."""
+    p = _existing_csv(path)
+    counts: dict[str, int] = {}
+    try:
+        with open(p, newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(line for line in fh if not line.startswith("#"))
+            if "kind" not in (reader.fieldnames or []):
+                return counts
+            for row in reader:
+                kind = row.get("kind") or ""
+                counts[kind] = counts.get(kind, 0) + 1
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
+    return counts
+
+
 def iter_tracks_csv(
     path: str | Path,
     frame: CoordinateFrame = "world",

@@ -189,3 +189,17 @@ def test_print_config_prints_only_the_sections_the_tracker_reads(
     sections = [ln for ln in res.stdout.splitlines() if ln.startswith("[") and "." not in ln]
     assert ("[leg_tracker]" in sections) is has_leg_tracker
     assert ("[leg_foreground]" in sections) is (tracker in ("group-mht", "csa"))
+
+
+def test_view_reads_truth_from_a_bag_topic_as_evaluate_does(tmp_path: Path) -> None:
+    bag = tmp_path / "truth.bag"
+    _truth_bag(bag)
+    out = tmp_path / "v.png"
+    res = CliRunner().invoke(
+        app, ["view", str(bag), "--truth", f"{bag}:/people_truth", "--scan", "3", "-o", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert out.stat().st_size > 0
+    assert "labels of 1 people" in res.stderr and "truth: 1 person" not in res.stderr
+    res = CliRunner().invoke(app, ["view", "--help"], env={"COLUMNS": "200"})
+    assert "BAG:/topic" in res.stdout and "(world frame)" not in res.stdout

@@ -484,7 +484,7 @@ def register(app: typer.Typer) -> None:
         )
         if print_config:  # the sections this tracker reads, nothing else
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
-            read = StaticWorldParams.sections_for(entry.consumes)  # type: ignore[arg-type]
+            read = StaticWorldParams.sections_for(entry.consumes)
             every = dict.fromkeys([*classes, *read])  # [leg_tracker] may be in both
             loaded: list[Any] = [load_config(cls, config) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -98,8 +98,10 @@ def register(app: typer.Typer) -> None:
             str | None,
             typer.Option(
                 "--truth",
-                help="Ground truth: a CSV scan,stamp,person_id,x,y (world frame) or 'recording'. "
-                "Default: the recording's own truth when it has some.",
+                help="Ground truth, as evaluate reads it: a CSV scan,stamp,person_id,x,y, "
+                "BAG:/topic (a people topic of a bag) or 'recording'; positions in the frame "
+                "the tracks are in (the laser's for a bag's people topic). Default: the "
+                "recording's own truth when it has some.",
             ),
         ] = None,
         no_truth: Annotated[
@@ -158,6 +160,17 @@ def register(app: typer.Typer) -> None:
 
         truth_file = truth if truth not in (None, "auto", "recording") else None
         check_outputs({"-o": output}, [recording, tracks, truth_file])
+        truth_input: Any = truth_arg
+        if truth_file is not None and not no_truth:
+            from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
+
+            if is_bag_path(split_truth_spec(truth_file)[0]):  # BAG[:TOPIC], as evaluate
+                from laserpeople.cli.evaluate import truth_frames
+
+                notes: list[str] = []
+                truth_input = list(truth_frames(truth_file, topic, notes, on_error))
+                for note in notes:
+                    say(note)
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
         if tracks is not None:
@@ -175,7 +188,7 @@ def register(app: typer.Typer) -> None:
         scene = Scene(
             source,
             tracks,
-            truth_arg,
+            truth_input,
             topic=topic,
             frame=frame,  # type: ignore[arg-type]
             tracks_frame=tracks_frame,  # type: ignore[arg-type]

@@ -203,3 +203,25 @@ def test_view_reads_truth_from_a_bag_topic_as_evaluate_does(tmp_path: Path) -> N
     assert "labels of 1 people" in res.stderr and "truth: 1 person" not in res.stderr
     res = CliRunner().invoke(app, ["view", "--help"], env={"COLUMNS": "200"})
     assert "BAG:/topic" in res.stdout and "(world frame)" not in res.stdout
+
+
+def test_sources_are_one_short_line() -> None:
+    from laserpeople.config import SOURCE_LENGTH, short_source
+
+    assert short_source("000 Table 10") == "000 Table 10"
+    long_paper = "000 eqs. 8-10 (the deletion mass N-scan-back pruning cuts off); " + "x" * 80
+    assert short_source(long_paper) == "000 eqs. 8-10"
+    measured = "measured (issue 10, session 14, docs/people-benchmarks.md): " + "y" * 500
+    assert short_source(measured) == "measured: docs/people-benchmarks.md"
+    assumed = "assumption (000 gives no value): a swinging leg gains ~1.5 m/s in ~0.1 s; " * 3
+    assert short_source(assumed) == "assumption"
+    assert short_source("as PersonParams.max_spread (extension of 000): " + "z" * 90) == (
+        "as PersonParams.max_spread"
+    )
+    res = CliRunner().invoke(app, ["track", "--tracker", "leg-mht", "--print-config"])
+    assert res.exit_code == 0
+    for line in res.stdout.splitlines():
+        assert "session" not in line and "issue " not in line, line
+    docs = (REPO / "docs" / "parameters.md").read_text()
+    assert "session" not in docs
+    assert all(len(short_source(s)) <= SOURCE_LENGTH + 10 for s in (measured, assumed))

@@ -225,3 +225,27 @@ def test_sources_are_one_short_line() -> None:
     docs = (REPO / "docs" / "parameters.md").read_text()
     assert "session" not in docs
     assert all(len(short_source(s)) <= SOURCE_LENGTH + 10 for s in (measured, assumed))
+
+
+def test_view_draws_a_sensor_frame_csv_where_the_world_frame_one_is(
+    demo: Path, tmp_path: Path
+) -> None:
+    from PIL import Image
+
+    from laserpeople.io.tracks_csv import read_tracks_frame
+
+    pictures = []
+    for frame in ("sensor", "world"):
+        csv_path = tmp_path / f"{frame}.csv"
+        args = ["--quiet", "track", str(demo), "-o", str(csv_path), "--output-frame", frame]
+        assert CliRunner().invoke(app, args).exit_code == 0
+        assert read_tracks_frame(csv_path) == frame
+        png = tmp_path / f"{frame}.png"
+        res = CliRunner().invoke(
+            app, ["view", str(demo), "--tracks", str(csv_path), "--scan", "40", "-o", str(png)]
+        )
+        assert res.exit_code == 0, res.output
+        assert f"tracks in the {frame} frame" in res.stderr
+        pictures.append(np.asarray(Image.open(png).convert("RGB")).astype(float))
+    # the same picture (up to anti-aliasing of the 4-decimal positions)
+    assert np.abs(pictures[0] - pictures[1]).mean() < 0.01

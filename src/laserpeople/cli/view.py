@@ -185,6 +185,12 @@ def register(app: typer.Typer) -> None:
                 raise
             for problem in problems:
                 warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        if tracks is not None and tracks_frame is None and tracks.suffix.lower() == ".csv":
+            from laserpeople.io.tracks_csv import read_tracks_frame
+
+            tracks_frame = read_tracks_frame(tracks)
+            if tracks_frame is not None:
+                say(f"tracks in the {tracks_frame} frame (the CSV's frame column)")
         scene = Scene(
             source,
             tracks,

@@ -249,3 +249,25 @@ def test_view_draws_a_sensor_frame_csv_where_the_world_frame_one_is(
         pictures.append(np.asarray(Image.open(png).convert("RGB")).astype(float))
     # the same picture (up to anti-aliasing of the 4-decimal positions)
     assert np.abs(pictures[0] - pictures[1]).mean() < 0.01
+
+
+def test_view_draws_every_laser_of_a_fused_run(tmp_path: Path) -> None:
+    from laserpeople.io import open_recording
+    from laserpeople.sim import run_scenario
+    from laserpeople.viz import Scene
+
+    rec = tmp_path / "four.npz"
+    run_scenario("speed-normal", seconds=1.0, seed=0).write(rec)  # four lasers (004)
+    source = open_recording(rec)
+    names = [t.name for t in source.topics()]
+    source.close()
+    assert len(names) >= 2
+    one = list(Scene(rec, topic=names[0], frame="world").frames())
+    every = list(Scene(rec, topic=names[0], other_topics=tuple(names[1:]), frame="world").frames())
+    assert len(one) == len(every)
+    assert len(every[5].points) > len(one[5].points)  # the other lasers' points drawn too
+    res = CliRunner().invoke(
+        app, ["view", str(rec), "--topics", "all", "--scan", "5", "-o", str(tmp_path / "v.png")]
+    )
+    assert res.exit_code == 0, res.output
+    assert f"topics {', '.join(names)}" in res.stderr

@@ -108,7 +108,16 @@ def register(app: typer.Typer) -> None:
             bool, typer.Option("--no-truth", help="Do not draw ground truth.")
         ] = False,
         topic: Annotated[
-            str | None, typer.Option("--topic", help="Laser topic (default: first).")
+            list[str] | None,
+            typer.Option(
+                "--topic",
+                help="Laser topic (default: the first; repeatable: the first one's scans are "
+                "drawn with the others' points, as a fused run sees them).",
+            ),
+        ] = None,
+        topics: Annotated[
+            str | None,
+            typer.Option("--topics", help="'all': draw every laser of the recording."),
         ] = None,
         frame: Annotated[
             str,
@@ -160,6 +169,10 @@ def register(app: typer.Typer) -> None:
 
         truth_file = truth if truth not in (None, "auto", "recording") else None
         check_outputs({"-o": output}, [recording, tracks, truth_file])
+        from laserpeople.cli.track import topics_from
+
+        asked = topics_from(topic, topics)
+        first_topic = asked[0] if asked and asked != ["all"] else None
         truth_input: Any = truth_arg
         if truth_file is not None and not no_truth:
             from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
@@ -168,23 +181,25 @@ def register(app: typer.Typer) -> None:
                 from laserpeople.cli.evaluate import truth_frames
 
                 notes: list[str] = []
-                truth_input = list(truth_frames(truth_file, topic, notes, on_error))
+                truth_input = list(truth_frames(truth_file, first_topic, notes, on_error))
                 for note in notes:
                     say(note)
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
-        if tracks is not None:
-            from laserpeople.pipeline import resolve_topics
-            from laserpeople.pipeline.checks import tracks_mismatch
+        from laserpeople.pipeline import resolve_topics
 
-            try:
-                topic = resolve_topics(source, [topic] if topic else None)[0]
-                problems = tracks_mismatch(tracks, source, topic)
-            except BaseException:
-                source.close()
-                raise
-            for problem in problems:
-                warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        try:
+            drawn = resolve_topics(source, asked) if asked else []
+            if tracks is not None:
+                from laserpeople.pipeline.checks import tracks_mismatch
+
+                drawn = drawn or resolve_topics(source, None)
+                problems = tracks_mismatch(tracks, source, drawn[0])
+                for problem in problems:
+                    warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        except BaseException:
+            source.close()
+            raise
         if tracks is not None and tracks_frame is None and tracks.suffix.lower() == ".csv":
             from laserpeople.io.tracks_csv import read_tracks_frame
 
@@ -195,7 +210,8 @@ def register(app: typer.Typer) -> None:
             source,
             tracks,
             truth_input,
-            topic=topic,
+            topic=drawn[0] if drawn else None,
+            other_topics=tuple(drawn[1:]),
             frame=frame,  # type: ignore[arg-type]
             tracks_frame=tracks_frame,  # type: ignore[arg-type]
             start=start,
@@ -221,10 +237,16 @@ def register(app: typer.Typer) -> None:
             report_damage(source)
             source.close()
         what = "frame" if result.frames == 1 else "frames"
+        lasers = ", ".join([str(scene.topic), *scene.other_topics])
         say(
-            f"wrote {result.path} ({result.frames} {what}, topic {scene.topic}, "
-            f"{scene.frame} frame)"
+            f"wrote {result.path} ({result.frames} {what}, topic{'s' if len(drawn) > 1 else ''} "
+            f"{lasers}, {scene.frame} frame)"
         )
+        if scene.others_unplaced:
+            warn(
+                f"{scene.others_unplaced} scans of {', '.join(scene.other_topics)} not drawn: "
+                "no sensor pose to place them (--mount gives a laser's mount)"
+            )
         if scene.skipped_without_pose:
             warn(
                 f"{scene.skipped_without_pose} scans not drawn: no sensor "

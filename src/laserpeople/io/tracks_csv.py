@@ -296,35 +296,31 @@ def _existing_csv(path: str | Path) -> Path:
     return p
 
 
-def read_tracks_topic(path: str | Path) -> str | None:
-    """The ``topic`` of a tracks CSV's first row, or None for files without the column
-    (written before it existed) or without rows."""
+def _first_row_value(path: str | Path, column: str) -> str | None:
+    """``column`` of a tracks CSV's first row; None without the column, rows or value."""
     p = _existing_csv(path)
     try:
         with open(p, newline="", encoding="utf-8") as fh:
             reader = csv.DictReader(fh)
-            if TOPIC_COLUMN not in (reader.fieldnames or []):
+            if column not in (reader.fieldnames or []):
                 return None
             row = next(reader, None)
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
-    return None if row is None else (row.get(TOPIC_COLUMN) or None)
+    return None if row is None else (row.get(column) or None)
+
+
+def read_tracks_topic(path: str | Path) -> str | None:
+    """The ``topic`` of a tracks CSV's first row, or None for files without the column
+    (written before it existed) or without rows."""
+    return _first_row_value(path, TOPIC_COLUMN)
 
 
 def read_tracks_frame(path: str | Path) -> CoordinateFrame | None:
     """The frame (world / sensor) a tracks CSV's positions are in, from its ``frame``
     column; None for files without the column (written before it existed, or by other
     programs) or without rows."""
-    p = _existing_csv(path)
-    try:
-        with open(p, newline="", encoding="utf-8") as fh:
-            reader = csv.DictReader(fh)
-            if FRAME_COLUMN not in (reader.fieldnames or []):
-                return None
-            row = next(reader, None)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
-    value = None if row is None else row.get(FRAME_COLUMN)
+    value = _first_row_value(path, FRAME_COLUMN)
     return value if value in ("world", "sensor") else None  # type: ignore[return-value]
 
 

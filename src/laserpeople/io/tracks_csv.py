@@ -325,7 +325,8 @@ def read_tracks_frame(path: str | Path) -> CoordinateFrame | None:
 
 
 def count_track_kinds(path: str | Path) -> dict[str, int]:
-    """Rows per ``kind`` of a tracks CSV (empty for a file without the column or rows)."""
+    """Rows per ``kind`` of a tracks CSV (empty for a file without the column or rows, or
+    one that cannot be read as text)."""
     p = _existing_csv(path)
     counts: dict[str, int] = {}
     try:
@@ -336,8 +337,8 @@ def count_track_kinds(path: str | Path) -> dict[str, int]:
             for row in reader:
                 kind = row.get("kind") or ""
                 counts[kind] = counts.get(kind, 0) + 1
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return {}  # unreadable: the reader that follows says what is wrong, and where
     return counts
 
 

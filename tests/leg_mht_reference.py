@@ -1,5 +1,5 @@
 """The leg MHT's output on simulated scenes, as flat arrays, for the regression test that
-keeps the leg tracker's results identical when the MHT core changes.
+keeps the leg tracker's results unchanged when the MHT core changes.
 
     PYTHONPATH=src python tests/leg_mht_reference.py   # rewrites tests/data/leg_mht_reference.npz
 
@@ -13,21 +13,26 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.tracking.legs import LegTrackerParams
+
 REFERENCE = Path(__file__).parent / "data" / "leg_mht_reference.npz"
 SCENES = (("demo", 10.0, 0), ("narrow-corridor", 20.0, 1))
 KINDS = {"leg": 0, "person": 1}
 
 
-def run_scene(name: str, seconds: float, seed: int) -> dict[str, NDArray[np.float64]]:
+def run_scene(
+    name: str, seconds: float, seed: int, params: LegTrackerParams | None = None
+) -> dict[str, NDArray[np.float64]]:
     """Track the scene's ground-truth leg detections; one row per reported track:
-    (scan, kind, id, x, y, vx, vy, score, first member, hypotheses)."""
+    (scan, kind, id, x, y, vx, vy, score, first member, hypotheses). ``params``: the
+    recorded setting (people policy ``arras``) unless given."""
     from laserpeople.sim.scenarios import run_scenario
     from laserpeople.tracking import synthetic as syn
-    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+    from laserpeople.tracking.legs import LegMHTTracker
 
     result = run_scenario(name, seconds=seconds, seed=seed)
     dets = syn.detections_from_sim(result.scans, result.truth, clutter_probability=0.9)
-    tracker = LegMHTTracker(LegTrackerParams(people_policy="arras"))  # as recorded
+    tracker = LegMHTTracker(params or LegTrackerParams(people_policy="arras"))  # as recorded
     rows = []
     for d in dets:
         out = tracker.update(d)

@@ -286,6 +286,7 @@ def test_free_flat_indices_are_the_free_cells() -> None:
     assert g._free_flat(sensor, pts).tolist() == g._flat(cells).tolist()
 
 
+@pytest.mark.regression  # bits from two code paths: CI runs it again on another CPU path
 def test_static_time_of_few_positions_is_the_array_path_bit_for_bit(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

@@ -3,7 +3,6 @@ the outputs (CSV topic column, tracks bag) and the same tracks as before the pip
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 from dataclasses import replace
 from pathlib import Path
@@ -260,7 +259,7 @@ def test_tracks_csv_topic_column_and_old_files(tmp_path: Path) -> None:
     sink.write(frame, Tracks(1.0, 0, (tr,), "world"))
     sink.close()
     new = (tmp_path / "new.csv").read_text().splitlines()
-    assert new[0].endswith(",labels,topic") and new[1].endswith(",/front")
+    assert new[0].endswith(",labels,topic,frame") and new[1].endswith(",/front,world")
     assert read_tracks_topic(tmp_path / "new.csv") == "/front"
     assert [t.track_id for f in iter_tracks_csv(tmp_path / "new.csv") for t in f] == [3]
 
@@ -361,53 +360,82 @@ def test_view_says_when_tracks_belong_elsewhere(small_recording: Path, tmp_path:
 
 # ---------------------------------------------------------------- the same tracks as before
 
-# sha256 of the tracks CSV (13 columns, without the topic column that came with the
-# pipeline) written by `laserpeople track` BEFORE the pipeline (commit 943d2b9), rows of
-# scans < 200. The people layer is being rewritten (issue 10): when its default changes,
-# run this with the policy that keeps 000's behaviour, or regenerate the hashes at merge.
-GOLDEN = {
-    "real-demo-bag-200": (
-        "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag",
-        1207,
-        "502c1ee152bf3063fa28f7e6e51dcdb42cc4e632945c45460724956e2fbf59e4",
-    ),
-}
+# The tracks CSV (13 columns, without the topic column that came with the pipeline) written
+# by `laserpeople track` BEFORE the pipeline (commit 943d2b9): tests/pipeline_reference.py.
+# Compared so that it holds on every CPU (tests/tolerant.py). With OpenBLAS' Nehalem
+# kernels the demo scene's person rows stay the same, but from scan 85 a few clutter legs
+# are taken otherwise (ties in the last bit): 98 % of the leg rows match, 5 rows more.
+CSV_TOL = np.array([1.5e-4] * 4 + [2e-5] * 2)
+"""x, y (m), vx, vy (m/s) are written with 4 decimals: a last-bit difference can flip the
+rounding of the last one (1e-4), and parsing adds its own; the logarithms of cov_xx and
+cov_yy, written with 6 significant digits, likewise agree within 1e-5 (2e-5 with the
+parsing). Changing the leg process noise by 1 % moves every row by more."""
+PERSON_SHARE = 0.99
+"""Person rows matched over rows written: 1.0 on every CPU path tried."""
+LEG_SHARE = 0.85
+"""Leg rows matched over rows written: 1.0 with the recording CPU's dispatch, 0.98 with
+OpenBLAS' Nehalem kernels (a clutter leg taken otherwise changes that leg track's rows from
+there on); with the leg process noise changed by 1 % no person and no leg row matches."""
+ROWS_RTOL = 0.02
+"""Relative difference of the row counts (0.2 % on the paths tried)."""
 
 
-def _old_format(path: Path, max_scan: int) -> tuple[int, str]:
-    lines = path.read_text().splitlines()
-    keep = [",".join(lines[0].split(",")[:13])]
-    keep += [",".join(r.split(",")[:13]) for r in lines[1:] if int(r.split(",")[0]) < max_scan]
-    text = "\n".join(keep) + "\n"
-    return len(keep), hashlib.sha256(text.encode()).hexdigest()
+def _assert_same_tracks(text: str, reference: str) -> None:
+    from pipeline_reference import KINDS, track_rows
+    from tolerant import match_rows
+
+    got, ref = track_rows(text), track_rows(reference)
+    n_got, n_ref = len(got["ids"]), len(ref["ids"])
+    assert abs(n_got - n_ref) <= ROWS_RTOL * n_ref, f"{n_got} rows written, {n_ref} before"
+    for kind, floor in (("person", PERSON_SHARE), ("leg", LEG_SHARE)):
+        a, b = got["keys"][:, 1] == KINDS[kind], ref["keys"][:, 1] == KINDS[kind]
+        agree = match_rows(got["keys"][a], got["values"][a], ref["keys"][b], ref["values"][b],
+                           CSV_TOL, got["ids"][a], ref["ids"][b])  # fmt: skip
+        assert agree.share >= floor, f"{kind}: {agree.describe()}"
+        assert agree.id_conflicts <= 4, f"{kind}: {agree.describe()}"  # one swap at most
 
 
+@pytest.mark.regression
 def test_same_tracks_as_before_on_the_real_demo_bag(shared_data: Path, tmp_path: Path) -> None:
-    rel, n_lines, digest = GOLDEN["real-demo-bag-200"]
-    bag = shared_data / rel
-    if not bag.exists():
-        pytest.skip(f"{bag} not present")
-    out = tmp_path / "t.csv"
-    arras = LegTrackerParams(people_policy="arras")  # the policy the golden run used
-    build(bag, params=arras, outputs=[out], max_frames=200).run()
-    assert _old_format(out, 200) == (n_lines, digest)
+    from pipeline_reference import (
+        BAG_SCANS,
+        DEMO_BAG,
+        REAL_BAG,
+        demo_bag_csv,
+        old_format,
+        read_reference,
+    )
+
+    if not (shared_data / DEMO_BAG).exists():
+        pytest.skip(f"{shared_data / DEMO_BAG} not present")
+    out = demo_bag_csv(shared_data, tmp_path)
+    _assert_same_tracks(old_format(out.read_text(), BAG_SCANS), read_reference(REAL_BAG))
 
 
+@pytest.mark.regression
 def test_same_tracks_as_before_on_the_demo_scene(tmp_path: Path) -> None:
     """The simulated demo (seed 0), all 161 scans, through `track` as a user runs it."""
+    from pipeline_reference import DEMO_SCENE, demo_scene_csv, old_format, read_reference
+
+    out = demo_scene_csv(tmp_path)
+    _assert_same_tracks(old_format(out.read_text(), 10**9), read_reference(DEMO_SCENE))
+
+
+@pytest.mark.regression
+def test_same_tracks_comparison_fails_when_the_tracker_changes(tmp_path: Path) -> None:
+    """The comparison is not blind: the demo scene tracked with the leg process noise
+    changed by 1 % is refused."""
     from laserpeople.sim import run_scenario
+    from pipeline_reference import DEMO_SCENE, old_format, read_reference
 
     rec = tmp_path / "demo.npz"
     run_scenario("demo", seed=0).write(rec)
     out = tmp_path / "t.csv"
-    result = CliRunner().invoke(
-        app, ["--quiet", "track", str(rec), "-o", str(out), "--people-policy", "arras"]
-    )
-    assert result.exit_code == 0, result.output
-    assert _old_format(out, 10**9) == (
-        2216,
-        "a43e6a1c9e36d6a1d42acfa75bbea756c8e169ba6c60a280558aeee70ab6387d",
-    )
+    base = LegTrackerParams(people_policy="arras")
+    changed = replace(base, kalman=replace(base.kalman, accel_psd=base.kalman.accel_psd * 1.01))
+    build(rec, params=changed, outputs=[out]).run()
+    with pytest.raises(AssertionError, match="rows matched"):
+        _assert_same_tracks(old_format(out.read_text(), 10**9), read_reference(DEMO_SCENE))
 
 
 def test_frames_are_not_changed_by_stages() -> None:

@@ -1,7 +1,16 @@
 """The group tracker's decisions are unchanged by changes to its speed: tracks, sizes,
-labels, events, point groups, hypothesis counts and errors equal the recorded reference
-(tests/group_tracker_reference.py; regenerate with ``python tests/group_tracker_reference.py``
-when a change of decisions is intended)."""
+labels, events, point groups, hypothesis counts and errors agree with the recorded
+reference (tests/group_tracker_reference.py; regenerate with
+``python tests/group_tracker_reference.py`` when a change of decisions is intended).
+
+Compared so that the test holds on every CPU (tests/tolerant.py): with numpy's baseline
+loops and OpenBLAS' Nehalem kernels the simulated hall's run splits one group into a
+9-person and a 1-person group exactly as recorded, but two tracks that coincide before
+take each other's ids (the two continuations are tied to the last bit); from there the
+ids, labels and point labels of the two are swapped and the pruned tree holds a few nodes
+more or fewer. So groups are matched by frame, size, mean and covariance; ids, point
+groups and labels are compared up to renaming; hypothesis counts through a share of
+frames and their totals."""
 
 from __future__ import annotations
 
@@ -19,41 +28,116 @@ from group_tracker_reference import (
     people_only_arrays,
     sim_arrays,
 )
+from tolerant import match_rows, same_partition_share
+
+pytestmark = pytest.mark.regression
 
 FLOAT_TOL = 1e-9
+"""Metres, metres per second and their squares (group means and covariances). Another
+CPU path moves them by at most 1e-14; a 0.1 % change of the process noise moves every
+matched group by more than 1e-9 (test below)."""
+MIN_SHARE = 0.98
+"""Groups matched over groups reported: 1.0 on every CPU path tried (the swapped ids are
+matched by their states); a changed tracker matches almost none."""
+MAX_ID_CONFLICTS = 4
+"""Ids paired with more than one partner (tests/tolerant.py): 4 is one swap of two tracks'
+ids, both ways, which the simulated hall shows at 25.6 s where two tracks of the same
+group coincide and either may continue as the 9-person group (a tie); 0 elsewhere."""
+MIN_PARTITION_SHARE = 0.98
+"""Frames whose points fall into the same groups (up to names): 1.0 on every path tried."""
+MIN_STATS_SHARE = 0.85
+"""Frames whose (hypotheses, models generated, live nodes) equal the reference's: 0.90 on
+the simulated hall with the swapped ids (the last 29 of 301 frames differ by one or two),
+1.0 elsewhere."""
+STATS_TOTAL_RTOL = 0.02
+"""Relative tolerance of the three counts summed over the run (0.2 % apart at most on the
+paths tried)."""
+
+
+def _label_shape(label: str) -> tuple[int, ...]:
+    """The depth of each part of a track's label ("0-0-1|1-0-1" -> (3, 3)): which child of a
+    split a part names is a tie when both children are alike, its depth is not."""
+    return tuple(part.count("-") + 1 for part in label.split("|")) if label else ()
+
+
+def _event_shape(event: str) -> tuple[str, str, tuple[int, ...]]:
+    """An event "stamp kind labels" as (stamp, kind, depth of each label)."""
+    stamp, kind, labels = [*event.split(" "), "", ""][:3]
+    return stamp, kind, tuple(sorted(part.count("-") + 1 for part in labels.split(",")))
 
 
 def _assert_same(got: dict[str, NDArray], prefix: str) -> None:  # type: ignore[type-arg]
     expected = np.load(REFERENCE, allow_pickle=False)
-    for name in ("labels", "events", "points", "point_frames", "stats"):
-        np.testing.assert_array_equal(got[prefix + name], expected[prefix + name], err_msg=name)
     rows, ref = got[prefix + "rows"], expected[prefix + "rows"]
-    assert rows.shape == ref.shape
-    np.testing.assert_array_equal(rows[:, :3], ref[:, :3])  # frame, track id, size
-    np.testing.assert_allclose(rows[:, 3:], ref[:, 3:], rtol=0.0, atol=FLOAT_TOL)
+    agree = match_rows(rows[:, [0, 2]], rows[:, 3:], ref[:, [0, 2]], ref[:, 3:], FLOAT_TOL,
+                       rows[:, 1], ref[:, 1])  # fmt: skip
+    where = f"{prefix}: {agree.describe()}"
+    assert agree.share >= MIN_SHARE, where
+    assert agree.id_conflicts <= MAX_ID_CONFLICTS, where
+    labels, ref_labels = got[prefix + "labels"], expected[prefix + "labels"]
+    shapes = [
+        _label_shape(labels[i]) == _label_shape(ref_labels[j]) for i, j in agree.pairs.tolist()
+    ]
+    assert all(shapes), f"{where}; {shapes.count(False)} labels of another shape"
+    events = [_event_shape(e) for e in got[prefix + "events"]]
+    assert events == [_event_shape(e) for e in expected[prefix + "events"]], where
+    offsets = got[prefix + "point_frames"]
+    np.testing.assert_array_equal(offsets, expected[prefix + "point_frames"])  # point counts
+    share = same_partition_share(got[prefix + "points"], expected[prefix + "points"], offsets)
+    assert share >= MIN_PARTITION_SHARE, f"{where}; point groups agree in {share:.3f} of frames"
+    stats, ref_stats = got[prefix + "stats"], expected[prefix + "stats"]
+    assert stats.shape == ref_stats.shape
+    same = float(np.mean(np.all(stats == ref_stats, axis=1)))
+    assert same >= MIN_STATS_SHARE, f"{where}; hypothesis counts equal in {same:.3f} of frames"
+    np.testing.assert_allclose(stats.sum(axis=0), ref_stats.sum(axis=0), rtol=STATS_TOTAL_RTOL)
 
 
 @pytest.mark.slow
-def test_group_tracker_output_identical_on_simulated_hall() -> None:
+def test_group_tracker_output_matches_reference_on_simulated_hall() -> None:
     got = sim_arrays()
     _assert_same(got, "sim_")
     expected = np.load(REFERENCE, allow_pickle=False)["sim_errors"]
+    # clustering and size errors: shares of a few thousand point-frames, so one point
+    # placed otherwise moves them by 3e-4 or more; 1e-9 leaves only rounding
     np.testing.assert_allclose(got["sim_errors"], expected, rtol=0.0, atol=FLOAT_TOL)
 
 
 @pytest.mark.slow
-def test_people_only_tracker_output_identical_on_simulated_hall() -> None:
+def test_people_only_tracker_output_matches_reference_on_simulated_hall() -> None:
     _assert_same(people_only_arrays(), "people_")
 
 
 @pytest.mark.slow
-def test_optional_paths_output_identical_on_simulated_hall() -> None:
+def test_optional_paths_output_matches_reference_on_simulated_hall() -> None:
     _assert_same(extensions_arrays(), "ext_")
 
 
-def test_group_tracker_output_identical_on_demo_bag(shared_data: Path) -> None:
+def test_group_tracker_output_matches_reference_on_demo_bag(shared_data: Path) -> None:
     if not (shared_data / DEMO_BAG).is_file():
-        import pytest
-
         pytest.skip(f"{DEMO_BAG} not in the shared data")
     _assert_same(bag_arrays(shared_data), "bag_")
+
+
+@pytest.mark.slow
+def test_comparison_fails_when_the_tracker_changes() -> None:
+    """The comparison is not blind: the people-only run with the group process noise
+    changed by 0.1 % is refused."""
+    from dataclasses import replace
+
+    from group_tracker_reference import (
+        PEOPLE_ONLY,
+        REFERENCE_MHT,
+        REFERENCE_REPORTING,
+        track_frames,
+    )
+    from laserpeople.evaluation.groups import frames_from_scans
+    from laserpeople.sim.scenarios import run_scenario
+    from laserpeople.tracking.groups import GroupTrackerParams
+
+    name, seconds, seed = PEOPLE_ONLY
+    params = GroupTrackerParams.people_only(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+    changed = replace(params, eps_vel=params.eps_vel * 1.001)
+    scans = run_scenario(name, seconds=seconds, seed=seed).scans
+    got = track_frames([lf.frame for lf in frames_from_scans(scans)], "people_", changed)
+    with pytest.raises(AssertionError, match="rows matched"):
+        _assert_same(got, "people_")

@@ -10,6 +10,25 @@ from laserpeople.errors import ConfigError
 from laserpeople.tracking import kalman
 from laserpeople.tracking.kalman import KalmanParams
 
+PATH_RTOL = 1e-12
+"""Relative tolerance between two code paths of the same formula (plain floats against
+numpy's arrays, one state against a batch). The paths add the same few products in another
+order, and numpy's SIMD loops and OpenBLAS' kernels (which fuse multiply and add) differ
+from CPU to CPU: a few units in the last place (1e-16 relative) of the largest term, 1e-13
+at most after a covariance's cancellations. A wrong term (a dropped dt^2 / 2, a transposed
+F) changes the values by 1e-3 or more."""
+
+
+def assert_paths_agree(got: np.ndarray, want: np.ndarray) -> None:
+    """Same shape, dtype and non-finite entries; finite entries within :data:`PATH_RTOL` of
+    the largest magnitude in ``want``."""
+    assert got.shape == want.shape and got.dtype == want.dtype
+    finite = np.isfinite(want)
+    np.testing.assert_array_equal(np.isfinite(got), finite)
+    np.testing.assert_array_equal(got[~finite], want[~finite])  # same inf, nan
+    scale = float(np.max(np.abs(want[finite]), initial=1.0))
+    np.testing.assert_allclose(got[finite], want[finite], rtol=PATH_RTOL, atol=PATH_RTOL * scale)
+
 
 def test_predict_matches_textbook() -> None:
     dt, q = 0.1, 2.0
@@ -127,7 +146,7 @@ def test_coast_with_infinite_tau_is_constant_velocity() -> None:
     for got, want in zip(
         kalman.coast(mean, cov, dt, 2.0, np.inf), kalman.predict(mean, cov, dt, 2.0), strict=True
     ):
-        np.testing.assert_array_equal(got, want)
+        assert_paths_agree(got, want)
 
 
 def test_coast_travels_at_most_tau_times_speed() -> None:
@@ -150,18 +169,19 @@ def test_initiate_batch_equals_initiate_one_by_one() -> None:
     means, covs = initiate_batch(z, r, 0.7)
     for i in range(4):
         m, c = initiate(z[i], r[i], 0.7)
-        np.testing.assert_array_equal(means[i], m)
-        np.testing.assert_array_equal(covs[i], c)
+        assert_paths_agree(means[i], m)
+        assert_paths_agree(covs[i], c)
     empty_m, empty_c = initiate_batch(np.empty((0, 2)), np.empty((0, 2, 2)), 0.7)
     assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)
 
 
-def test_few_tracks_predict_and_coast_are_the_array_path_bit_for_bit(
+@pytest.mark.regression
+def test_few_tracks_predict_and_coast_are_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """Up to ``SMALL_BATCH`` tracks, :func:`kalman.predict` and
     :func:`kalman.predict_and_coast` build their matrices from plain floats: the same
-    means and covariances, bit for bit, as the array path (random states, steps of 0 s,
+    means and covariances as the array path, within :data:`PATH_RTOL` (random states, steps of 0 s,
     scan periods with jitter and long gaps, finite and infinite ``tau``)."""
     rng = np.random.default_rng(11)
     cases = []
@@ -188,16 +208,16 @@ def test_few_tracks_predict_and_coast_are_the_array_path_bit_for_bit(
     for got, want in zip(few, arrays, strict=True):
         assert len(got) == len(want)
         for g, w in zip(got, want, strict=True):
-            assert g.shape == w.shape and g.dtype == w.dtype
-            assert g.tobytes() == w.tobytes()
+            assert_paths_agree(g, w)
 
 
-def test_few_states_update_batch_is_the_array_path_bit_for_bit(
+@pytest.mark.regression
+def test_few_states_update_batch_is_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """Up to ``SMALL_UPDATE`` states, :func:`kalman.update_batch` forms the inverse
-    innovation covariances and ``I - K H`` in plain floats: the same means and covariances,
-    bit for bit, as the array path (random states, measurements and covariances)."""
+    innovation covariances and ``I - K H`` in plain floats: the same means and covariances
+    as the array path, within :data:`PATH_RTOL` (random states, measurements and covariances)."""
     rng = np.random.default_rng(12)
     cases = []
     for _ in range(400):
@@ -214,15 +234,15 @@ def test_few_states_update_batch_is_the_array_path_bit_for_bit(
     arrays = [kalman.update_batch(*c) for c in cases]
     for got, want in zip(few, arrays, strict=True):
         for g, w in zip(got, want, strict=True):
-            assert g.shape == w.shape and g.dtype == w.dtype
-            assert g.tobytes() == w.tobytes()
+            assert_paths_agree(g, w)
 
 
+@pytest.mark.regression
 def test_measurement_covariances_of_few_detections_are_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """The plain-float test of a few detector covariances replaces the same ones (zero,
-    negative, singular, non-finite) as the array path, bit for bit."""
+    negative, singular, non-finite) as the array path."""
     rng = np.random.default_rng(13)
     bad = [np.zeros((2, 2)), -np.eye(2), np.ones((2, 2)), np.array([[1.0, np.nan], [0.0, 1.0]])]
     bad += [np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[1.0, 0.0], [np.nan, 1.0]])]
@@ -239,14 +259,16 @@ def test_measurement_covariances_of_few_detections_are_the_array_path(
     monkeypatch.setattr(kalman, "SMALL_BATCH", -1)
     arrays = [kalman.measurement_covariances(r, 0.03) for r in cases]
     for got, want in zip(few, arrays, strict=True):
-        assert got.shape == want.shape and got.tobytes() == want.tobytes()
+        assert_paths_agree(got, want)
 
 
-def test_few_pairs_mahalanobis_and_loglik_are_the_array_path_bit_for_bit(
+@pytest.mark.regression
+def test_few_pairs_mahalanobis_and_loglik_are_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """Up to ``SMALL_PAIRS`` (track, measurement) pairs the squared Mahalanobis distances
-    and log-likelihoods are formed in plain floats: the array path's values bit for bit."""
+    and log-likelihoods are formed in plain floats: the array path's values within
+    :data:`PATH_RTOL`."""
     rng = np.random.default_rng(14)
     cases = []
     for _ in range(400):
@@ -264,5 +286,4 @@ def test_few_pairs_mahalanobis_and_loglik_are_the_array_path_bit_for_bit(
     arrays = [kalman.mahalanobis_and_loglik(*c) for c in cases]
     for got, want in zip(few, arrays, strict=True):
         for g, w in zip(got, want, strict=True):
-            assert g.shape == w.shape and g.dtype == w.dtype
-            assert g.tobytes() == w.tobytes()
+            assert_paths_agree(g, w)

@@ -237,8 +237,48 @@ def _read_toml(p: Path) -> dict[str, Any]:
         raise ConfigError(f"cannot read config file: {exc.strerror or exc}", path=p) from exc
 
 
+SOURCE_LENGTH = 80
+"""Longest source shown as it is written (``--print-config``, docs/parameters.md)."""
+_PAPER = re.compile(
+    r"^(?:000|002|004)(?: (?:Sec\.|Table|Fig\.|Figs\.|eqs?\.|Exp\.) ?[\w.\-]+(?:[,/] ?[\w.\-]+)*)?"
+)
+_DOCS_PAGE = re.compile(r"docs/[\w./-]+\.md")
+
+
+def short_source(source: str) -> str:
+    """The one line shown for a parameter's source: the paper and its section or equation
+    (``000 Table 10``), a measurement with its docs page (``measured: docs/groups.md``), a
+    reference to another setting (``as PersonParams.max_spread``), or ``assumption``. A
+    source of at most :data:`SOURCE_LENGTH` characters that names no issue or session is
+    shown as written; the full text stays in the parameter's metadata (the rationale)."""
+    text = " ".join(source.split())
+    lower = text.lower()
+    if len(text) <= SOURCE_LENGTH and "issue" not in lower and "session" not in lower:
+        return text
+    page = _DOCS_PAGE.search(text)
+    paper = _PAPER.match(text)
+    if lower.startswith("unset"):
+        return "unset: the tracker's default (see the setting's meaning)"
+    if lower.startswith("departure from "):
+        return text[: len("departure from 000")] + (f"; measured: {page.group(0)}" if page else "")
+    if lower.startswith("as "):
+        return re.split(r" \(|:|;", text, maxsplit=1)[0]
+    if paper and not lower.startswith(("000 (", "002 (", "004 (")):
+        return paper.group(0)
+    if page and ("measured" in lower or "issue" in lower or "session" in lower):
+        return f"measured: {page.group(0)}"
+    if lower.startswith(("assum", "extension")) or "assumption" in lower[:40]:
+        return "assumption" + (f"; measured: {page.group(0)}" if page else "")
+    if paper:  # "000 (0: off ...)": the paper's value, changed by a measurement
+        return paper.group(0) + (f"; measured: {page.group(0)}" if page else "")
+    if page:
+        return f"measured: {page.group(0)}"
+    return "measured" if "measured" in lower or "issue" in lower else "assumption"
+
+
 def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:
-    """Rows ``(name, value, unit, source, doc)`` for every parameter (nested ones dotted)."""
+    """Rows ``(name, value, unit, source, doc)`` for every parameter (nested ones dotted);
+    the source as :func:`short_source` shows it."""
     obj = obj_or_cls() if isinstance(obj_or_cls, type) else obj_or_cls
     rows: list[tuple[str, Any, str, str, str]] = []
     for f in dataclasses.fields(obj):
@@ -251,7 +291,7 @@ def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:
                 f.name,
                 value,
                 f.metadata.get("unit", ""),
-                f.metadata.get("source", ""),
+                short_source(f.metadata.get("source", "")),
                 f.metadata.get("doc", ""),
             )
         )

@@ -18,7 +18,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import typer
-from typer.core import TyperArgument, TyperGroup
+from typer.core import TyperArgument, TyperGroup, TyperOption
 
 from laserpeople.cli import (
     align,
@@ -78,14 +78,41 @@ def _usage_name(param: TyperArgument) -> Any:
     return show
 
 
+OPTION_METAVARS = {"int": "N", "float": "NUMBER", "path": "PATH", "Path": "PATH"}
+"""What an option's value is called in ``--help`` by its type (``TEXT`` otherwise), in
+place of typer's ``<list[str]>`` / ``<float range>``."""
+
+
+def _metavar(param: TyperOption) -> str:
+    """``N``, ``NUMBER``, ``PATH`` or ``TEXT`` for typer's ``<int>``, ``<float range>``,
+    ``<list[Path]>``, ``<str>``..."""
+    try:
+        label = str(param.display_type(None))  # type: ignore[arg-type]
+    except Exception:  # a choice type needs a context: its values are text
+        return "TEXT"
+    label = label.strip("<>").removesuffix(" range")
+    if label.startswith("list[") and label.endswith("]"):
+        label = label[5:-1]
+    return OPTION_METAVARS.get(label, "TEXT")
+
+
+def _no_type(ctx: Any) -> None:
+    """An argument's help line names the argument only (its help says what it takes)."""
+    return None
+
+
 class LaserPeopleGroup(TyperGroup):
-    """The command group: global flags after the command name, one style of usage line."""
+    """The command group: global flags after the command name, one style of usage line,
+    plain value names in ``--help`` (``--tracker TEXT``, ``--gate NUMBER``)."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         for command in self.commands.values():
             for param in command.params:
+                if isinstance(param, TyperOption) and param.metavar is None:
+                    param.metavar = _metavar(param)
                 if isinstance(param, TyperArgument):
+                    param.display_type_rich = _no_type  # type: ignore[method-assign]
                     param.metavar = (param.metavar or param.name or "").upper()
                     # typer writes required arguments as {name}; the instance attribute
                     # makes every usage line read NAME / [NAME] / NAME...

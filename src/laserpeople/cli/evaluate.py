@@ -17,6 +17,7 @@ if TYPE_CHECKING:
 
     from laserpeople.evaluation import EvaluationParams, EvaluationReport
     from laserpeople.evaluation.followed import FollowedPersonResult
+    from laserpeople.evaluation.pairing import PairingCounts
     from laserpeople.io.tracks_csv import TrackIdNames
     from laserpeople.tracks import Tracks
     from laserpeople.truth import TruthFrame
@@ -200,6 +201,7 @@ def register(app: typer.Typer) -> None:
 
             track_stream = iter_tracks_bag(tracks, kinds=kinds)  # type: ignore[arg-type]
         else:
+            _check_kind(tracks, params.kind)
             track_stream = iter_tracks_csv(
                 tracks,
                 frame="world",
@@ -238,12 +240,7 @@ def register(app: typer.Typer) -> None:
                 f"any {kind} track); {pairing.track_scans_unscored} track scans had no truth "
                 "and were not scored"
             )
-            if pairing.max_stamp_offset > 0.05:
-                warn(
-                    f"truth and track stamps differ by up to "
-                    f"{pairing.max_stamp_offset:.3f} s for the same scan index: are they from "
-                    "the same recording and topic?"
-                )
+            _stamp_check(pairing)
         if as_json:
             out = report.to_json_dict()
             for key in ("identity_matching", "schenk_matching"):
@@ -251,6 +248,30 @@ def register(app: typer.Typer) -> None:
             print(json.dumps(out, allow_nan=False))
         else:
             console.print(render(report))
+
+
+def _check_kind(tracks: Path, kind: str) -> None:
+    """Refuse a tracks CSV that has rows of other kinds but none of ``kind`` (a group
+    tracker's CSV scored as people would give a table of zeros)."""
+    from laserpeople.errors import EvaluationError
+    from laserpeople.io.tracks_csv import count_track_kinds
+
+    counts = count_track_kinds(tracks)
+    if counts and not counts.get(kind):
+        held = ", ".join(f"{n} {k} rows" for k, n in sorted(counts.items()))
+        best = max(counts, key=lambda k: counts[k])
+        raise EvaluationError(
+            f"holds no {kind} tracks, only {held}",
+            path=tracks,
+            hint=f"score them with --kind {best}",
+        )
+
+
+def _stamp_check(pairing: PairingCounts) -> None:
+    """Print what the paired stamps say (a note, or a warning when they disagree)."""
+    text, is_warning = pairing.stamp_check()
+    if text:
+        (warn if is_warning else say)(text)
 
 
 def _person_id(text: str, frames: list[TruthFrame]) -> int:
@@ -291,12 +312,7 @@ def _followed(
         f"scored person {person} on {result.frames} labelled frames; "
         f"{pairing.track_scans_unscored} track scans had no truth; other tracks are ignored"
     )
-    if pairing.max_stamp_offset > 0.05:
-        warn(
-            f"truth and track stamps differ by up to {pairing.max_stamp_offset:.3f} s for the "
-            "same scan index (a truth CSV may carry the bag's receive time instead of the "
-            "scan's header stamp): check that they come from the same recording and topic"
-        )
+    _stamp_check(pairing)
     if per_frame is not None:
         metric.frames().to_csv(per_frame)
         say(f"per-frame table written to {per_frame}")

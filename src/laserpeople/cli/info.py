@@ -160,11 +160,17 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
         out["other_lines"] = dict(other_lines)
     all_topics = getattr(rec, "all_topics", None)
     if callable(all_topics):
+        from laserpeople.io.truth_bag import TRUTH_TYPES
+
         out["other_topics"] = [
             {"topic": t.name, "msgtype": t.msgtype, "messages": t.count}
             for t in all_topics()
             if t.name not in listed
         ]
+        out["truth_topics"] = [
+            t["topic"] for t in out["other_topics"] if t["msgtype"] in TRUTH_TYPES
+        ]
+        out["ground_truth"] = out["ground_truth"] or bool(out["truth_topics"])
     return out
 
 
@@ -201,7 +207,11 @@ def _print_table(report: dict[str, Any]) -> None:
         )
     out = console  # in a pipe: wide and never folded (cli.common.make_console)
     out.print(table)
-    out.print(f"ground truth: {'yes' if report['ground_truth'] else 'no'}", highlight=False)
+    truth = "yes" if report["ground_truth"] else "no"
+    if report.get("truth_topics"):
+        first = report["truth_topics"][0]
+        truth += f", topic {', '.join(report['truth_topics'])} (use --truth BAG:{first})"
+    out.print(f"ground truth: {truth}", highlight=False)
     if report.get("pose_summary"):
         out.print(f"poses: {report['pose_summary']}", highlight=False)
     if report.get("bad_lines"):

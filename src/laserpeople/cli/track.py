@@ -16,6 +16,7 @@ from laserpeople.cli.common import (
     progress,
     report_damage,
     say,
+    warn,
 )
 from laserpeople.config import check_sections, load_config, to_toml
 from laserpeople.errors import ConfigError
@@ -203,9 +204,20 @@ def run_tracking(
         )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
+    from laserpeople.pipeline.laser_height import laser_heights, upper_body_warning
+
+    height_warning = upper_body_warning(
+        tracker_name, list(source.topics), laser_heights(source.recording)
+    )
+    if height_warning:
+        warn(height_warning)
+    interrupted = False
     try:
         for _ in progress(pipe, total=source.total, description="tracking"):
             pass
+    except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
+        interrupted = True
+        pipe.close()
     finally:
         report_damage(source.recording)
     for line in source.summary():
@@ -253,6 +265,7 @@ def run_tracking(
             say(f"{left_out} {text}")
     stats = pipe.stats
     return {
+        "interrupted": float(interrupted),
         "scans": float(stats.frames),
         "rows": float(stats.rows),
         "leg_tracks": float(stats.count("leg")),
@@ -316,8 +329,11 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--tracker",
-                help="Tracker: leg-mht (Arras et al. 2008 Sec. 3), nn, group-mht, csa, "
-                "feet-pf or upper-body-pf (see laserpeople track --help).",
+                help="Tracker: leg-mht (legs and people from leg detections, Arras et al. "
+                "2008 Sec. 3), nn (nearest neighbour), group-mht (groups and their size), "
+                "csa (people from laser points, Kräußling et al.), feet-pf or upper-body-pf "
+                "(particle filters, Schenk et al. 2011; upper-body-pf needs a laser at "
+                "upper-body height).",
             ),
         ] = "leg-mht",
         topic: TopicOption = None,
@@ -373,12 +389,9 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(
                 "--background",
-                help="Static world model: for trackers of foreground points (group-mht, csa, "
-                "feet-pf, upper-body-pf) and for leg-mht's people (not confirmed on places "
-                "static for long until they move): auto (per-beam histogram while the lasers "
-                "stand still, occupancy grid once they move; none for a moving laser without "
-                "poses; once a laser moves the trackers of points keep only the points near "
-                "leg detections, [leg_foreground] in --config), histogram, occupancy or none.",
+                help="Static world model, which tells people from furniture: auto (a "
+                "histogram per beam while the lasers stand still, an occupancy grid once "
+                "they move), histogram, occupancy or none.",
             ),
         ] = "auto",
         map_path: Annotated[
@@ -446,9 +459,10 @@ def register(app: typer.Typer) -> None:
                 tracker_param_classes(),
             ),
         )
-        if print_config:
+        if print_config:  # the sections this tracker reads, nothing else
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
-            every = dict.fromkeys([*classes, *static_sections])  # [leg_tracker] is in both
+            read = StaticWorldParams.sections_for(entry.consumes)
+            every = dict.fromkeys([*classes, *read])  # [leg_tracker] may be in both
             loaded: list[Any] = [load_config(cls, config) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
                 print(to_toml(obj))
@@ -500,3 +514,9 @@ def register(app: typer.Typer) -> None:
         )
         if bag is not None:
             say(f"wrote {bag}")
+        if stats["interrupted"]:
+            warn(
+                f"interrupted (Ctrl-C) after {int(stats['scans'])} scans: {output} holds the "
+                "tracks of those scans and is a complete CSV"
+            )
+            raise typer.Exit(130)

@@ -121,6 +121,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command(
         "train",
+        short_help="Train the AdaBoost leg detector from labelled scans.",
         help=(
             "Train the AdaBoost leg detector (Arras et al. 2008 Table 1) from labelled segments: "
             "recordings "

@@ -102,15 +102,26 @@ def register(app: typer.Typer) -> None:
             str | None,
             typer.Option(
                 "--truth",
-                help="Ground truth: a CSV scan,stamp,person_id,x,y (world frame) or 'recording'. "
-                "Default: the recording's own truth when it has some.",
+                help="Ground truth, as evaluate reads it: a CSV scan,stamp,person_id,x,y, "
+                "BAG:/topic (a people topic of a bag) or 'recording'; positions in the frame "
+                "the tracks are in (the laser's for a bag's people topic). Default: the "
+                "recording's own truth when it has some.",
             ),
         ] = None,
         no_truth: Annotated[
             bool, typer.Option("--no-truth", help="Do not draw ground truth.")
         ] = False,
         topic: Annotated[
-            str | None, typer.Option("--topic", help="Laser topic (default: first).")
+            list[str] | None,
+            typer.Option(
+                "--topic",
+                help="Laser topic (default: the first; repeatable: the first one's scans are "
+                "drawn with the others' points, as a fused run sees them).",
+            ),
+        ] = None,
+        topics: Annotated[
+            str | None,
+            typer.Option("--topics", help="'all': draw every laser of the recording."),
         ] = None,
         frame: Annotated[
             str,
@@ -160,20 +171,42 @@ def register(app: typer.Typer) -> None:
 
         truth_file = truth if truth not in (None, "auto", "recording") else None
         check_outputs({"-o": output}, [recording, tracks, truth_file])
+        from laserpeople.cli.track import topics_from
+
+        asked = topics_from(topic, topics)
+        first_topic = asked[0] if asked and asked != ["all"] else None
+        truth_input: Any = truth_arg
+        if truth_file is not None and not no_truth:
+            from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
+
+            if is_bag_path(split_truth_spec(truth_file)[0]):  # BAG[:TOPIC], as evaluate
+                from laserpeople.cli.evaluate import truth_frames
+
+                notes: list[str] = []
+                truth_input = list(truth_frames(truth_file, first_topic, notes, on_error))
+                for note in notes:
+                    say(note)
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
         try:  # the recording is closed on every path, the error paths included
             result, scene = _draw(
-                source, recording, output, tracks, tracks_frame, truth_arg, topic, frame,
+                source, recording, output, tracks, tracks_frame, truth_input, asked, frame,
                 (start, stop, every), scan, size_px, extent_m, fps, trail,
             )  # fmt: skip
         finally:
             source.close()
         what = "frame" if result.frames == 1 else "frames"
+        lasers = ", ".join([str(scene.topic), *scene.other_topics])
         say(
-            f"wrote {result.path} ({result.frames} {what}, topic {scene.topic}, "
-            f"{scene.frame} frame)"
+            f"wrote {result.path} ({result.frames} {what}, "
+            f"topic{'s' if scene.other_topics else ''} "
+            f"{lasers}, {scene.frame} frame)"
         )
+        if scene.others_unplaced:
+            warn(
+                f"{scene.others_unplaced} scans of {', '.join(scene.other_topics)} not drawn: "
+                "no sensor pose to place them (--mount gives a laser's mount)"
+            )
         if scene.skipped_without_pose:
             warn(
                 f"{scene.skipped_without_pose} scans not drawn: no sensor "
@@ -188,8 +221,8 @@ def _draw(
     output: Path,
     tracks: Path | None,
     tracks_frame: str | None,
-    truth_arg: str | None,
-    topic: str | None,
+    truth_input: Any,
+    asked: list[str] | None,
     frame: str,
     scans: tuple[int | None, int | None, int],
     scan: int | None,
@@ -200,21 +233,29 @@ def _draw(
 ) -> tuple[Any, Any]:
     """Check the tracks against the recording, build the scene and render it; returns the
     render result and the scene. The caller closes ``source``."""
+    from laserpeople.pipeline import resolve_topics
     from laserpeople.viz import Scene, render
 
+    drawn = resolve_topics(source, asked) if asked else []
     if tracks is not None:
-        from laserpeople.pipeline import resolve_topics
         from laserpeople.pipeline.checks import tracks_mismatch
 
-        topic = resolve_topics(source, [topic] if topic else None)[0]
-        for problem in tracks_mismatch(tracks, source, topic):
+        drawn = drawn or resolve_topics(source, None)
+        for problem in tracks_mismatch(tracks, source, drawn[0]):
             warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        if tracks_frame is None and tracks.suffix.lower() == ".csv":
+            from laserpeople.io.tracks_csv import read_tracks_frame
+
+            tracks_frame = read_tracks_frame(tracks)
+            if tracks_frame is not None:
+                say(f"tracks in the {tracks_frame} frame (the CSV's frame column)")
     start, stop, every = scans
     scene = Scene(
         source,
         tracks,
-        truth_arg,
-        topic=topic,
+        truth_input,
+        topic=drawn[0] if drawn else None,
+        other_topics=tuple(drawn[1:]),
         frame=frame,  # type: ignore[arg-type]
         tracks_frame=tracks_frame,  # type: ignore[arg-type]
         start=start,

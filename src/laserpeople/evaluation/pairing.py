@@ -27,6 +27,35 @@ class PairingCounts:
     frames_without_tracks: int = 0
     track_scans_unscored: int = 0
     max_stamp_offset: float = 0.0
+    min_stamp_difference: float = float("inf")
+    max_stamp_difference: float = float("-inf")
+
+    STAMP_TOLERANCE = 0.05
+    """Largest stamp difference [s] (or spread of the differences) taken as the same scan:
+    assumption, half a scan period of a 10 Hz laser."""
+
+    def stamp_check(self) -> tuple[str, bool]:
+        """What the paired scans' stamps say, and whether it is a warning: nothing when
+        they agree; a note when every truth stamp is off by the same amount (another clock,
+        as a truth CSV written with the bag's receive time: the scan indices pair them);
+        a warning when the differences vary (different recordings or topics)."""
+        if self.max_stamp_offset <= self.STAMP_TOLERANCE:
+            return "", False
+        spread = self.max_stamp_difference - self.min_stamp_difference
+        if spread <= self.STAMP_TOLERANCE:
+            mean = 0.5 * (self.max_stamp_difference + self.min_stamp_difference)
+            return (
+                f"truth stamps are {mean:+.3f} s from the tracks' on every scored scan (another "
+                "clock, e.g. the bag's receive time); truth and tracks were paired by scan "
+                "index",
+                False,
+            )
+        return (
+            f"truth and track stamps differ by up to {self.max_stamp_offset:.3f} s for the "
+            f"same scan index, by amounts varying over {spread:.3f} s: check that they come "
+            "from the same recording and topic",
+            True,
+        )
 
 
 def pair_by_scan(
@@ -72,7 +101,10 @@ def pair_by_scan(
         matched: Tracks | None = None
         if pending is not None and pending.scan_index == truth.scan_index:
             matched = pending
-            stats.max_stamp_offset = max(stats.max_stamp_offset, abs(truth.stamp - pending.stamp))
+            diff = truth.stamp - pending.stamp
+            stats.max_stamp_offset = max(stats.max_stamp_offset, abs(diff))
+            stats.min_stamp_difference = min(stats.min_stamp_difference, diff)
+            stats.max_stamp_difference = max(stats.max_stamp_difference, diff)
             pending = advance(pending)
         stats.frames_scored += 1
         stats.frames_without_tracks += matched is None

@@ -191,6 +191,45 @@ def describe(exc: BaseException) -> str:
     return f"{name}: {text}" if text else name
 
 
+BAG_MAGIC = (b"#ROSBAG V2.0\n", b"\x89MCAP0\r\n", b"SQLite format 3\x00")
+"""How a ROS 1 bag, an MCAP file and a ROS 2 SQLite bag begin."""
+
+
+def check_bag_file(path: Path) -> None:
+    """Refuse a file that cannot be a bag (empty, or not starting as a ROS 1 bag, MCAP or
+    SQLite file does) with a message that says so, before a parser reports it in its own
+    words. A folder (a ROS 2 bag) is left to the reader.
+
+    Raises:
+        RecordingError: the file is empty or starts otherwise; names the file.
+    """
+    from laserpeople.errors import RecordingError
+
+    if path.is_dir():
+        return
+    try:
+        with path.open("rb") as fh:
+            head = fh.read(16)
+    except OSError as exc:
+        raise RecordingError(f"cannot read the file: {exc.strerror or exc}", path=path) from exc
+    if not head:
+        raise RecordingError(
+            "the file is empty (0 bytes), not a bag",
+            path=path,
+            hint="the copy or the recording was cut short: copy or record it again",
+        )
+    if any(head.startswith(m[: len(head)]) for m in BAG_MAGIC):
+        return
+    text = all(32 <= b < 127 or b in b"\t\r\n" for b in head)
+    raise RecordingError(
+        f"not a bag: it starts with {'text' if text else 'other binary data'} "
+        f"({head.decode('ascii', 'replace')!r}), not as a ROS 1 bag, an MCAP or a ROS 2 "
+        "SQLite file does",
+        path=path,
+        hint="check that this is the recording: a renamed or wrongly exported file is not a bag",
+    )
+
+
 def open_reader(
     path: str | Path,
     *,
@@ -223,6 +262,7 @@ def open_reader(
     if not p.exists():
         raise RecordingError("file not found", path=p, hint="check the path")
     install()
+    check_bag_file(p)
     reader = None
     try:
         reader = AnyReader([p])

@@ -9,7 +9,9 @@ Header::
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
 Files written with a ``topic`` have one more column at the end, ``topic``: the laser
 topic the tracks come from, or ``fused`` when several lasers made each frame (then
-``scan`` is the index of the first laser's scan). Files written with ``contours`` (by the
+``scan`` is the index of the first laser's scan), followed by ``frame``: ``world`` or
+``sensor``, the frame of the positions (:func:`read_tracks_frame`; ``view`` draws the
+tracks in it). Files written with ``contours`` (by the
 trackers of groups) end with a ``contour`` column: a group's outline as ``x y;x y;...``
 [m] in the frame of the positions, empty for legs, persons and groups without one.
 Readers accept files with and without these columns.
@@ -55,6 +57,8 @@ HEADER = (
     "labels",
 )
 TOPIC_COLUMN = "topic"
+FRAME_COLUMN = "frame"
+"""The frame of the positions (world / sensor), written with the topic column."""
 CONTOUR_COLUMN = "contour"
 
 
@@ -128,13 +132,13 @@ class TracksCsvWriter:
         self.path = Path(path)
         self.frame = frame
         self.topic = topic
-        header = HEADER if topic is None else (*HEADER, TOPIC_COLUMN)
+        header = HEADER if topic is None else (*HEADER, TOPIC_COLUMN, FRAME_COLUMN)
         self._out = ScanLineWriter(
             self.path, (*header, CONTOUR_COLUMN) if contours else header, "tracks CSV"
         )
         self.rows = 0
         self.contours = contours
-        self._tail: tuple[str, ...] = () if topic is None else (topic,)
+        self._tail: tuple[str, ...] = () if topic is None else (topic, frame)
 
     def write(self, tracks: Tracks) -> None:
         """Append the rows of one scan with one ``write()`` (see the module docstring).
@@ -296,19 +300,52 @@ def _existing_csv(path: str | Path) -> Path:
     return p
 
 
-def read_tracks_topic(path: str | Path) -> str | None:
-    """The ``topic`` of a tracks CSV's first row, or None for files without the column
-    (written before it existed) or without rows."""
+def _first_row_value(path: str | Path, column: str) -> str | None:
+    """``column`` of a tracks CSV's first row; None without the column, rows or value."""
     p = _existing_csv(path)
     try:
         with open(p, newline="", encoding="utf-8") as fh:
             reader = CsvRows(fh, p, "tracks CSV", TRACKS_HINT)
-            if TOPIC_COLUMN not in reader.fieldnames:
+            if column not in reader.fieldnames:
                 return None
             row = next(reader, None)
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
-    return None if row is None else (row.get(TOPIC_COLUMN) or None)
+    return None if row is None else (row.get(column) or None)
+
+
+def read_tracks_topic(path: str | Path) -> str | None:
+    """The ``topic`` of a tracks CSV's first row, or None for files without the column
+    (written before it existed) or without rows."""
+    return _first_row_value(path, TOPIC_COLUMN)
+
+
+def read_tracks_frame(path: str | Path) -> CoordinateFrame | None:
+    """The frame (world / sensor) a tracks CSV's positions are in, from its ``frame``
+    column; None for files without the column (written before it existed, or by other
+    programs) or without rows."""
+    value = _first_row_value(path, FRAME_COLUMN)
+    return value if value in ("world", "sensor") else None  # type: ignore[return-value]
+
+
+def count_track_kinds(path: str | Path) -> dict[str, int]:
+    """Rows per ``kind`` of a tracks CSV (empty for a file without the column or rows, or
+    one that cannot be read as text)."""
+    p = _existing_csv(path)
+    counts: dict[str, int] = {}
+    try:
+        with open(p, newline="", encoding="utf-8") as fh:
+            reader = CsvRows(
+                (line for line in fh if not line.startswith("#")), p, "tracks CSV", TRACKS_HINT
+            )
+            if "kind" not in reader.fieldnames:
+                return counts
+            for row in reader:
+                kind = row.get("kind") or ""
+                counts[kind] = counts.get(kind, 0) + 1
+    except (OSError, UnicodeDecodeError, RecordingError):
+        return {}  # unreadable: the reader that follows says what is wrong, and where
+    return counts
 
 
 def iter_tracks_csv(

@@ -205,6 +205,20 @@ class StaticWorldParams:
     people's legs uses it (see :func:`~.leg_foreground.stage_leg_tracker`)."""
 
     @staticmethod
+    def sections_for(consumes: frozenset[str]) -> list[type]:
+        """The sections that a tracker reading ``consumes`` of a frame is given: all of
+        :meth:`sections` for a tracker of laser points; without ``[leg_foreground]`` and
+        its ``[leg_tracker]`` for a tracker of leg detections (only the points' foreground
+        keeps points near legs)."""
+        from laserpeople.tracking.legs import LegTrackerParams
+        from laserpeople.tracking.registry import POINT_FIELDS
+
+        every = StaticWorldParams.sections()
+        if consumes & POINT_FIELDS:
+            return every
+        return [c for c in every if c not in (LegForegroundParams, LegTrackerParams)]
+
+    @staticmethod
     def sections() -> list[type]:
         """The parameter classes (TOML sections) it reads."""
         from laserpeople.tracking.legs import LegTrackerParams

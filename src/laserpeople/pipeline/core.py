@@ -131,7 +131,11 @@ class Pipeline:
             self.close()
 
     def close(self) -> None:
-        """Close the sinks (and the source, when it can be closed)."""
+        """Close the sinks (and the source, when it can be closed); once (a second call,
+        as after an interruption, does nothing)."""
+        if getattr(self, "_closed", False):
+            return
+        self._closed = True
         for sink in self.sinks:
             sink.close()
         close = getattr(self.source, "close", None)

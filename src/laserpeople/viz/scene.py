@@ -109,6 +109,9 @@ class Scene:
         stop: Scan index to stop before (exclusive); None runs to the end.
         every: Draw every ``every``-th scan of the window.
         title: Text on the pictures; None names the file and topic.
+        other_topics: Further lasers whose points are drawn with each scan of ``topic``
+            (their latest scan at or before it, in the display frame; a fused run's other
+            lasers). In the sensor frame they need sensor poses (mounts) to be placed.
     """
 
     def __init__(
@@ -124,6 +127,7 @@ class Scene:
         stop: int | None = None,
         every: int = 1,
         title: str | None = None,
+        other_topics: tuple[str, ...] = (),
     ) -> None:
         if every < 1:
             raise LaserPeopleError(f"every must be at least 1, got {every}")
@@ -145,6 +149,9 @@ class Scene:
         self._tracks = tracks
         self._truth = truth
         self.topic = topic
+        self.other_topics = tuple(t for t in other_topics if t != topic)
+        self.others_unplaced = 0
+        """Scans of the other topics not drawn in the last pass (no pose to place them)."""
         self.start = start if start is not None else 0
         self.stop = stop
         self.every = every
@@ -190,7 +197,34 @@ class Scene:
                 raise RecordingError("recording has no laser topics", path=source.path)
             topic = topics[0].name
             self.topic = topic
-        return source.scans([topic])
+        if not self.other_topics:
+            return source.scans([topic])
+        return self._with_others(source.scans([topic, *self.other_topics]), topic)
+
+    def _with_others(self, scans: Iterator[Scan], topic: str) -> Iterator[Scan]:
+        """The scans of ``topic``, each carrying the other lasers' latest scans (kept in
+        :attr:`_latest` for :meth:`_frame`)."""
+        self._latest: dict[str, Scan] = {}
+        for scan in scans:
+            if scan.sensor == topic:
+                yield scan
+            else:
+                self._latest[scan.sensor] = scan
+
+    def _other_points(self, scan: Scan) -> FloatArray:
+        """The other lasers' latest points (K, 2) in the display frame at ``scan``."""
+        latest = getattr(self, "_latest", {})
+        parts = []
+        for other in latest.values():
+            if other.pose is None or (self.frame == "sensor" and scan.pose is None):
+                self.others_unplaced += 1
+                continue
+            pts, _ = other.valid_points("world")
+            if self.frame == "sensor":
+                assert scan.pose is not None
+                pts = scan.pose.inverse_transform_points(pts)
+            parts.append(pts)
+        return np.concatenate(parts) if parts else np.empty((0, 2))
 
     def _recording_truth(self, source: RecordingSource) -> Iterator[TruthFrame] | None:
         return source.truth() if source.has_truth else None
@@ -343,6 +377,8 @@ class Scene:
             )
         if truth is not None and self.frame == "sensor" and pose is not None:
             truth = _transform_truth(truth, pose)
+        if self.other_topics:
+            points = np.concatenate([points, self._other_points(scan)])
         return SceneFrame(scan, points, sensor_pose, tracks, truth)
 
     def empty_window_error(self, options: str = "--topic, --start and --stop") -> LaserPeopleError:

@@ -431,6 +431,7 @@ def test_neko_labels_nested_too_deep(tmp_path: Path) -> None:
     [
         ["view", "{rec}", "-o", "{out}.gif", "--trail", "99999999999"],
         ["bench", "{rec}", "--tracker", "nn", "--repeat", "99999999999"],
+        ["bench", "{rec}", "--tracker", "nn", "--max-scans", "9" * 25],
     ],
 )
 def test_counts_that_ran_for_ever_are_bounded(argv: list[str], tmp_path: Path) -> None:

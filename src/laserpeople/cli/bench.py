@@ -45,7 +45,9 @@ def register(app: typer.Typer) -> None:
         repeat: Annotated[
             int, typer.Option(min=1, max=1000, help="Passes over the scans per stage.")
         ] = 3,
-        max_scans: Annotated[int, typer.Option(min=1, help="Time at most this many scans.")] = 2000,
+        max_scans: Annotated[
+            int, typer.Option(min=1, max=10**9, help="Time at most this many scans.")
+        ] = 2000,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
         on_error: OnErrorOption = "stop",
     ) -> None:

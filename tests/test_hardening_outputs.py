@@ -35,17 +35,29 @@ INPUTS = {
     ("track", "config"),
     ("track", "model"),
     ("track", "map_path"),
-    ("evaluate", "tracks"),
+    ("evaluate", "tracks_args"),
     ("fit", "recordings"),
     ("fit", "config"),
     ("bench", "recording"),
     ("view", "recording"),
     ("view", "tracks"),
     ("align", "recording"),
+    ("batch", "config"),
+    ("batch", "map_path"),
+    ("batch", "model"),
+    ("batch", "sweep"),
+    ("live", "config"),
+    ("live", "map_path"),
+    ("live", "model"),
 }
 """Every ``Path`` parameter a command reads."""
 
-TEXT_INPUTS = {("evaluate", "truth"), ("fit", "truth"), ("view", "truth")}
+TEXT_INPUTS = {
+    ("evaluate", "truth"),
+    ("fit", "truth"),
+    ("view", "truth"),
+    ("batch", "recordings"),
+}
 """File inputs given as text (``BAG[:TOPIC]``, or ``recording``)."""
 
 OUTPUTS = {
@@ -61,6 +73,8 @@ OUTPUTS = {
     ("view", "output"),
     ("demo", "out_dir"),
     ("align", "output"),
+    ("batch", "out"),
+    ("live", "record"),
 }
 """Every ``Path`` parameter a command writes."""
 
@@ -94,10 +108,24 @@ BASE: dict[str, list[str]] = {
         "--map",
         "{map_path}",
     ],
-    "evaluate": ["{tracks}", "--truth", "{truth}", "--per-frame", "{per_frame}"],
+    "evaluate": ["{tracks_args}", "--truth", "{truth}", "--per-frame", "{per_frame}"],
     "fit": ["{recordings}", "--truth", "{truth}", "-o", "{output}", "--config", "{config}"],
     "view": ["{recording}", "-o", "{output}", "--tracks", "{tracks}", "--truth", "{truth}"],
     "align": ["{recording}", "-o", "{output}"],
+    "batch": [
+        "{recordings}",
+        "--out",
+        "{output}",
+        "--config",
+        "{config}",
+        "--model",
+        "{model}",
+        "--map",
+        "{map_path}",
+        "--sweep",
+        "{sweep}",
+    ],
+    "live": ["--config", "{config}", "--model", "{model}", "--map", "{map_path}"],
 }
 """A command line of each command with inputs, every file named by its parameter."""
 
@@ -159,12 +187,15 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     default_model().save(files["model"])
     files["config"] = d / "config.toml"
     files["config"].write_text("", encoding="utf-8")
+    files["sweep"] = d / "sweep.toml"
+    files["sweep"].write_text("", encoding="utf-8")
     shutil.copytree(here / "map_resolution", d / "map")
     files["map_path"] = d / "map" / "map.yaml"
     files["neko"] = d / "neko"
     shutil.copytree(here / "neko_infinity", files["neko"])
     files["tracks"] = d / "tracks.csv"
     shutil.copy(here / "tracks_stamps_differ.csv", files["tracks"])
+    files["tracks_args"] = files["tracks"]
     files["truth"] = d / "truth.csv"
     write_truth_csv(files["truth"], [])
     return files

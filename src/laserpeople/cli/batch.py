@@ -241,6 +241,9 @@ def register(app: typer.Typer) -> None:
             retries=retries,
         )
         paths = expand(recordings)
+        from laserpeople.io.paths import check_outputs
+
+        check_outputs({"--out": out}, [*paths, config, model, map_path, sweep])
         if sweep is not None:
             raise typer.Exit(_sweep(sweep, paths, out, options, cluster, force))
         with JobProgress(len(paths)) as bar:

@@ -55,6 +55,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -73,6 +74,7 @@ from laserpeople.tracking.reidentify import (
     Signature,
     leg_width,
 )
+from laserpeople.tracking.visibility import VISIBLE, SensorView, ViewParams
 from laserpeople.tracks import Track
 
 FloatArray = NDArray[np.float64]
@@ -255,6 +257,12 @@ class PersonTrackParams:
         "re-identification of people lost for long (tracking/reidentify.py)",
     )
 
+    view: ViewParams = param(  # noqa: RUF009 (a frozen default instance)
+        ViewParams(),
+        "nested table people.view.*",
+        "when a person's place is visible to the lasers (tracking/visibility.py; visible_coast)",
+    )
+
     static_legs: bool = param(
         False,
         "assumption: a leg on a place static for longer than static_time, with nobody seen "
@@ -271,6 +279,55 @@ class PersonTrackParams:
         "leg detections on static places this close to a person that has walked (or been "
         "reported) are tracked whatever static_legs says",
         "m",
+    )
+    one_leg_birth: bool = param(
+        True,
+        "issue 29: from a moving robot at 3-7 m the 0.35 deg laser puts few beams on a leg, "
+        "the legs merge or hide each other; on the real lobby recording a person track "
+        "started only 0.5-1.5 m from the robot (false: two legs or a wide segment, as before)",
+        "a single free detected leg with a detector score above one_leg_min_score gives "
+        "birth to a person candidate, and a person seen by one leg that moves consistently "
+        "(moving_time, moving_speed, moving_straightness) gains existence as from both legs",
+    )
+    one_leg_min_score: float = param(
+        0.0,
+        "issue 29, real lobby recording (dev part): legs of people at 3-7 m had AdaBoost "
+        "margins 0.01-1.6, half below 0.5; 0.5 -> 0.0: recall 0.105 -> 0.246, false "
+        "positives 17 -> 23 (the added ones real, unlabelled people). The evidence that "
+        "tells people from clutter is the consistent motion",
+        "detector score above which a single leg gives birth to a person candidate and "
+        "counts as moving evidence",
+    )
+    moving_time: float = param(
+        0.5,
+        "assumption: about four scans at 7.5 Hz, one stride",
+        "a person's measured positions over at least this long tell whether it moves "
+        "consistently",
+        "s",
+    )
+    moving_speed: float = param(
+        0.4,
+        "assumption: slow walking ~0.5-0.8 m/s; a leg track hopping on clutter or a wall "
+        "gives a net displacement near zero",
+        "a person moves consistently when its net displacement over moving_time is at least "
+        "this fast",
+        "m/s",
+    )
+    moving_straightness: float = param(
+        0.6,
+        "assumption: a walker's path over half a second is nearly straight; jitter on "
+        "clutter is not",
+        "and when that net displacement is at least this share of the path length",
+    )
+    visible_coast: float = param(
+        0.4,
+        "issue 29 (000 Sec. 3.3.1 occlusion reasoning applied to the sensor's own view): a "
+        "track the laser should see now and does not has left; three scans at 7.5 Hz",
+        "a person whose place is in the lasers' view, in range and not behind nearer "
+        "returns (tracking/visibility.py), with no member leg detected for longer than this "
+        "while so, is deleted (inf: only max_coast, as before); occluded or outside the "
+        "view it coasts as before",
+        "s",
     )
     arrival_slack: float = param(
         2.0,
@@ -293,6 +350,10 @@ class PersonTrackParams:
             raise ValueError("need 0 < min_gate_distance <= max_gate_distance")
         if not self.wide_min_width < self.wide_max_width:
             raise ValueError("wide_min_width must be below wide_max_width")
+        if not (self.moving_time > 0 and self.moving_speed >= 0 and self.visible_coast >= 0):
+            raise ValueError("moving_time must be positive, moving_speed, visible_coast >= 0")
+        if not 0.0 <= self.moving_straightness <= 1.0:
+            raise ValueError("moving_straightness must be in [0, 1]")
         if min(self.pair_std, self.one_leg_std, self.accel_psd, self.pair_distance) <= 0:
             raise ValueError("standard deviations, accel_psd and pair_distance must be positive")
 
@@ -378,6 +439,8 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
+        visible_unseen: Time [s] without a member leg detected while its place was visible
+            to the lasers (since its last detection).
     """
 
     person_id: int
@@ -398,12 +461,39 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
+    visible_unseen: float = 0.0
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
     """Existence score after one scan with ``evidence`` (TWO, ONE or NONE), clamped."""
     step = float(params.evidence_llr()[evidence])
     return min(max(llr + step, params.llr_min), params.llr_max)
+
+
+def moves_consistently(
+    path: Sequence[tuple[float, float, float]], params: PersonTrackParams
+) -> bool:
+    """Whether the measured positions ``path`` ((time [s], x, y [m]), oldest first) show a
+    consistent motion: they span at least ``moving_time``, and from the last position at
+    least ``moving_time`` before the newest one to the newest, the net displacement is at
+    least ``moving_speed`` times the elapsed time and at least ``moving_straightness``
+    times the length of the path between them."""
+    if len(path) < 2:
+        return False
+    t1, x1, y1 = path[-1]
+    start = -1
+    for i, (t, _, _) in enumerate(path):
+        if t <= t1 - params.moving_time + 1e-9:
+            start = i
+    if start < 0:
+        return False
+    t0, x0, y0 = path[start]
+    net = math.hypot(x1 - x0, y1 - y0)
+    length = sum(
+        math.hypot(path[i + 1][1] - path[i][1], path[i + 1][2] - path[i][2])
+        for i in range(start, len(path) - 1)
+    )
+    return net >= params.moving_speed * (t1 - t0) and net >= params.moving_straightness * length
 
 
 def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrackParams) -> bool:
@@ -445,6 +535,13 @@ class PersonTracker:
         """Static time [s] of the people's positions asked in this scan (by person id)."""
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
+        self.view: SensorView | None = None
+        """What the lasers see at the next update (set by the caller before each update;
+        None: unknown, every person unseen coasts)."""
+        self._last_stamp: float | None = None
+        self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
+        """Per leg track: (time [s], x, y [m]) of its detections over the last
+        ``moving_time`` (and one before), for :func:`moves_consistently`."""
 
     @property
     def approved_legs(self) -> frozenset[int]:
@@ -524,6 +621,38 @@ class PersonTracker:
             person.members.append(leg.track_id)
             owned.add(leg.track_id)
 
+    def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
+        """Append this scan's detected legs to their paths; forget legs no longer tracked."""
+        horizon = stamp - self.params.moving_time - 1e-9
+        paths = self._leg_paths
+        for leg in legs.values():
+            if not leg.detected:
+                continue
+            path = paths.get(leg.track_id)
+            if path is None:
+                path = paths[leg.track_id] = deque()
+            x, y = leg.position.tolist()
+            path.append((stamp, x, y))
+            while len(path) > 2 and path[1][0] <= horizon:
+                path.popleft()
+        for gone in [k for k in paths if k not in legs]:
+            del paths[gone]
+
+    def _moves(self, leg: LegObservation) -> bool:
+        """A detected leg with a detector score above ``one_leg_min_score`` whose path
+        moves consistently (:func:`moves_consistently`)."""
+        path = self._leg_paths.get(leg.track_id)
+        return (
+            leg.detected
+            and leg.score > self.params.one_leg_min_score
+            and path is not None
+            and moves_consistently(path, self.params)
+        )
+
+    def _moving_member(self, person: PersonTrack, legs: Mapping[int, LegObservation]) -> bool:
+        """Some detected member leg of ``person`` moves consistently (:meth:`_moves`)."""
+        return any(self._moves(legs[m]) for m in person.members)
+
     def _one_leg_covs(self, n: int) -> FloatArray:
         """``n`` copies (n, 2, 2) of the one-leg measurement covariance (kept between
         scans; read-only)."""
@@ -594,8 +723,16 @@ class PersonTracker:
         p = self.params
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
         steps = self._llr_steps
+        dt = 0.0 if self._last_stamp is None else max(stamp - self._last_stamp, 0.0)
+        unseen: list[PersonTrack] = []
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
+            if evidence == ONE and p.one_leg_birth and self._moving_member(person, legs):
+                evidence = TWO
+            if z is None:
+                unseen.append(person)
+            else:
+                person.visible_unseen = 0.0
             person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
@@ -604,6 +741,11 @@ class PersonTracker:
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
+        if unseen and self.view is not None and dt > 0:
+            seen_as = self.view.classify(np.array([q.mean[:2] for q in unseen]))
+            for q, what in zip(unseen, seen_as.tolist(), strict=True):
+                if what == VISIBLE:
+                    q.visible_unseen += dt
         if rows:
             var = np.array([r[2] ** 2 for r in rows])
             meas_covs = np.zeros((len(rows), 2, 2))
@@ -663,8 +805,16 @@ class PersonTracker:
             if leg.wide and leg.track_id not in used:
                 used.add(leg.track_id)
                 self._new(leg.position, [leg.track_id], stamp)
+        if p.one_leg_birth:
+            for leg in free:
+                if leg.track_id not in used and leg.score > p.one_leg_min_score:
+                    used.add(leg.track_id)
+                    evidence = TWO if self._moves(leg) else ONE
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
-    def _new(self, position: FloatArray, members: list[int], stamp: float) -> None:
+    def _new(
+        self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None
+    ) -> None:
         p = self.params
         mean, cov = kalman.initiate(position, np.eye(2) * p.pair_std**2, p.init_velocity_std)
         pid = next(self._ids)
@@ -674,7 +824,7 @@ class PersonTracker:
             cov=cov,
             stamp=stamp,
             members=members,
-            llr=float(self._llr[TWO]),
+            llr=float(self._llr[TWO]) if llr is None else llr,
             last_seen=stamp,
             born_at=position.copy(),
             born_stamp=stamp,
@@ -757,8 +907,9 @@ class PersonTracker:
         for pid in list(self.persons):
             q = self.persons[pid]
             unseen = stamp - q.last_seen
+            left = q.visible_unseen > p.visible_coast
             if q.confirmed:
-                if unseen > p.max_coast:
+                if unseen > p.max_coast or left:
                     assert q.public_id is not None
                     seen = q.seen_before + q.last_seen - q.confirmed_at
                     self.reid.remember(
@@ -767,7 +918,7 @@ class PersonTracker:
                         )
                     )
                     del self.persons[pid]
-            elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast:
+            elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast or left:
                 del self.persons[pid]
 
     def _reidentify(self, stamp: float) -> None:
@@ -807,6 +958,8 @@ class PersonTracker:
         """Advance to ``stamp`` [s] with this scan's leg tracks; returns the confirmed people
         whose last leg detection is at most ``max_report_unseen`` [s] old."""
         self._static_now = {}
+        if self.params.one_leg_birth:
+            self._record_paths(legs, stamp)
         self._predict(stamp)
         self._release(legs)
         self._join(legs)
@@ -814,6 +967,7 @@ class PersonTracker:
         self._births(legs, stamp)
         self._merge()
         self._confirm_and_delete(stamp)
+        self._last_stamp = stamp
         out: list[Track] = []
         for pid in sorted(self.persons):
             q = self.persons[pid]

@@ -23,6 +23,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.tracking.point_guard import GuardedTracker
+from laserpeople.tracking.visibility import view_of_frame
 from laserpeople.tracks import Detections, Tracks
 
 
@@ -75,7 +76,23 @@ class LegsAdapter:
 
 class LegMHTAdapter(LegsAdapter):
     """The leg MHT as a frame tracker that also asks a static world model (the pipeline
-    feeds the model each frame before :meth:`update`; people policy ``tracks`` only)."""
+    feeds the model each frame before :meth:`update`; people policy ``tracks`` only), and
+    whose person layer is told what the lasers of each frame see
+    (:class:`~laserpeople.tracking.visibility.SensorView`; people policy ``tracks``)."""
+
+    def update(self, frame: Frame) -> Tracks:
+        """Track the legs of ``frame``, the person layer knowing the frame's view (none
+        for several lasers in a sensor-frame run, whose mounts are not known here)."""
+        people = getattr(self.tracker, "person_tracks", None)
+        if people is not None:
+            one_frame = frame.frame == "world" or len(frame.scans) == 1
+            posed = frame.frame != "world" or all(s.pose is not None for s in frame.scans)
+            people.view = (
+                view_of_frame(frame.scans, frame.frame, people.params.view)
+                if one_frame and posed and frame.scans
+                else None
+            )
+        return super().update(frame)
 
     @property
     def wants_static_model(self) -> bool:

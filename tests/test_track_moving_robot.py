@@ -22,7 +22,14 @@ from laserpeople.tracking.person_tracks import (
     PersonTrackParams,
     moves_consistently,
 )
-from laserpeople.tracking.visibility import OCCLUDED, OUTSIDE, VISIBLE, SensorView, ViewParams
+from laserpeople.tracking.visibility import (
+    EMPTY,
+    OCCLUDED,
+    OCCUPIED,
+    OUTSIDE,
+    SensorView,
+    ViewParams,
+)
 
 DEG = math.pi / 180.0
 
@@ -36,10 +43,10 @@ def wall_scan(ranges: np.ndarray | None = None) -> Scan:
 # ------------------------------------------------------------------ the view
 
 
-def test_view_in_front_of_a_wall_is_visible() -> None:
+def test_view_in_front_of_a_wall_is_empty() -> None:
     view = SensorView([wall_scan()], [None])
-    # (2, 0): 2 m straight ahead, the beams there return from 5 m (behind it)
-    assert view.classify(np.array([[2.0, 0.0]])).tolist() == [VISIBLE]
+    # (2, 0): 2 m straight ahead, the beams there return from 5 m (they pass it)
+    assert view.classify(np.array([[2.0, 0.0]])).tolist() == [EMPTY]
 
 
 def test_view_behind_the_laser_and_beyond_range_is_outside() -> None:
@@ -63,13 +70,14 @@ def test_view_behind_a_nearer_return_is_occluded_with_the_margin() -> None:
     ]
     r[87:94] = 3.0 - 0.3  # 0.3 m in front: the person itself (within the margin)
     assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        VISIBLE
+        OCCUPIED
     ]
-    # three of its seven beams blocked: under half -> visible; four -> occluded
+    # three of its seven beams blocked: under half -> the rest pass it: empty; four ->
+    # occluded
     r = np.full(181, 5.0)
     r[87:90] = 1.0
     assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        VISIBLE
+        EMPTY
     ]
     r[90] = 1.0
     assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
@@ -77,10 +85,40 @@ def test_view_behind_a_nearer_return_is_occluded_with_the_margin() -> None:
     ]
 
 
-def test_view_no_return_means_nothing_in_front() -> None:
-    r = np.full(181, np.inf)  # no return on any beam: nothing up to range_max
+def test_view_without_returns_cannot_tell() -> None:
+    r = np.full(181, np.inf)  # no return on any beam: nothing, or dark surfaces
     assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 1.0]])).tolist() == [
-        VISIBLE
+        OUTSIDE
+    ]
+    # of the seven beams of (3, 0): four without a return (3 of 7 = 0.43 < min_valid 0.5
+    # return) -> cannot tell; three without (4 of 7 return, all from the wall) -> empty
+    r = np.full(181, 5.0)
+    r[87:91] = np.inf
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OUTSIDE
+    ]
+    r[90] = 5.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        EMPTY
+    ]
+
+
+def test_view_returns_at_the_place_make_it_occupied() -> None:
+    # of the seven beams of (3, 0), two return from 3.1 m (2/7 = 0.29 >= min_present 0.2):
+    # something is there; one (1/7 = 0.14) is not enough
+    r = np.full(181, 5.0)
+    r[89:91] = 3.1
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OCCUPIED
+    ]
+    r[89] = 5.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        EMPTY
+    ]
+    # 0.5 m behind the place is beyond the margin: passes it
+    r[89:91] = 3.5
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        EMPTY
     ]
 
 
@@ -89,7 +127,7 @@ def test_view_uses_the_laser_pose_in_the_world() -> None:
     # behind, (3, 1) 2 m to its right (bearing -90 deg, the first beam)
     view = SensorView([wall_scan()], [Pose2D(1.0, 1.0, math.pi / 2)])
     got = view.classify(np.array([[1.0, 3.0], [1.0, -1.0], [3.0, 1.0], [-1.5, 1.0]]))
-    assert got.tolist() == [VISIBLE, OUTSIDE, VISIBLE, VISIBLE]
+    assert got.tolist() == [EMPTY, OUTSIDE, EMPTY, EMPTY]
 
 
 # ------------------------------------------------------------------ map from a bag

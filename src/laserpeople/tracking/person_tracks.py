@@ -74,7 +74,14 @@ from laserpeople.tracking.reidentify import (
     Signature,
     leg_width,
 )
-from laserpeople.tracking.visibility import VISIBLE, SensorView, ViewParams
+from laserpeople.tracking.visibility import (
+    EMPTY,
+    OCCLUDED,
+    OCCUPIED,
+    OUTSIDE,
+    SensorView,
+    ViewParams,
+)
 from laserpeople.tracks import Track
 
 FloatArray = NDArray[np.float64]
@@ -323,11 +330,22 @@ class PersonTrackParams:
         0.4,
         "issue 29 (000 Sec. 3.3.1 occlusion reasoning applied to the sensor's own view): a "
         "track the laser should see now and does not has left; three scans at 7.5 Hz",
-        "a person whose place is in the lasers' view, in range and not behind nearer "
-        "returns (tracking/visibility.py), with no member leg detected for longer than this "
-        "while so, is deleted (inf: only max_coast, as before); occluded or outside the "
-        "view it coasts as before",
+        "a person whose place is in the lasers' view, in range, not behind nearer returns "
+        "and empty (its beams pass it; tracking/visibility.py), with no member leg "
+        "detected for longer than this while so, is deleted (inf: only max_coast, as "
+        "before); occluded, occupied (returns at its range) or outside the view it coasts",
         "s",
+    )
+    miss_only_if_empty: bool = param(
+        True,
+        "issue 29 (000 Sec. 3.3.1: an occluded leg is not a deleted one): at 4-7 m the "
+        "detector finds a walker's leg in about every other scan of the real lobby "
+        "recording, and in the others the laser gets no return from there or one from the "
+        "person itself",
+        "a person with no member leg detected counts as unseen (evidence none) only where "
+        "the lasers see its place empty (tracking/visibility.py); occupied, occluded, "
+        "outside the view or without returns, the scan counts as one-leg evidence (neutral; "
+        "false: none, as before; without a view: none)",
     )
     arrival_slack: float = param(
         2.0,
@@ -621,6 +639,37 @@ class PersonTracker:
             person.members.append(leg.track_id)
             owned.add(leg.track_id)
 
+    def _seen_as(
+        self, people: Sequence[PersonTrack], legs: Mapping[int, LegObservation]
+    ) -> list[int]:
+        """What the lasers see of each person's place (tracking/visibility.py): its
+        predicted position and its member legs' (the leg tracks predict on their own; a
+        young person's velocity is still poor). OCCUPIED when any of them is occupied,
+        EMPTY when all are empty, else OCCLUDED when any is occluded, else OUTSIDE (all
+        OUTSIDE without a view)."""
+        if self.view is None:
+            return [OUTSIDE] * len(people)
+        places: list[FloatArray] = []
+        owner: list[int] = []
+        for i, q in enumerate(people):
+            places.append(q.mean[:2])
+            owner.append(i)
+            for m in q.members:
+                places.append(legs[m].position)
+                owner.append(i)
+        codes: list[set[int]] = [set() for _ in people]
+        for i, code in zip(owner, self.view.classify(np.array(places)).tolist(), strict=True):
+            codes[i].add(code)
+        out = []
+        for c in codes:
+            if OCCUPIED in c:
+                out.append(OCCUPIED)
+            elif c == {EMPTY}:
+                out.append(EMPTY)
+            else:
+                out.append(OCCLUDED if OCCLUDED in c else OUTSIDE)
+        return out
+
     def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         """Append this scan's detected legs to their paths; forget legs no longer tracked."""
         horizon = stamp - self.params.moving_time - 1e-9
@@ -637,6 +686,13 @@ class PersonTracker:
                 path.popleft()
         for gone in [k for k in paths if k not in legs]:
             del paths[gone]
+
+    def _one_leg_on(self) -> bool:
+        """``one_leg_birth``, while static things stay put in the tracking frame: not in a
+        sensor-frame run whose laser was found moving (the static world model then
+        dropped, :class:`~laserpeople.pipeline.static_people.PeopleStaticModel`), where
+        walls and furniture move consistently too."""
+        return self.params.one_leg_birth and getattr(self.static_model, "dropped_at", None) is None
 
     def _moves(self, leg: LegObservation) -> bool:
         """A detected leg with a detector score above ``one_leg_min_score`` whose path
@@ -725,15 +781,16 @@ class PersonTracker:
         steps = self._llr_steps
         dt = 0.0 if self._last_stamp is None else max(stamp - self._last_stamp, 0.0)
         unseen: list[PersonTrack] = []
+        one_leg = self._one_leg_on()
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
-            if evidence == ONE and p.one_leg_birth and self._moving_member(person, legs):
+            if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
             if z is None:
-                unseen.append(person)
+                unseen.append(person)  # (its score is updated below, knowing the view)
             else:
                 person.visible_unseen = 0.0
-            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
+                person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -741,11 +798,14 @@ class PersonTracker:
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
-        if unseen and self.view is not None and dt > 0:
-            seen_as = self.view.classify(np.array([q.mean[:2] for q in unseen]))
-            for q, what in zip(unseen, seen_as.tolist(), strict=True):
-                if what == VISIBLE:
+        if unseen:
+            seen_as = self._seen_as(unseen, legs)
+            for q, what in zip(unseen, seen_as, strict=True):
+                if what == EMPTY:
                     q.visible_unseen += dt
+                neutral = p.miss_only_if_empty and self.view is not None and what != EMPTY
+                evidence = ONE if neutral else NONE
+                q.llr = min(max(q.llr + steps[evidence], p.llr_min), p.llr_max)
         if rows:
             var = np.array([r[2] ** 2 for r in rows])
             meas_covs = np.zeros((len(rows), 2, 2))
@@ -805,7 +865,7 @@ class PersonTracker:
             if leg.wide and leg.track_id not in used:
                 used.add(leg.track_id)
                 self._new(leg.position, [leg.track_id], stamp)
-        if p.one_leg_birth:
+        if self._one_leg_on():
             for leg in free:
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)

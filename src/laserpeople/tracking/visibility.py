@@ -8,16 +8,22 @@ apart for a position in the tracking frame, from the scans of this instant:
 
 - **outside**: outside every laser's field of view (behind a 270 deg scanner), or farther
   than ``max_range`` (the smaller of it and the laser's ``range_max``) or nearer than its
-  ``range_min``: a person there cannot be seen; its track coasts;
+  ``range_min``, or fewer than ``min_valid`` of its beams return at all (a beam without a
+  return may have passed through nothing or hit a dark surface): nothing can be told;
+  its track coasts;
 - **occluded**: inside the view, but most beams that would hit a body at that place
   (the beams within ``body_radius`` of it) return from nearer than ``margin`` in front of
   it: something stands between; the track coasts;
-- **visible**: inside the view and not behind nearer returns: a person there would be hit
-  by the laser now (its beams return from about its range, from behind it, or give no
-  return at all, i.e. nothing up to ``range_max``).
+- **occupied**: inside the view, not occluded, and some of its beams (at least
+  ``min_present``) return from within ``margin`` of its range: something is there (a
+  person the detector missed this scan, e.g. two legs merged into one blob);
+- **empty**: inside the view, and its beams pass it (return from more than ``margin``
+  behind it): a person there would be hit by the laser now, and nothing is.
+
+The shares of blocked and present beams are of the beams that return.
 
 This is 000's adaptive occlusion reasoning applied to people and the sensor's own view:
-the person layer lets a track that is *visible* and gets no detection lose existence fast
+the person layer lets a track whose place is *empty* lose existence fast
 (``people.visible_coast``), and keeps the others coasting as before.
 """
 
@@ -36,9 +42,9 @@ from laserpeople.scan import Pose2D, Scan
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
-OUTSIDE, OCCLUDED, VISIBLE = 0, 1, 2
+OUTSIDE, OCCLUDED, OCCUPIED, EMPTY = 0, 1, 2, 3
 """What the lasers can see of a place: nothing (outside the view or range), something in
-front of it, the place itself."""
+front of it, something at it, nothing at it (the beams pass)."""
 
 
 @dataclass(frozen=True)
@@ -72,12 +78,26 @@ class ViewParams:
         "assumption: half of the beams",
         "a place is occluded when at least this share of its beams is blocked",
     )
+    min_valid: float = param(
+        0.5,
+        "issue 29: on the real lobby recording (62% of the beams without a return) the legs "
+        "of people at 4-5 m gave no return in some scans, so a beam without a return does "
+        "not show that nobody is there",
+        "a place whose beams give a return in fewer than this share is not told (it coasts "
+        "as outside the view); the shares below are of the beams with a return",
+    )
+    min_present: float = param(
+        0.2,
+        "assumption: one leg of a person covers about a fifth of the beams of its body width",
+        "a place that is not occluded is occupied when at least this share of its beams "
+        "return from within margin of its range (else empty)",
+    )
 
     def __post_init__(self) -> None:
         if not (self.max_range > 0 and self.body_radius > 0 and self.margin >= 0):
             raise ValueError("max_range and body_radius must be positive, margin not negative")
-        if not 0.0 < self.min_blocked <= 1.0:
-            raise ValueError("min_blocked must be in (0, 1]")
+        if not all(0.0 < v <= 1.0 for v in (self.min_blocked, self.min_present, self.min_valid)):
+            raise ValueError("min_blocked, min_present and min_valid must be in (0, 1]")
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,14 +144,14 @@ class SensorView:
             )
 
     def classify(self, positions: FloatArray) -> IntArray:
-        """For each place ``positions`` (M, 2) [m] in the tracking frame: OUTSIDE, OCCLUDED
-        or VISIBLE (M,); a place is visible when some laser sees it, else occluded when
-        some laser has it in view, else outside."""
+        """For each place ``positions`` (M, 2) [m] in the tracking frame: OUTSIDE,
+        OCCLUDED, OCCUPIED or EMPTY (M,); with several lasers the most telling answer
+        (empty over occupied over occluded over outside)."""
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         out = np.full(len(pos), OUTSIDE, dtype=np.int64)
         for laser in self._lasers:
             for i, (x, y) in enumerate(pos.tolist()):
-                if out[i] == VISIBLE:
+                if out[i] == EMPTY:
                     continue
                 out[i] = max(out[i], self._one(laser, x, y))
         return out
@@ -163,8 +183,15 @@ class SensorView:
         if hi < lo:
             lo = hi = min(max(int(round(centre)), 0), n - 1)
         beams = laser.ranges[lo : hi + 1]
-        blocked = int(np.count_nonzero(beams < r - p.margin))
-        return OCCLUDED if blocked >= p.min_blocked * len(beams) else VISIBLE
+        valid = beams[np.isfinite(beams)]
+        n_valid = len(valid)
+        if n_valid < p.min_valid * len(beams):
+            return OUTSIDE  # too few returns to tell (no return: nothing, or a dark surface)
+        blocked = int(np.count_nonzero(valid < r - p.margin))
+        if blocked >= p.min_blocked * n_valid:
+            return OCCLUDED
+        present = int(np.count_nonzero(np.abs(valid - r) <= p.margin))
+        return OCCUPIED if present >= p.min_present * n_valid else EMPTY
 
 
 def view_of_frame(

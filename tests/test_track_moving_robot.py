@@ -27,6 +27,7 @@ from laserpeople.tracking.visibility import (
     OCCLUDED,
     OCCUPIED,
     OUTSIDE,
+    MotionWatch,
     SensorView,
     ViewParams,
 )
@@ -161,6 +162,15 @@ def test_occupancy_grid_message_that_does_not_fit_is_refused() -> None:
         occupancy_grid_map(grid_msg([0] * 5, 3, 2), "x.bag:/map")
 
 
+def test_motion_watch() -> None:
+    watch = MotionWatch()
+    assert not watch(Pose2D(1.0, 1.0, 0.0))
+    assert not watch(None)
+    assert not watch(Pose2D(1.04, 1.0, 0.019))  # 0.04 m, 0.019 rad: within 0.05 m, 0.02 rad
+    assert watch(Pose2D(1.0, 1.0, -0.021))  # turned 0.021 rad
+    assert watch(Pose2D(1.0, 1.0, 0.0))  # for good
+
+
 def test_map_spec_tells_bag_topics_from_yaml() -> None:
     assert split_bag_spec("run.bag:/map") == (Path("run.bag"), "/map")
     assert split_bag_spec("maps/office.yaml") is None
@@ -219,6 +229,7 @@ def one_leg(x: float, y: float, detected: bool = True) -> dict[int, LegObservati
 def run_one_leg(params: PersonTrackParams, speed: float, scans: int) -> list[int]:
     """Confirmed people per scan of one leg walking along x at ``speed`` (10 Hz)."""
     tracker = PersonTracker(params)
+    tracker.moving = True  # (one-leg births on a moving robot in the world frame only)
     out = []
     for k in range(scans):
         out.append(len(tracker.update(one_leg(speed * 0.1 * k, 0.0), 0.1 * k, 1.0)))
@@ -232,6 +243,10 @@ def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     assert walking.index(1) == 7
     assert all(walking[7:])
     assert run_one_leg(replace(P, one_leg_birth=False), 1.0, 15) == [0] * 15
+    static_laser = PersonTracker(P)  # moving False: as before issue 29
+    assert [len(static_laser.update(one_leg(0.1 * k, 0.0), 0.1 * k, 1.0)) for k in range(15)] == [
+        0
+    ] * 15
     # a leg that stands still (a chair post) or creeps at 0.2 m/s is never confirmed
     assert run_one_leg(P, 0.0, 30) == [0] * 30
     assert run_one_leg(P, 0.2, 30) == [0] * 30
@@ -240,6 +255,7 @@ def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
 def test_person_gone_from_view_is_deleted_occluded_person_coasts() -> None:
     def run(ranges: np.ndarray | None, params: PersonTrackParams) -> int:
         tracker = PersonTracker(params)
+        tracker.moving = True
         k = 0
         for k in range(10):  # walks along x at 1 m/s, 1.5..2.4 m ahead: confirmed
             tracker.view = SensorView([wall_scan()], [None])
@@ -274,3 +290,34 @@ def test_lobby_recording_recall(shared_data: Path) -> None:
     assert score.labels == 57
     assert score.recall >= 0.2
     assert score.id_switches <= 2
+
+
+# ------------------------------------------------------------------ simulated family
+
+
+def test_moving_robot_family_is_drawn_from_the_seed() -> None:
+    from laserpeople.sim.scenarios import build_scene
+
+    a = build_scene("moving-robot", seconds=10.0, seed=3)
+    b = build_scene("moving-robot", seconds=10.0, seed=3)
+    c = build_scene("moving-robot", seconds=10.0, seed=4)
+    assert a.notes == b.notes and a.notes != c.notes
+    assert a.robot is not None and a.notes["family"] == "moving-robot"
+    assert 1 + 2 <= len(a.people) <= 3 + 2 + 2 * 3 + 2  # towards, groups of 2-3, ...
+    fov = a.sensors[0].laser_model.fov_deg
+    assert fov == pytest.approx(270.0, abs=0.5)
+
+
+def test_moving_robot_seed_end_to_end() -> None:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from people_suite import make_factory
+
+    from laserpeople.detection.detector import AdaBoostLegDetector
+    from laserpeople.evaluation.suite import SuiteScene, prepare, track_scene
+
+    prepared = prepare(
+        SuiteScene("moving-robot", "moving-robot", SIM_SEED, 20.0), AdaBoostLegDetector.default()
+    )
+    score, _ = track_scene(prepared, make_factory("leg-mht", None), "leg-mht")
+    assert score.mota >= SIM_MOTA
+    assert score.idf1 >= SIM_IDF1

@@ -4,7 +4,6 @@ births, occlusions, static world, against hand-computed values."""
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -110,16 +109,11 @@ def test_wide_segment_births_a_person() -> None:
     for k in range(3):
         out = t.update(legs(leg(5, 2.0, 0.0, wide=True)), 0.1 * k, 1.0)
     assert [p.members for p in out] == [(5,)]
-    # a single narrow leg that does not move gives no reported person (a candidate with
-    # one_leg_birth, issue 29; none without)
+    # a single narrow leg gives no person
     t2 = PersonTracker(P)
     for k in range(10):
         assert t2.update(legs(leg(5, 2.0, 0.0)), 0.1 * k, 1.0) == []
-    assert [q.confirmed for q in t2.persons.values()] == [False]
-    t3 = PersonTracker(replace(P, one_leg_birth=False))
-    for k in range(10):
-        assert t3.update(legs(leg(5, 2.0, 0.0)), 0.1 * k, 1.0) == []
-    assert t3.persons == {}
+    assert t2.persons == {}
 
 
 def test_low_score_pair_gives_no_birth() -> None:
@@ -129,11 +123,6 @@ def test_low_score_pair_gives_no_birth() -> None:
         LegObservation(1, np.array([1.0, 0.0]), True, 0.0, 0, score=0.2),
         LegObservation(2, np.array([1.0, 0.3]), True, 0.0, 1, score=0.4),
     ]
-    for k in range(10):
-        assert t.update({o.track_id: o for o in weak}, 0.1 * k, 1.0) == []
-    # (one_leg_birth keeps unconfirmed one-leg candidates of them: they do not move)
-    assert not any(q.confirmed for q in t.persons.values())
-    t = PersonTracker(replace(P, one_leg_birth=False))
     for k in range(10):
         assert t.update({o.track_id: o for o in weak}, 0.1 * k, 1.0) == []
     assert t.persons == {}

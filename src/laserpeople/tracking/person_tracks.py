@@ -292,8 +292,8 @@ class PersonTrackParams:
         "issue 29: from a moving robot at 3-7 m the 0.35 deg laser puts few beams on a leg, "
         "the legs merge or hide each other; on the real lobby recording a person track "
         "started only 0.5-1.5 m from the robot (false: two legs or a wide segment, as before)",
-        "a single free detected leg with a detector score above one_leg_min_score gives "
-        "birth to a person candidate, and a person seen by one leg that moves consistently "
+        "a single free detected leg with a detector score above one_leg_min_score, farther "
+        "than pair_distance from every person, gives birth to a person candidate, and a person seen by one leg that moves consistently "
         "(moving_time, moving_speed, moving_straightness) gains existence as from both legs",
     )
     one_leg_min_score: float = param(
@@ -556,6 +556,9 @@ class PersonTracker:
         self.view: SensorView | None = None
         """What the lasers see at the next update (set by the caller before each update;
         None: unknown, every person unseen coasts)."""
+        self.moving = False
+        """The lasers ride on a robot that has moved, and the tracking frame is the world
+        (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
         self._last_stamp: float | None = None
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
         """Per leg track: (time [s], x, y [m]) of its detections over the last
@@ -688,11 +691,9 @@ class PersonTracker:
             del paths[gone]
 
     def _one_leg_on(self) -> bool:
-        """``one_leg_birth``, while static things stay put in the tracking frame: not in a
-        sensor-frame run whose laser was found moving (the static world model then
-        dropped, :class:`~laserpeople.pipeline.static_people.PeopleStaticModel`), where
-        walls and furniture move consistently too."""
-        return self.params.one_leg_birth and getattr(self.static_model, "dropped_at", None) is None
+        """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
+        in the sensor frame of a moving laser walls and furniture move consistently too)."""
+        return self.params.one_leg_birth and self.moving
 
     def _moves(self, leg: LegObservation) -> bool:
         """A detected leg with a detector score above ``one_leg_min_score`` whose path
@@ -866,7 +867,12 @@ class PersonTracker:
                 used.add(leg.track_id)
                 self._new(leg.position, [leg.track_id], stamp)
         if self._one_leg_on():
+            # a leg within pair_distance of a person is most likely its other leg: no birth
+            near = [q.mean[:2].tolist() for q in self.persons.values()]
             for leg in free:
+                lx, ly = leg.position.tolist()
+                if any(math.hypot(lx - x, ly - y) < p.pair_distance for x, y in near):
+                    continue
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
                     evidence = TWO if self._moves(leg) else ONE

@@ -93,6 +93,17 @@ class ViewParams:
         "return from within margin of its range (else empty)",
     )
 
+    moved_distance: float = param(
+        0.05,
+        "as auto_background.moved_distance",
+        "a laser that moved farther than this from its first pose (world frame) is on a "
+        "moving robot: only then does the person layer use the view and one-leg births",
+        "m",
+    )
+    moved_angle: float = param(
+        0.02, "as auto_background.moved_angle", "or turned more than this", "rad"
+    )
+
     def __post_init__(self) -> None:
         if not (self.max_range > 0 and self.body_radius > 0 and self.margin >= 0):
             raise ValueError("max_range and body_radius must be positive, margin not negative")
@@ -192,6 +203,31 @@ class SensorView:
             return OCCLUDED
         present = int(np.count_nonzero(np.abs(valid - r) <= p.margin))
         return OCCUPIED if present >= p.min_present * n_valid else EMPTY
+
+
+class MotionWatch:
+    """Whether the first laser of a world-frame run has moved from its first pose (by more
+    than ``moved_distance`` or ``moved_angle``); once it has, for good."""
+
+    def __init__(self, params: ViewParams | None = None) -> None:
+        self.params = params if params is not None else ViewParams()
+        self._first: Pose2D | None = None
+        self.moved = False
+
+    def __call__(self, pose: Pose2D | None) -> bool:
+        """Record ``pose`` (None: unknown, nothing learnt); True once the laser moved."""
+        if self.moved or pose is None:
+            return self.moved
+        if self._first is None:
+            self._first = pose
+            return False
+        f = self._first
+        turn = abs(math.remainder(pose.theta - f.theta, 2 * math.pi))
+        self.moved = (
+            math.hypot(pose.x - f.x, pose.y - f.y) > self.params.moved_distance
+            or turn > self.params.moved_angle
+        )
+        return self.moved
 
 
 def view_of_frame(

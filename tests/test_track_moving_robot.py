@@ -308,6 +308,13 @@ def test_moving_robot_family_is_drawn_from_the_seed() -> None:
     assert fov == pytest.approx(270.0, abs=0.5)
 
 
+SIM_SEED = 6
+"""A tuning seed of the moving-robot family (0-9; 100-119 are held back)."""
+SIM_MOTA, SIM_IDF1 = 0.45, 0.60
+"""Measured 20 s of seed 6: MOTA 0.483, IDF1 0.662 (before issue 29's moving-robot
+behaviour: 0.438, 0.632; a tracker that loses people scores far lower)."""
+
+
 def test_moving_robot_seed_end_to_end() -> None:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from people_suite import make_factory

@@ -77,9 +77,7 @@ def test_view_behind_a_nearer_return_is_occluded_with_the_margin() -> None:
     # occluded
     r = np.full(181, 5.0)
     r[87:90] = 1.0
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        EMPTY
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
     r[90] = 1.0
     assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
         OCCLUDED
@@ -88,20 +86,14 @@ def test_view_behind_a_nearer_return_is_occluded_with_the_margin() -> None:
 
 def test_view_without_returns_cannot_tell() -> None:
     r = np.full(181, np.inf)  # no return on any beam: nothing, or dark surfaces
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 1.0]])).tolist() == [
-        OUTSIDE
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 1.0]])).tolist() == [OUTSIDE]
     # of the seven beams of (3, 0): four without a return (3 of 7 = 0.43 < min_valid 0.5
     # return) -> cannot tell; three without (4 of 7 return, all from the wall) -> empty
     r = np.full(181, 5.0)
     r[87:91] = np.inf
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        OUTSIDE
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [OUTSIDE]
     r[90] = 5.0
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        EMPTY
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
 
 
 def test_view_returns_at_the_place_make_it_occupied() -> None:
@@ -113,14 +105,10 @@ def test_view_returns_at_the_place_make_it_occupied() -> None:
         OCCUPIED
     ]
     r[89] = 5.0
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        EMPTY
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
     # 0.5 m behind the place is beyond the margin: passes it
     r[89:91] = 3.5
-    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
-        EMPTY
-    ]
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
 
 
 def test_view_uses_the_laser_pose_in_the_world() -> None:
@@ -279,9 +267,8 @@ def test_person_gone_from_view_is_deleted_occluded_person_coasts() -> None:
 
 def test_lobby_recording_recall(shared_data: Path) -> None:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from moving_people import read_labels, score_moving, track_bag
-
     from laserpeople.tracking.legs import LegTrackerParams
+    from moving_people import read_labels, score_moving, track_bag
 
     base = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first"
     tracks, _ = track_bag(base.with_suffix(".bag"), LegTrackerParams())
@@ -317,10 +304,9 @@ behaviour: 0.438, 0.632; a tracker that loses people scores far lower)."""
 
 def test_moving_robot_seed_end_to_end() -> None:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from people_suite import make_factory
-
     from laserpeople.detection.detector import AdaBoostLegDetector
     from laserpeople.evaluation.suite import SuiteScene, prepare, track_scene
+    from people_suite import make_factory
 
     prepared = prepare(
         SuiteScene("moving-robot", "moving-robot", SIM_SEED, 20.0), AdaBoostLegDetector.default()

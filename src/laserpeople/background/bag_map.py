@@ -27,7 +27,9 @@ OCCUPIED_THRESH = 65
 MAP_TYPE = "nav_msgs/msg/OccupancyGrid"
 
 
-def occupancy_grid_map(msg: Any, source: str = "", occupied_thresh: int = OCCUPIED_THRESH) -> OccupancyMap:
+def occupancy_grid_map(
+    msg: Any, source: str = "", occupied_thresh: int = OCCUPIED_THRESH
+) -> OccupancyMap:
     """The obstacles of a ``nav_msgs/OccupancyGrid`` message (``info.width``,
     ``info.height``, ``info.resolution``, ``info.origin``, ``data``).
 
@@ -90,7 +92,7 @@ def read_bag_map(path: str | Path, topic: str) -> tuple[OccupancyMap, str]:
                 path=p,
                 hint="give the topic of the map (nav_msgs/OccupancyGrid)",
             )
-        last = None
+        last: Any = None
         for conn, _, raw in reader.messages(connections=conns):
             last = reader.deserialize(raw, conn.msgtype)
         if last is None:

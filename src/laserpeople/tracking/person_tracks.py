@@ -43,6 +43,15 @@ an existence score:
   a place that was static more than ``arrival_slack`` longer than the person has been
   there (a track that slid onto furniture it passed).
 
+- **Moving robot (issue 29).** On a robot that has moved, tracked in the world frame (the
+  caller sets :attr:`PersonTracker.moving` and the scan's :attr:`PersonTracker.view`), a
+  single free detected leg gives birth to a candidate, and one leg whose own track moves
+  consistently (:func:`moves_consistently`) counts as the evidence of both
+  (``one_leg_birth``); a scan without a member leg lowers the score only where the lasers
+  see the person's place empty (``miss_only_if_empty``), and a person whose place has been
+  seen empty for ``visible_coast`` is deleted (:mod:`laserpeople.tracking.visibility`).
+  A static laser and a sensor-frame run keep the rules above unchanged.
+
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
   identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
   for the first time is given such an identity back when signature and motion gate make it
@@ -293,8 +302,10 @@ class PersonTrackParams:
         "the legs merge or hide each other; on the real lobby recording a person track "
         "started only 0.5-1.5 m from the robot (false: two legs or a wide segment, as before)",
         "a single free detected leg with a detector score above one_leg_min_score, farther "
-        "than pair_distance from every person, gives birth to a person candidate, and a person seen by one leg that moves consistently "
-        "(moving_time, moving_speed, moving_straightness) gains existence as from both legs",
+        "than pair_distance from every person, gives birth to a person candidate, and a "
+        "person seen by one leg that moves consistently (moving_time, moving_speed, "
+        "moving_straightness) gains existence as from both legs; on a moving robot tracked "
+        "in the world frame only (tracking/visibility.py MotionWatch)",
     )
     one_leg_min_score: float = param(
         0.0,
@@ -308,8 +319,7 @@ class PersonTrackParams:
     moving_time: float = param(
         0.5,
         "assumption: about four scans at 7.5 Hz, one stride",
-        "a person's measured positions over at least this long tell whether it moves "
-        "consistently",
+        "a person's measured positions over at least this long tell whether it moves consistently",
         "s",
     )
     moving_speed: float = param(

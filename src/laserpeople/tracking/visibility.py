@@ -189,10 +189,10 @@ class SensorView:
         if centre is None:
             return OUTSIDE
         half = math.asin(min(p.body_radius / r, 1.0)) / abs(inc)
-        lo = max(int(math.ceil(centre - half)), 0)
-        hi = min(int(math.floor(centre + half)), n - 1)
+        lo = max(math.ceil(centre - half), 0)
+        hi = min(math.floor(centre + half), n - 1)
         if hi < lo:
-            lo = hi = min(max(int(round(centre)), 0), n - 1)
+            lo = hi = min(max(round(centre), 0), n - 1)
         beams = laser.ranges[lo : hi + 1]
         valid = beams[np.isfinite(beams)]
         n_valid = len(valid)

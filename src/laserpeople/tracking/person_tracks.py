@@ -342,8 +342,9 @@ class PersonTrackParams:
         "track the laser should see now and does not has left; three scans at 7.5 Hz",
         "a person whose place is in the lasers' view, in range, not behind nearer returns "
         "and empty (its beams pass it; tracking/visibility.py), with no member leg "
-        "detected for longer than this while so, is deleted (inf: only max_coast, as "
-        "before); occluded, occupied (returns at its range) or outside the view it coasts",
+        "detected for longer than this while so, is deleted (at least max_coast, e.g. 1e9: "
+        "only max_coast, as before); occluded, occupied (returns at its range) or outside "
+        "the view it coasts",
         "s",
     )
     miss_only_if_empty: bool = param(

@@ -30,12 +30,11 @@ import numpy as np
 
 from laserpeople.config import param
 from laserpeople.scan import Pose2D
-from laserpeople.sim.gait import GaitParams
 from laserpeople.sim.motion import Route, sample_route
 from laserpeople.sim.people import BodyParams, PersonSpec, random_person
-from laserpeople.sim.robot import OdometryParams, RobotSpec
+from laserpeople.sim.robot import RobotSpec
 from laserpeople.sim.scenarios import register
-from laserpeople.sim.scenarios.randomised import four_posts
+from laserpeople.sim.scenarios.randomised import drawn_gait, drawn_odometry, four_posts
 from laserpeople.sim.sensors import LaserModel, SensorSpec
 from laserpeople.sim.simulator import Scene
 from laserpeople.sim.world import StaticObject, World, pillar, pole, round_bin, wall
@@ -88,16 +87,6 @@ def benchmark_like_laser(rng: np.random.Generator) -> LaserModel:
         sigma_relative=_u(rng, 0.0, 0.002),
         dropout=_u(rng, 0.0, 0.02),
         source="moving-robot (laserpeople.sim.scenarios.moving_robot)",
-    )
-
-
-def _gait(rng: np.random.Generator) -> GaitParams:
-    scale = _u(rng, 0.8, 1.25)
-    base = GaitParams()
-    return GaitParams(
-        cadence_at_rest=base.cadence_at_rest * scale,
-        cadence_per_speed=base.cadence_per_speed * scale,
-        swing_fraction=_u(rng, 0.7, 0.9),
     )
 
 
@@ -172,15 +161,7 @@ def moving_robot_scene(
         route.walk_to(spot[0], spot[1], v)
         if rng.random() < 0.5:
             route.wait(_u(rng, 1.0, 3.0))
-    odo_scale = _u(rng, 0.5, p.odometry_scale_max)
-    base = OdometryParams()
-    odometry = OdometryParams(
-        scale_error=base.scale_error * odo_scale * float(rng.choice([-1.0, 1.0])),
-        heading_bias=base.heading_bias * odo_scale * float(rng.choice([-1.0, 1.0])),
-        heading_scale_error=base.heading_scale_error * odo_scale,
-        translation_noise=base.translation_noise * odo_scale,
-        heading_noise=base.heading_noise * odo_scale,
-    )
+    odometry = drawn_odometry(rng, p.odometry_scale_max)
     robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
     hall_time = (x1 - 1.0) / v  # about when the robot reaches the lobby
 
@@ -188,7 +169,9 @@ def moving_robot_scene(
     people: list[PersonSpec] = []
 
     def add(r: Route) -> None:
-        person = random_person(rng, len(people), r, params=body, gait_params=_gait(rng))
+        person = random_person(
+            rng, len(people), r, params=body, gait_params=drawn_gait(rng, 0.8, 1.25)
+        )
         hip = max(person.hip_half_width, person.leg_radius + 0.015)
         people.append(replace(person, hip_half_width=hip))
 

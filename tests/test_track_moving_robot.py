@@ -240,26 +240,30 @@ def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     assert run_one_leg(P, 0.2, 30) == [0] * 30
 
 
-def test_person_gone_from_view_is_deleted_occluded_person_coasts() -> None:
-    def run(ranges: np.ndarray | None, params: PersonTrackParams) -> int:
+def test_a_miss_lowers_the_score_only_where_the_place_is_seen_empty() -> None:
+    def run(ranges: np.ndarray | None, params: PersonTrackParams) -> float:
         tracker = PersonTracker(params)
         tracker.moving = True
         k = 0
         for k in range(10):  # walks along x at 1 m/s, 1.5..2.4 m ahead: confirmed
             tracker.view = SensorView([wall_scan()], [None])
             tracker.update(one_leg(1.5 + 0.1 * k, 0.0), 0.1 * k, 1.0)
-        assert tracker.persons and next(iter(tracker.persons.values())).confirmed
-        for j in range(1, 8):  # then no detection for 0.7 s
-            tracker.view = SensorView([wall_scan(ranges)], [None])
-            tracker.update(one_leg(2.4, 0.0, detected=False), 0.1 * (k + j), 1.0)
-        return len(tracker.persons)
+        person = next(iter(tracker.persons.values()))
+        assert person.confirmed
+        before = person.llr
+        tracker.view = SensorView([wall_scan(ranges)], [None])
+        tracker.update(one_leg(2.4, 0.0, detected=False), 0.1 * (k + 1), 1.0)
+        return person.llr - before
 
-    # in view, in front of the wall: deleted after visible_coast (0.4 s)
-    assert run(None, P) == 0
-    # the same with visible_coast inf (as before issue 29): coasts
-    assert run(None, replace(P, visible_coast=math.inf)) == 1
-    # something 1 m from the laser blocks every beam: occluded, coasts
-    assert run(np.full(181, 1.0), P) == 1
+    none = math.log(0.1 / 0.5)  # p_none / q_none
+    # in view in front of the wall (its beams pass it): the scan counts as none
+    assert run(None, P) == pytest.approx(none)
+    # something 1 m from the laser blocks every beam (occluded): neutral (one-leg, log 1)
+    assert run(np.full(181, 1.0), P) == pytest.approx(0.0)
+    # no return at all (cannot tell): neutral
+    assert run(np.full(181, np.inf), P) == pytest.approx(0.0)
+    # switched off: none wherever the place is
+    assert run(np.full(181, 1.0), replace(P, miss_only_if_empty=False)) == pytest.approx(none)
 
 
 # ------------------------------------------------------------------ real recording

@@ -48,8 +48,7 @@ an existence score:
   single free detected leg gives birth to a candidate, and one leg whose own track moves
   consistently (:func:`moves_consistently`) counts as the evidence of both
   (``one_leg_birth``); a scan without a member leg lowers the score only where the lasers
-  see the person's place empty (``miss_only_if_empty``), and a person whose place has been
-  seen empty for ``visible_coast`` is deleted (:mod:`laserpeople.tracking.visibility`).
+  see the person's place empty (``miss_only_if_empty``, :mod:`laserpeople.tracking.visibility`).
   A static laser and a sensor-frame run keep the rules above unchanged.
 
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
@@ -276,7 +275,8 @@ class PersonTrackParams:
     view: ViewParams = param(  # noqa: RUF009 (a frozen default instance)
         ViewParams(),
         "nested table people.view.*",
-        "when a person's place is visible to the lasers (tracking/visibility.py; visible_coast)",
+        "when a person's place is seen empty by the lasers (tracking/visibility.py; "
+        "miss_only_if_empty)",
     )
 
     static_legs: bool = param(
@@ -336,17 +336,6 @@ class PersonTrackParams:
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
     )
-    visible_coast: float = param(
-        0.4,
-        "issue 29 (000 Sec. 3.3.1 occlusion reasoning applied to the sensor's own view): a "
-        "track the laser should see now and does not has left; three scans at 7.5 Hz",
-        "a person whose place is in the lasers' view, in range, not behind nearer returns "
-        "and empty (its beams pass it; tracking/visibility.py), with no member leg "
-        "detected for longer than this while so, is deleted (at least max_coast, e.g. 1e9: "
-        "only max_coast, as before); occluded, occupied (returns at its range) or outside "
-        "the view it coasts",
-        "s",
-    )
     miss_only_if_empty: bool = param(
         True,
         "issue 29 (000 Sec. 3.3.1: an occluded leg is not a deleted one): at 4-7 m the "
@@ -379,8 +368,8 @@ class PersonTrackParams:
             raise ValueError("need 0 < min_gate_distance <= max_gate_distance")
         if not self.wide_min_width < self.wide_max_width:
             raise ValueError("wide_min_width must be below wide_max_width")
-        if not (self.moving_time > 0 and self.moving_speed >= 0 and self.visible_coast >= 0):
-            raise ValueError("moving_time must be positive, moving_speed, visible_coast >= 0")
+        if not (self.moving_time > 0 and self.moving_speed >= 0):
+            raise ValueError("moving_time must be positive, moving_speed not negative")
         if not 0.0 <= self.moving_straightness <= 1.0:
             raise ValueError("moving_straightness must be in [0, 1]")
         if min(self.pair_std, self.one_leg_std, self.accel_psd, self.pair_distance) <= 0:
@@ -468,8 +457,6 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
-        visible_unseen: Time [s] without a member leg detected while its place was visible
-            to the lasers (since its last detection).
     """
 
     person_id: int
@@ -490,7 +477,6 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
-    visible_unseen: float = 0.0
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -570,7 +556,6 @@ class PersonTracker:
         self.moving = False
         """The lasers ride on a robot that has moved, and the tracking frame is the world
         (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
-        self._last_stamp: float | None = None
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
         """Per leg track: (time [s], x, y [m]) of its detections over the last
         ``moving_time`` (and one before), for :func:`moves_consistently`."""
@@ -791,7 +776,6 @@ class PersonTracker:
         p = self.params
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
         steps = self._llr_steps
-        dt = 0.0 if self._last_stamp is None else max(stamp - self._last_stamp, 0.0)
         unseen: list[PersonTrack] = []
         one_leg = self._one_leg_on()
         for person in self.persons.values():
@@ -801,7 +785,6 @@ class PersonTracker:
             if z is None:
                 unseen.append(person)  # (its score is updated below, knowing the view)
             else:
-                person.visible_unseen = 0.0
                 person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
@@ -813,8 +796,6 @@ class PersonTracker:
         if unseen:
             seen_as = self._seen_as(unseen, legs)
             for q, what in zip(unseen, seen_as, strict=True):
-                if what == EMPTY:
-                    q.visible_unseen += dt
                 neutral = p.miss_only_if_empty and self.view is not None and what != EMPTY
                 evidence = ONE if neutral else NONE
                 q.llr = min(max(q.llr + steps[evidence], p.llr_min), p.llr_max)
@@ -984,9 +965,8 @@ class PersonTracker:
         for pid in list(self.persons):
             q = self.persons[pid]
             unseen = stamp - q.last_seen
-            left = q.visible_unseen > p.visible_coast
             if q.confirmed:
-                if unseen > p.max_coast or left:
+                if unseen > p.max_coast:
                     assert q.public_id is not None
                     seen = q.seen_before + q.last_seen - q.confirmed_at
                     self.reid.remember(
@@ -995,7 +975,7 @@ class PersonTracker:
                         )
                     )
                     del self.persons[pid]
-            elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast or left:
+            elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast:
                 del self.persons[pid]
 
     def _reidentify(self, stamp: float) -> None:
@@ -1044,7 +1024,6 @@ class PersonTracker:
         self._births(legs, stamp)
         self._merge()
         self._confirm_and_delete(stamp)
-        self._last_stamp = stamp
         out: list[Track] = []
         for pid in sorted(self.persons):
             q = self.persons[pid]

@@ -23,8 +23,8 @@ apart for a position in the tracking frame, from the scans of this instant:
 The shares of blocked and present beams are of the beams that return.
 
 This is 000's adaptive occlusion reasoning applied to people and the sensor's own view:
-the person layer lets a track whose place is *empty* lose existence fast
-(``people.visible_coast``), and keeps the others coasting as before.
+the person layer lowers a track's existence for a scan without its legs only where its
+place is *empty* (``people.miss_only_if_empty``); elsewhere the scan is neutral.
 """
 
 from __future__ import annotations

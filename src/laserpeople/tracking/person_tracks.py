@@ -337,7 +337,7 @@ class PersonTrackParams:
         "and when that net displacement is at least this share of the path length",
     )
     miss_only_if_empty: bool = param(
-        True,
+        False,
         "issue 29 (000 Sec. 3.3.1: an occluded leg is not a deleted one): at 4-7 m the "
         "detector finds a walker's leg in about every other scan of the real lobby "
         "recording, and in the others the laser gets no return from there or one from the "

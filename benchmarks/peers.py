@@ -22,7 +22,7 @@ at a time from a first guess (delete_after 10 -> 20 and min_points 3 -> 2 helped
 never on the scenes scored here.
 
     PYTHONPATH=src .venv/bin/python benchmarks/peers.py [--tracker leg-mht] [--seconds 30]
-        [--seeds 100-119] [--json out.json]
+        [--seeds 100-119] [--json out.json] [--baseline-config earlier.toml]
 """
 
 from __future__ import annotations
@@ -48,11 +48,12 @@ from laserpeople.evaluation.suite import (
     format_table,
     score_tracks,
     summarise,
+    track_scene,
 )
 from laserpeople.io.tracks_csv import HEADER, iter_tracks_csv
 from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracks import Detections, Track, Tracks
-from people_suite import parse_seeds, run, suite_scenes, to_json
+from people_suite import make_factory, parse_seeds, run, suite_scenes, to_json
 
 PAIR_DISTANCE = 0.75
 """Legs closer than this [m] may be paired into a person (issue 10)."""
@@ -257,6 +258,12 @@ def main() -> None:
     ap.add_argument("--family", action="append")
     ap.add_argument("--json", type=Path)
     ap.add_argument("--keep-csv", type=Path, help="keep the Stone Soup tracks CSVs here")
+    ap.add_argument(
+        "--baseline-config",
+        type=Path,
+        help="also run leg-mht with this TOML, labelled leg-mht[baseline] (e.g. the settings "
+        "of an earlier default, side by side in the same run)",
+    )
     args = ap.parse_args()
     p = StoneSoupParams()
     scenes = suite_scenes(
@@ -269,6 +276,11 @@ def main() -> None:
             f"stonesoup-{k}": (lambda prep, k=k: run_peer(prep, k, p, workdir))
             for k in (args.peer or ["gnn", "jpda"])
         }
+        if args.baseline_config is not None:
+            baseline = make_factory("leg-mht", args.baseline_config)
+            extra["leg-mht[baseline]"] = lambda prep: track_scene(
+                prep, baseline, "leg-mht[baseline]"
+            )[0]
         scores = run(args.tracker or ["leg-mht"], args.config, scenes, extra)
     print(format_table(summarise(scores)))
     if args.json:

@@ -8,6 +8,8 @@ tracker sees the same real-detector output):
   (laserpeople.sim.scenarios.randomised). **Never tune on these seeds**; tune on 0-49.
 - ``furniture-only``: ``randomised-furniture`` with the same held-back seeds (nobody there:
   every person track is false; the static-object column is the figure to read).
+- ``moving-robot``: a robot driving down a hallway into a lobby among people
+  (laserpeople.sim.scenarios.moving_robot, issue 29), the same seeds (tune on 0-9).
 - ``crossing-3``, ``narrow-corridor``, ``entrance-hall``: the library scenes, seed 0 unless
   ``--named-seeds`` says otherwise.
 
@@ -71,6 +73,7 @@ def suite_scenes(
     """The scenes of the suite, in report order."""
     scenes = [SuiteScene("randomised", "randomised", s, seconds) for s in seeds]
     scenes += [SuiteScene("furniture-only", "randomised-furniture", s, seconds) for s in seeds]
+    scenes += [SuiteScene("moving-robot", "moving-robot", s, seconds) for s in seeds]
     for name in NAMED:
         scenes += [SuiteScene(name, name, s) for s in named_seeds]
     if families:

@@ -397,7 +397,10 @@ def register(app: typer.Typer) -> None:
         map_path: Annotated[
             Path | None,
             typer.Option(
-                "--map", help="ROS map.yaml seeding the occupancy grid (world frame only)."
+                "--map",
+                help="Map seeding the occupancy grid (world frame only): a ROS map.yaml, or "
+                "BAG:/topic for a nav_msgs/OccupancyGrid in a bag (e.g. the recording's "
+                "own /map).",
             ),
         ] = None,
         appearance: Annotated[

@@ -436,10 +436,12 @@ def _as_stage(model: object) -> Stage:
 
 
 def occupancy_model(map_path: str | Path | None, params: OccupancyParams | None = None) -> Stage:
-    """The occupancy grid, seeded from the ROS map ``map_path`` when given."""
-    from laserpeople.background.occupancy import OccupancyGrid, load_ros_map
+    """The occupancy grid, seeded from the map ``map_path`` when given (a ROS ``map.yaml``
+    or ``BAG:/topic``, :func:`~laserpeople.background.bag_map.load_map`)."""
+    from laserpeople.background.bag_map import load_map
+    from laserpeople.background.occupancy import OccupancyGrid
 
-    prior = load_ros_map(map_path) if map_path is not None else None
+    prior = load_map(map_path) if map_path is not None else None
     return _as_stage(OccupancyGrid(params, prior=prior))
 
 

@@ -133,6 +133,32 @@ def random_laser(rng: np.random.Generator, p: RandomisedParams) -> LaserModel:
     )
 
 
+def drawn_odometry(rng: np.random.Generator, scale_max: float) -> OdometryParams:
+    """Odometry errors: the defaults times a factor drawn in [0.5, ``scale_max``], the
+    scale error and heading bias with a drawn sign."""
+    odo_scale = _uniform(rng, 0.5, scale_max)
+    base = OdometryParams()
+    return OdometryParams(
+        scale_error=base.scale_error * odo_scale * float(rng.choice([-1.0, 1.0])),
+        heading_bias=base.heading_bias * odo_scale * float(rng.choice([-1.0, 1.0])),
+        heading_scale_error=base.heading_scale_error * odo_scale,
+        translation_noise=base.translation_noise * odo_scale,
+        heading_noise=base.heading_noise * odo_scale,
+    )
+
+
+def drawn_gait(rng: np.random.Generator, scale_min: float, scale_max: float) -> GaitParams:
+    """A gait with the default cadence law scaled by a factor drawn in [``scale_min``,
+    ``scale_max``] and a swing fraction drawn in [0.7, 0.9]."""
+    scale = _uniform(rng, scale_min, scale_max)
+    base = GaitParams()
+    return GaitParams(
+        cadence_at_rest=base.cadence_at_rest * scale,
+        cadence_per_speed=base.cadence_per_speed * scale,
+        swing_fraction=_uniform(rng, 0.7, 0.9),
+    )
+
+
 # -- clutter ---------------------------------------------------------------------------------
 
 
@@ -318,13 +344,7 @@ def random_people(
     people = []
     for k in range(n):
         _wander(rng, layout, routes[k], duration, speeds[k])
-        scale = _uniform(rng, p.cadence_scale_min, p.cadence_scale_max)
-        base = GaitParams()
-        gait = GaitParams(
-            cadence_at_rest=base.cadence_at_rest * scale,
-            cadence_per_speed=base.cadence_per_speed * scale,
-            swing_fraction=_uniform(rng, 0.7, 0.9),
-        )
+        gait = drawn_gait(rng, p.cadence_scale_min, p.cadence_scale_max)
         person = random_person(rng, k, routes[k], params=body, gait_params=gait)
         # legs never interpenetrate: the feet stand at least 3 cm apart at rest
         hip = max(person.hip_half_width, person.leg_radius + 0.015)
@@ -381,15 +401,7 @@ def randomised_scene(
                 route.walk_to(spot[0], spot[1], speed)
             if spot is None or rng.random() < 0.4:
                 route.wait(_uniform(rng, 1.0, 4.0))
-        odo_scale = _uniform(rng, 0.5, p.odometry_scale_max)
-        base = OdometryParams()
-        odometry = OdometryParams(
-            scale_error=base.scale_error * odo_scale * float(rng.choice([-1.0, 1.0])),
-            heading_bias=base.heading_bias * odo_scale * float(rng.choice([-1.0, 1.0])),
-            heading_scale_error=base.heading_scale_error * odo_scale,
-            translation_noise=base.translation_noise * odo_scale,
-            heading_noise=base.heading_noise * odo_scale,
-        )
+        odometry = drawn_odometry(rng, p.odometry_scale_max)
         robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
         mount = Pose2D(0.2, 0.0, 0.0)
     else:

@@ -1,0 +1,321 @@
+"""People seen from a moving robot (issue 29): the lasers' view (visible / occluded /
+outside, hand-computed), the map from a bag topic, one-leg confirmation from consistent
+motion, visibility-driven deletion, and the real lobby recording end to end."""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import replace
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from laserpeople.background.bag_map import occupancy_grid_map, read_bag_map, split_bag_spec
+from laserpeople.background.occupancy import MapFileError
+from laserpeople.scan import Pose2D, Scan
+from laserpeople.tracking.person_tracks import (
+    LegObservation,
+    PersonTracker,
+    PersonTrackParams,
+    moves_consistently,
+)
+from laserpeople.tracking.visibility import (
+    EMPTY,
+    OCCLUDED,
+    OCCUPIED,
+    OUTSIDE,
+    MotionWatch,
+    SensorView,
+    ViewParams,
+)
+
+DEG = math.pi / 180.0
+
+
+def wall_scan(ranges: np.ndarray | None = None) -> Scan:
+    """181 beams from -90 to +90 deg in 1 deg steps, every beam 5 m (a wall) by default."""
+    r = np.full(181, 5.0) if ranges is None else ranges
+    return Scan(0.0, -90 * DEG, 1 * DEG, r, 0.05, 10.0)
+
+
+# ------------------------------------------------------------------ the view
+
+
+def test_view_in_front_of_a_wall_is_empty() -> None:
+    view = SensorView([wall_scan()], [None])
+    # (2, 0): 2 m straight ahead, the beams there return from 5 m (they pass it)
+    assert view.classify(np.array([[2.0, 0.0]])).tolist() == [EMPTY]
+
+
+def test_view_behind_the_laser_and_beyond_range_is_outside() -> None:
+    view = SensorView([wall_scan()], [None])
+    # bearing 180 deg is outside -90..90; 9 m is beyond max_range 8 m; 0.1 m is within
+    # body_radius of the laser
+    got = view.classify(np.array([[-2.0, 0.0], [9.0, 0.0], [0.1, 0.0]]))
+    assert got.tolist() == [OUTSIDE, OUTSIDE, OUTSIDE]
+    # 9 m is visible once max_range allows it (the wall at 5 m then blocks it: occluded)
+    far = SensorView([wall_scan()], [None], ViewParams(max_range=20.0))
+    assert far.classify(np.array([[9.0, 0.0]])).tolist() == [OCCLUDED]
+
+
+def test_view_behind_a_nearer_return_is_occluded_with_the_margin() -> None:
+    # place at 3 m straight ahead; body_radius 0.2 m covers asin(0.2/3) = 3.82 deg either
+    # side: beams 87..93 (bearings -3..+3 deg) are its beams
+    r = np.full(181, 5.0)
+    r[87:94] = 3.0 - 0.5  # 0.5 m in front: more than the 0.4 m margin -> blocked
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OCCLUDED
+    ]
+    r[87:94] = 3.0 - 0.3  # 0.3 m in front: the person itself (within the margin)
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OCCUPIED
+    ]
+    # three of its seven beams blocked: under half -> the rest pass it: empty; four ->
+    # occluded
+    r = np.full(181, 5.0)
+    r[87:90] = 1.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
+    r[90] = 1.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OCCLUDED
+    ]
+
+
+def test_view_without_returns_cannot_tell() -> None:
+    r = np.full(181, np.inf)  # no return on any beam: nothing, or dark surfaces
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 1.0]])).tolist() == [OUTSIDE]
+    # of the seven beams of (3, 0): four without a return (3 of 7 = 0.43 < min_valid 0.5
+    # return) -> cannot tell; three without (4 of 7 return, all from the wall) -> empty
+    r = np.full(181, 5.0)
+    r[87:91] = np.inf
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [OUTSIDE]
+    r[90] = 5.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
+
+
+def test_view_returns_at_the_place_make_it_occupied() -> None:
+    # of the seven beams of (3, 0), two return from 3.1 m (2/7 = 0.29 >= min_present 0.2):
+    # something is there; one (1/7 = 0.14) is not enough
+    r = np.full(181, 5.0)
+    r[89:91] = 3.1
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [
+        OCCUPIED
+    ]
+    r[89] = 5.0
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
+    # 0.5 m behind the place is beyond the margin: passes it
+    r[89:91] = 3.5
+    assert SensorView([wall_scan(r)], [None]).classify(np.array([[3.0, 0.0]])).tolist() == [EMPTY]
+
+
+def test_view_uses_the_laser_pose_in_the_world() -> None:
+    # laser at (1, 1) facing +y: the world point (1, 3) is 2 m straight ahead, (1, -1) 2 m
+    # behind, (3, 1) 2 m to its right (bearing -90 deg, the first beam)
+    view = SensorView([wall_scan()], [Pose2D(1.0, 1.0, math.pi / 2)])
+    got = view.classify(np.array([[1.0, 3.0], [1.0, -1.0], [3.0, 1.0], [-1.5, 1.0]]))
+    assert got.tolist() == [EMPTY, OUTSIDE, EMPTY, EMPTY]
+
+
+# ------------------------------------------------------------------ map from a bag
+
+
+def grid_msg(data: list[int], width: int, height: int, yaw: float = 0.0) -> SimpleNamespace:
+    q = SimpleNamespace(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
+    origin = SimpleNamespace(position=SimpleNamespace(x=-1.0, y=2.0, z=0.0), orientation=q)
+    info = SimpleNamespace(width=width, height=height, resolution=0.5, origin=origin)
+    return SimpleNamespace(info=info, data=np.array(data, dtype=np.int8))
+
+
+def test_occupancy_grid_message_rows_flip_and_threshold() -> None:
+    # 3 wide, 2 high; data row 0 is the origin's row (lowest y): cells (0,0)=100, (2,0)=65,
+    # (1,1)=64 (below occupied_thresh 65), (0,1) = -1 unknown
+    m = occupancy_grid_map(grid_msg([100, 0, 65, -1, 64, 0], 3, 2), "x.bag:/map")
+    assert m.occupied.tolist() == [[False, False, False], [True, False, True]]
+    assert m.resolution == pytest.approx(0.5)
+    assert m.origin == pytest.approx((-1.0, 2.0, 0.0))
+    # the world point in cell (0, 0) (x -1..-0.5, y 2..2.5) is an obstacle, (1, 1) is not
+    assert m.contains_obstacle(np.array([[-0.75, 2.25], [-0.25, 2.75]])).tolist() == [
+        True,
+        False,
+    ]
+    rotated = occupancy_grid_map(grid_msg([0] * 6, 3, 2, yaw=0.3))
+    assert rotated.origin[2] == pytest.approx(0.3)
+
+
+def test_occupancy_grid_message_that_does_not_fit_is_refused() -> None:
+    with pytest.raises(MapFileError, match="3 x 2 cells but holds 5"):
+        occupancy_grid_map(grid_msg([0] * 5, 3, 2), "x.bag:/map")
+
+
+def test_motion_watch() -> None:
+    watch = MotionWatch()
+    assert not watch(Pose2D(1.0, 1.0, 0.0))
+    assert not watch(None)
+    assert not watch(Pose2D(1.04, 1.0, 0.019))  # 0.04 m, 0.019 rad: within 0.05 m, 0.02 rad
+    assert watch(Pose2D(1.0, 1.0, -0.021))  # turned 0.021 rad
+    assert watch(Pose2D(1.0, 1.0, 0.0))  # for good
+
+
+def test_map_spec_tells_bag_topics_from_yaml() -> None:
+    assert split_bag_spec("run.bag:/map") == (Path("run.bag"), "/map")
+    assert split_bag_spec("maps/office.yaml") is None
+    assert split_bag_spec("C:/maps/office.yaml") is None
+
+
+def test_map_from_the_lobby_recording(shared_data: Path) -> None:
+    bag = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first.bag"
+    grid, frame = read_bag_map(bag, "/map")
+    assert frame == "map"
+    assert grid.occupied.shape == (1984, 1984)
+    assert grid.resolution == pytest.approx(0.05)
+    assert int(grid.occupied.sum()) == 1194
+    with pytest.raises(MapFileError, match="no topic '/nomap'"):
+        read_bag_map(bag, "/nomap")
+    with pytest.raises(MapFileError, match="not nav_msgs/msg/OccupancyGrid"):
+        read_bag_map(bag, "/scan")
+
+
+# ------------------------------------------------------------------ confirmation rule
+
+
+P = PersonTrackParams()
+
+
+def test_moves_consistently_by_hand() -> None:
+    # 0.3 m in 0.5 s (0.6 m/s >= 0.4), straight: consistent
+    assert moves_consistently([(0.0, 0.0, 0.0), (0.25, 0.15, 0.0), (0.5, 0.3, 0.0)], P)
+    # spans 0.49 s < moving_time 0.5 s: not yet
+    assert not moves_consistently([(0.01, 0.0, 0.0), (0.5, 0.3, 0.0)], P)
+    # 0.175 m in 0.5 s = 0.35 m/s < 0.4
+    assert not moves_consistently([(0.0, 0.0, 0.0), (0.5, 0.175, 0.0)], P)
+    # zigzag: net 0.3 m, path 2 * hypot(0.15, 0.3) = 0.671 m; 0.3 / 0.671 = 0.447 < 0.6
+    zigzag = [(0.0, 0.0, 0.0), (0.25, 0.15, 0.3), (0.5, 0.3, 0.0)]
+    assert not moves_consistently(zigzag, P)
+    assert moves_consistently(zigzag, replace(P, moving_straightness=0.4))
+    # the window starts at the last position at least moving_time before the newest
+    old = [(0.0, 5.0, 5.0), (0.2, 0.0, 0.0), (0.7, 0.3, 0.0)]
+    assert moves_consistently(old, P)  # from t = 0.2: 0.3 m in 0.5 s
+
+
+def one_leg(x: float, y: float, detected: bool = True) -> dict[int, LegObservation]:
+    return {
+        7: LegObservation(
+            7,
+            np.array([x, y]),
+            detected,
+            0.0 if detected else 0.1,
+            0 if detected else -1,
+            False,
+            score=0.8 if detected else math.nan,
+        )
+    }
+
+
+def run_one_leg(params: PersonTrackParams, speed: float, scans: int) -> list[int]:
+    """Confirmed people per scan of one leg walking along x at ``speed`` (10 Hz)."""
+    tracker = PersonTracker(params)
+    tracker.moving = True  # (one-leg births on a moving robot in the world frame only)
+    out = []
+    for k in range(scans):
+        out.append(len(tracker.update(one_leg(speed * 0.1 * k, 0.0), 0.1 * k, 1.0)))
+    return out
+
+
+def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
+    walking = run_one_leg(P, 1.0, 15)
+    # moving from 0.5 s (scan 5, evidence as both legs: +1.61 per scan from 0 at birth,
+    # then scans 5, 6, 7 reach 4.83 >= 4): reported from scan 7 on
+    assert walking.index(1) == 7
+    assert all(walking[7:])
+    assert run_one_leg(replace(P, one_leg_birth=False), 1.0, 15) == [0] * 15
+    static_laser = PersonTracker(P)  # moving False: as before issue 29
+    assert [len(static_laser.update(one_leg(0.1 * k, 0.0), 0.1 * k, 1.0)) for k in range(15)] == [
+        0
+    ] * 15
+    # a leg that stands still (a chair post) or creeps at 0.2 m/s is never confirmed
+    assert run_one_leg(P, 0.0, 30) == [0] * 30
+    assert run_one_leg(P, 0.2, 30) == [0] * 30
+
+
+def test_a_miss_lowers_the_score_only_where_the_place_is_seen_empty() -> None:
+    def run(ranges: np.ndarray | None, params: PersonTrackParams) -> float:
+        tracker = PersonTracker(params)
+        tracker.moving = True
+        k = 0
+        for k in range(10):  # walks along x at 1 m/s, 1.5..2.4 m ahead: confirmed
+            tracker.view = SensorView([wall_scan()], [None])
+            tracker.update(one_leg(1.5 + 0.1 * k, 0.0), 0.1 * k, 1.0)
+        person = next(iter(tracker.persons.values()))
+        assert person.confirmed
+        before = person.llr
+        tracker.view = SensorView([wall_scan(ranges)], [None])
+        tracker.update(one_leg(2.4, 0.0, detected=False), 0.1 * (k + 1), 1.0)
+        return person.llr - before
+
+    none = math.log(0.1 / 0.5)  # p_none / q_none
+    on = replace(P, miss_only_if_empty=True)
+    # in view in front of the wall (its beams pass it): the scan counts as none
+    assert run(None, on) == pytest.approx(none)
+    # something 1 m from the laser blocks every beam (occluded): neutral (one-leg, log 1)
+    assert run(np.full(181, 1.0), on) == pytest.approx(0.0)
+    # no return at all (cannot tell): neutral
+    assert run(np.full(181, np.inf), on) == pytest.approx(0.0)
+    # off (the default): none wherever the place is
+    assert run(np.full(181, 1.0), P) == pytest.approx(none)
+
+
+# ------------------------------------------------------------------ real recording
+
+
+def test_lobby_recording_recall(shared_data: Path) -> None:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from laserpeople.tracking.legs import LegTrackerParams
+    from moving_people import read_labels, score_moving, track_bag
+
+    base = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first"
+    tracks, _ = track_bag(base.with_suffix(".bag"), LegTrackerParams())
+    score = score_moving(tracks, read_labels(Path(f"{base}.people.csv")))
+    # before issue 29 the default found 1 of the 57 labels (recall 0.018)
+    assert score.labels == 57
+    assert score.recall >= 0.2
+    assert score.id_switches <= 2
+
+
+# ------------------------------------------------------------------ simulated family
+
+
+def test_moving_robot_family_is_drawn_from_the_seed() -> None:
+    from laserpeople.sim.scenarios import build_scene
+
+    a = build_scene("moving-robot", seconds=10.0, seed=3)
+    b = build_scene("moving-robot", seconds=10.0, seed=3)
+    c = build_scene("moving-robot", seconds=10.0, seed=4)
+    assert a.notes == b.notes and a.notes != c.notes
+    assert a.robot is not None and a.notes["family"] == "moving-robot"
+    assert 1 + 2 <= len(a.people) <= 3 + 2 + 2 * 3 + 2  # towards, groups of 2-3, ...
+    fov = a.sensors[0].laser_model.fov_deg
+    assert fov == pytest.approx(270.0, abs=0.5)
+
+
+SIM_SEED = 6
+"""A tuning seed of the moving-robot family (0-9; 100-119 are held back)."""
+SIM_MOTA, SIM_IDF1 = 0.45, 0.64
+"""Measured 20 s of seed 6: MOTA 0.461, IDF1 0.652 (one_leg_birth false, as before issue
+29: 0.438, 0.632; a tracker that loses people scores far lower)."""
+
+
+def test_moving_robot_seed_end_to_end() -> None:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from laserpeople.detection.detector import AdaBoostLegDetector
+    from laserpeople.evaluation.suite import SuiteScene, prepare, track_scene
+    from people_suite import make_factory
+
+    prepared = prepare(
+        SuiteScene("moving-robot", "moving-robot", SIM_SEED, 20.0), AdaBoostLegDetector.default()
+    )
+    score, _ = track_scene(prepared, make_factory("leg-mht", None), "leg-mht")
+    assert score.mota >= SIM_MOTA
+    assert score.idf1 >= SIM_IDF1

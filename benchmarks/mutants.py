@@ -3,8 +3,8 @@ re-identification) and 004 (particle filters): do the tests fail when the code i
 
 Each mutant is one exact snippet of a source file under ``src/laserpeople`` and its
 replacement (a near miss of the paper's formula: a wrong weight, a dropped term, a swapped
-probability). For each mutant the script copies ``src/``, ``tests/`` and
-``pyproject.toml`` into a fresh temporary directory, patches the copy (never the
+probability). For each mutant the script copies ``src/``, ``tests/``,
+``benchmarks/`` and ``pyproject.toml`` into a fresh temporary directory, patches the copy (never the
 worktree), and runs the mutant's tests there with ``PYTHONPATH`` pointing at the copy and
 without the real recordings (``LASERPEOPLE_SHARED_DATA`` unset and no ``../shared``
 beside the copy, so tests that need them skip). A mutant is *killed* when the tests fail,
@@ -343,8 +343,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-merge-two-points",
         "002 Sec. 2 (objects sharing one measurement merge)",
         C,
-        "adj = (g @ g.T) > 0",
-        "adj = (g @ g.T) > 1",
+        "shared = (g @ g.T) > 0  # share at least one measurement",
+        "shared = (g @ g.T) > 1  # share at least one measurement",
         CSA,
     ),
     Mutant(
@@ -572,12 +572,13 @@ class Outcome:
 
 
 def _copy_tree(dest: Path) -> Path:
-    """A copy of the repository's src/, tests/ and pyproject.toml under ``dest/repo``
+    """A copy of the repository's src/, tests/, benchmarks/ and pyproject.toml under ``dest/repo``
     (no ``shared`` beside it, so tests needing the real recordings skip)."""
     repo = dest / "repo"
     ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".mypy_cache", ".ruff_cache")
     shutil.copytree(REPO / "src", repo / "src", ignore=ignore)
     shutil.copytree(REPO / "tests", repo / "tests", ignore=ignore)
+    shutil.copytree(REPO / "benchmarks", repo / "benchmarks", ignore=ignore)  # tests use some
     shutil.copy2(REPO / "pyproject.toml", repo / "pyproject.toml")
     return repo
 

@@ -310,8 +310,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "eq36-new-false-swapped",
         "000 eq. 36 (p_N, p_F)",
         I,
-        "self._log_new = math.log(p_n)",
-        "self._log_new = math.log(p_f)",
+        "self._log_p_new = math.log(p_n)",
+        "self._log_p_new = math.log(p_f)",
         GROUPS,
     ),
     Mutant(

@@ -51,7 +51,9 @@ def test_viterbi_gate_with_a_correlated_covariance() -> None:
     d_across = float(across @ np.linalg.solve(s, across))
     gate = 9.21
     assert d_along < gate < d_across
-    step = viterbi_step(np.zeros((1, 4)), cov, np.zeros(1), np.array([along, across]), 0.01, gate, 10.0)
+    step = viterbi_step(
+        np.zeros((1, 4)), cov, np.zeros(1), np.array([along, across]), 0.01, gate, 10.0
+    )
     assert step.selected.tolist() == [True, False]
 
 
@@ -88,7 +90,7 @@ def test_kfa_updates_with_the_mean_of_the_selected_measurements() -> None:
         qq[i, i], qq[i, i + 2] = q * dt**3 / 3, q * dt**2 / 2
         qq[i + 2, i], qq[i + 2, i + 2] = q * dt**2 / 2, q * dt
     x, c = update(f @ x, f @ c @ f.T + qq, second.mean(axis=0))
-    np.testing.assert_allclose(person.position, first.mean(axis=0) , atol=1e-9)
+    np.testing.assert_allclose(person.position, first.mean(axis=0), atol=1e-9)
     np.testing.assert_allclose(moved.position, x[:2], atol=1e-9)
     np.testing.assert_allclose(moved.velocity, x[2:], atol=1e-9)
 
@@ -96,7 +98,10 @@ def test_kfa_updates_with_the_mean_of_the_selected_measurements() -> None:
 def _legs(centre: tuple[float, float]) -> np.ndarray:
     ang = np.linspace(0, np.pi, 5)
     return np.concatenate(
-        [np.c_[centre[0] + dx + 0.05 * np.cos(ang), centre[1] - 0.05 * np.sin(ang)] for dx in (-0.1, 0.1)]
+        [
+            np.c_[centre[0] + dx + 0.05 * np.cos(ang), centre[1] - 0.05 * np.sin(ang)]
+            for dx in (-0.1, 0.1)
+        ]
     )
 
 
@@ -104,14 +109,12 @@ def _fragment_run(params: CSAParams) -> ClusterSortingTracker:
     """Two people walk together into one cluster; then a blob of points appears beside the
     cluster (a target is started there, next to it) and moves into it."""
     csa = ClusterSortingTracker(params)
-    k = 0
-    for t in np.arange(0.0, 4.5, 0.1):
+    for k, t in enumerate(np.arange(0.0, 4.5, 0.1)):
         x = min(-2.5 + 1.5 * t, -0.2)
         pts = [_legs((x, 0.0)), _legs((-x, 0.0))]
         if t >= 3.0:  # the third blob, 1.6 m beside, walking into the cluster
             pts.append(_legs((max(1.8 - 1.5 * (t - 3.0), 0.2), 0.3)))
         csa.update(_frame(k, float(t), np.concatenate(pts)))
-        k += 1
     return csa
 
 

@@ -33,7 +33,9 @@ def _spd(rng: np.random.Generator, scale: float) -> np.ndarray:
     return scale * (a @ a.T / 5.0 + 0.2 * np.eye(5))
 
 
-def _node(tracker: GroupMHTTracker, mean: list[float], cov: np.ndarray, contour: np.ndarray) -> TrackNode:
+def _node(
+    tracker: GroupMHTTracker, mean: list[float], cov: np.ndarray, contour: np.ndarray
+) -> TrackNode:
     tree = tracker.mht.tree
     return TrackNode(
         tree.new_node_id(),
@@ -85,7 +87,13 @@ def ref_log_n(d_hd: float, s: np.ndarray) -> float:
 
 
 def ref_merge_log_n(
-    ci: np.ndarray, mi: np.ndarray, pi: np.ndarray, cj: np.ndarray, mj: np.ndarray, pj: np.ndarray, d_p: float
+    ci: np.ndarray,
+    mi: np.ndarray,
+    pi: np.ndarray,
+    cj: np.ndarray,
+    mj: np.ndarray,
+    pj: np.ndarray,
+    d_p: float,
 ) -> float:
     """Eqs. 25-27: the least Mahalanobis distance over contour-point pairs of
     (dx shortened by d_P, dv) with C_i + C_j (4x4), and the normal density of it."""
@@ -123,7 +131,9 @@ def test_eq16_new_groups_take_the_cluster_size() -> None:
     tracker = GroupMHTTracker(p)
     # two people (four legs 0.2 m apart, pairs 0.5 m apart) and one person, far apart
     legs = [[0.0, 0.0], [0.0, 0.2], [0.5, 0.0], [0.5, 0.2], [5.0, 0.0], [5.0, 0.2]]
-    pts = np.concatenate([np.array(c) + np.array([[0.0, 0.0], [0.03, 0.0], [0.0, 0.03]]) for c in legs])
+    pts = np.concatenate(
+        [np.array(c) + np.array([[0.0, 0.0], [0.03, 0.0], [0.0, 0.03]]) for c in legs]
+    )
     obs = _obs(pts, p)
     assert sorted(obs.n_hs.tolist()) == [1.0, 2.0]
     for js in ([0, 1], [0], [1]):  # several at once and one at a time
@@ -192,10 +202,12 @@ def test_eq28_31_update_with_a_full_covariance() -> None:
     node = _node(tracker, [0.0, 0.0, 0.5, 0.2, 1.0], cov, np.zeros((1, 2)))
     tracker.model.predict([node], 0.1)
     legs = [[0.2, 0.0], [0.2, 0.2], [0.7, 0.0], [0.7, 0.2]]  # two people
-    pts = np.concatenate([np.array(c) + np.array([[0.0, 0.0], [0.03, 0.0], [0.0, 0.03]]) for c in legs])
+    pts = np.concatenate(
+        [np.array(c) + np.array([[0.0, 0.0], [0.03, 0.0], [0.0, 0.03]]) for c in legs]
+    )
     obs = _obs(pts, p)
     assert obs.n_hs[0] == 2.0
-    (mean, c, payload), = tracker.model.update([node], obs, [0], 0.1)
+    ((mean, c, payload),) = tracker.model.update([node], obs, [0], 0.1)
     h = np.zeros((3, 5))
     h[0, 0] = h[1, 1] = h[2, 4] = 1.0
     r = np.diag([p.centroid_std**2, p.centroid_std**2, p.size_std**2])
@@ -260,7 +272,9 @@ def _branch_priors(p: GroupTrackerParams, scene: str):
     if scene == "merge":  # two tracks, one observation spanning both
         ca, cb = _spd(rng, 0.03), _spd(rng, 0.03)
         a = _node(tracker, [0.0, 0.0, 0.3, 0.0, 1.0], ca, np.array([[0.0, 0.0], [0.1, 0.1]]))
-        b = _node(tracker, [1.0, 0.0, -0.2, 0.1, 1.0], cb, np.array([[0.0, 0.0], [-0.1, 0.1], [0.1, 0.0]]))
+        b = _node(
+            tracker, [1.0, 0.0, -0.2, 0.1, 1.0], cb, np.array([[0.0, 0.0], [-0.1, 0.1], [0.1, 0.0]])
+        )
         nodes = [a, b]
         pts = np.array([[x, 0.05 * (i % 2)] for i, x in enumerate(np.linspace(0.0, 1.0, 11))])
     else:  # one track, two observations in its gate
@@ -343,7 +357,7 @@ def test_reclustering_gives_each_point_to_the_nearest_track() -> None:
     divided by the nearest predicted contour point."""
     p = GroupTrackerParams()
     (a, b), out = _branch_priors(p, "merge")
-    both = [br for br in out if len(br.tracks) == 2][0]
+    both = next(br for br in out if len(br.tracks) == 2)
     assert both.observations is not None
     parts = both.observations.measurements
     ca = a.payload.contour + a.pred_mean[:2]

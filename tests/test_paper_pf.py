@@ -8,7 +8,18 @@ import numpy as np
 
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet
-from laserpeople.tracking.particle.feet import ALPHA, GAMMA, XL, XR, YL, YR, FeetParams, FeetTracker, S, T
+from laserpeople.tracking.particle.feet import (
+    ALPHA,
+    GAMMA,
+    XL,
+    XR,
+    YL,
+    YR,
+    FeetParams,
+    FeetTracker,
+    S,
+    T,
+)
 
 
 def _empty(k: int, t: float) -> Frame:

@@ -32,8 +32,12 @@ def _run(
         xy = _truth_xy(t)
         obs = cam.observe(t, np.array([0, 1]), xy, np.array(hues))
         ids = track_ids(t)
-        tracks = tuple(Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01) for i in range(2))
-        outs.append(reid.update(Tracks(t, k, tracks), Frame(k, t, (), "synthetic", "world", appearance=obs)))
+        tracks = tuple(
+            Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01) for i in range(2)
+        )
+        outs.append(
+            reid.update(Tracks(t, k, tracks), Frame(k, t, (), "synthetic", "world", appearance=obs))
+        )
     return reid, outs
 
 

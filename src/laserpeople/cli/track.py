@@ -9,9 +9,12 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    MountsFileOption,
     OnErrorOption,
+    PresetOption,
     WorldFrameOption,
     ignored_sections,
+    mount_specs,
     open_with_poses,
     progress,
     report_damage,
@@ -35,14 +38,15 @@ class Detector(Protocol):
 
 
 def tracker_param_classes() -> list[type]:
-    """The parameter classes of every registered tracker and of the static world models
-    that ``track`` feeds them (their TOML sections may share a ``--config`` file with the
-    detector's)."""
+    """The parameter classes of every registered tracker, of colour re-identification and
+    of the static world models that ``track`` feeds them (their TOML sections may share a
+    ``--config`` file with the detector's)."""
+    from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline.background import StaticWorldParams
     from laserpeople.tracking import registry
 
     classes = [entry.params_cls for entry in registry.TRACKERS.values()]
-    return list(dict.fromkeys([*classes, *StaticWorldParams.sections()]))
+    return list(dict.fromkeys([*classes, ReidParams, *StaticWorldParams.sections()]))
 
 
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
@@ -149,6 +153,7 @@ def run_tracking(
     reidentify: bool = False,
     on_error: str = "stop",
     restamp: float | None = None,
+    preset: str | None = None,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -160,11 +165,13 @@ def run_tracking(
     none; ``map_path`` seeds the occupancy grid).
     ``reidentify`` adds colour re-identification from the simulated camera (recordings
     with ground-truth hues only). ``restamp`` [Hz] replaces the recorded stamps by a fixed
-    rate (:class:`~laserpeople.pipeline.stamps.Restamp`).
+    rate (:class:`~laserpeople.pipeline.stamps.Restamp`). ``preset`` "paper" starts every
+    parameter section from the papers' values (docs/papers.md) before ``config``.
 
     Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
+    from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline import (
         GroupingParams,
         LegFusionParams,
@@ -181,7 +188,7 @@ def run_tracking(
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
-    params: Any = load_config(entry.params_cls, config)
+    params: Any = load_config(entry.params_cls, config, preset)
     static_world = load_static_world(config)
     if people_policy is not None:
         params = with_people_policy(params, people_policy, tracker_name)
@@ -214,6 +221,7 @@ def run_tracking(
         map_path=map_path,
         static_world=static_world,
         reidentify=reidentify,
+        reid=load_config(ReidParams, config, preset),
         on_error=on_error,
         restamp=restamp,
     )
@@ -376,6 +384,8 @@ def register(app: typer.Typer) -> None:
         ] = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
+        mounts: MountsFileOption = None,
+        preset: PresetOption = None,
         plot: Annotated[
             Path | None,
             typer.Option("--plot", help="Also draw the trajectory overview to this PNG."),
@@ -448,11 +458,14 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
+        from laserpeople.config import preset_values
         from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.identity.reid import ReidParams
         from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.pipeline.background import StaticWorldParams
         from laserpeople.tracking import registry
 
+        preset_values(ReidParams, preset)  # an unknown preset is an error before anything
         entry = registry.get(tracker)
         static_sections = StaticWorldParams.sections()
         ignored_sections(
@@ -464,6 +477,7 @@ def register(app: typer.Typer) -> None:
                     GroupingParams,
                     LegFusionParams,
                     entry.params_cls,
+                    ReidParams,
                     *static_sections,
                 ],
                 tracker_param_classes(),
@@ -471,8 +485,8 @@ def register(app: typer.Typer) -> None:
         )
         if print_config:
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
-            every = dict.fromkeys([*classes, *static_sections])  # [leg_tracker] is in both
-            loaded: list[Any] = [load_config(cls, config) for cls in every]
+            every = dict.fromkeys([*classes, ReidParams, *static_sections])  # [leg_tracker] twice
+            loaded: list[Any] = [load_config(cls, config, preset) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
                 print(to_toml(obj))
             return
@@ -501,7 +515,7 @@ def register(app: typer.Typer) -> None:
             frame,
             det,
             world_frame,
-            mount or [],
+            mount_specs(mount, mounts),
             plot=plot,
             animate=animate,
             bag=bag,
@@ -511,6 +525,7 @@ def register(app: typer.Typer) -> None:
             reidentify=colour,
             on_error=on_error,
             restamp=restamp,
+            preset=preset,
         )
         groups = int(stats["group_tracks"])
         say(

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,6 +55,12 @@ class CSAParams:
     """Parameters of the Cluster Sorting Algorithm (002 Sec. 2)."""
 
     config_section = "csa"
+    paper_preset = MappingProxyType(
+        {  # 002 where the defaults depart from it (docs/papers.md)
+            "adopt_escaped": False,
+            "fragment_rule": False,
+        }
+    )
 
     subcluster_distance: float = param(
         1.5,

@@ -65,7 +65,7 @@ MERGED_LABELS_MEMO = 4096
 forgotten); below that, :meth:`GroupBranches.forget_gone` keeps only the pairs of live
 label sets."""
 MAX_EVENTS = 12
-"""Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
+"""Default of :attr:`InteractionSettings.max_events` (the tracker's ``max_events``)."""
 
 
 @dataclass(frozen=True)
@@ -80,6 +80,10 @@ class InteractionSettings:
         join_observations: Also offer each model with the observations that only one
             continued track gates joined into one (extension).
         max_models: Most models per parent (the likeliest by eq. 32).
+        max_events: Candidate events per parent kept for model enumeration (the
+            likeliest; at most 2^max_events models are enumerated).
+        prune_labels: Relabel a set holding both halves ``X-0``, ``X-1`` of a split ``X``
+            when a merge unites them (000 Sec. 4.2.4's optional pruning).
         c0: Initial covariance C_0 (5, 5) (split tracks restart from it).
         recluster_blobs: Re-cluster by blobs instead of points (extension).
         counting: How re-clustered parts count their people (000's blob count if None).
@@ -100,8 +104,10 @@ class InteractionSettings:
     max_models: int
     join_observations: bool
     c0: FloatArray
-    model_prior: str = "normalised"
-    merge_likelihood: str = "compatibility"
+    model_prior: str = "choice"
+    merge_likelihood: str = "density"
+    max_events: int = MAX_EVENTS
+    prune_labels: bool = True
     recluster_blobs: bool = False
     counting: SizeCounting | None = None
     coherence_step: float = 0.2
@@ -120,10 +126,13 @@ class Event:
     merge_loglik: float = 0.0
 
 
-def enumerate_models(events: Sequence[Event], limit: int) -> list[tuple[Event, ...]]:
+def enumerate_models(
+    events: Sequence[Event], limit: int, max_events: int = MAX_EVENTS
+) -> list[tuple[Event, ...]]:
     """Sets of events no track takes part in twice, the ``limit`` likeliest (by the sum of
-    log ratios; the empty set, all continue, is always first among equals)."""
-    ranked = sorted(events, key=lambda e: -e.log_ratio)[:MAX_EVENTS]
+    log ratios; the empty set, all continue, is always first among equals), of the
+    ``max_events`` likeliest events."""
+    ranked = sorted(events, key=lambda e: -e.log_ratio)[:max_events]
     found: list[tuple[float, int, tuple[Event, ...]]] = []
 
     def rec(k: int, used: frozenset[int], chosen: tuple[Event, ...], score: float) -> None:
@@ -252,7 +261,7 @@ class GroupBranches:
             prior = 0.0 if self.s.model_prior != "literal" else len(tracks) * self._log_pc
             self.models_generated += 1
             return [Branch(prior, tuple(sorted(tracks, key=BY_FAMILY)), 0, None)]
-        models = enumerate_models(events, self.s.max_models)
+        models = enumerate_models(events, self.s.max_models, self.s.max_events)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
         mkey = meas_idx.tobytes()
@@ -358,7 +367,9 @@ class GroupBranches:
             if labels is None:  # a pure function of the two sets, remembered over scans
                 if len(self._merged_labels) >= MERGED_LABELS_MEMO:
                     self._merged_labels.clear()
-                labels = self._merged_labels[names] = merge_labels(*names)
+                labels = self._merged_labels[names] = merge_labels(
+                    *names, prune=self.s.prune_labels
+                )
             payload = GroupPayload(
                 points - pm[:2],
                 labels,
@@ -762,15 +773,22 @@ def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> I
 
 class GroupLabelModel:
     """Assignment probabilities of 000 eqs. 36-37: matched p_M, occluded p_O, obsolete p_T
-    for tracks; new p_N and false alarm p_F for observations. With the data likelihood of
-    eq. 37 the observation volume V cancels (000 Sec. 4.5.1), so the log rates are log p_N
-    and log p_F. A split or merged track of this scan must be matched (000 Sec. 4.4)."""
+    for tracks; new and false alarm for observations. Eq. 36 gives them as p_N = lambda_N V
+    and p_F = lambda_F V, eq. 37 a likelihood 1/V each: their product leaves the rates
+    lambda = p / V [1/m^2], against the likelihoods N_i of matched observations (eq. 24,
+    a density in 1/m^2), as the leg tracker's lambda_new and lambda_fal. ``area`` is V
+    [m^2]; the tracker sets it per scan when the observation area is the lasers' view. A
+    split or merged track of this scan must be matched (000 Sec. 4.4)."""
 
-    def __init__(self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float) -> None:
+    def __init__(
+        self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float, area: float = 1.0
+    ) -> None:
         self._lp = np.log(np.array([p_m, p_o, p_t]))
         self._must = np.array([math.log(p_m), -np.inf, -np.inf])
-        self._log_new = math.log(p_n)
-        self._log_fal = math.log(p_f)
+        self._log_p_new = math.log(p_n)
+        self._log_p_fal = math.log(p_f)
+        self.area = area
+        """V of eqs. 36-37 [m^2]."""
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
@@ -780,6 +798,8 @@ class GroupLabelModel:
     def measurement_log_rates(
         self, measurements: GroupObservations
     ) -> tuple[FloatArray, FloatArray]:
-        """log p_N and log p_F (M,) for every observation."""
+        """log lambda_N = log(p_N / V) and log lambda_F = log(p_F / V) (M,) for every
+        observation."""
         m = len(measurements)
-        return np.full(m, self._log_new), np.full(m, self._log_fal)
+        log_v = math.log(self.area)
+        return np.full(m, self._log_p_new - log_v), np.full(m, self._log_p_fal - log_v)

@@ -291,6 +291,8 @@ class GroupModelSettings:
         max_gap: Contour-to-cluster distance beyond which no gate is computed [m].
         log_p_match: log p_M (a part of a re-clustered observation counts as its share of
             one matched observation, see :meth:`GroupModel.score`).
+        rms: Root mean square instead of the mean in eq. 20.
+        share_parts: Parts count their share (False: each part a whole observation, 000).
     """
 
     c0: FloatArray
@@ -303,6 +305,7 @@ class GroupModelSettings:
     max_gap: float
     log_p_match: float = 0.0
     rms: bool = False
+    share_parts: bool = True
 
 
 class GroupModel:
@@ -483,7 +486,8 @@ class GroupModel:
         ok = d_hd**2 <= self.s.gate_sq
         lpm = self.s.log_p_match
         log_norm = _LOG_2PI_NEG - 0.5 * math.log(det)
-        ll = obs.share[near] * (lpm + (log_norm - 0.5 * d_hd**2)) - lpm  # eq. 24
+        w = obs.share[near] if self.s.share_parts else 1.0
+        ll = w * (lpm + (log_norm - 0.5 * d_hd**2)) - lpm  # eq. 24
         gated[0, near] = ok
         loglik[0, near] = np.where(ok, ll, -np.inf)
         return gated, loglik
@@ -571,7 +575,7 @@ class GroupModel:
         coef = (ds00, ds01, ds11, ddet)
         d_hd = self._hausdorff(points, n_z, cols_c, n_c, coef, batch)
         ok = sub_near & (d_hd**2 <= self.s.gate_sq)
-        w = obs.share[cols_m][None, :]
+        w = obs.share[cols_m][None, :] if self.s.share_parts else np.ones((1, cols_m.size))
         lpm = self.s.log_p_match
         if batch:  # eq. 24, a part counting its share
             log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +29,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
+from laserpeople.scan import visible_area
 from laserpeople.tracking.groups.coherence import CoherenceSettings, CoherentGroupModel
 from laserpeople.tracking.groups.confirm import Candidate, Confirmation, ConfirmSettings
 from laserpeople.tracking.groups.history_split import HistorySplitSettings
@@ -77,6 +79,25 @@ class GroupTrackerParams:
     """Parameters of the group tracker (000 Sec. 4)."""
 
     config_section = "group_tracker"
+    paper_preset = MappingProxyType(
+        {  # 000 Sec. 4 where the defaults depart from it (docs/papers.md)
+            "eps_n": 0.1,
+            "size_count": "blobs",
+            "max_blob_size": 0.0,
+            "merge_likelihood": "density",
+            "model_prior": "literal",
+            "observation_area": 0.0,
+            "share_parts": False,
+            "prune_labels": True,
+            "join_observations": False,
+            "recluster_blobs": False,
+            "hausdorff": "mean",
+            "static_groups": True,
+            "confirm_scans": 1,
+            "confirm_event_scans": 1,
+            "reuse_ids": False,
+        }
+    )
 
     p_m: float = param(0.79, "000 Sec. 4.6", "P(matched) of a group track")
     p_o: float = param(0.19, "000 Sec. 4.6", "P(occluded) of a group track")
@@ -246,10 +267,39 @@ class GroupTrackerParams:
     )
     merge_likelihood: str = param(
         "density",
-        "departure from 000 eq. 27 (see docs/groups.md): its normaliser "
-        "1/((2 pi)^2 sqrt det(C_i + C_j)) is 6-8 at the group covariances here, so p_G N_ij "
-        "exceeds one and two groups 0.9 m/s apart still merge with a hazard of 25 % per scan",
+        "000 eq. 27 (the normal density N_ij); 'compatibility' is an extension (see "
+        "docs/groups.md): eq. 27's normaliser 1/((2 pi)^2 sqrt det(C_i + C_j)) is 6-8 at the "
+        "group covariances here, so p_G N_ij exceeds one",
         "N_ij of eq. 32: density (eq. 27) | compatibility (exp(-d_min^2 / 2), at most 1)",
+    )
+    observation_area: float = param(
+        1.0,
+        "departure from 000 eqs. 36-37 (V m^2, the lasers' view: 0 here), measured in "
+        "docs/papers.md: with V = 1 m^2 new groups and false alarms weigh p_N and p_F "
+        "against likelihoods N_i in 1/m^2, as the tracker did before the setting existed",
+        "observation volume V of eqs. 36-37: new tracks and false alarms have the rates "
+        "p_N / V and p_F / V per m^2 (0: the area the lasers saw in each scan)",
+        "m^2",
+    )
+    share_parts: bool = param(
+        True,
+        "departure from 000 (false here), see GroupModel.score and docs/groups.md: "
+        "dividing an observation among tracks adds a factor p_M N_i > 1 per part, so a "
+        "merge could never explain one observation better than the tracks re-clustered",
+        "a part of a re-clustered observation counts as its share of one matched "
+        "observation (false: every part is a matched observation of its own)",
+    )
+    prune_labels: bool = param(
+        True,
+        "000 Sec. 4.2.4 (optional there)",
+        "a merge that unites both halves X-0 and X-1 of a split X relabels them X",
+    )
+    max_events: int = param(
+        12,
+        "assumption (speed only: at most 2^max_events models per parent are enumerated; "
+        "000 bounds models only by binary events and gating)",
+        "candidate split and merge events per parent hypothesis kept for model "
+        "enumeration (the likeliest)",
     )
     recluster_blobs: bool = param(
         False,
@@ -451,8 +501,10 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs' or 'legs'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
-        if self.max_models < 1:
-            raise ValueError("max_models must be at least 1")
+        if self.max_models < 1 or self.max_events < 0:
+            raise ValueError("max_models must be at least 1 and max_events not negative")
+        if not (self.observation_area >= 0.0 and math.isfinite(self.observation_area)):
+            raise ValueError("observation_area must be finite and not negative (0: per scan)")
         if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
             raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
         if min(self.static_time, self.min_travel, self.arrival_slack) < 0.0:
@@ -468,10 +520,10 @@ class GroupTrackerParams:
 
     @classmethod
     def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
-        """000's setting, the default: the likelihood of eqs. 19-24 alone (no motion
-        coherence) and 000's data-driven splits (no history split); docs/groups.md tables
-        '000's setting' (the departures listed there stay). Spelled out so that it stays
-        000's setting if the defaults change."""
+        """The likelihood of eqs. 19-24 alone (no motion coherence) and 000's data-driven
+        splits (no history split), the defaults; the other departures from 000 stay (for
+        all of 000's group tracker see :data:`PAPER` and docs/papers.md). Spelled out so
+        that it stays so if the defaults change."""
         base = cls(coherence_lag=0.0, history_split=False)
         return replace(base, **changes) if changes else base  # type: ignore[arg-type]
 
@@ -533,6 +585,7 @@ class GroupTrackerParams:
             max_gap=self.max_gate_gap,
             log_p_match=math.log(self.p_m),
             rms=self.hausdorff == "rms",
+            share_parts=self.share_parts,
         )
 
     def walker_settings(self) -> WalkerSettings:
@@ -572,6 +625,8 @@ class GroupTrackerParams:
             d_hs=self.blob_distance,
             split_merge=self.split_merge,
             max_models=self.max_models,
+            max_events=self.max_events,
+            prune_labels=self.prune_labels,
             join_observations=self.join_observations,
             c0=self.c0(),
             model_prior=self.model_prior,
@@ -647,7 +702,9 @@ class GroupMHTTracker:
         self.params = params if params is not None else GroupTrackerParams()
         p = self.params
         self.model = CoherentGroupModel(p.model_settings(), p.coherence_settings())
-        self.label_model = GroupLabelModel(p.p_m, p.p_o, p.p_t, p.p_n, p.p_f)
+        self.label_model = GroupLabelModel(
+            p.p_m, p.p_o, p.p_t, p.p_n, p.p_f, p.observation_area or 1.0
+        )
         self.mht: MHT[GroupObservations] = MHT(
             p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO), self.model, self.label_model
         )
@@ -766,10 +823,26 @@ class GroupMHTTracker:
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs
 
+    @staticmethod
+    def _visible_area(frame: Frame) -> float:
+        """V of eqs. 36-37 for ``observation_area`` 0: the area [m^2] the frame's lasers saw
+        (the sum over its scans)."""
+        area = sum(visible_area(scan) for scan in frame.scans)
+        if not area > 0.0:
+            raise LaserPeopleError(
+                "the group tracker's observation_area 0 needs the area the lasers saw, and "
+                f"this frame has {len(frame.scans)} scans with no valid return",
+                scan=frame.index,
+                hint="set [group_tracker] observation_area to the field of view in m^2",
+            )
+        return area
+
     def update(self, frame: Frame) -> Tracks:
         """Track one frame."""
         obs = self.observe(frame)
         self.last_observations = obs
+        if self.params.observation_area == 0.0:
+            self.label_model.area = self._visible_area(frame)
         self.branches.begin_scan(obs, frame.stamp)
         self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)

@@ -92,7 +92,7 @@ def test_mounts_file_of_align_is_a_mount(tmp_path: Path) -> None:
     assert got["back_laser"][1].as_array() == pytest.approx([-0.3, 0.1, 3.1])
     empty = tmp_path / "empty.toml"
     empty.write_text("# nothing\n")
-    with pytest.raises(ConfigError, match="no \\[mounts.LASER\\] table"):
+    with pytest.raises(ConfigError, match=r"no \[mounts\.LASER\] table"):
         parse_mounts([str(empty)])
     missing = CliRunner().invoke(
         app, ["track", "x.bag", "-o", str(tmp_path / "t.csv"), "--mounts", "nope.toml"]

@@ -31,20 +31,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
-from laserpeople.tracking.groups.coherence import CoherentGroupModel, merge_histories
-from laserpeople.tracking.groups.history_split import (
-    HistorySplitSettings,
-    divide_contour,
-    divide_history,
-    mode_velocities,
-    trace_velocities,
-    velocity_modes,
-)
 from laserpeople.tracking.groups.labels import merge_labels, split_labels
 from laserpeople.tracking.groups.model import (
     GroupModel,
     GroupPayload,
-    Snapshot,
     group_distance_sq,
     group_payload,
     merge_log_likelihood,
@@ -89,10 +79,6 @@ class InteractionSettings:
         counting: How re-clustered parts count their people (000's blob count if None).
         model_prior: How eq. 32 becomes P(M | parent): "normalised", "choice" or
             "literal" (see :meth:`GroupBranches._model_priors`).
-        coherence_step: Snapshot spacing of the motion-coherence history [s] (a merged
-            track joins its parents' snapshots taken within half of it).
-        history_split: The split driven by a track's history (:mod:`.history_split`),
-            None: off (000's data-driven splits only).
     """
 
     p_c: float
@@ -110,14 +96,12 @@ class InteractionSettings:
     prune_labels: bool = True
     recluster_blobs: bool = False
     counting: SizeCounting | None = None
-    coherence_step: float = 0.2
-    history_split: HistorySplitSettings | None = None
 
 
 @dataclass(frozen=True, eq=False)
 class Event:
-    """A candidate split (one track; ``kind`` "split", or "history" for the split of one
-    observation by the track's history) or merge (two tracks) and its log prior ratio to
+    """A candidate split (one track, ``kind`` "split") or merge (two tracks, "merge") and
+    its log prior ratio to
     continuing them (p_S / p_C, or p_G N_ij / p_C^2)."""
 
     kind: str
@@ -186,7 +170,6 @@ class GroupBranches:
         self._rows: dict[int, tuple[BoolArray, int]] = {}  # node id -> gate row, its bits
         self._pending: list[TrackNode] = []  # tracks made and not gated yet
         self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
-        self._history: dict[int, _HistorySplit | None] = {}  # node id -> its history split
         self.stamp = math.nan
         self.models_generated = 0
 
@@ -204,11 +187,10 @@ class GroupBranches:
         }
 
     def begin_scan(self, obs: GroupObservations, stamp: float = math.nan) -> None:
-        """Set this scan's observations (and its time [s], for the history split) and
+        """Set this scan's observations (and its time [s]) and
         forget the last scan's re-predicted tracks."""
         self.obs = obs
         self.stamp = stamp
-        self._history.clear()
         self._split.clear()
         self._merged.clear()
         self._merge_ll.clear()
@@ -253,8 +235,6 @@ class GroupBranches:
                             ll = self._merge_loglik(ta, tb)
                             ratio = self._log_pg + ll - 2.0 * self._log_pc
                             events.append(Event("merge", (ta, tb), ratio, ll))
-            if self.s.history_split is not None:
-                events.extend(self._history_events(tracks, masks, meas_idx))
         if not events and self.s.split_merge and not self.s.join_observations:
             # the common case: one model, all continue; no observation is in two gates
             # (that would be a merge event), so nothing is re-clustered
@@ -268,8 +248,7 @@ class GroupBranches:
         # every model's tracks first (the tracks splits and merges make are gated together)
         reconfigured = [self._repredict(tracks, chosen) for chosen in models]
         for chosen, prior, new_tracks in zip(models, priors, reconfigured, strict=True):
-            extra = {h.j: h.pieces for h in self._chosen_history(chosen)}
-            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey, extra=extra)
+            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey)
             out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
                 obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True, mkey=mkey)
@@ -328,8 +307,6 @@ class GroupBranches:
             gone.update(t.node_id for t in e.tracks)
             if e.kind == "split":
                 made.extend(self.split(e.tracks[0]))
-            elif e.kind == "history":
-                made.extend(self._chosen_history((e,))[0].halves)
             else:
                 made.append(self.merge(e.tracks[0], e.tracks[1]))
         kept = [t for t in tracks if t.node_id not in gone]
@@ -375,8 +352,6 @@ class GroupBranches:
                 labels,
                 must_match=True,
                 event="merge",
-                history=merge_histories(pa.history, pb.history, 0.5 * self.s.coherence_step),
-                merged_stamp=max(a.stamp, b.stamp),
             )
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]
@@ -438,7 +413,6 @@ class GroupBranches:
         meas_idx: NDArray[np.intp],
         join: bool = False,
         mkey: bytes | None = None,
-        extra: dict[int, list[_Piece]] | None = None,
     ) -> BranchObservations | None:
         """The model's partition of the cluster's observations, or None when it is the
         cluster's own: an observation in the gates of two of its tracks is divided among
@@ -446,8 +420,7 @@ class GroupBranches:
         track and of no other track are joined into one (the extension, see the module
         doc). The division of an observation among given tracks and the partition made
         of a given list of parts are computed once per scan and shared by the models of
-        all parents. ``extra`` maps scan observations to the pieces a history split
-        divides them into (they are divided so in any case)."""
+        all parents."""
         if meas_idx.size == 0 or not tracks:
             return None
         # units: a split's two halves are one; every other track is its own
@@ -464,7 +437,7 @@ class GroupBranches:
                     mask |= self._gate_bits(t, gates, meas_idx)
                 twice |= seen & mask
                 seen |= mask
-            if not twice and not extra:
+            if not twice:
                 return None
         unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
         for u, unit in enumerate(unit_list):
@@ -483,7 +456,7 @@ class GroupBranches:
                     joined[mine[0]] = mine
             if not joined:
                 return None
-        elif shared_idx.size == 0 and not extra:
+        elif shared_idx.size == 0:
             return None
         shared = set(shared_idx.tolist())
         skip = {i for group in joined.values() for i in group[1:]}
@@ -500,11 +473,6 @@ class GroupBranches:
                 keys.append(("joined", *together))
                 plan.append((j, None, together))
                 changed = True
-                continue
-            if extra and j in extra:
-                changed = True
-                keys.extend(p[4] for p in extra[j])
-                plan.append((j, extra[j], None))
                 continue
             if i in shared:
                 near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
@@ -596,119 +564,6 @@ class GroupBranches:
                 pieces.append((pts[sel], mine, own[sel], float(k) / len(mem), (j, mine.tobytes())))
         self._divided[key] = pieces
         return pieces
-
-    # ------------------------------------------------------------------ history split
-
-    def _history_events(
-        self, tracks: tuple[TrackNode, ...], masks: list[int], meas_idx: NDArray[np.intp]
-    ) -> list[Event]:
-        """History-split events (:mod:`.history_split`) of the tracks whose gate holds one
-        observation that no other track of the parent gates (else 000's split or a merge
-        is the event) and whose history divides it into two velocity modes."""
-        out: list[Event] = []
-        for a, (t, mask) in enumerate(zip(tracks, masks, strict=True)):
-            if mask.bit_count() != 1 or any(m & mask for b, m in enumerate(masks) if b != a):
-                continue
-            if self._history_split(t, int(meas_idx[mask.bit_length() - 1])) is not None:
-                out.append(Event("history", (t,), self._log_ps - self._log_pc))
-        return out
-
-    def _chosen_history(self, chosen: tuple[Event, ...]) -> list[_HistorySplit]:
-        """The history splits of a model's events."""
-        out = []
-        for e in chosen:
-            if e.kind == "history":
-                found = self._history.get(e.tracks[0].node_id)
-                assert found is not None  # made with the event
-                out.append(found)
-        return out
-
-    def _history_split(self, node: TrackNode, j: int) -> _HistorySplit | None:
-        """The split of ``node`` by the velocity modes of its history in scan observation
-        ``j`` (once per scan and node), or None: the coherence term does not find ``j``
-        incoherent, the history is too short, or the points move as one."""
-        if node.node_id in self._history:
-            return self._history[node.node_id]
-        settings = self.s.history_split
-        found: _HistorySplit | None = None
-        model = self.model
-        if (
-            settings is not None
-            and isinstance(model, CoherentGroupModel)
-            and model.coherence_term(node, self.obs, j) < 0.0
-        ):
-            payload = group_payload(node)
-            mean, _ = node_prediction(node)
-            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
-            traced = trace_velocities(
-                pts, payload.history, self.stamp, mean[2:4], settings.min_age, settings.window
-            )
-            if traced is not None:
-                first = int(self.obs.offsets[j])
-                own = np.arange(first, first + len(mem), dtype=np.int64)
-                if self.obs.blobs is None or settings.unit_distance > 0.0:
-                    unit = settings.unit_distance if settings.unit_distance > 0.0 else self.s.d_hs
-                    blobs = single_linkage(pts, unit).astype(np.int64)
-                else:
-                    blobs = self.obs.blobs[own]
-                modes = velocity_modes(traced[0], blobs, settings)
-                if modes is not None:
-                    found = self._history_halves(node, j, pts, mem, own, traced, modes)
-        self._history[node.node_id] = found
-        return found
-
-    def _history_halves(
-        self,
-        node: TrackNode,
-        j: int,
-        pts: FloatArray,
-        mem: IntArray,
-        own: IntArray,
-        traced: tuple[FloatArray, float, list[Snapshot]],
-        modes: IntArray,
-    ) -> _HistorySplit:
-        """The two halves of a history split and the pieces of observation ``j`` they
-        must match (:mod:`.history_split`: contour by the nearest mode, position its
-        mean, velocity the mode's, n/2 people, C_0, labels X-0 and X-1, the snapshots
-        the mode's points were traced through as its history)."""
-        mean, _ = node_prediction(node)
-        old = group_payload(node)
-        contour = old.contour + mean[:2]
-        owner = divide_contour(contour, pts, modes)
-        vel = mode_velocities(traced[0], modes)
-        split_mean, split_cov = split_state(mean, self.s.c0)
-        pieces: list[_Piece] = []
-        halves: list[TrackNode] = []
-        for c, labels in enumerate(split_labels(self.name(node))):
-            sel = modes == c
-            pieces.append(
-                (pts[sel], mem[sel], own[sel], float(sel.sum()) / len(mem), (j, mem[sel].tobytes()))
-            )
-            part = contour[owner == c] if np.any(owner == c) else pts[sel]
-            half_mean = split_mean.copy()
-            half_mean[:2] = part.mean(axis=0)
-            half_mean[2:4] = vel[c]
-            payload = GroupPayload(
-                part - half_mean[:2],
-                labels,
-                must_match=True,
-                event="split",
-                history=divide_history(old.history, traced[2], modes, c),
-            )
-            half = self._made(node, half_mean, split_cov.copy(), payload)
-            self._half_of[half.node_id] = node.node_id
-            halves.append(half)
-        return _HistorySplit(j, pieces, (halves[0], halves[1]))
-
-
-@dataclass(frozen=True, eq=False)
-class _HistorySplit:
-    """A history split of one track: the scan observation it divides, its two pieces
-    (one per velocity mode) and the two halves that must match them."""
-
-    j: int
-    pieces: list[_Piece]
-    halves: tuple[TrackNode, TrackNode]
 
 
 def _gate_events(masks: Sequence[int]) -> tuple[bool, bool]:

@@ -57,20 +57,21 @@ class Mutant:
     tests: tuple[str, ...]
 
 
+# the tests of issue 33 first: with -x a killed mutant stops at its first failure
 GROUPS = (
+    "tests/test_paper_groups.py",
     "tests/test_track_groups.py",
     "tests/test_track_groups_fast.py",
     "tests/test_track_groups_sim.py",
-    "tests/test_paper_groups.py",
 )
-CSA = ("tests/test_track_csa.py", "tests/test_paper_csa.py")
-PF = ("tests/test_pf_equations.py", "tests/test_pf_trackers.py", "tests/test_paper_pf.py")
+CSA = ("tests/test_paper_csa.py", "tests/test_track_csa.py")
+PF = ("tests/test_paper_pf.py", "tests/test_pf_equations.py", "tests/test_pf_trackers.py")
 REID = (
+    "tests/test_paper_reid.py",
     "tests/test_identity_appearance.py",
     "tests/test_identity_reid.py",
-    "tests/test_paper_reid.py",
 )
-FIT = ("tests/test_fit.py", "tests/test_paper_fit.py")
+FIT = ("tests/test_paper_fit.py", "tests/test_fit.py")
 MEAN_SHIFT = ("tests/test_mean_shift.py",)
 
 M = "tracking/groups/model.py"
@@ -184,6 +185,30 @@ MUTANTS: tuple[Mutant, ...] = (
         M,
         "log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)",
         "log_norm = _LOG_2PI_NEG - 1.0 * np.log(ddet)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq24-normaliser-det-one-by-one",
+        "000 eq. 24 (1 / (2 pi sqrt det S), the unbatched sum)",
+        M,
+        "log_norm = np.array([_LOG_2PI_NEG - 0.5 * math.log(d) for d in ddet.tolist()])",
+        "log_norm = np.array([_LOG_2PI_NEG - 1.0 * math.log(d) for d in ddet.tolist()])",
+        GROUPS,
+    ),
+    Mutant(
+        "share-parts-always",
+        "000 eq. 24 per part (share_parts = false)",
+        M,
+        "w = obs.share[cols_m][None, :] if self.s.share_parts else np.ones((1, cols_m.size))",
+        "w = obs.share[cols_m][None, :]",
+        GROUPS,
+    ),
+    Mutant(
+        "eq37-v-ignored",
+        "000 eqs. 36-37 (lambda = p / V)",
+        I,
+        "log_v = math.log(self.area)",
+        "log_v = 0.0 * math.log(self.area)",
         GROUPS,
     ),
     Mutant(
@@ -377,6 +402,14 @@ MUTANTS: tuple[Mutant, ...] = (
         C,
         "total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)",
         "total = np.where(inside, 0.0 * np.asarray(scores)[:, None] + loglik, -np.inf)",
+        CSA,
+    ),
+    Mutant(
+        "csa-fragment-rule-always",
+        "002 Sec. 2 (the cluster remembers everyone who merged)",
+        C,
+        "cids = {clusters[k].cid for k in objs_c} if p.fragment_rule else set()",
+        "cids = {clusters[k].cid for k in objs_c}",
         CSA,
     ),
     Mutant(

@@ -562,10 +562,13 @@ def test_group_size_error() -> None:
     assert r.count == 2
 
 
-def test_score_of_reclustered_parts_reuses_the_scan_distances() -> None:
+@pytest.mark.parametrize("share_parts", [True, False])
+def test_score_of_reclustered_parts_reuses_the_scan_distances(share_parts: bool) -> None:
     """Parts of a scan cluster (a model's re-clustered observations) score as eqs. 19-24
-    on the parts' own points, also when computed from the scan's distance matrix."""
-    params = GroupTrackerParams()
+    on the parts' own points, also when computed from the scan's distance matrix; each
+    part counts as its share of one matched observation (``share_parts``, the default)
+    or as a matched observation of its own (000)."""
+    params = GroupTrackerParams(share_parts=share_parts)
     model = _model(params)
     rng = np.random.default_rng(4)
     contour = rng.normal(0, 0.3, (10, 2))
@@ -589,7 +592,8 @@ def test_score_of_reclustered_parts_reuses_the_scan_distances() -> None:
         d = ref_hausdorff(obs.cluster(i), contour + node.pred_mean[:2], s)
         assert gated[0, i] == (d**2 <= params.model_settings().gate_sq)
         if gated[0, i]:
-            expected = 0.5 * (log_pm + ref_log_n(d, s)) - log_pm
+            w = 0.5 if share_parts else 1.0
+            expected = w * (log_pm + ref_log_n(d, s)) - log_pm
             assert ll[0, i] == pytest.approx(expected)
     assert gated[0].any()
 

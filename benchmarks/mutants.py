@@ -212,6 +212,14 @@ MUTANTS: tuple[Mutant, ...] = (
         GROUPS,
     ),
     Mutant(
+        "eq37-v-not-per-scan",
+        "000 eqs. 36-37 (V the sensor's field of view)",
+        "tracking/groups/tracker.py",
+        "self.label_model.area = self._visible_area(frame)",
+        "self.label_model.area = 1.0",
+        GROUPS,
+    ),
+    Mutant(
         "eq24-exponent",
         "000 eq. 24 (exp(-d_HD^2 / 2))",
         M,

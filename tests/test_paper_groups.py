@@ -386,3 +386,23 @@ def test_eq36_37_label_probabilities_and_rates_per_square_metre() -> None:
     new, fal = tracker.label_model.measurement_log_rates(obs)
     np.testing.assert_allclose(np.exp(new), p.p_n / 50.0, rtol=1e-12)  # lambda_N = p_N / V
     np.testing.assert_allclose(np.exp(fal), p.p_f / 50.0, rtol=1e-12)
+
+
+def test_v_of_eqs_36_37_is_the_area_the_laser_saw() -> None:
+    """``observation_area = 0``: V is the fan the laser saw, sum r_i^2 |dtheta| / 2 (a beam
+    without a return at the range limit), set on every frame."""
+    from laserpeople.frame import Frame
+    from laserpeople.scan import PointSet, Scan
+
+    ranges = np.array([2.0, 3.0, np.inf, 4.0])
+    scan = Scan(0.0, -0.1, 0.05, ranges, range_max=5.0)
+    xy, beams = scan.valid_points()
+    ps = PointSet(0.0, xy, np.zeros(len(xy), dtype=np.int64), beams)
+    frame = Frame(0, 0.0, (scan,), "laser", "sensor", None, ps, np.ones(len(xy), dtype=bool))
+    tracker = GroupMHTTracker(GroupTrackerParams(observation_area=0.0))
+    tracker.update(frame)
+    expected = 0.5 * (4.0 + 9.0 + 25.0 + 16.0) * 0.05
+    assert tracker.label_model.area == pytest.approx(expected, rel=1e-12)
+    fixed = GroupMHTTracker(GroupTrackerParams(observation_area=30.0))
+    fixed.update(frame)
+    assert fixed.label_model.area == 30.0

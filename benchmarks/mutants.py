@@ -32,8 +32,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-TIMEOUT = 600.0
-"""Seconds a mutant's tests may run; a mutant that makes them hang is counted killed."""
+TIMEOUT = 1800.0
+"""Seconds a mutant's tests (or the baseline) may run; a mutant that makes them hang is
+counted killed, with the time out named in the table."""
 
 
 @dataclass(frozen=True)
@@ -625,22 +626,28 @@ def _copy_tree(dest: Path) -> Path:
 
 
 def _run_tests(repo: Path, tests: tuple[str, ...]) -> tuple[int, str]:
-    """pytest on ``tests`` (those that exist) in ``repo``: (return code, last lines)."""
+    """pytest on ``tests`` (those that exist) in ``repo``, one file after the other until
+    one fails (so a killed mutant costs the collection of its first failing file only):
+    (return code, last line of the output)."""
     here = [t for t in tests if (repo / t.split("::")[0]).exists()]
     if not here:
         return 5, "none of its test files exist"
     env = {k: v for k, v in os.environ.items() if k != "LASERPEOPLE_SHARED_DATA"}
     env["PYTHONPATH"] = str(repo / "src")
     env["PYTHONDONTWRITEBYTECODE"] = "1"
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *here]
-    try:
-        done = subprocess.run(
-            cmd, cwd=repo, env=env, capture_output=True, text=True, timeout=TIMEOUT
-        )
-    except subprocess.TimeoutExpired:
-        return -1, f"timed out after {TIMEOUT:.0f} s"
-    tail = (done.stdout.strip().splitlines() or [""])[-1]
-    return done.returncode, tail
+    tail = ""
+    for test in here:
+        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", test]
+        try:
+            done = subprocess.run(
+                cmd, cwd=repo, env=env, capture_output=True, text=True, timeout=TIMEOUT
+            )
+        except subprocess.TimeoutExpired:
+            return -1, f"{test} timed out after {TIMEOUT:.0f} s"
+        tail = f"{test}: " + (done.stdout.strip().splitlines() or [""])[-1]
+        if done.returncode not in (0, 5):  # 5: no test collected (all skipped is 0)
+            return done.returncode, tail
+    return 0, tail
 
 
 def run_mutant(m: Mutant) -> Outcome:
@@ -658,7 +665,9 @@ def run_mutant(m: Mutant) -> Outcome:
     seconds = time.perf_counter() - start
     if code == 0:
         return Outcome(m.name, "survived", seconds, tail)
-    if code in (1, -1):
+    if code == -1:
+        return Outcome(m.name, "killed", seconds, f"(tests timed out) {tail}")
+    if code == 1:
         return Outcome(m.name, "killed", seconds, tail)
     return Outcome(m.name, "error", seconds, f"pytest exit {code}: {tail}")
 
@@ -693,8 +702,14 @@ def main(argv: list[str] | None = None) -> int:
         if code != 0:
             print("the tests fail without a mutant: fix them first", file=sys.stderr)
             return 2
+
+    def run_and_say(m: Mutant) -> Outcome:
+        o = run_mutant(m)
+        print(f"  {o.name}: {o.result} ({o.seconds:.0f} s) {o.detail}", flush=True)
+        return o
+
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        outcomes = list(pool.map(run_mutant, chosen))
+        outcomes = list(pool.map(run_and_say, chosen))
     width = max(len(m.name) for m in chosen)
     print(f"{'mutant':{width}s}  {'paper':46s}  {'result':8s}  {'s':>6s}")
     for m, o in zip(chosen, outcomes, strict=True):

@@ -7,7 +7,7 @@ CPU time of this process (``time.process_time``), so that other jobs on the mach
 not inflate it; ``laserpeople bench`` reports wall-clock time.
 
     PYTHONPATH=src python benchmarks/bench_groups.py [--seeds 3 4] [--seconds 60] [--no-bag]
-        [--breakdown] [--against OTHER/src] [--preset paper|history] [--digest]
+        [--breakdown] [--against OTHER/src] [--preset default|paper] [--digest]
         [--min-ratio R]
 
 ``--breakdown`` also prints where the CPU time of the scans with 15-20 people in view goes
@@ -18,8 +18,8 @@ change) in lock step: two worker processes, one per code, track the same frames 
 turns scan by scan (which one goes first alternates), so both see the same load on a
 shared machine; prints both medians and their ratio per bin of people in view.
 
-``--preset history`` runs ``GroupTrackerParams.history_splitting()`` instead of 000's
-setting (``paper``, the default).
+``--preset paper`` runs 000's group tracker exactly (the ``paper`` preset of
+docs/papers.md) instead of the defaults (``default``).
 
 ``--min-ratio R`` sets the MHT's ratio pruning (``mht.min_ratio``) of the preset, e.g.
 ``1e-3``, the group tracker's default before session 9 (now ``GROUP_MIN_RATIO``, 3e-3).
@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from laserpeople.config import load_config
 from laserpeople.evaluation.groups import frames_from_scans
 from laserpeople.frame import Frame
 from laserpeople.sim.scenarios import run_scenario
@@ -70,8 +71,8 @@ PARTS = (
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
 BINS = ((0, 4), (5, 9), (10, 14), (15, 20))
 PRESETS = {
-    "paper": GroupTrackerParams.paper_likelihood,
-    "history": GroupTrackerParams.history_splitting,
+    "default": GroupTrackerParams,
+    "paper": lambda: load_config(GroupTrackerParams, None, "paper"),
 }
 
 
@@ -299,8 +300,8 @@ def main() -> None:
     ap.add_argument(
         "--preset",
         choices=sorted(PRESETS),
-        default="paper",
-        help="paper: 000's setting (default); history: the history split",
+        default="default",
+        help="default: the tracker's defaults; paper: 000's group tracker (docs/papers.md)",
     )
     ap.add_argument("--digest", action="store_true", help="print state digests, no timing")
     ap.add_argument(

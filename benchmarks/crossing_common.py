@@ -25,7 +25,7 @@ from laserpeople.identity.reid import ColourReidentifier, ReidParams
 from laserpeople.sim.camera import CameraParams, SimulatedCamera, simulated_frames
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.sim.simulator import SimResult
-from laserpeople.tracking.csa import ClusterSortingTracker
+from laserpeople.tracking.csa import ClusterSortingTracker, CSAParams
 from laserpeople.tracking.legs import LegMHTTracker
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
@@ -66,14 +66,19 @@ class Case:
         return [float(a) + CHECK_DELAY for a in arrivals]
 
 
-def laser_runs(scenario: str, seed: int, trackers: Sequence[str] = ("csa", "leg-mht")) -> Case:
-    """Simulate and run the laser-only trackers once."""
+def laser_runs(
+    scenario: str,
+    seed: int,
+    trackers: Sequence[str] = ("csa", "leg-mht"),
+    csa_params: CSAParams | None = None,
+) -> Case:
+    """Simulate and run the laser-only trackers once (the CSA with ``csa_params``)."""
     global _DETECTOR
     result = run_scenario(scenario, seed=seed)
     frames = simulated_frames(result)
     tracks: dict[str, list[Tracks]] = {}
     if "csa" in trackers:
-        csa = ClusterSortingTracker()
+        csa = ClusterSortingTracker(csa_params)
         tracks["csa"] = [csa.update(f) for f in frames]
     if "leg-mht" in trackers:
         if _DETECTOR is None:

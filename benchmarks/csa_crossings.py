@@ -13,6 +13,7 @@ people keep their identity after every crossing (see benchmarks/crossing_common.
 the CLEAR MOT identity switches over the run::
 
     PYTHONPATH=src .venv/bin/python benchmarks/csa_crossings.py [--seeds 0 1 2 3 4]
+        [--config FILE ([csa] and [reid] sections)] [--preset paper] [--trackers csa]
 """
 
 from __future__ import annotations
@@ -24,6 +25,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from crossing_common import laser_runs, reidentify, score
+from laserpeople.config import load_config
+from laserpeople.identity.reid import ReidParams
+from laserpeople.tracking.csa import CSAParams
 
 VARIANTS = (
     *(f"crossing-3-p{k}" for k in range(6)),
@@ -46,7 +50,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS))
+    ap.add_argument("--config", type=Path, default=None, help="[csa] and [reid] parameters")
+    ap.add_argument("--preset", default=None, help="paper: 002's CSA (docs/papers.md)")
+    ap.add_argument("--trackers", nargs="+", default=["csa", "leg-mht"])
     args = ap.parse_args()
+    csa_params = load_config(CSAParams, args.config, args.preset)
+    reid_params = load_config(ReidParams, args.config, args.preset)
     # totals[(tracker, appearance)] = [correct, people, all-correct crossings, crossings, idsw]
     totals: dict[tuple[str, str], list[int]] = {}
     print(
@@ -55,11 +64,16 @@ def main() -> None:
     )
     print("|---|---|---|---|---|---|")
     for variant in args.variants:
-        cases = [laser_runs(variant, s) for s in args.seeds]
-        for tracker in ("csa", "leg-mht"):
+        cases = [laser_runs(variant, s, args.trackers, csa_params) for s in args.seeds]
+        for tracker in args.trackers:
             for appearance in ("off", "on"):
                 scores = [
-                    score(c, c.tracks[tracker] if appearance == "off" else reidentify(c, tracker))
+                    score(
+                        c,
+                        c.tracks[tracker]
+                        if appearance == "off"
+                        else reidentify(c, tracker, params=reid_params),
+                    )
                     for c in cases
                 ]
                 tot = totals.setdefault((tracker, appearance), [0, 0, 0, 0, 0])

@@ -9,11 +9,10 @@ The defaults were chosen on entrance-hall seed 0 (30 s); the table uses other se
     PYTHONPATH=src python benchmarks/groups_table.py [--seeds 1 2] [--seconds 60]
         [--d-p 0.7 1.0 1.3 1.6 2.0] [--plot docs/groups_fig17.png] [--set NAME=VALUE ...]
 
-    e.g. --set coherence_lag=1 history_split=true --plot docs/groups_fig17_history_split.png
-    (the history-split preset, GroupTrackerParams.history_splitting(); the default is
-    000's setting), --set coherence_lag=2 --plot docs/groups_fig17_coherence.png (motion
-    coherence alone), --set mht.min_ratio=1e-3 (the group tracker's ratio pruning before
-    session 9; the default is GROUP_MIN_RATIO, 3e-3)
+    e.g. --set observation_area=0 (000's V of eqs. 36-37: the area the lasers saw),
+    --set mht.min_ratio=1e-3 (the group tracker's ratio pruning before session 9; the
+    default is GROUP_MIN_RATIO, 3e-3); --preset paper: 000's group tracker exactly
+    (docs/papers.md)
 """
 
 from __future__ import annotations
@@ -23,6 +22,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from laserpeople.config import load_config
 from laserpeople.evaluation.groups import GroupRunResult, run_groups
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups import GroupTrackerParams
@@ -40,11 +40,15 @@ def main() -> None:
         nargs="*",
         default=[],
         metavar="NAME=VALUE",
-        help="tracker parameters to change, e.g. coherence_lag=0 (000's likelihood alone)",
+        help="tracker parameters to change, e.g. observation_area=0 (000's V, eqs. 36-37)",
+    )
+    ap.add_argument("--preset", default=None, help="paper: 000's group tracker (docs/papers.md)")
+    ap.add_argument(
+        "--quick", action="store_true", help="only the tracker (no 000 size or people-only runs)"
     )
     args = ap.parse_args()
-    base = _with(GroupTrackerParams(), args.set)
-    print(f"parameters changed: {args.set or 'none (defaults)'}")
+    base = _with(load_config(GroupTrackerParams, None, args.preset), args.set)
+    print(f"preset {args.preset}; parameters changed: {args.set or 'none'}")
     sweep: dict[float, list[GroupRunResult]] = {d: [] for d in args.d_p}
     people_only: list[GroupRunResult] = []
     paper_size: list[GroupRunResult] = []
@@ -66,6 +70,8 @@ def main() -> None:
                 f"{r.median_ms:.2f} ms/scan",
                 flush=True,
             )
+        if args.quick:
+            continue
         r = run_groups(scans, paper)
         paper_size.append(r)
         print(
@@ -91,6 +97,8 @@ def main() -> None:
             f"| {d:.1f} | {t[0]:.3f} | {t[1]:.3f} | {t[2]:.3f} | {m[0]:.3f} | {m[1]:.3f} | "
             f"{m[2]:.3f} |"
         )
+    if args.quick:
+        return
     print("\nUnder-segmentation by cause (per true group; transition = the people are one true")
     print("group within 3 s, distinct = groups that are not, e.g. parties passing):\n")
     print(

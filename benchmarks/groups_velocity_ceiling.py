@@ -2,7 +2,7 @@
 4.6.1): memory-less single linkage at d_P against the same linkage with the links between
 two people cut when their true velocities (from the simulator, optionally with normal
 noise per component and scan) differ by ``v`` or more. This is the ceiling of the walkers
-extension (``tracking/groups/walkers.py``, docs/groups.md "Walkers").
+extension (taken out in issue 33; its finding is in docs/papers.md).
 
     PYTHONPATH=src python benchmarks/groups_velocity_ceiling.py [--seeds 0 1] [--seconds 60]
         [--v 0.4 0.6 0.8] [--noise 0 0.1 0.2 0.3]

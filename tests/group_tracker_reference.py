@@ -53,7 +53,7 @@ def track_frames(
     params: GroupTrackerParams | None = None,
 ) -> dict[str, NDArray]:  # type: ignore[type-arg]
     """Track ``frames`` with a fresh group tracker (000's setting,
-    :meth:`GroupTrackerParams.paper_likelihood` with :data:`REFERENCE_MHT` and
+    :class:`GroupTrackerParams` (defaults) with :data:`REFERENCE_MHT` and
     :data:`REFERENCE_REPORTING`, unless
     ``params`` are given). Arrays
     (``prefix`` + name):
@@ -69,7 +69,7 @@ def track_frames(
     from laserpeople.tracking.groups import GroupMHTTracker
 
     if params is None:
-        params = GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+        params = GroupTrackerParams(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
     tracker = GroupMHTTracker(params)
     rows: list[list[float]] = []
     labels: list[str] = []
@@ -112,9 +112,7 @@ def sim_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = SIM
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     out = track_frames([lf.frame for lf in frames_from_scans(scans)], "sim_")
-    run = run_groups(
-        scans, GroupTrackerParams.paper_likelihood(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
-    )
+    run = run_groups(scans, GroupTrackerParams(mht=REFERENCE_MHT, **REFERENCE_REPORTING))
     out["sim_errors"] = np.array(
         [
             run.clustering.error,
@@ -151,7 +149,7 @@ def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     frames = [lf.frame for lf in frames_from_scans(scans)]
     params = replace(
-        GroupTrackerParams.paper_likelihood(),
+        GroupTrackerParams(),
         join_observations=True,
         recluster_blobs=True,
         hausdorff="rms",

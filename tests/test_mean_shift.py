@@ -28,6 +28,18 @@ def brute_force(points: np.ndarray, h: float, tol: float, max_iter: int) -> np.n
     return np.array(modes)
 
 
+def chained(modes: np.ndarray, radius: float) -> np.ndarray:
+    """Cluster label (N,) of each mode: modes closer than ``radius`` chained together."""
+    d = np.hypot(*(modes[:, None] - modes[None, :]).transpose(2, 0, 1)) <= radius
+    reach = d.copy()
+    for _ in range(len(modes)):
+        nxt = (reach.astype(int) @ d.astype(int)) > 0
+        if np.array_equal(nxt, reach):
+            break
+        reach = nxt
+    return np.unique(reach, axis=0, return_inverse=True)[1].ravel()
+
+
 def same_partition(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.array_equal(a[:, None] == a[None, :], b[:, None] == b[None, :]))
 
@@ -46,17 +58,24 @@ def test_modes_and_clusters_equal_brute_force(
     res = mean_shift(pts, h, tol=1e-6, max_iter=200)
     modes = brute_force(pts, h, 1e-6, 200)
     # the clusters: modes closer than h/2 chained together
-    d = np.hypot(*(modes[:, None] - modes[None, :]).transpose(2, 0, 1)) <= h / 2
-    reach = d.copy()
-    for _ in range(len(pts)):
-        nxt = (reach.astype(int) @ d.astype(int)) > 0
-        if np.array_equal(nxt, reach):
-            break
-        reach = nxt
-    _, expect = np.unique(reach, axis=0, return_inverse=True)
-    assert same_partition(res.labels, expect.ravel())
+    assert same_partition(res.labels, chained(modes, h / 2))
     for k in range(res.n_clusters):
         assert res.centres[k] == pytest.approx(modes[res.labels == k].mean(axis=0), abs=1e-5)
+
+
+@pytest.mark.parametrize("seed", [4, 6, 13])
+def test_clusters_whose_modes_lie_near_the_merge_radius(seed: int) -> None:
+    """Feet-sized clusters 0.6-1.2 bandwidths apart along a line: some modes end between
+    h/2 and h/1.5 apart, so the partition tells the merge radius h/2 from a near miss."""
+    h = 0.25
+    rng = np.random.default_rng(seed)
+    steps = rng.uniform(0.6 * h, 1.2 * h, (6, 1))
+    centres = np.cumsum(steps, axis=0) * np.array([[1.0, 0.0]]) + rng.normal(0, 0.03, (6, 2))
+    pts = np.concatenate([c + rng.normal(0, 0.03, (int(rng.integers(3, 15)), 2)) for c in centres])
+    modes = brute_force(pts, h, 1e-6, 200)
+    expect = chained(modes, h / 2)
+    assert not same_partition(expect, chained(modes, h / 1.5))  # the test can tell
+    assert same_partition(mean_shift(pts, h, tol=1e-6, max_iter=200).labels, expect)
 
 
 def test_two_feet_merge_or_split_with_the_bandwidth() -> None:

@@ -13,13 +13,16 @@ import pytest
 
 from laserpeople.tracking.groups import GroupObservations, GroupTrackerParams
 from laserpeople.tracking.groups import model as model_mod
-from laserpeople.tracking.groups.model import (
-    GroupModel,
-    GroupPayload,
-    min_average_hausdorff,
-    observation_log_likelihood,
-)
+from laserpeople.tracking.groups.model import GroupModel, GroupPayload
 from laserpeople.tracking.mht.tracktree import TrackNode
+from test_paper_groups import ref_log_n
+
+
+def _distances(z: np.ndarray, contour: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """D(z_l - p_j, S) (eq. 21) of every observed point to every contour point (K_z, K_p)."""
+    v = z[:, None, :] - contour[None, :, :]
+    return np.sqrt(np.einsum("ijk,kl,ijl->ij", v, np.linalg.inv(s), v))
+
 
 # two code paths giving the same bits may hold on one CPU only: CI runs these again on
 # another CPU path (.ci/run)
@@ -60,7 +63,7 @@ def _reference(
         contour = node.payload.contour + pos
         if contour.shape[0] == 0:
             contour = pos[None, :]
-        s = model.innovation_cov(node.pred_cov)
+        s = node.pred_cov[:2, :2] + model.s.r_point  # eq. 23
         lam = float(np.linalg.eigvalsh(s).max())
         reach = min(st.max_gap, math.sqrt(st.gate_sq * lam))
         r_t = float(np.max(np.hypot(*(contour - pos).T)))
@@ -72,20 +75,17 @@ def _reference(
             )
             if not near:
                 continue
-            z = obs.cluster(i)
+            d2 = _distances(obs.cluster(i), contour, s)
             if st.rms:
-                from laserpeople.tracking.groups.model import _whitened_distances
-
-                d2 = _whitened_distances(z, contour, s)
                 d = min(
                     math.sqrt(np.mean(d2.min(axis=1) ** 2)), math.sqrt(np.mean(d2.min(axis=0) ** 2))
                 )
-            else:
-                d = min_average_hausdorff(z, contour, s)
+            else:  # eqs. 19-20
+                d = min(float(np.mean(d2.min(axis=1))), float(np.mean(d2.min(axis=0))))
             if d**2 <= st.gate_sq:
                 gated[a, i] = True
                 w = obs.share[i]
-                ll = observation_log_likelihood(d, s)
+                ll = ref_log_n(d, s)
                 loglik[a, i] = w * (st.log_p_match + ll) - st.log_p_match
     return gated, loglik
 
@@ -180,7 +180,7 @@ def test_remembered_rows_are_returned_for_any_order_of_tracks() -> None:
 @pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("rms", [False, True])
 def test_score_of_one_track_alone_equals_eq19_24(seed: int, rms: bool) -> None:
-    """A track scored alone (the one-track path) gives eqs. 19-24, and the same numbers
+    """A track scored alone gives eqs. 19-24, and the same numbers
     as the same track scored with others by :meth:`GroupModel.score_apart`."""
     params = replace(GroupTrackerParams(), hausdorff="rms" if rms else "mean")
     nodes, obs = _scene(seed)
@@ -267,20 +267,18 @@ def test_row_block_min_equals_minimum_reduceat_along_rows() -> None:
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_initial_states_in_one_batch_equal_eq16_per_cluster(seed: int) -> None:
-    """New groups made in one batch have the states, covariances, contours and members
-    that :func:`initial_state` (eq. 16) gives cluster by cluster, bit for bit."""
+    """New groups made in one batch have the states, covariances, contours and members of
+    eq. 16 cluster by cluster."""
     _, obs = _scene(seed)
     model = GroupModel(GroupTrackerParams().model_settings())
     js = list(range(len(obs)))[::-1][: max(2, len(obs) - 1)]
     made = model.initiate(obs, js, 0.0)
     assert len(made) == len(js)
     for j, (mean, cov, payload) in zip(js, made, strict=True):
-        want_mean, want_cov, want_contour = model_mod.initial_state(
-            obs.cluster(j), float(obs.n_hs[j]), model.s.c0
-        )
-        np.testing.assert_array_equal(mean, want_mean)
-        np.testing.assert_array_equal(cov, want_cov)
-        np.testing.assert_array_equal(payload.contour, want_contour)
+        centroid = obs.cluster(j).mean(axis=0)
+        np.testing.assert_allclose(mean, [*centroid, 0.0, 0.0, obs.n_hs[j]], rtol=1e-12)
+        np.testing.assert_array_equal(cov, model.s.c0)
+        np.testing.assert_allclose(payload.contour, obs.cluster(j) - centroid, atol=1e-12)
         np.testing.assert_array_equal(payload.members, obs.cluster_members(j))
         assert payload.labels == () and not payload.must_match and payload.event == ""
 
@@ -409,37 +407,3 @@ def test_gate_event_pretest_equals_the_split_and_merge_loops() -> None:
             masks[a] & masks[b] for a in range(len(masks)) for b in range(a + 1, len(masks))
         )
         assert _gate_events(masks) == (wide, shared)
-
-
-def _aligned_reference(past, points, shift, steps, both_ways):  # type: ignore[no-untyped-def]
-    """Translation-only ICP of the motion-coherence term, every step taken."""
-    zx, zy, px, py = points[:, 0], points[:, 1], past[:, 0], past[:, 1]
-    sx, sy = float(shift[0]), float(shift[1])
-    for step in range(steps + 1):
-        d = np.subtract.outer(zx - sx, px) ** 2 + np.subtract.outer(zy - sy, py) ** 2
-        if step == steps:
-            break
-        k = d.argmin(axis=1)
-        sx = float((zx - px[k]).sum()) / zx.size
-        sy = float((zy - py[k]).sum()) / zy.size
-    d_sq = float(d.min(axis=1).sum()) / zx.size
-    if both_ways:
-        d_sq = 0.5 * (d_sq + float(d.min(axis=0).sum()) / px.size)
-    return d_sq
-
-
-def test_alignment_stopping_when_the_nearest_points_repeat_equals_every_step() -> None:
-    """:func:`aligned_distance_sq` ends early once a step's nearest points repeat the
-    step before's; the d^2 is the one of all steps, to the bit."""
-    from laserpeople.tracking.groups.coherence import aligned_distance_sq
-
-    rng = np.random.default_rng(21)
-    for _ in range(500):
-        past = rng.normal(0.0, 0.4, (int(rng.integers(1, 30)), 2))
-        points = past[rng.integers(0, len(past), int(rng.integers(1, 30)))]
-        points = points + rng.normal(0.3, 0.1, points.shape)
-        shift = rng.normal(0.0, 0.3, 2)
-        steps = int(rng.integers(0, 6))
-        both = bool(rng.integers(0, 2))
-        got = aligned_distance_sq(past, points, shift, steps, both)
-        assert got == _aligned_reference(past, points, shift, steps, both)

@@ -17,12 +17,10 @@ def test_group_tracker_resolves_an_unset_min_ratio_to_its_own_default() -> None:
     assert GROUP_MIN_RATIO == 3e-3
     for params in (
         GroupTrackerParams(),
-        GroupTrackerParams.paper_likelihood(),
-        GroupTrackerParams.history_splitting(),
         GroupTrackerParams.people_only(),
     ):
         assert GroupMHTTracker(params).mht.params.ratio == GROUP_MIN_RATIO
-    pinned = GroupTrackerParams.paper_likelihood(mht=MHTParams(min_ratio=1e-3))
+    pinned = GroupTrackerParams(mht=MHTParams(min_ratio=1e-3))
     assert GroupMHTTracker(pinned).mht.params.ratio == 1e-3
     assert GroupMHTTracker(pinned).mht.params.k == MHTParams().k == 20
 
@@ -42,10 +40,10 @@ def _ratios(params: GroupTrackerParams) -> list[float]:
 
 
 def test_no_group_hypothesis_below_the_ratio_is_kept() -> None:
-    kept = _ratios(GroupTrackerParams.paper_likelihood())
+    kept = _ratios(GroupTrackerParams())
     assert min(kept) >= GROUP_MIN_RATIO * (1.0 - 1e-9)
     # with the old threshold the same run keeps hypotheses the new one drops
-    old = _ratios(GroupTrackerParams.paper_likelihood(mht=MHTParams(min_ratio=1e-3)))
+    old = _ratios(GroupTrackerParams(mht=MHTParams(min_ratio=1e-3)))
     assert min(old) >= 1e-3 * (1.0 - 1e-9)
     assert any(r < GROUP_MIN_RATIO for r in old)
     assert len(kept) < len(old)

@@ -454,8 +454,15 @@ def read_mounts(path: str | Path) -> dict[str, tuple[str, Pose2D]]:
         data = tomllib.loads(p.read_text())
     except (OSError, tomllib.TOMLDecodeError) as exc:
         raise ConfigError(f"cannot read the mounts: {exc}", path=p, hint="check the file") from exc
+    table = data.get("mounts")
+    if not isinstance(table, dict) or not table:
+        raise ConfigError(
+            "no [mounts.LASER] table in the mounts file",
+            path=p,
+            hint="write it with laserpeople align -o mounts.toml",
+        )
     out: dict[str, tuple[str, Pose2D]] = {}
-    for child, entry in data.get("mounts", {}).items():
+    for child, entry in table.items():
         try:
             out[child] = (
                 str(entry["parent"]),

@@ -142,16 +142,36 @@ def _check_number(key: str, value: Any, default: Any, cls: type, where: str) -> 
         )
 
 
-def load_config(cls: type[T], path: str | Path | None) -> T:
-    """Read ``cls``'s section from a TOML file; missing file section means all defaults."""
+PRESETS = ("paper",)
+"""Names ``load_config`` takes as ``preset``: "paper" gives each tracker the papers'
+behaviour (each parameter class's ``paper_preset`` values; docs/papers.md)."""
+
+
+def preset_values(cls: type, preset: str | None) -> dict[str, Any]:
+    """The values ``preset`` sets in ``cls``'s section (empty for None, or for a class
+    that departs from no paper)."""
+    if preset is None:
+        return {}
+    if preset not in PRESETS:
+        raise ConfigError(
+            f"unknown preset {preset!r}", hint=f"use one of {', '.join(PRESETS)} (docs/papers.md)"
+        )
+    return dict(getattr(cls, "paper_preset", {}))
+
+
+def load_config(cls: type[T], path: str | Path | None, preset: str | None = None) -> T:
+    """Read ``cls``'s section from a TOML file; missing file section means all defaults.
+    With ``preset`` ("paper") the preset's values replace the defaults, and the file's
+    section is read over them."""
+    base = preset_values(cls, preset)
     if path is None:
-        return cls()
+        return from_mapping(cls, base) if base else cls()
     p = Path(path)
     data = _read_toml(p)
     section = data.get(section_name(cls), {})
     if not isinstance(section, Mapping):
         raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
-    return from_mapping(cls, section, where=str(p))
+    return from_mapping(cls, {**base, **section}, where=str(p))
 
 
 def check_sections(

@@ -388,3 +388,16 @@ class Segment:
     def centre(self) -> FloatArray:
         """Mean of the segment's points (2,) [m]."""
         return np.asarray(self.points.mean(axis=0), dtype=np.float64)
+
+
+def visible_area(scan: Scan) -> float:
+    """Area [m^2] of the fan the laser saw: ``sum r_i^2 |dtheta| / 2`` over beams, a beam
+    without a return counted at the range limit (the largest valid range when that is
+    infinite)."""
+    r = np.asarray(scan.ranges, dtype=np.float64)
+    valid = scan.valid
+    limit = scan.range_max
+    if not math.isfinite(limit):
+        limit = float(r[valid].max()) if valid.any() else 0.0
+    r = np.where(valid, r, limit)
+    return float(0.5 * np.sum(r**2) * abs(scan.angle_increment))

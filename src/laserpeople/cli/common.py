@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
-from laserpeople.errors import NotBuiltError
+from laserpeople.errors import ConfigError, NotBuiltError
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -39,10 +39,43 @@ MountOption = Annotated[
     typer.Option(
         "--mount",
         help="Laser mount missing from the bag's tf, CHILD=PARENT:x,y,theta (m, rad; "
-        "repeatable), or a known robot: mir100.",
+        "repeatable), a known robot: mir100, or a mounts .toml file (laserpeople align -o).",
     ),
 ]
 """The ``--mount`` option: laser mounts a bag's tf lacks."""
+
+MountsFileOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--mounts",
+        help="TOML file of laser mounts written by `laserpeople align -o` (as --mount FILE).",
+    ),
+]
+"""The ``--mounts`` option: the mounts file ``align`` estimated."""
+
+PresetOption = Annotated[
+    str | None,
+    typer.Option(
+        "--preset",
+        help="paper: every tracker exactly as its paper (Arras et al., Kräußling et al., "
+        "Schenk et al.; docs/papers.md), before --config.",
+    ),
+]
+"""The ``--preset`` option (:data:`laserpeople.config.PRESETS`)."""
+
+
+def mount_specs(mount: list[str] | None, mounts: Path | None) -> list[str]:
+    """The ``--mount`` specs with the ``--mounts`` file after them (a missing file is a
+    ConfigError naming it)."""
+    specs = list(mount or [])
+    if mounts is not None:
+        if not mounts.is_file():
+            raise ConfigError(
+                "no such mounts file", path=mounts, hint="write it with laserpeople align -o"
+            )
+        specs.append(str(mounts))
+    return specs
+
 
 OnErrorOption = Annotated[
     str,

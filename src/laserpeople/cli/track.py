@@ -9,9 +9,12 @@ import typer
 
 from laserpeople.cli.common import (
     MountOption,
+    MountsFileOption,
     OnErrorOption,
+    PresetOption,
     WorldFrameOption,
     ignored_sections,
+    mount_specs,
     open_with_poses,
     progress,
     report_damage,
@@ -36,14 +39,15 @@ class Detector(Protocol):
 
 
 def tracker_param_classes() -> list[type]:
-    """The parameter classes of every registered tracker and of the static world models
-    that ``track`` feeds them (their TOML sections may share a ``--config`` file with the
-    detector's)."""
+    """The parameter classes of every registered tracker, of colour re-identification and
+    of the static world models that ``track`` feeds them (their TOML sections may share a
+    ``--config`` file with the detector's)."""
+    from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline.background import StaticWorldParams
     from laserpeople.tracking import registry
 
     classes = [entry.params_cls for entry in registry.TRACKERS.values()]
-    return list(dict.fromkeys([*classes, *StaticWorldParams.sections()]))
+    return list(dict.fromkeys([*classes, ReidParams, *StaticWorldParams.sections()]))
 
 
 def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
@@ -125,6 +129,7 @@ def run_tracking(
     reidentify: bool = False,
     on_error: str = "stop",
     restamp: float | None = None,
+    preset: str | None = None,
 ) -> dict[str, float]:
     """Track ``recording`` (one topic, or several fused) through the pipeline and write the
     tracks CSV ``output`` (and the bag ``bag`` with scans and tracks as ROS messages); then,
@@ -136,11 +141,13 @@ def run_tracking(
     none; ``map_path`` seeds the occupancy grid).
     ``reidentify`` adds colour re-identification from the simulated camera (recordings
     with ground-truth hues only). ``restamp`` [Hz] replaces the recorded stamps by a fixed
-    rate (:class:`~laserpeople.pipeline.stamps.Restamp`).
+    rate (:class:`~laserpeople.pipeline.stamps.Restamp`). ``preset`` "paper" starts every
+    parameter section from the papers' values (docs/papers.md) before ``config``.
 
     Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
     median/mean tracking time per frame [ms] (detection excluded).
     """
+    from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline import (
         GroupingParams,
         LegFusionParams,
@@ -157,7 +164,7 @@ def run_tracking(
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker_name)
-    params: Any = load_config(entry.params_cls, config)
+    params: Any = load_config(entry.params_cls, config, preset)
     static_world = load_static_world(config)
     if people_policy is not None:
         params = registry.with_people_policy(params, people_policy, tracker_name)
@@ -192,6 +199,7 @@ def run_tracking(
         map_path=map_path,
         static_world=static_world,
         reidentify=reidentify,
+        reid=load_config(ReidParams, config, preset),
         on_error=on_error,
         restamp=restamp,
     )
@@ -369,6 +377,8 @@ def register(app: typer.Typer) -> None:
         ] = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
+        mounts: MountsFileOption = None,
+        preset: PresetOption = None,
         plot: Annotated[
             Path | None,
             typer.Option("--plot", help="Also draw the trajectory overview to this PNG."),
@@ -441,11 +451,14 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""
+        from laserpeople.config import preset_values
         from laserpeople.detection.detector import LegDetectorParams
+        from laserpeople.identity.reid import ReidParams
         from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.pipeline.background import StaticWorldParams
         from laserpeople.tracking import registry
 
+        preset_values(ReidParams, preset)  # an unknown preset is an error before anything
         entry = registry.get(tracker)
         static_sections = StaticWorldParams.sections()
         ignored_sections(
@@ -457,6 +470,7 @@ def register(app: typer.Typer) -> None:
                     GroupingParams,
                     LegFusionParams,
                     entry.params_cls,
+                    ReidParams,
                     *static_sections,
                 ],
                 tracker_param_classes(),
@@ -465,8 +479,8 @@ def register(app: typer.Typer) -> None:
         if print_config:  # the sections this tracker reads, nothing else
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
             read = StaticWorldParams.sections_for(entry.consumes)
-            every = dict.fromkeys([*classes, *read])  # [leg_tracker] may be in both
-            loaded: list[Any] = [load_config(cls, config) for cls in every]
+            every = dict.fromkeys([*classes, ReidParams, *read])  # [leg_tracker] may be in both
+            loaded: list[Any] = [load_config(cls, config, preset) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
                 print(to_toml(obj))
             return
@@ -495,7 +509,7 @@ def register(app: typer.Typer) -> None:
             frame,
             det,
             world_frame,
-            mount or [],
+            mount_specs(mount, mounts),
             plot=plot,
             animate=animate,
             bag=bag,
@@ -505,6 +519,7 @@ def register(app: typer.Typer) -> None:
             reidentify=colour,
             on_error=on_error,
             restamp=restamp,
+            preset=preset,
         )
         groups = int(stats["group_tracks"])
         say(

@@ -17,8 +17,6 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import numpy as np
-
 from laserpeople.background.beam_histogram import BeamHistogramBackground, BeamHistogramParams
 from laserpeople.evaluation.schenk_motp import SchenkMotp
 from laserpeople.frame import FrameTracker
@@ -123,10 +121,4 @@ def run_scene(
     }
 
 
-def mean_motp(runs: list[SceneRun]) -> float:
-    """Mean MOTP over runs (NaN-free runs only)."""
-    vals = [r.motp for r in runs if np.isfinite(r.motp)]
-    return float(np.mean(vals)) if vals else float("nan")
-
-
-__all__ = ["SceneRun", "lasers_of", "mean_motp", "run_scene", "run_tracker", "simulate_scene"]
+__all__ = ["SceneRun", "lasers_of", "run_scene", "run_tracker", "simulate_scene"]

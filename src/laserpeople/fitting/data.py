@@ -17,7 +17,6 @@ Two kinds of truth:
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -27,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.fitting.estimates import FitError
-from laserpeople.scan import Scan
+from laserpeople.scan import Scan, visible_area
 from laserpeople.tracks import Detections
 from laserpeople.truth import TruthFrame
 
@@ -35,19 +34,6 @@ FloatArray = NDArray[np.float64]
 
 MAX_UNPAIRED_SHARE = 0.1
 """Largest share of truth frames whose scan is not in the recording before pairing fails."""
-
-
-def visible_area(scan: Scan) -> float:
-    """Area [m^2] of the fan the laser saw: ``sum r_i^2 |dtheta| / 2`` over beams, a beam
-    without a return counted at the range limit (the largest valid range when that is
-    infinite)."""
-    r = np.asarray(scan.ranges, dtype=np.float64)
-    valid = scan.valid
-    limit = scan.range_max
-    if not math.isfinite(limit):
-        limit = float(r[valid].max()) if valid.any() else 0.0
-    r = np.where(valid, r, limit)
-    return float(0.5 * np.sum(r**2) * abs(scan.angle_increment))
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.colour import region_hues
 from laserpeople.config import param
 
 FloatArray = NDArray[np.float64]
@@ -80,17 +79,6 @@ def hue_histogram(hues_rad: FloatArray, bins: int = 6) -> FloatArray:
     width = 2.0 * math.pi / bins
     idx = np.floor((np.mod(h, 2.0 * math.pi) + 0.5 * width) / width).astype(np.int64) % bins
     return np.bincount(idx, minlength=bins).astype(np.float64) / h.size
-
-
-def region_histogram(
-    rgb: NDArray[np.floating] | NDArray[np.integer],
-    mask: NDArray[np.bool_] | None = None,
-    params: AppearanceParams | None = None,
-) -> FloatArray | None:
-    """The colour measurement y (bins,) of one person's image region (H, W, 3) or pixels
-    (N, 3) with optional mask; None when fewer than ``min_hue_samples`` pixels have a hue."""
-    p = params or AppearanceParams()
-    return measurement(region_hues(rgb, mask, p.min_saturation, p.min_value), p)
 
 
 def measurement(hues_rad: FloatArray, params: AppearanceParams | None = None) -> FloatArray | None:

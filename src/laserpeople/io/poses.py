@@ -335,7 +335,9 @@ made every point NaN)."""
 
 def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
     """Parse laser mounts ``CHILD=PARENT:x,y,theta`` (metres, radians) as given on a command
-    line, or the name of a known robot (``mir100``, see :data:`KNOWN_MOUNTS`).
+    line, the name of a known robot (``mir100``, see :data:`KNOWN_MOUNTS`), or a ``.toml``
+    file of mounts written by ``laserpeople align -o``
+    (:func:`laserpeople.alignment.read_mounts`).
 
     Example: ``front_laser_link=base_footprint:0.43,0.24,0.785``.
     """
@@ -345,6 +347,12 @@ def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
     for spec in specs:
         if spec.strip().lower() in KNOWN_MOUNTS:
             out.update(KNOWN_MOUNTS[spec.strip().lower()])
+            continue
+        if spec.strip().lower().endswith(".toml"):
+            from laserpeople.alignment import read_mounts
+
+            for child, (parent, pose) in read_mounts(spec.strip()).items():
+                out[normalise_frame(child)] = (normalise_frame(parent), pose)
             continue
         try:
             child, rest = spec.split("=", 1)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
@@ -38,6 +38,9 @@ from laserpeople.pipeline.static_people import (
     uses_static_model,
 )
 from laserpeople.pipeline.static_tracks import StaticTrackFilter
+
+if TYPE_CHECKING:
+    from laserpeople.identity.reid import ReidParams
 
 ALL_TOPICS = "all"
 
@@ -334,6 +337,7 @@ def build(
     static_world: StaticWorldParams | None = None,
     identify: Sequence[Identifier] = (),
     reidentify: bool = False,
+    reid: ReidParams | None = None,
     max_frames: int | None = None,
     on_error: str = "stop",
     restamp: float | None = None,
@@ -345,7 +349,8 @@ def build(
     adds colour re-identification (002,
     :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
     (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
-    ``AppearanceUnavailableError`` for a recording without ground-truth hues).
+    ``AppearanceUnavailableError`` for a recording without ground-truth hues) with the
+    parameters ``reid`` (``[reid]`` and ``[reid.appearance]``; defaults when None).
     ``on_error`` (``stop``/``skip``) is the reader's policy for a damaged scan (see
     :func:`open_source`). ``restamp`` [Hz] tracks at a fixed scan rate instead of the
     recorded stamps (see :class:`RecordingFrames`).
@@ -377,7 +382,7 @@ def build(
 
             frames = with_appearance(source, rec)
             source_fields.add("appearance")
-            identifiers.append(ColourReidentifier())
+            identifiers.append(ColourReidentifier(reid))
         preprocess, observe, hide_static = tracker_stages(
             tracker,
             detector=detector,

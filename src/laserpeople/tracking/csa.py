@@ -34,10 +34,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.clustering.single_linkage import components
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import linear_sum_assignment
@@ -53,6 +55,12 @@ class CSAParams:
     """Parameters of the Cluster Sorting Algorithm (002 Sec. 2)."""
 
     config_section = "csa"
+    paper_preset = MappingProxyType(
+        {  # 002 where the defaults depart from it (docs/papers.md)
+            "adopt_escaped": False,
+            "fragment_rule": False,
+        }
+    )
 
     subcluster_distance: float = param(
         1.5,
@@ -125,6 +133,16 @@ class CSAParams:
         "people correct with colour 6/15 -> 15/15 (docs/csa.md)",
         "a cluster short of sub-clusters splits with the targets started since it formed "
         "when all are pairwise separated (they take its remaining people)",
+    )
+
+    fragment_rule: bool = param(
+        True,
+        "extension of 002 (which has a cluster remember everyone who merged into it; "
+        "false restores 002); docs/papers.md 'Cluster Sorting'",
+        "a target started beside a cluster (within init_distance + max_gate_distance of "
+        "one of its estimates) that merges back into that cluster is taken for a fragment "
+        "of the cluster's people (a leg seen apart), not another person: it is not added "
+        "to the cluster's members",
     )
 
     def __post_init__(self) -> None:
@@ -394,7 +412,7 @@ class ClusterSortingTracker:
             if z.size and cm.size:
                 g = _gate_loglik(cm, cc, z, point_var, gate2, cap)[0]
                 gates[len(singles) + k] = g.any(axis=0)
-        comps = _components(gates)
+        comps = gate_components(gates)
         selected_any = gates.any(axis=0)
 
         new_singles: dict[int, _Single] = {}
@@ -451,9 +469,9 @@ class ClusterSortingTracker:
         origin = [np.array([singles[i].pid for i in objs_s], dtype=np.int64)] + [
             clusters[k].origin for k in objs_c
         ]
-        # a target started next to one of these clusters and merging back into it is a
-        # fragment of the cluster's people, not another person (extension of 002)
-        cids = {clusters[k].cid for k in objs_c}
+        # with the fragment rule (extension of 002), a target started next to one of
+        # these clusters and merging back into it is a fragment of the cluster's people
+        cids = {clusters[k].cid for k in objs_c} if p.fragment_rule else set()
         joining = {singles[i].pid for i in objs_s if singles[i].spawned_by not in cids}
         members = tuple(sorted(joining.union(*[clusters[k].members for k in objs_c])))
         last_seen = max(
@@ -635,26 +653,15 @@ class ClusterSortingTracker:
         return {c.cid: c.members for c in self._s.clusters.values()}
 
 
-def _components(gates: NDArray[np.bool_]) -> list[list[int]]:
-    """Groups of objects (rows of ``gates`` (O, M)) connected by shared measurements."""
+def gate_components(gates: NDArray[np.bool_]) -> list[list[int]]:
+    """The objects that merge (002 Sec. 2: objects whose validation gates share a
+    measurement): groups of the rows of ``gates`` (O, M) connected by sharing at least one
+    measurement, each sorted, in the order of their first object."""
     n = gates.shape[0]
-    if n == 0:
-        return []
     g = gates.astype(np.float64)
-    adj = (g @ g.T) > 0
-    np.fill_diagonal(adj, True)
-    label = np.full(n, -1, dtype=np.int64)
-    out: list[list[int]] = []
-    for start in range(n):
-        if label[start] >= 0:
-            continue
-        reach = adj[start].copy()
-        while True:  # grow by neighbours of neighbours until nothing new joins
-            grown = adj[reach].any(axis=0)
-            if (grown == reach).all():
-                break
-            reach = grown
-        members = np.flatnonzero(reach)
-        label[members] = len(out)
-        out.append(members.tolist())
-    return out
+    shared = (g @ g.T) > 0  # share at least one measurement
+    label = components(n, np.argwhere(np.triu(shared, 1)))
+    out: dict[int, list[int]] = {}
+    for i, k in enumerate(label.tolist()):
+        out.setdefault(k, []).append(i)
+    return list(out.values())

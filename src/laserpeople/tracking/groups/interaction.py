@@ -31,20 +31,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
-from laserpeople.tracking.groups.coherence import CoherentGroupModel, merge_histories
-from laserpeople.tracking.groups.history_split import (
-    HistorySplitSettings,
-    divide_contour,
-    divide_history,
-    mode_velocities,
-    trace_velocities,
-    velocity_modes,
-)
 from laserpeople.tracking.groups.labels import merge_labels, split_labels
 from laserpeople.tracking.groups.model import (
     GroupModel,
     GroupPayload,
-    Snapshot,
     group_distance_sq,
     group_payload,
     merge_log_likelihood,
@@ -65,7 +55,7 @@ MERGED_LABELS_MEMO = 4096
 forgotten); below that, :meth:`GroupBranches.forget_gone` keeps only the pairs of live
 label sets."""
 MAX_EVENTS = 12
-"""Candidate events per parent kept for model enumeration (the likeliest; 2^12 models)."""
+"""Default of :attr:`InteractionSettings.max_events` (the tracker's ``max_events``)."""
 
 
 @dataclass(frozen=True)
@@ -80,15 +70,15 @@ class InteractionSettings:
         join_observations: Also offer each model with the observations that only one
             continued track gates joined into one (extension).
         max_models: Most models per parent (the likeliest by eq. 32).
+        max_events: Candidate events per parent kept for model enumeration (the
+            likeliest; at most 2^max_events models are enumerated).
+        prune_labels: Relabel a set holding both halves ``X-0``, ``X-1`` of a split ``X``
+            when a merge unites them (000 Sec. 4.2.4's optional pruning).
         c0: Initial covariance C_0 (5, 5) (split tracks restart from it).
         recluster_blobs: Re-cluster by blobs instead of points (extension).
         counting: How re-clustered parts count their people (000's blob count if None).
         model_prior: How eq. 32 becomes P(M | parent): "normalised", "choice" or
             "literal" (see :meth:`GroupBranches._model_priors`).
-        coherence_step: Snapshot spacing of the motion-coherence history [s] (a merged
-            track joins its parents' snapshots taken within half of it).
-        history_split: The split driven by a track's history (:mod:`.history_split`),
-            None: off (000's data-driven splits only).
     """
 
     p_c: float
@@ -100,18 +90,18 @@ class InteractionSettings:
     max_models: int
     join_observations: bool
     c0: FloatArray
-    model_prior: str = "normalised"
-    merge_likelihood: str = "compatibility"
+    model_prior: str = "choice"
+    merge_likelihood: str = "density"
+    max_events: int = MAX_EVENTS
+    prune_labels: bool = True
     recluster_blobs: bool = False
     counting: SizeCounting | None = None
-    coherence_step: float = 0.2
-    history_split: HistorySplitSettings | None = None
 
 
 @dataclass(frozen=True, eq=False)
 class Event:
-    """A candidate split (one track; ``kind`` "split", or "history" for the split of one
-    observation by the track's history) or merge (two tracks) and its log prior ratio to
+    """A candidate split (one track, ``kind`` "split") or merge (two tracks, "merge") and
+    its log prior ratio to
     continuing them (p_S / p_C, or p_G N_ij / p_C^2)."""
 
     kind: str
@@ -120,10 +110,13 @@ class Event:
     merge_loglik: float = 0.0
 
 
-def enumerate_models(events: Sequence[Event], limit: int) -> list[tuple[Event, ...]]:
+def enumerate_models(
+    events: Sequence[Event], limit: int, max_events: int = MAX_EVENTS
+) -> list[tuple[Event, ...]]:
     """Sets of events no track takes part in twice, the ``limit`` likeliest (by the sum of
-    log ratios; the empty set, all continue, is always first among equals)."""
-    ranked = sorted(events, key=lambda e: -e.log_ratio)[:MAX_EVENTS]
+    log ratios; the empty set, all continue, is always first among equals), of the
+    ``max_events`` likeliest events."""
+    ranked = sorted(events, key=lambda e: -e.log_ratio)[:max_events]
     found: list[tuple[float, int, tuple[Event, ...]]] = []
 
     def rec(k: int, used: frozenset[int], chosen: tuple[Event, ...], score: float) -> None:
@@ -177,7 +170,6 @@ class GroupBranches:
         self._rows: dict[int, tuple[BoolArray, int]] = {}  # node id -> gate row, its bits
         self._pending: list[TrackNode] = []  # tracks made and not gated yet
         self._merged_labels: dict[tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]] = {}
-        self._history: dict[int, _HistorySplit | None] = {}  # node id -> its history split
         self.stamp = math.nan
         self.models_generated = 0
 
@@ -195,11 +187,10 @@ class GroupBranches:
         }
 
     def begin_scan(self, obs: GroupObservations, stamp: float = math.nan) -> None:
-        """Set this scan's observations (and its time [s], for the history split) and
+        """Set this scan's observations (and its time [s]) and
         forget the last scan's re-predicted tracks."""
         self.obs = obs
         self.stamp = stamp
-        self._history.clear()
         self._split.clear()
         self._merged.clear()
         self._merge_ll.clear()
@@ -244,23 +235,20 @@ class GroupBranches:
                             ll = self._merge_loglik(ta, tb)
                             ratio = self._log_pg + ll - 2.0 * self._log_pc
                             events.append(Event("merge", (ta, tb), ratio, ll))
-            if self.s.history_split is not None:
-                events.extend(self._history_events(tracks, masks, meas_idx))
         if not events and self.s.split_merge and not self.s.join_observations:
             # the common case: one model, all continue; no observation is in two gates
             # (that would be a merge event), so nothing is re-clustered
             prior = 0.0 if self.s.model_prior != "literal" else len(tracks) * self._log_pc
             self.models_generated += 1
             return [Branch(prior, tuple(sorted(tracks, key=BY_FAMILY)), 0, None)]
-        models = enumerate_models(events, self.s.max_models)
+        models = enumerate_models(events, self.s.max_models, self.s.max_events)
         priors = self._model_priors(tracks, events, models)
         out: list[Branch] = []
         mkey = meas_idx.tobytes()
         # every model's tracks first (the tracks splits and merges make are gated together)
         reconfigured = [self._repredict(tracks, chosen) for chosen in models]
         for chosen, prior, new_tracks in zip(models, priors, reconfigured, strict=True):
-            extra = {h.j: h.pieces for h in self._chosen_history(chosen)}
-            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey, extra=extra)
+            obs = self._recluster(new_tracks, chosen, gates, meas_idx, mkey=mkey)
             out.append(Branch(prior, new_tracks, len(out), obs))
             if self.s.join_observations:
                 obs = self._recluster(new_tracks, chosen, gates, meas_idx, join=True, mkey=mkey)
@@ -319,8 +307,6 @@ class GroupBranches:
             gone.update(t.node_id for t in e.tracks)
             if e.kind == "split":
                 made.extend(self.split(e.tracks[0]))
-            elif e.kind == "history":
-                made.extend(self._chosen_history((e,))[0].halves)
             else:
                 made.append(self.merge(e.tracks[0], e.tracks[1]))
         kept = [t for t in tracks if t.node_id not in gone]
@@ -358,14 +344,14 @@ class GroupBranches:
             if labels is None:  # a pure function of the two sets, remembered over scans
                 if len(self._merged_labels) >= MERGED_LABELS_MEMO:
                     self._merged_labels.clear()
-                labels = self._merged_labels[names] = merge_labels(*names)
+                labels = self._merged_labels[names] = merge_labels(
+                    *names, prune=self.s.prune_labels
+                )
             payload = GroupPayload(
                 points - pm[:2],
                 labels,
                 must_match=True,
                 event="merge",
-                history=merge_histories(pa.history, pb.history, 0.5 * self.s.coherence_step),
-                merged_stamp=max(a.stamp, b.stamp),
             )
             self._merged[key] = self._made(a, pm, pc, payload)
         return self._merged[key]
@@ -427,7 +413,6 @@ class GroupBranches:
         meas_idx: NDArray[np.intp],
         join: bool = False,
         mkey: bytes | None = None,
-        extra: dict[int, list[_Piece]] | None = None,
     ) -> BranchObservations | None:
         """The model's partition of the cluster's observations, or None when it is the
         cluster's own: an observation in the gates of two of its tracks is divided among
@@ -435,8 +420,7 @@ class GroupBranches:
         track and of no other track are joined into one (the extension, see the module
         doc). The division of an observation among given tracks and the partition made
         of a given list of parts are computed once per scan and shared by the models of
-        all parents. ``extra`` maps scan observations to the pieces a history split
-        divides them into (they are divided so in any case)."""
+        all parents."""
         if meas_idx.size == 0 or not tracks:
             return None
         # units: a split's two halves are one; every other track is its own
@@ -453,7 +437,7 @@ class GroupBranches:
                     mask |= self._gate_bits(t, gates, meas_idx)
                 twice |= seen & mask
                 seen |= mask
-            if not twice and not extra:
+            if not twice:
                 return None
         unit_gate = np.empty((len(unit_list), meas_idx.size), dtype=bool)
         for u, unit in enumerate(unit_list):
@@ -472,7 +456,7 @@ class GroupBranches:
                     joined[mine[0]] = mine
             if not joined:
                 return None
-        elif shared_idx.size == 0 and not extra:
+        elif shared_idx.size == 0:
             return None
         shared = set(shared_idx.tolist())
         skip = {i for group in joined.values() for i in group[1:]}
@@ -489,11 +473,6 @@ class GroupBranches:
                 keys.append(("joined", *together))
                 plan.append((j, None, together))
                 changed = True
-                continue
-            if extra and j in extra:
-                changed = True
-                keys.extend(p[4] for p in extra[j])
-                plan.append((j, extra[j], None))
                 continue
             if i in shared:
                 near = [unit_list[u] for u in np.nonzero(unit_gate[:, i])[0].tolist()]
@@ -586,119 +565,6 @@ class GroupBranches:
         self._divided[key] = pieces
         return pieces
 
-    # ------------------------------------------------------------------ history split
-
-    def _history_events(
-        self, tracks: tuple[TrackNode, ...], masks: list[int], meas_idx: NDArray[np.intp]
-    ) -> list[Event]:
-        """History-split events (:mod:`.history_split`) of the tracks whose gate holds one
-        observation that no other track of the parent gates (else 000's split or a merge
-        is the event) and whose history divides it into two velocity modes."""
-        out: list[Event] = []
-        for a, (t, mask) in enumerate(zip(tracks, masks, strict=True)):
-            if mask.bit_count() != 1 or any(m & mask for b, m in enumerate(masks) if b != a):
-                continue
-            if self._history_split(t, int(meas_idx[mask.bit_length() - 1])) is not None:
-                out.append(Event("history", (t,), self._log_ps - self._log_pc))
-        return out
-
-    def _chosen_history(self, chosen: tuple[Event, ...]) -> list[_HistorySplit]:
-        """The history splits of a model's events."""
-        out = []
-        for e in chosen:
-            if e.kind == "history":
-                found = self._history.get(e.tracks[0].node_id)
-                assert found is not None  # made with the event
-                out.append(found)
-        return out
-
-    def _history_split(self, node: TrackNode, j: int) -> _HistorySplit | None:
-        """The split of ``node`` by the velocity modes of its history in scan observation
-        ``j`` (once per scan and node), or None: the coherence term does not find ``j``
-        incoherent, the history is too short, or the points move as one."""
-        if node.node_id in self._history:
-            return self._history[node.node_id]
-        settings = self.s.history_split
-        found: _HistorySplit | None = None
-        model = self.model
-        if (
-            settings is not None
-            and isinstance(model, CoherentGroupModel)
-            and model.coherence_term(node, self.obs, j) < 0.0
-        ):
-            payload = group_payload(node)
-            mean, _ = node_prediction(node)
-            pts, mem = self.obs.cluster(j), self.obs.cluster_members(j)
-            traced = trace_velocities(
-                pts, payload.history, self.stamp, mean[2:4], settings.min_age, settings.window
-            )
-            if traced is not None:
-                first = int(self.obs.offsets[j])
-                own = np.arange(first, first + len(mem), dtype=np.int64)
-                if self.obs.blobs is None or settings.unit_distance > 0.0:
-                    unit = settings.unit_distance if settings.unit_distance > 0.0 else self.s.d_hs
-                    blobs = single_linkage(pts, unit).astype(np.int64)
-                else:
-                    blobs = self.obs.blobs[own]
-                modes = velocity_modes(traced[0], blobs, settings)
-                if modes is not None:
-                    found = self._history_halves(node, j, pts, mem, own, traced, modes)
-        self._history[node.node_id] = found
-        return found
-
-    def _history_halves(
-        self,
-        node: TrackNode,
-        j: int,
-        pts: FloatArray,
-        mem: IntArray,
-        own: IntArray,
-        traced: tuple[FloatArray, float, list[Snapshot]],
-        modes: IntArray,
-    ) -> _HistorySplit:
-        """The two halves of a history split and the pieces of observation ``j`` they
-        must match (:mod:`.history_split`: contour by the nearest mode, position its
-        mean, velocity the mode's, n/2 people, C_0, labels X-0 and X-1, the snapshots
-        the mode's points were traced through as its history)."""
-        mean, _ = node_prediction(node)
-        old = group_payload(node)
-        contour = old.contour + mean[:2]
-        owner = divide_contour(contour, pts, modes)
-        vel = mode_velocities(traced[0], modes)
-        split_mean, split_cov = split_state(mean, self.s.c0)
-        pieces: list[_Piece] = []
-        halves: list[TrackNode] = []
-        for c, labels in enumerate(split_labels(self.name(node))):
-            sel = modes == c
-            pieces.append(
-                (pts[sel], mem[sel], own[sel], float(sel.sum()) / len(mem), (j, mem[sel].tobytes()))
-            )
-            part = contour[owner == c] if np.any(owner == c) else pts[sel]
-            half_mean = split_mean.copy()
-            half_mean[:2] = part.mean(axis=0)
-            half_mean[2:4] = vel[c]
-            payload = GroupPayload(
-                part - half_mean[:2],
-                labels,
-                must_match=True,
-                event="split",
-                history=divide_history(old.history, traced[2], modes, c),
-            )
-            half = self._made(node, half_mean, split_cov.copy(), payload)
-            self._half_of[half.node_id] = node.node_id
-            halves.append(half)
-        return _HistorySplit(j, pieces, (halves[0], halves[1]))
-
-
-@dataclass(frozen=True, eq=False)
-class _HistorySplit:
-    """A history split of one track: the scan observation it divides, its two pieces
-    (one per velocity mode) and the two halves that must match them."""
-
-    j: int
-    pieces: list[_Piece]
-    halves: tuple[TrackNode, TrackNode]
-
 
 def _gate_events(masks: Sequence[int]) -> tuple[bool, bool]:
     """Whether some gate (bits of an int, one per observation) holds two observations
@@ -762,15 +628,22 @@ def _nearest_unit(points: FloatArray, units: Sequence[Sequence[TrackNode]]) -> I
 
 class GroupLabelModel:
     """Assignment probabilities of 000 eqs. 36-37: matched p_M, occluded p_O, obsolete p_T
-    for tracks; new p_N and false alarm p_F for observations. With the data likelihood of
-    eq. 37 the observation volume V cancels (000 Sec. 4.5.1), so the log rates are log p_N
-    and log p_F. A split or merged track of this scan must be matched (000 Sec. 4.4)."""
+    for tracks; new and false alarm for observations. Eq. 36 gives them as p_N = lambda_N V
+    and p_F = lambda_F V, eq. 37 a likelihood 1/V each: their product leaves the rates
+    lambda = p / V [1/m^2], against the likelihoods N_i of matched observations (eq. 24,
+    a density in 1/m^2), as the leg tracker's lambda_new and lambda_fal. ``area`` is V
+    [m^2]; the tracker sets it per scan when the observation area is the lasers' view. A
+    split or merged track of this scan must be matched (000 Sec. 4.4)."""
 
-    def __init__(self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float) -> None:
+    def __init__(
+        self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float, area: float = 1.0
+    ) -> None:
         self._lp = np.log(np.array([p_m, p_o, p_t]))
         self._must = np.array([math.log(p_m), -np.inf, -np.inf])
-        self._log_new = math.log(p_n)
-        self._log_fal = math.log(p_f)
+        self._log_p_new = math.log(p_n)
+        self._log_p_fal = math.log(p_f)
+        self.area = area
+        """V of eqs. 36-37 [m^2]."""
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
@@ -780,6 +653,8 @@ class GroupLabelModel:
     def measurement_log_rates(
         self, measurements: GroupObservations
     ) -> tuple[FloatArray, FloatArray]:
-        """log p_N and log p_F (M,) for every observation."""
+        """log lambda_N = log(p_N / V) and log lambda_F = log(p_F / V) (M,) for every
+        observation."""
         m = len(measurements)
-        return np.full(m, self._log_new), np.full(m, self._log_fal)
+        log_v = math.log(self.area)
+        return np.full(m, self._log_p_new - log_v), np.full(m, self._log_p_fal - log_v)

@@ -27,18 +27,11 @@ from laserpeople.tracking.mht.tracktree import TrackNode
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
-Snapshot = tuple[float, FloatArray]
-"""A group's observed points (K, 2) [m], absolute, and the time they were seen [s]."""
-
-H = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0]])
-"""Measurement Jacobian of a contour point (000 eq. 23)."""
 SCORE_BLOCK = 400_000
 """Most Mahalanobis distances (observed points x contour points) :class:`GroupModel` holds
 in memory at once when scoring (larger problems are scored in blocks of tracks)."""
 _ORIGIN = np.zeros((1, 2))
 _LOG_2PI_NEG = -math.log(2.0 * math.pi)
-H_TILDE = np.array([[1.0, 0, 0, 0, 0], [0, 1.0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
-"""Measurement Jacobian of (centroid, n_hs) (000 eq. 31)."""
 
 
 @dataclass(eq=False, slots=True)
@@ -56,9 +49,6 @@ class GroupPayload:
         must_match: A split or merged track of this scan: it must be matched (000 Sec. 4.4).
         event: How the track's family began: "split" or "merge" when a model made it, ""
             when it was born from an observation.
-        history: Snapshots of the points the track observed over the last seconds, oldest
-            first (only with the motion-coherence term, :mod:`.coherence`).
-        merged_stamp: Time [s] of the merge that made the track's family (NaN: none).
     """
 
     contour: FloatArray
@@ -66,8 +56,6 @@ class GroupPayload:
     members: IntArray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     must_match: bool = False
     event: str = ""
-    history: tuple[Snapshot, ...] = ()
-    merged_stamp: float = math.nan
 
 
 def transition(dt: float) -> FloatArray:
@@ -77,63 +65,12 @@ def transition(dt: float) -> FloatArray:
     return a
 
 
-def directed_hausdorff(z: FloatArray, p: FloatArray, s: FloatArray) -> float:
-    """Directed average Hausdorff distance d(Z, P) in the Mahalanobis sense (eqs. 20-21):
-    the mean over z_l in Z of the smallest D(v, S) over the points of P.
-
-    Args:
-        z: (K_z, 2) points [m].
-        p: (K_p, 2) points [m] (absolute, i.e. H x + x_P as in eq. 22).
-        s: (2, 2) innovation covariance S (eq. 23) [m^2].
-    """
-    return float(np.mean(_whitened_distances(z, p, s).min(axis=1)))
-
-
-def min_average_hausdorff(z: FloatArray, p: FloatArray, s: FloatArray) -> float:
-    """d_HD(Z, G) = min{d(Z, P), d(P, Z)} (eq. 19) with the Mahalanobis D of eq. 21."""
-    d = _whitened_distances(z, p, s)
-    return float(min(d.min(axis=1).mean(), d.min(axis=0).mean()))
-
-
-def _whitened_distances(z: FloatArray, p: FloatArray, s: FloatArray) -> FloatArray:
-    """D(v_lj, S) (K_z, K_p) for v = z_l - p_j (eqs. 21-22)."""
-    chol = np.linalg.cholesky(s)
-    zw = np.linalg.solve(chol, np.asarray(z, dtype=np.float64).T).T
-    pw = np.linalg.solve(chol, np.asarray(p, dtype=np.float64).T).T
-    diff = zw[:, None, :] - pw[None, :, :]
-    return np.asarray(np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)), dtype=np.float64)
-
-
-def observation_log_likelihood(d_hd: float, s: FloatArray) -> float:
-    """log N_i of eq. 24: log of exp(-d_HD^2 / 2) / (2 pi sqrt(det S))."""
-    return -math.log(2.0 * math.pi) - 0.5 * math.log(float(np.linalg.det(s))) - 0.5 * d_hd**2
-
-
-def kalman_update(
-    mean: FloatArray, cov: FloatArray, centroid: FloatArray, n_hs: float, r: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """x(k+1|k+1) and C(k+1|k+1) from the observation (centroid, n_hs) (eqs. 28-31).
-
-    Args:
-        mean: Predicted state (5,).
-        cov: Predicted covariance (5, 5).
-        centroid: Cluster centroid (2,) [m].
-        n_hs: Human-sized blobs of the cluster.
-        r: Observation covariance (3, 3) of (x, y, n).
-    """
-    z = np.array([centroid[0], centroid[1], n_hs], dtype=np.float64)
-    s = H_TILDE @ cov @ H_TILDE.T + r
-    gain = cov @ H_TILDE.T @ np.linalg.inv(s)  # eq. 30
-    new_mean = mean + gain @ (z - H_TILDE @ mean)  # eq. 28
-    new_cov = cov - gain @ H_TILDE @ cov  # eq. 29
-    return new_mean, 0.5 * (new_cov + new_cov.T)
-
-
 def kalman_update_batch(
     means: FloatArray, covs: FloatArray, centroids: FloatArray, n_hs: FloatArray, r: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
-    """:func:`kalman_update` of many tracks at once: means (T, 5), covs (T, 5, 5),
-    centroids (T, 2), n_hs (T,), r (3, 3)."""
+    """x(k+1|k+1) and C(k+1|k+1) of many tracks from their observations (centroid, n_hs)
+    (eqs. 28-31: H~ picks x, y and n): means (T, 5), covs (T, 5, 5), centroids (T, 2) [m],
+    n_hs (T,), observation covariance r (3, 3) of (x, y, n)."""
     z = np.column_stack([centroids, n_hs])
     hc = covs[:, [0, 1, 4], :]  # H~ C (T, 3, 5)
     s = hc[:, :, [0, 1, 4]] + r  # H~ C H~^T + R (T, 3, 3)
@@ -144,23 +81,13 @@ def kalman_update_batch(
     return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
 
 
-def initial_state(
-    points: FloatArray, n_hs: float, c0: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """State, covariance and contour of a new group from its cluster (eq. 16): position at
-    the centroid, zero velocity, n = n_hs, C = C_0, P = the points minus the centroid."""
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    centroid = pts.mean(axis=0)
-    mean = np.array([centroid[0], centroid[1], 0.0, 0.0, n_hs])
-    return mean, c0.copy(), pts - centroid
-
-
 def initial_states(
     obs: GroupObservations, js: Sequence[int], c0: FloatArray
 ) -> list[tuple[FloatArray, FloatArray, GroupPayload]]:
-    """:func:`initial_state` of clusters ``js`` of ``obs`` with their payloads (contour
-    and members), the states, covariances and contours of all made in one array each
-    (each centroid is still its cluster's own ``mean``: the same numbers)."""
+    """State, covariance and payload (contour and members) of a new group from each of
+    the clusters ``js`` of ``obs`` (eq. 16): position at the centroid, zero velocity,
+    n = n_hs, C = C_0, P = the points minus the centroid; the states, covariances and
+    contours of all made in one array each."""
     idx = np.asarray(js, dtype=np.intp)
     sizes = obs.sizes[idx]
     starts = obs.offsets[idx]
@@ -260,22 +187,6 @@ def merge_log_likelihood(d_min_sq: float, cov_i: FloatArray, cov_j: FloatArray) 
     return -2.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 0.5 * d_min_sq
 
 
-def model_log_prior(
-    n_continued: int,
-    n_split: int,
-    merge_log_liks: Sequence[float],
-    p_c: float,
-    p_s: float,
-    p_g: float,
-) -> float:
-    """log P(M | parent) of eq. 32: p_C^N_C p_S^N_S prod over merges of p_G N_ij."""
-    return (
-        n_continued * math.log(p_c)
-        + n_split * math.log(p_s)
-        + sum(math.log(p_g) + ll for ll in merge_log_liks)
-    )
-
-
 @dataclass(frozen=True)
 class GroupModelSettings:
     """The numbers :class:`GroupModel` needs (from the tracker's parameters).
@@ -291,6 +202,8 @@ class GroupModelSettings:
         max_gap: Contour-to-cluster distance beyond which no gate is computed [m].
         log_p_match: log p_M (a part of a re-clustered observation counts as its share of
             one matched observation, see :meth:`GroupModel.score`).
+        rms: Root mean square instead of the mean in eq. 20.
+        share_parts: Parts count their share (False: each part a whole observation, 000).
     """
 
     c0: FloatArray
@@ -303,6 +216,7 @@ class GroupModelSettings:
     max_gap: float
     log_p_match: float = 0.0
     rms: bool = False
+    share_parts: bool = True
 
 
 class GroupModel:
@@ -357,10 +271,6 @@ class GroupModel:
         return np.stack([p[0] for p in preds]), np.stack([p[1] for p in preds])
 
     # -- gating and likelihood
-    def innovation_cov(self, pred_cov: FloatArray) -> FloatArray:
-        """S = H C H^T + R_l (eq. 23)."""
-        return np.asarray(H @ pred_cov @ H.T + self.s.r_point, dtype=np.float64)
-
     def score(
         self, nodes: Sequence[TrackNode], measurements: GroupObservations
     ) -> tuple[BoolArray, FloatArray]:
@@ -417,8 +327,6 @@ class GroupModel:
     ) -> tuple[BoolArray, FloatArray]:
         """Gate and log N_i (T, M) of ``nodes`` against every cluster of ``obs`` (eqs.
         19-24), in blocks of at most :data:`SCORE_BLOCK` distances."""
-        if len(nodes) == 1 and not batch and obs.source is None:
-            return self._score_one(nodes[0], obs)
         contours = [group_payload(n).contour for n in nodes]
         sizes = [len(c) or 1 for c in contours]
         n_points = max(len(obs.points), 1)
@@ -433,60 +341,6 @@ class GroupModel:
             width += k
         blocks.append(self._score_block(nodes[start:], obs, batch))
         return np.concatenate([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks])
-
-    def _score_one(self, node: TrackNode, obs: GroupObservations) -> tuple[BoolArray, FloatArray]:
-        """:meth:`_score_block` of one track against the scan's own observations, with
-        scalars where the block has arrays (the same operations, the same numbers)."""
-        m = len(obs)
-        gated = np.zeros((1, m), dtype=bool)
-        loglik = np.full((1, m), -np.inf)
-        mean, cov = node_prediction(node)
-        pos = mean[:2]
-        s = cov[:2, :2] + self.s.r_point  # eq. 23
-        s00, s01, s11 = float(s[0, 0]), float(s[0, 1]), float(s[1, 1])
-        det = s00 * s11 - s01 * s01
-        contour = group_payload(node).contour
-        c_abs = (contour if contour.shape[0] else _ORIGIN) + pos
-        rel = c_abs - pos
-        r_t = float(np.hypot(rel[:, 0], rel[:, 1]).max())
-        half_trace = 0.5 * (s00 + s11)
-        lam_max = half_trace + math.sqrt(max(half_trace * half_trace - det, 0.0))
-        reach = min(self.s.max_gap, math.sqrt(self.s.gate_sq * lam_max))
-        counts = obs.sizes
-        gap = np.hypot(obs.centroids[:, 0] - pos[0], obs.centroids[:, 1] - pos[1])
-        close = (gap - obs.radii - r_t <= reach) & (counts > 0)
-        near = np.flatnonzero(close)
-        if near.size == 0:
-            return gated, loglik
-        n_z = counts[near]
-        points = obs.points if near.size == m else obs.points[close[obs.point_cluster]]
-        z_start = np.cumsum(n_z) - n_z
-        dx = np.subtract.outer(points[:, 0], c_abs[:, 0])
-        dy = np.subtract.outer(points[:, 1], c_abs[:, 1])
-        q = np.multiply(dx, s11)  # D^2 det S (eq. 21), as in _score_block
-        q *= dx
-        tmp = np.multiply(dx, 2.0 * s01, out=dx)
-        tmp *= dy
-        q -= tmp
-        tmp = np.multiply(dy, s00, out=tmp)
-        tmp *= dy
-        q += tmp
-        z_min = np.sqrt(np.minimum.reduce(q, axis=1) / det)
-        c_min = np.sqrt(_row_block_min(q, z_start, n_z) / det)
-        if self.s.rms:
-            z_min, c_min = z_min**2, c_min**2
-        z_to_p = np.add.reduceat(z_min, z_start) / n_z  # d(Z, P), eq. 20
-        p_to_z = np.add.reduce(c_min, axis=1) / c_min.shape[1]  # d(P, Z), as ndarray.mean
-        if self.s.rms:
-            z_to_p, p_to_z = np.sqrt(z_to_p), np.sqrt(p_to_z)
-        d_hd = np.minimum(z_to_p, p_to_z)  # eq. 19
-        ok = d_hd**2 <= self.s.gate_sq
-        lpm = self.s.log_p_match
-        log_norm = _LOG_2PI_NEG - 0.5 * math.log(det)
-        ll = obs.share[near] * (lpm + (log_norm - 0.5 * d_hd**2)) - lpm  # eq. 24
-        gated[0, near] = ok
-        loglik[0, near] = np.where(ok, ll, -np.inf)
-        return gated, loglik
 
     def _score_block(
         self,
@@ -571,7 +425,7 @@ class GroupModel:
         coef = (ds00, ds01, ds11, ddet)
         d_hd = self._hausdorff(points, n_z, cols_c, n_c, coef, batch)
         ok = sub_near & (d_hd**2 <= self.s.gate_sq)
-        w = obs.share[cols_m][None, :]
+        w = obs.share[cols_m][None, :] if self.s.share_parts else np.ones((1, cols_m.size))
         lpm = self.s.log_p_match
         if batch:  # eq. 24, a part counting its share
             log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)
@@ -682,17 +536,7 @@ class GroupModel:
         self, measurements: GroupObservations, js: Sequence[int], stamp: float
     ) -> list[tuple[FloatArray, FloatArray, Any]]:
         """New groups from clusters ``js`` (eq. 16)."""
-        out: list[tuple[FloatArray, FloatArray, Any]] = []
-        if len(js) > 1:
-            return initial_states(measurements, js, self.s.c0)
-        for j in js:
-            mean, cov, contour = initial_state(
-                measurements.cluster(j), float(measurements.n_hs[j]), self.s.c0
-            )
-            out.append(
-                (mean, cov, GroupPayload(contour, (), measurements.cluster_members(j).copy()))
-            )
-        return out
+        return list(initial_states(measurements, js, self.s.c0)) if len(js) else []
 
 
 def _row_block_min(q: FloatArray, starts: IntArray, lengths: IntArray) -> FloatArray:

@@ -14,7 +14,7 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -124,15 +124,12 @@ class GroupObservations:
         d_hs: float,
         counting: SizeCounting | None = None,
         max_blob_size: float = 0.0,
-        keep_links: LinkFilter | None = None,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
         count when None); ``members`` (N,) are their indices in the frame. With
         ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
-        clusters are then made again from the rest; the blobs are those of one linkage).
-        ``keep_links`` (called once, with the points kept, their blob labels and the links
-        closer than ``d_p``) may cut links (:mod:`.walkers`)."""
+        clusters are then made again from the rest; the blobs are those of one linkage)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
         finite = np.isfinite(pts).all(axis=1)
@@ -151,8 +148,6 @@ class GroupObservations:
                 pts, idx = pts[keep], idx[keep]
                 fine = component_labels(pts.shape[0], pairs[length < d_blob])
         links = pairs[length < d_p]
-        if keep_links is not None:
-            links = links[keep_links(pts, fine, links)]
         if pts.shape[0] == 0:
             return cls.empty()
         labels = component_labels(pts.shape[0], links)
@@ -249,10 +244,6 @@ def component_labels(n: int, links: IntArray) -> IntArray:
     index = np.arange(n)
     rank = np.cumsum(root == index) - 1  # each component's smallest index is its root
     return rank[root].astype(np.int64)
-
-
-LinkFilter = Callable[[FloatArray, IntArray, IntArray], NDArray[np.bool_]]
-"""``(points (N, 2), blob labels (N,), links (E, 2)) -> which links to keep (E,)``."""
 
 
 @dataclass(frozen=True)

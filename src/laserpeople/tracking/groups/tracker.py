@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,21 +28,16 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.tracking.groups.coherence import CoherenceSettings, CoherentGroupModel
+from laserpeople.scan import visible_area
 from laserpeople.tracking.groups.confirm import Candidate, Confirmation, ConfirmSettings
-from laserpeople.tracking.groups.history_split import HistorySplitSettings
 from laserpeople.tracking.groups.interaction import (
     GroupBranches,
     GroupLabelModel,
     InteractionSettings,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
-from laserpeople.tracking.groups.model import (
-    GroupModelSettings,
-    group_payload,
-)
+from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, group_payload
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
-from laserpeople.tracking.groups.walkers import WalkerSettings, WalkerTracker
 from laserpeople.tracking.kalman import chi2_quantile_2dof
 from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
@@ -77,6 +73,25 @@ class GroupTrackerParams:
     """Parameters of the group tracker (000 Sec. 4)."""
 
     config_section = "group_tracker"
+    paper_preset = MappingProxyType(
+        {  # 000 Sec. 4 where the defaults depart from it (docs/papers.md)
+            "eps_n": 0.1,
+            "size_count": "blobs",
+            "max_blob_size": 0.0,
+            "merge_likelihood": "density",
+            "model_prior": "literal",
+            "observation_area": 0.0,
+            "share_parts": False,
+            "prune_labels": True,
+            "join_observations": False,
+            "recluster_blobs": False,
+            "hausdorff": "mean",
+            "static_groups": True,
+            "confirm_scans": 1,
+            "confirm_event_scans": 1,
+            "reuse_ids": False,
+        }
+    )
 
     p_m: float = param(0.79, "000 Sec. 4.6", "P(matched) of a group track")
     p_o: float = param(0.19, "000 Sec. 4.6", "P(occluded) of a group track")
@@ -145,58 +160,6 @@ class GroupTrackerParams:
         "largest radius of a blob that may be one leg (size_count legs)",
         "m",
     )
-    walkers: bool = param(
-        False,
-        "extension of 000 Sec. 4.1 (tracking/groups/walkers.py; docs/groups.md 'Walkers'); "
-        "false is 000's clustering",
-        "track the walkers (human-sized blobs, leg pairs joined, a Kalman filter each) and "
-        "do not link a standing walker with one walking past, nor walkers heading apart, "
-        "into one observation",
-    )
-    walker_standing_speed: float = param(
-        0.3,
-        "chosen on entrance-hall seeds 0 and 1 (0.2/0.3)",
-        "a walker slower than this stands",
-        "m/s",
-    )
-    walker_walking_speed: float = param(
-        0.8,
-        "chosen on entrance-hall seeds 0 and 1 (0.6/0.8); an estimate of a walker in a "
-        "moving party is off by 0.3 m/s at the median",
-        "a walker faster than this walks (passes a standing one)",
-        "m/s",
-    )
-    walker_min_scans: int = param(
-        10,
-        "chosen on entrance-hall seeds 0 and 1 (5/10)",
-        "detections a walker needs before its links can be cut",
-    )
-    walker_apart_scans: int = param(
-        3,
-        "chosen on entrance-hall seeds 0 and 1: 1 and 3 tie (0.173 / 0.175 mean error), "
-        "3 over-segments less (seed 0: 0.033 -> 0.015); 6 under-segments more",
-        "scans in a row two linked walkers must move apart before their link is cut",
-    )
-    walker_accel_psd: float = param(
-        0.2,
-        "chosen on entrance-hall seeds 0 and 1 (0.2/0.5/2): heavy smoothing, since a walker "
-        "seen as one leg is off by up to half a stride",
-        "white-acceleration power spectral density of a walker",
-        "m^2/s^3",
-    )
-    walker_measurement_std: float = param(
-        0.3,
-        "chosen on entrance-hall seeds 0 and 1 (0.1/0.2/0.3)",
-        "position noise of a walker detection",
-        "m",
-    )
-    walker_gate: float = param(
-        0.6,
-        "assumption: a walker moves 0.15 m a scan; its detection jumps by half a stride "
-        "when one leg is hidden",
-        "largest distance from a walker's predicted place to its detection",
-        "m",
-    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -246,10 +209,39 @@ class GroupTrackerParams:
     )
     merge_likelihood: str = param(
         "density",
-        "departure from 000 eq. 27 (see docs/groups.md): its normaliser "
-        "1/((2 pi)^2 sqrt det(C_i + C_j)) is 6-8 at the group covariances here, so p_G N_ij "
-        "exceeds one and two groups 0.9 m/s apart still merge with a hazard of 25 % per scan",
+        "000 eq. 27 (the normal density N_ij); 'compatibility' is an extension (see "
+        "docs/groups.md): eq. 27's normaliser 1/((2 pi)^2 sqrt det(C_i + C_j)) is 6-8 at the "
+        "group covariances here, so p_G N_ij exceeds one",
         "N_ij of eq. 32: density (eq. 27) | compatibility (exp(-d_min^2 / 2), at most 1)",
+    )
+    observation_area: float = param(
+        1.0,
+        "departure from 000 eqs. 36-37 (V m^2, the lasers' view: 0 here), measured in "
+        "docs/papers.md: with V = 1 m^2 new groups and false alarms weigh p_N and p_F "
+        "against likelihoods N_i in 1/m^2, as the tracker did before the setting existed",
+        "observation volume V of eqs. 36-37: new tracks and false alarms have the rates "
+        "p_N / V and p_F / V per m^2 (0: the area the lasers saw in each scan)",
+        "m^2",
+    )
+    share_parts: bool = param(
+        True,
+        "departure from 000 (false here), see GroupModel.score and docs/groups.md: "
+        "dividing an observation among tracks adds a factor p_M N_i > 1 per part, so a "
+        "merge could never explain one observation better than the tracks re-clustered",
+        "a part of a re-clustered observation counts as its share of one matched "
+        "observation (false: every part is a matched observation of its own)",
+    )
+    prune_labels: bool = param(
+        True,
+        "000 Sec. 4.2.4 (optional there)",
+        "a merge that unites both halves X-0 and X-1 of a split X relabels them X",
+    )
+    max_events: int = param(
+        12,
+        "assumption (speed only: at most 2^max_events models per parent are enumerated; "
+        "000 bounds models only by binary events and gating)",
+        "candidate split and merge events per parent hypothesis kept for model "
+        "enumeration (the likeliest)",
     )
     recluster_blobs: bool = param(
         False,
@@ -270,93 +262,6 @@ class GroupTrackerParams:
         16,
         "assumption (000 bounds models only by binary events and gating)",
         "most models per parent hypothesis (the likeliest by eq. 32)",
-    )
-    coherence_lag: float = param(
-        0.0,
-        "000 (0: off, the likelihood of eqs. 19-24 alone); 1 s with the history split is the "
-        "preset GroupTrackerParams.history_splitting(), chosen on entrance-hall seeds 0 and 1 "
-        "(60 s, d_P 1.3 m: 0.242 -> 0.230, memory-less 0.235; 2 s: 0.217 but it breaks the "
-        "label histories of scripted merges); not the default for its 3-4x CPU, see "
-        "docs/groups.md",
-        "age of the snapshot of a group's points its observation is compared with, moved "
-        "by the group's motion (motion coherence over several scans, groups/coherence.py)",
-        "s",
-    )
-    coherence_sigma: float = param(
-        0.15,
-        "assumption: gait and occlusion jitter of a group that moves as one (0.1 and 0.2 m "
-        "were worse on seeds 0 and 1, 30 s)",
-        "point spread per axis of a group that moves as one (motion coherence)",
-        "m",
-    )
-    coherence_align: int = param(
-        3,
-        "chosen on seeds 0 and 1 (30 s: 0.182 with the velocity alone, 0.175 with 3 steps)",
-        "ICP steps aligning the snapshot with the observation by a translation (0: moved "
-        "by the group's velocity only)",
-    )
-    coherence_both_ways: bool = param(
-        True,
-        "chosen on seeds 0 and 1 (30 s: 0.173 -> 0.163; 60 s: 0.235 -> 0.226)",
-        "motion coherence measured both ways (also the snapshot's points to the "
-        "observation: a part that left the group shows)",
-    )
-    coherence_merged_only: bool = param(
-        False,
-        "assumption",
-        "apply the motion coherence only to merged tracks, over snapshots from before the merge",
-    )
-    coherence_min_age: float = param(
-        0.3, "assumption", "youngest snapshot the motion coherence compares with", "s"
-    )
-    coherence_step: float = param(
-        0.2, "assumption (memory only)", "least time between two kept snapshots", "s"
-    )
-    history_split: bool = param(
-        False,
-        "000 (False: splits only on two observations); True with coherence_lag 1 s is the "
-        "preset GroupTrackerParams.history_splitting(), docs/groups.md 'History split'",
-        "also offer the split of a track whose one observation the motion coherence finds "
-        "incoherent into the two velocity modes its history shows (only with coherence_lag > 0)",
-    )
-    split_min_age: float = param(
-        1.0,
-        "chosen on entrance-hall seeds 0 and 1 (about one gait cycle: 0.5 s splits walkers' "
-        "legs into modes; 60 s, lag 2 s: 0.259 -> 0.217 with the window, separation and "
-        "points below)",
-        "shortest history a split by velocity modes is traced over (history_split)",
-        "s",
-    )
-    split_window: float = param(
-        1.5,
-        "chosen on entrance-hall seeds 0 and 1 (with split_min_age 1 s)",
-        "longest history a split by velocity modes is traced over (the motion now)",
-        "s",
-    )
-    split_min_dv: float = param(
-        0.5,
-        "assumption (0.8 m/s: 0.229 against 0.230 on seeds 0 and 1, but the three-leaving "
-        "label test records a third split)",
-        "least difference of the two velocity modes of a history split",
-        "m/s",
-    )
-    split_separation: float = param(
-        3.0,
-        "chosen on entrance-hall seeds 0 and 1 (4: 0.236 against 0.230)",
-        "least ratio of the modes' difference to the blob velocities' spread about them "
-        "(history_split)",
-    )
-    split_min_points: int = param(
-        8,
-        "chosen on entrance-hall seeds 0 and 1 (about one walker at 30 cm)",
-        "fewest points of each velocity mode of a history split",
-    )
-    split_unit_distance: float = param(
-        0.0,
-        "chosen on entrance-hall seeds 0 and 1 (0.6 m with coherence_lag 2 s: 0.222 against 0.217)",
-        "single-linkage distance of the units a history split divides into velocity modes "
-        "(0: the human-sized blobs at d_hs)",
-        "m",
     )
     static_groups: bool = param(
         False,
@@ -451,10 +356,10 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs' or 'legs'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
-        if self.max_models < 1:
-            raise ValueError("max_models must be at least 1")
-        if self.coherence_lag < 0.0 or self.coherence_sigma <= 0.0:
-            raise ValueError("need coherence_lag >= 0 and coherence_sigma > 0")
+        if self.max_models < 1 or self.max_events < 0:
+            raise ValueError("max_models must be at least 1 and max_events not negative")
+        if not (self.observation_area >= 0.0 and math.isfinite(self.observation_area)):
+            raise ValueError("observation_area must be finite and not negative (0: per scan)")
         if min(self.static_time, self.min_travel, self.arrival_slack) < 0.0:
             raise ValueError("static_time, min_travel and arrival_slack must not be negative")
         if self.max_blob_size < 0.0:
@@ -464,37 +369,12 @@ class GroupTrackerParams:
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
         self.confirm_settings()  # checks the confirmation values
-        self.walker_settings()  # and the walkers'
-
-    @classmethod
-    def paper_likelihood(cls, **changes: object) -> GroupTrackerParams:
-        """000's setting, the default: the likelihood of eqs. 19-24 alone (no motion
-        coherence) and 000's data-driven splits (no history split); docs/groups.md tables
-        '000's setting' (the departures listed there stay). Spelled out so that it stays
-        000's setting if the defaults change."""
-        base = cls(coherence_lag=0.0, history_split=False)
-        return replace(base, **changes) if changes else base  # type: ignore[arg-type]
-
-    @classmethod
-    def history_splitting(cls, **changes: object) -> GroupTrackerParams:
-        """The extension of docs/groups.md 'History split': motion coherence over 1 s and
-        the split of a track by the velocity modes of its history (held-out entrance hall,
-        d_P 1.3 m: clustering error 0.235 -> 0.219, memory-less 0.238) at 3-4x the CPU.
-        From a TOML file: ``coherence_lag = 1.0`` and ``history_split = true``."""
-        base = cls(coherence_lag=1.0, history_split=True)
-        return replace(base, **changes) if changes else base  # type: ignore[arg-type]
 
     @classmethod
     def people_only(cls, cluster_distance: float = 0.5, **changes: object) -> GroupTrackerParams:
         """The people tracker of 000 Fig. 17 (right): no splits or merges, a small d_P
-        (0.5 m by default: two legs of one person, not two people; see docs/groups.md),
-        without the motion coherence (no merges to hold off)."""
-        base = cls(
-            cluster_distance=cluster_distance,
-            split_merge=False,
-            coherence_lag=0.0,
-            history_split=False,
-        )
+        (0.5 m by default: two legs of one person, not two people; see docs/groups.md)."""
+        base = cls(cluster_distance=cluster_distance, split_merge=False)
         return replace(base, **changes) if changes else base  # type: ignore[arg-type]
 
     def c0(self) -> FloatArray:
@@ -533,33 +413,7 @@ class GroupTrackerParams:
             max_gap=self.max_gate_gap,
             log_p_match=math.log(self.p_m),
             rms=self.hausdorff == "rms",
-        )
-
-    def walker_settings(self) -> WalkerSettings:
-        """How walkers are tracked and their links cut (:mod:`.walkers`)."""
-        return WalkerSettings(
-            on=self.walkers,
-            standing_speed=self.walker_standing_speed,
-            walking_speed=self.walker_walking_speed,
-            gate=self.walker_gate,
-            accel_psd=self.walker_accel_psd,
-            min_scans=self.walker_min_scans,
-            apart_scans=self.walker_apart_scans,
-            measurement_std=self.walker_measurement_std,
-            pair_distance=self.leg_pair_distance,
-            leg_radius=self.leg_radius,
-        )
-
-    def coherence_settings(self) -> CoherenceSettings:
-        """The motion-coherence term (off when coherence_lag is 0)."""
-        return CoherenceSettings(
-            lag=self.coherence_lag,
-            min_age=self.coherence_min_age,
-            step=self.coherence_step,
-            sigma=self.coherence_sigma,
-            align=self.coherence_align,
-            both_ways=self.coherence_both_ways,
-            merged_only=self.coherence_merged_only,
+            share_parts=self.share_parts,
         )
 
     def interaction_settings(self) -> InteractionSettings:
@@ -572,23 +426,14 @@ class GroupTrackerParams:
             d_hs=self.blob_distance,
             split_merge=self.split_merge,
             max_models=self.max_models,
+            max_events=self.max_events,
+            prune_labels=self.prune_labels,
             join_observations=self.join_observations,
             c0=self.c0(),
             model_prior=self.model_prior,
             merge_likelihood=self.merge_likelihood,
             recluster_blobs=self.recluster_blobs,
             counting=self.counting(),
-            coherence_step=self.coherence_step,
-            history_split=HistorySplitSettings(
-                min_age=self.split_min_age,
-                window=self.split_window,
-                min_dv=self.split_min_dv,
-                separation=self.split_separation,
-                min_points=self.split_min_points,
-                unit_distance=self.split_unit_distance,
-            )
-            if self.history_split and self.coherence_lag > 0.0
-            else None,
         )
 
 
@@ -646,8 +491,10 @@ class GroupMHTTracker:
     def __init__(self, params: GroupTrackerParams | None = None) -> None:
         self.params = params if params is not None else GroupTrackerParams()
         p = self.params
-        self.model = CoherentGroupModel(p.model_settings(), p.coherence_settings())
-        self.label_model = GroupLabelModel(p.p_m, p.p_o, p.p_t, p.p_n, p.p_f)
+        self.model = GroupModel(p.model_settings())
+        self.label_model = GroupLabelModel(
+            p.p_m, p.p_o, p.p_t, p.p_n, p.p_f, p.observation_area or 1.0
+        )
         self.mht: MHT[GroupObservations] = MHT(
             p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO), self.model, self.label_model
         )
@@ -672,9 +519,6 @@ class GroupMHTTracker:
         self.last_groups: list[GroupEstimate] = []
         self.last_observations = GroupObservations.empty()
         self._counting = p.counting()
-        walkers = p.walker_settings()
-        self.walkers = WalkerTracker(walkers) if walkers.on else None
-        """The walkers whose velocities cut observation links (None: 000's clustering)."""
         self.static_model: StaticWorldModel | None = None
         """Asked how long a group's place has been static (the pipeline sets it when
         ``static_groups`` is false; None: every group is reported)."""
@@ -749,27 +593,32 @@ class GroupMHTTracker:
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
         p = self.params
-        walkers = self.walkers
         obs = GroupObservations.from_points(
-            pts,
-            idx,
-            p.cluster_distance,
-            p.blob_distance,
-            self._counting,
-            p.max_blob_size,
-            None
-            if walkers is None
-            else lambda points, blobs, links: walkers.coherent_links(
-                points, blobs, links, frame.stamp
-            ),
+            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size
         )
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs
+
+    @staticmethod
+    def _visible_area(frame: Frame) -> float:
+        """V of eqs. 36-37 for ``observation_area`` 0: the area [m^2] the frame's lasers saw
+        (the sum over its scans)."""
+        area = sum(visible_area(scan) for scan in frame.scans)
+        if not area > 0.0:
+            raise LaserPeopleError(
+                "the group tracker's observation_area 0 needs the area the lasers saw, and "
+                f"this frame has {len(frame.scans)} scans with no valid return",
+                scan=frame.index,
+                hint="set [group_tracker] observation_area to the field of view in m^2",
+            )
+        return area
 
     def update(self, frame: Frame) -> Tracks:
         """Track one frame."""
         obs = self.observe(frame)
         self.last_observations = obs
+        if self.params.observation_area == 0.0:
+            self.label_model.area = self._visible_area(frame)
         self.branches.begin_scan(obs, frame.stamp)
         self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)

@@ -46,6 +46,7 @@ implies (the feet midpoint moved by :func:`body_offset`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,6 +75,16 @@ class FeetParams:
     """Parameters of the feet particle-filter tracker (004 Sec. 2.1, Shao et al. 2008)."""
 
     config_section = "feet_pf"
+    paper_preset = MappingProxyType(
+        {  # 004 where the defaults depart from it (docs/papers.md)
+            "h_width": 0.0,
+            "voronoi": False,
+            "max_eigenvalue": 0.0,
+            "long_weight": 1.0,
+            "rescue_legs": False,
+            "blob_body": False,
+        }
+    )
 
     particles: int = param(
         500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"

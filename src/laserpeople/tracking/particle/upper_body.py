@@ -29,6 +29,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -55,6 +56,15 @@ class UpperBodyParams:
     """Parameters of the upper-body particle-filter tracker (004 Sec. 2.2)."""
 
     config_section = "upper_body_pf"
+    paper_preset = MappingProxyType(
+        {  # 004 where the defaults depart from it (docs/papers.md)
+            "max_eigenvalue": 0.0,
+            "object_memory": 0.0,
+            "weigh_objects": True,
+            "surface_offset": 0.0,
+            "carry_depth": 0.0,
+        }
+    )
 
     particles: int = param(
         500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"

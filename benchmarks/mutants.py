@@ -1,0 +1,730 @@
+"""Mutation run over the equations of 000 (group tracker), 002 (Cluster Sorting, colour
+re-identification) and 004 (particle filters): do the tests fail when the code is wrong?
+
+Each mutant is one exact snippet of a source file under ``src/laserpeople`` and its
+replacement (a near miss of the paper's formula: a wrong weight, a dropped term, a swapped
+probability). For each mutant the script copies ``src/``, ``tests/``,
+``benchmarks/`` and ``pyproject.toml`` into a fresh temporary directory, patches the copy (never the
+worktree), and runs the mutant's tests there with ``PYTHONPATH`` pointing at the copy and
+without the real recordings (``LASERPEOPLE_SHARED_DATA`` unset and no ``../shared``
+beside the copy, so tests that need them skip). A mutant is *killed* when the tests fail,
+*survived* when they pass; *stale* when its snippet is not found exactly once (the code
+changed: update the list). The tests of the unmutated copy are run first (``--no-baseline``
+skips this): a mutant is only meaningful when they pass::
+
+    PYTHONPATH=src .venv/bin/python benchmarks/mutants.py [--jobs 2] [--only NAME ...]
+    PYTHONPATH=src .venv/bin/python benchmarks/mutants.py --list
+
+Exit status 1 when a mutant survives or is stale.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+TIMEOUT = 1800.0
+"""Seconds a mutant's tests (or the baseline) may run; a mutant that makes them hang is
+counted killed, with the time out named in the table."""
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """One near miss: ``original`` (exactly once in ``path``) becomes ``replacement``.
+
+    Attributes:
+        name: Short name (``--only``).
+        paper: Paper and equation it breaks (e.g. "000 eq. 32").
+        path: Source file relative to ``src/laserpeople``.
+        original: Exact snippet of the file.
+        replacement: What it becomes.
+        tests: Test files (or node ids) to run, relative to the repository.
+    """
+
+    name: str
+    paper: str
+    path: str
+    original: str
+    replacement: str
+    tests: tuple[str, ...]
+
+
+# the tests of issue 33 first: with -x a killed mutant stops at its first failure
+GROUPS = (
+    "tests/test_paper_groups.py",
+    "tests/test_track_groups.py",
+    "tests/test_track_groups_fast.py",
+    "tests/test_track_groups_sim.py",
+)
+CSA = ("tests/test_paper_csa.py", "tests/test_track_csa.py")
+PF = ("tests/test_paper_pf.py", "tests/test_pf_equations.py", "tests/test_pf_trackers.py")
+REID = (
+    "tests/test_paper_reid.py",
+    "tests/test_identity_appearance.py",
+    "tests/test_identity_reid.py",
+)
+FIT = ("tests/test_paper_fit.py", "tests/test_fit.py")
+MEAN_SHIFT = ("tests/test_mean_shift.py",)
+
+M = "tracking/groups/model.py"
+I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
+C = "tracking/csa.py"
+F = "tracking/particle/feet.py"
+U = "tracking/particle/upper_body.py"
+A = "identity/appearance.py"
+
+MUTANTS: tuple[Mutant, ...] = (
+    # ---- 000 group tracker (Sec. 4)
+    Mutant(
+        "merge-prior-pc1",
+        "000 eq. 32 (merge: p_G N_ij / p_C^2)",
+        I,
+        "ratio = self._log_pg + ll - 2.0 * self._log_pc",
+        "ratio = self._log_pg + ll - 1.0 * self._log_pc",
+        GROUPS,
+    ),
+    Mutant(
+        "split-prior-no-pc",
+        "000 eq. 32 (split: p_S / p_C)",
+        I,
+        'events.append(Event("split", (t,), self._log_ps - self._log_pc))',
+        'events.append(Event("split", (t,), self._log_ps))',
+        GROUPS,
+    ),
+    Mutant(
+        "merge-weights-equal",
+        "000 eqs. 17-18 (w = |P_i| / |P_ij|)",
+        M,
+        "w_i, w_j = n_points_i / total, n_points_j / total",
+        "w_i, w_j = 0.5, 0.5",
+        GROUPS,
+    ),
+    Mutant(
+        "merge-cov-weights-not-squared",
+        "000 eq. 18 (w^2)",
+        M,
+        "cov[:4, :4] = w_i**2 * cov_i[:4, :4] + w_j**2 * cov_j[:4, :4]",
+        "cov[:4, :4] = w_i * cov_i[:4, :4] + w_j * cov_j[:4, :4]",
+        GROUPS,
+    ),
+    Mutant(
+        "merge-cross-cov-zero",
+        "000 eq. 18 (size/kinematics cross-covariance)",
+        M,
+        "cross = w_i * cov_i[:4, 4] + w_j * cov_j[:4, 4]",
+        "cross = 0.0 * cov_i[:4, 4]",
+        GROUPS,
+    ),
+    Mutant(
+        "merge-size-variance-mean",
+        "000 Sec. 4.2.3 (merged sizes' variances add)",
+        M,
+        "cov[4, 4] = cov_i[4, 4] + cov_j[4, 4]",
+        "cov[4, 4] = 0.5 * (cov_i[4, 4] + cov_j[4, 4])",
+        GROUPS,
+    ),
+    Mutant(
+        "merge-size-max",
+        "000 Sec. 4.2.3 (merged sizes add)",
+        M,
+        "mean[4] = mean_i[4] + mean_j[4]",
+        "mean[4] = max(mean_i[4], mean_j[4])",
+        GROUPS,
+    ),
+    Mutant(
+        "split-size-whole",
+        "000 Sec. 4.2.3 (a split half has n/2)",
+        M,
+        "out[4] = 0.5 * out[4]",
+        "out[4] = 1.0 * out[4]",
+        GROUPS,
+    ),
+    Mutant(
+        "eq23-no-point-noise",
+        "000 eq. 23 (S = H C H^T + R_l)",
+        M,
+        "s = covs[:, :2, :2] + self.s.r_point  # eq. 23",
+        "s = covs[:, :2, :2] + 0.0 * self.s.r_point  # eq. 23",
+        GROUPS,
+    ),
+    Mutant(
+        "eq19-max",
+        "000 eq. 19 (min of the two directed distances)",
+        M,
+        "return np.asarray(np.minimum(z_to_p, p_to_z).T)  # eq. 19",
+        "return np.asarray(np.maximum(z_to_p, p_to_z).T)  # eq. 19",
+        GROUPS,
+    ),
+    Mutant(
+        "eq19-one-direction",
+        "000 eq. 19 (both directions)",
+        M,
+        "return np.asarray(np.minimum(z_to_p, p_to_z).T)  # eq. 19",
+        "return np.asarray(np.asarray(z_to_p).T)  # eq. 19",
+        GROUPS,
+    ),
+    Mutant(
+        "eq21-cross-term-sign",
+        "000 eq. 21 (Mahalanobis D with a non-diagonal S)",
+        M,
+        "tmp = np.multiply(dx, (2.0 * ds01)[col_owner], out=dx)",
+        "tmp = np.multiply(dx, (-2.0 * ds01)[col_owner], out=dx)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq24-normaliser-det",
+        "000 eq. 24 (1 / (2 pi sqrt det S))",
+        M,
+        "log_norm = _LOG_2PI_NEG - 0.5 * np.log(ddet)",
+        "log_norm = _LOG_2PI_NEG - 1.0 * np.log(ddet)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq24-normaliser-det-one-by-one",
+        "000 eq. 24 (1 / (2 pi sqrt det S), the unbatched sum)",
+        M,
+        "log_norm = np.array([_LOG_2PI_NEG - 0.5 * math.log(d) for d in ddet.tolist()])",
+        "log_norm = np.array([_LOG_2PI_NEG - 1.0 * math.log(d) for d in ddet.tolist()])",
+        GROUPS,
+    ),
+    Mutant(
+        "share-parts-always",
+        "000 eq. 24 per part (share_parts = false)",
+        M,
+        "w = obs.share[cols_m][None, :] if self.s.share_parts else np.ones((1, cols_m.size))",
+        "w = obs.share[cols_m][None, :]",
+        GROUPS,
+    ),
+    Mutant(
+        "eq37-v-ignored",
+        "000 eqs. 36-37 (lambda = p / V)",
+        I,
+        "log_v = math.log(self.area)",
+        "log_v = 0.0 * math.log(self.area)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq37-v-not-per-scan",
+        "000 eqs. 36-37 (V the sensor's field of view)",
+        "tracking/groups/tracker.py",
+        "self.label_model.area = self._visible_area(frame)",
+        "self.label_model.area = 1.0",
+        GROUPS,
+    ),
+    Mutant(
+        "eq24-exponent",
+        "000 eq. 24 (exp(-d_HD^2 / 2))",
+        M,
+        "sub_ll = w * (lpm + log_norm[:, None] - 0.5 * d_hd**2) - lpm",
+        "sub_ll = w * (lpm + log_norm[:, None] - 1.0 * d_hd**2) - lpm",
+        GROUPS,
+    ),
+    Mutant(
+        "gate-on-distance",
+        "000 Sec. 4.4 (gate on d_HD^2)",
+        M,
+        "ok = sub_near & (d_hd**2 <= self.s.gate_sq)",
+        "ok = sub_near & (d_hd <= self.s.gate_sq)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq25-no-dp-shortening",
+        "000 eq. 25 (dx shortened by d_P)",
+        M,
+        "np.divide(d_p, scale, out=scale)",
+        "np.divide(0.0, scale, out=scale)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq25-no-velocity",
+        "000 eq. 25 (velocity difference)",
+        M,
+        "star[2] = mean_i[2] - mean_j[2]  # eq. 25",
+        "star[2] = 0.0  # eq. 25",
+        GROUPS,
+    ),
+    Mutant(
+        "eq26-one-covariance",
+        "000 eq. 26 (C_i + C_j)",
+        M,
+        "s = cov_i[:4, :4] + cov_j[:4, :4]",
+        "s = cov_i[:4, :4] + cov_i[:4, :4]",
+        GROUPS,
+    ),
+    Mutant(
+        "eq26-mean-not-min",
+        "000 eq. 26 (min over point pairs)",
+        M,
+        'return float(np.einsum("ji,ji->i", flat, sol).min())  # eq. 26',
+        'return float(np.einsum("ji,ji->i", flat, sol).mean())  # eq. 26',
+        GROUPS,
+    ),
+    Mutant(
+        "eq27-normaliser",
+        "000 eq. 27 ((2 pi)^2)",
+        M,
+        "return -2.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 0.5 * d_min_sq",
+        "return -1.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 0.5 * d_min_sq",
+        GROUPS,
+    ),
+    Mutant(
+        "eq27-exponent",
+        "000 eq. 27 (exp(-d_min^2 / 2))",
+        M,
+        "return -2.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 0.5 * d_min_sq",
+        "return -2.0 * math.log(2.0 * math.pi) - 0.5 * math.log(det) - 1.0 * d_min_sq",
+        GROUPS,
+    ),
+    Mutant(
+        "eq30-no-observation-noise",
+        "000 eq. 30 (S = H~ C H~^T + R)",
+        M,
+        "s = hc[:, :, [0, 1, 4]] + r  # H~ C H~^T + R (T, 3, 3)",
+        "s = hc[:, :, [0, 1, 4]] + 0.1 * r  # H~ C H~^T + R (T, 3, 3)",
+        GROUPS,
+    ),
+    Mutant(
+        "eq29-no-covariance-update",
+        "000 eq. 29 (C - K H~ C)",
+        M,
+        'new_covs = covs - np.einsum("tij,tik->tjk", gain_t, hc)',
+        'new_covs = covs - 0.0 * np.einsum("tij,tik->tjk", gain_t, hc)',
+        GROUPS,
+    ),
+    Mutant(
+        "eq31-size-not-observed",
+        "000 eq. 31 (n_hs observed)",
+        M,
+        "z = np.column_stack([centroids, n_hs])",
+        "z = np.column_stack([centroids, means[:, 4]])",
+        GROUPS,
+    ),
+    Mutant(
+        "predict-no-velocity",
+        "000 Sec. 4.2.3 (constant velocity A)",
+        M,
+        "a[:, 0, 2] = a[:, 1, 3] = dt",
+        "a[:, 0, 2] = a[:, 1, 3] = 0.0 * dt",
+        GROUPS,
+    ),
+    Mutant(
+        "predict-q-unscaled",
+        "000 Sec. 4.2.3 (Q per period)",
+        M,
+        "+ self.s.q[None] * (dt / self.s.period)[:, None, None]",
+        "+ self.s.q[None] * (0.0 * dt + 1.0)[:, None, None]",
+        GROUPS,
+    ),
+    Mutant(
+        "eq16-size-one",
+        "000 eq. 16 (n = n_hs)",
+        M,
+        "means[:, 4] = obs.n_hs[idx]",
+        "means[:, 4] = 1.0",
+        GROUPS,
+    ),
+    Mutant(
+        "eq36-occluded-obsolete-swapped",
+        "000 eq. 36 (p_O, p_T)",
+        I,
+        "self._lp = np.log(np.array([p_m, p_o, p_t]))",
+        "self._lp = np.log(np.array([p_m, p_t, p_o]))",
+        GROUPS,
+    ),
+    Mutant(
+        "eq36-new-false-swapped",
+        "000 eq. 36 (p_N, p_F)",
+        I,
+        "self._log_p_new = math.log(p_n)",
+        "self._log_p_new = math.log(p_f)",
+        GROUPS,
+    ),
+    Mutant(
+        "must-match-may-occlude",
+        "000 Sec. 4.4 (split/merged tracks must be matched)",
+        I,
+        "self._must = np.array([math.log(p_m), -np.inf, -np.inf])",
+        "self._must = np.array([math.log(p_m), math.log(p_o), -np.inf])",
+        GROUPS,
+    ),
+    Mutant(
+        "models-worst-first",
+        "000 Sec. 4.4 (the likeliest models by eq. 32)",
+        I,
+        "rec(k + 1, used | ids, (*chosen, e), score + e.log_ratio)",
+        "rec(k + 1, used | ids, (*chosen, e), score - e.log_ratio)",
+        GROUPS,
+    ),
+    Mutant(
+        "recluster-farthest",
+        "000 Sec. 4.3 (nearest-track rule)",
+        I,
+        "return np.asarray(np.argmin(per_unit, axis=1), dtype=np.int64)",
+        "return np.asarray(np.argmax(per_unit, axis=1), dtype=np.int64)",
+        GROUPS,
+    ),
+    # ---- 002 Cluster Sorting
+    Mutant(
+        "csa-merge-two-points",
+        "002 Sec. 2 (objects sharing one measurement merge)",
+        C,
+        "shared = (g @ g.T) > 0  # share at least one measurement",
+        "shared = (g @ g.T) > 1  # share at least one measurement",
+        CSA,
+    ),
+    Mutant(
+        "csa-split-one-pair-apart",
+        "002 split condition 2 (every pair apart)",
+        C,
+        "return separated == n_sub * (n_sub - 1) // 2, labels",
+        "return separated >= 1, labels",
+        CSA,
+    ),
+    Mutant(
+        "csa-split-fewer-subclusters",
+        "002 split condition 1 (as many sub-clusters as people)",
+        C,
+        "if n_sub != n_people:",
+        "if n_sub < n_people:",
+        CSA,
+    ),
+    Mutant(
+        "csa-leader-double-radius",
+        "002 Sec. 2 (leader clustering at 1.5 m)",
+        C,
+        "near = np.linalg.norm(pts[free] - first, axis=1) < distance",
+        "near = np.linalg.norm(pts[free] - first, axis=1) < 2.0 * distance",
+        CSA,
+    ),
+    Mutant(
+        "csa-viterbi-no-path-score",
+        "002 Sec. 2 / 2004a (Viterbi path scores)",
+        C,
+        "total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)",
+        "total = np.where(inside, 0.0 * np.asarray(scores)[:, None] + loglik, -np.inf)",
+        CSA,
+    ),
+    Mutant(
+        "csa-fragment-rule-always",
+        "002 Sec. 2 (the cluster remembers everyone who merged)",
+        C,
+        "cids = {clusters[k].cid for k in objs_c} if p.fragment_rule else set()",
+        "cids = {clusters[k].cid for k in objs_c}",
+        CSA,
+    ),
+    Mutant(
+        "csa-kfa-first-point",
+        "002 Sec. 2 (KFA: mean of the selected measurements)",
+        C,
+        "sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2",
+        "sm[i], sc[i], z[sel][0], np.eye(2) * p.mean_std**2",
+        CSA,
+    ),
+    Mutant(
+        "csa-gate-cross-term-sign",
+        "002 Sec. 2 (Mahalanobis validation gate)",
+        C,
+        "d2 = (d[:, None] * vx * vx - 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy)",
+        "d2 = (d[:, None] * vx * vx + 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy)",
+        CSA,
+    ),
+    Mutant(
+        "csa-gate-half",
+        "002 Sec. 2 (chi-square gate -2 ln(1 - p))",
+        C,
+        "return -2.0 * math.log1p(-self.gate_probability)",
+        "return -1.0 * math.log1p(-self.gate_probability)",
+        CSA,
+    ),
+    # ---- 002 colour re-identification
+    Mutant(
+        "eq4-mean-halfway",
+        "002 eq. 4 (running mean)",
+        A,
+        "new_mean = k / (k + 1) * self.mean + y / (k + 1)  # eq. 4",
+        "new_mean = 0.5 * self.mean + 0.5 * y  # eq. 4",
+        REID,
+    ),
+    Mutant(
+        "eq5-biased",
+        "002 eq. 5 (unbiased covariance)",
+        A,
+        "np.outer(r, r) / k + (k - 1) / k * self.covariance + np.outer(delta, delta)",
+        "np.outer(r, r) / (k + 1) + (k - 1) / k * self.covariance + np.outer(delta, delta)",
+        REID,
+    ),
+    Mutant(
+        "eq5-no-mean-shift",
+        "002 eq. 5 (delta delta^T term)",
+        A,
+        "np.outer(r, r) / k + (k - 1) / k * self.covariance + np.outer(delta, delta)",
+        "np.outer(r, r) / k + (k - 1) / k * self.covariance",
+        REID,
+    ),
+    Mutant(
+        "eq6-no-logdet",
+        "002 eq. 6 (|Sigma|^-1/2)",
+        A,
+        "return -0.5 * d2 - 0.5 * (b * LOG_2PI + logdet)[:, None]",
+        "return -0.5 * d2 - 0.5 * (b * LOG_2PI + 0.0 * logdet)[:, None]",
+        REID,
+    ),
+    Mutant(
+        "hue-bins-not-centred",
+        "002 Table 1 (bins centred on the colours)",
+        A,
+        "idx = np.floor((np.mod(h, 2.0 * math.pi) + 0.5 * width) / width)",
+        "idx = np.floor((np.mod(h, 2.0 * math.pi) + 0.0 * width) / width)",
+        REID,
+    ),
+    Mutant(
+        "reid-ignores-min-observations",
+        "002 eq. 7 (observations after the crossing)",
+        "identity/reid.py",
+        "enough = all(c.n_obs.get(t, 0) >= p.min_observations for t in present)",
+        "enough = True",
+        REID,
+    ),
+    # ---- 004 particle filters
+    Mutant(
+        "feet-no-repelling",
+        "004 Sec. 3 (repelling term)",
+        F,
+        "lik = lik * repelling(mids, est, p.sigma_repel)",
+        "lik = lik * 1.0",
+        PF,
+    ),
+    Mutant(
+        "feet-no-body-offset",
+        "004 eqs. 1-2 (body ahead of the feet midpoint)",
+        F,
+        "body = self.midpoints() + body_offset(st)",
+        "body = self.midpoints() + 0.0 * body_offset(st)",
+        PF,
+    ),
+    Mutant(
+        "eq1-feet-swapped",
+        "004 eq. 1 (left foot in the second half period)",
+        F,
+        "left = np.mod(g1, TWO_PI) > np.pi",
+        "left = np.mod(g1, TWO_PI) < np.pi",
+        PF,
+    ),
+    Mutant(
+        "eq2-sine",
+        "004 eq. 2 (s |cos g_t - cos g_t-1|)",
+        F,
+        "move = states[..., S] * np.abs(np.cos(g1) - np.cos(g0))",
+        "move = states[..., S] * np.abs(np.sin(g1) - np.sin(g0))",
+        PF,
+    ),
+    Mutant(
+        "eq3-kernel-width",
+        "004 eq. 3 (exp(-d^2 / (2 delta^2)))",
+        F,
+        "kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (delta * delta)))",
+        "kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-1.0 / (delta * delta)))",
+        PF,
+    ),
+    Mutant(
+        "eq4-no-floor",
+        "004 eq. 4 (max(., P_0))",
+        F,
+        "return np.asarray(np.maximum(total, p0), dtype=np.float64)",
+        "return np.asarray(total + 0.0 * p0, dtype=np.float64)",
+        PF,
+    ),
+    Mutant(
+        "eq6-sign",
+        "004 eq. 6 (s_d + s cos gamma)",
+        F,
+        "r = s_d + states[..., S] * np.cos(states[..., GAMMA])",
+        "r = s_d - states[..., S] * np.cos(states[..., GAMMA])",
+        PF,
+    ),
+    Mutant(
+        "eq7-no-stride",
+        "004 eq. 7 (o_l o_r o_b)",
+        F,
+        "return o_l * o_r * o_b",
+        "return o_l * o_r",
+        PF,
+    ),
+    Mutant(
+        "body-offset-formula",
+        "004 eqs. 1-2 (midpoint moves (s/2)(1 - cos phi))",
+        F,
+        "ahead = states[..., S] * (phi / np.pi - 0.5 * (1.0 - np.cos(phi)))",
+        "ahead = states[..., S] * (phi / np.pi - 1.0 * (1.0 - np.cos(phi)))",
+        PF,
+    ),
+    Mutant(
+        "eq8-sine",
+        "004 eq. 8 (x += cos theta v dt)",
+        U,
+        "out[..., X] += np.cos(states[..., THETA]) * step",
+        "out[..., X] += np.sin(states[..., THETA]) * step",
+        PF,
+    ),
+    Mutant(
+        "eq9-zeta",
+        "004 eq. 9 (exp(-d^2 / zeta^2))",
+        U,
+        "kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-1.0 / (zeta * zeta)))",
+        "kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (zeta * zeta)))",
+        PF,
+    ),
+    # ---- fit (000's counting of events) and mean shift (004)
+    Mutant(
+        "fit-ps-pg-swapped",
+        "000 Sec. 4.6 (p_S, p_G by counting events)",
+        "fitting/groups.py",
+        '{"p_c": counts.continued, "p_s": counts.split, "p_g": counts.merged}',
+        '{"p_c": counts.continued, "p_s": counts.merged, "p_g": counts.split}',
+        FIT,
+    ),
+    Mutant(
+        "mean-shift-merge-radius",
+        "004 Sec. 3 (modes within bandwidth / 2 are one cluster)",
+        "clustering/mean_shift.py",
+        "radius = bandwidth / 2.0 if merge_radius is None else merge_radius",
+        "radius = bandwidth / 1.5 if merge_radius is None else merge_radius",
+        MEAN_SHIFT,
+    ),
+)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What one run gave: "killed", "survived", "stale" or "error", and its seconds."""
+
+    name: str
+    result: str
+    seconds: float
+    detail: str = ""
+
+
+def _copy_tree(dest: Path) -> Path:
+    """A copy of the repository's src/, tests/, benchmarks/ and pyproject.toml under ``dest/repo``
+    (no ``shared`` beside it, so tests needing the real recordings skip)."""
+    repo = dest / "repo"
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".mypy_cache", ".ruff_cache")
+    shutil.copytree(REPO / "src", repo / "src", ignore=ignore)
+    shutil.copytree(REPO / "tests", repo / "tests", ignore=ignore)
+    shutil.copytree(REPO / "benchmarks", repo / "benchmarks", ignore=ignore)  # tests use some
+    shutil.copy2(REPO / "pyproject.toml", repo / "pyproject.toml")
+    return repo
+
+
+def _run_tests(repo: Path, tests: tuple[str, ...]) -> tuple[int, str]:
+    """pytest on ``tests`` (those that exist) in ``repo``, one file after the other until
+    one fails (so a killed mutant costs the collection of its first failing file only):
+    (return code, last line of the output)."""
+    here = [t for t in tests if (repo / t.split("::")[0]).exists()]
+    if not here:
+        return 5, "none of its test files exist"
+    env = {k: v for k, v in os.environ.items() if k != "LASERPEOPLE_SHARED_DATA"}
+    env["PYTHONPATH"] = str(repo / "src")
+    env["PYTHONDONTWRITEBYTECODE"] = "1"
+    tail = ""
+    for test in here:
+        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", test]
+        try:
+            done = subprocess.run(
+                cmd, cwd=repo, env=env, capture_output=True, text=True, timeout=TIMEOUT
+            )
+        except subprocess.TimeoutExpired:
+            return -1, f"{test} timed out after {TIMEOUT:.0f} s"
+        tail = f"{test}: " + (done.stdout.strip().splitlines() or [""])[-1]
+        if done.returncode not in (0, 5):  # 5: no test collected (all skipped is 0)
+            return done.returncode, tail
+    return 0, tail
+
+
+def run_mutant(m: Mutant) -> Outcome:
+    """Apply ``m`` to a fresh copy and run its tests."""
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix=f"mutant-{m.name}-") as tmp:
+        repo = _copy_tree(Path(tmp))
+        path = repo / "src" / "laserpeople" / m.path
+        text = path.read_text()
+        count = text.count(m.original)
+        if count != 1:
+            return Outcome(m.name, "stale", 0.0, f"snippet found {count} times in {m.path}")
+        path.write_text(text.replace(m.original, m.replacement))
+        code, tail = _run_tests(repo, m.tests)
+    seconds = time.perf_counter() - start
+    if code == 0:
+        return Outcome(m.name, "survived", seconds, tail)
+    if code == -1:
+        return Outcome(m.name, "killed", seconds, f"(tests timed out) {tail}")
+    if code == 1:
+        return Outcome(m.name, "killed", seconds, tail)
+    return Outcome(m.name, "error", seconds, f"pytest exit {code}: {tail}")
+
+
+def baseline(tests: tuple[str, ...]) -> tuple[int, str]:
+    """The tests of every selected mutant on the unmutated copy."""
+    with tempfile.TemporaryDirectory(prefix="mutant-baseline-") as tmp:
+        return _run_tests(_copy_tree(Path(tmp)), tests)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--jobs", type=int, default=1, help="mutants run at once")
+    ap.add_argument("--only", nargs="+", default=None, help="mutant names to run")
+    ap.add_argument("--list", action="store_true", help="list the mutants and exit")
+    ap.add_argument("--no-baseline", action="store_true", help="skip the unmutated run")
+    args = ap.parse_args(argv)
+    chosen = [m for m in MUTANTS if args.only is None or m.name in args.only]
+    if args.only is not None:
+        unknown = set(args.only) - {m.name for m in MUTANTS}
+        if unknown:
+            ap.error(f"unknown mutant(s): {', '.join(sorted(unknown))} (see --list)")
+    if args.list:
+        for m in chosen:
+            print(f"{m.name:34s} {m.paper:50s} {m.path}")
+        print(f"{len(chosen)} mutants")
+        return 0
+    if not args.no_baseline:
+        tests = tuple(sorted({t for m in chosen for t in m.tests}))
+        code, tail = baseline(tests)
+        print(f"baseline (unmutated): pytest exit {code}: {tail}", flush=True)
+        if code != 0:
+            print("the tests fail without a mutant: fix them first", file=sys.stderr)
+            return 2
+
+    def run_and_say(m: Mutant) -> Outcome:
+        o = run_mutant(m)
+        print(f"  {o.name}: {o.result} ({o.seconds:.0f} s) {o.detail}", flush=True)
+        return o
+
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        outcomes = list(pool.map(run_and_say, chosen))
+    width = max(len(m.name) for m in chosen)
+    print(f"{'mutant':{width}s}  {'paper':46s}  {'result':8s}  {'s':>6s}")
+    for m, o in zip(chosen, outcomes, strict=True):
+        print(f"{m.name:{width}s}  {m.paper[:46]:46s}  {o.result:8s}  {o.seconds:6.1f}")
+    for o in outcomes:
+        if o.result in ("stale", "error"):
+            print(f"  {o.name}: {o.detail}")
+    counts = {r: sum(o.result == r for o in outcomes) for r in ("killed", "survived")}
+    others = len(outcomes) - counts["killed"] - counts["survived"]
+    print(
+        f"{counts['killed']} killed, {counts['survived']} survived, {others} stale or error "
+        f"of {len(outcomes)} mutants"
+    )
+    return 0 if counts["killed"] == len(outcomes) else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -43,13 +43,11 @@ an existence score:
   a place that was static more than ``arrival_slack`` longer than the person has been
   there (a track that slid onto furniture it passed).
 
-- **Moving robot (issue 29).** On a robot that has moved, tracked in the world frame (the
-  caller sets :attr:`PersonTracker.moving` and the scan's :attr:`PersonTracker.view`), a
-  single free detected leg gives birth to a candidate, and one leg whose own track moves
-  consistently (:func:`moves_consistently`) counts as the evidence of both
-  (``one_leg_birth``); a scan without a member leg lowers the score only where the lasers
-  see the person's place empty (``miss_only_if_empty``, :mod:`laserpeople.tracking.visibility`).
-  A static laser and a sensor-frame run keep the rules above unchanged.
+- **Moving robot.** On a robot that has moved, tracked in the world frame (the caller sets
+  :attr:`PersonTracker.moving`), a single free detected leg gives birth to a candidate,
+  and one leg whose own track moves consistently (:func:`moves_consistently`) counts as
+  the evidence of both (``one_leg_birth``). A static laser and a sensor-frame run keep the
+  rules above unchanged.
 
 - **Re-identification.** A confirmed person deleted after ``max_coast`` stays a dormant
   identity with its leg-width signature for ``reid.max_dormant`` seconds; a person confirmed
@@ -81,14 +79,7 @@ from laserpeople.tracking.reidentify import (
     Signature,
     leg_width,
 )
-from laserpeople.tracking.visibility import (
-    EMPTY,
-    OCCLUDED,
-    OCCUPIED,
-    OUTSIDE,
-    SensorView,
-    ViewParams,
-)
+from laserpeople.tracking.robot_motion import MotionParams
 from laserpeople.tracks import Track
 
 FloatArray = NDArray[np.float64]
@@ -271,11 +262,10 @@ class PersonTrackParams:
         "re-identification of people lost for long (tracking/reidentify.py)",
     )
 
-    view: ViewParams = param(  # noqa: RUF009 (a frozen default instance)
-        ViewParams(),
-        "nested table people.view.*",
-        "when a person's place is seen empty by the lasers (tracking/visibility.py; "
-        "miss_only_if_empty)",
+    motion: MotionParams = param(  # noqa: RUF009 (a frozen default instance)
+        MotionParams(),
+        "nested table people.motion.*",
+        "when the lasers count as riding on a moving robot (tracking/robot_motion.py)",
     )
 
     static_legs: bool = param(
@@ -297,24 +287,18 @@ class PersonTrackParams:
     )
     one_leg_birth: bool = param(
         True,
-        "issue 29: from a moving robot at 3-7 m the 0.35 deg laser puts few beams on a leg, "
-        "the legs merge or hide each other. Real lobby recording (dev part): recall 0.018 -> "
-        "0.246, false positives 5 -> 23 (most of them unlabelled real people); held-back "
-        "seeds 100-119 MOTA / IDF1: moving-robot 0.417 / 0.534 -> 0.452 / 0.558, randomised "
-        "0.336 / 0.413 -> 0.343 / 0.412 (static s/scene 6.7 -> 8.4), furniture-only static "
-        "s/scene 4.9 -> 6.4 (docs/moving-robot.md)",
+        "measured (docs/moving-robot.md): real lobby recall 0.018 -> 0.246; held-back "
+        "moving-robot MOTA 0.417 -> 0.452",
         "a single free detected leg with a detector score above one_leg_min_score, farther "
         "than pair_distance from every person, gives birth to a person candidate, and a "
         "person seen by one leg that moves consistently (moving_time, moving_speed, "
         "moving_straightness) gains existence as from both legs; on a moving robot tracked "
-        "in the world frame only (tracking/visibility.py MotionWatch)",
+        "in the world frame only (tracking/robot_motion.py)",
     )
     one_leg_min_score: float = param(
         0.0,
-        "issue 29, real lobby recording (dev part): legs of people at 3-7 m had AdaBoost "
-        "margins 0.01-1.6, half below 0.5; 0.5 -> 0.0: recall 0.105 -> 0.246, false "
-        "positives 17 -> 23 (the added ones real, unlabelled people). The evidence that "
-        "tells people from clutter is the consistent motion",
+        "measured (docs/moving-robot.md): real lobby recall 0.105 at 0.5 -> 0.246 at 0.0 "
+        "(legs at 3-7 m score 0.01-1.6)",
         "detector score above which a single leg gives birth to a person candidate and "
         "counts as moving evidence",
     )
@@ -337,17 +321,6 @@ class PersonTrackParams:
         "assumption: a walker's path over half a second is nearly straight; jitter on "
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
-    )
-    miss_only_if_empty: bool = param(
-        False,
-        "issue 29 (000 Sec. 3.3.1: an occluded leg is not a deleted one): at 4-7 m the "
-        "detector finds a walker's leg in about every other scan of the real lobby "
-        "recording, and in the others the laser gets no return from there or one from the "
-        "person itself",
-        "a person with no member leg detected counts as unseen (evidence none) only where "
-        "the lasers see its place empty (tracking/visibility.py); occupied, occluded, "
-        "outside the view or without returns, the scan counts as one-leg evidence (neutral; "
-        "false: none, as before; without a view: none)",
     )
     arrival_slack: float = param(
         2.0,
@@ -552,9 +525,6 @@ class PersonTracker:
         """Static time [s] of the people's positions asked in this scan (by person id)."""
         self.reid = Reidentifier(params.reid)
         """Dormant identities of deleted people, given back to people who return."""
-        self.view: SensorView | None = None
-        """What the lasers see at the next update (set by the caller before each update;
-        None: unknown, every person unseen coasts)."""
         self.moving = False
         """The lasers ride on a robot that has moved, and the tracking frame is the world
         (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
@@ -639,37 +609,6 @@ class PersonTracker:
                 continue
             person.members.append(leg.track_id)
             owned.add(leg.track_id)
-
-    def _seen_as(
-        self, people: Sequence[PersonTrack], legs: Mapping[int, LegObservation]
-    ) -> list[int]:
-        """What the lasers see of each person's place (tracking/visibility.py): its
-        predicted position and its member legs' (the leg tracks predict on their own; a
-        young person's velocity is still poor). OCCUPIED when any of them is occupied,
-        EMPTY when all are empty, else OCCLUDED when any is occluded, else OUTSIDE (all
-        OUTSIDE without a view)."""
-        if self.view is None:
-            return [OUTSIDE] * len(people)
-        places: list[FloatArray] = []
-        owner: list[int] = []
-        for i, q in enumerate(people):
-            places.append(q.mean[:2])
-            owner.append(i)
-            for m in q.members:
-                places.append(legs[m].position)
-                owner.append(i)
-        codes: list[set[int]] = [set() for _ in people]
-        for i, code in zip(owner, self.view.classify(np.array(places)).tolist(), strict=True):
-            codes[i].add(code)
-        out = []
-        for c in codes:
-            if OCCUPIED in c:
-                out.append(OCCUPIED)
-            elif c == {EMPTY}:
-                out.append(EMPTY)
-            else:
-                out.append(OCCLUDED if OCCLUDED in c else OUTSIDE)
-        return out
 
     def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         """Append this scan's detected legs to their paths; forget legs no longer tracked."""
@@ -778,16 +717,12 @@ class PersonTracker:
         p = self.params
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
         steps = self._llr_steps
-        unseen: list[PersonTrack] = []
         one_leg = self._one_leg_on()
         for person in self.persons.values():
             evidence, z, std = self._measure(person, legs)
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
-            if z is None:
-                unseen.append(person)  # (its score is updated below, knowing the view)
-            else:
-                person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
+            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -795,12 +730,6 @@ class PersonTracker:
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
-        if unseen:
-            seen_as = self._seen_as(unseen, legs)
-            for q, what in zip(unseen, seen_as, strict=True):
-                neutral = p.miss_only_if_empty and self.view is not None and what != EMPTY
-                evidence = ONE if neutral else NONE
-                q.llr = min(max(q.llr + steps[evidence], p.llr_min), p.llr_max)
         if rows:
             var = np.array([r[2] ** 2 for r in rows])
             meas_covs = np.zeros((len(rows), 2, 2))

@@ -23,7 +23,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.tracking.point_guard import GuardedTracker
-from laserpeople.tracking.visibility import MotionWatch, view_of_frame
+from laserpeople.tracking.robot_motion import MotionWatch
 from laserpeople.tracks import Detections, Tracks
 
 
@@ -77,31 +77,24 @@ class LegsAdapter:
 class LegMHTAdapter(LegsAdapter):
     """The leg MHT as a frame tracker that also asks a static world model (the pipeline
     feeds the model each frame before :meth:`update`; people policy ``tracks`` only), and
-    whose person layer is told what the lasers of each frame see
-    (:class:`~laserpeople.tracking.visibility.SensorView`; people policy ``tracks``)."""
+    whose person layer is told whether the lasers ride on a robot that has moved
+    (:class:`~laserpeople.tracking.robot_motion.MotionWatch`; people policy ``tracks``)."""
 
     def __init__(self, tracker: DetectionsTracker) -> None:
         super().__init__(tracker)
         self._watch: MotionWatch | None = None
 
     def update(self, frame: Frame) -> Tracks:
-        """Track the legs of ``frame``; on a moving robot tracked in the world frame the
-        person layer knows the frame's view (none otherwise: in a sensor-frame run the
-        tracks are not predicted with the robot's motion, and a static laser keeps the
-        person layer as it was before issue 29)."""
+        """Track the legs of ``frame``; the person layer is told when the robot has moved in
+        a world-frame run (never in a sensor-frame run, whose tracks are not predicted with
+        the robot's motion, nor for a static laser: both keep the person layer's rules for
+        a still laser)."""
         people = getattr(self.tracker, "person_tracks", None)
         if people is not None:
             if self._watch is None:
-                self._watch = MotionWatch(people.params.view)
+                self._watch = MotionWatch(people.params.motion)
             world = frame.frame == "world" and bool(frame.scans)
-            moving = world and self._watch(frame.sensor_pose)
-            posed = all(s.pose is not None for s in frame.scans)
-            people.moving = moving
-            people.view = (
-                view_of_frame(frame.scans, frame.frame, people.params.view)
-                if moving and posed
-                else None
-            )
+            people.moving = world and self._watch(frame.sensor_pose)
         return super().update(frame)
 
     @property

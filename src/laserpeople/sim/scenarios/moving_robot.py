@@ -1,4 +1,4 @@
-"""A robot driving down a hallway into a lobby among people (issue 29): the seed draws all.
+"""A robot driving down a hallway into a lobby among people: the seed draws all.
 
 Modelled on the leg_tracker benchmark recording ``general_tracking_moving_1`` (Leigh et al.
 2015: a robot driving through the hallways and the lobby of a building). Per seed:
@@ -273,7 +273,7 @@ def moving_robot_scene(
     "moving-robot",
     "a robot driving down a hallway into a lobby; people walk towards it, overtake it, "
     "stand in groups (the seed draws all; tune on seeds 0-9, seeds 100-119 are held back)",
-    "issue 29",
+    "the leg_tracker benchmark's moving-robot recording (docs/moving-robot.md)",
     40.0,
 )
 def _moving_robot(rng: np.random.Generator, duration: float) -> Scene:

@@ -24,7 +24,7 @@ tracks on static places reported (``static_tracks.hide`` false, the papers) and 
 
     PYTHONPATH=src .venv/bin/python benchmarks/real_people.py [--policies arras tracks
         tracks-noreid]
-        [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups [--walkers]]
+        [--backgrounds none auto] [--bags demo mir mir-all corridor] [--groups]
         [--trackers csa feet-pf upper-body-pf] [--config params.toml]
 """
 
@@ -141,28 +141,25 @@ def track_all(pipe: Pipeline) -> tuple[list[Tracks], float]:
     return out, 1e3 * (time.process_time() - t0) / max(len(out), 1)
 
 
-def run_groups(key: str, static_groups: bool, walk: float, walkers: bool = False) -> RealCount:
+def run_groups(key: str, static_groups: bool, walk: float) -> RealCount:
     """Track one recording's groups through the pipeline (``--tracker group-mht``)."""
     bag, topics, mounts = BAGS[key]
-    params = replace(GroupTrackerParams(), static_groups=static_groups, walkers=walkers)
+    params = replace(GroupTrackerParams(), static_groups=static_groups)
     tracker = registry.get("group-mht").make(params)
     out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
     return replace(count(out, walk, kind="group"), ms=ms)
 
 
-def main_groups(bags: list[str], walk: float, walkers: bool) -> None:
-    """The group table (``--groups``; ``--walkers``: the default static_groups with the
-    walkers off and on instead of static_groups true and false)."""
-    settings = [(False, False), (False, True)] if walkers else [(True, False), (False, False)]
+def main_groups(bags: list[str], walk: float) -> None:
+    """The group table (``--groups``): static_groups true and false."""
     print(
-        "bag      static_groups/walkers  ids  walkers  short  group-s  walker-s  static-s  gaps  "
-        "ms/frame"
+        "bag      static_groups  ids  walkers  short  group-s  walker-s  static-s  gaps  ms/frame"
     )
     for key in bags:
-        for static_groups, on in settings:
-            c = run_groups(key, static_groups, walk, on)
+        for static_groups in (True, False):
+            c = run_groups(key, static_groups, walk)
             print(
-                f"{key:8s} {static_groups!s:6s}/{on!s:14s} {c.ids:4d} {c.walker_ids:8d} "
+                f"{key:8s} {static_groups!s:13s} {c.ids:4d} {c.walker_ids:8d} "
                 f"{c.short_ids:6d} "
                 f"{c.person_seconds:8.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "
                 f"{c.gaps:5d} {c.ms:8.2f}",
@@ -263,7 +260,6 @@ def main() -> None:
     ap.add_argument("--backgrounds", nargs="+", default=["none", "auto"])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
-    ap.add_argument("--walkers", action="store_true", help="with --groups: the walkers off and on")
     ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section the leg MHT uses")
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
@@ -273,7 +269,7 @@ def main() -> None:
         main_trackers(args.bags, args.trackers, args.walk)
         return
     if args.groups:
-        main_groups(args.bags, args.walk, args.walkers)
+        main_groups(args.bags, args.walk)
         return
     print(
         "bag      policy        background  ids  walkers  person-s  walker-s  static-s  gaps  "

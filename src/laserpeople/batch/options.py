@@ -34,6 +34,8 @@ class TrackOptions:
     Attributes:
         tracker: Registered tracker name (``leg-mht``, ``nn``, ``group-mht``, ``csa``,
             ``feet-pf``, ``upper-body-pf``).
+        preset: ``paper``: every parameter section starts from the papers' values
+            (``--preset``, :data:`laserpeople.config.PRESETS`), before ``config``.
         config: TOML file with tracker, detector and static world parameters (None:
             defaults).
         topics: ``()`` tracks every laser topic on its own (one tracks file per topic);
@@ -55,6 +57,7 @@ class TrackOptions:
 
     tracker: str = "leg-mht"
     config: Path | None = None
+    preset: str | None = None
     topics: tuple[str, ...] = ()
     detector: str = "adaboost"
     model: Path | None = None
@@ -144,7 +147,7 @@ def resolve(
         )
 
     def load(cls: type) -> Any:
-        obj: Any = load_config(cls, options.config)
+        obj: Any = load_config(cls, options.config, options.preset)
         values = overrides.get(section_name(cls))
         if not values:
             return obj

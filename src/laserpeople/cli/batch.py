@@ -8,7 +8,14 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import MountOption, OnErrorOption, WorldFrameOption, console, say
+from laserpeople.cli.common import (
+    MountOption,
+    OnErrorOption,
+    PresetOption,
+    WorldFrameOption,
+    console,
+    say,
+)
 from laserpeople.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -128,6 +135,7 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--config", help="TOML file with tracker and detector parameters."),
         ] = None,
+        preset: PresetOption = None,
         topic: Annotated[
             list[str] | None,
             typer.Option(
@@ -219,6 +227,7 @@ def register(app: typer.Typer) -> None:
         options = TrackOptions(
             tracker=tracker,
             config=config,
+            preset=preset,
             topics=parse_topics(topic, topics),
             detector=detector,
             model=model,

@@ -7,7 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import MountOption, WorldFrameOption, say, warn
+from laserpeople.cli.common import MountOption, PresetOption, WorldFrameOption, say, warn
 from laserpeople.cli.track import TopicOption, make_detector
 from laserpeople.errors import ConfigError
 
@@ -56,6 +56,7 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--config", help="TOML file with tracker and detector parameters."),
         ] = None,
+        preset: PresetOption = None,
         detector: Annotated[
             str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
         ] = "adaboost",
@@ -245,7 +246,7 @@ def register(app: typer.Typer) -> None:
                 tracker_param_classes(),
             ),
         )  # fmt: skip
-        params: Any = load_config(entry.params_cls, config)
+        params: Any = load_config(entry.params_cls, config, preset)
         if people_policy is not None:
             params = registry.with_people_policy(params, people_policy, tracker)
         from laserpeople.io.poses import parse_mounts

@@ -35,6 +35,7 @@ INPUTS = {
     ("track", "config"),
     ("track", "model"),
     ("track", "map_path"),
+    ("track", "mounts"),
     ("evaluate", "tracks_args"),
     ("fit", "recordings"),
     ("fit", "config"),
@@ -107,6 +108,8 @@ BASE: dict[str, list[str]] = {
         "{model}",
         "--map",
         "{map_path}",
+        "--mounts",
+        "{mounts}",
     ],
     "evaluate": ["{tracks_args}", "--truth", "{truth}", "--per-frame", "{per_frame}"],
     "fit": ["{recordings}", "--truth", "{truth}", "-o", "{output}", "--config", "{config}"],
@@ -187,6 +190,10 @@ def inputs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     default_model().save(files["model"])
     files["config"] = d / "config.toml"
     files["config"].write_text("", encoding="utf-8")
+    files["mounts"] = d / "mounts.toml"
+    files["mounts"].write_text(
+        '[mounts]\nlaser = { parent = "base", x = 0.1, y = 0.0, theta = 0.0 }\n', encoding="utf-8"
+    )
     files["sweep"] = d / "sweep.toml"
     files["sweep"].write_text("", encoding="utf-8")
     shutil.copytree(here / "map_resolution", d / "map")

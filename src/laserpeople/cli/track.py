@@ -498,7 +498,9 @@ def register(app: typer.Typer) -> None:
         colour = appearance_choice(tracker, appearance, reidentify)
         from laserpeople.io.paths import check_outputs
 
-        check_outputs({"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [model])
+        check_outputs(
+            {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [model, mounts]
+        )
         det = make_detector(detector, model, config)
         stats = run_tracking(
             recording,

@@ -147,9 +147,7 @@ class OccupancyParams:
     )
     first_sight_hold: float = param(
         6.0,
-        "measured: longer than a walker's footprint stays occupied (0.6 s stance + 1.8 s "
-        "fall); a person standing from the start is lost after it: demo seeds 0-4 MOTA "
-        "0.774 with 3 s, 0.865 with 6 s; real MiR static person-s 7.7 (3 s), 10.7 (6 s)",
+        "measured (docs/people-benchmarks.md): demo seeds 0-4 MOTA 0.774 with 3 s, 0.865 with 6 s",
         "a cell occupied at first sight and held this long counts as static since before "
         "it was seen",
         "s",

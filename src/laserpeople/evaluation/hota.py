@@ -63,8 +63,8 @@ class HotaParams:
 
     zero_distance: float = param(
         1.5,
-        "issue 32: 2 x the 0.75 m CLEAR MOT gate of issue 3, so alpha = 0.5 is the gate "
-        "(as TrackEval's MOT15_3D: zero_distance 2 m for a 1 m gate)",
+        "assumption: 2 x the 0.75 m CLEAR MOT gate, so alpha = 0.5 is the gate (as TrackEval's "
+        "MOT15_3D; docs/batch.md)",
         "distance d0 at which the similarity S = max(0, 1 - d / d0) reaches 0",
         "m",
     )
@@ -73,7 +73,11 @@ class HotaParams:
         "Luiten et al. 2021 Sec. 5 (0.05, 0.10, ..., 0.95)",
         "similarity thresholds alpha that HOTA, DetA, AssA and LocA are averaged over",
     )
-    kind: str = param("person", "issue 3", "track kind compared with the people of the truth")
+    kind: str = param(
+        "person",
+        "assumption: people are what the benchmarks label",
+        "track kind compared with the people of the truth",
+    )
 
     def __post_init__(self) -> None:
         if not (self.zero_distance > 0.0):

@@ -22,7 +22,7 @@ class EvaluationParams:
 
     gate: float = param(
         0.75,
-        "issue 3 (project default; CLEAR MOT threshold T)",
+        "the leg_tracker benchmark's scorer (0.75 m; docs/evaluation.md)",
         "largest truth-to-track distance that still counts as a match (CLEAR MOT, IDF1)",
         "m",
     )
@@ -34,7 +34,7 @@ class EvaluationParams:
     )
     kind: str = param(
         "person",
-        "issue 3",
+        "assumption: people are what the benchmarks label",
         "track kind that is compared with the people of the ground truth",
     )
 

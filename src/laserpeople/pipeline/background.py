@@ -85,8 +85,8 @@ class SensorMotionParams:
 
     moved_share: float = param(
         0.5,
-        "measured: median unexplained share <= 0.27 (90th pct.) on three static real lasers, "
-        ">= 0.75 (10th pct.) on the real person-following robot",
+        "measured (docs/people-benchmarks.md): <= 0.27 on three still real lasers, >= 0.75 on "
+        "the moving one",
         "a laser whose returns are this much off its learned per-beam ranges moves",
     )
     window: float = param(
@@ -98,8 +98,8 @@ class SensorMotionParams:
 
     still_seconds: float = param(
         10.0,
-        "measured: the real person-following robot is found moving 5.5 s after the 2 s of "
-        "learning; a person it follows must not look static before that",
+        "measured (docs/people-benchmarks.md): the real following robot is found moving 5.5 s "
+        "after learning",
         "the model answers (static times above 0) only once the laser has been seen still "
         "this long after learning",
         "s",

@@ -93,9 +93,8 @@ class LegForegroundParams:
     )
     min_score: float = param(
         0.0,
-        "the detector's own threshold (000 Table 1: score above 0); measured: 0.4 helps csa "
-        "on simulated moving robots but lowers its identity recall on the real "
-        "person-following robot (0.367 -> 0.322)",
+        "000 Table 1 (score above 0); measured (docs/people-benchmarks.md): 0.4 lowers csa on "
+        "the real following robot",
         "only leg detections scoring above this keep points (AdaBoost margin; with the "
         "detector's [leg_detector] score_threshold lowered, lower this too)",
     )

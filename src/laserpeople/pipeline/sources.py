@@ -51,10 +51,8 @@ class GroupingParams:
     )
     period_fraction: float = param(
         0.6,
-        "measured: the MiR bag's back laser runs 30-43 ms after the front one (12.7 Hz, "
-        "period 79 ms): 0.5 of the period left 3 of 737 frames without it, 0.6 none; "
-        "negative_2.bag (3 lasers, 7.5 Hz): 0.05 s left /right_scan out of 8 of 435 "
-        "frames, 0.6 of the period out of 1",
+        "measured (docs/recording.md): MiR back laser 30-43 ms after the front one; 0.6 of the "
+        "period leaves no frame without it",
         "with tolerance 0: the tolerance as a fraction of the reference laser's median "
         "scan period (over its last 20 scans)",
     )

@@ -93,8 +93,8 @@ class StaticTrackParams:
     )
     stand_time: float = param(
         10.0,
-        "measured: on the simulated entrance hall, people standing in a meeting (4-10 s) "
-        "on places the grid counts static from first sight (occluded by the crowd before)",
+        "measured (docs/people-benchmarks.md): people standing 4-10 s in a meeting in the "
+        "simulated entrance hall",
         "a track is hidden only once tracks have stood on its static place this long",
         "s",
     )

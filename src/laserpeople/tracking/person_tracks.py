@@ -227,7 +227,7 @@ class PersonTrackParams:
     )
     max_coast: float = param(
         4.0,
-        "issue 10: the same id through occlusions of several seconds",
+        "assumption: the same id through occlusions of several seconds (docs/people-benchmarks.md)",
         "a person with no member leg detected for longer is deleted",
         "s",
     )

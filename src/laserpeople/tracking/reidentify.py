@@ -75,7 +75,8 @@ class ReidentifyParams:
 
     enabled: bool = param(
         True,
-        "issue 10: a followed person who leaves the view for 86 s comes back as a new id",
+        "measured (docs/people-benchmarks.md): the real followed person leaves the view for 86 "
+        "s; identity recall 0.66 -> 0.98",
         "keep deleted people as dormant identities and give them back to people who return",
     )
     max_dormant: float = param(
@@ -109,8 +110,7 @@ class ReidentifyParams:
     )
     population_std: float = param(
         0.02,
-        "real person-following recording (leg_tracker benchmark): median leg widths of five "
-        "people 0.138-0.166 m; the issue's randomised legs 0.10-0.18 m wide",
+        "measured (docs/people-benchmarks.md): median leg widths of five real people 0.138-0.166 m",
         "spread of mean leg widths between people",
         "m",
     )

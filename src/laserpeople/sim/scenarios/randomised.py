@@ -64,8 +64,15 @@ class RandomisedParams:
 
     config_section = "sim_randomised"
 
-    leg_radius_min: float = param(0.05, "issue 10", "smallest leg radius", "m")
-    leg_radius_max: float = param(0.09, "issue 10", "largest leg radius", "m")
+    leg_radius_min: float = param(
+        0.05,
+        "assumption: legs 0.10-0.18 m wide (docs/people-benchmarks.md)",
+        "smallest leg radius",
+        "m",
+    )
+    leg_radius_max: float = param(
+        0.09, "assumption (docs/people-benchmarks.md)", "largest leg radius", "m"
+    )
     hip_half_width_min: float = param(
         0.08,
         "assumed (feet close together); never less than the leg radius + 1.5 cm",
@@ -84,10 +91,18 @@ class RandomisedParams:
         1.25, "assumed", "largest factor on the default cadence law", ""
     )
     people_max: int = param(6, "assumed", "most people in a scene (at least 1)")
-    resolution_min_deg: float = param(0.25, "issue 10", "finest scanner resolution", "deg")
-    resolution_max_deg: float = param(1.0, "issue 10", "coarsest scanner resolution", "deg")
-    fov_min_deg: float = param(180.0, "issue 10", "narrowest field of view", "deg")
-    fov_max_deg: float = param(360.0, "issue 10", "widest field of view", "deg")
+    resolution_min_deg: float = param(
+        0.25, "assumption (docs/people-benchmarks.md)", "finest scanner resolution", "deg"
+    )
+    resolution_max_deg: float = param(
+        1.0, "assumption (docs/people-benchmarks.md)", "coarsest scanner resolution", "deg"
+    )
+    fov_min_deg: float = param(
+        180.0, "assumption (docs/people-benchmarks.md)", "narrowest field of view", "deg"
+    )
+    fov_max_deg: float = param(
+        360.0, "assumption (docs/people-benchmarks.md)", "widest field of view", "deg"
+    )
     height_min: float = param(0.1, "assumed (leg height)", "lowest scanner mounting", "m")
     height_max: float = param(0.35, "assumed (leg height)", "highest scanner mounting", "m")
     rate_hz: tuple[float, ...] = param(
@@ -446,7 +461,7 @@ def randomised_scene(
     "randomised",
     "randomised room, clutter, scanner model, robot and 1-6 people (the seed draws all; "
     "tune on seeds 0-49, seeds 100-119 are held back)",
-    "issue 10",
+    "docs/people-benchmarks.md",
     30.0,
 )
 def _randomised(rng: np.random.Generator, duration: float) -> Scene:

@@ -116,16 +116,16 @@ class MHTParams:
     )
     max_cluster_size: int = param(
         200,
-        "issue 16 (bounded work per scan; assumption: ~3x the largest cluster measured, 72 "
-        "items on the simulated 60-s entrance hall, 43 on narrow-corridor, 50 on demo)",
+        "assumption: ~3x the largest cluster measured (72 items, simulated entrance hall; "
+        "docs/speed.md)",
         "a cluster with more tracks plus measurements is degraded: only its best parent "
         "hypothesis is extended, by its best matching of tracks and measurements (one "
         "assignment problem) with the k best labellings of what it leaves unmatched",
     )
     max_assignment_solves: int = param(
         2000,
-        "issue 16 (bounded work per scan; assumption: ~3x the most measured in one scan, 640 "
-        "on the simulated entrance hall, 221 on demo)",
+        "assumption: ~3x the most solves measured in one scan (640, simulated entrance hall; "
+        "docs/speed.md)",
         "assignment problems (Murty subproblems) solved per cluster and scan at most; "
         "then the children found so far are kept and the cluster counts as degraded",
     )

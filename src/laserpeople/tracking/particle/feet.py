@@ -87,7 +87,9 @@ class FeetParams:
     )
 
     particles: int = param(
-        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+        500,
+        "assumption: 500 particles per filter meets the speed target (docs/schenk-tables.md)",
+        "particles per filter",
     )
     delta: float = param(
         0.06, "assumed (Shao et al.'s value not in 004)", "sigma of the foot kernels, eqs. 3-4", "m"
@@ -176,9 +178,8 @@ class FeetParams:
     )
     object_memory: float = param(
         0.0,
-        "off: measured worse at feet height (cart, seeds 200-203: MOTP 0.35 without, 0.16 "
-        "with 1 s), because the pusher's leading foot touches the cart and its steps were "
-        "remembered as cart, so they no longer refreshed the pusher's filter",
+        "measured (docs/schenk-tables.md): off, cart seeds 200-203 MOTP 0.35 without, 0.16 with "
+        "1 s",
         "how long the pieces of an object last seen too big (max_eigenvalue) start no "
         "filter (objects.ObjectMemory); 0 disables",
         "s",

@@ -67,7 +67,9 @@ class UpperBodyParams:
     )
 
     particles: int = param(
-        500, "issue 14 (speed target: 500 particles per filter)", "particles per filter"
+        500,
+        "assumption: 500 particles per filter meets the speed target (docs/schenk-tables.md)",
+        "particles per filter",
     )
     zeta: float = param(0.25, "assumed (004 eq. 9 gives no value)", "zeta of eq. 9", "m")
     bandwidth: float = param(0.35, "assumed", "mean-shift bandwidth for detection", "m")

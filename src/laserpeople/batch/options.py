@@ -48,7 +48,8 @@ class TrackOptions:
         mounts: Laser mounts missing from a bag's tf (``CHILD=PARENT:x,y,theta``, ``mir100``).
         people_policy: leg-mht person layer (``tracks`` or ``arras``; None: the config's).
         background: Static world model (``auto``, ``histogram``, ``occupancy``, ``none``).
-        map_path: ROS map.yaml seeding the occupancy grid.
+        map_path: ROS map.yaml, or ``BAG:/topic`` of a ``nav_msgs/OccupancyGrid``, seeding
+            the occupancy grid.
         reidentify: Colour re-identification (simulated recordings with truth only).
         on_error: A damaged scan: ``stop`` (the recording fails) or ``skip``.
         restamp: Track at this fixed scan rate [Hz] instead of the recorded stamps.
@@ -204,10 +205,25 @@ def _options_text(options: TrackOptions) -> str:
         if name == "config":
             continue
         value = getattr(options, name)
-        if isinstance(value, Path):
+        if name == "map_path" and value is not None:
+            value = _map_text(value)
+        elif isinstance(value, Path):
             value = f"{value.name} sha256:{content_hash(value)}"
         lines.append(f"{name} = {value!r}")
     return "\n".join(lines) + "\n"
+
+
+def _map_text(spec: Path) -> str:
+    """A ``--map`` for the configuration hash: the bag's content hash and topic for
+    ``BAG:/topic``, else the content hashes of ``map.yaml`` and the image it names."""
+    from laserpeople.background.bag_map import split_bag_spec
+    from laserpeople.background.occupancy import map_files
+    from laserpeople.batch.hashing import content_hash
+
+    bag = split_bag_spec(spec)
+    if bag is not None:
+        return f"{bag[0].name}:{bag[1]} sha256:{content_hash(bag[0])}"
+    return " ".join(f"{f.name} sha256:{content_hash(f)}" for f in map_files(spec))
 
 
 def parse_topics(topic: Sequence[str] | None, topics: str | None) -> tuple[str, ...]:

@@ -9,9 +9,17 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from laserpeople.cli.common import (
+    BackgroundOption,
+    ConfigOption,
+    DetectorOption,
+    MapOption,
+    ModelOption,
     MountOption,
     OnErrorOption,
+    OutputFrameOption,
+    PeoplePolicyOption,
     PresetOption,
+    RestampOption,
     WorldFrameOption,
     console,
     say,
@@ -131,10 +139,7 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option("--tracker", help="Tracker (as `track`): leg-mht, nn, group-mht, ..."),
         ] = "leg-mht",
-        config: Annotated[
-            Path | None,
-            typer.Option("--config", help="TOML file with tracker and detector parameters."),
-        ] = None,
+        config: ConfigOption = None,
         preset: PresetOption = None,
         topic: Annotated[
             list[str] | None,
@@ -151,36 +156,20 @@ def register(app: typer.Typer) -> None:
                 "--topics", help="all: fuse every laser topic; each (default): one run per topic."
             ),
         ] = None,
-        detector: Annotated[
-            str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
-        ] = "adaboost",
-        model: Annotated[
-            Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
-        ] = None,
-        output_frame: Annotated[
-            str | None, typer.Option("--output-frame", help="sensor or world (as `track`).")
-        ] = None,
+        detector: DetectorOption = "adaboost",
+        model: ModelOption = None,
+        output_frame: OutputFrameOption = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
-        people_policy: Annotated[
-            str | None, typer.Option("--people-policy", help="leg-mht: tracks or arras.")
-        ] = None,
-        background: Annotated[
-            str,
-            typer.Option("--background", help="auto, histogram, occupancy or none (as `track`)."),
-        ] = "auto",
-        map_path: Annotated[
-            Path | None, typer.Option("--map", help="ROS map.yaml seeding the occupancy grid.")
-        ] = None,
+        people_policy: PeoplePolicyOption = None,
+        background: BackgroundOption = "auto",
+        map_path: MapOption = None,
         reidentify: Annotated[
             str | None,
             typer.Option("--reidentify", help="colour: re-identify by clothing colour."),
         ] = None,
         on_error: OnErrorOption = "stop",
-        restamp: Annotated[
-            float | None,
-            typer.Option("--restamp", metavar="HZ", help="Track at this fixed scan rate [Hz]."),
-        ] = None,
+        restamp: RestampOption = None,
         fmt: Annotated[
             str, typer.Option("--format", help="Tracks files: csv (as `track`) or parquet.")
         ] = "csv",

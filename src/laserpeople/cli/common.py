@@ -64,6 +64,77 @@ PresetOption = Annotated[
 """The ``--preset`` option (:data:`laserpeople.config.PRESETS`)."""
 
 
+ConfigOption = Annotated[
+    Path | None,
+    typer.Option("--config", help="TOML file with tracker and detector parameters."),
+]
+"""The ``--config`` option: a TOML file of parameter sections (``--print-config`` shows them)."""
+
+DetectorOption = Annotated[
+    str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
+]
+"""The ``--detector`` option."""
+
+ModelOption = Annotated[
+    Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
+]
+"""The ``--model`` option: an AdaBoost leg model written by ``laserpeople train``."""
+
+OutputFrameOption = Annotated[
+    str | None,
+    typer.Option(
+        "--output-frame",
+        help="Frame of the written positions: sensor or world (default: the "
+        "tracking frame, world when the recording has sensor poses).",
+    ),
+]
+"""The ``--output-frame`` option."""
+
+PeoplePolicyOption = Annotated[
+    str | None,
+    typer.Option(
+        "--people-policy",
+        help="leg-mht person layer: tracks (default; people as tracks of their own) "
+        "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
+    ),
+]
+"""The ``--people-policy`` option of the leg MHT."""
+
+BackgroundOption = Annotated[
+    str,
+    typer.Option(
+        "--background",
+        help="Static world model, which tells people from furniture: auto (a "
+        "histogram per beam while the lasers stand still, an occupancy grid once "
+        "they move), histogram, occupancy or none.",
+    ),
+]
+"""The ``--background`` option (default ``auto``)."""
+
+MapOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--map",
+        help="Map seeding the occupancy grid (world frame only): a ROS map.yaml, or "
+        "BAG:/topic for a nav_msgs/OccupancyGrid in a bag (e.g. the recording's "
+        "own /map).",
+    ),
+]
+"""The ``--map`` option."""
+
+RestampOption = Annotated[
+    float | None,
+    typer.Option(
+        "--restamp",
+        metavar="HZ",
+        help="Track at this fixed scan rate [Hz] from each laser's first stamp "
+        "instead of the recorded stamps (for a recording whose clock does not "
+        "advance; without it such a recording is refused).",
+    ),
+]
+"""The ``--restamp`` option."""
+
+
 def mount_specs(mount: list[str] | None, mounts: Path | None) -> list[str]:
     """The ``--mount`` specs with the ``--mounts`` file after them (a missing file is a
     ConfigError naming it)."""

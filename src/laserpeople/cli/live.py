@@ -7,7 +7,19 @@ from typing import Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import MountOption, PresetOption, WorldFrameOption, say, warn
+from laserpeople.cli.common import (
+    BackgroundOption,
+    ConfigOption,
+    DetectorOption,
+    MapOption,
+    ModelOption,
+    MountOption,
+    PeoplePolicyOption,
+    PresetOption,
+    WorldFrameOption,
+    say,
+    warn,
+)
 from laserpeople.cli.track import TopicOption, make_detector
 from laserpeople.errors import ConfigError
 
@@ -52,32 +64,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = "leg-mht",
         topic: TopicOption = None,
-        config: Annotated[
-            Path | None,
-            typer.Option("--config", help="TOML file with tracker and detector parameters."),
-        ] = None,
+        config: ConfigOption = None,
         preset: PresetOption = None,
-        detector: Annotated[
-            str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
-        ] = "adaboost",
-        model: Annotated[
-            Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
-        ] = None,
-        people_policy: Annotated[
-            str | None,
-            typer.Option("--people-policy", help="leg-mht person layer: tracks or arras."),
-        ] = None,
-        background: Annotated[
-            str,
-            typer.Option(
-                "--background",
-                help="Static world model, as for track: auto, histogram, occupancy or none.",
-            ),
-        ] = "auto",
-        map_path: Annotated[
-            Path | None,
-            typer.Option("--map", help="ROS map.yaml seeding the occupancy grid (world frame)."),
-        ] = None,
+        detector: DetectorOption = "adaboost",
+        model: ModelOption = None,
+        people_policy: PeoplePolicyOption = None,
+        background: BackgroundOption = "auto",
+        map_path: MapOption = None,
         world_frame: WorldFrameOption = None,
         mount: MountOption = None,
         frame: Annotated[

@@ -8,10 +8,18 @@ from typing import TYPE_CHECKING, Annotated, Any, Protocol
 import typer
 
 from laserpeople.cli.common import (
+    BackgroundOption,
+    ConfigOption,
+    DetectorOption,
+    MapOption,
+    ModelOption,
     MountOption,
     MountsFileOption,
     OnErrorOption,
+    OutputFrameOption,
+    PeoplePolicyOption,
     PresetOption,
+    RestampOption,
     WorldFrameOption,
     ignored_sections,
     mount_specs,
@@ -346,24 +354,10 @@ def register(app: typer.Typer) -> None:
         ] = "leg-mht",
         topic: TopicOption = None,
         topics: TopicsOption = None,
-        config: Annotated[
-            Path | None,
-            typer.Option("--config", help="TOML file with tracker and detector parameters."),
-        ] = None,
-        output_frame: Annotated[
-            str | None,
-            typer.Option(
-                "--output-frame",
-                help="Frame of the written positions: sensor or world (default: the "
-                "tracking frame, world when the recording has sensor poses).",
-            ),
-        ] = None,
-        detector: Annotated[
-            str, typer.Option("--detector", help="Leg detector: adaboost or heuristic.")
-        ] = "adaboost",
-        model: Annotated[
-            Path | None, typer.Option("--model", help="AdaBoost model JSON (default: shipped).")
-        ] = None,
+        config: ConfigOption = None,
+        output_frame: OutputFrameOption = None,
+        detector: DetectorOption = "adaboost",
+        model: ModelOption = None,
         output: Annotated[
             Path | None, typer.Option("--output", "-o", help="Tracks CSV to write.")
         ] = None,
@@ -387,32 +381,9 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option("--animate", help="Also draw an animation (.gif, or .mp4 with ffmpeg)."),
         ] = None,
-        people_policy: Annotated[
-            str | None,
-            typer.Option(
-                "--people-policy",
-                help="leg-mht person layer: tracks (default; people as tracks of their own) "
-                "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
-            ),
-        ] = None,
-        background: Annotated[
-            str,
-            typer.Option(
-                "--background",
-                help="Static world model, which tells people from furniture: auto (a "
-                "histogram per beam while the lasers stand still, an occupancy grid once "
-                "they move), histogram, occupancy or none.",
-            ),
-        ] = "auto",
-        map_path: Annotated[
-            Path | None,
-            typer.Option(
-                "--map",
-                help="Map seeding the occupancy grid (world frame only): a ROS map.yaml, or "
-                "BAG:/topic for a nav_msgs/OccupancyGrid in a bag (e.g. the recording's "
-                "own /map).",
-            ),
-        ] = None,
+        people_policy: PeoplePolicyOption = None,
+        background: BackgroundOption = "auto",
+        map_path: MapOption = None,
         appearance: Annotated[
             str,
             typer.Option(
@@ -438,16 +409,7 @@ def register(app: typer.Typer) -> None:
             ),
         ] = False,
         on_error: OnErrorOption = "stop",
-        restamp: Annotated[
-            float | None,
-            typer.Option(
-                "--restamp",
-                metavar="HZ",
-                help="Track at this fixed scan rate [Hz] from each laser's first stamp "
-                "instead of the recorded stamps (for a recording whose clock does not "
-                "advance; without it such a recording is refused).",
-            ),
-        ] = None,
+        restamp: RestampOption = None,
     ) -> None:
         """Detect legs in every scan, track legs and people, and write one CSV row per track
         per scan (kind leg and person; members of a person are its legs)."""

@@ -21,12 +21,22 @@ def join() -> tuple:
 
 
 def test_join_keeps_one_filter_per_person(join: tuple) -> None:
-    """Measured 0.93 with the feet's Voronoi cells, 0.54 without (004: every point within
-    ``gate`` weighs every filter; one filter was drawn onto both people and the other
-    died)."""
+    """Median adapted MOTP over three filter seeds: measured 0.90-0.92 with the feet's
+    Voronoi cells, 0.42-0.53 without (004: every point within ``gate`` weighs every filter;
+    one filter is drawn onto both people and the other dies). One seed alone is not enough:
+    which filter wins is decided by last-bit differences between CPUs (seed 0 without the
+    cells gave 0.36 on AVX2 and 0.88 with numpy's baseline loops), the median is not."""
     rec, bg = join
-    assert run_tracker(rec, bg, "feet", FeetTracker()).motp > 0.85
-    assert run_tracker(rec, bg, "feet", FeetTracker(FeetParams(voronoi=False))).motp < 0.7
+
+    def median_motp(voronoi: bool) -> float:
+        runs = [
+            run_tracker(rec, bg, "feet", FeetTracker(FeetParams(voronoi=voronoi, seed=s))).motp
+            for s in range(3)
+        ]
+        return float(np.median(runs))
+
+    assert median_motp(True) > 0.85
+    assert median_motp(False) < 0.7
 
 
 def frame_of(points: np.ndarray, stamp: float, index: int) -> Frame:

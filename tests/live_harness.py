@@ -42,7 +42,7 @@ class Collect:
             )
 
     def close(self) -> None:
-        pass
+        """Nothing to flush: the rows are kept in memory."""
 
 
 def track_rows(

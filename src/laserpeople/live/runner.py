@@ -11,6 +11,7 @@ tracker, stages, static world model and ``--map``), fed by
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -263,8 +264,7 @@ class LiveRun:
 
     def run(self) -> LiveStats:
         """Run to the end; returns the statistics."""
-        for _ in self.steps():
-            pass
+        deque(self.steps(), maxlen=0)  # (each step is published by the sinks as it goes)
         return self.stats
 
 

@@ -71,6 +71,8 @@ EXPECTED: dict[str, dict[str, tuple[int, int, float]]] = {
     },
     # leg_tracker_benchmarks/: 3,600 scans, 245 beams over 86 deg (0.352 deg), 10 Hz
     "person_following_outdoor_1_first.bag": {"/scan_base2": (3600, 245, INC_033)},
+    # leg_tracker_benchmarks/: 290 scans, 768 beams over 270 deg, 7.5 Hz, a moving robot
+    "general_tracking_moving_1_first.bag": {"/scan": (290, 768, INC_033)},
 }
 
 

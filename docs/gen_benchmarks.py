@@ -261,7 +261,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "`laserpeople batch` on a local Dask cluster: 40 recordings, 3 of them broken on purpose",
         ("benchmarks/bench_batch.py", "--recordings", "40", "--seconds", "3", "--kill", "--resume"),
         10.0,
-        "every good recording tracked and every broken one reported; a killed worker's "
+        "1.87× with 2 workers on 2 idle cores (54.1 → 28.9 s); every good recording tracked "
+        "and every broken one reported; a killed worker's "
         "recording redone (attempts 2); a killed run resumed with only the unfinished ones",
         "batch.md",
         needs_data=True,

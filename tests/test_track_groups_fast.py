@@ -277,7 +277,7 @@ def test_initial_states_in_one_batch_equal_eq16_per_cluster(seed: int) -> None:
     for j, (mean, cov, payload) in zip(js, made, strict=True):
         centroid = obs.cluster(j).mean(axis=0)
         np.testing.assert_allclose(mean, [*centroid, 0.0, 0.0, obs.n_hs[j]], rtol=1e-12)
-        np.testing.assert_array_equal(cov, model.s.c0)
+        np.testing.assert_allclose(cov, model.s.c0, rtol=1e-12)  # eq. 16's initial covariance
         np.testing.assert_allclose(payload.contour, obs.cluster(j) - centroid, atol=1e-12)
         np.testing.assert_array_equal(payload.members, obs.cluster_members(j))
         assert payload.labels == () and not payload.must_match and payload.event == ""

@@ -108,6 +108,29 @@ def _check_connection(conn: Any, path: Path) -> None:
         )
 
 
+def scan_from_message(msg: Any, stamp: float, topic: str, index: int, source: str) -> Scan:
+    """A :class:`Scan` of a decoded ``sensor_msgs/LaserScan`` (no pose yet).
+
+    Raises:
+        RecordingError: its beams disagree with its angles or limits (``Scan.from_angles``).
+    """
+    intensities = msg.intensities if len(msg.intensities) else None
+    return Scan.from_angles(
+        stamp,
+        float(msg.angle_min),
+        float(msg.angle_max),
+        float(msg.angle_increment),
+        msg.ranges,
+        range_min=float(msg.range_min),
+        range_max=float(msg.range_max),
+        intensities=intensities,
+        sensor=topic,
+        pose=None,
+        index=index,
+        source=source,
+    )
+
+
 def _stamp(header: Any) -> float:
     return float(header.stamp.sec) + 1e-9 * float(header.stamp.nanosec)
 
@@ -475,21 +498,7 @@ class RosbagRecording:
                     if stamp == 0.0 and log_time != 0:
                         stamp = log_time * 1e-9
                         self.scans_with_log_time += 1
-                    intensities = msg.intensities if len(msg.intensities) else None
-                    scan = Scan.from_angles(
-                        stamp,
-                        float(msg.angle_min),
-                        float(msg.angle_max),
-                        float(msg.angle_increment),
-                        msg.ranges,
-                        range_min=float(msg.range_min),
-                        range_max=float(msg.range_max),
-                        intensities=intensities,
-                        sensor=topic,
-                        pose=None,
-                        index=index,
-                        source=source,
-                    )
+                    scan = scan_from_message(msg, stamp, topic, index, source)
                 except RecordingError as exc:
                     self.damaged.record(
                         exc.detail, topic=topic, scan=index, read=read, kind=type(exc)

@@ -16,6 +16,7 @@ from typing import Any
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.poses import normalise_frame, yaw_and_tilt
+from laserpeople.io.rosbag import scan_from_message
 from laserpeople.io.rosbag_writer import TF_TYPE, BagSink
 from laserpeople.io.tracks_bag import (
     MARKER_TOPIC,
@@ -185,21 +186,7 @@ class RosDecoder:
                 angles.
         """
         msg = self._decode(data, SCAN_TYPE, topic)
-        intensities = msg.intensities if len(msg.intensities) else None
-        scan = Scan.from_angles(
-            _stamp(msg.header),
-            float(msg.angle_min),
-            float(msg.angle_max),
-            float(msg.angle_increment),
-            msg.ranges,
-            range_min=float(msg.range_min),
-            range_max=float(msg.range_max),
-            intensities=intensities,
-            sensor=topic,
-            pose=None,
-            index=index,
-            source=f"live {topic}",
-        )
+        scan = scan_from_message(msg, _stamp(msg.header), topic, index, f"live {topic}")
         return scan, normalise_frame(str(msg.header.frame_id))
 
     def transforms(self, data: bytes, topic: str) -> list[TransformSample]:

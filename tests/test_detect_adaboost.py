@@ -151,3 +151,21 @@ def test_fast_decision_function_equals_the_sum_of_stumps() -> None:
         direct += s.alpha * h
     assert np.allclose(clf.decision_function(Xt), direct, atol=1e-9)
     assert set(clf.polarities_.tolist()) == {-1, 1}
+
+
+def test_shipped_model_scores_equal_the_sum_of_its_stumps() -> None:
+    """The shipped model (2000 stumps over 13 features, thresholds shared between
+    features) scored through its rank tables equals sum_t alpha_t h_t(e), values on the
+    thresholds included; and no rows give no scores."""
+    from laserpeople.detection.detector import default_model
+
+    clf = default_model().classifier
+    rng = np.random.default_rng(35)
+    n_f = clf.n_features_in_
+    X = rng.normal(size=(200, n_f)) * np.abs(clf.thresholds_).max()
+    X[:100] = rng.choice(clf.thresholds_, size=(100, n_f))  # exact ties
+    direct = np.zeros(X.shape[0])
+    for s in clf.stumps:
+        direct += s.alpha * np.where(s.polarity * X[:, s.feature] < s.polarity * s.threshold, 1, -1)
+    assert np.allclose(clf.decision_function(X), direct, rtol=0.0, atol=1e-9)
+    assert clf.decision_function(np.empty((0, n_f))).shape == (0,)

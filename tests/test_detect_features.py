@@ -9,7 +9,7 @@ import pytest
 
 from laserpeople.detection.features import FeatureParams, compute_features
 from laserpeople.scan import Scan
-from laserpeople.segmentation import jump_distance_table
+from laserpeople.segmentation import SegmentTable, jump_distance_table
 
 
 def features_of(points: list[tuple[float, float]] | np.ndarray, increment: float = 0.01):
@@ -173,3 +173,22 @@ def test_many_segments_match_one_at_a_time() -> None:
             rtol=1e-7,
             atol=1e-12,
         )
+
+
+def test_vector_of_medians_of_many_segments_equals_numpy_median() -> None:
+    """Feature 3 of every segment of a long scan (hundreds of segments, coordinates of
+    both signs, repeated values) equals its mean distance to the per-coordinate medians of
+    np.median, segment by segment."""
+    rng = np.random.default_rng(35)
+    sizes = rng.integers(1, 12, 400)
+    pts = np.round(rng.normal(0.0, 8.0, (int(sizes.sum()), 2)), 1)  # ties within segments
+    offsets = np.concatenate(([0], np.cumsum(sizes)))
+    seg = np.repeat(np.arange(sizes.size), sizes)
+    n = pts.shape[0]
+    scan = Scan(0.0, 0.0, 0.01, np.ones(n))
+    table = SegmentTable(np.arange(n), pts, offsets, n)
+    got = compute_features(table, scan).values[:, 2]
+    for i in range(sizes.size):
+        p = pts[seg == i]
+        med = np.median(p, axis=0)
+        assert got[i] == pytest.approx(np.mean(np.hypot(*(p - med).T)), rel=1e-12, abs=1e-12)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -37,6 +37,21 @@ would overflow the grids built from them."""
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
+
+
+@lru_cache(maxsize=32)
+def _beam_directions(
+    angle_min: float, angle_increment: float, n_beams: int
+) -> tuple[FloatArray, FloatArray]:
+    """Cosine and sine (N,) of the beam angles of a scan geometry (read-only; the same
+    floats as ``np.cos(scan.angles)`` and ``np.sin(scan.angles)``), computed once per
+    geometry: every scan of a laser shares them."""
+    raw = angle_min + np.arange(n_beams, dtype=np.float64) * angle_increment
+    a = wrap_angle(raw)
+    cos, sin = np.cos(a), np.sin(a)
+    cos.setflags(write=False)
+    sin.setflags(write=False)
+    return cos, sin
 
 
 def wrap_angle(angle: NDArray[np.floating] | float) -> NDArray[np.float64]:
@@ -240,10 +255,12 @@ class Scan:
     @cached_property
     def _sensor_points(self) -> FloatArray:
         r = np.where(self.valid, self.ranges, np.nan)
-        a = self.angles
+        cos, sin = _beam_directions(
+            float(self.angle_min), float(self.angle_increment), self.n_beams
+        )
         pts = np.empty((self.n_beams, 2), dtype=np.float64)
-        pts[:, 0] = r * np.cos(a)
-        pts[:, 1] = r * np.sin(a)
+        np.multiply(r, cos, out=pts[:, 0])
+        np.multiply(r, sin, out=pts[:, 1])
         pts.setflags(write=False)
         return pts
 

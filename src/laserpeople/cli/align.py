@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.table import Table
 
 from laserpeople.cli.common import MountOption, console
 
@@ -31,6 +30,8 @@ def register(app: typer.Typer) -> None:
         ] = False,
         mount: MountOption = None,
     ) -> None:
+        from rich.table import Table
+
         from laserpeople.alignment import align_recording, write_mounts
         from laserpeople.io.paths import check_outputs
         from laserpeople.io.poses import parse_mounts

@@ -181,10 +181,8 @@ def _compute(
     # vector of medians (feature 3): sort each coordinate within its segment
     lo = off + (sizes - 1) // 2
     hi = off + sizes // 2
-    med = np.empty((m, 2))
-    for axis in (0, 1):
-        vals = P[:, axis][np.lexsort((P[:, axis], seg))]
-        med[:, axis] = 0.5 * (vals[lo] + vals[hi])
+    vals = _sorted_within(P, seg, m)
+    med = (0.5 * (vals[:, lo] + vals[:, hi])).T
 
     # all per-point sums in one reduceat
     terms = np.empty((k, 7))
@@ -279,6 +277,20 @@ def _compute(
         out[:, 13] = np.where(counts > 0, total / np.maximum(counts, 1.0) / dt, 0.0)
         max_motion = np.maximum.reduceat(np.abs(delta), off)
     return SegmentFeatures(out, max_motion, centres, circle_centres)
+
+
+def _sorted_within(P: FloatArray, seg: NDArray[np.int64], m: int) -> FloatArray:
+    """Both coordinates of the points P (K, 2), sorted within each of the ``m`` segments
+    ``seg`` (K,) (non-decreasing): (2, K), one sort for both instead of a two-key sort per
+    coordinate. The sort key puts each segment and coordinate in its own interval
+    (coordinate + its interval's start, a multiple of a span wider than all coordinates);
+    rounding the sum cannot reorder two values of one interval, only tie two that differ
+    in their last bits, whose order then does not matter to a median beyond those bits;
+    the values returned are the coordinates themselves."""
+    span = 2.0 * float(np.abs(P).max()) + 1.0
+    keys = P.T + (np.arange(2)[:, None] * m + seg[None, :]) * span
+    order = np.argsort(keys.ravel(), kind="stable")
+    return P.T.ravel()[order].reshape(2, -1)
 
 
 def _usable_previous(scan: Scan, previous: Scan | None) -> bool:

@@ -1,0 +1,130 @@
+"""The leg detector of this tree against another, side by side in one process (A/B).
+
+Both trees' shipped AdaBoost detectors classify the same scans (the real demo bag and the
+simulated hall of ``bench_scaling.py`` with 4 people, read once); the other tree is
+imported as the package ``laserpeople_ab`` (``bench_track_ab.load_other``). Per pass each
+tree segments, featurises and scores every scan (``classify``), then scores the
+classifiable segments of every scan once more on their own (``decision_function``: the
+AdaBoost part); who goes first alternates between passes. Printed per recording: median
+process CPU per scan over the passes for the whole classification and for the AdaBoost
+part, their ratio other/this, and whether the two trees gave the same features, scores
+and legs, bit for bit.
+
+    PYTHONPATH=src .venv/bin/python benchmarks/bench_detect_ab.py --other /path/to/old/src
+        [--passes 7] [--max-scans 400] [--halls /tmp/halls]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_scaling import DEMO_BAG, hall_recording
+from bench_track_ab import PACKAGE, load_other
+
+
+def scans_of(path: Path, limit: int) -> list[Any]:
+    """The first ``limit`` scans of the recording ``path`` (this tree's reader)."""
+    from laserpeople.io import open_recording
+
+    rec = open_recording(path)
+    try:
+        out = []
+        for scan in rec.scans():
+            out.append(scan)
+            if len(out) == limit:
+                break
+        return out
+    finally:
+        rec.close()
+
+
+def as_package(package: str, scans: list[Any]) -> list[Any]:
+    """The scans as ``package``'s own Scan objects (the same arrays)."""
+    cls = importlib.import_module(f"{package}.scan").Scan
+    return [cls(**{f: getattr(s, f) for f in s.__dataclass_fields__}) for s in scans]
+
+
+def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> None:
+    """Time and compare the packages' detectors on ``scans`` (see the module doc)."""
+    dets = {
+        p: importlib.import_module(f"{p}.detection.detector").AdaBoostLegDetector.default()
+        for p in packages
+    }
+    own = {p: as_package(p, scans) for p in packages}
+    whole: dict[str, list[float]] = {p: [] for p in packages}
+    boost: dict[str, list[float]] = {p: [] for p in packages}
+    results: dict[str, list[Any]] = {}
+    for k in range(passes):
+        for p in packages if k % 2 == 0 else packages[::-1]:
+            det = dets[p]
+            det.reset()
+            t0 = time.process_time()
+            got = [det.classify(s) for s in own[p]]
+            whole[p].append((time.process_time() - t0) / len(scans))
+            results[p] = got
+            rows = [r.features.values[~np.isnan(r.scores)][:, det._columns] for r in got]
+            clf = det.model.classifier
+            t0 = time.process_time()
+            for x in rows:
+                clf.decision_function(x)
+            boost[p].append((time.process_time() - t0) / len(scans))
+    a, b = (results[p] for p in packages)
+    same_features = all(
+        np.array_equal(x.features.values, y.features.values, equal_nan=True)
+        for x, y in zip(a, b, strict=True)
+    )
+    same_scores = all(
+        np.array_equal(x.scores, y.scores, equal_nan=True) for x, y in zip(a, b, strict=True)
+    )
+    same_legs = all(np.array_equal(x.is_leg, y.is_leg) for x, y in zip(a, b, strict=True))
+    other, this = packages
+    print(f"\n{name}: {len(scans)} scans, {passes} passes, median CPU ms per scan")
+    for label, times in (("classify (segments, features, AdaBoost)", whole), ("AdaBoost", boost)):
+        o, t = statistics.median(times[other]), statistics.median(times[this])
+        print(f"  {label:42s} other {1e3 * o:7.3f}  this {1e3 * t:7.3f}  other/this {o / t:5.2f}x")
+    print(f"  same features: {same_features}, same scores: {same_scores}, same legs: {same_legs}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--other", type=Path, required=True, help="the other tree's src/")
+    ap.add_argument("--passes", type=int, default=7)
+    ap.add_argument("--max-scans", type=int, default=400)
+    ap.add_argument("--halls", type=Path, help="keep the simulated hall here (reused)")
+    ap.add_argument(
+        "--data",
+        type=Path,
+        default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
+    )
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        load_other(args.other, Path(tmp))
+        packages = [PACKAGE, "laserpeople"]
+        bag = args.data / DEMO_BAG
+        if bag.exists():
+            compare("real demo bag", scans_of(bag, args.max_scans), packages, args.passes)
+        else:
+            print(f"no demo bag at {bag}: left out (--data names the shared data)")
+        halls = args.halls or Path(tmp)
+        halls.mkdir(parents=True, exist_ok=True)
+        hall = halls / "hall-04-8s.npz"
+        if not hall.exists():
+            hall_recording(4, 8.0, hall)
+        compare(
+            "hall, 4 people (1081 beams)", scans_of(hall, args.max_scans), packages, args.passes
+        )
+
+
+if __name__ == "__main__":
+    main()

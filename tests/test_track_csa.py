@@ -14,6 +14,7 @@ from laserpeople.tracking.csa import (
     ClusterSortingTracker,
     CSAParams,
     leader_clusters,
+    per_person_scores,
     split_ready,
     viterbi_step,
 )
@@ -121,10 +122,15 @@ def test_person_person_merge_and_split() -> None:
     kinds = [e.kind for e in csa.events]
     assert kinds == ["merge person+person", "split"]
     assert csa.events[0].members == (0, 1)
-    mid = out[35]  # t = 3.5 s: one cluster that remembers both people
-    groups = mid.of_kind("group")
+    mid = out[35]  # t = 3.5 s: one cluster, still reported as its two people
+    assert not mid.of_kind("group")  # group rows only when asked
+    at = {t.track_id: t.position for t in mid.of_kind("person")}
+    assert sorted(at) == [0, 1]
+    assert np.linalg.norm(at[0] - [-0.25, 3.0]) < 0.15  # each at its own legs
+    assert np.linalg.norm(at[1] - [0.25, 3.0]) < 0.15
+    asked = ClusterSortingTracker(CSAParams(group_rows=True))
+    groups = [asked.update(f) for f in _frames([a, b], 3.5)][-1].of_kind("group")
     assert len(groups) == 1 and groups[0].members == (0, 1)
-    assert not mid.of_kind("person")
     end = out[-1].of_kind("person")
     assert sorted(t.track_id for t in end) == [0, 1] and not out[-1].of_kind("group")
     # the split happens only once the two are more than 3.0 m apart
@@ -165,7 +171,7 @@ def test_crossing3_end_to_end_with_colour() -> None:
     from crossing_common import laser_runs, reidentify, score
 
     for variant in ("crossing-3-p1", "crossing-3-p3"):
-        case = laser_runs(variant, 0, ("csa",))
+        case = laser_runs(variant, 0, ("csa",), CSAParams(group_rows=True))
         tracks = case.tracks["csa"]
         # no track lost: 3 people at the end, and the cluster held all three
         assert len(tracks[-1].of_kind("person")) == 3
@@ -190,6 +196,42 @@ def test_a_person_lost_in_the_cluster_is_adopted_at_the_split() -> None:
     assert csa.events[-1].members == (0, 1, 2)
     assert sorted(t.track_id for t in out[-1].of_kind("person")) == [0, 1, 2]
     # without the extension the cluster never splits
-    plain = ClusterSortingTracker(CSAParams(adopt_escaped=False))
+    plain = ClusterSortingTracker(
+        CSAParams(adopt_escaped=False, adopt_orphans=False, group_rows=True)
+    )
     last = [plain.update(f) for f in frames][-1]
     assert last.of_kind("group") and "split" not in [e.kind for e in plain.events]
+
+
+def test_two_people_crossing_in_one_cluster_keep_rows_and_ids() -> None:
+    """Two people walk past each other 0.5 m apart (a along y = 3.0 to the right, b along
+    y = 3.5 to the left): their gates share points, they merge into one cluster and split
+    again 3 m apart on the other's side. 002 keeps each person's identity through the
+    cluster: in every scan both person rows are reported, each within 0.3 m of its own
+    person, with the ids they started with. A tracker that reports the cluster as one group
+    (no person rows while merged) or hands out ids at the split by where people were last
+    seen apart (swapped here) fails."""
+    a = [(0, -3.0, 3.0), (8, 3.0, 3.0)]
+    b = [(0, 3.0, 3.5), (8, -3.0, 3.5)]
+    csa, out = _run(_frames([a, b], 8.0))
+    assert [e.kind for e in csa.events] == ["merge person+person", "split"]
+    merged = 0
+    for k, tracks in enumerate(out):
+        t = k / 10
+        truth = {
+            0: (np.interp(t, [0, 8], [-3.0, 3.0]), 3.0),
+            1: (np.interp(t, [0, 8], [3.0, -3.0]), 3.5),
+        }
+        rows = {x.track_id: x.position for x in tracks.of_kind("person")}
+        assert sorted(rows) == [0, 1], t
+        for pid, xy in truth.items():
+            assert np.linalg.norm(rows[pid] - xy) < 0.3, (t, pid)
+        merged += int(bool(csa.events) and csa.events[0].stamp <= t < csa.events[-1].stamp)
+    assert merged >= 20  # the cluster held both for at least 2 s
+
+
+def test_per_person_scores_by_hand() -> None:
+    """Paths of person 7 scored [-3, -1] and of person 9 [-10, -12] become [-2, 0] and
+    [0, -2]: each person's best path scores 0."""
+    s = per_person_scores(np.array([-3.0, -10.0, -1.0, -12.0]), np.array([7, 9, 7, 9]))
+    assert s == pytest.approx([-2.0, 0.0, 0.0, -2.0])

@@ -235,3 +235,21 @@ def test_per_person_scores_by_hand() -> None:
     [0, -2]: each person's best path scores 0."""
     s = per_person_scores(np.array([-3.0, -10.0, -1.0, -12.0]), np.array([7, 9, 7, 9]))
     assert s == pytest.approx([-2.0, 0.0, 0.0, -2.0])
+
+
+def test_crossing3_identities_through_the_crossing_with_colour() -> None:
+    """crossing-3 123 -> 213 (seed 7; both lasers, the simulator's foreground): the CSA's
+    person rows for everyone inside the cluster plus colour re-identification keep IDF1
+    at or above 0.95 over the whole run (group rows instead of people, or ids guessed at
+    the split, gave 0.77)."""
+    import sys
+    from pathlib import Path
+
+    from laserpeople.evaluation import evaluate
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from crossing_common import laser_runs, reidentify
+
+    case = laser_runs("crossing-3-p2", 7, ("csa",))
+    summary = evaluate(case.result.truth, reidentify(case, "csa")).result().summary()
+    assert summary["idf1"] >= 0.95

@@ -374,9 +374,9 @@ class ColourReidentifier:
         index = {tid: k for k, tid in enumerate(ids)}
         for c in list(self._crossings):
             present = [t for t in c.tracks if t in index]
-            if p.early and len(present) >= len(c.identities) >= 2:
-                if all(c.n_obs.get(t, 0) >= p.min_observations for t in present):
-                    self._reassign(c, present, stamp, final=False)
+            early = p.early and len(present) >= len(c.identities) >= 2
+            if early and all(c.n_obs.get(t, 0) >= p.min_observations for t in present):
+                self._reassign(c, present, stamp, final=False)
             if c.tracks & grouped or not present:
                 c.ended_at = None
                 continue

@@ -470,6 +470,8 @@ class ClusterSortingTracker:
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:
                 continue
+            if p.adopt_orphans:
+                self._orphans_claim(cl)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -650,6 +652,37 @@ class ClusterSortingTracker:
                 singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
+
+    def _orphans_claim(self, cl: _Cluster) -> None:
+        """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
+        sub-clusters (leader clustering at ``subcluster_distance``) that are no person's
+        main sub-cluster (the one holding most of its paths), nearest first to where the
+        orphan was last estimated (Hungarian, within ``separation_distance``); the paths of
+        a claimed sub-cluster continue as the orphan's. Another person's paths that took a
+        second person's points (people who passed within a leg's width) are given back
+        once the two are ``subcluster_distance`` apart."""
+        p = self.params
+        own = {int(o) for o in cl.origin}
+        orphans = [m for m in cl.members if m not in own and m in cl.shown]
+        if not orphans:
+            return
+        labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+        n_sub = int(labels.max()) + 1
+        main = set()
+        for m in own:
+            main.add(int(np.argmax(np.bincount(labels[cl.origin == m], minlength=n_sub))))
+        free = [k for k in range(n_sub) if k not in main]
+        if not free:
+            return
+        cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in free])
+        prev = np.array([cl.shown[m] for m in orphans])
+        d = np.linalg.norm(prev[:, None] - cents[None], axis=-1)
+        rows, cols = linear_sum_assignment(np.where(d < p.separation_distance, d, 1e6))
+        origin = cl.origin.copy()
+        for r, c in zip(rows, cols, strict=True):
+            if d[r, c] < p.separation_distance:
+                origin[labels == free[int(c)]] = orphans[int(r)]
+        cl.origin = origin
 
     def _adopt_orphans(
         self, singles: dict[int, _Single], clusters: dict[int, _Cluster], stamp: float

@@ -129,6 +129,14 @@ class CSAParams:
         1.0, "assumption", "an object without selected measurements this long is deleted", "s"
     )
     max_dt: float = param(1.0, "assumption", "longest prediction step", "s")
+    tentative_time: float = param(
+        1.0,
+        "assumption; crossing-3 seed 7 as `laserpeople track` runs it (docs/csa.md)",
+        "a single target younger than this is deleted in the first scan without selected "
+        "measurements instead of coasting for max_unseen (a wall the static world model "
+        "has not learned yet shows for a moment where a person stood while it learned)",
+        "s",
+    )
     adopt_escaped: bool = param(
         True,
         "extension of 002 (its Sec. 4 names the failure); crossing-3 123 -> 321 seeds 0-4: "
@@ -198,6 +206,8 @@ class CSAParams:
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
+        if self.tentative_time < 0:
+            raise ValueError("tentative_time must not be negative")
         if self.min_points < 1:
             raise ValueError("min_points must be at least 1")
 
@@ -324,6 +334,7 @@ class _Single:
     cov: FloatArray
     last_seen: float
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
+    born: float = -math.inf  # when it was started from unselected points
 
 
 @dataclass
@@ -391,7 +402,7 @@ class ClusterSortingTracker:
                 spawned_by = c.cid
                 break
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp
         )
 
     def _init_cov(self) -> FloatArray:
@@ -463,9 +474,11 @@ class ClusterSortingTracker:
                     mean, cov = kalman.update(
                         sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
                     )
-                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by)
-                elif stamp - t.last_seen <= p.max_unseen:
-                    new_singles[t.pid] = _Single(t.pid, sm[i], sc[i], t.last_seen, t.spawned_by)
+                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by, t.born)
+                elif stamp - t.last_seen <= p.max_unseen and stamp - t.born >= p.tentative_time:
+                    new_singles[t.pid] = _Single(
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born
+                    )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:

@@ -18,7 +18,6 @@ from laserpeople.tracking.csa import (
     split_ready,
     viterbi_step,
 )
-from laserpeople.tracks import Tracks
 
 LOG_2PI = math.log(2 * math.pi)
 
@@ -254,23 +253,17 @@ def test_crossing3_identities_through_the_crossing_with_colour() -> None:
     assert summary["idf1"] >= 0.95
 
 
-def _near_blip(tracks: Tracks) -> int:
-    return sum(1 for t in tracks.of_kind("person") if t.position[0] > 0)
-
-
-def test_a_young_target_does_not_coast() -> None:
-    """Points seen for 0.3 s and then gone (a wall the static world model has not learned
-    yet): a target younger than tentative_time is deleted at once; with tentative_time = 0,
-    or once older, it coasts for max_unseen (1 s). A person stands far off throughout."""
-    blip = [(0.0, 2.0, 5.0), (10.0, 2.0, 5.0)]
-    other = [(0.0, -3.0, 5.0), (10.0, -3.0, 5.0)]
-    frames = _frames([blip, other], 2.5, hidden={0: (0.3, 99.0)})
-    young = ClusterSortingTracker()
-    assert [_near_blip(young.update(f)) for f in frames[:6]] == [1, 1, 1, 0, 0, 0]
-    coasting = ClusterSortingTracker(CSAParams(tentative_time=0.0))
-    counts = [_near_blip(coasting.update(f)) for f in frames]
-    assert counts[:13] == [1] * 13 and counts[14:] == [0] * (len(frames) - 14)
-    person = _frames([blip, other], 3.0, hidden={0: (1.5, 99.0)})  # seen 1.5 s, then hidden
-    old = ClusterSortingTracker()
-    counts = [_near_blip(old.update(f)) for f in person]
-    assert counts[15:25] == [1] * 10 and counts[-1] == 0
+def test_targets_started_together_that_merge_at_once_are_one_person() -> None:
+    """Four blobs 0.7 m apart appear in one scan (a burst of foreground, e.g. a moving
+    laser whose static world model is dropped): four targets start, their gates share
+    points and they merge in the next scan. Younger than fragment_age (1 s), they are
+    fragments of the oldest: one person. With fragment_age = 0 they are four people."""
+    paths = [[(0, 0.7 * i, 3.0), (10, 0.7 * i, 3.0)] for i in range(4)]
+    frames = _frames(paths, 2.0)
+    csa = ClusterSortingTracker()
+    counts = [len(csa.update(f).of_kind("person")) for f in frames]
+    assert counts[0] == 4 and counts[1:] == [1] * (len(frames) - 1)
+    assert list(csa.clusters.values()) == [(0,)]
+    every = ClusterSortingTracker(CSAParams(fragment_age=0.0))
+    assert [len(every.update(f).of_kind("person")) for f in frames] == [4] * len(frames)
+    assert list(every.clusters.values()) == [(0, 1, 2, 3)]

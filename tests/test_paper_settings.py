@@ -45,6 +45,10 @@ def test_paper_preset_gives_each_tracker_its_papers_values() -> None:
     )
     c = load_config(CSAParams, None, "paper")
     assert not c.adopt_escaped and not c.fragment_rule
+    assert not c.person_scores and not c.adopt_orphans and not c.group_rows
+    from laserpeople.identity.reid import ReidParams
+
+    assert not load_config(ReidParams, None, "paper").early
     f = load_config(FeetParams, None, "paper")
     assert (f.h_width, f.voronoi, f.long_weight, f.rescue_legs, f.blob_body) == (
         0.0,

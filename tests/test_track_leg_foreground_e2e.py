@@ -3,8 +3,10 @@ the foreground of points near legs (``pipeline/leg_foreground.py``) with the rea
 
 Thresholds (measured when written): on 20 s of the simulated robot-following scene (seed 0)
 recorded without poses (truth in the laser frame, like the real person-following bag) csa
-scores person MOTA 0.64 and feet-pf 0.78 with the default foreground, 0.31 and -0.50 with
-every point foreground (``[leg_foreground] use = "never"``, the papers' setting);
+scores person MOTA 0.38 and feet-pf 0.78 with the default foreground, -1.17 and -0.50 with
+every point foreground (``[leg_foreground] use = "never"``, the papers' setting; csa scored
+0.64 and 0.31 while it reported each cluster as one group row, which hid the clutter the
+clusters hold: every person of a cluster is a person row now);
 upper-body-pf 0.65 with only the legs of the leg MHT's people held (1 s), 0.46 with every
 missed leg held 0.5 s (session 12) and -0.50 with every point foreground. On the
 real person-following bag csa's followed person has identity recall 0.37 and recall 0.84
@@ -63,7 +65,7 @@ def _score(out: Path, truth: Path, *extra: str) -> dict[str, float]:
 
 
 @pytest.mark.parametrize(
-    ("tracker", "bound"), [("csa", 0.5), ("feet-pf", 0.5), ("upper-body-pf", 0.55)]
+    ("tracker", "bound"), [("csa", 0.3), ("feet-pf", 0.5), ("upper-body-pf", 0.55)]
 )
 def test_point_trackers_on_a_moving_robot_without_poses(
     following: Path, tmp_path: Path, tracker: str, bound: float

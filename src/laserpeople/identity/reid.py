@@ -29,6 +29,7 @@ crossing, or a fresh one).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -53,6 +54,7 @@ class ReidParams:
     """Parameters of colour re-identification (002 Sec. 2)."""
 
     config_section = "reid"
+    paper_preset = MappingProxyType({"early": False})  # 002 re-assigns after the crossing
 
     interaction_distance: float = param(
         1.2,
@@ -98,6 +100,13 @@ class ReidParams:
     )
     lost_memory: float = param(
         5.0, "assumption", "how long a lost identity may be taken up again", "s"
+    )
+    early: bool = param(
+        True,
+        "extension of 002 (which re-assigns once the crossing ends, split condition 2; "
+        "false restores it): crossing-3 seed 7, docs/csa.md",
+        "also re-assign while a crossing goes on, as soon as each of its tracks has "
+        "min_observations clean observations since it was last near another person",
     )
     appearance: AppearanceParams = param(  # noqa: RUF009 (a frozen default instance)
         AppearanceParams(), "nested table appearance.*", "colour measurements"
@@ -190,6 +199,8 @@ class ColourReidentifier:
         in_crossing = {t for c in self._crossings for t in c.tracks}
         for k, tid in enumerate(ids):
             y = obs[k]
+            if p.early and (not clean[k] or tid in grouped):
+                self._forget_evidence(tid)  # near another: it may have swapped since
             if y is None or not clean[k] or tid in grouped:
                 continue
             if tid in in_crossing:
@@ -328,10 +339,17 @@ class ColourReidentifier:
                 out[int(r)] = views[int(c)][1]
         return out
 
-    def _accumulate(self, tid: int, y: FloatArray) -> None:
-        """Add one clean observation of a crossing's track to eq. 7 (after the crossing)."""
+    def _forget_evidence(self, tid: int) -> None:
+        """Drop the colour evidence of track ``tid`` in its crossings."""
         for c in self._crossings:
-            if tid not in c.tracks or c.ended_at is None:
+            c.loglik.pop(tid, None)
+            c.n_obs.pop(tid, None)
+
+    def _accumulate(self, tid: int, y: FloatArray) -> None:
+        """Add one clean observation of a crossing's track to eq. 7 (after the crossing, or
+        with ``early`` whenever the track is clean)."""
+        for c in self._crossings:
+            if tid not in c.tracks or (c.ended_at is None and not self.params.early):
                 continue
             idents = sorted(i for i in c.identities if self.models[i].k >= 2)
             if not idents:
@@ -356,6 +374,9 @@ class ColourReidentifier:
         index = {tid: k for k, tid in enumerate(ids)}
         for c in list(self._crossings):
             present = [t for t in c.tracks if t in index]
+            early = p.early and len(present) >= len(c.identities) >= 2
+            if early and all(c.n_obs.get(t, 0) >= p.min_observations for t in present):
+                self._reassign(c, present, stamp, final=False)
             if c.tracks & grouped or not present:
                 c.ended_at = None
                 continue
@@ -375,8 +396,10 @@ class ColourReidentifier:
                 self._reassign(c, present, stamp)
                 self._crossings.remove(c)
 
-    def _reassign(self, c: _Crossing, present: list[int], stamp: float) -> None:
-        """Hungarian re-assignment of a crossing's identities to its tracks (002 eq. 8)."""
+    def _reassign(self, c: _Crossing, present: list[int], stamp: float, final: bool = True) -> None:
+        """Hungarian re-assignment of a crossing's identities to its tracks (002 eq. 8).
+        ``final=False``: an early re-assignment while the crossing goes on (its evidence is
+        used up; nothing is recorded when the identities stay as they were)."""
         idents = sorted(c.identities)
         cost = np.zeros((len(idents), len(present)))
         for j, tid in enumerate(present):
@@ -391,6 +414,12 @@ class ColourReidentifier:
                 cur = self._identity[tid]
                 given[tid] = cur if cur not in taken else self._fresh()
                 taken.add(given[tid])
+        if not final:
+            for tid in present:
+                c.loglik.pop(tid, None)
+                c.n_obs.pop(tid, None)
+            if all(self._identity.get(t) == i for t, i in given.items()):
+                return
         # identities outside this crossing held by its tracks stay with nobody else
         self._identity.update(given)
         for ident in idents:

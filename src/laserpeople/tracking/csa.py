@@ -59,6 +59,8 @@ class CSAParams:
         {  # 002 where the defaults depart from it (docs/papers.md)
             "adopt_escaped": False,
             "fragment_rule": False,
+            "person_scores": False,
+            "adopt_orphans": False,
         }
     )
 
@@ -127,6 +129,15 @@ class CSAParams:
         1.0, "assumption", "an object without selected measurements this long is deleted", "s"
     )
     max_dt: float = param(1.0, "assumption", "longest prediction step", "s")
+    fragment_age: float = param(
+        1.0,
+        "assumption; a simulated robot following a person without poses (20 s, seed 0, "
+        "tests/test_track_leg_foreground_e2e.py): person MOTA 0.05 -> 0.49",
+        "with fragment_rule, a target younger than this that merges is a fragment of the "
+        "people it merges with, not another person (when all are this young, the oldest "
+        "is the one person): a burst of foreground starts many targets at once",
+        "s",
+    )
     adopt_escaped: bool = param(
         True,
         "extension of 002 (its Sec. 4 names the failure); crossing-3 123 -> 321 seeds 0-4: "
@@ -135,6 +146,38 @@ class CSAParams:
         "when all are pairwise separated (they take its remaining people)",
     )
 
+    group_rows: bool = param(
+        False,
+        "002 Sec. 2 keeps every person's identity through a cluster (the Viterbi paths); "
+        "the cluster itself is a tracker state, reported only when asked",
+        "also report one group track per cluster (its people in members); the people of a "
+        "cluster are always reported as person tracks",
+    )
+    member_coast: float = param(
+        0.5,
+        "assumption: a person inside a cluster whose Viterbi paths were all taken over by "
+        "another's keeps walking as last estimated for about a step",
+        "a member of a cluster without estimates of its own is reported at its last "
+        "position moved by its last velocity for at most this long, then held",
+        "s",
+    )
+
+    adopt_orphans: bool = param(
+        True,
+        "extension of 002 (false restores 002); crossing-3 seed 7 (docs/csa.md)",
+        "a person of a cluster none of whose Viterbi paths survive is the target started "
+        "next to the cluster since it formed and nearest to where that person was last "
+        "estimated (within separation_distance): that target takes the person's identity",
+    )
+    person_scores: bool = param(
+        True,
+        "extension of 002 (whose VBA compares the paths of a cluster by their whole "
+        "log-likelihood; false restores 002): summed over many scans, one person's paths "
+        "drift ahead of another's and take over their points, so the people of a cluster "
+        "lose their identities (docs/csa.md)",
+        "Viterbi path scores are compared over their whole history only between paths of "
+        "the same person; between people only the last step's fit decides",
+    )
     fragment_rule: bool = param(
         True,
         "extension of 002 (which has a cluster remember everyone who merged into it; "
@@ -160,9 +203,12 @@ class CSAParams:
             "init_distance",
             "max_unseen",
             "max_dt",
+            "member_coast",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
+        if self.fragment_age < 0:
+            raise ValueError("fragment_age must not be negative")
         if self.min_points < 1:
             raise ValueError("min_points must be at least 1")
 
@@ -289,6 +335,7 @@ class _Single:
     cov: FloatArray
     last_seen: float
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
+    born: float = -math.inf  # when it was started from unselected points
 
 
 @dataclass
@@ -301,6 +348,7 @@ class _Cluster:
     origin: IntArray  # person each estimate's Viterbi path started from
     last_seen: float
     shown: dict[int, FloatArray] = field(default_factory=dict)  # person -> last shown at
+    motion: dict[int, tuple[FloatArray, float]] = field(default_factory=dict)  # velocity, stamp
     born_pid: int = 0  # single targets with a larger id were started after this cluster
 
 
@@ -355,7 +403,7 @@ class ClusterSortingTracker:
                 spawned_by = c.cid
                 break
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp
         )
 
     def _init_cov(self) -> FloatArray:
@@ -427,16 +475,22 @@ class ClusterSortingTracker:
                     mean, cov = kalman.update(
                         sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
                     )
-                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by)
+                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by, t.born)
                 elif stamp - t.last_seen <= p.max_unseen:
-                    new_singles[t.pid] = _Single(t.pid, sm[i], sc[i], t.last_seen, t.spawned_by)
+                    new_singles[t.pid] = _Single(
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born
+                    )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:
                 continue
+            if p.adopt_orphans:
+                self._orphans_claim(cl)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
+        if p.adopt_orphans:
+            self._adopt_orphans(new_singles, new_clusters, stamp)
         if p.adopt_escaped:
             self._adopt_escaped(new_singles, new_clusters, stamp)
         s.singles = new_singles
@@ -473,6 +527,14 @@ class ClusterSortingTracker:
         # these clusters and merging back into it is a fragment of the cluster's people
         cids = {clusters[k].cid for k in objs_c} if p.fragment_rule else set()
         joining = {singles[i].pid for i in objs_s if singles[i].spawned_by not in cids}
+        if p.fragment_rule:
+            # a target younger than fragment_age is not yet a person: merging, it is a
+            # fragment of the others (of the oldest of the young, when all are young)
+            young = {singles[i].pid for i in objs_s if stamp - singles[i].born < p.fragment_age}
+            older = (joining - young) | {m for k in objs_c for m in clusters[k].members}
+            joining -= young
+            if not older and young:
+                joining = {min(young)}
         members = tuple(sorted(joining.union(*[clusters[k].members for k in objs_c])))
         last_seen = max(
             [singles[i].last_seen for i in objs_s] + [clusters[k].last_seen for k in objs_c]
@@ -487,8 +549,10 @@ class ClusterSortingTracker:
             )
             self.events.append(CSAEvent(stamp, kind, members))
         shown = {singles[i].pid: sm[i, :2] for i in objs_s}
+        motion = {singles[i].pid: (sm[i, 2:], stamp) for i in objs_s}
         for k in objs_c:
             shown.update(clusters[k].shown)
+            motion.update(clusters[k].motion)
         born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
         if objs_c:
             cid = clusters[objs_c[0]].cid
@@ -498,7 +562,9 @@ class ClusterSortingTracker:
         all_means = np.concatenate(means)
         all_covs = np.concatenate(covs)
         all_scores = np.concatenate(scores)
-        all_origin = np.concatenate(origin)
+        all_origin = _fragment_origins(np.concatenate(origin), members, shown)
+        if p.person_scores:
+            all_scores = per_person_scores(all_scores, all_origin)
         step = viterbi_step(
             all_means, all_covs, all_scores, z, point_var, p.gate, p.max_gate_distance
         )
@@ -506,7 +572,16 @@ class ClusterSortingTracker:
             if stamp - last_seen > p.max_unseen:
                 return None
             return _Cluster(
-                cid, members, all_means, all_covs, all_scores, all_origin, last_seen, shown, born
+                cid,
+                members,
+                all_means,
+                all_covs,
+                all_scores,
+                all_origin,
+                last_seen,
+                shown,
+                motion,
+                born,
             )
         return _Cluster(
             cid,
@@ -517,6 +592,7 @@ class ClusterSortingTracker:
             all_origin[step.predecessor],
             stamp,
             shown,
+            motion,
             born,
         )
 
@@ -599,6 +675,80 @@ class ClusterSortingTracker:
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
+    def _orphans_claim(self, cl: _Cluster) -> None:
+        """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
+        sub-clusters (leader clustering at ``subcluster_distance``) that are no person's
+        main sub-cluster (the one holding most of its paths), nearest first to where the
+        orphan was last estimated (Hungarian, within ``separation_distance``); the paths of
+        a claimed sub-cluster continue as the orphan's. Another person's paths that took a
+        second person's points (people who passed within a leg's width) are given back
+        once the two are ``subcluster_distance`` apart."""
+        p = self.params
+        own = {int(o) for o in cl.origin}
+        orphans = [m for m in cl.members if m not in own and m in cl.shown]
+        if not orphans:
+            return
+        labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+        n_sub = int(labels.max()) + 1
+        main = set()
+        for m in own:
+            main.add(int(np.argmax(np.bincount(labels[cl.origin == m], minlength=n_sub))))
+        free = [k for k in range(n_sub) if k not in main]
+        if not free:
+            return
+        cents = np.array([cl.means[labels == k, :2].mean(axis=0) for k in free])
+        prev = np.array([cl.shown[m] for m in orphans])
+        d = np.linalg.norm(prev[:, None] - cents[None], axis=-1)
+        rows, cols = linear_sum_assignment(np.where(d < p.separation_distance, d, 1e6))
+        origin = cl.origin.copy()
+        for r, c in zip(rows, cols, strict=True):
+            if d[r, c] < p.separation_distance:
+                origin[labels == free[int(c)]] = orphans[int(r)]
+        cl.origin = origin
+
+    def _adopt_orphans(
+        self, singles: dict[int, _Single], clusters: dict[int, _Cluster], stamp: float
+    ) -> None:
+        """A person of a cluster none of whose Viterbi paths survive (an *orphan*: its
+        points fell outside every gate, or another person's paths took them) is the target
+        started next to the cluster since it formed: the nearest such target within
+        ``separation_distance`` of where the orphan was last estimated takes its identity
+        (Hungarian on distance) and the orphan leaves the cluster; a cluster left with one
+        person becomes a single target again. An extension of 002 (whose VBA keeps a
+        cluster's people until the split conditions hold)."""
+        p = self.params
+        in_clusters = {m for c in clusters.values() for m in c.members}
+        for cl in list(clusters.values()):
+            own = {int(o) for o in cl.origin}
+            orphans = [m for m in cl.members if m not in own and m in cl.shown]
+            new = [
+                t
+                for t in singles.values()
+                if t.pid >= cl.born_pid and t.pid not in in_clusters and t.spawned_by == cl.cid
+            ]
+            if not orphans or not new:
+                continue
+            prev = np.array([cl.shown[m] for m in orphans])
+            pos = np.array([t.mean[:2] for t in new])
+            d = np.linalg.norm(prev[:, None] - pos[None], axis=-1)
+            rows, cols = linear_sum_assignment(np.where(d < p.separation_distance, d, 1e6))
+            taken = []
+            for r, c in zip(rows, cols, strict=True):
+                if d[r, c] >= p.separation_distance:
+                    continue
+                m, t = orphans[int(r)], new[int(c)]
+                del singles[t.pid]
+                singles[m] = _Single(m, t.mean, t.cov, t.last_seen)
+                taken.append(m)
+            if not taken:
+                continue
+            self.events.append(CSAEvent(stamp, "adopt orphan", tuple(taken)))
+            cl.members = tuple(m for m in cl.members if m not in taken)
+            if len(cl.members) == 1:
+                m = cl.members[0]
+                singles[m] = _Single(m, cl.means.mean(axis=0), self._init_cov(), stamp)
+                del clusters[cl.cid]
+
     def _initiate(self, free: FloatArray, stamp: float) -> None:
         if free.shape[0] < self.params.min_points:
             return
@@ -607,30 +757,60 @@ class ClusterSortingTracker:
         for k in np.flatnonzero(counts >= self.params.min_points):
             self._new_single(free[labels == k].mean(axis=0), stamp)
 
+    def member_estimates(self, cl: _Cluster, stamp: float) -> dict[int, tuple[FloatArray, ...]]:
+        """Where each person of cluster ``cl`` is: person -> (position (2,) [m], velocity
+        (2,) [m/s], covariance (2, 2) [m^2]).
+
+        002 keeps every person's identity through a cluster: each estimate of the VBA
+        continues a Viterbi path that started at one person (``origin``). A person's
+        position is the mean of its estimates (its legs); when its estimates lie in several
+        sub-clusters (leader clustering at ``subcluster_distance``), those of the
+        sub-cluster holding most of them. A person none of whose paths survived (another's
+        took them over) is moved from where it was last estimated by its last velocity for
+        up to ``member_coast``, then held, and gets a covariance of one gate.
+        Updates the cluster's memory of where and how each person was last seen."""
+        p = self.params
+        labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+        out: dict[int, tuple[FloatArray, ...]] = {}
+        for m in cl.members:
+            own = cl.origin == m
+            if own.any():
+                counts = np.bincount(labels[own])
+                sel = own & (labels == int(np.argmax(counts)))
+                pos = cl.means[sel, :2]
+                vel = cl.means[sel, 2:].mean(axis=0)
+                cov = np.cov(pos.T) if pos.shape[0] > 1 else np.zeros((2, 2))
+                cov = cov + np.eye(2) * p.mean_std**2
+                xy = pos.mean(axis=0)
+                cl.shown[m] = xy
+                cl.motion[m] = (vel, stamp)
+                out[m] = (xy, vel, cov)
+                continue
+            if m not in cl.shown:  # never seen in this cluster's memory: its centre
+                xy = cl.means[:, :2].mean(axis=0)
+                out[m] = (xy, np.zeros(2), np.eye(2) * p.max_gate_distance**2)
+                continue
+            vel, since = cl.motion.get(m, (np.zeros(2), stamp))
+            if stamp - since > p.max_unseen:  # lost inside the cluster: not reported
+                continue
+            coast = min(max(stamp - since, 0.0), p.member_coast)
+            out[m] = (
+                cl.shown[m] + vel * coast,
+                vel if stamp - since < p.member_coast else np.zeros(2),
+                np.eye(2) * p.max_gate_distance**2,
+            )
+        return out
+
     def _report(self, frame: Frame) -> Tracks:
         p = self.params
         out: list[Track] = []
         for t in self._s.singles.values():
             out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
-            labels = leader_clusters(c.means[:, :2], p.subcluster_distance)
-            n_sub = int(labels.max()) + 1
-            if n_sub == len(c.members):
-                for sub, pid in enumerate(self._subcluster_ids(c, labels)):
-                    sel = labels == sub
-                    pos = c.means[sel, :2]
-                    cov = np.cov(pos.T) if pos.shape[0] > 1 else np.eye(2) * p.point_std**2
-                    c.shown[pid] = pos.mean(axis=0)
-                    out.append(
-                        Track(
-                            pid,
-                            "person",
-                            pos.mean(axis=0),
-                            c.means[sel, 2:].mean(axis=0),
-                            cov + np.eye(2) * 1e-6,
-                            score=0.5,
-                        )
-                    )
+            for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():
+                out.append(Track(pid, "person", xy, vel, cov, score=0.5))
+            if not p.group_rows:
+                continue
             pos = c.means[:, :2]
             cov = np.cov(pos.T) if pos.shape[0] > 1 else np.eye(2) * p.point_std**2
             out.append(
@@ -651,6 +831,39 @@ class ClusterSortingTracker:
     def clusters(self) -> dict[int, tuple[int, ...]]:
         """Cluster id -> the people it holds (the memory of who merged)."""
         return {c.cid: c.members for c in self._s.clusters.values()}
+
+
+def per_person_scores(scores: FloatArray, origin: IntArray) -> FloatArray:
+    """Path scores (E,) shifted so that the best path of every person (``origin`` (E,),
+    the person each path started from) scores 0: paths compete on their whole history
+    only with the paths of the same person, and between people only the last step's fit
+    counts."""
+    s = np.asarray(scores, dtype=np.float64)
+    if s.size == 0:
+        return s.copy()
+    _, inv = np.unique(origin, return_inverse=True)
+    best = np.full(int(inv.max()) + 1, -np.inf)
+    np.maximum.at(best, inv, s)
+    return s - best[inv]
+
+
+def _fragment_origins(
+    origin: IntArray, members: tuple[int, ...], shown: dict[int, FloatArray]
+) -> IntArray:
+    """``origin`` (E,) with every path that started at a target which is not one of the
+    cluster's ``members`` (a fragment, see ``fragment_rule``) given to the member last
+    shown nearest to that target (``shown``: person -> position (2,)); unchanged where no
+    member was shown."""
+    known = [m for m in members if m in shown]
+    stray = sorted({int(o) for o in origin} - set(members))
+    if not known or not stray:
+        return origin
+    out = origin.copy()
+    ref = np.array([shown[m] for m in known])
+    for o in stray:
+        if o in shown:
+            out[origin == o] = known[int(np.argmin(np.linalg.norm(ref - shown[o], axis=1)))]
+    return out
 
 
 def gate_components(gates: NDArray[np.bool_]) -> list[list[int]]:

@@ -57,9 +57,10 @@ from laserpeople.sim.scenarios.randomised import (
     clutter,
     drawn_gait,
     drawn_odometry,
+    mounted_laser,
     random_laser,
+    scanner_notes,
 )
-from laserpeople.sim.sensors import SensorSpec
 from laserpeople.sim.simulator import Scene
 from laserpeople.sim.world import StaticObject, World, room
 
@@ -371,29 +372,11 @@ def random_groups_scene(
                 route.walk_to(spot[0], spot[1], speed)
             route.wait(_u(rng, 0.5, 4.0))
         robot = RobotSpec(sample_route(route, duration, smoothing=0.5), drawn_odometry(rng, 2.0))
-        mount = Pose2D(0.2, 0.0, 0.0)
-    else:
-        mount = Pose2D(sx, sy, sth)
-    sensor = SensorSpec(
-        "laser",
-        laser.name,
-        height,
-        mount,
-        on_robot=moving,
-        rate_hz=laser.rate_hz,
-        laser_model=laser,
-    )
+    sensor = mounted_laser(laser, height, Pose2D(sx, sy, sth), moving)
     notes = {
         "family": "random-groups",
         "room_m": [round(w, 2), round(h, 2)],
-        "scanner": {
-            "resolution_deg": round(laser.resolution_deg, 4),
-            "fov_deg": round(laser.fov_deg, 2),
-            "range_max_m": round(laser.range_max, 2),
-            "rate_hz": laser.rate_hz,
-            "height_m": round(height, 3),
-            "level": "torso" if torso else "feet",
-        },
+        "scanner": {**scanner_notes(laser, height), "level": "torso" if torso else "feet"},
         "moving_robot": moving,
         "clutter": counts,
         "people": len(people),

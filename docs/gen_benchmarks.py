@@ -230,8 +230,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Group tracker on the randomised group scenes, held-back seeds 100–119",
         ("benchmarks/groups_random.py", "--seeds", "100-119", "--seconds", "40"),
         20.0,
-        "group MOTA 0.675; group size within 0.17 people, 85.2 % exact (leg pairs: 0.20, "
-        "84.3 %)",
+        "group MOTA 0.675; group size within 0.17 people, 85.2 % exact (leg pairs: 0.20, 84.3 %)",
         "groups.md#results-on-the-randomised-group-scenes",
     ),
     Benchmark(

@@ -329,9 +329,6 @@ class LegMHTTracker:
         ]
         segments = [s.points for s in detections.segments]
         obs = leg_observations(rows, segments, detections.scores, self.params.people)
-        pose = detections.sensor_pose
-        world = self.frame == "world" and pose is not None
-        self.person_tracks.sensor_xy = (pose.x, pose.y) if world and pose is not None else None
         return self.person_tracks.update(obs, stamp, self.params.max_report_unseen)
 
     @property

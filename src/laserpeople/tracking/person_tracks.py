@@ -71,7 +71,6 @@ from numpy.typing import NDArray
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.tracking import kalman
-from laserpeople.tracking.existence import NONE_E, TWO_E, ExistenceParams
 from laserpeople.tracking.reidentify import (
     Candidate,
     DormantIdentity,
@@ -80,9 +79,7 @@ from laserpeople.tracking.reidentify import (
     Signature,
     leg_width,
 )
-from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracking.robot_motion import MotionParams
-from laserpeople.tracking.visibility import in_plain_view
 from laserpeople.tracks import Track
 
 FloatArray = NDArray[np.float64]
@@ -270,11 +267,6 @@ class PersonTrackParams:
         "nested table people.motion.*",
         "when the lasers count as riding on a moving robot (tracking/robot_motion.py)",
     )
-    existence: ExistenceParams = param(  # noqa: RUF009 (a frozen default instance)
-        ExistenceParams(),
-        "nested table people.existence.*",
-        "existence evidence calibrated from labels, on a moving robot (tracking/existence.py)",
-    )
 
     static_legs: bool = param(
         False,
@@ -329,20 +321,6 @@ class PersonTrackParams:
         "assumption: a walker's path over half a second is nearly straight; jitter on "
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
-    )
-    drop_in_view: bool = param(
-        True,
-        "measured (docs/moving-robot.md)",
-        "on a moving robot tracked in the world frame, a confirmed person gets no miss "
-        "penalty while hidden (out of view or behind nearer returns) and the full one while "
-        "the laser should see it (tracking/visibility.py), and is deleted when its score "
-        "falls below llr_delete (else it coasts for max_coast)",
-    )
-    view_range: float = param(
-        8.0,
-        "assumption: a 0.35 deg scanner puts ~3 beams on a leg at 8 m",
-        "a person farther than this from the laser is not in its view (drop_in_view)",
-        "m",
     )
     arrival_slack: float = param(
         2.0,
@@ -550,19 +528,6 @@ class PersonTracker:
         self.moving = False
         """The lasers ride on a robot that has moved, and the tracking frame is the world
         (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
-        self.sensor_xy: tuple[float, float] | None = None
-        """Position [m] of the laser in the tracking frame at this scan (set by the caller in
-        a world-frame run; None: unknown), for the range of the calibrated evidence."""
-        self.view: tuple[Scan, Pose2D] | None = None
-        """This scan of the first laser and its pose in the tracking frame (set by the
-        caller on a moving robot in a world-frame run; ``drop_in_view``)."""
-        self.evidence_log: list[tuple[float, int, float, float, int, int]] | None = None
-        """When a list: every calibrated evidence of a scan is appended to it as (time [s],
-        person id, x, y [m] (predicted, tracking frame), range row, class), for fitting the
-        table (``benchmarks/fit_existence.py``)."""
-        self._table = params.existence.table()
-        self._stamp_now = 0.0
-        self._logged_id = -1
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
         """Per leg track: (time [s], x, y [m]) of its detections over the last
         ``moving_time`` (and one before), for :func:`moves_consistently`."""
@@ -682,64 +647,6 @@ class PersonTracker:
         """Some detected member leg of ``person`` moves consistently (:meth:`_moves`)."""
         return any(self._moves(legs[m]) for m in person.members)
 
-    def _dropping(self) -> bool:
-        """``drop_in_view`` applies: a moving robot in the world frame with a known view."""
-        return self._one_leg_on() and self.params.drop_in_view and self.view is not None
-
-    def _hidden(self, people: Sequence[PersonTrack]) -> set[int]:
-        """Ids of the confirmed ``people`` without a leg detected that the laser cannot see
-        now (``drop_in_view``; empty when it does not apply)."""
-        if not people or not self._dropping():
-            return set()
-        assert self.view is not None
-        scan, pose = self.view
-        xy = np.array([q.mean[:2] for q in people], dtype=np.float64)
-        seen = in_plain_view(scan, pose, xy, self.params.view_range)
-        return {q.person_id for q, v in zip(people, seen.tolist(), strict=True) if not v}
-
-    def _calibrated(self) -> bool:
-        """The calibrated evidence table applies: one-leg births are on (a moving robot in
-        the world frame) with ``existence.calibrated`` and a known laser position."""
-        return (
-            self._one_leg_on() and self.params.existence.calibrated and self.sensor_xy is not None
-        )
-
-    def _cell(self, position: FloatArray, evidence_class: int) -> float:
-        """The table's log-likelihood ratio of ``evidence_class`` at ``position`` (2,) [m]
-        (its range from :attr:`sensor_xy`), logged to :attr:`evidence_log` when asked."""
-        assert self.sensor_xy is not None
-        x, y = position[:2].tolist()
-        row = self.params.existence.range_bin(
-            math.hypot(x - self.sensor_xy[0], y - self.sensor_xy[1])
-        )
-        if self.evidence_log is not None:
-            self.evidence_log.append((self._stamp_now, self._logged_id, x, y, row, evidence_class))
-        return float(self._table[row, evidence_class])
-
-    def _birth_llr(self, position: FloatArray, evidence_class: int) -> float | None:
-        """Initial existence score of a person born at ``position`` with ``evidence_class``:
-        the table's value when calibrated, else None (both legs' hand value)."""
-        if not self._calibrated():
-            return None
-        self._logged_id = -1
-        return self._cell(position, evidence_class)
-
-    def _calibrated_step(
-        self, person: PersonTrack, legs: Mapping[int, LegObservation], evidence: int, stamp: float
-    ) -> float:
-        """The table's log-likelihood ratio of this scan's evidence of ``person`` (``evidence``
-        from :meth:`_measure`; one leg is classed by its detector margin and motion)."""
-        if evidence == TWO:
-            c = TWO_E
-        elif evidence == ONE:
-            scores = [legs[m].score for m in person.members if legs[m].detected]
-            best = max((s for s in scores if not math.isnan(s)), default=math.nan)
-            c = self.params.existence.one_leg_class(best, self._moving_member(person, legs))
-        else:
-            c = NONE_E
-        self._logged_id = person.person_id
-        return self._cell(person.mean, c)
-
     def _one_leg_covs(self, n: int) -> FloatArray:
         """``n`` copies (n, 2, 2) of the one-leg measurement covariance (kept between
         scans; read-only)."""
@@ -811,19 +718,11 @@ class PersonTracker:
         rows: list[tuple[PersonTrack, FloatArray, float]] = []
         steps = self._llr_steps
         one_leg = self._one_leg_on()
-        calibrated = self._calibrated()
-        measured = [(person, *self._measure(person, legs)) for person in self.persons.values()]
-        hidden = self._hidden([q for q, e, _, _ in measured if e == NONE and q.confirmed])
-        for person, evidence, z, std in measured:
-            if person.person_id in hidden:
-                step = 0.0
-            elif calibrated:
-                step = self._calibrated_step(person, legs, evidence, stamp)
-            else:
-                if evidence == ONE and one_leg and self._moving_member(person, legs):
-                    evidence = TWO
-                step = steps[evidence]
-            person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
+        for person in self.persons.values():
+            evidence, z, std = self._measure(person, legs)
+            if evidence == ONE and one_leg and self._moving_member(person, legs):
+                evidence = TWO
+            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -885,12 +784,11 @@ class PersonTracker:
                 if not 0.5 * (a.score + b.score) > p.birth_min_score:
                     continue
                 used.update((a.track_id, b.track_id))
-                mid = 0.5 * (a.position + b.position)
-                self._new(mid, [a.track_id, b.track_id], stamp, self._birth_llr(mid, TWO_E))
+                self._new(0.5 * (a.position + b.position), [a.track_id, b.track_id], stamp)
         for leg in free:
             if leg.wide and leg.track_id not in used:
                 used.add(leg.track_id)
-                self._new(leg.position, [leg.track_id], stamp, self._birth_llr(leg.position, TWO_E))
+                self._new(leg.position, [leg.track_id], stamp)
         if self._one_leg_on():
             # a leg within pair_distance of a person is most likely its other leg: no birth
             near = [q.mean[:2].tolist() for q in self.persons.values()]
@@ -900,13 +798,8 @@ class PersonTracker:
                     continue
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
-                    moves = self._moves(leg)
-                    if self._calibrated():
-                        c = p.existence.one_leg_class(leg.score, moves)
-                        llr = self._birth_llr(leg.position, c)
-                    else:
-                        llr = float(self._llr[TWO if moves else ONE])
-                    self._new(leg.position, [leg.track_id], stamp, llr)
+                    evidence = TWO if self._moves(leg) else ONE
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
     def _new(
         self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None
@@ -1004,8 +897,7 @@ class PersonTracker:
             q = self.persons[pid]
             unseen = stamp - q.last_seen
             if q.confirmed:
-                dropped = q.llr < p.llr_delete and self._dropping()
-                if unseen > p.max_coast or dropped:
+                if unseen > p.max_coast:
                     assert q.public_id is not None
                     seen = q.seen_before + q.last_seen - q.confirmed_at
                     self.reid.remember(
@@ -1054,7 +946,6 @@ class PersonTracker:
         """Advance to ``stamp`` [s] with this scan's leg tracks; returns the confirmed people
         whose last leg detection is at most ``max_report_unseen`` [s] old."""
         self._static_now = {}
-        self._stamp_now = stamp
         if self.params.one_leg_birth:
             self._record_paths(legs, stamp)
         self._predict(stamp)

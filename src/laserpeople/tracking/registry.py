@@ -95,8 +95,6 @@ class LegMHTAdapter(LegsAdapter):
                 self._watch = MotionWatch(people.params.motion)
             world = frame.frame == "world" and bool(frame.scans)
             people.moving = world and self._watch(frame.sensor_pose)
-            pose = frame.sensor_pose
-            people.view = (frame.scans[0], pose) if people.moving and pose is not None else None
         return super().update(frame)
 
     @property

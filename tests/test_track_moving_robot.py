@@ -144,32 +144,6 @@ def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     assert run_one_leg(P, 0.2, 30) == [0] * 30
 
 
-def run_every_other_scan(params: PersonTrackParams, speed: float, scans: int) -> list[int]:
-    """Confirmed people per scan of one leg walking along x at ``speed`` (10 Hz), detected
-    in every other scan only (as a walker at 4-7 m on the lobby recording)."""
-    tracker = PersonTracker(params)
-    tracker.moving = True
-    out = []
-    for k in range(scans):
-        legs = one_leg(speed * 0.1 * k, 0.0, detected=k % 2 == 0)
-        out.append(len(tracker.update(legs, 0.1 * k, 1.0)))
-    return out
-
-
-def test_a_walker_seen_every_other_scan_is_confirmed_through_the_gaps() -> None:
-    # candidate born at k = 0 (one leg, 0), miss -1.61, k = 2 one leg 0, miss -3.22 < -2:
-    # deleted; born again at k = 4 (path 0.4 s < moving_time: 0), miss -1.61; k = 6 the
-    # leg has moved 0.6 m in 0.6 s: +1.61 -> 0; from then each miss within moving_gap
-    # (0.1 s later) counts 0: k = 8 1.61, 10 3.22, 12 4.83 >= 4 confirmed
-    walking = run_every_other_scan(P, 1.0, 20)
-    assert walking.index(1) == 12
-    assert all(walking[12:])
-    # without the gap the misses cancel the motion evidence (+1.61, -1.61, ...): never
-    assert run_every_other_scan(replace(P, moving_gap=0.0), 1.0, 20) == [0] * 20
-    # a post seen every other scan is never confirmed, gap or not
-    assert run_every_other_scan(P, 0.0, 30) == [0] * 30
-
-
 def test_a_miss_on_a_moving_robot_lowers_the_score_by_none() -> None:
     tracker = PersonTracker(P)
     tracker.moving = True

@@ -322,15 +322,6 @@ class PersonTrackParams:
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
     )
-    moving_gap: float = param(
-        0.3,
-        "assumption: at 7.5 Hz a walker at 4-7 m is detected in about every other scan "
-        "(docs/moving-robot.md)",
-        "on a moving robot, a scan without a leg of a candidate (not yet confirmed) within "
-        "this long after a scan in which its leg moved consistently counts neither for nor "
-        "against it (0: always a miss)",
-        "s",
-    )
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -441,8 +432,6 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
-        moved_at: Time [s] of its last scan with a detected leg moving consistently
-            (``one_leg_birth`` on a moving robot; -inf before).
     """
 
     person_id: int
@@ -463,7 +452,6 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
-    moved_at: float = -math.inf
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -734,16 +722,7 @@ class PersonTracker:
             evidence, z, std = self._measure(person, legs)
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
-                person.moved_at = stamp
-            step = steps[evidence]
-            if (
-                evidence == NONE
-                and one_leg
-                and not person.confirmed
-                and stamp - person.moved_at <= p.moving_gap + 1e-9
-            ):
-                step = 0.0
-            person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
+            person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
                 if legs[m].detected:
@@ -820,17 +799,11 @@ class PersonTracker:
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
                     evidence = TWO if self._moves(leg) else ONE
-                    born = self._new(
-                        leg.position, [leg.track_id], stamp, float(self._llr[evidence])
-                    )
-                    if evidence == TWO:
-                        born.moved_at = stamp
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
     def _new(
         self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None
-    ) -> PersonTrack:
-        """A new candidate at ``position`` (2,) [m] with ``members`` and initial score ``llr``
-        (None: both legs' evidence), added to :attr:`persons` and returned."""
+    ) -> None:
         p = self.params
         mean, cov = kalman.initiate(position, np.eye(2) * p.pair_std**2, p.init_velocity_std)
         pid = next(self._ids)
@@ -846,7 +819,6 @@ class PersonTracker:
             born_stamp=stamp,
             arrived=(stamp, position.copy()),
         )
-        return self.persons[pid]
 
     def _merge(self) -> None:
         """Of two people closer than ``merge_distance``, the confirmed, then higher-scored,

@@ -26,7 +26,8 @@ test set of ``benchmarks/people_suite.py`` and must never be used for tuning.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -35,7 +36,7 @@ from laserpeople.config import param
 from laserpeople.scan import Pose2D
 from laserpeople.sim.gait import GaitParams
 from laserpeople.sim.motion import Route, sample_route
-from laserpeople.sim.people import BodyParams, PersonSpec, random_person
+from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
 from laserpeople.sim.robot import OdometryParams, RobotSpec
 from laserpeople.sim.scenarios import register
 from laserpeople.sim.sensors import LaserModel, SensorSpec
@@ -134,17 +135,44 @@ def random_laser(rng: np.random.Generator, p: RandomisedParams) -> LaserModel:
     if fov > 360.0 - res:  # a full circle: the last beam must not repeat the first
         fov = 360.0 - res
     fov = res * round(fov / res)
+    return drawn_laser(
+        rng,
+        f"random-{res:.3f}deg-{fov:.0f}deg",
+        fov,
+        res,
+        p.rate_hz,
+        (5.6, 30.0),
+        0.01,
+        "randomised (laserpeople.sim.scenarios.randomised)",
+    )
+
+
+def drawn_laser(
+    rng: np.random.Generator,
+    name: str,
+    fov_deg: float,
+    resolution_deg: float,
+    rates_hz: Sequence[float],
+    range_max_m: tuple[float, float],
+    dropout_max: float,
+    source: str,
+) -> LaserModel:
+    """A scanner of field of view ``fov_deg`` [deg] and beam spacing ``resolution_deg``
+    [deg] with the rest drawn, in this order: the scan rate [Hz] from ``rates_hz``, the
+    largest range [m] uniformly in ``range_max_m`` (low, high), the range noise sigma [m]
+    in [0.005, 0.02], the relative range noise [1] in [0, 0.002] and the share of dropped
+    beams [1] in [0, ``dropout_max``]. The smallest range is 0.02 m."""
     return LaserModel(
-        name=f"random-{res:.3f}deg-{fov:.0f}deg",
-        fov_deg=fov,
-        resolution_deg=res,
-        rate_hz=float(rng.choice(p.rate_hz)),
+        name=name,
+        fov_deg=fov_deg,
+        resolution_deg=resolution_deg,
+        rate_hz=float(rng.choice(rates_hz)),
         range_min=0.02,
-        range_max=_uniform(rng, 5.6, 30.0),
+        range_max=_uniform(rng, *range_max_m),
         sigma=_uniform(rng, 0.005, 0.02),
         sigma_relative=_uniform(rng, 0.0, 0.002),
-        dropout=_uniform(rng, 0.0, 0.01),
-        source="randomised (laserpeople.sim.scenarios.randomised)",
+        dropout=_uniform(rng, 0.0, dropout_max),
+        source=source,
     )
 
 
@@ -171,6 +199,50 @@ def drawn_gait(rng: np.random.Generator, scale_min: float, scale_max: float) -> 
         cadence_at_rest=base.cadence_at_rest * scale,
         cadence_per_speed=base.cadence_per_speed * scale,
         swing_fraction=_uniform(rng, 0.7, 0.9),
+    )
+
+
+def drawn_robot(
+    rng: np.random.Generator, route: Route, duration: float, odometry_scale_max: float
+) -> RobotSpec:
+    """A robot that follows ``route`` (sampled until ``duration`` [s], its positions
+    smoothed with a 0.5 s Gaussian) with odometry errors drawn by :func:`drawn_odometry`
+    (factor in [0.5, ``odometry_scale_max``])."""
+    odometry = drawn_odometry(rng, odometry_scale_max)
+    return RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
+
+
+def one_laser_scene(
+    objs: list[StaticObject],
+    people: list[PersonSpec],
+    laser: LaserModel,
+    height: float,
+    mount: Pose2D,
+    robot: RobotSpec | None,
+    notes: dict[str, Any],
+    truth_seen_within: float,
+) -> Scene:
+    """A scene seen by one scanner called ``laser`` with the model ``laser``, mounted
+    ``height`` [m] above the floor at ``mount`` (on the robot when there is one, the scans
+    then carrying odometry poses; in the world [m, rad] otherwise). A person is scored in
+    a scan when the scanner hit them within ``truth_seen_within`` [s] of it."""
+    sensor = SensorSpec(
+        "laser",
+        laser.name,
+        height,
+        mount,
+        on_robot=robot is not None,
+        rate_hz=laser.rate_hz,
+        laser_model=laser,
+    )
+    return Scene(
+        World(objs),
+        people,
+        [sensor],
+        robot,
+        notes,
+        poses_from_odometry=robot is not None,
+        truth_seen_within=truth_seen_within,
     )
 
 
@@ -361,9 +433,7 @@ def random_people(
         _wander(rng, layout, routes[k], duration, speeds[k])
         gait = drawn_gait(rng, p.cadence_scale_min, p.cadence_scale_max)
         person = random_person(rng, k, routes[k], params=body, gait_params=gait)
-        # legs never interpenetrate: the feet stand at least 3 cm apart at rest
-        hip = max(person.hip_half_width, person.leg_radius + 0.015)
-        people.append(replace(person, hip_half_width=hip))
+        people.append(with_feet_apart(person))
     return people, meetings
 
 
@@ -416,20 +486,10 @@ def randomised_scene(
                 route.walk_to(spot[0], spot[1], speed)
             if spot is None or rng.random() < 0.4:
                 route.wait(_uniform(rng, 1.0, 4.0))
-        odometry = drawn_odometry(rng, p.odometry_scale_max)
-        robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
+        robot = drawn_robot(rng, route, duration, p.odometry_scale_max)
         mount = Pose2D(0.2, 0.0, 0.0)
     else:
         mount = Pose2D(sx, sy, sth)
-    sensor = SensorSpec(
-        "laser",
-        laser.name,
-        height,
-        mount,
-        on_robot=moving,
-        rate_hz=laser.rate_hz,
-        laser_model=laser,
-    )
     notes = {
         "family": "randomised" if with_people else "randomised-furniture",
         "room_m": [round(w, 2), round(h, 2)],
@@ -446,15 +506,7 @@ def randomised_scene(
         "meetings": meetings,
         "wall_height_m": WALL_HEIGHT,
     }
-    return Scene(
-        World(objs),
-        people,
-        [sensor],
-        robot,
-        notes,
-        poses_from_odometry=moving,
-        truth_seen_within=p.truth_seen_within,
-    )
+    return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
 @register(

@@ -32,7 +32,7 @@ from laserpeople.config import param
 from laserpeople.scan import Pose2D
 from laserpeople.sim.motion import Route
 from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
-from laserpeople.sim.scenarios import register
+from laserpeople.sim.scenarios import register_scene
 from laserpeople.sim.scenarios.randomised import (
     drawn_gait,
     drawn_laser,
@@ -254,12 +254,11 @@ def moving_robot_scene(
     return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
-@register(
+register_scene(
     "moving-robot",
     "a robot driving down a hallway into a lobby; people walk towards it, overtake it, "
     "stand in groups (the seed draws all; tune on seeds 0-9, seeds 100-119 are held back)",
     "the leg_tracker benchmark's moving-robot recording (docs/moving-robot.md)",
     40.0,
+    moving_robot_scene,
 )
-def _moving_robot(rng: np.random.Generator, duration: float) -> Scene:
-    return moving_robot_scene(rng, duration)

@@ -38,7 +38,7 @@ from laserpeople.sim.gait import GaitParams
 from laserpeople.sim.motion import Route, sample_route
 from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
 from laserpeople.sim.robot import OdometryParams, RobotSpec
-from laserpeople.sim.scenarios import register
+from laserpeople.sim.scenarios import register_scene
 from laserpeople.sim.sensors import LaserModel, SensorSpec
 from laserpeople.sim.simulator import Scene
 from laserpeople.sim.world import (
@@ -509,22 +509,20 @@ def randomised_scene(
     return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
-@register(
+register_scene(
     "randomised",
     "randomised room, clutter, scanner model, robot and 1-6 people (the seed draws all; "
     "tune on seeds 0-49, seeds 100-119 are held back)",
     "docs/people-benchmarks.md",
     30.0,
+    randomised_scene,
+    with_people=True,
 )
-def _randomised(rng: np.random.Generator, duration: float) -> Scene:
-    return randomised_scene(rng, duration, with_people=True)
-
-
-@register(
+register_scene(
     "randomised-furniture",
     "the randomised rooms and clutter with nobody in them (person tracks there are false)",
     "issue 10",
     30.0,
+    randomised_scene,
+    with_people=False,
 )
-def _randomised_furniture(rng: np.random.Generator, duration: float) -> Scene:
-    return randomised_scene(rng, duration, with_people=False)

@@ -38,6 +38,7 @@ from laserpeople.sim.scenarios.randomised import (
     drawn_laser,
     drawn_robot,
     four_posts,
+    free_spot,
     one_laser_scene,
 )
 from laserpeople.sim.sensors import LaserModel
@@ -115,14 +116,12 @@ def moving_robot_scene(
     ]
     taken: list[tuple[float, float, float]] = []
 
+    def way_in_clear(x: float, y: float) -> bool:
+        return not (abs(y - mid) < 1.0 and x < x1 + 4.0)  # the robot's way into the lobby
+
     def lobby_point(clear: float, margin: float = 1.0) -> tuple[float, float] | None:
-        for _ in range(60):
-            x, y = _u(rng, x1 + margin, x2 - margin), _u(rng, yb + margin, yt - margin)
-            if abs(y - mid) < 1.0 and x < x1 + 4.0:
-                continue  # keep the robot's way in clear
-            if all(math.hypot(x - a, y - b) > clear + r for a, b, r in taken):
-                return x, y
-        return None
+        xs, ys = (x1 + margin, x2 - margin), (yb + margin, yt - margin)
+        return free_spot(rng, xs, ys, taken, clear, way_in_clear)
 
     counts = {
         "pillars": int(rng.integers(0, 4)),

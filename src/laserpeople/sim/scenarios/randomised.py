@@ -26,7 +26,7 @@ test set of ``benchmarks/people_suite.py`` and must never be used for tuning.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -307,12 +307,28 @@ class _Layout:
     taken: list[tuple[float, float, float]]  # x, y, radius kept clear
 
     def free_point(self, rng: np.random.Generator, clear: float, margin: float = 0.5) -> Any:
-        for _ in range(60):
-            x = _uniform(rng, margin, self.w - margin)
-            y = _uniform(rng, margin, self.h - margin)
-            if all(math.hypot(x - a, y - b) > clear + r for a, b, r in self.taken):
-                return x, y
-        return None
+        xs, ys = (margin, self.w - margin), (margin, self.h - margin)
+        return free_spot(rng, xs, ys, self.taken, clear)
+
+
+def free_spot(
+    rng: np.random.Generator,
+    xs: tuple[float, float],
+    ys: tuple[float, float],
+    taken: list[tuple[float, float, float]],
+    clear: float,
+    allowed: Callable[[float, float], bool] | None = None,
+) -> tuple[float, float] | None:
+    """A point drawn uniformly in ``xs`` x ``ys`` (low, high) [m] that lies more than
+    ``clear`` [m] beyond the kept-clear radius of every ``taken`` (x, y, radius) [m] and
+    that ``allowed(x, y)`` accepts; 60 draws (x then y) at most, None when all fail."""
+    for _ in range(60):
+        x, y = _uniform(rng, *xs), _uniform(rng, *ys)
+        if allowed is not None and not allowed(x, y):
+            continue
+        if all(math.hypot(x - a, y - b) > clear + r for a, b, r in taken):
+            return x, y
+    return None
 
 
 def clutter(rng: np.random.Generator, layout: _Layout) -> tuple[list[StaticObject], dict[str, int]]:

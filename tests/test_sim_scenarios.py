@@ -236,3 +236,16 @@ def test_rosbag_output_when_the_writer_is_there(tmp_path: Path) -> None:
     assert len(scans) == len(result.scans)
     np.testing.assert_allclose(scans[0].ranges, result.scans[0].ranges, rtol=1e-6)
     assert math.isclose(scans[0].pose.x, result.scans[0].pose.x)  # type: ignore[union-attr]
+
+
+def test_registered_variants_pass_their_options_to_the_shared_scene() -> None:
+    from laserpeople.sim.scenarios import build_scene
+
+    still = build_scene("entrance-hall", seed=3, seconds=5.0)
+    moving = build_scene("entrance-hall-moving", seed=3, seconds=5.0)
+    assert still.robot is None and moving.robot is not None
+    full = build_scene("randomised", seed=3, seconds=5.0)
+    empty = build_scene("randomised-furniture", seed=3, seconds=5.0)
+    assert full.people and not empty.people
+    assert full.notes["room_m"] == empty.notes["room_m"]
+    assert (full.notes["family"], empty.notes["family"]) == ("randomised", "randomised-furniture")

@@ -10,7 +10,7 @@ import pytest
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.sim import Scene, simulate
 from laserpeople.sim.motion import Route
-from laserpeople.sim.people import PersonSpec
+from laserpeople.sim.people import PersonSpec, with_feet_apart
 from laserpeople.sim.sensors import SensorSpec
 from laserpeople.sim.world import World, room
 from laserpeople.truth import BeamLabels
@@ -162,3 +162,13 @@ def test_beam_labels_match_the_objects_hit() -> None:
             if oid in circles:
                 x, y, r = circles[oid][:3]
                 assert abs(np.hypot(pts[b, 0] - x, pts[b, 1] - y) - r) < 0.05
+
+
+def test_feet_apart_raises_a_narrow_hip_to_leg_radius_plus_half_the_gap() -> None:
+    narrow = PersonSpec(0, Route(0.0, 0.0, 0.0), 0.0, leg_radius=0.09, hip_half_width=0.08)
+    wide = PersonSpec(1, Route(0.0, 0.0, 0.0), 0.0, leg_radius=0.06, hip_half_width=0.12)
+    # 0.09 + 0.03 / 2 = 0.105 (not 0.12 = r + gap, not 0.09 = r): legs 3 cm apart at rest
+    assert with_feet_apart(narrow).hip_half_width == pytest.approx(0.105, abs=1e-12)
+    assert with_feet_apart(narrow, gap=0.05).hip_half_width == pytest.approx(0.115, abs=1e-12)
+    assert with_feet_apart(wide).hip_half_width == pytest.approx(0.12, abs=1e-12)
+    assert with_feet_apart(narrow).leg_radius == narrow.leg_radius

@@ -9,6 +9,7 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -168,10 +169,57 @@ def test_lobby_recording_recall(shared_data: Path) -> None:
     base = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first"
     tracks, _ = track_bag(base.with_suffix(".bag"), LegTrackerParams())
     score = score_moving(tracks, read_labels(Path(f"{base}.people.csv")))
-    # before issue 29 the default found 1 of the 57 labels (recall 0.018)
+    # before issue 29 the default found 1 of the 57 labels (recall 0.018); today 14 of 57,
+    # MOTA -0.158 with 23 false positives (most of them real people the labels leave out):
+    # a tracker without people, or one that follows every leg, misses these bounds
     assert score.labels == 57
     assert score.recall >= 0.2
+    assert score.mota >= -0.3
+    assert score.false_positives <= 30
+    assert score.ids >= 3
     assert score.id_switches <= 2
+
+
+def benchmarks_module() -> Any:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import moving_people
+
+    return moving_people
+
+
+def test_detection_ceiling_by_hand() -> None:
+    mp = benchmarks_module()
+    labels = {
+        1: {7: np.array([3.0, 0.0]), 8: np.array([5.0, 1.0])},
+        2: {7: np.array([2.0, 0.0])},
+        3: {8: np.array([0.0, -1.0])},  # a label inside the "beside" box: not unlabelled
+    }
+    legs = {
+        # label 7 detected 0.4 m off (<= 0.5), label 8 0.6 m off (not); one leg beside
+        1: np.array([[3.4, 0.0], [5.6, 1.0], [0.0, -1.5]]),
+        # nothing near label 7; a leg outside the box (x 0.5 > 0.4)
+        2: np.array([[0.5, -1.5]]),
+        # the detection beside the robot is 0.5 m from the label: not counted as beside
+        3: np.array([[0.0, -1.5]]),
+    }
+    c = mp.detection_ceiling(legs, labels)
+    assert (c.labels, c.detected, c.scans, c.beside) == (4, 2, 3, 1)
+    assert c.mota == pytest.approx((2 - 1) / 4, abs=1e-12)
+
+
+def test_lobby_recording_ceiling(shared_data: Path) -> None:
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    mp = benchmarks_module()
+    base = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first"
+    _, legs, _ = mp.track_bag_with_legs(base.with_suffix(".bag"), LegTrackerParams())
+    c = mp.detection_ceiling(legs, mp.read_labels(Path(f"{base}.people.csv")))
+    # measured: 43 of 57 labels detected, the unlabelled person beside the robot on 27 of
+    # the 43 labelled scans (the goal MOTA 0.50 is out of reach: 0.281)
+    assert c.labels == 57 and c.scans == 43
+    assert 40 <= c.detected <= 46
+    assert 24 <= c.beside <= 30
+    assert c.mota < 0.35
 
 
 # ------------------------------------------------------------------ simulated family

@@ -9,7 +9,7 @@ turns it into a :class:`PlannedPerson` whose state at any times is evaluated at 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -121,6 +121,14 @@ def random_person(
         torso_axes=(p.torso_half_depth * scale, p.torso_half_width * scale),
         **kwargs,  # type: ignore[arg-type]
     )
+
+
+def with_feet_apart(person: PersonSpec, gap: float = 0.03) -> PersonSpec:
+    """``person`` with the hip half-width [m] raised, where needed, to the leg radius [m]
+    plus ``gap`` / 2, so that the legs stand at least ``gap`` [m] apart at rest and never
+    interpenetrate; everything else unchanged."""
+    hip = max(person.hip_half_width, person.leg_radius + 0.5 * gap)
+    return replace(person, hip_half_width=hip)
 
 
 @dataclass(frozen=True, eq=False)

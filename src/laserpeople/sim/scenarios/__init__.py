@@ -68,6 +68,24 @@ def register(
     return deco
 
 
+def register_scene(
+    name: str,
+    description: str,
+    source: str,
+    duration: float,
+    scene: Callable[..., Scene],
+    **options: object,
+) -> None:
+    """Add to :data:`REGISTRY` the builder ``scene(rng, seconds, **options)``: one scene
+    function serving several scenarios that differ only in fixed keyword ``options``
+    (e.g. ``moving=True``). ``duration`` is the default length [s]."""
+
+    def build(rng: np.random.Generator, seconds: float) -> Scene:
+        return scene(rng, seconds, **options)
+
+    register(name, description, source, duration)(build)
+
+
 def scenario_names() -> list[str]:
     """All scenario names, in library order."""
     return list(REGISTRY)

@@ -27,7 +27,7 @@ from laserpeople.sim.groups import (
 from laserpeople.sim.motion import BodyTrack, Route, sample_route
 from laserpeople.sim.people import PersonSpec, random_person
 from laserpeople.sim.robot import RobotSpec
-from laserpeople.sim.scenarios import register
+from laserpeople.sim.scenarios import register, register_scene
 from laserpeople.sim.sensors import SensorSpec
 from laserpeople.sim.simulator import Scene
 from laserpeople.sim.world import (
@@ -338,21 +338,19 @@ def entrance_hall_scene(rng: np.random.Generator, duration: float, moving: bool)
     return Scene(world, people, [sensor], robot=robot)
 
 
-@register(
+register_scene(
     "entrance-hall",
     "up to 20 people in groups that meet, merge, split, pass each other and leave",
     "000 Sec. 4.6 (dataset 1)",
     60.0,
+    entrance_hall_scene,
+    moving=False,
 )
-def _entrance_hall(rng: np.random.Generator, duration: float) -> Scene:
-    return entrance_hall_scene(rng, duration, moving=False)
-
-
-@register(
+register_scene(
     "entrance-hall-moving",
     "the entrance hall seen from a robot driving to and fro at 0.3 m/s",
     "000 Sec. 4.6 (dataset 2)",
     60.0,
+    entrance_hall_scene,
+    moving=True,
 )
-def _entrance_hall_moving(rng: np.random.Generator, duration: float) -> Scene:
-    return entrance_hall_scene(rng, duration, moving=True)

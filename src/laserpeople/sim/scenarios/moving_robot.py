@@ -24,20 +24,26 @@ test set (``benchmarks/people_suite.py``, family ``moving-robot``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from laserpeople.config import param
 from laserpeople.scan import Pose2D
-from laserpeople.sim.motion import Route, sample_route
-from laserpeople.sim.people import BodyParams, PersonSpec, random_person
-from laserpeople.sim.robot import RobotSpec
-from laserpeople.sim.scenarios import register
-from laserpeople.sim.scenarios.randomised import drawn_gait, drawn_odometry, four_posts
-from laserpeople.sim.sensors import LaserModel, SensorSpec
+from laserpeople.sim.motion import Route
+from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
+from laserpeople.sim.scenarios import register_scene
+from laserpeople.sim.scenarios.randomised import (
+    drawn_gait,
+    drawn_laser,
+    drawn_robot,
+    four_posts,
+    free_spot,
+    one_laser_scene,
+)
+from laserpeople.sim.sensors import LaserModel
 from laserpeople.sim.simulator import Scene
-from laserpeople.sim.world import StaticObject, World, pillar, pole, round_bin, wall
+from laserpeople.sim.world import StaticObject, pillar, pole, round_bin, wall
 
 TUNING_SEEDS = range(0, 10)
 """Seeds of the moving-robot family that may be looked at while tuning."""
@@ -76,17 +82,15 @@ def benchmark_like_laser(rng: np.random.Generator) -> LaserModel:
     """A 270 deg scanner with drawn resolution, rate, range, noise and dropout."""
     res = _u(rng, 0.25, 0.5)
     fov = res * round(270.0 / res)
-    return LaserModel(
-        name=f"moving-robot-{res:.3f}deg",
-        fov_deg=fov,
-        resolution_deg=res,
-        rate_hz=float(rng.choice([7.5, 10.0, 12.5, 15.0])),
-        range_min=0.02,
-        range_max=_u(rng, 8.0, 12.0),
-        sigma=_u(rng, 0.005, 0.02),
-        sigma_relative=_u(rng, 0.0, 0.002),
-        dropout=_u(rng, 0.0, 0.02),
-        source="moving-robot (laserpeople.sim.scenarios.moving_robot)",
+    return drawn_laser(
+        rng,
+        f"moving-robot-{res:.3f}deg",
+        fov,
+        res,
+        (7.5, 10.0, 12.5, 15.0),
+        (8.0, 12.0),
+        0.02,
+        "moving-robot (laserpeople.sim.scenarios.moving_robot)",
     )
 
 
@@ -112,14 +116,12 @@ def moving_robot_scene(
     ]
     taken: list[tuple[float, float, float]] = []
 
+    def way_in_clear(x: float, y: float) -> bool:
+        return not (abs(y - mid) < 1.0 and x < x1 + 4.0)  # the robot's way into the lobby
+
     def lobby_point(clear: float, margin: float = 1.0) -> tuple[float, float] | None:
-        for _ in range(60):
-            x, y = _u(rng, x1 + margin, x2 - margin), _u(rng, yb + margin, yt - margin)
-            if abs(y - mid) < 1.0 and x < x1 + 4.0:
-                continue  # keep the robot's way in clear
-            if all(math.hypot(x - a, y - b) > clear + r for a, b, r in taken):
-                return x, y
-        return None
+        xs, ys = (x1 + margin, x2 - margin), (yb + margin, yt - margin)
+        return free_spot(rng, xs, ys, taken, clear, way_in_clear)
 
     counts = {
         "pillars": int(rng.integers(0, 4)),
@@ -161,19 +163,17 @@ def moving_robot_scene(
         route.walk_to(spot[0], spot[1], v)
         if rng.random() < 0.5:
             route.wait(_u(rng, 1.0, 3.0))
-    odometry = drawn_odometry(rng, p.odometry_scale_max)
-    robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
+    robot = drawn_robot(rng, route, duration, p.odometry_scale_max)
     hall_time = (x1 - 1.0) / v  # about when the robot reaches the lobby
 
     body = BodyParams()
     people: list[PersonSpec] = []
 
     def add(r: Route) -> None:
-        person = random_person(
-            rng, len(people), r, params=body, gait_params=drawn_gait(rng, 0.8, 1.25)
+        gait = drawn_gait(rng, 0.8, 1.25)
+        people.append(
+            with_feet_apart(random_person(rng, len(people), r, params=body, gait_params=gait))
         )
-        hip = max(person.hip_half_width, person.leg_radius + 0.015)
-        people.append(replace(person, hip_half_width=hip))
 
     # towards the robot: start ahead of it in the hallway (or in the lobby's mouth), walk
     # down the hallway past it to its closed end
@@ -236,15 +236,6 @@ def moving_robot_scene(
 
     laser = benchmark_like_laser(rng)
     height = _u(rng, 0.15, 0.35)
-    sensor = SensorSpec(
-        "laser",
-        laser.name,
-        height,
-        Pose2D(0.3, 0.0, 0.0),
-        on_robot=True,
-        rate_hz=laser.rate_hz,
-        laser_model=laser,
-    )
     notes = {
         "family": "moving-robot",
         "hallway_m": [round(hall_len, 2), round(hall_w, 2)],
@@ -258,23 +249,15 @@ def moving_robot_scene(
         "clutter": counts,
         "people": len(people),
     }
-    return Scene(
-        World(objs),
-        people,
-        [sensor],
-        robot,
-        notes,
-        poses_from_odometry=True,
-        truth_seen_within=p.truth_seen_within,
-    )
+    mount = Pose2D(0.3, 0.0, 0.0)
+    return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
-@register(
+register_scene(
     "moving-robot",
     "a robot driving down a hallway into a lobby; people walk towards it, overtake it, "
     "stand in groups (the seed draws all; tune on seeds 0-9, seeds 100-119 are held back)",
     "the leg_tracker benchmark's moving-robot recording (docs/moving-robot.md)",
     40.0,
+    moving_robot_scene,
 )
-def _moving_robot(rng: np.random.Generator, duration: float) -> Scene:
-    return moving_robot_scene(rng, duration)

@@ -47,22 +47,21 @@ from laserpeople.sim.groups import (
     sync,
     walk_in_formation,
 )
-from laserpeople.sim.motion import Route, sample_route
-from laserpeople.sim.people import BodyParams, PersonSpec, random_person
-from laserpeople.sim.robot import RobotSpec
+from laserpeople.sim.motion import Route
+from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
 from laserpeople.sim.scenarios import register
 from laserpeople.sim.scenarios.randomised import (
     RandomisedParams,
     _Layout,
     clutter,
     drawn_gait,
-    drawn_odometry,
-    mounted_laser,
+    drawn_robot,
+    one_laser_scene,
     random_laser,
     scanner_notes,
 )
 from laserpeople.sim.simulator import Scene
-from laserpeople.sim.world import StaticObject, World, room
+from laserpeople.sim.world import StaticObject, room
 
 TUNING_SEEDS = range(0, 10)
 """Seeds of the random-groups family that may be looked at while tuning."""
@@ -330,8 +329,7 @@ def random_parties(
         gait = drawn_gait(rng, 0.8, 1.25)
         groups = tuple(plan.groups[k])
         person = random_person(rng, k, route, params=body, gait_params=gait, groups=groups)
-        hip = max(person.hip_half_width, person.leg_radius + 0.015)
-        people.append(replace(person, hip_half_width=hip))
+        people.append(with_feet_apart(person))
     return people, plan.events, n_parties
 
 
@@ -371,8 +369,8 @@ def random_groups_scene(
             if spot is not None:
                 route.walk_to(spot[0], spot[1], speed)
             route.wait(_u(rng, 0.5, 4.0))
-        robot = RobotSpec(sample_route(route, duration, smoothing=0.5), drawn_odometry(rng, 2.0))
-    sensor = mounted_laser(laser, height, Pose2D(sx, sy, sth), moving)
+        robot = drawn_robot(rng, route, duration, 2.0)
+    mount = Pose2D(0.2, 0.0, 0.0) if moving else Pose2D(sx, sy, sth)
     notes = {
         "family": "random-groups",
         "room_m": [round(w, 2), round(h, 2)],
@@ -383,15 +381,7 @@ def random_groups_scene(
         "parties": n_parties,
         "events": events,
     }
-    return Scene(
-        World(objs),
-        people,
-        [sensor],
-        robot,
-        notes,
-        poses_from_odometry=moving,
-        truth_seen_within=p.truth_seen_within,
-    )
+    return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
 @register(

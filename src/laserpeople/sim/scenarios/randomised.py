@@ -26,7 +26,8 @@ test set of ``benchmarks/people_suite.py`` and must never be used for tuning.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -35,9 +36,9 @@ from laserpeople.config import param
 from laserpeople.scan import Pose2D
 from laserpeople.sim.gait import GaitParams
 from laserpeople.sim.motion import Route, sample_route
-from laserpeople.sim.people import BodyParams, PersonSpec, random_person
+from laserpeople.sim.people import BodyParams, PersonSpec, random_person, with_feet_apart
 from laserpeople.sim.robot import OdometryParams, RobotSpec
-from laserpeople.sim.scenarios import register
+from laserpeople.sim.scenarios import register_scene
 from laserpeople.sim.sensors import LaserModel, SensorSpec
 from laserpeople.sim.simulator import Scene
 from laserpeople.sim.world import (
@@ -134,17 +135,44 @@ def random_laser(rng: np.random.Generator, p: RandomisedParams) -> LaserModel:
     if fov > 360.0 - res:  # a full circle: the last beam must not repeat the first
         fov = 360.0 - res
     fov = res * round(fov / res)
+    return drawn_laser(
+        rng,
+        f"random-{res:.3f}deg-{fov:.0f}deg",
+        fov,
+        res,
+        p.rate_hz,
+        (5.6, 30.0),
+        0.01,
+        "randomised (laserpeople.sim.scenarios.randomised)",
+    )
+
+
+def drawn_laser(
+    rng: np.random.Generator,
+    name: str,
+    fov_deg: float,
+    resolution_deg: float,
+    rates_hz: Sequence[float],
+    range_max_m: tuple[float, float],
+    dropout_max: float,
+    source: str,
+) -> LaserModel:
+    """A scanner of field of view ``fov_deg`` [deg] and beam spacing ``resolution_deg``
+    [deg] with the rest drawn, in this order: the scan rate [Hz] from ``rates_hz``, the
+    largest range [m] uniformly in ``range_max_m`` (low, high), the range noise sigma [m]
+    in [0.005, 0.02], the relative range noise [1] in [0, 0.002] and the share of dropped
+    beams [1] in [0, ``dropout_max``]. The smallest range is 0.02 m."""
     return LaserModel(
-        name=f"random-{res:.3f}deg-{fov:.0f}deg",
-        fov_deg=fov,
-        resolution_deg=res,
-        rate_hz=float(rng.choice(p.rate_hz)),
+        name=name,
+        fov_deg=fov_deg,
+        resolution_deg=resolution_deg,
+        rate_hz=float(rng.choice(rates_hz)),
         range_min=0.02,
-        range_max=_uniform(rng, 5.6, 30.0),
+        range_max=_uniform(rng, *range_max_m),
         sigma=_uniform(rng, 0.005, 0.02),
         sigma_relative=_uniform(rng, 0.0, 0.002),
-        dropout=_uniform(rng, 0.0, 0.01),
-        source="randomised (laserpeople.sim.scenarios.randomised)",
+        dropout=_uniform(rng, 0.0, dropout_max),
+        source=source,
     )
 
 
@@ -171,6 +199,50 @@ def drawn_gait(rng: np.random.Generator, scale_min: float, scale_max: float) -> 
         cadence_at_rest=base.cadence_at_rest * scale,
         cadence_per_speed=base.cadence_per_speed * scale,
         swing_fraction=_uniform(rng, 0.7, 0.9),
+    )
+
+
+def drawn_robot(
+    rng: np.random.Generator, route: Route, duration: float, odometry_scale_max: float
+) -> RobotSpec:
+    """A robot that follows ``route`` (sampled until ``duration`` [s], its positions
+    smoothed with a 0.5 s Gaussian) with odometry errors drawn by :func:`drawn_odometry`
+    (factor in [0.5, ``odometry_scale_max``])."""
+    odometry = drawn_odometry(rng, odometry_scale_max)
+    return RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
+
+
+def one_laser_scene(
+    objs: list[StaticObject],
+    people: list[PersonSpec],
+    laser: LaserModel,
+    height: float,
+    mount: Pose2D,
+    robot: RobotSpec | None,
+    notes: dict[str, Any],
+    truth_seen_within: float,
+) -> Scene:
+    """A scene seen by one scanner called ``laser`` with the model ``laser``, mounted
+    ``height`` [m] above the floor at ``mount`` (on the robot when there is one, the scans
+    then carrying odometry poses; in the world [m, rad] otherwise). A person is scored in
+    a scan when the scanner hit them within ``truth_seen_within`` [s] of it."""
+    sensor = SensorSpec(
+        "laser",
+        laser.name,
+        height,
+        mount,
+        on_robot=robot is not None,
+        rate_hz=laser.rate_hz,
+        laser_model=laser,
+    )
+    return Scene(
+        World(objs),
+        people,
+        [sensor],
+        robot,
+        notes,
+        poses_from_odometry=robot is not None,
+        truth_seen_within=truth_seen_within,
     )
 
 
@@ -235,12 +307,28 @@ class _Layout:
     taken: list[tuple[float, float, float]]  # x, y, radius kept clear
 
     def free_point(self, rng: np.random.Generator, clear: float, margin: float = 0.5) -> Any:
-        for _ in range(60):
-            x = _uniform(rng, margin, self.w - margin)
-            y = _uniform(rng, margin, self.h - margin)
-            if all(math.hypot(x - a, y - b) > clear + r for a, b, r in self.taken):
-                return x, y
-        return None
+        xs, ys = (margin, self.w - margin), (margin, self.h - margin)
+        return free_spot(rng, xs, ys, self.taken, clear)
+
+
+def free_spot(
+    rng: np.random.Generator,
+    xs: tuple[float, float],
+    ys: tuple[float, float],
+    taken: list[tuple[float, float, float]],
+    clear: float,
+    allowed: Callable[[float, float], bool] | None = None,
+) -> tuple[float, float] | None:
+    """A point drawn uniformly in ``xs`` x ``ys`` (low, high) [m] that lies more than
+    ``clear`` [m] beyond the kept-clear radius of every ``taken`` (x, y, radius) [m] and
+    that ``allowed(x, y)`` accepts; 60 draws (x then y) at most, None when all fail."""
+    for _ in range(60):
+        x, y = _uniform(rng, *xs), _uniform(rng, *ys)
+        if allowed is not None and not allowed(x, y):
+            continue
+        if all(math.hypot(x - a, y - b) > clear + r for a, b, r in taken):
+            return x, y
+    return None
 
 
 def clutter(rng: np.random.Generator, layout: _Layout) -> tuple[list[StaticObject], dict[str, int]]:
@@ -361,28 +449,11 @@ def random_people(
         _wander(rng, layout, routes[k], duration, speeds[k])
         gait = drawn_gait(rng, p.cadence_scale_min, p.cadence_scale_max)
         person = random_person(rng, k, routes[k], params=body, gait_params=gait)
-        # legs never interpenetrate: the feet stand at least 3 cm apart at rest
-        hip = max(person.hip_half_width, person.leg_radius + 0.015)
-        people.append(replace(person, hip_half_width=hip))
+        people.append(with_feet_apart(person))
     return people, meetings
 
 
 # -- the scene -------------------------------------------------------------------------------
-
-
-def mounted_laser(laser: LaserModel, height: float, pose: Pose2D, moving: bool) -> SensorSpec:
-    """The scene's one scanner ``laser`` at ``height`` [m]: at ``pose`` in the room when
-    still, 0.2 m ahead of the robot's centre when ``moving``."""
-    mount = Pose2D(0.2, 0.0, 0.0) if moving else pose
-    return SensorSpec(
-        "laser",
-        laser.name,
-        height,
-        mount,
-        on_robot=moving,
-        rate_hz=laser.rate_hz,
-        laser_model=laser,
-    )
 
 
 def scanner_notes(laser: LaserModel, height: float) -> dict[str, float]:
@@ -442,9 +513,10 @@ def randomised_scene(
                 route.walk_to(spot[0], spot[1], speed)
             if spot is None or rng.random() < 0.4:
                 route.wait(_uniform(rng, 1.0, 4.0))
-        odometry = drawn_odometry(rng, p.odometry_scale_max)
-        robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
-    sensor = mounted_laser(laser, height, Pose2D(sx, sy, sth), moving)
+        robot = drawn_robot(rng, route, duration, p.odometry_scale_max)
+        mount = Pose2D(0.2, 0.0, 0.0)
+    else:
+        mount = Pose2D(sx, sy, sth)
     notes = {
         "family": "randomised" if with_people else "randomised-furniture",
         "room_m": [round(w, 2), round(h, 2)],
@@ -455,33 +527,23 @@ def randomised_scene(
         "meetings": meetings,
         "wall_height_m": WALL_HEIGHT,
     }
-    return Scene(
-        World(objs),
-        people,
-        [sensor],
-        robot,
-        notes,
-        poses_from_odometry=moving,
-        truth_seen_within=p.truth_seen_within,
-    )
+    return one_laser_scene(objs, people, laser, height, mount, robot, notes, p.truth_seen_within)
 
 
-@register(
+register_scene(
     "randomised",
     "randomised room, clutter, scanner model, robot and 1-6 people (the seed draws all; "
     "tune on seeds 0-49, seeds 100-119 are held back)",
     "docs/people-benchmarks.md",
     30.0,
+    randomised_scene,
+    with_people=True,
 )
-def _randomised(rng: np.random.Generator, duration: float) -> Scene:
-    return randomised_scene(rng, duration, with_people=True)
-
-
-@register(
+register_scene(
     "randomised-furniture",
     "the randomised rooms and clutter with nobody in them (person tracks there are false)",
     "issue 10",
     30.0,
+    randomised_scene,
+    with_people=False,
 )
-def _randomised_furniture(rng: np.random.Generator, duration: float) -> Scene:
-    return randomised_scene(rng, duration, with_people=False)

@@ -161,7 +161,7 @@ class OccupancyParams:
     )
     free_period: float = param(
         0.5,
-        "measured (session 11, docs/people-benchmarks.md): seen-free stamps are only "
+        "measured (docs/people-benchmarks.md): seen-free stamps are only "
         "compared with arrival_window (10 s), and casting is about half of the grid's CPU "
         "per frame of a still laser; at 0.5 s the tracks CSVs of the demo, MiR, corridor "
         "and dev recordings, the 6 tuning scenes and the held-back randomised means are "
@@ -174,7 +174,7 @@ class OccupancyParams:
 
     learn_period: float = param(
         0.05,
-        "measured (issue 10, session 14, docs/people-benchmarks.md): at most 20 frames a "
+        "measured (docs/people-benchmarks.md): at most 20 frames a "
         "second per laser; the real 10-13 Hz recordings learn every frame; the real 45 Hz "
         "corridor bag learns 743 of its 1,561 frames with its person ids, walkers and static "
         "seconds unchanged; the simulated 50 Hz narrow-corridor tuning scenes score the same "

@@ -54,8 +54,8 @@ class StaticTrackParams:
 
     hide: bool = param(
         True,
-        "measured on the real demo, MiR and corridor bags (docs/people-benchmarks.md, "
-        "session 11); false is the papers' behaviour (002, 004: every track)",
+        "measured on the real demo, MiR and corridor bags (docs/people-benchmarks.md); "
+        "false is the papers' behaviour (002, 004: every track)",
         "leave out of the output the person tracks of nn, csa, feet-pf and upper-body-pf "
         "that stand on static places (counted and reported by laserpeople track)",
     )

@@ -272,7 +272,7 @@ class PersonTrackParams:
         False,
         "assumption: a leg on a place static for longer than static_time, with nobody seen "
         "walking near it, is furniture; tracking it only costs CPU (measured in "
-        "docs/people-benchmarks.md, session 9)",
+        "docs/people-benchmarks.md)",
         "track leg detections on places static for longer than static_time with no person "
         "that has walked (or been reported) within walker_radius; false leaves them out of "
         "the leg MHT (counted and reported)",

@@ -542,7 +542,7 @@ register_scene(
 register_scene(
     "randomised-furniture",
     "the randomised rooms and clutter with nobody in them (person tracks there are false)",
-    "issue 10",
+    "docs/people-benchmarks.md",
     30.0,
     randomised_scene,
     with_people=False,

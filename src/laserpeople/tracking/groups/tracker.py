@@ -276,7 +276,7 @@ class GroupTrackerParams:
     )
     static_groups: bool = param(
         False,
-        "extension of 000 (issue 12, real data): on the leg_tracker demo bag a static object "
+        "extension of 000, measured on real data: on the leg_tracker demo bag a static object "
         "was reported as a group for 95 s under five ids, and returns at the edges of walls "
         "as some 50 groups of 1-3 scans (docs/groups.md 'Real recordings')",
         "report groups on places static for longer than static_time that have never been "

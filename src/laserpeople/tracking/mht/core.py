@@ -96,22 +96,22 @@ class MHTParams:
         None,
         "unset: the tracker's default: K_BEST = 20 (assumption; 000 Sec. 4.6 averages k over "
         "2..200) for the group tracker and the leg tracker's people policy arras, 5 for its "
-        "policy tracks (issue 10, see LegTrackerParams.mht_params)",
+        "policy tracks (see LegTrackerParams.mht_params)",
         "k of Murty's k-best branching: children per cluster and scan, over all parents",
     )
     n_scan: int | None = param(
         None,
         "unset: the tracker's default: N_SCAN = 8 (000 Sec. 3.4.3, a scan-back depth of "
         "eight) for the group tracker and the leg tracker's people policy arras, 4 for its "
-        "policy tracks (issue 10, see LegTrackerParams.mht_params)",
+        "policy tracks (see LegTrackerParams.mht_params)",
         "N of N-scan-back pruning",
     )
     min_ratio: float | None = param(
         None,
         "unset: the tracker's default: MIN_RATIO = 1e-3 (assumption; 000 Sec. 4.5.2 names "
         "ratio pruning without a value) for the leg tracker's people policy arras, 1e-2 for "
-        "its policy tracks (issue 10, see LegTrackerParams.mht_params), 3e-3 for the group "
-        "tracker (GROUP_MIN_RATIO, docs/groups.md fifth round)",
+        "its policy tracks (see LegTrackerParams.mht_params), 3e-3 for the group "
+        "tracker (GROUP_MIN_RATIO, docs/groups.md)",
         "drop hypotheses less probable than this times the best of their cluster",
     )
     max_cluster_size: int = param(

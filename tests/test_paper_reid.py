@@ -1,6 +1,9 @@
 """Colour re-identification (002 Sec. 2, eqs. 6-8) through :class:`ColourReidentifier`:
 identities re-assigned only after ``min_observations`` clean observations of every track
-(eq. 7 sums them), and close colours (two hues one histogram bin apart) told apart."""
+(eq. 7 sums them), and close colours (two hues one histogram bin apart) told apart.
+
+002 re-assigns once the crossing has ended (``early=False``, its setting under
+``--preset paper``); the default's early re-assignment is tested in test_identity_reid.py."""
 
 from __future__ import annotations
 
@@ -52,7 +55,7 @@ def _apart_at(params: ReidParams) -> float:
 
 @pytest.mark.parametrize("n", [2, 6, 12])
 def test_identities_wait_for_min_observations(n: int) -> None:
-    params = ReidParams(min_observations=n, max_wait=30.0)
+    params = ReidParams(min_observations=n, max_wait=30.0, early=False)
     reid, outs = _run(params, (0.0, 240.0), lambda t: (0, 1) if t < 5.0 else (1, 0))
     assert len(reid.reassignments) == 1
     # the end is seen one scan after the tracks are apart; observations are counted from
@@ -67,8 +70,22 @@ def test_identities_wait_for_min_observations(n: int) -> None:
 def test_close_colours_one_bin_apart_are_told_apart() -> None:
     """Orange-red (20 deg, bin 0) and yellow-orange (40 deg, bin 1): eq. 6 with the learnt
     covariances still picks the right person."""
-    reid, outs = _run(ReidParams(), (15.0, 45.0), lambda t: (0, 1) if t < 5.0 else (1, 0))
+    reid, outs = _run(
+        ReidParams(early=False), (15.0, 45.0), lambda t: (0, 1) if t < 5.0 else (1, 0)
+    )
     assert len(reid.reassignments) == 1
+    last = outs[-1].of_kind("person")
+    left = min(last, key=lambda tr: tr.position[0])
+    assert left.track_id == 1
+
+
+def test_default_early_reassignment_ends_with_the_same_identities() -> None:
+    """The default re-assigns already while the crossing goes on, and may do so more than
+    once; it ends where 002's rule ends: each person with its identity back."""
+    reid, outs = _run(ReidParams(), (15.0, 45.0), lambda t: (0, 1) if t < 5.0 else (1, 0))
+    assert reid.reassignments
+    first = reid.reassignments[0].stamp
+    assert first < _apart_at(ReidParams())  # 002 waits until they are apart
     last = outs[-1].of_kind("person")
     left = min(last, key=lambda tr: tr.position[0])
     assert left.track_id == 1

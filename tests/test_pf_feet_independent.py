@@ -53,8 +53,8 @@ def test_link_distance_bound_keeps_two_people_apart_at_a_low_scan_rate() -> None
 
 
 def test_report_time_hides_a_coasting_filter() -> None:
-    """A filter without points for 0.5 s (scans at 16 Hz) lives on (``miss_time`` 1 s) but is reported only
-    within ``report_time`` 0.2 s of its last support."""
+    """A filter without points for 0.5 s (scans at 16 Hz) lives on (``miss_time`` 1 s)
+    but is reported only within ``report_time`` 0.2 s of its last support."""
     tracker = FeetTracker(FeetParams(particles=50))
     tracker.bank.add(np.stack([tracker._initial(np.array([[0.0, 2.0], [0.2, 2.0]]))]), 0.0)
     seen = []

@@ -12,6 +12,8 @@ tracker sees the same real-detector output):
   (laserpeople.sim.scenarios.moving_robot, issue 29), the same seeds (tune on 0-9).
 - ``crossing-3``, ``narrow-corridor``, ``entrance-hall``: the library scenes, seed 0 unless
   ``--named-seeds`` says otherwise.
+- ``random-groups`` (only with ``--family random-groups``): parties that walk, split, meet
+  and cross (laserpeople.sim.scenarios.random_groups), the same seeds (tune on 0-9).
 
 Person-track-seconds on static objects: a person track within 0.3 m of a return from a
 non-person object and farther than 0.75 m from every true person, times the scan period
@@ -76,6 +78,8 @@ def suite_scenes(
     scenes += [SuiteScene("moving-robot", "moving-robot", s, seconds) for s in seeds]
     for name in NAMED:
         scenes += [SuiteScene(name, name, s) for s in named_seeds]
+    if families and "random-groups" in families:  # asked for by name only
+        scenes += [SuiteScene("random-groups", "random-groups", s, seconds) for s in seeds]
     if families:
         scenes = [s for s in scenes if s.family in families]
     return scenes

@@ -141,23 +141,24 @@ def track_all(pipe: Pipeline) -> tuple[list[Tracks], float]:
     return out, 1e3 * (time.process_time() - t0) / max(len(out), 1)
 
 
-def run_groups(key: str, static_groups: bool, walk: float) -> RealCount:
-    """Track one recording's groups through the pipeline (``--tracker group-mht``)."""
+def run_groups(key: str, static_groups: bool, walk: float, config: Path | None = None) -> RealCount:
+    """Track one recording's groups through the pipeline (``--tracker group-mht``) with the
+    ``[group_tracker]`` section of ``config`` (the defaults when None)."""
     bag, topics, mounts = BAGS[key]
-    params = replace(GroupTrackerParams(), static_groups=static_groups)
+    params = replace(load_config(GroupTrackerParams, config), static_groups=static_groups)
     tracker = registry.get("group-mht").make(params)
     out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
     return replace(count(out, walk, kind="group"), ms=ms)
 
 
-def main_groups(bags: list[str], walk: float) -> None:
+def main_groups(bags: list[str], walk: float, config: Path | None = None) -> None:
     """The group table (``--groups``): static_groups true and false."""
     print(
         "bag      static_groups  ids  walkers  short  group-s  walker-s  static-s  gaps  ms/frame"
     )
     for key in bags:
         for static_groups in (True, False):
-            c = run_groups(key, static_groups, walk)
+            c = run_groups(key, static_groups, walk, config)
             print(
                 f"{key:8s} {static_groups!s:13s} {c.ids:4d} {c.walker_ids:8d} "
                 f"{c.short_ids:6d} "
@@ -260,7 +261,11 @@ def main() -> None:
     ap.add_argument("--backgrounds", nargs="+", default=["none", "auto"])
     ap.add_argument("--walk", type=float, default=1.0, help="m")
     ap.add_argument("--groups", action="store_true", help="count the group tracker's groups")
-    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section the leg MHT uses")
+    ap.add_argument(
+        "--config",
+        type=Path,
+        help="TOML whose [leg_tracker] section the leg MHT uses ([group_tracker] with --groups)",
+    )
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
     )
@@ -269,7 +274,7 @@ def main() -> None:
         main_trackers(args.bags, args.trackers, args.walk)
         return
     if args.groups:
-        main_groups(args.bags, args.walk)
+        main_groups(args.bags, args.walk, args.config)
         return
     print(
         "bag      policy        background  ids  walkers  person-s  walker-s  static-s  gaps  "

@@ -45,6 +45,11 @@ REFERENCE_REPORTING: dict[str, int] = {
 """Every group of the best hypothesis reported in every scan (000; the default confirms a
 group after 3 scans since session 10, docs/groups.md "Confirmed groups"), pinned so that
 the reference recorded before keeps checking the tracker's decisions."""
+REFERENCE_SIZE_COUNT = "legs"
+REFERENCE_SIZE_STD = 0.25
+"""How the reference counted and filtered group sizes (the defaults are now "resolved"
+and 0.15, docs/groups.md "Group size"), pinned for the same reason: the size is a state
+of its own that no likelihood reads, so the decisions checked do not depend on it."""
 
 
 def track_frames(
@@ -69,7 +74,12 @@ def track_frames(
     from laserpeople.tracking.groups import GroupMHTTracker
 
     if params is None:
-        params = GroupTrackerParams(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+        params = GroupTrackerParams(
+            mht=REFERENCE_MHT,
+            size_count=REFERENCE_SIZE_COUNT,
+            size_std=REFERENCE_SIZE_STD,
+            **REFERENCE_REPORTING,
+        )
     tracker = GroupMHTTracker(params)
     rows: list[list[float]] = []
     labels: list[str] = []
@@ -112,7 +122,13 @@ def sim_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = SIM
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     out = track_frames([lf.frame for lf in frames_from_scans(scans)], "sim_")
-    run = run_groups(scans, GroupTrackerParams(mht=REFERENCE_MHT, **REFERENCE_REPORTING))
+    reference = GroupTrackerParams(
+        mht=REFERENCE_MHT,
+        size_count=REFERENCE_SIZE_COUNT,
+        size_std=REFERENCE_SIZE_STD,
+        **REFERENCE_REPORTING,
+    )
+    run = run_groups(scans, reference)
     out["sim_errors"] = np.array(
         [
             run.clustering.error,
@@ -133,9 +149,13 @@ def people_only_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
     name, seconds, seed = PEOPLE_ONLY
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     frames = [lf.frame for lf in frames_from_scans(scans)]
-    return track_frames(
-        frames, "people_", GroupTrackerParams.people_only(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+    params = GroupTrackerParams.people_only(
+        mht=REFERENCE_MHT,
+        size_count=REFERENCE_SIZE_COUNT,
+        size_std=REFERENCE_SIZE_STD,
+        **REFERENCE_REPORTING,
     )
+    return track_frames(frames, "people_", params)
 
 
 def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
@@ -156,6 +176,8 @@ def extensions_arrays() -> dict[str, NDArray]:  # type: ignore[type-arg]
         model_prior="normalised",
         merge_likelihood="compatibility",
         mht=REFERENCE_MHT,
+        size_count=REFERENCE_SIZE_COUNT,
+        size_std=REFERENCE_SIZE_STD,
         **REFERENCE_REPORTING,  # type: ignore[arg-type]
     )
     return track_frames(frames, "ext_", params)

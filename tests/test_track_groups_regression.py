@@ -128,6 +128,8 @@ def test_comparison_fails_when_the_tracker_changes() -> None:
         PEOPLE_ONLY,
         REFERENCE_MHT,
         REFERENCE_REPORTING,
+        REFERENCE_SIZE_COUNT,
+        REFERENCE_SIZE_STD,
         track_frames,
     )
     from laserpeople.evaluation.groups import frames_from_scans
@@ -135,7 +137,12 @@ def test_comparison_fails_when_the_tracker_changes() -> None:
     from laserpeople.tracking.groups import GroupTrackerParams
 
     name, seconds, seed = PEOPLE_ONLY
-    params = GroupTrackerParams.people_only(mht=REFERENCE_MHT, **REFERENCE_REPORTING)
+    params = GroupTrackerParams.people_only(
+        mht=REFERENCE_MHT,
+        size_count=REFERENCE_SIZE_COUNT,
+        size_std=REFERENCE_SIZE_STD,
+        **REFERENCE_REPORTING,
+    )
     changed = replace(params, eps_vel=params.eps_vel * 1.001)
     scans = run_scenario(name, seconds=seconds, seed=seed).scans
     got = track_frames([lf.frame for lf in frames_from_scans(scans)], "people_", changed)

@@ -12,13 +12,14 @@ beam_group_labels`).
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
+from laserpeople.evaluation.clear_mot import ClearMot, ClearMotResult
 from laserpeople.evaluation.clustering import (
     ClusteringError,
     ClusteringErrorResult,
@@ -26,10 +27,13 @@ from laserpeople.evaluation.clustering import (
     GroupSizeErrorResult,
     beam_group_labels,
 )
+from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet, Scan
 from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
+from laserpeople.truth import TruthFrame
 
+FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 
@@ -71,6 +75,28 @@ def frames_from_scans(scans: list[Scan]) -> Iterator[LabelledFrame]:
             foreground=person >= 0,
         )
         yield LabelledFrame(frame, group, person)
+
+
+GROUP_GATE = 1.0
+"""CLEAR MOT gate of the group tracks [m]: a reported group matches a true group whose
+centre is at most this far from its position."""
+ALONE_ID = 1_000_000
+"""Truth id of a person walking alone, as a group of one: this plus the person id."""
+
+
+def group_truth(frame: TruthFrame) -> TruthFrame:
+    """The true groups of a truth frame as a truth frame whose "people" are the groups: ids
+    the simulator's group ids (a person alone: :data:`ALONE_ID` + person id), positions the
+    mean of the members' positions [m]."""
+    ids: list[int] = []
+    centres: list[FloatArray] = []
+    for g, people in frame.groups().items():
+        ids.append(g if g >= 0 else ALONE_ID - g - 1)
+        centres.append(frame.positions[np.isin(frame.person_ids, people)].mean(axis=0))
+    pos = np.asarray(centres, dtype=np.float64).reshape(-1, 2)
+    return TruthFrame.from_positions(
+        frame.stamp, frame.scan_index, np.asarray(ids, dtype=np.int64), pos
+    )
 
 
 TRANSITION_WINDOW = 3.0
@@ -116,6 +142,9 @@ class GroupRunResult:
         frame_people: People seen (with a foreground point) in every frame (F,).
         tracker_under: The tracker's under-segmentation by cause.
         memoryless_under: Memory-less clustering's under-segmentation by cause.
+        group_mot: CLEAR MOT of the reported group tracks against the true groups
+            (people alone are groups of one; gate :data:`GROUP_GATE`, :func:`group_truth`);
+            NaN scores without truth frames.
     """
 
     clustering: ClusteringErrorResult
@@ -130,6 +159,7 @@ class GroupRunResult:
     frame_people: IntArray
     tracker_under: UnderSegmentation
     memoryless_under: UnderSegmentation
+    group_mot: ClearMotResult
 
 
 def _mixed_clusters(true_group: IntArray, true_person: IntArray, est: IntArray) -> list[IntArray]:
@@ -164,10 +194,14 @@ def _classify(
 
 
 def run_groups(
-    scans: list[Scan], params: GroupTrackerParams | None = None, skip: int = 0
+    scans: list[Scan],
+    params: GroupTrackerParams | None = None,
+    skip: int = 0,
+    truth: Sequence[TruthFrame] = (),
 ) -> GroupRunResult:
     """Track the simulated ``scans`` and score the tracker and memory-less clustering over
-    the foreground points (frames before ``skip`` are tracked but not scored)."""
+    the foreground points (frames before ``skip`` are tracked but not scored); with the
+    simulation's ``truth`` frames also the reported groups against the true groups."""
     params = params if params is not None else GroupTrackerParams()
     tracker = GroupMHTTracker(params)
     tracked, memoryless, size = ClusteringError(), ClusteringError(), GroupSizeError()
@@ -178,10 +212,12 @@ def run_groups(
     mixed_memoryless: list[tuple[int, IntArray]] = []
     stamps = [s.stamp for s in scans if s.sensor == scans[0].sensor] if scans else []
     period = float(np.median(np.diff(stamps))) if len(stamps) > 1 else 0.1
+    mot = ClearMot(EvaluationParams(gate=GROUP_GATE, kind="group"), keep_frames=False)
+    truth_of = {f.scan_index: f for f in truth}
     n = 0
     for k, lf in enumerate(frames_from_scans(scans)):
         t0 = time.process_time()
-        tracker.update(lf.frame)
+        reported = tracker.update(lf.frame)
         times.append(time.process_time() - t0)
         seen = lf.true_person[np.asarray(lf.frame.foreground)]
         people.append(int(np.unique(seen[seen >= 0]).size))
@@ -191,6 +227,8 @@ def run_groups(
         if k < skip:
             continue
         n += 1
+        if lf.frame.index in truth_of:
+            mot.accumulate(group_truth(truth_of[lf.frame.index]), reported)
         fg = np.asarray(lf.frame.foreground)
         assert lf.frame.points is not None
         est = tracker.point_labels(len(lf.frame.points))
@@ -217,4 +255,5 @@ def run_groups(
         frame_people=np.asarray(people, dtype=np.int64),
         tracker_under=_classify(mixed_tracker, group_of, window),
         memoryless_under=_classify(mixed_memoryless, group_of, window),
+        group_mot=mot.result(),
     )

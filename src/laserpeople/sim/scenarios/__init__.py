@@ -182,5 +182,6 @@ from laserpeople.sim.scenarios import demo as _demo  # noqa: E402,F401
 from laserpeople.sim.scenarios import feet_check as _feet_check  # noqa: E402,F401
 from laserpeople.sim.scenarios import kraeussling as _kraeussling  # noqa: E402,F401
 from laserpeople.sim.scenarios import moving_robot as _moving_robot  # noqa: E402,F401
+from laserpeople.sim.scenarios import random_groups as _random_groups  # noqa: E402,F401
 from laserpeople.sim.scenarios import randomised as _randomised  # noqa: E402,F401
 from laserpeople.sim.scenarios import schenk as _schenk  # noqa: E402,F401

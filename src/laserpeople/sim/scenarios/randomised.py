@@ -370,6 +370,32 @@ def random_people(
 # -- the scene -------------------------------------------------------------------------------
 
 
+def mounted_laser(laser: LaserModel, height: float, pose: Pose2D, moving: bool) -> SensorSpec:
+    """The scene's one scanner ``laser`` at ``height`` [m]: at ``pose`` in the room when
+    still, 0.2 m ahead of the robot's centre when ``moving``."""
+    mount = Pose2D(0.2, 0.0, 0.0) if moving else pose
+    return SensorSpec(
+        "laser",
+        laser.name,
+        height,
+        mount,
+        on_robot=moving,
+        rate_hz=laser.rate_hz,
+        laser_model=laser,
+    )
+
+
+def scanner_notes(laser: LaserModel, height: float) -> dict[str, float]:
+    """The drawn scanner for a scene's notes (rounded)."""
+    return {
+        "resolution_deg": round(laser.resolution_deg, 4),
+        "fov_deg": round(laser.fov_deg, 2),
+        "range_max_m": round(laser.range_max, 2),
+        "rate_hz": laser.rate_hz,
+        "height_m": round(height, 3),
+    }
+
+
 def randomised_scene(
     rng: np.random.Generator,
     duration: float,
@@ -418,28 +444,11 @@ def randomised_scene(
                 route.wait(_uniform(rng, 1.0, 4.0))
         odometry = drawn_odometry(rng, p.odometry_scale_max)
         robot = RobotSpec(sample_route(route, duration, smoothing=0.5), odometry)
-        mount = Pose2D(0.2, 0.0, 0.0)
-    else:
-        mount = Pose2D(sx, sy, sth)
-    sensor = SensorSpec(
-        "laser",
-        laser.name,
-        height,
-        mount,
-        on_robot=moving,
-        rate_hz=laser.rate_hz,
-        laser_model=laser,
-    )
+    sensor = mounted_laser(laser, height, Pose2D(sx, sy, sth), moving)
     notes = {
         "family": "randomised" if with_people else "randomised-furniture",
         "room_m": [round(w, 2), round(h, 2)],
-        "scanner": {
-            "resolution_deg": round(laser.resolution_deg, 4),
-            "fov_deg": round(laser.fov_deg, 2),
-            "range_max_m": round(laser.range_max, 2),
-            "rate_hz": laser.rate_hz,
-            "height_m": round(height, 3),
-        },
+        "scanner": scanner_notes(laser, height),
         "moving_robot": moving,
         "clutter": counts,
         "people": len(people),

@@ -529,6 +529,7 @@ class GroupBranches:
                 rows,
                 self.s.counting,
                 None if self.obs.blobs is None else self.obs.blobs[np.concatenate(rows)],
+                None if self.obs.spacing is None else self.obs.spacing[np.concatenate(rows)],
             ),
             key,
             tuple(origin),

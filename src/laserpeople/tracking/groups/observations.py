@@ -5,11 +5,18 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
 
 * ``"blobs"`` (000 Sec. 4.1, Fig. 12): the number of human-sized clusters found by
   re-clustering its points with d_hs < d_P;
-* ``"legs"`` (default): the same blobs, then two blobs that are each other's nearest blob
+* ``"legs"``: the same blobs, then two blobs that are each other's nearest blob
   in the cluster, closer than a stride (``pair_distance``) and both leg-sized (radius at
   most ``leg_radius``) are one person's two legs. At 30 cm a walker's legs are up to 0.76 m
   apart (99th percentile in the simulator), so d_hs = 0.3 m counts a walker as two people
   whenever the gap between the legs exceeds 0.3 m.
+* ``"resolved"``: what the laser resolves at that range. As ``"legs"``, but a blob wider
+  than a leg is not always one person: its points cover an arc of their beam spacings
+  (range x angular step, so each point weighs what one beam covers at its range: the
+  expected beams per leg there are ``leg_width`` / spacing), it holds
+  ``L = round(arc / leg_width)`` legs (at least one) and stands for ``floor(L / 2 + 1/2)``
+  people (two legs side by side or a torso: one; the legs of two people run together:
+  two). Blobs of one leg pair as in ``"legs"``.
 """
 
 from __future__ import annotations
@@ -59,6 +66,8 @@ class GroupObservations:
         source: (P,) row of each point in the scan's observation set this one was made
             from, or None for the scan's own set.
         blobs: (P,) blob (d_hs) of each point, labels unique over the set.
+        spacing: (P,) beam spacing at each point's range [m] (range x angular step), for
+            ``"resolved"`` counting; None when not known.
     """
 
     points: FloatArray
@@ -69,6 +78,7 @@ class GroupObservations:
     share: FloatArray
     source: IntArray | None = None
     blobs: IntArray | None = None
+    spacing: FloatArray | None = None
 
     def __len__(self) -> int:
         return int(self.offsets.size - 1)
@@ -124,17 +134,21 @@ class GroupObservations:
         d_hs: float,
         counting: SizeCounting | None = None,
         max_blob_size: float = 0.0,
+        spacing: FloatArray | None = None,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
-        count when None); ``members`` (N,) are their indices in the frame. With
+        count when None); ``members`` (N,) are their indices in the frame and ``spacing``
+        (N,) the beam spacing at each point's range [m] (``"resolved"`` counting). With
         ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
         clusters are then made again from the rest; the blobs are those of one linkage)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
+        gap = None if spacing is None else np.asarray(spacing, dtype=np.float64).reshape(-1)
         finite = np.isfinite(pts).all(axis=1)
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
+            gap = None if gap is None else gap[finite]
         d_blob = min(d_hs, d_p)
         pairs, length = close_pairs(pts, max(d_p, d_blob))
         fine = component_labels(pts.shape[0], pairs[length < d_blob])
@@ -146,12 +160,13 @@ class GroupObservations:
                 inside = keep[pairs[:, 0]] & keep[pairs[:, 1]]
                 pairs, length = new_index[pairs[inside]], length[inside]
                 pts, idx = pts[keep], idx[keep]
+                gap = None if gap is None else gap[keep]
                 fine = component_labels(pts.shape[0], pairs[length < d_blob])
         links = pairs[length < d_p]
         if pts.shape[0] == 0:
             return cls.empty()
         labels = component_labels(pts.shape[0], links)
-        return cls._from_labels(pts, idx, labels, fine, counting)
+        return cls._from_labels(pts, idx, labels, fine, counting, spacing=gap)
 
     @classmethod
     def from_parts(
@@ -162,12 +177,14 @@ class GroupObservations:
         source: Sequence[IntArray] | None = None,
         counting: SizeCounting | None = None,
         blobs: IntArray | None = None,
+        spacing: FloatArray | None = None,
     ) -> GroupObservations:
         """Observations made of given point sets ``(points (K, 2), members (K,))`` (e.g. the
         parts of a re-clustered observation, Sec. 4.3, with their ``share`` of it); blobs
         found at ``d_hs``, or given as ``blobs`` (the blob label of every point of the
         concatenated parts, e.g. the scan's, so no part is clustered again); ``source``
-        gives each part's rows in the scan's set."""
+        gives each part's rows in the scan's set; ``spacing`` the beam spacing [m] of
+        every point of the concatenated parts."""
         if not parts:
             return cls.empty()
         pts = np.concatenate([p for p, _ in parts]).reshape(-1, 2)
@@ -185,7 +202,7 @@ class GroupObservations:
                 fine_parts.append(single_linkage(p, d_hs) + base)
                 base += len(m)
             fine = np.concatenate(fine_parts)
-        out = cls._from_labels(pts, idx, labels, fine, counting, ordered=True)
+        out = cls._from_labels(pts, idx, labels, fine, counting, ordered=True, spacing=spacing)
         changes: dict[str, IntArray | FloatArray] = {}
         if share is not None:
             changes["share"] = np.asarray(share, dtype=np.float64).reshape(len(parts))
@@ -202,14 +219,17 @@ class GroupObservations:
         fine: IntArray,
         counting: SizeCounting | None = None,
         ordered: bool = False,
+        spacing: FloatArray | None = None,
     ) -> GroupObservations:
         """The observations of points ``pts`` (N, 2) with frame indices ``idx`` (N,),
-        cluster labels ``labels`` (N,) 0..M-1 and blob labels ``fine`` (N,); the points
-        are put cluster after cluster (in their order within each), which they are
-        already when ``ordered`` (labels non-decreasing: the sort is skipped)."""
+        cluster labels ``labels`` (N,) 0..M-1, blob labels ``fine`` (N,) and beam spacings
+        ``spacing`` (N,) [m] or None; the points are put cluster after cluster (in their
+        order within each), which they are already when ``ordered`` (labels
+        non-decreasing: the sort is skipped)."""
         if not ordered:
             order = np.argsort(labels, kind="stable")
             pts, idx, labels, fine = pts[order], idx[order], labels[order], fine[order]
+            spacing = None if spacing is None else spacing[order]
         m = int(labels.max()) + 1
         counts = np.bincount(labels, minlength=m)
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
@@ -217,8 +237,8 @@ class GroupObservations:
             np.column_stack([np.bincount(labels, pts[:, 0], m), np.bincount(labels, pts[:, 1], m)])
             / np.maximum(counts, 1)[:, None]
         )
-        n_hs = count_people(pts, labels, fine, m, counting)
-        return cls(pts, offsets, idx, centroids, n_hs, np.ones(m), blobs=fine)
+        n_hs = count_people(pts, labels, fine, m, counting, spacing)
+        return cls(pts, offsets, idx, centroids, n_hs, np.ones(m), blobs=fine, spacing=spacing)
 
 
 def close_pairs(points: FloatArray, distance: float) -> tuple[IntArray, FloatArray]:
@@ -257,17 +277,19 @@ class SizeCounting:
             blobs [m].
         leg_radius: Largest radius of a blob that can be one leg [m] (wider blobs are a
             person or more already and are not paired).
+        leg_width: Arc a leg covers [m] ("resolved").
     """
 
     method: str = "legs"
     pair_distance: float = 0.7
     leg_radius: float = 0.12
+    leg_width: float = 0.18
 
     def __post_init__(self) -> None:
-        if self.method not in ("blobs", "legs"):
-            raise ValueError("size counting method must be 'blobs' or 'legs'")
-        if self.pair_distance <= 0.0 or self.leg_radius <= 0.0:
-            raise ValueError("pair_distance and leg_radius must be positive")
+        if self.method not in ("blobs", "legs", "resolved"):
+            raise ValueError("size counting method must be 'blobs', 'legs' or 'resolved'")
+        if min(self.pair_distance, self.leg_radius, self.leg_width) <= 0.0:
+            raise ValueError("pair_distance, leg_radius and leg_width must be positive")
 
 
 def count_people(
@@ -276,13 +298,16 @@ def count_people(
     fine: IntArray,
     m: int,
     counting: SizeCounting | None = None,
+    spacing: FloatArray | None = None,
 ) -> FloatArray:
     """People (M,) in each of ``m`` clusters: ``labels`` (N,) the cluster and ``fine`` (N,)
     the blob of each point ``pts`` (N, 2) [m] (blob labels unique over clusters).
 
     "blobs": the number of distinct blobs per cluster (000 Sec. 4.1). "legs": that number
     minus the pairs of leg-sized blobs of one cluster that are mutual nearest neighbours
-    closer than ``pair_distance``."""
+    closer than ``pair_distance``. "resolved": as "legs", but a blob wider than a leg counts
+    the people its arc holds (:func:`resolved_people`; ``spacing`` (N,) the beam spacing
+    at each point [m])."""
     if pts.shape[0] == 0:
         return np.zeros(m)
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
@@ -292,10 +317,14 @@ def count_people(
     n_blobs = int(blob.max()) + 1
     blob_cluster = np.zeros(n_blobs, dtype=np.int64)
     blob_cluster[blob] = labels
-    out = np.bincount(blob_cluster, minlength=m).astype(np.float64)
-    if counting is None or counting.method == "blobs" or n_blobs < 2:
+    if counting is None or counting.method == "blobs":
+        out: FloatArray = np.bincount(blob_cluster, minlength=m).astype(np.float64)
         return out
     centre, radius = blob_shapes(pts, blob, n_blobs)
+    people = np.ones(n_blobs)
+    if counting.method == "resolved":
+        people = resolved_people(blob, radius, counting, spacing)
+    out = np.bincount(blob_cluster, people, m).astype(np.float64)
     leg, partner = leg_pairs(
         centre, radius, counting.leg_radius, counting.pair_distance, blob_cluster
     )
@@ -303,6 +332,24 @@ def count_people(
     # each mutual pair is seen from both of its blobs: half a person less per blob
     np.subtract.at(out, blob_cluster[leg[paired]], 0.5)
     return out
+
+
+def resolved_people(
+    blob: IntArray, radius: FloatArray, counting: SizeCounting, spacing: FloatArray | None
+) -> FloatArray:
+    """People (B,) each blob stands for under ``"resolved"`` counting (module doc), before
+    the pairs of one-leg blobs are taken off: ``blob`` (N,) the label 0..B-1 of each point,
+    ``radius`` (B,) each blob's radius [m], ``spacing`` (N,) the beam spacing at each
+    point [m] (None: unknown, every blob is one person, as ``"legs"``)."""
+    n_blobs = radius.size
+    people = np.ones(n_blobs)
+    if spacing is None:
+        return people
+    arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
+    legs = np.maximum(1.0, np.round(arc / counting.leg_width))
+    wide = radius > counting.leg_radius
+    people[wide] = np.floor(legs[wide] / 2.0 + 0.5)
+    return people
 
 
 def blob_shapes(pts: FloatArray, blob: IntArray, n_blobs: int) -> tuple[FloatArray, FloatArray]:

@@ -141,17 +141,27 @@ class GroupTrackerParams:
         "m",
     )
     size_count: str = param(
-        "legs",
-        "extension of 000 Sec. 4.1 (chosen on entrance-hall seeds 0 and 1: on true groups "
-        "93 % exact against 65 % for blobs at d_hs = 0.3 m; docs/groups.md)",
+        "resolved",
+        "extension of 000 Sec. 4.1 (legs: chosen on entrance-hall seeds 0 and 1, 93 % exact "
+        "on true groups against 65 % for blobs at d_hs = 0.3 m; resolved: calibrated on "
+        "random-groups seeds 0-9, held-back results in docs/groups.md)",
         "how n_hs counts people: blobs (000: one per blob at d_hs) | legs (two leg-sized "
-        "blobs that are mutual nearest neighbours within leg_pair_distance are one person)",
+        "blobs that are mutual nearest neighbours within leg_pair_distance are one person) "
+        "| resolved (as legs, and a wider blob holds the legs its beams' arc covers at their "
+        "range, leg_width each)",
     )
     leg_pair_distance: float = param(
         0.7,
         "simulated walkers at 30 cm: one person's leg centres are 0.63 m apart at the 90th "
         "percentile, two neighbours' nearest legs 0.53 m at the 5th; chosen on seeds 0, 1",
         "largest distance between one person's two leg blobs (size_count legs)",
+        "m",
+    )
+    leg_width: float = param(
+        0.18,
+        "calibrated on random-groups seeds 0-9 (legs 0.10-0.18 m wide; docs/groups.md)",
+        "arc one leg covers (size_count resolved: a blob wider than a leg holds "
+        "round(arc / leg_width) legs, the arc the sum of its points' beam spacings)",
         "m",
     )
     leg_radius: float = param(
@@ -173,9 +183,10 @@ class GroupTrackerParams:
         "m",
     )
     size_std: float = param(
-        0.25,
-        "assumption, chosen on entrance-hall seeds 0 and 1 with size_count legs (the leg "
-        "count is exact for 93 % of true groups)",
+        0.15,
+        "assumption, chosen on random-groups seeds 0-9 with size_count resolved (0.25 before, "
+        "from entrance-hall seeds 0 and 1 with size_count legs; held-back results in "
+        "docs/groups.md)",
         "std of the observed number of people in the update (eq. 30)",
         "people",
     )
@@ -352,8 +363,8 @@ class GroupTrackerParams:
             raise ValueError("merge_likelihood must be 'density' or 'compatibility'")
         if self.hausdorff not in ("mean", "rms"):
             raise ValueError("hausdorff must be 'mean' or 'rms'")
-        if self.size_count not in ("blobs", "legs"):
-            raise ValueError("size_count must be 'blobs' or 'legs'")
+        if self.size_count not in ("blobs", "legs", "resolved"):
+            raise ValueError("size_count must be 'blobs', 'legs' or 'resolved'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
         if self.max_models < 1 or self.max_events < 0:
@@ -396,7 +407,12 @@ class GroupTrackerParams:
 
     def counting(self) -> SizeCounting:
         """How n_hs counts people (Sec. 4.1)."""
-        return SizeCounting(self.size_count, self.leg_pair_distance, self.leg_radius)
+        return SizeCounting(
+            self.size_count,
+            self.leg_pair_distance,
+            self.leg_radius,
+            self.leg_width,
+        )
 
     def model_settings(self) -> GroupModelSettings:
         """What the track model needs."""
@@ -593,8 +609,9 @@ class GroupMHTTracker:
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
         p = self.params
+        spacing = beam_spacing(frame, idx) if p.size_count == "resolved" else None
         obs = GroupObservations.from_points(
-            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size
+            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size, spacing
         )
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs
@@ -861,6 +878,24 @@ class GroupMHTTracker:
     def n_hypotheses(self) -> int:
         """Hypotheses after the last frame, summed over clusters."""
         return 0 if self.last_stats is None else self.last_stats.n_hypotheses
+
+
+def beam_spacing(frame: Frame, idx: IntArray) -> FloatArray | None:
+    """Beam spacing [m] (range x angular step of its scan) at the frame points ``idx``
+    (K,); None when the frame does not carry the scans its points came from."""
+    assert frame.points is not None
+    points = frame.points
+    scans = {scan.sensor: scan for scan in frame.scans}
+    out = np.empty(idx.size)
+    sensor = points.sensor_ids[idx]
+    beams = points.beams[idx]
+    for s in np.unique(sensor):
+        scan = scans.get(points.sensors[int(s)])
+        if scan is None:
+            return None
+        here = sensor == s
+        out[here] = scan.ranges[beams[here]] * abs(scan.angle_increment)
+    return out
 
 
 def _stems(label: str) -> list[str]:

@@ -1,0 +1,94 @@
+"""The group tracker (000 Sec. 4) on the randomised group scenes (``random-groups``): group
+MOTA (CLEAR MOT of the reported groups against the true groups, people alone are groups
+of one, gate 1 m; a person is in the truth when the scanner saw them within 2 s),
+group-size error (000 Sec. 4.6.3: mean error, exact share) and the clustering error, per
+seed and pooled.
+
+Frames come straight from the simulator (foreground = the beams on people), as
+``benchmarks/groups_table.py``. **Seeds 100-119 are held back: never tune on them**; tune
+on 0-9.
+
+    PYTHONPATH=src python benchmarks/groups_random.py [--seeds 100-119] [--seconds 40]
+        [--preset paper] [--set NAME=VALUE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from groups_table import _with  # type: ignore[import-not-found]
+from laserpeople.config import load_config
+from laserpeople.evaluation.groups import GroupRunResult, run_groups
+from laserpeople.sim.scenarios import build_scene, run_scenario
+from laserpeople.tracking.groups import GroupTrackerParams
+
+
+def parse_seeds(text: str) -> list[int]:
+    """``"100-119"`` or ``"1,2,5"`` -> the seeds."""
+    out: list[int] = []
+    for part in text.split(","):
+        lo, _, hi = part.partition("-")
+        out += list(range(int(lo), int(hi) + 1)) if hi else [int(lo)]
+    return out
+
+
+def pooled(runs: list[GroupRunResult]) -> dict[str, float]:
+    """Group MOTA, size mean error and exact share pooled over runs (by group-frames)."""
+    truth = sum(r.group_mot.num_truth for r in runs)
+    wrong = sum(
+        r.group_mot.misses + r.group_mot.false_positives + r.group_mot.id_switches for r in runs
+    )
+    count = sum(r.size.count for r in runs)
+
+    def wmean(values: list[float]) -> float:
+        pairs = [(v, r.size.count) for v, r in zip(values, runs, strict=True) if r.size.count]
+        return sum(v * c for v, c in pairs) / count if count else math.nan
+
+    return {
+        "mota": 1.0 - wrong / truth if truth else math.nan,
+        "size_error": wmean([r.size.mean_error for r in runs]),
+        "exact": wmean([r.size.exact_share for r in runs]),
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--seeds", default="100-119", help="held back: 100-119; tune on 0-9")
+    ap.add_argument("--seconds", type=float, default=40.0)
+    ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE")
+    ap.add_argument("--preset", default=None, help="paper: 000's group tracker (docs/papers.md)")
+    args = ap.parse_args()
+    params = _with(load_config(GroupTrackerParams, None, args.preset), args.set)
+    print(f"preset {args.preset}; parameters changed: {args.set or 'none'}")
+    runs: list[GroupRunResult] = []
+    by_level: dict[str, list[GroupRunResult]] = {"feet": [], "torso": []}
+    for seed in parse_seeds(args.seeds):
+        notes = build_scene("random-groups", seconds=args.seconds, seed=seed).notes
+        sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
+        r = run_groups(sim.scans, params, truth=sim.truth)
+        runs.append(r)
+        by_level[notes["scanner"]["level"]].append(r)
+        m = r.group_mot
+        print(
+            f"seed {seed} ({notes['scanner']['level']}, {notes['scanner']['resolution_deg']:.2f} "
+            f"deg, {'moving' if notes['moving_robot'] else 'still'}, {notes['people']} people): "
+            f"group MOTA {m.mota:.3f} (miss {m.misses}, fp {m.false_positives}, ids "
+            f"{m.id_switches} of {m.num_truth}); size error {r.size.mean_error:.2f}, exact "
+            f"{100 * r.size.exact_share:.1f} %; clustering error {r.clustering.error:.3f}",
+            flush=True,
+        )
+    print(f"\nrandom-groups, seeds {args.seeds}, {args.seconds:g} s each (pooled)\n")
+    print("| scenes | group MOTA | size exact | size mean error [people] |")
+    print("|---|---|---|---|")
+    for name, group in (("all", runs), *by_level.items()):
+        if group:
+            p = pooled(group)
+            print(
+                f"| {name} ({len(group)}) | {p['mota']:.3f} | {100 * p['exact']:.1f} % | "
+                f"{p['size_error']:.2f} |"
+            )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,90 @@
+"""Group size counted from what the laser resolves (``size_count = "resolved"``): blobs at
+d_hs as 000, one-leg blobs paired as ``"legs"``, and a blob wider than a leg counted by
+the legs its beams' arc holds; hand-made clusters with hand-counted people."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from laserpeople.tracking.groups.observations import (
+    GroupObservations,
+    SizeCounting,
+    resolved_people,
+)
+from laserpeople.tracking.groups.tracker import GroupTrackerParams
+
+RESOLVED = SizeCounting("resolved", pair_distance=0.7, leg_radius=0.12, leg_width=0.18)
+LEGS = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)
+
+
+def _run(x: float, y: float, n: int, step: float) -> np.ndarray:
+    """``n`` points ``step`` apart along y, centred at (x, y): a leg or legs run together."""
+    return np.column_stack([np.full(n, x), y + step * (np.arange(n) - (n - 1) / 2)])
+
+
+def _count(pts: np.ndarray, counting: SizeCounting, spacing: float | None) -> list[float]:
+    n = len(pts)
+    gap = None if spacing is None else np.full(n, spacing)
+    return GroupObservations.from_points(
+        pts, np.arange(n), 1.3, 0.3, counting, spacing=gap
+    ).n_hs.tolist()
+
+
+def test_two_legs_of_one_walker_are_one_person() -> None:
+    # one-leg blobs (radius 0.06 m) 0.4 m apart: a pair, as with "legs"
+    pts = np.vstack([_run(4.0, 0.0, 3, 0.06), _run(4.0, 0.4, 3, 0.06)])
+    assert _count(pts, RESOLVED, 0.06) == [1.0]
+    assert _count(pts, LEGS, 0.06) == [1.0]
+
+
+@pytest.mark.parametrize(
+    ("n_points", "people"),
+    [(5, 1.0), (7, 1.0), (9, 2.0), (12, 2.0), (15, 3.0)],
+)
+def test_a_wide_blob_counts_the_legs_its_arc_holds(n_points: int, people: float) -> None:
+    # 0.06 m per beam, radius > 0.12 m from 5 points on: arc 0.30 m (round 1.67 = 2 legs:
+    # one person), 0.42 (2 legs), 0.54 (3 legs: floor(2) = 2 people), 0.72 (4: 2),
+    # 0.90 (5: floor(3) = 3); "legs" counts every one of them as one person
+    pts = _run(4.0, 0.0, n_points, 0.06)
+    assert _count(pts, RESOLVED, 0.06) == [people]
+    assert _count(pts, LEGS, 0.06) == [1.0]
+
+
+def test_the_arc_weighs_each_point_by_its_beam_spacing() -> None:
+    # one blob 0.48 m long: near (49 beams 0.01 m apart) its arc is 0.49 m (3 legs, two
+    # people); far (5 beams 0.12 m apart) 0.60 m (round 3.3 = 3 legs, two people). Counting
+    # points instead of the arc would make the near blob 49 legs.
+    near, far = _run(1.0, 0.0, 49, 0.01), _run(9.0, 0.0, 5, 0.12)
+    assert _count(near, RESOLVED, 0.01) == [2.0]
+    assert _count(far, RESOLVED, 0.12) == [2.0]
+    # the same blob seen with a spacing of 0.005 m holds 0.245 m: 1 leg, one person
+    assert _count(near, RESOLVED, 0.005) == [1.0]
+
+
+def test_direct_blob_counts_and_unknown_spacing() -> None:
+    blob = np.array([0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1])
+    radius = np.array([0.05, 0.3])
+    got = resolved_people(blob, radius, RESOLVED, np.full(13, 0.07))
+    # blob 0 is leg-sized (one person before pairing); blob 1: arc 0.70 m, 4 legs: 2
+    assert got.tolist() == [1.0, 2.0]
+    assert resolved_people(blob, radius, RESOLVED, None).tolist() == [1.0, 1.0]
+
+
+def test_the_observations_keep_the_spacing_of_their_points() -> None:
+    walker = np.vstack([_run(4.0, 0.0, 3, 0.06), _run(4.0, 0.4, 3, 0.06)])
+    pts = np.vstack([walker, walker + np.array([0.0, 3.0])])  # a second cluster 3 m away
+    spacing = np.linspace(0.05, 0.06, 12)
+    obs = GroupObservations.from_points(pts, np.arange(12), 1.3, 0.3, RESOLVED, spacing=spacing)
+    assert obs.n_hs.tolist() == [1.0, 1.0]
+    assert obs.spacing is not None
+    np.testing.assert_allclose(np.sort(obs.spacing), spacing, atol=1e-12)
+
+
+def test_bad_counting_settings_are_refused() -> None:
+    with pytest.raises(ValueError, match="leg_width"):
+        SizeCounting("resolved", leg_width=0.0)
+    with pytest.raises(ValueError, match="size counting method"):
+        SizeCounting("heads")
+    with pytest.raises(ValueError, match="size_count"):
+        GroupTrackerParams(size_count="heads")

@@ -197,6 +197,7 @@ def run_scenario(
 # the library modules register their scenarios on import
 from laserpeople.sim.scenarios import arras as _arras  # noqa: E402,F401
 from laserpeople.sim.scenarios import demo as _demo  # noqa: E402,F401
+from laserpeople.sim.scenarios import feet_check as _feet_check  # noqa: E402,F401
 from laserpeople.sim.scenarios import kraeussling as _kraeussling  # noqa: E402,F401
 from laserpeople.sim.scenarios import moving_robot as _moving_robot  # noqa: E402,F401
 from laserpeople.sim.scenarios import random_groups as _random_groups  # noqa: E402,F401

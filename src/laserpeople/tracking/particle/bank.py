@@ -124,17 +124,22 @@ class FilterBank:
         velocities: NDArray[np.float64],
         confirm: int,
         frame: Frame,
+        shown: NDArray[np.bool_] | None = None,
     ) -> Tracks:
-        """The frame's tracks: for every filter with at least ``confirm`` supported scans,
-        the weighted mean of the particles' ``positions`` (F, P, 2) [m] and
-        ``velocities`` (F, P, 2) [m/s], with the positions' weighted covariance."""
+        """The frame's tracks: for every filter with at least ``confirm`` supported scans
+        (and ``shown`` (F,) True, if given), the weighted mean of the particles'
+        ``positions`` (F, P, 2) [m] and ``velocities`` (F, P, 2) [m/s], with the
+        positions' weighted covariance."""
         out = []
         if len(self):
             est = np.einsum("fp,fpc->fc", self.weights, positions)
             vel = np.einsum("fp,fpc->fc", self.weights, velocities)
             d = positions - est[:, None, :]
             cov = np.einsum("fp,fpa,fpb->fab", self.weights, d, d)
-            for f in np.flatnonzero(self.hits >= confirm):
+            ok = self.hits >= confirm
+            if shown is not None:
+                ok &= shown
+            for f in np.flatnonzero(ok):
                 out.append(Track(int(self.ids[f]), "person", est[f], vel[f], cov[f]))
         return Tracks(frame.stamp, frame.index, tuple(out), frame.frame, frame.sensor_pose)
 

@@ -83,6 +83,8 @@ class FeetParams:
             "long_weight": 1.0,
             "rescue_legs": False,
             "blob_body": False,
+            "overlap_max": 0.0,
+            "still_time": 0.0,
         }
     )
 
@@ -124,6 +126,44 @@ class FeetParams:
         "points of consecutive scans this close link their clusters (at 50 Hz; scaled "
         "up with the time between scans)",
         "m",
+    )
+    overlap_max: float = param(
+        0.5,
+        "departure from 004 (0 here: no bound; 004 scans at 50 Hz, where the link "
+        "distance is 0.25 m either way); scaled to a 15 Hz scanner the link distance "
+        "reached 0.83 m and linked two people standing 0.9 m apart (legs 0.56 m apart), "
+        "whose clusters then merged and split every scan and started filters between "
+        "them; feet-crossing and feet-office, seeds 0, 3: MOTP 0.55 at 0.5, 0.55 at 0.4; "
+        "carry case at 25 Hz, seed 5: 0.80 at 0.5, 0.67 at 0.4 (docs/schenk-tables.md)",
+        "largest link distance after scaling ``overlap_distance`` with the time between "
+        "scans (0: no bound)",
+        "m",
+    )
+    still_time: float = param(
+        1.0,
+        "departure from 004 (0 here: only a step sequence starts a filter); a person who "
+        "stood still once their filter was lost (hidden by a passer-by for longer than "
+        "``miss_time``) was never found again (docs/schenk-tables.md)",
+        "a person-sized object (single linkage at ``link_distance``, at least "
+        "``still_points`` points, largest covariance eigenvalue at most "
+        "``still_eigenvalue``) whose centre stays within ``still_move`` this long, with no "
+        "filter within ``birth_exclusion``, starts a filter; 0 disables",
+        "s",
+    )
+    still_move: float = param(
+        0.1,
+        "assumed: a standing person sways a few cm; a walker moves 0.4 m or more per second",
+        "farthest a still object's centre may move from where it was first seen",
+        "m",
+    )
+    still_points: int = param(
+        4, "assumed: two legs of 2 points each", "fewest points of a still object"
+    )
+    still_eigenvalue: float = param(
+        0.015,
+        "assumed: two legs side by side span at most ~0.4 m (a uniform 0.4 m spread has 0.013)",
+        "largest covariance eigenvalue of a still object",
+        "m^2",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(
@@ -245,9 +285,19 @@ class FeetParams:
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
     )
     miss_time: float = param(
-        0.2,
-        "assumed; tuned on 5 simulated runs (speed-normal, speed-fast, people-3, cross, stop)",
+        1.0,
+        "assumed; 0.2 tuned on 5 simulated 004 runs (lasers on both sides of the walk); "
+        "with one laser a passer-by hides a person for longer: feet-crossing and "
+        "feet-office, seeds 0-3, MOTP 0.62 at 0.2, 0.65 at 0.5, 0.67 at 1 "
+        "(docs/schenk-tables.md)",
         "a filter without support this long dies",
+        "s",
+    )
+    report_time: float = param(
+        0.2,
+        "assumed: the filters of 004 die after 0.2 s without points (``miss_time`` "
+        "before it grew); a filter kept longer is not reported while it coasts",
+        "a filter is reported only while it had support this recently",
         "s",
     )
     merge_distance: float = param(
@@ -447,6 +497,8 @@ class StepDetector:
         self._stamp = stamp
         # feet move farther between slower scans: widen the link distance beyond 50 Hz
         reach = p.overlap_distance * max(1.0, dt / 0.02)
+        if p.overlap_max > 0.0:
+            reach = min(reach, max(p.overlap_max, p.overlap_distance))
         merges: list[StepEvent] = []
         splits: list[StepEvent] = []
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
@@ -486,6 +538,62 @@ class StepDetector:
         return found
 
 
+class StillDetector:
+    """Finds people who stand still (a departure from 004, whose step sequence needs a
+    walking person): a person-sized object (single linkage at ``link_distance``, at least
+    ``still_points`` points, largest covariance eigenvalue at most ``still_eigenvalue``)
+    whose centre has stayed within ``still_move`` of where it was first seen for
+    ``still_time``."""
+
+    def __init__(self, params: FeetParams) -> None:
+        self.params = params
+        self._anchors = np.empty((0, 2))
+        self._since = np.empty(0)
+
+    def detections(self, points: NDArray[np.float64], stamp: float) -> list[NDArray[np.float64]]:
+        """The feet (2, 2) [m] of every object of ``points`` (N, 2) that has been still
+        for ``still_time`` [s] by ``stamp``: its points split in two along its major axis
+        (the two legs), each half's centre."""
+        p = self.params
+        if p.still_time <= 0.0 or len(points) == 0:
+            self._anchors, self._since = np.empty((0, 2)), np.empty(0)
+            return []
+        labels = single_linkage(points, p.link_distance)
+        n = int(labels.max()) + 1
+        mean, cov, count = cluster_covariances(points, labels, n)
+        ok = np.flatnonzero(
+            (count >= p.still_points) & (largest_eigenvalue(cov) <= p.still_eigenvalue)
+        )
+        anchors, since = mean[ok], np.full(ok.size, stamp)
+        if len(self._anchors) and ok.size:
+            d, j = cKDTree(self._anchors).query(anchors, k=1, distance_upper_bound=p.still_move)
+            kept = np.isfinite(d)
+            anchors[kept] = self._anchors[j[kept]]
+            since[kept] = self._since[j[kept]]
+        self._anchors, self._since = anchors, since
+        out = []
+        for k, c in zip(
+            ok[stamp - since >= p.still_time], mean[ok][stamp - since >= p.still_time], strict=True
+        ):
+            out.append(_two_feet(points[labels == k], c, cov[k]))
+        return out
+
+
+def _two_feet(
+    points: NDArray[np.float64], centre: NDArray[np.float64], cov: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Two feet (2, 2) [m] of an object of ``points`` (N, 2): the centres of its points
+    either side of ``centre`` along the major axis of ``cov`` (2, 2); a side without
+    points at 0.1 m from the centre."""
+    _, vecs = np.linalg.eigh(cov)
+    u = vecs[:, -1]
+    side = (points - centre) @ u
+    feet = np.empty((2, 2))
+    for i, mask in enumerate((side < 0.0, side >= 0.0)):
+        feet[i] = points[mask].mean(axis=0) if mask.any() else centre + (0.1 if i else -0.1) * u
+    return feet
+
+
 class FeetTracker:
     """Multi-person tracker at feet height (004 Sec. 2.1); a ``FrameTracker`` on the fused
     foreground points of the feet-height lasers."""
@@ -501,6 +609,7 @@ class FeetTracker:
         self.rng = np.random.default_rng(self.params.seed)
         self.bank = FilterBank(self.params.particles, 8)
         self.detector = StepDetector(self.params)
+        self.still = StillDetector(self.params)
         self._stamp: float | None = None
         self.objects = ObjectMemory(self.params.object_reach, self.params.object_memory)
 
@@ -603,7 +712,8 @@ class FeetTracker:
     def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
-        if not found:
+        still = self.still.detections(pts, stamp)
+        if not (found or still):
             return
         est = (
             np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
@@ -621,6 +731,13 @@ class FeetTracker:
             if any(np.hypot(*(ev.position - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
                 continue
             starts.append(ev.feet)
+        for feet in still:  # a person standing still: no refresh, a filter where none is
+            mid = feet.mean(axis=0)
+            if len(est) and np.hypot(*(est - mid).T).min() <= p.birth_exclusion:
+                continue
+            if any(np.hypot(*(mid - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
+                continue
+            starts.append(feet)
         if starts:
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
 
@@ -685,7 +802,8 @@ class FeetTracker:
             centre = blob_centres(pts, legs, mids, heading, p.link_distance, p.blob_reach)
             shift = np.where(np.isfinite(centre), centre - est, 0.0)
             body = body + shift[:, None, :]
-        return self.bank.tracks(body, vel, p.confirm_scans, frame)
+        shown = frame.stamp - self.bank.last_seen <= p.report_time
+        return self.bank.tracks(body, vel, p.confirm_scans, frame, shown)
 
 
 def blob_centres(

@@ -164,7 +164,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Person tracks on static places, real bags",
         ("benchmarks/real_people.py", "--trackers", "nn", "csa", "feet-pf", "upper-body-pf"),
         20.0,
-        "demo bag feet-pf 32.3 s, upper-body-pf 33.8 s; MiR front nn 11.3 s, both lasers "
+        "demo bag feet-pf 21 s, upper-body-pf 33.8 s; MiR front nn 11.3 s, both lasers "
         "13.2 s; no hidden person-second near a leg-MHT person",
         "people-benchmarks.md",
         needs_data=True,
@@ -213,7 +213,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Colour re-identification after crossings (8 variants × 5 seeds, 135 people)",
         ("benchmarks/csa_crossings.py",),
         10.0,
-        "people right after the crossing: CSA 44 → 135 with colour, leg MHT 62 → 124",
+        "people right after the crossing: CSA 82 → 135 with colour, leg MHT 62 → 124",
         "csa.md",
     ),
     Benchmark(
@@ -249,8 +249,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "against another source tree in the same process",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "log-log slope of cost against people 0.50 (4–40 people); `track` on the real demo bag "
-        "16 % less CPU than before the start-up work, identical CSV",
+        "log-log slope of cost against people 0.51 (4–40 people); 1.00–1.12× less CPU per "
+        "scan than before the detector work (fixed cost; identical tracks)",
         "speed.md",
         needs_data=True,
     ),

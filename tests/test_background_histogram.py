@@ -194,3 +194,39 @@ def test_relearned_model_survives_save_and_load(tmp_path: Path) -> None:
     assert again.params.relearn_seconds == 0.3
     assert not again.foreground_of(_scan(walls, 9.0)).any()
     assert again.foreground_of(_scan(person, 9.0)).sum() == 2
+
+
+def test_the_farthest_frequent_range_is_the_background() -> None:
+    """Learning 20 scans: beams 40-43 see a person standing at 2.0 m for the first 8 scans
+    (40 %), then the wall at 4.44-4.47 m; beams 60-61 see only a near object at 1.5 m.
+    With ``farthest`` the person's beams take the wall as background and the person is
+    foreground, the near-only beams keep 1.5 m; 004's rule (every bin seen in at least
+    10 % of the scans) keeps the person as background too."""
+    walls = _walls()
+    walls[60:62] = 1.5
+    person = walls.copy()
+    person[40:44] = 2.0
+    learn = [_scan(person if k < 8 else walls, 0.1 * k) for k in range(20)]
+    new = BeamHistogramBackground(BeamHistogramParams(relearn_seconds=0.0)).learn_scans(learn)
+    old = BeamHistogramBackground(BeamHistogramParams(farthest=False)).learn_scans(learn)
+    assert np.flatnonzero(new.foreground_of(_scan(person, 5.0))).tolist() == [40, 41, 42, 43]
+    assert not new.foreground_of(_scan(walls, 5.0)).any()  # wall and the 1.5 m object
+    assert not old.foreground_of(_scan(person, 5.0)).any()
+    # a return 0.2 m (more than twice the tolerance) in front of the 1.5 m object
+    nearer = walls.copy()
+    nearer[60] = 1.3
+    assert np.flatnonzero(new.foreground_of(_scan(nearer, 5.0))).tolist() == [60]
+    static = new._table("a").static
+    assert static is not None
+    assert static[41, int(walls[41] / 0.05)] and not static[41, int(2.0 / 0.05)]
+
+
+def test_the_paper_preset_keeps_every_frequent_bin() -> None:
+    from laserpeople.config import load_config
+    from laserpeople.pipeline.background import load_static_world
+
+    assert load_config(BeamHistogramParams, None, "paper").farthest is False
+    assert BeamHistogramParams().farthest is True
+    # `track --preset paper` reads the static world with the preset
+    assert load_static_world(None, "paper").beam_histogram.farthest is False
+    assert load_static_world(None).beam_histogram.farthest is True

@@ -4,7 +4,11 @@ For every beam of every laser the model counts how often each range bin was meas
 learning. Bins seen in at least ``min_fraction`` of the learning scans are *static* (the
 wall, a table leg, the far end of a door that is sometimes open); a later return is
 background when it falls within ``tolerance`` of a static bin of its beam and foreground
-otherwise. Learning runs over the first ``learn_seconds`` of the frames it sees (people
+otherwise. People stand in front of walls, never behind them: with ``farthest`` only the
+farthest frequent range of a beam (and the bins within twice the tolerance before it) is
+static, so a person who stood in view for part of the learning is foreground from the start
+(a beam that saw only the person keeps the person's range until it relearns, below).
+Learning runs over the first ``learn_seconds`` of the frames it sees (people
 walking through are rare in any one bin) or from a separate background recording
 (:meth:`BeamHistogramBackground.learn_scans`), and the histograms are saved to and loaded
 from ``.npz`` without pickle.
@@ -32,6 +36,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,6 +59,7 @@ class BeamHistogramParams:
     """Parameters of the per-beam histogram background."""
 
     config_section = "beam_histogram"
+    paper_preset = MappingProxyType({"farthest": False})  # 004: every frequent bin is static
 
     bin_width: float = param(
         0.05, "assumed (004 Sec. 2 gives no numbers)", "width of a range bin", "m"
@@ -84,6 +90,15 @@ class BeamHistogramParams:
         "s",
     )
 
+    farthest: bool = param(
+        True,
+        "assumed (not in 004): people stand in front of walls, never behind them; measured "
+        "on feet-crossing / feet-office (docs/schenk-tables.md)",
+        "per beam only the farthest frequent range (bins within twice the tolerance of the "
+        "farthest static bin) is static, so that a person who stood in front of the wall "
+        "for part of the learning is foreground; false: every frequent bin (004)",
+    )
+
     def __post_init__(self) -> None:
         if not (self.bin_width > 0.0 and math.isfinite(self.bin_width)):
             raise LaserPeopleError(f"bin_width must be positive, got {self.bin_width}")
@@ -110,7 +125,7 @@ class _BeamTable:
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
-        core = self.counts >= max(1.0, p.min_fraction * self.scans)
+        core = _core(self.counts, self.scans, p)
         self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         k = core.shape[1]
         self.nearest = np.where(core.any(axis=1), np.argmax(core, axis=1), k).astype(np.int64)
@@ -149,11 +164,24 @@ class _BeamTable:
         self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
         need = max(1, math.ceil(p.min_fraction * self.scans))
         self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        core = self.counts[ripe] >= max(1.0, p.min_fraction * self.scans)
+        core = _core(self.counts[ripe], self.scans, p)
         self.static[ripe] = _dilate(core, reach)
         self.nearest[ripe] = np.argmax(core, axis=1)
         self.candidate[ripe] = -1
         self.relearned += int(ripe.size)
+
+
+def _core(counts: NDArray[np.int32], scans: int, p: BeamHistogramParams) -> NDArray[np.bool_]:
+    """Static bins (B, K) of the histograms ``counts`` (B, K) of ``scans`` scans: bins seen
+    in at least ``min_fraction`` of the scans; with ``farthest`` only those of them within
+    twice the tolerance of each beam's farthest such bin (a beam without one keeps none)."""
+    core = counts >= max(1.0, p.min_fraction * scans)
+    if not p.farthest or core.shape[1] == 0:
+        return core
+    k = core.shape[1]
+    far = k - 1 - np.argmax(core[:, ::-1], axis=1)  # (B,) farthest static bin
+    width = 2 * math.ceil(p.tolerance / p.bin_width)
+    return core & (np.arange(k)[None, :] >= (far - width)[:, None])
 
 
 def _dilate(core: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
@@ -373,6 +401,7 @@ class BeamHistogramBackground:
                 "min_fraction": self.params.min_fraction,
                 "tolerance": self.params.tolerance,
                 "relearn_seconds": self.params.relearn_seconds,
+                "farthest": self.params.farthest,
             },
             "sensors": [
                 {
@@ -411,7 +440,8 @@ class BeamHistogramBackground:
                         path=p,
                         hint="update laserpeople",
                     )
-                model = cls(BeamHistogramParams(**meta["params"]))
+                # a model saved before ``farthest`` existed keeps every frequent bin
+                model = cls(BeamHistogramParams(**{"farthest": False, **meta["params"]}))
                 for i, s in enumerate(meta["sensors"]):
                     counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
                     model._tables[s["name"]] = _BeamTable(

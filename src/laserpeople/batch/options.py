@@ -160,7 +160,7 @@ def resolve(
         from laserpeople.tracking.registry import with_people_policy
 
         params = with_people_policy(params, options.people_policy, options.tracker)
-    static = load_static_world(options.config)
+    static = load_static_world(options.config, options.preset)
     static = replace(
         static,
         **{

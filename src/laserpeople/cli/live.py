@@ -251,7 +251,7 @@ def register(app: typer.Typer) -> None:
             leg_fusion=load_config(LegFusionParams, config),
             background=background,
             map_path=map_path,
-            static_world=load_static_world(config),
+            static_world=load_static_world(config, preset),
         )
         use_poses = frame != "sensor"
         topics = LiveTopics(

@@ -173,7 +173,7 @@ def run_tracking(
 
     entry = registry.get(tracker_name)
     params: Any = load_config(entry.params_cls, config, preset)
-    static_world = load_static_world(config)
+    static_world = load_static_world(config, preset)
     if people_policy is not None:
         params = registry.with_people_policy(params, people_policy, tracker_name)
     if detector is None:

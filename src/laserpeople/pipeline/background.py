@@ -234,20 +234,21 @@ class StaticWorldParams:
         ]
 
 
-def load_static_world(path: str | Path | None) -> StaticWorldParams:
+def load_static_world(path: str | Path | None, preset: str | None = None) -> StaticWorldParams:
     """The static world models' parameters from the TOML file ``path`` (None: defaults);
-    unknown keys, wrong types and non-finite values are a ConfigError naming the key."""
+    unknown keys, wrong types and non-finite values are a ConfigError naming the key;
+    ``preset`` "paper" starts each section from the papers' values."""
     from laserpeople.config import load_config
     from laserpeople.tracking.legs import LegTrackerParams
 
     return StaticWorldParams(
-        occupancy=load_config(OccupancyParams, path),
-        beam_histogram=load_config(BeamHistogramParams, path),
-        auto_background=load_config(AutoBackgroundParams, path),
-        sensor_motion=load_config(SensorMotionParams, path),
-        static_tracks=load_config(StaticTrackParams, path),
-        leg_foreground=load_config(LegForegroundParams, path),
-        leg_tracker=load_config(LegTrackerParams, path),
+        occupancy=load_config(OccupancyParams, path, preset),
+        beam_histogram=load_config(BeamHistogramParams, path, preset),
+        auto_background=load_config(AutoBackgroundParams, path, preset),
+        sensor_motion=load_config(SensorMotionParams, path, preset),
+        static_tracks=load_config(StaticTrackParams, path, preset),
+        leg_foreground=load_config(LegForegroundParams, path, preset),
+        leg_tracker=load_config(LegTrackerParams, path, preset),
     )
 
 

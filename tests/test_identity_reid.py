@@ -10,7 +10,7 @@ import pytest
 
 from laserpeople.frame import Frame
 from laserpeople.identity.appearance import hue_histogram
-from laserpeople.identity.reid import ColourReidentifier
+from laserpeople.identity.reid import ColourReidentifier, ReidParams
 from laserpeople.sim.camera import CameraParams, SimulatedCamera
 from laserpeople.tracks import Track, Tracks
 
@@ -61,7 +61,13 @@ def test_swapped_tracks_get_their_identities_back() -> None:
     before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
     after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
     assert after == before
-    assert 1 <= len(reid.reassignments) <= 2  # early (while within 3 m) and final
+    # early, while the two are still closer than separation_distance, then the final one
+    # once they are apart (002's); both give each track the same identity
+    early, final = reid.reassignments
+    apart = ReidParams().separation_distance
+    assert np.linalg.norm(np.subtract(*_truth_xy(early.stamp))) < apart
+    assert np.linalg.norm(np.subtract(*_truth_xy(final.stamp))) > apart
+    assert early.assignment == final.assignment == {1: 0, 0: 1}
     # the learnt colours peak where the clothes are: red bin 0, blue bin 4
     assert reid.models[before[0]].mean.argmax() == 0
     assert reid.models[before[1]].mean.argmax() == 4

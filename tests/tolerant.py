@@ -114,15 +114,27 @@ def same_partition_share(
     got: NDArray,  # type: ignore[type-arg]
     expected: NDArray,  # type: ignore[type-arg]
     offsets: NDArray[np.int64],
+    expected_offsets: NDArray[np.int64],
 ) -> float:
-    """Share of frames (``offsets`` (F + 1,) into the flat per-point labels) whose points
-    fall into the same groups in both runs, whatever the groups are called."""
+    """Share of frames (``offsets`` (F + 1,) into the flat per-point labels ``got``,
+    ``expected_offsets`` into ``expected``) whose points fall into the same groups in both
+    runs, whatever the groups are called. A frame with another number of points in the
+    two runs (a point at a threshold on one CPU) counts as one that disagrees."""
     frames = len(offsets) - 1
+    if frames != len(expected_offsets) - 1:
+        return 0.0
     if frames <= 0:
         return 1.0
     same = 0
-    for a, b in itertools.pairwise(offsets.tolist()):
-        g, e = got[a:b], expected[a:b]
+    spans = zip(
+        itertools.pairwise(offsets.tolist()),
+        itertools.pairwise(expected_offsets.tolist()),
+        strict=True,
+    )
+    for (a, b), (c, d) in spans:
+        if b - a != d - c:
+            continue
+        g, e = got[a:b], expected[c:d]
         n_pairs = len(set(zip(g.tolist(), e.tolist(), strict=True)))
         same += n_pairs == len(set(g.tolist())) == len(set(e.tolist()))
     return same / frames

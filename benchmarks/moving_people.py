@@ -29,9 +29,10 @@ from __future__ import annotations
 import argparse
 import csv
 import os
+import math
 import time
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -44,8 +45,9 @@ from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.io.tracks_csv import convert_tracks
 from laserpeople.pipeline import build
 from laserpeople.tracking import registry
-from laserpeople.tracking.legs import LegTrackerParams
-from laserpeople.tracks import Tracks
+from laserpeople.scan import Pose2D
+from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+from laserpeople.tracks import Detections, Tracks
 from laserpeople.truth import TruthFrame
 
 GATE = 0.75  # m, the benchmark's matching distance
@@ -214,6 +216,116 @@ def detection_ceiling(
     return Ceiling(sum(len(p) for p in labels.values()), detected, len(labels), beside)
 
 
+STAGES = (
+    "left out as static",
+    "no leg track",
+    "no person candidate",
+    "candidate not confirmed",
+    "confirmed, not reported",
+    "reported, too far",
+    "tracked",
+)
+"""Where the pipeline loses a detected label (:func:`diagnose_label`), in pipeline order:
+every leg detection within :data:`NEAR` left out of the leg MHT as furniture (static
+world); no leg track of the best hypothesis within :data:`NEAR`; no person (candidate or
+confirmed) with such a leg as a member or within :data:`GATE`; only unconfirmed
+candidates; a confirmed person not in the output (unseen for longer than
+``max_report_unseen``); person tracks in the output but none within :data:`GATE`; a
+person track within :data:`GATE` (tracked)."""
+
+
+@dataclass(frozen=True)
+class LabelStage:
+    """Where one detected label is lost (:data:`STAGES`).
+
+    Attributes:
+        scan: Scan index.
+        person: Labelled person id.
+        distance: Range of the label from the laser [m].
+        stage: One of :data:`STAGES`.
+        llr: Existence score of the nearest person candidate (NaN without one).
+        score: Highest detector score of the leg detections within :data:`NEAR`.
+    """
+
+    scan: int
+    person: int
+    distance: float
+    stage: str
+    llr: float
+    score: float
+
+
+def _to_sensor(pose: Pose2D | None, xy: np.ndarray) -> np.ndarray:
+    xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+    return xy if pose is None else pose.inverse_transform_points(xy)
+
+
+def diagnose_label(
+    tracker: LegMHTTracker, step_tracks: Tracks, legs: Detections, pos: np.ndarray
+) -> LabelStage | None:
+    """The stage (:data:`STAGES`) at which ``tracker`` (people policy ``tracks``, just
+    updated with ``legs``; output ``step_tracks``) loses the label at ``pos`` (2,) [m],
+    laser frame; None when no leg detection lies within :data:`NEAR` of it."""
+    assert tracker.person_tracks is not None
+    pose = legs.sensor_pose if legs.frame != "sensor" else None
+    det = _to_sensor(pose, legs.positions)
+    near = np.nonzero(np.hypot(*(det - pos).T) <= NEAR)[0] if len(det) else np.empty(0, int)
+    if near.size == 0:
+        return None
+    score = float(legs.scores[near].max())
+    best = tracker.mht.best_tracks()
+    leg_xy = _to_sensor(pose, np.array([n.mean[:2] for n in best]))
+    fams = {n.family for n, q in zip(best, leg_xy, strict=True) if np.hypot(*(q - pos)) <= NEAR}
+    people = list(tracker.person_tracks.persons.values())
+    cands = [
+        q
+        for q, c in zip(people, _to_sensor(pose, np.array([q.mean[:2] for q in people])), strict=True)
+        if np.hypot(*(c - pos)) <= GATE or fams & set(q.members)
+    ]
+    shown = in_sensor_frame(step_tracks).of_kind("person")
+    dist = [float(np.hypot(*(t.position - pos))) for t in shown]
+    llr = max((q.llr for q in cands), default=math.nan)
+    if dist and min(dist) <= GATE:
+        stage = "tracked"
+    elif not np.isin(near, tracker._kept).any():
+        stage = "left out as static"
+    elif not fams:
+        stage = "no leg track"
+    elif not cands:
+        stage = "no person candidate"
+    elif not any(q.confirmed for q in cands):
+        stage = "candidate not confirmed"
+    elif not any(t.track_id in {q.public_id for q in cands} for t in shown):
+        stage = "confirmed, not reported"
+    else:
+        stage = "reported, too far"
+    return LabelStage(step_tracks.scan_index, 0, float(np.hypot(*pos)), stage, llr, score)
+
+
+def diagnose(
+    bag: Path,
+    params: LegTrackerParams,
+    labels: dict[int, dict[int, np.ndarray]],
+    background: str = "auto",
+    map_path: str | None = None,
+) -> list[LabelStage]:
+    """Track ``bag`` as :func:`track_bag` does and tell, for every label with a leg
+    detection within :data:`NEAR`, where the pipeline loses it (:func:`diagnose_label`)."""
+    out: list[LabelStage] = []
+
+    def look(tracker: LegMHTTracker, tracks: Tracks, legs: Detections | None) -> None:
+        scan = tracks.scan_index
+        if scan not in labels or legs is None:
+            return
+        for pid, pos in sorted(labels[scan].items()):
+            row = diagnose_label(tracker, tracks, legs, pos)
+            if row is not None:
+                out.append(replace(row, person=pid))
+
+    track_bag_with_legs(bag, params, background, map_path, look)
+    return out
+
+
 def track_bag(
     bag: Path,
     params: LegTrackerParams,
@@ -231,9 +343,11 @@ def track_bag_with_legs(
     params: LegTrackerParams,
     background: str = "auto",
     map_path: str | None = None,
+    look: Callable[[LegMHTTracker, Tracks, Detections | None], None] | None = None,
 ) -> tuple[list[Tracks], dict[int, np.ndarray], float]:
     """:func:`track_bag`, with each scan's leg detections (scan -> (M, 2) [m], laser
-    frame) between the tracks and the CPU time."""
+    frame) between the tracks and the CPU time; ``look(tracker, tracks, detections)`` is
+    called after every scan (the leg MHT, its output, the leg detections it was given)."""
     tracker = registry.get("leg-mht").make(params)
     pipe = build(
         bag,
@@ -255,7 +369,20 @@ def track_bag_with_legs(
             if det.frame != "sensor" and det.sensor_pose is not None:
                 xy = det.sensor_pose.inverse_transform_points(xy)
             legs[step.frame.index] = xy
+        if look is not None:
+            look(tracker.tracker, step.tracks, det)
     return out, legs, 1e3 * (time.process_time() - t0) / max(len(out), 1)
+
+
+def print_diagnosis(rows: Sequence[LabelStage]) -> None:
+    """A row per detected label, then the count per stage."""
+    print("scan person range_m  score    llr  stage")
+    for r in rows:
+        print(f"{r.scan:4d} {r.person:6d} {r.distance:7.1f} {r.score:6.2f} {r.llr:6.2f}  {r.stage}")
+    counts = {st: sum(r.stage == st for r in rows) for st in STAGES}
+    print(f"detected labels: {len(rows)}")
+    for st, n in counts.items():
+        print(f"  {st:26s} {n:3d}")
 
 
 def main() -> None:
@@ -269,10 +396,15 @@ def main() -> None:
     ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section is used")
     ap.add_argument("--per-scan", action="store_true", help="a row per labelled scan")
     ap.add_argument("--ceiling", action="store_true", help="what the detections allow")
+    ap.add_argument(
+        "--diagnose", action="store_true", help="where each detected label is lost (a table)"
+    )
     args = ap.parse_args()
     params = load_config(LegTrackerParams, args.config)
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
+    if args.diagnose:
+        print_diagnosis(diagnose(args.bag, params, read_labels(args.labels), args.background, args.map))
     tracks, legs, ms = track_bag_with_legs(args.bag, params, args.background, args.map)
     labels = read_labels(args.labels)
     s = score_moving(tracks, labels)

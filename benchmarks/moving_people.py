@@ -326,6 +326,64 @@ def diagnose(
     return out
 
 
+def companion_tracks(
+    tracks: Sequence[Tracks],
+    legs: dict[int, np.ndarray],
+    labels: dict[int, dict[int, np.ndarray]],
+) -> set[int]:
+    """Ids of the person tracks that follow the unlabelled companion beside the robot: on
+    the labelled scans every row of the track lies farther than :data:`GATE` from every
+    label and inside :data:`BESIDE` grown by :data:`NEAR`, and at least one row lies within
+    :data:`NEAR` of an unlabelled leg detection in :data:`BESIDE` (farther than :data:`GATE`
+    from every label; ``legs``: scan -> (M, 2) [m], laser frame). A track that ever comes
+    near a label, or leaves the place beside the robot, is not one of them."""
+    x0, x1, y0, y1 = BESIDE
+    ok: dict[int, bool] = {}
+    seen: set[int] = set()
+    for t in tracks:
+        if t.scan_index not in labels:
+            continue
+        truth = np.array(list(labels[t.scan_index].values()), dtype=np.float64)
+        xy = legs.get(t.scan_index, np.empty((0, 2))).reshape(-1, 2)
+        free = xy[np.hypot(*(xy[:, None, :] - truth[None]).transpose(2, 0, 1)).min(axis=1) > GATE]
+        free = free[(free[:, 0] > x0) & (free[:, 0] < x1) & (free[:, 1] > y0) & (free[:, 1] < y1)]
+        for row in in_sensor_frame(t).of_kind("person"):
+            (x, y), tid = row.position.tolist(), row.track_id
+            inside = x0 - NEAR < x < x1 + NEAR and y0 - NEAR < y < y1 + NEAR
+            apart = bool(np.hypot(*(truth - row.position).T).min() > GATE)
+            ok[tid] = ok.get(tid, True) and inside and apart
+            if len(free) and np.hypot(*(free - row.position).T).min() <= NEAR:
+                seen.add(tid)
+    return {tid for tid, good in ok.items() if good and tid in seen}
+
+
+def without_tracks(tracks: Sequence[Tracks], ids: set[int]) -> list[Tracks]:
+    """``tracks`` with the person tracks ``ids`` left out."""
+    return [
+        replace(
+            t, tracks=tuple(r for r in t.tracks if not (r.kind == "person" and r.track_id in ids))
+        )
+        for t in tracks
+    ]
+
+
+def detected_labels(
+    legs: dict[int, np.ndarray], labels: dict[int, dict[int, np.ndarray]]
+) -> dict[int, dict[int, np.ndarray]]:
+    """The labels with a leg detection within :data:`NEAR` (scans without any left out)."""
+    out: dict[int, dict[int, np.ndarray]] = {}
+    for scan, people in labels.items():
+        xy = legs.get(scan, np.empty((0, 2))).reshape(-1, 2)
+        kept = {
+            pid: pos
+            for pid, pos in people.items()
+            if len(xy) and float(np.hypot(*(xy - pos).T).min()) <= NEAR
+        }
+        if kept:
+            out[scan] = kept
+    return out
+
+
 def track_bag(
     bag: Path,
     params: LegTrackerParams,
@@ -422,6 +480,12 @@ def main() -> None:
     per = ", ".join(f"{p}: {n}" for p, n in s.ids_per_person.items())
     print(f"person ids matched   {s.ids} (per labelled person: {per or 'none'})")
     print(f"ms/scan (with det.)  {ms:.2f}")
+    masked = companion_tracks(tracks, legs, labels)
+    m = score_moving(without_tracks(tracks, masked), labels)
+    d = score_moving(tracks, detected_labels(legs, labels))
+    ids = ", ".join(f"P{i}" for i in sorted(masked)) or "none"
+    print(f"companion masked     MOTA {m.mota:.3f}, false positives {m.false_positives} ({ids})")
+    print(f"detected labels      recall {d.recall:.3f} ({d.matches} of {d.labels})")
     if args.ceiling:
         c = detection_ceiling(legs, labels)
         print(f"labels with a leg detection within {NEAR} m: {c.detected} of {c.labels}")

@@ -279,7 +279,9 @@ def diagnose_label(
     people = list(tracker.person_tracks.persons.values())
     cands = [
         q
-        for q, c in zip(people, _to_sensor(pose, np.array([q.mean[:2] for q in people])), strict=True)
+        for q, c in zip(
+            people, _to_sensor(pose, np.array([q.mean[:2] for q in people])), strict=True
+        )
         if np.hypot(*(c - pos)) <= GATE or fams & set(q.members)
     ]
     shown = in_sensor_frame(step_tracks).of_kind("person")
@@ -462,7 +464,9 @@ def main() -> None:
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
     if args.diagnose:
-        print_diagnosis(diagnose(args.bag, params, read_labels(args.labels), args.background, args.map))
+        print_diagnosis(
+            diagnose(args.bag, params, read_labels(args.labels), args.background, args.map)
+        )
     tracks, legs, ms = track_bag_with_legs(args.bag, params, args.background, args.map)
     labels = read_labels(args.labels)
     s = score_moving(tracks, labels)

@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import argparse
 import csv
-import os
 import math
+import os
 import time
 from collections import defaultdict
 from collections.abc import Callable, Sequence
@@ -44,8 +44,8 @@ from laserpeople.evaluation.clear_mot import ClearMot
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.io.tracks_csv import convert_tracks
 from laserpeople.pipeline import build
-from laserpeople.tracking import registry
 from laserpeople.scan import Pose2D
+from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 from laserpeople.tracks import Detections, Tracks
 from laserpeople.truth import TruthFrame

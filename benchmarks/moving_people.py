@@ -19,9 +19,18 @@ with a leg detection within 0.5 m, and the labelled scans where an unlabelled pe
 beside the robot (a leg detection in :data:`BESIDE`, farther than the gate from every
 label), which the benchmark counts as false positives for any tracker that follows them.
 
+Two more scores are printed after the benchmark's: CLEAR MOT with the companion's person
+tracks left out (:func:`companion_tracks`: on the labelled scans far from every label,
+inside :data:`BESIDE` grown by :data:`NEAR`, and once near an unlabelled leg detection
+there; not the benchmark's score, the box is drawn for this recording), and the recall of
+the detected labels (CLEAR MOT against the labels with a leg detection within :data:`NEAR`
+only, :func:`detected_labels`). ``--diagnose`` prints, for each detected label, the stage
+at which the pipeline loses it (:data:`STAGES`, :func:`diagnose`) and the count per stage.
+
     PYTHONPATH=src .venv/bin/python benchmarks/moving_people.py [--people-policy arras]
         [--background auto|occupancy|none] [--map BAG:/map | --map map.yaml]
-        [--config params.toml] [--per-scan] [--ceiling] [--bag PATH] [--labels PATH]
+        [--config params.toml] [--per-scan] [--ceiling] [--diagnose] [--bag PATH]
+        [--labels PATH]
 """
 
 from __future__ import annotations

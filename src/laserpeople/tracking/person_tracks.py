@@ -322,16 +322,6 @@ class PersonTrackParams:
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
     )
-    travel_confirm: float = param(
-        1.5,
-        "measured on the real lobby recording (docs/moving-robot.md): 1.0 / 1.5 / 2.0 m "
-        "recall 0.351 / 0.316 / 0.263, false positives 38 / 27 / 26 (0.246 and 23 "
-        "without); a leg track hopping between the posts of a chair stays within ~0.5 m",
-        "on a moving robot, a person candidate whose detected leg moves consistently and "
-        "whose leg track has travelled this far (net, at moving_speed or faster on average) "
-        "from its first detection is confirmed (inf: never)",
-        "m",
-    )
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -539,8 +529,6 @@ class PersonTracker:
         """The lasers ride on a robot that has moved, and the tracking frame is the world
         (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
-        self._leg_starts: dict[int, tuple[float, float, float]] = {}
-        """Per leg track: (time [s], x, y [m]) of its first detection (``travel_confirm``)."""
         """Per leg track: (time [s], x, y [m]) of its detections over the last
         ``moving_time`` (and one before), for :func:`moves_consistently`."""
 
@@ -630,16 +618,14 @@ class PersonTracker:
             if not leg.detected:
                 continue
             path = paths.get(leg.track_id)
-            x, y = leg.position.tolist()
             if path is None:
                 path = paths[leg.track_id] = deque()
-                self._leg_starts.setdefault(leg.track_id, (stamp, x, y))
+            x, y = leg.position.tolist()
             path.append((stamp, x, y))
             while len(path) > 2 and path[1][0] <= horizon:
                 path.popleft()
         for gone in [k for k in paths if k not in legs]:
             del paths[gone]
-            self._leg_starts.pop(gone, None)
 
     def _one_leg_on(self) -> bool:
         """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
@@ -656,18 +642,6 @@ class PersonTracker:
             and path is not None
             and moves_consistently(path, self.params)
         )
-
-    def _travelled(self, leg: LegObservation, stamp: float) -> bool:
-        """The track of ``leg`` has come ``travel_confirm`` (net) from its first detection,
-        at ``moving_speed`` or faster on average."""
-        start = self._leg_starts.get(leg.track_id)
-        if start is None:
-            return False
-        t0, x0, y0 = start
-        x, y = leg.position.tolist()
-        net = math.hypot(x - x0, y - y0)
-        p = self.params
-        return net >= p.travel_confirm and net >= p.moving_speed * (stamp - t0)
 
     def _moving_member(self, person: PersonTrack, legs: Mapping[int, LegObservation]) -> bool:
         """Some detected member leg of ``person`` moves consistently (:meth:`_moves`)."""
@@ -748,11 +722,6 @@ class PersonTracker:
             evidence, z, std = self._measure(person, legs)
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
-                if any(
-                    legs[m].detected and self._moves(legs[m]) and self._travelled(legs[m], stamp)
-                    for m in person.members
-                ):
-                    person.llr = max(person.llr, p.llr_confirm - steps[TWO])
             person.llr = min(max(person.llr + steps[evidence], p.llr_min), p.llr_max)
             person.scans += 1
             for m in person.members:
@@ -829,11 +798,8 @@ class PersonTracker:
                     continue
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
-                    moves = self._moves(leg)
-                    llr = float(self._llr[TWO if moves else ONE])
-                    if moves and self._travelled(leg, stamp):
-                        llr = max(llr, p.llr_confirm)
-                    self._new(leg.position, [leg.track_id], stamp, llr)
+                    evidence = TWO if self._moves(leg) else ONE
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
     def _new(
         self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None

@@ -130,7 +130,8 @@ def main() -> None:
                     continue
                 who = lf.true_person[g.members]
                 kinds = np.unique(lf.true_group[g.members][who >= 0])
-                false["no person" if kinds.size == 0 else f"{min(kinds.size, 2)}+ true groups"] += 1
+                what = ("no person", "part of one true group", "two or more true groups")
+                false[what[min(kinds.size, 2)]] += 1
         print(f"seed {seed} done", flush=True)
     print(f"\n{sum(misses.values())} misses of {n_truth} true group-frames (seeds {args.seeds})\n")
     print("| tracker did | group was | share of true group-frames |")

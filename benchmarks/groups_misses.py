@@ -38,9 +38,9 @@ from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.config import load_config
 from laserpeople.evaluation.groups import (
     GROUP_GATE,
-    PROXEMIC_SPEED,
     frames_from_scans,
     group_truth,
+    near_and_alike,
 )
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
@@ -55,15 +55,9 @@ def context(frame: TruthFrame, people: np.ndarray, d_p: float) -> str:
     mine = np.isin(frame.person_ids, people)
     speed = float(np.hypot(*frame.velocities[mine].mean(axis=0)))
     motion = "walk" if speed > WALKING else "stand"
-    others = ~mine
-    if not others.any():
+    if mine.all():
         return f"{motion}, apart"
-    la = frame.leg_positions[mine].reshape(-1, 2)
-    lb = frame.leg_positions[others].reshape(-1, 2)
-    near = np.hypot(*(la[:, None] - lb[None]).transpose(2, 0, 1)) < d_p
-    near = near.reshape(int(mine.sum()), 2, int(others.sum()), 2).any(axis=(1, 3))
-    va, vb = frame.velocities[mine], frame.velocities[others]
-    alike = np.hypot(*(va[:, None] - vb[None]).transpose(2, 0, 1)) < PROXEMIC_SPEED
+    near, alike = near_and_alike(frame, np.flatnonzero(mine), np.flatnonzero(~mine), d_p)
     if np.any(near & alike):
         return f"{motion}, alike"
     return f"{motion}, passing" if near.any() else f"{motion}, apart"

@@ -108,6 +108,24 @@ JOINED_ID = 2_000_000
 their :func:`group_truth` ids."""
 
 
+def near_and_alike(
+    frame: TruthFrame, a: IntArray, b: IntArray, d_p: float, speed: float = PROXEMIC_SPEED
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """For the people at rows ``a`` (A,) and ``b`` (B,) of ``frame``: (A, B) whether a leg
+    of one is within ``d_p`` [m] of a leg of the other (body centres when the frame has no
+    legs), and whether their velocities differ by less than ``speed`` [m/s]."""
+    legs = frame.leg_positions
+    if not np.all(np.isfinite(legs)):
+        legs = np.repeat(frame.positions[:, None, :], 2, axis=1)
+    la = legs[a].reshape(-1, 2)  # (2 A, 2): person k's legs at rows 2k, 2k + 1
+    lb = legs[b].reshape(-1, 2)
+    near = np.hypot(*(la[:, None, :] - lb[None, :, :]).transpose(2, 0, 1)) < d_p
+    near = near.reshape(len(a), 2, len(b), 2).any(axis=(1, 3))
+    va, vb = frame.velocities[a], frame.velocities[b]
+    alike = np.hypot(*(va[:, None, :] - vb[None, :, :]).transpose(2, 0, 1)) < speed
+    return near, alike
+
+
 def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED) -> TruthFrame:
     """The true groups as 000 Sec. 4.2 can define them from range data: body spacing
     (proxemics, people closer than ``d_p`` [m] are one group) and motion (Fig. 18, a
@@ -124,9 +142,6 @@ def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED)
     groups = list(frame.groups().items())
     ids = [g if g >= 0 else ALONE_ID - g - 1 for g, _ in groups]
     rows = [np.flatnonzero(np.isin(frame.person_ids, people)) for _, people in groups]
-    legs = frame.leg_positions
-    if not np.all(np.isfinite(legs)):
-        legs = np.repeat(frame.positions[:, None, :], 2, axis=1)
     parent = list(range(len(groups)))
 
     def root(i: int) -> int:
@@ -137,12 +152,7 @@ def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED)
 
     for a in range(len(groups)):
         for b in range(a + 1, len(groups)):
-            la = legs[rows[a]].reshape(-1, 2)  # (2 Pa, 2), person k's legs at rows 2k, 2k+1
-            lb = legs[rows[b]].reshape(-1, 2)
-            near = np.hypot(*(la[:, None, :] - lb[None, :, :]).transpose(2, 0, 1)) < d_p
-            near = near.reshape(len(rows[a]), 2, len(rows[b]), 2).any(axis=(1, 3))
-            va, vb = frame.velocities[rows[a]], frame.velocities[rows[b]]
-            alike = np.hypot(*(va[:, None, :] - vb[None, :, :]).transpose(2, 0, 1)) < speed
+            near, alike = near_and_alike(frame, rows[a], rows[b], d_p, speed)
             if np.any(near & alike):
                 parent[root(a)] = root(b)
     joined: dict[int, list[int]] = {}

@@ -9,7 +9,7 @@ candidate and keeps, per scan, the groups each of them reports. ``--check`` also
 tracker with the last candidate as its own parameters and asserts the same reported tracks.
 
     PYTHONPATH=src python benchmarks/groups_confirm.py [--bags demo mir mir-all corridor dev]
-        [--candidates 1/1/1 3/3/1 ...] [--check]
+        [--candidates 1/1/1 3/3/1 ...] [--check] [--set NAME=VALUE ...]
     PYTHONPATH=src python benchmarks/groups_confirm.py --sim-seeds 0 1 [--seconds 60]
 
 With ``--sim-seeds`` the simulated entrance hall instead (``run_groups``, d_P 1.3 m, one run
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -33,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import numpy as np
 
+from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.evaluation.clustering import ClusteringErrorResult
 from laserpeople.evaluation.groups import GroupRunResult, run_groups
 from laserpeople.pipeline import build
@@ -85,6 +86,13 @@ class Fanout:
             flags = conf.select(index, candidates)
             kept.append({c.family for c, f in zip(candidates, flags, strict=True) if f})
         return self.main.select(index, candidates)
+
+    def prune(self, families: Iterable[int], roots: Iterable[str] | None = None) -> None:
+        """Forget gone families and roots in every confirmation (the tracker's
+        ``forget_gone``)."""
+        alive, stems = set(families), None if roots is None else set(roots)
+        for conf in (self.main, *self.others):
+            conf.prune(alive, stems)
 
 
 def parse(text: str) -> ConfirmSettings:
@@ -219,7 +227,11 @@ def main() -> None:
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--sim-seeds", type=int, nargs="*", default=[])
     ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument(
+        "--set", nargs="*", default=[], metavar="NAME=VALUE", help="other group settings"
+    )
     args = ap.parse_args()
+    base = _with(GroupTrackerParams(), args.set)
     if args.sim_seeds:
         main_sim(args.sim_seeds, args.seconds, args.candidates)
         return
@@ -230,7 +242,7 @@ def main() -> None:
     for key in args.bags:
         settings = [parse(c) for c in args.candidates]
         others = [Confirmation(s) for s in settings]
-        out, fan, _, ms = run(key, GroupTrackerParams(confirm_scans=1), others)
+        out, fan, _, ms = run(key, replace(base, confirm_scans=1), others)
         walkers = walker_ids(out, args.walk)  # of 000's setting: every group reported
         truth = dev_truth() if key == "dev" else {}
         for text, conf, fams in zip(args.candidates, others, fan.reported, strict=True):
@@ -248,8 +260,11 @@ def main() -> None:
         print(f"{key:8s} ({len(out)} frames, {ms:.1f} ms/frame)", flush=True)
         if args.check:
             s = settings[-1]
-            params = GroupTrackerParams(
-                confirm_scans=s.scans, confirm_window=s.window, confirm_event_scans=s.event_scans
+            params = replace(
+                base,
+                confirm_scans=s.scans,
+                confirm_window=s.window,
+                confirm_event_scans=s.event_scans,
             )
             real, _, checked, _ = run(key, params, [])
             expected = only(out, fan.reported[-1])

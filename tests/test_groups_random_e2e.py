@@ -10,7 +10,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from laserpeople.evaluation.groups import ALONE_ID, group_truth, run_groups
+from laserpeople.evaluation.groups import (
+    ALONE_ID,
+    JOINED_ID,
+    PROXEMIC_SPEED,
+    group_truth,
+    proxemic_truth,
+    run_groups,
+)
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups import GroupTrackerParams
 from laserpeople.truth import TruthFrame
@@ -54,3 +61,48 @@ def test_group_truth_puts_each_group_at_its_members_mean() -> None:
     assert set(got) == {3, ALONE_ID + 2}
     np.testing.assert_allclose(got[3], [1.0, 2.0 / 3.0], atol=1e-12)
     np.testing.assert_allclose(got[ALONE_ID + 2], [5.0, 5.0], atol=1e-12)
+
+
+def _frame(
+    positions: list[list[float]], velocities: list[list[float]], groups: list[int]
+) -> TruthFrame:
+    pos = np.asarray(positions, dtype=float)
+    side = np.array([0.0, 0.1])
+    legs = np.stack([pos + side, pos - side], axis=1)  # legs 0.1 m either side
+    return TruthFrame(
+        stamp=0.0,
+        scan_index=0,
+        person_ids=np.arange(len(pos)),
+        positions=pos,
+        velocities=np.asarray(velocities, dtype=float),
+        group_ids=np.asarray(groups),
+        leg_positions=legs,
+        hues=np.zeros(len(pos)),
+    )
+
+
+def test_proxemic_truth_joins_groups_within_d_p_that_move_alike() -> None:
+    # groups 0 (people 0, 1) and 1 (person 2) stand 1.0 m apart (legs 1.0 m apart): joined
+    # at d_P 1.3 m, at the mean of all three; person 3 alone, 5 m away, stays on its own
+    frame = _frame(
+        [[0.0, 0.0], [0.5, 0.0], [1.5, 0.0], [6.5, 0.0]],
+        [[0.0, 0.0]] * 4,
+        [0, 0, 1, -1],
+    )
+    out = proxemic_truth(frame, 1.3)
+    got = dict(zip(out.person_ids.tolist(), out.positions.tolist(), strict=True))
+    assert set(got) == {JOINED_ID + 0, ALONE_ID + 3}
+    np.testing.assert_allclose(got[JOINED_ID], [2.0 / 3.0, 0.0], atol=1e-12)
+    # at d_P 0.9 m the legs (1.0 m apart) are too far: the scene's groups
+    apart = proxemic_truth(frame, 0.9)
+    assert sorted(apart.person_ids.tolist()) == [0, 1, ALONE_ID + 3]
+
+
+def test_proxemic_truth_keeps_groups_apart_that_move_differently() -> None:
+    # a person passes a pair 0.6 m away at 1.2 m/s against them (000 Fig. 18): two groups;
+    # at 0.4 m/s apart (below PROXEMIC_SPEED) they are one
+    fast = _frame([[0.0, 0.0], [0.5, 0.0], [1.1, 0.0]], [[0, 0.6], [0, 0.6], [0, -0.6]], [4, 4, -1])
+    assert sorted(proxemic_truth(fast, 1.3).person_ids.tolist()) == [4, ALONE_ID + 2]
+    slow = _frame([[0.0, 0.0], [0.5, 0.0], [1.1, 0.0]], [[0, 0.6], [0, 0.6], [0, 0.2]], [4, 4, -1])
+    assert proxemic_truth(slow, 1.3).person_ids.tolist() == [JOINED_ID + 4]
+    assert pytest.approx(0.5) == PROXEMIC_SPEED

@@ -99,6 +99,77 @@ def group_truth(frame: TruthFrame) -> TruthFrame:
     )
 
 
+PROXEMIC_SPEED = 0.5
+"""Two people whose velocities differ by less than this are not told apart by motion
+[m/s] (:func:`proxemic_truth`): they stand together or walk side by side, where parties
+that pass or leave each other differ by 1 m/s and more."""
+JOINED_ID = 2_000_000
+"""Truth id of true groups joined by :func:`proxemic_truth`: this plus the smallest of
+their :func:`group_truth` ids."""
+
+
+def near_and_alike(
+    frame: TruthFrame, a: IntArray, b: IntArray, d_p: float, speed: float = PROXEMIC_SPEED
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """For the people at rows ``a`` (A,) and ``b`` (B,) of ``frame``: (A, B) whether a leg
+    of one is within ``d_p`` [m] of a leg of the other (body centres when the frame has no
+    legs), and whether their velocities differ by less than ``speed`` [m/s]."""
+    legs = frame.leg_positions
+    if not np.all(np.isfinite(legs)):
+        legs = np.repeat(frame.positions[:, None, :], 2, axis=1)
+    la = legs[a].reshape(-1, 2)  # (2 A, 2): person k's legs at rows 2k, 2k + 1
+    lb = legs[b].reshape(-1, 2)
+    near = np.hypot(*(la[:, None, :] - lb[None, :, :]).transpose(2, 0, 1)) < d_p
+    near = near.reshape(len(a), 2, len(b), 2).any(axis=(1, 3))
+    va, vb = frame.velocities[a], frame.velocities[b]
+    alike = np.hypot(*(va[:, None, :] - vb[None, :, :]).transpose(2, 0, 1)) < speed
+    return near, alike
+
+
+def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED) -> TruthFrame:
+    """The true groups as 000 Sec. 4.2 can define them from range data: body spacing
+    (proxemics, people closer than ``d_p`` [m] are one group) and motion (Fig. 18, a
+    person who passes a group at a different velocity is not in it). True groups of the
+    scene are joined, by single linkage, while a member of one has a leg within ``d_p``
+    of a leg of a member of the other and their velocities differ by less than ``speed``
+    [m/s]; joined groups are at the mean of all their members, with id
+    :data:`JOINED_ID` plus the smallest of their :func:`group_truth` ids. Every other
+    group is as :func:`group_truth` gives it.
+
+    The scene's labels hold the social groups the script made; parties that are not one
+    group may stand within d_P of each other for seconds, or walk through each other,
+    which no tracker of points that follows 000's definition can tell apart."""
+    groups = list(frame.groups().items())
+    ids = [g if g >= 0 else ALONE_ID - g - 1 for g, _ in groups]
+    rows = [np.flatnonzero(np.isin(frame.person_ids, people)) for _, people in groups]
+    parent = list(range(len(groups)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for a in range(len(groups)):
+        for b in range(a + 1, len(groups)):
+            near, alike = near_and_alike(frame, rows[a], rows[b], d_p, speed)
+            if np.any(near & alike):
+                parent[root(a)] = root(b)
+    joined: dict[int, list[int]] = {}
+    for k in range(len(groups)):
+        joined.setdefault(root(k), []).append(k)
+    out_ids: list[int] = []
+    centres: list[FloatArray] = []
+    for members in joined.values():
+        first = min(ids[k] for k in members)
+        out_ids.append(first if len(members) == 1 else JOINED_ID + first)
+        centres.append(frame.positions[np.concatenate([rows[k] for k in members])].mean(axis=0))
+    pos = np.asarray(centres, dtype=np.float64).reshape(-1, 2)
+    return TruthFrame.from_positions(
+        frame.stamp, frame.scan_index, np.asarray(out_ids, dtype=np.int64), pos
+    )
+
+
 TRANSITION_WINDOW = 3.0
 """Seconds either side of a scan within which the people of an under-segmented cluster
 must be one true group for the error to count as a transition error [s]."""
@@ -145,6 +216,8 @@ class GroupRunResult:
         group_mot: CLEAR MOT of the reported group tracks against the true groups
             (people alone are groups of one; gate :data:`GROUP_GATE`, :func:`group_truth`);
             NaN scores without truth frames.
+        proxemic_mot: The same against :func:`proxemic_truth` (true groups that are
+            within d_P and move alike joined, as 000's definition sees them).
     """
 
     clustering: ClusteringErrorResult
@@ -160,6 +233,7 @@ class GroupRunResult:
     tracker_under: UnderSegmentation
     memoryless_under: UnderSegmentation
     group_mot: ClearMotResult
+    proxemic_mot: ClearMotResult
 
 
 def _mixed_clusters(true_group: IntArray, true_person: IntArray, est: IntArray) -> list[IntArray]:
@@ -213,6 +287,7 @@ def run_groups(
     stamps = [s.stamp for s in scans if s.sensor == scans[0].sensor] if scans else []
     period = float(np.median(np.diff(stamps))) if len(stamps) > 1 else 0.1
     mot = ClearMot(EvaluationParams(gate=GROUP_GATE, kind="group"), keep_frames=False)
+    prox = ClearMot(EvaluationParams(gate=GROUP_GATE, kind="group"), keep_frames=False)
     truth_of = {f.scan_index: f for f in truth}
     n = 0
     for k, lf in enumerate(frames_from_scans(scans)):
@@ -229,6 +304,8 @@ def run_groups(
         n += 1
         if lf.frame.index in truth_of:
             mot.accumulate(group_truth(truth_of[lf.frame.index]), reported)
+            joined = proxemic_truth(truth_of[lf.frame.index], params.cluster_distance)
+            prox.accumulate(joined, reported)
         fg = np.asarray(lf.frame.foreground)
         assert lf.frame.points is not None
         est = tracker.point_labels(len(lf.frame.points))
@@ -256,4 +333,5 @@ def run_groups(
         tracker_under=_classify(mixed_tracker, group_of, window),
         memoryless_under=_classify(mixed_memoryless, group_of, window),
         group_mot=mot.result(),
+        proxemic_mot=prox.result(),
     )

@@ -61,6 +61,8 @@ class CSAParams:
             "fragment_rule": False,
             "person_scores": False,
             "adopt_orphans": False,
+            "confirm_scans": 1,
+            "rejoin_distance": 0.0,
         }
     )
 
@@ -146,6 +148,27 @@ class CSAParams:
         "when all are pairwise separated (they take its remaining people)",
     )
 
+    confirm_scans: int = param(
+        2,
+        "assumption (002 does not describe initiation); real demo bag: TODO",
+        "a target started from unselected points is reported once it had selected "
+        "measurements in this many scans in a row (1: at once); fragments merging back "
+        "or adopted by a person before then, and clutter seen now and then, are never "
+        "reported",
+    )
+    rejoin_distance: float = param(
+        1.0,
+        "extension of 002 (0 restores 002); real followed-person recording: TODO",
+        "a target started within this of where a reported single target unseen since was "
+        "last seen takes its identity (0: never)",
+        "m",
+    )
+    rejoin_time: float = param(
+        2.0,
+        "assumption: max_unseen of coasting and as long again after the deletion",
+        "how long after it was last seen a single target's identity can be taken up",
+        "s",
+    )
     group_rows: bool = param(
         False,
         "002 Sec. 2 keeps every person's identity through a cluster (the Viterbi paths); "
@@ -204,13 +227,18 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
+            "rejoin_time",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
+        if self.rejoin_distance < 0:
+            raise ValueError("rejoin_distance must not be negative")
         if self.fragment_age < 0:
             raise ValueError("fragment_age must not be negative")
         if self.min_points < 1:
             raise ValueError("min_points must be at least 1")
+        if self.confirm_scans < 1:
+            raise ValueError("confirm_scans must be at least 1")
 
     @property
     def gate(self) -> float:
@@ -314,10 +342,15 @@ def leader_clusters(positions: FloatArray, distance: float) -> IntArray:
         k += 1
 
 
-def split_ready(positions: FloatArray, n_people: int, params: CSAParams) -> tuple[bool, IntArray]:
+def split_ready(
+    positions: FloatArray, n_people: int, params: CSAParams, labels: IntArray | None = None
+) -> tuple[bool, IntArray]:
     """002's split conditions 1 and 2 for a cluster of ``n_people`` with estimates at
-    ``positions`` (E, 2); returns (split?, sub-cluster label per estimate)."""
-    labels = leader_clusters(positions, params.subcluster_distance)
+    ``positions`` (E, 2); returns (split?, sub-cluster label per estimate). ``labels``:
+    the estimates' sub-clusters when already computed (:func:`leader_clusters` at
+    ``subcluster_distance``)."""
+    if labels is None:
+        labels = leader_clusters(positions, params.subcluster_distance)
     n_sub = int(labels.max()) + 1 if labels.size else 0
     if n_sub != n_people:
         return False, labels
@@ -336,6 +369,8 @@ class _Single:
     last_seen: float
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
+    hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
+    seen_at: FloatArray | None = None  # position (2,) after its last selected measurements
 
 
 @dataclass
@@ -350,6 +385,9 @@ class _Cluster:
     shown: dict[int, FloatArray] = field(default_factory=dict)  # person -> last shown at
     motion: dict[int, tuple[FloatArray, float]] = field(default_factory=dict)  # velocity, stamp
     born_pid: int = 0  # single targets with a larger id were started after this cluster
+    labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
+    once per scan after the VBA step (:meth:`ClusterSortingTracker._relabel`)."""
 
 
 @dataclass(frozen=True)
@@ -374,6 +412,8 @@ class _State:
     clusters: dict[int, _Cluster] = field(default_factory=dict)
     next_pid: int = 0
     next_cid: int = 0
+    # person -> (where last seen (2,) [m], when [s]) of deleted single targets (rejoin)
+    lost: dict[int, tuple[FloatArray, float]] = field(default_factory=dict)
 
 
 class ClusterSortingTracker:
@@ -403,7 +443,7 @@ class ClusterSortingTracker:
                 spawned_by = c.cid
                 break
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1, pos
         )
 
     def _init_cov(self) -> FloatArray:
@@ -475,15 +515,22 @@ class ClusterSortingTracker:
                     mean, cov = kalman.update(
                         sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
                     )
-                    new_singles[t.pid] = _Single(t.pid, mean, cov, stamp, t.spawned_by, t.born)
-                elif stamp - t.last_seen <= p.max_unseen:
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born
+                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1, mean[:2]
                     )
+                elif stamp - t.last_seen <= p.max_unseen:
+                    # a miss before confirmation starts the count again
+                    hits = t.hits if t.hits >= p.confirm_scans else 0
+                    new_singles[t.pid] = _Single(
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, t.seen_at
+                    )
+                elif self._confirmed(t) and t.seen_at is not None:
+                    s.lost[t.pid] = (t.seen_at, t.last_seen)
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:
                 continue
+            cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
             if p.adopt_orphans:
                 self._orphans_claim(cl)
             done = self._maybe_split(cl, stamp, new_singles)
@@ -496,7 +543,53 @@ class ClusterSortingTracker:
         s.singles = new_singles
         s.clusters = new_clusters
         self._initiate(z[~selected_any], stamp)
+        if p.rejoin_distance > 0:
+            self._rejoin(stamp)
         return self._report(frame)
+
+    def _confirmed(self, t: _Single) -> bool:
+        """Whether single target ``t`` is reported (see ``confirm_scans``)."""
+        return t.born == -math.inf or t.hits >= self.params.confirm_scans
+
+    def _rejoin(self, stamp: float) -> None:
+        """Targets started this scan take the identity of a reported single target unseen
+        since (alive but missed, or deleted) when they start within ``rejoin_distance`` of
+        where it was last seen, at most ``rejoin_time`` ago (nearest pairs first): the
+        person's track lost its points (a coasting filter drifts off a standing person, or
+        a stray point pulls it away) and they were found again. An extension of 002."""
+        p = self.params
+        s = self._s
+        s.lost = {m: v for m, v in s.lost.items() if stamp - v[1] <= p.rejoin_time}
+        new = [t for t in s.singles.values() if t.born == stamp]
+        if not new:
+            return
+        old: dict[int, tuple[FloatArray, float]] = dict(s.lost)
+        for t in s.singles.values():
+            unseen = t.born != stamp and 0 < stamp - t.last_seen <= p.rejoin_time
+            if unseen and t.seen_at is not None and self._confirmed(t):
+                old[t.pid] = (t.seen_at, t.last_seen)
+        if not old:
+            return
+        pids = list(old)
+        prev = np.array([old[m][0] for m in pids])
+        pos = np.array([t.mean[:2] for t in new])
+        d = np.linalg.norm(pos[:, None] - prev[None], axis=-1)
+        for flat in np.argsort(d, axis=None):
+            i, j = divmod(int(flat), len(pids))
+            if d[i, j] > p.rejoin_distance:
+                break
+            if not np.isfinite(d[i, j]):
+                continue
+            t, m = new[i], pids[j]
+            del s.singles[t.pid]
+            s.singles.pop(m, None)
+            s.lost.pop(m, None)
+            s.singles[m] = _Single(
+                m, t.mean, t.cov, stamp, t.spawned_by, -math.inf, t.hits, t.seen_at
+            )
+            self.events.append(CSAEvent(stamp, "rejoin", (m, t.pid)))
+            d[i, :] = np.inf
+            d[:, j] = np.inf
 
     def _vba(
         self,
@@ -598,7 +691,7 @@ class ClusterSortingTracker:
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
         """Split ``cl`` into single targets when 002's conditions 1 and 2 hold."""
-        ok, labels = split_ready(cl.means[:, :2], len(cl.members), self.params)
+        ok, labels = split_ready(cl.means[:, :2], len(cl.members), self.params, cl.labels)
         if not ok:
             return False
         ids = self._subcluster_ids(cl, labels)
@@ -652,7 +745,7 @@ class ClusterSortingTracker:
         p = self.params
         in_clusters = {m for c in clusters.values() for m in c.members}
         for cl in list(clusters.values()):
-            labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+            labels = cl.labels
             n_sub = int(labels.max()) + 1
             missing = len(cl.members) - n_sub
             if missing <= 0:
@@ -688,7 +781,7 @@ class ClusterSortingTracker:
         orphans = [m for m in cl.members if m not in own and m in cl.shown]
         if not orphans:
             return
-        labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+        labels = cl.labels
         n_sub = int(labels.max()) + 1
         main = set()
         for m in own:
@@ -770,7 +863,7 @@ class ClusterSortingTracker:
         up to ``member_coast``, then held, and gets a covariance of one gate.
         Updates the cluster's memory of where and how each person was last seen."""
         p = self.params
-        labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+        labels = cl.labels
         out: dict[int, tuple[FloatArray, ...]] = {}
         for m in cl.members:
             own = cl.origin == m
@@ -805,7 +898,8 @@ class ClusterSortingTracker:
         p = self.params
         out: list[Track] = []
         for t in self._s.singles.values():
-            out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
+            if self._confirmed(t):
+                out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
             for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():
                 out.append(Track(pid, "person", xy, vel, cov, score=0.5))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import pytest
@@ -269,3 +269,52 @@ def test_targets_started_together_that_merge_at_once_are_one_person() -> None:
     every = ClusterSortingTracker(CSAParams(fragment_age=0.0))
     assert [len(every.update(f).of_kind("person")) for f in frames] == [0] + [4] * (len(frames) - 1)
     assert list(every.clusters.values()) == [(0, 1, 2, 3)]
+
+
+def _standing(
+    people: Sequence[Callable[[int], tuple[float, float] | None]], scans: int
+) -> list[Frame]:
+    """Frames at 10 Hz of people, each at ``person(k)`` in scan k (None: not seen)."""
+    frames = []
+    for k in range(scans):
+        pts = [_blob(xy, k) for xy in (person(k) for person in people) if xy is not None]
+        xy = np.concatenate(pts)
+        ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        frames.append(
+            Frame(k, k / 10, (), "synthetic", "world", None, ps, np.ones(len(xy), dtype=bool))
+        )
+    return frames
+
+
+def test_a_new_target_is_reported_once_seen_in_confirm_scans_in_a_row() -> None:
+    """A person seen in every scan is reported from its second scan (confirm_scans = 2,
+    from the third with 3); a blob seen every other scan (clutter that flickers) is tracked
+    but never reported: each miss before confirmation starts the count again. With
+    confirm_scans = 1 (002) both are reported at once."""
+    frames = _standing([lambda k: (0.0, 3.0), lambda k: None if k % 2 else (3.0, 3.0)], 20)
+
+    def ids(params: CSAParams) -> list[list[int]]:
+        csa = ClusterSortingTracker(params)
+        return [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+
+    assert ids(CSAParams()) == [[]] + [[0]] * 19
+    assert ids(CSAParams(confirm_scans=3)) == [[], []] + [[0]] * 18
+    assert ids(CSAParams(confirm_scans=1)) == [[0, 1]] * 20
+
+
+@pytest.mark.parametrize(("shift", "same"), [(0.5, True), (1.5, False)])
+def test_a_lost_person_found_again_nearby_keeps_its_id(shift: float, same: bool) -> None:
+    """A person standing at x = 0 is not seen for 1.5 s (longer than max_unseen: its
+    target is deleted) and is found again ``shift`` m away, while another person stands
+    at x = 5. Within rejoin_distance (1 m) of where it was last seen, the new target takes
+    its id; 1.5 m away, or with rejoin_distance = 0 (002), it is a new person (id 2)."""
+
+    def lost(k: int) -> tuple[float, float] | None:
+        return None if 10 <= k < 25 else ((0.0 if k < 10 else shift), 3.0)
+
+    frames = _standing([lost, lambda k: (5.0, 3.0)], 40)
+    for params, expect in ((CSAParams(), 0 if same else 2), (CSAParams(rejoin_distance=0.0), 2)):
+        csa = ClusterSortingTracker(params)
+        out = [csa.update(f) for f in frames]
+        assert sorted(t.track_id for t in out[-1].of_kind("person")) == sorted([1, expect])
+        assert [e.kind for e in csa.events].count("rejoin") == int(expect == 0)

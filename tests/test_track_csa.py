@@ -300,21 +300,3 @@ def test_a_new_target_is_reported_once_seen_in_confirm_scans_in_a_row() -> None:
     assert ids(CSAParams()) == [[]] + [[0]] * 19
     assert ids(CSAParams(confirm_scans=3)) == [[], []] + [[0]] * 18
     assert ids(CSAParams(confirm_scans=1)) == [[0, 1]] * 20
-
-
-@pytest.mark.parametrize(("shift", "same"), [(0.5, True), (1.5, False)])
-def test_a_lost_person_found_again_nearby_keeps_its_id(shift: float, same: bool) -> None:
-    """A person standing at x = 0 is not seen for 1.5 s (longer than max_unseen: its
-    target is deleted) and is found again ``shift`` m away, while another person stands
-    at x = 5. Within rejoin_distance (1 m) of where it was last seen, the new target takes
-    its id; 1.5 m away, or with rejoin_distance = 0 (002), it is a new person (id 2)."""
-
-    def lost(k: int) -> tuple[float, float] | None:
-        return None if 10 <= k < 25 else ((0.0 if k < 10 else shift), 3.0)
-
-    frames = _standing([lost, lambda k: (5.0, 3.0)], 40)
-    for params, expect in ((CSAParams(), 0 if same else 2), (CSAParams(rejoin_distance=0.0), 2)):
-        csa = ClusterSortingTracker(params)
-        out = [csa.update(f) for f in frames]
-        assert sorted(t.track_id for t in out[-1].of_kind("person")) == sorted([1, expect])
-        assert [e.kind for e in csa.events].count("rejoin") == int(expect == 0)

@@ -62,7 +62,6 @@ class CSAParams:
             "person_scores": False,
             "adopt_orphans": False,
             "confirm_scans": 1,
-            "rejoin_distance": 0.0,
         }
     )
 
@@ -150,24 +149,13 @@ class CSAParams:
 
     confirm_scans: int = param(
         2,
-        "assumption (002 does not describe initiation); real demo bag: TODO",
+        "assumption (002 does not describe initiation); real demo bag ids 67 -> 35, "
+        "corridor 15 -> 7; random-groups held-back 100-119 person MOTA 0.20 -> 0.27 "
+        "(docs/csa.md)",
         "a target started from unselected points is reported once it had selected "
         "measurements in this many scans in a row (1: at once); fragments merging back "
         "or adopted by a person before then, and clutter seen now and then, are never "
         "reported",
-    )
-    rejoin_distance: float = param(
-        1.0,
-        "extension of 002 (0 restores 002); real followed-person recording: TODO",
-        "a target started within this of where a reported single target unseen since was "
-        "last seen takes its identity (0: never)",
-        "m",
-    )
-    rejoin_time: float = param(
-        2.0,
-        "assumption: max_unseen of coasting and as long again after the deletion",
-        "how long after it was last seen a single target's identity can be taken up",
-        "s",
     )
     group_rows: bool = param(
         False,
@@ -227,12 +215,9 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
-            "rejoin_time",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
-        if self.rejoin_distance < 0:
-            raise ValueError("rejoin_distance must not be negative")
         if self.fragment_age < 0:
             raise ValueError("fragment_age must not be negative")
         if self.min_points < 1:
@@ -370,7 +355,6 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
-    seen_at: FloatArray | None = None  # position (2,) after its last selected measurements
 
 
 @dataclass
@@ -412,8 +396,6 @@ class _State:
     clusters: dict[int, _Cluster] = field(default_factory=dict)
     next_pid: int = 0
     next_cid: int = 0
-    # person -> (where last seen (2,) [m], when [s]) of deleted single targets (rejoin)
-    lost: dict[int, tuple[FloatArray, float]] = field(default_factory=dict)
 
 
 class ClusterSortingTracker:
@@ -443,7 +425,7 @@ class ClusterSortingTracker:
                 spawned_by = c.cid
                 break
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1, pos
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1
         )
 
     def _init_cov(self) -> FloatArray:
@@ -516,16 +498,14 @@ class ClusterSortingTracker:
                         sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
                     )
                     new_singles[t.pid] = _Single(
-                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1, mean[:2]
+                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1
                     )
                 elif stamp - t.last_seen <= p.max_unseen:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, t.seen_at
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
                     )
-                elif self._confirmed(t) and t.seen_at is not None:
-                    s.lost[t.pid] = (t.seen_at, t.last_seen)
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
             if cl is None:
@@ -543,53 +523,11 @@ class ClusterSortingTracker:
         s.singles = new_singles
         s.clusters = new_clusters
         self._initiate(z[~selected_any], stamp)
-        if p.rejoin_distance > 0:
-            self._rejoin(stamp)
         return self._report(frame)
 
     def _confirmed(self, t: _Single) -> bool:
         """Whether single target ``t`` is reported (see ``confirm_scans``)."""
         return t.born == -math.inf or t.hits >= self.params.confirm_scans
-
-    def _rejoin(self, stamp: float) -> None:
-        """Targets started this scan take the identity of a reported single target unseen
-        since (alive but missed, or deleted) when they start within ``rejoin_distance`` of
-        where it was last seen, at most ``rejoin_time`` ago (nearest pairs first): the
-        person's track lost its points (a coasting filter drifts off a standing person, or
-        a stray point pulls it away) and they were found again. An extension of 002."""
-        p = self.params
-        s = self._s
-        s.lost = {m: v for m, v in s.lost.items() if stamp - v[1] <= p.rejoin_time}
-        new = [t for t in s.singles.values() if t.born == stamp]
-        if not new:
-            return
-        old: dict[int, tuple[FloatArray, float]] = dict(s.lost)
-        for t in s.singles.values():
-            unseen = t.born != stamp and 0 < stamp - t.last_seen <= p.rejoin_time
-            if unseen and t.seen_at is not None and self._confirmed(t):
-                old[t.pid] = (t.seen_at, t.last_seen)
-        if not old:
-            return
-        pids = list(old)
-        prev = np.array([old[m][0] for m in pids])
-        pos = np.array([t.mean[:2] for t in new])
-        d = np.linalg.norm(pos[:, None] - prev[None], axis=-1)
-        for flat in np.argsort(d, axis=None):
-            i, j = divmod(int(flat), len(pids))
-            if d[i, j] > p.rejoin_distance:
-                break
-            if not np.isfinite(d[i, j]):
-                continue
-            t, m = new[i], pids[j]
-            del s.singles[t.pid]
-            s.singles.pop(m, None)
-            s.lost.pop(m, None)
-            s.singles[m] = _Single(
-                m, t.mean, t.cov, stamp, t.spawned_by, -math.inf, t.hits, t.seen_at
-            )
-            self.events.append(CSAEvent(stamp, "rejoin", (m, t.pid)))
-            d[i, :] = np.inf
-            d[:, j] = np.inf
 
     def _vba(
         self,

@@ -23,7 +23,8 @@ most of its estimates' Viterbi paths started from (an extension: the laser-only 
 
 Initiation and deletion are not in 002 (an assumption here): foreground points selected by
 no object are grouped by leader clustering, each group of at least ``min_points`` points
-starts a single target; an object unseen for ``max_unseen`` is deleted.
+starts a single target, reported once it had points in ``confirm_scans`` scans in a row;
+an object unseen for ``max_unseen`` is deleted.
 
 Output: one ``person`` track per single target, and per cluster either its people at its
 sub-clusters (when there are as many sub-clusters as people, 002 split condition 3 "to
@@ -149,7 +150,7 @@ class CSAParams:
 
     confirm_scans: int = param(
         2,
-        "assumption (002 does not describe initiation); real demo bag ids 67 -> 35, "
+        "assumption (002 does not describe initiation); real demo bag ids 67 -> 32, "
         "corridor 15 -> 7; random-groups held-back 100-119 person MOTA 0.20 -> 0.27 "
         "(docs/csa.md)",
         "a target started from unselected points is reported once it had selected "
@@ -371,7 +372,7 @@ class _Cluster:
     born_pid: int = 0  # single targets with a larger id were started after this cluster
     labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
-    once per scan after the VBA step (:meth:`ClusterSortingTracker._relabel`)."""
+    once per scan in :meth:`ClusterSortingTracker.update`, after the VBA step."""
 
 
 @dataclass(frozen=True)

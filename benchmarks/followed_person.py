@@ -22,7 +22,7 @@ other tracks are not false positives. Printed:
   leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
-        [--no-reid] [--background auto|histogram|occupancy|none]
+        [--no-reid] [--background auto|histogram|occupancy|none] [--tracker csa]
         [--bag PATH] [--labels PATH] [--plot timeline.png] [--model MODEL.json]
 """
 
@@ -36,6 +36,7 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -169,13 +170,18 @@ def score_followed(
 
 
 def track_bag(
-    bag: Path, params: LegTrackerParams, background: str = "auto", model: str | None = None
+    bag: Path,
+    params: Any,
+    background: str = "auto",
+    model: str | None = None,
+    tracker_name: str = "leg-mht",
 ) -> tuple[list[Tracks], float, str]:
     """Person/leg tracks of every scan of the bag's ``/scan_base2`` through the pipeline
-    (as ``laserpeople track`` runs it, static world model ``background``), the mean CPU
-    time per scan [ms] (detection included) and the line naming the static world model
-    (leg model: the shipped default, or the model file ``model``)."""
-    tracker = registry.get("leg-mht").make(params)
+    (as ``laserpeople track --tracker tracker_name`` runs it, static world model
+    ``background``), the mean CPU time per scan [ms] (detection included) and the line
+    naming the static world model (leg model: the shipped default, or the model file
+    ``model``). ``params``: the tracker's parameters."""
+    tracker = registry.get(tracker_name).make(params)
     pipe = build(
         bag,
         tracker=tracker,
@@ -183,7 +189,7 @@ def track_bag(
         detector=(
             AdaBoostLegDetector.default() if model is None else AdaBoostLegDetector.from_file(model)
         ),
-        background=background if params.people_policy == "tracks" else "none",
+        background=background if getattr(params, "people_policy", "tracks") == "tracks" else "none",
     )
     out: list[Tracks] = []
     t0 = time.process_time()
@@ -204,7 +210,21 @@ def main() -> None:
     ap.add_argument("--no-reid", action="store_true", help="tracks without re-identification")
     ap.add_argument("--background", default="auto", help="static world model (track --background)")
     ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section is used")
+    ap.add_argument(
+        "--tracker",
+        default="leg-mht",
+        help="registered tracker (its --config section or defaults; the options above "
+        "other than --background and --model are the leg MHT's)",
+    )
     args = ap.parse_args()
+    if args.tracker != "leg-mht":
+        entry = registry.get(args.tracker)
+        other = load_config(entry.params_cls, args.config)
+        tracks, ms, model = track_bag(args.bag, other, args.background, args.model, args.tracker)
+        s = score_followed(tracks, read_labels(args.labels))
+        print(f"tracker              {args.tracker}")
+        _print_score(s, ms, model)
+        return
     params = load_config(LegTrackerParams, args.config)
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
@@ -215,6 +235,11 @@ def main() -> None:
     s = score_followed(tracks, read_labels(args.labels))
     reid = params.people_policy == "tracks" and params.people.reid.enabled
     print(f"people_policy        {params.people_policy}{' + re-identification' * reid}")
+    _print_score(s, ms, model)
+
+
+def _print_score(s: FollowedScore, ms: float, model: str) -> None:
+    """Print the scores of the followed person."""
     print(f"labelled scans       {s.labels}")
     print(f"identity recall      {s.identity_recall:.3f}")
     print(f"recall               {s.recall:.3f}")

@@ -128,3 +128,12 @@ def test_fragment_rule_and_002s_memory_of_everyone_who_merged() -> None:
     # the fragment rule: a target started beside the cluster is a fragment of its people
     assert max(len(m) for m in fragments.clusters.values()) == 2
     assert not math.isnan(merges[0].stamp)
+
+
+def test_paper_preset_reports_a_new_target_at_once() -> None:
+    """002 reports every target from its first scan: ``--preset paper`` sets
+    ``confirm_scans`` back to 1 (the default 2 waits for a second scan with points)."""
+    from laserpeople.config import load_config
+
+    assert load_config(CSAParams, None, "paper").confirm_scans == 1
+    assert CSAParams().confirm_scans == 2

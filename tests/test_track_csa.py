@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import pytest
@@ -205,7 +205,8 @@ def test_two_people_crossing_in_one_cluster_keep_rows_and_ids() -> None:
     """Two people walk past each other 0.5 m apart (a along y = 3.0 to the right, b along
     y = 3.5 to the left): their gates share points, they merge into one cluster and split
     again 3 m apart on the other's side. 002 keeps each person's identity through the
-    cluster: in every scan both person rows are reported, each within 0.3 m of its own
+    cluster: in every scan from the second (a new target is reported once confirmed,
+    confirm_scans = 2) both person rows are reported, each within 0.3 m of its own
     person, with the ids they started with. A tracker that reports the cluster as one group
     (no person rows while merged) or hands out ids at the split by where people were last
     seen apart (swapped here) fails."""
@@ -221,8 +222,8 @@ def test_two_people_crossing_in_one_cluster_keep_rows_and_ids() -> None:
             1: (np.interp(t, [0, 8], [3.0, -3.0]), 3.5),
         }
         rows = {x.track_id: x.position for x in tracks.of_kind("person")}
-        assert sorted(rows) == [0, 1], t
-        for pid, xy in truth.items():
+        assert sorted(rows) == ([] if k == 0 else [0, 1]), t
+        for pid, xy in truth.items() if k else ():
             assert np.linalg.norm(rows[pid] - xy) < 0.3, (t, pid)
         merged += int(bool(csa.events) and csa.events[0].stamp <= t < csa.events[-1].stamp)
     assert merged >= 20  # the cluster held both for at least 2 s
@@ -257,13 +258,45 @@ def test_targets_started_together_that_merge_at_once_are_one_person() -> None:
     """Four blobs 0.7 m apart appear in one scan (a burst of foreground, e.g. a moving
     laser whose static world model is dropped): four targets start, their gates share
     points and they merge in the next scan. Younger than fragment_age (1 s), they are
-    fragments of the oldest: one person. With fragment_age = 0 they are four people."""
+    fragments of the oldest: one person. With fragment_age = 0 they are four people. In
+    the first scan none is reported yet (confirm_scans = 2)."""
     paths = [[(0, 0.7 * i, 3.0), (10, 0.7 * i, 3.0)] for i in range(4)]
     frames = _frames(paths, 2.0)
     csa = ClusterSortingTracker()
     counts = [len(csa.update(f).of_kind("person")) for f in frames]
-    assert counts[0] == 4 and counts[1:] == [1] * (len(frames) - 1)
+    assert counts[0] == 0 and counts[1:] == [1] * (len(frames) - 1)
     assert list(csa.clusters.values()) == [(0,)]
     every = ClusterSortingTracker(CSAParams(fragment_age=0.0))
-    assert [len(every.update(f).of_kind("person")) for f in frames] == [4] * len(frames)
+    assert [len(every.update(f).of_kind("person")) for f in frames] == [0] + [4] * (len(frames) - 1)
     assert list(every.clusters.values()) == [(0, 1, 2, 3)]
+
+
+def _standing(
+    people: Sequence[Callable[[int], tuple[float, float] | None]], scans: int
+) -> list[Frame]:
+    """Frames at 10 Hz of people, each at ``person(k)`` in scan k (None: not seen)."""
+    frames = []
+    for k in range(scans):
+        pts = [_blob(xy, k) for xy in (person(k) for person in people) if xy is not None]
+        xy = np.concatenate(pts)
+        ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        frames.append(
+            Frame(k, k / 10, (), "synthetic", "world", None, ps, np.ones(len(xy), dtype=bool))
+        )
+    return frames
+
+
+def test_a_new_target_is_reported_once_seen_in_confirm_scans_in_a_row() -> None:
+    """A person seen in every scan is reported from its second scan (confirm_scans = 2,
+    from the third with 3); a blob seen every other scan (clutter that flickers) is tracked
+    but never reported: each miss before confirmation starts the count again. With
+    confirm_scans = 1 (002) both are reported at once."""
+    frames = _standing([lambda k: (0.0, 3.0), lambda k: None if k % 2 else (3.0, 3.0)], 20)
+
+    def ids(params: CSAParams) -> list[list[int]]:
+        csa = ClusterSortingTracker(params)
+        return [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+
+    assert ids(CSAParams()) == [[]] + [[0]] * 19
+    assert ids(CSAParams(confirm_scans=3)) == [[], []] + [[0]] * 18
+    assert ids(CSAParams(confirm_scans=1)) == [[0, 1]] * 20

@@ -137,7 +137,7 @@ def enumerate_children(
         choices.append(ch)
         cheapest.append(ch[0][0] if ch else inf)
         gates.append(gate)
-    steps = math.inf  # listing steps allowed
+    steps = 0  # listing steps allowed (0: no budget)
     if children_bound(rows, [len(c) for c in choices], m) > limit:
         if budget <= 0:
             return None
@@ -159,10 +159,14 @@ def enumerate_children(
         unmatched_lb[mask] = unmatched_lb[rest] + meas_min[low]
         maybe_lb[mask] = maybe_lb[rest] + min(0.0, meas_min[low])
 
-    lister = _Lister(
-        choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap, cheapest, gates
-    )
-    lister.steps_left = steps
+    tables = (choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap, cheapest, gates)
+    lister: _Lister
+    if steps:
+        budgeted = _BudgetedLister(*tables)
+        budgeted.left = steps
+        lister = budgeted
+    else:  # (counts nothing)
+        lister = _Lister(*tables)
     by_prior = priors.__getitem__ if isinstance(priors, list) else lambda p: priors[p]
     try:
         for pi in sorted(range(len(rows)), key=by_prior):  # the likeliest first
@@ -322,7 +326,6 @@ class _Lister:
         self._reach: list[int] = []
         self._labels: list[int] = []
         self._meas: list[int] = []
-        self.steps_left: float = math.inf  # listing steps still allowed
 
     def parent(self, pi: int, prior: float, rows: list[int]) -> None:
         """List the children of parent ``pi`` (cost ``prior``, tracks ``rows``)."""
@@ -350,9 +353,6 @@ class _Lister:
         """Label the tracks from ``t`` on, at least one (the caller has checked this
         subtree's bound); each child's bound is checked here, before the call (most
         children are cut)."""
-        self.steps_left -= 1
-        if self.steps_left < 0:
-            raise _OutOfStepsError
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas = self._labels, self._meas
@@ -379,9 +379,6 @@ class _Lister:
 
     def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
         """Label the measurements from ``j`` on that no track took (new / false alarm)."""
-        self.steps_left -= 1
-        if self.steps_left < 0:
-            raise _OutOfStepsError
         m = self.m
         while j < m and used >> j & 1:
             j += 1
@@ -421,3 +418,23 @@ class _Lister:
         elif total < -kept[0]:
             heapq.heapreplace(kept, -total)
             self._kth = -kept[0]
+
+
+class _BudgetedLister(_Lister):
+    """A :class:`_Lister` that raises :class:`_OutOfStepsError` once it has taken ``left``
+    listing steps (a track or a measurement labelled; set after construction). The plain
+    lister counts nothing."""
+
+    left = 0
+
+    def _tracks(self, t: int, cost: float, used: int) -> None:
+        self.left -= 1
+        if self.left < 0:
+            raise _OutOfStepsError
+        super()._tracks(t, cost, used)
+
+    def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
+        self.left -= 1
+        if self.left < 0:
+            raise _OutOfStepsError
+        super()._measurements(j, cost, used, rest_lb)

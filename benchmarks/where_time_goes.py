@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import cProfile
-import os
 import pstats
 import sys
 import tempfile
@@ -35,7 +34,7 @@ import laserpeople.tracking.legs as legs
 import laserpeople.tracking.mht.core as core
 import laserpeople.tracking.person_tracks as person_tracks
 import laserpeople.tracking.point_model as point_model
-from bench_scaling import DEMO_BAG, hall_recording, pipeline
+from bench_scaling import DEMO_BAG, add_scene_arguments, hall_paths, pipeline
 from bench_track_parts import timed
 
 PARTS: list[tuple[Any, str, str, int]] = [
@@ -114,28 +113,12 @@ def _children(parts: list[tuple[Any, str, str, int]], i: int) -> list[int]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--people", type=int, nargs="*", default=[4, 20])
-    ap.add_argument("--seconds", type=float, default=8.0, help="length of each hall scene [s]")
-    ap.add_argument("--background", default="auto", help="static world model of the people")
-    ap.add_argument("--no-demo", action="store_true", help="skip the real demo bag")
-    ap.add_argument(
-        "--data",
-        type=Path,
-        default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
-    )
-    ap.add_argument("--cache", type=Path, help="keep the simulated halls here (reused)")
+    add_scene_arguments(ap, [4, 20])
     ap.add_argument("--profile", type=int, default=0, help="also the N top functions")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        cache = args.cache or Path(tmp)
-        cache.mkdir(parents=True, exist_ok=True)
-        scenes: list[tuple[str, Path]] = []
-        for n in args.people:
-            path = cache / f"hall-{n:02d}-{args.seconds:g}s.npz"
-            if not path.exists():
-                print(f"simulating the hall with {n} people ({args.seconds:g} s)", flush=True)
-                hall_recording(n, args.seconds, path)
-            scenes.append((f"hall, {n} people", path))
+        paths = hall_paths(args.people, args.seconds, args.cache or Path(tmp))
+        scenes = [(f"hall, {n} people", p) for n, p in zip(args.people, paths, strict=True)]
         bag = args.data / DEMO_BAG
         if not args.no_demo:
             if bag.exists():

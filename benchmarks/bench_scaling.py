@@ -213,12 +213,10 @@ def slope(people: list[int], cost: list[float]) -> float:
     return sxy / sxx
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--before", type=Path, help="the other source tree (its src/)")
-    ap.add_argument("--people", type=int, nargs="+", default=[1, 4, 10, 20, 40])
+def add_scene_arguments(ap: argparse.ArgumentParser, people: list[int]) -> None:
+    """The options that choose the hall scenes (``people`` by default) and the demo bag."""
+    ap.add_argument("--people", type=int, nargs="+", default=people)
     ap.add_argument("--seconds", type=float, default=8.0, help="length of each hall scene [s]")
-    ap.add_argument("--passes", type=int, default=3, help="passes over the halls and the bag")
     ap.add_argument("--background", default="auto", help="static world model of the people")
     ap.add_argument("--no-demo", action="store_true", help="skip the real demo bag")
     ap.add_argument(
@@ -227,6 +225,27 @@ def main() -> None:
         default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
     )
     ap.add_argument("--cache", type=Path, help="keep the simulated halls here (reused)")
+
+
+def hall_paths(people: list[int], seconds: float, cache: Path) -> list[Path]:
+    """The hall recordings with ``people`` walkers each in ``cache``, simulated where
+    missing."""
+    cache.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for n in people:
+        path = cache / f"hall-{n:02d}-{seconds:g}s.npz"
+        if not path.exists():
+            print(f"simulating the hall with {n} people ({seconds:g} s)", flush=True)
+            hall_recording(n, seconds, path)
+        paths.append(path)
+    return paths
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--before", type=Path, help="the other source tree (its src/)")
+    ap.add_argument("--passes", type=int, default=3, help="passes over the halls and the bag")
+    add_scene_arguments(ap, [1, 4, 10, 20, 40])
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     trees = {"after": THIS_SRC}
@@ -241,15 +260,7 @@ def main() -> None:
         if args.before is not None:
             load_other(args.before, Path(tmp))
             packages = {"before": PACKAGE, "after": "laserpeople"}
-        cache = args.cache or Path(tmp)
-        cache.mkdir(parents=True, exist_ok=True)
-        paths = []
-        for n in args.people:
-            path = cache / f"hall-{n:02d}-{args.seconds:g}s.npz"
-            if not path.exists():
-                print(f"simulating the hall with {n} people ({args.seconds:g} s)", flush=True)
-                hall_recording(n, args.seconds, path)
-            paths.append(path)
+        paths = hall_paths(args.people, args.seconds, args.cache or Path(tmp))
         # pass by pass: every hall (both trees in one process, scan by scan), then the bag
         # (each tree's whole process, alternating which runs first)
         hall: dict[str, dict[int, list[float]]] = {

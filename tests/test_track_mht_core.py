@@ -280,11 +280,52 @@ def test_enumerated_children_match_k_best_children() -> None:
                     tuple(dec.measurement_label))  # fmt: skip
 
         assert sorted(map(key, fast)) == sorted(map(key, slow)), trial
-    assert enumerate_children([0.0], [[0, 1]], np.zeros((2, 3)), np.zeros((2, 3)),
-                              np.zeros(3), np.zeros(3), 5, 9.0, limit=10) is None  # fmt: skip
+    assert enumerate_children([0.0], [[0, 1]], np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(3),
+                              np.zeros(3), 5, 9.0, limit=10, budget=0) is None  # fmt: skip
     many = 11  # more measurements than are ever listed: Murty's turn
     assert enumerate_children([0.0], [[]], np.zeros((0, many)), np.zeros((0, 3)),
                               np.zeros(many), np.zeros(many), 5, 9.0) is None  # fmt: skip
+
+
+def test_clusters_over_the_limit_are_listed_within_the_budget_as_murty_lists_them() -> None:
+    """A crowded cluster (eight to eleven tracks, five to eight measurements, several
+    parents: 10^8 children and more, far over the listing limit) is listed within the
+    budget of steps, with Murty's children (same parents, labels and costs within
+    rounding); out of steps (a budget of 1), or with no budget, it goes to Murty (None)."""
+    from laserpeople.tracking.mht.listing import LISTING_LIMIT, children_bound
+    from laserpeople.tracking.mht.listing import enumerate_children as listed
+    from laserpeople.tracking.mht.matrix import build_matrix, k_best_children
+
+    rng = np.random.default_rng(35)
+    over = listed_ok = 0
+    for trial in range(40):
+        n_nodes, m = int(rng.integers(8, 12)), int(rng.integers(5, 9))
+        lp = np.log(np.clip(rng.dirichlet([8.0, 1.0, 1.0], size=n_nodes), 1e-6, None))
+        tm = rng.uniform(-4.0, 4.0, size=(n_nodes, m))
+        tm[rng.random((n_nodes, m)) < 0.5] = np.inf
+        log_new = np.log(rng.uniform(1e-3, 1e-2, size=m))
+        log_fal = np.log(rng.uniform(1e-3, 1e-2, size=m))
+        rows = [sorted(rng.choice(n_nodes, size=n_nodes - 1, replace=False)) for _ in range(4)]
+        priors = sorted(rng.uniform(0.0, 2.0, size=len(rows)).tolist())
+        n_labels = [2 + int(np.isfinite(r).sum()) for r in tm]
+        if children_bound(rows, n_labels, m) <= LISTING_LIMIT:
+            continue
+        over += 1
+        args = (priors, rows, tm, lp, log_new, log_fal, 5, 4.6)
+        assert listed(*args, budget=0) is None and listed(*args, budget=1) is None
+        fast = listed(*args)
+        if fast is None:  # (out of steps: Murty's turn)
+            continue
+        listed_ok += 1
+        base = build_matrix(tm, lp, log_new, log_fal)
+        slow = k_best_children(priors, [base.subset(list(r)) for r in rows], 5, 4.6)
+        np.testing.assert_allclose([c for *_, c in fast], [c for *_, c in slow], atol=1e-12)
+        assert [(pi, dec.track_label, dec.track_measurement, dec.measurement_label)
+                for pi, dec, _ in fast] == [
+            (pi, dec.track_label, dec.track_measurement, dec.measurement_label)
+            for pi, dec, _ in slow
+        ], trial  # fmt: skip
+    assert over >= 30 and listed_ok >= over // 2, (over, listed_ok)
 
 
 def test_listing_with_many_equal_costs_matches_murty_costs() -> None:

@@ -11,7 +11,6 @@ tracks the feet and the upper-body tracker share.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,19 +22,6 @@ from laserpeople.tracking.particle.resampling import (
     systematic_resample,
 )
 from laserpeople.tracks import Track, Tracks
-
-
-@dataclass(frozen=True)
-class Starved:
-    """Filters removed for want of support: identities (K,), birth times (K,) [s], last
-    supported times (K,) [s], and where each was and how it moved at its last support
-    (K, 2) [m] and [m/s] (NaN where not recorded)."""
-
-    ids: NDArray[np.int64]
-    born: NDArray[np.float64]
-    last_seen: NDArray[np.float64]
-    anchors: NDArray[np.float64]
-    velocities: NDArray[np.float64]
 
 
 class FilterBank:
@@ -51,8 +37,6 @@ class FilterBank:
         self.last_seen = np.empty(0)
         self.hits = np.empty(0, dtype=np.int64)
         self.quality = np.empty(0)
-        self.anchors = np.empty((0, 2))  # position at the last support (NaN: not recorded)
-        self.anchor_velocities = np.empty((0, 2))
         self._next_id = 0
 
     def __len__(self) -> int:
@@ -73,8 +57,6 @@ class FilterBank:
         self.last_seen = np.concatenate([self.last_seen, np.full(k, stamp)])
         self.hits = np.concatenate([self.hits, np.ones(k, dtype=np.int64)])
         self.quality = np.concatenate([self.quality, np.zeros(k)])
-        self.anchors = np.concatenate([self.anchors, np.full((k, 2), np.nan)])
-        self.anchor_velocities = np.concatenate([self.anchor_velocities, np.full((k, 2), np.nan)])
 
     def keep(self, mask: NDArray[np.bool_]) -> None:
         """Keep only the filters where ``mask`` (F,) is True."""
@@ -85,8 +67,6 @@ class FilterBank:
         self.last_seen = self.last_seen[mask]
         self.hits = self.hits[mask]
         self.quality = self.quality[mask]
-        self.anchors = self.anchors[mask]
-        self.anchor_velocities = self.anchor_velocities[mask]
 
     def reweight(
         self, likelihood: NDArray[np.float64], rng: np.random.Generator, threshold: float
@@ -108,22 +88,10 @@ class FilterBank:
             self.states[low] = self.states[rows, idx]
             self.weights[low] = 1.0 / self.n_particles
 
-    def support(
-        self,
-        seen: NDArray[np.bool_],
-        stamp: float,
-        positions: NDArray[np.float64] | None = None,
-        velocities: NDArray[np.float64] | None = None,
-    ) -> None:
-        """Filters where ``seen`` (F,) is True had support in the frame at ``stamp``; their
-        ``positions`` and ``velocities`` (F, 2) [m], [m/s], if given, are kept as where
-        they were last supported (for :class:`Starved`)."""
+    def support(self, seen: NDArray[np.bool_], stamp: float) -> None:
+        """Filters where ``seen`` (F,) is True had support in the frame at ``stamp``."""
         self.last_seen[seen] = stamp
         self.hits[seen] += 1
-        if positions is not None:
-            self.anchors[seen] = positions[seen]
-        if velocities is not None:
-            self.anchor_velocities[seen] = velocities[seen]
 
     def cull(
         self,
@@ -131,21 +99,13 @@ class FilterBank:
         miss_time: float,
         pairs: Iterable[tuple[int, int]],
         by_quality: bool,
-    ) -> Starved:
+    ) -> None:
         """Filter death (004 Sec. 2): remove every filter without support for longer than
         ``miss_time`` [s], and one of each pair of alive filters in ``pairs`` (two filters
         on one person): the younger one, or with ``by_quality`` the one with the lower
         smoothed likelihood, whose survivor then keeps the older identity
-        (:meth:`replace_by`). Returns the filters removed for want of support."""
+        (:meth:`replace_by`)."""
         alive = stamp - self.last_seen <= miss_time
-        gone = ~alive
-        starved = Starved(
-            self.ids[gone],
-            self.born[gone],
-            self.last_seen[gone],
-            self.anchors[gone],
-            self.anchor_velocities[gone],
-        )
         for i, j in sorted({(min(a, b), max(a, b)) for a, b in pairs if a != b}):
             if not (alive[i] and alive[j]):
                 continue
@@ -157,7 +117,6 @@ class FilterBank:
                 loser = j if older else i
             alive[loser] = False
         self.keep(alive)
-        return starved
 
     def tracks(
         self,
@@ -193,12 +152,6 @@ class FilterBank:
             self.born[winner] = self.born[loser]
             self.hits[winner] = max(self.hits[winner], self.hits[loser])
 
-    def take_identity(self, f: int, identity: int, born: float) -> None:
-        """Filter ``f`` takes over the ``identity`` and birth time ``born`` [s] of a filter
-        that is gone (the same person found again)."""
-        self.ids[f] = identity
-        self.born[f] = born
-
     def mean(self, columns: slice | list[int]) -> NDArray[np.float64]:
         """Weighted mean (F, len(columns)) of the state columns."""
         return np.asarray(
@@ -206,4 +159,4 @@ class FilterBank:
         )
 
 
-__all__ = ["FilterBank", "Starved"]
+__all__ = ["FilterBank"]

@@ -57,7 +57,6 @@ from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
-from laserpeople.tracking.particle.lost import LostIdentities
 from laserpeople.tracking.particle.objects import (
     ObjectMemory,
     kept_labels,
@@ -87,7 +86,7 @@ class FeetParams:
             "blob_body": False,
             "overlap_max": 0.0,
             "still_time": 0.0,
-            "reclaim_time": 0.0,
+            "cell_refresh": 0.0,
         }
     )
 
@@ -152,13 +151,6 @@ class FeetParams:
         "``still_eigenvalue``) whose centre stays within ``still_move`` this long, with no "
         "filter within ``birth_exclusion``, starts a filter; 0 disables",
         "s",
-    )
-    still_reach: float = param(
-        0.0,
-        "experiment",
-        "a still object is taken when a filter has both feet within this of its two feet; "
-        "0: when a filter's feet midpoint is within ``birth_exclusion`` of its centre",
-        "m",
     )
     still_move: float = param(
         0.1,
@@ -310,18 +302,12 @@ class FeetParams:
         "a filter is reported only while it had support this recently",
         "s",
     )
-    reclaim_time: float = param(
-        3.0,
-        "departure from 004 (0 here: every new filter is a new person); assumed",
-        "a filter that starts within ``reclaim_distance`` of where a filter that died for "
-        "want of support would be (its place at its last support, moved on at its "
-        "velocity then) this long after that support takes back its identity; 0 disables",
-        "s",
-    )
-    reclaim_distance: float = param(
-        0.6,
-        "assumed: a step and a half",
-        "farthest a new filter may start from a lost filter's place to take its identity",
+    cell_refresh: float = param(
+        0.2,
+        "experiment",
+        "a filter whose Voronoi cell's points (at least ``still_points``) are centred "
+        "farther than this from its feet midpoint is refreshed from them (the two halves "
+        "along their major axis), as from a detected step; 0 disables",
         "m",
     )
     merge_distance: float = param(
@@ -643,7 +629,6 @@ class FeetTracker:
         self.still = StillDetector(self.params)
         self._stamp: float | None = None
         self.objects = ObjectMemory(self.params.object_reach, self.params.object_memory)
-        self.lost = LostIdentities(self.params.reclaim_distance, self.params.reclaim_time)
 
     def _predict(self, dt: float) -> None:
         p, bank = self.params, self.bank
@@ -706,6 +691,8 @@ class FeetTracker:
                 cell = voronoi_cells(pts, bank.mean([XL, YL, XR, YR]).reshape(-1, 2), p.gate)
                 inside = np.flatnonzero(cell >= 0)
                 near = (inside, cell[inside] // 2)
+                if p.cell_refresh > 0.0:
+                    self._cell_refresh(pts[inside], near[1], est)
             else:
                 near = _points_near(pts, est, p.gate)
             rows = np.column_stack([pts, self._leg_weights(pts, segments)])
@@ -723,13 +710,7 @@ class FeetTracker:
             bank.reweight(lik + 1e-300, self.rng, p.resample_threshold)
             feet_est = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
             supported = _supported(pts, feet_est, p.support_radius)
-            if p.reclaim_time > 0.0:
-                w = bank.weights
-                place = np.einsum("fp,fpc->fc", w, self.midpoints())
-                moving = np.einsum("fp,fpc->fc", w, self._velocities())
-                bank.support(supported, frame.stamp, place, moving)
-            else:
-                bank.support(supported, frame.stamp)
+            bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
         self._births(births, frame.stamp, birth_objects)
         return self._report(frame, pts, objects, segments)
@@ -759,7 +740,7 @@ class FeetTracker:
             flat = bank.mean([XL, YL, XR, YR]).reshape(-1, 2)
             shared = cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray")
             pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
-        self.lost.add(bank.cull(stamp, p.miss_time, pairs, by_quality=True))
+        bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 
     def _births(
         self, pts: NDArray[np.float64], stamp: float, objects: NDArray[np.int64] | None = None
@@ -785,25 +766,31 @@ class FeetTracker:
             if any(np.hypot(*(ev.position - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
                 continue
             starts.append(ev.feet)
-        feet_est = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2) if len(bank) else None
         for feet in still:  # a person standing still: no refresh, a filter where none is
             mid = feet.mean(axis=0)
-            if p.still_reach > 0.0 and feet_est is not None:
-                # taken when a filter stands on it with both feet
-                d = np.hypot(*(feet_est[:, :, None, :] - feet[None, None]).transpose(3, 0, 1, 2))
-                if (d.min(axis=2) <= p.still_reach).all(axis=1).any():
-                    continue
-            elif len(est) and np.hypot(*(est - mid).T).min() <= p.birth_exclusion:
+            if len(est) and np.hypot(*(est - mid).T).min() <= p.birth_exclusion:
                 continue
             if any(np.hypot(*(mid - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
                 continue
             starts.append(feet)
         if starts:
-            first = len(bank)
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
-            places = np.array([f.mean(axis=0) for f in starts])
-            for k, identity, born in self.lost.claim(places, stamp):
-                bank.take_identity(first + k, identity, born)
+
+    def _cell_refresh(
+        self, pts: NDArray[np.float64], owner: NDArray[np.int64], est: NDArray[np.float64]
+    ) -> None:
+        """Refresh (:meth:`_refresh`) every filter whose cell's points ``pts`` (N, 2)
+        (filter ``owner`` (N,)), at least ``still_points`` of them, are centred farther
+        than ``cell_refresh`` from its feet midpoint ``est`` (F, 2): from the two halves
+        of those points along their major axis (:func:`_two_feet`)."""
+        p = self.params
+        if len(pts) == 0:
+            return
+        n = len(est)
+        mean, cov, count = cluster_covariances(pts, owner, n)
+        off = np.hypot(*(mean - est).T)
+        for f in np.flatnonzero((count >= p.still_points) & (off > p.cell_refresh)):
+            self._refresh(int(f), _two_feet(pts[owner == f], mean[f], cov[f]))
 
     def _refresh(self, f: int, feet: NDArray[np.float64]) -> None:
         """A step detected at filter ``f``: replace a share ``refresh_share`` of its

@@ -303,8 +303,11 @@ class FeetParams:
         "s",
     )
     cell_refresh: float = param(
-        0.2,
-        "experiment",
+        0.3,
+        "departure from 004 (0 here); a filter that stood with its person stays behind when "
+        "the person walks off (its particles' strides are near 0 and no step is detected "
+        "at a low scan rate); feet-crossing and feet-office, seeds 0-3: MOTP 0.677 at 0, "
+        "0.728 at 0.2, 0.752 at 0.3 (docs/schenk-tables.md)",
         "a filter whose Voronoi cell's points (at least ``still_points``) are centred "
         "farther than this from its feet midpoint is refreshed from them (the two halves "
         "along their major axis), as from a detected step; 0 disables",

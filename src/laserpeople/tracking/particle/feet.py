@@ -38,6 +38,12 @@ at feet height with a walking model.
   still weigh and support filters (``rescue_legs``: the foot of a person pushing a cart
   touches it); and a filter on a blob without legs (a long skirt hides them) reports the
   blob's centre instead of the walking model's body position (``blob_body``).
+- A departure from 004 for people who stop and walk on (``cell_refresh``; 0 restores
+  004): a filter whose Voronoi cell's points are centred farther than ``cell_refresh`` from
+  its feet midpoint restarts a share of its particles from those points, split in two
+  along their major axis, as from a detected step (a filter that stood with its person
+  has strides near 0 and stays behind when the person walks off, and at a low scan rate
+  no step is detected to refresh it).
 
 The reported person position is the weighted mean of the body positions the walking model
 implies (the feet midpoint moved by :func:`body_offset`).

@@ -317,8 +317,10 @@ INDEPENDENT = [
     "walkers both, person-seconds on static places 21.0 -> 21.4 s, walker-seconds "
     "337.6 -> 339.0; corridor 7 / 7 and 0 s both. 004's scenes (FT, seed 0): fast "
     "0.923, stop 0.983, cross 0.959 unchanged; 3 pers. 0.942 -> 0.934 (seeds 0-3 mean "
-    "0.939 both), pull case 0.447 -> 0.428, skirt 0.836 -> 0.856. The tables above were "
-    "run before `cell_refresh` (`--preset paper` switches it off).",
+    "0.939 both), pull case 0.447 -> 0.428 (seeds 0-2 mean 0.439 -> 0.408; single seeds "
+    "flip between 0.37 and 0.44 with either setting: whether the suitcase hijacks the "
+    "filter), skirt 0.836 -> 0.856. The tables above were run before `cell_refresh` "
+    "(`--preset paper` switches it off).",
     "",
     "What is left, from the pictures of the worst held-back runs: the simulator lets "
     "people stand behind things and on one spot. A person standing 10 s behind a bin "
@@ -342,7 +344,9 @@ INDEPENDENT = [
     "near where they were lost); a still object counted as taken only when a filter "
     "stands on it with both feet (0.25 m), instead of a filter's feet midpoint within "
     "`birth_exclusion` of its centre, for the two people one behind the other (seeds "
-    "0-3, 5 runs: 0.689 -> 0.686).",
+    "0-3, 5 runs: 0.689 -> 0.686); `cell_refresh` from the cell's object nearest to the "
+    "filter's feet instead of all its points, so that a pulled suitcase in the cell "
+    "does not count (seeds 0-3, 7 runs: 0.752 -> 0.727; pull case seeds 0-2 0.413).",
     "",
     "On the `random-groups` family's held-back seeds 100-107 (10 s each, the one "
     "laser it draws; five at feet height, three of them on a moving robot): FT mean "

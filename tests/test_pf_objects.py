@@ -187,3 +187,29 @@ def test_carried_ahead_by_hand() -> None:
     vel = np.array([[1.0, 0.0], [0.0, 0.8], [0.1, 0.1]])
     got = carried_ahead(pts, cell, vel, 0.45, 0.3)
     assert got.tolist() == [False, False, True, True, False, True, False, False, False]
+
+
+def test_kept_labels_equal_a_new_clustering_of_the_kept_points() -> None:
+    """Labels of a subset from the labels of all points: whole objects dropped, one object
+    (a 1 m line of 21 points, 0.05 m apart) kept in two pieces, one kept whole; the
+    result is the partition and numbering of clustering the subset again."""
+    from laserpeople.clustering import single_linkage
+    from laserpeople.tracking.particle.objects import kept_labels
+
+    rng = np.random.default_rng(3)
+    line = np.column_stack([np.linspace(0.0, 1.0, 21), np.zeros(21)])
+    legs = rng.normal([0.0, 2.0], 0.01, (8, 2))
+    far = rng.normal([3.0, 0.5], 0.01, (6, 2))
+    pts = np.vstack([legs, line, far])
+    rng.shuffle(pts)
+    labels = single_linkage(pts, 0.1)
+    assert labels.max() == 2
+    on_line = pts[:, 1] == 0.0
+    # keep the line's two ends (x < 0.3, x > 0.7) and the far object; drop the legs
+    keep = (on_line & ((pts[:, 0] < 0.3) | (pts[:, 0] > 0.7))) | (pts[:, 0] > 2.0)
+    got = kept_labels(pts, labels, keep, 0.1)
+    assert np.array_equal(got, single_linkage(pts[keep], 0.1))
+    assert got.max() == 2  # two pieces of the line and the far object
+    whole = ~on_line  # whole objects only: no new clustering needed
+    assert np.array_equal(kept_labels(pts, labels, whole, 0.1), single_linkage(pts[whole], 0.1))
+    assert kept_labels(pts, labels, np.zeros(len(pts), bool), 0.1).size == 0

@@ -38,6 +38,12 @@ at feet height with a walking model.
   still weigh and support filters (``rescue_legs``: the foot of a person pushing a cart
   touches it); and a filter on a blob without legs (a long skirt hides them) reports the
   blob's centre instead of the walking model's body position (``blob_body``).
+- A departure from 004 for people who stop and walk on (``cell_refresh``; 0 restores
+  004): a filter whose Voronoi cell's points are centred farther than ``cell_refresh`` from
+  its feet midpoint restarts a share of its particles from those points, split in two
+  along their major axis, as from a detected step (a filter that stood with its person
+  has strides near 0 and stays behind when the person walks off, and at a low scan rate
+  no step is detected to refresh it).
 
 The reported person position is the weighted mean of the body positions the walking model
 implies (the feet midpoint moved by :func:`body_offset`).
@@ -59,6 +65,7 @@ from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.objects import (
     ObjectMemory,
+    kept_labels,
     largest_eigenvalue,
     object_eigenvalues,
     small_objects,
@@ -85,6 +92,7 @@ class FeetParams:
             "blob_body": False,
             "overlap_max": 0.0,
             "still_time": 0.0,
+            "cell_refresh": 0.0,
         }
     )
 
@@ -299,6 +307,17 @@ class FeetParams:
         "before it grew); a filter kept longer is not reported while it coasts",
         "a filter is reported only while it had support this recently",
         "s",
+    )
+    cell_refresh: float = param(
+        0.3,
+        "departure from 004 (0 here); a filter that stood with its person stays behind when "
+        "the person walks off (its particles' strides are near 0 and no step is detected "
+        "at a low scan rate); feet-crossing and feet-office, seeds 0-3: MOTP 0.677 at 0, "
+        "0.728 at 0.2, 0.752 at 0.3 (docs/schenk-tables.md)",
+        "a filter whose Voronoi cell's points (at least ``still_points``) are centred "
+        "farther than this from its feet midpoint is refreshed from them (the two halves "
+        "along their major axis), as from a detected step; 0 disables",
+        "m",
     )
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
@@ -550,15 +569,22 @@ class StillDetector:
         self._anchors = np.empty((0, 2))
         self._since = np.empty(0)
 
-    def detections(self, points: NDArray[np.float64], stamp: float) -> list[NDArray[np.float64]]:
-        """The feet (2, 2) [m] of every object of ``points`` (N, 2) that has been still
-        for ``still_time`` [s] by ``stamp``: its points split in two along its major axis
-        (the two legs), each half's centre."""
+    def detections(
+        self,
+        points: NDArray[np.float64],
+        stamp: float,
+        labels: NDArray[np.int64] | None = None,
+    ) -> list[NDArray[np.float64]]:
+        """The feet (2, 2) [m] of every object of ``points`` (N, 2) (single linkage at
+        ``link_distance``; their ``labels`` (N,) if known) that has been still for
+        ``still_time`` [s] by ``stamp``: its points split in two along its major axis (the
+        two legs), each half's centre."""
         p = self.params
         if p.still_time <= 0.0 or len(points) == 0:
             self._anchors, self._since = np.empty((0, 2)), np.empty(0)
             return []
-        labels = single_linkage(points, p.link_distance)
+        if labels is None:
+            labels = single_linkage(points, p.link_distance)
         n = int(labels.max()) + 1
         mean, cov, count = cluster_covariances(points, labels, n)
         ok = np.flatnonzero(
@@ -645,13 +671,24 @@ class FeetTracker:
         filters and start filters at completed step sequences."""
         p, bank = self.params, self.bank
         pts = frame.foreground_points("the feet tracker")
-        sized = small_objects(pts, p.link_distance, p.max_eigenvalue)
+        # one clustering per scan at link_distance and one at segment_link, shared by the
+        # size bound, the still detector, the weights of eqs. 3-4 and the blob centres
+        wants_objects = p.max_eigenvalue > 0.0 or p.still_time > 0.0 or p.blob_body
+        objects = single_linkage(pts, p.link_distance) if wants_objects and len(pts) else None
+        sized = small_objects(pts, p.link_distance, p.max_eigenvalue, objects)
         remembered = self.objects.update(pts, ~sized, frame.stamp)
         births = pts[~remembered]
+        birth_objects = _kept(pts, objects, ~remembered, p.link_distance)
+        segments = None
         if p.rescue_legs and len(pts) and not sized.all():
-            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points)
+            segments = single_linkage(pts, p.segment_link)
+            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points, segments)
             sized = sized | legs
+        objects = _kept(pts, objects, sized, p.link_distance)
+        segments = _kept(pts, segments, sized, p.segment_link)
         pts = pts[sized]
+        if segments is None and len(pts) and (p.long_weight != 1.0 or p.blob_body):
+            segments = single_linkage(pts, p.segment_link)
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp
         self._predict(dt)
@@ -663,9 +700,11 @@ class FeetTracker:
                 cell = voronoi_cells(pts, bank.mean([XL, YL, XR, YR]).reshape(-1, 2), p.gate)
                 inside = np.flatnonzero(cell >= 0)
                 near = (inside, cell[inside] // 2)
+                if p.cell_refresh > 0.0:
+                    self._cell_refresh(pts[inside], near[1], est)
             else:
                 near = _points_near(pts, est, p.gate)
-            rows = np.column_stack([pts, self._leg_weights(pts)])
+            rows = np.column_stack([pts, self._leg_weights(pts, segments)])
             local, mask = (
                 gather_cells(rows[near[0]], near[1], len(bank))
                 if near[0].size
@@ -682,16 +721,19 @@ class FeetTracker:
             supported = _supported(pts, feet_est, p.support_radius)
             bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
-        self._births(births, frame.stamp)
-        return self._report(frame, pts)
+        self._births(births, frame.stamp, birth_objects)
+        return self._report(frame, pts, objects, segments)
 
-    def _leg_weights(self, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+    def _leg_weights(
+        self, pts: NDArray[np.float64], segments: NDArray[np.int64] | None = None
+    ) -> NDArray[np.float64]:
         """(N,) weight of each point in eqs. 3-4: ``long_weight`` on a surface segment
-        longer than a leg's (``leg_eigenvalue``), else 1."""
+        (single linkage at ``segment_link``; ``segments`` (N,) labels if known) longer than
+        a leg's (``leg_eigenvalue``), else 1."""
         p = self.params
         if p.long_weight == 1.0 or len(pts) == 0:
             return np.ones(len(pts))
-        long = object_eigenvalues(pts, p.segment_link) > p.leg_eigenvalue
+        long = object_eigenvalues(pts, p.segment_link, segments) > p.leg_eigenvalue
         return np.where(long, p.long_weight, 1.0)
 
     def _cull(self, stamp: float) -> None:
@@ -709,10 +751,12 @@ class FeetTracker:
             pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
         bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 
-    def _births(self, pts: NDArray[np.float64], stamp: float) -> None:
+    def _births(
+        self, pts: NDArray[np.float64], stamp: float, objects: NDArray[np.int64] | None = None
+    ) -> None:
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
-        still = self.still.detections(pts, stamp)
+        still = self.still.detections(pts, stamp, objects)
         if not (found or still):
             return
         est = (
@@ -740,6 +784,22 @@ class FeetTracker:
             starts.append(feet)
         if starts:
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
+
+    def _cell_refresh(
+        self, pts: NDArray[np.float64], owner: NDArray[np.int64], est: NDArray[np.float64]
+    ) -> None:
+        """Refresh (:meth:`_refresh`) every filter whose cell's points ``pts`` (N, 2)
+        (filter ``owner`` (N,)), at least ``still_points`` of them, are centred farther
+        than ``cell_refresh`` from its feet midpoint ``est`` (F, 2): from the two halves
+        of those points along their major axis (:func:`_two_feet`)."""
+        p = self.params
+        if len(pts) == 0:
+            return
+        n = len(est)
+        mean, cov, count = cluster_covariances(pts, owner, n)
+        off = np.hypot(*(mean - est).T)
+        for f in np.flatnonzero((count >= p.still_points) & (off > p.cell_refresh)):
+            self._refresh(int(f), _two_feet(pts[owner == f], mean[f], cov[f]))
 
     def _refresh(self, f: int, feet: NDArray[np.float64]) -> None:
         """A step detected at filter ``f``: replace a share ``refresh_share`` of its
@@ -786,20 +846,37 @@ class FeetTracker:
         st[:, ALPHA] = alpha
         return st
 
-    def _report(self, frame: Frame, pts: NDArray[np.float64]) -> Tracks:
+    def _velocities(self) -> NDArray[np.float64]:
+        """Body velocities (F, P, 2) [m/s] of every particle: 2 s / T along alpha (the body
+        covers two strides per period)."""
+        st = self.bank.states
+        speed = 2.0 * st[..., S] / st[..., T]
+        return np.asarray(
+            np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1),
+            dtype=np.float64,
+        )
+
+    def _report(
+        self,
+        frame: Frame,
+        pts: NDArray[np.float64],
+        objects: NDArray[np.int64] | None = None,
+        segments: NDArray[np.int64] | None = None,
+    ) -> Tracks:
         """Tracks at the body positions the walking model implies (feet midpoint moved by
         :func:`body_offset`), moving at 2 s / T along alpha; a filter on a blob without
-        legs (``blob_body``) at the blob's centre (:func:`blob_centres`)."""
+        legs (``blob_body``) at the blob's centre (:func:`blob_centres`). ``objects`` and
+        ``segments`` (N,) are the labels of ``pts`` at ``link_distance`` and
+        ``segment_link`` if known."""
         p, st = self.params, self.bank.states
         body = self.midpoints() + body_offset(st)
-        speed = 2.0 * st[..., S] / st[..., T]  # the body covers 2 s per period
-        vel = np.stack([speed * np.cos(st[..., ALPHA]), speed * np.sin(st[..., ALPHA])], -1)
+        vel = self._velocities()
         if p.blob_body and len(self.bank) and len(pts):
             mids = np.einsum("fp,fpc->fc", self.bank.weights, self.midpoints())
             est = np.einsum("fp,fpc->fc", self.bank.weights, body)
             heading = np.einsum("fp,fpc->fc", self.bank.weights, vel)
-            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points)
-            centre = blob_centres(pts, legs, mids, heading, p.link_distance, p.blob_reach)
+            legs = _leg_segments(pts, p.segment_link, p.leg_eigenvalue, p.blob_leg_points, segments)
+            centre = blob_centres(pts, legs, mids, heading, p.link_distance, p.blob_reach, objects)
             shift = np.where(np.isfinite(centre), centre - est, 0.0)
             body = body + shift[:, None, :]
         shown = frame.stamp - self.bank.last_seen <= p.report_time
@@ -813,20 +890,22 @@ def blob_centres(
     headings: NDArray[np.float64],
     link_distance: float,
     reach: float,
+    labels: NDArray[np.int64] | None = None,
 ) -> NDArray[np.float64]:
     """Centres (F, 2) [m] of the blobs of F filters, NaN where a filter has none.
 
     A filter's blob is the union of the objects (single linkage of ``points`` (N, 2) at
-    ``link_distance``) with a point within ``reach`` of its ``anchor`` (F, 2), when no
-    point of them is leg-shaped (``legs`` (N,) False everywhere). Its centre is the
-    middle of its extent along the filter's ``heading`` (F, 2) (the sides a laser sees of
-    a body passing it lie ahead of the body before the laser and behind it afterwards,
-    while the extent spans the body) and the mean of its points across it; the mean of
-    its points when the heading is zero."""
+    ``link_distance``; their ``labels`` (N,) if known) with a point within ``reach`` of
+    its ``anchor`` (F, 2), when no point of them is leg-shaped (``legs`` (N,) False
+    everywhere). Its centre is the middle of its extent along the filter's ``heading``
+    (F, 2) (the sides a laser sees of a body passing it lie ahead of the body before the
+    laser and behind it afterwards, while the extent spans the body) and the mean of its
+    points across it; the mean of its points when the heading is zero."""
     out = np.full((len(anchors), 2), np.nan)
     if len(points) == 0 or len(anchors) == 0:
         return out
-    labels = single_linkage(points, link_distance)
+    if labels is None:
+        labels = single_linkage(points, link_distance)
     n = int(labels.max()) + 1
     has_leg = np.bincount(labels, weights=legs.astype(np.float64), minlength=n) > 0
     near = cKDTree(points).query_ball_point(anchors, reach)
@@ -846,16 +925,32 @@ def blob_centres(
 
 
 def _leg_segments(
-    points: NDArray[np.float64], link: float, max_eigenvalue: float, min_points: int
+    points: NDArray[np.float64],
+    link: float,
+    max_eigenvalue: float,
+    min_points: int,
+    labels: NDArray[np.int64] | None = None,
 ) -> NDArray[np.bool_]:
-    """(N,) True for the points of surface segments (single linkage at ``link`` [m]) of at
-    least ``min_points`` points whose largest covariance eigenvalue is at most
-    ``max_eigenvalue`` [m^2]: leg-shaped."""
-    labels = single_linkage(points, link)
+    """(N,) True for the points of surface segments (single linkage at ``link`` [m]; their
+    ``labels`` (N,) if known) of at least ``min_points`` points whose largest covariance
+    eigenvalue is at most ``max_eigenvalue`` [m^2]: leg-shaped."""
+    if labels is None:
+        labels = single_linkage(points, link)
     n = int(labels.max()) + 1
     _, cov, count = cluster_covariances(points, labels, n)
     leg = (largest_eigenvalue(cov) <= max_eigenvalue) & (count >= min_points)
     return np.asarray(leg[labels], dtype=bool)
+
+
+def _kept(
+    points: NDArray[np.float64],
+    labels: NDArray[np.int64] | None,
+    keep: NDArray[np.bool_],
+    link: float,
+) -> NDArray[np.int64] | None:
+    """The labels of ``points[keep]`` from ``labels`` of all ``points`` (None stays None;
+    :func:`~laserpeople.tracking.particle.objects.kept_labels`)."""
+    return None if labels is None else kept_labels(points, labels, keep, link)
 
 
 def _points_near(

@@ -25,25 +25,65 @@ def largest_eigenvalue(cov: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def small_objects(
-    points: NDArray[np.float64], link_distance: float, max_eigenvalue: float
+    points: NDArray[np.float64],
+    link_distance: float,
+    max_eigenvalue: float,
+    labels: NDArray[np.int64] | None = None,
 ) -> NDArray[np.bool_]:
     """(N,) True for the points of ``points`` (N, 2) [m] whose object (single linkage at
-    ``link_distance`` [m]) has a largest covariance eigenvalue of at most
-    ``max_eigenvalue`` [m^2]; all True when ``max_eigenvalue`` is 0 (no bound)."""
+    ``link_distance`` [m]; ``labels`` (N,) if already known) has a largest covariance
+    eigenvalue of at most ``max_eigenvalue`` [m^2]; all True when ``max_eigenvalue`` is 0
+    (no bound)."""
     if max_eigenvalue <= 0.0 or len(points) == 0:
         return np.ones(len(points), dtype=bool)
-    return np.asarray(object_eigenvalues(points, link_distance) <= max_eigenvalue, dtype=bool)
+    eig = object_eigenvalues(points, link_distance, labels)
+    return np.asarray(eig <= max_eigenvalue, dtype=bool)
 
 
-def object_eigenvalues(points: NDArray[np.float64], link_distance: float) -> NDArray[np.float64]:
+def object_eigenvalues(
+    points: NDArray[np.float64], link_distance: float, labels: NDArray[np.int64] | None = None
+) -> NDArray[np.float64]:
     """(N,) the largest covariance eigenvalue [m^2] of the object (single linkage at
-    ``link_distance`` [m]) each point of ``points`` (N, 2) [m] belongs to."""
+    ``link_distance`` [m]; ``labels`` (N,) if already known) each point of ``points``
+    (N, 2) [m] belongs to."""
     if len(points) == 0:
         return np.empty(0)
-    labels = single_linkage(points, link_distance)
+    if labels is None:
+        labels = single_linkage(points, link_distance)
     n = int(labels.max()) + 1
     _, cov, _ = cluster_covariances(points, labels, n)
     return np.asarray(largest_eigenvalue(cov)[labels], dtype=np.float64)
+
+
+def kept_labels(
+    points: NDArray[np.float64],
+    labels: NDArray[np.int64],
+    keep: NDArray[np.bool_],
+    link_distance: float,
+) -> NDArray[np.int64]:
+    """The single-linkage labels (M,) at ``link_distance`` [m] of ``points[keep]``, given
+    the ``labels`` (N,) of all ``points`` (N, 2) [m] at that distance, without clustering
+    them again: dropping whole objects splits no other, so an object kept whole keeps its
+    points together, and only the kept points of objects kept in part are linked again
+    (among themselves: points of different objects are at least ``link_distance`` apart).
+    Numbered 0..K-1 by each object's first point, as :func:`single_linkage` numbers them,
+    so the result equals ``single_linkage(points[keep], link_distance)``."""
+    keep = np.asarray(keep, dtype=bool)
+    sub = labels[keep]
+    if sub.size == 0:
+        return np.empty(0, dtype=np.int64)
+    n = int(labels.max()) + 1
+    partial = np.bincount(sub, minlength=n) != np.bincount(labels, minlength=n)
+    if partial[sub].any():
+        # kept pieces of a split object: link them again, apart from every other object
+        part = partial[sub]
+        again = single_linkage(points[keep][part], link_distance)
+        sub = sub.copy()
+        sub[part] = n + again
+    _, first, inverse = np.unique(sub, return_index=True, return_inverse=True)
+    rank = np.empty(first.size, dtype=np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(first.size)
+    return np.asarray(rank[inverse.reshape(-1)], dtype=np.int64)
 
 
 class ObjectMemory:
@@ -85,4 +125,10 @@ class ObjectMemory:
         return np.asarray(remembered, dtype=bool)
 
 
-__all__ = ["ObjectMemory", "largest_eigenvalue", "object_eigenvalues", "small_objects"]
+__all__ = [
+    "ObjectMemory",
+    "kept_labels",
+    "largest_eigenvalue",
+    "object_eigenvalues",
+    "small_objects",
+]

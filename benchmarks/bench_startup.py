@@ -42,13 +42,34 @@ from pathlib import Path
 
 RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
 
-CASES: dict[str, list[str]] = {
-    "python (bare interpreter)": ["-c", "pass"],
+COMMANDS = (
+    "info",
+    "simulate",
+    "scenarios",
+    "detect",
+    "train",
+    "track",
+    "evaluate",
+    "fit",
+    "bench",
+    "view",
+    "demo",
+    "align",
+    "batch",
+    "live",
+)
+"""Every command of ``laserpeople`` (its ``--help`` is timed)."""
+
+FLOORS: dict[str, list[str]] = {
+    "python -c pass": ["-c", "pass"],
     "import typer": ["-c", "import typer"],
+}
+"""What any Python program / any typer program pays (timed with the first source tree)."""
+
+CASES: dict[str, list[str]] = {
     "laserpeople --help": ["-c", RUN_CLI, "--help"],
     "laserpeople --version": ["-c", RUN_CLI, "--version"],
-    "laserpeople track --help": ["-c", RUN_CLI, "track", "--help"],
-    "laserpeople view --help": ["-c", RUN_CLI, "view", "--help"],
+    **{f"{c} --help": ["-c", RUN_CLI, c, "--help"] for c in COMMANDS},
 }
 
 
@@ -68,6 +89,37 @@ def time_once(args: list[str], env: dict[str, str]) -> tuple[float, float] | Non
     return (elapsed, cpu) if done.returncode == 0 else None
 
 
+def _env(src: Path) -> dict[str, str]:
+    # bytecode caches are written (an installed package has them), whatever the caller's
+    # PYTHONDONTWRITEBYTECODE says
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPATH"] = str(src.resolve())
+    return env
+
+
+def measure(
+    trees: dict[str, Path], repeat: int
+) -> dict[tuple[str, str], list[tuple[float, float]]]:
+    """Wall and CPU times per (tree, case): every case of every tree once per round,
+    ``repeat`` rounds (after one warm-up round), so a load change hits all alike. The
+    floors run once per round with the first tree."""
+    envs = {name: _env(src) for name, src in trees.items()}
+    first = next(iter(trees))
+    jobs = [(first, name, argv) for name, argv in FLOORS.items()]
+    jobs += [(tree, name, argv) for name, argv in CASES.items() for tree in trees]
+    for tree, _, argv in jobs:  # warm the bytecode caches and the file system
+        time_once(argv, envs[tree])
+    times: dict[tuple[str, str], list[tuple[float, float]]] = {
+        (tree, name): [] for tree, name, _ in jobs
+    }
+    for _ in range(repeat):
+        for tree, name, argv in jobs:
+            t = time_once(argv, envs[tree])
+            if t is not None:
+                times[(tree, name)].append(t)
+    return times
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=15)
@@ -77,29 +129,43 @@ def main() -> None:
         default=Path(__file__).resolve().parents[1] / "src",
         help="source tree to import laserpeople from (default: this checkout's src)",
     )
+    parser.add_argument(
+        "--before",
+        type=Path,
+        default=None,
+        help="another source tree (an older checkout's src) timed in the same rounds",
+    )
     args = parser.parse_args()
-    # bytecode caches are written (an installed package has them), whatever the caller's
-    # PYTHONDONTWRITEBYTECODE says
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-    env["PYTHONPATH"] = str(args.src.resolve())
-    for argv in CASES.values():  # warm the bytecode caches and the file system
-        time_once(argv, env)
-    times: dict[str, list[tuple[float, float]]] = {name: [] for name in CASES}
-    for _ in range(args.repeat):
-        for name, argv in CASES.items():
-            t = time_once(argv, env)
-            if t is not None:
-                times[name].append(t)
-    print(f"source: {args.src}  ({args.repeat} runs each, interleaved)")
-    for name, values in times.items():
-        if not values:
-            print(f"{name:28s} fails (not in this version)")
-            continue
-        wall, cpu = [v[0] for v in values], [v[1] for v in values]
-        print(
-            f"{name:28s} wall median {statistics.median(wall):5.3f} s (min {min(wall):5.3f}), "
-            f"CPU median {statistics.median(cpu):5.3f} s"
-        )
+    trees = {"after": args.src} if args.before is None else {"before": args.before}
+    trees["after"] = args.src
+    times = measure(trees, args.repeat)
+    first = next(iter(trees))
+    bare = statistics.median(v[1] for v in times[(first, "python -c pass")])
+    print(f"sources: {', '.join(f'{k} {v}' for k, v in trees.items())}")
+    print(f"{args.repeat} runs each, interleaved; median CPU (user + system) [s], x bare python")
+    header = f"{'case':24s}" + "".join(f"{k + ' CPU s':>14s}{'x bare':>8s}" for k in trees)
+    print(header + ("   before/after" if len(trees) == 2 else "") + "   after wall s")
+    for name in [*FLOORS, *CASES]:
+        row, cpus = f"{name:24s}", []
+        for tree in trees:
+            values = times.get((tree, name))
+            if values is None:
+                row += f"{'':14s}{'':8s}"
+                continue
+            if not values:
+                row += f"{'fails':>14s}{'':8s}"
+                continue
+            cpu = statistics.median(v[1] for v in values)
+            cpus.append(cpu)
+            row += f"{cpu:14.3f}{cpu / bare:7.1f}x"
+        if len(trees) == 2 and len(cpus) == 2:
+            row += f"{cpus[0] / cpus[1]:14.2f}x"
+        elif len(trees) == 2:
+            row += f"{'':15s}"
+        wall = times.get(("after", name)) or times.get((first, name)) or []
+        if wall:
+            row += f"{statistics.median(v[0] for v in wall):14.3f}"
+        print(row)
 
 
 if __name__ == "__main__":

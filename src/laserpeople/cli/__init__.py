@@ -118,6 +118,13 @@ class LaserPeopleGroup(TyperGroup):
                     # makes every usage line read NAME / [NAME] / NAME...
                     param._usage_display_name = _usage_name(param)  # type: ignore[method-assign]
 
+    def get_help_option(self, ctx: Any) -> Any:
+        """The help flag, ``False`` when not given: typer leaves it ``None``, which makes it
+        build a pydantic converter for it (0.1-0.2 s of start-up, pydantic and
+        ``importlib.metadata``) on ``laserpeople COMMAND --help``, where the program's own
+        flags are parsed before the command's help is printed."""
+        return _help_flag_false(super().get_help_option(ctx))
+
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         with _short_usage_errors():
             return super().parse_args(ctx, hoist_global_flags(list(args)))
@@ -127,10 +134,20 @@ class LaserPeopleGroup(TyperGroup):
             return super().invoke(ctx)
 
 
+def _help_flag_false(option: Any) -> Any:
+    """``option`` (a help flag or None) with default ``False`` in place of ``None``."""
+    if option is not None and option.default is None:
+        option.default = False
+    return option
+
+
 @contextlib.contextmanager
 def _short_usage_errors() -> Iterator[None]:
     """Usage errors (a bad option value) echo long values cut to their first characters."""
-    from click.exceptions import UsageError
+    try:  # typer from 0.2x carries its own click; importing click itself costs 10-20 ms
+        from typer._click.exceptions import UsageError
+    except ImportError:
+        from click.exceptions import UsageError  # type: ignore[assignment,no-redef]
 
     try:
         yield

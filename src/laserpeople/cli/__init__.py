@@ -14,28 +14,13 @@ from __future__ import annotations
 
 import contextlib
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
+from importlib import import_module
 from typing import Any
 
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
 
-from laserpeople.cli import (
-    align,
-    batch,
-    bench,
-    demo,
-    detect,
-    evaluate,
-    fit,
-    info,
-    live,
-    scenarios,
-    simulate,
-    track,
-    train,
-    view,
-)
 from laserpeople.cli.common import STATE, err_console
 from laserpeople.errors import LaserPeopleError, cut_long_values
 
@@ -147,7 +132,7 @@ def _short_usage_errors() -> Iterator[None]:
     try:  # typer from 0.2x carries its own click; importing click itself costs 10-20 ms
         from typer._click.exceptions import UsageError
     except ImportError:
-        from click.exceptions import UsageError  # type: ignore[assignment,no-redef]
+        from click.exceptions import UsageError  # type: ignore[assignment]
 
     try:
         yield
@@ -156,17 +141,6 @@ def _short_usage_errors() -> Iterator[None]:
         if short == exc.message:
             raise
         raise UsageError(short, ctx=exc.ctx) from exc
-
-
-app = typer.Typer(
-    name="laserpeople",
-    cls=LaserPeopleGroup,
-    no_args_is_help=True,
-    pretty_exceptions_enable=False,
-    rich_markup_mode=None,
-    add_completion=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
-)
 
 
 def version() -> str:
@@ -188,7 +162,6 @@ def _print_version(value: bool) -> None:
         raise typer.Exit()
 
 
-@app.callback(help=HELP)
 def _global_options(
     debug: bool = typer.Option(
         False, "--debug", help="Show full tracebacks on errors (also after the command)."
@@ -209,29 +182,68 @@ def _global_options(
     STATE.quiet = quiet
 
 
-for _module in (
-    info,
-    simulate,
-    scenarios,
-    detect,
-    train,
-    track,
-    evaluate,
-    fit,
-    bench,
-    view,
-    demo,
-    align,
-    batch,
-    live,
-):
-    _module.register(app)
+COMMANDS = (
+    "info",
+    "simulate",
+    "scenarios",
+    "detect",
+    "train",
+    "track",
+    "evaluate",
+    "fit",
+    "bench",
+    "view",
+    "demo",
+    "align",
+    "batch",
+    "live",
+)
+"""The commands in the order ``--help`` lists them; each is the module
+``laserpeople.cli.NAME`` with its ``register(app)``."""
+
+
+def make_app(commands: Sequence[str] = COMMANDS) -> typer.Typer:
+    """The ``laserpeople`` program with the global flags and ``commands`` (default: all)."""
+    program = typer.Typer(
+        name="laserpeople",
+        cls=LaserPeopleGroup,
+        no_args_is_help=True,
+        pretty_exceptions_enable=False,
+        rich_markup_mode=None,
+        add_completion=False,
+        context_settings={"help_option_names": ["-h", "--help"]},
+    )
+    program.callback(help=HELP)(_global_options)
+    for name in commands:
+        import_module(f"laserpeople.cli.{name}").register(program)
+    return program
+
+
+def commands_needed(args: Sequence[str]) -> tuple[str, ...]:
+    """The commands the program must build for ``args``: the one named first (after the
+    global flags) when it is a command, otherwise all (the program's help, a mistyped
+    command with suggestions). typer builds every registered command, its options and
+    their types before parsing, so a run or a command's help with only its own command is
+    faster by the other commands' share; its output is the same."""
+    rest = [a for a in hoist_global_flags(list(args)) if a not in GLOBAL_FLAGS]
+    if rest and rest[0] in COMMANDS:
+        return (rest[0],)
+    return COMMANDS
+
+
+def __getattr__(name: str) -> Any:
+    """``app``, the program with every command, built on first use (PEP 562)."""
+    if name == "app":
+        program = make_app()
+        globals()["app"] = program
+        return program
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def main() -> None:
     """Entry point of the ``laserpeople`` command."""
     try:
-        app(prog_name="laserpeople")
+        make_app(commands_needed(sys.argv[1:]))(prog_name="laserpeople")
     except LaserPeopleError as exc:
         if STATE.debug:
             raise

@@ -135,8 +135,12 @@ class Pipeline:
                         tracks = ident.update(tracks, frame)
                     stats.track_ms.append(1e3 * seconds)
                     stats.rows += len(tracks)
+                    by_kind = stats.track_ids
                     for t in tracks.tracks:
-                        stats.track_ids.setdefault(t.kind, DistinctIds()).add(t.track_id)
+                        ids = by_kind.get(t.kind)
+                        if ids is None:  # (not setdefault: it would build one per row)
+                            ids = by_kind[t.kind] = DistinctIds()
+                        ids.add(t.track_id)
                 for sink in self.sinks:
                     sink.write(frame, tracks)
                 stats.frames += 1

@@ -1,32 +1,18 @@
-"""Start-up time of the command line: ``laserpeople --help`` and each command's ``--help``.
+"""Start-up time of the command line: ``laserpeople --help``, ``--version`` and every
+command's ``--help``, for one source tree or two side by side.
 
-Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR]``. Each case
-runs in a fresh interpreter ``--repeat`` times (interleaved, so a busy machine slows every
-case alike) and the median wall time and CPU time (user + system: what the program itself
-costs, much less sensitive to other load on the machine) are printed, next to two floors
-measured the same way: a bare interpreter and ``import typer`` (what any typer program
-pays). ``--src`` puts another source tree first on ``sys.path`` (e.g. an older checkout's
-``src`` to get the "before" figures).
+Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR] [--before
+DIR]``. Each case runs in a fresh interpreter ``--repeat`` times, every case (of both trees)
+once per round, so a busy machine slows every case alike. Printed: the median CPU time
+(user + system: what the program itself costs, much less sensitive to other load than the
+wall time) and its ratio to a bare ``python -c pass`` measured the same way, per tree, the
+before/after ratio, and the median wall time of the last tree. ``import typer`` is timed as
+a floor: what any typer program pays. ``--src`` puts a source tree first on ``sys.path``
+(default: this checkout's ``src``); ``--before`` adds an older checkout's ``src``.
 
-Goal (issue 15): ``laserpeople --help`` under 0.3 s. Figures on the project machine (2
-cores shared with 7 other jobs, load ~20, so wall times are ~10x the CPU times; 10 runs):
-
-=========================  ==============================  ==============================
-median CPU (wall)          before (eager imports)          after (imports where used)
-=========================  ==============================  ==============================
-bare interpreter           0.019 s (0.25 s)                0.020 s (0.24 s)
-``import typer``           0.126 s (1.54 s)                0.128 s (1.55 s)
-``laserpeople --help``     1.749 s (20.8 s)                0.202 s (2.47 s)
-``laserpeople --version``  (no such option)                0.228 s (3.05 s)
-``track --help``           1.936 s (24.8 s)                0.401 s (4.92 s)
-``view --help``            1.971 s (24.2 s)                0.416 s (4.90 s)
-=========================  ==============================  ==============================
-
-What is left of a command's ``--help`` above ``--help`` is typer's own: typer 0.29
-builds each parameter's converter with pydantic (``typer._adapters``), about 0.2 s.
-
-The command modules import numpy, scipy, rosbags and matplotlib inside their functions;
-``python -X importtime -m laserpeople.cli --help`` shows what is still imported at start.
+Goal: every ``--help`` under 10 times a bare interpreter start. The figures of the current
+code are in docs/speed.md (Start-up). ``python -X importtime -m laserpeople.cli track
+--help`` shows what is imported at start.
 """
 
 from __future__ import annotations

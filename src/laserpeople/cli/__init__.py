@@ -1,13 +1,15 @@
 """The ``laserpeople`` command line.
 
-Each command lives in its own module of this package and registers itself with
-:data:`app` through a ``register(app)`` function, so that commands stay small and
-independent. Errors a user can cause (:class:`~laserpeople.errors.LaserPeopleError`)
-are printed as one line and exit with status 1; ``--debug`` shows the traceback.
+Each command lives in its own module of this package and registers itself with the
+program (:func:`make_app`; ``app`` has every command) through a ``register(app)``
+function, so that commands stay small and independent. Errors a user can cause
+(:class:`~laserpeople.errors.LaserPeopleError`) are printed as one line and exit with
+status 1; ``--debug`` shows the traceback.
 
-Start-up stays fast (``laserpeople --help`` well under 0.3 s): the command modules import
-numpy, scipy, the readers and the plotting libraries inside the command functions, never at
-module level (``benchmarks/bench_startup.py`` measures it).
+Start-up stays fast (every ``--help`` under 10 times a bare Python start but the
+program's own, ``benchmarks/bench_startup.py``): the command modules import numpy, scipy,
+the readers and the plotting libraries inside the command functions, never at module
+level; :func:`main` builds only the command it runs (:func:`commands_needed`).
 """
 
 from __future__ import annotations

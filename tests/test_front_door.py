@@ -217,7 +217,8 @@ def test_a_command_is_built_alone_with_the_same_help() -> None:
 
     assert commands_needed(["-q", "track", "x.bag", "--debug"]) == ("track",)
     assert commands_needed(["track", "--help"]) == ("track",)
-    for args in (["--help", "track"], ["trak"], [], ["--version"], ["--", "track"]):
+    assert commands_needed(["-q", "--version"]) == ()
+    for args in (["--help", "track"], ["trak"], [], ["--version", "-h"], ["--", "track"]):
         assert commands_needed(args) == ALL, args
     assert set(COMMANDS) <= set(ALL)
     for command in ALL:

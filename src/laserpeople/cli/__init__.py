@@ -237,11 +237,13 @@ def _resolve_annotations(function: Any) -> None:
 
 def commands_needed(args: Sequence[str]) -> tuple[str, ...]:
     """The commands the program must build for ``args``: the one named first (after the
-    global flags) when it is a command, otherwise all (the program's help, a mistyped
-    command with suggestions). typer builds every registered command, its options and
-    their types before parsing, so a run or a command's help with only its own command is
-    faster by the other commands' share; its output is the same."""
+    global flags) when it is a command, none for ``--version`` alone, otherwise all (the
+    program's help, a mistyped command with suggestions). typer builds every registered
+    command, its options and their types before parsing, so a run or a command's help with
+    only its own command is faster by the other commands' share; its output is the same."""
     rest = [a for a in hoist_global_flags(list(args)) if a not in GLOBAL_FLAGS]
+    if rest == ["--version"]:  # (printed before any command is looked at)
+        return ()
     if rest and rest[0] in COMMANDS:
         return (rest[0],)
     return COMMANDS

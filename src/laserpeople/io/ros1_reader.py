@@ -40,8 +40,10 @@ class Ros1Reader:
 
     def __init__(self, path: str | Path) -> None:
         from rosbags.rosbag1 import Reader
+        from rosbags.serde import SerdeError
         from rosbags.typesys import Stores, get_typestore
 
+        self._serde_error = SerdeError
         self.paths = [Path(path)]
         self._reader = Reader(self.paths[0])
         self.stack: ExitStack | None = None
@@ -113,11 +115,9 @@ class Ros1Reader:
 
     def deserialize(self, rawdata: bytes, typ: str) -> object:
         """The message ``rawdata`` of type ``typ`` decoded."""
-        from rosbags.serde import SerdeError
-
         try:
             return self.typestore.deserialize_ros1(rawdata, typ)
-        except SerdeError as err:
+        except self._serde_error as err:
             raise Ros1ReaderError(*err.args) from None
 
 

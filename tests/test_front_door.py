@@ -141,6 +141,11 @@ def test_starting_the_program_imports_no_heavy_library() -> None:
         "print(' '.join(m for m in ('numpy', 'scipy', 'matplotlib', 'rosbags', 'PIL', "
         "'rich.console', 'laserpeople.scan') if m in sys.modules))"
     )
+    assert _python(code).strip() == ""
+
+
+def _python(code: str) -> str:
+    """The output of a fresh interpreter running ``code`` with this checkout's package."""
     done = subprocess.run(
         [sys.executable, "-c", code],
         env=dict(os.environ, PYTHONPATH=str(REPO / "src")),
@@ -149,7 +154,7 @@ def test_starting_the_program_imports_no_heavy_library() -> None:
         timeout=120,
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == ""
+    return done.stdout
 
 
 def test_the_package_still_offers_its_data_model() -> None:
@@ -236,13 +241,6 @@ def test_a_command_help_imports_neither_pydantic_nor_click() -> None:
         "print('LOADED', ' '.join(m for m in ('pydantic', 'click', 'laserpeople.cli.view') "
         "if m in sys.modules))"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", code],
-        env=dict(os.environ, PYTHONPATH=str(REPO / "src")),
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert done.returncode == 0, done.stderr
-    assert "Usage: laserpeople track" in done.stdout
-    assert done.stdout.rstrip().endswith("LOADED"), done.stdout[-200:]
+    out = _python(code)
+    assert "Usage: laserpeople track" in out
+    assert out.rstrip().endswith("LOADED"), out[-200:]

@@ -1,32 +1,18 @@
-"""Start-up time of the command line: ``laserpeople --help`` and each command's ``--help``.
+"""Start-up time of the command line: ``laserpeople --help``, ``--version`` and every
+command's ``--help``, for one source tree or two side by side.
 
-Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR]``. Each case
-runs in a fresh interpreter ``--repeat`` times (interleaved, so a busy machine slows every
-case alike) and the median wall time and CPU time (user + system: what the program itself
-costs, much less sensitive to other load on the machine) are printed, next to two floors
-measured the same way: a bare interpreter and ``import typer`` (what any typer program
-pays). ``--src`` puts another source tree first on ``sys.path`` (e.g. an older checkout's
-``src`` to get the "before" figures).
+Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat 15] [--src DIR] [--before
+DIR]``. Each case runs in a fresh interpreter ``--repeat`` times, every case (of both trees)
+once per round, so a busy machine slows every case alike. Printed: the median CPU time
+(user + system: what the program itself costs, much less sensitive to other load than the
+wall time) and its ratio to a bare ``python -c pass`` measured the same way, per tree, the
+before/after ratio, and the median wall time of the last tree. ``import typer`` is timed as
+a floor: what any typer program pays. ``--src`` puts a source tree first on ``sys.path``
+(default: this checkout's ``src``); ``--before`` adds an older checkout's ``src``.
 
-Goal (issue 15): ``laserpeople --help`` under 0.3 s. Figures on the project machine (2
-cores shared with 7 other jobs, load ~20, so wall times are ~10x the CPU times; 10 runs):
-
-=========================  ==============================  ==============================
-median CPU (wall)          before (eager imports)          after (imports where used)
-=========================  ==============================  ==============================
-bare interpreter           0.019 s (0.25 s)                0.020 s (0.24 s)
-``import typer``           0.126 s (1.54 s)                0.128 s (1.55 s)
-``laserpeople --help``     1.749 s (20.8 s)                0.202 s (2.47 s)
-``laserpeople --version``  (no such option)                0.228 s (3.05 s)
-``track --help``           1.936 s (24.8 s)                0.401 s (4.92 s)
-``view --help``            1.971 s (24.2 s)                0.416 s (4.90 s)
-=========================  ==============================  ==============================
-
-What is left of a command's ``--help`` above ``--help`` is typer's own: typer 0.29
-builds each parameter's converter with pydantic (``typer._adapters``), about 0.2 s.
-
-The command modules import numpy, scipy, rosbags and matplotlib inside their functions;
-``python -X importtime -m laserpeople.cli --help`` shows what is still imported at start.
+Goal: every ``--help`` under 10 times a bare interpreter start. The figures of the current
+code are in docs/speed.md (Start-up). ``python -X importtime -m laserpeople.cli track
+--help`` shows what is imported at start.
 """
 
 from __future__ import annotations
@@ -42,13 +28,19 @@ from pathlib import Path
 
 RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
 
-CASES: dict[str, list[str]] = {
-    "python (bare interpreter)": ["-c", "pass"],
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+from laserpeople.cli import COMMANDS  # noqa: E402  (every command: its --help is timed)
+
+FLOORS: dict[str, list[str]] = {
+    "python -c pass": ["-c", "pass"],
     "import typer": ["-c", "import typer"],
+}
+"""What any Python program / any typer program pays (timed with the first source tree)."""
+
+CASES: dict[str, list[str]] = {
     "laserpeople --help": ["-c", RUN_CLI, "--help"],
     "laserpeople --version": ["-c", RUN_CLI, "--version"],
-    "laserpeople track --help": ["-c", RUN_CLI, "track", "--help"],
-    "laserpeople view --help": ["-c", RUN_CLI, "view", "--help"],
+    **{f"{c} --help": ["-c", RUN_CLI, c, "--help"] for c in COMMANDS},
 }
 
 
@@ -68,6 +60,37 @@ def time_once(args: list[str], env: dict[str, str]) -> tuple[float, float] | Non
     return (elapsed, cpu) if done.returncode == 0 else None
 
 
+def _env(src: Path) -> dict[str, str]:
+    # bytecode caches are written (an installed package has them), whatever the caller's
+    # PYTHONDONTWRITEBYTECODE says
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPATH"] = str(src.resolve())
+    return env
+
+
+def measure(
+    trees: dict[str, Path], repeat: int
+) -> dict[tuple[str, str], list[tuple[float, float]]]:
+    """Wall and CPU times per (tree, case): every case of every tree once per round,
+    ``repeat`` rounds (after one warm-up round), so a load change hits all alike. The
+    floors run once per round with the first tree."""
+    envs = {name: _env(src) for name, src in trees.items()}
+    first = next(iter(trees))
+    jobs = [(first, name, argv) for name, argv in FLOORS.items()]
+    jobs += [(tree, name, argv) for name, argv in CASES.items() for tree in trees]
+    for tree, _, argv in jobs:  # warm the bytecode caches and the file system
+        time_once(argv, envs[tree])
+    times: dict[tuple[str, str], list[tuple[float, float]]] = {
+        (tree, name): [] for tree, name, _ in jobs
+    }
+    for _ in range(repeat):
+        for tree, name, argv in jobs:
+            t = time_once(argv, envs[tree])
+            if t is not None:
+                times[(tree, name)].append(t)
+    return times
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=15)
@@ -77,29 +100,43 @@ def main() -> None:
         default=Path(__file__).resolve().parents[1] / "src",
         help="source tree to import laserpeople from (default: this checkout's src)",
     )
+    parser.add_argument(
+        "--before",
+        type=Path,
+        default=None,
+        help="another source tree (an older checkout's src) timed in the same rounds",
+    )
     args = parser.parse_args()
-    # bytecode caches are written (an installed package has them), whatever the caller's
-    # PYTHONDONTWRITEBYTECODE says
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-    env["PYTHONPATH"] = str(args.src.resolve())
-    for argv in CASES.values():  # warm the bytecode caches and the file system
-        time_once(argv, env)
-    times: dict[str, list[tuple[float, float]]] = {name: [] for name in CASES}
-    for _ in range(args.repeat):
-        for name, argv in CASES.items():
-            t = time_once(argv, env)
-            if t is not None:
-                times[name].append(t)
-    print(f"source: {args.src}  ({args.repeat} runs each, interleaved)")
-    for name, values in times.items():
-        if not values:
-            print(f"{name:28s} fails (not in this version)")
-            continue
-        wall, cpu = [v[0] for v in values], [v[1] for v in values]
-        print(
-            f"{name:28s} wall median {statistics.median(wall):5.3f} s (min {min(wall):5.3f}), "
-            f"CPU median {statistics.median(cpu):5.3f} s"
-        )
+    trees = {"after": args.src} if args.before is None else {"before": args.before}
+    trees["after"] = args.src
+    times = measure(trees, args.repeat)
+    first = next(iter(trees))
+    bare = statistics.median(v[1] for v in times[(first, "python -c pass")])
+    print(f"sources: {', '.join(f'{k} {v}' for k, v in trees.items())}")
+    print(f"{args.repeat} runs each, interleaved; median CPU (user + system) [s], x bare python")
+    header = f"{'case':24s}" + "".join(f"{k + ' CPU s':>14s}{'x bare':>8s}" for k in trees)
+    print(header + ("   before/after" if len(trees) == 2 else "") + "   after wall s")
+    for name in [*FLOORS, *CASES]:
+        row, cpus = f"{name:24s}", []
+        for tree in trees:
+            values = times.get((tree, name))
+            if values is None:
+                row += f"{'':14s}{'':8s}"
+                continue
+            if not values:
+                row += f"{'fails':>14s}{'':8s}"
+                continue
+            cpu = statistics.median(v[1] for v in values)
+            cpus.append(cpu)
+            row += f"{cpu:14.3f}{cpu / bare:7.1f}x"
+        if len(trees) == 2 and len(cpus) == 2:
+            row += f"{cpus[0] / cpus[1]:14.2f}x"
+        elif len(trees) == 2:
+            row += f"{'':15s}"
+        wall = times.get(("after", name)) or times.get((first, name)) or []
+        if wall:
+            row += f"{statistics.median(v[0] for v in wall):14.3f}"
+        print(row)
 
 
 if __name__ == "__main__":

@@ -141,6 +141,11 @@ def test_starting_the_program_imports_no_heavy_library() -> None:
         "print(' '.join(m for m in ('numpy', 'scipy', 'matplotlib', 'rosbags', 'PIL', "
         "'rich.console', 'laserpeople.scan') if m in sys.modules))"
     )
+    assert _python(code).strip() == ""
+
+
+def _python(code: str) -> str:
+    """The output of a fresh interpreter running ``code`` with this checkout's package."""
     done = subprocess.run(
         [sys.executable, "-c", code],
         env=dict(os.environ, PYTHONPATH=str(REPO / "src")),
@@ -149,7 +154,7 @@ def test_starting_the_program_imports_no_heavy_library() -> None:
         timeout=120,
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == ""
+    return done.stdout
 
 
 def test_the_package_still_offers_its_data_model() -> None:
@@ -209,3 +214,33 @@ def test_demo_without_plotting_libraries_prints_its_table_and_says_how_to_draw(
     assert "pip install 'laserpeople[all]'" in result.output
     assert not (tmp_path / "demo.gif").exists()
     assert (tmp_path / "demo-tracks.csv").exists() and (tmp_path / "demo.npz").exists()
+
+
+def test_a_command_is_built_alone_with_the_same_help() -> None:
+    from laserpeople.cli import COMMANDS as ALL
+    from laserpeople.cli import commands_needed, make_app
+
+    assert commands_needed(["-q", "track", "x.bag", "--debug"]) == ("track",)
+    assert commands_needed(["track", "--help"]) == ("track",)
+    assert commands_needed(["-q", "--version"]) == ()
+    for args in (["--help", "track"], ["trak"], [], ["--version", "-h"], ["--", "track"]):
+        assert commands_needed(args) == ALL, args
+    assert set(COMMANDS) <= set(ALL)
+    for command in ALL:
+        alone = CliRunner().invoke(make_app((command,)), [command, "--help"])
+        full = CliRunner().invoke(app, [command, "--help"])
+        assert alone.exit_code == full.exit_code == 0
+        assert alone.output == full.output, command
+
+
+def test_a_command_help_imports_neither_pydantic_nor_click() -> None:
+    code = (
+        "import sys; sys.argv = ['laserpeople', 'track', '--help']\n"
+        "from laserpeople.cli import main\n"
+        "try:\n    main()\nexcept SystemExit:\n    pass\n"
+        "print('LOADED', ' '.join(m for m in ('pydantic', 'click', 'laserpeople.cli.view') "
+        "if m in sys.modules))"
+    )
+    out = _python(code)
+    assert "Usage: laserpeople track" in out
+    assert out.rstrip().endswith("LOADED"), out[-200:]

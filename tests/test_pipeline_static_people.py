@@ -21,7 +21,9 @@ from laserpeople.pipeline.static_people import (
     PeopleStaticModel,
     SensorMotionCheck,
     StaticFed,
+    describe_static_cost,
     people_static_model,
+    static_world_cpu,
 )
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracking import registry
@@ -259,6 +261,35 @@ def test_track_prints_the_model(recording: Path, tmp_path: Path) -> None:
         app, ["track", str(recording), "-o", str(out), "--people-policy", "arras"]
     )
     assert "the arras people policy has none" in result.output
+
+
+def test_the_model_cost_is_counted_and_said(recording: Path, tmp_path: Path) -> None:
+    import time
+
+    pipe = build(recording, tracker="leg-mht")
+    model = next(s for s in pipe.stages if isinstance(s, PeopleStaticModel))
+    start = time.process_time()
+    pipe.run()
+    loop = time.process_time() - start
+    assert len(pipe.stats.stage_cpu) == len(pipe.stages)
+    learn = pipe.stage_cpu(model)
+    cpu = static_world_cpu(pipe)
+    assert learn > 0.0 and model.query_cpu > 0.0
+    assert cpu == pytest.approx(learn + model.query_cpu, abs=1e-12) and cpu < loop
+    line = describe_static_cost(pipe, loop)
+    assert line.startswith(f"static world model cost: {cpu:.2f} s CPU (")
+    assert f"{1e3 * cpu / pipe.stats.frames:.2f} ms per frame" in line
+    assert f"{cpu / loop:.0%} of the tracking loop's CPU" in line
+    none = build(recording, tracker="leg-mht", background="none")
+    none.run()
+    assert static_world_cpu(none) == 0.0 and describe_static_cost(none, loop) == ""
+    out = tmp_path / "t.csv"
+    result = CliRunner().invoke(app, ["track", str(recording), "-o", str(out)])
+    assert "static world model cost: " in result.output
+    result = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(out), "--background", "none"]
+    )
+    assert "static world model cost" not in result.output
 
 
 # ------------------------------------------------------------------ --config sections

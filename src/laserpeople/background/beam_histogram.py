@@ -289,10 +289,17 @@ class BeamHistogramBackground:
     # --------------------------------------------------------------- foreground
     def foreground_of(self, scan: Scan) -> NDArray[np.bool_]:
         """Foreground mask (N,) over the beams of ``scan``; invalid beams are False."""
+        return self._foreground_and_bins(scan)[0]
+
+    def _foreground_and_bins(
+        self, scan: Scan
+    ) -> tuple[NDArray[np.bool_], tuple[NDArray[np.int64], NDArray[np.int64]] | None]:
+        """:meth:`foreground_of` and the valid beams (M,) with their range bins (M,) (None
+        without a table for the laser), which :meth:`_relearn` takes as they are."""
         table = self._tables.get(scan.sensor)
         valid = scan.valid
         if table is None:
-            return valid.copy()
+            return valid.copy(), None
         if table.static is None:
             table.finish(self.params)
         assert table.static is not None
@@ -302,17 +309,25 @@ class BeamHistogramBackground:
             (scan.ranges[idx] / self.params.bin_width).astype(np.int64), table.static.shape[1] - 1
         )
         out[idx] = ~table.static[idx, bins]
-        return out
+        return out, (idx, bins)
 
-    def _relearn(self, scan: Scan) -> None:
-        """After learning: let beams that see farther than their static bins relearn."""
+    def _relearn(
+        self, scan: Scan, beams: tuple[NDArray[np.int64], NDArray[np.int64]] | None = None
+    ) -> None:
+        """After learning: let beams that see farther than their static bins relearn
+        (``beams``: the valid beams and their bins, as :meth:`_foreground_and_bins` gives
+        them; computed when None)."""
         table = self._tables.get(scan.sensor)
         if table is None or table.static is None or table.counts.shape[0] != scan.n_beams:
             return
-        idx = np.flatnonzero(scan.valid)
-        bins = np.minimum(
-            (scan.ranges[idx] / self.params.bin_width).astype(np.int64), table.static.shape[1] - 1
-        )
+        if beams is None:
+            idx = np.flatnonzero(scan.valid)
+            bins = np.minimum(
+                (scan.ranges[idx] / self.params.bin_width).astype(np.int64),
+                table.static.shape[1] - 1,
+            )
+        else:
+            idx, bins = beams
         table.relearn(idx, bins, scan.stamp, self.params)
 
     def relearned(self, sensor: str) -> int:
@@ -337,11 +352,18 @@ class BeamHistogramBackground:
                 self.freeze()
         for scan in frame.scans:
             self._poses[scan.sensor] = scan.pose
-        by_name = {scan.sensor: self.foreground_of(scan) for scan in frame.scans}
-        if self._frozen and self.params.relearn_seconds > 0.0:
-            for scan in frame.scans:
-                self._relearn(scan)
+        by_name: dict[str, NDArray[np.bool_]] = {}
+        valid_bins = []
+        for scan in frame.scans:
+            by_name[scan.sensor], beams = self._foreground_and_bins(scan)
+            valid_bins.append(beams)
+        if self._frozen and self.params.relearn_seconds > 0.0:  # (after every foreground)
+            for scan, beams in zip(frame.scans, valid_bins, strict=True):
+                self._relearn(scan, beams)
         pts = frame.points
+        if len(pts.sensors) == 1 and pts.sensors[0] in by_name:  # one laser: no masks
+            fg = by_name[pts.sensors[0]][pts.beams]
+            return replace(frame, foreground=fg)
         fg = np.zeros(len(pts), dtype=bool)
         for i, name in enumerate(pts.sensors):
             if name not in by_name:

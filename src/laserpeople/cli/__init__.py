@@ -1,41 +1,29 @@
 """The ``laserpeople`` command line.
 
-Each command lives in its own module of this package and registers itself with
-:data:`app` through a ``register(app)`` function, so that commands stay small and
-independent. Errors a user can cause (:class:`~laserpeople.errors.LaserPeopleError`)
-are printed as one line and exit with status 1; ``--debug`` shows the traceback.
+Each command lives in its own module of this package and registers itself with the
+program (:func:`make_app`; ``app`` has every command) through a ``register(app)``
+function, so that commands stay small and independent. Errors a user can cause
+(:class:`~laserpeople.errors.LaserPeopleError`) are printed as one line and exit with
+status 1; ``--debug`` shows the traceback.
 
-Start-up stays fast (``laserpeople --help`` well under 0.3 s): the command modules import
-numpy, scipy, the readers and the plotting libraries inside the command functions, never at
-module level (``benchmarks/bench_startup.py`` measures it).
+Start-up stays fast (every ``--help`` under 10 times a bare Python start but the
+program's own, ``benchmarks/bench_startup.py``): the command modules import numpy, scipy,
+the readers and the plotting libraries inside the command functions, never at module
+level; :func:`main` builds only the command it runs (:func:`commands_needed`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import sys
-from collections.abc import Iterator
+import typing
+from collections.abc import Iterator, Sequence
+from importlib import import_module
 from typing import Any
 
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
 
-from laserpeople.cli import (
-    align,
-    batch,
-    bench,
-    demo,
-    detect,
-    evaluate,
-    fit,
-    info,
-    live,
-    scenarios,
-    simulate,
-    track,
-    train,
-    view,
-)
 from laserpeople.cli.common import STATE, err_console
 from laserpeople.errors import LaserPeopleError, cut_long_values
 
@@ -118,6 +106,13 @@ class LaserPeopleGroup(TyperGroup):
                     # makes every usage line read NAME / [NAME] / NAME...
                     param._usage_display_name = _usage_name(param)  # type: ignore[method-assign]
 
+    def get_help_option(self, ctx: Any) -> Any:
+        """The help flag, ``False`` when not given: typer leaves it ``None``, which makes it
+        build a pydantic converter for it (0.1-0.2 s of start-up, pydantic and
+        ``importlib.metadata``) on ``laserpeople COMMAND --help``, where the program's own
+        flags are parsed before the command's help is printed."""
+        return _help_flag_false(super().get_help_option(ctx))
+
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         with _short_usage_errors():
             return super().parse_args(ctx, hoist_global_flags(list(args)))
@@ -127,10 +122,20 @@ class LaserPeopleGroup(TyperGroup):
             return super().invoke(ctx)
 
 
+def _help_flag_false(option: Any) -> Any:
+    """``option`` (a help flag or None) with default ``False`` in place of ``None``."""
+    if option is not None and option.default is None:
+        option.default = False
+    return option
+
+
 @contextlib.contextmanager
 def _short_usage_errors() -> Iterator[None]:
     """Usage errors (a bad option value) echo long values cut to their first characters."""
-    from click.exceptions import UsageError
+    try:  # typer from 0.2x carries its own click; importing click itself costs 10-20 ms
+        from typer._click.exceptions import UsageError
+    except ImportError:
+        from click.exceptions import UsageError  # type: ignore[assignment]
 
     try:
         yield
@@ -139,17 +144,6 @@ def _short_usage_errors() -> Iterator[None]:
         if short == exc.message:
             raise
         raise UsageError(short, ctx=exc.ctx) from exc
-
-
-app = typer.Typer(
-    name="laserpeople",
-    cls=LaserPeopleGroup,
-    no_args_is_help=True,
-    pretty_exceptions_enable=False,
-    rich_markup_mode=None,
-    add_completion=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
-)
 
 
 def version() -> str:
@@ -171,7 +165,6 @@ def _print_version(value: bool) -> None:
         raise typer.Exit()
 
 
-@app.callback(help=HELP)
 def _global_options(
     debug: bool = typer.Option(
         False, "--debug", help="Show full tracebacks on errors (also after the command)."
@@ -192,29 +185,83 @@ def _global_options(
     STATE.quiet = quiet
 
 
-for _module in (
-    info,
-    simulate,
-    scenarios,
-    detect,
-    train,
-    track,
-    evaluate,
-    fit,
-    bench,
-    view,
-    demo,
-    align,
-    batch,
-    live,
-):
-    _module.register(app)
+COMMANDS = (
+    "info",
+    "simulate",
+    "scenarios",
+    "detect",
+    "train",
+    "track",
+    "evaluate",
+    "fit",
+    "bench",
+    "view",
+    "demo",
+    "align",
+    "batch",
+    "live",
+)
+"""The commands in the order ``--help`` lists them; each is the module
+``laserpeople.cli.NAME`` with its ``register(app)``."""
+
+
+def make_app(commands: Sequence[str] = COMMANDS) -> typer.Typer:
+    """The ``laserpeople`` program with the global flags and ``commands`` (default: all)."""
+    program = typer.Typer(
+        name="laserpeople",
+        cls=LaserPeopleGroup,
+        no_args_is_help=True,
+        pretty_exceptions_enable=False,
+        rich_markup_mode=None,
+        add_completion=False,
+        context_settings={"help_option_names": ["-h", "--help"]},
+    )
+    _resolve_annotations(_global_options)
+    program.callback(help=HELP)(_global_options)
+    for name in commands:
+        import_module(f"laserpeople.cli.{name}").register(program)
+    for info in program.registered_commands:
+        _resolve_annotations(info.callback)
+    return program
+
+
+def _resolve_annotations(function: Any) -> None:
+    """Replace the text annotations of ``function`` (``from __future__ import
+    annotations``) by what they name, once: typer evaluates every text annotation of every
+    command four times while building the program (a third of building ``--help``)."""
+    if function is not None and any(
+        isinstance(a, str) for a in getattr(function, "__annotations__", {}).values()
+    ):
+        function.__annotations__ = typing.get_type_hints(function, include_extras=True)
+
+
+def commands_needed(args: Sequence[str]) -> tuple[str, ...]:
+    """The commands the program must build for ``args``: the one named first (after the
+    global flags) when it is a command, none for ``--version`` alone, otherwise all (the
+    program's help, a mistyped command with suggestions). typer builds every registered
+    command, its options and their types before parsing, so a run or a command's help with
+    only its own command is faster by the other commands' share; its output is the same."""
+    rest = [a for a in hoist_global_flags(list(args)) if a not in GLOBAL_FLAGS]
+    if rest == ["--version"]:  # (printed before any command is looked at)
+        return ()
+    if rest and rest[0] in COMMANDS:
+        return (rest[0],)
+    return COMMANDS
+
+
+def __getattr__(name: str) -> Any:
+    """``app``, the program with every command, built on first use (PEP 562)."""
+    if name == "app":
+        program = make_app()
+        globals()["app"] = program
+        return program
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def main() -> None:
     """Entry point of the ``laserpeople`` command."""
     try:
-        app(prog_name="laserpeople")
+        make_app(commands_needed(sys.argv[1:]))(prog_name="laserpeople")
     except LaserPeopleError as exc:
         if STATE.debug:
             raise

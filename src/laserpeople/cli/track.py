@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Protocol
 
@@ -167,7 +168,7 @@ def run_tracking(
         output_sink,
     )
     from laserpeople.pipeline.background import load_static_world
-    from laserpeople.pipeline.static_people import describe_people_model
+    from laserpeople.pipeline.static_people import describe_people_model, describe_static_cost
     from laserpeople.pipeline.static_tracks import StaticTrackFilter
     from laserpeople.tracking import registry
 
@@ -228,6 +229,7 @@ def run_tracking(
     if height_warning:
         warn(height_warning)
     interrupted = False
+    loop_start = time.process_time()
     try:
         for _ in progress(pipe, total=source.total, description="tracking"):
             pass
@@ -250,9 +252,13 @@ def run_tracking(
         foreground = describe_foreground(background_of(pipe.stages))
         if foreground:
             say(foreground)
+    loop_cpu = time.process_time() - loop_start
     people_model = describe_people_model(pipe.tracker, pipe.stages)
     if people_model:
         say(people_model)
+    static_cost = describe_static_cost(pipe, loop_cpu)
+    if static_cost:
+        say(static_cost)
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
     if plot is not None or animate is not None:
         drawn = open_with_poses(recording, world_frame, mounts or [], on_error)

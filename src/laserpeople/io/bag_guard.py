@@ -33,6 +33,7 @@ CHUNK_LIMIT = 256 * 2**20
 """Largest decompressed chunk [bytes] a bag may hold; larger ones are reported corrupt."""
 
 _installed = False
+_installed_ros2 = False
 
 
 def _remaining(src: BinaryIO) -> int | None:
@@ -141,17 +142,24 @@ def _guarded_index_read(original: Callable[..., None], error: type[Exception]) -
     return read_index_data
 
 
-def install() -> None:
-    """Put the bounded helpers into ``rosbags`` (once per process; idempotent)."""
-    global _installed
-    if _installed:
-        return
-    from rosbags.rosbag1 import reader as r1
-    from rosbags.rosbag2 import storage_mcap as mc
+def install(ros2: bool = True) -> None:
+    """Put the bounded helpers into ``rosbags`` (once per process; idempotent): into the
+    ROS 1 reader, and with ``ros2`` into the MCAP reader too (importing it costs 0.1 s: a
+    ROS 1 bag does not need it)."""
+    global _installed, _installed_ros2
+    if not _installed:
+        _install_ros1()
+        _installed = True
+    if ros2 and not _installed_ros2:
+        _install_mcap()
+        _installed_ros2 = True
 
-    e1, e2 = r1.ReaderError, mc.ReaderError
-    m1: Any = r1  # the modules are patched in place: no static types for that
-    m2: Any = mc
+
+def _install_ros1() -> None:
+    from rosbags.rosbag1 import reader as r1
+
+    e1 = r1.ReaderError
+    m1: Any = r1  # the module is patched in place: no static types for that
     if hasattr(r1, "read_bytes"):
         m1.read_bytes = _bounded_read(e1)
     if hasattr(r1, "decompressors"):
@@ -162,6 +170,13 @@ def install() -> None:
         }
     if hasattr(r1, "Reader") and hasattr(r1.Reader, "read_index_data"):
         m1.Reader.read_index_data = _guarded_index_read(r1.Reader.read_index_data, e1)
+
+
+def _install_mcap() -> None:
+    from rosbags.rosbag2 import storage_mcap as mc
+
+    e2 = mc.ReaderError
+    m2: Any = mc  # the module is patched in place: no static types for that
     if hasattr(mc, "read_exact"):
         m2.read_exact = _bounded_read(e2)
     if hasattr(mc, "DECOMPRESSORS"):
@@ -170,7 +185,6 @@ def install() -> None:
             "lz4": _guard(lambda d, n: _lz4(d, n, e2), e2),
             "zstd": _guard(lambda d, n: _zstd(d, n, e2), e2),
         }
-    _installed = True
 
 
 CORRUPT_HINT = (
@@ -246,25 +260,36 @@ def open_reader(
         hint: What the user should do when the bag cannot be opened.
 
     Returns:
-        An open ``rosbags.highlevel.AnyReader`` (close it, or use it in ``with``).
+        An open ``rosbags.highlevel.AnyReader``, or for a ROS 1 bag without ``register``
+        a :class:`~laserpeople.io.ros1_reader.Ros1Reader` with its interface (close it, or
+        use it in ``with``).
 
     Raises:
         RecordingError: The file is missing, or any failure of the parser on a damaged
             file (rosbags' own errors, ``OverflowError``, ``struct.error``, sqlite/apsw
             errors, ``UnicodeDecodeError``, ``MemoryError``), naming the file.
     """
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-
     from laserpeople.errors import RecordingError
 
     p = Path(path)
     if not p.exists():
         raise RecordingError("file not found", path=p, hint="check the path")
-    install()
+    # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
+    # the caller registers types (they reach AnyReader's default typestore)
+    ros1 = p.suffix == ".bag" and register is None
+    install(ros2=not ros1)
     check_bag_file(p)
-    reader = None
+    reader: Any = None
     try:
+        if ros1:
+            from laserpeople.io.ros1_reader import Ros1Reader
+
+            reader = Ros1Reader(p)
+            reader.open()
+            return reader
+        from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
+
         reader = AnyReader([p])
         # ROS 1 bags carry their message definitions: the default types (0.15 s to import)
         # are needed only for ROS 2 bags and for types registered by the caller

@@ -38,12 +38,15 @@ class PipelineStats:
         track_ids: Distinct track ids per kind (runs of consecutive ids, see
             :class:`~laserpeople.distinct_ids.DistinctIds`).
         track_ms: Tracking time per frame [ms] (8 bytes a frame).
+        stage_cpu: Process CPU time [s] each stage of the pipeline (preprocess and
+            observe, in order) took over all frames.
     """
 
     frames: int = 0
     rows: int = 0
     track_ids: dict[str, DistinctIds] = field(default_factory=dict)
     track_ms: array[float] = field(default_factory=lambda: array("d"))
+    stage_cpu: list[float] = field(default_factory=list)
 
     def count(self, kind: TrackKind) -> int:
         """Distinct track ids of one kind."""
@@ -103,14 +106,25 @@ class Pipeline:
             consumers.append((f"tracker {type(tracker).__name__}", tracker))
         consumers += [(f"identifier {type(i).__name__}", i) for i in self.identify]
         self.fields = check_feeds(source_fields, self.stages, consumers)
-        self.stats = PipelineStats()
+        self.stats = PipelineStats(stage_cpu=[0.0] * len(self.stages))
+
+    def stage_cpu(self, stage: object) -> float:
+        """Process CPU time [s] ``stage`` (one of :attr:`stages`) took so far."""
+        return sum(
+            cpu for s, cpu in zip(self.stages, self.stats.stage_cpu, strict=True) if s is stage
+        )
 
     def __iter__(self) -> Iterator[Step]:
         stats = self.stats
         try:
+            clock, stage_cpu = time.process_time, stats.stage_cpu
             for frame in self.source:
-                for stage in self.stages:
+                before = clock()
+                for i, stage in enumerate(self.stages):
                     frame = stage(frame)
+                    after = clock()
+                    stage_cpu[i] += after - before
+                    before = after
                 tracks: Tracks | None = None
                 seconds = 0.0
                 if self.tracker is not None:
@@ -121,8 +135,12 @@ class Pipeline:
                         tracks = ident.update(tracks, frame)
                     stats.track_ms.append(1e3 * seconds)
                     stats.rows += len(tracks)
+                    by_kind = stats.track_ids
                     for t in tracks.tracks:
-                        stats.track_ids.setdefault(t.kind, DistinctIds()).add(t.track_id)
+                        ids = by_kind.get(t.kind)
+                        if ids is None:  # (not setdefault: it would build one per row)
+                            ids = by_kind[t.kind] = DistinctIds()
+                        ids.add(t.track_id)
                 for sink in self.sinks:
                     sink.write(frame, tracks)
                 stats.frames += 1

@@ -29,6 +29,7 @@ sensor-frame run.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -94,6 +95,9 @@ class PeopleStaticModel:
         self._motion_params = motion if motion is not None else static.sensor_motion
         self.motion: SensorMotionCheck | None = None
         self._name = describe_background(model)
+        self.query_cpu = 0.0
+        """Process CPU time [s] spent answering :meth:`static_time` (the stage's own time
+        learning is the pipeline's, :meth:`~laserpeople.pipeline.core.Pipeline.stage_cpu`)."""
         self.fill_foreground = True
         """False when nothing after this stage reads ``foreground`` (the leg MHT does not):
         a model that can learn without it (the occupancy grid) then leaves the frame's
@@ -140,10 +144,14 @@ class PeopleStaticModel:
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
         """How long [s] ``positions`` (M, 2) [m] have been static; zeros once dropped, and in
         a sensor-frame run until the lasers have been seen still for ``still_seconds``."""
+        t0 = time.process_time()
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         if self.model is None or (self.motion is not None and not self.motion.settled):
-            return np.zeros(len(pos))
-        return np.asarray(self.model.static_time(pos), dtype=np.float64)
+            out = np.zeros(len(pos))
+        else:
+            out = np.asarray(self.model.static_time(pos), dtype=np.float64)
+        self.query_cpu += time.process_time() - t0
+        return out
 
     def describe(self) -> str:
         """One line for the user: which model the people tracker used, and in which frame."""
@@ -171,6 +179,35 @@ def people_static_model(
         background_stage("none", map_path)  # raises for --map with none
         return None
     return PeopleStaticModel(choice, map_path, motion, static)
+
+
+def static_world_cpu(pipeline: Any) -> float:
+    """Process CPU time [s] the static world models of ``pipeline`` (a
+    :class:`~laserpeople.pipeline.core.Pipeline`) took so far: the people's model learning
+    and answering the tracker, and the trackers' foreground model."""
+    from laserpeople.pipeline.background import background_of
+
+    models: list[object] = [s for s in pipeline.stages if isinstance(s, PeopleStaticModel)]
+    foreground = background_of(pipeline.stages)
+    if foreground is not None and foreground not in models:
+        models.append(foreground)
+    cpu = sum(pipeline.stage_cpu(m) for m in models)
+    return cpu + sum(m.query_cpu for m in models if isinstance(m, PeopleStaticModel))
+
+
+def describe_static_cost(pipeline: Any, loop_cpu: float) -> str:
+    """One line for the user: what the static world models of ``pipeline`` cost, in CPU
+    seconds, per frame and as a share of ``loop_cpu`` [s], the CPU time of the whole
+    tracking loop (reading, detection, tracking, writing); "" without a model."""
+    cpu = static_world_cpu(pipeline)
+    frames = pipeline.stats.frames
+    if cpu <= 0.0 or frames == 0:
+        return ""
+    share = f", {cpu / loop_cpu:.0%} of the tracking loop's CPU" if loop_cpu > 0.0 else ""
+    return (
+        f"static world model cost: {cpu:.2f} s CPU ({1e3 * cpu / frames:.2f} ms per frame"
+        f"{share}; --background none runs without it)"
+    )
 
 
 class StaticModelUser(Protocol):
@@ -254,7 +291,9 @@ __all__ = [
     "StaticFed",
     "StaticModelUser",
     "describe_people_model",
+    "describe_static_cost",
     "people_static_model",
     "reads_foreground",
+    "static_world_cpu",
     "uses_static_model",
 ]

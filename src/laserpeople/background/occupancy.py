@@ -741,21 +741,6 @@ class OccupancyGrid:
             out.append(best if best > 0.0 else 0.0)
         return out
 
-    def last_seen_free(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Time [s] (M,) a beam last passed through the cell of each of ``positions`` (M, 2)
-        [m] (free-space casting); ``-inf`` where never (or outside the grid)."""
-        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        out = np.full(pos.shape[0], -np.inf)
-        if not self._seen_free.size or not pos.shape[0]:
-            return out
-        base = self._cells(pos) - self._origin
-        h, w = self._seen_free.shape
-        ok = (base[:, 0] >= 0) & (base[:, 0] < h) & (base[:, 1] >= 0) & (base[:, 1] < w)
-        if ok.any():
-            flat = base[ok, 0] * w + base[ok, 1]
-            out[ok] = self._still.value(self._seen_free.reshape(-1), flat)
-        return out
-
     def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
         """Static time [s] (M,) of ``positions`` (M, 2) [m] at the last frame's time: the
         largest over the cells within ``neighbourhood``; ``inf`` on a prior map's obstacle,

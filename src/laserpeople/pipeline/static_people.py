@@ -145,16 +145,6 @@ class PeopleStaticModel:
             return np.zeros(len(pos))
         return np.asarray(self.model.static_time(pos), dtype=np.float64)
 
-    def last_seen_free(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Time [s] a beam last passed through each of ``positions`` (M, 2) [m]
-        (:meth:`~laserpeople.background.occupancy.OccupancyGrid.last_seen_free`); ``-inf``
-        where never, and everywhere for a model without free-space casting or once dropped."""
-        pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        ask = getattr(self.model, "last_seen_free", None)
-        if ask is None or (self.motion is not None and not self.motion.settled):
-            return np.full(len(pos), -np.inf)
-        return np.asarray(ask(pos), dtype=np.float64)
-
     def describe(self) -> str:
         """One line for the user: which model the people tracker used, and in which frame."""
         if self.dropped_at is not None:

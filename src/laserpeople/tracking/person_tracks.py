@@ -322,19 +322,6 @@ class PersonTrackParams:
         "clutter is not",
         "and when that net displacement is at least this share of the path length",
     )
-    free_arrival_llr: float = param(
-        0.0,
-        "trial (docs/moving-robot.md)",
-        "existence bonus of a person candidate born from one leg whose leg track's first "
-        "detection lay on a cell the occupancy grid saw free in an earlier frame, at most "
-        "free_arrival_window before (something arrived there: not furniture); 0: off",
-    )
-    free_arrival_window: float = param(
-        10.0,
-        "assumption: as the occupancy grid's arrival_window",
-        "how long before a leg's first detection its cell must have been seen free",
-        "s",
-    )
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -358,8 +345,6 @@ class PersonTrackParams:
             raise ValueError("wide_min_width must be below wide_max_width")
         if not (self.moving_time > 0 and self.moving_speed >= 0):
             raise ValueError("moving_time must be positive, moving_speed not negative")
-        if not (self.free_arrival_llr >= 0 and self.free_arrival_window >= 0):
-            raise ValueError("free_arrival_llr and free_arrival_window must be >= 0")
         if not 0.0 <= self.moving_straightness <= 1.0:
             raise ValueError("moving_straightness must be in [0, 1]")
         if min(self.pair_std, self.one_leg_std, self.accel_psd, self.pair_distance) <= 0:
@@ -547,10 +532,6 @@ class PersonTracker:
         """Per leg track: (time [s], x, y [m]) of its detections over the last
         ``moving_time`` (and one before), for :func:`moves_consistently`."""
 
-        self._leg_arrived: dict[int, bool] = {}
-        """Per leg track: its first detection lay on a cell seen free in an earlier frame
-        within ``free_arrival_window`` (``free_arrival_llr``)."""
-
     @property
     def approved_legs(self) -> frozenset[int]:
         """Member legs of confirmed people (the *approved* legs of 000 Sec. 3.3.1)."""
@@ -645,26 +626,6 @@ class PersonTracker:
                 path.popleft()
         for gone in [k for k in paths if k not in legs]:
             del paths[gone]
-        if self.params.free_arrival_llr > 0:
-            self._record_arrivals(legs, stamp)
-
-    def _record_arrivals(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
-        """Whether each new detected leg track's cell was seen free in an earlier frame, at
-        most ``free_arrival_window`` before ``stamp`` [s] (static model's
-        ``last_seen_free``; never without one)."""
-        arrived = self._leg_arrived
-        new = [leg for leg in legs.values() if leg.detected and leg.track_id not in arrived]
-        ask = getattr(self.static_model, "last_seen_free", None)
-        if new:
-            if ask is None:
-                seen = [-math.inf] * len(new)
-            else:
-                seen = np.asarray(ask(np.array([leg.position for leg in new]))).tolist()
-            window = self.params.free_arrival_window
-            for leg, t in zip(new, seen, strict=True):
-                arrived[leg.track_id] = stamp - window <= t < stamp - 1e-9
-        for gone in [k for k in arrived if k not in legs]:
-            del arrived[gone]
 
     def _one_leg_on(self) -> bool:
         """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
@@ -838,10 +799,7 @@ class PersonTracker:
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
                     evidence = TWO if self._moves(leg) else ONE
-                    llr = float(self._llr[evidence])
-                    if self._leg_arrived.get(leg.track_id, False):
-                        llr += p.free_arrival_llr
-                    self._new(leg.position, [leg.track_id], stamp, llr)
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
     def _new(
         self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None

@@ -94,8 +94,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Start-up of the command line",
         ("benchmarks/bench_startup.py", "--repeat", "5"),
         0.8,
-        "`laserpeople --help` 0.20 s CPU (`import typer` alone 0.13 s); a command's "
-        "`--help` 0.40 s",
+        "`laserpeople --help` 9.1× and `track --help` 7.6× a bare `python -c pass` (median "
+        "CPU, loaded machine); `import typer` alone is about 6–7×",
+        "speed.md#start-up",
     ),
     Benchmark(
         "pipeline",
@@ -245,13 +246,13 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     ),
     Benchmark(
         "scaling",
-        "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag, "
-        "against another source tree in the same process",
+        "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "log-log slope of cost against people 0.51 (4–40 people); 1.00–1.12× less CPU per "
-        "scan than before the detector work (fixed cost; identical tracks)",
-        "speed.md",
+        "3.89 / 5.14 / 7.97 / 13.20 / 17.28 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(loaded machine); log-log slope of cost against people 0.54 (4–40 people); whole "
+        "`track` on the demo bag 7.5 s CPU, about 170 scans per CPU second",
+        "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),
     Benchmark(

@@ -237,7 +237,9 @@ class LiveRun:
             self.scans, frame=self.frame, grouping=self.grouping, window=self.window
         )
         pipeline = self.make_pipeline(frames, self._kept)
-        pipeline.stats = self.stats
+        if len(self.stats.stage_cpu) != len(pipeline.stages):  # the first pipeline
+            self.stats.stage_cpu = [0.0] * len(pipeline.stages)
+        pipeline.stats = self.stats  # one run's counts over the pipelines of its time jumps
         return frames, pipeline
 
     def steps(self) -> Iterable[Step]:

@@ -15,7 +15,8 @@ skips this): a mutant is only meaningful when they pass::
     PYTHONPATH=src .venv/bin/python benchmarks/mutants.py [--jobs 2] [--only NAME ...]
     PYTHONPATH=src .venv/bin/python benchmarks/mutants.py --list
 
-Exit status 1 when a mutant survives or is stale.
+``--list`` marks stale mutants (without running anything). Exit status 1 when a mutant
+survives or is stale.
 """
 
 from __future__ import annotations
@@ -852,10 +853,14 @@ def main(argv: list[str] | None = None) -> int:
         if unknown:
             ap.error(f"unknown mutant(s): {', '.join(sorted(unknown))} (see --list)")
     if args.list:
+        stale = 0
         for m in chosen:
-            print(f"{m.name:34s} {m.paper:50s} {m.path}")
-        print(f"{len(chosen)} mutants")
-        return 0
+            found = (REPO / "src" / "laserpeople" / m.path).read_text().count(m.original)
+            note = "" if found == 1 else f"  STALE (snippet found {found} times)"
+            stale += found != 1
+            print(f"{m.name:34s} {m.paper:50s} {m.path}{note}")
+        print(f"{len(chosen)} mutants, {stale} stale")
+        return 1 if stale else 0
     if not args.no_baseline:
         tests = tuple(sorted({t for m in chosen for t in m.tests}))
         code, tail = baseline(tests)

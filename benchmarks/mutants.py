@@ -15,7 +15,8 @@ skips this): a mutant is only meaningful when they pass::
     PYTHONPATH=src .venv/bin/python benchmarks/mutants.py [--jobs 2] [--only NAME ...]
     PYTHONPATH=src .venv/bin/python benchmarks/mutants.py --list
 
-Exit status 1 when a mutant survives or is stale.
+``--list`` marks stale mutants (without running anything). Exit status 1 when a mutant
+survives or is stale.
 """
 
 from __future__ import annotations
@@ -75,12 +76,25 @@ REID = (
 FIT = ("tests/test_paper_fit.py", "tests/test_fit.py")
 MEAN_SHIFT = ("tests/test_mean_shift.py",)
 
+CSA_CONFIRM = ("tests/test_track_csa.py", "tests/test_paper_csa.py")
+FEET_REFRESH = ("tests/test_pf_feet_refresh.py", "tests/test_pf_feet_cells.py")
+KEPT = ("tests/test_pf_objects.py", "tests/test_pf_feet_shapes.py")
+PROXEMIC = ("tests/test_groups_random_e2e.py",)
+LISTING = ("tests/test_track_mht_core.py", "tests/test_track_mht_bounds.py")
+HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
+ROS1 = ("tests/test_io_ros1_reader.py",)
+
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
 C = "tracking/csa.py"
 F = "tracking/particle/feet.py"
 U = "tracking/particle/upper_body.py"
 A = "identity/appearance.py"
+O = "tracking/particle/objects.py"  # noqa: E741 (a path, not a letter)
+G = "evaluation/groups.py"
+L = "tracking/mht/listing.py"
+H = "background/beam_histogram.py"
+R = "io/ros1_reader.py"
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- 000 group tracker (Sec. 4)
@@ -583,6 +597,154 @@ MUTANTS: tuple[Mutant, ...] = (
         "kernel = np.exp(np.maximum(d2, 0.0) * np.float32(-0.5 / (zeta * zeta)))",
         PF,
     ),
+    # ---- extensions: CSA confirmation, feet-pf cell refresh and shared clustering, the
+    # proxemic group truth, the leg MHT's listing budget, the per-beam histogram's
+    # foreground of a frame, the ROS 1 reader's MD5 check
+    Mutant(
+        "csa-confirm-no-reset",
+        "CSA confirm_scans (a miss restarts the count)",
+        C,
+        "hits = t.hits if t.hits >= p.confirm_scans else 0",
+        "hits = t.hits",
+        CSA_CONFIRM,
+    ),
+    Mutant(
+        "csa-confirm-off-by-one",
+        "CSA confirm_scans (reported at the n-th scan)",
+        C,
+        "return t.born == -math.inf or t.hits >= self.params.confirm_scans",
+        "return t.born == -math.inf or t.hits > self.params.confirm_scans",
+        CSA_CONFIRM,
+    ),
+    Mutant(
+        "csa-confirm-lost-on-miss",
+        "CSA confirm_scans (a confirmed target stays so)",
+        C,
+        "hits = t.hits if t.hits >= p.confirm_scans else 0",
+        "hits = 0",
+        CSA_CONFIRM,
+    ),
+    Mutant(
+        "feet-cell-refresh-inverted",
+        "feet-pf cell_refresh (refresh when farther)",
+        F,
+        "(count >= p.still_points) & (off > p.cell_refresh)",
+        "(count >= p.still_points) & (off < p.cell_refresh)",
+        FEET_REFRESH,
+    ),
+    Mutant(
+        "feet-cell-refresh-split-at-feet",
+        "feet-pf cell_refresh (feet from the cell's centre)",
+        F,
+        "self._refresh(int(f), _two_feet(pts[owner == f], mean[f], cov[f]))",
+        "self._refresh(int(f), _two_feet(pts[owner == f], est[f], cov[f]))",
+        FEET_REFRESH,
+    ),
+    Mutant(
+        "feet-refresh-share-complement",
+        "feet-pf refresh_share (share restarted)",
+        F,
+        "k = round(p.refresh_share * p.particles)",
+        "k = round((1.0 - p.refresh_share) * p.particles)",
+        FEET_REFRESH,
+    ),
+    Mutant(
+        "kept-labels-pieces-one-object",
+        "feet-pf kept_labels (kept pieces linked again)",
+        O,
+        "sub[part] = n + again",
+        "sub[part] = n + 0 * again",
+        KEPT,
+    ),
+    Mutant(
+        "kept-labels-numbered-by-label",
+        "feet-pf kept_labels (numbered by first point)",
+        O,
+        'rank[np.argsort(first, kind="stable")] = np.arange(first.size)',
+        "rank[np.arange(first.size)] = np.arange(first.size)",
+        KEPT,
+    ),
+    Mutant(
+        "proxemic-near-or-alike",
+        "000 Sec. 4.2 proxemic truth (near and alike)",
+        G,
+        "if np.any(near & alike):",
+        "if np.any(near | alike):",
+        PROXEMIC,
+    ),
+    Mutant(
+        "proxemic-body-centres",
+        "000 Sec. 4.2 proxemic truth (leg to leg)",
+        G,
+        "if not np.all(np.isfinite(legs)):",
+        "if np.all(np.isfinite(legs)):",
+        PROXEMIC,
+    ),
+    Mutant(
+        "proxemic-every-leg",
+        "000 Sec. 4.2 proxemic truth (any leg pair)",
+        G,
+        "near = near.reshape(len(a), 2, len(b), 2).any(axis=(1, 3))",
+        "near = near.reshape(len(a), 2, len(b), 2).all(axis=(1, 3))",
+        PROXEMIC,
+    ),
+    Mutant(
+        "listing-budget-never-murty",
+        "leg MHT listing budget (out of steps: Murty)",
+        L,
+        "if budget <= 0:\n            return None\n        steps = budget",
+        "if budget <= 0:\n            return None\n        steps = 0",
+        LISTING,
+    ),
+    Mutant(
+        "listing-budget-off-by-one",
+        "leg MHT listing budget (steps counted)",
+        L,
+        "if self.left < 0:\n            raise _OutOfStepsError\n        super()._measurements(",
+        "if self.left < -1:\n            raise _OutOfStepsError\n        super()._measurements(",
+        LISTING,
+    ),
+    Mutant(
+        "listing-budget-tracks-free",
+        "leg MHT listing budget (a track labelled is a step)",
+        L,
+        "self.left -= 1\n        if self.left < 0:\n            raise _OutOfStepsError\n"
+        "        super()._tracks(",
+        "super()._tracks(",
+        LISTING,
+    ),
+    Mutant(
+        "listing-budget-everywhere",
+        "leg MHT listing budget (only over the limit)",
+        L,
+        "steps = 0  # listing steps allowed (0: no budget)",
+        "steps = budget  # listing steps allowed (0: no budget)",
+        LISTING,
+    ),
+    Mutant(
+        "histogram-one-laser-first-points",
+        "004 Sec. 2 histogram foreground (per point's beam)",
+        H,
+        "fg = by_name[pts.sensors[0]][pts.beams]",
+        "fg = by_name[pts.sensors[0]][: len(pts)]",
+        HISTOGRAM,
+    ),
+    Mutant(
+        "histogram-one-mask-for-all-lasers",
+        "004 Sec. 2 histogram foreground (per laser)",
+        H,
+        "if len(pts.sensors) == 1 and pts.sensors[0] in by_name:",
+        "if pts.sensors[0] in by_name:",
+        HISTOGRAM,
+    ),
+    Mutant(
+        "ros1-md5-skipped",
+        "ROS 1 reader (message definitions vs MD5 sums)",
+        R,
+        "if conn.digest:\n                    digests[conn.msgtype] = conn.digest",
+        "if not conn.digest:\n                    digests[conn.msgtype] = conn.digest",
+        ROS1,
+    ),
     # ---- fit (000's counting of events) and mean shift (004)
     Mutant(
         "fit-ps-pg-swapped",
@@ -691,10 +853,14 @@ def main(argv: list[str] | None = None) -> int:
         if unknown:
             ap.error(f"unknown mutant(s): {', '.join(sorted(unknown))} (see --list)")
     if args.list:
+        stale = 0
         for m in chosen:
-            print(f"{m.name:34s} {m.paper:50s} {m.path}")
-        print(f"{len(chosen)} mutants")
-        return 0
+            found = (REPO / "src" / "laserpeople" / m.path).read_text().count(m.original)
+            note = "" if found == 1 else f"  STALE (snippet found {found} times)"
+            stale += found != 1
+            print(f"{m.name:34s} {m.paper:50s} {m.path}{note}")
+        print(f"{len(chosen)} mutants, {stale} stale")
+        return 1 if stale else 0
     if not args.no_baseline:
         tests = tuple(sorted({t for m in chosen for t in m.tests}))
         code, tail = baseline(tests)

@@ -230,3 +230,37 @@ def test_the_paper_preset_keeps_every_frequent_bin() -> None:
     # `track --preset paper` reads the static world with the preset
     assert load_static_world(None, "paper").beam_histogram.farthest is False
     assert load_static_world(None).beam_histogram.farthest is True
+
+
+def test_a_frames_foreground_is_per_point_of_each_laser() -> None:
+    """Two lasers learned on their walls; then laser a has no return on beams 10-19 and
+    sees a person on beams 90-95, laser b a person on beams 30-33. The frame's foreground
+    holds one entry per point (beams without a return have none): True on exactly the
+    points of a's beams 90-95 and b's beams 30-33; a frame of laser a alone, True on
+    exactly its points of beams 90-95."""
+    rng = np.random.default_rng(4)
+    learn = [
+        _scan(_walls() + rng.normal(0, 0.01, 181), 0.1 * k, sensor=s, index=k)
+        for k in range(20)
+        for s in ("a", "b")
+    ]
+    model = BeamHistogramBackground().learn_scans(learn)
+    ra = _walls() + rng.normal(0, 0.01, 181)
+    ra[10:20] = np.nan
+    ra[90:96] = 2.0
+    rb = _walls() + rng.normal(0, 0.01, 181)
+    rb[30:34] = 1.5
+    a, b = _scan(ra, 5.0, "a", 50), _scan(rb, 5.0, "b", 50)
+    out = model(_frame([a, b]))
+    pts = out.points
+    assert out.foreground is not None and pts is not None
+    assert len(out.foreground) == len(pts) == 171 + 181
+    names = np.asarray(pts.sensors)[pts.sensor_ids]
+    want = ((names == "a") & (pts.beams >= 90) & (pts.beams < 96)) | (
+        (names == "b") & (pts.beams >= 30) & (pts.beams < 34)
+    )
+    assert np.array_equal(out.foreground, want)
+    alone = model(_frame([_scan(ra, 5.1, "a", 51)]))
+    assert alone.foreground is not None and alone.points is not None
+    assert len(alone.foreground) == 171
+    assert sorted(alone.points.beams[alone.foreground].tolist()) == list(range(90, 96))

@@ -15,6 +15,7 @@ from laserpeople.evaluation.groups import (
     JOINED_ID,
     PROXEMIC_SPEED,
     group_truth,
+    near_and_alike,
     proxemic_truth,
     run_groups,
 )
@@ -106,3 +107,24 @@ def test_proxemic_truth_keeps_groups_apart_that_move_differently() -> None:
     slow = _frame([[0.0, 0.0], [0.5, 0.0], [1.1, 0.0]], [[0, 0.6], [0, 0.6], [0, 0.2]], [4, 4, -1])
     assert proxemic_truth(slow, 1.3).person_ids.tolist() == [JOINED_ID + 4]
     assert pytest.approx(0.5) == PROXEMIC_SPEED
+
+
+def test_proxemic_truth_measures_from_leg_to_leg() -> None:
+    # person 0 (group 0) at x = 0 with legs at -0.3 and 0.3 (a long stride along x) and
+    # person 1 (group 1) at x = 1.2 with legs at 0.9 and 1.5, both standing: bodies 1.2 m
+    # apart, nearest legs 0.6 m, farthest 1.8 m. At d_P 0.8 m one leg pair is within it:
+    # joined at the mean (0.6, 0); at d_P 0.5 m none is
+    pos = np.array([[0.0, 0.0], [1.2, 0.0]])
+    legs = np.array([[[-0.3, 0.0], [0.3, 0.0]], [[0.9, 0.0], [1.5, 0.0]]])
+    frame = TruthFrame(0.0, 0, np.arange(2), pos, np.zeros((2, 2)), np.array([0, 1]), legs,
+                       np.zeros(2))  # fmt: skip
+    near, alike = near_and_alike(frame, np.array([0]), np.array([1]), 0.8)
+    assert near.tolist() == [[True]] and alike.tolist() == [[True]]
+    out = proxemic_truth(frame, 0.8)
+    assert out.person_ids.tolist() == [JOINED_ID + 0]
+    np.testing.assert_allclose(out.positions, [[0.6, 0.0]], atol=1e-12)
+    assert sorted(proxemic_truth(frame, 0.5).person_ids.tolist()) == [0, 1]
+    # without legs (NaN) the body centres, 1.2 m apart: joined at d_P 1.3 m, not at 0.8 m
+    blind = replace(frame, leg_positions=np.full((2, 2, 2), np.nan))
+    assert proxemic_truth(blind, 1.3).person_ids.tolist() == [JOINED_ID + 0]
+    assert sorted(proxemic_truth(blind, 0.8).person_ids.tolist()) == [0, 1]

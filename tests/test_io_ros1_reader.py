@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from rosbags.highlevel import AnyReader
+from rosbags.highlevel import AnyReader, AnyReaderError
 
 from laserpeople.io.bag_guard import open_reader
 from laserpeople.io.ros1_reader import Ros1Reader, Ros1ReaderError
@@ -78,3 +78,37 @@ def test_reading_a_ros1_bag_imports_no_ros2_reader(tmp_path: Path) -> None:
         env={"PYTHONPATH": src, "PATH": ""},
     ).stdout
     assert out.strip() == "4 []"
+
+
+def test_a_definition_that_disagrees_with_its_md5_sum_is_refused(tmp_path: Path) -> None:
+    """A connection whose MD5 sum is not its message definition's (a bag written with
+    another version of the type) is refused on open, naming the type, as AnyReader
+    refuses it; through open_reader as a RecordingError naming the file."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from laserpeople.errors import RecordingError
+
+    path = tmp_path / "wrong_md5.bag"
+    ts = get_typestore(Stores.ROS1_NOETIC)
+    with Writer(path) as writer:
+        msgdef, md5 = ts.generate_msgdef("std_msgs/msg/Int32")
+        assert md5 != "0" * 32
+        conn = writer.add_connection("/n", "std_msgs/msg/Int32", msgdef=msgdef, md5sum="0" * 32)
+        msg = ts.types["std_msgs/msg/Int32"](data=7)
+        writer.write(conn, 10**9, ts.serialize_ros1(msg, "std_msgs/msg/Int32"))
+    with pytest.raises(Ros1ReaderError, match=r"std_msgs/msg/Int32.*hash mismatch"):
+        Ros1Reader(path).open()
+    with pytest.raises(AnyReaderError), AnyReader([path]):
+        pass
+    with pytest.raises(RecordingError) as err:
+        open_reader(path)
+    assert str(path) in str(err.value)
+    # the same bag with the right sum reads
+    good = tmp_path / "right_md5.bag"
+    with Writer(good) as writer:
+        conn = writer.add_connection("/n", "std_msgs/msg/Int32", typestore=ts)
+        writer.write(conn, 10**9, ts.serialize_ros1(msg, "std_msgs/msg/Int32"))
+    with Ros1Reader(good) as reader:
+        ((c, _, raw),) = list(reader.messages())
+        assert reader.deserialize(raw, c.msgtype).data == 7  # type: ignore[attr-defined]

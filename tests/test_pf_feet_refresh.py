@@ -50,3 +50,26 @@ def test_no_refresh_while_the_cell_is_centred_on_the_feet() -> None:
             tr.update(frame_of(pts, k / 15.0, k))
         runs.append(tr.bank.states.copy())
     assert np.allclose(runs[0], runs[1], atol=1e-12)
+
+
+def test_a_refresh_restarts_refresh_share_of_the_particles_at_the_mean_weight() -> None:
+    """``_refresh`` with 100 particles and ``refresh_share`` 0.2: exactly 20 particles are
+    restarted (the other 80 keep their states and their weights relative to each other),
+    each with weight 1/100 before the filter's weights are normalised again. The old
+    weights are 0.02 on particles 0-49 and 0 on 50-99, so after the refresh a restarted
+    particle weighs 0.01 / (1 - 0.02 a + 0.2), a the restarted ones among 0-49."""
+    tr = FeetTracker(FeetParams(particles=100, refresh_share=0.2))
+    tr.bank.add(np.stack([tr._initial(np.array([[-0.1, 2.0], [0.1, 2.0]]))]), 0.0)
+    old_w = np.r_[np.full(50, 0.02), np.zeros(50)]
+    tr.bank.weights[0] = old_w
+    before = tr.bank.states[0].copy()
+    tr._refresh(0, np.array([[1.9, 0.0], [2.1, 0.0]]))  # feet 2 m away: every draw differs
+    changed = np.flatnonzero(np.any(np.abs(tr.bank.states[0] - before) > 1e-9, axis=1))
+    assert changed.size == 20
+    a = int(np.count_nonzero(changed < 50))
+    total = 1.0 - 0.02 * a + 0.2
+    w = tr.bank.weights[0]
+    assert w.sum() == pytest.approx(1.0, abs=1e-9)
+    np.testing.assert_allclose(w[changed], 0.01 / total, rtol=1e-9)
+    kept = np.setdiff1d(np.arange(100), changed)
+    np.testing.assert_allclose(w[kept], old_w[kept] / total, rtol=1e-9, atol=1e-15)

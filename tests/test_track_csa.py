@@ -300,3 +300,15 @@ def test_a_new_target_is_reported_once_seen_in_confirm_scans_in_a_row() -> None:
     assert ids(CSAParams()) == [[]] + [[0]] * 19
     assert ids(CSAParams(confirm_scans=3)) == [[], []] + [[0]] * 18
     assert ids(CSAParams(confirm_scans=1)) == [[0, 1]] * 20
+
+
+def test_a_confirmed_target_missed_for_a_scan_stays_reported() -> None:
+    """Confirmation is earned once: a person confirmed in scans 0-1 and not seen in scan 5
+    (within ``max_unseen``) is reported in scan 5 at its prediction and after it, with
+    the id it had (a tracker that restarts the count on every miss hides it for scans
+    5-6). A person seen throughout is reported from scan 1 on."""
+    frames = _standing([lambda k: (0.0, 3.0), lambda k: None if k == 5 else (3.0, 3.0)], 12)
+    assert CSAParams().max_unseen >= 0.1
+    csa = ClusterSortingTracker(CSAParams(confirm_scans=2))
+    ids = [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+    assert ids == [[]] + [[0, 1]] * 11

@@ -348,3 +348,31 @@ def test_listing_with_many_equal_costs_matches_murty_costs() -> None:
     for _, dec, _ in fast:
         used = [j for j in dec.track_measurement if j >= 0]
         assert len(used) == len(set(used))
+
+
+def test_the_listing_budget_counts_every_track_and_measurement_labelled() -> None:
+    """Steps counted by hand (``limit=0``: every cluster is over the limit; no shortcut).
+
+    - One measurement, no track (new -ln 0.01 = 4.605, false alarm -ln 0.02 = 3.912):
+      the first measurement step, then one per label: 3 steps. A budget of 3 lists both
+      children, 2 gives up (None: Murty's turn).
+    - Two tracks without measurements (occluded -ln 0.3, obsolete -ln 0.2 each): track 0
+      once, track 1 once per label of track 0: 3 steps, four children 2.408, 2.813,
+      2.813, 3.219. A budget of 3 lists them, 2 gives up.
+    - Under the listing limit no budget applies: a budget of 1 lists all four."""
+    from laserpeople.tracking.mht.listing import enumerate_children as listed
+
+    ln, lf = np.log([0.01]), np.log([0.02])
+    one = ([0.0], [[]], np.zeros((0, 1)), np.zeros((0, 3)), ln, lf, 5, 9.0)
+    assert listed(*one, limit=0, shortcut=False, budget=2) is None
+    got = listed(*one, limit=0, shortcut=False, budget=3)
+    assert got is not None
+    np.testing.assert_allclose([c for *_, c in got], [-math.log(0.02), -math.log(0.01)])
+    lp = np.log(np.tile([0.5, 0.3, 0.2], (2, 1)))
+    two = ([0.0], [[0, 1]], np.zeros((2, 0)), lp, np.zeros(0), np.zeros(0), 5, 9.0)
+    assert listed(*two, limit=0, shortcut=False, budget=2) is None
+    a, b = -math.log(0.3), -math.log(0.2)
+    for kw in ({"limit": 0, "budget": 3}, {"budget": 1}):
+        got = listed(*two, shortcut=False, **kw)
+        assert got is not None, kw
+        np.testing.assert_allclose([c for *_, c in got], [2 * a, a + b, a + b, 2 * b])

@@ -597,12 +597,8 @@ class StillDetector:
             anchors[kept] = self._anchors[j[kept]]
             since[kept] = self._since[j[kept]]
         self._anchors, self._since = anchors, since
-        out = []
-        for k, c in zip(
-            ok[stamp - since >= p.still_time], mean[ok][stamp - since >= p.still_time], strict=True
-        ):
-            out.append(_two_feet(points[labels == k], c, cov[k]))
-        return out
+        still = ok[stamp - since >= p.still_time]
+        return [_two_feet(points[labels == k], mean[k], cov[k]) for k in still]
 
 
 def _two_feet(

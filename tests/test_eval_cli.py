@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -218,3 +219,22 @@ def test_frame_table_csv_and_join(tmp_path):
     ]
     with pytest.raises(ValueError, match="different frames"):
         a.join(FrameTable(("scan", "stamp", "y"), ((5, 0.0, 1), (4, 0.0, 2))))
+
+
+def test_cli_warns_when_no_track_comes_near_any_label(tmp_path):
+    """Truth moved 10 m away (labels in another frame): the scores are all misses, and the
+    user is told to check the frames; with the truth in place there is no such warning."""
+    truth, tracks = scene()
+    write_tracks(tmp_path / "tracks.csv", tracks)
+    far = [replace(f, positions=f.positions + 10.0) for f in truth]
+    for name, frames in (("near.csv", truth), ("far.csv", far)):
+        write_truth_csv(tmp_path / name, frames)
+
+    def run(name):
+        args = ["evaluate", str(tmp_path / "tracks.csv"), "--truth", str(tmp_path / name)]
+        result = CliRunner().invoke(app, args)
+        assert result.exit_code == 0, result.output
+        return result.output
+
+    assert "same frame" in run("far.csv") and "--output-frame sensor" in run("far.csv")
+    assert "same frame" not in run("near.csv")

@@ -3,14 +3,18 @@ first scans lack a pose (skipped and counted), and --mount for bags."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
 from laserpeople.errors import LaserPeopleError
 from laserpeople.io import write_recording
+from laserpeople.scan import Pose2D
+from laserpeople.truth import TruthFrame
 from laserpeople.viz import Scene
 from test_viz_support import make_scans
 
@@ -67,3 +71,30 @@ def test_view_unwritable_output_and_directory_tracks(tmp_path: Path) -> None:
     )
     assert isinstance(res.exception, LaserPeopleError)
     assert "is a directory, not a tracks CSV" in str(res.exception)
+
+
+def test_truth_in_the_laser_frame_is_drawn_where_the_person_is() -> None:
+    """Labels in each scan's laser frame (the leg_tracker benchmark's) are moved into the
+    world for a world-frame picture and left as they are in the sensor frame; labels in the
+    world frame the other way round. Sensor at (1, -2), turned 90 degrees: a label 2 m ahead
+    of the laser is at (1, 0) in the world."""
+    pose = Pose2D(1.0, -2.0, math.pi / 2)
+    scans = make_scans(2, pose=pose)
+    ahead = [TruthFrame.from_positions(s.stamp, s.index, np.array([7]), np.array([[2.0, 0.0]]))
+             for s in scans]  # fmt: skip
+    world = [replace(f, positions=np.array([[1.0, 0.0]])) for f in ahead]
+
+    def drawn(truth: list[TruthFrame], frame: str, truth_frame: str) -> np.ndarray:
+        scene = Scene(scans, None, truth, frame=frame, truth_frame=truth_frame)  # type: ignore[arg-type]
+        got = [f.truth for f in scene.frames()]
+        assert all(t is not None for t in got)
+        return np.concatenate([t.positions for t in got if t is not None])
+
+    tol = 1e-9  # one rotation and translation of exact inputs
+    np.testing.assert_allclose(drawn(ahead, "world", "sensor"), [[1.0, 0.0]] * 2, atol=tol)
+    np.testing.assert_allclose(drawn(ahead, "sensor", "sensor"), [[2.0, 0.0]] * 2, atol=tol)
+    np.testing.assert_allclose(drawn(world, "sensor", "world"), [[2.0, 0.0]] * 2, atol=tol)
+    np.testing.assert_allclose(drawn(world, "world", "world"), [[1.0, 0.0]] * 2, atol=tol)
+    # without --truth-frame the truth is taken in the tracks' frame
+    assert Scene(scans, None, ahead, tracks_frame="sensor").truth_frame == "sensor"
+    assert Scene(scans, None, ahead).truth_frame == "world"

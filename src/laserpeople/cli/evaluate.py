@@ -241,6 +241,13 @@ def register(app: typer.Typer) -> None:
                 "and were not scored"
             )
             _stamp_check(pairing)
+        if report.nothing_matched():
+            warn(
+                f"no {kind} track came within {params.gate:g} m of any labelled person: are "
+                "the truth and the tracks in the same frame? Labels in each scan's laser frame "
+                "(as the leg_tracker benchmark's) need tracks written with "
+                "`track --output-frame sensor`"
+            )
         if as_json:
             out = report.to_json_dict()
             for key in ("identity_matching", "schenk_matching"):

@@ -103,9 +103,17 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--truth",
                 help="Ground truth, as evaluate reads it: a CSV scan,stamp,person_id,x,y, "
-                "BAG:/topic (a people topic of a bag) or 'recording'; positions in the frame "
-                "the tracks are in (the laser's for a bag's people topic). Default: the "
+                "BAG:/topic (a people topic of a bag) or 'recording'. Default: the "
                 "recording's own truth when it has some.",
+            ),
+        ] = None,
+        truth_frame: Annotated[
+            str | None,
+            typer.Option(
+                "--truth-frame",
+                help="Frame of the --truth positions (world/sensor: each scan's laser frame, "
+                "as the leg_tracker benchmark labels); default sensor for a bag's people "
+                "topic, else the tracks' frame.",
             ),
         ] = None,
         no_truth: Annotated[
@@ -164,8 +172,9 @@ def register(app: typer.Typer) -> None:
         """Draw a recording with its tracks and ground truth, or export it for Foxglove/rerun."""
         if frame not in _FRAMES:
             raise LaserPeopleError(f"--frame {frame!r} is not one of {', '.join(_FRAMES)}")
-        if tracks_frame is not None and tracks_frame not in ("world", "sensor"):
-            raise LaserPeopleError(f"--tracks-frame {tracks_frame!r} is not world or sensor")
+        for option, value in (("--tracks-frame", tracks_frame), ("--truth-frame", truth_frame)):
+            if value is not None and value not in ("world", "sensor"):
+                raise LaserPeopleError(f"{option} {value!r} is not world or sensor")
         truth_arg: str | None = None if no_truth else (truth or "auto")
         from laserpeople.io.paths import check_outputs
 
@@ -184,14 +193,15 @@ def register(app: typer.Typer) -> None:
 
                 notes: list[str] = []
                 truth_input = list(truth_frames(truth_file, first_topic, notes, on_error))
+                truth_frame = truth_frame or "sensor"  # a people topic's laser frame
                 for note in notes:
                     say(note)
         size_px, extent_m, fps = _parse_size(size), _parse_extent(extent), _check_fps(fps)
         source = open_with_poses(recording, world_frame, mount or [], on_error)
         try:  # the recording is closed on every path, the error paths included
             result, scene = _draw(
-                source, recording, output, tracks, tracks_frame, truth_input, asked, frame,
-                (start, stop, every), scan, size_px, extent_m, fps, trail,
+                source, recording, output, tracks, (tracks_frame, truth_frame), truth_input,
+                asked, frame, (start, stop, every), scan, size_px, extent_m, fps, trail,
             )  # fmt: skip
         finally:
             source.close()
@@ -220,7 +230,7 @@ def _draw(
     recording: Path,
     output: Path,
     tracks: Path | None,
-    tracks_frame: str | None,
+    frames: tuple[str | None, str | None],
     truth_input: Any,
     asked: list[str] | None,
     frame: str,
@@ -232,7 +242,9 @@ def _draw(
     trail: int,
 ) -> tuple[Any, Any]:
     """Check the tracks against the recording, build the scene and render it; returns the
-    render result and the scene. The caller closes ``source``."""
+    render result and the scene. ``frames`` are the tracks' and the truth's frames (None:
+    the default). The caller closes ``source``."""
+    tracks_frame, truth_frame = frames
     from laserpeople.pipeline import resolve_topics
     from laserpeople.viz import Scene, render
 
@@ -258,6 +270,7 @@ def _draw(
         other_topics=tuple(drawn[1:]),
         frame=frame,  # type: ignore[arg-type]
         tracks_frame=tracks_frame,  # type: ignore[arg-type]
+        truth_frame=truth_frame,  # type: ignore[arg-type]
         start=start,
         stop=stop,
         every=every,

@@ -67,6 +67,13 @@ class EvaluationReport:
         }
         return {k: _finite_or_none(values[k]) for k in SUMMARY_KEYS}
 
+    def nothing_matched(self) -> bool:
+        """True when there were tracks and people to score and no track came within the
+        gate of anybody: most often truth and tracks in different frames (labels in each
+        scan's laser frame, tracks in the world frame), not a tracker that missed everyone."""
+        c = self.clear_mot
+        return c.matches == 0 and c.num_tracks > 0 and c.num_truth > 0
+
     def to_json_dict(self) -> dict[str, Any]:
         """:meth:`summary` plus everything else under ``"detail"`` (JSON-safe: NaN -> None)."""
         detail: dict[str, Any] = {

@@ -71,12 +71,22 @@ def plot_tracks(
     topic: str | None = None,
     frame: FrameChoice = "auto",
     tracks_frame: CoordinateFrame | None = None,
+    truth_frame: CoordinateFrame | None = None,
     scan: int | None = None,
 ) -> RenderResult:
     """PNG of a recording's tracks: the trajectory overview, or one scan when ``scan`` is
     given. ``tracks`` is a tracks CSV or a sequence of :class:`Tracks`; ``truth`` a truth
-    CSV, a sequence of truth frames, ``"auto"`` (the recording's own, if any) or None."""
-    scene = Scene(recording, tracks, truth, topic=topic, frame=frame, tracks_frame=tracks_frame)
+    CSV, a sequence of truth frames, ``"auto"`` (the recording's own, if any) or None;
+    ``truth_frame`` the frame of a given truth's positions (None: the tracks' frame)."""
+    scene = Scene(
+        recording,
+        tracks,
+        truth,
+        topic=topic,
+        frame=frame,
+        tracks_frame=tracks_frame,
+        truth_frame=truth_frame,
+    )
     return render(scene, out, scan=scan)
 
 
@@ -89,6 +99,7 @@ def animate_tracks(
     topic: str | None = None,
     frame: FrameChoice = "auto",
     tracks_frame: CoordinateFrame | None = None,
+    truth_frame: CoordinateFrame | None = None,
     every: int = 1,
     fps: float | None = None,
     progress: ProgressFn | None = None,
@@ -96,6 +107,13 @@ def animate_tracks(
     """GIF/MP4 (by extension) of a recording's tracks, one frame per ``every``-th scan;
     ``progress`` is e.g. ``lambda it, n: cli.common.progress(it, n, "drawing")``."""
     scene = Scene(
-        recording, tracks, truth, topic=topic, frame=frame, tracks_frame=tracks_frame, every=every
+        recording,
+        tracks,
+        truth,
+        topic=topic,
+        frame=frame,
+        tracks_frame=tracks_frame,
+        truth_frame=truth_frame,
+        every=every,
     )
     return render(scene, out, fps=fps, progress=progress)

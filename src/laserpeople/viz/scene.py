@@ -78,15 +78,17 @@ def _aligned(stream: Iterator[T]) -> Callable[[int], T | None]:
     return at
 
 
-def _transform_truth(truth: TruthFrame, pose: Pose2D) -> TruthFrame:
-    """Truth (world frame) in the sensor frame of ``pose``."""
+def _transform_truth(truth: TruthFrame, pose: Pose2D, to: CoordinateFrame) -> TruthFrame:
+    """Truth expressed in frame ``to`` (``"sensor"``: from the world into the sensor frame
+    of ``pose``; ``"world"``: from that sensor frame into the world)."""
     legs = truth.leg_positions.reshape(-1, 2)
     rot = pose.rotation()
+    move = pose.inverse_transform_points if to == "sensor" else pose.transform_points
     return replace(
         truth,
-        positions=pose.inverse_transform_points(truth.positions),
-        velocities=truth.velocities @ rot,
-        leg_positions=pose.inverse_transform_points(legs).reshape(-1, 2, 2),
+        positions=move(truth.positions),
+        velocities=truth.velocities @ (rot if to == "sensor" else rot.T),
+        leg_positions=move(legs).reshape(-1, 2, 2),
     )
 
 
@@ -105,6 +107,9 @@ class Scene:
             else sensor.
         tracks_frame: The frame the tracks CSV was written in; None means world when the
             scans carry a sensor pose, else sensor (what ``laserpeople track`` writes).
+        truth_frame: The frame of the positions in a truth CSV or sequence (``"sensor"``:
+            each scan's laser frame, as the leg_tracker benchmark labels); None means the
+            tracks' frame. The recording's own truth is always in the world frame.
         start: First scan index drawn (0-based on the topic, inclusive).
         stop: Scan index to stop before (exclusive); None runs to the end.
         every: Draw every ``every``-th scan of the window.
@@ -123,6 +128,7 @@ class Scene:
         topic: str | None = None,
         frame: FrameChoice = "auto",
         tracks_frame: CoordinateFrame | None = None,
+        truth_frame: CoordinateFrame | None = None,
         start: int | None = None,
         stop: int | None = None,
         every: int = 1,
@@ -167,6 +173,10 @@ class Scene:
             )
         self.frame: CoordinateFrame = auto if frame == "auto" else frame
         self.tracks_frame: CoordinateFrame = tracks_frame or auto
+        own_truth = isinstance(truth, str) and truth in ("auto", "recording")
+        self.truth_frame: CoordinateFrame = (
+            "world" if own_truth else truth_frame or self.tracks_frame
+        )
 
     # -- inputs --------------------------------------------------------------------------
     def _open(self) -> tuple[Iterator[Scan], Iterator[TruthFrame] | None, Callable[[], None]]:
@@ -375,8 +385,8 @@ class Scene:
             tracks = convert_tracks(
                 replace(tracks, sensor_pose=tracks.sensor_pose or pose), self.frame
             )
-        if truth is not None and self.frame == "sensor" and pose is not None:
-            truth = _transform_truth(truth, pose)
+        if truth is not None and self.truth_frame != self.frame and pose is not None:
+            truth = _transform_truth(truth, pose, self.frame)
         if self.other_topics:
             points = np.concatenate([points, self._other_points(scan)])
         return SceneFrame(scan, points, sensor_pose, tracks, truth)

@@ -175,6 +175,18 @@ def test_initiate_batch_equals_initiate_one_by_one() -> None:
     assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)
 
 
+def _predict_all(
+    cases: list[tuple[np.ndarray, np.ndarray, np.ndarray, float, float]],
+) -> list[tuple[np.ndarray, ...]]:
+    """:func:`kalman.predict` and :func:`kalman.predict_and_coast` of each case (means,
+    covariances, steps, acceleration PSD, tau), in turn."""
+    out = []
+    for means, covs, dt, q, tau in cases:
+        out.append(kalman.predict(means, covs, dt, q))
+        out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
+    return out
+
+
 @pytest.mark.regression
 def test_few_tracks_predict_and_coast_are_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
@@ -196,11 +208,7 @@ def test_few_tracks_predict_and_coast_are_the_array_path(
         cases.append((means, covs, dt, float(rng.uniform(0.1, 3.0)), tau))
 
     def run() -> list[tuple[np.ndarray, ...]]:
-        out = []
-        for means, covs, dt, q, tau in cases:
-            out.append(kalman.predict(means, covs, dt, q))
-            out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
-        return out
+        return _predict_all(cases)
 
     few = run()
     monkeypatch.setattr(kalman, "SMALL_BATCH", 0)
@@ -231,11 +239,7 @@ def test_one_step_predict_and_coast_is_the_per_track_path(
         cases.append((means, covs, np.full(t, d), float(rng.uniform(0.1, 3.0)), tau))
 
     def run() -> list[tuple[np.ndarray, ...]]:
-        out = []
-        for means, covs, dt, q, tau in cases:
-            out.append(kalman.predict(means, covs, dt, q))
-            out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
-        return out
+        return _predict_all(cases)
 
     # a step that differs for one track takes the per-track path
     assert kalman._one_step(np.array([0.1, 0.1, 0.2])) is None

@@ -962,10 +962,7 @@ class MHT(Generic[Meas]):
         kept: list[TrackNode] = []
         for t, a in zip(tracks, chosen, strict=True):
             j = meas_idx[a]
-            child = t.children.get(j)
-            if child is None:  # (its update is in this scan's batch: the measurement is gated)
-                child = self._detected_child(t, j, j, float(loglik[row_of[t.node_id], j]), stamp)
-            kept.append(child)
+            kept.append(self._scan_child(t, j, float(loglik[row_of[t.node_id], j]), stamp))
         return [Hypothesis(0.0, tuple(kept), self._history(parent))]
 
     def _branch_obvious(
@@ -1002,10 +999,15 @@ class MHT(Generic[Meas]):
             if not (cost + c_new > limit and cost + c_fal > limit):
                 return None
         self._largest = max(self._largest, 2)
-        child = t.children.get(j)
-        if child is None:  # (its update is in this scan's batch: the measurement is gated)
-            child = self._detected_child(t, j, j, float(loglik[row, j]), stamp)
+        child = self._scan_child(t, j, float(loglik[row, j]), stamp)
         return [Hypothesis(0.0, (child,), self._history(parent))]
+
+    def _scan_child(self, node: TrackNode, j: int, loglik: float, stamp: float) -> TrackNode:
+        """The child of ``node`` detected with scan measurement ``j`` (log-likelihood
+        ``loglik``), made unless some hypothesis made it already (its update is in this
+        scan's batch: the measurement is gated)."""
+        child = node.children.get(j)
+        return child if child is not None else self._detected_child(node, j, j, loglik, stamp)
 
     def _k_best(
         self,

@@ -249,9 +249,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "3.89 / 5.14 / 7.97 / 13.20 / 17.28 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(loaded machine); log-log slope of cost against people 0.54 (4–40 people); whole "
-        "`track` on the demo bag 7.5 s CPU, about 170 scans per CPU second",
+        "4.41 / 5.79 / 9.44 / 12.83 / 15.94 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(loaded machine); log-log slope of cost against people 0.44 (4–40 people); whole "
+        "`track` on the demo bag 8.7 s CPU, about 146 scans per CPU second",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),

@@ -175,6 +175,18 @@ def test_initiate_batch_equals_initiate_one_by_one() -> None:
     assert empty_m.shape == (0, 4) and empty_c.shape == (0, 4, 4)
 
 
+def _predict_all(
+    cases: list[tuple[np.ndarray, np.ndarray, np.ndarray, float, float]],
+) -> list[tuple[np.ndarray, ...]]:
+    """:func:`kalman.predict` and :func:`kalman.predict_and_coast` of each case (means,
+    covariances, steps, acceleration PSD, tau), in turn."""
+    out = []
+    for means, covs, dt, q, tau in cases:
+        out.append(kalman.predict(means, covs, dt, q))
+        out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
+    return out
+
+
 @pytest.mark.regression
 def test_few_tracks_predict_and_coast_are_the_array_path(
     monkeypatch: pytest.MonkeyPatch,
@@ -196,16 +208,47 @@ def test_few_tracks_predict_and_coast_are_the_array_path(
         cases.append((means, covs, dt, float(rng.uniform(0.1, 3.0)), tau))
 
     def run() -> list[tuple[np.ndarray, ...]]:
-        out = []
-        for means, covs, dt, q, tau in cases:
-            out.append(kalman.predict(means, covs, dt, q))
-            out.append(kalman.predict_and_coast(means, covs, dt, q, tau))
-        return out
+        return _predict_all(cases)
 
     few = run()
     monkeypatch.setattr(kalman, "SMALL_BATCH", 0)
     arrays = run()
     for got, want in zip(few, arrays, strict=True):
+        assert len(got) == len(want)
+        for g, w in zip(got, want, strict=True):
+            assert_paths_agree(g, w)
+
+
+@pytest.mark.regression
+def test_one_step_predict_and_coast_is_the_per_track_path(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Tracks that share one step (a scan's usual case) are predicted and coasted with one
+    transition matrix and one process noise broadcast: the same means and covariances as
+    per-track matrices, within :data:`PATH_RTOL` (1 to 40 tracks, steps of 0 s, a scan
+    period, long gaps; finite and infinite ``tau``)."""
+    rng = np.random.default_rng(13)
+    cases = []
+    for _ in range(300):
+        t = int(rng.integers(1, 41))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        d = float(rng.choice([0.0, 1.0 / 37.5, 0.1, 0.7, 2.0]) + abs(rng.normal(scale=1e-4)))
+        tau = float(rng.choice([0.8, np.inf]))
+        cases.append((means, covs, np.full(t, d), float(rng.uniform(0.1, 3.0)), tau))
+
+    def run() -> list[tuple[np.ndarray, ...]]:
+        return _predict_all(cases)
+
+    # a step that differs for one track takes the per-track path
+    assert kalman._one_step(np.array([0.1, 0.1, 0.2])) is None
+    assert kalman._one_step(np.array([0.1, 0.1])) == 0.1
+    one = run()
+    monkeypatch.setattr(kalman, "_one_step", lambda dt: None)
+    monkeypatch.setattr(kalman, "SMALL_BATCH", 0)
+    per_track = run()
+    for got, want in zip(one, per_track, strict=True):
         assert len(got) == len(want)
         for g, w in zip(got, want, strict=True):
             assert_paths_agree(g, w)

@@ -126,11 +126,14 @@ class Track:
     contour: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 2)), repr=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "position", np.asarray(self.position, dtype=np.float64).reshape(2))
-        object.__setattr__(self, "velocity", np.asarray(self.velocity, dtype=np.float64).reshape(2))
-        object.__setattr__(
-            self, "covariance", np.asarray(self.covariance, dtype=np.float64).reshape(2, 2)
-        )
+        # (float64 arrays of the right shape, what the trackers give, are kept as they are)
+        p, v, c = self.position, self.velocity, self.covariance
+        if type(p) is not np.ndarray or p.shape != (2,) or p.dtype != np.float64:
+            object.__setattr__(self, "position", np.asarray(p, dtype=np.float64).reshape(2))
+        if type(v) is not np.ndarray or v.shape != (2,) or v.dtype != np.float64:
+            object.__setattr__(self, "velocity", np.asarray(v, dtype=np.float64).reshape(2))
+        if type(c) is not np.ndarray or c.shape != (2, 2) or c.dtype != np.float64:
+            object.__setattr__(self, "covariance", np.asarray(c, dtype=np.float64).reshape(2, 2))
 
 
 @dataclass(frozen=True, eq=False)

@@ -170,10 +170,52 @@ def predict(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    step = _one_step(dt)
+    if step is not None:
+        pm, pc, _, _ = _one_step_predict_and_coast(means, covs, step, accel_psd, math.inf)
+        return pm, pc
     if 0 < dt.size <= SMALL_BATCH:
         pm, pc, _, _ = _few_predict_and_coast(means, covs, dt, accel_psd, math.inf)
         return pm, pc
     return _predict(means, covs, dt, process_noise(dt, accel_psd))
+
+
+def _one_step(dt: FloatArray) -> float | None:
+    """The step [s] every track of ``dt`` (T,) shares, or None (no tracks, or steps that
+    differ). Every live track was last updated at the previous scan in most scans."""
+    steps = dt.tolist()
+    if not steps:
+        return None
+    d = steps[0]
+    return d if steps.count(d) == len(steps) else None
+
+
+def _one_step_predict_and_coast(
+    means: FloatArray, covs: FloatArray, d: float, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict_and_coast` of tracks that share one step ``d`` [s]: one transition
+    matrix and one process noise (4, 4) for all, built from plain floats by the array
+    path's IEEE operations (as :func:`_few_predict_and_coast`), and the stacked
+    covariances multiplied by them broadcast; the same means and covariances as the
+    per-track matrices with a fraction of their construction and product cost."""
+    a = accel_psd
+    pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
+    q = np.array((pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv))
+    q = q.reshape(4, 4)
+    f = np.array((1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0))
+    f = f.reshape(4, 4)
+    pm = means.copy()
+    pm[:, :2] += means[:, 2:] * d
+    pc = f @ covs @ f.T + q
+    if math.isinf(tau):
+        return pm, pc, pm, pc
+    k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
+    g = tau * (1.0 - k)
+    fc = np.array((1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k))
+    fc = fc.reshape(4, 4)
+    cm = np.einsum("ij,tj->ti", fc, means)
+    cc = fc @ covs @ fc.T + q
+    return pm, pc, cm, cc
 
 
 def _few_predict_and_coast(
@@ -260,6 +302,9 @@ def predict_and_coast(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    step = _one_step(dt)
+    if step is not None:
+        return _one_step_predict_and_coast(means, covs, step, accel_psd, tau)
     if 0 < dt.size <= SMALL_BATCH:
         return _few_predict_and_coast(means, covs, dt, accel_psd, tau)
     q = process_noise(dt, accel_psd)

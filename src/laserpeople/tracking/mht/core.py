@@ -25,7 +25,6 @@ best hypothesis because clusters are independent).
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Hashable, Iterable, Sequence, Sized
 from dataclasses import dataclass, replace
@@ -301,11 +300,6 @@ _DEFERRED: FloatArray = np.full(0, np.nan)
 (:meth:`MHT._fill_deferred`); it never leaves the step."""
 
 
-CLEAR_MAX_TRACKS = 3
-"""Most tracks of a cluster :meth:`MHT._branch_clear` checks for its one clear child (a
-person's two legs; it tries the (m + 1)^n labellings of n tracks and m = n measurements)."""
-
-
 def _max_gap(min_ratio: float) -> float:
     """The largest cost gap to the best child that ratio pruning keeps, ``-log min_ratio``."""
     return -math.log(min_ratio) if min_ratio > 0 else math.inf
@@ -417,15 +411,6 @@ class MHT(Generic[Meas]):
             ):
                 lone = self._branch_lone(
                     parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
-                )
-            elif (
-                self.shortcuts
-                and plain
-                and len(parents) == 1
-                and 2 <= len(meas_idx) == len(parents[0].tracks) <= CLEAR_MAX_TRACKS
-            ):
-                lone = self._branch_clear(
-                    parents[0], measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
                 )
             children = lone if lone is not None else self._branch(
                 parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
@@ -894,77 +879,6 @@ class MHT(Generic[Meas]):
             self._add_child(children, kept, tracks, total, 0)
         return self._prune_children(children)
 
-    def _branch_clear(
-        self,
-        parent: Hypothesis,
-        measurements: Meas,
-        meas_idx: list[int],
-        stamp: float,
-        loglik: FloatArray,
-        row_of: dict[int, int],
-        log_new: FloatArray,
-        log_fal: FloatArray,
-    ) -> list[Hypothesis] | None:
-        """:meth:`_branch` of a plain-MHT cluster of one parent hypothesis with as many
-        measurements as tracks (2 to :data:`CLEAR_MAX_TRACKS`; a person's legs and their
-        detections), when its only child kept is every track detected with the measurement
-        it prefers (each track's cheapest label, a measurement of its own each).
-
-        Every other child labels each track detected (with another measurement),
-        occluded or deleted, and leaves the measurements no track takes unmatched (new or
-        false alarm, costs >= 0, required); its extra cost is at least the sum of its
-        tracks' extra label costs and its unmatched measurements' cheaper label. When the
-        least of these over all other labellings (a few: the tracks' labels, one
-        unmatched-label choice each) exceeds the ratio gap (with a margin of 1e-9), the
-        listing keeps this one child, whatever its float rounding; its nodes are made in
-        the listing's order, so the child, its nodes and their ids are the same. None
-        (take the general path) otherwise."""
-        tracks = parent.tracks
-        m = len(meas_idx)
-        prior = -(parent.log_weight + 0.0)
-        if m + len(tracks) > self.params.max_cluster_size or not math.isfinite(prior):
-            return None
-        rates = log_new.take(meas_idx).tolist(), log_fal.take(meas_idx).tolist()
-        unmatched = [min(-a, -b) for a, b in zip(*rates, strict=True)]
-        if not all(u >= 0.0 for u in unmatched):  # (NaN fails too)
-            return None
-        cost_live, lp = self._cost_live, self._lp_live
-        chosen: list[int] = []  # each track's measurement (index into meas_idx)
-        extra: list[list[float]] = []  # per track: each measurement's, then lost, over best
-        total = prior
-        for t in tracks:
-            row = row_of.get(t.node_id)
-            if row is None:
-                return None
-            costs = cost_live[row].take(meas_idx).tolist()
-            costs.append(min(-float(lp[row, OCCLUDED]), -float(lp[row, DELETED])))
-            best = min(costs)
-            a = costs.index(best)
-            if a == m or a in chosen or not math.isfinite(best) or any(c != c for c in costs):
-                return None
-            chosen.append(a)
-            extra.append([c - best for c in costs])
-            total += best
-        best_child = tuple(chosen)
-        least = math.inf
-        for labels in itertools.product(range(m + 1), repeat=len(tracks)):
-            if labels == best_child:
-                continue
-            taken = [j for j in labels if j < m]
-            if len(set(taken)) < len(taken):  # a measurement used twice
-                continue
-            cost = sum(extra[i][j] for i, j in enumerate(labels))
-            cost += sum(unmatched[j] for j in range(m) if j not in taken)
-            least = min(least, cost)
-        if not least > _max_gap(self.params.ratio) + 1e-9 * (1.0 + abs(total)):
-            return None
-        self._largest = max(self._largest, m + len(tracks))
-        kept: list[TrackNode] = []
-        for t, a in zip(tracks, chosen, strict=True):
-            j = meas_idx[a]
-            kept.append(self._scan_child(t, j, float(loglik[row_of[t.node_id], j]), stamp))
-        return [Hypothesis(0.0, tuple(kept), self._history(parent))]
-
     def _branch_obvious(
         self,
         parent: Hypothesis,
@@ -999,15 +913,10 @@ class MHT(Generic[Meas]):
             if not (cost + c_new > limit and cost + c_fal > limit):
                 return None
         self._largest = max(self._largest, 2)
-        child = self._scan_child(t, j, float(loglik[row, j]), stamp)
+        child = t.children.get(j)
+        if child is None:  # (its update is in this scan's batch: the measurement is gated)
+            child = self._detected_child(t, j, j, float(loglik[row, j]), stamp)
         return [Hypothesis(0.0, (child,), self._history(parent))]
-
-    def _scan_child(self, node: TrackNode, j: int, loglik: float, stamp: float) -> TrackNode:
-        """The child of ``node`` detected with scan measurement ``j`` (log-likelihood
-        ``loglik``), made unless some hypothesis made it already (its update is in this
-        scan's batch: the measurement is gated)."""
-        child = node.children.get(j)
-        return child if child is not None else self._detected_child(node, j, j, loglik, stamp)
 
     def _k_best(
         self,

@@ -158,6 +158,55 @@ def test_a_miss_on_a_moving_robot_lowers_the_score_by_none() -> None:
     assert person.llr - before == pytest.approx(math.log(0.1 / 0.5))
 
 
+class StaticFor:
+    """A static world model whose every place has been static for ``seconds``."""
+
+    consumes = frozenset({"points"})
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+
+    def __call__(self, frame: Any) -> Any:
+        return frame
+
+    def static_time(self, positions: np.ndarray) -> np.ndarray:
+        return np.full(positions.shape[0], self.seconds)
+
+
+def miss_after_zigzag(
+    params: PersonTrackParams, reach: float, dt: float, static: float | None = None
+) -> float:
+    """Existence change of a one-leg candidate for a scan without its leg, after the leg
+    zigzagged (never moving consistently: straightness 0.16) from (0, 0.3) to (reach, 0.3)
+    in 10 scans ``dt`` apart (every place static for ``static`` seconds; None: no model)."""
+    tracker = PersonTracker(params, None if static is None else StaticFor(static))
+    tracker.moving = True
+    for k in range(11):
+        tracker.update(one_leg(reach * k / 10, 0.3 * (-1) ** k), dt * k, 1.0)
+    person = next(iter(tracker.persons.values()))
+    assert not person.confirmed and person.llr == pytest.approx(0.0, abs=1e-12)  # one leg: +0
+    tracker.update(one_leg(reach, 0.3, detected=False), dt * 11, 1.0)
+    return person.llr
+
+
+def test_a_candidate_whose_leg_walked_loses_nothing_for_a_miss() -> None:
+    # 1.0 m from its first detection in 1.0 s (1 m/s >= moving_speed 0.4): walked, a miss
+    # costs walked_miss (0.0) instead of log(p_none / q_none) = log(0.1 / 0.5) = -1.609
+    assert miss_after_zigzag(P, 1.0, 0.1) == pytest.approx(0.0, abs=1e-9)
+    assert miss_after_zigzag(replace(P, walked_miss=-0.5), 1.0, 0.1) == pytest.approx(-0.5)
+    # near misses: 0.95 m (< walked_distance 1.0), or 1.0 m in 3.0 s (0.33 m/s < 0.4)
+    assert miss_after_zigzag(P, 0.95, 0.1) == pytest.approx(math.log(0.1 / 0.5))
+    assert miss_after_zigzag(P, 1.0, 0.3) == pytest.approx(math.log(0.1 / 0.5))
+    # its place static for at most arrival_slack (2 s): walked; longer (a leg track that
+    # swapped onto a chair post after following a passer-by): the full miss
+    assert miss_after_zigzag(P, 1.0, 0.1, static=2.0) == pytest.approx(0.0, abs=1e-9)
+    assert miss_after_zigzag(P, 1.0, 0.1, static=2.1) == pytest.approx(math.log(0.1 / 0.5))
+    # a static laser (moving False) keeps the miss
+    tracker = PersonTracker(P)
+    tracker.update(one_leg(0.0, 0.0), 0.0, 1.0)
+    assert not tracker.persons  # (no one-leg birth there at all)
+
+
 # ------------------------------------------------------------------ real recording
 
 

@@ -326,16 +326,17 @@ class PersonTrackParams:
         "and when that net displacement is at least this share of the path length",
     )
     walked_distance: float = param(
-        1.0,
-        "assumption: about two strides; a leg track hopping between the posts of a chair or a "
-        "table stays within about 0.5 m of where it began",
+        0.7,
+        "measured (docs/moving-robot.md): real lobby recall 0.281 at 1.0 m -> 0.298 at 0.7 m "
+        "(the same at 0.5 m); above the ~0.5 m within which a leg track hopping between the "
+        "posts of a chair or a table stays",
         "a leg track whose net displacement from its first detection (world frame) is at "
         "least this, at moving_speed or faster on average, has walked",
         "m",
     )
     walked_miss: float = param(
         0.0,
-        "measured (docs/moving-robot.md): real lobby recall 0.246 -> 0.281, false positives "
+        "measured (docs/moving-robot.md): real lobby recall 0.246 -> 0.298, false positives "
         "23 -> 24 (log(p_none / q_none) = -1.61 as before); a person at 4-7 m is detected "
         "in about every other scan",
         "existence change, for a scan without a detection, of an unconfirmed person with a "

@@ -11,13 +11,14 @@ Frames come straight from the simulator (foreground = the beams on people), as
 on 0-9.
 
     PYTHONPATH=src python benchmarks/groups_random.py [--seeds 100-119] [--seconds 40]
-        [--preset paper] [--set NAME=VALUE ...]
+        [--preset paper] [--set NAME=VALUE ...] [--jobs 2]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+from concurrent.futures import ProcessPoolExecutor
 
 from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.config import load_config
@@ -60,33 +61,43 @@ def pooled(runs: list[GroupRunResult]) -> dict[str, float]:
     }
 
 
+def _run_seed(seed: int, seconds: float, params: GroupTrackerParams) -> tuple[dict, GroupRunResult]:
+    """One scene: its notes and the tracker's scores."""
+    notes = build_scene("random-groups", seconds=seconds, seed=seed).notes
+    sim = run_scenario("random-groups", seconds=seconds, seed=seed)
+    return notes, run_groups(sim.scans, params, truth=sim.truth)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", default="100-119", help="held back: 100-119; tune on 0-9")
     ap.add_argument("--seconds", type=float, default=40.0)
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE")
+    ap.add_argument("--jobs", type=int, default=1, help="scenes run in parallel")
     ap.add_argument("--preset", default=None, help="paper: 000's group tracker (docs/papers.md)")
     args = ap.parse_args()
     params = _with(load_config(GroupTrackerParams, None, args.preset), args.set)
     print(f"preset {args.preset}; parameters changed: {args.set or 'none'}")
     runs: list[GroupRunResult] = []
     by_level: dict[str, list[GroupRunResult]] = {"feet": [], "torso": []}
-    for seed in parse_seeds(args.seeds):
-        notes = build_scene("random-groups", seconds=args.seconds, seed=seed).notes
-        sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
-        r = run_groups(sim.scans, params, truth=sim.truth)
-        runs.append(r)
-        by_level[notes["scanner"]["level"]].append(r)
-        m = r.group_mot
-        print(
-            f"seed {seed} ({notes['scanner']['level']}, {notes['scanner']['resolution_deg']:.2f} "
-            f"deg, {'moving' if notes['moving_robot'] else 'still'}, {notes['people']} people): "
-            f"group MOTA {m.mota:.3f} (miss {m.misses}, fp {m.false_positives}, ids "
-            f"{m.id_switches} of {m.num_truth}), proxemic {r.proxemic_mot.mota:.3f}; "
-            f"size error {r.size.mean_error:.2f}, exact "
-            f"{100 * r.size.exact_share:.1f} %; clustering error {r.clustering.error:.3f}",
-            flush=True,
-        )
+    seeds = parse_seeds(args.seeds)
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        jobs = [pool.submit(_run_seed, seed, args.seconds, params) for seed in seeds]
+        for seed, job in zip(seeds, jobs, strict=True):
+            notes, r = job.result()
+            runs.append(r)
+            by_level[notes["scanner"]["level"]].append(r)
+            m = r.group_mot
+            print(
+                f"seed {seed} ({notes['scanner']['level']}, "
+                f"{notes['scanner']['resolution_deg']:.2f} deg, "
+                f"{'moving' if notes['moving_robot'] else 'still'}, {notes['people']} people): "
+                f"group MOTA {m.mota:.3f} (miss {m.misses}, fp {m.false_positives}, ids "
+                f"{m.id_switches} of {m.num_truth}), proxemic {r.proxemic_mot.mota:.3f}; "
+                f"size error {r.size.mean_error:.2f}, exact "
+                f"{100 * r.size.exact_share:.1f} %; clustering error {r.clustering.error:.3f}",
+                flush=True,
+            )
     print(f"\nrandom-groups, seeds {args.seeds}, {args.seconds:g} s each (pooled)\n")
     print("| scenes | group MOTA | proxemic MOTA | size exact | size mean error [people] |")
     print("|---|---|---|---|---|")

@@ -341,6 +341,23 @@ def test_normalised_model_priors_are_eq32_over_their_sum() -> None:
     assert math.exp(by_size[2]) == pytest.approx(p.p_s / total, rel=1e-12)
 
 
+def test_normalised_merge_priors_share_probability_one() -> None:
+    # eq. 32 over its sum: continue both p_C^2 / (p_C^2 + p_G N_ij), merge p_G N_ij / (...);
+    # the unnormalised readings charge the continuation p_C^2 in every scan whatever N_ij
+    p = GroupTrackerParams(model_prior="normalised", merge_likelihood="density")
+    (a, b), out = _branch_priors(p, "merge")
+    by_size = {len(br.tracks): br.log_prior for br in out}
+    log_nij = ref_merge_log_n(
+        a.pred_cov, a.pred_mean, a.payload.contour, b.pred_cov, b.pred_mean, b.payload.contour,
+        p.cluster_distance,
+    )  # fmt: skip
+    merge = p.p_g * math.exp(log_nij)
+    total = p.p_c**2 + merge
+    assert math.exp(by_size[2]) == pytest.approx(p.p_c**2 / total, rel=1e-9)
+    assert math.exp(by_size[1]) == pytest.approx(merge / total, rel=1e-9)
+    assert math.exp(by_size[1]) + math.exp(by_size[2]) == pytest.approx(1.0, rel=1e-12)
+
+
 def test_the_likeliest_models_come_first() -> None:
     def node(i: int) -> TrackNode:
         return TrackNode(i, i, -1, np.zeros(5), np.eye(5), 0.0, "new")

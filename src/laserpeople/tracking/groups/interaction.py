@@ -5,13 +5,16 @@ postulates, the re-clustering of the observations per model, and the label proba
 Model generation (Sec. 4.4) is data-driven and binary: a track may split into two only when
 two observations fall in its gate (and both halves must then be matched); two tracks may
 merge only when one observation falls in both gates; a track takes part in at most one
-event per scan. A model is a set of such events with no track in two of them; its prior is
-eq. 32 normalised over the models generated for the parent, so that P(M | parent) is a
-distribution (eq. 35). Printed as is, eq. 32 charges p_C to every continued track: two
-tracks that share an observation pay p_C^2 every scan while the track made by merging
-them pays p_C once (or, with p_C only for tracks that have a choice, nothing), so a wrong
-merge overtakes the continuation within a few scans whatever the velocities say
-(docs/groups.md).
+event per scan. A model is a set of such events with no track in two of them; its prior
+P(M | parent) is eq. 32, charged, as in 000's recursion (eq. 35), in every scan for the
+model chosen in that scan. How eq. 32 becomes P(M | parent) is a setting
+(``model_prior``, :meth:`GroupBranches._model_priors`): printed as is (``"literal"``) it
+charges p_C to every continued track, so two tracks that share an observation pay p_C^2
+every scan against p_C for the track made by merging them; with p_C only for tracks that
+have a choice (``"choice"``) the merged track pays nothing and the pair p_C^2 every scan;
+``"normalised"`` divides eq. 32 by its sum over the parent's models, so that the models
+of a parent share probability one and continuing two tracks costs only what eq. 27 gives
+their merge (docs/groups.md).
 
 Re-clustering (Sec. 4.3): an observation in the gate of more than one of a model's tracks
 (not merged by the model) is divided among them by the nearest-track rule: each point goes

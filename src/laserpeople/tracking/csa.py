@@ -222,15 +222,6 @@ class CSAParams:
         "m",
     )
 
-    report_unseen: float = param(
-        1.0,
-        "assumption (002 does not describe deletion); as max_unseen",
-        "a person (single target, or a person of a cluster none of whose paths survive) "
-        "unseen this long is no longer reported, though still tracked until max_unseen: "
-        "a target coasting without points moves on by its last velocity",
-        "s",
-    )
-
     def __post_init__(self) -> None:
         if not 0.0 < self.gate_probability < 1.0:
             raise ValueError("gate_probability must be in (0, 1)")
@@ -247,7 +238,6 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
-            "report_unseen",
             "person_gap",
         ):
             if not getattr(self, name) > 0:
@@ -921,15 +911,23 @@ class ClusterSortingTracker:
         sub-cluster holding most of them. A person none of whose paths survived (another's
         took them over) is moved from where it was last estimated by its last velocity for
         up to ``member_coast``, then held, and gets a covariance of one gate.
+        With ``new_person_scans`` the groups are one person's points (single linkage at
+        ``person_gap``), and a person whose paths hold most in the group where another
+        holds more, estimated closer than ``person_gap`` to that other, is not returned
+        (one person seen twice: it took a few of the other's points).
         Updates the cluster's memory of where and how each person was last seen."""
         p = self.params
-        labels = cl.groups if p.new_person_scans and cl.groups.size else cl.labels
+        grouped = bool(p.new_person_scans and cl.groups.size)
+        labels = cl.groups if grouped else cl.labels
         out: dict[int, tuple[FloatArray, ...]] = {}
+        holder: dict[int, tuple[int, int]] = {}  # group -> (paths, -person) of its holder
         for m in cl.members:
             own = cl.origin == m
             if own.any():
                 counts = np.bincount(labels[own])
-                sel = own & (labels == int(np.argmax(counts)))
+                main = int(np.argmax(counts))
+                holder[main] = max(holder.get(main, (0, 0)), (int(counts[main]), -m))
+                sel = own & (labels == main)
                 pos = cl.means[sel, :2]
                 vel = cl.means[sel, 2:].mean(axis=0)
                 cov = np.cov(pos.T) if pos.shape[0] > 1 else np.zeros((2, 2))
@@ -944,7 +942,7 @@ class ClusterSortingTracker:
                 out[m] = (xy, np.zeros(2), np.eye(2) * p.max_gate_distance**2)
                 continue
             vel, since = cl.motion.get(m, (np.zeros(2), stamp))
-            if stamp - since > min(p.max_unseen, p.report_unseen):  # lost inside the cluster
+            if stamp - since > p.max_unseen:  # lost inside the cluster: not reported
                 continue
             coast = min(max(stamp - since, 0.0), p.member_coast)
             out[m] = (
@@ -952,13 +950,21 @@ class ClusterSortingTracker:
                 vel if stamp - since < p.member_coast else np.zeros(2),
                 np.eye(2) * p.max_gate_distance**2,
             )
+        if grouped:  # one person seen twice: the one holding most paths of the group stays
+            kept = {-h for _, h in holder.values()}
+            for m in cl.members:
+                if m in out and (cl.origin == m).any() and m not in kept:
+                    main = int(np.argmax(np.bincount(labels[cl.origin == m])))
+                    first = -holder[main][1]
+                    if np.linalg.norm(out[m][0] - out[first][0]) < p.person_gap:
+                        del out[m]
         return out
 
     def _report(self, frame: Frame) -> Tracks:
         p = self.params
         out: list[Track] = []
         for t in self._s.singles.values():
-            if self._confirmed(t) and frame.stamp - t.last_seen <= p.report_unseen:
+            if self._confirmed(t):
                 out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
             for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():

@@ -781,11 +781,12 @@ class ClusterSortingTracker:
         linkage at ``person_gap`` (``cl.groups``), groups of at least ``min_points``
         count. A group holding no person's paths (each person holds the
         group with most of its paths) and farther than ``init_distance`` from every held
-        group is *free*. A person of the cluster none of whose paths survive (lost at most
-        ``max_unseen`` ago) takes the free group nearest to where it was last estimated,
-        within ``subcluster_distance`` (Hungarian); a free group left over is pending, and
-        pending in ``new_person_scans`` scans in a row (matched within ``init_distance`` of
-        where it was), its paths become a new person's."""
+        group is *free*. A person of the cluster none of whose paths survive takes the free
+        group nearest to where it was last estimated, within ``separation_distance``
+        (Hungarian); while a person of the cluster stays lost, no new people are made (it
+        may come back, 002's person "in the shadow"). Otherwise a free group is pending,
+        and pending in ``new_person_scans`` scans in a row (matched within
+        ``init_distance`` of where it was), its paths become a new person's."""
         p = self.params
         stamp = cl.last_seen
         if stamp < (self._last or 0.0):  # coasting: no points this scan
@@ -810,26 +811,22 @@ class ClusterSortingTracker:
             cl.pending = []
             return
         origin = cl.origin.copy()
-        lost = [
-            m
-            for m in cl.members
-            if m not in own
-            and m in cl.shown
-            and stamp - cl.motion.get(m, (0, stamp))[1] <= p.max_unseen
-        ]
+        lost = [m for m in cl.members if m not in own and m in cl.shown]
         if lost:
             where = []
             for m in lost:
                 vel, since = cl.motion.get(m, (np.zeros(2), stamp))
                 where.append(cl.shown[m] + vel * min(max(stamp - since, 0.0), p.member_coast))
             d = np.linalg.norm(np.array(where)[:, None] - cents[free][None], axis=-1)
-            rows, cols = linear_sum_assignment(np.where(d < p.subcluster_distance, d, 1e6))
+            rows, cols = linear_sum_assignment(np.where(d < p.separation_distance, d, 1e6))
             taken = set()
             for r, c in zip(rows, cols, strict=True):
-                if d[r, c] < p.subcluster_distance:
+                if d[r, c] < p.separation_distance:
                     origin[groups == free[int(c)]] = lost[int(r)]
                     taken.add(free[int(c)])
             free = [g for g in free if g not in taken]
+            if len(taken) < len(lost):  # a lost person may yet come back: no new people
+                free = []
         pending: list[tuple[FloatArray, int]] = []
         for g in free:
             hits = 1 + max(

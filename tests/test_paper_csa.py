@@ -137,13 +137,3 @@ def test_paper_preset_reports_a_new_target_at_once() -> None:
 
     assert load_config(CSAParams, None, "paper").confirm_scans == 1
     assert CSAParams().confirm_scans == 2
-
-
-def test_paper_preset_keeps_a_clusters_people_to_those_that_merged() -> None:
-    """002's cluster holds the people that merged into it: ``--preset paper`` turns off the
-    people counted from a cluster's points."""
-    from laserpeople.config import load_config
-
-    paper = load_config(CSAParams, None, "paper")
-    assert paper.new_person_scans == 0
-    assert CSAParams().new_person_scans == 3

@@ -258,60 +258,17 @@ def test_targets_started_together_that_merge_at_once_are_one_person() -> None:
     """Four blobs 0.7 m apart appear in one scan (a burst of foreground, e.g. a moving
     laser whose static world model is dropped): four targets start, their gates share
     points and they merge in the next scan. Younger than fragment_age (1 s), they are
-    fragments of the oldest: one person (with new_person_scans = 0, as 002). With
-    fragment_age = 0 they are four people. In the first scan none is reported yet
-    (confirm_scans = 2)."""
+    fragments of the oldest: one person. With fragment_age = 0 they are four people. In
+    the first scan none is reported yet (confirm_scans = 2)."""
     paths = [[(0, 0.7 * i, 3.0), (10, 0.7 * i, 3.0)] for i in range(4)]
     frames = _frames(paths, 2.0)
-    csa = ClusterSortingTracker(CSAParams(new_person_scans=0))
+    csa = ClusterSortingTracker()
     counts = [len(csa.update(f).of_kind("person")) for f in frames]
     assert counts[0] == 0 and counts[1:] == [1] * (len(frames) - 1)
     assert list(csa.clusters.values()) == [(0,)]
-    every = ClusterSortingTracker(CSAParams(fragment_age=0.0, new_person_scans=0))
+    every = ClusterSortingTracker(CSAParams(fragment_age=0.0))
     assert [len(every.update(f).of_kind("person")) for f in frames] == [0] + [4] * (len(frames) - 1)
     assert list(every.clusters.values()) == [(0, 1, 2, 3)]
-
-
-@pytest.mark.parametrize("scans", [2, 3, 4])
-def test_people_in_a_cluster_counted_from_its_points(scans: int) -> None:
-    """The same four blobs (0.3 m wide, 0.4 m gaps: four groups at person_gap 0.3 m,
-    centroids 0.7 m > init_distance apart). In scan 1 they merge into a cluster of one
-    person (the fragment rule); the other three groups hold none of its paths and are
-    pending from scan 1, so with new_person_scans = n they are people from scan n on,
-    each reported at its own blob, with new ids (4, 5, 6: ids 0-3 went to the four
-    targets of scan 0)."""
-    paths = [[(0, 0.7 * i, 3.0), (10, 0.7 * i, 3.0)] for i in range(4)]
-    frames = _frames(paths, 2.0)
-    csa = ClusterSortingTracker(CSAParams(new_person_scans=scans))
-    counts = []
-    for f in frames:
-        tracks = csa.update(f).of_kind("person")
-        counts.append(len(tracks))
-    assert counts == [0] + [1] * (scans - 1) + [4] * (len(frames) - scans)
-    assert list(csa.clusters.values()) == [(0, 4, 5, 6)]
-    last = frames[-1].points.points.reshape(4, -1, 2).mean(axis=1)  # each blob's centroid
-    xy = np.array(sorted((t.position for t in tracks), key=lambda q: float(q[0])))
-    np.testing.assert_allclose(xy, last, atol=0.01)
-    assert [e.stamp for e in csa.events if e.kind == "new person"] == [scans / 10] * 3
-
-
-def test_a_lost_person_of_a_cluster_takes_a_free_group_before_a_new_person() -> None:
-    """Two people 0.7 m apart in one cluster; person B is unseen for 0.3 s (its paths die)
-    and reappears 0.1 m farther away: it takes its group back at once (its own id), no new
-    person is made."""
-    paths = [
-        [(0, 0.0, 3.0), (10, 0.0, 3.0)],
-        [(0, 0.7, 3.0), (1.0, 0.7, 3.0), (1.3, 0.8, 3.0), (10, 0.8, 3.0)],
-    ]
-    frames = _frames(paths, 3.0, hidden={1: (1.0, 1.3)})
-    csa = ClusterSortingTracker(CSAParams(new_person_scans=3, fragment_age=0.0))
-    for f in frames:
-        tracks = csa.update(f).of_kind("person")
-    assert list(csa.clusters.values()) == [(0, 1)]
-    assert not [e for e in csa.events if e.kind == "new person"]
-    by_id = {t.track_id: t.position for t in tracks}
-    np.testing.assert_allclose(by_id[1], [0.8, 3.0], atol=0.05)
-    np.testing.assert_allclose(by_id[0], [0.0, 3.0], atol=0.05)
 
 
 def _standing(

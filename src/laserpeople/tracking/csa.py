@@ -40,7 +40,7 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.clustering.single_linkage import components, single_linkage
+from laserpeople.clustering.single_linkage import components
 from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import linear_sum_assignment
@@ -63,7 +63,6 @@ class CSAParams:
             "person_scores": False,
             "adopt_orphans": False,
             "confirm_scans": 1,
-            "new_person_scans": 0,
         }
     )
 
@@ -201,27 +200,6 @@ class CSAParams:
         "to the cluster's members",
     )
 
-    new_person_scans: int = param(
-        3,
-        "extension of 002 (whose clusters hold only the people that merged into them; 0 "
-        "restores 002); random-groups tuning seeds (docs/csa.md)",
-        "a group of a cluster's points (single linkage at person_gap, at least "
-        "min_points) that holds no person's paths and lies farther than init_distance "
-        "from every person's group becomes a new person of the cluster once seen in this "
-        "many scans in a row (0: never): people who walk in together, or into a cluster, "
-        "without ever being a single target; a person of the cluster whose paths all died "
-        "takes such a group first; each person is reported at its paths in its group",
-    )
-    person_gap: float = param(
-        0.3,
-        "assumption: the points of a person's two legs lie within 0.3 m of each other; "
-        "people side by side (0.75 m between centres, sim.groups.DEFAULT_SPACING) leave a "
-        "wider gap",
-        "with new_person_scans, a cluster's points closer than this (single linkage) are "
-        "one person's",
-        "m",
-    )
-
     def __post_init__(self) -> None:
         if not 0.0 < self.gate_probability < 1.0:
             raise ValueError("gate_probability must be in (0, 1)")
@@ -238,7 +216,6 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
-            "person_gap",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
@@ -248,8 +225,6 @@ class CSAParams:
             raise ValueError("min_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
-        if self.new_person_scans < 0:
-            raise ValueError("new_person_scans must not be negative")
 
     @property
     def gate(self) -> float:
@@ -398,12 +373,6 @@ class _Cluster:
     labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
     once per scan in :meth:`ClusterSortingTracker.update`, after the VBA step."""
-    groups: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    """Group of each estimate (single linkage at person_gap: one person's points), with
-    new_person_scans only, computed with ``labels``."""
-    pending: list[tuple[FloatArray, int]] = field(default_factory=list)
-    """Groups of points held by no person: (centroid (2,) [m], scans in a row seen), see
-    ``new_person_scans``."""
 
 
 @dataclass(frozen=True)
@@ -545,9 +514,6 @@ class ClusterSortingTracker:
             cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
             if p.adopt_orphans:
                 self._orphans_claim(cl)
-            if p.new_person_scans:
-                cl.groups = single_linkage(cl.means[:, :2], p.person_gap)
-                self._new_people(cl)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -620,7 +586,6 @@ class ClusterSortingTracker:
             shown.update(clusters[k].shown)
             motion.update(clusters[k].motion)
         born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
-        pending = [q for k in objs_c for q in clusters[k].pending]
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -649,7 +614,6 @@ class ClusterSortingTracker:
                 shown,
                 motion,
                 born,
-                pending=pending,
             )
         return _Cluster(
             cid,
@@ -662,7 +626,6 @@ class ClusterSortingTracker:
             shown,
             motion,
             born,
-            pending=pending,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -775,77 +738,6 @@ class ClusterSortingTracker:
                 origin[labels == free[int(c)]] = orphans[int(r)]
         cl.origin = origin
 
-    def _new_people(self, cl: _Cluster) -> None:
-        """People inside cluster ``cl`` that never merged into it (extension of 002, see
-        ``new_person_scans``): its estimates (one per point seen) are grouped by single
-        linkage at ``person_gap`` (``cl.groups``), groups of at least ``min_points``
-        count. A group holding no person's paths (each person holds the
-        group with most of its paths) and farther than ``init_distance`` from every held
-        group is *free*. A person of the cluster none of whose paths survive takes the free
-        group nearest to where it was last estimated, within ``separation_distance``
-        (Hungarian); while a person of the cluster stays lost, no new people are made (it
-        may come back, 002's person "in the shadow"). Otherwise a free group is pending,
-        and pending in ``new_person_scans`` scans in a row (matched within
-        ``init_distance`` of where it was), its paths become a new person's."""
-        p = self.params
-        stamp = cl.last_seen
-        if stamp < (self._last or 0.0):  # coasting: no points this scan
-            cl.pending = []
-            return
-        xy = cl.means[:, :2]
-        groups = cl.groups
-        n = int(groups.max()) + 1
-        counts = np.bincount(groups, minlength=n)
-        cents = np.array([xy[groups == g].mean(axis=0) for g in range(n)])
-        own = {int(o) for o in cl.origin}
-        held = {int(np.argmax(np.bincount(groups[cl.origin == m], minlength=n))) for m in own}
-        ref = cents[sorted(held)]
-        free = [
-            g
-            for g in range(n)
-            if g not in held
-            and counts[g] >= p.min_points
-            and np.linalg.norm(ref - cents[g], axis=1).min() > p.init_distance
-        ]
-        if not free:
-            cl.pending = []
-            return
-        origin = cl.origin.copy()
-        lost = [m for m in cl.members if m not in own and m in cl.shown]
-        if lost:
-            where = []
-            for m in lost:
-                vel, since = cl.motion.get(m, (np.zeros(2), stamp))
-                where.append(cl.shown[m] + vel * min(max(stamp - since, 0.0), p.member_coast))
-            d = np.linalg.norm(np.array(where)[:, None] - cents[free][None], axis=-1)
-            rows, cols = linear_sum_assignment(np.where(d < p.separation_distance, d, 1e6))
-            taken = set()
-            for r, c in zip(rows, cols, strict=True):
-                if d[r, c] < p.separation_distance:
-                    origin[groups == free[int(c)]] = lost[int(r)]
-                    taken.add(free[int(c)])
-            free = [g for g in free if g not in taken]
-            if len(taken) < len(lost):  # a lost person may yet come back: no new people
-                free = []
-        pending: list[tuple[FloatArray, int]] = []
-        for g in free:
-            hits = 1 + max(
-                (h for c, h in cl.pending if np.linalg.norm(c - cents[g]) <= p.init_distance),
-                default=0,
-            )
-            if hits < p.new_person_scans:
-                pending.append((cents[g], hits))
-                continue
-            pid = self._s.next_pid
-            self._s.next_pid += 1
-            origin[groups == g] = pid
-            cl.members = tuple(sorted((*cl.members, pid)))
-            cl.shown[pid] = cents[g]
-            cl.motion[pid] = (cl.means[groups == g, 2:].mean(axis=0), stamp)
-            self.events.append(CSAEvent(stamp, "new person", (pid,)))
-        cl.origin = origin
-        cl.pending = pending
-
     def _adopt_orphans(
         self, singles: dict[int, _Single], clusters: dict[int, _Cluster], stamp: float
     ) -> None:
@@ -908,23 +800,15 @@ class ClusterSortingTracker:
         sub-cluster holding most of them. A person none of whose paths survived (another's
         took them over) is moved from where it was last estimated by its last velocity for
         up to ``member_coast``, then held, and gets a covariance of one gate.
-        With ``new_person_scans`` the groups are one person's points (single linkage at
-        ``person_gap``), and a person whose paths hold most in the group where another
-        holds more, estimated closer than ``person_gap`` to that other, is not returned
-        (one person seen twice: it took a few of the other's points).
         Updates the cluster's memory of where and how each person was last seen."""
         p = self.params
-        grouped = bool(p.new_person_scans and cl.groups.size)
-        labels = cl.groups if grouped else cl.labels
+        labels = cl.labels
         out: dict[int, tuple[FloatArray, ...]] = {}
-        holder: dict[int, tuple[int, int]] = {}  # group -> (paths, -person) of its holder
         for m in cl.members:
             own = cl.origin == m
             if own.any():
                 counts = np.bincount(labels[own])
-                main = int(np.argmax(counts))
-                holder[main] = max(holder.get(main, (0, 0)), (int(counts[main]), -m))
-                sel = own & (labels == main)
+                sel = own & (labels == int(np.argmax(counts)))
                 pos = cl.means[sel, :2]
                 vel = cl.means[sel, 2:].mean(axis=0)
                 cov = np.cov(pos.T) if pos.shape[0] > 1 else np.zeros((2, 2))
@@ -947,14 +831,6 @@ class ClusterSortingTracker:
                 vel if stamp - since < p.member_coast else np.zeros(2),
                 np.eye(2) * p.max_gate_distance**2,
             )
-        if grouped:  # one person seen twice: the one holding most paths of the group stays
-            kept = {-h for _, h in holder.values()}
-            for m in cl.members:
-                if m in out and (cl.origin == m).any() and m not in kept:
-                    main = int(np.argmax(np.bincount(labels[cl.origin == m])))
-                    first = -holder[main][1]
-                    if np.linalg.norm(out[m][0] - out[first][0]) < p.person_gap:
-                        del out[m]
         return out
 
     def _report(self, frame: Frame) -> Tracks:

@@ -143,16 +143,16 @@ class _SegmentDetector(abc.ABC):
         )
         self._previous[scan.sensor] = scan
         scores = np.full(len(table), np.nan)
-        distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
-        ok = (
-            feats.classifiable
-            & (distance >= self.params.min_distance)
-            & (distance <= self.params.max_distance)
-        )
-        if ok.any():
+        ok = feats.classifiable
+        if self.params.min_distance > 0.0 or self.params.max_distance < math.inf:
+            distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
+            ok &= (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
+        n_ok = int(np.count_nonzero(ok))
+        if n_ok == len(table):  # (every segment: the features as they are, no copies)
+            scores[:] = self._scores(feats)
+        elif n_ok:
             scores[ok] = self._scores(_subset(feats, ok))
-        with np.errstate(invalid="ignore"):
-            is_leg = ok & (scores > self.params.score_threshold)
+        is_leg = ok & (scores > self.params.score_threshold)  # (NaN compares False)
         return ScanClassification(table, feats, scores, is_leg)
 
     def detect(self, scan: Scan) -> Detections:
@@ -163,7 +163,9 @@ class _SegmentDetector(abc.ABC):
         """The detections of an already classified scan."""
         idx = np.flatnonzero(result.is_leg)
         var = self.params.leg_position_std**2
-        cov = np.broadcast_to(np.diag([var, var]), (idx.size, 2, 2)).copy()
+        cov = np.zeros((idx.size, 2, 2))
+        cov[:, 0, 0] = var
+        cov[:, 1, 1] = var
         centroids = result.features.centres[idx]
         distance = np.maximum(np.hypot(centroids[:, 0], centroids[:, 1]), 1e-9)
         positions = centroids * (1.0 + self.params.centre_offset / distance)[:, None]
@@ -175,7 +177,7 @@ class _SegmentDetector(abc.ABC):
             scores=result.scores[idx],
             frame="sensor",
             sensor_pose=scan.pose,
-            segments=tuple(result.table.segment(int(i)) for i in idx),
+            segments=result.table.segments_at(idx),
         )
 
 

@@ -46,6 +46,7 @@ Choices where 000 is silent or ambiguous (all documented in the tests):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -163,54 +164,108 @@ def _compute(
     params: FeatureParams,
     full_circle: bool,
 ) -> SegmentFeatures:
+    """All features in three passes over the points, each one ``np.add.reduceat`` of a
+    (K, C) matrix of per-point terms: (1) coordinates, boundary steps, curvature, turning
+    angles and the beams' range changes; (2) the centred moments, the distances to the
+    vector of medians and the steps' deviations from their mean; (3) the circle residuals.
+    A per-point term is 0 where it does not apply (the step into a segment's first point,
+    curvature and angle at its end points), so each segment's sum is its own."""
     m = len(table)
     P = table.points
     k = P.shape[0]
-    off = table.offsets[:-1]
-    sizes = np.diff(table.offsets)
+    offsets = table.offsets
+    off = offsets[:-1]
+    sizes = offsets[1:] - off
     n = sizes.astype(np.float64)
     seg = np.repeat(np.arange(m), sizes)
-    out = np.zeros((m, N_FEATURES))
-    out[:, 0] = n
+    px, py = P[:, 0], P[:, 1]
+    speed = _usable_previous(scan, previous)
 
-    # centre of gravity; everything below works in centred coordinates d
-    centres = np.add.reduceat(P, off, axis=0) / n[:, None]
-    d = P - centres[seg]
-    dx, dy = d[:, 0], d[:, 1]
+    # pass 1: x, y, step from the previous point, curvature, turning angle, [both, delta]
+    t1 = np.zeros((k, 7 if speed else 5))
+    t1[:, 0] = px
+    t1[:, 1] = py
+    starts = np.zeros(k, dtype=bool)
+    starts[off] = True
+    steps = np.zeros(0)
+    if k > 1:
+        vx = px[1:] - px[:-1]
+        vy = py[1:] - py[:-1]
+        steps = np.sqrt(vx * vx + vy * vy)
+        t1[1:, 2] = steps
+        t1[off, 2] = 0.0
+        if k > 2:
+            # 12, 13 at interior points: curvature 4A/(dA dB dC), signed turning angle
+            v1x, v1y, v2x, v2y = vx[:-1], vy[:-1], vx[1:], vy[1:]
+            cross = v1x * v2y - v1y * v2x
+            dot = v1x * v2x + v1y * v2y
+            sx, sy = v1x + v2x, v1y + v2y
+            prod = steps[:-1] * steps[1:] * np.sqrt(sx * sx + sy * sy)
+            mid = ~(starts[1:-1] | starts[2:])
+            t1[1:-1, 3] = np.where(mid & (prod > 0.0), 2.0 * np.abs(cross) / prod, 0.0)
+            t1[1:-1, 4] = np.where(mid, np.arctan2(cross, dot), 0.0)
+    delta = np.zeros(0)
+    if speed:
+        assert previous is not None
+        beams = table.beams
+        both = previous.valid[beams]
+        delta = np.where(both, scan.ranges[beams] - previous.ranges[beams], 0.0)
+        t1[:, 5] = both
+        t1[:, 6] = delta
+    s1 = np.add.reduceat(t1, off, axis=0)
+    centres = s1[:, :2] / n[:, None]
+    length = s1[:, 2]
 
     # vector of medians (feature 3): sort each coordinate within its segment
     lo = off + (sizes - 1) // 2
     hi = off + sizes // 2
     vals = _sorted_within(P, seg, m)
-    med = (0.5 * (vals[:, lo] + vals[:, hi])).T
+    med = 0.5 * (vals[:, lo] + vals[:, hi])  # (2, M)
 
-    # all per-point sums in one reduceat
-    terms = np.empty((k, 7))
-    np.multiply(dx, dx, out=terms[:, 0])
-    np.multiply(dy, dy, out=terms[:, 1])
-    np.multiply(dx, dy, out=terms[:, 2])
-    z = terms[:, 0] + terms[:, 1]
-    np.multiply(dx, z, out=terms[:, 3])
-    np.multiply(dy, z, out=terms[:, 4])
-    terms[:, 5] = z
-    dm = P - med[seg]
-    terms[:, 6] = np.hypot(dm[:, 0], dm[:, 1])
-    sums = np.add.reduceat(terms, off, axis=0)
-    sxx, syy, sxy, sxz, syz, sz, sdev = sums.T
+    # pass 2: centred moments, distance to the medians, squared step deviations
+    dx = px - centres[seg, 0]
+    dy = py - centres[seg, 1]
+    t2 = np.empty((k, 8))
+    xx, yy = t2[:, 0], t2[:, 1]
+    np.multiply(dx, dx, out=xx)
+    np.multiply(dy, dy, out=yy)
+    np.multiply(dx, dy, out=t2[:, 2])
+    z = t2[:, 5]
+    np.add(xx, yy, out=z)
+    np.multiply(dx, z, out=t2[:, 3])
+    np.multiply(dy, z, out=t2[:, 4])
+    mx = px - med[0, seg]
+    my = py - med[1, seg]
+    t2[:, 6] = np.sqrt(mx * mx + my * my)
+    mean_step = np.where(n > 1, length / (n - 1.0), 0.0)
+    dev = t2[:, 7]
+    dev[0] = 0.0
+    if k > 1:
+        np.subtract(steps, mean_step[seg[1:]], out=dev[1:])
+        np.multiply(dev, dev, out=dev)
+        dev[off] = 0.0
+    s2 = np.add.reduceat(t2, off, axis=0)
+    sxx, syy, sxy, sxz, syz, sz, sdev, ss = s2.T
 
+    out = np.empty((m, N_FEATURES))
+    out[:, 0] = n
     # 2: standard deviation; 3: mean deviation from the vector of medians
-    out[:, 1] = np.where(n > 1, np.sqrt((sxx + syy) / (n - 1.0)), 0.0)
+    out[:, 1] = np.sqrt((sxx + syy) / (n - 1.0))
+    out[n <= 1, 1] = 0.0
     out[:, 2] = sdev / n
 
     # 4, 5, 6: jump distances and width
-    first = P[off]
-    last = P[off + sizes - 1]
-    out[:, 5] = np.hypot(last[:, 0] - first[:, 0], last[:, 1] - first[:, 1])
-    gap = np.hypot(first[1:, 0] - last[:-1, 0], first[1:, 1] - last[:-1, 1])
+    fx, fy = px[off], py[off]
+    ends = offsets[1:] - 1
+    lx, ly = px[ends], py[ends]
+    wx, wy = lx - fx, ly - fy
+    out[:, 5] = np.sqrt(wx * wx + wy * wy)
+    gx, gy = fx[1:] - lx[:-1], fy[1:] - ly[:-1]
+    gap = np.sqrt(gx * gx + gy * gy)
     out[1:, 3] = gap
     out[:-1, 4] = gap
     if full_circle and m > 1:
-        closing = float(np.hypot(*(first[0] - last[-1])))
+        closing = math.hypot(float(fx[0] - lx[-1]), float(fy[0] - ly[-1]))
         out[0, 3] = closing
         out[-1, 4] = closing
     else:
@@ -220,62 +275,55 @@ def _compute(
     # 7: linearity, residual of the Hessian (alpha, r) line fit; r passes the centroid
     alpha = 0.5 * np.arctan2(-2.0 * sxy, syy - sxx)
     ca, sa = np.cos(alpha), np.sin(alpha)
-    out[:, 6] = np.maximum(sxx * ca * ca + 2.0 * sxy * ca * sa + syy * sa * sa, 0.0)
+    linearity = np.maximum(sxx * ca * ca + 2.0 * sxy * ca * sa + syy * sa * sa, 0.0)
+    out[:, 6] = linearity
 
     # 8, 9: algebraic circle fit; centred normal equations reduce to a 2x2 system
     det = sxx * syy - sxy * sxy
     scale = (sxx + syy) ** 2
     has_circle = (n >= MIN_POINTS) & (det > 1e-12 * scale) & (scale > 0.0)
-    safe = np.where(has_circle, 2.0 * det, 1.0)
-    xc = np.where(has_circle, (syy * sxz - sxy * syz) / safe, 0.0)
-    yc = np.where(has_circle, (sxx * syz - sxy * sxz) / safe, 0.0)
+    no_circle = ~has_circle
+    safe = 2.0 * det
+    safe[no_circle] = 1.0
+    xc = (syy * sxz - sxy * syz) / safe
+    yc = (sxx * syz - sxy * sxz) / safe
+    xc[no_circle] = 0.0
+    yc[no_circle] = 0.0
     rc = np.sqrt(xc * xc + yc * yc + sz / n)
-    resid = rc[seg] - np.hypot(dx - xc[seg], dy - yc[seg])
+    ex = dx - xc[seg]
+    ey = dy - yc[seg]
+    resid = rc[seg] - np.sqrt(ex * ex + ey * ey)
     sc = np.add.reduceat(resid * resid, off)
-    out[:, 7] = np.where(has_circle, sc, out[:, 6])
+    out[:, 7] = np.where(has_circle, sc, linearity)
     out[:, 8] = np.where(has_circle, rc, params.no_circle_radius)
-    circle_centres = np.where(has_circle[:, None], centres + np.stack([xc, yc], axis=1), np.nan)
+    circle_centres = np.empty((m, 2))
+    np.add(centres[:, 0], xc, out=circle_centres[:, 0])
+    np.add(centres[:, 1], yc, out=circle_centres[:, 1])
+    circle_centres[no_circle] = np.nan
 
-    # 10, 11: boundary length and regularity (steps across segment borders weigh 0)
-    if k > 1:
-        step_vec = P[1:] - P[:-1]
-        steps = np.hypot(step_vec[:, 0], step_vec[:, 1])
-        step_seg = seg[1:]
-        inner = (step_seg == seg[:-1]).astype(np.float64)
-        length = np.bincount(step_seg, weights=steps * inner, minlength=m)
-        out[:, 9] = length
-        mean_step = np.where(n > 1, length / (n - 1.0), 0.0)
-        dev = (steps - mean_step[step_seg]) ** 2 * inner
-        ss = np.bincount(step_seg, weights=dev, minlength=m)
-        out[:, 10] = np.where(n >= MIN_POINTS, np.sqrt(ss / (n - 2.0)), 0.0)
+    # 10, 11: boundary length and regularity (sample standard deviation of the steps)
+    out[:, 9] = length
+    out[:, 10] = np.sqrt(ss / (n - 2.0))
+    few = n < MIN_POINTS
+    out[few, 10] = 0.0
 
-        # 12, 13: curvature 4A/(dA dB dC) and signed turning angle at interior points
-        if k > 2:
-            v1, v2 = step_vec[:-1], step_vec[1:]
-            tri_seg = seg[1:-1]
-            mid = inner[:-1] * inner[1:]
-            cross = v1[:, 0] * v2[:, 1] - v1[:, 1] * v2[:, 0]
-            dot = v1[:, 0] * v2[:, 0] + v1[:, 1] * v2[:, 1]
-            dac = np.hypot(v1[:, 0] + v2[:, 0], v1[:, 1] + v2[:, 1])
-            prod = steps[:-1] * steps[1:] * dac
-            kappa = np.where(prod > 0.0, 2.0 * np.abs(cross) / prod, 0.0)  # 4 * |cross| / 2
-            beta = np.arctan2(cross, dot) * (mid * np.sign(scan.angle_increment))
-            n_inner = np.maximum(n - 2.0, 1.0)
-            out[:, 11] = np.bincount(tri_seg, weights=kappa * mid, minlength=m) / n_inner
-            out[:, 12] = np.bincount(tri_seg, weights=beta, minlength=m) / n_inner
+    # 12, 13: means over the n - 2 interior points (13 traversed by increasing angle)
+    n_inner = np.maximum(n - 2.0, 1.0)
+    out[:, 11] = s1[:, 3] / n_inner
+    out[:, 12] = s1[:, 4] / n_inner
+    if scan.angle_increment < 0.0:
+        out[:, 12] *= -1.0
 
     # 14: mean speed along the beams, against the same beams of the previous scan
-    max_motion = np.zeros(m)
-    if _usable_previous(scan, previous):
+    if speed:
         assert previous is not None
-        beams = table.beams
-        both = previous.valid[beams]
-        delta = np.where(both, scan.ranges[beams] - previous.ranges[beams], 0.0)
-        counts = np.bincount(seg, weights=both.astype(np.float64), minlength=m)
+        counts, total = s1[:, 5], s1[:, 6]
         dt = scan.stamp - previous.stamp
-        total = np.bincount(seg, weights=delta, minlength=m)
         out[:, 13] = np.where(counts > 0, total / np.maximum(counts, 1.0) / dt, 0.0)
         max_motion = np.maximum.reduceat(np.abs(delta), off)
+    else:
+        out[:, 13] = 0.0
+        max_motion = np.zeros(m)
     return SegmentFeatures(out, max_motion, centres, circle_centres)
 
 

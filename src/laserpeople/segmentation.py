@@ -157,16 +157,13 @@ class JumpDistanceSegmenter:
 
     def __call__(self, scan: Scan) -> SegmentTable:
         """The segments of ``scan`` in beam order."""
-        pts_all = scan.points("sensor")
-        valid = scan.valid
-        idx = np.flatnonzero(valid)
+        pts, idx = scan.valid_points("sensor")
         n_invalid = scan.n_beams - idx.size
         if idx.size == 0:
             return SegmentTable.empty(scan.n_beams, n_invalid)
-        pts = pts_all[idx]
         return jump_distance_table(
             pts,
-            idx.astype(np.int64),
+            idx,
             scan.n_beams,
             self.params.threshold,
             wrap=self.params.wrap_around and covers_full_circle(scan),

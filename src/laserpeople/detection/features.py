@@ -46,7 +46,6 @@ Choices where 000 is silent or ambiguous (all documented in the tests):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -164,12 +163,19 @@ def _compute(
     params: FeatureParams,
     full_circle: bool,
 ) -> SegmentFeatures:
-    """All features in three passes over the points, each one ``np.add.reduceat`` of a
-    (K, C) matrix of per-point terms: (1) coordinates, boundary steps, curvature, turning
-    angles and the beams' range changes; (2) the centred moments, the distances to the
-    vector of medians and the steps' deviations from their mean; (3) the circle residuals.
-    A per-point term is 0 where it does not apply (the step into a segment's first point,
-    curvature and angle at its end points), so each segment's sum is its own."""
+    """All features in three passes over the points, each a few whole-scan reductions of
+    (K, C) matrices of per-point terms: (1) centres; boundary steps, curvature, turning
+    angles and the beams' range changes; (2) the centred moments and distances to the
+    vector of medians; the steps' deviations from their mean; (3) the circle residuals. A
+    per-point term is 0 where it does not apply (the step into a segment's first point,
+    curvature and angle at its end points), so each segment's sum is its own.
+
+    Every value is computed by the same floating-point operations in the same order as a
+    computation feature by feature would (``np.add.reduceat``'s pairwise sums for the
+    moments, residuals and centres; sums in point order for the steps, curvature, angles
+    and range changes, as ``np.bincount`` adds): features that are zero but for rounding
+    (the circularity of three points, the regularity of evenly spaced points) then keep
+    their rounding, and the stumps whose thresholds lie at that level decide the same."""
     m = len(table)
     P = table.points
     k = P.shape[0]
@@ -181,40 +187,40 @@ def _compute(
     px, py = P[:, 0], P[:, 1]
     speed = _usable_previous(scan, previous)
 
-    # pass 1: x, y, step from the previous point, curvature, turning angle, [both, delta]
-    t1 = np.zeros((k, 7 if speed else 5))
-    t1[:, 0] = px
-    t1[:, 1] = py
+    # pass 1: centres; step from the previous point, curvature, turning angle, [valid in
+    # both scans, range change], summed in point order
+    centres = np.add.reduceat(P, off, axis=0) / n[:, None]
+    c1 = 5 if speed else 3
+    t1 = np.zeros((k, c1))
     starts = np.zeros(k, dtype=bool)
     starts[off] = True
     steps = np.zeros(0)
     if k > 1:
         vx = px[1:] - px[:-1]
         vy = py[1:] - py[:-1]
-        steps = np.sqrt(vx * vx + vy * vy)
-        t1[1:, 2] = steps
-        t1[off, 2] = 0.0
+        steps = np.hypot(vx, vy)
+        t1[1:, 0] = steps
+        t1[off, 0] = 0.0
         if k > 2:
             # 12, 13 at interior points: curvature 4A/(dA dB dC), signed turning angle
             v1x, v1y, v2x, v2y = vx[:-1], vy[:-1], vx[1:], vy[1:]
             cross = v1x * v2y - v1y * v2x
             dot = v1x * v2x + v1y * v2y
-            sx, sy = v1x + v2x, v1y + v2y
-            prod = steps[:-1] * steps[1:] * np.sqrt(sx * sx + sy * sy)
+            prod = steps[:-1] * steps[1:] * np.hypot(v1x + v2x, v1y + v2y)
             mid = ~(starts[1:-1] | starts[2:])
-            t1[1:-1, 3] = np.where(mid & (prod > 0.0), 2.0 * np.abs(cross) / prod, 0.0)
-            t1[1:-1, 4] = np.where(mid, np.arctan2(cross, dot), 0.0)
+            # (2 |cross| / prod: 4 A with A = |cross| / 2)
+            t1[1:-1, 1] = np.where(mid & (prod > 0.0), 2.0 * np.abs(cross) / prod, 0.0)
+            t1[1:-1, 2] = np.where(mid, np.arctan2(cross, dot), 0.0)
     delta = np.zeros(0)
     if speed:
         assert previous is not None
         beams = table.beams
         both = previous.valid[beams]
         delta = np.where(both, scan.ranges[beams] - previous.ranges[beams], 0.0)
-        t1[:, 5] = both
-        t1[:, 6] = delta
-    s1 = np.add.reduceat(t1, off, axis=0)
-    centres = s1[:, :2] / n[:, None]
-    length = s1[:, 2]
+        t1[:, 3] = both
+        t1[:, 4] = delta
+    s1 = _sums_in_order(seg, t1, m)
+    length = s1[:, 0]
 
     # vector of medians (feature 3): sort each coordinate within its segment
     lo = off + (sizes - 1) // 2
@@ -222,10 +228,11 @@ def _compute(
     vals = _sorted_within(P, seg, m)
     med = 0.5 * (vals[:, lo] + vals[:, hi])  # (2, M)
 
-    # pass 2: centred moments, distance to the medians, squared step deviations
+    # pass 2: centred moments and distances to the medians (pairwise sums); squared
+    # deviations of the steps from their mean (in point order)
     dx = px - centres[seg, 0]
     dy = py - centres[seg, 1]
-    t2 = np.empty((k, 8))
+    t2 = np.empty((k, 7))
     xx, yy = t2[:, 0], t2[:, 1]
     np.multiply(dx, dx, out=xx)
     np.multiply(dy, dy, out=yy)
@@ -234,18 +241,15 @@ def _compute(
     np.add(xx, yy, out=z)
     np.multiply(dx, z, out=t2[:, 3])
     np.multiply(dy, z, out=t2[:, 4])
-    mx = px - med[0, seg]
-    my = py - med[1, seg]
-    t2[:, 6] = np.sqrt(mx * mx + my * my)
+    t2[:, 6] = np.hypot(px - med[0, seg], py - med[1, seg])
+    sxx, syy, sxy, sxz, syz, sz, sdev = np.add.reduceat(t2, off, axis=0).T
     mean_step = np.where(n > 1, length / (n - 1.0), 0.0)
-    dev = t2[:, 7]
-    dev[0] = 0.0
+    dev = np.zeros(k)
     if k > 1:
         np.subtract(steps, mean_step[seg[1:]], out=dev[1:])
         np.multiply(dev, dev, out=dev)
         dev[off] = 0.0
-    s2 = np.add.reduceat(t2, off, axis=0)
-    sxx, syy, sxy, sxz, syz, sz, sdev, ss = s2.T
+    ss = np.bincount(seg, weights=dev, minlength=m)
 
     out = np.empty((m, N_FEATURES))
     out[:, 0] = n
@@ -258,14 +262,12 @@ def _compute(
     fx, fy = px[off], py[off]
     ends = offsets[1:] - 1
     lx, ly = px[ends], py[ends]
-    wx, wy = lx - fx, ly - fy
-    out[:, 5] = np.sqrt(wx * wx + wy * wy)
-    gx, gy = fx[1:] - lx[:-1], fy[1:] - ly[:-1]
-    gap = np.sqrt(gx * gx + gy * gy)
+    out[:, 5] = np.hypot(lx - fx, ly - fy)
+    gap = np.hypot(fx[1:] - lx[:-1], fy[1:] - ly[:-1])
     out[1:, 3] = gap
     out[:-1, 4] = gap
     if full_circle and m > 1:
-        closing = math.hypot(float(fx[0] - lx[-1]), float(fy[0] - ly[-1]))
+        closing = float(np.hypot(fx[0] - lx[-1], fy[0] - ly[-1]))
         out[0, 3] = closing
         out[-1, 4] = closing
     else:
@@ -290,9 +292,7 @@ def _compute(
     xc[no_circle] = 0.0
     yc[no_circle] = 0.0
     rc = np.sqrt(xc * xc + yc * yc + sz / n)
-    ex = dx - xc[seg]
-    ey = dy - yc[seg]
-    resid = rc[seg] - np.sqrt(ex * ex + ey * ey)
+    resid = rc[seg] - np.hypot(dx - xc[seg], dy - yc[seg])
     sc = np.add.reduceat(resid * resid, off)
     out[:, 7] = np.where(has_circle, sc, linearity)
     out[:, 8] = np.where(has_circle, rc, params.no_circle_radius)
@@ -304,20 +304,19 @@ def _compute(
     # 10, 11: boundary length and regularity (sample standard deviation of the steps)
     out[:, 9] = length
     out[:, 10] = np.sqrt(ss / (n - 2.0))
-    few = n < MIN_POINTS
-    out[few, 10] = 0.0
+    out[n < MIN_POINTS, 10] = 0.0
 
     # 12, 13: means over the n - 2 interior points (13 traversed by increasing angle)
     n_inner = np.maximum(n - 2.0, 1.0)
-    out[:, 11] = s1[:, 3] / n_inner
-    out[:, 12] = s1[:, 4] / n_inner
+    out[:, 11] = s1[:, 1] / n_inner
+    out[:, 12] = s1[:, 2] / n_inner
     if scan.angle_increment < 0.0:
         out[:, 12] *= -1.0
 
     # 14: mean speed along the beams, against the same beams of the previous scan
     if speed:
         assert previous is not None
-        counts, total = s1[:, 5], s1[:, 6]
+        counts, total = s1[:, 3], s1[:, 4]
         dt = scan.stamp - previous.stamp
         out[:, 13] = np.where(counts > 0, total / np.maximum(counts, 1.0) / dt, 0.0)
         max_motion = np.maximum.reduceat(np.abs(delta), off)
@@ -325,6 +324,16 @@ def _compute(
         out[:, 13] = 0.0
         max_motion = np.zeros(m)
     return SegmentFeatures(out, max_motion, centres, circle_centres)
+
+
+def _sums_in_order(seg: NDArray[np.int64], terms: FloatArray, m: int) -> FloatArray:
+    """Per-segment sums (M, C) of the per-point ``terms`` (K, C) of the segments ``seg``
+    (K,), every one added in point order (one ``np.bincount`` over all columns: its bins
+    are (segment, column) pairs, each filled in the order of the points)."""
+    c = terms.shape[1]
+    bins = (seg[:, None] * c + np.arange(c)).ravel()
+    sums = np.bincount(bins, weights=terms.ravel(), minlength=m * c)
+    return sums.reshape(m, c)
 
 
 def _sorted_within(P: FloatArray, seg: NDArray[np.int64], m: int) -> FloatArray:

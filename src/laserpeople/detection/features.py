@@ -46,6 +46,7 @@ Choices where 000 is silent or ambiguous (all documented in the tests):
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,45 +148,92 @@ def compute_features(
         full_circle: The scan covers 360 degrees, so the first and last segment neighbour
             each other (features 4 and 5).
     """
-    m = len(table)
-    if m == 0:
-        return SegmentFeatures(
-            np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
-        )
+    return compute_features_many([table], [scan], [previous], params, [full_circle])[0]
+
+
+def compute_features_many(
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+    full_circle: Sequence[bool] | None = None,
+) -> list[SegmentFeatures]:
+    """:func:`compute_features` of several scans at once (each with its table, previous
+    scan and ``full_circle`` flag; all False when None): the same values, with the fixed
+    cost of the whole-scan array operations paid once for all of them."""
+    flags = [False] * len(scans) if full_circle is None else list(full_circle)
+    counts = [len(t) for t in tables]
+    total = sum(counts)
+    if total == 0:
+        return [
+            SegmentFeatures(
+                np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
+            )
+            for _ in tables
+        ]
     with np.errstate(divide="ignore", invalid="ignore"):
-        return _compute(table, scan, previous, params, full_circle)
+        every = _compute(tables, scans, previous, params, flags)
+    if len(tables) == 1:
+        return [every]
+    out = []
+    start = 0
+    for m in counts:
+        sl = slice(start, start + m)
+        out.append(
+            SegmentFeatures(
+                every.values[sl],
+                every.max_beam_motion[sl],
+                every.centres[sl],
+                every.circle_centres[sl],
+            )
+        )
+        start += m
+    return out
+
+
+def _joined(tables: Sequence[SegmentTable]) -> tuple[FloatArray, NDArray[np.int64]]:
+    """Points (K, 2) and offsets (M + 1,) of several tables as one."""
+    if len(tables) == 1:
+        return tables[0].points, tables[0].offsets
+    points = np.concatenate([t.points for t in tables])
+    sizes = np.concatenate([np.diff(t.offsets) for t in tables])
+    offsets = np.zeros(sizes.size + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    return points, offsets
 
 
 def _compute(
-    table: SegmentTable,
-    scan: Scan,
-    previous: Scan | None,
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
     params: FeatureParams,
-    full_circle: bool,
+    full_circle: Sequence[bool],
 ) -> SegmentFeatures:
-    """All features in three passes over the points, each a few whole-scan reductions of
-    (K, C) matrices of per-point terms: (1) centres; boundary steps, curvature, turning
-    angles and the beams' range changes; (2) the centred moments and distances to the
-    vector of medians; the steps' deviations from their mean; (3) the circle residuals. A
-    per-point term is 0 where it does not apply (the step into a segment's first point,
-    curvature and angle at its end points), so each segment's sum is its own.
+    """All features of the segments of ``tables`` (at least one segment in all), in three
+    passes over the points, each a few reductions of (K, C) matrices of per-point terms:
+    (1) centres; boundary steps, curvature, turning angles and the beams' range changes;
+    (2) the centred moments and distances to the vector of medians; the steps' deviations
+    from their mean; (3) the circle residuals. A per-point term is 0 where it does not
+    apply (the step into a segment's first point, curvature and angle at its end points),
+    so each segment's sum is its own, whichever scan it belongs to.
 
     Every value is computed by the same floating-point operations in the same order as a
-    computation feature by feature would (``np.add.reduceat``'s pairwise sums for the
-    moments, residuals and centres; sums in point order for the steps, curvature, angles
-    and range changes, as ``np.bincount`` adds): features that are zero but for rounding
-    (the circularity of three points, the regularity of evenly spaced points) then keep
-    their rounding, and the stumps whose thresholds lie at that level decide the same."""
-    m = len(table)
-    P = table.points
+    computation feature by feature and scan by scan would (``np.add.reduceat``'s pairwise
+    sums for the moments, residuals and centres; sums in point order for the steps,
+    curvature, angles and range changes, as ``np.bincount`` adds; the medians sorted scan
+    by scan): features that are zero but for rounding (the circularity of three points,
+    the regularity of evenly spaced points) then keep their rounding, and the stumps whose
+    thresholds lie at that level decide the same."""
+    P, offsets = _joined(tables)
+    m = offsets.size - 1
     k = P.shape[0]
-    offsets = table.offsets
     off = offsets[:-1]
     sizes = offsets[1:] - off
     n = sizes.astype(np.float64)
     seg = np.repeat(np.arange(m), sizes)
     px, py = P[:, 0], P[:, 1]
-    speed = _usable_previous(scan, previous)
+    usable = [_usable_previous(s, p) for s, p in zip(scans, previous, strict=True)]
+    speed = any(usable)
 
     # pass 1: centres; step from the previous point, curvature, turning angle, [valid in
     # both scans, range change], summed in point order
@@ -211,21 +259,34 @@ def _compute(
             # (2 |cross| / prod: 4 A with A = |cross| / 2)
             t1[1:-1, 1] = np.where(mid & (prod > 0.0), 2.0 * np.abs(cross) / prod, 0.0)
             t1[1:-1, 2] = np.where(mid, np.arctan2(cross, dot), 0.0)
-    delta = np.zeros(0)
+    delta = np.zeros(k)
+    dt = np.ones(m)
     if speed:
-        assert previous is not None
-        beams = table.beams
-        both = previous.valid[beams]
-        delta = np.where(both, scan.ranges[beams] - previous.ranges[beams], 0.0)
-        t1[:, 3] = both
+        at = seg_at = 0
+        for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True):
+            size, count = table.beams.size, len(table)
+            if ok and size:
+                assert prev is not None
+                beams = table.beams
+                both = prev.valid[beams]
+                delta[at : at + size] = np.where(both, scan.ranges[beams] - prev.ranges[beams], 0.0)
+                t1[at : at + size, 3] = both
+                dt[seg_at : seg_at + count] = scan.stamp - prev.stamp
+            at += size
+            seg_at += count
         t1[:, 4] = delta
     s1 = _sums_in_order(seg, t1, m)
     length = s1[:, 0]
 
-    # vector of medians (feature 3): sort each coordinate within its segment
+    # vector of medians (feature 3): sort each coordinate within its segment (scan by scan)
     lo = off + (sizes - 1) // 2
     hi = off + sizes // 2
-    vals = _sorted_within(P, seg, m)
+    if len(tables) == 1:
+        vals = _sorted_within(P, seg, m)
+    else:
+        vals = np.concatenate(
+            [_sorted_within(t.points, t.segment_ids, len(t)) for t in tables if len(t)], axis=1
+        )
     med = 0.5 * (vals[:, lo] + vals[:, hi])  # (2, M)
 
     # pass 2: centred moments and distances to the medians (pairwise sums); squared
@@ -266,13 +327,20 @@ def _compute(
     gap = np.hypot(fx[1:] - lx[:-1], fy[1:] - ly[:-1])
     out[1:, 3] = gap
     out[:-1, 4] = gap
-    if full_circle and m > 1:
-        closing = float(np.hypot(fx[0] - lx[-1], fy[0] - ly[-1]))
-        out[0, 3] = closing
-        out[-1, 4] = closing
-    else:
-        out[0, 3] = params.no_neighbour_jump
-        out[-1, 4] = params.no_neighbour_jump
+    first = 0
+    for table, circle in zip(tables, full_circle, strict=True):
+        count = len(table)
+        if count == 0:
+            continue
+        last = first + count - 1
+        if circle and count > 1:
+            closing = float(np.hypot(fx[first] - lx[last], fy[first] - ly[last]))
+            out[first, 3] = closing
+            out[last, 4] = closing
+        else:
+            out[first, 3] = params.no_neighbour_jump
+            out[last, 4] = params.no_neighbour_jump
+        first += count
 
     # 7: linearity, residual of the Hessian (alpha, r) line fit; r passes the centroid
     alpha = 0.5 * np.arctan2(-2.0 * sxy, syy - sxx)
@@ -310,14 +378,16 @@ def _compute(
     n_inner = np.maximum(n - 2.0, 1.0)
     out[:, 11] = s1[:, 1] / n_inner
     out[:, 12] = s1[:, 2] / n_inner
-    if scan.angle_increment < 0.0:
-        out[:, 12] *= -1.0
+    first = 0
+    for table, scan in zip(tables, scans, strict=True):
+        if scan.angle_increment < 0.0:
+            out[first : first + len(table), 12] *= -1.0
+        first += len(table)
 
-    # 14: mean speed along the beams, against the same beams of the previous scan
+    # 14: mean speed along the beams, against the same beams of the previous scan (0 for
+    # the segments of a scan without a usable previous one: no beam counts there)
     if speed:
-        assert previous is not None
         counts, total = s1[:, 3], s1[:, 4]
-        dt = scan.stamp - previous.stamp
         out[:, 13] = np.where(counts > 0, total / np.maximum(counts, 1.0) / dt, 0.0)
         max_motion = np.maximum.reduceat(np.abs(delta), off)
     else:
@@ -333,7 +403,7 @@ def _sums_in_order(seg: NDArray[np.int64], terms: FloatArray, m: int) -> FloatAr
     c = terms.shape[1]
     bins = (seg[:, None] * c + np.arange(c)).ravel()
     sums = np.bincount(bins, weights=terms.ravel(), minlength=m * c)
-    return sums.reshape(m, c)
+    return np.asarray(sums.reshape(m, c), dtype=np.float64)
 
 
 def _sorted_within(P: FloatArray, seg: NDArray[np.int64], m: int) -> FloatArray:

@@ -84,7 +84,7 @@ def decode_laserscan(raw: bytes | bytearray | memoryview) -> LaserScanMessage | 
         frame_id = bytes(raw[_HEAD.size : at]).decode("utf-8")
     except UnicodeDecodeError:
         return None
-    *values, n = _BODY.unpack_from(raw, at)
+    a_min, a_max, a_inc, t_inc, t_scan, r_min, r_max, n = _BODY.unpack_from(raw, at)
     at += _BODY.size
     if at + 4 * n + _COUNT.size > size:
         return None
@@ -95,7 +95,18 @@ def decode_laserscan(raw: bytes | bytearray | memoryview) -> LaserScanMessage | 
     if at + 4 * m != size:
         return None
     intensities = np.frombuffer(raw, dtype="<f4", count=m, offset=at)
-    return LaserScanMessage(Header(seq, Time(sec, nsec), frame_id), *values, ranges, intensities)
+    return LaserScanMessage(
+        Header(seq, Time(sec, nsec), frame_id),
+        a_min,
+        a_max,
+        a_inc,
+        t_inc,
+        t_scan,
+        r_min,
+        r_max,
+        ranges,
+        intensities,
+    )
 
 
 __all__ = [

@@ -1,0 +1,147 @@
+"""The parts of ``track``'s loop outside the tracker, this tree against another side by
+side in one process: reading the recording, leg detection, the point set, the static world
+model.
+
+The other tree is imported as the package ``laserpeople_ab`` (``bench_track_ab.load_other``).
+Per pass and recording, each tree (who goes first alternates) reads the recording (the
+real demo bag: decoding its ROS 1 LaserScans; the simulated hall with 4 people of
+``bench_scaling.py``: an .npz), detects the legs of every scan (``detect``: segmentation,
+the 14 features, AdaBoost, the detections), puts every scan into a point set (``Fuse``)
+and feeds the people's static world model (``PeopleStaticModel("auto")`` as ``track``
+runs it). Printed per recording and part: the median process CPU per scan over the passes
+of each tree and the ratio before/after, then whether the outputs agree: the largest
+difference of the detections' positions and scores, leg counts, and of the static world
+model's answers (``static_time`` at every detection of the last 50 scans).
+
+    PYTHONPATH=src .venv/bin/python benchmarks/bench_outside_tracker.py --before OLD/src
+        [--passes 5] [--halls /tmp/halls]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_scaling import DEMO_BAG, hall_recording
+from bench_track_ab import PACKAGE, load_other
+
+PARTS = ("read", "detect", "point set", "static world model")
+
+
+def run_parts(package: str, path: Path) -> tuple[dict[str, float], dict[str, Any]]:
+    """CPU seconds per scan of each part for ``package`` on ``path``, and its outputs."""
+    io = importlib.import_module(f"{package}.io")
+    detector = importlib.import_module(f"{package}.detection.detector")
+    pipe = importlib.import_module(f"{package}.pipeline")
+    static = importlib.import_module(f"{package}.pipeline.static_people")
+    clock = time.process_time
+    cpu: dict[str, float] = {}
+    t0 = clock()
+    rec = io.open_recording(path)
+    try:
+        scans = list(rec.scans())
+    finally:
+        rec.close()
+    cpu["read"] = clock() - t0
+    det = detector.AdaBoostLegDetector.default()
+    t0 = clock()
+    dets = [det.detect(s) for s in scans]
+    cpu["detect"] = clock() - t0
+    frames = list(pipe.FrameChooser()(pipe.laser_frames(scans)))
+    fuse = pipe.Fuse()
+    t0 = clock()
+    frames = [fuse(f) for f in frames]
+    cpu["point set"] = clock() - t0
+    model = static.PeopleStaticModel("auto")
+    model.fill_foreground = False
+    answers = []
+    t0 = clock()
+    for k, f in enumerate(frames):
+        model(f)
+        if k >= len(frames) - 50:
+            answers.append(model.static_time(dets[k].positions))
+    cpu["static world model"] = clock() - t0 - model.query_cpu
+    per_scan = {part: seconds / len(scans) for part, seconds in cpu.items()}
+    return per_scan, {"dets": dets, "answers": answers}
+
+
+def largest(a: list[np.ndarray], b: list[np.ndarray]) -> float:
+    """The largest absolute difference of paired arrays (inf when their shapes differ)."""
+    worst = 0.0
+    for x, y in zip(a, b, strict=True):
+        if x.shape != y.shape:
+            return float("inf")
+        if x.size:
+            worst = max(worst, float(np.max(np.abs(x - y))))
+    return worst
+
+
+def compare(name: str, path: Path, packages: list[str], passes: int) -> None:
+    """Time and compare the packages' parts on the recording ``path``."""
+    times: dict[str, dict[str, list[float]]] = {p: {part: [] for part in PARTS} for p in packages}
+    outputs: dict[str, dict[str, Any]] = {}
+    for k in range(passes):
+        for p in packages if k % 2 == 0 else packages[::-1]:
+            per_scan, outputs[p] = run_parts(p, path)
+            for part, seconds in per_scan.items():
+                times[p][part].append(seconds)
+    before, after = packages
+    print(f"\n{name}: {passes} passes, median CPU ms per scan")
+    print(f"  {'part':20s} {'before':>8s} {'after':>8s} {'before/after':>13s}")
+    total = {p: 0.0 for p in packages}
+    for part in PARTS:
+        b, a = (statistics.median(times[p][part]) for p in packages)
+        total[before] += b
+        total[after] += a
+        print(f"  {part:20s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
+    b, a = total[before], total[after]
+    print(f"  {'these parts':20s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
+    x, y = outputs[before]["dets"], outputs[after]["dets"]
+    legs = sum(len(d) for d in x), sum(len(d) for d in y)
+    print(
+        f"  detections: {legs[0]} -> {legs[1]} legs; largest difference of positions "
+        f"{largest([d.positions for d in x], [d.positions for d in y]):.2e} m, of scores "
+        f"{largest([d.scores for d in x], [d.scores for d in y]):.2e}; static times "
+        f"{largest(outputs[before]['answers'], outputs[after]['answers']):.2e} s"
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--before", type=Path, required=True, help="the other tree's src/")
+    ap.add_argument("--passes", type=int, default=5)
+    ap.add_argument("--halls", type=Path, help="keep the simulated hall here (reused)")
+    ap.add_argument(
+        "--data",
+        type=Path,
+        default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
+    )
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        load_other(args.before, Path(tmp))
+        packages = [PACKAGE, "laserpeople"]
+        bag = args.data / DEMO_BAG
+        if bag.exists():
+            compare("real demo bag (512 beams)", bag, packages, args.passes)
+        else:
+            print(f"no demo bag at {bag}: left out (--data names the shared data)")
+        halls = args.halls or Path(tmp)
+        halls.mkdir(parents=True, exist_ok=True)
+        hall = halls / "hall-04-8s.npz"
+        if not hall.exists():
+            hall_recording(4, 8.0, hall)
+        compare("hall, 4 people (1081 beams)", hall, packages, args.passes)
+
+
+if __name__ == "__main__":
+    main()

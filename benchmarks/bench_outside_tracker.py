@@ -6,7 +6,8 @@ The other tree is imported as the package ``laserpeople_ab`` (``bench_track_ab.l
 Per pass and recording, each tree (who goes first alternates) reads the recording (the
 real demo bag: decoding its ROS 1 LaserScans; the simulated hall with 4 people of
 ``bench_scaling.py``: an .npz), detects the legs of every scan (``detect``: segmentation,
-the 14 features, AdaBoost, the detections), puts every scan into a point set (``Fuse``)
+the 14 features, AdaBoost, the detections) scan by scan and as ``track`` does (blocks of
+frames at once where the tree reads ahead), puts every scan into a point set (``Fuse``)
 and feeds the people's static world model (``PeopleStaticModel("auto")`` as ``track``
 runs it). Printed per recording and part: the median process CPU per scan over the passes
 of each tree and the ratio before/after, then whether the outputs agree: the largest
@@ -35,7 +36,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_scaling import DEMO_BAG, hall_recording
 from bench_track_ab import PACKAGE, load_other
 
-PARTS = ("read", "detect", "point set", "static world model")
+PARTS = ("read", "detect, scan by scan", "detect as track does", "point set", "static world model")
+"""The parts timed; ``detect as track does``: blocks of the pipeline's ``LOOKAHEAD``
+frames detected at once (``detect_many``) where the tree has it, else scan by scan."""
 
 
 def run_parts(package: str, path: Path) -> tuple[dict[str, float], dict[str, Any]]:
@@ -56,7 +59,16 @@ def run_parts(package: str, path: Path) -> tuple[dict[str, float], dict[str, Any
     det = detector.AdaBoostLegDetector.default()
     t0 = clock()
     dets = [det.detect(s) for s in scans]
-    cpu["detect"] = clock() - t0
+    cpu["detect, scan by scan"] = clock() - t0
+    ahead = getattr(importlib.import_module(f"{package}.pipeline.recording"), "LOOKAHEAD", 1)
+    det = detector.AdaBoostLegDetector.default()
+    t0 = clock()
+    if ahead > 1:
+        blocks = [det.detect_many(scans[i : i + ahead]) for i in range(0, len(scans), ahead)]
+        in_blocks = [d for block in blocks for d in block]
+    else:
+        in_blocks = [det.detect(s) for s in scans]
+    cpu["detect as track does"] = clock() - t0
     frames = list(pipe.FrameChooser()(pipe.laser_frames(scans)))
     fuse = pipe.Fuse()
     t0 = clock()
@@ -72,7 +84,7 @@ def run_parts(package: str, path: Path) -> tuple[dict[str, float], dict[str, Any
             answers.append(model.static_time(dets[k].positions))
     cpu["static world model"] = clock() - t0 - model.query_cpu
     per_scan = {part: seconds / len(scans) for part, seconds in cpu.items()}
-    return per_scan, {"dets": dets, "answers": answers}
+    return per_scan, {"dets": dets, "blocks": in_blocks, "answers": answers}
 
 
 def largest(a: list[np.ndarray], b: list[np.ndarray]) -> float:
@@ -97,21 +109,27 @@ def compare(name: str, path: Path, packages: list[str], passes: int) -> None:
                 times[p][part].append(seconds)
     before, after = packages
     print(f"\n{name}: {passes} passes, median CPU ms per scan")
-    print(f"  {'part':20s} {'before':>8s} {'after':>8s} {'before/after':>13s}")
+    print(f"  {'part':24s} {'before':>8s} {'after':>8s} {'before/after':>13s}")
     total = {p: 0.0 for p in packages}
     for part in PARTS:
         b, a = (statistics.median(times[p][part]) for p in packages)
-        total[before] += b
-        total[after] += a
-        print(f"  {part:20s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
+        if part != "detect, scan by scan":
+            total[before] += b
+            total[after] += a
+        print(f"  {part:24s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
     b, a = total[before], total[after]
-    print(f"  {'these parts':20s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
-    x, y = outputs[before]["dets"], outputs[after]["dets"]
-    legs = sum(len(d) for d in x), sum(len(d) for d in y)
+    print(f"  {'as track runs them':24s} {1e3 * b:8.3f} {1e3 * a:8.3f} {b / a:12.2f}x")
+    x = outputs[before]["dets"]
+    for label, key in (("scan by scan", "dets"), ("in blocks", "blocks")):
+        y = outputs[after][key]
+        legs = sum(len(d) for d in x), sum(len(d) for d in y)
+        print(
+            f"  detections {label}: {legs[0]} -> {legs[1]} legs; largest difference of "
+            f"positions {largest([d.positions for d in x], [d.positions for d in y]):.2e} m, "
+            f"of scores {largest([d.scores for d in x], [d.scores for d in y]):.2e}"
+        )
     print(
-        f"  detections: {legs[0]} -> {legs[1]} legs; largest difference of positions "
-        f"{largest([d.positions for d in x], [d.positions for d in y]):.2e} m, of scores "
-        f"{largest([d.scores for d in x], [d.scores for d in y]):.2e}; static times "
+        "  static world model's answers: largest difference "
         f"{largest(outputs[before]['answers'], outputs[after]['answers']):.2e} s"
     )
 

@@ -136,3 +136,22 @@ def test_no_reading_ahead_past_a_stage_that_provides_scans(scans: list[Scan]) ->
                     lookahead=4)  # fmt: skip
     assert len(list(pipe)) == 6
     assert detector.blocks == [] and detector.single == 6
+
+
+def test_a_failing_block_leaves_detection_to_each_frame(scans: list[Scan]) -> None:
+    """When detecting a block fails, each frame is detected on its own (where a scan's
+    own error would be raised at its frame), with the previous scans as before."""
+
+    class Failing(_Counting):
+        def detect_many(self, scans: list[Scan]) -> list[object]:
+            self.blocks.append(len(scans))
+            raise ValueError("no block today")
+
+    detector = Failing()
+    pipe = Pipeline(iter(list(laser_frames(scans[:10]))), observe=[DetectLegs(detector)],
+                    lookahead=4)  # fmt: skip
+    got = [step.frame.legs for step in pipe]
+    assert detector.blocks == [4, 4, 2] and detector.single == 10
+    reference = AdaBoostLegDetector.default()
+    for scan, legs in zip(scans[:10], got, strict=True):
+        _same(legs, reference.detect(scan))

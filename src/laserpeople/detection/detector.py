@@ -144,9 +144,10 @@ class _SegmentDetector(abc.ABC):
         and scores computed for all of them at once."""
         tables = [self.segmenter(scan) for scan in scans]
         previous = []
+        last = dict(self._previous)
         for scan in scans:
-            previous.append(self._previous.get(scan.sensor))
-            self._previous[scan.sensor] = scan
+            previous.append(last.get(scan.sensor))
+            last[scan.sensor] = scan
         parts = compute_features_many(
             tables,
             scans,
@@ -166,6 +167,7 @@ class _SegmentDetector(abc.ABC):
         elif n_ok:
             scores[ok] = self._scores(_subset(feats, ok))
         is_leg = ok & (scores > self.params.score_threshold)  # (NaN compares False)
+        self._previous.update(last)  # (only once all of them are classified)
         out = []
         start = 0
         for table, part in zip(tables, parts, strict=True):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from array import array
 from collections.abc import Iterable, Iterator, Sequence
+from contextlib import suppress
 from dataclasses import dataclass, field
 
 from laserpeople.distinct_ids import DistinctIds
@@ -84,7 +85,9 @@ class Pipeline:
             detection) is then given each block first and works on all its scans at once;
             the results are the same, the fixed cost of its array operations is paid once
             per block. For recordings, not for a live source (it waits for the block).
-            An error of the source is raised after the frames read before it.
+            An error of the source is raised after the frames read before it; an error of
+            a stage's ``prefetch`` leaves the stage to work frame by frame, where it meets
+            the error at its frame.
 
     Raises:
         ConfigError: A stage, the tracker or an identifier consumes a field that nothing
@@ -183,7 +186,8 @@ class Pipeline:
             if block:
                 for i in self._ahead:
                     t0 = clock()
-                    self.stages[i].prefetch(block)  # type: ignore[attr-defined]
+                    with suppress(Exception):  # (the stage meets it again at its frame)
+                        self.stages[i].prefetch(block)  # type: ignore[attr-defined]
                     stage_cpu[i] += clock() - t0
             yield from block
             if error is not None:

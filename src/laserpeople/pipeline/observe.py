@@ -78,6 +78,7 @@ class DetectLegs:
         """Detect the legs of every scan of ``frames`` (frames about to come, in order) at
         once, when the detector can (``detect_many``); :meth:`__call__` then takes them
         (the same detections as one scan at a time)."""
+        self._ready = {}
         many = getattr(self.detector, "detect_many", None)
         if many is None or self.keep_classification:
             return

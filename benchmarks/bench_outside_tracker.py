@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import os
 import statistics
 import sys
 import tempfile
@@ -33,7 +32,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_scaling import DEMO_BAG, hall_recording
+from bench_detect_ab import add_recording_arguments, recordings
 from bench_track_ab import PACKAGE, load_other
 
 PARTS = ("read", "detect, scan by scan", "detect as track does", "point set", "static world model")
@@ -138,27 +137,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--before", type=Path, required=True, help="the other tree's src/")
     ap.add_argument("--passes", type=int, default=5)
-    ap.add_argument("--halls", type=Path, help="keep the simulated hall here (reused)")
-    ap.add_argument(
-        "--data",
-        type=Path,
-        default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
-    )
+    add_recording_arguments(ap)
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         load_other(args.before, Path(tmp))
         packages = [PACKAGE, "laserpeople"]
-        bag = args.data / DEMO_BAG
-        if bag.exists():
-            compare("real demo bag (512 beams)", bag, packages, args.passes)
-        else:
-            print(f"no demo bag at {bag}: left out (--data names the shared data)")
-        halls = args.halls or Path(tmp)
-        halls.mkdir(parents=True, exist_ok=True)
-        hall = halls / "hall-04-8s.npz"
-        if not hall.exists():
-            hall_recording(4, 8.0, hall)
-        compare("hall, 4 people (1081 beams)", hall, packages, args.passes)
+        for name, path in recordings(args, Path(tmp)):
+            compare(name, path, packages, args.passes)
 
 
 if __name__ == "__main__":

@@ -96,34 +96,46 @@ def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> No
     print(f"  same features: {same_features}, same scores: {same_scores}, same legs: {same_legs}")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--other", type=Path, required=True, help="the other tree's src/")
-    ap.add_argument("--passes", type=int, default=7)
-    ap.add_argument("--max-scans", type=int, default=400)
+def add_recording_arguments(ap: argparse.ArgumentParser) -> None:
+    """``--halls`` and ``--data``: where the simulated hall is kept and the shared data are."""
     ap.add_argument("--halls", type=Path, help="keep the simulated hall here (reused)")
     ap.add_argument(
         "--data",
         type=Path,
         default=Path(os.environ.get("LASERPEOPLE_SHARED_DATA", "/work/shared/data")),
     )
+
+
+def recordings(args: argparse.Namespace, tmp: Path) -> list[tuple[str, Path]]:
+    """(name, path) of the real demo bag (when the shared data hold it; said when not) and
+    of the simulated hall with 4 people (simulated into ``args.halls`` or ``tmp`` once)."""
+    out = []
+    bag = args.data / DEMO_BAG
+    if bag.exists():
+        out.append(("real demo bag (512 beams)", bag))
+    else:
+        print(f"no demo bag at {bag}: left out (--data names the shared data)")
+    halls = args.halls or tmp
+    halls.mkdir(parents=True, exist_ok=True)
+    hall = halls / "hall-04-8s.npz"
+    if not hall.exists():
+        hall_recording(4, 8.0, hall)
+    out.append(("hall, 4 people (1081 beams)", hall))
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--other", type=Path, required=True, help="the other tree's src/")
+    ap.add_argument("--passes", type=int, default=7)
+    ap.add_argument("--max-scans", type=int, default=400)
+    add_recording_arguments(ap)
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         load_other(args.other, Path(tmp))
         packages = [PACKAGE, "laserpeople"]
-        bag = args.data / DEMO_BAG
-        if bag.exists():
-            compare("real demo bag", scans_of(bag, args.max_scans), packages, args.passes)
-        else:
-            print(f"no demo bag at {bag}: left out (--data names the shared data)")
-        halls = args.halls or Path(tmp)
-        halls.mkdir(parents=True, exist_ok=True)
-        hall = halls / "hall-04-8s.npz"
-        if not hall.exists():
-            hall_recording(4, 8.0, hall)
-        compare(
-            "hall, 4 people (1081 beams)", scans_of(hall, args.max_scans), packages, args.passes
-        )
+        for name, path in recordings(args, Path(tmp)):
+            compare(name, scans_of(path, args.max_scans), packages, args.passes)
 
 
 if __name__ == "__main__":

@@ -112,6 +112,8 @@ def pipeline(package: str, path: Path, background: str) -> Any:
     preprocess, observe, hide = recording.tracker_stages(
         tracker, detector=detector.AdaBoostLegDetector.default(), background=background
     )
+    # as ``track`` reads a recording: frames read ahead, their legs detected at once
+    ahead = getattr(recording, "LOOKAHEAD", None)
     return iter(
         pipe.Pipeline(
             pipe.FrameChooser()(pipe.laser_frames(scans)),
@@ -119,6 +121,7 @@ def pipeline(package: str, path: Path, background: str) -> Any:
             observe=observe,
             tracker=tracker,
             identify=[hide] if hide is not None else [],
+            **({} if ahead is None else {"lookahead": ahead}),
         )
     )
 

@@ -37,8 +37,10 @@ import laserpeople.tracking.point_model as point_model
 from bench_scaling import DEMO_BAG, add_scene_arguments, hall_paths, pipeline
 from bench_track_parts import timed
 
+LEG_DETECTION = "leg detection: segments, features, AdaBoost"
 PARTS: list[tuple[Any, str, str, int]] = [
-    (detector.AdaBoostLegDetector, "classify", "leg detection: segments, features, AdaBoost", 0),
+    # (classify_many: scan by scan through classify, or a block of scans at once)
+    (detector.AdaBoostLegDetector, "classify_many", LEG_DETECTION, 0),
     (detector.AdaBoostLegDetector, "detections_from", "leg detection: the detections", 0),
     (legs.LegMHTTracker, "update", "leg tracker (MHT, people layer, glue)", 0),
     (core.MHT, "step", "MHT step", 1),

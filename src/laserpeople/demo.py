@@ -20,6 +20,7 @@ from laserpeople.errors import LaserPeopleError
 from laserpeople.evaluation import evaluate
 from laserpeople.frame import Frame, FrameTracker
 from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, TracksCsvSink, laser_frames
+from laserpeople.pipeline.recording import LOOKAHEAD
 from laserpeople.scan import Scan
 from laserpeople.sim import SimResult, run_scenario
 from laserpeople.tracking import registry
@@ -124,6 +125,7 @@ def detect_frames(scans: list[Scan], progress: Progress = _no_progress) -> list[
     pipe = Pipeline(
         progress(chooser(laser_frames(scans)), len(scans), "detecting"),
         observe=[DetectLegs(AdaBoostLegDetector.default())],
+        lookahead=LOOKAHEAD,
     )
     return [step.frame for step in pipe]
 

@@ -273,10 +273,26 @@ class Scan:
             return self._sensor_points
         return self.sensor_to_world(self._sensor_points)
 
-    def valid_points(self, frame: CoordinateFrame = "sensor") -> tuple[FloatArray, IntArray]:
-        """Points (K, 2) of the valid beams only, and their beam indices (K,)."""
+    @cached_property
+    def valid_beams(self) -> IntArray:
+        """Indices (K,) of the valid beams, increasing (read-only)."""
         idx = np.flatnonzero(self.valid).astype(np.int64)
+        idx.setflags(write=False)
+        return idx
+
+    @cached_property
+    def _valid_sensor_points(self) -> FloatArray:
         # (take along rows: the rows of ``[idx]`` at a tenth of its cost on ~700 beams)
+        pts = self._sensor_points.take(self.valid_beams, axis=0)
+        pts.setflags(write=False)
+        return pts
+
+    def valid_points(self, frame: CoordinateFrame = "sensor") -> tuple[FloatArray, IntArray]:
+        """Points (K, 2) of the valid beams only, and their beam indices (K,) (both
+        read-only: the sensor frame's are computed once per scan and shared)."""
+        if frame == "sensor":
+            return self._valid_sensor_points, self.valid_beams
+        idx = self.valid_beams
         return self.points(frame).take(idx, axis=0), idx
 
     def sensor_to_world(self, points: NDArray[np.floating]) -> FloatArray:

@@ -304,7 +304,7 @@ class BeamHistogramBackground:
             table.finish(self.params)
         assert table.static is not None
         out = np.zeros(scan.n_beams, dtype=bool)
-        idx = np.flatnonzero(valid)
+        idx = scan.valid_beams
         bins = np.minimum(
             (scan.ranges[idx] / self.params.bin_width).astype(np.int64), table.static.shape[1] - 1
         )
@@ -336,6 +336,11 @@ class BeamHistogramBackground:
 
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame`` (during the learning period) and set its ``foreground``."""
+        return replace(frame, foreground=self.learn_foreground(frame))
+
+    def learn_foreground(self, frame: Frame) -> NDArray[np.bool_]:
+        """Learn from ``frame`` as :meth:`__call__` does and return the foreground (N,) of
+        its points (without building a new frame)."""
         if frame.points is None:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
@@ -362,15 +367,15 @@ class BeamHistogramBackground:
                 self._relearn(scan, beams)
         pts = frame.points
         if len(pts.sensors) == 1 and pts.sensors[0] in by_name:  # one laser: no masks
-            fg = by_name[pts.sensors[0]][pts.beams]
-            return replace(frame, foreground=fg)
+            one: NDArray[np.bool_] = by_name[pts.sensors[0]][pts.beams]
+            return one
         fg = np.zeros(len(pts), dtype=bool)
         for i, name in enumerate(pts.sensors):
             if name not in by_name:
                 continue
             sel = pts.sensor_ids == i
             fg[sel] = by_name[name][pts.beams[sel]]
-        return replace(frame, foreground=fg)
+        return fg
 
     def watched_seconds(self) -> float:
         """Seconds the static bins have been known to be static at the last frame: the

@@ -214,8 +214,11 @@ class _StumpTables:
             np.searchsorted(self.grid, cols, side="left").T[self.group_column],
         )
         rows = np.arange(self.values.shape[0])[:, None]
-        # (groups added in order, row by row: the floats a loop over the groups gives)
-        return np.asarray(np.add.reduce(self.values[rows, ranks], axis=0), dtype=np.float64)
+        # groups added in order, the floats a loop over the groups gives, for any number of
+        # rows (a cumulative sum adds in order; ``np.add.reduce`` over the groups would
+        # add pairwise when X has a single row, so a row's score would depend on the rows
+        # scored with it)
+        return np.asarray(np.cumsum(self.values[rows, ranks], axis=0)[-1], dtype=np.float64)
 
 
 def _stump_tables(

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import abc
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -22,7 +23,7 @@ from laserpeople.config import param
 from laserpeople.detection.features import (
     FeatureParams,
     SegmentFeatures,
-    compute_features,
+    compute_features_many,
 )
 from laserpeople.detection.heuristic import HeuristicLegClassifier, HeuristicParams
 from laserpeople.detection.model_file import LegModel, load_model, model_from_json
@@ -136,34 +137,62 @@ class _SegmentDetector(abc.ABC):
 
     def classify(self, scan: Scan) -> ScanClassification:
         """Segment, featurise and score ``scan``; remembers it as the previous scan."""
-        table = self.segmenter(scan)
-        previous = self._previous.get(scan.sensor)
-        feats = compute_features(
-            table, scan, previous, self.feature_params, full_circle=covers_full_circle(scan)
+        return self.classify_many([scan])[0]
+
+    def classify_many(self, scans: Sequence[Scan]) -> list[ScanClassification]:
+        """:meth:`classify` of each of ``scans`` in turn (the same results), their features
+        and scores computed for all of them at once."""
+        tables = [self.segmenter(scan) for scan in scans]
+        previous = []
+        last = dict(self._previous)
+        for scan in scans:
+            previous.append(last.get(scan.sensor))
+            last[scan.sensor] = scan
+        parts = compute_features_many(
+            tables,
+            scans,
+            previous,
+            self.feature_params,
+            [covers_full_circle(scan) for scan in scans],
         )
-        self._previous[scan.sensor] = scan
-        scores = np.full(len(table), np.nan)
-        distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
-        ok = (
-            feats.classifiable
-            & (distance >= self.params.min_distance)
-            & (distance <= self.params.max_distance)
-        )
-        if ok.any():
+        feats = parts[0] if len(parts) == 1 else _joined(parts)
+        scores = np.full(len(feats), np.nan)
+        ok = feats.classifiable
+        if self.params.min_distance > 0.0 or self.params.max_distance < math.inf:
+            distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
+            ok &= (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
+        n_ok = int(np.count_nonzero(ok))
+        if n_ok == len(feats):  # (every segment: the features as they are, no copies)
+            scores[:] = self._scores(feats)
+        elif n_ok:
             scores[ok] = self._scores(_subset(feats, ok))
-        with np.errstate(invalid="ignore"):
-            is_leg = ok & (scores > self.params.score_threshold)
-        return ScanClassification(table, feats, scores, is_leg)
+        is_leg = ok & (scores > self.params.score_threshold)  # (NaN compares False)
+        self._previous.update(last)  # (only once all of them are classified)
+        out = []
+        start = 0
+        for table, part in zip(tables, parts, strict=True):
+            sl = slice(start, start + len(table))
+            out.append(ScanClassification(table, part, scores[sl], is_leg[sl]))
+            start += len(table)
+        return out
 
     def detect(self, scan: Scan) -> Detections:
         """The legs found in ``scan`` (sensor frame)."""
         return self.detections_from(scan, self.classify(scan))
 
+    def detect_many(self, scans: Sequence[Scan]) -> list[Detections]:
+        """:meth:`detect` of each of ``scans`` in turn (the same detections), classified all
+        at once (:meth:`classify_many`)."""
+        results = self.classify_many(scans)
+        return [self.detections_from(s, r) for s, r in zip(scans, results, strict=True)]
+
     def detections_from(self, scan: Scan, result: ScanClassification) -> Detections:
         """The detections of an already classified scan."""
         idx = np.flatnonzero(result.is_leg)
         var = self.params.leg_position_std**2
-        cov = np.broadcast_to(np.diag([var, var]), (idx.size, 2, 2)).copy()
+        cov = np.zeros((idx.size, 2, 2))
+        cov[:, 0, 0] = var
+        cov[:, 1, 1] = var
         centroids = result.features.centres[idx]
         distance = np.maximum(np.hypot(centroids[:, 0], centroids[:, 1]), 1e-9)
         positions = centroids * (1.0 + self.params.centre_offset / distance)[:, None]
@@ -175,8 +204,18 @@ class _SegmentDetector(abc.ABC):
             scores=result.scores[idx],
             frame="sensor",
             sensor_pose=scan.pose,
-            segments=tuple(result.table.segment(int(i)) for i in idx),
+            segments=result.table.segments_at(idx),
         )
+
+
+def _joined(parts: Sequence[SegmentFeatures]) -> SegmentFeatures:
+    """The features of several scans as one (rows in order)."""
+    return SegmentFeatures(
+        np.concatenate([p.values for p in parts]),
+        np.concatenate([p.max_beam_motion for p in parts]),
+        np.concatenate([p.centres for p in parts]),
+        np.concatenate([p.circle_centres for p in parts]),
+    )
 
 
 def _subset(features: SegmentFeatures, mask: NDArray[np.bool_]) -> SegmentFeatures:

@@ -46,6 +46,7 @@ Choices where 000 is silent or ambiguous (all documented in the tests):
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,136 +148,262 @@ def compute_features(
         full_circle: The scan covers 360 degrees, so the first and last segment neighbour
             each other (features 4 and 5).
     """
-    m = len(table)
-    if m == 0:
-        return SegmentFeatures(
-            np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
-        )
+    return compute_features_many([table], [scan], [previous], params, [full_circle])[0]
+
+
+def compute_features_many(
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+    full_circle: Sequence[bool] | None = None,
+) -> list[SegmentFeatures]:
+    """:func:`compute_features` of several scans at once (each with its table, previous
+    scan and ``full_circle`` flag; all False when None): the same values, with the fixed
+    cost of the whole-scan array operations paid once for all of them."""
+    flags = [False] * len(scans) if full_circle is None else list(full_circle)
+    counts = [len(t) for t in tables]
+    total = sum(counts)
+    if total == 0:
+        return [
+            SegmentFeatures(
+                np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
+            )
+            for _ in tables
+        ]
     with np.errstate(divide="ignore", invalid="ignore"):
-        return _compute(table, scan, previous, params, full_circle)
+        every = _compute(tables, scans, previous, params, flags)
+    if len(tables) == 1:
+        return [every]
+    out = []
+    start = 0
+    for m in counts:
+        sl = slice(start, start + m)
+        out.append(
+            SegmentFeatures(
+                every.values[sl],
+                every.max_beam_motion[sl],
+                every.centres[sl],
+                every.circle_centres[sl],
+            )
+        )
+        start += m
+    return out
+
+
+def _joined(tables: Sequence[SegmentTable]) -> tuple[FloatArray, NDArray[np.int64]]:
+    """Points (K, 2) and offsets (M + 1,) of several tables as one."""
+    if len(tables) == 1:
+        return tables[0].points, tables[0].offsets
+    points = np.concatenate([t.points for t in tables])
+    sizes = np.concatenate([np.diff(t.offsets) for t in tables])
+    offsets = np.zeros(sizes.size + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    return points, offsets
 
 
 def _compute(
-    table: SegmentTable,
-    scan: Scan,
-    previous: Scan | None,
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
     params: FeatureParams,
-    full_circle: bool,
+    full_circle: Sequence[bool],
 ) -> SegmentFeatures:
-    m = len(table)
-    P = table.points
+    """All features of the segments of ``tables`` (at least one segment in all), in three
+    passes over the points, each a few reductions of (K, C) matrices of per-point terms:
+    (1) centres; boundary steps, curvature, turning angles and the beams' range changes;
+    (2) the centred moments and distances to the vector of medians; the steps' deviations
+    from their mean; (3) the circle residuals. A per-point term is 0 where it does not
+    apply (the step into a segment's first point, curvature and angle at its end points),
+    so each segment's sum is its own, whichever scan it belongs to.
+
+    Every value is computed by the same floating-point operations in the same order as a
+    computation feature by feature and scan by scan would (``np.add.reduceat``'s pairwise
+    sums for the moments, residuals and centres; sums in point order for the steps,
+    curvature, angles and range changes, as ``np.bincount`` adds; the medians sorted scan
+    by scan): features that are zero but for rounding (the circularity of three points,
+    the regularity of evenly spaced points) then keep their rounding, and the stumps whose
+    thresholds lie at that level decide the same."""
+    P, offsets = _joined(tables)
+    m = offsets.size - 1
     k = P.shape[0]
-    off = table.offsets[:-1]
-    sizes = np.diff(table.offsets)
+    off = offsets[:-1]
+    sizes = offsets[1:] - off
     n = sizes.astype(np.float64)
     seg = np.repeat(np.arange(m), sizes)
-    out = np.zeros((m, N_FEATURES))
-    out[:, 0] = n
+    px, py = P[:, 0], P[:, 1]
+    usable = [_usable_previous(s, p) for s, p in zip(scans, previous, strict=True)]
+    speed = any(usable)
 
-    # centre of gravity; everything below works in centred coordinates d
+    # pass 1: centres; step from the previous point, curvature, turning angle, [valid in
+    # both scans, range change], summed in point order
     centres = np.add.reduceat(P, off, axis=0) / n[:, None]
-    d = P - centres[seg]
-    dx, dy = d[:, 0], d[:, 1]
+    c1 = 5 if speed else 3
+    t1 = np.zeros((k, c1))
+    starts = np.zeros(k, dtype=bool)
+    starts[off] = True
+    steps = np.zeros(0)
+    if k > 1:
+        vx = px[1:] - px[:-1]
+        vy = py[1:] - py[:-1]
+        steps = np.hypot(vx, vy)
+        t1[1:, 0] = steps
+        t1[off, 0] = 0.0
+        if k > 2:
+            # 12, 13 at interior points: curvature 4A/(dA dB dC), signed turning angle
+            v1x, v1y, v2x, v2y = vx[:-1], vy[:-1], vx[1:], vy[1:]
+            cross = v1x * v2y - v1y * v2x
+            dot = v1x * v2x + v1y * v2y
+            prod = steps[:-1] * steps[1:] * np.hypot(v1x + v2x, v1y + v2y)
+            mid = ~(starts[1:-1] | starts[2:])
+            # (2 |cross| / prod: 4 A with A = |cross| / 2)
+            t1[1:-1, 1] = np.where(mid & (prod > 0.0), 2.0 * np.abs(cross) / prod, 0.0)
+            t1[1:-1, 2] = np.where(mid, np.arctan2(cross, dot), 0.0)
+    delta = np.zeros(k)
+    dt = np.ones(m)
+    if speed:
+        at = seg_at = 0
+        for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True):
+            size, count = table.beams.size, len(table)
+            if ok and size:
+                assert prev is not None
+                beams = table.beams
+                both = prev.valid[beams]
+                delta[at : at + size] = np.where(both, scan.ranges[beams] - prev.ranges[beams], 0.0)
+                t1[at : at + size, 3] = both
+                dt[seg_at : seg_at + count] = scan.stamp - prev.stamp
+            at += size
+            seg_at += count
+        t1[:, 4] = delta
+    s1 = _sums_in_order(seg, t1, m)
+    length = s1[:, 0]
 
-    # vector of medians (feature 3): sort each coordinate within its segment
+    # vector of medians (feature 3): sort each coordinate within its segment (scan by scan)
     lo = off + (sizes - 1) // 2
     hi = off + sizes // 2
-    vals = _sorted_within(P, seg, m)
-    med = (0.5 * (vals[:, lo] + vals[:, hi])).T
+    if len(tables) == 1:
+        vals = _sorted_within(P, seg, m)
+    else:
+        vals = np.concatenate(
+            [_sorted_within(t.points, t.segment_ids, len(t)) for t in tables if len(t)], axis=1
+        )
+    med = 0.5 * (vals[:, lo] + vals[:, hi])  # (2, M)
 
-    # all per-point sums in one reduceat
-    terms = np.empty((k, 7))
-    np.multiply(dx, dx, out=terms[:, 0])
-    np.multiply(dy, dy, out=terms[:, 1])
-    np.multiply(dx, dy, out=terms[:, 2])
-    z = terms[:, 0] + terms[:, 1]
-    np.multiply(dx, z, out=terms[:, 3])
-    np.multiply(dy, z, out=terms[:, 4])
-    terms[:, 5] = z
-    dm = P - med[seg]
-    terms[:, 6] = np.hypot(dm[:, 0], dm[:, 1])
-    sums = np.add.reduceat(terms, off, axis=0)
-    sxx, syy, sxy, sxz, syz, sz, sdev = sums.T
+    # pass 2: centred moments and distances to the medians (pairwise sums); squared
+    # deviations of the steps from their mean (in point order)
+    dx = px - centres[seg, 0]
+    dy = py - centres[seg, 1]
+    t2 = np.empty((k, 7))
+    xx, yy = t2[:, 0], t2[:, 1]
+    np.multiply(dx, dx, out=xx)
+    np.multiply(dy, dy, out=yy)
+    np.multiply(dx, dy, out=t2[:, 2])
+    z = t2[:, 5]
+    np.add(xx, yy, out=z)
+    np.multiply(dx, z, out=t2[:, 3])
+    np.multiply(dy, z, out=t2[:, 4])
+    t2[:, 6] = np.hypot(px - med[0, seg], py - med[1, seg])
+    sxx, syy, sxy, sxz, syz, sz, sdev = np.add.reduceat(t2, off, axis=0).T
+    mean_step = np.where(n > 1, length / (n - 1.0), 0.0)
+    dev = np.zeros(k)
+    if k > 1:
+        np.subtract(steps, mean_step[seg[1:]], out=dev[1:])
+        np.multiply(dev, dev, out=dev)
+        dev[off] = 0.0
+    ss = np.bincount(seg, weights=dev, minlength=m)
 
+    out = np.empty((m, N_FEATURES))
+    out[:, 0] = n
     # 2: standard deviation; 3: mean deviation from the vector of medians
-    out[:, 1] = np.where(n > 1, np.sqrt((sxx + syy) / (n - 1.0)), 0.0)
+    out[:, 1] = np.sqrt((sxx + syy) / (n - 1.0))
+    out[n <= 1, 1] = 0.0
     out[:, 2] = sdev / n
 
     # 4, 5, 6: jump distances and width
-    first = P[off]
-    last = P[off + sizes - 1]
-    out[:, 5] = np.hypot(last[:, 0] - first[:, 0], last[:, 1] - first[:, 1])
-    gap = np.hypot(first[1:, 0] - last[:-1, 0], first[1:, 1] - last[:-1, 1])
+    fx, fy = px[off], py[off]
+    ends = offsets[1:] - 1
+    lx, ly = px[ends], py[ends]
+    out[:, 5] = np.hypot(lx - fx, ly - fy)
+    gap = np.hypot(fx[1:] - lx[:-1], fy[1:] - ly[:-1])
     out[1:, 3] = gap
     out[:-1, 4] = gap
-    if full_circle and m > 1:
-        closing = float(np.hypot(*(first[0] - last[-1])))
-        out[0, 3] = closing
-        out[-1, 4] = closing
-    else:
-        out[0, 3] = params.no_neighbour_jump
-        out[-1, 4] = params.no_neighbour_jump
+    first = 0
+    for table, circle in zip(tables, full_circle, strict=True):
+        count = len(table)
+        if count == 0:
+            continue
+        last = first + count - 1
+        if circle and count > 1:
+            closing = float(np.hypot(fx[first] - lx[last], fy[first] - ly[last]))
+            out[first, 3] = closing
+            out[last, 4] = closing
+        else:
+            out[first, 3] = params.no_neighbour_jump
+            out[last, 4] = params.no_neighbour_jump
+        first += count
 
     # 7: linearity, residual of the Hessian (alpha, r) line fit; r passes the centroid
     alpha = 0.5 * np.arctan2(-2.0 * sxy, syy - sxx)
     ca, sa = np.cos(alpha), np.sin(alpha)
-    out[:, 6] = np.maximum(sxx * ca * ca + 2.0 * sxy * ca * sa + syy * sa * sa, 0.0)
+    linearity = np.maximum(sxx * ca * ca + 2.0 * sxy * ca * sa + syy * sa * sa, 0.0)
+    out[:, 6] = linearity
 
     # 8, 9: algebraic circle fit; centred normal equations reduce to a 2x2 system
     det = sxx * syy - sxy * sxy
     scale = (sxx + syy) ** 2
     has_circle = (n >= MIN_POINTS) & (det > 1e-12 * scale) & (scale > 0.0)
-    safe = np.where(has_circle, 2.0 * det, 1.0)
-    xc = np.where(has_circle, (syy * sxz - sxy * syz) / safe, 0.0)
-    yc = np.where(has_circle, (sxx * syz - sxy * sxz) / safe, 0.0)
+    no_circle = ~has_circle
+    safe = 2.0 * det
+    safe[no_circle] = 1.0
+    xc = (syy * sxz - sxy * syz) / safe
+    yc = (sxx * syz - sxy * sxz) / safe
+    xc[no_circle] = 0.0
+    yc[no_circle] = 0.0
     rc = np.sqrt(xc * xc + yc * yc + sz / n)
     resid = rc[seg] - np.hypot(dx - xc[seg], dy - yc[seg])
     sc = np.add.reduceat(resid * resid, off)
-    out[:, 7] = np.where(has_circle, sc, out[:, 6])
+    out[:, 7] = np.where(has_circle, sc, linearity)
     out[:, 8] = np.where(has_circle, rc, params.no_circle_radius)
-    circle_centres = np.where(has_circle[:, None], centres + np.stack([xc, yc], axis=1), np.nan)
+    circle_centres = np.empty((m, 2))
+    np.add(centres[:, 0], xc, out=circle_centres[:, 0])
+    np.add(centres[:, 1], yc, out=circle_centres[:, 1])
+    circle_centres[no_circle] = np.nan
 
-    # 10, 11: boundary length and regularity (steps across segment borders weigh 0)
-    if k > 1:
-        step_vec = P[1:] - P[:-1]
-        steps = np.hypot(step_vec[:, 0], step_vec[:, 1])
-        step_seg = seg[1:]
-        inner = (step_seg == seg[:-1]).astype(np.float64)
-        length = np.bincount(step_seg, weights=steps * inner, minlength=m)
-        out[:, 9] = length
-        mean_step = np.where(n > 1, length / (n - 1.0), 0.0)
-        dev = (steps - mean_step[step_seg]) ** 2 * inner
-        ss = np.bincount(step_seg, weights=dev, minlength=m)
-        out[:, 10] = np.where(n >= MIN_POINTS, np.sqrt(ss / (n - 2.0)), 0.0)
+    # 10, 11: boundary length and regularity (sample standard deviation of the steps)
+    out[:, 9] = length
+    out[:, 10] = np.sqrt(ss / (n - 2.0))
+    out[n < MIN_POINTS, 10] = 0.0
 
-        # 12, 13: curvature 4A/(dA dB dC) and signed turning angle at interior points
-        if k > 2:
-            v1, v2 = step_vec[:-1], step_vec[1:]
-            tri_seg = seg[1:-1]
-            mid = inner[:-1] * inner[1:]
-            cross = v1[:, 0] * v2[:, 1] - v1[:, 1] * v2[:, 0]
-            dot = v1[:, 0] * v2[:, 0] + v1[:, 1] * v2[:, 1]
-            dac = np.hypot(v1[:, 0] + v2[:, 0], v1[:, 1] + v2[:, 1])
-            prod = steps[:-1] * steps[1:] * dac
-            kappa = np.where(prod > 0.0, 2.0 * np.abs(cross) / prod, 0.0)  # 4 * |cross| / 2
-            beta = np.arctan2(cross, dot) * (mid * np.sign(scan.angle_increment))
-            n_inner = np.maximum(n - 2.0, 1.0)
-            out[:, 11] = np.bincount(tri_seg, weights=kappa * mid, minlength=m) / n_inner
-            out[:, 12] = np.bincount(tri_seg, weights=beta, minlength=m) / n_inner
+    # 12, 13: means over the n - 2 interior points (13 traversed by increasing angle)
+    n_inner = np.maximum(n - 2.0, 1.0)
+    out[:, 11] = s1[:, 1] / n_inner
+    out[:, 12] = s1[:, 2] / n_inner
+    first = 0
+    for table, scan in zip(tables, scans, strict=True):
+        if scan.angle_increment < 0.0:
+            out[first : first + len(table), 12] *= -1.0
+        first += len(table)
 
-    # 14: mean speed along the beams, against the same beams of the previous scan
-    max_motion = np.zeros(m)
-    if _usable_previous(scan, previous):
-        assert previous is not None
-        beams = table.beams
-        both = previous.valid[beams]
-        delta = np.where(both, scan.ranges[beams] - previous.ranges[beams], 0.0)
-        counts = np.bincount(seg, weights=both.astype(np.float64), minlength=m)
-        dt = scan.stamp - previous.stamp
-        total = np.bincount(seg, weights=delta, minlength=m)
+    # 14: mean speed along the beams, against the same beams of the previous scan (0 for
+    # the segments of a scan without a usable previous one: no beam counts there)
+    if speed:
+        counts, total = s1[:, 3], s1[:, 4]
         out[:, 13] = np.where(counts > 0, total / np.maximum(counts, 1.0) / dt, 0.0)
         max_motion = np.maximum.reduceat(np.abs(delta), off)
+    else:
+        out[:, 13] = 0.0
+        max_motion = np.zeros(m)
     return SegmentFeatures(out, max_motion, centres, circle_centres)
+
+
+def _sums_in_order(seg: NDArray[np.int64], terms: FloatArray, m: int) -> FloatArray:
+    """Per-segment sums (M, C) of the per-point ``terms`` (K, C) of the segments ``seg``
+    (K,), every one added in point order (one ``np.bincount`` over all columns: its bins
+    are (segment, column) pairs, each filled in the order of the points)."""
+    c = terms.shape[1]
+    bins = (seg[:, None] * c + np.arange(c)).ravel()
+    sums = np.bincount(bins, weights=terms.ravel(), minlength=m * c)
+    return np.asarray(sums.reshape(m, c), dtype=np.float64)
 
 
 def _sorted_within(P: FloatArray, seg: NDArray[np.int64], m: int) -> FloatArray:

@@ -32,6 +32,7 @@ from laserpeople.errors import (
 )
 from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import DamagedRecords, OnError
+from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
     KNOWN_MOUNTS,
@@ -468,6 +469,7 @@ class RosbagRecording:
         reader = self._open()
         try:
             conns = [c for c in reader.connections if c.topic == topic]
+            fast = {id(c) for c in conns if is_standard_laserscan(reader, c)}
             try:
                 messages = reader.messages(connections=conns)
             except Exception as exc:
@@ -493,7 +495,7 @@ class RosbagRecording:
                 index += 1
                 try:
                     conn, log_time, raw = item
-                    msg = self._decode(reader, conn, topic, raw)
+                    msg = self._decode(reader, conn, topic, raw, id(conn) in fast)
                     stamp = _stamp(msg.header)
                     if stamp == 0.0 and log_time != 0:
                         stamp = log_time * 1e-9
@@ -535,9 +537,16 @@ class RosbagRecording:
         finally:
             reader.close()
 
-    def _decode(self, reader: Any, conn: Any, topic: str, raw: Any) -> Any:
+    def _decode(self, reader: Any, conn: Any, topic: str, raw: Any, fast: bool = False) -> Any:
         """Deserialise one scan message; a record filed under a connection of another topic
-        or type (a damaged connection id) is a :class:`RecordingError`."""
+        or type (a damaged connection id) is a :class:`RecordingError`. ``fast``: the
+        connection carries standard ROS 1 LaserScans, decoded directly
+        (:mod:`laserpeople.io.laserscan_ros1`) unless the bytes do not follow their layout,
+        which rosbags' deserialiser then reports."""
+        if fast and conn.topic == topic and isinstance(raw, bytes | bytearray | memoryview):
+            msg = decode_laserscan(raw)
+            if msg is not None:
+                return msg
         if conn.topic != topic or not _is_laserscan(reader, conn.msgtype):
             raise RecordingError(
                 f"record belongs to connection {conn.topic!r} ({conn.msgtype}), "

@@ -149,8 +149,8 @@ class SensorMotionCheck:
         if self.moved_at is not None:
             return True
         learning = self._histogram.learning
-        fg = self._histogram(frame).foreground
-        if learning or fg is None:
+        fg = self._histogram.learn_foreground(frame)
+        if learning:
             return False
         return self.record(frame, fg)
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from array import array
 from collections.abc import Iterable, Iterator, Sequence
+from contextlib import suppress
 from dataclasses import dataclass, field
 
 from laserpeople.distinct_ids import DistinctIds
@@ -79,6 +80,14 @@ class Pipeline:
         identify: Identity stages run on the tracks (e.g. colour re-identification).
         sinks: Outputs.
         source_fields: What the source fills (``appearance`` for a camera or simulator).
+        lookahead: Frames read ahead from the source at a time (1: none). A stage with a
+            ``prefetch(frames)`` method before which no stage provides ``scans`` (leg
+            detection) is then given each block first and works on all its scans at once;
+            the results are the same, the fixed cost of its array operations is paid once
+            per block. For recordings, not for a live source (it waits for the block).
+            An error of the source is raised after the frames read before it; an error of
+            a stage's ``prefetch`` leaves the stage to work frame by frame, where it meets
+            the error at its frame.
 
     Raises:
         ConfigError: A stage, the tracker or an identifier consumes a field that nothing
@@ -95,8 +104,10 @@ class Pipeline:
         identify: Sequence[Identifier] = (),
         sinks: Sequence[Sink] = (),
         source_fields: frozenset[FrameField] = frozenset({"scans"}),
+        lookahead: int = 1,
     ) -> None:
         self.source = source
+        self.lookahead = max(1, int(lookahead))
         self.stages: tuple[Stage, ...] = (*preprocess, *observe)
         self.tracker = tracker
         self.identify = tuple(identify)
@@ -107,6 +118,12 @@ class Pipeline:
         consumers += [(f"identifier {type(i).__name__}", i) for i in self.identify]
         self.fields = check_feeds(source_fields, self.stages, consumers)
         self.stats = PipelineStats(stage_cpu=[0.0] * len(self.stages))
+        self._ahead: list[int] = []  # stages given each block of frames first
+        for i, stage in enumerate(self.stages):
+            if "scans" in getattr(stage, "provides", ()):
+                break
+            if callable(getattr(stage, "prefetch", None)):
+                self._ahead.append(i)
 
     def stage_cpu(self, stage: object) -> float:
         """Process CPU time [s] ``stage`` (one of :attr:`stages`) took so far."""
@@ -118,7 +135,7 @@ class Pipeline:
         stats = self.stats
         try:
             clock, stage_cpu = time.process_time, stats.stage_cpu
-            for frame in self.source:
+            for frame in self._frames():
                 before = clock()
                 for i, stage in enumerate(self.stages):
                     frame = stage(frame)
@@ -147,6 +164,36 @@ class Pipeline:
                 yield Step(frame, tracks, seconds)
         finally:
             self.close()
+
+    def _frames(self) -> Iterator[Frame]:
+        """The source's frames, read ``lookahead`` at a time; the stages of ``_ahead`` get
+        each block first (their CPU time counted as theirs)."""
+        if self.lookahead <= 1 or not self._ahead:
+            yield from self.source
+            return
+        frames = iter(self.source)
+        clock, stage_cpu = time.process_time, self.stats.stage_cpu
+        while True:
+            block: list[Frame] = []
+            error: Exception | None = None
+            try:
+                while len(block) < self.lookahead:
+                    block.append(next(frames))
+            except StopIteration:
+                pass
+            except Exception as exc:  # raised once the frames before it are through
+                error = exc
+            if block:
+                for i in self._ahead:
+                    t0 = clock()
+                    with suppress(Exception):  # (the stage meets it again at its frame)
+                        self.stages[i].prefetch(block)  # type: ignore[attr-defined]
+                    stage_cpu[i] += clock() - t0
+            yield from block
+            if error is not None:
+                raise error
+            if len(block) < self.lookahead:
+                return
 
     def close(self) -> None:
         """Close the sinks (and the source, when it can be closed); once (a second call,

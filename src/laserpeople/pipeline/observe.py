@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -68,11 +69,26 @@ class DetectLegs:
         self.duplicates = 0
         self.per_scan: tuple[Detections, ...] = ()
         """The last frame's detections of each scan, sensor frame (for per-laser output)."""
+        self._ready: dict[int, tuple[Scan, Detections]] = {}  # prefetched, by scan
         self.classifications: tuple[Any, ...] = ()
         """With ``keep_classification``: the last frame's ``ScanClassification`` per scan
         (every segment with its features and score; the detector needs ``classify``)."""
 
+    def prefetch(self, frames: Sequence[Frame]) -> None:
+        """Detect the legs of every scan of ``frames`` (frames about to come, in order) at
+        once, when the detector can (``detect_many``); :meth:`__call__` then takes them
+        (the same detections as one scan at a time)."""
+        self._ready = {}
+        many = getattr(self.detector, "detect_many", None)
+        if many is None or self.keep_classification:
+            return
+        scans = [scan for frame in frames for scan in frame.scans]
+        self._ready = {id(s): (s, d) for s, d in zip(scans, many(scans), strict=True)}
+
     def _detect(self, scan: Scan) -> Detections:
+        ready = self._ready.pop(id(scan), None)
+        if ready is not None and ready[0] is scan:
+            return ready[1]
         if not self.keep_classification:
             return self.detector.detect(scan)
         result = self.detector.classify(scan)  # type: ignore[attr-defined]

@@ -27,9 +27,12 @@ def _run(
     track_ids: Callable[[float], tuple[int, int]],
     group_window: tuple[float, float] | None = None,
     seconds: float = 12.0,
+    params: ReidParams | None = None,
+    unseen: Callable[[float], tuple[int, ...]] = lambda t: (),
 ) -> tuple[list[Tracks], list[np.ndarray], ColourReidentifier]:
+    """``unseen(t)``: the people whose tracks the tracker does not report at ``t``."""
     cam = SimulatedCamera(CameraParams(miss_probability=0.0), seed=3)
-    reid = ColourReidentifier()
+    reid = ColourReidentifier(params)
     outs, truths = [], []
     for k in range(int(seconds * 10)):
         t = k / 10
@@ -42,7 +45,9 @@ def _run(
             tracks = (Track(99, "group", xy.mean(axis=0), np.zeros(2), np.eye(2), 2, members=ids),)
         else:
             tracks = tuple(
-                Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01) for i in range(2)
+                Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01)
+                for i in range(2)
+                if i not in unseen(t)
             )
         frame = Frame(k, t, (), "synthetic", "world", appearance=obs)
         outs.append(reid.update(Tracks(t, k, tracks), frame))
@@ -96,10 +101,38 @@ def test_a_group_track_holds_its_members_until_it_splits() -> None:
     before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
     after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
     assert after == before
-    # early re-assignment: right after the group ends (6 s), not only once the two are
-    # 3 m apart (10.5 s, the final one, which confirms it)
-    assert [round(r.stamp, 1) for r in reid.reassignments] == [6.2, 10.5]
+    # early re-assignment: at the first clean observation after the group ends (6 s; the
+    # colours differ by far more than decision_margin), not only once the two are 3 m
+    # apart (7.5 s; the final one, on the next scan, confirms it)
+    assert [round(r.stamp, 1) for r in reid.reassignments] == [6.0, 7.6]
     assert reid.reassignments[0].assignment == reid.reassignments[1].assignment
+
+
+def test_without_the_margin_only_the_final_reassignment_acts() -> None:
+    """A decision margin no evidence reaches: no early re-assignment; 002's final one
+    once the two are 3 m apart (7.5 s) restores the identities."""
+    params = ReidParams(decision_margin=1e12)
+    outs, truths, reid = _run(lambda t: (0, 1) if t < 5.0 else (1, 0), params=params)
+    assert [round(r.stamp, 1) for r in reid.reassignments] == [7.6]
+    k = 70  # 7.0 s: still swapped
+    assert [_identity_of_person(outs[k], truths[k], p) for p in (0, 1)] == [1, 0]
+    assert [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)] == [0, 1]
+
+
+def test_a_track_seen_alone_is_reidentified_while_the_other_is_missing() -> None:
+    """The tracker swaps the two at 5 s and loses person 1 from 5.7 s to 9 s. The track on
+    person 0 is re-identified from its own observations (the other identity goes to the
+    missing track), and person 1's track comes back with its identity."""
+    outs, truths, reid = _run(
+        lambda t: (0, 1) if t < 5.0 else (1, 0),
+        unseen=lambda t: (1,) if 5.7 <= t < 9.0 else (),
+    )
+    first = reid.reassignments[0]
+    assert 5.7 <= first.stamp < 6.0
+    assert first.assignment == {1: 0, 0: 1}
+    for k in (60, 85):  # person 0 alone on screen, its identity restored
+        assert [t.track_id for t in outs[k].of_kind("person")] == [0]
+    assert [_identity_of_person(outs[95], truths[95], p) for p in (0, 1)] == [0, 1]
 
 
 def test_camera_observations_show_the_clothing_hue() -> None:

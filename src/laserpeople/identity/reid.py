@@ -40,6 +40,7 @@ from laserpeople.identity.appearance import (
     AppearanceParams,
     OnlineGaussian,
     assign_identities,
+    assignment_margin,
     log_likelihoods,
     measurement,
 )
@@ -107,6 +108,15 @@ class ReidParams:
         "false restores it): crossing-3 seed 7, docs/csa.md",
         "also re-assign while a crossing goes on, as soon as each of its tracks has "
         "min_observations clean observations since it was last near another person",
+    )
+    decision_margin: float = param(
+        10.0,
+        "extension of 002 (a sequential likelihood-ratio test on eq. 7): crossing-3 seeds "
+        "100-104, docs/csa.md",
+        "with early: the identities of a crossing's tracks that have clean observations are "
+        "re-assigned once the best assignment's summed log-likelihood beats the second best "
+        "by this much (a likelihood ratio of e^margin)",
+        "log-likelihood",
     )
     appearance: AppearanceParams = param(  # noqa: RUF009 (a frozen default instance)
         AppearanceParams(), "nested table appearance.*", "colour measurements"
@@ -374,9 +384,8 @@ class ColourReidentifier:
         index = {tid: k for k, tid in enumerate(ids)}
         for c in list(self._crossings):
             present = [t for t in c.tracks if t in index]
-            early = p.early and len(present) >= len(c.identities) >= 2
-            if early and all(c.n_obs.get(t, 0) >= p.min_observations for t in present):
-                self._reassign(c, present, stamp, final=False)
+            if p.early and len(c.identities) >= 2:
+                self._decide_early(c, present, stamp)
             if c.tracks & grouped or not present:
                 c.ended_at = None
                 continue
@@ -396,10 +405,34 @@ class ColourReidentifier:
                 self._reassign(c, present, stamp)
                 self._crossings.remove(c)
 
-    def _reassign(self, c: _Crossing, present: list[int], stamp: float, final: bool = True) -> None:
-        """Hungarian re-assignment of a crossing's identities to its tracks (002 eq. 8).
-        ``final=False``: an early re-assignment while the crossing goes on (its evidence is
-        used up; nothing is recorded when the identities stay as they were)."""
+    def _decide_early(self, c: _Crossing, present: list[int], stamp: float) -> None:
+        """Re-assign while the crossing goes on: the tracks with clean observations since
+        they were last near someone take the identities of the best assignment (002 eq. 8
+        over them) once it beats the second best by ``decision_margin``; a track without
+        such observations whose identity was given away takes one left over. The evidence is
+        kept (it speaks of the track, whatever identity it holds): the decision is taken
+        again with each new observation; nothing is recorded when no identity changes."""
+        ready = [t for t in present if c.n_obs.get(t, 0) > 0]
+        idents = sorted(c.identities)
+        if not ready or len(ready) > len(idents):
+            return
+        cost = np.array([[-c.loglik.get(t, {}).get(i, 0.0) for t in ready] for i in idents])
+        rows, cols, margin = assignment_margin(cost)
+        if margin < self.params.decision_margin:
+            return
+        given = {ready[int(j)]: idents[int(i)] for i, j in zip(rows, cols, strict=True)}
+        left = [i for i in idents if i not in given.values()]
+        for tid in sorted(c.tracks - set(ready)):
+            if self._identity.get(tid) in given.values():
+                given[tid] = left.pop(0) if left else self._fresh()
+        if all(self._identity.get(t) == i for t, i in given.items()):
+            return
+        self._identity.update(given)
+        self.reassignments.append(Reassignment(stamp, tuple(idents), dict(given)))
+
+    def _reassign(self, c: _Crossing, present: list[int], stamp: float) -> None:
+        """Hungarian re-assignment of a crossing's identities to its tracks once the
+        crossing ended (002 eq. 8)."""
         idents = sorted(c.identities)
         cost = np.zeros((len(idents), len(present)))
         for j, tid in enumerate(present):
@@ -414,12 +447,6 @@ class ColourReidentifier:
                 cur = self._identity[tid]
                 given[tid] = cur if cur not in taken else self._fresh()
                 taken.add(given[tid])
-        if not final:
-            for tid in present:
-                c.loglik.pop(tid, None)
-                c.n_obs.pop(tid, None)
-            if all(self._identity.get(t) == i for t, i in given.items()):
-                return
         # identities outside this crossing held by its tracks stay with nobody else
         self._identity.update(given)
         for ident in idents:

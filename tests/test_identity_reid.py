@@ -169,3 +169,24 @@ def test_camera_misses_leaks_and_lighting() -> None:
 def test_camera_rejects_bad_parameters() -> None:
     with pytest.raises(ValueError):
         CameraParams(miss_probability=1.5)
+
+
+@pytest.mark.parametrize("crowded_views", [True, False])
+def test_a_view_next_to_an_untracked_person_is_not_learnt(crowded_views: bool) -> None:
+    """Person 0 (red) is tracked; person 1 (blue) stands 0.5 m away, seen by the camera
+    but not tracked. No other track is near, yet the view of person 0 carries blue: with
+    ``crowded_views`` it is not clean (nothing learnt); without it, it is learnt."""
+    cam = SimulatedCamera(CameraParams(miss_probability=0.0, lighting_std=0.0), seed=5)
+    reid = ColourReidentifier(ReidParams(crowded_views=crowded_views))
+    xy = np.array([[0.0, 3.0], [0.5, 3.0]])
+    for k in range(10):
+        obs = cam.observe(k / 10, np.array([0, 1]), xy, HUES)
+        frame = Frame(k, k / 10, (), "synthetic", "world", appearance=obs)
+        track = Track(7, "person", xy[0], np.zeros(2), np.eye(2) * 0.01)
+        reid.update(Tracks(k / 10, k, (track,)), frame)
+    model = reid.models[0]
+    if crowded_views:
+        assert model.k == 0
+    else:
+        assert model.k == 10
+        assert model.mean[4] > 0.1  # the neighbour's blue leaked into what was learnt

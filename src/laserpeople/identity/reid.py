@@ -55,7 +55,8 @@ class ReidParams:
     """Parameters of colour re-identification (002 Sec. 2)."""
 
     config_section = "reid"
-    paper_preset = MappingProxyType({"early": False})  # 002 re-assigns after the crossing
+    # 002 re-assigns after the crossing and stops learning only when the tracker sees one
+    paper_preset = MappingProxyType({"early": False, "crowded_views": False})
 
     interaction_distance: float = param(
         1.2,
@@ -117,6 +118,13 @@ class ReidParams:
         "re-assigned once the best assignment's summed log-likelihood beats the second best "
         "by this much (a likelihood ratio of e^margin)",
         "log-likelihood",
+    )
+    crowded_views: bool = param(
+        True,
+        "extension of 002 (which stops learning when the tracker detects a crossing; false "
+        "restores it): crossing-3 seeds 7, 10-11, docs/csa.md",
+        "an observation with another person seen by the camera within clean_distance is "
+        "not clean either (the tracker may have lost that person)",
     )
     appearance: AppearanceParams = param(  # noqa: RUF009 (a frozen default instance)
         AppearanceParams(), "nested table appearance.*", "colour measurements"
@@ -205,7 +213,9 @@ class ColourReidentifier:
         d = np.linalg.norm(pos[:, None] - pos[None], axis=-1) + np.diag(np.full(len(ids), np.inf))
         clean = (d >= p.clean_distance).all(axis=1) if ids else np.zeros(0, dtype=bool)
         self._start_crossings(ids, pos, d, groups)
-        obs = self._match_observations(pos, frame)
+        obs, crowded = self._match_observations(pos, frame)
+        if p.crowded_views:
+            clean &= ~crowded
         in_crossing = {t for c in self._crossings for t in c.tracks}
         for k, tid in enumerate(ids):
             y = obs[k]
@@ -331,23 +341,32 @@ class ColourReidentifier:
                     merged.loglik.setdefault(tid, {}).update(row)
             self._crossings.append(merged)
 
-    def _match_observations(self, pos: FloatArray, frame: Frame) -> list[FloatArray | None]:
-        """The colour measurement of each track (None where no observation matches)."""
+    def _match_observations(
+        self, pos: FloatArray, frame: Frame
+    ) -> tuple[list[FloatArray | None], NDArray[np.bool_]]:
+        """The colour measurement of each track (None where no observation matches), and
+        whether the observation matched to it has another person seen by the camera within
+        ``clean_distance`` (someone the tracker may not track at that moment)."""
+        p = self.params
         out: list[FloatArray | None] = [None] * pos.shape[0]
-        views = [
-            (o.position, measurement(o.hues, self.params.appearance)) for o in frame.appearance
-        ]
-        views = [(xy, y) for xy, y in views if y is not None]
+        crowded = np.zeros(pos.shape[0], dtype=bool)
+        seen = np.array([o.position for o in frame.appearance]).reshape(-1, 2)
+        views = [(k, measurement(o.hues, p.appearance)) for k, o in enumerate(frame.appearance)]
+        views = [(k, y) for k, y in views if y is not None]
         if not views or not pos.size:
-            return out
-        vxy = np.array([v[0] for v in views])
+            return out, crowded
+        vxy = seen[[k for k, _ in views]]
         dist = np.linalg.norm(pos[:, None] - vxy[None], axis=-1)
-        cost = np.where(dist <= self.params.observation_gate, dist, 1e6)
+        cost = np.where(dist <= p.observation_gate, dist, 1e6)
         rows, cols = linear_sum_assignment(cost)
         for r, c in zip(rows, cols, strict=True):
-            if dist[r, c] <= self.params.observation_gate:
-                out[int(r)] = views[int(c)][1]
-        return out
+            if dist[r, c] <= p.observation_gate:
+                k, y = views[int(c)]
+                out[int(r)] = y
+                others = np.delete(seen, k, axis=0)
+                near = np.linalg.norm(others - seen[k], axis=1) < p.clean_distance
+                crowded[int(r)] = bool(near.any())
+        return out, crowded
 
     def _forget_evidence(self, tid: int) -> None:
         """Drop the colour evidence of track ``tid`` in its crossings."""
@@ -409,11 +428,12 @@ class ColourReidentifier:
         """Re-assign while the crossing goes on: the tracks with clean observations since
         they were last near someone take the identities of the best assignment (002 eq. 8
         over them) once it beats the second best by ``decision_margin``; a track without
-        such observations whose identity was given away takes one left over. The evidence is
+        such observations whose identity was given away takes one left over, if any (else,
+        should it come back, it gets a new one, see :meth:`_forget`). The evidence is
         kept (it speaks of the track, whatever identity it holds): the decision is taken
         again with each new observation; nothing is recorded when no identity changes."""
         ready = [t for t in present if c.n_obs.get(t, 0) > 0]
-        idents = sorted(c.identities)
+        idents = sorted(i for i in c.identities if self.models[i].k >= 2)
         if not ready or len(ready) > len(idents):
             return
         cost = np.array([[-c.loglik.get(t, {}).get(i, 0.0) for t in ready] for i in idents])
@@ -423,8 +443,8 @@ class ColourReidentifier:
         given = {ready[int(j)]: idents[int(i)] for i, j in zip(rows, cols, strict=True)}
         left = [i for i in idents if i not in given.values()]
         for tid in sorted(c.tracks - set(ready)):
-            if self._identity.get(tid) in given.values():
-                given[tid] = left.pop(0) if left else self._fresh()
+            if self._identity.get(tid) in given.values() and left:
+                given[tid] = left.pop(0)
         if all(self._identity.get(t) == i for t, i in given.items()):
             return
         self._identity.update(given)

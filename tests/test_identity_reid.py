@@ -190,3 +190,25 @@ def test_a_view_next_to_an_untracked_person_is_not_learnt(crowded_views: bool) -
     else:
         assert model.k == 10
         assert model.mean[4] > 0.1  # the neighbour's blue leaked into what was learnt
+
+
+def test_an_early_decision_uses_only_identities_with_a_colour_model() -> None:
+    """Track 10 holds identity 1 and fits identity 0 better (summed log-likelihoods -20
+    against -80: margin 60). Identity 2 has no colour model (no evidence, a log-likelihood
+    of 0 would beat both) and is not a candidate. Track 12, not seen, held identity 0 and
+    takes the one left over (1); track 11 keeps identity 2."""
+    from laserpeople.identity.reid import _Crossing
+
+    reid = ColourReidentifier()
+    for _ in range(3):
+        reid._fresh()
+    for ident in (0, 1):
+        for y in (hue_histogram(np.array([0.0]), 6), hue_histogram(np.array([0.1]), 6)):
+            reid.models[ident].add(y)
+    reid._identity.update({10: 1, 11: 2, 12: 0})
+    c = _Crossing({0, 1, 2}, {10, 11, 12}, np.zeros(2))
+    c.loglik[10] = {0: -20.0, 1: -80.0}
+    c.n_obs[10] = 1
+    reid._decide_early(c, [10, 11], 1.0)
+    assert reid._identity == {10: 0, 11: 2, 12: 1}
+    assert reid.reassignments[-1].assignment == {10: 0, 12: 1}

@@ -15,6 +15,7 @@ from laserpeople.identity.appearance import (
     AppearanceParams,
     OnlineGaussian,
     assign_identities,
+    assignment_margin,
     hue_histogram,
     log_likelihoods,
     measurement,
@@ -134,3 +135,34 @@ def test_eq7_product_of_observations_picks_the_right_person() -> None:
         cost[:, j] = -log_likelihoods(np.array(obs), mu, sig, 1e-3).sum(axis=1)
     rows, cols = assign_identities(cost)
     assert dict(zip(rows.tolist(), cols.tolist(), strict=True)) == {0: 1, 1: 0}
+
+
+def test_assignment_margin_is_the_gap_to_the_second_best_assignment() -> None:
+    """By hand: the six permutations of this cost cost 17, 13, 11.5 (1->0, 0->1, 2->2),
+    12, 11 (0->2, 1->0, 2->1) and 16; the best is 11, the second best 11.5. Greedy (the
+    smallest entry first: 0 at (0, 0), then 6 at (2, 1), then 7) would give 13."""
+    cost = np.array([[0.0, 1.0, 4.0], [1.0, 8.0, 7.0], [4.0, 6.0, 9.5]])
+    rows, cols, margin = assignment_margin(cost)
+    assert dict(zip(rows.tolist(), cols.tolist(), strict=True)) == {0: 2, 1: 0, 2: 1}
+    assert margin == pytest.approx(0.5, abs=1e-9)
+
+
+def test_assignment_margin_rectangular_and_single() -> None:
+    """Three identities, two tracks: (0, 2) costs 1 + 0, the next (1, 2) 2 + 0, so the
+    margin is 1; one identity and one track have no rival: inf."""
+    cost = np.array([[1.0, 5.0], [2.0, 3.0], [9.0, 0.0]])
+    rows, cols, margin = assignment_margin(cost)
+    assert dict(zip(rows.tolist(), cols.tolist(), strict=True)) == {0: 0, 2: 1}
+    assert margin == pytest.approx(1.0, abs=1e-9)
+    assert assignment_margin(np.array([[3.0]]))[2] == np.inf
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_assignment_margin_equals_brute_force(n: int) -> None:
+    rng = np.random.default_rng(20 + n)
+    for _ in range(20):
+        cost = rng.normal(0.0, 5.0, (n, n))
+        totals = sorted(
+            sum(cost[i, s[i]] for i in range(n)) for s in itertools.permutations(range(n))
+        )
+        assert assignment_margin(cost)[2] == pytest.approx(totals[1] - totals[0])

@@ -27,9 +27,12 @@ def _run(
     track_ids: Callable[[float], tuple[int, int]],
     group_window: tuple[float, float] | None = None,
     seconds: float = 12.0,
+    params: ReidParams | None = None,
+    unseen: Callable[[float], tuple[int, ...]] = lambda t: (),
 ) -> tuple[list[Tracks], list[np.ndarray], ColourReidentifier]:
+    """``unseen(t)``: the people whose tracks the tracker does not report at ``t``."""
     cam = SimulatedCamera(CameraParams(miss_probability=0.0), seed=3)
-    reid = ColourReidentifier()
+    reid = ColourReidentifier(params)
     outs, truths = [], []
     for k in range(int(seconds * 10)):
         t = k / 10
@@ -42,7 +45,9 @@ def _run(
             tracks = (Track(99, "group", xy.mean(axis=0), np.zeros(2), np.eye(2), 2, members=ids),)
         else:
             tracks = tuple(
-                Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01) for i in range(2)
+                Track(ids[i], "person", xy[i], np.zeros(2), np.eye(2) * 0.01)
+                for i in range(2)
+                if i not in unseen(t)
             )
         frame = Frame(k, t, (), "synthetic", "world", appearance=obs)
         outs.append(reid.update(Tracks(t, k, tracks), frame))
@@ -96,10 +101,38 @@ def test_a_group_track_holds_its_members_until_it_splits() -> None:
     before = [_identity_of_person(outs[20], truths[20], p) for p in (0, 1)]
     after = [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)]
     assert after == before
-    # early re-assignment: right after the group ends (6 s), not only once the two are
-    # 3 m apart (10.5 s, the final one, which confirms it)
-    assert [round(r.stamp, 1) for r in reid.reassignments] == [6.2, 10.5]
+    # early re-assignment: at the first clean observation after the group ends (6 s; the
+    # colours differ by far more than decision_margin), not only once the two are 3 m
+    # apart (7.5 s; the final one, on the next scan, confirms it)
+    assert [round(r.stamp, 1) for r in reid.reassignments] == [6.0, 7.6]
     assert reid.reassignments[0].assignment == reid.reassignments[1].assignment
+
+
+def test_without_the_margin_only_the_final_reassignment_acts() -> None:
+    """A decision margin no evidence reaches: no early re-assignment; 002's final one
+    once the two are 3 m apart (7.5 s) restores the identities."""
+    params = ReidParams(decision_margin=1e12)
+    outs, truths, reid = _run(lambda t: (0, 1) if t < 5.0 else (1, 0), params=params)
+    assert [round(r.stamp, 1) for r in reid.reassignments] == [7.6]
+    k = 70  # 7.0 s: still swapped
+    assert [_identity_of_person(outs[k], truths[k], p) for p in (0, 1)] == [1, 0]
+    assert [_identity_of_person(outs[-1], truths[-1], p) for p in (0, 1)] == [0, 1]
+
+
+def test_a_track_seen_alone_is_reidentified_while_the_other_is_missing() -> None:
+    """The tracker swaps the two at 5 s and loses person 1 from 5.7 s to 9 s. The track on
+    person 0 is re-identified from its own observations (the other identity goes to the
+    missing track), and person 1's track comes back with its identity."""
+    outs, truths, reid = _run(
+        lambda t: (0, 1) if t < 5.0 else (1, 0),
+        unseen=lambda t: (1,) if 5.7 <= t < 9.0 else (),
+    )
+    first = reid.reassignments[0]
+    assert 5.7 <= first.stamp < 6.0
+    assert first.assignment == {1: 0, 0: 1}
+    for k in (60, 85):  # person 0 alone on screen, its identity restored
+        assert [t.track_id for t in outs[k].of_kind("person")] == [0]
+    assert [_identity_of_person(outs[95], truths[95], p) for p in (0, 1)] == [0, 1]
 
 
 def test_camera_observations_show_the_clothing_hue() -> None:
@@ -136,3 +169,46 @@ def test_camera_misses_leaks_and_lighting() -> None:
 def test_camera_rejects_bad_parameters() -> None:
     with pytest.raises(ValueError):
         CameraParams(miss_probability=1.5)
+
+
+@pytest.mark.parametrize("crowded_views", [True, False])
+def test_a_view_next_to_an_untracked_person_is_not_learnt(crowded_views: bool) -> None:
+    """Person 0 (red) is tracked; person 1 (blue) stands 0.5 m away, seen by the camera
+    but not tracked. No other track is near, yet the view of person 0 carries blue: with
+    ``crowded_views`` it is not clean (nothing learnt); without it, it is learnt."""
+    cam = SimulatedCamera(CameraParams(miss_probability=0.0, lighting_std=0.0), seed=5)
+    reid = ColourReidentifier(ReidParams(crowded_views=crowded_views))
+    xy = np.array([[0.0, 3.0], [0.5, 3.0]])
+    for k in range(10):
+        obs = cam.observe(k / 10, np.array([0, 1]), xy, HUES)
+        frame = Frame(k, k / 10, (), "synthetic", "world", appearance=obs)
+        track = Track(7, "person", xy[0], np.zeros(2), np.eye(2) * 0.01)
+        reid.update(Tracks(k / 10, k, (track,)), frame)
+    model = reid.models[0]
+    if crowded_views:
+        assert model.k == 0
+    else:
+        assert model.k == 10
+        assert model.mean[4] > 0.1  # the neighbour's blue leaked into what was learnt
+
+
+def test_an_early_decision_uses_only_identities_with_a_colour_model() -> None:
+    """Track 10 holds identity 1 and fits identity 0 better (summed log-likelihoods -20
+    against -80: margin 60). Identity 2 has no colour model (no evidence, a log-likelihood
+    of 0 would beat both) and is not a candidate. Track 12, not seen, held identity 0 and
+    takes the one left over (1); track 11 keeps identity 2."""
+    from laserpeople.identity.reid import _Crossing
+
+    reid = ColourReidentifier()
+    for _ in range(3):
+        reid._fresh()
+    for ident in (0, 1):
+        for y in (hue_histogram(np.array([0.0]), 6), hue_histogram(np.array([0.1]), 6)):
+            reid.models[ident].add(y)
+    reid._identity.update({10: 1, 11: 2, 12: 0})
+    c = _Crossing({0, 1, 2}, {10, 11, 12}, np.zeros(2))
+    c.loglik[10] = {0: -20.0, 1: -80.0}
+    c.n_obs[10] = 1
+    reid._decide_early(c, [10, 11], 1.0)
+    assert reid._identity == {10: 0, 11: 2, 12: 1}
+    assert reid.reassignments[-1].assignment == {10: 0, 12: 1}

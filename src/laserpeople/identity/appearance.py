@@ -171,3 +171,34 @@ def assign_identities(cost: FloatArray) -> tuple[NDArray[np.int64], NDArray[np.i
         return np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     rows, cols = linear_sum_assignment(c)
     return rows.astype(np.int64), cols.astype(np.int64)
+
+
+def assignment_margin(
+    cost: FloatArray,
+) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
+    """The best assignment of :func:`assign_identities` and by how much the second best
+    assignment costs more (Murty's second solution: the best with one of its pairs
+    forbidden, over each pair; ``inf`` when there is no other assignment).
+
+    With cost = minus summed log-likelihoods (002 eq. 7) the margin is the log of the
+    likelihood ratio of the best assignment against its strongest rival: a sequential test
+    decides once it exceeds a threshold.
+
+    Returns:
+        ``(rows, cols, margin)``.
+    """
+    c = np.asarray(cost, dtype=np.float64)
+    rows, cols = assign_identities(c)
+    if rows.size == 0:
+        return rows, cols, math.inf
+    best = float(c[rows, cols].sum())
+    big = 1e6 + 2.0 * float(np.abs(c).sum())
+    second = math.inf
+    for r, k in zip(rows, cols, strict=True):
+        alt = c.copy()
+        alt[r, k] = big
+        ar, ac = assign_identities(alt)
+        total = float(alt[ar, ac].sum())
+        if total < big:
+            second = min(second, total)
+    return rows, cols, second - best

@@ -40,6 +40,7 @@ from laserpeople.identity.appearance import (
     AppearanceParams,
     OnlineGaussian,
     assign_identities,
+    assignment_margin,
     log_likelihoods,
     measurement,
 )
@@ -54,7 +55,8 @@ class ReidParams:
     """Parameters of colour re-identification (002 Sec. 2)."""
 
     config_section = "reid"
-    paper_preset = MappingProxyType({"early": False})  # 002 re-assigns after the crossing
+    # 002 re-assigns after the crossing and stops learning only when the tracker sees one
+    paper_preset = MappingProxyType({"early": False, "crowded_views": False})
 
     interaction_distance: float = param(
         1.2,
@@ -107,6 +109,22 @@ class ReidParams:
         "false restores it): crossing-3 seed 7, docs/csa.md",
         "also re-assign while a crossing goes on, as soon as each of its tracks has "
         "min_observations clean observations since it was last near another person",
+    )
+    decision_margin: float = param(
+        10.0,
+        "extension of 002 (a sequential likelihood-ratio test on eq. 7): crossing-3 seeds "
+        "100-104, docs/csa.md",
+        "with early: the identities of a crossing's tracks that have clean observations are "
+        "re-assigned once the best assignment's summed log-likelihood beats the second best "
+        "by this much (a likelihood ratio of e^margin)",
+        "log-likelihood",
+    )
+    crowded_views: bool = param(
+        True,
+        "extension of 002 (which stops learning when the tracker detects a crossing; false "
+        "restores it): crossing-3 seeds 7, 10-11, docs/csa.md",
+        "an observation with another person seen by the camera within clean_distance is "
+        "not clean either (the tracker may have lost that person)",
     )
     appearance: AppearanceParams = param(  # noqa: RUF009 (a frozen default instance)
         AppearanceParams(), "nested table appearance.*", "colour measurements"
@@ -195,7 +213,9 @@ class ColourReidentifier:
         d = np.linalg.norm(pos[:, None] - pos[None], axis=-1) + np.diag(np.full(len(ids), np.inf))
         clean = (d >= p.clean_distance).all(axis=1) if ids else np.zeros(0, dtype=bool)
         self._start_crossings(ids, pos, d, groups)
-        obs = self._match_observations(pos, frame)
+        obs, crowded = self._match_observations(pos, frame)
+        if p.crowded_views:
+            clean &= ~crowded
         in_crossing = {t for c in self._crossings for t in c.tracks}
         for k, tid in enumerate(ids):
             y = obs[k]
@@ -321,23 +341,32 @@ class ColourReidentifier:
                     merged.loglik.setdefault(tid, {}).update(row)
             self._crossings.append(merged)
 
-    def _match_observations(self, pos: FloatArray, frame: Frame) -> list[FloatArray | None]:
-        """The colour measurement of each track (None where no observation matches)."""
+    def _match_observations(
+        self, pos: FloatArray, frame: Frame
+    ) -> tuple[list[FloatArray | None], NDArray[np.bool_]]:
+        """The colour measurement of each track (None where no observation matches), and
+        whether the observation matched to it has another person seen by the camera within
+        ``clean_distance`` (someone the tracker may not track at that moment)."""
+        p = self.params
         out: list[FloatArray | None] = [None] * pos.shape[0]
-        views = [
-            (o.position, measurement(o.hues, self.params.appearance)) for o in frame.appearance
-        ]
-        views = [(xy, y) for xy, y in views if y is not None]
+        crowded = np.zeros(pos.shape[0], dtype=bool)
+        seen = np.array([o.position for o in frame.appearance]).reshape(-1, 2)
+        views = [(k, measurement(o.hues, p.appearance)) for k, o in enumerate(frame.appearance)]
+        views = [(k, y) for k, y in views if y is not None]
         if not views or not pos.size:
-            return out
-        vxy = np.array([v[0] for v in views])
+            return out, crowded
+        vxy = seen[[k for k, _ in views]]
         dist = np.linalg.norm(pos[:, None] - vxy[None], axis=-1)
-        cost = np.where(dist <= self.params.observation_gate, dist, 1e6)
+        cost = np.where(dist <= p.observation_gate, dist, 1e6)
         rows, cols = linear_sum_assignment(cost)
         for r, c in zip(rows, cols, strict=True):
-            if dist[r, c] <= self.params.observation_gate:
-                out[int(r)] = views[int(c)][1]
-        return out
+            if dist[r, c] <= p.observation_gate:
+                k, y = views[int(c)]
+                out[int(r)] = y
+                others = np.delete(seen, k, axis=0)
+                near = np.linalg.norm(others - seen[k], axis=1) < p.clean_distance
+                crowded[int(r)] = bool(near.any())
+        return out, crowded
 
     def _forget_evidence(self, tid: int) -> None:
         """Drop the colour evidence of track ``tid`` in its crossings."""
@@ -374,9 +403,8 @@ class ColourReidentifier:
         index = {tid: k for k, tid in enumerate(ids)}
         for c in list(self._crossings):
             present = [t for t in c.tracks if t in index]
-            early = p.early and len(present) >= len(c.identities) >= 2
-            if early and all(c.n_obs.get(t, 0) >= p.min_observations for t in present):
-                self._reassign(c, present, stamp, final=False)
+            if p.early and len(c.identities) >= 2:
+                self._decide_early(c, present, stamp)
             if c.tracks & grouped or not present:
                 c.ended_at = None
                 continue
@@ -396,10 +424,35 @@ class ColourReidentifier:
                 self._reassign(c, present, stamp)
                 self._crossings.remove(c)
 
-    def _reassign(self, c: _Crossing, present: list[int], stamp: float, final: bool = True) -> None:
-        """Hungarian re-assignment of a crossing's identities to its tracks (002 eq. 8).
-        ``final=False``: an early re-assignment while the crossing goes on (its evidence is
-        used up; nothing is recorded when the identities stay as they were)."""
+    def _decide_early(self, c: _Crossing, present: list[int], stamp: float) -> None:
+        """Re-assign while the crossing goes on: the tracks with clean observations since
+        they were last near someone take the identities of the best assignment (002 eq. 8
+        over them) once it beats the second best by ``decision_margin``; a track without
+        such observations whose identity was given away takes one left over, if any (else,
+        should it come back, it gets a new one, see :meth:`_forget`). The evidence is
+        kept (it speaks of the track, whatever identity it holds): the decision is taken
+        again with each new observation; nothing is recorded when no identity changes."""
+        ready = [t for t in present if c.n_obs.get(t, 0) > 0]
+        idents = sorted(i for i in c.identities if self.models[i].k >= 2)
+        if not ready or len(ready) > len(idents):
+            return
+        cost = np.array([[-c.loglik.get(t, {}).get(i, 0.0) for t in ready] for i in idents])
+        rows, cols, margin = assignment_margin(cost)
+        if margin < self.params.decision_margin:
+            return
+        given = {ready[int(j)]: idents[int(i)] for i, j in zip(rows, cols, strict=True)}
+        left = [i for i in idents if i not in given.values()]
+        for tid in sorted(c.tracks - set(ready)):
+            if self._identity.get(tid) in given.values() and left:
+                given[tid] = left.pop(0)
+        if all(self._identity.get(t) == i for t, i in given.items()):
+            return
+        self._identity.update(given)
+        self.reassignments.append(Reassignment(stamp, tuple(idents), dict(given)))
+
+    def _reassign(self, c: _Crossing, present: list[int], stamp: float) -> None:
+        """Hungarian re-assignment of a crossing's identities to its tracks once the
+        crossing ended (002 eq. 8)."""
         idents = sorted(c.identities)
         cost = np.zeros((len(idents), len(present)))
         for j, tid in enumerate(present):
@@ -414,12 +467,6 @@ class ColourReidentifier:
                 cur = self._identity[tid]
                 given[tid] = cur if cur not in taken else self._fresh()
                 taken.add(given[tid])
-        if not final:
-            for tid in present:
-                c.loglik.pop(tid, None)
-                c.n_obs.pop(tid, None)
-            if all(self._identity.get(t) == i for t, i in given.items()):
-                return
         # identities outside this crossing held by its tracks stay with nobody else
         self._identity.update(given)
         for ident in idents:

@@ -848,15 +848,15 @@ MUTANTS: tuple[Mutant, ...] = (
         "view-truth-wrong-direction",
         "view: truth world -> sensor (inverse transform)",
         "viz/scene.py",
-        "move = pose.inverse_transform_points if to == \"sensor\" else pose.transform_points",
-        "move = pose.transform_points if to == \"sensor\" else pose.inverse_transform_points",
+        'move = pose.inverse_transform_points if to == "sensor" else pose.transform_points',
+        'move = pose.transform_points if to == "sensor" else pose.inverse_transform_points',
         VIEW,
     ),
     Mutant(
         "view-truth-velocity-unrotated-back",
         "view: truth velocity sensor -> world (R')",
         "viz/scene.py",
-        "velocities=truth.velocities @ (rot if to == \"sensor\" else rot.T),",
+        'velocities=truth.velocities @ (rot if to == "sensor" else rot.T),',
         "velocities=truth.velocities @ rot,",
         VIEW,
     ),
@@ -922,7 +922,19 @@ def _run_tests(repo: Path, tests: tuple[str, ...]) -> tuple[int, str]:
     env["PYTHONDONTWRITEBYTECODE"] = "1"
     tail = ""
     for test in here:
-        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", test]
+        # -n 0: one process (the addopts' xdist would end a run stopped by -x with exit 2)
+        cmd = [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-x",
+            "-q",
+            "-n",
+            "0",
+            "-p",
+            "no:cacheprovider",
+            test,
+        ]
         try:
             done = subprocess.run(
                 cmd, cwd=repo, env=env, capture_output=True, text=True, timeout=TIMEOUT

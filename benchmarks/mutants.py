@@ -83,6 +83,12 @@ PROXEMIC = ("tests/test_groups_random_e2e.py",)
 LISTING = ("tests/test_track_mht_core.py", "tests/test_track_mht_bounds.py")
 HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
 ROS1 = ("tests/test_io_ros1_reader.py",)
+WALKED = ("tests/test_track_moving_robot.py",)
+KALMAN = ("tests/test_track_kalman.py",)
+FEATURES = ("tests/test_detect_features_reference.py", "tests/test_pipeline_lookahead.py")
+LASERSCAN = ("tests/test_io_laserscan_fast.py",)
+VIEW = ("tests/test_viz_acceptance.py",)
+EVAL = ("tests/test_eval_cli.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -95,6 +101,9 @@ G = "evaluation/groups.py"
 L = "tracking/mht/listing.py"
 H = "background/beam_histogram.py"
 R = "io/ros1_reader.py"
+PT = "tracking/person_tracks.py"
+K = "tracking/kalman.py"
+LS = "io/laserscan_ros1.py"
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- 000 group tracker (Sec. 4)
@@ -725,8 +734,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "histogram-one-laser-first-points",
         "004 Sec. 2 histogram foreground (per point's beam)",
         H,
-        "fg = by_name[pts.sensors[0]][pts.beams]",
-        "fg = by_name[pts.sensors[0]][: len(pts)]",
+        "one: NDArray[np.bool_] = by_name[pts.sensors[0]][pts.beams]",
+        "one: NDArray[np.bool_] = by_name[pts.sensors[0]][: len(pts)]",
         HISTOGRAM,
     ),
     Mutant(
@@ -744,6 +753,128 @@ MUTANTS: tuple[Mutant, ...] = (
         "if conn.digest:\n                    digests[conn.msgtype] = conn.digest",
         "if not conn.digest:\n                    digests[conn.msgtype] = conn.digest",
         ROS1,
+    ),
+    # ---- code added since: walked candidates, one-step Kalman prediction, block features,
+    # direct LaserScan decoding, the view's truth transform, the evaluation's warning
+    Mutant(
+        "walked-miss-confirmed-too",
+        "person tracks: walked_miss (unconfirmed only)",
+        PT,
+        "and not person.confirmed\n                and any(self._walked(",
+        "and any(self._walked(",
+        WALKED,
+    ),
+    Mutant(
+        "walked-static-gate-strict",
+        "person tracks: walked place static <= arrival_slack",
+        PT,
+        "float(self._static(person.mean[None, :2])[0]) <= p.arrival_slack",
+        "float(self._static(person.mean[None, :2])[0]) < p.arrival_slack",
+        WALKED,
+    ),
+    Mutant(
+        "walked-no-speed",
+        "person tracks: walked (moving_speed x elapsed)",
+        PT,
+        "return net >= self.params.walked_distance and net >= self.params.moving_speed * (",
+        "return net >= self.params.walked_distance or net >= self.params.moving_speed * (",
+        WALKED,
+    ),
+    Mutant(
+        "walked-time-since-zero",
+        "person tracks: walked (time since first detection)",
+        PT,
+        "self._stamp - t0\n        )",
+        "self._stamp\n        )",
+        WALKED,
+    ),
+    Mutant(
+        "kalman-one-step-any-steps",
+        "Kalman: one shared step only when all equal",
+        K,
+        "return d if steps.count(d) == len(steps) else None",
+        "return d",
+        KALMAN,
+    ),
+    Mutant(
+        "kalman-one-step-q-pv",
+        "Kalman: one-step process noise (q d^2 / 2)",
+        K,
+        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d\n    q = np.array(",
+        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 3.0, a * d\n    q = np.array(",
+        KALMAN,
+    ),
+    Mutant(
+        "kalman-one-step-coast-cov",
+        "Kalman: one-step coasting covariance (F_c P F_c')",
+        K,
+        "cc = fc @ covs @ fc.T + q\n    return pm, pc, cm, cc",
+        "cc = f @ covs @ f.T + q\n    return pm, pc, cm, cc",
+        KALMAN,
+    ),
+    Mutant(
+        "features-step-across-segments",
+        "block features: no step into a segment's first point",
+        "detection/features.py",
+        "t1[1:, 0] = steps\n        t1[off, 0] = 0.0",
+        "t1[1:, 0] = steps",
+        FEATURES,
+    ),
+    Mutant(
+        "adaboost-block-pairwise-sum",
+        "block classification (stumps added in order)",
+        "detection/adaboost.py",
+        "np.cumsum(self.values[rows, ranks], axis=0)[-1]",
+        "np.add.reduce(self.values[rows, ranks], axis=0)",
+        FEATURES,
+    ),
+    Mutant(
+        "laserscan-trailing-bytes",
+        "ROS 1 LaserScan decoding (to the last byte)",
+        LS,
+        "if at + 4 * m != size:",
+        "if at + 4 * m > size:",
+        LASERSCAN,
+    ),
+    Mutant(
+        "laserscan-md5-ignored",
+        "ROS 1 LaserScan decoding (standard type by MD5)",
+        LS,
+        'and getattr(conn, "digest", None) == LASERSCAN_MD5',
+        'and getattr(conn, "digest", None) is not None',
+        LASERSCAN,
+    ),
+    Mutant(
+        "laserscan-intensities-offset",
+        "ROS 1 LaserScan decoding (offsets)",
+        LS,
+        'intensities = np.frombuffer(raw, dtype="<f4", count=m, offset=at)',
+        'intensities = np.frombuffer(raw, dtype="<f4", count=m, offset=at - 4)',
+        LASERSCAN,
+    ),
+    Mutant(
+        "view-truth-wrong-direction",
+        "view: truth world -> sensor (inverse transform)",
+        "viz/scene.py",
+        'move = pose.inverse_transform_points if to == "sensor" else pose.transform_points',
+        'move = pose.transform_points if to == "sensor" else pose.inverse_transform_points',
+        VIEW,
+    ),
+    Mutant(
+        "view-truth-velocity-unrotated-back",
+        "view: truth velocity sensor -> world (R')",
+        "viz/scene.py",
+        'velocities=truth.velocities @ (rot if to == "sensor" else rot.T),',
+        "velocities=truth.velocities @ rot,",
+        VIEW,
+    ),
+    Mutant(
+        "eval-nothing-matched-no-tracks",
+        "evaluate: nothing matched needs tracks",
+        "evaluation/report.py",
+        "return c.matches == 0 and c.num_tracks > 0 and c.num_truth > 0",
+        "return c.matches == 0 and c.num_truth > 0",
+        EVAL,
     ),
     # ---- fit (000's counting of events) and mean shift (004)
     Mutant(
@@ -799,7 +930,19 @@ def _run_tests(repo: Path, tests: tuple[str, ...]) -> tuple[int, str]:
     env["PYTHONDONTWRITEBYTECODE"] = "1"
     tail = ""
     for test in here:
-        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", test]
+        # -n 0: one process (the addopts' xdist would end a run stopped by -x with exit 2)
+        cmd = [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-x",
+            "-q",
+            "-n",
+            "0",
+            "-p",
+            "no:cacheprovider",
+            test,
+        ]
         try:
             done = subprocess.run(
                 cmd, cwd=repo, env=env, capture_output=True, text=True, timeout=TIMEOUT

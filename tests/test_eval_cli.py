@@ -238,3 +238,27 @@ def test_cli_warns_when_no_track_comes_near_any_label(tmp_path):
 
     assert "same frame" in run("far.csv") and "--output-frame sensor" in run("far.csv")
     assert "same frame" not in run("near.csv")
+
+
+def test_nothing_matched_needs_tracks_and_people_and_no_match():
+    """The warning's condition: no match while there were tracks and labelled people. A run
+    with no track at all (a tracker that reported nobody), or no labelled person, is not
+    a frame mix-up; one match anywhere is not either."""
+    truth, tracks = scene()
+    far = [replace(f, positions=f.positions + 10.0) for f in truth]
+    assert evaluate(far, tracks).result().nothing_matched()
+    assert not evaluate(truth, tracks).result().nothing_matched()
+    no_tracks = [Tracks(t.stamp, t.scan_index) for t in tracks]
+    report = evaluate(truth, no_tracks).result()
+    assert report.clear_mot.num_tracks == 0 and report.clear_mot.num_truth == 12
+    assert not report.nothing_matched()
+    nobody = [
+        TruthFrame.from_positions(f.stamp, f.scan_index, np.array([]), np.empty((0, 2)))
+        for f in truth
+    ]
+    assert not evaluate(nobody, tracks).result().nothing_matched()
+    # only the labels of scan 0 within the gate of a track: matched
+    one = [
+        replace(f, positions=f.positions + (0.0 if k == 0 else 10.0)) for k, f in enumerate(truth)
+    ]
+    assert not evaluate(one, tracks).result().nothing_matched()

@@ -155,3 +155,26 @@ def test_a_failing_block_leaves_detection_to_each_frame(scans: list[Scan]) -> No
     reference = AdaBoostLegDetector.default()
     for scan, legs in zip(scans[:10], got, strict=True):
         _same(legs, reference.detect(scan))
+
+
+def test_stump_groups_are_added_in_order_for_one_row_as_for_many() -> None:
+    """A row's score does not depend on the rows scored with it: the groups' sums are added
+    in group order for a single row too. 16 groups whose sums for x = 1 are 2^53, seven 1s,
+    -2^53, seven 1s: in order, 2^53 + 1 rounds back to 2^53 (ties to even) seven times, then
+    -2^53 leaves 0, then + 7 = 7. numpy's pairwise sum of 16 values (8 partial sums a_j +
+    a_(j+8)) would give 0 + 7 * 2 = 14."""
+    from laserpeople.detection.adaboost import _StumpTables
+
+    sums = np.array([2.0**53] + [1.0] * 7 + [-(2.0**53)] + [1.0] * 7)
+    tables = _StumpTables(
+        columns=np.array([0]),
+        group_column=np.zeros(16, dtype=np.int64),
+        right=np.ones(16, dtype=bool),
+        grid=np.array([0.0]),
+        values=np.column_stack([np.zeros(16), sums]),  # rank 0 (x < 0): 0; rank 1: sums
+    )
+    tol = 0.5  # the two orders differ by 7
+    np.testing.assert_allclose(tables.evaluate(np.array([[1.0]])), [7.0], rtol=0, atol=tol)
+    np.testing.assert_allclose(
+        tables.evaluate(np.array([[1.0], [-1.0], [1.0]])), [7.0, 0.0, 7.0], rtol=0, atol=tol
+    )

@@ -174,18 +174,23 @@ class StaticFor:
 
 
 def miss_after_zigzag(
-    params: PersonTrackParams, reach: float, dt: float, static: float | None = None
+    params: PersonTrackParams,
+    reach: float,
+    dt: float,
+    static: float | None = None,
+    start: float = 0.0,
 ) -> float:
     """Existence change of a one-leg candidate for a scan without its leg, after the leg
     zigzagged (never moving consistently: straightness 0.16) from (0, 0.3) to (reach, 0.3)
-    in 10 scans ``dt`` apart (every place static for ``static`` seconds; None: no model)."""
+    in 10 scans ``dt`` apart from ``start`` [s] (every place static for ``static`` seconds;
+    None: no model)."""
     tracker = PersonTracker(params, None if static is None else StaticFor(static))
     tracker.moving = True
     for k in range(11):
-        tracker.update(one_leg(reach * k / 10, 0.3 * (-1) ** k), dt * k, 1.0)
+        tracker.update(one_leg(reach * k / 10, 0.3 * (-1) ** k), start + dt * k, 1.0)
     person = next(iter(tracker.persons.values()))
     assert not person.confirmed and person.llr == pytest.approx(0.0, abs=1e-12)  # one leg: +0
-    tracker.update(one_leg(reach, 0.3, detected=False), dt * 11, 1.0)
+    tracker.update(one_leg(reach, 0.3, detected=False), start + dt * 11, 1.0)
     return person.llr
 
 
@@ -197,6 +202,11 @@ def test_a_candidate_whose_leg_walked_loses_nothing_for_a_miss() -> None:
     # near misses: 0.65 m (< walked_distance 0.7), or 0.7 m by the miss at 2.2 s (0.32 m/s)
     assert miss_after_zigzag(P, 0.65, 0.1) == pytest.approx(math.log(0.1 / 0.5))
     assert miss_after_zigzag(P, 0.7, 0.2) == pytest.approx(math.log(0.1 / 0.5))
+    # the speed is over the time since the first detection, not since time 0: first seen at
+    # 100 s, 0.7 m by the miss at 101.1 s is 0.64 m/s (walked); 0.7 / 101.1 s would not be
+    assert miss_after_zigzag(P, 0.7, 0.1, start=100.0) == pytest.approx(0.0, abs=1e-9)
+    # with moving_speed 0 any 0.7 m has walked, however slowly (0.7 m in 2.2 s)
+    assert miss_after_zigzag(replace(P, moving_speed=0.0), 0.7, 0.2) == pytest.approx(0.0, abs=1e-9)
     # its place static for at most arrival_slack (2 s): walked; longer (a leg track that
     # swapped onto a chair post after following a passer-by): the full miss
     assert miss_after_zigzag(P, 0.7, 0.1, static=2.0) == pytest.approx(0.0, abs=1e-9)

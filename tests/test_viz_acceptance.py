@@ -98,3 +98,45 @@ def test_truth_in_the_laser_frame_is_drawn_where_the_person_is() -> None:
     # without --truth-frame the truth is taken in the tracks' frame
     assert Scene(scans, None, ahead, tracks_frame="sensor").truth_frame == "sensor"
     assert Scene(scans, None, ahead).truth_frame == "world"
+
+
+def test_truth_velocities_and_legs_turn_with_the_positions() -> None:
+    """The velocity is rotated (not translated) the same way round as the positions: sensor
+    at (1, -2) turned 90 degrees; a person 2 m ahead of the laser walking away from it at
+    1 m/s along the laser's x axis walks along +y in the world, legs 0.1 m either side of
+    the laser's x axis are 0.1 m either side along the world's x axis."""
+    pose = Pose2D(1.0, -2.0, math.pi / 2)
+    scans = make_scans(2, pose=pose)
+    ahead = [
+        replace(
+            TruthFrame.from_positions(s.stamp, s.index, np.array([7]), np.array([[2.0, 0.0]])),
+            velocities=np.array([[1.0, 0.0]]),
+            leg_positions=np.array([[[2.0, 0.1], [2.0, -0.1]]]),
+        )
+        for s in scans
+    ]
+    # world = (1, -2) + R(90 deg) p: R (x, y) = (-y, x); velocity R v only
+    world = [
+        replace(
+            f,
+            positions=np.array([[1.0, 0.0]]),
+            velocities=np.array([[0.0, 1.0]]),
+            leg_positions=np.array([[[0.9, 0.0], [1.1, 0.0]]]),
+        )
+        for f in ahead
+    ]
+
+    def drawn(truth: list[TruthFrame], frame: str, truth_frame: str) -> list[TruthFrame]:
+        scene = Scene(scans, None, truth, frame=frame, truth_frame=truth_frame)  # type: ignore[arg-type]
+        got = [f.truth for f in scene.frames()]
+        assert len(got) == 2
+        return [t for t in got if t is not None]
+
+    tol = 1e-9  # one rotation and translation of exact inputs
+    both = ((drawn(ahead, "world", "sensor"), world), (drawn(world, "sensor", "world"), ahead))
+    for got, want in both:
+        assert len(got) == 2
+        for g, w in zip(got, want, strict=True):
+            np.testing.assert_allclose(g.positions, w.positions, atol=tol)
+            np.testing.assert_allclose(g.velocities, w.velocities, atol=tol)
+            np.testing.assert_allclose(g.leg_positions, w.leg_positions, atol=tol)

@@ -104,6 +104,24 @@ def test_moves_consistently_by_hand() -> None:
     assert moves_consistently(old, P)  # from t = 0.2: 0.3 m in 0.5 s
 
 
+def test_a_young_leg_track_is_judged_over_its_whole_path() -> None:
+    """A leg track younger than moving_time (its whole path is 0.26 s) is judged over that
+    path once it has moving_min_detections (3) detections, and only when ``young`` (its
+    place not static for long): 0.2 m in 0.26 s = 0.77 m/s >= 0.4, straight."""
+    path = [(0.0, 0.0, 0.0), (0.13, 0.1, 0.0), (0.26, 0.2, 0.0)]
+    assert moves_consistently(path, P, young=True)
+    assert not moves_consistently(path, P)  # an old place: the full 0.5 s as before
+    assert not moves_consistently(path[:2], P, young=True)  # two detections: not yet
+    assert not moves_consistently(path, replace(P, moving_min_detections=4), young=True)
+    assert not moves_consistently(path, replace(P, moving_min_detections=0), young=True)
+    # 0.1 m in 0.26 s = 0.38 m/s < 0.4: too slow even when young
+    slow = [(0.0, 0.0, 0.0), (0.13, 0.05, 0.0), (0.26, 0.1, 0.0)]
+    assert not moves_consistently(slow, P, young=True)
+    # zigzag: net 0.2 m, path 2 * hypot(0.1, 0.2) = 0.447 m; 0.2 / 0.447 = 0.447 < 0.6
+    zigzag = [(0.0, 0.0, 0.0), (0.13, 0.1, 0.2), (0.26, 0.2, 0.0)]
+    assert not moves_consistently(zigzag, P, young=True)
+
+
 def one_leg(x: float, y: float, detected: bool = True) -> dict[int, LegObservation]:
     return {
         7: LegObservation(
@@ -130,10 +148,13 @@ def run_one_leg(params: PersonTrackParams, speed: float, scans: int) -> list[int
 
 def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     walking = run_one_leg(P, 1.0, 15)
-    # moving from 0.5 s (scan 5, evidence as both legs: +1.61 per scan from 0 at birth,
-    # then scans 5, 6, 7 reach 4.83 >= 4): reported from scan 7 on
-    assert walking.index(1) == 7
-    assert all(walking[7:])
+    # a young track judged over its whole path from its third detection (scan 2; evidence
+    # as both legs: +1.61 per scan from 0 at birth, scans 2, 3, 4 reach 4.83 >= 4):
+    # reported from scan 4 on
+    assert walking.index(1) == 4
+    assert all(walking[4:])
+    # judged only over moving_time (0.5 s): moving from scan 5, reported from scan 7
+    assert run_one_leg(replace(P, moving_min_detections=0), 1.0, 15).index(1) == 7
     assert run_one_leg(replace(P, one_leg_birth=False), 1.0, 15) == [0] * 15
     static_laser = PersonTracker(P)  # moving False: as before issue 29
     assert [len(static_laser.update(one_leg(0.1 * k, 0.0), 0.1 * k, 1.0)) for k in range(15)] == [
@@ -319,11 +340,11 @@ def test_lobby_recording_diagnosis_and_masked_score(shared_data: Path) -> None:
     rows = mp.diagnose(bag, LegTrackerParams(), labels)
     stages = [r.stage for r in rows]
     assert set(stages) <= set(mp.STAGES)
-    # measured: 43 detected labels; 16 tracked, 10 without a leg track (first detections,
-    # legs seen in turn), 17 candidates not yet confirmed, none lost elsewhere
+    # measured: 43 detected labels; 17 tracked, 10 without a leg track (first detections,
+    # legs seen in turn), 16 candidates not yet confirmed, none lost elsewhere
     assert 40 <= len(rows) <= 46
-    assert 10 <= stages.count("tracked") <= 18
-    assert max(mp.STAGES, key=stages.count) == "candidate not confirmed"
+    assert 12 <= stages.count("tracked") <= 22
+    assert 12 <= stages.count("candidate not confirmed") <= 20
     assert 6 <= stages.count("no leg track") <= 14
     assert stages.count("left out as static") + stages.count("reported, too far") <= 2
     tracks, legs, _ = mp.track_bag_with_legs(bag, LegTrackerParams())

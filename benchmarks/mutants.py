@@ -773,6 +773,22 @@ MUTANTS: tuple[Mutant, ...] = (
         WALKED,
     ),
     Mutant(
+        "young-track-anywhere",
+        "person tracks: a young leg judged on its whole path only when young",
+        PT,
+        "young and params.moving_min_detections and len(path) >= params.moving_min_detections",
+        "params.moving_min_detections and len(path) >= params.moving_min_detections",
+        WALKED,
+    ),
+    Mutant(
+        "young-track-two-detections",
+        "person tracks: moving_min_detections detections (3), not one fewer",
+        PT,
+        "young and params.moving_min_detections and len(path) >= params.moving_min_detections",
+        "young and params.moving_min_detections and len(path) >= params.moving_min_detections - 1",
+        WALKED,
+    ),
+    Mutant(
         "walked-no-speed",
         "person tracks: walked (moving_speed x elapsed)",
         PT,

@@ -681,17 +681,18 @@ class PersonTracker:
     def _moves(self, leg: LegObservation) -> bool:
         """A detected leg with a detector score above ``one_leg_min_score`` whose path
         moves consistently (:func:`moves_consistently`)."""
+        p = self.params
         path = self._leg_paths.get(leg.track_id)
-        return (
-            leg.detected
-            and leg.score > self.params.one_leg_min_score
-            and path is not None
-            and moves_consistently(
-                path,
-                self.params,
-                young=float(self._static(leg.position[None, :2])[0]) <= self.params.arrival_slack,
-            )
+        if not (leg.detected and leg.score > p.one_leg_min_score and path is not None):
+            return False
+        # the static world model is asked only for a track whose whole path could be judged
+        # young (shorter than moving_time, with moving_min_detections detections)
+        young = (
+            0 < p.moving_min_detections <= len(path)
+            and path[0][0] > path[-1][0] - p.moving_time + 1e-9
+            and float(self._static(leg.position[None, :2])[0]) <= p.arrival_slack
         )
+        return moves_consistently(path, p, young=young)
 
     def _walked(self, track_id: int, legs: Mapping[int, LegObservation]) -> bool:
         """The leg track ``track_id`` is at least ``walked_distance`` from its first

@@ -279,8 +279,20 @@ def _joint_ancestors(a: tuple[Hashable, ...], b: tuple[Hashable, ...]) -> tuple[
     return tuple(zip(a[-n:], b[-n:], strict=True))
 
 
-def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
-    """Joint hypotheses of independent clusters: the ``k`` most probable combinations."""
+def product(
+    parts: Sequence[Sequence[Hypothesis]], k: int, min_ratio: float | None = None
+) -> list[Hypothesis]:
+    """Joint hypotheses of independent clusters: the ``k`` most probable combinations.
+
+    With ``min_ratio`` set, also every hypothesis of every part joined with the best
+    hypothesis of each other part (the most probable joint hypothesis in which it holds),
+    where that is at least ``min_ratio`` times as probable as the best combination: a
+    merge drops no interpretation of a cluster that ratio pruning would keep. Without
+    it, the ``k`` best alone can all share one part's best hypothesis and silently
+    delete the others: a leg track born on this scan (a quarter of its cluster's mass
+    under 000 Table 10's densities) vanished whenever its cluster merged with a cluster
+    of ``k`` hypotheses, before its second detection could confirm it.
+    """
     acc = [(h.log_weight, h.tracks, h.ancestors) for h in parts[0]]
     for part in parts[1:]:
         combos = [
@@ -290,9 +302,50 @@ def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
         ]
         combos.sort(key=lambda c: -c[0])
         acc = combos[:k]
+    if min_ratio is not None and len(parts) > 1 and acc:
+        acc = acc + _each_hypothesis_with_the_best(parts, acc[0][0] + _log_floor(min_ratio))
+        seen: set[tuple[int, ...]] = set()
+        unique = []
+        for combo in acc:
+            key = tuple(sorted(t.node_id for t in combo[1]))
+            if key not in seen:
+                seen.add(key)
+                unique.append(combo)
+        acc = unique
     return normalise_hypotheses(
         [Hypothesis(w, tuple(sorted(t, key=BY_FAMILY)), anc) for w, t, anc in acc]
     )
+
+
+def _log_floor(min_ratio: float) -> float:
+    """``log min_ratio`` (``-inf`` at 0: no floor)."""
+    return math.log(min_ratio) if min_ratio > 0 else -math.inf
+
+
+def _each_hypothesis_with_the_best(
+    parts: Sequence[Sequence[Hypothesis]], floor: float
+) -> list[tuple[float, tuple[TrackNode, ...], tuple[Hashable, ...]]]:
+    """For every hypothesis of every part, its combination with the best hypothesis of
+    each other part (weight, tracks, joint ancestry as :func:`product` folds it), where
+    the weight is at least ``floor`` (log)."""
+    best = [max(part, key=lambda h: h.log_weight) for part in parts]
+    out = []
+    for i, part in enumerate(parts):
+        for h in part:
+            if h is best[i]:
+                continue
+            chosen = [h if j == i else b for j, b in enumerate(best)]
+            w = math.fsum(c.log_weight for c in chosen)
+            if w < floor:
+                continue
+            tracks: tuple[TrackNode, ...] = ()
+            anc: tuple[Hashable, ...] = chosen[0].ancestors
+            for j, c in enumerate(chosen):
+                tracks = tracks + c.tracks
+                if j:
+                    anc = _joint_ancestors(anc, c.ancestors)
+            out.append((w, tracks, anc))
+    return out
 
 
 _DEFERRED: FloatArray = np.full(0, np.nan)
@@ -525,7 +578,7 @@ class MHT(Generic[Meas]):
                 whole = False
         if whole:
             return parts[0]
-        return product(parts, self.params.k)
+        return product(parts, self.params.k, self.params.ratio)
 
     def _link(
         self,

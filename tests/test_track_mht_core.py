@@ -36,7 +36,7 @@ def meas(points: np.ndarray, std: float = 0.03) -> PointMeasurements:
     return PointMeasurements(pts, np.tile(np.eye(2) * std**2, (len(pts), 1, 1)))
 
 
-def make_mht(**kw: float) -> MHT[PointMeasurements]:
+def make_mht(**kw: float | bool) -> MHT[PointMeasurements]:
     return MHT(MHTParams(**kw), KalmanPointModel(KalmanParams()), FixedLabels())  # type: ignore[arg-type]
 
 
@@ -407,7 +407,7 @@ def test_a_track_born_beside_a_cluster_survives_the_merge() -> None:
     merge: the born track must be among the merged parents and take the detection (best
     hypothesis 0.62). With k = 2 the two best products both lack it, and the unseen track
     jumped 0.95 m onto the detection instead (0.95)."""
-    mht = make_mht(k_best=2, min_ratio=1e-2)
+    mht = make_mht(k_best=2, min_ratio=1e-2, merge_keeps_each=True)
     for k in range(6):
         mht.step(meas([[0.0, 0.0]]), 0.1 * k)
     for k in range(6, 9):

@@ -81,6 +81,11 @@ K_BEST = 20
 """Children per cluster and scan where ``MHTParams.k_best`` is unset and the tracker sets
 none: an assumption (000 Sec. 4.6 averages its cycle times over k from 2 to 200)."""
 
+MERGE_KEEPS_EACH = False
+"""Whether merging clusters keeps each part's hypotheses (:func:`product`) where
+``MHTParams.merge_keeps_each`` is unset and the tracker sets nothing: off, the k best
+joint hypotheses alone, as before the option existed (the group tracker's figures)."""
+
 N_SCAN = 8
 """N-scan-back depth where ``MHTParams.n_scan`` is unset and the tracker sets none: 000
 Sec. 3.4.3 (a scan-back depth of eight)."""
@@ -113,6 +118,17 @@ class MHTParams:
         "its policy tracks (see LegTrackerParams.mht_params), 3e-3 for the group "
         "tracker (GROUP_MIN_RATIO, docs/groups.md)",
         "drop hypotheses less probable than this times the best of their cluster",
+    )
+    merge_keeps_each: bool | None = param(
+        None,
+        "unset: the tracker's default: off (MERGE_KEEPS_EACH) for the group tracker and the "
+        "leg tracker's people policy arras, on for its policy tracks (see "
+        "LegTrackerParams.mht_params). Measured on the real lobby recording of the "
+        "leg_tracker benchmark: a leg track born beside a cluster of k hypotheses (a quarter "
+        "of its cluster's mass) was lost on the merge before its second detection",
+        "when clusters merge, the parents are the k best joint hypotheses and also every "
+        "hypothesis of each cluster joined with the best of the others, where at least "
+        "min_ratio times as probable as the best (off: the k best alone)",
     )
     max_cluster_size: int = param(
         200,
@@ -150,6 +166,8 @@ class MHTParams:
             or not 0.0 <= self.min_ratio < 1.0
         ):
             raise ValueError("min_ratio must be a number in [0, 1)")
+        if self.merge_keeps_each is not None and not isinstance(self.merge_keeps_each, bool):
+            raise ValueError("merge_keeps_each must be true, false or unset")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
@@ -166,20 +184,33 @@ class MHTParams:
         return K_BEST if self.k_best is None else int(self.k_best)
 
     @property
+    def keeps_each(self) -> bool:
+        """Whether a merge keeps each part's hypotheses in use: ``merge_keeps_each``, or
+        :data:`MERGE_KEEPS_EACH` unset."""
+        return MERGE_KEEPS_EACH if self.merge_keeps_each is None else bool(self.merge_keeps_each)
+
+    @property
     def depth(self) -> int:
         """N-scan-back depth in use: ``n_scan``, or :data:`N_SCAN` unset."""
         return N_SCAN if self.n_scan is None else int(self.n_scan)
 
     def with_defaults(
-        self, min_ratio: float = MIN_RATIO, k_best: int = K_BEST, n_scan: int = N_SCAN
+        self,
+        min_ratio: float = MIN_RATIO,
+        k_best: int = K_BEST,
+        n_scan: int = N_SCAN,
+        merge_keeps_each: bool = MERGE_KEEPS_EACH,
     ) -> MHTParams:
-        """These parameters with each unset one of ``min_ratio``, ``k_best`` and ``n_scan``
-        set to the given value (a tracker's own default); explicit values stay."""
+        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``
+        and ``merge_keeps_each`` set to the given value (a tracker's own default); explicit
+        values stay."""
+        keeps = self.merge_keeps_each
         return replace(
             self,
             min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
             k_best=k_best if self.k_best is None else self.k_best,
             n_scan=n_scan if self.n_scan is None else self.n_scan,
+            merge_keeps_each=merge_keeps_each if keeps is None else keeps,
         )
 
 
@@ -578,7 +609,8 @@ class MHT(Generic[Meas]):
                 whole = False
         if whole:
             return parts[0]
-        return product(parts, self.params.k, self.params.ratio)
+        keep_each = self.params.ratio if self.params.keeps_each else None
+        return product(parts, self.params.k, keep_each)
 
     def _link(
         self,

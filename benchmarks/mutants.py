@@ -84,7 +84,6 @@ LISTING = ("tests/test_track_mht_core.py", "tests/test_track_mht_bounds.py")
 HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
-MERGE = ("tests/test_track_mht_core.py", "tests/test_track_policy_pruning.py")
 KALMAN = ("tests/test_track_kalman.py",)
 FEATURES = ("tests/test_detect_features_reference.py", "tests/test_pipeline_lookahead.py")
 LASERSCAN = ("tests/test_io_laserscan_fast.py",)
@@ -772,22 +771,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "float(self._static(person.mean[None, :2])[0]) <= p.arrival_slack",
         "float(self._static(person.mean[None, :2])[0]) < p.arrival_slack",
         WALKED,
-    ),
-    Mutant(
-        "merge-k-best-only",
-        "mht: a merge keeps each cluster's hypotheses (merge_keeps_each)",
-        "tracking/mht/core.py",
-        "keep_each = self.params.ratio if self.params.keeps_each else None",
-        "keep_each = None",
-        MERGE,
-    ),
-    Mutant(
-        "merge-no-ratio-floor",
-        "mht: a merge keeps each cluster's hypotheses within min_ratio only",
-        "tracking/mht/core.py",
-        "            if w < floor:",
-        "            if w < floor - 100.0:",
-        MERGE,
     ),
     Mutant(
         "young-track-anywhere",

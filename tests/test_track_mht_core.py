@@ -36,7 +36,7 @@ def meas(points: np.ndarray, std: float = 0.03) -> PointMeasurements:
     return PointMeasurements(pts, np.tile(np.eye(2) * std**2, (len(pts), 1, 1)))
 
 
-def make_mht(**kw: float | bool) -> MHT[PointMeasurements]:
+def make_mht(**kw: float) -> MHT[PointMeasurements]:
     return MHT(MHTParams(**kw), KalmanPointModel(KalmanParams()), FixedLabels())  # type: ignore[arg-type]
 
 
@@ -376,47 +376,3 @@ def test_the_listing_budget_counts_every_track_and_measurement_labelled() -> Non
         got = listed(*two, shortcut=False, **kw)
         assert got is not None, kw
         np.testing.assert_allclose([c for *_, c in got], [2 * a, a + b, a + b, 2 * b])
-
-
-def test_product_keeps_every_hypothesis_of_each_part_within_the_ratio() -> None:
-    """With ``min_ratio``, each part's hypothesis joins the other part's best, so the k
-    best products alone (which all share a's two hypotheses with b's best) do not drop
-    b's second hypothesis; one below the ratio is still dropped."""
-    node = lambda f: TrackNode(f * 10, f, -1, np.zeros(4), np.eye(4), 0.0, "new")  # noqa: E731
-    a = normalise_hypotheses(
-        [Hypothesis(math.log(0.55), (node(1),), (1,)), Hypothesis(math.log(0.45), (), (2,))]
-    )
-    b = normalise_hypotheses(
-        [Hypothesis(math.log(0.75), (), (3,)), Hypothesis(math.log(0.25), (node(2),), (4,))]
-    )
-    assert [h.families() for h in product([a, b], k=2)] == [(1,), ()]
-    joint = product([a, b], k=2, min_ratio=1e-2)
-    assert [h.families() for h in joint] == [(1,), (), (1, 2)]
-    # weights 0.4125, 0.3375, 0.1375 renormalised over the three kept
-    np.testing.assert_allclose(
-        [math.exp(h.log_weight) for h in joint], np.array([0.4125, 0.3375, 0.1375]) / 0.8875
-    )
-    assert joint[2].ancestors == ((1, 4),)
-    assert len(product([a, b], k=2, min_ratio=0.4)) == 2  # 0.1375 / 0.4125 < 0.4
-
-
-def test_a_track_born_beside_a_cluster_survives_the_merge() -> None:
-    """A detection gives birth to a track (a quarter of its cluster's mass) while a nearby
-    track, unseen for a few scans, holds two hypotheses (occluded, deleted). Its second
-    detection lies 0.35 m on, also in the unseen track's widened gate, so the clusters
-    merge: the born track must be among the merged parents and take the detection (best
-    hypothesis 0.62). With k = 2 the two best products both lack it, and the unseen track
-    jumped 0.95 m onto the detection instead (0.95)."""
-    mht = make_mht(k_best=2, min_ratio=1e-2, merge_keeps_each=True)
-    for k in range(6):
-        mht.step(meas([[0.0, 0.0]]), 0.1 * k)
-    for k in range(6, 9):
-        mht.step(meas(np.empty((0, 2))), 0.1 * k)
-    # detections of a few beams at range (0.1 m); farther than max_gate_distance (1 m): its
-    # own cluster
-    mht.step(meas([[1.3, 0.0]], std=0.1), 0.9)
-    (born,) = {n.family for n in mht.tree.nodes_by_family[max(mht.tree.nodes_by_family)]}
-    mht.step(meas([[0.95, 0.0]], std=0.1), 1.0)
-    at_d2 = [n for n in mht.best_tracks() if np.hypot(*(n.mean[:2] - [0.95, 0.0])) < 0.15]
-    assert [n.family for n in at_d2] == [born]
-    assert [n.family for n in mht.best_tracks() if n.family != born] == [0]  # still occluded

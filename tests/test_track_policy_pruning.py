@@ -48,24 +48,6 @@ def test_policy_resolves_k_and_depth() -> None:
     assert (MHTParams().k, MHTParams().depth) == (20, 8)  # a bare core: 000's depth
 
 
-def test_policy_resolves_merge_keeps_each() -> None:
-    """A merge keeps each cluster's hypotheses under ``tracks`` only; the group tracker and
-    a bare core keep the k best joint hypotheses; an explicit value wins; a non-bool is an
-    error."""
-    assert LegTrackerParams().mht.merge_keeps_each is None
-    assert LegTrackerParams().mht_params().keeps_each is True
-    assert LegTrackerParams(people_policy="arras").mht_params().keeps_each is False
-    assert replace(LegTrackerParams(), people_policy="arras").mht_params().keeps_each is False
-    assert MHTParams().keeps_each is False
-    assert GroupTrackerParams().mht.with_defaults().keeps_each is False
-    off = LegTrackerParams(mht=MHTParams(merge_keeps_each=False))
-    assert off.mht_params().keeps_each is False
-    assert LegMHTTracker(off).mht.params.keeps_each is False
-    assert LegMHTTracker(LegTrackerParams()).mht.params.keeps_each is True
-    with pytest.raises(ValueError, match="merge_keeps_each"):
-        MHTParams(merge_keeps_each=1)  # type: ignore[arg-type]
-
-
 def test_tracker_mht_branches_at_most_the_policy_k() -> None:
     rng = np.random.default_rng(3)
     for policy, k in (("arras", 20), ("tracks", 5)):

@@ -68,15 +68,6 @@ CPU per scan; real dev recording identity recall / recall / ids 0.977 / 0.984 / 
 0.393, entrance-hall 0.352 / 0.389 -> 0.357 / 0.383, at 0.50-0.91x of Stone Soup GNN's CPU
 per scan (1.2-3.6x before); demo seeds 0-4 MOTA 0.865 -> 0.844."""
 
-POLICY_MERGE_KEEPS_EACH = {"arras": False, "tracks": True}
-"""``mht.merge_keeps_each`` per people policy where it is unset: ``arras`` keeps the k best
-joint hypotheses of merged clusters (its reproduction of 000 as measured); ``tracks`` also
-keeps every hypothesis of each merged cluster joined with the others' best
-(:func:`~.mht.core.product`). On the real lobby recording of the leg_tracker benchmark
-(``benchmarks/moving_people.py --diagnose``) a leg born beside a cluster of five hypotheses
-was dropped by the merge on its second detection (a person closing at 2 m/s, 2.1-2.2 m
-ahead): detected labels without a leg track 10 -> 8."""
-
 POLICY_N_SCAN = {"arras": N_SCAN, "tracks": 4}
 """N-scan-back depth per people policy where ``mht.n_scan`` is unset: ``arras`` keeps 000's
 eight (:data:`~.mht.core.N_SCAN`), ``tracks`` 4 (with :data:`POLICY_K_BEST`; with k 5 a
@@ -128,9 +119,8 @@ class LegTrackerParams:
     )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(),
-        "nested table mht.*; mht.min_ratio, k_best, n_scan and merge_keeps_each unset: by "
-        "people policy (POLICY_MIN_RATIO, POLICY_K_BEST, POLICY_N_SCAN, "
-        "POLICY_MERGE_KEEPS_EACH: arras 1e-3, 20, 8, off; tracks 1e-2, 5, 4, on)",
+        "nested table mht.*; mht.min_ratio, k_best and n_scan unset: by people policy "
+        "(POLICY_MIN_RATIO, POLICY_K_BEST, POLICY_N_SCAN: arras 1e-3, 20, 8; tracks 1e-2, 5, 4)",
         "hypothesis branching and pruning",
     )
     person: PersonParams = param(  # noqa: RUF009 (a frozen default instance)
@@ -153,17 +143,13 @@ class LegTrackerParams:
             raise ValueError("max_report_unseen must be non-negative (inf: report all)")
 
     def mht_params(self) -> MHTParams:
-        """The MHT's parameters in use: ``mht`` with an unset ``min_ratio``, ``k_best``,
-        ``n_scan`` and ``merge_keeps_each`` resolved by the people policy
-        (:data:`POLICY_MIN_RATIO`, :data:`POLICY_K_BEST`, :data:`POLICY_N_SCAN`,
-        :data:`POLICY_MERGE_KEEPS_EACH`). Resolved here, at use, so that
+        """The MHT's parameters in use: ``mht`` with an unset ``min_ratio``, ``k_best`` and
+        ``n_scan`` resolved by the people policy (:data:`POLICY_MIN_RATIO`,
+        :data:`POLICY_K_BEST`, :data:`POLICY_N_SCAN`). Resolved here, at use, so that
         ``replace(params, people_policy=...)`` changes them too."""
         policy = self.people_policy
         return self.mht.with_defaults(
-            POLICY_MIN_RATIO[policy],
-            POLICY_K_BEST[policy],
-            POLICY_N_SCAN[policy],
-            POLICY_MERGE_KEEPS_EACH[policy],
+            POLICY_MIN_RATIO[policy], POLICY_K_BEST[policy], POLICY_N_SCAN[policy]
         )
 
     def free(self) -> LabelProbabilities:

@@ -81,11 +81,6 @@ K_BEST = 20
 """Children per cluster and scan where ``MHTParams.k_best`` is unset and the tracker sets
 none: an assumption (000 Sec. 4.6 averages its cycle times over k from 2 to 200)."""
 
-MERGE_KEEPS_EACH = False
-"""Whether merging clusters keeps each part's hypotheses (:func:`product`) where
-``MHTParams.merge_keeps_each`` is unset and the tracker sets nothing: off, the k best
-joint hypotheses alone, as before the option existed (the group tracker's figures)."""
-
 N_SCAN = 8
 """N-scan-back depth where ``MHTParams.n_scan`` is unset and the tracker sets none: 000
 Sec. 3.4.3 (a scan-back depth of eight)."""
@@ -118,17 +113,6 @@ class MHTParams:
         "its policy tracks (see LegTrackerParams.mht_params), 3e-3 for the group "
         "tracker (GROUP_MIN_RATIO, docs/groups.md)",
         "drop hypotheses less probable than this times the best of their cluster",
-    )
-    merge_keeps_each: bool | None = param(
-        None,
-        "unset: the tracker's default: off (MERGE_KEEPS_EACH) for the group tracker and the "
-        "leg tracker's people policy arras, on for its policy tracks (see "
-        "LegTrackerParams.mht_params). Measured on the real lobby recording of the "
-        "leg_tracker benchmark: a leg track born beside a cluster of k hypotheses (a quarter "
-        "of its cluster's mass) was lost on the merge before its second detection",
-        "when clusters merge, the parents are the k best joint hypotheses and also every "
-        "hypothesis of each cluster joined with the best of the others, where at least "
-        "min_ratio times as probable as the best (off: the k best alone)",
     )
     max_cluster_size: int = param(
         200,
@@ -166,8 +150,6 @@ class MHTParams:
             or not 0.0 <= self.min_ratio < 1.0
         ):
             raise ValueError("min_ratio must be a number in [0, 1)")
-        if self.merge_keeps_each is not None and not isinstance(self.merge_keeps_each, bool):
-            raise ValueError("merge_keeps_each must be true, false or unset")
         if self.max_cluster_size < 1 or self.max_assignment_solves < 1:
             raise ValueError("max_cluster_size and max_assignment_solves must be at least 1")
         if not 0.0 <= self.existence_ratio < 1.0:
@@ -184,33 +166,20 @@ class MHTParams:
         return K_BEST if self.k_best is None else int(self.k_best)
 
     @property
-    def keeps_each(self) -> bool:
-        """Whether a merge keeps each part's hypotheses in use: ``merge_keeps_each``, or
-        :data:`MERGE_KEEPS_EACH` unset."""
-        return MERGE_KEEPS_EACH if self.merge_keeps_each is None else bool(self.merge_keeps_each)
-
-    @property
     def depth(self) -> int:
         """N-scan-back depth in use: ``n_scan``, or :data:`N_SCAN` unset."""
         return N_SCAN if self.n_scan is None else int(self.n_scan)
 
     def with_defaults(
-        self,
-        min_ratio: float = MIN_RATIO,
-        k_best: int = K_BEST,
-        n_scan: int = N_SCAN,
-        merge_keeps_each: bool = MERGE_KEEPS_EACH,
+        self, min_ratio: float = MIN_RATIO, k_best: int = K_BEST, n_scan: int = N_SCAN
     ) -> MHTParams:
-        """These parameters with each unset one of ``min_ratio``, ``k_best``, ``n_scan``
-        and ``merge_keeps_each`` set to the given value (a tracker's own default); explicit
-        values stay."""
-        keeps = self.merge_keeps_each
+        """These parameters with each unset one of ``min_ratio``, ``k_best`` and ``n_scan``
+        set to the given value (a tracker's own default); explicit values stay."""
         return replace(
             self,
             min_ratio=min_ratio if self.min_ratio is None else self.min_ratio,
             k_best=k_best if self.k_best is None else self.k_best,
             n_scan=n_scan if self.n_scan is None else self.n_scan,
-            merge_keeps_each=merge_keeps_each if keeps is None else keeps,
         )
 
 
@@ -310,20 +279,8 @@ def _joint_ancestors(a: tuple[Hashable, ...], b: tuple[Hashable, ...]) -> tuple[
     return tuple(zip(a[-n:], b[-n:], strict=True))
 
 
-def product(
-    parts: Sequence[Sequence[Hypothesis]], k: int, min_ratio: float | None = None
-) -> list[Hypothesis]:
-    """Joint hypotheses of independent clusters: the ``k`` most probable combinations.
-
-    With ``min_ratio`` set, also every hypothesis of every part joined with the best
-    hypothesis of each other part (the most probable joint hypothesis in which it holds),
-    where that is at least ``min_ratio`` times as probable as the best combination: a
-    merge drops no interpretation of a cluster that ratio pruning would keep. Without
-    it, the ``k`` best alone can all share one part's best hypothesis and silently
-    delete the others: a leg track born on this scan (a quarter of its cluster's mass
-    under 000 Table 10's densities) vanished whenever its cluster merged with a cluster
-    of ``k`` hypotheses, before its second detection could confirm it.
-    """
+def product(parts: Sequence[Sequence[Hypothesis]], k: int) -> list[Hypothesis]:
+    """Joint hypotheses of independent clusters: the ``k`` most probable combinations."""
     acc = [(h.log_weight, h.tracks, h.ancestors) for h in parts[0]]
     for part in parts[1:]:
         combos = [
@@ -333,50 +290,9 @@ def product(
         ]
         combos.sort(key=lambda c: -c[0])
         acc = combos[:k]
-    if min_ratio is not None and len(parts) > 1 and acc:
-        acc = acc + _each_hypothesis_with_the_best(parts, acc[0][0] + _log_floor(min_ratio))
-        seen: set[tuple[int, ...]] = set()
-        unique = []
-        for combo in acc:
-            key = tuple(sorted(t.node_id for t in combo[1]))
-            if key not in seen:
-                seen.add(key)
-                unique.append(combo)
-        acc = unique
     return normalise_hypotheses(
         [Hypothesis(w, tuple(sorted(t, key=BY_FAMILY)), anc) for w, t, anc in acc]
     )
-
-
-def _log_floor(min_ratio: float) -> float:
-    """``log min_ratio`` (``-inf`` at 0: no floor)."""
-    return math.log(min_ratio) if min_ratio > 0 else -math.inf
-
-
-def _each_hypothesis_with_the_best(
-    parts: Sequence[Sequence[Hypothesis]], floor: float
-) -> list[tuple[float, tuple[TrackNode, ...], tuple[Hashable, ...]]]:
-    """For every hypothesis of every part, its combination with the best hypothesis of
-    each other part (weight, tracks, joint ancestry as :func:`product` folds it), where
-    the weight is at least ``floor`` (log)."""
-    best = [max(part, key=lambda h: h.log_weight) for part in parts]
-    out = []
-    for i, part in enumerate(parts):
-        for h in part:
-            if h is best[i]:
-                continue
-            chosen = [h if j == i else b for j, b in enumerate(best)]
-            w = math.fsum(c.log_weight for c in chosen)
-            if w < floor:
-                continue
-            tracks: tuple[TrackNode, ...] = ()
-            anc: tuple[Hashable, ...] = chosen[0].ancestors
-            for j, c in enumerate(chosen):
-                tracks = tracks + c.tracks
-                if j:
-                    anc = _joint_ancestors(anc, c.ancestors)
-            out.append((w, tracks, anc))
-    return out
 
 
 _DEFERRED: FloatArray = np.full(0, np.nan)
@@ -609,8 +525,7 @@ class MHT(Generic[Meas]):
                 whole = False
         if whole:
             return parts[0]
-        keep_each = self.params.ratio if self.params.keeps_each else None
-        return product(parts, self.params.k, keep_each)
+        return product(parts, self.params.k)
 
     def _link(
         self,

@@ -22,7 +22,6 @@ from laserpeople.tracking.person_tracks import (
     PersonTracker,
     PersonTrackParams,
     moves_consistently,
-    walks_steadily,
 )
 from laserpeople.tracking.robot_motion import MotionWatch
 
@@ -237,73 +236,6 @@ def test_a_candidate_whose_leg_walked_loses_nothing_for_a_miss() -> None:
     tracker = PersonTracker(P)
     tracker.update(one_leg(0.0, 0.0), 0.0, 1.0)
     assert not tracker.persons  # (no one-leg birth there at all)
-
-
-def test_walks_steadily_by_hand() -> None:
-    q = replace(P, walker_fit_time=1.0)
-    # 1 m/s along x; the window keeps t >= 1.2 - 1.0: three detections spanning 0.8 s,
-    # fitted travel 0.8 m >= walked_distance 0.7, residual 0
-    line = [(0.0, 0.0, 0.0), (0.4, 0.4, 0.0), (0.8, 0.8, 0.0), (1.2, 1.2, 0.0)]
-    assert walks_steadily(line, q)
-    assert not walks_steadily(line[:2], q)  # two detections: no fit
-    assert not walks_steadily(line, replace(q, walker_fit_min_detections=4))
-    assert walks_steadily(line, replace(q, walker_fit_time=1.2, walker_fit_min_detections=4))
-    assert not walks_steadily(line, replace(q, walker_fit_time=0.0))  # off
-    # fitted travel 1 m/s * 0.6 s = 0.6 m < 0.7 (t from 0.4 to 1.0)
-    assert not walks_steadily([(0.4, 0.0, 0.0), (0.7, 0.3, 0.0), (1.0, 0.6, 0.0)], q)
-    # 2.5 m/s: above walker_max_speed 2.0
-    assert not walks_steadily([(0.0, 0.0, 0.0), (0.4, 1.0, 0.0), (0.8, 2.0, 0.0)], q)
-    # 0.35 m/s over 2.4 s (travel 0.84 m): below moving_speed 0.4
-    slow = [(0.0, 0.0, 0.0), (1.2, 0.42, 0.0), (2.4, 0.84, 0.0)]
-    assert not walks_steadily(slow, replace(q, walker_fit_time=3.0))
-    # off the line by (0, -0.05), (0, 0.1), (0, -0.05) (the fitted vy is 0): mean square
-    # residual 0.015 / 3, rms 0.0707 m; with n - 2 in the denominator 0.122, largest 0.1
-    bent = [(0.0, 0.0, 0.0), (0.4, 0.45, 0.15), (0.8, 0.9, 0.0)]
-    assert walks_steadily(bent, replace(q, walker_fit_rms=0.08))
-    assert not walks_steadily(bent, replace(q, walker_fit_rms=0.07))
-
-
-def walker_confirmed_at(
-    params: PersonTrackParams,
-    path: list[tuple[float, float]],
-    static: float | None = None,
-    first_score: float = 0.8,
-    every: int = 2,
-) -> int:
-    """First scan (10 Hz) at which a one-leg walker along ``path`` ((x, y) per scan),
-    detected in every ``every``-th scan (detector score ``first_score`` on its first
-    detection, 0.8 after), is reported (-1: never)."""
-    tracker = PersonTracker(params, None if static is None else StaticFor(static))
-    tracker.moving = True
-    for k, (x, y) in enumerate(path):
-        legs = one_leg(x, y, detected=k % every == 0)
-        if k == 0:
-            legs[7].score = first_score
-        if tracker.update(legs, 0.1 * k, 1.0):
-            return k
-    return -1
-
-
-def test_a_walker_seen_every_other_scan_is_confirmed_by_its_fit() -> None:
-    walk = [(0.12 * k, 0.0) for k in range(25)]  # 1.2 m/s, detected at 0, 0.2, 0.4 ... s
-    # the constant-velocity fit of its four detections over 0.6 s (travel 0.72 m):
-    # confirmed at once on scan 6; without it, +1.61 per consistent scan from scan 6 on
-    # (0.5 s watched) and 0 per miss once it has walked: reported from scan 10
-    assert walker_confirmed_at(P, walk) == 6
-    assert walker_confirmed_at(replace(P, walker_fit_time=0.0), walk) == 10
-    # on a place static for at most arrival_slack (2 s) the fit counts; longer, not (and
-    # then a miss costs log(p_none / q_none): never confirmed, as without the fit)
-    assert walker_confirmed_at(P, walk, static=2.0) == 6
-    assert walker_confirmed_at(P, walk, static=2.1) == -1
-    assert walker_confirmed_at(replace(P, walker_fit_time=0.0), walk, static=2.1) == -1
-    # a leg whose detections score at most one_leg_min_score: no fit (seen in every scan,
-    # born from a first detection scoring 0.95 > 0.9, then 0.8 <= 0.9: one-leg evidence,
-    # +0 per scan, never confirmed; with the fit asking no score, confirmed on scan 6)
-    strict = replace(P, one_leg_min_score=0.9)
-    assert walker_confirmed_at(strict, walk, first_score=0.95, every=1) == -1
-    # a leg track hopping between two posts 0.4 m apart: never
-    hop = [(0.4 * ((k // 2) % 2), 0.0) for k in range(40)]
-    assert walker_confirmed_at(P, hop) == -1
 
 
 # ------------------------------------------------------------------ real recording

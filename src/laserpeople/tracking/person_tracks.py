@@ -351,36 +351,6 @@ class PersonTrackParams:
         "member leg that has walked (walked_distance) and whose place is static for at most "
         "arrival_slack; on a moving robot tracked in the world frame only",
     )
-    walker_fit_time: float = param(
-        1.5,
-        "measured (docs/moving-robot.md): real lobby recall 0.316 -> 0.351, false positives "
-        "25 -> 27 (1.0 s: 25 -> 31, a leg track that jittered and then slid 1 m); a person "
-        "at 4-7 m is detected in about every other scan",
-        "a candidate whose detected member leg's detections over the last this long fit a "
-        "constant velocity (walker_fit_rms, moving_speed to walker_max_speed, fitted travel "
-        "at least walked_distance) on a place static for at most arrival_slack is confirmed "
-        "at once (0: never)",
-        "s",
-    )
-    walker_fit_min_detections: int = param(
-        3,
-        "assumption: the fewest detections whose straight-line fit has a residual",
-        "detections a leg needs within walker_fit_time for the constant-velocity fit",
-    )
-    walker_fit_rms: float = param(
-        0.12,
-        "assumption: a walking leg stands while the other swings, so its detections lie up "
-        "to ~0.15 m off a constant-velocity line; a track hopping between posts ~0.4 m "
-        "apart leaves 0.15-0.2 m",
-        "root-mean-square residual [m] of the constant-velocity fit at most this",
-        "m",
-    )
-    walker_max_speed: float = param(
-        2.0,
-        "assumption: fast walking ~1.5-2 m/s; a track jumping between clutter is faster",
-        "fitted speed at most this for the constant-velocity fit to count as walking",
-        "m/s",
-    )
     arrival_slack: float = param(
         2.0,
         "assumption: the cells of a person's last step are occupied up to about a second "
@@ -408,16 +378,6 @@ class PersonTrackParams:
             raise ValueError("moving_min_detections must not be negative")
         if not (self.walked_distance > 0 and self.walked_miss <= 0):
             raise ValueError("walked_distance must be positive, walked_miss not positive")
-        if not (
-            self.walker_fit_time >= 0
-            and self.walker_fit_min_detections >= 3
-            and self.walker_fit_rms >= 0
-            and self.walker_max_speed >= self.moving_speed
-        ):
-            raise ValueError(
-                "walker_fit_time and walker_fit_rms must not be negative, "
-                "walker_fit_min_detections at least 3, walker_max_speed at least moving_speed"
-            )
         if not 0.0 <= self.moving_straightness <= 1.0:
             raise ValueError("moving_straightness must be in [0, 1]")
         if min(self.pair_std, self.one_leg_std, self.accel_psd, self.pair_distance) <= 0:
@@ -565,41 +525,6 @@ def moves_consistently(
     return net >= params.moving_speed * (t1 - t0) and net >= params.moving_straightness * length
 
 
-def walks_steadily(path: Sequence[tuple[float, float, float]], params: PersonTrackParams) -> bool:
-    """Whether the measured positions ``path`` ((time [s], x, y [m]) in the world frame,
-    oldest first) of the last ``walker_fit_time`` before the newest one fit a walk at
-    constant velocity: at least ``walker_fit_min_detections`` of them, a least-squares
-    line x(t) = x0 + v t with root-mean-square residual at most ``walker_fit_rms``, speed
-    |v| from ``moving_speed`` to ``walker_max_speed`` and fitted travel |v| times the
-    time spanned at least ``walked_distance`` (gaps between detections allowed)."""
-    if params.walker_fit_time <= 0 or len(path) < params.walker_fit_min_detections:
-        return False
-    t1 = path[-1][0]
-    rows = [r for r in path if r[0] >= t1 - params.walker_fit_time - 1e-9]
-    n = len(rows)
-    if n < params.walker_fit_min_detections:
-        return False
-    t = [r[0] - t1 for r in rows]
-    tm = sum(t) / n
-    var = sum((ti - tm) ** 2 for ti in t)
-    if var <= 0.0:
-        return False
-    xm = sum(r[1] for r in rows) / n
-    ym = sum(r[2] for r in rows) / n
-    vx = sum((ti - tm) * (r[1] - xm) for ti, r in zip(t, rows, strict=True)) / var
-    vy = sum((ti - tm) * (r[2] - ym) for ti, r in zip(t, rows, strict=True)) / var
-    speed = math.hypot(vx, vy)
-    if not params.moving_speed <= speed <= params.walker_max_speed:
-        return False
-    if speed * (t[-1] - t[0]) < params.walked_distance:
-        return False
-    sq = sum(
-        (r[1] - xm - vx * (ti - tm)) ** 2 + (r[2] - ym - vy * (ti - tm)) ** 2
-        for ti, r in zip(t, rows, strict=True)
-    )
-    return sq / n <= params.walker_fit_rms**2
-
-
 def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrackParams) -> bool:
     """A detected segment with ``points`` (n, 2) [m] and detector ``score`` is wide enough,
     dense enough and leg-like enough to be both legs of one person."""
@@ -647,8 +572,7 @@ class PersonTracker:
         """Per leg track: (time [s], x, y [m]) of its first detection."""
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
         """Per leg track: (time [s], x, y [m]) of its detections over the last
-        ``moving_time`` or ``walker_fit_time``, whichever is longer (and one before), for
-        :func:`moves_consistently` and :func:`walks_steadily`."""
+        ``moving_time`` (and one before), for :func:`moves_consistently`."""
 
     @property
     def approved_legs(self) -> frozenset[int]:
@@ -730,7 +654,7 @@ class PersonTracker:
 
     def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         """Append this scan's detected legs to their paths; forget legs no longer tracked."""
-        horizon = stamp - max(self.params.moving_time, self.params.walker_fit_time) - 1e-9
+        horizon = stamp - self.params.moving_time - 1e-9
         paths = self._leg_paths
         for leg in legs.values():
             if not leg.detected:
@@ -783,26 +707,6 @@ class PersonTracker:
         return net >= self.params.walked_distance and net >= self.params.moving_speed * (
             self._stamp - t0
         )
-
-    def _walker(self, person: PersonTrack, legs: Mapping[int, LegObservation]) -> bool:
-        """Some detected member leg of ``person`` with a detector score above
-        ``one_leg_min_score`` walks steadily (:func:`walks_steadily`) on a place static for
-        at most ``arrival_slack``."""
-        p = self.params
-        if p.walker_fit_time <= 0:
-            return False
-        for m in person.members:
-            leg = legs[m]
-            path = self._leg_paths.get(m)
-            if (
-                leg.detected
-                and leg.score > p.one_leg_min_score
-                and path is not None
-                and walks_steadily(path, p)
-                and float(self._static(leg.position[None, :2])[0]) <= p.arrival_slack
-            ):
-                return True
-        return False
 
     def _moving_member(self, person: PersonTrack, legs: Mapping[int, LegObservation]) -> bool:
         """Some detected member leg of ``person`` moves consistently (:meth:`_moves`)."""
@@ -884,8 +788,6 @@ class PersonTracker:
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
             step = steps[evidence]
-            if evidence != NONE and one_leg and not person.confirmed and self._walker(person, legs):
-                step = max(step, p.llr_confirm - person.llr)
             if (
                 evidence == NONE
                 and one_leg

@@ -353,9 +353,9 @@ class MHT(Generic[Meas]):
         self._deferred_births: list[tuple[TrackNode, int]] = []
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
-        # the same tables as plain floats, made once per scan when a listing needs them
-        # (:meth:`_plain_costs`): detection costs per live node, occluded and deleted
-        # costs per live node, new and false-alarm costs per measurement
+        # the label costs as plain floats, made once per scan when a listing needs them
+        # (:meth:`_plain_costs`): occluded and deleted costs per live node, new and
+        # false-alarm costs per measurement (the first, detection costs, left empty)
         self._plain: PlainCosts = ([], [], [], [], [])
         self._plain_made = False
         self._log_rates: tuple[FloatArray, FloatArray] = (np.empty(0), np.empty(0))
@@ -997,9 +997,7 @@ class MHT(Generic[Meas]):
             if plain is None:
                 assert arrays is not None
                 plain = plain_costs(*arrays)
-            solutions = list_children(
-                priors, rows_of, *plain, k, max_gap, shortcut=self.shortcuts
-            )  # fmt: skip
+            solutions = list_children(priors, rows_of, *plain, k, max_gap, shortcut=self.shortcuts)
         if solutions is None:
             if arrays is None:
                 tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
@@ -1018,16 +1016,17 @@ class MHT(Generic[Meas]):
 
     def _plain_costs(self, live_rows: list[int], meas_idx: NDArray[np.intp]) -> PlainCosts:
         """:func:`~.listing.list_children`'s costs of the live nodes at ``live_rows`` (rows
-        of this scan's tables) for the measurements ``meas_idx``: the scan's tables as
-        plain floats (made once per scan, at the first cluster that needs them), the same
-        floats as the arrays :meth:`_costs` takes from them."""
+        of this scan's tables) for the measurements ``meas_idx``, the same floats as the
+        arrays :meth:`_costs` takes from the tables: the detection costs taken out of the
+        table per cluster, the label costs from the scan's label costs as plain floats
+        (made once per scan, at the first cluster that needs them)."""
         if not self._plain_made:
-            self._plain = plain_costs(self._cost_live, self._lp_live, *self._log_rates)
+            self._plain = plain_costs(np.empty((0, 0)), self._lp_live, *self._log_rates)
             self._plain_made = True
-        tm_all, occ_all, del_all, new_all, fal_all = self._plain
+        _, occ_all, del_all, new_all, fal_all = self._plain
         js = meas_idx.tolist()
         return (
-            [[r[j] for j in js] for r in (tm_all[i] for i in live_rows)],
+            self._cost_live.take(live_rows, axis=0).take(meas_idx, axis=1).tolist(),
             [occ_all[i] for i in live_rows],
             [del_all[i] for i in live_rows],
             [new_all[j] for j in js],

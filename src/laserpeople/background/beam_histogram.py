@@ -99,7 +99,18 @@ class BeamHistogramParams:
         "for part of the learning is foreground; false: every frequent bin (004)",
     )
 
+    people_share: float = param(
+        0.2,
+        "assumed (not in 004): the leg detector finds a person standing 3-7 m away in most "
+        "scans; measured on crossing-3 (docs/csa.md)",
+        "while learning, a frequent bin of a beam whose returns lay on a person (points the "
+        "caller marks, e.g. near leg detections) in at least this share of them is not "
+        "static, and a steady farther return of that beam relearns as if it were",
+    )
+
     def __post_init__(self) -> None:
+        if not (0.0 < self.people_share <= 1.0):
+            raise LaserPeopleError(f"people_share must be in (0, 1], got {self.people_share}")
         if not (self.bin_width > 0.0 and math.isfinite(self.bin_width)):
             raise LaserPeopleError(f"bin_width must be positive, got {self.bin_width}")
         if not (0.0 < self.min_fraction <= 1.0):
@@ -118,6 +129,7 @@ class _BeamTable:
     scans: int
     seconds: float
     relearned: int = 0  # beams relearned after freezing
+    people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
@@ -125,10 +137,11 @@ class _BeamTable:
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
-        core = _core(self.counts, self.scans, p)
+        core = _core(self.counts, self.scans, p, self.people)
         self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         k = core.shape[1]
-        self.nearest = np.where(core.any(axis=1), np.argmax(core, axis=1), k).astype(np.int64)
+        seen = core | _on_people(self.counts, self.scans, p, self.people)
+        self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
             self.since = np.zeros(core.shape[0])
@@ -164,24 +177,74 @@ class _BeamTable:
         self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
         need = max(1, math.ceil(p.min_fraction * self.scans))
         self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        core = _core(self.counts[ripe], self.scans, p)
+        people = None
+        if self.people is not None:
+            self.people[ripe] = np.where(drop, 0, self.people[ripe])
+            self.people[ripe, k_new] = 0
+            people = self.people[ripe]
+        core = _core(self.counts[ripe], self.scans, p, people)
         self.static[ripe] = _dilate(core, reach)
         self.nearest[ripe] = np.argmax(core, axis=1)
         self.candidate[ripe] = -1
         self.relearned += int(ripe.size)
 
 
-def _core(counts: NDArray[np.int32], scans: int, p: BeamHistogramParams) -> NDArray[np.bool_]:
+def _on_people(
+    counts: NDArray[np.int32],
+    scans: int,
+    p: BeamHistogramParams,
+    people: NDArray[np.int32] | None,
+) -> NDArray[np.bool_]:
+    """Frequent bins (B, K) of ``counts`` (B, K) that were on a person (``people`` (B, K):
+    how many of the returns of a bin lay on a person) in at least ``people_share`` of their
+    returns (all False without ``people``)."""
+    if people is None:
+        return np.zeros(counts.shape, dtype=bool)
+    frequent = counts >= max(1.0, p.min_fraction * scans)
+    return frequent & (people > 0) & (people >= p.people_share * counts)
+
+
+def _core(
+    counts: NDArray[np.int32],
+    scans: int,
+    p: BeamHistogramParams,
+    people: NDArray[np.int32] | None = None,
+) -> NDArray[np.bool_]:
     """Static bins (B, K) of the histograms ``counts`` (B, K) of ``scans`` scans: bins seen
-    in at least ``min_fraction`` of the scans; with ``farthest`` only those of them within
-    twice the tolerance of each beam's farthest such bin (a beam without one keeps none)."""
+    in at least ``min_fraction`` of the scans and not on people (:func:`_on_people`); with
+    ``farthest`` only those of them within twice the tolerance of each beam's farthest such
+    bin (a beam without one keeps none)."""
     core = counts >= max(1.0, p.min_fraction * scans)
+    if people is not None:
+        core &= ~_on_people(counts, scans, p, people)
     if not p.farthest or core.shape[1] == 0:
         return core
     k = core.shape[1]
     far = k - 1 - np.argmax(core[:, ::-1], axis=1)  # (B,) farthest static bin
     width = 2 * math.ceil(p.tolerance / p.bin_width)
     return core & (np.arange(k)[None, :] >= (far - width)[:, None])
+
+
+def _beams_of(
+    frame: Frame, scan: Scan, people: NDArray[np.bool_] | None
+) -> NDArray[np.bool_] | None:
+    """The beams (``scan.n_beams``,) of ``scan`` whose points ``people`` (N,) over
+    ``frame.points`` marks (None without ``people``)."""
+    if people is None or frame.points is None:
+        return None
+    pts = frame.points
+    if len(people) != len(pts):
+        raise BackgroundModelError(
+            f"{len(people)} people flags for {len(pts)} points",
+            scan=frame.index,
+            hint="mark each point of the frame",
+        )
+    out = np.zeros(scan.n_beams, dtype=bool)
+    if scan.sensor not in pts.sensors:
+        return out
+    sel = (pts.sensor_ids == pts.sensors.index(scan.sensor)) & people
+    out[pts.beams[sel]] = True
+    return out
 
 
 def _dilate(core: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
@@ -242,7 +305,7 @@ class BeamHistogramBackground:
         top = scan.range_max if math.isfinite(scan.range_max) else 80.0
         return math.ceil(min(top, 80.0) / self.params.bin_width) + 1
 
-    def _add(self, scan: Scan) -> None:
+    def _add(self, scan: Scan, on_people: NDArray[np.bool_] | None = None) -> None:
         table = self._tables.get(scan.sensor)
         if table is None:
             table = _BeamTable(np.zeros((scan.n_beams, self._n_bins(scan)), np.int32), 0, 0.0)
@@ -261,6 +324,11 @@ class BeamHistogramBackground:
             (scan.ranges[idx] / self.params.bin_width).astype(np.int64), -1 + table.counts.shape[1]
         )
         np.add.at(table.counts, (idx, bins), 1)
+        if on_people is not None:
+            if table.people is None:
+                table.people = np.zeros_like(table.counts)
+            hit = on_people[idx]
+            np.add.at(table.people, (idx[hit], bins[hit]), 1)
         table.scans += 1
         table.static = None
 
@@ -338,9 +406,13 @@ class BeamHistogramBackground:
         """Learn from ``frame`` (during the learning period) and set its ``foreground``."""
         return replace(frame, foreground=self.learn_foreground(frame))
 
-    def learn_foreground(self, frame: Frame) -> NDArray[np.bool_]:
+    def learn_foreground(
+        self, frame: Frame, people: NDArray[np.bool_] | None = None
+    ) -> NDArray[np.bool_]:
         """Learn from ``frame`` as :meth:`__call__` does and return the foreground (N,) of
-        its points (without building a new frame)."""
+        its points (without building a new frame). ``people`` (N,) marks the points that
+        lie on people (e.g. near leg detections): while learning, a bin whose returns were
+        on people in ``people_share`` of them does not become static."""
         if frame.points is None:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
@@ -351,7 +423,7 @@ class BeamHistogramBackground:
             if self._first_stamp is None:
                 self._first_stamp = frame.stamp
             for scan in frame.scans:
-                self._add(scan)
+                self._add(scan, _beams_of(frame, scan, people))
                 self._tables[scan.sensor].seconds = frame.stamp - self._first_stamp
             if frame.stamp - self._first_stamp >= self.params.learn_seconds:
                 self.freeze()

@@ -28,6 +28,7 @@ frame.
 
 from __future__ import annotations
 
+import copy
 import math
 import statistics
 from collections import deque
@@ -278,6 +279,7 @@ class AutoBackground:
         detector: object | None = None,
         *,
         steady: bool = False,
+        learn_people: bool = True,
     ) -> None:
         from laserpeople.background.beam_histogram import BeamHistogramBackground
 
@@ -293,6 +295,8 @@ class AutoBackground:
         self._steady = steady
         self.legs: LegForeground | None = None
         self.legs_from: int | None = None
+        self.learn_people = learn_people
+        self._people_legs: LegForeground | None = None
 
     def _wants_legs(self) -> bool:
         """Whether the model in use is narrowed to points near legs (``[leg_foreground]
@@ -319,6 +323,19 @@ class AutoBackground:
             )
             self.legs_from = frame.index
         return self.legs(frame)
+
+    def _people(self, frame: Frame) -> NDArray[np.bool_]:
+        """Which points (N,) of ``frame`` lie within ``[leg_foreground] radius`` of a leg
+        detection (the histogram does not learn them as static)."""
+        from laserpeople.pipeline.leg_foreground import near_legs
+
+        if self._people_legs is None:
+            self._people_legs = LegForeground(
+                self.static.leg_foreground, copy.deepcopy(self._detector)
+            )
+        assert frame.points is not None
+        legs = self._people_legs.legs_of(frame)
+        return near_legs(frame.points.points, legs, self.static.leg_foreground.radius)
 
     def _moved(self, frame: Frame) -> bool:
         if frame.frame == "sensor":
@@ -350,7 +367,11 @@ class AutoBackground:
             n = 0 if frame.points is None else len(frame.points)
             return replace(frame, foreground=np.ones(n, dtype=bool))
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
-        out: Frame = self.model(frame)
+        out: Frame
+        if learning and self.learn_people:
+            out = replace(frame, foreground=self.model.learn_foreground(frame, self._people(frame)))  # type: ignore[attr-defined]
+        else:
+            out = self.model(frame)
         if self.chosen == "histogram" and frame.frame == "sensor":
             if self.motion is None:
                 self.motion = SensorMotionCheck(self.static.sensor_motion)

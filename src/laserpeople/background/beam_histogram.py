@@ -130,6 +130,7 @@ class _BeamTable:
     seconds: float
     relearned: int = 0  # beams relearned after freezing
     people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
+    angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
@@ -138,10 +139,15 @@ class _BeamTable:
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
         core = _core(self.counts, self.scans, p, self.people)
-        self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         k = core.shape[1]
-        seen = core | _on_people(self.counts, self.scans, p, self.people)
+        on_people = _on_people(self.counts, self.scans, p, self.people)
+        seen = core | on_people
         self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
+        if self.angles is not None and on_people.any():
+            beams, bins = _behind_people(core, on_people, self.angles, p)
+            core[beams, bins] = True
+            self.nearest[beams] = bins
+        self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
             self.since = np.zeros(core.shape[0])
@@ -202,6 +208,44 @@ def _on_people(
         return np.zeros(counts.shape, dtype=bool)
     frequent = counts >= max(1.0, p.min_fraction * scans)
     return frequent & (people > 0) & (people >= p.people_share * counts)
+
+
+def _behind_people(
+    core: NDArray[np.bool_],
+    on_people: NDArray[np.bool_],
+    angles: NDArray[np.float64],
+    p: BeamHistogramParams,
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The static world guessed behind the people of the learning period: beams (M,) whose
+    farthest frequent bin was on a person (``on_people`` (B, K), ``core`` (B, K) the static
+    bins) and the bins (M,) where the straight line between the farthest static returns of
+    the nearest beams on either side without people (``angles`` (B,) [rad]) crosses them,
+    where that lies beyond the person by more than the tolerance."""
+    n, k = core.shape
+    idx = np.arange(n)
+    has = core.any(axis=1)
+    far = np.where(has, k - 1 - np.argmax(core[:, ::-1], axis=1), -1)
+    seen = on_people.any(axis=1)
+    person = np.where(seen, k - 1 - np.argmax(on_people[:, ::-1], axis=1), -1)
+    anchor = has & ~seen
+    left = np.maximum.accumulate(np.where(anchor, idx, -1))
+    right = np.minimum.accumulate(np.where(anchor, idx, n)[::-1])[::-1]
+    need = idx[seen & (far <= person) & (left >= 0) & (right < n)]
+    if need.size == 0:
+        return need, need
+    w = p.bin_width
+    lo, hi = left[need], right[need]
+    r_lo, r_hi = (far[lo] + 0.5) * w, (far[hi] + 0.5) * w
+    a_lo, a_hi = angles[lo], angles[hi]
+    p_lo = np.stack([r_lo * np.cos(a_lo), r_lo * np.sin(a_lo)], axis=1)
+    d = np.stack([r_hi * np.cos(a_hi), r_hi * np.sin(a_hi)], axis=1) - p_lo
+    u = np.stack([np.cos(angles[need]), np.sin(angles[need])], axis=1)
+    cross_ud = u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0]
+    cross_pd = p_lo[:, 0] * d[:, 1] - p_lo[:, 1] * d[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = cross_pd / cross_ud  # range along the beam to the line
+    ok = np.isfinite(t) & (t > (person[need] + 1) * w + p.tolerance) & (t < k * w)
+    return need[ok], (t[ok] / w).astype(np.int64)
 
 
 def _core(
@@ -309,6 +353,9 @@ class BeamHistogramBackground:
         table = self._tables.get(scan.sensor)
         if table is None:
             table = _BeamTable(np.zeros((scan.n_beams, self._n_bins(scan)), np.int32), 0, 0.0)
+            table.angles = scan.angle_min + scan.angle_increment * np.arange(
+                scan.n_beams, dtype=np.float64
+            )
             self._tables[scan.sensor] = table
             self._geometry[scan.sensor] = (scan.angle_min, scan.angle_increment, scan.n_beams)
         elif table.counts.shape[0] != scan.n_beams:

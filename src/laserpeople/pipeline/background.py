@@ -266,6 +266,10 @@ class AutoBackground:
         legs: The stage that narrows the foreground to points near legs (None: not used
             yet, :mod:`laserpeople.pipeline.leg_foreground`).
         legs_from: Index of the first frame narrowed to points near legs (None: none).
+        learn_people: While the histogram learns, the points within ``[leg_foreground]
+            radius`` of leg detections are marked as people, whose ranges it does not
+            learn as static (``[beam_histogram] people_share``; the CSA's
+            ``[csa] background_people``).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -279,7 +283,7 @@ class AutoBackground:
         detector: object | None = None,
         *,
         steady: bool = False,
-        learn_people: bool = True,
+        learn_people: bool = False,
     ) -> None:
         from laserpeople.background.beam_histogram import BeamHistogramBackground
 
@@ -369,7 +373,8 @@ class AutoBackground:
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
         out: Frame
         if learning and self.learn_people:
-            out = replace(frame, foreground=self.model.learn_foreground(frame, self._people(frame)))  # type: ignore[attr-defined]
+            people = self._people(frame)
+            out = replace(frame, foreground=self.model.learn_foreground(frame, people))  # type: ignore[attr-defined]
         else:
             out = self.model(frame)
         if self.chosen == "histogram" and frame.frame == "sensor":
@@ -474,13 +479,16 @@ def background_stage(
     detector: object | None = None,
     *,
     steady: bool = False,
+    behind_people: bool = False,
 ) -> Stage | None:
     """The static world model stage for ``choice`` (a name of :data:`BACKGROUND_CHOICES`
     or a model object; None or ``"none"``: no model). ``map_path`` seeds the occupancy
     grid (``occupancy`` or ``auto``); ``static`` holds the models' parameters (None:
     defaults); ``detector`` is the leg detector with which ``auto`` narrows the foreground
     to points near legs (None: the shipped one; :mod:`laserpeople.pipeline.leg_foreground`;
-    ``steady``: for a tracker that needs steady points, which holds missed legs longer)."""
+    ``steady``: for a tracker that needs steady points, which holds missed legs longer;
+    ``behind_people``: ``auto``'s per-beam histogram does not learn the ranges on leg
+    detections as static, :class:`AutoBackground`)."""
     static = static if static is not None else StaticWorldParams()
     if choice is None or choice == "none":
         if map_path is not None:
@@ -503,7 +511,13 @@ def background_stage(
     if choice == "occupancy":
         return occupancy_model(map_path, static.occupancy)
     if choice == "auto":
-        return AutoBackground(map_path=map_path, static=static, detector=detector, steady=steady)
+        return AutoBackground(
+            map_path=map_path,
+            static=static,
+            detector=detector,
+            steady=steady,
+            learn_people=behind_people,
+        )
     raise ConfigError(
         f"unknown static world model {choice!r}",
         hint=f"choose one of: {', '.join(BACKGROUND_CHOICES)}",

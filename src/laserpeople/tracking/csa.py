@@ -63,6 +63,7 @@ class CSAParams:
             "person_scores": False,
             "adopt_orphans": False,
             "confirm_scans": 1,
+            "background_people": False,
         }
     )
 
@@ -157,6 +158,15 @@ class CSAParams:
         "measurements in this many scans in a row (1: at once); fragments merging back "
         "or adopted by a person before then, and clutter seen now and then, are never "
         "reported",
+    )
+    background_people: bool = param(
+        True,
+        "assumption (002 learns no background; 004 Sec. 2 learns every frequent range): "
+        "people who stand while the per-beam histogram learns are not the static world; "
+        "crossing-3 seed 7 cli worst IDF1 0.81 -> 0.93 (docs/csa.md)",
+        "with --background auto on still lasers: the ranges of beams on leg detections "
+        "while the per-beam histogram learns are not learned as static, and the wall "
+        "behind them is guessed from the beams beside them ([beam_histogram] people_share)",
     )
     group_rows: bool = param(
         False,
@@ -410,6 +420,9 @@ class ClusterSortingTracker:
 
     def __init__(self, params: CSAParams | None = None) -> None:
         self.params = params or CSAParams()
+        self.learns_behind_people = self.params.background_people
+        """Whether the pipeline's per-beam histogram leaves out the people standing while
+        it learns (:func:`~laserpeople.pipeline.leg_foreground.learns_behind_people`)."""
         self._s = _State()
         self._last: float | None = None
         self.events: list[CSAEvent] = []

@@ -25,6 +25,17 @@ stays foreground. The price: something static only part of the time (a door that
 closed while learning and stands open for ``relearn_seconds``) is foreground once it
 comes back.
 
+A caller that can tell people (``learn_foreground(frame, people)``: the points near leg
+detections, as ``--background auto`` gives the CSA, ``[csa] background_people``) marks
+their returns while the model learns. A bin whose returns lay on people in at least
+``people_share`` of them is not static: a person who stands through the learning is
+foreground from the first scan. The wall behind them, never seen, is guessed: on the
+straight line between the farthest static returns of the nearest beams without people on
+either side, where it lies beyond the person; when no such line exists, the beam relearns
+towards the first steady farther return as above. With a guess, the beam relearns only
+beyond the guess, so a person who later stands farther along the same beams stays
+foreground. The people counts are saved with the histograms.
+
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
 """
@@ -548,6 +559,7 @@ class BeamHistogramBackground:
                 "tolerance": self.params.tolerance,
                 "relearn_seconds": self.params.relearn_seconds,
                 "farthest": self.params.farthest,
+                "people_share": self.params.people_share,
             },
             "sensors": [
                 {
@@ -561,6 +573,13 @@ class BeamHistogramBackground:
             ],
         }
         arrays = {f"counts_{i}": t.counts for i, t in enumerate(self._tables.values())}
+        arrays.update(
+            {
+                f"people_{i}": t.people
+                for i, t in enumerate(self._tables.values())
+                if t.people is not None
+            }
+        )
         try:
             np.savez_compressed(p, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
         except OSError as exc:
@@ -590,9 +609,15 @@ class BeamHistogramBackground:
                 model = cls(BeamHistogramParams(**{"farthest": False, **meta["params"]}))
                 for i, s in enumerate(meta["sensors"]):
                     counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
-                    model._tables[s["name"]] = _BeamTable(
-                        counts, int(s["scans"]), float(s["seconds"])
+                    table = _BeamTable(counts, int(s["scans"]), float(s["seconds"]))
+                    if f"people_{i}" in data:  # returns on people while learning
+                        table.people = np.asarray(data[f"people_{i}"], dtype=np.int32)
+                        if table.people.shape != counts.shape:
+                            raise ValueError(f"people_{i} does not fit counts_{i}")
+                    table.angles = float(s["angle_min"]) + float(s["angle_increment"]) * np.arange(
+                        counts.shape[0], dtype=np.float64
                     )
+                    model._tables[s["name"]] = table
                     model._geometry[s["name"]] = (
                         float(s["angle_min"]),
                         float(s["angle_increment"]),

@@ -364,3 +364,33 @@ def test_people_flags_must_fit_the_points() -> None:
     frame = _frame([_scan(_walls(), 0.0)])
     with pytest.raises(BackgroundModelError, match="people flags"):
         model.learn_foreground(frame, np.zeros(3, dtype=bool))
+
+
+def test_people_of_the_learning_who_never_leave_settle_into_the_background() -> None:
+    """A leg detection on furniture while learning: beams 40-43 keep returning 2.0 m after
+    learning (every third scan someone passes in front at 1.0 m, which does not count
+    against it). Foreground until it held ``people_settle_seconds`` (2 s here, from the
+    last learning scan at 1.0 s; the passing scans at 2.1, 2.4, ... s do not restart it),
+    background after 3.0 s. A person who leaves for a moment (the wall seen) starts the
+    count again."""
+    p = BeamHistogramParams(learn_seconds=1.0, people_settle_seconds=2.0)
+    model, _ = _learn_with_person(slice(40, 44), 1.0, p)
+    stays, passing = _walls(), _walls()
+    stays[40:44] = 2.0
+    passing[40:44] = 1.0
+    fg = {}
+    for j in range(1, 31):
+        out = model(_frame([_scan(passing if j % 3 == 0 else stays, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+        fg[round(1.0 + 0.1 * j, 1)] = int(out.foreground.sum())
+    # counted from the last learning scan (1.0 s); the scan at 3.0 s completes the 2 s
+    # (its own foreground is computed before)
+    assert [fg[t] for t in (2.9, 3.0, 3.2, 3.3, 3.5, 3.8)] == [4, 4, 0, 0, 0, 0]
+    assert fg[3.1] == fg[4.0] == 4  # the one passing in front is foreground
+    assert model.settled("a") == 4
+    again, _ = _learn_with_person(slice(40, 44), 1.0, p)
+    for j in range(1, 31):
+        ranges = _walls() if j == 15 else stays  # at 2.5 s the wall is seen: gone for a scan
+        out = again(_frame([_scan(ranges, 1.0 + 0.1 * j, index=10 + j)]))
+    assert out.foreground is not None and int(out.foreground.sum()) == 4  # 4.0 s: 1.4 s held
+    assert again.settled("a") == 0

@@ -212,13 +212,20 @@ class _BeamTable:
         if ripe.size == 0:
             return
         self.people[ripe] = 0
-        core = _core(self.counts[ripe], self.scans, p, None)
-        assert self.static is not None and self.nearest is not None
-        self.static[ripe] = _dilate(core, reach)
-        self.nearest[ripe] = np.where(core.any(axis=1), np.argmax(core, axis=1), core.shape[1])
+        self._mark(ripe, p)
         self.person_bin[ripe] = -1
         self.settling[ripe] = np.nan
         self.settled += int(ripe.size)
+
+    def _mark(self, rows: NDArray[np.int64], p: BeamHistogramParams) -> None:
+        """Static bins and nearest static bin of the beams ``rows`` (M,) anew from their
+        histograms (after :meth:`relearn` or :meth:`settle` rewrote them)."""
+        assert self.static is not None and self.nearest is not None
+        people = None if self.people is None else self.people[rows]
+        core = _core(self.counts[rows], self.scans, p, people)
+        self.static[rows] = _dilate(core, math.ceil(p.tolerance / p.bin_width))
+        k = core.shape[1]
+        self.nearest[rows] = np.where(core.any(axis=1), np.argmax(core, axis=1), k)
 
     def relearn(
         self,
@@ -251,14 +258,10 @@ class _BeamTable:
         self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
         need = max(1, math.ceil(p.min_fraction * self.scans))
         self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        people = None
         if self.people is not None:
             self.people[ripe] = np.where(drop, 0, self.people[ripe])
             self.people[ripe, k_new] = 0
-            people = self.people[ripe]
-        core = _core(self.counts[ripe], self.scans, p, people)
-        self.static[ripe] = _dilate(core, reach)
-        self.nearest[ripe] = np.argmax(core, axis=1)
+        self._mark(ripe, p)
         self.candidate[ripe] = -1
         self.relearned += int(ripe.size)
 

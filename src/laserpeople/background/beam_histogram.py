@@ -157,7 +157,7 @@ class _BeamTable:
     settled: int = 0  # beams on people while learning found static after all
     people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
     angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
-    person_bin: NDArray[np.int64] | None = None  # (B,) farthest bin on people (-1: none)
+    person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
     settling: NDArray[np.float64] | None = None  # (B,) stamp it was first seen again (nan)
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
@@ -179,8 +179,7 @@ class _BeamTable:
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
             self.since = np.zeros(core.shape[0])
-        marked = on_people.any(axis=1)
-        self.person_bin = np.where(marked, k - 1 - np.argmax(on_people[:, ::-1], axis=1), -1)
+        self.person_bin = np.where(on_people.any(axis=1), np.argmax(on_people, axis=1), -1)
         self.settling = np.full(core.shape[0], np.nan)
 
     def settle(
@@ -287,17 +286,19 @@ def _behind_people(
     angles: NDArray[np.float64],
     p: BeamHistogramParams,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """The static world guessed behind the people of the learning period: beams (M,) whose
-    farthest frequent bin was on a person (``on_people`` (B, K), ``core`` (B, K) the static
-    bins) and the bins (M,) where the straight line between the farthest static returns of
-    the nearest beams on either side without people (``angles`` (B,) [rad]) crosses them,
-    where that lies beyond the person by more than the tolerance."""
+    """The static world guessed behind the people of the learning period: beams (M,) with
+    no static bin beyond their nearest bin on a person (``on_people`` (B, K), ``core``
+    (B, K) the static bins) and the bins (M,) where the straight line between the farthest
+    static returns of the nearest beams on either side without people (``angles`` (B,)
+    [rad]) crosses them, where that is not nearer than the person (a return within the
+    tolerance of the line, seen through a gap between legs and itself taken for a leg, is
+    the wall)."""
     n, k = core.shape
     idx = np.arange(n)
     has = core.any(axis=1)
     far = np.where(has, k - 1 - np.argmax(core[:, ::-1], axis=1), -1)
     seen = on_people.any(axis=1)
-    person = np.where(seen, k - 1 - np.argmax(on_people[:, ::-1], axis=1), -1)
+    person = np.where(seen, np.argmax(on_people, axis=1), k)  # the nearest bin on people
     anchor = has & ~seen
     left = np.maximum.accumulate(np.where(anchor, idx, -1))
     right = np.minimum.accumulate(np.where(anchor, idx, n)[::-1])[::-1]
@@ -315,7 +316,7 @@ def _behind_people(
     cross_pd = p_lo[:, 0] * d[:, 1] - p_lo[:, 1] * d[:, 0]
     with np.errstate(divide="ignore", invalid="ignore"):
         t = cross_pd / cross_ud  # range along the beam to the line
-    ok = np.isfinite(t) & (t > (person[need] + 1) * w + p.tolerance) & (t < k * w)
+    ok = np.isfinite(t) & (t >= person[need] * w - p.tolerance) & (t < k * w)
     return need[ok], (t[ok] / w).astype(np.int64)
 
 

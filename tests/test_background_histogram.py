@@ -394,3 +394,20 @@ def test_people_of_the_learning_who_never_leave_settle_into_the_background() -> 
         out = again(_frame([_scan(ranges, 1.0 + 0.1 * j, index=10 + j)]))
     assert out.foreground is not None and int(out.foreground.sum()) == 4  # 4.0 s: 1.4 s held
     assert again.settled("a") == 0
+
+
+def test_a_wall_seen_between_the_legs_and_taken_for_a_leg_is_the_wall() -> None:
+    """Through the learning beams 40-47 see a person at 2 m, and beam 43 sees the wall
+    through the gap between the legs; the detector takes that wall segment for a leg too
+    (marked). It lies on the line guessed from beams 39 and 48, so it is static: the wall
+    seen there later is background, the person foreground."""
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    ranges = _walls()
+    ranges[40:48] = 2.0
+    ranges[43] = _walls()[43]
+    for k in range(11):
+        frame = _frame([_scan(ranges, 0.1 * k, index=k)])
+        assert frame.points is not None
+        model.learn_foreground(frame, np.isin(frame.points.beams, np.arange(40, 48)))
+    assert int(model.foreground_of(_scan(ranges, 1.1)).sum()) == 7  # the person, not beam 43
+    assert int(model.foreground_of(_scan(_walls(), 1.2)).sum()) == 0

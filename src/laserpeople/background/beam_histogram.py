@@ -35,8 +35,8 @@ either side, where it lies beyond the person; when no such line exists, the beam
 towards the first steady farther return as above. With a guess, the beam relearns only
 beyond the guess, so a person who later stands farther along the same beams stays
 foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
-after learning saw something static after all (a leg detection on furniture) and is
-learned as static. The people counts are saved with the histograms.
+after learning, never farther, saw something static after all (a leg detection on
+furniture) and is learned as static. The people counts are saved with the histograms.
 
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
@@ -192,9 +192,10 @@ class _BeamTable:
         """Follow the returns (``beams`` (M,), range ``bins`` (M,)) of one scan on the beams
         that saw people while learning: a beam that keeps returning the people's range
         (within the tolerance; nearer returns, someone passing in front, do not count
-        against it, farther ones, the person gone, start the count again) for
-        ``people_settle_seconds`` saw something static after all (a leg detection on
-        furniture): its people counts are dropped and its histogram marks it static."""
+        against it) for ``people_settle_seconds`` saw something static after all (a leg
+        detection on furniture): its people counts are dropped and its histogram marks it
+        static. A farther return shows the people have left: the beam is no longer
+        watched (someone who later stands on the same place stays foreground)."""
         if self.person_bin is None or self.settling is None or self.people is None:
             return
         on = self.person_bin[beams] >= 0
@@ -206,7 +207,9 @@ class _BeamTable:
         same = np.abs(bins - person) <= reach
         start = same & np.isnan(self.settling[beams])
         self.settling[beams[start]] = stamp
-        self.settling[beams[bins > person + reach]] = np.nan
+        gone = beams[bins > person + reach]  # the people left: they were people
+        self.settling[gone] = np.nan
+        self.person_bin[gone] = -1
         ripe = beams[same & (stamp - self.settling[beams] >= p.people_settle_seconds)]
         if ripe.size == 0:
             return

@@ -324,8 +324,9 @@ def _cli_run(tmp_path, params: CSAParams, frames: int | None = None):  # type: i
     from laserpeople.sim.scenarios import run_scenario
 
     path = run_scenario("crossing-3-p1", seed=7).write(tmp_path / "p1.npz")
-    steps = list(islice(build(path, tracker="csa", params=params, reidentify=True), frames))
-    return list(open_recording(path).truth()), steps
+    pipe = build(path, tracker="csa", params=params, reidentify=True)
+    steps = list(islice(pipe, frames))
+    return list(open_recording(path).truth()), steps, pipe
 
 
 def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
@@ -334,9 +335,14 @@ def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
     """The three people of crossing-3 stand through the first 1.5 s, while the per-beam
     histogram learns. With ``background_people`` their legs are not learned as static: at
     scan 10 (1.0 s) every person has foreground points within 0.4 m and a person row
-    within 0.5 m; with 002's setting (the paper preset) none has a point."""
+    within 0.5 m, and the static world model says how many beams it left out; with 002's
+    setting (the paper preset) none has a point."""
+    from laserpeople.pipeline.background import background_of, describe_background
+
     for on in (True, False):
-        truth, steps = _cli_run(tmp_path, CSAParams(background_people=on), frames=11)
+        truth, steps, pipe = _cli_run(tmp_path, CSAParams(background_people=on), frames=25)
+        said = describe_background(background_of(pipe.stages))
+        assert ("beams on leg detections while it learned" in said) is on, said
         frame, tracks = steps[10].frame, steps[10].tracks
         assert frame.points is not None and frame.foreground is not None
         assert tracks is not None
@@ -357,7 +363,7 @@ def test_crossing3_as_the_cli_runs_it_with_colour(tmp_path) -> None:  # type: ig
 
     from laserpeople.evaluation import evaluate
 
-    truth, steps = _cli_run(tmp_path, CSAParams())
+    truth, steps, _ = _cli_run(tmp_path, CSAParams())
     tracks = [replace(s.tracks, tracks=s.tracks.of_kind("person")) for s in steps if s.tracks]
     assert evaluate(truth, tracks).result().summary()["idf1"] >= 0.95
 

@@ -155,6 +155,7 @@ class _BeamTable:
     seconds: float
     relearned: int = 0  # beams relearned after freezing
     settled: int = 0  # beams on people while learning found static after all
+    marked: int = 0  # beams with a bin on people when the static bins were last marked
     people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
     angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
     person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
@@ -180,6 +181,7 @@ class _BeamTable:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
             self.since = np.zeros(core.shape[0])
         self.person_bin = np.where(on_people.any(axis=1), np.argmax(on_people, axis=1), -1)
+        self.marked = int(np.count_nonzero(self.person_bin >= 0))
         self.settling = np.full(core.shape[0], np.nan)
 
     def settle(
@@ -519,6 +521,12 @@ class BeamHistogramBackground:
         else:
             idx, bins = beams
         table.relearn(idx, bins, scan.stamp, self.params)
+
+    def people_beams(self) -> tuple[int, int]:
+        """Over all lasers: beams whose ranges on people were not learned as static, and
+        how many of them were found static after all (``people_settle_seconds``)."""
+        tables = self._tables.values()
+        return sum(t.marked for t in tables), sum(t.settled for t in tables)
 
     def settled(self, sensor: str) -> int:
         """How many beams of laser ``sensor`` that saw people while learning were found

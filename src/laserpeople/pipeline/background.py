@@ -413,10 +413,27 @@ class AutoBackground:
                 "--world-frame or --mount to use the occupancy grid)"
             )
         if self.switched_at is None:
-            return "static world model: per-beam range histogram (the lasers did not move)"
+            return (
+                "static world model: per-beam range histogram (the lasers did not move)"
+                + self._people_note()
+            )
         return (
             "static world model: occupancy grid (a laser moved at frame "
             f"{self.switched_at}; the histogram ran before){_not_learned(self.model)}"
+        )
+
+    def _people_note(self) -> str:
+        """What the histogram left out as people while learning (empty: nothing)."""
+        counts = getattr(self.model, "people_beams", None)
+        if not self.learn_people or counts is None:
+            return ""
+        marked, settled = counts()
+        if not marked:
+            return ""
+        return (
+            f"; {marked} beams on leg detections while it learned were not learned as "
+            f"static ([csa] background_people), {settled} of them static after all "
+            "([beam_histogram] people_settle_seconds)"
         )
 
     def describe_foreground(self) -> str:

@@ -121,15 +121,6 @@ class BeamHistogramParams:
         "static, and a steady farther return of that beam relearns as if it were",
     )
 
-    people_eager: bool = param(
-        False,
-        "measured (docs/csa.md): true gives crossing-3 IDF1 >= 0.95 on the cli way, but "
-        "on random-groups leg detections on clutter while learning become CSA targets "
-        "(held-back person MOTA lower)",
-        "true: the people's bins are never static, so they are foreground from the first "
-        "scan (and settle after people_settle_seconds); false: they stay static until the "
-        "people leave, then the wall guessed behind them is taken at once",
-    )
     people_settle_seconds: float = param(
         5.0,
         "assumption (not in 004): the people of crossing-3 leave within 1 s of the "
@@ -165,12 +156,10 @@ class _BeamTable:
     relearned: int = 0  # beams relearned after freezing
     settled: int = 0  # beams on people while learning found static after all
     marked: int = 0  # beams with a bin on people when the static bins were last marked
-    revealed: int = 0  # beams whose wall guessed behind people was taken when they left
     people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
     angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
     person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
     settling: NDArray[np.float64] | None = None  # (B,) stamp it was first seen again (nan)
-    guess: NDArray[np.int64] | None = None  # (B,) wall guessed behind people, not yet shown
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
@@ -178,20 +167,15 @@ class _BeamTable:
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
-        without = _core(self.counts, self.scans, p, self.people)  # people not static
-        core = without if p.people_eager else _core(self.counts, self.scans, p)
+        core = _core(self.counts, self.scans, p, self.people)
         k = core.shape[1]
         on_people = _on_people(self.counts, self.scans, p, self.people)
         seen = core | on_people
         self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
-        self.guess = np.full(core.shape[0], -1, dtype=np.int64)
         if self.angles is not None and on_people.any():
-            beams, bins = _behind_people(without, on_people, self.angles, p)
-            if p.people_eager:
-                core[beams, bins] = True
-                self.nearest[beams] = bins
-            else:  # revealed once the people leave (settle)
-                self.guess[beams] = bins
+            beams, bins = _behind_people(core, on_people, self.angles, p)
+            core[beams, bins] = True
+            self.nearest[beams] = bins
         self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
@@ -228,9 +212,6 @@ class _BeamTable:
         gone = beams[bins > person + reach]  # the people left: they were people
         self.settling[gone] = np.nan
         self.person_bin[gone] = -1
-        if not p.people_eager:
-            self._reveal(gone, p)
-            return
         ripe = beams[same & (stamp - self.settling[beams] >= p.people_settle_seconds)]
         if ripe.size == 0:
             return
@@ -240,26 +221,11 @@ class _BeamTable:
         self.settling[ripe] = np.nan
         self.settled += int(ripe.size)
 
-    def _reveal(self, rows: NDArray[np.int64], p: BeamHistogramParams) -> None:
-        """Without ``people_eager``: the beams ``rows`` (M,) whose people of the learning
-        period have left drop the people's bins and take the wall guessed behind them."""
-        assert self.guess is not None and self.people is not None
-        assert self.static is not None and self.nearest is not None
-        rows = rows[self.guess[rows] >= 0]
-        if rows.size == 0:
-            return
-        core = _core(self.counts[rows], self.scans, p, self.people[rows])
-        core[np.arange(rows.size), self.guess[rows]] = True
-        self.static[rows] = _dilate(core, math.ceil(p.tolerance / p.bin_width))
-        self.nearest[rows] = self.guess[rows]
-        self.guess[rows] = -1
-        self.revealed += int(rows.size)
-
     def _mark(self, rows: NDArray[np.int64], p: BeamHistogramParams) -> None:
         """Static bins and nearest static bin of the beams ``rows`` (M,) anew from their
         histograms (after :meth:`relearn` or :meth:`settle` rewrote them)."""
         assert self.static is not None and self.nearest is not None
-        people = None if self.people is None or not p.people_eager else self.people[rows]
+        people = None if self.people is None else self.people[rows]
         core = _core(self.counts[rows], self.scans, p, people)
         self.static[rows] = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         k = core.shape[1]

@@ -10,8 +10,10 @@ kept first). The errors are then split:
   person, or on clutter: *never* matched), or *after* a match (a track left behind);
 - each person-frame also by what the person does relative to the scanner: *standing*
   (under 0.3 m/s), *approaching* (range falling by more than 0.3 m/s), or *passing*
-  (everything else: walking across, or away after passing the robot), and whether a leg
-  detection lies within 0.5 m of it (*seen*) or a pair of legs (GNN's person detection).
+  (everything else: walking across, or away after passing the robot), whether a leg
+  detection lies within 0.5 m of it (*seen*) or a pair of legs (GNN's person detection),
+  and whether it is outside the scanner's field of view (*out of view*: the truth keeps a
+  person for 2 s after the scanner last hit it).
 
     PYTHONPATH=../src python gnn_diagnose.py --family moving-robot --seeds 0-19 [--config X]
 
@@ -22,6 +24,7 @@ sums. Use the tuning seeds (0-19) only: the held-back seeds are for scoring.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import tempfile
 from collections import Counter
@@ -32,10 +35,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.evaluation.matching import frame_points, gated_assignment
 from laserpeople.evaluation.suite import PreparedScene, prepare, track_scene
-from laserpeople.config import load_config
 from laserpeople.tracks import Tracks
 from peers import StoneSoupParams, pair_legs, peer_tracks
 from people_suite import make_factory, parse_seeds, suite_scenes
@@ -48,15 +51,19 @@ SEEN = 0.5
 """A leg detection this close [m] to a person sees them."""
 
 
-def person_classes(prepared: PreparedScene) -> list[dict[int, tuple[str, bool, bool, float]]]:
-    """Per scan, per person id: (motion class, seen by a leg, seen by a leg pair, range [m])."""
+def person_classes(prepared: PreparedScene) -> list[dict[int, tuple[str, bool, bool, bool]]]:
+    """Per scan, per person id: (motion class, seen by a leg, seen by a leg pair, inside
+    the scanner's field of view)."""
     out = []
     for scan, dets, truth in zip(prepared.scans, prepared.detections, prepared.truth, strict=True):
         pose = scan.pose
         sensor = np.zeros(2) if pose is None else np.array([pose.x, pose.y])
+        heading = 0.0 if pose is None else pose.theta
+        ends = (scan.angle_min, scan.angle_min + (len(scan.ranges) - 1) * scan.angle_increment)
+        lo, hi = min(ends), max(ends)
         legs = dets.to_world().positions if pose is not None else dets.positions
         pairs = pair_legs(legs)
-        row: dict[int, tuple[str, bool, bool, float]] = {}
+        row: dict[int, tuple[str, bool, bool, bool]] = {}
         for pid, xy, v in zip(truth.person_ids, truth.positions, truth.velocities, strict=True):
             rel = xy - sensor
             rng = float(np.hypot(*rel))
@@ -71,7 +78,8 @@ def person_classes(prepared: PreparedScene) -> list[dict[int, tuple[str, bool, b
             )
             seen = bool(legs.size and np.hypot(*(legs - xy).T).min() <= SEEN)
             pair = bool(pairs.size and np.hypot(*(pairs - xy).T).min() <= SEEN)
-            row[int(pid)] = (kind, seen, pair, rng)
+            bearing = math.remainder(math.atan2(rel[1], rel[0]) - heading, math.tau)
+            row[int(pid)] = (kind, seen, pair, lo <= bearing <= hi)
         out.append(row)
     return out
 
@@ -106,7 +114,7 @@ def match(prepared: PreparedScene, outs: list[Tracks]) -> list[tuple[dict[int, i
 
 def split(
     matched: list[tuple[dict[int, int], list[int]]],
-    classes: list[dict[int, tuple[str, bool, bool, float]]],
+    classes: list[dict[int, tuple[str, bool, bool, bool]]],
 ) -> Counter[str]:
     """Counts of misses and false positives by class (see the module doc)."""
     first: dict[int, int] = {}
@@ -120,7 +128,7 @@ def split(
     ever = set(tfirst)
     c: Counter[str] = Counter()
     for k, ((m, tids), cls) in enumerate(zip(matched, classes, strict=True)):
-        for oid, (kind, seen, pair, _) in cls.items():
+        for oid, (kind, seen, pair, inside) in cls.items():
             if oid in m:
                 c["match"] += 1
                 continue
@@ -134,6 +142,8 @@ def split(
                 else "gap"
             )
             c[f"miss {when}"] += 1
+            if not inside:
+                c[f"miss {when}, out of view"] += 1
             c[f"miss {kind}"] += 1
             c["miss unseen" if not seen else "miss seen, no pair" if not pair else "miss pair"] += 1
         got = set(m.values())
@@ -162,6 +172,9 @@ COLUMNS = (
     "miss before",
     "miss gap",
     "miss after",
+    "miss before, out of view",
+    "miss gap, out of view",
+    "miss after, out of view",
     "miss approaching",
     "miss passing",
     "miss standing",

@@ -204,6 +204,15 @@ class StoneSoupTracker:
 def run_peer(prepared: PreparedScene, kind: str, p: StoneSoupParams, workdir: Path) -> SceneScore:
     """Track one scene with Stone Soup, write the tracks CSV (UUID ids), read it back with
     the project's reader and score it."""
+    outs, cpu = peer_tracks(prepared, kind, p, workdir)
+    return score_tracks(prepared, outs, f"stonesoup-{kind}", cpu)
+
+
+def peer_tracks(
+    prepared: PreparedScene, kind: str, p: StoneSoupParams, workdir: Path
+) -> tuple[list[Tracks], float]:
+    """Track one scene with Stone Soup, write the tracks CSV (UUID ids) and read it back with
+    the project's reader: one Tracks per scan and the CPU time [s]."""
     tracker = StoneSoupTracker(kind, p)
     path = workdir / f"{prepared.scene.scenario}-{prepared.scene.seed}-{kind}.csv"
     cpu = 0.0
@@ -244,7 +253,7 @@ def run_peer(prepared: PreparedScene, kind: str, p: StoneSoupParams, workdir: Pa
         got = by_scan.get(dets.scan_index)
         tracks: tuple[Track, ...] = got.tracks if got is not None else ()
         outs.append(Tracks(dets.stamp, dets.scan_index, tracks, frame, pose))
-    return score_tracks(prepared, outs, f"stonesoup-{kind}", cpu)
+    return outs, cpu
 
 
 def main() -> None:

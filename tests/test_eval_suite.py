@@ -171,3 +171,43 @@ def test_frame_trackers_get_frames_with_world_legs() -> None:
     assert score.scans == len(outs)
     with pytest.raises(ValueError, match="points"):
         track_scene(prepared, lambda: _FrameEcho(frozenset({"points", "legs"})), "x")
+
+
+def test_gnn_diagnose_splits_misses_and_false_positives_by_time() -> None:
+    sys.path.insert(0, str(BENCH))
+    try:
+        from gnn_diagnose import split
+    finally:
+        sys.path.remove(str(BENCH))
+    # person 1 over 7 scans: matched to track 7 on scans 2 and 3, to track 8 on scan 5 (one
+    # switch); track 8 is born on scan 4; track 9 is reported on every scan, never matched
+    matched = [
+        ({}, [9]),
+        ({}, [9]),
+        ({1: 7}, [7, 9]),
+        ({1: 7}, [7, 9]),
+        ({}, [7, 8, 9]),
+        ({1: 8}, [8, 9]),
+        ({}, [8, 9]),
+    ]
+    # scans 0-1 approaching, unseen, in view; scan 6 passing and out of view, seen by one leg
+    classes = [
+        {1: ("approaching", False, False, True)},
+        {1: ("approaching", False, False, True)},
+        {1: ("approaching", True, True, True)},
+        {1: ("approaching", True, True, True)},
+        {1: ("passing", False, False, True)},
+        {1: ("passing", True, False, True)},
+        {1: ("passing", True, False, False)},
+    ]
+    c = split(matched, classes)
+    assert c["match"] == 3  # scans 2, 3, 5
+    assert (c["miss before"], c["miss gap"], c["miss after"], c["miss never"]) == (2, 1, 1, 0)
+    assert c["miss after, out of view"] == 1 and c["miss before, out of view"] == 0
+    assert (c["miss approaching"], c["miss passing"]) == (2, 2)
+    assert (c["miss unseen"], c["miss seen, no pair"], c["miss pair"]) == (3, 1, 0)
+    # track 9: 7 frames never matched; track 7 unmatched on scan 4 and track 8 on scan 6
+    # (after their matches); track 8 on scan 4 (before its match)
+    assert c["fp never matched"] == 7
+    assert c["fp after match"] == 2 and c["fp before match"] == 1
+    assert c["id switches"] == 1

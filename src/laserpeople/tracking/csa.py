@@ -45,6 +45,7 @@ from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import linear_sum_assignment
 from laserpeople.tracking import kalman
+from laserpeople.tracking.robot_motion import MotionWatch
 from laserpeople.tracks import Track, Tracks
 
 FloatArray = NDArray[np.float64]
@@ -63,6 +64,8 @@ class CSAParams:
             "person_scores": False,
             "adopt_orphans": False,
             "confirm_scans": 1,
+            "moving_travel": 0.0,
+            "cut_free": False,
         }
     )
 
@@ -158,6 +161,30 @@ class CSAParams:
         "or adopted by a person before then, and clutter seen now and then, are never "
         "reported",
     )
+    moving_travel: float = param(
+        0.5,
+        "extension of 002 (a still laser's background explains the static world; 002 "
+        "Sec. 3 does not track from a moving robot): on a moving laser with poses the "
+        "leg detector fires on furniture the occupancy grid has not learned yet; as "
+        "static_tracks.min_travel; random-groups moving-sensor scenes (docs/csa.md)",
+        "in a world-frame run once the laser has moved from its first pose "
+        "(tracking/robot_motion.py), a target started from unselected points is reported "
+        "only once the mean of its selected measurements lay this far from where it "
+        "started (0: at once, 002); a target on a person who walks does so within a "
+        "second, furniture never",
+        "m",
+    )
+    cut_free: bool = param(
+        True,
+        "extension of 002 (whose VBA lets a cluster take every point inside a gate of its "
+        "estimates, so people who walk up to a group become part of it and are never "
+        "tracked); random-groups still-sensor scenes (docs/csa.md)",
+        "a sub-cluster of a cluster (leader clustering at subcluster_distance) that holds "
+        "no person's main paths (the sub-cluster with most of its paths), that no lost "
+        "person of the cluster claims and whose estimates all lie farther than "
+        "subcluster_distance from those of the main sub-clusters leaves the cluster: with at least min_points "
+        "estimates as a new single target started next to the cluster, with fewer dropped",
+    )
     group_rows: bool = param(
         False,
         "002 Sec. 2 keeps every person's identity through a cluster (the Viterbi paths); "
@@ -225,6 +252,8 @@ class CSAParams:
             raise ValueError("min_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
+        if not 0.0 <= self.moving_travel < math.inf:
+            raise ValueError("moving_travel must be finite and not negative")
 
     @property
     def gate(self) -> float:
@@ -356,6 +385,7 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
+    start: FloatArray | None = None  # where it was started on a moving laser (moving_travel)
 
 
 @dataclass
@@ -413,6 +443,9 @@ class ClusterSortingTracker:
         self._s = _State()
         self._last: float | None = None
         self.events: list[CSAEvent] = []
+        self._motion = MotionWatch()
+        self._moving = False
+        """Whether the laser of this world-frame run has moved (see ``moving_travel``)."""
 
     # ------------------------------------------------------------------ helpers
     def _new_single(self, pos: FloatArray, stamp: float) -> None:
@@ -425,8 +458,9 @@ class ClusterSortingTracker:
             if np.min(np.linalg.norm(c.means[:, :2] - pos, axis=1)) < reach:
                 spawned_by = c.cid
                 break
+        start = np.array(pos, dtype=np.float64) if self._moving and p.moving_travel > 0 else None
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1, start
         )
 
     def _init_cov(self) -> FloatArray:
@@ -452,6 +486,8 @@ class ClusterSortingTracker:
         p = self.params
         z = self._points(frame)
         stamp = frame.stamp
+        if frame.frame == "world":
+            self._moving = self._motion(frame.sensor_pose)
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
         self._last = stamp
         point_var = p.point_std**2
@@ -495,17 +531,23 @@ class ClusterSortingTracker:
                 t = singles[i]
                 sel = gates[i]
                 if sel.any():  # KFA: the mean of the selected measurements
-                    mean, cov = kalman.update(
-                        sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
-                    )
+                    centre = z[sel].mean(axis=0)
+                    mean, cov = kalman.update(sm[i], sc[i], centre, np.eye(2) * p.mean_std**2)
                     new_singles[t.pid] = _Single(
-                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1
+                        t.pid,
+                        mean,
+                        cov,
+                        stamp,
+                        t.spawned_by,
+                        t.born,
+                        t.hits + 1,
+                        _still_start(t.start, centre, p.moving_travel),
                     )
                 elif stamp - t.last_seen <= p.max_unseen:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, t.start
                     )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
@@ -514,6 +556,8 @@ class ClusterSortingTracker:
             cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
             if p.adopt_orphans:
                 self._orphans_claim(cl)
+            if p.cut_free:
+                self._cut_free(cl, stamp, new_singles)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -528,6 +572,8 @@ class ClusterSortingTracker:
 
     def _confirmed(self, t: _Single) -> bool:
         """Whether single target ``t`` is reported (see ``confirm_scans``)."""
+        if t.start is not None:  # started on a moving laser and not yet walked
+            return False
         return t.born == -math.inf or t.hits >= self.params.confirm_scans
 
     def _vba(
@@ -707,6 +753,52 @@ class ClusterSortingTracker:
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
+    @staticmethod
+    def _main_subclusters(cl: _Cluster) -> set[int]:
+        """The sub-clusters of ``cl`` (``cl.labels``) that hold most of some person's
+        Viterbi paths (each person's *main* sub-cluster)."""
+        n_sub = int(cl.labels.max()) + 1
+        return {
+            int(np.argmax(np.bincount(cl.labels[cl.origin == m], minlength=n_sub)))
+            for m in {int(o) for o in cl.origin}
+        }
+
+    def _cut_free(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> None:
+        """Cut off every sub-cluster of ``cl`` (leader clustering at
+        ``subcluster_distance``) that holds none of its people's main paths and lies
+        farther than ``subcluster_distance`` from every estimate of the sub-clusters that
+        do (a person's legs are never that far apart): with at least ``min_points`` estimates it becomes a new single target started next to the
+        cluster, at the mean of those estimates, written to ``out``; fewer are dropped
+        (see ``cut_free``).
+        After the orphans' claim, so a person of the cluster who lost its paths takes such
+        a sub-cluster first."""
+        p = self.params
+        if cl.labels.size == 0:
+            return
+        main = self._main_subclusters(cl)
+        n_sub = int(cl.labels.max()) + 1
+        held = cl.means[np.isin(cl.labels, list(main)), :2]
+        keep = np.ones(cl.labels.size, dtype=bool)
+        for k in range(n_sub):
+            sel = cl.labels == k
+            if k in main:
+                continue
+            gap = np.linalg.norm(cl.means[sel, None, :2] - held[None], axis=-1).min()
+            if gap <= p.subcluster_distance:  # leader clustering cut a person's legs apart
+                continue
+            keep &= ~sel
+            if int(sel.sum()) < p.min_points:  # too few to start a target: dropped
+                continue
+            pid = self._s.next_pid
+            self._s.next_pid += 1
+            mean = cl.means[sel].mean(axis=0)
+            out[pid] = _Single(pid, mean, self._init_cov(), stamp, cl.cid, stamp, 1)
+        if keep.all():
+            return
+        cl.means, cl.covs, cl.scores = cl.means[keep], cl.covs[keep], cl.scores[keep]
+        cl.origin = cl.origin[keep]
+        cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
         sub-clusters (leader clustering at ``subcluster_distance``) that are no person's
@@ -722,9 +814,7 @@ class ClusterSortingTracker:
             return
         labels = cl.labels
         n_sub = int(labels.max()) + 1
-        main = set()
-        for m in own:
-            main.add(int(np.argmax(np.bincount(labels[cl.origin == m], minlength=n_sub))))
+        main = self._main_subclusters(cl)
         free = [k for k in range(n_sub) if k not in main]
         if not free:
             return
@@ -864,6 +954,15 @@ class ClusterSortingTracker:
     def clusters(self) -> dict[int, tuple[int, ...]]:
         """Cluster id -> the people it holds (the memory of who merged)."""
         return {c.cid: c.members for c in self._s.clusters.values()}
+
+
+def _still_start(start: FloatArray | None, centre: FloatArray, travel: float) -> FloatArray | None:
+    """Where a target on a moving laser was started (2,) [m] while the mean of its selected
+    measurements ``centre`` (2,) [m] stays within ``travel`` [m] of it; None once it is
+    farther (it walked; see ``moving_travel``), and for good."""
+    if start is None or float(np.hypot(*(centre - start))) >= travel:
+        return None
+    return start
 
 
 def per_person_scores(scores: FloatArray, origin: IntArray) -> FloatArray:

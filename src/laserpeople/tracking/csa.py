@@ -182,8 +182,9 @@ class CSAParams:
         "a sub-cluster of a cluster (leader clustering at subcluster_distance) that holds "
         "no person's main paths (the sub-cluster with most of its paths), that no lost "
         "person of the cluster claims and whose estimates all lie farther than "
-        "subcluster_distance from those of the main sub-clusters leaves the cluster: with at least min_points "
-        "estimates as a new single target started next to the cluster, with fewer dropped",
+        "subcluster_distance from those of the main sub-clusters leaves the cluster: "
+        "with at least min_points estimates as a new single target started next to the "
+        "cluster, with fewer dropped",
     )
     group_rows: bool = param(
         False,
@@ -767,11 +768,11 @@ class ClusterSortingTracker:
         """Cut off every sub-cluster of ``cl`` (leader clustering at
         ``subcluster_distance``) that holds none of its people's main paths and lies
         farther than ``subcluster_distance`` from every estimate of the sub-clusters that
-        do (a person's legs are never that far apart): with at least ``min_points`` estimates it becomes a new single target started next to the
-        cluster, at the mean of those estimates, written to ``out``; fewer are dropped
-        (see ``cut_free``).
-        After the orphans' claim, so a person of the cluster who lost its paths takes such
-        a sub-cluster first."""
+        do (a person's legs are never that far apart): with at least ``min_points``
+        estimates it becomes a new single target started next to the cluster, at the mean
+        of those estimates, written to ``out``; fewer are dropped (see ``cut_free``).
+        Called after the orphans' claim, so a person of the cluster who lost its paths
+        takes such a sub-cluster first."""
         p = self.params
         if cl.labels.size == 0:
             return

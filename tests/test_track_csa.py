@@ -315,15 +315,17 @@ def test_a_confirmed_target_missed_for_a_scan_stays_reported() -> None:
     assert ids == [[]] + [[0, 1]] * 11
 
 
-def _on_a_robot(robot_speed: float, frame: str = "world") -> list[Frame]:
+def _on_a_robot(robot_speed: float, frame: str = "world", unseen: range = range(0)) -> list[Frame]:
     """Frames at 10 Hz of a laser driving along x at ``robot_speed`` [m/s]; from scan 2 on
     it sees furniture (a blob that stays at (0, 3)) and a person who walks from (3, 3)
-    along x at 1 m/s (world frame points; ``frame`` "sensor" marks a run without poses)."""
+    along x at 1 m/s, except in the scans ``unseen`` (world frame points; ``frame``
+    "sensor" marks a run without poses)."""
     frames = []
     for k in range(22):
         xy = np.empty((0, 2))
         if k >= 2:
-            xy = np.concatenate([_blob((0.0, 3.0), k), _blob((3.0 + (k - 2) / 10, 3.0), k)])
+            walker = [] if k in unseen else [_blob((3.0 + (k - 2) / 10, 3.0), k)]
+            xy = np.concatenate([_blob((0.0, 3.0), k), *walker])
         ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
         pose = Pose2D(robot_speed * k / 10, 0.0, 0.0)
         fg = np.ones(len(xy), dtype=bool)
@@ -388,3 +390,21 @@ def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     _, plain = end(CSAParams(cut_free=False))
     assert all(np.linalg.norm(xy - [0.0, 5.5]) > 0.5 for xy in plain.values())
     assert CSAParams.paper_preset["cut_free"] is False
+
+
+def test_on_a_moving_laser_a_target_unseen_for_moving_unseen_is_not_reported() -> None:
+    """moving_unseen (0.3 s): on a moving laser with poses, the walker (target 1, reported
+    from scan 8 once it walked) is not seen in scans 12-17: it is reported while unseen
+    for at most 0.3 s (scans 12-14, last seen in scan 11), not in scans 15-17, and again,
+    with the same id, once seen in scan 18 (it is tracked on until max_unseen, 1 s). On a
+    still laser, without poses and with moving_unseen = 0 (002) it is reported throughout."""
+    hidden = range(12, 18)
+    moving = _reported(_on_a_robot(0.5, unseen=hidden), CSAParams())
+    assert [1 in ids for ids in moving[8:]] == [True] * 7 + [False] * 3 + [True] * 4
+    for frames, params in (
+        (_on_a_robot(0.0, unseen=hidden), CSAParams()),
+        (_on_a_robot(0.5, "sensor", unseen=hidden), CSAParams()),
+        (_on_a_robot(0.5, unseen=hidden), CSAParams(moving_unseen=0.0, moving_travel=0.0)),
+    ):
+        assert all(1 in ids for ids in _reported(frames, params)[3:])
+    assert CSAParams.paper_preset["moving_unseen"] == 0.0

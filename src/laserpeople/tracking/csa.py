@@ -66,6 +66,7 @@ class CSAParams:
             "confirm_scans": 1,
             "moving_travel": 0.0,
             "cut_free": False,
+            "moving_unseen": 0.0,
         }
     )
 
@@ -174,6 +175,16 @@ class CSAParams:
         "second, furniture never",
         "m",
     )
+    moving_unseen: float = param(
+        0.3,
+        "extension of 002, as moving_travel: on a moving laser with poses the points "
+        "near leg detections flicker and a target coasting without them drifts off its "
+        "person or sits on furniture; random-groups moving-sensor scenes (docs/csa.md)",
+        "in a world-frame run once the laser has moved, a single target without selected "
+        "measurements for longer than this is not reported (it is tracked on until "
+        "max_unseen; 0: reported until deleted, 002)",
+        "s",
+    )
     cut_free: bool = param(
         True,
         "extension of 002 (whose VBA lets a cluster take every point inside a gate of its "
@@ -253,8 +264,9 @@ class CSAParams:
             raise ValueError("min_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
-        if not 0.0 <= self.moving_travel < math.inf:
-            raise ValueError("moving_travel must be finite and not negative")
+        for name in ("moving_travel", "moving_unseen"):
+            if not 0.0 <= getattr(self, name) < math.inf:
+                raise ValueError(f"{name} must be finite and not negative")
 
     @property
     def gate(self) -> float:
@@ -576,6 +588,12 @@ class ClusterSortingTracker:
         if t.start is not None:  # started on a moving laser and not yet walked
             return False
         return t.born == -math.inf or t.hits >= self.params.confirm_scans
+
+    def _shown_unseen(self, t: _Single, stamp: float) -> bool:
+        """Whether single target ``t``, unseen since ``t.last_seen``, is still reported at
+        ``stamp`` [s] (see ``moving_unseen``)."""
+        limit = self.params.moving_unseen
+        return not (self._moving and limit > 0 and stamp - t.last_seen > limit)
 
     def _vba(
         self,
@@ -928,7 +946,7 @@ class ClusterSortingTracker:
         p = self.params
         out: list[Track] = []
         for t in self._s.singles.values():
-            if self._confirmed(t):
+            if self._confirmed(t) and self._shown_unseen(t, frame.stamp):
                 out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
             for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():

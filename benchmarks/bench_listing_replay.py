@@ -1,7 +1,8 @@
 """The leg MHT's branch-and-bound listing, this version against another, on recorded calls.
 
 Runs the default tracker (as ``bench_track_parts.py`` does) on suite scenes and records every
-call of ``enumerate_children`` (the listing of a cluster's k best children); then replays
+call of ``list_children`` (the listing of a cluster's k best children, on plain floats); then
+replays
 the recorded calls with this version's listing and with the other version's (its
 ``tracking/mht/listing.py`` loaded as a module of its own), call by call alternately, in
 rounds, and prints the CPU of each, their ratio, and how many calls gave the same children
@@ -21,11 +22,14 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import numpy as np
+
 import laserpeople.tracking.mht.core as core
 import laserpeople.tracking.mht.listing as listing
 from bench_murty_replay import alternate, load_other, timed
 from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.evaluation.suite import SuiteScene, frames_for, prepare
+from laserpeople.tracking.mht.probability import DELETED, OCCLUDED
 from people_suite import make_factory
 
 
@@ -40,30 +44,48 @@ Call = tuple[tuple[Any, ...], dict[str, Any]]
 
 
 def record(scenario: str, seed: int, seconds: float) -> list[Call]:
-    """The ``enumerate_children`` calls of one scene."""
+    """The ``list_children`` calls of one scene."""
     detector = AdaBoostLegDetector.default(LegDetectorParams())
     prepared = prepare(SuiteScene(scenario, scenario, seed, seconds), detector)
     tracker = make_factory("leg-mht", None, "auto")()
     calls: list[Call] = []
-    original = core.enumerate_children
+    original = core.list_children
 
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         calls.append((args, dict(kwargs)))
         return original(*args, **kwargs)
 
-    core.enumerate_children = wrapper  # type: ignore[assignment]
+    core.list_children = wrapper  # type: ignore[assignment]
     try:
         for frame in frames_for(prepared, frozenset(tracker.consumes)):
             tracker.update(frame)
     finally:
-        core.enumerate_children = original  # type: ignore[assignment]
+        core.list_children = original  # type: ignore[assignment]
     return calls
+
+
+def as_arrays(args: tuple[Any, ...]) -> tuple[Any, ...]:
+    """``list_children``'s arguments as ``enumerate_children``'s (the costs as arrays of
+    -log; negating twice gives the same floats; the detected column of the label
+    log-probabilities is unused by the listing)."""
+    priors, rows, tm, c_occ, c_del, c_new, c_fal, *rest = args
+    n, m = len(tm), len(c_new)
+    lp = np.zeros((n, 3))
+    lp[:, OCCLUDED] = -np.asarray(c_occ, dtype=np.float64)
+    lp[:, DELETED] = -np.asarray(c_del, dtype=np.float64)
+    cost = np.asarray(tm, dtype=np.float64).reshape(n, m)
+    log_new = -np.asarray(c_new, dtype=np.float64)
+    log_fal = -np.asarray(c_fal, dtype=np.float64)
+    return (priors, rows, cost, lp, log_new, log_fal, *rest)
 
 
 def children(module: ModuleType, call: Call) -> object:
     """One recorded call with ``module``'s listing, as comparable values."""
     args, kwargs = call
-    out = module.enumerate_children(*args, **kwargs)
+    if hasattr(module, "list_children"):
+        out = module.list_children(*args, **kwargs)
+    else:  # (an older version: the same costs as its arrays)
+        out = module.enumerate_children(*as_arrays(args), **kwargs)
     if out is None:
         return None
     return [

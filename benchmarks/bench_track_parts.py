@@ -40,6 +40,7 @@ PARTS: list[tuple[Any, str, str]] = [
     (core.MHT, "step", "MHT step"),
     (core.MHT, "_branch", "  branching, general path"),
     (core.MHT, "_k_best", "    k-best problems"),
+    (core, "list_children", "      listing (branch and bound)"),
     (core, "enumerate_children", "      listing (branch and bound)"),
     (core, "k_best_children", "      Murty's method"),
     (core.MHT, "_branch_lone", "  branching, one track per parent"),

@@ -49,7 +49,7 @@ PARTS: list[tuple[Any, str, str, int]] = [
     (core.MHT, "_branch_lone", "clusters of one track per parent", 2),
     (core.MHT, "_branch", "clusters of the general path", 2),
     (core.MHT, "_k_best", "k best children (costs, listing, Murty)", 3),
-    (core, "enumerate_children", "listing by branch and bound", 4),
+    (core, "list_children", "listing by branch and bound", 4),
     (core, "k_best_children", "Murty's method", 4),
     (core.MHT, "_assemble", "children's hypotheses, normalising, pruning", 3),
     (core.MHT, "_fill_deferred", "Kalman updates and births of kept children", 2),

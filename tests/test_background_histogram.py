@@ -13,6 +13,7 @@ from laserpeople.background.beam_histogram import (
     BeamHistogramBackground,
     BeamHistogramParams,
 )
+from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame
 from laserpeople.scan import PointSet, Pose2D, Scan
 
@@ -264,3 +265,150 @@ def test_a_frames_foreground_is_per_point_of_each_laser() -> None:
     assert alone.foreground is not None and alone.points is not None
     assert len(alone.foreground) == 171
     assert sorted(alone.points.beams[alone.foreground].tolist()) == list(range(90, 96))
+
+
+def _learn_with_person(
+    person_beams: slice, marked_share: float, p: BeamHistogramParams | None = None
+) -> tuple[BeamHistogramBackground, list[int]]:
+    """Learn 11 frames (0.0 .. 1.0 s) with a person at 2.0 m on ``person_beams``, marked as
+    people in the first ``marked_share`` of the frames; returns the model and the number
+    of foreground points of each learning frame."""
+    model = BeamHistogramBackground(p or BeamHistogramParams(learn_seconds=1.0))
+    person = _walls()
+    person[person_beams] = 2.0
+    fg = []
+    for k in range(11):
+        frame = _frame([_scan(person, 0.1 * k, index=k)])
+        assert frame.points is not None
+        on = np.zeros(len(frame.points), dtype=bool)
+        if k < round(11 * marked_share):
+            on[np.isin(frame.points.beams, np.arange(181)[person_beams])] = True
+        fg.append(int(model.learn_foreground(frame, on).sum()))
+    assert not model.learning
+    return model, fg
+
+
+def test_people_marked_while_learning_are_foreground_and_the_wall_behind_is_guessed() -> None:
+    """Beams 40-43 see a person at 2 m through the learning, marked as people: the person
+    is foreground from the first scan (without marks, 004: background), and once they
+    leave the wall there is background at once, guessed between beams 39 and 44."""
+    model, fg = _learn_with_person(slice(40, 44), 1.0)
+    assert fg == [4] * 11
+    table = model._tables["a"]
+    assert table.nearest is not None
+    # by hand: the farthest static returns beside the person, bin centres of beams 39
+    # (4.425 m at -51 deg) and 44 (4.475 m at -46 deg); their straight line crosses beam
+    # 40 at 4.432 m (bin 88), 41 at 4.441 m (88), 42 at 4.451 m (89), 43 at 4.462 m (89)
+    # (the person's bin 40, or the ranges interpolated by beam index, 4.435 .. 4.465 m,
+    # bins 88 88 89 89 too, but a guess from the far walls at 4.0 / 6.0 m is not)
+    assert table.nearest[40:44].tolist() == [88, 88, 89, 89]
+    gone = model(_frame([_scan(_walls(), 1.1, index=11)]))
+    assert gone.foreground is not None and int(gone.foreground.sum()) == 0
+    unmarked, fg0 = _learn_with_person(slice(40, 44), 0.0)
+    assert fg0 == [0] * 11
+    assert int(unmarked.foreground_of(_scan(_walls(), 1.1)).sum()) == 4  # until relearned
+
+
+def test_a_person_who_stood_while_learning_and_stands_farther_stays_foreground() -> None:
+    """With the wall behind guessed, relearning on those beams waits for returns beyond
+    the guess: the person of the learning walking on to 3 m along the same beams and
+    standing there is not learned as static (without the guess it would be after 0.5 s)."""
+    model, _ = _learn_with_person(slice(40, 44), 1.0, BeamHistogramParams(learn_seconds=1.0))
+    farther = _walls()
+    farther[40:44] = 3.0
+    for j in range(1, 21):
+        out = model(_frame([_scan(farther, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None and int(out.foreground.sum()) == 4
+    assert model.relearned("a") == 0
+
+
+def test_without_a_wall_beside_the_people_the_beam_relearns() -> None:
+    """A person on the first beams (0-3) has no beam without people on one side: no guess;
+    the wall behind is foreground until it held ``relearn_seconds``, then background."""
+    p = BeamHistogramParams(learn_seconds=1.0, relearn_seconds=0.5)
+    model, fg = _learn_with_person(slice(0, 4), 1.0, p)
+    assert fg == [4] * 11
+    counts = []
+    for j in range(1, 11):
+        out = model(_frame([_scan(_walls(), 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+        counts.append(int(out.foreground.sum()))
+    assert counts[:5] == [4] * 5 and counts[6:] == [0] * 4
+    assert model.relearned("a") == 4
+
+
+def test_people_share_decides_which_bins_stay_static() -> None:
+    """Marked in 2 of 11 learning scans (0.18 < 0.2): static as before; in 3 of 11
+    (0.27): not static."""
+    few, _ = _learn_with_person(slice(40, 44), 2 / 11)
+    more, _ = _learn_with_person(slice(40, 44), 3 / 11)
+    person = _walls()
+    person[40:44] = 2.0
+    assert int(few.foreground_of(_scan(person, 2.0)).sum()) == 0
+    assert int(more.foreground_of(_scan(person, 2.0)).sum()) == 4
+    with pytest.raises(LaserPeopleError):
+        BeamHistogramParams(people_share=0.0)
+
+
+def test_people_counts_survive_save_and_load(tmp_path: Path) -> None:
+    model, _ = _learn_with_person(slice(40, 44), 1.0)
+    again = BeamHistogramBackground.load(model.save(tmp_path / "bg.npz"))
+    person = _walls()
+    person[40:44] = 2.0
+    assert int(again.foreground_of(_scan(person, 9.0)).sum()) == 4
+    assert int(again.foreground_of(_scan(_walls(), 9.0)).sum()) == 0
+
+
+def test_people_flags_must_fit_the_points() -> None:
+    model = BeamHistogramBackground()
+    frame = _frame([_scan(_walls(), 0.0)])
+    with pytest.raises(BackgroundModelError, match="people flags"):
+        model.learn_foreground(frame, np.zeros(3, dtype=bool))
+
+
+def test_people_of_the_learning_who_never_leave_settle_into_the_background() -> None:
+    """A leg detection on furniture while learning: beams 40-43 keep returning 2.0 m after
+    learning (every third scan someone passes in front at 1.0 m, which does not count
+    against it). Foreground until it held ``people_settle_seconds`` (2 s here, from the
+    last learning scan at 1.0 s; the passing scans at 2.1, 2.4, ... s do not restart it),
+    background after 3.0 s. Once the wall was seen there (the people left), the beam
+    is no longer watched: someone standing on the same place later stays foreground."""
+    p = BeamHistogramParams(learn_seconds=1.0, people_settle_seconds=2.0)
+    model, _ = _learn_with_person(slice(40, 44), 1.0, p)
+    stays, passing = _walls(), _walls()
+    stays[40:44] = 2.0
+    passing[40:44] = 1.0
+    fg = {}
+    for j in range(1, 31):
+        out = model(_frame([_scan(passing if j % 3 == 0 else stays, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+        fg[round(1.0 + 0.1 * j, 1)] = int(out.foreground.sum())
+    # counted from the last learning scan (1.0 s); the scan at 3.0 s completes the 2 s
+    # (its own foreground is computed before)
+    assert [fg[t] for t in (2.9, 3.0, 3.2, 3.3, 3.5, 3.8)] == [4, 4, 0, 0, 0, 0]
+    assert fg[3.1] == fg[4.0] == 4  # the one passing in front is foreground
+    assert model.settled("a") == 4
+    again, _ = _learn_with_person(slice(40, 44), 1.0, p)
+    for j in range(1, 51):
+        ranges = _walls() if j == 15 else stays  # at 2.5 s the wall is seen: gone for a scan
+        out = again(_frame([_scan(ranges, 1.0 + 0.1 * j, index=10 + j)]))
+    # 6.0 s: someone stood there 3.5 s since, longer than people_settle_seconds
+    assert out.foreground is not None and int(out.foreground.sum()) == 4
+    assert again.settled("a") == 0
+
+
+def test_a_wall_seen_between_the_legs_and_taken_for_a_leg_is_the_wall() -> None:
+    """Through the learning beams 40-47 see a person at 2 m, and beam 43 sees the wall
+    through the gap between the legs; the detector takes that wall segment for a leg too
+    (marked). It lies on the line guessed from beams 39 and 48, so it is static: the wall
+    seen there later is background, the person foreground."""
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    ranges = _walls()
+    ranges[40:48] = 2.0
+    ranges[43] = _walls()[43]
+    for k in range(11):
+        frame = _frame([_scan(ranges, 0.1 * k, index=k)])
+        assert frame.points is not None
+        model.learn_foreground(frame, np.isin(frame.points.beams, np.arange(40, 48)))
+    assert int(model.foreground_of(_scan(ranges, 1.1)).sum()) == 7  # the person, not beam 43
+    assert int(model.foreground_of(_scan(_walls(), 1.2)).sum()) == 0

@@ -287,6 +287,53 @@ def test_enumerated_children_match_k_best_children() -> None:
                               np.zeros(many), np.zeros(many), 5, 9.0) is None  # fmt: skip
 
 
+def test_listing_costs_from_the_scan_tables_are_those_of_the_cluster_arrays(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The listing's costs as the core takes them from the scan's tables (per cluster the
+    detection costs, the label costs as plain floats made once per scan) are those of the
+    cluster's arrays, entry by entry (the same table entries, negated: compared exactly),
+    on clusters of two close targets with misses and clutter; and the tracker keeps the
+    same hypotheses when the arrays' costs are listed instead."""
+    from laserpeople.tracking.mht.listing import plain_costs
+
+    checked = 0
+    original = MHT._plain_costs
+
+    def from_arrays(self: MHT[PointMeasurements], rows: list[int], meas_idx: np.ndarray) -> tuple:
+        log_new, log_fal = self._log_rates
+        return plain_costs(
+            self._cost_live[np.ix_(rows, meas_idx)],
+            self._lp_live[rows],
+            log_new[meas_idx],
+            log_fal[meas_idx],
+        )
+
+    def spy(self: MHT[PointMeasurements], rows: list[int], meas_idx: np.ndarray) -> tuple:
+        nonlocal checked
+        got = original(self, rows, meas_idx)
+        assert got == from_arrays(self, rows, meas_idx)
+        checked += len(rows) > 1 and len(meas_idx) > 0
+        return got
+
+    monkeypatch.setattr(MHT, "_plain_costs", spy)
+    tables = make_mht()
+    counts = run_targets(tables, 60)
+    assert checked >= 20  # clusters of several tracks and measurements were compared
+    monkeypatch.setattr(MHT, "_plain_costs", from_arrays)
+    arrays = make_mht()
+    assert run_targets(arrays, 60) == counts
+
+    def state(m: MHT[PointMeasurements]) -> list[tuple]:
+        return [
+            (h.log_weight, [(t.family, t.node_id, t.mean.tolist()) for t in h.tracks])
+            for c in m.clusters
+            for h in c.hypotheses
+        ]
+
+    assert state(tables) == state(arrays)
+
+
 def test_clusters_over_the_limit_are_listed_within_the_budget_as_murty_lists_them() -> None:
     """A crowded cluster (eight to eleven tracks, five to eight measurements, several
     parents: 10^8 children and more, far over the listing limit) is listed within the

@@ -25,6 +25,19 @@ stays foreground. The price: something static only part of the time (a door that
 closed while learning and stands open for ``relearn_seconds``) is foreground once it
 comes back.
 
+A caller that can tell people (``learn_foreground(frame, people)``: the points near leg
+detections, as ``--background auto`` gives the CSA, ``[csa] background_people``) marks
+their returns while the model learns. A bin whose returns lay on people in at least
+``people_share`` of them is not static: a person who stands through the learning is
+foreground from the first scan. The wall behind them, never seen, is guessed: on the
+straight line between the farthest static returns of the nearest beams without people on
+either side, where it lies beyond the person; when no such line exists, the beam relearns
+towards the first steady farther return as above. With a guess, the beam relearns only
+beyond the guess, so a person who later stands farther along the same beams stays
+foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
+after learning, never farther, saw something static after all (a leg detection on
+furniture) and is learned as static. The people counts are saved with the histograms.
+
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
 """
@@ -99,7 +112,30 @@ class BeamHistogramParams:
         "for part of the learning is foreground; false: every frequent bin (004)",
     )
 
+    people_share: float = param(
+        0.2,
+        "assumed (not in 004): the leg detector finds a person standing 3-7 m away in most "
+        "scans; measured on crossing-3 (docs/csa.md)",
+        "while learning, a frequent bin of a beam whose returns lay on a person (points the "
+        "caller marks, e.g. near leg detections) in at least this share of them is not "
+        "static, and a steady farther return of that beam relearns as if it were",
+    )
+
+    people_settle_seconds: float = param(
+        5.0,
+        "assumption (not in 004): the people of crossing-3 leave within 1 s of the "
+        "learning; on the real demo bag a leg detection on furniture while learning kept a "
+        "place foreground for the whole run (docs/csa.md)",
+        "a beam that saw people while learning and keeps returning their range this long "
+        "after learning saw something static after all and is learned as static",
+        "s",
+    )
+
     def __post_init__(self) -> None:
+        if not (0.0 < self.people_share <= 1.0) or self.people_settle_seconds < 0.0:
+            raise LaserPeopleError(
+                "people_share must be in (0, 1] and people_settle_seconds not negative"
+            )
         if not (self.bin_width > 0.0 and math.isfinite(self.bin_width)):
             raise LaserPeopleError(f"bin_width must be positive, got {self.bin_width}")
         if not (0.0 < self.min_fraction <= 1.0):
@@ -118,6 +154,12 @@ class _BeamTable:
     scans: int
     seconds: float
     relearned: int = 0  # beams relearned after freezing
+    settled: int = 0  # beams on people while learning found static after all
+    marked: int = 0  # beams with a bin on people when the static bins were last marked
+    people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
+    angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
+    person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
+    settling: NDArray[np.float64] | None = None  # (B,) stamp it was first seen again (nan)
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
@@ -125,13 +167,69 @@ class _BeamTable:
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
-        core = _core(self.counts, self.scans, p)
-        self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
+        core = _core(self.counts, self.scans, p, self.people)
         k = core.shape[1]
-        self.nearest = np.where(core.any(axis=1), np.argmax(core, axis=1), k).astype(np.int64)
+        on_people = _on_people(self.counts, self.scans, p, self.people)
+        seen = core | on_people
+        self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
+        if self.angles is not None and on_people.any():
+            beams, bins = _behind_people(core, on_people, self.angles, p)
+            core[beams, bins] = True
+            self.nearest[beams] = bins
+        self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
             self.since = np.zeros(core.shape[0])
+        self.person_bin = np.where(on_people.any(axis=1), np.argmax(on_people, axis=1), -1)
+        self.marked = int(np.count_nonzero(self.person_bin >= 0))
+        self.settling = np.full(core.shape[0], np.nan)
+
+    def settle(
+        self,
+        beams: NDArray[np.int64],
+        bins: NDArray[np.int64],
+        stamp: float,
+        p: BeamHistogramParams,
+    ) -> None:
+        """Follow the returns (``beams`` (M,), range ``bins`` (M,)) of one scan on the beams
+        that saw people while learning: a beam that keeps returning the people's range
+        (within the tolerance; nearer returns, someone passing in front, do not count
+        against it) for ``people_settle_seconds`` saw something static after all (a leg
+        detection on furniture): its people counts are dropped and its histogram marks it
+        static. A farther return shows the people have left: the beam is no longer
+        watched (someone who later stands on the same place stays foreground)."""
+        if self.person_bin is None or self.settling is None or self.people is None:
+            return
+        on = self.person_bin[beams] >= 0
+        if not on.any():
+            return
+        beams, bins = beams[on], bins[on]
+        reach = math.ceil(p.tolerance / p.bin_width)
+        person = self.person_bin[beams]
+        same = np.abs(bins - person) <= reach
+        start = same & np.isnan(self.settling[beams])
+        self.settling[beams[start]] = stamp
+        gone = beams[bins > person + reach]  # the people left: they were people
+        self.settling[gone] = np.nan
+        self.person_bin[gone] = -1
+        ripe = beams[same & (stamp - self.settling[beams] >= p.people_settle_seconds)]
+        if ripe.size == 0:
+            return
+        self.people[ripe] = 0
+        self._mark(ripe, p)
+        self.person_bin[ripe] = -1
+        self.settling[ripe] = np.nan
+        self.settled += int(ripe.size)
+
+    def _mark(self, rows: NDArray[np.int64], p: BeamHistogramParams) -> None:
+        """Static bins and nearest static bin of the beams ``rows`` (M,) anew from their
+        histograms (after :meth:`relearn` or :meth:`settle` rewrote them)."""
+        assert self.static is not None and self.nearest is not None
+        people = None if self.people is None else self.people[rows]
+        core = _core(self.counts[rows], self.scans, p, people)
+        self.static[rows] = _dilate(core, math.ceil(p.tolerance / p.bin_width))
+        k = core.shape[1]
+        self.nearest[rows] = np.where(core.any(axis=1), np.argmax(core, axis=1), k)
 
     def relearn(
         self,
@@ -164,24 +262,110 @@ class _BeamTable:
         self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
         need = max(1, math.ceil(p.min_fraction * self.scans))
         self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        core = _core(self.counts[ripe], self.scans, p)
-        self.static[ripe] = _dilate(core, reach)
-        self.nearest[ripe] = np.argmax(core, axis=1)
+        if self.people is not None:
+            self.people[ripe] = np.where(drop, 0, self.people[ripe])
+            self.people[ripe, k_new] = 0
+        self._mark(ripe, p)
         self.candidate[ripe] = -1
         self.relearned += int(ripe.size)
 
 
-def _core(counts: NDArray[np.int32], scans: int, p: BeamHistogramParams) -> NDArray[np.bool_]:
+def _on_people(
+    counts: NDArray[np.int32],
+    scans: int,
+    p: BeamHistogramParams,
+    people: NDArray[np.int32] | None,
+) -> NDArray[np.bool_]:
+    """Frequent bins (B, K) of ``counts`` (B, K) that were on a person (``people`` (B, K):
+    how many of the returns of a bin lay on a person) in at least ``people_share`` of their
+    returns (all False without ``people``)."""
+    if people is None:
+        return np.zeros(counts.shape, dtype=bool)
+    frequent = counts >= max(1.0, p.min_fraction * scans)
+    return frequent & (people > 0) & (people >= p.people_share * counts)
+
+
+def _behind_people(
+    core: NDArray[np.bool_],
+    on_people: NDArray[np.bool_],
+    angles: NDArray[np.float64],
+    p: BeamHistogramParams,
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The static world guessed behind the people of the learning period: beams (M,) with
+    no static bin beyond their nearest bin on a person (``on_people`` (B, K), ``core``
+    (B, K) the static bins) and the bins (M,) where the straight line between the farthest
+    static returns of the nearest beams on either side without people (``angles`` (B,)
+    [rad]) crosses them, where that is not nearer than the person (a return within the
+    tolerance of the line, seen through a gap between legs and itself taken for a leg, is
+    the wall)."""
+    n, k = core.shape
+    idx = np.arange(n)
+    has = core.any(axis=1)
+    far = np.where(has, k - 1 - np.argmax(core[:, ::-1], axis=1), -1)
+    seen = on_people.any(axis=1)
+    person = np.where(seen, np.argmax(on_people, axis=1), k)  # the nearest bin on people
+    anchor = has & ~seen
+    left = np.maximum.accumulate(np.where(anchor, idx, -1))
+    right = np.minimum.accumulate(np.where(anchor, idx, n)[::-1])[::-1]
+    need = idx[seen & (far <= person) & (left >= 0) & (right < n)]
+    if need.size == 0:
+        return need, need
+    w = p.bin_width
+    lo, hi = left[need], right[need]
+    r_lo, r_hi = (far[lo] + 0.5) * w, (far[hi] + 0.5) * w
+    a_lo, a_hi = angles[lo], angles[hi]
+    p_lo = np.stack([r_lo * np.cos(a_lo), r_lo * np.sin(a_lo)], axis=1)
+    d = np.stack([r_hi * np.cos(a_hi), r_hi * np.sin(a_hi)], axis=1) - p_lo
+    u = np.stack([np.cos(angles[need]), np.sin(angles[need])], axis=1)
+    cross_ud = u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0]
+    cross_pd = p_lo[:, 0] * d[:, 1] - p_lo[:, 1] * d[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = cross_pd / cross_ud  # range along the beam to the line
+    ok = np.isfinite(t) & (t >= person[need] * w - p.tolerance) & (t < k * w)
+    return need[ok], (t[ok] / w).astype(np.int64)
+
+
+def _core(
+    counts: NDArray[np.int32],
+    scans: int,
+    p: BeamHistogramParams,
+    people: NDArray[np.int32] | None = None,
+) -> NDArray[np.bool_]:
     """Static bins (B, K) of the histograms ``counts`` (B, K) of ``scans`` scans: bins seen
-    in at least ``min_fraction`` of the scans; with ``farthest`` only those of them within
-    twice the tolerance of each beam's farthest such bin (a beam without one keeps none)."""
+    in at least ``min_fraction`` of the scans and not on people (:func:`_on_people`); with
+    ``farthest`` only those of them within twice the tolerance of each beam's farthest such
+    bin (a beam without one keeps none)."""
     core = counts >= max(1.0, p.min_fraction * scans)
+    if people is not None:
+        core &= ~_on_people(counts, scans, p, people)
     if not p.farthest or core.shape[1] == 0:
         return core
     k = core.shape[1]
     far = k - 1 - np.argmax(core[:, ::-1], axis=1)  # (B,) farthest static bin
     width = 2 * math.ceil(p.tolerance / p.bin_width)
     return core & (np.arange(k)[None, :] >= (far - width)[:, None])
+
+
+def _beams_of(
+    frame: Frame, scan: Scan, people: NDArray[np.bool_] | None
+) -> NDArray[np.bool_] | None:
+    """The beams (``scan.n_beams``,) of ``scan`` whose points ``people`` (N,) over
+    ``frame.points`` marks (None without ``people``)."""
+    if people is None or frame.points is None:
+        return None
+    pts = frame.points
+    if len(people) != len(pts):
+        raise BackgroundModelError(
+            f"{len(people)} people flags for {len(pts)} points",
+            scan=frame.index,
+            hint="mark each point of the frame",
+        )
+    out = np.zeros(scan.n_beams, dtype=bool)
+    if scan.sensor not in pts.sensors:
+        return out
+    sel = (pts.sensor_ids == pts.sensors.index(scan.sensor)) & people
+    out[pts.beams[sel]] = True
+    return out
 
 
 def _dilate(core: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
@@ -242,10 +426,13 @@ class BeamHistogramBackground:
         top = scan.range_max if math.isfinite(scan.range_max) else 80.0
         return math.ceil(min(top, 80.0) / self.params.bin_width) + 1
 
-    def _add(self, scan: Scan) -> None:
+    def _add(self, scan: Scan, on_people: NDArray[np.bool_] | None = None) -> None:
         table = self._tables.get(scan.sensor)
         if table is None:
             table = _BeamTable(np.zeros((scan.n_beams, self._n_bins(scan)), np.int32), 0, 0.0)
+            table.angles = scan.angle_min + scan.angle_increment * np.arange(
+                scan.n_beams, dtype=np.float64
+            )
             self._tables[scan.sensor] = table
             self._geometry[scan.sensor] = (scan.angle_min, scan.angle_increment, scan.n_beams)
         elif table.counts.shape[0] != scan.n_beams:
@@ -261,6 +448,11 @@ class BeamHistogramBackground:
             (scan.ranges[idx] / self.params.bin_width).astype(np.int64), -1 + table.counts.shape[1]
         )
         np.add.at(table.counts, (idx, bins), 1)
+        if on_people is not None:
+            if table.people is None:
+                table.people = np.zeros_like(table.counts)
+            hit = on_people[idx]
+            np.add.at(table.people, (idx[hit], bins[hit]), 1)
         table.scans += 1
         table.static = None
 
@@ -330,6 +522,17 @@ class BeamHistogramBackground:
             idx, bins = beams
         table.relearn(idx, bins, scan.stamp, self.params)
 
+    def people_beams(self) -> tuple[int, int]:
+        """Over all lasers: beams whose ranges on people were not learned as static, and
+        how many of them were found static after all (``people_settle_seconds``)."""
+        tables = self._tables.values()
+        return sum(t.marked for t in tables), sum(t.settled for t in tables)
+
+    def settled(self, sensor: str) -> int:
+        """How many beams of laser ``sensor`` that saw people while learning were found
+        static after all (``people_settle_seconds``)."""
+        return self._table(sensor).settled
+
     def relearned(self, sensor: str) -> int:
         """How many times a beam of laser ``sensor`` relearned after learning."""
         return self._table(sensor).relearned
@@ -338,9 +541,13 @@ class BeamHistogramBackground:
         """Learn from ``frame`` (during the learning period) and set its ``foreground``."""
         return replace(frame, foreground=self.learn_foreground(frame))
 
-    def learn_foreground(self, frame: Frame) -> NDArray[np.bool_]:
+    def learn_foreground(
+        self, frame: Frame, people: NDArray[np.bool_] | None = None
+    ) -> NDArray[np.bool_]:
         """Learn from ``frame`` as :meth:`__call__` does and return the foreground (N,) of
-        its points (without building a new frame)."""
+        its points (without building a new frame). ``people`` (N,) marks the points that
+        lie on people (e.g. near leg detections): while learning, a bin whose returns were
+        on people in ``people_share`` of them does not become static."""
         if frame.points is None:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
@@ -351,7 +558,7 @@ class BeamHistogramBackground:
             if self._first_stamp is None:
                 self._first_stamp = frame.stamp
             for scan in frame.scans:
-                self._add(scan)
+                self._add(scan, _beams_of(frame, scan, people))
                 self._tables[scan.sensor].seconds = frame.stamp - self._first_stamp
             if frame.stamp - self._first_stamp >= self.params.learn_seconds:
                 self.freeze()
@@ -362,9 +569,13 @@ class BeamHistogramBackground:
         for scan in frame.scans:
             by_name[scan.sensor], beams = self._foreground_and_bins(scan)
             valid_bins.append(beams)
-        if self._frozen and self.params.relearn_seconds > 0.0:  # (after every foreground)
+        if self._frozen:  # (after every foreground)
             for scan, beams in zip(frame.scans, valid_bins, strict=True):
-                self._relearn(scan, beams)
+                table = self._tables.get(scan.sensor)
+                if beams is not None and table is not None and table.people is not None:
+                    table.settle(beams[0], beams[1], scan.stamp, self.params)
+                if self.params.relearn_seconds > 0.0:
+                    self._relearn(scan, beams)
         pts = frame.points
         if len(pts.sensors) == 1 and pts.sensors[0] in by_name:  # one laser: no masks
             one: NDArray[np.bool_] = by_name[pts.sensors[0]][pts.beams]
@@ -429,6 +640,8 @@ class BeamHistogramBackground:
                 "tolerance": self.params.tolerance,
                 "relearn_seconds": self.params.relearn_seconds,
                 "farthest": self.params.farthest,
+                "people_share": self.params.people_share,
+                "people_settle_seconds": self.params.people_settle_seconds,
             },
             "sensors": [
                 {
@@ -442,6 +655,13 @@ class BeamHistogramBackground:
             ],
         }
         arrays = {f"counts_{i}": t.counts for i, t in enumerate(self._tables.values())}
+        arrays.update(
+            {
+                f"people_{i}": t.people
+                for i, t in enumerate(self._tables.values())
+                if t.people is not None
+            }
+        )
         try:
             np.savez_compressed(p, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
         except OSError as exc:
@@ -471,9 +691,15 @@ class BeamHistogramBackground:
                 model = cls(BeamHistogramParams(**{"farthest": False, **meta["params"]}))
                 for i, s in enumerate(meta["sensors"]):
                     counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
-                    model._tables[s["name"]] = _BeamTable(
-                        counts, int(s["scans"]), float(s["seconds"])
+                    table = _BeamTable(counts, int(s["scans"]), float(s["seconds"]))
+                    if f"people_{i}" in data:  # returns on people while learning
+                        table.people = np.asarray(data[f"people_{i}"], dtype=np.int32)
+                        if table.people.shape != counts.shape:
+                            raise ValueError(f"people_{i} does not fit counts_{i}")
+                    table.angles = float(s["angle_min"]) + float(s["angle_increment"]) * np.arange(
+                        counts.shape[0], dtype=np.float64
                     )
+                    model._tables[s["name"]] = table
                     model._geometry[s["name"]] = (
                         float(s["angle_min"]),
                         float(s["angle_increment"]),

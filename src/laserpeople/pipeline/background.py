@@ -28,6 +28,7 @@ frame.
 
 from __future__ import annotations
 
+import copy
 import math
 import statistics
 from collections import deque
@@ -265,6 +266,10 @@ class AutoBackground:
         legs: The stage that narrows the foreground to points near legs (None: not used
             yet, :mod:`laserpeople.pipeline.leg_foreground`).
         legs_from: Index of the first frame narrowed to points near legs (None: none).
+        learn_people: While the histogram learns, the points within ``[leg_foreground]
+            radius`` of leg detections are marked as people, whose ranges it does not
+            learn as static (``[beam_histogram] people_share``; the CSA's
+            ``[csa] background_people``).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -278,6 +283,7 @@ class AutoBackground:
         detector: object | None = None,
         *,
         steady: bool = False,
+        learn_people: bool = False,
     ) -> None:
         from laserpeople.background.beam_histogram import BeamHistogramBackground
 
@@ -293,6 +299,8 @@ class AutoBackground:
         self._steady = steady
         self.legs: LegForeground | None = None
         self.legs_from: int | None = None
+        self.learn_people = learn_people
+        self._people_legs: LegForeground | None = None
 
     def _wants_legs(self) -> bool:
         """Whether the model in use is narrowed to points near legs (``[leg_foreground]
@@ -319,6 +327,19 @@ class AutoBackground:
             )
             self.legs_from = frame.index
         return self.legs(frame)
+
+    def _people(self, frame: Frame) -> NDArray[np.bool_]:
+        """Which points (N,) of ``frame`` lie within ``[leg_foreground] radius`` of a leg
+        detection (the histogram does not learn them as static)."""
+        from laserpeople.pipeline.leg_foreground import near_legs
+
+        if self._people_legs is None:
+            self._people_legs = LegForeground(
+                self.static.leg_foreground, copy.deepcopy(self._detector)
+            )
+        assert frame.points is not None
+        legs = self._people_legs.legs_of(frame)
+        return near_legs(frame.points.points, legs, self.static.leg_foreground.radius)
 
     def _moved(self, frame: Frame) -> bool:
         if frame.frame == "sensor":
@@ -350,7 +371,12 @@ class AutoBackground:
             n = 0 if frame.points is None else len(frame.points)
             return replace(frame, foreground=np.ones(n, dtype=bool))
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
-        out: Frame = self.model(frame)
+        out: Frame
+        if learning and self.learn_people:
+            people = self._people(frame)
+            out = replace(frame, foreground=self.model.learn_foreground(frame, people))  # type: ignore[attr-defined]
+        else:
+            out = self.model(frame)
         if self.chosen == "histogram" and frame.frame == "sensor":
             if self.motion is None:
                 self.motion = SensorMotionCheck(self.static.sensor_motion)
@@ -387,10 +413,27 @@ class AutoBackground:
                 "--world-frame or --mount to use the occupancy grid)"
             )
         if self.switched_at is None:
-            return "static world model: per-beam range histogram (the lasers did not move)"
+            return (
+                "static world model: per-beam range histogram (the lasers did not move)"
+                + self._people_note()
+            )
         return (
             "static world model: occupancy grid (a laser moved at frame "
             f"{self.switched_at}; the histogram ran before){_not_learned(self.model)}"
+        )
+
+    def _people_note(self) -> str:
+        """What the histogram left out as people while learning (empty: nothing)."""
+        counts = getattr(self.model, "people_beams", None)
+        if not self.learn_people or counts is None:
+            return ""
+        marked, settled = counts()
+        if not marked:
+            return ""
+        return (
+            f"; {marked} beams on leg detections while it learned were not learned as "
+            f"static ([csa] background_people), {settled} of them static after all "
+            "([beam_histogram] people_settle_seconds)"
         )
 
     def describe_foreground(self) -> str:
@@ -453,13 +496,16 @@ def background_stage(
     detector: object | None = None,
     *,
     steady: bool = False,
+    behind_people: bool = False,
 ) -> Stage | None:
     """The static world model stage for ``choice`` (a name of :data:`BACKGROUND_CHOICES`
     or a model object; None or ``"none"``: no model). ``map_path`` seeds the occupancy
     grid (``occupancy`` or ``auto``); ``static`` holds the models' parameters (None:
     defaults); ``detector`` is the leg detector with which ``auto`` narrows the foreground
     to points near legs (None: the shipped one; :mod:`laserpeople.pipeline.leg_foreground`;
-    ``steady``: for a tracker that needs steady points, which holds missed legs longer)."""
+    ``steady``: for a tracker that needs steady points, which holds missed legs longer;
+    ``behind_people``: ``auto``'s per-beam histogram does not learn the ranges on leg
+    detections as static, :class:`AutoBackground`)."""
     static = static if static is not None else StaticWorldParams()
     if choice is None or choice == "none":
         if map_path is not None:
@@ -482,7 +528,13 @@ def background_stage(
     if choice == "occupancy":
         return occupancy_model(map_path, static.occupancy)
     if choice == "auto":
-        return AutoBackground(map_path=map_path, static=static, detector=detector, steady=steady)
+        return AutoBackground(
+            map_path=map_path,
+            static=static,
+            detector=detector,
+            steady=steady,
+            learn_people=behind_people,
+        )
     raise ConfigError(
         f"unknown static world model {choice!r}",
         hint=f"choose one of: {', '.join(BACKGROUND_CHOICES)}",

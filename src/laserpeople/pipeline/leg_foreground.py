@@ -359,6 +359,13 @@ def needs_steady_points(tracker: object) -> bool:
     return bool(getattr(tracker, "needs_steady_points", False))
 
 
+def learns_behind_people(tracker: object) -> bool:
+    """Whether ``tracker`` wants the per-beam histogram of ``--background auto`` to leave
+    out the people standing while it learns (it sets ``learns_behind_people``: the CSA,
+    ``[csa] background_people``)."""
+    return bool(getattr(tracker, "learns_behind_people", False))
+
+
 def own_detector(detector: Any, shared: bool) -> Any:
     """``detector`` for a :class:`LegForeground` (a copy when ``shared``: a detector
     remembers each laser's previous scan for its motion features, so two stages must not
@@ -372,6 +379,7 @@ __all__ = [
     "LEG_FOREGROUND_USES",
     "LegForeground",
     "LegForegroundParams",
+    "learns_behind_people",
     "near_legs",
     "needs_steady_points",
     "own_detector",

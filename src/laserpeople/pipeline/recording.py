@@ -168,6 +168,7 @@ def observe_stages_for(
     static_world: StaticWorldParams | None = None,
     *,
     steady: bool = False,
+    behind_people: bool = False,
 ) -> tuple[list[Stage], list[Stage]]:
     """The preprocess and observe stages that provide what a tracker ``consumes``.
 
@@ -178,7 +179,9 @@ def observe_stages_for(
     furniture are not foreground; ``auto`` narrows it to the points near legs found with
     ``detector`` on a moving laser (:mod:`laserpeople.pipeline.leg_foreground`; ``steady``:
     for a tracker that dies without points for a few scans, see
-    :func:`~laserpeople.pipeline.leg_foreground.needs_steady_points`).
+    :func:`~laserpeople.pipeline.leg_foreground.needs_steady_points`; ``behind_people``:
+    the per-beam histogram of ``auto`` leaves out the legs detected while it learns, see
+    :func:`~laserpeople.pipeline.leg_foreground.learns_behind_people`).
     """
     from laserpeople.pipeline.leg_foreground import own_detector
 
@@ -193,6 +196,7 @@ def observe_stages_for(
             static_world,
             own_detector(detector, "legs" in consumes),
             steady=steady,
+            behind_people=behind_people,
         )
         if model is not None:
             preprocess.append(model)
@@ -291,7 +295,7 @@ def tracker_stages(
     people's static model of the leg MHT (:func:`add_people_static_model`) and the filter
     of person tracks on static places (:func:`add_static_track_filter`, None when not
     used)."""
-    from laserpeople.pipeline.leg_foreground import needs_steady_points
+    from laserpeople.pipeline.leg_foreground import learns_behind_people, needs_steady_points
 
     preprocess, observe = observe_stages_for(
         frozenset(tracker.consumes if consumes is None else consumes),
@@ -301,6 +305,7 @@ def tracker_stages(
         map_path,
         static_world,
         steady=needs_steady_points(tracker),
+        behind_people=learns_behind_people(tracker),
     )
     add_people_static_model(tracker, preprocess, background, map_path, static_world)
     hide = add_static_track_filter(tracker, preprocess, background, map_path, static_world)

@@ -197,6 +197,17 @@ class CSAParams:
         "with at least min_points estimates as a new single target started next to the "
         "cluster, with fewer dropped",
     )
+    background_people: bool = param(
+        False,
+        "measured (docs/csa.md): true gives crossing-3 cli worst IDF1 0.81 -> 0.94 (seed 7) "
+        "and 0.77 -> 0.96 (held-back seeds 100-104), but lowers random-groups held-back "
+        "person MOTA where the leg detector fires on clutter while learning; false: 004's "
+        "histogram (002 learns no background)",
+        "with --background auto on still lasers: the ranges of beams on leg detections "
+        "while the per-beam histogram learns are not learned as static, and the wall "
+        "behind them is guessed from the beams beside them ([beam_histogram] people_share, "
+        "people_settle_seconds)",
+    )
     group_rows: bool = param(
         False,
         "002 Sec. 2 keeps every person's identity through a cluster (the Viterbi paths); "
@@ -453,6 +464,9 @@ class ClusterSortingTracker:
 
     def __init__(self, params: CSAParams | None = None) -> None:
         self.params = params or CSAParams()
+        self.learns_behind_people = self.params.background_people
+        """Whether the pipeline's per-beam histogram leaves out the people standing while
+        it learns (:func:`~laserpeople.pipeline.leg_foreground.learns_behind_people`)."""
         self._s = _State()
         self._last: float | None = None
         self.events: list[CSAEvent] = []

@@ -41,7 +41,12 @@ from laserpeople.tracking.mht.hypothesis import (
     normalise_hypotheses,
     prune_children,
 )
-from laserpeople.tracking.mht.listing import enumerate_children, single_children
+from laserpeople.tracking.mht.listing import (
+    PlainCosts,
+    list_children,
+    plain_costs,
+    single_children,
+)
 from laserpeople.tracking.mht.matrix import (
     AssignmentMatrix,
     LabelledAssignment,
@@ -348,6 +353,12 @@ class MHT(Generic[Meas]):
         self._deferred_births: list[tuple[TrackNode, int]] = []
         self._lp_live: FloatArray = np.empty((0, 3))  # label log-probs of the live nodes
         self._cost_live: FloatArray = np.empty((0, 0))  # their detection costs
+        # the label costs as plain floats, made once per scan when a listing needs them
+        # (:meth:`_plain_costs`): occluded and deleted costs per live node, new and
+        # false-alarm costs per measurement (the first, detection costs, left empty)
+        self._plain: PlainCosts = ([], [], [], [], [])
+        self._plain_made = False
+        self._log_rates: tuple[FloatArray, FloatArray] = (np.empty(0), np.empty(0))
         self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
         self._solves = 0  # this step's assignment problems solved
         self._degraded = 0  # this step's degraded clusters
@@ -391,6 +402,7 @@ class MHT(Generic[Meas]):
         row_of = {n.node_id: i for i, n in enumerate(live)}
         self._lp_live = self.labels.track_log_probs(live) if live else np.empty((0, 3))
         self._cost_live = _detection_costs(gated, loglik, self._lp_live)
+        self._plain_made = False
         plain = type(self.branches) is SingleModel
         self._defer = plain and self.deferred_states
         self._prepare_children(live, gated, measurements, stamp)
@@ -398,6 +410,7 @@ class MHT(Generic[Meas]):
         self._drop_settled_links()
         parts = components(fam_meas, self.links, n_meas)
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
+        self._log_rates = (log_new, log_fal)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
@@ -946,21 +959,31 @@ class MHT(Generic[Meas]):
                     nodes_u.append(t)
                 rows.append(i)
             rows_of.append(rows)
-        if obs is None:
-            # per node, once: costs of matching each measurement and of the unmatched labels
-            tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
-            c_new, c_fal = log_new[meas_idx], log_fal[meas_idx]
+        # the costs: per node, once, of matching each measurement and of the unmatched
+        # labels; as plain floats from the scan's tables when every node was scored this
+        # scan (the commonest case), as arrays otherwise or when Murty's method needs them
+        arrays: tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None = None
+        plain: PlainCosts | None = None
+        if obs is None and all(t.node_id in row_of for t in nodes_u):
+            plain = self._plain_costs([row_of[t.node_id] for t in nodes_u], meas_idx)
+            n, m = len(nodes_u), meas_idx.size
         else:
-            lp = self.labels.track_log_probs(nodes_u)
-            m = len(obs.measurements)
-            if nodes_u and m:
-                g_b, ll_b = self.model.score(nodes_u, obs.measurements)
-                tm_cost = _detection_costs(g_b, ll_b, lp)
+            if obs is None:
+                tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
+                c_new, c_fal = log_new[meas_idx], log_fal[meas_idx]
             else:
-                tm_cost = np.full((len(nodes_u), m), np.inf)
-            c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
+                lp = self.labels.track_log_probs(nodes_u)
+                m = len(obs.measurements)
+                if nodes_u and m:
+                    g_b, ll_b = self.model.score(nodes_u, obs.measurements)
+                    tm_cost = _detection_costs(g_b, ll_b, lp)
+                else:
+                    tm_cost = np.full((len(nodes_u), m), np.inf)
+                c_new, c_fal = self.labels.measurement_log_rates(obs.measurements)
+            arrays = (tm_cost, lp, c_new, c_fal)
+            n, m = tm_cost.shape
         k = self.params.k
-        size = tm_cost.shape[0] + tm_cost.shape[1]
+        size = n + m
         self._largest = max(self._largest, size)
         degraded = size > self.params.max_cluster_size
         budget = self.params.max_assignment_solves
@@ -971,11 +994,15 @@ class MHT(Generic[Meas]):
             rows_of = [rows_of[best]]
         solutions = None
         if not degraded:
-            solutions = enumerate_children(
-                priors, rows_of, tm_cost, lp, c_new, c_fal, k, max_gap, shortcut=self.shortcuts
-            )
+            if plain is None:
+                assert arrays is not None
+                plain = plain_costs(*arrays)
+            solutions = list_children(priors, rows_of, *plain, k, max_gap, shortcut=self.shortcuts)
         if solutions is None:
-            base = build_matrix(tm_cost, lp, c_new, c_fal)
+            if arrays is None:
+                tm_cost, lp = self._costs(nodes_u, measurements, meas_idx, row_of)
+                arrays = (tm_cost, lp, log_new[meas_idx], log_fal[meas_idx])
+            base = build_matrix(*arrays)
             matrices: list[AssignmentMatrix] = [base.subset(r) for r in rows_of]
             work = Work(max_solves=budget)
             solutions = k_best_children(priors, matrices, k, max_gap, work=work)
@@ -986,6 +1013,25 @@ class MHT(Generic[Meas]):
         if degraded:
             return [(members[pi], dec, total) for pi, dec, total in solutions]
         return solutions
+
+    def _plain_costs(self, live_rows: list[int], meas_idx: NDArray[np.intp]) -> PlainCosts:
+        """:func:`~.listing.list_children`'s costs of the live nodes at ``live_rows`` (rows
+        of this scan's tables) for the measurements ``meas_idx``, the same floats as the
+        arrays :meth:`_costs` takes from the tables: the detection costs taken out of the
+        table per cluster, the label costs from the scan's label costs as plain floats
+        (made once per scan, at the first cluster that needs them)."""
+        if not self._plain_made:
+            self._plain = plain_costs(np.empty((0, 0)), self._lp_live, *self._log_rates)
+            self._plain_made = True
+        _, occ_all, del_all, new_all, fal_all = self._plain
+        js = meas_idx.tolist()
+        return (
+            self._cost_live.take(live_rows, axis=0).take(meas_idx, axis=1).tolist(),
+            [occ_all[i] for i in live_rows],
+            [del_all[i] for i in live_rows],
+            [new_all[j] for j in js],
+            [fal_all[j] for j in js],
+        )
 
     def _costs(
         self,

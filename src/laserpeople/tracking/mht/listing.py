@@ -102,18 +102,72 @@ def enumerate_children(
         ``(parent index, labels, total cost)`` in nondecreasing total cost (equal costs in
         the order found), or None when the cluster is too big to list (more than
         :data:`MAX_LISTED_MEASUREMENTS` measurements, or over ``limit`` and ``budget``).
+        The children of :func:`list_children` on the same costs as plain floats.
     """
-    n_nodes, m = track_meas_cost.shape
-    c_occ = (-label_log_probs[:, OCCLUDED]).tolist()
-    c_del = (-label_log_probs[:, DELETED]).tolist()
+    return list_children(
+        priors,
+        rows,
+        *plain_costs(track_meas_cost, label_log_probs, log_new, log_fal),
+        k,
+        max_gap,
+        limit=limit,
+        shortcut=shortcut,
+        budget=budget,
+    )
+
+
+PlainCosts = tuple[list[list[float]], list[float], list[float], list[float], list[float]]
+"""The costs :func:`list_children` takes: per node the detection costs (one per
+measurement), per node the occluded and the deleted costs, per measurement the new and the
+false-alarm costs."""
+
+
+def plain_costs(
+    track_meas_cost: FloatArray,
+    label_log_probs: FloatArray,
+    log_new: FloatArray,
+    log_fal: FloatArray,
+) -> PlainCosts:
+    """:func:`enumerate_children`'s arrays as :func:`list_children`'s plain floats (the
+    log-probabilities negated: the same floats)."""
+    lps = np.asarray(label_log_probs, dtype=np.float64).tolist()
+    return (
+        np.asarray(track_meas_cost, dtype=np.float64).tolist(),
+        [-r[OCCLUDED] for r in lps],
+        [-r[DELETED] for r in lps],
+        [-c for c in np.asarray(log_new, dtype=np.float64).tolist()],
+        [-c for c in np.asarray(log_fal, dtype=np.float64).tolist()],
+    )
+
+
+def list_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    tm: list[list[float]],
+    c_occ: list[float],
+    c_del: list[float],
+    c_new: list[float],
+    c_fal: list[float],
+    k: int,
+    max_gap: float,
+    limit: int = LISTING_LIMIT,
+    shortcut: bool = True,
+    budget: int = LISTING_BUDGET,
+) -> list[tuple[int, LabelledAssignment, float]] | None:
+    """:func:`enumerate_children` on costs given as plain floats (-log; the MHT core takes
+    them from its per-scan tables without an array per cluster): ``tm`` per node the
+    costs of matching each of the ``m`` measurements (inf where not gated), ``c_occ`` and
+    ``c_del`` per node the costs of its occluded and deleted labels, ``c_new`` and
+    ``c_fal`` per measurement the costs of its new and false-alarm labels. The other
+    arguments and the result are :func:`enumerate_children`'s."""
+    m = len(c_new)
     if shortcut and m <= 1 and all(len(r) <= 1 for r in rows):
-        tm_single = track_meas_cost[:, 0].tolist() if m else [math.inf] * n_nodes
-        meas = (-float(log_new[0]), -float(log_fal[0])) if m else None
+        tm_single = [row[0] for row in tm] if m else [math.inf] * len(tm)
+        meas = (c_new[0], c_fal[0]) if m else None
         single = single_children(priors, rows, tm_single, c_occ, c_del, meas, k, max_gap)
         return [(pi, _single_labels(tl, ml, total), total) for total, pi, tl, ml in single]
     if m > MAX_LISTED_MEASUREMENTS:  # (before building the choices it would not use)
         return None
-    tm = track_meas_cost.tolist()
     # each track's finite labels, cheapest first: (cost, label, measurement or -1, its bit
     # or 0), with the cheapest cost and the measurements in the gate (a bit mask), in one
     # pass per track
@@ -142,8 +196,6 @@ def enumerate_children(
         if budget <= 0:
             return None
         steps = budget
-    c_new = (-np.asarray(log_new, dtype=np.float64)).tolist()
-    c_fal = (-np.asarray(log_fal, dtype=np.float64)).tolist()
     meas_choices = [
         sorted(c for c in ((c_new[j], NEW_LABEL), (c_fal[j], FALSE_ALARM)) if c[0] < math.inf)
         for j in range(m)

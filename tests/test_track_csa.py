@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from laserpeople.frame import Frame
-from laserpeople.scan import PointSet
+from laserpeople.scan import PointSet, Pose2D
 from laserpeople.tracking.csa import (
     ClusterSortingTracker,
     CSAParams,
@@ -312,6 +313,101 @@ def test_a_confirmed_target_missed_for_a_scan_stays_reported() -> None:
     csa = ClusterSortingTracker(CSAParams(confirm_scans=2))
     ids = [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
     assert ids == [[]] + [[0, 1]] * 11
+
+
+def _on_a_robot(robot_speed: float, frame: str = "world", unseen: range = range(0)) -> list[Frame]:
+    """Frames at 10 Hz of a laser driving along x at ``robot_speed`` [m/s]; from scan 2 on
+    it sees furniture (a blob that stays at (0, 3)) and a person who walks from (3, 3)
+    along x at 1 m/s, except in the scans ``unseen`` (world frame points; ``frame``
+    "sensor" marks a run without poses)."""
+    frames = []
+    for k in range(22):
+        xy = np.empty((0, 2))
+        if k >= 2:
+            walker = [] if k in unseen else [_blob((3.0 + (k - 2) / 10, 3.0), k)]
+            xy = np.concatenate([_blob((0.0, 3.0), k), *walker])
+        ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(robot_speed * k / 10, 0.0, 0.0)
+        fg = np.ones(len(xy), dtype=bool)
+        frames.append(Frame(k, k / 10, (), "synthetic", frame, pose, ps, fg))  # type: ignore[arg-type]
+    return frames
+
+
+def _reported(frames: list[Frame], params: CSAParams) -> list[list[int]]:
+    csa = ClusterSortingTracker(params)
+    return [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+
+
+def test_on_a_moving_laser_a_target_is_reported_once_it_walked() -> None:
+    """moving_travel (0.5 m): once the laser has moved (world frame), a new target is
+    reported only after the mean of its points lay 0.5 m from where it started. The
+    furniture (target 0) is never reported; the person (target 1, 1 m/s) from the scan
+    in which it has walked 0.5 m (scan 5 of 0.1 s; not before scan 4). On a still laser,
+    in a run without poses (sensor frame) and with moving_travel = 0 (002, --preset
+    paper) both are reported from their second scan (confirm_scans = 2)."""
+    moving = _reported(_on_a_robot(0.5), CSAParams())[2:]
+    assert all(0 not in ids for ids in moving)
+    assert moving[:4] == [[]] * 4
+    assert moving[6:] == [[1]] * 14
+    both = [[], [], []] + [[0, 1]] * 19
+    assert _reported(_on_a_robot(0.0), CSAParams()) == both
+    assert _reported(_on_a_robot(0.5, "sensor"), CSAParams()) == both
+    assert _reported(_on_a_robot(0.5), CSAParams(moving_travel=0.0)) == both
+    assert CSAParams.paper_preset["moving_travel"] == 0.0
+
+
+def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
+    """cut_free: two people stand together (one cluster of people 0 and 1); a third person
+    (one leg seen, 5 points) is first seen at t = 3 s right beside them, inside the
+    cluster's gates, so the cluster takes its points and no target starts; it then walks
+    away to (0, 5.5) and stands. Its points form a sub-cluster that holds no person's main
+    paths: it is cut off as a new target, reported there at the end, and the cluster
+    keeps its two people at their own legs. Without the rule (002, --preset paper) the
+    cluster holds the third person's points for ever and nobody is reported there."""
+    a = [(0, -2.5, 3.0), (2, -0.25, 3.0), (8, -0.25, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.25, 3.0), (8, 0.25, 3.0)]
+    frames = _frames([a, b], 8.0)
+    out = []
+    for f in frames:
+        pts = f.points.points
+        if f.stamp >= 3.0:
+            y = float(np.interp(f.stamp, [3.0, 5.0], [3.7, 5.5]))
+            pts = np.concatenate([pts, _blob((0.0, y), f.index)[:5]])
+        ps = PointSet(f.stamp, pts, np.zeros(len(pts), dtype=np.int64), np.arange(len(pts)))
+        out.append(replace(f, points=ps, foreground=np.ones(len(pts), dtype=bool)))
+
+    def end(params: CSAParams) -> tuple[ClusterSortingTracker, dict[int, np.ndarray]]:
+        csa = ClusterSortingTracker(params)
+        last = [csa.update(f) for f in out][-1]
+        return csa, {t.track_id: t.position for t in last.of_kind("person")}
+
+    csa, rows = end(CSAParams())
+    near_c = [k for k, xy in rows.items() if np.linalg.norm(xy - [0.0, 5.5]) < 0.3]
+    assert len(near_c) == 1 and near_c[0] not in (0, 1)
+    assert np.linalg.norm(rows[0] - [-0.25, 3.0]) < 0.2
+    assert np.linalg.norm(rows[1] - [0.25, 3.0]) < 0.2
+    assert (0, 1) in csa.clusters.values()
+    _, plain = end(CSAParams(cut_free=False))
+    assert all(np.linalg.norm(xy - [0.0, 5.5]) > 0.5 for xy in plain.values())
+    assert CSAParams.paper_preset["cut_free"] is False
+
+
+def test_on_a_moving_laser_a_target_unseen_for_moving_unseen_is_not_reported() -> None:
+    """moving_unseen (0.3 s): on a moving laser with poses, the walker (target 1, reported
+    from scan 8 once it walked) is not seen in scans 12-17: it is reported while unseen
+    for at most 0.3 s (scans 12-14, last seen in scan 11), not in scans 15-17, and again,
+    with the same id, once seen in scan 18 (it is tracked on until max_unseen, 1 s). On a
+    still laser, without poses and with moving_unseen = 0 (002) it is reported throughout."""
+    hidden = range(12, 18)
+    moving = _reported(_on_a_robot(0.5, unseen=hidden), CSAParams())
+    assert [1 in ids for ids in moving[8:]] == [True] * 7 + [False] * 3 + [True] * 4
+    for frames, params in (
+        (_on_a_robot(0.0, unseen=hidden), CSAParams()),
+        (_on_a_robot(0.5, "sensor", unseen=hidden), CSAParams()),
+        (_on_a_robot(0.5, unseen=hidden), CSAParams(moving_unseen=0.0, moving_travel=0.0)),
+    ):
+        assert all(1 in ids for ids in _reported(frames, params)[3:])
+    assert CSAParams.paper_preset["moving_unseen"] == 0.0
 
 
 def _cli_run(tmp_path, params: CSAParams, frames: int | None = None):  # type: ignore[no-untyped-def]

@@ -45,6 +45,7 @@ from laserpeople.config import param
 from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import linear_sum_assignment
 from laserpeople.tracking import kalman
+from laserpeople.tracking.robot_motion import MotionWatch
 from laserpeople.tracks import Track, Tracks
 
 FloatArray = NDArray[np.float64]
@@ -63,6 +64,9 @@ class CSAParams:
             "person_scores": False,
             "adopt_orphans": False,
             "confirm_scans": 1,
+            "moving_travel": 0.0,
+            "cut_free": False,
+            "moving_unseen": 0.0,
         }
     )
 
@@ -158,6 +162,41 @@ class CSAParams:
         "or adopted by a person before then, and clutter seen now and then, are never "
         "reported",
     )
+    moving_travel: float = param(
+        0.5,
+        "extension of 002 (a still laser's background explains the static world; 002 "
+        "Sec. 3 does not track from a moving robot): on a moving laser with poses the "
+        "leg detector fires on furniture the occupancy grid has not learned yet; as "
+        "static_tracks.min_travel; random-groups moving-sensor scenes (docs/csa.md)",
+        "in a world-frame run once the laser has moved from its first pose "
+        "(tracking/robot_motion.py), a target started from unselected points is reported "
+        "only once the mean of its selected measurements lay this far from where it "
+        "started (0: at once, 002); a target on a person who walks does so within a "
+        "second, furniture never",
+        "m",
+    )
+    moving_unseen: float = param(
+        0.3,
+        "extension of 002, as moving_travel: on a moving laser with poses the points "
+        "near leg detections flicker and a target coasting without them drifts off its "
+        "person or sits on furniture; random-groups moving-sensor scenes (docs/csa.md)",
+        "in a world-frame run once the laser has moved, a single target without selected "
+        "measurements for longer than this is not reported (it is tracked on until "
+        "max_unseen; 0: reported until deleted, 002)",
+        "s",
+    )
+    cut_free: bool = param(
+        True,
+        "extension of 002 (whose VBA lets a cluster take every point inside a gate of its "
+        "estimates, so people who walk up to a group become part of it and are never "
+        "tracked); random-groups still-sensor scenes (docs/csa.md)",
+        "a sub-cluster of a cluster (leader clustering at subcluster_distance) that holds "
+        "no person's main paths (the sub-cluster with most of its paths), that no lost "
+        "person of the cluster claims and whose estimates all lie farther than "
+        "subcluster_distance from those of the main sub-clusters leaves the cluster: "
+        "with at least min_points estimates as a new single target started next to the "
+        "cluster, with fewer dropped",
+    )
     background_people: bool = param(
         False,
         "measured (docs/csa.md): true gives crossing-3 cli worst IDF1 0.81 -> 0.94 (seed 7) "
@@ -236,6 +275,9 @@ class CSAParams:
             raise ValueError("min_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
+        for name in ("moving_travel", "moving_unseen"):
+            if not 0.0 <= getattr(self, name) < math.inf:
+                raise ValueError(f"{name} must be finite and not negative")
 
     @property
     def gate(self) -> float:
@@ -367,6 +409,7 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
+    start: FloatArray | None = None  # where it was started on a moving laser (moving_travel)
 
 
 @dataclass
@@ -427,6 +470,9 @@ class ClusterSortingTracker:
         self._s = _State()
         self._last: float | None = None
         self.events: list[CSAEvent] = []
+        self._motion = MotionWatch()
+        self._moving = False
+        """Whether the laser of this world-frame run has moved (see ``moving_travel``)."""
 
     # ------------------------------------------------------------------ helpers
     def _new_single(self, pos: FloatArray, stamp: float) -> None:
@@ -439,8 +485,9 @@ class ClusterSortingTracker:
             if np.min(np.linalg.norm(c.means[:, :2] - pos, axis=1)) < reach:
                 spawned_by = c.cid
                 break
+        start = np.array(pos, dtype=np.float64) if self._moving and p.moving_travel > 0 else None
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1, start
         )
 
     def _init_cov(self) -> FloatArray:
@@ -466,6 +513,8 @@ class ClusterSortingTracker:
         p = self.params
         z = self._points(frame)
         stamp = frame.stamp
+        if frame.frame == "world":
+            self._moving = self._motion(frame.sensor_pose)
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
         self._last = stamp
         point_var = p.point_std**2
@@ -509,17 +558,23 @@ class ClusterSortingTracker:
                 t = singles[i]
                 sel = gates[i]
                 if sel.any():  # KFA: the mean of the selected measurements
-                    mean, cov = kalman.update(
-                        sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2
-                    )
+                    centre = z[sel].mean(axis=0)
+                    mean, cov = kalman.update(sm[i], sc[i], centre, np.eye(2) * p.mean_std**2)
                     new_singles[t.pid] = _Single(
-                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1
+                        t.pid,
+                        mean,
+                        cov,
+                        stamp,
+                        t.spawned_by,
+                        t.born,
+                        t.hits + 1,
+                        _still_start(t.start, centre, p.moving_travel),
                     )
                 elif stamp - t.last_seen <= p.max_unseen:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, t.start
                     )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
@@ -528,6 +583,8 @@ class ClusterSortingTracker:
             cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
             if p.adopt_orphans:
                 self._orphans_claim(cl)
+            if p.cut_free:
+                self._cut_free(cl, stamp, new_singles)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -542,7 +599,15 @@ class ClusterSortingTracker:
 
     def _confirmed(self, t: _Single) -> bool:
         """Whether single target ``t`` is reported (see ``confirm_scans``)."""
+        if t.start is not None:  # started on a moving laser and not yet walked
+            return False
         return t.born == -math.inf or t.hits >= self.params.confirm_scans
+
+    def _shown_unseen(self, t: _Single, stamp: float) -> bool:
+        """Whether single target ``t``, unseen since ``t.last_seen``, is still reported at
+        ``stamp`` [s] (see ``moving_unseen``)."""
+        limit = self.params.moving_unseen
+        return not (self._moving and limit > 0 and stamp - t.last_seen > limit)
 
     def _vba(
         self,
@@ -721,6 +786,52 @@ class ClusterSortingTracker:
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
+    @staticmethod
+    def _main_subclusters(cl: _Cluster) -> set[int]:
+        """The sub-clusters of ``cl`` (``cl.labels``) that hold most of some person's
+        Viterbi paths (each person's *main* sub-cluster)."""
+        n_sub = int(cl.labels.max()) + 1
+        return {
+            int(np.argmax(np.bincount(cl.labels[cl.origin == m], minlength=n_sub)))
+            for m in {int(o) for o in cl.origin}
+        }
+
+    def _cut_free(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> None:
+        """Cut off every sub-cluster of ``cl`` (leader clustering at
+        ``subcluster_distance``) that holds none of its people's main paths and lies
+        farther than ``subcluster_distance`` from every estimate of the sub-clusters that
+        do (a person's legs are never that far apart): with at least ``min_points``
+        estimates it becomes a new single target started next to the cluster, at the mean
+        of those estimates, written to ``out``; fewer are dropped (see ``cut_free``).
+        Called after the orphans' claim, so a person of the cluster who lost its paths
+        takes such a sub-cluster first."""
+        p = self.params
+        if cl.labels.size == 0:
+            return
+        main = self._main_subclusters(cl)
+        n_sub = int(cl.labels.max()) + 1
+        held = cl.means[np.isin(cl.labels, list(main)), :2]
+        keep = np.ones(cl.labels.size, dtype=bool)
+        for k in range(n_sub):
+            sel = cl.labels == k
+            if k in main:
+                continue
+            gap = np.linalg.norm(cl.means[sel, None, :2] - held[None], axis=-1).min()
+            if gap <= p.subcluster_distance:  # leader clustering cut a person's legs apart
+                continue
+            keep &= ~sel
+            if int(sel.sum()) < p.min_points:  # too few to start a target: dropped
+                continue
+            pid = self._s.next_pid
+            self._s.next_pid += 1
+            mean = cl.means[sel].mean(axis=0)
+            out[pid] = _Single(pid, mean, self._init_cov(), stamp, cl.cid, stamp, 1)
+        if keep.all():
+            return
+        cl.means, cl.covs, cl.scores = cl.means[keep], cl.covs[keep], cl.scores[keep]
+        cl.origin = cl.origin[keep]
+        cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
         sub-clusters (leader clustering at ``subcluster_distance``) that are no person's
@@ -736,9 +847,7 @@ class ClusterSortingTracker:
             return
         labels = cl.labels
         n_sub = int(labels.max()) + 1
-        main = set()
-        for m in own:
-            main.add(int(np.argmax(np.bincount(labels[cl.origin == m], minlength=n_sub))))
+        main = self._main_subclusters(cl)
         free = [k for k in range(n_sub) if k not in main]
         if not free:
             return
@@ -851,7 +960,7 @@ class ClusterSortingTracker:
         p = self.params
         out: list[Track] = []
         for t in self._s.singles.values():
-            if self._confirmed(t):
+            if self._confirmed(t) and self._shown_unseen(t, frame.stamp):
                 out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
             for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():
@@ -878,6 +987,15 @@ class ClusterSortingTracker:
     def clusters(self) -> dict[int, tuple[int, ...]]:
         """Cluster id -> the people it holds (the memory of who merged)."""
         return {c.cid: c.members for c in self._s.clusters.values()}
+
+
+def _still_start(start: FloatArray | None, centre: FloatArray, travel: float) -> FloatArray | None:
+    """Where a target on a moving laser was started (2,) [m] while the mean of its selected
+    measurements ``centre`` (2,) [m] stays within ``travel`` [m] of it; None once it is
+    farther (it walked; see ``moving_travel``), and for good."""
+    if start is None or float(np.hypot(*(centre - start))) >= travel:
+        return None
+    return start
 
 
 def per_person_scores(scores: FloatArray, origin: IntArray) -> FloatArray:

@@ -89,6 +89,10 @@ FEATURES = ("tests/test_detect_features_reference.py", "tests/test_pipeline_look
 LASERSCAN = ("tests/test_io_laserscan_fast.py",)
 VIEW = ("tests/test_viz_acceptance.py",)
 EVAL = ("tests/test_eval_cli.py",)
+CSA_RULES = ("tests/test_track_csa.py",)
+PEOPLE_BG = ("tests/test_background_histogram.py",)
+MHT_CORE = ("tests/test_track_mht_core.py",)
+DIAGNOSE = ("tests/test_eval_suite.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -104,6 +108,8 @@ R = "io/ros1_reader.py"
 PT = "tracking/person_tracks.py"
 K = "tracking/kalman.py"
 LS = "io/laserscan_ros1.py"
+MC = "tracking/mht/core.py"
+GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
 MUTANTS: tuple[Mutant, ...] = (
     # ---- 000 group tracker (Sec. 4)
@@ -448,8 +454,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-kfa-first-point",
         "002 Sec. 2 (KFA: mean of the selected measurements)",
         C,
-        "sm[i], sc[i], z[sel].mean(axis=0), np.eye(2) * p.mean_std**2",
-        "sm[i], sc[i], z[sel][0], np.eye(2) * p.mean_std**2",
+        "centre = z[sel].mean(axis=0)",
+        "centre = z[sel][0]",
         CSA,
     ),
     Mutant(
@@ -891,6 +897,135 @@ MUTANTS: tuple[Mutant, ...] = (
         "return c.matches == 0 and c.num_tracks > 0 and c.num_truth > 0",
         "return c.matches == 0 and c.num_truth > 0",
         EVAL,
+    ),
+    # ---- the CSA's rules for people walking off a cluster and for a moving laser
+    Mutant(
+        "csa-cut-free-legs-apart",
+        "CSA cut_free (not within 1.5 m of the main paths)",
+        C,
+        "            if gap <= p.subcluster_distance:  # leader clustering cut a person's legs apart\n"
+        "                continue\n",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-cut-free-min-points-off-by-one",
+        "CSA cut_free (>= min_points estimates start a target)",
+        C,
+        "if int(sel.sum()) < p.min_points:  # too few to start a target: dropped",
+        "if int(sel.sum()) <= p.min_points:  # too few to start a target: dropped",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-cut-free-few-kept",
+        "CSA cut_free (fewer than min_points dropped)",
+        C,
+        "            keep &= ~sel\n"
+        "            if int(sel.sum()) < p.min_points:  # too few to start a target: dropped\n"
+        "                continue\n",
+        "            if int(sel.sum()) < p.min_points:  # too few to start a target: dropped\n"
+        "                continue\n"
+        "            keep &= ~sel\n",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-moving-travel-still-laser",
+        "CSA moving_travel (a moving laser only)",
+        C,
+        "if self._moving and p.moving_travel > 0 else None",
+        "if p.moving_travel > 0 else None",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-moving-unseen-still-laser",
+        "CSA moving_unseen (a moving laser only)",
+        C,
+        "return not (self._moving and limit > 0 and stamp - t.last_seen > limit)",
+        "return not (limit > 0 and stamp - t.last_seen > limit)",
+        CSA_RULES,
+    ),
+    # ---- the histogram's people of the learning period (background_people)
+    Mutant(
+        "histogram-people-share-complement",
+        "beam histogram people_share (share on people)",
+        H,
+        "return frequent & (people > 0) & (people >= p.people_share * counts)",
+        "return frequent & (people > 0) & (people >= (1.0 - p.people_share) * counts)",
+        PEOPLE_BG,
+    ),
+    Mutant(
+        "histogram-guess-nearer-than-person",
+        "beam histogram: the wall guessed not nearer than the person",
+        H,
+        "ok = np.isfinite(t) & (t >= person[need] * w - p.tolerance) & (t < k * w)",
+        "ok = np.isfinite(t) & (t < k * w)",
+        PEOPLE_BG,
+    ),
+    Mutant(
+        "histogram-relearn-from-person",
+        "beam histogram: relearn only beyond the guess",
+        H,
+        "            core[beams, bins] = True\n            self.nearest[beams] = bins\n",
+        "            core[beams, bins] = True\n",
+        PEOPLE_BG,
+    ),
+    Mutant(
+        "histogram-settle-clock-restarts",
+        "beam histogram people_settle_seconds (held since first seen)",
+        H,
+        "start = same & np.isnan(self.settling[beams])",
+        "start = same",
+        PEOPLE_BG,
+    ),
+    Mutant(
+        "histogram-settle-nearer-leaves",
+        "beam histogram settling (a nearer return is no leaving)",
+        H,
+        "gone = beams[bins > person + reach]",
+        "gone = beams[np.abs(bins - person) > reach]",
+        PEOPLE_BG,
+    ),
+    # ---- the MHT listing on plain floats
+    Mutant(
+        "listing-plain-occluded-deleted-swapped",
+        "leg MHT listing costs (occluded, deleted)",
+        L,
+        "        [-r[OCCLUDED] for r in lps],\n        [-r[DELETED] for r in lps],\n",
+        "        [-r[DELETED] for r in lps],\n        [-r[OCCLUDED] for r in lps],\n",
+        LISTING,
+    ),
+    Mutant(
+        "listing-plain-scan-first-rates",
+        "leg MHT listing costs (the cluster's measurements)",
+        MC,
+        "            [fal_all[j] for j in js],\n",
+        "            fal_all[: len(js)],\n",
+        MHT_CORE,
+    ),
+    Mutant(
+        "listing-plain-costs-of-first-scan",
+        "leg MHT listing costs (made anew each scan)",
+        MC,
+        "        self._plain_made = False\n        plain = type(self.branches) is SingleModel",
+        "        plain = type(self.branches) is SingleModel",
+        MHT_CORE,
+    ),
+    # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives
+    Mutant(
+        "gnn-diagnose-before-after-swapped",
+        "gnn_diagnose: a miss before the first / after the last match",
+        GD,
+        'else "before"\n                if k < first[oid]\n                else "after"',
+        'else "after"\n                if k < first[oid]\n                else "before"',
+        DIAGNOSE,
+    ),
+    Mutant(
+        "gnn-diagnose-switch-from-first-track",
+        "gnn_diagnose: id switches from the last matched track",
+        GD,
+        "                c[\"id switches\"] += 1\n            last[oid] = tid\n",
+        "                c[\"id switches\"] += 1\n            last.setdefault(oid, tid)\n",
+        DIAGNOSE,
     ),
     # ---- fit (000's counting of events) and mean shift (004)
     Mutant(

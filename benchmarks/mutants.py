@@ -1023,8 +1023,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "gnn-diagnose-switch-from-first-track",
         "gnn_diagnose: id switches from the last matched track",
         GD,
-        "                c[\"id switches\"] += 1\n            last[oid] = tid\n",
-        "                c[\"id switches\"] += 1\n            last.setdefault(oid, tid)\n",
+        '                c["id switches"] += 1\n            last[oid] = tid\n',
+        '                c["id switches"] += 1\n            last.setdefault(oid, tid)\n',
         DIAGNOSE,
     ),
     # ---- fit (000's counting of events) and mean shift (004)

@@ -412,3 +412,26 @@ def test_a_wall_seen_between_the_legs_and_taken_for_a_leg_is_the_wall() -> None:
         model.learn_foreground(frame, np.isin(frame.points.beams, np.arange(40, 48)))
     assert int(model.foreground_of(_scan(ranges, 1.1)).sum()) == 7  # the person, not beam 43
     assert int(model.foreground_of(_scan(_walls(), 1.2)).sum()) == 0
+
+
+def test_no_wall_is_guessed_in_front_of_people_standing_in_a_recess() -> None:
+    """Through the learning beams 40-43 see a person at 5.0 m (bin 100), marked, in a
+    recess behind the walls beside them: the straight line between the farthest static
+    returns of beams 39 and 44 crosses those beams at 4.43-4.46 m (bins 88-89), nearer
+    than the person less the tolerance (4.9 m), so no wall is guessed there (the nearest
+    static bin stays the person's, 100). Someone later passing at 4.46 m on those beams is
+    foreground (a guess there would hide them), as the person's range is."""
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    ranges = _walls()
+    ranges[40:44] = 5.0
+    for k in range(11):
+        frame = _frame([_scan(ranges, 0.1 * k, index=k)])
+        assert frame.points is not None
+        model.learn_foreground(frame, np.isin(frame.points.beams, np.arange(40, 44)))
+    table = model._tables["a"]
+    assert table.nearest is not None
+    assert table.nearest[40:44].tolist() == [100] * 4
+    passing = _walls()
+    passing[40:44] = 4.46
+    assert int(model.foreground_of(_scan(passing, 1.1)).sum()) == 4
+    assert int(model.foreground_of(_scan(ranges, 1.1)).sum()) == 4

@@ -482,3 +482,36 @@ def test_only_the_csa_asks_for_the_people_of_the_learning_period() -> None:
     assert isinstance(stage, AutoBackground) and stage.learn_people
     plain = background_stage("auto")
     assert isinstance(plain, AutoBackground) and not plain.learn_people
+
+
+def test_cut_free_starts_a_target_from_min_points_estimates_and_drops_fewer() -> None:
+    """cut_free by hand on a cluster of people 0 and 1 (estimates at their legs, 4 each)
+    with two far sub-clusters that hold no person's main paths: 3 estimates of person 0's
+    paths around (0, 3) (min_points = 3: a new target at their mean, (0, 3.033), started
+    next to the cluster) and 2 of person 1's around (3, 0) (fewer: dropped). The cluster keeps
+    its 8 leg estimates and nothing else."""
+    from laserpeople.tracking.csa import _Cluster
+
+    legs0 = [(-0.3, 0.0), (-0.1, 0.0), (-0.3, 0.05), (-0.1, 0.05)]
+    legs1 = [(0.1, 0.0), (0.3, 0.0), (0.1, 0.05), (0.3, 0.05)]
+    far0 = [(-0.1, 3.0), (0.1, 3.0), (0.0, 3.1)]
+    far1 = [(3.0, -0.05), (3.0, 0.05)]
+    xy = np.array(legs0 + legs1 + far0 + far1)
+    origin = np.array([0] * 4 + [1] * 4 + [0] * 3 + [1] * 2)
+    means = np.c_[xy, np.zeros((len(xy), 2))]
+    cl = _Cluster(
+        9, (0, 1), means, np.tile(np.eye(4) * 0.01, (len(xy), 1, 1)), np.zeros(len(xy)), origin, 0.0
+    )
+    cl.labels = leader_clusters(means[:, :2], 1.5)
+    assert int(cl.labels.max()) + 1 == 3  # the legs, (0, 3) and (3, 0)
+    csa = ClusterSortingTracker(CSAParams())
+    csa._s.next_pid = 5
+    out: dict = {}
+    csa._cut_free(cl, 2.0, out)
+    assert list(out) == [5]
+    new = out[5]
+    assert np.allclose(new.mean, [0.0, (3.0 + 3.0 + 3.1) / 3, 0.0, 0.0], atol=1e-12)
+    assert (new.spawned_by, new.born, new.hits) == (9, 2.0, 1)
+    assert np.allclose(cl.means[:, :2], np.array(legs0 + legs1), atol=1e-12)
+    assert cl.origin.tolist() == [0] * 4 + [1] * 4
+    assert cl.labels.tolist() == [0] * 8

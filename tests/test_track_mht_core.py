@@ -423,3 +423,40 @@ def test_the_listing_budget_counts_every_track_and_measurement_labelled() -> Non
         got = listed(*two, shortcut=False, **kw)
         assert got is not None, kw
         np.testing.assert_allclose([c for *_, c in got], [2 * a, a + b, a + b, 2 * b])
+
+
+class PlaceLabels(FixedLabels):
+    """FixedLabels whose new-track and false-alarm rates grow with a measurement's x
+    (every measurement its own rates); keeps the positions it was last asked about."""
+
+    def __init__(self) -> None:
+        self.x = np.empty(0)
+
+    def measurement_log_rates(self, m: PointMeasurements) -> tuple[np.ndarray, np.ndarray]:
+        self.x = np.asarray(m.positions, float)[:, 0]
+        return math.log(0.001) + 0.2 * self.x, math.log(0.003) + 0.1 * self.x
+
+
+def test_listing_costs_are_each_clusters_own_measurements_rates(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With a rate per measurement (PlaceLabels), the listing's new-track and false-alarm
+    costs taken from the scan's tables are those of the cluster's own measurements: for
+    every cluster, -(log rate) of each of its measurements, from the labels by hand."""
+    labels = PlaceLabels()
+    later = 0
+    original = MHT._plain_costs
+
+    def spy(self: MHT[PointMeasurements], rows: list[int], meas_idx: np.ndarray) -> tuple:
+        nonlocal later
+        got = original(self, rows, meas_idx)
+        x = labels.x[meas_idx]
+        assert got[3] == pytest.approx((-(math.log(0.001) + 0.2 * x)).tolist(), abs=1e-12)
+        assert got[4] == pytest.approx((-(math.log(0.003) + 0.1 * x)).tolist(), abs=1e-12)
+        later += int(meas_idx.size > 0 and meas_idx[0] > 0)
+        return got
+
+    monkeypatch.setattr(MHT, "_plain_costs", spy)
+    mht = MHT(MHTParams(), KalmanPointModel(KalmanParams()), labels)  # type: ignore[arg-type]
+    run_targets(mht, 60)
+    assert later >= 4  # clusters whose measurements do not start the scan's list

@@ -903,7 +903,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-cut-free-legs-apart",
         "CSA cut_free (not within 1.5 m of the main paths)",
         C,
-        "            if gap <= p.subcluster_distance:  # leader clustering cut a person's legs apart\n"
+        "            if gap <= p.subcluster_distance:"
+        "  # leader clustering cut a person's legs apart\n"
         "                continue\n",
         "",
         CSA_RULES,

@@ -215,8 +215,9 @@ def test_gnn_diagnose_splits_misses_and_false_positives_by_time() -> None:
 
 def test_gnn_diagnose_counts_a_switch_back_to_an_earlier_track() -> None:
     """CLEAR MOT counts a switch against the track last matched: person 1 matched to
-    tracks 7, 8, 8, 7 (switches at the second and the last scan: 2); person 2 matched to
-    track 5, missed, matched to 5 again (no switch)."""
+    tracks 7, 8, 8, 8, 7 (switches at the second and the last scan: 2; counted against
+    the first track there would be 3); person 2 matched to track 5, missed, matched to 5
+    again (no switch)."""
     sys.path.insert(0, str(BENCH))
     try:
         from gnn_diagnose import split
@@ -226,9 +227,10 @@ def test_gnn_diagnose_counts_a_switch_back_to_an_earlier_track() -> None:
         ({1: 7, 2: 5}, [5, 7]),
         ({1: 8}, [8]),
         ({1: 8, 2: 5}, [5, 8]),
+        ({1: 8, 2: 5}, [5, 8]),
         ({1: 7, 2: 5}, [5, 7]),
     ]
     seen = ("passing", True, True, True)
-    c = split(matched, [{1: seen, 2: seen}] * 4)
+    c = split(matched, [{1: seen, 2: seen}] * 5)
     assert c["id switches"] == 2
-    assert c["match"] == 7 and c["miss gap"] == 1
+    assert c["match"] == 9 and c["miss gap"] == 1

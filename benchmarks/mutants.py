@@ -45,7 +45,8 @@ class Mutant:
     Attributes:
         name: Short name (``--only``).
         paper: Paper and equation it breaks (e.g. "000 eq. 32").
-        path: Source file relative to ``src/laserpeople``.
+        path: Source file relative to ``src/laserpeople`` (``../../benchmarks/...``: a
+            benchmark script the tests import, patched in the copy as well).
         original: Exact snippet of the file.
         replacement: What it becomes.
         tests: Test files (or node ids) to run, relative to the repository.

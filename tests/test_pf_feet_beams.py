@@ -97,3 +97,29 @@ def test_a_person_standing_4m_from_a_1_deg_scanner_starts_a_filter(
         points = PointSet.from_scans([scan], "sensor")
         tracker.update(Frame(k, k / 15.0, (scan,), "laser", "sensor", points=points))
     assert (len(tracker.bank) > 0) is found
+
+
+def _standing(x: float) -> np.ndarray:
+    """A person standing 3 m ahead at ``x``: two legs 0.2 m apart, five points each."""
+    a = np.linspace(-2.4, -0.8, 5)
+    legs = [
+        np.column_stack([c + 0.06 * np.cos(a), 3.0 + 0.06 * np.sin(a)]) for c in (x - 0.1, x + 0.1)
+    ]
+    return np.vstack(legs)
+
+
+@pytest.mark.parametrize(("exclusion", "filters"), [(0.6, 2), (0.85, 1)])
+def test_a_person_standing_beside_a_tracked_one_gets_a_filter(
+    exclusion: float, filters: int
+) -> None:
+    """Two people 0.75 m apart (a group's spacing in random-groups), one tracked: the other
+    stands still for ``still_time`` and starts a filter only when ``birth_exclusion`` is
+    below their distance (0.6 m, not 0.85 m)."""
+    from test_pf_feet_cells import frame_of
+
+    tracker = FeetTracker(FeetParams(particles=100, birth_exclusion=exclusion))
+    tracker.bank.add(np.stack([tracker._initial(np.array([[-0.1, 3.0], [0.1, 3.0]]))]), 0.0)
+    pts = np.vstack([_standing(0.0), _standing(0.75)])
+    for k in range(1, 21):  # 15 Hz, 1.3 s
+        tracker.update(frame_of(pts, k / 15.0, k))
+    assert len(tracker.bank) == filters

@@ -27,9 +27,7 @@ def test_a_filter_left_behind_is_refreshed_from_its_cell(refresh: float, caught:
     ``cell_refresh`` 0.2 m a share of its particles restarts from the cell's points and
     within 10 scans (15 Hz) the track is within 0.1 m of the person; with 0 it stays
     farther."""
-    tr = FeetTracker(
-        FeetParams(particles=300, cell_refresh=refresh, still_time=0.0, points_body=False)
-    )
+    tr = FeetTracker(FeetParams(particles=300, cell_refresh=refresh, still_time=0.0))
     tr.bank.add(np.stack([tr._initial(np.array([[-0.1, 2.0], [0.1, 2.0]]))]), 0.0)
     tr.bank.states[..., S] = 0.0  # stride 0: the filter stands
     pts = _person(0.45, 2.0)

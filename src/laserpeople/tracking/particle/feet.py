@@ -101,7 +101,6 @@ class FeetParams:
             "still_time": 0.0,
             "cell_refresh": 0.0,
             "leg_width": 0.0,
-            "points_body": False,
         }
     )
 
@@ -315,19 +314,6 @@ class FeetParams:
         1.5,
         "assumed: neighbouring beams on a leg's arc lie up to ~1.4 spacings apart",
         "``segment_link`` is at least this many beam spacings (with ``leg_width``)",
-    )
-    points_body: bool = param(
-        True,
-        "departure from 004 (False here: the walking model's body position); under trial",
-        "a filter with at least two points within ``support_radius`` of its feet reports "
-        "the midpoint of their two halves along their major axis, moved ``points_offset`` "
-        "away from the laser along the beam, instead of the walking model's body",
-    )
-    points_offset: float = param(
-        0.06,
-        "assumed: a leg's radius (random-groups legs 0.05-0.09 m)",
-        "how far behind the surface the laser sees a leg's centre lies",
-        "m",
     )
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
@@ -954,7 +940,6 @@ class FeetTracker:
         p, st = self.scaled, self.bank.states
         body = self.midpoints() + body_offset(st)
         vel = self._velocities()
-        on_blob = np.zeros(len(self.bank), dtype=bool)
         if p.blob_body and len(self.bank) and len(pts):
             mids = np.einsum("fp,fpc->fc", self.bank.weights, self.midpoints())
             est = np.einsum("fp,fpc->fc", self.bank.weights, body)
@@ -963,52 +948,8 @@ class FeetTracker:
             centre = blob_centres(pts, legs, mids, heading, p.link_distance, p.blob_reach, objects)
             shift = np.where(np.isfinite(centre), centre - est, 0.0)
             body = body + shift[:, None, :]
-            on_blob = np.isfinite(centre).all(axis=1)
-        if p.points_body and len(self.bank) and len(pts):
-            est = np.einsum("fp,fpc->fc", self.bank.weights, body)
-            feet = self.bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2)
-            centre = measured_bodies(pts, feet, p.support_radius, _origin(frame), p.points_offset)
-            shift = np.where(np.isfinite(centre) & ~on_blob[:, None], centre - est, 0.0)
-            body = body + shift[:, None, :]
         shown = frame.stamp - self.bank.last_seen <= p.report_time
         return self.bank.tracks(body, vel, p.confirm_scans, frame, shown)
-
-
-def _origin(frame: Frame) -> NDArray[np.float64]:
-    """Where the frame's (first) laser is [m] in the frame's coordinates."""
-    pose = frame.sensor_pose
-    if frame.frame == "world" and pose is not None:
-        return np.array([pose.x, pose.y])
-    return np.zeros(2)
-
-
-def measured_bodies(
-    points: NDArray[np.float64],
-    feet: NDArray[np.float64],
-    radius: float,
-    origin: NDArray[np.float64],
-    offset: float,
-) -> NDArray[np.float64]:
-    """Body positions (F, 2) [m] measured from the points (N, 2) within ``radius`` of the
-    estimated feet (F, 2, 2) of each filter: the midpoint of the two halves of those
-    points along their major axis (:func:`_two_feet`, the two legs), moved ``offset``
-    farther from the laser at ``origin`` (2,) (a leg's centre lies behind the surface it
-    shows); NaN for a filter with fewer than two such points."""
-    out = np.full((len(feet), 2), np.nan)
-    if len(points) == 0 or len(feet) == 0:
-        return out
-    tree = cKDTree(points)
-    for f in range(len(feet)):
-        idx = sorted(set().union(*tree.query_ball_point(feet[f], radius)))
-        if len(idx) < 2:
-            continue
-        mine = points[idx]
-        centre = mine.mean(axis=0)
-        c = _two_feet(mine, centre, np.cov(mine.T)).mean(axis=0)
-        ray = c - origin
-        norm = float(np.hypot(*ray))
-        out[f] = c + (offset * ray / norm if norm > 0.0 else 0.0)
-    return out
 
 
 def blob_centres(

@@ -301,7 +301,8 @@ class FeetParams:
     leg_width: float = param(
         0.12,
         "departure from 004 (0 here: the counts and link as set, for 0.5 deg lasers 2 m "
-        "away); random-groups legs are 0.10-0.18 m wide, seen by 0.25-1 deg scanners "
+        "away); random-groups legs are 0.10-0.18 m wide; tuning seeds 0-19 at feet "
+        "height, scanners of 0.6-1 deg: MOTP 0.466 at 0, 0.479 at 0.12 "
         "(docs/schenk-tables.md)",
         "width of a leg the laser sees: with b = leg_width / beam spacing (the median "
         "spacing of the scan's foreground points, range x angular step) beams on a leg, "

@@ -48,7 +48,9 @@ def test_fine_scanners_the_paper_and_unknown_spacing_keep_the_parameters() -> No
     off = FeetParams(leg_width=0.0)
     assert scaled_to_beams(off, 0.1) is off
     assert scaled_to_beams(base, float("nan")) is base
-    assert FeetParams.paper_preset["leg_width"] == 0.0
+    from laserpeople.config import load_config
+
+    assert load_config(FeetParams, None, "paper").leg_width == 0.0
 
 
 def _scan_frame(ranges: np.ndarray, increment: float, angle_min: float = 0.0) -> Frame:

@@ -403,7 +403,8 @@ INDEPENDENT = [
     "(`benchmarks/followed_person.py --tracker feet-pf`) identity recall 0.662 -> 0.655, "
     "2 -> 3 ids, recall 0.991 -> 0.990 (one id can cover at most 0.669: the person leaves"
     " the view for 86 s); `real_people.py --trackers feet-pf --policies tracks "
-    "--backgrounds auto`: corridor 7 ids / 7 walkers / 0 s static, unchanged.",
+    "--backgrounds auto`: corridor 7 ids / 7 walkers / 0 s static, demo 7 / 5 / 21.4 "
+    "s, both unchanged.",
     "",
     "`upper-body-pf` on these scenes' one leg-height laser: `track` warns that it models "
     "a laser at upper-body height (below 0.7 m: 'at leg height use feet-pf or leg-mht') "

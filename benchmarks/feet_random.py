@@ -25,19 +25,11 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from groups_random import parse_seeds  # type: ignore[import-not-found]
 from laserpeople.sim.scenarios import build_scene
 
 COARSE_DEG = 0.6
 """Scanners this coarse or coarser count as coarse [deg]."""
-
-
-def parse_seeds(text: str) -> list[int]:
-    """``"100-119"`` or ``"1,2,5"`` -> the seeds."""
-    out: list[int] = []
-    for part in text.split(","):
-        lo, _, hi = part.partition("-")
-        out += list(range(int(lo), int(hi) + 1)) if hi else [int(lo)]
-    return out
 
 
 def _cli() -> list[str]:

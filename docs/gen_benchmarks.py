@@ -214,7 +214,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Colour re-identification after crossings (8 variants × 5 seeds, 135 people)",
         ("benchmarks/csa_crossings.py",),
         10.0,
-        "people right after the crossing: CSA 82 → 135 with colour, leg MHT 62 → 124",
+        "people right after the crossing: CSA 82 → 135 with colour, leg MHT 85 → 135",
         "csa.md",
     ),
     Benchmark(

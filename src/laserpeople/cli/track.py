@@ -221,9 +221,9 @@ def run_tracking(
         )
     if len(source.topics) > 1:
         say(f"fusing {', '.join(source.topics)} (frames follow {source.topics[0]})")
-    from laserpeople.pipeline.laser_height import laser_heights, upper_body_warning
+    from laserpeople.pipeline.laser_height import laser_heights, mount_warning
 
-    height_warning = upper_body_warning(
+    height_warning = mount_warning(
         tracker_name, list(source.topics), laser_heights(source.recording)
     )
     if height_warning:

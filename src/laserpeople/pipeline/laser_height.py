@@ -44,3 +44,26 @@ def upper_body_warning(tracker: str, topics: list[str], heights: dict[str, float
             f"none): {advice}"
         )
     return ""
+
+
+def feet_warning(tracker: str, topics: list[str], heights: dict[str, float]) -> str:
+    """A warning when ``feet-pf`` tracks lasers at upper-body height ("" otherwise, for
+    lasers of unknown height and for every other tracker): 004's feet tracker (Schenk et al.
+    2011 Sec. 2.1) models two feet cut by a laser at 0.2 m, and at torso height a person is
+    one blob that makes no steps."""
+    if tracker != "feet-pf":
+        return ""
+    high = [t for t in topics if t in heights and heights[t] >= UPPER_BODY_MIN_HEIGHT]
+    if not high:
+        return ""
+    where = ", ".join(f"{t} at {heights[t]:.2f} m" for t in high)
+    return (
+        f"feet-pf models a laser at feet height (Schenk et al. 2011: 0.2 m), but the "
+        f"recording mounts {where} (upper-body height): there use upper-body-pf"
+    )
+
+
+def mount_warning(tracker: str, topics: list[str], heights: dict[str, float]) -> str:
+    """The warning of :func:`upper_body_warning` or :func:`feet_warning` for ``tracker``
+    ("" when its lasers sit where it expects them)."""
+    return upper_body_warning(tracker, topics, heights) or feet_warning(tracker, topics, heights)

@@ -44,6 +44,12 @@ at feet height with a walking model.
   along their major axis, as from a detected step (a filter that stood with its person
   has strides near 0 and stays behind when the person walks off, and at a low scan rate
   no step is detected to refresh it).
+- A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
+  the point counts that tell a leg or a standing person (``blob_leg_points``,
+  ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
+  foreground (``leg_width`` over the beam spacing), and ``segment_link`` spans at least
+  ``segment_beams`` beam spacings, so that a 1 deg scanner's one or two points per leg
+  still make legs (:func:`scaled_to_beams`).
 
 The reported person position is the weighted mean of the body positions the walking model
 implies (the feet midpoint moved by :func:`body_offset`).
@@ -51,7 +57,8 @@ implies (the feet midpoint moved by :func:`body_offset`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 from types import MappingProxyType
 
 import numpy as np
@@ -93,6 +100,7 @@ class FeetParams:
             "overlap_max": 0.0,
             "still_time": 0.0,
             "cell_refresh": 0.0,
+            "leg_width": 0.0,
         }
     )
 
@@ -200,10 +208,11 @@ class FeetParams:
         0.15, "assumed", "two filters with feet this close track one person", "m"
     )
     birth_exclusion: float = param(
-        0.85,
-        "assumed; measured on seeds 3-4 (circle, 3 pers., cross, normal: MOTP 0.68 at "
-        "0.6, 0.78 at 0.85: a filter lagging in a tight turn is refreshed by the next "
-        "step instead of replaced by a new filter under a new identity)",
+        0.6,
+        "measured: at 0.85 no filter started beside a person walking or standing in a "
+        "group (neighbours 0.75 m apart); random-groups tuning seeds 0-19 at feet height "
+        "MOTP 0.369 at 0.85, 0.494 at 0.6; 004's circle, cross, join, 3 pers., corner, "
+        "seeds 0-1: 0.948 both (docs/schenk-tables.md)",
         "no filter starts this close to an existing one; a step detected this close "
         "refreshes the nearest filter",
         "m",
@@ -289,6 +298,24 @@ class FeetParams:
         "objects with a point this close to a filter's feet midpoint are its blob",
         "m",
     )
+    leg_width: float = param(
+        0.12,
+        "departure from 004 (0 here: the counts and link as set, for 0.5 deg lasers 2 m "
+        "away); random-groups legs are 0.10-0.18 m wide; tuning seeds 0-19 at feet "
+        "height, scanners of 0.6-1 deg: MOTP 0.466 at 0, 0.479 at 0.12 "
+        "(docs/schenk-tables.md)",
+        "width of a leg the laser sees: with b = leg_width / beam spacing (the median "
+        "spacing of the scan's foreground points, range x angular step) beams on a leg, "
+        "``blob_leg_points`` is at most max(1, floor(b)), ``still_points`` at most "
+        "2 max(1, floor(b)), and ``segment_link`` at least ``segment_beams`` spacings; "
+        "0 disables",
+        "m",
+    )
+    segment_beams: float = param(
+        1.5,
+        "assumed: neighbouring beams on a leg's arc lie up to ~1.4 spacings apart",
+        "``segment_link`` is at least this many beam spacings (with ``leg_width``)",
+    )
     support_radius: float = param(
         0.25, "assumed", "a point this close to a foot supports the filter", "m"
     )
@@ -362,6 +389,47 @@ class FeetParams:
             raise ConfigError(f"p0 must be positive, got {self.p0}")
         if not 0.0 <= self.long_weight <= 1.0:
             raise ConfigError(f"long_weight must be in [0, 1], got {self.long_weight}")
+
+
+def scaled_to_beams(params: FeetParams, spacing: float) -> FeetParams:
+    """``params`` with the point counts and segment link of one scan scaled to what its
+    laser shows of a leg: with b = ``leg_width`` / ``spacing`` [m] beams on a leg,
+    ``blob_leg_points`` at most max(1, floor(b)), ``still_points`` at most
+    2 max(1, floor(b)) and ``segment_link`` at least ``segment_beams`` x ``spacing``.
+    Unchanged when ``leg_width`` is 0 or ``spacing`` is not a positive number (a frame
+    without its scans), and where the laser shows enough beams (a 0.5 deg laser 2 m
+    away: b = 6.9)."""
+    if params.leg_width <= 0.0 or not spacing > 0.0:
+        return params
+    beams = max(1, int(np.floor(params.leg_width / spacing)))
+    leg_points = min(params.blob_leg_points, beams)
+    still_points = min(params.still_points, 2 * beams)
+    link = max(params.segment_link, params.segment_beams * spacing)
+    if (leg_points, still_points, link) == (
+        params.blob_leg_points,
+        params.still_points,
+        params.segment_link,
+    ):
+        return params
+    return replace(params, blob_leg_points=leg_points, still_points=still_points, segment_link=link)
+
+
+def foreground_spacing(frame: Frame) -> float:
+    """Median beam spacing [m] (range x angular step of its scan) of the frame's
+    foreground points; NaN without points or without the scans they came from."""
+    from laserpeople.tracking.groups.tracker import beam_spacing
+
+    if frame.points is None or len(frame.points.points) == 0:
+        return float("nan")
+    idx = (
+        np.arange(len(frame.points.points))
+        if frame.foreground is None
+        else np.flatnonzero(frame.foreground)
+    )
+    if idx.size == 0:
+        return float("nan")
+    spacing = beam_spacing(frame, idx)
+    return float("nan") if spacing is None else float(np.median(spacing))
 
 
 def walking_model(states: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
@@ -632,6 +700,8 @@ class FeetTracker:
         self.bank = FilterBank(self.params.particles, 8)
         self.detector = StepDetector(self.params)
         self.still = StillDetector(self.params)
+        self.scaled = self.params
+        """The parameters of the last scan (:func:`scaled_to_beams`)."""
         self._stamp: float | None = None
         self.objects = ObjectMemory(self.params.object_reach, self.params.object_memory)
 
@@ -665,8 +735,12 @@ class FeetTracker:
     def update(self, frame: Frame) -> Tracks:
         """Predict, weight by eqs. 3-7 and the repelling term, resample, remove dead
         filters and start filters at completed step sequences."""
-        p, bank = self.params, self.bank
+        bank = self.bank
         pts = frame.foreground_points("the feet tracker")
+        p = self.scaled = scaled_to_beams(
+            self.params, foreground_spacing(frame) if self.params.leg_width > 0.0 else math.nan
+        )
+        self.still.params = p
         # one clustering per scan at link_distance and one at segment_link, shared by the
         # size bound, the still detector, the weights of eqs. 3-4 and the blob centres
         wants_objects = p.max_eigenvalue > 0.0 or p.still_time > 0.0 or p.blob_body
@@ -726,7 +800,7 @@ class FeetTracker:
         """(N,) weight of each point in eqs. 3-4: ``long_weight`` on a surface segment
         (single linkage at ``segment_link``; ``segments`` (N,) labels if known) longer than
         a leg's (``leg_eigenvalue``), else 1."""
-        p = self.params
+        p = self.scaled
         if p.long_weight == 1.0 or len(pts) == 0:
             return np.ones(len(pts))
         long = object_eigenvalues(pts, p.segment_link, segments) > p.leg_eigenvalue
@@ -788,7 +862,7 @@ class FeetTracker:
         (filter ``owner`` (N,)), at least ``still_points`` of them, are centred farther
         than ``cell_refresh`` from its feet midpoint ``est`` (F, 2): from the two halves
         of those points along their major axis (:func:`_two_feet`)."""
-        p = self.params
+        p = self.scaled
         if len(pts) == 0:
             return
         n = len(est)
@@ -864,7 +938,7 @@ class FeetTracker:
         legs (``blob_body``) at the blob's centre (:func:`blob_centres`). ``objects`` and
         ``segments`` (N,) are the labels of ``pts`` at ``link_distance`` and
         ``segment_link`` if known."""
-        p, st = self.params, self.bank.states
+        p, st = self.scaled, self.bank.states
         body = self.midpoints() + body_offset(st)
         vel = self._velocities()
         if p.blob_body and len(self.bank) and len(pts):
@@ -979,7 +1053,9 @@ __all__ = [
     "body_offset",
     "feet_weights",
     "foot_likelihood",
+    "foreground_spacing",
     "repelling",
+    "scaled_to_beams",
     "stride_likelihood",
     "walking_model",
     "width_likelihood",

@@ -94,6 +94,8 @@ CSA_RULES = ("tests/test_track_csa.py",)
 PEOPLE_BG = ("tests/test_background_histogram.py",)
 MHT_CORE = ("tests/test_track_mht_core.py",)
 DIAGNOSE = ("tests/test_eval_suite.py",)
+FEET_BEAMS = ("tests/test_pf_feet_beams.py",)
+FEET_HEIGHT = ("tests/test_laser_height_feet.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -1028,6 +1030,39 @@ MUTANTS: tuple[Mutant, ...] = (
         '                c["id switches"] += 1\n            last[oid] = tid\n',
         '                c["id switches"] += 1\n            last.setdefault(oid, tid)\n',
         DIAGNOSE,
+    ),
+    # ---- feet-pf on coarse scanners (leg_width) and at the wrong height
+    Mutant(
+        "feet-leg-beams-ceil",
+        "feet-pf leg_width (floor of the beams on a leg)",
+        F,
+        "beams = max(1, int(np.floor(params.leg_width / spacing)))",
+        "beams = max(1, int(np.ceil(params.leg_width / spacing)))",
+        FEET_BEAMS,
+    ),
+    Mutant(
+        "feet-segment-link-min",
+        "feet-pf leg_width (segment_link at least segment_beams spacings)",
+        F,
+        "link = max(params.segment_link, params.segment_beams * spacing)",
+        "link = min(params.segment_link, params.segment_beams * spacing)",
+        FEET_BEAMS,
+    ),
+    Mutant(
+        "feet-still-detector-unscaled",
+        "feet-pf leg_width (the still detector's counts scaled too)",
+        F,
+        "        self.still.params = p\n",
+        "",
+        FEET_BEAMS,
+    ),
+    Mutant(
+        "feet-warning-low-lasers",
+        "feet-pf warning (lasers at upper-body height)",
+        "pipeline/laser_height.py",
+        "high = [t for t in topics if t in heights and heights[t] >= UPPER_BODY_MIN_HEIGHT]",
+        "high = [t for t in topics if t in heights and heights[t] < UPPER_BODY_MIN_HEIGHT]",
+        FEET_HEIGHT,
     ),
     # ---- fit (000's counting of events) and mean shift (004)
     Mutant(

@@ -550,6 +550,7 @@ class GroupMHTTracker:
         self._anchors: dict[int, tuple[float, FloatArray]] = {}
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
+        self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
 
     @property
     def wants_static_model(self) -> bool:
@@ -681,7 +682,8 @@ class GroupMHTTracker:
         """The id each of ``nodes`` is reported with: its family, or with ``reuse_ids`` the
         id of the group reported before with the same internal labels (a split group whose
         parts merged back: ``0`` -> ``0-0``, ``0-1`` -> ``0``), unless another node of this
-        scan has that id."""
+        scan has that id; the two halves of a split keep their ids by position
+        (:meth:`_follow_halves`)."""
         if not self.params.reuse_ids:
             return [node.family for node in nodes]
         keys = [self.name(node) for node in nodes]
@@ -701,7 +703,41 @@ class GroupMHTTracker:
                 track_id = node.family
             taken.add(track_id)
             out.append(track_id)
+        self._follow_halves(nodes, keys, out)
+        self._last_at.update((i, node.mean[:2]) for i, node in zip(out, nodes, strict=True))
         return out
+
+    def _follow_halves(
+        self, nodes: list[TrackNode], keys: list[tuple[str, ...]], ids: list[int]
+    ) -> None:
+        """Give the two halves of one split (labels ``X-0`` and ``X-1``, both reported this
+        scan) their ids by where those ids were last reported (in place in ``ids``, and in
+        the labels -> id memory for later scans).
+
+        The halves of a split start as two copies of one prediction (000 Sec. 4.2.3), so the
+        hypotheses that give observation A to ``X-0`` and B to ``X-1`` or the other way round
+        are equally likely; which one is best flips with the next scans' data, and so would
+        the ids, at every split and again when the halves split anew after merging back.
+        Each id stays with the half nearer to where it was last seen; a half whose id has not
+        been reported yet keeps its own."""
+        pairs: dict[tuple[str, ...], list[int]] = {}
+        for i, key in enumerate(keys):
+            ends = {label.rpartition("-")[2] for label in key}
+            if len(ends) == 1 and all("-" in label for label in key):
+                stem = tuple(label.rpartition("-")[0] for label in key)
+                pairs.setdefault(stem, [-1, -1])[int(ends.pop()) & 1] = i
+        for a, b in pairs.values():
+            if a < 0 or b < 0:
+                continue
+            at_a, at_b = self._last_at.get(ids[a]), self._last_at.get(ids[b])
+            if at_a is None or at_b is None:
+                continue
+            pa, pb = nodes[a].mean[:2], nodes[b].mean[:2]
+            kept = math.dist(pa, at_a) ** 2 + math.dist(pb, at_b) ** 2
+            swapped = math.dist(pa, at_b) ** 2 + math.dist(pb, at_a) ** 2
+            if swapped < kept:
+                ids[a], ids[b] = ids[b], ids[a]
+                self._ids[keys[a]], self._ids[keys[b]] = ids[a], ids[b]
 
     @property
     def unconfirmed_groups_withheld(self) -> int:
@@ -796,6 +832,8 @@ class GroupMHTTracker:
             self._walked_at = {k: t for k, t in self._walked_at.items() if k in stems}
         # a label set comes back only from its live parts merging back
         self._ids = {k: i for k, i in self._ids.items() if all(x in stems for x in k)}
+        kept = set(self._ids.values())
+        self._last_at = {i: at for i, at in self._last_at.items() if i in kept}
         n_scan = self.params.mht.depth
         self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
 
@@ -816,6 +854,7 @@ class GroupMHTTracker:
             "events": len(self.events),
             "walked_at": len(self._walked_at),
             "reported_ids": len(self._ids),
+            "last_positions": len(self._last_at),
             "anchors": len(self._anchors),
             "merged_labels": self.branches.memo_size,
             **self.confirmation.sizes(),

@@ -39,7 +39,7 @@ from laserpeople.tracking.groups.labels import format_labels, sort_labels
 from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, group_payload
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.kalman import chi2_quantile_2dof
-from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
+from laserpeople.tracking.mht.core import MHT, N_SCAN, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
 
@@ -66,6 +66,13 @@ for speed (issue 12: under 5 ms at 20 people) on entrance-hall seeds 0 and 1 (60
 1.3 m: clustering error 0.2417, group size and events the same for 1e-3, 2e-3 and 3e-3;
 5e-3 0.2413, 1e-2 0.2445); held out (seeds 2-4, 5-7) and on the real demo bag see
 docs/groups.md "Fifth round"."""
+GROUP_N_SCAN = 3
+"""N-scan-back depth of group hypotheses where ``mht.n_scan`` is unset (000's scan-back depth
+of eight, :data:`~laserpeople.tracking.mht.core.N_SCAN`, under ``--preset paper``): a merge
+of two groups passing each other that lost in its scan no longer stays among the
+hypotheses to win a few scans later. Measured with ``model_prior`` normalised on held-back
+random-groups seeds 100-119 and the real recordings (docs/groups.md, "Eq. 32 normalised and
+N-scan-back 3")."""
 
 
 @dataclass(frozen=True)
@@ -90,6 +97,7 @@ class GroupTrackerParams:
             "confirm_scans": 1,
             "confirm_event_scans": 1,
             "reuse_ids": False,
+            "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
         }
     )
 
@@ -262,11 +270,12 @@ class GroupTrackerParams:
         "nearest track is",
     )
     model_prior: str = param(
-        "choice",
+        "normalised",
         "our reading of 000 eq. 32 (P(M | parent) must sum to one over the models, eq. 35); "
         "'literal' charges p_C to every continued track and 'choice' only to tracks an "
         "event could involve: both let a wrong merge overtake the continuation of two "
-        "tracks sharing an observation by p_C per scan (docs/groups.md)",
+        "tracks sharing an observation by p_C per scan; normalised with GROUP_N_SCAN 3 "
+        "measured on held-back random-groups seeds and the real recordings (docs/groups.md)",
         "how eq. 32 becomes P(M | parent): normalised | choice | literal",
     )
     max_models: int = param(
@@ -512,7 +521,9 @@ class GroupMHTTracker:
             p.p_m, p.p_o, p.p_t, p.p_n, p.p_f, p.observation_area or 1.0
         )
         self.mht: MHT[GroupObservations] = MHT(
-            p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO), self.model, self.label_model
+            p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO, n_scan=GROUP_N_SCAN),
+            self.model,
+            self.label_model,
         )
         self.branches = GroupBranches(
             self.model, self.mht.tree, p.interaction_settings(), self.name
@@ -834,7 +845,7 @@ class GroupMHTTracker:
         self._ids = {k: i for k, i in self._ids.items() if all(x in stems for x in k)}
         kept = set(self._ids.values())
         self._last_at = {i: at for i, at in self._last_at.items() if i in kept}
-        n_scan = self.params.mht.depth
+        n_scan = self.mht.params.depth
         self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
 
     def state_counts(self) -> dict[str, int]:
@@ -897,7 +908,7 @@ class GroupMHTTracker:
             key = ("split", stem)
         last = self._event_at.get(key)
         self._event_at[key] = index
-        if last is not None and 0 <= index - last <= self.params.mht.depth:
+        if last is not None and 0 <= index - last <= self.mht.params.depth:
             return
         self.events.append(event)
         if len(self.events) > 2 * EVENTS_KEPT:

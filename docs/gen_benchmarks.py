@@ -177,7 +177,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         15.0,
         "MOTA / IDF1 0.336 / 0.413 against 0.266 / 0.344 at 0.90× GNN's CPU; crossing-3 "
         "0.923 / 0.893 against 0.785 / 0.776 at 0.78×; narrow corridor 0.365 / 0.393 against "
-        "0.302 / 0.377 at 0.91×; entrance hall 0.357 / 0.383 against 0.279 / 0.344 at 0.50× "
+        "0.302 / 0.377 at 0.91×; entrance hall 0.357 / 0.383 against 0.279 / 0.344 at 0.50×; "
+        "moving robot 100–109 0.488 / 0.617 against 0.504 / 0.639 at 1.65× "
         "(needs the `peers` extra)",
         "people-benchmarks.md",
     ),
@@ -216,6 +217,32 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         10.0,
         "people right after the crossing: CSA 82 → 135 with colour, leg MHT 85 → 135",
         "csa.md",
+    ),
+    Benchmark(
+        "csa-random",
+        "Cluster Sorting where people meet and part, randomised scenes, held-back seeds 100–119",
+        (
+            "benchmarks/people_suite.py",
+            "--tracker",
+            "csa",
+            "--family",
+            "random-groups",
+            "--seeds",
+            "100-119",
+        ),
+        20.0,
+        "person MOTA 0.368, IDF1 0.393 (still lasers 0.55–0.57, moving 0.11–0.20; goal 0.5); "
+        "ID switches 21.6 per scene",
+        "csa.md",
+    ),
+    Benchmark(
+        "feet-random",
+        "Feet particle filter on the randomised group scenes at feet height, held-back seeds "
+        "100–119",
+        ("benchmarks/feet_random.py", "--seeds", "100-119", "--jobs", "2"),
+        15.0,
+        "adapted MOTP 0.347 (still lasers 0.437, moving 0.269; goal 0.80), MOTA 0.441, IDF1 0.558",
+        "schenk-tables.md",
     ),
     Benchmark(
         "groups-table",

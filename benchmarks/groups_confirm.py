@@ -1,12 +1,17 @@
 """Confirmed groups on real recordings: the counts of ``real_people.py --groups`` for
 candidate settings of ``group_tracker.confirm_scans`` (``confirm_window``,
-``confirm_event_scans``), all from one pipeline run per recording.
+``confirm_event_scans``), one run of the tracker per candidate and recording.
 
-Confirmation changes only which groups of the MHT's best hypothesis are reported, never the
-hypotheses, so one run with 000's setting (every group reported) fans the best hypothesis
-of every scan out to one :class:`~laserpeople.tracking.groups.confirm.Confirmation` per
-candidate and keeps, per scan, the groups each of them reports. ``--check`` also runs the
-tracker with the last candidate as its own parameters and asserts the same reported tracks.
+Each run is the library's flow of ``laserpeople track --tracker group-mht`` (:func:`build`
+with the candidate's parameters), so what is counted is what the command reports:
+confirmation decides which groups get reported, and with ``reuse_ids`` also which ids the
+reported ones get (a group merged back takes the id of the group reported before), so one
+setting's output cannot be replayed from another's. ``--check`` also runs the command's
+own function (:func:`laserpeople.cli.track.run_tracking`, with the last candidate's
+settings written to a config file) and asserts the same ids in every scan and positions
+within 1e-4 m (the CSV's precision). ``000-walker-s`` counts the group-seconds of the
+walkers of 000's setting (every group reported: ``1/1/1``, run once more when it is not a
+candidate).
 
     PYTHONPATH=src python benchmarks/groups_confirm.py [--bags demo mir mir-all corridor dev]
         [--candidates 1/1/1 3/3/1 ...] [--check] [--set NAME=VALUE ...]
@@ -25,8 +30,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Iterable, Sequence
-from dataclasses import replace
+import tempfile
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -34,19 +41,16 @@ sys.path.insert(0, str(Path(__file__).parent))
 import numpy as np
 
 from groups_table import _with  # type: ignore[import-not-found]
+from laserpeople.config import to_toml
 from laserpeople.evaluation.clustering import ClusteringErrorResult
 from laserpeople.evaluation.groups import GroupRunResult, run_groups
 from laserpeople.pipeline import build
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking import registry
-from laserpeople.tracking.groups.confirm import (
-    Candidate,
-    Confirmation,
-    ConfirmSettings,
-)
+from laserpeople.tracking.groups.confirm import ConfirmSettings
 from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracks import Tracks
-from real_people import BAGS, ROOT, count, track_all
+from real_people import BAGS, ROOT, count
 
 DEV = ROOT / "leg_tracker_benchmarks/person_following_outdoor_1_first.bag"
 ALL_BAGS = {**BAGS, "dev": (DEV, None, [])}
@@ -64,35 +68,25 @@ DEFAULT_CANDIDATES = [
     "3/4/2",
     "3/3/3",
 ]
+EVERY_GROUP = "1/1/1"
+"""000's setting: every group of the best hypothesis reported from its first scan."""
 
 
-class Fanout:
-    """Stands in for a tracker's confirmation: answers as ``main`` and feeds ``others``,
-    keeping the families each reports per scan."""
+@dataclass
+class Run:
+    """One run of the group tracker over a recording.
 
-    def __init__(self, main: Confirmation, others: Sequence[Confirmation]) -> None:
-        self.main = main
-        self.others = list(others)
-        self.reported: list[list[set[int]]] = [[] for _ in self.others]
-        self.event_of: dict[int, str] = {}
+    Attributes:
+        tracks: Every frame's tracks, as ``laserpeople track`` writes them.
+        tracker: The group tracker (its counters: ``confirmation.withheld_born`` ...).
+        event_of: Reported id -> "split"/"merge" when a model made the group, else "".
+        ms: Process CPU per frame [ms].
+    """
 
-    @property
-    def withheld(self) -> int:
-        return self.main.withheld
-
-    def select(self, index: int, candidates: Sequence[Candidate]) -> list[bool]:
-        self.event_of.update((c.family, c.event) for c in candidates)
-        for conf, kept in zip(self.others, self.reported, strict=True):
-            flags = conf.select(index, candidates)
-            kept.append({c.family for c, f in zip(candidates, flags, strict=True) if f})
-        return self.main.select(index, candidates)
-
-    def prune(self, families: Iterable[int], roots: Iterable[str] | None = None) -> None:
-        """Forget gone families and roots in every confirmation (the tracker's
-        ``forget_gone``)."""
-        alive, stems = set(families), None if roots is None else set(roots)
-        for conf in (self.main, *self.others):
-            conf.prune(alive, stems)
+    tracks: list[Tracks]
+    tracker: GroupMHTTracker
+    event_of: dict[int, str]
+    ms: float
 
 
 def parse(text: str) -> ConfirmSettings:
@@ -100,25 +94,55 @@ def parse(text: str) -> ConfirmSettings:
     return ConfirmSettings(scans=scans, window=window, event_scans=event)
 
 
-def run(key: str, params: GroupTrackerParams, others: Sequence[Confirmation]) -> tuple:
-    """Tracks of one recording with ``params``, the fan-out and CPU ms per frame."""
+def with_candidate(params: GroupTrackerParams, text: str) -> GroupTrackerParams:
+    """``params`` with the confirmation of candidate ``text`` (``scans/window/event``)."""
+    c = parse(text)
+    return replace(
+        params, confirm_scans=c.scans, confirm_window=c.window, confirm_event_scans=c.event_scans
+    )
+
+
+def run(key: str, params: GroupTrackerParams) -> Run:
+    """Track recording ``key`` with ``params`` as ``laserpeople track --tracker group-mht``
+    does (the library's :func:`build`)."""
     bag, topics, mounts = ALL_BAGS[key]
     tracker = registry.get("group-mht").make(params)
     inner = getattr(tracker, "tracker", tracker)  # the input guard's tracker
     assert isinstance(inner, GroupMHTTracker)
-    fan = Fanout(inner.confirmation, others)
-    inner.confirmation = fan  # type: ignore[assignment]
-    out, ms = track_all(build(bag, tracker=tracker, topics=topics, mounts=mounts))
-    return out, fan, inner, ms
+    out: list[Tracks] = []
+    event_of: dict[int, str] = {}
+    t0 = time.process_time()
+    for step in build(bag, tracker=tracker, topics=topics, mounts=mounts):
+        assert step.tracks is not None
+        groups = step.tracks.of_kind("group")
+        assert len(groups) == len(inner.last_groups)  # the reported groups, in order
+        for x, g in zip(groups, inner.last_groups, strict=True):
+            event_of.setdefault(x.track_id, g.event)
+        out.append(step.tracks)
+    ms = 1e3 * (time.process_time() - t0) / max(len(out), 1)
+    return Run(out, inner, event_of, ms)
 
 
-def only(tracks: list[Tracks], families: list[set[int]]) -> list[Tracks]:
-    """``tracks`` with the groups of scan k kept only when in ``families[k]``."""
-    assert len(tracks) == len(families)
-    return [
-        replace(t, tracks=tuple(x for x in t.tracks if x.track_id in f))
-        for t, f in zip(tracks, families, strict=True)
-    ]
+def check(key: str, params: GroupTrackerParams, expected: list[Tracks]) -> None:
+    """Assert that ``laserpeople track``'s own function, with ``params`` in a config file,
+    reports the groups of ``expected`` (ids per scan; positions within 1e-4 m, the CSV's
+    precision)."""
+    from laserpeople.cli.track import run_tracking
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+
+    bag, topics, mounts = ALL_BAGS[key]
+    with tempfile.TemporaryDirectory() as tmp:
+        config, csv = Path(tmp) / "groups.toml", Path(tmp) / "groups.csv"
+        config.write_text(to_toml(params))
+        run_tracking(bag, csv, "group-mht", topics, config, mounts=mounts)
+        written = {t.scan_index: t for t in iter_tracks_csv(csv)}
+    for t in expected:
+        got = written.get(t.scan_index)
+        rows = () if got is None else got.of_kind("group")
+        ids = [x.track_id for x in t.of_kind("group")]
+        assert [x.track_id for x in rows] == ids, (key, t.scan_index, ids, rows)
+        for x, y in zip(rows, t.of_kind("group"), strict=True):
+            assert np.allclose(x.position, y.position, atol=1e-4), (key, t.scan_index)
 
 
 def short_events(tracks: list[Tracks], event_of: dict[int, str]) -> int:
@@ -240,38 +264,27 @@ def main() -> None:
         "static-s  000-walker-s  withheld born  event"
     )
     for key in args.bags:
-        settings = [parse(c) for c in args.candidates]
-        others = [Confirmation(s) for s in settings]
-        out, fan, _, ms = run(key, replace(base, confirm_scans=1), others)
-        walkers = walker_ids(out, args.walk)  # of 000's setting: every group reported
+        runs = {text: run(key, with_candidate(base, text)) for text in args.candidates}
+        every = runs.get(EVERY_GROUP) or run(key, with_candidate(base, EVERY_GROUP))
+        walkers = walker_ids(every.tracks, args.walk)  # of 000's setting: every group reported
         truth = dev_truth() if key == "dev" else {}
-        for text, conf, fams in zip(args.candidates, others, fan.reported, strict=True):
-            kept = only(out, fams)
-            c = count(kept, args.walk, kind="group")
+        for text, r in runs.items():
+            c = count(r.tracks, args.walk, kind="group")
+            conf = r.tracker.confirmation
             print(
                 f"{key:8s} {text:18s} {c.ids:4d} {c.walker_ids:8d} {c.short_ids:6d} "
-                f"{short_events(kept, fan.event_of):11d} "
+                f"{short_events(r.tracks, r.event_of):11d} "
                 f"{c.person_seconds:8.1f} {c.walker_seconds:9.1f} {c.static_seconds:9.1f} "
-                f"{walker_seconds(kept, walkers):13.1f} "
+                f"{walker_seconds(r.tracks, walkers):13.1f} "
                 f"{conf.withheld_born:8d} {conf.withheld_event:6d}"
-                + (f"  followed person {followed(kept, truth)}" if truth else ""),
+                + (f"  followed person {followed(r.tracks, truth)}" if truth else "")
+                + f"  ({len(r.tracks)} frames, {r.ms:.1f} ms/frame)",
                 flush=True,
             )
-        print(f"{key:8s} ({len(out)} frames, {ms:.1f} ms/frame)", flush=True)
         if args.check:
-            s = settings[-1]
-            params = replace(
-                base,
-                confirm_scans=s.scans,
-                confirm_window=s.window,
-                confirm_event_scans=s.event_scans,
-            )
-            real, _, checked, _ = run(key, params, [])
-            expected = only(out, fan.reported[-1])
-            for a, b in zip(real, expected, strict=True):
-                assert [x.track_id for x in a.tracks] == [x.track_id for x in b.tracks]
-            assert checked.unconfirmed_groups_withheld == others[-1].withheld
-            print(f"{key:8s} check: {args.candidates[-1]} run on its own reports the same")
+            last = args.candidates[-1]
+            check(key, with_candidate(base, last), runs[last].tracks)
+            print(f"{key:8s} check: {last} reports what laserpeople track reports", flush=True)
 
 
 if __name__ == "__main__":

@@ -62,7 +62,9 @@ def test_paper_preset_gives_each_tracker_its_papers_values() -> None:
     assert d.overlap_max > 0.0 and d.still_time > 0.0 and d.cell_refresh > 0.0
     u = load_config(UpperBodyParams, None, "paper")
     assert (u.surface_offset, u.carry_depth, u.object_memory, u.max_eigenvalue) == (0, 0, 0, 0)
+    assert g.mht.n_scan == 8 and g.model_prior == "literal"
     assert GroupTrackerParams().eps_n == 1.0  # the defaults are not changed
+    assert GroupTrackerParams().model_prior == "normalised"
     with pytest.raises(ConfigError, match="unknown preset"):
         load_config(CSAParams, None, "000")
 
@@ -75,6 +77,20 @@ def test_paper_preset_on_the_command_line_under_the_config(tmp_path: Path) -> No
     shown = _printed(["--tracker", "group-mht", "--preset", "paper", "--config", str(cfg)])
     assert shown["group_tracker"]["eps_n"] == 0.5  # the file wins
     assert shown["group_tracker"]["size_count"] == "blobs"
+    # the group tracker's nested [group_tracker.mht]: 000's depth of eight under the preset,
+    # kept when the file sets another key of the table; the default's own depth is 3
+    assert load_config(GroupTrackerParams, None, "paper").mht.n_scan == 8
+    cfg.write_text("[group_tracker.mht]\nk_best = 5\n")
+    g = load_config(GroupTrackerParams, cfg, "paper")
+    assert (g.mht.n_scan, g.mht.k_best, g.eps_n) == (8, 5, 0.1)
+    shown = _printed(["--tracker", "group-mht", "--preset", "paper", "--config", str(cfg)])
+    assert shown["group_tracker"]["mht"]["n_scan"] == 8
+    assert load_config(GroupTrackerParams, cfg).mht.n_scan is None
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    assert GroupMHTTracker(load_config(GroupTrackerParams, cfg)).mht.params.depth == 3
+    paper = GroupMHTTracker(load_config(GroupTrackerParams, cfg, "paper"))
+    assert paper.mht.params.depth == 8
     bad = CliRunner().invoke(app, ["track", "--print-config", "--preset", "000"])
     assert bad.exit_code != 0 and "unknown preset" in str(bad.exception)
 

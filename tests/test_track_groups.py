@@ -636,3 +636,29 @@ def test_empty_frames_and_missing_fields() -> None:
     wrong = replace(_frame(pts, 5, 0.5), foreground=np.ones(3, dtype=bool))
     with pytest.raises(LaserPeopleError, match="foreground mask"):
         tracker.update(wrong)
+
+
+def _half(family: int, label: str, x: float) -> TrackNode:
+    mean = np.array([x, 0.0, 0.0, 0.0, 1.0])
+    payload = GroupPayload(np.zeros((1, 2)), (label,), event="split")
+    return TrackNode(family, family, -1, mean, np.eye(5), 0.0, "detected", payload=payload)
+
+
+def test_the_halves_of_a_split_keep_their_ids_by_position() -> None:
+    """The two halves of a split are equally likely either way round, so the best
+    hypothesis may give the left person ``3-0`` in one scan and ``3-1`` in the next: the
+    ids stay with the people (nearest to where each id was last reported), also when the
+    halves split anew after merging back; a half first seen keeps its own id."""
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
+    # the other hypothesis wins: family 10 (3-0) now holds the right person
+    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [11, 10]
+    assert tracker._reported_ids([_half(11, "3-1", 0.2), _half(10, "3-0", 2.2)]) == [10, 11]
+    # merged back and split again with new families: the ids by position, not by label
+    assert tracker._reported_ids([_half(20, "3-0", 2.3), _half(21, "3-1", 0.3)]) == [11, 10]
+    # a half of another split whose sibling is not reported: its own id
+    assert tracker._reported_ids([_half(30, "5-1", 0.35)]) == [30]
+    # 000's naming (reuse_ids false): every track its family
+    plain = GroupMHTTracker(GroupTrackerParams(reuse_ids=False))
+    assert plain._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
+    assert plain._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [10, 11]

@@ -4,6 +4,7 @@ walls are not grouped (``group_tracker.max_blob_size``)."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from laserpeople.frame import Frame
 from laserpeople.scan import PointSet
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracking.groups.observations import GroupObservations, within_size
+from laserpeople.tracking.mht.core import MHTParams
 from laserpeople.tracks import Tracks
 
 OBJECT = np.array([5.0, 0.0])
@@ -145,22 +147,32 @@ def test_a_group_that_never_walked_is_hidden_once_its_place_is_static_for_long()
 
 
 @pytest.mark.parametrize("lane", [0.8, 1.1])
-def test_an_object_a_walker_passes_is_hidden_again(lane: float) -> None:
+@pytest.mark.parametrize("model_prior", ["choice", "normalised"])
+def test_an_object_a_walker_passes_is_hidden_again(lane: float, model_prior: str) -> None:
     """A person walks past the object within d_P (the two are one observation and may
     merge, then split): the walker is in a reported group all along; the object is hidden
     before the walker comes, and again by static_time (10 s) after the walker's last walk
     as a group of its own (the half of a split holding the object may be reported until
-    then, since it comes from a group someone walked in)."""
+    then, since it comes from a group someone walked in). With eq. 32 as ``"choice"`` and
+    N-scan 8 the two merge while close; with the default (normalised, N-scan 3) the walker
+    passes without merging and the object is never reported."""
     model = PlaceModel(_near_object)
 
     def centres(k: int) -> list[np.ndarray]:
         return [OBJECT, np.array([0.1 * k, lane])]
 
-    tracker, out = _track(centres, 200, model)
+    params = EVERY_SCAN
+    if model_prior == "choice":
+        params = replace(params, model_prior="choice", mht=MHTParams(n_scan=8))
+    tracker, out = _track(centres, 200, model, params)
     for k, tracks in enumerate(out[2:], start=2):
         assert _holds(tracks, np.array([0.1 * k, lane])), k
     near = [k for k, tracks in enumerate(out) if _holds(tracks, OBJECT, 0.2)]
     walker_near = [k for k in range(200) if abs(0.1 * k - OBJECT[0]) <= 2.0]
+    assert tracker.static_groups_hidden > 0
+    if model_prior == "normalised":
+        assert near == []
+        return
     assert near  # the walker and the object are reported as one group while close
     assert min(near) >= min(walker_near)  # never before the walker came
     assert max(near) <= max(walker_near) + 110  # hidden again at most 11 s after

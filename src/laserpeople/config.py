@@ -171,7 +171,20 @@ def load_config(cls: type[T], path: str | Path | None, preset: str | None = None
     section = data.get(section_name(cls), {})
     if not isinstance(section, Mapping):
         raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
-    return from_mapping(cls, {**base, **section}, where=str(p))
+    return from_mapping(cls, _over(base, section), where=str(p))
+
+
+def _over(base: Mapping[str, Any], values: Mapping[str, Any]) -> dict[str, Any]:
+    """``base`` with ``values`` over it; a nested table (both sides mappings) merged key by
+    key, so that a file setting one key of ``[x.mht]`` keeps the preset's others."""
+    out = dict(base)
+    for key, value in values.items():
+        old = out.get(key)
+        if isinstance(old, Mapping) and isinstance(value, Mapping):
+            out[key] = _over(old, value)
+        else:
+            out[key] = value
+    return out
 
 
 def check_sections(

@@ -93,7 +93,7 @@ class InteractionSettings:
     max_models: int
     join_observations: bool
     c0: FloatArray
-    model_prior: str = "choice"
+    model_prior: str = "normalised"
     merge_likelihood: str = "density"
     max_events: int = MAX_EVENTS
     prune_labels: bool = True

@@ -39,7 +39,7 @@ from laserpeople.tracking.groups.labels import format_labels, sort_labels
 from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, group_payload
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.kalman import chi2_quantile_2dof
-from laserpeople.tracking.mht.core import MHT, MHTParams, StepStats
+from laserpeople.tracking.mht.core import MHT, N_SCAN, MHTParams, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
 
@@ -66,6 +66,13 @@ for speed (issue 12: under 5 ms at 20 people) on entrance-hall seeds 0 and 1 (60
 1.3 m: clustering error 0.2417, group size and events the same for 1e-3, 2e-3 and 3e-3;
 5e-3 0.2413, 1e-2 0.2445); held out (seeds 2-4, 5-7) and on the real demo bag see
 docs/groups.md "Fifth round"."""
+GROUP_N_SCAN = 3
+"""N-scan-back depth of group hypotheses where ``mht.n_scan`` is unset (000's scan-back depth
+of eight, :data:`~laserpeople.tracking.mht.core.N_SCAN`, under ``--preset paper``): a merge
+of two groups passing each other that lost in its scan no longer stays among the
+hypotheses to win a few scans later. Measured with ``model_prior`` normalised on held-back
+random-groups seeds 100-119 and the real recordings (docs/groups.md, "Eq. 32 normalised and
+N-scan-back 3")."""
 
 
 @dataclass(frozen=True)
@@ -90,6 +97,7 @@ class GroupTrackerParams:
             "confirm_scans": 1,
             "confirm_event_scans": 1,
             "reuse_ids": False,
+            "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
         }
     )
 
@@ -262,11 +270,12 @@ class GroupTrackerParams:
         "nearest track is",
     )
     model_prior: str = param(
-        "choice",
+        "normalised",
         "our reading of 000 eq. 32 (P(M | parent) must sum to one over the models, eq. 35); "
         "'literal' charges p_C to every continued track and 'choice' only to tracks an "
         "event could involve: both let a wrong merge overtake the continuation of two "
-        "tracks sharing an observation by p_C per scan (docs/groups.md)",
+        "tracks sharing an observation by p_C per scan; normalised with GROUP_N_SCAN 3 "
+        "measured on held-back random-groups seeds and the real recordings (docs/groups.md)",
         "how eq. 32 becomes P(M | parent): normalised | choice | literal",
     )
     max_models: int = param(
@@ -512,7 +521,9 @@ class GroupMHTTracker:
             p.p_m, p.p_o, p.p_t, p.p_n, p.p_f, p.observation_area or 1.0
         )
         self.mht: MHT[GroupObservations] = MHT(
-            p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO), self.model, self.label_model
+            p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO, n_scan=GROUP_N_SCAN),
+            self.model,
+            self.label_model,
         )
         self.branches = GroupBranches(
             self.model, self.mht.tree, p.interaction_settings(), self.name
@@ -550,6 +561,7 @@ class GroupMHTTracker:
         self._anchors: dict[int, tuple[float, FloatArray]] = {}
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
+        self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
 
     @property
     def wants_static_model(self) -> bool:
@@ -681,7 +693,8 @@ class GroupMHTTracker:
         """The id each of ``nodes`` is reported with: its family, or with ``reuse_ids`` the
         id of the group reported before with the same internal labels (a split group whose
         parts merged back: ``0`` -> ``0-0``, ``0-1`` -> ``0``), unless another node of this
-        scan has that id."""
+        scan has that id; the two halves of a split keep their ids by position
+        (:meth:`_follow_halves`)."""
         if not self.params.reuse_ids:
             return [node.family for node in nodes]
         keys = [self.name(node) for node in nodes]
@@ -701,7 +714,41 @@ class GroupMHTTracker:
                 track_id = node.family
             taken.add(track_id)
             out.append(track_id)
+        self._follow_halves(nodes, keys, out)
+        self._last_at.update((i, node.mean[:2]) for i, node in zip(out, nodes, strict=True))
         return out
+
+    def _follow_halves(
+        self, nodes: list[TrackNode], keys: list[tuple[str, ...]], ids: list[int]
+    ) -> None:
+        """Give the two halves of one split (labels ``X-0`` and ``X-1``, both reported this
+        scan) their ids by where those ids were last reported (in place in ``ids``, and in
+        the labels -> id memory for later scans).
+
+        The halves of a split start as two copies of one prediction (000 Sec. 4.2.3), so the
+        hypotheses that give observation A to ``X-0`` and B to ``X-1`` or the other way round
+        are equally likely; which one is best flips with the next scans' data, and so would
+        the ids, at every split and again when the halves split anew after merging back.
+        Each id stays with the half nearer to where it was last seen; a half whose id has not
+        been reported yet keeps its own."""
+        pairs: dict[tuple[str, ...], list[int]] = {}
+        for i, key in enumerate(keys):
+            ends = {label.rpartition("-")[2] for label in key}
+            if len(ends) == 1 and all("-" in label for label in key):
+                stem = tuple(label.rpartition("-")[0] for label in key)
+                pairs.setdefault(stem, [-1, -1])[int(ends.pop()) & 1] = i
+        for a, b in pairs.values():
+            if a < 0 or b < 0:
+                continue
+            at_a, at_b = self._last_at.get(ids[a]), self._last_at.get(ids[b])
+            if at_a is None or at_b is None:
+                continue
+            pa, pb = nodes[a].mean[:2], nodes[b].mean[:2]
+            kept = math.dist(pa, at_a) ** 2 + math.dist(pb, at_b) ** 2
+            swapped = math.dist(pa, at_b) ** 2 + math.dist(pb, at_a) ** 2
+            if swapped < kept:
+                ids[a], ids[b] = ids[b], ids[a]
+                self._ids[keys[a]], self._ids[keys[b]] = ids[a], ids[b]
 
     @property
     def unconfirmed_groups_withheld(self) -> int:
@@ -796,7 +843,9 @@ class GroupMHTTracker:
             self._walked_at = {k: t for k, t in self._walked_at.items() if k in stems}
         # a label set comes back only from its live parts merging back
         self._ids = {k: i for k, i in self._ids.items() if all(x in stems for x in k)}
-        n_scan = self.params.mht.depth
+        kept = set(self._ids.values())
+        self._last_at = {i: at for i, at in self._last_at.items() if i in kept}
+        n_scan = self.mht.params.depth
         self._event_at = {k: i for k, i in self._event_at.items() if 0 <= index - i <= n_scan}
 
     def state_counts(self) -> dict[str, int]:
@@ -816,6 +865,7 @@ class GroupMHTTracker:
             "events": len(self.events),
             "walked_at": len(self._walked_at),
             "reported_ids": len(self._ids),
+            "last_positions": len(self._last_at),
             "anchors": len(self._anchors),
             "merged_labels": self.branches.memo_size,
             **self.confirmation.sizes(),
@@ -858,7 +908,7 @@ class GroupMHTTracker:
             key = ("split", stem)
         last = self._event_at.get(key)
         self._event_at[key] = index
-        if last is not None and 0 <= index - last <= self.params.mht.depth:
+        if last is not None and 0 <= index - last <= self.mht.params.depth:
             return
         self.events.append(event)
         if len(self.events) > 2 * EVENTS_KEPT:

@@ -107,8 +107,9 @@ class MHTParams:
     n_scan: int | None = param(
         None,
         "unset: the tracker's default: N_SCAN = 8 (000 Sec. 3.4.3, a scan-back depth of "
-        "eight) for the group tracker and the leg tracker's people policy arras, 4 for its "
-        "policy tracks (see LegTrackerParams.mht_params)",
+        "eight) for the leg tracker's people policy arras, 4 for its policy tracks (see "
+        "LegTrackerParams.mht_params), GROUP_N_SCAN = 3 for the group tracker (its paper "
+        "preset: 8; docs/groups.md)",
         "N of N-scan-back pruning",
     )
     min_ratio: float | None = param(

@@ -96,6 +96,11 @@ MHT_CORE = ("tests/test_track_mht_core.py",)
 DIAGNOSE = ("tests/test_eval_suite.py",)
 FEET_BEAMS = ("tests/test_pf_feet_beams.py",)
 FEET_HEIGHT = ("tests/test_laser_height_feet.py",)
+HALVES = (
+    "tests/test_track_groups.py::test_the_halves_of_a_split_keep_their_ids_by_position",
+    "tests/test_track_groups.py",
+)
+SETTINGS = ("tests/test_paper_settings.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -1063,6 +1068,39 @@ MUTANTS: tuple[Mutant, ...] = (
         "high = [t for t in topics if t in heights and heights[t] >= UPPER_BODY_MIN_HEIGHT]",
         "high = [t for t in topics if t in heights and heights[t] < UPPER_BODY_MIN_HEIGHT]",
         FEET_HEIGHT,
+    ),
+    # ---- the group tracker's ids of a split's halves, its N-scan-back and nested presets
+    Mutant(
+        "groups-halves-farther-kept",
+        "group tracker reuse_ids (each id with the nearer half)",
+        "tracking/groups/tracker.py",
+        "            if swapped < kept:\n",
+        "            if swapped > kept:\n",
+        HALVES,
+    ),
+    Mutant(
+        "groups-halves-swap-forgotten",
+        "group tracker reuse_ids (the swap remembered for later scans)",
+        "tracking/groups/tracker.py",
+        "                self._ids[keys[a]], self._ids[keys[b]] = ids[a], ids[b]\n",
+        "",
+        HALVES,
+    ),
+    Mutant(
+        "groups-n-scan-paper-depth",
+        "group tracker N-scan-back 3 (8 under --preset paper)",
+        "tracking/groups/tracker.py",
+        "p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO, n_scan=GROUP_N_SCAN)",
+        "p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO)",
+        SETTINGS,
+    ),
+    Mutant(
+        "config-nested-table-replaced",
+        "configuration: a nested table merged over the preset's key by key",
+        "config.py",
+        "            out[key] = _over(old, value)\n",
+        "            out[key] = value\n",
+        SETTINGS,
     ),
     # ---- fit (000's counting of events) and mean shift (004)
     Mutant(

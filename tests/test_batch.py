@@ -201,7 +201,6 @@ def test_dead_worker_task_is_redone_and_reported(recordings, client, tmp_path, b
     # at least the one death; on a loaded machine the scheduler may also lose the restarted
     # worker (missed heartbeats) and run a task once more, which is counted the same way
     assert 2 <= rows["demo"].attempts <= 3
-    assert 1 <= rows["crossing-3"].attempts <= 2
     assert "demo" in [r.name for r in result.retried]
 
 

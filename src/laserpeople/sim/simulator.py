@@ -295,7 +295,9 @@ def simulate(
     for _stamp, i, k in loop:
         spec = scene.sensors[i]
         times, shapes, poses, rng = per_sensor[i]
-        scan, visible = _render(spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng)
+        scan, visible = render_scan(
+            spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng
+        )
         scans.append(scan)
         if i == 0:
             in_view.append(visible)
@@ -344,7 +346,7 @@ def seen_truth(scans: list[Scan], truth: list[TruthFrame], window: float) -> lis
 
 def in_view_truth(truth: list[TruthFrame], visible: list[NDArray[np.int64]]) -> list[TruthFrame]:
     """``truth`` keeping in each frame only the people of ``visible`` (the same length as
-    ``truth``: per frame, the ids of the people its scan can see, as :func:`_render` gives)."""
+    ``truth``: per frame, the ids of the people its scan can see, as :func:`render_scan` gives)."""
     if len(visible) != len(truth):
         raise ValueError(f"{len(visible)} visibility sets for {len(truth)} truth frames")
     return [
@@ -432,24 +434,12 @@ def render_scan(
     stamp: float,
     index: int,
     rng: np.random.Generator,
-) -> Scan:
-    """One scan of sensor ``spec`` at world pose ``pose`` (x, y, theta) with beam labels."""
-    return _render(spec, world, dynamic, pose, stamp, index, rng)[0]
-
-
-def _render(
-    spec: SensorSpec,
-    world: World,
-    dynamic: Primitives,
-    pose: NDArray[np.floating],
-    stamp: float,
-    index: int,
-    rng: np.random.Generator,
 ) -> tuple[Scan, NDArray[np.int64]]:
-    """:func:`render_scan`, and the ids of the people the scan can see: those some beam hits
-    first within ``[range_min, range_max]`` of the true range. That is the geometry alone
-    (inside the field of view, within range, not fully occluded): range noise and dropout,
-    which make a beam miss what it points at, do not hide a person."""
+    """One scan of sensor ``spec`` at world pose ``pose`` (x, y, theta) with beam labels,
+    and the ids of the people the scan can see: those some beam hits first within
+    ``[range_min, range_max]`` of the true range. That is the geometry alone (inside the
+    field of view, within range, not fully occluded): range noise and dropout, which make a
+    beam miss what it points at, do not hide a person."""
     x, y, th = (float(v) for v in pose)
     c, s = math.cos(th), math.sin(th)
     rot_t = np.array([[c, s], [-s, c]])  # world -> sensor rotation

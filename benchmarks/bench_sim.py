@@ -58,7 +58,7 @@ def per_scan_rate(scene: Scene, n_scans: int = 2000, repeats: int = 5) -> list[f
         t0 = time.perf_counter()
         hits = 0
         for k in range(times.size):
-            scan = render_scan(spec, scene.world, shapes.at(k), pose, float(times[k]), k, rng)
+            scan, _ = render_scan(spec, scene.world, shapes.at(k), pose, float(times[k]), k, rng)
             hits += int(np.count_nonzero(scan.labels.leg >= 0))  # type: ignore[union-attr]
         rates.append(times.size / (time.perf_counter() - t0))
     assert hits > 0

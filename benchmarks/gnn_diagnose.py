@@ -12,8 +12,9 @@ kept first). The errors are then split:
   (under 0.3 m/s), *approaching* (range falling by more than 0.3 m/s), or *passing*
   (everything else: walking across, or away after passing the robot), whether a leg
   detection lies within 0.5 m of it (*seen*) or a pair of legs (GNN's person detection),
-  and whether it is outside the scanner's field of view (*out of view*: the truth keeps a
-  person for 2 s after the scanner last hit it).
+  and whether its centre is outside the scanner's field of view (*out of view*; the
+  moving-robot truth counts a person only while the scanner can see them, so these are
+  people at the edge of the view with a leg inside it).
 
     PYTHONPATH=../src python gnn_diagnose.py --family moving-robot --seeds 0-19 [--config X]
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from laserpeople.sim import Scene, simulate
 from laserpeople.sim.motion import Route
 from laserpeople.sim.people import PersonSpec, with_feet_apart
 from laserpeople.sim.sensors import SensorSpec
-from laserpeople.sim.world import World, room
+from laserpeople.sim.world import World, pole, room, wall
 from laserpeople.truth import BeamLabels
 
 
@@ -172,3 +173,48 @@ def test_feet_apart_raises_a_narrow_hip_to_leg_radius_plus_half_the_gap() -> Non
     assert with_feet_apart(narrow, gap=0.05).hip_half_width == pytest.approx(0.115, abs=1e-12)
     assert with_feet_apart(wide).hip_half_width == pytest.approx(0.12, abs=1e-12)
     assert with_feet_apart(narrow).leg_radius == narrow.leg_radius
+
+
+def _in_view_scene(dropout: float, in_view: bool = True) -> Scene:
+    """Facing +x from the origin, 180 deg, 8 m: person 1 in the open at 3 m; person 2 at
+    (4, 2.5) behind a wall from (2, 0.6) to (2, 3.5); person 3 behind the scanner at
+    (-3, 0); person 4 at 9.0 m, beyond the 8 m range; person 5 at (3, -2) with one leg
+    (3, -1.9) hidden behind a pole on its beam, the other (3, -2.1) in the open."""
+    people = [
+        _standing(1, 3.0, 0.0, 0.0),
+        _standing(2, 4.0, 2.5, 0.0),
+        _standing(3, -3.0, 0.0, 0.0),
+        _standing(4, 8.5, -math.sqrt(9.0**2 - 8.5**2), 0.0),
+        _standing(5, 3.0, -2.0, 0.0),
+    ]
+    pole_xy = np.array([3.0, -1.9]) / 2.0
+    world = World([wall(2.0, 0.6, 2.0, 3.5), pole(*pole_xy, radius=0.03)])
+    sensor = replace(_sensor(0.2), dropout=dropout)
+    return Scene(world, people, [sensor], truth_in_view=in_view)
+
+
+def test_truth_in_view_counts_only_people_the_scanner_can_see() -> None:
+    everyone = simulate(_in_view_scene(0.0, in_view=False), 0.3, seed=0).truth
+    assert [f.person_ids.tolist() for f in everyone] == [[1, 2, 3, 4, 5]] * len(everyone)
+    result = simulate(_in_view_scene(0.0), 0.3, seed=0)
+    assert len(result.truth) >= 2
+    for frame in result.truth:
+        # behind the wall, outside the field of view and out of range are not counted; a
+        # person with one leg hidden is
+        assert frame.person_ids.tolist() == [1, 5]
+        np.testing.assert_allclose(frame.positions, [[3.0, 0.0], [3.0, -2.0]], atol=1e-9)
+    labels = _labels(result.scans[0])
+    assert not np.any(labels.leg[labels.person == 5] == 0)  # its left leg is hidden
+    assert np.any(labels.leg[labels.person == 5] == 1)
+
+
+def test_truth_in_view_is_geometry_not_the_sensor_noise() -> None:
+    # every beam dropped: nothing returns, but who could be seen is still counted
+    result = simulate(_in_view_scene(1.0), 0.3, seed=0)
+    assert np.all(_labels(result.scans[0]).person == -1)
+    assert [f.person_ids.tolist() for f in result.truth] == [[1, 5]] * len(result.truth)
+
+
+def test_a_scene_truth_is_in_view_or_seen_within_not_both() -> None:
+    with pytest.raises(ValueError, match="not both"):
+        Scene(World([]), [], [_sensor(0.2)], truth_seen_within=2.0, truth_in_view=True)

@@ -50,6 +50,10 @@ class Scene:
             first sensor hit them within this many seconds before or after the frame (people
             out of view for long are not counted as missed; short occlusions still are).
             None keeps everyone present in the scene.
+        truth_in_view: When true, a person is in a truth frame only while the first sensor
+            can see them in that very scan (:func:`in_view_truth`: inside its field of
+            view, within its range, not fully occluded), as annotators label a recording;
+            excludes ``truth_seen_within``.
     """
 
     world: World
@@ -59,6 +63,11 @@ class Scene:
     notes: dict[str, Any] = field(default_factory=dict)
     poses_from_odometry: bool = False
     truth_seen_within: float | None = None
+    truth_in_view: bool = False
+
+    def __post_init__(self) -> None:
+        if self.truth_in_view and self.truth_seen_within is not None:
+            raise ValueError("a scene's truth is either in view or seen within a window, not both")
 
 
 @dataclass(frozen=True, eq=False)
@@ -279,17 +288,23 @@ def simulate(
         events.extend((float(t), i, k) for k, t in enumerate(times))
     events.sort()
     scans: list[Scan] = []
+    in_view: list[NDArray[np.int64]] = []  # per scan of the first sensor
     loop: Iterable[tuple[float, int, int]] = events
     if progress is not None:
         loop = progress(events, len(events), f"simulating {name}")
     for _stamp, i, k in loop:
         spec = scene.sensors[i]
         times, shapes, poses, rng = per_sensor[i]
-        scans.append(
-            render_scan(spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng)
+        scan, visible = render_scan(
+            spec, scene.world, shapes.at(k), poses[k], float(times[k]), k, rng
         )
+        scans.append(scan)
+        if i == 0:
+            in_view.append(visible)
     truth = _truth_frames(planned, per_sensor[0][0])
-    if scene.truth_seen_within is not None:
+    if scene.truth_in_view:
+        truth = in_view_truth(truth, in_view)
+    elif scene.truth_seen_within is not None:
         first = scene.sensors[0].name
         truth = seen_truth(
             [sc for sc in scans if sc.sensor == first], truth, scene.truth_seen_within
@@ -304,7 +319,6 @@ def simulate(
 def seen_truth(scans: list[Scan], truth: list[TruthFrame], window: float) -> list[TruthFrame]:
     """``truth`` (one frame per scan of ``scans``) keeping in each frame only the people hit
     by a beam of some scan within ``window`` [s] of it (beam labels say who was hit)."""
-    from dataclasses import replace
 
     stamps = np.array([s.stamp for s in scans])
     hit: dict[int, list[float]] = {}
@@ -326,21 +340,36 @@ def seen_truth(scans: list[Scan], truth: list[TruthFrame], window: float) -> lis
     for k, frame in enumerate(truth):
         t = float(stamps[k])
         keep = np.array([seen_near(pid, t) for pid in frame.person_ids.tolist()], dtype=bool)
-        if keep.all():
-            out.append(frame)
-            continue
-        out.append(
-            replace(
-                frame,
-                person_ids=frame.person_ids[keep],
-                positions=frame.positions[keep],
-                velocities=frame.velocities[keep],
-                group_ids=frame.group_ids[keep],
-                leg_positions=frame.leg_positions[keep],
-                hues=frame.hues[keep],
-            )
-        )
+        out.append(_keep_people(frame, keep))
     return out
+
+
+def in_view_truth(truth: list[TruthFrame], visible: list[NDArray[np.int64]]) -> list[TruthFrame]:
+    """``truth`` keeping in each frame only the people of ``visible`` (the same length as
+    ``truth``: per frame, the ids of the people its scan can see, as :func:`render_scan` gives)."""
+    if len(visible) != len(truth):
+        raise ValueError(f"{len(visible)} visibility sets for {len(truth)} truth frames")
+    return [
+        _keep_people(frame, np.isin(frame.person_ids, ids))
+        for frame, ids in zip(truth, visible, strict=True)
+    ]
+
+
+def _keep_people(frame: TruthFrame, keep: NDArray[np.bool_]) -> TruthFrame:
+    """``frame`` with only the people where ``keep`` (P,) is true."""
+    from dataclasses import replace
+
+    if keep.all():
+        return frame
+    return replace(
+        frame,
+        person_ids=frame.person_ids[keep],
+        positions=frame.positions[keep],
+        velocities=frame.velocities[keep],
+        group_ids=frame.group_ids[keep],
+        leg_positions=frame.leg_positions[keep],
+        hues=frame.hues[keep],
+    )
 
 
 def _odometry_correction(
@@ -405,8 +434,12 @@ def render_scan(
     stamp: float,
     index: int,
     rng: np.random.Generator,
-) -> Scan:
-    """One scan of sensor ``spec`` at world pose ``pose`` (x, y, theta) with beam labels."""
+) -> tuple[Scan, NDArray[np.int64]]:
+    """One scan of sensor ``spec`` at world pose ``pose`` (x, y, theta) with beam labels,
+    and the ids of the people the scan can see: those some beam hits first within
+    ``[range_min, range_max]`` of the true range. That is the geometry alone (inside the
+    field of view, within range, not fully occluded): range noise and dropout, which make a
+    beam miss what it points at, do not hide a person."""
     x, y, th = (float(v) for v in pose)
     c, s = math.cos(th), math.sin(th)
     rot_t = np.array([[c, s], [-s, c]])  # world -> sensor rotation
@@ -417,8 +450,12 @@ def render_scan(
     hit = cast(laser.fan(), shapes)
     ranges, echo = add_range_noise(hit.ranges, spec, rng)
     lab = np.where(echo[:, None], hit.labels, -1).astype(np.int32)
+    in_range = np.isfinite(hit.ranges) & (hit.ranges >= laser.range_min)
+    in_range &= hit.ranges <= laser.range_max
+    person = hit.labels[:, 0][in_range]
+    visible = np.unique(person[person >= 0]).astype(np.int64)
     fan = laser.fan()
-    return Scan(
+    scan = Scan(
         stamp=stamp,
         angle_min=fan.angle_min,
         angle_increment=fan.increment,
@@ -430,6 +467,7 @@ def render_scan(
         index=index,
         labels=BeamLabels(lab[:, 0], lab[:, 1], lab[:, 2], lab[:, 3]),
     )
+    return scan, visible
 
 
 def _truth_frames(planned: list[PlannedPerson], times: FloatArray) -> list[TruthFrame]:

@@ -221,11 +221,13 @@ def one_laser_scene(
     robot: RobotSpec | None,
     notes: dict[str, Any],
     truth_seen_within: float,
+    truth_in_view: bool = False,
 ) -> Scene:
     """A scene seen by one scanner called ``laser`` with the model ``laser``, mounted
     ``height`` [m] above the floor at ``mount`` (on the robot when there is one, the scans
     then carrying odometry poses; in the world [m, rad] otherwise). A person is scored in
-    a scan when the scanner hit them within ``truth_seen_within`` [s] of it."""
+    a scan when the scanner hit them within ``truth_seen_within`` [s] of it, or, with
+    ``truth_in_view``, only while that scan can see them (:attr:`Scene.truth_in_view`)."""
     sensor = SensorSpec(
         "laser",
         laser.name,
@@ -242,7 +244,8 @@ def one_laser_scene(
         robot,
         notes,
         poses_from_odometry=robot is not None,
-        truth_seen_within=truth_seen_within,
+        truth_seen_within=None if truth_in_view else truth_seen_within,
+        truth_in_view=truth_in_view,
     )
 
 

@@ -16,6 +16,7 @@ another noise seed (legs at 2.5-8.5 m): false negatives and false positives per 
 from __future__ import annotations
 
 import argparse
+import itertools
 import time
 from pathlib import Path
 
@@ -65,10 +66,26 @@ def segments(parts: dict[str, list[ClassedScan]], shifts: tuple[float, ...], see
     return out.select(~((out.labels < 0) & (out.distance < SELF_HIT_DISTANCE)))
 
 
+def scores(model, data: LabelledSegments) -> np.ndarray:
+    """AdaBoost margins (N,) of the segments."""
+    return model.classifier.decision_function(data.features[:, model.columns])
+
+
+def auc(score: np.ndarray, labels: np.ndarray) -> float:
+    """Area under the ROC curve: the chance that a leg outscores a non-leg (ties half)."""
+    pos, neg = score[labels > 0], score[labels < 0]
+    if pos.size == 0 or neg.size == 0:
+        return float("nan")
+    order = np.sort(neg)
+    below = np.searchsorted(order, pos, side="left")
+    ties = np.searchsorted(order, pos, side="right") - below
+    return float((below + 0.5 * ties).sum() / (pos.size * neg.size))
+
+
 def by_range(name: str, predicted: np.ndarray, data: LabelledSegments) -> None:
     """A row per range bin: legs, FN %, non-legs, FP %."""
     print(f"  {name}")
-    for lo, hi in zip(BINS[:-1], BINS[1:], strict=True):
+    for lo, hi in itertools.pairwise(BINS):
         m = (data.distance >= lo) & (data.distance < hi)
         if not m.any():
             continue
@@ -88,6 +105,9 @@ def main() -> None:
     """Train both models and print the tables."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=300, help="boosting rounds T")
+    ap.add_argument(
+        "--weight", type=float, default=1.0, help="initial weight of a moved-out segment"
+    )
     args = ap.parse_args()
     t0 = time.perf_counter()
     train = classed((1, 2, 3, 4), ("/left_scan", "/right_scan"))
@@ -102,14 +122,44 @@ def main() -> None:
     models = {
         "before (recorded scans)": train_model(plain, GEOMETRY, args.rounds, 0.13),
         "after (recorded + moved out)": train_model(
-            LabelledSegments.concat([plain, far]), GEOMETRY, args.rounds, 0.13
+            LabelledSegments.concat([plain, far]),
+            GEOMETRY,
+            args.rounds,
+            0.13,
+            sample_weight=np.concatenate((np.ones(len(plain)), np.full(len(far), args.weight))),
         ),
     }
     print(f"trained {time.perf_counter() - t0:.0f} s, T = {args.rounds}")
-    for test_name, data in (("held-out, as recorded", test_plain), ("held-out, moved out", test_far)):
+    before, after = models.values()
+    both = LabelledSegments.concat([test_plain, test_far])
+    neg = scores(before, both)[both.labels < 0]
+    fp = float((neg > 0.0).mean())
+    # the after model's margin at which it makes as many false alarms on all held-out
+    # non-legs (recorded and moved out) as the before model does at 0
+    s_after = np.sort(scores(after, both)[both.labels < 0])
+    matched = float(s_after[min(int(np.ceil((1.0 - fp) * s_after.size)), s_after.size - 1)])
+    print(f"after's threshold at before's false-alarm rate ({100 * fp:.2f} %): {matched:+.3f}")
+    for test_name, data in (
+        ("held-out, as recorded", test_plain),
+        ("held-out, moved out", test_far),
+    ):
         print(f"\n{test_name}")
         for name, model in models.items():
             by_range(name, predict(model, data), data)
+        by_range(
+            f"after, margin above {matched:+.3f}",
+            np.where(scores(after, data) > matched, 1, -1),
+            data,
+        )
+        print("  area under the ROC curve, before / after:")
+        sb, sa = scores(before, data), scores(after, data)
+        for lo, hi in itertools.pairwise(BINS):
+            m = (data.distance >= lo) & (data.distance < hi)
+            if (data.labels[m] > 0).any():
+                print(
+                    f"    {lo:3.1f}-{hi:3.1f} m: {auc(sb[m], data.labels[m]):.3f} / "
+                    f"{auc(sa[m], data.labels[m]):.3f}"
+                )
 
 
 if __name__ == "__main__":

@@ -224,10 +224,16 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=None, help="default: by validation")
     parser.add_argument("--no-sim", action="store_true")
     parser.add_argument(
-        "--no-range-shift", action="store_true", help="without the moved-out leg_tracker scans"
+        "--range-shift",
+        type=float,
+        action="append",
+        default=None,
+        help="move the leg_tracker scans out by this many metres (repeatable; default: "
+        f"{', '.join(f'{d:g}' for d in RANGE_SHIFTS)}); 0: no range augmentation",
     )
     args = parser.parse_args()
-    model = train_default(args.rounds, not args.no_sim, () if args.no_range_shift else RANGE_SHIFTS)
+    shifts = RANGE_SHIFTS if args.range_shift is None else tuple(d for d in args.range_shift if d)
+    model = train_default(args.rounds, not args.no_sim, shifts)
     model.save(args.out)
     info = model.training
     print(f"wrote {args.out}: {info['segments']} segments, {info['rounds']} rounds")

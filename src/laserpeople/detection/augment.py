@@ -362,7 +362,9 @@ def shift_scan_out(
     table = JumpDistanceSegmenter(segmentation)(scan)
     step = abs(scan.angle_increment)
     starts, ends, seg = segment_surfaces(table, shift, step, params.edge_extension)
-    angles = scan.angle_min + scan.angle_increment * np.arange(scan.n_beams)
+    angles = np.asarray(
+        scan.angle_min + scan.angle_increment * np.arange(scan.n_beams), dtype=np.float64
+    )
     ranges, edge = cast_beams(angles, starts, ends)
     seg_class = (
         np.sign(np.add.reduceat(classes[table.beams % table.n_beams], table.offsets[:-1]))

@@ -9,12 +9,10 @@ import numpy as np
 import pytest
 
 from laserpeople.detection.augment import (
-    RangeShiftParams,
     Variant,
     beam_classes,
     resample_scan,
     segment_labels_from_beams,
-    shift_scan_out,
     variants,
 )
 from laserpeople.detection.training import (
@@ -25,7 +23,6 @@ from laserpeople.detection.training import (
     leg_tracker_positive_classes,
     neko_classes,
     neko_segments,
-    shifted_segments,
 )
 from laserpeople.errors import RecordingError
 from laserpeople.scan import Scan
@@ -211,106 +208,3 @@ def test_truth_classes_mark_leg_beams() -> None:
     np.testing.assert_array_equal(classes[~scan.labels.is_leg & scan.valid], -1)
     with pytest.raises(RecordingError, match="ground truth"):
         truth_classes([Scan(0.0, 0.0, DEG, np.ones(3))])
-
-
-# ---------------------------------------------------------------- moving segments out
-
-INC = math.radians(0.3515625)  # the leg_tracker scanner's increment
-
-
-def plate_scan(x: float, half_width: float, n_side: int = 60) -> Scan:
-    """Beams k * INC, k = -n_side..n_side, at a flat plate x = ``x``, |y| <= half_width."""
-    k = np.arange(-n_side, n_side + 1)
-    phi = k * INC
-    r = np.where(np.abs(x * np.tan(phi)) <= half_width, x / np.cos(phi), np.inf)
-    return Scan(0.0, -n_side * INC, INC, r, range_max=30.0)
-
-
-def test_plate_at_2m_recast_at_6m_by_hand() -> None:
-    """A 0.2 m plate facing the sensor at 2 m: |k| <= atan(0.05) / INC = 8.18, 17 beams.
-    Its surface runs through the outer points (y = +-2 tan(8 INC) = +-0.0978 m) and half a
-    beam spacing (0.5 * INC * 2.0024 m = 0.0061 m) beyond: +-0.1040 m. Moved 4 m out, the
-    beams with |tan(k INC)| <= 0.1040 / 6 hit it: |k| <= 2.84, 5 beams (the true plate at
-    6 m gives 5 too: |k| <= 2.73), each at range 6 / cos(k INC)."""
-    scan = plate_scan(2.0, 0.1)
-    classes = np.where(scan.valid, 1, 0).astype(np.int64)
-    assert int(scan.valid.sum()) == 17
-    seg = JumpDistanceParams(threshold=0.13)
-    params = RangeShiftParams(range_noise=0.0)
-    new, cls = shift_scan_out(scan, classes, 4.0, seg, np.random.default_rng(0), params)
-    k = np.flatnonzero(new.valid) - 60
-    assert k.tolist() == [-2, -1, 0, 1, 2]  # about a third of 17
-    assert np.allclose(new.ranges[new.valid], 6.0 / np.cos(k * INC), atol=1e-9)
-    assert cls[new.valid].tolist() == [1] * 5
-    assert set(cls[~new.valid].tolist()) == {0}
-    # width first -> last point: 4 * 6 tan(INC)... = 0.147 m against 0.196 m at 2 m; the
-    # plate's 0.2 m is kept within one beam spacing at 6 m on each side (2 * 0.0368 m)
-    pts = new.points()[new.valid]
-    width = float(np.hypot(*(pts[-1] - pts[0])))
-    assert width == pytest.approx(2 * 6.0 * math.tan(2 * INC), abs=1e-9)
-    assert 0.2 - 2 * 6.0 * INC <= width <= 0.2
-
-
-def test_leg_recast_keeps_its_size_and_loses_beams_like_a_real_leg() -> None:
-    """A leg (circle, radius 0.06 m) at 2 m moved out 4 m gets the beams a leg at 6 m gets
-    (the circle cast directly), its points within 1 cm of the true circle."""
-
-    def circle(cx: float) -> Scan:
-        k = np.arange(-60, 61)
-        d = np.column_stack((np.cos(k * INC), np.sin(k * INC)))
-        b = d[:, 0] * cx
-        disc = b * b - (cx * cx - 0.06**2)
-        r = np.where(disc > 0, b - np.sqrt(np.where(disc > 0, disc, 0.0)), np.inf)
-        return Scan(0.0, -60 * INC, INC, r, range_max=30.0)
-
-    near, far = circle(2.06), circle(6.06)
-    classes = np.where(near.valid, 1, 0).astype(np.int64)
-    seg = JumpDistanceParams(threshold=0.13)
-    new, _ = shift_scan_out(
-        near, classes, 4.0, seg, np.random.default_rng(0), RangeShiftParams(range_noise=0.0)
-    )
-    assert int(near.valid.sum()) == 9
-    assert np.flatnonzero(new.valid).tolist() == np.flatnonzero(far.valid).tolist()
-    assert np.allclose(new.ranges[new.valid], far.ranges[far.valid], atol=0.01)
-
-
-def test_nearer_objects_hide_farther_ones_and_noise_is_the_given_sigma() -> None:
-    """Two plates on one bearing, 1 m apart, both moved 3 m out: only the nearer one is
-    seen where it covers the other; the noise of many beams has the given deviation."""
-    near, back = plate_scan(2.0, 0.1), plate_scan(3.0, 0.6)
-    r = np.minimum(near.ranges, back.ranges)
-    scan = Scan(0.0, near.angle_min, INC, r, range_max=30.0)
-    classes = np.where(np.isfinite(near.ranges), 1, -1).astype(np.int64)
-    seg = JumpDistanceParams(threshold=0.13)
-    exact = RangeShiftParams(range_noise=0.0)
-    new, cls = shift_scan_out(scan, classes, 3.0, seg, np.random.default_rng(0), exact)
-    centre = new.ranges[55:66]
-    assert cls[58:63].tolist() == [1] * 5 and cls[60] == 1
-    assert np.all(centre[cls[55:66] == 1] < 5.1) and np.all(centre[cls[55:66] == -1] > 5.9)
-    noisy, _ = shift_scan_out(
-        scan, classes, 3.0, seg, np.random.default_rng(1), RangeShiftParams(range_noise=0.02)
-    )
-    both = new.valid & noisy.valid
-    assert np.std(noisy.ranges[both] - new.ranges[both]) == pytest.approx(0.02, rel=0.25)
-
-
-def test_shifted_segments_drop_legs_under_three_points_and_name_groups() -> None:
-    """A leg plate of 0.05 m at 1.5 m (5-6 beams) moved 6 m out keeps 1-2 beams and is not
-    a training segment; moved 1 m out it keeps 3-4 and is one leg."""
-    scan = plate_scan(1.5, 0.025)
-    classes = np.where(scan.valid, 1, 0).astype(np.int64)
-    seg = JumpDistanceParams(threshold=0.13)
-    data = shifted_segments([(scan, classes)], "toy", (1.0, 6.0), seg)
-    assert data.n_positive == 1 and len(data) == 1
-    assert data.groups[int(data.group[0])].startswith("toy@+1m")
-    assert data.distance[0] == pytest.approx(2.5, abs=0.02)
-
-
-def test_shift_bad_arguments_raise() -> None:
-    scan = plate_scan(2.0, 0.1)
-    seg = JumpDistanceParams(threshold=0.13)
-    rng = np.random.default_rng(0)
-    with pytest.raises(ValueError, match="shift"):
-        shift_scan_out(scan, np.zeros(scan.n_beams, dtype=np.int64), 0.0, seg, rng)
-    with pytest.raises(ValueError, match="beam classes"):
-        shift_scan_out(scan, np.zeros(3, dtype=np.int64), 1.0, seg, rng)

@@ -37,7 +37,6 @@ from pathlib import Path
 
 import numpy as np
 
-from laserpeople.detection.augment import RANGE_SHIFTS
 from laserpeople.detection.features import FEATURE_NAMES
 from laserpeople.detection.model_file import LegModel
 from laserpeople.detection.report import Confusion, predict, train_model
@@ -45,11 +44,8 @@ from laserpeople.detection.training import (
     LEG_TRACKER_SEGMENTATION,
     LabelledSegments,
     all_negative,
-    all_negative_classes,
     leg_tracker_positive,
-    leg_tracker_positive_classes,
     neko_segments,
-    shifted_segments,
     truth_segments,
 )
 from laserpeople.sim import run_scenario
@@ -77,10 +73,9 @@ def shared_data() -> Path:
 
 
 def default_training_data(
-    data: Path, with_sim: bool = True, shifts: Sequence[float] = RANGE_SHIFTS
+    data: Path, with_sim: bool = True
 ) -> tuple[dict[str, LabelledSegments], list[str]]:
-    """The labelled segments of the default model per source, and a description of each;
-    ``shifts`` [m]: the leg_tracker scans moved out by each (none: not augmented)."""
+    """The labelled segments of the default model per source, and a description of each."""
     lt = data / "leg_tracker" / "rosbags" / "training_scans_res=0.33"
     parts: dict[str, LabelledSegments] = {}
     sources: list[str] = []
@@ -92,32 +87,6 @@ def default_training_data(
     neg = all_negative(lt / "negative_2.bag", segmentation=LEG_TRACKER_SEGMENTATION)
     sources.append(f"leg_tracker negative_2.bag: {neg.summary()}")
     parts["leg_tracker"] = LabelledSegments.concat([*pos, neg])
-    if shifts:
-        far = [
-            shifted_segments(
-                leg_tracker_positive_classes(lt / f"positive_{i}_extracted.bag"),
-                f"positive_{i}_extracted.bag",
-                shifts,
-                LEG_TRACKER_SEGMENTATION,
-                seed=i,
-            )
-            for i in (1, 2, 3, 4, 6, 7)
-        ]
-        far.append(
-            shifted_segments(
-                all_negative_classes(lt / "negative_2.bag"),
-                "negative_2.bag",
-                shifts,
-                LEG_TRACKER_SEGMENTATION,
-                seed=0,
-            )
-        )
-        parts["leg_tracker_far"] = LabelledSegments.concat(far)
-        sources.append(
-            f"the leg_tracker scans above with every segment moved out by "
-            f"{', '.join(f'{d:g}' for d in shifts)} m and re-cast on the same scanner "
-            f"(range augmentation): {parts['leg_tracker_far'].summary()}"
-        )
     parts["neko7055"] = neko_segments(data / "neko7055", NEKO_TRAIN_FRAMES)
     sources.append(f"neko7055 frames 0-59 (jump distance 0.1 m): {parts['neko7055'].summary()}")
     if with_sim:
@@ -134,25 +103,18 @@ def default_training_data(
     return parts, sources
 
 
-def _recording(group: str) -> str:
-    """``file:topic`` of a group, without the ``@+Dm`` of a moved-out copy."""
-    name, at, rest = group.partition("@")
-    return name + (rest[rest.index(":") :] if at and ":" in rest else "")
-
-
 def validation_split(
     source: str, data: LabelledSegments
 ) -> tuple[LabelledSegments, LabelledSegments]:
     """(fit, validation) parts of one source, as described by :data:`VALIDATION`."""
-    if source in ("leg_tracker", "leg_tracker_far"):
-        wanted = VALIDATION["leg_tracker"]
-        held = [
+    if source == "leg_tracker":
+        held = data.of_groups(VALIDATION["leg_tracker"])
+        names = [
             i
             for i, g in enumerate(data.groups)
-            if any(_recording(g) == w or _recording(g).startswith(w + ":") for w in wanted)
+            if not any(g == w or g.startswith(w + ":") for w in VALIDATION["leg_tracker"])
         ]
-        mask = np.isin(data.group, held)
-        return data.select(~mask), data.select(mask)
+        return data.select(np.isin(data.group, names)), held
     if source == "neko7055":
         val = np.isin(data.scan, list(NEKO_VALIDATION_FRAMES))
         return data.select(~val), data.select(val)
@@ -180,11 +142,9 @@ def choose_rounds(
     return best, errors
 
 
-def train_default(
-    rounds: int | None = None, with_sim: bool = True, shifts: Sequence[float] = RANGE_SHIFTS
-) -> LegModel:
+def train_default(rounds: int | None = None, with_sim: bool = True) -> LegModel:
     """Train the default model from the shared data (T by validation unless given)."""
-    parts, sources = default_training_data(shared_data(), with_sim, shifts)
+    parts, sources = default_training_data(shared_data(), with_sim)
     sweep: dict[int, dict[str, float]] = {}
     if rounds is None:
         rounds, sweep = choose_rounds(parts)
@@ -223,17 +183,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=here)
     parser.add_argument("--rounds", type=int, default=None, help="default: by validation")
     parser.add_argument("--no-sim", action="store_true")
-    parser.add_argument(
-        "--range-shift",
-        type=float,
-        action="append",
-        default=None,
-        help="move the leg_tracker scans out by this many metres (repeatable; default: "
-        f"{', '.join(f'{d:g}' for d in RANGE_SHIFTS)}); 0: no range augmentation",
-    )
     args = parser.parse_args()
-    shifts = RANGE_SHIFTS if args.range_shift is None else tuple(d for d in args.range_shift if d)
-    model = train_default(args.rounds, not args.no_sim, shifts)
+    model = train_default(args.rounds, not args.no_sim)
     model.save(args.out)
     info = model.training
     print(f"wrote {args.out}: {info['segments']} segments, {info['rounds']} rounds")

@@ -172,12 +172,10 @@ def train_model(
     rounds: int,
     segmentation_threshold: float,
     provenance: Mapping[str, object] | None = None,
-    sample_weight: NDArray[np.float64] | None = None,
 ) -> LegModel:
-    """Fit AdaBoost on ``data`` using the paper features ``features`` (1-based);
-    ``sample_weight`` (N,) multiplies 000's initial weights."""
+    """Fit AdaBoost on ``data`` using the paper features ``features`` (1-based)."""
     cols = [f - 1 for f in features]
-    clf = AdaBoostLegClassifier(rounds).fit(data.features[:, cols], data.labels, sample_weight)
+    clf = AdaBoostLegClassifier(rounds).fit(data.features[:, cols], data.labels)
     training = dict(provenance or {})
     training.update(
         {

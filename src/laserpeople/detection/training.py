@@ -38,14 +38,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.detection.augment import (
-    DEFAULT_RANGE_SHIFT_PARAMS,
     TRANSFER_VARIANTS,
-    RangeShiftParams,
     Variant,
     beam_classes,
     resampled_stream,
     segment_labels_from_beams,
-    shift_scan_out,
 )
 from laserpeople.detection.features import (
     N_FEATURES,
@@ -572,28 +569,3 @@ def augmented_input(
     finally:
         rec.close()
     return augmented_segments(pairs, p.name, grid, segmentation)
-
-
-def shifted_segments(
-    pairs: Sequence[ClassedScan],
-    name: str,
-    shifts: Sequence[float],
-    segmentation: JumpDistanceParams = DEFAULT_JUMP_DISTANCE_PARAMS,
-    seed: int = 0,
-    params: RangeShiftParams = DEFAULT_RANGE_SHIFT_PARAMS,
-) -> LabelledSegments:
-    """Labelled segments of ``pairs`` with every segment moved out by each of ``shifts`` [m]
-    (:func:`~laserpeople.detection.augment.shift_scan_out`, noise from ``seed``); groups are
-    ``name@+Dm:sensor``. Legs and non-legs are moved alike; segments left with fewer than
-    three points are not classifiable and drop out, as the detector drops them."""
-    rng = np.random.default_rng(seed)
-    return LabelledSegments.concat(
-        [
-            classed_segments(
-                (shift_scan_out(scan, c, d, segmentation, rng, params) for scan, c in pairs),
-                f"{name}@+{d:g}m",
-                segmentation,
-            )
-            for d in shifts
-        ]
-    )

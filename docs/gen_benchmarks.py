@@ -175,10 +175,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Leg MHT against Stone Soup GNN, held-back randomised scenes",
         ("benchmarks/peers.py", "--tracker", "leg-mht", "--peer", "gnn", "--family", "randomised"),
         15.0,
-        "MOTA / IDF1 0.336 / 0.413 against 0.266 / 0.344 at 0.90× GNN's CPU; crossing-3 "
-        "0.923 / 0.893 against 0.785 / 0.776 at 0.78×; narrow corridor 0.365 / 0.393 against "
-        "0.302 / 0.377 at 0.91×; entrance hall 0.357 / 0.383 against 0.279 / 0.344 at 0.50×; "
-        "moving robot 100–119 (scored while in view) 0.647 / 0.693 against 0.566 / 0.672 at 1.59× "
+        "randomised 100–109 MOTA / IDF1 0.369 / 0.436 against 0.253 / 0.337 at 0.78× GNN's "
+        "CPU; crossing-3 100–102 0.901 / 0.826 against 0.807 / 0.844 at 0.84×; narrow "
+        "corridor 0.360 / 0.412 against 0.321 / 0.411 at 0.85×; entrance hall 0.351 / 0.389 "
+        "against 0.269 / 0.331 at 0.66×; moving robot 100–119 (scored while in view) "
+        "0.647 / 0.693 against 0.566 / 0.672 at 1.59× "
         "(needs the `peers` extra)",
         "people-benchmarks.md",
     ),

@@ -17,6 +17,10 @@ What the tracker did with a missed group's points:
   for 2 s after the scanner last hit them);
 - *offset*: in one reported group of its own, more than 1 m from its centre.
 
+A *merged* miss is also counted by the reported group holding its points: made by a
+merge, by a split (a half), or by neither (a track that took both groups' points), and
+whether that group was first reported less than 1 s before.
+
 What the group was doing: walking or standing (mean speed of its members above or below
 0.3 m/s), and whether a leg of another true group is within d_P of one of its legs while
 moving differently (*passing*: velocities at least ``PROXEMIC_SPEED`` apart: crossing
@@ -89,13 +93,17 @@ def main() -> None:
     false: Counter[str] = Counter()
     sizes: Counter[tuple[str, str]] = Counter()
     wrong: Counter[tuple[str, str, str]] = Counter()  # size, range, "too few"/"too many"
+    holders: Counter[tuple[str, bool]] = Counter()  # event that made it, reported < 1 s
     n_truth = 0
     for seed in parse_seeds(args.seeds):
         sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
         truth_of = {f.scan_index: f for f in sim.truth}
         tracker = GroupMHTTracker(params)
+        first_reported: dict[int, float] = {}  # group id -> stamp [s]
         for lf in frames_from_scans(sim.scans):
             reported = tracker.update(lf.frame)
+            for g in tracker.last_groups:
+                first_reported.setdefault(g.track_id, lf.frame.stamp)
             frame = truth_of.get(lf.frame.index)
             if frame is None:
                 continue
@@ -142,6 +150,10 @@ def main() -> None:
                     cause = "over-split"
                 elif np.any((est == labels[0]) & fg & ~mine):
                     cause = "merged"
+                    holder = int(labels[0])
+                    young = lf.frame.stamp - first_reported[holder] < 1.0
+                    event = next(g.event for g in tracker.last_groups if g.track_id == holder)
+                    holders[(event or "neither", young)] += 1
                 else:
                     cause = "offset"
                 misses[(cause, context(frame, people, params.cluster_distance))] += 1
@@ -172,6 +184,14 @@ def main() -> None:
     print("\nby cause: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_cause.items()))
     print("by context: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_ctx.items()))
     print("false positives: " + ", ".join(f"{c} {n}" for c, n in false.most_common()))
+    print(
+        "merged misses by the group holding them: "
+        + ", ".join(
+            f"{event} {100 * (holders[(event, True)] + holders[(event, False)]) / n_truth:.1f} %"
+            f" ({100 * holders[(event, True)] / n_truth:.1f} % reported < 1 s)"
+            for event in ("merge", "split", "neither")
+        )
+    )
     n_sizes = max(sum(sizes.values()), 1)
     print(
         f"\nwrong sizes: {sum(wrong.values())} of {n_sizes} reported group-frames with points "

@@ -1,6 +1,9 @@
 """Where the group tracker loses group MOTA on the randomised group scenes: every true
 group-frame left unmatched (a miss) by what the tracker did with its points and by what the
-group was doing; every unmatched reported group (a false positive) by what it holds.
+group was doing; every unmatched reported group (a false positive) by what it holds; and
+the reported group sizes that are wrong (rounded, as ``groups_random.py``'s exact share) by
+the true size (the people among the group's points) and the range of its points' mean from
+the scanner.
 
 Matching per frame as CLEAR MOT's step 2 (Hungarian, gate 1 m, without the identity
 carried over from the last frame, so the counts differ slightly from ``groups_random.py``).
@@ -13,6 +16,10 @@ What the tracker did with a missed group's points:
 - *unseen*: no point of it in this scan (occluded, out of view; the truth keeps a person
   for 2 s after the scanner last hit them);
 - *offset*: in one reported group of its own, more than 1 m from its centre.
+
+A *merged* miss is also counted by the reported group holding its points: made by a
+merge, by a split (a half), or by neither (a track that took both groups' points), and
+whether that group was first reported less than 1 s before.
 
 What the group was doing: walking or standing (mean speed of its members above or below
 0.3 m/s), and whether a leg of another true group is within d_P of one of its legs while
@@ -48,6 +55,8 @@ from laserpeople.truth import TruthFrame
 
 WALKING = 0.3
 """Mean speed of a group's members above which it walks [m/s]."""
+RANGES = (3.0, 6.0)
+"""Range bins of the size table [m]: below 3, 3 to 6, 6 and more."""
 
 
 def context(frame: TruthFrame, people: np.ndarray, d_p: float) -> str:
@@ -63,6 +72,16 @@ def context(frame: TruthFrame, people: np.ndarray, d_p: float) -> str:
     return f"{motion}, passing" if near.any() else f"{motion}, apart"
 
 
+def size_key(n_true: int, distance: float) -> tuple[str, str]:
+    """Row of the size table: the true size (``5+`` for five or more) and the range bin."""
+    size = str(n_true) if n_true < 5 else "5+"
+    if distance < RANGES[0]:
+        return size, f"< {RANGES[0]:g} m"
+    if distance < RANGES[1]:
+        return size, f"{RANGES[0]:g}-{RANGES[1]:g} m"
+    return size, f">= {RANGES[1]:g} m"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", default="0-9", help="tune on 0-9; 100-119 are held back")
@@ -72,13 +91,19 @@ def main() -> None:
     params = _with(load_config(GroupTrackerParams, None, None), args.set)
     misses: Counter[tuple[str, str]] = Counter()
     false: Counter[str] = Counter()
+    sizes: Counter[tuple[str, str]] = Counter()
+    wrong: Counter[tuple[str, str, str]] = Counter()  # size, range, "too few"/"too many"
+    holders: Counter[tuple[str, bool]] = Counter()  # event that made it, reported < 1 s
     n_truth = 0
     for seed in parse_seeds(args.seeds):
         sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
         truth_of = {f.scan_index: f for f in sim.truth}
         tracker = GroupMHTTracker(params)
+        first_reported: dict[int, float] = {}  # group id -> stamp [s]
         for lf in frames_from_scans(sim.scans):
             reported = tracker.update(lf.frame)
+            for g in tracker.last_groups:
+                first_reported.setdefault(g.track_id, lf.frame.stamp)
             frame = truth_of.get(lf.frame.index)
             if frame is None:
                 continue
@@ -96,6 +121,20 @@ def main() -> None:
                 hit_g, hit_t = set(rows[ok].tolist()), set(cols[ok].tolist())
             fg = np.asarray(lf.frame.foreground)
             assert lf.frame.points is not None
+            pose = lf.frame.sensor_pose
+            origin = np.array([pose.x, pose.y]) if pose is not None else np.zeros(2)
+            for g in tracker.last_groups:
+                seen = g.members[fg[g.members]]
+                if seen.size == 0:
+                    continue
+                who = lf.true_person[seen]
+                n_true = int(np.unique(who[who >= 0]).size)
+                centre = lf.frame.points.points[seen].mean(axis=0)
+                key = size_key(n_true, float(np.hypot(*(centre - origin))))
+                sizes[key] += 1
+                n_est = round(g.size)
+                if n_est != n_true:
+                    wrong[(*key, "too few" if n_est < n_true else "too many")] += 1
             est = tracker.point_labels(len(lf.frame.points))
             for k, people in enumerate(groups):
                 if k in hit_g:
@@ -111,6 +150,10 @@ def main() -> None:
                     cause = "over-split"
                 elif np.any((est == labels[0]) & fg & ~mine):
                     cause = "merged"
+                    holder = int(labels[0])
+                    young = lf.frame.stamp - first_reported[holder] < 1.0
+                    event = next(g.event for g in tracker.last_groups if g.track_id == holder)
+                    holders[(event or "neither", young)] += 1
                 else:
                     cause = "offset"
                 misses[(cause, context(frame, people, params.cluster_distance))] += 1
@@ -141,6 +184,28 @@ def main() -> None:
     print("\nby cause: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_cause.items()))
     print("by context: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_ctx.items()))
     print("false positives: " + ", ".join(f"{c} {n}" for c, n in false.most_common()))
+    print(
+        "merged misses by the group holding them: "
+        + ", ".join(
+            f"{event} {100 * (holders[(event, True)] + holders[(event, False)]) / n_truth:.1f} %"
+            f" ({100 * holders[(event, True)] / n_truth:.1f} % reported < 1 s)"
+            for event in ("merge", "split", "neither")
+        )
+    )
+    n_sizes = max(sum(sizes.values()), 1)
+    print(
+        f"\nwrong sizes: {sum(wrong.values())} of {n_sizes} reported group-frames with points "
+        f"({100 * sum(wrong.values()) / n_sizes:.1f} %)\n"
+    )
+    print("| true size | range | group-frames | wrong (of all) | too few | too many | of row |")
+    print("|---|---|---|---|---|---|---|")
+    for key in sorted(sizes):
+        few, many = wrong[(*key, "too few")], wrong[(*key, "too many")]
+        print(
+            f"| {key[0]} | {key[1]} | {sizes[key]} | {100 * (few + many) / n_sizes:.1f} % | "
+            f"{100 * few / n_sizes:.1f} % | {100 * many / n_sizes:.1f} % | "
+            f"{100 * (few + many) / sizes[key]:.0f} % |"
+        )
 
 
 if __name__ == "__main__":

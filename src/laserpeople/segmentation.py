@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -89,7 +89,9 @@ class SegmentTable:
 
     def segments_at(self, which: IntArray) -> tuple[Segment, ...]:
         """Segments ``which`` (L,) as :meth:`segment` gives them (the same values), built
-        in one pass: the bounds read at once, not one numpy scalar at a time."""
+        in one pass: the bounds read at once, not one numpy scalar at a time. Their arrays
+        are read-only views of one read-only copy of the table's arrays (none when those
+        are read-only already, as a scan's shared valid points are)."""
         if len(which) == 0:
             return ()
         which = np.asarray(which, dtype=np.int64)
@@ -98,9 +100,9 @@ class SegmentTable:
         first = self.beams[lo]
         last = self.beams[hi - 1]
         stop = last + 1 + np.where(last >= first, 0, self.n_beams)
-        beams, points = self.beams, self.points
+        beams, points = _read_only(self.beams), _read_only(self.points)
         return tuple(
-            Segment(f, t, beams[a:b].copy(), points[a:b].copy())
+            Segment(f, t, beams[a:b], points[a:b])
             for a, b, f, t in zip(
                 lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
             )
@@ -116,6 +118,15 @@ class SegmentTable:
             n_beams,
             n_invalid,
         )
+
+
+def _read_only(a: NDArray[Any]) -> NDArray[Any]:
+    """``a`` itself when it is read-only, else a read-only copy."""
+    if not a.flags.writeable:
+        return a
+    b = a.copy()
+    b.flags.writeable = False
+    return b
 
 
 class Segmenter(Protocol):

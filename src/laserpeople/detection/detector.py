@@ -142,7 +142,7 @@ class _SegmentDetector(abc.ABC):
     def classify_many(self, scans: Sequence[Scan]) -> list[ScanClassification]:
         """:meth:`classify` of each of ``scans`` in turn (the same results), their features
         and scores computed for all of them at once."""
-        tables = [self.segmenter(scan) for scan in scans]
+        tables = self.segmenter.many(scans)
         previous = []
         last = dict(self._previous)
         for scan in scans:

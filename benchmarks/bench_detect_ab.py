@@ -1,7 +1,7 @@
 """The leg detector of this tree against another, side by side in one process (A/B).
 
 Both trees' shipped AdaBoost detectors classify the same scans (the real demo bag and the
-simulated hall of ``bench_scaling.py`` with 4 people, read once); the other tree is
+simulated halls of ``bench_scaling.py``, 4 people or ``--people``, read once); the other tree is
 imported as the package ``laserpeople_ab`` (``bench_track_ab.load_other``). Per pass each
 tree segments, featurises and scores every scan (``classify``), then scores the
 classifiable segments of every scan once more on their own (``decision_function``: the
@@ -97,8 +97,12 @@ def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> No
 
 
 def add_recording_arguments(ap: argparse.ArgumentParser) -> None:
-    """``--halls`` and ``--data``: where the simulated hall is kept and the shared data are."""
-    ap.add_argument("--halls", type=Path, help="keep the simulated hall here (reused)")
+    """``--halls``, ``--people`` and ``--data``: where the simulated halls are kept, how
+    many people walk in them, and where the shared data are."""
+    ap.add_argument("--halls", type=Path, help="keep the simulated halls here (reused)")
+    ap.add_argument(
+        "--people", type=int, nargs="+", default=[4], help="a hall with this many people each"
+    )
     ap.add_argument(
         "--data",
         type=Path,
@@ -108,7 +112,8 @@ def add_recording_arguments(ap: argparse.ArgumentParser) -> None:
 
 def recordings(args: argparse.Namespace, tmp: Path) -> list[tuple[str, Path]]:
     """(name, path) of the real demo bag (when the shared data hold it; said when not) and
-    of the simulated hall with 4 people (simulated into ``args.halls`` or ``tmp`` once)."""
+    of the simulated halls with ``args.people`` people (simulated into ``args.halls`` or
+    ``tmp`` once)."""
     out = []
     bag = args.data / DEMO_BAG
     if bag.exists():
@@ -117,10 +122,11 @@ def recordings(args: argparse.Namespace, tmp: Path) -> list[tuple[str, Path]]:
         print(f"no demo bag at {bag}: left out (--data names the shared data)")
     halls = args.halls or tmp
     halls.mkdir(parents=True, exist_ok=True)
-    hall = halls / "hall-04-8s.npz"
-    if not hall.exists():
-        hall_recording(4, 8.0, hall)
-    out.append(("hall, 4 people (1081 beams)", hall))
+    for people in getattr(args, "people", [4]):
+        hall = halls / f"hall-{people:02d}-8s.npz"
+        if not hall.exists():
+            hall_recording(people, 8.0, hall)
+        out.append((f"hall, {people} people (1081 beams)", hall))
     return out
 
 

@@ -4,7 +4,7 @@ model.
 
 The other tree is imported as the package ``laserpeople_ab`` (``bench_track_ab.load_other``).
 Per pass and recording, each tree (who goes first alternates) reads the recording (the
-real demo bag: decoding its ROS 1 LaserScans; the simulated hall with 4 people of
+real demo bag: decoding its ROS 1 LaserScans; the simulated halls (4 people, or ``--people``) of
 ``bench_scaling.py``: an .npz), detects the legs of every scan (``detect``: segmentation,
 the 14 features, AdaBoost, the detections) scan by scan and as ``track`` does (blocks of
 frames at once where the tree reads ahead), puts every scan into a point set (``Fuse``)
@@ -15,7 +15,7 @@ difference of the detections' positions and scores, leg counts, and of the stati
 model's answers (``static_time`` at every detection of the last 50 scans).
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_outside_tracker.py --before OLD/src
-        [--passes 5] [--halls /tmp/halls]
+        [--passes 5] [--halls /tmp/halls] [--people 4 20]
 """
 
 from __future__ import annotations

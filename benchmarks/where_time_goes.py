@@ -37,11 +37,11 @@ import laserpeople.tracking.point_model as point_model
 from bench_scaling import DEMO_BAG, add_scene_arguments, hall_paths, pipeline
 from bench_track_parts import timed
 
-LEG_DETECTION = "leg detection: segments, features, AdaBoost"
+LEG_DETECTION = "leg detection in blocks: segments, features, legs"
 PARTS: list[tuple[Any, str, str, int]] = [
-    # (classify_many: scan by scan through classify, or a block of scans at once)
-    (detector.AdaBoostLegDetector, "classify_many", LEG_DETECTION, 0),
-    (detector.AdaBoostLegDetector, "detections_from", "leg detection: the detections", 0),
+    # (detect_many: the blocks of frames read ahead; detect: a scan not read ahead)
+    (detector.AdaBoostLegDetector, "detect_many", LEG_DETECTION, 0),
+    (detector.AdaBoostLegDetector, "detect", "leg detection scan by scan", 0),
     (legs.LegMHTTracker, "update", "leg tracker (MHT, people layer, glue)", 0),
     (core.MHT, "step", "MHT step", 1),
     (point_model.KalmanPointModel, "predict", "Kalman prediction of the live nodes", 2),

@@ -60,3 +60,29 @@ def test_empty_and_all_invalid() -> None:
     table = JumpDistanceSegmenter()(scan)
     assert len(table) == 0 and table.n_invalid == 5
     assert table.segments() == []
+
+
+def test_many_scans_at_once_give_each_scans_own_table() -> None:
+    """``many`` segments scans as one at a time does: a jump between the last point of one
+    scan and the first of the next is no segment start of either, and a scan whose first
+    point is far from the last scan's last point starts no extra segment."""
+    rng = np.random.default_rng(5)
+    n = 720
+    scans = []
+    for k in range(6):
+        ranges = np.full(n, 3.0) + 0.5 * (rng.random(n) < 0.02)
+        ranges[rng.random(n) < 0.05] = np.nan
+        ranges[100 + 10 * k : 120 + 10 * k] = 1.0
+        scans.append(Scan(0.01 * k, -math.pi, 2 * math.pi / n, ranges))  # full circle: wraps
+    scans.insert(2, Scan(0.02, 0.0, 0.01, np.full(9, np.nan)))  # no valid point
+    scans.insert(4, Scan(0.03, 0.0, 0.01, np.array([9.0, 1.0, 1.0, 1.0, 2.0])))  # far first
+    seg = JumpDistanceSegmenter()
+    many = seg.many(scans)
+    assert len(many) == len(scans)
+    for scan, table in zip(scans, many, strict=True):
+        alone = seg(scan)
+        np.testing.assert_array_equal(table.offsets, alone.offsets)
+        np.testing.assert_array_equal(table.beams, alone.beams)
+        np.testing.assert_array_equal(table.points, alone.points)
+        assert (table.n_beams, table.n_invalid) == (alone.n_beams, alone.n_invalid)
+    assert many[4].sizes.tolist() == [1, 3, 1]

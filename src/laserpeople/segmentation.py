@@ -22,8 +22,9 @@ beams are ``beams % n_beams``).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -89,7 +90,9 @@ class SegmentTable:
 
     def segments_at(self, which: IntArray) -> tuple[Segment, ...]:
         """Segments ``which`` (L,) as :meth:`segment` gives them (the same values), built
-        in one pass: the bounds read at once, not one numpy scalar at a time."""
+        in one pass: the bounds read at once, not one numpy scalar at a time. Their arrays
+        are read-only views of one read-only copy of the table's arrays (none when those
+        are read-only already, as a scan's shared valid points are)."""
         if len(which) == 0:
             return ()
         which = np.asarray(which, dtype=np.int64)
@@ -98,9 +101,9 @@ class SegmentTable:
         first = self.beams[lo]
         last = self.beams[hi - 1]
         stop = last + 1 + np.where(last >= first, 0, self.n_beams)
-        beams, points = self.beams, self.points
+        beams, points = _read_only(self.beams), _read_only(self.points)
         return tuple(
-            Segment(f, t, beams[a:b].copy(), points[a:b].copy())
+            Segment(f, t, beams[a:b], points[a:b])
             for a, b, f, t in zip(
                 lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
             )
@@ -116,6 +119,15 @@ class SegmentTable:
             n_beams,
             n_invalid,
         )
+
+
+def _read_only(a: NDArray[Any]) -> NDArray[Any]:
+    """``a`` itself when it is read-only, else a read-only copy."""
+    if not a.flags.writeable:
+        return a
+    b = a.copy()
+    b.flags.writeable = False
+    return b
 
 
 class Segmenter(Protocol):
@@ -170,6 +182,45 @@ class JumpDistanceSegmenter:
             n_invalid=n_invalid,
         )
 
+    def many(self, scans: Sequence[Scan]) -> list[SegmentTable]:
+        """The segments of each of ``scans`` (the same tables as one at a time), the
+        distances between neighbouring points of all of them computed at once."""
+        if len(scans) < 2:
+            return [self(scan) for scan in scans]
+        parts = [scan.valid_points("sensor") for scan in scans]
+        sizes = [idx.size for _, idx in parts]
+        bounds = np.zeros(len(scans) + 1, dtype=np.int64)
+        np.cumsum(sizes, out=bounds[1:])
+        if bounds[-1] == 0:
+            return [self(scan) for scan in scans]
+        every = np.concatenate([pts for pts, _ in parts])
+        gaps = np.hypot(*(every[1:] - every[:-1]).T)
+        jumps = np.flatnonzero(gaps >= self.params.threshold) + 1  # (the step into a point)
+        # a scan's own jumps lie strictly inside its points (the step into its first point
+        # comes from the scan before)
+        lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()
+        hi = np.searchsorted(jumps, bounds[1:], side="left").tolist()
+        first = bounds.tolist()
+        out = []
+        for k, (scan, (pts, idx)) in enumerate(zip(scans, parts, strict=True)):
+            n_invalid = scan.n_beams - idx.size
+            if idx.size == 0:
+                out.append(SegmentTable.empty(scan.n_beams, n_invalid))
+                continue
+            inner = jumps[lo[k] : hi[k]] - first[k]
+            out.append(
+                _table_from_starts(
+                    pts,
+                    idx,
+                    np.concatenate(([0], inner)).astype(np.int64),
+                    scan.n_beams,
+                    self.params.threshold,
+                    wrap=self.params.wrap_around and covers_full_circle(scan),
+                    n_invalid=n_invalid,
+                )
+            )
+        return out
+
 
 def covers_full_circle(scan: Scan) -> bool:
     """Whether the beams of ``scan`` go all the way round (beam N-1 neighbours beam 0)."""
@@ -202,6 +253,24 @@ def jump_distance_table(
         return SegmentTable.empty(n_beams, n_invalid)
     gaps = np.hypot(*(points[1:] - points[:-1]).T)
     starts = np.concatenate(([0], np.flatnonzero(gaps >= threshold) + 1)).astype(np.int64)
+    return _table_from_starts(
+        points, beams, starts, n_beams, threshold, wrap=wrap, n_invalid=n_invalid
+    )
+
+
+def _table_from_starts(
+    points: FloatArray,
+    beams: IntArray,
+    starts: IntArray,
+    n_beams: int,
+    threshold: float,
+    *,
+    wrap: bool,
+    n_invalid: int,
+) -> SegmentTable:
+    """The table of :func:`jump_distance_table` from the first point ``starts`` (S,) of
+    each segment (0 first) of the points (K, 2), K > 0."""
+    k = points.shape[0]
     offsets = np.concatenate((starts, [k])).astype(np.int64)
     if wrap and starts.size > 1:
         closing = float(np.hypot(*(points[0] - points[-1])))

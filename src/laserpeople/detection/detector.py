@@ -142,7 +142,7 @@ class _SegmentDetector(abc.ABC):
     def classify_many(self, scans: Sequence[Scan]) -> list[ScanClassification]:
         """:meth:`classify` of each of ``scans`` in turn (the same results), their features
         and scores computed for all of them at once."""
-        tables = [self.segmenter(scan) for scan in scans]
+        tables = self.segmenter.many(scans)
         previous = []
         last = dict(self._previous)
         for scan in scans:
@@ -184,23 +184,62 @@ class _SegmentDetector(abc.ABC):
         """:meth:`detect` of each of ``scans`` in turn (the same detections), classified all
         at once (:meth:`classify_many`)."""
         results = self.classify_many(scans)
-        return [self.detections_from(s, r) for s, r in zip(scans, results, strict=True)]
+        if len(results) == 1:
+            return [self.detections_from(scans[0], results[0])]
+        # every scan's legs, centres and scores picked out at once, then split by scan
+        is_leg = np.concatenate([r.is_leg for r in results])
+        centres = np.concatenate([r.features.centres for r in results])
+        scores = np.concatenate([r.scores for r in results])
+        idx = np.flatnonzero(is_leg)
+        positions = self._positions(centres[idx])
+        cov = self._covariances(idx.size)
+        legs = scores[idx]
+        counts = np.array([len(r.table) for r in results], dtype=np.int64)
+        starts = np.zeros(counts.size + 1, dtype=np.int64)
+        np.cumsum(counts, out=starts[1:])
+        cuts = np.searchsorted(idx, starts).tolist()
+        first = starts.tolist()
+        out = []
+        for k, (scan, result) in enumerate(zip(scans, results, strict=True)):
+            a, b = cuts[k], cuts[k + 1]
+            out.append(
+                Detections(
+                    stamp=scan.stamp,
+                    scan_index=scan.index,
+                    positions=positions[a:b],
+                    covariances=cov[a:b],
+                    scores=legs[a:b],
+                    frame="sensor",
+                    sensor_pose=scan.pose,
+                    segments=result.table.segments_at(idx[a:b] - first[k]) if b > a else (),
+                )
+            )
+        return out
+
+    def _positions(self, centroids: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Leg positions (L, 2) [m] from the centroids (L, 2) of their segments: moved
+        ``centre_offset`` further along the beam (the centroid of a leg's visible half
+        lies in front of the leg's axis)."""
+        distance = np.maximum(np.hypot(centroids[:, 0], centroids[:, 1]), 1e-9)
+        return np.asarray(centroids * (1.0 + self.params.centre_offset / distance)[:, None])
+
+    def _covariances(self, count: int) -> NDArray[np.float64]:
+        """Position covariances (count, 2, 2) [m^2]: ``leg_position_std`` squared on the
+        diagonal."""
+        var = self.params.leg_position_std**2
+        cov = np.zeros((count, 2, 2))
+        cov[:, 0, 0] = var
+        cov[:, 1, 1] = var
+        return cov
 
     def detections_from(self, scan: Scan, result: ScanClassification) -> Detections:
         """The detections of an already classified scan."""
         idx = np.flatnonzero(result.is_leg)
-        var = self.params.leg_position_std**2
-        cov = np.zeros((idx.size, 2, 2))
-        cov[:, 0, 0] = var
-        cov[:, 1, 1] = var
-        centroids = result.features.centres[idx]
-        distance = np.maximum(np.hypot(centroids[:, 0], centroids[:, 1]), 1e-9)
-        positions = centroids * (1.0 + self.params.centre_offset / distance)[:, None]
         return Detections(
             stamp=scan.stamp,
             scan_index=scan.index,
-            positions=positions,
-            covariances=cov,
+            positions=self._positions(result.features.centres[idx]),
+            covariances=self._covariances(idx.size),
             scores=result.scores[idx],
             frame="sensor",
             sensor_pose=scan.pose,

@@ -220,8 +220,9 @@ def _compute(
     Every value is computed by the same floating-point operations in the same order as a
     computation feature by feature and scan by scan would (``np.add.reduceat``'s pairwise
     sums for the moments, residuals and centres; sums in point order for the steps,
-    curvature, angles and range changes, as ``np.bincount`` adds; the medians sorted scan
-    by scan): features that are zero but for rounding (the circularity of three points,
+    curvature, angles and range changes, as ``np.bincount`` adds; the medians of the
+    coordinates themselves, sorted within their segments, see :func:`_sorted_within`):
+    features that are zero but for rounding (the circularity of three points,
     the regularity of evenly spaced points) then keep their rounding, and the stumps whose
     thresholds lie at that level decide the same."""
     P, offsets = _joined(tables)
@@ -278,15 +279,10 @@ def _compute(
     s1 = _sums_in_order(seg, t1, m)
     length = s1[:, 0]
 
-    # vector of medians (feature 3): sort each coordinate within its segment (scan by scan)
+    # vector of medians (feature 3): sort each coordinate within its segment
     lo = off + (sizes - 1) // 2
     hi = off + sizes // 2
-    if len(tables) == 1:
-        vals = _sorted_within(P, seg, m)
-    else:
-        vals = np.concatenate(
-            [_sorted_within(t.points, t.segment_ids, len(t)) for t in tables if len(t)], axis=1
-        )
+    vals = _sorted_within(P, seg, m)
     med = 0.5 * (vals[:, lo] + vals[:, hi])  # (2, M)
 
     # pass 2: centred moments and distances to the medians (pairwise sums); squared

@@ -28,9 +28,9 @@ frame.
 
 from __future__ import annotations
 
+import bisect
 import copy
 import math
-import statistics
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -129,6 +129,7 @@ class SensorMotionCheck:
         self.params = params or SensorMotionParams()
         self._histogram = BeamHistogramBackground()
         self._shares: deque[tuple[float, float]] = deque()
+        self._ranked: list[float] = []  # the shares of ``_shares``, sorted
         self.moved_at: int | None = None
         self.share = math.nan
         self._checked: tuple[float, float] | None = None  # first and last stamp checked
@@ -166,14 +167,28 @@ class SensorMotionCheck:
             return False
         first = frame.stamp if self._checked is None else self._checked[0]
         self._checked = (first, frame.stamp)
-        self._shares.append((frame.stamp, int(np.count_nonzero(fg)) / len(fg)))
+        share = int(np.count_nonzero(fg)) / len(fg)
+        self._shares.append((frame.stamp, share))
+        bisect.insort(self._ranked, share)
         while self._shares and frame.stamp - self._shares[0][0] > self.params.window:
-            self._shares.popleft()
-        self.share = statistics.median(s for _, s in self._shares)  # (as np.median)
+            _, old = self._shares.popleft()
+            del self._ranked[bisect.bisect_left(self._ranked, old)]
+        self.share = _median_of_sorted(self._ranked)
         if self.share > self.params.moved_share:
             self.moved_at = frame.index
             return True
         return False
+
+
+def _median_of_sorted(values: list[float]) -> float:
+    """The median of the sorted ``values`` as ``statistics.median`` gives it (the middle
+    value, or the mean of the two middle ones; NaN when empty)."""
+    n = len(values)
+    if n == 0:
+        return math.nan
+    if n % 2:
+        return values[n // 2]
+    return (values[n // 2 - 1] + values[n // 2]) / 2
 
 
 def _leg_tracker_defaults() -> LegTrackerParams:

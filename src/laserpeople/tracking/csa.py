@@ -67,6 +67,7 @@ class CSAParams:
             "moving_travel": 0.0,
             "cut_free": False,
             "moving_unseen": 0.0,
+            "count_people": False,
         }
     )
 
@@ -197,6 +198,31 @@ class CSAParams:
         "with at least min_points estimates as a new single target started next to the "
         "cluster, with fewer dropped",
     )
+    count_people: bool = param(
+        True,
+        "extension of 002 (whose cluster holds only the people who merged into it as "
+        "targets, so people who walk in together or walk up to a group are never "
+        "counted); random-groups still-sensor scenes (docs/csa.md)",
+        "a cluster whose estimates form more person-sized groups (person_width) of at "
+        "least min_points estimates holding no person's main paths than it holds people "
+        "for count_seconds takes each such group as a new person of the cluster",
+    )
+    person_width: float = param(
+        0.6,
+        "assumption: two legs 0.1-0.5 m apart (or a torso) fit within 0.6 m; people "
+        "standing side by side do not",
+        "largest distance between two estimates of one person-sized group (complete "
+        "linkage) when a cluster's people are counted (count_people)",
+        "m",
+    )
+    count_seconds: float = param(
+        1.0,
+        "assumption: a walking person's legs come together within a step (0.5 s), so "
+        "a leg seen apart does not stay a group of its own for a second",
+        "how long a cluster must show more unheld person-sized groups than people "
+        "before they become people of the cluster (count_people)",
+        "s",
+    )
     background_people: bool = param(
         False,
         "measured (docs/csa.md): true gives crossing-3 cli worst IDF1 0.81 -> 0.94 (seed 7) "
@@ -266,9 +292,12 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
+            "person_width",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
+        if not 0.0 <= self.count_seconds < math.inf:
+            raise ValueError("count_seconds must be finite and not negative")
         if self.fragment_age < 0:
             raise ValueError("fragment_age must not be negative")
         if self.min_points < 1:
@@ -427,6 +456,8 @@ class _Cluster:
     labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
     once per scan in :meth:`ClusterSortingTracker.update`, after the VBA step."""
+    uncounted_since: float | None = None
+    """Since when [s] the cluster shows person-sized groups nobody holds (count_people)."""
 
 
 @dataclass(frozen=True)
@@ -585,6 +616,8 @@ class ClusterSortingTracker:
                 self._orphans_claim(cl)
             if p.cut_free:
                 self._cut_free(cl, stamp, new_singles)
+            if p.count_people:
+                self._count_people(cl, stamp)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -665,6 +698,7 @@ class ClusterSortingTracker:
             shown.update(clusters[k].shown)
             motion.update(clusters[k].motion)
         born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
+        since = clusters[objs_c[0]].uncounted_since if objs_c else None
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -693,6 +727,7 @@ class ClusterSortingTracker:
                 shown,
                 motion,
                 born,
+                uncounted_since=since,
             )
         return _Cluster(
             cid,
@@ -705,6 +740,7 @@ class ClusterSortingTracker:
             shown,
             motion,
             born,
+            uncounted_since=since,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -831,6 +867,47 @@ class ClusterSortingTracker:
         cl.means, cl.covs, cl.scores = cl.means[keep], cl.covs[keep], cl.scores[keep]
         cl.origin = cl.origin[keep]
         cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+
+    def _count_people(self, cl: _Cluster, stamp: float) -> None:
+        """Give ``cl`` a new person for every person-sized group of its estimates
+        (:func:`person_groups` at ``person_width``) with at least ``min_points`` estimates
+        that holds no person's main paths, once such groups were seen for
+        ``count_seconds`` in a row (see ``count_people``): the group's paths continue as
+        the new person's. Two legs of one person lie in one group, so a person's second
+        leg is not counted; a leg seen apart while walking rejoins within a step."""
+        p = self.params
+        if cl.means.shape[0] < p.min_points:
+            cl.uncounted_since = None
+            return
+        groups = person_groups(cl.means[:, :2], p.person_width)
+        n_groups = int(groups.max()) + 1
+        held = {
+            int(np.argmax(np.bincount(groups[cl.origin == m], minlength=n_groups)))
+            for m in {int(o) for o in cl.origin}
+        }
+        sizes = np.bincount(groups, minlength=n_groups)
+        free = [g for g in range(n_groups) if g not in held and sizes[g] >= p.min_points]
+        if not free:
+            cl.uncounted_since = None
+            return
+        if cl.uncounted_since is None:
+            cl.uncounted_since = stamp
+        if stamp - cl.uncounted_since < p.count_seconds:
+            return
+        origin = cl.origin.copy()
+        added = []
+        for g in free:
+            pid = self._s.next_pid
+            self._s.next_pid += 1
+            sel = groups == g
+            origin[sel] = pid
+            cl.shown[pid] = cl.means[sel, :2].mean(axis=0)
+            cl.motion[pid] = (cl.means[sel, 2:].mean(axis=0), stamp)
+            added.append(pid)
+        cl.origin = origin
+        cl.members = tuple(sorted((*cl.members, *added)))
+        cl.uncounted_since = None
+        self.events.append(CSAEvent(stamp, "count people", tuple(added)))
 
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
@@ -1029,6 +1106,32 @@ def _fragment_origins(
         if o in shown:
             out[origin == o] = known[int(np.argmin(np.linalg.norm(ref - shown[o], axis=1)))]
     return out
+
+
+def person_groups(positions: FloatArray, width: float) -> IntArray:
+    """Person-sized groups of positions (N, 2) [m] by complete linkage: the two groups
+    whose farthest pair of positions is closest are joined while that distance is at most
+    ``width`` [m], so every group fits within ``width`` (two legs of a person, a torso)
+    and people standing side by side are apart. Returns a group label (N,) per position,
+    0 .. K-1 in the order of each group's first position."""
+    pts = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+    n = pts.shape[0]
+    d = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))
+    np.fill_diagonal(d, np.inf)
+    label = np.arange(n)
+    while n > 1:
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        if not d[i, j] <= width:
+            break
+        i, j = min(i, j), max(i, j)
+        d[i] = np.maximum(d[i], d[j])  # complete linkage: the farthest pair
+        d[:, i] = d[i]
+        d[i, i] = np.inf
+        d[j] = np.inf
+        d[:, j] = np.inf
+        label[label == j] = i
+    # every group is labelled by its first position: numbered in that order
+    return np.unique(label, return_inverse=True)[1].astype(np.int64).reshape(-1)
 
 
 def gate_components(gates: NDArray[np.bool_]) -> list[list[int]]:

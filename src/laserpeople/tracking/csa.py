@@ -204,7 +204,7 @@ class CSAParams:
         "targets, so people who walk in together or walk up to a group are never "
         "counted); random-groups still-sensor scenes (docs/csa.md)",
         "a cluster whose estimates form more person-sized groups (person_width) of at "
-        "least min_points estimates holding no person's main paths than it holds people "
+        "least count_points estimates holding no person's main paths than it holds people "
         "for count_seconds takes each such group as a new person of the cluster",
     )
     person_width: float = param(
@@ -214,6 +214,19 @@ class CSAParams:
         "largest distance between two estimates of one person-sized group (complete "
         "linkage) when a cluster's people are counted (count_people)",
         "m",
+    )
+    leg_gap: float = param(
+        0.5,
+        "assumption: the two legs of one person are 0.1-0.5 m apart",
+        "an unheld person-sized group whose centre lies within this of the main group of "
+        "a person whose paths it holds may be that person's other leg and is not counted "
+        "(count_people)",
+        "m",
+    )
+    count_points: int = param(
+        2,
+        "assumption: a person 6 m from a 1 degree scanner returns two or three beams",
+        "estimates an unheld person-sized group needs to be counted (count_people)",
     )
     count_seconds: float = param(
         1.0,
@@ -293,6 +306,7 @@ class CSAParams:
             "max_dt",
             "member_coast",
             "person_width",
+            "leg_gap",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
@@ -300,8 +314,8 @@ class CSAParams:
             raise ValueError("count_seconds must be finite and not negative")
         if self.fragment_age < 0:
             raise ValueError("fragment_age must not be negative")
-        if self.min_points < 1:
-            raise ValueError("min_points must be at least 1")
+        if self.min_points < 1 or self.count_points < 1:
+            raise ValueError("min_points and count_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
         for name in ("moving_travel", "moving_unseen"):
@@ -456,8 +470,9 @@ class _Cluster:
     labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
     once per scan in :meth:`ClusterSortingTracker.update`, after the VBA step."""
-    uncounted_since: float | None = None
-    """Since when [s] the cluster shows person-sized groups nobody holds (count_people)."""
+    uncounted: list[tuple[FloatArray, float]] = field(default_factory=list)
+    """Where (2,) [m] and since when [s] the cluster shows a person-sized group nobody
+    holds (count_people)."""
 
 
 @dataclass(frozen=True)
@@ -698,7 +713,7 @@ class ClusterSortingTracker:
             shown.update(clusters[k].shown)
             motion.update(clusters[k].motion)
         born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
-        since = clusters[objs_c[0]].uncounted_since if objs_c else None
+        since = [u for k in objs_c for u in clusters[k].uncounted]
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -727,7 +742,7 @@ class ClusterSortingTracker:
                 shown,
                 motion,
                 born,
-                uncounted_since=since,
+                uncounted=since,
             )
         return _Cluster(
             cid,
@@ -740,7 +755,7 @@ class ClusterSortingTracker:
             shown,
             motion,
             born,
-            uncounted_since=since,
+            uncounted=since,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -870,44 +885,54 @@ class ClusterSortingTracker:
 
     def _count_people(self, cl: _Cluster, stamp: float) -> None:
         """Give ``cl`` a new person for every person-sized group of its estimates
-        (:func:`person_groups` at ``person_width``) with at least ``min_points`` estimates
-        that holds no person's main paths, once such groups were seen for
-        ``count_seconds`` in a row (see ``count_people``): the group's paths continue as
-        the new person's. Two legs of one person lie in one group, so a person's second
-        leg is not counted; a leg seen apart while walking rejoins within a step."""
+        (:func:`person_groups` at ``person_width``) with at least ``count_points``
+        estimates that holds no person's main paths (the group holding most of them) and
+        whose centre lies farther than ``leg_gap`` from the main group of every person
+        whose paths it holds (so it is not that person's other leg), once a group
+        so was seen within ``person_width`` of the same place for ``count_seconds`` (see
+        ``count_people``): the group's paths continue as the new person's."""
         p = self.params
-        if cl.means.shape[0] < p.min_points:
-            cl.uncounted_since = None
+        if cl.means.shape[0] < p.count_points:
+            cl.uncounted = []
             return
-        groups = person_groups(cl.means[:, :2], p.person_width)
+        xy = cl.means[:, :2]
+        groups = person_groups(xy, p.person_width)
         n_groups = int(groups.max()) + 1
-        held = {
-            int(np.argmax(np.bincount(groups[cl.origin == m], minlength=n_groups)))
+        cents = np.array([xy[groups == g].mean(axis=0) for g in range(n_groups)])
+        main = {
+            m: int(np.argmax(np.bincount(groups[cl.origin == m], minlength=n_groups)))
             for m in {int(o) for o in cl.origin}
         }
         sizes = np.bincount(groups, minlength=n_groups)
-        free = [g for g in range(n_groups) if g not in held and sizes[g] >= p.min_points]
-        if not free:
-            cl.uncounted_since = None
-            return
-        if cl.uncounted_since is None:
-            cl.uncounted_since = stamp
-        if stamp - cl.uncounted_since < p.count_seconds:
-            return
-        origin = cl.origin.copy()
+        seen: list[tuple[FloatArray, float]] = []
         added = []
-        for g in free:
+        origin = cl.origin.copy()
+        for g in range(n_groups):
+            if g in main.values() or sizes[g] < p.count_points:
+                continue
+            owners = {int(o) for o in cl.origin[groups == g]}
+            gap = min(float(np.hypot(*(cents[g] - cents[main[m]]))) for m in owners)
+            if gap <= p.leg_gap:  # may be an owner's other leg
+                continue
+            since = min(
+                (t for c, t in cl.uncounted if np.hypot(*(c - cents[g])) <= p.person_width),
+                default=stamp,
+            )
+            if stamp - since < p.count_seconds:
+                seen.append((cents[g], since))
+                continue
             pid = self._s.next_pid
             self._s.next_pid += 1
             sel = groups == g
             origin[sel] = pid
-            cl.shown[pid] = cl.means[sel, :2].mean(axis=0)
+            cl.shown[pid] = cents[g]
             cl.motion[pid] = (cl.means[sel, 2:].mean(axis=0), stamp)
             added.append(pid)
-        cl.origin = origin
-        cl.members = tuple(sorted((*cl.members, *added)))
-        cl.uncounted_since = None
-        self.events.append(CSAEvent(stamp, "count people", tuple(added)))
+        cl.uncounted = seen
+        if added:
+            cl.origin = origin
+            cl.members = tuple(sorted((*cl.members, *added)))
+            self.events.append(CSAEvent(stamp, "count people", tuple(added)))
 
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the

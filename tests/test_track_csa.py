@@ -16,8 +16,8 @@ from laserpeople.tracking.csa import (
     CSAEvent,
     CSAParams,
     leader_clusters,
-    person_groups,
     per_person_scores,
+    person_groups,
     split_ready,
     viterbi_step,
 )
@@ -605,7 +605,7 @@ def test_a_persons_own_legs_and_a_short_glimpse_are_not_counted() -> None:
     def wide_legs(f: Frame) -> np.ndarray:
         """Person 1 standing at (0.425, 3.0), legs at x = 0.2 and 0.65 (0.45 m apart)."""
         legs = _blob((0.3, 3.0), f.index)
-        return np.concatenate([legs[:5], legs[5:] + [0.25, 0.0]])
+        return np.concatenate([legs[:5], legs[5:] + np.array([0.25, 0.0])])
 
     def glimpse(f: Frame) -> np.ndarray:
         return _blob((0.0, 3.8), f.index) if 4.0 <= f.stamp < 4.5 else np.empty((0, 2))

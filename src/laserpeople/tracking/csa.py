@@ -203,9 +203,10 @@ class CSAParams:
         "extension of 002 (whose cluster holds only the people who merged into it as "
         "targets, so people who walk in together or walk up to a group are never "
         "counted); random-groups still-sensor scenes (docs/csa.md)",
-        "a cluster whose estimates form more person-sized groups (person_width) of at "
-        "least count_points estimates holding no person's main paths than it holds people "
-        "for count_seconds takes each such group as a new person of the cluster",
+        "a person-sized group (person_width) of at least count_points of a cluster's "
+        "estimates that holds no person's main paths and lies farther than leg_gap from "
+        "the main group of every person whose paths it holds, seen near the same place "
+        "for count_seconds, becomes a new person of the cluster (its paths that person's)",
     )
     person_width: float = param(
         0.6,
@@ -232,8 +233,8 @@ class CSAParams:
         1.0,
         "assumption: a walking person's legs come together within a step (0.5 s), so "
         "a leg seen apart does not stay a group of its own for a second",
-        "how long a cluster must show more unheld person-sized groups than people "
-        "before they become people of the cluster (count_people)",
+        "how long an unheld person-sized group must be seen near the same place (within "
+        "person_width) before it becomes a person of the cluster (count_people)",
         "s",
     )
     background_people: bool = param(
@@ -481,8 +482,8 @@ class CSAEvent:
 
     Attributes:
         stamp: Time [s].
-        kind: "merge person+person", "merge person+cluster", "merge cluster+cluster" or
-            "split".
+        kind: "merge person+person", "merge person+cluster", "merge cluster+cluster",
+            "split", "adopt orphan" or "count people" (``members``: the people added).
         members: The people of the cluster after a merge / before a split.
     """
 

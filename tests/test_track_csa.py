@@ -13,9 +13,11 @@ from laserpeople.frame import Frame
 from laserpeople.scan import PointSet, Pose2D
 from laserpeople.tracking.csa import (
     ClusterSortingTracker,
+    CSAEvent,
     CSAParams,
     leader_clusters,
     per_person_scores,
+    person_groups,
     split_ready,
     viterbi_step,
 )
@@ -260,16 +262,23 @@ def test_targets_started_together_that_merge_at_once_are_one_person() -> None:
     laser whose static world model is dropped): four targets start, their gates share
     points and they merge in the next scan. Younger than fragment_age (1 s), they are
     fragments of the oldest: one person. With fragment_age = 0 they are four people. In
-    the first scan none is reported yet (confirm_scans = 2)."""
+    the first scan none is reported yet (confirm_scans = 2). Without count_people the
+    cluster stays one person; with it (the default), the three person-sized groups
+    nobody holds, seen for count_seconds (1 s), are counted as its people from then on."""
     paths = [[(0, 0.7 * i, 3.0), (10, 0.7 * i, 3.0)] for i in range(4)]
     frames = _frames(paths, 2.0)
-    csa = ClusterSortingTracker()
-    counts = [len(csa.update(f).of_kind("person")) for f in frames]
+    alone = ClusterSortingTracker(CSAParams(count_people=False))
+    counts = [len(alone.update(f).of_kind("person")) for f in frames]
     assert counts[0] == 0 and counts[1:] == [1] * (len(frames) - 1)
-    assert list(csa.clusters.values()) == [(0,)]
-    every = ClusterSortingTracker(CSAParams(fragment_age=0.0))
+    assert list(alone.clusters.values()) == [(0,)]
+    every = ClusterSortingTracker(CSAParams(fragment_age=0.0, count_people=False))
     assert [len(every.update(f).of_kind("person")) for f in frames] == [0] + [4] * (len(frames) - 1)
     assert list(every.clusters.values()) == [(0, 1, 2, 3)]
+    counted = ClusterSortingTracker()
+    counts = [len(counted.update(f).of_kind("person")) for f in frames]
+    # merged in scan 1, the free groups first seen there, counted 1 s later (scan 11)
+    assert counts == [0] + [1] * 10 + [4] * 10
+    assert [len(m) for m in counted.clusters.values()] == [4]
 
 
 def _standing(
@@ -362,7 +371,8 @@ def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     cluster's gates, so the cluster takes its points and no target starts; it then walks
     away to (0, 5.5) and stands. Its points form a sub-cluster that holds no person's main
     paths: it is cut off as a new target, reported there at the end, and the cluster
-    keeps its two people at their own legs. Without the rule (002, --preset paper) the
+    keeps its two people at their own legs. Without the rule (002, --preset paper; and
+    without count_people, which counts the third person into the cluster instead) the
     cluster holds the third person's points for ever and nobody is reported there."""
     a = [(0, -2.5, 3.0), (2, -0.25, 3.0), (8, -0.25, 3.0)]
     b = [(0, 2.5, 3.0), (2, 0.25, 3.0), (8, 0.25, 3.0)]
@@ -387,7 +397,7 @@ def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     assert np.linalg.norm(rows[0] - [-0.25, 3.0]) < 0.2
     assert np.linalg.norm(rows[1] - [0.25, 3.0]) < 0.2
     assert (0, 1) in csa.clusters.values()
-    _, plain = end(CSAParams(cut_free=False))
+    _, plain = end(CSAParams(cut_free=False, count_people=False))
     assert all(np.linalg.norm(xy - [0.0, 5.5]) > 0.5 for xy in plain.values())
     assert CSAParams.paper_preset["cut_free"] is False
 
@@ -515,3 +525,101 @@ def test_cut_free_starts_a_target_from_min_points_estimates_and_drops_fewer() ->
     assert np.allclose(cl.means[:, :2], np.array(legs0 + legs1), atol=1e-12)
     assert cl.origin.tolist() == [0] * 4 + [1] * 4
     assert cl.labels.tolist() == [0] * 8
+
+
+def test_person_groups_by_complete_linkage_by_hand() -> None:
+    """Complete linkage at 0.6 m: two legs 0.3 m apart are one group; a chain 0, 0.35,
+    0.7 m is two groups (0.35 joins 0 first, then 0.7 is 0.7 m from 0), where single
+    linkage would give one; labels in the order of each group's first position."""
+    legs = [(0.0, 0.0), (0.3, 0.0)]
+    other = [(1.2, 0.0), (1.4, 0.1)]
+    assert person_groups(np.array(legs + other + [(0.1, 0.05)]), 0.6).tolist() == [0, 0, 1, 1, 0]
+    chain = np.array([(0.0, 0.0), (0.35, 0.0), (0.7, 0.0)])
+    assert person_groups(chain, 0.6).tolist() == [0, 0, 1]
+    assert person_groups(chain, 0.7).tolist() == [0, 0, 0]
+    assert person_groups(chain[::-1], 0.6).tolist() == [0, 0, 1]  # 0.7 and 0.35 first
+    assert person_groups(np.zeros((0, 2)), 0.6).tolist() == []
+
+
+def _with_points(frames: list[Frame], extra: Callable[[Frame], np.ndarray]) -> list[Frame]:
+    out = []
+    for f in frames:
+        pts = np.concatenate([f.points.points, extra(f)])  # type: ignore[union-attr]
+        ps = PointSet(f.stamp, pts, np.zeros(len(pts), dtype=np.int64), np.arange(len(pts)))
+        out.append(replace(f, points=ps, foreground=np.ones(len(pts), dtype=bool)))
+    return out
+
+
+def test_a_person_who_walks_into_a_groups_gates_is_counted() -> None:
+    """count_people: people 0 and 1 stand together (one cluster); a third person walks up
+    from (0, 4.6) and stands at (0, 3.8), 0.85 m from each,
+    the target started for it merges as a fragment of the cluster's people and their
+    paths take its legs (one person's paths end up on two people). One of the three
+    person-sized groups then holds nobody's main paths, farther than leg_gap from its
+    owner's main group (so not the owner's other leg): once seen for count_seconds it is
+    a new person of the cluster, and to the end each of the three has a row of its own
+    within 0.2 m. Without the rule (002, --preset paper) two rows stand for three people."""
+    a = [(0, -2.5, 3.0), (2, -0.3, 3.0), (8, -0.3, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.3, 3.0), (8, 0.3, 3.0)]
+
+    def third(f: Frame) -> np.ndarray:
+        if f.stamp < 3.0:
+            return np.empty((0, 2))
+        return _blob((0.0, float(np.interp(f.stamp, [3.0, 4.0], [4.6, 3.8]))), f.index)
+
+    frames = _with_points(_frames([a, b], 8.0), third)
+
+    def rows(params: CSAParams) -> tuple[ClusterSortingTracker, list[dict[int, np.ndarray]]]:
+        csa = ClusterSortingTracker(params)
+        out = [{t.track_id: t.position for t in csa.update(f).of_kind("person")} for f in frames]
+        return csa, out
+
+    places = np.array([(-0.3, 3.0), (0.3, 3.0), (0.0, 3.8)])
+
+    def covered(last: dict[int, np.ndarray]) -> int:
+        """How many of the three people have a row of their own within 0.2 m."""
+        xy = np.array(list(last.values())).reshape(-1, 2)
+        d = np.linalg.norm(xy[:, None] - places[None], axis=-1)
+        return int(((d < 0.2).sum(axis=0) == 1).sum())
+
+    csa, seen = rows(CSAParams())
+    counted = [e for e in csa.events if e.kind == "count people"]
+    assert len(counted) == 1 and counted[0].stamp <= 6.0
+    assert all(len(last) == 3 and covered(last) == 3 for last in seen[-15:])
+    _, plain = rows(CSAParams(count_people=False))
+    assert all(len(last) == 2 and covered(last) < 3 for last in plain[-15:])
+    assert CSAParams.paper_preset["count_people"] is False
+
+
+def test_a_persons_own_legs_and_a_short_glimpse_are_not_counted() -> None:
+    """count_people respects legs: people 0 and 1 stand together, person 1 with its legs
+    0.45 m apart; at person_width 0.5 each leg is a person-sized group of its own, and the
+    leg that holds none of person 1's main paths lies within leg_gap (0.5 m) of them, so
+    it may be person 1's other leg: never counted (with leg_gap 0.4 it is). A blob seen
+    0.9 m beside them (inside their gates) for 0.5 s (shorter than count_seconds, 1 s)
+    is not counted either;
+    with count_seconds 0.3 it is."""
+    a = [(0, -2.5, 3.0), (2, -0.4, 3.0), (6, -0.4, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.4, 3.0), (6, 0.4, 3.0)]
+
+    def wide_legs(f: Frame) -> np.ndarray:
+        """Person 1 standing at (0.425, 3.0), legs at x = 0.2 and 0.65 (0.45 m apart)."""
+        legs = _blob((0.3, 3.0), f.index)
+        return np.concatenate([legs[:5], legs[5:] + np.array([0.25, 0.0])])
+
+    def glimpse(f: Frame) -> np.ndarray:
+        return _blob((0.0, 3.8), f.index) if 4.0 <= f.stamp < 4.5 else np.empty((0, 2))
+
+    legs = _with_points(_frames([a], 6.0), wide_legs)
+
+    def counted(frames: list[Frame], params: CSAParams) -> list[CSAEvent]:
+        csa = ClusterSortingTracker(params)
+        for f in frames:
+            csa.update(f)
+        return [e for e in csa.events if e.kind == "count people"]
+
+    assert counted(legs, CSAParams(person_width=0.5)) == []
+    assert len(counted(legs, CSAParams(person_width=0.5, leg_gap=0.4))) == 1
+    seen = _with_points(_frames([a, b], 6.0), glimpse)
+    assert counted(seen, CSAParams()) == []
+    assert len(counted(seen, CSAParams(count_seconds=0.3))) == 1

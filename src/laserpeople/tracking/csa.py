@@ -67,6 +67,7 @@ class CSAParams:
             "moving_travel": 0.0,
             "cut_free": False,
             "moving_unseen": 0.0,
+            "count_people": False,
         }
     )
 
@@ -197,6 +198,45 @@ class CSAParams:
         "with at least min_points estimates as a new single target started next to the "
         "cluster, with fewer dropped",
     )
+    count_people: bool = param(
+        True,
+        "extension of 002 (whose cluster holds only the people who merged into it as "
+        "targets, so people who walk in together or walk up to a group are never "
+        "counted); random-groups still-sensor scenes (docs/csa.md)",
+        "a person-sized group (person_width) of at least count_points of a cluster's "
+        "estimates that holds no person's main paths and lies farther than leg_gap from "
+        "the main group of every person whose paths it holds, seen near the same place "
+        "for count_seconds, becomes a new person of the cluster (its paths that person's)",
+    )
+    person_width: float = param(
+        0.6,
+        "assumption: two legs 0.1-0.5 m apart (or a torso) fit within 0.6 m; people "
+        "standing side by side do not",
+        "largest distance between two estimates of one person-sized group (complete "
+        "linkage) when a cluster's people are counted (count_people)",
+        "m",
+    )
+    leg_gap: float = param(
+        0.5,
+        "assumption: the two legs of one person are 0.1-0.5 m apart",
+        "an unheld person-sized group whose centre lies within this of the main group of "
+        "a person whose paths it holds may be that person's other leg and is not counted "
+        "(count_people)",
+        "m",
+    )
+    count_points: int = param(
+        2,
+        "assumption: a person 6 m from a 1 degree scanner returns two or three beams",
+        "estimates an unheld person-sized group needs to be counted (count_people)",
+    )
+    count_seconds: float = param(
+        1.0,
+        "assumption: a walking person's legs come together within a step (0.5 s), so "
+        "a leg seen apart does not stay a group of its own for a second",
+        "how long an unheld person-sized group must be seen near the same place (within "
+        "person_width) before it becomes a person of the cluster (count_people)",
+        "s",
+    )
     background_people: bool = param(
         False,
         "measured (docs/csa.md): true gives crossing-3 cli worst IDF1 0.81 -> 0.94 (seed 7) "
@@ -266,13 +306,17 @@ class CSAParams:
             "max_unseen",
             "max_dt",
             "member_coast",
+            "person_width",
+            "leg_gap",
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive")
+        if not 0.0 <= self.count_seconds < math.inf:
+            raise ValueError("count_seconds must be finite and not negative")
         if self.fragment_age < 0:
             raise ValueError("fragment_age must not be negative")
-        if self.min_points < 1:
-            raise ValueError("min_points must be at least 1")
+        if self.min_points < 1 or self.count_points < 1:
+            raise ValueError("min_points and count_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
         for name in ("moving_travel", "moving_unseen"):
@@ -427,6 +471,9 @@ class _Cluster:
     labels: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     """Sub-cluster of each estimate (leader clustering at subcluster_distance), computed
     once per scan in :meth:`ClusterSortingTracker.update`, after the VBA step."""
+    uncounted: list[tuple[FloatArray, float]] = field(default_factory=list)
+    """Where (2,) [m] and since when [s] the cluster shows a person-sized group nobody
+    holds (count_people)."""
 
 
 @dataclass(frozen=True)
@@ -435,8 +482,8 @@ class CSAEvent:
 
     Attributes:
         stamp: Time [s].
-        kind: "merge person+person", "merge person+cluster", "merge cluster+cluster" or
-            "split".
+        kind: "merge person+person", "merge person+cluster", "merge cluster+cluster",
+            "split", "adopt orphan" or "count people" (``members``: the people added).
         members: The people of the cluster after a merge / before a split.
     """
 
@@ -585,6 +632,8 @@ class ClusterSortingTracker:
                 self._orphans_claim(cl)
             if p.cut_free:
                 self._cut_free(cl, stamp, new_singles)
+            if p.count_people:
+                self._count_people(cl, stamp)
             done = self._maybe_split(cl, stamp, new_singles)
             if not done:
                 new_clusters[cl.cid] = cl
@@ -665,6 +714,7 @@ class ClusterSortingTracker:
             shown.update(clusters[k].shown)
             motion.update(clusters[k].motion)
         born = min([clusters[k].born_pid for k in objs_c], default=self._s.next_pid)
+        since = [u for k in objs_c for u in clusters[k].uncounted]
         if objs_c:
             cid = clusters[objs_c[0]].cid
         else:
@@ -693,6 +743,7 @@ class ClusterSortingTracker:
                 shown,
                 motion,
                 born,
+                uncounted=since,
             )
         return _Cluster(
             cid,
@@ -705,6 +756,7 @@ class ClusterSortingTracker:
             shown,
             motion,
             born,
+            uncounted=since,
         )
 
     def _maybe_split(self, cl: _Cluster, stamp: float, out: dict[int, _Single]) -> bool:
@@ -831,6 +883,57 @@ class ClusterSortingTracker:
         cl.means, cl.covs, cl.scores = cl.means[keep], cl.covs[keep], cl.scores[keep]
         cl.origin = cl.origin[keep]
         cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
+
+    def _count_people(self, cl: _Cluster, stamp: float) -> None:
+        """Give ``cl`` a new person for every person-sized group of its estimates
+        (:func:`person_groups` at ``person_width``) with at least ``count_points``
+        estimates that holds no person's main paths (the group holding most of them) and
+        whose centre lies farther than ``leg_gap`` from the main group of every person
+        whose paths it holds (so it is not that person's other leg), once a group
+        so was seen within ``person_width`` of the same place for ``count_seconds`` (see
+        ``count_people``): the group's paths continue as the new person's."""
+        p = self.params
+        if cl.means.shape[0] < p.count_points:
+            cl.uncounted = []
+            return
+        xy = cl.means[:, :2]
+        groups = person_groups(xy, p.person_width)
+        n_groups = int(groups.max()) + 1
+        cents = np.array([xy[groups == g].mean(axis=0) for g in range(n_groups)])
+        main = {
+            m: int(np.argmax(np.bincount(groups[cl.origin == m], minlength=n_groups)))
+            for m in {int(o) for o in cl.origin}
+        }
+        sizes = np.bincount(groups, minlength=n_groups)
+        seen: list[tuple[FloatArray, float]] = []
+        added = []
+        origin = cl.origin.copy()
+        for g in range(n_groups):
+            if g in main.values() or sizes[g] < p.count_points:
+                continue
+            owners = {int(o) for o in cl.origin[groups == g]}
+            gap = min(float(np.hypot(*(cents[g] - cents[main[m]]))) for m in owners)
+            if gap <= p.leg_gap:  # may be an owner's other leg
+                continue
+            since = min(
+                (t for c, t in cl.uncounted if np.hypot(*(c - cents[g])) <= p.person_width),
+                default=stamp,
+            )
+            if stamp - since < p.count_seconds:
+                seen.append((cents[g], since))
+                continue
+            pid = self._s.next_pid
+            self._s.next_pid += 1
+            sel = groups == g
+            origin[sel] = pid
+            cl.shown[pid] = cents[g]
+            cl.motion[pid] = (cl.means[sel, 2:].mean(axis=0), stamp)
+            added.append(pid)
+        cl.uncounted = seen
+        if added:
+            cl.origin = origin
+            cl.members = tuple(sorted((*cl.members, *added)))
+            self.events.append(CSAEvent(stamp, "count people", tuple(added)))
 
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
@@ -1029,6 +1132,32 @@ def _fragment_origins(
         if o in shown:
             out[origin == o] = known[int(np.argmin(np.linalg.norm(ref - shown[o], axis=1)))]
     return out
+
+
+def person_groups(positions: FloatArray, width: float) -> IntArray:
+    """Person-sized groups of positions (N, 2) [m] by complete linkage: the two groups
+    whose farthest pair of positions is closest are joined while that distance is at most
+    ``width`` [m], so every group fits within ``width`` (two legs of a person, a torso)
+    and people standing side by side are apart. Returns a group label (N,) per position,
+    0 .. K-1 in the order of each group's first position."""
+    pts = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+    n = pts.shape[0]
+    d = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))
+    np.fill_diagonal(d, np.inf)
+    label = np.arange(n)
+    while n > 1:
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        if not d[i, j] <= width:
+            break
+        i, j = min(i, j), max(i, j)
+        d[i] = np.maximum(d[i], d[j])  # complete linkage: the farthest pair
+        d[:, i] = d[i]
+        d[i, i] = np.inf
+        d[j] = np.inf
+        d[:, j] = np.inf
+        label[label == j] = i
+    # every group is labelled by its first position: numbered in that order
+    return np.unique(label, return_inverse=True)[1].astype(np.int64).reshape(-1)
 
 
 def gate_components(gates: NDArray[np.bool_]) -> list[list[int]]:

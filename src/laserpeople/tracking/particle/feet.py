@@ -208,7 +208,7 @@ class FeetParams:
         0.15, "assumed", "two filters with feet this close track one person", "m"
     )
     birth_exclusion: float = param(
-        0.5,
+        0.6,
         "measured: at 0.85 no filter started beside a person walking or standing in a "
         "group (neighbours 0.75 m apart); random-groups tuning seeds 0-19 at feet height "
         "MOTP 0.369 at 0.85, 0.494 at 0.6; 004's circle, cross, join, 3 pers., corner, "

@@ -102,6 +102,8 @@ HALVES = (
     "tests/test_track_groups.py",
 )
 SETTINGS = ("tests/test_paper_settings.py",)
+MOTION_MEDIAN = ("tests/test_pipeline_motion_median.py",)
+SEGMENTS = ("tests/test_detect_segmentation.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -1119,6 +1121,46 @@ MUTANTS: tuple[Mutant, ...] = (
         "radius = bandwidth / 2.0 if merge_radius is None else merge_radius",
         "radius = bandwidth / 1.5 if merge_radius is None else merge_radius",
         MEAN_SHIFT,
+    ),
+    Mutant(
+        "csa-count-leg-gap",
+        "CSA count_people (within leg_gap of its owner: the other leg)",
+        C,
+        "if gap <= p.leg_gap:  # may be an owner's other leg",
+        "if gap <= 0.0:  # may be an owner's other leg",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-count-seconds",
+        "CSA count_people (seen for count_seconds near one place)",
+        C,
+        "if stamp - since < p.count_seconds:",
+        "if stamp - since < 0.0:",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-person-groups-single-linkage",
+        "CSA person-sized groups by complete linkage",
+        C,
+        "d[i] = np.maximum(d[i], d[j])  # complete linkage: the farthest pair",
+        "d[i] = np.minimum(d[i], d[j])  # complete linkage: the farthest pair",
+        CSA_RULES,
+    ),
+    Mutant(
+        "motion-median-even",
+        "sensor-motion check (the median of an even count: mean of the middle two)",
+        "pipeline/background.py",
+        "return (values[n // 2 - 1] + values[n // 2]) / 2",
+        "return values[n // 2]",
+        MOTION_MEDIAN,
+    ),
+    Mutant(
+        "segments-many-scan-start",
+        "segmentation of a block of scans (the step into a scan's first point is no jump)",
+        "segmentation.py",
+        'lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()',
+        'lo = np.searchsorted(jumps, bounds[:-1], side="left").tolist()',
+        SEGMENTS,
     ),
 )
 

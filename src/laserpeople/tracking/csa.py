@@ -909,10 +909,11 @@ class ClusterSortingTracker:
         added = []
         origin = cl.origin.copy()
         for g in range(n_groups):
-            if g in main.values() or sizes[g] < p.count_points:
+            if sizes[g] < p.count_points:
                 continue
             owners = {int(o) for o in cl.origin[groups == g]}
             gap = min(float(np.hypot(*(cents[g] - cents[main[m]]))) for m in owners)
+            # (a person's own main group lies at 0: never counted)
             if gap <= p.leg_gap:  # may be an owner's other leg
                 continue
             since = min(

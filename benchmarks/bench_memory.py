@@ -6,8 +6,9 @@ Each run is ``laserpeople track REC -o CSV`` in a fresh interpreter (as a user r
 twice per tree and recording:
 
 - **plain**: the peak resident set size (``ru_maxrss``: interpreter, imports, numpy, the
-  recording's pages read, the tracker) and the resident set sampled every
-  ``--every`` seconds of the run's CPU;
+  tracker, and the pages of a memory-mapped recording read so far) and the anonymous
+  resident set (``RssAnon``: without the recording's mapped pages, which are the file's and
+  which the system reclaims) sampled every ``--every`` seconds of the run's CPU;
 - **traced**: the same run under :mod:`tracemalloc` (about twice the CPU): the peak and the
   current size of the memory Python allocates (numpy arrays included; not the interpreter's
   code or the recording's mapped pages), sampled the same way, and the source lines whose
@@ -17,7 +18,7 @@ twice per tree and recording:
 The long run is the hall of ``bench_scaling.py`` (16 m x 12 m, one Hokuyo UTM-30LX, 1081
 beams at 40 Hz) with ``--people`` walkers for ``--minutes`` (default 20 people, 10 minutes:
 24,000 scans), simulated once and written to a recording (``--cache`` keeps it). Growth is
-the traced current size (the resident set's for a long run without ``--trace-long``) at
+the traced current size (without ``--trace-long``, a long run's anonymous resident set) at
 nine tenths of the run minus at half of it, per 10,000 scans: about zero when nothing is
 kept per scan. A recording of more than 5,000 scans is traced only with ``--trace-long``.
 With ``--before OLD/src`` both trees run, alternating which goes first.
@@ -44,14 +45,17 @@ CHILD = r"""
 import atexit, json, os, resource, sys, threading, time, tracemalloc
 OUT, TRACE = os.environ["LP_MEM_OUT"], os.environ["LP_MEM_TRACE"] == "1"
 EVERY, FIRST = float(os.environ["LP_MEM_EVERY"]), float(os.environ["LP_MEM_FIRST"])
-PAGE = os.sysconf("SC_PAGE_SIZE")
 if TRACE:
     tracemalloc.start(1)
 samples, snaps = [], {}
 
 def rss():
-    with open("/proc/self/statm") as fh:
-        return int(fh.read().split()[1]) * PAGE
+    # anonymous memory only: the pages of a memory-mapped recording (npz) are the file's
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith("RssAnon:"):
+                return int(line.split()[1]) * 1024
+    return 0
 
 def sample():
     due = EVERY
@@ -63,6 +67,8 @@ def sample():
         due = cpu + EVERY
         cur = tracemalloc.get_traced_memory()[0] if TRACE else 0
         samples.append((cpu, rss(), cur))
+        with open(OUT + ".samples", "a") as fh:  # (as it goes: readable before the end)
+            fh.write(json.dumps(samples[-1]) + "\n")
         if TRACE and cpu >= FIRST:
             snap = tracemalloc.take_snapshot().filter_traces(
                 [tracemalloc.Filter(False, tracemalloc.__file__)])
@@ -144,7 +150,7 @@ def summary(plain: dict[str, Any], traced: dict[str, Any] | None, scans: int) ->
         "peak_rss_mb": plain["maxrss"] / MB,
         "rss_mb_at": {f: at(plain["samples"], f, 1) for f in (0.1, 0.5, 0.9)},
         "cpu_s": plain["cpu"],
-        "growth_of": "resident set" if traced is None else "traced",
+        "growth_of": "anonymous" if traced is None else "traced",
         "growth_mb_per_10k_scans": growth,
     }
     if traced is not None:
@@ -223,7 +229,7 @@ def main() -> None:
                     print(f"{name}: {tree} {kind} done", flush=True)
             print(f"\n`laserpeople track` on {name} ({scans} scans), MB:")
             print(
-                f"  {'tree':6s} {'CPU s':>6s} {'peak RSS':>9s} {'RSS 10%/50%/90%':>20s} "
+                f"  {'tree':6s} {'CPU s':>6s} {'peak RSS':>9s} {'anon 10%/50%/90%':>20s} "
                 f"{'traced peak':>12s} {'traced 10%/50%/90%':>20s} {'growth/10k scans':>17s}"
             )
             report[name] = {}

@@ -152,6 +152,7 @@ def summary(plain: dict[str, Any], traced: dict[str, Any] | None, scans: int) ->
         "cpu_s": plain["cpu"],
         "growth_of": "anonymous" if traced is None else "traced",
         "growth_mb_per_10k_scans": growth,
+        "samples": s,  # (CPU s, anonymous resident set, traced size [bytes]) through the run
     }
     if traced is not None:
         out["traced_peak_mb"] = traced["traced_peak"] / MB

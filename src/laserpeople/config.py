@@ -19,7 +19,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar, get_type_hints
@@ -252,6 +251,8 @@ def _precheck_toml(text: str, p: Path) -> None:
 
 
 def _read_toml(p: Path) -> dict[str, Any]:
+    import tomllib  # (at use: its regular expressions cost every start-up ~5 % of `--help`)
+
     try:
         text = p.read_text(encoding="utf-8")
         _precheck_toml(text, p)

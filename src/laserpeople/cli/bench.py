@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import json
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -122,6 +121,8 @@ def register(app: typer.Typer) -> None:
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
         if as_json:
+            import json  # (at use: not for every start-up)
+
             print(
                 json.dumps(
                     {

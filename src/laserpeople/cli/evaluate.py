@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -252,6 +251,8 @@ def register(app: typer.Typer) -> None:
             out = report.to_json_dict()
             for key in ("identity_matching", "schenk_matching"):
                 out["detail"][key] = _named_pairs(out["detail"][key], names)
+            import json  # (at use: not for every start-up)
+
             print(json.dumps(out, allow_nan=False))
         else:
             console.print(render(report))
@@ -329,6 +330,8 @@ def _followed(
             "best_track": None if result.best_track is None else names.name(result.best_track),
             "track_frames": [[names.name(t), n] for t, n in result.track_frames],
         }
+        import json  # (at use: not for every start-up)
+
         print(json.dumps(out, allow_nan=False))
     else:
         console.print(render_followed(result, names))
@@ -381,6 +384,8 @@ def _many(
             {k: (None if isinstance(v, float) and v != v else v) for k, v in r.items()}
             for r in rows
         ]
+        import json  # (at use: not for every start-up)
+
         print(json.dumps(safe, allow_nan=False))
     else:
         console.print(render_many(rows, gate))

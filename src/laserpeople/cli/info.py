@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -270,6 +269,8 @@ def register(app: typer.Typer) -> None:
             report_damage(rec)
             rec.close()
         if as_json:
+            import json  # (at use: not for every start-up)
+
             print(json.dumps(_finite(report), allow_nan=False))
         else:
             _print_table(report)

@@ -303,7 +303,7 @@ class FrameChooser:
     def __call__(self, frames: Iterable[Frame]) -> Iterator[Frame]:
         """``frames`` with ``frame`` and ``sensor_pose`` set (see the class notes)."""
         it = iter(frames)
-        head = list(itertools.islice(it, self.window))
+        head = deque(itertools.islice(it, self.window))
         if not head:
             return
         with_pose = sum(all(s.pose is not None for s in f.scans) for f in head)
@@ -313,7 +313,11 @@ class FrameChooser:
         else:
             chosen = self.stats.requested
         self.stats.frame = chosen
-        for frame in itertools.chain(head, it):
+        while head:  # (each buffered frame let go once handed on, not kept for the run)
+            out = self._place(head.popleft(), chosen)
+            if out is not None:
+                yield out
+        for frame in it:
             out = self._place(frame, chosen)
             if out is not None:
                 yield out

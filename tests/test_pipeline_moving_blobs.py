@@ -54,17 +54,26 @@ def test_a_still_or_slow_blob_is_dropped() -> None:
     assert _run(0.02, 30) == [False] * 30
 
 
-def test_a_blob_that_moved_stays_kept_when_it_stops() -> None:
+def test_a_blob_that_jumped_once_is_dropped_and_a_walker_that_stops_too() -> None:
     blobs = MovingBlobs(travel=0.3, seconds=0.5)
     mask = np.ones(len(LEGS), dtype=bool)
+    # one jump of 0.4 m (its association switched, or part of it was hidden), then still:
+    # 0.4 m from its oldest centre, but its centre halfway in time lies where it is now
+    for k in range(12):
+        out = blobs(k * 0.1, LEGS + np.array([0.0 if k == 0 else 0.4, 0.0]), mask)
+        assert not out.any()
+    walker = MovingBlobs(travel=0.3, seconds=0.5)
     for k in range(7):
-        out = blobs(k * 0.1, LEGS + np.array([0.1 * k, 0.0]), mask)
+        out = walker(k * 0.1, LEGS + np.array([0.1 * k, 0.0]), mask)
     assert out.all()
-    for k in range(7, 20):  # stands at 0.6 m for 1.3 s
-        out = blobs(k * 0.1, LEGS + np.array([0.6, 0.0]), mask)
-    assert out.all()
+    for k in range(7, 20):  # stands at 0.6 m for 1.3 s: no longer kept
+        out = walker(k * 0.1, LEGS + np.array([0.6, 0.0]), mask)
+    assert not out.any()
     # a stamp going back forgets the blobs
-    assert not blobs(0.0, LEGS + np.array([0.6, 0.0]), mask).any()
+    for k in range(7):
+        out = walker(k * 0.1, LEGS + np.array([0.1 * k, 0.0]), mask)
+    assert out.all()
+    assert not walker(0.0, LEGS + np.array([0.6, 0.0]), mask).any()
 
 
 def test_the_nearest_blob_continues_within_the_gate() -> None:

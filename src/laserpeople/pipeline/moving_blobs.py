@@ -41,7 +41,6 @@ class _BlobTrack:
 
     stamps: list[float] = field(default_factory=list)
     centres: list[NDArray[np.float64]] = field(default_factory=list)
-    moved: bool = False
 
 
 def blob_labels(points: NDArray[np.float64], mask: NDArray[np.bool_]) -> NDArray[np.int64]:
@@ -98,13 +97,26 @@ class MovingBlobs:
             while track.stamps and stamp - track.stamps[0] > 2 * self.seconds:
                 track.stamps.pop(0)
                 track.centres.pop(0)
-            old = stamp - track.stamps[0] >= self.seconds
-            if old and np.hypot(*(centres[i] - track.centres[0])) >= self.travel:
-                track.moved = True
-            if track.moved:
+            if self._moved(track):
                 moving[labels == i] = True
         self._tracks = tracks
         return moving
+
+    def _moved(self, track: _BlobTrack) -> bool:
+        """Whether ``track`` moved consistently: its oldest centre is ``seconds`` or more old
+        and lies ``travel`` or more from its newest, and the centre halfway between them in
+        time lies at least a third of ``travel`` from either (a blob that jumped once, when
+        its association switched or part of it was hidden, and stood still is no walker)."""
+        t0, t1 = track.stamps[0], track.stamps[-1]
+        if t1 - t0 < self.seconds:
+            return False
+        first, last = track.centres[0], track.centres[-1]
+        mid = track.centres[int(np.searchsorted(track.stamps, (t0 + t1) / 2))]
+        return bool(
+            np.hypot(*(last - first)) >= self.travel
+            and np.hypot(*(mid - first)) >= self.travel / 3
+            and np.hypot(*(last - mid)) >= self.travel / 3
+        )
 
     def _associate(self, centres: NDArray[np.float64]) -> list[_BlobTrack]:
         """The track of each of ``centres`` (K, 2) [m]: the nearest previous blob within

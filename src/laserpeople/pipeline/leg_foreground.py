@@ -23,6 +23,12 @@ without points after 0.2 s, ``steady_memory`` and ``steady_person_memory``. By d
 only the legs of people are held, and only for the particle filters (1 s): held clutter
 legs keep the point trackers' false tracks alive.
 
+On a moving laser with poses (the occupancy grid in the world frame) it also keeps the
+grid's foreground points of a person-sized blob that moved ``moving_travel`` (0.5 m) over
+``moving_seconds`` (1 s) in the world frame (:mod:`laserpeople.pipeline.moving_blobs`):
+the leg detector misses many people the grid's foreground holds, and walls and clutter
+do not move there while walkers do (0: only points near legs).
+
 When :class:`~laserpeople.pipeline.background.AutoBackground` uses it is
 ``[leg_foreground] use`` (:class:`LegForegroundParams`): ``never`` (the papers: every
 point, or plain background subtraction), ``no-poses`` (only once the model is dropped on a
@@ -145,7 +151,8 @@ class LegForegroundParams:
     )
     moving_seconds: float = param(
         1.0,
-        "with moving_travel: a walker at 0.5 m/s or faster (tried 0.5 s)",
+        "measured with moving_travel (random-groups tuning seeds, moving robots; tried 0.3 m "
+        "over 0.5 s): a walker at 0.5 m/s or faster",
         "the time over which a blob must have moved moving_travel, steadily (its centre "
         "halfway in time a third of it from either end)",
         "s",

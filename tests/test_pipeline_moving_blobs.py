@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from laserpeople.config import load_config
 from laserpeople.frame import Frame
 from laserpeople.pipeline.leg_foreground import LegForeground, LegForegroundParams
 from laserpeople.pipeline.moving_blobs import MovingBlobs, blob_labels
@@ -83,6 +84,11 @@ def test_the_nearest_blob_continues_within_the_gate() -> None:
     # a jump of 0.6 m (beyond the 0.5 m gate) is a new blob, not a blob that moved
     assert not blobs(0.5, LEGS + np.array([0.6, 0.0]), mask).any()
     assert not blobs(1.0, LEGS + np.array([0.6, 0.0]), mask).any()
+
+
+def test_the_paper_preset_keeps_only_points_near_legs() -> None:
+    assert load_config(LegForegroundParams, None, "paper").moving_travel == 0.0
+    assert LegForegroundParams().moving_travel == 0.5
 
 
 def test_params_are_checked() -> None:

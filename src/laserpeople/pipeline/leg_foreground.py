@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, replace
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -64,6 +65,7 @@ class LegForegroundParams:
     """When and how the foreground is narrowed to the points near leg detections."""
 
     config_section = "leg_foreground"
+    paper_preset = MappingProxyType({"moving_travel": 0.0})  # 002, 004: no moving blobs
 
     use: str = param(
         "moving",
@@ -140,9 +142,9 @@ class LegForegroundParams:
 
     moving_travel: float = param(
         0.5,
-        "measured on simulated moving robots (random-groups tuning seeds; tried 0.3 m over "
-        "0.5 s: feet-pf MOTA 0.489 -> 0.457): the leg detector misses people the grid's "
-        "foreground holds (feet-pf: of 1,267 person-scans without foreground 830 had grid "
+        "measured (docs/csa.md, 'People the leg detector misses on a moving laser'; tried "
+        "0.3 m over 0.5 s: feet-pf MOTA 0.489 -> 0.457 on the tuning seeds): the leg "
+        "detector misses people the grid's foreground holds (feet-pf: of 1,267 person-scans without foreground 830 had grid "
         "foreground, 112 a leg detection); walls and clutter do not move in the world frame",
         "on a moving laser with poses, also keep the grid's foreground points of a "
         "person-sized blob whose centre moved this far in the world frame over "
@@ -151,8 +153,8 @@ class LegForegroundParams:
     )
     moving_seconds: float = param(
         1.0,
-        "measured with moving_travel (random-groups tuning seeds, moving robots; tried 0.3 m "
-        "over 0.5 s): a walker at 0.5 m/s or faster",
+        "measured with moving_travel (docs/csa.md, 'People the leg detector misses on a "
+        "moving laser'; tried 0.5 s): a walker at 0.5 m/s or faster",
         "the time over which a blob must have moved moving_travel, steadily (its centre "
         "halfway in time a third of it from either end)",
         "s",

@@ -144,8 +144,9 @@ class LegForegroundParams:
         0.5,
         "measured (docs/csa.md, 'People the leg detector misses on a moving laser'; tried "
         "0.3 m over 0.5 s: feet-pf MOTA 0.489 -> 0.457 on the tuning seeds): the leg "
-        "detector misses people the grid's foreground holds (feet-pf: of 1,267 person-scans without foreground 830 had grid "
-        "foreground, 112 a leg detection); walls and clutter do not move in the world frame",
+        "detector misses people the grid's foreground holds (feet-pf: of 1,267 person-scans "
+        "without foreground 830 had grid foreground, 112 a leg detection); walls and "
+        "clutter do not move in the world frame",
         "on a moving laser with poses, also keep the grid's foreground points of a "
         "person-sized blob whose centre moved this far in the world frame over "
         "moving_seconds (0: only points near legs; pipeline/moving_blobs.py)",

@@ -341,6 +341,7 @@ class AutoBackground:
                 leg_tracker=self.static.leg_tracker,
             )
             self.legs_from = frame.index
+        self.legs.moving = self.chosen == "occupancy"
         return self.legs(frame)
 
     def _people(self, frame: Frame) -> NDArray[np.bool_]:

@@ -104,6 +104,7 @@ HALVES = (
 SETTINGS = ("tests/test_paper_settings.py",)
 MOTION_MEDIAN = ("tests/test_pipeline_motion_median.py",)
 SEGMENTS = ("tests/test_detect_segmentation.py",)
+BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -1161,6 +1162,38 @@ MUTANTS: tuple[Mutant, ...] = (
         'lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()',
         'lo = np.searchsorted(jumps, bounds[:-1], side="left").tolist()',
         SEGMENTS,
+    ),
+    Mutant(
+        "blobs-halfway-from-first",
+        "moving blobs (the centre halfway in time a third of the travel from the first)",
+        "pipeline/moving_blobs.py",
+        "and np.hypot(*(mid - first)) >= self.travel / 3",
+        "and np.hypot(*(mid - first)) >= 0.0",
+        BLOBS,
+    ),
+    Mutant(
+        "blobs-halfway-from-last",
+        "moving blobs (the centre halfway in time a third of the travel from the last)",
+        "pipeline/moving_blobs.py",
+        "and np.hypot(*(last - mid)) >= self.travel / 3",
+        "and np.hypot(*(last - mid)) >= 0.0",
+        BLOBS,
+    ),
+    Mutant(
+        "blobs-over-seconds",
+        "moving blobs (moved over at least moving_seconds)",
+        "pipeline/moving_blobs.py",
+        "if t1 - t0 < self.seconds:",
+        "if t1 - t0 < 0.0:",
+        BLOBS,
+    ),
+    Mutant(
+        "blobs-one-to-one",
+        "moving blobs (each previous blob continues at most one)",
+        "pipeline/moving_blobs.py",
+        "if out[i] is None and j not in used:",
+        "if out[i] is None:",
+        BLOBS,
     ),
 )
 

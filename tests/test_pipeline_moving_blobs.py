@@ -134,3 +134,34 @@ def test_leg_foreground_keeps_a_moving_blob_without_legs_only_on_a_moving_laser(
         pts = np.vstack([LEGS + np.array([0.1 * k, 0.0]), WALL + np.array([0.0, 3.0])])
         out = off(_world_frame(pts, 0.1 * k))
     assert out.foreground is not None and not out.foreground.any()
+
+
+def test_a_blob_that_stood_and_then_moved_fast_is_not_yet_a_walker() -> None:
+    """Still for 0.5 s, then 0.15 m per frame: 0.45 m from its first centre at 0.8 s, but
+    its centre halfway in time still lies on the first (the halfway check from the first)."""
+    blobs = MovingBlobs(travel=0.3, seconds=0.5)
+    mask = np.ones(len(LEGS), dtype=bool)
+    xs = [0.0] * 6 + [0.15, 0.30, 0.45]
+    kept = [bool(blobs(0.1 * k, LEGS + np.array([x, 0.0]), mask).all()) for k, x in enumerate(xs)]
+    assert kept == [False] * 9
+    # a steady walk from the start is kept: 0.35 m over 0.5 s at the sixth frame
+    steady = MovingBlobs(travel=0.3, seconds=0.5)
+    walked = [bool(steady(0.1 * k, LEGS + np.array([0.07 * k, 0.0]), mask).all()) for k in range(9)]
+    assert walked == [False] * 5 + [True] * 4
+
+
+def test_a_walker_passes_its_history_to_one_blob_only() -> None:
+    """A walking blob, then in the last frame a second blob appears 0.43 m from where the
+    walker's centre was (within the 0.5 m gate, apart from its points): only the nearer one
+    continues the walker; the newcomer starts its own history and is not kept."""
+    blobs = MovingBlobs(travel=0.3, seconds=0.5)
+    mask = np.ones(len(LEGS), dtype=bool)
+    for k in range(8):
+        out = blobs(0.1 * k, LEGS + np.array([0.1 * k, 0.0]), mask)
+    assert out.all()
+    walker = LEGS + np.array([0.8, 0.0])
+    newcomer = np.array([[0.875, 0.45], [0.925, 0.45]])  # 0.43 m from (0.9, 0.025)
+    pts = np.vstack([walker, newcomer])
+    out = blobs(0.8, pts, np.ones(len(pts), dtype=bool))
+    assert out[:4].all()
+    assert not out[4:].any()

@@ -49,7 +49,6 @@ def _load_extension(name: str) -> Any:
     package uses this one)."""
     import importlib.machinery
     import importlib.util
-    from pathlib import Path
 
     folder = _package_folder(name.split(".")[0]).joinpath(*name.split(".")[1:-1])
     stem = name.rsplit(".", 1)[1]
@@ -75,8 +74,9 @@ def _package_folder(package: str) -> Any:
     from pathlib import Path
 
     module = sys.modules.get(package)
-    if module is not None and getattr(module, "__file__", None):
-        return Path(module.__file__).parent
+    where = getattr(module, "__file__", None)
+    if where:
+        return Path(where).parent
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         raise ImportError(f"no package {package}")

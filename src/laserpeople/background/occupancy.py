@@ -696,7 +696,9 @@ class OccupancyGrid:
         seen = self._still.value(self._seen_free.reshape(-1), hit)
         arrived = stamp - seen <= p.arrival_window
         first = (now & ~arrived) if self.casting else np.zeros_like(now)
-        self._first_sight.reshape(-1)[hit] = np.where(kept_since, self._first_sight.take(hit), first)
+        self._first_sight.reshape(-1)[hit] = np.where(
+            kept_since, self._first_sight.take(hit), first
+        )
 
     def _cell_static(self, flat: IntArray) -> FloatArray:
         """Static time [s] of the cells ``flat`` (flat indices into the arrays) at the last

@@ -19,7 +19,7 @@ import sys
 import typing
 from collections.abc import Iterator, Sequence
 from importlib import import_module
-from pathlib import PurePath
+from pathlib import Path
 from typing import Any
 
 import typer
@@ -126,9 +126,13 @@ class PlainValues:
             self._kind = annotation.__name__
         elif annotation == list[str]:
             self._kind = "list[str]"
-        elif isinstance(annotation, type) and issubclass(annotation, PurePath):
-            if info.path_type is None and not (info.allow_dash and info.file_okay):
-                self._kind = "path"
+        elif (
+            isinstance(annotation, type)
+            and issubclass(annotation, Path)
+            and info.path_type is None
+            and not (info.allow_dash and info.file_okay)
+        ):
+            self._kind = "path"
 
     def coerce(self, value: Any, param: Any, ctx: Any) -> Any:
         """The value as typer's coercion gives it."""
@@ -141,9 +145,12 @@ class PlainValues:
                 return value
             if kind in ("int", "float") and type(value).__name__ == kind:
                 return value
-            if kind == "list[str]" and isinstance(value, (list, tuple)):
-                if all(type(v) is str for v in value):
-                    return list(value)
+            if (
+                kind == "list[str]"
+                and isinstance(value, (list, tuple))
+                and all(type(v) is str for v in value)
+            ):
+                return list(value)
             if kind == "path" and type(value) is str:
                 from typer._param_types import coerce_cli_path
 

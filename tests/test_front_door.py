@@ -244,3 +244,76 @@ def test_a_command_help_imports_neither_pydantic_nor_click() -> None:
     out = _python(code)
     assert "Usage: laserpeople track" in out
     assert out.rstrip().endswith("LOADED"), out[-200:]
+
+
+def test_a_run_imports_only_what_its_tracker_needs(tmp_path: Path) -> None:
+    """``track`` with the default tracker, output piped: neither pydantic (typer's coercion
+    of plain values), nor the other trackers (the registry names their parameter classes),
+    nor rich's console (status lines off a terminal), nor scipy itself (the assignment
+    solver's extension alone) is imported, and the run still writes its tracks."""
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "r.npz"
+    run_scenario("crossing-3", seconds=2.0, seed=0).write(rec)
+    out = tmp_path / "t.csv"
+    heavy = (
+        "pydantic",
+        "rich.console",
+        "scipy",
+        "laserpeople.tracking.groups",
+        "laserpeople.tracking.csa",
+        "laserpeople.tracking.particle",
+    )
+    code = (
+        f"import sys; sys.argv = ['laserpeople', 'track', {str(rec)!r}, '-o', {str(out)!r}]\n"
+        "from laserpeople.cli import main\n"
+        "try:\n    main()\nexcept SystemExit as exc:\n    assert not exc.code, exc.code\n"
+        f"print('LOADED', ' '.join(m for m in {heavy!r} if m in sys.modules))"
+    )
+    printed = _python(code)
+    assert printed.rstrip().endswith("LOADED"), printed[-300:]
+    assert len(out.read_text().splitlines()) > 10  # (the header and the tracks' rows)
+
+
+def test_plain_values_are_coerced_as_typer_coerces_them(tmp_path: Path) -> None:
+    """Every parameter of ``track`` gets the same value (or the same error) from the
+    program's coercion of plain values as from typer's own (pydantic) coercion."""
+    import typer.main
+
+    coercion = pytest.importorskip("typer._coercion")
+    from laserpeople.cli import PlainValues, make_app
+
+    group = typer.main.get_command(make_app(("track",)))
+    command = group.commands["track"]  # type: ignore[attr-defined]
+    ctx = command.make_context("track", ["--help"], resilient_parsing=True)
+    (tmp_path / "there.bag").write_bytes(b"")
+    tried = 0
+    for param in [*command.params, command.get_help_option(ctx)]:
+        ours = param.get_runtime_param()
+        assert isinstance(ours, PlainValues), param.name
+        theirs = coercion.build_runtime_param(param.type_descriptor)
+        for value in (
+            None,
+            param.default,
+            "text",
+            "2.5",
+            "nan",
+            str(tmp_path / "there.bag"),
+            str(tmp_path / "missing.csv"),
+            ("a", "b"),
+            (),
+            True,
+            7,
+            0.25,
+        ):
+            results = []
+            for coerce in (ours.coerce, theirs.coerce):
+                try:
+                    results.append(("value", coerce(value, param=param, ctx=ctx)))
+                except Exception as exc:  # (the same error, with the same message)
+                    results.append(("error", f"{type(exc).__name__}: {exc}"))
+            mine, typers = results
+            assert repr(mine) == repr(typers), (param.name, value, mine, typers)  # (nan)
+            assert type(mine[1]) is type(typers[1]), (param.name, value)
+            tried += 1
+    assert tried > 200

@@ -30,14 +30,15 @@ def test_assignment_solver_is_scipys() -> None:
 
 def test_extension_loads_without_scipy_optimize() -> None:
     """In a fresh interpreter the solver comes from the extension module alone (no
-    ``scipy.optimize`` package import) and gives scipy's answer; importing scipy.optimize
-    afterwards still works."""
+    ``scipy.optimize`` package import, not even ``scipy`` itself) and gives scipy's answer;
+    importing scipy.optimize afterwards still works."""
     code = (
         "import sys, numpy as np\n"
         "from laserpeople.lazy_scipy import linear_sum_assignment as f\n"
         "r, c = f(np.array([[1.0, 2.0], [0.0, 5.0]]))\n"
         "assert c.tolist() == [1, 0], c\n"
         "assert 'scipy.optimize' not in sys.modules, 'scipy.optimize imported'\n"
+        "assert 'scipy' not in sys.modules, 'scipy imported'\n"
         "import scipy.optimize\n"
         "assert scipy.optimize.linear_sum_assignment(np.eye(2))[1].tolist() == [1, 0]\n"
     )

@@ -247,6 +247,10 @@ class _BeamTable:
         assert self.candidate is not None and self.since is not None
         reach = math.ceil(p.tolerance / p.bin_width)
         beyond = bins > self.nearest[beams] + reach
+        if not beyond.any():  # (most scans of a still laser: every beam sees its static
+            # world, which ends their candidates; what the steps below do then)
+            self.candidate[beams] = -1
+            return
         cand = self.candidate[beams]
         same = beyond & (cand >= 0) & (np.abs(bins - cand) <= reach)
         fresh = beyond & ~same

@@ -126,10 +126,10 @@ class StillCast:
     def value(self, seen_free: FloatArray, flat: IntArray) -> FloatArray:
         """``seen_free`` [s] of the cells ``flat`` (flat indices into the grid's arrays),
         given the grid's array ``seen_free`` (flat)."""
-        stored = np.take(seen_free, flat)
+        stored = seen_free.take(flat)
         if not self.active:
             return stored
-        live = (np.take(self._cover, flat) > 0) & (np.take(self._hit_frame, flat) != self._frame)
+        live = (self._cover.take(flat) > 0) & (self._hit_frame.take(flat) != self._frame)
         return np.where(live, self._stamp, stored)
 
     def settle(self, seen_free: FloatArray) -> None:
@@ -284,12 +284,12 @@ class StillCast:
         np.not_equal(span[1:], span[:-1], out=first[1:])
         starts = np.flatnonzero(first)
         touched = span[starts]
-        before = np.take(cover, touched)
+        before = cover.take(touched)
         after = before
         if starts.size:
             after = before + np.add.reduceat(sign, starts).astype(np.int32)
-        was_live = (before > 0) & (np.take(hit_frame, touched) != last)
-        hit_live = (np.take(cover, hit) > 0) & (np.take(hit_frame, hit) != last)
+        was_live = (before > 0) & (hit_frame.take(touched) != last)
+        hit_live = (cover.take(hit) > 0) & (hit_frame.take(hit) != last)
         cover[touched] = after
         hit_frame[hit] = last + 1
         seen_free[touched[was_live & (after == 0)]] = self._stamp

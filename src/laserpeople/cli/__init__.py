@@ -19,6 +19,7 @@ import sys
 import typing
 from collections.abc import Iterator, Sequence
 from importlib import import_module
+from pathlib import Path
 from typing import Any
 
 import typer
@@ -89,14 +90,113 @@ def _no_type(ctx: Any) -> None:
     return None
 
 
+class PlainValues:
+    """typer's coercion of one parameter's value, without pydantic where the value is
+    plain: ``None``, text for a ``str`` parameter (as typer passes it on, unchanged), a
+    default of the parameter's own ``int`` or ``float`` type, text for a list of texts,
+    and a path for a ``Path`` parameter (through typer's own checks of paths). Anything
+    else (a number or choice typed on the command line, constraints, parsers) goes to
+    typer's own coercion, built at its first use, so values and error messages stay
+    typer's.
+
+    typer from 0.2x coerces every parameter of the command run through a pydantic
+    ``TypeAdapter``: importing pydantic and building them costs about 0.2 s CPU per run,
+    for values it hands on unchanged. Installed by :class:`LaserPeopleGroup` on
+    parameters of typer versions that build them lazily (``_runtime_param``).
+    """
+
+    def __init__(self, param: Any) -> None:
+        self._param = param
+        self._typer: Any = None
+        descriptor = param.type_descriptor
+        info = descriptor.parameter_info
+        self._kind = ""
+        plain = (
+            info.parser is None
+            and getattr(info, "click_type", None) is None
+            and descriptor.file_annotation is None
+            and not descriptor.is_choice
+            and info.min is None
+            and info.max is None
+        )
+        annotation = descriptor.annotation
+        if not plain:
+            return
+        if annotation in (str, int, float):
+            self._kind = annotation.__name__
+        elif annotation == list[str]:
+            self._kind = "list[str]"
+        elif (
+            isinstance(annotation, type)
+            and issubclass(annotation, Path)
+            and info.path_type is None
+            and not (info.allow_dash and info.file_okay)
+        ):
+            self._kind = "path"
+
+    def coerce(self, value: Any, param: Any, ctx: Any) -> Any:
+        """The value as typer's coercion gives it."""
+        kind = self._kind
+        multi = param.multiple or param.nargs == -1
+        if value is None:
+            return () if multi else None
+        if kind and not (multi and isinstance(value, str)):
+            if kind == "str" and type(value) is str:
+                return value
+            if kind in ("int", "float") and type(value).__name__ == kind:
+                return value
+            if (
+                kind == "list[str]"
+                and isinstance(value, (list, tuple))
+                and all(type(v) is str for v in value)
+            ):
+                return list(value)
+            if kind == "path" and type(value) is str:
+                from typer._param_types import coerce_cli_path
+
+                annotation = self._param.type_descriptor.annotation
+                info = self._param.type_descriptor.parameter_info
+                return coerce_cli_path(
+                    annotation(value), info, path_type=annotation, param=param, ctx=ctx
+                )
+        if self._typer is None:
+            from typer._coercion import build_runtime_param
+
+            self._typer = build_runtime_param(self._param.type_descriptor)
+        return self._typer.coerce(value, param=param, ctx=ctx)
+
+
+def _plain_values(param: Any) -> None:
+    """Give ``param`` :class:`PlainValues` where typer builds its coercion lazily."""
+    if getattr(param, "_runtime_param", False) is None and hasattr(param, "type_descriptor"):
+        param._runtime_param = PlainValues(param)
+
+
+def _plain_help(get_help_option: Any) -> Any:
+    """A command's ``get_help_option`` whose flag gets :class:`PlainValues` (not given, it
+    is ``None``, which typer would coerce through pydantic)."""
+
+    def get(ctx: Any) -> Any:
+        option = get_help_option(ctx)
+        if option is not None:
+            _plain_values(option)
+        return option
+
+    return get
+
+
 class LaserPeopleGroup(TyperGroup):
     """The command group: global flags after the command name, one style of usage line,
-    plain value names in ``--help`` (``--tracker TEXT``, ``--gate NUMBER``)."""
+    plain value names in ``--help`` (``--tracker TEXT``, ``--gate NUMBER``), plain values
+    coerced without pydantic (:class:`PlainValues`)."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        for param in self.params:
+            _plain_values(param)
         for command in self.commands.values():
             for param in command.params:
+                _plain_values(param)
                 if isinstance(param, TyperOption) and param.metavar is None:
                     param.metavar = _metavar(param)
                 if isinstance(param, TyperArgument):
@@ -105,13 +205,17 @@ class LaserPeopleGroup(TyperGroup):
                     # typer writes required arguments as {name}; the instance attribute
                     # makes every usage line read NAME / [NAME] / NAME...
                     param._usage_display_name = _usage_name(param)  # type: ignore[method-assign]
+            command.get_help_option = _plain_help(command.get_help_option)  # type: ignore[method-assign]
 
     def get_help_option(self, ctx: Any) -> Any:
         """The help flag, ``False`` when not given: typer leaves it ``None``, which makes it
         build a pydantic converter for it (0.1-0.2 s of start-up, pydantic and
         ``importlib.metadata``) on ``laserpeople COMMAND --help``, where the program's own
         flags are parsed before the command's help is printed."""
-        return _help_flag_false(super().get_help_option(ctx))
+        option = _help_flag_false(super().get_help_option(ctx))
+        if option is not None:
+            _plain_values(option)
+        return option
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         with _short_usage_errors():

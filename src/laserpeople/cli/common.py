@@ -345,7 +345,19 @@ class JobProgress:
 def say(message: str) -> None:
     """Print a status line to stderr unless --quiet."""
     if not STATE.quiet:
-        err_console.print(message, highlight=False, markup=False, soft_wrap=True)
+        _status_line(message)
+
+
+def _status_line(text: str) -> None:
+    """``text`` as one line on stderr: through the rich console on a terminal, written as
+    it is otherwise (a log or a pipe; rich would replace ``:name:`` emoji codes and expand
+    tabs), without importing rich's console there (a tenth of a second of a run that
+    prints only status lines)."""
+    if _isatty(sys.stderr):
+        err_console.print(text, highlight=False, markup=False, soft_wrap=True)
+    else:
+        sys.stderr.write(text + "\n")
+        sys.stderr.flush()
 
 
 def open_with_poses(
@@ -369,7 +381,7 @@ def report_damage(recording: object) -> None:
 
 def warn(message: str) -> None:
     """Print a warning to stderr, even with --quiet."""
-    err_console.print(f"warning: {message}", highlight=False, markup=False, soft_wrap=True)
+    _status_line(f"warning: {message}")
 
 
 def ignored_sections(path: Path | None, sections: Sequence[str]) -> None:

@@ -114,7 +114,7 @@ def register(app: typer.Typer) -> None:
             check_sections(
                 config,
                 [LegDetectorParams, GroupingParams, LegFusionParams],
-                tracker_param_classes(),
+                tracker_param_classes() if config is not None else (),
             ),
         )
         if fuse and (all_segments or report):

@@ -236,7 +236,7 @@ def register(app: typer.Typer) -> None:
                 config,
                 [LegDetectorParams, GroupingParams, LegFusionParams, entry.params_cls,
                  *StaticWorldParams.sections()],
-                tracker_param_classes(),
+                tracker_param_classes() if config is not None else (),
             ),
         )  # fmt: skip
         params: Any = load_config(entry.params_cls, config, preset)

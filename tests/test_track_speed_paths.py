@@ -192,3 +192,81 @@ def test_components_against_a_flood_fill() -> None:
         }
         links = [(int(a), int(b)) for a in fams for b in fams if a < b and rng.random() < 0.05]
         assert components(fam_meas, links, n_meas) == _components_ref(fam_meas, links, n_meas)
+
+
+def test_predict_and_coast_step_is_predict_and_coast_with_one_step() -> None:
+    """One step for all tracks gives the arrays of the per-track steps filled with it, bit
+    for bit, for finite and infinite tau; another step gives other arrays."""
+    from laserpeople.tracking import kalman
+
+    rng = np.random.default_rng(12)
+    for n in (1, 4, 30):
+        means, covs = _random_states(rng, n)
+        d = float(rng.uniform(0.01, 0.3))
+        for tau in (0.35, math.inf):
+            got = kalman.predict_and_coast_step(means, covs, d, 32.0, tau)
+            ref = kalman.predict_and_coast(means, covs, np.full(n, d), 32.0, tau)
+            assert all(np.array_equal(a, b) for a, b in zip(got, ref, strict=True))
+            other = kalman.predict_and_coast_step(means, covs, d * 1.001, 32.0, tau)
+            assert not np.array_equal(other[1], ref[1])
+
+
+def _point_nodes(model, stamp: float, rng: np.random.Generator):  # type: ignore[no-untyped-def]
+    """Nodes holding states the point model handed out at ``stamp``: updated, coasted and
+    new, as the MHT core makes them (their payload is what the model gave)."""
+    from laserpeople.tracking.mht.tracktree import TrackNode
+    from laserpeople.tracking.point_model import PointMeasurements
+
+    z = rng.uniform(-3.0, 3.0, size=(6, 2))
+    meas = PointMeasurements(z, np.broadcast_to(0.01 * np.eye(2), (6, 2, 2)).copy())
+    born = model.initiate(meas, [0, 1, 2, 3, 4, 5], stamp - 0.05)
+    parents = [
+        TrackNode(i, i, -1, m, c, stamp - 0.05, "new", i, payload=p)
+        for i, (m, c, p) in enumerate(born)
+    ]
+    model.predict(parents, stamp)
+    states = model.update(parents[:3], meas, [0, 1, 2], stamp)
+    states += [model.coast(p, stamp) for p in parents[3:5]]
+    states += model.initiate(meas, [5], stamp)
+    return [
+        TrackNode(10 + i, i, i, m, c, stamp, "detected", -1, payload=p)
+        for i, (m, c, p) in enumerate(states)
+    ]
+
+
+def test_point_model_predicts_from_its_store_as_from_the_nodes() -> None:
+    """The point model takes the states of the nodes it predicts from its store by row
+    (the states it handed out last scan): the same predictions, bit for bit, as from the
+    nodes' own arrays (a model whose nodes hold no row, and one predicting nodes of an older
+    scan, stack them node by node); and the store holds one scan's states at a time."""
+    from laserpeople.tracking.kalman import KalmanParams
+    from laserpeople.tracking.mht.tracktree import TrackNode
+    from laserpeople.tracking.point_model import KalmanPointModel
+
+    rng = np.random.default_rng(13)
+    model = KalmanPointModel(KalmanParams())
+    nodes = _point_nodes(model, 1.0, rng)[::-1]  # (any order)
+    assert all(isinstance(n.payload, int) for n in nodes)
+    bare = [
+        TrackNode(n.node_id, n.family, -1, n.mean.copy(), n.cov.copy(), n.stamp, "new")
+        for n in nodes
+    ]
+    stored = model._stacked(nodes)
+    assert stored[2]  # (from the store)
+    assert not model._stacked(bare)[2]
+    model.predict(nodes, 1.04)
+    KalmanPointModel(KalmanParams()).predict(bare, 1.04)
+    for a, b in zip(nodes, bare, strict=True):
+        assert a.pred_mean is not None and b.pred_mean is not None
+        assert a.pred_mean.tobytes() == b.pred_mean.tobytes()
+        assert a.pred_cov is not None and b.pred_cov is not None
+        assert a.pred_cov.tobytes() == b.pred_cov.tobytes()
+    # their rows are gone from the store now: stacked node by node, the same floats
+    assert not model._stacked(nodes)[2]
+    # a scan without prediction (no live node) drops the store's states
+    from laserpeople.tracking.point_model import PointMeasurements
+
+    one = PointMeasurements(np.zeros((1, 2)), 0.01 * np.eye(2)[None])
+    for k in range(50):
+        model.initiate(one, [0], 2.0 + 0.025 * k)
+    assert model._store_rows == 1 and len(model._store) == 1

@@ -190,14 +190,6 @@ def _one_step(dt: FloatArray) -> float | None:
     return d if steps.count(d) == len(steps) else None
 
 
-def predict_and_coast_step(
-    means: FloatArray, covs: FloatArray, d: float, accel_psd: float, tau: float
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """:func:`predict_and_coast` of tracks (``means`` (T, 4), ``covs`` (T, 4, 4), float64)
-    that share one step ``d`` [s]: the same arrays as with ``dt`` filled with ``d``."""
-    return _one_step_predict_and_coast(means, covs, d, accel_psd, tau)
-
-
 def _one_step_predict_and_coast(
     means: FloatArray, covs: FloatArray, d: float, accel_psd: float, tau: float
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:

@@ -43,7 +43,6 @@ PARTS: list[tuple[Any, str, str]] = [
     (core, "list_children", "      listing (branch and bound)"),
     (core, "enumerate_children", "      listing (branch and bound)"),
     (core, "k_best_children", "      Murty's method"),
-    (core.MHT, "_branch_obvious", "  branching, a leg and its own detection, one child"),
     (core.MHT, "_branch_lone", "  branching, one track per parent"),
     (core.MHT, "_prepare_children", "  Kalman updates of the gated pairs"),
     (core.MHT, "_fill_deferred", "  states of the kept children (deferred)"),

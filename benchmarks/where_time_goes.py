@@ -46,7 +46,6 @@ PARTS: list[tuple[Any, str, str, int]] = [
     (core.MHT, "step", "MHT step", 1),
     (point_model.KalmanPointModel, "predict", "Kalman prediction of the live nodes", 2),
     (point_model.KalmanPointModel, "score", "gating and likelihoods", 2),
-    (core.MHT, "_branch_obvious", "clusters of a leg and its own detection, one child", 2),
     (core.MHT, "_branch_lone", "clusters of one track per parent", 2),
     (core.MHT, "_branch", "clusters of the general path", 2),
     (core.MHT, "_k_best", "k best children (costs, listing, Murty)", 3),

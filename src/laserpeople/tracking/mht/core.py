@@ -414,32 +414,18 @@ class MHT(Generic[Meas]):
         self._log_rates = (log_new, log_fal)
         cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
-        shortcuts = self.shortcuts and plain
         for fams, meas_idx in parts:
-            tried = False  # whether this cluster's obvious child was looked for, not found
-            if shortcuts and len(meas_idx) == 1 and len(fams) == 1:
-                # the commonest cluster, a leg and its own detection, without the general
-                # path's objects: its one parent, when that is one hypothesis of one track
-                (f,) = fams
-                c = cluster_of[f]
-                if len(c.hypotheses) == 1 and len(c.families) == 1:
-                    parent = c.hypotheses[0]
-                    if len(parent.tracks) == 1:
-                        obvious = self._branch_obvious(
-                            parent, measurements, meas_idx[0], stamp, loglik, row_of,
-                            log_new, log_fal,
-                        )  # fmt: skip
-                        if obvious is not None:  # (no family born: nothing to link)
-                            new_clusters.append(Cluster(fams, obvious))
-                            continue
-                        tried = True
             parents = self._parents(fams, cluster_of)
             lone = None
-            if shortcuts and len(meas_idx) <= 1 and all(len(p.tracks) <= 1 for p in parents):
+            if (
+                self.shortcuts
+                and plain
+                and len(meas_idx) <= 1
+                and all(len(p.tracks) <= 1 for p in parents)
+            ):
                 lone = self._branch_lone(
-                    parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal,
-                    obvious=not tried,
-                )  # fmt: skip
+                    parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+                )
             children = lone if lone is not None else self._branch(
                 parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
                 gated, loglik, row_of, log_new, log_fal,
@@ -825,7 +811,6 @@ class MHT(Generic[Meas]):
         row_of: dict[int, int],
         log_new: FloatArray,
         log_fal: FloatArray,
-        obvious: bool = True,
     ) -> list[Hypothesis] | None:
         """:meth:`_branch` of a plain-MHT cluster whose parents hold at most one track (one
         family) and which has at most one measurement, most clusters (a leg and its own
@@ -833,9 +818,8 @@ class MHT(Generic[Meas]):
         hypothesis ids in the same order, from :func:`~.listing.single_children` on this
         scan's tables, without the general path's per-cluster arrays and objects. None
         (use :meth:`_branch`) for a cluster it does not cover: over ``max_cluster_size``, or
-        with a node not scored this scan. ``obvious``: look for the obvious child
-        (:meth:`_branch_obvious`; False when the caller has)."""
-        if obvious and len(parents) == 1 and len(meas_idx) == 1 and len(parents[0].tracks) == 1:
+        with a node not scored this scan."""
+        if len(parents) == 1 and len(meas_idx) == 1 and len(parents[0].tracks) == 1:
             obvious = self._branch_obvious(
                 parents[0], measurements, meas_idx[0], stamp, loglik, row_of, log_new, log_fal
             )

@@ -25,8 +25,8 @@ tracking, CSV) per tree, alternating which runs first each pass; its CPU time (u
 system of the child, median over the passes) and scans per second of CPU; the two trees'
 CSVs are compared row by row (largest position difference). The whole process of the
 same code in two trees differs by up to a tenth between runs on a loaded machine (5.76
-against 6.28 s in one run of five passes); the loop scan by scan in one process resolves a
-few per cent.
+against 6.28 s in one run of five passes, 6.33 against 5.92 s in one of three); the loop
+scan by scan in one process resolves a few per cent (a ratio of 1.01 in the latter).
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_scaling.py [--before /path/to/old/src]
         [--people 1 4 10 20 40] [--seconds 8] [--passes 3] [--background auto|none]

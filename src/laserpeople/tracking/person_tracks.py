@@ -373,6 +373,12 @@ class PersonTrackParams:
         "benchmarks/fit_confirm.py writes such a file",
         "JSON model file of learned_confirm (empty: the shipped tracking/models/confirm.json)",
     )
+    learned_step: float = param(
+        0.0,
+        "trial",
+        "when positive, a candidate above learned_margin gains this much existence in that "
+        "scan instead of being confirmed at once",
+    )
     learned_margin: float = param(
         0.0,
         "trial (benchmarks/fit_confirm.py)",
@@ -1019,21 +1025,13 @@ class PersonTracker:
         # it came there is a track that slid onto furniture
         # (a person that has travelled min_travel and moves faster than min_speed is not
         # blocked whatever its place: not asked)
+        learned = self._learned(stamp)
         ask = [
             q
             for q in self.persons.values()
-            if (q.confirmed or q.llr >= p.llr_confirm)
+            if (q.confirmed or q.llr >= p.llr_confirm or q.person_id in learned)
             and (q.travelled < p.min_travel or math.hypot(*q.mean[2:4].tolist()) < p.min_speed)
         ]
-        learned = self._learned(stamp)
-        if learned:
-            ask += [
-                q
-                for q in self.persons.values()
-                if q.person_id in learned
-                and not q.llr >= p.llr_confirm
-                and (q.travelled < p.min_travel or math.hypot(*q.mean[2:4].tolist()) < p.min_speed)
-            ]
         blocked: set[int] = set()
         if ask and self.static_model is not None:
             # people updated in this scan were asked there (their means have not moved since)
@@ -1147,7 +1145,13 @@ class PersonTracker:
             )
         ids = list(rows)
         margins = self._confirm_model.scores(np.array([rows[i] for i in ids])).tolist()
-        return {i for i, m in zip(ids, margins, strict=True) if m > p.learned_margin}
+        passed = {i for i, m in zip(ids, margins, strict=True) if m > p.learned_margin}
+        if p.learned_step > 0:  # evidence for the existence score, not a confirmation
+            for i in passed:
+                q = self.persons[i]
+                q.llr = min(q.llr + p.learned_step, p.llr_max)
+            return set()
+        return passed
 
     def _reidentify(self, stamp: float) -> None:
         """Match the new people whose signature is ready (``reid.min_samples`` widths, or

@@ -23,7 +23,6 @@ from numpy.typing import NDArray
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.scan import CoordinateFrame
-from laserpeople.tracking.confirm import angle_step
 from laserpeople.tracking.frames import in_frame, tracking_frame
 from laserpeople.tracking.guard import InputGuard
 from laserpeople.tracking.kalman import KalmanParams
@@ -330,10 +329,6 @@ class LegMHTTracker:
         ]
         segments = [s.points for s in detections.segments]
         obs = leg_observations(rows, segments, detections.scores, self.params.people)
-        if self.person_tracks.moving:
-            pose = detections.sensor_pose
-            self.person_tracks.sensor = None if pose is None else (stamp, pose.x, pose.y)
-            self.person_tracks.angle_step = angle_step(detections.segments)
         return self.person_tracks.update(obs, stamp, self.params.max_report_unseen)
 
     @property

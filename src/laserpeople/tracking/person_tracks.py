@@ -74,7 +74,6 @@ from numpy.typing import NDArray
 from laserpeople.background import StaticWorldModel
 from laserpeople.config import param
 from laserpeople.tracking import kalman
-from laserpeople.tracking.confirm import ConfirmModel, candidate_features, default_confirm_model
 from laserpeople.tracking.reidentify import (
     Candidate,
     DormantIdentity,
@@ -361,30 +360,6 @@ class PersonTrackParams:
         "s",
     )
 
-    learned_confirm: bool = param(
-        False,
-        "trial (docs/moving-robot.md)",
-        "on a moving robot tracked in the world frame, an unconfirmed candidate is also "
-        "confirmed when the shipped history classifier (tracking/confirm.py) gives it a "
-        "margin above learned_margin",
-    )
-    learned_model: str = param(
-        "",
-        "benchmarks/fit_confirm.py writes such a file",
-        "JSON model file of learned_confirm (empty: the shipped tracking/models/confirm.json)",
-    )
-    learned_step: float = param(
-        0.0,
-        "trial",
-        "when positive, a candidate above learned_margin gains this much existence in that "
-        "scan instead of being confirmed at once",
-    )
-    learned_margin: float = param(
-        0.0,
-        "trial (benchmarks/fit_confirm.py)",
-        "AdaBoost margin of a candidate's history above which learned_confirm confirms it",
-    )
-
     def __post_init__(self) -> None:
         for name in ("p_two", "p_one", "q_two", "q_one"):
             if not 0.0 < getattr(self, name) < 1.0:
@@ -481,7 +456,7 @@ class PersonTrack:
             longer updated once it has reached ``min_travel`` (it is only compared with it).
         arrived: (time [s], position (2,)) of the last time the person was ``min_travel``
             or farther from where it was before (when it came to its current place).
-        scans: Scans since birth, the birth scan included.
+        scans: Scans since birth.
         public_id: The reported id, given at the first confirmation (so that candidates
             that never become people use no ids, and a returning person can be given its
             old id); None before.
@@ -490,11 +465,6 @@ class PersonTrack:
         confirmed_at: Time [s] of its first confirmation (NaN before).
         pending: Confirmed with a fresh id and not yet matched to dormant identities.
         seen_before: Time [s] its identity was tracked before a re-identification.
-        detected_scans: Scans with a member leg detected.
-        two_scans: Scans counted as the evidence of both legs.
-        score_sum, score_count, score_max, score_last: Sum, count, largest and last
-            detector score of its detected member legs.
-        legs_now: Member legs detected in the last scan (a wide segment counts 2).
     """
 
     person_id: int
@@ -515,13 +485,6 @@ class PersonTrack:
     confirmed_at: float = math.nan
     pending: bool = False
     seen_before: float = 0.0
-    detected_scans: int = 0
-    two_scans: int = 0
-    score_sum: float = 0.0
-    score_count: int = 0
-    score_max: float = -math.inf
-    score_last: float = math.nan
-    legs_now: int = 0
 
 
 def update_llr(llr: float, evidence: int, params: PersonTrackParams) -> float:
@@ -610,23 +573,6 @@ class PersonTracker:
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
         """Per leg track: (time [s], x, y [m]) of its detections over the last
         ``moving_time`` (and one before), for :func:`moves_consistently`."""
-        self._leg_length: dict[int, float] = {}
-        """Per leg track: length [m] of the path through its detections."""
-        self.sensor: tuple[float, float, float] | None = None
-        """(time [s], x, y [m]) of the laser in the tracking frame this scan (set by the
-        caller; :attr:`learned_confirm` features)."""
-        self.angle_step = math.nan
-        """The scanner's angle between beams [rad] this scan (set by the caller)."""
-        self._sensor_before: tuple[float, float, float] | None = None
-        self._sensor_speed = 0.0
-        self.record_candidates = False
-        """Keep the feature rows of the unconfirmed candidates of each scan in
-        :attr:`candidate_rows` (``benchmarks/fit_confirm.py``)."""
-        self.candidate_rows: dict[int, tuple[float, float, list[float]]] = {}
-        """Person id -> (x, y [m], feature row (:data:`~laserpeople.tracking.confirm.FEATURES`))
-        of the unconfirmed candidates of the last scan, on a moving robot, before
-        confirmation (with :attr:`record_candidates`)."""
-        self._confirm_model: ConfirmModel | None = None
 
     @property
     def approved_legs(self) -> frozenset[int]:
@@ -717,11 +663,6 @@ class PersonTracker:
             if path is None:
                 path = paths[leg.track_id] = deque()
             x, y = leg.position.tolist()
-            if path:
-                _, px, py = path[-1]
-                self._leg_length[leg.track_id] = self._leg_length.get(
-                    leg.track_id, 0.0
-                ) + math.hypot(x - px, y - py)
             path.append((stamp, x, y))
             if leg.track_id not in self._leg_first:
                 self._leg_first[leg.track_id] = (stamp, x, y)
@@ -731,8 +672,6 @@ class PersonTracker:
             del paths[gone]
         for gone in [k for k in self._leg_first if k not in legs]:
             del self._leg_first[gone]
-        for gone in [k for k in self._leg_length if k not in legs]:
-            del self._leg_length[gone]
 
     def _one_leg_on(self) -> bool:
         """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
@@ -859,19 +798,9 @@ class PersonTracker:
                 step = p.walked_miss
             person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
             person.scans += 1
-            person.detected_scans += evidence != NONE
-            person.two_scans += evidence == TWO
-            person.legs_now = 0
             for m in person.members:
-                leg = legs[m]
-                if leg.detected:
-                    person.signature.add(leg.width)
-                    person.legs_now += 2 if leg.wide else 1
-                    if math.isfinite(leg.score):
-                        person.score_sum += leg.score
-                        person.score_count += 1
-                        person.score_max = max(person.score_max, leg.score)
-                        person.score_last = leg.score
+                if legs[m].detected:
+                    person.signature.add(legs[m].width)
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
@@ -929,13 +858,11 @@ class PersonTracker:
                 if not 0.5 * (a.score + b.score) > p.birth_min_score:
                     continue
                 used.update((a.track_id, b.track_id))
-                self._new(
-                    0.5 * (a.position + b.position), [a.track_id, b.track_id], stamp, seen=(a, b)
-                )
+                self._new(0.5 * (a.position + b.position), [a.track_id, b.track_id], stamp)
         for leg in free:
             if leg.wide and leg.track_id not in used:
                 used.add(leg.track_id)
-                self._new(leg.position, [leg.track_id], stamp, seen=(leg,))
+                self._new(leg.position, [leg.track_id], stamp)
         if self._one_leg_on():
             # a leg within pair_distance of a person is most likely its other leg: no birth
             near = [q.mean[:2].tolist() for q in self.persons.values()]
@@ -946,29 +873,14 @@ class PersonTracker:
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:
                     used.add(leg.track_id)
                     evidence = TWO if self._moves(leg) else ONE
-                    self._new(
-                        leg.position,
-                        [leg.track_id],
-                        stamp,
-                        float(self._llr[evidence]),
-                        seen=(leg,),
-                    )
+                    self._new(leg.position, [leg.track_id], stamp, float(self._llr[evidence]))
 
     def _new(
-        self,
-        position: FloatArray,
-        members: list[int],
-        stamp: float,
-        llr: float | None = None,
-        seen: Sequence[LegObservation] = (),
+        self, position: FloatArray, members: list[int], stamp: float, llr: float | None = None
     ) -> None:
-        """A candidate at ``position`` with the leg ids ``members``, born from the detected
-        legs ``seen`` (its birth scan counts as one scan with them detected)."""
         p = self.params
         mean, cov = kalman.initiate(position, np.eye(2) * p.pair_std**2, p.init_velocity_std)
         pid = next(self._ids)
-        scores = [leg.score for leg in seen if math.isfinite(leg.score)]
-        two = llr is None or llr == self._llr_steps[TWO]
         self.persons[pid] = PersonTrack(
             person_id=pid,
             mean=mean,
@@ -976,14 +888,6 @@ class PersonTracker:
             stamp=stamp,
             members=members,
             llr=float(self._llr[TWO]) if llr is None else llr,
-            scans=1,
-            detected_scans=int(bool(seen)),
-            two_scans=int(two),
-            score_sum=sum(scores),
-            score_count=len(scores),
-            score_max=max(scores, default=-math.inf),
-            score_last=scores[-1] if scores else math.nan,
-            legs_now=2 if len(seen) == 2 or any(leg.wide for leg in seen) else len(seen),
             last_seen=stamp,
             born_at=position.copy(),
             born_stamp=stamp,
@@ -1025,11 +929,10 @@ class PersonTracker:
         # it came there is a track that slid onto furniture
         # (a person that has travelled min_travel and moves faster than min_speed is not
         # blocked whatever its place: not asked)
-        learned = self._learned(stamp)
         ask = [
             q
             for q in self.persons.values()
-            if (q.confirmed or q.llr >= p.llr_confirm or q.person_id in learned)
+            if (q.confirmed or q.llr >= p.llr_confirm)
             and (q.travelled < p.min_travel or math.hypot(*q.mean[2:4].tolist()) < p.min_speed)
         ]
         blocked: set[int] = set()
@@ -1056,7 +959,7 @@ class PersonTracker:
         for q in self.persons.values():
             if q.person_id in blocked:
                 q.confirmed = False
-            elif not q.confirmed and (q.llr >= p.llr_confirm or q.person_id in learned):
+            elif not q.confirmed and q.llr >= p.llr_confirm:
                 q.confirmed = True
                 if q.public_id is None:
                     q.public_id = next(self._public_ids)
@@ -1079,79 +982,6 @@ class PersonTracker:
                     del self.persons[pid]
             elif q.llr < p.llr_delete or unseen > p.unconfirmed_coast:
                 del self.persons[pid]
-
-    def _learned(self, stamp: float) -> set[int]:
-        """Ids of the unconfirmed candidates the history classifier confirms (``learned_confirm``
-        on a moving robot; empty otherwise). Fills :attr:`candidate_rows` when they are
-        asked for or recorded."""
-        p = self.params
-        self.candidate_rows = {}
-        if not ((p.learned_confirm or self.record_candidates) and self._one_leg_on()):
-            return set()
-        if self.sensor is not None:
-            if self._sensor_before is not None:
-                t0, x0, y0 = self._sensor_before
-                t1, x1, y1 = self.sensor
-                if t1 > t0:
-                    self._sensor_speed = math.hypot(x1 - x0, y1 - y0) / (t1 - t0)
-            self._sensor_before = self.sensor
-        cands = [q for q in self.persons.values() if not q.confirmed]
-        if not cands:
-            return set()
-        static = self._static(np.array([q.mean[:2] for q in cands])).tolist()
-        sx, sy = (math.nan, math.nan) if self.sensor is None else self.sensor[1:]
-        rows = {}
-        for q, st in zip(cands, static, strict=True):
-            net, length = 0.0, 0.0
-            for m in q.members:
-                first = self._leg_first.get(m)
-                path = self._leg_paths.get(m)
-                if first is None or not path:
-                    continue
-                _, x0, y0 = first
-                _, x1, y1 = path[-1]
-                d = math.hypot(x1 - x0, y1 - y0)
-                if d >= net:
-                    net, length = d, self._leg_length.get(m, 0.0)
-            x, y = q.mean[:2].tolist()
-            rows[q.person_id] = candidate_features(
-                stamp - q.born_stamp,
-                q.scans,
-                q.detected_scans,
-                q.two_scans,
-                q.score_sum,
-                q.score_count,
-                q.score_max,
-                q.score_last,
-                net,
-                length,
-                q.mean[2:4],
-                np.array([x - sx, y - sy]) if math.isfinite(sx) else np.zeros(2),
-                self.angle_step,
-                q.legs_now,
-                st,
-                self._sensor_speed,
-                q.llr,
-            )
-        if self.record_candidates:
-            self.candidate_rows = {
-                q.person_id: (*q.mean[:2].tolist(), rows[q.person_id]) for q in cands
-            }
-        if not p.learned_confirm:
-            return set()
-        if self._confirm_model is None:
-            self._confirm_model = (
-                ConfirmModel.load(p.learned_model) if p.learned_model else default_confirm_model()
-            )
-        ids = list(rows)
-        margins = self._confirm_model.scores(np.array([rows[i] for i in ids])).tolist()
-        passed = {i for i, m in zip(ids, margins, strict=True) if m > p.learned_margin}
-        if p.learned_step > 0:  # evidence for the existence score, not a confirmation
-            for i in passed:
-                q = self.persons[i]
-                q.llr = min(q.llr + p.learned_step, p.llr_max)
-            return set()
-        return passed
 
     def _reidentify(self, stamp: float) -> None:
         """Match the new people whose signature is ready (``reid.min_samples`` widths, or

@@ -387,10 +387,10 @@ def test_furniture_that_merged_with_a_walker_is_not_reported_after_the_split() -
     driving at 0.5 m/s, furniture (a blob at (0, 3), target 0) is passed 0.4 m away by a
     walker (1 m/s along y = 3.4, target 1); the two merge into one cluster, which splits
     once they are 3 m apart. The furniture, which never walked, is not reported once the
-    laser moved (scan 2): not as a person of the cluster, nor as the single target it becomes after the split (the
-    rule once left both to a target started from unselected points). The walker is
-    reported from its sixth scan on. With moving_travel = 0 (002) the furniture is
-    reported throughout."""
+    laser moved (scan 2): neither as a person of the cluster nor as the single target it
+    becomes after the split (the rule once held only for a target started from
+    unselected points). The walker is reported from its sixth scan on. With
+    moving_travel = 0 (002) the furniture is reported throughout."""
     frames = []
     for k in range(90):
         t = k / 10

@@ -675,9 +675,8 @@ class ClusterSortingTracker:
 
     def _shown_walker(self, pid: int) -> bool:
         """Whether person ``pid`` may be reported under ``moving_travel``: the laser has not
-        moved, or the person walked since it was started (as a single target, a person
-        counted into a cluster or a part cut free, whatever it merged into or split from
-        since)."""
+        moved, or the person walked since it was started from unselected points (as a
+        single target, a person of a cluster, or a target split from one)."""
         return not (self._moving and pid in self._unwalked)
 
     def _shown_unseen(self, t: _Single, stamp: float) -> bool:
@@ -906,7 +905,6 @@ class ClusterSortingTracker:
             self._s.next_pid += 1
             mean = cl.means[sel].mean(axis=0)
             out[pid] = _Single(pid, mean, self._init_cov(), stamp, cl.cid, stamp, 1)
-            self._started(pid, mean[:2])
         if keep.all():
             return
         cl.means, cl.covs, cl.scores = cl.means[keep], cl.covs[keep], cl.scores[keep]
@@ -958,7 +956,6 @@ class ClusterSortingTracker:
             origin[sel] = pid
             cl.shown[pid] = cents[g]
             cl.motion[pid] = (cl.means[sel, 2:].mean(axis=0), stamp)
-            self._started(pid, cents[g])
             added.append(pid)
         cl.uncounted = seen
         if added:

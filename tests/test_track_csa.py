@@ -324,19 +324,21 @@ def test_a_confirmed_target_missed_for_a_scan_stays_reported() -> None:
     assert ids == [[]] + [[0, 1]] * 11
 
 
-def _on_a_robot(robot_speed: float, frame: str = "world", unseen: range = range(0)) -> list[Frame]:
-    """Frames at 10 Hz of a laser driving along x at ``robot_speed`` [m/s]; from scan 2 on
-    it sees furniture (a blob that stays at (0, 3)) and a person who walks from (3, 3)
-    along x at 1 m/s, except in the scans ``unseen`` (world frame points; ``frame``
-    "sensor" marks a run without poses)."""
+def _on_a_robot(
+    robot_speed: float, frame: str = "world", unseen: range = range(0), stands: int = 0
+) -> list[Frame]:
+    """Frames at 10 Hz of a laser driving along x at ``robot_speed`` [m/s] after standing
+    for the first ``stands`` scans; from scan 2 on it sees furniture (a blob that stays at
+    (0, 3)) and a person who walks from (3, 3) along x at 1 m/s, except in the scans
+    ``unseen`` (world frame points; ``frame`` "sensor" marks a run without poses)."""
     frames = []
-    for k in range(22):
+    for k in range(22 + stands):
         xy = np.empty((0, 2))
         if k >= 2:
             walker = [] if k in unseen else [_blob((3.0 + (k - 2) / 10, 3.0), k)]
             xy = np.concatenate([_blob((0.0, 3.0), k), *walker])
         ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
-        pose = Pose2D(robot_speed * k / 10, 0.0, 0.0)
+        pose = Pose2D(robot_speed * max(k - stands, 0) / 10, 0.0, 0.0)
         fg = np.ones(len(xy), dtype=bool)
         frames.append(Frame(k, k / 10, (), "synthetic", frame, pose, ps, fg))  # type: ignore[arg-type]
     return frames
@@ -363,6 +365,47 @@ def test_on_a_moving_laser_a_target_is_reported_once_it_walked() -> None:
     assert _reported(_on_a_robot(0.5, "sensor"), CSAParams()) == both
     assert _reported(_on_a_robot(0.5), CSAParams(moving_travel=0.0)) == both
     assert CSAParams.paper_preset["moving_travel"] == 0.0
+
+
+def test_furniture_seen_before_the_laser_moved_is_not_reported_once_it_moves() -> None:
+    """moving_travel also holds for targets started while the laser still stood (the
+    robot's first seconds: the occupancy grid has learned nothing yet). The laser stands
+    for 10 scans, then drives at 0.5 m/s (moved more than 0.05 m from scan 12 on). The furniture
+    (target 0) is reported from its second scan (3) while the laser stands and not once
+    it moved; the person (target 1), who walked 0.5 m by then, is reported throughout.
+    Counted only from the scan the laser moved (the rule before), the furniture stays
+    reported; with moving_travel = 0 (002) both are reported throughout."""
+    frames = _on_a_robot(0.5, stands=10)
+    ids = _reported(frames, CSAParams())
+    assert ids[3:12] == [[0, 1]] * 9
+    assert ids[12:] == [[1]] * 20
+    assert _reported(frames, CSAParams(moving_travel=0.0))[3:] == [[0, 1]] * 29
+
+
+def test_furniture_that_merged_with_a_walker_is_not_reported_after_the_split() -> None:
+    """moving_travel holds for a person whatever it merged into or split from: on a laser
+    driving at 0.5 m/s, furniture (a blob at (0, 3), target 0) is passed 0.4 m away by a
+    walker (1 m/s along y = 3.4, target 1); the two merge into one cluster, which splits
+    once they are 3 m apart. The furniture, which never walked, is not reported once the
+    laser moved (scan 2): neither as a person of the cluster nor as the single target it
+    becomes after the split (the rule once held only for a target started from
+    unselected points). The walker is reported from its sixth scan on. With
+    moving_travel = 0 (002) the furniture is reported throughout."""
+    frames = []
+    for k in range(90):
+        t = k / 10
+        xy = np.concatenate([_blob((0.0, 3.0), k), _blob((-4.0 + t, 3.4), k)])
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(0.5 * t, 0.0, 0.0)
+        frames.append(Frame(k, t, (), "synthetic", "world", pose, ps, np.ones(len(xy), bool)))
+    csa = ClusterSortingTracker(CSAParams())
+    ids = [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+    kinds = [e.kind for e in csa.events]
+    assert "merge person+person" in kinds and "split" in kinds
+    assert all(0 not in row for row in ids[2:])  # the laser moved from scan 2 on
+    assert all(1 in row for row in ids[6:])
+    plain = _reported(frames, CSAParams(moving_travel=0.0))
+    assert all(0 in row for row in plain[1:])
 
 
 def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:

@@ -170,10 +170,10 @@ class CSAParams:
         "leg detector fires on furniture the occupancy grid has not learned yet; as "
         "static_tracks.min_travel; random-groups moving-sensor scenes (docs/csa.md)",
         "in a world-frame run once the laser has moved from its first pose "
-        "(tracking/robot_motion.py), a target started from unselected points is reported "
-        "only once the mean of its selected measurements lay this far from where it "
-        "started (0: at once, 002); a target on a person who walks does so within a "
-        "second, furniture never",
+        "(tracking/robot_motion.py), a target started from unselected points (also one "
+        "started while the laser still stood) is reported only once the mean of its "
+        "selected measurements lay this far from where it started (0: at once, 002); a "
+        "target on a person who walks does so within a second, furniture never",
         "m",
     )
     moving_unseen: float = param(
@@ -453,7 +453,6 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
-    start: FloatArray | None = None  # where it was started on a moving laser (moving_travel)
 
 
 @dataclass
@@ -520,6 +519,11 @@ class ClusterSortingTracker:
         self._motion = MotionWatch()
         self._moving = False
         """Whether the laser of this world-frame run has moved (see ``moving_travel``)."""
+        self._posed = False
+        """Whether this is a world-frame run with the laser's poses (see ``moving_travel``)."""
+        self._unwalked: dict[int, FloatArray] = {}
+        """Person -> where (2,) [m] it was started, while it has not walked
+        ``moving_travel`` from there (world-frame runs with poses)."""
 
     # ------------------------------------------------------------------ helpers
     def _new_single(self, pos: FloatArray, stamp: float) -> None:
@@ -532,10 +536,10 @@ class ClusterSortingTracker:
             if np.min(np.linalg.norm(c.means[:, :2] - pos, axis=1)) < reach:
                 spawned_by = c.cid
                 break
-        start = np.array(pos, dtype=np.float64) if self._moving and p.moving_travel > 0 else None
         self._s.singles[pid] = _Single(
-            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1, start
+            pid, np.r_[pos, 0.0, 0.0], self._init_cov(), stamp, spawned_by, stamp, 1
         )
+        self._started(pid, pos)
 
     def _init_cov(self) -> FloatArray:
         """Covariance (4, 4) of a new single target."""
@@ -562,6 +566,7 @@ class ClusterSortingTracker:
         stamp = frame.stamp
         if frame.frame == "world":
             self._moving = self._motion(frame.sensor_pose)
+            self._posed = frame.sensor_pose is not None
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
         self._last = stamp
         point_var = p.point_std**2
@@ -615,13 +620,13 @@ class ClusterSortingTracker:
                         t.spawned_by,
                         t.born,
                         t.hits + 1,
-                        _still_start(t.start, centre, p.moving_travel),
                     )
+                    self._walked(t.pid, centre)
                 elif stamp - t.last_seen <= p.max_unseen:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, t.start
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
                     )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
@@ -643,14 +648,36 @@ class ClusterSortingTracker:
             self._adopt_escaped(new_singles, new_clusters, stamp)
         s.singles = new_singles
         s.clusters = new_clusters
+        if self._unwalked:  # forget the people deleted
+            alive = set(new_singles).union(*(c.members for c in new_clusters.values()))
+            self._unwalked = {k: v for k, v in self._unwalked.items() if k in alive}
         self._initiate(z[~selected_any], stamp)
         return self._report(frame)
 
     def _confirmed(self, t: _Single) -> bool:
         """Whether single target ``t`` is reported (see ``confirm_scans``)."""
-        if t.start is not None:  # started on a moving laser and not yet walked
+        if not self._shown_walker(t.pid):
             return False
         return t.born == -math.inf or t.hits >= self.params.confirm_scans
+
+    def _started(self, pid: int, xy: FloatArray) -> None:
+        """Remember where person ``pid`` was started at (2,) [m] in a world-frame run with
+        poses, until it walked ``moving_travel`` from there (see :meth:`_walked`)."""
+        if self._posed and self.params.moving_travel > 0:
+            self._unwalked[pid] = np.array(xy, dtype=np.float64)
+
+    def _walked(self, pid: int, xy: FloatArray) -> None:
+        """Person ``pid`` was seen at ``xy`` (2,) [m]: once that lies ``moving_travel``
+        from where it was started, it has walked, for good."""
+        start = self._unwalked.get(pid)
+        if start is not None and float(np.hypot(*(xy - start))) >= self.params.moving_travel:
+            del self._unwalked[pid]
+
+    def _shown_walker(self, pid: int) -> bool:
+        """Whether person ``pid`` may be reported under ``moving_travel``: the laser has not
+        moved, or the person walked since it was started from unselected points (as a
+        single target, a person of a cluster, or a target split from one)."""
+        return not (self._moving and pid in self._unwalked)
 
     def _shown_unseen(self, t: _Single, stamp: float) -> bool:
         """Whether single target ``t``, unseen since ``t.last_seen``, is still reported at
@@ -1041,6 +1068,7 @@ class ClusterSortingTracker:
                 cov = np.cov(pos.T) if pos.shape[0] > 1 else np.zeros((2, 2))
                 cov = cov + np.eye(2) * p.mean_std**2
                 xy = pos.mean(axis=0)
+                self._walked(m, xy)
                 cl.shown[m] = xy
                 cl.motion[m] = (vel, stamp)
                 out[m] = (xy, vel, cov)
@@ -1068,6 +1096,8 @@ class ClusterSortingTracker:
                 out.append(Track(t.pid, "person", t.mean[:2], t.mean[2:], t.cov[:2, :2]))
         for c in self._s.clusters.values():
             for pid, (xy, vel, cov) in self.member_estimates(c, frame.stamp).items():
+                if not self._shown_walker(pid):
+                    continue
                 out.append(Track(pid, "person", xy, vel, cov, score=0.5))
             if not p.group_rows:
                 continue
@@ -1091,15 +1121,6 @@ class ClusterSortingTracker:
     def clusters(self) -> dict[int, tuple[int, ...]]:
         """Cluster id -> the people it holds (the memory of who merged)."""
         return {c.cid: c.members for c in self._s.clusters.values()}
-
-
-def _still_start(start: FloatArray | None, centre: FloatArray, travel: float) -> FloatArray | None:
-    """Where a target on a moving laser was started (2,) [m] while the mean of its selected
-    measurements ``centre`` (2,) [m] stays within ``travel`` [m] of it; None once it is
-    farther (it walked; see ``moving_travel``), and for good."""
-    if start is None or float(np.hypot(*(centre - start))) >= travel:
-        return None
-    return start
 
 
 def per_person_scores(scores: FloatArray, origin: IntArray) -> FloatArray:

@@ -945,8 +945,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-moving-travel-still-laser",
         "CSA moving_travel (a moving laser only)",
         C,
-        "if self._moving and p.moving_travel > 0 else None",
-        "if p.moving_travel > 0 else None",
+        "return not (self._moving and pid in self._unwalked)",
+        "return pid not in self._unwalked",
         CSA_RULES,
     ),
     Mutant(
@@ -1194,6 +1194,52 @@ MUTANTS: tuple[Mutant, ...] = (
         "if out[i] is None and j not in used:",
         "if out[i] is None:",
         BLOBS,
+    ),
+    Mutant(
+        "csa-walked-from-first-pose",
+        "Cluster Sorting moving_travel (counted from the first scan of a posed run)",
+        C,
+        "self._posed = frame.sensor_pose is not None",
+        "self._posed = self._moving",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-members-unwalked-shown",
+        "Cluster Sorting moving_travel (a cluster's people who have not walked are not reported)",
+        C,
+        """                if not self._shown_walker(pid):
+                    continue
+""",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-members-walk",
+        "Cluster Sorting moving_travel (a cluster's people walk too)",
+        C,
+        """                self._walked(m, xy)
+                cl.shown[m] = xy""",
+        """                cl.shown[m] = xy""",
+        CSA_RULES,
+    ),
+    Mutant(
+        "occupancy-holds-disc-edge",
+        "occupancy grid (the arrays hold the frame's cells: the far edge checked)",
+        "background/occupancy.py",
+        "and math.floor((x + radius) / res) + 1 < o0 + h",
+        "and math.floor((x + radius) / res) - 3 < o0 + h",
+        ("tests/test_background_occupancy.py",),
+    ),
+    Mutant(
+        "histogram-no-beyond-ends-candidates",
+        "beam histogram (a scan with no beam beyond its static world ends the candidates)",
+        H,
+        """            self.candidate[beams] = -1
+            return
+        cand = self.candidate[beams]""",
+        """            return
+        cand = self.candidate[beams]""",
+        PEOPLE_BG,
     ),
 )
 

@@ -153,9 +153,10 @@ def test_an_object_a_walker_passes_is_hidden_again(lane: float, model_prior: str
     merge, then split): the walker is in a reported group all along; the object is hidden
     before the walker comes, and again by static_time (10 s) after the walker's last walk
     as a group of its own (the half of a split holding the object may be reported until
-    then, since it comes from a group someone walked in). With eq. 32 as ``"choice"`` and
-    N-scan 8 the two merge while close; with the default (normalised, N-scan 3) the walker
-    passes without merging and the object is never reported."""
+    then, since it comes from a group someone walked in). With eq. 32 as ``"choice"``,
+    N-scan 8 and the Kalman velocity in eqs. 25-27 (``velocity_window`` 0) the two merge
+    while close; with the default (normalised, N-scan 3) the walker passes without merging
+    and the object is never reported."""
     model = PlaceModel(_near_object)
 
     def centres(k: int) -> list[np.ndarray]:
@@ -163,7 +164,7 @@ def test_an_object_a_walker_passes_is_hidden_again(lane: float, model_prior: str
 
     params = EVERY_SCAN
     if model_prior == "choice":
-        params = replace(params, model_prior="choice", mht=MHTParams(n_scan=8))
+        params = replace(params, model_prior="choice", mht=MHTParams(n_scan=8), velocity_window=0.0)
     tracker, out = _track(centres, 200, model, params)
     for k, tracks in enumerate(out[2:], start=2):
         assert _holds(tracks, np.array([0.1 * k, lane])), k

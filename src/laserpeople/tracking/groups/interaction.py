@@ -44,6 +44,8 @@ from laserpeople.tracking.groups.model import (
     merge_state,
     node_prediction,
     split_state,
+    trail_velocity,
+    with_trail_velocity,
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.mht.protocols import Branch, BranchObservations
@@ -82,6 +84,9 @@ class InteractionSettings:
         counting: How re-clustered parts count their people (000's blob count if None).
         model_prior: How eq. 32 becomes P(M | parent): "normalised", "choice" or
             "literal" (see :meth:`GroupBranches._model_priors`).
+        trail_window: Seconds of observed centroids whose slope is the velocity of eqs.
+            25-27 (0: the Kalman filter's, 000; see :meth:`GroupBranches.merge_motion`).
+        centroid_std: Std of an observed centroid [m] (the trail velocity's variance).
     """
 
     p_c: float
@@ -99,6 +104,8 @@ class InteractionSettings:
     prune_labels: bool = True
     recluster_blobs: bool = False
     counting: SizeCounting | None = None
+    trail_window: float = 0.0
+    centroid_std: float = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -288,14 +295,26 @@ class GroupBranches:
         key = (a.node_id, b.node_id)
         if key not in self._merge_ll:
             pa, pb = group_payload(a), group_payload(b)
-            ma, ca = node_prediction(a)
-            mb, cb = node_prediction(b)
+            ma, ca = self.merge_motion(a)
+            mb, cb = self.merge_motion(b)
             d2 = group_distance_sq(pa.contour, ma, ca, pb.contour, mb, cb, self.s.d_p)
             if self.s.merge_likelihood == "density":
                 self._merge_ll[key] = merge_log_likelihood(d2, ca, cb)
             else:  # the compatibility exp(-d^2 / 2), at most 1
                 self._merge_ll[key] = -0.5 * d2
         return self._merge_ll[key]
+
+    def merge_motion(self, node: TrackNode) -> tuple[FloatArray, FloatArray]:
+        """The predicted state (5,) and covariance (5, 5) of ``node`` that eqs. 25-27
+        compare: the Kalman filter's (000), or with ``trail_window`` set and a trail
+        spanning half of it, with the velocity from the trail (:func:`trail_velocity`)."""
+        mean, cov = node_prediction(node)
+        if self.s.trail_window <= 0.0:
+            return mean, cov
+        got = trail_velocity(
+            group_payload(node).trail, 0.5 * self.s.trail_window, self.s.centroid_std
+        )
+        return (mean, cov) if got is None else with_trail_velocity(mean, cov, *got)
 
     # ------------------------------------------------------------------ re-prediction
 

@@ -32,6 +32,7 @@ SCORE_BLOCK = 400_000
 in memory at once when scoring (larger problems are scored in blocks of tracks)."""
 _ORIGIN = np.zeros((1, 2))
 _LOG_2PI_NEG = -math.log(2.0 * math.pi)
+_NO_TRAIL = np.empty((0, 3))
 
 
 @dataclass(eq=False, slots=True)
@@ -49,6 +50,9 @@ class GroupPayload:
         must_match: A split or merged track of this scan: it must be matched (000 Sec. 4.4).
         event: How the track's family began: "split" or "merge" when a model made it, ""
             when it was born from an observation.
+        trail: The observed centroids of the track since its birth, split or merge, at
+            most ``GroupModelSettings.trail_window`` seconds back: rows (stamp [s], x [m],
+            y [m]), (R, 3); empty when the window is 0 (see :func:`trail_velocity`).
     """
 
     contour: FloatArray
@@ -56,6 +60,7 @@ class GroupPayload:
     members: IntArray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     must_match: bool = False
     event: str = ""
+    trail: FloatArray = field(default_factory=lambda: _NO_TRAIL)
 
 
 def transition(dt: float) -> FloatArray:
@@ -82,12 +87,13 @@ def kalman_update_batch(
 
 
 def initial_states(
-    obs: GroupObservations, js: Sequence[int], c0: FloatArray
+    obs: GroupObservations, js: Sequence[int], c0: FloatArray, stamp: float | None = None
 ) -> list[tuple[FloatArray, FloatArray, GroupPayload]]:
     """State, covariance and payload (contour and members) of a new group from each of
     the clusters ``js`` of ``obs`` (eq. 16): position at the centroid, zero velocity,
     n = n_hs, C = C_0, P = the points minus the centroid; the states, covariances and
-    contours of all made in one array each."""
+    contours of all made in one array each. With ``stamp`` [s] the trail starts at the
+    centroid (:attr:`GroupPayload.trail`)."""
     idx = np.asarray(js, dtype=np.intp)
     sizes = obs.sizes[idx]
     starts = obs.offsets[idx]
@@ -104,8 +110,13 @@ def initial_states(
     contours = obs.points[rows] - np.repeat(centroids, sizes, axis=0)
     members = obs.members[rows]
     ends = np.cumsum(sizes).tolist()
+    trails = (
+        [_NO_TRAIL] * idx.size
+        if stamp is None
+        else [np.array([[stamp, c[0], c[1]]]) for c in centroids.tolist()]
+    )
     return [
-        (means[k], covs[k], GroupPayload(contours[a:b], (), members[a:b]))
+        (means[k], covs[k], GroupPayload(contours[a:b], (), members[a:b], trail=trails[k]))
         for k, (a, b) in enumerate(zip([0, *ends[:-1]], ends, strict=True))
     ]
 
@@ -181,6 +192,46 @@ def group_distance_sq(
     return float(np.einsum("ji,ji->i", flat, sol).min())  # eq. 26
 
 
+def trail_velocity(
+    trail: FloatArray, min_span: float, centroid_std: float
+) -> tuple[FloatArray, float] | None:
+    """A group's velocity over its trail of observed centroids (the velocity of eqs.
+    25-26 from a longer memory than the Kalman filter's): the least-squares slope of x and
+    of y on time, (2,) [m/s], and its variance [m^2/s^2] per component,
+    s^2 / sum_k (t_k - mean t)^2, where s^2 is the larger of ``centroid_std``^2 [m^2]
+    and the residual variance of the straight-line fits (the sum of both coordinates'
+    squared residuals over 2 (R - 2)): a group that turned or stopped within the trail
+    fits a line badly, and its slope is known less. None when the trail (R, 3) of rows
+    (stamp [s], x, y [m]) has fewer than three rows or spans less than ``min_span``
+    [s]."""
+    if trail.shape[0] < 3:
+        return None
+    t = trail[:, 0]
+    if t[-1] - t[0] < min_span or t[-1] - t[0] <= 0.0:
+        return None
+    dt = t - t.mean()
+    stt = float(dt @ dt)
+    xy = trail[:, 1:] - trail[:, 1:].mean(axis=0)
+    slope = dt @ xy / stt
+    residual = xy - np.outer(dt, slope)
+    s2 = float(np.sum(residual * residual)) / (2.0 * (trail.shape[0] - 2))
+    return np.asarray(slope, dtype=np.float64), max(centroid_std**2, s2) / stt
+
+
+def with_trail_velocity(
+    mean: FloatArray, cov: FloatArray, velocity: FloatArray, variance: float
+) -> tuple[FloatArray, FloatArray]:
+    """A state (5,) and covariance (5, 5) with the velocity replaced by ``velocity`` (2,)
+    [m/s] of independent ``variance`` per component (no correlation with the rest)."""
+    out_mean = np.array(mean, dtype=np.float64)
+    out_mean[2:4] = velocity
+    out_cov = np.array(cov, dtype=np.float64)
+    out_cov[2:4, :] = 0.0
+    out_cov[:, 2:4] = 0.0
+    out_cov[2, 2] = out_cov[3, 3] = variance
+    return out_mean, out_cov
+
+
 def merge_log_likelihood(d_min_sq: float, cov_i: FloatArray, cov_j: FloatArray) -> float:
     """log N_ij of eq. 27: log of exp(-d_min^2 / 2) / ((2 pi)^2 sqrt(det(C_i + C_j)))."""
     det = float(np.linalg.det(cov_i[:4, :4] + cov_j[:4, :4]))
@@ -204,6 +255,7 @@ class GroupModelSettings:
             one matched observation, see :meth:`GroupModel.score`).
         rms: Root mean square instead of the mean in eq. 20.
         share_parts: Parts count their share (False: each part a whole observation, 000).
+        trail_window: Seconds of observed centroids a track keeps (0: none).
     """
 
     c0: FloatArray
@@ -217,6 +269,7 @@ class GroupModelSettings:
     log_p_match: float = 0.0
     rms: bool = False
     share_parts: bool = True
+    trail_window: float = 0.0
 
 
 class GroupModel:
@@ -520,9 +573,19 @@ class GroupModel:
         members = measurements.members[rows]
         ends = np.cumsum(sizes).tolist()
         starts = [0, *ends[:-1]]
-        for node, a, b, new_mean, new_cov in zip(nodes, starts, ends, means, covs, strict=True):
+        window = self.s.trail_window
+        seen = measurements.centroids[idx].tolist()
+        for node, a, b, new_mean, new_cov, c in zip(
+            nodes, starts, ends, means, covs, seen, strict=True
+        ):
             old = group_payload(node)
-            payload = GroupPayload(contours[a:b], old.labels, members[a:b], event=old.event)
+            trail = _NO_TRAIL
+            if window > 0.0:
+                kept = old.trail[old.trail[:, 0] > stamp - window]
+                trail = np.concatenate([kept, [[stamp, c[0], c[1]]]])
+            payload = GroupPayload(
+                contours[a:b], old.labels, members[a:b], event=old.event, trail=trail
+            )
             out.append((new_mean, new_cov, payload))
         return out
 
@@ -530,13 +593,15 @@ class GroupModel:
         """The prediction (an occluded group keeps its contour)."""
         mean, cov = node_prediction(node)
         old = group_payload(node)
-        return mean, cov, GroupPayload(old.contour, old.labels, event=old.event)
+        return mean, cov, GroupPayload(old.contour, old.labels, event=old.event, trail=old.trail)
 
     def initiate(
         self, measurements: GroupObservations, js: Sequence[int], stamp: float
     ) -> list[tuple[FloatArray, FloatArray, Any]]:
         """New groups from clusters ``js`` (eq. 16)."""
-        return list(initial_states(measurements, js, self.s.c0)) if len(js) else []
+        if not len(js):
+            return []
+        return initial_states(measurements, js, self.s.c0, stamp if self.s.trail_window else None)
 
 
 def _row_block_min(q: FloatArray, starts: IntArray, lengths: IntArray) -> FloatArray:

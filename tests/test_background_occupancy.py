@@ -86,6 +86,27 @@ def test_grid_grows_and_keeps_what_it_learnt() -> None:
     assert g.static_time(POST)[0] == pytest.approx(2.8)
 
 
+def test_grid_grows_for_a_return_just_past_its_arrays() -> None:
+    """A laser at the origin has seen posts 7 m away along -x, +y and -y and 1 m away
+    along +x, so its arrays end nearest along +x. A new return half a cell past that end
+    (and nearer than the arrays reach on every other side): the arrays grow to hold it,
+    and it is learnt (the shortcut that skips the check when the disc of the farthest
+    return lies inside the arrays must see that this one does not)."""
+    g = OccupancyGrid(OccupancyParams(max_range=100.0))
+    sensor = np.zeros(2)
+    posts = np.array([[-7.03, 0.07], [0.03, 7.07], [0.03, -7.03], [1.03, 0.07]])
+    for k in range(30):
+        g.learn(posts, 0.1 * k, sensor=sensor)
+    res = P.resolution
+    edge = (int(g._origin[0]) + g._evidence.shape[0]) * res  # [m] where the arrays end
+    past = np.array([[edge + 0.5 * res, 0.0]])
+    assert 7.1 < past[0, 0] < 7.7  # the farthest return; the arrays reach 13 m elsewhere
+    for k in range(30, 60):
+        g.learn(np.vstack([posts, past]), 0.1 * k, sensor=sensor)
+    assert g.static_time(past)[0] == pytest.approx(2.7)
+    assert g.static_time(posts) == pytest.approx([5.7] * 4)
+
+
 def test_max_range_skips_far_returns() -> None:
     g = OccupancyGrid(OccupancyParams(max_range=5.0))
     for k in range(30):

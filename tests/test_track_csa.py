@@ -408,6 +408,32 @@ def test_furniture_that_merged_with_a_walker_is_not_reported_after_the_split() -
     assert all(0 in row for row in plain[1:])
 
 
+def test_people_who_walk_away_together_from_a_cluster_are_reported() -> None:
+    """moving_travel counts a cluster's people as they walk too: on a laser driving at
+    0.5 m/s, two people stand 0.9 m apart (targets 0 and 1, not yet walked), one steps
+    0.45 m to the other at t = 1-1.5 s (less than moving_travel; the two merge into one
+    cluster), and from t = 2 s both walk along x at 1 m/s. Standing, neither is reported;
+    from t = 3 s (1 m walked as people of the cluster) both are. Without counting the
+    travel of a cluster's people, neither would ever be."""
+
+    def step_y(t: float) -> float:
+        return 3.9 - 0.45 * min(max(t - 1.0, 0.0) / 0.5, 1.0)
+
+    frames = []
+    for k in range(50):
+        t = k / 10
+        x = 2.0 + max(t - 2.0, 0.0)
+        xy = np.concatenate([_blob((x, 3.0), k), _blob((x, step_y(t)), k)])
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(0.5 * t, 0.0, 0.0)
+        frames.append(Frame(k, t, (), "synthetic", "world", pose, ps, np.ones(len(xy), bool)))
+    csa = ClusterSortingTracker(CSAParams())
+    ids = [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+    assert "merge person+person" in [e.kind for e in csa.events]
+    assert ids[3:20] == [[]] * 17
+    assert ids[30:] == [[0, 1]] * 20
+
+
 def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     """cut_free: two people stand together (one cluster of people 0 and 1); a third person
     (one leg seen, 5 points) is first seen at t = 3 s right beside them, inside the

@@ -24,8 +24,8 @@ from laserpeople.tracking.particle.feet import (
     FeetTracker,
     StepDetector,
     StillDetector,
-    _two_feet,
 )
+from laserpeople.tracking.particle.objects import two_feet
 from test_pf_feet_cells import frame_of
 
 
@@ -100,7 +100,7 @@ def test_still_detector_off_and_size_bound() -> None:
 def test_two_feet_of_one_side_only() -> None:
     pts = np.array([[0.0, 0.0], [0.02, 0.0], [0.04, 0.0]])
     cov = np.array([[1.0, 0.0], [0.0, 0.1]])
-    feet = _two_feet(pts, np.array([-0.5, 0.0]), cov)
+    feet = two_feet(pts, np.array([-0.5, 0.0]), cov)
     assert np.allclose(feet[0], [-0.6, 0.0]) or np.allclose(feet[1], [-0.4, 0.0])
     assert np.allclose(feet[1], pts.mean(axis=0)) or np.allclose(feet[0], pts.mean(axis=0))
 

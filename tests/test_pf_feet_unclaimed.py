@@ -48,7 +48,8 @@ def _walk(det: UnclaimedDetector, feet: np.ndarray, speed: float, scans: int) ->
 
 def test_an_unclaimed_walker_is_reported_after_claim_time() -> None:
     """At 1.2 m/s (0.12 m per scan) the object stays the same from scan to scan and is
-    reported from 0.5 s on, the first scan at which it has been unclaimed for claim_time."""
+    reported from 0.5 s on, the first scan at which it has been unclaimed for claim_time
+    (it has moved 0.6 m, more than claim_move)."""
     det = UnclaimedDetector(FeetParams(claim_time=0.5, claim_distance=0.3))
     counts = _walk(det, np.empty((0, 2, 2)), 1.2, 8)
     assert counts == [0, 0, 0, 0, 0, 1, 1, 1]
@@ -114,3 +115,13 @@ def test_a_walker_beside_a_tracked_person_gets_a_filter(claim: float, on_b: int)
     filters, near_b = _tracked_neighbour(claim)
     assert near_b == on_b
     assert filters == 1 + on_b
+
+
+def test_an_unclaimed_object_that_does_not_walk_starts_nothing() -> None:
+    """An unclaimed person-sized object that stays put (clutter the background has not
+    learned, or a person the still detector is for) is never reported; moving at 0.4 m/s
+    it is, once it has moved ``claim_move`` 0.25 m (from 0.7 s at 10 Hz)."""
+    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_move=0.25)
+    assert sum(_walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 0.0, 20)) == 0
+    counts = _walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 0.4, 10)
+    assert counts.index(1) == 7

@@ -44,6 +44,11 @@ at feet height with a walking model.
   along their major axis, as from a detected step (a filter that stood with its person
   has strides near 0 and stays behind when the person walks off, and at a low scan rate
   no step is detected to refresh it).
+- A departure from 004 for people in parties (``claim_distance``; 0 restores 004): an
+  object of a leg's size or more and a person's size at most, with no filter's estimated
+  foot within ``claim_distance``, that stays so for ``claim_time`` starts a filter
+  (:mod:`~laserpeople.tracking.particle.unclaimed`): a person walking abreast of others
+  often shows one leg behind the other and no merge -> split of their own.
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -190,9 +195,11 @@ class FeetParams:
         "filter); in parties walking abreast 0.75 m apart a person shows one leg behind "
         "the other and their steps refresh a neighbour's filter, so a party got fewer "
         "filters than people (docs/schenk-tables.md)",
-        "a person-sized object (as for ``still_time``) with no point this close to a "
-        "filter's estimated foot is unclaimed; one unclaimed for ``claim_time`` starts a "
-        "filter (:mod:`~laserpeople.tracking.particle.unclaimed`); 0 disables",
+        "an object (single linkage at ``link_distance``) of at least ``blob_leg_points`` "
+        "points and a largest covariance eigenvalue of at most ``still_eigenvalue`` with "
+        "no point this close to a filter's estimated foot is unclaimed; one unclaimed for "
+        "``claim_time`` starts a filter "
+        "(:mod:`~laserpeople.tracking.particle.unclaimed`); 0 disables",
         "m",
     )
     claim_time: float = param(
@@ -207,6 +214,14 @@ class FeetParams:
         "an unclaimed object is the previous scan's nearest one within this speed times "
         "the time between the scans",
         "m/s",
+    )
+    claim_move: float = param(
+        0.25,
+        "assumed: half a second of the slowest walk (0.5 m/s); on a moving robot clutter "
+        "in the foreground started filters without it",
+        "an unclaimed object (``claim_distance``) starts a filter only once its centre "
+        "moved this far from where it was first seen",
+        "m",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(

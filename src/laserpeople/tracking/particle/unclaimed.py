@@ -45,18 +45,22 @@ class UnclaimedDetector:
     """Person-sized objects that no filter has claimed for ``claim_time``.
 
     An object is the single linkage of the birth points at ``link_distance`` with at least
-    ``still_points`` points and a largest covariance eigenvalue of at most
-    ``still_eigenvalue`` (the still detector's person size); it is unclaimed when none of
+    ``blob_leg_points`` points (a leg: the other may be hidden behind it) and a largest
+    covariance eigenvalue of at most ``still_eigenvalue`` (the still detector's bound on
+    a person's size); it is unclaimed when none of
     its points lies within ``claim_distance`` of a filter's estimated foot. An unclaimed
     object is the same as the previous scan's nearest unclaimed object whose centre lies
-    within ``claim_speed`` x the time between the scans (at least ``still_move``); once it
-    has been unclaimed that long without a break it is reported, as the two halves of its
-    points along its major axis (the two legs).
+    within ``claim_distance`` + ``claim_speed`` x the time between the scans; once it has
+    been unclaimed for ``claim_time`` without a break and its centre has moved
+    ``claim_move`` from where it was first seen (a walker: what stands is the still
+    detector's, and clutter the background has not learned does not walk), it is
+    reported, as the two halves of its points along its major axis (the two legs).
     """
 
     def __init__(self, params: FeetParams) -> None:
         self.params = params
         self._centres = np.empty((0, 2))
+        self._origins = np.empty((0, 2))
         self._since = np.empty(0)
         self._stamp: float | None = None
 
@@ -69,12 +73,14 @@ class UnclaimedDetector:
     ) -> list[NDArray[np.float64]]:
         """The feet (2, 2) [m] of every object of ``points`` (N, 2) (``labels`` (N,) at
         ``link_distance`` if known) that no filter's estimated foot (``feet`` (F, 2, 2))
-        has claimed for ``claim_time`` [s] by ``stamp``."""
+        has claimed for ``claim_time`` [s] by ``stamp`` and that moved ``claim_move``
+        [m]."""
         p = self.params
         dt = 0.0 if self._stamp is None else stamp - self._stamp
         self._stamp = stamp
         if p.claim_distance <= 0.0 or len(points) == 0:
-            self._centres, self._since = np.empty((0, 2)), np.empty(0)
+            self._centres, self._origins = np.empty((0, 2)), np.empty((0, 2))
+            self._since = np.empty(0)
             return []
         if labels is None:
             labels = single_linkage(points, p.link_distance)
@@ -84,11 +90,14 @@ class UnclaimedDetector:
         free = sized & ~claimed_objects(points, labels, feet, p.claim_distance)
         ok = np.flatnonzero(free)
         centres, since = mean[ok], np.full(ok.size, stamp)
+        origins = centres.copy()
         if len(self._centres) and ok.size:
             reach = p.claim_distance + p.claim_speed * dt
             d, j = cKDTree(self._centres).query(centres, k=1, distance_upper_bound=reach)
             kept = np.isfinite(d)
             since[kept] = self._since[j[kept]]
-        self._centres, self._since = centres, since
-        ready = ok[stamp - since >= p.claim_time]
+            origins[kept] = self._origins[j[kept]]
+        self._centres, self._origins, self._since = centres, origins, since
+        moved = np.hypot(*(centres - origins).T) >= p.claim_move
+        ready = ok[(stamp - since >= p.claim_time) & moved]
         return [two_feet(points[labels == k], mean[k], cov[k]) for k in ready]

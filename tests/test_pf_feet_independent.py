@@ -24,8 +24,8 @@ from laserpeople.tracking.particle.feet import (
     FeetTracker,
     StepDetector,
     StillDetector,
-    _two_feet,
 )
+from laserpeople.tracking.particle.objects import two_feet
 from test_pf_feet_cells import frame_of
 
 
@@ -100,7 +100,7 @@ def test_still_detector_off_and_size_bound() -> None:
 def test_two_feet_of_one_side_only() -> None:
     pts = np.array([[0.0, 0.0], [0.02, 0.0], [0.04, 0.0]])
     cov = np.array([[1.0, 0.0], [0.0, 0.1]])
-    feet = _two_feet(pts, np.array([-0.5, 0.0]), cov)
+    feet = two_feet(pts, np.array([-0.5, 0.0]), cov)
     assert np.allclose(feet[0], [-0.6, 0.0]) or np.allclose(feet[1], [-0.4, 0.0])
     assert np.allclose(feet[1], pts.mean(axis=0)) or np.allclose(feet[0], pts.mean(axis=0))
 
@@ -133,7 +133,10 @@ def test_feet_pf_on_a_crossing_with_one_low_laser(crossing: Path, tmp_path: Path
 @pytest.mark.slow
 def test_feet_pf_before_the_departures_misses_the_crossing(crossing: Path, tmp_path: Path) -> None:
     """The same run with the settings before (no bound on the link distance, no still
-    births, a filter dies after 0.2 s without points) stays far below."""
+    births nor births on unclaimed walkers, a filter dies after 0.2 s without points) stays
+    far below."""
     cfg = tmp_path / "old.toml"
-    cfg.write_text("[feet_pf]\noverlap_max = 0.0\nstill_time = 0.0\nmiss_time = 0.2\n")
+    cfg.write_text(
+        "[feet_pf]\noverlap_max = 0.0\nstill_time = 0.0\nmiss_time = 0.2\nclaim_distance = 0.0\n"
+    )
     assert _motp(crossing, tmp_path / "p.csv", "--config", str(cfg)) < 0.5

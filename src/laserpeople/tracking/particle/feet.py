@@ -44,6 +44,11 @@ at feet height with a walking model.
   along their major axis, as from a detected step (a filter that stood with its person
   has strides near 0 and stays behind when the person walks off, and at a low scan rate
   no step is detected to refresh it).
+- A departure from 004 for people in parties (``claim_distance``; 0 restores 004): an
+  object of a leg's size or more and a person's size at most, with no filter's estimated
+  foot within ``claim_distance``, that stays so for ``claim_time`` starts a filter
+  (:mod:`~laserpeople.tracking.particle.unclaimed`): a person walking abreast of others
+  often shows one leg behind the other and no merge -> split of their own.
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -76,7 +81,9 @@ from laserpeople.tracking.particle.objects import (
     largest_eigenvalue,
     object_eigenvalues,
     small_objects,
+    two_feet,
 )
+from laserpeople.tracking.particle.unclaimed import UnclaimedDetector
 from laserpeople.tracking.particle.upper_body import gather_cells, voronoi_cells
 from laserpeople.tracks import Tracks
 
@@ -101,6 +108,7 @@ class FeetParams:
             "still_time": 0.0,
             "cell_refresh": 0.0,
             "leg_width": 0.0,
+            "claim_distance": 0.0,
         }
     )
 
@@ -180,6 +188,44 @@ class FeetParams:
         "assumed: two legs side by side span at most ~0.4 m (a uniform 0.4 m spread has 0.013)",
         "largest covariance eigenvalue of a still object",
         "m^2",
+    )
+    claim_distance: float = param(
+        0.3,
+        "departure from 004 (0 here: only a step sequence or a still object starts a "
+        "filter); in parties walking abreast 0.75 m apart a person shows one leg behind "
+        "the other and their steps refresh a neighbour's filter, so a party got fewer "
+        "filters than people; random-groups tuning seeds 0-19 at feet height: MOTP 0.501 "
+        "at 0, 0.521 at 0.3 (seven of them: 3.62 summed at 0.3, 3.58 at 0.4; "
+        "docs/schenk-tables.md)",
+        "an object (single linkage at ``link_distance``) of at least ``blob_leg_points`` "
+        "points and a largest covariance eigenvalue of at most ``still_eigenvalue`` with "
+        "no point this close to a filter's estimated foot is unclaimed; one unclaimed for "
+        "``claim_time`` starts a filter "
+        "(:mod:`~laserpeople.tracking.particle.unclaimed`); 0 disables",
+        "m",
+    )
+    claim_time: float = param(
+        0.5,
+        "assumed: half a step period, longer than a swinging foot is ahead of its filter; "
+        "seven random-groups tuning seeds: MOTP 3.62 summed at 0.5, 3.53 at 1",
+        "how long an object must stay unclaimed (``claim_distance``) to start a filter",
+        "s",
+    )
+    claim_speed: float = param(
+        2.0,
+        "assumed: faster than people walk (random-groups 0.5-1.5 m/s)",
+        "an unclaimed object is the previous scan's nearest one within this speed times "
+        "the time between the scans",
+        "m/s",
+    )
+    claim_move: float = param(
+        0.25,
+        "assumed: half a second of the slowest walk (0.5 m/s); without it clutter in a "
+        "moving robot's foreground started filters (random-groups tuning seeds 0-19: MOTP "
+        "0.517 at 0, 0.521 at 0.25; seed 12 0.423 and 0.481)",
+        "an unclaimed object (``claim_distance``) starts a filter only once its centre "
+        "moved this far from where it was first seen",
+        "m",
     )
     sequence_time: float = param(1.0, "assumed", "longest merge-to-split time", "s")
     sequence_distance: float = param(
@@ -666,22 +712,7 @@ class StillDetector:
             since[kept] = self._since[j[kept]]
         self._anchors, self._since = anchors, since
         still = ok[stamp - since >= p.still_time]
-        return [_two_feet(points[labels == k], mean[k], cov[k]) for k in still]
-
-
-def _two_feet(
-    points: NDArray[np.float64], centre: NDArray[np.float64], cov: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Two feet (2, 2) [m] of an object of ``points`` (N, 2): the centres of its points
-    either side of ``centre`` along the major axis of ``cov`` (2, 2); a side without
-    points at 0.1 m from the centre."""
-    _, vecs = np.linalg.eigh(cov)
-    u = vecs[:, -1]
-    side = (points - centre) @ u
-    feet = np.empty((2, 2))
-    for i, mask in enumerate((side < 0.0, side >= 0.0)):
-        feet[i] = points[mask].mean(axis=0) if mask.any() else centre + (0.1 if i else -0.1) * u
-    return feet
+        return [two_feet(points[labels == k], mean[k], cov[k]) for k in still]
 
 
 class FeetTracker:
@@ -700,6 +731,7 @@ class FeetTracker:
         self.bank = FilterBank(self.params.particles, 8)
         self.detector = StepDetector(self.params)
         self.still = StillDetector(self.params)
+        self.unclaimed = UnclaimedDetector(self.params)
         self.scaled = self.params
         """The parameters of the last scan (:func:`scaled_to_beams`)."""
         self._stamp: float | None = None
@@ -740,7 +772,7 @@ class FeetTracker:
         p = self.scaled = scaled_to_beams(
             self.params, foreground_spacing(frame) if self.params.leg_width > 0.0 else math.nan
         )
-        self.still.params = p
+        self.still.params = self.unclaimed.params = p
         # one clustering per scan at link_distance and one at segment_link, shared by the
         # size bound, the still detector, the weights of eqs. 3-4 and the blob centres
         wants_objects = p.max_eigenvalue > 0.0 or p.still_time > 0.0 or p.blob_body
@@ -827,7 +859,9 @@ class FeetTracker:
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
         still = self.still.detections(pts, stamp, objects)
-        if not (found or still):
+        on = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2) if len(bank) else np.empty((0, 2, 2))
+        free = self.unclaimed.detections(pts, stamp, on, objects)
+        if not (found or still or free):
             return
         est = (
             np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
@@ -852,6 +886,12 @@ class FeetTracker:
             if any(np.hypot(*(mid - f.mean(axis=0))) <= p.birth_exclusion for f in starts):
                 continue
             starts.append(feet)
+        for two in free:  # no filter's foot near: births closer than birth_exclusion
+            if any(
+                np.hypot(*(two.mean(axis=0) - f.mean(axis=0))) <= p.birth_exclusion for f in starts
+            ):
+                continue
+            starts.append(two)
         if starts:
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
 
@@ -861,7 +901,8 @@ class FeetTracker:
         """Refresh (:meth:`_refresh`) every filter whose cell's points ``pts`` (N, 2)
         (filter ``owner`` (N,)), at least ``still_points`` of them, are centred farther
         than ``cell_refresh`` from its feet midpoint ``est`` (F, 2): from the two halves
-        of those points along their major axis (:func:`_two_feet`)."""
+        of those points along their major axis
+        (:func:`~laserpeople.tracking.particle.objects.two_feet`)."""
         p = self.scaled
         if len(pts) == 0:
             return
@@ -869,7 +910,7 @@ class FeetTracker:
         mean, cov, count = cluster_covariances(pts, owner, n)
         off = np.hypot(*(mean - est).T)
         for f in np.flatnonzero((count >= p.still_points) & (off > p.cell_refresh)):
-            self._refresh(int(f), _two_feet(pts[owner == f], mean[f], cov[f]))
+            self._refresh(int(f), two_feet(pts[owner == f], mean[f], cov[f]))
 
     def _refresh(self, f: int, feet: NDArray[np.float64]) -> None:
         """A step detected at filter ``f``: replace a share ``refresh_share`` of its

@@ -125,10 +125,26 @@ class ObjectMemory:
         return np.asarray(remembered, dtype=bool)
 
 
+def two_feet(
+    points: NDArray[np.float64], centre: NDArray[np.float64], cov: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Two feet (2, 2) [m] of an object of ``points`` (N, 2): the centres of its points
+    either side of ``centre`` along the major axis of ``cov`` (2, 2); a side without
+    points at 0.1 m from the centre."""
+    _, vecs = np.linalg.eigh(cov)
+    u = vecs[:, -1]
+    side = (points - centre) @ u
+    feet = np.empty((2, 2))
+    for i, mask in enumerate((side < 0.0, side >= 0.0)):
+        feet[i] = points[mask].mean(axis=0) if mask.any() else centre + (0.1 if i else -0.1) * u
+    return feet
+
+
 __all__ = [
     "ObjectMemory",
     "kept_labels",
     "largest_eigenvalue",
     "object_eigenvalues",
     "small_objects",
+    "two_feet",
 ]

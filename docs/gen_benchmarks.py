@@ -232,8 +232,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.368, IDF1 0.393 (still lasers 0.55–0.57, moving 0.11–0.20; goal 0.5); "
-        "ID switches 21.6 per scene",
+        "person MOTA 0.405, IDF1 0.418 (still lasers 0.61–0.62, moving 0.18–0.20; goal 0.5); "
+        "ID switches 22.4 per scene",
         "csa.md",
     ),
     Benchmark(
@@ -242,7 +242,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "100–119",
         ("benchmarks/feet_random.py", "--seeds", "100-119", "--jobs", "2"),
         15.0,
-        "adapted MOTP 0.347 (still lasers 0.437, moving 0.269; goal 0.80), MOTA 0.441, IDF1 0.558",
+        "adapted MOTP 0.361 (still lasers 0.444, moving 0.290; goal 0.80), MOTA 0.469, IDF1 0.565",
         "schenk-tables.md",
     ),
     Benchmark(

@@ -635,12 +635,16 @@ class PersonTracker:
         e2 = kalman.euclidean_sq(means, z)
         ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
         # a person's members stay within pair_distance of each other
+        # (the spread only of the legs still allowed: it is a plain-float call per leg)
         for i, person in enumerate(open_):
+            row = ok[i]
             for m in person.members:
                 other = legs[m]
                 d = z - other.position
-                ok[i] &= np.hypot(d[:, 0], d[:, 1]) <= p.pair_distance
-                ok[i] &= [spread(f, other, p.min_speed) <= p.max_spread for f in free]
+                row &= np.hypot(d[:, 0], d[:, 1]) <= p.pair_distance
+                for j in row.nonzero()[0].tolist():
+                    if not spread(free[j], other, p.min_speed) <= p.max_spread:
+                        row[j] = False
         cost = np.where(ok, e2, np.inf)
         # the allowed pairs (finite costs: e2 is within the gate) sort first
         order = cost.argsort(axis=None)[: int(np.count_nonzero(ok))]
@@ -900,9 +904,7 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
-        if len(self.persons) <= 12 and _all_apart(
-            [q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance
-        ):
+        if _all_apart([q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance):
             return
         ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
         xy = np.array([q.mean[:2] for q in ps], dtype=np.float64)
@@ -1055,10 +1057,20 @@ def _all_apart(xy: Sequence[Sequence[float]], distance: float) -> bool:
     ``distance`` [m] apart along x or along y, so that no ``np.hypot`` of their differences
     is below ``distance`` (a rounded hypot is never below the larger leg): the merge's
     "nobody near anybody" without its arrays. False when unsure (a pair closer than
-    ``distance`` along both axes, or NaN in both)."""
-    for i, (ax, ay) in enumerate(xy):
-        for bx, by in xy[i + 1 :]:
-            if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+    ``distance`` along both axes, or NaN in both). Sorted by x, each position is compared
+    only with those less than ``distance`` to its right (all pairs when an x is NaN)."""
+    if any(math.isnan(x) for x, _ in xy):
+        for i, (ax, ay) in enumerate(xy):
+            for bx, by in xy[i + 1 :]:
+                if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+                    return False
+        return True
+    ordered = sorted(xy)
+    for i, (ax, ay) in enumerate(ordered):
+        for bx, by in ordered[i + 1 :]:
+            if bx - ax >= distance:  # (= abs(ax - bx): bx >= ax)
+                break
+            if not abs(ay - by) >= distance:
                 return False
     return True
 
@@ -1074,17 +1086,13 @@ def leg_observations(
     the best hypothesis's leg tracks and this scan's detected segments' points (sensor
     frame, empty when the detector gives none) and detector scores."""
     out: dict[int, LegObservation] = {}
+    n_seg, score_list = len(segments_points), scores.tolist()
     for fam, pos, unseen, j in families:
-        wide = (
-            j >= 0
-            and j < len(segments_points)
-            and segment_holds_two_legs(segments_points[j], float(scores[j]), params)
-        )
-        score = float(scores[j]) if 0 <= j < len(scores) else math.nan
-        width = (
-            leg_width(segments_points[j])
-            if 0 <= j < len(segments_points) and not wide
-            else math.nan
-        )
-        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4], score, width)
+        if j < 0:
+            out[fam] = LegObservation(fam, pos[:2], False, unseen, j, False, pos[2:4])
+            continue
+        score = score_list[j] if j < len(score_list) else math.nan
+        wide = j < n_seg and segment_holds_two_legs(segments_points[j], score, params)
+        width = leg_width(segments_points[j]) if j < n_seg and not wide else math.nan
+        out[fam] = LegObservation(fam, pos[:2], True, unseen, j, wide, pos[2:4], score, width)
     return out

@@ -659,23 +659,24 @@ class PersonTracker:
     def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         """Append this scan's detected legs to their paths; forget legs no longer tracked."""
         horizon = stamp - self.params.moving_time - 1e-9
-        paths = self._leg_paths
+        paths, first = self._leg_paths, self._leg_first
         for leg in legs.values():
             if not leg.detected:
                 continue
-            path = paths.get(leg.track_id)
-            if path is None:
-                path = paths[leg.track_id] = deque()
+            tid = leg.track_id
             x, y = leg.position.tolist()
+            path = paths.get(tid)
+            if path is None:
+                path = paths[tid] = deque()
+                if tid not in first:
+                    first[tid] = (stamp, x, y)
             path.append((stamp, x, y))
-            if leg.track_id not in self._leg_first:
-                self._leg_first[leg.track_id] = (stamp, x, y)
             while len(path) > 2 and path[1][0] <= horizon:
                 path.popleft()
-        for gone in [k for k in paths if k not in legs]:
+        for gone in paths.keys() - legs.keys():
             del paths[gone]
-        for gone in [k for k in self._leg_first if k not in legs]:
-            del self._leg_first[gone]
+        for gone in first.keys() - legs.keys():
+            del first[gone]
 
     def _one_leg_on(self) -> bool:
         """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
@@ -726,11 +727,11 @@ class PersonTracker:
         return self._one_leg_stack[:n]
 
     def _measure(
-        self, person: PersonTrack, legs: Mapping[int, LegObservation]
+        self, person: PersonTrack, seen: Sequence[LegObservation]
     ) -> tuple[int, FloatArray | None, float]:
-        """Evidence, measured position and its std from the detected member legs."""
+        """Evidence, measured position and its std from the detected member legs ``seen``
+        (in the order of the members)."""
         p = self.params
-        seen = [legs[m] for m in person.members if legs[m].detected]
         if len(seen) == 2:
             a, b = seen[0].position, seen[1].position
             (ax, ay), (bx, by) = a.tolist(), b.tolist()
@@ -788,7 +789,8 @@ class PersonTracker:
         steps = self._llr_steps
         one_leg = self._one_leg_on()
         for person in self.persons.values():
-            evidence, z, std = self._measure(person, legs)
+            seen = [leg for leg in map(legs.__getitem__, person.members) if leg.detected]
+            evidence, z, std = self._measure(person, seen)
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
             step = steps[evidence]
@@ -802,9 +804,8 @@ class PersonTracker:
                 step = p.walked_miss
             person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
             person.scans += 1
-            for m in person.members:
-                if legs[m].detected:
-                    person.signature.add(legs[m].width)
+            for leg in seen:
+                person.signature.add(leg.width)
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))

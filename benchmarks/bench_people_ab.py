@@ -6,8 +6,9 @@ hypothesis (``leg_observations``) and the person tracker's update with them. Bot
 replayed into this version's and the other version's ``person_tracks`` module (the other's
 file loaded as a module of its own), alternately scan by scan (which goes first alternating
 scan by scan: the first on a scan's objects pays more), timed by process CPU. It prints per
-crowd and round the CPU per scan of each and their ratio, and checks that both give the same observations and the same person tracks
-(ids, members; positions, velocities and covariances within 1e-12 m).
+crowd and round the CPU per scan of each and their ratio, and checks that both give the
+same observations and the same person tracks (ids, members; positions, velocities and
+covariances within 1e-12 m).
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_people_ab.py --other /path/to/old/src
         [--people 4 20 40] [--seconds 30] [--rounds 3]

@@ -428,8 +428,12 @@ def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean velocity, or the plain
     distance when their mean speed is below ``min_speed`` [m/s]."""
     (ax, ay), (bx, by) = a.position.tolist(), b.position.tolist()
+    return _spread(ax - bx, ay - by, a, b, min_speed)
+
+
+def _spread(dx: float, dy: float, a: LegObservation, b: LegObservation, min_speed: float) -> float:
+    """:func:`spread` of legs ``a`` and ``b`` whose positions differ by ``(dx, dy)`` [m]."""
     (avx, avy), (bvx, bvy) = a.velocity.tolist(), b.velocity.tolist()
-    dx, dy = ax - bx, ay - by
     vx, vy = 0.5 * (avx + bvx), 0.5 * (avy + bvy)
     speed = math.hypot(vx, vy)
     if speed < min_speed:
@@ -728,19 +732,20 @@ class PersonTracker:
 
     def _measure(
         self, person: PersonTrack, seen: Sequence[LegObservation]
-    ) -> tuple[int, FloatArray | None, float]:
-        """Evidence, measured position and its std from the detected member legs ``seen``
+    ) -> tuple[int, FloatArray | tuple[float, float] | None, float]:
+        """Evidence, measured position (2,) and its std from the detected member legs ``seen``
         (in the order of the members)."""
         p = self.params
         if len(seen) == 2:
-            a, b = seen[0].position, seen[1].position
-            (ax, ay), (bx, by) = a.tolist(), b.tolist()
+            (ax, ay), (bx, by) = seen[0].position.tolist(), seen[1].position.tolist()
+            dx, dy = ax - bx, ay - by
             if (
-                math.hypot(ax - bx, ay - by) <= p.pair_distance
-                and spread(seen[0], seen[1], p.min_speed) <= p.max_spread
+                math.hypot(dx, dy) <= p.pair_distance
+                and _spread(dx, dy, seen[0], seen[1], p.min_speed) <= p.max_spread
             ):
                 strong = 0.5 * (seen[0].score + seen[1].score) > p.birth_min_score
-                return (TWO if strong else ONE), 0.5 * (a + b), p.pair_std
+                # (the midpoint in plain floats: the same as numpy's 0.5 * (a + b))
+                return (TWO if strong else ONE), (0.5 * (ax + bx), 0.5 * (ay + by)), p.pair_std
             px, py = person.mean[:2].tolist()
 
             def off(leg: LegObservation) -> float:
@@ -785,7 +790,7 @@ class PersonTracker:
 
     def _update_people(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
-        rows: list[tuple[PersonTrack, FloatArray, float]] = []
+        rows: list[tuple[PersonTrack, FloatArray | tuple[float, float], float]] = []
         steps = self._llr_steps
         one_leg = self._one_leg_on()
         for person in self.persons.values():
@@ -849,7 +854,9 @@ class PersonTracker:
         if len(free) >= 2:
             pos = np.array([leg.position for leg in free], dtype=np.float64)
             dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
-            ii, jj = np.nonzero(np.triu(dist < p.pair_distance, k=1))
+            ii, jj = (dist < p.pair_distance).nonzero()  # (row by row: as np.triu's)
+            upper = ii < jj
+            ii, jj = ii[upper], jj[upper]
             widths = np.array(
                 [
                     spread(free[int(i)], free[int(j)], p.min_speed)
@@ -1053,7 +1060,7 @@ class PersonTracker:
         return out
 
 
-def _all_apart(xy: Sequence[Sequence[float]], distance: float) -> bool:
+def _all_apart(xy: list[list[float]], distance: float) -> bool:
     """Whether every two of the positions ``xy`` (N lists ``[x, y]`` [m]) are at least
     ``distance`` [m] apart along x or along y, so that no ``np.hypot`` of their differences
     is below ``distance`` (a rounded hypot is never below the larger leg): the merge's

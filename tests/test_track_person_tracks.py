@@ -378,3 +378,34 @@ def test_all_apart_never_misses_a_pair_np_hypot_finds_close() -> None:
     assert _all_apart([[0.0, 0.0], [0.4, 0.0]], 0.4)
     assert not _all_apart([[0.0, 0.0], [0.3, 0.3]], 0.4)  # (0.42 m apart, but not along an axis)
     assert not _all_apart([[0.0, 0.0], [float("nan"), float("nan")]], 0.4)
+
+
+def test_all_apart_sweep_agrees_with_every_pair_compared() -> None:
+    """The sweep over x of ``_all_apart`` gives what comparing every two positions gives
+    (apart along x or along y), on crowds of 2-30 with pairs at the distance, equal x and
+    NaN; both answers occur."""
+    from laserpeople.tracking.person_tracks import _all_apart
+
+    def every_pair(xy: list[list[float]], d: float) -> bool:
+        return all(
+            abs(ax - bx) >= d or abs(ay - by) >= d
+            for i, (ax, ay) in enumerate(xy)
+            for bx, by in xy[i + 1 :]
+        )
+
+    rng = np.random.default_rng(35)
+    d = 0.3
+    answers = set()
+    for _ in range(2000):
+        n = int(rng.integers(2, 31))
+        xy = rng.uniform(-4.0, 4.0, size=(n, 2))
+        if rng.random() < 0.3:
+            xy[1] = xy[0] + np.array([d, float(rng.uniform(-0.2, 0.2))])
+        if rng.random() < 0.2:
+            xy[-1, 0] = xy[0, 0]  # equal x
+        if rng.random() < 0.05:
+            xy[int(rng.integers(n)), int(rng.integers(2))] = np.nan
+        got = _all_apart(xy.tolist(), d)
+        assert got == every_pair(xy.tolist(), d)
+        answers.add(got)
+    assert answers == {True, False}

@@ -428,8 +428,12 @@ def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean velocity, or the plain
     distance when their mean speed is below ``min_speed`` [m/s]."""
     (ax, ay), (bx, by) = a.position.tolist(), b.position.tolist()
+    return _spread(ax - bx, ay - by, a, b, min_speed)
+
+
+def _spread(dx: float, dy: float, a: LegObservation, b: LegObservation, min_speed: float) -> float:
+    """:func:`spread` of legs ``a`` and ``b`` whose positions differ by ``(dx, dy)`` [m]."""
     (avx, avy), (bvx, bvy) = a.velocity.tolist(), b.velocity.tolist()
-    dx, dy = ax - bx, ay - by
     vx, vy = 0.5 * (avx + bvx), 0.5 * (avy + bvy)
     speed = math.hypot(vx, vy)
     if speed < min_speed:
@@ -635,12 +639,16 @@ class PersonTracker:
         e2 = kalman.euclidean_sq(means, z)
         ok = ((d2 <= self._gate) | (e2 <= p.min_gate_distance**2)) & (e2 <= p.max_gate_distance**2)
         # a person's members stay within pair_distance of each other
+        # (the spread only of the legs still allowed: it is a plain-float call per leg)
         for i, person in enumerate(open_):
+            row = ok[i]
             for m in person.members:
                 other = legs[m]
                 d = z - other.position
-                ok[i] &= np.hypot(d[:, 0], d[:, 1]) <= p.pair_distance
-                ok[i] &= [spread(f, other, p.min_speed) <= p.max_spread for f in free]
+                row &= np.hypot(d[:, 0], d[:, 1]) <= p.pair_distance
+                for j in row.nonzero()[0].tolist():
+                    if not spread(free[j], other, p.min_speed) <= p.max_spread:
+                        row[j] = False
         cost = np.where(ok, e2, np.inf)
         # the allowed pairs (finite costs: e2 is within the gate) sort first
         order = cost.argsort(axis=None)[: int(np.count_nonzero(ok))]
@@ -655,23 +663,24 @@ class PersonTracker:
     def _record_paths(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         """Append this scan's detected legs to their paths; forget legs no longer tracked."""
         horizon = stamp - self.params.moving_time - 1e-9
-        paths = self._leg_paths
+        paths, first = self._leg_paths, self._leg_first
         for leg in legs.values():
             if not leg.detected:
                 continue
-            path = paths.get(leg.track_id)
-            if path is None:
-                path = paths[leg.track_id] = deque()
+            tid = leg.track_id
             x, y = leg.position.tolist()
+            path = paths.get(tid)
+            if path is None:
+                path = paths[tid] = deque()
+                if tid not in first:
+                    first[tid] = (stamp, x, y)
             path.append((stamp, x, y))
-            if leg.track_id not in self._leg_first:
-                self._leg_first[leg.track_id] = (stamp, x, y)
             while len(path) > 2 and path[1][0] <= horizon:
                 path.popleft()
-        for gone in [k for k in paths if k not in legs]:
+        for gone in paths.keys() - legs.keys():
             del paths[gone]
-        for gone in [k for k in self._leg_first if k not in legs]:
-            del self._leg_first[gone]
+        for gone in first.keys() - legs.keys():
+            del first[gone]
 
     def _one_leg_on(self) -> bool:
         """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
@@ -722,20 +731,21 @@ class PersonTracker:
         return self._one_leg_stack[:n]
 
     def _measure(
-        self, person: PersonTrack, legs: Mapping[int, LegObservation]
-    ) -> tuple[int, FloatArray | None, float]:
-        """Evidence, measured position and its std from the detected member legs."""
+        self, person: PersonTrack, seen: Sequence[LegObservation]
+    ) -> tuple[int, FloatArray | tuple[float, float] | None, float]:
+        """Evidence, measured position (2,) and its std from the detected member legs ``seen``
+        (in the order of the members)."""
         p = self.params
-        seen = [legs[m] for m in person.members if legs[m].detected]
         if len(seen) == 2:
-            a, b = seen[0].position, seen[1].position
-            (ax, ay), (bx, by) = a.tolist(), b.tolist()
+            (ax, ay), (bx, by) = seen[0].position.tolist(), seen[1].position.tolist()
+            dx, dy = ax - bx, ay - by
             if (
-                math.hypot(ax - bx, ay - by) <= p.pair_distance
-                and spread(seen[0], seen[1], p.min_speed) <= p.max_spread
+                math.hypot(dx, dy) <= p.pair_distance
+                and _spread(dx, dy, seen[0], seen[1], p.min_speed) <= p.max_spread
             ):
                 strong = 0.5 * (seen[0].score + seen[1].score) > p.birth_min_score
-                return (TWO if strong else ONE), 0.5 * (a + b), p.pair_std
+                # (the midpoint in plain floats: the same as numpy's 0.5 * (a + b))
+                return (TWO if strong else ONE), (0.5 * (ax + bx), 0.5 * (ay + by)), p.pair_std
             px, py = person.mean[:2].tolist()
 
             def off(leg: LegObservation) -> float:
@@ -780,11 +790,12 @@ class PersonTracker:
 
     def _update_people(self, legs: Mapping[int, LegObservation], stamp: float) -> None:
         p = self.params
-        rows: list[tuple[PersonTrack, FloatArray, float]] = []
+        rows: list[tuple[PersonTrack, FloatArray | tuple[float, float], float]] = []
         steps = self._llr_steps
         one_leg = self._one_leg_on()
         for person in self.persons.values():
-            evidence, z, std = self._measure(person, legs)
+            seen = [leg for leg in map(legs.__getitem__, person.members) if leg.detected]
+            evidence, z, std = self._measure(person, seen)
             if evidence == ONE and one_leg and self._moving_member(person, legs):
                 evidence = TWO
             step = steps[evidence]
@@ -798,9 +809,8 @@ class PersonTracker:
                 step = p.walked_miss
             person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
             person.scans += 1
-            for m in person.members:
-                if legs[m].detected:
-                    person.signature.add(legs[m].width)
+            for leg in seen:
+                person.signature.add(leg.width)
             if z is not None:
                 person.last_seen = stamp
                 rows.append((person, z, std))
@@ -844,7 +854,9 @@ class PersonTracker:
         if len(free) >= 2:
             pos = np.array([leg.position for leg in free], dtype=np.float64)
             dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
-            ii, jj = np.nonzero(np.triu(dist < p.pair_distance, k=1))
+            ii, jj = (dist < p.pair_distance).nonzero()  # (row by row: as np.triu's)
+            upper = ii < jj
+            ii, jj = ii[upper], jj[upper]
             widths = np.array(
                 [
                     spread(free[int(i)], free[int(j)], p.min_speed)
@@ -900,9 +912,7 @@ class PersonTracker:
         p = self.params
         if len(self.persons) < 2:
             return
-        if len(self.persons) <= 12 and _all_apart(
-            [q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance
-        ):
+        if _all_apart([q.mean[:2].tolist() for q in self.persons.values()], p.merge_distance):
             return
         ps = sorted(self.persons.values(), key=lambda q: (not q.confirmed, -q.llr, q.person_id))
         xy = np.array([q.mean[:2] for q in ps], dtype=np.float64)
@@ -1050,15 +1060,25 @@ class PersonTracker:
         return out
 
 
-def _all_apart(xy: Sequence[Sequence[float]], distance: float) -> bool:
+def _all_apart(xy: list[list[float]], distance: float) -> bool:
     """Whether every two of the positions ``xy`` (N lists ``[x, y]`` [m]) are at least
     ``distance`` [m] apart along x or along y, so that no ``np.hypot`` of their differences
     is below ``distance`` (a rounded hypot is never below the larger leg): the merge's
     "nobody near anybody" without its arrays. False when unsure (a pair closer than
-    ``distance`` along both axes, or NaN in both)."""
-    for i, (ax, ay) in enumerate(xy):
-        for bx, by in xy[i + 1 :]:
-            if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+    ``distance`` along both axes, or NaN in both). Sorted by x, each position is compared
+    only with those less than ``distance`` to its right (all pairs when an x is NaN)."""
+    if any(math.isnan(x) for x, _ in xy):
+        for i, (ax, ay) in enumerate(xy):
+            for bx, by in xy[i + 1 :]:
+                if not (abs(ax - bx) >= distance or abs(ay - by) >= distance):
+                    return False
+        return True
+    ordered = sorted(xy)
+    for i, (ax, ay) in enumerate(ordered):
+        for bx, by in ordered[i + 1 :]:
+            if bx - ax >= distance:  # (= abs(ax - bx): bx >= ax)
+                break
+            if not abs(ay - by) >= distance:
                 return False
     return True
 
@@ -1074,17 +1094,13 @@ def leg_observations(
     the best hypothesis's leg tracks and this scan's detected segments' points (sensor
     frame, empty when the detector gives none) and detector scores."""
     out: dict[int, LegObservation] = {}
+    n_seg, score_list = len(segments_points), scores.tolist()
     for fam, pos, unseen, j in families:
-        wide = (
-            j >= 0
-            and j < len(segments_points)
-            and segment_holds_two_legs(segments_points[j], float(scores[j]), params)
-        )
-        score = float(scores[j]) if 0 <= j < len(scores) else math.nan
-        width = (
-            leg_width(segments_points[j])
-            if 0 <= j < len(segments_points) and not wide
-            else math.nan
-        )
-        out[fam] = LegObservation(fam, pos[:2], j >= 0, unseen, j, wide, pos[2:4], score, width)
+        if j < 0:
+            out[fam] = LegObservation(fam, pos[:2], False, unseen, j, False, pos[2:4])
+            continue
+        score = score_list[j] if j < len(score_list) else math.nan
+        wide = j < n_seg and segment_holds_two_legs(segments_points[j], score, params)
+        width = leg_width(segments_points[j]) if j < n_seg and not wide else math.nan
+        out[fam] = LegObservation(fam, pos[:2], True, unseen, j, wide, pos[2:4], score, width)
     return out

@@ -68,6 +68,7 @@ class CSAParams:
             "cut_free": False,
             "moving_unseen": 0.0,
             "count_people": False,
+            "person_mixture": False,
         }
     )
 

@@ -46,6 +46,7 @@ def test_paper_preset_gives_each_tracker_its_papers_values() -> None:
     c = load_config(CSAParams, None, "paper")
     assert not c.adopt_escaped and not c.fragment_rule
     assert not c.person_scores and not c.adopt_orphans and not c.group_rows
+    assert not c.person_mixture
     from laserpeople.identity.reid import ReidParams
 
     assert not load_config(ReidParams, None, "paper").early

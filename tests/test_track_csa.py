@@ -17,6 +17,7 @@ from laserpeople.tracking.csa import (
     CSAParams,
     leader_clusters,
     per_person_scores,
+    person_first,
     person_groups,
     split_ready,
     viterbi_step,
@@ -237,6 +238,47 @@ def test_per_person_scores_by_hand() -> None:
     [0, -2]: each person's best path scores 0."""
     s = per_person_scores(np.array([-3.0, -10.0, -1.0, -12.0]), np.array([7, 9, 7, 9]))
     assert s == pytest.approx([-2.0, 0.0, 0.0, -2.0])
+
+
+def _many_and_one() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Person 1 with three paths 0.1, 0.45 and 0.45 m from the point z = (0, 0); person 2
+    with one path 0.15 m from it and two 5 and 6 m away (outside the gate). Position
+    variance 0.04 and R = 0.01, so S = 0.05 I and d2 = d^2 / 0.05."""
+    means = np.zeros((6, 4))
+    means[:, 0] = [0.1, 0.45, -0.45, 0.15, 5.0, 6.0]
+    covs = np.array([np.diag([0.04, 0.04, 1.0, 1.0])] * 6)
+    return means, covs, np.array([1, 1, 1, 2, 2, 2])
+
+
+def test_person_mixture_gives_a_point_to_the_person_whose_paths_explain_it() -> None:
+    """By hand, exp(-d2 / 2) of each gating path: person 1 exp(-0.1) = 0.905 and
+    exp(-2.025) = 0.132 twice, sum 1.169, over sqrt(3): 0.675; person 2 exp(-0.225) =
+    0.799 (its far paths do not gate the point). Person 2 takes the point, through its
+    path 3; the Kalman gain is 0.04 / 0.05 = 0.8, so x = 0.15 - 0.8 * 0.15 = 0.03. Near
+    misses pick person 1: the best single path (002, origin None: path 0, x = 0.1 - 0.08
+    = 0.02), the plain sum (1.169 > 0.799), the mean over all of a person's paths gated
+    or not (0.390 > 0.266)."""
+    means, covs, origin = _many_and_one()
+    z = np.zeros((1, 2))
+    step = viterbi_step(means, covs, np.zeros(6), z, 0.01, 9.21, 1.0, origin)
+    assert step.predecessor.tolist() == [3]
+    assert step.means[0, 0] == pytest.approx(0.03, abs=1e-9)
+    plain = viterbi_step(means, covs, np.zeros(6), z, 0.01, 9.21, 1.0)
+    assert plain.predecessor.tolist() == [0]
+    assert plain.means[0, 0] == pytest.approx(0.02, abs=1e-9)
+
+
+def test_person_first_keeps_only_the_chosen_persons_paths() -> None:
+    """Totals -0.1, -0.1 (person 1, both legs gate the point) and -0.05 (person 2):
+    person 1 2 exp(-0.1) / sqrt(2) = 1.280 > exp(-0.05) = 0.951 keeps both paths (near
+    misses: the best single path and the mean, 0.905, pick person 2). With person 1's
+    second path outside the gate, 0.905 < 0.951: person 2 keeps its path."""
+    inf = -np.inf
+    origin = np.array([1, 1, 2])
+    out = person_first(np.array([[-0.1], [-0.1], [-0.05]]), origin)
+    assert out[:, 0].tolist() == [-0.1, -0.1, inf]
+    out = person_first(np.array([[-0.1], [inf], [-0.05]]), origin)
+    assert out[:, 0].tolist() == [inf, inf, -0.05]
 
 
 def test_crossing3_identities_through_the_crossing_with_colour() -> None:

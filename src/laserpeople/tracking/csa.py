@@ -68,6 +68,7 @@ class CSAParams:
             "cut_free": False,
             "moving_unseen": 0.0,
             "count_people": False,
+            "person_mixture": False,
         }
     )
 
@@ -263,6 +264,18 @@ class CSAParams:
         "position moved by its last velocity for at most this long, then held",
         "s",
     )
+    person_mixture: bool = param(
+        True,
+        "extension of 002 (whose VBA gives a point to the single best path; false "
+        "restores 002): a person's paths multiply with its leg points, and a person with "
+        "many paths has more chances that one of them fits another person's leg best, "
+        "so one person's paths take over another's legs and the rows of a cluster's "
+        "people change places; random-groups still-sensor scenes (docs/csa.md)",
+        "a point of a cluster first picks its person: the one whose paths gating it "
+        "explain it best, sum of exp(path score) over them divided by the square root of "
+        "their number (person_first); then the best path of that person (the Viterbi "
+        "recursion)",
+    )
 
     adopt_orphans: bool = param(
         True,
@@ -375,6 +388,7 @@ def viterbi_step(
     point_var: float,
     gate: float,
     max_gate_distance: float,
+    origin: IntArray | None = None,
 ) -> ViterbiStep:
     """One step of the Viterbi-based algorithm (002 Sec. 2; Kräußling et al. 2004a).
 
@@ -391,6 +405,9 @@ def viterbi_step(
         point_var: Variance of one measurement about the estimate, R = point_var * I [m^2].
         gate: Squared Mahalanobis radius of a gate.
         max_gate_distance: Euclidean cap on a gate [m].
+        origin: The person (E,) each estimate's path started from, or None (002). With
+            it, a measurement first picks its person (:func:`person_first`), then the
+            best of that person's estimates (``person_mixture``).
     """
     z = np.asarray(z, dtype=np.float64).reshape(-1, 2)
     m = z.shape[0]
@@ -399,6 +416,8 @@ def viterbi_step(
     selected: NDArray[np.bool_] = np.asarray(inside.any(axis=0), dtype=bool)
     total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)
     total = total[:, selected]
+    if origin is not None and total.size:
+        total = person_first(total, origin)
     pred = np.argmax(total, axis=0).astype(np.int64)
     best = total[pred, np.arange(pred.size)]
     zs = z[selected]
@@ -406,6 +425,27 @@ def viterbi_step(
     if best.size:
         best = best - best.max()
     return ViterbiStep(selected, pred, means, covs, best)
+
+
+def person_first(total: FloatArray, origin: IntArray) -> FloatArray:
+    """Path scores ``total`` (E, S) of E old estimates for S measurements (path score plus
+    transition log-likelihood, -inf outside a gate) with every estimate that is not of the
+    measurement's person set to -inf (see ``person_mixture``).
+
+    A measurement's person is argmax over people p of sum(exp(total[e])) / sqrt(n_p) over
+    the n_p paths e of p that gate it: a person with many paths (one per leg point) gets
+    no more chances to take a point than one with few (the sum alone), yet a person whose
+    two legs both gate a point is not diluted by its other leg (the mean). ``origin`` (E,)
+    gives the person each path started from."""
+    _, inv = np.unique(origin, return_inverse=True)
+    n_people = int(inv.max()) + 1
+    w = np.exp(total - np.max(total, axis=0, keepdims=True))  # (E, S); 0 outside gates
+    mix = np.zeros((n_people, total.shape[1]))
+    cnt = np.zeros_like(mix)
+    np.add.at(mix, inv, w)
+    np.add.at(cnt, inv, np.isfinite(total).astype(np.float64))
+    best = np.argmax(mix / np.sqrt(np.maximum(cnt, 1.0)), axis=0)  # (S,) each one's person
+    return np.where(inv[:, None] == best[None, :], total, -np.inf)
 
 
 def leader_clusters(positions: FloatArray, distance: float) -> IntArray:
@@ -754,7 +794,14 @@ class ClusterSortingTracker:
         if p.person_scores:
             all_scores = per_person_scores(all_scores, all_origin)
         step = viterbi_step(
-            all_means, all_covs, all_scores, z, point_var, p.gate, p.max_gate_distance
+            all_means,
+            all_covs,
+            all_scores,
+            z,
+            point_var,
+            p.gate,
+            p.max_gate_distance,
+            all_origin if p.person_mixture else None,
         )
         if step.predecessor.size == 0:  # nothing seen: coast every estimate
             if stamp - last_seen > p.max_unseen:

@@ -11,17 +11,7 @@ import pytest
 from laserpeople.tracking.particle.feet import XL, XR, YL, YR, FeetParams, FeetTracker
 from laserpeople.tracking.particle.unclaimed import UnclaimedDetector, claimed_objects
 from test_pf_feet_cells import frame_of
-
-
-def _leg(cx: float, cy: float, r: float = 0.07, n: int = 5) -> np.ndarray:
-    """``n`` points on the front arc of a leg at (cx, cy) seen from -y."""
-    a = np.linspace(-np.pi / 2 - 0.8, -np.pi / 2 + 0.8, n)
-    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
-
-
-def _person(cx: float, cy: float) -> np.ndarray:
-    """Two legs 0.2 m apart across x, seen from -y."""
-    return np.vstack([_leg(cx - 0.1, cy), _leg(cx + 0.1, cy)])
+from test_pf_feet_independent import _leg, _person
 
 
 def test_claimed_objects_by_the_nearest_foot() -> None:

@@ -859,8 +859,10 @@ class FeetTracker:
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
         still = self.still.detections(pts, stamp, objects)
-        on = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2) if len(bank) else np.empty((0, 2, 2))
-        free = self.unclaimed.detections(pts, stamp, on, objects)
+        free: list[NDArray[np.float64]] = []
+        if p.claim_distance > 0.0:
+            on = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2) if len(bank) else np.empty((0, 2, 2))
+            free = self.unclaimed.detections(pts, stamp, on, objects)
         if not (found or still or free):
             return
         est = (

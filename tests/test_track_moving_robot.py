@@ -14,8 +14,15 @@ from typing import Any
 import numpy as np
 import pytest
 
-from laserpeople.background.bag_map import occupancy_grid_map, read_bag_map, split_bag_spec
+from laserpeople.background.bag_map import (
+    check_map_frame,
+    load_map,
+    occupancy_grid_map,
+    read_bag_map,
+    split_bag_spec,
+)
 from laserpeople.background.occupancy import MapFileError
+from laserpeople.pipeline import build
 from laserpeople.scan import Pose2D
 from laserpeople.tracking.person_tracks import (
     LegObservation,
@@ -63,6 +70,19 @@ def test_motion_watch() -> None:
     assert watch(Pose2D(1.0, 1.0, 0.0))  # for good
 
 
+def test_a_map_in_another_frame_than_the_poses_is_refused() -> None:
+    msg = grid_msg([0] * 6, 3, 2)
+    msg.header = SimpleNamespace(frame_id="/map")
+    grid = occupancy_grid_map(msg, "x.bag:/map")
+    assert grid.frame == "map"
+    with pytest.raises(MapFileError, match="in frame 'map', but the scans' poses are in 'odom'"):
+        check_map_frame(grid, "odom")
+    check_map_frame(grid, "map")
+    check_map_frame(grid, "/map")
+    check_map_frame(grid, None)  # no poses, or a recording that does not say
+    check_map_frame(occupancy_grid_map(grid_msg([0] * 6, 3, 2)), "odom")  # no frame given
+
+
 def test_map_spec_tells_bag_topics_from_yaml() -> None:
     assert split_bag_spec("run.bag:/map") == (Path("run.bag"), "/map")
     assert split_bag_spec("maps/office.yaml") is None
@@ -71,13 +91,17 @@ def test_map_spec_tells_bag_topics_from_yaml() -> None:
 
 def test_map_from_the_lobby_recording(shared_data: Path) -> None:
     bag = shared_data / "leg_tracker_benchmarks" / "general_tracking_moving_1_first.bag"
-    grid, frame = read_bag_map(bag, "/map")
-    assert frame == "map"
+    grid = read_bag_map(bag, "/map")
+    assert grid.frame == "map"
     assert grid.occupied.shape == (1984, 1984)
     assert grid.resolution == pytest.approx(0.05)
     assert int(grid.occupied.sum()) == 1194
     with pytest.raises(MapFileError, match="no topic '/nomap'"):
         read_bag_map(bag, "/nomap")
+    assert load_map(f"{bag}:/map") is load_map(f"{bag}:/map")  # one copy for a run's stages
+    # the bag's /tf has no map -> odom: tracking in odom with that map is refused up front
+    with pytest.raises(MapFileError, match="poses are in 'odom'"):
+        build(bag, map_path=f"{bag}:/map")
     with pytest.raises(MapFileError, match="not nav_msgs/msg/OccupancyGrid"):
         read_bag_map(bag, "/scan")
 

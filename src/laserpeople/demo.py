@@ -1,5 +1,6 @@
 """The one-command demo: simulate the ``demo`` scenario, detect legs, track with every
-registered tracker, score against the simulator's ground truth, and draw the leg MHT's tracks.
+registered tracker fed by leg detections alone, score against the simulator's ground truth,
+and draw the leg MHT's tracks.
 
 The flow is the library's pipeline (:mod:`laserpeople.pipeline`): the simulated scans of
 the first sensor become frames in the world frame, one observe-only pipeline detects the

@@ -8,12 +8,14 @@ occupancy (0-100, -1 unknown) reaches ``occupied_thresh`` (65, map_server's defa
 major from the origin's row (lowest y) up; the map's rows run from the largest y down, as
 the image of a ``map.yaml``. The last message on the topic is used (a map that was updated
 while recording is taken as it was at the end); the map's frame (``header.frame_id``) must
-be the tracking world frame (no transform is applied; :func:`load_map` says which).
+be the tracking world frame: no transform is applied, and :func:`check_map_frame` refuses a
+map in another frame.
 """
 
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +33,8 @@ def occupancy_grid_map(
     msg: Any, source: str = "", occupied_thresh: int = OCCUPIED_THRESH
 ) -> OccupancyMap:
     """The obstacles of a ``nav_msgs/OccupancyGrid`` message (``info.width``,
-    ``info.height``, ``info.resolution``, ``info.origin``, ``data``).
+    ``info.height``, ``info.resolution``, ``info.origin``, ``data``; its frame from
+    ``header.frame_id`` when the message has a header).
 
     Raises:
         MapFileError: the sizes do not match the data, or the resolution is not positive.
@@ -56,11 +59,13 @@ def occupancy_grid_map(
         resolution=resolution,
         origin=(float(info.origin.position.x), float(info.origin.position.y), yaw),
         path=source,
+        frame=str(getattr(getattr(msg, "header", None), "frame_id", "")).lstrip("/"),
     )
 
 
-def read_bag_map(path: str | Path, topic: str) -> tuple[OccupancyMap, str]:
-    """The last ``nav_msgs/OccupancyGrid`` on ``topic`` of the bag ``path``, and its frame.
+def read_bag_map(path: str | Path, topic: str) -> OccupancyMap:
+    """The last ``nav_msgs/OccupancyGrid`` on ``topic`` of the bag ``path`` (its frame in
+    :attr:`OccupancyMap.frame`).
 
     Raises:
         MapFileError: the bag cannot be opened, the topic is missing or holds no map.
@@ -97,7 +102,7 @@ def read_bag_map(path: str | Path, topic: str) -> tuple[OccupancyMap, str]:
             last = reader.deserialize(raw, conn.msgtype)
         if last is None:
             raise MapFileError(f"topic {topic!r} holds no message", path=p)
-        return occupancy_grid_map(last, f"{p}:{topic}"), str(last.header.frame_id)
+        return occupancy_grid_map(last, f"{p}:{topic}")
     finally:
         reader.close()
 
@@ -115,13 +120,47 @@ def split_bag_spec(spec: str | Path) -> tuple[Path, str] | None:
 
 def load_map(spec: str | Path) -> OccupancyMap:
     """A prior map from a ROS ``map.yaml`` or from a bag topic ``BAG:/topic``
-    (``nav_msgs/OccupancyGrid``, :func:`read_bag_map`).
+    (``nav_msgs/OccupancyGrid``, :func:`read_bag_map`). A run's stages that use the map
+    share one copy: it is read again only when its file changed.
 
     Raises:
         MapFileError: the map cannot be read.
     """
     parts = split_bag_spec(spec)
+    file = Path(spec) if parts is None else parts[0]
+    try:
+        changed = file.stat().st_mtime_ns
+    except OSError:
+        changed = -1  # missing: the reader names it
+    return _read_map(str(spec), changed)
+
+
+@lru_cache(maxsize=4)
+def _read_map(spec: str, changed: int) -> OccupancyMap:
+    """:func:`load_map` of ``spec`` whose file was last changed at ``changed`` [ns]."""
+    parts = split_bag_spec(spec)
     if parts is None:
         return load_ros_map(spec)
-    grid, _ = read_bag_map(*parts)
-    return grid
+    return read_bag_map(*parts)
+
+
+def check_map_frame(grid: OccupancyMap, world_frame: str | None) -> None:
+    """Refuse a map whose frame is known and is not the tracking world frame
+    ``world_frame`` (None or empty: unknown, nothing to check); a ``map.yaml`` names no
+    frame and is taken to be in the world frame.
+
+    Raises:
+        MapFileError: the frames differ (the map's obstacles would be drawn in the wrong
+            place: no transform between them is applied).
+    """
+    world = (world_frame or "").lstrip("/")
+    if not grid.frame or not world or grid.frame == world:
+        return
+    raise MapFileError(
+        f"the map is in frame {grid.frame!r}, but the scans' poses are in {world!r}",
+        path=grid.path,
+        hint=(
+            f"track in the map's frame with --world-frame {grid.frame} (the recording's "
+            f"/tf must hold {grid.frame} -> {world}), or leave out --map"
+        ),
+    )

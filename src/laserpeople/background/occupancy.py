@@ -217,12 +217,15 @@ class OccupancyMap:
         resolution: Cell size [m].
         origin: (x [m], y [m], yaw [rad]) of the lower-left pixel's corner in the world.
         path: The yaml file.
+        frame: The map's frame id (a bag's ``header.frame_id``); empty when the source
+            does not say (a ``map.yaml``).
     """
 
     occupied: NDArray[np.bool_]
     resolution: float
     origin: tuple[float, float, float]
     path: str = ""
+    frame: str = ""
 
     def contains_obstacle(self, positions: FloatArray, radius: int = 0) -> NDArray[np.bool_]:
         """(M,) True where ``positions`` (M, 2) [m] fall on an obstacle pixel (or one

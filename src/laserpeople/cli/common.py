@@ -117,7 +117,7 @@ MapOption = Annotated[
         "--map",
         help="Map seeding the occupancy grid (world frame only): a ROS map.yaml, or "
         "BAG:/topic for a nav_msgs/OccupancyGrid in a bag (e.g. the recording's "
-        "own /map).",
+        "own /map), in the frame of the scans' poses.",
     ),
 ]
 """The ``--map`` option."""

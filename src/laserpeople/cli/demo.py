@@ -43,7 +43,8 @@ def register(app: typer.Typer) -> None:
         no_gif: Annotated[bool, typer.Option("--no-gif", help="Skip the animation.")] = False,
     ) -> None:
         """Simulate people (some in groups, one standing, leg-like clutter), detect legs,
-        track with the leg MHT and every other tracker, score against ground truth, and
+        track with every tracker fed by leg detections alone (the leg MHT and the
+        nearest-neighbour baseline), score against ground truth, and
         write demo.gif, demo-tracks.csv and the simulated recording demo.npz."""
         from laserpeople.demo import run_demo
 

@@ -401,6 +401,11 @@ class RosbagRecording:
                 ) from exc
         return out
 
+    def pose_frame(self) -> str | None:
+        """The fixed frame the scans' poses are given in: ``world_frame`` when asked for,
+        else picked from ``/tf`` and odometry as :meth:`scans` picks it; None without poses."""
+        return self._setup_poses()[1]
+
     def _setup_poses(self) -> tuple[TransformTree | None, str | None]:
         if not self.use_poses:
             return None, None

@@ -71,6 +71,21 @@ def open_source(
     )
 
 
+def check_recording_map(recording: RecordingSource, map_path: str | Path) -> None:
+    """Read the map ``map_path`` (a ``map.yaml`` or ``BAG:/topic``) and refuse it when it
+    names a frame other than the one ``recording``'s sensor poses are given in (ROS bags
+    say which; other recordings and ``map.yaml`` files are not checked).
+
+    Raises:
+        MapFileError: the map cannot be read, or its frame is not the poses' frame.
+    """
+    from laserpeople.background.bag_map import check_map_frame, load_map
+
+    grid = load_map(map_path)
+    pose_frame = getattr(recording, "pose_frame", None)
+    check_map_frame(grid, pose_frame() if callable(pose_frame) else None)
+
+
 def resolve_topics(recording: RecordingSource, topics: Sequence[str] | None) -> list[str]:
     """The laser topics to read: ``topics`` as given (``["all"]``: every laser topic; a
     leading ``/`` is optional for bags), default the first laser topic."""
@@ -405,6 +420,8 @@ def build(
         )
         if hide_static is not None:
             identifiers.insert(0, hide_static)
+        if map_path is not None:
+            check_recording_map(rec, map_path)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             frames,

@@ -20,6 +20,7 @@ from laserpeople.background.bag_map import (
     occupancy_grid_map,
     read_bag_map,
     split_bag_spec,
+    world_frame_with_map,
 )
 from laserpeople.background.occupancy import MapFileError
 from laserpeople.pipeline import build
@@ -99,6 +100,12 @@ def test_map_from_the_lobby_recording(shared_data: Path) -> None:
     with pytest.raises(MapFileError, match="no topic '/nomap'"):
         read_bag_map(bag, "/nomap")
     assert load_map(f"{bag}:/map") is load_map(f"{bag}:/map")  # one copy for a run's stages
+    # a live run takes the map's frame unless told another, which is refused
+    assert world_frame_with_map(f"{bag}:/map", None) == "map"
+    assert world_frame_with_map(f"{bag}:/map", "map") == "map"
+    assert world_frame_with_map(None, "odom") == "odom"
+    with pytest.raises(MapFileError, match="in frame 'map', but the scans' poses are in 'odom'"):
+        world_frame_with_map(f"{bag}:/map", "odom")
     # the bag's /tf has no map -> odom: tracking in odom with that map is refused up front
     with pytest.raises(MapFileError, match="poses are in 'odom'"):
         build(bag, map_path=f"{bag}:/map")

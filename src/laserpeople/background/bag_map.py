@@ -164,3 +164,20 @@ def check_map_frame(grid: OccupancyMap, world_frame: str | None) -> None:
             f"/tf must hold {grid.frame} -> {world}), or leave out --map"
         ),
     )
+
+
+def world_frame_with_map(map_path: str | Path | None, world_frame: str | None) -> str | None:
+    """The world frame for a run whose poses' frame is chosen as the transforms arrive (a
+    live run) with the map ``map_path``: ``world_frame`` when given (refused when the map
+    names another), else the frame the map names, else None (chosen as without a map).
+
+    Raises:
+        MapFileError: the map cannot be read, or names another frame than ``world_frame``.
+    """
+    if map_path is None:
+        return world_frame
+    grid = load_map(map_path)
+    if world_frame:
+        check_map_frame(grid, world_frame)
+        return world_frame
+    return grid.frame or None

@@ -244,6 +244,13 @@ def register(app: typer.Typer) -> None:
             params = registry.with_people_policy(params, people_policy, tracker)
         from laserpeople.io.poses import parse_mounts
 
+        if map_path is not None and frame != "sensor":
+            from laserpeople.background.bag_map import world_frame_with_map
+
+            chosen = world_frame_with_map(map_path, world_frame)
+            if chosen != world_frame:
+                say(f"world frame: {chosen!r}, the frame of the map {map_path}")
+            world_frame = chosen
         make = tracker_pipelines(
             tracker,
             params,

@@ -20,7 +20,7 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.cli.track import TopicOption, make_detector
+from laserpeople.cli.track import make_detector
 from laserpeople.errors import ConfigError
 
 
@@ -63,7 +63,15 @@ def register(app: typer.Typer) -> None:
                 "feet-pf or upper-body-pf.",
             ),
         ] = "leg-mht",
-        topic: TopicOption = None,
+        topic: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--topic",
+                "-t",
+                help="Laser topic (repeatable: several lasers are fused into one frame, the "
+                "first leads; default: /scan).",
+            ),
+        ] = None,
         config: ConfigOption = None,
         preset: PresetOption = None,
         detector: DetectorOption = "adaboost",

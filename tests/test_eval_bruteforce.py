@@ -134,8 +134,14 @@ def test_sensor_frame_tracks_are_moved_to_the_world_frame():
     metric = ClearMot()
     metric.accumulate(truth, Tracks(0.0, 0, (track,), frame="sensor", sensor_pose=pose))
     assert metric.result().matches == 1 and metric.result().motp == pytest.approx(0.0, abs=1e-12)
-    with pytest.raises(LaserPeopleError, match="no sensor pose"):
-        metric.accumulate(truth, Tracks(0.0, 0, (track,), frame="sensor"))
+    # no pose: refused against truth that states the world frame, compared as it is
+    # against truth that states none (laser-frame labels)
+    world = TruthFrame.from_positions(0.0, 0, np.array([1]), np.array([[1.0, 4.0]]), "world")
+    with pytest.raises(LaserPeopleError, match="sensor frame with no sensor pose"):
+        metric.accumulate(world, Tracks(0.0, 0, (track,), frame="sensor"))
+    labels = TruthFrame.from_positions(1.0, 1, np.array([1]), np.array([[1.0, 0.1]]))
+    metric.accumulate(labels, Tracks(1.0, 1, (track,), frame="sensor"))
+    assert metric.result().matches == 2
 
 
 def test_without_frames_the_numbers_are_the_same_and_the_table_is_refused():

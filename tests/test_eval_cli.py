@@ -14,7 +14,7 @@ from laserpeople.errors import EvaluationError, RecordingError
 from laserpeople.evaluation import SUMMARY_KEYS, evaluate
 from laserpeople.evaluation.synthetic import synthetic_sequence
 from laserpeople.io import write_recording
-from laserpeople.io.tracks_csv import TracksCsvWriter
+from laserpeople.io.tracks_csv import TracksCsvWriter, iter_tracks_csv
 from laserpeople.io.truth_csv import read_truth_csv, write_truth_csv
 from laserpeople.scan import Scan
 from laserpeople.tracks import Tracks
@@ -262,3 +262,59 @@ def test_nothing_matched_needs_tracks_and_people_and_no_match():
         replace(f, positions=f.positions + (0.0 if k == 0 else 10.0)) for k, f in enumerate(truth)
     ]
     assert not evaluate(one, tracks).result().nothing_matched()
+
+
+def test_the_frames_of_tracks_and_truth_are_compared_and_said(tmp_path):
+    """A tracks CSV's frame column and a truth CSV's frame column are read; the scorer
+    refuses sensor-frame tracks without poses against world truth, says the frame it
+    compared in when the truth states none, and says nothing when both state the same."""
+    truth, tracks = scene()
+    write_tracks(tmp_path / "plain.csv", tracks)
+    head, *rows = (tmp_path / "plain.csv").read_text().splitlines()
+    for frame in ("world", "sensor"):  # the frame column `track` writes
+        lines = [f"{head},frame", *(f"{row},{frame}" for row in rows)]
+        (tmp_path / f"{frame}.csv").write_text("\n".join(lines) + "\n")
+    assert {t.frame for t in iter_tracks_csv(tmp_path / "sensor.csv", frame="world")} == {
+        "sensor"
+    }  # the file's own column, not the default
+    stated = [replace(f, frame="world") for f in truth]
+    write_truth_csv(tmp_path / "stated.csv", stated)
+    write_truth_csv(tmp_path / "unstated.csv", truth)
+    assert {f.frame for f in read_truth_csv(tmp_path / "stated.csv")} == {"world"}
+    assert {f.frame for f in read_truth_csv(tmp_path / "unstated.csv")} == {None}
+
+    def run(tracks_name, truth_name, code=0):
+        args = ["evaluate", str(tmp_path / tracks_name), "--truth", str(tmp_path / truth_name)]
+        result = CliRunner().invoke(app, args)
+        assert result.exit_code == code, result.output
+        return " ".join((result.output + str(result.exception or "")).split())
+
+    refused = run("sensor.csv", "stated.csv", code=1)
+    assert "in the sensor frame with no sensor pose, the truth in the world frame" in refused
+    assert "--output-frame world" in refused
+    assert "state its frame" not in run("world.csv", "stated.csv")
+    assert "scored in the world frame of the tracks" in run("world.csv", "unstated.csv")
+    assert "scored in the sensor frame of the tracks" in run("sensor.csv", "unstated.csv")
+
+
+@pytest.mark.parametrize(
+    ("reader", "text", "message"),
+    [
+        ("tracks", "scan,stamp,track_id,kind,x,y,frame\n0,0.0,1,person,1,2,odom\n", "odom"),
+        ("truth", "scan,stamp,person_id,x,y,frame\n0,0.0,1,1,2,map\n", "'map' is neither"),
+        (
+            "truth",
+            "scan,stamp,person_id,x,y,frame\n0,0.0,1,1,2,world\n1,0.1,1,1,2,sensor\n",
+            "line 3: frame 'sensor' differs from 'world'",
+        ),
+    ],
+)
+def test_a_frame_column_holds_sensor_or_world(tmp_path, reader, text, message):
+    path = tmp_path / "x.csv"
+    path.write_text(text)
+    with pytest.raises(RecordingError, match=message) as info:
+        if reader == "tracks":
+            list(iter_tracks_csv(path))
+        else:
+            read_truth_csv(path)
+    assert str(path) in str(info.value)

@@ -8,11 +8,15 @@ that is in no group, ...). Positions are in the world frame [m], velocities in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.errors import ScanFormatError
+
+if TYPE_CHECKING:
+    from laserpeople.scan import CoordinateFrame
 
 NONE_ID = -1
 """The id that stands for "no person / no leg / no group / no object"."""
@@ -72,6 +76,8 @@ class TruthFrame:
         group_ids: Group (P,) of each person; -1 for a person that walks alone.
         leg_positions: Leg centres (P, 2, 2) [m]: person, leg (0 left, 1 right), xy.
         hues: Clothing hue (P,) [degrees, 0-360), the appearance signature for re-identification.
+        frame: The frame of ``positions`` when the source states it (a simulated recording:
+            ``world``; a truth CSV with a ``frame`` column); None when it does not.
     """
 
     stamp: float
@@ -82,6 +88,7 @@ class TruthFrame:
     group_ids: NDArray[np.int64]
     leg_positions: NDArray[np.float64]
     hues: NDArray[np.float64]
+    frame: CoordinateFrame | None = None
 
     def __post_init__(self) -> None:
         ids = np.asarray(self.person_ids, dtype=np.int64).reshape(-1)
@@ -109,8 +116,10 @@ class TruthFrame:
         scan_index: int,
         person_ids: NDArray[np.int64],
         positions: NDArray[np.float64],
+        frame: CoordinateFrame | None = None,
     ) -> TruthFrame:
-        """A frame that knows only positions (e.g. a sparse CSV annotation)."""
+        """A frame that knows only positions (e.g. a sparse CSV annotation) in ``frame``
+        (None: not stated)."""
         ids = np.asarray(person_ids, dtype=np.int64).reshape(-1)
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         p = ids.size
@@ -123,6 +132,7 @@ class TruthFrame:
             group_ids=np.full(p, NONE_ID, dtype=np.int64),
             leg_positions=np.full((p, 2, 2), np.nan),
             hues=np.full(p, np.nan),
+            frame=frame,
         )
 
     def groups(self) -> dict[int, NDArray[np.int64]]:

@@ -276,7 +276,11 @@ def _check_kind(tracks: Path, kind: str) -> None:
 
 
 def _stamp_check(pairing: PairingCounts) -> None:
-    """Print what the paired stamps say (a note, or a warning when they disagree)."""
+    """Print the frame compared in when the truth states none, and what the paired stamps
+    say (a note, or a warning when they disagree)."""
+    frame = pairing.frame_check()
+    if frame:
+        say(frame)
     text, is_warning = pairing.stamp_check()
     if text:
         (warn if is_warning else say)(text)

@@ -53,12 +53,15 @@ class FramePoints:
 def frame_points(truth: TruthFrame, tracks: Tracks | None, kind: str) -> FramePoints:
     """The people of ``truth`` and the tracks of ``kind`` in ``tracks`` as arrays.
 
-    ``tracks=None`` means the tracker reported nothing for this scan. Tracks in the sensor
-    frame are moved to the world frame with their ``sensor_pose``.
+    ``tracks=None`` means the tracker reported nothing for this scan. Tracks in another
+    frame than the truth's (the world frame when it states none) are moved into it with
+    their ``sensor_pose``; tracks without a pose against truth that states no frame are
+    compared as they are (a tracks CSV in the laser frame against labels in the laser
+    frame; :meth:`~laserpeople.evaluation.pairing.PairingCounts.frame_check` says so).
 
     Raises:
         EvaluationError: the scans differ, ids repeat within the scan, positions are not
-            finite, or sensor-frame tracks carry no pose.
+            finite, or the tracks have no pose and the truth states another frame.
     """
     if tracks is not None and tracks.scan_index != truth.scan_index:
         raise EvaluationError(
@@ -77,8 +80,18 @@ def frame_points(truth: TruthFrame, tracks: Tracks | None, kind: str) -> FramePo
         track_ids = np.empty(0, dtype=np.int64)
         track_xy = np.empty((0, 2))
     else:
-        if tracks.frame != "world":
-            tracks = convert_tracks(tracks, "world")
+        target = truth.frame or "world"
+        if tracks.frame != target:
+            if tracks.sensor_pose is not None:
+                tracks = convert_tracks(tracks, target)
+            elif truth.frame is not None:
+                raise EvaluationError(
+                    f"the tracks are in the {tracks.frame} frame with no sensor pose, the "
+                    f"truth in the {truth.frame} frame",
+                    scan=truth.scan_index,
+                    hint=f"track with --output-frame {truth.frame}, or give truth in the "
+                    f"{tracks.frame} frame",
+                )
         chosen = tracks.of_kind(kind)  # type: ignore[arg-type]
         track_ids = np.array([t.track_id for t in chosen], dtype=np.int64)
         track_xy = np.array([t.position for t in chosen], dtype=np.float64).reshape(-1, 2)

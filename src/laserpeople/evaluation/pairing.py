@@ -21,6 +21,9 @@ class PairingCounts:
             annotation these are the scans nobody annotated).
         max_stamp_offset: Largest |truth stamp - tracks stamp| over paired scans [s]; a large
             value means truth and tracks come from different recordings or topics.
+        tracks_frame: The frame the first paired scan's tracks were compared in (empty
+            before one).
+        truth_frame: The frame its truth states (empty: not stated, or none paired).
     """
 
     frames_scored: int = 0
@@ -29,10 +32,23 @@ class PairingCounts:
     max_stamp_offset: float = 0.0
     min_stamp_difference: float = float("inf")
     max_stamp_difference: float = float("-inf")
+    tracks_frame: str = ""
+    truth_frame: str = ""
 
     STAMP_TOLERANCE = 0.05
     """Largest stamp difference [s] (or spread of the differences) taken as the same scan:
     assumption, half a scan period of a 10 Hz laser."""
+
+    def frame_check(self) -> str:
+        """Which frame the positions were compared in, when the truth does not state its
+        own (a truth CSV without a ``frame`` column; :func:`frame_points` compares the
+        tracks as they are): empty when it does, or nothing was paired."""
+        if not self.tracks_frame or self.truth_frame:
+            return ""
+        return (
+            f"scored in the {self.tracks_frame} frame of the tracks; the truth does not "
+            "state its frame (a truth CSV can, in a frame column)"
+        )
 
     def stamp_check(self) -> tuple[str, bool]:
         """What the paired scans' stamps say, and whether it is a warning: nothing when
@@ -101,6 +117,11 @@ def pair_by_scan(
         matched: Tracks | None = None
         if pending is not None and pending.scan_index == truth.scan_index:
             matched = pending
+            if not stats.tracks_frame:
+                # (tracks that know their sensor pose are compared in the truth's frame)
+                moved = pending.sensor_pose is not None
+                stats.tracks_frame = (truth.frame or "world") if moved else pending.frame
+                stats.truth_frame = truth.frame or ""
             diff = truth.stamp - pending.stamp
             stats.max_stamp_offset = max(stats.max_stamp_offset, abs(diff))
             stats.min_stamp_difference = min(stats.min_stamp_difference, diff)

@@ -434,6 +434,7 @@ class NpzRecording:
                 group_ids=np.array(a["truth_group"][lo:hi]),
                 leg_positions=np.array(a["truth_legs"][lo:hi]),
                 hues=np.array(a["truth_hue"][lo:hi]),
+                frame="world",
             )
             reason = _truth_damage(frame, last)
             if reason:

@@ -188,6 +188,24 @@ class TracksCsvWriter:
         self.close()
 
 
+def parse_frame_cell(text: str, path: Path, line: int) -> CoordinateFrame | None:
+    """A ``frame`` cell of a CSV: ``sensor`` or ``world``; None when empty.
+
+    Raises:
+        RecordingError: anything else (the message names the file and line).
+    """
+    text = text.strip()
+    if text == "sensor" or text == "world":
+        return "sensor" if text == "sensor" else "world"
+    if not text:
+        return None
+    raise RecordingError(
+        f"line {line}: frame {text!r} is neither sensor nor world",
+        path=path,
+        hint="the frame column says which frame x, y are in: sensor or world",
+    )
+
+
 def _parse_row(
     row: dict[str, Any], path: Path, line: int, ids: TrackIdNames
 ) -> tuple[int, float, Track]:
@@ -360,7 +378,8 @@ def iter_tracks_csv(
 ) -> Iterator[Tracks]:
     """Read a tracks CSV back as one :class:`Tracks` per scan that has rows, in scan order.
 
-    ``frame`` states which frame the file was written in; ``kinds`` keeps only those kinds;
+    ``frame`` is the frame of a file without a ``frame`` column (a file that has one says
+    its frame per scan: ``sensor`` or ``world``); ``kinds`` keeps only those kinds;
     ``ids`` (if given) collects the text ids that are not integers (see the module
     docstring), so that reports can print them as written.
 
@@ -398,6 +417,7 @@ def _read_tracks(
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1
+        scan_frame = frame
         for line, row in enumerate(reader, start=2):
             scan, stamp, track = _parse_row(row, p, line, ids)
             if key is None or scan != key[0]:
@@ -409,10 +429,11 @@ def _read_tracks(
                         hint="sort the tracks CSV by scan; all rows of one scan must be together",
                     )
                 if key is not None and current:
-                    yield Tracks(key[1], key[0], tuple(current), frame)
+                    yield Tracks(key[1], key[0], tuple(current), scan_frame)
                 current = []
                 key = (scan, stamp)
                 last = scan
+                scan_frame = parse_frame_cell(row.get(FRAME_COLUMN) or "", p, line) or frame
             elif abs(stamp - key[1]) > STAMP_TOLERANCE:
                 raise RecordingError(
                     f"line {line}: stamp {stamp} differs from {key[1]} given earlier "
@@ -428,4 +449,4 @@ def _read_tracks(
             if key is not None and cut == key[0]:
                 return
         if key is not None and current:
-            yield Tracks(key[1], key[0], tuple(current), frame)
+            yield Tracks(key[1], key[0], tuple(current), scan_frame)

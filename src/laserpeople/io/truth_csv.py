@@ -2,11 +2,13 @@
 
 Header (extra columns are ignored; ``group_id`` is optional)::
 
-    scan,stamp,person_id,x,y[,group_id]
+    scan,stamp,person_id,x,y[,group_id][,frame]
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
 time [s], ``person_id`` an integer ``0 <= id < 2**62``, ``x, y`` the person's position [m] in the
-world frame, ``group_id`` the group (-1 or empty: walks alone). The annotation may be
+world frame, ``group_id`` the group (-1 or empty: walks alone), ``frame`` the frame of x, y
+(``world``, or ``sensor``: the laser's frame at that scan; one for the whole file; without
+it the frame is not stated, and the scorer says it took the tracks'). The annotation may be
 sparse: only scans that appear in the file are scored. A scan that was annotated and holds
 nobody is one row with ``person_id``, ``x`` and ``y`` empty. Rows may come in any order;
 they are grouped by scan.
@@ -23,7 +25,8 @@ import numpy as np
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.csv_read import CsvRows
-from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE
+from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE, parse_frame_cell
+from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import NONE_ID, TruthFrame
 
 TRUTH_CSV_HEADER = ("scan", "stamp", "person_id", "x", "y", "group_id")
@@ -62,6 +65,7 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
 
 def _read_truth_csv(p: Path) -> list[TruthFrame]:
     scans: dict[int, tuple[float, list[tuple[int, float, float, int]]]] = {}
+    frame: CoordinateFrame | None = None
     with open(p, newline="", encoding="utf-8") as fh:
         reader = CsvRows(fh, p, "ground-truth CSV", TRUTH_HINT)
         columns = [c.strip() for c in reader.fieldnames]
@@ -75,6 +79,7 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
             )
         for line, row in enumerate(reader, start=2):
             scan, stamp, person = _parse_row(row, p, line)
+            frame = _file_frame(row, frame, p, line)
             stamp_seen, people = scans.setdefault(scan, (stamp, []))
             if abs(stamp_seen - stamp) > STAMP_TOLERANCE:
                 raise RecordingError(
@@ -114,9 +119,27 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
                 group_ids=np.array([q[3] for q in people], dtype=np.int64),
                 leg_positions=np.full((n, 2, 2), np.nan),
                 hues=np.full(n, np.nan),
+                frame=frame,
             )
         )
     return frames
+
+
+def _file_frame(
+    row: dict[str, str | None], frame: CoordinateFrame | None, path: Path, line: int
+) -> CoordinateFrame | None:
+    """The file's frame after ``row``: its ``frame`` cell if given (``sensor`` or
+    ``world``, the same on every row that gives one), else ``frame`` as before."""
+    given = parse_frame_cell(row.get("frame") or "", path, line)
+    if given is None:
+        return frame
+    if frame is not None and given != frame:
+        raise RecordingError(
+            f"line {line}: frame {given!r} differs from {frame!r} given earlier",
+            path=path,
+            hint="one truth CSV holds positions in one frame",
+        )
+    return given
 
 
 def _parse_row(
@@ -169,7 +192,8 @@ def _parse_row(
 
 
 def write_truth_csv(path: str | Path, frames: Iterable[TruthFrame]) -> int:
-    """Write truth frames as a truth CSV (a frame without people becomes an empty-scan row).
+    """Write truth frames as a truth CSV (a frame without people becomes an empty-scan row;
+    a ``frame`` column when the frames state their frame).
 
     Returns:
         The number of rows written.
@@ -177,12 +201,16 @@ def write_truth_csv(path: str | Path, frames: Iterable[TruthFrame]) -> int:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     rows = 0
+    stated: bool | None = None
     with open(p, "w", newline="", encoding="utf-8") as fh:
         out = csv.writer(fh, lineterminator="\n")
-        out.writerow(TRUTH_CSV_HEADER)
         for frame in frames:
+            if stated is None:
+                stated = frame.frame is not None
+                out.writerow(TRUTH_CSV_HEADER + (("frame",) if stated else ()))
+            tail = (frame.frame or "",) if stated else ()
             if len(frame) == 0:
-                out.writerow((frame.scan_index, f"{frame.stamp:.6f}", "", "", "", ""))
+                out.writerow((frame.scan_index, f"{frame.stamp:.6f}", "", "", "", "", *tail))
                 rows += 1
                 continue
             for pid, (x, y), gid in zip(
@@ -192,7 +220,17 @@ def write_truth_csv(path: str | Path, frames: Iterable[TruthFrame]) -> int:
                 strict=True,
             ):
                 out.writerow(
-                    (frame.scan_index, f"{frame.stamp:.6f}", pid, f"{x:.4f}", f"{y:.4f}", gid)
+                    (
+                        frame.scan_index,
+                        f"{frame.stamp:.6f}",
+                        pid,
+                        f"{x:.4f}",
+                        f"{y:.4f}",
+                        gid,
+                        *tail,
+                    )
                 )
                 rows += 1
+        if stated is None:
+            out.writerow(TRUTH_CSV_HEADER)
     return rows

@@ -485,6 +485,7 @@ def _truth_frames(planned: list[PlannedPerson], times: FloatArray) -> list[Truth
                 group_ids=np.array([states[j].group[k] for j in here], dtype=np.int64),
                 leg_positions=np.array([states[j].legs[k] for j in here]).reshape(-1, 2, 2),
                 hues=np.array([planned[j].spec.hue for j in here]),
+                frame="world",
             )
         )
     return frames

@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -34,7 +35,10 @@ def test_negative_increment_mirrors_the_beams() -> None:
 def test_invalid_beams_are_nan_and_masked() -> None:
     ranges = np.array([1.0, np.nan, np.inf, 0.0, 0.05, 30.0, 2.0])
     scan = Scan(0.0, 0.0, 0.1, ranges, range_min=0.1, range_max=20.0)
-    np.testing.assert_array_equal(scan.valid, [True, False, False, False, False, False, True])
+    with warnings.catch_warnings():  # (NaN and inf ranges: no floating-point warning)
+        warnings.simplefilter("error")
+        valid = scan.valid
+    np.testing.assert_array_equal(valid, [True, False, False, False, False, False, True])
     assert scan.n_invalid == 5
     assert np.isnan(scan.points()[1:6]).all()
     pts, idx = scan.valid_points()

@@ -257,8 +257,9 @@ class Scan:
     def valid(self) -> BoolArray:
         """Validity mask (N,): finite, non-zero and inside [range_min, range_max]."""
         r = self.ranges
-        with np.errstate(invalid="ignore"):
-            return np.isfinite(r) & (r > 0.0) & (r >= self.range_min) & (r <= self.range_max)
+        # (no np.errstate: numpy 2's comparisons raise no floating-point warning on NaN,
+        # and entering and leaving it costs more than the four comparisons on a scan)
+        return np.isfinite(r) & (r > 0.0) & (r >= self.range_min) & (r <= self.range_max)
 
     @property
     def n_invalid(self) -> int:

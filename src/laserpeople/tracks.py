@@ -99,6 +99,10 @@ class Detections:
 
 _FLOAT64 = np.dtype(np.float64)
 
+_NO_CONTOUR = np.empty((0, 2))
+_NO_CONTOUR.setflags(write=False)
+"""The contour of a track without one (legs, persons): one empty read-only array for all."""
+
 
 @dataclass(frozen=True, eq=False, init=False)
 class Track:
@@ -161,7 +165,7 @@ class Track:
             labels=labels,
             score=score,
             members=members,
-            contour=np.empty((0, 2)) if contour is None else contour,
+            contour=_NO_CONTOUR if contour is None else contour,
         )
 
 

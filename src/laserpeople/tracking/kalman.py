@@ -220,7 +220,7 @@ STEP_MATRICES_KEPT = 16
 """Most step matrices :func:`_one_step_predict_and_coast` keeps (by step, process noise
 and coasting time; all are forgotten when full). A simulation or a laser with steady stamps
 steps by one ``dt``, shared by every tracker of the run (legs, people), so their matrices
-are built once; a recording whose stamps jitter builds them per scan as before."""
+are built once; a recording whose stamps jitter builds them per scan (in one array)."""
 
 _STEP_MATRICES: dict[
     tuple[float, float, float],
@@ -237,20 +237,21 @@ def _step_matrices(
     :func:`_few_predict_and_coast`); read-only."""
     a = accel_psd
     pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
-    q = np.array((pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv))
-    q = q.reshape(4, 4)
-    f = np.array((1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0))
-    f = f.reshape(4, 4)
-    fc: FloatArray | None = None
+    rows = [1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
     if not math.isinf(tau):
         k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
         g = tau * (1.0 - k)
-        fc = np.array((1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k))
-        fc = fc.reshape(4, 4)
-        fc.setflags(write=False)
-    for m in (q, f):
-        m.setflags(write=False)
-    return f, f.T, q, fc, None if fc is None else fc.T
+        rows += (1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k)
+    # (one array for the two or three matrices: a scan of a recording whose stamps jitter
+    # builds them every time)
+    mats = np.array(rows).reshape(-1, 4, 4)
+    mats.setflags(write=False)
+    f, q = mats[0], mats[1]
+    if mats.shape[0] == 2:
+        return f, f.T, q, None, None
+    fc = mats[2]
+    return f, f.T, q, fc, fc.T
 
 
 def _few_predict_and_coast(

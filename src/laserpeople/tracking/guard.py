@@ -65,9 +65,7 @@ class InputGuard:
         # numpy 2's comparisons raise no floating-point warning on NaN)
         clean = bool((np.abs(pos) <= MAX_COORDINATE).all()) and bool(np.isfinite(cov).all())
         if not clean:
-            finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(
-                axis=(1, 2)
-            )
+            finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
             self.dropped_detections += int(np.count_nonzero(~finite))
             keep = np.flatnonzero(finite)
             detections = replace(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -120,3 +121,19 @@ def test_guard_counts_and_clamps() -> None:
     assert "stamped before" in guard.summary() and "jumps in time" in guard.summary()
     with pytest.raises(LaserPeopleError, match="scan 4"):
         guard.check(_dets(math.nan, 4, np.zeros((0, 2))))
+
+
+def test_guard_drops_non_finite_and_far_detections_without_warnings() -> None:
+    """NaN, infinite and far positions and NaN covariances are dropped and counted, with
+    no floating-point warning (numpy's comparisons raise none on NaN)."""
+    pos = np.array(
+        [[1.0, 2.0], [math.nan, 0.0], [0.0, math.inf], [2 * MAX_COORDINATE, 0.0], [3.0, -1.0]]
+    )
+    dets = _dets(1.0, 0, pos)
+    cov = dets.covariances.copy()
+    cov[4, 1, 1] = math.nan
+    dets = Detections(1.0, 0, pos, cov, dets.scores)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        kept = InputGuard().check(dets)
+    np.testing.assert_array_equal(kept.positions, [[1.0, 2.0]])

@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -34,7 +35,10 @@ def test_negative_increment_mirrors_the_beams() -> None:
 def test_invalid_beams_are_nan_and_masked() -> None:
     ranges = np.array([1.0, np.nan, np.inf, 0.0, 0.05, 30.0, 2.0])
     scan = Scan(0.0, 0.0, 0.1, ranges, range_min=0.1, range_max=20.0)
-    np.testing.assert_array_equal(scan.valid, [True, False, False, False, False, False, True])
+    with warnings.catch_warnings():  # (NaN and inf ranges: no floating-point warning)
+        warnings.simplefilter("error")
+        valid = scan.valid
+    np.testing.assert_array_equal(valid, [True, False, False, False, False, False, True])
     assert scan.n_invalid == 5
     assert np.isnan(scan.points()[1:6]).all()
     pts, idx = scan.valid_points()
@@ -47,6 +51,26 @@ def test_world_frame_uses_pose() -> None:
     np.testing.assert_allclose(scan.points("world"), [[1.0, 3.0]], atol=1e-12)
     with pytest.raises(PoseUnavailableError):
         Scan(0.0, 0.0, 0.1, np.array([1.0])).points("world")
+
+
+def test_transform_points_hand_computed_few_and_many() -> None:
+    """A pose maps points by rotation then translation, whether it adds the translation
+    broadcast (a few points) or column by column (a scan's many points): hand-computed
+    values at a quarter turn, and the same floats either way."""
+    pose = Pose2D(1.0, 2.0, math.pi / 2)
+    few = np.array([[1.0, 0.0], [0.0, 1.0], [2.0, -1.0]])
+    want = np.array([[1.0, 3.0], [0.0, 2.0], [2.0, 4.0]])  # (x, y) -> (1 - y, 2 + x)
+    np.testing.assert_allclose(pose.transform_points(few), want, atol=1e-12)
+    many = np.tile(few, (50, 1))  # beyond the few-points path
+    np.testing.assert_allclose(pose.transform_points(many), np.tile(want, (50, 1)), atol=1e-12)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        pose = Pose2D(*rng.normal(scale=10.0, size=2), rng.uniform(-math.pi, math.pi))
+        pts = rng.normal(scale=15.0, size=(int(rng.integers(1, 1200)), 2))
+        broadcast = pts @ pose.rotation().T + np.array([pose.x, pose.y])
+        np.testing.assert_array_equal(pose.transform_points(pts), broadcast)
+    one = pose.transform_points(np.array([1.0, 0.0]))  # one point as a (2,) row
+    np.testing.assert_array_equal(one, pose.transform_points(np.array([[1.0, 0.0]]))[0])
 
 
 def test_pose_compose_and_inverse_are_consistent() -> None:

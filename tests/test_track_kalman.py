@@ -254,6 +254,49 @@ def test_one_step_predict_and_coast_is_the_per_track_path(
             assert_paths_agree(g, w)
 
 
+def test_one_step_matrices_are_kept_per_step_and_model() -> None:
+    """The one-step path keeps its matrices per (step, process noise, coasting time): a
+    second scan with the same step gives what a fresh build gives (bit for bit), a scan with
+    another step, noise or ``tau`` its own (a kept matrix of another model would move the
+    prediction by its dt or q), the kept matrices are read-only, and no more than
+    ``STEP_MATRICES_KEPT`` are kept."""
+    rng = np.random.default_rng(17)
+    means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(7, 4))
+    a = rng.normal(size=(7, 4, 4))
+    covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+    kalman._STEP_MATRICES.clear()
+    first = kalman.predict_and_coast(means, covs, np.full(7, 0.025), 32.0, 0.8)
+    assert len(kalman._STEP_MATRICES) == 1
+    again = kalman.predict_and_coast(means, covs, np.full(7, 0.025), 32.0, 0.8)
+    for g, w in zip(again, first, strict=True):
+        np.testing.assert_array_equal(g, w)
+    # the same step of another model: its own matrices (legs and people share a run)
+    other_q = kalman.predict_and_coast(means, covs, np.full(7, 0.025), 8.0, 0.8)
+    other_tau = kalman.predict_and_coast(means, covs, np.full(7, 0.025), 32.0, np.inf)
+    other_dt = kalman.predict_and_coast(means, covs, np.full(7, 0.05), 32.0, 0.8)
+    assert len(kalman._STEP_MATRICES) == 4
+    kalman._STEP_MATRICES.clear()
+    for got, (dt, q, tau) in (
+        (other_q, (0.025, 8.0, 0.8)),
+        (other_tau, (0.025, 32.0, np.inf)),
+        (other_dt, (0.05, 32.0, 0.8)),
+    ):
+        fresh = kalman.predict_and_coast(means, covs, np.full(7, dt), q, tau)
+        kalman._STEP_MATRICES.clear()
+        for g, w in zip(got, fresh, strict=True):
+            np.testing.assert_array_equal(g, w)
+    assert not np.allclose(other_dt[1], first[1])
+    # a coasting time of inf: the predicted states are the coasted ones
+    assert other_tau[0] is other_tau[2]
+    kalman.predict_and_coast(means, covs, np.full(7, 0.025), 32.0, 0.8)
+    (mats,) = kalman._STEP_MATRICES.values()
+    for m in mats:
+        assert m is not None and not m.flags.writeable
+    for i in range(3 * kalman.STEP_MATRICES_KEPT):
+        kalman.predict(means, covs, np.full(7, 0.01 * (i + 1)), 32.0)
+        assert 1 <= len(kalman._STEP_MATRICES) <= kalman.STEP_MATRICES_KEPT
+
+
 @pytest.mark.regression
 def test_few_states_update_batch_is_the_array_path(
     monkeypatch: pytest.MonkeyPatch,

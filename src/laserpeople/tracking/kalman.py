@@ -198,24 +198,60 @@ def _one_step_predict_and_coast(
     path's IEEE operations (as :func:`_few_predict_and_coast`), and the stacked
     covariances multiplied by them broadcast; the same means and covariances as the
     per-track matrices with a fraction of their construction and product cost."""
-    a = accel_psd
-    pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
-    q = np.array((pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv))
-    q = q.reshape(4, 4)
-    f = np.array((1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0))
-    f = f.reshape(4, 4)
+    key = (d, accel_psd, tau)
+    mats = _STEP_MATRICES.get(key)
+    if mats is None:
+        mats = _step_matrices(d, accel_psd, tau)
+        if len(_STEP_MATRICES) >= STEP_MATRICES_KEPT:
+            _STEP_MATRICES.clear()
+        _STEP_MATRICES[key] = mats
+    f, ft, q, fc, fct = mats
     pm = means.copy()
     pm[:, :2] += means[:, 2:] * d
-    pc = f @ covs @ f.T + q
-    if math.isinf(tau):
+    pc = f @ covs @ ft + q
+    if fc is None or fct is None:
         return pm, pc, pm, pc
-    k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
-    g = tau * (1.0 - k)
-    fc = np.array((1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k))
-    fc = fc.reshape(4, 4)
     cm = np.einsum("ij,tj->ti", fc, means)
-    cc = fc @ covs @ fc.T + q
+    cc = fc @ covs @ fct + q
     return pm, pc, cm, cc
+
+
+STEP_MATRICES_KEPT = 16
+"""Most step matrices :func:`_one_step_predict_and_coast` keeps (by step, process noise
+and coasting time; all are forgotten when full). A simulation or a laser with steady stamps
+steps by one ``dt``, shared by every tracker of the run (legs, people), so their matrices
+are built once; a recording whose stamps jitter builds them per scan (in one array)."""
+
+_STEP_MATRICES: dict[
+    tuple[float, float, float],
+    tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, FloatArray | None],
+] = {}
+
+
+def _step_matrices(
+    d: float, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, FloatArray | None]:
+    """The transition matrix (4, 4) of a step ``d`` [s], its transpose, the process noise
+    (4, 4) and the coasting transition matrix and its transpose (None when ``tau`` is
+    infinite), built from plain floats by the array path's IEEE operations (as
+    :func:`_few_predict_and_coast`); read-only."""
+    a = accel_psd
+    pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
+    rows = [1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
+    if not math.isinf(tau):
+        k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
+        g = tau * (1.0 - k)
+        rows += (1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k)
+    # (one array for the two or three matrices: a scan of a recording whose stamps jitter
+    # builds them every time)
+    mats = np.array(rows).reshape(-1, 4, 4)
+    mats.setflags(write=False)
+    f, q = mats[0], mats[1]
+    if mats.shape[0] == 2:
+        return f, f.T, q, None, None
+    fc = mats[2]
+    return f, f.T, q, fc, fc.T
 
 
 def _few_predict_and_coast(

@@ -713,6 +713,16 @@ class ClusterSortingTracker:
         if start is not None and float(np.hypot(*(xy - start))) >= self.params.moving_travel:
             del self._unwalked[pid]
 
+    def _adopted(self, target: int, person: int) -> None:
+        """Person ``person`` is continued by the single target ``target`` (adopt_orphans,
+        adopt_escaped): when that target has not walked ``moving_travel``, neither has the
+        person, from where the target was started. On a moving laser new targets start on
+        furniture all over the scene; one that took a walked person's identity was
+        reported at once, wherever it stood."""
+        start = self._unwalked.pop(target, None)
+        if start is not None:
+            self._unwalked[person] = start
+
     def _shown_walker(self, pid: int) -> bool:
         """Whether person ``pid`` may be reported under ``moving_travel``: the laser has not
         moved, or the person walked since it was started from unselected points (as a
@@ -909,6 +919,7 @@ class ClusterSortingTracker:
             for t, pid in zip(new, ids[n_sub:], strict=True):
                 del singles[t.pid]
                 singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
+                self._adopted(t.pid, pid)
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
@@ -1072,6 +1083,7 @@ class ClusterSortingTracker:
                 m, t = orphans[int(r)], new[int(c)]
                 del singles[t.pid]
                 singles[m] = _Single(m, t.mean, t.cov, t.last_seen)
+                self._adopted(t.pid, m)
                 taken.append(m)
             if not taken:
                 continue

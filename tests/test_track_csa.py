@@ -513,6 +513,50 @@ def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     assert CSAParams.paper_preset["cut_free"] is False
 
 
+def _escaped_onto_furniture(robot_speed: float) -> list[Frame]:
+    """Frames at 10 Hz, 8 s: two people walk towards each other along y = 3 and meet at
+    t = 2 s (one cluster); from then on the first stands there and the second is not
+    seen (lost in the shadow, 002 Sec. 4); from t = 3 s furniture (a blob at (5, 3)) is
+    seen, more than 3 m from the cluster. The laser drives along x at ``robot_speed``."""
+    frames = []
+    for k in range(81):
+        t = k / 10
+        a = (-3.0 + 1.375 * min(t, 2.0), 3.0)
+        blobs = [_blob(a, k)]
+        if t < 2.0:
+            blobs.append(_blob((3.0 - 1.375 * t, 3.0), k))
+        if t >= 3.0:
+            blobs.append(_blob((5.0, 3.0), k))
+        xy = np.concatenate(blobs)
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(robot_speed * t, 0.0, 0.0)
+        frames.append(Frame(k, t, (), "synthetic", "world", pose, ps, np.ones(len(xy), bool)))
+    return frames
+
+
+def test_on_a_moving_laser_furniture_that_takes_a_lost_persons_id_is_not_reported() -> None:
+    """moving_travel holds for the target that continues a person (adopt_escaped,
+    adopt_orphans): person 1, lost inside the cluster of people 0 and 1, is taken to be
+    the target started on the furniture, 5 m away (the cluster splits). On a laser
+    driving at 0.5 m/s that target never walked, so person 1 is not reported there (it
+    was, at once, before: its identity had walked). On a still laser and with
+    moving_travel = 0 (002) person 1 is reported at the furniture after the split."""
+
+    def at_furniture(frames: list[Frame], params: CSAParams) -> list[bool]:
+        csa = ClusterSortingTracker(params)
+        rows = []
+        for f in frames:
+            out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
+            rows.append(1 in out and bool(np.linalg.norm(out[1] - [5.0, 3.0]) < 0.3))
+        assert "split" in [e.kind for e in csa.events]
+        return rows
+
+    assert not any(at_furniture(_escaped_onto_furniture(0.5), CSAParams()))
+    assert all(at_furniture(_escaped_onto_furniture(0.0), CSAParams())[40:])
+    plain = CSAParams(moving_travel=0.0)
+    assert all(at_furniture(_escaped_onto_furniture(0.5), plain)[40:])
+
+
 def test_on_a_moving_laser_a_target_unseen_for_moving_unseen_is_not_reported() -> None:
     """moving_unseen (0.3 s): on a moving laser with poses, the walker (target 1, reported
     from scan 8 once it walked) is not seen in scans 12-17: it is reported while unseen

@@ -584,8 +584,8 @@ def test_on_a_moving_laser_a_target_sliding_along_a_wall_is_not_reported() -> No
     0.3 m piece of a 12 m wall (y = 5) that moves with the view at 0.5 m/s (the leg
     detector's hits on a wall), and a person walking at 1 m/s along y = 4. The piece's
     target walks 0.5 m in a second but sits on the wall, so it is not reported once the
-    laser moved (scan 2); the person is, from scan 6 on. With moving_wall = 0 the piece is reported once it slid
-    0.5 m."""
+    laser moved (scan 2); the person is, from scan 6 on. With moving_wall = 0 the piece
+    is reported once it slid 0.5 m."""
     frames = []
     for k in range(40):
         t = k / 10

@@ -16,6 +16,7 @@ from laserpeople.tracking.csa import (
     CSAEvent,
     CSAParams,
     leader_clusters,
+    on_a_wall,
     per_person_scores,
     person_first,
     person_groups,
@@ -511,6 +512,130 @@ def test_a_person_who_walks_out_of_a_clusters_gates_becomes_a_target() -> None:
     _, plain = end(CSAParams(cut_free=False, count_people=False))
     assert all(np.linalg.norm(xy - [0.0, 5.5]) > 0.5 for xy in plain.values())
     assert CSAParams.paper_preset["cut_free"] is False
+
+
+def _escaped_onto_furniture(robot_speed: float, furniture: float = 5.0) -> list[Frame]:
+    """Frames at 10 Hz, 8 s: two people walk towards each other along y = 3 and meet at
+    t = 2 s (one cluster); from then on the first stands there and the second is not
+    seen (lost in the shadow, 002 Sec. 4); from t = 3 s furniture (a blob at
+    (``furniture``, 3)) is seen. The laser drives along x at ``robot_speed``."""
+    frames = []
+    for k in range(81):
+        t = k / 10
+        a = (-3.0 + 1.375 * min(t, 2.0), 3.0)
+        blobs = [_blob(a, k)]
+        if t < 2.0:
+            blobs.append(_blob((3.0 - 1.375 * t, 3.0), k))
+        if t >= 3.0:
+            blobs.append(_blob((furniture, 3.0), k))
+        xy = np.concatenate(blobs)
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(robot_speed * t, 0.0, 0.0)
+        frames.append(Frame(k, t, (), "synthetic", "world", pose, ps, np.ones(len(xy), bool)))
+    return frames
+
+
+def test_on_a_moving_laser_furniture_that_takes_a_lost_persons_id_is_not_reported() -> None:
+    """moving_travel holds for the target that continues a person (adopt_escaped,
+    adopt_orphans): person 1, lost inside the cluster of people 0 and 1, is taken to be
+    the target started on the furniture, 5 m away (the cluster splits). On a laser
+    driving at 0.5 m/s that target never walked, so person 1 is not reported there (it
+    was, at once, before: its identity had walked). On a still laser and with
+    moving_travel = 0 (002) person 1 is reported at the furniture after the split."""
+
+    def at_furniture(frames: list[Frame], params: CSAParams) -> list[bool]:
+        csa = ClusterSortingTracker(params)
+        rows = []
+        for f in frames:
+            out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
+            rows.append(1 in out and bool(np.linalg.norm(out[1] - [5.0, 3.0]) < 0.3))
+        assert "split" in [e.kind for e in csa.events]
+        return rows
+
+    assert not any(at_furniture(_escaped_onto_furniture(0.5), CSAParams()))
+    assert all(at_furniture(_escaped_onto_furniture(0.0), CSAParams())[40:])
+    plain = CSAParams(moving_travel=0.0)
+    assert all(at_furniture(_escaped_onto_furniture(0.5), plain)[40:])
+
+
+def test_on_a_moving_laser_furniture_that_adopts_an_orphan_is_not_reported() -> None:
+    """As above with adopt_orphans: the furniture, 1.2 m from the cluster, is started
+    beside it and 0.95 m from where person 1 was last estimated, so person 1 (whose paths
+    all died) takes it. On a laser driving at 0.5 m/s person 1 is not reported there
+    (person 1 walks past that place before the meeting, scans 11-15); on a still laser
+    and with moving_travel = 0 it is, once adopted."""
+
+    def at_furniture(frames: list[Frame], params: CSAParams) -> list[bool]:
+        csa = ClusterSortingTracker(params)
+        rows = []
+        for f in frames:
+            out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
+            rows.append(1 in out and bool(np.linalg.norm(out[1] - [1.2, 3.0]) < 0.3))
+        assert "adopt orphan" in [e.kind for e in csa.events]
+        return rows[30:]
+
+    assert not any(at_furniture(_escaped_onto_furniture(0.5, 1.2), CSAParams()))
+    assert all(at_furniture(_escaped_onto_furniture(0.0, 1.2), CSAParams())[10:])
+    plain = CSAParams(moving_travel=0.0)
+    assert all(at_furniture(_escaped_onto_furniture(0.5, 1.2), plain)[10:])
+
+
+def _wall(x0: float, x1: float, y: float = 5.0) -> np.ndarray:
+    """Returns every 0.05 m along a straight wall y = ``y`` from ``x0`` to ``x1`` [m]."""
+    xs = np.arange(x0, x1 + 1e-9, 0.05)
+    return np.c_[xs, np.full(len(xs), y)]
+
+
+def test_on_a_wall_by_hand() -> None:
+    """A target on a 4 m wall is on it; on a 0.9 m one not for a length of 1 m (for
+    0.8 m it is); a person's two legs alone are not (their points span 0.3 m), nor legs
+    0.3 m in front of the wall (their own points, legs and wall, lie on no line)."""
+    wall = _wall(-2.0, 2.0)
+    assert on_a_wall(np.array([0.0, 5.0]), wall, 1.0)
+    short = _wall(-0.45, 0.45)
+    assert not on_a_wall(np.array([0.0, 5.0]), short, 1.0)
+    assert on_a_wall(np.array([0.0, 5.0]), short, 0.8)
+    legs = _blob((0.0, 5.0), 0)
+    assert not on_a_wall(np.array([0.0, 4.97]), legs, 1.0)
+    front = np.concatenate([_blob((0.0, 4.7), 0), wall])
+    assert not on_a_wall(np.array([0.0, 4.68]), front, 1.0)
+
+
+def test_on_a_moving_laser_a_target_sliding_along_a_wall_is_not_reported() -> None:
+    """moving_wall (1 m): on a laser driving along x at 0.5 m/s, the foreground holds a
+    0.3 m piece of a 12 m wall (y = 5) that moves with the view at 0.5 m/s (the leg
+    detector's hits on a wall), and a person walking at 1 m/s along y = 4. The piece's
+    target walks 0.5 m in a second but sits on the wall, so it is not reported once the
+    laser moved (scan 2); the person is, from scan 6 on. With moving_wall = 0 the piece
+    is reported once it slid 0.5 m."""
+    frames = []
+    for k in range(40):
+        t = k / 10
+        wall = _wall(-4.0, 8.0)
+        piece = np.abs(wall[:, 0] - 0.5 * t) <= 0.15
+        person = _blob((-2.0 + t, 4.0), k)
+        xy = np.concatenate([wall, person])
+        fg = np.r_[piece, np.ones(len(person), dtype=bool)]
+        ps = PointSet(t, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        pose = Pose2D(0.5 * t, 0.0, 0.0)
+        frames.append(Frame(k, t, (), "synthetic", "world", pose, ps, fg))
+
+    def rows(params: CSAParams) -> list[dict[int, np.ndarray]]:
+        csa = ClusterSortingTracker(params)
+        return [{t.track_id: t.position for t in csa.update(f).of_kind("person")} for f in frames]
+
+    def on_wall(row: dict[int, np.ndarray]) -> bool:
+        return any(abs(xy[1] - 5.0) < 0.2 for xy in row.values())
+
+    def on_person(row: dict[int, np.ndarray], k: int) -> bool:
+        return any(np.linalg.norm(xy - [-2.0 + k / 10, 4.0]) < 0.2 for xy in row.values())
+
+    kept = rows(CSAParams())
+    assert not any(on_wall(r) for r in kept[2:])  # the laser moved from scan 2 on
+    assert all(on_person(r, k) for k, r in enumerate(kept) if k >= 6)
+    plain = rows(CSAParams(moving_wall=0.0))
+    assert all(on_wall(r) for r in plain[12:])
+    assert CSAParams.paper_preset["moving_wall"] == 0.0
 
 
 def test_on_a_moving_laser_a_target_unseen_for_moving_unseen_is_not_reported() -> None:

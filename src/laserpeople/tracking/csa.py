@@ -67,6 +67,7 @@ class CSAParams:
             "moving_travel": 0.0,
             "cut_free": False,
             "moving_unseen": 0.0,
+            "moving_wall": 0.0,
             "count_people": False,
             "person_mixture": False,
         }
@@ -175,6 +176,17 @@ class CSAParams:
         "started while the laser still stood) is reported only once the mean of its "
         "selected measurements lay this far from where it started (0: at once, 002); a "
         "target on a person who walks does so within a second, furniture never",
+        "m",
+    )
+    moving_wall: float = param(
+        1.0,
+        "extension of 002, as moving_travel: on a moving laser the leg detector fires on "
+        "pieces of wall that move with the laser's view, and a target following them "
+        "walks; random-groups moving-sensor tuning seeds (docs/csa.md; tried 1.2 m, and "
+        "0.1 m for WALL_TOLERANCE)",
+        "under moving_travel, a target's travel does not count while its own points (within "
+        "0.35 m) lie on a straight line that the scan's points continue for this length "
+        "within this distance of it (a wall; 0: travel always counts)",
         "m",
     )
     moving_unseen: float = param(
@@ -332,7 +344,7 @@ class CSAParams:
             raise ValueError("min_points and count_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
-        for name in ("moving_travel", "moving_unseen"):
+        for name in ("moving_travel", "moving_unseen", "moving_wall"):
             if not 0.0 <= getattr(self, name) < math.inf:
                 raise ValueError(f"{name} must be finite and not negative")
 
@@ -561,6 +573,7 @@ class ClusterSortingTracker:
         """Whether the laser of this world-frame run has moved (see ``moving_travel``)."""
         self._posed = False
         """Whether this is a world-frame run with the laser's poses (see ``moving_travel``)."""
+        self._scan_points = np.empty((0, 2))
         self._unwalked: dict[int, FloatArray] = {}
         """Person -> where (2,) [m] it was started, while it has not walked
         ``moving_travel`` from there (world-frame runs with poses)."""
@@ -603,6 +616,8 @@ class ClusterSortingTracker:
         """Process one frame's foreground points; return the tracks after it."""
         p = self.params
         z = self._points(frame)
+        assert frame.points is not None
+        self._scan_points = np.asarray(frame.points.points, dtype=np.float64)
         stamp = frame.stamp
         if frame.frame == "world":
             self._moving = self._motion(frame.sensor_pose)
@@ -711,7 +726,20 @@ class ClusterSortingTracker:
         from where it was started, it has walked, for good."""
         start = self._unwalked.get(pid)
         if start is not None and float(np.hypot(*(xy - start))) >= self.params.moving_travel:
+            wall = self.params.moving_wall
+            if wall > 0 and on_a_wall(xy, self._scan_points, wall):
+                return  # sliding along a wall as the laser's view moves
             del self._unwalked[pid]
+
+    def _adopted(self, target: int, person: int) -> None:
+        """Person ``person`` is continued by the single target ``target`` (adopt_orphans,
+        adopt_escaped): when that target has not walked ``moving_travel``, neither has the
+        person, from where the target was started. On a moving laser new targets start on
+        furniture all over the scene; one that took a walked person's identity was
+        reported at once, wherever it stood."""
+        start = self._unwalked.pop(target, None)
+        if start is not None:
+            self._unwalked[person] = start
 
     def _shown_walker(self, pid: int) -> bool:
         """Whether person ``pid`` may be reported under ``moving_travel``: the laser has not
@@ -909,6 +937,7 @@ class ClusterSortingTracker:
             for t, pid in zip(new, ids[n_sub:], strict=True):
                 del singles[t.pid]
                 singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
+                self._adopted(t.pid, pid)
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
@@ -1072,6 +1101,7 @@ class ClusterSortingTracker:
                 m, t = orphans[int(r)], new[int(c)]
                 del singles[t.pid]
                 singles[m] = _Single(m, t.mean, t.cov, t.last_seen)
+                self._adopted(t.pid, m)
                 taken.append(m)
             if not taken:
                 continue
@@ -1168,6 +1198,33 @@ class ClusterSortingTracker:
     def clusters(self) -> dict[int, tuple[int, ...]]:
         """Cluster id -> the people it holds (the memory of who merged)."""
         return {c.cid: c.members for c in self._s.clusters.values()}
+
+
+WALL_TOLERANCE = 0.05
+"""Points within this distance [m] of a line lie on it (``on_a_wall``): a wall's returns
+scatter a few centimetres about it, a leg's arc bulges 0.07 m from its chord."""
+WALL_OWN = 0.35
+"""The points within this distance [m] of a target are its own (``on_a_wall``; the
+``[leg_foreground] radius`` that keeps them)."""
+
+
+def on_a_wall(xy: FloatArray, points: FloatArray, length: float) -> bool:
+    """Whether a target at ``xy`` (2,) [m] sits on a wall of the scan's ``points`` (N, 2)
+    [m]: its own points (those within :data:`WALL_OWN`, at least 3) lie on a straight line
+    (RMS distance from their principal axis at most :data:`WALL_TOLERANCE`), and the
+    points within ``length`` [m] of it that lie on that line span at least ``length``.
+    A person's legs are two arcs, and their line does not continue beyond them."""
+    d = np.linalg.norm(points - xy, axis=1)
+    own = points[d <= WALL_OWN]
+    if own.shape[0] < 3:
+        return False
+    centre = own.mean(axis=0)
+    _, _, vt = np.linalg.svd(own - centre, full_matrices=False)
+    if math.sqrt(float(np.mean(((own - centre) @ vt[1]) ** 2))) > WALL_TOLERANCE:
+        return False
+    near = points[d <= length] - centre
+    along = near[np.abs(near @ vt[1]) <= WALL_TOLERANCE] @ vt[0]
+    return bool(along.max() - along.min() >= length)
 
 
 def per_person_scores(scores: FloatArray, origin: IntArray) -> FloatArray:

@@ -559,7 +559,7 @@ def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
     for on in (True, False):
         truth, steps, pipe = _cli_run(tmp_path, CSAParams(background_people=on), frames=25)
         said = describe_background(background_of(pipe.stages))
-        assert ("beams on leg detections while it learned" in said) is on, said
+        assert ("beams on the leg MHT's people while it learned" in said) is on, said
         frame, tracks = steps[10].frame, steps[10].tracks
         assert frame.points is not None and frame.foreground is not None
         assert tracks is not None

@@ -25,9 +25,9 @@ stays foreground. The price: something static only part of the time (a door that
 closed while learning and stands open for ``relearn_seconds``) is foreground once it
 comes back.
 
-A caller that can tell people (``learn_foreground(frame, people)``: the points near leg
-detections, as ``--background auto`` gives the CSA, ``[csa] background_people``) marks
-their returns while the model learns. A bin whose returns lay on people in at least
+A caller that can tell people (``learn_foreground(frame, people, legs)``: the points near
+the legs of the people a leg MHT confirms, as ``--background auto`` gives the CSA, ``[csa]
+background_people``) marks their returns while the model learns. A bin whose returns lay on people in at least
 ``people_share`` of them is not static: a person who stands through the learning is
 foreground from the first scan. The wall behind them, never seen, is guessed: on the
 straight line between the farthest static returns of the nearest beams without people on
@@ -36,7 +36,10 @@ towards the first steady farther return as above. With a guess, the beam relearn
 beyond the guess, so a person who later stands farther along the same beams stays
 foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
 after learning, never farther, saw something static after all (a leg detection on
-furniture) and is learned as static. The people counts are saved with the histograms.
+furniture) and is learned as static. Returns that only may be people (``legs``: near
+any leg detection, furniture the detector fires on too) stay static, but the wall behind
+them is guessed as well, so that it is background at once when a person there leaves.
+The people counts are saved with the histograms.
 
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).

@@ -282,9 +282,10 @@ class AutoBackground:
             yet, :mod:`laserpeople.pipeline.leg_foreground`).
         legs_from: Index of the first frame narrowed to points near legs (None: none).
         learn_people: While the histogram learns, the points within ``[leg_foreground]
-            radius`` of leg detections are marked as people, whose ranges it does not
-            learn as static (``[beam_histogram] people_share``; the CSA's
-            ``[csa] background_people``).
+            radius`` of the legs of the people a leg MHT confirms are marked as people,
+            whose ranges it does not learn as static, and the wall behind every leg
+            detection is guessed (``[leg_foreground] learn_people``, ``[beam_histogram]
+            people_share``; the CSA's ``[csa] background_people``).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -462,8 +463,8 @@ class AutoBackground:
         if not marked:
             return ""
         return (
-            f"; {marked} beams on leg detections while it learned were not learned as "
-            f"static ([csa] background_people), {settled} of them static after all "
+            f"; {marked} beams on the leg MHT's people while it learned were not learned "
+            f"as static ([csa] background_people), {settled} of them static after all "
             "([beam_histogram] people_settle_seconds)"
         )
 

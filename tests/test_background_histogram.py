@@ -347,6 +347,22 @@ def test_legs_not_confirmed_as_people_stay_static_and_the_wall_behind_is_guessed
     assert fg1 == [4] * 11  # people among the legs: foreground as before
 
 
+def test_the_wall_is_guessed_behind_legs_whose_returns_straddle_two_bins() -> None:
+    """Returns near a leg detection alternating between 2.00 and 2.06 m (bins 40 and 41,
+    both frequent, both static): the wall behind is still guessed (the farther of the two
+    bins is no wall), so once they leave the wall is background at once."""
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    for k in range(11):
+        ranges = _walls()
+        ranges[40:44] = 2.0 if k % 2 else 2.06
+        frame = _frame([_scan(ranges, 0.1 * k, index=k)])
+        assert frame.points is not None
+        legs = np.isin(frame.points.beams, [40, 41, 42, 43])
+        model.learn_foreground(frame, np.zeros(len(legs), dtype=bool), legs)
+    assert not model.learning
+    assert int(model.foreground_of(_scan(_walls(), 1.1)).sum()) == 0
+
+
 def test_a_person_who_stood_while_learning_and_stands_farther_stays_foreground() -> None:
     """With the wall behind guessed, relearning on those beams waits for returns beyond
     the guess: the person of the learning walking on to 3 m along the same beams and

@@ -178,7 +178,7 @@ class _BeamTable:
         self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
         behind = on_people | _on_people(self.counts, self.scans, p, self.legs)
         if self.angles is not None and behind.any():
-            beams, bins = _behind_people(core, behind, self.angles, p)
+            beams, bins = _behind_people(core & ~behind, behind, self.angles, p)
             core[beams, bins] = True
             people = on_people[beams].any(axis=1)  # (the others keep their bin static)
             self.nearest[beams[people]] = bins[people]

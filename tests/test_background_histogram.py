@@ -343,7 +343,7 @@ def test_legs_not_confirmed_as_people_stay_static_and_the_wall_behind_is_guessed
     assert int(model.foreground_of(_scan(person, 9.0)).sum()) == 4  # the near bin dropped
     plain, _ = _learn_with_person(slice(40, 44), 0.0, p)
     assert int(plain.foreground_of(_scan(_walls(), 1.1)).sum()) == 4  # until relearned
-    confirmed, fg1 = _learn_with_person(slice(40, 44), 1.0, p, legs_share=1.0)
+    _, fg1 = _learn_with_person(slice(40, 44), 1.0, p, legs_share=1.0)
     assert fg1 == [4] * 11  # people among the legs: foreground as before
 
 

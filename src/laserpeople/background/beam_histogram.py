@@ -27,9 +27,9 @@ comes back.
 
 A caller that can tell people (``learn_foreground(frame, people, legs)``: the points near
 the legs of the people a leg MHT confirms, as ``--background auto`` gives the CSA, ``[csa]
-background_people``) marks their returns while the model learns. A bin whose returns lay on people in at least
-``people_share`` of them is not static: a person who stands through the learning is
-foreground from the first scan. The wall behind them, never seen, is guessed: on the
+background_people``) marks their returns while the model learns. A bin whose returns lay
+on people in at least ``people_share`` of them is not static: a person who stands through
+the learning is foreground from the first scan. The wall behind them, never seen, is guessed: on the
 straight line between the farthest static returns of the nearest beams without people on
 either side, where it lies beyond the person; when no such line exists, the beam relearns
 towards the first steady farther return as above. With a guess, the beam relearns only

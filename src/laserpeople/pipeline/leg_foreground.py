@@ -189,7 +189,9 @@ class LegForegroundParams:
 
     def __post_init__(self) -> None:
         if self.learn_people_warmup < 0:
-            raise ValueError(f"learn_people_warmup must not be negative, got {self.learn_people_warmup}")
+            raise ValueError(
+                f"learn_people_warmup must not be negative, got {self.learn_people_warmup}"
+            )
         if self.learn_people not in LEARN_PEOPLE:
             raise ValueError(
                 f"learn_people must be one of {', '.join(LEARN_PEOPLE)}, not {self.learn_people!r}"

@@ -268,11 +268,15 @@ def test_a_frames_foreground_is_per_point_of_each_laser() -> None:
 
 
 def _learn_with_person(
-    person_beams: slice, marked_share: float, p: BeamHistogramParams | None = None
+    person_beams: slice,
+    marked_share: float,
+    p: BeamHistogramParams | None = None,
+    legs_share: float = 0.0,
 ) -> tuple[BeamHistogramBackground, list[int]]:
     """Learn 11 frames (0.0 .. 1.0 s) with a person at 2.0 m on ``person_beams``, marked as
-    people in the first ``marked_share`` of the frames; returns the model and the number
-    of foreground points of each learning frame."""
+    people in the first ``marked_share`` of the frames and as near a leg detection (maybe
+    people) in the first ``legs_share``; returns the model and the number of foreground
+    points of each learning frame."""
     model = BeamHistogramBackground(p or BeamHistogramParams(learn_seconds=1.0))
     person = _walls()
     person[person_beams] = 2.0
@@ -280,10 +284,10 @@ def _learn_with_person(
     for k in range(11):
         frame = _frame([_scan(person, 0.1 * k, index=k)])
         assert frame.points is not None
-        on = np.zeros(len(frame.points), dtype=bool)
-        if k < round(11 * marked_share):
-            on[np.isin(frame.points.beams, np.arange(181)[person_beams])] = True
-        fg.append(int(model.learn_foreground(frame, on).sum()))
+        there = np.isin(frame.points.beams, np.arange(181)[person_beams])
+        on = there & (k < round(11 * marked_share))
+        legs = there & (k < round(11 * legs_share))
+        fg.append(int(model.learn_foreground(frame, on, legs).sum()))
     assert not model.learning
     return model, fg
 
@@ -307,6 +311,56 @@ def test_people_marked_while_learning_are_foreground_and_the_wall_behind_is_gues
     unmarked, fg0 = _learn_with_person(slice(40, 44), 0.0)
     assert fg0 == [0] * 11
     assert int(unmarked.foreground_of(_scan(_walls(), 1.1)).sum()) == 4  # until relearned
+
+
+def test_legs_not_confirmed_as_people_stay_static_and_the_wall_behind_is_guessed() -> None:
+    """Beams 40-43 near a leg detection in every learning scan but never on a person (a
+    bin the detector fires on, or a person the leg tracker did not confirm): static as
+    without marks (background from the first scan, and as long as it stays), but the wall
+    behind is guessed as for people, so when something there leaves, the wall is
+    background at once (without the guess: foreground until relearned); relearning then
+    drops the near bin as before."""
+    p = BeamHistogramParams(learn_seconds=1.0, relearn_seconds=0.5)
+    model, fg = _learn_with_person(slice(40, 44), 0.0, p, legs_share=1.0)
+    assert fg == [0] * 11
+    table = model._tables["a"]
+    assert table.nearest is not None and table.static is not None
+    assert table.nearest[40:44].tolist() == [40] * 4  # the near bin stays the nearest
+    assert table.static[40:44, 88:90].any(axis=1).all()  # the guessed wall (by hand above)
+    assert model.people_beams() == (0, 0)  # nothing is watched for settling
+    person = _walls()
+    person[40:44] = 2.0
+    for j in range(1, 61):  # 6 s: never settled, never foreground
+        out = model(_frame([_scan(person, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None and int(out.foreground.sum()) == 0
+    counts = []
+    for j in range(61, 71):
+        out = model(_frame([_scan(_walls(), 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+        counts.append(int(out.foreground.sum()))
+    assert counts == [0] * 10
+    assert model.relearned("a") == 4
+    assert int(model.foreground_of(_scan(person, 9.0)).sum()) == 4  # the near bin dropped
+    plain, _ = _learn_with_person(slice(40, 44), 0.0, p)
+    assert int(plain.foreground_of(_scan(_walls(), 1.1)).sum()) == 4  # until relearned
+    _, fg1 = _learn_with_person(slice(40, 44), 1.0, p, legs_share=1.0)
+    assert fg1 == [4] * 11  # people among the legs: foreground as before
+
+
+def test_the_wall_is_guessed_behind_legs_whose_returns_straddle_two_bins() -> None:
+    """Returns near a leg detection alternating between 2.00 and 2.06 m (bins 40 and 41,
+    both frequent, both static): the wall behind is still guessed (the farther of the two
+    bins is no wall), so once they leave the wall is background at once."""
+    model = BeamHistogramBackground(BeamHistogramParams(learn_seconds=1.0))
+    for k in range(11):
+        ranges = _walls()
+        ranges[40:44] = 2.0 if k % 2 else 2.06
+        frame = _frame([_scan(ranges, 0.1 * k, index=k)])
+        assert frame.points is not None
+        legs = np.isin(frame.points.beams, [40, 41, 42, 43])
+        model.learn_foreground(frame, np.zeros(len(legs), dtype=bool), legs)
+    assert not model.learning
+    assert int(model.foreground_of(_scan(_walls(), 1.1)).sum()) == 0
 
 
 def test_a_person_who_stood_while_learning_and_stands_farther_stays_foreground() -> None:
@@ -357,6 +411,10 @@ def test_people_counts_survive_save_and_load(tmp_path: Path) -> None:
     person[40:44] = 2.0
     assert int(again.foreground_of(_scan(person, 9.0)).sum()) == 4
     assert int(again.foreground_of(_scan(_walls(), 9.0)).sum()) == 0
+    legs, _ = _learn_with_person(slice(40, 44), 0.0, legs_share=1.0)
+    loaded = BeamHistogramBackground.load(legs.save(tmp_path / "legs.npz"))
+    assert int(loaded.foreground_of(_scan(person, 9.0)).sum()) == 0
+    assert int(loaded.foreground_of(_scan(_walls(), 9.0)).sum()) == 0  # the guess kept
 
 
 def test_people_flags_must_fit_the_points() -> None:

@@ -46,7 +46,7 @@ def test_paper_preset_gives_each_tracker_its_papers_values() -> None:
     c = load_config(CSAParams, None, "paper")
     assert not c.adopt_escaped and not c.fragment_rule
     assert not c.person_scores and not c.adopt_orphans and not c.group_rows
-    assert not c.person_mixture
+    assert not c.person_mixture and not c.background_people
     from laserpeople.identity.reid import ReidParams
 
     assert not load_config(ReidParams, None, "paper").early

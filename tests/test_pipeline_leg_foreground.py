@@ -201,15 +201,17 @@ def test_a_stamp_going_back_forgets_the_held_legs() -> None:
 
 
 class _FixedDetector:
-    """A leg detector that finds one leg at a fixed sensor-frame position in every scan."""
+    """A leg detector that finds one leg (or more) at fixed sensor-frame positions in every
+    scan."""
 
-    def __init__(self, where: tuple[float, float]) -> None:
+    def __init__(self, where: tuple[float, float], *more: tuple[float, float]) -> None:
         self.where = where
+        self.more = more
         self.calls = 0
 
     def detect(self, scan: Scan) -> Detections:
         self.calls += 1
-        found = _legs([self.where])
+        found = _legs([self.where, *self.more])
         return replace(found, stamp=scan.stamp, scan_index=scan.index, sensor_pose=scan.pose)
 
 
@@ -411,3 +413,79 @@ def test_the_stages_leg_mht_keeps_000s_k_and_depth_where_unset() -> None:
     assert LegTrackerParams().mht_params().k == 5  # the tracker's own default differs
     mine = stage_leg_tracker(LegTrackerParams(mht=MHTParams(k_best=7, n_scan=2)))
     assert (mine.mht_params().k, mine.mht_params().depth) == (7, 2)
+
+
+# ------------------------------------------------------ the people of the learning period
+
+
+def test_person_legs_are_those_of_a_pair_the_leg_mht_confirms() -> None:
+    """Two legs standing 0.3 m apart and a lone leg 2 m off: the leg MHT run by
+    ``person_legs`` confirms the pair as a person within a few scans (whatever
+    ``person_memory`` says), never the lone leg."""
+    stage = LegForeground(LegForegroundParams(person_memory=0.0))
+    where = [(2.0, 0.15), (2.0, -0.15), (3.0, 2.0)]
+    flags = []
+    for k in range(15):
+        frame = _points_frame(where, 0.1 * k, legs=where)
+        assert frame.legs is not None
+        legs = replace(frame.legs, stamp=0.1 * k, scan_index=k)
+        positions, people = stage.person_legs(replace(frame, index=k, legs=legs))
+        assert positions.tolist() == [list(w) for w in where]
+        flags.append(people.tolist())
+    assert flags[0] == [False, False, False]
+    assert all(f == [True, True, False] for f in flags[5:]), flags
+
+
+def _learning_scan(index: int) -> Scan:
+    """A wall at 5 m (90 beams, 1 deg from -45 deg, 10 Hz); a person's two legs at 2 m on
+    beams 40-41 and 47-48 (0.24 m apart) and a bin at 3 m on beams 70-71."""
+    ranges = np.full(90, 5.0)
+    ranges[[40, 41, 47, 48]] = 2.0
+    ranges[[70, 71]] = 3.0
+    return Scan(0.1 * index, -np.pi / 4, np.pi / 180, ranges, 0.1, 10.0, sensor="l", index=index)
+
+
+def _centre(scan: Scan, beams: list[int]) -> tuple[float, float]:
+    a = scan.angle_min + scan.angle_increment * np.asarray(beams)
+    r = scan.ranges[beams]
+    return float(np.mean(r * np.cos(a))), float(np.mean(r * np.sin(a)))
+
+
+def _learned_foreground(learn_people: str) -> list[tuple[int, int]]:
+    """``auto`` learning with ``[csa] background_people`` on :func:`_learning_scan`, the
+    detector firing on both legs and the bin in every scan: per scan, the foreground
+    points on the person and on the bin."""
+    scan = _learning_scan(0)
+    detector = _FixedDetector(_centre(scan, [40, 41]), _centre(scan, [47, 48]),
+                              _centre(scan, [70, 71]))  # fmt: skip
+    static = StaticWorldParams(leg_foreground=LegForegroundParams(learn_people=learn_people))
+    model = AutoBackground(static=static, detector=detector, learn_people=True)
+    out = []
+    for i in range(30):
+        frame = model(_frame(_learning_scan(i)))
+        assert frame.foreground is not None and frame.points is not None
+        fg = frame.points.beams[frame.foreground]
+        out.append((int(np.isin(fg, [40, 41, 47, 48]).sum()), int(np.isin(fg, [70, 71]).sum())))
+    assert model.chosen == "histogram" and not model.model.learning  # type: ignore[union-attr]
+    return out
+
+
+def test_while_learning_only_the_people_of_the_leg_mht_stay_foreground() -> None:
+    """``learn_people = "people"``: the person is foreground from the first scan (every
+    leg in the first ``learn_people_warmup`` scans, then the legs the leg MHT confirmed)
+    and after learning; the bin the detector also fires on is foreground only in the
+    first 4 scans, then static. ``"legs"`` (the first version) keeps the bin out of the
+    static world too."""
+    people = _learned_foreground("people")
+    assert all(p == 4 for p, _ in people), people
+    assert [b for _, b in people[:4]] == [2] * 4
+    assert all(b == 0 for _, b in people[6:]), people
+    legs = _learned_foreground("legs")
+    assert all(p == 4 and b == 2 for p, b in legs), legs
+
+
+def test_learn_people_is_checked() -> None:
+    with pytest.raises(ValueError, match="learn_people must be one of"):
+        LegForegroundParams(learn_people="chairs")
+    with pytest.raises(ValueError, match="learn_people_warmup"):
+        LegForegroundParams(learn_people_warmup=-1)

@@ -678,13 +678,13 @@ def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
     histogram learns. With ``background_people`` their legs are not learned as static: at
     scan 10 (1.0 s) every person has foreground points within 0.4 m and a person row
     within 0.5 m, and the static world model says how many beams it left out; with 002's
-    setting (the default and the paper preset) none has a point."""
+    setting (false, the paper preset) none has a point."""
     from laserpeople.pipeline.background import background_of, describe_background
 
     for on in (True, False):
         truth, steps, pipe = _cli_run(tmp_path, CSAParams(background_people=on), frames=25)
         said = describe_background(background_of(pipe.stages))
-        assert ("beams on leg detections while it learned" in said) is on, said
+        assert ("beams on the leg MHT's people while it learned" in said) is on, said
         frame, tracks = steps[10].frame, steps[10].tracks
         assert frame.points is not None and frame.foreground is not None
         assert tracks is not None
@@ -713,15 +713,15 @@ def test_crossing3_as_the_cli_runs_it_with_colour(tmp_path) -> None:  # type: ig
 
 def test_only_the_csa_asks_for_the_people_of_the_learning_period() -> None:
     """``[csa] background_people`` reaches the pipeline (``learns_behind_people``); it is
-    off by default and under ``--preset paper`` (002 learns no background, 004 every
+    on by default, off under ``--preset paper`` (002 learns no background, 004 every
     frequent range), and for trackers that do not ask for it."""
     from laserpeople.config import load_config
     from laserpeople.pipeline.background import AutoBackground, background_stage
     from laserpeople.pipeline.leg_foreground import learns_behind_people
     from laserpeople.tracking.nearest import NearestNeighbourTracker
 
-    assert learns_behind_people(ClusterSortingTracker(CSAParams(background_people=True)))
-    assert not learns_behind_people(ClusterSortingTracker())
+    assert learns_behind_people(ClusterSortingTracker())
+    assert not learns_behind_people(ClusterSortingTracker(CSAParams(background_people=False)))
     assert not learns_behind_people(ClusterSortingTracker(load_config(CSAParams, None, "paper")))
     assert not learns_behind_people(NearestNeighbourTracker())
     stage = background_stage("auto", behind_people=True)

@@ -25,18 +25,21 @@ stays foreground. The price: something static only part of the time (a door that
 closed while learning and stands open for ``relearn_seconds``) is foreground once it
 comes back.
 
-A caller that can tell people (``learn_foreground(frame, people)``: the points near leg
-detections, as ``--background auto`` gives the CSA, ``[csa] background_people``) marks
-their returns while the model learns. A bin whose returns lay on people in at least
-``people_share`` of them is not static: a person who stands through the learning is
-foreground from the first scan. The wall behind them, never seen, is guessed: on the
+A caller that can tell people (``learn_foreground(frame, people, legs)``: the points near
+the legs of the people a leg MHT confirms, as ``--background auto`` gives the CSA, ``[csa]
+background_people``) marks their returns while the model learns. A bin whose returns lay
+on people in at least ``people_share`` of them is not static: a person who stands through
+the learning is foreground from the first scan. The wall behind them, never seen, is guessed: on the
 straight line between the farthest static returns of the nearest beams without people on
 either side, where it lies beyond the person; when no such line exists, the beam relearns
 towards the first steady farther return as above. With a guess, the beam relearns only
 beyond the guess, so a person who later stands farther along the same beams stays
 foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
 after learning, never farther, saw something static after all (a leg detection on
-furniture) and is learned as static. The people counts are saved with the histograms.
+furniture) and is learned as static. Returns that only may be people (``legs``: near
+any leg detection, furniture the detector fires on too) stay static, but the wall behind
+them is guessed as well, so that it is background at once when a person there leaves.
+The people counts are saved with the histograms.
 
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
@@ -157,6 +160,7 @@ class _BeamTable:
     settled: int = 0  # beams on people while learning found static after all
     marked: int = 0  # beams with a bin on people when the static bins were last marked
     people: NDArray[np.int32] | None = None  # (B, K) of counts: returns on people
+    legs: NDArray[np.int32] | None = None  # (B, K) of counts: returns near any leg detection
     angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
     person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
     settling: NDArray[np.float64] | None = None  # (B,) stamp it was first seen again (nan)
@@ -172,10 +176,12 @@ class _BeamTable:
         on_people = _on_people(self.counts, self.scans, p, self.people)
         seen = core | on_people
         self.nearest = np.where(seen.any(axis=1), np.argmax(seen, axis=1), k).astype(np.int64)
-        if self.angles is not None and on_people.any():
-            beams, bins = _behind_people(core, on_people, self.angles, p)
+        behind = on_people | _on_people(self.counts, self.scans, p, self.legs)
+        if self.angles is not None and behind.any():
+            beams, bins = _behind_people(core & ~behind, behind, self.angles, p)
             core[beams, bins] = True
-            self.nearest[beams] = bins
+            people = on_people[beams].any(axis=1)  # (the others keep their bin static)
+            self.nearest[beams[people]] = bins[people]
         self.static = _dilate(core, math.ceil(p.tolerance / p.bin_width))
         if self.candidate is None or self.since is None:
             self.candidate = np.full(core.shape[0], -1, dtype=np.int64)
@@ -266,9 +272,10 @@ class _BeamTable:
         self.counts[ripe] = np.where(drop, 0, self.counts[ripe])
         need = max(1, math.ceil(p.min_fraction * self.scans))
         self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        if self.people is not None:
-            self.people[ripe] = np.where(drop, 0, self.people[ripe])
-            self.people[ripe, k_new] = 0
+        for marks in (self.people, self.legs):
+            if marks is not None:
+                marks[ripe] = np.where(drop, 0, marks[ripe])
+                marks[ripe, k_new] = 0
         self._mark(ripe, p)
         self.candidate[ripe] = -1
         self.relearned += int(ripe.size)
@@ -430,7 +437,12 @@ class BeamHistogramBackground:
         top = scan.range_max if math.isfinite(scan.range_max) else 80.0
         return math.ceil(min(top, 80.0) / self.params.bin_width) + 1
 
-    def _add(self, scan: Scan, on_people: NDArray[np.bool_] | None = None) -> None:
+    def _add(
+        self,
+        scan: Scan,
+        on_people: NDArray[np.bool_] | None = None,
+        on_legs: NDArray[np.bool_] | None = None,
+    ) -> None:
         table = self._tables.get(scan.sensor)
         if table is None:
             table = _BeamTable(np.zeros((scan.n_beams, self._n_bins(scan)), np.int32), 0, 0.0)
@@ -457,6 +469,11 @@ class BeamHistogramBackground:
                 table.people = np.zeros_like(table.counts)
             hit = on_people[idx]
             np.add.at(table.people, (idx[hit], bins[hit]), 1)
+        if on_legs is not None:
+            if table.legs is None:
+                table.legs = np.zeros_like(table.counts)
+            hit = on_legs[idx]
+            np.add.at(table.legs, (idx[hit], bins[hit]), 1)
         table.scans += 1
         table.static = None
 
@@ -546,12 +563,19 @@ class BeamHistogramBackground:
         return replace(frame, foreground=self.learn_foreground(frame))
 
     def learn_foreground(
-        self, frame: Frame, people: NDArray[np.bool_] | None = None
+        self,
+        frame: Frame,
+        people: NDArray[np.bool_] | None = None,
+        legs: NDArray[np.bool_] | None = None,
     ) -> NDArray[np.bool_]:
         """Learn from ``frame`` as :meth:`__call__` does and return the foreground (N,) of
         its points (without building a new frame). ``people`` (N,) marks the points that
-        lie on people (e.g. near leg detections): while learning, a bin whose returns were
-        on people in ``people_share`` of them does not become static."""
+        lie on people (e.g. near the legs of people a leg tracker confirmed): while
+        learning, a bin whose returns were on people in ``people_share`` of them does not
+        become static, and the wall behind it is guessed. ``legs`` (N,) marks the points
+        that may lie on people (e.g. near any leg detection, furniture the detector fires
+        on too): such a bin stays static, but the wall behind it is guessed as well, so it
+        is background at once when a person there leaves."""
         if frame.points is None:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
@@ -562,7 +586,7 @@ class BeamHistogramBackground:
             if self._first_stamp is None:
                 self._first_stamp = frame.stamp
             for scan in frame.scans:
-                self._add(scan, _beams_of(frame, scan, people))
+                self._add(scan, _beams_of(frame, scan, people), _beams_of(frame, scan, legs))
                 self._tables[scan.sensor].seconds = frame.stamp - self._first_stamp
             if frame.stamp - self._first_stamp >= self.params.learn_seconds:
                 self.freeze()
@@ -659,13 +683,14 @@ class BeamHistogramBackground:
             ],
         }
         arrays = {f"counts_{i}": t.counts for i, t in enumerate(self._tables.values())}
-        arrays.update(
-            {
-                f"people_{i}": t.people
-                for i, t in enumerate(self._tables.values())
-                if t.people is not None
-            }
-        )
+        for name in ("people", "legs"):
+            arrays.update(
+                {
+                    f"{name}_{i}": getattr(t, name)
+                    for i, t in enumerate(self._tables.values())
+                    if getattr(t, name) is not None
+                }
+            )
         try:
             np.savez_compressed(p, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
         except OSError as exc:
@@ -696,10 +721,12 @@ class BeamHistogramBackground:
                 for i, s in enumerate(meta["sensors"]):
                     counts = np.asarray(data[f"counts_{i}"], dtype=np.int32)
                     table = _BeamTable(counts, int(s["scans"]), float(s["seconds"]))
-                    if f"people_{i}" in data:  # returns on people while learning
-                        table.people = np.asarray(data[f"people_{i}"], dtype=np.int32)
-                        if table.people.shape != counts.shape:
-                            raise ValueError(f"people_{i} does not fit counts_{i}")
+                    for name in ("people", "legs"):  # returns on (maybe) people while learning
+                        if f"{name}_{i}" in data:
+                            marks = np.asarray(data[f"{name}_{i}"], dtype=np.int32)
+                            if marks.shape != counts.shape:
+                                raise ValueError(f"{name}_{i} does not fit counts_{i}")
+                            setattr(table, name, marks)
                     table.angles = float(s["angle_min"]) + float(s["angle_increment"]) * np.arange(
                         counts.shape[0], dtype=np.float64
                     )

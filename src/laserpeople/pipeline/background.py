@@ -282,9 +282,10 @@ class AutoBackground:
             yet, :mod:`laserpeople.pipeline.leg_foreground`).
         legs_from: Index of the first frame narrowed to points near legs (None: none).
         learn_people: While the histogram learns, the points within ``[leg_foreground]
-            radius`` of leg detections are marked as people, whose ranges it does not
-            learn as static (``[beam_histogram] people_share``; the CSA's
-            ``[csa] background_people``).
+            radius`` of the legs of the people a leg MHT confirms are marked as people,
+            whose ranges it does not learn as static, and the wall behind every leg
+            detection is guessed (``[leg_foreground] learn_people``, ``[beam_histogram]
+            people_share``; the CSA's ``[csa] background_people``).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -316,6 +317,7 @@ class AutoBackground:
         self.legs_from: int | None = None
         self.learn_people = learn_people
         self._people_legs: LegForeground | None = None
+        self._learned_scans = 0
 
     def _wants_legs(self) -> bool:
         """Whether the model in use is narrowed to points near legs (``[leg_foreground]
@@ -344,18 +346,31 @@ class AutoBackground:
         self.legs.moving = self.chosen == "occupancy"
         return self.legs(frame)
 
-    def _people(self, frame: Frame) -> NDArray[np.bool_]:
-        """Which points (N,) of ``frame`` lie within ``[leg_foreground] radius`` of a leg
-        detection (the histogram does not learn them as static)."""
+    def _people(
+        self, frame: Frame
+    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None, NDArray[np.bool_] | None]:
+        """While the histogram learns: which points (N,) of ``frame`` lie within
+        ``[leg_foreground] radius`` of a leg of a person the leg MHT tracks
+        (``[leg_foreground] learn_people = "people"``; ``"legs"``: of any leg detection)
+        and are not learned as static; which (N,) lie near any leg detection, whose wall
+        behind is guessed (None with ``"legs"``); and the points near any leg that are
+        foreground in the first ``learn_people_warmup`` scans (None after them)."""
         from laserpeople.pipeline.leg_foreground import near_legs
 
+        p = self.static.leg_foreground
         if self._people_legs is None:
             self._people_legs = LegForeground(
-                self.static.leg_foreground, copy.deepcopy(self._detector)
+                p, copy.deepcopy(self._detector), leg_tracker=self.static.leg_tracker
             )
         assert frame.points is not None
-        legs = self._people_legs.legs_of(frame)
-        return near_legs(frame.points.points, legs, self.static.leg_foreground.radius)
+        pts = frame.points.points
+        self._learned_scans += 1
+        if p.learn_people == "legs":
+            return near_legs(pts, self._people_legs.legs_of(frame), p.radius), None, None
+        legs, people = self._people_legs.person_legs(frame)
+        near = near_legs(pts, legs, p.radius)
+        warm = near if self._learned_scans <= p.learn_people_warmup else None
+        return near_legs(pts, legs[people], p.radius), near, warm
 
     def _moved(self, frame: Frame) -> bool:
         if frame.frame == "sensor":
@@ -389,8 +404,9 @@ class AutoBackground:
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
         out: Frame
         if learning and self.learn_people:
-            people = self._people(frame)
-            out = replace(frame, foreground=self.model.learn_foreground(frame, people))  # type: ignore[attr-defined]
+            people, legs, warm = self._people(frame)
+            fg = self.model.learn_foreground(frame, people, legs)  # type: ignore[attr-defined]
+            out = replace(frame, foreground=fg if warm is None else fg | warm)
         else:
             out = self.model(frame)
         if self.chosen == "histogram" and frame.frame == "sensor":
@@ -447,8 +463,8 @@ class AutoBackground:
         if not marked:
             return ""
         return (
-            f"; {marked} beams on leg detections while it learned were not learned as "
-            f"static ([csa] background_people), {settled} of them static after all "
+            f"; {marked} beams on the leg MHT's people while it learned were not learned "
+            f"as static ([csa] background_people), {settled} of them static after all "
             "([beam_histogram] people_settle_seconds)"
         )
 

@@ -327,8 +327,9 @@ def count_people(
     "blobs": the number of distinct blobs per cluster (000 Sec. 4.1). "legs": that number
     minus the pairs of leg-sized blobs of one cluster that are mutual nearest neighbours
     closer than ``pair_distance``. "resolved": as "legs", but a blob wider than a leg counts
-    the people its arc holds (:func:`resolved_people`; ``spacing`` (N,) the beam spacing
-    at each point [m])."""
+    the people its arc and its width hold (:func:`resolved_people`; ``spacing`` (N,) the
+    beam spacing at each point [m]), and the one-leg blobs narrower in arc than
+    ``pair_arc`` are paired as ``matching`` says (:func:`blob_people`)."""
     if pts.shape[0] == 0:
         return np.zeros(m)
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
@@ -341,6 +342,26 @@ def count_people(
     if counting is None or counting.method == "blobs":
         out: FloatArray = np.bincount(blob_cluster, minlength=m).astype(np.float64)
         return out
+    people, pairs = blob_people(pts, blob, blob_cluster, counting, spacing)
+    out = np.bincount(blob_cluster, people, m).astype(np.float64)
+    # a pair of one person's two leg blobs counts one person, not two
+    np.subtract.at(out, blob_cluster[pairs[:, 0]], 1.0)
+    return out
+
+
+def blob_people(
+    pts: FloatArray,
+    blob: IntArray,
+    blob_cluster: IntArray,
+    counting: SizeCounting,
+    spacing: FloatArray | None = None,
+) -> tuple[FloatArray, IntArray]:
+    """What "legs" and "resolved" counting see in the blobs: the people (B,) each blob
+    stands for alone and the pairs (K, 2) of blobs that are one person's two legs (each
+    pair counts one person less). ``blob`` (N,) is the label 0..B-1 of each point ``pts``
+    (N, 2) [m], every label used, ``blob_cluster`` (B,) the cluster of each blob and
+    ``spacing`` (N,) the beam spacing at each point [m] or None."""
+    n_blobs = blob_cluster.size
     centre, radius = blob_shapes(pts, blob, n_blobs)
     people = np.ones(n_blobs)
     pairable = radius <= counting.leg_radius
@@ -349,20 +370,16 @@ def count_people(
         if spacing is not None and counting.pair_arc > 0.0:
             arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
             pairable &= arc < counting.pair_arc
-    out = np.bincount(blob_cluster, people, m).astype(np.float64)
     if counting.method == "resolved" and counting.matching == "maximum":
         legs = np.nonzero(pairable)[0]
         pairs = matched_legs(centre[legs], counting.pair_distance, blob_cluster[legs])
-        np.subtract.at(out, blob_cluster[legs[pairs[:, 0]]], 1.0)
-        return out
+        return people, legs[pairs]
     leg, partner = leg_pairs(
         centre, np.where(pairable, radius, np.inf), counting.leg_radius,
         counting.pair_distance, blob_cluster,
     )  # fmt: skip
-    paired = partner >= 0
-    # each mutual pair is seen from both of its blobs: half a person less per blob
-    np.subtract.at(out, blob_cluster[leg[paired]], 0.5)
-    return out
+    first = (partner >= 0) & (leg < partner)  # each mutual pair once
+    return people, np.column_stack([leg[first], partner[first]]).astype(np.int64)
 
 
 def resolved_people(

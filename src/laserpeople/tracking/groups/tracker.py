@@ -181,8 +181,8 @@ class GroupTrackerParams:
     )
     person_width: float = param(
         0.6,
-        "chosen on random-groups seeds 0-19 (a blob of one person at feet height is wider "
-        "than 0.56 m in 1 % of blobs, of two people in half; docs/groups.md)",
+        "chosen on random-groups seeds 0-19 (at feet height 0.2 % of one person's blobs are "
+        "wider, 39 % of those of two people or more; docs/groups.md)",
         "widest one person is at the laser (size_count resolved: a blob wider, twice its "
         "radius, holds at least ceil(2 radius / person_width) people; 0: not used)",
         "m",

@@ -215,10 +215,10 @@ class GroupTrackerParams:
         "m",
     )
     size_std: float = param(
-        0.15,
-        "assumption, chosen on random-groups seeds 0-9 with size_count resolved (0.25 before, "
-        "from entrance-hall seeds 0 and 1 with size_count legs; held-back results in "
-        "docs/groups.md)",
+        0.05,
+        "assumption, chosen on random-groups seeds 0-19 with the maximum leg matching (0.15 "
+        "before, from seeds 0-9 with size_count resolved; 0.25 from entrance-hall seeds 0 "
+        "and 1 with size_count legs; held-back results in docs/groups.md)",
         "std of the observed number of people in the update (eq. 30)",
         "people",
     )

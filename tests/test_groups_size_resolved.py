@@ -4,12 +4,16 @@ the legs its beams' arc holds; hand-made clusters with hand-counted people."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from laserpeople.tracking.groups.observations import (
+    MATCHING_EXACT,
     GroupObservations,
     SizeCounting,
+    matched_legs,
     resolved_people,
 )
 from laserpeople.tracking.groups.tracker import GroupTrackerParams
@@ -88,3 +92,82 @@ def test_bad_counting_settings_are_refused() -> None:
         SizeCounting("heads")
     with pytest.raises(ValueError, match="size_count"):
         GroupTrackerParams(size_count="heads")
+
+
+DEFAULT = GroupTrackerParams().counting()
+"""The default counting: "resolved" with the maximum matching, ``pair_arc`` and
+``person_width``."""
+
+
+def _blobs(centres: list[float], points: int = 3, step: float = 0.04) -> np.ndarray:
+    """One-leg blobs (``points`` points ``step`` apart along y) at x = 4 m, centred at
+    each of ``centres`` along y."""
+    return np.vstack([_run(4.0, y, points, step) for y in centres])
+
+
+def test_the_default_counting_is_resolved_with_its_rules() -> None:
+    assert DEFAULT.method == "resolved"
+    assert DEFAULT.matching == "maximum"
+    assert pytest.approx(0.22) == DEFAULT.pair_arc
+    assert pytest.approx(0.6) == DEFAULT.person_width
+
+
+def test_legs_of_people_walking_in_file_are_matched_not_nearest() -> None:
+    # four one-leg blobs on a line, 0.58, 0.50 and 0.58 m apart: two walkers with long
+    # strides, 0.50 m from one to the next. Mutual nearest neighbours pair the middle two
+    # (0.50 m) and leave the outer two alone: 3 people. The maximum matching pairs 0-1 and
+    # 2-3: 2 people.
+    pts = _blobs([0.0, 0.58, 1.08, 1.66])
+    mutual = replace(DEFAULT, matching="mutual")
+    assert _count(pts, DEFAULT, 0.04) == [2.0]
+    assert _count(pts, mutual, 0.04) == [3.0]
+
+
+def test_a_chain_too_long_to_search_is_paired_closest_first() -> None:
+    # 14 one-leg blobs 0.5 m apart (more than MATCHING_EXACT linked): 7 pairs, 7 people
+    assert MATCHING_EXACT < 14
+    pts = _blobs([0.5 * k for k in range(14)])
+    assert _count(pts, DEFAULT, 0.04) == [7.0]
+    pairs = matched_legs(np.column_stack([np.zeros(14), 0.5 * np.arange(14)]), 0.7,
+                         np.zeros(14, dtype=np.int64))  # fmt: skip
+    assert sorted(pairs.ravel().tolist()) == list(range(14))
+    assert np.all(np.abs(np.diff(pairs, axis=1)) == 1)
+
+
+def test_matching_prefers_the_shorter_pairs_and_stays_in_its_cluster() -> None:
+    # a triangle 0.5, 0.6, 0.65 m: one pair, the shortest (0-1)
+    centre = np.array([[0.0, 0.0], [0.5, 0.0], [0.0, 0.6]])
+    assert matched_legs(centre, 0.7, np.zeros(3, dtype=np.int64)).tolist() == [[0, 1]]
+    # the same blobs in three clusters: no pair
+    assert matched_legs(centre, 0.7, np.arange(3, dtype=np.int64)).shape == (0, 2)
+
+
+def test_a_leg_sized_blob_whose_arc_holds_two_legs_is_not_paired() -> None:
+    # far away (0.12 m per beam): a blob of two beams 0.16 m apart (radius 0.08 m, leg-sized)
+    # covers an arc of 0.24 m, both legs of one person; the one-beam blob 0.5 m away is
+    # a second person. With pair_arc 0 (or mutual neighbours) they pair into one person.
+    pts = np.vstack([_run(8.0, 0.0, 2, 0.16), _run(8.0, 0.5, 1, 0.16)])
+    assert _count(pts, DEFAULT, 0.12) == [2.0]
+    assert _count(pts, replace(DEFAULT, pair_arc=0.0), 0.12) == [1.0]
+    # an arc just below pair_arc (two beams of 0.105 m: 0.21 m) is one leg: paired
+    assert _count(pts, DEFAULT, 0.105) == [1.0]
+
+
+def test_a_blob_wider_than_a_person_holds_two_whatever_its_arc() -> None:
+    # four points 0.25, 0.2, 0.25 m apart (one blob at d_hs 0.3 m, radius 0.35 m, 0.7 m
+    # across) at 0.06 m per beam: an arc of 0.24 m is one person by the legs it covers, but
+    # no person is 0.7 m wide at the laser: ceil(0.7 / 0.6) = 2
+    pts = np.column_stack([np.full(4, 4.0), [-0.35, -0.1, 0.1, 0.35]])
+    assert _count(pts, DEFAULT, 0.06) == [2.0]
+    assert _count(pts, replace(DEFAULT, person_width=0.0), 0.06) == [1.0]
+    # 0.56 m across: one person
+    assert _count(pts * np.array([1.0, 0.8]), DEFAULT, 0.06) == [1.0]
+
+
+def test_bad_matching_settings_are_refused() -> None:
+    with pytest.raises(ValueError, match="leg matching"):
+        SizeCounting("resolved", matching="nearest")
+    with pytest.raises(ValueError, match="person_width"):
+        SizeCounting("resolved", person_width=-0.1)
+    with pytest.raises(ValueError, match="leg_matching"):
+        GroupTrackerParams(leg_matching="nearest")

@@ -16,7 +16,14 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
   expected beams per leg there are ``leg_width`` / spacing), it holds
   ``L = round(arc / leg_width)`` legs (at least one) and stands for ``floor(L / 2 + 1/2)``
   people (two legs side by side or a torso: one; the legs of two people run together:
-  two). Blobs of one leg pair as in ``"legs"``.
+  two). A blob wider than a person (``2 x radius`` above ``person_width``) holds at least
+  ``ceil(2 radius / person_width)`` people, whatever its arc (the people behind the
+  nearest show slivers). A leg-sized blob whose arc covers ``pair_arc`` or more holds both
+  legs of a person (far away or at low resolution two legs side by side give a blob of a
+  leg's radius) and is not paired. The one-leg blobs are paired by a maximum matching (the
+  most pairs closer than ``pair_distance``, each blob in one pair at most): the fewest
+  people whose two legs lie within a stride, where mutual nearest neighbours miss the
+  pairs of people walking in file with strides as long as their spacing.
 """
 
 from __future__ import annotations
@@ -278,18 +285,32 @@ class SizeCounting:
         leg_radius: Largest radius of a blob that can be one leg [m] (wider blobs are a
             person or more already and are not paired).
         leg_width: Arc a leg covers [m] ("resolved").
+        person_width: Widest a person is at the laser's height [m] ("resolved": a blob
+            twice whose radius is wider holds ``ceil(2 radius / person_width)`` people at
+            least; 0: not used).
+        pair_arc: Arc from which a leg-sized blob holds two legs and is not paired [m]
+            ("resolved"; 0: every leg-sized blob may be paired).
+        matching: "maximum" pairs the one-leg blobs by a maximum matching ("resolved"),
+            "mutual" by mutual nearest neighbours (as "legs").
     """
 
     method: str = "legs"
     pair_distance: float = 0.7
     leg_radius: float = 0.12
     leg_width: float = 0.18
+    person_width: float = 0.0
+    pair_arc: float = 0.0
+    matching: str = "mutual"
 
     def __post_init__(self) -> None:
         if self.method not in ("blobs", "legs", "resolved"):
             raise ValueError("size counting method must be 'blobs', 'legs' or 'resolved'")
         if min(self.pair_distance, self.leg_radius, self.leg_width) <= 0.0:
             raise ValueError("pair_distance, leg_radius and leg_width must be positive")
+        if min(self.person_width, self.pair_arc) < 0.0:
+            raise ValueError("person_width and pair_arc must not be negative (0: not used)")
+        if self.matching not in ("maximum", "mutual"):
+            raise ValueError("leg matching must be 'maximum' or 'mutual'")
 
 
 def count_people(
@@ -306,8 +327,9 @@ def count_people(
     "blobs": the number of distinct blobs per cluster (000 Sec. 4.1). "legs": that number
     minus the pairs of leg-sized blobs of one cluster that are mutual nearest neighbours
     closer than ``pair_distance``. "resolved": as "legs", but a blob wider than a leg counts
-    the people its arc holds (:func:`resolved_people`; ``spacing`` (N,) the beam spacing
-    at each point [m])."""
+    the people its arc and its width hold (:func:`resolved_people`; ``spacing`` (N,) the
+    beam spacing at each point [m]), and the one-leg blobs narrower in arc than
+    ``pair_arc`` are paired as ``matching`` says (:func:`blob_people`)."""
     if pts.shape[0] == 0:
         return np.zeros(m)
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
@@ -320,18 +342,44 @@ def count_people(
     if counting is None or counting.method == "blobs":
         out: FloatArray = np.bincount(blob_cluster, minlength=m).astype(np.float64)
         return out
+    people, pairs = blob_people(pts, blob, blob_cluster, counting, spacing)
+    out = np.bincount(blob_cluster, people, m).astype(np.float64)
+    # a pair of one person's two leg blobs counts one person, not two
+    np.subtract.at(out, blob_cluster[pairs[:, 0]], 1.0)
+    return out
+
+
+def blob_people(
+    pts: FloatArray,
+    blob: IntArray,
+    blob_cluster: IntArray,
+    counting: SizeCounting,
+    spacing: FloatArray | None = None,
+) -> tuple[FloatArray, IntArray]:
+    """What "legs" and "resolved" counting see in the blobs: the people (B,) each blob
+    stands for alone and the pairs (K, 2) of blobs that are one person's two legs (each
+    pair counts one person less). ``blob`` (N,) is the label 0..B-1 of each point ``pts``
+    (N, 2) [m], every label used, ``blob_cluster`` (B,) the cluster of each blob and
+    ``spacing`` (N,) the beam spacing at each point [m] or None."""
+    n_blobs = blob_cluster.size
     centre, radius = blob_shapes(pts, blob, n_blobs)
     people = np.ones(n_blobs)
+    pairable = radius <= counting.leg_radius
     if counting.method == "resolved":
         people = resolved_people(blob, radius, counting, spacing)
-    out = np.bincount(blob_cluster, people, m).astype(np.float64)
+        if spacing is not None and counting.pair_arc > 0.0:
+            arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
+            pairable &= arc < counting.pair_arc
+    if counting.method == "resolved" and counting.matching == "maximum":
+        legs = np.nonzero(pairable)[0]
+        pairs = matched_legs(centre[legs], counting.pair_distance, blob_cluster[legs])
+        return people, legs[pairs]
     leg, partner = leg_pairs(
-        centre, radius, counting.leg_radius, counting.pair_distance, blob_cluster
-    )
-    paired = partner >= 0
-    # each mutual pair is seen from both of its blobs: half a person less per blob
-    np.subtract.at(out, blob_cluster[leg[paired]], 0.5)
-    return out
+        centre, np.where(pairable, radius, np.inf), counting.leg_radius,
+        counting.pair_distance, blob_cluster,
+    )  # fmt: skip
+    first = (partner >= 0) & (leg < partner)  # each mutual pair once
+    return people, np.column_stack([leg[first], partner[first]]).astype(np.int64)
 
 
 def resolved_people(
@@ -349,6 +397,9 @@ def resolved_people(
     legs = np.maximum(1.0, np.round(arc / counting.leg_width))
     wide = radius > counting.leg_radius
     people[wide] = np.floor(legs[wide] / 2.0 + 0.5)
+    if counting.person_width > 0.0:
+        across = np.ceil(2.0 * radius[wide] / counting.person_width - 1e-9)
+        people[wide] = np.maximum(people[wide], across)
     return people
 
 
@@ -394,3 +445,82 @@ def leg_pairs(
     paired = (dist[k, nearest] < pair_distance) & (nearest[nearest] == k)
     partner[paired] = leg[nearest[paired]]
     return leg, partner
+
+
+MATCHING_EXACT = 12
+"""Largest set of linked one-leg blobs matched exactly (a search over the subsets); larger
+sets (crowds standing within a stride of each other) are paired greedily, closest first."""
+
+
+def matched_legs(centre: FloatArray, pair_distance: float, cluster: IntArray) -> IntArray:
+    """Pairs (K, 2) of rows of ``centre`` (L, 2) [m], the one-leg blobs, that are one
+    person's two legs: a maximum matching of the blobs of one ``cluster`` (L,) closer than
+    ``pair_distance`` [m] (the most pairs, and of those the least summed distance), each
+    blob in one pair at most. Sets of linked blobs larger than :data:`MATCHING_EXACT` are
+    paired closest first."""
+    n = centre.shape[0]
+    none = np.empty((0, 2), dtype=np.int64)
+    if n < 2:
+        return none
+    dist = np.hypot(
+        centre[:, None, 0] - centre[None, :, 0], centre[:, None, 1] - centre[None, :, 1]
+    )
+    link = (dist < pair_distance) & (cluster[:, None] == cluster[None, :])
+    np.fill_diagonal(link, False)
+    a, b = np.nonzero(np.triu(link))
+    if a.size == 0:
+        return none
+    part = component_labels(n, np.column_stack([a, b]).astype(np.int64))
+    out: list[tuple[int, int]] = []
+    for k in np.unique(part[a]):
+        rows = np.flatnonzero(part == k)
+        if rows.size == 2:
+            out.append((int(rows[0]), int(rows[1])))
+        elif rows.size <= MATCHING_EXACT:
+            out += [
+                (int(rows[i]), int(rows[j]))
+                for i, j in _best_matching(dist[np.ix_(rows, rows)], link[np.ix_(rows, rows)])
+            ]
+        else:
+            out += _closest_first(dist, link, rows)
+    return np.asarray(out, dtype=np.int64).reshape(-1, 2)
+
+
+def _best_matching(dist: FloatArray, link: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """Maximum matching of the graph ``link`` (n, n) (the most pairs, then the least summed
+    ``dist``), by a search over the unmatched vertices (n at most :data:`MATCHING_EXACT`)."""
+    n = dist.shape[0]
+    neighbours = [np.flatnonzero(link[v]).tolist() for v in range(n)]
+    memo: dict[int, tuple[int, float, tuple[tuple[int, int], ...]]] = {}
+
+    def best(done: int) -> tuple[int, float, tuple[tuple[int, int], ...]]:
+        if done in memo:
+            return memo[done]
+        v = next((i for i in range(n) if not done >> i & 1), -1)
+        if v < 0:
+            return 0, 0.0, ()
+        top = best(done | 1 << v)  # v in no pair
+        for u in neighbours[v]:
+            if not done >> u & 1:
+                count, length, pairs = best(done | 1 << v | 1 << u)
+                if (count + 1, -(length + dist[v, u])) > (top[0], -top[1]):
+                    top = (count + 1, length + float(dist[v, u]), ((v, u), *pairs))
+        memo[done] = top
+        return top
+
+    return list(best(0)[2])
+
+
+def _closest_first(
+    dist: FloatArray, link: NDArray[np.bool_], rows: IntArray
+) -> list[tuple[int, int]]:
+    """Pairs of ``rows`` linked in ``link``, closest first, each row in one pair at most."""
+    sub = np.where(link[np.ix_(rows, rows)], dist[np.ix_(rows, rows)], np.inf)
+    i, j = np.nonzero(np.triu(np.isfinite(sub)))
+    taken = np.zeros(rows.size, dtype=bool)
+    out: list[tuple[int, int]] = []
+    for e in np.argsort(sub[i, j], kind="stable"):
+        if not (taken[i[e]] or taken[j[e]]):
+            taken[i[e]] = taken[j[e]] = True
+            out.append((int(rows[i[e]]), int(rows[j[e]])))
+    return out

@@ -179,6 +179,29 @@ class GroupTrackerParams:
         "largest radius of a blob that may be one leg (size_count legs)",
         "m",
     )
+    person_width: float = param(
+        0.6,
+        "chosen on random-groups seeds 0-19 (at feet height 0.2 % of one person's blobs are "
+        "wider, 39 % of those of two people or more; docs/groups.md)",
+        "widest one person is at the laser (size_count resolved: a blob wider, twice its "
+        "radius, holds at least ceil(2 radius / person_width) people; 0: not used)",
+        "m",
+    )
+    pair_arc: float = param(
+        0.22,
+        "chosen on random-groups seeds 0-19 (one leg's blob covers an arc of 0.21 m at the "
+        "99th percentile; docs/groups.md)",
+        "arc from which a leg-sized blob holds two legs, one person, and is not paired with "
+        "another blob (size_count resolved; 0: every leg-sized blob may be paired)",
+        "m",
+    )
+    leg_matching: str = param(
+        "maximum",
+        "extension of 000 Sec. 4.1, chosen on random-groups seeds 0-19 (docs/groups.md)",
+        "how one-leg blobs are paired into people (size_count resolved): maximum (a maximum "
+        "matching: the most pairs within leg_pair_distance) | mutual (mutual nearest "
+        "neighbours, as size_count legs)",
+    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -192,10 +215,10 @@ class GroupTrackerParams:
         "m",
     )
     size_std: float = param(
-        0.15,
-        "assumption, chosen on random-groups seeds 0-9 with size_count resolved (0.25 before, "
-        "from entrance-hall seeds 0 and 1 with size_count legs; held-back results in "
-        "docs/groups.md)",
+        0.05,
+        "assumption, chosen on random-groups seeds 0-19 with the maximum leg matching (0.15 "
+        "before, from seeds 0-9 with size_count resolved; 0.25 from entrance-hall seeds 0 "
+        "and 1 with size_count legs; held-back results in docs/groups.md)",
         "std of the observed number of people in the update (eq. 30)",
         "people",
     )
@@ -390,6 +413,8 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs', 'legs' or 'resolved'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
+        if self.leg_matching not in ("maximum", "mutual"):
+            raise ValueError("leg_matching must be 'maximum' or 'mutual'")
         if self.max_models < 1 or self.max_events < 0:
             raise ValueError("max_models must be at least 1 and max_events not negative")
         if not (self.observation_area >= 0.0 and math.isfinite(self.observation_area)):
@@ -437,6 +462,9 @@ class GroupTrackerParams:
             self.leg_pair_distance,
             self.leg_radius,
             self.leg_width,
+            self.person_width,
+            self.pair_arc,
+            self.leg_matching,
         )
 
     def model_settings(self) -> GroupModelSettings:

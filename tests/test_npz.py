@@ -111,3 +111,28 @@ def test_directories_and_unwritable_paths_are_clear_errors(tmp_path: Path) -> No
     with pytest.raises(RecordingError, match="cannot write"):
         write_recording(blocker / "r.npz", _scans())
     assert not list(tmp_path.glob("**/*.partial"))
+
+
+def test_the_truth_frame_is_kept_when_stated(tmp_path: Path) -> None:
+    """Truth frames that state their frame keep it through a file; frames that do not
+    (or disagree) write none, and a file that states something else is refused."""
+    from dataclasses import replace
+
+    for stated, back in (("sensor", "sensor"), ("world", "world"), (None, None)):
+        frames = [replace(f, frame=stated) for f in _truth()]
+        path = write_recording(tmp_path / f"{stated}.npz", _scans(), frames)
+        rec = open_recording(path)
+        assert {f.frame for f in rec.truth()} == {back}
+        rec.close()
+    mixed = [replace(f, frame="sensor" if k else "world") for k, f in enumerate(_truth())]
+    rec = open_recording(write_recording(tmp_path / "mixed.npz", _scans(), mixed))
+    assert {f.frame for f in rec.truth()} == {None}
+    rec.close()
+    with np.load(tmp_path / "world.npz") as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["truth_frame"] = np.array("odom")
+    np.savez(tmp_path / "odom.npz", **arrays)  # type: ignore[arg-type]
+    rec = open_recording(tmp_path / "odom.npz")
+    with pytest.raises(RecordingError, match="truth_frame is 'odom'"):
+        list(rec.truth())
+    rec.close()

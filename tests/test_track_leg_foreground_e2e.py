@@ -42,7 +42,7 @@ def following(tmp_path_factory: pytest.TempPathFactory) -> Path:
         assert pose is not None
         legs = pose.inverse_transform_points(t.leg_positions.reshape(-1, 2)).reshape(-1, 2, 2)
         truth.append(replace(t, positions=pose.inverse_transform_points(t.positions),
-                             leg_positions=legs))  # fmt: skip
+                             leg_positions=legs, frame="sensor"))  # fmt: skip
     path = tmp_path_factory.mktemp("following") / "following.npz"
     write_recording(path, [replace(s, pose=None) for s in scans], truth, rec.meta)
     return path

@@ -24,10 +24,13 @@ truth_stamp             (F,)        [s]
 truth_scan_index        (F,)
 truth_offset            (F+1,)      entries of frame f are ``offset[f]:offset[f+1]``
 truth_person_id         (P,)
-truth_xy, truth_vxy     (P, 2)      [m], [m/s], world frame
+truth_xy, truth_vxy     (P, 2)      [m], [m/s], world frame (or as ``truth_frame`` says)
 truth_group             (P,)        -1 = walks alone
 truth_legs              (P, 2, 2)   [m]
 truth_hue               (P,)        [deg]
+truth_frame             ()          optional text, ``world`` or ``sensor``: the frame of the
+                                    truth's positions (written when the frames state it;
+                                    absent: not stated)
 ======================  ==========  =====================================================
 
 Files are written uncompressed so that reading memory-maps the arrays: iterating over
@@ -52,7 +55,7 @@ from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError, TopicNotFoundError
 from laserpeople.io.damage import DamagedRecords, OnError
-from laserpeople.scan import Pose2D, Scan
+from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.truth import BeamLabels, TruthFrame
 
 FORMAT = "laserpeople-recording"
@@ -411,6 +414,24 @@ class NpzRecording:
             labels=labels,
         )
 
+    def truth_frame(self) -> CoordinateFrame | None:
+        """The frame of the truth's positions, as the file states it (``truth_frame``);
+        None when it does not.
+
+        Raises:
+            RecordingError: it states another frame than ``world`` or ``sensor``.
+        """
+        stated = _text_scalar(self._a.get("truth_frame")) or ""
+        if stated == "world" or stated == "sensor":
+            return "world" if stated == "world" else "sensor"
+        if stated:
+            raise RecordingError(
+                f"truth_frame is {stated!r}, neither world nor sensor",
+                path=self.path,
+                hint="write the recording again with write_recording",
+            )
+        return None
+
     def truth(self) -> Iterator[TruthFrame]:
         """Ground-truth frames in time order (none when the recording has no truth).
 
@@ -423,6 +444,7 @@ class NpzRecording:
         a = self._a
         off = a["truth_offset"]
         last, read = -1, 0
+        frame_of_truth = self.truth_frame()
         for f in range(int(a["truth_stamp"].size)):
             lo, hi = int(off[f]), int(off[f + 1])
             frame = TruthFrame(
@@ -434,7 +456,7 @@ class NpzRecording:
                 group_ids=np.array(a["truth_group"][lo:hi]),
                 leg_positions=np.array(a["truth_legs"][lo:hi]),
                 hues=np.array(a["truth_hue"][lo:hi]),
-                frame="world",
+                frame=frame_of_truth,
             )
             reason = _truth_damage(frame, last)
             if reason:
@@ -521,6 +543,9 @@ def write_recording(
             truth_legs=np.concatenate([f.leg_positions for f in frames]).reshape(-1, 2, 2),
             truth_hue=np.concatenate([f.hues for f in frames]).astype(np.float64),
         )
+        stated = {f.frame for f in frames}
+        if len(stated) == 1 and None not in stated:
+            arrays["truth_frame"] = np.array(stated.pop())
     tmp = path.with_name(path.name + ".partial")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

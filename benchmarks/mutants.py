@@ -92,6 +92,8 @@ VIEW = ("tests/test_viz_acceptance.py",)
 EVAL = ("tests/test_eval_cli.py",)
 CSA_RULES = ("tests/test_track_csa.py",)
 PEOPLE_BG = ("tests/test_background_histogram.py",)
+LEARN_PEOPLE = ("tests/test_pipeline_leg_foreground.py",)
+GROUP_SIZE = ("tests/test_groups_size_resolved.py",)
 MHT_CORE = ("tests/test_track_mht_core.py",)
 DIAGNOSE = ("tests/test_eval_suite.py",)
 FEET_BEAMS = ("tests/test_pf_feet_beams.py",)
@@ -121,6 +123,7 @@ PT = "tracking/person_tracks.py"
 K = "tracking/kalman.py"
 LS = "io/laserscan_ros1.py"
 MC = "tracking/mht/core.py"
+GO = "tracking/groups/observations.py"
 GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
 MUTANTS: tuple[Mutant, ...] = (
@@ -834,16 +837,16 @@ MUTANTS: tuple[Mutant, ...] = (
         "kalman-one-step-q-pv",
         "Kalman: one-step process noise (q d^2 / 2)",
         K,
-        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d\n    q = np.array(",
-        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 3.0, a * d\n    q = np.array(",
+        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d\n    rows = [",
+        "pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 3.0, a * d\n    rows = [",
         KALMAN,
     ),
     Mutant(
         "kalman-one-step-coast-cov",
         "Kalman: one-step coasting covariance (F_c P F_c')",
         K,
-        "cc = fc @ covs @ fc.T + q\n    return pm, pc, cm, cc",
-        "cc = f @ covs @ f.T + q\n    return pm, pc, cm, cc",
+        "cc = fc @ covs @ fct + q\n    return pm, pc, cm, cc",
+        "cc = f @ covs @ ft + q\n    return pm, pc, cm, cc",
         KALMAN,
     ),
     Mutant(
@@ -978,8 +981,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "histogram-relearn-from-person",
         "beam histogram: relearn only beyond the guess",
         H,
-        "            core[beams, bins] = True\n            self.nearest[beams] = bins\n",
-        "            core[beams, bins] = True\n",
+        "            self.nearest[beams[people]] = bins[people]\n",
+        "",
         PEOPLE_BG,
     ),
     Mutant(
@@ -1280,6 +1283,88 @@ MUTANTS: tuple[Mutant, ...] = (
         """            return
         cand = self.candidate[beams]""",
         PEOPLE_BG,
+    ),
+    Mutant(
+        "csa-adopted-walk-split",
+        "Cluster Sorting moving_travel (a split's new target hands on its own walk)",
+        C,
+        """                self._adopted(t.pid, pid)
+""",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-adopted-walk-orphan",
+        "Cluster Sorting moving_travel (an orphan's adopter hands on its own walk)",
+        C,
+        """                self._adopted(t.pid, m)
+""",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-moving-wall-span",
+        "Cluster Sorting moving_wall (the wall continues for the length asked)",
+        C,
+        "    return bool(along.max() - along.min() >= length)",
+        "    return bool(along.max() - along.min() >= 3.0 * length)",
+        CSA_RULES,
+    ),
+    Mutant(
+        "learn-people-every-leg",
+        "histogram learning with people (only the legs of the leg MHT's people are people)",
+        "pipeline/leg_foreground.py",
+        'pos = [t.position for t in tracks.of_kind("leg") if t.track_id in members]',
+        'pos = [t.position for t in tracks.of_kind("leg")]',
+        LEARN_PEOPLE,
+    ),
+    Mutant(
+        "group-size-pair-arc",
+        "000 Sec. 4.6.3 size count (a leg-sized blob covering two legs' arc is a whole person)",
+        GO,
+        "            pairable &= arc < counting.pair_arc",
+        "            pairable &= arc < 2.0 * counting.pair_arc",
+        GROUP_SIZE,
+    ),
+    Mutant(
+        "group-size-person-width",
+        "000 Sec. 4.6.3 size count (a blob wider than a person holds at least two)",
+        GO,
+        "across = np.ceil(2.0 * radius[wide] / counting.person_width - 1e-9)",
+        "across = np.floor(2.0 * radius[wide] / counting.person_width - 1e-9)",
+        GROUP_SIZE,
+    ),
+    Mutant(
+        "group-size-maximum-matching",
+        "000 Sec. 4.6.3 size count (one-leg blobs paired by a maximum matching)",
+        GO,
+        'if counting.method == "resolved" and counting.matching == "maximum":',
+        'if counting.method == "resolved" and counting.matching == "greedy":',
+        GROUP_SIZE,
+    ),
+    Mutant(
+        "map-frame-check",
+        "--map BAG:/topic (a map in another frame than the poses is refused)",
+        "background/bag_map.py",
+        "if not grid.frame or not world or grid.frame == world:",
+        "if not grid.frame or not world or grid.frame != world:",
+        WALKED,
+    ),
+    Mutant(
+        "eval-frame-refusal",
+        "evaluate (tracks without a pose against truth in another frame are refused)",
+        "evaluation/matching.py",
+        "            elif truth.frame is not None:",
+        "            elif truth.frame is None:",
+        (*EVAL, "tests/test_eval_bruteforce.py"),
+    ),
+    Mutant(
+        "npz-truth-frame-mixed",
+        "npz recordings (the truth's frame is written only when every frame states the same)",
+        "io/npz.py",
+        "if len(stated) == 1 and None not in stated:",
+        "if len(stated) >= 1 and None not in stated:",
+        ("tests/test_npz.py",),
     ),
 )
 

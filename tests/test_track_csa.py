@@ -535,6 +535,20 @@ def _escaped_onto_furniture(robot_speed: float, furniture: float = 5.0) -> list[
     return frames
 
 
+def _person_1_at(
+    frames: list[Frame], params: CSAParams, place: tuple[float, float], event: str
+) -> list[bool]:
+    """Per frame, whether the CSA reports person 1 within 0.3 m of ``place`` [m]; the run
+    must hold an ``event`` (the way person 1's identity went to the furniture)."""
+    csa = ClusterSortingTracker(params)
+    rows = []
+    for f in frames:
+        out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
+        rows.append(1 in out and bool(np.linalg.norm(out[1] - np.asarray(place)) < 0.3))
+    assert event in [e.kind for e in csa.events]
+    return rows
+
+
 def test_on_a_moving_laser_furniture_that_takes_a_lost_persons_id_is_not_reported() -> None:
     """moving_travel holds for the target that continues a person (adopt_escaped,
     adopt_orphans): person 1, lost inside the cluster of people 0 and 1, is taken to be
@@ -544,13 +558,7 @@ def test_on_a_moving_laser_furniture_that_takes_a_lost_persons_id_is_not_reporte
     moving_travel = 0 (002) person 1 is reported at the furniture after the split."""
 
     def at_furniture(frames: list[Frame], params: CSAParams) -> list[bool]:
-        csa = ClusterSortingTracker(params)
-        rows = []
-        for f in frames:
-            out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
-            rows.append(1 in out and bool(np.linalg.norm(out[1] - [5.0, 3.0]) < 0.3))
-        assert "split" in [e.kind for e in csa.events]
-        return rows
+        return _person_1_at(frames, params, (5.0, 3.0), "split")
 
     assert not any(at_furniture(_escaped_onto_furniture(0.5), CSAParams()))
     assert all(at_furniture(_escaped_onto_furniture(0.0), CSAParams())[40:])
@@ -566,13 +574,7 @@ def test_on_a_moving_laser_furniture_that_adopts_an_orphan_is_not_reported() -> 
     and with moving_travel = 0 it is, once adopted."""
 
     def at_furniture(frames: list[Frame], params: CSAParams) -> list[bool]:
-        csa = ClusterSortingTracker(params)
-        rows = []
-        for f in frames:
-            out = {t.track_id: t.position for t in csa.update(f).of_kind("person")}
-            rows.append(1 in out and bool(np.linalg.norm(out[1] - [1.2, 3.0]) < 0.3))
-        assert "adopt orphan" in [e.kind for e in csa.events]
-        return rows[30:]
+        return _person_1_at(frames, params, (1.2, 3.0), "adopt orphan")[30:]
 
     assert not any(at_furniture(_escaped_onto_furniture(0.5, 1.2), CSAParams()))
     assert all(at_furniture(_escaped_onto_furniture(0.0, 1.2), CSAParams())[10:])

@@ -451,15 +451,14 @@ def _centre(scan: Scan, beams: list[int]) -> tuple[float, float]:
     return float(np.mean(r * np.cos(a))), float(np.mean(r * np.sin(a)))
 
 
-def _learned_foreground(learn_people: str) -> list[tuple[int, int]]:
+def _learned_foreground() -> list[tuple[int, int]]:
     """``auto`` learning with ``[csa] background_people`` on :func:`_learning_scan`, the
     detector firing on both legs and the bin in every scan: per scan, the foreground
     points on the person and on the bin."""
     scan = _learning_scan(0)
     detector = _FixedDetector(_centre(scan, [40, 41]), _centre(scan, [47, 48]),
                               _centre(scan, [70, 71]))  # fmt: skip
-    static = StaticWorldParams(leg_foreground=LegForegroundParams(learn_people=learn_people))
-    model = AutoBackground(static=static, detector=detector, learn_people=True)
+    model = AutoBackground(detector=detector, learn_people=True)
     out = []
     for i in range(30):
         frame = model(_frame(_learning_scan(i)))
@@ -471,21 +470,16 @@ def _learned_foreground(learn_people: str) -> list[tuple[int, int]]:
 
 
 def test_while_learning_only_the_people_of_the_leg_mht_stay_foreground() -> None:
-    """``learn_people = "people"``: the person is foreground from the first scan (every
-    leg in the first ``learn_people_warmup`` scans, then the legs the leg MHT confirmed)
-    and after learning; the bin the detector also fires on is foreground only in the
-    first 4 scans, then static. ``"legs"`` (the first version) keeps the bin out of the
-    static world too."""
-    people = _learned_foreground("people")
+    """The person is foreground from the first scan (every leg in the first
+    ``learn_people_warmup`` scans, then the legs the leg MHT confirmed) and after
+    learning; the bin the detector also fires on is foreground only in the first 4 scans,
+    then static (marking every leg detection as people kept it out of the static world)."""
+    people = _learned_foreground()
     assert all(p == 4 for p, _ in people), people
     assert [b for _, b in people[:4]] == [2] * 4
     assert all(b == 0 for _, b in people[6:]), people
-    legs = _learned_foreground("legs")
-    assert all(p == 4 and b == 2 for p, b in legs), legs
 
 
-def test_learn_people_is_checked() -> None:
-    with pytest.raises(ValueError, match="learn_people must be one of"):
-        LegForegroundParams(learn_people="chairs")
+def test_learn_people_warmup_is_checked() -> None:
     with pytest.raises(ValueError, match="learn_people_warmup"):
         LegForegroundParams(learn_people_warmup=-1)

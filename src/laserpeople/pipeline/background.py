@@ -284,8 +284,8 @@ class AutoBackground:
         learn_people: While the histogram learns, the points within ``[leg_foreground]
             radius`` of the legs of the people a leg MHT confirms are marked as people,
             whose ranges it does not learn as static, and the wall behind every leg
-            detection is guessed (``[leg_foreground] learn_people``, ``[beam_histogram]
-            people_share``; the CSA's ``[csa] background_people``).
+            detection is guessed (``[leg_foreground] learn_people_warmup``,
+            ``[beam_histogram] people_share``; the CSA's ``[csa] background_people``).
     """
 
     consumes: frozenset[FrameField] = frozenset({"scans", "points"})
@@ -350,11 +350,10 @@ class AutoBackground:
         self, frame: Frame
     ) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None, NDArray[np.bool_] | None]:
         """While the histogram learns: which points (N,) of ``frame`` lie within
-        ``[leg_foreground] radius`` of a leg of a person the leg MHT tracks
-        (``[leg_foreground] learn_people = "people"``; ``"legs"``: of any leg detection)
-        and are not learned as static; which (N,) lie near any leg detection, whose wall
-        behind is guessed (None with ``"legs"``); and the points near any leg that are
-        foreground in the first ``learn_people_warmup`` scans (None after them)."""
+        ``[leg_foreground] radius`` of a leg of a person the leg MHT tracks (not learned as
+        static); which (N,) lie near any leg detection, whose wall behind is guessed; and
+        the points near any leg that are foreground in the first ``learn_people_warmup``
+        scans (None after them)."""
         from laserpeople.pipeline.leg_foreground import near_legs
 
         p = self.static.leg_foreground
@@ -365,8 +364,6 @@ class AutoBackground:
         assert frame.points is not None
         pts = frame.points.points
         self._learned_scans += 1
-        if p.learn_people == "legs":
-            return near_legs(pts, self._people_legs.legs_of(frame), p.radius), None, None
         legs, people = self._people_legs.person_legs(frame)
         near = near_legs(pts, legs, p.radius)
         warm = near if self._learned_scans <= p.learn_people_warmup else None

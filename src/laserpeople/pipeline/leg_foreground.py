@@ -59,9 +59,6 @@ if TYPE_CHECKING:
 LEG_FOREGROUND_USES: tuple[str, ...] = ("never", "no-poses", "moving", "always")
 """When ``auto`` keeps only points near legs (module docstring), from never to always."""
 
-LEARN_PEOPLE: tuple[str, ...] = ("people", "legs")
-"""What ``[leg_foreground] learn_people`` marks as people while the histogram learns."""
-
 
 @dataclass(frozen=True)
 class LegForegroundParams:
@@ -164,26 +161,16 @@ class LegForegroundParams:
         "s",
     )
 
-    learn_people: str = param(
-        "people",
-        "measured (docs/csa.md, 'The people of the learning period'): with every leg "
-        "detection ('legs', the first version) chairs, bins and walls the detector fires on "
-        "and clutter a person passed within radius of were kept out of the static world "
-        "(random-groups tuning seeds, still lasers: person MOTA 0.601 -> 0.508); 000's "
-        "people are two legs",
-        "for [csa] background_people: while the per-beam histogram learns, the points "
-        "within radius of these are marked as people: the legs of the person tracks of a "
-        "leg MHT run on the same detections (people: leg-mht with [leg_tracker], k 20 and "
-        "N-scan 8 where unset) or every leg detection (legs)",
-    )
     learn_people_warmup: int = param(
         4,
         "measured (docs/csa.md, 'The people of the learning period'): the leg MHT confirms "
         "the standing people of crossing-3 in their 3rd or 4th scan; 0 cost crossing-3 "
         "seed 7 (cli) IDF1 0.012 on p0 and p5",
-        "with learn_people = people: in the first this many scans of the learning the "
-        "points near every leg detection are foreground too (not marked: the leg MHT has "
-        "not confirmed anybody yet)",
+        "for [csa] background_people: while the per-beam histogram learns, the legs of the "
+        "person tracks of a leg MHT run on the same detections are marked as people (not "
+        "learned as static); in the first this many scans the points near every leg "
+        "detection are foreground too (not marked: the leg MHT has not confirmed anybody "
+        "yet)",
         "scans",
     )
 
@@ -191,10 +178,6 @@ class LegForegroundParams:
         if self.learn_people_warmup < 0:
             raise ValueError(
                 f"learn_people_warmup must not be negative, got {self.learn_people_warmup}"
-            )
-        if self.learn_people not in LEARN_PEOPLE:
-            raise ValueError(
-                f"learn_people must be one of {', '.join(LEARN_PEOPLE)}, not {self.learn_people!r}"
             )
         if self.use not in LEG_FOREGROUND_USES:
             raise ValueError(

@@ -260,7 +260,7 @@ class CSAParams:
         "with --background auto on still lasers: the ranges of the people a leg MHT "
         "confirms while the per-beam histogram learns are not learned as static, and the "
         "wall behind every leg detection is guessed from the beams beside them "
-        "([leg_foreground] learn_people, learn_people_warmup; [beam_histogram] "
+        "([leg_foreground] learn_people_warmup; [beam_histogram] "
         "people_share, people_settle_seconds)",
     )
     group_rows: bool = param(

@@ -1338,8 +1338,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "group-size-maximum-matching",
         "000 Sec. 4.6.3 size count (one-leg blobs paired by a maximum matching)",
         GO,
-        'if counting.method == "resolved" and counting.matching == "maximum":',
-        'if counting.method == "resolved" and counting.matching == "greedy":',
+        "if (count + 1, -(length + dist[v, u])) > (top[0], -top[1]):",
+        "if (count + 1, length + dist[v, u]) > (top[0], top[1]):",
         GROUP_SIZE,
     ),
     Mutant(

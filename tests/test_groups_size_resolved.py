@@ -107,7 +107,6 @@ def _blobs(centres: list[float], points: int = 3, step: float = 0.04) -> np.ndar
 
 def test_the_default_counting_is_resolved_with_its_rules() -> None:
     assert DEFAULT.method == "resolved"
-    assert DEFAULT.matching == "maximum"
     assert pytest.approx(0.22) == DEFAULT.pair_arc
     assert pytest.approx(0.6) == DEFAULT.person_width
 
@@ -115,10 +114,10 @@ def test_the_default_counting_is_resolved_with_its_rules() -> None:
 def test_legs_of_people_walking_in_file_are_matched_not_nearest() -> None:
     # four one-leg blobs on a line, 0.58, 0.50 and 0.58 m apart: two walkers with long
     # strides, 0.50 m from one to the next. Mutual nearest neighbours pair the middle two
-    # (0.50 m) and leave the outer two alone: 3 people. The maximum matching pairs 0-1 and
-    # 2-3: 2 people.
+    # (0.50 m) and leave the outer two alone (as "legs" counts): 3 people. The maximum
+    # matching pairs 0-1 and 2-3: 2 people.
     pts = _blobs([0.0, 0.58, 1.08, 1.66])
-    mutual = replace(DEFAULT, matching="mutual")
+    mutual = replace(DEFAULT, method="legs")
     assert _count(pts, DEFAULT, 0.04) == [2.0]
     assert _count(pts, mutual, 0.04) == [3.0]
 
@@ -165,9 +164,5 @@ def test_a_blob_wider_than_a_person_holds_two_whatever_its_arc() -> None:
 
 
 def test_bad_matching_settings_are_refused() -> None:
-    with pytest.raises(ValueError, match="leg matching"):
-        SizeCounting("resolved", matching="nearest")
     with pytest.raises(ValueError, match="person_width"):
         SizeCounting("resolved", person_width=-0.1)
-    with pytest.raises(ValueError, match="leg_matching"):
-        GroupTrackerParams(leg_matching="nearest")

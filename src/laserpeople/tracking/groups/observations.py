@@ -290,8 +290,6 @@ class SizeCounting:
             least; 0: not used).
         pair_arc: Arc from which a leg-sized blob holds two legs and is not paired [m]
             ("resolved"; 0: every leg-sized blob may be paired).
-        matching: "maximum" pairs the one-leg blobs by a maximum matching ("resolved"),
-            "mutual" by mutual nearest neighbours (as "legs").
     """
 
     method: str = "legs"
@@ -300,7 +298,6 @@ class SizeCounting:
     leg_width: float = 0.18
     person_width: float = 0.0
     pair_arc: float = 0.0
-    matching: str = "mutual"
 
     def __post_init__(self) -> None:
         if self.method not in ("blobs", "legs", "resolved"):
@@ -309,8 +306,6 @@ class SizeCounting:
             raise ValueError("pair_distance, leg_radius and leg_width must be positive")
         if min(self.person_width, self.pair_arc) < 0.0:
             raise ValueError("person_width and pair_arc must not be negative (0: not used)")
-        if self.matching not in ("maximum", "mutual"):
-            raise ValueError("leg matching must be 'maximum' or 'mutual'")
 
 
 def count_people(
@@ -329,7 +324,7 @@ def count_people(
     closer than ``pair_distance``. "resolved": as "legs", but a blob wider than a leg counts
     the people its arc and its width hold (:func:`resolved_people`; ``spacing`` (N,) the
     beam spacing at each point [m]), and the one-leg blobs narrower in arc than
-    ``pair_arc`` are paired as ``matching`` says (:func:`blob_people`)."""
+    ``pair_arc`` are paired by a maximum matching (:func:`blob_people`)."""
     if pts.shape[0] == 0:
         return np.zeros(m)
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
@@ -370,7 +365,6 @@ def blob_people(
         if spacing is not None and counting.pair_arc > 0.0:
             arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
             pairable &= arc < counting.pair_arc
-    if counting.method == "resolved" and counting.matching == "maximum":
         legs = np.nonzero(pairable)[0]
         pairs = matched_legs(centre[legs], counting.pair_distance, blob_cluster[legs])
         return people, legs[pairs]

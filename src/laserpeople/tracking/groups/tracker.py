@@ -195,13 +195,6 @@ class GroupTrackerParams:
         "another blob (size_count resolved; 0: every leg-sized blob may be paired)",
         "m",
     )
-    leg_matching: str = param(
-        "maximum",
-        "extension of 000 Sec. 4.1, chosen on random-groups seeds 0-19 (docs/groups.md)",
-        "how one-leg blobs are paired into people (size_count resolved): maximum (a maximum "
-        "matching: the most pairs within leg_pair_distance) | mutual (mutual nearest "
-        "neighbours, as size_count legs)",
-    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -413,8 +406,6 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs', 'legs' or 'resolved'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
-        if self.leg_matching not in ("maximum", "mutual"):
-            raise ValueError("leg_matching must be 'maximum' or 'mutual'")
         if self.max_models < 1 or self.max_events < 0:
             raise ValueError("max_models must be at least 1 and max_events not negative")
         if not (self.observation_area >= 0.0 and math.isfinite(self.observation_area)):
@@ -464,7 +455,6 @@ class GroupTrackerParams:
             self.leg_width,
             self.person_width,
             self.pair_arc,
-            self.leg_matching,
         )
 
     def model_settings(self) -> GroupModelSettings:

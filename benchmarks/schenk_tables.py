@@ -217,203 +217,19 @@ NOTES = [
 ]
 
 
-INDEPENDENT = [
-    "## FT on scenes we did not make",
-    "",
-    "The scenes above are 004's: four LMS151 (0.5 deg, 50 Hz) on both sides of one walking "
-    "line, an empty room, a background learned from it. `feet-crossing` (3-4 people "
-    "crossing a hall) and `feet-office` (2-3 people walking between desks) are drawn per "
-    "seed the other way round: one 0.25 deg laser at 0.2 m in a corner of the room, a "
-    "scan rate of 15-40 Hz, legs of 0.06-0.08 m radius, clutter (table and chair legs, "
-    "bins, poles) and people who stop for 1.5-5 s or stand at the end; the background is "
-    "learned from the recording itself (`--background auto`). Tuned on seeds 0-3, "
-    "reported on the held-back seeds 100-103 of both (8 runs):",
-    "",
-    "    laserpeople simulate feet-crossing --seed 100 -o c100.npz",
-    "    laserpeople track c100.npz --tracker feet-pf -o c100.csv",
-    "    laserpeople evaluate c100.csv --truth c100.npz --json   # motp_schenk",
-    "",
-    "| FT | adapted MOTP | MOTA | recall |",
-    "|---|---:|---:|---:|",
-    "| before | 0.62 | 0.80 | 0.80 |",
-    "| links and stops (below) | 0.75 | 0.87 | 0.87 |",
-    "| and the background's `farthest` | 0.78 | 0.88 | 0.88 |",
-    "| and `cell_refresh` | 0.84 | 0.91 | 0.91 |",
-    "| at best (ceiling, below) | 0.94 | | |",
-    "",
-    "What went wrong, seen in the pictures of the worst runs (`laserpeople view X.npz "
-    "--tracks X.csv -o x.png`, and `--scan N`), and what changed:",
-    "",
-    "- Links at a low scan rate: the distance at which points of consecutive scans link "
-    "their clusters (`overlap_distance` 0.25 m at 50 Hz) grows with the time between "
-    "scans, to 0.83 m at 15 Hz, so two people standing 0.9 m apart linked to each other, "
-    "merged and split every scan, and a filter was born between them every 0.2 s (one "
-    "crossing run: 31 identity switches). `feet_pf.overlap_max` 0.5 m bounds it; at "
-    "50 Hz the bound does not bite, so 004's tables do not change.",
-    "- People who stop: with one laser a passer-by hides a person for longer than the 0.2 s "
-    "after which a filter died, and a person standing still makes no step, so 004's "
-    "merge-split sequence never found them again. A filter now lives `miss_time` 1 s "
-    "without points but is reported only within `report_time` 0.2 s of its last support "
-    "(a coasting filter is no track: with 1 s reported, a runner's filter outlived the "
-    "runner, 'fast' seed 0 0.92 -> 0.84), and a person-sized object whose centre stays "
-    "within 0.1 m for `still_time` 1 s starts a filter where none is (`still_points`, "
-    "`still_eigenvalue`). 004's settings (`--preset paper`) switch both births and the "
-    "bound off.",
-    "- A filter left behind: a filter that stood with its person has strides near 0, and "
-    "when the person walks off it stays where they stood (office seed 0: 3 m behind "
-    "after 4 s) while at 15-25 Hz no merge-split of the feet is seen to refresh it. "
-    "`feet_pf.cell_refresh` 0.3 m: a filter whose Voronoi cell's points (at least "
-    "`still_points`) are centred farther than that from its feet midpoint restarts "
-    "`refresh_share` of its particles from them (the two halves along their major axis), "
-    "as from a detected step. Tuning seeds 0-3: MOTP 0.677 at 0, 0.728 at 0.2, 0.752 at "
-    "0.3 (0.4: crossing 0-3 0.809 against 0.813 at 0.3).",
-    "- Not fixed: the per-beam histogram learned the first 2 s of the recording with the "
-    "people in view, so they were missed until they made a step after it (603 of the 729 "
-    "person-scans of walkers before 2.5 s on the tuning seeds; fixed by `farthest`, "
-    "below: on the held-back seeds no person-scan with points at a leg has them all in "
-    "the background, against 98 of 9,330 with 004's rule); and a walker seen "
-    "from one side hides the hind leg behind the "
-    "front one, the filter's foot stays on the last place it saw it and the filter falls "
-    "behind (a third of the walking person-scans of the office runs are 0.3-0.75 m off).",
-    "",
-    "004's scenes with the change (FT, seed 0, tuning): fast 0.923, stop 0.983, cross "
-    "0.959, 3 pers. 0.942, pull case 0.447, skirt 0.836, each the same as before to "
-    "three decimals (50 Hz). The real recordings (`track --tracker feet-pf`, defaults): "
-    "the followed person of the leg_tracker benchmark's dev recording "
-    "(`evaluate --followed-person auto`) identity recall 0.51 -> 0.66, 5 -> 2 ids, recall "
-    "0.986 -> 0.989; the unlabelled bags "
-    "(`benchmarks/real_people.py --trackers feet-pf --policies tracks --backgrounds "
-    "auto`), ids and walkers (ids spanning 1 m or more) before -> after: demo 27 / 16 -> "
-    "7 / 5 (walker-seconds 326 -> 338), MiR 4 / 3 -> 4 / 3, MiR all 3 / 2 -> 3 / 2, "
-    "corridor 12 / 8 -> 7 / 7 (static seconds 2.6 -> 0); "
-    "person-seconds on static places 32 -> 21 s on demo with the default hiding of "
-    "static tracks, 68 -> 85 s without it (a filter now starts on a standing leg-sized "
-    "object the background does not explain).",
-    "",
-    "The background learned with people in view (`beam_histogram.farthest`, true; "
-    "`--preset paper` sets 004's false): people stand in front of walls, never behind "
-    "them, so per beam only the farthest frequent range (and the bins within twice the "
-    "tolerance before it) is static, and a person who stood or stepped in front of the "
-    "wall for part of the learning is foreground from the start; a beam that saw only "
-    "the person keeps the person's range until it relearns the wall "
-    "(`relearn_seconds`). Feet-pf, `--background auto`, before -> after: tuning seeds "
-    "0-3 of both families adapted MOTP 0.66 -> 0.68, MOTA 0.82 -> 0.86, recall 0.83 -> "
-    "0.86; held-back seeds 100-103 adapted MOTP 0.750 -> 0.779, MOTA 0.865 -> 0.875, "
-    "recall 0.867 -> 0.878 (better MOTP in 5 of the 8 runs, MOTA in 6; crossing seed 100 "
-    "loses a standing person's filter after 7 s, MOTP 0.70 -> 0.50). The people of CSA's "
-    "`crossing-3` stand through the whole learning period, so `csa_identity.py --seed 7` "
-    "is unchanged (cli IDF1 worst / mean 0.775 / 0.816, MOTA 0.61-0.69). 004's scenes "
-    "learn from an empty room: fast 0.923, stop 0.983 (FT, seed 0), unchanged. The real "
-    "bags (`real_people.py --trackers feet-pf csa --policies tracks --backgrounds auto "
-    "--bags demo corridor`): ids, walkers and static seconds unchanged (demo feet-pf 7 / "
-    "5 / 84.8 s, csa 67 / 30 / 25.0 s; corridor feet-pf 7 / 7 / 0 s, csa 15 / 6 / "
-    "0.2 s).",
-    "",
-    "With `cell_refresh` (held-back seeds 100-103, defaults), before -> after: adapted "
-    "MOTP 0.779 -> 0.842, MOTA 0.875 -> 0.906, recall 0.878 -> 0.907; per run crossing "
-    "100-103 0.50 -> 0.77, 0.63 -> 0.72, 0.93 -> 0.85, 0.95 -> 0.96, office 100-103 "
-    "0.74 -> 0.87, 0.76 -> 0.94, 0.87 -> 0.88, 0.84 -> 0.74 (crossing 102 loses a filter "
-    "where two people end 0.26 m apart, office 103 an identity). The real recordings, "
-    "before -> after: the followed person of the dev recording identity recall 0.663 "
-    "-> 0.662, 2 ids both, recall 0.992 -> 0.991; `real_people.py --trackers feet-pf "
-    "--policies tracks --backgrounds auto --bags demo corridor`: demo 7 ids / 5 "
-    "walkers both, person-seconds on static places 21.0 -> 21.4 s, walker-seconds "
-    "337.6 -> 339.0; corridor 7 / 7 and 0 s both. 004's scenes (FT, seed 0): fast "
-    "0.923, stop 0.983, cross 0.959 unchanged; 3 pers. 0.942 -> 0.934 (seeds 0-3 mean "
-    "0.939 both), pull case 0.447 -> 0.428 (seeds 0-2 mean 0.439 -> 0.408; single seeds "
-    "flip between 0.37 and 0.44 with either setting: whether the suitcase hijacks the "
-    "filter), skirt 0.836 -> 0.856. The tables above are run with it; their before columns "
-    "are the runs before it (FT table averages 0.90, 0.94, 0.93, 0.92, 0.93, 0.76 -> "
-    "0.92, 0.95, 0.94, 0.92, 0.93, 0.76; held-back pull case 0.43 -> 0.44). "
-    "`--preset paper` switches it off.",
-    "",
-    "What is left, from the pictures of the worst held-back runs: the simulator lets "
-    "people stand behind things and on one spot. A person standing 10 s behind a bin "
-    "(crossing seed 101: 263 of its 1,522 person-scans have no point at either leg), and "
-    "people who walk through or stop on another's place (crossing seed 100: two people "
-    "0.01 m apart from 11.5 s; seed 102: 0.26 m apart from 12 s; 116 and 99 person-scans "
-    "within 0.3 m of another person), where one track is all any tracker can give. "
-    "Counting a person-scan without points at a leg, or within 0.3 m of a person already "
-    "counted, as lost, the best MOTP on the held-back runs is 0.94 on average (0.82 on "
-    "crossing 101). On crossing seed 100 the background's `farthest` cost 0.70 -> 0.50: "
-    "from 8.5 s two people stand 0.58 m apart one behind the other on one bearing, the "
-    "far one showing one or two points past the near one; one filter puts a foot on "
-    "each, and within `birth_exclusion` of both no other filter starts. Which filter "
-    "ends there depends on the births from 1.4 s on, which the background's foreground "
-    "while it learns changes, not on the rule itself; with `cell_refresh` the run "
-    "scores 0.77.",
-    "",
-    "Tried and not kept: a new filter taking back the identity of a filter that died for "
-    "want of support within 3 s, 0.6 m from where that filter would be (no run of seeds "
-    "0-3, nor 6 of the held-back runs, changed: the filters that die are not found again "
-    "near where they were lost); a still object counted as taken only when a filter "
-    "stands on it with both feet (0.25 m), instead of a filter's feet midpoint within "
-    "`birth_exclusion` of its centre, for the two people one behind the other (seeds "
-    "0-3, 5 runs: 0.689 -> 0.686); `cell_refresh` from the cell's object nearest to the "
-    "filter's feet instead of all its points, so that a pulled suitcase in the cell "
-    "does not count (seeds 0-3, 7 runs: 0.752 -> 0.727; pull case seeds 0-2 0.413).",
-    "",
-    "On the `random-groups` family (parties of 1-4 who walk side by side, stand in "
-    "circles, split and meet; legs 0.05-0.09 m; one scanner of 0.25-1 deg at 10-20 Hz; "
-    "still or on a moving robot), the scenes whose laser is at feet height, 10 s each, "
-    "through `simulate`, `track --tracker feet-pf` and `evaluate` "
-    "(`benchmarks/feet_random.py --seeds 0-19`; held back: `--seeds 100-119`, 13 scenes, "
-    "7 on a moving robot, 9 with scanners of 0.6 deg or coarser). `--background auto` "
-    "already gives a moving laser the occupancy grid in the world frame (the per-beam "
-    "histogram holds only while the laser keeps its first pose) and narrows the "
-    "foreground to points near leg detections; `track` says which model ran and from "
-    "which frame. Adapted MOTP, before -> after:",
-    "",
-    "| FT, random-groups at feet height | tuning 0-19 (14 scenes) | held back 100-119 "
-    "(13) | held back, still (6) | moving (7) | < 0.6 deg (4) | >= 0.6 deg (9) |",
-    "|---|---:|---:|---:|---:|---:|---:|",
-    "| before | 0.369 | 0.288 | 0.358 | 0.227 | 0.373 | 0.250 |",
-    "| `birth_exclusion` 0.6 m and `leg_width` | 0.496 | 0.347 | 0.437 | 0.269 | 0.462 | 0.296 |",
-    "",
-    "Held back, MOTA 0.385 -> 0.441, recall 0.431 -> 0.504, IDF1 0.515 -> 0.558; better "
-    "in 10 of the 13 scenes, worse in 110 (0.44 -> 0.38) and 116 (0.261 -> 0.255), 105 "
-    "unchanged. Far from 0.80.",
-    "",
-    "- Births in groups (`birth_exclusion` 0.85 -> 0.6 m): the people of a party walk and"
-    " stand 0.75 m apart, and no filter started within 0.85 m of another, so a party was "
-    "followed by fewer filters than people, between them (tuning seed 9, a party of four "
-    "walking abreast: 0.56 -> 0.76). Tuning seeds 0.369 -> 0.494 with this alone.",
-    "- Coarse scanners (`leg_width` 0.12 m, `segment_beams` 1.5): a 1 deg laser shows a "
-    "leg 5 m away with one or two beams, fewer than the counts that tell a leg "
-    "(`blob_leg_points` 3) or a standing person (`still_points` 4), and its beams lie "
-    "farther apart than `segment_link` 0.06 m. Per scan these are capped at the beams a "
-    "leg shows at the median spacing of the foreground points (b = `leg_width` / spacing;"
-    " legs at most max(1, floor(b)) points, a person 2 max(1, floor(b))) and "
-    "`segment_link` spans 1.5 spacings. A 0.5 deg laser 2 m away shows 6.9 beams, so "
-    "004's scenes do not change. Tuning seeds, 0.6-1 deg: 0.466 -> 0.479 (all 0.494 -> "
-    "0.496).",
-    "- Not solved: on a moving robot with a coarse scanner the foreground is cut to "
-    "points near leg detections, which lose the people 4-6 m away (held-back seeds 105, "
-    "108, 112: recall 0.15-0.24; seed 105 has 5 of its 11 people never tracked; how many "
-    "legs the detector finds there was not measured).",
-    "- Tried and not kept: reporting the body measured from the points within "
-    "`support_radius` of a filter's feet (the midpoint of their two halves, moved 0.06 m "
-    "along the beam) instead of the walking model's body: tuning seeds 0.496 -> 0.495, "
-    "each within 0.015.",
-    "",
-    "004's scenes with the change (FT, seed 0): fast 0.923, stop 0.983, cross 0.959, 3 "
-    "pers. 0.934 unchanged, pull case 0.428 -> 0.465, skirt 0.856 -> 0.853; circle, "
-    "cross, join, 3 pers., corner, seeds 0-1: 0.948 at either `birth_exclusion`. The real"
-    " recordings: the followed person of the dev recording "
-    "(`benchmarks/followed_person.py --tracker feet-pf`) identity recall 0.662 -> 0.655, "
-    "2 -> 3 ids, recall 0.991 -> 0.990 (one id can cover at most 0.669: the person leaves"
-    " the view for 86 s); `real_people.py --trackers feet-pf --policies tracks "
-    "--backgrounds auto`: corridor 7 ids / 7 walkers / 0 s static, demo 7 / 5 / 21.4 "
-    "s, both unchanged.",
-    "",
-    "`upper-body-pf` on these scenes' one leg-height laser: `track` warns that it models "
-    "a laser at upper-body height (below 0.7 m: 'at leg height use feet-pf or leg-mht') "
-    "and runs on: at 0.2 m its mean-shift clusters take a person's two legs for one torso, "
-    "so it follows people as blobs of legs (crossing seed 3: MOTA 0.83, adapted MOTP "
-    "0.62, where FT scores 0.66). `feet-pf` on a laser at upper-body height (0.7 m or "
-    "more) warns the other way ('there use upper-body-pf').",
-    "",
-]
+INDEPENDENT = "## FT on scenes we did not make"
+"""The heading of the page's section on scenes we did not make: its prose and figures
+come from other benchmarks (``feet_random.py``, the ``feet-crossing`` and ``feet-office``
+loop) and are kept from the page as it is when the tables are written again."""
+
+
+def kept_section(page: Path) -> list[str]:
+    """The lines of ``page`` from the :data:`INDEPENDENT` heading on (empty when the page
+    or the heading is missing)."""
+    if not page.is_file():
+        return []
+    lines = page.read_text(encoding="utf-8").splitlines()
+    return lines[lines.index(INDEPENDENT) :] if INDEPENDENT in lines else []
 
 
 def trackers() -> dict[str, tuple[str, Callable[[], FrameTracker]]]:
@@ -598,7 +414,8 @@ def _document(
         *extra_lines,
         "",
     ]
-    return "\n".join(head + lines + (tail if extra_lines else []) + INDEPENDENT)
+    kept = kept_section(Path(args.output))
+    return "\n".join(head + lines + (tail if extra_lines else []) + kept) + "\n"
 
 
 def _render(

@@ -49,6 +49,11 @@ at feet height with a walking model.
   foot within ``claim_distance``, that stays so for ``claim_time`` starts a filter
   (:mod:`~laserpeople.tracking.particle.unclaimed`): a person walking abreast of others
   often shows one leg behind the other and no merge -> split of their own.
+- A departure from 004 for a filter standing on two people (``split_distance``; 0
+  restores 004): a filter whose Voronoi cell holds two blobs of a leg's or a person's
+  size, more than ``split_distance`` apart, for ``split_time`` keeps the one nearer its
+  predicted feet midpoint and a filter starts on the other
+  (:mod:`~laserpeople.tracking.particle.split`).
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -452,6 +457,7 @@ class FeetParams:
             "segment_link",
             "leg_eigenvalue",
             "blob_reach",
+            "split_link",
         ):
             if not getattr(self, name) > 0.0:
                 raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")

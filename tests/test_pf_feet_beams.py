@@ -116,10 +116,12 @@ def test_a_person_standing_beside_a_tracked_one_gets_a_filter(
 ) -> None:
     """Two people 0.75 m apart (a group's spacing in random-groups), one tracked: the other
     stands still for ``still_time`` and starts a filter only when ``birth_exclusion`` is
-    below their distance (0.6 m, not 0.85 m)."""
+    below their distance (0.6 m, not 0.85 m). Without the split of a filter whose cell
+    holds two people (``split_distance``), which would start it at either exclusion."""
     from test_pf_feet_cells import frame_of
 
-    tracker = FeetTracker(FeetParams(particles=100, birth_exclusion=exclusion))
+    params = FeetParams(particles=100, birth_exclusion=exclusion, split_distance=0.0)
+    tracker = FeetTracker(params)
     tracker.bank.add(np.stack([tracker._initial(np.array([[-0.1, 3.0], [0.1, 3.0]]))]), 0.0)
     pts = np.vstack([_standing(0.0), _standing(0.75)])
     for k in range(1, 21):  # 15 Hz, 1.3 s

@@ -49,6 +49,11 @@ at feet height with a walking model.
   foot within ``claim_distance``, that stays so for ``claim_time`` starts a filter
   (:mod:`~laserpeople.tracking.particle.unclaimed`): a person walking abreast of others
   often shows one leg behind the other and no merge -> split of their own.
+- A departure from 004 for a filter standing on two people (``split_distance``; 0
+  restores 004): a filter whose Voronoi cell holds two blobs of a leg's or a person's
+  size, more than ``split_distance`` apart, for ``split_time`` keeps the one nearer its
+  predicted feet midpoint and a filter starts on the other
+  (:mod:`~laserpeople.tracking.particle.split`).
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -83,6 +88,7 @@ from laserpeople.tracking.particle.objects import (
     small_objects,
     two_feet,
 )
+from laserpeople.tracking.particle.split import PartySplitter, Split
 from laserpeople.tracking.particle.unclaimed import UnclaimedDetector
 from laserpeople.tracking.particle.upper_body import gather_cells, voronoi_cells
 from laserpeople.tracks import Tracks
@@ -109,6 +115,7 @@ class FeetParams:
             "cell_refresh": 0.0,
             "leg_width": 0.0,
             "claim_distance": 0.0,
+            "split_distance": 0.0,
         }
     )
 
@@ -392,6 +399,28 @@ class FeetParams:
         "along their major axis), as from a detected step; 0 disables",
         "m",
     )
+    split_distance: float = param(
+        0.5,
+        "departure from 004 (0 here: filters never split); in parties 0.5-0.8 m apart "
+        "a filter refreshed onto two people stands between them "
+        "(:mod:`~laserpeople.tracking.particle.split`)",
+        "a filter whose Voronoi cell holds two person-sized blobs (``split_link``) whose "
+        "centres lie farther apart than this for ``split_time`` keeps the one nearer its "
+        "predicted feet midpoint and a filter starts on the other; 0 disables",
+        "m",
+    )
+    split_time: float = param(
+        0.5,
+        "assumed: a walker's two legs come together twice per gait period (about 1 s)",
+        "how long a filter's cell must hold two people (``split_distance``) to split it",
+        "s",
+    )
+    split_link: float = param(
+        0.3,
+        "assumed: the legs of a person standing lie within 0.3 m of each other",
+        "points closer than this form one person's blob (for ``split_distance``)",
+        "m",
+    )
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
     )
@@ -428,6 +457,7 @@ class FeetParams:
             "segment_link",
             "leg_eigenvalue",
             "blob_reach",
+            "split_link",
         ):
             if not getattr(self, name) > 0.0:
                 raise ConfigError(f"{name} must be positive, got {getattr(self, name)}")
@@ -732,6 +762,7 @@ class FeetTracker:
         self.detector = StepDetector(self.params)
         self.still = StillDetector(self.params)
         self.unclaimed = UnclaimedDetector(self.params)
+        self.splitter = PartySplitter(self.params)
         self.scaled = self.params
         """The parameters of the last scan (:func:`scaled_to_beams`)."""
         self._stamp: float | None = None
@@ -772,7 +803,7 @@ class FeetTracker:
         p = self.scaled = scaled_to_beams(
             self.params, foreground_spacing(frame) if self.params.leg_width > 0.0 else math.nan
         )
-        self.still.params = self.unclaimed.params = p
+        self.still.params = self.unclaimed.params = self.splitter.params = p
         # one clustering per scan at link_distance and one at segment_link, shared by the
         # size bound, the still detector, the weights of eqs. 3-4 and the blob centres
         wants_objects = p.max_eigenvalue > 0.0 or p.still_time > 0.0 or p.blob_body
@@ -794,6 +825,7 @@ class FeetTracker:
         dt = 0.0 if self._stamp is None else frame.stamp - self._stamp
         self._stamp = frame.stamp
         self._predict(dt)
+        splits: list[Split] = []
         if len(bank):
             mids = self.midpoints()
             est = np.einsum("fp,fpc->fc", bank.weights, mids)
@@ -804,6 +836,11 @@ class FeetTracker:
                 near = (inside, cell[inside] // 2)
                 if p.cell_refresh > 0.0:
                     self._cell_refresh(pts[inside], near[1], est)
+                if p.split_distance > 0.0:
+                    splits = self.splitter.splits(pts[inside], near[1], bank.ids, est, frame.stamp)
+                    for sp in splits:  # the filter restarts on the person it keeps
+                        bank.states[sp.filter] = self._initial(sp.keep)
+                        bank.weights[sp.filter] = 1.0 / p.particles
             else:
                 near = _points_near(pts, est, p.gate)
             rows = np.column_stack([pts, self._leg_weights(pts, segments)])
@@ -823,7 +860,7 @@ class FeetTracker:
             supported = _supported(pts, feet_est, p.support_radius)
             bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
-        self._births(births, frame.stamp, birth_objects)
+        self._births(births, frame.stamp, birth_objects, [sp.new for sp in splits])
         return self._report(frame, pts, objects, segments)
 
     def _leg_weights(
@@ -854,8 +891,15 @@ class FeetTracker:
         bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 
     def _births(
-        self, pts: NDArray[np.float64], stamp: float, objects: NDArray[np.int64] | None = None
+        self,
+        pts: NDArray[np.float64],
+        stamp: float,
+        objects: NDArray[np.int64] | None = None,
+        split: list[NDArray[np.float64]] | None = None,
     ) -> None:
+        """Start filters at step sequences, still objects, unclaimed walkers and the
+        other person of a split filter (``split``: feet (2, 2) [m] each; no birth
+        exclusion for them)."""
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
         still = self.still.detections(pts, stamp, objects)
@@ -863,14 +907,14 @@ class FeetTracker:
         if p.claim_distance > 0.0:
             on = bank.mean([XL, YL, XR, YR]).reshape(-1, 2, 2) if len(bank) else np.empty((0, 2, 2))
             free = self.unclaimed.detections(pts, stamp, on, objects)
-        if not (found or still or free):
+        if not (found or still or free or split):
             return
         est = (
             np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
             if len(bank)
             else np.empty((0, 2))
         )
-        starts: list[NDArray[np.float64]] = []
+        starts: list[NDArray[np.float64]] = list(split or [])
         for ev in found:
             if len(est):
                 dist = np.hypot(*(est - ev.position).T)

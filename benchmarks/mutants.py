@@ -1359,6 +1359,22 @@ MUTANTS: tuple[Mutant, ...] = (
         (*EVAL, "tests/test_eval_bruteforce.py"),
     ),
     Mutant(
+        "feet-split-keeps-nearer",
+        "feet-pf split (the filter keeps the blob nearer its predicted feet midpoint)",
+        "tracking/particle/split.py",
+        "            k = int(np.argmin(d))",
+        "            k = int(np.argmax(d))",
+        ("tests/test_pf_feet_split.py",),
+    ),
+    Mutant(
+        "feet-split-time",
+        "feet-pf split (two people in one cell for split_time before the split)",
+        "tracking/particle/split.py",
+        "            if stamp - first < p.split_time:",
+        "            if stamp - first < 0.5 * p.split_time:",
+        ("tests/test_pf_feet_split.py",),
+    ),
+    Mutant(
         "npz-truth-frame-mixed",
         "npz recordings (the truth's frame is written only when every frame states the same)",
         "io/npz.py",

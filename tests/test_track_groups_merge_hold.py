@@ -91,3 +91,16 @@ def test_zero_seconds_reports_every_merge_at_once() -> None:
 def test_merge_hold_must_not_be_negative() -> None:
     with pytest.raises(ValueError, match="merge_hold"):
         GroupTrackerParams(merge_hold=-1.0)
+
+
+def test_a_parent_back_in_the_best_hypothesis_ends_the_hold() -> None:
+    hold = MergeHold(1.0)
+    first = [_rep(1, ("1",), -1.0, 0.0, 2.0, 0.0), _rep(2, ("2",), 1.0, 0.0, 2.0, 0.0)]
+    hold.apply(0.0, first, np.empty((0, 2)))
+    merged = _rep(9, ("1", "2"), 0.0, 0.0, 4.0, 0.1, None, "merge")
+    assert [r.track_id for r in hold.apply(0.1, [merged], np.empty((0, 2)))] == [1, 2]
+    # another group is now reported with id 2: the merge is reported, ids stay unique
+    other = _rep(2, ("5",), 3.0, 0.0, 1.0, 0.2)
+    merged2 = _rep(9, ("1", "2"), 0.0, 0.0, 4.0, 0.2, None, "merge")
+    out = hold.apply(0.2, [other, merged2], np.empty((0, 2)))
+    assert [r.track_id for r in out] == [2, 9]

@@ -72,6 +72,7 @@ class MergeHold:
         if self.seconds <= 0.0:
             return reports
         families = {r.family for r in reports}
+        ids = {r.track_id for r in reports}
         out: list[Reported] = []
         held: dict[int, tuple[float, list[Reported]]] = {}
         for r in reports:
@@ -85,6 +86,10 @@ class MergeHold:
                 ]
                 if len(parents) >= 2:
                     entry = (stamp, parents)
+            if entry is not None and any(
+                p.track_id in ids or p.family in families for p in entry[1]
+            ):
+                entry = None  # a parent (or its id) is back in the best hypothesis
             if entry is None or stamp - entry[0] >= self.seconds:
                 out.append(r)
                 continue

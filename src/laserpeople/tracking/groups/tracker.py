@@ -745,8 +745,10 @@ class GroupMHTTracker:
             labels = self.display_labels(r.name)
             if node is not None:
                 contour = group_payload(node).contour + r.mean[:2]
-            else:  # a parent of a young merge: the merged observation's points it took
+            elif len(r.members):  # a parent of a young merge: the merged points it took
                 contour = points[r.members]
+            else:  # ... none (the merge coasted): its predicted position
+                contour = r.mean[None, :2].copy()
             groups.append(
                 GroupEstimate(r.family, labels, r.mean, r.cov, r.members, contour, r.event)
             )

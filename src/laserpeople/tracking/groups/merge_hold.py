@@ -11,7 +11,6 @@ scores, pruning) does not see any of this.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,12 +58,10 @@ class MergeHold:
     bounded by the groups reported now.
     """
 
-    def __init__(self, seconds: float, off_track: float = math.inf) -> None:
+    def __init__(self, seconds: float) -> None:
         self.seconds = seconds
-        self.off_track = off_track
         self._last: dict[int, Reported] = {}  # family -> as reported in the last scan
-        # merged family -> (time it was first held [s], its parents now, at the first scan)
-        self._held: dict[int, tuple[float, list[Reported], list[Reported]]] = {}
+        self._held: dict[int, tuple[float, list[Reported]]] = {}  # merge -> (born, parents)
         self.held_scans = 0
         """Merged group-scans reported as their parents."""
 
@@ -77,7 +74,7 @@ class MergeHold:
         families = {r.family for r in reports}
         ids = {r.track_id for r in reports}
         out: list[Reported] = []
-        held: dict[int, tuple[float, list[Reported], list[Reported]]] = {}
+        held: dict[int, tuple[float, list[Reported]]] = {}
         for r in reports:
             entry = self._held.get(r.family)
             if entry is None and r.event == "merge" and r.family not in self._last:
@@ -88,7 +85,7 @@ class MergeHold:
                     if f not in families and _roots(p.name) <= roots
                 ]
                 if len(parents) >= 2:
-                    entry = (stamp, parents, [])
+                    entry = (stamp, parents)
             if entry is not None and any(
                 p.track_id in ids or p.family in families for p in entry[1]
             ):
@@ -97,27 +94,12 @@ class MergeHold:
                 out.append(r)
                 continue
             parents = self._follow(stamp, r, entry[1], points)
-            first = entry[2] or parents
-            if self._off_track(stamp, parents, first):
-                out.append(r)  # a part stopped or turned: parties that meet, report the merge
-                continue
-            held[r.family] = (entry[0], parents, first)
+            held[r.family] = (entry[0], parents)
             out.extend(parents)
             self.held_scans += 1
         self._held = held
         self._last = {r.family: r for r in out}
         return out
-
-    def _off_track(self, stamp: float, parents: list[Reported], first: list[Reported]) -> bool:
-        """Whether some parent's half (when it has points) lies more than ``off_track`` [m]
-        from where its first held position and velocity put it now."""
-        for now, was in zip(parents, first, strict=True):
-            if len(now.members) == 0:
-                continue
-            expected = was.mean[:2] + was.mean[2:4] * (stamp - was.stamp)
-            if float(np.hypot(*(now.mean[:2] - expected))) > self.off_track:
-                return True
-        return False
 
     @staticmethod
     def _follow(

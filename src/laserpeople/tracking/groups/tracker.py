@@ -397,12 +397,6 @@ class GroupTrackerParams:
         "seconds [s] a merge of the best hypothesis is reported as the two groups it "
         "merged (each at the merged points nearest its prediction) before it is reported",
     )
-    merge_hold_gate: float = param(
-        math.inf,
-        "extension of 000",
-        "a held merge is reported once a part of it lies this far [m] from where the "
-        "constant velocity of its first held scan puts it (parties that meet stop)",
-    )
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -443,8 +437,6 @@ class GroupTrackerParams:
             raise ValueError("velocity_window must be finite and not negative (0: Kalman's)")
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
-        if not self.merge_hold_gate > 0.0:
-            raise ValueError("merge_hold_gate must be positive (inf: no gate)")
         if not (self.merge_hold >= 0.0 and math.isfinite(self.merge_hold)):
             raise ValueError("merge_hold must be finite and not negative (0: merges at once)")
         self.confirm_settings()  # checks the confirmation values
@@ -620,7 +612,7 @@ class GroupMHTTracker:
         self.static_groups_hidden = 0
         """Group-scans not reported because the group sat on a static place, never walked."""
         self.confirmation = Confirmation(p.confirm_settings())
-        self.merge_hold = MergeHold(p.merge_hold, p.merge_hold_gate)
+        self.merge_hold = MergeHold(p.merge_hold)
         """Reports the parents of young merges in their place (``merge_hold``)."""
         """Which groups of the best hypothesis are confirmed (``confirm_scans``)."""
         self._scans = 0

@@ -58,8 +58,10 @@ class MergeHold:
     bounded by the groups reported now.
     """
 
-    def __init__(self, seconds: float) -> None:
+    def __init__(self, seconds: float, remade: bool = False) -> None:
         self.seconds = seconds
+        self.remade = remade
+        self._since: dict[int, float] = {}  # held parent family -> since when [s]
         self._last: dict[int, Reported] = {}  # family -> as reported in the last scan
         self._held: dict[int, tuple[float, list[Reported]]] = {}  # merge -> (born, parents)
         self.held_scans = 0
@@ -85,7 +87,9 @@ class MergeHold:
                     if f not in families and _roots(p.name) <= roots
                 ]
                 if len(parents) >= 2:
-                    entry = (stamp, parents)
+                    # held already (the best hypothesis made their merge anew): since then
+                    since = [self._since.get(p.family, stamp) for p in parents]
+                    entry = (min(since) if self.remade else stamp, parents)
             if entry is not None and any(
                 p.track_id in ids or p.family in families for p in entry[1]
             ):
@@ -98,6 +102,7 @@ class MergeHold:
             out.extend(parents)
             self.held_scans += 1
         self._held = held
+        self._since = {p.family: b for b, ps in held.values() for p in ps}
         self._last = {r.family: r for r in out}
         return out
 

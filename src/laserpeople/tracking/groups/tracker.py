@@ -397,6 +397,7 @@ class GroupTrackerParams:
         "seconds [s] a merge of the best hypothesis is reported as the two groups it "
         "merged (each at the merged points nearest its prediction) before it is reported",
     )
+    merge_hold_remade: bool = param(False, "experiment", "a merge made anew keeps the hold's clock")
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -612,7 +613,7 @@ class GroupMHTTracker:
         self.static_groups_hidden = 0
         """Group-scans not reported because the group sat on a static place, never walked."""
         self.confirmation = Confirmation(p.confirm_settings())
-        self.merge_hold = MergeHold(p.merge_hold)
+        self.merge_hold = MergeHold(p.merge_hold, p.merge_hold_remade)
         """Reports the parents of young merges in their place (``merge_hold``)."""
         """Which groups of the best hypothesis are confirmed (``confirm_scans``)."""
         self._scans = 0

@@ -144,31 +144,3 @@ def test_passing_parties_end_to_end_on_a_random_groups_scene() -> None:
     assert r.group_mot.num_truth > 400
     assert r.group_mot.mota >= 0.70
     assert r.proxemic_mot.mota >= 0.70
-
-
-def test_a_young_merge_of_passing_pairs_is_reported_as_the_two_pairs() -> None:
-    """With the Kalman velocity the passing pairs are merged: one group from the merge to
-    the end. The best hypothesis makes that merge anew in every scan (a new track each
-    time, reported under one id from its labels), so with ``merge_hold`` 0.5 s no merge
-    of theirs grows 0.5 s old and the two pairs are reported instead, under their own ids,
-    each at its own pair (within 0.3 m) with two people. The MHT is the same."""
-    base = GroupTrackerParams(velocity_window=0.0)
-    _, plain, plain_err, _ = _run(_passing, 120, params=base)
-    held_tracker, held, held_err, _ = _run(
-        _passing, 120, params=GroupTrackerParams(velocity_window=0.0, merge_hold=0.5)
-    )
-    first = next(k for k, out in enumerate(plain) if len(out.of_kind("group")) == 1)
-    assert 40 < first < 100
-    assert all(len(out.of_kind("group")) == 1 for out in plain[first:])
-    before = sorted(t.track_id for t in plain[first - 1].of_kind("group"))
-    assert len(before) == 2
-    for k in range(first, 120):
-        groups = held[k].of_kind("group")
-        assert sorted(t.track_id for t in groups) == before, k
-        assert [t.size for t in groups] == [2, 2]
-        truth = _passing(k)
-        centres = [np.mean([p[:2] for p in truth if p[2] == g], axis=0) for g in (0, 1)]
-        for t in groups:
-            assert min(float(np.hypot(*(t.position - c))) for c in centres) < 0.3, k
-    assert held_tracker.merge_hold.held_scans == 120 - first
-    assert held_err.error < 0.5 * plain_err.error

@@ -36,7 +36,6 @@ from laserpeople.tracking.groups.interaction import (
     InteractionSettings,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
-from laserpeople.tracking.groups.merge_hold import MergeHold, Reported
 from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, group_payload
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.kalman import chi2_quantile_2dof
@@ -99,7 +98,6 @@ class GroupTrackerParams:
             "confirm_event_scans": 1,
             "reuse_ids": False,
             "velocity_window": 0.0,
-            "merge_hold": 0.0,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
         }
     )
@@ -391,13 +389,6 @@ class GroupTrackerParams:
         "confirm_scans for a group made by a split or merge of a group already reported "
         "(its people were reported)",
     )
-    merge_hold: float = param(
-        0.0,
-        "extension of 000 (0: a merge is reported at once, as 000)",
-        "seconds [s] a merge of the best hypothesis is reported as the two groups it "
-        "merged (each at the merged points nearest its prediction) before it is reported",
-    )
-    merge_hold_remade: bool = param(False, "experiment", "a merge made anew keeps the hold's clock")
     mht: MHTParams = param(  # noqa: RUF009 (a frozen default instance)
         MHTParams(), "nested table mht.*", "hypothesis branching and pruning"
     )
@@ -438,8 +429,6 @@ class GroupTrackerParams:
             raise ValueError("velocity_window must be finite and not negative (0: Kalman's)")
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
-        if not (self.merge_hold >= 0.0 and math.isfinite(self.merge_hold)):
-            raise ValueError("merge_hold must be finite and not negative (0: merges at once)")
         self.confirm_settings()  # checks the confirmation values
 
     @classmethod
@@ -613,8 +602,6 @@ class GroupMHTTracker:
         self.static_groups_hidden = 0
         """Group-scans not reported because the group sat on a static place, never walked."""
         self.confirmation = Confirmation(p.confirm_settings())
-        self.merge_hold = MergeHold(p.merge_hold, p.merge_hold_remade)
-        """Reports the parents of young merges in their place (``merge_hold``)."""
         """Which groups of the best hypothesis are confirmed (``confirm_scans``)."""
         self._scans = 0
         # family -> (time [s], position) of its last walk, or of when it was first tracked
@@ -716,56 +703,35 @@ class GroupMHTTracker:
         tracks: list[Track] = []
         nodes = self._confirmed(self.mht.best_tracks(), frame.stamp)
         ids = self._reported_ids(nodes)
-        reports = [
-            Reported(
-                track_id,
-                node.family,
-                self.name(node),
-                node.mean,
-                node.cov,
-                group_payload(node).members,  # empty when occluded (coasted)
-                group_payload(node).event,
-                probs.get(node.family, 1.0),
-                frame.stamp,
-            )
-            for node, track_id in zip(nodes, ids, strict=True)
-        ]
-        points = frame.points.points if frame.points is not None else np.empty((0, 2))
-        reports = self.merge_hold.apply(frame.stamp, reports, points)
-        node_of = {node.family: node for node in nodes}
-        for r in reports:
-            node = node_of.get(r.family)
-            labels = self.display_labels(r.name)
-            if node is not None:
-                contour = group_payload(node).contour + r.mean[:2]
-            elif len(r.members):  # a parent of a young merge: the merged points it took
-                contour = points[r.members]
-            else:  # ... none (the merge coasted): its predicted position
-                contour = r.mean[None, :2].copy()
+        for node, track_id in zip(nodes, ids, strict=True):
+            payload = group_payload(node)
+            labels = self.display_labels(self.name(node))
+            contour = payload.contour + node.mean[:2]
+            members = payload.members  # empty when occluded (coasted)
             groups.append(
-                GroupEstimate(r.family, labels, r.mean, r.cov, r.members, contour, r.event)
+                GroupEstimate(
+                    node.family, labels, node.mean, node.cov, members, contour, payload.event
+                )
             )
-            if r.family not in self._reported:
-                self._reported.add(r.family)
-                if r.event:
-                    self._record(GroupEvent(frame.stamp, r.event, labels), frame.index)
+            if node.family not in self._reported:
+                self._reported.add(node.family)
+                if payload.event:
+                    self._record(GroupEvent(frame.stamp, payload.event, labels), frame.index)
             tracks.append(
                 Track(
-                    track_id=r.track_id,
+                    track_id=track_id,
                     kind="group",
-                    position=r.mean[:2],
-                    velocity=r.mean[2:4],
-                    covariance=r.cov[:2, :2],
-                    size=max(1, round(float(r.mean[4]))),
+                    position=node.mean[:2],
+                    velocity=node.mean[2:4],
+                    covariance=node.cov[:2, :2],
+                    size=max(1, round(float(node.mean[4]))),
                     labels=self._format(labels),
-                    score=r.score,
+                    score=probs.get(node.family, 1.0),
                     contour=contour,
                 )
             )
         self.last_groups = groups
-        self._reported.intersection_update(
-            {*self.mht.tree.nodes_by_family, *(r.family for r in reports)}
-        )
+        self._reported.intersection_update(self.mht.tree.nodes_by_family)
         if self._scans % FORGET_EVERY == 0:
             self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)

@@ -1064,8 +1064,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "feet-still-detector-unscaled",
         "feet-pf leg_width (the still detector's counts scaled too)",
         F,
-        "self.still.params = self.unclaimed.params = p",
-        "self.unclaimed.params = p",
+        "self.still.params = self.unclaimed.params = self.splitter.params = p",
+        "self.unclaimed.params = self.splitter.params = p",
         FEET_BEAMS,
     ),
     Mutant(

@@ -133,10 +133,11 @@ def test_feet_pf_on_a_crossing_with_one_low_laser(crossing: Path, tmp_path: Path
 @pytest.mark.slow
 def test_feet_pf_before_the_departures_misses_the_crossing(crossing: Path, tmp_path: Path) -> None:
     """The same run with the settings before (no bound on the link distance, no still
-    births nor births on unclaimed walkers, a filter dies after 0.2 s without points) stays
-    far below."""
+    births nor births on unclaimed walkers nor splits, a filter dies after 0.2 s without
+    points) stays far below."""
     cfg = tmp_path / "old.toml"
     cfg.write_text(
         "[feet_pf]\noverlap_max = 0.0\nstill_time = 0.0\nmiss_time = 0.2\nclaim_distance = 0.0\n"
+        "split_distance = 0.0\n"
     )
     assert _motp(crossing, tmp_path / "p.csv", "--config", str(cfg)) < 0.5

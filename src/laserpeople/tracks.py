@@ -104,7 +104,7 @@ _NO_CONTOUR.setflags(write=False)
 """The contour of a track without one (legs, persons): one empty read-only array for all."""
 
 
-@dataclass(frozen=True, eq=False, init=False)
+@dataclass(frozen=True, eq=False)
 class Track:
     """One track's estimate at one time.
 
@@ -130,43 +130,17 @@ class Track:
     labels: str = ""
     score: float = 1.0
     members: tuple[int, ...] = ()
-    contour: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 2)), repr=False)
+    contour: NDArray[np.float64] = field(default_factory=lambda: _NO_CONTOUR, repr=False)
 
-    def __init__(
-        self,
-        track_id: int,
-        kind: TrackKind,
-        position: NDArray[np.float64],
-        velocity: NDArray[np.float64],
-        covariance: NDArray[np.float64],
-        size: int = 1,
-        labels: str = "",
-        score: float = 1.0,
-        members: tuple[int, ...] = (),
-        contour: NDArray[np.float64] | None = None,
-    ) -> None:
-        # (written by hand: the fields go straight into the instance's dict, not through
-        # the frozen class's setattr one by one; a few trackers report ten tracks a scan.
-        # float64 arrays of the right shape, what the trackers give, are kept as they are)
-        p, v, c = position, velocity, covariance
+    def __post_init__(self) -> None:
+        # (float64 arrays of the right shape, what the trackers give, are kept as they are)
+        p, v, c = self.position, self.velocity, self.covariance
         if type(p) is not np.ndarray or p.shape != (2,) or p.dtype is not _FLOAT64:
-            p = np.asarray(p, dtype=np.float64).reshape(2)
+            object.__setattr__(self, "position", np.asarray(p, dtype=np.float64).reshape(2))
         if type(v) is not np.ndarray or v.shape != (2,) or v.dtype is not _FLOAT64:
-            v = np.asarray(v, dtype=np.float64).reshape(2)
+            object.__setattr__(self, "velocity", np.asarray(v, dtype=np.float64).reshape(2))
         if type(c) is not np.ndarray or c.shape != (2, 2) or c.dtype is not _FLOAT64:
-            c = np.asarray(c, dtype=np.float64).reshape(2, 2)
-        self.__dict__.update(
-            track_id=track_id,
-            kind=kind,
-            position=p,
-            velocity=v,
-            covariance=c,
-            size=size,
-            labels=labels,
-            score=score,
-            members=members,
-            contour=_NO_CONTOUR if contour is None else contour,
-        )
+            object.__setattr__(self, "covariance", np.asarray(c, dtype=np.float64).reshape(2, 2))
 
 
 @dataclass(frozen=True, eq=False)

@@ -136,7 +136,8 @@ def test_auto_with_poses_from_the_start_works_in_the_world_frame_at_once() -> No
     assert {kind for _, kind, _ in seen.frames} == {"world"}
     assert len(said) == 1
     assert said[0] == (
-        "working in the world frame 'odom': frame 0 has a sensor pose, 0.00 s after the first scan"
+        "working in the world frame 'odom': frame 0 has a sensor pose (1 frame looked at, 0.00 s "
+        "after the first scan)"
     )
     assert sum(scans.counts.without_pose.values()) == 0
 
@@ -167,7 +168,8 @@ def test_auto_switches_once_to_the_world_frame_when_poses_come_late() -> None:
     assert [taken - (index + 1) for index, _, taken in seen.frames] == [0] * 30
     assert len(made) == 2  # one new pipeline (a new tracker) for the switch
     assert len(said) == 1 and said[0].startswith(
-        "working in the world frame 'odom': frame 3 has a sensor pose, 0.30 s after the first scan"
+        "working in the world frame 'odom': frame 3 has a sensor pose (4 frames looked at, 0.30 s "
+        "after the first scan)"
     )
     assert "the 3 frames before it were tracked in the sensor frame" in said[0]
     assert run.decision.sensor_frames == 3 and run.decision.index == 3

@@ -110,9 +110,10 @@ class FrameDecision:
         if frame.scans[0].pose is not None:
             self._decide("world", frame, elapsed)
             name = f" '{world}'" if world else ""
+            looked = f"{self.looked_at} frame{'s' if self.looked_at != 1 else ''} looked at"
             text = (
-                f"working in the world frame{name}: frame {frame.index} has a sensor pose, "
-                f"{elapsed:.2f} s after the first scan"
+                f"working in the world frame{name}: frame {frame.index} has a sensor pose "
+                f"({looked}, {elapsed:.2f} s after the first scan)"
             )
             if self.sensor_frames:
                 text += (

@@ -94,26 +94,6 @@ def test_auto_without_poses_holds_no_frame_and_stops_looking_after_one_second() 
     assert run.frames is not None and run.frames.summary() == [said[0]]
 
 
-def test_while_undecided_a_scan_waits_for_transforms_only_until_tf_wait_after_the_first() -> None:
-    ticks = [0.0]
-
-    def clock() -> float:  # 20 ms a call: a wait ends after a few calls
-        ticks[0] += 0.02
-        return ticks[0]
-
-    scans = LiveScans(["/scan"], LiveTransforms(), depth=10, tf_wait=0.1, clock=clock)
-    scans.undecided = True
-    it = scans.scans()
-    for i in range(8):  # each scan taken as it arrives (a tracker that keeps up)
-        scans.put(_scan(i), "laser")
-        assert next(it).pose is None
-    assert scans.counts.waited_for_tf == 1  # the first scan only: no transform comes
-    scans.undecided = False  # (world chosen: each scan waits tf_wait again)
-    scans.put(_scan(8), "laser")
-    next(it)
-    assert scans.counts.waited_for_tf == 2
-
-
 def _odometry(transforms: LiveTransforms, stamps: np.ndarray) -> None:
     transforms.add(
         [TransformSample("odom", "base_link", float(t), Pose2D(0.01 * k, 0.0, 0.0), 0.0)
@@ -121,6 +101,38 @@ def _odometry(transforms: LiveTransforms, stamps: np.ndarray) -> None:
         static=False,
         source="/odom",
     )  # fmt: skip
+
+
+def _stream(transforms: LiveTransforms, n: int) -> LiveScans:
+    """``n`` scans, each taken as it arrives (a tracker that keeps up), on a clock that moves
+    20 ms a call (so that a wait for transforms ends after a few calls)."""
+    ticks = [0.0]
+
+    def clock() -> float:
+        ticks[0] += 0.02
+        return ticks[0]
+
+    scans = LiveScans(["/scan"], transforms, depth=10, tf_wait=0.1, clock=clock)
+    scans.undecided = True
+    it = scans.scans()
+    for i in range(n):
+        scans.put(_scan(i), "laser")
+        assert next(it).pose is None
+    return scans
+
+
+def test_while_undecided_a_scan_waits_for_transforms_only_once_and_only_when_some_came() -> None:
+    assert _stream(LiveTransforms(), 8).counts.waited_for_tf == 0  # a robot without tf
+    # a robot whose odometry stopped 1 s before the first scan: the first scan waits for a
+    # newer sample, the later ones no more (tf_wait after the first scan is over)
+    transforms = LiveTransforms(mounts=parse_mounts(["laser=base_link:0.2,0,0"]))
+    _odometry(transforms, np.array([99.0]))
+    scans = _stream(transforms, 8)
+    assert scans.counts.waited_for_tf == 1
+    scans.undecided = False  # (world chosen: each scan waits up to tf_wait again)
+    scans.put(_scan(8), "laser")
+    next(scans.scans())
+    assert scans.counts.waited_for_tf == 2
 
 
 def test_auto_with_poses_from_the_start_works_in_the_world_frame_at_once() -> None:

@@ -10,8 +10,9 @@ decides from the pose lookups as the frames come:
 - **Nothing is held while undecided.** With one laser, the frames are tracked in the sensor
   frame as they come. Several lasers are fused only in the world frame, so their frames
   without a pose are skipped and counted.
-- **Transforms are waited for once.** While undecided, a scan waits for a transform at most
-  until ``tf_wait`` after the first scan arrived, not ``tf_wait`` each.
+- **Transforms are waited for once.** While undecided, a scan waits for a transform only
+  when some transform has come, and at most until ``tf_wait`` after the first scan arrived
+  (not ``tf_wait`` each). A robot without tf never waits.
 - **One switch at most.** When world is chosen after frames were tracked in the sensor
   frame, :class:`FrameSwitch` ends that pipeline. The run starts a new one (new tracker, new
   track ids) from the frame that decided, and says so.

@@ -167,8 +167,9 @@ class LiveScans:
         """Whether scans get poses (False once the run works in the sensor frame: no lookup,
         no wait for transforms)."""
         self.undecided = False
-        """Whether the run's frame is still being chosen: a scan then waits for a transform at
-        most until ``tf_wait`` after the first scan's arrival (not ``tf_wait`` each)."""
+        """Whether the run's frame is still being chosen: a scan then waits for a transform
+        only once some transform has come, and at most until ``tf_wait`` after the first
+        scan's arrival (not ``tf_wait`` each)."""
         self.first_arrival: float | None = None
         """Arrival of the first scan given out [s, ``clock``]."""
         self.last_reason = ""
@@ -291,10 +292,12 @@ class LiveScans:
 
     def _tf_deadline(self, item: _Queued) -> float | None:
         """Until when [s, ``clock``] a scan without a settled pose waits for transforms (None:
-        it does not wait, see :attr:`undecided`)."""
+        it does not wait; see :attr:`undecided`)."""
         deadline = item.arrival + self.tf_wait
         if not self.undecided:
             return deadline
+        if self.transforms is None or not self.transforms.samples:
+            return None  # none has come: a robot without tf must not wait for the choice
         first = item.arrival if self.first_arrival is None else self.first_arrival
         deadline = min(deadline, first + self.tf_wait)
         return deadline if deadline > self.now() else None

@@ -219,3 +219,17 @@ def test_a_requested_frame_is_not_decided(requested: str) -> None:
 
     decision = FrameDecision(requested)  # type: ignore[arg-type]
     assert not decision.undecided and decision.message.endswith("(as requested)")
+
+
+def test_warm_up_encodes_tracks_so_the_first_frame_does_not_make_the_serialisers() -> None:
+    from laserpeople.live.runner import warm_up
+
+    encoded: list[int] = []
+
+    class Spy:
+        def encode(self, scans: tuple[Scan, ...], tracks: Tracks) -> list[object]:
+            encoded.append(len(scans))
+            return []
+
+    warm_up(tracker_pipelines("leg-mht"), Spy())  # type: ignore[arg-type]
+    assert encoded == [1] * 5  # every synthetic frame, one scan each

@@ -94,6 +94,17 @@ def test_auto_without_poses_holds_no_frame_and_stops_looking_after_one_second() 
     assert run.frames is not None and run.frames.summary() == [said[0]]
 
 
+def test_a_run_ending_before_the_choice_says_what_was_done() -> None:
+    clock = Clock()
+    scans = _arrived(4, LiveTransforms(), clock)  # 0.3 s of scans: no choice yet
+    run = LiveRun(scans, tracker_pipelines("leg-mht"), [], frame="auto")
+    assert run.run().frames == 4 and run.decision.undecided
+    assert run.frames is not None and run.frames.summary() == [
+        "no frame chosen: the run ended after 4 frames without a sensor pose (4 tracked in "
+        "the sensor frame, 0 skipped)"
+    ]
+
+
 def _odometry(transforms: LiveTransforms, stamps: np.ndarray) -> None:
     transforms.add(
         [TransformSample("odom", "base_link", float(t), Pose2D(0.01 * k, 0.0, 0.0), 0.0)

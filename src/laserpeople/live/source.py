@@ -441,7 +441,10 @@ class LiveFrames:
         if decision.frame is None:
             lines = [
                 f"no frame chosen: the run ended after {decision.looked_at} frames without a "
-                "sensor pose"
+                f"sensor pose ({decision.sensor_frames} tracked in the sensor frame, "
+                f"{decision.skipped} skipped)"
+                if decision.looked_at
+                else "no frames"
             ]
         elif self.chooser is not None and decision.requested == "auto":
             lines = [decision.message]

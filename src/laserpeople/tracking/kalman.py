@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from laserpeople.config import param
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
 
 H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
 """Measurement matrix: positions are observed directly (000 Sec. 3.1)."""
@@ -405,6 +406,33 @@ def _few_mahalanobis_and_loglik(
     d2 = np.array(d2s).reshape(t, m)
     loglik = -0.5 * d2 - LOG_2PI - 0.5 * np.log(np.array(dets).reshape(t, m))
     return d2, loglik
+
+
+def near_mahalanobis_and_loglik(
+    means: FloatArray, covs: FloatArray, z: FloatArray, meas_covs: FloatArray, max_sq: float
+) -> tuple[BoolArray, FloatArray, FloatArray]:
+    """:func:`mahalanobis_and_loglik` of the (track, measurement) pairs at most
+    ``sqrt(max_sq)`` [m] apart only (:func:`euclidean_sq`): ``(near, d2, loglik)``, each
+    (T, M), with ``d2`` inf and ``loglik`` -inf for the pairs farther apart; the near pairs'
+    values are :func:`mahalanobis_and_loglik`'s, element by element the same IEEE
+    operations."""
+    near = euclidean_sq(means, z) <= max_sq
+    d2 = np.full(near.shape, np.inf)
+    loglik = np.full(near.shape, -np.inf)
+    ti, mi = near.nonzero()
+    if ti.size:
+        hph = covs[ti, :2, :2]
+        r = meas_covs[mi]
+        a = hph[:, 0, 0] + r[:, 0, 0]
+        b = hph[:, 0, 1] + r[:, 0, 1]
+        d = hph[:, 1, 1] + r[:, 1, 1]
+        det = a * d - b * b
+        vx = z[mi, 0] - means[ti, 0]
+        vy = z[mi, 1] - means[ti, 1]
+        dd = (d * vx * vx - 2.0 * b * vx * vy + a * vy * vy) / det
+        d2[ti, mi] = dd
+        loglik[ti, mi] = -0.5 * dd - LOG_2PI - 0.5 * np.log(det)
+    return near, d2, loglik
 
 
 def euclidean_sq(means: FloatArray, z: FloatArray) -> FloatArray:

@@ -95,18 +95,18 @@ class KalmanPointModel:
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
     ) -> tuple[BoolArray, FloatArray]:
-        """Chi-square gate (capped at ``max_gate_distance``) and Gaussian log-likelihood for
-        every (node, measurement)."""
+        """Chi-square gate (capped at ``max_gate_distance``) and Gaussian log-likelihood of
+        every (node, measurement), computed only for the pairs within ``max_gate_distance``
+        (the others are outside the gate; their log-likelihood is -inf)."""
         done, pm, pc = self._predicted
         if nodes is done:  # the nodes just predicted: their stacked predictions
             means, covs = pm, pc
         else:
             means = np.stack([_pred(n)[0] for n in nodes])
             covs = np.stack([_pred(n)[1] for n in nodes])
-        d2, ll = kalman.mahalanobis_and_loglik(
-            means, covs, measurements.positions, measurements.covariances
+        near, d2, ll = kalman.near_mahalanobis_and_loglik(
+            means, covs, measurements.positions, measurements.covariances, self.max_gate_sq
         )
-        near = kalman.euclidean_sq(means, measurements.positions) <= self.max_gate_sq
         return (d2 <= self.gate) & near, ll
 
     def update(

@@ -564,6 +564,8 @@ class MHT(Generic[Meas]):
         fam_meas: dict[int, set[int]],
         meas_idx: list[int],
     ) -> None:
+        if not fams or not meas_idx:  # (a measurement alone, or no measurement to share)
+            return
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement
             return

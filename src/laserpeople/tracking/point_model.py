@@ -106,10 +106,10 @@ class KalmanPointModel:
         else:
             means = np.stack([_pred(n)[0] for n in nodes])
             covs = np.stack([_pred(n)[1] for n in nodes])
-        near, d2, ll = kalman.near_mahalanobis_and_loglik(
+        _, d2, ll = kalman.near_mahalanobis_and_loglik(
             means, covs, measurements.positions, measurements.covariances, self.max_gate_sq
         )
-        return (d2 <= self.gate) & near, ll
+        return d2 <= self.gate, ll  # (d2 is inf beyond max_gate_distance)
 
     def update(
         self,

@@ -378,3 +378,41 @@ def test_few_pairs_mahalanobis_and_loglik_are_the_array_path(
     for got, want in zip(few, arrays, strict=True):
         for g, w in zip(got, want, strict=True):
             assert_paths_agree(g, w)
+
+
+def test_near_pairs_mahalanobis_and_loglik_by_hand() -> None:
+    """Only pairs within the distance cap are scored: a track at the origin with position
+    covariance 0.5 I and a measurement 1 m away with covariance 0.5 I give S = I, d2 = 1 and
+    log N = -0.5 - log(2 pi); a measurement 3 m away (cap 2 m) gives inf and -inf."""
+    means = np.zeros((1, 4))
+    covs = np.eye(4)[None] * 0.5
+    z = np.array([[1.0, 0.0], [3.0, 0.0]])
+    meas_covs = np.repeat(np.eye(2)[None] * 0.5, 2, axis=0)
+    near, d2, ll = kalman.near_mahalanobis_and_loglik(means, covs, z, meas_covs, 2.0**2)
+    np.testing.assert_array_equal(near, [[True, False]])
+    np.testing.assert_allclose(d2[0, 0], 1.0, rtol=1e-15)
+    np.testing.assert_allclose(ll[0, 0], -0.5 - np.log(2.0 * np.pi), rtol=1e-15)
+    assert d2[0, 1] == np.inf and ll[0, 1] == -np.inf
+
+
+def test_near_pairs_mahalanobis_and_loglik_are_the_whole_table() -> None:
+    """The near pairs' squared Mahalanobis distances and log-likelihoods are those of
+    :func:`kalman.mahalanobis_and_loglik` (within :data:`PATH_RTOL`), the near mask is the
+    squared distance within the cap, and every pair beyond it has d2 = inf, loglik = -inf;
+    for tables from empty to 40 x 30."""
+    rng = np.random.default_rng(15)
+    for _ in range(300):
+        t, m = int(rng.integers(0, 41)), int(rng.integers(0, 31))
+        means = rng.normal(scale=[3.0, 3.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(scale=0.3, size=(t, 4, 4))
+        covs = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(4)
+        b = rng.normal(scale=0.1, size=(m, 2, 2))
+        meas_covs = b @ b.transpose(0, 2, 1) + 1e-3 * np.eye(2)
+        z = rng.normal(scale=3.0, size=(m, 2))
+        cap_sq = float(rng.uniform(0.5, 3.0)) ** 2
+        near, d2, ll = kalman.near_mahalanobis_and_loglik(means, covs, z, meas_covs, cap_sq)
+        np.testing.assert_array_equal(near, kalman.euclidean_sq(means, z) <= cap_sq)
+        want_d2, want_ll = kalman.mahalanobis_and_loglik(means, covs, z, meas_covs)
+        assert_paths_agree(d2[near], want_d2[near])
+        assert_paths_agree(ll[near], want_ll[near])
+        assert (d2[~near] == np.inf).all() and (ll[~near] == -np.inf).all()

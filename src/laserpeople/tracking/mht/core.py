@@ -267,11 +267,11 @@ def components(
             c[0].add(f)
     alone: list[int] = []
     for j in range(n_meas):
-        o = owner.get(j)
-        if o is None:
+        first = owner.get(j)
+        if first is None:
             alone.append(j)
         else:
-            comps[root(o)][1].append(j)
+            comps[root(first)][1].append(j)
     out = [(frozenset(fs), js) for fs, js in comps.values()]
     out += [(frozenset(), [j]) for j in alone]
     return out

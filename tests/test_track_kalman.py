@@ -399,7 +399,7 @@ def test_near_pairs_mahalanobis_and_loglik_are_the_whole_table() -> None:
     """The near pairs' squared Mahalanobis distances and log-likelihoods are those of
     :func:`kalman.mahalanobis_and_loglik` (within :data:`PATH_RTOL`), the near mask is the
     squared distance within the cap, and every pair beyond it has d2 = inf, loglik = -inf;
-    for tables from empty to 40 x 30."""
+    for tables from empty to 40 x 30 (both sides of ``NEAR_PAIRS``)."""
     rng = np.random.default_rng(15)
     for _ in range(300):
         t, m = int(rng.integers(0, 41)), int(rng.integers(0, 31))

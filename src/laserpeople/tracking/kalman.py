@@ -158,6 +158,11 @@ plain floats (:func:`_few_mahalanobis_and_loglik`, the same values bit for bit).
 Measured: 9 / 12 / 14 / 19 us against 15 / 22 / 22 / 26 us for 1 / 4 / 9 / 16 pairs, even
 at 24."""
 
+NEAR_PAIRS = 256
+"""Up to this many (track, measurement) pairs :func:`near_mahalanobis_and_loglik` scores
+all of them and masks the far ones; above, only the near pairs (measured: 38 / 47 us
+against 46 / 53 us for 48 / 140 pairs, 61 against 55 us for 300)."""
+
 SMALL_UPDATE = 3
 """Up to this many states :func:`update_batch` forms ``S^-1`` and ``I - K H`` from plain
 floats (:func:`_few_update`, the same arrays bit for bit). Measured: 26 / 30 / 44 us
@@ -417,6 +422,9 @@ def near_mahalanobis_and_loglik(
     values are :func:`mahalanobis_and_loglik`'s, element by element the same IEEE
     operations."""
     near = euclidean_sq(means, z) <= max_sq
+    if near.size <= NEAR_PAIRS:  # (a small table: all pairs, the far ones masked)
+        d2, loglik = mahalanobis_and_loglik(means, covs, z, meas_covs)
+        return near, np.where(near, d2, np.inf), np.where(near, loglik, -np.inf)
     d2 = np.full(near.shape, np.inf)
     loglik = np.full(near.shape, -np.inf)
     ti, mi = near.nonzero()

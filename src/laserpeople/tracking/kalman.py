@@ -18,7 +18,6 @@ from numpy.typing import NDArray
 from laserpeople.config import param
 
 FloatArray = NDArray[np.float64]
-BoolArray = NDArray[np.bool_]
 
 H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
 """Measurement matrix: positions are observed directly (000 Sec. 3.1)."""
@@ -157,11 +156,6 @@ SMALL_PAIRS = 12
 plain floats (:func:`_few_mahalanobis_and_loglik`, the same values bit for bit).
 Measured: 9 / 12 / 14 / 19 us against 15 / 22 / 22 / 26 us for 1 / 4 / 9 / 16 pairs, even
 at 24."""
-
-NEAR_PAIRS = 256
-"""Up to this many (track, measurement) pairs :func:`near_mahalanobis_and_loglik` scores
-all of them and masks the far ones; above, only the near pairs (measured: 38 / 47 us
-against 46 / 53 us for 48 / 140 pairs, 61 against 55 us for 300)."""
 
 SMALL_UPDATE = 3
 """Up to this many states :func:`update_batch` forms ``S^-1`` and ``I - K H`` from plain
@@ -411,36 +405,6 @@ def _few_mahalanobis_and_loglik(
     d2 = np.array(d2s).reshape(t, m)
     loglik = -0.5 * d2 - LOG_2PI - 0.5 * np.log(np.array(dets).reshape(t, m))
     return d2, loglik
-
-
-def near_mahalanobis_and_loglik(
-    means: FloatArray, covs: FloatArray, z: FloatArray, meas_covs: FloatArray, max_sq: float
-) -> tuple[BoolArray, FloatArray, FloatArray]:
-    """:func:`mahalanobis_and_loglik` of the (track, measurement) pairs at most
-    ``sqrt(max_sq)`` [m] apart only (:func:`euclidean_sq`): ``(near, d2, loglik)``, each
-    (T, M), with ``d2`` inf and ``loglik`` -inf for the pairs farther apart; the near pairs'
-    values are :func:`mahalanobis_and_loglik`'s, element by element the same IEEE
-    operations."""
-    near = euclidean_sq(means, z) <= max_sq
-    if near.size <= NEAR_PAIRS:  # (a small table: all pairs, the far ones masked)
-        d2, loglik = mahalanobis_and_loglik(means, covs, z, meas_covs)
-        return near, np.where(near, d2, np.inf), np.where(near, loglik, -np.inf)
-    d2 = np.full(near.shape, np.inf)
-    loglik = np.full(near.shape, -np.inf)
-    ti, mi = near.nonzero()
-    if ti.size:
-        hph = covs[ti, :2, :2]
-        r = meas_covs[mi]
-        a = hph[:, 0, 0] + r[:, 0, 0]
-        b = hph[:, 0, 1] + r[:, 0, 1]
-        d = hph[:, 1, 1] + r[:, 1, 1]
-        det = a * d - b * b
-        vx = z[mi, 0] - means[ti, 0]
-        vy = z[mi, 1] - means[ti, 1]
-        dd = (d * vx * vx - 2.0 * b * vx * vy + a * vy * vy) / det
-        d2[ti, mi] = dd
-        loglik[ti, mi] = -0.5 * dd - LOG_2PI - 0.5 * np.log(det)
-    return near, d2, loglik
 
 
 def euclidean_sq(means: FloatArray, z: FloatArray) -> FloatArray:

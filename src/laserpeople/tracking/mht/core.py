@@ -227,10 +227,9 @@ def components(
     it is linked with (``links``, pairs of families in ``fam_meas``). Per component its
     families and its measurements (increasing); components in the order of their first
     family in ``fam_meas``, then those of measurements alone in measurement order."""
-    # union-find over the families only: a measurement joins the component of the first
-    # family that gates it (most measurements are gated by one family or none; those gated
-    # by none are components of their own, without a union-find entry)
-    up: dict[int, int] = {f: f for f in fam_meas}
+    up: dict[int, int] = {f: f for f in fam_meas}  # union-find; measurement j is ~j (< 0)
+    for j in range(n_meas):
+        up[~j] = ~j
 
     def root(x: int) -> int:
         r = up[x]
@@ -246,35 +245,20 @@ def components(
         ra, rb = root(a), root(b)
         if ra != rb:
             up[rb] = ra
-    owner: dict[int, int] = {}  # measurement -> the first family gating it
     for f, js in fam_meas.items():
-        if not js:
-            continue
         ra = root(f)  # stays a root: the others join it
         for j in js:
-            o = owner.setdefault(j, f)
-            if o != f:
-                rb = root(o)
-                if rb != ra:
-                    up[rb] = ra
-    comps: dict[int, tuple[set[int], list[int]]] = {}
+            rb = root(~j)
+            if rb != ra:
+                up[rb] = ra
+    fams: dict[int, set[int]] = {}
+    meas: dict[int, list[int]] = {}
     for f in fam_meas:
-        r = root(f)
-        c = comps.get(r)
-        if c is None:
-            comps[r] = ({f}, [])
-        else:
-            c[0].add(f)
-    alone: list[int] = []
+        fams.setdefault(root(f), set()).add(f)
     for j in range(n_meas):
-        first = owner.get(j)
-        if first is None:
-            alone.append(j)
-        else:
-            comps[root(first)][1].append(j)
-    out = [(frozenset(fs), js) for fs, js in comps.values()]
-    out += [(frozenset(), [j]) for j in alone]
-    return out
+        meas.setdefault(root(~j), []).append(j)
+    roots = list(dict.fromkeys([*fams, *meas]))
+    return [(frozenset(fams.get(r, ())), meas.get(r, [])) for r in roots]
 
 
 def project(hyps: Sequence[Hypothesis], families: frozenset[int]) -> list[Hypothesis]:
@@ -464,7 +448,7 @@ class MHT(Generic[Meas]):
             n_clusters=len(self.clusters),
             n_hypotheses=int(sum(sizes)),
             max_cluster_hypotheses=max(sizes, default=0),
-            n_live_nodes=len(live_nodes),  # (the tree's nodes: each once)
+            n_live_nodes=self.tree.n_nodes,
             n_families=self.tree.n_families,
             families_created=self.tree.families_created,
             assignment_solves=self._solves,
@@ -564,8 +548,6 @@ class MHT(Generic[Meas]):
         fam_meas: dict[int, set[int]],
         meas_idx: list[int],
     ) -> None:
-        if not fams or not meas_idx:  # (a measurement alone, or no measurement to share)
-            return
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement
             return

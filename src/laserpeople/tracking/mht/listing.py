@@ -56,9 +56,6 @@ MAX_LISTED_MEASUREMENTS = 10
 entries)."""
 
 
-_POPCOUNT = [x.bit_count() for x in range(1 << MAX_LISTED_MEASUREMENTS)]
-
-
 def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:
     """An upper bound of the number of children of the parents ``rows`` (track indices),
     given each track's number of possible labels and ``m`` measurements."""
@@ -364,7 +361,6 @@ class _Lister:
         )
         self.gates = [sum([c[3] for c in ch]) for ch in choices] if gates is None else gates
         self.full = (1 << self.m) - 1
-        self._excess: dict[int, float] = {}
         # (total, order found, parent, track labels, their measurements, measurements used
         # (bit mask), the unmatched measurements' labels or None when all are used)
         self.found: list[
@@ -412,25 +408,15 @@ class _Lister:
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas = self._labels, self._meas
-        left = len(self._rows) - t - 1  # tracks still to label after this one
-        last = left == 0
+        last = t + 1 == len(self._rows)
         limit, kth = self._limit, self._kth
-        pop = _POPCOUNT
-        few = left < pop[reach] and self.m <= MAX_LISTED_MEASUREMENTS
         for c, lab, j, bit in self.choices[self._rows[t]]:
             if used & bit:
                 continue
             child_used = used | bit
             child_cost = cost + c
             free = full & ~child_used
-            open_ = free & reach
-            bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[open_]
-            if few and pop[open_] > left:
-                key = open_ << 6 | left
-                extra = self._excess.get(key)
-                if extra is None:
-                    extra = self._excess[key] = self._excess_of(open_, left)
-                bound += extra
+            bound = child_cost + suffix + unmatched_lb[free & ~reach] + maybe_lb[free & reach]
             if bound > limit or bound >= kth:
                 continue
             labels[t] = lab
@@ -442,15 +428,6 @@ class _Lister:
             else:
                 self._measurements(0, child_cost, child_used, unmatched_lb[free])
             limit, kth = self._limit, self._kth
-
-    def _excess_of(self, open_: int, left: int) -> float:
-        """What the measurements ``open_`` (a bit mask) that ``left`` tracks cannot all
-        take add to their lower bound: the cheapest positive unmatched labels of all but
-        ``left`` of them."""
-        mm = self.meas_min
-        pos = sorted(mm[j] for j in range(self.m) if open_ >> j & 1 and mm[j] > 0.0)
-        extra = len(pos) - left
-        return math.fsum(pos[:extra]) if extra > 0 else 0.0
 
     def _measurements(self, j: int, cost: float, used: int, rest_lb: float) -> None:
         """Label the measurements from ``j`` on that no track took (new / false alarm)."""

@@ -401,6 +401,12 @@ class LegForeground:
             moved = self._blobs(float(frame.stamp), frame.points.points, fg) & ~kept
             self.points_moving += int(np.count_nonzero(moved))
             kept |= moved
+        import os
+        if os.environ.get("LP_TORSO") and frame.sensor_pose is not None and frame.frame == "world":
+            from laserpeople.pipeline.torso_blobs import torso_blobs
+
+            sp = frame.sensor_pose
+            kept |= torso_blobs(frame.points.points, frame.points.beams, fg, np.array([sp.x, sp.y]))
         self.frames += 1
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))

@@ -861,3 +861,37 @@ def test_a_persons_own_legs_and_a_short_glimpse_are_not_counted() -> None:
     seen = _with_points(_frames([a, b], 6.0), glimpse)
     assert counted(seen, CSAParams()) == []
     assert len(counted(seen, CSAParams(count_seconds=0.3))) == 1
+
+
+def _drifting(drift: float, seconds: float = 8.0) -> list[Frame]:
+    """Frames at 10 Hz of a laser driving along x at 0.5 m/s that sees, from scan 2 on, a
+    blob starting at (0, 3) and moving along x at ``drift`` [m/s] (a piece of furniture
+    whose centre drifts with the view and the odometry, or a slow walker)."""
+    frames = []
+    for k in range(int(seconds * 10) + 1):
+        xy = np.empty((0, 2))
+        if k >= 2:
+            xy = _blob((drift * (k - 2) / 10, 3.0), k)
+        ps = PointSet(k / 10, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+        fg = np.ones(len(xy), dtype=bool)
+        frames.append(Frame(k, k / 10, (), "synthetic", "world", Pose2D(0.05 * k, 0, 0), ps, fg))
+    return frames
+
+
+def test_on_a_moving_laser_travel_must_be_covered_within_moving_window() -> None:
+    """moving_window (3 s): a target drifting at 0.1 m/s covers moving_travel (0.5 m) only
+    after 5 s, never within 3 s, and is not reported; with moving_window = 0 (from where it
+    started, however long ago) it is reported once it lay 0.5 m from its start (5 s after
+    it was first seen, scan 52). A walker at 0.3 m/s (0.9 m in 3 s) is reported with the
+    window, once it walked 0.5 m (within about 1.7 s of its first scan)."""
+    slow = _drifting(0.1)
+    assert all(ids == [] for ids in _reported(slow, CSAParams()))
+    without = _reported(slow, CSAParams(moving_window=0.0))
+    first = next(k for k, ids in enumerate(without) if ids)
+    assert 50 <= first <= 54, first
+    assert without[first:] == [[0]] * (len(slow) - first)
+    walker = _reported(_drifting(0.3), CSAParams())
+    first = next(k for k, ids in enumerate(walker) if ids)
+    assert 17 <= first <= 21, first
+    assert walker[first:] == [[0]] * (len(walker) - first)
+    assert CSAParams.paper_preset["moving_travel"] == 0.0  # the window has nothing to act on

@@ -13,9 +13,7 @@ from laserpeople.pipeline.torso_blobs import MAX_WIDTH, MIN_BULGE, MIN_WIDTH, to
 LASER = np.zeros(2)
 
 
-def _fan(
-    shape: np.ndarray, step: float = np.radians(1.0)
-) -> tuple[np.ndarray, np.ndarray]:
+def _fan(shape: np.ndarray, step: float = np.radians(1.0)) -> tuple[np.ndarray, np.ndarray]:
     """Points where beams from the laser at the origin, ``step`` [rad] apart, first hit the
     closed polygon ``shape`` (M, 2) [m], and their beam indices (a ray cast by hand)."""
     pts, beams = [], []

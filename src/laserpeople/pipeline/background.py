@@ -510,8 +510,8 @@ class AutoBackground:
             )
         return (
             f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "
-            f"detections{held}{torso} ({why}{kept}; [leg_foreground] use = never keeps every point, "
-            "the papers' setting)"
+            f"detections{held}{torso} ({why}{kept}; [leg_foreground] use = never keeps every "
+            "point, the papers' setting)"
         )
 
 
@@ -657,8 +657,8 @@ __all__ = [
     "SensorMotionCheck",
     "SensorMotionParams",
     "StaticWorldParams",
-    "background_of",
     "at_torso_height",
+    "background_of",
     "background_stage",
     "describe_background",
     "describe_foreground",

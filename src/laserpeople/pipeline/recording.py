@@ -22,8 +22,8 @@ from laserpeople.pipeline.background import (
     background_stage,
     set_laser_height,
 )
-from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.core import Pipeline
+from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink

@@ -33,7 +33,8 @@ MIN_BULGE = 0.03
 """Least distance [m] of the run's points from the chord between its ends, towards the
 laser: a torso's depth seen across is 0.1-0.15 m; a wall's noise a centimetre or two
 (measured on the moving torso-height tuning seeds 11 and 13: with 0.03 m, 1.1 and 1.5
-such runs per scan lie farther than 1.5 m from every person)."""
+such runs per scan lie farther than 1.5 m from every person; csa MOTA 0.420 / 0.261,
+with 0.02 m 0.361 / 0.189, with 0.05 m 0.280 / 0.248)."""
 
 
 def torso_blobs(

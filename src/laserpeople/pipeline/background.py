@@ -506,7 +506,7 @@ class AutoBackground:
         if self.legs.torso and p.torso_blobs:
             torso = (
                 f" and {self.legs.points_torso} points of torso-shaped runs (the laser "
-                f"sits at torso height, {self.laser_height:g} m)"
+                f"sits at torso height, {self.laser_height:.2f} m)"
             )
         return (
             f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "

@@ -138,13 +138,16 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
 
 
 def at_height(make: Any, height: float | None) -> Any:
-    """A maker of ``make``'s trackers told the scene's laser height [m] (None: unknown), as
-    :func:`laserpeople.pipeline.build` tells them the recording's."""
+    """A maker of ``make``'s trackers told the scene's laser height [m] (None: unknown)
+    when they take torso-shaped runs, as :func:`laserpeople.pipeline.build` tells them the
+    recording's."""
     from laserpeople.pipeline.background import set_laser_height
+    from laserpeople.pipeline.leg_foreground import wants_torso_runs
 
     def made() -> Any:
         tracker = make()
-        set_laser_height(getattr(tracker, "stages", ()), height)
+        if wants_torso_runs(getattr(tracker, "tracker", None)):
+            set_laser_height(tracker.stages, height)
         return tracker
 
     return made

@@ -7,8 +7,10 @@ from __future__ import annotations
 import numpy as np
 
 from laserpeople.pipeline.background import AutoBackground, at_torso_height, set_laser_height
-from laserpeople.pipeline.leg_foreground import LegForegroundParams
+from laserpeople.pipeline.leg_foreground import LegForegroundParams, wants_torso_runs
 from laserpeople.pipeline.torso_blobs import MAX_WIDTH, MIN_BULGE, MIN_WIDTH, torso_blobs
+from laserpeople.tracking.csa import ClusterSortingTracker
+from laserpeople.tracking.nearest import NearestNeighbourTracker
 
 LASER = np.zeros(2)
 
@@ -111,7 +113,7 @@ def test_the_bulge_threshold_tells_a_torso_from_noise() -> None:
 def test_only_a_laser_stated_at_torso_height_keeps_torso_runs() -> None:
     """at_torso_height: 0.7 m or higher (UPPER_BODY_MIN_HEIGHT); unknown is not.
     set_laser_height reaches the auto model among the stages; --preset paper turns the
-    runs off (002, 004)."""
+    runs off (002, 004); only the CSA asks for them."""
     assert at_torso_height(1.1) and at_torso_height(0.7)
     assert not at_torso_height(0.3) and not at_torso_height(None)
     auto = AutoBackground()
@@ -119,3 +121,6 @@ def test_only_a_laser_stated_at_torso_height_keeps_torso_runs() -> None:
     assert auto.laser_height == 1.2
     assert LegForegroundParams().torso_blobs
     assert LegForegroundParams.paper_preset["torso_blobs"] is False
+    assert wants_torso_runs(ClusterSortingTracker())
+    assert not wants_torso_runs(NearestNeighbourTracker())
+    assert not wants_torso_runs(None)

@@ -173,9 +173,10 @@ class LegForegroundParams:
         "detector fires on a person in under a third of the scans (moving torso-height "
         "tuning seeds 11, 13: 29 / 15 %); torso-shaped runs of the grid's foreground lie "
         "within 0.5 m of a person in 73 / 61 % of them",
-        "on a moving laser with poses whose recording states it at torso height (0.7 m or "
-        "higher), also keep the foreground points of runs shaped like a torso: 0.2-0.65 m "
-        "between the ends, bulging 0.03 m towards the laser (pipeline/torso_blobs.py)",
+        "for a tracker that asks for them (csa), on a moving laser with poses whose "
+        "recording states it at torso height (0.7 m or higher), also keep the foreground "
+        "points of runs shaped like a torso: 0.2-0.65 m between the ends, bulging 0.03 m "
+        "towards the laser (pipeline/torso_blobs.py)",
     )
 
     learn_people_warmup: int = param(
@@ -478,6 +479,13 @@ def learns_behind_people(tracker: object) -> bool:
     return bool(getattr(tracker, "learns_behind_people", False))
 
 
+def wants_torso_runs(tracker: object) -> bool:
+    """Whether ``tracker`` takes the torso-shaped runs of the foreground at torso height
+    (its class sets ``wants_torso_runs``: the CSA, measured in docs/csa.md; the particle
+    filters and the group tracker keep the points near legs alone until measured)."""
+    return bool(getattr(tracker, "wants_torso_runs", False))
+
+
 def own_detector(detector: Any, shared: bool) -> Any:
     """``detector`` for a :class:`LegForeground` (a copy when ``shared``: a detector
     remembers each laser's previous scan for its motion features, so two stages must not
@@ -496,4 +504,5 @@ __all__ = [
     "needs_steady_points",
     "own_detector",
     "stage_leg_tracker",
+    "wants_torso_runs",
 ]

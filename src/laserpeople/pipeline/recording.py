@@ -24,6 +24,7 @@ from laserpeople.pipeline.background import (
 )
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.laser_height import laser_heights
+from laserpeople.pipeline.leg_foreground import wants_torso_runs
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
@@ -428,8 +429,8 @@ def build(
         if hide_static is not None:
             identifiers.insert(0, hide_static)
         # one laser of a stated height (a fused frame's beams are no one scan's)
-        height = laser_heights(rec).get(lasers[0]) if len(lasers) == 1 else None
-        set_laser_height(preprocess, height)
+        if len(lasers) == 1 and wants_torso_runs(tracker):
+            set_laser_height(preprocess, laser_heights(rec).get(lasers[0]))
         if map_path is not None:
             check_recording_map(rec, map_path)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]

@@ -573,6 +573,9 @@ class ClusterSortingTracker:
     """
 
     consumes: frozenset[FrameField] = frozenset({"points", "foreground"})
+    wants_torso_runs = True
+    """At torso height its foreground keeps torso-shaped runs too (``[leg_foreground]
+    torso_blobs``, :func:`~laserpeople.pipeline.leg_foreground.wants_torso_runs`)."""
 
     def __init__(self, params: CSAParams | None = None) -> None:
         self.params = params or CSAParams()

@@ -202,6 +202,17 @@ class CSAParams:
         "started, however long ago)",
         "s",
     )
+    moving_adopt_near: float = param(
+        1.0,
+        "extension of 002, as moving_travel: on the moving tuning seeds people who had "
+        "walked and were found again by a target started next to them waited to walk "
+        "0.5 m once more (docs/csa.md, 'Torso blobs on a moving laser')",
+        "under moving_travel, a person who walked keeps having walked when the target that "
+        "continues it (adopt_orphans, adopt_escaped) was started within this distance of "
+        "where the person was last estimated (0: the person takes the target's travel, "
+        "whatever it was)",
+        "m",
+    )
     moving_unseen: float = param(
         0.3,
         "extension of 002, as moving_travel: on a moving laser with poses the points "
@@ -759,15 +770,22 @@ class ClusterSortingTracker:
             return  # sliding along a wall as the laser's view moves
         del self._unwalked[pid]
 
-    def _adopted(self, target: int, person: int) -> None:
-        """Person ``person`` is continued by the single target ``target`` (adopt_orphans,
-        adopt_escaped): when that target has not walked ``moving_travel``, neither has the
-        person, from where the target was started. On a moving laser new targets start on
-        furniture all over the scene; one that took a walked person's identity was
-        reported at once, wherever it stood."""
+    def _adopted(self, target: int, person: int, last: FloatArray | None = None) -> None:
+        """Person ``person``, last estimated at ``last`` (2,) [m] (None: unknown), is
+        continued by the single target ``target`` (adopt_orphans, adopt_escaped): when that
+        target has not walked ``moving_travel``, neither has the person, from where the
+        target was started. On a moving laser new targets start on furniture all over the
+        scene; one that took a walked person's identity was reported at once, wherever it
+        stood. A target started within ``moving_adopt_near`` of where a person who walked
+        was last estimated is that person found again: it keeps having walked."""
         start = self._unwalked.pop(target, None)
-        if start is not None:
-            self._unwalked[person] = start
+        if start is None:
+            return
+        near = self.params.moving_adopt_near
+        if person not in self._unwalked and last is not None and near > 0:
+            if float(np.hypot(*(start[0] - last))) <= near:
+                return
+        self._unwalked[person] = start
 
     def _shown_walker(self, pid: int) -> bool:
         """Whether person ``pid`` may be reported under ``moving_travel``: the laser has not
@@ -965,7 +983,7 @@ class ClusterSortingTracker:
             for t, pid in zip(new, ids[n_sub:], strict=True):
                 del singles[t.pid]
                 singles[pid] = _Single(pid, t.mean, t.cov, t.last_seen)
-                self._adopted(t.pid, pid)
+                self._adopted(t.pid, pid, cl.shown.get(pid))
             del clusters[cl.cid]
             self.events.append(CSAEvent(stamp, "split", cl.members))
 
@@ -1129,7 +1147,7 @@ class ClusterSortingTracker:
                 m, t = orphans[int(r)], new[int(c)]
                 del singles[t.pid]
                 singles[m] = _Single(m, t.mean, t.cov, t.last_seen)
-                self._adopted(t.pid, m)
+                self._adopted(t.pid, m, cl.shown[m])
                 taken.append(m)
             if not taken:
                 continue

@@ -919,3 +919,32 @@ def test_on_a_moving_torso_height_laser_torso_runs_give_the_people(tmp_path) -> 
     tracks = [replace(s.tracks, tracks=s.tracks.of_kind("person")) for s in steps if s.tracks]
     truth = list(open_recording(path).truth())
     assert evaluate(truth, tracks).result().summary()["mota"] >= 0.35
+
+
+def test_a_walked_person_found_again_next_to_where_it_was_lost_keeps_having_walked() -> None:
+    """moving_adopt_near (0.5 m): a person who walked (not held by moving_travel) that is
+    continued by a target that has not walked keeps having walked when the target was
+    started within 0.5 m of where the person was last estimated (0.3 m: it is the person
+    found again), and waits to walk from the target's start when it was started farther
+    (1.0 m: furniture near a lost person, as in the orphan test above). A person that had
+    not walked either takes the target's start; with 0 every person does."""
+    start = (np.array([1.0, 3.0]), 2.0)
+
+    def held(params: CSAParams, last: tuple[float, float], walked: bool = True) -> bool:
+        csa = ClusterSortingTracker(params)
+        csa._unwalked = {5: start}
+        if not walked:
+            csa._unwalked[7] = (np.array([-4.0, 3.0]), 0.0)
+        csa._adopted(5, 7, np.array(last))
+        assert 5 not in csa._unwalked
+        if 7 in csa._unwalked:
+            assert np.allclose(csa._unwalked[7][0], start[0]) and csa._unwalked[7][1] == 2.0
+        return 7 in csa._unwalked
+
+    assert CSAParams().moving_adopt_near == 0.5
+    assert not held(CSAParams(), (1.3, 3.0))
+    assert not held(CSAParams(), (1.0, 3.5))
+    assert held(CSAParams(), (1.0, 3.51))
+    assert held(CSAParams(), (2.0, 3.0))
+    assert held(CSAParams(), (1.3, 3.0), walked=False)
+    assert held(CSAParams(moving_adopt_near=0.0), (1.3, 3.0))

@@ -784,9 +784,9 @@ class ClusterSortingTracker:
         if start is None:
             return
         near = self.params.moving_adopt_near
-        if person not in self._unwalked and last is not None and near > 0:
-            if float(np.hypot(*(start[0] - last))) <= near:
-                return
+        gap = math.inf if last is None else float(np.hypot(*(start[0] - last)))
+        if person not in self._unwalked and near > 0 and gap <= near:
+            return  # the person found again next to where it was lost
         self._unwalked[person] = start
 
     def _shown_walker(self, pid: int) -> bool:

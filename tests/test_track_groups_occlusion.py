@@ -21,7 +21,9 @@ STEP = math.radians(1.0)
 
 
 def _scan(ranges: np.ndarray, angle_min: float = -math.pi / 2, pose: Pose2D | None = None) -> Scan:
-    return Scan(0.0, angle_min, STEP, np.asarray(ranges, dtype=np.float64), range_max=30.0, pose=pose)
+    return Scan(
+        0.0, angle_min, STEP, np.asarray(ranges, dtype=np.float64), range_max=30.0, pose=pose
+    )
 
 
 def _frame(scan: Scan, frame: str = "sensor") -> Frame:
@@ -62,12 +64,12 @@ def test_world_frame_uses_the_scans_pose_and_a_full_circle_wraps() -> None:
     # at -180 + k deg in the laser frame, so world direction +x is laser -90 deg, beam 90
     ranges = np.full(360, 10.0)
     ranges[90] = 1.0
-    ranges[359] = 1.0  # laser +179 deg: world -91 deg... and the wrap onto beam 0 too
+    ranges[359] = 1.0  # laser +179 deg
     pose = Pose2D(5.0, 5.0, math.pi / 2)
     shadows = FrameShadows.from_frame(_frame(_scan(ranges, -math.pi, pose), "world"))
     assert shadows is not None
     assert shadows.shadowed(np.array([[8.0, 5.0]]), 0.3)  # world +x of the laser
-    assert not shadows.shadowed(np.array([[2.0, 5.0]]), 0.3)  # world -x: beam 0... free
+    assert not shadows.shadowed(np.array([[2.0, 5.0]]), 0.3)  # world -x: laser +90, beam 270
     # laser bearing +179.6 deg rounds to beam 359.6 -> 360 -> wraps to beam 0 (free)
     ang = math.radians(179.6) + math.pi / 2
     p = np.array([5.0 + 3.0 * math.cos(ang), 5.0 + 3.0 * math.sin(ang)])

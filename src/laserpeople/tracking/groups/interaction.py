@@ -674,6 +674,7 @@ class GroupLabelModel:
         shadowed: tuple[float, float, float] | None = None,
         shadow_margin: float = 0.0,
         shadow_outside: bool = False,
+        shadow_hits: int = 1,
     ) -> None:
         self._lp = np.log(np.array([p_m, p_o, p_t]))
         self._must = np.array([math.log(p_m), -np.inf, -np.inf])
@@ -684,6 +685,7 @@ class GroupLabelModel:
         self._shadow_lp = None if shadowed is None else np.log(np.array(shadowed))
         self._margin = shadow_margin
         self._outside = shadow_outside
+        self._hits = shadow_hits
         self.shadows: FrameShadows | None = None
         """What the lasers of the scan being tracked saw (None: no track is shadowed)."""
         self.stamp = -math.inf
@@ -696,7 +698,7 @@ class GroupLabelModel:
         out = np.where(must[:, None], self._must[None, :], self._lp[None, :])
         if self._shadow_lp is not None and self.shadows is not None:
             for i, node in enumerate(nodes):
-                if not must[i] and self.in_shadow(node):
+                if not must[i] and node.hits >= self._hits and self.in_shadow(node):
                     out[i] = self._shadow_lp
         return out
 

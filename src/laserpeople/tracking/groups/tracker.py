@@ -130,14 +130,18 @@ class GroupTrackerParams:
     shadow_margin: float = param(
         0.3,
         "assumption: a leg's width and the range noise",
-        "a point is in the shadow when the beam at its bearing ended more than this in "
-        "front of it",
+        "a point is in the shadow when the beam at its bearing ended more than this in front of it",
         "m",
     )
     shadow_outside: bool = param(
         False,
         "experiment",
         "points outside every laser's field of view count as shadowed",
+    )
+    shadow_hits: int = param(
+        10,
+        "experiment",
+        "scans a group must have been detected in before it takes the shadowed probabilities",
     )
     p_c: float = param(0.63, "000 Sec. 4.6", "prior of a continuation")
     p_s: float = param(0.16, "000 Sec. 4.6", "prior of a split")
@@ -601,6 +605,7 @@ class GroupMHTTracker:
             (p.p_m_shadowed, p.p_o_shadowed, p.p_t_shadowed) if p.shadow_occlusion else None,
             p.shadow_margin,
             p.shadow_outside,
+            p.shadow_hits,
         )
         self.mht: MHT[GroupObservations] = MHT(
             p.mht.with_defaults(min_ratio=GROUP_MIN_RATIO, n_scan=GROUP_N_SCAN),

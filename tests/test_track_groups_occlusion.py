@@ -112,6 +112,14 @@ def test_a_shadowed_track_takes_the_adapted_label_probabilities() -> None:
     old = _node(1.0, 0.9)
     old.pred_mean = np.array([4.0, 0.0, 0.0, 0.0, 2.0])
     np.testing.assert_allclose(np.exp(model.track_log_probs([old]))[0], [0.2, 0.79, 0.01])
+    # only a group detected in shadow_hits scans adapts (000: the legs of validated people)
+    approved = GroupLabelModel(0.79, 0.19, 0.02, 0.02, 0.06, 1.0, (0.2, 0.79, 0.01), 0.3, 10)
+    approved.shadows, approved.stamp = model.shadows, 1.0
+    young, old_enough = _node(4.0, 1.0), _node(4.0, 1.0)
+    young.hits, old_enough.hits = 9, 10
+    lp = np.exp(approved.track_log_probs([young, old_enough]))
+    np.testing.assert_allclose(lp[0], [0.79, 0.19, 0.02], rtol=1e-12)
+    np.testing.assert_allclose(lp[1], [0.2, 0.79, 0.01], rtol=1e-12)
     # without adapted probabilities, 000's one set for every track
     plain = GroupLabelModel(0.79, 0.19, 0.02, 0.02, 0.06, 1.0)
     plain.shadows = model.shadows
@@ -123,4 +131,26 @@ def test_shadowed_probabilities_are_checked_and_the_paper_preset_turns_them_off(
         GroupTrackerParams(p_o_shadowed=0.5)
     with pytest.raises(ValueError, match="shadow_margin"):
         GroupTrackerParams(shadow_margin=-0.1)
+    with pytest.raises(ValueError, match="shadow_hits"):
+        GroupTrackerParams(shadow_hits=0)
     assert GroupTrackerParams.paper_preset["shadow_occlusion"] is False
+
+
+def test_groups_in_the_shadow_keep_their_track_end_to_end() -> None:
+    # random-groups tuning seed 2 (a torso-height laser of 0.28 deg, four people), 12 s:
+    # a party hidden behind another for a second and more. Measured: group MOTA 0.908
+    # with the shadowed probabilities, 0.858 with 000's one set for every group
+    # (shadow_occlusion false, or the shadowed values set to p_m, p_o, p_t)
+    from dataclasses import replace
+
+    from laserpeople.evaluation.groups import run_groups
+    from laserpeople.sim.scenarios import run_scenario
+
+    scene = run_scenario("random-groups", seed=2, seconds=12.0)
+    r = run_groups(scene.scans, GroupTrackerParams(), truth=scene.truth)
+    assert r.group_mot.num_truth > 300
+    assert r.group_mot.mota >= 0.89
+    plain = {"p_m_shadowed": 0.79, "p_o_shadowed": 0.19, "p_t_shadowed": 0.02}
+    for change in ({"shadow_occlusion": False}, plain):
+        other = run_groups(scene.scans, replace(GroupTrackerParams(), **change), truth=scene.truth)  # type: ignore[arg-type]
+        assert other.group_mot.mota < 0.87, change

@@ -660,8 +660,9 @@ class GroupLabelModel:
     split or merged track of this scan must be matched (000 Sec. 4.4).
 
     With ``shadowed`` probabilities (p_M, p_O, p_T) and a scan's :attr:`shadows` set, a
-    track whose predicted contour lies wholly in the shadow of closer returns takes those
-    instead (000 Sec. 3.3.1's adaptive occlusion probabilities, :mod:`.occlusion`)."""
+    track detected in at least ``shadow_hits`` scans whose predicted contour lies wholly
+    in the shadow of closer returns takes those instead (000 Sec. 3.3.1's adaptive
+    occlusion probabilities, :mod:`.occlusion`)."""
 
     def __init__(
         self,
@@ -673,7 +674,6 @@ class GroupLabelModel:
         area: float = 1.0,
         shadowed: tuple[float, float, float] | None = None,
         shadow_margin: float = 0.0,
-        shadow_outside: bool = False,
         shadow_hits: int = 1,
     ) -> None:
         self._lp = np.log(np.array([p_m, p_o, p_t]))
@@ -684,7 +684,6 @@ class GroupLabelModel:
         """V of eqs. 36-37 [m^2]."""
         self._shadow_lp = None if shadowed is None else np.log(np.array(shadowed))
         self._margin = shadow_margin
-        self._outside = shadow_outside
         self._hits = shadow_hits
         self.shadows: FrameShadows | None = None
         """What the lasers of the scan being tracked saw (None: no track is shadowed)."""
@@ -710,7 +709,7 @@ class GroupLabelModel:
         at = node.mean if node.stamp >= self.stamp or node.pred_mean is None else node.pred_mean
         contour = group_payload(node).contour
         points = contour + at[:2] if len(contour) else at[None, :2]
-        return self.shadows.shadowed(points, self._margin, self._outside)
+        return self.shadows.shadowed(points, self._margin)
 
     def measurement_log_rates(
         self, measurements: GroupObservations

@@ -8,8 +8,9 @@ p_M = 0.79, p_O = 0.19, p_T = 0.02, so a group hidden behind another group or an
 is deleted after a few scans (p_O^m falls below p_T) and comes back as a new group, with
 a new id and unconfirmed for ``confirm_scans``. Here a group whose predicted points all
 lie in the shadow of a closer return of the scan (the beam at their bearing ends more
-than ``margin`` in front of them) is *shadowed*, and takes the adapted probabilities;
-every other group 000's.
+than ``margin`` in front of them) is *shadowed*, and, once it has been detected in
+``shadow_hits`` scans (000 adapts only the legs of validated people), takes the adapted
+probabilities; every other group 000's.
 """
 
 from __future__ import annotations
@@ -100,18 +101,18 @@ class FrameShadows:
             )
         return cls(tuple(views))
 
-    def shadowed(self, points: FloatArray, margin: float, outside: bool = False) -> bool:
+    def shadowed(self, points: FloatArray, margin: float) -> bool:
         """True when every one of ``points`` (K, 2) [m] lies behind a closer return of a
         scan that covers it and in no scan's view in front of the beam's end (out of every
         scan's field of view counts as not shadowed: the group left the view, it is not
-        hidden; with ``outside``, it counts as shadowed); False for no points."""
+        hidden); False for no points."""
         if not len(points):
             return False
         shadow = np.zeros(len(points), dtype=bool)
         seen = np.zeros(len(points), dtype=bool)
         for view in self.views:
             covered, hidden = view.hidden(points, margin)
-            shadow |= hidden | (outside & ~covered)
+            shadow |= hidden
             seen |= covered & ~hidden
         return bool(shadow.all() and not seen.any())
 

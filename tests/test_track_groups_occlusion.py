@@ -90,10 +90,14 @@ def test_negative_angle_increment_counts_beams_the_other_way() -> None:
     assert not shadows.shadowed(np.array([[0.0, -3.0]]), 0.3)  # -90 deg: beam 180, free
 
 
+_IDS = iter(range(1_000_000))
+
+
 def _node(x: float, stamp: float, must: bool = False) -> TrackNode:
     mean = np.array([x, 0.0, 0.0, 0.0, 2.0])
     payload = GroupPayload(np.array([[0.0, 0.1], [0.0, -0.1]]), must_match=must)
-    return TrackNode(0, 0, -1, mean, np.eye(5), stamp, "detected", payload=payload)
+    k = next(_IDS)  # node ids are unique (the label model remembers a node's test per scan)
+    return TrackNode(k, k, -1, mean, np.eye(5), stamp, "detected", payload=payload)
 
 
 def test_a_shadowed_track_takes_the_adapted_label_probabilities() -> None:

@@ -685,31 +685,55 @@ class GroupLabelModel:
         self._shadow_lp = None if shadowed is None else np.log(np.array(shadowed))
         self._margin = shadow_margin
         self._hits = shadow_hits
-        self.shadows: FrameShadows | None = None
-        """What the lasers of the scan being tracked saw (None: no track is shadowed)."""
+        self._shadows: FrameShadows | None = None
+        self._in_shadow: dict[int, bool] = {}  # node id -> shadowed, this scan
         self.stamp = -math.inf
         """Time [s] of the scan being tracked: a node of an earlier scan is tested at its
         prediction, one of this scan at its state."""
+
+    @property
+    def shadows(self) -> FrameShadows | None:
+        """What the lasers of the scan being tracked saw (None: no track is shadowed)."""
+        return self._shadows
+
+    @shadows.setter
+    def shadows(self, value: FrameShadows | None) -> None:
+        self._shadows = value
+        self._in_shadow.clear()
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
         must = np.array([group_payload(n).must_match for n in nodes], dtype=bool)
         out = np.where(must[:, None], self._must[None, :], self._lp[None, :])
-        if self._shadow_lp is not None and self.shadows is not None:
-            for i, node in enumerate(nodes):
-                if not must[i] and node.hits >= self._hits and self.in_shadow(node):
-                    out[i] = self._shadow_lp
+        if self._shadow_lp is not None and self._shadows is not None:
+            rows = [i for i, n in enumerate(nodes) if not must[i] and n.hits >= self._hits]
+            self._test([nodes[i] for i in rows])
+            hidden = [i for i in rows if self._in_shadow[nodes[i].node_id]]
+            out[hidden] = self._shadow_lp
         return out
 
     def in_shadow(self, node: TrackNode) -> bool:
         """True when every point of ``node``'s contour, at its predicted position (its
         own for a node of this scan), lies behind a closer return of this scan."""
-        if self.shadows is None:
+        if self._shadows is None:
             return False
-        at = node.mean if node.stamp >= self.stamp or node.pred_mean is None else node.pred_mean
-        contour = group_payload(node).contour
-        points = contour + at[:2] if len(contour) else at[None, :2]
-        return self.shadows.shadowed(points, self._margin)
+        self._test([node])
+        return self._in_shadow[node.node_id]
+
+    def _test(self, nodes: Sequence[TrackNode]) -> None:
+        """Test the contours of those of ``nodes`` not tested this scan (one batch)."""
+        assert self._shadows is not None
+        todo = [n for n in nodes if n.node_id not in self._in_shadow]
+        if not todo:
+            return
+        parts = []
+        for node in todo:
+            at = node.mean if node.stamp >= self.stamp or node.pred_mean is None else node.pred_mean
+            contour = group_payload(node).contour
+            parts.append(contour + at[:2] if len(contour) else at[None, :2])
+        counts = np.array([len(x) for x in parts])
+        flags = self._shadows.shadowed_sets(np.concatenate(parts), counts, self._margin)
+        self._in_shadow.update(zip((n.node_id for n in todo), flags.tolist(), strict=True))
 
     def measurement_log_rates(
         self, measurements: GroupObservations

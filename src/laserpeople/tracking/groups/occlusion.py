@@ -108,13 +108,21 @@ class FrameShadows:
         hidden); False for no points."""
         if not len(points):
             return False
-        shadow = np.zeros(len(points), dtype=bool)
-        seen = np.zeros(len(points), dtype=bool)
+        return bool(self.shadowed_sets(points, np.array([len(points)]), margin)[0])
+
+    def shadowed_sets(
+        self, points: FloatArray, counts: NDArray[np.int64], margin: float
+    ) -> BoolArray:
+        """:meth:`shadowed` of consecutive sets of ``points`` (K, 2) [m], ``counts`` (S,)
+        points each (every count at least one): (S,) bool."""
+        ok = np.zeros(len(points), dtype=bool)  # behind a return of some scan
+        seen = np.zeros(len(points), dtype=bool)  # in front of a beam's end in some scan
         for view in self.views:
             covered, hidden = view.hidden(points, margin)
-            shadow |= hidden
+            ok |= hidden
             seen |= covered & ~hidden
-        return bool(shadow.all() and not seen.any())
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        return np.logical_and.reduceat(ok & ~seen, starts)
 
 
 __all__ = ["FrameShadows", "ScanView"]

@@ -136,11 +136,15 @@ def test_pairs_walking_past_each_other_stay_apart_with_the_trail_velocity() -> N
 
 def test_passing_parties_end_to_end_on_a_random_groups_scene() -> None:
     """A tuning scene of parties that cross, meet and stand (random-groups seed 0, 15 s,
-    a feet-height laser of 0.85 deg, eleven people). Measured: group MOTA 0.718, proxemic
-    0.729 with the trail velocity; 0.643 and 0.663 with the Kalman velocity (000), which
-    merges parties walking past each other."""
+    a feet-height laser of 0.85 deg, eleven people). Measured: group MOTA 0.682, proxemic
+    0.692 with the trail velocity; 0.609 and 0.627 with the Kalman velocity (000), which
+    merges parties walking past each other. (Before groups in the shadow were kept,
+    ``shadow_occlusion`` false: 0.718 / 0.729 and 0.643 / 0.663; the kept groups add 22
+    false-positive group-frames here, coasting after their party turned.)"""
     scene = run_scenario("random-groups", seed=0, seconds=15.0)
     r = run_groups(scene.scans, GroupTrackerParams(), truth=scene.truth)
     assert r.group_mot.num_truth > 400
-    assert r.group_mot.mota >= 0.70
-    assert r.proxemic_mot.mota >= 0.70
+    assert r.group_mot.mota >= 0.67
+    assert r.proxemic_mot.mota >= 0.68
+    kalman = run_groups(scene.scans, GroupTrackerParams(velocity_window=0.0), truth=scene.truth)
+    assert kalman.group_mot.mota < 0.65

@@ -48,6 +48,7 @@ from laserpeople.tracking.groups.model import (
     with_trail_velocity,
 )
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
+from laserpeople.tracking.groups.occlusion import FrameShadows
 from laserpeople.tracking.mht.protocols import Branch, BranchObservations
 from laserpeople.tracking.mht.tracktree import BY_FAMILY, DETECTED, TrackNode, TrackTree
 
@@ -656,10 +657,24 @@ class GroupLabelModel:
     lambda = p / V [1/m^2], against the likelihoods N_i of matched observations (eq. 24,
     a density in 1/m^2), as the leg tracker's lambda_new and lambda_fal. ``area`` is V
     [m^2]; the tracker sets it per scan when the observation area is the lasers' view. A
-    split or merged track of this scan must be matched (000 Sec. 4.4)."""
+    split or merged track of this scan must be matched (000 Sec. 4.4).
+
+    With ``shadowed`` probabilities (p_M, p_O, p_T) and a scan's :attr:`shadows` set, a
+    track detected in at least ``shadow_hits`` scans whose predicted contour lies wholly
+    in the shadow of closer returns takes those instead (000 Sec. 3.3.1's adaptive
+    occlusion probabilities, :mod:`.occlusion`)."""
 
     def __init__(
-        self, p_m: float, p_o: float, p_t: float, p_n: float, p_f: float, area: float = 1.0
+        self,
+        p_m: float,
+        p_o: float,
+        p_t: float,
+        p_n: float,
+        p_f: float,
+        area: float = 1.0,
+        shadowed: tuple[float, float, float] | None = None,
+        shadow_margin: float = 0.0,
+        shadow_hits: int = 1,
     ) -> None:
         self._lp = np.log(np.array([p_m, p_o, p_t]))
         self._must = np.array([math.log(p_m), -np.inf, -np.inf])
@@ -667,11 +682,58 @@ class GroupLabelModel:
         self._log_p_fal = math.log(p_f)
         self.area = area
         """V of eqs. 36-37 [m^2]."""
+        self._shadow_lp = None if shadowed is None else np.log(np.array(shadowed))
+        self._margin = shadow_margin
+        self._hits = shadow_hits
+        self._shadows: FrameShadows | None = None
+        self._in_shadow: dict[int, bool] = {}  # node id -> shadowed, this scan
+        self.stamp = -math.inf
+        """Time [s] of the scan being tracked: a node of an earlier scan is tested at its
+        prediction, one of this scan at its state."""
+
+    @property
+    def shadows(self) -> FrameShadows | None:
+        """What the lasers of the scan being tracked saw (None: no track is shadowed)."""
+        return self._shadows
+
+    @shadows.setter
+    def shadows(self, value: FrameShadows | None) -> None:
+        self._shadows = value
+        self._in_shadow.clear()
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of matched/occluded/obsolete per track."""
         must = np.array([group_payload(n).must_match for n in nodes], dtype=bool)
-        return np.where(must[:, None], self._must[None, :], self._lp[None, :])
+        out = np.where(must[:, None], self._must[None, :], self._lp[None, :])
+        if self._shadow_lp is not None and self._shadows is not None:
+            rows = [i for i, n in enumerate(nodes) if not must[i] and n.hits >= self._hits]
+            self._test([nodes[i] for i in rows])
+            hidden = [i for i in rows if self._in_shadow[nodes[i].node_id]]
+            out[hidden] = self._shadow_lp
+        return out
+
+    def in_shadow(self, node: TrackNode) -> bool:
+        """True when every point of ``node``'s contour, at its predicted position (its
+        own for a node of this scan), lies behind a closer return of this scan."""
+        if self._shadows is None:
+            return False
+        self._test([node])
+        return self._in_shadow[node.node_id]
+
+    def _test(self, nodes: Sequence[TrackNode]) -> None:
+        """Test the contours of those of ``nodes`` not tested this scan (one batch)."""
+        assert self._shadows is not None
+        todo = [n for n in nodes if n.node_id not in self._in_shadow]
+        if not todo:
+            return
+        parts = []
+        for node in todo:
+            at = node.mean if node.stamp >= self.stamp or node.pred_mean is None else node.pred_mean
+            contour = group_payload(node).contour
+            parts.append(contour + at[:2] if len(contour) else at[None, :2])
+        counts = np.array([len(x) for x in parts])
+        flags = self._shadows.shadowed_sets(np.concatenate(parts), counts, self._margin)
+        self._in_shadow.update(zip((n.node_id for n in todo), flags.tolist(), strict=True))
 
     def measurement_log_rates(
         self, measurements: GroupObservations

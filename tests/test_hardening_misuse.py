@@ -3,12 +3,15 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
+from laserpeople.errors import ConfigError
 from laserpeople.scan import PointSet, Scan
 
 
@@ -89,3 +92,67 @@ def test_the_beam_histogram_learns_again_after_a_layout_change() -> None:
     assert model.layout_changes == 1 and not model.learning
     assert model.counts("laser").shape == new.counts("laser").shape
     assert np.flatnonzero(fg).tolist() == [5, 6, 7]
+
+
+@pytest.mark.parametrize(
+    ("tracker", "text", "message"),
+    [
+        (
+            "leg-mht",
+            "[leg_tracker]\npeople.gate_probability = 1.5\n",
+            r"\[leg_tracker\] people.gate_probability = 1.5 must be below 1",
+        ),
+        (
+            "group-mht",
+            "[group_tracker]\np_c = 1.2\n",
+            r"\[group_tracker\] p_c = 1.2 is a probability: it must be in \[0, 1\]",
+        ),
+        (
+            "leg-mht",
+            "[leg_tracker]\np_det_free = -0.1\n",
+            r"\[leg_tracker\] p_det_free = -0.1 is a probability",
+        ),
+        (
+            "feet-pf",
+            "[feet_pf]\nsupport_radius = -1.0\n",
+            r"\[feet_pf\] support_radius = -1.0 is in m: it cannot be negative",
+        ),
+        (
+            "leg-mht",
+            "[leg_tracker]\npeople.reid.max_dormant = -5.0\n",
+            r"\[leg_tracker\] people.reid.max_dormant = -5.0 is in s: it cannot be negative",
+        ),
+        ("feet-pf", "[feet_pf]\nseed = -1\n", r"\[feet_pf\] seed = -1 is a count"),
+        (
+            "leg-mht",
+            "[beam_histogram]\nbin_width = 0.0\n",
+            r"\[beam_histogram\]: bin_width must be positive",
+        ),
+    ],
+)
+def test_config_values_out_of_range_name_the_file_and_key(
+    tmp_path: Path, tracker: str, text: str, message: str
+) -> None:
+    config = tmp_path / "my.toml"
+    config.write_text(text)
+    out = tmp_path / "t.csv"
+    run = CliRunner().invoke(
+        app, ["track", "--tracker", tracker, "--config", str(config), "--print-config"]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert re.search(message, str(run.exception)), str(run.exception)
+    assert "my.toml" in str(run.exception) and not out.exists()
+
+
+def test_config_values_in_range_and_signed_ones_are_kept(tmp_path: Path) -> None:
+    from laserpeople.config import load_config
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    config = tmp_path / "my.toml"
+    config.write_text(
+        "[leg_tracker]\nkalman.gate_probability = 0.5\npeople.llr_delete = -2.5\n"
+        "people.gate_probability = 0.0\nmax_report_unseen = 0.0\n"
+    )
+    params = load_config(LegTrackerParams, config)  # a signed setting stays negative
+    assert params.kalman.gate_probability == 0.5 and params.people.llr_delete == -2.5
+    assert params.people.gate_probability == 0.0 and params.max_report_unseen == 0.0

@@ -156,3 +156,61 @@ def test_config_values_in_range_and_signed_ones_are_kept(tmp_path: Path) -> None
     params = load_config(LegTrackerParams, config)  # a signed setting stays negative
     assert params.kalman.gate_probability == 0.5 and params.people.llr_delete == -2.5
     assert params.people.gate_probability == 0.0 and params.max_report_unseen == 0.0
+
+
+def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
+    """A bag and a CARMEN log whose scan 5 is stamped before scan 4 (a driver's clock
+    stepping back; in the bag, received in order: log times at 10 Hz)."""
+    from laserpeople.io.carmen import write_carmen_log
+    from laserpeople.io.rosbag_writer import SCAN_TYPE, open_bag
+
+    scans = [
+        Scan(
+            stamp=10.0 + 0.1 * k - (0.25 if k == 5 else 0.0),
+            angle_min=-1.0,
+            angle_increment=0.05,
+            ranges=np.full(41, 2.0),
+            range_min=0.05,
+            range_max=8.0,
+            sensor="scan",
+            index=k,
+        )
+        for k in range(12)
+    ]
+    bag, log = tmp_path / "back.bag", tmp_path / "back.log"
+    with open_bag(bag) as sink:
+        for scan in scans:
+            msg = sink.typestore.types[SCAN_TYPE](
+                header=sink.header(scan.stamp, "laser"),
+                angle_min=scan.angle_min,
+                angle_max=scan.angle_max,
+                angle_increment=scan.angle_increment,
+                time_increment=0.0,
+                scan_time=0.0,
+                range_min=scan.range_min,
+                range_max=scan.range_max,
+                ranges=scan.ranges.astype(np.float32),
+                intensities=np.empty(0, dtype=np.float32),
+            )
+            sink.write("/scan", SCAN_TYPE, msg, 10.0 + 0.1 * scan.index)
+    write_carmen_log(log, scans)
+    return [bag, log]
+
+
+def test_a_stamp_going_back_stops_or_is_skipped_and_counted(tmp_path: Path) -> None:
+    from laserpeople.errors import UnsortedStampsError
+    from laserpeople.io import open_recording
+
+    for path in _stamps_back_recordings(tmp_path):
+        with open_recording(path) as rec, pytest.raises(UnsortedStampsError) as err:
+            list(rec.scans())
+        assert err.value.scan == 5 and "0.150000 s before the previous scan's" in str(err.value)
+        assert "--on-error skip" in str(err.value)
+        with open_recording(path, on_error="skip") as rec:
+            kept = [s.index for s in rec.scans()]
+        assert kept == [0, 1, 2, 3, 4, 6, 7, 8, 9, 10, 11]
+        assert rec.damaged.count == 1 and "before the previous scan's" in rec.damaged.summary()
+        out = tmp_path / f"{path.suffix[1:]}.csv"
+        run = CliRunner().invoke(app, ["track", str(path), "--on-error", "skip", "-o", str(out)])
+        assert run.exit_code == 0, run.output
+        assert "skipped 1 damaged scan(s)" in run.output and "11 scans tracked" in run.output

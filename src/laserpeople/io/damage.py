@@ -26,6 +26,17 @@ SKIP_HINT = (
     "the recording is corrupt or truncated here; "
     "use --on-error skip to leave damaged scans out and read the rest"
 )
+BACKWARD_HINT = (
+    "use --on-error skip to leave out the scans stamped before an earlier one of their laser "
+    "(counted), or fix the recording's stamps"
+)
+
+
+def stamp_back(stamp: float, last: float) -> str:
+    """Why a scan stamped ``stamp`` [s] after one stamped ``last`` is a damaged record."""
+    return f"stamp {stamp:.6f} s is {last - stamp:.6f} s before the previous scan's"
+
+
 _EXAMPLES = 5
 
 
@@ -70,6 +81,7 @@ class DamagedRecords:
         scan: int,
         read: int,
         kind: type[RecordingError] = RecordingError,
+        hint: str = SKIP_HINT,
     ) -> None:
         """Handle one damaged record: raise (``stop``) or count it (``skip``).
 
@@ -79,6 +91,7 @@ class DamagedRecords:
             scan: Index the scan would have had on its topic.
             read: Scans of this topic read before it.
             kind: The error class raised with ``stop`` (e.g. ``ScanFormatError``).
+            hint: What to do, in the error raised with ``stop``.
 
         Raises:
             RecordingError: with ``on_error="stop"``.
@@ -89,7 +102,7 @@ class DamagedRecords:
                 f"{read} scans of this topic were read before it",
                 path=self.path,
                 scan=scan,
-                hint=SKIP_HINT,
+                hint=hint,
             )
         self.count += 1
         if len(self.examples) < _EXAMPLES:

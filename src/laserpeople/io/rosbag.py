@@ -31,7 +31,7 @@ from laserpeople.errors import (
     UnsortedStampsError,
 )
 from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
-from laserpeople.io.damage import DamagedRecords, OnError
+from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
@@ -514,15 +514,16 @@ class RosbagRecording:
                 except Exception as exc:  # a message the deserialiser cannot decode
                     self.damaged.record(_describe(exc), topic=topic, scan=index, read=read)
                     continue
-                if stamp < last:
-                    raise UnsortedStampsError(
-                        f"topic {topic!r}: stamp {stamp:.6f} s is {last - stamp:.6f} s before "
-                        "the previous scan's",
-                        path=self.path,
+                if stamp < last:  # (a stamp going back would unsort the lasers' merge)
+                    self.damaged.record(
+                        stamp_back(stamp, last),
+                        topic=topic,
                         scan=index,
-                        hint="sort the bag by header stamp (e.g. rosbag filter / "
-                        "ros2 bag convert) or fix the driver's clock",
+                        read=read,
+                        kind=UnsortedStampsError,
+                        hint=BACKWARD_HINT,
                     )
+                    continue
                 last = stamp
                 if tree is not None:
                     pose, reason = self._pose(tree, world, str(msg.header.frame_id), stamp)

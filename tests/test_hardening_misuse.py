@@ -214,3 +214,36 @@ def test_a_stamp_going_back_stops_or_is_skipped_and_counted(tmp_path: Path) -> N
         run = CliRunner().invoke(app, ["track", str(path), "--on-error", "skip", "-o", str(out)])
         assert run.exit_code == 0, run.output
         assert "skipped 1 damaged scan(s)" in run.output and "11 scans tracked" in run.output
+
+
+def _tracks_csv(path: Path, scans: range) -> Path:
+    header = "scan,stamp,track_id,kind,x,y,vx,vy,cov_xx,cov_xy,cov_yy,size,labels,topic,frame\n"
+    rows = "".join(
+        f"{k},{100 + 0.1 * k:.6f},1,person,{0.1 * k:.3f},1.0,1.0,0,0.01,0,0.01,1,,/scan,sensor\n"
+        for k in scans
+    )
+    path.write_text(header + rows)
+    return path
+
+
+def _truth_csv(path: Path, scans: range, stamp0: float = 100.0) -> Path:
+    rows = "".join(f"{k},{stamp0 + 0.1 * k:.6f},7,{0.1 * k:.3f},1.0\n" for k in scans)
+    path.write_text("scan,stamp,person_id,x,y\n" + rows)
+    return path
+
+
+def test_evaluate_warns_when_truth_and_tracks_share_no_scan(tmp_path: Path) -> None:
+    tracks = _tracks_csv(tmp_path / "t.csv", range(0, 50))
+    same = _truth_csv(tmp_path / "same.csv", range(10, 40))
+    other = _truth_csv(tmp_path / "other.csv", range(1000, 1030), stamp0=500.0)
+    run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(same)])
+    assert run.exit_code == 0, run.output
+    assert "no scored scan has track rows" not in run.output
+    for extra in ([], ["--followed-person", "auto"]):
+        run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(other), *extra])
+        assert run.exit_code == 0, run.output
+        text = " ".join(run.output.split())
+        assert (
+            "no scored scan has track rows: the truth covers scans 1000-1029 (stamps "
+            "600.000-602.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s)"
+        ) in text, text

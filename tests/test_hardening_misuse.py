@@ -247,3 +247,46 @@ def test_evaluate_warns_when_truth_and_tracks_share_no_scan(tmp_path: Path) -> N
             "no scored scan has track rows: the truth covers scans 1000-1029 (stamps "
             "600.000-602.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s)"
         ) in text, text
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--duration", "-1"], "--duration -1.0 must be a finite number of seconds above 0"),
+        (["--duration", "nan"], "--duration nan must be a finite number of seconds"),
+        (["--tf-wait", "-0.5"], "--tf-wait -0.5 must be a finite number of seconds (0 or more)"),
+        (["--order-wait", "inf"], "--order-wait inf must be a finite number of seconds"),
+    ],
+)
+def test_live_refuses_times_that_are_not_seconds(args: list[str], message: str) -> None:
+    pytest.importorskip("zenoh")
+    run = CliRunner().invoke(app, ["live", *args])
+    assert isinstance(run.exception, ConfigError) and message in str(run.exception)
+
+
+def test_live_refuses_negative_counts() -> None:
+    for args in (["--max-scans", "-1"], ["--domain", "-5"], ["--domain", "233"]):
+        run = CliRunner().invoke(app, ["live", *args, "--duration", "0.3"])
+        assert run.exit_code == 2 and "Invalid value for" in run.output, run.output
+
+
+def test_live_without_a_single_scan_is_an_error_not_an_empty_success() -> None:
+    pytest.importorskip("zenoh")
+    from laserpeople.errors import LaserPeopleError
+    from live_harness import free_port
+
+    # a peer whose endpoint nobody listens on opens without complaint and waits
+    run = CliRunner().invoke(
+        app, ["live", "--connect", f"tcp/127.0.0.1:{free_port()}", "--duration", "0.5"]
+    )
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    assert "no scan arrived on /scan: nothing was tracked" in str(run.exception)
+    assert "/scan: 0 scans received" in run.output
+
+
+def test_view_refuses_negative_scan_indices(tmp_path: Path) -> None:
+    for option in ("--scan", "--start", "--stop"):
+        run = CliRunner().invoke(
+            app, ["view", "any.bag", option, "-5", "-o", str(tmp_path / "v.png")]
+        )
+        assert run.exit_code == 2 and f"Invalid value for '{option}'" in run.output, run.output

@@ -162,7 +162,7 @@ def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
     """A bag and a CARMEN log whose scan 5 is stamped before scan 4 (a driver's clock
     stepping back; in the bag, received in order: log times at 10 Hz)."""
     from laserpeople.io.carmen import write_carmen_log
-    from laserpeople.io.rosbag_writer import SCAN_TYPE, open_bag
+    from laserpeople.io.rosbag_writer import open_bag
 
     scans = [
         Scan(
@@ -180,19 +180,7 @@ def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
     bag, log = tmp_path / "back.bag", tmp_path / "back.log"
     with open_bag(bag) as sink:
         for scan in scans:
-            msg = sink.typestore.types[SCAN_TYPE](
-                header=sink.header(scan.stamp, "laser"),
-                angle_min=scan.angle_min,
-                angle_max=scan.angle_max,
-                angle_increment=scan.angle_increment,
-                time_increment=0.0,
-                scan_time=0.0,
-                range_min=scan.range_min,
-                range_max=scan.range_max,
-                ranges=scan.ranges.astype(np.float32),
-                intensities=np.empty(0, dtype=np.float32),
-            )
-            sink.write("/scan", SCAN_TYPE, msg, 10.0 + 0.1 * scan.index)
+            sink.scan(scan, "/scan", "laser", log_stamp=10.0 + 0.1 * scan.index)
     write_carmen_log(log, scans)
     return [bag, log]
 

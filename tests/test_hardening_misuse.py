@@ -278,3 +278,44 @@ def test_view_refuses_negative_scan_indices(tmp_path: Path) -> None:
             app, ["view", "any.bag", option, "-5", "-o", str(tmp_path / "v.png")]
         )
         assert run.exit_code == 2 and f"Invalid value for '{option}'" in run.output, run.output
+
+
+def test_small_outputs_go_into_missing_folders_like_the_others(tmp_path: Path) -> None:
+    """train, align and fit create the folder of -o as track, detect and view do (train's
+    model was lost to a traceback after the training), and an unwritable path is an error
+    naming it."""
+    from laserpeople.alignment import Mount, write_mounts
+    from laserpeople.detection.detector import default_model
+    from laserpeople.errors import LaserPeopleError, ModelFileError
+    from laserpeople.fitting.output import write
+    from laserpeople.scan import Pose2D
+    from laserpeople.tracking.nearest import NearestNeighbourParams
+
+    model = tmp_path / "a" / "b" / "model.json"
+    default_model().save(model)
+    assert model.read_text().startswith("{")
+    mounts = tmp_path / "c" / "mounts.toml"
+    write_mounts(mounts, [Mount("front", "base_link", Pose2D(0.4, 0.0, 0.0), None)])
+    assert '[mounts."front"]' in mounts.read_text()
+    fitted = tmp_path / "d" / "nn.toml"
+    write(fitted, NearestNeighbourParams(), [], [], ["fitted by hand"])
+    assert fitted.read_text() == "# fitted by hand\n"
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(ModelFileError, match=r"cannot write the model: .*-o"):
+        default_model().save(blocker / "model.json")
+    with pytest.raises(LaserPeopleError, match="cannot write the mounts"):
+        write_mounts(blocker / "m.toml", [])
+    with pytest.raises(LaserPeopleError, match="cannot write the parameters"):
+        write(blocker / "nn.toml", NearestNeighbourParams(), [], [], [])
+    assert sorted(p.name for p in tmp_path.rglob("*tmp*")) == []
+
+
+def test_train_writes_its_model_into_a_missing_folder(tmp_path: Path, shared_data: Path) -> None:
+    out = tmp_path / "new" / "model.json"
+    neko = shared_data / "neko7055"
+    run = CliRunner().invoke(
+        app, ["train", "--neko", str(neko), "--neko-frames", "0-3", "--rounds", "1", "-o", str(out)]
+    )
+    assert run.exit_code == 0, run.output
+    assert out.is_file()

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -319,3 +320,55 @@ def test_train_writes_its_model_into_a_missing_folder(tmp_path: Path, shared_dat
     )
     assert run.exit_code == 0, run.output
     assert out.is_file()
+
+
+def test_intensities_of_another_length_are_left_out_and_said(tmp_path: Path) -> None:
+    """A driver writing intensities of another length than the ranges: the ranges are
+    read, the intensities left out and counted (the whole recording was refused)."""
+    from laserpeople.io import open_recording
+    from laserpeople.io.rosbag_writer import write_laserscan_bag
+
+    scans = [
+        Scan(
+            stamp=10.0 + 0.1 * k,
+            angle_min=-1.0,
+            angle_increment=0.05,
+            ranges=np.full(41, 2.0 + 0.01 * k),
+            range_min=0.05,
+            range_max=8.0,
+            intensities=np.ones(41),
+            sensor="scan",
+            index=k,
+        )
+        for k in range(6)
+    ]
+    path = tmp_path / "i.mcap"
+    write_laserscan_bag(path, scans)
+    good = open_recording(path)
+    assert all(s.intensities is not None for s in good.scans())
+    assert good.damaged.summary() == ""
+    # the same bag with 30 intensities per scan
+    write_laserscan_bag(
+        path, [replace(s, intensities=None) for s in scans[:2]] + [_short(s) for s in scans[2:]]
+    )
+    with open_recording(path) as rec:
+        read = list(rec.scans())
+        assert [s.ranges[0] for s in read] == pytest.approx([2.0 + 0.01 * k for k in range(6)])
+        assert all(s.intensities is None for s in read)
+        assert rec.damaged.intensities_dropped == 4
+        assert (
+            "4 scan(s) read without their intensities, which do not match their ranges in "
+            "number (first /scan scan 2: 30 intensities for 41 ranges); the ranges are kept"
+        ) in rec.damaged.summary()
+    out = tmp_path / "t.csv"
+    run = CliRunner().invoke(app, ["track", str(path), "-o", str(out)])
+    assert run.exit_code == 0, run.output
+    assert "4 scan(s) read without their intensities" in run.output
+    assert "6 scans tracked" in run.output
+
+
+def _short(scan: Scan) -> Scan:
+    """``scan`` with 30 intensities, bypassing the check a Scan makes (as a bag can)."""
+    out = replace(scan, intensities=None)
+    object.__setattr__(out, "intensities", np.ones(30))
+    return out

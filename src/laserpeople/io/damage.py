@@ -58,6 +58,9 @@ class DamagedRecords:
         count: Damaged records skipped so far (``skip`` only).
         truncated: Why the stream ended early, when structural damage ended it (``skip``).
         examples: The first few skipped records as ``"topic scan k: reason"``.
+        intensities_dropped: Scans read without their intensities, which did not match
+            their ranges in number (the ranges are sound; nothing in tracking reads
+            intensities).
     """
 
     def __init__(self, path: str | Path, on_error: OnError = "stop") -> None:
@@ -66,12 +69,25 @@ class DamagedRecords:
         self.count = 0
         self.truncated: str | None = None
         self.examples: list[str] = []
+        self.intensities_dropped = 0
+        self._intensities_example = ""
 
     def reset(self) -> None:
         """Forget the records of an earlier read."""
         self.count = 0
         self.truncated = None
         self.examples = []
+        self.intensities_dropped = 0
+        self._intensities_example = ""
+
+    def drop_intensities(self, *, topic: str, scan: int, intensities: int, ranges: int) -> None:
+        """Count a scan read without its ``intensities`` values, which do not match its
+        ``ranges`` in number (in both modes: the scan itself is sound)."""
+        if not self.intensities_dropped:
+            self._intensities_example = (
+                f"first {topic} scan {scan}: {intensities} intensities for {ranges} ranges"
+            )
+        self.intensities_dropped += 1
 
     def record(
         self,
@@ -146,7 +162,7 @@ class DamagedRecords:
             )
 
     def summary(self) -> str:
-        """One line for the user; empty when nothing was skipped."""
+        """Lines for the user; empty when nothing was skipped or left out."""
         parts = []
         if self.count:
             shown = "; ".join(self.examples)
@@ -154,4 +170,10 @@ class DamagedRecords:
             parts.append(f"{self.path}: skipped {self.count} damaged scan(s) ({shown}{more})")
         if self.truncated:
             parts.append(f"{self.path}: {self.truncated}")
+        if self.intensities_dropped:
+            parts.append(
+                f"{self.path}: {self.intensities_dropped} scan(s) read without their "
+                f"intensities, which do not match their ranges in number "
+                f"({self._intensities_example}); the ranges are kept"
+            )
         return "\n".join(parts)

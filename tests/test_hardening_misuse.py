@@ -159,15 +159,11 @@ def test_config_values_in_range_and_signed_ones_are_kept(tmp_path: Path) -> None
     assert params.people.gate_probability == 0.0 and params.max_report_unseen == 0.0
 
 
-def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
-    """A bag and a CARMEN log whose scan 5 is stamped before scan 4 (a driver's clock
-    stepping back; in the bag, received in order: log times at 10 Hz)."""
-    from laserpeople.io.carmen import write_carmen_log
-    from laserpeople.io.rosbag_writer import open_bag
-
-    scans = [
+def _scans(n: int) -> list[Scan]:
+    """``n`` scans of a wall 2 m away, 41 beams, at 10 Hz from 10 s."""
+    return [
         Scan(
-            stamp=10.0 + 0.1 * k - (0.25 if k == 5 else 0.0),
+            stamp=10.0 + 0.1 * k,
             angle_min=-1.0,
             angle_increment=0.05,
             ranges=np.full(41, 2.0),
@@ -176,8 +172,17 @@ def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
             sensor="scan",
             index=k,
         )
-        for k in range(12)
+        for k in range(n)
     ]
+
+
+def _stamps_back_recordings(tmp_path: Path) -> list[Path]:
+    """A bag and a CARMEN log whose scan 5 is stamped before scan 4 (a driver's clock
+    stepping back; in the bag, received in order: log times at 10 Hz)."""
+    from laserpeople.io.carmen import write_carmen_log
+    from laserpeople.io.rosbag_writer import open_bag
+
+    scans = [replace(s, stamp=s.stamp - 0.25) if s.index == 5 else s for s in _scans(12)]
     bag, log = tmp_path / "back.bag", tmp_path / "back.log"
     with open_bag(bag) as sink:
         for scan in scans:
@@ -372,3 +377,24 @@ def _short(scan: Scan) -> Scan:
     out = replace(scan, intensities=None)
     object.__setattr__(out, "intensities", np.ones(30))
     return out
+
+
+def test_batch_rows_say_what_the_read_left_out(tmp_path: Path) -> None:
+    """A batch row carries what `track` would have said about the read (skipped scans),
+    in the summary's notes column; a clean recording's notes are empty."""
+    pytest.importorskip("pyarrow")
+    from laserpeople.batch import TrackOptions, resolve
+    from laserpeople.batch.task import RecordingTask, track_recording
+
+    bag = _stamps_back_recordings(tmp_path)[0]
+    resolved = resolve(TrackOptions(topics=("all",), on_error="skip"))
+    task = RecordingTask(bag, "back", tmp_path / "out", resolved)
+    (row,) = track_recording(task)
+    assert row.status == "done" and row.scans == 11, row.error
+    assert "skipped 1 damaged scan(s) (/scan scan 5: stamp 10.250000 s" in row.notes
+    clean = tmp_path / "clean.bag"
+    from laserpeople.io.rosbag_writer import write_laserscan_bag
+
+    write_laserscan_bag(clean, _scans(12))
+    (row,) = track_recording(RecordingTask(clean, "clean", tmp_path / "out", resolved))
+    assert row.status == "done" and row.notes == ""

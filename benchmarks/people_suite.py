@@ -137,6 +137,22 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
     return make
 
 
+def at_height(make: Any, height: float | None) -> Any:
+    """A maker of ``make``'s trackers told the scene's laser height [m] (None: unknown)
+    when they take torso-shaped runs, as :func:`laserpeople.pipeline.build` tells them the
+    recording's."""
+    from laserpeople.pipeline.background import set_laser_height
+    from laserpeople.pipeline.leg_foreground import wants_torso_runs
+
+    def made() -> Any:
+        tracker = make()
+        if wants_torso_runs(getattr(tracker, "tracker", None)):
+            set_laser_height(tracker.stages, height)
+        return tracker
+
+    return made
+
+
 def _takes_model(tracker: Any) -> bool:
     """Whether ``background`` changes what ``tracker`` reports (it asks a model, or has none
     of its own and gets the static-track filter)."""
@@ -168,7 +184,7 @@ def run(
     for scene in scenes:
         prepared: PreparedScene = prepare(scene, detector)
         for name, factory in factories.items():
-            score, _ = track_scene(prepared, factory, name)
+            score, _ = track_scene(prepared, at_height(factory, prepared.laser_height), name)
             scores.append(score)
             _log(score, log)
         for fn in (extra or {}).values():

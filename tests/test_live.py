@@ -178,6 +178,26 @@ def test_live_equals_track_on_the_real_demo_bag(shared_data: Path) -> None:
 
 @pytest.mark.slow
 @pytest.mark.shared
+def test_live_auto_on_the_real_demo_bag_tracks_in_the_sensor_frame_from_the_first_scan(
+    shared_data: Path,
+) -> None:
+    """leg_tracker's demo bag has no tf: the default `--frame auto` holds no frame, waits for
+    transforms once, then stops looking them up, and publishes what `track` computes."""
+    bag = shared_data / DEMO
+    offline = track_rows(bag, ["/scan"], max_frames=200)
+    result = live_rows(bag, ["/scan"], max_scans=200, speed=4.0, frame="auto", tf_wait=0.1)
+    counts = result.session.scans.counts
+    decision = result.session.run.decision
+    assert sum(counts.dropped.values()) == 0
+    assert decision.frame == "sensor" and 1 < decision.looked_at < 200
+    assert counts.waited_for_tf == 0  # no scan waited for a transform
+    assert sum(counts.without_pose.values()) == decision.looked_at  # no lookup once decided
+    assert result.stats.published == 200
+    assert compare(result.rows, offline) == []
+
+
+@pytest.mark.slow
+@pytest.mark.shared
 def test_live_equals_track_on_the_mir_bag_through_rmw_zenoh_keys(shared_data: Path) -> None:
     """Two lasers fused in the world frame (tf + --mount mir100), rmw_zenoh keys, tokens."""
     bag = shared_data / MIR

@@ -100,8 +100,8 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--frame",
                 help="Tracking frame: world (poses from tf/odometry), sensor (no transforms "
-                "subscribed; one laser) or auto (world when most of the first 20 frames have "
-                "poses).",
+                "subscribed; one laser) or auto (world from the first scan with a pose within "
+                "1 s of the first scan, else sensor; frames are not held meanwhile).",
             ),
         ] = "auto",
         transport: Annotated[
@@ -324,6 +324,7 @@ def register(app: typer.Typer) -> None:
             grouping=load_config(GroupingParams, config),
             extra_sinks=sinks,
             on_reset=warn,
+            on_choice=say,
         )
         session.scans.limit = max_scans
         for laser in topics.lasers:

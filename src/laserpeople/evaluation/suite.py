@@ -58,6 +58,7 @@ class PreparedScene:
         truth: One truth frame per scan.
         period: Median time between scans [s].
         detect_ms: CPU time of the detector per scan [ms].
+        laser_height: Mount height [m] of the first sensor (None: not stated).
     """
 
     scene: SuiteScene
@@ -66,10 +67,12 @@ class PreparedScene:
     truth: list[TruthFrame]
     period: float
     detect_ms: float
+    laser_height: float | None = None
 
 
 def prepare(scene: SuiteScene, detector: Any) -> PreparedScene:
     """Simulate ``scene`` and run ``detector`` (``detect(scan) -> Detections``) on it."""
+    from laserpeople.pipeline.laser_height import laser_heights
     from laserpeople.sim.scenarios import run_scenario
 
     result = run_scenario(scene.scenario, seconds=scene.seconds, seed=scene.seed)
@@ -80,7 +83,15 @@ def prepare(scene: SuiteScene, detector: Any) -> PreparedScene:
     cpu = time.process_time() - t0
     stamps = np.array([s.stamp for s in scans])
     period = float(np.median(np.diff(stamps))) if stamps.size > 1 else 0.1
-    return PreparedScene(scene, scans, dets, result.truth, period, 1e3 * cpu / max(len(scans), 1))
+    return PreparedScene(
+        scene,
+        scans,
+        dets,
+        result.truth,
+        period,
+        1e3 * cpu / max(len(scans), 1),
+        laser_heights(result).get(first),
+    )
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,9 @@ The pipeline is the one :func:`laserpeople.pipeline.build` makes for a recording
 tracker, stages, static world model and ``--map``), fed by
 :class:`~laserpeople.live.source.LiveFrames`. A time jump ends the pipeline, and a new one
 (new tracker, new models) starts from the scan that jumped; the run says so through
-``on_reset``.
+``on_reset``. So does a switch to the world frame (``--frame auto`` finding poses after it
+began in the sensor frame, see :mod:`laserpeople.live.choice`): a new pipeline starts from the
+frame that decided, said through ``on_choice``.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from typing import Any
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame
 from laserpeople.io.rosbag_writer import sensor_frame_id
+from laserpeople.live.choice import DECIDE_WITHIN, FrameDecision, FrameSwitch
 from laserpeople.live.keys import BridgeKeys, KeyStyle, RmwKeys, Transport
 from laserpeople.live.messages import (
     ODOMETRY_TYPE,
@@ -204,13 +207,16 @@ class LiveRun:
         scans: The live scans (fed by a :class:`Receiver`).
         make_pipeline: Makes the pipeline of each run (:func:`tracker_pipelines`).
         sinks: Outputs (the publisher's sink first); kept open across resets.
-        frame: ``world``, ``sensor`` or ``auto`` (decided from the first ``window`` frames).
+        frame: ``world``, ``sensor`` or ``auto`` (decided as the frames come, see
+            :mod:`laserpeople.live.choice`).
         grouping: Grouping of several lasers.
-        window: Frames looked at by ``auto``.
+        decide_within: ``auto``: seconds after the first scan to wait for a sensor pose [s].
         on_reset: Told the reason of each reset.
+        on_choice: Told the frame ``auto`` chose, why, and after how many frames and seconds.
 
     Attributes:
         stats: Counts, timings and latencies of the whole run.
+        decision: The frame chosen and why.
         frames: The frames of the current pipeline (grouping and frame choice figures).
         pipeline: The current pipeline.
     """
@@ -220,21 +226,29 @@ class LiveRun:
     sinks: Sequence[Sink] = ()
     frame: FrameChoice = "auto"
     grouping: GroupingParams | None = None
-    window: int = 20
+    decide_within: float = DECIDE_WITHIN
     on_reset: Callable[[str], None] = lambda reason: None
+    on_choice: Callable[[str], None] = lambda message: None
     stats: LiveStats = field(default_factory=LiveStats)
+    decision: FrameDecision = field(init=False)
     frames: LiveFrames | None = None
     pipeline: Pipeline | None = None
     last_step: Step | None = None
     _ready: tuple[LiveFrames, Pipeline] | None = None
 
     def __post_init__(self) -> None:
+        self.decision = FrameDecision(self.frame, self.decide_within)
+        self.scans.lookup_poses = self.scans.transforms is not None and self.frame != "sensor"
         self._kept = [KeepOpen(s) for s in self.sinks]
         self._ready = self._new_pipeline()  # built before scans arrive, not on the first
 
-    def _new_pipeline(self) -> tuple[LiveFrames, Pipeline]:
+    def _new_pipeline(self, carry: Sequence[Frame] = ()) -> tuple[LiveFrames, Pipeline]:
         frames = LiveFrames(
-            self.scans, frame=self.frame, grouping=self.grouping, window=self.window
+            self.scans,
+            self.decision,
+            grouping=self.grouping,
+            carry=carry,
+            on_choice=self.on_choice,
         )
         pipeline = self.make_pipeline(frames, self._kept)
         if len(self.stats.stage_cpu) != len(pipeline.stages):  # the first pipeline
@@ -246,20 +260,23 @@ class LiveRun:
         """Run until the scans end (:meth:`LiveScans.finish` / :meth:`LiveScans.close`),
         giving each step as its frame is done."""
         try:
-            jumped = True
-            while jumped:
-                jumped = False
+            carry: Sequence[Frame] = ()
+            again = True
+            while again:
+                again = False
                 ready, self._ready = self._ready, None
-                self.frames, self.pipeline = ready or self._new_pipeline()
+                self.frames, self.pipeline = ready or self._new_pipeline(carry)
                 try:
                     for step in self.pipeline:
                         self.last_step = step
                         yield step
                 except TimeJump as jump:
                     self.on_reset(str(jump))
-                    jumped = True
+                    again, carry = True, ()
                     if self.scans.transforms is not None:
                         self.scans.transforms.reset()
+                except FrameSwitch as switch:  # (said by on_choice when it was chosen)
+                    again, carry = True, (switch.frame,)
         finally:
             for sink in self._kept:
                 sink.close_now()
@@ -294,6 +311,8 @@ class LiveSession:
         extra_sinks: More outputs after the publisher (a recording, the Foxglove server).
         block: Publishers block on congestion instead of dropping.
         on_reset: Told the reason of each reset (a time jump).
+        on_choice: Told the frame ``auto`` chose and why (see :class:`LiveRun`).
+        decide_within: See :class:`LiveRun`.
         warm: Run :func:`warm_up` before subscribing.
     """
 
@@ -315,11 +334,17 @@ class LiveSession:
     extra_sinks: Sequence[Sink] = ()
     block: bool = False
     on_reset: Callable[[str], None] = lambda reason: None
+    on_choice: Callable[[str], None] = lambda message: None
+    decide_within: float = DECIDE_WITHIN
     warm: bool = True
 
     def __post_init__(self) -> None:
-        self.warm_up_seconds = warm_up(self.make_pipeline) if self.warm else 0.0
         typestore = ros2_typestore()
+        self.warm_up_seconds = (
+            warm_up(self.make_pipeline, TrackEncoder(typestore, self.topics.output_prefix))
+            if self.warm
+            else 0.0
+        )
         self.keys = key_style(self.transport, self.domain, self.hashes, self.key_prefix, typestore)
         self.session = open_session(self.settings)
         try:
@@ -352,7 +377,9 @@ class LiveSession:
                 [publish, *self.extra_sinks],
                 frame=self.frame,
                 grouping=self.grouping,
+                decide_within=self.decide_within,
                 on_reset=self.on_reset,
+                on_choice=self.on_choice,
                 stats=stats,
             )
         except BaseException:
@@ -390,10 +417,36 @@ class LiveSession:
             self.session.close()
 
 
-def warm_up(make_pipeline: PipelineFactory, scans: int = 5) -> float:
+class _Encode:
+    """A sink encoding each frame's tracks (the first encoding of each message type is
+    slow: its serialiser is made then)."""
+
+    def __init__(self, encoder: TrackEncoder) -> None:
+        self.encoder = encoder
+        self.frames = 0
+
+    def write(self, frame: Frame, tracks: Any) -> None:
+        if tracks is not None:
+            self.encoder.encode(frame.scans, tracks)
+            self.frames += 1
+
+    def close(self) -> None:
+        """Nothing to close."""
+
+
+def warm_up(
+    make_pipeline: PipelineFactory, encoder: TrackEncoder | None = None, scans: int = 5
+) -> float:
     """Run a throwaway pipeline over a few synthetic scans (a wall at 3 m, two leg-sized
     bumps at 1.5 m), so that lazy imports and first-call set-up do not delay the first
-    real scans; returns the seconds it took."""
+    real scans; returns the seconds it took.
+
+    Args:
+        make_pipeline: Makes the pipeline.
+        encoder: A throwaway encoder on the run's typestore: the warm-up's tracks are encoded
+            too (the first encoding took about 0.2 s, the first frame's latency).
+        scans: Synthetic scans to run.
+    """
     import numpy as np
 
     from laserpeople.pipeline.sources import laser_frames
@@ -409,7 +462,7 @@ def warm_up(make_pipeline: PipelineFactory, scans: int = 5) -> float:
         for i in range(scans)
     ]  # fmt: skip
     frames = (f.with_fields(frame="sensor") for f in laser_frames(fake))
-    make_pipeline(frames, []).run()
+    make_pipeline(frames, [_Encode(encoder)] if encoder is not None else []).run()
     return time.monotonic() - start
 
 

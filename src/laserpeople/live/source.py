@@ -22,23 +22,26 @@
 :class:`LiveFrames` turns the scans into frames exactly as a recording's are made
 (:func:`~laserpeople.pipeline.sources.laser_frames` for one laser,
 :class:`~laserpeople.pipeline.sources.LaserGrouper` for several,
-:class:`~laserpeople.pipeline.sources.FrameChooser` for the coordinate frame).
+:class:`~laserpeople.pipeline.sources.FrameChooser` for the coordinate frame), except that
+``auto`` decides as the frames come instead of from a look-ahead window
+(:mod:`laserpeople.live.choice`).
 """
 
 from __future__ import annotations
 
+import itertools
 import threading
 import time
 from collections import Counter, deque
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
+from laserpeople.live.choice import FrameDecision, FrameSwitch
 from laserpeople.live.poses import LiveTransforms
 from laserpeople.pipeline.sources import (
     FUSED,
-    FrameChoice,
     FrameChooser,
     GroupingParams,
     LaserGrouper,
@@ -160,6 +163,17 @@ class LiveScans:
         self._finished = False
         self.limit: int | None = None
         """Scans to receive before the input ends (None: no limit); later ones are ignored."""
+        self.lookup_poses = transforms is not None
+        """Whether scans get poses (False once the run works in the sensor frame: no lookup,
+        no wait for transforms)."""
+        self.undecided = False
+        """Whether the run's frame is still being chosen: a scan then waits for a transform
+        only once some transform has come, and at most until ``tf_wait`` after the first
+        scan's arrival (not ``tf_wait`` each)."""
+        self.first_arrival: float | None = None
+        """Arrival of the first scan given out [s, ``clock``]."""
+        self.last_reason = ""
+        """Why the last scan without a pose has none."""
 
     def now(self) -> float:
         """The clock's time [s]."""
@@ -276,13 +290,25 @@ class LiveScans:
         """Give ``item`` out again at the next :meth:`take` (the scan that jumped)."""
         self._pushed_back = item
 
+    def _tf_deadline(self, item: _Queued) -> float | None:
+        """Until when [s, ``clock``] a scan without a settled pose waits for transforms (None:
+        it does not wait; see :attr:`undecided`)."""
+        deadline = item.arrival + self.tf_wait
+        if not self.undecided:
+            return deadline
+        if self.transforms is None or not self.transforms.samples:
+            return None  # none has come: a robot without tf must not wait for the choice
+        first = item.arrival if self.first_arrival is None else self.first_arrival
+        deadline = min(deadline, first + self.tf_wait)
+        return deadline if deadline > self.now() else None
+
     def _posed(self, item: _Queued) -> Scan:
         scan = item.scan
-        if self.transforms is None:
+        if self.transforms is None or not self.lookup_poses:
             return scan
         pose, reason, settled = self.transforms.lookup(item.frame_id, scan.stamp)
-        if not settled:
-            deadline = item.arrival + self.tf_wait
+        deadline = None if settled else self._tf_deadline(item)
+        if deadline is not None:
             self.counts.waited_for_tf += 1
             with self._cond:
                 while not settled and not self._closed:
@@ -296,6 +322,7 @@ class LiveScans:
         if pose is None:
             self.counts.without_pose[scan.sensor] += 1
             self.counts.reasons[reason] += 1
+            self.last_reason = reason
             return scan
         return replace(scan, pose=pose)
 
@@ -319,6 +346,8 @@ class LiveScans:
                 self.push_back(item)
                 raise TimeJump(scan.sensor, previous, scan.stamp)
             self._last[scan.sensor] = max(scan.stamp, previous or scan.stamp)
+            if self.first_arrival is None:
+                self.first_arrival = item.arrival
             self.arrivals[(scan.sensor, scan.index)] = item.arrival
             while len(self.arrivals) > MAX_ARRIVALS:  # scans no frame published
                 del self.arrivals[next(iter(self.arrivals))]
@@ -330,35 +359,103 @@ class LiveFrames:
 
     Args:
         scans: The live scans.
-        frame: ``world`` or ``sensor`` (``auto``: world when most of the first ``window``
-            frames have poses).
+        decision: The run's frame choice (``auto``: decided as the frames come, see
+            :mod:`laserpeople.live.choice`; kept across the run's pipelines).
         grouping: Grouping of several lasers.
-        window: Frames looked at by ``auto`` before the first frame leaves (its latency).
+        carry: Frames given out first (the frame that switched the run to the world frame).
+        on_choice: Told the choice when ``auto`` makes it.
     """
 
     def __init__(
         self,
         scans: LiveScans,
+        decision: FrameDecision,
         *,
-        frame: FrameChoice = "auto",
         grouping: GroupingParams | None = None,
-        window: int = 20,
+        carry: Sequence[Frame] = (),
+        on_choice: Callable[[str], None] = lambda message: None,
     ) -> None:
         self.live = scans
+        self.decision = decision
         self.topics = list(scans.topics)
         self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
         self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
-        # a fixed choice needs no look-ahead: a window of one frame adds no latency
-        self.chooser = FrameChooser(frame, window if frame == "auto" else 1)
+        self.carry = tuple(carry)
+        self.on_choice = on_choice
+        self.chooser: FrameChooser | None = None
+        """Places the frames once the frame is chosen (its counts of skipped frames)."""
+        if decision.frame is not None:
+            self.chooser = FrameChooser(decision.frame, 1)
+        self.tracked_in_sensor = 0
+        """Frames given out in the sensor frame while undecided (by this iteration)."""
 
     def __iter__(self) -> Iterator[Frame]:
         scans = self.live.scans()
-        frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        made = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        frames = itertools.chain(self.carry, made)
+        if self.decision.undecided:
+            self.live.undecided = True
+            first = yield from self._undecided(frames)
+            if first is None:
+                return
+            frames = itertools.chain([first], frames)
+        assert self.decision.frame is not None
+        self.chooser = FrameChooser(self.decision.frame, 1)
         yield from self.chooser(frames)
 
+    def _undecided(self, frames: Iterator[Frame]) -> Generator[Frame, None, Frame | None]:
+        """Give out frames while the frame is not chosen (one laser: in the sensor frame;
+        several: skipped); returns the frame that decided (None: the scans ended first).
+
+        Raises:
+            FrameSwitch: World was chosen after frames were given out in the sensor frame.
+        """
+        decision, live = self.decision, self.live
+        for frame in frames:
+            arrival = max(live.arrivals.get((s.sensor, s.index), live.now()) for s in frame.scans)
+            world = live.transforms.world_frame if live.transforms is not None else None
+            if decision.look(
+                frame,
+                arrival,
+                reason=live.last_reason,
+                world=world,
+                posable=live.transforms is not None,
+            ):
+                live.undecided = False
+                live.lookup_poses = decision.frame == "world"
+                self.on_choice(decision.message)
+                if decision.frame == "world" and self.tracked_in_sensor:
+                    raise FrameSwitch(frame, decision.message)
+                return frame
+            if self.grouper is not None:
+                decision.skipped += 1
+                continue
+            decision.sensor_frames += 1
+            self.tracked_in_sensor += 1
+            yield frame.with_fields(frame="sensor")
+        return None
+
     def summary(self) -> list[str]:
-        """Lines for the user: the frame used; the grouping figures."""
-        lines = [self.chooser.stats.summary()]
+        """Lines for the user: the frame used and why; the grouping figures."""
+        decision = self.decision
+        if decision.frame is None:
+            lines = [
+                f"no frame chosen: the run ended after {decision.looked_at} frames without a "
+                f"sensor pose ({decision.sensor_frames} tracked in the sensor frame, "
+                f"{decision.skipped} skipped)"
+                if decision.looked_at
+                else "no frames"
+            ]
+        elif self.chooser is not None and decision.requested == "auto":
+            lines = [decision.message]
+            stats = self.chooser.stats
+            if stats.skipped_frames or stats.dropped_scans:
+                lines.append(
+                    f"{stats.skipped_frames} frames skipped and {stats.dropped_scans} scans "
+                    "dropped for lack of a sensor pose"
+                )
+        else:
+            lines = [self.chooser.stats.summary() if self.chooser else decision.message]
         if self.grouper is not None:
             lines.append(self.grouper.stats.summary())
         return lines

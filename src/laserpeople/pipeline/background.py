@@ -281,6 +281,8 @@ class AutoBackground:
         legs: The stage that narrows the foreground to points near legs (None: not used
             yet, :mod:`laserpeople.pipeline.leg_foreground`).
         legs_from: Index of the first frame narrowed to points near legs (None: none).
+        laser_height: The laser's mount height [m] when the recording states it (None:
+            unknown); at torso height the narrowing keeps torso-shaped runs too.
         learn_people: While the histogram learns, the points within ``[leg_foreground]
             radius`` of the legs of the people a leg MHT confirms are marked as people,
             whose ranges it does not learn as static, and the wall behind every leg
@@ -318,6 +320,9 @@ class AutoBackground:
         self.learn_people = learn_people
         self._people_legs: LegForeground | None = None
         self._learned_scans = 0
+        self.laser_height: float | None = None
+        """The laser's mount height [m] when the recording states it (None: unknown; see
+        :func:`set_laser_height`)."""
 
     def _wants_legs(self) -> bool:
         """Whether the model in use is narrowed to points near legs (``[leg_foreground]
@@ -344,6 +349,7 @@ class AutoBackground:
             )
             self.legs_from = frame.index
         self.legs.moving = self.chosen == "occupancy"
+        self.legs.torso = at_torso_height(self.laser_height)
         return self.legs(frame)
 
     def _people(
@@ -496,10 +502,16 @@ class AutoBackground:
                 "in full (too many detections in one place; [leg_tracker] "
                 "mht.max_cluster_size): their legs may be held too briefly"
             )
+        torso = ""
+        if self.legs.torso and p.torso_blobs:
+            torso = (
+                f" and {self.legs.points_torso} points of torso-shaped runs (the laser "
+                f"sits at torso height, {self.laser_height:.2f} m)"
+            )
         return (
             f"foreground from frame {self.legs_from}: points within {p.radius:g} m of leg "
-            f"detections{held} ({why}{kept}; [leg_foreground] use = never keeps every point, "
-            "the papers' setting)"
+            f"detections{held}{torso} ({why}{kept}; [leg_foreground] use = never keeps every "
+            "point, the papers' setting)"
         )
 
 
@@ -587,6 +599,23 @@ def background_of(stages: Sequence[object]) -> object | None:
     return None
 
 
+def at_torso_height(height: float | None) -> bool:
+    """Whether a laser mounted at ``height`` [m] (None: unknown) sits at torso height
+    (:data:`~laserpeople.pipeline.laser_height.UPPER_BODY_MIN_HEIGHT` or higher)."""
+    from laserpeople.pipeline.laser_height import UPPER_BODY_MIN_HEIGHT
+
+    return height is not None and height >= UPPER_BODY_MIN_HEIGHT
+
+
+def set_laser_height(stages: Sequence[object], height: float | None) -> None:
+    """Tell the ``auto`` static world model among ``stages`` the laser's mount height [m]
+    (None: unknown), as the recording states it: at torso height its narrowing to points
+    near legs keeps torso-shaped runs too (``[leg_foreground] torso_blobs``)."""
+    for stage in stages:
+        if isinstance(stage, AutoBackground):
+            stage.laser_height = height
+
+
 def describe_foreground(stage: object | None) -> str:
     """One line for the user naming the foreground of a pipeline's trackers of points, when
     its static world model narrows it (``auto``; "" otherwise)."""
@@ -628,10 +657,12 @@ __all__ = [
     "SensorMotionCheck",
     "SensorMotionParams",
     "StaticWorldParams",
+    "at_torso_height",
     "background_of",
     "background_stage",
     "describe_background",
     "describe_foreground",
     "load_static_world",
     "occupancy_model",
+    "set_laser_height",
 ]

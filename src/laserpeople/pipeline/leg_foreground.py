@@ -23,6 +23,11 @@ without points after 0.2 s, ``steady_memory`` and ``steady_person_memory``. By d
 only the legs of people are held, and only for the particle filters (1 s): held clutter
 legs keep the point trackers' false tracks alive.
 
+On a moving laser with poses at torso height (the recording states the laser's height,
+:mod:`laserpeople.pipeline.laser_height`) it also keeps the runs of foreground points
+shaped like a torso (:mod:`laserpeople.pipeline.torso_blobs`): there the leg detector
+seldom fires on a person.
+
 On a moving laser with poses (the occupancy grid in the world frame) it also keeps the
 grid's foreground points of a person-sized blob that moved ``moving_travel`` (0.5 m) over
 ``moving_seconds`` (1 s) in the world frame (:mod:`laserpeople.pipeline.moving_blobs`):
@@ -65,7 +70,9 @@ class LegForegroundParams:
     """When and how the foreground is narrowed to the points near leg detections."""
 
     config_section = "leg_foreground"
-    paper_preset = MappingProxyType({"moving_travel": 0.0})  # 002, 004: no moving blobs
+    paper_preset = MappingProxyType(  # 002, 004: no moving blobs, no torso runs
+        {"moving_travel": 0.0, "torso_blobs": False}
+    )
 
     use: str = param(
         "moving",
@@ -159,6 +166,17 @@ class LegForegroundParams:
         "the time over which a blob must have moved moving_travel, steadily (its centre "
         "halfway in time a third of it from either end)",
         "s",
+    )
+    torso_blobs: bool = param(
+        True,
+        "measured (docs/csa.md, 'Torso blobs on a moving laser'): at torso height the leg "
+        "detector fires on a person in under a third of the scans (moving torso-height "
+        "tuning seeds 11, 13: 29 / 15 %); torso-shaped runs of the grid's foreground lie "
+        "within 0.5 m of a person in 73 / 61 % of them",
+        "for a tracker that asks for them (csa), on a moving laser with poses whose "
+        "recording states it at torso height (0.7 m or higher), also keep the foreground "
+        "points of runs shaped like a torso: 0.2-0.65 m between the ends, bulging 0.03 m "
+        "towards the laser (pipeline/torso_blobs.py)",
     )
 
     learn_people_warmup: int = param(
@@ -294,6 +312,12 @@ class LegForeground:
         self._blobs: MovingBlobs | None = None
         self.points_moving = 0
         """Foreground points kept only because their blob moved, summed over frames."""
+        self.torso = False
+        """Whether the laser is known to sit at torso height (set by the static world
+        model from the recording's laser height): then torso-shaped runs of the
+        foreground are kept too (``torso_blobs``)."""
+        self.points_torso = 0
+        """Foreground points kept only because they lie in a torso-shaped run."""
 
     def remembered(
         self,
@@ -401,6 +425,15 @@ class LegForeground:
             moved = self._blobs(float(frame.stamp), frame.points.points, fg) & ~kept
             self.points_moving += int(np.count_nonzero(moved))
             kept |= moved
+        if self.torso and self.params.torso_blobs and frame.frame == "world":
+            pose = frame.sensor_pose
+            if pose is not None:
+                from laserpeople.pipeline.torso_blobs import torso_blobs
+
+                sensor = np.array([pose.x, pose.y])
+                torsos = torso_blobs(frame.points.points, frame.points.beams, fg, sensor) & ~kept
+                self.points_torso += int(np.count_nonzero(torsos))
+                kept |= torsos
         self.frames += 1
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
@@ -446,6 +479,13 @@ def learns_behind_people(tracker: object) -> bool:
     return bool(getattr(tracker, "learns_behind_people", False))
 
 
+def wants_torso_runs(tracker: object) -> bool:
+    """Whether ``tracker`` takes the torso-shaped runs of the foreground at torso height
+    (its class sets ``wants_torso_runs``: the CSA, measured in docs/csa.md; the particle
+    filters and the group tracker keep the points near legs alone until measured)."""
+    return bool(getattr(tracker, "wants_torso_runs", False))
+
+
 def own_detector(detector: Any, shared: bool) -> Any:
     """``detector`` for a :class:`LegForeground` (a copy when ``shared``: a detector
     remembers each laser's previous scan for its motion features, so two stages must not
@@ -464,4 +504,5 @@ __all__ = [
     "needs_steady_points",
     "own_detector",
     "stage_leg_tracker",
+    "wants_torso_runs",
 ]

@@ -16,9 +16,16 @@ from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
-from laserpeople.pipeline.background import StaticWorldParams, background_of, background_stage
+from laserpeople.pipeline.background import (
+    StaticWorldParams,
+    background_of,
+    background_stage,
+    set_laser_height,
+)
 from laserpeople.pipeline.core import Pipeline
+from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.layout import LayoutCheck
+from laserpeople.pipeline.leg_foreground import wants_torso_runs
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
@@ -399,9 +406,10 @@ def build(
         tracker = registry.get(tracker).make(params)
     rec = open_source(recording, world_frame, mounts, on_error)
     try:
+        lasers = resolve_topics(rec, topics)
         source = RecordingFrames(
             rec,
-            resolve_topics(rec, topics),
+            lasers,
             frame=frame,
             grouping=grouping,
             max_frames=max_frames,
@@ -427,6 +435,9 @@ def build(
         )
         if hide_static is not None:
             identifiers.insert(0, hide_static)
+        # one laser of a stated height (a fused frame's beams are no one scan's)
+        if len(lasers) == 1 and wants_torso_runs(tracker):
+            set_laser_height(preprocess, laser_heights(rec).get(lasers[0]))
         if map_path is not None:
             check_recording_map(rec, map_path)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]

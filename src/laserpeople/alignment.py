@@ -438,12 +438,9 @@ def write_mounts(path: str | Path, mounts: Sequence[Mount], source: str = "") ->
                 f"scan_pairs = {m.fit.pairs}",
             ]
         lines.append("")
-    p = Path(path)
-    try:
-        p.write_text("\n".join(lines))
-    except OSError as exc:
-        raise ConfigError(f"cannot write the mounts: {exc}", path=p, hint="check -o") from exc
-    return p
+    from laserpeople.io.paths import write_text_file
+
+    return write_text_file(path, "\n".join(lines), "mounts")
 
 
 def read_mounts(path: str | Path) -> dict[str, tuple[str, Pose2D]]:

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any, TypeVar, get_type_hints
 
 from laserpeople.citations import cite
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, LaserPeopleError
 
 T = TypeVar("T")
 
@@ -48,16 +48,22 @@ def section_name(cls: type) -> str:
     return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
 
 
-def from_mapping(cls: type[T], values: Mapping[str, Any], *, where: str = "") -> T:
-    """Build ``cls`` from its defaults overridden by ``values``; unknown keys are errors."""
+def from_mapping(
+    cls: type[T], values: Mapping[str, Any], *, where: str = "", within: str = ""
+) -> T:
+    """Build ``cls`` from its defaults overridden by ``values``; unknown keys are errors.
+    ``within``: the section and dotted prefix a nested table is read under (errors name
+    ``[leg_tracker] people.gate_probability``, as the file writes it)."""
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls!r} is not a dataclass")
     fields = {f.name: f for f in dataclasses.fields(cls)}
     hints = get_type_hints(cls)
+    section = within or f"[{section_name(cls)}] "
+    table = section.strip().rstrip(".")  # "[leg_tracker]", "[leg_tracker] people"
     unknown = sorted(set(values) - set(fields))
     if unknown:
         raise ConfigError(
-            f"unknown parameter(s) {', '.join(unknown)} in [{section_name(cls)}]",
+            f"unknown parameter(s) {', '.join(unknown)} in {table}",
             path=where or None,
             hint=f"known: {', '.join(sorted(fields))}",
         )
@@ -67,18 +73,24 @@ def from_mapping(cls: type[T], values: Mapping[str, Any], *, where: str = "") ->
         if dataclasses.is_dataclass(hint):
             if not isinstance(value, Mapping):
                 raise ConfigError(
-                    f"[{section_name(cls)}] {key} = {value!r:.60} must be a table of "
-                    f"parameters ([{section_name(cls)}.{key}])",
+                    f"{section}{key} = {value!r:.60} must be a table of parameters "
+                    f"([{section_name(cls)}.{key}])",
                     path=where or None,
                 )
-            kwargs[key] = from_mapping(hint, value, where=where)  # type: ignore[arg-type]
+            kwargs[key] = from_mapping(hint, value, where=where, within=f"{section}{key}.")  # type: ignore[arg-type]
             continue
         default = getattr(cls(), key) if _has_defaults(cls) else None
-        kwargs[key] = _coerce(key, value, default, cls, where)
+        name = f"{section}{key}"
+        kwargs[key] = _coerce(name, value, default, where)
+        _check_range(key, name, kwargs[key], default, fields[key].metadata.get("unit", ""), where)
     try:
         return cls(**kwargs)
     except (TypeError, ValueError) as exc:
-        raise ConfigError(f"[{section_name(cls)}]: {exc}", path=where or None) from exc
+        raise ConfigError(f"{table}: {exc}", path=where or None) from exc
+    except ConfigError:
+        raise
+    except LaserPeopleError as exc:  # a parameter class's own check (e.g. bin_width)
+        raise ConfigError(f"{table}: {exc.detail}", path=where or None, hint=exc.hint) from exc
 
 
 def _has_defaults(cls: type) -> bool:
@@ -88,7 +100,8 @@ def _has_defaults(cls: type) -> bool:
     )
 
 
-def _coerce(key: str, value: Any, default: Any, cls: type, where: str) -> Any:
+def _coerce(name: str, value: Any, default: Any, where: str) -> Any:
+    """``value`` as the type of ``default``; ``name`` is the parameter as errors show it."""
     if isinstance(default, bool):
         ok = isinstance(value, bool)
     elif isinstance(default, int):
@@ -105,11 +118,11 @@ def _coerce(key: str, value: Any, default: Any, cls: type, where: str) -> Any:
         ok = True
     if not ok:
         raise ConfigError(
-            f"[{section_name(cls)}] {key} = {value!r:.60} has the wrong type; "
+            f"{name} = {value!r:.60} has the wrong type; "
             f"expected {type(default).__name__} like the default {default!r}",
             path=where or None,
         )
-    _check_number(key, value, default, cls, where)
+    _check_number(name, value, default, where)
     return value
 
 
@@ -117,13 +130,13 @@ INT_LIMIT = 2**53
 """Largest magnitude of an integer parameter (beyond it no count or size makes sense)."""
 
 
-def _check_number(key: str, value: Any, default: Any, cls: type, where: str) -> None:
+def _check_number(name: str, value: Any, default: Any, where: str) -> None:
     """NaN is never a parameter value; infinity only where the default is infinite; integers
     stay below :data:`INT_LIMIT` in magnitude. Elements of tuples are checked alike."""
     if isinstance(value, tuple):
         for i, v in enumerate(value):
             d = default[i] if isinstance(default, tuple) and i < len(default) else None
-            _check_number(f"{key}[{i}]", v, d if d is not None else 0.0, cls, where)
+            _check_number(f"{name}[{i}]", v, d if d is not None else 0.0, where)
         return
     problem = None
     if isinstance(value, float):
@@ -135,9 +148,43 @@ def _check_number(key: str, value: Any, default: Any, cls: type, where: str) -> 
         problem = f"is larger than {INT_LIMIT}"
     if problem:
         raise ConfigError(
-            f"[{section_name(cls)}] {key} {problem}",
+            f"{name} {problem}",
             path=where or None,
             hint=f"give a finite number like the default {default!r}",
+        )
+
+
+SIGNED_UNITS = frozenset({"log-likelihood"})
+"""Units of parameters that may be negative; every other unit (metres, seconds, m/s, beams,
+people, ...) is a magnitude, a duration or a count, which is never negative."""
+
+
+def _check_range(key: str, name: str, value: Any, default: Any, unit: str, where: str) -> None:
+    """A value outside what its kind of parameter can mean: a probability (``p_*``,
+    ``*probability``) outside [0, 1] (a gate's below 1: a gate of probability 1 is
+    infinite); a negative value of a parameter with a physical unit, or of an integer (all
+    of them counts), whose default is not negative."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return
+    problem = ""
+    if key.startswith("p_") or key.endswith("probability"):
+        if key.endswith("gate_probability") and not value < 1.0:
+            problem = "must be below 1 (a gate of probability 1 is infinite)"
+        elif not 0.0 <= value <= 1.0:
+            problem = "is a probability: it must be in [0, 1]"
+    elif (
+        value < 0
+        and isinstance(default, int | float)
+        and default >= 0
+        and (isinstance(default, int) or (unit and unit not in SIGNED_UNITS))
+    ):
+        what = f"in {unit}" if unit else "a count"
+        problem = f"is {what}: it cannot be negative"
+    if problem:
+        raise ConfigError(
+            f"{name} = {value!r} {problem}",
+            path=where or None,
+            hint=f"the default is {default!r}" + (f" {unit}" if unit else ""),
         )
 
 

@@ -39,6 +39,17 @@ IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
 
+Layout = tuple[float, float, int]
+"""A laser's beam layout: ``(angle_min [rad], angle_increment [rad], beam count)``."""
+
+
+def same_layout(a: Layout, b: Layout) -> bool:
+    """Whether two beam layouts are the same: equal beam counts, angles within 1e-9 rad."""
+    return a[2] == b[2] and all(
+        math.isclose(x, y, rel_tol=0.0, abs_tol=1e-9) for x, y in zip(a[:2], b[:2], strict=True)
+    )
+
+
 @lru_cache(maxsize=32)
 def _beam_directions(
     angle_min: float, angle_increment: float, n_beams: int
@@ -246,6 +257,11 @@ class Scan:
     def angle_max(self) -> float:
         """Angle of the last beam [rad], as ROS writes it."""
         return self.angle_min + (self.n_beams - 1) * self.angle_increment
+
+    @property
+    def layout(self) -> Layout:
+        """The beam layout ``(angle_min [rad], angle_increment [rad], n_beams)``."""
+        return (self.angle_min, self.angle_increment, self.n_beams)
 
     @cached_property
     def angles(self) -> FloatArray:

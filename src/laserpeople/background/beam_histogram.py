@@ -60,7 +60,7 @@ from numpy.typing import NDArray
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.scan import Pose2D, Scan
+from laserpeople.scan import Layout, Pose2D, Scan, same_layout
 
 FORMAT = "laserpeople-beam-histogram"
 VERSION = 1
@@ -404,9 +404,10 @@ class BeamHistogramBackground:
         self._first_stamp: float | None = None
         self._frozen = False
         self._poses: dict[str, Pose2D | None] = {}
-        self._geometry: dict[str, tuple[float, float, int]] = {}
+        self._geometry: dict[str, Layout] = {}
         self._watch: tuple[float, float] | None = None  # (first, last) stamp of the frames seen
         self._offline_seconds = 0.0  # seconds learned from a separate background recording
+        self.layout_changes = 0  # lasers' histograms dropped for a new beam layout
 
     # ----------------------------------------------------------------- learning
     @property
@@ -450,7 +451,7 @@ class BeamHistogramBackground:
                 scan.n_beams, dtype=np.float64
             )
             self._tables[scan.sensor] = table
-            self._geometry[scan.sensor] = (scan.angle_min, scan.angle_increment, scan.n_beams)
+            self._geometry[scan.sensor] = scan.layout
         elif table.counts.shape[0] != scan.n_beams:
             raise BackgroundModelError(
                 f"laser {scan.sensor!r} has {scan.n_beams} beams, the model "
@@ -580,6 +581,8 @@ class BeamHistogramBackground:
             raise BackgroundModelError(
                 "the frame has no points", scan=frame.index, hint="fill points before"
             )
+        for scan in frame.scans:
+            self._forget_changed_layout(scan)
         first = frame.stamp if self._watch is None else self._watch[0]
         self._watch = (first, max(frame.stamp, first))
         if not self._frozen:
@@ -615,6 +618,23 @@ class BeamHistogramBackground:
             sel = pts.sensor_ids == i
             fg[sel] = by_name[name][pts.beams[sel]]
         return fg
+
+    def _forget_changed_layout(self, scan: Scan) -> None:
+        """Start the model afresh when ``scan``'s laser has a beam layout (``Scan.layout``)
+        other than the one its histograms were learnt with: every laser's histograms are
+        dropped and learnt again over ``learn_seconds``, as at the start of a recording.
+        Counted in :attr:`layout_changes`; :mod:`laserpeople.pipeline.layout` tells the
+        user."""
+        known = self._geometry.get(scan.sensor)
+        if known is None or same_layout(known, scan.layout):
+            return
+        self._tables.clear()
+        self._geometry.clear()
+        self._first_stamp = None
+        self._frozen = False
+        self._watch = (scan.stamp, scan.stamp)
+        self._offline_seconds = 0.0
+        self.layout_changes += 1
 
     def watched_seconds(self) -> float:
         """Seconds the static bins have been known to be static at the last frame: the

@@ -74,6 +74,9 @@ class TopicRow:
         worker: Host name and process id that ran it.
         input_hash: Content hash of the recording.
         config_hash: Digest of the resolved configuration.
+        notes: What the read left out or changed, as ``track`` says it (scans skipped
+            with ``--on-error skip``, intensities left out, a laser's beam layout
+            changing); empty when nothing.
     """
 
     recording: str
@@ -94,6 +97,7 @@ class TopicRow:
     worker: str = ""
     input_hash: str = ""
     config_hash: str = ""
+    notes: str = ""
 
 
 @dataclass
@@ -242,6 +246,7 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
         for step in pipe:
             _count(counts, step.frame.stamp, step.tracks)
         os.replace(temp, final)
+        notes = read_notes(pipe.source)
     finally:
         temp.unlink(missing_ok=True)
     stats = pipe.stats
@@ -258,8 +263,21 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
             seconds=time.perf_counter() - start,
             rows=stats.rows,
             output=str(final.relative_to(task.out)),
+            notes=notes,
         )
     )
+
+
+def read_notes(source: Any) -> str:
+    """What reading ``source`` (a :class:`~laserpeople.pipeline.RecordingFrames`) left out
+    or changed: its reader's damaged-scan summary and the beam layout changes, one line."""
+    damaged = getattr(getattr(source, "recording", None), "damaged", None)
+    layouts = getattr(source, "layouts", None)
+    parts = [
+        damaged.summary() if damaged is not None else "",
+        layouts.summary() if layouts is not None else "",
+    ]
+    return "; ".join(" ".join(p.split()) for p in parts if p)
 
 
 def _count(counts: _Counts, stamp: float, tracks: Any) -> None:

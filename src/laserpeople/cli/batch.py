@@ -23,6 +23,7 @@ from laserpeople.cli.common import (
     WorldFrameOption,
     console,
     say,
+    warn,
 )
 from laserpeople.errors import ConfigError
 
@@ -120,6 +121,9 @@ def report(result: BatchResult, out: Path) -> None:
     )
     for r in result.retried:
         say(f"{r.name} {r.topic}: started {r.attempts} times (a worker died under it)")
+    for r in rows:
+        if r.notes:
+            warn(f"{r.name} {r.topic}: {r.notes}")
     say(
         f"wrote {out / 'summary.parquet'}, {out / 'summary.csv'} and the tracks in {out / 'tracks'}"
     )

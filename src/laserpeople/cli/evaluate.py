@@ -276,14 +276,18 @@ def _check_kind(tracks: Path, kind: str) -> None:
 
 
 def _stamp_check(pairing: PairingCounts) -> None:
-    """Print the frame compared in when the truth states none, and what the paired stamps
-    say (a note, or a warning when they disagree)."""
+    """Print the frame compared in when the truth states none, what the paired stamps say
+    (a note, or a warning when they disagree), and a warning when truth and tracks share no
+    scan."""
     frame = pairing.frame_check()
     if frame:
         say(frame)
     text, is_warning = pairing.stamp_check()
     if text:
         (warn if is_warning else say)(text)
+    apart = pairing.overlap_check()
+    if apart:
+        warn(apart)
 
 
 def _person_id(text: str, frames: list[TruthFrame]) -> int:

@@ -21,12 +21,26 @@ from laserpeople.cli.common import (
     warn,
 )
 from laserpeople.cli.track import make_detector
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, LaserPeopleError
 
 
 def _optional_topic(name: str) -> str | None:
     """A topic option: empty or ``none`` turns the subscription off."""
     return None if name.strip().lower() in ("", "none") else name
+
+
+def _check_seconds(option: str, value: float | None, *, zero: bool) -> None:
+    """A time option must be a finite number of seconds, above 0 (``zero``: or 0)."""
+    if value is None:
+        return
+    import math
+
+    if not (math.isfinite(value) and (value >= 0.0 if zero else value > 0.0)):
+        raise ConfigError(
+            f"{option} {value!r} must be a finite number of seconds "
+            + ("(0 or more)" if zero else "above 0"),
+            hint=f"e.g. {option} {'0.1' if zero else '60'}",
+        )
 
 
 def _status_printer(meter: Any, stop: Any) -> None:
@@ -120,7 +134,9 @@ def register(app: typer.Typer) -> None:
                 "--scouting/--no-scouting", help="Find Zenoh peers by multicast on the LAN."
             ),
         ] = False,
-        domain: Annotated[int, typer.Option("--domain", help="ROS domain id (rmw transport).")] = 0,
+        domain: Annotated[
+            int, typer.Option("--domain", min=0, max=232, help="ROS domain id (rmw transport).")
+        ] = 0,
         type_hashes: Annotated[
             str,
             typer.Option(
@@ -199,7 +215,7 @@ def register(app: typer.Typer) -> None:
         ] = None,
         max_scans: Annotated[
             int | None,
-            typer.Option("--max-scans", help="Stop after receiving this many scans."),
+            typer.Option("--max-scans", min=1, help="Stop after receiving this many scans."),
         ] = None,
     ) -> None:
         """Track a running ROS 2 robot without ROS installed: subscribe to its LaserScan
@@ -229,6 +245,9 @@ def register(app: typer.Typer) -> None:
 
         if transport not in ("bridge", "rmw"):
             raise ConfigError(f"--transport {transport!r}: choose bridge or rmw")
+        _check_seconds("--duration", duration, zero=False)
+        _check_seconds("--tf-wait", tf_wait, zero=True)
+        _check_seconds("--order-wait", order_wait, zero=True)
         if frame not in ("auto", "world", "sensor"):
             raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
         if record is not None and record.suffix.lower() != ".mcap":
@@ -344,7 +363,11 @@ def register(app: typer.Typer) -> None:
 
 
 def _summary(session: Any, stats: Any, record: Path | None) -> None:
-    """The lines printed when a live run ends."""
+    """The lines printed when a live run ends; an error when no scan arrived at all.
+
+    Raises:
+        LaserPeopleError: Not one scan arrived (nothing to show for the run).
+    """
     counts = session.scans.counts
     run = session.run
     for laser in session.topics.lasers:
@@ -386,3 +409,10 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
         )
     if record is not None:
         say(f"wrote {record}")
+    if not sum(counts.received.values()):
+        raise LaserPeopleError(
+            f"no scan arrived on {', '.join(session.topics.lasers)}: nothing was tracked",
+            hint="check the topic names (ros2 topic list on the robot), --transport, --domain "
+            "and --key-prefix, and that --connect reaches the robot's bridge or router (a "
+            "peer whose endpoint cannot be reached waits without an error)",
+        )

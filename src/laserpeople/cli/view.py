@@ -140,14 +140,16 @@ def register(app: typer.Typer) -> None:
         scan: Annotated[
             int | None,
             typer.Option(
-                "--scan", help="PNG of this one scan (0-based); default: trajectory overview."
+                "--scan",
+                min=0,
+                help="PNG of this one scan (0-based); default: trajectory overview.",
             ),
         ] = None,
         start: Annotated[
-            int | None, typer.Option("--start", help="First scan index drawn.")
+            int | None, typer.Option("--start", min=0, help="First scan index drawn.")
         ] = None,
         stop: Annotated[
-            int | None, typer.Option("--stop", help="Scan index to stop before.")
+            int | None, typer.Option("--stop", min=0, help="Scan index to stop before.")
         ] = None,
         every: Annotated[int, typer.Option("--every", min=1, help="Draw every N-th scan.")] = 1,
         fps: Annotated[

@@ -76,8 +76,15 @@ class LegModel:
         }
 
     def save(self, path: str | Path) -> None:
-        """Write the model as JSON."""
-        Path(path).write_text(json.dumps(self.to_json(), indent=1) + "\n", encoding="utf-8")
+        """Write the model as JSON (its folder created; written whole or not at all).
+
+        Raises:
+            ModelFileError: The file cannot be written.
+        """
+        from laserpeople.io.paths import write_text_file
+
+        text = json.dumps(self.to_json(), indent=1) + "\n"
+        write_text_file(path, text, "model", ModelFileError)
 
 
 def parse_feature_set(text: str) -> tuple[int, ...]:

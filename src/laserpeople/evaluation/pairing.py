@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
@@ -24,6 +25,10 @@ class PairingCounts:
         tracks_frame: The frame the first paired scan's tracks were compared in (empty
             before one).
         truth_frame: The frame its truth states (empty: not stated, or none paired).
+        truth_scans: First and last scan index of the truth frames ((-1, -1): none).
+        truth_stamps: Their stamps [s].
+        tracks_scans: First and last scan index with track rows ((-1, -1): none).
+        tracks_stamps: Their stamps [s].
     """
 
     frames_scored: int = 0
@@ -34,6 +39,10 @@ class PairingCounts:
     max_stamp_difference: float = float("-inf")
     tracks_frame: str = ""
     truth_frame: str = ""
+    truth_scans: tuple[int, int] = (-1, -1)
+    truth_stamps: tuple[float, float] = (math.nan, math.nan)
+    tracks_scans: tuple[int, int] = (-1, -1)
+    tracks_stamps: tuple[float, float] = (math.nan, math.nan)
 
     STAMP_TOLERANCE = 0.05
     """Largest stamp difference [s] (or spread of the differences) taken as the same scan:
@@ -48,6 +57,21 @@ class PairingCounts:
         return (
             f"scored in the {self.tracks_frame} frame of the tracks; the truth does not "
             "state its frame (a truth CSV can, in a frame column)"
+        )
+
+    def overlap_check(self) -> str:
+        """A warning when truth and tracks share no scan: every scored truth frame had no
+        track rows while the tracks have rows on other scans (truth of another recording,
+        topic or time range would score as all missed, silently); empty otherwise."""
+        if not self.frames_scored or self.frames_without_tracks < self.frames_scored:
+            return ""
+        if self.tracks_scans[0] < 0:
+            return ""
+        return (
+            f"no scored scan has track rows: the truth covers scans {_span(self.truth_scans)} "
+            f"(stamps {_span(self.truth_stamps)} s), the tracks scans "
+            f"{_span(self.tracks_scans)} (stamps {_span(self.tracks_stamps)} s); check that "
+            "truth and tracks come from the same recording and laser topic"
         )
 
     def stamp_check(self) -> tuple[str, bool]:
@@ -74,6 +98,11 @@ class PairingCounts:
         )
 
 
+def _span(pair: tuple[float, float]) -> str:
+    """``first-last`` of a range of scan indices or stamps."""
+    return "-".join(f"{v:.3f}" if isinstance(v, float) else str(v) for v in pair)
+
+
 def pair_by_scan(
     truth_frames: Iterable[TruthFrame],
     tracks: Iterable[Tracks],
@@ -93,6 +122,17 @@ def pair_by_scan(
     pending: Tracks | None = next(track_iter, None)
     last_truth = -1
 
+    def seen(tracks: Tracks | None) -> Tracks | None:
+        if tracks is not None:
+            if stats.tracks_scans[0] < 0:
+                stats.tracks_scans, stats.tracks_stamps = (
+                    (tracks.scan_index, 0),
+                    (tracks.stamp, 0.0),
+                )
+            stats.tracks_scans = (stats.tracks_scans[0], tracks.scan_index)
+            stats.tracks_stamps = (stats.tracks_stamps[0], tracks.stamp)
+        return tracks
+
     def advance(current: Tracks) -> Tracks | None:
         nxt = next(track_iter, None)
         if nxt is not None and nxt.scan_index <= current.scan_index:
@@ -101,7 +141,9 @@ def pair_by_scan(
                 scan=nxt.scan_index,
                 hint="sort the tracks CSV by scan; all rows of one scan must be together",
             )
-        return nxt
+        return seen(nxt)
+
+    pending = seen(pending)
 
     for truth in truth_frames:
         if truth.scan_index <= last_truth:
@@ -111,6 +153,10 @@ def pair_by_scan(
                 hint="ground-truth frames must be in increasing scan order, one per scan",
             )
         last_truth = truth.scan_index
+        if stats.truth_scans[0] < 0:
+            stats.truth_scans, stats.truth_stamps = (truth.scan_index, 0), (truth.stamp, 0.0)
+        stats.truth_scans = (stats.truth_scans[0], truth.scan_index)
+        stats.truth_stamps = (stats.truth_stamps[0], truth.stamp)
         while pending is not None and pending.scan_index < truth.scan_index:
             stats.track_scans_unscored += 1
             pending = advance(pending)

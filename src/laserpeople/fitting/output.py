@@ -82,7 +82,15 @@ def write(
     text = render(params, estimates, kept, header)
     tmp = path.with_name(f".{path.name}.tmp")
     try:
-        tmp.write_text(text, encoding="utf-8")
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            raise FitError(
+                f"cannot write the parameters: {exc.strerror or exc}",
+                path=path,
+                hint="choose a writable file path with -o",
+            ) from exc
         back = load_config(type(params), tmp)
         if back != params:
             raise FitError("the written parameters do not read back as learned", path=path)

@@ -54,7 +54,7 @@ from laserpeople.errors import (
     ScanFormatError,
     UnsortedStampsError,
 )
-from laserpeople.io.damage import DamagedRecords, OnError
+from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import PoseParams, PoseTrack
 from laserpeople.io.topics import match_topics
@@ -274,8 +274,9 @@ class CarmenRecording:
             raise RecordingError(
                 f"line {lineno}: {message}",
                 path=self.path,
-                hint="fix or delete the line (a log cut short: delete its last line); "
-                "from Python, CarmenRecording(path, skip_bad_lines=True) skips and counts them",
+                hint="fix or delete the line (a log cut short: delete its last line), or use "
+                "--on-error skip to skip and count such lines (from Python: "
+                "CarmenRecording(path, skip_bad_lines=True))",
             )
         self.bad_lines += 1
         self.damaged.count += 1
@@ -424,13 +425,16 @@ class CarmenRecording:
                         self._bad(lineno, f"{keyword}: {exc}")
                         continue
                     index += 1
-                    if parsed.stamp < last:
+                    if parsed.stamp < last:  # (it would unsort the lasers' merge)
+                        reason = f"{keyword}: {stamp_back(parsed.stamp, last)}"
+                        if self.skip_bad_lines:
+                            self._bad(lineno, reason)
+                            continue
                         raise UnsortedStampsError(
-                            f"line {lineno}: {keyword} stamp {parsed.stamp:.6f} s is "
-                            f"{last - parsed.stamp:.6f} s before the previous one",
+                            f"line {lineno}: {reason}",
                             path=self.path,
                             scan=index,
-                            hint="sort the log by timestamp",
+                            hint=BACKWARD_HINT,
                         )
                     last = parsed.stamp
                     pose = None

@@ -26,6 +26,17 @@ SKIP_HINT = (
     "the recording is corrupt or truncated here; "
     "use --on-error skip to leave damaged scans out and read the rest"
 )
+BACKWARD_HINT = (
+    "use --on-error skip to leave out the scans stamped before an earlier one of their laser "
+    "(counted), or fix the recording's stamps"
+)
+
+
+def stamp_back(stamp: float, last: float) -> str:
+    """Why a scan stamped ``stamp`` [s] after one stamped ``last`` is a damaged record."""
+    return f"stamp {stamp:.6f} s is {last - stamp:.6f} s before the previous scan's"
+
+
 _EXAMPLES = 5
 
 
@@ -47,6 +58,9 @@ class DamagedRecords:
         count: Damaged records skipped so far (``skip`` only).
         truncated: Why the stream ended early, when structural damage ended it (``skip``).
         examples: The first few skipped records as ``"topic scan k: reason"``.
+        intensities_dropped: Scans read without their intensities, which did not match
+            their ranges in number (the ranges are sound; nothing in tracking reads
+            intensities).
     """
 
     def __init__(self, path: str | Path, on_error: OnError = "stop") -> None:
@@ -55,12 +69,25 @@ class DamagedRecords:
         self.count = 0
         self.truncated: str | None = None
         self.examples: list[str] = []
+        self.intensities_dropped = 0
+        self._intensities_example = ""
 
     def reset(self) -> None:
         """Forget the records of an earlier read."""
         self.count = 0
         self.truncated = None
         self.examples = []
+        self.intensities_dropped = 0
+        self._intensities_example = ""
+
+    def drop_intensities(self, *, topic: str, scan: int, intensities: int, ranges: int) -> None:
+        """Count a scan read without its ``intensities`` values, which do not match its
+        ``ranges`` in number (in both modes: the scan itself is sound)."""
+        if not self.intensities_dropped:
+            self._intensities_example = (
+                f"first {topic} scan {scan}: {intensities} intensities for {ranges} ranges"
+            )
+        self.intensities_dropped += 1
 
     def record(
         self,
@@ -70,6 +97,7 @@ class DamagedRecords:
         scan: int,
         read: int,
         kind: type[RecordingError] = RecordingError,
+        hint: str = SKIP_HINT,
     ) -> None:
         """Handle one damaged record: raise (``stop``) or count it (``skip``).
 
@@ -79,6 +107,7 @@ class DamagedRecords:
             scan: Index the scan would have had on its topic.
             read: Scans of this topic read before it.
             kind: The error class raised with ``stop`` (e.g. ``ScanFormatError``).
+            hint: What to do, in the error raised with ``stop``.
 
         Raises:
             RecordingError: with ``on_error="stop"``.
@@ -89,7 +118,7 @@ class DamagedRecords:
                 f"{read} scans of this topic were read before it",
                 path=self.path,
                 scan=scan,
-                hint=SKIP_HINT,
+                hint=hint,
             )
         self.count += 1
         if len(self.examples) < _EXAMPLES:
@@ -133,7 +162,7 @@ class DamagedRecords:
             )
 
     def summary(self) -> str:
-        """One line for the user; empty when nothing was skipped."""
+        """Lines for the user; empty when nothing was skipped or left out."""
         parts = []
         if self.count:
             shown = "; ".join(self.examples)
@@ -141,4 +170,10 @@ class DamagedRecords:
             parts.append(f"{self.path}: skipped {self.count} damaged scan(s) ({shown}{more})")
         if self.truncated:
             parts.append(f"{self.path}: {self.truncated}")
+        if self.intensities_dropped:
+            parts.append(
+                f"{self.path}: {self.intensities_dropped} scan(s) read without their "
+                f"intensities, which do not match their ranges in number "
+                f"({self._intensities_example}); the ranges are kept"
+            )
         return "\n".join(parts)

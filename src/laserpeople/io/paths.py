@@ -1,4 +1,4 @@
-"""Checks on the files a command is about to write.
+"""Checks on the files a command is about to write, and writing a small text file whole.
 
 :func:`check_outputs` refuses an output that is one of the command's inputs (the same
 file under another name included: the paths are resolved and, when both exist, compared
@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
+from contextlib import suppress
 from pathlib import Path
 
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, LaserPeopleError
 
 
 def _resolved(path: Path) -> Path:
@@ -68,3 +69,34 @@ def check_outputs(
                     f"{name} {out} and {other} {path} are the same file",
                     hint="give each output its own path",
                 )
+
+
+def write_text_file(
+    path: str | Path, text: str, what: str, error: type[LaserPeopleError] = ConfigError
+) -> Path:
+    """Write ``text`` to ``path`` whole: its folder is created as the other outputs' are, the
+    text goes to a temporary file beside it that replaces ``path`` once written (a failed
+    write leaves no half file, and an older file stays as it was).
+
+    Args:
+        what: What the file holds, for the error (``"model"``).
+        error: The error class raised.
+
+    Raises:
+        LaserPeopleError: (``error``) the file cannot be written; names it.
+    """
+    p = Path(path)
+    tmp = p.with_name(f".{p.name}.tmp")
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, p)
+    except OSError as exc:
+        with suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        raise error(
+            f"cannot write the {what}: {exc.strerror or exc}",
+            path=p,
+            hint="choose a writable file path with -o",
+        ) from exc
+    return p

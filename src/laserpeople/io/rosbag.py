@@ -31,7 +31,7 @@ from laserpeople.errors import (
     UnsortedStampsError,
 )
 from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
-from laserpeople.io.damage import DamagedRecords, OnError
+from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
 from laserpeople.io.npz import TopicInfo
 from laserpeople.io.poses import (
@@ -109,13 +109,16 @@ def _check_connection(conn: Any, path: Path) -> None:
         )
 
 
-def scan_from_message(msg: Any, stamp: float, topic: str, index: int, source: str) -> Scan:
-    """A :class:`Scan` of a decoded ``sensor_msgs/LaserScan`` (no pose yet).
+def scan_from_message(
+    msg: Any, stamp: float, topic: str, index: int, source: str, *, intensities: bool = True
+) -> Scan:
+    """A :class:`Scan` of a decoded ``sensor_msgs/LaserScan`` (no pose yet); without its
+    intensities when ``intensities`` is False.
 
     Raises:
         RecordingError: its beams disagree with its angles or limits (``Scan.from_angles``).
     """
-    intensities = msg.intensities if len(msg.intensities) else None
+    values = msg.intensities if intensities and len(msg.intensities) else None
     return Scan.from_angles(
         stamp,
         float(msg.angle_min),
@@ -124,7 +127,7 @@ def scan_from_message(msg: Any, stamp: float, topic: str, index: int, source: st
         msg.ranges,
         range_min=float(msg.range_min),
         range_max=float(msg.range_max),
-        intensities=intensities,
+        intensities=values,
         sensor=topic,
         pose=None,
         index=index,
@@ -505,7 +508,13 @@ class RosbagRecording:
                     if stamp == 0.0 and log_time != 0:
                         stamp = log_time * 1e-9
                         self.scans_with_log_time += 1
-                    scan = scan_from_message(msg, stamp, topic, index, source)
+                    n_int, n_ranges = len(msg.intensities), len(msg.ranges)
+                    odd = n_int not in (0, n_ranges)  # (unused by tracking: left out, said)
+                    scan = scan_from_message(msg, stamp, topic, index, source, intensities=not odd)
+                    if odd:
+                        self.damaged.drop_intensities(
+                            topic=topic, scan=index, intensities=n_int, ranges=n_ranges
+                        )
                 except RecordingError as exc:
                     self.damaged.record(
                         exc.detail, topic=topic, scan=index, read=read, kind=type(exc)
@@ -514,15 +523,16 @@ class RosbagRecording:
                 except Exception as exc:  # a message the deserialiser cannot decode
                     self.damaged.record(_describe(exc), topic=topic, scan=index, read=read)
                     continue
-                if stamp < last:
-                    raise UnsortedStampsError(
-                        f"topic {topic!r}: stamp {stamp:.6f} s is {last - stamp:.6f} s before "
-                        "the previous scan's",
-                        path=self.path,
+                if stamp < last:  # (a stamp going back would unsort the lasers' merge)
+                    self.damaged.record(
+                        stamp_back(stamp, last),
+                        topic=topic,
                         scan=index,
-                        hint="sort the bag by header stamp (e.g. rosbag filter / "
-                        "ros2 bag convert) or fix the driver's clock",
+                        read=read,
+                        kind=UnsortedStampsError,
+                        hint=BACKWARD_HINT,
                     )
+                    continue
                 last = stamp
                 if tree is not None:
                     pose, reason = self._pose(tree, world, str(msg.header.frame_id), stamp)

@@ -107,8 +107,9 @@ class BagSink:
         sec, nanosec = split_stamp(stamp)
         self.writer.write(conn, sec * 1_000_000_000 + nanosec, data)
 
-    def scan(self, scan: Scan, topic: str, frame_id: str) -> None:
-        """Write ``scan`` as a ``sensor_msgs/LaserScan`` stamped ``scan.stamp``."""
+    def scan(self, scan: Scan, topic: str, frame_id: str, log_stamp: float | None = None) -> None:
+        """Write ``scan`` as a ``sensor_msgs/LaserScan`` stamped ``scan.stamp``, logged at
+        ``log_stamp`` [s] (default: the same; another models a message received later)."""
         intensities = (
             np.empty(0, dtype=np.float32)
             if scan.intensities is None
@@ -126,7 +127,7 @@ class BagSink:
             ranges=np.asarray(scan.ranges, dtype=np.float32),
             intensities=intensities,
         )
-        self.write(topic, SCAN_TYPE, msg, scan.stamp)
+        self.write(topic, SCAN_TYPE, msg, scan.stamp if log_stamp is None else log_stamp)
         self.count += 1
 
     def pose(self, stamp: float, parent: str, child: str, pose: Pose2D, topic: str) -> None:

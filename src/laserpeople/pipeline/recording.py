@@ -24,6 +24,7 @@ from laserpeople.pipeline.background import (
 )
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.laser_height import laser_heights
+from laserpeople.pipeline.layout import LayoutCheck
 from laserpeople.pipeline.leg_foreground import wants_torso_runs
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
 from laserpeople.pipeline.preprocess import Fuse
@@ -129,6 +130,7 @@ class RecordingFrames:
         chooser: The frame choice and what it dropped (``chooser.stats``).
         grouper: The grouping and its counts (None for one laser).
         restamper: The re-stamping and its counts (None without ``restamp``).
+        layouts: The changes of a laser's beam layout seen so far.
     """
 
     def __init__(
@@ -149,6 +151,7 @@ class RecordingFrames:
         self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
         self.chooser = FrameChooser(frame, window)
         self.max_frames = max_frames
+        self.layouts = LayoutCheck()
 
     @property
     def total(self) -> int | None:
@@ -161,6 +164,7 @@ class RecordingFrames:
     def __iter__(self) -> Iterator[Frame]:
         scans = self.recording.scans(self.topics)
         scans = self.restamper(scans) if self.restamper is not None else StampCheck()(scans)
+        scans = self.layouts(scans)
         frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
         for n, frame in enumerate(self.chooser(frames)):
             if self.max_frames is not None and n >= self.max_frames:
@@ -168,12 +172,15 @@ class RecordingFrames:
             yield frame
 
     def summary(self) -> list[str]:
-        """Lines for the user: the frame used and why; the grouping figures."""
+        """Lines for the user: the frame used and why; the grouping figures; changes of a
+        laser's beam layout."""
         lines = [self.chooser.stats.summary()]
         if self.restamper is not None:
             lines.append(self.restamper.summary())
         if self.grouper is not None:
             lines.append(self.grouper.stats.summary())
+        if self.layouts.changes:
+            lines.append(self.layouts.summary())
         return lines
 
     def close(self) -> None:

@@ -159,6 +159,21 @@ def test_config_values_in_range_and_signed_ones_are_kept(tmp_path: Path) -> None
     assert params.people.gate_probability == 0.0 and params.max_report_unseen == 0.0
 
 
+def test_config_bias_may_be_negative(tmp_path: Path) -> None:
+    from laserpeople.config import load_config
+    from laserpeople.sim.robot import OdometryParams
+
+    config = tmp_path / "my.toml"
+    config.write_text(
+        f"[{OdometryParams.config_section}]\nheading_bias = -0.02\nheading_noise = 0.001\n"
+    )
+    params = load_config(OdometryParams, config)  # a drift the other way, in rad/m
+    assert abs(params.heading_bias + 0.02) < 1e-12
+    config.write_text(f"[{OdometryParams.config_section}]\nheading_noise = -0.001\n")
+    with pytest.raises(ConfigError, match="heading_noise = -0.001 is in rad/sqrt"):
+        load_config(OdometryParams, config)
+
+
 def _scans(n: int) -> list[Scan]:
     """``n`` scans of a wall 2 m away, 41 beams, at 10 Hz from 10 s."""
     return [

@@ -158,12 +158,16 @@ SIGNED_UNITS = frozenset({"log-likelihood"})
 """Units of parameters that may be negative; every other unit (metres, seconds, m/s, beams,
 people, ...) is a magnitude, a duration or a count, which is never negative."""
 
+SIGNED_SUFFIXES = ("_bias",)
+"""Names of parameters that may be negative whatever their unit: a bias or drift goes
+either way (``[odometry] heading_bias`` in rad/m)."""
+
 
 def _check_range(key: str, name: str, value: Any, default: Any, unit: str, where: str) -> None:
     """A value outside what its kind of parameter can mean: a probability (``p_*``,
     ``*probability``) outside [0, 1] (a gate's below 1: a gate of probability 1 is
     infinite); a negative value of a parameter with a physical unit, or of an integer (all
-    of them counts), whose default is not negative."""
+    of them counts), whose default is not negative (a bias, :data:`SIGNED_SUFFIXES`, may be)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         return
     problem = ""
@@ -177,6 +181,7 @@ def _check_range(key: str, name: str, value: Any, default: Any, unit: str, where
         and isinstance(default, int | float)
         and default >= 0
         and (isinstance(default, int) or (unit and unit not in SIGNED_UNITS))
+        and not key.endswith(SIGNED_SUFFIXES)
     ):
         what = f"in {unit}" if unit else "a count"
         problem = f"is {what}: it cannot be negative"

@@ -384,5 +384,6 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
             f"latency from arrival to publication: median {stats.latency('arrival'):.1f} ms, "
             f"p99 {stats.latency('arrival', 0.99):.1f} ms; {said}"
         )
+        say(session.scans.timings.summary())
     if record is not None:
         say(f"wrote {record}")

@@ -32,6 +32,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time
+from array import array
 from collections import Counter, deque
 from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass, field, replace
@@ -103,6 +104,42 @@ class LiveCounts:
 
 
 @dataclass
+class LiveTimings:
+    """Where a frame's time goes, from the arrival of a scan to the publication of its
+    frame (all on the ``clock`` of :class:`LiveScans`, in ms).
+
+    Attributes:
+        queued_ms: Per scan: arrival -> taken from its laser's queue (waiting for the
+            pipeline, or for the other lasers' scans to leave in stamp order).
+        tf_ms: Per scan: taken -> its pose known (waiting for a transform).
+        grouped_ms: Per frame: its last scan posed -> the frame given out (waiting for the
+            other lasers' scans of the instant, or for a later scan to close the frame).
+        tracked_ms: Per published frame: given out -> its tracks published (tracking,
+            encoding, publishing, the other sinks).
+    """
+
+    queued_ms: array[float] = field(default_factory=lambda: array("d"))
+    tf_ms: array[float] = field(default_factory=lambda: array("d"))
+    grouped_ms: array[float] = field(default_factory=lambda: array("d"))
+    tracked_ms: array[float] = field(default_factory=lambda: array("d"))
+
+    def summary(self) -> str:
+        """One line: median and p99 of each step [ms]."""
+        from laserpeople.live.sinks import percentile
+
+        parts = [
+            f"{name} {percentile(values, 0.5):.1f} / {percentile(values, 0.99):.1f}"
+            for name, values in (
+                ("queued", self.queued_ms),
+                ("tf", self.tf_ms),
+                ("grouping", self.grouped_ms),
+                ("tracking and publishing", self.tracked_ms),
+            )
+        ]
+        return "where the time went, median / p99 ms: " + ", ".join(parts)
+
+
+@dataclass
 class _Queued:
     scan: Scan
     frame_id: str
@@ -150,6 +187,11 @@ class LiveScans:
         self.jump_ahead = jump_ahead
         self.clock = clock
         self.counts = LiveCounts()
+        self.timings = LiveTimings()
+        self.ready: dict[tuple[str, int], float] = {}
+        """When each scan taken and not yet in a frame had its pose [s, ``clock``]."""
+        self.given: dict[tuple[str, int], float] = {}
+        """When each frame not yet published was given out, by its first scan [s, ``clock``]."""
         self.arrivals: dict[tuple[str, int], float] = {}
         """Arrival time [s, ``clock``] per (laser, scan index) of the scans taken and not
         yet published."""
@@ -273,6 +315,7 @@ class LiveScans:
                 if topic is not None and self._in_order(topic):
                     item = self._queues[topic].popleft()
                     self.counts.taken[topic] += 1
+                    self.timings.queued_ms.append(1e3 * (self.now() - item.arrival))
                     return item
                 if self._finished:
                     return None
@@ -349,9 +392,25 @@ class LiveScans:
             if self.first_arrival is None:
                 self.first_arrival = item.arrival
             self.arrivals[(scan.sensor, scan.index)] = item.arrival
-            while len(self.arrivals) > MAX_ARRIVALS:  # scans no frame published
-                del self.arrivals[next(iter(self.arrivals))]
-            yield self._posed(item)
+            for kept in (self.arrivals, self.ready, self.given):
+                while len(kept) > MAX_ARRIVALS:  # scans no frame published
+                    del kept[next(iter(kept))]
+            taken = self.now()
+            posed = self._posed(item)
+            ready = self.now()
+            self.timings.tf_ms.append(1e3 * (ready - taken))
+            self.ready[(scan.sensor, scan.index)] = ready
+            yield posed
+
+    def given_out(self, frame: Frame) -> None:
+        """Time a frame given to the pipeline (:attr:`LiveTimings.grouped_ms`)."""
+        now = self.now()
+        ready = [self.ready.pop((s.sensor, s.index), None) for s in frame.scans]
+        known = [r for r in ready if r is not None]
+        if known:
+            self.timings.grouped_ms.append(1e3 * (now - max(known)))
+        if frame.scans:
+            self.given[(frame.scans[0].sensor, frame.scans[0].index)] = now
 
 
 class LiveFrames:
@@ -390,6 +449,11 @@ class LiveFrames:
         """Frames given out in the sensor frame while undecided (by this iteration)."""
 
     def __iter__(self) -> Iterator[Frame]:
+        for frame in self._frames():
+            self.live.given_out(frame)
+            yield frame
+
+    def _frames(self) -> Iterator[Frame]:
         scans = self.live.scans()
         made = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
         frames = itertools.chain(self.carry, made)

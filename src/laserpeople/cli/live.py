@@ -165,13 +165,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = 0.1,
         order_wait: Annotated[
-            float,
+            float | None,
             typer.Option(
                 "--order-wait",
-                help="Several lasers: longest wait of a scan for the other lasers' scans of "
-                "the same instant, so frames group as in a recording [s].",
+                help="Several lasers: longest wait of a frame for the other lasers' scans of "
+                "its instant [s]; default: one scan period of the slowest other laser.",
             ),
-        ] = 0.05,
+        ] = None,
         record: Annotated[
             Path | None,
             typer.Option(

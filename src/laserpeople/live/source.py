@@ -6,10 +6,10 @@
   A scan arriving at a full queue pushes out the oldest one, which is *dropped* and counted
   (:attr:`LiveCounts.dropped`), so a slow tracker never builds a backlog: it always works
   on the newest scans.
-- **Order**: scans leave in stamp order over the lasers; with several lasers a scan waits
-  until every other laser has sent one at least as new, at most ``order_wait`` seconds
-  after its arrival (the lasers' different delays would otherwise group frames
-  differently from the recording of the same scans).
+- **No waiting for order**: the oldest queued scan (by stamp) leaves as soon as the
+  pipeline takes one; with several lasers the grouping waits for the other lasers' scans
+  of an instant instead (:class:`~laserpeople.live.grouping.LiveGrouper`: a frame closes as
+  soon as every laser has delivered, at most ``order_wait`` after its reference scan).
 - **Poses**: a scan's pose comes from :class:`~laserpeople.live.poses.LiveTransforms`;
   when the transforms have no sample at or after the scan's stamp yet, the scan waits for
   one up to ``tf_wait`` seconds (as a ROS tf message filter does), then takes what there is
@@ -19,9 +19,10 @@
   seconds after it, raises :class:`TimeJump`; the run resets tracking and says so
   (:class:`~laserpeople.live.runner.LiveRun`) instead of letting every track die silently.
 
-:class:`LiveFrames` turns the scans into frames exactly as a recording's are made
+:class:`LiveFrames` turns the scans into frames as a recording's are made
 (:func:`~laserpeople.pipeline.sources.laser_frames` for one laser,
-:class:`~laserpeople.pipeline.sources.LaserGrouper` for several,
+:class:`~laserpeople.live.grouping.LiveGrouper` for several, which closes a frame as soon as
+it is complete instead of when the next one starts,
 :class:`~laserpeople.pipeline.sources.FrameChooser` for the coordinate frame), except that
 ``auto`` decides as the frames come instead of from a look-ahead window
 (:mod:`laserpeople.live.choice`).
@@ -40,14 +41,9 @@ from dataclasses import dataclass, field, replace
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
 from laserpeople.live.choice import FrameDecision, FrameSwitch
+from laserpeople.live.grouping import LiveGrouper
 from laserpeople.live.poses import LiveTransforms
-from laserpeople.pipeline.sources import (
-    FUSED,
-    FrameChooser,
-    GroupingParams,
-    LaserGrouper,
-    laser_frames,
-)
+from laserpeople.pipeline.sources import FUSED, FrameChooser, GroupingParams, laser_frames
 from laserpeople.scan import Scan
 
 MAX_ARRIVALS = 4096
@@ -155,8 +151,9 @@ class LiveScans:
         transforms: Pose source (None: no poses, sensor frame).
         depth: Scans kept per laser (the newest); older ones are dropped and counted.
         tf_wait: Longest wait for a transform covering a scan's stamp [s].
-        order_wait: Several lasers: longest wait of a scan for the other lasers' scans of
-            the same instant, so that scans leave in stamp order [s].
+        order_wait: Several lasers: longest wait of a frame for the other lasers' scans of
+            its instant, after its reference scan arrived [s] (None: one scan period of the
+            slowest other laser, measured).
         jump_back: A stamp this much before the previous one of its laser is a time jump [s].
         jump_ahead: A stamp this much after the previous one of its laser is a time jump [s].
         clock: Monotonic clock for arrival times [s] (``time.monotonic``).
@@ -169,7 +166,7 @@ class LiveScans:
         *,
         depth: int = 1,
         tf_wait: float = 0.1,
-        order_wait: float = 0.05,
+        order_wait: float | None = None,
         jump_back: float = 0.5,
         jump_ahead: float = 30.0,
         clock: Callable[[], float] = time.monotonic,
@@ -182,7 +179,7 @@ class LiveScans:
         self.transforms = transforms
         self.depth = depth
         self.tf_wait = tf_wait
-        self.order_wait = order_wait if len(self.topics) > 1 else 0.0
+        self.order_wait = order_wait
         self.jump_back = jump_back
         self.jump_ahead = jump_ahead
         self.clock = clock
@@ -286,20 +283,6 @@ class LiveScans:
                 best = topic
         return best
 
-    def _in_order(self, topic: str) -> bool:
-        """Whether the oldest queued scan (of ``topic``) may leave: every other laser has
-        sent a scan at least as new, or it has waited ``order_wait`` (so that scans leave in
-        stamp order across lasers, as a recording's are read, and a grouped frame does not
-        leave before another laser's scan of the same instant arrived)."""
-        head = self._queues[topic][0]
-        if self._finished or self.now() >= head.arrival + self.order_wait:
-            return True
-        return all(
-            self._newest.get(other, -float("inf")) >= head.scan.stamp
-            for other in self.topics
-            if other != topic
-        )
-
     def take(self, timeout: float | None = None) -> _Queued | None:
         """The oldest queued scan (by stamp, over the lasers), waiting for one; None when
         closed or after ``timeout`` seconds."""
@@ -312,7 +295,7 @@ class LiveScans:
                 if self._closed:
                     return None
                 topic = self._oldest()
-                if topic is not None and self._in_order(topic):
+                if topic is not None:
                     item = self._queues[topic].popleft()
                     self.counts.taken[topic] += 1
                     self.timings.queued_ms.append(1e3 * (self.now() - item.arrival))
@@ -323,11 +306,7 @@ class LiveScans:
                 left = None if deadline is None else deadline - now
                 if left is not None and left <= 0:
                     return None
-                step = 0.2 if left is None else min(left, 0.2)
-                if topic is not None:  # waiting for the other lasers, at most order_wait
-                    head = self._queues[topic][0]
-                    step = min(step, max(1e-3, head.arrival + self.order_wait - now))
-                self._cond.wait(step)
+                self._cond.wait(0.2 if left is None else min(left, 0.2))
 
     def push_back(self, item: _Queued) -> None:
         """Give ``item`` out again at the next :meth:`take` (the scan that jumped)."""
@@ -369,16 +348,24 @@ class LiveScans:
             return scan
         return replace(scan, pose=pose)
 
-    def scans(self) -> Iterator[Scan]:
+    def scans(self, deadline: Callable[[], float | None] = lambda: None) -> Iterator[Scan | None]:
         """Scans in the order taken, with poses, until :meth:`close`.
+
+        Args:
+            deadline: When the caller wants control back if no scan came [s, ``clock``]
+                (None: not before a scan); None is then given instead of a scan.
 
         Raises:
             TimeJump: A laser's stamp jumped (the scan is pushed back first).
         """
         while True:
-            item = self.take()
+            until = deadline()
+            item = self.take(None if until is None else max(0.0, until - self.now()))
             if item is None:
-                return
+                if self.finished:
+                    return
+                yield None
+                continue
             scan = item.scan
             previous = self._last.get(scan.sensor)
             if previous is not None and (
@@ -438,7 +425,11 @@ class LiveFrames:
         self.decision = decision
         self.topics = list(scans.topics)
         self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
-        self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
+        self.grouper = (
+            LiveGrouper(self.topics, grouping, wait=scans.order_wait)
+            if len(self.topics) > 1
+            else None
+        )
         self.carry = tuple(carry)
         self.on_choice = on_choice
         self.chooser: FrameChooser | None = None
@@ -453,9 +444,24 @@ class LiveFrames:
             self.live.given_out(frame)
             yield frame
 
+    def _grouped(self, grouper: LiveGrouper) -> Iterator[Frame]:
+        """Frames of several lasers, each given out as soon as it is complete or its wait
+        ran out."""
+        live = self.live
+        for scan in live.scans(grouper.deadline):
+            now = live.now()
+            if scan is None:
+                yield from grouper.expire(now)
+                continue
+            arrival = live.arrivals.get((scan.sensor, scan.index), now)
+            yield from grouper.push(scan, arrival, now)
+        yield from grouper.flush()
+
     def _frames(self) -> Iterator[Frame]:
-        scans = self.live.scans()
-        made = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        if self.grouper is None:
+            made = laser_frames((s for s in self.live.scans() if s is not None), self.topic)
+        else:
+            made = self._grouped(self.grouper)
         frames = itertools.chain(self.carry, made)
         if self.decision.undecided:
             self.live.undecided = True

@@ -131,6 +131,12 @@ class LiveGrouper(LaserGrouper):
             periods.append(float(sorted(intervals)[len(intervals) // 2]))
         return max(periods)
 
+    def _tolerance(self) -> float:
+        """As for a recording; before the reference laser's period is measured (two scans),
+        ``period_fraction`` of the wait (a frame closed then has no unbounded tolerance)."""
+        tol = super()._tolerance()
+        return tol if tol < float("inf") else self.params.period_fraction * self.wait()
+
     def deadline(self) -> float | None:
         """When the oldest open frame closes unless completed first [s, the caller's clock]
         (None: no frame open)."""
@@ -156,8 +162,7 @@ class LiveGrouper(LaserGrouper):
             self.stats.wait = self.wait()
             self._pending.append(_Pending(frame, arrival + self.stats.wait))
         elif topic in self._others:
-            near = min(tol, self.wait())  # (the tolerance is unbounded before two periods)
-            if any(topic in lacking and t <= ref + near for ref, lacking in self._timed_out):
+            if any(topic in lacking and t <= ref + tol for ref, lacking in self._timed_out):
                 self.stats.late[topic] += 1
                 self._late.add(id(scan))
             for pending in self._pending:
@@ -174,8 +179,8 @@ class LiveGrouper(LaserGrouper):
             head = self._pending[0]
             ref = head.frame.ref.stamp
             lacking = frozenset(o for o in self._others if self._newest.get(o, -float("inf")) < ref)
-            if lacking and now < head.deadline:
-                break
+            if (lacking or not self._intervals) and now < head.deadline:
+                break  # (the tolerance is not known before two reference scans)
             self._pending.popleft()
             if lacking:
                 self.stats.closed_by_wait += 1

@@ -1,0 +1,132 @@
+"""Live grouping of several lasers: frames close as soon as every laser delivered, the wait is
+bounded by the lasers' measured period, late scans join the next frame; all counted.
+
+The clocks are fakes: the tests count frames and scans, they time nothing.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from laserpeople.frame import Frame
+from laserpeople.live.choice import FrameDecision
+from laserpeople.live.grouping import FIRST_WAIT, LiveGrouper
+from laserpeople.live.source import LiveFrames, LiveScans
+from laserpeople.pipeline.sources import LaserGrouper
+from laserpeople.scan import Pose2D, Scan
+
+FRONT, BACK = "/front", "/back"
+PERIOD = 0.079  # the MiR lasers: 12.7 Hz each, the back one 30-43 ms after the front one
+
+
+def _scan(stamp: float, sensor: str, index: int = 0) -> Scan:
+    return Scan.from_angles(
+        stamp, -1.0, 1.0, 0.5, np.array([1.0, 2.0, 3.0, 4.0, 5.0]), sensor=sensor, index=index
+    )
+
+
+def _ids(frames: list[Frame]) -> list[tuple[tuple[str, int], ...]]:
+    return [tuple((s.sensor, s.index) for s in f.scans) for f in frames]
+
+
+def test_a_frame_closes_when_the_other_laser_delivered_not_at_the_next_scan() -> None:
+    grouper = LiveGrouper([FRONT, BACK])
+    assert grouper.push(_scan(10.000, FRONT, 0), arrival=0.000, now=0.000) == []
+    # the first frame waits for the reference period (its tolerance) ...
+    assert grouper.push(_scan(10.035, BACK, 0), arrival=0.035, now=0.035) == []
+    first = grouper.push(_scan(10.079, FRONT, 1), arrival=0.079, now=0.079)
+    assert _ids(first) == [((FRONT, 0), (BACK, 0))]
+    # ... the next ones close at their back scan, not at the next front scan 79 ms later
+    frames = grouper.push(_scan(10.114, BACK, 1), arrival=0.114, now=0.114)
+    assert _ids(frames) == [((FRONT, 1), (BACK, 1))]
+    assert grouper.stats.complete == 2 and grouper.stats.closed_by_wait == 0
+    assert grouper.deadline() is None  # nothing left open
+
+
+def test_a_frame_waits_one_measured_period_of_the_other_laser_then_a_late_scan_joins_the_next() -> (
+    None
+):
+    grouper = LiveGrouper([FRONT, BACK])
+    frames: list[Frame] = []
+    for i in range(4):  # periods measured: the back laser's is 80 ms, the front's 79 ms
+        arrival = 10.03 + i * 0.08
+        frames += grouper.push(_scan(10 + i * PERIOD, FRONT, i), arrival - 0.03, arrival - 0.03)
+        frames += grouper.push(_scan(10.03 + i * 0.08, BACK, i), arrival, arrival)
+    assert len(frames) == 4 and grouper.stats.complete == 4
+    assert grouper.wait() == pytest.approx(0.08)  # the slowest other laser's period
+    t4 = 10 + 4 * PERIOD
+    assert grouper.push(_scan(t4, FRONT, 4), arrival=1.0, now=1.0) == []
+    assert grouper.deadline() == pytest.approx(1.08)
+    assert grouper.expire(1.079) == []
+    closed = grouper.expire(1.081)  # the wait ran out: the frame leaves without /back
+    assert _ids(closed) == [((FRONT, 4),)]
+    assert closed[0].missing == (BACK,)
+    assert grouper.stats.closed_by_wait == 1
+    # /back's scan of that instant comes late; the next front scan is 39 ms from it
+    assert grouper.push(_scan(t4 + 0.040, BACK, 4), arrival=1.12, now=1.12) == []
+    assert grouper.stats.late[BACK] == 1
+    assert grouper.push(_scan(t4 + PERIOD, FRONT, 5), arrival=1.16, now=1.16) == []
+    # the next back scan is 45 ms after the front one, farther than the late one (39 ms)
+    nxt = grouper.push(_scan(t4 + PERIOD + 0.045, BACK, 5), arrival=1.21, now=1.21)
+    assert _ids(nxt) == [((FRONT, 5), (BACK, 4))]  # the late scan joined the next frame
+    assert grouper.stats.late_joined[BACK] == 1
+    assert grouper.stats.frames == 6 and grouper.stats.complete == 5
+    summary = grouper.stats.summary()
+    assert "5 with every laser, 1 without some" in summary
+    assert "1 closed by the wait (80.0 ms)" in summary
+    assert "1 late (1 joined the next frame, 0 in none)" in summary
+
+
+def test_the_wait_before_the_periods_are_measured_and_a_fixed_one() -> None:
+    assert LiveGrouper([FRONT, BACK]).wait() == FIRST_WAIT
+    assert LiveGrouper([FRONT, BACK], wait=0.02).wait() == 0.02
+
+
+def test_live_frames_are_the_frames_a_recording_of_the_same_scans_gives() -> None:
+    """Scans arriving with jittered delays, each laser in order, the lasers interleaved in
+    any order: when no wait runs out, the frames are LaserGrouper's on the recording (so
+    `track` on live's recording groups as live did)."""
+    rng = np.random.default_rng(3)
+    events = []  # (arrival, scan)
+    for i in range(200):
+        t = 100 + i * PERIOD + rng.uniform(-0.002, 0.002)
+        if i != 50:  # the front laser misses a scan: /back's of that instant is unmatched
+            events.append((t + rng.uniform(0.0, 0.03), _scan(t, FRONT, i)))
+        if i not in (70, 71):  # the back laser misses two: two frames without it
+            tb = t + rng.uniform(0.030, 0.043)
+            events.append((tb + rng.uniform(0.0, 0.03), _scan(tb, BACK, i)))
+    events.sort(key=lambda e: e[0])
+    live = LiveGrouper([FRONT, BACK], wait=1.0)
+    frames: list[Frame] = []
+    for arrival, scan in events:
+        frames += live.push(scan, arrival, arrival)
+    frames += live.flush()
+    recorded = list(
+        LaserGrouper([FRONT, BACK])(sorted((s for _, s in events), key=lambda s: s.stamp))
+    )
+    assert _ids(frames) == _ids(recorded)
+    assert len(frames) == 199 and live.stats.complete == 197
+    assert live.stats.missing[BACK] == 2 and live.stats.unmatched[BACK] == 1
+    assert (
+        live.stats.closed_by_wait == 0 and live.stats.late[BACK] == 0
+    )  # the next back scan closed them
+
+
+def test_live_frames_give_a_frame_before_the_next_scan_is_taken() -> None:
+    """Through LiveScans and LiveFrames: the MiR pattern gives each frame out when its back
+    scan is taken, without waiting for the next front scan (the clock advances 1 ms per look,
+    so nothing blocks)."""
+    ticks = itertools.count()
+    scans = LiveScans([FRONT, BACK], depth=10, clock=lambda: next(ticks) * 1e-3)
+    for stamp, sensor in ((10.0, FRONT), (10.035, BACK), (10.079, FRONT), (10.114, BACK),
+                          (10.158, FRONT)):  # fmt: skip
+        scans.put(replace(_scan(stamp, sensor), pose=Pose2D(0.0, 0.0, 0.0)), sensor)
+    frames = iter(LiveFrames(scans, FrameDecision("world")))
+    assert [s.stamp for s in next(frames).scans] == [10.0, 10.035]
+    assert [s.stamp for s in next(frames).scans] == [10.079, 10.114]
+    assert scans.counts.taken[FRONT] == 2  # the third front scan was not needed
+    assert scans.counts.taken[BACK] == 2

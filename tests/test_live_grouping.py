@@ -15,7 +15,7 @@ import pytest
 from laserpeople.frame import Frame
 from laserpeople.live.choice import FrameDecision
 from laserpeople.live.grouping import FIRST_WAIT, LiveGrouper
-from laserpeople.live.source import LiveFrames, LiveScans
+from laserpeople.live.source import LiveFrames, LiveScans, TimeJump
 from laserpeople.pipeline.sources import LaserGrouper
 from laserpeople.scan import Pose2D, Scan
 
@@ -130,3 +130,16 @@ def test_live_frames_give_a_frame_before_the_next_scan_is_taken() -> None:
     assert [s.stamp for s in next(frames).scans] == [10.079, 10.114]
     assert scans.counts.taken[FRONT] == 2  # the third front scan was not needed
     assert scans.counts.taken[BACK] == 2
+
+
+def test_frames_open_at_a_time_jump_are_given_out_before_the_reset() -> None:
+    ticks = itertools.count()
+    scans = LiveScans([FRONT, BACK], depth=10, clock=lambda: next(ticks) * 1e-3)
+    for stamp, sensor in ((10.0, FRONT), (10.035, BACK), (10.079, FRONT), (5.0, FRONT)):
+        scans.put(replace(_scan(stamp, sensor), pose=Pose2D(0.0, 0.0, 0.0)), sensor)
+    frames = iter(LiveFrames(scans, FrameDecision("world")))
+    assert [s.stamp for s in next(frames).scans] == [10.0, 10.035]
+    second = next(frames)  # open when the jump came: given out without /back, not lost
+    assert [s.stamp for s in second.scans] == [10.079] and second.missing == (BACK,)
+    with pytest.raises(TimeJump):
+        next(frames)

@@ -448,13 +448,17 @@ class LiveFrames:
         """Frames of several lasers, each given out as soon as it is complete or its wait
         ran out."""
         live = self.live
-        for scan in live.scans(grouper.deadline):
-            now = live.now()
-            if scan is None:
-                yield from grouper.expire(now)
-                continue
-            arrival = live.arrivals.get((scan.sensor, scan.index), now)
-            yield from grouper.push(scan, arrival, now)
+        try:
+            for scan in live.scans(grouper.deadline):
+                now = live.now()
+                if scan is None:
+                    yield from grouper.expire(now)
+                    continue
+                arrival = live.arrivals.get((scan.sensor, scan.index), now)
+                yield from grouper.push(scan, arrival, now)
+        except TimeJump:
+            yield from grouper.flush()  # the frames still open are tracked before the reset
+            raise
         yield from grouper.flush()
 
     def _frames(self) -> Iterator[Frame]:

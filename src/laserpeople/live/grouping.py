@@ -70,12 +70,8 @@ class LiveGroupingStats(GroupingStats):
                 f"{topic}: missing in {self.missing[topic]}, {late} late ({joined} joined the "
                 f"next frame, {late - joined} in none), unmatched {self.unmatched[topic]}"
             )
-        if self.dropped_frames:
-            parts.append(f"{self.dropped_frames} frames dropped for a missing laser")
-        parts.append(
-            f"largest offset {1e3 * self.max_offset:.1f} ms "
-            f"(tolerance {1e3 * self.tolerance:.1f} ms)"
-        )
+        # the frames dropped and the largest offset, as for a recording
+        parts += super().summary().split("; ")[len(self.topics) :]
         return "; ".join(parts)
 
 

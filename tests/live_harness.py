@@ -110,6 +110,7 @@ def live_rows(
         frame=frame,  # type: ignore[arg-type]
         depth=depth,
         tf_wait=tf_wait,
+        order_wait=tf_wait,
         extra_sinks=extra_sinks,
     )
     session.scans.limit = max_scans

@@ -14,7 +14,7 @@ import pytest
 
 from laserpeople.frame import Frame
 from laserpeople.live.choice import FrameDecision
-from laserpeople.live.grouping import FIRST_WAIT, LiveGrouper
+from laserpeople.live.grouping import FIRST_WAIT, MAX_RECENT, LiveGrouper
 from laserpeople.live.source import LiveFrames, LiveScans, TimeJump
 from laserpeople.pipeline.sources import LaserGrouper
 from laserpeople.scan import Pose2D, Scan
@@ -143,3 +143,11 @@ def test_frames_open_at_a_time_jump_are_given_out_before_the_reset() -> None:
     assert [s.stamp for s in second.scans] == [10.079] and second.missing == (BACK,)
     with pytest.raises(TimeJump):
         next(frames)
+
+
+def test_a_silent_reference_laser_does_not_grow_the_kept_scans() -> None:
+    grouper = LiveGrouper([FRONT, BACK])
+    for i in range(MAX_RECENT + 10):
+        assert grouper.push(_scan(10 + i * PERIOD, BACK, i), i * PERIOD, i * PERIOD) == []
+    assert grouper.stats.unmatched[BACK] == 10  # the oldest, counted: no frame took them
+    assert len(grouper.flush()) == 0 and grouper.stats.unmatched[BACK] == MAX_RECENT + 10

@@ -36,6 +36,10 @@ FIRST_WAIT = 0.1
 PERIOD_SCANS = 20
 """Intervals over which a laser's period is measured (their median)."""
 
+MAX_RECENT = 256
+"""Other lasers' scans kept for frames to come (more: the reference laser is silent; the
+oldest are counted unmatched)."""
+
 
 @dataclass
 class LiveGroupingStats(GroupingStats):
@@ -165,6 +169,7 @@ class LiveGrouper(LaserGrouper):
                 if abs(pending.frame.ref.stamp - t) <= tol:
                     pending.frame.candidates.setdefault(topic, []).append(scan)
             self._recent.append(scan)
+            self._forget(tol)
         return self.expire(now)
 
     def expire(self, now: float) -> list[Frame]:
@@ -204,10 +209,18 @@ class LiveGrouper(LaserGrouper):
     def _forget(self, tol: float, everything: bool = False) -> None:
         """Drop other lasers' scans no later frame can take (stamp more than ``tol`` before
         the newest reference scan); count those no frame took as unmatched."""
-        while self._recent and (everything or self._recent[0].stamp < self._last_ref - tol):
+        while self._recent and (
+            everything
+            or self._recent[0].stamp < self._last_ref - tol
+            or len(self._recent) > MAX_RECENT
+        ):
             old = self._recent.popleft()
-            if not everything and any(
-                c is old for p in self._pending for c in p.frame.candidates.get(old.sensor, ())
+            if (
+                not everything
+                and len(self._recent) <= MAX_RECENT
+                and any(
+                    c is old for p in self._pending for c in p.frame.candidates.get(old.sensor, ())
+                )
             ):
                 self._recent.appendleft(old)  # an open frame may still take it
                 break
@@ -217,4 +230,4 @@ class LiveGrouper(LaserGrouper):
             self._late.discard(id(old))
 
 
-__all__ = ["FIRST_WAIT", "LiveGrouper", "LiveGroupingStats"]
+__all__ = ["FIRST_WAIT", "MAX_RECENT", "LiveGrouper", "LiveGroupingStats"]

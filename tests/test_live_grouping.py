@@ -35,13 +35,13 @@ def _ids(frames: list[Frame]) -> list[tuple[tuple[str, int], ...]]:
 
 def test_a_frame_closes_when_the_other_laser_delivered_not_at_the_next_scan() -> None:
     grouper = LiveGrouper([FRONT, BACK])
-    assert grouper.push(_scan(10.000, FRONT, 0), arrival=0.000, now=0.000) == []
+    assert grouper.push(_scan(10.000, FRONT, 0), arrival=0.000) == []
     # the first frame waits for the reference period (its tolerance) ...
-    assert grouper.push(_scan(10.035, BACK, 0), arrival=0.035, now=0.035) == []
-    first = grouper.push(_scan(10.079, FRONT, 1), arrival=0.079, now=0.079)
+    assert grouper.push(_scan(10.035, BACK, 0), arrival=0.035) == []
+    first = grouper.push(_scan(10.079, FRONT, 1), arrival=0.079)
     assert _ids(first) == [((FRONT, 0), (BACK, 0))]
     # ... the next ones close at their back scan, not at the next front scan 79 ms later
-    frames = grouper.push(_scan(10.114, BACK, 1), arrival=0.114, now=0.114)
+    frames = grouper.push(_scan(10.114, BACK, 1), arrival=0.114)
     assert _ids(frames) == [((FRONT, 1), (BACK, 1))]
     assert grouper.stats.complete == 2 and grouper.stats.closed_by_wait == 0
     assert grouper.deadline() is None  # nothing left open
@@ -54,12 +54,12 @@ def test_a_frame_waits_one_measured_period_of_the_other_laser_then_a_late_scan_j
     frames: list[Frame] = []
     for i in range(4):  # periods measured: the back laser's is 80 ms, the front's 79 ms
         arrival = 10.03 + i * 0.08
-        frames += grouper.push(_scan(10 + i * PERIOD, FRONT, i), arrival - 0.03, arrival - 0.03)
-        frames += grouper.push(_scan(10.03 + i * 0.08, BACK, i), arrival, arrival)
+        frames += grouper.push(_scan(10 + i * PERIOD, FRONT, i), arrival - 0.03)
+        frames += grouper.push(_scan(10.03 + i * 0.08, BACK, i), arrival)
     assert len(frames) == 4 and grouper.stats.complete == 4
     assert grouper.wait() == pytest.approx(0.08)  # the slowest other laser's period
     t4 = 10 + 4 * PERIOD
-    assert grouper.push(_scan(t4, FRONT, 4), arrival=1.0, now=1.0) == []
+    assert grouper.push(_scan(t4, FRONT, 4), arrival=1.0) == []
     assert grouper.deadline() == pytest.approx(1.08)
     assert grouper.expire(1.079) == []
     closed = grouper.expire(1.081)  # the wait ran out: the frame leaves without /back
@@ -67,11 +67,11 @@ def test_a_frame_waits_one_measured_period_of_the_other_laser_then_a_late_scan_j
     assert closed[0].missing == (BACK,)
     assert grouper.stats.closed_by_wait == 1
     # /back's scan of that instant comes late; the next front scan is 39 ms from it
-    assert grouper.push(_scan(t4 + 0.040, BACK, 4), arrival=1.12, now=1.12) == []
+    assert grouper.push(_scan(t4 + 0.040, BACK, 4), arrival=1.12) == []
     assert grouper.stats.late[BACK] == 1
-    assert grouper.push(_scan(t4 + PERIOD, FRONT, 5), arrival=1.16, now=1.16) == []
+    assert grouper.push(_scan(t4 + PERIOD, FRONT, 5), arrival=1.16) == []
     # the next back scan is 45 ms after the front one, farther than the late one (39 ms)
-    nxt = grouper.push(_scan(t4 + PERIOD + 0.045, BACK, 5), arrival=1.21, now=1.21)
+    nxt = grouper.push(_scan(t4 + PERIOD + 0.045, BACK, 5), arrival=1.21)
     assert _ids(nxt) == [((FRONT, 5), (BACK, 4))]  # the late scan joined the next frame
     assert grouper.stats.late_joined[BACK] == 1
     assert grouper.stats.frames == 6 and grouper.stats.complete == 5
@@ -103,7 +103,7 @@ def test_live_frames_are_the_frames_a_recording_of_the_same_scans_gives() -> Non
     live = LiveGrouper([FRONT, BACK], wait=1.0)
     frames: list[Frame] = []
     for arrival, scan in events:
-        frames += live.push(scan, arrival, arrival)
+        frames += live.push(scan, arrival)
     frames += live.flush()
     recorded = list(
         LaserGrouper([FRONT, BACK])(sorted((s for _, s in events), key=lambda s: s.stamp))
@@ -148,6 +148,23 @@ def test_frames_open_at_a_time_jump_are_given_out_before_the_reset() -> None:
 def test_a_silent_reference_laser_does_not_grow_the_kept_scans() -> None:
     grouper = LiveGrouper([FRONT, BACK])
     for i in range(MAX_RECENT + 10):
-        assert grouper.push(_scan(10 + i * PERIOD, BACK, i), i * PERIOD, i * PERIOD) == []
+        assert grouper.push(_scan(10 + i * PERIOD, BACK, i), i * PERIOD) == []
     assert grouper.stats.unmatched[BACK] == 10  # the oldest, counted: no frame took them
     assert len(grouper.flush()) == 0 and grouper.stats.unmatched[BACK] == MAX_RECENT + 10
+
+
+def test_a_slow_tracker_does_not_close_frames_whose_scans_wait_in_the_queue() -> None:
+    """The tracker takes the scans long after their wait ran out (it was busy): the frames
+    still get the scans that had arrived, none is closed by the wait."""
+    clock = [0.0]
+    scans = LiveScans([FRONT, BACK], depth=10, clock=lambda: clock[0])
+    for stamp, sensor in ((10.0, FRONT), (10.035, BACK), (10.079, FRONT), (10.114, BACK),
+                          (10.158, FRONT)):  # fmt: skip
+        clock[0] = stamp - 10.0  # arrival
+        scans.put(replace(_scan(stamp, sensor), pose=Pose2D(0.0, 0.0, 0.0)), sensor)
+    clock[0] = 5.0  # the tracker comes back 5 s later
+    frames = LiveFrames(scans, FrameDecision("world"))
+    it = iter(frames)
+    assert [s.stamp for s in next(it).scans] == [10.0, 10.035]
+    assert [s.stamp for s in next(it).scans] == [10.079, 10.114]
+    assert frames.grouper is not None and frames.grouper.stats.closed_by_wait == 0

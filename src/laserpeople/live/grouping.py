@@ -88,8 +88,9 @@ class _Pending:
 class LiveGrouper(LaserGrouper):
     """Groups scans of several lasers into frames as they arrive (see the module notes).
 
-    Feed each scan with :meth:`push`, call :meth:`expire` when :meth:`deadline` passes, and
-    :meth:`flush` at the end; each gives the frames closed, in stamp order.
+    Feed each scan with :meth:`push`, call :meth:`expire` when no scan is waiting (at the
+    latest when :meth:`deadline` passes), and :meth:`flush` at the end; each gives the frames
+    closed, in stamp order.
 
     Args:
         topics: The lasers, the reference laser first.
@@ -142,8 +143,10 @@ class LiveGrouper(LaserGrouper):
         (None: no frame open)."""
         return self._pending[0].deadline if self._pending else None
 
-    def push(self, scan: Scan, arrival: float, now: float) -> list[Frame]:
-        """Add a scan that arrived at ``arrival``; returns the frames closed by ``now``."""
+    def push(self, scan: Scan, arrival: float) -> list[Frame]:
+        """Add a scan that arrived at ``arrival``; returns the frames it completed (a wait
+        runs out only in :meth:`expire`: the caller first gives the scans already received,
+        so that a slow tracker does not close frames whose scans are waiting in a queue)."""
         topic, t = scan.sensor, scan.stamp
         previous = self._newest.get(topic)
         if previous is not None and t > previous:
@@ -170,17 +173,17 @@ class LiveGrouper(LaserGrouper):
                     pending.frame.candidates.setdefault(topic, []).append(scan)
             self._recent.append(scan)
             self._forget(tol)
-        return self.expire(now)
+        return self.expire(None)
 
-    def expire(self, now: float) -> list[Frame]:
+    def expire(self, now: float | None) -> list[Frame]:
         """The frames closed by ``now``: in order, each complete one and each whose wait ran
-        out."""
+        out (``now`` None: only the complete ones)."""
         out: list[Frame] = []
         while self._pending:
             head = self._pending[0]
             ref = head.frame.ref.stamp
             lacking = frozenset(o for o in self._others if self._newest.get(o, -float("inf")) < ref)
-            if (lacking or not self._intervals) and now < head.deadline:
+            if (lacking or not self._intervals) and (now is None or now < head.deadline):
                 break  # (the tolerance is not known before two reference scans)
             self._pending.popleft()
             if lacking:

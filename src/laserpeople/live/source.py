@@ -242,6 +242,11 @@ class LiveScans:
             self._newest[scan.sensor] = max(self._newest.get(scan.sensor, scan.stamp), scan.stamp)
             self._cond.notify_all()
 
+    def waiting(self) -> int:
+        """Scans received and not taken yet."""
+        with self._cond:
+            return sum(len(q) for q in self._queues.values()) + (self._pushed_back is not None)
+
     def undecodable(self, topic: str, error: str) -> None:
         """Count a message that was not a valid scan (the first error per topic is kept)."""
         with self._cond:
@@ -455,7 +460,9 @@ class LiveFrames:
                     yield from grouper.expire(now)
                     continue
                 arrival = live.arrivals.get((scan.sensor, scan.index), now)
-                yield from grouper.push(scan, arrival, now)
+                yield from grouper.push(scan, arrival)
+                if not live.waiting():  # the scans received are in: a wait may run out
+                    yield from grouper.expire(live.now())
         except TimeJump:
             yield from grouper.flush()  # the frames still open are tracked before the reset
             raise

@@ -9,7 +9,8 @@
 - **No waiting for order**: the oldest queued scan (by stamp) leaves as soon as the
   pipeline takes one; with several lasers the grouping waits for the other lasers' scans
   of an instant instead (:class:`~laserpeople.live.grouping.LiveGrouper`: a frame closes as
-  soon as every laser has delivered, at most ``order_wait`` after its reference scan).
+  soon as every laser has delivered, at most ``order_wait`` after its reference scan, and
+  only once no received scan waits in a queue).
 - **Poses**: a scan's pose comes from :class:`~laserpeople.live.poses.LiveTransforms`;
   when the transforms have no sample at or after the scan's stamp yet, the scan waits for
   one up to ``tf_wait`` seconds (as a ROS tf message filter does), then takes what there is
@@ -106,7 +107,7 @@ class LiveTimings:
 
     Attributes:
         queued_ms: Per scan: arrival -> taken from its laser's queue (waiting for the
-            pipeline, or for the other lasers' scans to leave in stamp order).
+            pipeline).
         tf_ms: Per scan: taken -> its pose known (waiting for a transform).
         grouped_ms: Per frame: its last scan posed -> the frame given out (waiting for the
             other lasers' scans of the instant, or for a later scan to close the frame).

@@ -14,17 +14,19 @@ frames with less waiting:
   ``wait`` seconds after its reference scan arrived, with the lasers that did deliver.
   By default ``wait`` is one scan period of the slowest other laser, measured on its
   stamps (the median of its last 20 intervals).
-- **Late scans join the next frame.** A scan that arrives after its frame was given out
-  without its laser is *late*. It blocks nothing: it joins the next frame when within the
-  tolerance of that frame's reference scan, else no frame takes it (*unmatched*). Both
-  are counted (:class:`LiveGroupingStats`).
+- **Late scans block nothing.** A scan that arrives after its frame was given out without
+  its laser (within the tolerance of that frame's reference scan) is *late*: it is counted
+  (:class:`LiveGroupingStats`) and no frame takes it. Putting it in the next frame instead
+  would change the grouping of every frame after it (with two lasers at the same rate, a
+  scan is often within the tolerance of two reference scans), and ``track`` on the
+  recording, which does not hold the late scan, would then group differently from live.
 """
 
 from __future__ import annotations
 
-from collections import Counter, deque
+from collections import deque
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from laserpeople.frame import Frame
 from laserpeople.pipeline.sources import GroupingParams, GroupingStats, LaserGrouper, _Open
@@ -49,13 +51,11 @@ class LiveGroupingStats(GroupingStats):
         complete: Frames given out with a scan of every laser.
         closed_by_wait: Frames given out when their wait ran out (a laser missing, or its
             scan of the instant not arrived yet).
-        late_joined: Late scans a later frame took, per laser.
         wait: The last wait used [s].
     """
 
     complete: int = 0
     closed_by_wait: int = 0
-    late_joined: Counter[str] = field(default_factory=Counter)
     wait: float = 0.0
 
     def summary(self) -> str:
@@ -69,10 +69,9 @@ class LiveGroupingStats(GroupingStats):
             "when every laser had delivered",
         ]
         for topic in self.topics[1:]:
-            late, joined = self.late[topic], self.late_joined[topic]
             parts.append(
-                f"{topic}: missing in {self.missing[topic]}, {late} late ({joined} joined the "
-                f"next frame, {late - joined} in none), unmatched {self.unmatched[topic]}"
+                f"{topic}: missing in {self.missing[topic]}, {self.late[topic]} late (came "
+                f"after their frame left; in no frame), unmatched {self.unmatched[topic]}"
             )
         # the frames dropped and the largest offset, as for a recording
         parts += super().summary().split("; ")[len(self.topics) :]
@@ -118,7 +117,6 @@ class LiveGrouper(LaserGrouper):
         }
         self._last_ref = -float("inf")
         self._timed_out: deque[tuple[float, frozenset[str]]] = deque(maxlen=8)
-        self._late: set[int] = set()
 
     def wait(self) -> float:
         """The wait now [s]: fixed, or one period of the slowest other laser."""
@@ -167,7 +165,7 @@ class LiveGrouper(LaserGrouper):
         elif topic in self._others:
             if any(topic in lacking and t <= ref + tol for ref, lacking in self._timed_out):
                 self.stats.late[topic] += 1
-                self._late.add(id(scan))
+                return self.expire(None)
             for pending in self._pending:
                 if abs(pending.frame.ref.stamp - t) <= tol:
                     pending.frame.candidates.setdefault(topic, []).append(scan)
@@ -204,9 +202,6 @@ class LiveGrouper(LaserGrouper):
         for made in self._emit(frame):
             if len(made.scans) == len(self.topics):
                 self.stats.complete += 1
-            for s in made.scans[1:]:
-                if id(s) in self._late:
-                    self.stats.late_joined[s.sensor] += 1
             yield made
 
     def _forget(self, tol: float, everything: bool = False) -> None:
@@ -230,7 +225,6 @@ class LiveGrouper(LaserGrouper):
             if id(old) not in self._used:
                 self.stats.unmatched[old.sensor] += 1
             self._used.discard(id(old))
-            self._late.discard(id(old))
 
 
 __all__ = ["FIRST_WAIT", "MAX_RECENT", "LiveGrouper", "LiveGroupingStats"]

@@ -191,3 +191,16 @@ def test_with_late_scans_track_on_what_live_tracked_groups_as_live_did() -> None
     assert live.stats.late[BACK] == 24 and live.stats.closed_by_wait == 24  # 8 delays x 3
     held = sorted((s for f in frames for s in f.scans), key=lambda s: s.stamp)
     assert _ids(frames) == _ids(list(LaserGrouper([FRONT, BACK])(held)))
+
+
+def test_with_several_lasers_a_pass_delayed_by_one_period_drops_nothing() -> None:
+    """Each laser delivers two scans while the tracker is busy: kept with several lasers
+    (queue of 2 each), the older one dropped and counted with one laser (queue of 1)."""
+    several = LiveScans([FRONT, BACK], clock=lambda: 0.0)
+    one = LiveScans([FRONT], clock=lambda: 0.0)
+    for stamp in (10.0, 10.079):
+        several.put(_scan(stamp, FRONT), "f")
+        several.put(_scan(stamp + 0.042, BACK), "b")
+        one.put(_scan(stamp, FRONT), "f")
+    assert sum(several.counts.dropped.values()) == 0 and several.waiting() == 4
+    assert one.counts.dropped[FRONT] == 1 and one.waiting() == 1

@@ -151,13 +151,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = "/laserpeople",
         queue: Annotated[
-            int,
+            int | None,
             typer.Option(
                 "--queue",
                 help="Scans kept per laser while the tracker is busy; older ones are dropped "
-                "and counted (1: always the newest).",
+                "and counted (1: always the newest). Default: 1 with one laser, 2 with several.",
             ),
-        ] = 1,
+        ] = None,
         tf_wait: Annotated[
             float,
             typer.Option(

@@ -304,7 +304,8 @@ class LiveSession:
         mounts: Fixed laser mounts (``--mount``).
         use_poses: Subscribe to the transforms (False: sensor frame, one laser).
         frame: See :class:`LiveRun`.
-        depth: Scans kept per laser before the oldest is dropped.
+        depth: Scans kept per laser before the oldest is dropped (None: see
+            :class:`~laserpeople.live.source.LiveScans`).
         tf_wait: Longest wait for a transform covering a scan [s].
         order_wait: Several lasers: longest wait of a frame for the others' scans of its
             instant [s] (None: one scan period of the slowest other laser, measured).
@@ -328,7 +329,7 @@ class LiveSession:
     mounts: dict[str, tuple[str, Pose2D]] = field(default_factory=dict)
     use_poses: bool = True
     frame: FrameChoice = "auto"
-    depth: int = 1
+    depth: int | None = None
     tf_wait: float = 0.1
     order_wait: float | None = None
     grouping: GroupingParams | None = None

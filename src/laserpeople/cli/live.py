@@ -167,13 +167,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = "/laserpeople",
         queue: Annotated[
-            int,
+            int | None,
             typer.Option(
                 "--queue",
                 help="Scans kept per laser while the tracker is busy; older ones are dropped "
-                "and counted (1: always the newest).",
+                "and counted (1: always the newest). Default: 1 with one laser, 2 with several.",
             ),
-        ] = 1,
+        ] = None,
         tf_wait: Annotated[
             float,
             typer.Option(
@@ -181,13 +181,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = 0.1,
         order_wait: Annotated[
-            float,
+            float | None,
             typer.Option(
                 "--order-wait",
-                help="Several lasers: longest wait of a scan for the other lasers' scans of "
-                "the same instant, so frames group as in a recording [s].",
+                help="Several lasers: longest wait of a frame for the other lasers' scans of "
+                "its instant [s]; default: one scan period of the slowest other laser.",
             ),
-        ] = 0.05,
+        ] = None,
         record: Annotated[
             Path | None,
             typer.Option(
@@ -407,6 +407,7 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
             f"latency from arrival to publication: median {stats.latency('arrival'):.1f} ms, "
             f"p99 {stats.latency('arrival', 0.99):.1f} ms; {said}"
         )
+        say(session.scans.timings.summary())
     if record is not None:
         say(f"wrote {record}")
     if not sum(counts.received.values()):

@@ -304,9 +304,11 @@ class LiveSession:
         mounts: Fixed laser mounts (``--mount``).
         use_poses: Subscribe to the transforms (False: sensor frame, one laser).
         frame: See :class:`LiveRun`.
-        depth: Scans kept per laser before the oldest is dropped.
+        depth: Scans kept per laser before the oldest is dropped (None: see
+            :class:`~laserpeople.live.source.LiveScans`).
         tf_wait: Longest wait for a transform covering a scan [s].
-        order_wait: Several lasers: longest wait for the others' scans of an instant [s].
+        order_wait: Several lasers: longest wait of a frame for the others' scans of its
+            instant [s] (None: one scan period of the slowest other laser, measured).
         grouping: Grouping of several lasers.
         extra_sinks: More outputs after the publisher (a recording, the Foxglove server).
         block: Publishers block on congestion instead of dropping.
@@ -327,9 +329,9 @@ class LiveSession:
     mounts: dict[str, tuple[str, Pose2D]] = field(default_factory=dict)
     use_poses: bool = True
     frame: FrameChoice = "auto"
-    depth: int = 1
+    depth: int | None = None
     tf_wait: float = 0.1
-    order_wait: float = 0.05
+    order_wait: float | None = None
     grouping: GroupingParams | None = None
     extra_sinks: Sequence[Sink] = ()
     block: bool = False

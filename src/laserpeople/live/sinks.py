@@ -84,6 +84,9 @@ class PublishSink:
         now = self.scans.now()
         arrivals = [self.scans.arrivals.pop((s.sensor, s.index), None) for s in frame.scans]
         known = [a for a in arrivals if a is not None]
+        given = self.scans.given.pop((frame.scans[0].sensor, frame.scans[0].index), None)
+        if given is not None:
+            self.scans.timings.tracked_ms.append(1e3 * (now - given))
         if known:
             self.stats.arrival_ms.append(1e3 * (now - max(known)))
         self.stats.stamp_ms.append(1e3 * (now_wall - frame.stamp))

@@ -2,14 +2,16 @@
 
 :class:`LiveScans` sits between the transport's receiving thread and the pipeline:
 
-- **Keep newest per laser**: each laser has a queue of at most ``depth`` scans (default 1).
+- **Keep newest per laser**: each laser has a queue of at most ``depth`` scans (default 1
+  with one laser, 2 with several).
   A scan arriving at a full queue pushes out the oldest one, which is *dropped* and counted
   (:attr:`LiveCounts.dropped`), so a slow tracker never builds a backlog: it always works
   on the newest scans.
-- **Order**: scans leave in stamp order over the lasers; with several lasers a scan waits
-  until every other laser has sent one at least as new, at most ``order_wait`` seconds
-  after its arrival (the lasers' different delays would otherwise group frames
-  differently from the recording of the same scans).
+- **No waiting for order**: the oldest queued scan (by stamp) leaves as soon as the
+  pipeline takes one; with several lasers the grouping waits for the other lasers' scans
+  of an instant instead (:class:`~laserpeople.live.grouping.LiveGrouper`: a frame closes as
+  soon as every laser has delivered, at most ``order_wait`` after its reference scan, and
+  only once no received scan waits in a queue).
 - **Poses**: a scan's pose comes from :class:`~laserpeople.live.poses.LiveTransforms`;
   when the transforms have no sample at or after the scan's stamp yet, the scan waits for
   one up to ``tf_wait`` seconds (as a ROS tf message filter does), then takes what there is
@@ -19,9 +21,10 @@
   seconds after it, raises :class:`TimeJump`; the run resets tracking and says so
   (:class:`~laserpeople.live.runner.LiveRun`) instead of letting every track die silently.
 
-:class:`LiveFrames` turns the scans into frames exactly as a recording's are made
+:class:`LiveFrames` turns the scans into frames as a recording's are made
 (:func:`~laserpeople.pipeline.sources.laser_frames` for one laser,
-:class:`~laserpeople.pipeline.sources.LaserGrouper` for several,
+:class:`~laserpeople.live.grouping.LiveGrouper` for several, which closes a frame as soon as
+it is complete instead of when the next one starts,
 :class:`~laserpeople.pipeline.sources.FrameChooser` for the coordinate frame), except that
 ``auto`` decides as the frames come instead of from a look-ahead window
 (:mod:`laserpeople.live.choice`).
@@ -32,6 +35,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time
+from array import array
 from collections import Counter, deque
 from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass, field, replace
@@ -39,15 +43,16 @@ from dataclasses import dataclass, field, replace
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
 from laserpeople.live.choice import FrameDecision, FrameSwitch
+from laserpeople.live.grouping import LiveGrouper
 from laserpeople.live.poses import LiveTransforms
-from laserpeople.pipeline.sources import (
-    FUSED,
-    FrameChooser,
-    GroupingParams,
-    LaserGrouper,
-    laser_frames,
-)
+from laserpeople.pipeline.sources import FUSED, FrameChooser, GroupingParams, laser_frames
 from laserpeople.scan import Scan
+
+SEVERAL_LASERS_DEPTH = 2
+"""Default queue per laser with several lasers. Each pass of the tracker takes one scan of
+every laser, so a pass delayed by more than one scan period (a loaded computer) drops a
+scan of every laser with a queue of 1; measured on the MiR bag (2 lasers at 12.7 Hz, 2
+loaded cores): 15-61 scans of 590 dropped with 1, 0-1 with 2."""
 
 MAX_ARRIVALS = 4096
 """Arrival times kept for scans not yet published (scans that no frame takes are forgotten
@@ -103,6 +108,42 @@ class LiveCounts:
 
 
 @dataclass
+class LiveTimings:
+    """Where a frame's time goes, from the arrival of a scan to the publication of its
+    frame (all on the ``clock`` of :class:`LiveScans`, in ms).
+
+    Attributes:
+        queued_ms: Per scan: arrival -> taken from its laser's queue (waiting for the
+            pipeline).
+        tf_ms: Per scan: taken -> its pose known (waiting for a transform).
+        grouped_ms: Per frame: its last scan posed -> the frame given out (waiting for the
+            other lasers' scans of the instant, or for a later scan to close the frame).
+        tracked_ms: Per published frame: given out -> its tracks published (tracking,
+            encoding, publishing, the other sinks).
+    """
+
+    queued_ms: array[float] = field(default_factory=lambda: array("d"))
+    tf_ms: array[float] = field(default_factory=lambda: array("d"))
+    grouped_ms: array[float] = field(default_factory=lambda: array("d"))
+    tracked_ms: array[float] = field(default_factory=lambda: array("d"))
+
+    def summary(self) -> str:
+        """One line: median and p99 of each step [ms]."""
+        from laserpeople.live.sinks import percentile
+
+        parts = [
+            f"{name} {percentile(values, 0.5):.1f} / {percentile(values, 0.99):.1f}"
+            for name, values in (
+                ("queued", self.queued_ms),
+                ("tf", self.tf_ms),
+                ("grouping", self.grouped_ms),
+                ("tracking and publishing", self.tracked_ms),
+            )
+        ]
+        return "where the time went, median / p99 ms: " + ", ".join(parts)
+
+
+@dataclass
 class _Queued:
     scan: Scan
     frame_id: str
@@ -116,10 +157,12 @@ class LiveScans:
         topics: The laser topics, in the order of ``--topic`` (the first is the reference
             laser of fused frames).
         transforms: Pose source (None: no poses, sensor frame).
-        depth: Scans kept per laser (the newest); older ones are dropped and counted.
+        depth: Scans kept per laser (the newest); older ones are dropped and counted (None:
+            1 with one laser, :data:`SEVERAL_LASERS_DEPTH` with several).
         tf_wait: Longest wait for a transform covering a scan's stamp [s].
-        order_wait: Several lasers: longest wait of a scan for the other lasers' scans of
-            the same instant, so that scans leave in stamp order [s].
+        order_wait: Several lasers: longest wait of a frame for the other lasers' scans of
+            its instant, after its reference scan arrived [s] (None: one scan period of the
+            slowest other laser, measured).
         jump_back: A stamp this much before the previous one of its laser is a time jump [s].
         jump_ahead: A stamp this much after the previous one of its laser is a time jump [s].
         clock: Monotonic clock for arrival times [s] (``time.monotonic``).
@@ -130,26 +173,33 @@ class LiveScans:
         topics: Sequence[str],
         transforms: LiveTransforms | None = None,
         *,
-        depth: int = 1,
+        depth: int | None = None,
         tf_wait: float = 0.1,
-        order_wait: float = 0.05,
+        order_wait: float | None = None,
         jump_back: float = 0.5,
         jump_ahead: float = 30.0,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
-        if depth < 1:
-            raise ConfigError("the queue depth per laser must be at least 1")
         if not topics:
             raise ConfigError("give at least one laser topic")
+        if depth is None:
+            depth = 1 if len(topics) == 1 else SEVERAL_LASERS_DEPTH
+        if depth < 1:
+            raise ConfigError("the queue depth per laser must be at least 1")
         self.topics = tuple(topics)
         self.transforms = transforms
         self.depth = depth
         self.tf_wait = tf_wait
-        self.order_wait = order_wait if len(self.topics) > 1 else 0.0
+        self.order_wait = order_wait
         self.jump_back = jump_back
         self.jump_ahead = jump_ahead
         self.clock = clock
         self.counts = LiveCounts()
+        self.timings = LiveTimings()
+        self.ready: dict[tuple[str, int], float] = {}
+        """When each scan taken and not yet in a frame had its pose [s, ``clock``]."""
+        self.given: dict[tuple[str, int], float] = {}
+        """When each frame not yet published was given out, by its first scan [s, ``clock``]."""
         self.arrivals: dict[tuple[str, int], float] = {}
         """Arrival time [s, ``clock``] per (laser, scan index) of the scans taken and not
         yet published."""
@@ -203,6 +253,11 @@ class LiveScans:
             self._newest[scan.sensor] = max(self._newest.get(scan.sensor, scan.stamp), scan.stamp)
             self._cond.notify_all()
 
+    def waiting(self) -> int:
+        """Scans received and not taken yet."""
+        with self._cond:
+            return sum(len(q) for q in self._queues.values()) + (self._pushed_back is not None)
+
     def undecodable(self, topic: str, error: str) -> None:
         """Count a message that was not a valid scan (the first error per topic is kept)."""
         with self._cond:
@@ -244,20 +299,6 @@ class LiveScans:
                 best = topic
         return best
 
-    def _in_order(self, topic: str) -> bool:
-        """Whether the oldest queued scan (of ``topic``) may leave: every other laser has
-        sent a scan at least as new, or it has waited ``order_wait`` (so that scans leave in
-        stamp order across lasers, as a recording's are read, and a grouped frame does not
-        leave before another laser's scan of the same instant arrived)."""
-        head = self._queues[topic][0]
-        if self._finished or self.now() >= head.arrival + self.order_wait:
-            return True
-        return all(
-            self._newest.get(other, -float("inf")) >= head.scan.stamp
-            for other in self.topics
-            if other != topic
-        )
-
     def take(self, timeout: float | None = None) -> _Queued | None:
         """The oldest queued scan (by stamp, over the lasers), waiting for one; None when
         closed or after ``timeout`` seconds."""
@@ -270,9 +311,10 @@ class LiveScans:
                 if self._closed:
                     return None
                 topic = self._oldest()
-                if topic is not None and self._in_order(topic):
+                if topic is not None:
                     item = self._queues[topic].popleft()
                     self.counts.taken[topic] += 1
+                    self.timings.queued_ms.append(1e3 * (self.now() - item.arrival))
                     return item
                 if self._finished:
                     return None
@@ -280,11 +322,7 @@ class LiveScans:
                 left = None if deadline is None else deadline - now
                 if left is not None and left <= 0:
                     return None
-                step = 0.2 if left is None else min(left, 0.2)
-                if topic is not None:  # waiting for the other lasers, at most order_wait
-                    head = self._queues[topic][0]
-                    step = min(step, max(1e-3, head.arrival + self.order_wait - now))
-                self._cond.wait(step)
+                self._cond.wait(0.2 if left is None else min(left, 0.2))
 
     def push_back(self, item: _Queued) -> None:
         """Give ``item`` out again at the next :meth:`take` (the scan that jumped)."""
@@ -326,16 +364,24 @@ class LiveScans:
             return scan
         return replace(scan, pose=pose)
 
-    def scans(self) -> Iterator[Scan]:
+    def scans(self, deadline: Callable[[], float | None] = lambda: None) -> Iterator[Scan | None]:
         """Scans in the order taken, with poses, until :meth:`close`.
+
+        Args:
+            deadline: When the caller wants control back if no scan came [s, ``clock``]
+                (None: not before a scan); None is then given instead of a scan.
 
         Raises:
             TimeJump: A laser's stamp jumped (the scan is pushed back first).
         """
         while True:
-            item = self.take()
+            until = deadline()
+            item = self.take(None if until is None else max(0.0, until - self.now()))
             if item is None:
-                return
+                if self.finished:
+                    return
+                yield None
+                continue
             scan = item.scan
             previous = self._last.get(scan.sensor)
             if previous is not None and (
@@ -349,9 +395,25 @@ class LiveScans:
             if self.first_arrival is None:
                 self.first_arrival = item.arrival
             self.arrivals[(scan.sensor, scan.index)] = item.arrival
-            while len(self.arrivals) > MAX_ARRIVALS:  # scans no frame published
-                del self.arrivals[next(iter(self.arrivals))]
-            yield self._posed(item)
+            for kept in (self.arrivals, self.ready, self.given):
+                while len(kept) > MAX_ARRIVALS:  # scans no frame published
+                    del kept[next(iter(kept))]
+            taken = self.now()
+            posed = self._posed(item)
+            ready = self.now()
+            self.timings.tf_ms.append(1e3 * (ready - taken))
+            self.ready[(scan.sensor, scan.index)] = ready
+            yield posed
+
+    def given_out(self, frame: Frame) -> None:
+        """Time a frame given to the pipeline (:attr:`LiveTimings.grouped_ms`)."""
+        now = self.now()
+        ready = [self.ready.pop((s.sensor, s.index), None) for s in frame.scans]
+        known = [r for r in ready if r is not None]
+        if known:
+            self.timings.grouped_ms.append(1e3 * (now - max(known)))
+        if frame.scans:
+            self.given[(frame.scans[0].sensor, frame.scans[0].index)] = now
 
 
 class LiveFrames:
@@ -379,7 +441,11 @@ class LiveFrames:
         self.decision = decision
         self.topics = list(scans.topics)
         self.topic = self.topics[0] if len(self.topics) == 1 else FUSED
-        self.grouper = LaserGrouper(self.topics, grouping) if len(self.topics) > 1 else None
+        self.grouper = (
+            LiveGrouper(self.topics, grouping, wait=scans.order_wait)
+            if len(self.topics) > 1
+            else None
+        )
         self.carry = tuple(carry)
         self.on_choice = on_choice
         self.chooser: FrameChooser | None = None
@@ -390,8 +456,34 @@ class LiveFrames:
         """Frames given out in the sensor frame while undecided (by this iteration)."""
 
     def __iter__(self) -> Iterator[Frame]:
-        scans = self.live.scans()
-        made = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
+        for frame in self._frames():
+            self.live.given_out(frame)
+            yield frame
+
+    def _grouped(self, grouper: LiveGrouper) -> Iterator[Frame]:
+        """Frames of several lasers, each given out as soon as it is complete or its wait
+        ran out."""
+        live = self.live
+        try:
+            for scan in live.scans(grouper.deadline):
+                now = live.now()
+                if scan is None:
+                    yield from grouper.expire(now)
+                    continue
+                arrival = live.arrivals.get((scan.sensor, scan.index), now)
+                yield from grouper.push(scan, arrival)
+                if not live.waiting():  # the scans received are in: a wait may run out
+                    yield from grouper.expire(live.now())
+        except TimeJump:
+            yield from grouper.flush()  # the frames still open are tracked before the reset
+            raise
+        yield from grouper.flush()
+
+    def _frames(self) -> Iterator[Frame]:
+        if self.grouper is None:
+            made = laser_frames((s for s in self.live.scans() if s is not None), self.topic)
+        else:
+            made = self._grouped(self.grouper)
         frames = itertools.chain(self.carry, made)
         if self.decision.undecided:
             self.live.undecided = True
@@ -461,4 +553,11 @@ class LiveFrames:
         return lines
 
 
-__all__ = ["LiveCounts", "LiveFrames", "LiveScans", "TimeJump"]
+__all__ = [
+    "SEVERAL_LASERS_DEPTH",
+    "LiveCounts",
+    "LiveFrames",
+    "LiveScans",
+    "LiveTimings",
+    "TimeJump",
+]

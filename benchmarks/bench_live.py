@@ -33,8 +33,8 @@ from pathlib import Path
 
 from laserpeople.live.keys import BridgeKeys
 from laserpeople.live.messages import Message, RosEncoder, ros2_typestore
-from laserpeople.live.sinks import percentile
 from laserpeople.live.zenoh_link import Publishers, Subscriptions, ZenohSettings, open_session
+from laserpeople.samples import quantile
 from laserpeople.scan import Scan
 from laserpeople.sim import run_scenario
 
@@ -155,8 +155,8 @@ def run(name: str, scans: list[Scan], people: float, rate: float, queue: int) ->
         len(scans),
         len(latencies),
         int(dropped.group(1)),
-        round(percentile(latencies, 0.5), 2),
-        round(percentile(latencies, 0.99), 2),
+        round(quantile(latencies, 0.5), 2),
+        round(quantile(latencies, 0.99), 2),
         round(max(latencies, default=0.0), 2),
         round(1e3 * (cpu1 - cpu0) / tracked, 2),
     )

@@ -170,7 +170,7 @@ def test_config_bias_may_be_negative(tmp_path: Path) -> None:
     params = load_config(OdometryParams, config)  # a drift the other way, in rad/m
     assert abs(params.heading_bias + 0.02) < 1e-12
     config.write_text(f"[{OdometryParams.config_section}]\nheading_noise = -0.001\n")
-    with pytest.raises(ConfigError, match="heading_noise = -0.001 is in rad/sqrt"):
+    with pytest.raises(ConfigError, match=r"heading_noise = -0\.001 is in rad/sqrt"):
         load_config(OdometryParams, config)
 
 

@@ -495,7 +495,7 @@ class StatusMeter:
         run = self.session.run
         step = run.last_step
         people = len(step.tracks.of_kind("person")) if step and step.tracks else 0
-        recent = run.stats.arrival_ms[-50:]
+        recent = run.stats.arrival_ms.recent(50)
         latency = sorted(recent)[len(recent) // 2] if recent else 0.0
         return (
             f"{rate:5.1f} scans/s  {people} people  latency {latency:6.1f} ms  "

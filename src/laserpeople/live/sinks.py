@@ -9,7 +9,6 @@ fused frame, the arrival of its last scan).
 from __future__ import annotations
 
 import time
-from array import array
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -18,16 +17,8 @@ from laserpeople.live.messages import Message, TrackEncoder
 from laserpeople.live.source import LiveScans
 from laserpeople.pipeline.core import PipelineStats
 from laserpeople.pipeline.stages import Sink
+from laserpeople.samples import Samples
 from laserpeople.tracks import Tracks
-
-
-def percentile(values: Sequence[float], q: float) -> float:
-    """The ``q`` quantile (0..1) of ``values`` by the nearest-rank rule (0 when empty)."""
-    if not values:
-        return 0.0
-    ordered = sorted(values)
-    rank = min(len(ordered) - 1, max(0, int(-(-q * len(ordered) // 1)) - 1))
-    return float(ordered[rank])
 
 
 @dataclass
@@ -41,13 +32,13 @@ class LiveStats(PipelineStats):
     """
 
     published: int = 0
-    stamp_ms: array[float] = field(default_factory=lambda: array("d"))
-    arrival_ms: array[float] = field(default_factory=lambda: array("d"))
+    stamp_ms: Samples = field(default_factory=Samples)
+    arrival_ms: Samples = field(default_factory=Samples)
 
     def latency(self, which: str = "arrival", q: float = 0.5) -> float:
         """The ``q`` quantile of the ``arrival`` or ``stamp`` latency [ms]."""
         values = self.arrival_ms if which == "arrival" else self.stamp_ms
-        return percentile(values, q)
+        return values.quantile(q)
 
 
 class PublishSink:
@@ -115,4 +106,4 @@ class KeepOpen:
         self.sink.close()
 
 
-__all__ = ["KeepOpen", "LiveStats", "PublishSink", "percentile"]
+__all__ = ["KeepOpen", "LiveStats", "PublishSink"]

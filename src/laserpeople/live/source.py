@@ -35,7 +35,6 @@ from __future__ import annotations
 import itertools
 import threading
 import time
-from array import array
 from collections import Counter, deque
 from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass, field, replace
@@ -46,6 +45,7 @@ from laserpeople.live.choice import FrameDecision, FrameSwitch
 from laserpeople.live.grouping import LiveGrouper
 from laserpeople.live.poses import LiveTransforms
 from laserpeople.pipeline.sources import FUSED, FrameChooser, GroupingParams, laser_frames
+from laserpeople.samples import Samples
 from laserpeople.scan import Scan
 
 SEVERAL_LASERS_DEPTH = 2
@@ -122,17 +122,15 @@ class LiveTimings:
             encoding, publishing, the other sinks).
     """
 
-    queued_ms: array[float] = field(default_factory=lambda: array("d"))
-    tf_ms: array[float] = field(default_factory=lambda: array("d"))
-    grouped_ms: array[float] = field(default_factory=lambda: array("d"))
-    tracked_ms: array[float] = field(default_factory=lambda: array("d"))
+    queued_ms: Samples = field(default_factory=Samples)
+    tf_ms: Samples = field(default_factory=Samples)
+    grouped_ms: Samples = field(default_factory=Samples)
+    tracked_ms: Samples = field(default_factory=Samples)
 
     def summary(self) -> str:
         """One line: median and p99 of each step [ms]."""
-        from laserpeople.live.sinks import percentile
-
         parts = [
-            f"{name} {percentile(values, 0.5):.1f} / {percentile(values, 0.99):.1f}"
+            f"{name} {values.quantile(0.5):.1f} / {values.quantile(0.99):.1f}"
             for name, values in (
                 ("queued", self.queued_ms),
                 ("tf", self.tf_ms),

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import time
-from array import array
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import suppress
 from dataclasses import dataclass, field
@@ -11,6 +10,7 @@ from dataclasses import dataclass, field
 from laserpeople.distinct_ids import DistinctIds
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
+from laserpeople.samples import Samples
 from laserpeople.tracks import TrackKind, Tracks
 
 
@@ -38,7 +38,8 @@ class PipelineStats:
         rows: Tracks reported, summed over frames.
         track_ids: Distinct track ids per kind (runs of consecutive ids, see
             :class:`~laserpeople.distinct_ids.DistinctIds`).
-        track_ms: Tracking time per frame [ms] (8 bytes a frame).
+        track_ms: Tracking time per frame [ms] (every frame's up to
+            :data:`~laserpeople.samples.CAPACITY`, then a sample of the run).
         stage_cpu: Process CPU time [s] each stage of the pipeline (preprocess and
             observe, in order) took over all frames.
     """
@@ -46,7 +47,7 @@ class PipelineStats:
     frames: int = 0
     rows: int = 0
     track_ids: dict[str, DistinctIds] = field(default_factory=dict)
-    track_ms: array[float] = field(default_factory=lambda: array("d"))
+    track_ms: Samples = field(default_factory=Samples)
     stage_cpu: list[float] = field(default_factory=list)
 
     def count(self, kind: TrackKind) -> int:
@@ -56,13 +57,12 @@ class PipelineStats:
     @property
     def median_ms(self) -> float:
         """Median tracking time per frame [ms]."""
-        ms = sorted(self.track_ms)
-        return ms[len(ms) // 2] if ms else 0.0
+        return self.track_ms.quantile(0.5)
 
     @property
     def mean_ms(self) -> float:
         """Mean tracking time per frame [ms]."""
-        return sum(self.track_ms) / len(self.track_ms) if self.track_ms else 0.0
+        return self.track_ms.mean
 
 
 class Pipeline:

@@ -90,6 +90,26 @@ def test_negative_angle_increment_counts_beams_the_other_way() -> None:
     assert not shadows.shadowed(np.array([[0.0, -3.0]]), 0.3)  # -90 deg: beam 180, free
 
 
+
+def test_a_point_another_laser_sees_is_not_shadowed() -> None:
+    """Two lasers in the world frame: A at the origin facing +x, its beam 90 (along +x)
+    ending at 2 m; B at (4, -3) facing +y, so (4, 0) lies on its beam 90, 3 m away. With B's
+    beam free (10 m) B sees the point: not shadowed, though it is behind A's return. With B's
+    beam ending at 1 m it is hidden from both: shadowed."""
+    a = _scan(_half_circle({90: 2.0}), pose=Pose2D(0.0, 0.0, 0.0))
+
+    def two(b_ranges: np.ndarray) -> FrameShadows:
+        b = _scan(b_ranges, pose=Pose2D(4.0, -3.0, math.pi / 2))
+        frame = Frame(0, 0.0, (a, b), "fused", frame="world")
+        shadows = FrameShadows.from_frame(frame)
+        assert shadows is not None
+        return shadows
+
+    point = np.array([[4.0, 0.0]])
+    assert not two(_half_circle({})).shadowed(point, 0.3)
+    assert two(_half_circle({90: 1.0})).shadowed(point, 0.3)
+
+
 _IDS = iter(range(1_000_000))
 
 

@@ -90,7 +90,6 @@ def test_negative_angle_increment_counts_beams_the_other_way() -> None:
     assert not shadows.shadowed(np.array([[0.0, -3.0]]), 0.3)  # -90 deg: beam 180, free
 
 
-
 def test_a_point_another_laser_sees_is_not_shadowed() -> None:
     """Two lasers in the world frame: A at the origin facing +x, its beam 90 (along +x)
     ending at 2 m; B at (4, -3) facing +y, so (4, 0) lies on its beam 90, 3 m away. With B's

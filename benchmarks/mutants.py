@@ -107,6 +107,9 @@ SETTINGS = ("tests/test_paper_settings.py",)
 MOTION_MEDIAN = ("tests/test_pipeline_motion_median.py",)
 SEGMENTS = ("tests/test_detect_segmentation.py",)
 BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
+SHADOW = ("tests/test_track_groups_occlusion.py",)
+TORSO = ("tests/test_pipeline_torso_blobs.py",)
+LIVE_FRAME = ("tests/test_live_frame.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -124,6 +127,9 @@ K = "tracking/kalman.py"
 LS = "io/laserscan_ros1.py"
 MC = "tracking/mht/core.py"
 GO = "tracking/groups/observations.py"
+GS = "tracking/groups/occlusion.py"
+TB = "pipeline/torso_blobs.py"
+LC = "live/choice.py"
 GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
 MUTANTS: tuple[Mutant, ...] = (
@@ -1288,7 +1294,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-adopted-walk-split",
         "Cluster Sorting moving_travel (a split's new target hands on its own walk)",
         C,
-        """                self._adopted(t.pid, pid)
+        """                self._adopted(t.pid, pid, cl.shown.get(pid))
 """,
         "",
         CSA_RULES,
@@ -1297,7 +1303,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-adopted-walk-orphan",
         "Cluster Sorting moving_travel (an orphan's adopter hands on its own walk)",
         C,
-        """                self._adopted(t.pid, m)
+        """                self._adopted(t.pid, m, cl.shown[m])
 """,
         "",
         CSA_RULES,
@@ -1373,6 +1379,180 @@ MUTANTS: tuple[Mutant, ...] = (
         "            if stamp - first < p.split_time:",
         "            if stamp - first < 0.5 * p.split_time:",
         ("tests/test_pf_feet_split.py",),
+    ),
+    # ---- groups in the shadow of closer returns (000 Sec. 3.3.1 carried over to groups)
+    Mutant(
+        "group-shadow-margin-side",
+        "000 Sec. 3.3.1 for groups (shadowed: the beam ends margin in front)",
+        GS,
+        "shadowed[covered] = self.ranges[idx] < dist[covered] - margin",
+        "shadowed[covered] = self.ranges[idx] < dist[covered] + margin",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-any-point",
+        "000 Sec. 3.3.1 for groups (every contour point in the shadow)",
+        GS,
+        "return np.logical_and.reduceat(ok & ~seen, starts)",
+        "return np.logical_or.reduceat(ok & ~seen, starts)",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-other-laser-sees",
+        "000 Sec. 3.3.1 for groups (a point another laser sees is not hidden)",
+        GS,
+        "return np.logical_and.reduceat(ok & ~seen, starts)",
+        "return np.logical_and.reduceat(ok, starts)",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-beam-floor",
+        "000 Sec. 3.3.1 for groups (the beam nearest the point's bearing)",
+        GS,
+        "beam = np.rint(np.where(bearing < -step / 2, bearing + 2 * math.pi, bearing) / step)",
+        "beam = np.floor(np.where(bearing < -step / 2, bearing + 2 * math.pi, bearing) / step)",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-hits-strict",
+        "000 Sec. 3.3.1 for groups (detected in shadow_hits scans adapts)",
+        I,
+        "if not must[i] and n.hits >= self._hits]",
+        "if not must[i] and n.hits > self._hits]",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-hits-age",
+        "000 Sec. 3.3.1 for groups (shadow_hits counts detections, not scans)",
+        I,
+        "if not must[i] and n.hits >= self._hits]",
+        "if not must[i] and n.age >= self._hits]",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-must-match-adapts",
+        "000 Sec. 4.4 (a split or merged track of this scan must be matched)",
+        I,
+        "if not must[i] and n.hits >= self._hits]",
+        "if n.hits >= self._hits]",
+        SHADOW,
+    ),
+    Mutant(
+        "group-shadow-at-last-state",
+        "000 Sec. 3.3.1 for groups (an older node is tested at its prediction)",
+        "tracking/groups/tracker.py",
+        "            self.label_model.stamp = frame.stamp\n",
+        "",
+        (*SHADOW, "tests/test_track_groups.py"),
+    ),
+    # ---- CSA on a moving laser: moving_window, moving_adopt_near
+    Mutant(
+        "csa-moving-window-keeps-start",
+        "Cluster Sorting moving_window (where travel is measured from moves on)",
+        C,
+        """            if window > 0 and self._stamp - since >= window:  # too slow: measure anew
+                self._unwalked[pid] = (np.array(xy, dtype=np.float64), self._stamp)""",
+        """            if window > 0 and self._stamp - since >= window:  # too slow: measure anew
+                self._unwalked[pid] = (start, self._stamp)""",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-moving-window-no-clock",
+        "Cluster Sorting moving_window (the scan's time is the window's clock)",
+        C,
+        "        self._stamp = float(stamp)\n",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-adopt-near-strict",
+        "Cluster Sorting moving_adopt_near (within the distance, inclusive)",
+        C,
+        "if person not in self._unwalked and near > 0 and gap <= near:",
+        "if person not in self._unwalked and near > 0 and gap < near:",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-adopt-near-unwalked-too",
+        "Cluster Sorting moving_adopt_near (only a person who walked keeps it)",
+        C,
+        "if person not in self._unwalked and near > 0 and gap <= near:",
+        "if near > 0 and gap <= near:",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-adopt-near-from-target",
+        "Cluster Sorting moving_adopt_near (from where the orphan was last estimated)",
+        C,
+        "self._adopted(t.pid, m, cl.shown[m])",
+        "self._adopted(t.pid, m, t.mean[:2])",
+        CSA_RULES,
+    ),
+    # ---- torso-shaped runs at torso height (pipeline/torso_blobs.py)
+    Mutant(
+        "torso-bulge-away",
+        "torso runs (the bulge is measured towards the laser)",
+        TB,
+        "if float((origin - p[0]) @ normal) < 0.0:",
+        "if float((origin - p[0]) @ normal) > 0.0:",
+        TORSO,
+    ),
+    Mutant(
+        "torso-bulge-either-side",
+        "torso runs (a bulge away from the laser is a niche)",
+        TB,
+        "if float(((p - p[0]) @ normal).max()) >= MIN_BULGE:",
+        "if float(np.abs((p - p[0]) @ normal).max()) >= MIN_BULGE:",
+        TORSO,
+    ),
+    Mutant(
+        "torso-skip-three",
+        "torso runs (three skipped beams cut a run)",
+        TB,
+        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 2)) + 1",
+        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 3)) + 1",
+        TORSO,
+    ),
+    Mutant(
+        "torso-run-gap-double",
+        "torso runs (neighbours farther than RUN_GAP cut a run)",
+        TB,
+        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 2)) + 1",
+        "cuts = np.flatnonzero((step > 2.0 * RUN_GAP) | (skip > 2)) + 1",
+        TORSO,
+    ),
+    Mutant(
+        "torso-sensor-at-origin",
+        "torso runs in leg_foreground (the bulge towards the laser's pose)",
+        "pipeline/leg_foreground.py",
+        "                sensor = np.array([pose.x, pose.y])",
+        "                sensor = np.zeros(2)",
+        (*TORSO, *LEARN_PEOPLE),
+    ),
+    # ---- live --frame auto (live/choice.py)
+    Mutant(
+        "live-choice-sensor-before-pose",
+        "live --frame auto (a pose within `within`, inclusive, decides world)",
+        LC,
+        "        if frame.scans[0].pose is not None:\n",
+        "        if frame.scans[0].pose is not None and elapsed < self.within:\n",
+        LIVE_FRAME,
+    ),
+    Mutant(
+        "live-choice-within-strict",
+        "live --frame auto (sensor once `within` has passed, inclusive)",
+        LC,
+        "        if elapsed >= self.within:",
+        "        if elapsed > self.within:",
+        LIVE_FRAME,
+    ),
+    Mutant(
+        "live-choice-restarts-clock",
+        "live --frame auto (`within` counts from the first scan)",
+        LC,
+        "        if self.started is None:\n            self.started = arrival\n",
+        "        self.started = arrival\n",
+        LIVE_FRAME,
     ),
     Mutant(
         "npz-truth-frame-mixed",

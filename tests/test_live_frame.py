@@ -244,3 +244,22 @@ def test_warm_up_encodes_tracks_so_the_first_frame_does_not_make_the_serialisers
 
     warm_up(tracker_pipelines("leg-mht"), Spy())  # type: ignore[arg-type]
     assert encoded == [1] * 5  # every synthetic frame, one scan each
+
+
+def test_a_pose_exactly_within_seconds_after_the_first_scan_decides_world() -> None:
+    """``within`` is inclusive both ways: a frame arriving exactly ``within`` (1 s) after the
+    first scan decides world when it has a pose, sensor when it has none."""
+    from dataclasses import replace
+
+    from laserpeople.live.choice import FrameDecision
+
+    def frame(i: int, pose: Pose2D | None) -> Frame:
+        return Frame(index=i, stamp=100.0 + i, scans=(replace(_scan(i), pose=pose),), topic="/scan")
+
+    for pose, chosen in ((Pose2D(1.0, 2.0, 0.0), "world"), (None, "sensor")):
+        decision = FrameDecision("auto", within=1.0)
+        assert not decision.look(frame(0, None), 5.0, reason="no world frame")
+        assert not decision.look(frame(1, None), 5.5, reason="no world frame")
+        assert decision.look(frame(2, pose), 6.0, reason="no world frame")
+        assert decision.frame == chosen and decision.index == 2 and decision.looked_at == 3
+        assert abs(decision.seconds - 1.0) < 1e-12

@@ -124,3 +124,65 @@ def test_only_a_laser_stated_at_torso_height_keeps_torso_runs() -> None:
     assert wants_torso_runs(ClusterSortingTracker())
     assert not wants_torso_runs(NearestNeighbourTracker())
     assert not wants_torso_runs(None)
+
+
+def test_three_skipped_beams_cut_a_run() -> None:
+    """Every third beam of a torso's arc (two beams missing between neighbours, skip 3):
+    each point is a run of its own, none kept; with every second beam (skip 2) it is one
+    run, kept (the arc 2 m away, its neighbours under RUN_GAP apart either way)."""
+    pts, beams = _fan(_ellipse((2.0, 0.0), 0.2, 0.14))
+    every = np.ones(len(pts), dtype=bool)
+    assert np.hypot(*np.diff(pts, axis=0).T).max() < 0.15 / 3
+    assert torso_blobs(pts, beams * 2, every, LASER).all()
+    assert not torso_blobs(pts, beams * 3, every, LASER).any()
+
+
+def test_two_torsos_0_2_m_apart_on_neighbouring_beams_are_two_runs() -> None:
+    """Two arcs of five points each, 0.24 m wide and bulging 0.07 m towards the laser, on
+    beams 0-9 with 0.2 m (over RUN_GAP 0.15 m) between the last point of one and the first
+    of the other: two runs, both kept. Taken as one run they would span 0.68 m between its
+    ends, over MAX_WIDTH (0.65 m), and nothing would be kept."""
+    depth = np.array([3.0, 2.95, 2.93, 2.95, 3.0])
+    across = np.arange(5) * 0.06
+    a = np.c_[depth, -0.54 + across]
+    b = np.c_[depth, -0.10 + across]
+    pts = np.vstack([a, b])
+    np.testing.assert_allclose(np.hypot(*(b[0] - a[-1])), 0.2, atol=1e-12)
+    np.testing.assert_allclose(np.hypot(*(b[-1] - a[0])), 0.68, atol=1e-12)
+    out = torso_blobs(pts, np.arange(10), np.ones(10, dtype=bool), LASER)
+    assert out.all()
+
+
+def test_the_stage_measures_the_bulge_towards_the_lasers_pose_in_the_world_frame() -> None:
+    """LegForeground at torso height in the world frame, the laser at (10, 0) facing -x,
+    no legs: an arc at x = 8 m bulging 0.07 m towards the laser (x up to 8.07) is kept; its
+    mirror, bulging towards the world's origin (x down to 7.93, a niche seen from the laser),
+    is not. Measured from the origin instead of the laser's pose the two would swap. Off
+    torso height, or in the sensor frame, no run is kept."""
+    from laserpeople.frame import Frame
+    from laserpeople.pipeline.leg_foreground import LegForeground
+    from laserpeople.scan import PointSet, Pose2D, Scan
+    from laserpeople.tracks import Detections
+
+    bulge = np.array([0.0, 0.05, 0.07, 0.05, 0.0])
+    across = -0.12 + 0.06 * np.arange(5)
+    torso = np.c_[8.0 + bulge, across + 2.0]
+    niche = np.c_[8.0 - bulge, across - 2.0]
+    pts = np.vstack([torso, niche])
+    beams = np.r_[np.arange(5), 40 + np.arange(5)]  # two runs (35 beams between them)
+
+    def frame(kind: str) -> Frame:
+        points = PointSet(0.0, pts, np.zeros(10, dtype=np.int64), beams, ("l",), kind)  # type: ignore[arg-type]
+        legs = Detections(0.0, 0, np.empty((0, 2)), np.empty((0, 2, 2)), np.empty(0), kind)  # type: ignore[arg-type]
+        scan = Scan(0.0, 0.0, 0.01, np.full(4, 2.0), sensor="l")
+        return Frame(0, 0.0, (scan,), "l", kind, Pose2D(10.0, 0.0, np.pi), points, legs=legs)  # type: ignore[arg-type]
+
+    stage = LegForeground(LegForegroundParams(memory=0.0, person_memory=0.0))
+    stage.torso = True
+    out = stage(frame("world"))
+    assert out.foreground is not None
+    assert out.foreground.tolist() == [True] * 5 + [False] * 5
+    assert stage.points_torso == 5
+    assert not stage(frame("sensor")).foreground.any()  # type: ignore[union-attr]
+    stage.torso = False
+    assert not stage(frame("world")).foreground.any()  # type: ignore[union-attr]

@@ -90,6 +90,25 @@ def test_negative_angle_increment_counts_beams_the_other_way() -> None:
     assert not shadows.shadowed(np.array([[0.0, -3.0]]), 0.3)  # -90 deg: beam 180, free
 
 
+def test_a_point_another_laser_sees_is_not_shadowed() -> None:
+    """Two lasers in the world frame: A at the origin facing +x, its beam 90 (along +x)
+    ending at 2 m; B at (4, -3) facing +y, so (4, 0) lies on its beam 90, 3 m away. With B's
+    beam free (10 m) B sees the point: not shadowed, though it is behind A's return. With B's
+    beam ending at 1 m it is hidden from both: shadowed."""
+    a = _scan(_half_circle({90: 2.0}), pose=Pose2D(0.0, 0.0, 0.0))
+
+    def two(b_ranges: np.ndarray) -> FrameShadows:
+        b = _scan(b_ranges, pose=Pose2D(4.0, -3.0, math.pi / 2))
+        frame = Frame(0, 0.0, (a, b), "fused", frame="world")
+        shadows = FrameShadows.from_frame(frame)
+        assert shadows is not None
+        return shadows
+
+    point = np.array([[4.0, 0.0]])
+    assert not two(_half_circle({})).shadowed(point, 0.3)
+    assert two(_half_circle({90: 1.0})).shadowed(point, 0.3)
+
+
 _IDS = iter(range(1_000_000))
 
 
@@ -158,3 +177,27 @@ def test_groups_in_the_shadow_keep_their_track_end_to_end() -> None:
     for change in ({"shadow_occlusion": False}, plain):
         other = run_groups(scene.scans, replace(GroupTrackerParams(), **change), truth=scene.truth)  # type: ignore[arg-type]
         assert other.group_mot.mota < 0.87, change
+
+
+def test_the_tracker_tests_a_track_of_an_earlier_scan_at_its_prediction() -> None:
+    """GroupMHTTracker.update hands its label model the scan's shadows and time (1.0 s), so
+    a node of the scan before (0.9 s), last at x = 1 m in front of the returns at 2 m and
+    predicted at x = 4 m behind them, is tested at its prediction (shadowed), and a node of
+    this scan at its own state x = 1 m (not shadowed), whatever its prediction."""
+    from laserpeople.scan import PointSet
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    blocked = {k: 2.0 for k in range(80, 101)}
+    scan = Scan(1.0, -math.pi / 2, STEP, _half_circle(blocked), range_max=30.0)
+    pts = np.array([[9.0, -1.0]] * 3)  # (background: no observation)
+    points = PointSet(1.0, pts, np.zeros(3, dtype=np.int64), np.arange(3), ("laser",), "sensor")
+    frame = Frame(0, 1.0, (scan,), "laser", points=points, foreground=np.zeros(3, dtype=bool))
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    tracker.update(frame)
+    model = tracker.label_model
+    assert model.shadows is not None and model.stamp == 1.0
+    earlier, now = _node(1.0, 0.9), _node(1.0, 1.0)
+    for node in (earlier, now):
+        node.pred_mean = np.array([4.0, 0.0, 0.0, 0.0, 2.0])
+    assert model.in_shadow(earlier)
+    assert not model.in_shadow(now)

@@ -47,6 +47,21 @@ def test_a_frame_closes_when_the_other_laser_delivered_not_at_the_next_scan() ->
     assert grouper.deadline() is None  # nothing left open
 
 
+def test_synchronised_lasers_close_a_frame_at_the_partner_scan_of_the_same_stamp() -> None:
+    # two lasers triggered together: the partner's scan carries the reference's own stamp,
+    # which is as new as the frame needs (no wait for a newer one)
+    grouper = LiveGrouper([FRONT, BACK])
+    frames: list[Frame] = []
+    for i in range(3):
+        t = 10 + i * PERIOD
+        frames += grouper.push(_scan(t, FRONT, i), arrival=i * PERIOD)
+        frames += grouper.push(_scan(t, BACK, i), arrival=i * PERIOD + 0.001)
+    # the first frame closes once the reference period (its tolerance) is known; each later
+    # one at its own partner scan, never by the wait
+    assert _ids(frames) == [((FRONT, i), (BACK, i)) for i in range(3)]
+    assert grouper.stats.closed_by_wait == 0 and grouper.deadline() is None
+
+
 def test_a_frame_waits_one_measured_period_of_the_other_laser_and_a_late_scan_is_counted() -> None:
     grouper = LiveGrouper([FRONT, BACK])
     frames: list[Frame] = []

@@ -1558,8 +1558,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "live-grouping-strictly-newer",
         "live grouping (a frame closes once every other laser sent a scan at least as new)",
         "live/grouping.py",
-        "self._newest.get(o, -float(\"inf\")) < ref)",
-        "self._newest.get(o, -float(\"inf\")) <= ref)",
+        'self._newest.get(o, -float("inf")) < ref)',
+        'self._newest.get(o, -float("inf")) <= ref)',
         ("tests/test_live_grouping.py",),
     ),
     Mutant(

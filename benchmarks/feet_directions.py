@@ -91,7 +91,9 @@ def main() -> None:
         out: dict[int, tuple[float, float, float]] = {}
         st = bank.states
         for f in range(len(bank)):
-            mid = np.einsum("p,pc->c", weights[f], 0.5 * (st[f, :, XL : YL + 1] + st[f, :, XR : YR + 1]))
+            mid = np.einsum(
+                "p,pc->c", weights[f], 0.5 * (st[f, :, XL : YL + 1] + st[f, :, XR : YR + 1])
+            )
             who = person(world(mid[None])[0])
             if who is None:
                 continue
@@ -175,14 +177,18 @@ def main() -> None:
     model = np.array([r["model_speed"] for r in rows])
     age = np.array([r["age"] for r in rows])
     print(f"{args.recording}: {len(rows)} filter-scans on walking people")
-    print(f"forward share {fwd.mean():.3f}; person speed {speed.mean():.2f} m/s, model 2s/T "
-          f"{model.mean():.2f}, along the heading {along.mean():.2f}")
+    print(
+        f"forward share {fwd.mean():.3f}; person speed {speed.mean():.2f} m/s, model 2s/T "
+        f"{model.mean():.2f}, along the heading {along.mean():.2f}"
+    )
     print("| part | scans | mean change of the forward share | up | down |")
     print("|---|---:|---:|---:|---:|")
     for k in ("predict", "weigh", "resample, steps, deaths", "refresh"):
         m = np.array(moves[k]) if moves[k] else np.zeros(1)
-        print(f"| {k} | {len(moves[k])} | {m.mean():+.4f} | {(m > 0.01).mean():.2f} | "
-              f"{(m < -0.01).mean():.2f} |")
+        print(
+            f"| {k} | {len(moves[k])} | {m.mean():+.4f} | {(m > 0.01).mean():.2f} | "
+            f"{(m < -0.01).mean():.2f} |"
+        )
     print("| age [s] | filter-scans | forward share |")
     print("|---|---:|---:|")
     for lo, hi in ((0, 0.5), (0.5, 1), (1, 2), (2, 4), (4, 99)):

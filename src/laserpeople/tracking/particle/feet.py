@@ -962,14 +962,18 @@ class FeetTracker:
         """A step detected at filter ``f``: replace a share ``refresh_share`` of its
         particles, drawn at random, by particles started from the detected feet (a mixture
         proposal), each with the filter's mean weight, so that the next weighting chooses
-        between the filter's belief and the detection."""
+        between the filter's belief and the detection. Each restarted particle walks along
+        the feet in the sense of a particle of the filter drawn by weight: two feet tell
+        the axis of the walk, not its sense, and restarting in either sense (as at a
+        birth) handed half of every refresh to walking backwards."""
         p, bank = self.params, self.bank
         k = round(p.refresh_share * p.particles)
         if k == 0:
             return
         # each new particle walks in the sense of a particle of the filter drawn by weight
         # (the detected feet tell the axis, not the sense, of the walking direction)
-        ref = bank.states[f, self.rng.choice(p.particles, size=p.particles, p=bank.weights[f]), ALPHA]
+        w = bank.weights[f] / bank.weights[f].sum()
+        ref = bank.states[f, self.rng.choice(p.particles, size=p.particles, p=w), ALPHA]
         idx = self.rng.choice(p.particles, size=k, replace=False)
         bank.states[f, idx] = self._initial(feet, ref)[:k]
         bank.weights[f, idx] = 1.0 / p.particles

@@ -32,7 +32,7 @@ from laserpeople.evaluation.recordings import truth_frames
 from laserpeople.frame import Frame
 from laserpeople.pipeline import build
 from laserpeople.tracking import registry
-from laserpeople.tracking.particle.feet import ALPHA, GAMMA, XL, XR, YL, YR, S, T
+from laserpeople.tracking.particle.feet import ALPHA, GAMMA, XL, XR, YL, YR, S, T, body_offset
 from laserpeople.tracks import Tracks
 
 NEAR = 0.5
@@ -144,6 +144,20 @@ def main() -> None:
             model = 2.0 * st[f, :, S] / st[f, :, T]
             a = st[f, :, ALPHA] + now["theta"]
             along = float(w @ (model * np.cos(a - heading)))
+            mids = 0.5 * (st[f, :, XL : YL + 1] + st[f, :, XR : YR + 1])
+            body = world((w @ (mids + body_offset(st[f])))[None])[0]
+            tf = truth[frame.index]
+            k = int(np.argmin(np.hypot(*(tf.positions - body).T)))
+            off = body - tf.positions[k]
+            u = np.array([np.cos(heading), np.sin(heading)])
+            lag = float(off @ u)
+            feet_mid = world((w @ mids)[None])[0]
+            legs_mid = tf.leg_positions[k].mean(axis=0)
+            parts = (
+                float((feet_mid - legs_mid) @ u),  # the filter's feet against the legs
+                float((legs_mid - tf.positions[k]) @ u),  # the legs against the body
+                float((body - feet_mid) @ u),  # the model's body offset
+            )
             rows.append(
                 {
                     "scan": frame.index,
@@ -153,6 +167,10 @@ def main() -> None:
                     "speed": speed,
                     "model_speed": float(w @ model),
                     "along": along,
+                    "ahead": lag,
+                    "feet_vs_legs": parts[0],
+                    "legs_vs_body": parts[1],
+                    "body_offset": parts[2],
                     "stride": float(w @ st[f, :, S]),
                     "period": float(w @ st[f, :, T]),
                     "phase": float(w @ np.mod(st[f, :, GAMMA], 2 * np.pi)),
@@ -176,10 +194,18 @@ def main() -> None:
     along = np.array([r["along"] for r in rows])
     model = np.array([r["model_speed"] for r in rows])
     age = np.array([r["age"] for r in rows])
+    ahead = np.array([r["ahead"] for r in rows])
     print(f"{args.recording}: {len(rows)} filter-scans on walking people")
     print(
         f"forward share {fwd.mean():.3f}; person speed {speed.mean():.2f} m/s, model 2s/T "
         f"{model.mean():.2f}, along the heading {along.mean():.2f}"
+    )
+    print(
+        f"reported body ahead of the person along the heading: mean {ahead.mean():+.3f} m ="
+        + " + ".join(
+            f" {np.mean([r[k] for r in rows]):+.3f} ({k})"
+            for k in ("feet_vs_legs", "legs_vs_body", "body_offset")
+        )
     )
     print("| part | scans | mean change of the forward share | up | down |")
     print("|---|---:|---:|---:|---:|")

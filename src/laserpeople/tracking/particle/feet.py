@@ -962,35 +962,24 @@ class FeetTracker:
         """A step detected at filter ``f``: replace a share ``refresh_share`` of its
         particles, drawn at random, by particles started from the detected feet (a mixture
         proposal), each with the filter's mean weight, so that the next weighting chooses
-        between the filter's belief and the detection. Each restarted particle walks along
-        the feet in the sense of a particle of the filter drawn by weight: two feet tell
-        the axis of the walk, not its sense, and restarting in either sense (as at a
-        birth) handed half of every refresh to walking backwards."""
+        between the filter's belief and the detection."""
         p, bank = self.params, self.bank
         k = round(p.refresh_share * p.particles)
         if k == 0:
             return
-        # each new particle walks in the sense of a particle of the filter drawn by weight
-        # (the detected feet tell the axis, not the sense, of the walking direction)
-        w = bank.weights[f] / bank.weights[f].sum()
-        ref = bank.states[f, self.rng.choice(p.particles, size=p.particles, p=w), ALPHA]
         idx = self.rng.choice(p.particles, size=k, replace=False)
-        bank.states[f, idx] = self._initial(feet, ref)[:k]
+        bank.states[f, idx] = self._initial(feet)[:k]
         bank.weights[f, idx] = 1.0 / p.particles
         bank.weights[f] /= bank.weights[f].sum()
 
-    def _initial(
-        self, feet: NDArray[np.float64], sense: NDArray[np.float64] | None = None
-    ) -> NDArray[np.float64]:
+    def _initial(self, feet: NDArray[np.float64]) -> NDArray[np.float64]:
         """Particles (P, 8) for a person whose feet clusters are ``feet`` (2, 2): the walking
-        direction along the feet (either sense, or with ``sense`` (P,) [rad] the sense
-        within 90 deg of each), either foot the left one, stride and period from their
-        ranges, and the phase that makes eq. 6 hold exactly."""
+        direction along the feet (either sense), either foot the left one, stride and period
+        from their ranges, and the phase that makes eq. 6 hold exactly."""
         p, rng, n = self.params, self.rng, self.params.particles
         a, b = feet
         base = float(np.arctan2(*(b - a)[::-1]))
-        flip = rng.integers(0, 2, n) if sense is None else np.cos(sense - base) < 0.0
-        alpha = base + np.pi * flip + rng.normal(0.0, 0.15, n)
+        alpha = base + np.pi * rng.integers(0, 2, n) + rng.normal(0.0, 0.15, n)
         u = np.column_stack([np.cos(alpha), np.sin(alpha)])
         proj = (b - a) @ u.T  # (P,) b ahead of a along alpha when > 0
         front = np.where(proj[:, None] > 0, b, a)

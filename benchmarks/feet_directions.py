@@ -5,9 +5,16 @@ than 0.3 m/s), the share of the particle weight whose direction alpha lies withi
 of the person's true heading (*forward*), and how it changes in each part of a scan:
 
 - *predict*: from the end of the last scan to before the weighting (the walking model and
-  its noise; refreshes from steps or cells land here too, counted apart);
+  its noise, and the refreshes from the filter's cell);
 - *weigh*: the weighting of eqs. 3-7 and the repelling term (before resampling);
-- *refresh*: a step or a cell restarting a share of the filter's particles.
+- *resample, steps, deaths*: from after the weighting to the end of the scan (resampling,
+  the refreshes from detected steps, merged filters);
+- *refresh (step)*, *refresh (cell)*: each refresh alone (a step or the filter's cell
+  restarting ``refresh_share`` of its particles), inside the parts above.
+
+It also splits how far the reported body lies ahead of the person along their heading into
+the filter's feet midpoint against the true legs' midpoint, the true legs' midpoint against
+the true body, and the model's body offset (:func:`body_offset`).
 
 It also prints the filter's mean model speed 2 s / T and its reported speed along the
 person's heading against the person's speed, split by the forward share, and the forward
@@ -124,9 +131,17 @@ def main() -> None:
         refresh(f, feet)
         w1 = shares(bank.weights).get(int(bank.ids[f]))
         if w0 is not None and w1 is not None:
-            moves["refresh"].append(w1[0] - w0[0])
+            moves["refresh (cell)" if now.get("cell") else "refresh (step)"].append(w1[0] - w0[0])
 
     tracker._refresh = logged_refresh
+    cell_refresh = tracker._cell_refresh
+
+    def flagged_cell_refresh(*args: Any) -> None:
+        now["cell"] = True
+        cell_refresh(*args)
+        now["cell"] = False
+
+    tracker._cell_refresh = flagged_cell_refresh
     update = tracker.update
 
     def recording(frame: Frame) -> Tracks:
@@ -209,7 +224,7 @@ def main() -> None:
     )
     print("| part | scans | mean change of the forward share | up | down |")
     print("|---|---:|---:|---:|---:|")
-    for k in ("predict", "weigh", "resample, steps, deaths", "refresh"):
+    for k in ("predict", "weigh", "resample, steps, deaths", "refresh (step)", "refresh (cell)"):
         m = np.array(moves[k]) if moves[k] else np.zeros(1)
         print(
             f"| {k} | {len(moves[k])} | {m.mean():+.4f} | {(m > 0.01).mean():.2f} | "

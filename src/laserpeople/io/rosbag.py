@@ -215,7 +215,8 @@ class RosbagRecording:
         self.pose_messages_skipped = 0
         self.pose_samples_dropped = 0
         self.mount_notes: list[str] = []
-        """Given mounts left out, one line each (see :func:`~laserpeople.io.poses.mounts_to_use`)."""
+        """Given mounts left out, one line each (see
+        :func:`~laserpeople.io.poses.mounts_to_use`)."""
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:

@@ -134,7 +134,33 @@ def test_mounts_to_use_leaves_out_only_mounts_whose_parent_the_recording_lacks()
         "c": ("base_footprint", Pose2D(0.0, 1.0, 0.0)),  # laser not in the recording: used
         "d": ("base_link", Pose2D(0.0, 0.0, 0.0)),  # new laser on a known frame: used
     }
-    use, notes = mounts_to_use(mounts, own)
+    use, notes = mounts_to_use(mounts, own.edges())
     assert sorted(use) == ["a", "c", "d"]
     assert len(notes) == 1 and notes[0].startswith("mount of 'b' on 'base_footprint' not used")
-    assert "'world' itself (/tf)" in notes[0]
+    assert "/tf already places 'b' in 'world'" in notes[0]
+
+
+def test_live_leaves_out_the_same_mounts_when_a_recording_is_replayed_into_it() -> None:
+    """`live --mount mir100` fed a recording's /tf (world -> laser): poses in 'world' as the
+    recording holds them, as `track` gives them, not the mount alone in base_footprint."""
+    from laserpeople.live.messages import TransformSample
+    from laserpeople.live.poses import LiveTransforms
+
+    tf = LiveTransforms(mounts=parse_mounts(["mir100"]))
+    mount = MIR100_LASER_MOUNTS["front_laser_link"][1]
+    for t in (1.0, 1.1):
+        pose = _robot(t).compose(mount)
+        tf.add(
+            [TransformSample(WORLD_FRAME_ID, "front_laser_link", t, pose, 0.0)],
+            static=False,
+            source="/tf",
+        )
+    pose, reason, settled = tf.lookup("front_laser_link", 1.1)
+    want = _robot(1.1).compose(mount)
+    assert pose is not None and settled, reason
+    assert tf.world_frame == WORLD_FRAME_ID
+    assert abs(pose.x - want.x) < 1e-9 and abs(pose.y - want.y) < 1e-9
+    assert abs(math.remainder(pose.theta - want.theta, 2 * math.pi)) < 1e-9
+    assert (
+        len(tf.mount_notes) == 1 and "'front_laser_link' on 'base_footprint'" in (tf.mount_notes[0])
+    )

@@ -378,10 +378,11 @@ def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
 
 
 def mounts_to_use(
-    mounts: Mapping[str, tuple[str, Pose2D]], own: TransformTree
+    mounts: Mapping[str, tuple[str, Pose2D]], own: Iterable[tuple[str, str, str]]
 ) -> tuple[dict[str, tuple[str, Pose2D]], list[str]]:
     """The given laser ``mounts`` (child -> (parent, pose)) that fit the recording's own
-    transforms ``own``, and one note per mount left out.
+    transforms ``own`` (``(parent, child, source)`` each, as :meth:`TransformTree.edges`
+    gives them; the first parent of a child counts), and one note per mount left out.
 
     A given mount wins over the recording's own transform of its laser (to correct a wrong
     ``/tf_static``), except when the recording already places the laser under a parent and
@@ -391,8 +392,12 @@ def mounts_to_use(
     case: its ``/tf`` holds the pose of each laser in the world frame at each scan, with the
     mount already in it.
     """
-    parents = {child: (parent, source) for parent, child, source in own.edges()}
-    frames = own.frames()
+    parents: dict[str, tuple[str, str]] = {}
+    frames: set[str] = set()
+    for parent, child, source in own:
+        parent, child = normalise_frame(parent), normalise_frame(child)
+        parents.setdefault(child, (parent, source))
+        frames.update((parent, child))
     use: dict[str, tuple[str, Pose2D]] = {}
     notes: list[str] = []
     for child, (parent, pose) in mounts.items():
@@ -400,9 +405,9 @@ def mounts_to_use(
         held = parents.get(key)
         if held is not None and held[0] != parent_key and parent_key not in frames:
             notes.append(
-                f"mount of {key!r} on {parent_key!r} not used: the recording places {key!r} "
-                f"in {held[0]!r} itself ({held[1]}) and has no frame {parent_key!r}, so the "
-                f"mount would have cut the laser off from {held[0]!r} (a recording of "
+                f"mount of {key!r} on {parent_key!r} not used: {held[1]} already places "
+                f"{key!r} in {held[0]!r} and names no frame {parent_key!r}, so the mount "
+                f"would have cut the laser off from {held[0]!r} (a recording of "
                 "`live --record` or `track --bag` holds the lasers' poses in the world "
                 "frame: it needs no --mount)"
             )

@@ -384,7 +384,7 @@ class RosbagRecording:
         own = TransformTree(self.pose_params)
         for samples, fixed in ((static, True), (tf, False), (odom, False)):
             samples.add_to(own, static=fixed)
-        mounts, self.mount_notes = mounts_to_use(self._mounts, own)
+        mounts, self.mount_notes = mounts_to_use(self._mounts, own.edges())
         tree = TransformTree(self.pose_params)
         add_mounts(tree, mounts)
         for samples, fixed in ((static, True), (tf, False), (odom, False)):

@@ -377,6 +377,9 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
         )
         if laser in counts.errors:
             warn(f"{laser}: {counts.errors[laser]}")
+    if session.scans.transforms is not None:
+        for line in session.scans.transforms.mount_notes:
+            say(line)
     if run.frames is not None:
         for line in run.frames.summary():
             say(line)

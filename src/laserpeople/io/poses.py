@@ -377,6 +377,45 @@ def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
     return out
 
 
+def mounts_to_use(
+    mounts: Mapping[str, tuple[str, Pose2D]], own: Iterable[tuple[str, str, str]]
+) -> tuple[dict[str, tuple[str, Pose2D]], list[str]]:
+    """The given laser ``mounts`` (child -> (parent, pose)) that fit the recording's own
+    transforms ``own`` (``(parent, child, source)`` each, as :meth:`TransformTree.edges`
+    gives them; the first parent of a child counts), and one note per mount left out.
+
+    A given mount wins over the recording's own transform of its laser (to correct a wrong
+    ``/tf_static``), except when the recording already places the laser under a parent and
+    names the mount's parent frame nowhere. The mount would then cut the laser off from the
+    recording's chain: its poses would be in the mount's parent (the robot's frame), not in
+    the world frame. A recording written by ``live --record`` or ``track --bag`` is such a
+    case: its ``/tf`` holds the pose of each laser in the world frame at each scan, with the
+    mount already in it.
+    """
+    parents: dict[str, tuple[str, str]] = {}
+    frames: set[str] = set()
+    for parent, child, source in own:
+        parent, child = normalise_frame(parent), normalise_frame(child)
+        parents.setdefault(child, (parent, source))
+        frames.update((parent, child))
+    use: dict[str, tuple[str, Pose2D]] = {}
+    notes: list[str] = []
+    for child, (parent, pose) in mounts.items():
+        key, parent_key = normalise_frame(child), normalise_frame(parent)
+        held = parents.get(key)
+        if held is not None and held[0] != parent_key and parent_key not in frames:
+            notes.append(
+                f"mount of {key!r} on {parent_key!r} not used: {held[1]} already places "
+                f"{key!r} in {held[0]!r} and names no frame {parent_key!r}, so the mount "
+                f"would have cut the laser off from {held[0]!r} (a recording of "
+                "`live --record` or `track --bag` holds the lasers' poses in the world "
+                "frame: it needs no --mount)"
+            )
+            continue
+        use[child] = (parent, pose)
+    return use, notes
+
+
 def add_mounts(tree: TransformTree, mounts: Mapping[str, tuple[str, Pose2D]]) -> None:
     """Add user-given fixed laser mounts (child -> (parent, pose)) to ``tree``."""
     for child, (parent, pose) in mounts.items():

@@ -40,6 +40,7 @@ from laserpeople.io.poses import (
     PoseSamples,
     TransformTree,
     add_mounts,
+    mounts_to_use,
     normalise_frame,
     yaw_and_tilt,
 )
@@ -160,7 +161,9 @@ class RosbagRecording:
         odometry_topics: ``nav_msgs/Odometry`` topics to use (default: all of them); a
             transform already on ``/tf`` is taken from there.
         mounts: Extra fixed transforms ``child frame -> (parent frame, pose)`` for laser
-            mounts a bag lacks; they win over the bag's own.
+            mounts a bag lacks; they win over the bag's own, unless they would cut a laser
+            off from the bag's own transforms (see
+            :func:`~laserpeople.io.poses.mounts_to_use`; listed in :attr:`mount_notes`).
         pose_params: Interpolation tolerances.
         on_error: ``"stop"`` (default) ends at the first damaged scan with an error naming
             it; ``"skip"`` leaves damaged scans out and counts them in :attr:`damaged`
@@ -211,6 +214,9 @@ class RosbagRecording:
         self.pose_misses: Counter[tuple[str, str]] = Counter()
         self.pose_messages_skipped = 0
         self.pose_samples_dropped = 0
+        self.mount_notes: list[str] = []
+        """Given mounts left out, one line each (see
+        :func:`~laserpeople.io.poses.mounts_to_use`)."""
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
@@ -317,7 +323,8 @@ class RosbagRecording:
         """All pose data of the bag as a :class:`TransformTree` (read once, then cached).
 
         Given mounts come first, then ``/tf_static``, ``/tf`` and odometry: the first
-        source naming a frame's parent wins.
+        source naming a frame's parent wins. A given mount that would cut its laser off
+        from the bag's own transforms is left out and noted in :attr:`mount_notes`.
         """
         if self._tree is not None:
             return self._tree
@@ -374,11 +381,14 @@ class RosbagRecording:
                 hint=_CORRUPT_HINT,
             ) from exc
         self.pose_samples_dropped = static.dropped + tf.dropped + odom.dropped
+        own = TransformTree(self.pose_params)
+        for samples, fixed in ((static, True), (tf, False), (odom, False)):
+            samples.add_to(own, static=fixed)
+        mounts, self.mount_notes = mounts_to_use(self._mounts, own.edges())
         tree = TransformTree(self.pose_params)
-        add_mounts(tree, self._mounts)
-        static.add_to(tree, static=True)
-        tf.add_to(tree)
-        odom.add_to(tree)
+        add_mounts(tree, mounts)
+        for samples, fixed in ((static, True), (tf, False), (odom, False)):
+            samples.add_to(tree, static=fixed)
         self._tree = tree
         return tree
 

@@ -19,7 +19,13 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from laserpeople.io.poses import PoseParams, TransformTree, add_mounts, normalise_frame
+from laserpeople.io.poses import (
+    PoseParams,
+    TransformTree,
+    add_mounts,
+    mounts_to_use,
+    normalise_frame,
+)
 from laserpeople.live.messages import TransformSample
 from laserpeople.scan import Pose2D
 
@@ -55,6 +61,9 @@ class LiveTransforms:
         self._source: dict[tuple[str, str], str] = {}
         self._tree: TransformTree | None = None
         self.samples = 0
+        self.mount_notes: list[str] = []
+        """Given mounts left out at the last lookup, as ``track`` leaves them out of a
+        recording (see :func:`~laserpeople.io.poses.mounts_to_use`)."""
 
     def add(self, samples: Iterable[TransformSample], *, static: bool, source: str) -> None:
         """Add transform samples (``static``: from ``/tf_static``, kept for ever)."""
@@ -81,7 +90,10 @@ class LiveTransforms:
 
     def _build(self) -> TransformTree:
         tree = TransformTree(self.params)
-        add_mounts(tree, self.mounts)
+        received = [(p, c, src) for (p, c), (_, _, src) in self._static.items()]
+        received += [(p, c, self._source[(p, c)]) for (p, c), rows in self._series.items() if rows]
+        mounts, self.mount_notes = mounts_to_use(self.mounts, received)
+        add_mounts(tree, mounts)
         for (parent, child), (pose, tilt, source) in self._static.items():
             tree.add_static(parent, child, pose, tilt=tilt, source=source)
         for (parent, child), rows in self._series.items():

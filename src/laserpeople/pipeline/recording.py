@@ -172,9 +172,10 @@ class RecordingFrames:
             yield frame
 
     def summary(self) -> list[str]:
-        """Lines for the user: the frame used and why; the grouping figures; changes of a
-        laser's beam layout."""
-        lines = [self.chooser.stats.summary()]
+        """Lines for the user: given laser mounts left out; the frame used and why; the
+        grouping figures; changes of a laser's beam layout."""
+        lines = list(getattr(self.recording, "mount_notes", []))
+        lines.append(self.chooser.stats.summary())
         if self.restamper is not None:
             lines.append(self.restamper.summary())
         if self.grouper is not None:

@@ -232,8 +232,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.433, IDF1 0.416 (goal 0.5); ID switches 19.9 per scene, 6.0 s per "
-        "scene on static objects",
+        "person MOTA 0.456, IDF1 0.435 (goal 0.5; moving lasers 0.288, still 0.625); ID "
+        "switches 20.4 per scene, 6.1 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(
@@ -252,7 +252,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         ("benchmarks/groups_table.py", "--seeds", "2", "3", "4", "--plot", "docs/groups_fig17.png"),
         25.0,
         "clustering error 0.223 against 0.238 memory-less at d_P = 1.3 m (paper 3.1 % "
-        "against 7.0 %); group size within 0.10 people, 90.9 % exact",
+        "against 7.0 %); group size within 0.10 people, 91.0 % exact",
         "groups.md",
     ),
     Benchmark(
@@ -260,9 +260,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Group tracker on the randomised group scenes, held-back seeds 100–119",
         ("benchmarks/groups_random.py", "--seeds", "100-119", "--seconds", "40"),
         20.0,
-        "group MOTA 0.718, proxemic 0.781; group size within 0.12 people, 88.6 % exact "
-        "(with 000's Kalman velocity in the merges: 0.699, 0.767; before the leg matching, "
-        "two-leg blobs and wide blobs of the size count: 0.16 people, 85.8 %)",
+        "group MOTA 0.728, proxemic 0.789 (goal 0.80); group size within 0.12 people, 88.7 % "
+        "exact (without groups in the shadow kept: 0.718, 0.781; with 000's Kalman velocity in "
+        "the merges as well: 0.699, 0.767)",
         "groups.md#results-on-the-randomised-group-scenes",
     ),
     Benchmark(
@@ -292,9 +292,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "2.26 / 3.08 / 5.02 / 10.42 / 15.05 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(loaded machine); log-log slope of cost against people 0.72 (4–40 people); whole "
-        "`track` on the demo bag 5.8 s CPU, about 220 scans per CPU second",
+        "1.35 / 1.90 / 3.06 / 4.87 / 6.51 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(idle machine; 2.15 / 3.23 / 4.88 / 6.95 / 8.70 at a load of 8-10); log-log slope "
+        "of cost against people 0.55 (4–40 people); whole `track` on the demo bag 2.65 s "
+        "CPU idle, about 480 scans per CPU second",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),
@@ -324,8 +325,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Mutation run over the equations of 000, 002 and 004, without the real recordings",
         ("benchmarks/mutants.py", "--jobs", "2"),
         30.0,
-        "153 of 153 mutants killed: near misses of the papers' equations, the "
-        "trackers' departures from them, the readers' decoding and the scorers",
+        "177 of 177 mutants killed: near misses of the papers' equations, the "
+        "trackers' departures from them, the readers' decoding, the scorers and the live "
+        "run's frame choice and grouping",
         "papers.md",
     ),
     Benchmark(

@@ -18,8 +18,8 @@ topic                      type                                  content
 and ``velocity`` are in the header's frame [m, m/s], ``reliability`` the tracker's score,
 and ``tagnames``/``tags`` carry ``kind``, ``scan`` (the frame index), ``frame``
 (``world`` or ``sensor``: the frame of the positions, whatever the header's ``frame_id``
-is named), ``size`` and ``members`` (the legs of a person, ``;``-separated). The types are registered with rosbags
-from their ``.msg`` text, so no ROS installation is needed.
+is named), ``size`` and ``members`` (the legs of a person, ``;``-separated). The types are
+registered with rosbags from their ``.msg`` text, so no ROS installation is needed.
 """
 
 from __future__ import annotations

@@ -168,7 +168,9 @@ class TracksBagWriter:
         stamp = tracks.stamp
         header = self.sink.header(stamp, frame_id)
         for kind, topic in TRACK_TOPICS.items():
-            people = [self._person(t, tracks) for t in tracks.of_kind(kind)]
+            people = [
+                self._person(t, tracks.scan_index, tracks.frame) for t in tracks.of_kind(kind)
+            ]
             msg = build_message(self.sink.typestore, PEOPLE_TYPE, header=header, people=people)
             self.sink.write(topic, PEOPLE_TYPE, msg, stamp)
         self.sink.write(MARKER_TOPIC, MARKERS_TYPE, self._markers(header, tracks), stamp)
@@ -182,11 +184,11 @@ class TracksBagWriter:
             z=z,
         )
 
-    def _person(self, track: Track, tracks: Tracks) -> Any:
-        tags = {
-            "kind": track.kind,
-            "scan": str(tracks.scan_index),
-            "frame": tracks.frame,
+    def _person(self, track: Track, scan_index: int, frame: CoordinateFrame | None = None) -> Any:
+        tags = {"kind": track.kind, "scan": str(scan_index)}
+        if frame is not None:
+            tags["frame"] = frame
+        tags |= {
             "size": str(track.size),
             "members": ";".join(str(m) for m in track.members),
             "labels": track.labels,

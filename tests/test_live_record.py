@@ -151,3 +151,23 @@ def test_record_refuses_a_ros1_bag(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="ROS 1"):
         RecordSink(tmp_path / "run.bag", encoder)
     assert not (tmp_path / "run.bag").exists()
+
+
+def test_planned_defaults_give_each_message_its_own_lists_and_arrays() -> None:
+    """Defaults come from a plan made once per type: lists and fixed-size arrays are new per
+    message (also inside left-out nested messages), given fields are kept, left-out nested
+    messages are zero."""
+    from laserpeople.io.tracks_bag import build_message
+
+    store = ros2_typestore()
+    a = build_message(store, "visualization_msgs/msg/Marker", id=7, text="P7")
+    b = build_message(store, "visualization_msgs/msg/Marker")
+    a.points.append(build_message(store, "geometry_msgs/msg/Point", x=1.0))
+    assert b.points == [] and len(a.points) == 1 and a.points[0].x == 1.0
+    assert (a.id, a.text, b.id, b.text) == (7, "P7", 0, "")
+    assert a.lifetime.sec == 0 and a.texture.data.size == 0 and a.texture.header.frame_id == ""
+    odom = build_message(store, "nav_msgs/msg/Odometry")
+    other = build_message(store, "nav_msgs/msg/Odometry")
+    odom.pose.covariance[0] = 2.0
+    assert odom.pose.covariance.shape == (36,) and other.pose.covariance[0] == 0.0
+    assert other.pose is not odom.pose

@@ -84,41 +84,52 @@ def build_message(typestore: Any, msgtype: str, **given: Any) -> Any:
     """A message of ``msgtype`` with the ``given`` fields and zero/empty defaults for the
     rest, so that one call works for both ROS 1 and ROS 2 definitions of a type.
 
-    The defaults come from a plan made once per type and typestore: nested messages left
-    out are one shared instance per type (messages are built to be serialised, not changed
-    in place), sequences and arrays are new each time."""
-    cls, plan = _plan(typestore, msgtype)
+    The defaults come from a plan made once per type and typestore. A nested message left
+    out is one shared instance when nothing in it can change size or value in place (only
+    numbers, strings and empty numeric arrays, as a ``Duration`` or an empty
+    ``CompressedImage``); lists and fixed-size arrays are new each time."""
+    cls, plan, _ = _plan(typestore, msgtype)
     values = {name: given[name] if name in given else make() for name, make in plan}
     return cls(**values)
 
 
-_Plan = tuple[Any, tuple[tuple[str, Callable[[], Any]], ...]]
+_Plan = tuple[Any, tuple[tuple[str, Callable[[], Any]], ...], bool]
+"""Message class, per field what makes its default, whether a default instance may be
+shared."""
 _PLANS: weakref.WeakKeyDictionary[Any, dict[str, _Plan]] = weakref.WeakKeyDictionary()
 
 
 def _plan(typestore: Any, msgtype: str) -> _Plan:
-    """The class of ``msgtype`` and, per field, what makes its default."""
-    plans = _PLANS.setdefault(typestore, {})
+    """The plan of ``msgtype`` (see :func:`build_message`), made on first use."""
+    plans = _PLANS.get(typestore)
+    if plans is None:
+        plans = _PLANS[typestore] = {}
     plan = plans.get(msgtype)
     if plan is None:
         _, fields = typestore.fielddefs[msgtype]
-        made = tuple((name, _default(typestore, node, detail)) for name, (node, detail) in fields)
-        plan = plans[msgtype] = (typestore.types[msgtype], made)
+        made = [(name, _default(typestore, node, detail)) for name, (node, detail) in fields]
+        plan = plans[msgtype] = (
+            typestore.types[msgtype],
+            tuple((name, make) for name, (make, _) in made),
+            all(shareable for _, (_, shareable) in made),
+        )
     return plan
 
 
-def _default(typestore: Any, node: Any, detail: Any) -> Callable[[], Any]:
-    """What makes the default value of a field (see :func:`build_message`)."""
+def _default(typestore: Any, node: Any, detail: Any) -> tuple[Callable[[], Any], bool]:
+    """What makes the default value of a field, and whether that value may be shared."""
     kind = int(node)
     if kind == 1:  # BASE
         base = detail[0]
         value: Any = "" if base == "string" else False if base == "bool" else 0
         if base in ("float32", "float64"):
             value = 0.0
-        return lambda: value
-    if kind == 2:  # NAME (a nested message): one shared instance
-        nested = build_message(typestore, detail)
-        return lambda: nested
+        return (lambda: value), True
+    if kind == 2:  # NAME (a nested message)
+        if _plan(typestore, detail)[2]:
+            nested = build_message(typestore, detail)
+            return (lambda: nested), True
+        return (lambda: build_message(typestore, detail)), False
     # ARRAY (3) or SEQUENCE (4): ((node, detail), length)
     (inner_node, inner_detail), length = detail
     size = length if kind == 3 else 0
@@ -126,9 +137,9 @@ def _default(typestore: Any, node: Any, detail: Any) -> Callable[[], Any]:
         dtype = {"bool": np.bool_, "float32": np.float32, "float64": np.float64}.get(
             inner_detail[0], np.dtype(inner_detail[0]) if inner_detail[0] != "char" else np.uint8
         )
-        return lambda: np.zeros(size, dtype=dtype)
-    inner = _default(typestore, inner_node, inner_detail)
-    return lambda: [inner() for _ in range(size)]
+        return (lambda: np.zeros(size, dtype=dtype)), kind == 4  # empty: cannot change
+    inner, _ = _default(typestore, inner_node, inner_detail)
+    return (lambda: [inner() for _ in range(size)]), False
 
 
 class TracksBagWriter:

@@ -314,8 +314,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "recording them with the scans",
         ("benchmarks/bench_live_output.py", "--frames", "200", "--passes", "3"),
         1.5,
-        "CPU per frame, median / p90: 2.69 / 4.57 ms on the MiR bag (13 tracks a frame, two "
-        "lasers, world frame), 1.18 / 1.72 ms on the demo bag (6 tracks, one laser)",
+        "per frame, median / p90: 2.64 / 4.18 ms on the MiR bag (13 tracks a frame, two "
+        "lasers, world frame), 1.13 / 1.99 ms on the demo bag (6 tracks, one laser)",
         "live.md#measured",
         needs_data=True,
     ),

@@ -310,6 +310,17 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "live.md",
     ),
     Benchmark(
+        "live-output",
+        "`laserpeople live --record`: per frame, encoding the tracks once, publishing them and "
+        "recording them with the scans",
+        ("benchmarks/bench_live_output.py", "--frames", "200", "--passes", "3"),
+        1.5,
+        "per frame, median / p90: 2.64 / 4.18 ms on the MiR bag (13 tracks a frame, two "
+        "lasers, world frame), 1.13 / 1.99 ms on the demo bag (6 tracks, one laser)",
+        "live.md#measured",
+        needs_data=True,
+    ),
+    Benchmark(
         "batch",
         "`laserpeople batch` on a local Dask cluster: 40 recordings, 3 of them broken on purpose",
         ("benchmarks/bench_batch.py", "--recordings", "40", "--seconds", "3", "--kill", "--resume"),

@@ -302,10 +302,6 @@ def register(app: typer.Typer) -> None:
 
             viewer = FoxgloveSink(foxglove, foxglove_host, lasers=topic or ["/scan"])
             sinks.append(viewer)
-        if record is not None:
-            from laserpeople.pipeline.sinks import TracksBagSink
-
-            sinks.append(TracksBagSink(record))
         session = LiveSession(
             topics,
             ZenohSettings(mode, tuple(connect or ()), tuple(listen or ()), scouting),  # type: ignore[arg-type]
@@ -323,6 +319,7 @@ def register(app: typer.Typer) -> None:
             order_wait=order_wait,
             grouping=load_config(GroupingParams, config),
             extra_sinks=sinks,
+            record=record,
             on_reset=warn,
             on_choice=say,
         )

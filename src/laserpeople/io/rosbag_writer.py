@@ -95,15 +95,20 @@ class BagSink:
 
     def write(self, topic: str, msgtype: str, msg: Any, stamp: float) -> None:
         """Serialise ``msg`` of type ``msgtype`` onto ``topic`` with log time ``stamp`` [s]."""
-        conn = self._connections.get(topic)
-        if conn is None:
-            conn = self.writer.add_connection(topic, msgtype, typestore=self.typestore)
-            self._connections[topic] = conn
         data = (
             self.typestore.serialize_ros1(msg, msgtype)
             if self.ros1
             else self.typestore.serialize_cdr(msg, msgtype)
         )
+        self.write_serialised(topic, msgtype, data, stamp)
+
+    def write_serialised(self, topic: str, msgtype: str, data: bytes, stamp: float) -> None:
+        """Write a message already serialised (ROS 1 bytes in a ``.bag``, CDR otherwise)
+        onto ``topic`` with log time ``stamp`` [s]."""
+        conn = self._connections.get(topic)
+        if conn is None:
+            conn = self.writer.add_connection(topic, msgtype, typestore=self.typestore)
+            self._connections[topic] = conn
         sec, nanosec = split_stamp(stamp)
         self.writer.write(conn, sec * 1_000_000_000 + nanosec, data)
 

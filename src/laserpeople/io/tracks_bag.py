@@ -16,15 +16,17 @@ topic                      type                                  content
 
 ``people_msgs/Person`` (as in ROS's ``people`` stack): ``name`` is the track id, ``position``
 and ``velocity`` are in the header's frame [m, m/s], ``reliability`` the tracker's score,
-and ``tagnames``/``tags`` carry ``kind``, ``scan`` (the frame index), ``size`` and
-``members`` (the legs of a person, ``;``-separated). The types are registered with rosbags
-from their ``.msg`` text, so no ROS installation is needed.
+and ``tagnames``/``tags`` carry ``kind``, ``scan`` (the frame index), ``frame``
+(``world`` or ``sensor``: the frame of the positions, whatever the header's ``frame_id``
+is named), ``size`` and ``members`` (the legs of a person, ``;``-separated). The types are
+registered with rosbags from their ``.msg`` text, so no ROS installation is needed.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+import weakref
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -80,40 +82,64 @@ def register_people_types(typestore: Any) -> None:
 
 def build_message(typestore: Any, msgtype: str, **given: Any) -> Any:
     """A message of ``msgtype`` with the ``given`` fields and zero/empty defaults for the
-    rest, so that one call works for both ROS 1 and ROS 2 definitions of a type."""
-    _, fields = typestore.fielddefs[msgtype]
-    values: dict[str, Any] = {}
-    for name, (node, detail) in fields:
-        if name in given:
-            values[name] = given[name]
-        else:
-            values[name] = _default(typestore, node, detail)
-    return typestore.types[msgtype](**values)
+    rest, so that one call works for both ROS 1 and ROS 2 definitions of a type.
+
+    The defaults come from a plan made once per type and typestore. A nested message left
+    out is one shared instance when nothing in it can change size or value in place (only
+    numbers, strings and empty numeric arrays, as a ``Duration`` or an empty
+    ``CompressedImage``); lists and fixed-size arrays are new each time."""
+    cls, plan, _ = _plan(typestore, msgtype)
+    values = {name: given[name] if name in given else make() for name, make in plan}
+    return cls(**values)
 
 
-def _default(typestore: Any, node: Any, detail: Any) -> Any:
+_Plan = tuple[Any, tuple[tuple[str, Callable[[], Any]], ...], bool]
+"""Message class, per field what makes its default, whether a default instance may be
+shared."""
+_PLANS: weakref.WeakKeyDictionary[Any, dict[str, _Plan]] = weakref.WeakKeyDictionary()
+
+
+def _plan(typestore: Any, msgtype: str) -> _Plan:
+    """The plan of ``msgtype`` (see :func:`build_message`), made on first use."""
+    plans = _PLANS.get(typestore)
+    if plans is None:
+        plans = _PLANS[typestore] = {}
+    plan = plans.get(msgtype)
+    if plan is None:
+        _, fields = typestore.fielddefs[msgtype]
+        made = [(name, _default(typestore, node, detail)) for name, (node, detail) in fields]
+        plan = plans[msgtype] = (
+            typestore.types[msgtype],
+            tuple((name, make) for name, (make, _) in made),
+            all(shareable for _, (_, shareable) in made),
+        )
+    return plan
+
+
+def _default(typestore: Any, node: Any, detail: Any) -> tuple[Callable[[], Any], bool]:
+    """What makes the default value of a field, and whether that value may be shared."""
     kind = int(node)
     if kind == 1:  # BASE
         base = detail[0]
-        if base == "string":
-            return ""
-        if base == "bool":
-            return False
+        value: Any = "" if base == "string" else False if base == "bool" else 0
         if base in ("float32", "float64"):
-            return 0.0
-        return 0
+            value = 0.0
+        return (lambda: value), True
     if kind == 2:  # NAME (a nested message)
-        return build_message(typestore, detail)
+        if _plan(typestore, detail)[2]:
+            nested = build_message(typestore, detail)
+            return (lambda: nested), True
+        return (lambda: build_message(typestore, detail)), False
     # ARRAY (3) or SEQUENCE (4): ((node, detail), length)
     (inner_node, inner_detail), length = detail
+    size = length if kind == 3 else 0
     if int(inner_node) == 1 and inner_detail[0] not in ("string",):
         dtype = {"bool": np.bool_, "float32": np.float32, "float64": np.float64}.get(
             inner_detail[0], np.dtype(inner_detail[0]) if inner_detail[0] != "char" else np.uint8
         )
-        return np.zeros(length if kind == 3 else 0, dtype=dtype)
-    if kind == 3:
-        return [_default(typestore, inner_node, inner_detail) for _ in range(length)]
-    return []
+        return (lambda: np.zeros(size, dtype=dtype)), kind == 4  # empty: cannot change
+    inner, _ = _default(typestore, inner_node, inner_detail)
+    return (lambda: [inner() for _ in range(size)]), False
 
 
 class TracksBagWriter:
@@ -132,23 +158,33 @@ class TracksBagWriter:
 
     def write(self, scans: Sequence[Scan], tracks: Tracks) -> None:
         """One frame: its ``scans`` and its ``tracks`` (in ``tracks.frame``)."""
+        if self.scans:
+            self.write_scans(scans, tracks.frame == "world")
+        self.write_tracks(scans, tracks)
+        self.frames += 1
+
+    def write_scans(self, scans: Sequence[Scan], world: bool) -> None:
+        """The scans of one frame, and their poses on ``/tf`` when ``world``."""
+        for scan in scans:
+            sid = sensor_frame_id(scan.sensor)
+            self.sink.scan(scan, sensor_topic(scan.sensor, ros1=self.sink.ros1), sid)
+            if world and scan.pose is not None:
+                self.sink.pose(scan.stamp, WORLD_FRAME_ID, sid, scan.pose, "/tf")
+
+    def write_tracks(self, scans: Sequence[Scan], tracks: Tracks) -> None:
+        """The People messages (one per kind) and the MarkerArray of one frame."""
         world = tracks.frame == "world"
         first = sensor_frame_id(scans[0].sensor) if scans else "laser"
         frame_id = WORLD_FRAME_ID if world else first
         stamp = tracks.stamp
-        if self.scans:
-            for scan in scans:
-                sid = sensor_frame_id(scan.sensor)
-                self.sink.scan(scan, sensor_topic(scan.sensor, ros1=self.sink.ros1), sid)
-                if world and scan.pose is not None:
-                    self.sink.pose(scan.stamp, WORLD_FRAME_ID, sid, scan.pose, "/tf")
         header = self.sink.header(stamp, frame_id)
         for kind, topic in TRACK_TOPICS.items():
-            people = [self._person(t, tracks.scan_index) for t in tracks.of_kind(kind)]
+            people = [
+                self._person(t, tracks.scan_index, tracks.frame) for t in tracks.of_kind(kind)
+            ]
             msg = build_message(self.sink.typestore, PEOPLE_TYPE, header=header, people=people)
             self.sink.write(topic, PEOPLE_TYPE, msg, stamp)
         self.sink.write(MARKER_TOPIC, MARKERS_TYPE, self._markers(header, tracks), stamp)
-        self.frames += 1
 
     def _point(self, xy: np.ndarray, z: float = 0.0) -> Any:
         return build_message(
@@ -159,10 +195,11 @@ class TracksBagWriter:
             z=z,
         )
 
-    def _person(self, track: Track, scan_index: int) -> Any:
-        tags = {
-            "kind": track.kind,
-            "scan": str(scan_index),
+    def _person(self, track: Track, scan_index: int, frame: CoordinateFrame | None = None) -> Any:
+        tags = {"kind": track.kind, "scan": str(scan_index)}
+        if frame is not None:
+            tags["frame"] = frame
+        tags |= {
             "size": str(track.size),
             "members": ";".join(str(m) for m in track.members),
             "labels": track.labels,
@@ -222,7 +259,7 @@ class TracksBagWriter:
                     text=f"{track.kind[0].upper()}{track.track_id}",
                 )
             )
-            v = np.nan_to_num(track.velocity)
+            v = np.array([_no_nan(track.velocity[0]), _no_nan(track.velocity[1])])
             if math.hypot(v[0], v[1]) > 0.05:
                 markers.append(
                     make(
@@ -247,6 +284,16 @@ class TracksBagWriter:
         return make(MARKERS_TYPE, markers=markers)
 
 
+def _no_nan(value: float) -> float:
+    """``value`` with NaN as 0 and infinities as the largest finite floats (as
+    ``numpy.nan_to_num``, for one number)."""
+    x = float(value)
+    return 0.0 if math.isnan(x) else max(-_BIGGEST, min(_BIGGEST, x))
+
+
+_BIGGEST = float(np.finfo(np.float64).max)
+
+
 def _finite(value: float) -> float:
     return float(value) if math.isfinite(value) else 0.0
 
@@ -259,8 +306,9 @@ def iter_tracks_bag(
     path: str | Path, kinds: tuple[TrackKind, ...] | None = None
 ) -> Iterator[Tracks]:
     """Read the tracks a :class:`TracksBagWriter` wrote back, one :class:`Tracks` per frame
-    with tracks, in frame order; positions in the frame of the messages (``world`` when
-    their ``frame_id`` is ``world``, else ``sensor``).
+    with tracks, in frame order; positions in the frame of the messages: their people's
+    ``frame`` tag, or without it ``world`` when the header's ``frame_id`` is ``world``, else
+    ``sensor`` (``live`` names the robot's frames in its headers, e.g. ``odom``).
 
     The bag is opened and read through :func:`~laserpeople.io.bag_guard.open_reader` and
     :func:`~laserpeople.io.bag_guard.bag_messages`, as every other bag of this package.
@@ -289,9 +337,7 @@ def iter_tracks_bag(
         for number, (conn, _, msg) in enumerate(bag_messages(reader, conns, p, "the tracks")):
             try:
                 stamp = float(msg.header.stamp.sec) + 1e-9 * float(msg.header.stamp.nanosec)
-                frame: CoordinateFrame = (
-                    "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
-                )
+                frame = _message_frame(msg)
                 people = [_person_track(person, wanted) for person in msg.people]
             except (AttributeError, KeyError, TypeError, ValueError, OverflowError) as exc:
                 raise RecordingError(
@@ -312,6 +358,21 @@ def iter_tracks_bag(
             yield Tracks(key[1], key[0], tuple(current), key[2])
     finally:
         reader.close()
+
+
+def _message_frame(msg: Any) -> CoordinateFrame:
+    """The frame of a People message's positions (see :func:`iter_tracks_bag`).
+
+    Raises:
+        ValueError: The ``frame`` tag is neither ``world`` nor ``sensor``.
+    """
+    if msg.people:
+        tags = dict(zip(msg.people[0].tagnames, msg.people[0].tags, strict=False))
+        if "frame" in tags:
+            if tags["frame"] not in ("world", "sensor"):
+                raise ValueError(f"frame tag {tags['frame']!r} is not world or sensor")
+            return "world" if tags["frame"] == "world" else "sensor"
+    return "world" if msg.header.frame_id == WORLD_FRAME_ID else "sensor"
 
 
 TRACKS_BAG_HINT = "give a bag written by `laserpeople track --bag`, whole and readable"

@@ -121,19 +121,34 @@ def output_topics(prefix: str = OUTPUT_PREFIX) -> dict[str, str]:
 class TrackEncoder:
     """Tracks of one frame -> the ``track --bag`` messages as CDR bytes.
 
+    Each frame is encoded once: asked again for the frame it encoded last (the same
+    ``scans`` and ``tracks`` objects), it gives the same messages, so the publisher and the
+    ``--record`` sink share one encoding (see :class:`~laserpeople.live.sinks.RecordSink`).
+
     Args:
         typestore: From :func:`ros2_typestore`.
         prefix: Topic prefix of the published tracks (default ``/laserpeople``).
+
+    Attributes:
+        encoded: Frames encoded so far.
     """
 
     def __init__(self, typestore: Any, prefix: str = OUTPUT_PREFIX) -> None:
         self.sink = MemorySink(typestore, prefix)
         self._writer = TracksBagWriter(self.sink, scans=False)
+        self._last: tuple[tuple[Scan, ...], Tracks, list[Message]] | None = None
+        self.encoded = 0
 
     def encode(self, scans: tuple[Scan, ...], tracks: Tracks) -> list[Message]:
         """The People (people, legs, groups) and MarkerArray messages of one frame."""
+        last = self._last
+        if last is not None and last[0] is scans and last[1] is tracks:
+            return last[2]
         self._writer.write(scans, tracks)
-        return self.sink.take()
+        messages = self.sink.take()
+        self._last = (scans, tracks, messages)
+        self.encoded += 1
+        return messages
 
 
 @dataclass(frozen=True)

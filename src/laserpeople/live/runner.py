@@ -34,7 +34,7 @@ from laserpeople.live.messages import (
     ros2_typestore,
 )
 from laserpeople.live.poses import LiveTransforms
-from laserpeople.live.sinks import KeepOpen, LiveStats, PublishSink
+from laserpeople.live.sinks import KeepOpen, LiveStats, PublishSink, RecordSink
 from laserpeople.live.source import LiveFrames, LiveScans, TimeJump
 from laserpeople.live.zenoh_link import Publishers, Subscriptions, ZenohSettings, open_session
 from laserpeople.pipeline.core import Pipeline, Step
@@ -310,7 +310,9 @@ class LiveSession:
         order_wait: Several lasers: longest wait of a frame for the others' scans of its
             instant [s] (None: one scan period of the slowest other laser, measured).
         grouping: Grouping of several lasers.
-        extra_sinks: More outputs after the publisher (a recording, the Foxglove server).
+        extra_sinks: More outputs after the publisher (e.g. the Foxglove server).
+        record: An ``.mcap`` to record the scans and the published tracks into (see
+            :class:`~laserpeople.live.sinks.RecordSink`; None: no recording).
         block: Publishers block on congestion instead of dropping.
         on_reset: Told the reason of each reset (a time jump).
         on_choice: Told the frame ``auto`` chose and why (see :class:`LiveRun`).
@@ -334,6 +336,7 @@ class LiveSession:
     order_wait: float | None = None
     grouping: GroupingParams | None = None
     extra_sinks: Sequence[Sink] = ()
+    record: Path | None = None
     block: bool = False
     on_reset: Callable[[str], None] = lambda reason: None
     on_choice: Callable[[str], None] = lambda message: None
@@ -373,10 +376,13 @@ class LiveSession:
             self.encoder = TrackEncoder(typestore, self.topics.output_prefix)
             stats = LiveStats()
             publish = PublishSink(self.publishers.publish, self.encoder, self.scans, stats)
+            sinks: list[Sink] = [publish, *self.extra_sinks]
+            if self.record is not None:
+                sinks.append(RecordSink(self.record, self.encoder))
             self.run = LiveRun(
                 self.scans,
                 self._with_frame_ids(self.make_pipeline),
-                [publish, *self.extra_sinks],
+                sinks,
                 frame=self.frame,
                 grouping=self.grouping,
                 decide_within=self.decide_within,

@@ -1,4 +1,4 @@
-"""Live sinks: publish the tracks, measure latency, and keep sinks open across resets.
+"""Live sinks: publish the tracks, measure latency, record, and keep sinks open across resets.
 
 :class:`LiveStats` is the run's :class:`~laserpeople.pipeline.core.PipelineStats` with the
 latency of every published frame: from the scan's stamp to publication (needs the robot's
@@ -11,11 +11,16 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
+from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame
-from laserpeople.live.messages import Message, TrackEncoder
+from laserpeople.io.rosbag_writer import ROS1_SUFFIXES
+from laserpeople.io.tracks_bag import MARKER_TOPIC, TRACK_TOPICS
+from laserpeople.live.messages import Message, TrackEncoder, moved_topic
 from laserpeople.live.source import LiveScans
 from laserpeople.pipeline.core import PipelineStats
+from laserpeople.pipeline.sinks import TracksBagSink
 from laserpeople.pipeline.stages import Sink
 from laserpeople.samples import Samples
 from laserpeople.tracks import Tracks
@@ -87,6 +92,45 @@ class PublishSink:
         """Nothing to close (the publishers belong to the run)."""
 
 
+class RecordSink(TracksBagSink):
+    """``live --record``: an MCAP with each frame's scans, their poses and the tracks, the
+    tracks being the very bytes published (the frame is encoded once, by the shared
+    ``encoder``).
+
+    The tracks go on the topics ``track --bag`` writes (``/laserpeople/people`` ...) whatever
+    the published prefix, so ``track``, ``view`` and ``evaluate`` read the recording as
+    they read a ``track --bag`` output. Their headers name the frames as published (the
+    robot's world frame and lasers' frame ids); the ``frame`` tag of each person says
+    whether the positions are in the world or the sensor frame.
+
+    Args:
+        path: The ``.mcap`` to write.
+        encoder: The publisher's encoder.
+    """
+
+    def __init__(self, path: str | Path, encoder: TrackEncoder) -> None:
+        if Path(path).suffix.lower() in ROS1_SUFFIXES:
+            raise ConfigError(
+                f"the recording {Path(path).name!r} would be a ROS 1 bag, but live records "
+                "the published ROS 2 (CDR) bytes",
+                hint="give --record a .mcap path",
+            )
+        super().__init__(path)
+        self.encoder = encoder
+        prefix = encoder.sink.prefix
+        self._topics = {moved_topic(t, prefix): t for t in (*TRACK_TOPICS.values(), MARKER_TOPIC)}
+
+    def write(self, frame: Frame, tracks: Tracks | None) -> None:
+        """Append the frame's scans and poses, and its published tracks."""
+        if tracks is None:
+            return
+        self._writer.write_scans(frame.scans, tracks.frame == "world")
+        bag = self._writer.sink
+        for m in self.encoder.encode(frame.scans, tracks):
+            bag.write_serialised(self._topics.get(m.topic, m.topic), m.msgtype, m.data, m.stamp)
+        self._writer.frames += 1
+
+
 class KeepOpen:
     """A sink that outlives one pipeline: a reset after a time jump builds a new pipeline,
     which closes its sinks when it ends; this one closes only with :meth:`close_now`."""
@@ -106,4 +150,4 @@ class KeepOpen:
         self.sink.close()
 
 
-__all__ = ["KeepOpen", "LiveStats", "PublishSink"]
+__all__ = ["KeepOpen", "LiveStats", "PublishSink", "RecordSink"]

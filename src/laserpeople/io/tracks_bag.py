@@ -259,7 +259,7 @@ class TracksBagWriter:
                     text=f"{track.kind[0].upper()}{track.track_id}",
                 )
             )
-            v = np.array([_no_nan(track.velocity[0]), _no_nan(track.velocity[1])])
+            v = np.array([_finite(track.velocity[0]), _finite(track.velocity[1])])
             if math.hypot(v[0], v[1]) > 0.05:
                 markers.append(
                     make(
@@ -282,16 +282,6 @@ class TracksBagWriter:
                     )
                 )
         return make(MARKERS_TYPE, markers=markers)
-
-
-def _no_nan(value: float) -> float:
-    """``value`` with NaN as 0 and infinities as the largest finite floats (as
-    ``numpy.nan_to_num``, for one number)."""
-    x = float(value)
-    return 0.0 if math.isnan(x) else max(-_BIGGEST, min(_BIGGEST, x))
-
-
-_BIGGEST = float(np.finfo(np.float64).max)
 
 
 def _finite(value: float) -> float:

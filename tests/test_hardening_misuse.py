@@ -279,6 +279,16 @@ def test_live_refuses_negative_counts() -> None:
         assert run.exit_code == 2 and "Invalid value for" in run.output, run.output
 
 
+def test_live_refuses_the_sensor_frame_for_several_lasers() -> None:
+    # refused before connecting (it stopped at the first fused frame, mid-run)
+    run = CliRunner().invoke(
+        app,
+        ["live", "--frame", "sensor", "--topic", "/front", "--topic", "/back", "--duration", "0.3"],
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--frame sensor with 2 lasers" in str(run.exception)
+
+
 def test_live_without_a_single_scan_is_an_error_not_an_empty_success() -> None:
     pytest.importorskip("zenoh")
     from laserpeople.errors import LaserPeopleError

@@ -250,6 +250,11 @@ def register(app: typer.Typer) -> None:
         _check_seconds("--order-wait", order_wait, zero=True)
         if frame not in ("auto", "world", "sensor"):
             raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
+        if frame == "sensor" and topic is not None and len(topic) > 1:
+            raise ConfigError(
+                f"--frame sensor with {len(topic)} lasers: several lasers are fused only in the "
+                "world frame; give --frame world (or auto), or one --topic"
+            )
         if record is not None and record.suffix.lower() != ".mcap":
             raise ConfigError(f"--record writes a .mcap, not {record.name!r}")
         if record is not None:

@@ -207,6 +207,9 @@ class RosbagRecording:
             _check_connection(conn, self.path)
             self._connections[conn.topic].append(conn)
         self._tree: TransformTree | None = None
+        self._mount_z: dict[str, tuple[str, float]] = {}
+        """Parent frame and z translation [m] per child frame, for :meth:`laser_heights`."""
+        self._static_z: set[str] = set()
         self.world_frame: str | None = None
         self.scans_without_pose = 0
         self.scans_with_log_time = 0
@@ -354,6 +357,7 @@ class RosbagRecording:
                     target = static if "static" in conn.topic else tf
                     for tr in msg.transforms:
                         q, v = tr.transform.rotation, tr.transform.translation
+                        self._note_z(tr, "static" in conn.topic)
                         target.add(
                             tr.header.frame_id,
                             tr.child_frame_id,
@@ -391,6 +395,43 @@ class RosbagRecording:
             samples.add_to(tree, static=fixed)
         self._tree = tree
         return tree
+
+    def _note_z(self, tr: Any, static: bool) -> None:
+        """Keep the z translation [m] of a transform: the first one per child frame, a
+        ``/tf_static`` one winning over ``/tf``."""
+        child = normalise_frame(str(tr.child_frame_id))
+        z = float(tr.transform.translation.z)
+        if not math.isfinite(z) or (child in self._mount_z and not static):
+            return
+        if static and child in self._static_z:
+            return
+        if static:
+            self._static_z.add(child)
+        self._mount_z[child] = (normalise_frame(str(tr.header.frame_id)), z)
+
+    def laser_heights(self, topics: Sequence[str] | None = None) -> dict[str, float]:
+        """Mount height [m] of each laser topic (all when None) whose frame the bag's
+        ``/tf_static`` (else the first ``/tf`` message naming it) chains up to a robot
+        frame (the root below a world frame of :attr:`PoseParams.world_frames`, e.g.
+        ``base_footprint``): the sum of the chain's z translations. Rotations about x and
+        y are ignored (a tilted link's offset is taken as vertical). Topics whose frame no
+        transform names, or whose frame hangs straight under a world frame (a recording of
+        ``live --record``), are absent. Given ``--mount`` poses carry no height."""
+        self.transform_tree()
+        world = {normalise_frame(f) for f in self.pose_params.world_frames}
+        out: dict[str, float] = {}
+        for topic, frame in self.laser_frames(topics).items():
+            z, links, seen = 0.0, 0, {frame}
+            while frame in self._mount_z and self._mount_z[frame][0] not in world:
+                parent, dz = self._mount_z[frame]
+                z, links, frame = z + dz, links + 1, parent
+                if frame in seen:  # a cycle in the transforms: no height
+                    links = 0
+                    break
+                seen.add(frame)
+            if links:
+                out[topic] = z
+        return out
 
     def laser_frames(self, topics: Sequence[str] | None = None) -> dict[str, str]:
         """``header.frame_id`` of the first message of each laser topic."""

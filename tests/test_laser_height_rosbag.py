@@ -51,7 +51,9 @@ def _write(path: Path, *, with_tf: bool = True) -> None:
     """Lasers ``front`` (frame front_laser: /tf_static base_footprint -> base_link 0.3 m,
     base_link -> front_laser 0.8 m), ``back`` (frame back_laser: on /tf only, 0.2 m on
     base_link first, 0.6 m later), ``world`` (frame world_laser straight under map) and
-    ``bare`` (frame bare_laser, named by no transform); odom -> base_footprint 0.05 m."""
+    ``bare`` (frame bare_laser, named by no transform), ``chair`` (frame chair_laser: /tf
+    odom -> chair_base 0.18 m, chair_base -> chair_laser 0.02 m); odom -> base_footprint
+    0.05 m."""
     ts = _typestore()
     T = ts.types
     msgtype = "tf2_msgs/msg/TFMessage"
@@ -70,6 +72,8 @@ def _write(path: Path, *, with_tf: bool = True) -> None:
                     _tf(ts, t, "odom", "base_footprint", 0.05),
                     _tf(ts, t, "base_link", "back_laser", back_z),
                     _tf(ts, t, "map", "world_laser", 0.4),
+                    _tf(ts, t, "odom", "chair_base", 0.18),
+                    _tf(ts, t, "chair_base", "chair_laser", 0.02),
                 ]
                 w.write(tf, int(t * 1e9), ts.serialize_ros1(T[msgtype](transforms=moving), msgtype))
         for topic, frame in (
@@ -77,6 +81,7 @@ def _write(path: Path, *, with_tf: bool = True) -> None:
             ("/back", "back_laser"),
             ("/world", "world_laser"),
             ("/bare", "bare_laser"),
+            ("/chair", "chair_laser"),
         ):
             conn = w.add_connection(topic, "sensor_msgs/msg/LaserScan", typestore=ts)
             laser = T["sensor_msgs/msg/LaserScan"](
@@ -99,12 +104,15 @@ def test_height_is_the_sum_of_the_chain_z_up_to_the_robot_frame(tmp_path: Path) 
     _write(bag)
     with RosbagRecording(bag) as rec:
         heights = laser_heights(rec)
-    # front: 0.3 + 0.8 (not 0.8 = last link only, not 1.15 = with odom's 0.05)
+    # front: 0.3 + 0.8 up to base_footprint (not 0.8 = last link only, not 1.15 = past
+    # the floor frame base_footprint into odom)
     assert heights["/front"] == pytest.approx(1.1, abs=TOL)
     # back: 0.3 + the first /tf value 0.2 (not the later 0.6)
     assert heights["/back"] == pytest.approx(0.5, abs=TOL)
     # straight under a world frame (a `live --record` bag) and named by no transform: unknown
-    assert set(heights) == {"/front", "/back"}
+    # chair: a base held above odom (no base_footprint): 0.02 + 0.18, not 0.02
+    assert heights["/chair"] == pytest.approx(0.2, abs=TOL)
+    assert set(heights) == {"/front", "/back", "/chair"}
     warning = upper_body_warning("upper-body-pf", ["/front", "/back"], heights)
     assert "/back at 0.50 m" in warning and "/front" not in warning
 

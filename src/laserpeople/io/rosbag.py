@@ -410,26 +410,30 @@ class RosbagRecording:
         self._mount_z[child] = (normalise_frame(str(tr.header.frame_id)), z)
 
     def laser_heights(self, topics: Sequence[str] | None = None) -> dict[str, float]:
-        """Mount height [m] of each laser topic (all when None) whose frame the bag's
-        ``/tf_static`` (else the first ``/tf`` message naming it) chains up to a robot
-        frame (the root below a world frame of :attr:`PoseParams.world_frames`, e.g.
-        ``base_footprint``): the sum of the chain's z translations. Rotations about x and
-        y are ignored (a tilted link's offset is taken as vertical). Topics whose frame no
-        transform names, or whose frame hangs straight under a world frame (a recording of
-        ``live --record``), are absent. Given ``--mount`` poses carry no height."""
+        """Mount height [m] above the floor of each laser topic (all when None) whose frame
+        the bag's ``/tf_static`` (else the first ``/tf`` message naming it) chains up to a
+        floor frame: the sum of the chain's z translations. The walk up stops at
+        ``base_footprint`` or a world frame (:attr:`PoseParams.world_frames`, on the floor
+        by ROS REP 105 / 120; so a ``base_link`` held above ``odom`` counts), else at the
+        chain's root. Rotations about x and y are ignored (a tilted link's offset is taken
+        as vertical). Topics whose frame no transform names, or whose frame hangs straight
+        under a world frame (a recording of ``live --record``), are absent. Given
+        ``--mount`` poses carry no height."""
         self.transform_tree()
+        floor = {normalise_frame(f) for f in (*self.pose_params.world_frames, *FLOOR_FRAMES)}
         world = {normalise_frame(f) for f in self.pose_params.world_frames}
         out: dict[str, float] = {}
         for topic, frame in self.laser_frames(topics).items():
-            z, links, seen = 0.0, 0, {frame}
-            while frame in self._mount_z and self._mount_z[frame][0] not in world:
+            if frame not in self._mount_z or self._mount_z[frame][0] in world:
+                continue
+            z, seen = 0.0, {frame}
+            while frame not in floor and frame in self._mount_z:
                 parent, dz = self._mount_z[frame]
-                z, links, frame = z + dz, links + 1, parent
+                z, frame = z + dz, parent
                 if frame in seen:  # a cycle in the transforms: no height
-                    links = 0
                     break
                 seen.add(frame)
-            if links:
+            else:
                 out[topic] = z
         return out
 
@@ -635,6 +639,11 @@ class RosbagRecording:
             )
             return None, reason
         return tree.lookup(world, frame, stamp)
+
+
+FLOOR_FRAMES = ("base_footprint",)
+"""Robot frames on the floor under the robot (ROS REP 120), where
+:meth:`RosbagRecording.laser_heights` stops summing a laser's z."""
 
 
 def _mount_hint(tree: TransformTree | None) -> str:

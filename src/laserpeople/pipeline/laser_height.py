@@ -48,7 +48,7 @@ def upper_body_warning(tracker: str, topics: list[str], heights: dict[str, float
         return (
             f"upper-body-pf models a laser at upper-body height (Schenk et al. 2011: "
             f"1.1 m); the height of {', '.join(unknown)} is not recorded (a LaserScan has "
-            f"none): {advice}"
+            f"none, and no /tf_static links its frame to the robot's): {advice}"
         )
     return ""
 

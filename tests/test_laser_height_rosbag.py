@@ -9,20 +9,12 @@ from typing import Any
 import numpy as np
 import pytest
 from rosbags.rosbag1 import Writer
-from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from laserpeople.io.rosbag import RosbagRecording
 from laserpeople.pipeline.laser_height import laser_heights, upper_body_warning
+from test_io_rosbag_tf import _typestore
 
 TOL = 1e-9  # heights are sums of two or three float64 z translations
-
-
-def _typestore() -> Any:
-    ts = get_typestore(Stores.ROS1_NOETIC)
-    ts.register(
-        get_types_from_msg("geometry_msgs/TransformStamped[] transforms", "tf2_msgs/msg/TFMessage")
-    )
-    return ts
 
 
 def _header(ts: Any, t: float, frame: str) -> Any:

@@ -207,6 +207,9 @@ class RosbagRecording:
             _check_connection(conn, self.path)
             self._connections[conn.topic].append(conn)
         self._tree: TransformTree | None = None
+        self._mount_z: dict[str, tuple[str, float]] = {}
+        """Parent frame and z translation [m] per child frame, for :meth:`laser_heights`."""
+        self._static_z: set[str] = set()
         self.world_frame: str | None = None
         self.scans_without_pose = 0
         self.scans_with_log_time = 0
@@ -354,6 +357,7 @@ class RosbagRecording:
                     target = static if "static" in conn.topic else tf
                     for tr in msg.transforms:
                         q, v = tr.transform.rotation, tr.transform.translation
+                        self._note_z(tr, "static" in conn.topic)
                         target.add(
                             tr.header.frame_id,
                             tr.child_frame_id,
@@ -391,6 +395,47 @@ class RosbagRecording:
             samples.add_to(tree, static=fixed)
         self._tree = tree
         return tree
+
+    def _note_z(self, tr: Any, static: bool) -> None:
+        """Keep the z translation [m] of a transform: the first one per child frame, a
+        ``/tf_static`` one winning over ``/tf``."""
+        child = normalise_frame(str(tr.child_frame_id))
+        z = float(tr.transform.translation.z)
+        if not math.isfinite(z) or (child in self._mount_z and not static):
+            return
+        if static and child in self._static_z:
+            return
+        if static:
+            self._static_z.add(child)
+        self._mount_z[child] = (normalise_frame(str(tr.header.frame_id)), z)
+
+    def laser_heights(self, topics: Sequence[str] | None = None) -> dict[str, float]:
+        """Mount height [m] above the floor of each laser topic (all when None) whose frame
+        the bag's ``/tf_static`` (else the first ``/tf`` message naming it) chains up to a
+        floor frame: the sum of the chain's z translations. The walk up stops at
+        ``base_footprint`` or a world frame (:attr:`PoseParams.world_frames`, on the floor
+        by ROS REP 105 / 120; so a ``base_link`` held above ``odom`` counts), else at the
+        chain's root. Rotations about x and y are ignored (a tilted link's offset is taken
+        as vertical). Topics whose frame no transform names, or whose frame hangs straight
+        under a world frame (a recording of ``live --record``), are absent. Given
+        ``--mount`` poses carry no height."""
+        self.transform_tree()
+        floor = {normalise_frame(f) for f in (*self.pose_params.world_frames, *FLOOR_FRAMES)}
+        world = {normalise_frame(f) for f in self.pose_params.world_frames}
+        out: dict[str, float] = {}
+        for topic, frame in self.laser_frames(topics).items():
+            if frame not in self._mount_z or self._mount_z[frame][0] in world:
+                continue
+            z, seen = 0.0, {frame}
+            while frame not in floor and frame in self._mount_z:
+                parent, dz = self._mount_z[frame]
+                z, frame = z + dz, parent
+                if frame in seen:  # a cycle in the transforms: no height
+                    break
+                seen.add(frame)
+            else:
+                out[topic] = z
+        return out
 
     def laser_frames(self, topics: Sequence[str] | None = None) -> dict[str, str]:
         """``header.frame_id`` of the first message of each laser topic."""
@@ -594,6 +639,11 @@ class RosbagRecording:
             )
             return None, reason
         return tree.lookup(world, frame, stamp)
+
+
+FLOOR_FRAMES = ("base_footprint",)
+"""Robot frames on the floor under the robot (ROS REP 120), where
+:meth:`RosbagRecording.laser_heights` stops summing a laser's z."""
 
 
 def _mount_hint(tree: TransformTree | None) -> str:

@@ -1,7 +1,9 @@
 """Whether the lasers of a recording sit where a tracker expects them: ``upper-body-pf``
 (Schenk et al. 2011) models the torso cut by a laser at upper-body height (1.1 m in their
 setup), not legs. A LaserScan and a planar mount carry no height, so it is known only for
-recordings that state it (the simulator's ``.npz`` metadata, ``sensors[].height_m``)."""
+recordings that state it: the simulator's ``.npz`` metadata (``sensors[].height_m``) and a
+ROS bag whose ``/tf_static`` (or first ``/tf``) chains the laser frame to its robot frame
+(:meth:`~laserpeople.io.rosbag.RosbagRecording.laser_heights`)."""
 
 from __future__ import annotations
 
@@ -13,7 +15,12 @@ UPPER_BODY_MIN_HEIGHT = 0.7
 
 
 def laser_heights(recording: Any) -> dict[str, float]:
-    """Mount height [m] per laser topic where the recording states it (else absent)."""
+    """Mount height [m] per laser topic where the recording states it (else absent): a
+    recording with a ``laser_heights()`` method (a ROS bag) answers it, else the ``.npz``
+    metadata does."""
+    method = getattr(recording, "laser_heights", None)
+    if callable(method):
+        return dict(method())
     meta = getattr(recording, "meta", None)
     sensors = meta.get("sensors", []) if isinstance(meta, dict) else []
     out: dict[str, float] = {}
@@ -41,7 +48,7 @@ def upper_body_warning(tracker: str, topics: list[str], heights: dict[str, float
         return (
             f"upper-body-pf models a laser at upper-body height (Schenk et al. 2011: "
             f"1.1 m); the height of {', '.join(unknown)} is not recorded (a LaserScan has "
-            f"none): {advice}"
+            f"none, and no /tf_static links its frame to the robot's): {advice}"
         )
     return ""
 

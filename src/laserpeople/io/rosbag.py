@@ -418,7 +418,10 @@ class RosbagRecording:
         chain's root. Rotations about x and y are ignored (a tilted link's offset is taken
         as vertical). Topics whose frame no transform names, or whose frame hangs straight
         under a world frame (a recording of ``live --record``), are absent. Given
-        ``--mount`` poses carry no height."""
+        ``--mount`` poses carry no height; with poses off (``--no-poses``) the transforms
+        are not read and no height is known."""
+        if not self.use_poses:
+            return {}
         self.transform_tree()
         floor = {normalise_frame(f) for f in (*self.pose_params.world_frames, *FLOOR_FRAMES)}
         world = {normalise_frame(f) for f in self.pose_params.world_frames}

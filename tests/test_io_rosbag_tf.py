@@ -25,6 +25,22 @@ def _typestore() -> Any:
     return ts
 
 
+def three_beam_scan(types: Any, header: Any) -> Any:
+    """A ROS 1 LaserScan of three beams 0.1 rad apart, each 1 m, with ``header``."""
+    return types["sensor_msgs/msg/LaserScan"](
+        header=header,
+        angle_min=0.0,
+        angle_max=0.2,
+        angle_increment=0.1,
+        time_increment=0.0,
+        scan_time=0.0,
+        range_min=0.0,
+        range_max=5.0,
+        ranges=np.ones(3, dtype=np.float32),
+        intensities=np.empty(0, dtype=np.float32),
+    )
+
+
 def _transform(
     ts: Any,
     stamp: float,
@@ -85,21 +101,13 @@ def _write(path: Path, *, flipped: bool = False) -> None:
             w.write(tf, int(t * 1e9), ts.serialize_ros1(msg, "tf2_msgs/msg/TFMessage"))
         for t in (1.5, 2.0, 3.5):
             sec = int(t)
-            laser = T["sensor_msgs/msg/LaserScan"](
-                header=T["std_msgs/msg/Header"](
+            laser = three_beam_scan(
+                T,
+                T["std_msgs/msg/Header"](
                     seq=0,
                     stamp=T["builtin_interfaces/msg/Time"](sec=sec, nanosec=round((t - sec) * 1e9)),
                     frame_id="front_laser",
                 ),
-                angle_min=0.0,
-                angle_max=0.2,
-                angle_increment=0.1,
-                time_increment=0.0,
-                scan_time=0.0,
-                range_min=0.0,
-                range_max=5.0,
-                ranges=np.ones(3, dtype=np.float32),
-                intensities=np.empty(0, dtype=np.float32),
             )
             w.write(scan, int(t * 1e9), ts.serialize_ros1(laser, "sensor_msgs/msg/LaserScan"))
 

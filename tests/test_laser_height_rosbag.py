@@ -6,13 +6,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pytest
 from rosbags.rosbag1 import Writer
 
 from laserpeople.io.rosbag import RosbagRecording
 from laserpeople.pipeline.laser_height import laser_heights, upper_body_warning
-from test_io_rosbag_tf import _typestore
+from test_io_rosbag_tf import _typestore, three_beam_scan
 
 TOL = 1e-9  # heights are sums of two or three float64 z translations
 
@@ -76,18 +75,7 @@ def _write(path: Path, *, with_tf: bool = True) -> None:
             ("/chair", "chair_laser"),
         ):
             conn = w.add_connection(topic, "sensor_msgs/msg/LaserScan", typestore=ts)
-            laser = T["sensor_msgs/msg/LaserScan"](
-                header=_header(ts, 1.5, frame),
-                angle_min=0.0,
-                angle_max=0.2,
-                angle_increment=0.1,
-                time_increment=0.0,
-                scan_time=0.0,
-                range_min=0.0,
-                range_max=5.0,
-                ranges=np.ones(3, dtype=np.float32),
-                intensities=np.empty(0, dtype=np.float32),
-            )
+            laser = three_beam_scan(T, _header(ts, 1.5, frame))
             w.write(conn, int(1.5e9), ts.serialize_ros1(laser, "sensor_msgs/msg/LaserScan"))
 
 

@@ -40,7 +40,7 @@ from collections import Counter
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from groups_random import parse_seeds  # type: ignore[import-not-found]
+from groups_random import parse_seeds, seen_members  # type: ignore[import-not-found]
 from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.config import load_config
 from laserpeople.evaluation.groups import (
@@ -124,11 +124,9 @@ def main() -> None:
             pose = lf.frame.sensor_pose
             origin = np.array([pose.x, pose.y]) if pose is not None else np.zeros(2)
             for g in tracker.last_groups:
-                seen = g.members[fg[g.members]]
+                seen, n_true = seen_members(g.members, lf)
                 if seen.size == 0:
                     continue
-                who = lf.true_person[seen]
-                n_true = int(np.unique(who[who >= 0]).size)
                 centre = lf.frame.points.points[seen].mean(axis=0)
                 key = size_key(n_true, float(np.hypot(*(centre - origin))))
                 sizes[key] += 1

@@ -20,10 +20,13 @@ import argparse
 import math
 from concurrent.futures import ProcessPoolExecutor
 
+import numpy as np
+from numpy.typing import NDArray
+
 from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.config import load_config
 from laserpeople.evaluation.clear_mot import ClearMotResult
-from laserpeople.evaluation.groups import GroupRunResult, run_groups
+from laserpeople.evaluation.groups import GroupRunResult, LabelledFrame, run_groups
 from laserpeople.sim.scenarios import build_scene, run_scenario
 from laserpeople.tracking.groups import GroupTrackerParams
 
@@ -35,6 +38,14 @@ def parse_seeds(text: str) -> list[int]:
         lo, _, hi = part.partition("-")
         out += list(range(int(lo), int(hi) + 1)) if hi else [int(lo)]
     return out
+
+
+def seen_members(members: NDArray[np.int64], lf: LabelledFrame) -> tuple[NDArray[np.int64], int]:
+    """Of a reported group's point indices ``members``, those the frame's foreground holds,
+    and how many true people they belong to."""
+    seen = members[np.asarray(lf.frame.foreground)[members]]
+    who = lf.true_person[seen]
+    return seen, int(np.unique(who[who >= 0]).size)
 
 
 def _mota(mots: list[ClearMotResult]) -> float:

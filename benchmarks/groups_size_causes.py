@@ -29,7 +29,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from groups_random import parse_seeds  # type: ignore[import-not-found]
+from groups_random import parse_seeds, seen_members  # type: ignore[import-not-found]
 from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.clustering import single_linkage
 from laserpeople.config import load_config
@@ -78,14 +78,12 @@ def run_seed(seed: int, seconds: float, params: GroupTrackerParams) -> tuple[str
     out: Counter[tuple[str, int]] = Counter()
     for lf in frames_from_scans(sim.scans):
         tracker.update(lf.frame)
-        fg = np.asarray(lf.frame.foreground)
         assert lf.frame.points is not None
         for g in tracker.last_groups:
-            mine = g.members[fg[g.members]]
+            mine, n_true = seen_members(g.members, lf)
             if mine.size == 0:
                 continue
             who = lf.true_person[mine]
-            n_true = int(np.unique(who[who >= 0]).size)
             pts = lf.frame.points.points[mine]
             blob = single_linkage(pts, params.blob_distance)
             one = np.zeros(int(blob.max()) + 1, dtype=np.int64)

@@ -30,6 +30,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import laserpeople.detection.detector as detector
+import laserpeople.detection.features as features
 import laserpeople.tracking.legs as legs
 import laserpeople.tracking.mht.core as core
 import laserpeople.tracking.person_tracks as person_tracks
@@ -41,6 +42,7 @@ LEG_DETECTION = "leg detection in blocks: segments, features, legs"
 PARTS: list[tuple[Any, str, str, int]] = [
     # (detect_many: the blocks of frames read ahead; detect: a scan not read ahead)
     (detector.AdaBoostLegDetector, "detect_many", LEG_DETECTION, 0),
+    (features, "_compute", "features of the segments", 1),
     (detector.AdaBoostLegDetector, "detect", "leg detection scan by scan", 0),
     (legs.LegMHTTracker, "update", "leg tracker (MHT, people layer, glue)", 0),
     (core.MHT, "step", "MHT step", 1),

@@ -62,7 +62,7 @@ from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 from laserpeople.tracks import Detections, Tracks
 from laserpeople.truth import TruthFrame
-from visible_people import Oracle, Unlabelled, oracle, unlabelled_people
+from visible_people import Oracle, Unlabelled, labels_shown, oracle, unlabelled_people
 
 GATE = 0.75  # m, the benchmark's matching distance
 TOPIC = "/scan"
@@ -234,8 +234,9 @@ def oracle_bound(
     """What a tracker that reports every person the raw scans show can score on the
     labelled scans (:mod:`visible_people`: walkers farther than :data:`GATE` from every
     label, those in :data:`BESIDE` apart), and the unlabelled people per labelled scan."""
-    seen = unlabelled_people(raw_scans(bag), labels, BESIDE, GATE)
-    return oracle(labels, seen), seen
+    scans = raw_scans(bag)
+    seen = unlabelled_people(scans, labels, BESIDE, GATE)
+    return oracle(labels, labels_shown(scans, labels, NEAR), seen), seen
 
 
 def print_oracle(o: Oracle, seen: Sequence[Unlabelled], per_scan: bool) -> None:
@@ -247,6 +248,7 @@ def print_oracle(o: Oracle, seen: Sequence[Unlabelled], per_scan: bool) -> None:
                 b = " ".join(f"({x:+.2f},{y:+.2f})" for x, y in u.beside) or "-"
                 r = " ".join(f"({x:+.2f},{y:+.2f})" for x, y in u.others) or "-"
                 print(f"{u.scan:4d}  {b} | {r}")
+    print(f"labels with a person-sized raw cluster within {NEAR} m: {o.shown} of {o.labels}")
     print(f"unlabelled walkers on the labelled scans (raw returns): {o.unlabelled}")
     print(f"labelled scans with an unlabelled walker beside the robot: {o.beside} of {o.scans}")
     print(f"MOTA reporting every label and every walker shown: {o.mota:.3f}")

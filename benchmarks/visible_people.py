@@ -49,9 +49,9 @@ HALF_WIDTH = 0.05  # m, beams this close to the place laterally must all see thr
 PERSON_SPAN = 0.8  # m, walkers' clusters closer than this are the legs of one person
 
 
-def clusters(scan: Scan) -> np.ndarray:
-    """Centres (M, 2) [m, laser frame] of the person-sized clusters of ``scan`` (module
-    docstring, step 1)."""
+def clusters(scan: Scan, max_range: float = RANGE) -> np.ndarray:
+    """Centres (M, 2) [m, laser frame] of the person-sized clusters of ``scan`` within
+    ``max_range`` [m] (module docstring, step 1)."""
     pts, _ = scan.valid_points("sensor")
     if len(pts) == 0:
         return np.empty((0, 2))
@@ -62,7 +62,7 @@ def clusters(scan: Scan) -> np.ndarray:
         c = pts[a:b]
         centre = c.mean(axis=0)
         wide = float(np.hypot(*(c[-1] - c[0]))) > MAX_WIDTH
-        if len(c) >= MIN_POINTS and not wide and float(np.hypot(*centre)) <= RANGE:
+        if len(c) >= MIN_POINTS and not wide and float(np.hypot(*centre)) <= max_range:
             out.append(centre)
     return np.array(out).reshape(-1, 2)
 
@@ -210,12 +210,29 @@ def unlabelled_people(
     return out
 
 
+def labels_shown(
+    scans: Iterable[Scan], labels: Mapping[int, Mapping[int, np.ndarray]], near: float
+) -> int:
+    """Labels (laser frame [m]) with the centre of a person-sized cluster of their scan,
+    at any range, within ``near`` [m]."""
+    shown = 0
+    for scan in scans:
+        if scan.index not in labels:
+            continue
+        centres = clusters(scan, math.inf)
+        for pos in labels[scan.index].values():
+            shown += bool(len(centres)) and float(np.hypot(*(centres - pos).T).min()) <= near
+    return shown
+
+
 @dataclass(frozen=True)
 class Oracle:
     """What a tracker that reports every person the laser shows can score.
 
     Attributes:
         labels: Labels.
+        shown: Labels with a person-sized cluster within the benchmark's ``near``
+            (:func:`labels_shown`).
         scans: Labelled scans.
         beside: Labelled scans with an unlabelled person beside the robot.
         unlabelled: Unlabelled people summed over the labelled scans (those beside the
@@ -223,6 +240,7 @@ class Oracle:
     """
 
     labels: int
+    shown: int
     scans: int
     beside: int
     unlabelled: int
@@ -253,10 +271,14 @@ class Oracle:
         return self.labels - math.ceil(recall * self.labels - 1e-9)
 
 
-def oracle(labels: Mapping[int, Mapping[int, np.ndarray]], seen: list[Unlabelled]) -> Oracle:
-    """:class:`Oracle` of the ``labels`` and the unlabelled people ``seen`` on their scans."""
+def oracle(
+    labels: Mapping[int, Mapping[int, np.ndarray]], shown: int, seen: list[Unlabelled]
+) -> Oracle:
+    """:class:`Oracle` of the ``labels``, the ``shown`` of them (:func:`labels_shown`) and
+    the unlabelled people ``seen`` on their scans."""
     return Oracle(
         labels=sum(len(p) for p in labels.values()),
+        shown=shown,
         scans=len(labels),
         beside=sum(bool(u.beside) for u in seen),
         unlabelled=sum(len(u.beside) + len(u.others) for u in seen),

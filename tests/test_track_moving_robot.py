@@ -360,7 +360,7 @@ def test_lobby_recording_ceiling(shared_data: Path) -> None:
     # measured from the raw returns: 38 unlabelled walkers on the labelled scans, beside
     # the robot on 23 of the 43: reporting every label and every walker gives MOTA 0.333,
     # at recall 0.70 0.035; the goal (0.50 at recall 0.70) allows 11 false positives
-    assert (o.labels, o.scans, len(seen)) == (57, 43, 43)
+    assert (o.labels, o.shown, o.scans, len(seen)) == (57, 57, 43, 43)
     assert 20 <= o.beside <= 26
     assert 33 <= o.unlabelled <= 43
     assert o.mota < 0.45

@@ -150,8 +150,12 @@ def test_walker_beside_a_moving_robot_counted_post_not() -> None:
         assert len(u.beside) == 1
         # the mean of the returns on the leg's near side, 0.05 m short of its centre
         assert u.beside[0] == pytest.approx((-0.190, -0.954), abs=0.005)
-    o = m.oracle(labels, seen)
-    assert (o.labels, o.scans, o.beside, o.unlabelled) == (24, 24, 24, 24)
+    o = m.oracle(labels, m.labels_shown(scans, labels, 0.5), seen)
+    # the labelled walker is seen from scan 6 on (at 4.8 m, beyond RANGE, too)
+    assert (o.labels, o.shown, o.scans, o.beside, o.unlabelled) == (24, 24, 24, 24, 24)
+    # labels 0.6 m off their walker are not shown
+    off = {i: {1: p[1] + (0.0, 0.6)} for i, p in labels.items()}
+    assert m.labels_shown(scans, off, 0.5) == 0
     # the post alone passes through the box and is never counted
     still = [cast(Pose2D(0.1 * i, 0.0, 0.0), [(2.0, -2.0, 0.06)], index=i) for i in range(32)]
     assert all(
@@ -161,7 +165,7 @@ def test_walker_beside_a_moving_robot_counted_post_not() -> None:
 
 def test_oracle_arithmetic() -> None:
     m = vp()
-    o = m.Oracle(labels=57, scans=43, beside=23, unlabelled=38)
+    o = m.Oracle(labels=57, shown=57, scans=43, beside=23, unlabelled=38)
     assert o.mota == pytest.approx(1 - 38 / 57, abs=1e-12)
     # recall 0.70 of 57 needs 40 matches (39.9 rounded up): 17 misses
     assert o.mota_at_recall(0.70) == pytest.approx(1 - (17 + 38) / 57, abs=1e-12)
@@ -169,5 +173,5 @@ def test_oracle_arithmetic() -> None:
     # MOTA 0.50 allows 28 misses + false positives (28.5 rounded down)
     assert o.max_false_positives(0.70, 0.50) == 11
     assert o.min_recall(0.50) == pytest.approx(67 / 57, abs=1e-12)  # above 1: none
-    fewer = m.Oracle(labels=57, scans=43, beside=13, unlabelled=24)
+    fewer = m.Oracle(labels=57, shown=57, scans=43, beside=13, unlabelled=24)
     assert fewer.min_recall(0.50) == pytest.approx(53 / 57, abs=1e-12)

@@ -14,10 +14,13 @@ too). Scans without any label are not scored.
 Printed: MOTA, recall, false positives, misses, id switches, the distinct person ids
 matched to the labelled people (and per person), and with ``--per-scan`` a row per labelled
 scan (labels, tracks, matches, false positives, the nearest track to each label).
-``--ceiling`` also prints what the detections allow (:func:`detection_ceiling`): the labels
-with a leg detection within 0.5 m, and the labelled scans where an unlabelled person walks
-beside the robot (a leg detection in :data:`BESIDE`, farther than the gate from every
-label), which the benchmark counts as false positives for any tracker that follows them.
+``--ceiling`` also prints the labels with a leg detection within 0.5 m
+(:func:`detection_ceiling`) and an oracle bound that needs neither our detector nor our
+tracker (:func:`oracle_bound`, benchmarks/visible_people.py): the unlabelled people that
+the raw returns show walking on the labelled scans (beside the robot, in :data:`BESIDE`,
+and elsewhere), which the benchmark counts as false positives for any tracker that
+reports them, and the MOTA of a tracker that reports every label and every one of them
+(with ``--per-scan``, where they are on each scan).
 
 Two more scores are printed after the benchmark's: CLEAR MOT with the companion's person
 tracks left out (:func:`companion_tracks`: on the labelled scans far from every label,
@@ -51,13 +54,15 @@ from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.evaluation.clear_mot import ClearMot
 from laserpeople.evaluation.params import EvaluationParams
+from laserpeople.io import open_recording
 from laserpeople.io.tracks_csv import convert_tracks
 from laserpeople.pipeline import build
-from laserpeople.scan import Pose2D
+from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 from laserpeople.tracks import Detections, Tracks
 from laserpeople.truth import TruthFrame
+from visible_people import Oracle, Unlabelled, labels_shown, oracle, unlabelled_people
 
 GATE = 0.75  # m, the benchmark's matching distance
 TOPIC = "/scan"
@@ -186,26 +191,17 @@ def score_moving(tracks: Sequence[Tracks], labels: dict[int, dict[int, np.ndarra
 
 @dataclass(frozen=True)
 class Ceiling:
-    """What the detections of the labelled scans allow.
+    """What the shipped detector finds of the labelled people.
 
     Attributes:
         labels: Labels.
         detected: Labels with a leg detection within :data:`NEAR`.
         scans: Labelled scans.
-        beside: Labelled scans with a leg detection in :data:`BESIDE` farther than
-            :data:`GATE` from every label (the unlabelled companion).
     """
 
     labels: int
     detected: int
     scans: int
-    beside: int
-
-    @property
-    def mota(self) -> float:
-        """MOTA of a tracker that matches every detected label and follows the companion
-        on exactly the scans where it is detected: (detected - beside) / labels."""
-        return (self.detected - self.beside) / self.labels
 
 
 def detection_ceiling(
@@ -213,16 +209,59 @@ def detection_ceiling(
 ) -> Ceiling:
     """:class:`Ceiling` from the leg detections (scan -> (M, 2) [m], laser frame) and the
     laser-frame ``labels``."""
-    detected = beside = 0
-    x0, x1, y0, y1 = BESIDE
+    detected = 0
     for scan, people in labels.items():
         xy = legs.get(scan, np.empty((0, 2))).reshape(-1, 2)
         truth = np.array(list(people.values()), dtype=np.float64)
         d = np.hypot(*(xy[:, None, :] - truth[None, :, :]).transpose(2, 0, 1))  # (M, P)
         detected += int((d <= NEAR).any(axis=0).sum()) if len(xy) else 0
-        inside = (xy[:, 0] > x0) & (xy[:, 0] < x1) & (xy[:, 1] > y0) & (xy[:, 1] < y1)
-        beside += int(bool((inside & (d > GATE).all(axis=1)).any()))
-    return Ceiling(sum(len(p) for p in labels.values()), detected, len(labels), beside)
+    return Ceiling(sum(len(p) for p in labels.values()), detected, len(labels))
+
+
+def raw_scans(bag: Path) -> list[Scan]:
+    """Every scan of :data:`TOPIC` with its sensor pose (as ``track`` reads them), each
+    with its own copy of the ranges."""
+    recording = open_recording(bag)
+    try:
+        return [replace(s, ranges=s.ranges.copy()) for s in recording.scans([TOPIC])]
+    finally:
+        recording.close()
+
+
+def oracle_bound(
+    bag: Path, labels: dict[int, dict[int, np.ndarray]]
+) -> tuple[Oracle, list[Unlabelled]]:
+    """What a tracker that reports every person the raw scans show can score on the
+    labelled scans (:mod:`visible_people`: walkers farther than :data:`GATE` from every
+    label, those in :data:`BESIDE` apart), and the unlabelled people per labelled scan."""
+    scans = raw_scans(bag)
+    seen = unlabelled_people(scans, labels, BESIDE, GATE)
+    return oracle(labels, labels_shown(scans, labels, NEAR), seen), seen
+
+
+def print_oracle(o: Oracle, seen: Sequence[Unlabelled], per_scan: bool) -> None:
+    """The oracle's figures (and with ``per_scan`` the unlabelled people of each scan)."""
+    if per_scan:
+        print("scan  unlabelled people [m, laser frame]: beside the robot | others")
+        for u in seen:
+            if u.beside or u.others:
+                b = " ".join(f"({x:+.2f},{y:+.2f})" for x, y in u.beside) or "-"
+                r = " ".join(f"({x:+.2f},{y:+.2f})" for x, y in u.others) or "-"
+                print(f"{u.scan:4d}  {b} | {r}")
+    print(f"labels with a person-sized raw cluster within {NEAR} m: {o.shown} of {o.labels}")
+    print(f"unlabelled walkers on the labelled scans (raw returns): {o.unlabelled}")
+    print(f"labelled scans with an unlabelled walker beside the robot: {o.beside} of {o.scans}")
+    print(f"MOTA reporting every label and every walker shown: {o.mota:.3f}")
+    print(f"MOTA at recall 0.70 reporting every walker shown: {o.mota_at_recall(0.7):.3f}")
+    print(
+        f"false positives allowed at recall 0.70 for MOTA 0.50: {o.max_false_positives(0.7, 0.5)}"
+    )
+    need = o.min_recall(0.5)
+    print(
+        f"recall needed for MOTA 0.50 reporting every walker: {need:.3f}"
+        if need <= 1.0
+        else "recall needed for MOTA 0.50 reporting every walker: none reaches it"
+    )
 
 
 STAGES = (
@@ -502,9 +541,7 @@ def main() -> None:
     if args.ceiling:
         c = detection_ceiling(legs, labels)
         print(f"labels with a leg detection within {NEAR} m: {c.detected} of {c.labels}")
-        beside = f"{c.beside} of {c.scans}"
-        print(f"labelled scans with an unlabelled leg detection beside the robot: {beside}")
-        print(f"MOTA of a tracker matching every detected label and following it: {c.mota:.3f}")
+        print_oracle(*oracle_bound(args.bag, labels), args.per_scan)
 
 
 if __name__ == "__main__":

@@ -156,7 +156,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         ("benchmarks/followed_person.py",),
         4.0,
         "leg MHT identity recall 0.979, recall 0.985, 2 ids (re-identification off 0.658; "
-        "`arras` 0.241, 0.724, 8 ids)",
+        "`arras` 0.176, 0.740, 9 ids)",
         "people-benchmarks.md",
         needs_data=True,
     ),

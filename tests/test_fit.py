@@ -15,6 +15,7 @@ from laserpeople.cli import app
 from laserpeople.config import load_config
 from laserpeople.fitting import data
 from laserpeople.fitting.estimates import (
+    UNLEARNED,
     AccelTally,
     Estimate,
     FitError,
@@ -61,6 +62,15 @@ def test_too_few_events_say_how_many_are_needed() -> None:
         rate("p_x", 3, 10.0, "events", "scans", exposure_events=2, min_events=3)
     with pytest.raises(NotEnoughEventsError):
         quantile("gate", [1.0, math.nan], 0.5, "steps", min_events=2)
+
+
+def test_too_few_events_name_only_the_parameters_learned() -> None:
+    counts = {"people.q_two": 8, "people.q_one": 2, UNLEARNED: 10}
+    with pytest.raises(NotEnoughEventsError) as caught:
+        multinomial(counts, "clutter-site-scans", min_events=50)
+    message = str(caught.value)
+    assert "to learn people.q_two, people.q_one: 20 counted" in message
+    assert UNLEARNED not in message
 
 
 def test_rate_and_quantile() -> None:

@@ -27,6 +27,11 @@ FloatArray = NDArray[np.float64]
 PRIOR = 0.5
 """Events added to every category (Jeffreys prior)."""
 
+UNLEARNED = "none"
+"""Key of a :func:`multinomial` category that is counted but is no parameter (e.g. the
+person-scans with no leg seen, the rest of ``p_two`` and ``p_one``): its estimate is not
+written, and errors do not name it."""
+
 
 class FitError(LaserPeopleError):
     """Parameters cannot be learned from the data given."""
@@ -79,7 +84,7 @@ def multinomial(
     """
     keys = list(counts)
     n = int(sum(counts.values()))
-    need(n, min_events, what, keys)
+    need(n, min_events, what, [k for k in keys if k != UNLEARNED])
     denom = n + prior * len(keys)
     return [Estimate(k, (counts[k] + prior) / denom, f"{counts[k]} of {n} {what}", n) for k in keys]
 

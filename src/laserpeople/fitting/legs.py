@@ -42,6 +42,7 @@ from scipy.optimize import linear_sum_assignment
 from laserpeople.config import param
 from laserpeople.fitting.data import LabelledRecording
 from laserpeople.fitting.estimates import (
+    UNLEARNED,
     AccelTally,
     Estimate,
     FitError,
@@ -605,7 +606,7 @@ def estimate(
             {
                 "people.p_two": int(c.persons[0]),
                 "people.p_one": int(c.persons[1]),
-                "none": int(c.persons[2]),
+                UNLEARNED: int(c.persons[2]),
             },
             "person-scans",
             m,
@@ -614,12 +615,12 @@ def estimate(
             {
                 "people.q_two": int(c.clutter[0]),
                 "people.q_one": int(c.clutter[1]),
-                "none": int(c.clutter[2]),
+                UNLEARNED: int(c.clutter[2]),
             },
             "clutter-site-scans",
             m,
         )
-        out += [e for e in on_people + on_clutter if e.key != "none"]
+        out += [e for e in on_people + on_clutter if e.key != UNLEARNED]
     else:
         why = (
             "followed-person truth: clutter is not labelled, and the existence score "

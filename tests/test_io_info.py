@@ -6,6 +6,7 @@ import json
 import math
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -13,9 +14,11 @@ import pytest
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
+from laserpeople.cli.info import summarise
 from laserpeople.errors import TopicNotFoundError
-from laserpeople.io import write_recording
+from laserpeople.io import open_recording, write_recording
 from laserpeople.io.carmen import write_carmen_log
+from laserpeople.io.npz import TopicInfo
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.truth import TruthFrame
 
@@ -72,6 +75,34 @@ def test_info_rate_and_poses_of_a_corridor_bag(shared_data: Path) -> None:
     assert t["scans"] == 1563 and t["beams"] == [361]
     assert t["rate_hz"] == pytest.approx(45.4, abs=0.5)
     assert t["scans_without_pose"] == 2
+
+
+class _TwoLasers:
+    """A recording whose second laser's scan comes first in time."""
+
+    path = Path("two.bag")
+    has_truth = False
+
+    def topics(self) -> list[TopicInfo]:
+        return [TopicInfo("/first", "sensor_msgs/msg/LaserScan", 1), TopicInfo("/second", "x", 2)]
+
+    def scans(self, topics: list[str] | None = None) -> Iterator[Scan]:
+        for stamp, sensor in ((0.0, "/second"), (0.05, "/first"), (0.1, "/second")):
+            yield Scan(stamp, -1.0, 1.0, np.array([1.0, 2.0, 3.0]), 0.0, 8.0, sensor=sensor)
+
+
+def test_info_lists_lasers_in_the_recording_order_not_by_first_scan() -> None:
+    report = summarise(_TwoLasers(), None)  # type: ignore[arg-type]
+    assert [t["topic"] for t in report["topics"]] == ["/first", "/second"]
+    assert [t["scans"] for t in report["topics"]] == [1, 2]
+
+
+def test_info_lists_first_the_corridor_laser_track_takes(shared_data: Path) -> None:
+    path = next(shared_data.rglob("corridor.bag"))
+    report = _info(str(path), "--no-poses")
+    assert [t["topic"] for t in report["topics"]] == ["/RAWLASER1", "/ROBOTLASER1"]
+    with open_recording(path) as rec:
+        assert rec.resolve_topics(None)[0] == "/RAWLASER1"  # the laser `track` takes
 
 
 def test_info_on_npz_with_truth_and_on_carmen(tmp_path: Path) -> None:

@@ -142,9 +142,13 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
                 scan.sensor, info.msgtype if info else "sensor_msgs/msg/LaserScan"
             )
         s.add(scan)
+    # in the recording's order, whose first laser `track` takes by default (the scans of
+    # another laser may come first, as on the corridor bags)
+    order = {name: k for k, name in enumerate(listed)}
+    ordered = sorted(summaries.values(), key=lambda s: order.get(s.name, len(order)))
     out: dict[str, Any] = {
         "path": str(rec.path),
-        "topics": [s.as_dict() for s in summaries.values()],
+        "topics": [s.as_dict() for s in ordered],
         "ground_truth": bool(rec.has_truth),
         "world_frame": getattr(rec, "world_frame", None),
     }

@@ -271,3 +271,26 @@ def test_view_draws_every_laser_of_a_fused_run(tmp_path: Path) -> None:
     )
     assert res.exit_code == 0, res.output
     assert f"topics {', '.join(names)}" in res.stderr
+
+
+def test_view_of_world_frame_tracks_without_poses_asks_for_the_mounts(tmp_path: Path) -> None:
+    from laserpeople.io import write_recording
+    from laserpeople.scan import Scan
+
+    rec = tmp_path / "no_poses.npz"
+    ranges = np.full(181, 3.0)
+    scans = [Scan(0.1 * k, -1.5, 3.0 / 180, ranges, 0.0, 8.0, index=k) for k in range(3)]
+    write_recording(rec, scans)
+    csv_path = tmp_path / "world.csv"
+    csv_path.write_text(
+        "scan,stamp,track_id,kind,x,y,vx,vy,cov_xx,cov_xy,cov_yy,size,labels,topic,frame\n"
+        "1,0.1,0,person,1.0,2.0,0,0,0.01,0,0.01,1,,laser,world\n"
+    )
+    res = CliRunner().invoke(
+        app,
+        ["view", str(rec), "--tracks", str(csv_path), "--scan", "1", "-o", str(tmp_path / "v.png")],
+    )
+    assert res.exception is not None
+    message = str(res.exception)
+    assert "scan 1: the tracks are in the world frame" in message
+    assert "--mount" in message and "--output-frame" not in message

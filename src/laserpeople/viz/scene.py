@@ -382,6 +382,15 @@ class Scene:
         if tracks is None:
             tracks = Tracks(scan.stamp, scan.index, (), self.frame, pose)
         elif tracks.frame != self.frame:
+            if tracks.sensor_pose is None and pose is None:
+                raise LaserPeopleError(
+                    f"the tracks are in the {tracks.frame} frame, and the scan has no sensor "
+                    f"pose to draw them in the {self.frame} frame",
+                    path=self.source_name or None,
+                    scan=scan.index,
+                    hint="give view the --mount or --world-frame that track was given, e.g. "
+                    "--mount mir100; `laserpeople info` says why scans have no pose",
+                )
             tracks = convert_tracks(
                 replace(tracks, sensor_pose=tracks.sensor_pose or pose), self.frame
             )

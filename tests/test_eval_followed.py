@@ -204,6 +204,25 @@ def test_evaluate_reads_truth_from_a_bag_topic(tmp_path: Path) -> None:
     assert res.exit_code == 0, res.output
     assert "7 labels of 2 people on 6 scans of /scan" in res.output
     assert "5 of 6 labelled frames" in res.output
+    assert "states no frame (no frame column): taken as sensor" in res.output
+    # the labels are in the laser frame: tracks that say they are in the world frame, with
+    # no sensor pose to move them, are refused (they scored as garbage before)
+    lines = (tmp_path / "t.csv").read_text().splitlines()
+    for frame in ("world", "sensor"):
+        (tmp_path / f"{frame}.csv").write_text(
+            "\n".join([lines[0] + ",topic,frame"] + [f"{ln},/scan,{frame}" for ln in lines[1:]])
+            + "\n"
+        )
+    world = CliRunner().invoke(
+        app, ["evaluate", str(tmp_path / "world.csv"), "--truth", f"{bag}:/gt"]
+    )
+    assert world.exit_code != 0
+    assert "truth in the sensor frame" in str(world.exception or world.output)
+    sensor = CliRunner().invoke(
+        app, ["evaluate", str(tmp_path / "sensor.csv"), "--truth", f"{bag}:/gt", "--json"]
+    )
+    assert sensor.exit_code == 0, sensor.output
+    assert "states no frame" not in sensor.output
     bad = CliRunner().invoke(
         app, ["evaluate", str(tmp_path / "t.csv"), "--truth", str(bag), "--followed-person", "x"]
     )

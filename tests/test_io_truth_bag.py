@@ -82,9 +82,11 @@ def test_leg_tracker_person_labels_pair_with_the_scan_before_them(tmp_path: Path
     # the frame carries the scan's header stamp, which the tracks CSV also carries
     assert truth.frames[1].stamp == pytest.approx(110.2)
     assert "3 labels of 2 people on 2 scans of /scan" in truth.summary()
+    # Person has no header: its labels are in the laser frame, and say so
+    assert truth.frame == "sensor" and [f.frame for f in truth.frames] == ["sensor"] * 2
 
 
-def _stamped_bag(path: Path, msgtype: str) -> None:
+def _stamped_bag(path: Path, msgtype: str, frame_id: str = "base_laser") -> None:
     """Scans at 0.0, 0.1, ... 0.4 s; truth messages stamped 0.1 (two people), 0.31 and 9.0
     (no scan near: unpaired), written out of step with the scans."""
     with open_bag(path) as sink:
@@ -97,7 +99,7 @@ def _stamped_bag(path: Path, msgtype: str) -> None:
             (1.31, [("alice", 1.1, 0.6)]),
             (9.0, [("bob", 0.0, 0.0)]),
         ):
-            header = sink.header(stamp, "base_laser")
+            header = sink.header(stamp, frame_id)
             if msgtype == PEOPLE_MSGS_PEOPLE:
                 people_msgs = [
                     types["people_msgs/msg/Person"](
@@ -156,6 +158,16 @@ def test_stamped_people_pair_by_header_stamp(tmp_path: Path, msgtype: str, suffi
     np.testing.assert_allclose(truth.frames[0].positions, [[1.0, 0.5], [2.0, -0.5]])
     np.testing.assert_allclose(truth.frames[1].positions, [[1.1, 0.6]])
     assert truth.frames[0].stamp == pytest.approx(1.1)
+    # another frame than the laser's ("laser"): may be the world frame or not, so not stated
+    assert truth.laser_frame_id == "laser" and truth.frame is None
+    assert [f.frame for f in truth.frames] == [None, None]
+
+
+def test_stamped_people_in_the_laser_frame_say_so(tmp_path: Path) -> None:
+    path = tmp_path / "people.bag"
+    _stamped_bag(path, PEOPLE_MSGS_PEOPLE, frame_id="laser")
+    truth = read_truth_bag(path)
+    assert truth.frame == "sensor" and [f.frame for f in truth.frames] == ["sensor"] * 2
 
 
 def test_topic_errors_name_the_topics(tmp_path: Path) -> None:

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     from laserpeople.evaluation.followed import FollowedPersonResult
     from laserpeople.evaluation.pairing import PairingCounts
     from laserpeople.io.tracks_csv import TrackIdNames
+    from laserpeople.scan import CoordinateFrame
     from laserpeople.tracks import Tracks
     from laserpeople.truth import TruthFrame
 
@@ -49,6 +50,19 @@ def truth_frames(
     from laserpeople.evaluation.recordings import truth_frames as frames
 
     return frames(spec, laser_topic, notes, on_error, on_damage=report_damage)
+
+
+def _unstated_tracks_frame(tracks: Path, truth: str, notes: list[str]) -> CoordinateFrame:
+    """The frame taken for a tracks CSV without a ``frame`` column: the laser frame against
+    labels in a bag (which are in the laser frame, as the leg_tracker benchmark's), else
+    the world frame; a note says so when the column is missing."""
+    from laserpeople.io.tracks_csv import read_tracks_frame
+    from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
+
+    frame: CoordinateFrame = "sensor" if is_bag_path(split_truth_spec(truth)[0]) else "world"
+    if read_tracks_frame(tracks) is None:
+        notes.append(f"the tracks CSV states no frame (no frame column): taken as {frame}")
+    return frame
 
 
 def render(report: EvaluationReport) -> Table:
@@ -195,6 +209,7 @@ def register(app: typer.Typer) -> None:
         )
         names = TrackIdNames()
         kinds = (params.kind,)
+        notes: list[str] = []
         if is_rosbag(tracks):
             from laserpeople.io.tracks_bag import iter_tracks_bag
 
@@ -203,11 +218,10 @@ def register(app: typer.Typer) -> None:
             _check_kind(tracks, params.kind)
             track_stream = iter_tracks_csv(
                 tracks,
-                frame="world",
+                frame=_unstated_tracks_frame(tracks, truth_path, notes),
                 kinds=kinds,  # type: ignore[arg-type]
                 ids=names,
             )
-        notes: list[str] = []
         if followed_person is not None:
             _followed(
                 list(truth_frames(truth, laser_topic, notes, on_error)),

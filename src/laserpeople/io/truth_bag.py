@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from laserpeople.errors import MessageTypeError, RecordingError, TopicNotFoundError
+from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import TruthFrame
 
 LEG_TRACKER_PERSON = "leg_tracker/msg/Person"
@@ -101,6 +102,7 @@ class BagTruth:
         laser_topic: The laser topic the labels were paired with.
         frame_id: ``header.frame_id`` of the truth messages (None for Person, which has
             no header: its positions are in the laser frame).
+        laser_frame_id: ``header.frame_id`` of the laser's scans.
         messages: Truth messages read.
         labels: Person labels read (one per person per message).
         unpaired: Labels that found no scan (before the first scan, or no scan stamp near).
@@ -114,11 +116,21 @@ class BagTruth:
     msgtype: str
     laser_topic: str
     frame_id: str | None = None
+    laser_frame_id: str = ""
     messages: int = 0
     labels: int = 0
     unpaired: int = 0
     duplicates: int = 0
     names: dict[int, str] = field(default_factory=dict)
+
+    @property
+    def frame(self) -> CoordinateFrame | None:
+        """``sensor`` when the labels are in the laser's frame (Person, or a header naming
+        the laser's frame id); None when they name another frame, which may or may not be
+        the tracking world frame."""
+        if self.frame_id is None or self.frame_id == self.laser_frame_id:
+            return "sensor"
+        return None
 
     def summary(self) -> str:
         """One line: what was read and how it was paired."""
@@ -242,6 +254,7 @@ def read_truth_bag(
             what = f"{truth_topic} or {laser}"
             for conn, log_time, msg in bag_messages(reader, conns, p, what):
                 if conn.topic == laser:
+                    out.laser_frame_id = out.laser_frame_id or str(msg.header.frame_id)
                     stamp = _stamp(msg.header)
                     scan_stamps.append(stamp if stamp != 0.0 else log_time * 1e-9)
                     continue
@@ -317,5 +330,5 @@ def _frames(
             latest[pid] = (x, y)
         ids = np.array(sorted(latest), dtype=np.int64)
         xy = np.array([latest[int(i)] for i in ids], dtype=np.float64).reshape(-1, 2)
-        frames.append(TruthFrame.from_positions(stamps[scan], scan, ids, xy))
+        frames.append(TruthFrame.from_positions(stamps[scan], scan, ids, xy, out.frame))
     return frames

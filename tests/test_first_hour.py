@@ -200,7 +200,7 @@ def test_view_reads_truth_from_a_bag_topic_as_evaluate_does(tmp_path: Path) -> N
     )
     assert res.exit_code == 0, res.output
     assert out.stat().st_size > 0
-    assert "labels of 1 people" in res.stderr and "truth: 1 person" not in res.stderr
+    assert "labels of 1 person on" in res.stderr and "truth: 1 person" not in res.stderr
     res = CliRunner().invoke(app, ["view", "--help"], env={"COLUMNS": "200"})
     assert "BAG:/topic" in res.stdout and "(world frame)" not in res.stdout
 

@@ -135,9 +135,10 @@ class BagTruth:
     def summary(self) -> str:
         """One line: what was read and how it was paired."""
         where = f"frame {self.frame_id!r}" if self.frame_id else "the laser frame"
+        people = len({i for f in self.frames for i in f.person_ids})
         text = (
-            f"{self.labels} labels of {len({i for f in self.frames for i in f.person_ids})} "
-            f"people on {len(self.frames)} scans of {self.laser_topic} from {self.topic} "
+            f"{self.labels} labels of {people} {'person' if people == 1 else 'people'} "
+            f"on {len(self.frames)} scans of {self.laser_topic} from {self.topic} "
             f"({self.msgtype.replace('/msg/', '/')}, {where})"
         )
         if self.unpaired:

@@ -228,3 +228,20 @@ def test_evaluate_reads_truth_from_a_bag_topic(tmp_path: Path) -> None:
     )
     assert bad.exit_code != 0
     assert math.isfinite(evaluate_followed(truth, tracks, 2)[0].result().motp)
+
+
+@pytest.mark.parametrize("truth_frame", [None, "sensor", "world"])
+def test_fit_scores_tracks_without_pose_in_the_frame_the_truth_states(truth_frame) -> None:
+    """``fit``'s validation compares tracks of a recording without poses as they are,
+    whichever frame the labels state (a bag's labels: the laser frame; a CSV: none)."""
+    from dataclasses import replace
+
+    from laserpeople.fitting.data import LabelledRecording
+    from laserpeople.fitting.validate import score_legs
+
+    truth, tracks = hand_case()
+    truth = [replace(f, frame=truth_frame) for f in truth]
+    tracks = [replace(t, frame="sensor", sensor_pose=None) for t in tracks]
+    rec = LabelledRecording("x", (), (), {f.scan_index: f for f in truth}, True, np.empty(0))
+    scores = score_legs(rec, tracks)
+    assert scores["recall"] == pytest.approx(5 / 6) and scores["ids"] == 2

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
-from laserpeople.errors import ConfigError, EvaluationError
+from laserpeople.errors import ConfigError, EvaluationError, RecordingError
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -60,7 +60,11 @@ def _unstated_tracks_frame(tracks: Path, truth: str, notes: list[str]) -> Coordi
     from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
 
     frame: CoordinateFrame = "sensor" if is_bag_path(split_truth_spec(truth)[0]) else "world"
-    if read_tracks_frame(tracks) is None:
+    try:
+        stated = read_tracks_frame(tracks)
+    except RecordingError:  # not readable as text: the reader says what is wrong, and where
+        return frame
+    if stated is None:
         notes.append(f"the tracks CSV states no frame (no frame column): taken as {frame}")
     return frame
 

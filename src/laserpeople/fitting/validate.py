@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from laserpeople.fitting.data import LabelledRecording
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import Tracks
 
 
@@ -43,15 +44,16 @@ def track_legs(rec: LabelledRecording, params: Any) -> list[Tracks]:
 def score_legs(rec: LabelledRecording, tracks: list[Tracks]) -> dict[str, float]:
     """Scores of person tracks against the recording's truth.
 
-    Tracks in the sensor frame without a pose (a recording without poses, whose labels are
-    in the laser frame) are compared as they are: the scorer takes them as world-frame
-    positions, the frame the truth is written in.
+    Tracks without a pose (a recording without poses, whose labels are in the laser frame)
+    are compared as they are, taken to be in the frame the truth states (the world frame
+    when it states none).
     """
+    frames = rec.truth_frames()
+    stated: CoordinateFrame = next((f.frame for f in frames if f.frame is not None), "world")
     tracks = [
-        replace(t, frame="world") if t.frame == "sensor" and t.sensor_pose is None else t
+        replace(t, frame=stated) if t.frame != stated and t.sensor_pose is None else t
         for t in tracks
     ]
-    frames = rec.truth_frames()
     if rec.followed:
         from laserpeople.evaluation.followed import evaluate_followed, most_labelled_person
 

@@ -948,38 +948,3 @@ def test_a_walked_person_found_again_next_to_where_it_was_lost_keeps_having_walk
     assert held(CSAParams(), (2.0, 3.0))
     assert held(CSAParams(), (1.3, 3.0), walked=False)
     assert held(CSAParams(moving_adopt_near=0.0), (1.3, 3.0))
-
-
-def test_a_person_of_a_cluster_that_jumps_has_not_walked() -> None:
-    """moving_jump (2 m/s): a person of a cluster whose position lies moving_travel (0.5 m)
-    from where its travel is measured has walked only when it got there no faster than
-    2 m/s: 0.6 m in 0.31 s (1.94 m/s) walked; in 0.29 s (2.07 m/s) it jumped, and its
-    travel is measured anew from there and then (0.6 m further on at 1 m/s it walked). A
-    single target's travel counts at any speed, and with 0 a member's does too."""
-    start = np.array([1.0, 3.0])
-    there = np.array([1.6, 3.0])
-
-    def after(
-        params: CSAParams, seconds: float, member: bool = True
-    ) -> tuple[np.ndarray, float] | None:
-        csa = ClusterSortingTracker(params)
-        csa._unwalked = {5: (start, 10.0)}
-        csa._stamp = 10.0 + seconds
-        csa._walked(5, there, member=member)
-        return csa._unwalked.get(5)
-
-    assert CSAParams().moving_jump == 2.0
-    assert after(CSAParams(), 0.31) is None
-    jumped = after(CSAParams(), 0.29)
-    assert jumped is not None
-    assert np.allclose(jumped[0], there) and jumped[1] == pytest.approx(10.29, abs=1e-9)
-    assert after(CSAParams(), 0.29, member=False) is None
-    assert after(CSAParams(moving_jump=0.0), 0.29) is None
-    csa = ClusterSortingTracker(CSAParams())
-    csa._unwalked = {5: (there, 10.29)}
-    csa._stamp = 10.89
-    csa._walked(5, np.array([2.2, 3.0]), member=True)
-    assert 5 not in csa._unwalked
-    assert CSAParams.paper_preset["moving_jump"] == 0.0
-    with pytest.raises(ValueError, match="moving_jump"):
-        CSAParams(moving_jump=-1.0)

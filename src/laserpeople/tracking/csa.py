@@ -68,7 +68,6 @@ class CSAParams:
             "cut_free": False,
             "moving_unseen": 0.0,
             "moving_wall": 0.0,
-            "moving_jump": 0.0,
             "count_people": False,
             "person_mixture": False,
             "background_people": False,
@@ -202,20 +201,6 @@ class CSAParams:
         "is measured from moves to where it is once it is this old (0: from where it "
         "started, however long ago)",
         "s",
-    )
-    moving_jump: float = param(
-        2.0,
-        "extension of 002, as moving_travel: on a moving laser the person row of a "
-        "cluster that holds a person and furniture jumps when the Viterbi paths shift "
-        "between them; such jumps made furniture count as walked (tuning seeds 1, 12, 14: "
-        "0.5-0.9 m at 2.3-4.5 m/s); people walk at most about 2 m/s; random-groups moving "
-        "tuning seeds 0.255 -> 0.272, held back 0.289 -> 0.290 (docs/csa.md, 'Jumps are "
-        "not walks')",
-        "under moving_travel, a person of a cluster whose position lies moving_travel "
-        "from where its travel is measured, reached faster than this speed, jumped "
-        "rather than walked: its travel is measured anew from there (0: any travel "
-        "counts)",
-        "m/s",
     )
     moving_adopt_near: float = param(
         0.5,
@@ -386,7 +371,7 @@ class CSAParams:
             raise ValueError("min_points and count_points must be at least 1")
         if self.confirm_scans < 1:
             raise ValueError("confirm_scans must be at least 1")
-        for name in ("moving_travel", "moving_unseen", "moving_wall", "moving_jump"):
+        for name in ("moving_travel", "moving_unseen", "moving_wall"):
             if not 0.0 <= getattr(self, name) < math.inf:
                 raise ValueError(f"{name} must be finite and not negative")
 
@@ -769,18 +754,15 @@ class ClusterSortingTracker:
         if self._posed and self.params.moving_travel > 0:
             self._unwalked[pid] = (np.array(xy, dtype=np.float64), self._stamp)
 
-    def _walked(self, pid: int, xy: FloatArray, member: bool = False) -> None:
-        """Person ``pid`` was seen at ``xy`` (2,) [m] (``member``: as a person of a
-        cluster): once that lies ``moving_travel`` from where it was started (or, after
-        ``moving_window``, from where it was then), it has walked, for good; a person of
-        a cluster that got there faster than ``moving_jump`` jumped, and its travel is
-        measured anew from there."""
+    def _walked(self, pid: int, xy: FloatArray) -> None:
+        """Person ``pid`` was seen at ``xy`` (2,) [m]: once that lies ``moving_travel``
+        from where it was started (or, after ``moving_window``, from where it was then),
+        it has walked, for good."""
         held = self._unwalked.get(pid)
         if held is None:
             return
         start, since = held
-        travel = float(np.hypot(*(xy - start)))
-        if travel < self.params.moving_travel:
+        if float(np.hypot(*(xy - start))) < self.params.moving_travel:
             window = self.params.moving_window
             if window > 0 and self._stamp - since >= window:  # too slow: measure anew
                 self._unwalked[pid] = (np.array(xy, dtype=np.float64), self._stamp)
@@ -788,10 +770,6 @@ class ClusterSortingTracker:
         wall = self.params.moving_wall
         if wall > 0 and on_a_wall(xy, self._scan_points, wall):
             return  # sliding along a wall as the laser's view moves
-        jump = self.params.moving_jump
-        if member and jump > 0 and travel > jump * (self._stamp - since):
-            self._unwalked[pid] = (np.array(xy, dtype=np.float64), self._stamp)
-            return  # the paths shifted to something else: no walker is this fast
         del self._unwalked[pid]
 
     def _adopted(self, target: int, person: int, last: FloatArray | None = None) -> None:
@@ -1215,7 +1193,7 @@ class ClusterSortingTracker:
                 cov = np.cov(pos.T) if pos.shape[0] > 1 else np.zeros((2, 2))
                 cov = cov + np.eye(2) * p.mean_std**2
                 xy = pos.mean(axis=0)
-                self._walked(m, xy, member=True)
+                self._walked(m, xy)
                 cl.shown[m] = xy
                 cl.motion[m] = (vel, stamp)
                 out[m] = (xy, vel, cov)

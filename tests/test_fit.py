@@ -617,3 +617,10 @@ def test_fit_with_followed_person_truth_csv(tmp_path: Path) -> None:
     assert "#   lambda_fal: followed-person truth" in text
     assert params.lambda_fal == LegTrackerParams().lambda_fal
     assert 0.0 < params.p_det_approved < 1.0
+
+
+def test_validation_counts_are_shown_whole() -> None:
+    from laserpeople.cli.fit import _score_text
+
+    assert _score_text("ids", 2.0) == "2" and _score_text("ID switches", 14.0) == "14"
+    assert _score_text("recall", 1.0) == "1.000" and _score_text("MOTA", -0.1234) == "-0.123"

@@ -119,6 +119,14 @@ def _print(result: FitResult) -> None:
         val.add_row(
             row.recording,
             row.label,
-            *(f"{row.scores[m]:.3f}" if m in row.scores else "" for m in metrics),
+            *(_score_text(m, row.scores[m]) if m in row.scores else "" for m in metrics),
         )
     console.print(val)
+
+
+def _score_text(metric: str, value: float) -> str:
+    """A validation score as the table shows it: counts whole, the rest to 3 decimals."""
+    from laserpeople.fitting.validate import COUNT_SCORES
+
+    return f"{value:.0f}" if metric in COUNT_SCORES else f"{value:.3f}"
+

@@ -18,6 +18,10 @@ from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import Tracks
 
 
+COUNT_SCORES = frozenset({"ids", "ID switches"})
+"""Scores that are counts (shown without decimals)."""
+
+
 @dataclass(frozen=True)
 class ValidationRow:
     """Scores of one parameter set on one validation recording.

@@ -129,4 +129,3 @@ def _score_text(metric: str, value: float) -> str:
     from laserpeople.fitting.validate import COUNT_SCORES
 
     return f"{value:.0f}" if metric in COUNT_SCORES else f"{value:.3f}"
-

@@ -17,7 +17,6 @@ from laserpeople.fitting.data import LabelledRecording
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import Tracks
 
-
 COUNT_SCORES = frozenset({"ids", "ID switches"})
 """Scores that are counts (shown without decimals)."""
 

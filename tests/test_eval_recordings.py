@@ -59,3 +59,15 @@ def test_truth_found_by_name(tmp_path):
     (tmp_path / "run_1.people.csv").write_text("scan,stamp,person_id,x,y\n")
     assert find_truth(bag) == str(tmp_path / "run_1.people.csv")
     assert find_truth(tmp_path / "sim.npz") == str(tmp_path / "sim.npz")
+
+
+def test_the_table_marks_an_error_row_and_leaves_its_text_to_a_line_of_its_own():
+    from laserpeople.cli.evaluate import render_many
+
+    a = score("a", {1: stand(2)}, {5: stand(2)})
+    bad = RecordingScore("bad", "t.csv", "x.npz", error="x.npz: no truth")
+    table = render_many(score_rows([a, bad]), 0.75)
+    bad_row = [col._cells[1] for col in table.columns]
+    assert bad_row[:3] == ["bad", "error", "–"] and set(bad_row[2:]) == {"–"}
+    assert "no truth" not in " ".join(bad_row)
+    assert [col._cells[0] for col in table.columns][1] == "1.000"  # a's MOTA

@@ -464,7 +464,7 @@ def render_many(rows: list[dict[str, object]], gate: float) -> Table:
                 cells.append("n/a" if v != v else (f"{v:.0f}" if k in keys[-3:] else f"{v:.3f}"))
             else:
                 cells.append(str(v))
-        if r.get("error"):
-            cells[1] = f"error: {r['error']}"
+        if r.get("error"):  # the error itself is said on a line of its own
+            cells[1:] = ["error"] + ["–"] * (len(cells) - 2)
         table.add_row(*cells)
     return table

@@ -63,6 +63,7 @@ def test_paper_preset_gives_each_tracker_its_papers_values() -> None:
     assert d.overlap_max > 0.0 and d.still_time > 0.0 and d.cell_refresh > 0.0
     assert d.claim_distance > 0.0
     assert f.split_distance == 0.0 and d.split_distance > 0.0
+    assert f.report_offset == 0.0 and d.report_offset > 0.0
     u = load_config(UpperBodyParams, None, "paper")
     assert (u.surface_offset, u.carry_depth, u.object_memory, u.max_eigenvalue) == (0, 0, 0, 0)
     assert g.mht.n_scan == 8 and g.model_prior == "literal"

@@ -56,15 +56,13 @@ def fused_frames(
     return frames
 
 
-def shifted_foreground(frame: Frame, offset: float, consumer: str) -> NDArray[np.float64]:
-    """The frame's foreground points (K, 2) [m], each moved ``offset`` [m] farther along
-    the beam that measured it (away from its laser): a laser sees the near surface of a
-    body, whose centre lies about half the body's depth behind it along the beam.
-    Lasers without a pose in a world frame (and ``offset`` 0) leave the points as they
-    are."""
+def beam_directions(frame: Frame, consumer: str) -> NDArray[np.float64]:
+    """Unit vectors (K, 2) along the beams that measured the frame's foreground points
+    (from each point's laser to the point), in the frame's ``frame``; zeros when a laser
+    of a world frame has no pose (the directions are then unknown)."""
     pts = frame.foreground_points(consumer)
-    if offset == 0.0 or frame.points is None or len(pts) == 0:
-        return pts
+    if frame.points is None or len(pts) == 0:
+        return np.zeros((len(pts), 2))
     ps = frame.points
     ids = ps.sensor_ids if frame.foreground is None else ps.sensor_ids[frame.foreground]
     origins = np.zeros((len(ps.sensors), 2))
@@ -73,11 +71,23 @@ def shifted_foreground(frame: Frame, offset: float, consumer: str) -> NDArray[np
         for i, name in enumerate(ps.sensors):
             pose = poses.get(name)
             if pose is None:
-                return pts
+                return np.zeros((len(pts), 2))
             origins[i] = (pose.x, pose.y)
     ray = pts - origins[ids]
     norm = np.maximum(np.hypot(ray[:, 0], ray[:, 1]), 1e-9)
-    return np.asarray(pts + offset * ray / norm[:, None], dtype=np.float64)
+    return np.asarray(ray / norm[:, None], dtype=np.float64)
 
 
-__all__ = ["fused_frames", "shifted_foreground"]
+def shifted_foreground(frame: Frame, offset: float, consumer: str) -> NDArray[np.float64]:
+    """The frame's foreground points (K, 2) [m], each moved ``offset`` [m] farther along
+    the beam that measured it (away from its laser): a laser sees the near surface of a
+    body, whose centre lies about half the body's depth behind it along the beam.
+    Lasers without a pose in a world frame (and ``offset`` 0) leave the points as they
+    are."""
+    pts = frame.foreground_points(consumer)
+    if offset == 0.0 or len(pts) == 0:
+        return pts
+    return np.asarray(pts + offset * beam_directions(frame, consumer), dtype=np.float64)
+
+
+__all__ = ["beam_directions", "fused_frames", "shifted_foreground"]

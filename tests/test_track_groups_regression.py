@@ -10,7 +10,7 @@ take each other's ids (the two continuations are tied to the last bit); from the
 ids, labels and point labels of the two are swapped and the pruned tree holds a few nodes
 more or fewer. So groups are matched by frame, size, mean and covariance; ids, point
 groups and labels are compared up to renaming; hypothesis counts through a share of
-frames and their totals."""
+frames (within two) and their totals."""
 
 from __future__ import annotations
 
@@ -52,10 +52,14 @@ MAX_EVENT_EDITS = 1
 baseline loops (the two coinciding tracks of that tie merged at 25.5 s)."""
 MIN_PARTITION_SHARE = 0.98
 """Frames whose points fall into the same groups (up to names): 1.0 on every path tried."""
-MIN_STATS_SHARE = 0.85
-"""Frames whose (hypotheses, models generated, live nodes) equal the reference's: 0.90 on
-the simulated hall with the swapped ids (the last 29 of 301 frames differ by one or two),
-1.0 elsewhere."""
+MIN_STATS_SHARE = 0.9
+"""Frames whose (hypotheses, models generated, live nodes) lie within STATS_ABS_TOL of the
+reference's: 1.0 on every CPU path tried. The counts follow the tracker's ties: on numpy's
+baseline loops the last 29 of the simulated hall's 301 frames differ by one or two, and on
+an AMD EPYC with numpy's AVX-512 loops the people-only run's frames from the 21st on differ
+by one or two (models generated is counted over the run, so one tie keeps it one off)."""
+STATS_ABS_TOL = 2
+"""Largest difference of a count from the reference's in a frame that agrees."""
 STATS_TOTAL_RTOL = 0.02
 """Relative tolerance of the three counts summed over the run (0.2 % apart at most on the
 paths tried)."""
@@ -102,8 +106,8 @@ def _assert_same(got: dict[str, NDArray], prefix: str) -> None:  # type: ignore[
     assert share >= MIN_PARTITION_SHARE, f"{where}; point groups agree in {share:.3f} of frames"
     stats, ref_stats = got[prefix + "stats"], expected[prefix + "stats"]
     assert stats.shape == ref_stats.shape
-    same = float(np.mean(np.all(stats == ref_stats, axis=1)))
-    assert same >= MIN_STATS_SHARE, f"{where}; hypothesis counts equal in {same:.3f} of frames"
+    same = float(np.mean(np.all(np.abs(stats - ref_stats) <= STATS_ABS_TOL, axis=1)))
+    assert same >= MIN_STATS_SHARE, f"{where}; hypothesis counts agree in {same:.3f} of frames"
     np.testing.assert_allclose(stats.sum(axis=0), ref_stats.sum(axis=0), rtol=STATS_TOTAL_RTOL)
 
 

@@ -30,6 +30,7 @@ from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.scan import visible_area
 from laserpeople.tracking.groups.confirm import Candidate, Confirmation, ConfirmSettings
+from laserpeople.tracking.groups.handover import IdHandover
 from laserpeople.tracking.groups.interaction import (
     GroupBranches,
     GroupLabelModel,
@@ -98,6 +99,7 @@ class GroupTrackerParams:
             "confirm_scans": 1,
             "confirm_event_scans": 1,
             "reuse_ids": False,
+            "id_memory": 0.0,
             "velocity_window": 0.0,
             "shadow_occlusion": False,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
@@ -401,6 +403,23 @@ class GroupTrackerParams:
         "a group whose labels are those of a group reported before (its parts merged back) "
         "is reported with that group's id (false: every track its own id, as before)",
     )
+    id_memory: float = param(
+        2.0,
+        "extension of 000 (0: a split, merge or new group is reported under a new id, as "
+        "000); chosen on random-groups seeds 0-19, held-back seeds and the real recordings "
+        "in docs/groups.md",
+        "a group first reported may take the id of a group reported within this many "
+        "seconds and not reported now, whose constant-velocity prediction lies within "
+        "id_gate of it (with reuse_ids; 0: never)",
+        "s",
+    )
+    id_gate: float = param(
+        1.0,
+        "assumption: the scorer's gate of a group (1 m)",
+        "farthest a group first reported may be from a vanished group's prediction to take "
+        "its id (id_memory)",
+        "m",
+    )
     confirm_window: int = param(
         0,
         "chosen on the real recordings (3 of 4 or 5 scans: the same or more ids than 3 "
@@ -459,6 +478,10 @@ class GroupTrackerParams:
             raise ValueError("static_share must be in (0, 1]")
         if not (self.velocity_window >= 0.0 and math.isfinite(self.velocity_window)):
             raise ValueError("velocity_window must be finite and not negative (0: Kalman's)")
+        if not (self.id_memory >= 0.0 and math.isfinite(self.id_memory)):
+            raise ValueError("id_memory must be finite and not negative (0: never)")
+        if not (self.id_gate > 0.0 and math.isfinite(self.id_gate)):
+            raise ValueError("id_gate must be positive and finite")
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
         self.confirm_settings()  # checks the confirmation values
@@ -648,6 +671,8 @@ class GroupMHTTracker:
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
         self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
+        self.handover = IdHandover(p.id_memory, p.id_gate)
+        """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
 
     @property
     def wants_static_model(self) -> bool:
@@ -744,7 +769,7 @@ class GroupMHTTracker:
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
         nodes = self._confirmed(self.mht.best_tracks(), frame.stamp)
-        ids = self._reported_ids(nodes)
+        ids = self._reported_ids(nodes, frame.stamp)
         for node, track_id in zip(nodes, ids, strict=True):
             payload = group_payload(node)
             labels = self.display_labels(self.name(node))
@@ -778,7 +803,7 @@ class GroupMHTTracker:
             self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
 
-    def _reported_ids(self, nodes: list[TrackNode]) -> list[int]:
+    def _reported_ids(self, nodes: list[TrackNode], stamp: float) -> list[int]:
         """The id each of ``nodes`` is reported with: its family, or with ``reuse_ids`` the
         id of the group reported before with the same internal labels (a split group whose
         parts merged back: ``0`` -> ``0-0``, ``0-1`` -> ``0``), unless another node of this
@@ -793,22 +818,35 @@ class GroupMHTTracker:
         for node, key in zip(nodes, keys, strict=True):
             if self._ids.get(key, node.family) == node.family:
                 taken.add(node.family)
-        for node, key in zip(nodes, keys, strict=True):
+        fresh: list[int] = []  # nodes whose labels were never reported
+        for k, (node, key) in enumerate(zip(nodes, keys, strict=True)):
             track_id = self._ids.get(key)
             if track_id is None:
                 if len(self._ids) >= LABEL_MEMO:  # a bound for pathological runs only
-                    self._ids = {k: self._ids[k] for k in keys if k in self._ids}
+                    self._ids = {x: self._ids[x] for x in keys if x in self._ids}
                 track_id = self._ids[key] = node.family
+                fresh.append(k)
             elif track_id != node.family and track_id in taken:
                 track_id = node.family
             taken.add(track_id)
             out.append(track_id)
-        self._follow_halves(nodes, keys, out)
+        handed = self.handover.hand_over(stamp, [nodes[k].mean[:2] for k in fresh], set(out))
+        inherited: set[int] = set()  # nodes that took a vanished group's id
+        for k, track_id in zip(fresh, handed, strict=True):
+            if track_id is not None:
+                out[k] = self._ids[keys[k]] = track_id
+                inherited.add(k)
+        self._follow_halves(nodes, keys, out, inherited)
         self._last_at.update((i, node.mean[:2]) for i, node in zip(out, nodes, strict=True))
+        self.handover.record(stamp, out, [node.mean for node in nodes])
         return out
 
     def _follow_halves(
-        self, nodes: list[TrackNode], keys: list[tuple[str, ...]], ids: list[int]
+        self,
+        nodes: list[TrackNode],
+        keys: list[tuple[str, ...]],
+        ids: list[int],
+        handed: set[int],
     ) -> None:
         """Give the two halves of one split (labels ``X-0`` and ``X-1``, both reported this
         scan) their ids by where those ids were last reported (in place in ``ids``, and in
@@ -827,7 +865,7 @@ class GroupMHTTracker:
                 stem = tuple(label.rpartition("-")[0] for label in key)
                 pairs.setdefault(stem, [-1, -1])[int(ends.pop()) & 1] = i
         for a, b in pairs.values():
-            if a < 0 or b < 0:
+            if a < 0 or b < 0 or a in handed or b in handed:
                 continue
             at_a, at_b = self._last_at.get(ids[a]), self._last_at.get(ids[b])
             if at_a is None or at_b is None:

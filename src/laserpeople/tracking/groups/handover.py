@@ -81,6 +81,20 @@ class IdHandover:
                 used.add(j)
         return out
 
+    def near_vanished(self, stamp: float, position: FloatArray) -> bool:
+        """True when a group not reported in the last scan recorded, reported within
+        ``memory`` seconds of ``stamp`` [s], is predicted within ``gate`` of ``position``
+        [m] (a new group there may take its id)."""
+        if self.memory <= 0.0:
+            return False
+        last = max((v.stamp for v in self._last.values()), default=-math.inf)
+        return any(
+            v.stamp < last
+            and stamp - v.stamp <= self.memory
+            and math.dist(position, v.predicted(stamp)) <= self.gate
+            for v in self._last.values()
+        )
+
     def record(self, stamp: float, ids: list[int], states: list[FloatArray]) -> None:
         """Remember the ids reported at ``stamp`` [s] with their states (x, y, vx, vy, ...)
         and forget those last reported more than ``memory`` seconds before."""

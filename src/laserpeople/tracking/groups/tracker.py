@@ -100,6 +100,8 @@ class GroupTrackerParams:
             "confirm_event_scans": 1,
             "reuse_ids": False,
             "id_memory": 0.0,
+            "handover_confirms": False,
+            "coasting_handover": False,
             "velocity_window": 0.0,
             "shadow_occlusion": False,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
@@ -420,6 +422,18 @@ class GroupTrackerParams:
         "its id (id_memory)",
         "m",
     )
+    handover_confirms: bool = param(
+        False,
+        "extension of 000, measured on random-groups seeds 0-19",
+        "a new group within id_gate of a vanished group's prediction (id_memory) is "
+        "reported at once, not after confirm_scans",
+    )
+    coasting_handover: bool = param(
+        False,
+        "extension of 000, measured on random-groups seeds 0-19",
+        "a new group seen within id_gate of a reported group that is coasting (unseen) "
+        "takes its place: reported at once, with its id, and the coasting one no more",
+    )
     confirm_window: int = param(
         0,
         "chosen on the real recordings (3 of 4 or 5 scans: the same or more ids than 3 "
@@ -672,6 +686,7 @@ class GroupMHTTracker:
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
         self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
         self.handover = IdHandover(p.id_memory, p.id_gate)
+        self._taken_over: set[int] = set()  # coasting families a new group replaced
         """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
 
     @property
@@ -893,9 +908,49 @@ class GroupMHTTracker:
             Candidate(n.family, group_payload(n).event, self.name(n), n.family in visible)
             for n in nodes
         ]
+        if self.params.handover_confirms:
+            for node, c in zip(nodes, candidates, strict=True):
+                new = not c.event and not self.confirmation.is_confirmed(c.family)
+                if new and self.handover.near_vanished(stamp, node.mean[:2]):
+                    self.confirmation.confirm(c.family)
+        if self.params.coasting_handover:
+            candidates = self._take_over_coasting(nodes, candidates)
         self._scans += 1
         keep = self.confirmation.select(self._scans, candidates)
         return [node for node, k in zip(nodes, keep, strict=True) if k]
+
+    def _take_over_coasting(
+        self, nodes: list[TrackNode], candidates: list[Candidate]
+    ) -> list[Candidate]:
+        """A new group seen within ``id_gate`` of a reported group that is coasting
+        (unseen this scan) takes its place: the new group is confirmed at once and the
+        coasting one is not reported any more (its id goes to the new one, :mod:`.handover`);
+        the candidates with those hidden."""
+        gate = self.params.id_gate
+        coasting = [
+            k
+            for k, (n, c) in enumerate(zip(nodes, candidates, strict=True))
+            if c.visible
+            and self.confirmation.is_confirmed(c.family)
+            and group_payload(n).members.size == 0
+            and c.family not in self._taken_over
+        ]
+        for node, c in zip(nodes, candidates, strict=True):
+            if c.event or self.confirmation.is_confirmed(c.family):
+                continue
+            if group_payload(node).members.size == 0 or not coasting:
+                continue
+            d = [math.dist(node.mean[:2], nodes[k].mean[:2]) for k in coasting]
+            nearest = int(np.argmin(d))
+            if d[nearest] <= gate:
+                self.confirmation.confirm(c.family)
+                self._taken_over.add(nodes[coasting.pop(nearest)].family)
+                if not coasting:
+                    break
+        if not self._taken_over:
+            return candidates
+        gone = self._taken_over
+        return [replace(c, visible=False) if c.family in gone else c for c in candidates]
 
     def _off_static_places(self, nodes: list[TrackNode], stamp: float) -> list[TrackNode]:
         """``nodes`` without the groups on static places (counted in
@@ -964,6 +1019,7 @@ class GroupMHTTracker:
         shown = set(self._shown.values())
         self._formatted = {k: v for k, v in self._formatted.items() if k in shown}
         self.confirmation.prune(self.mht.tree.nodes_by_family, {str(r) for r in roots})
+        self._taken_over.intersection_update(self.mht.tree.nodes_by_family)
         self.branches.forget_gone(names)
         stems = {stem for label in labels for stem in _stems(label)}
         if self._walked_at:  # a label's walk counts for the labels split from it
@@ -994,6 +1050,8 @@ class GroupMHTTracker:
             "reported_ids": len(self._ids),
             "last_positions": len(self._last_at),
             "anchors": len(self._anchors),
+            "taken_over": len(self._taken_over),
+            "handover": len(self.handover),
             "merged_labels": self.branches.memo_size,
             **self.confirmation.sizes(),
         }

@@ -10,7 +10,12 @@ and not reported now, when the vanished group's constant-velocity prediction lie
 of a split the id of the party it came nearest to (the group that was split, or one merged
 into it before). Pairs are taken nearest first; each vanished id goes to one group at most.
 
-The MHT does not see any of this; only the ids of the reports change.
+The tracker (:class:`~laserpeople.tracking.groups.GroupMHTTracker`) also reports a new
+group near a vanished one at once instead of after ``confirm_scans`` (it continues a group
+the user saw), and lets a new group within ``gate`` of a reported group that is coasting
+(unseen this scan) take that group's place: the party the MHT took up again under a new
+track. The MHT does not see any of this; only which groups are reported, and their ids,
+change.
 """
 
 from __future__ import annotations

@@ -9,7 +9,8 @@ prunes (ratio, N-scan-back) and updates the matched groups (eqs. 28-31).
 
 Reported are the groups of the best hypothesis that are confirmed (in it for
 ``confirm_scans`` consecutive scans, :mod:`.confirm`; 1 reports every group, as 000) and,
-with a static world model, not on a static place.
+with a static world model, not on a static place. A group first reported where a
+reported group vanished takes its id (``id_memory``, :mod:`.handover`).
 
 The people-only mode (:meth:`GroupTrackerParams.people_only`) inhibits splits and merges
 and clusters with a small d_P, the comparison tracker of 000 Fig. 17 (right).
@@ -100,8 +101,6 @@ class GroupTrackerParams:
             "confirm_event_scans": 1,
             "reuse_ids": False,
             "id_memory": 0.0,
-            "handover_confirms": False,
-            "coasting_handover": False,
             "velocity_window": 0.0,
             "shadow_occlusion": False,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
@@ -406,33 +405,25 @@ class GroupTrackerParams:
         "is reported with that group's id (false: every track its own id, as before)",
     )
     id_memory: float = param(
-        2.0,
-        "extension of 000 (0: a split, merge or new group is reported under a new id, as "
-        "000); chosen on random-groups seeds 0-19, held-back seeds and the real recordings "
-        "in docs/groups.md",
+        3.0,
+        "extension of 000 (0: a split, merge or new group is reported under a new id after "
+        "confirm_scans, as 000); chosen on random-groups seeds 0-19 (2 s: group MOTA the "
+        "same, proxemic 0.001 lower), held-back seeds and the real recordings in "
+        "docs/groups.md",
         "a group first reported may take the id of a group reported within this many "
         "seconds and not reported now, whose constant-velocity prediction lies within "
-        "id_gate of it (with reuse_ids; 0: never)",
+        "id_gate of it; a new group there is reported at once, and a new group within "
+        "id_gate of a reported group that is coasting (unseen) takes its place and id "
+        "(with reuse_ids; 0: never)",
         "s",
     )
     id_gate: float = param(
-        1.0,
-        "assumption: the scorer's gate of a group (1 m)",
-        "farthest a group first reported may be from a vanished group's prediction to take "
-        "its id (id_memory)",
+        1.5,
+        "chosen on random-groups seeds 0-19 (1.0 m: group MOTA 0.001 and proxemic MOTA "
+        "0.001 lower; docs/groups.md)",
+        "farthest a new group may be from a vanished group's prediction, or from a coasting "
+        "group, to take its id (id_memory)",
         "m",
-    )
-    handover_confirms: bool = param(
-        False,
-        "extension of 000, measured on random-groups seeds 0-19",
-        "a new group within id_gate of a vanished group's prediction (id_memory) is "
-        "reported at once, not after confirm_scans",
-    )
-    coasting_handover: bool = param(
-        False,
-        "extension of 000, measured on random-groups seeds 0-19",
-        "a new group seen within id_gate of a reported group that is coasting (unseen) "
-        "takes its place: reported at once, with its id, and the coasting one no more",
     )
     confirm_window: int = param(
         0,
@@ -685,7 +676,7 @@ class GroupMHTTracker:
         self._walked_at: dict[str, float] = {}  # internal label -> time [s] of its last walk
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
         self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
-        self.handover = IdHandover(p.id_memory, p.id_gate)
+        self.handover = IdHandover(p.id_memory if p.reuse_ids else 0.0, p.id_gate)
         self._taken_over: set[int] = set()  # coasting families a new group replaced
         """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
 
@@ -823,7 +814,8 @@ class GroupMHTTracker:
         id of the group reported before with the same internal labels (a split group whose
         parts merged back: ``0`` -> ``0-0``, ``0-1`` -> ``0``), unless another node of this
         scan has that id; the two halves of a split keep their ids by position
-        (:meth:`_follow_halves`)."""
+        (:meth:`_follow_halves`); a group whose labels were never reported may take the
+        id of a group that vanished near it (``id_memory``, :mod:`.handover`)."""
         if not self.params.reuse_ids:
             return [node.family for node in nodes]
         keys = [self.name(node) for node in nodes]
@@ -908,12 +900,11 @@ class GroupMHTTracker:
             Candidate(n.family, group_payload(n).event, self.name(n), n.family in visible)
             for n in nodes
         ]
-        if self.params.handover_confirms:
+        if self.handover.memory > 0.0:
             for node, c in zip(nodes, candidates, strict=True):
                 new = not c.event and not self.confirmation.is_confirmed(c.family)
                 if new and self.handover.near_vanished(stamp, node.mean[:2]):
                     self.confirmation.confirm(c.family)
-        if self.params.coasting_handover:
             candidates = self._take_over_coasting(nodes, candidates)
         self._scans += 1
         keep = self.confirmation.select(self._scans, candidates)

@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 
 from laserpeople.tracking.groups import GroupTrackerParams
+from laserpeople.tracking.groups.confirm import Candidate
 from laserpeople.tracking.groups.handover import IdHandover, Vanished
+from laserpeople.tracking.groups.model import GroupPayload
+from laserpeople.tracking.mht.tracktree import TrackNode
 
 
 def _state(x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> np.ndarray:
@@ -69,7 +72,9 @@ def test_memory_zero_hands_nothing_over() -> None:
     assert h.hand_over(1.1, [np.array([0.0, 0.0])], set()) == [None]
 
 
-@pytest.mark.parametrize(("name", "value"), [("id_memory", -1.0), ("id_gate", 0.0)])
+@pytest.mark.parametrize(
+    ("name", "value"), [("id_memory", -1.0), ("id_gate", 0.0), ("take_over_distance", -0.1)]
+)
 def test_settings_are_checked(name: str, value: float) -> None:
     with pytest.raises(ValueError, match=name):
         GroupTrackerParams(**{name: value})  # type: ignore[arg-type]
@@ -79,9 +84,8 @@ def _walker_hidden_for_a_while(params: GroupTrackerParams) -> tuple[list[int], l
     """A person walks along x at 1 m/s, unseen from 1.0 s to 2.2 s (longer than an unseen
     group's track lives), and on again; another stands 6 m away throughout. The ids
     reported for the walker before it is hidden and from 0.3 s after it is seen again."""
-    from test_track_groups import _frame, legs
-
     from laserpeople.tracking.groups import GroupMHTTracker
+    from test_track_groups import _frame, legs
 
     tracker = GroupMHTTracker(params)
     before: list[int] = []
@@ -106,3 +110,36 @@ def test_a_walker_seen_again_keeps_its_id() -> None:
     assert before and after and set(before) == set(after)
     before, after = _walker_hidden_for_a_while(GroupTrackerParams(id_memory=0.0))
     assert before and after and not set(before) & set(after)
+
+
+def _group(family: int, x: float, seen: bool) -> TrackNode:
+    members = np.arange(3, dtype=np.int64) if seen else np.empty(0, dtype=np.int64)
+    payload = GroupPayload(np.zeros((1, 2)), (str(family),), members=members)
+    mean = np.array([x, 0.0, 0.0, 0.0, 1.0])
+    return TrackNode(family, family, -1, mean, np.eye(5), 0.0, "detected", payload=payload)
+
+
+@pytest.mark.parametrize(("x", "taken"), [(0.9, True), (1.1, False)])
+def test_a_new_group_beside_a_coasting_one_takes_its_place(x: float, taken: bool) -> None:
+    """Group 1 is reported and coasts (unseen this scan) at 0 m; new group 2 is seen at
+    ``x``. Within ``take_over_distance`` (1 m) the new group is confirmed at once and the
+    coasting one hidden, for good; farther, both stay as they were. A coasting group that
+    is not confirmed, or a new group that is not seen, takes nothing over."""
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    tracker.confirmation.confirm(1)
+    nodes = [_group(1, 0.0, seen=False), _group(2, x, seen=True)]
+    cands = [Candidate(n.family, "", (str(n.family),)) for n in nodes]
+    out = tracker._take_over_coasting(nodes, cands)
+    assert [c.visible for c in out] == [not taken, True]
+    assert tracker.confirmation.is_confirmed(2) is taken
+    again = tracker._take_over_coasting(nodes, cands)  # the next scan: still hidden
+    assert [c.visible for c in again] == [not taken, True]
+    fresh = GroupMHTTracker(GroupTrackerParams())  # group 1 never confirmed
+    assert all(c.visible for c in fresh._take_over_coasting(nodes, cands))
+    assert not fresh.confirmation.is_confirmed(2)
+    unseen = [_group(1, 0.0, seen=False), _group(2, x, seen=False)]
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    tracker.confirmation.confirm(1)
+    assert all(c.visible for c in tracker._take_over_coasting(unseen, cands))

@@ -98,13 +98,14 @@ def main() -> None:
             notes, r = job.result()
             runs.append(r)
             by_level[notes["scanner"]["level"]].append(r)
-            m = r.group_mot
+            m, x = r.group_mot, r.proxemic_mot
             print(
                 f"seed {seed} ({notes['scanner']['level']}, "
                 f"{notes['scanner']['resolution_deg']:.2f} deg, "
                 f"{'moving' if notes['moving_robot'] else 'still'}, {notes['people']} people): "
                 f"group MOTA {m.mota:.3f} (miss {m.misses}, fp {m.false_positives}, ids "
-                f"{m.id_switches} of {m.num_truth}), proxemic {r.proxemic_mot.mota:.3f}; "
+                f"{m.id_switches} of {m.num_truth}), proxemic {x.mota:.3f} (miss {x.misses}, fp "
+                f"{x.false_positives}, ids {x.id_switches} of {x.num_truth}); "
                 f"size error {r.size.mean_error:.2f}, exact "
                 f"{100 * r.size.exact_share:.1f} %; clustering error {r.clustering.error:.3f}",
                 flush=True,

@@ -461,8 +461,13 @@ def test_split_and_merge_labels_on_a_scripted_sequence(params: GroupTrackerParam
     assert kinds.index("split") < kinds.index("merge")
     # the rejoined group is the group of before the split (its labels say so): same id
     assert last[0].track_id == first[0].track_id
-    split_ids = {t.track_id for out in history for t in out.of_kind("group") if t.labels != "0"}
-    assert first[0].track_id not in split_ids
+    # the half nearer the group's centroid (3.8 m) takes its id (id_memory): the pair
+    # leaving (4.2 m), not the person staying at 3.0 m, who gets a new id
+    halves = [t for out in history[25:45] for t in out.of_kind("group") if t.labels != "0"]
+    staying = {t.track_id for t in halves if abs(t.position[1]) < 0.3}
+    leaving = {t.track_id for t in halves if t.position[1] > 1.0}
+    assert leaving == {first[0].track_id}
+    assert staying and first[0].track_id not in staying
 
 
 def test_without_reuse_ids_a_rejoined_group_gets_a_new_id() -> None:
@@ -477,6 +482,8 @@ def test_without_reuse_ids_a_rejoined_group_gets_a_new_id() -> None:
     first, last = history[10].of_kind("group"), history[-1].of_kind("group")
     assert [t.labels for t in first] == [t.labels for t in last] == ["0"]
     assert last[0].track_id != first[0].track_id
+    split_ids = {t.track_id for out in history for t in out.of_kind("group") if t.labels != "0"}
+    assert first[0].track_id not in split_ids  # 000: a split half is a new track
 
 
 @SETTINGS
@@ -649,19 +656,19 @@ def test_the_halves_of_a_split_keep_their_ids_by_position() -> None:
     hypothesis may give the left person ``3-0`` in one scan and ``3-1`` in the next: the
     ids stay with the people (nearest to where each id was last reported), also when the
     halves split anew after merging back; a half first seen keeps its own id."""
-    tracker = GroupMHTTracker(GroupTrackerParams())
-    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
+    tracker = GroupMHTTracker(GroupTrackerParams(id_memory=0.0))  # ids by labels
+    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)], 0.1) == [10, 11]
     # the other hypothesis wins: family 10 (3-0) now holds the right person
-    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [11, 10]
-    assert tracker._reported_ids([_half(11, "3-1", 0.2), _half(10, "3-0", 2.2)]) == [10, 11]
+    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)], 0.2) == [11, 10]
+    assert tracker._reported_ids([_half(11, "3-1", 0.2), _half(10, "3-0", 2.2)], 0.3) == [10, 11]
     # merged back and split again with new families: the ids by position, not by label
-    assert tracker._reported_ids([_half(20, "3-0", 2.3), _half(21, "3-1", 0.3)]) == [11, 10]
+    assert tracker._reported_ids([_half(20, "3-0", 2.3), _half(21, "3-1", 0.3)], 0.4) == [11, 10]
     # a half of another split whose sibling is not reported: its own id
-    assert tracker._reported_ids([_half(30, "5-1", 0.35)]) == [30]
+    assert tracker._reported_ids([_half(30, "5-1", 0.35)], 0.5) == [30]
     # 000's naming (reuse_ids false): every track its family
     plain = GroupMHTTracker(GroupTrackerParams(reuse_ids=False))
-    assert plain._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
-    assert plain._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [10, 11]
+    assert plain._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)], 0.6) == [10, 11]
+    assert plain._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)], 0.7) == [10, 11]
 
 
 def test_a_half_seen_alone_after_the_halves_swapped_keeps_its_persons_id() -> None:
@@ -670,8 +677,25 @@ def test_a_half_seen_alone_after_the_halves_swapped_keeps_its_persons_id() -> No
     ``3-1`` at 0.2 m, is reported as 10, the id its person had (the swap is remembered for
     the labels, not only made by position while both halves are seen), and the right half
     back alone as 11."""
-    tracker = GroupMHTTracker(GroupTrackerParams())
-    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)]) == [10, 11]
-    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)]) == [11, 10]
-    assert tracker._reported_ids([_half(11, "3-1", 0.2)]) == [10]
-    assert tracker._reported_ids([_half(10, "3-0", 2.2)]) == [11]
+    tracker = GroupMHTTracker(GroupTrackerParams(id_memory=0.0))  # ids by labels
+    assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)], 0.8) == [10, 11]
+    assert tracker._reported_ids([_half(10, "3-0", 2.1), _half(11, "3-1", 0.1)], 0.9) == [11, 10]
+    assert tracker._reported_ids([_half(11, "3-1", 0.2)], 1.0) == [10]
+    assert tracker._reported_ids([_half(10, "3-0", 2.2)], 1.1) == [11]
+
+
+def test_a_new_half_takes_the_id_that_vanished_beside_it() -> None:
+    """The split's halves 10 and 11 vanish and a half of another split is first reported
+    0.35 m from where 10 was: it takes id 10 (``id_memory``); with ``id_gate`` 0.3 m, or
+    without the handover, its own."""
+    for params, expected in (
+        (GroupTrackerParams(), 10),
+        (GroupTrackerParams(id_gate=0.3), 30),
+        (GroupTrackerParams(id_memory=0.0), 30),
+    ):
+        tracker = GroupMHTTracker(params)
+        assert tracker._reported_ids([_half(10, "3-0", 0.0), _half(11, "3-1", 2.0)], 0.1) == [
+            10,
+            11,
+        ]
+        assert tracker._reported_ids([_half(30, "5-1", 0.35)], 0.2) == [expected]

@@ -98,6 +98,16 @@ class Confirmation:
             self._seen = {f: s for f, s in self._seen.items() if index - s[-1] < self.s.window}
         return out
 
+    def confirm(self, family: int) -> None:
+        """Report ``family`` from now on, without waiting (it takes the place of a group
+        reported before)."""
+        self._confirmed.add(family)
+        self._seen.pop(family, None)
+
+    def is_confirmed(self, family: int) -> bool:
+        """True once ``family`` is reported whenever it is in the best hypothesis."""
+        return family in self._confirmed
+
     def prune(self, families: Iterable[int], roots: Iterable[str] | None = None) -> None:
         """Forget the confirmed families not in ``families`` and, when given, the label
         roots not in ``roots``: the families and roots of every track still alive in some

@@ -37,14 +37,16 @@ REFERENCE_MHT = MHTParams(min_ratio=1e-3)
 """Ratio pruning of every run here: the group tracker's default until session 9 (now
 ``GROUP_MIN_RATIO``, 3e-3, docs/groups.md "Fifth round"), pinned so that the reference
 recorded before keeps checking that speed work leaves the decisions unchanged."""
-REFERENCE_REPORTING: dict[str, int] = {
+REFERENCE_REPORTING: dict[str, float] = {
     "confirm_scans": 1,
     "confirm_window": 0,
     "confirm_event_scans": 1,
+    "id_memory": 0.0,
 }
-"""Every group of the best hypothesis reported in every scan (000; the default confirms a
-group after 3 scans since session 10, docs/groups.md "Confirmed groups"), pinned so that
-the reference recorded before keeps checking the tracker's decisions."""
+"""Every group of the best hypothesis reported in every scan under its own id (000; the
+default confirms a group after 3 scans, docs/groups.md "Confirmed groups", and hands a
+vanished group's id to the group taking its place, ``id_memory``), pinned so that the
+reference recorded before keeps checking the tracker's decisions."""
 REFERENCE_SIZE_COUNT = "legs"
 REFERENCE_SIZE_STD = 0.25
 """How the reference counted and filtered group sizes (the defaults are now "resolved"

@@ -110,6 +110,9 @@ BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foregro
 SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)
 LIVE_FRAME = ("tests/test_live_frame.py",)
+HANDOVER = ("tests/test_track_groups_handover.py",)
+FEET_SURFACE = ("tests/test_pf_feet_surface.py",)
+TRUTH_BAG = ("tests/test_io_truth_bag.py", "tests/test_eval_followed.py")
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -130,6 +133,8 @@ GO = "tracking/groups/observations.py"
 GS = "tracking/groups/occlusion.py"
 TB = "pipeline/torso_blobs.py"
 LC = "live/choice.py"
+GHO = "tracking/groups/handover.py"
+GT = "tracking/groups/tracker.py"
 GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
 MUTANTS: tuple[Mutant, ...] = (
@@ -1585,6 +1590,54 @@ MUTANTS: tuple[Mutant, ...] = (
         "if len(stated) == 1 and None not in stated:",
         "if len(stated) >= 1 and None not in stated:",
         ("tests/test_npz.py",),
+    ),
+    Mutant(
+        "handover-gate-loose",
+        "group ids handed over (a vanished id goes to a group within id_gate of it only)",
+        GHO,
+        "if d > self.gate:",
+        "if d > 2.0 * self.gate:",
+        HANDOVER,
+    ),
+    Mutant(
+        "handover-reported-now",
+        "group ids handed over (an id reported in this scan is never handed over)",
+        GHO,
+        "if i not in current and v.stamp < stamp and stamp - v.stamp <= self.memory",
+        "if v.stamp < stamp and stamp - v.stamp <= self.memory",
+        HANDOVER,
+    ),
+    Mutant(
+        "take-over-gate-loose",
+        "a new group takes a coasting group's place only within take_over_distance",
+        GT,
+        "if d[nearest] <= gate:",
+        "if d[nearest] <= 1.5 * gate:",
+        HANDOVER,
+    ),
+    Mutant(
+        "feet-report-offset-sum",
+        "feet-pf report_offset (the mean beam direction of the supporting points, not the sum)",
+        F,
+        "out[f] = offset * rays[idx].mean(axis=0)",
+        "out[f] = offset * rays[idx].sum(axis=0)",
+        FEET_SURFACE,
+    ),
+    Mutant(
+        "feet-report-offset-sign",
+        "feet-pf report_offset (away from the laser, not towards it)",
+        F,
+        "out[f] = offset * rays[idx].mean(axis=0)",
+        "out[f] = -offset * rays[idx].mean(axis=0)",
+        FEET_SURFACE,
+    ),
+    Mutant(
+        "truth-bag-laser-frame",
+        "labels in a bag whose header names the laser's frame are in the sensor frame",
+        "io/truth_bag.py",
+        "if self.frame_id is None or self.frame_id == self.laser_frame_id:",
+        "if self.frame_id is None:",
+        TRUTH_BAG,
     ),
 )
 

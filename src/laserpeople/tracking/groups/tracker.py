@@ -234,7 +234,7 @@ class GroupTrackerParams:
     )
     surface_gap: float = param(
         0.15,
-        "chosen on random-groups seeds 0-19 (0.15-0.21 m tried; a torso's scan neighbours "
+        "chosen on random-groups seeds 0-19 (0.15 and 0.18 m run; a torso's scan neighbours "
         "are 0.12-0.14 m apart at the median, the legs of two people run together into one "
         "blob 0.25-0.27 m; docs/groups.md)",
         "largest gap between scan neighbours of a blob that is one continuous surface "

@@ -30,15 +30,17 @@ def scene():  # type: ignore[no-untyped-def]
 
 
 def test_resolved_size_counting_end_to_end(scene) -> None:  # type: ignore[no-untyped-def]
-    # measured: resolved 94.7 % exact, 0.068 people off; without pair_arc (leg-sized
-    # blobs that cover two legs paired) 92.8 %, 0.086; resolved as before the matching,
-    # pair_arc and person_width 92.4 %, 0.090 (with size std 0.15 as well: 89.3 %, 0.127);
-    # the leg pairs of "legs" 81.7 %, 0.25; 000's blobs 84.5 %, 0.21 (a counter that
-    # ignores the beams' arc is one of those)
+    # measured: resolved 93.4 % exact, 0.081 people off (a torso-height scene; without
+    # surface_gap 94.7 %, 0.068: on this scene the rule costs, on tuning seeds 0-19 torso
+    # height it gains 91.5 -> 93.3 %); without pair_arc (leg-sized blobs that cover two legs
+    # paired) 91.3 %, 0.103; resolved as before the matching, pair_arc and person_width
+    # 92.4 %, 0.090 (with size std 0.15 as well: 89.3 %, 0.127); the leg pairs of "legs"
+    # 81.7 %, 0.25; 000's blobs 84.5 %, 0.21 (a counter that ignores the beams' arc is one
+    # of those)
     r = run_groups(scene.scans, GroupTrackerParams(), truth=scene.truth)
     assert r.size.count > 400
-    assert r.size.exact_share >= 0.94
-    assert r.size.mean_error <= 0.075
+    assert r.size.exact_share >= 0.93
+    assert r.size.mean_error <= 0.082
     before = {"pair_arc": 0.0, "person_width": 0.0}  # (and mutual nearest legs: 92.4 %)
     others: list[dict[str, object]] = [
         {"size_count": "legs"},
@@ -49,7 +51,7 @@ def test_resolved_size_counting_end_to_end(scene) -> None:  # type: ignore[no-un
     ]
     for change in others:
         other = run_groups(scene.scans, replace(GroupTrackerParams(), **change))  # type: ignore[arg-type]
-        assert other.size.exact_share < 0.94 or other.size.mean_error > 0.075, change
+        assert other.size.exact_share < 0.93 or other.size.mean_error > 0.082, change
     m = r.group_mot
     assert m.num_truth > 0 and math.isfinite(m.mota)
     assert m.matches + m.misses == m.num_truth

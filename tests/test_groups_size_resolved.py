@@ -166,3 +166,48 @@ def test_a_blob_wider_than_a_person_holds_two_whatever_its_arc() -> None:
 def test_bad_matching_settings_are_refused() -> None:
     with pytest.raises(ValueError, match="person_width"):
         SizeCounting("resolved", person_width=-0.1)
+
+
+def test_a_continuous_blob_of_three_legs_arc_is_one_person() -> None:
+    # nine points 0.06 m apart at 0.06 m per beam: an arc of 0.54 m (3 legs: two people
+    # by the arc), 0.48 m across. No gap between scan neighbours wider than surface_gap
+    # (0.15 m): one surface, a torso, one person; without the rule two.
+    assert pytest.approx(0.15) == DEFAULT.surface_gap
+    torso = _run(4.0, 0.0, 9, 0.06)
+    assert _count(torso, DEFAULT, 0.06) == [1.0]
+    assert _count(torso, replace(DEFAULT, surface_gap=0.0), 0.06) == [2.0]
+    # the legs of two people run together: two runs of four points 0.06 m apart with a
+    # gap between them (arc 0.48 m: 3 legs, 0.56 m across). A gap of 0.14 m is still one
+    # surface, one of 0.16 m is two people
+    for gap, people in ((0.14, 1.0), (0.16, 2.0)):
+        ys = np.r_[0.06 * np.arange(4), 0.18 + gap + 0.06 * np.arange(4)]
+        assert _count(np.column_stack([np.full(8, 4.0), ys]), DEFAULT, 0.06) == [people]
+
+
+def test_the_surface_rule_leaves_four_legs_arc_and_blobs_wider_than_a_person() -> None:
+    # twelve points 0.04 m apart at 0.06 m per beam: arc 0.72 m, 4 legs (two people by
+    # floor(4 / 2 + 1/2) as three legs are), 0.44 m across: still two people
+    assert _count(_run(4.0, 0.0, 12, 0.04), DEFAULT, 0.06) == [2.0]
+    # nine points 0.08 m apart: three legs' arc (0.54 m) but 0.64 m across, wider than
+    # person_width: two people, continuous or not
+    assert _count(_run(4.0, 0.0, 9, 0.08), DEFAULT, 0.06) == [2.0]
+    # a continuous blob that counts one person by its arc stays one (five points: 0.30 m)
+    assert _count(_run(4.0, 0.0, 5, 0.06), DEFAULT, 0.06) == [1.0]
+
+
+def test_a_negative_surface_gap_is_refused() -> None:
+    with pytest.raises(ValueError, match="surface_gap"):
+        SizeCounting("resolved", surface_gap=-0.1)
+    with pytest.raises(ValueError, match="surface_gap"):
+        GroupTrackerParams(surface_gap=-0.1)
+
+
+def test_a_blob_not_in_one_run_of_the_scan_is_not_taken_for_a_surface() -> None:
+    # the torso's nine points, its last four first in scan order (a blob wrapping round
+    # the scan's end), with a one-point blob 0.9 m away between the runs: the gap between
+    # its runs is not seen, so the blob keeps its count by the arc (two people, and one
+    # for the point). In one run: one person and one.
+    torso = _run(4.0, 0.0, 9, 0.06)
+    other = np.array([[4.9, 0.0]])
+    assert _count(np.vstack([torso, other]), DEFAULT, 0.06) == [2.0]
+    assert _count(np.vstack([torso[5:], other, torso[:5]]), DEFAULT, 0.06) == [3.0]

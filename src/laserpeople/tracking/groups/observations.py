@@ -23,7 +23,10 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
   leg's radius) and is not paired. The one-leg blobs are paired by a maximum matching (the
   most pairs closer than ``pair_distance``, each blob in one pair at most): the fewest
   people whose two legs lie within a stride, where mutual nearest neighbours miss the
-  pairs of people walking in file with strides as long as their spacing.
+  pairs of people walking in file with strides as long as their spacing. A wide blob that
+  its arc counts as two people (three legs) but no wider than a person, whose points (in
+  scan order) are nowhere more than ``surface_gap`` apart, is one continuous surface: one
+  person (a torso at 1 m; the legs of two people leave a gap between them).
 """
 
 from __future__ import annotations
@@ -290,6 +293,9 @@ class SizeCounting:
             least; 0: not used).
         pair_arc: Arc from which a leg-sized blob holds two legs and is not paired [m]
             ("resolved"; 0: every leg-sized blob may be paired).
+        surface_gap: Largest gap between scan neighbours of a blob that is one
+            continuous surface [m] ("resolved": such a blob of three legs' arc, no wider
+            than ``person_width``, is one person; 0: not used).
     """
 
     method: str = "legs"
@@ -298,14 +304,17 @@ class SizeCounting:
     leg_width: float = 0.18
     person_width: float = 0.0
     pair_arc: float = 0.0
+    surface_gap: float = 0.0
 
     def __post_init__(self) -> None:
         if self.method not in ("blobs", "legs", "resolved"):
             raise ValueError("size counting method must be 'blobs', 'legs' or 'resolved'")
         if min(self.pair_distance, self.leg_radius, self.leg_width) <= 0.0:
             raise ValueError("pair_distance, leg_radius and leg_width must be positive")
-        if min(self.person_width, self.pair_arc) < 0.0:
-            raise ValueError("person_width and pair_arc must not be negative (0: not used)")
+        if min(self.person_width, self.pair_arc, self.surface_gap) < 0.0:
+            raise ValueError(
+                "person_width, pair_arc and surface_gap must not be negative (0: not used)"
+            )
 
 
 def count_people(
@@ -362,6 +371,9 @@ def blob_people(
     pairable = radius <= counting.leg_radius
     if counting.method == "resolved":
         people = resolved_people(blob, radius, counting, spacing)
+        if spacing is not None and counting.surface_gap > 0.0:
+            surface = continuous_surfaces(pts, blob, radius, counting, spacing)
+            people[surface] = 1.0
         if spacing is not None and counting.pair_arc > 0.0:
             arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
             pairable &= arc < counting.pair_arc
@@ -395,6 +407,38 @@ def resolved_people(
         across = np.ceil(2.0 * radius[wide] / counting.person_width - 1e-9)
         people[wide] = np.maximum(people[wide], across)
     return people
+
+
+def continuous_surfaces(
+    pts: FloatArray,
+    blob: IntArray,
+    radius: FloatArray,
+    counting: SizeCounting,
+    spacing: FloatArray,
+) -> NDArray[np.bool_]:
+    """Mask (B,) of the blobs that are one continuous surface under ``"resolved"``
+    counting: wider than a leg (``radius`` (B,) [m] above ``leg_radius``), no wider than
+    ``person_width`` (twice the radius), of three legs' arc (``round(arc / leg_width)``
+    = 3, the arc the sum of ``spacing`` (N,) [m]) and with no two consecutive points of
+    the blob (``pts`` (N, 2) [m] in scan order, ``blob`` (N,) their labels 0..B-1) more
+    than ``surface_gap`` [m] apart. A blob that wraps round the end of a scan shows a
+    gap and is left as it is."""
+    n_blobs = radius.size
+    arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
+    gap = np.zeros(n_blobs)
+    same = blob[1:] == blob[:-1]
+    step = np.hypot(*np.diff(pts, axis=0).T)
+    np.maximum.at(gap, blob[1:][same], step[same])
+    starts = np.bincount(blob[np.r_[True, ~same]], minlength=n_blobs)
+    contiguous = starts == 1
+    legs = np.round(arc / counting.leg_width)
+    return (
+        (radius > counting.leg_radius)
+        & (2.0 * radius <= counting.person_width)
+        & (legs == 3.0)
+        & contiguous
+        & (gap <= counting.surface_gap)
+    )
 
 
 def blob_shapes(pts: FloatArray, blob: IntArray, n_blobs: int) -> tuple[FloatArray, FloatArray]:

@@ -232,6 +232,16 @@ class GroupTrackerParams:
         "another blob (size_count resolved; 0: every leg-sized blob may be paired)",
         "m",
     )
+    surface_gap: float = param(
+        0.15,
+        "chosen on random-groups seeds 0-19 (0.15 and 0.18 m run; a torso's scan neighbours "
+        "are 0.12-0.14 m apart at the median, the legs of two people run together into one "
+        "blob 0.25-0.27 m; docs/groups.md)",
+        "largest gap between scan neighbours of a blob that is one continuous surface "
+        "(size_count resolved: such a blob of three legs' arc, no wider than person_width, "
+        "is one person; 0: not used)",
+        "m",
+    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -478,6 +488,8 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs', 'legs' or 'resolved'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
+        if not (self.surface_gap >= 0.0 and math.isfinite(self.surface_gap)):
+            raise ValueError("surface_gap must be finite and not negative (0: not used)")
         if self.max_models < 1 or self.max_events < 0:
             raise ValueError("max_models must be at least 1 and max_events not negative")
         if not (self.observation_area >= 0.0 and math.isfinite(self.observation_area)):
@@ -533,6 +545,7 @@ class GroupTrackerParams:
             self.leg_width,
             self.person_width,
             self.pair_arc,
+            self.surface_gap,
         )
 
     def model_settings(self) -> GroupModelSettings:

@@ -1632,6 +1632,22 @@ MUTANTS: tuple[Mutant, ...] = (
         FEET_SURFACE,
     ),
     Mutant(
+        "surface-three-legs",
+        "group size: a continuous surface of exactly three legs' arc is one person",
+        GO,
+        "        & (legs == 3.0)",
+        "        & (legs >= 3.0)",
+        ("tests/test_groups_size_resolved.py",),
+    ),
+    Mutant(
+        "surface-gap-loose",
+        "group size: a surface whose scan neighbours are at most surface_gap apart",
+        GO,
+        "        & (gap <= counting.surface_gap)",
+        "        & (gap <= 2.0 * counting.surface_gap)",
+        ("tests/test_groups_size_resolved.py",),
+    ),
+    Mutant(
         "truth-bag-laser-frame",
         "labels in a bag whose header names the laser's frame are in the sensor frame",
         "io/truth_bag.py",

@@ -71,3 +71,22 @@ def test_the_table_marks_an_error_row_and_leaves_its_text_to_a_line_of_its_own()
     assert bad_row[:3] == ["bad", "error", "–"] and set(bad_row[2:]) == {"–"}
     assert "no truth" not in " ".join(bad_row)
     assert [col._cells[0] for col in table.columns][1] == "1.000"  # a's MOTA
+
+
+def test_a_tracks_csv_without_a_frame_is_in_the_frame_of_its_truth(tmp_path):
+    """Bag labels are in the laser frame, so a CSV that states no frame is read as the
+    laser frame against them, as every other truth reads it as the world frame; for one
+    file (evaluate's CLI) and for several (score_recording) alike."""
+    from laserpeople.evaluation.recordings import track_frames, unstated_tracks_frame
+
+    bag = tmp_path / "run.bag"
+    bag.write_bytes(b"")
+    assert unstated_tracks_frame(f"{bag}:/people") == "sensor"
+    assert unstated_tracks_frame(bag) == "sensor"
+    assert unstated_tracks_frame(tmp_path / "run.people.csv") == "world"
+    assert unstated_tracks_frame(tmp_path / "sim.npz") == "world" == unstated_tracks_frame(None)
+    csv = tmp_path / "t.csv"
+    csv.write_text("scan,stamp,track_id,kind,x,y,vx,vy,cov_xx,cov_xy,cov_yy,size,labels\n"
+                   "0,0.0,1,person,1.0,0.0,0,0,1,0,1,1,\n")  # fmt: skip
+    assert [t.frame for t in track_frames(csv, "person", truth=bag)] == ["sensor"]
+    assert [t.frame for t in track_frames(csv, "person")] == ["world"]

@@ -87,3 +87,15 @@ def test_the_tracker_reports_its_person_beyond_the_one_laser() -> None:
             assert d @ away > 0.055
             compared += 1
     assert compared > 20 and coasting < compared / 4
+
+
+def test_a_point_near_both_feet_of_a_filter_counts_once() -> None:
+    """A at (0.02, 0) lies within 0.1 m of both feet, B at (0.14, 0) of the second only:
+    their mean direction is ((1, 0) + (0, 1)) / 2, not (2 (1, 0) + (0, 1)) / 3."""
+
+    points = np.array([[0.02, 0.0], [0.14, 0.0]])
+    rays = np.array([[1.0, 0.0], [0.0, 1.0]])
+    feet = np.array([[[0.0, 0.0], [0.05, 0.0]]])
+    np.testing.assert_allclose(
+        beyond_surface(points, rays, feet, 0.1, 0.06), [[0.03, 0.03]], atol=1e-12
+    )

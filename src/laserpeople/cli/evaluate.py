@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     from laserpeople.evaluation.followed import FollowedPersonResult
     from laserpeople.evaluation.pairing import PairingCounts
     from laserpeople.io.tracks_csv import TrackIdNames
-    from laserpeople.scan import CoordinateFrame
     from laserpeople.tracks import Tracks
     from laserpeople.truth import TruthFrame
 
@@ -52,21 +51,19 @@ def truth_frames(
     return frames(spec, laser_topic, notes, on_error, on_damage=report_damage)
 
 
-def _unstated_tracks_frame(tracks: Path, truth: str, notes: list[str]) -> CoordinateFrame:
-    """The frame taken for a tracks CSV without a ``frame`` column: the laser frame against
-    labels in a bag (which are in the laser frame, as the leg_tracker benchmark's), else
-    the world frame; a note says so when the column is missing."""
+def _unstated_frame_note(tracks: Path, truth: str, notes: list[str]) -> None:
+    """A note when a tracks CSV has no ``frame`` column, naming the frame it is taken in
+    (:func:`~laserpeople.evaluation.recordings.unstated_tracks_frame`)."""
+    from laserpeople.evaluation.recordings import unstated_tracks_frame
     from laserpeople.io.tracks_csv import read_tracks_frame
-    from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
 
-    frame: CoordinateFrame = "sensor" if is_bag_path(split_truth_spec(truth)[0]) else "world"
     try:
         stated = read_tracks_frame(tracks)
     except RecordingError:  # not readable as text: the reader says what is wrong, and where
-        return frame
+        return
     if stated is None:
+        frame = unstated_tracks_frame(truth)
         notes.append(f"the tracks CSV states no frame (no frame column): taken as {frame}")
-    return frame
 
 
 def render(report: EvaluationReport) -> Table:
@@ -196,6 +193,7 @@ def register(app: typer.Typer) -> None:
                 hint="e.g. laserpeople evaluate tracks.csv --truth run.npz",
             )
         tracks, truth = tracks_args[0], truth_args[0]
+        from laserpeople.evaluation.recordings import unstated_tracks_frame
         from laserpeople.io.paths import check_outputs
         from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
 
@@ -220,9 +218,10 @@ def register(app: typer.Typer) -> None:
             track_stream = iter_tracks_bag(tracks, kinds=kinds)  # type: ignore[arg-type]
         else:
             _check_kind(tracks, params.kind)
+            _unstated_frame_note(tracks, truth_path, notes)
             track_stream = iter_tracks_csv(
                 tracks,
-                frame=_unstated_tracks_frame(tracks, truth_path, notes),
+                frame=unstated_tracks_frame(truth_path),
                 kinds=kinds,  # type: ignore[arg-type]
                 ids=names,
             )

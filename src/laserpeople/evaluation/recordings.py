@@ -27,6 +27,7 @@ from laserpeople.errors import EvaluationError
 from laserpeople.evaluation.hota import Hota, HotaParams, HotaResult, combine_hota
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.evaluation.report import EvaluationReport, evaluate
+from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
 
@@ -83,9 +84,23 @@ def truth_frames(
         recording.close()
 
 
-def track_frames(path: str | Path, kind: str, names: Any = None) -> Iterator[Tracks]:
+def unstated_tracks_frame(truth: str | Path | None) -> CoordinateFrame:
+    """The frame a tracks CSV without a ``frame`` column is taken to be in when scored
+    against ``truth``: the laser frame against labels in a bag (``BAG[:TOPIC]``, whose
+    labels are in the laser frame, as the leg_tracker benchmark's), else the world frame."""
+    from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
+
+    if truth is not None and is_bag_path(split_truth_spec(str(truth))[0]):
+        return "sensor"
+    return "world"
+
+
+def track_frames(
+    path: str | Path, kind: str, names: Any = None, truth: str | Path | None = None
+) -> Iterator[Tracks]:
     """The tracks of ``kind`` per scan from a tracks CSV, Parquet file or tracks bag
-    (``names``: a :class:`~laserpeople.io.tracks_csv.TrackIdNames` for text ids)."""
+    (``names``: a :class:`~laserpeople.io.tracks_csv.TrackIdNames` for text ids; a CSV
+    without a ``frame`` column is in :func:`unstated_tracks_frame` of ``truth``)."""
     from laserpeople.io import is_rosbag
     from laserpeople.io.tracks_csv import iter_tracks_csv
 
@@ -99,7 +114,7 @@ def track_frames(path: str | Path, kind: str, names: Any = None) -> Iterator[Tra
         from laserpeople.io.tracks_bag import iter_tracks_bag
 
         return iter_tracks_bag(p, kinds=kinds)
-    return iter_tracks_csv(p, frame="world", kinds=kinds, ids=names)
+    return iter_tracks_csv(p, frame=unstated_tracks_frame(truth), kinds=kinds, ids=names)
 
 
 def find_truth(recording: str | Path) -> str | None:
@@ -154,7 +169,11 @@ def score_recording(
         hota = Hota(hota_params, keep_frames=False)
         frames = truth_frames(truth, laser_topic, on_error=on_error)
         run = evaluate(
-            frames, track_frames(tracks, params.kind), params, keep_frames=False, also=[hota]
+            frames,
+            track_frames(tracks, params.kind, truth=truth),
+            params,
+            keep_frames=False,
+            also=[hota],
         )
         return RecordingScore(name, str(tracks), str(truth), run.result(), hota.result())
     except LaserPeopleError as exc:

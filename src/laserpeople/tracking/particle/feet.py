@@ -1158,15 +1158,14 @@ def beyond_surface(
     unit beam directions ``rays`` (N, 2) of the ``points`` (N, 2) within ``radius`` of
     either of its feet (F, 2, 2) (a point near two filters counts for both); 0 for a
     filter without such points. Beams from opposite sides cancel."""
-    out = np.zeros((len(feet), 2))
-    if len(points) == 0 or len(feet) == 0:
-        return out
-    near = cKDTree(points).query_ball_point(feet.reshape(-1, 2), radius)
-    for f in range(len(feet)):
-        idx = sorted(set(near[2 * f]) | set(near[2 * f + 1]))
-        if idx:
-            out[f] = offset * rays[idx].mean(axis=0)
-    return out
+    n_filters = len(feet)
+    point, foot = _points_near(points, feet.reshape(-1, 2), radius)
+    pair = np.unique(point * n_filters + foot // 2)  # a point near both feet counts once
+    point, filt = pair // n_filters, pair % n_filters
+    total = np.zeros((n_filters, 2))
+    np.add.at(total, filt, rays[point])
+    count = np.bincount(filt, minlength=n_filters)[:, None]
+    return offset * total / np.maximum(count, 1)
 
 
 def _supported(

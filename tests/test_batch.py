@@ -227,6 +227,9 @@ def test_threads_cluster_and_parquet(recordings, tmp_path):
     from_parquet = list(iter_tracks_parquet(tmp_path / "out" / done.output))
     assert [t.scan_index for t in from_csv] == [t.scan_index for t in from_parquet]
     for a, b in zip(from_csv, from_parquet, strict=True):
+        assert a.frame == b.frame  # the file's own frame
+        assert a.sensor_pose is not None and b.sensor_pose is not None  # the demo's poses
+        np.testing.assert_allclose(a.sensor_pose.as_array(), b.sensor_pose.as_array(), atol=1e-6)
         assert [t.track_id for t in a.tracks] == [t.track_id for t in b.tracks]
         np.testing.assert_allclose(
             [t.position for t in a.tracks], [t.position for t in b.tracks], atol=1e-4
@@ -294,3 +297,26 @@ def test_sweep_ranks_settings_and_scores_held_out(recordings, tmp_path):
     bad.write_text('metric = "speed"\n[grid.leg_detector]\nscore_threshold = [0.0]\n')
     with pytest.raises(ConfigError, match="speed"):
         load_sweep(bad)
+
+
+def test_parquet_keeps_the_frame_and_sensor_pose(tmp_path):
+    from laserpeople.batch.parquet import COLUMNS, TracksParquetSink
+    from laserpeople.frame import Frame
+    from laserpeople.scan import Pose2D
+    from laserpeople.tracks import Track, Tracks
+
+    pose = Pose2D(3.0, -2.0, 0.75)
+    leg = Track(4, "leg", np.array([1.0, 0.5]), np.zeros(2), np.eye(2) * 0.01)
+    sink = TracksParquetSink(tmp_path / "t.parquet", frame="sensor")
+    for k, p in ((0, pose), (1, None)):
+        frame = Frame(k, 0.1 * k, (), "/scan", "sensor")
+        sink.write(frame, Tracks(0.1 * k, k, (leg,), "sensor", p))
+    sink.close()
+    back = list(iter_tracks_parquet(tmp_path / "t.parquet", frame="world"))
+    assert [(t.frame, t.sensor_pose) for t in back] == [("sensor", pose), ("sensor", None)]
+    # a file written before the pose columns existed: read without poses
+    table = pq.read_table(tmp_path / "t.parquet")
+    old = table.drop_columns(["sensor_x", "sensor_y", "sensor_yaw"])
+    pq.write_table(old, tmp_path / "old.parquet")
+    assert [t.sensor_pose for t in iter_tracks_parquet(tmp_path / "old.parquet")] == [None, None]
+    assert [name for name, _ in COLUMNS][-4:-1] == ["sensor_x", "sensor_y", "sensor_yaw"]

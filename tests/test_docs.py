@@ -70,13 +70,25 @@ def test_readme_is_short_and_installs_from_the_clone() -> None:
 def test_readme_and_outputs_page_list_the_real_csv_columns() -> None:
     from laserpeople.io import detections_csv, tracks_csv
 
-    tracks = ",".join((*tracks_csv.HEADER, tracks_csv.TOPIC_COLUMN, tracks_csv.FRAME_COLUMN))
+    tracks = ",".join(
+        (
+            *tracks_csv.HEADER,
+            tracks_csv.TOPIC_COLUMN,
+            tracks_csv.FRAME_COLUMN,
+            *tracks_csv.SENSOR_POSE_COLUMNS,
+        )
+    )
     detections = ",".join((*detections_csv.HEADER, detections_csv.TOPIC_COLUMN))
     readme = (REPO / "README.md").read_text(encoding="utf-8")
     outputs = (REPO / "docs" / "outputs.md").read_text(encoding="utf-8")
     assert f"`{tracks}`" in readme
     assert tracks in outputs and detections in outputs
-    columns = (tracks_csv.TOPIC_COLUMN, tracks_csv.FRAME_COLUMN, tracks_csv.CONTOUR_COLUMN)
+    columns = (
+        tracks_csv.TOPIC_COLUMN,
+        tracks_csv.FRAME_COLUMN,
+        tracks_csv.CONTOUR_COLUMN,
+        *tracks_csv.SENSOR_POSE_COLUMNS,
+    )
     for column in (*tracks_csv.HEADER, *columns):
         assert re.search(rf"^\| [^|]*`{column}`", outputs, flags=re.MULTILINE), column
 

@@ -126,22 +126,30 @@ def test_every_metric_follows_the_protocol():
         assert isinstance(metric, Metric)
 
 
-def test_sensor_frame_tracks_are_moved_to_the_world_frame():
-    truth = TruthFrame.from_positions(0.0, 0, np.array([1]), np.array([[1.0, 4.0]]))
+def test_tracks_are_moved_into_the_frame_the_truth_states():
     pose = Pose2D(1.0, 3.0, math.pi / 2)  # sensor at (1, 3) looking along +y
-    # The person is 1 m in front of the sensor: sensor-frame (1, 0).
+    # The person is 1 m in front of the sensor: sensor-frame (1, 0), world (1, 4).
+    world = TruthFrame.from_positions(0.0, 0, np.array([1]), np.array([[1.0, 4.0]]), "world")
     track = Track(5, "person", [1.0, 0.0], [0.0, 0.0], np.eye(2))
     metric = ClearMot()
-    metric.accumulate(truth, Tracks(0.0, 0, (track,), frame="sensor", sensor_pose=pose))
+    metric.accumulate(world, Tracks(0.0, 0, (track,), frame="sensor", sensor_pose=pose))
     assert metric.result().matches == 1 and metric.result().motp == pytest.approx(0.0, abs=1e-12)
-    # no pose: refused against truth that states the world frame, compared as it is
-    # against truth that states none (laser-frame labels)
-    world = TruthFrame.from_positions(0.0, 0, np.array([1]), np.array([[1.0, 4.0]]), "world")
+    # world-frame tracks against labels in the laser frame: moved the other way
+    laser = TruthFrame.from_positions(1.0, 1, np.array([1]), np.array([[1.0, 0.0]]), "sensor")
+    in_world = Track(5, "person", [1.0, 4.0], [0.0, 0.0], np.eye(2))
+    metric.accumulate(laser, Tracks(1.0, 1, (in_world,), frame="world", sensor_pose=pose))
+    assert metric.result().matches == 2 and metric.result().motp == pytest.approx(0.0, abs=1e-12)
+    # no pose: refused against truth that states another frame
     with pytest.raises(LaserPeopleError, match="sensor frame with no sensor pose"):
         metric.accumulate(world, Tracks(0.0, 0, (track,), frame="sensor"))
-    labels = TruthFrame.from_positions(1.0, 1, np.array([1]), np.array([[1.0, 0.1]]))
-    metric.accumulate(labels, Tracks(1.0, 1, (track,), frame="sensor"))
-    assert metric.result().matches == 2
+    # truth that states no frame: compared as they are, with or without a pose (labels in
+    # the laser frame against sensor-frame tracks; moved into the world frame, the track
+    # would lie at (1, 4), 3.9 m from the label)
+    labels = TruthFrame.from_positions(2.0, 2, np.array([1]), np.array([[1.0, 0.1]]))
+    metric.accumulate(labels, Tracks(2.0, 2, (track,), frame="sensor", sensor_pose=pose))
+    labels = TruthFrame.from_positions(3.0, 3, np.array([1]), np.array([[1.0, 0.1]]))
+    metric.accumulate(labels, Tracks(3.0, 3, (track,), frame="sensor"))
+    assert metric.result().matches == 4
 
 
 def test_without_frames_the_numbers_are_the_same_and_the_table_is_refused():

@@ -48,6 +48,31 @@ def test_frame_conversion_round_trips() -> None:
     )
 
 
+def test_sensor_pose_round_trips_and_bad_cells_are_refused(tmp_path: Path) -> None:
+    pose = Pose2D(2.5, -1.25, -2.75)
+    path = tmp_path / "t.csv"
+    with TracksCsvWriter(path, frame="sensor", topic="/scan") as out:
+        out.write(_tracks(0, pose))  # world-frame tracks written in the sensor frame
+        leg = _tracks(1).tracks[0]
+        out.write(Tracks(0.1, 1, (leg,), "sensor"))  # no pose: empty cells
+    lines = path.read_text().splitlines()
+    assert lines[0].endswith(",topic,frame,sensor_x,sensor_y,sensor_yaw")
+    assert lines[1].endswith(",/scan,sensor,2.500000,-1.250000,-2.750000000")
+    back = list(iter_tracks_csv(path, frame="world"))
+    assert back[0].sensor_pose == pose and back[0].frame == "sensor"
+    assert back[1].sensor_pose is None
+    world = convert_tracks(back[0], "world")  # the pose read back moves them home
+    np.testing.assert_allclose(world.tracks[0].position, [1.0, 2.0], atol=2e-4)
+    for cells, problem in (
+        (",/scan,sensor,1.0,,2.0", "not three numbers"),
+        (",/scan,sensor,1.0,nan,2.0", "not finite"),
+    ):
+        bad = tmp_path / "bad.csv"
+        bad.write_text(lines[0] + "\n" + lines[1].rsplit(",/scan", 1)[0] + cells + "\n")
+        with pytest.raises(RecordingError, match=f"line 2: the sensor pose .* {problem}"):
+            list(iter_tracks_csv(bad))
+
+
 def test_bad_csv_is_a_clear_error(tmp_path: Path) -> None:
     bad = tmp_path / "bad.csv"
     bad.write_text("a,b\n1,2\n")

@@ -259,7 +259,8 @@ def test_tracks_csv_topic_column_and_old_files(tmp_path: Path) -> None:
     sink.write(frame, Tracks(1.0, 0, (tr,), "world"))
     sink.close()
     new = (tmp_path / "new.csv").read_text().splitlines()
-    assert new[0].endswith(",labels,topic,frame") and new[1].endswith(",/front,world")
+    assert new[0].endswith(",labels,topic,frame,sensor_x,sensor_y,sensor_yaw")
+    assert new[1].endswith(",/front,world,,,")  # no sensor pose: empty cells
     assert read_tracks_topic(tmp_path / "new.csv") == "/front"
     assert [t.track_id for f in iter_tracks_csv(tmp_path / "new.csv") for t in f] == [3]
 

@@ -4,13 +4,16 @@ One row per track per scan, as in :mod:`laserpeople.io.tracks_csv`, with the sch
 :data:`TRACKS_SCHEMA`: ``scan`` int64, ``stamp`` float64 [s], ``track_id`` int64, ``kind``
 string (leg, person, group), ``x``, ``y`` [m], ``vx``, ``vy`` [m/s], ``cov_xx``,
 ``cov_xy``, ``cov_yy`` [m^2] float64, ``size`` int32, ``labels`` string, ``topic`` string,
-``contour`` string (``x y;x y;...`` [m], empty for legs and persons). Positions are in the
-frame named by the file's key-value metadata ``frame`` (``world`` or ``sensor``). Rows are
-buffered and written as row groups of :data:`ROW_GROUP` rows; numbers are not rounded.
+``sensor_x``, ``sensor_y`` [m], ``sensor_yaw`` [rad] float64 (the laser's pose in the world
+frame at that scan; NaN when the recording gives none), ``contour`` string (``x y;x y;...``
+[m], empty for legs and persons). Positions are in the frame named by the file's key-value
+metadata ``frame`` (``world`` or ``sensor``). Rows are buffered and written as row groups of
+:data:`ROW_GROUP` rows; numbers are not rounded.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -18,7 +21,7 @@ from typing import Any
 from laserpeople.errors import RecordingError
 from laserpeople.frame import Frame
 from laserpeople.io.tracks_csv import convert_tracks, format_contour, parse_contour
-from laserpeople.scan import CoordinateFrame
+from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import Track, TrackKind, Tracks
 
 ROW_GROUP = 65_536
@@ -39,6 +42,9 @@ COLUMNS: tuple[tuple[str, str], ...] = (
     ("size", "int32"),
     ("labels", "string"),
     ("topic", "string"),
+    ("sensor_x", "float64"),
+    ("sensor_y", "float64"),
+    ("sensor_yaw", "float64"),
     ("contour", "string"),
 )
 """Column names and Arrow types of a tracks Parquet file."""
@@ -76,6 +82,9 @@ class TracksParquetSink:
             self.written_frame = self.frame or tracks.frame
         tracks = convert_tracks(tracks, self.written_frame)
         cols = self._columns
+        pose = tracks.sensor_pose
+        nan = float("nan")
+        sensor = (nan, nan, nan) if pose is None else (pose.x, pose.y, pose.theta)
         for t in tracks.tracks:
             c = t.covariance
             for name, value in (
@@ -93,6 +102,9 @@ class TracksParquetSink:
                 ("size", t.size),
                 ("labels", t.labels),
                 ("topic", frame.topic),
+                ("sensor_x", sensor[0]),
+                ("sensor_y", sensor[1]),
+                ("sensor_yaw", sensor[2]),
                 ("contour", format_contour(t.contour)),
             ):
                 cols[name].append(value)
@@ -134,8 +146,8 @@ def iter_tracks_parquet(
     kinds: tuple[TrackKind, ...] | None = None,
 ) -> Iterator[Tracks]:
     """Read a tracks Parquet file back as one :class:`Tracks` per scan that has rows, in
-    file order (``frame`` states the frame it was written in, as for
-    :func:`~laserpeople.io.tracks_csv.iter_tracks_csv`; ``kinds`` keeps only those kinds).
+    file order, in the frame its metadata names (``frame`` for a file without that key;
+    ``kinds`` keeps only those kinds), each with its sensor pose when the file has one.
 
     Raises:
         RecordingError: The file is missing or not a tracks Parquet file.
@@ -148,21 +160,34 @@ def iter_tracks_parquet(
         table = pq.read_table(p)
     except (OSError, ValueError) as exc:
         raise RecordingError(f"cannot read the tracks Parquet file: {exc}", path=p) from None
-    missing = [name for name, _ in COLUMNS if name not in table.column_names]
+    missing = [
+        name for name, _ in COLUMNS if name not in table.column_names and name not in _OPTIONAL
+    ]
     if missing:
         raise RecordingError(
             f"not a tracks Parquet file: no column {', '.join(missing)}",
             path=p,
             hint="give a file written by `laserpeople batch --format parquet`",
         )
-    cols = {name: table.column(name).to_pylist() for name, _ in COLUMNS}
+    stated = (table.schema.metadata or {}).get(b"frame", b"").decode(errors="replace")
+    if stated in ("world", "sensor"):
+        frame = "world" if stated == "world" else "sensor"
+    cols = {
+        name: table.column(name).to_pylist() for name, _ in COLUMNS if name in table.column_names
+    }
+    nan = [float("nan")] * table.num_rows
+    poses = zip(*(cols.get(name, nan) for name in _OPTIONAL), strict=True)
     current: list[Track] = []
     scan: int | None = None
     stamp = 0.0
-    for k in range(table.num_rows):
+    pose: Pose2D | None = None
+    for k, (sx, sy, syaw) in enumerate(poses):
         if scan is not None and cols["scan"][k] != scan:
-            yield Tracks(stamp, scan, tuple(current), frame=frame)
+            yield Tracks(stamp, scan, tuple(current), frame=frame, sensor_pose=pose)
             current = []
+        if scan is None or cols["scan"][k] != scan:
+            known = all(v is not None and math.isfinite(v) for v in (sx, sy, syaw))
+            pose = Pose2D(sx, sy, syaw) if known else None
         scan, stamp = cols["scan"][k], cols["stamp"][k]
         if kinds is not None and cols["kind"][k] not in kinds:
             continue
@@ -181,7 +206,11 @@ def iter_tracks_parquet(
             )
         )
     if scan is not None:
-        yield Tracks(stamp, scan, tuple(current), frame=frame)
+        yield Tracks(stamp, scan, tuple(current), frame=frame, sensor_pose=pose)
+
+
+_OPTIONAL = ("sensor_x", "sensor_y", "sensor_yaw")
+"""Columns a file may lack (written before they existed): no sensor pose."""
 
 
 __all__ = ["COLUMNS", "ROW_GROUP", "TracksParquetSink", "iter_tracks_parquet", "tracks_schema"]

@@ -262,7 +262,9 @@ def register(app: typer.Typer) -> None:
                 f"no {kind} track came within {params.gate:g} m of any labelled person: are "
                 "the truth and the tracks in the same frame? Labels in each scan's laser frame "
                 "(as the leg_tracker benchmark's) need tracks written with "
-                "`track --output-frame sensor`"
+                "`track --output-frame sensor`, or a truth that states its frame (the labels "
+                "of the bag itself, or a frame column), into which tracks written with their "
+                "sensor poses are moved"
             )
         if as_json:
             out = report.to_json_dict()

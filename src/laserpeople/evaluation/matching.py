@@ -54,10 +54,10 @@ def frame_points(truth: TruthFrame, tracks: Tracks | None, kind: str) -> FramePo
     """The people of ``truth`` and the tracks of ``kind`` in ``tracks`` as arrays.
 
     ``tracks=None`` means the tracker reported nothing for this scan. Tracks in another
-    frame than the truth's (the world frame when it states none) are moved into it with
-    their ``sensor_pose``; tracks without a pose against truth that states no frame are
-    compared as they are (a tracks CSV in the laser frame against labels in the laser
-    frame; :meth:`~laserpeople.evaluation.pairing.PairingCounts.frame_check` says so).
+    frame than the one the truth states are moved into it with their ``sensor_pose``;
+    against truth that states no frame they are compared as they are (a tracks CSV in the
+    laser frame against labels in the laser frame;
+    :meth:`~laserpeople.evaluation.pairing.PairingCounts.frame_check` says so).
 
     Raises:
         EvaluationError: the scans differ, ids repeat within the scan, positions are not
@@ -80,11 +80,10 @@ def frame_points(truth: TruthFrame, tracks: Tracks | None, kind: str) -> FramePo
         track_ids = np.empty(0, dtype=np.int64)
         track_xy = np.empty((0, 2))
     else:
-        target = truth.frame or "world"
-        if tracks.frame != target:
+        if truth.frame is not None and tracks.frame != truth.frame:
             if tracks.sensor_pose is not None:
-                tracks = convert_tracks(tracks, target)
-            elif truth.frame is not None:
+                tracks = convert_tracks(tracks, truth.frame)
+            else:
                 raise EvaluationError(
                     f"the tracks are in the {tracks.frame} frame with no sensor pose, the "
                     f"truth in the {truth.frame} frame",

@@ -25,6 +25,8 @@ class PairingCounts:
         tracks_frame: The frame the first paired scan's tracks were compared in (empty
             before one).
         truth_frame: The frame its truth states (empty: not stated, or none paired).
+        tracks_moved_from: The tracks' own frame when they were moved into the truth's frame
+            with their sensor pose (empty: compared in their own frame).
         truth_scans: First and last scan index of the truth frames ((-1, -1): none).
         truth_stamps: Their stamps [s].
         tracks_scans: First and last scan index with track rows ((-1, -1): none).
@@ -39,6 +41,7 @@ class PairingCounts:
     max_stamp_difference: float = float("-inf")
     tracks_frame: str = ""
     truth_frame: str = ""
+    tracks_moved_from: str = ""
     truth_scans: tuple[int, int] = (-1, -1)
     truth_stamps: tuple[float, float] = (math.nan, math.nan)
     tracks_scans: tuple[int, int] = (-1, -1)
@@ -51,7 +54,13 @@ class PairingCounts:
     def frame_check(self) -> str:
         """Which frame the positions were compared in, when the truth does not state its
         own (a truth CSV without a ``frame`` column; :func:`frame_points` compares the
-        tracks as they are): empty when it does, or nothing was paired."""
+        tracks as they are), or when the tracks were moved into the truth's frame with
+        their sensor poses: empty otherwise, or when nothing was paired."""
+        if self.tracks_moved_from:
+            return (
+                f"the tracks, written in the {self.tracks_moved_from} frame, were moved into "
+                f"the {self.tracks_frame} frame of the truth with each scan's sensor pose"
+            )
         if not self.tracks_frame or self.truth_frame:
             return ""
         return (
@@ -164,10 +173,12 @@ def pair_by_scan(
         if pending is not None and pending.scan_index == truth.scan_index:
             matched = pending
             if not stats.tracks_frame:
-                # (tracks that know their sensor pose are compared in the truth's frame)
-                moved = pending.sensor_pose is not None
-                stats.tracks_frame = (truth.frame or "world") if moved else pending.frame
+                # (as frame_points: tracks that know their sensor pose are moved into the
+                # frame the truth states; against truth that states none, compared as they are)
+                stats.tracks_frame = truth.frame or pending.frame
                 stats.truth_frame = truth.frame or ""
+                if stats.tracks_frame != pending.frame:
+                    stats.tracks_moved_from = pending.frame
             diff = truth.stamp - pending.stamp
             stats.max_stamp_offset = max(stats.max_stamp_offset, abs(diff))
             stats.min_stamp_difference = min(stats.min_stamp_difference, diff)

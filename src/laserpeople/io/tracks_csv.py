@@ -7,13 +7,16 @@ Header::
 ``scan`` is the 0-based index of the scan on its topic, positions [m] and velocities
 [m/s] are in the frame chosen when writing (``--output-frame``), ``size`` is the
 estimated number of people (1 for legs and persons), ``labels`` the group label set.
-Files written with a ``topic`` have one more column at the end, ``topic``: the laser
-topic the tracks come from, or ``fused`` when several lasers made each frame (then
-``scan`` is the index of the first laser's scan), followed by ``frame``: ``world`` or
-``sensor``, the frame of the positions (:func:`read_tracks_frame`; ``view`` draws the
-tracks in it). Files written with ``contours`` (by the
-trackers of groups) end with a ``contour`` column: a group's outline as ``x y;x y;...``
-[m] in the frame of the positions, empty for legs, persons and groups without one.
+Files written with a ``topic`` go on with ``topic``: the laser topic the tracks come from,
+or ``fused`` when several lasers made each frame (then ``scan`` is the index of the first
+laser's scan); ``frame``: ``world`` or ``sensor``, the frame of the positions
+(:func:`read_tracks_frame`; ``view`` draws the tracks in it); and
+``sensor_x,sensor_y,sensor_yaw``: the pose of the (first) laser in the world frame at that
+scan ([m], [m], [rad]; empty where the recording gives no pose), with which a reader moves
+the tracks into the other frame (``evaluate`` scores world-frame tracks against labels in
+each scan's laser frame). Files written with ``contours`` (by the trackers of groups) end
+with a ``contour`` column: a group's outline as ``x y;x y;...`` [m] in the frame of the
+positions, empty for legs, persons and groups without one.
 Readers accept files with and without these columns.
 A scan with no tracks writes no row. Every scan's rows go to the file in one ``write()``
 before the next scan is processed (:mod:`laserpeople.io.scan_lines`), so a crash or a kill
@@ -38,7 +41,7 @@ import numpy as np
 from laserpeople.errors import LaserPeopleError, RecordingError
 from laserpeople.io.csv_read import CsvRows
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
-from laserpeople.scan import CoordinateFrame
+from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
 HEADER = (
@@ -60,6 +63,8 @@ TOPIC_COLUMN = "topic"
 FRAME_COLUMN = "frame"
 """The frame of the positions (world / sensor), written with the topic column."""
 CONTOUR_COLUMN = "contour"
+SENSOR_POSE_COLUMNS = ("sensor_x", "sensor_y", "sensor_yaw")
+"""The laser's pose in the world frame ([m], [m], [rad]), written with the topic column."""
 
 
 def format_contour(contour: np.ndarray) -> str:
@@ -132,7 +137,9 @@ class TracksCsvWriter:
         self.path = Path(path)
         self.frame = frame
         self.topic = topic
-        header = HEADER if topic is None else (*HEADER, TOPIC_COLUMN, FRAME_COLUMN)
+        header = (
+            HEADER if topic is None else (*HEADER, TOPIC_COLUMN, FRAME_COLUMN, *SENSOR_POSE_COLUMNS)
+        )
         self._out = ScanLineWriter(
             self.path, (*header, CONTOUR_COLUMN) if contours else header, "tracks CSV"
         )
@@ -149,6 +156,7 @@ class TracksCsvWriter:
         tracks = convert_tracks(tracks, self.frame)
         rows = []
         scan, stamp = tracks.scan_index, f"{tracks.stamp:.6f}"
+        pose = _pose_cells(tracks.sensor_pose) if self.topic is not None else ()
         for t in tracks.tracks:
             # (Python floats: formatting a numpy scalar costs twice as much; same text)
             x, y = t.position.tolist()
@@ -170,6 +178,7 @@ class TracksCsvWriter:
                     t.size,
                     t.labels,
                     *self._tail,
+                    *pose,
                     *((format_contour(t.contour),) if self.contours else ()),
                 )
             )
@@ -186,6 +195,39 @@ class TracksCsvWriter:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _pose_cells(pose: Pose2D | None) -> tuple[str, str, str]:
+    """The ``sensor_x,sensor_y,sensor_yaw`` cells of ``pose`` (empty cells for None)."""
+    if pose is None:
+        return ("", "", "")
+    return (f"{pose.x:.6f}", f"{pose.y:.6f}", f"{pose.theta:.9f}")
+
+
+def parse_pose_cells(row: dict[str, Any], path: Path, line: int) -> Pose2D | None:
+    """The sensor pose of a row's ``sensor_x,sensor_y,sensor_yaw`` cells; None when the
+    columns are missing or all empty.
+
+    Raises:
+        RecordingError: some cells empty and others not, or a cell that is not a finite
+            number (the message names the file and line).
+    """
+    cells = [(row.get(c) or "").strip() for c in SENSOR_POSE_COLUMNS]
+    if not any(cells):
+        return None
+    try:
+        x, y, yaw = (float(c) for c in cells)
+    except ValueError as exc:
+        raise RecordingError(
+            f"line {line}: the sensor pose {','.join(cells)} is not three numbers",
+            path=path,
+            hint="sensor_x, sensor_y, sensor_yaw are all numbers or all empty",
+        ) from exc
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(yaw)):
+        raise RecordingError(
+            f"line {line}: the sensor pose {','.join(cells)} is not finite", path=path
+        )
+    return Pose2D(x, y, yaw)
 
 
 def parse_frame_cell(text: str, path: Path, line: int) -> CoordinateFrame | None:
@@ -418,6 +460,7 @@ def _read_tracks(
         key: tuple[int, float] | None = None
         last = -1
         scan_frame = frame
+        pose: Pose2D | None = None
         for line, row in enumerate(reader, start=2):
             scan, stamp, track = _parse_row(row, p, line, ids)
             if key is None or scan != key[0]:
@@ -429,11 +472,12 @@ def _read_tracks(
                         hint="sort the tracks CSV by scan; all rows of one scan must be together",
                     )
                 if key is not None and current:
-                    yield Tracks(key[1], key[0], tuple(current), scan_frame)
+                    yield Tracks(key[1], key[0], tuple(current), scan_frame, pose)
                 current = []
                 key = (scan, stamp)
                 last = scan
                 scan_frame = parse_frame_cell(row.get(FRAME_COLUMN) or "", p, line) or frame
+                pose = parse_pose_cells(row, p, line)
             elif abs(stamp - key[1]) > STAMP_TOLERANCE:
                 raise RecordingError(
                     f"line {line}: stamp {stamp} differs from {key[1]} given earlier "
@@ -449,4 +493,4 @@ def _read_tracks(
             if key is not None and cut == key[0]:
                 return
         if key is not None and current:
-            yield Tracks(key[1], key[0], tuple(current), scan_frame)
+            yield Tracks(key[1], key[0], tuple(current), scan_frame, pose)

@@ -1663,6 +1663,30 @@ MUTANTS: tuple[Mutant, ...] = (
         "if self.frame_id is None:",
         TRUTH_BAG,
     ),
+    Mutant(
+        "tracks-moved-unstated-truth",
+        "evaluate: truth that states no frame is compared in the tracks' own frame",
+        "evaluation/matching.py",
+        "if truth.frame is not None and tracks.frame != truth.frame:",
+        'if tracks.frame != (truth.frame or "world") and (truth.frame or tracks.sensor_pose):',
+        ("tests/test_eval_bruteforce.py",),
+    ),
+    Mutant(
+        "tracks-csv-pose-yaw",
+        "tracks CSV: the sensor pose read back as x, y, yaw",
+        "io/tracks_csv.py",
+        "    return Pose2D(x, y, yaw)",
+        "    return Pose2D(y, x, yaw)",
+        ("tests/test_io_tracks_csv.py",),
+    ),
+    Mutant(
+        "parquet-frame-metadata",
+        "tracks Parquet: the frame read from the file's metadata",
+        "batch/parquet.py",
+        '    if stated in ("world", "sensor"):',
+        "    if False:",
+        ("tests/test_batch.py::test_parquet_keeps_the_frame_and_sensor_pose",),
+    ),
 )
 
 

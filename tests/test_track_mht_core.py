@@ -460,29 +460,3 @@ def test_listing_costs_are_each_clusters_own_measurements_rates(
     mht = MHT(MHTParams(), KalmanPointModel(KalmanParams()), labels)  # type: ignore[arg-type]
     run_targets(mht, 60)
     assert later >= 4  # clusters whose measurements do not start the scan's list
-
-
-def test_mask_bounds_sum_each_masks_measurements_from_the_highest_bit_down() -> None:
-    """The listing's bounds per bit mask are, to the bit, the sums of its measurements'
-    cheapest unmatched costs (and of their negative ones) taken from the highest bit down:
-    values whose sums round differently in another order (1e16 and small ones), an
-    infinite cost and negative ones, against the sums by hand for every mask."""
-    from laserpeople.tracking.mht.listing import mask_bounds
-
-    meas_min = [1.0, 1e16, -3.0, math.inf, -0.1, 0.7]
-    unmatched, maybe = mask_bounds(meas_min)
-    assert len(unmatched) == len(maybe) == 2 ** len(meas_min)
-    orders_differ = 0
-    for mask in range(2 ** len(meas_min)):
-        bits = [j for j in range(len(meas_min)) if mask >> j & 1]
-        total, negative, upward = 0.0, 0.0, 0.0
-        for j in reversed(bits):
-            total += meas_min[j]
-            negative += min(0.0, meas_min[j])
-        for j in bits:
-            upward += meas_min[j]
-        orders_differ += upward != total
-        assert unmatched[mask] == total
-        assert maybe[mask] == negative
-    assert orders_differ > 0  # the values tell the order of the sums apart
-    assert mask_bounds([]) == ([0.0], [0.0])

@@ -202,7 +202,15 @@ def list_children(
     ]
     meas_min = [ch[0][0] if ch else math.inf for ch in meas_choices]
     # lower bounds of the measurements in a bit mask: unmatched for sure / perhaps matched
-    unmatched_lb, maybe_lb = mask_bounds(meas_min)
+    full = (1 << m) - 1
+    unmatched_lb = [0.0] * (full + 1)
+    maybe_lb = [0.0] * (full + 1)
+    for mask in range(1, full + 1):
+        low = (mask & -mask).bit_length() - 1
+        rest = mask & (mask - 1)
+        unmatched_lb[mask] = unmatched_lb[rest] + meas_min[low]
+        maybe_lb[mask] = maybe_lb[rest] + min(0.0, meas_min[low])
+
     tables = (choices, meas_choices, meas_min, unmatched_lb, maybe_lb, k, max_gap, cheapest, gates)
     lister: _Lister
     if steps:
@@ -229,27 +237,6 @@ def list_children(
                 ml = [MATCHED if used >> j & 1 else free[j] for j in range(m)]
             out.append((pi, LabelledAssignment(tl, tmeas, ml, total), total))
     return out
-
-
-def mask_bounds(meas_min: list[float]) -> tuple[list[float], list[float]]:
-    """The listing's lower bounds of the measurements in a bit mask (bit j: measurement j),
-    from each measurement's cheapest unmatched label ``meas_min`` [-log]: per mask the sum of
-    its measurements' ``meas_min`` (each unmatched for sure), and the sum of their negative
-    ones (each perhaps matched instead). Each sum is taken from the highest bit down, the
-    mask's lowest bit added last to the mask without it; 2^m entries."""
-    m = len(meas_min)
-    size = 1 << m
-    unmatched_lb = [0.0] * size
-    maybe_lb = [0.0] * size
-    for low in range(m - 1, -1, -1):  # the masks whose lowest bit is ``low``, from those
-        step = 1 << low  # without it (their lowest bits higher: done already)
-        c = meas_min[low]
-        neg = c if c < 0.0 else 0.0
-        for mask in range(step, size, 2 * step):
-            rest = mask - step
-            unmatched_lb[mask] = unmatched_lb[rest] + c
-            maybe_lb[mask] = maybe_lb[rest] + neg
-    return unmatched_lb, maybe_lb
 
 
 def _single_labels(tl: int, ml: int, total: float) -> LabelledAssignment:
@@ -387,7 +374,6 @@ class _Lister:
         # the parent being listed
         self._pi = 0
         self._rows: list[int] = []
-        self._last = -1  # index of the parent's last track
         self._suffix: list[float] = []
         self._reach: list[int] = []
         self._labels: list[int] = []
@@ -403,7 +389,6 @@ class _Lister:
             suffix[t] = suffix[t + 1] + cheapest[rows[t]]
             reach[t] = reach[t + 1] | gates[rows[t]]
         self._pi, self._rows, self._suffix, self._reach = pi, rows, suffix, reach
-        self._last = depth - 1
         self._labels, self._meas = [0] * depth, [0] * depth
         full = self.full
         bound = (
@@ -423,7 +408,7 @@ class _Lister:
         full, unmatched_lb, maybe_lb = self.full, self.unmatched_lb, self.maybe_lb
         suffix, reach = self._suffix[t + 1], self._reach[t + 1]
         labels, meas = self._labels, self._meas
-        last = t == self._last
+        last = t + 1 == len(self._rows)
         limit, kth = self._limit, self._kth
         for c, lab, j, bit in self.choices[self._rows[t]]:
             if used & bit:

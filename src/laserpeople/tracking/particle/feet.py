@@ -54,6 +54,10 @@ at feet height with a walking model.
   size, more than ``split_distance`` apart, for ``split_time`` keeps the one nearer its
   predicted feet midpoint and a filter starts on the other
   (:mod:`~laserpeople.tracking.particle.split`).
+- A departure from 004 for people found again (``handover_time``; 0 restores 004): a new
+  filter that starts near where a track stopped being reported, soon after, takes over
+  that track's identity (:mod:`~laserpeople.tracking.particle.handover`), and a filter
+  still coasting under it is removed.
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -503,6 +507,13 @@ class FeetParams:
             raise ConfigError(f"p0 must be positive, got {self.p0}")
         if not self.report_offset >= 0.0:
             raise ConfigError(f"report_offset must be >= 0 m, got {self.report_offset}")
+        for name, unit in (
+            ("handover_time", "s"),
+            ("handover_distance", "m"),
+            ("handover_speed", "m/s"),
+        ):
+            if not getattr(self, name) >= 0.0:
+                raise ConfigError(f"{name} must be >= 0 {unit}, got {getattr(self, name)}")
         if not 0.0 <= self.long_weight <= 1.0:
             raise ConfigError(f"long_weight must be in [0, 1], got {self.long_weight}")
 

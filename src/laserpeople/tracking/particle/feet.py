@@ -54,6 +54,10 @@ at feet height with a walking model.
   size, more than ``split_distance`` apart, for ``split_time`` keeps the one nearer its
   predicted feet midpoint and a filter starts on the other
   (:mod:`~laserpeople.tracking.particle.split`).
+- A departure from 004 for people found again (``handover_time``; 0 restores 004): a new
+  filter that starts near where a track stopped being reported, soon after, takes over
+  that track's identity (:mod:`~laserpeople.tracking.particle.handover`), and a filter
+  still coasting under it is removed.
 - A departure from 004 for coarse scanners (``leg_width``; 0 restores the counts as set):
   the point counts that tell a leg or a standing person (``blob_leg_points``,
   ``still_points``) are capped at what the laser shows of a leg at the range of the scan's
@@ -81,6 +85,7 @@ from laserpeople.frame import Frame, FrameField
 from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.frames import beam_directions
+from laserpeople.tracking.particle.handover import LostIdentities
 from laserpeople.tracking.particle.objects import (
     ObjectMemory,
     kept_labels,
@@ -118,6 +123,7 @@ class FeetParams:
             "claim_distance": 0.0,
             "split_distance": 0.0,
             "report_offset": 0.0,
+            "handover_time": 0.0,
         }
     )
 
@@ -435,6 +441,28 @@ class FeetParams:
         "points closer than this form one person's blob (for ``split_distance``)",
         "m",
     )
+    handover_time: float = param(
+        2.0,
+        "departure from 004 (0 here: every birth a new identity); random-groups tuning "
+        "seeds 0-19 at feet height (docs/schenk-tables.md)",
+        "a new filter takes over the identity of a track last reported at most this long "
+        "ago (and not since) within ``handover_distance`` + ``handover_speed`` x the time "
+        "since of where it starts (:mod:`~laserpeople.tracking.particle.handover`); 0 "
+        "disables",
+        "s",
+    )
+    handover_distance: float = param(
+        0.5,
+        "assumed: the birth exclusion's scale (0.6 m)",
+        "reach of a lost identity (``handover_time``) at once",
+        "m",
+    )
+    handover_speed: float = param(
+        1.5,
+        "assumed: a brisk walk (random-groups walkers 0.5-1.5 m/s)",
+        "growth of a lost identity's reach with the time since its track was last reported",
+        "m/s",
+    )
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
     )
@@ -479,6 +507,13 @@ class FeetParams:
             raise ConfigError(f"p0 must be positive, got {self.p0}")
         if not self.report_offset >= 0.0:
             raise ConfigError(f"report_offset must be >= 0 m, got {self.report_offset}")
+        for name, unit in (
+            ("handover_time", "s"),
+            ("handover_distance", "m"),
+            ("handover_speed", "m/s"),
+        ):
+            if not getattr(self, name) >= 0.0:
+                raise ConfigError(f"{name} must be >= 0 {unit}, got {getattr(self, name)}")
         if not 0.0 <= self.long_weight <= 1.0:
             raise ConfigError(f"long_weight must be in [0, 1], got {self.long_weight}")
 
@@ -783,6 +818,10 @@ class FeetTracker:
         """The parameters of the last scan (:func:`scaled_to_beams`)."""
         self._stamp: float | None = None
         self.objects = ObjectMemory(self.params.object_reach, self.params.object_memory)
+        p = self.params
+        self.lost = LostIdentities(p.handover_time, p.handover_distance, p.handover_speed)
+        self._shown = np.empty(0, dtype=np.int64)
+        """Identities reported in the last scan."""
 
     def _predict(self, dt: float) -> None:
         p, bank = self.params, self.bank
@@ -959,7 +998,26 @@ class FeetTracker:
                 continue
             starts.append(two)
         if starts:
+            first = len(bank)
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
+            self._hand_over(np.stack([f.mean(axis=0) for f in starts]), first, stamp)
+
+    def _hand_over(self, starts: NDArray[np.float64], first: int, stamp: float) -> None:
+        """The new filters ``first``.. starting at ``starts`` (K, 2) [m] take over the
+        identities of tracks lost nearby (:class:`LostIdentities`); a filter that still
+        holds such an identity unreported is removed."""
+        bank = self.bank
+        taken = self.lost.take(starts, self._shown, stamp)
+        gone = np.zeros(len(bank), dtype=bool)
+        for k, got in enumerate(taken):
+            if got is None:
+                continue
+            identity, born = got
+            gone |= bank.ids == identity
+            bank.ids[first + k] = identity
+            bank.born[first + k] = born
+        if gone.any():
+            bank.keep(~gone)
 
     def _cell_refresh(
         self, pts: NDArray[np.float64], owner: NDArray[np.int64], est: NDArray[np.float64]
@@ -1063,7 +1121,13 @@ class FeetTracker:
             shift = beyond_surface(pts, rays, feet, p.support_radius, p.report_offset)
             body = body + shift[:, None, :]
         shown = frame.stamp - self.bank.last_seen <= p.report_time
-        return self.bank.tracks(body, vel, p.confirm_scans, frame, shown)
+        out = self.bank.tracks(body, vel, p.confirm_scans, frame, shown)
+        reported = np.flatnonzero((self.bank.hits >= p.confirm_scans) & shown)
+        ids = self.bank.ids[reported]
+        positions = np.array([t.position for t in out], dtype=np.float64).reshape(-1, 2)
+        self.lost.reported(ids, positions, self.bank.born[reported], frame.stamp)
+        self._shown = ids
+        return out
 
 
 def blob_centres(

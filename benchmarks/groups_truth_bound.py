@@ -42,7 +42,6 @@ from laserpeople.evaluation.clear_mot import ClearMot, ClearMotResult
 from laserpeople.evaluation.groups import (
     ALONE_ID,
     GROUP_GATE,
-    PROXEMIC_SPEED,
     group_truth,
     near_and_alike,
     proxemic_groups,

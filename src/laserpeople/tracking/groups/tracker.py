@@ -450,8 +450,9 @@ class GroupTrackerParams:
         "extension of 000 (0: a group is reported while its track is in the best hypothesis, "
         "as 000); chosen on random-groups seeds 0-19 (group / proxemic MOTA: 0 s 0.617 / "
         "0.704, 0.6 s 0.639 / 0.717, 1 s 0.647 / 0.718, 1.5 s 0.650 / 0.712, 2 s 0.648 / "
-        "0.702, before the two stops; with them 1 s 0.643 / 0.718; the stops chosen on the "
-        "real recordings; docs/groups.md)",
+        "0.702, before the two stops; with them 1 s 0.643 / 0.718, 1.5 s 0.647 / 0.719, 2 s "
+        "0.649 / 0.718, 3 s 0.648 / 0.712: 1 s adds least on the real recordings; the stops "
+        "chosen on the real recordings; docs/groups.md)",
         "a reported group that vanishes (its track deleted, or its points taken by a merge) "
         "is reported at its constant-velocity prediction, with score 0, for up to this many "
         "seconds after its last report and no longer than it had been reported, until its "

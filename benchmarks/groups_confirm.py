@@ -115,8 +115,9 @@ def run(key: str, params: GroupTrackerParams) -> Run:
     for step in build(bag, tracker=tracker, topics=topics, mounts=mounts):
         assert step.tracks is not None
         groups = step.tracks.of_kind("group")
-        assert len(groups) == len(inner.last_groups)  # the reported groups, in order
-        for x, g in zip(groups, inner.last_groups, strict=True):
+        # the groups of the best hypothesis reported, in order, then the coasted ones
+        assert len(groups) >= len(inner.last_groups)
+        for x, g in zip(groups[: len(inner.last_groups)], inner.last_groups, strict=True):
             event_of.setdefault(x.track_id, g.event)
         out.append(step.tracks)
     ms = 1e3 * (time.process_time() - t0) / max(len(out), 1)

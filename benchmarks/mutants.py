@@ -111,6 +111,7 @@ SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)
 LIVE_FRAME = ("tests/test_live_frame.py",)
 HANDOVER = ("tests/test_track_groups_handover.py",)
+COAST = ("tests/test_track_groups_coast.py",)
 FEET_SURFACE = ("tests/test_pf_feet_surface.py",)
 TRUTH_BAG = ("tests/test_io_truth_bag.py", "tests/test_eval_followed.py")
 
@@ -134,6 +135,7 @@ GS = "tracking/groups/occlusion.py"
 TB = "pipeline/torso_blobs.py"
 LC = "live/choice.py"
 GHO = "tracking/groups/handover.py"
+GC = "tracking/groups/coast.py"
 GT = "tracking/groups/tracker.py"
 GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
@@ -1390,8 +1392,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "group-shadow-margin-side",
         "000 Sec. 3.3.1 for groups (shadowed: the beam ends margin in front)",
         GS,
-        "shadowed[covered] = self.ranges[idx] < dist[covered] - margin",
-        "shadowed[covered] = self.ranges[idx] < dist[covered] + margin",
+        "return covered, covered & (ends < dist - margin)",
+        "return covered, covered & (ends < dist + margin)",
         SHADOW,
     ),
     Mutant(
@@ -1614,6 +1616,38 @@ MUTANTS: tuple[Mutant, ...] = (
         "if d[nearest] <= gate:",
         "if d[nearest] <= 1.5 * gate:",
         HANDOVER,
+    ),
+    Mutant(
+        "coast-last-place",
+        "vanished groups reported at their constant-velocity prediction (not their last place)",
+        GC,
+        "shift = track.velocity * (stamp - at)",
+        "shift = 0.0 * track.velocity",
+        COAST,
+    ),
+    Mutant(
+        "coast-longer-than-reported",
+        "a vanished group is coasted no longer than it had been reported",
+        GC,
+        "0.0 < stamp - at <= min(self.seconds, reported_for)",
+        "0.0 < stamp - at <= self.seconds",
+        COAST,
+    ),
+    Mutant(
+        "coast-seen-gone-again",
+        "a vanished group the scan saw gone is not coasted again",
+        GC,
+        "del self._last[track_id], self._first[track_id]",
+        "self._first[track_id] = self._first[track_id]",
+        COAST,
+    ),
+    Mutant(
+        "seen-past-margin",
+        "a place is seen empty only where the beam went more than the margin beyond it",
+        GS,
+        "return covered & (ends > dist + margin)",
+        "return covered & (ends > dist - margin)",
+        COAST,
     ),
     Mutant(
         "feet-report-offset-sum",

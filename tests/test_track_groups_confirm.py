@@ -18,7 +18,10 @@ from laserpeople.tracking.groups.confirm import Candidate, Confirmation, Confirm
 from laserpeople.tracks import Tracks
 from test_track_groups_static import OBJECT, PlaceModel, _blob, _frame, _near_object
 
-PAPER = GroupTrackerParams(confirm_scans=1, confirm_event_scans=1)
+PAPER = GroupTrackerParams(confirm_scans=1, confirm_event_scans=1, coast_time=0.0)
+"""Every group of the best hypothesis reported from its first scan, and only those (no
+vanished group reported at its prediction, ``coast_time``): the reports confirmation
+chooses from."""
 
 
 def _run(
@@ -67,7 +70,7 @@ def test_paper_setting_reports_every_group_from_its_first_scan() -> None:
 
 @pytest.mark.parametrize("n", [2, 3, 5])
 def test_a_walker_is_reported_from_its_nth_scan_with_one_id(n: int) -> None:
-    params = GroupTrackerParams(confirm_scans=n, confirm_event_scans=1)
+    params = GroupTrackerParams(confirm_scans=n, confirm_event_scans=1, coast_time=0.0)
     tracker, out = _run(_walker_and_flicker, 40, params)
     shown = [_near(t, _walker(k)) for k, t in enumerate(out)]
     # in the best hypothesis from scan 1 on: its n-th scan there is scan n
@@ -83,7 +86,9 @@ def test_a_walker_is_reported_from_its_nth_scan_with_one_id(n: int) -> None:
 
 @pytest.mark.parametrize("n", [3, 4])
 def test_a_flicker_of_one_or_two_scans_is_never_reported(n: int) -> None:
-    tracker, out = _run(_walker_and_flicker, 40, GroupTrackerParams(confirm_scans=n))
+    tracker, out = _run(
+        _walker_and_flicker, 40, GroupTrackerParams(confirm_scans=n, coast_time=0.0)
+    )
     assert not any(_near(t, FLICKER) for t in out)
     _, paper = _run(_walker_and_flicker, 40, PAPER)
     flicker_scans = sum(len(_near(t, FLICKER)) for t in paper)
@@ -99,7 +104,7 @@ def _pair_parting(k: int) -> list[np.ndarray]:
 
 
 def test_a_split_of_a_reported_group_is_reported_at_once_with_event_scans_one() -> None:
-    params = GroupTrackerParams(confirm_scans=3, confirm_event_scans=1)
+    params = GroupTrackerParams(confirm_scans=3, confirm_event_scans=1, coast_time=0.0)
     tracker, out = _run(_pair_parting, 40, params)
     _, paper = _run(_pair_parting, 40, PAPER)
     counts = [len(t.of_kind("group")) for t in out]
@@ -108,7 +113,7 @@ def test_a_split_of_a_reported_group_is_reported_at_once_with_event_scans_one() 
     assert [e.kind for e in tracker.events] == ["split"]
     assert tracker.confirmation.withheld_event == 0
     # a wait for split halves leaves the people unreported for that wait
-    waits = GroupTrackerParams(confirm_scans=3, confirm_event_scans=3)
+    waits = GroupTrackerParams(confirm_scans=3, confirm_event_scans=3, coast_time=0.0)
     waited, late = _run(_pair_parting, 40, waits)
     gap = [k for k, t in enumerate(late) if k >= 3 and not t.of_kind("group")]
     assert len(gap) == 2

@@ -126,19 +126,12 @@ def near_and_alike(
     return near, alike
 
 
-def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED) -> TruthFrame:
-    """The true groups as 000 Sec. 4.2 can define them from range data: body spacing
-    (proxemics, people closer than ``d_p`` [m] are one group) and motion (Fig. 18, a
-    person who passes a group at a different velocity is not in it). True groups of the
-    scene are joined, by single linkage, while a member of one has a leg within ``d_p``
-    of a leg of a member of the other and their velocities differ by less than ``speed``
-    [m/s]; joined groups are at the mean of all their members, with id
-    :data:`JOINED_ID` plus the smallest of their :func:`group_truth` ids. Every other
-    group is as :func:`group_truth` gives it.
-
-    The scene's labels hold the social groups the script made; parties that are not one
-    group may stand within d_P of each other for seconds, or walk through each other,
-    which no tracker of points that follows 000's definition can tell apart."""
+def proxemic_groups(
+    frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED
+) -> list[tuple[list[int], IntArray]]:
+    """The true groups of ``frame`` joined as 000 Sec. 4.2 can define them
+    (:func:`proxemic_truth`): for every joined group, the :func:`group_truth` ids of the
+    scene's groups in it and the rows of ``frame`` of its people."""
     groups = list(frame.groups().items())
     ids = [g if g >= 0 else ALONE_ID - g - 1 for g, _ in groups]
     rows = [np.flatnonzero(np.isin(frame.person_ids, people)) for _, people in groups]
@@ -158,12 +151,30 @@ def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED)
     joined: dict[int, list[int]] = {}
     for k in range(len(groups)):
         joined.setdefault(root(k), []).append(k)
+    return [
+        ([ids[k] for k in members], np.concatenate([rows[k] for k in members]))
+        for members in joined.values()
+    ]
+
+
+def proxemic_truth(frame: TruthFrame, d_p: float, speed: float = PROXEMIC_SPEED) -> TruthFrame:
+    """The true groups as 000 Sec. 4.2 can define them from range data: body spacing
+    (proxemics, people closer than ``d_p`` [m] are one group) and motion (Fig. 18, a
+    person who passes a group at a different velocity is not in it). True groups of the
+    scene are joined, by single linkage, while a member of one has a leg within ``d_p``
+    of a leg of a member of the other and their velocities differ by less than ``speed``
+    [m/s]; joined groups are at the mean of all their members, with id
+    :data:`JOINED_ID` plus the smallest of their :func:`group_truth` ids. Every other
+    group is as :func:`group_truth` gives it.
+
+    The scene's labels hold the social groups the script made; parties that are not one
+    group may stand within d_P of each other for seconds, or walk through each other,
+    which no tracker of points that follows 000's definition can tell apart."""
     out_ids: list[int] = []
     centres: list[FloatArray] = []
-    for members in joined.values():
-        first = min(ids[k] for k in members)
-        out_ids.append(first if len(members) == 1 else JOINED_ID + first)
-        centres.append(frame.positions[np.concatenate([rows[k] for k in members])].mean(axis=0))
+    for ids, rows in proxemic_groups(frame, d_p, speed):
+        out_ids.append(ids[0] if len(ids) == 1 else JOINED_ID + min(ids))
+        centres.append(frame.positions[rows].mean(axis=0))
     pos = np.asarray(centres, dtype=np.float64).reshape(-1, 2)
     return TruthFrame.from_positions(
         frame.stamp, frame.scan_index, np.asarray(out_ids, dtype=np.int64), pos

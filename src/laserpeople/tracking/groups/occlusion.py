@@ -51,6 +51,19 @@ class ScanView:
         """For points (K, 2) [m]: (covered, shadowed) (K,) each: whether a beam of this
         scan points at it (inside the field of view), and whether that beam ended more
         than ``margin`` [m] in front of it."""
+        covered, ends, dist = self._beam_ends(points)
+        return covered, covered & (ends < dist - margin)
+
+    def seen_past(self, points: FloatArray, margin: float) -> BoolArray:
+        """For points (K, 2) [m]: (K,) whether a beam of this scan points at it and went on
+        more than ``margin`` [m] beyond it (nothing there)."""
+        covered, ends, dist = self._beam_ends(points)
+        return covered & (ends > dist + margin)
+
+    def _beam_ends(self, points: FloatArray) -> tuple[BoolArray, FloatArray, FloatArray]:
+        """For points (K, 2) [m]: whether a beam points at each (K,), the range of that
+        beam (K,) [m] (+inf where none does or it gave no return) and the point's distance
+        from the laser (K,) [m]."""
         d = points - self.origin
         dist = np.hypot(d[:, 0], d[:, 1])
         bearing = np.arctan2(d[:, 1], d[:, 0]) - self.heading - self.angle_min
@@ -63,10 +76,9 @@ class ScanView:
         if self.wraps:
             beam = beam % n
         covered = (beam >= 0) & (beam < n)
-        shadowed = np.zeros(len(points), dtype=bool)
-        idx = beam[covered].astype(np.int64)
-        shadowed[covered] = self.ranges[idx] < dist[covered] - margin
-        return covered, shadowed
+        ends = np.full(len(points), np.inf)
+        ends[covered] = self.ranges[beam[covered].astype(np.int64)]
+        return covered, ends, dist
 
 
 @dataclass(frozen=True)
@@ -123,6 +135,17 @@ class FrameShadows:
             seen |= covered & ~hidden
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         return np.logical_and.reduceat(ok & ~seen, starts)
+
+    def seen_empty(self, points: FloatArray, margin: float) -> bool:
+        """True when a beam of some scan went more than ``margin`` [m] beyond each one of
+        ``points`` (K, 2) [m]: the laser saw that nothing is there. Out of every scan's
+        field of view, or behind or at a return, counts as not seen; False for no points."""
+        if not len(points):
+            return False
+        past = np.zeros(len(points), dtype=bool)
+        for view in self.views:
+            past |= view.seen_past(points, margin)
+        return bool(past.all())
 
 
 __all__ = ["FrameShadows", "ScanView"]

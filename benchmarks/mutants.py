@@ -1367,8 +1367,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "eval-frame-refusal",
         "evaluate (tracks without a pose against truth in another frame are refused)",
         "evaluation/matching.py",
-        "            elif truth.frame is not None:",
-        "            elif truth.frame is None:",
+        "            else:\n                raise EvaluationError(",
+        "            elif False:\n                raise EvaluationError(",
         (*EVAL, "tests/test_eval_bruteforce.py"),
     ),
     Mutant(

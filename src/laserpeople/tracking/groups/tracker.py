@@ -718,10 +718,10 @@ class GroupMHTTracker:
         self._ids: dict[tuple[str, ...], int] = {}  # internal labels -> id reported for them
         self._last_at: dict[int, FloatArray] = {}  # reported id -> its last position [m]
         self.handover = IdHandover(p.id_memory if p.reuse_ids else 0.0, p.id_gate)
+        """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
         self._taken_over: set[int] = set()  # coasting families a new group replaced
         self.coasting = CoastedReports(p.coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
-        """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
 
     @property
     def wants_static_model(self) -> bool:
@@ -869,11 +869,11 @@ class GroupMHTTracker:
         if shadows is None:
             return None
         margin = self.params.shadow_margin
-        where = shadows
+        seen = shadows
 
         def gone(track: Track) -> bool:
             points = track.contour if len(track.contour) else track.position[None, :]
-            return where.seen_empty(points, margin)
+            return seen.seen_empty(points, margin)
 
         return gone
 

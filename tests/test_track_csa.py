@@ -948,3 +948,98 @@ def test_a_walked_person_found_again_next_to_where_it_was_lost_keeps_having_walk
     assert held(CSAParams(), (2.0, 3.0))
     assert held(CSAParams(), (1.3, 3.0), walked=False)
     assert held(CSAParams(moving_adopt_near=0.0), (1.3, 3.0))
+
+
+def _legs_seen(
+    frames: list[Frame], centres: Callable[[int], list[tuple[float, float]]]
+) -> list[Frame]:
+    """``frames`` with leg detections (world frame, the frame's pose) at the two legs of each
+    person centred at ``centres(k)`` in scan k (legs 0.2 m apart, as ``_blob``)."""
+    from laserpeople.tracks import Detections
+
+    out = []
+    for k, f in enumerate(frames):
+        legs = np.array([(x + dx, y) for x, y in centres(k) for dx in (-0.1, 0.1)]).reshape(-1, 2)
+        cov = np.tile(np.eye(2) * 0.01**2, (len(legs), 1, 1))
+        dets = Detections(f.stamp, f.index, legs, cov, np.ones(len(legs)), "world", f.sensor_pose)
+        out.append(f.with_fields(legs=dets))
+    return out
+
+
+def test_missed_legs_and_unheld_people_by_hand() -> None:
+    """missed_legs: a leg with a point exactly 0.2 m away is held, one 0.21 m away is
+    missed; unheld_people: a person 0.75 m from an object is held, 0.76 m is not, and of
+    two unheld people 0.5 m apart only the first starts a target."""
+    from laserpeople.tracking.csa_people import missed_legs, unheld_people
+
+    legs = np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]])
+    pts = np.array([[0.2, 0.0], [1.21, 0.0]])
+    np.testing.assert_allclose(missed_legs(pts, legs), [[1.0, 0.0], [5.0, 5.0]], atol=1e-12)
+    np.testing.assert_allclose(missed_legs(np.empty((0, 2)), legs), legs, atol=1e-12)
+    people = np.array([[0.75, 0.0], [0.0, 0.76], [3.0, 0.0], [3.5, 0.0]])
+    got = unheld_people(people, np.array([[0.0, 0.0]]))
+    np.testing.assert_allclose(got, [[0.0, 0.76], [3.0, 0.0]], atol=1e-12)
+
+
+def test_on_a_moving_laser_the_leg_mhts_people_start_targets_and_keep_their_legs() -> None:
+    """moving_people: on a laser driving at 0.5 m/s from its first scan, a person who
+    comes into view at scan 10 and stands at (3, 3) with both legs detected never walks,
+    so moving_travel alone never reports them; the leg MHT confirms them as a person and
+    the CSA reports them from a few scans on, for good, with one id. Furniture at (0, 6)
+    whose points carry no leg detection starts no target at all. The walker of
+    _on_a_robot, whose legs are detected, hidden in scans 12-17 (no points, no
+    detections): the leg MHT still holds their legs, which become the CSA's points, so
+    the walker stays reported (without the setting it is not while unseen longer than
+    moving_unseen)."""
+    people = [lambda k: (3.0, 3.0) if k >= 10 else None, lambda k: (0.0, 6.0)]
+    stand = _legs_seen(_standing(people, 40), lambda k: [(3.0, 3.0)] if k >= 10 else [])
+    stand = [replace(f, sensor_pose=Pose2D(0.05 * k, 0.0, 0.0)) for k, f in enumerate(stand)]
+    with_people = _reported(stand, CSAParams())
+    assert all(ids == [] for ids in _reported(stand, CSAParams(moving_people=False))[5:])
+    assert len(with_people[-1]) == 1
+    assert all(ids == with_people[-1] for ids in with_people[20:])
+    csa = ClusterSortingTracker()
+    for f in stand:
+        csa.update(f)
+    far = [t for t in csa._s.singles.values() if float(np.hypot(*(t.mean[:2] - (0, 6)))) < 1]
+    assert [t.pid for t in far] == [0]  # only the target started before the laser moved
+    hidden = range(12, 18)
+    walker = _legs_seen(
+        _on_a_robot(0.5, unseen=hidden),
+        lambda k: [] if k < 2 or k in hidden else [(3.0 + (k - 2) / 10, 3.0)],
+    )
+    seen = _reported(walker, CSAParams())
+    walking = [i for i in seen[8] if i in seen[-1]]
+    assert len(walking) == 1
+    assert all(walking[0] in ids for ids in seen[8:])
+    off = _reported(walker, CSAParams(moving_people=False))
+    assert [1 in ids for ids in off[8:]] == [True] * 7 + [False] * 3 + [True] * 4
+    assert CSAParams.paper_preset["moving_people"] is False
+
+
+def test_the_pipeline_hands_the_csas_leg_mht_the_peoples_static_model() -> None:
+    """With moving_people the CSA consumes legs and the pipeline hands its leg MHT's
+    people layer the static world model of the filter of person tracks on static places
+    (one model, fed once per frame; also with that filter off); without the setting the
+    CSA reads no legs and runs no leg MHT."""
+    from laserpeople.pipeline.background import StaticWorldParams
+    from laserpeople.pipeline.recording import tracker_stages
+    from laserpeople.pipeline.static_people import PeopleStaticModel
+    from laserpeople.pipeline.static_tracks import StaticTrackParams
+
+    csa = ClusterSortingTracker()
+    assert "legs" in csa.consumes
+    pre, _, hide = tracker_stages(csa)
+    models = [s for s in pre if isinstance(s, PeopleStaticModel)]
+    assert len(models) == 1 and hide is not None
+    assert csa._people is not None
+    assert csa._people._tracker.tracker.person_tracks.static_model is models[0]
+    off = StaticWorldParams(static_tracks=StaticTrackParams(hide=False))
+    csa = ClusterSortingTracker()
+    pre, _, hide = tracker_stages(csa, static_world=off)
+    models = [s for s in pre if isinstance(s, PeopleStaticModel)]
+    assert hide is None and len(models) == 1
+    assert csa._people is not None
+    assert csa._people._tracker.tracker.person_tracks.static_model is models[0]
+    plain = ClusterSortingTracker(CSAParams(moving_people=False))
+    assert "legs" not in plain.consumes and plain._people is None

@@ -283,16 +283,24 @@ def add_static_track_filter(
     ``preprocess`` (after a :class:`Fuse`, added when missing) the people's
     :class:`~laserpeople.pipeline.static_people.PeopleStaticModel` of ``background`` and
     return the identify stage that leaves out its person tracks on static places (None:
-    ``static_tracks.hide`` is false, the tracker has a model of its own, or ``none``)."""
+    ``static_tracks.hide`` is false, the tracker has a model of its own, or ``none``). A
+    tracker that runs people of its own (``use_people_static_model``: the CSA's leg MHT of
+    ``[csa] moving_people``) is handed the same model."""
     static_world = static_world if static_world is not None else StaticWorldParams()
-    if not static_world.static_tracks.hide or callable(getattr(tracker, "use_static_model", None)):
+    if callable(getattr(tracker, "use_static_model", None)):
+        return None
+    hide = static_world.static_tracks.hide
+    asks = getattr(tracker, "use_people_static_model", None)
+    if not hide and not callable(asks):
         return None
     model = people_static_model(background, map_path, static=static_world)
+    if callable(asks):
+        asks(model)
     if model is None:
         return None
     model.fill_foreground = False  # asked only how long places have been static
     _add_before_background(preprocess, model)
-    return StaticTrackFilter(model, static_world.static_tracks)
+    return StaticTrackFilter(model, static_world.static_tracks) if hide else None
 
 
 def _add_before_background(preprocess: list[Stage], model: PeopleStaticModel) -> None:

@@ -282,7 +282,7 @@ register(
         "laserpeople.tracking.csa:CSAParams",
         _csa,
         "Cluster Sorting Algorithm on raw foreground points, KFA/Viterbi switching (002)",
-        consumes=frozenset({"points", "foreground"}),
+        consumes=frozenset({"points", "foreground", "legs"}),  # legs: [csa] moving_people
     )
 )
 

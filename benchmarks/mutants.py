@@ -1722,6 +1722,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_pf_feet_handover.py",),
     ),
     Mutant(
+        "csa-people-among-themselves",
+        "csa moving_people: two people of the leg MHT closer than the birth gap start one target",
+        "tracking/csa_people.py",
+        "        held = np.vstack([held, xy])",
+        "        held = held",
+        ("tests/test_track_csa.py",),
+    ),
+    Mutant(
+        "csa-people-missed-legs",
+        "csa moving_people: a held leg becomes a point only where the foreground has none",
+        "tracking/csa_people.py",
+        "    return legs[d > gap]",
+        "    return legs[d >= 0.0]",
+        ("tests/test_track_csa.py",),
+    ),
+    Mutant(
         "tracks-moved-unstated-truth",
         "evaluate: truth that states no frame is compared in the tracks' own frame",
         "evaluation/matching.py",

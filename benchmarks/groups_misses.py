@@ -19,7 +19,11 @@ What the tracker did with a missed group's points:
 
 A *merged* miss is also counted by the reported group holding its points: made by a
 merge, by a split (a half), or by neither (a track that took both groups' points), and
-whether that group was first reported less than 1 s before.
+whether that group was first reported less than 1 s before. A *merged* miss of a group
+walking past another is also counted by whether one cluster at d_P of the scan's
+foreground held both groups' points (then no split of 000 can part them: a split needs
+two observations) and by how long the group and the people of the other true group in the
+holder had walked (speed above 0.3 m/s without a break).
 
 What the group was doing: walking or standing (mean speed of its members above or below
 0.3 m/s), and whether a leg of another true group is within d_P of one of its legs while
@@ -42,6 +46,7 @@ from scipy.optimize import linear_sum_assignment
 
 from groups_random import parse_seeds, seen_members  # type: ignore[import-not-found]
 from groups_table import _with  # type: ignore[import-not-found]
+from laserpeople.clustering import single_linkage
 from laserpeople.config import load_config
 from laserpeople.evaluation.groups import (
     GROUP_GATE,
@@ -82,6 +87,17 @@ def size_key(n_true: int, distance: float) -> tuple[str, str]:
     return size, f">= {RANGES[1]:g} m"
 
 
+def walked(since: dict[int, float], people: np.ndarray, stamp: float) -> str:
+    """How long the least-walked of ``people`` has walked: ``standing``, ``< 1 s`` or
+    ``>= 1 s`` (``since``: person id -> stamp [s] their walk began; absent: standing), or
+    ``no person`` when ``people`` is empty."""
+    if people.size == 0:
+        return "no person"
+    if any(int(p) not in since for p in people):
+        return "standing"
+    return "< 1 s" if min(stamp - since[int(p)] for p in people) < 1.0 else ">= 1 s"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", default="0-9", help="tune on 0-9; 100-119 are held back")
@@ -94,12 +110,14 @@ def main() -> None:
     sizes: Counter[tuple[str, str]] = Counter()
     wrong: Counter[tuple[str, str, str]] = Counter()  # size, range, "too few"/"too many"
     holders: Counter[tuple[str, bool]] = Counter()  # event that made it, reported < 1 s
+    passing: Counter[tuple[bool, str, str]] = Counter()  # one cluster, walked, other walked
     n_truth = 0
     for seed in parse_seeds(args.seeds):
         sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
         truth_of = {f.scan_index: f for f in sim.truth}
         tracker = GroupMHTTracker(params)
         first_reported: dict[int, float] = {}  # group id -> stamp [s]
+        since: dict[int, float] = {}  # person id -> stamp [s] their walk began
         for lf in frames_from_scans(sim.scans):
             reported = tracker.update(lf.frame)
             for g in tracker.last_groups:
@@ -107,6 +125,12 @@ def main() -> None:
             frame = truth_of.get(lf.frame.index)
             if frame is None:
                 continue
+            speeds = np.hypot(*frame.velocities.T)
+            for pid, v in zip(frame.person_ids.tolist(), speeds.tolist(), strict=True):
+                if v <= WALKING:
+                    since.pop(pid, None)
+                else:
+                    since.setdefault(pid, lf.frame.stamp)
             true = group_truth(frame)
             groups = list(frame.groups().values())
             n_truth += len(groups)
@@ -121,6 +145,11 @@ def main() -> None:
                 hit_g, hit_t = set(rows[ok].tolist()), set(cols[ok].tolist())
             fg = np.asarray(lf.frame.foreground)
             assert lf.frame.points is not None
+            fg_idx = np.flatnonzero(fg)
+            cluster = np.full(fg.size, -1, dtype=np.int64)
+            cluster[fg_idx] = single_linkage(
+                lf.frame.points.points[fg_idx], params.cluster_distance
+            )
             pose = lf.frame.sensor_pose
             origin = np.array([pose.x, pose.y]) if pose is not None else np.zeros(2)
             for g in tracker.last_groups:
@@ -154,7 +183,19 @@ def main() -> None:
                     holders[(event or "neither", young)] += 1
                 else:
                     cause = "offset"
-                misses[(cause, context(frame, people, params.cluster_distance))] += 1
+                ctx = context(frame, people, params.cluster_distance)
+                if cause == "merged" and ctx == "walk, passing":
+                    other = (est == labels[0]) & fg & ~mine
+                    one = np.intersect1d(cluster[mine], cluster[other]).size > 0
+                    who = np.unique(lf.true_person[other])
+                    passing[
+                        (
+                            one,
+                            walked(since, np.asarray(people), lf.frame.stamp),
+                            walked(since, who[who >= 0], lf.frame.stamp),
+                        )
+                    ] += 1
+                misses[(cause, ctx)] += 1
             by_id = {g.track_id: g for g in tracker.last_groups}
             for k, track in enumerate(reported.tracks):
                 if k in hit_t:
@@ -190,6 +231,19 @@ def main() -> None:
             for event in ("merge", "split", "neither")
         )
     )
+    n_passing = max(sum(passing.values()), 1)
+    print(
+        f"\nmerged while walking past a group that moves differently: {sum(passing.values())} "
+        "group-frames; in one cluster at d_P with the other group's points "
+        f"{100 * sum(n for k, n in passing.items() if k[0]) / n_passing:.0f} %"
+    )
+    print("| the group had walked | the other group's people had walked | share |")
+    print("|---|---|---|")
+    by_walk: Counter[tuple[str, str]] = Counter()
+    for (_, mine_walked, other_walked), n in passing.items():
+        by_walk[(mine_walked, other_walked)] += n
+    for (mine_walked, other_walked), n in by_walk.most_common():
+        print(f"| {mine_walked} | {other_walked} | {100 * n / n_passing:.0f} % |")
     n_sizes = max(sum(sizes.values()), 1)
     print(
         f"\nwrong sizes: {sum(wrong.values())} of {n_sizes} reported group-frames with points "

@@ -1043,3 +1043,47 @@ def test_the_pipeline_hands_the_csas_leg_mht_the_peoples_static_model() -> None:
     assert csa._people._tracker.tracker.person_tracks.static_model is models[0]
     plain = ClusterSortingTracker(CSAParams(moving_people=False))
     assert "legs" not in plain.consumes and plain._people is None
+
+
+def _share_cluster(gap: float):  # type: ignore[no-untyped-def]
+    """A cluster of people 0 and 1: person 0's four leg estimates around (0, 0.05) and two
+    groups of its paths at (2.1, 0) and (0.1, -3); person 1's two estimates at (0, gap)."""
+    from laserpeople.tracking.csa import _Cluster
+
+    legs0 = [(-0.1, 0.0), (0.1, 0.0), (-0.1, 0.1), (0.1, 0.1)]
+    legs1 = [(-0.12, gap), (0.12, gap)]
+    near = [(2.0, 0.0), (2.2, 0.0)]
+    far = [(0.0, -3.0), (0.2, -3.0)]
+    xy = np.array(legs0 + legs1 + near + far)
+    origin = np.array([0] * 4 + [1] * 2 + [0] * 2 + [0] * 2)
+    means = np.c_[xy, np.zeros((len(xy), 2))]
+    cl = _Cluster(
+        9, (0, 1), means, np.tile(np.eye(4) * 0.01, (len(xy), 1, 1)), np.zeros(len(xy)), origin, 0.0
+    )
+    cl.labels = leader_clusters(means[:, :2], 1.5)
+    return cl
+
+
+def test_share_out_moves_the_person_with_fewer_paths_to_the_nearest_unheld_group() -> None:
+    """share_out by hand: person 1 (2 paths) is shown at (0, 0.05), on person 0 (6 paths,
+    shown at (0, 0.05) too: its main sub-cluster is the legs). Person 1 gives its two leg
+    paths to person 0 and takes the nearer of the two groups farther than person_width
+    (0.6 m) from both, (2.1, 0) (2.1 m against 3.05 m); the group at (0.1, -3) stays
+    person 0's. Not moved when the two are 0.35 m apart (more than half of person_width)."""
+    from laserpeople.tracking.csa import member_positions
+
+    cl = _share_cluster(0.05)
+    pos = member_positions(cl.means[:, :2], cl.origin, cl.labels, cl.members)
+    assert np.allclose(pos[0], [0.0, 0.05], atol=1e-12)
+    assert np.allclose(pos[1], [0.0, 0.05], atol=1e-12)
+    csa = ClusterSortingTracker(CSAParams())
+    csa._share_out(cl)
+    assert cl.origin.tolist() == [0] * 4 + [0] * 2 + [1] * 2 + [0] * 2
+    pos = member_positions(cl.means[:, :2], cl.origin, cl.labels, cl.members)
+    assert np.allclose(pos[1], [2.1, 0.0], atol=1e-12)
+    assert np.allclose(pos[0], [0.0, 0.05], atol=1e-12)
+
+    apart = _share_cluster(0.40)  # person 1 at (0, 0.40): 0.35 m from person 0's (0, 0.05)
+    before = apart.origin.tolist()
+    csa._share_out(apart)
+    assert apart.origin.tolist() == before

@@ -292,16 +292,6 @@ class CSAParams:
         "person_width) before it becomes a person of the cluster (count_people)",
         "s",
     )
-    share_out: bool = param(
-        True,
-        "extension of 002; random-groups tuning seeds: two people of a cluster reported "
-        "within a leg of each other while a person-sized group of the cluster's estimates "
-        "has no row (docs/csa.md)",
-        "of two people of a cluster whose positions lie within half of person_width of "
-        "each other, the one with fewer paths gives its paths there to the other and takes "
-        "the paths of the nearest person-sized group (person_width) farther than "
-        "person_width from every person's position (Hungarian on distance)",
-    )
     background_people: bool = param(
         True,
         "measured (docs/csa.md, 'The people of the learning period'): crossing-3 cli IDF1 "
@@ -766,8 +756,6 @@ class ClusterSortingTracker:
             cl.labels = leader_clusters(cl.means[:, :2], p.subcluster_distance)
             if p.adopt_orphans:
                 self._orphans_claim(cl)
-            if p.share_out:
-                self._share_out(cl)
             if p.cut_free:
                 self._cut_free(cl, stamp, new_singles)
             if p.count_people:
@@ -1149,49 +1137,6 @@ class ClusterSortingTracker:
             cl.members = tuple(sorted((*cl.members, *added)))
             self.events.append(CSAEvent(stamp, "count people", tuple(added)))
 
-    def _share_out(self, cl: _Cluster) -> None:
-        """Two people of cluster ``cl`` shown on one person: of two people whose positions
-        (:func:`member_positions`) lie within half of ``person_width`` of each other, the
-        one with fewer Viterbi paths gives its paths within ``person_width`` of that place
-        to the other and takes the paths of a person-sized group (:func:`person_groups`)
-        whose centre lies farther than ``person_width`` from every person's position,
-        nearest first (Hungarian on distance)."""
-        p = self.params
-        pos = member_positions(cl.means[:, :2], cl.origin, cl.labels, cl.members)
-        if len(pos) < 2:
-            return
-        ids = list(pos)
-        xy = np.array([pos[m] for m in ids])
-        d = np.linalg.norm(xy[:, None] - xy[None], axis=-1)
-        np.fill_diagonal(d, np.inf)
-        paths = {m: int(np.count_nonzero(cl.origin == m)) for m in ids}
-        movers: list[tuple[int, int]] = []  # (person who moves, person who keeps the place)
-        done: set[int] = set()
-        for i, j in zip(*np.nonzero(np.triu(d < 0.5 * p.person_width)), strict=True):
-            a, b = ids[int(i)], ids[int(j)]
-            if a in done or b in done:
-                continue
-            movers.append((a, b) if paths[a] <= paths[b] else (b, a))
-            done |= {a, b}
-        if not movers:
-            return
-        est = cl.means[:, :2]
-        groups = person_groups(est, p.person_width)
-        cents = np.array([est[groups == g].mean(axis=0) for g in range(int(groups.max()) + 1)])
-        far = np.linalg.norm(cents[:, None] - xy[None], axis=-1).min(axis=1) > p.person_width
-        free = np.flatnonzero(far)
-        if free.size == 0:
-            return
-        at = np.array([pos[a] for a, _ in movers])
-        cost = np.linalg.norm(at[:, None] - cents[free][None], axis=-1)
-        origin = cl.origin.copy()
-        for r, c in zip(*linear_sum_assignment(cost), strict=True):
-            a, b = movers[int(r)]
-            near = np.linalg.norm(est - pos[a], axis=1) <= p.person_width
-            origin[(cl.origin == a) & near] = b
-            origin[groups == free[int(c)]] = a
-        cl.origin = origin
-
     def _orphans_claim(self, cl: _Cluster) -> None:
         """Orphans of cluster ``cl`` (people none of whose Viterbi paths survive) take the
         sub-clusters (leader clustering at ``subcluster_distance``) that are no person's
@@ -1359,21 +1304,6 @@ scatter a few centimetres about it, a leg's arc bulges 0.07 m from its chord."""
 WALL_OWN = 0.35
 """The points within this distance [m] of a target are its own (``on_a_wall``; the
 ``[leg_foreground] radius`` that keeps them)."""
-
-
-def member_positions(
-    xy: FloatArray, origin: IntArray, labels: IntArray, members: tuple[int, ...]
-) -> dict[int, FloatArray]:
-    """Where each person of a cluster with estimates at ``xy`` (E, 2) [m] is: the mean of
-    the estimates its Viterbi paths hold (``origin`` (E,)) in the sub-cluster (``labels``
-    (E,)) holding most of them. People without paths are left out."""
-    out: dict[int, FloatArray] = {}
-    for m in members:
-        own = origin == m
-        if own.any():
-            sel = own & (labels == int(np.argmax(np.bincount(labels[own]))))
-            out[m] = xy[sel].mean(axis=0)
-    return out
 
 
 def on_a_wall(xy: FloatArray, points: FloatArray, length: float) -> bool:

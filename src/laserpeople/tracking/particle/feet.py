@@ -1122,11 +1122,12 @@ class FeetTracker:
             body = body + shift[:, None, :]
         shown = frame.stamp - self.bank.last_seen <= p.report_time
         out = self.bank.tracks(body, vel, p.confirm_scans, frame, shown)
-        reported = np.flatnonzero((self.bank.hits >= p.confirm_scans) & shown)
-        ids = self.bank.ids[reported]
-        positions = np.array([t.position for t in out], dtype=np.float64).reshape(-1, 2)
-        self.lost.reported(ids, positions, self.bank.born[reported], frame.stamp)
-        self._shown = ids
+        if p.handover_time > 0.0:  # (004's filters, handover_time 0: nothing to remember)
+            reported = np.flatnonzero((self.bank.hits >= p.confirm_scans) & shown)
+            ids = self.bank.ids[reported]
+            positions = np.array([t.position for t in out], dtype=np.float64).reshape(-1, 2)
+            self.lost.reported(ids, positions, self.bank.born[reported], frame.stamp)
+            self._shown = ids
         return out
 
 

@@ -5,12 +5,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
 
 from laserpeople.frame import Frame
-from laserpeople.scan import PointSet, Pose2D
+from laserpeople.scan import PointSet, Pose2D, Scan
 from laserpeople.tracking.csa import (
     ClusterSortingTracker,
     CSAEvent,
@@ -1043,3 +1044,97 @@ def test_the_pipeline_hands_the_csas_leg_mht_the_peoples_static_model() -> None:
     assert csa._people._tracker.tracker.person_tracks.static_model is models[0]
     plain = ClusterSortingTracker(CSAParams(moving_people=False))
     assert "legs" not in plain.consumes and plain._people is None
+
+
+def _still_then_moving(stands: int, step: float = 0.1) -> list[Frame]:
+    """Frames at 10 Hz of a laser that stands for ``stands`` scans and then drives along x
+    at ``step`` [m] per scan, seeing a person standing at (3, 3) with both legs detected
+    from scan 5 on, whose points the foreground lacks, and a blob of furniture at (0, 6)
+    without legs (world frame, with a scan so that the leg MHT's people layer watches the
+    poses)."""
+    frames = _legs_seen(
+        _standing([lambda k: (0.0, 6.0)], stands + 15), lambda k: [(3.0, 3.0)] if k >= 5 else []
+    )
+    out = []
+    for k, f in enumerate(frames):
+        pose = Pose2D(step * max(k - stands + 1, 0), 0.0, 0.0)
+        scan = Scan(f.stamp, 0.0, 0.01, np.full(10, 5.0), pose=pose, index=k)
+        out.append(replace(f, scans=(scan,), sensor_pose=pose))
+    return out
+
+
+def test_the_leg_mht_runs_over_the_held_frames_when_the_laser_first_moves() -> None:
+    """While the laser stands, LegPeople only holds the frames of the last 2 s (the leg
+    MHT is not run: nothing of it is used); when the laser first moves, it tracks the 21
+    held frames (0.0-2.0 s before, both ends kept) and then the current one, so its people
+    are those of a leg MHT run on every frame from 2 s before, and the person standing
+    since scan 5 is confirmed at that moment (one frame alone confirms nobody)."""
+    from laserpeople.tracking.csa_people import HOLD_SECONDS, LegPeople
+
+    assert HOLD_SECONDS == 2.0
+    frames = _still_then_moving(40)
+    held, every, alone = LegPeople(), LegPeople(), LegPeople()
+    calls: list[int] = []
+    track = held._tracker.update
+
+    def counted(frame: Frame) -> Any:
+        calls.append(frame.index)
+        return track(frame)
+
+    held._tracker.update = counted  # type: ignore[method-assign]
+    for f in frames[:40]:
+        held.hold(f)
+    assert calls == [] and held.people.shape == (0, 2)
+    for f in frames[20:40]:
+        every.update(f)
+    for f in frames[40:]:
+        held.update(f)
+        every.update(f)
+        np.testing.assert_allclose(held.people, every.people, atol=1e-12)
+        np.testing.assert_allclose(held.legs, every.legs, atol=1e-12)
+    assert calls[:22] == list(range(19, 41))
+    np.testing.assert_allclose(held.people, [[3.0, 3.0]], atol=0.05)
+    alone.update(frames[40])
+    assert alone.people.shape == (0, 2)
+
+
+def test_the_leg_mhts_people_layer_measures_motion_from_the_first_frame_held() -> None:
+    """The people layer of the held leg MHT is told the robot moved when the laser is
+    0.05 m (MotionParams.moved_distance) from the run's first pose, not from the first of
+    the frames it tracks: the laser creeps 0.004 m per scan for 15 scans (0.06 m), and
+    with 0.5 s held, the first frame tracked is only 0.02 m behind."""
+    from laserpeople.tracking.csa_people import LegPeople
+
+    frames = _still_then_moving(1, step=0.004)
+    people = LegPeople(hold_seconds=0.5)
+    for f in frames[:14]:
+        people.hold(f)
+    people.update(frames[14])
+    assert people._tracker.tracker.person_tracks.moving
+
+
+def test_the_csa_reports_the_same_with_the_held_frames_as_with_the_leg_mht_on_every_frame() -> None:
+    """moving_people: the CSA's tracks on a laser that stands for 4 s and then drives are
+    the same whether its leg MHT holds the frames until the laser moves or runs on every
+    frame: the person standing since scan 5, whose legs alone are seen, is reported from
+    the first moving frame on (the leg MHT confirmed them over the held frames, and their
+    legs are the CSA's points), not before; the furniture only while the laser stands (a
+    still laser's targets are all reported; once it moves they must walk)."""
+    frames = _still_then_moving(40)
+
+    def run(hold: bool) -> list[list[tuple[int, float, float]]]:
+        csa = ClusterSortingTracker()
+        assert csa._people is not None
+        if not hold:
+            csa._people.hold = csa._people.update  # type: ignore[method-assign]
+        out = []
+        for f in frames:
+            rows = csa.update(f).of_kind("person")
+            out.append([(t.track_id, *np.round(t.position, 9)) for t in rows])
+        return out
+
+    held = run(True)
+    assert held == run(False)
+    assert all([r[0] for r in rows] == [0] for rows in held[1:40])
+    for rows in held[40:]:
+        assert len(rows) == 1 and math.hypot(rows[0][1] - 3.0, rows[0][2] - 3.0) < 0.1

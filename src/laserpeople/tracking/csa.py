@@ -626,8 +626,8 @@ class ClusterSortingTracker:
         ``moving_travel`` from there (world-frame runs with poses)."""
         self._stamp = 0.0
         self._people: LegPeople | None = LegPeople() if self.params.moving_people else None
-        """The leg MHT's people (``moving_people``), run on every world-frame frame with
-        poses and legs."""
+        """The leg MHT's people (``moving_people``), run on the frames with poses and legs
+        once the laser has moved (before, only their last seconds are held)."""
         if self._people is not None:
             self.consumes = self.consumes | {"legs"}
 
@@ -684,10 +684,12 @@ class ClusterSortingTracker:
             self._posed = frame.sensor_pose is not None
         world = self._posed and frame.frame == "world" and frame.legs is not None
         people = self._people if world else None
-        if people is not None:
+        if people is not None and not self._moving:
+            people.hold(frame)  # nothing of it is used before the laser moves
+        elif people is not None:
             people.update(frame)
-            if self._moving:  # the legs the leg MHT holds and the foreground lacks
-                z = np.vstack([z, missed_legs(z, people.legs)])
+            # the legs the leg MHT holds and the foreground lacks
+            z = np.vstack([z, missed_legs(z, people.legs)])
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
         self._last = stamp
         point_var = p.point_std**2

@@ -1762,6 +1762,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_track_csa.py",),
     ),
     Mutant(
+        "csa-torso-count-seconds",
+        "csa count_people: at torso height people are counted after torso_count_seconds",
+        "tracking/csa.py",
+        "        wait = p.torso_count_seconds if self.at_torso_height else p.count_seconds",
+        "        wait = p.count_seconds",
+        ("tests/test_track_csa.py",),
+    ),
+    Mutant(
+        "csa-torso-behind-guard",
+        "set_laser_height tells the CSA behind its point guard whether it is at torso height",
+        "pipeline/background.py",
+        '            inner = getattr(stage, "tracker", stage)  # behind the point guard, if any',
+        "            inner = stage",
+        ("tests/test_pipeline_torso_blobs.py",),
+    ),
+    Mutant(
         "tracks-moved-unstated-truth",
         "evaluate: truth that states no frame is compared in the tracks' own frame",
         "evaluation/matching.py",

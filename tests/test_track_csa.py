@@ -864,6 +864,35 @@ def test_a_persons_own_legs_and_a_short_glimpse_are_not_counted() -> None:
     assert len(counted(seen, CSAParams(count_seconds=0.3))) == 1
 
 
+def test_at_torso_height_a_group_is_counted_after_torso_count_seconds() -> None:
+    """torso_count_seconds (0.3 s): at torso height (the pipeline sets at_torso_height) the
+    blob seen 0.9 m beside a standing pair for 0.5 s (scans at 4.0-4.4 s) is counted as a
+    person of their cluster; with torso_count_seconds 0.45 it is not (0.4 s seen), nor at
+    feet height (count_seconds, 1 s)."""
+    a = [(0, -2.5, 3.0), (2, -0.4, 3.0), (6, -0.4, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.4, 3.0), (6, 0.4, 3.0)]
+
+    def glimpse(f: Frame) -> np.ndarray:
+        return _blob((0.0, 3.8), f.index) if 4.0 <= f.stamp < 4.5 else np.empty((0, 2))
+
+    seen = _with_points(_frames([a, b], 6.0), glimpse)
+
+    def counted(params: CSAParams, torso: bool) -> list[CSAEvent]:
+        csa = ClusterSortingTracker(params)
+        csa.at_torso_height = torso
+        for f in seen:
+            csa.update(f)
+        return [e for e in csa.events if e.kind == "count people"]
+
+    assert CSAParams().torso_count_seconds == 0.3
+    events = counted(CSAParams(), True)
+    assert len(events) == 1 and 4.3 <= events[0].stamp <= 4.4 + 1e-9
+    assert counted(CSAParams(torso_count_seconds=0.45), True) == []
+    assert counted(CSAParams(), False) == []
+    with pytest.raises(ValueError, match="torso_count_seconds"):
+        CSAParams(torso_count_seconds=-0.1)
+
+
 def _drifting(drift: float, seconds: float = 8.0) -> list[Frame]:
     """Frames at 10 Hz of a laser driving along x at 0.5 m/s that sees, from scan 2 on, a
     blob starting at (0, 3) and moving along x at ``drift`` [m/s] (a piece of furniture

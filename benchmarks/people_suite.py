@@ -147,7 +147,7 @@ def at_height(make: Any, height: float | None) -> Any:
     def made() -> Any:
         tracker = make()
         if wants_torso_runs(getattr(tracker, "tracker", None)):
-            set_laser_height(tracker.stages, height)
+            set_laser_height([*tracker.stages, tracker.tracker], height)
         return tracker
 
     return made

@@ -9,6 +9,7 @@ import numpy as np
 from laserpeople.pipeline.background import AutoBackground, at_torso_height, set_laser_height
 from laserpeople.pipeline.leg_foreground import LegForegroundParams, wants_torso_runs
 from laserpeople.pipeline.torso_blobs import MAX_WIDTH, MIN_BULGE, MIN_WIDTH, torso_blobs
+from laserpeople.tracking import registry
 from laserpeople.tracking.csa import ClusterSortingTracker
 from laserpeople.tracking.nearest import NearestNeighbourTracker
 
@@ -113,12 +114,17 @@ def test_the_bulge_threshold_tells_a_torso_from_noise() -> None:
 def test_only_a_laser_stated_at_torso_height_keeps_torso_runs() -> None:
     """at_torso_height: 0.7 m or higher (UPPER_BODY_MIN_HEIGHT); unknown is not.
     set_laser_height reaches the auto model among the stages; --preset paper turns the
-    runs off (002, 004); only the CSA asks for them."""
+    runs off (002, 004); only the CSA asks for them. set_laser_height also tells the CSA,
+    behind its point guard, whether the laser is at torso height (torso_count_seconds)."""
     assert at_torso_height(1.1) and at_torso_height(0.7)
     assert not at_torso_height(0.3) and not at_torso_height(None)
     auto = AutoBackground()
     set_laser_height([object(), auto], 1.2)
     assert auto.laser_height == 1.2
+    guarded = registry.get("csa").make()  # the CSA behind the point guard, as build makes it
+    for height, torso in ((1.2, True), (0.5, False), (None, False)):
+        set_laser_height([auto, guarded], height)
+        assert guarded.tracker.at_torso_height is torso
     assert LegForegroundParams().torso_blobs
     assert LegForegroundParams.paper_preset["torso_blobs"] is False
     assert wants_torso_runs(ClusterSortingTracker())

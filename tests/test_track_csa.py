@@ -5,12 +5,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
 
 from laserpeople.frame import Frame
-from laserpeople.scan import PointSet, Pose2D
+from laserpeople.scan import PointSet, Pose2D, Scan
 from laserpeople.tracking.csa import (
     ClusterSortingTracker,
     CSAEvent,
@@ -863,6 +864,35 @@ def test_a_persons_own_legs_and_a_short_glimpse_are_not_counted() -> None:
     assert len(counted(seen, CSAParams(count_seconds=0.3))) == 1
 
 
+def test_at_torso_height_a_group_is_counted_after_torso_count_seconds() -> None:
+    """torso_count_seconds (0.3 s): at torso height (the pipeline sets at_torso_height) the
+    blob seen 0.9 m beside a standing pair for 0.5 s (scans at 4.0-4.4 s) is counted as a
+    person of their cluster; with torso_count_seconds 0.45 it is not (0.4 s seen), nor at
+    feet height (count_seconds, 1 s)."""
+    a = [(0, -2.5, 3.0), (2, -0.4, 3.0), (6, -0.4, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.4, 3.0), (6, 0.4, 3.0)]
+
+    def glimpse(f: Frame) -> np.ndarray:
+        return _blob((0.0, 3.8), f.index) if 4.0 <= f.stamp < 4.5 else np.empty((0, 2))
+
+    seen = _with_points(_frames([a, b], 6.0), glimpse)
+
+    def counted(params: CSAParams, torso: bool) -> list[CSAEvent]:
+        csa = ClusterSortingTracker(params)
+        csa.at_torso_height = torso
+        for f in seen:
+            csa.update(f)
+        return [e for e in csa.events if e.kind == "count people"]
+
+    assert CSAParams().torso_count_seconds == 0.3
+    events = counted(CSAParams(), True)
+    assert len(events) == 1 and 4.3 <= events[0].stamp <= 4.4 + 1e-9
+    assert counted(CSAParams(torso_count_seconds=0.45), True) == []
+    assert counted(CSAParams(), False) == []
+    with pytest.raises(ValueError, match="torso_count_seconds"):
+        CSAParams(torso_count_seconds=-0.1)
+
+
 def _drifting(drift: float, seconds: float = 8.0) -> list[Frame]:
     """Frames at 10 Hz of a laser driving along x at 0.5 m/s that sees, from scan 2 on, a
     blob starting at (0, 3) and moving along x at ``drift`` [m/s] (a piece of furniture
@@ -1043,3 +1073,97 @@ def test_the_pipeline_hands_the_csas_leg_mht_the_peoples_static_model() -> None:
     assert csa._people._tracker.tracker.person_tracks.static_model is models[0]
     plain = ClusterSortingTracker(CSAParams(moving_people=False))
     assert "legs" not in plain.consumes and plain._people is None
+
+
+def _still_then_moving(stands: int, step: float = 0.1) -> list[Frame]:
+    """Frames at 10 Hz of a laser that stands for ``stands`` scans and then drives along x
+    at ``step`` [m] per scan, seeing a person standing at (3, 3) with both legs detected
+    from scan 5 on, whose points the foreground lacks, and a blob of furniture at (0, 6)
+    without legs (world frame, with a scan so that the leg MHT's people layer watches the
+    poses)."""
+    frames = _legs_seen(
+        _standing([lambda k: (0.0, 6.0)], stands + 15), lambda k: [(3.0, 3.0)] if k >= 5 else []
+    )
+    out = []
+    for k, f in enumerate(frames):
+        pose = Pose2D(step * max(k - stands + 1, 0), 0.0, 0.0)
+        scan = Scan(f.stamp, 0.0, 0.01, np.full(10, 5.0), pose=pose, index=k)
+        out.append(replace(f, scans=(scan,), sensor_pose=pose))
+    return out
+
+
+def test_the_leg_mht_runs_over_the_held_frames_when_the_laser_first_moves() -> None:
+    """While the laser stands, LegPeople only holds the frames of the last 2 s (the leg
+    MHT is not run: nothing of it is used); when the laser first moves, it tracks the 21
+    held frames (0.0-2.0 s before, both ends kept) and then the current one, so its people
+    are those of a leg MHT run on every frame from 2 s before, and the person standing
+    since scan 5 is confirmed at that moment (one frame alone confirms nobody)."""
+    from laserpeople.tracking.csa_people import HOLD_SECONDS, LegPeople
+
+    assert HOLD_SECONDS == 2.0
+    frames = _still_then_moving(40)
+    held, every, alone = LegPeople(), LegPeople(), LegPeople()
+    calls: list[int] = []
+    track = held._tracker.update
+
+    def counted(frame: Frame) -> Any:
+        calls.append(frame.index)
+        return track(frame)
+
+    held._tracker.update = counted  # type: ignore[method-assign]
+    for f in frames[:40]:
+        held.hold(f)
+    assert calls == [] and held.people.shape == (0, 2)
+    for f in frames[20:40]:
+        every.update(f)
+    for f in frames[40:]:
+        held.update(f)
+        every.update(f)
+        np.testing.assert_allclose(held.people, every.people, atol=1e-12)
+        np.testing.assert_allclose(held.legs, every.legs, atol=1e-12)
+    assert calls[:22] == list(range(19, 41))
+    np.testing.assert_allclose(held.people, [[3.0, 3.0]], atol=0.05)
+    alone.update(frames[40])
+    assert alone.people.shape == (0, 2)
+
+
+def test_the_leg_mhts_people_layer_measures_motion_from_the_first_frame_held() -> None:
+    """The people layer of the held leg MHT is told the robot moved when the laser is
+    0.05 m (MotionParams.moved_distance) from the run's first pose, not from the first of
+    the frames it tracks: the laser creeps 0.004 m per scan for 15 scans (0.06 m), and
+    with 0.5 s held, the first frame tracked is only 0.02 m behind."""
+    from laserpeople.tracking.csa_people import LegPeople
+
+    frames = _still_then_moving(1, step=0.004)
+    people = LegPeople(hold_seconds=0.5)
+    for f in frames[:14]:
+        people.hold(f)
+    people.update(frames[14])
+    assert people._tracker.tracker.person_tracks.moving
+
+
+def test_the_csa_reports_the_same_with_the_held_frames_as_with_the_leg_mht_on_every_frame() -> None:
+    """moving_people: the CSA's tracks on a laser that stands for 4 s and then drives are
+    the same whether its leg MHT holds the frames until the laser moves or runs on every
+    frame: the person standing since scan 5, whose legs alone are seen, is reported from
+    the first moving frame on (the leg MHT confirmed them over the held frames, and their
+    legs are the CSA's points), not before; the furniture only while the laser stands (a
+    still laser's targets are all reported; once it moves they must walk)."""
+    frames = _still_then_moving(40)
+
+    def run(hold: bool) -> list[list[tuple[int, float, float]]]:
+        csa = ClusterSortingTracker()
+        assert csa._people is not None
+        if not hold:
+            csa._people.hold = csa._people.update  # type: ignore[method-assign]
+        out = []
+        for f in frames:
+            rows = csa.update(f).of_kind("person")
+            out.append([(t.track_id, *np.round(t.position, 9)) for t in rows])
+        return out
+
+    held = run(True)
+    assert held == run(False)
+    assert all([r[0] for r in rows] == [0] for rows in held[1:40])
+    for rows in held[40:]:
+        assert len(rows) == 1 and math.hypot(rows[0][1] - 3.0, rows[0][2] - 3.0) < 0.1

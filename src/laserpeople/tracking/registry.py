@@ -23,6 +23,7 @@ from typing import Any, Protocol
 from laserpeople.background import StaticWorldModel
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField, FrameTracker
+from laserpeople.scan import Pose2D
 from laserpeople.tracking.point_guard import GuardedTracker
 from laserpeople.tracking.robot_motion import MotionWatch
 from laserpeople.tracks import Detections, Tracks
@@ -97,6 +98,17 @@ class LegMHTAdapter(LegsAdapter):
             world = frame.frame == "world" and bool(frame.scans)
             people.moving = world and self._watch(frame.sensor_pose)
         return super().update(frame)
+
+    def watch_from(self, pose: Pose2D | None) -> None:
+        """Measure whether the robot has moved from ``pose`` (the run's first pose; None:
+        nothing learnt), as if the first frame :meth:`update` tracks came later (a caller
+        that holds back the frames of a still laser and tracks only the last of them)."""
+        people = getattr(self.tracker, "person_tracks", None)
+        if people is None:
+            return
+        if self._watch is None:
+            self._watch = MotionWatch(people.params.motion)
+        self._watch(pose)
 
     @property
     def wants_static_model(self) -> bool:

@@ -145,29 +145,20 @@ class GroupObservations:
         counting: SizeCounting | None = None,
         max_blob_size: float = 0.0,
         spacing: FloatArray | None = None,
-        velocity: FloatArray | None = None,
-        velocity_cut: float = 0.0,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
         count when None); ``members`` (N,) are their indices in the frame and ``spacing``
         (N,) the beam spacing at each point's range [m] (``"resolved"`` counting). With
         ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
-        clusters are then made again from the rest; the blobs are those of one linkage).
-        With ``velocity`` (N, 2) [m/s] (NaN: unknown) and ``velocity_cut`` > 0 [m/s], a
-        link between two points whose velocities differ by ``velocity_cut`` or more is cut
-        (000's group: close AND moving alike); blobs are not cut."""
+        clusters are then made again from the rest; the blobs are those of one linkage)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
         gap = None if spacing is None else np.asarray(spacing, dtype=np.float64).reshape(-1)
-        vel = None
-        if velocity is not None and velocity_cut > 0.0:
-            vel = np.asarray(velocity, dtype=np.float64).reshape(-1, 2)
         finite = np.isfinite(pts).all(axis=1)
         if not finite.all():
             pts, idx = pts[finite], idx[finite]
             gap = None if gap is None else gap[finite]
-            vel = None if vel is None else vel[finite]
         d_blob = min(d_hs, d_p)
         pairs, length = close_pairs(pts, max(d_p, d_blob))
         fine = component_labels(pts.shape[0], pairs[length < d_blob])
@@ -180,18 +171,11 @@ class GroupObservations:
                 pairs, length = new_index[pairs[inside]], length[inside]
                 pts, idx = pts[keep], idx[keep]
                 gap = None if gap is None else gap[keep]
-                vel = None if vel is None else vel[keep]
                 fine = component_labels(pts.shape[0], pairs[length < d_blob])
         links = pairs[length < d_p]
-        if vel is not None and links.size:
-            dv = vel[links[:, 0]] - vel[links[:, 1]]
-            apart = np.einsum("ek,ek->e", dv, dv) >= velocity_cut * velocity_cut  # NaN: False
-            links = links[~apart]
         if pts.shape[0] == 0:
             return cls.empty()
         labels = component_labels(pts.shape[0], links)
-        if vel is not None:  # a blob the cut parted counts once on each side
-            fine = np.unique(labels * (int(fine.max()) + 1) + fine, return_inverse=True)[1]
         return cls._from_labels(pts, idx, labels, fine, counting, spacing=gap)
 
     @classmethod

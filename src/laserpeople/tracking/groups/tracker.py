@@ -41,7 +41,6 @@ from laserpeople.tracking.groups.interaction import (
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
 from laserpeople.tracking.groups.model import GroupModel, GroupModelSettings, group_payload
-from laserpeople.tracking.groups.motion import BlobMotion
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.groups.occlusion import FrameShadows
 from laserpeople.tracking.kalman import chi2_quantile_2dof
@@ -359,15 +358,6 @@ class GroupTrackerParams:
         "filter's, 000)",
         "s",
     )
-    motion_cut: float = param(
-        0.0,
-        "extension of 000 Sec. 4.1 by its Sec. 4.2 (a group is close and moves alike); "
-        "measured on random-groups seeds and the real recordings in docs/groups.md",
-        "a link of the observation clustering between two foreground points whose blobs' "
-        "trail velocities (over 1 s) differ by this much or more is cut (0: distance only, "
-        "000)",
-        "m/s",
-    )
     max_models: int = param(
         16,
         "assumption (000 bounds models only by binary events and gating)",
@@ -527,8 +517,6 @@ class GroupTrackerParams:
             raise ValueError("max_blob_size must not be negative (0 keeps every point)")
         if not 0.0 < self.static_share <= 1.0:
             raise ValueError("static_share must be in (0, 1]")
-        if not (self.motion_cut >= 0.0 and math.isfinite(self.motion_cut)):
-            raise ValueError("motion_cut must be finite and not negative (0: off)")
         if not (self.velocity_window >= 0.0 and math.isfinite(self.velocity_window)):
             raise ValueError("velocity_window must be finite and not negative (0: Kalman's)")
         if not (self.id_memory >= 0.0 and math.isfinite(self.id_memory)):
@@ -732,8 +720,6 @@ class GroupMHTTracker:
         self.handover = IdHandover(p.id_memory if p.reuse_ids else 0.0, p.id_gate)
         """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
         self._taken_over: set[int] = set()  # coasting families a new group replaced
-        self.motion = BlobMotion() if p.motion_cut > 0.0 else None
-        """The blobs' trail velocities the observation links are cut by (``motion_cut``)."""
         self.coasting = CoastedReports(p.coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
 
@@ -796,17 +782,8 @@ class GroupMHTTracker:
             pts, idx = pts[finite], idx[finite]
         p = self.params
         spacing = beam_spacing(frame, idx) if p.size_count == "resolved" else None
-        velocity = None if self.motion is None else self.motion.update(frame.stamp, pts)
         obs = GroupObservations.from_points(
-            pts,
-            idx,
-            p.cluster_distance,
-            p.blob_distance,
-            self._counting,
-            p.max_blob_size,
-            spacing,
-            velocity,
-            p.motion_cut,
+            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size, spacing
         )
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs

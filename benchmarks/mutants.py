@@ -982,6 +982,15 @@ MUTANTS: tuple[Mutant, ...] = (
         CSA_RULES,
     ),
     Mutant(
+        "csa-lost-keep-cluster-reported",
+        "CSA lost_keep (a kept cluster is not reported)",
+        C,
+        "if frame.stamp - c.last_seen > p.max_unseen:  # kept by lost_keep: not reported\n"
+        "                continue\n",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
         "csa-lost-keep-singles-only",
         "CSA lost_keep (clusters kept too)",
         C,

@@ -24,7 +24,7 @@ most of its estimates' Viterbi paths started from (an extension: the laser-only 
 Initiation and deletion are not in 002 (an assumption here): foreground points selected by
 no object are grouped by leader clustering, each group of at least ``min_points`` points
 starts a single target, reported once it had points in ``confirm_scans`` scans in a row;
-an object unseen for ``max_unseen`` is deleted.
+an object unseen for ``max_unseen`` is no longer reported, and deleted ``lost_keep`` later.
 
 Output: one ``person`` track per single target, and per cluster either its people at its
 sub-clusters (when there are as many sub-clusters as people, 002 split condition 3 "to
@@ -145,8 +145,8 @@ class CSAParams:
     lost_keep: float = param(
         0.5,
         "extension (002 has no deletion): on the real followed-person recording the leg "
-        "detector misses the standing person for 1.1 and 1.3 s, and the target deleted "
-        "after max_unseen came back as a new id (ids 5 -> 3); random-groups tuning seeds "
+        "detector misses the standing person, whose points come back 1.3 and 1.1 s after "
+        "they were last seen, as a new id (ids 5 -> 3); random-groups tuning seeds "
         "0-19 MOTA 0.487 / 0.486 / 0.483 / 0.474 for 0 / 0.5 / 1 / 2 s, held back 100-119 "
         "MOTA 0.493 -> 0.493, IDF1 0.447 -> 0.456 (docs/csa.md, 'Real data')",
         "an object without selected measurements for max_unseen is no longer reported but "

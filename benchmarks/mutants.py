@@ -1176,7 +1176,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-count-seconds",
         "CSA count_people (seen for count_seconds near one place)",
         C,
-        "if stamp - since < p.count_seconds:",
+        "if stamp - since < wait:",
         "if stamp - since < 0.0:",
         CSA_RULES,
     ),

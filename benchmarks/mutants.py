@@ -973,6 +973,31 @@ MUTANTS: tuple[Mutant, ...] = (
         "return not (limit > 0 and stamp - t.last_seen > limit)",
         CSA_RULES,
     ),
+    Mutant(
+        "csa-lost-keep-reported",
+        "CSA lost_keep (kept, not reported)",
+        C,
+        "        if stamp - t.last_seen > self.params.max_unseen:\n            return False\n",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-lost-keep-cluster-reported",
+        "CSA lost_keep (a kept cluster is not reported)",
+        C,
+        "if frame.stamp - c.last_seen > p.max_unseen:  # kept by lost_keep: not reported\n"
+        "                continue\n",
+        "",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-lost-keep-singles-only",
+        "CSA lost_keep (clusters kept too)",
+        C,
+        "if stamp - last_seen > p.max_unseen + p.lost_keep:\n                return None",
+        "if stamp - last_seen > p.max_unseen:\n                return None",
+        CSA_RULES,
+    ),
     # ---- the histogram's people of the learning period (background_people)
     Mutant(
         "histogram-people-share-complement",
@@ -1151,7 +1176,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "csa-count-seconds",
         "CSA count_people (seen for count_seconds near one place)",
         C,
-        "if stamp - since < p.count_seconds:",
+        "if stamp - since < wait:",
         "if stamp - since < 0.0:",
         CSA_RULES,
     ),

@@ -232,8 +232,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.493, IDF1 0.447 (goal 0.5; moving lasers 0.346, still 0.639); ID "
-        "switches 23.3 per scene, 6.3 s per scene on static objects",
+        "person MOTA 0.493, IDF1 0.456 (goal 0.5; moving lasers 0.347, still 0.640); ID "
+        "switches 23.4 per scene, 6.2 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(

@@ -368,6 +368,57 @@ def test_a_confirmed_target_missed_for_a_scan_stays_reported() -> None:
     assert ids == [[]] + [[0, 1]] * 11
 
 
+def test_a_target_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> None:
+    """lost_keep (0.5 s): a person (target 1) beside one seen throughout (target 0) is not
+    seen in scans 5-17 (last seen at 0.4 s, back at 1.8 s, 1.4 s later). It is reported
+    while unseen for at most max_unseen (1 s: scans 5-13; scan 14 sits on the limit),
+    not in scans 15-17, and from scan 18 on again as target 1, at once. With
+    lost_keep = 0 (deleted at 1 s) it comes back as a new target 2, reported from scan 19
+    (confirm_scans 2); unseen for 2.1 s (longer than max_unseen + lost_keep) it is a new
+    target 2 with the default too."""
+
+    def frames(back: int) -> list[Frame]:
+        return _standing(
+            [lambda k: (0.0, 3.0), lambda k: None if 5 <= k < back else (3.0, 3.0)], 40
+        )
+
+    assert CSAParams().max_unseen + CSAParams().lost_keep == pytest.approx(1.5)
+    kept = _reported(frames(18), CSAParams())
+    assert kept[1:14] == [[0, 1]] * 13
+    assert kept[15:18] == [[0]] * 3
+    assert kept[18:] == [[0, 1]] * 22
+    deleted = _reported(frames(18), CSAParams(lost_keep=0.0))
+    assert deleted[15:19] == [[0]] * 4
+    assert deleted[19:] == [[0, 2]] * 21
+    too_long = _reported(frames(25), CSAParams())
+    assert too_long[15:26] == [[0]] * 11
+    assert too_long[26:] == [[0, 2]] * 14
+    assert CSAParams.paper_preset["lost_keep"] == 0.0
+    with pytest.raises(ValueError, match="lost_keep"):
+        CSAParams(lost_keep=-0.1)
+
+
+def test_a_cluster_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> None:
+    """lost_keep for a cluster: two people merged at 2 s (targets 1 and 2; target 0 stands
+    far off) are not seen from 2.5 to 3.8 s (last seen at 2.4 s). The cluster's people are
+    reported for 1 s after they were last seen (scans 25-34), not in scans 35-37, and
+    from scan 38 on again as 1 and 2 (002's merge and split, nothing else). Deleted at
+    1 s (lost_keep = 0) they come back as new targets."""
+    a = [(0, -2.5, 3.0), (2, -0.25, 3.0), (5.5, -0.25, 3.0), (7.5, -2.5, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.25, 3.0), (5.5, 0.25, 3.0), (7.5, 2.5, 3.0)]
+    c = [(0, 0.0, 8.0), (9, 0.0, 8.0)]
+    frames = _frames([c, a, b], 9.0, hidden={1: (2.5, 3.8), 2: (2.5, 3.8)})
+    csa = ClusterSortingTracker()
+    ids = [sorted(t.track_id for t in csa.update(f).of_kind("person")) for f in frames]
+    assert [e.kind for e in csa.events] == ["merge person+person", "split"]
+    assert ids[25:35] == [[0, 1, 2]] * 10
+    assert ids[35:38] == [[0]] * 3
+    assert ids[38:] == [[0, 1, 2]] * (len(frames) - 38)
+    deleted = _reported(frames, CSAParams(lost_keep=0.0))
+    assert all(1 not in r and 2 not in r for r in deleted[35:])
+    assert any(len(r) > 1 for r in deleted[38:])
+
+
 def _on_a_robot(
     robot_speed: float, frame: str = "world", unseen: range = range(0), stands: int = 0
 ) -> list[Frame]:

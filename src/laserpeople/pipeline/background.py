@@ -391,6 +391,14 @@ class AutoBackground:
                 return True
         return False
 
+    def prefetch(self, frames: Sequence[Frame]) -> None:
+        """Detect the legs of ``frames`` (frames about to come, in order) at once once the
+        foreground is narrowed to points near legs (from then on every frame is; the same
+        detections as one frame at a time, :meth:`LegForeground.prefetch`). Before, nothing:
+        the narrowing's detector sees its first scan at the frame it starts."""
+        if self.legs is not None and self._wants_legs():
+            self.legs.prefetch(frames)
+
     def __call__(self, frame: Frame) -> Frame:
         """The frame with ``foreground`` from the model in use (every point once dropped),
         narrowed to the points near legs when ``[leg_foreground] use`` says so."""

@@ -46,6 +46,7 @@ robots".
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -383,10 +384,9 @@ class LegForeground:
         pos = [t.position for t in tracks.of_kind("leg") if t.track_id in members]
         return near_legs(mine, np.asarray(pos, dtype=np.float64).reshape(-1, 2), self.params.radius)
 
-    def detections_of(self, frame: Frame) -> Any:
-        """Leg detections of ``frame``, in its coordinate frame."""
-        if frame.legs is not None:
-            return frame.legs
+    def _detect_stage(self) -> Any:
+        """The stage's own :class:`~laserpeople.pipeline.observe.DetectLegs` (made at first
+        use, with ``detector`` or the shipped one)."""
         if self._detect is None:
             from laserpeople.pipeline.observe import DetectLegs
 
@@ -396,8 +396,21 @@ class LegForeground:
 
                 detector = AdaBoostLegDetector.default()
             self._detect = DetectLegs(detector)
+        return self._detect
+
+    def prefetch(self, frames: Sequence[Frame]) -> None:
+        """Detect the legs of the scans of ``frames`` (frames about to be narrowed, in
+        order) at once (:meth:`~laserpeople.pipeline.observe.DetectLegs.prefetch`): the same
+        detections as one frame at a time, for about a third of the CPU. Frames that hold
+        their legs already are left out (they are not detected again)."""
+        self._detect_stage().prefetch([f for f in frames if f.legs is None])
+
+    def detections_of(self, frame: Frame) -> Any:
+        """Leg detections of ``frame``, in its coordinate frame."""
+        if frame.legs is not None:
+            return frame.legs
         self.detected += 1
-        legs = self._detect(frame).legs
+        legs = self._detect_stage()(frame).legs
         if legs is None:
             from laserpeople.tracks import Detections
 

@@ -420,7 +420,7 @@ class AutoBackground:
             self.switched_at = frame.index
         if self.model is None:
             n = 0 if frame.points is None else len(frame.points)
-            return replace(frame, foreground=np.ones(n, dtype=bool))
+            return frame.with_fields(foreground=np.ones(n, dtype=bool))
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
         out: Frame
         if learning and self.learn_people:

@@ -10,7 +10,9 @@ moving laser with poses the occupancy grid has not yet learned what the robot dr
 :class:`LegForeground` keeps, of the points a frame's foreground holds (every point without
 one), only those within ``radius`` of a leg detection of the shipped leg detector (000 Sec.
 2; the pipeline's :class:`~laserpeople.pipeline.observe.DetectLegs` stage, reused: a frame
-that already holds ``legs`` is not detected again). A leg's points lie within about 0.1 m
+that already holds ``legs`` is not detected again, and with a tracker that consumes legs too
+the pipeline's stage detects each frame once for both; otherwise its own stage detects the
+frames ahead 16 at a time, :meth:`LegForeground.prefetch`). A leg's points lie within about 0.1 m
 of its detection (leg radius ~0.07 m, the detection moved 0.045 m behind the points'
 centroid); a larger radius also keeps a second leg the detector missed in this scan.
 

@@ -17,7 +17,6 @@ from laserpeople.pipeline.leg_foreground import (
     LegForegroundParams,
     near_legs,
     needs_steady_points,
-    own_detector,
     stage_leg_tracker,
 )
 from laserpeople.scan import PointSet, Pose2D, Scan
@@ -249,14 +248,6 @@ def test_params_are_checked() -> None:
         LegForegroundParams(steady_person_memory=float("nan"))
 
 
-def test_a_shared_detector_is_copied() -> None:
-    detector = _FixedDetector((1.0, 0.0))
-    assert own_detector(detector, shared=False) is detector
-    copied = own_detector(detector, shared=True)
-    assert copied is not detector and copied.where == detector.where
-    assert own_detector(None, shared=True) is None
-
-
 # ------------------------------------------------------------------ when auto uses it
 
 
@@ -354,11 +345,13 @@ def test_observe_stages_hand_the_detector_to_auto() -> None:
     pre, _ = observe_stages_for(frozenset({"points", "foreground"}), detector)
     model = background_of(pre)
     assert isinstance(model, AutoBackground) and model._detector is detector
-    # a tracker that also consumes legs gets DetectLegs with the detector; auto a copy
+    assert model._legs_stage is None
+    # a tracker that also consumes legs gets DetectLegs with the detector, whose
+    # detections of each frame auto's narrowing takes (each frame detected once)
     pre, observe = observe_stages_for(frozenset({"points", "foreground", "legs"}), detector)
     model = background_of(pre)
-    assert isinstance(model, AutoBackground) and model._detector is not detector
     assert type(observe[0]).__name__ == "DetectLegs" and observe[0].detector is detector
+    assert isinstance(model, AutoBackground) and model._legs_stage is observe[0]
 
 
 def test_build_gives_each_point_tracker_its_foreground(tmp_path: object) -> None:
@@ -483,3 +476,66 @@ def test_while_learning_only_the_people_of_the_leg_mht_stay_foreground() -> None
 def test_learn_people_warmup_is_checked() -> None:
     with pytest.raises(ValueError, match="learn_people_warmup"):
         LegForegroundParams(learn_people_warmup=-1)
+
+
+# ------------------------------------------------------------------ what it costs
+
+
+class _BlockDetector(_FixedDetector):
+    """A :class:`_FixedDetector` that also detects blocks of scans (``detect_many``),
+    counting the blocks and the scans given."""
+
+    def __init__(self, where: tuple[float, float]) -> None:
+        super().__init__(where)
+        self.blocks: list[int] = []
+
+    def detect_many(self, scans: list[Scan]) -> list[Detections]:
+        self.blocks.append(len(scans))
+        found = [self.detect(s) for s in scans]
+        self.calls -= len(scans)  # counted as a block, not as scans
+        return found
+
+
+def test_auto_detects_the_narrowing_s_legs_in_blocks_once_it_narrows() -> None:
+    """Before the narrowing starts nothing is detected ahead (its detector sees its first
+    scan at the frame it starts); from then on a block of frames is detected at once, and
+    the foreground is that of one frame at a time."""
+    detector = _BlockDetector((3.0, 0.0))
+    static = StaticWorldParams(leg_foreground=LegForegroundParams(use="moving", memory=0.0))
+    model = AutoBackground(static=static, detector=detector)
+    twin = _auto("moving")
+    frames = [_frame(_rotating_scan(i, 0 if i < 25 else 3 * (i - 24))) for i in range(100)]
+    done = 0
+    while done < len(frames):
+        block = frames[done : done + 16]
+        model.prefetch(block)
+        for frame in block:
+            out, alone = model(frame), twin(frame)
+            assert out.foreground is not None and alone.foreground is not None
+            np.testing.assert_array_equal(out.foreground, alone.foreground)
+        done += len(block)
+    assert model.legs_from == 29  # in the block of frames 16-31
+    # frames 29-31 one at a time; then each block ahead: 32-47, 48-63, 64-79, 80-95, 96-99
+    assert detector.calls == 3
+    assert detector.blocks == [16, 16, 16, 16, 4]
+
+
+def test_a_frame_is_detected_once_however_many_stages_ask() -> None:
+    """The pipeline's DetectLegs, shared with the narrowing: asked twice for a frame it
+    detects it once (the same legs); a frame of other scans is detected anew."""
+    from laserpeople.pipeline import DetectLegs
+
+    detector = _BlockDetector((1.0, 0.0))
+    shared = DetectLegs(detector)
+    stage = LegForeground(LegForegroundParams(radius=0.2, memory=0.0), legs_stage=shared)
+    frame = _points_frame([(1.1, 0.0), (0.5, 0.0)])
+    stage.prefetch([frame])  # the pipeline prefetches its own stage: nothing here
+    assert detector.blocks == []
+    out = stage(frame)
+    assert out.foreground is not None and out.foreground.tolist() == [True, False]
+    legs = shared(out).legs
+    assert detector.calls == 1 and stage.detected == 1
+    assert legs is not None and legs.positions.tolist() == [[1.0, 0.0]]
+    other = _points_frame([(1.1, 0.0)], stamp=0.1)
+    shared(other)
+    assert detector.calls == 2

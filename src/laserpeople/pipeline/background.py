@@ -283,6 +283,9 @@ class AutoBackground:
         legs_from: Index of the first frame narrowed to points near legs (None: none).
         laser_height: The laser's mount height [m] when the recording states it (None:
             unknown); at torso height the narrowing keeps torso-shaped runs too.
+        legs_stage: The pipeline's leg detection stage (a tracker that consumes legs too):
+            the narrowing and ``learn_people`` take its detections of each frame instead of
+            detecting the frame again (None: they detect with ``detector``).
         learn_people: While the histogram learns, the points within ``[leg_foreground]
             radius`` of the legs of the people a leg MHT confirms are marked as people,
             whose ranges it does not learn as static, and the wall behind every leg
@@ -302,6 +305,7 @@ class AutoBackground:
         *,
         steady: bool = False,
         learn_people: bool = False,
+        legs_stage: object | None = None,
     ) -> None:
         from laserpeople.background.beam_histogram import BeamHistogramBackground
 
@@ -314,6 +318,7 @@ class AutoBackground:
         self.motion: SensorMotionCheck | None = None
         self._first: dict[str, Pose2D] = {}
         self._detector = detector
+        self._legs_stage = legs_stage
         self._steady = steady
         self.legs: LegForeground | None = None
         self.legs_from: int | None = None
@@ -346,6 +351,7 @@ class AutoBackground:
                 self._detector,
                 steady=self._steady,
                 leg_tracker=self.static.leg_tracker,
+                legs_stage=self._legs_stage,
             )
             self.legs_from = frame.index
         self.legs.moving = self.chosen == "occupancy"
@@ -365,7 +371,10 @@ class AutoBackground:
         p = self.static.leg_foreground
         if self._people_legs is None:
             self._people_legs = LegForeground(
-                p, copy.deepcopy(self._detector), leg_tracker=self.static.leg_tracker
+                p,
+                copy.deepcopy(self._detector),
+                leg_tracker=self.static.leg_tracker,
+                legs_stage=self._legs_stage,
             )
         assert frame.points is not None
         pts = frame.points.points
@@ -391,6 +400,14 @@ class AutoBackground:
                 return True
         return False
 
+    def prefetch(self, frames: Sequence[Frame]) -> None:
+        """Detect the legs of ``frames`` (frames about to come, in order) at once once the
+        foreground is narrowed to points near legs (from then on every frame is; the same
+        detections as one frame at a time, :meth:`LegForeground.prefetch`). Before, nothing:
+        the narrowing's detector sees its first scan at the frame it starts."""
+        if self.legs is not None and self._wants_legs():
+            self.legs.prefetch(frames)
+
     def __call__(self, frame: Frame) -> Frame:
         """The frame with ``foreground`` from the model in use (every point once dropped),
         narrowed to the points near legs when ``[leg_foreground] use`` says so."""
@@ -403,7 +420,7 @@ class AutoBackground:
             self.switched_at = frame.index
         if self.model is None:
             n = 0 if frame.points is None else len(frame.points)
-            return replace(frame, foreground=np.ones(n, dtype=bool))
+            return frame.with_fields(foreground=np.ones(n, dtype=bool))
         learning = self.chosen == "histogram" and getattr(self.model, "learning", False)
         out: Frame
         if learning and self.learn_people:
@@ -538,6 +555,7 @@ def background_stage(
     *,
     steady: bool = False,
     behind_people: bool = False,
+    legs_stage: object | None = None,
 ) -> Stage | None:
     """The static world model stage for ``choice`` (a name of :data:`BACKGROUND_CHOICES`
     or a model object; None or ``"none"``: no model). ``map_path`` seeds the occupancy
@@ -546,7 +564,9 @@ def background_stage(
     to points near legs (None: the shipped one; :mod:`laserpeople.pipeline.leg_foreground`;
     ``steady``: for a tracker that needs steady points, which holds missed legs longer;
     ``behind_people``: ``auto``'s per-beam histogram does not learn the ranges on leg
-    detections as static, :class:`AutoBackground`)."""
+    detections as static, :class:`AutoBackground`; ``legs_stage``: the pipeline's
+    :class:`~laserpeople.pipeline.observe.DetectLegs`, whose detections ``auto`` takes
+    instead of detecting each frame again)."""
     static = static if static is not None else StaticWorldParams()
     if choice is None or choice == "none":
         if map_path is not None:
@@ -575,6 +595,7 @@ def background_stage(
             detector=detector,
             steady=steady,
             learn_people=behind_people,
+            legs_stage=legs_stage,
         )
     raise ConfigError(
         f"unknown static world model {choice!r}",

@@ -73,6 +73,10 @@ class DetectLegs:
         self.classifications: tuple[Any, ...] = ()
         """With ``keep_classification``: the last frame's ``ScanClassification`` per scan
         (every segment with its features and score; the detector needs ``classify``)."""
+        self._last: tuple[tuple[Scan, ...], Detections] | None = None
+        """The scans of the last frame and their legs: a frame asked for again (by the
+        foreground's narrowing to points near legs, then by the pipeline) is not detected
+        again (the detector would take it as its own previous scan)."""
 
     def prefetch(self, frames: Sequence[Frame]) -> None:
         """Detect the legs of every scan of ``frames`` (frames about to come, in order) at
@@ -97,7 +101,11 @@ class DetectLegs:
         return dets
 
     def __call__(self, frame: Frame) -> Frame:
-        """The frame with its legs."""
+        """The frame with its legs (those of the last call when ``frame`` holds the same
+        scans: each frame is detected once, however many stages ask)."""
+        last = self._last
+        if last is not None and _same_scans(last[0], frame.scans):
+            return frame.with_fields(legs=last[1])
         self.classifications = ()
         per_scan = tuple(self._detect(scan) for scan in frame.scans)
         self.per_scan = per_scan
@@ -111,9 +119,9 @@ class DetectLegs:
                     hint="give the laser mounts with --mount, or track one --topic",
                 )
             placed = list(per_scan)
-        if len(placed) == 1:
-            return frame.with_fields(legs=placed[0])
-        return frame.with_fields(legs=self._merge(frame, placed))
+        legs = placed[0] if len(placed) == 1 else self._merge(frame, placed)
+        self._last = (frame.scans, legs)
+        return frame.with_fields(legs=legs)
 
     def _merge(self, frame: Frame, parts: list[Detections]) -> Detections:
         positions = np.concatenate([d.positions for d in parts])
@@ -145,6 +153,11 @@ class DetectLegs:
             if len(segments) == len(keep)
             else (),
         )
+
+
+def _same_scans(a: Sequence[Scan], b: Sequence[Scan]) -> bool:
+    """Whether ``a`` and ``b`` hold the same scan objects, in order."""
+    return len(a) == len(b) and all(x is y for x, y in zip(a, b, strict=True))
 
 
 class ClusterPoints:

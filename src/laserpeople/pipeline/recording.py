@@ -213,10 +213,15 @@ def observe_stages_for(
     the per-beam histogram of ``auto`` leaves out the legs detected while it learns, see
     :func:`~laserpeople.pipeline.leg_foreground.learns_behind_people`).
     """
-    from laserpeople.pipeline.leg_foreground import own_detector
-
     preprocess: list[Stage] = []
     observe: list[Stage] = []
+    legs: DetectLegs | None = None
+    if "legs" in consumes:
+        if detector is None:
+            from laserpeople.detection.detector import AdaBoostLegDetector
+
+            detector = AdaBoostLegDetector.default()
+        legs = DetectLegs(detector, leg_fusion)
     if consumes & {"points", "foreground", "clusters"}:
         preprocess.append(Fuse())
     if consumes & {"foreground", "clusters"}:
@@ -224,20 +229,17 @@ def observe_stages_for(
             background,
             map_path,
             static_world,
-            own_detector(detector, "legs" in consumes),
+            detector,
             steady=steady,
             behind_people=behind_people,
+            legs_stage=legs,  # its legs of a frame are the narrowing's: detected once
         )
         if model is not None:
             preprocess.append(model)
     if "clusters" in consumes:
         observe.append(ClusterPoints())
-    if "legs" in consumes:
-        if detector is None:
-            from laserpeople.detection.detector import AdaBoostLegDetector
-
-            detector = AdaBoostLegDetector.default()
-        observe.append(DetectLegs(detector, leg_fusion))
+    if legs is not None:
+        observe.append(legs)
     return preprocess, observe
 
 

@@ -987,7 +987,7 @@ MUTANTS: tuple[Mutant, ...] = (
         C,
         "if frame.stamp - c.last_seen > p.max_unseen:  # kept by lost_keep: not reported\n"
         "                continue\n",
-        "",
+        "if False:  # kept by lost_keep: reported\n                continue\n",
         CSA_RULES,
     ),
     Mutant(

@@ -1796,10 +1796,10 @@ MUTANTS: tuple[Mutant, ...] = (
     ),
     Mutant(
         "csa-torso-behind-guard",
-        "set_laser_height tells the CSA behind its point guard whether it is at torso height",
+        "set_laser_height tells the CSA (behind its point guard) whether it is at torso height",
         "pipeline/background.py",
-        '            inner = getattr(stage, "tracker", stage)  # behind the point guard, if any',
-        "            inner = stage",
+        "            tell(at_torso_height(height))",
+        "            tell(False)",
         ("tests/test_pipeline_torso_blobs.py",),
     ),
     Mutant(

@@ -61,23 +61,32 @@ def test_a_report_refreshes_and_old_identities_are_forgotten() -> None:
     assert lost.take(np.array([[3.0, 0.0]]), none, 3.2) == [None]
 
 
-def _run(handover: float) -> list[set[int]]:
-    """A person standing at (0, 2) for 2 s at 10 Hz (a filter starts after ``still_time``
-    0.5 s), hidden for 1.5 s (the filter dies after ``miss_time`` 1 s), then standing
-    again 0.3 m to the side for 2 s: the identities reported per scan."""
-    p = FeetParams(handover_time=handover, still_time=0.5, miss_time=1.0, particles=100, seed=2)
+def _stand_hide_stand(
+    p: FeetParams, scans: int, hidden: tuple[float, float], moved: float
+) -> tuple[FeetTracker, list[set[int]]]:
+    """A person standing at (0, 2) at 10 Hz, hidden from ``hidden[0]`` to ``hidden[1]``
+    [s], then standing ``moved`` [m] to the side: the tracker after ``scans`` scans and
+    the identities it reported per scan."""
     tracker = FeetTracker(p)
     out = []
-    for k in range(55):
+    for k in range(scans):
         t = k / 10.0
-        if t < 2.0:
+        if t < hidden[0]:
             pts = _person(0.0, 2.0)
-        elif t < 3.5:
+        elif t < hidden[1]:
             pts = np.empty((0, 2))
         else:
-            pts = _person(0.3, 2.0)
+            pts = _person(moved, 2.0)
         out.append({tr.track_id for tr in tracker.update(frame_of(pts, t, k))})
-    return out
+    return tracker, out
+
+
+def _run(handover: float) -> list[set[int]]:
+    """The person stands for 2 s (a filter starts after ``still_time`` 0.5 s), is hidden
+    for 1.5 s (the filter dies after ``miss_time`` 1 s), then stands 0.3 m to the side for
+    2 s: the identities reported per scan."""
+    p = FeetParams(handover_time=handover, still_time=0.5, miss_time=1.0, particles=100, seed=2)
+    return _stand_hide_stand(p, 55, (2.0, 3.5), 0.3)[1]
 
 
 @pytest.mark.parametrize("handover", [2.0, 0.0])
@@ -105,16 +114,7 @@ def test_a_coasting_filter_whose_identity_is_taken_is_removed() -> None:
             particles=100,
             seed=2,
         )
-        tracker = FeetTracker(p)
-        for k in range(40):
-            t = k / 10.0
-            if t < 1.5:
-                pts = _person(0.0, 2.0)
-            elif t < 2.1:
-                pts = np.empty((0, 2))
-            else:
-                pts = _person(1.0, 2.0)
-            tracker.update(frame_of(pts, t, k))
+        tracker, _ = _stand_hide_stand(p, 40, (1.5, 2.1), 1.0)
         assert len(tracker.bank) == filters
         assert len(set(tracker.bank.ids.tolist())) == filters
 

@@ -632,14 +632,15 @@ def set_laser_height(stages: Sequence[object], height: float | None) -> None:
     """Tell the ``auto`` static world model among ``stages`` the laser's mount height [m]
     (None: unknown), as the recording states it: at torso height its narrowing to points
     near legs keeps torso-shaped runs too (``[leg_foreground] torso_blobs``); and a tracker
-    among them with an ``at_torso_height`` flag (the CSA, ``[csa] torso_count_seconds``)
+    among them that asks (``use_torso_height``: the CSA, ``[csa] torso_count_seconds``)
     whether that is torso height."""
     for stage in stages:
         if isinstance(stage, AutoBackground):
             stage.laser_height = height
-        elif hasattr(stage, "at_torso_height"):
-            inner = getattr(stage, "tracker", stage)  # behind the point guard, if any
-            inner.at_torso_height = at_torso_height(height)
+            continue
+        tell = getattr(stage, "use_torso_height", None)
+        if tell is not None:
+            tell(at_torso_height(height))
 
 
 def describe_foreground(stage: object | None) -> str:

@@ -656,15 +656,20 @@ class ClusterSortingTracker:
         if self._people is not None:
             self.consumes = self.consumes | {"legs"}
         self.at_torso_height = False
-        """Whether the recording states the laser at torso height (the pipeline sets it,
-        :func:`~laserpeople.pipeline.background.set_laser_height`): people are counted
-        into clusters after ``torso_count_seconds`` instead of ``count_seconds``."""
+        """Whether the recording states the laser at torso height
+        (:meth:`use_torso_height`): people are counted into clusters after
+        ``torso_count_seconds`` instead of ``count_seconds``."""
 
     def use_people_static_model(self, model: StaticWorldModel | None) -> None:
         """The static world model the leg MHT's people of ``moving_people`` ask (the
         pipeline feeds it each frame; None: none). Nothing to do without the setting."""
         if self._people is not None:
             self._people.use_static_model(model)
+
+    def use_torso_height(self, torso: bool) -> None:
+        """Whether the recording states the laser at torso height (the pipeline tells it,
+        :func:`~laserpeople.pipeline.background.set_laser_height`)."""
+        self.at_torso_height = torso
 
     # ------------------------------------------------------------------ helpers
     def _new_single(self, pos: FloatArray, stamp: float) -> None:

@@ -51,3 +51,20 @@ def test_kdtree_is_scipys() -> None:
     d, j = lazy_scipy.cKDTree(pts).query(np.array([[0.1, 0.4]]), k=1)
     assert j.tolist() == [2]
     assert d[0] == pytest.approx(np.hypot(0.1, 0.1))
+
+
+def test_kdtree_loads_without_scipy_spatial() -> None:
+    """In a fresh interpreter the KD-tree comes from its extension module alone (no
+    ``scipy.spatial`` package import) and is scipy's own class once scipy.spatial is
+    imported afterwards."""
+    code = (
+        "import sys, numpy as np\n"
+        "from laserpeople.lazy_scipy import cKDTree\n"
+        "tree = cKDTree(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.5]]))\n"
+        "assert tree.query_pairs(0.6, output_type='ndarray').tolist() == [[0, 2]]\n"
+        "assert 'scipy.spatial' not in sys.modules, 'scipy.spatial imported'\n"
+        "import scipy.spatial\n"
+        "assert type(tree) is scipy.spatial.cKDTree\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr

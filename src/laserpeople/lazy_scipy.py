@@ -10,7 +10,9 @@ The assignment solver is SciPy's extension module ``scipy.optimize._lsap`` loade
 own: it needs nothing of ``scipy.optimize``, whose package import (linear programming,
 ``scipy.linalg``, ``scipy.sparse``) costs ten times as much. When that module cannot be
 loaded so (another SciPy layout), the public ``scipy.optimize.linear_sum_assignment`` is
-used; both are the same function.
+used; both are the same function. The KD-tree likewise comes from ``scipy.spatial._ckdtree``
+alone (about half the CPU of importing ``scipy.spatial``, which also loads its distance
+functions, ``qhull`` and ``scipy.linalg``); ``scipy.spatial.cKDTree`` is that module's class.
 """
 
 from __future__ import annotations
@@ -22,25 +24,41 @@ from typing import TYPE_CHECKING, Any
 LSAP_MODULE = "scipy.optimize._lsap"
 """SciPy's module of ``linear_sum_assignment`` (a C extension)."""
 
+KDTREE_MODULE = "scipy.spatial._ckdtree"
+"""SciPy's module of ``cKDTree`` (a C extension)."""
+
 _solver: list[Callable[..., Any]] = []  # the solver, once loaded
+_kdtree: list[Any] = []  # the KD-tree class, once loaded
 
 
 def load_lsap() -> Callable[..., Any]:
     """SciPy's ``linear_sum_assignment``: from ``scipy.optimize`` when that is imported
     already, else from its extension module alone (see the module doc), else by the public
     import."""
-    optimize = sys.modules.get("scipy.optimize")
-    if optimize is not None:
-        return optimize.linear_sum_assignment
-    module = sys.modules.get(LSAP_MODULE)
+    return _from_scipy("scipy.optimize", LSAP_MODULE, "linear_sum_assignment")
+
+
+def load_kdtree() -> Any:
+    """SciPy's ``cKDTree`` class: from ``scipy.spatial`` when that is imported already,
+    else from its extension module alone (see the module doc), else by the public import."""
+    return _from_scipy("scipy.spatial", KDTREE_MODULE, "cKDTree")
+
+
+def _from_scipy(package: str, extension: str, name: str) -> Any:
+    """``package.name``, taken from the loaded ``package``, or from ``extension`` (loaded
+    alone if need be), or by importing ``package`` when the extension cannot be loaded so."""
+    public = sys.modules.get(package)
+    if public is not None:
+        return getattr(public, name)
+    module = sys.modules.get(extension)
     if module is None:
         try:
-            module = _load_extension(LSAP_MODULE)
+            module = _load_extension(extension)
         except (ImportError, OSError):
-            from scipy.optimize import linear_sum_assignment as public
+            import importlib
 
-            return public
-    return module.linear_sum_assignment
+            return getattr(importlib.import_module(package), name)
+    return getattr(module, name)
 
 
 def _load_extension(name: str) -> Any:
@@ -90,9 +108,9 @@ else:
 
     def cKDTree(*args: Any, **kwargs: Any) -> Any:  # noqa: N802 (SciPy's name)
         """:class:`scipy.spatial.cKDTree` (see the module doc)."""
-        from scipy.spatial import cKDTree as KDTree
-
-        return KDTree(*args, **kwargs)
+        if not _kdtree:
+            _kdtree.append(load_kdtree())
+        return _kdtree[0](*args, **kwargs)
 
     def linear_sum_assignment(*args: Any, **kwargs: Any) -> Any:
         """:func:`scipy.optimize.linear_sum_assignment` (see the module doc)."""

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.lazy_scipy import cKDTree
 
 
 @dataclass(frozen=True)
@@ -87,8 +88,6 @@ def single_linkage(
     """
     if not distance > 0:
         raise ValueError(f"single-linkage distance must be positive, got {distance}")
-    from scipy.spatial import cKDTree
-
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     n = pts.shape[0]
     labels = np.full(n, -1, dtype=np.int64)

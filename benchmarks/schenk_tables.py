@@ -164,31 +164,36 @@ NOTES = [
     "linkage at `feet_pf.segment_link` 0.06 m; leg-shaped: largest covariance eigenvalue "
     "at most `leg_eigenvalue` 0.007 m^2 and, where it decides a blob, at least "
     "`blob_leg_points` 3 points; a leg's arc is below 0.002, a suitcase's 0.40-0.45 m "
-    "face 0.013-0.017). Three departures, each with a value that restores 004: (1) a "
+    "face 0.013-0.017). Three departures, each with a value that restores 004:",
+    "    - (1) a "
     "point on a segment longer than a leg weighs `long_weight` 0.1 in eqs. 3-4 (1 is "
     "004), so that the feet settle on the legs and not on the right leg and a carried "
     "suitcase's face 0.22 m beside it: carry case, seeds 200-203: 0.59 -> 0.74 (0.76 at "
     "0.02; `leg_eigenvalue` 0.0045 or 0.01: carry, pull, cart and skirt summed 2.49 and "
-    "2.31 against 2.49 at 0.007); (2) `rescue_legs` (false drops all points of a "
+    "2.31 against 2.49 at 0.007);",
+    "    - (2) `rescue_legs` (false drops all points of a "
     "too-big object): the leg-shaped segments of an object too big for a person "
     "(`max_eigenvalue`) still weigh and support filters, though they start none, so "
     "that the pusher's leading foot, linked to the cart's rear face at `link_distance` "
     "0.15 m but apart from it at 0.06 m, keeps the filter on the pusher: cart, seeds "
-    "200-203: 0.36 -> 0.50; (3) `blob_body` (false: always the walking model's body): a "
+    "200-203: 0.36 -> 0.50;",
+    "    - (3) `blob_body` (false: always the walking model's body): a "
     "filter whose nearby objects (a point within `blob_reach` 0.3 m of its feet "
     "midpoint) hold no leg-shaped segment reports their centre, the middle of their "
     "extent along the filter's heading and the mean of their points across it. A long "
     "skirt hides the legs; its sides move steadily, and the filter's feet rode at their "
     "rear (up to 0.45 m behind the body) while the walking model kept one foot standing; "
     "the mean of the points is no better, because the lasers see the front of the skirt "
-    "before it passes them and its back afterwards: skirt, seeds 200-203: 0.68 -> 0.83. "
-    "Table 6 scenes, seeds 200-203, all three against none: carry case 0.59 -> 0.74, "
+    "before it passes them and its back afterwards: skirt, seeds 200-203: 0.68 -> 0.83.",
+    "",
+    "    Table 6 scenes, seeds 200-203, all three against none: carry case 0.59 -> 0.74, "
     "pull case 0.36 -> 0.42, skirt 0.64 -> 0.83, cart 0.33 -> 0.50. The 22 other "
     "scenes and the one-side row, seeds 200-201: mean 0.934 -> 0.930, each within 0.01 "
     "but cross on seed 200 (0.70 -> 0.48, 3 tracks both times): with the tracker's seed "
     "1, 2 or 3 instead of 0, cross on seeds 200-201 is 0.955, 0.955, 0.72 without the "
-    "three and 0.954, 0.955, 0.94 with them; the crossing is a coin toss for either. "
-    "On the real `demo_stationary_simple_environment.bag` (leg_tracker, no labels), "
+    "three and 0.954, 0.955, 0.94 with them; the crossing is a coin toss for either.",
+    "",
+    "    On the real `demo_stationary_simple_environment.bag` (leg_tracker, no labels), "
     "`track --tracker feet-pf`: 27 person tracks against 26 without the three, 89 % of "
     "the rows within 0.05 m of a track of the run without them, 99 % within 0.2 m.",
     "",
@@ -199,7 +204,9 @@ NOTES = [
     "explains its 0.32 the same way (hijacking). FT cart: the leading foot is hidden "
     "inside the cart's outline for part of each step, so the filter lags on the trailing "
     "foot, and the pusher is found late (no merge and split of the feet while the cart "
-    "hides one). Tried and not kept: a cap on the kernel sums of eqs. 3-4 "
+    "hides one).",
+    "",
+    "Tried and not kept: a cap on the kernel sums of eqs. 3-4 "
     "(a foot on a suitcase's long side worth no more than on a leg; cap 2.5: carry case "
     "0.60 -> 0.58, pull case 0.31 -> 0.22, cross 0.90 -> 0.56), and 004's eq. 6 alone "
     "(`h_width` 0) for the skirt (0.640 -> 0.646, carry case 0.60 -> 0.54). With the "
@@ -358,7 +365,8 @@ def _document(
             if wall is not None
             else "this text rendered from the runs stored in the `--results` file"
         )
-        + f"{'' if done else '; INCOMPLETE: still running'}). "
+        + f"{'' if done else '; INCOMPLETE: still running'}).",
+        "",
         "Adapted "
         "MOTP of 004 eqs. 10-11 (h = 0.008 m^3) per scene, mean over "
         f"{runs} simulated runs per row on seeds {args.first_seed}..{last}"
@@ -367,7 +375,9 @@ def _document(
         "with several trajectories share the runs among them), scan rate "
         f"{rate}. The trackers' parameters were tuned on seeds 0..8 and 200..203 only, "
         "never on the "
-        "table's seeds. Setup of 004 Sec. 3.1: two LMS151 at 0.2 m and two at 1.1 m, 2 m "
+        "table's seeds.",
+        "",
+        "Setup of 004 Sec. 3.1: two LMS151 at 0.2 m and two at 1.1 m, 2 m "
         "either side of the trajectory. FT: feet tracker (004 Sec. 2.1) on the two feet "
         "lasers; UBT: upper-body tracker (004 Sec. 2.2) on the two upper-body lasers; both "
         "on the foreground of a per-beam histogram background learned from 1 s of the empty "

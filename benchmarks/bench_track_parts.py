@@ -50,7 +50,7 @@ PARTS: list[tuple[Any, str, str]] = [
     (core.MHT, "_expire", "  expiry of unseen tracks"),
 ]
 """(owner, attribute, label) of the parts timed; a part the code imported does not have (an
-older version's, run with its ``src`` on PYTHONPATH) is left out. Since session 11 the plain
+older version's, run with its ``src`` on PYTHONPATH) is left out. The plain
 MHT makes its children's states at the end of the step (``_fill_deferred``), no longer per
 gated pair before branching (``_prepare_children``)."""
 

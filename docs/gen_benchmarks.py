@@ -94,7 +94,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Start-up of the command line",
         ("benchmarks/bench_startup.py", "--repeat", "5"),
         0.8,
-        "`laserpeople --help` 9.1× and `track --help` 7.6× a bare `python -c pass` (median "
+        "`laserpeople --help` 9.1× and `track --help` 7.3× a bare `python -c pass` (median "
         "CPU, loaded machine); `import typer` alone is about 6–7×",
         "speed.md#start-up",
     ),
@@ -216,7 +216,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Colour re-identification after crossings (8 variants × 5 seeds, 135 people)",
         ("benchmarks/csa_crossings.py",),
         10.0,
-        "people right after the crossing: CSA 82 → 135 with colour, leg MHT 85 → 135",
+        "people right after the crossing: CSA 83 → 135 with colour, leg MHT 85 → 135",
         "csa.md",
     ),
     Benchmark(

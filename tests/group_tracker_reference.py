@@ -35,7 +35,7 @@ BAG_SCANS = 300
 """Scans of the demo bag tracked (its first ones)."""
 REFERENCE_MHT = MHTParams(min_ratio=1e-3)
 """Ratio pruning of every run here: the group tracker's default until session 9 (now
-``GROUP_MIN_RATIO``, 3e-3, docs/groups.md "Fifth round"), pinned so that the reference
+``GROUP_MIN_RATIO``, 3e-3, docs/groups.md "Settings", ratio pruning), pinned so that the reference
 recorded before keeps checking that speed work leaves the decisions unchanged."""
 REFERENCE_REPORTING: dict[str, float] = {
     "confirm_scans": 1,

@@ -1,5 +1,5 @@
 """The group tracker's bookkeeping is bounded by the tracks alive, not by the length of the
-run (issue 12, docs/groups.md "Memory in long runs (session 11)"): a scene of episodes in
+run (issue 12, docs/groups.md "Speed and memory"): a scene of episodes in
 which a group arrives, splits, merges again and leaves is tracked for twice as many
 episodes, and what the tracker keeps from scan to scan stays below the same bound."""
 
@@ -30,8 +30,8 @@ BOOKKEEPING = (
     "seen",
     "reported_roots",
 )
-"""Sizes of :meth:`GroupMHTTracker.state_counts` that grew with the run before session 11
-(or could, as ``walked_at`` with a static world model, and ``reported_ids``, session 13)."""
+"""Sizes of :meth:`GroupMHTTracker.state_counts` that would grow with the run if nothing forgot
+(or could, as ``walked_at`` with a static world model, and ``reported_ids``)."""
 BOUND = 24
 """Most entries any of them may hold: one episode makes some 10 families and labels."""
 

@@ -1,4 +1,4 @@
-"""Ratio pruning of the group tracker (docs/groups.md "Fifth round"): hypotheses below
+"""Ratio pruning of the group tracker (docs/groups.md "Settings", ratio pruning): hypotheses below
 ``GROUP_MIN_RATIO`` times their cluster's best are dropped unless ``mht.min_ratio`` is
 set, and an explicit value is kept."""
 

@@ -240,5 +240,5 @@ def test_walk_times_are_forgotten_for_groups_long_gone() -> None:
     kept = dict(tracker._walked_at)
     tracker._walked_at.update({f"{9000 + i}": 1.0 for i in range(100)})  # gone long ago
     tracker.update(_frame(_blob(np.array([1.2, 2.0])), 12))
-    tracker.forget_gone(12)  # every FORGET_EVERY scans (since session 11)
+    tracker.forget_gone(12)  # every FORGET_EVERY scans
     assert tracker._walked_at == kept  # only the walker's labels are left

@@ -99,8 +99,8 @@ class LegForegroundParams:
     )
     steady_memory: float = param(
         0.0,
-        "measured (docs/people-benchmarks.md, 'Foreground on moving robots' and 'Session 13: "
-        "holding the legs of people'; tried 0, 0.5, 1 and 2 s): with the legs of the leg "
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; tried 0, 0.5, 1 "
+        "and 2 s): with the legs of the leg "
         "MHT's people held steady_person_memory, holding the other legs too only keeps "
         "clutter (real person-following robot: feet-pf identity recall / ids 0.51 / 5 with "
         "0 s, 0.51 / 5 with 0.2 s; simulated moving robots, tuning seeds: feet-pf MOTA 0.16 "
@@ -125,7 +125,7 @@ class LegForegroundParams:
     )
     person_memory: float = param(
         0.0,
-        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; "
         "tried 0, 0.5 and 1 s): as memory, held legs draw the CSA's targets into groups "
         "that never split (real person-following robot: csa identity recall / recall 0.37 / "
         "0.84 with 0 s, 0.32 / 0.33 with 0.5 and 1 s; group-mht's groups 0.33 / 14 ids with "
@@ -138,7 +138,7 @@ class LegForegroundParams:
     )
     steady_person_memory: float = param(
         1.0,
-        "measured (docs/people-benchmarks.md, 'Session 13: holding the legs of people'; "
+        "measured (docs/people-benchmarks.md, 'Foreground on moving robots'; "
         "tried 0.5, 1 and 2 s): the particle filters of 004 die after miss_time = 0.2 s "
         "without points and the detector misses the followed person's legs for up to a "
         "second while the leg MHT still holds them (real person-following robot: feet-pf / "
@@ -246,7 +246,7 @@ def stage_leg_tracker(params: LegTrackerParams | None = None) -> LegTrackerParam
     """The leg MHT's parameters this stage runs with: ``params`` (``LegTrackerParams``;
     None: its defaults), with ``mht.k_best`` and ``mht.n_scan`` where unset at 000's 20 and 8
     rather than the ``tracks`` policy's 5 and 4. Measured on the real person-following
-    recording (session 14): feet-pf identity recall 0.512 with 5 ids at 20 / 8, 0.329 with
+    recording: feet-pf identity recall 0.512 with 5 ids at 20 / 8, 0.329 with
     6 ids at 5 / 4 (one more id switch on the followed person); upper-body-pf 0.566 either
     way. The stage runs the MHT only for trackers of points on moving lasers."""
     from laserpeople.tracking.legs import POLICY_MIN_RATIO, LegTrackerParams

@@ -57,7 +57,7 @@ real bags' ids and static seconds unchanged; held-back randomised seeds 100-119 
 POLICY_K_BEST = {"arras": K_BEST, "tracks": 5}
 """Children per cluster and scan per people policy where ``mht.k_best`` is unset. ``arras``
 keeps :data:`~.mht.core.K_BEST` (20, an assumption: 000 averages k over 2..200); ``tracks``
-keeps 5 (issue 10, session 14; docs/people-benchmarks.md, "Session 14: fewer hypotheses").
+keeps 5 (issue 10).
 With N-scan 4: tuning seeds (randomised 0-9; crossing-3, narrow-corridor, entrance-hall 1-4)
 MOTA / IDF1 0.288 / 0.323 -> 0.302 / 0.326, crossing-3 unchanged, narrow-corridor 0.348 /
 0.369 -> 0.345 / 0.363, entrance-hall 0.346 / 0.380 -> 0.335 / 0.371, at 0.52-0.76x of the

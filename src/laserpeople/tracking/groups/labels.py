@@ -15,8 +15,8 @@ from functools import lru_cache
 NATURAL_MEMO = 4096
 """Labels whose natural sort keys are remembered (least recently used first out). A long
 run meets new labels all the time (every born group, split and merge, in every hypothesis:
-about 1,500 per 1,000 scans on the 20-people hall); a few hundred are alive at once. Until
-session 11 this was 65,536 (about 20 MB when full, reached after some 45,000 scans)."""
+about 1,500 per 1,000 scans on the 20-people hall); a few hundred are alive at once. A memo
+of 65,536 would hold about 20 MB when full, reached after some 45,000 scans."""
 
 
 @lru_cache(maxsize=NATURAL_MEMO)

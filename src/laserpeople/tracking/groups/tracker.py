@@ -66,11 +66,11 @@ hall records about 75 per 1,000 scans, some 65,000 in a robot's day at 10 scans/
 GROUP_MIN_RATIO = 3e-3
 """Ratio pruning of group hypotheses where ``mht.min_ratio`` is unset: drop a hypothesis
 below 0.3 % of its cluster's best (000 Sec. 4.5.2 names ratio pruning without a value; the
-generic :data:`~laserpeople.tracking.mht.core.MIN_RATIO`, 1e-3, until session 9). Chosen
+generic :data:`~laserpeople.tracking.mht.core.MIN_RATIO` is 1e-3). Chosen
 for speed (issue 12: under 5 ms at 20 people) on entrance-hall seeds 0 and 1 (60 s, d_P
 1.3 m: clustering error 0.2417, group size and events the same for 1e-3, 2e-3 and 3e-3;
 5e-3 0.2413, 1e-2 0.2445); held out (seeds 2-4, 5-7) and on the real demo bag see
-docs/groups.md "Fifth round"."""
+docs/groups.md "Settings", ratio pruning."""
 GROUP_N_SCAN = 3
 """N-scan-back depth of group hypotheses where ``mht.n_scan`` is unset (000's scan-back depth
 of eight, :data:`~laserpeople.tracking.mht.core.N_SCAN`, under ``--preset paper``): a merge

@@ -54,7 +54,8 @@ from laserpeople.evaluation.groups import (
     group_truth,
     near_and_alike,
 )
-from laserpeople.sim.scenarios import run_scenario
+from laserpeople.pipeline.background import at_torso_height
+from laserpeople.sim.scenarios import build_scene, run_scenario
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
 from laserpeople.truth import TruthFrame
 
@@ -116,6 +117,8 @@ def main() -> None:
         sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
         truth_of = {f.scan_index: f for f in sim.truth}
         tracker = GroupMHTTracker(params)
+        height = build_scene("random-groups", seconds=args.seconds, seed=seed).notes["scanner"]
+        tracker.use_torso_height(at_torso_height(float(height["height_m"])))
         first_reported: dict[int, float] = {}  # group id -> stamp [s]
         since: dict[int, float] = {}  # person id -> stamp [s] their walk began
         for lf in frames_from_scans(sim.scans):

@@ -76,7 +76,8 @@ def _run_seed(seed: int, seconds: float, params: GroupTrackerParams) -> tuple[di
     """One scene: its notes and the tracker's scores."""
     notes = build_scene("random-groups", seconds=seconds, seed=seed).notes
     sim = run_scenario("random-groups", seconds=seconds, seed=seed)
-    return notes, run_groups(sim.scans, params, truth=sim.truth)
+    height = float(notes["scanner"]["height_m"])
+    return notes, run_groups(sim.scans, params, truth=sim.truth, laser_height=height)
 
 
 def main() -> None:

@@ -34,6 +34,7 @@ from groups_table import _with  # type: ignore[import-not-found]
 from laserpeople.clustering import single_linkage
 from laserpeople.config import load_config
 from laserpeople.evaluation.groups import frames_from_scans
+from laserpeople.pipeline.background import at_torso_height
 from laserpeople.sim.scenarios import build_scene, run_scenario
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
 from laserpeople.tracking.groups.observations import blob_people
@@ -71,10 +72,12 @@ def cause(who: np.ndarray, blob: np.ndarray, people: np.ndarray, pairs: np.ndarr
 
 def run_seed(seed: int, seconds: float, params: GroupTrackerParams) -> tuple[str, Counter]:
     """One scene: its laser height and the (class, true size) counts of its group-frames."""
-    level = str(build_scene("random-groups", seconds=seconds, seed=seed).notes["scanner"]["level"])
+    scanner = build_scene("random-groups", seconds=seconds, seed=seed).notes["scanner"]
+    level = str(scanner["level"])
     sim = run_scenario("random-groups", seconds=seconds, seed=seed)
     tracker = GroupMHTTracker(params)
-    counting = params.counting()
+    tracker.use_torso_height(at_torso_height(float(scanner["height_m"])))
+    counting = tracker.counting
     out: Counter[tuple[str, int]] = Counter()
     for lf in frames_from_scans(sim.scans):
         tracker.update(lf.frame)

@@ -1715,6 +1715,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_groups_size_resolved.py",),
     ),
     Mutant(
+        "torso-no-pairs",
+        "group size: at torso height no two blobs are paired as one person's legs",
+        GO,
+        "pairable = (radius <= counting.leg_radius) & (not counting.torso)",
+        "pairable = radius <= counting.leg_radius",
+        GROUP_SIZE,
+    ),
+    Mutant(
+        "torso-pairs-setting",
+        "group size: torso_pairs keeps the leg pairs at torso height",
+        "tracking/groups/tracker.py",
+        "torso=torso and not self.params.torso_pairs",
+        "torso=torso",
+        GROUP_SIZE,
+    ),
+    Mutant(
         "truth-bag-laser-frame",
         "labels in a bag whose header names the laser's frame are in the sensor frame",
         "io/truth_bag.py",

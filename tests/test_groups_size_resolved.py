@@ -211,3 +211,32 @@ def test_a_blob_not_in_one_run_of_the_scan_is_not_taken_for_a_surface() -> None:
     other = np.array([[4.9, 0.0]])
     assert _count(np.vstack([torso, other]), DEFAULT, 0.06) == [2.0]
     assert _count(np.vstack([torso[5:], other, torso[:5]]), DEFAULT, 0.06) == [3.0]
+
+
+def test_at_torso_height_no_two_blobs_are_paired() -> None:
+    """Three leg-sized blobs (radius 0.06 m) 0.5 and 0.6 m apart: at leg height two are
+    one person's legs (two people), at torso height each is a body (three people), for
+    ``"resolved"`` and ``"legs"`` alike; a wide blob is counted by its arc either way."""
+    pts = np.vstack([_run(4.0, 0.0, 3, 0.06), _run(4.0, 0.5, 3, 0.06), _run(4.0, 1.1, 3, 0.06)])
+    for counting in (RESOLVED, LEGS):
+        assert _count(pts, counting, 0.06) == [2.0]
+        assert _count(pts, replace(counting, torso=True), 0.06) == [3.0]
+    wide = np.vstack([_run(4.0, 0.0, 10, 0.06), _run(4.0, 1.0, 3, 0.06)])  # 0.54 m: 3 legs
+    assert _count(wide, replace(RESOLVED, torso=True), 0.06) == _count(wide, RESOLVED, 0.06)
+
+
+def test_the_group_tracker_counts_without_pairs_when_told_it_is_at_torso_height() -> None:
+    """use_torso_height(True) takes the pairs away from the observations and from the
+    re-clustered parts, unless torso_pairs; use_torso_height(False) brings them back."""
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    assert not tracker.counting.torso and not tracker.branches.s.counting.torso
+    tracker.use_torso_height(True)
+    assert tracker.counting.torso and tracker.branches.s.counting.torso
+    assert replace(tracker.counting, torso=False) == GroupTrackerParams().counting()
+    tracker.use_torso_height(False)
+    assert not tracker.counting.torso and not tracker.branches.s.counting.torso
+    keep = GroupMHTTracker(GroupTrackerParams(torso_pairs=True))
+    keep.use_torso_height(True)
+    assert not keep.counting.torso and not keep.branches.s.counting.torso

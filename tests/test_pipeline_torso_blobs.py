@@ -192,3 +192,25 @@ def test_the_stage_measures_the_bulge_towards_the_lasers_pose_in_the_world_frame
     assert not stage(frame("sensor")).foreground.any()  # type: ignore[union-attr]
     stage.torso = False
     assert not stage(frame("world")).foreground.any()  # type: ignore[union-attr]
+
+
+def test_build_tells_the_group_tracker_the_lasers_torso_height(tmp_path: object) -> None:
+    """``build`` on a simulated recording whose laser is stated at 1.19 m (random-groups
+    seed 7): the group tracker counts without leg pairs, while the foreground's ``auto``
+    model is not told (the group tracker takes no torso runs); at 0.27 m (seed 0) the
+    tracker pairs legs."""
+    from pathlib import Path
+
+    from laserpeople.pipeline import build
+    from laserpeople.pipeline.background import background_of
+    from laserpeople.sim.scenarios import run_scenario
+
+    for seed, torso in ((7, True), (0, False)):
+        rec = Path(str(tmp_path)) / f"g{seed}.npz"
+        run_scenario("random-groups", seconds=1.0, seed=seed).write(rec)
+        pipe = build(rec, tracker="group-mht", max_frames=2)
+        assert pipe.tracker is not None
+        assert pipe.tracker.counting.torso is torso
+        model = background_of(pipe.stages)
+        assert isinstance(model, AutoBackground) and model.laser_height is None
+        pipe.run()

@@ -29,6 +29,7 @@ from laserpeople.evaluation.clustering import (
 )
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.frame import Frame
+from laserpeople.pipeline.background import at_torso_height
 from laserpeople.scan import PointSet, Scan
 from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
 from laserpeople.truth import TruthFrame
@@ -283,12 +284,16 @@ def run_groups(
     params: GroupTrackerParams | None = None,
     skip: int = 0,
     truth: Sequence[TruthFrame] = (),
+    laser_height: float | None = None,
 ) -> GroupRunResult:
     """Track the simulated ``scans`` and score the tracker and memory-less clustering over
     the foreground points (frames before ``skip`` are tracked but not scored); with the
-    simulation's ``truth`` frames also the reported groups against the true groups."""
+    simulation's ``truth`` frames also the reported groups against the true groups. The
+    tracker is told the ``laser_height`` [m] (None: unknown) as the pipeline tells it a
+    recording's (:meth:`GroupMHTTracker.use_torso_height`)."""
     params = params if params is not None else GroupTrackerParams()
     tracker = GroupMHTTracker(params)
+    tracker.use_torso_height(at_torso_height(laser_height))
     tracked, memoryless, size = ClusteringError(), ClusteringError(), GroupSizeError()
     times: list[float] = []
     people: list[int] = []

@@ -446,9 +446,11 @@ def build(
         )
         if hide_static is not None:
             identifiers.insert(0, hide_static)
-        # one laser of a stated height (a fused frame's beams are no one scan's)
-        if len(lasers) == 1 and wants_torso_runs(tracker):
-            set_laser_height([*preprocess, tracker], laser_heights(rec).get(lasers[0]))
+        # one laser of a stated height (a fused frame's beams are no one scan's); the
+        # foreground keeps torso-shaped runs only for a tracker that takes them
+        if len(lasers) == 1:
+            told = [*preprocess, tracker] if wants_torso_runs(tracker) else [tracker]
+            set_laser_height(told, laser_heights(rec).get(lasers[0]))
         if map_path is not None:
             check_recording_map(rec, map_path)
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]

@@ -27,6 +27,10 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
   its arc counts as two people (three legs) but no wider than a person, whose points (in
   scan order) are nowhere more than ``surface_gap`` apart, is one continuous surface: one
   person (a torso at 1 m; the legs of two people leave a gap between them).
+
+With ``torso`` (a laser at torso height, as the recording states it) no two blobs are
+paired: each is a body, not a leg, and two neighbours' torsos closer than a stride are two
+people.
 """
 
 from __future__ import annotations
@@ -296,6 +300,8 @@ class SizeCounting:
         surface_gap: Largest gap between scan neighbours of a blob that is one
             continuous surface [m] ("resolved": such a blob of three legs' arc, no wider
             than ``person_width``, is one person; 0: not used).
+        torso: The laser is at torso height: no two blobs are paired as one person's legs
+            ("legs" and "resolved"; each blob is counted alone).
     """
 
     method: str = "legs"
@@ -305,6 +311,7 @@ class SizeCounting:
     person_width: float = 0.0
     pair_arc: float = 0.0
     surface_gap: float = 0.0
+    torso: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in ("blobs", "legs", "resolved"):
@@ -364,11 +371,12 @@ def blob_people(
     stands for alone and the pairs (K, 2) of blobs that are one person's two legs (each
     pair counts one person less). ``blob`` (N,) is the label 0..B-1 of each point ``pts``
     (N, 2) [m], every label used, ``blob_cluster`` (B,) the cluster of each blob and
-    ``spacing`` (N,) the beam spacing at each point [m] or None."""
+    ``spacing`` (N,) the beam spacing at each point [m] or None. With ``counting.torso``
+    there are no pairs."""
     n_blobs = blob_cluster.size
     centre, radius = blob_shapes(pts, blob, n_blobs)
     people = np.ones(n_blobs)
-    pairable = radius <= counting.leg_radius
+    pairable = (radius <= counting.leg_radius) & (not counting.torso)
     if counting.method == "resolved":
         people = resolved_people(blob, radius, counting, spacing)
         if spacing is not None and counting.surface_gap > 0.0:

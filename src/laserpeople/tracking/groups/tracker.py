@@ -245,6 +245,14 @@ class GroupTrackerParams:
         "is one person; 0: not used)",
         "m",
     )
+    torso_pairs: bool = param(
+        False,
+        "extension of 000 Sec. 4.1 (its laser was at leg height); measured on random-groups "
+        "seeds 0-19 and held back in docs/groups.md",
+        "at a laser the recording states at torso height, blobs are paired as one person's "
+        "legs as at leg height (false: a blob there is a body, and two neighbours' torsos "
+        "closer than leg_pair_distance count two people; size_count legs or resolved)",
+    )
     point_std: float = param(
         0.05,
         "assumption: range noise of a SICK LMS plus beam footprint",
@@ -722,6 +730,21 @@ class GroupMHTTracker:
         self._taken_over: set[int] = set()  # coasting families a new group replaced
         self.coasting = CoastedReports(p.coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
+
+    @property
+    def counting(self) -> SizeCounting:
+        """How the people of an observation are counted (the parameters' counting, at
+        torso height without pairs: :meth:`use_torso_height`)."""
+        return self._counting
+
+    def use_torso_height(self, torso: bool) -> None:
+        """Whether the recording states the laser at torso height (the pipeline tells it,
+        :func:`~laserpeople.pipeline.background.set_laser_height`): there, unless
+        ``torso_pairs``, the people of a cluster are counted without pairing blobs as legs
+        (:class:`~laserpeople.tracking.groups.observations.SizeCounting`)."""
+        counting = replace(self.params.counting(), torso=torso and not self.params.torso_pairs)
+        self._counting = counting
+        self.branches.s = replace(self.branches.s, counting=counting)
 
     @property
     def wants_static_model(self) -> bool:

@@ -632,8 +632,8 @@ def set_laser_height(stages: Sequence[object], height: float | None) -> None:
     """Tell the ``auto`` static world model among ``stages`` the laser's mount height [m]
     (None: unknown), as the recording states it: at torso height its narrowing to points
     near legs keeps torso-shaped runs too (``[leg_foreground] torso_blobs``); and a tracker
-    among them that asks (``use_torso_height``: the CSA, ``[csa] torso_count_seconds``)
-    whether that is torso height."""
+    among them that asks (``use_torso_height``: the CSA, ``[csa] torso_count_seconds``; the
+    group tracker, ``[group_tracker] torso_pairs``) whether that is torso height."""
     for stage in stages:
         if isinstance(stage, AutoBackground):
             stage.laser_height = height

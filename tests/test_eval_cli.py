@@ -362,3 +362,24 @@ def test_cli_moves_world_tracks_into_the_laser_frame_the_truth_states(tmp_path):
     assert "moved into the sensor frame of the truth" in run("posed.csv").output
     refused = run("bare.csv")
     assert refused.exit_code != 0 and "no sensor pose" in str(refused.exception)
+
+
+@pytest.mark.parametrize(
+    ("kind", "truths"), [("person", "people"), ("leg", "legs"), ("group", "groups")]
+)
+def test_table_names_what_the_truth_of_the_kind_counts(kind, truths):
+    from rich.console import Console
+
+    from laserpeople.cli.evaluate import render
+    from laserpeople.evaluation.params import EvaluationParams
+
+    truth, tracks = scene()
+    report = evaluate(truth, tracks, EvaluationParams(kind=kind)).result()
+    console = Console(record=True, width=200)
+    console.print(render(report))
+    text = console.export_text()
+    assert f"of 12 {kind}-frames matched" in text
+    assert f"unmatched {kind}-frames" in text
+    assert f"ID switches) / {truths}" in text
+    others = {"person", "leg", "group"} - {kind}
+    assert not any(f"{other}-frames" in text for other in others)

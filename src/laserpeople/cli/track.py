@@ -237,6 +237,10 @@ def run_tracking(
     except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
         interrupted = True
         pipe.close()
+    except Exception:  # a mount left out may be why: say so before the error
+        for note in getattr(source.recording, "mount_notes", []):
+            warn(note)
+        raise
     finally:
         report_damage(source.recording)
     for line in source.summary():

@@ -223,3 +223,18 @@ def test_track_says_which_mount_was_not_used_before_it_stops(tmp_path: Path) -> 
     out = " ".join(result.output.split())
     assert "several lasers can only be fused" in str(result.exception)
     assert "mount of 'front_scan' not used" in out and "mount of 'back_scan' not used" in out
+
+
+def test_info_prints_the_note_of_a_stray_mount(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    path = tmp_path / "one.mcap"
+    with open_bag(path) as sink:
+        for i in range(3):
+            sink.scan(_scan(1.0 + 0.1 * i, "laser", None), "/scan", "laser")
+    result = CliRunner().invoke(app, ["info", str(path), "--mount", "front_laser=base_link:1,0,0"])
+    assert result.exit_code == 0, result.output
+    out = " ".join(result.output.split())
+    assert "mount of 'front_laser' not used" in out and "/scan 'laser'" in out

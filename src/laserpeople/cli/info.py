@@ -155,6 +155,8 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     pose_summary = getattr(rec, "pose_summary", None)
     if callable(pose_summary):
         out["pose_summary"] = pose_summary()
+    if getattr(rec, "mount_notes", None):
+        out["mount_notes"] = list(rec.mount_notes)  # given mounts left out, and why
     for attr in ("bad_lines", "scans_with_log_time"):
         if getattr(rec, attr, 0):
             out[attr] = getattr(rec, attr)
@@ -217,6 +219,8 @@ def _print_table(report: dict[str, Any]) -> None:
     out.print(f"ground truth: {truth}", highlight=False)
     if report.get("pose_summary"):
         out.print(f"poses: {report['pose_summary']}", highlight=False)
+    for note in report.get("mount_notes", []):
+        out.print(note, highlight=False, markup=False)
     if report.get("bad_lines"):
         out.print(f"malformed lines skipped: {report['bad_lines']}", highlight=False)
     if report.get("scans_with_log_time"):

@@ -155,8 +155,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     pose_summary = getattr(rec, "pose_summary", None)
     if callable(pose_summary):
         out["pose_summary"] = pose_summary()
-    if getattr(rec, "mount_notes", None):
-        out["mount_notes"] = list(rec.mount_notes)  # given mounts left out, and why
+    mount_notes = getattr(rec, "mount_notes", [])  # given mounts left out, and why
+    if mount_notes:
+        out["mount_notes"] = list(mount_notes)
     for attr in ("bad_lines", "scans_with_log_time"):
         if getattr(rec, attr, 0):
             out[attr] = getattr(rec, attr)

@@ -101,8 +101,11 @@ def render(report: EvaluationReport) -> Table:
     return table
 
 
-def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
-    """The followed-person scores as a rich table."""
+def render_followed(
+    result: FollowedPersonResult, names: TrackIdNames, kind: str = "person"
+) -> Table:
+    """The followed-person scores as a rich table; ``kind`` names the tracks scored
+    (``evaluate --kind``): their ids are counted."""
     from rich.table import Table
 
     def num(value: float) -> str:
@@ -116,7 +119,7 @@ def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
     rows = [
         ("identity recall", num(result.identity_recall), "frames covered by the best single id"),
         ("recall", num(result.recall), f"{result.matched} of {result.frames} labelled frames"),
-        ("person ids", str(result.ids), f"frames per id: {top or 'none'}"),
+        (f"{kind} ids", str(result.ids), f"frames per id: {top or 'none'}"),
         ("ID switches", str(result.id_switches), "changes of the matched id"),
         ("MOTA", num(result.mota), "1 - (misses + switches) / frames; no false positives"),
         ("MOTP", num(result.motp) + " m", f"mean distance of matches (gate {result.gate:g} m)"),
@@ -367,7 +370,7 @@ def _followed(
 
         print(json.dumps(out, allow_nan=False))
     else:
-        console.print(render_followed(result, names))
+        console.print(render_followed(result, names, params.kind))
 
 
 def _many(

@@ -166,6 +166,7 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
         out["other_lines"] = dict(other_lines)
     all_topics = getattr(rec, "all_topics", None)
     if callable(all_topics):
+        from laserpeople.io.tracks_bag import TRACK_TOPICS
         from laserpeople.io.truth_bag import TRUTH_TYPES
 
         out["other_topics"] = [
@@ -173,9 +174,13 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
             for t in all_topics()
             if t.name not in listed
         ]
+        ours = set(TRACK_TOPICS.values())  # the tracks of `track --bag`: not ground truth
         out["truth_topics"] = [
-            t["topic"] for t in out["other_topics"] if t["msgtype"] in TRUTH_TYPES
+            t["topic"]
+            for t in out["other_topics"]
+            if t["msgtype"] in TRUTH_TYPES and t["topic"] not in ours
         ]
+        out["track_topics"] = [t["topic"] for t in out["other_topics"] if t["topic"] in ours]
         out["ground_truth"] = out["ground_truth"] or bool(out["truth_topics"])
     return out
 
@@ -218,6 +223,12 @@ def _print_table(report: dict[str, Any]) -> None:
         first = report["truth_topics"][0]
         truth += f", topic {', '.join(report['truth_topics'])} (use --truth BAG:{first})"
     out.print(f"ground truth: {truth}", highlight=False)
+    if report.get("track_topics"):
+        out.print(
+            f"tracks of laserpeople track --bag: {', '.join(report['track_topics'])} "
+            "(score them with laserpeople evaluate RECORDING --truth ...)",
+            highlight=False,
+        )
     if report.get("pose_summary"):
         out.print(f"poses: {report['pose_summary']}", highlight=False)
     for note in report.get("mount_notes", []):

@@ -48,6 +48,7 @@ def test_errors_by_distance_by_hand() -> None:
 def test_segments_summary_counts_recordings_and_their_lasers():
     """Three lasers of one bag are one recording with three lasers; one laser per file
     says no more (the 'from 3 recordings' of negative_2.bag was one file)."""
+
     def table(groups: tuple[str, ...], rows: list[int]) -> LabelledSegments:
         n = len(rows)
         return LabelledSegments(

@@ -116,3 +116,45 @@ def test_mir_front_back_lasers_agree_with_the_mir100_mounts(shared_data: Path) -
     dist, deg = _error(est.pose, MIR100_LASER_MOUNTS["back_laser_link"][1])
     assert dist < 0.03 and deg < 1.0
     assert est.fit.residual < 0.03
+
+
+def _bag_with_frame_ids(tmp_path: Path, sensors: list) -> Path:
+    """The empty room's feet lasers in a bag whose topics (/scan_a, /scan_b) differ from
+    their scans' frame ids (feet_a_link, feet_b_link), as on most robots."""
+    from laserpeople.io.rosbag_writer import open_bag
+
+    path = tmp_path / "room.mcap"
+    with open_bag(path) as sink:
+        for scan in _empty_room(sensors).scans:
+            topic = "/scan_" + scan.sensor[-1]
+            sink.scan(scan.with_pose(None), topic, f"{scan.sensor}_link")
+    return path
+
+
+def test_align_names_bag_lasers_by_frame_id_as_track_mount_reads_them(tmp_path: Path) -> None:
+    """The mounts file names each laser by its scans' frame id (what `track --mount`
+    matches), and a given mount of the first laser's frame id puts the other on the robot."""
+    sensors = schenk_sensors_one_side()
+    path = _bag_with_frame_ids(tmp_path, sensors)
+    notes: list[str] = []
+    given = {"feet_a_link": ("base_link", sensors[0].mount)}
+    mounts = {m.laser: m for m in align_recording(path, static=True, mounts=given, notes=notes)}
+    assert set(mounts) == {"feet_a_link", "feet_b_link"} and notes == []
+    est = mounts["feet_b_link"]
+    assert est.parent == "base_link" and est.fit is not None
+    dist, deg = _error(est.pose, sensors[1].mount)  # on the robot, not relative to feet_a
+    assert dist < 0.02 and deg < 0.5
+    # the reference may be named by its topic; the estimate is then relative to its frame
+    back = align_recording(path, static=True, reference="/scan_b")
+    assert [(m.laser, m.parent) for m in back] == [("feet_a_link", "feet_b_link")]
+
+
+def test_align_says_when_a_given_mount_names_no_laser(tmp_path: Path) -> None:
+    sensors = schenk_sensors_one_side()
+    path = _bag_with_frame_ids(tmp_path, sensors)
+    notes: list[str] = []
+    given = {"feet_a": ("base_link", sensors[0].mount)}  # the sensor's name, not its frame id
+    mounts = align_recording(path, static=True, mounts=given, notes=notes)
+    assert [(m.laser, m.parent) for m in mounts] == [("feet_b_link", "feet_a_link")]
+    assert len(notes) == 1 and "mount of 'feet_a' not used" in notes[0]
+    assert "/scan_a 'feet_a_link'" in notes[0]

@@ -62,3 +62,32 @@ def test_unknown_sections_are_rejected(tmp_path: Path) -> None:
         check_sections(f, [DemoParams])
     with pytest.raises(ConfigError, match="is a directory"):
         load_config(DemoParams, tmp_path)
+
+
+def test_print_config_says_which_values_a_file_or_the_preset_set(tmp_path: Path) -> None:
+    """A value read from the file names the file and the default; one the preset set names
+    the preset; one the file sets back to its default is plain; the rest are plain."""
+    from types import MappingProxyType
+
+    from laserpeople.config import origins
+
+    @dataclass(frozen=True)
+    class PresetParams:
+        paper_preset = MappingProxyType({"window": 8, "adaptive": False})
+        p_occ: float = param(0.79, "000 Table 10", "P(occluded | approved)")
+        window: int = param(5, "000 Sec. 3.3", "sliding window L", "scans")
+        adaptive: bool = param(True, "000 Sec. 3.3.1", "adapt occlusion probabilities")
+
+    f = tmp_path / "mine.toml"
+    f.write_text("[preset]\np_occ = 0.5\nadaptive = true\n")
+    obj = load_config(PresetParams, f, "paper")
+    where = origins(obj, f, "paper")
+    assert where == {
+        "p_occ": "from mine.toml (default 0.79)",
+        "window": "from --preset paper (default 5)",
+    }
+    text = to_toml(obj, where)
+    assert "p_occ = 0.5  # from mine.toml (default 0.79); P(occluded | approved)" in text
+    assert "window = 8  # from --preset paper (default 5); sliding window L" in text
+    assert "adaptive = true  # adapt occlusion probabilities" in text
+    assert origins(load_config(PresetParams, None), None) == {}

@@ -43,3 +43,30 @@ def test_errors_by_distance_by_hand() -> None:
     assert set(rows) == {"0-1", ">="}
     assert rows["0-1"][1:] == ["2", "2", "50.0", "/", "50.0"]
     assert rows[">="][1:] == ["2", "0", "1", "-", "/", "0.0"]
+
+
+def test_segments_summary_counts_recordings_and_their_lasers():
+    """Three lasers of one bag are one recording with three lasers; one laser per file
+    says no more (the 'from 3 recordings' of negative_2.bag was one file)."""
+
+    def table(groups: tuple[str, ...], rows: list[int]) -> LabelledSegments:
+        n = len(rows)
+        return LabelledSegments(
+            np.zeros((n, N_FEATURES)),
+            np.zeros(n),
+            np.ones(n),
+            np.array([1] + [-1] * (n - 1)),
+            np.array(rows),
+            np.arange(n),
+            groups,
+        )
+
+    room = table(
+        ("negative_2.bag:/left_scan", "negative_2.bag:/right_scan", "negative_2.bag:/rear_scan"),
+        [0, 1, 2, 2],
+    )
+    assert room.summary() == "4 segments (1 legs, 3 non-legs) from 1 recording (3 lasers)"
+    legs = table(("positive_1.bag:/training_scan", "positive_2.bag:/training_scan"), [0, 1])
+    assert legs.summary() == "2 segments (1 legs, 1 non-legs) from 2 recordings"
+    unused = table(("a.bag:/s", "b.bag:/s"), [1, 1])  # only groups with segments count
+    assert unused.summary().endswith("from 1 recording")

@@ -362,3 +362,42 @@ def test_cli_moves_world_tracks_into_the_laser_frame_the_truth_states(tmp_path):
     assert "moved into the sensor frame of the truth" in run("posed.csv").output
     refused = run("bare.csv")
     assert refused.exit_code != 0 and "no sensor pose" in str(refused.exception)
+
+
+@pytest.mark.parametrize(
+    ("kind", "truths"), [("person", "people"), ("leg", "legs"), ("group", "groups")]
+)
+def test_table_names_what_the_truth_of_the_kind_counts(kind, truths):
+    from rich.console import Console
+
+    from laserpeople.cli.evaluate import render
+    from laserpeople.evaluation.params import EvaluationParams
+
+    truth, tracks = scene()
+    report = evaluate(truth, tracks, EvaluationParams(kind=kind)).result()
+    console = Console(record=True, width=200)
+    console.print(render(report))
+    text = console.export_text()
+    assert f"of 12 {kind}-frames matched" in text
+    assert f"unmatched {kind}-frames" in text
+    assert f"ID switches) / {truths}" in text
+    others = {"person", "leg", "group"} - {kind}
+    assert not any(f"{other}-frames" in text for other in others)
+
+
+@pytest.mark.parametrize("kind", ["person", "group"])
+def test_followed_table_counts_the_ids_of_the_kind_scored(kind):
+    from rich.console import Console
+
+    from laserpeople.cli.evaluate import render_followed
+    from laserpeople.evaluation.followed import evaluate_followed
+    from laserpeople.io.tracks_csv import TrackIdNames
+
+    truth, tracks = scene()
+    metric, _ = evaluate_followed(truth, tracks, 2)
+    console = Console(record=True, width=200)
+    console.print(render_followed(metric.result(), TrackIdNames(), kind))
+    text = console.export_text()
+    other = "group" if kind == "person" else "person"
+    assert f"{kind} ids" in text and f"{other} ids" not in text
+    assert "frames per id: 11: 4" in text  # person 2 matched by track 11 in scans 0-3

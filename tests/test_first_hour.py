@@ -294,3 +294,24 @@ def test_view_of_world_frame_tracks_without_poses_asks_for_the_mounts(tmp_path: 
     message = str(res.exception)
     assert "scan 1: the tracks are in the world frame" in message
     assert "--mount" in message and "--output-frame" not in message
+
+
+def test_info_does_not_take_the_tracks_of_track_bag_for_ground_truth(tmp_path: Path) -> None:
+    """A bag written by `track --bag` holds people_msgs/People tracks, the type of a truth
+    topic: info names them as tracks, and says the bag has no ground truth."""
+    from laserpeople.sim import run_scenario
+
+    rec = tmp_path / "walk.npz"
+    run_scenario("demo", seconds=1.0, seed=0).write(rec)
+    bag = tmp_path / "tracks.mcap"
+    ran = CliRunner().invoke(
+        app, ["track", str(rec), "-o", str(tmp_path / "t.csv"), "--bag", str(bag)]
+    )
+    assert ran.exit_code == 0, ran.output
+    res = CliRunner().invoke(app, ["info", str(bag)])
+    assert res.exit_code == 0, res.output
+    out = " ".join(res.stdout.split())
+    assert "ground truth: no" in out
+    assert "tracks of laserpeople track --bag: /laserpeople/people, /laserpeople/legs" in out
+    res = CliRunner().invoke(app, ["info", str(bag), "--json"])
+    assert '"ground_truth": false' in res.stdout

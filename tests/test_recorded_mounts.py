@@ -164,3 +164,77 @@ def test_live_leaves_out_the_same_mounts_when_a_recording_is_replayed_into_it() 
     assert (
         len(tf.mount_notes) == 1 and "'front_laser_link' on 'base_footprint'" in (tf.mount_notes[0])
     )
+
+
+def test_stray_mount_notes_name_only_children_nothing_else_names() -> None:
+    """A misspelt laser frame and a topic given as CHILD are stray; a laser frame, a frame
+    of the recording's transforms and a link of a chain of given mounts are not."""
+    from laserpeople.io.poses import stray_mount_notes
+
+    mounts = parse_mounts(
+        [
+            "laser=base_link:0.2,0,0",  # the laser's frame id
+            "base_link=base_footprint:0,0,0",  # a chain: base_link is laser's parent
+            "imu=odom:0,0,0",  # a frame the transforms name
+            "front_laser=base_link:0.4,0,0",  # misspelt
+            "/scan=base_link:0.1,0,0",  # the topic, not the frame id
+        ]
+    )
+    notes = stray_mount_notes(mounts, {"/scan": "laser"}, ["odom", "imu"])
+    assert len(notes) == 2
+    assert notes[0].startswith("mount of 'front_laser' not used")
+    assert notes[1].startswith("mount of 'scan' not used")
+    assert all("/scan 'laser'" in n for n in notes)
+
+
+def test_bag_notes_a_mount_its_lasers_do_not_have(tmp_path: Path) -> None:
+    path = tmp_path / "robot.mcap"
+    with open_bag(path) as sink:
+        for i in range(5):
+            t = 1.0 + 0.1 * i
+            sink.pose(t, "odom", "base_link", _robot(t), "/tf")
+            sink.scan(_scan(t, "laser", None), "/front_scan", "laser")
+    specs = ["laser=base_link:0.5,0,0", "front_scan=base_link:0.5,0,0"]
+    with RosbagRecording(path, mounts=parse_mounts(specs)) as rec:
+        assert all(s.pose is not None for s in rec.scans())
+        assert len(rec.mount_notes) == 1
+        assert "'front_scan' not used" in rec.mount_notes[0]
+        assert "/front_scan 'laser'" in rec.mount_notes[0]
+
+
+def test_track_says_which_mount_was_not_used_before_it_stops(tmp_path: Path) -> None:
+    """Two lasers without poses cannot be fused: the error comes with the note that the
+    given mounts name no laser (their topics were given, not their frame ids)."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    path = tmp_path / "two.mcap"
+    with open_bag(path) as sink:
+        for i in range(5):
+            t = 1.0 + 0.1 * i
+            sink.pose(t, "odom", "base_link", _robot(t), "/tf")
+            sink.scan(_scan(t, "laser_a", None), "/front_scan", "laser_a")
+            sink.scan(_scan(t + 0.02, "laser_b", None), "/back_scan", "laser_b")
+    args = ["track", str(path), "--topics", "all", "-o", str(tmp_path / "t.csv")]
+    mounts = ["--mount", "front_scan=base_link:0.4,0,0", "--mount", "back_scan=base_link:-0.4,0,3"]
+    result = CliRunner().invoke(app, [*args, *mounts])
+    assert result.exit_code != 0
+    out = " ".join(result.output.split())
+    assert "several lasers can only be fused" in str(result.exception)
+    assert "mount of 'front_scan' not used" in out and "mount of 'back_scan' not used" in out
+
+
+def test_info_prints_the_note_of_a_stray_mount(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    path = tmp_path / "one.mcap"
+    with open_bag(path) as sink:
+        for i in range(3):
+            sink.scan(_scan(1.0 + 0.1 * i, "laser", None), "/scan", "laser")
+    result = CliRunner().invoke(app, ["info", str(path), "--mount", "front_laser=base_link:1,0,0"])
+    assert result.exit_code == 0, result.output
+    out = " ".join(result.output.split())
+    assert "mount of 'front_laser' not used" in out and "/scan 'laser'" in out

@@ -207,3 +207,18 @@ def test_plot_of_a_moving_robot_uses_the_mounts_given_to_track(
     assert result.exit_code == 0, result.output
     assert png.stat().st_size > 10_000
     assert any(t.kind == "person" for tr in iter_tracks_csv(out, frame="world") for t in tr)
+
+
+@pytest.mark.parametrize(
+    ("done", "seconds", "text"),
+    [
+        (500, 10.0, "50 per s"),
+        (3, 3.0, "1 per s"),  # one a second: still a rate
+        (3, 78.0, "26 s each"),  # bench's stages: not '0 per s'
+        (1, 1.5, "2 s each"),
+    ],
+)
+def test_progress_rate_of_slow_items_is_seconds_each(done: int, seconds: float, text: str):
+    from laserpeople.cli.common import rate_text
+
+    assert rate_text(done, seconds) == text

@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -365,6 +365,7 @@ def align_recording(
     static: bool = False,
     mounts: Mapping[str, tuple[str, Pose2D]] | None = None,
     params: AlignmentParams | None = None,
+    notes: list[str] | None = None,
 ) -> list[Mount]:
     """Estimate the mounts of the lasers of the recording at ``path``.
 
@@ -372,16 +373,33 @@ def align_recording(
     ``mounts`` (laser -> (parent, pose), e.g. from ``--mount mir100``) holds the reference
     laser, every estimate is expressed in that parent frame and the other given mounts
     are the ICP's initial poses and are reported beside the estimates.
+
+    In a ROS bag a laser is named by its scans' ``header.frame_id`` (what ``track
+    --mount`` reads), else by its sensor name; ``reference`` may also be its topic. A
+    given mount that names no laser is appended to ``notes`` (when given) and not used.
     """
     from laserpeople.io import open_recording
+    from laserpeople.io.poses import normalise_frame, stray_mount_notes
 
-    given = dict(mounts or {})
     rec = open_recording(path, poses=False) if _is_bag(path) else open_recording(path)
     try:
         scans = list(rec.scans())
+        frame_ids: dict[str, str] = getattr(rec, "laser_frames", dict)()  # topic -> frame id
     finally:
         rec.close()
+    rename = {s.sensor: frame_ids.get(s.sensor, s.sensor) for s in scans}
+    if frame_ids:
+        scans = [replace(s, sensor=rename[s.sensor]) for s in scans]
+        given = {
+            normalise_frame(k): (normalise_frame(p), q) for k, (p, q) in (mounts or {}).items()
+        }
+    else:
+        given = dict(mounts or {})
     names = list(dict.fromkeys(s.sensor for s in scans))
+    if notes is not None and frame_ids:
+        notes += stray_mount_notes(given, frame_ids)
+    if reference is not None and frame_ids:  # a topic or a frame id
+        reference = rename.get(reference, normalise_frame(reference))
     ref = reference or next((n for n in names if n in given), names[0] if names else "")
     anchor = given.get(ref)
     initial = None

@@ -384,12 +384,31 @@ def describe(obj_or_cls: Any) -> list[tuple[str, Any, str, str, str]]:
     return rows
 
 
-def to_toml(obj: Any) -> str:
+def origins(obj: Any, path: str | Path | None, preset: str | None = None) -> dict[str, str]:
+    """Where each parameter of ``obj`` (as :func:`load_config` read it from ``path`` over
+    ``preset``) that is not its default came from, with the default: ``{name: "from
+    my.toml (default 6.0)"}``; parameters at their default are absent."""
+    cls = type(obj)
+    default = {name: value for name, value, *_ in describe(cls)}
+    start = {name: value for name, value, *_ in describe(load_config(cls, None, preset))}
+    where = Path(path).name if path is not None else ""
+    out: dict[str, str] = {}
+    for name, value, *_ in describe(obj):
+        if value == default[name]:
+            continue
+        by = f"from {where}" if value != start[name] else f"from --preset {preset}"
+        out[name] = f"{by} (default {_toml_value(default[name])})"
+    return out
+
+
+def to_toml(obj: Any, origin: Mapping[str, str] | None = None) -> str:
     """The parameters of ``obj`` as a TOML section with their sources as comments (papers
-    named by their authors, :func:`laserpeople.citations.cite`)."""
+    named by their authors, :func:`laserpeople.citations.cite`); ``origin`` (see
+    :func:`origins`) leads the comment of the values that are not the defaults."""
     lines = [f"[{section_name(type(obj))}]"]
     for name, value, unit, source, doc in describe(obj):
-        comment = cite("; ".join(x for x in (doc, f"[{unit}]" if unit else "", source) if x))
+        first = (origin or {}).get(name, "")
+        comment = cite("; ".join(x for x in (first, doc, f"[{unit}]" if unit else "", source) if x))
         if value is None:  # unset (TOML has no null): the line says so, as a comment
             lines.append(f"# {name} unset" + (f"  # {comment}" if comment else ""))
             continue

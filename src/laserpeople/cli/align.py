@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from laserpeople.cli.common import MountOption, console
+from laserpeople.cli.common import MountOption, console, warn
 
 
 def register(app: typer.Typer) -> None:
@@ -22,7 +22,11 @@ def register(app: typer.Typer) -> None:
         recording: Annotated[Path, typer.Argument(help="Recording with two or more lasers.")],
         output: Annotated[Path, typer.Option("-o", "--output", help="Mounts file (.toml).")],
         reference: Annotated[
-            str | None, typer.Option("--reference", help="Laser whose frame is the reference.")
+            str | None,
+            typer.Option(
+                "--reference",
+                help="Laser whose frame is the reference (its topic or frame id).",
+            ),
         ] = None,
         static: Annotated[
             bool,
@@ -37,9 +41,16 @@ def register(app: typer.Typer) -> None:
         from laserpeople.io.poses import parse_mounts
 
         check_outputs({"-o": output}, [recording])
+        notes: list[str] = []
         mounts = align_recording(
-            recording, reference=reference, static=static, mounts=parse_mounts(mount or [])
+            recording,
+            reference=reference,
+            static=static,
+            mounts=parse_mounts(mount or []),
+            notes=notes,
         )
+        for note in notes:
+            warn(note)
         write_mounts(output, mounts, f"from {recording.name}")
         table = Table(title=f"laser mounts of {recording.name}")
         for col in (

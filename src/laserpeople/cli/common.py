@@ -237,7 +237,15 @@ def _progress_lines(items: Iterable[T], total: int | None, description: str) -> 
         if now - last >= PIPE_PROGRESS_SECONDS:
             last = now
             of = f"/{total:,} ({100.0 * done / total:.0f} %)" if total else ""
-            say(f"{description}: {done:,}{of}, {done / (now - start):,.0f} per s")
+            say(f"{description}: {done:,}{of}, {rate_text(done, now - start)}")
+
+
+def rate_text(done: int, seconds: float) -> str:
+    """How fast ``done`` items took ``seconds`` [s]: ``48 per s``, or, slower than one a
+    second, ``26 s each`` (not ``0 per s``)."""
+    if done * 1.0 >= seconds:
+        return f"{done / seconds:,.0f} per s"
+    return f"{seconds / done:,.0f} s each"
 
 
 def _progress_bar(items: Iterable[T], total: int | None, description: str) -> Iterator[T]:

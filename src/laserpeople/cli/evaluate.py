@@ -66,11 +66,17 @@ def _unstated_frame_note(tracks: Path, truth: str, notes: list[str]) -> None:
         notes.append(f"the tracks CSV states no frame (no frame column): taken as {frame}")
 
 
+_PLURAL = {"person": "people", "leg": "legs", "group": "groups"}
+"""The truth a ``--kind`` is scored against, as the table's meanings name it."""
+
+
 def render(report: EvaluationReport) -> Table:
     """The headline numbers as a rich table."""
     from rich.table import Table
 
     c, i, s = report.clear_mot, report.identity, report.schenk
+    kind = report.params.kind  # what the truth counts: people, legs or groups
+    truths = _PLURAL.get(kind, f"{kind}s")
 
     def num(value: float, fmt: str = ".3f") -> str:
         return "n/a" if value != value else format(value, fmt)
@@ -80,23 +86,26 @@ def render(report: EvaluationReport) -> Table:
     table.add_column("value", justify="right")
     table.add_column("meaning", style="dim")
     rows = [
-        ("MOTA", num(c.mota), "1 - (misses + false positives + ID switches) / people"),
+        ("MOTA", num(c.mota), f"1 - (misses + false positives + ID switches) / {truths}"),
         ("MOTP", num(c.motp, ".3f") + " m", f"mean distance of matches (gate {c.gate:g} m)"),
         ("MOTP (Schenk)", num(s.motp), f"Schenk et al. 2011 eqs. 10-11, h = {s.h:g}"),
         ("IDF1", num(i.idf1), f"IDP {num(i.idp)}, IDR {num(i.idr)}"),
-        ("recall", num(c.recall), f"{c.matches} of {c.num_truth} person-frames matched"),
+        ("recall", num(c.recall), f"{c.matches} of {c.num_truth} {kind}-frames matched"),
         ("precision", num(c.precision), f"{c.matches} of {c.num_tracks} track-frames matched"),
         ("ID switches", str(c.id_switches), f"fragmentations {c.fragmentations}"),
         ("false positives", str(c.false_positives), "unmatched track-frames"),
-        ("misses", str(c.misses), "unmatched person-frames"),
+        ("misses", str(c.misses), f"unmatched {kind}-frames"),
     ]
     for row in rows:
         table.add_row(*row)
     return table
 
 
-def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
-    """The followed-person scores as a rich table."""
+def render_followed(
+    result: FollowedPersonResult, names: TrackIdNames, kind: str = "person"
+) -> Table:
+    """The followed-person scores as a rich table; ``kind`` names the tracks scored
+    (``evaluate --kind``): their ids are counted."""
     from rich.table import Table
 
     def num(value: float) -> str:
@@ -110,7 +119,7 @@ def render_followed(result: FollowedPersonResult, names: TrackIdNames) -> Table:
     rows = [
         ("identity recall", num(result.identity_recall), "frames covered by the best single id"),
         ("recall", num(result.recall), f"{result.matched} of {result.frames} labelled frames"),
-        ("person ids", str(result.ids), f"frames per id: {top or 'none'}"),
+        (f"{kind} ids", str(result.ids), f"frames per id: {top or 'none'}"),
         ("ID switches", str(result.id_switches), "changes of the matched id"),
         ("MOTA", num(result.mota), "1 - (misses + switches) / frames; no false positives"),
         ("MOTP", num(result.motp) + " m", f"mean distance of matches (gate {result.gate:g} m)"),
@@ -361,7 +370,7 @@ def _followed(
 
         print(json.dumps(out, allow_nan=False))
     else:
-        console.print(render_followed(result, names))
+        console.print(render_followed(result, names, params.kind))
 
 
 def _many(

@@ -155,6 +155,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     pose_summary = getattr(rec, "pose_summary", None)
     if callable(pose_summary):
         out["pose_summary"] = pose_summary()
+    mount_notes = getattr(rec, "mount_notes", [])  # given mounts left out, and why
+    if mount_notes:
+        out["mount_notes"] = list(mount_notes)
     for attr in ("bad_lines", "scans_with_log_time"):
         if getattr(rec, attr, 0):
             out[attr] = getattr(rec, attr)
@@ -163,6 +166,7 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
         out["other_lines"] = dict(other_lines)
     all_topics = getattr(rec, "all_topics", None)
     if callable(all_topics):
+        from laserpeople.io.tracks_bag import TRACK_TOPICS
         from laserpeople.io.truth_bag import TRUTH_TYPES
 
         out["other_topics"] = [
@@ -170,9 +174,13 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
             for t in all_topics()
             if t.name not in listed
         ]
+        ours = set(TRACK_TOPICS.values())  # the tracks of `track --bag`: not ground truth
         out["truth_topics"] = [
-            t["topic"] for t in out["other_topics"] if t["msgtype"] in TRUTH_TYPES
+            t["topic"]
+            for t in out["other_topics"]
+            if t["msgtype"] in TRUTH_TYPES and t["topic"] not in ours
         ]
+        out["track_topics"] = [t["topic"] for t in out["other_topics"] if t["topic"] in ours]
         out["ground_truth"] = out["ground_truth"] or bool(out["truth_topics"])
     return out
 
@@ -215,8 +223,16 @@ def _print_table(report: dict[str, Any]) -> None:
         first = report["truth_topics"][0]
         truth += f", topic {', '.join(report['truth_topics'])} (use --truth BAG:{first})"
     out.print(f"ground truth: {truth}", highlight=False)
+    if report.get("track_topics"):
+        out.print(
+            f"tracks of laserpeople track --bag: {', '.join(report['track_topics'])} "
+            "(score them with laserpeople evaluate RECORDING --truth ...)",
+            highlight=False,
+        )
     if report.get("pose_summary"):
         out.print(f"poses: {report['pose_summary']}", highlight=False)
+    for note in report.get("mount_notes", []):
+        out.print(note, highlight=False, markup=False)
     if report.get("bad_lines"):
         out.print(f"malformed lines skipped: {report['bad_lines']}", highlight=False)
     if report.get("scans_with_log_time"):

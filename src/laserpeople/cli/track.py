@@ -30,7 +30,7 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.config import check_sections, load_config, to_toml
+from laserpeople.config import check_sections, load_config, origins, to_toml
 from laserpeople.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -237,6 +237,10 @@ def run_tracking(
     except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
         interrupted = True
         pipe.close()
+    except Exception:  # a mount left out may be why: say so before the error
+        for note in getattr(source.recording, "mount_notes", []):
+            warn(note)
+        raise
     finally:
         report_damage(source.recording)
     for line in source.summary():
@@ -451,7 +455,7 @@ def register(app: typer.Typer) -> None:
             every = dict.fromkeys([*classes, ReidParams, *read])  # [leg_tracker] may be in both
             loaded: list[Any] = [load_config(cls, config, preset) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
-                print(to_toml(obj))
+                print(to_toml(obj, origins(obj, config, preset)))
             return
         if recording is None or output is None:
             raise ConfigError(

@@ -133,10 +133,14 @@ class LabelledSegments:
         return self.select(np.isin(self.group, keep))
 
     def summary(self) -> str:
-        """``N segments (a legs, b non-legs) from k recordings``."""
+        """``N segments (a legs, b non-legs) from k recordings`` (and ``(m lasers)`` when
+        a recording holds several: the groups are ``file:laser``)."""
+        groups = [self.groups[g] for g in sorted(set(self.group.tolist()))]
+        files = len({g.rpartition(":")[0] or g for g in groups})
+        lasers = f" ({len(groups)} lasers)" if len(groups) != files else ""
         return (
             f"{len(self)} segments ({self.n_positive} legs, {self.n_negative} non-legs) "
-            f"from {len(set(self.group.tolist()))} recordings"
+            f"from {files} recording{'' if files == 1 else 's'}{lasers}"
         )
 
     @classmethod

@@ -416,6 +416,30 @@ def mounts_to_use(
     return use, notes
 
 
+def stray_mount_notes(
+    mounts: Mapping[str, tuple[str, Pose2D]],
+    lasers: Mapping[str, str],
+    frames: Iterable[str] = (),
+) -> list[str]:
+    """One note per given mount whose child frame no laser of the recording has and no
+    other frame names: a misspelt CHILD, or a topic given where the frame id is meant.
+
+    ``lasers`` maps each laser topic to its scans' ``header.frame_id``; ``frames`` are the
+    other frames the recording's transforms name. A child that is the parent of another
+    given mount (a chain such as ``base_link=base_footprint:...``) is not stray.
+    """
+    known = {normalise_frame(f) for f in (*lasers.values(), *frames)}
+    known |= {normalise_frame(parent) for parent, _ in mounts.values()}
+    have = ", ".join(f"{topic} {frame!r}" for topic, frame in lasers.items()) or "none"
+    return [
+        f"mount of {normalise_frame(child)!r} not used: no laser's scans have that frame id "
+        f"and no transform names it (CHILD is the header.frame_id of the laser's scans; "
+        f"the lasers' frames here: {have})"
+        for child in mounts
+        if normalise_frame(child) not in known
+    ]
+
+
 def add_mounts(tree: TransformTree, mounts: Mapping[str, tuple[str, Pose2D]]) -> None:
     """Add user-given fixed laser mounts (child -> (parent, pose)) to ``tree``."""
     for child, (parent, pose) in mounts.items():

@@ -42,6 +42,7 @@ from laserpeople.io.poses import (
     add_mounts,
     mounts_to_use,
     normalise_frame,
+    stray_mount_notes,
     yaw_and_tilt,
 )
 from laserpeople.io.topics import match_topics
@@ -389,6 +390,8 @@ class RosbagRecording:
         for samples, fixed in ((static, True), (tf, False), (odom, False)):
             samples.add_to(own, static=fixed)
         mounts, self.mount_notes = mounts_to_use(self._mounts, own.edges())
+        if self._mounts:
+            self.mount_notes += stray_mount_notes(self._mounts, self.laser_frames(), own.frames())
         tree = TransformTree(self.pose_params)
         add_mounts(tree, mounts)
         for samples, fixed in ((static, True), (tf, False), (odom, False)):

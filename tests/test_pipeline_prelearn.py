@@ -82,15 +82,55 @@ def test_a_person_standing_for_the_first_seconds_is_foreground_from_the_first_sc
     assert _first_foreground(frames, off) == []
 
 
-def test_a_person_standing_in_front_of_open_space_is_foreground_from_the_first_scan() -> None:
-    """No return behind the person (beyond the laser's range): the person's 30 of 100
-    scans are below ``min_fraction`` of the whole recording only when it is 40 s long
-    (7.5 %), and then the person is foreground in the first scan; at 10 s (30 %) they are
-    a frequent range with nothing farther, and stay background."""
+def _foreground_at(frames: list[Frame], k: int) -> list[int]:
+    """The beams foreground in frame ``k`` under ``auto`` after the pass over ``frames``."""
+    fuse = Fuse()
+    auto = AutoBackground()
+    prelearn([fuse, auto], lambda: frames)
+    for frame in frames[: k + 1]:
+        out = auto(fuse(frame))
+    assert out.foreground is not None and out.points is not None
+    return sorted(set(out.points.beams[out.foreground].tolist()))
+
+
+def test_the_whole_recording_adds_only_what_lies_beyond() -> None:
+    """Beams 80-109 return nothing (open space) but for the people on them: a person who
+    stands on beams 90-95 for the first 3 s is background in the first scan, as learning
+    online has it (nothing beyond them); one who stands there from 3 s to the end (70 % of
+    the recording, frequent in it) is foreground, since the first seconds saw nothing
+    static there; an object the first seconds saw on beam 100 at 5 m in every 4th scan,
+    and then twice (7 % of the recording), stays background."""
     walls = _walls()
     walls[80:110] = np.nan
-    assert _first_foreground(_recording(40.0, walls=walls)) == list(range(90, 96))
     assert _first_foreground(_recording(10.0, walls=walls)) == []
+    late = _recording(10.0, walls=walls, stand=0.0)
+    late = [
+        replace(f, scans=(replace(f.scans[0], ranges=_with_person(f.scans[0].ranges)),))
+        if f.index >= 30
+        else f
+        for f in late
+    ]
+    assert _foreground_at(late, 50) == list(range(90, 96))
+    flicker = _recording(10.0, walls=walls, stand=0.0)
+    flicker = [
+        replace(f, scans=(replace(f.scans[0], ranges=_with_object(f.scans[0].ranges)),))
+        if (f.index < 20 and f.index % 4 == 0) or f.index in (70, 90)
+        else f
+        for f in flicker
+    ]
+    assert _foreground_at(flicker, 90) == []
+
+
+def _with_person(ranges: np.ndarray) -> np.ndarray:
+    out = ranges.copy()
+    out[PERSON] = 2.0
+    return out
+
+
+def _with_object(ranges: np.ndarray) -> np.ndarray:
+    out = ranges.copy()
+    out[100] = 5.0
+    return out
 
 
 def test_the_pass_says_from_how_many_frames_it_learned_and_samples_long_recordings() -> None:

@@ -1842,6 +1842,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "            if False:",
         ("tests/test_pipeline_prelearn.py",),
     ),
+    Mutant(
+        "prelearn-beyond-nearer",
+        "prelearn: the whole recording adds only ranges beyond the learning period's static ones",
+        H,
+        "        core |= beyond & (np.arange(k)[None, :] > (far + width)[:, None])",
+        "        core |= beyond",
+        ("tests/test_pipeline_prelearn.py",),
+    ),
 )
 
 

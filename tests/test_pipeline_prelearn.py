@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,7 +147,7 @@ def test_the_pass_says_from_how_many_frames_it_learned_and_samples_long_recordin
     assert (every.learned, every.read) == (100, 100)
     fuse, auto = Fuse(), AutoBackground()
     prelearn([fuse, auto], lambda: frames)
-    assert "learned from all 100 frames of the whole recording" in auto.describe()
+    assert "beyond its ranges from all 100 frames of the whole recording" in auto.describe()
 
 
 def test_a_moving_laser_is_not_learned_before_tracking() -> None:
@@ -195,3 +196,26 @@ def test_the_paper_preset_learns_online() -> None:
     assert auto.prelearned is None
     with pytest.raises(ValueError, match="prelearn_scans"):
         AutoBackgroundParams(prelearn_scans=0)
+
+
+def test_the_wall_beyond_is_kept_after_learning_and_in_a_saved_model(tmp_path: Path) -> None:
+    """The histogram learns the first 2 s (the person standing), with the whole
+    recording's wall beyond them: after learning the person is foreground and the wall
+    background on beams 90-95, with no relearning needed, also once saved and loaded."""
+    from laserpeople.background.beam_histogram import BeamHistogramBackground
+
+    frames = _recording()
+    learned = learn_recording(frames, StaticWorldParams())
+    assert learned.model is not None
+    model = BeamHistogramBackground()
+    model.use_whole_recording(learned.model)
+    fuse = Fuse()
+    for frame in frames[:25]:  # learning ends at 2 s (frame 20); the person stands
+        out = model(fuse(frame))
+    assert not model.learning and model.relearned("a") == 0
+    assert out.foreground is not None and out.points is not None
+    assert sorted(out.points.beams[out.foreground].tolist()) == list(range(90, 96))
+    again = BeamHistogramBackground.load(model.save(tmp_path / "bg.npz"))
+    person, wall = frames[0].scans[0], frames[-1].scans[0]
+    assert np.flatnonzero(again.foreground_of(person)).tolist() == list(range(90, 96))
+    assert not again.foreground_of(wall).any()

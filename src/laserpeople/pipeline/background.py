@@ -82,14 +82,14 @@ class AutoBackgroundParams:
     )
     prelearn: bool = param(
         True,
-        "assumed (not in 004, which learns from an empty room): a recording is read whole "
-        "before it is tracked; measured on random-groups and the real bags "
-        "(docs/configuration.md)",
-        "on a recording whose lasers stand still (the tests above), the per-beam histogram "
-        "that gives trackers of points their foreground is learned from the whole recording "
-        "before tracking, so that a person in view from the start who leaves their place for "
-        "a while is foreground from the first scan; false: learned online over the first "
-        "[beam_histogram] learn_seconds (004; a live run always is)",
+        "assumed (not in 004, which learns from an empty room): a recording can be read whole "
+        "before it is tracked; measured on random-groups and the real bags (docs/recording.md)",
+        "on a recording whose lasers stand still (the tests above), the recording is read "
+        "once before tracking, and the per-beam histogram that gives trackers of points their "
+        "foreground takes as static too the ranges frequent in the whole recording that lie "
+        "beyond what its learning period finds static (the wall behind a person in view from "
+        "the start), so that such a person is foreground from the first scan; false: only "
+        "the first [beam_histogram] learn_seconds (004; a live run always is)",
     )
     prelearn_scans: int = param(
         3000,
@@ -358,7 +358,8 @@ class AutoBackground:
         self.static = static if static is not None else StaticWorldParams()
         self.params = params or self.static.auto_background
         self.map_path = map_path
-        self.model: Stage | None = _as_stage(BeamHistogramBackground(self.static.beam_histogram))
+        self._histogram = BeamHistogramBackground(self.static.beam_histogram)
+        self.model: Stage | None = _as_stage(self._histogram)
         self.chosen = "histogram"
         self.switched_at: int | None = None
         self.motion: SensorMotionCheck | None = None
@@ -437,17 +438,13 @@ class AutoBackground:
         return pose_moved(self._first, frame, self.params)
 
     def use_prelearned(self, learned: Prelearned) -> None:
-        """Track with the per-beam histogram ``learned`` from the whole recording before
-        tracking (:mod:`laserpeople.pipeline.prelearn`; its ``model`` None: keep learning
-        online). Before the first frame only."""
+        """Learn the per-beam histogram with what the pass over the whole recording before
+        tracking found beyond the learning period's ranges (``learned``,
+        :mod:`laserpeople.pipeline.prelearn`; its ``model`` None: as without).
+        Before the first frame only."""
         self.prelearned = learned
         if learned.model is not None and self.chosen == "histogram":
-            import os
-
-            if os.environ.get("LP_PRELEARN") == "replace":
-                self.model = _as_stage(learned.model)
-            else:
-                self.model.use_whole_recording(learned.model)  # type: ignore[union-attr]
+            self._histogram.use_whole_recording(learned.model)
 
     def prefetch(self, frames: Sequence[Frame]) -> None:
         """Detect the legs of ``frames`` (frames about to come, in order) at once once the
@@ -536,8 +533,9 @@ class AutoBackground:
             return f"; {online}: {learned.why_not}"
         of = "all" if learned.learned == learned.read else f"{learned.learned} evenly spread of"
         return (
-            f"; learned from {of} {learned.read} frames of the whole recording before tracking "
-            f"in {learned.cpu:.2f} s CPU, [auto_background] prelearn"
+            f"; {online}, and beyond its ranges from {of} {learned.read} frames of the whole "
+            f"recording read before tracking in {learned.cpu:.2f} s CPU, [auto_background] "
+            "prelearn"
         )
 
     def _people_note(self) -> str:

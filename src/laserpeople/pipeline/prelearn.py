@@ -1,4 +1,4 @@
-"""The per-beam histogram of still lasers learned from the whole recording before tracking.
+"""The per-beam histogram of still lasers learned with what the whole recording shows.
 
 Online, ``--background auto`` learns the per-beam range histogram
 (:class:`~laserpeople.background.beam_histogram.BeamHistogramBackground`) over the first
@@ -6,16 +6,21 @@ Online, ``--background auto`` learns the per-beam range histogram
 the start is background until they step off the beams they first stood on. A recording on
 disk can be read whole before it is tracked. :func:`learn_recording` reads its frames once
 and, while they pass the tests of :class:`~laserpeople.pipeline.background.AutoBackground`
-(world frame: every laser keeps its first pose, :func:`~laserpeople.pipeline.background.pose_moved`;
-sensor frame: the share of returns off a histogram of the first seconds stays low,
+(world frame: every laser keeps its first pose,
+:func:`~laserpeople.pipeline.background.pose_moved`; sensor frame: the share of returns off
+a histogram of the first seconds stays low,
 :class:`~laserpeople.pipeline.background.SensorMotionCheck`) and keep their beam layout,
-learns the histogram from every frame, or from every k-th frame of a recording longer than
-``[auto_background] prelearn_scans`` frames. With ``[beam_histogram] farthest`` each beam's
-farthest frequent range over the whole recording is static: the wall behind anyone who moves
-at any time. Tracking then starts with that histogram, which relearns as the online one does.
+learns a histogram from every frame, or from every k-th frame of a recording longer than
+``[auto_background] prelearn_scans`` frames. The online histogram then learns as before,
+and a range frequent in the whole recording that lies beyond what it finds static on a beam
+is static too
+(:meth:`~laserpeople.background.beam_histogram.BeamHistogramBackground.use_whole_recording`):
+the wall behind a person who stands in view from the start and leaves their place for
+``min_fraction`` of the recording. Nothing nearer is added: a person who stands for much of
+a short recording after the learning period is not learned as static.
 
 A laser that moves, a change of beam layout, a recording that cannot be read to its end,
-``prelearn = false`` (``--preset paper``) or a live run keep the online learning, and
+``prelearn = false`` (``--preset paper``) or a live run learn as before, and
 :meth:`~laserpeople.pipeline.background.AutoBackground.describe` says which ran.
 """
 
@@ -86,7 +91,9 @@ class _Pass:
             for scan in frame.scans:
                 known = self._layouts.setdefault(scan.sensor, scan.layout)
                 if not same_layout(known, scan.layout):
-                    self.why_not = f"laser {scan.sensor} changed its beam layout at frame {frame.index}"
+                    self.why_not = (
+                        f"laser {scan.sensor} changed its beam layout at frame {frame.index}"
+                    )
                     return
             if frame.frame == "sensor" and self._motion(self._fuse(frame)):
                 self.why_not = f"the laser moved at frame {frame.index} (sensor frame)"
@@ -122,7 +129,7 @@ def prelearn(
     open_frames: Callable[[], Iterable[Frame]],
     total: int | None = None,
 ) -> Prelearned | None:
-    """Learn the histogram of the ``auto`` static world model among ``stages`` from the
+    """Learn a histogram for the ``auto`` static world model among ``stages`` from the
     frames ``open_frames()`` gives (a fresh pass over the recording; closed afterwards when
     it has ``close``) and hand it to the model (:meth:`AutoBackground.use_prelearned`).
     None (nothing read) without such a model or with ``[auto_background] prelearn`` false;

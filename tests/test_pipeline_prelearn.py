@@ -194,6 +194,7 @@ def test_the_paper_preset_learns_online() -> None:
     fuse, auto = Fuse(), AutoBackground(static=load_static_world(None, "paper"))
     assert prelearn([fuse, auto], lambda: _recording()) is None
     assert auto.prelearned is None
+    assert auto.describe().endswith("first 2 s ([auto_background] prelearn = false))")
     with pytest.raises(ValueError, match="prelearn_scans"):
         AutoBackgroundParams(prelearn_scans=0)
 

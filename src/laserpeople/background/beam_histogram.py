@@ -41,6 +41,13 @@ any leg detection, furniture the detector fires on too) stay static, but the wal
 them is guessed as well, so that it is background at once when a person there leaves.
 The people counts are saved with the histograms.
 
+A recording on disk can be read whole before it is tracked
+(:mod:`laserpeople.pipeline.prelearn`): with :meth:`BeamHistogramBackground.use_whole_recording`
+the ranges frequent in the whole recording that lie beyond a beam's static bins of the
+learning period are static too (the wall behind a person who stood in view from the start
+and left for ``min_fraction`` of the recording), and are written into the histograms when
+learning ends.
+
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
 """

@@ -16,6 +16,9 @@ choices (``track --background``):
   histogram's own share of returns it does not explain, and once a laser moves no model
   is left (in the sensor frame of a moving laser nothing stays put): every point is
   foreground from then on, and :meth:`AutoBackground.describe` says from which frame.
+  On a recording whose lasers stand still throughout, the histogram also takes the walls
+  the whole recording shows beyond what it learns (``[auto_background] prelearn``,
+  :mod:`laserpeople.pipeline.prelearn`).
 - ``none``: no model; every point stays foreground.
 
 Under ``auto`` the foreground is then narrowed to the points near leg detections
@@ -528,7 +531,8 @@ class AutoBackground:
         online = f"learned online over the first {seconds:g} s"
         learned = self.prelearned
         if learned is None:
-            return f"; {online}"
+            off = "" if self.params.prelearn else " ([auto_background] prelearn = false)"
+            return f"; {online}{off}"
         if learned.model is None:
             return f"; {online}: {learned.why_not}"
         of = "all" if learned.learned == learned.read else f"{learned.learned} evenly spread of"

@@ -1842,6 +1842,30 @@ MUTANTS: tuple[Mutant, ...] = (
         "    if False:",
         ("tests/test_batch.py::test_parquet_keeps_the_frame_and_sensor_pose",),
     ),
+    Mutant(
+        "prelearn-sample-floor",
+        "prelearn: a long recording is learned from every ceil(n / prelearn_scans)-th frame",
+        "pipeline/prelearn.py",
+        "else math.ceil(total / most)",
+        "else total // most",
+        ("tests/test_pipeline_prelearn.py",),
+    ),
+    Mutant(
+        "prelearn-moving-laser",
+        "prelearn: a laser that moves (world frame) is not learned before tracking",
+        "pipeline/prelearn.py",
+        "            if pose_moved(self._first, frame, self.static.auto_background):",
+        "            if False:",
+        ("tests/test_pipeline_prelearn.py",),
+    ),
+    Mutant(
+        "prelearn-beyond-nearer",
+        "prelearn: the whole recording adds only ranges beyond the learning period's static ones",
+        H,
+        "        core |= beyond & (np.arange(k)[None, :] > (far + width)[:, None])",
+        "        core |= beyond",
+        ("tests/test_pipeline_prelearn.py",),
+    ),
 )
 
 

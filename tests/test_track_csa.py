@@ -710,9 +710,10 @@ def test_on_a_moving_laser_a_target_unseen_for_moving_unseen_is_not_reported() -
     assert CSAParams.paper_preset["moving_unseen"] == 0.0
 
 
-def _cli_run(tmp_path, params: CSAParams, frames: int | None = None):  # type: ignore[no-untyped-def]
+def _cli_run(tmp_path, params: CSAParams, frames: int | None = None, static=None):  # type: ignore[no-untyped-def]
     """crossing-3-p1, seed 7, as ``laserpeople track --tracker csa --appearance on`` runs
-    it (the front laser, ``--background auto``): the truth and the pipeline's steps."""
+    it (the front laser, ``--background auto``; ``static``: the static world models'
+    parameters, None: defaults): the truth and the pipeline's steps."""
     from itertools import islice
 
     from laserpeople.io import open_recording
@@ -720,7 +721,7 @@ def _cli_run(tmp_path, params: CSAParams, frames: int | None = None):  # type: i
     from laserpeople.sim.scenarios import run_scenario
 
     path = run_scenario("crossing-3-p1", seed=7).write(tmp_path / "p1.npz")
-    pipe = build(path, tracker="csa", params=params, reidentify=True)
+    pipe = build(path, tracker="csa", params=params, reidentify=True, static_world=static)
     steps = list(islice(pipe, frames))
     return list(open_recording(path).truth()), steps, pipe
 
@@ -732,11 +733,21 @@ def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
     histogram learns. With ``background_people`` their legs are not learned as static: at
     scan 10 (1.0 s) every person has foreground points within 0.4 m and a person row
     within 0.5 m, and the static world model says how many beams it left out; with 002's
-    setting (false, the paper preset) none has a point."""
-    from laserpeople.pipeline.background import background_of, describe_background
+    setting (false, the paper preset, which learns only the first seconds:
+    ``[auto_background] prelearn`` false) none has a point. With ``prelearn`` the walls the
+    whole recording shows behind them make them foreground without ``background_people``
+    too."""
+    from laserpeople.pipeline.background import (
+        AutoBackgroundParams,
+        StaticWorldParams,
+        background_of,
+        describe_background,
+    )
 
+    online = StaticWorldParams(auto_background=AutoBackgroundParams(prelearn=False))
     for on in (True, False):
-        truth, steps, pipe = _cli_run(tmp_path, CSAParams(background_people=on), frames=25)
+        params = CSAParams(background_people=on)
+        truth, steps, pipe = _cli_run(tmp_path, params, frames=25, static=online)
         said = describe_background(background_of(pipe.stages))
         assert ("beams on the leg MHT's people while it learned" in said) is on, said
         frame, tracks = steps[10].frame, steps[10].tracks
@@ -749,6 +760,12 @@ def test_people_standing_while_the_background_learns_are_tracked_from_the_start(
             assert (near >= 3) if on else (near == 0)
             if on:
                 assert np.linalg.norm(rows - xy, axis=1).min() < 0.5
+    truth, steps, _ = _cli_run(tmp_path, CSAParams(background_people=False), frames=25)
+    frame = steps[10].frame
+    assert frame.points is not None and frame.foreground is not None
+    fg = frame.points.points[frame.foreground]
+    for xy in truth[10].positions:
+        assert int((np.linalg.norm(fg - xy, axis=1) < 0.4).sum()) >= 3
 
 
 def test_crossing3_as_the_cli_runs_it_with_colour(tmp_path) -> None:  # type: ignore[no-untyped-def]

@@ -41,6 +41,13 @@ any leg detection, furniture the detector fires on too) stay static, but the wal
 them is guessed as well, so that it is background at once when a person there leaves.
 The people counts are saved with the histograms.
 
+A recording on disk can be read whole before it is tracked
+(:mod:`laserpeople.pipeline.prelearn`): with :meth:`BeamHistogramBackground.use_whole_recording`
+the ranges frequent in the whole recording that lie beyond a beam's static bins of the
+learning period are static too (the wall behind a person who stood in view from the start
+and left for ``min_fraction`` of the recording), and are written into the histograms when
+learning ends.
+
 Shapes: per laser ``counts`` (B, K) int32 for B beams and K range bins of width
 ``bin_width``; bin k covers ranges [k w, (k + 1) w).
 """
@@ -168,10 +175,11 @@ class _BeamTable:
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
     since: NDArray[np.float64] | None = None  # (B,) stamp the candidate first appeared
+    beyond: NDArray[np.bool_] | None = None  # (B, K) frequent in a whole recording, until frozen
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
-        core = _core(self.counts, self.scans, p, self.people)
+        core = _core(self.counts, self.scans, p, self.people, self.beyond)
         k = core.shape[1]
         on_people = _on_people(self.counts, self.scans, p, self.people)
         seen = core | on_people
@@ -341,14 +349,21 @@ def _core(
     scans: int,
     p: BeamHistogramParams,
     people: NDArray[np.int32] | None = None,
+    beyond: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.bool_]:
     """Static bins (B, K) of the histograms ``counts`` (B, K) of ``scans`` scans: bins seen
-    in at least ``min_fraction`` of the scans and not on people (:func:`_on_people`); with
-    ``farthest`` only those of them within twice the tolerance of each beam's farthest such
-    bin (a beam without one keeps none)."""
+    in at least ``min_fraction`` of the scans and not on people (:func:`_on_people`), and
+    the bins of ``beyond`` (B, K) farther than a beam's farthest of them (by more than
+    twice the tolerance); with ``farthest`` only those of them within twice the tolerance
+    of each beam's farthest such bin (a beam without one keeps none)."""
     core = counts >= max(1.0, p.min_fraction * scans)
     if people is not None:
         core &= ~_on_people(counts, scans, p, people)
+    if beyond is not None and core.shape[1]:
+        k = core.shape[1]
+        far = np.where(core.any(axis=1), k - 1 - np.argmax(core[:, ::-1], axis=1), k)
+        width = 2 * math.ceil(p.tolerance / p.bin_width)
+        core |= beyond & (np.arange(k)[None, :] > (far + width)[:, None])
     if not p.farthest or core.shape[1] == 0:
         return core
     k = core.shape[1]
@@ -408,6 +423,7 @@ class BeamHistogramBackground:
         self._watch: tuple[float, float] | None = None  # (first, last) stamp of the frames seen
         self._offline_seconds = 0.0  # seconds learned from a separate background recording
         self.layout_changes = 0  # lasers' histograms dropped for a new beam layout
+        self._whole: dict[str, tuple[Layout, NDArray[np.bool_]]] = {}  # use_whole_recording
 
     # ----------------------------------------------------------------- learning
     @property
@@ -452,6 +468,13 @@ class BeamHistogramBackground:
             )
             self._tables[scan.sensor] = table
             self._geometry[scan.sensor] = scan.layout
+            whole = self._whole.get(scan.sensor)
+            if (
+                whole is not None
+                and same_layout(whole[0], scan.layout)
+                and whole[1].shape == table.counts.shape
+            ):
+                table.beyond = whole[1]
         elif table.counts.shape[0] != scan.n_beams:
             raise BackgroundModelError(
                 f"laser {scan.sensor!r} has {scan.n_beams} beams, the model "
@@ -495,10 +518,31 @@ class BeamHistogramBackground:
         return self
 
     def freeze(self) -> None:
-        """Stop learning; later frames only get their foreground."""
+        """Stop learning; later frames only get their foreground. The bins a whole
+        recording adds (:meth:`use_whole_recording`) are written into the histograms as seen
+        in ``min_fraction`` of the scans, so that relearning and a saved model keep them."""
         self._frozen = True
         for table in self._tables.values():
+            if table.beyond is not None:
+                added = _core(table.counts, table.scans, self.params, table.people, table.beyond)
+                added &= table.counts < max(1.0, self.params.min_fraction * table.scans)
+                need = max(1, math.ceil(self.params.min_fraction * table.scans))
+                table.counts[added] = need
+                table.beyond = None
             table.finish(self.params)
+
+    def use_whole_recording(self, whole: BeamHistogramBackground) -> None:
+        """Learn with what ``whole`` (a histogram learned from the whole recording,
+        :meth:`learn_scans`) saw beyond: a bin frequent in ``whole`` that lies farther
+        than every static bin of the scans learned so far on its beam (by more than twice
+        the tolerance) is static too, so that the wall behind a person who stands in view
+        from the start, and leaves their place for ``min_fraction`` of the recording, is
+        background and the person foreground from the first scan; what the learning period
+        alone finds static stays static. A laser of another beam layout than in ``whole``
+        learns without. Call it before the first frame."""
+        for name, table in whole._tables.items():
+            frequent = table.counts >= max(1.0, self.params.min_fraction * table.scans)
+            self._whole[name] = (whole._geometry[name], frequent)
 
     # --------------------------------------------------------------- foreground
     def foreground_of(self, scan: Scan) -> NDArray[np.bool_]:

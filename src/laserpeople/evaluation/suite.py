@@ -197,11 +197,17 @@ def track_scene(
     label: str,
     params: EvaluationParams | None = None,
 ) -> tuple[SceneScore, list[Tracks]]:
-    """Run a fresh tracker over the prepared detections and score it."""
+    """Run a fresh tracker over the prepared detections and score it (a tracker behind
+    stages, ``tracker.stages``, with the ``auto`` static world model has its histogram
+    learned from the whole scene first, as :func:`laserpeople.pipeline.build` does)."""
+    from laserpeople.pipeline.prelearn import prelearn
+
     tracker = make_tracker()
     inputs: Sequence[Any] = prepared.detections
     if hasattr(tracker, "consumes"):  # a FrameTracker: one Frame per scan
-        inputs = frames_for(prepared, frozenset(tracker.consumes))
+        frames = frames_for(prepared, frozenset(tracker.consumes))
+        prelearn(getattr(tracker, "stages", ()), lambda: frames)
+        inputs = frames
     outs: list[Tracks] = []
     cpu = 0.0
     for item in inputs:

@@ -16,6 +16,9 @@ choices (``track --background``):
   histogram's own share of returns it does not explain, and once a laser moves no model
   is left (in the sensor frame of a moving laser nothing stays put): every point is
   foreground from then on, and :meth:`AutoBackground.describe` says from which frame.
+  On a recording whose lasers stand still throughout, the histogram also takes the walls
+  the whole recording shows beyond what it learns (``[auto_background] prelearn``,
+  :mod:`laserpeople.pipeline.prelearn`).
 - ``none``: no model; every point stays foreground.
 
 Under ``auto`` the foreground is then narrowed to the points near leg detections
@@ -35,6 +38,7 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -52,6 +56,7 @@ from laserpeople.pipeline.static_tracks import StaticTrackParams
 from laserpeople.scan import Pose2D
 
 if TYPE_CHECKING:
+    from laserpeople.pipeline.prelearn import Prelearned
     from laserpeople.tracking.legs import LegTrackerParams
 
 BackgroundChoice = Literal["auto", "histogram", "occupancy", "none"]
@@ -60,7 +65,9 @@ BACKGROUND_CHOICES: tuple[str, ...] = ("auto", "histogram", "occupancy", "none")
 
 @dataclass(frozen=True)
 class AutoBackgroundParams:
-    """When ``auto`` takes a laser to have moved."""
+    """When ``auto`` takes a laser to have moved, and whether it learns the per-beam
+    histogram of still lasers from the whole recording first
+    (:mod:`laserpeople.pipeline.prelearn`)."""
 
     config_section = "auto_background"
 
@@ -76,6 +83,29 @@ class AutoBackgroundParams:
         "a laser that turned more than this from its first pose is on a moving robot",
         "rad",
     )
+    prelearn: bool = param(
+        True,
+        "assumed (not in 004, which learns from an empty room): a recording can be read whole "
+        "before it is tracked; measured on random-groups and the real bags (docs/recording.md)",
+        "on a recording whose lasers stand still (the tests above), the recording is read "
+        "once before tracking, and the per-beam histogram that gives trackers of points their "
+        "foreground takes as static too the ranges frequent in the whole recording that lie "
+        "beyond what its learning period finds static (the wall behind a person in view from "
+        "the start), so that such a person is foreground from the first scan; false: only "
+        "the first [beam_histogram] learn_seconds (004; a live run always is)",
+    )
+    prelearn_scans: int = param(
+        3000,
+        "assumed: 5 minutes at 10 Hz; the pass reads every scan, the histogram counts these",
+        "the histogram of a longer recording is learned from this many of its frames, evenly "
+        "spread (every k-th; all of them when the reader does not know their number)",
+    )
+
+    paper_preset = MappingProxyType({"prelearn": False})  # the online learning of 004's model
+
+    def __post_init__(self) -> None:
+        if self.prelearn_scans < 1:
+            raise ValueError(f"prelearn_scans must be at least 1, got {self.prelearn_scans}")
 
 
 @dataclass(frozen=True)
@@ -268,6 +298,25 @@ def load_static_world(path: str | Path | None, preset: str | None = None) -> Sta
     )
 
 
+def pose_moved(first: dict[str, Pose2D], frame: Frame, params: AutoBackgroundParams) -> bool:
+    """Whether a laser of ``frame`` (world frame; a sensor-frame frame never is) has moved
+    farther than ``moved_distance`` or turned more than ``moved_angle`` from its first pose,
+    kept in ``first`` (laser name -> pose; the first pose of a laser is added)."""
+    if frame.frame == "sensor":
+        return False
+    for scan in frame.scans:
+        if scan.pose is None:
+            continue
+        start = first.setdefault(scan.sensor, scan.pose)
+        turn = math.remainder(scan.pose.theta - start.theta, math.tau)
+        if (
+            math.hypot(scan.pose.x - start.x, scan.pose.y - start.y) > params.moved_distance
+            or abs(turn) > params.moved_angle
+        ):
+            return True
+    return False
+
+
 class AutoBackground:
     """The per-beam histogram while the lasers stand still, the occupancy grid once one
     moves (module docstring). A :class:`~laserpeople.background.StaticWorldModel` stage.
@@ -312,7 +361,8 @@ class AutoBackground:
         self.static = static if static is not None else StaticWorldParams()
         self.params = params or self.static.auto_background
         self.map_path = map_path
-        self.model: Stage | None = _as_stage(BeamHistogramBackground(self.static.beam_histogram))
+        self._histogram = BeamHistogramBackground(self.static.beam_histogram)
+        self.model: Stage | None = _as_stage(self._histogram)
         self.chosen = "histogram"
         self.switched_at: int | None = None
         self.motion: SensorMotionCheck | None = None
@@ -328,6 +378,9 @@ class AutoBackground:
         self.laser_height: float | None = None
         """The laser's mount height [m] when the recording states it (None: unknown; see
         :func:`set_laser_height`)."""
+        self.prelearned: Prelearned | None = None
+        """What the pass over the whole recording before tracking learned (None: no pass,
+        e.g. a live run; :meth:`use_prelearned`)."""
 
     def _wants_legs(self) -> bool:
         """Whether the model in use is narrowed to points near legs (``[leg_foreground]
@@ -385,20 +438,16 @@ class AutoBackground:
         return near_legs(pts, legs[people], p.radius), near, warm
 
     def _moved(self, frame: Frame) -> bool:
-        if frame.frame == "sensor":
-            return False
-        p = self.params
-        for scan in frame.scans:
-            if scan.pose is None:
-                continue
-            first = self._first.setdefault(scan.sensor, scan.pose)
-            turn = math.remainder(scan.pose.theta - first.theta, math.tau)
-            if (
-                math.hypot(scan.pose.x - first.x, scan.pose.y - first.y) > p.moved_distance
-                or abs(turn) > p.moved_angle
-            ):
-                return True
-        return False
+        return pose_moved(self._first, frame, self.params)
+
+    def use_prelearned(self, learned: Prelearned) -> None:
+        """Learn the per-beam histogram with what the pass over the whole recording before
+        tracking found beyond the learning period's ranges (``learned``,
+        :mod:`laserpeople.pipeline.prelearn`; its ``model`` None: as without).
+        Before the first frame only."""
+        self.prelearned = learned
+        if learned.model is not None and self.chosen == "histogram":
+            self._histogram.use_whole_recording(learned.model)
 
     def prefetch(self, frames: Sequence[Frame]) -> None:
         """Detect the legs of ``frames`` (frames about to come, in order) at once once the
@@ -466,12 +515,31 @@ class AutoBackground:
             )
         if self.switched_at is None:
             return (
-                "static world model: per-beam range histogram (the lasers did not move)"
+                "static world model: per-beam range histogram (the lasers did not move"
+                + self._learned_from()
+                + ")"
                 + self._people_note()
             )
         return (
             "static world model: occupancy grid (a laser moved at frame "
             f"{self.switched_at}; the histogram ran before){_not_learned(self.model)}"
+        )
+
+    def _learned_from(self) -> str:
+        """From what the histogram was learned, for :meth:`describe`."""
+        seconds = self.static.beam_histogram.learn_seconds
+        online = f"learned online over the first {seconds:g} s"
+        learned = self.prelearned
+        if learned is None:
+            off = "" if self.params.prelearn else " ([auto_background] prelearn = false)"
+            return f"; {online}{off}"
+        if learned.model is None:
+            return f"; {online}: {learned.why_not}"
+        of = "all" if learned.learned == learned.read else f"{learned.learned} evenly spread of"
+        return (
+            f"; {online}, and beyond its ranges from {of} {learned.read} frames of the whole "
+            f"recording read before tracking in {learned.cpu:.2f} s CPU, [auto_background] "
+            "prelearn"
         )
 
     def _people_note(self) -> str:
@@ -691,5 +759,6 @@ __all__ = [
     "describe_foreground",
     "load_static_world",
     "occupancy_model",
+    "pose_moved",
     "set_laser_height",
 ]

@@ -27,6 +27,7 @@ from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.layout import LayoutCheck
 from laserpeople.pipeline.leg_foreground import wants_torso_runs
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
+from laserpeople.pipeline.prelearn import prelearn
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
 from laserpeople.pipeline.sources import (
@@ -397,7 +398,9 @@ def build(
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
     static world model ``background``, see :func:`observe_stages_for`; the leg MHT's
-    people get theirs too; ``static_world``: the models' parameters). ``reidentify``
+    people get theirs too; ``static_world``: the models' parameters; ``auto`` on still
+    lasers learns its histogram from the whole recording first, read once more before the
+    pipeline is returned, :mod:`~laserpeople.pipeline.prelearn`). ``reidentify``
     adds colour re-identification (002,
     :class:`~laserpeople.identity.reid.ColourReidentifier`) fed by the simulated camera
     (:func:`~laserpeople.pipeline.appearance.with_appearance`; an
@@ -453,6 +456,17 @@ def build(
             set_laser_height(told, laser_heights(rec).get(lasers[0]))
         if map_path is not None:
             check_recording_map(rec, map_path)
+        prelearn(
+            preprocess,
+            lambda: RecordingFrames(
+                open_source(recording, world_frame, mounts, on_error),
+                lasers,
+                frame=frame,
+                grouping=grouping,
+                max_frames=max_frames,
+                restamp=restamp,
+            ),
+        )
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(
             frames,

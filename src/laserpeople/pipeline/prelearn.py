@@ -1,0 +1,157 @@
+"""The per-beam histogram of still lasers learned with what the whole recording shows.
+
+Online, ``--background auto`` learns the per-beam range histogram
+(:class:`~laserpeople.background.beam_histogram.BeamHistogramBackground`) over the first
+``[beam_histogram] learn_seconds`` of a recording, with people in view: a person there from
+the start is background until they step off the beams they first stood on. A recording on
+disk can be read whole before it is tracked. :func:`learn_recording` reads its frames once
+and, while they pass the tests of :class:`~laserpeople.pipeline.background.AutoBackground`
+(world frame: every laser keeps its first pose,
+:func:`~laserpeople.pipeline.background.pose_moved`; sensor frame: the share of returns off
+a histogram of the first seconds stays low,
+:class:`~laserpeople.pipeline.background.SensorMotionCheck`) and keep their beam layout,
+learns a histogram from every frame, or from every k-th frame of a recording longer than
+``[auto_background] prelearn_scans`` frames. The online histogram then learns as before,
+and a range frequent in the whole recording that lies beyond what it finds static on a beam
+is static too
+(:meth:`~laserpeople.background.beam_histogram.BeamHistogramBackground.use_whole_recording`):
+the wall behind a person who stands in view from the start and leaves their place for
+``min_fraction`` of the recording. Nothing nearer is added: a person who stands for much of
+a short recording after the learning period is not learned as static.
+
+A laser that moves, a change of beam layout, a recording that cannot be read to its end,
+``prelearn = false`` (``--preset paper``) or a live run learn as before, and
+:meth:`~laserpeople.pipeline.background.AutoBackground.describe` says which ran.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass, replace
+
+from laserpeople.background.beam_histogram import BeamHistogramBackground
+from laserpeople.errors import LaserPeopleError
+from laserpeople.frame import Frame
+from laserpeople.pipeline.background import (
+    AutoBackground,
+    SensorMotionCheck,
+    StaticWorldParams,
+    background_of,
+    pose_moved,
+)
+from laserpeople.pipeline.preprocess import Fuse
+from laserpeople.scan import Layout, Pose2D, Scan, same_layout
+
+
+@dataclass(frozen=True)
+class Prelearned:
+    """What the pass over a recording learned.
+
+    Attributes:
+        model: The histogram, learning done (None: not learned, see ``why_not``).
+        learned: Frames it was learned from.
+        read: Frames read.
+        why_not: Why nothing was learned, for the user ("" when ``model`` is set).
+        cpu: Process CPU time [s] of the pass (reading included; 0 when not measured).
+    """
+
+    model: BeamHistogramBackground | None
+    learned: int
+    read: int
+    why_not: str = ""
+    cpu: float = 0.0
+
+
+class _Pass:
+    """The frames of one pass that pass the stillness tests, as scans to learn from."""
+
+    def __init__(self, static: StaticWorldParams, step: int) -> None:
+        self.static = static
+        self.step = step
+        self.read = 0
+        self.learned = 0
+        self.why_not = ""
+        self._first: dict[str, Pose2D] = {}
+        self._layouts: dict[str, Layout] = {}
+        self._motion = SensorMotionCheck(static.sensor_motion)
+        self._fuse = Fuse()
+
+    def scans(self, frames: Iterable[Frame]) -> Iterator[Scan]:
+        """The scans of every ``step``-th frame; stops (setting ``why_not``) at the first
+        frame whose laser moved or changed its beam layout."""
+        for frame in frames:
+            self.read += 1
+            if pose_moved(self._first, frame, self.static.auto_background):
+                self.why_not = f"a laser moved at frame {frame.index}"
+                return
+            if (self.read - 1) % self.step:
+                continue
+            for scan in frame.scans:
+                known = self._layouts.setdefault(scan.sensor, scan.layout)
+                if not same_layout(known, scan.layout):
+                    self.why_not = (
+                        f"laser {scan.sensor} changed its beam layout at frame {frame.index}"
+                    )
+                    return
+            if frame.frame == "sensor" and self._motion(self._fuse(frame)):
+                self.why_not = f"the laser moved at frame {frame.index} (sensor frame)"
+                return
+            self.learned += 1
+            yield from frame.scans
+
+
+def learn_recording(
+    frames: Iterable[Frame], static: StaticWorldParams, total: int | None = None
+) -> Prelearned:
+    """The per-beam histogram (parameters ``static.beam_histogram``) learned from
+    ``frames``, the whole recording, when its lasers stand still (module docstring);
+    ``total``: how many frames to expect (None: unknown, every frame is learned from), of
+    which at most ``static.auto_background.prelearn_scans``, evenly spread, are."""
+    most = static.auto_background.prelearn_scans
+    step = 1 if total is None or total <= most else math.ceil(total / most)
+    walk = _Pass(static, step)
+    model = BeamHistogramBackground(static.beam_histogram)
+    try:
+        model.learn_scans(walk.scans(frames))
+    except LaserPeopleError as exc:  # tracking meets a read error again at its frame
+        if walk.why_not:
+            return Prelearned(None, 0, walk.read, walk.why_not)
+        return Prelearned(None, 0, walk.read, f"the recording could not be read whole ({exc})")
+    if walk.why_not:
+        return Prelearned(None, 0, walk.read, walk.why_not)
+    return Prelearned(model, walk.learned, walk.read)
+
+
+def prelearn(
+    stages: Sequence[object],
+    open_frames: Callable[[], Iterable[Frame]],
+    total: int | None = None,
+) -> Prelearned | None:
+    """Learn a histogram for the ``auto`` static world model among ``stages`` from the
+    frames ``open_frames()`` gives (a fresh pass over the recording; closed afterwards when
+    it has ``close``) and hand it to the model (:meth:`AutoBackground.use_prelearned`).
+    None (nothing read) without such a model or with ``[auto_background] prelearn`` false;
+    ``total``: frames to expect (None: the pass's own ``total`` when it has one)."""
+    model = background_of(stages)
+    if not isinstance(model, AutoBackground) or not model.params.prelearn:
+        return None
+    static = model.static
+    if model.params is not static.auto_background:
+        static = replace(static, auto_background=model.params)
+    start = time.process_time()
+    frames = open_frames()
+    try:
+        expect = total if total is not None else getattr(frames, "total", None)
+        learned = learn_recording(frames, static, expect)
+    finally:
+        close = getattr(frames, "close", None)
+        if callable(close):
+            close()
+    learned = replace(learned, cpu=time.process_time() - start)
+    model.use_prelearned(learned)
+    return learned
+
+
+__all__ = ["Prelearned", "learn_recording", "prelearn"]

@@ -232,8 +232,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.493, IDF1 0.456 (goal 0.5; moving lasers 0.347, still 0.640); ID "
-        "switches 23.4 per scene, 6.2 s per scene on static objects",
+        "person MOTA 0.502, IDF1 0.449 (goal 0.5; moving lasers 0.347, still 0.658); ID "
+        "switches 23.7 per scene, 4.8 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(
@@ -242,7 +242,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "100–119",
         ("benchmarks/feet_random.py", "--seeds", "100-119", "--jobs", "2"),
         15.0,
-        "adapted MOTP 0.384 (goal 0.80), MOTA 0.490, IDF1 0.584; per scene as the page's table",
+        "adapted MOTP 0.392 (goal 0.80), MOTA 0.503, IDF1 0.589; per scene as the page's table",
         "schenk-tables.md",
     ),
     Benchmark(

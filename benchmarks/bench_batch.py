@@ -164,8 +164,15 @@ def main() -> None:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--kill", action="store_true", help="kill a worker mid-run (2 workers)")
     parser.add_argument("--resume", action="store_true", help="kill a whole run, run again")
-    parser.add_argument("--data", type=Path, default=Path("/tmp/bench_batch_data"))
+    parser.add_argument(
+        "--data",
+        type=Path,
+        default=Path("/tmp/bench_batch_data"),
+        help="folder the recordings are made in (not ../shared/data, whose bags it links)",
+    )
     args = parser.parse_args()
+    if args.data.resolve().is_relative_to(SHARED.resolve()):
+        parser.error(f"--data {args.data} lies in {SHARED}: the recordings are made there")
     paths = make_data(args.data, args.recordings, args.seconds)
     print(f"{len(paths)} recordings in {args.data}; load {os.getloadavg()[0]:.1f}", flush=True)
     runs = []

@@ -70,6 +70,17 @@ def test_segments_summary_counts_recordings_and_their_lasers():
     assert legs.summary() == "2 segments (1 legs, 1 non-legs) from 2 recordings"
     unused = table(("a.bag:/s", "b.bag:/s"), [1, 1])  # only groups with segments count
     assert unused.summary().endswith("from 1 recording")
+    # train --augment: one bag of three lasers in two scanner variants is one recording
+    # of three lasers (not "from 2 recordings (6 lasers)")
+    names = [
+        f"negative_2.bag@{v}:{laser}"
+        for v in ("0.25deg x0.7", "0.50deg x1.4")
+        for laser in ("/left_scan", "/right_scan", "/rear_scan")
+    ]
+    varied = table(tuple(names), [0, 1, 2, 3, 4, 5])
+    assert varied.summary().endswith("from 1 recording (3 lasers) in 2 scanner variants")
+    one = table(("positive_1.bag@0.35deg x2:/training_scan", "a@b.bag:/s"), [0, 1])
+    assert one.summary().endswith("from 2 recordings in 1 scanner variant")
 
 
 def test_error_table_shows_a_dash_for_a_rate_of_no_segments() -> None:

@@ -99,6 +99,10 @@ def test_cli_align_writes_mounts(tmp_path: Path) -> None:
         app, ["align", str(rec_path), "-o", str(out), "--static", "--reference", "feet_a"]
     )
     assert result.exit_code == 0, result.output
+    # the table's units are printed (rich took "[m]" and "[deg]" for markup and dropped them)
+    header = " ".join(result.stdout.split())
+    for unit in ("[m]", "[deg]"):
+        assert unit in header
     mounts = read_mounts(out)
     parent, pose = mounts["feet_b"]
     assert parent == "feet_a"

@@ -320,3 +320,25 @@ def test_parquet_keeps_the_frame_and_sensor_pose(tmp_path):
     pq.write_table(old, tmp_path / "old.parquet")
     assert [t.sensor_pose for t in iter_tracks_parquet(tmp_path / "old.parquet")] == [None, None]
     assert [name for name, _ in COLUMNS][-4:-1] == ["sensor_x", "sensor_y", "sensor_yaw"]
+
+
+def test_summary_table_prints_brackets_of_names_and_errors_as_written():
+    """rich would take ``[a]`` of a file name, or ``[leg_tracker]`` quoted in an error,
+    for markup and drop it from the table."""
+    from rich.console import Console
+
+    from laserpeople.batch.task import TopicRow
+    from laserpeople.cli.batch import render
+
+    row = TopicRow(
+        recording="/d/run[a].bag",
+        name="run[a]",
+        topic="/scan[b]",
+        status="failed",
+        error="bad value of [leg_tracker] people.gate_probability",
+    )
+    console = Console(record=True, width=400)
+    console.print(render([row], "batch summary"))
+    text = console.export_text()
+    for written in ("run[a]", "/scan[b]", "of [leg_tracker] people"):
+        assert written in text

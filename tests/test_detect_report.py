@@ -70,3 +70,51 @@ def test_segments_summary_counts_recordings_and_their_lasers():
     assert legs.summary() == "2 segments (1 legs, 1 non-legs) from 2 recordings"
     unused = table(("a.bag:/s", "b.bag:/s"), [1, 1])  # only groups with segments count
     assert unused.summary().endswith("from 1 recording")
+    # train --augment: one bag of three lasers in two scanner variants is one recording
+    # of three lasers (not "from 2 recordings (6 lasers)")
+    names = [
+        f"negative_2.bag@{v}:{laser}"
+        for v in ("0.25deg x0.7", "0.50deg x1.4")
+        for laser in ("/left_scan", "/right_scan", "/rear_scan")
+    ]
+    varied = table(tuple(names), [0, 1, 2, 3, 4, 5])
+    assert varied.summary().endswith("from 1 recording (3 lasers) in 2 scanner variants")
+    one = table(("positive_1.bag@0.35deg x2:/training_scan", "a@b.bag:/s"), [0, 1])
+    assert one.summary().endswith("from 2 recordings in 1 scanner variant")
+
+
+def test_error_table_shows_a_dash_for_a_rate_of_no_segments() -> None:
+    # A test set of legs only (positive bags, no --test-negatives): FN 1 of 4 = 25.00 %,
+    # overall 25.00 %, and no false-positive rate at all, printed "-", not "nan".
+    c = Confusion.of(np.array([1, 1, 1, -1]), np.array([1, 1, 1, 1]))
+    rows = error_table({"A": c}, "t").splitlines()
+    cells = {row.split("  ")[0]: row.split()[-1] for row in rows if "(%)" in row}
+    assert cells == {
+        "False Negatives (%)": "25.00",
+        "False Positives (%)": "-",
+        "Overall Error (%)": "25.00",
+    }
+
+
+def test_train_report_prints_the_distance_header_with_its_unit(tmp_path) -> None:
+    """The tables go out as plain text: rich markup would eat "[m]" of "distance [m]"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.sim import run_scenario
+
+    rec = tmp_path / "office.npz"
+    run_scenario("office", seconds=2, seed=3).write(rec)
+    args = [
+        "--quiet",
+        "train",
+        str(rec),
+        "--rounds",
+        "3",
+        "--report",
+        "-o",
+        str(tmp_path / "m.json"),
+    ]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "distance [m]  legs  non-legs" in result.stdout

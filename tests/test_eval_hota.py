@@ -101,6 +101,17 @@ def test_combining_sequences_sums_counts_and_weights_association_by_tp():
         combine_hota([])
 
 
+def test_pooled_loca_counts_one_at_alphas_without_any_tp():
+    # 0.27 m off: S = 0.82, TP at the 16 alphas up to 0.80, none at 0.85, 0.90, 0.95.
+    # One recording: LocA = (16 * 0.82 + 3) / 19 = 0.848; pooling it with itself (or
+    # alone) must give the same, not (16 * 0.82 + 0) / 19 = 0.691 (TrackEval: 1 there).
+    r = run({1: line(4)}, {7: line(4, 0.27)})
+    assert r.loca == pytest.approx((16 * 0.82 + 3) / 19, abs=TOL)
+    for pooled in (combine_hota([r]), combine_hota([r, r])):
+        assert pooled.loca == pytest.approx(r.loca, abs=TOL)
+        assert pooled.loca_alpha[-3:] == pytest.approx((1.0, 1.0, 1.0), abs=TOL)
+
+
 trackeval = pytest.importorskip("trackeval")
 
 

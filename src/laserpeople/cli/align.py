@@ -34,6 +34,7 @@ def register(app: typer.Typer) -> None:
         ] = False,
         mount: MountOption = None,
     ) -> None:
+        from rich.markup import escape
         from rich.table import Table
 
         from laserpeople.alignment import align_recording, write_mounts
@@ -63,7 +64,7 @@ def register(app: typer.Typer) -> None:
             "explained",
             "vs given [m / deg]",
         ):
-            table.add_column(col)
+            table.add_column(escape(col))  # the units' brackets are not markup
         for m in mounts:
             diff = ""
             if m.given is not None and m.fit is not None:

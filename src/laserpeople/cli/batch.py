@@ -67,7 +67,9 @@ def expand(patterns: list[str]) -> list[Path]:
 
 
 def render(rows: list[TopicRow], title: str) -> Table:
-    """The summary rows as a rich table."""
+    """The summary rows as a rich table (names, topics and errors as plain text: a file
+    named ``run[a].bag`` or an error quoting ``[leg_tracker]`` is not rich markup)."""
+    from rich.markup import escape
     from rich.table import Table
 
     table = Table(title=title, show_header=True)
@@ -87,8 +89,8 @@ def render(rows: list[TopicRow], title: str) -> Table:
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for r in rows:
         table.add_row(
-            r.name,
-            r.topic,
+            escape(r.name),
+            escape(r.topic),
             str(r.scans),
             f"{r.duration_s:.1f}",
             str(r.people),
@@ -97,7 +99,7 @@ def render(rows: list[TopicRow], title: str) -> Table:
             f"{r.track_ms_per_scan:.2f}",
             r.status,
             str(r.attempts),
-            r.error,
+            escape(r.error),
         )
     return table
 

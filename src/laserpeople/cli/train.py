@@ -22,6 +22,12 @@ if TYPE_CHECKING:
     from laserpeople.segmentation import JumpDistanceParams
 
 
+def _show(table: str) -> None:
+    """Print a report table as plain text: its headers hold brackets ("distance [m]") that
+    rich would take for markup and drop."""
+    console.print(table, markup=False, highlight=False)
+
+
 def _frames(text: str | None) -> list[int] | None:
     if text is None:
         return None
@@ -313,22 +319,20 @@ def register(app: typer.Typer) -> None:
             ada = Confusion.of(decisions["AdaBoost"], part.labels)
             heur = Confusion.of(decisions["Heuristic"], part.labels)
             alt = Confusion.of(predict(other_model, part), part.labels)
-            console.print(
-                ada.table(f"\nConfusion matrix, {name} (layout of Arras et al. 2008 Tables 2-5)")
-            )
-            console.print(
+            _show(ada.table(f"\nConfusion matrix, {name} (layout of Arras et al. 2008 Tables 2-5)"))
+            _show(
                 error_table(
                     {"Heuristic Approach": heur, "AdaBoost": ada},
                     f"\nComparison with the heuristic approach, {name} (Arras et al. 2008 Table 7)",
                 )
             )
-            console.print(
+            _show(
                 errors_by_distance(
                     decisions, part, title=f"\nErrors by distance from the sensor, {name}"
                 )
             )
             c_with, c_without = (ada, alt) if 14 in feature_set else (alt, ada)
-            console.print(
+            _show(
                 error_table(
                     {"Without Motion Feature": c_without, "With Motion Feature": c_with},
                     f"\nEffect of the motion feature #14, {name} (Arras et al. 2008 Table 8)",

@@ -102,7 +102,12 @@ class Confusion:
 
 
 def error_table(columns: Mapping[str, Confusion], title: str) -> str:
-    """False negatives / false positives / overall error [%] per classifier (Tables 7, 8)."""
+    """False negatives / false positives / overall error [%] per classifier (Tables 7, 8);
+    "-" for a rate of no segments (no legs, or no non-legs, in the set)."""
+
+    def pct(value: float) -> str:
+        return f"{value:.2f}" if np.isfinite(value) else "-"
+
     names = list(columns)
     rows = [("", *names)]
     for label, attr in (
@@ -110,7 +115,7 @@ def error_table(columns: Mapping[str, Confusion], title: str) -> str:
         ("False Positives (%)", "fp_rate"),
         ("Overall Error (%)", "overall_error"),
     ):
-        rows.append((label, *(f"{getattr(columns[n], attr):.2f}" for n in names)))
+        rows.append((label, *(pct(getattr(columns[n], attr)) for n in names)))
     return _format(title, rows)
 
 

@@ -29,6 +29,7 @@ Label sources:
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -73,6 +74,10 @@ InputKind = Literal["truth", "positive", "negative", "neko"]
 
 # labels of one scan: +1 leg, -1 not a leg, 0 = leave out
 Labeller = Callable[[Scan, SegmentTable, SegmentFeatures], IntArray]
+
+
+_VARIANT_SUFFIX = re.compile(r"@\d+\.\d+deg x[^:@]+$")
+"""The ``@0.50deg x1.4`` that :func:`augmented_segments` adds to a group's file name."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,13 +139,19 @@ class LabelledSegments:
 
     def summary(self) -> str:
         """``N segments (a legs, b non-legs) from k recordings`` (and ``(m lasers)`` when
-        a recording holds several: the groups are ``file:laser``)."""
+        a recording holds several: the groups are ``file:laser``; and ``in v scanner
+        variants`` for ``train --augment``, whose groups are ``file@variant:laser``)."""
         groups = [self.groups[g] for g in sorted(set(self.group.tolist()))]
-        files = len({g.rpartition(":")[0] or g for g in groups})
-        lasers = f" ({len(groups)} lasers)" if len(groups) != files else ""
+        parts = [g.rpartition(":") if ":" in g else (g, "", "") for g in groups]
+        sources = {(_VARIANT_SUFFIX.sub("", file), laser) for file, _, laser in parts}
+        files = len({file for file, _ in sources})
+        variants = {m.group(0) for file, _, _ in parts if (m := _VARIANT_SUFFIX.search(file))}
+        lasers = f" ({len(sources)} lasers)" if len(sources) != files else ""
+        plural = "" if len(variants) == 1 else "s"
+        varied = f" in {len(variants)} scanner variant{plural}" if variants else ""
         return (
             f"{len(self)} segments ({self.n_positive} legs, {self.n_negative} non-legs) "
-            f"from {files} recording{'' if files == 1 else 's'}{lasers}"
+            f"from {files} recording{'' if files == 1 else 's'}{lasers}{varied}"
         )
 
     @classmethod

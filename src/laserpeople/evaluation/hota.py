@@ -290,7 +290,8 @@ def _finish(
 
 def combine_hota(results: Sequence[HotaResult]) -> HotaResult:
     """HOTA over several recordings (TrackEval's combination of sequences): TP, FN, FP
-    summed per alpha; AssA, AssRe, AssPr and LocA averaged weighted by TP.
+    summed per alpha; AssA, AssRe, AssPr and LocA averaged weighted by TP (LocA is 1 at an
+    alpha with no TP at all, as for one recording).
 
     Raises:
         ValueError: No results, or results of different alphas or zero distances.
@@ -320,7 +321,9 @@ def combine_hota(results: Sequence[HotaResult]) -> HotaResult:
         weighted("assa_alpha"),
         weighted("assre_alpha"),
         weighted("asspr_alpha"),
-        weighted("loca_alpha"),
+        # An alpha without a TP in any recording counts LocA = 1, as in one recording and
+        # in TrackEval's combination (max(1e-10, sum) / max(1e-10, TP)).
+        np.where(tp > 0, weighted("loca_alpha"), 1.0),
         first.zero_distance,
     )
 

@@ -486,12 +486,18 @@ class StatusMeter:
     def __init__(self, session: LiveSession, span: float = 2.0) -> None:
         self.session = session
         self.span = span
-        self._marks: list[tuple[float, int]] = []
+        # The first mark is taken now, so that the first line (10 s in when the output is
+        # not a terminal) gives the rate since the start instead of 0.
+        self._marks: list[tuple[float, int]] = [(time.monotonic(), self._received())]
+
+    def _received(self) -> int:
+        """Scans received so far, all lasers."""
+        return sum(self.session.scans.counts.received.values())
 
     def line(self) -> str:
         """The status line now."""
         counts = self.session.scans.counts
-        received = sum(counts.received.values())
+        received = self._received()
         now = time.monotonic()
         self._marks.append((now, received))
         while len(self._marks) > 2 and self._marks[0][0] < now - self.span:

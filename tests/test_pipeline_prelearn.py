@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Iterator
 from dataclasses import replace
 from pathlib import Path
 
@@ -17,7 +18,7 @@ from laserpeople.pipeline.background import (
     StaticWorldParams,
     load_static_world,
 )
-from laserpeople.pipeline.prelearn import learn_recording, prelearn
+from laserpeople.pipeline.prelearn import PASS_DESCRIPTION, learn_recording, prelearn
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.scan import Pose2D, Scan
 
@@ -148,6 +149,29 @@ def test_the_pass_says_from_how_many_frames_it_learned_and_samples_long_recordin
     fuse, auto = Fuse(), AutoBackground()
     prelearn([fuse, auto], lambda: frames)
     assert "beyond its ranges from all 100 frames of the whole recording" in auto.describe()
+
+
+def test_the_pass_shows_its_progress_over_every_frame_it_reads() -> None:
+    """With ``show`` the pass's frames go through it, named and with the count to expect
+    (what ``track`` turns into a progress bar), and the same histogram is learned."""
+    frames = _recording()
+    seen: list[tuple[int | None, str]] = []
+    passed: list[int] = []
+
+    def show(items: Iterable[Frame], total: int | None, description: str) -> Iterator[Frame]:
+        seen.append((total, description))
+        for item in items:
+            passed.append(item.index)
+            yield item
+
+    fuse, auto = Fuse(), AutoBackground()
+    learned = prelearn([fuse, auto], lambda: frames, total=len(frames), show=show)
+    assert seen == [(100, PASS_DESCRIPTION)]
+    assert passed == list(range(100))
+    assert learned is not None and (learned.learned, learned.read) == (100, 100)
+    out = auto(fuse(frames[0]))
+    assert out.foreground is not None and out.points is not None
+    assert sorted(set(out.points.beams[out.foreground].tolist())) == list(range(90, 96))
 
 
 def test_a_moving_laser_is_not_learned_before_tracking() -> None:

@@ -212,6 +212,7 @@ def run_tracking(
         reid=load_config(ReidParams, config, preset),
         on_error=on_error,
         restamp=restamp,
+        show_progress=progress,
     )
     source: Any = pipe.source
     available = [t.name for t in source.recording.topics()]

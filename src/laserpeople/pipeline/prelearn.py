@@ -124,16 +124,26 @@ def learn_recording(
     return Prelearned(model, walk.learned, walk.read)
 
 
+ShowProgress = Callable[[Iterable[Frame], int | None, str], Iterable[Frame]]
+"""Wraps the frames of a pass to show its progress: (frames, total or None, description)
+-> the same frames (e.g. :func:`laserpeople.cli.common.progress`)."""
+
+PASS_DESCRIPTION = "learning the background from the whole recording"
+"""What the pass is called where its progress is shown."""
+
+
 def prelearn(
     stages: Sequence[object],
     open_frames: Callable[[], Iterable[Frame]],
     total: int | None = None,
+    show: ShowProgress | None = None,
 ) -> Prelearned | None:
     """Learn a histogram for the ``auto`` static world model among ``stages`` from the
     frames ``open_frames()`` gives (a fresh pass over the recording; closed afterwards when
     it has ``close``) and hand it to the model (:meth:`AutoBackground.use_prelearned`).
     None (nothing read) without such a model or with ``[auto_background] prelearn`` false;
-    ``total``: frames to expect (None: the pass's own ``total`` when it has one)."""
+    ``total``: frames to expect (None: the pass's own ``total`` when it has one); ``show``
+    wraps the frames to show the pass's progress (:data:`PASS_DESCRIPTION`)."""
     model = background_of(stages)
     if not isinstance(model, AutoBackground) or not model.params.prelearn:
         return None
@@ -144,7 +154,8 @@ def prelearn(
     frames = open_frames()
     try:
         expect = total if total is not None else getattr(frames, "total", None)
-        learned = learn_recording(frames, static, expect)
+        shown = frames if show is None else show(frames, expect, PASS_DESCRIPTION)
+        learned = learn_recording(shown, static, expect)
     finally:
         close = getattr(frames, "close", None)
         if callable(close):
@@ -154,4 +165,4 @@ def prelearn(
     return learned
 
 
-__all__ = ["Prelearned", "learn_recording", "prelearn"]
+__all__ = ["PASS_DESCRIPTION", "Prelearned", "ShowProgress", "learn_recording", "prelearn"]

@@ -27,7 +27,7 @@ from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.layout import LayoutCheck
 from laserpeople.pipeline.leg_foreground import wants_torso_runs
 from laserpeople.pipeline.observe import ClusterPoints, DetectLegs, LegDetector, LegFusionParams
-from laserpeople.pipeline.prelearn import prelearn
+from laserpeople.pipeline.prelearn import ShowProgress, prelearn
 from laserpeople.pipeline.preprocess import Fuse
 from laserpeople.pipeline.sinks import TracksBagSink, TracksCsvSink
 from laserpeople.pipeline.sources import (
@@ -394,6 +394,7 @@ def build(
     max_frames: int | None = None,
     on_error: str = "stop",
     restamp: float | None = None,
+    show_progress: ShowProgress | None = None,
 ) -> Pipeline:
     """A pipeline that tracks ``recording`` with a registered tracker (by name) or a
     tracker object, feeding it what it consumes (a consumer of ``foreground`` gets the
@@ -408,7 +409,9 @@ def build(
     parameters ``reid`` (``[reid]`` and ``[reid.appearance]``; defaults when None).
     ``on_error`` (``stop``/``skip``) is the reader's policy for a damaged scan (see
     :func:`open_source`). ``restamp`` [Hz] tracks at a fixed scan rate instead of the
-    recorded stamps (see :class:`RecordingFrames`).
+    recorded stamps (see :class:`RecordingFrames`). ``show_progress`` wraps the frames of
+    the pass over the whole recording to show its progress (e.g.
+    :func:`laserpeople.cli.common.progress`; None: nothing shown).
 
     Example:
         >>> from laserpeople.pipeline import build  # doctest: +SKIP
@@ -466,6 +469,7 @@ def build(
                 max_frames=max_frames,
                 restamp=restamp,
             ),
+            show=show_progress,
         )
         sinks = [o if not isinstance(o, str | Path) else output_sink(o) for o in outputs]
         return Pipeline(

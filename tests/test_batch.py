@@ -342,3 +342,15 @@ def test_summary_table_prints_brackets_of_names_and_errors_as_written():
     text = console.export_text()
     for written in ("run[a]", "/scan[b]", "of [leg_tracker] people"):
         assert written in text
+
+
+def test_totals_count_one_worker_as_one(tmp_path, capsys):
+    """The totals line says "on 1 worker" and "on 2 workers"."""
+    from laserpeople.batch.run import BatchResult
+    from laserpeople.batch.task import TopicRow
+    from laserpeople.cli.batch import report
+
+    row = TopicRow(recording="/d/a.bag", name="a", topic="/scan", status="done")
+    for workers, said in ((1, "on 1 worker\n"), (2, "on 2 workers\n")):
+        report(BatchResult(rows=[row], seconds=1.0, submitted=1, workers=workers), tmp_path)
+        assert said in capsys.readouterr().err

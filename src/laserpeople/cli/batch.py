@@ -119,7 +119,7 @@ def report(result: BatchResult, out: Path) -> None:
     say(
         f"{len(rows)} rows: {done} tracked, {result.skipped} done before (skipped), "
         f"{result.failed} failed; {result.scans:,} scans in {result.seconds:.1f} s "
-        f"({rate:,.0f} scans/s) on {result.workers} workers"
+        f"({rate:,.0f} scans/s) on {result.workers} worker{'' if result.workers == 1 else 's'}"
     )
     for r in result.retried:
         say(f"{r.name} {r.topic}: started {r.attempts} times (a worker died under it)")
@@ -294,7 +294,8 @@ def _sweep(
         ),
     )
     table = Table(
-        title=f"sweep ranked by {spec.metric}: tuned on {len(result.tune)} recordings, "
+        title=f"sweep ranked by {spec.metric}: tuned on {len(result.tune)} "
+        f"recording{'' if len(result.tune) == 1 else 's'}, "
         f"held out {len(result.held_out)}",
         show_header=True,
     )

@@ -42,8 +42,7 @@ def test_extension_loads_without_scipy_optimize() -> None:
         "import scipy.optimize\n"
         "assert scipy.optimize.linear_sum_assignment(np.eye(2))[1].tolist() == [1, 0]\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    _in_a_fresh_interpreter(code)
 
 
 def test_kdtree_is_scipys() -> None:
@@ -66,5 +65,10 @@ def test_kdtree_loads_without_scipy_spatial() -> None:
         "import scipy.spatial\n"
         "assert type(tree) is scipy.spatial.cKDTree\n"
     )
+    _in_a_fresh_interpreter(code)
+
+
+def _in_a_fresh_interpreter(code: str) -> None:
+    """Run ``code`` in a new Python process; its assertions must hold."""
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr

@@ -512,9 +512,12 @@ def test_auto_detects_the_narrowing_s_legs_in_blocks_once_it_narrows() -> None:
         for frame in block:
             out, alone = model(frame), twin(frame)
             assert out.foreground is not None and alone.foreground is not None
-            # the same fixed legs and points through the same code on both sides: the same
-            # mask on any CPU (no float computed differently per side)
-            np.testing.assert_array_equal(out.foreground, alone.foreground)
+            assert out.points is not None
+            # the same points kept, but for a point within 1e-9 m of the narrowing's radius
+            # around the leg (where a last-bit difference could flip it)
+            differ = out.foreground != alone.foreground
+            reach = np.hypot(*(out.points.points[differ] - (3.0, 0.0)).T)
+            assert np.all(np.abs(reach - static.leg_foreground.radius) < 1e-9), reach
         done += len(block)
     assert model.legs_from == 29  # in the block of frames 16-31
     # frames 29-31 one at a time; then each block ahead: 32-47, 48-63, 64-79, 80-95, 96-99

@@ -187,13 +187,20 @@ def test_stray_mount_notes_name_only_children_nothing_else_names() -> None:
     assert all("/scan 'laser'" in n for n in notes)
 
 
-def test_bag_notes_a_mount_its_lasers_do_not_have(tmp_path: Path) -> None:
-    path = tmp_path / "robot.mcap"
+def _robot_bag(path: Path, lasers: list[tuple[str, str]]) -> Path:
+    """A bag of 5 scans at 10 Hz of each (topic, frame id) of ``lasers`` (the k-th 0.02 k s
+    after the first), with the robot's odometry on ``/tf``."""
     with open_bag(path) as sink:
         for i in range(5):
             t = 1.0 + 0.1 * i
             sink.pose(t, "odom", "base_link", _robot(t), "/tf")
-            sink.scan(_scan(t, "laser", None), "/front_scan", "laser")
+            for k, (topic, frame) in enumerate(lasers):
+                sink.scan(_scan(t + 0.02 * k, frame, None), topic, frame)
+    return path
+
+
+def test_bag_notes_a_mount_its_lasers_do_not_have(tmp_path: Path) -> None:
+    path = _robot_bag(tmp_path / "robot.mcap", [("/front_scan", "laser")])
     specs = ["laser=base_link:0.5,0,0", "front_scan=base_link:0.5,0,0"]
     with RosbagRecording(path, mounts=parse_mounts(specs)) as rec:
         assert all(s.pose is not None for s in rec.scans())
@@ -209,13 +216,8 @@ def test_track_says_which_mount_was_not_used_before_it_stops(tmp_path: Path) -> 
 
     from laserpeople.cli import app
 
-    path = tmp_path / "two.mcap"
-    with open_bag(path) as sink:
-        for i in range(5):
-            t = 1.0 + 0.1 * i
-            sink.pose(t, "odom", "base_link", _robot(t), "/tf")
-            sink.scan(_scan(t, "laser_a", None), "/front_scan", "laser_a")
-            sink.scan(_scan(t + 0.02, "laser_b", None), "/back_scan", "laser_b")
+    lasers = [("/front_scan", "laser_a"), ("/back_scan", "laser_b")]
+    path = _robot_bag(tmp_path / "two.mcap", lasers)
     args = ["track", str(path), "--topics", "all", "-o", str(tmp_path / "t.csv")]
     mounts = ["--mount", "front_scan=base_link:0.4,0,0", "--mount", "back_scan=base_link:-0.4,0,3"]
     result = CliRunner().invoke(app, [*args, *mounts])

@@ -176,8 +176,9 @@ class CSAParams:
     split_apart: bool = param(
         True,
         "extension of 002 (whose cluster splits only when all its people are apart; false "
-        "restores 002); real demo bag ids 30 -> 23, walkers 26 -> 17; random-groups held-back 100-119 "
-        "IDF1 0.449 -> 0.455, MOTA 0.502 -> 0.502 (docs/csa.md)",
+        "restores 002); real demo bag ids 30 -> 23, walkers 26 -> 17; random-groups "
+        "held-back 100-119 IDF1 0.449 -> 0.455, MOTA 0.502 -> 0.502 (tuning 0-19 0.500 -> "
+        "0.497) (docs/csa.md)",
         "a person whose main sub-cluster (the one holding most of its Viterbi paths, and "
         "nobody else's) lies farther than separation_distance from every other sub-cluster "
         "of its cluster (002 condition 2 for that person alone) leaves the cluster as a "
@@ -1031,8 +1032,9 @@ class ClusterSortingTracker:
         (002 condition 2 for that person alone). Its estimates become the single target
         written to ``out`` with its identity (at their mean, as 002's split starts its
         targets), the others stay; when every sub-cluster is apart, nobody leaves (002's
-        split, or ``adopt_escaped`` for a cluster short of sub-clusters, decides). Returns True when the cluster is left with one person
-        and became a single target itself (the cluster is gone), else False."""
+        split, or ``adopt_escaped`` for a cluster short of sub-clusters, decides). Returns
+        True when the cluster is left with one person and became a single target itself
+        (the cluster is gone), else False."""
         p = self.params
         labels = cl.labels
         n_sub = int(labels.max()) + 1 if labels.size else 0

@@ -998,6 +998,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "if stamp - last_seen > p.max_unseen:\n                return None",
         CSA_RULES,
     ),
+    Mutant(
+        "csa-split-apart-at-subcluster-distance",
+        "CSA split_apart (002 condition 2: more than 3 m from every other sub-cluster)",
+        C,
+        "if len(ms) == 1 and d[k].min() > p.separation_distance",
+        "if len(ms) == 1 and d[k].min() > p.subcluster_distance",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-split-apart-shared-subcluster",
+        "CSA split_apart (a sub-cluster that is the main one of one person only)",
+        C,
+        "if len(ms) == 1 and d[k].min() > p.separation_distance",
+        "if d[k].min() > p.separation_distance",
+        CSA_RULES,
+    ),
     # ---- the histogram's people of the learning period (background_people)
     Mutant(
         "histogram-people-share-complement",

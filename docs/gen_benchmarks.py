@@ -232,7 +232,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.502, IDF1 0.449 (goal 0.5; moving lasers 0.347, still 0.658); ID "
+        "person MOTA 0.502, IDF1 0.455 (goal 0.5; moving lasers 0.348, still 0.657); ID "
         "switches 23.7 per scene, 4.8 s per scene on static objects",
         "csa.md",
     ),

@@ -1235,3 +1235,40 @@ def test_the_csa_reports_the_same_with_the_held_frames_as_with_the_leg_mht_on_ev
     assert all([r[0] for r in rows] == [0] for rows in held[1:40])
     for rows in held[40:]:
         assert len(rows) == 1 and math.hypot(rows[0][1] - 3.0, rows[0][2] - 3.0) < 0.1
+
+
+def _one_walks_off(hide: tuple[float, float] = (7.0, 7.3)) -> list[Frame]:
+    """Frames at 10 Hz, 9 s: people 0, 1 and 2 meet at (0, 3) by t = 2 s (one cluster);
+    1 and 2 stay there, 0.4 m apart, while 0 walks off along y = 3 at 1 m/s from t = 4 s
+    (x = -0.25 - (t - 4)) and is not seen during ``hide``."""
+    a = [(0, -3.0, 3.0), (2, -0.25, 3.0), (4, -0.25, 3.0), (9, -5.25, 3.0)]
+    b = [(0, 3.0, 3.0), (2, 0.25, 3.0), (9, 0.25, 3.0)]
+    c = [(0, 0.0, 6.0), (2, 0.0, 3.4), (9, 0.0, 3.4)]
+    return _frames([a, b, c], 9.0, hidden={0: hide})
+
+
+def test_a_person_apart_from_the_rest_of_its_cluster_leaves_it_with_its_id() -> None:
+    """split_apart: of a cluster of three, people 1 and 2 stay together (002's split, which
+    needs all three pairwise 3 m apart, never comes) while person 0 walks off. Once its
+    sub-cluster's centroid lies more than separation_distance (3 m) from the other's, at
+    x about -3.0 + 0.12 (t about 6.6 s: the other sub-cluster's centroid is at x 0.12), it
+    leaves the cluster as a single target with id 0, which coasts through the scans
+    without points and keeps its id to the end. Without the rule (002) its Viterbi paths
+    die while it is unseen and it comes back as a new id; a rule that lets a person leave
+    at subcluster_distance (1.5 m) leaves before t = 5.5 s."""
+    frames = _one_walks_off()
+    csa = ClusterSortingTracker()
+    out = [csa.update(f) for f in frames]
+    apart = [e for e in csa.events if e.kind == "split apart"]
+    assert len(apart) == 1 and apart[0].members == (0,)
+    assert 6.5 <= apart[0].stamp <= 6.9  # 3 m apart at t = 6.63 s
+    assert list(csa.clusters.values()) == [(1, 2)]
+    rows = {t.track_id: t.position for t in out[-1].of_kind("person")}
+    assert np.linalg.norm(rows[0] - [-5.25, 3.0]) < 0.3
+    assert np.linalg.norm(rows[1] - [0.25, 3.0]) < 0.3
+    assert np.linalg.norm(rows[2] - [0.0, 3.4]) < 0.3
+    plain = ClusterSortingTracker(CSAParams(split_apart=False))
+    last = [plain.update(f) for f in frames][-1]
+    far = [t.track_id for t in last.of_kind("person") if t.position[0] < -4.0]
+    assert far and 0 not in far
+    assert CSAParams.paper_preset["split_apart"] is False

@@ -2,19 +2,21 @@
 
 ``pip install -e .`` builds ``laserpeople.tracking.mht._clisting`` beside its source when a C
 compiler is there, and installs without it (the pure-Python listing runs) when not. The
-source's SHA-256 is compiled in, so that an extension built from another version of the
-source is not used (``laserpeople.tracking.mht.compiled``).
+source's checksum (CRC-32 and length, as ``laserpeople.tracking.mht.compiled.source_hash``
+computes it) is compiled in, so that an extension built from another version of the source
+is not used.
 """
 
 from __future__ import annotations
 
-import hashlib
+import zlib
 from pathlib import Path
 
 from setuptools import Extension, setup
 
 SOURCE = "src/laserpeople/tracking/mht/_clisting.c"
-DIGEST = hashlib.sha256((Path(__file__).parent / SOURCE).read_bytes()).hexdigest()
+DATA = (Path(__file__).parent / SOURCE).read_bytes()
+DIGEST = f"{zlib.crc32(DATA):08x}-{len(DATA)}"
 
 setup(
     ext_modules=[

@@ -7,8 +7,8 @@
  * list_children hands to single_children (the shortcut) and calls with a NaN prior or
  * k < 1 return NotImplemented: the Python listing takes them.
  *
- * C99, the CPython C API only. setup.py compiles this file's SHA-256 in as LP_SOURCE_HASH;
- * compiled.py runs the Python listing when the file beside the module has another hash.
+ * C99, the CPython C API only. setup.py compiles this file's checksum in as LP_SOURCE_HASH;
+ * compiled.py runs the Python listing when the file beside the module has another one.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>

@@ -16,14 +16,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from laserpeople.tracking.mht import compiled, listing
-from laserpeople.tracking.mht.matrix import LabelledAssignment
 from laserpeople.tracking.mht.probability import (
-    DELETED,
     DETECTED,
     FALSE_ALARM,
     MATCHED,
-    NEW,
-    OCCLUDED,
 )
 
 # the costs are sums of the same floats in the same order (no multiplication), so they are
@@ -42,12 +38,7 @@ def _load_extension() -> ModuleType:
         pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
     if compiled.source_hash(compiled.SOURCE) != _clisting.SOURCE_HASH:
         pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
-    _clisting.setup(
-        LabelledAssignment,
-        listing.MAX_LISTED_MEASUREMENTS,
-        (DETECTED, OCCLUDED, DELETED),
-        (MATCHED, NEW, FALSE_ALARM),
-    )
+    listing.set_up(_clisting)
     return _clisting
 
 
@@ -210,6 +201,7 @@ def test_compiled_listing_on_a_trackers_calls(
         return listing.list_children_python(*full)
 
     monkeypatch.setattr(core, "list_children", recorded)
+    monkeypatch.setattr(listing, "COMPILED_K_BEST", None)  # (every cluster calls the listing)
     tracker = LegMHTTracker(LegTrackerParams())
     for d in _scene().detections:
         tracker.update(d)
@@ -219,24 +211,37 @@ def test_compiled_listing_on_a_trackers_calls(
     assert max(len(call[5]) for call in calls) >= 3  # clusters of several measurements
 
 
+@pytest.mark.parametrize("parts", [("listing",), ("k_best",), ("listing", "k_best")])
 def test_tracker_with_the_compiled_listing_holds_the_same_hypotheses(
-    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch, parts: tuple[str, ...]
 ) -> None:
-    """Two leg MHTs stepped side by side, one with the compiled listing and one with the
+    """Two leg MHTs stepped side by side, one with compiled ``parts`` (the listing alone,
+    the k best children of a cluster from the scan's tables alone, both) and one with the
     Python listing: the same hypotheses after every scan (tracks exactly, weights within
-    the tolerance) and the same reported tracks."""
+    the tolerance) and the same reported tracks; the compiled k best took most clusters of
+    the general path."""
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
     fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
+    taken = {"compiled": 0, "python": 0}
+
+    def k_best(*args: Any) -> Any:
+        out = clisting.k_best_plain(*args)
+        taken["python" if out is NotImplemented else "compiled"] += 1
+        return out
 
     def state(tracker: LegMHTTracker) -> tuple[list[Any], list[float]]:
         hyps = [h for c in tracker.mht.clusters for h in c.hypotheses]
         return [[t.node_id for t in h.tracks] for h in hyps], [h.log_weight for h in hyps]
 
     for d in _scene().detections:
-        monkeypatch.setattr(listing, "COMPILED", clisting.list_children)
+        monkeypatch.setattr(
+            listing, "COMPILED", clisting.list_children if "listing" in parts else None
+        )
+        monkeypatch.setattr(listing, "COMPILED_K_BEST", k_best if "k_best" in parts else None)
         out_fast = fast.update(d)
         monkeypatch.setattr(listing, "COMPILED", None)
+        monkeypatch.setattr(listing, "COMPILED_K_BEST", None)
         out_slow = slow.update(d)
         (ids_f, w_f), (ids_s, w_s) = state(fast), state(slow)
         assert ids_f == ids_s, d.scan_index
@@ -244,6 +249,50 @@ def test_tracker_with_the_compiled_listing_holds_the_same_hypotheses(
         assert [(t.track_id, t.position.tobytes()) for t in out_fast] == [
             (t.track_id, t.position.tobytes()) for t in out_slow
         ]
+    if "k_best" in parts:
+        assert taken["compiled"] > 200 and taken["compiled"] > 10 * taken["python"]
+
+
+def test_compiled_k_best_takes_each_clusters_own_costs(
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Rates that differ per measurement and clusters whose measurements do not start the
+    scan's list (three targets, two close, misses and clutter): the MHT whose clusters'
+    k best children the compiled code lists from the scan's tables holds the hypotheses of
+    the one whose Python path takes them from the same tables."""
+    from laserpeople.tracking.kalman import KalmanParams
+    from laserpeople.tracking.mht.core import MHT, MHTParams
+    from laserpeople.tracking.point_model import KalmanPointModel
+    from test_track_mht_core import PlaceLabels, meas
+
+    taken = 0
+
+    def k_best(*args: Any) -> Any:
+        nonlocal taken
+        out = clisting.k_best_plain(*args)
+        taken += out is not NotImplemented and args[4][:1] != [0]
+        return out
+
+    def make() -> Any:
+        return MHT(MHTParams(), KalmanPointModel(KalmanParams()), PlaceLabels())
+
+    fast, slow = make(), make()
+    rng = np.random.default_rng(3)
+    for step in range(60):
+        t = 0.1 * step
+        pts = np.array([[1 + 0.5 * t, 0.0], [1 + 0.5 * t, 0.3], [4.0, -2 + 0.3 * t]])
+        pts = pts[rng.random(3) > 0.15]
+        if rng.random() < 0.3:
+            pts = np.vstack([rng.uniform(0, 5, (1, 2)), pts])
+        monkeypatch.setattr(listing, "COMPILED_K_BEST", k_best)
+        fast.step(meas(pts), t)
+        monkeypatch.setattr(listing, "COMPILED_K_BEST", None)
+        slow.step(meas(pts), t)
+        got = [(h.log_weight, h.key()) for c in fast.clusters for h in c.hypotheses]
+        want = [(h.log_weight, h.key()) for c in slow.clusters for h in c.hypotheses]
+        assert [key for _, key in got] == [key for _, key in want], step
+        assert [w for w, _ in got] == pytest.approx([w for w, _ in want], rel=0.0, abs=COST_TOL)
+    assert taken >= 4  # clusters of measurements after the scan's first, listed compiled
 
 
 def test_pure_python_switch(monkeypatch: pytest.MonkeyPatch) -> None:

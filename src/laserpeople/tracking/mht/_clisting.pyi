@@ -3,7 +3,11 @@
 from collections.abc import Sequence
 from types import NotImplementedType
 
+import numpy as np
+from numpy.typing import NDArray
+
 from laserpeople.tracking.mht.matrix import LabelledAssignment
+from laserpeople.tracking.mht.tracktree import TrackNode
 
 SOURCE_HASH: str
 
@@ -12,6 +16,8 @@ def setup(
     max_listed_measurements: int,
     track_labels: tuple[int, int, int],
     measurement_labels: tuple[int, int, int],
+    listing_limit: int,
+    listing_budget: int,
     /,
 ) -> None: ...
 def list_children(
@@ -29,3 +35,19 @@ def list_children(
     budget: int,
     /,
 ) -> list[tuple[int, LabelledAssignment, float]] | NotImplementedType | None: ...
+def k_best_plain(
+    tracks_of: list[tuple[TrackNode, ...]],
+    priors: list[float],
+    row_of: dict[int, int],
+    cost_live: NDArray[np.float64],
+    meas_idx: list[int],
+    occ_all: list[float],
+    del_all: list[float],
+    new_all: list[float],
+    fal_all: list[float],
+    k: int,
+    max_gap: float,
+    shortcut: bool,
+    max_cluster_size: int,
+    /,
+) -> tuple[list[tuple[int, LabelledAssignment, float]], int] | NotImplementedType: ...

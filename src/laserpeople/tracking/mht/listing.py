@@ -20,6 +20,7 @@ import heapq
 import math
 from collections.abc import Sequence
 from operator import itemgetter
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -57,19 +58,30 @@ MAX_LISTED_MEASUREMENTS = 10
 entries)."""
 
 
-_extension, IMPLEMENTATION = compiled.load()
-"""Which listing :func:`list_children` runs (:mod:`~laserpeople.tracking.mht.compiled`)."""
-if _extension is not None:
-    _extension.setup(
+def set_up(extension: ModuleType) -> None:
+    """Give the compiled listing this module's class of labels and constants."""
+    extension.setup(
         LabelledAssignment,
         MAX_LISTED_MEASUREMENTS,
         (DETECTED, OCCLUDED, DELETED),
         (MATCHED, NEW_LABEL, FALSE_ALARM),
+        LISTING_LIMIT,
+        LISTING_BUDGET,
     )
+
+
+_extension, IMPLEMENTATION = compiled.load()
+"""Which listing :func:`list_children` runs (:mod:`~laserpeople.tracking.mht.compiled`)."""
+if _extension is not None:
+    set_up(_extension)
 COMPILED = None if _extension is None else _extension.list_children
 """The compiled :func:`list_children_python` (the same children and cost floats), or None:
 it returns NotImplemented for the calls the Python listing takes (the shortcut, a NaN
 prior, ``k < 1``)."""
+COMPILED_K_BEST = None if _extension is None else _extension.k_best_plain
+"""The compiled ``MHT._k_best`` of the plain MHT on the scan's tables (the same children
+and cost floats), or None: it returns NotImplemented for the clusters the Python one takes
+(the shortcut, Murty's method, a degraded cluster, a node not scored this scan)."""
 
 
 def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:

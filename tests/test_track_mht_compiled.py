@@ -295,6 +295,37 @@ def test_compiled_k_best_takes_each_clusters_own_costs(
     assert taken >= 4  # clusters of measurements after the scan's first, listed compiled
 
 
+def test_compiled_k_best_leaves_other_tables_to_python(clisting: ModuleType) -> None:
+    """A table of detection costs that is not float64 in C order, a node not scored this
+    scan, a cluster over the size limit, and the shortcut's cluster: NotImplemented (the
+    Python path takes them); otherwise the children of the listing on the same costs."""
+    from types import SimpleNamespace
+
+    table = np.array([[1.0, 2.0, INF], [0.5, INF, 3.0], [9.0, 9.0, 9.0]])
+    a, b = SimpleNamespace(node_id=7), SimpleNamespace(node_id=3)
+    plain = ([2.0, 2.5, 0.0], [4.0, 3.0, 0.0], [1.5, 1.6, 1.7], [2.1, 1.0, 0.9])
+
+    def k_best(cost: Any, tracks_of: Any, row_of: Any, meas: Any, size: int = 200) -> Any:
+        return clisting.k_best_plain(
+            tracks_of, [0.0, 0.5], row_of, cost, meas, *plain, 5, 8.0, True, size
+        )
+
+    rows = {7: 0, 3: 1}
+    out, size = k_best(table, [(a, b), (b,)], rows, [0, 1, 2])
+    assert size == 5
+    want = listing.list_children_python(  # (the nodes at rows 0 and 1 of the tables)
+        [0.0, 0.5], [[0, 1], [1]], table[:2].tolist(), plain[0][:2], plain[1][:2], *plain[2:],
+        5, 8.0,
+    )  # fmt: skip
+    assert want
+    _assert_same(out, want)
+    assert k_best(np.asfortranarray(table), [(a, b), (b,)], rows, [0, 1, 2]) is NotImplemented
+    assert k_best(table.astype(np.float32), [(a, b), (b,)], rows, [0, 1, 2]) is NotImplemented
+    assert k_best(table, [(a, b), (b,)], {7: 0}, [0, 1, 2]) is NotImplemented
+    assert k_best(table, [(a, b), (b,)], rows, [0, 1, 2], size=4) is NotImplemented
+    assert k_best(table, [(a,), (b,)], rows, [2]) is NotImplemented
+
+
 def test_pure_python_switch(monkeypatch: pytest.MonkeyPatch) -> None:
     """LASERPEOPLE_PURE_PYTHON set (not to 0) runs the Python listing, and says so."""
     monkeypatch.setenv(compiled.PURE_PYTHON, "1")

@@ -870,7 +870,11 @@ static PyObject *k_best_plain(PyObject *self, PyObject *const *args, Py_ssize_t 
         }
     /* the costs: the scan's detection costs table (float64, C order) at the nodes' rows and
      * the cluster's measurements, and the per-scan label costs */
-    if (PyObject_GetBuffer(args[3], &table, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) goto done;
+    if (PyObject_GetBuffer(args[3], &table, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear(); /* (not a C-ordered buffer: the Python path) */
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
     have_table = 1;
     if (table.ndim != 2 || table.itemsize != sizeof(double) || !table.format ||
         strcmp(table.format, "d") != 0) {

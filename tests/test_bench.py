@@ -56,3 +56,9 @@ def test_bench_command_json() -> None:
     assert [s["stage"] for s in data["stages"]] == ["detect", "track nn"]
     assert data["scans"] > 5 and data["peak_memory_mib"] > 0
     assert all(s["cpu_median_ms"] >= 0.0 for s in data["stages"])
+    # which listing the leg MHT ran: the compiled one where it is built, else Python's
+    from laserpeople.tracking.mht.listing import COMPILED
+
+    compiled = data["mht_listing"] == "compiled (C extension)"
+    assert compiled == (COMPILED is not None)
+    assert compiled or data["mht_listing"].startswith("pure Python (")

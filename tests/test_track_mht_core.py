@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from laserpeople.tracking.kalman import KalmanParams
+from laserpeople.tracking.mht import listing
 from laserpeople.tracking.mht.core import MHT, MHTParams, product, project
 from laserpeople.tracking.mht.hypothesis import (
     Hypothesis,
@@ -317,6 +318,7 @@ def test_listing_costs_from_the_scan_tables_are_those_of_the_cluster_arrays(
         return got
 
     monkeypatch.setattr(MHT, "_plain_costs", spy)
+    monkeypatch.setattr(listing, "COMPILED_K_BEST", None)  # (the Python path's costs)
     tables = make_mht()
     counts = run_targets(tables, 60)
     assert checked >= 20  # clusters of several tracks and measurements were compared
@@ -457,6 +459,7 @@ def test_listing_costs_are_each_clusters_own_measurements_rates(
         return got
 
     monkeypatch.setattr(MHT, "_plain_costs", spy)
+    monkeypatch.setattr(listing, "COMPILED_K_BEST", None)  # (the Python path's costs)
     mht = MHT(MHTParams(), KalmanPointModel(KalmanParams()), labels)  # type: ignore[arg-type]
     run_targets(mht, 60)
     assert later >= 4  # clusters whose measurements do not start the scan's list

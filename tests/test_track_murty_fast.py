@@ -160,6 +160,7 @@ def test_listing_setup_in_one_pass_is_the_old_one(
         original(self, *args)  # type: ignore[arg-type]
 
     monkeypatch.setattr(listing._Lister, "__init__", spy)
+    monkeypatch.setattr(listing, "COMPILED", None)  # (the Python listing's setup)
     rows = [sorted(rng.choice(n, size=int(rng.integers(1, n + 1)), replace=False).tolist())]
     rows.append([int(n - 1), 0] if n > 1 else [0])
     listing.enumerate_children(

@@ -120,6 +120,8 @@ def register(app: typer.Typer) -> None:
         for name, make_step, items in progress(stages, len(stages), "stages"):
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
+        from laserpeople.tracking.mht.listing import IMPLEMENTATION as LISTING
+
         if as_json:
             import json  # (at use: not for every start-up)
 
@@ -131,6 +133,7 @@ def register(app: typer.Typer) -> None:
                         "beams": scans[0].n_beams,
                         "stages": [t.as_dict() for t in timings],
                         "peak_memory_mib": memory,
+                        "mht_listing": LISTING,
                     }
                 )
             )
@@ -158,6 +161,7 @@ def register(app: typer.Typer) -> None:
                 f"{t.cpu_scans_per_s:,.0f}",
             )
         console.print(table)
+        say(f"leg MHT listing of the k best children: {LISTING}")
         console.print(f"peak memory {memory:.0f} MiB")
 
 

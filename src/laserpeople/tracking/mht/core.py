@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.tracking.mht import listing
 from laserpeople.tracking.mht.expiry import ExpiryOdds, drop_nodes
 from laserpeople.tracking.mht.hypothesis import (
     Cluster,
@@ -948,6 +949,18 @@ class MHT(Generic[Meas]):
         ``priors`` (-log weight, with the model prior) that all see the same observations
         (``obs``, or the cluster's measurements when None); parent indices of the result
         index ``tracks_of``."""
+        compiled = listing.COMPILED_K_BEST
+        if obs is None and compiled is not None:  # (the same children, or NotImplemented)
+            _, occ_all, del_all, new_all, fal_all = self._scan_plain()
+            out = compiled(
+                tracks_of, priors, row_of, self._cost_live, meas_idx.tolist(), occ_all,
+                del_all, new_all, fal_all, self.params.k, max_gap, self.shortcuts,
+                self.params.max_cluster_size,
+            )  # fmt: skip
+            if out is not NotImplemented:
+                solutions, size = out
+                self._largest = max(self._largest, size)
+                return solutions
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
         rows_of: list[list[int]] = []  # each parent's tracks as indices into nodes_u
@@ -1021,10 +1034,7 @@ class MHT(Generic[Meas]):
         arrays :meth:`_costs` takes from the tables: the detection costs taken out of the
         table per cluster, the label costs from the scan's label costs as plain floats
         (made once per scan, at the first cluster that needs them)."""
-        if not self._plain_made:
-            self._plain = plain_costs(np.empty((0, 0)), self._lp_live, *self._log_rates)
-            self._plain_made = True
-        _, occ_all, del_all, new_all, fal_all = self._plain
+        _, occ_all, del_all, new_all, fal_all = self._scan_plain()
         js = meas_idx.tolist()
         return (
             self._cost_live.take(live_rows, axis=0).take(meas_idx, axis=1).tolist(),
@@ -1033,6 +1043,14 @@ class MHT(Generic[Meas]):
             [new_all[j] for j in js],
             [fal_all[j] for j in js],
         )
+
+    def _scan_plain(self) -> PlainCosts:
+        """This scan's label costs as plain floats (:func:`~.listing.plain_costs`, without
+        detection costs), made at the first cluster that needs them."""
+        if not self._plain_made:
+            self._plain = plain_costs(np.empty((0, 0)), self._lp_live, *self._log_rates)
+            self._plain_made = True
+        return self._plain
 
     def _costs(
         self,

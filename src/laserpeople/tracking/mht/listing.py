@@ -20,10 +20,12 @@ import heapq
 import math
 from collections.abc import Sequence
 from operator import itemgetter
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.tracking.mht import compiled
 from laserpeople.tracking.mht.matrix import LabelledAssignment
 from laserpeople.tracking.mht.probability import (
     DELETED,
@@ -54,6 +56,32 @@ a cluster whose cuts do not bite (many equal costs) to about what Murty's method
 MAX_LISTED_MEASUREMENTS = 10
 """Clusters with more measurements go to Murty's method (the bounds table has 2^m
 entries)."""
+
+
+def set_up(extension: ModuleType) -> None:
+    """Give the compiled listing this module's class of labels and constants."""
+    extension.setup(
+        LabelledAssignment,
+        MAX_LISTED_MEASUREMENTS,
+        (DETECTED, OCCLUDED, DELETED),
+        (MATCHED, NEW_LABEL, FALSE_ALARM),
+        LISTING_LIMIT,
+        LISTING_BUDGET,
+    )
+
+
+_extension, IMPLEMENTATION = compiled.load()
+"""Which listing :func:`list_children` runs (:mod:`~laserpeople.tracking.mht.compiled`)."""
+if _extension is not None:
+    set_up(_extension)
+COMPILED = None if _extension is None else _extension.list_children
+"""The compiled :func:`list_children_python` (the same children and cost floats), or None:
+it returns NotImplemented for the calls the Python listing takes (the shortcut, a NaN
+prior, ``k < 1``)."""
+COMPILED_K_BEST = None if _extension is None else _extension.k_best_plain
+"""The compiled ``MHT._k_best`` of the plain MHT on the scan's tables (the same children
+and cost floats), or None: it returns NotImplemented for the clusters the Python one takes
+(the shortcut, Murty's method, a degraded cluster, a node not scored this scan)."""
 
 
 def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:
@@ -159,7 +187,37 @@ def list_children(
     costs of matching each of the ``m`` measurements (inf where not gated), ``c_occ`` and
     ``c_del`` per node the costs of its occluded and deleted labels, ``c_new`` and
     ``c_fal`` per measurement the costs of its new and false-alarm labels. The other
-    arguments and the result are :func:`enumerate_children`'s."""
+    arguments and the result are :func:`enumerate_children`'s.
+
+    Runs the compiled listing (:data:`COMPILED`) where it is built, else
+    :func:`list_children_python`, the reference: the same children and cost floats."""
+    if COMPILED is not None:
+        out = COMPILED(
+            priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, shortcut, budget
+        )
+        if out is not NotImplemented:
+            return out
+    return list_children_python(
+        priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, shortcut, budget
+    )
+
+
+def list_children_python(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    tm: list[list[float]],
+    c_occ: list[float],
+    c_del: list[float],
+    c_new: list[float],
+    c_fal: list[float],
+    k: int,
+    max_gap: float,
+    limit: int = LISTING_LIMIT,
+    shortcut: bool = True,
+    budget: int = LISTING_BUDGET,
+) -> list[tuple[int, LabelledAssignment, float]] | None:
+    """:func:`list_children` in Python (the reference of the compiled listing, and what
+    runs without it)."""
     m = len(c_new)
     if shortcut and m <= 1 and all(len(r) <= 1 for r in rows):
         tm_single = [row[0] for row in tm] if m else [math.inf] * len(tm)

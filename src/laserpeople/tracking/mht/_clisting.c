@@ -1,0 +1,996 @@
+/* The leg MHT's depth-first listing of a cluster's k best children, compiled.
+ *
+ * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
+ * choices in the same order, the same bounds summed in the same order of IEEE double
+ * operations (build with -ffp-contract=off: no fused multiply-add), the same cuts, steps
+ * and children; Python lists and floats are read directly (no arrays). Clusters that
+ * list_children hands to single_children (the shortcut) and calls with a NaN prior or
+ * k < 1 return NotImplemented: the Python listing takes them.
+ *
+ * C99, the CPython C API only. setup.py compiles this file's checksum in as LP_SOURCE_HASH;
+ * compiled.py runs the Python listing when the file beside the module has another one.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef LP_SOURCE_HASH
+#define LP_SOURCE_HASH ""
+#endif
+
+/* labels (probability.py) */
+enum { DETECTED = 0, OCCLUDED = 1, DELETED = 2 };
+enum { MATCHED = 0, NEW_LABEL = 1, FALSE_ALARM = 2 };
+#define MAX_M 30 /* measurement bit masks fit an unsigned int */
+
+/* set by setup() */
+static PyObject *labelled_assignment = NULL; /* matrix.LabelledAssignment */
+static PyObject *node_id_name = NULL;        /* "node_id", interned */
+static int max_listed = 10;                  /* listing.MAX_LISTED_MEASUREMENTS */
+static long long listing_limit = 1000000;    /* listing.LISTING_LIMIT */
+static long long listing_budget = 2000;      /* listing.LISTING_BUDGET */
+
+typedef struct {
+    double cost;
+    int label;
+    int meas; /* measurement or -1 */
+    unsigned bit;
+} Choice;
+
+typedef struct {
+    double cost;
+    int label;
+} MeasChoice;
+
+typedef struct {
+    double total;
+    Py_ssize_t order;
+    Py_ssize_t parent;
+    Py_ssize_t depth;
+    Py_ssize_t at; /* offset into the int arena: labels, measurements, free labels */
+    unsigned used;
+} Found;
+
+typedef struct {
+    /* tables */
+    Choice **choices; /* per node, its choices, cheapest first */
+    int *n_choices;
+    double *cheapest;
+    unsigned *gates;
+    MeasChoice meas_choices[MAX_M][2];
+    int n_meas_choices[MAX_M];
+    double meas_min[MAX_M];
+    double *unmatched_lb;
+    double *maybe_lb;
+    Py_ssize_t k;
+    double max_gap;
+    int m;
+    unsigned full;
+    /* state */
+    Found *found;
+    Py_ssize_t n_found, cap_found;
+    int *arena;
+    Py_ssize_t n_arena, cap_arena;
+    double best, limit, kth;
+    double *kept; /* max-heap of the k best totals */
+    Py_ssize_t n_kept;
+    int free_labels[MAX_M];
+    int budgeted;
+    long long left;
+    int out_of_steps;
+    int no_memory;
+    /* the parent being listed */
+    Py_ssize_t pi;
+    const Py_ssize_t *rows;
+    Py_ssize_t depth;
+    double *suffix;
+    unsigned *reach;
+    int *labels;
+    int *meas;
+} Lister;
+
+static int choice_less(const Choice *a, const Choice *b) {
+    /* Python's tuple order (cost, label, measurement, bit); costs are finite or -inf */
+    if (a->cost != b->cost) return a->cost < b->cost;
+    if (a->label != b->label) return a->label < b->label;
+    return a->meas < b->meas;
+}
+
+static void sort_choices(Choice *ch, int n) {
+    for (int i = 1; i < n; i++) {
+        Choice x = ch[i];
+        int j = i - 1;
+        while (j >= 0 && choice_less(&x, &ch[j])) {
+            ch[j + 1] = ch[j];
+            j--;
+        }
+        ch[j + 1] = x;
+    }
+}
+
+static void heap_push(double *h, Py_ssize_t *n, double v) {
+    Py_ssize_t i = (*n)++;
+    while (i > 0) {
+        Py_ssize_t p = (i - 1) / 2;
+        if (!(h[p] < v)) break;
+        h[i] = h[p];
+        i = p;
+    }
+    h[i] = v;
+}
+
+static void heap_replace_top(double *h, Py_ssize_t n, double v) {
+    Py_ssize_t i = 0;
+    for (;;) {
+        Py_ssize_t l = 2 * i + 1, r = l + 1, big = i;
+        double bv = v;
+        if (l < n && h[l] > bv) {
+            big = l;
+            bv = h[l];
+        }
+        if (r < n && h[r] > bv) big = r;
+        if (big == i) break;
+        h[i] = h[big];
+        i = big;
+    }
+    h[i] = v;
+}
+
+static void record(Lister *L, double total, unsigned used) {
+    if (L->n_found == L->cap_found) {
+        Py_ssize_t cap = L->cap_found ? 2 * L->cap_found : 64;
+        Found *f = (Found *)PyMem_Realloc(L->found, (size_t)cap * sizeof(Found));
+        if (!f) {
+            L->no_memory = 1;
+            return;
+        }
+        L->found = f;
+        L->cap_found = cap;
+    }
+    Py_ssize_t need = 2 * L->depth + L->m;
+    if (L->n_arena + need > L->cap_arena) {
+        Py_ssize_t cap = L->cap_arena ? 2 * L->cap_arena : 256;
+        while (cap < L->n_arena + need) cap *= 2;
+        int *a = (int *)PyMem_Realloc(L->arena, (size_t)cap * sizeof(int));
+        if (!a) {
+            L->no_memory = 1;
+            return;
+        }
+        L->arena = a;
+        L->cap_arena = cap;
+    }
+    Found *f = &L->found[L->n_found];
+    f->total = total;
+    f->order = L->n_found;
+    f->parent = L->pi;
+    f->depth = L->depth;
+    f->at = L->n_arena;
+    f->used = used;
+    int *a = L->arena + L->n_arena;
+    memcpy(a, L->labels, (size_t)L->depth * sizeof(int));
+    memcpy(a + L->depth, L->meas, (size_t)L->depth * sizeof(int));
+    memcpy(a + 2 * L->depth, L->free_labels, (size_t)L->m * sizeof(int));
+    L->n_arena += need;
+    L->n_found++;
+    if (total < L->best) {
+        L->best = total;
+        L->limit = total + L->max_gap;
+    }
+    if (L->n_kept < L->k) {
+        heap_push(L->kept, &L->n_kept, total);
+        if (L->n_kept == L->k) L->kth = L->kept[0];
+    } else if (total < L->kept[0]) {
+        heap_replace_top(L->kept, L->n_kept, total);
+        L->kth = L->kept[0];
+    }
+}
+
+static int take_step(Lister *L) {
+    if (L->budgeted && --L->left < 0) {
+        L->out_of_steps = 1;
+        return 0;
+    }
+    return 1;
+}
+
+static void measurements(Lister *L, int j, double cost, unsigned used, double rest_lb) {
+    if (!take_step(L)) return;
+    int m = L->m;
+    while (j < m && (used >> j & 1u)) j++;
+    if (j == m) {
+        record(L, cost, used);
+        return;
+    }
+    double rest = rest_lb - L->meas_min[j];
+    for (int c = 0; c < L->n_meas_choices[j]; c++) {
+        double cc = L->meas_choices[j][c].cost;
+        double bound = cost + cc + rest;
+        if (bound > L->limit || bound >= L->kth) break;
+        L->free_labels[j] = L->meas_choices[j][c].label;
+        measurements(L, j + 1, cost + cc, used, rest);
+        if (L->out_of_steps || L->no_memory) return;
+    }
+}
+
+static void tracks_at(Lister *L, Py_ssize_t t, double cost, unsigned used) {
+    if (!take_step(L)) return;
+    unsigned full = L->full;
+    double suffix = L->suffix[t + 1];
+    unsigned reach = L->reach[t + 1];
+    int last = t + 1 == L->depth;
+    Py_ssize_t node = L->rows[t];
+    const Choice *ch = L->choices[node];
+    int n = L->n_choices[node];
+    for (int c = 0; c < n; c++) {
+        if (used & ch[c].bit) continue;
+        unsigned child_used = used | ch[c].bit;
+        double child_cost = cost + ch[c].cost;
+        unsigned free = full & ~child_used;
+        double bound = child_cost + suffix + L->unmatched_lb[free & ~reach] +
+                       L->maybe_lb[free & reach];
+        if (bound > L->limit || bound >= L->kth) continue;
+        L->labels[t] = ch[c].label;
+        L->meas[t] = ch[c].meas;
+        if (!last)
+            tracks_at(L, t + 1, child_cost, child_used);
+        else if (child_used == full)
+            record(L, child_cost, child_used);
+        else
+            measurements(L, 0, child_cost, child_used, L->unmatched_lb[free]);
+        if (L->out_of_steps || L->no_memory) return;
+    }
+}
+
+static void list_parent(Lister *L, Py_ssize_t pi, double prior, const Py_ssize_t *rows,
+                        Py_ssize_t depth) {
+    double *suffix = L->suffix;
+    unsigned *reach = L->reach;
+    suffix[depth] = 0.0;
+    reach[depth] = 0;
+    for (Py_ssize_t t = depth - 1; t >= 0; t--) {
+        suffix[t] = suffix[t + 1] + L->cheapest[rows[t]];
+        reach[t] = reach[t + 1] | L->gates[rows[t]];
+    }
+    L->pi = pi;
+    L->rows = rows;
+    L->depth = depth;
+    unsigned full = L->full;
+    double bound = prior + suffix[0] + L->unmatched_lb[full & ~reach[0]] +
+                   L->maybe_lb[full & reach[0]];
+    if (bound > L->limit || bound >= L->kth) return;
+    if (depth)
+        tracks_at(L, 0, prior, 0);
+    else
+        measurements(L, 0, prior, 0, L->unmatched_lb[full]);
+}
+
+/* --- helpers --------------------------------------------------------------------- */
+
+static int found_cmp(const void *pa, const void *pb) {
+    const Found *a = (const Found *)pa, *b = (const Found *)pb;
+    if (a->total < b->total) return -1;
+    if (a->total > b->total) return 1;
+    return (a->order > b->order) - (a->order < b->order);
+}
+
+/* a stable sort by total (Python's list.sort with key=total): merge sort on Found */
+static int sort_found(Found *f, Py_ssize_t n) {
+    int sorted = 1;
+    for (Py_ssize_t i = 1; i < n && sorted; i++) sorted = !(f[i].total < f[i - 1].total);
+    if (sorted) return 0;
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (isnan(f[i].total)) return -1; /* (no total order: Python's sort decides) */
+    qsort(f, (size_t)n, sizeof(Found), found_cmp);
+    return 0;
+}
+
+static PyObject *int_list(const int *v, Py_ssize_t n) {
+    PyObject *out = PyList_New(n);
+    if (!out) return NULL;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *x = PyLong_FromLong(v[i]);
+        if (!x) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyList_SET_ITEM(out, i, x);
+    }
+    return out;
+}
+
+static PyObject *int_tuple(const int *v, Py_ssize_t n) {
+    PyObject *out = PyTuple_New(n);
+    if (!out) return NULL;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *x = PyLong_FromLong(v[i]);
+        if (!x) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(out, i, x);
+    }
+    return out;
+}
+
+/* the number of children of the parents (an upper bound), saturated above cap */
+static unsigned long long children_bound(Py_ssize_t **rows, const Py_ssize_t *depths,
+                                         Py_ssize_t n_parents, const int *n_choices, int m,
+                                         unsigned long long cap) {
+    unsigned long long total = 0;
+    for (Py_ssize_t p = 0; p < n_parents; p++) {
+        int zero = 0;
+        for (Py_ssize_t t = 0; t < depths[p]; t++)
+            if (n_choices[rows[p][t]] == 0) zero = 1;
+        if (zero) continue;
+        unsigned long long count = 1ull << m;
+        for (Py_ssize_t t = 0; t < depths[p] && count <= cap; t++)
+            count *= (unsigned long long)n_choices[rows[p][t]]; /* (cap <= 2^50, m <= 30) */
+        if (count > cap) return cap + 1;
+        total += count;
+        if (total > cap) return cap + 1;
+    }
+    return total;
+}
+
+/* --- one cluster's listing ------------------------------------------------------------ */
+
+typedef struct {
+    Py_ssize_t n_parents;
+    double *priors;     /* per parent (no NaN) */
+    Py_ssize_t **rows;  /* per parent, its nodes */
+    Py_ssize_t *depths; /* per parent, its number of nodes */
+    Py_ssize_t max_depth;
+    Py_ssize_t n, m;    /* nodes, measurements (m <= max_listed) */
+    double *tm;         /* (n, m) detection costs, row-major */
+    double *c_occ, *c_del, *c_new, *c_fal;
+    Py_ssize_t k;       /* >= 1 */
+    double max_gap;
+    long long limit;    /* <= 2^50 */
+    long long budget;
+} Problem;
+
+static void free_lister(Lister *L) {
+    PyMem_Free(L->choices);
+    PyMem_Free(L->n_choices);
+    PyMem_Free(L->cheapest);
+    PyMem_Free(L->gates);
+    PyMem_Free(L->unmatched_lb);
+    PyMem_Free(L->maybe_lb);
+    PyMem_Free(L->kept);
+    PyMem_Free(L->suffix);
+    PyMem_Free(L->reach);
+    PyMem_Free(L->labels);
+    PyMem_Free(L->meas);
+    PyMem_Free(L->found);
+    PyMem_Free(L->arena);
+}
+
+/* The children of listing.list_children_python's branch and bound: a new list, None (over
+ * the limit without a budget, or out of steps), NotImplemented (NaN totals: Python's sort
+ * decides their order), or NULL with an exception set. */
+static PyObject *solve(const Problem *P) {
+    PyObject *result = NULL;
+    Py_ssize_t n = P->n, m = P->m, k = P->k;
+    Choice *choice_store = NULL;
+    Py_ssize_t *order = NULL;
+    int *labels = NULL;
+    Lister L;
+    memset(&L, 0, sizeof(L));
+
+    /* each node's finite labels, cheapest first, its cheapest cost and its gate */
+    L.choices = (Choice **)PyMem_Malloc((size_t)(n + 1) * sizeof(Choice *));
+    L.n_choices = (int *)PyMem_Malloc((size_t)(n + 1) * sizeof(int));
+    L.cheapest = (double *)PyMem_Malloc((size_t)(n + 1) * sizeof(double));
+    L.gates = (unsigned *)PyMem_Malloc((size_t)(n + 1) * sizeof(unsigned));
+    choice_store = (Choice *)PyMem_Malloc((size_t)(n * (m + 2) + 1) * sizeof(Choice));
+    if (!L.choices || !L.n_choices || !L.cheapest || !L.gates || !choice_store) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        Choice *ch = choice_store + i * (m + 2);
+        const double *row = P->tm + i * m;
+        int nc = 0;
+        unsigned gate = 0;
+        for (Py_ssize_t j = 0; j < m; j++) {
+            if (row[j] < INFINITY) {
+                ch[nc].cost = row[j];
+                ch[nc].label = DETECTED;
+                ch[nc].meas = (int)j;
+                ch[nc].bit = 1u << j;
+                nc++;
+                gate |= 1u << j;
+            }
+        }
+        if (P->c_occ[i] < INFINITY) {
+            ch[nc].cost = P->c_occ[i];
+            ch[nc].label = OCCLUDED;
+            ch[nc].meas = -1;
+            ch[nc].bit = 0;
+            nc++;
+        }
+        if (P->c_del[i] < INFINITY) {
+            ch[nc].cost = P->c_del[i];
+            ch[nc].label = DELETED;
+            ch[nc].meas = -1;
+            ch[nc].bit = 0;
+            nc++;
+        }
+        sort_choices(ch, nc);
+        L.choices[i] = ch;
+        L.n_choices[i] = nc;
+        L.cheapest[i] = nc ? ch[0].cost : INFINITY;
+        L.gates[i] = gate;
+    }
+    int budgeted = 0;
+    unsigned long long cap = P->limit < 0 ? 0ull : (unsigned long long)P->limit;
+    if (P->limit < 0 ||
+        children_bound(P->rows, P->depths, P->n_parents, L.n_choices, (int)m, cap) > cap) {
+        if (P->budget <= 0) {
+            result = Py_NewRef(Py_None);
+            goto done;
+        }
+        budgeted = 1;
+    }
+    /* the measurements' unmatched labels, cheapest first */
+    for (Py_ssize_t j = 0; j < m; j++) {
+        int nc = 0;
+        if (P->c_new[j] < INFINITY) {
+            L.meas_choices[j][nc].cost = P->c_new[j];
+            L.meas_choices[j][nc].label = NEW_LABEL;
+            nc++;
+        }
+        if (P->c_fal[j] < INFINITY) {
+            L.meas_choices[j][nc].cost = P->c_fal[j];
+            L.meas_choices[j][nc].label = FALSE_ALARM;
+            nc++;
+        }
+        if (nc == 2 && L.meas_choices[j][1].cost < L.meas_choices[j][0].cost) {
+            MeasChoice x = L.meas_choices[j][0];
+            L.meas_choices[j][0] = L.meas_choices[j][1];
+            L.meas_choices[j][1] = x;
+        }
+        L.n_meas_choices[j] = nc;
+        L.meas_min[j] = nc ? L.meas_choices[j][0].cost : INFINITY;
+    }
+    /* lower bounds of the measurements in a bit mask: unmatched for sure / perhaps matched */
+    unsigned full = (1u << m) - 1u;
+    Py_ssize_t max_depth = P->max_depth;
+    L.unmatched_lb = (double *)PyMem_Malloc(((size_t)full + 1) * sizeof(double));
+    L.maybe_lb = (double *)PyMem_Malloc(((size_t)full + 1) * sizeof(double));
+    L.kept = (double *)PyMem_Malloc((size_t)k * sizeof(double));
+    L.suffix = (double *)PyMem_Malloc((size_t)(max_depth + 1) * sizeof(double));
+    L.reach = (unsigned *)PyMem_Malloc((size_t)(max_depth + 1) * sizeof(unsigned));
+    L.labels = (int *)PyMem_Malloc((size_t)(max_depth + 1) * sizeof(int));
+    L.meas = (int *)PyMem_Malloc((size_t)(max_depth + 1) * sizeof(int));
+    order = (Py_ssize_t *)PyMem_Malloc((size_t)(P->n_parents + 1) * sizeof(Py_ssize_t));
+    labels = (int *)PyMem_Malloc((size_t)(m + 1) * sizeof(int));
+    if (!L.unmatched_lb || !L.maybe_lb || !L.kept || !L.suffix || !L.reach || !L.labels ||
+        !L.meas || !order || !labels) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    L.unmatched_lb[0] = 0.0;
+    L.maybe_lb[0] = 0.0;
+    for (unsigned mask = 1; mask <= full; mask++) {
+        int low = 0;
+        while (!(mask >> low & 1u)) low++;
+        unsigned rest = mask & (mask - 1u);
+        double mm = L.meas_min[low];
+        L.unmatched_lb[mask] = L.unmatched_lb[rest] + mm;
+        L.maybe_lb[mask] = L.maybe_lb[rest] + (mm < 0.0 ? mm : 0.0);
+    }
+    L.k = k;
+    L.max_gap = P->max_gap;
+    L.m = (int)m;
+    L.full = full;
+    L.best = INFINITY;
+    L.limit = INFINITY + P->max_gap;
+    L.kth = NAN;
+    L.budgeted = budgeted;
+    L.left = P->budget;
+    for (Py_ssize_t j = 0; j < m; j++) L.free_labels[j] = MATCHED;
+
+    /* the parents, the likeliest first (a stable sort by prior; no NaN) */
+    const double *priors = P->priors;
+    for (Py_ssize_t p = 0; p < P->n_parents; p++) {
+        Py_ssize_t q = p;
+        while (q > 0 && priors[p] < priors[order[q - 1]]) {
+            order[q] = order[q - 1];
+            q--;
+        }
+        order[q] = p;
+    }
+    for (Py_ssize_t q = 0; q < P->n_parents; q++) {
+        Py_ssize_t pi = order[q];
+        if (!isfinite(priors[pi])) continue;
+        list_parent(&L, pi, priors[pi], P->rows[pi], P->depths[pi]);
+        if (L.no_memory) {
+            PyErr_NoMemory();
+            goto done;
+        }
+        if (L.out_of_steps) {
+            result = Py_NewRef(Py_None);
+            goto done;
+        }
+    }
+    if (sort_found(L.found, L.n_found) < 0) {
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    Py_ssize_t n_out = 0;
+    Py_ssize_t first = L.n_found < k ? L.n_found : k;
+    double keep = L.best + P->max_gap;
+    for (Py_ssize_t i = 0; i < first; i++)
+        if (L.found[i].total <= keep) n_out++;
+    PyObject *out = PyList_New(n_out);
+    if (!out) goto done;
+    Py_ssize_t o = 0;
+    for (Py_ssize_t i = 0; i < first; i++) {
+        const Found *f = &L.found[i];
+        if (!(f->total <= keep)) continue;
+        const int *a = L.arena + f->at;
+        for (Py_ssize_t j = 0; j < m; j++)
+            labels[j] = (f->used >> j & 1u) ? MATCHED : a[2 * f->depth + j];
+        PyObject *tl = int_list(a, f->depth);
+        PyObject *tmeas = int_tuple(a + f->depth, f->depth);
+        PyObject *ml = int_list(labels, m);
+        PyObject *total = PyFloat_FromDouble(f->total);
+        PyObject *pi = PyLong_FromSsize_t(f->parent);
+        PyObject *dec = NULL, *item = NULL;
+        if (tl && tmeas && ml && total && pi) {
+            PyObject *la_args[4] = {tl, tmeas, ml, total};
+            dec = PyObject_Vectorcall(labelled_assignment, la_args, 4, NULL);
+        }
+        if (dec) item = PyTuple_Pack(3, pi, dec, total);
+        Py_XDECREF(tl);
+        Py_XDECREF(tmeas);
+        Py_XDECREF(ml);
+        Py_XDECREF(total);
+        Py_XDECREF(pi);
+        Py_XDECREF(dec);
+        if (!item) {
+            Py_DECREF(out);
+            goto done;
+        }
+        PyList_SET_ITEM(out, o++, item);
+    }
+    result = out;
+
+done:
+    PyMem_Free(choice_store);
+    PyMem_Free(order);
+    PyMem_Free(labels);
+    free_lister(&L);
+    return result;
+}
+
+/* A problem's arrays, freed together. */
+typedef struct {
+    Problem P;
+    Py_ssize_t *row_store;
+} Owned;
+
+static void free_owned(Owned *o) {
+    PyMem_Free(o->P.priors);
+    PyMem_Free(o->P.rows);
+    PyMem_Free(o->P.depths);
+    PyMem_Free(o->P.tm);
+    PyMem_Free(o->P.c_occ);
+    PyMem_Free(o->P.c_del);
+    PyMem_Free(o->P.c_new);
+    PyMem_Free(o->P.c_fal);
+    PyMem_Free(o->row_store);
+}
+
+/* the per-parent and per-node arrays of a problem of n_parents parents, total_rows track
+ * entries, n nodes and m measurements */
+static int alloc_owned(Owned *o, Py_ssize_t n_parents, Py_ssize_t total_rows, Py_ssize_t n,
+                       Py_ssize_t m) {
+    Problem *P = &o->P;
+    P->n_parents = n_parents;
+    P->n = n;
+    P->m = m;
+    P->priors = (double *)PyMem_Malloc((size_t)(n_parents + 1) * sizeof(double));
+    P->rows = (Py_ssize_t **)PyMem_Malloc((size_t)(n_parents + 1) * sizeof(Py_ssize_t *));
+    P->depths = (Py_ssize_t *)PyMem_Malloc((size_t)(n_parents + 1) * sizeof(Py_ssize_t));
+    P->tm = (double *)PyMem_Malloc((size_t)(n * m + 1) * sizeof(double));
+    P->c_occ = (double *)PyMem_Malloc((size_t)(n + 1) * sizeof(double));
+    P->c_del = (double *)PyMem_Malloc((size_t)(n + 1) * sizeof(double));
+    P->c_new = (double *)PyMem_Malloc((size_t)(m + 1) * sizeof(double));
+    P->c_fal = (double *)PyMem_Malloc((size_t)(m + 1) * sizeof(double));
+    o->row_store = (Py_ssize_t *)PyMem_Malloc((size_t)(total_rows + 1) * sizeof(Py_ssize_t));
+    if (!P->priors || !P->rows || !P->depths || !P->tm || !P->c_occ || !P->c_del ||
+        !P->c_new || !P->c_fal || !o->row_store) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    return 0;
+}
+
+static int read_doubles(PyObject *seq, double *out, Py_ssize_t n, const char *what) {
+    PyObject *fast = PySequence_Fast(seq, what);
+    if (!fast) return -1;
+    if (PySequence_Fast_GET_SIZE(fast) != n) {
+        PyErr_Format(PyExc_ValueError, "%s: %zd values, expected %zd", what,
+                     PySequence_Fast_GET_SIZE(fast), n);
+        Py_DECREF(fast);
+        return -1;
+    }
+    PyObject **items = PySequence_Fast_ITEMS(fast);
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double v = PyFloat_AsDouble(items[i]);
+        if (v == -1.0 && PyErr_Occurred()) {
+            Py_DECREF(fast);
+            return -1;
+        }
+        out[i] = v;
+    }
+    Py_DECREF(fast);
+    return 0;
+}
+
+/* list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, shortcut,
+ * budget) */
+static PyObject *list_children(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 12) {
+        PyErr_SetString(PyExc_TypeError, "list_children takes 12 arguments");
+        return NULL;
+    }
+    if (!labelled_assignment) {
+        PyErr_SetString(PyExc_RuntimeError, "_clisting.setup() was not called");
+        return NULL;
+    }
+    Py_ssize_t k = PyLong_AsSsize_t(args[7]);
+    if (k == -1 && PyErr_Occurred()) return NULL;
+    double max_gap = PyFloat_AsDouble(args[8]);
+    if (max_gap == -1.0 && PyErr_Occurred()) return NULL;
+    long long limit = PyLong_AsLongLong(args[9]);
+    if (limit == -1 && PyErr_Occurred()) return NULL;
+    int shortcut = PyObject_IsTrue(args[10]);
+    if (shortcut < 0) return NULL;
+    long long budget = PyLong_AsLongLong(args[11]);
+    if (budget == -1 && PyErr_Occurred()) return NULL;
+    Py_ssize_t m = PyObject_Length(args[5]);
+    if (m < 0) return NULL;
+
+    PyObject *result = NULL;
+    PyObject *priors_f = NULL, *rows_f = NULL, *tm_f = NULL;
+    Owned o;
+    memset(&o, 0, sizeof(o));
+    Problem *P = &o.P;
+    priors_f = PySequence_Fast(args[0], "priors");
+    if (!priors_f) goto done;
+    rows_f = PySequence_Fast(args[1], "rows");
+    if (!rows_f) goto done;
+    tm_f = PySequence_Fast(args[2], "tm");
+    if (!tm_f) goto done;
+    Py_ssize_t n_parents = PySequence_Fast_GET_SIZE(rows_f);
+    Py_ssize_t n = PySequence_Fast_GET_SIZE(tm_f);
+    if (PySequence_Fast_GET_SIZE(priors_f) != n_parents) {
+        PyErr_SetString(PyExc_ValueError, "priors and rows differ in length");
+        goto done;
+    }
+    Py_ssize_t total_rows = 0, max_depth = 0;
+    int all_short = 1;
+    PyObject **row_items = PySequence_Fast_ITEMS(rows_f);
+    for (Py_ssize_t p = 0; p < n_parents; p++) {
+        Py_ssize_t d = PyObject_Length(row_items[p]);
+        if (d < 0) goto done;
+        total_rows += d;
+        if (d > max_depth) max_depth = d;
+        if (d > 1) all_short = 0;
+    }
+    if (shortcut && m <= 1 && all_short) {
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    if (m > max_listed) {
+        result = Py_NewRef(Py_None);
+        goto done;
+    }
+    /* (k < 1: the Python listing raises; a limit this large: its count is exact) */
+    if (k < 1 || m > MAX_M || limit > (1ll << 50)) {
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    if (alloc_owned(&o, n_parents, total_rows, n, m) < 0) goto done;
+    P->max_depth = max_depth;
+    P->k = k;
+    P->max_gap = max_gap;
+    P->limit = limit;
+    P->budget = budget;
+    Py_ssize_t at = 0;
+    for (Py_ssize_t p = 0; p < n_parents; p++) {
+        PyObject *r = PySequence_Fast(row_items[p], "rows");
+        if (!r) goto done;
+        Py_ssize_t d = PySequence_Fast_GET_SIZE(r);
+        P->rows[p] = o.row_store + at;
+        P->depths[p] = d;
+        PyObject **ri = PySequence_Fast_ITEMS(r);
+        for (Py_ssize_t t = 0; t < d; t++) {
+            Py_ssize_t v = PyNumber_AsSsize_t(ri[t], PyExc_OverflowError);
+            if (v == -1 && PyErr_Occurred()) {
+                Py_DECREF(r);
+                goto done;
+            }
+            if (v < 0 || v >= n) {
+                Py_DECREF(r);
+                PyErr_SetString(PyExc_IndexError, "rows: node index out of range");
+                goto done;
+            }
+            o.row_store[at++] = v;
+        }
+        Py_DECREF(r);
+    }
+    if (read_doubles(priors_f, P->priors, n_parents, "priors") < 0) goto done;
+    for (Py_ssize_t p = 0; p < n_parents; p++)
+        if (isnan(P->priors[p])) { /* (Python's sort decides the order) */
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    if (read_doubles(args[3], P->c_occ, n, "c_occ") < 0) goto done;
+    if (read_doubles(args[4], P->c_del, n, "c_del") < 0) goto done;
+    if (read_doubles(args[5], P->c_new, m, "c_new") < 0) goto done;
+    if (read_doubles(args[6], P->c_fal, m, "c_fal") < 0) goto done;
+    PyObject **tm_items = PySequence_Fast_ITEMS(tm_f);
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (read_doubles(tm_items[i], P->tm + i * m, m, "tm") < 0) goto done;
+    result = solve(P);
+
+done:
+    Py_XDECREF(priors_f);
+    Py_XDECREF(rows_f);
+    Py_XDECREF(tm_f);
+    free_owned(&o);
+    return result;
+}
+
+/* k_best_plain(tracks_of, priors, row_of, cost_live, meas_idx, occ_all, del_all, new_all,
+ * fal_all, k, max_gap, shortcut, max_cluster_size): MHT._k_best of the plain MHT on this
+ * scan's tables (see core.py), as (children, cluster size); NotImplemented for a cluster
+ * MHT._k_best's Python takes (a node not scored this scan, over max_cluster_size, the
+ * shortcut, listed by Murty's method). */
+static PyObject *k_best_plain(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 13) {
+        PyErr_SetString(PyExc_TypeError, "k_best_plain takes 13 arguments");
+        return NULL;
+    }
+    if (!labelled_assignment || !node_id_name) {
+        PyErr_SetString(PyExc_RuntimeError, "_clisting.setup() was not called");
+        return NULL;
+    }
+    PyObject *tracks_of = args[0], *priors_l = args[1], *row_of = args[2];
+    PyObject *meas_l = args[4], *occ_all = args[5], *del_all = args[6];
+    PyObject *new_all = args[7], *fal_all = args[8];
+    if (!PyList_Check(tracks_of) || !PyList_Check(priors_l) || !PyDict_Check(row_of) ||
+        !PyList_Check(meas_l) || !PyList_Check(occ_all) || !PyList_Check(del_all) ||
+        !PyList_Check(new_all) || !PyList_Check(fal_all)) {
+        PyErr_SetString(PyExc_TypeError, "k_best_plain: lists and a dict expected");
+        return NULL;
+    }
+    Py_ssize_t k = PyLong_AsSsize_t(args[9]);
+    if (k == -1 && PyErr_Occurred()) return NULL;
+    double max_gap = PyFloat_AsDouble(args[10]);
+    if (max_gap == -1.0 && PyErr_Occurred()) return NULL;
+    int shortcut = PyObject_IsTrue(args[11]);
+    if (shortcut < 0) return NULL;
+    Py_ssize_t max_size = PyLong_AsSsize_t(args[12]);
+    if (max_size == -1 && PyErr_Occurred()) return NULL;
+
+    PyObject *result = NULL, *uniq = NULL, *live_rows = NULL;
+    Py_buffer table;
+    int have_table = 0;
+    Owned o;
+    memset(&o, 0, sizeof(o));
+    Problem *P = &o.P;
+    Py_ssize_t n_parents = PyList_GET_SIZE(tracks_of), m = PyList_GET_SIZE(meas_l);
+    if (PyList_GET_SIZE(priors_l) != n_parents) {
+        PyErr_SetString(PyExc_ValueError, "priors and tracks_of differ in length");
+        return NULL;
+    }
+    Py_ssize_t total_rows = 0, max_depth = 0;
+    int all_short = 1;
+    for (Py_ssize_t p = 0; p < n_parents; p++) {
+        PyObject *tracks = PyList_GET_ITEM(tracks_of, p);
+        if (!PyTuple_Check(tracks)) return Py_NewRef(Py_NotImplemented); /* (Python's) */
+        Py_ssize_t d = PyTuple_GET_SIZE(tracks);
+        total_rows += d;
+        if (d > max_depth) max_depth = d;
+        if (d > 1) all_short = 0;
+    }
+    /* (the Python path: the shortcut, Murty's method, k < 1) */
+    if ((shortcut && m <= 1 && all_short) || m > max_listed || k < 1)
+        return Py_NewRef(Py_NotImplemented);
+    uniq = PyDict_New();
+    live_rows = PyList_New(0);
+    if (!uniq || !live_rows) goto done;
+    if (alloc_owned(&o, n_parents, total_rows, total_rows, m) < 0) goto done;
+    /* the nodes once each, in order of first appearance, and each parent's rows of them */
+    Py_ssize_t at = 0;
+    for (Py_ssize_t p = 0; p < n_parents; p++) {
+        PyObject *tracks = PyList_GET_ITEM(tracks_of, p);
+        Py_ssize_t d = PyTuple_GET_SIZE(tracks);
+        P->rows[p] = o.row_store + at;
+        P->depths[p] = d;
+        for (Py_ssize_t t = 0; t < d; t++) {
+            PyObject *node_id = PyObject_GetAttr(PyTuple_GET_ITEM(tracks, t), node_id_name);
+            if (!node_id) goto done;
+            PyObject *index = PyDict_GetItemWithError(uniq, node_id); /* borrowed */
+            Py_ssize_t i;
+            if (index) {
+                i = PyLong_AsSsize_t(index);
+            } else if (PyErr_Occurred()) {
+                Py_DECREF(node_id);
+                goto done;
+            } else {
+                PyObject *row = PyDict_GetItemWithError(row_of, node_id); /* borrowed */
+                if (!row) {
+                    Py_DECREF(node_id);
+                    if (PyErr_Occurred()) goto done;
+                    result = Py_NewRef(Py_NotImplemented); /* not scored this scan */
+                    goto done;
+                }
+                i = PyList_GET_SIZE(live_rows);
+                PyObject *pi = PyLong_FromSsize_t(i);
+                int bad = !pi || PyDict_SetItem(uniq, node_id, pi) < 0 ||
+                          PyList_Append(live_rows, row) < 0;
+                Py_XDECREF(pi);
+                if (bad) {
+                    Py_DECREF(node_id);
+                    goto done;
+                }
+            }
+            Py_DECREF(node_id);
+            o.row_store[at++] = i;
+        }
+    }
+    Py_ssize_t n = PyList_GET_SIZE(live_rows);
+    Py_ssize_t size = n + m;
+    if (size > max_size) { /* (degraded: the Python path) */
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    P->n = n;
+    P->max_depth = max_depth;
+    P->k = k;
+    P->max_gap = max_gap;
+    P->limit = listing_limit;
+    P->budget = listing_budget;
+    if (read_doubles(priors_l, P->priors, n_parents, "priors") < 0) goto done;
+    for (Py_ssize_t p = 0; p < n_parents; p++)
+        if (isnan(P->priors[p])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    /* the costs: the scan's detection costs table (float64, C order) at the nodes' rows and
+     * the cluster's measurements, and the per-scan label costs */
+    if (PyObject_GetBuffer(args[3], &table, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear(); /* (not a C-ordered buffer: the Python path) */
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    have_table = 1;
+    if (table.ndim != 2 || table.itemsize != sizeof(double) || !table.format ||
+        strcmp(table.format, "d") != 0) {
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    Py_ssize_t n_live = table.shape[0], n_meas = table.shape[1];
+    const double *cost = (const double *)table.buf;
+    Py_ssize_t *js = (Py_ssize_t *)PyMem_Malloc((size_t)(m + 1) * sizeof(Py_ssize_t));
+    if (!js) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t j = 0; j < m; j++) {
+        js[j] = PyLong_AsSsize_t(PyList_GET_ITEM(meas_l, j));
+        if ((js[j] == -1 && PyErr_Occurred()) || js[j] < 0 || js[j] >= n_meas ||
+            js[j] >= PyList_GET_SIZE(new_all) || js[j] >= PyList_GET_SIZE(fal_all)) {
+            PyMem_Free(js);
+            if (!PyErr_Occurred()) PyErr_SetString(PyExc_IndexError, "measurement index");
+            goto done;
+        }
+        P->c_new[j] = PyFloat_AsDouble(PyList_GET_ITEM(new_all, js[j]));
+        P->c_fal[j] = PyFloat_AsDouble(PyList_GET_ITEM(fal_all, js[j]));
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        Py_ssize_t r = PyLong_AsSsize_t(PyList_GET_ITEM(live_rows, i));
+        if ((r == -1 && PyErr_Occurred()) || r < 0 || r >= n_live ||
+            r >= PyList_GET_SIZE(occ_all) || r >= PyList_GET_SIZE(del_all)) {
+            PyMem_Free(js);
+            if (!PyErr_Occurred()) PyErr_SetString(PyExc_IndexError, "node row");
+            goto done;
+        }
+        for (Py_ssize_t j = 0; j < m; j++) P->tm[i * m + j] = cost[r * n_meas + js[j]];
+        P->c_occ[i] = PyFloat_AsDouble(PyList_GET_ITEM(occ_all, r));
+        P->c_del[i] = PyFloat_AsDouble(PyList_GET_ITEM(del_all, r));
+    }
+    PyMem_Free(js);
+    if (PyErr_Occurred()) goto done;
+    PyObject *children = solve(P);
+    if (!children) goto done;
+    if (children == Py_None || children == Py_NotImplemented) { /* (Murty's method) */
+        Py_DECREF(children);
+        result = Py_NewRef(Py_NotImplemented);
+        goto done;
+    }
+    result = Py_BuildValue("(Nn)", children, size);
+
+done:
+    if (have_table) PyBuffer_Release(&table);
+    Py_XDECREF(uniq);
+    Py_XDECREF(live_rows);
+    free_owned(&o);
+    return result;
+}
+
+static PyObject *setup(PyObject *self, PyObject *args) {
+    (void)self;
+    PyObject *cls;
+    int max_m, detected, occluded, deleted, matched, new_label, false_alarm;
+    long long limit, budget;
+    if (!PyArg_ParseTuple(args, "Oi(iii)(iii)LL", &cls, &max_m, &detected, &occluded,
+                          &deleted, &matched, &new_label, &false_alarm, &limit, &budget))
+        return NULL;
+    if (detected != DETECTED || occluded != OCCLUDED || deleted != DELETED ||
+        matched != MATCHED || new_label != NEW_LABEL || false_alarm != FALSE_ALARM) {
+        PyErr_SetString(PyExc_ValueError, "the labels are not the ones compiled in");
+        return NULL;
+    }
+    if (max_m < 0 || max_m > MAX_M) {
+        PyErr_Format(PyExc_ValueError, "at most %d listed measurements", MAX_M);
+        return NULL;
+    }
+    if (limit < 0 || limit > (1ll << 50)) {
+        PyErr_SetString(PyExc_ValueError, "the listing limit is out of 0..2^50");
+        return NULL;
+    }
+    if (!node_id_name) {
+        node_id_name = PyUnicode_InternFromString("node_id");
+        if (!node_id_name) return NULL;
+    }
+    Py_INCREF(cls);
+    Py_XSETREF(labelled_assignment, cls);
+    max_listed = max_m;
+    listing_limit = limit;
+    listing_budget = budget;
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef methods[] = {
+    {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
+     "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
+     "shortcut, budget): listing.list_children's children, None, or NotImplemented for a "
+     "call the Python listing takes (the shortcut, a NaN prior, k < 1)."},
+    {"k_best_plain", (PyCFunction)(void (*)(void))k_best_plain, METH_FASTCALL,
+     "k_best_plain(tracks_of, priors, row_of, cost_live, meas_idx, occ_all, del_all, "
+     "new_all, fal_all, k, max_gap, shortcut, max_cluster_size): MHT._k_best of the plain "
+     "MHT on the scan's tables, as (children, cluster size), or NotImplemented for a "
+     "cluster its Python path takes."},
+    {"setup", setup, METH_VARARGS,
+     "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
+     "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_clisting",
+    "The leg MHT's listing of a cluster's k best children, compiled (see listing.py).", -1,
+    methods, NULL, NULL, NULL, NULL,
+};
+
+PyMODINIT_FUNC PyInit__clisting(void) {
+    PyObject *mod = PyModule_Create(&module);
+    if (!mod) return NULL;
+    if (PyModule_AddStringConstant(mod, "SOURCE_HASH", LP_SOURCE_HASH) < 0) {
+        Py_DECREF(mod);
+        return NULL;
+    }
+    return mod;
+}

@@ -1,0 +1,53 @@
+"""The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
+
+from collections.abc import Sequence
+from types import NotImplementedType
+
+import numpy as np
+from numpy.typing import NDArray
+
+from laserpeople.tracking.mht.matrix import LabelledAssignment
+from laserpeople.tracking.mht.tracktree import TrackNode
+
+SOURCE_HASH: str
+
+def setup(
+    labelled_assignment: type[LabelledAssignment],
+    max_listed_measurements: int,
+    track_labels: tuple[int, int, int],
+    measurement_labels: tuple[int, int, int],
+    listing_limit: int,
+    listing_budget: int,
+    /,
+) -> None: ...
+def list_children(
+    priors: Sequence[float],
+    rows: Sequence[Sequence[int]],
+    tm: list[list[float]],
+    c_occ: list[float],
+    c_del: list[float],
+    c_new: list[float],
+    c_fal: list[float],
+    k: int,
+    max_gap: float,
+    limit: int,
+    shortcut: bool,
+    budget: int,
+    /,
+) -> list[tuple[int, LabelledAssignment, float]] | NotImplementedType | None: ...
+def k_best_plain(
+    tracks_of: list[tuple[TrackNode, ...]],
+    priors: list[float],
+    row_of: dict[int, int],
+    cost_live: NDArray[np.float64],
+    meas_idx: list[int],
+    occ_all: list[float],
+    del_all: list[float],
+    new_all: list[float],
+    fal_all: list[float],
+    k: int,
+    max_gap: float,
+    shortcut: bool,
+    max_cluster_size: int,
+    /,
+) -> tuple[list[tuple[int, LabelledAssignment, float]], int] | NotImplementedType: ...

@@ -1,0 +1,61 @@
+"""Which listing of a cluster's k best children runs: the optional C extension
+(``_clisting``, built by ``pip install -e .`` where a C compiler is) or the Python reference
+in :mod:`~laserpeople.tracking.mht.listing`, which gives the same children and costs.
+
+The Python listing runs when the environment variable :data:`PURE_PYTHON` is set (to
+anything but ``0`` or nothing), when the extension is not built, or when it is stale: built
+from another ``_clisting.c`` than the one beside it (its checksum is compiled in), with a
+warning that says how to rebuild it.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+from types import ModuleType
+
+PURE_PYTHON = "LASERPEOPLE_PURE_PYTHON"
+"""Environment variable that, set to anything but ``0`` or nothing, forces the Python
+listing."""
+
+SOURCE = Path(__file__).with_name("_clisting.c")
+"""The extension's source, beside this module (in an installed package as well)."""
+
+REBUILD = "rebuild it with `pip install -e .` (a C compiler is needed)"
+
+
+class StaleExtensionWarning(RuntimeWarning):
+    """The compiled listing was built from another source than the one beside it."""
+
+
+def load() -> tuple[ModuleType | None, str]:
+    """The extension module, or None when the Python listing is to run, and which one runs
+    (and why), as :func:`describe` says it."""
+    if os.environ.get(PURE_PYTHON, "") not in ("", "0"):
+        return None, f"pure Python ({PURE_PYTHON} is set)"
+    try:
+        from laserpeople.tracking.mht import _clisting
+    except ImportError:
+        return None, "pure Python (the C extension is not built)"
+    built_from = getattr(_clisting, "SOURCE_HASH", "")
+    if SOURCE.is_file() and built_from != source_hash(SOURCE):
+        warnings.warn(
+            f"the compiled MHT listing ({Path(_clisting.__file__ or '').name}) was built "
+            f"from another {SOURCE.name} than the one beside it; the pure-Python listing "
+            f"runs instead: {REBUILD}",
+            StaleExtensionWarning,
+            stacklevel=2,
+        )
+        return None, f"pure Python (the C extension is stale: {REBUILD})"
+    module: ModuleType = _clisting
+    return module, "compiled (C extension)"
+
+
+def source_hash(path: Path) -> str:
+    """The checksum of the file at ``path`` that setup.py compiles in: its CRC-32 and its
+    length in bytes (zlib is loaded anyway; hashlib would add some 5 ms to the start-up)."""
+    import zlib
+
+    data = path.read_bytes()
+    return f"{zlib.crc32(data):08x}-{len(data)}"

@@ -17,7 +17,9 @@ else; written as a tracks CSV and scored by ``evaluate``):
 
 Trackers (``--trackers``): any registered tracker through ``track --tracker T`` (``default``:
 ``track`` without ``--tracker``), and ``stonesoup-gnn`` (``benchmarks/peers.py``'s Stone
-Soup GNN on leg pairs of the shipped AdaBoost detector; needs the ``peers`` extra).
+Soup GNN on leg pairs of the shipped AdaBoost detector; needs the ``peers`` extra), and
+``feet-pf`` with one input from the truth (``oracle-foreground``, ``oracle-foreground-added``,
+``oracle-foreground-cut``, ``oracle-births``; ``feet_oracle_inputs.py``): which part limits.
 
     PYTHONPATH=src python benchmarks/feet_ceiling.py [--seeds 100-119] [--seconds 10]
         [--trackers feet-pf default csa stonesoup-gnn] [--keep DIR] [--json out.json]
@@ -42,6 +44,7 @@ from numpy.typing import NDArray
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from feet_oracle_inputs import MODES, track_with_oracle  # type: ignore[import-not-found]
 from feet_random import COARSE_DEG  # type: ignore[import-not-found]
 from groups_random import parse_seeds  # type: ignore[import-not-found]
 from laserpeople.io import open_recording
@@ -153,6 +156,8 @@ def run_tracker(name: str, seed: int, npz: Path, workdir: Path, seconds: float) 
         peer_tracks(prepared, "gnn", StoneSoupParams(), workdir)
         (workdir / f"random-groups-{seed}-gnn.csv").replace(out)
         return out
+    if name in MODES:
+        return track_with_oracle(npz, out, name)
     tracker = [] if name == "default" else ["--tracker", name]
     subprocess.run(
         [*_cli(), "track", str(npz), *tracker, "-o", str(out)], check=True, capture_output=True

@@ -240,3 +240,88 @@ def test_the_group_tracker_counts_without_pairs_when_told_it_is_at_torso_height(
     keep = GroupMHTTracker(GroupTrackerParams(torso_pairs=True))
     keep.use_torso_height(True)
     assert not keep.counting.torso and not keep.branches.s.counting.torso
+
+
+def test_the_count_range_pairs_legs_within_the_near_and_the_far_stride() -> None:
+    """Six one-leg blobs along a line, 0.65, 0.95, 0.8, 1.1 and 0.5 m apart (one cluster
+    at d_P 1.3 m): paired within 0.7 m (the count) 0-1 and 4-5, 4 people; within the near
+    stride 0.6 m only 4-5, 5 people (the most); within the far stride 0.9 m also 2-3, 3
+    people (the fewest)."""
+    pts = _blobs([0.0, 0.65, 1.6, 2.4, 3.5, 4.0])
+    ranged = replace(DEFAULT, stride_range=(0.6, 0.9))
+    obs = GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3, ranged)
+    assert obs.n_hs.tolist() == [4.0]
+    assert obs.n_range is not None and obs.n_range.tolist() == [[3.0, 5.0]]
+    # no range: the count alone; 000's blobs: no range either (nothing is paired)
+    none = replace(DEFAULT, stride_range=(0.0, 0.0))
+    assert GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3, none).n_range is None
+    blobs = replace(ranged, method="blobs")
+    assert GroupObservations.from_points(pts, np.arange(len(pts)), 1.3, 0.3, blobs).n_range is None
+
+
+def test_the_size_read_is_the_prediction_within_the_range() -> None:
+    """Predicted 2.0, 3.4, 6.0 and 1.0 people, walking at 0.5 m/s, against ranges [3, 5],
+    [3, 5], [3, 5] and [2, 2] (counts 4, 4, 4, 2): read 3 (the nearer end), 3.4 (inside:
+    kept), 5 and 2. Standing (0.2 m/s, below stride_speed 0.3 m/s) the low end is the
+    count: 4, 4, 5, 2. A track a split or merge made this scan reads the count: 4. Without
+    a range the count."""
+    from laserpeople.tracking.groups.observations import size_reading
+
+    predicted = np.zeros((4, 5))
+    predicted[:, 4] = [2.0, 3.4, 6.0, 1.0]
+    predicted[:, 2:4] = [0.3, 0.4]  # 0.5 m/s
+    n_hs = np.array([4.0, 4.0, 4.0, 2.0])
+    ranges = np.array([[3.0, 5.0], [3.0, 5.0], [3.0, 5.0], [2.0, 2.0]])
+    old = np.zeros(4, dtype=bool)
+    got = size_reading(predicted, n_hs, ranges, old, 0.3)
+    np.testing.assert_allclose(got, [3.0, 3.4, 5.0, 2.0], atol=1e-12)
+    standing = predicted.copy()
+    standing[:, 2:4] = [0.12, 0.16]  # 0.2 m/s
+    got = size_reading(standing, n_hs, ranges, old, 0.3)
+    np.testing.assert_allclose(got, [4.0, 4.0, 5.0, 2.0], atol=1e-12)
+    fresh = np.array([True, True, False, False])
+    got = size_reading(predicted, n_hs, ranges, fresh, 0.3)
+    np.testing.assert_allclose(got, [4.0, 4.0, 5.0, 2.0], atol=1e-12)
+    np.testing.assert_allclose(size_reading(predicted, n_hs, None, old, 0.3), n_hs, atol=1e-12)
+
+
+def test_a_group_keeps_its_size_while_the_scan_allows_it() -> None:
+    """Three people, each two leg blobs 0.5 m apart, walking at 1 m/s for ten scans (3
+    people, range [3, 3]); then the middle one's legs are 0.8 m apart for ten scans: 4
+    people by the count at 0.7 m, [3, 4] by the strides. The group's size stays 3 (within
+    0.05); without a range, or standing (a stride_speed above its speed), it becomes 4."""
+    from laserpeople.frame import Frame
+    from laserpeople.scan import PointSet
+    from laserpeople.tracking.groups import GroupMHTTracker
+
+    def frame(centres: list[float], k: int) -> Frame:
+        pts = _blobs(centres) + np.array([0.1 * k, 0.0])  # 1 m/s along x
+        n = len(pts)
+        ps = PointSet(0.1 * k, pts, np.zeros(n, dtype=np.int64), np.arange(n),
+                      frame="world", index=k)  # fmt: skip
+        return Frame(index=k, stamp=0.1 * k, scans=(), topic="sim", frame="world", points=ps,
+                     foreground=np.ones(n, dtype=bool))  # fmt: skip
+
+    before = [0.0, 0.5, 1.5, 2.0, 3.0, 3.5]
+    after = [0.0, 0.5, 1.5, 2.3, 3.3, 3.8]
+    sizes = []
+    for near, far, speed in ((0.6, 0.9, 0.3), (0.0, 0.0, 0.3), (0.6, 0.9, 2.0)):
+        params = GroupTrackerParams(stride_near=near, stride_far=far, stride_speed=speed)
+        tracker = GroupMHTTracker(params)
+        for k in range(20):
+            tracker.update(frame(before if k < 10 else after, k))
+        assert len(tracker.last_groups) == 1
+        sizes.append(tracker.last_groups[0].size)
+    np.testing.assert_allclose(sizes, [3.0, 4.0, 4.0], atol=0.05)
+
+
+def test_bad_stride_ranges_are_refused() -> None:
+    for near, far in ((0.8, 0.9), (0.6, 0.65), (-0.1, 0.9), (0.6, float("inf")), (0.0, 0.9)):
+        with pytest.raises(ValueError, match="stride"):
+            GroupTrackerParams(stride_near=near, stride_far=far)
+        with pytest.raises(ValueError, match="stride_range"):
+            SizeCounting("resolved", pair_distance=0.7, stride_range=(near, far))
+    assert GroupTrackerParams(stride_near=0.0, stride_far=0.0).counting().stride_range == (0, 0)
+    assert GroupTrackerParams(stride_near=0.7, stride_far=0.7).counting().ranged
+    with pytest.raises(ValueError, match="stride_speed"):
+        GroupTrackerParams(stride_speed=-0.1)

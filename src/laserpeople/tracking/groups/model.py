@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.tracking.groups.observations import GroupObservations
+from laserpeople.tracking.groups.observations import GroupObservations, size_reading
 from laserpeople.tracking.mht.tracktree import TrackNode
 
 FloatArray = NDArray[np.float64]
@@ -256,6 +256,9 @@ class GroupModelSettings:
         rms: Root mean square instead of the mean in eq. 20.
         share_parts: Parts count their share (False: each part a whole observation, 000).
         trail_window: Seconds of observed centroids a track keeps (0: none).
+        stride_speed: Predicted speed [m/s] from which a group's size may be read at the
+            low end of its cluster's range of counts (slower: at the count; see
+            :func:`size_reading`).
     """
 
     c0: FloatArray
@@ -270,6 +273,7 @@ class GroupModelSettings:
     rms: bool = False
     share_parts: bool = True
     trail_window: float = 0.0
+    stride_speed: float = 0.0
 
 
 class GroupModel:
@@ -554,16 +558,26 @@ class GroupModel:
         js: Sequence[int],
         stamp: float,
     ) -> list[tuple[FloatArray, FloatArray, Any]]:
-        """Kalman update of each node with cluster ``js[i]`` (eqs. 28-31); the contour is
-        replaced by the cluster's points relative to the new position (Sec. 4.3)."""
+        """Kalman update of each node with cluster ``js[i]`` (eqs. 28-31; the size read
+        is :func:`size_reading`'s: the predicted size within the cluster's range of counts,
+        the count for a track a split or merge made this scan);
+        the contour is replaced by the cluster's points relative to the new position (Sec.
+        4.3)."""
         out: list[tuple[FloatArray, FloatArray, Any]] = []
         if not nodes:
             return out
         idx = np.asarray(js, dtype=np.intp)
+        predicted, predicted_covs = self._predictions(nodes)
+        n_range = None if measurements.n_range is None else measurements.n_range[idx]
+        fresh = np.fromiter((group_payload(n).must_match for n in nodes), bool, len(nodes))
+        reading = size_reading(
+            predicted, measurements.n_hs[idx], n_range, fresh, self.s.stride_speed
+        )
         means, covs = kalman_update_batch(
-            *self._predictions(nodes),
+            predicted,
+            predicted_covs,
             measurements.centroids[idx],
-            measurements.n_hs[idx],
+            reading,
             self.s.r_update,
         )
         # every contour (cluster points minus the new position) and member list at once

@@ -28,6 +28,13 @@ cluster Z_i is one observation. Its size observation n_hs(Z_i) counts the people
   scan order) are nowhere more than ``surface_gap`` apart, is one continuous surface: one
   person (a torso at 1 m; the legs of two people leave a gap between them).
 
+The stride is ambiguous: a walker's legs may be 0.7 m apart and two neighbours' legs 0.55
+m. With a ``stride_range`` (near, far) the count is also made with the pairs closer than
+``near`` only (the most people the scan may show, ``n_high``) and with those closer than
+``far`` (the fewest, ``n_low``); the tracker reads the size a group's track predicts
+within that range (:func:`size_reading`; the low end only for walking groups), so a count
+that flickers between two readings of one scan keeps the group's size.
+
 With ``torso`` (a laser at torso height, as the recording states it) no two blobs are
 paired: each is a body, not a leg, and two neighbours' torsos closer than a stride are two
 people.
@@ -82,6 +89,9 @@ class GroupObservations:
         blobs: (P,) blob (d_hs) of each point, labels unique over the set.
         spacing: (P,) beam spacing at each point's range [m] (range x angular step), for
             ``"resolved"`` counting; None when not known.
+        n_range: (M, 2) the fewest and the most people each cluster may hold as its
+            blobs are paired with strides of ``SizeCounting.stride_range`` (``n_hs`` lies
+            within); None when no range is counted.
     """
 
     points: FloatArray
@@ -93,6 +103,7 @@ class GroupObservations:
     source: IntArray | None = None
     blobs: IntArray | None = None
     spacing: FloatArray | None = None
+    n_range: FloatArray | None = None
 
     def __len__(self) -> int:
         return int(self.offsets.size - 1)
@@ -251,8 +262,11 @@ class GroupObservations:
             np.column_stack([np.bincount(labels, pts[:, 0], m), np.bincount(labels, pts[:, 1], m)])
             / np.maximum(counts, 1)[:, None]
         )
-        n_hs = count_people(pts, labels, fine, m, counting, spacing)
-        return cls(pts, offsets, idx, centroids, n_hs, np.ones(m), blobs=fine, spacing=spacing)
+        n_hs, n_range = count_people_range(pts, labels, fine, m, counting, spacing)
+        return cls(
+            pts, offsets, idx, centroids, n_hs, np.ones(m),
+            blobs=fine, spacing=spacing, n_range=n_range,
+        )  # fmt: skip
 
 
 def close_pairs(points: FloatArray, distance: float) -> tuple[IntArray, FloatArray]:
@@ -302,6 +316,9 @@ class SizeCounting:
             than ``person_width``, is one person; 0: not used).
         torso: The laser is at torso height: no two blobs are paired as one person's legs
             ("legs" and "resolved"; each blob is counted alone).
+        stride_range: (near, far) [m]: the count's range pairs the legs closer than
+            ``near`` (most people) and closer than ``far`` (fewest people); (0, 0): no
+            range, the count alone.
     """
 
     method: str = "legs"
@@ -312,6 +329,7 @@ class SizeCounting:
     pair_arc: float = 0.0
     surface_gap: float = 0.0
     torso: bool = False
+    stride_range: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
         if self.method not in ("blobs", "legs", "resolved"):
@@ -322,6 +340,17 @@ class SizeCounting:
             raise ValueError(
                 "person_width, pair_arc and surface_gap must not be negative (0: not used)"
             )
+        near, far = self.stride_range
+        if self.ranged and not 0.0 < near <= self.pair_distance <= far < np.inf:
+            raise ValueError(
+                "stride_range must be (0, 0) or (near, far) with 0 < near <= pair_distance "
+                "<= far, finite"
+            )
+
+    @property
+    def ranged(self) -> bool:
+        """Whether a range of counts is made (``stride_range`` not (0, 0))."""
+        return self.stride_range != (0.0, 0.0) and self.method != "blobs"
 
 
 def count_people(
@@ -341,8 +370,23 @@ def count_people(
     the people its arc and its width hold (:func:`resolved_people`; ``spacing`` (N,) the
     beam spacing at each point [m]), and the one-leg blobs narrower in arc than
     ``pair_arc`` are paired by a maximum matching (:func:`blob_people`)."""
+    return count_people_range(pts, labels, fine, m, counting, spacing)[0]
+
+
+def count_people_range(
+    pts: FloatArray,
+    labels: IntArray,
+    fine: IntArray,
+    m: int,
+    counting: SizeCounting | None = None,
+    spacing: FloatArray | None = None,
+) -> tuple[FloatArray, FloatArray | None]:
+    """:func:`count_people` (M,) and, when ``counting.ranged``, the fewest and the most
+    people (M, 2) of each cluster: the count with the one-leg blobs paired within
+    ``stride_range[1]`` and within ``stride_range[0]`` [m] (None without a range); the
+    blobs are described once, only their pairing is made for each stride."""
     if pts.shape[0] == 0:
-        return np.zeros(m)
+        return np.zeros(m), None
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse
         blob = fine
     else:
@@ -352,12 +396,41 @@ def count_people(
     blob_cluster[blob] = labels
     if counting is None or counting.method == "blobs":
         out: FloatArray = np.bincount(blob_cluster, minlength=m).astype(np.float64)
-        return out
-    people, pairs = blob_people(pts, blob, blob_cluster, counting, spacing)
-    out = np.bincount(blob_cluster, people, m).astype(np.float64)
-    # a pair of one person's two leg blobs counts one person, not two
-    np.subtract.at(out, blob_cluster[pairs[:, 0]], 1.0)
-    return out
+        return out, None
+    strides = (counting.pair_distance, *(counting.stride_range if counting.ranged else ()))
+    people, pairings = blob_pairings(pts, blob, blob_cluster, counting, spacing, strides)
+    alone = np.bincount(blob_cluster, people, m).astype(np.float64)
+    counts = []
+    for pairs in pairings:
+        n = alone.copy()
+        # a pair of one person's two leg blobs counts one person, not two
+        np.subtract.at(n, blob_cluster[pairs[:, 0]], 1.0)
+        counts.append(n)
+    if len(counts) == 1:
+        return counts[0], None
+    n_hs, high, low = counts  # paired within pair_distance, the near and the far stride
+    return n_hs, np.column_stack([low, high])
+
+
+def size_reading(
+    predicted: FloatArray,
+    n_hs: FloatArray,
+    n_range: FloatArray | None,
+    fresh: NDArray[np.bool_],
+    stride_speed: float,
+) -> FloatArray:
+    """The size observation (T,) [people] the Kalman update reads for tracks with the
+    ``predicted`` states (T, 5) (x, y, vx, vy, n): the predicted size within the range
+    (T, 2) of counts of its cluster (the nearer end when outside), where the range's low
+    end is the count ``n_hs`` (T,) for a track predicted slower than ``stride_speed``
+    [m/s] (only walkers take strides beyond ``pair_distance``); the count itself for the
+    ``fresh`` (T,) tracks (made by a split or merge this scan: their size n/2 or a sum was
+    never seen) and for every track without a range."""
+    if n_range is None:
+        return n_hs
+    walking = np.hypot(predicted[:, 2], predicted[:, 3]) >= stride_speed
+    low = np.where(walking, n_range[:, 0], n_hs)
+    return np.where(fresh, n_hs, np.clip(predicted[:, 4], low, n_range[:, 1]))
 
 
 def blob_people(
@@ -373,6 +446,23 @@ def blob_people(
     (N, 2) [m], every label used, ``blob_cluster`` (B,) the cluster of each blob and
     ``spacing`` (N,) the beam spacing at each point [m] or None. With ``counting.torso``
     there are no pairs."""
+    people, (pairs,) = blob_pairings(
+        pts, blob, blob_cluster, counting, spacing, (counting.pair_distance,)
+    )
+    return people, pairs
+
+
+def blob_pairings(
+    pts: FloatArray,
+    blob: IntArray,
+    blob_cluster: IntArray,
+    counting: SizeCounting,
+    spacing: FloatArray | None,
+    strides: Sequence[float],
+) -> tuple[FloatArray, list[IntArray]]:
+    """:func:`blob_people` with the leg blobs paired within each of ``strides`` [m] in
+    turn (``counting.pair_distance`` replaced): the people (B,) each blob stands for alone
+    and one array of pairs (K, 2) per stride."""
     n_blobs = blob_cluster.size
     centre, radius = blob_shapes(pts, blob, n_blobs)
     people = np.ones(n_blobs)
@@ -386,14 +476,18 @@ def blob_people(
             arc = np.bincount(blob, np.asarray(spacing, dtype=np.float64), n_blobs)
             pairable &= arc < counting.pair_arc
         legs = np.nonzero(pairable)[0]
-        pairs = matched_legs(centre[legs], counting.pair_distance, blob_cluster[legs])
-        return people, legs[pairs]
-    leg, partner = leg_pairs(
-        centre, np.where(pairable, radius, np.inf), counting.leg_radius,
-        counting.pair_distance, blob_cluster,
-    )  # fmt: skip
-    first = (partner >= 0) & (leg < partner)  # each mutual pair once
-    return people, np.column_stack([leg[first], partner[first]]).astype(np.int64)
+        return people, [
+            legs[matched_legs(centre[legs], stride, blob_cluster[legs])] for stride in strides
+        ]
+    out = []
+    for stride in strides:
+        leg, partner = leg_pairs(
+            centre, np.where(pairable, radius, np.inf), counting.leg_radius, stride,
+            blob_cluster,
+        )  # fmt: skip
+        first = (partner >= 0) & (leg < partner)  # each mutual pair once
+        out.append(np.column_stack([leg[first], partner[first]]).astype(np.int64))
+    return people, out
 
 
 def resolved_people(

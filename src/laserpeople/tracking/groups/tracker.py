@@ -89,6 +89,8 @@ class GroupTrackerParams:
         {  # 000 Sec. 4 where the defaults depart from it (docs/papers.md)
             "eps_n": 0.1,
             "size_count": "blobs",
+            "stride_near": 0.0,
+            "stride_far": 0.0,
             "max_blob_size": 0.0,
             "merge_likelihood": "density",
             "model_prior": "literal",
@@ -244,6 +246,33 @@ class GroupTrackerParams:
         "(size_count resolved: such a blob of three legs' arc, no wider than person_width, "
         "is one person; 0: not used)",
         "m",
+    )
+    stride_near: float = param(
+        0.6,
+        "chosen on random-groups seeds 0-19 and entrance-hall seeds 0 and 1 (0.55-0.7 m "
+        "tried; docs/groups.md)",
+        "the most people a cluster may hold pair only the leg blobs closer than this: the "
+        "size read in the update is the track's predicted size within [count with pairs "
+        "within stride_far, count with pairs within stride_near] (size_count legs or "
+        "resolved; 0 with stride_far 0: the count at leg_pair_distance alone)",
+        "m",
+    )
+    stride_far: float = param(
+        0.8,
+        "chosen on random-groups seeds 0-19 and entrance-hall seeds 0 and 1 (0.8-1.0 m "
+        "tried; docs/groups.md)",
+        "the fewest people a walking cluster may hold pair the leg blobs closer than this "
+        "(see stride_near and stride_speed; 0 with stride_near 0: no range)",
+        "m",
+    )
+    stride_speed: float = param(
+        0.3,
+        "chosen on random-groups seeds 0-19 and entrance-hall seeds 0 and 1 (0 and 0.3 m/s "
+        "tried; docs/groups.md)",
+        "predicted speed from which a group's size may be read down to the count with pairs "
+        "within stride_far (slower groups: not below the count at leg_pair_distance; "
+        "standing people take no long strides)",
+        "m/s",
     )
     torso_pairs: bool = param(
         False,
@@ -513,6 +542,16 @@ class GroupTrackerParams:
             raise ValueError("size_count must be 'blobs', 'legs' or 'resolved'")
         if self.leg_pair_distance <= 0.0 or self.leg_radius <= 0.0:
             raise ValueError("leg_pair_distance and leg_radius must be positive")
+        if (self.stride_near, self.stride_far) != (0.0, 0.0) and not (
+            0.0 < self.stride_near <= self.leg_pair_distance <= self.stride_far
+            and math.isfinite(self.stride_far)
+        ):
+            raise ValueError(
+                "stride_near and stride_far must both be 0 (no range) or satisfy "
+                "0 < stride_near <= leg_pair_distance <= stride_far, finite"
+            )
+        if not (self.stride_speed >= 0.0 and math.isfinite(self.stride_speed)):
+            raise ValueError("stride_speed must be finite and not negative (0: every group)")
         if not (self.surface_gap >= 0.0 and math.isfinite(self.surface_gap)):
             raise ValueError("surface_gap must be finite and not negative (0: not used)")
         if self.max_models < 1 or self.max_events < 0:
@@ -573,6 +612,7 @@ class GroupTrackerParams:
             self.person_width,
             self.pair_arc,
             self.surface_gap,
+            stride_range=(self.stride_near, self.stride_far),
         )
 
     def model_settings(self) -> GroupModelSettings:
@@ -592,6 +632,7 @@ class GroupTrackerParams:
             rms=self.hausdorff == "rms",
             share_parts=self.share_parts,
             trail_window=self.velocity_window,
+            stride_speed=self.stride_speed,
         )
 
     def interaction_settings(self) -> InteractionSettings:

@@ -256,6 +256,18 @@ def peer_tracks(
     return outs, cpu
 
 
+def stonesoup_missing() -> str:
+    """Why the Stone Soup peers cannot run here, for the user ("" when they can)."""
+    try:
+        import stonesoup  # noqa: F401
+    except ImportError:
+        return (
+            "Stone Soup is not installed: pip install 'laserpeople[peers]' (stonesoup==1.9.1; "
+            "from a checkout: pip install -e '.[peers]')"
+        )
+    return ""
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--tracker", action="append", help="our registered trackers to run too")
@@ -274,6 +286,8 @@ def main() -> None:
         "of an earlier default, side by side in the same run)",
     )
     args = ap.parse_args()
+    if missing := stonesoup_missing():
+        ap.error(missing)  # before any scene is tracked, not a traceback after the first
     p = StoneSoupParams()
     scenes = suite_scenes(
         parse_seeds(args.seeds), args.seconds, parse_seeds(args.named_seeds), args.family

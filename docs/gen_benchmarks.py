@@ -154,7 +154,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "followed",
         "Followed person, real person-following recording",
         ("benchmarks/followed_person.py",),
-        4.0,
+        0.5,
         "leg MHT identity recall 0.979, recall 0.985, 2 ids (re-identification off 0.658; "
         "`arras` 0.176, 0.740, 9 ids)",
         "people-benchmarks.md",

@@ -156,6 +156,21 @@ def test_ros_map_loading(tmp_path, negate: int, image: str) -> None:  # type: ig
     assert g.static_time(pts).tolist()[:3] == [math.inf, math.inf, 0.0]
 
 
+def test_a_seeded_grid_names_its_map(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """`track --map` says which map seeded the grid and how many obstacle cells it holds
+    (2 of the 20 pixels), so that a user sees the map was read; a grid without one does
+    not mention a map."""
+    from laserpeople.pipeline.background import describe_background
+
+    yaml = _write_map(tmp_path)
+    said = describe_background(OccupancyGrid(prior=load_ros_map(yaml)), " in the world frame")
+    assert said == (
+        "static world model: occupancy grid in the world frame, seeded by the map "
+        f"{yaml} (2 obstacle cells of 0.5 m)"
+    )
+    assert "map" not in describe_background(OccupancyGrid(), " in the world frame")
+
+
 def test_ros_map_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(MapFileError):
         load_ros_map(tmp_path / "none.yaml")

@@ -141,6 +141,29 @@ def test_pair_legs_closest_pairs_first() -> None:
     assert pair_legs(np.array([[0.0, 0.0], [0.8, 0.0]])).shape == (0, 2)
 
 
+def test_peers_without_stone_soup_says_how_to_install_before_tracking(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Without the `peers` extra, benchmarks/peers.py stops at once naming the extra (exit
+    2), instead of tracking a scene with our tracker and then failing in a traceback."""
+    sys.path.insert(0, str(BENCH))
+    try:
+        import peers
+    finally:
+        sys.path.remove(str(BENCH))
+
+    def no_run(*args: object) -> None:
+        raise AssertionError("scenes were tracked before the missing extra was found")
+
+    monkeypatch.setitem(sys.modules, "stonesoup", None)  # an import of it fails
+    monkeypatch.setattr(peers, "run", no_run)
+    monkeypatch.setattr(sys, "argv", ["peers.py", "--peer", "gnn", "--family", "crossing-3"])
+    with pytest.raises(SystemExit) as stop:
+        peers.main()
+    assert stop.value.code == 2
+    assert "pip install 'laserpeople[peers]'" in capsys.readouterr().err
+
+
 class _FrameEcho:
     """A frame tracker that reports a person at every leg of the frame."""
 

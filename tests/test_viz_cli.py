@@ -38,6 +38,26 @@ def test_view_writes_png_gif_and_mcap(tmp_path: Path) -> None:
         assert gif.size == (320, 240)
 
 
+def test_view_says_how_many_scans_an_overview_holds(tmp_path: Path) -> None:
+    """A trajectory overview is one image of many scans: `view` names the scans drawn
+    (--start 1 --stop 5: 4 of the 6), not "1 frame"; one scan's PNG is 1 frame and a GIF
+    of every other scan of 6 is 3 frames."""
+    rec, csv = write_scene(tmp_path, n=6)
+    said = {}
+    for name, extra in (
+        ("all.png", ["--start", "1", "--stop", "5"]),
+        ("one.png", ["--scan", "3"]),
+        ("all.gif", ["--every", "2"]),
+    ):
+        out = tmp_path / name
+        res = runner.invoke(app, ["view", str(rec), "--tracks", str(csv), "-o", str(out), *extra])
+        assert res.exit_code == 0, res.output
+        said[name] = res.output
+    assert f"wrote {tmp_path / 'all.png'} (overview of 4 scans, " in said["all.png"]
+    assert f"wrote {tmp_path / 'one.png'} (1 frame, " in said["one.png"]
+    assert f"wrote {tmp_path / 'all.gif'} (3 frames, " in said["all.gif"]
+
+
 def test_view_reports_bad_options_as_errors(tmp_path: Path) -> None:
     rec, _csv = write_scene(tmp_path, n=3)
     res = runner.invoke(app, ["view", str(rec), "-o", str(tmp_path / "x.png"), "--size", "big"])

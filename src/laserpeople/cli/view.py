@@ -207,10 +207,13 @@ def register(app: typer.Typer) -> None:
             )  # fmt: skip
         finally:
             source.close()
-        what = "frame" if result.frames == 1 else "frames"
+        if result.overview_scans:  # one image of many scans: say how many
+            what = f"overview of {result.overview_scans} scans"
+        else:
+            what = f"{result.frames} frame{'' if result.frames == 1 else 's'}"
         lasers = ", ".join([str(scene.topic), *scene.other_topics])
         say(
-            f"wrote {result.path} ({result.frames} {what}, "
+            f"wrote {result.path} ({what}, "
             f"topic{'s' if scene.other_topics else ''} "
             f"{lasers}, {scene.frame} frame)"
         )

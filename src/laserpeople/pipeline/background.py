@@ -731,7 +731,18 @@ def describe_background(stage: object | None, where: str = "") -> str:
         "OccupancyGrid": "occupancy grid",
     }
     name = type(stage).__name__
-    return f"static world model: {names.get(name, name)}{where}{_not_learned(stage)}"
+    said = f"{names.get(name, name)}{where}{_seeded(stage)}{_not_learned(stage)}"
+    return f"static world model: {said}"
+
+
+def _seeded(stage: object | None) -> str:
+    """``", seeded by the map M (N obstacle cells of R m)"`` for an occupancy grid with a
+    prior map (``--map``), so that the user sees the map was read; else empty."""
+    prior = getattr(stage, "prior", None)
+    if prior is None:
+        return ""
+    cells = int(np.count_nonzero(prior.occupied))
+    return f", seeded by the map {prior.path} ({cells} obstacle cells of {prior.resolution:g} m)"
 
 
 def _not_learned(stage: object | None) -> str:

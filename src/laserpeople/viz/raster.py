@@ -50,12 +50,14 @@ class RenderResult:
         frames: Number of images written (1 for a PNG).
         size: Image ``(width, height)`` [px].
         extent: The shown area ``(xmin, xmax, ymin, ymax)`` [m] before squaring the metres.
+        overview_scans: Scans drawn into a trajectory overview (0: not an overview).
     """
 
     path: Path
     frames: int
     size: tuple[int, int]
     extent: Extent
+    overview_scans: int = 0
 
 
 def _pil() -> object:
@@ -605,4 +607,4 @@ def plot_overview(
     canvas.draw()
     image = np.ascontiguousarray(np.asarray(canvas.buffer_rgba())[:, :, :3])
     fig.clear()
-    return RenderResult(save_png(image, out), 1, size, extent)
+    return RenderResult(save_png(image, out), 1, size, extent, overview_scans=n_frames)

@@ -52,8 +52,10 @@ reference recorded before keeps checking the tracker's decisions."""
 REFERENCE_SIZE_COUNT = "legs"
 REFERENCE_SIZE_STD = 0.25
 """How the reference counted and filtered group sizes (the defaults are now "resolved"
-and 0.15, docs/groups.md "Group size"), pinned for the same reason: the size is a state
-of its own that no likelihood reads, so the decisions checked do not depend on it."""
+and 0.15, docs/groups.md "Group size"), pinned for the same reason. No likelihood reads
+the size, but with a range of counts (``stride_near``, ``stride_far``) the size read
+decides a tie where two tracks of one group coincide (the hall at 25.5 s: one track kept
+instead of a merge), so the reference was recorded again with the range."""
 
 
 def track_frames(

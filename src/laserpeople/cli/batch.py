@@ -22,6 +22,7 @@ from laserpeople.cli.common import (
     RestampOption,
     WorldFrameOption,
     console,
+    plain,
     say,
     warn,
 )
@@ -69,7 +70,6 @@ def expand(patterns: list[str]) -> list[Path]:
 def render(rows: list[TopicRow], title: str) -> Table:
     """The summary rows as a rich table (names, topics and errors as plain text: a file
     named ``run[a].bag`` or an error quoting ``[leg_tracker]`` is not rich markup)."""
-    from rich.markup import escape
     from rich.table import Table
 
     table = Table(title=title, show_header=True)
@@ -89,8 +89,8 @@ def render(rows: list[TopicRow], title: str) -> Table:
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for r in rows:
         table.add_row(
-            escape(r.name),
-            escape(r.topic),
+            plain(r.name),
+            plain(r.topic),
             str(r.scans),
             f"{r.duration_s:.1f}",
             str(r.people),
@@ -99,7 +99,7 @@ def render(rows: list[TopicRow], title: str) -> Table:
             f"{r.track_ms_per_scan:.2f}",
             r.status,
             str(r.attempts),
-            escape(r.error),
+            plain(r.error),
         )
     return table
 
@@ -313,7 +313,7 @@ def _sweep(
     for rank, s in enumerate(result.ranked, start=1):
         table.add_row(
             str(rank),
-            s.label,
+            plain(s.label),
             *(num(s.tune.get(m)) for m in METRICS),
             *(num(s.held_out.get(m)) for m in METRICS),
             str(s.failed),

@@ -21,6 +21,7 @@ from laserpeople.errors import ConfigError, NotBuiltError
 
 if TYPE_CHECKING:
     from rich.console import Console
+    from rich.text import Text
 
     from laserpeople.io import RecordingSource
 
@@ -195,6 +196,15 @@ class _LazyConsole:
         if self._console is None:
             self._console = make_console(self._stderr)
         return getattr(self._console, name)
+
+
+def plain(text: object) -> Text:
+    """``text`` as written, for a rich table's title or cell or a console line: never markup
+    nor an emoji code. A file named ``run[a].bag``, a topic, a track id or an error quoting
+    ``[leg_tracker]`` would otherwise lose its brackets, and ``:fire:`` become a picture."""
+    from rich.text import Text
+
+    return Text(str(text))
 
 
 console = cast("Console", _LazyConsole(stderr=False))

@@ -96,3 +96,41 @@ def test_fit_prints_recordings_and_notes_as_written(capsys: pytest.CaptureFixtur
     _print(result)
     out = capsys.readouterr().out
     assert "12 of 24 scans of [leg] tracks" in out and f"│ {NAME} " in out
+
+
+def test_an_error_names_the_file_as_written(tmp_path: Path) -> None:
+    """The error line (a pipe or a terminal alike) keeps ``[a]`` and ``:fire:``."""
+    import os
+    import subprocess
+    import sys
+
+    src = Path(__file__).resolve().parents[1] / "src"
+    missing = tmp_path / f"{NAME}.bag"
+    done = subprocess.run(
+        [sys.executable, "-m", "laserpeople.cli", "info", str(missing)],
+        env=dict(os.environ, PYTHONPATH=str(src)),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 1
+    assert done.stderr.startswith(f"error: {missing}: file not found"), done.stderr
+
+
+def test_status_lines_on_a_terminal_keep_the_text(monkeypatch: pytest.MonkeyPatch) -> None:
+    """On a terminal status lines go through rich: still no markup and no emoji."""
+    import io
+
+    from rich.console import Console
+
+    from laserpeople.cli import common
+
+    buf = io.StringIO()
+    monkeypatch.setattr(common, "_isatty", lambda stream: True)
+    monkeypatch.setattr(common.STATE, "quiet", False)
+    monkeypatch.setattr(common.err_console, "_console", Console(file=buf, width=200))
+    common.say(f"wrote {NAME}.csv")
+    common.warn("bad value of [leg_tracker] people.gate")
+    assert buf.getvalue() == (
+        f"wrote {NAME}.csv\nwarning: bad value of [leg_tracker] people.gate\n"
+    )

@@ -369,11 +369,10 @@ def main() -> None:
     except LaserPeopleError as exc:
         if STATE.debug:
             raise
-        from rich.markup import escape
+        from rich.text import Text
 
-        err_console.print(
-            f"[bold red]error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True
-        )
+        # the message as written: file names and topics are neither markup nor emoji codes
+        err_console.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
         sys.exit(1)
     except KeyboardInterrupt:
         err_console.print("interrupted")

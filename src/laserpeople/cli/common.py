@@ -372,7 +372,7 @@ def _status_line(text: str) -> None:
     tabs), without importing rich's console there (a tenth of a second of a run that
     prints only status lines)."""
     if _isatty(sys.stderr):
-        err_console.print(text, highlight=False, markup=False, soft_wrap=True)
+        err_console.print(plain(text), soft_wrap=True)
     else:
         sys.stderr.write(text + "\n")
         sys.stderr.flush()

@@ -134,3 +134,60 @@ def test_status_lines_on_a_terminal_keep_the_text(monkeypatch: pytest.MonkeyPatc
     assert buf.getvalue() == (
         f"wrote {NAME}.csv\nwarning: bad value of [leg_tracker] people.gate\n"
     )
+
+
+BAG_HEAD = b"#ROSBAG V2.0\nrest of a bag"
+MCAP_HEAD = b"\x89MCAP0\r\nrest of an mcap"
+NPZ_HEAD = b"PK\x03\x04rest of a zip"
+
+
+@pytest.mark.parametrize(
+    ("name", "head", "says"),
+    [
+        ("run.mcap", BAG_HEAD, "is a ROS 1 bag by its first bytes, but named '.mcap'"),
+        ("run.txt", BAG_HEAD, "is a ROS 1 bag by its first bytes, but named '.txt'"),
+        ("run.npz", BAG_HEAD, "is a ROS 1 bag by its first bytes, but named '.npz'"),
+        ("run", BAG_HEAD, "is a ROS 1 bag by its first bytes, but has no extension"),
+        ("run.bag", MCAP_HEAD, "is an MCAP file by its first bytes, but named '.bag'"),
+        ("run.bag", NPZ_HEAD, "is a zip archive (an .npz recording) by its first bytes"),
+    ],
+)
+def test_a_recording_of_another_format_than_its_extension_is_named_so(
+    tmp_path: Path, name: str, head: bytes, says: str
+) -> None:
+    """Not "corrupt, try rosbag reindex" nor "no laser lines" for a whole file renamed:
+    the error names what it is and the extension to give it."""
+    from laserpeople.errors import RecordingError
+    from laserpeople.io import open_recording
+
+    path = tmp_path / name
+    path.write_bytes(head)
+    with pytest.raises(RecordingError) as err:
+        open_recording(path)
+    message = str(err.value)
+    assert says in message and "reindex" not in message, message
+    suffix = {NPZ_HEAD: ".npz", MCAP_HEAD: ".mcap"}.get(head, ".bag")
+    assert f"rename it to run{suffix}:" in message
+
+
+@pytest.mark.parametrize(("name", "head"), [("truth.mcap", BAG_HEAD), ("truth.bag", NPZ_HEAD)])
+def test_a_truth_bag_of_another_format_is_named_so(tmp_path: Path, name: str, head: bytes) -> None:
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.bag_guard import check_bag_file
+
+    path = tmp_path / name
+    path.write_bytes(head)
+    with pytest.raises(RecordingError, match="by its first bytes, but named"):
+        check_bag_file(path)
+
+
+def test_files_of_their_own_format_open_as_before(tmp_path: Path, recording: Path) -> None:
+    from laserpeople.io import open_recording
+    from laserpeople.io.sniff import check_extension
+
+    check_extension(recording)  # an .npz named .npz
+    log = tmp_path / "run.log"
+    log.write_text("# a CARMEN log\nODOM 0 0 0 0 0 0 1.0 host 1.0\n")
+    check_extension(log)  # text: the CARMEN reader says what it lacks
+    with open_recording(recording) as rec:
+        assert rec.topics()

@@ -13,6 +13,7 @@ from typing import Any, Protocol, runtime_checkable
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
+from laserpeople.io.sniff import check_extension
 from laserpeople.scan import Scan
 from laserpeople.truth import TruthFrame
 
@@ -82,6 +83,7 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
             path=p,
             hint="give a file, or a ROS 2 bag folder (one with metadata.yaml)",
         )
+    check_extension(p)
     if suffix == ".npz":
         extra = set(options) - {"on_error"}
         if extra:

@@ -191,3 +191,26 @@ def test_files_of_their_own_format_open_as_before(tmp_path: Path, recording: Pat
     check_extension(log)  # text: the CARMEN reader says what it lacks
     with open_recording(recording) as rec:
         assert rec.topics()
+
+
+@pytest.mark.parametrize("command", ["track", "detect", "view"])
+def test_a_bag_without_a_laser_topic_names_the_topics_it_has(tmp_path: Path, command: str) -> None:
+    """Every command says which topics the bag has, not only that none is a laser's."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from laserpeople.errors import TopicNotFoundError
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    text = store.types["std_msgs/msg/String"]
+    bag = tmp_path / "chatter.bag"
+    with Writer(bag) as writer:
+        conn = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=store)
+        for k in range(3):
+            data = store.serialize_ros1(text(data=f"hello {k}"), "std_msgs/msg/String")
+            writer.write(conn, (1000 + k) * 10**9, data)
+    out = tmp_path / ("out.png" if command == "view" else "out.csv")
+    run = CliRunner().invoke(app, [command, str(bag), "-o", str(out)])
+    assert isinstance(run.exception, TopicNotFoundError), run.output
+    assert "topics here: /chatter (std_msgs/msg/String)" in str(run.exception)
+    assert not out.exists()

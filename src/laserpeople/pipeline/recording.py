@@ -12,10 +12,11 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
+from laserpeople.io.topics import no_laser_topic
 from laserpeople.pipeline.background import (
     StaticWorldParams,
     background_of,
@@ -100,7 +101,7 @@ def resolve_topics(recording: RecordingSource, topics: Sequence[str] | None) -> 
     leading ``/`` is optional for bags), default the first laser topic."""
     names = [t.name for t in recording.topics()]
     if not names:
-        raise LaserPeopleError("the recording has no laser topic", path=recording.path)
+        no_laser_topic(recording, recording.path)
     if not topics:
         return names[:1]
     if list(topics) == [ALL_TOPICS]:

@@ -214,3 +214,89 @@ def test_a_bag_without_a_laser_topic_names_the_topics_it_has(tmp_path: Path, com
     assert isinstance(run.exception, TopicNotFoundError), run.output
     assert "topics here: /chatter (std_msgs/msg/String)" in str(run.exception)
     assert not out.exists()
+
+
+TRUTH = "scan,stamp,person_id,x,y\n0,10.0,1,1.0,2.0\n1,10.1,1,1.1,2.0\n"
+
+
+def test_a_truth_csv_with_a_byte_order_mark_reads(tmp_path: Path) -> None:
+    """A spreadsheet's "CSV UTF-8" export starts with a byte order mark: the header's first
+    name is still ``scan``."""
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbf" + TRUTH.encode())
+    frames = read_truth_csv(path)
+    assert [f.scan_index for f in frames] == [0, 1]
+    assert frames[1].positions.tolist() == [[1.1, 2.0]]
+
+
+def test_a_tracks_csv_with_a_byte_order_mark_reads(tmp_path: Path, tracks: Path) -> None:
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+
+    bom = tmp_path / "bom.csv"
+    bom.write_bytes(b"\xef\xbb\xbf" + tracks.read_bytes())
+    got = [len(t) for t in iter_tracks_csv(bom, frame="sensor")]
+    want = [len(t) for t in iter_tracks_csv(tracks, frame="sensor")]
+    assert got == want and sum(got) > 0
+
+
+@pytest.mark.parametrize(("sep", "says"), [(";", "separated by ';'"), ("\t", "separated by tabs")])
+def test_a_csv_of_another_separator_says_so(tmp_path: Path, sep: str, says: str) -> None:
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    path = tmp_path / "semi.csv"
+    path.write_text(TRUTH.replace(",", sep))
+    with pytest.raises(RecordingError, match=f"{says}: save the CSV with commas"):
+        read_truth_csv(path)
+    path.write_text(TRUTH.replace("person_id", "person"))  # commas, a column misnamed
+    with pytest.raises(RecordingError, match="missing column") as err:
+        read_truth_csv(path)
+    assert "separated" not in str(err.value)
+
+
+def test_truth_columns_not_read_are_said(tmp_path: Path) -> None:
+    """A column the reader does not know (``group`` for ``group_id``) is not dropped
+    silently: a warning names it; ``group_id`` and ``frame`` are read without one."""
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    path = tmp_path / "extra.csv"
+    path.write_text("scan,stamp,person_id,x,y,group,note\n0,10.0,1,1.0,2.0,3,a\n")
+    with pytest.warns(LaserPeopleWarning, match=r"column\(s\) group, note not read"):
+        frames = read_truth_csv(path)
+    assert frames[0].group_ids.tolist() == [-1]
+    path.write_text("scan,stamp,person_id,x,y,group_id,frame\n0,10.0,1,1.0,2.0,3,sensor\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LaserPeopleWarning)
+        assert read_truth_csv(path)[0].group_ids.tolist() == [3]
+
+
+def test_the_command_line_prints_warnings_as_warning_lines(tmp_path: Path, tracks: Path) -> None:
+    """A torn tracks CSV and an unread truth column end in ``warning: ...`` lines, not in
+    Python's ``file.py:123: TornScanWarning:`` with the source line after it."""
+    import os
+    import subprocess
+    import sys
+
+    torn = tmp_path / "torn.csv"
+    data = tracks.read_bytes()
+    torn.write_bytes(data[: len(data) // 2])
+    truth = tmp_path / "truth.csv"
+    truth.write_text(TRUTH.replace("y\n", "y,note\n").replace("2.0\n", "2.0,a\n"))
+    src = Path(__file__).resolve().parents[1] / "src"
+    done = subprocess.run(
+        [sys.executable, "-m", "laserpeople.cli", "evaluate", str(torn), "--truth", str(truth)],
+        env=dict(os.environ, PYTHONPATH=str(src)),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.splitlines()
+    assert any(line.startswith(f"warning: {torn}: scan ") and "cut off" in line for line in lines)
+    assert any(line.startswith(f"warning: {truth}: column(s) note not read") for line in lines)
+    assert "Warning:" not in done.stderr and ".py:" not in done.stderr, done.stderr

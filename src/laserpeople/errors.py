@@ -29,6 +29,11 @@ def cut_long_values(text: str) -> str:
     return _LONG.sub(lambda m: shorten(m.group(0)), text)
 
 
+class LaserPeopleWarning(UserWarning):
+    """Base class of this package's warnings about input (what was left out or not read);
+    the command line prints one as ``warning: MESSAGE``, without Python's source line."""
+
+
 class LaserPeopleError(Exception):
     """Base class of every error caused by input, files or parameters."""
 

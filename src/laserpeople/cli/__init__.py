@@ -25,7 +25,7 @@ from typing import Any
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
 
-from laserpeople.cli.common import STATE, err_console
+from laserpeople.cli.common import STATE, err_console, warnings_as_lines
 from laserpeople.errors import LaserPeopleError, cut_long_values
 
 GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
@@ -287,6 +287,7 @@ def _global_options(
     """Global flags (the program's help text is :data:`HELP`)."""
     STATE.debug = debug
     STATE.quiet = quiet
+    warnings_as_lines()
 
 
 COMMANDS = (

@@ -402,6 +402,26 @@ def warn(message: str) -> None:
     _status_line(f"warning: {message}")
 
 
+def warnings_as_lines() -> None:
+    """Print this package's warnings (:class:`~laserpeople.errors.LaserPeopleWarning`) as
+    :func:`warn` lines, not as Python shows them (with the source file and line of the
+    code that warned); other warnings, and all with --debug, as Python shows them."""
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+
+    shown = getattr(warnings.showwarning, "python_showwarning", warnings.showwarning)
+
+    def show(message: Warning | str, category: type[Warning], *args: Any, **kw: Any) -> None:
+        if issubclass(category, LaserPeopleWarning) and not STATE.debug:
+            warn(str(message))
+        else:
+            shown(message, category, *args, **kw)
+
+    show.python_showwarning = shown  # type: ignore[attr-defined]
+    warnings.showwarning = show
+
+
 def ignored_sections(path: Path | None, sections: Sequence[str]) -> None:
     """Say which sections of a shared ``--config`` file this command does not read."""
     for name in sections:

@@ -38,7 +38,7 @@ class CsvRows:
     def __init__(self, lines: Iterable[str], path: str | Path, what: str, hint: str) -> None:
         if csv.field_size_limit() != FIELD_LIMIT:
             csv.field_size_limit(FIELD_LIMIT)
-        self._reader = csv.DictReader(lines)
+        self._reader = csv.DictReader(_without_bom(lines))
         self.path = Path(path)
         self.what = what
         self.hint = hint
@@ -65,6 +65,28 @@ class CsvRows:
     def fieldnames(self, names: list[str]) -> None:
         self._reader.fieldnames = names
 
+    def require(self, columns: Iterable[str], expected: str) -> list[str]:
+        """The header's column names (stripped of spaces), checked to hold ``columns``.
+
+        Raises:
+            RecordingError: a column is missing; names them, the ``expected`` header, and
+                the separator when the header is separated by ``;`` or tabs.
+        """
+        names = [c.strip() for c in self.fieldnames]
+        self.fieldnames = names
+        missing = [c for c in columns if c not in names]
+        if not missing:
+            return names
+        hint = f"expected header {expected}"
+        if len(names) == 1:
+            sep = next((s for s in (";", "\t", "|") if s in names[0]), None)
+            if sep is not None:
+                shown = "tabs" if sep == "\t" else repr(sep)
+                hint += f"; this header is separated by {shown}: save the CSV with commas"
+        raise RecordingError(
+            f"not a {self.what}: missing column(s) {', '.join(missing)}", path=self.path, hint=hint
+        )
+
     def __iter__(self) -> Iterator[dict[str, Any]]:
         return self
 
@@ -73,3 +95,17 @@ class CsvRows:
             return next(self._reader)
         except csv.Error as exc:
             raise self._error(exc) from exc
+
+
+BOM = "\ufeff"
+"""The byte order mark a spreadsheet's "CSV UTF-8" export puts before the header."""
+
+
+def _without_bom(lines: Iterable[str]) -> Iterator[str]:
+    """``lines`` with a byte order mark before the first one left out."""
+    it = iter(lines)
+    first = next(it, None)
+    if first is None:
+        return
+    yield first.removeprefix(BOM)
+    yield from it

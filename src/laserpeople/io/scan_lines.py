@@ -28,12 +28,12 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-from laserpeople.errors import RecordingError
+from laserpeople.errors import LaserPeopleWarning, RecordingError
 
 PAGE = mmap.PAGESIZE  # bytes the kernel copies between two checks for a fatal signal
 
 
-class TornScanWarning(UserWarning):
+class TornScanWarning(LaserPeopleWarning):
     """The last scan of a CSV was cut off mid-write and is left out."""
 
 

@@ -448,14 +448,7 @@ def _read_tracks(
     with open(p, newline="", encoding="utf-8") as fh:
         torn: list[str] = []
         reader = CsvRows(complete_lines(fh, torn), p, "tracks CSV", TRACKS_HINT)
-        columns = reader.fieldnames
-        missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
-        if missing:
-            raise RecordingError(
-                f"not a tracks CSV: missing column(s) {', '.join(missing)}",
-                path=p,
-                hint=f"expected header {','.join(HEADER)}",
-            )
+        reader.require(("scan", "stamp", "track_id", "kind", "x", "y"), ",".join(HEADER))
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1

@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import csv
 import math
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 
-from laserpeople.errors import RecordingError
+from laserpeople.errors import LaserPeopleWarning, RecordingError
 from laserpeople.io.csv_read import CsvRows
 from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE, parse_frame_cell
 from laserpeople.scan import CoordinateFrame
@@ -68,14 +69,14 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
     frame: CoordinateFrame | None = None
     with open(p, newline="", encoding="utf-8") as fh:
         reader = CsvRows(fh, p, "ground-truth CSV", TRUTH_HINT)
-        columns = [c.strip() for c in reader.fieldnames]
-        reader.fieldnames = columns
-        missing = [c for c in REQUIRED if c not in columns]
-        if missing:
-            raise RecordingError(
-                f"not a ground-truth CSV: missing column(s) {', '.join(missing)}",
-                path=p,
-                hint=f"expected header {','.join(REQUIRED)}[,group_id]",
+        columns = reader.require(REQUIRED, f"{','.join(REQUIRED)}[,group_id][,frame]")
+        unread = [c for c in columns if c not in (*TRUTH_CSV_HEADER, "frame")]
+        if unread:
+            warnings.warn(
+                f"{p}: column(s) {', '.join(unread)} not read (a ground-truth CSV's columns "
+                f"are {','.join(REQUIRED)}[,group_id][,frame])",
+                LaserPeopleWarning,
+                stacklevel=3,
             )
         for line, row in enumerate(reader, start=2):
             scan, stamp, person = _parse_row(row, p, line)

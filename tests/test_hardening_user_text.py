@@ -300,3 +300,56 @@ def test_the_command_line_prints_warnings_as_warning_lines(tmp_path: Path, track
     assert any(line.startswith(f"warning: {torn}: scan ") and "cut off" in line for line in lines)
     assert any(line.startswith(f"warning: {truth}: column(s) note not read") for line in lines)
     assert "Warning:" not in done.stderr and ".py:" not in done.stderr, done.stderr
+
+
+def test_a_config_saved_with_a_byte_order_mark_reads(tmp_path: Path) -> None:
+    """An editor's "UTF-8 with BOM": not 'Invalid statement (at line 1, column 1)'."""
+    from laserpeople.config import load_config
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf[leg_tracker]\nlambda_new = 0.002\n")
+    assert load_config(LegTrackerParams, path).lambda_new == 0.002
+
+
+@pytest.mark.parametrize(
+    ("text", "says"),
+    [
+        (b'[mounts.front]\nparent = "base\xe9"\nx = 0\ny = 0\ntheta = 0\n', "byte 29 is not UTF-8"),
+        (b"[mounts.front]\nx = " + b"[" * 5000 + b"]" * 5000 + b"\n", "nest 5000 deep"),
+        (
+            b'[mounts.front]\nparent = "base"\nx = 1e300\ny = 0\ntheta = 0\n',
+            "mount 'front' is off its robot",
+        ),
+        (b'[mounts.front]\nparent = "base"\nx = 0\ny = 0\ntheta = nan\n', "a finite angle"),
+    ],
+)
+def test_a_hostile_mounts_file_is_an_error_naming_it(
+    tmp_path: Path, text: bytes, says: str
+) -> None:
+    """Not a traceback (UnicodeDecodeError, RecursionError), and not a pose of 1e300 m that
+    the reader then blames on the recording ("scan 0 is damaged")."""
+    from laserpeople.alignment import read_mounts
+    from laserpeople.errors import ConfigError
+
+    path = tmp_path / "mounts.toml"
+    path.write_bytes(text)
+    with pytest.raises(ConfigError, match=says) as err:
+        read_mounts(path)
+    assert str(err.value).startswith(f"{path}: ")
+
+
+def test_label_probabilities_not_summing_to_one_name_the_keys(tmp_path: Path) -> None:
+    """The error names the keys the file writes (``p_det_free``) and the paper by its
+    authors, not the code ``000`` of the source."""
+    from laserpeople.config import load_config
+    from laserpeople.errors import ConfigError
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    path = tmp_path / "sum.toml"
+    path.write_text("[leg_tracker]\np_det_approved = 0.25\n")
+    with pytest.raises(ConfigError) as err:
+        load_config(LegTrackerParams, path)
+    message = str(err.value)
+    assert "approved tracks (p_det_approved, p_occ_approved, p_del_approved)" in message
+    assert "must be 1 (Arras et al. 2008 eq. 8), got 1.05" in message and "000" not in message

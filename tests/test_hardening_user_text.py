@@ -353,3 +353,51 @@ def test_label_probabilities_not_summing_to_one_name_the_keys(tmp_path: Path) ->
     message = str(err.value)
     assert "approved tracks (p_det_approved, p_occ_approved, p_del_approved)" in message
     assert "must be 1 (Arras et al. 2008 eq. 8), got 1.05" in message and "000" not in message
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        (["track", "{rec}", "-o", "{tmp}/other.bag"], "-o writes a tracks CSV, not a .bag file"),
+        (["track", "{rec}", "-o", "{tmp}/t.parquet"], "not a .parquet file"),
+        (["detect", "{rec}", "-o", "{tmp}/d.npz"], "-o writes a detections CSV, not a .npz"),
+        (["train", "{rec}", "-o", "{tmp}/m.csv"], "-o writes a model JSON, not a .csv file"),
+        (["fit", "{rec}", "-o", "{tmp}/p.json"], "-o writes the learned parameters as TOML"),
+        (["align", "{rec}", "-o", "{tmp}/m.bag"], "-o writes the mounts as TOML, not a .bag"),
+        (
+            ["evaluate", "{tmp}/t.csv", "--truth", "{rec}", "--per-frame", "{tmp}/f.png"],
+            "--per-frame writes the per-frame table as CSV, not a .png file",
+        ),
+    ],
+)
+def test_an_output_named_as_another_format_is_refused_before_writing(
+    tmp_path: Path, recording: Path, argv: list[str], says: str
+) -> None:
+    """A CSV written to ``other.bag`` would replace a recording, and to ``t.parquet`` is no
+    Parquet file: the option's format is said, and nothing is written."""
+    from laserpeople.errors import ConfigError
+
+    (tmp_path / "t.csv").write_text("scan,stamp,track_id,kind,x,y\n")
+    (tmp_path / "other.bag").write_bytes(b"#ROSBAG V2.0\nsomebody's recording")
+    args = [a.format(rec=recording, tmp=tmp_path) for a in argv]
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, ConfigError), run.output
+    assert says in str(run.exception)
+    assert (tmp_path / "other.bag").read_bytes().endswith(b"somebody's recording")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.bag", "t.csv"]
+
+
+def test_other_extensions_are_written_as_asked(tmp_path: Path, recording: Path) -> None:
+    out = tmp_path / "tracks.txt"
+    run = CliRunner().invoke(app, ["--quiet", "track", str(recording), "-o", str(out)])
+    assert run.exit_code == 0, run.output
+    assert out.read_text().startswith("scan,stamp,track_id")
+
+
+def test_a_neko_directory_given_as_a_recording_points_to_train_neko(tmp_path: Path) -> None:
+    from laserpeople.errors import RecordingError
+    from laserpeople.io import open_recording
+
+    (tmp_path / "xy_data.txt").write_text("720 2 120\n")
+    with pytest.raises(RecordingError, match="read by `laserpeople train --neko DIR`"):
+        open_recording(tmp_path)

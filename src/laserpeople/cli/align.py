@@ -37,10 +37,11 @@ def register(app: typer.Typer) -> None:
         from rich.table import Table
 
         from laserpeople.alignment import align_recording, write_mounts
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.poses import parse_mounts
 
         check_outputs({"-o": output}, [recording])
+        check_output_format("-o", output, ".toml", "the mounts as TOML")
         notes: list[str] = []
         mounts = align_recording(
             recording,

@@ -94,7 +94,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.io.detections_csv import DetectionsCsvWriter
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.pipeline import (
             DetectionsCsvSink,
             DetectLegs,
@@ -130,6 +130,7 @@ def register(app: typer.Typer) -> None:
             else None
         )
         check_outputs({"-o": output}, [recording, model, config])
+        check_output_format("-o", output, ".csv", "a detections CSV")
         rec = open_source(recording, world_frame, mount or [], on_error)
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)

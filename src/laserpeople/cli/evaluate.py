@@ -212,7 +212,7 @@ def register(app: typer.Typer) -> None:
             )
         tracks, truth = tracks_args[0], truth_args[0]
         from laserpeople.evaluation.recordings import unstated_tracks_frame
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
 
         try:
@@ -227,6 +227,7 @@ def register(app: typer.Typer) -> None:
         check_outputs(
             {"--per-frame": per_frame}, [tracks, truth_path, truth_path.rsplit(":", 1)[0]]
         )
+        check_output_format("--per-frame", per_frame, ".csv", "the per-frame table as CSV")
         names = TrackIdNames()
         kinds = (params.kind,)
         notes: list[str] = []

@@ -74,11 +74,12 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         from laserpeople.fitting.flow import learn, write_result
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.truth_bag import split_truth_spec
 
         truth_paths = [split_truth_spec(t)[0] for t in truth or []]
         check_outputs({"-o": output}, [*recordings, *truth_paths, config])
+        check_output_format("-o", output, ".toml", "the learned parameters as TOML")
         result = learn(
             recordings,
             truth or [],

@@ -181,11 +181,19 @@ def run_tracking(
     if detector is None:
         detector = make_detector("adaboost", None, config)
     from laserpeople.background.occupancy import map_files
-    from laserpeople.io.paths import check_outputs
+    from laserpeople.io.paths import check_output_format, check_outputs
 
     check_outputs(
         {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate},
         [recording, config, *map_files(map_path)],
+    )
+    check_output_format(
+        "-o",
+        output,
+        ".csv",
+        "a tracks CSV",
+        "give a path ending in .csv; --bag writes the tracks as a bag, "
+        "`laserpeople batch` as Parquet",
     )
     topics = [topic] if isinstance(topic, str) else topic
     # trackers of points may report groups: their outlines go into the CSV for `view`

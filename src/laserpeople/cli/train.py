@@ -249,7 +249,7 @@ def register(app: typer.Typer) -> None:
         if unlabelled not in ("negative", "drop"):
             raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
         mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
 
         check_outputs(
             {"-o": output},
@@ -263,6 +263,7 @@ def register(app: typer.Typer) -> None:
                 *test_negatives,
             ],
         )
+        check_output_format("-o", output, ".json", "a model JSON")
         seg = JumpDistanceParams(threshold=jump_distance)
         data = load_labelled(
             list(recordings or []),

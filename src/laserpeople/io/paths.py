@@ -36,6 +36,43 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
+FORMATS = frozenset(
+    {
+        ".bag", ".mcap", ".db3", ".npz", ".log", ".clf",  # recordings
+        ".csv", ".parquet", ".json", ".toml", ".yaml", ".yml",  # tables, models, settings
+        ".png", ".gif", ".mp4", ".rrd",  # pictures and viewer files
+    }
+)  # fmt: skip
+"""Extensions of the formats this package reads or writes."""
+
+
+def check_output_format(
+    name: str, path: Path | None, suffix: str, what: str, hint: str = ""
+) -> None:
+    """Refuse an output whose extension names another format than the one written: a CSV
+    written to ``tracks.parquet`` is no Parquet file, and to ``other.bag`` it replaces a
+    recording. Other extensions (``.txt``, none) and ``/dev/...`` are written as asked.
+
+    Args:
+        name: The option (``"-o"``).
+        path: The output (None: not given).
+        suffix: The extension of what is written (``".csv"``).
+        what: What is written (``"a tracks CSV"``).
+        hint: What to do instead (default: give a path ending in ``suffix``).
+
+    Raises:
+        ConfigError: names the option, the path and what it writes.
+    """
+    if path is None:
+        return
+    got = path.suffix.lower()
+    if got != suffix and got in FORMATS:
+        raise ConfigError(
+            f"{name} writes {what}, not a {got} file: {path}",
+            hint=hint or f"give a path ending in {suffix}",
+        )
+
+
 def check_outputs(
     outputs: Mapping[str, str | Path | None], inputs: Iterable[str | Path | None]
 ) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import Any
 
 import pytest
 from typer.testing import CliRunner
@@ -401,3 +402,39 @@ def test_a_neko_directory_given_as_a_recording_points_to_train_neko(tmp_path: Pa
     (tmp_path / "xy_data.txt").write_text("720 2 120\n")
     with pytest.raises(RecordingError, match="read by `laserpeople train --neko DIR`"):
         open_recording(tmp_path)
+
+
+def _ctrl_c_after(n: int) -> Any:
+    """A stand-in for ``cli.common.progress`` that passes ``n`` items, then is Ctrl-C."""
+
+    def progress(items: Any, total: Any = None, description: str = "") -> Any:
+        for k, item in enumerate(items):
+            if k == n:
+                raise KeyboardInterrupt
+            yield item
+
+    return progress
+
+
+def test_detect_interrupted_says_so_and_leaves_a_complete_csv(
+    tmp_path: Path, recording: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from laserpeople.cli import detect
+    from laserpeople.io.detections_csv import iter_detections_csv
+
+    monkeypatch.setattr(detect, "progress", _ctrl_c_after(5))  # frame 5 is written, not passed on
+    out = tmp_path / "legs.csv"
+    run = CliRunner().invoke(app, ["detect", str(recording), "-o", str(out)])
+    assert run.exit_code == 130
+    assert f"interrupted (Ctrl-C) after 6 scans: {out} holds the legs" in run.output
+    assert sorted({int(r["scan"]) for r in iter_detections_csv(out)}) == [0, 1, 2, 3, 4, 5]
+
+
+def test_any_command_interrupted_says_so(recording: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """typer ends a Ctrl-C with status 130 and not a word; the program says it stopped."""
+    from laserpeople.cli import info
+
+    monkeypatch.setattr(info, "progress", _ctrl_c_after(3))
+    run = CliRunner().invoke(app, ["info", str(recording)])
+    assert run.exit_code == 130
+    assert run.output.strip().endswith("interrupted (Ctrl-C)")

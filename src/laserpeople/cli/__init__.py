@@ -223,7 +223,11 @@ class LaserPeopleGroup(TyperGroup):
 
     def invoke(self, ctx: Any) -> Any:
         with _short_usage_errors():
-            return super().invoke(ctx)
+            try:
+                return super().invoke(ctx)
+            except KeyboardInterrupt:  # (typer would exit 130 without a word)
+                err_console.print("interrupted (Ctrl-C)", markup=False, highlight=False)
+                raise typer.Exit(130) from None
 
 
 def _help_flag_false(option: Any) -> Any:

@@ -16,6 +16,7 @@ from laserpeople.cli.common import (
     progress,
     report_damage,
     say,
+    warn,
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
 from laserpeople.config import check_sections, load_config
@@ -152,6 +153,7 @@ def register(app: typer.Typer) -> None:
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
+        interrupted = False
         try:
             for step in progress(pipe, total=total):
                 for scan, result in zip(step.frame.scans, stage.classifications, strict=True):
@@ -179,6 +181,9 @@ def register(app: typer.Typer) -> None:
                         truth = beam_truth_labeller(scan, result.table, result.features)[ok]
                         truth_ada.append(Confusion.of(np.where(result.is_leg[ok], 1, -1), truth))
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
+        except KeyboardInterrupt:  # Ctrl-C: close the CSV with the scans done, say so
+            interrupted = True
+            pipe.close()
         finally:
             if all_segments:
                 segments.close()
@@ -195,6 +200,13 @@ def register(app: typer.Typer) -> None:
             f"{counts['legs']} legs detected, {counts['invalid']} invalid beams skipped; "
             f"wrote {output}"
         )
+        if interrupted:
+            written = counts["scans"] if all_segments else sink.scans
+            warn(
+                f"interrupted (Ctrl-C) after {written} scans: {output} holds the legs "
+                "of those scans and is a complete CSV"
+            )
+            raise typer.Exit(130)
         if report:
             if not truth_ada:
                 raise ConfigError(

@@ -438,3 +438,39 @@ def test_any_command_interrupted_says_so(recording: Path, monkeypatch: pytest.Mo
     run = CliRunner().invoke(app, ["info", str(recording)])
     assert run.exit_code == 130
     assert run.output.strip().endswith("interrupted (Ctrl-C)")
+
+
+def test_a_progress_bar_on_a_terminal_ends_cleanly(recording: Path) -> None:
+    """On a terminal the progress bar's live display enters the stderr console as a context
+    manager; the console made on first use stood in for it without one, and every command
+    with a bar ended in 'lost sys.stderr' (exit status 1) after its output."""
+    import os
+    import pty
+    import subprocess
+    import sys
+
+    src = Path(__file__).resolve().parents[1] / "src"
+    leader, follower = pty.openpty()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "laserpeople.cli", "info", str(recording)],
+        env=dict(os.environ, PYTHONPATH=str(src), COLUMNS="60", TERM="xterm"),
+        stdin=follower,
+        stdout=follower,
+        stderr=follower,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            data = os.read(leader, 65536)
+        except OSError:  # the terminal closed with the process
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(leader)
+    status = proc.wait(timeout=120)
+    text = b"".join(chunks).decode(errors="replace")
+    assert status == 0, text
+    assert "lost sys.stderr" not in text and "TypeError" not in text, text
+    assert "reading" in text and "ground truth:" in text

@@ -192,10 +192,16 @@ class _LazyConsole:
         self._stderr = stderr
         self._console: Console | None = None
 
-    def __getattr__(self, name: str) -> Any:
+    def get(self) -> Console:
+        """The console itself, made on first use: what to hand to rich's own objects
+        (a progress bar's live display enters it as a context manager, which an attribute
+        look-up cannot stand for)."""
         if self._console is None:
             self._console = make_console(self._stderr)
-        return getattr(self._console, name)
+        return self._console
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.get(), name)
 
 
 def plain(text: object) -> Text:
@@ -211,6 +217,12 @@ console = cast("Console", _LazyConsole(stderr=False))
 """The console for results (stdout)."""
 err_console = cast("Console", _LazyConsole(stderr=True))
 """The console for status lines, warnings and errors (stderr)."""
+
+
+def _stderr_console() -> Console:
+    """The console of :data:`err_console` itself (see :meth:`_LazyConsole.get`)."""
+    lazy: Any = err_console
+    return lazy.get() if isinstance(lazy, _LazyConsole) else lazy
 
 
 @dataclass
@@ -282,7 +294,7 @@ def _progress_bar(items: Iterable[T], total: int | None, description: str) -> It
         RateColumn(),
         TimeElapsedColumn(),
     ]
-    with Progress(*columns, console=err_console, transient=False) as bar:
+    with Progress(*columns, console=_stderr_console(), transient=False) as bar:
         task = bar.add_task(description, total=total)
         last = time.monotonic()
         pending = 0
@@ -327,7 +339,7 @@ class JobProgress:
                 TextColumn("{task.fields[rate]}", style="progress.data.speed"),
                 TextColumn("{task.fields[failed]}", style="red"),
                 TimeElapsedColumn(),
-                console=err_console,
+                console=_stderr_console(),
                 transient=False,
             )
             self._bar.__enter__()

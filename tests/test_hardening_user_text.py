@@ -474,3 +474,22 @@ def test_a_progress_bar_on_a_terminal_ends_cleanly(recording: Path) -> None:
     assert status == 0, text
     assert "lost sys.stderr" not in text and "TypeError" not in text, text
     assert "reading" in text and "ground truth:" in text
+
+
+def test_track_errors_mid_run_name_the_recording(tmp_path: Path) -> None:
+    """``--output-frame world`` of a recording without poses fails at its first scan,
+    where the CSV writer does not know the recording: the error names it."""
+    from dataclasses import replace
+
+    from laserpeople.errors import LaserPeopleError
+    from laserpeople.sim import SimResult
+    from laserpeople.sim.scenarios import run_scenario
+
+    result = run_scenario("figure-eight", seconds=2.0, seed=4)
+    rec = tmp_path / "no poses.npz"
+    SimResult([replace(s, pose=None) for s in result.scans], result.truth, result.meta).write(rec)
+    out = tmp_path / "t.csv"
+    run = CliRunner().invoke(app, ["track", str(rec), "-o", str(out), "--output-frame", "world"])
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    assert str(run.exception).startswith(f"{rec}: scan 0: cannot express tracks in the world")
+    assert out.read_text().startswith("scan,stamp,track_id")  # a valid CSV: the header

@@ -51,6 +51,14 @@ class LaserPeopleError(Exception):
         self.detail = cut_long_values(message)
         super().__init__(self._compose())
 
+    def located(self, path: str | Path) -> LaserPeopleError:
+        """This error, naming the file ``path`` when it names none yet (an error raised
+        where the file is not known, re-raised where it is)."""
+        if self.path is None:
+            self.path = str(path)
+            self.args = (self._compose(),)
+        return self
+
     def _compose(self) -> str:
         where = []
         if self.path is not None:

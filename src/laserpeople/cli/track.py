@@ -31,7 +31,7 @@ from laserpeople.cli.common import (
     warn,
 )
 from laserpeople.config import check_sections, load_config, origins, to_toml
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, LaserPeopleError
 
 if TYPE_CHECKING:
     from laserpeople.io import RecordingSource
@@ -246,7 +246,12 @@ def run_tracking(
     except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
         interrupted = True
         pipe.close()
-    except Exception:  # a mount left out may be why: say so before the error
+    except LaserPeopleError as exc:
+        for note in getattr(source.recording, "mount_notes", []):  # a mount left out may be
+            warn(note)  # why: say so before the error
+        exc.located(recording)  # (a scan without the pose -o needs names no file)
+        raise
+    except Exception:
         for note in getattr(source.recording, "mount_notes", []):
             warn(note)
         raise

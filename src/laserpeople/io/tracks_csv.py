@@ -86,8 +86,7 @@ def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
     pose = tracks.sensor_pose
     if pose is None:
         raise LaserPeopleError(
-            f"cannot express tracks in the {frame} frame: "
-            f"scan {tracks.scan_index} has no sensor pose",
+            f"cannot express tracks in the {frame} frame: the scan has no sensor pose",
             scan=tracks.scan_index,
             hint="use --output-frame sensor, or a recording with /tf or odometry",
         )

@@ -493,3 +493,64 @@ def test_track_errors_mid_run_name_the_recording(tmp_path: Path) -> None:
     assert isinstance(run.exception, LaserPeopleError), run.output
     assert str(run.exception).startswith(f"{rec}: scan 0: cannot express tracks in the world")
     assert out.read_text().startswith("scan,stamp,track_id")  # a valid CSV: the header
+
+
+def _ranges_scan(index: int, ranges: list[float]) -> Any:
+    import numpy as np
+
+    from laserpeople.scan import Scan
+
+    return Scan(
+        stamp=10.0 + 0.1 * index,
+        angle_min=-0.5,
+        angle_increment=0.25,
+        ranges=np.array(ranges),
+        range_min=0.1,
+        range_max=8.0,
+        sensor="/front",
+        index=index,
+    )
+
+
+def test_scans_without_a_valid_beam_are_counted() -> None:
+    """NaN, infinite, zero, negative, under range_min or over range_max: no valid beam.
+    One beam within the limits (range_max itself included) makes a scan not empty."""
+    from laserpeople.pipeline.empty_scans import EmptyScanCheck
+
+    nan, inf = float("nan"), float("inf")
+    rows = [
+        [1.0, 2.0, 3.0, 4.0, 5.0],  # 0: seen
+        [nan, inf, -inf, -1.0, 0.0],  # 1: empty
+        [0.05, 8.5, nan, nan, nan],  # 2: empty (under range_min, over range_max)
+        [nan, nan, 8.0, nan, nan],  # 3: range_max counts as a return
+        [nan, nan, nan, nan, 0.1],  # 4: range_min counts too
+        [-2.0, -2.0, -2.0, -2.0, -2.0],  # 5: empty
+    ]
+    check = EmptyScanCheck()
+    passed = list(check(_ranges_scan(k, r) for k, r in enumerate(rows)))
+    assert [s.index for s in passed] == [0, 1, 2, 3, 4, 5]
+    assert (check.scans, check.empty, check.first) == (6, 3, ("/front", 1))
+    assert check.summary().startswith("3 of 6 scans had no valid beam")
+    assert "the first: scan 1 of /front" in check.summary()
+    none = EmptyScanCheck()
+    list(none(_ranges_scan(0, r) for r in rows[:1]))
+    assert none.summary() == ""
+
+
+def test_track_says_how_many_scans_had_no_valid_beam(tmp_path: Path) -> None:
+    import numpy as np
+
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "dark.npz"
+    run_scenario("figure-eight", seconds=3.0, seed=5).write(rec)
+    with np.load(rec) as z:
+        arrays = {k: z[k] for k in z.files}
+    start, stop = arrays["scan_offset"][[10, 15]]
+    arrays["ranges"][start:stop] = np.nan  # scans 10-14 of a driver writing NaN
+    np.savez(rec, **arrays)  # type: ignore[arg-type]
+    run = CliRunner().invoke(app, ["track", str(rec), "-o", str(tmp_path / "t.csv")])
+    assert run.exit_code == 0, run.output
+    n = len(arrays["scan_index"])
+    assert f"5 of {n} scans had no valid beam" in run.output
+    assert "the first: scan 10 of " in run.output

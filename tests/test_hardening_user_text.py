@@ -554,3 +554,17 @@ def test_track_says_how_many_scans_had_no_valid_beam(tmp_path: Path) -> None:
     n = len(arrays["scan_index"])
     assert f"5 of {n} scans had no valid beam" in run.output
     assert "the first: scan 10 of " in run.output
+
+
+def test_batch_says_a_recording_named_twice_is_tracked_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from laserpeople.cli.batch import expand
+
+    a, b = tmp_path / "a.bag", tmp_path / "b.bag"
+    a.write_bytes(b"")
+    b.write_bytes(b"")
+    assert expand([str(a), str(tmp_path / "*.bag")]) == [a, b]
+    err = capsys.readouterr().err
+    assert f"named more than once by the paths and globs given, tracked once: {a}\n" in err
+    assert expand([str(b)]) == [b] and capsys.readouterr().err == ""

@@ -52,8 +52,8 @@ TABLE_ROWS = 40
 
 def expand(patterns: list[str]) -> list[Path]:
     """Recording paths from paths and globs (``**`` recurses), in the order given, each
-    once. A glob matching nothing is a ConfigError; a missing plain path is kept (its row
-    then says so)."""
+    once (a recording named twice is said, and tracked once). A glob matching nothing is a
+    ConfigError; a missing plain path is kept (its row then says so)."""
     out: list[Path] = []
     for pattern in patterns:
         if glob.has_magic(pattern):
@@ -64,7 +64,12 @@ def expand(patterns: list[str]) -> list[Path]:
             out.extend(Path(f) for f in found)
         else:
             out.append(Path(pattern))
-    return list(dict.fromkeys(out))
+    once = list(dict.fromkeys(out))
+    if len(once) < len(out):
+        twice = [str(p) for p in once if out.count(p) > 1]
+        shown = ", ".join(twice[:3]) + (f" and {len(twice) - 3} more" if len(twice) > 3 else "")
+        say(f"named more than once by the paths and globs given, tracked once: {shown}")
+    return once
 
 
 def render(rows: list[TopicRow], title: str) -> Table:

@@ -568,3 +568,23 @@ def test_batch_says_a_recording_named_twice_is_tracked_once(
     err = capsys.readouterr().err
     assert f"named more than once by the paths and globs given, tracked once: {a}\n" in err
     assert expand([str(b)]) == [b] and capsys.readouterr().err == ""
+
+
+def test_view_warns_of_a_truth_csv_of_another_recording(tmp_path: Path, recording: Path) -> None:
+    """As it does for tracks: labels of scans the recording does not have."""
+    truth = tmp_path / "other.people.csv"
+    truth.write_text("scan,stamp,person_id,x,y\n0,10.0,1,1.0,2.0\n3599,370.0,1,1.0,2.0\n")
+    run = CliRunner().invoke(
+        app, ["view", str(recording), "-o", str(tmp_path / "v.png"), "--truth", str(truth)]
+    )
+    assert run.exit_code == 0, run.output
+    assert f"warning: {truth} may not belong to {recording.name}: the truth labels scans" in (
+        run.output
+    )
+    assert "up to 3599 but" in run.output
+    fits = tmp_path / "fits.csv"
+    fits.write_text("scan,stamp,person_id,x,y\n0,10.0,1,1.0,2.0\n")
+    run = CliRunner().invoke(
+        app, ["view", str(recording), "-o", str(tmp_path / "w.png"), "--truth", str(fits)]
+    )
+    assert run.exit_code == 0 and "may not belong" not in run.output, run.output

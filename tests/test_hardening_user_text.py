@@ -588,3 +588,17 @@ def test_view_warns_of_a_truth_csv_of_another_recording(tmp_path: Path, recordin
         app, ["view", str(recording), "-o", str(tmp_path / "w.png"), "--truth", str(fits)]
     )
     assert run.exit_code == 0 and "may not belong" not in run.output, run.output
+
+
+@pytest.mark.parametrize("name", ["a.png", "a.mcap", "a.csv"])
+def test_track_animate_writes_gif_or_mp4_only(tmp_path: Path, recording: Path, name: str) -> None:
+    """``--animate a.png`` drew one frame of the run in silence ("wrote a.png (1 frames)")."""
+    from laserpeople.errors import ConfigError
+
+    out = tmp_path / "t.csv"
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(out), "--animate", str(tmp_path / name)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert f"--animate writes a .gif or an .mp4, not {name!r}" in str(run.exception)
+    assert not out.exists() and not (tmp_path / name).exists()

@@ -477,6 +477,12 @@ def register(app: typer.Typer) -> None:
             )
         if plot is not None and plot.suffix.lower() != ".png":
             raise ConfigError(f"--plot writes a .png, not {plot.name!r}")
+        if animate is not None and animate.suffix.lower() not in (".gif", ".mp4"):
+            raise ConfigError(
+                f"--animate writes a .gif or an .mp4, not {animate.name!r}",
+                hint="--plot draws the tracks into one .png; `laserpeople view` also writes "
+                ".mcap and .rrd",
+            )
         if output_frame not in (None, "sensor", "world"):
             raise ConfigError(f"--output-frame must be sensor or world, not {output_frame!r}")
         frame: CoordinateFrame | None = (

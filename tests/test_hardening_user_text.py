@@ -602,3 +602,30 @@ def test_track_animate_writes_gif_or_mp4_only(tmp_path: Path, recording: Path, n
     assert isinstance(run.exception, ConfigError), run.output
     assert f"--animate writes a .gif or an .mp4, not {name!r}" in str(run.exception)
     assert not out.exists() and not (tmp_path / name).exists()
+
+
+def test_not_utf8_names_the_line_and_the_byte_in_the_file(tmp_path: Path) -> None:
+    """Python's error of a file read in chunks gives the byte within a chunk (a truth CSV
+    bad at byte 126,198 said "byte 3318"): the line and the byte in the file are given,
+    and a character split across two 1 MiB chunks is not taken for an error."""
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.csv_read import not_utf8
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    rows = [b"scan,stamp,person_id,x,y\n"] + [b"%d,10.0,1,1.0,2.0\n" % k for k in range(50_000)]
+    body = b"".join(rows)
+    lines = len(rows)
+    pad = (1 << 20) - 1 - len(body)  # the 2-byte character starts at the chunk's last byte
+    assert pad > 0
+    body += b"#" * pad + "é".encode() + b"\n"  # (a comment line: line `lines + 1`)
+    bad_at = len(body) + 10  # the \xff after "9999999,10"
+    text = body + b"9999999,10\xff.0,1,1.0,2.0\n"
+    path = tmp_path / "big.csv"
+    path.write_bytes(text)
+    where = f"line {lines + 2:,} (byte {bad_at:,}) is not UTF-8"
+    assert not_utf8(path) == where
+    with pytest.raises(RecordingError, match=rf"not a text CSV: line {lines + 2:,} \(byte"):
+        read_truth_csv(path)
+    good = tmp_path / "good.csv"
+    good.write_bytes(body)
+    assert not_utf8(good) == "it is not UTF-8 text"

@@ -9,6 +9,7 @@ line and what to do. Every CSV reader (tracks, truth, detections) uses it.
 
 from __future__ import annotations
 
+import codecs
 import csv
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -109,3 +110,26 @@ def _without_bom(lines: Iterable[str]) -> Iterator[str]:
         return
     yield first.removeprefix(BOM)
     yield from it
+
+
+def not_utf8(path: str | Path) -> str:
+    """Where the file ``path`` first stops being UTF-8 text, for an error message:
+    ``line 2,001 (byte 126,198) is not UTF-8``. (A decoding error of a text file read in
+    chunks gives the position within a chunk, not in the file.)"""
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    offset, line = 0, 1
+    try:
+        with open(path, "rb") as fh:
+            while chunk := fh.read(1 << 20):
+                try:
+                    decoder.decode(chunk)
+                except UnicodeDecodeError as exc:
+                    held = len(exc.object) - len(chunk)  # bytes of a character begun before
+                    at = max(exc.start - held, 0)
+                    line += chunk.count(b"\n", 0, at)
+                    return f"line {line:,} (byte {offset + at:,}) is not UTF-8"
+                line += chunk.count(b"\n")
+                offset += len(chunk)
+    except OSError:
+        pass
+    return "it is not UTF-8 text"

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.errors import LaserPeopleWarning, RecordingError
-from laserpeople.io.csv_read import CsvRows
+from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE, parse_frame_cell
 from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import NONE_ID, TruthFrame
@@ -54,7 +54,7 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
         return _read_truth_csv(p)
     except UnicodeDecodeError as exc:
         raise RecordingError(
-            f"not a text CSV (byte {exc.start} is not UTF-8)",
+            f"not a text CSV: {not_utf8(p)}",
             path=p,
             hint="give a CSV scan,stamp,person_id,x,y; a recording with truth must end in .npz",
         ) from exc

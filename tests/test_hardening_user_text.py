@@ -629,3 +629,36 @@ def test_not_utf8_names_the_line_and_the_byte_in_the_file(tmp_path: Path) -> Non
     good = tmp_path / "good.csv"
     good.write_bytes(body)
     assert not_utf8(good) == "it is not UTF-8 text"
+
+
+def test_detect_report_without_beam_truth_is_refused_before_the_run(
+    tmp_path: Path, recording: Path
+) -> None:
+    """Not after detecting every scan and writing the CSV."""
+    from laserpeople.errors import ConfigError
+    from laserpeople.io import open_recording
+
+    bag = tmp_path / "no truth.mcap"
+    CliRunner().invoke(
+        app, ["--quiet", "simulate", "figure-eight", "--seconds", "1", "-o", str(bag)]
+    )
+    with open_recording(bag) as rec:
+        assert not rec.has_truth
+    out = tmp_path / "legs.csv"
+    run = CliRunner().invoke(app, ["detect", str(bag), "-o", str(out), "--report"])
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--report needs per-beam ground truth" in str(run.exception)
+    assert not out.exists()
+
+
+def test_view_refuses_no_truth_with_a_truth(tmp_path: Path, recording: Path) -> None:
+    from laserpeople.errors import LaserPeopleError
+
+    truth = tmp_path / "t.csv"
+    truth.write_text(TRUTH)
+    out = tmp_path / "v.png"
+    run = CliRunner().invoke(
+        app, ["view", str(recording), "-o", str(out), "--no-truth", "--truth", str(truth)]
+    )
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    assert "--no-truth and --truth" in str(run.exception) and not out.exists()

@@ -133,6 +133,9 @@ def register(app: typer.Typer) -> None:
         check_outputs({"-o": output}, [recording, model, config])
         check_output_format("-o", output, ".csv", "a detections CSV")
         rec = open_source(recording, world_frame, mount or [], on_error)
+        if report and not rec.has_truth:  # (before the run, not after it)
+            rec.close()
+            raise _no_beam_truth(recording)
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)
         stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
@@ -209,11 +212,7 @@ def register(app: typer.Typer) -> None:
             raise typer.Exit(130)
         if report:
             if not truth_ada:
-                raise ConfigError(
-                    "--report needs per-beam ground truth, which this recording lacks",
-                    path=recording,
-                    hint="use a simulated .npz, or `laserpeople train --report` with bags",
-                )
+                raise _no_beam_truth(recording)
             ada = _sum(truth_ada)
             heur = _sum(truth_heur)
             console.print(
@@ -228,6 +227,15 @@ def register(app: typer.Typer) -> None:
                     "\nComparison with the heuristic approach (Arras et al. 2008 Table 7)",
                 )
             )
+
+
+def _no_beam_truth(recording: Path) -> ConfigError:
+    """The error of ``--report`` on a recording without per-beam ground truth."""
+    return ConfigError(
+        "--report needs per-beam ground truth, which this recording lacks",
+        path=recording,
+        hint="use a simulated .npz, or `laserpeople train --report` with bags",
+    )
 
 
 def _sum(parts: list[Confusion]) -> Confusion:

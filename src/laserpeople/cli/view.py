@@ -177,6 +177,10 @@ def register(app: typer.Typer) -> None:
         for option, value in (("--tracks-frame", tracks_frame), ("--truth-frame", truth_frame)):
             if value is not None and value not in ("world", "sensor"):
                 raise LaserPeopleError(f"{option} {value!r} is not world or sensor")
+        if no_truth and truth is not None:
+            raise LaserPeopleError(
+                f"--no-truth and --truth {truth} ask for opposites", hint="give one of them"
+            )
         truth_arg: str | None = None if no_truth else (truth or "auto")
         from laserpeople.io.paths import check_outputs
 

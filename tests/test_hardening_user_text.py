@@ -662,3 +662,41 @@ def test_view_refuses_no_truth_with_a_truth(tmp_path: Path, recording: Path) -> 
     )
     assert isinstance(run.exception, LaserPeopleError), run.output
     assert "--no-truth and --truth" in str(run.exception) and not out.exists()
+
+
+def test_why_unwritable_names_a_file_on_the_way() -> None:
+    from laserpeople.io.paths import why_unwritable
+
+    here = Path(__file__)
+    assert why_unwritable(FileExistsError(17, "File exists"), here / "x.csv") == (
+        f"{here} is a file, not a folder"
+    )
+    assert why_unwritable(NotADirectoryError(20, "Not a directory"), here / "a" / "b.csv") == (
+        f"{here} is a file, not a folder"
+    )
+    assert why_unwritable(PermissionError(13, "Permission denied"), here / "x.csv") == (
+        "Permission denied"
+    )
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["track", "{rec}", "-o", "{file}/t.csv"],
+        ["detect", "{rec}", "-o", "{file}/sub/d.csv"],
+        ["view", "{rec}", "-o", "{file}/v.png"],
+        ["simulate", "figure-eight", "--seconds", "1", "-o", "{file}/s.npz"],
+        ["train", "{rec}", "-T", "2", "-o", "{file}/m.json"],
+    ],
+)
+def test_an_output_under_a_file_says_the_file_is_not_a_folder(
+    tmp_path: Path, recording: Path, argv: list[str]
+) -> None:
+    """Not the system's bare "File exists" (of the folder it tried to make)."""
+    from laserpeople.errors import LaserPeopleError
+
+    file = tmp_path / "runs.bag"
+    file.write_bytes(b"#ROSBAG V2.0\n")
+    run = CliRunner().invoke(app, [a.format(rec=recording, file=file) for a in argv])
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    assert f"{file} is a file, not a folder" in str(run.exception)

@@ -46,6 +46,17 @@ FORMATS = frozenset(
 """Extensions of the formats this package reads or writes."""
 
 
+def why_unwritable(exc: OSError, path: str | Path) -> str:
+    """Why ``path`` could not be written, for an error message: the system's reason, or
+    ``runs.bag is a file, not a folder`` when a folder on the way to it is a file (where the
+    system says only "File exists" or "Not a directory")."""
+    if isinstance(exc, FileExistsError | NotADirectoryError):
+        for parent in Path(path).parents:
+            if parent.exists() and not parent.is_dir():
+                return f"{parent} is a file, not a folder"
+    return str(exc.strerror or exc)
+
+
 def check_output_format(
     name: str, path: Path | None, suffix: str, what: str, hint: str = ""
 ) -> None:
@@ -132,7 +143,7 @@ def write_text_file(
         with suppress(OSError):
             tmp.unlink(missing_ok=True)
         raise error(
-            f"cannot write the {what}: {exc.strerror or exc}",
+            f"cannot write the {what}: {why_unwritable(exc, p)}",
             path=p,
             hint="choose a writable file path with -o",
         ) from exc

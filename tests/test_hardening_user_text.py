@@ -700,3 +700,14 @@ def test_an_output_under_a_file_says_the_file_is_not_a_folder(
     run = CliRunner().invoke(app, [a.format(rec=recording, file=file) for a in argv])
     assert isinstance(run.exception, LaserPeopleError), run.output
     assert f"{file} is a file, not a folder" in str(run.exception)
+
+
+def test_demo_out_dir_that_is_a_file_is_an_error_not_a_traceback(tmp_path: Path) -> None:
+    from laserpeople.errors import LaserPeopleError
+
+    file = tmp_path / "runs.bag"
+    file.write_bytes(b"#ROSBAG V2.0\n")
+    run = CliRunner().invoke(app, ["demo", "--out-dir", str(file), "--seconds", "1"])
+    assert isinstance(run.exception, LaserPeopleError), run.exception
+    assert f"{file} is a file, not a folder" in str(run.exception)
+    assert file.read_bytes() == b"#ROSBAG V2.0\n"

@@ -702,12 +702,30 @@ def test_an_output_under_a_file_says_the_file_is_not_a_folder(
     assert f"{file} is a file, not a folder" in str(run.exception)
 
 
-def test_demo_out_dir_that_is_a_file_is_an_error_not_a_traceback(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "argv",
+    [["demo", "--out-dir", "{file}", "--seconds", "1"], ["batch", "{rec}", "--out", "{file}"]],
+)
+def test_an_output_folder_that_is_a_file_is_an_error_not_a_traceback(
+    tmp_path: Path, recording: Path, argv: list[str]
+) -> None:
+    """demo --out-dir and batch --out ended in a FileExistsError traceback."""
     from laserpeople.errors import LaserPeopleError
 
     file = tmp_path / "runs.bag"
     file.write_bytes(b"#ROSBAG V2.0\n")
-    run = CliRunner().invoke(app, ["demo", "--out-dir", str(file), "--seconds", "1"])
+    run = CliRunner().invoke(app, [a.format(file=file, rec=recording) for a in argv])
     assert isinstance(run.exception, LaserPeopleError), run.exception
     assert f"{file} is a file, not a folder" in str(run.exception)
     assert file.read_bytes() == b"#ROSBAG V2.0\n"
+
+
+def test_batch_takes_an_existing_file_with_glob_characters_as_named(tmp_path: Path) -> None:
+    """``run[1].bag`` is a file, not a glob matching ``run1.bag``: it was 'matches no file'."""
+    from laserpeople.cli.batch import expand
+
+    named = tmp_path / "run[1].bag"
+    named.write_bytes(b"")
+    assert expand([str(named)]) == [named]
+    (tmp_path / "run1.bag").write_bytes(b"")
+    assert expand([str(tmp_path / "run[12].bag")]) == [tmp_path / "run1.bag"]  # a glob

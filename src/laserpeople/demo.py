@@ -20,7 +20,7 @@ from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.errors import LaserPeopleError
 from laserpeople.evaluation import evaluate
 from laserpeople.frame import Frame, FrameTracker
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import make_folder
 from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, TracksCsvSink, laser_frames
 from laserpeople.pipeline.recording import LOOKAHEAD
 from laserpeople.scan import Scan
@@ -170,14 +170,7 @@ def run_demo(
     factories = tracker_factories()
     skipped: list[tuple[str, str]] = []
     out = Path(out_dir)
-    try:  # (before the simulation)
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise LaserPeopleError(
-            f"cannot make the folder: {why_unwritable(exc, out / 'demo.npz')}",
-            path=out,
-            hint="give --out-dir a folder (made when missing)",
-        ) from exc
+    make_folder(out, "--out-dir")  # (before the simulation)
     scans, truth, sim = simulate_demo(seconds, seed)
     recording = sim.write(out / "demo.npz")
 

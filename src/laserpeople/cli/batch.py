@@ -52,11 +52,12 @@ TABLE_ROWS = 40
 
 def expand(patterns: list[str]) -> list[Path]:
     """Recording paths from paths and globs (``**`` recurses), in the order given, each
-    once (a recording named twice is said, and tracked once). A glob matching nothing is a
+    once (a recording named twice is said, and tracked once). A path that exists is taken
+    as it is, even with glob characters (``run[1].bag``). A glob matching nothing is a
     ConfigError; a missing plain path is kept (its row then says so)."""
     out: list[Path] = []
     for pattern in patterns:
-        if glob.has_magic(pattern):
+        if glob.has_magic(pattern) and not Path(pattern).exists():  # run[1].bag is a name
             found = sorted(glob.glob(pattern, recursive=True))
             found = [f for f in found if not f.endswith(".people.csv")]
             if not found:

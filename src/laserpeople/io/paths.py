@@ -57,6 +57,22 @@ def why_unwritable(exc: OSError, path: str | Path) -> str:
     return str(exc.strerror or exc)
 
 
+def make_folder(folder: Path, option: str) -> None:
+    """Make the output folder ``folder`` (given as ``option``) and its parents if missing.
+
+    Raises:
+        ConfigError: it cannot be made (a file on the way, no permission); names it.
+    """
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError(
+            f"cannot make the folder: {why_unwritable(exc, folder / 'x')}",
+            path=folder,
+            hint=f"give {option} a folder (made when missing)",
+        ) from exc
+
+
 def check_output_format(
     name: str, path: Path | None, suffix: str, what: str, hint: str = ""
 ) -> None:

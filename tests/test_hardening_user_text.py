@@ -251,6 +251,9 @@ def test_a_csv_of_another_separator_says_so(tmp_path: Path, sep: str, says: str)
     path.write_text(TRUTH.replace(",", sep))
     with pytest.raises(RecordingError, match=f"{says}: save the CSV with commas"):
         read_truth_csv(path)
+    path.write_text("")
+    with pytest.raises(RecordingError, match="the ground-truth CSV is empty: no header line"):
+        read_truth_csv(path)
     path.write_text(TRUTH.replace("person_id", "person"))  # commas, a column misnamed
     with pytest.raises(RecordingError, match="missing column") as err:
         read_truth_csv(path)

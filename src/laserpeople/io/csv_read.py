@@ -70,10 +70,17 @@ class CsvRows:
         """The header's column names (stripped of spaces), checked to hold ``columns``.
 
         Raises:
-            RecordingError: a column is missing; names them, the ``expected`` header, and
-                the separator when the header is separated by ``;`` or tabs.
+            RecordingError: the file is empty, or a column is missing; names them, the
+                ``expected`` header, and the separator when the header is separated by ``;``
+                or tabs.
         """
         names = [c.strip() for c in self.fieldnames]
+        if not names:
+            raise RecordingError(
+                f"the {self.what} is empty: no header line",
+                path=self.path,
+                hint=f"expected header {expected}; was the file cut short when written?",
+            )
         self.fieldnames = names
         missing = [c for c in columns if c not in names]
         if not missing:

@@ -732,3 +732,17 @@ def test_batch_takes_an_existing_file_with_glob_characters_as_named(tmp_path: Pa
     assert expand([str(named)]) == [named]
     (tmp_path / "run1.bag").write_bytes(b"")
     assert expand([str(tmp_path / "run[12].bag")]) == [tmp_path / "run1.bag"]  # a glob
+
+
+@pytest.mark.parametrize("endpoint", ["not an endpoint", "192.168.1.5:7447", "tcp:1.2.3.4"])
+def test_live_refuses_an_endpoint_that_is_not_protocol_slash_address(endpoint: str) -> None:
+    """Before Zenoh's own error (its Rust source paths and a JSON5 location)."""
+    from laserpeople.errors import ConfigError
+    from laserpeople.live.zenoh_link import ZenohSettings
+
+    with pytest.raises(ConfigError, match=r"is not a Zenoh endpoint PROTOCOL/ADDRESS"):
+        ZenohSettings("client", connect=(endpoint,))
+    with pytest.raises(ConfigError, match=r"--listen .* is not a Zenoh endpoint"):
+        ZenohSettings("peer", listen=(endpoint,))
+    for good in ("tcp/192.168.1.5:7447", "tcp/[::1]:7447", "unixsock-stream//tmp/zenoh.sock"):
+        ZenohSettings("client", connect=(good,), listen=(good,))

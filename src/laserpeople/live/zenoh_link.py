@@ -65,8 +65,7 @@ class ZenohSettings:
                 if not ENDPOINT.fullmatch(endpoint):
                     raise ConfigError(
                         f"{option} {endpoint!r} is not a Zenoh endpoint PROTOCOL/ADDRESS",
-                        hint="e.g. tcp/192.168.1.5:7447, udp/10.0.0.2:7447 or "
-                        "tcp/[::1]:7447",
+                        hint="e.g. tcp/192.168.1.5:7447, udp/10.0.0.2:7447 or tcp/[::1]:7447",
                     )
 
     def config(self) -> Any:

@@ -746,3 +746,21 @@ def test_live_refuses_an_endpoint_that_is_not_protocol_slash_address(endpoint: s
         ZenohSettings("peer", listen=(endpoint,))
     for good in ("tcp/192.168.1.5:7447", "tcp/[::1]:7447", "unixsock-stream//tmp/zenoh.sock"):
         ZenohSettings("client", connect=(good,), listen=(good,))
+
+
+def test_neko_frames_outside_the_data_or_backwards_are_refused(tmp_path: Path) -> None:
+    """``--neko-frames 200-300`` of 120 frames trained on nothing and said only "training
+    needs legs and non-legs, got 0 segments"; ``50-10`` likewise."""
+    from laserpeople.cli.train import parse_frames
+    from laserpeople.detection.training import neko_frames
+    from laserpeople.errors import ConfigError
+
+    assert neko_frames(tmp_path, 120, None) == set(range(120))
+    assert neko_frames(tmp_path, 120, [0, 119]) == {0, 119}
+    with pytest.raises(ConfigError, match=r"frame\(s\) 120 not in the data: it has frames 0-119"):
+        neko_frames(tmp_path, 120, [119, 120])
+    with pytest.raises(ConfigError, match=r"frame\(s\) -1, 200, 201 \.\.\. not in the data"):
+        neko_frames(tmp_path, 120, [-1, 5, 200, 201, 202])
+    with pytest.raises(ValueError, match="50-10 goes backwards"):
+        parse_frames("0-3,50-10")
+    assert parse_frames("0-2,7") == [0, 1, 2, 7]

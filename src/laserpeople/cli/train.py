@@ -44,6 +44,8 @@ def parse_frames(text: str) -> list[int]:
         part = part.strip()
         if "-" in part:
             a, b = (int(x) for x in part.split("-", 1))
+            if b < a:
+                raise ValueError(f"{part} goes backwards (write the first frame first)")
             out.extend(range(a, b + 1))
         elif part:
             out.append(int(part))

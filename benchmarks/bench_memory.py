@@ -5,7 +5,7 @@ memory grows with the scans (a per-scan history kept for the whole run).
 Each run is ``laserpeople track REC -o CSV`` in a fresh interpreter (as a user runs it),
 twice per tree and recording:
 
-- **plain**: the peak resident set size (``ru_maxrss``: interpreter, imports, numpy, the
+- **plain**: the peak resident set size (``VmHWM``: interpreter, imports, numpy, the
   tracker, and the pages of a memory-mapped recording read so far) and the anonymous
   resident set (``RssAnon``: without the recording's mapped pages, which are the file's and
   which the system reclaims) sampled every ``--every`` seconds of the run's CPU;
@@ -49,13 +49,17 @@ if TRACE:
     tracemalloc.start(1)
 samples, snaps = [], {}
 
-def rss():
-    # anonymous memory only: the pages of a memory-mapped recording (npz) are the file's
+def status(key):
+    # a line of /proc/self/status in bytes (0 where there is none)
     with open("/proc/self/status") as fh:
         for line in fh:
-            if line.startswith("RssAnon:"):
+            if line.startswith(key + ":"):
                 return int(line.split()[1]) * 1024
     return 0
+
+def rss():
+    # anonymous memory only: the pages of a memory-mapped recording (npz) are the file's
+    return status("RssAnon")
 
 def sample():
     due = EVERY
@@ -81,7 +85,9 @@ def done():
         for st in snaps["last"].compare_to(snaps["first"], "lineno")[:8]:
             top.append((str(st.traceback), st.size_diff, st.count_diff))
     peak = tracemalloc.get_traced_memory()[1] if TRACE else 0
-    maxrss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    # this process's own peak (VmHWM): ru_maxrss keeps the parent's resident set at the fork
+    # that started it (1.4 GB after simulating the long recording in the parent)
+    maxrss = status("VmHWM") or resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     with open(OUT, "w") as fh:
         json.dump({"maxrss": maxrss, "traced_peak": peak, "samples": samples,
                    "cpu": time.process_time(), "growth_lines": top}, fh)

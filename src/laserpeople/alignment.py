@@ -22,7 +22,6 @@ points is reported.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -464,11 +463,11 @@ def write_mounts(path: str | Path, mounts: Sequence[Mount], source: str = "") ->
 def read_mounts(path: str | Path) -> dict[str, tuple[str, Pose2D]]:
     """Mounts (child -> (parent, pose)) from a TOML file written by :func:`write_mounts`
     (or by hand), in the form ``laserpeople.io.poses.add_mounts`` takes."""
+    from laserpeople.config import read_toml
+    from laserpeople.io.poses import mount_pose
+
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise ConfigError(f"cannot read the mounts: {exc}", path=p, hint="check the file") from exc
+    data = read_toml(p, "mounts file")
     table = data.get("mounts")
     if not isinstance(table, dict) or not table:
         raise ConfigError(
@@ -479,14 +478,13 @@ def read_mounts(path: str | Path) -> dict[str, tuple[str, Pose2D]]:
     out: dict[str, tuple[str, Pose2D]] = {}
     for child, entry in table.items():
         try:
-            out[child] = (
-                str(entry["parent"]),
-                Pose2D(float(entry["x"]), float(entry["y"]), float(entry["theta"])),
-            )
+            parent = str(entry["parent"])
+            x, y, theta = (float(entry[k]) for k in ("x", "y", "theta"))
         except (KeyError, TypeError, ValueError) as exc:
             raise ConfigError(
                 f"mount {child!r} needs parent, x, y and theta ({exc})", path=p
             ) from exc
+        out[child] = (parent, mount_pose(x, y, theta, what=f"mount {child!r}", path=p))
     return out
 
 

@@ -218,7 +218,7 @@ def load_config(cls: type[T], path: str | Path | None, preset: str | None = None
     if path is None:
         return from_mapping(cls, base) if base else cls()
     p = Path(path)
-    data = _read_toml(p)
+    data = read_toml(p)
     section = data.get(section_name(cls), {})
     if not isinstance(section, Mapping):
         raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
@@ -253,7 +253,7 @@ def check_sections(
         return []
     p = Path(path)
     known = {section_name(c) for c in classes}
-    data = _read_toml(p)
+    data = read_toml(p)
     elsewhere = {section_name(c) for c in others} - known
     unknown = sorted(set(data) - known - elsewhere)
     if unknown:
@@ -302,25 +302,37 @@ def _precheck_toml(text: str, p: Path) -> None:
         )
 
 
-def _read_toml(p: Path) -> dict[str, Any]:
+def read_toml(p: Path, what: str = "config file") -> dict[str, Any]:
+    """The tables of the TOML file ``p`` (a ``what``: ``"config file"``, ``"mounts file"``),
+    within the size and nesting bounds; a byte order mark before the text (an editor's
+    "UTF-8 with BOM") is left out.
+
+    Raises:
+        ConfigError: the file is missing, a folder, not UTF-8 text, not TOML, too large or
+            nested too deeply; names the file.
+    """
     import tomllib  # (at use: its regular expressions cost every start-up ~5 % of `--help`)
 
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8").removeprefix("\ufeff")
         _precheck_toml(text, p)
         return tomllib.loads(text)
     except FileNotFoundError as exc:
-        raise ConfigError("config file not found", path=p) from exc
+        raise ConfigError(f"{what} not found", path=p) from exc
     except IsADirectoryError as exc:
-        raise ConfigError("is a directory, not a TOML config file", path=p) from exc
+        raise ConfigError(f"is a directory, not a TOML {what}", path=p) from exc
     except UnicodeDecodeError as exc:
-        raise ConfigError("not a text file", path=p) from exc
+        raise ConfigError(
+            f"not UTF-8 text (byte {exc.start} is not UTF-8)",
+            path=p,
+            hint="save it as UTF-8 text",
+        ) from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", path=p) from exc
     except RecursionError as exc:
         raise ConfigError("nested too deeply to read", path=p) from exc
     except OSError as exc:
-        raise ConfigError(f"cannot read config file: {exc.strerror or exc}", path=p) from exc
+        raise ConfigError(f"cannot read the {what}: {exc.strerror or exc}", path=p) from exc
 
 
 SOURCE_LENGTH = 80

@@ -20,6 +20,7 @@ from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.errors import LaserPeopleError
 from laserpeople.evaluation import evaluate
 from laserpeople.frame import Frame, FrameTracker
+from laserpeople.io.paths import make_folder
 from laserpeople.pipeline import DetectLegs, FrameChooser, Pipeline, TracksCsvSink, laser_frames
 from laserpeople.pipeline.recording import LOOKAHEAD
 from laserpeople.scan import Scan
@@ -168,9 +169,9 @@ def run_demo(
     and ``demo.gif`` into ``out_dir``."""
     factories = tracker_factories()
     skipped: list[tuple[str, str]] = []
-    scans, truth, sim = simulate_demo(seconds, seed)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out, "--out-dir")  # (before the simulation)
+    scans, truth, sim = simulate_demo(seconds, seed)
     recording = sim.write(out / "demo.npz")
 
     t0 = time.perf_counter()

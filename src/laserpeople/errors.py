@@ -29,6 +29,11 @@ def cut_long_values(text: str) -> str:
     return _LONG.sub(lambda m: shorten(m.group(0)), text)
 
 
+class LaserPeopleWarning(UserWarning):
+    """Base class of this package's warnings about input (what was left out or not read);
+    the command line prints one as ``warning: MESSAGE``, without Python's source line."""
+
+
 class LaserPeopleError(Exception):
     """Base class of every error caused by input, files or parameters."""
 
@@ -45,6 +50,14 @@ class LaserPeopleError(Exception):
         self.hint = None if hint is None else cut_long_values(hint)
         self.detail = cut_long_values(message)
         super().__init__(self._compose())
+
+    def located(self, path: str | Path) -> LaserPeopleError:
+        """This error, naming the file ``path`` when it names none yet (an error raised
+        where the file is not known, re-raised where it is)."""
+        if self.path is None:
+            self.path = str(path)
+            self.args = (self._compose(),)
+        return self
 
     def _compose(self) -> str:
         where = []

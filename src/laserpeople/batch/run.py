@@ -45,6 +45,7 @@ from laserpeople.batch.task import (
     track_recording,
 )
 from laserpeople.errors import ConfigError
+from laserpeople.io.paths import make_folder
 
 
 @dataclass(frozen=True)
@@ -208,7 +209,7 @@ def run_batch(
     for p in paths:
         if folder.resolve() == p.resolve():
             raise ConfigError("--out is one of the recordings", path=p)
-    folder.mkdir(parents=True, exist_ok=True)
+    make_folder(folder, "--out")
     manifest = Manifest(folder)
     slots: list[list[TopicRow] | None] = [None] * len(paths)
     tasks: list[tuple[int, RecordingTask]] = []

@@ -37,6 +37,7 @@ from typing import Any
 from laserpeople.batch.options import TrackOptions, resolve
 from laserpeople.batch.run import BatchResult, ClusterSpec, open_client, run_batch
 from laserpeople.errors import ConfigError
+from laserpeople.io.paths import make_folder
 
 METRICS = ("hota", "deta", "assa", "mota", "idf1")
 """Metrics a sweep can rank by (pooled over recordings; higher is better)."""
@@ -187,7 +188,7 @@ def run_sweep(
     with open_client(cluster or ClusterSpec()) as client:
         for score, res in zip(scores, resolved, strict=True):
             sub = folder / f"settings-{score.index:03d}"
-            sub.mkdir(parents=True, exist_ok=True)
+            make_folder(sub, "--out")
             params = [res.tracker_params, res.detector_params, res.grouping, res.leg_fusion]
             static = [getattr(res.static_world, n) for n in res.static_world.__dataclass_fields__]
             text = "\n".join(dict.fromkeys(to_toml(p) for p in [*params, *static]))

@@ -25,7 +25,7 @@ from typing import Any
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
 
-from laserpeople.cli.common import STATE, err_console
+from laserpeople.cli.common import STATE, err_console, warnings_as_lines
 from laserpeople.errors import LaserPeopleError, cut_long_values
 
 GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
@@ -223,7 +223,11 @@ class LaserPeopleGroup(TyperGroup):
 
     def invoke(self, ctx: Any) -> Any:
         with _short_usage_errors():
-            return super().invoke(ctx)
+            try:
+                return super().invoke(ctx)
+            except KeyboardInterrupt:  # (typer would exit 130 without a word)
+                err_console.print("interrupted (Ctrl-C)", markup=False, highlight=False)
+                raise typer.Exit(130) from None
 
 
 def _help_flag_false(option: Any) -> Any:
@@ -287,6 +291,7 @@ def _global_options(
     """Global flags (the program's help text is :data:`HELP`)."""
     STATE.debug = debug
     STATE.quiet = quiet
+    warnings_as_lines()
 
 
 COMMANDS = (
@@ -369,11 +374,10 @@ def main() -> None:
     except LaserPeopleError as exc:
         if STATE.debug:
             raise
-        from rich.markup import escape
+        from rich.text import Text
 
-        err_console.print(
-            f"[bold red]error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True
-        )
+        # the message as written: file names and topics are neither markup nor emoji codes
+        err_console.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
         sys.exit(1)
     except KeyboardInterrupt:
         err_console.print("interrupted")

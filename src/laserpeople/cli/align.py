@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from laserpeople.cli.common import MountOption, console, warn
+from laserpeople.cli.common import MountOption, console, plain, warn
 
 
 def register(app: typer.Typer) -> None:
@@ -34,14 +34,14 @@ def register(app: typer.Typer) -> None:
         ] = False,
         mount: MountOption = None,
     ) -> None:
-        from rich.markup import escape
         from rich.table import Table
 
         from laserpeople.alignment import align_recording, write_mounts
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.poses import parse_mounts
 
         check_outputs({"-o": output}, [recording])
+        check_output_format("-o", output, ".toml", "the mounts as TOML")
         notes: list[str] = []
         mounts = align_recording(
             recording,
@@ -53,7 +53,7 @@ def register(app: typer.Typer) -> None:
         for note in notes:
             warn(note)
         write_mounts(output, mounts, f"from {recording.name}")
-        table = Table(title=f"laser mounts of {recording.name}")
+        table = Table(title=plain(f"laser mounts of {recording.name}"))
         for col in (
             "laser",
             "parent",
@@ -64,15 +64,15 @@ def register(app: typer.Typer) -> None:
             "explained",
             "vs given [m / deg]",
         ):
-            table.add_column(escape(col))  # the units' brackets are not markup
+            table.add_column(plain(col))  # the units' brackets are not markup
         for m in mounts:
             diff = ""
             if m.given is not None and m.fit is not None:
                 dth = math.degrees(math.remainder(m.pose.theta - m.given.theta, 2 * math.pi))
                 diff = f"{math.hypot(m.pose.x - m.given.x, m.pose.y - m.given.y):.3f} / {dth:.2f}"
             table.add_row(
-                m.laser,
-                m.parent,
+                plain(m.laser),
+                plain(m.parent),
                 f"{m.pose.x:.3f}",
                 f"{m.pose.y:.3f}",
                 f"{math.degrees(m.pose.theta):.2f}",

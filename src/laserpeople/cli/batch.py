@@ -22,6 +22,7 @@ from laserpeople.cli.common import (
     RestampOption,
     WorldFrameOption,
     console,
+    plain,
     say,
     warn,
 )
@@ -51,11 +52,12 @@ TABLE_ROWS = 40
 
 def expand(patterns: list[str]) -> list[Path]:
     """Recording paths from paths and globs (``**`` recurses), in the order given, each
-    once. A glob matching nothing is a ConfigError; a missing plain path is kept (its row
-    then says so)."""
+    once (a recording named twice is said, and tracked once). A path that exists is taken
+    as it is, even with glob characters (``run[1].bag``). A glob matching nothing is a
+    ConfigError; a missing plain path is kept (its row then says so)."""
     out: list[Path] = []
     for pattern in patterns:
-        if glob.has_magic(pattern):
+        if glob.has_magic(pattern) and not Path(pattern).exists():  # run[1].bag is a name
             found = sorted(glob.glob(pattern, recursive=True))
             found = [f for f in found if not f.endswith(".people.csv")]
             if not found:
@@ -63,13 +65,17 @@ def expand(patterns: list[str]) -> list[Path]:
             out.extend(Path(f) for f in found)
         else:
             out.append(Path(pattern))
-    return list(dict.fromkeys(out))
+    once = list(dict.fromkeys(out))
+    if len(once) < len(out):
+        twice = [str(p) for p in once if out.count(p) > 1]
+        shown = ", ".join(twice[:3]) + (f" and {len(twice) - 3} more" if len(twice) > 3 else "")
+        say(f"named more than once by the paths and globs given, tracked once: {shown}")
+    return once
 
 
 def render(rows: list[TopicRow], title: str) -> Table:
     """The summary rows as a rich table (names, topics and errors as plain text: a file
     named ``run[a].bag`` or an error quoting ``[leg_tracker]`` is not rich markup)."""
-    from rich.markup import escape
     from rich.table import Table
 
     table = Table(title=title, show_header=True)
@@ -89,8 +95,8 @@ def render(rows: list[TopicRow], title: str) -> Table:
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for r in rows:
         table.add_row(
-            escape(r.name),
-            escape(r.topic),
+            plain(r.name),
+            plain(r.topic),
             str(r.scans),
             f"{r.duration_s:.1f}",
             str(r.people),
@@ -99,7 +105,7 @@ def render(rows: list[TopicRow], title: str) -> Table:
             f"{r.track_ms_per_scan:.2f}",
             r.status,
             str(r.attempts),
-            escape(r.error),
+            plain(r.error),
         )
     return table
 
@@ -313,7 +319,7 @@ def _sweep(
     for rank, s in enumerate(result.ranked, start=1):
         table.add_row(
             str(rank),
-            s.label,
+            plain(s.label),
             *(num(s.tune.get(m)) for m in METRICS),
             *(num(s.held_out.get(m)) for m in METRICS),
             str(s.failed),

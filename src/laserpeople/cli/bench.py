@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import OnErrorOption, console, progress, say
+from laserpeople.cli.common import OnErrorOption, console, plain, progress, say
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 if TYPE_CHECKING:
@@ -140,7 +140,7 @@ def register(app: typer.Typer) -> None:
             return
         from rich.table import Table
 
-        table = Table(title=f"{source}: {len(scans)} scans, {scans[0].n_beams} beams")
+        table = Table(title=plain(f"{source}: {len(scans)} scans, {scans[0].n_beams} beams"))
         columns = (
             "stage",
             "median ms/scan",

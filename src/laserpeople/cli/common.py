@@ -21,6 +21,7 @@ from laserpeople.errors import ConfigError, NotBuiltError
 
 if TYPE_CHECKING:
     from rich.console import Console
+    from rich.text import Text
 
     from laserpeople.io import RecordingSource
 
@@ -191,16 +192,37 @@ class _LazyConsole:
         self._stderr = stderr
         self._console: Console | None = None
 
-    def __getattr__(self, name: str) -> Any:
+    def get(self) -> Console:
+        """The console itself, made on first use: what to hand to rich's own objects
+        (a progress bar's live display enters it as a context manager, which an attribute
+        look-up cannot stand for)."""
         if self._console is None:
             self._console = make_console(self._stderr)
-        return getattr(self._console, name)
+        return self._console
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.get(), name)
+
+
+def plain(text: object) -> Text:
+    """``text`` as written, for a rich table's title or cell or a console line: never markup
+    nor an emoji code. A file named ``run[a].bag``, a topic, a track id or an error quoting
+    ``[leg_tracker]`` would otherwise lose its brackets, and ``:fire:`` become a picture."""
+    from rich.text import Text
+
+    return Text(str(text))
 
 
 console = cast("Console", _LazyConsole(stderr=False))
 """The console for results (stdout)."""
 err_console = cast("Console", _LazyConsole(stderr=True))
 """The console for status lines, warnings and errors (stderr)."""
+
+
+def _stderr_console() -> Console:
+    """The console of :data:`err_console` itself (see :meth:`_LazyConsole.get`)."""
+    lazy: Any = err_console
+    return lazy.get() if isinstance(lazy, _LazyConsole) else lazy
 
 
 @dataclass
@@ -272,7 +294,7 @@ def _progress_bar(items: Iterable[T], total: int | None, description: str) -> It
         RateColumn(),
         TimeElapsedColumn(),
     ]
-    with Progress(*columns, console=err_console, transient=False) as bar:
+    with Progress(*columns, console=_stderr_console(), transient=False) as bar:
         task = bar.add_task(description, total=total)
         last = time.monotonic()
         pending = 0
@@ -317,7 +339,7 @@ class JobProgress:
                 TextColumn("{task.fields[rate]}", style="progress.data.speed"),
                 TextColumn("{task.fields[failed]}", style="red"),
                 TimeElapsedColumn(),
-                console=err_console,
+                console=_stderr_console(),
                 transient=False,
             )
             self._bar.__enter__()
@@ -362,7 +384,7 @@ def _status_line(text: str) -> None:
     tabs), without importing rich's console there (a tenth of a second of a run that
     prints only status lines)."""
     if _isatty(sys.stderr):
-        err_console.print(text, highlight=False, markup=False, soft_wrap=True)
+        err_console.print(plain(text), soft_wrap=True)
     else:
         sys.stderr.write(text + "\n")
         sys.stderr.flush()
@@ -390,6 +412,26 @@ def report_damage(recording: object) -> None:
 def warn(message: str) -> None:
     """Print a warning to stderr, even with --quiet."""
     _status_line(f"warning: {message}")
+
+
+def warnings_as_lines() -> None:
+    """Print this package's warnings (:class:`~laserpeople.errors.LaserPeopleWarning`) as
+    :func:`warn` lines, not as Python shows them (with the source file and line of the
+    code that warned); other warnings, and all with --debug, as Python shows them."""
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+
+    shown = getattr(warnings.showwarning, "python_showwarning", warnings.showwarning)
+
+    def show(message: Warning | str, category: type[Warning], *args: Any, **kw: Any) -> None:
+        if issubclass(category, LaserPeopleWarning) and not STATE.debug:
+            warn(str(message))
+        else:
+            shown(message, category, *args, **kw)
+
+    show.python_showwarning = shown  # type: ignore[attr-defined]
+    warnings.showwarning = show
 
 
 def ignored_sections(path: Path | None, sections: Sequence[str]) -> None:

@@ -16,6 +16,7 @@ from laserpeople.cli.common import (
     progress,
     report_damage,
     say,
+    warn,
 )
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
 from laserpeople.config import check_sections, load_config
@@ -94,7 +95,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
         from laserpeople.io.detections_csv import DetectionsCsvWriter
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.pipeline import (
             DetectionsCsvSink,
             DetectLegs,
@@ -130,7 +131,11 @@ def register(app: typer.Typer) -> None:
             else None
         )
         check_outputs({"-o": output}, [recording, model, config])
+        check_output_format("-o", output, ".csv", "a detections CSV")
         rec = open_source(recording, world_frame, mount or [], on_error)
+        if report and not rec.has_truth:  # (before the run, not after it)
+            rec.close()
+            raise _no_beam_truth(recording)
         names = resolve_topics(rec, wanted or ["all"])
         total = sum(t.count for t in rec.topics() if t.name in names)
         stage = DetectLegs(det, load_config(LegFusionParams, config), keep_classification=True)
@@ -151,6 +156,7 @@ def register(app: typer.Typer) -> None:
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
+        interrupted = False
         try:
             for step in progress(pipe, total=total):
                 for scan, result in zip(step.frame.scans, stage.classifications, strict=True):
@@ -178,6 +184,9 @@ def register(app: typer.Typer) -> None:
                         truth = beam_truth_labeller(scan, result.table, result.features)[ok]
                         truth_ada.append(Confusion.of(np.where(result.is_leg[ok], 1, -1), truth))
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
+        except KeyboardInterrupt:  # Ctrl-C: close the CSV with the scans done, say so
+            interrupted = True
+            pipe.close()
         finally:
             if all_segments:
                 segments.close()
@@ -194,13 +203,16 @@ def register(app: typer.Typer) -> None:
             f"{counts['legs']} legs detected, {counts['invalid']} invalid beams skipped; "
             f"wrote {output}"
         )
+        if interrupted:
+            written = counts["scans"] if all_segments else sink.scans
+            warn(
+                f"interrupted (Ctrl-C) after {written} scans: {output} holds the legs "
+                "of those scans and is a complete CSV"
+            )
+            raise typer.Exit(130)
         if report:
             if not truth_ada:
-                raise ConfigError(
-                    "--report needs per-beam ground truth, which this recording lacks",
-                    path=recording,
-                    hint="use a simulated .npz, or `laserpeople train --report` with bags",
-                )
+                raise _no_beam_truth(recording)
             ada = _sum(truth_ada)
             heur = _sum(truth_heur)
             console.print(
@@ -215,6 +227,15 @@ def register(app: typer.Typer) -> None:
                     "\nComparison with the heuristic approach (Arras et al. 2008 Table 7)",
                 )
             )
+
+
+def _no_beam_truth(recording: Path) -> ConfigError:
+    """The error of ``--report`` on a recording without per-beam ground truth."""
+    return ConfigError(
+        "--report needs per-beam ground truth, which this recording lacks",
+        path=recording,
+        hint="use a simulated .npz, or `laserpeople train --report` with bags",
+    )
 
 
 def _sum(parts: list[Confusion]) -> Confusion:

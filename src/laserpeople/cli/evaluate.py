@@ -8,11 +8,20 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import OnErrorOption, console, progress, report_damage, say, warn
+from laserpeople.cli.common import (
+    OnErrorOption,
+    console,
+    plain,
+    progress,
+    report_damage,
+    say,
+    warn,
+)
 from laserpeople.errors import ConfigError, EvaluationError, RecordingError
 
 if TYPE_CHECKING:
     from rich.table import Table
+    from rich.text import Text
 
     from laserpeople.evaluation import EvaluationParams, EvaluationReport
     from laserpeople.evaluation.followed import FollowedPersonResult
@@ -111,15 +120,15 @@ def render_followed(
     def num(value: float) -> str:
         return "n/a" if value != value else f"{value:.3f}"
 
-    table = Table(title=f"followed person {result.person_id}", show_header=True)
+    table = Table(title=plain(f"followed person {result.person_id}"), show_header=True)
     table.add_column("metric")
     table.add_column("value", justify="right")
     table.add_column("meaning", style="dim")
     top = ", ".join(f"{names.name(t)}: {n}" for t, n in result.track_frames[:5])
-    rows = [
+    rows: list[tuple[str, str, str | Text]] = [
         ("identity recall", num(result.identity_recall), "frames covered by the best single id"),
         ("recall", num(result.recall), f"{result.matched} of {result.frames} labelled frames"),
-        (f"{kind} ids", str(result.ids), f"frames per id: {top or 'none'}"),
+        (f"{kind} ids", str(result.ids), plain(f"frames per id: {top or 'none'}")),
         ("ID switches", str(result.id_switches), "changes of the matched id"),
         ("MOTA", num(result.mota), "1 - (misses + switches) / frames; no false positives"),
         ("MOTP", num(result.motp) + " m", f"mean distance of matches (gate {result.gate:g} m)"),
@@ -203,7 +212,7 @@ def register(app: typer.Typer) -> None:
             )
         tracks, truth = tracks_args[0], truth_args[0]
         from laserpeople.evaluation.recordings import unstated_tracks_frame
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
 
         try:
@@ -218,6 +227,7 @@ def register(app: typer.Typer) -> None:
         check_outputs(
             {"--per-frame": per_frame}, [tracks, truth_path, truth_path.rsplit(":", 1)[0]]
         )
+        check_output_format("--per-frame", per_frame, ".csv", "the per-frame table as CSV")
         names = TrackIdNames()
         kinds = (params.kind,)
         notes: list[str] = []
@@ -467,13 +477,13 @@ def render_many(rows: list[dict[str, object]], gate: float) -> Table:
     for c in columns:
         table.add_column(c, justify="left" if c == "recording" else "right")
     for r in rows:
-        cells = []
+        cells: list[str | Text] = []
         for k in keys:
             v = r[k]
             if isinstance(v, float):
                 cells.append("n/a" if v != v else (f"{v:.0f}" if k in keys[-3:] else f"{v:.3f}"))
             else:
-                cells.append(str(v))
+                cells.append(plain(v))
         if r.get("error"):  # the error itself is said on a line of its own
             cells[1:] = ["error"] + ["–"] * (len(cells) - 2)
         table.add_row(*cells)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import console, say
+from laserpeople.cli.common import console, plain, say
 
 if TYPE_CHECKING:
     from laserpeople.fitting.flow import FitResult
@@ -74,11 +74,12 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         from laserpeople.fitting.flow import learn, write_result
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.io.truth_bag import split_truth_spec
 
         truth_paths = [split_truth_spec(t)[0] for t in truth or []]
         check_outputs({"-o": output}, [*recordings, *truth_paths, config])
+        check_output_format("-o", output, ".toml", "the learned parameters as TOML")
         result = learn(
             recordings,
             truth or [],
@@ -103,7 +104,7 @@ def _print(result: FitResult) -> None:
     table.add_column("learned", justify="right")
     table.add_column("counted from")
     for e in result.estimates:
-        table.add_row(e.key, f"{e.value:.6g}", e.note)
+        table.add_row(e.key, f"{e.value:.6g}", plain(e.note))
     console.print(table)
     for key, why in result.kept:
         say(f"not learned: {key} ({why})")
@@ -117,8 +118,8 @@ def _print(result: FitResult) -> None:
         val.add_column(m, justify="right")
     for row in result.rows:
         val.add_row(
-            row.recording,
-            row.label,
+            plain(row.recording),
+            plain(row.label),
             *(_score_text(m, row.scores[m]) if m in row.scores else "" for m in metrics),
         )
     console.print(val)

@@ -14,6 +14,7 @@ from laserpeople.cli.common import (
     OnErrorOption,
     WorldFrameOption,
     console,
+    plain,
     progress,
     report_damage,
 )
@@ -189,7 +190,7 @@ def _print_table(report: dict[str, Any]) -> None:
     from rich import box
     from rich.table import Table
 
-    table = Table(title=report["path"], title_justify="left", box=box.SIMPLE_HEAD)
+    table = Table(title=plain(report["path"]), title_justify="left", box=box.SIMPLE_HEAD)
     for col, justify in (
         ("topic", "left"),
         ("scans", "right"),
@@ -206,7 +207,7 @@ def _print_table(report: dict[str, Any]) -> None:
         rate = t["rate_hz"]
         invalid = t["invalid_share"]
         table.add_row(
-            t["topic"],
+            plain(t["topic"]),
             str(t["scans"]),
             "-" if rate is None else f"{rate:.2f}",
             _fmt(t["fov_deg"], 1),
@@ -218,37 +219,36 @@ def _print_table(report: dict[str, Any]) -> None:
         )
     out = console  # in a pipe: wide and never folded (cli.common.make_console)
     out.print(table)
+
+    def line(text: str) -> None:  # topics, frames and file names as written
+        out.print(plain(text))
+
     truth = "yes" if report["ground_truth"] else "no"
     if report.get("truth_topics"):
         first = report["truth_topics"][0]
         truth += f", topic {', '.join(report['truth_topics'])} (use --truth BAG:{first})"
-    out.print(f"ground truth: {truth}", highlight=False)
+    line(f"ground truth: {truth}")
     if report.get("track_topics"):
-        out.print(
+        line(
             f"tracks of laserpeople track --bag: {', '.join(report['track_topics'])} "
-            "(score them with laserpeople evaluate RECORDING --truth ...)",
-            highlight=False,
+            "(score them with laserpeople evaluate RECORDING --truth ...)"
         )
     if report.get("pose_summary"):
-        out.print(f"poses: {report['pose_summary']}", highlight=False)
+        line(f"poses: {report['pose_summary']}")
     for note in report.get("mount_notes", []):
-        out.print(note, highlight=False, markup=False)
+        line(note)
     if report.get("bad_lines"):
-        out.print(f"malformed lines skipped: {report['bad_lines']}", highlight=False)
+        line(f"malformed lines skipped: {report['bad_lines']}")
     if report.get("scans_with_log_time"):
-        out.print(
-            f"scans with a zero header stamp (bag time used): {report['scans_with_log_time']}",
-            highlight=False,
-        )
+        line(f"scans with a zero header stamp (bag time used): {report['scans_with_log_time']}")
     if report.get("other_lines"):
         lines = ", ".join(f"{k} ({n})" for k, n in report["other_lines"].items())
-        out.print(f"other lines: {lines}", highlight=False)
+        line(f"other lines: {lines}")
     others = report.get("other_topics")
     if others:
-        out.print(
+        line(
             "other topics: "
-            + ", ".join(f"{o['topic']} ({o['msgtype']}, {o['messages']})" for o in others),
-            highlight=False,
+            + ", ".join(f"{o['topic']} ({o['msgtype']}, {o['messages']})" for o in others)
         )
 
 

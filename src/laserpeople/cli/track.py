@@ -31,7 +31,7 @@ from laserpeople.cli.common import (
     warn,
 )
 from laserpeople.config import check_sections, load_config, origins, to_toml
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, LaserPeopleError
 
 if TYPE_CHECKING:
     from laserpeople.io import RecordingSource
@@ -181,11 +181,19 @@ def run_tracking(
     if detector is None:
         detector = make_detector("adaboost", None, config)
     from laserpeople.background.occupancy import map_files
-    from laserpeople.io.paths import check_outputs
+    from laserpeople.io.paths import check_output_format, check_outputs
 
     check_outputs(
         {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate},
         [recording, config, *map_files(map_path)],
+    )
+    check_output_format(
+        "-o",
+        output,
+        ".csv",
+        "a tracks CSV",
+        "give a path ending in .csv; --bag writes the tracks as a bag, "
+        "`laserpeople batch` as Parquet",
     )
     topics = [topic] if isinstance(topic, str) else topic
     # trackers of points may report groups: their outlines go into the CSV for `view`
@@ -238,7 +246,12 @@ def run_tracking(
     except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
         interrupted = True
         pipe.close()
-    except Exception:  # a mount left out may be why: say so before the error
+    except LaserPeopleError as exc:
+        for note in getattr(source.recording, "mount_notes", []):  # a mount left out may be
+            warn(note)  # why: say so before the error
+        exc.located(recording)  # (a scan without the pose -o needs names no file)
+        raise
+    except Exception:
         for note in getattr(source.recording, "mount_notes", []):
             warn(note)
         raise
@@ -464,6 +477,12 @@ def register(app: typer.Typer) -> None:
             )
         if plot is not None and plot.suffix.lower() != ".png":
             raise ConfigError(f"--plot writes a .png, not {plot.name!r}")
+        if animate is not None and animate.suffix.lower() not in (".gif", ".mp4"):
+            raise ConfigError(
+                f"--animate writes a .gif or an .mp4, not {animate.name!r}",
+                hint="--plot draws the tracks into one .png; `laserpeople view` also writes "
+                ".mcap and .rrd",
+            )
         if output_frame not in (None, "sensor", "world"):
             raise ConfigError(f"--output-frame must be sensor or world, not {output_frame!r}")
         frame: CoordinateFrame | None = (

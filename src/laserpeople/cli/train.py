@@ -44,6 +44,8 @@ def parse_frames(text: str) -> list[int]:
         part = part.strip()
         if "-" in part:
             a, b = (int(x) for x in part.split("-", 1))
+            if b < a:
+                raise ValueError(f"{part} goes backwards (write the first frame first)")
             out.extend(range(a, b + 1))
         elif part:
             out.append(int(part))
@@ -249,7 +251,7 @@ def register(app: typer.Typer) -> None:
         if unlabelled not in ("negative", "drop"):
             raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
         mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"
-        from laserpeople.io.paths import check_outputs
+        from laserpeople.io.paths import check_output_format, check_outputs
 
         check_outputs(
             {"-o": output},
@@ -263,6 +265,7 @@ def register(app: typer.Typer) -> None:
                 *test_negatives,
             ],
         )
+        check_output_format("-o", output, ".json", "a model JSON")
         seg = JumpDistanceParams(threshold=jump_distance)
         data = load_labelled(
             list(recordings or []),

@@ -177,6 +177,10 @@ def register(app: typer.Typer) -> None:
         for option, value in (("--tracks-frame", tracks_frame), ("--truth-frame", truth_frame)):
             if value is not None and value not in ("world", "sensor"):
                 raise LaserPeopleError(f"{option} {value!r} is not world or sensor")
+        if no_truth and truth is not None:
+            raise LaserPeopleError(
+                f"--no-truth and --truth {truth} ask for opposites", hint="give one of them"
+            )
         truth_arg: str | None = None if no_truth else (truth or "auto")
         from laserpeople.io.paths import check_outputs
 
@@ -266,6 +270,16 @@ def _draw(
             tracks_frame = read_tracks_frame(tracks)
             if tracks_frame is not None:
                 say(f"tracks in the {tracks_frame} frame (the CSV's frame column)")
+    if isinstance(truth_input, list) or truth_input not in (None, "auto", "recording"):
+        from laserpeople.io.truth_csv import read_truth_csv
+        from laserpeople.pipeline.checks import truth_mismatch
+
+        drawn = drawn or resolve_topics(source, None)
+        listed = isinstance(truth_input, list)  # (a bag's labels, already read)
+        given = truth_input if listed else read_truth_csv(str(truth_input))
+        for problem in truth_mismatch(given, source, drawn[0]):
+            name = "the truth" if listed else truth_input
+            warn(f"{name} may not belong to {recording.name}: {problem}")
     start, stop, every = scans
     scene = Scene(
         source,

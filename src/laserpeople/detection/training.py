@@ -51,7 +51,7 @@ from laserpeople.detection.features import (
     SegmentFeatures,
     compute_features,
 )
-from laserpeople.errors import RecordingError
+from laserpeople.errors import ConfigError, RecordingError
 from laserpeople.io.damage import OnError
 from laserpeople.scan import Scan
 from laserpeople.segmentation import (
@@ -365,12 +365,33 @@ def _note_damage(recording: object, damage: list[str] | None) -> None:
         damage.append(text)
 
 
+def neko_frames(directory: str | Path, count: int, frames: Iterable[int] | None) -> set[int]:
+    """The neko7055 frames asked for (all ``count`` when None), checked to be in the data.
+
+    Raises:
+        ConfigError: a frame is not in the data (``--neko-frames 200-300`` of 120 frames);
+            names the directory and its frames.
+    """
+    if frames is None:
+        return set(range(count))
+    wanted = set(frames)
+    outside = sorted(f for f in wanted if not 0 <= f < count)
+    if outside:
+        raise ConfigError(
+            f"frame(s) {', '.join(map(str, outside[:3]))}{' ...' if len(outside) > 3 else ''} "
+            f"not in the data: it has frames 0-{count - 1}",
+            path=directory,
+            hint="check --neko-frames / --test-neko-frames",
+        )
+    return wanted
+
+
 def neko_segments(directory: str | Path, frames: Iterable[int] | None = None) -> LabelledSegments:
     """Labelled segments of the neko7055 data (all frames, or the given ones)."""
     from laserpeople.io.neko import NEKO_SEGMENT_THRESHOLD, neko_segment_labels, read_neko
 
     data = read_neko(directory)
-    wanted = set(range(len(data.scans)) if frames is None else frames)
+    wanted = neko_frames(directory, len(data.scans), frames)
 
     def labeller(scan: Scan, table: SegmentTable, f: SegmentFeatures) -> IntArray:
         if scan.index not in wanted:
@@ -519,7 +540,7 @@ def neko_classes(directory: str | Path, frames: Iterable[int] | None = None) -> 
     from laserpeople.io.neko import NEKO_SEGMENT_THRESHOLD, neko_segment_labels, read_neko
 
     data = read_neko(directory)
-    wanted = set(range(len(data.scans)) if frames is None else frames)
+    wanted = neko_frames(directory, len(data.scans), frames)
     segmenter = JumpDistanceSegmenter(
         JumpDistanceParams(threshold=NEKO_SEGMENT_THRESHOLD, wrap_around=True)
     )

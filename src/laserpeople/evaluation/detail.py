@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.errors import EvaluationError
+from laserpeople.io.paths import why_unwritable
 
 Cell = int | float
 
@@ -70,7 +71,7 @@ class FrameTable:
                 out.writerows(_format(self.columns, row) for row in self.rows)
         except OSError as exc:
             raise EvaluationError(
-                f"cannot write the per-frame table: {exc.strerror or exc}",
+                f"cannot write the per-frame table: {why_unwritable(exc, p)}",
                 path=p,
                 hint="give a writable file path",
             ) from exc

@@ -17,6 +17,7 @@ from typing import Any
 
 from laserpeople.config import load_config, section_name
 from laserpeople.fitting.estimates import Estimate, FitError
+from laserpeople.io.paths import why_unwritable
 
 
 def check(estimates: Sequence[Estimate]) -> None:
@@ -87,7 +88,7 @@ def write(
             tmp.write_text(text, encoding="utf-8")
         except OSError as exc:
             raise FitError(
-                f"cannot write the parameters: {exc.strerror or exc}",
+                f"cannot write the parameters: {why_unwritable(exc, path)}",
                 path=path,
                 hint="choose a writable file path with -o",
             ) from exc

@@ -13,6 +13,7 @@ from typing import Any, Protocol, runtime_checkable
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
+from laserpeople.io.sniff import check_extension
 from laserpeople.scan import Scan
 from laserpeople.truth import TruthFrame
 
@@ -77,11 +78,15 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
         raise RecordingError("file not found", path=p, hint="check the path")
     suffix = p.suffix.lower()
     if p.is_dir() and not (p / "metadata.yaml").exists():
+        neko = (p / "xy_data.txt").is_file()
         raise RecordingError(
             "is a directory, not a recording",
             path=p,
-            hint="give a file, or a ROS 2 bag folder (one with metadata.yaml)",
+            hint="a neko7055 directory is read by `laserpeople train --neko DIR`"
+            if neko
+            else "give a file, or a ROS 2 bag folder (one with metadata.yaml)",
         )
+    check_extension(p)
     if suffix == ".npz":
         extra = set(options) - {"on_error"}
         if extra:

@@ -218,6 +218,7 @@ def check_bag_file(path: Path) -> None:
         RecordingError: the file is empty or starts otherwise; names the file.
     """
     from laserpeople.errors import RecordingError
+    from laserpeople.io.sniff import check_extension
 
     if path.is_dir():
         return
@@ -233,7 +234,9 @@ def check_bag_file(path: Path) -> None:
             hint="the copy or the recording was cut short: copy or record it again",
         )
     if any(head.startswith(m[: len(head)]) for m in BAG_MAGIC):
+        check_extension(path)  # a whole bag of another kind than its extension says
         return
+    check_extension(path)  # e.g. an .npz named .bag
     text = all(32 <= b < 127 or b in b"\t\r\n" for b in head)
     raise RecordingError(
         f"not a bag: it starts with {'text' if text else 'other binary data'} "

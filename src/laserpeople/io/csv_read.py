@@ -9,6 +9,7 @@ line and what to do. Every CSV reader (tracks, truth, detections) uses it.
 
 from __future__ import annotations
 
+import codecs
 import csv
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -38,7 +39,7 @@ class CsvRows:
     def __init__(self, lines: Iterable[str], path: str | Path, what: str, hint: str) -> None:
         if csv.field_size_limit() != FIELD_LIMIT:
             csv.field_size_limit(FIELD_LIMIT)
-        self._reader = csv.DictReader(lines)
+        self._reader = csv.DictReader(_without_bom(lines))
         self.path = Path(path)
         self.what = what
         self.hint = hint
@@ -65,6 +66,35 @@ class CsvRows:
     def fieldnames(self, names: list[str]) -> None:
         self._reader.fieldnames = names
 
+    def require(self, columns: Iterable[str], expected: str) -> list[str]:
+        """The header's column names (stripped of spaces), checked to hold ``columns``.
+
+        Raises:
+            RecordingError: the file is empty, or a column is missing; names them, the
+                ``expected`` header, and the separator when the header is separated by ``;``
+                or tabs.
+        """
+        names = [c.strip() for c in self.fieldnames]
+        if not names:
+            raise RecordingError(
+                f"the {self.what} is empty: no header line",
+                path=self.path,
+                hint=f"expected header {expected}; was the file cut short when written?",
+            )
+        self.fieldnames = names
+        missing = [c for c in columns if c not in names]
+        if not missing:
+            return names
+        hint = f"expected header {expected}"
+        if len(names) == 1:
+            sep = next((s for s in (";", "\t", "|") if s in names[0]), None)
+            if sep is not None:
+                shown = "tabs" if sep == "\t" else repr(sep)
+                hint += f"; this header is separated by {shown}: save the CSV with commas"
+        raise RecordingError(
+            f"not a {self.what}: missing column(s) {', '.join(missing)}", path=self.path, hint=hint
+        )
+
     def __iter__(self) -> Iterator[dict[str, Any]]:
         return self
 
@@ -73,3 +103,40 @@ class CsvRows:
             return next(self._reader)
         except csv.Error as exc:
             raise self._error(exc) from exc
+
+
+BOM = "\ufeff"
+"""The byte order mark a spreadsheet's "CSV UTF-8" export puts before the header."""
+
+
+def _without_bom(lines: Iterable[str]) -> Iterator[str]:
+    """``lines`` with a byte order mark before the first one left out."""
+    it = iter(lines)
+    first = next(it, None)
+    if first is None:
+        return
+    yield first.removeprefix(BOM)
+    yield from it
+
+
+def not_utf8(path: str | Path) -> str:
+    """Where the file ``path`` first stops being UTF-8 text, for an error message:
+    ``line 2,001 (byte 126,198) is not UTF-8``. (A decoding error of a text file read in
+    chunks gives the position within a chunk, not in the file.)"""
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    offset, line = 0, 1
+    try:
+        with open(path, "rb") as fh:
+            while chunk := fh.read(1 << 20):
+                try:
+                    decoder.decode(chunk)
+                except UnicodeDecodeError as exc:
+                    held = len(exc.object) - len(chunk)  # bytes of a character begun before
+                    at = max(exc.start - held, 0)
+                    line += chunk.count(b"\n", 0, at)
+                    return f"line {line:,} (byte {offset + at:,}) is not UTF-8"
+                line += chunk.count(b"\n")
+                offset += len(chunk)
+    except OSError:
+        pass
+    return "it is not UTF-8 text"

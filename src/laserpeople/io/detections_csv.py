@@ -29,7 +29,7 @@ from typing import IO, Any
 import numpy as np
 
 from laserpeople.errors import RecordingError
-from laserpeople.io.csv_read import CsvRows
+from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
@@ -173,7 +173,7 @@ def iter_detections_csv(path: str | Path) -> Iterator[dict[str, float | int | st
         with fh:
             yield from _read_detections(fh, p)
     except UnicodeDecodeError as exc:
-        raise RecordingError(f"not a text CSV (byte {exc.start} is not UTF-8)", path=p) from exc
+        raise RecordingError(f"not a text CSV: {not_utf8(p)}", path=p) from exc
     except (OSError, csv.Error) as exc:
         raise RecordingError(f"cannot read detections: {exc}", path=p) from exc
 

@@ -55,6 +55,7 @@ from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError, TopicNotFoundError
 from laserpeople.io.damage import DamagedRecords, OnError
+from laserpeople.io.paths import why_unwritable
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.truth import BeamLabels, TruthFrame
 
@@ -556,7 +557,7 @@ def write_recording(
         with contextlib.suppress(OSError):
             tmp.unlink()
         raise RecordingError(
-            f"cannot write the recording: {exc.strerror or exc}",
+            f"cannot write the recording: {why_unwritable(exc, path)}",
             path=path,
             hint="choose a writable file path",
         ) from exc

@@ -36,6 +36,70 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
+FORMATS = frozenset(
+    {
+        ".bag", ".mcap", ".db3", ".npz", ".log", ".clf",  # recordings
+        ".csv", ".parquet", ".json", ".toml", ".yaml", ".yml",  # tables, models, settings
+        ".png", ".gif", ".mp4", ".rrd",  # pictures and viewer files
+    }
+)  # fmt: skip
+"""Extensions of the formats this package reads or writes."""
+
+
+def why_unwritable(exc: OSError, path: str | Path) -> str:
+    """Why ``path`` could not be written, for an error message: the system's reason, or
+    ``runs.bag is a file, not a folder`` when a folder on the way to it is a file (where the
+    system says only "File exists" or "Not a directory")."""
+    if isinstance(exc, FileExistsError | NotADirectoryError):
+        for parent in Path(path).parents:
+            if parent.exists() and not parent.is_dir():
+                return f"{parent} is a file, not a folder"
+    return str(exc.strerror or exc)
+
+
+def make_folder(folder: Path, option: str) -> None:
+    """Make the output folder ``folder`` (given as ``option``) and its parents if missing.
+
+    Raises:
+        ConfigError: it cannot be made (a file on the way, no permission); names it.
+    """
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError(
+            f"cannot make the folder: {why_unwritable(exc, folder / 'x')}",
+            path=folder,
+            hint=f"give {option} a folder (made when missing)",
+        ) from exc
+
+
+def check_output_format(
+    name: str, path: Path | None, suffix: str, what: str, hint: str = ""
+) -> None:
+    """Refuse an output whose extension names another format than the one written: a CSV
+    written to ``tracks.parquet`` is no Parquet file, and to ``other.bag`` it replaces a
+    recording. Other extensions (``.txt``, none) and ``/dev/...`` are written as asked.
+
+    Args:
+        name: The option (``"-o"``).
+        path: The output (None: not given).
+        suffix: The extension of what is written (``".csv"``).
+        what: What is written (``"a tracks CSV"``).
+        hint: What to do instead (default: give a path ending in ``suffix``).
+
+    Raises:
+        ConfigError: names the option, the path and what it writes.
+    """
+    if path is None:
+        return
+    got = path.suffix.lower()
+    if got != suffix and got in FORMATS:
+        raise ConfigError(
+            f"{name} writes {what}, not a {got} file: {path}",
+            hint=hint or f"give a path ending in {suffix}",
+        )
+
+
 def check_outputs(
     outputs: Mapping[str, str | Path | None], inputs: Iterable[str | Path | None]
 ) -> None:
@@ -95,7 +159,7 @@ def write_text_file(
         with suppress(OSError):
             tmp.unlink(missing_ok=True)
         raise error(
-            f"cannot write the {what}: {exc.strerror or exc}",
+            f"cannot write the {what}: {why_unwritable(exc, p)}",
             path=p,
             hint="choose a writable file path with -o",
         ) from exc

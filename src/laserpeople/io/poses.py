@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -366,15 +367,30 @@ def parse_mounts(specs: Iterable[str]) -> dict[str, tuple[str, Pose2D]]:
                 hint="write CHILD=PARENT:x,y,theta, e.g. laser=base_link:0.2,0,0, "
                 f"or one of {', '.join(KNOWN_MOUNTS)}",
             ) from None
-        x, y, theta = values
-        if not (abs(x) <= MAX_MOUNT_OFFSET and abs(y) <= MAX_MOUNT_OFFSET and abs(theta) <= 100.0):
-            raise ConfigError(
-                f"mount {spec!r} is off its robot: x and y must be within "
-                f"{MAX_MOUNT_OFFSET:g} m and theta a finite angle in radians",
-                hint="give the laser's offset from its parent frame in metres, e.g. 0.2,0,0",
-            )
-        out[normalise_frame(child)] = (normalise_frame(parent), Pose2D(*values))
+        pose = mount_pose(*values, what=f"mount {spec!r}")
+        out[normalise_frame(child)] = (normalise_frame(parent), pose)
     return out
+
+
+def mount_pose(
+    x: float, y: float, theta: float, *, what: str, path: str | Path | None = None
+) -> Pose2D:
+    """The pose of a laser on its robot, checked: ``x`` and ``y`` [m] within
+    :data:`MAX_MOUNT_OFFSET`, ``theta`` [rad] finite (at most 100 in magnitude).
+
+    Raises:
+        ConfigError: names ``what`` (``mount 'front'``) and ``path`` (a mounts file).
+    """
+    from laserpeople.errors import ConfigError
+
+    if not (abs(x) <= MAX_MOUNT_OFFSET and abs(y) <= MAX_MOUNT_OFFSET and abs(theta) <= 100.0):
+        raise ConfigError(
+            f"{what} is off its robot: x and y must be within "
+            f"{MAX_MOUNT_OFFSET:g} m and theta a finite angle in radians",
+            path=path,
+            hint="give the laser's offset from its parent frame in metres, e.g. 0.2,0,0",
+        )
+    return Pose2D(x, y, theta)
 
 
 def mounts_to_use(

@@ -28,12 +28,13 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-from laserpeople.errors import RecordingError
+from laserpeople.errors import LaserPeopleWarning, RecordingError
+from laserpeople.io.paths import why_unwritable
 
 PAGE = mmap.PAGESIZE  # bytes the kernel copies between two checks for a fatal signal
 
 
-class TornScanWarning(UserWarning):
+class TornScanWarning(LaserPeopleWarning):
     """The last scan of a CSV was cut off mid-write and is left out."""
 
 
@@ -59,7 +60,7 @@ class ScanLineWriter:
             self._seekable = self._fh.seekable()  # False for a pipe or a terminal
         except OSError as exc:
             raise RecordingError(
-                f"cannot write the {what}: {exc.strerror or exc}",
+                f"cannot write the {what}: {why_unwritable(exc, self.path)}",
                 path=self.path,
                 hint="choose a writable file path with -o",
             ) from exc

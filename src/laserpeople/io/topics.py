@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import NoReturn
 
 from laserpeople.errors import TopicNotFoundError
 
@@ -43,3 +44,16 @@ def match_topics(
         if found not in out:
             out.append(found)
     return out
+
+
+def no_laser_topic(recording: object, path: str | Path) -> NoReturn:
+    """Raise the error of a recording without a laser topic: a bag's own, which names the
+    topics the bag has (``/chatter (std_msgs/msg/String)``), else a plain one.
+
+    Raises:
+        TopicNotFoundError: always.
+    """
+    resolve = getattr(recording, "resolve_topics", None)
+    if callable(resolve):
+        resolve(None)  # a bag's reader raises, naming its topics
+    raise TopicNotFoundError("the recording has no laser topic", path=path)

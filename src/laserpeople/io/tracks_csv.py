@@ -39,7 +39,7 @@ from typing import Any, get_args
 import numpy as np
 
 from laserpeople.errors import LaserPeopleError, RecordingError
-from laserpeople.io.csv_read import CsvRows
+from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
@@ -86,8 +86,7 @@ def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
     pose = tracks.sensor_pose
     if pose is None:
         raise LaserPeopleError(
-            f"cannot express tracks in the {frame} frame: "
-            f"scan {tracks.scan_index} has no sensor pose",
+            f"cannot express tracks in the {frame} frame: the scan has no sensor pose",
             scan=tracks.scan_index,
             hint="use --output-frame sensor, or a recording with /tf or odometry",
         )
@@ -373,7 +372,9 @@ def _first_row_value(path: str | Path, column: str) -> str | None:
             if column not in reader.fieldnames:
                 return None
             row = next(reader, None)
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:
+        raise RecordingError(f"not a text CSV: {not_utf8(p)}", path=p, hint=TRACKS_HINT) from exc
+    except OSError as exc:
         raise RecordingError(f"cannot read the tracks CSV: {exc}", path=p) from exc
     return None if row is None else (row.get(column) or None)
 
@@ -435,9 +436,7 @@ def iter_tracks_csv(
     try:
         yield from _read_tracks(p, frame, kinds, ids if ids is not None else TrackIdNames())
     except UnicodeDecodeError as exc:
-        raise RecordingError(
-            f"not a text CSV (byte {exc.start} is not UTF-8)", path=p, hint=TRACKS_HINT
-        ) from exc
+        raise RecordingError(f"not a text CSV: {not_utf8(p)}", path=p, hint=TRACKS_HINT) from exc
     except OSError as exc:
         raise RecordingError(f"cannot read the tracks CSV: {exc.strerror or exc}", path=p) from exc
 
@@ -448,14 +447,7 @@ def _read_tracks(
     with open(p, newline="", encoding="utf-8") as fh:
         torn: list[str] = []
         reader = CsvRows(complete_lines(fh, torn), p, "tracks CSV", TRACKS_HINT)
-        columns = reader.fieldnames
-        missing = [c for c in ("scan", "stamp", "track_id", "kind", "x", "y") if c not in columns]
-        if missing:
-            raise RecordingError(
-                f"not a tracks CSV: missing column(s) {', '.join(missing)}",
-                path=p,
-                hint=f"expected header {','.join(HEADER)}",
-            )
+        reader.require(("scan", "stamp", "track_id", "kind", "x", "y"), ",".join(HEADER))
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1

@@ -18,13 +18,14 @@ from __future__ import annotations
 
 import csv
 import math
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 
-from laserpeople.errors import RecordingError
-from laserpeople.io.csv_read import CsvRows
+from laserpeople.errors import LaserPeopleWarning, RecordingError
+from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE, parse_frame_cell
 from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import NONE_ID, TruthFrame
@@ -53,7 +54,7 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
         return _read_truth_csv(p)
     except UnicodeDecodeError as exc:
         raise RecordingError(
-            f"not a text CSV (byte {exc.start} is not UTF-8)",
+            f"not a text CSV: {not_utf8(p)}",
             path=p,
             hint="give a CSV scan,stamp,person_id,x,y; a recording with truth must end in .npz",
         ) from exc
@@ -68,14 +69,14 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
     frame: CoordinateFrame | None = None
     with open(p, newline="", encoding="utf-8") as fh:
         reader = CsvRows(fh, p, "ground-truth CSV", TRUTH_HINT)
-        columns = [c.strip() for c in reader.fieldnames]
-        reader.fieldnames = columns
-        missing = [c for c in REQUIRED if c not in columns]
-        if missing:
-            raise RecordingError(
-                f"not a ground-truth CSV: missing column(s) {', '.join(missing)}",
-                path=p,
-                hint=f"expected header {','.join(REQUIRED)}[,group_id]",
+        columns = reader.require(REQUIRED, f"{','.join(REQUIRED)}[,group_id][,frame]")
+        unread = [c for c in columns if c not in (*TRUTH_CSV_HEADER, "frame")]
+        if unread:
+            warnings.warn(
+                f"{p}: column(s) {', '.join(unread)} not read (a ground-truth CSV's columns "
+                f"are {','.join(REQUIRED)}[,group_id][,frame])",
+                LaserPeopleWarning,
+                stacklevel=3,
             )
         for line, row in enumerate(reader, start=2):
             scan, stamp, person = _parse_row(row, p, line)

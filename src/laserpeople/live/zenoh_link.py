@@ -6,6 +6,7 @@ the key expressions of ``zenoh-bridge-ros2dds`` and ``rmw_zenoh``).
 from __future__ import annotations
 
 import json
+import re
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -29,6 +30,10 @@ def import_zenoh() -> Any:
             hint=INSTALL_HINT,
         ) from None
     return zenoh
+
+
+ENDPOINT = re.compile(r"[a-z][a-z0-9+.-]*/\S+")
+"""A Zenoh endpoint: ``<protocol>/<address>[?<metadata>][#<config>]`` (no spaces)."""
 
 
 @dataclass(frozen=True)
@@ -55,6 +60,13 @@ class ZenohSettings:
             raise ConfigError(
                 "a zenoh client needs an endpoint", hint="give --connect tcp/HOST:7447"
             )
+        for option, endpoints in (("--connect", self.connect), ("--listen", self.listen)):
+            for endpoint in endpoints:
+                if not ENDPOINT.fullmatch(endpoint):
+                    raise ConfigError(
+                        f"{option} {endpoint!r} is not a Zenoh endpoint PROTOCOL/ADDRESS",
+                        hint="e.g. tcp/192.168.1.5:7447, udp/10.0.0.2:7447 or tcp/[::1]:7447",
+                    )
 
     def config(self) -> Any:
         """A ``zenoh.Config``."""

@@ -1,7 +1,8 @@
-"""Does a tracks file belong to a recording? (scan count, stamps, topic)."""
+"""Does a tracks or truth file belong to a recording? (scan count, stamps, topic)."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ import numpy as np
 from laserpeople.io import RecordingSource
 from laserpeople.io.tracks_csv import iter_tracks_csv, read_tracks_topic
 from laserpeople.pipeline.sources import FUSED
+from laserpeople.truth import TruthFrame
 
 STAMP_TOLERANCE = 0.01
 """Largest stamp difference [s] between a tracks row and its scan that still counts as the
@@ -48,4 +50,17 @@ def tracks_mismatch(tracks_csv: str | Path, recording: RecordingSource, topic: s
     return problems
 
 
-__all__ = ["STAMP_TOLERANCE", "tracks_mismatch"]
+def truth_mismatch(
+    truth: Iterable[TruthFrame], recording: RecordingSource, topic: str
+) -> list[str]:
+    """Why ``truth`` does not belong to ``topic`` of ``recording`` (empty when it may):
+    labels of scans beyond the topic's scans. (Stamps are not compared: labels may carry
+    another clock's, as the leg_tracker benchmarks' do.)"""
+    count = next((t.count for t in recording.topics() if t.name == topic), None)
+    last = max((f.scan_index for f in truth), default=-1)
+    if count is None or last < count:
+        return []
+    return [f"the truth labels scans up to {last} but {topic} has {count} scans"]
+
+
+__all__ = ["STAMP_TOLERANCE", "tracks_mismatch", "truth_mismatch"]

@@ -12,10 +12,11 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
+from laserpeople.io.topics import no_laser_topic
 from laserpeople.pipeline.background import (
     StaticWorldParams,
     background_of,
@@ -23,6 +24,7 @@ from laserpeople.pipeline.background import (
     set_laser_height,
 )
 from laserpeople.pipeline.core import Pipeline
+from laserpeople.pipeline.empty_scans import EmptyScanCheck
 from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.layout import LayoutCheck
 from laserpeople.pipeline.leg_foreground import wants_torso_runs
@@ -100,7 +102,7 @@ def resolve_topics(recording: RecordingSource, topics: Sequence[str] | None) -> 
     leading ``/`` is optional for bags), default the first laser topic."""
     names = [t.name for t in recording.topics()]
     if not names:
-        raise LaserPeopleError("the recording has no laser topic", path=recording.path)
+        no_laser_topic(recording, recording.path)
     if not topics:
         return names[:1]
     if list(topics) == [ALL_TOPICS]:
@@ -132,6 +134,7 @@ class RecordingFrames:
         grouper: The grouping and its counts (None for one laser).
         restamper: The re-stamping and its counts (None without ``restamp``).
         layouts: The changes of a laser's beam layout seen so far.
+        empty: The scans without a valid beam seen so far.
     """
 
     def __init__(
@@ -153,6 +156,7 @@ class RecordingFrames:
         self.chooser = FrameChooser(frame, window)
         self.max_frames = max_frames
         self.layouts = LayoutCheck()
+        self.empty = EmptyScanCheck()
 
     @property
     def total(self) -> int | None:
@@ -165,7 +169,7 @@ class RecordingFrames:
     def __iter__(self) -> Iterator[Frame]:
         scans = self.recording.scans(self.topics)
         scans = self.restamper(scans) if self.restamper is not None else StampCheck()(scans)
-        scans = self.layouts(scans)
+        scans = self.empty(self.layouts(scans))
         frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
         for n, frame in enumerate(self.chooser(frames)):
             if self.max_frames is not None and n >= self.max_frames:
@@ -174,7 +178,7 @@ class RecordingFrames:
 
     def summary(self) -> list[str]:
         """Lines for the user: given laser mounts left out; the frame used and why; the
-        grouping figures; changes of a laser's beam layout."""
+        grouping figures; changes of a laser's beam layout; scans without a valid beam."""
         lines = list(getattr(self.recording, "mount_notes", []))
         lines.append(self.chooser.stats.summary())
         if self.restamper is not None:
@@ -183,6 +187,8 @@ class RecordingFrames:
             lines.append(self.grouper.stats.summary())
         if self.layouts.changes:
             lines.append(self.layouts.summary())
+        if self.empty.empty:
+            lines.append(self.empty.summary())
         return lines
 
     def close(self) -> None:

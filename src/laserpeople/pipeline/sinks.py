@@ -81,6 +81,8 @@ class DetectionsCsvSink:
         self.per_laser = per_laser
         self.stage = stage
         self._writer = DetectionsCsvWriter(self.path, topic="")
+        self.scans = 0
+        """Scans whose detections were written."""
 
     @property
     def rows(self) -> int:
@@ -89,6 +91,7 @@ class DetectionsCsvSink:
 
     def write(self, frame: Frame, tracks: Tracks | None) -> None:
         """Append the frame's detections."""
+        self.scans += len(frame.scans)
         if self.per_laser:
             for scan, dets in zip(frame.scans, self.stage.per_scan, strict=True):
                 self._writer.write(dets, topic=scan.sensor)

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.errors import LaserPeopleError, RecordingError
+from laserpeople.io.paths import why_unwritable
 from laserpeople.scan import Pose2D, Scan, wrap_angle
 from laserpeople.sim.accessories import ACCESSORIES, accessory_geometry
 from laserpeople.sim.people import LEG_Z_MAX, TORSO_Z, PersonSpec, PlannedPerson, plan_person
@@ -96,7 +97,7 @@ class SimResult:
                 return write_recording(p, self.scans, self.truth, self.meta)
             except OSError as exc:  # the npz writer lets file-system errors through
                 raise RecordingError(
-                    f"cannot write the recording: {exc.strerror or exc}",
+                    f"cannot write the recording: {why_unwritable(exc, p)}",
                     path=p,
                     hint="choose a writable directory for -o",
                 ) from exc

@@ -131,8 +131,12 @@ class LegTrackerParams:
     )
 
     def __post_init__(self) -> None:
-        self.free()
-        self.approved()
+        for label, make in (("free", self.free), ("approved", self.approved)):
+            try:
+                make()
+            except ValueError as exc:  # name the keys as a config file writes them
+                keys = f"p_det_{label}, p_occ_{label}, p_del_{label}"
+                raise ValueError(f"{label} tracks ({keys}): {exc}") from exc
         if self.people_policy not in PEOPLE_POLICIES:
             raise ValueError(f"people_policy must be one of {', '.join(PEOPLE_POLICIES)}")
         if self.nonadaptive_class not in ("free", "approved"):

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
+from laserpeople.io.paths import why_unwritable
 from laserpeople.viz.figure import Extent
 from laserpeople.viz.raster import RenderResult, animate, plot_overview, plot_scan
 from laserpeople.viz.scene import ProgressFn, Scene
@@ -40,7 +41,7 @@ def render(
         return _render(scene, p, scan, size, extent, fps, trail, progress)
     except OSError as exc:  # image and animation writers let file-system errors through
         raise LaserPeopleError(
-            f"cannot write the output: {exc.strerror or exc}",
+            f"cannot write the output: {why_unwritable(exc, p)}",
             path=p,
             hint="give -o a path in a writable directory",
         ) from exc

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from laserpeople.errors import LaserPeopleError, PoseUnavailableError, RecordingError
 from laserpeople.io import RecordingSource, open_recording
+from laserpeople.io.topics import no_laser_topic
 from laserpeople.io.tracks_csv import convert_tracks, iter_tracks_csv
 from laserpeople.io.truth_csv import read_truth_csv
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
@@ -204,7 +205,7 @@ class Scene:
         if topic is None:
             topics = source.topics()
             if not topics:
-                raise RecordingError("recording has no laser topics", path=source.path)
+                no_laser_topic(source, source.path)
             topic = topics[0].name
             self.topic = topic
         if not self.other_topics:

@@ -45,7 +45,9 @@ class LabelProbabilities:
         if any(not 0.0 < v < 1.0 for v in values):
             raise ValueError(f"label probabilities must be in (0, 1), got {values}")
         if abs(sum(values) - 1.0) > 1e-6:
-            raise ValueError(f"p_det + p_occ + p_del must be 1 (000 eq. 8), got {sum(values)}")
+            raise ValueError(
+                f"p_det + p_occ + p_del must be 1 (Arras et al. 2008 eq. 8), got {sum(values)}"
+            )
 
     def log(self) -> FloatArray:
         """``log([p_det, p_occ, p_del])`` (3,)."""

@@ -315,10 +315,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "1.35 / 1.90 / 3.06 / 4.87 / 6.51 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(idle machine; 2.15 / 3.23 / 4.88 / 6.95 / 8.70 at a load of 8-10); log-log slope "
-        "of cost against people 0.55 (4–40 people); whole `track` on the demo bag 2.65 s "
-        "CPU idle, about 480 scans per CPU second",
+        "0.99 / 1.41 / 2.63 / 4.12 / 4.81 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(idle machine, the compiled listing); log-log slope of cost against people 0.55 "
+        "(4–40 people); whole `track` on the demo bag 2.05 s CPU idle, about 620 scans per "
+        "CPU second",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),

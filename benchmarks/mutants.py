@@ -1920,6 +1920,16 @@ MUTANTS: tuple[Mutant, ...] = (
         "        core |= beyond",
         ("tests/test_pipeline_prelearn.py",),
     ),
+    Mutant(
+        "scan-lines-ctrl-c-leaves-hole",
+        "outputs: Ctrl-C between a scan's pages cuts the scan back off",
+        "io/scan_lines.py",
+        "        except KeyboardInterrupt:  # Ctrl-C between two pages: the file ends with whole "
+        "scans\n            if self._seekable:\n                self._undo()\n            raise",
+        "        except KeyboardInterrupt:  # Ctrl-C between two pages: the file ends with whole "
+        "scans\n            raise",
+        ("tests/test_hardening_writers.py",),
+    ),
 )
 
 

@@ -161,6 +161,35 @@ def test_a_scan_killed_between_its_pages_is_dropped_not_short(
     assert len(caught) == (1 if pages_written else 0)
 
 
+@pytest.mark.parametrize("pages_written", [1, 2])
+def test_ctrl_c_between_a_scans_pages_leaves_whole_lines(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pages_written: int
+) -> None:
+    """Ctrl-C (KeyboardInterrupt) stops the writer between two pages of a scan: unlike a
+    kill, it can clean up, so the file ends with the scans before, every line whole."""
+    path = tmp_path / "t.csv"
+    out = TracksCsvWriter(path)
+    out.write(_tracks(0))
+    real = os.pwrite
+    calls = []
+
+    def interrupted(fd: int, data: bytes, offset: int) -> int:
+        if len(calls) == pages_written:
+            raise KeyboardInterrupt
+        calls.append(offset)
+        return real(fd, data, offset)
+
+    monkeypatch.setattr("laserpeople.io.scan_lines.os.pwrite", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        out.write(_tracks(1, rows=200))  # about 4 pages
+    out.close()
+    text = path.read_text()
+    assert "\0" not in text and text.endswith("\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TornScanWarning)
+        assert [t.scan_index for t in iter_tracks_csv(path)] == [0]
+
+
 def test_a_failed_write_leaves_the_complete_scans(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -2,8 +2,9 @@
 
 :class:`ScanLineWriter` writes the rows of one scan so that a process killed at any
 moment (SIGKILL, a power cut of the process) leaves every scan either complete or
-detectably torn, never silently short. A single ``write()`` is not enough: Linux checks
-for a fatal signal between the pages it copies, so a kill can cut a scan larger than a
+detectably torn, never silently short; a Ctrl-C, which stops it between two pages, cuts
+the scan it was writing back off. A single ``write()`` is not enough: Linux checks for a
+fatal signal between the pages it copies, so a kill can cut a scan larger than a
 page at a page boundary, which may fall just after a row. The writer therefore writes a
 scan page by page *from its end backwards* (``pwrite``): until the page holding the
 scan's first byte is written, the scan's start is a hole that reads as NUL bytes, and
@@ -86,6 +87,10 @@ class ScanLineWriter:
                 self._write_backwards(data)
             else:
                 self._write_forwards(data)
+        except KeyboardInterrupt:  # Ctrl-C between two pages: the file ends with whole scans
+            if self._seekable:
+                self._undo()
+            raise
         except OSError as exc:
             if self._seekable:
                 self._undo()

@@ -5,6 +5,7 @@ laser and the sections --print-config prints."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -72,6 +73,26 @@ def test_group_csv_scored_as_people_is_refused_with_the_kind_to_use(
     assert isinstance(res.exception, EvaluationError)  # main() prints it as one line
     message = str(res.exception)
     assert "holds no person tracks, only" in message and "--kind group" in message
+
+
+def test_leg_rows_alone_are_scored_as_nobody_confirmed(demo: Path, tmp_path: Path) -> None:
+    """A leg tracker that confirmed nobody wrote leg rows only: scored (every label a miss),
+    not refused as another tracker's output."""
+    full = tmp_path / "t.csv"
+    res = CliRunner().invoke(app, ["--quiet", "track", str(demo), "-o", str(full)])
+    assert res.exit_code == 0, res.output
+    lines = full.read_text().splitlines()
+    kind = lines[0].split(",").index("kind")
+    legs = [ln for ln in lines[1:] if ln.split(",")[kind] == "leg"]
+    assert legs and len(legs) < len(lines) - 1
+    out = tmp_path / "legs.csv"
+    out.write_text("\n".join([lines[0], *legs]) + "\n")
+    res = CliRunner().invoke(app, ["evaluate", str(out), "--truth", str(demo), "--json"])
+    assert res.exit_code == 0, res.output
+    assert "confirmed nobody" in res.output
+    scores = json.loads(res.stdout[res.stdout.index("{") :])
+    assert scores["recall"] == pytest.approx(0.0, abs=1e-9)
+    assert scores["mota"] == pytest.approx(0.0, abs=1e-9)
 
 
 def _truth_bag(path: Path) -> None:

@@ -298,11 +298,19 @@ def register(app: typer.Typer) -> None:
 
 def _check_kind(tracks: Path, kind: str) -> None:
     """Refuse a tracks CSV that has rows of other kinds but none of ``kind`` (a group
-    tracker's CSV scored as people would give a table of zeros)."""
+    tracker's CSV scored as people would give a table of zeros). A leg tracker's CSV of leg
+    rows alone is scored as people (its tracker confirmed nobody: every label is a miss),
+    with a warning."""
     from laserpeople.errors import EvaluationError
     from laserpeople.io.tracks_csv import count_track_kinds
 
     counts = count_track_kinds(tracks)
+    if kind == "person" and set(counts) == {"leg"}:
+        warn(
+            f"{tracks} holds {counts['leg']} leg rows and no person tracks: the tracker "
+            "confirmed nobody, so every labelled person is a miss (--kind leg scores the legs)"
+        )
+        return
     if counts and not counts.get(kind):
         held = ", ".join(f"{n} {k} rows" for k, n in sorted(counts.items()))
         best = max(counts, key=lambda k: counts[k])

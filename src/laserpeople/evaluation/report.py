@@ -98,7 +98,17 @@ def _finite_or_none(value: float | int) -> float | int | None:
 
 
 def _json_safe(values: dict[str, Any]) -> dict[str, Any]:
-    return {k: _finite_or_none(v) if isinstance(v, float | int) else v for k, v in values.items()}
+    """``values`` with every float that is not finite as None, also within tuples and lists
+    (a pairing's stamp range is (nan, nan) when no track of the scored kind was written)."""
+
+    def safe(v: Any) -> Any:
+        if isinstance(v, float | int):
+            return _finite_or_none(v)
+        if isinstance(v, tuple | list):
+            return [safe(x) for x in v]
+        return v
+
+    return {k: safe(v) for k, v in values.items()}
 
 
 class TrackingEvaluation:

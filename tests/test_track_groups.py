@@ -166,8 +166,8 @@ def test_leg_counting_leaves_wide_blobs_and_other_clusters_alone() -> None:
     labels = np.array([0] * 5 + [0] * 5 + [1] * 5 + [1] * 5)
     fine = np.repeat(np.arange(4), 5)
     four = np.concatenate([_leg(0, 0), _leg(0, 0.4), _leg(5, 0), _leg(5, 2.0)])
-    np.testing.assert_array_equal(count_people(four, labels, fine, 2, legs_count), [1.0, 2.0])
-    np.testing.assert_array_equal(count_people(four, labels, fine, 2, None), [2.0, 2.0])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, legs_count)[0], [1.0, 2.0])
+    np.testing.assert_array_equal(count_people(four, labels, fine, 2, None)[0], [2.0, 2.0])
 
 
 def test_reclustered_parts_take_the_scans_blobs() -> None:

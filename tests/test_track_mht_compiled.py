@@ -21,6 +21,7 @@ from laserpeople.tracking.mht.probability import (
     FALSE_ALARM,
     MATCHED,
 )
+from laserpeople.tracking.synthetic import walkers_scene
 
 # the costs are sums of the same floats in the same order (no multiplication), so they are
 # the same bits on any CPU; compared within this absolute tolerance all the same
@@ -164,22 +165,6 @@ def test_compiled_listing_by_hand(clisting: ModuleType) -> None:
     )
 
 
-def _scene() -> Any:
-    """Six walkers with clutter and misses (as the shortcuts' tests use)."""
-    from laserpeople.tracking import synthetic as syn
-
-    rng = np.random.default_rng(21)
-    paths = [
-        syn.line_path(
-            (float(rng.uniform(1.5, 6.0)), float(rng.uniform(-3.0, 3.0))),
-            (0.3 * math.cos(h := float(rng.uniform(-math.pi, math.pi))), math.sin(h)),
-        )
-        for _ in range(6)
-    ]
-    sensor = syn.SensorModel(false_alarms_per_scan=1.5, box=(0.5, -5.0, 8.0, 5.0))
-    return syn.make_scene(paths, 8.0, rate=37.5, sensor=sensor)
-
-
 def test_compiled_listing_on_a_trackers_calls(
     clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -203,7 +188,7 @@ def test_compiled_listing_on_a_trackers_calls(
     monkeypatch.setattr(core, "list_children", recorded)
     monkeypatch.setattr(listing, "COMPILED_K_BEST", None)  # (every cluster calls the listing)
     tracker = LegMHTTracker(LegTrackerParams())
-    for d in _scene().detections:
+    for d in walkers_scene(21, 1.5).detections:
         tracker.update(d)
     assert len(calls) > 200
     listed = sum(len(_compare(clisting, call) or []) for call in calls)
@@ -234,7 +219,7 @@ def test_tracker_with_the_compiled_listing_holds_the_same_hypotheses(
         hyps = [h for c in tracker.mht.clusters for h in c.hypotheses]
         return [[t.node_id for t in h.tracks] for h in hyps], [h.log_weight for h in hyps]
 
-    for d in _scene().detections:
+    for d in walkers_scene(21, 1.5).detections:
         monkeypatch.setattr(
             listing, "COMPILED", clisting.list_children if "listing" in parts else None
         )

@@ -90,8 +90,6 @@ def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan(
     the obvious detected child, closed-form listing) holds exactly the hypotheses (weights,
     node ids, states) of the one without, after every scan, and reports the same tracks;
     under both people policies (ratio pruning 1e-2 and 1e-3)."""
-    import math
-
     from laserpeople.tracking import synthetic as syn
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
     from laserpeople.tracking.mht.core import MHT
@@ -106,16 +104,7 @@ def test_lone_cluster_shortcut_gives_the_same_hypotheses_every_scan(
 
     monkeypatch.setattr(MHT, "_branch_obvious", counted)
 
-    rng = np.random.default_rng(5)
-    paths = [
-        syn.line_path(
-            (float(rng.uniform(1.5, 6.0)), float(rng.uniform(-3.0, 3.0))),
-            (0.3 * math.cos(h := float(rng.uniform(-math.pi, math.pi))), math.sin(h)),
-        )
-        for _ in range(6)
-    ]
-    sensor = syn.SensorModel(false_alarms_per_scan=1.0, box=(0.5, -5.0, 8.0, 5.0))
-    scene = syn.make_scene(paths, 8.0, rate=37.5, sensor=sensor)
+    scene = syn.walkers_scene(5, 1.0)
     params = LegTrackerParams(people_policy=policy)
     fast, slow = LegMHTTracker(params), LegMHTTracker(params)
     slow.mht.shortcuts = False
@@ -138,21 +127,10 @@ def test_deferred_child_states_give_the_same_hypotheses_every_scan(policy: str) 
     (weights, node and family ids, states bit for bit) of the one that updates every gated
     pair before branching, after every scan, and reports the same tracks; the states of
     pruned children are never made."""
-    import math
-
     from laserpeople.tracking import synthetic as syn
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
-    rng = np.random.default_rng(11)
-    paths = [
-        syn.line_path(
-            (float(rng.uniform(1.5, 6.0)), float(rng.uniform(-3.0, 3.0))),
-            (0.3 * math.cos(h := float(rng.uniform(-math.pi, math.pi))), math.sin(h)),
-        )
-        for _ in range(6)
-    ]
-    sensor = syn.SensorModel(false_alarms_per_scan=1.5, box=(0.5, -5.0, 8.0, 5.0))
-    scene = syn.make_scene(paths, 8.0, rate=37.5, sensor=sensor)
+    scene = syn.walkers_scene(11, 1.5)
     params = LegTrackerParams(people_policy=policy)
     deferred, eager = LegMHTTracker(params), LegMHTTracker(params)
     eager.mht.deferred_states = False

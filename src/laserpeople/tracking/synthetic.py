@@ -9,6 +9,7 @@ the sensor frame with the sensor at the origin looking along +x.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -142,6 +143,20 @@ def make_scene(
         for k, t in enumerate(times)
     ]
     return SyntheticScene(times, legs, dets)
+
+
+def walkers_scene(seed: int, false_alarms_per_scan: float, walkers: int = 6) -> SyntheticScene:
+    """``walkers`` straight walks for 8 s at 37.5 Hz, each from a random start (x 1.5-6 m,
+    y -3-3 m) with a random heading, seen with ``false_alarms_per_scan`` clutter in a box
+    (0.5, -5) - (8, 5) m: crossings, clutter and misses for the MHT's tests."""
+    rng = np.random.default_rng(seed)
+    paths = []
+    for _ in range(walkers):
+        start = (float(rng.uniform(1.5, 6.0)), float(rng.uniform(-3.0, 3.0)))
+        heading = float(rng.uniform(-math.pi, math.pi))
+        paths.append(line_path(start, (0.3 * math.cos(heading), math.sin(heading))))
+    sensor = SensorModel(false_alarms_per_scan=false_alarms_per_scan, box=(0.5, -5.0, 8.0, 5.0))
+    return make_scene(paths, 8.0, rate=37.5, sensor=sensor)
 
 
 def detections_from_sim(

@@ -262,7 +262,7 @@ class GroupObservations:
             np.column_stack([np.bincount(labels, pts[:, 0], m), np.bincount(labels, pts[:, 1], m)])
             / np.maximum(counts, 1)[:, None]
         )
-        n_hs, n_range = count_people_range(pts, labels, fine, m, counting, spacing)
+        n_hs, n_range = count_people(pts, labels, fine, m, counting, spacing)
         return cls(
             pts, offsets, idx, centroids, n_hs, np.ones(m),
             blobs=fine, spacing=spacing, n_range=n_range,
@@ -360,31 +360,20 @@ def count_people(
     m: int,
     counting: SizeCounting | None = None,
     spacing: FloatArray | None = None,
-) -> FloatArray:
-    """People (M,) in each of ``m`` clusters: ``labels`` (N,) the cluster and ``fine`` (N,)
-    the blob of each point ``pts`` (N, 2) [m] (blob labels unique over clusters).
+) -> tuple[FloatArray, FloatArray | None]:
+    """People (M,) in each of ``m`` clusters, and (None without a range) the fewest and the
+    most people (M, 2) each may hold: ``labels`` (N,) the cluster and ``fine`` (N,) the blob
+    of each point ``pts`` (N, 2) [m] (blob labels unique over clusters).
 
     "blobs": the number of distinct blobs per cluster (000 Sec. 4.1). "legs": that number
     minus the pairs of leg-sized blobs of one cluster that are mutual nearest neighbours
     closer than ``pair_distance``. "resolved": as "legs", but a blob wider than a leg counts
     the people its arc and its width hold (:func:`resolved_people`; ``spacing`` (N,) the
     beam spacing at each point [m]), and the one-leg blobs narrower in arc than
-    ``pair_arc`` are paired by a maximum matching (:func:`blob_people`)."""
-    return count_people_range(pts, labels, fine, m, counting, spacing)[0]
-
-
-def count_people_range(
-    pts: FloatArray,
-    labels: IntArray,
-    fine: IntArray,
-    m: int,
-    counting: SizeCounting | None = None,
-    spacing: FloatArray | None = None,
-) -> tuple[FloatArray, FloatArray | None]:
-    """:func:`count_people` (M,) and, when ``counting.ranged``, the fewest and the most
-    people (M, 2) of each cluster: the count with the one-leg blobs paired within
-    ``stride_range[1]`` and within ``stride_range[0]`` [m] (None without a range); the
-    blobs are described once, only their pairing is made for each stride."""
+    ``pair_arc`` are paired by a maximum matching (:func:`blob_people`). The range, when
+    ``counting.ranged``: the counts with the one-leg blobs paired within
+    ``stride_range[1]`` and within ``stride_range[0]`` [m] (the blobs are described once,
+    only their pairing is made for each stride)."""
     if pts.shape[0] == 0:
         return np.zeros(m), None
     if fine.min() >= 0 and np.bincount(fine).all():  # labels 0..B-1: np.unique's inverse

@@ -287,8 +287,9 @@ static int sort_found(Found *f, Py_ssize_t n) {
     return 0;
 }
 
-static PyObject *int_list(const int *v, Py_ssize_t n) {
-    PyObject *out = PyList_New(n);
+/* a new list (as_tuple 0) or tuple (1) of the n ints v */
+static PyObject *int_seq(const int *v, Py_ssize_t n, int as_tuple) {
+    PyObject *out = as_tuple ? PyTuple_New(n) : PyList_New(n);
     if (!out) return NULL;
     for (Py_ssize_t i = 0; i < n; i++) {
         PyObject *x = PyLong_FromLong(v[i]);
@@ -296,21 +297,10 @@ static PyObject *int_list(const int *v, Py_ssize_t n) {
             Py_DECREF(out);
             return NULL;
         }
-        PyList_SET_ITEM(out, i, x);
-    }
-    return out;
-}
-
-static PyObject *int_tuple(const int *v, Py_ssize_t n) {
-    PyObject *out = PyTuple_New(n);
-    if (!out) return NULL;
-    for (Py_ssize_t i = 0; i < n; i++) {
-        PyObject *x = PyLong_FromLong(v[i]);
-        if (!x) {
-            Py_DECREF(out);
-            return NULL;
-        }
-        PyTuple_SET_ITEM(out, i, x);
+        if (as_tuple)
+            PyTuple_SET_ITEM(out, i, x);
+        else
+            PyList_SET_ITEM(out, i, x);
     }
     return out;
 }
@@ -535,9 +525,9 @@ static PyObject *solve(const Problem *P) {
         const int *a = L.arena + f->at;
         for (Py_ssize_t j = 0; j < m; j++)
             labels[j] = (f->used >> j & 1u) ? MATCHED : a[2 * f->depth + j];
-        PyObject *tl = int_list(a, f->depth);
-        PyObject *tmeas = int_tuple(a + f->depth, f->depth);
-        PyObject *ml = int_list(labels, m);
+        PyObject *tl = int_seq(a, f->depth, 0);
+        PyObject *tmeas = int_seq(a + f->depth, f->depth, 1);
+        PyObject *ml = int_seq(labels, m, 0);
         PyObject *total = PyFloat_FromDouble(f->total);
         PyObject *pi = PyLong_FromSsize_t(f->parent);
         PyObject *dec = NULL, *item = NULL;

@@ -1,6 +1,6 @@
 """The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from types import NotImplementedType
 
 import numpy as np
@@ -51,3 +51,9 @@ def k_best_plain(
     max_cluster_size: int,
     /,
 ) -> tuple[list[tuple[int, LabelledAssignment, float]], int] | NotImplementedType: ...
+def components(
+    fam_meas: dict[int, set[int]],
+    links: Iterable[tuple[int, int]],
+    n_meas: int,
+    /,
+) -> list[tuple[frozenset[int], list[int]]] | NotImplementedType: ...

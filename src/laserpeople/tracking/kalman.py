@@ -240,20 +240,19 @@ def _step_matrices(
     a = accel_psd
     pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
     rows = [1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
-    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
     if not math.isinf(tau):
         k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
         g = tau * (1.0 - k)
         rows += (1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k)
-    # (one array for the two or three matrices: a scan of a recording whose stamps jitter
-    # builds them every time)
+    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
+    # (one array for the two or three matrices, transition, coasting, noise: a scan of a
+    # recording whose stamps jitter builds them every time)
     mats = np.array(rows).reshape(-1, 4, 4)
     mats.setflags(write=False)
-    f, q = mats[0], mats[1]
+    f, q = mats[0], mats[-1]
     if mats.shape[0] == 2:
         return f, f.T, q, None, None
-    pair = mats[[0, 2]].reshape(2, 1, 4, 4)  # (a copy: the transition, the coasting one)
-    pair.setflags(write=False)
+    pair = mats[:2, None]  # (a view: the transition and the coasting one, (2, 1, 4, 4))
     return f, f.T, q, pair, pair.transpose(0, 1, 3, 2)
 
 

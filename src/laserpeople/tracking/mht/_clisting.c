@@ -1,5 +1,6 @@
-/* The leg MHT's depth-first listing of a cluster's k best children, compiled (and the
- * scan's clusters, `components`, at the end of this file).
+/* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
+ * end of this file, the scan's clusters, `components`, and the occupancy grid's static
+ * time of a few positions, `static_few`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1128,6 +1129,127 @@ done:
     return result;
 }
 
+/* ------------------------------------------------------------------ static_few
+ *
+ * OccupancyGrid._static_few_python compiled: the static time [s] of a few positions, the
+ * largest over the (2n + 1)^2 cells round each, read from the grid's C-contiguous arrays
+ * (evidence, touched, since: float64; first_sight: bool) with the same IEEE operations in
+ * the same order (division, floor, subtraction, multiplication; exp is the C library's,
+ * which math.exp calls too). NotImplemented wherever the Python one decides otherwise or
+ * numpy's exp would (a position not finite or whose cells leave the arrays, a decayed
+ * evidence within `near` of the threshold, arrays not as expected): it runs then. */
+
+static int grid_buffer(PyObject *obj, Py_buffer *view, const char *format) {
+    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) return -1;
+    if (view->ndim != 2 || !view->format || strcmp(view->format, format) != 0) {
+        PyBuffer_Release(view);
+        view->obj = NULL;
+        return 1;
+    }
+    return 0;
+}
+
+static PyObject *static_few(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 15) {
+        PyErr_SetString(PyExc_TypeError,
+                        "static_few(evidence, touched, since, first_sight, o0, o1, xy, "
+                        "resolution, n, stamp, decay_time, threshold, hold, extra, near)");
+        return NULL;
+    }
+    Py_buffer bufs[4];
+    const char *formats[4] = {"d", "d", "d", "?"};
+    int got = 0, refused = 0;
+    PyObject *out = NULL;
+    long long o0 = PyLong_AsLongLong(args[4]), o1 = PyLong_AsLongLong(args[5]);
+    long n = PyLong_AsLong(args[8]);
+    double res = PyFloat_AsDouble(args[7]), stamp = PyFloat_AsDouble(args[9]);
+    double tau = PyFloat_AsDouble(args[10]), thr = PyFloat_AsDouble(args[11]);
+    double hold = PyFloat_AsDouble(args[12]), extra = PyFloat_AsDouble(args[13]);
+    double near = PyFloat_AsDouble(args[14]);
+    PyObject *xy = args[6];
+    if (PyErr_Occurred()) return NULL;
+    if (!PyList_CheckExact(xy) || n < 0 || !isfinite(stamp)) Py_RETURN_NOTIMPLEMENTED;
+    for (; got < 4; got++) {
+        int r = grid_buffer(args[got], &bufs[got], formats[got]);
+        if (r < 0) goto done;
+        if (r > 0) {
+            refused = 1;
+            goto done;
+        }
+    }
+    Py_ssize_t h = bufs[0].shape[0], w = bufs[0].shape[1];
+    for (int b = 1; b < 4; b++)
+        if (bufs[b].shape[0] != h || bufs[b].shape[1] != w) {
+            refused = 1;
+            goto done;
+        }
+    const double *ev = bufs[0].buf, *touched = bufs[1].buf, *since = bufs[2].buf;
+    const char *first = bufs[3].buf;
+    Py_ssize_t m = PyList_GET_SIZE(xy);
+    out = PyList_New(m);
+    if (!out) goto done;
+    for (Py_ssize_t q = 0; q < m; q++) {
+        PyObject *pos = PyList_GET_ITEM(xy, q);
+        if (!PyList_CheckExact(pos) || PyList_GET_SIZE(pos) != 2) {
+            refused = 1;
+            goto done;
+        }
+        double x = PyFloat_AsDouble(PyList_GET_ITEM(pos, 0));
+        double y = PyFloat_AsDouble(PyList_GET_ITEM(pos, 1));
+        if (PyErr_Occurred()) goto done;
+        if (!isfinite(x) || !isfinite(y)) {
+            refused = 1;
+            goto done;
+        }
+        double fi = floor(x / res), fj = floor(y / res);
+        if (!(fabs(fi) < 4e18 && fabs(fj) < 4e18)) {
+            refused = 1;
+            goto done;
+        }
+        long long i = (long long)fi - o0, j = (long long)fj - o1;
+        if (i < n || j < n || i >= h - n || j >= w - n) {
+            refused = 1;
+            goto done;
+        }
+        double best = 0.0;
+        int first_cell = 1;
+        for (long long a = i - n; a <= i + n; a++) {
+            for (long long c = j - n; c <= j + n; c++) {
+                Py_ssize_t k = (Py_ssize_t)(a * w + c);
+                double tk = 0.0, s = since[k];
+                if (s == s) { /* (a free cell, since nan, is 0 s static) */
+                    double dt = stamp - touched[k];
+                    if (dt < 0.0) dt = 0.0;
+                    double decayed = ev[k] * exp(-dt / tau);
+                    if (fabs(decayed - thr) <= near) { /* numpy's exp decides: Python */
+                        refused = 1;
+                        goto done;
+                    }
+                    if (decayed >= thr) tk = stamp - s;
+                }
+                double t = (first[k] && tk >= hold) ? tk + extra : tk;
+                if (first_cell || t > best) best = t; /* (max: the first of the largest) */
+                first_cell = 0;
+            }
+        }
+        PyObject *v = PyFloat_FromDouble(best > 0.0 ? best : 0.0);
+        if (!v) goto done;
+        PyList_SET_ITEM(out, q, v);
+    }
+done:
+    for (int b = 0; b < got; b++) PyBuffer_Release(&bufs[b]);
+    if (PyErr_Occurred()) {
+        Py_XDECREF(out);
+        return NULL;
+    }
+    if (refused) {
+        Py_XDECREF(out);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -1141,6 +1263,10 @@ static PyMethodDef methods[] = {
     {"components", (PyCFunction)(void (*)(void))components, METH_FASTCALL,
      "components(fam_meas, links, n_meas): core.components_python's components, or "
      "NotImplemented for input the Python one takes (and refuses)."},
+    {"static_few", (PyCFunction)(void (*)(void))static_few, METH_FASTCALL,
+     "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
+     "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
+     "values, or NotImplemented where it decides otherwise."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -57,3 +57,21 @@ def components(
     n_meas: int,
     /,
 ) -> list[tuple[frozenset[int], list[int]]] | NotImplementedType: ...
+def static_few(
+    evidence: NDArray[np.float64],
+    touched: NDArray[np.float64],
+    since: NDArray[np.float64],
+    first_sight: NDArray[np.bool_],
+    o0: int,
+    o1: int,
+    xy: list[list[float]],
+    resolution: float,
+    n: int,
+    stamp: float,
+    decay_time: float,
+    threshold: float,
+    hold: float,
+    extra: float,
+    near: float,
+    /,
+) -> list[float] | NotImplementedType: ...

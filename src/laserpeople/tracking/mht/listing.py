@@ -85,6 +85,9 @@ and cost floats), or None: it returns NotImplemented for the clusters the Python
 COMPILED_COMPONENTS = None if _extension is None else _extension.components
 """The compiled :func:`~.core.components_python` (the same components, in the same
 order), or None: it returns NotImplemented for input the Python one takes."""
+COMPILED_STATIC_FEW = None if _extension is None else _extension.static_few
+"""The compiled ``OccupancyGrid._static_few_python`` (the same values), or None: it
+returns NotImplemented where the Python one decides otherwise."""
 
 
 def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:

@@ -422,6 +422,10 @@ def test_compiled_static_time_of_few_positions_is_the_python_one(
             want = g._static_few_python([at])
             assert want is not None and want[0] >= 7.0 and g._static_few([at]) == want
     assert answered > 10 and held_seen and left > 0
+    # arrays it cannot read as they are (not C-contiguous, another dtype): left to Python
+    ev = g._evidence[:, ::2]
+    assert compiled(ev, ev, ev, g._first_sight[:, ::2], *args[4:], [at], *tail) is NotImplemented
+    assert compiled(*args[:3], g._evidence, *args[4:], [at], *tail) is NotImplemented
 
 
 def test_plain_float_exp_agrees_with_numpy_away_from_the_guard() -> None:

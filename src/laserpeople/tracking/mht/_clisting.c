@@ -1139,8 +1139,13 @@ done:
  * numpy's exp would (a position not finite or whose cells leave the arrays, a decayed
  * evidence within `near` of the threshold, arrays not as expected): it runs then. */
 
+/* 0 with the C-contiguous 2-D buffer of `obj` of items `format` in `view`, else 1 (no
+ * buffer held, no error set: the caller refuses). */
 static int grid_buffer(PyObject *obj, Py_buffer *view, const char *format) {
-    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) return -1;
+    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear(); /* (not an array, or not C-contiguous) */
+        return 1;
+    }
     if (view->ndim != 2 || !view->format || strcmp(view->format, format) != 0) {
         PyBuffer_Release(view);
         view->obj = NULL;
@@ -1171,9 +1176,7 @@ static PyObject *static_few(PyObject *self, PyObject *const *args, Py_ssize_t na
     if (PyErr_Occurred()) return NULL;
     if (!PyList_CheckExact(xy) || n < 0 || !isfinite(stamp)) Py_RETURN_NOTIMPLEMENTED;
     for (; got < 4; got++) {
-        int r = grid_buffer(args[got], &bufs[got], formats[got]);
-        if (r < 0) goto done;
-        if (r > 0) {
+        if (grid_buffer(args[got], &bufs[got], formats[got])) {
             refused = 1;
             goto done;
         }

@@ -1,4 +1,5 @@
-"""The optional C extension of the leg MHT's listing (everything else is in pyproject.toml).
+"""The optional C extension of the leg MHT's listing, its clusters and the occupancy grid's
+static times of a few positions (everything else is in pyproject.toml).
 
 ``pip install -e .`` builds ``laserpeople.tracking.mht._clisting`` beside its source when a C
 compiler is there, and installs without it (the pure-Python listing runs) when not. The

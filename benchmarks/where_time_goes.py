@@ -87,7 +87,8 @@ def report(name: str, scans: int, cpu: float, spent: dict[str, float]) -> None:
     ms = 1e3 * cpu / scans
     print(f"\n{name}: {scans} scans, {ms:.3f} ms CPU per scan ({scans / cpu:.0f} scans/s)")
     print(f"  {'part':<58s} {'ms/scan':>8s} {'share':>6s}")
-    detection = sum(spent[label] for _, _, label, _ in PARTS[:2])
+    # (the parts of depth 0: leg detection both ways and the leg tracker)
+    top = sum(spent[label] for _, _, label, depth in PARTS if depth == 0)
     for i, (_, _, label, depth) in enumerate(PARTS):
         v = spent[label]
         print(f"  {'  ' * depth + label:<58s} {1e3 * v / scans:8.3f} {100 * v / cpu:5.1f}%")
@@ -99,7 +100,7 @@ def report(name: str, scans: int, cpu: float, spent: dict[str, float]) -> None:
                 f"  {pad + '(outside the parts below)':<58s} {1e3 * own / scans:8.3f} "
                 f"{100 * own / cpu:5.1f}%"
             )
-    other = cpu - detection - spent[PARTS[2][2]]
+    other = cpu - top
     print(
         f"  {'point set, static world model, pipeline (the rest)':<58s} "
         f"{1e3 * other / scans:8.3f} {100 * other / cpu:5.1f}%"

@@ -360,6 +360,74 @@ def test_static_time_of_few_positions_is_the_array_path_bit_for_bit(
             assert a.tobytes() == b.tobytes()
 
 
+@pytest.mark.regression  # bits from two code paths: CI runs it again on another CPU path
+def test_compiled_static_time_of_few_positions_is_the_python_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The compiled static time of a few positions (the MHT's C extension) is the Python
+    one's bit for bit on learnt grids (cells free, occupied, first sight held), and leaves
+    to it (NotImplemented) the positions it hands to the array path (not finite, cells
+    outside the arrays) and a decayed evidence at the threshold (numpy's exp decides);
+    without the extension the Python one runs alone, with the same values."""
+    from laserpeople.background import occupancy
+
+    compiled = occupancy._compiled_static_few()
+    if compiled is None:
+        pytest.skip("the C extension is not built, or stale")
+    answered = left = 0
+    held_seen = False
+    for seed in range(8):
+        g = _learnt_grid(seed, OccupancyParams(neighbourhood=seed % 3))
+        h, w = g._evidence.shape
+        hi = ((g._origin + np.array([h, w])) * P.resolution).astype(float)
+        rng = np.random.default_rng(300 + seed)
+        cases = [rng.uniform(-4.5, 4.5, size=(m, 2)).tolist() for m in (1, 2, 3, 5, 8)]
+        cases += [[[0.5, 0.5], (hi - 0.03).tolist()], [[math.nan, 0.0]], [[1.0, math.inf]]]
+        # positions on occupied cells (since set), a few at a time; a third of them
+        # occupied at first sight, held long enough to count as static from the start
+        occupied = np.flatnonzero(np.isfinite(g._since.reshape(-1)))
+        chosen = rng.choice(occupied, size=24)
+        held = chosen[::3]
+        g._first_sight.reshape(-1)[held] = True
+        g._since.reshape(-1)[held] = g.stamp - g.params.first_sight_hold - 0.5
+        g._evidence.reshape(-1)[held] = g.params.max_evidence
+        g._touched.reshape(-1)[held] = g.stamp
+        cells = np.column_stack(np.divmod(chosen, w)) + g._origin
+        centres = ((cells + 0.5) * P.resolution).tolist()
+        cases += [centres[k : k + 3] for k in range(0, 24, 3)]
+        for xy in cases:
+            want = g._static_few_python(xy)
+            got = g._static_few(xy)
+            assert got == want and (got is None or all(type(v) is float for v in got))
+            monkeypatch.setattr(occupancy, "_static_few_compiled", None)
+            assert g._static_few(xy) == want
+            monkeypatch.undo()
+            if want is not None and any(v > 0.0 for v in want):
+                answered += 1
+                held_seen = held_seen or max(want) >= g.params.first_sight_static
+        # a cell whose decayed evidence is the threshold itself: left to Python
+        flat = int(np.flatnonzero(np.isfinite(g._touched.reshape(-1)))[0])
+        g._evidence.reshape(-1)[flat] = P.occupied_evidence
+        g._touched.reshape(-1)[flat] = g.stamp
+        g._since.reshape(-1)[flat] = g.stamp - 7.0
+        i, j = divmod(flat, w)
+        at = ((np.array([i, j]) + g._origin + 0.5) * P.resolution).tolist()
+        p = g.params
+        args = (g._evidence, g._touched, g._since, g._first_sight, *g._origin.tolist())
+        tail = (p.resolution, p.neighbourhood, g.stamp, p.decay_time, p.occupied_evidence)
+        tail += (p.first_sight_hold, p.first_sight_static, 1e-9 * p.occupied_evidence)
+        if i >= p.neighbourhood and j >= p.neighbourhood:
+            assert compiled(*args, [at], *tail) is NotImplemented
+            left += 1
+            want = g._static_few_python([at])
+            assert want is not None and want[0] >= 7.0 and g._static_few([at]) == want
+    assert answered > 10 and held_seen and left > 0
+    # arrays it cannot read as they are (not C-contiguous, another dtype): left to Python
+    ev = g._evidence[:, ::2]
+    assert compiled(ev, ev, ev, g._first_sight[:, ::2], *args[4:], [at], *tail) is NotImplemented
+    assert compiled(*args[:3], g._evidence, *args[4:], [at], *tail) is NotImplemented
+
+
 def test_plain_float_exp_agrees_with_numpy_away_from_the_guard() -> None:
     """``math.exp`` and ``np.exp`` of the decay exponents the grid forms differ by at most
     an ulp or two, far inside the 1e-9 guard of the plain-float path."""

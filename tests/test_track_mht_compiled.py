@@ -311,6 +311,68 @@ def test_compiled_k_best_leaves_other_tables_to_python(clisting: ModuleType) -> 
     assert k_best(table, [(a,), (b,)], rows, [2]) is NotImplemented
 
 
+def _components_cases(rng: np.random.Generator, n: int) -> list[tuple[Any, ...]]:
+    """``n`` random inputs of :func:`core.components`: up to 30 families (small ids and
+    ids up to 2^40, whose sets' tables collide), up to 25 measurements, gates of 0-3 of
+    them, up to 8 links."""
+    cases = []
+    for _ in range(n):
+        nf, m = int(rng.integers(0, 31)), int(rng.integers(0, 26))
+        top = int(rng.choice([40, 100, 10**6, 2**40]))
+        fams = [int(f) for f in rng.choice(top, size=min(nf, top), replace=False)]
+        gates = {f: {int(j) for j in rng.choice(m, size=int(rng.integers(0, 4)))} if m else set()
+                 for f in fams}  # fmt: skip
+        links = {}
+        for _ in range(int(rng.integers(0, 9)) if len(fams) >= 2 else 0):
+            a, b = sorted(int(f) for f in rng.choice(fams, size=2, replace=False))
+            links[(a, b)] = 1
+        cases.append((gates, links, m))
+    return cases
+
+
+def test_compiled_components_are_the_python_ones(clisting: ModuleType) -> None:
+    """The compiled components of random scans are the Python ones: the same components in
+    the same order, each one's measurements and its frozenset of families iterated in the
+    same order (what the step's loops over a cluster's families see)."""
+    from laserpeople.tracking.mht import core
+
+    def seen(out: Any) -> list[tuple[list[int], list[int]]]:
+        return [(list(fams), meas) for fams, meas in out]
+
+    singles = 0
+    for gates, links, m in _components_cases(np.random.default_rng(21), 4000):
+        got = clisting.components(gates, links, m)
+        want = core.components_python(gates, links, m)
+        assert seen(got) == seen(want), (gates, links, m)
+        assert all(type(f) is frozenset and type(j) is list for f, j in got)
+        singles += sum(len(f) == 1 for f, _ in got)
+    assert singles > 1000
+    # a scan by hand: families 7 and 3 share measurement 1, 9 is linked to 3, 5 alone,
+    # measurement 2 in no gate
+    got = clisting.components({7: {1}, 5: set(), 3: {0, 1}, 9: set()}, {(3, 9): 4}, 3)
+    assert [(sorted(f), j) for f, j in got] == [([3, 7, 9], [0, 1]), ([5], []), ([], [2])]
+
+
+def test_compiled_components_leave_refused_input_to_python(
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Input the Python components refuse (a measurement out of range, a link of an unknown
+    family, a gate that is not ints) is left to them (NotImplemented), so
+    :func:`core.components` raises what they raise; with no extension they run alone."""
+    from laserpeople.tracking.mht import core
+
+    for gates, links, m in (({1: {5}}, {}, 3), ({1: set()}, {(1, 2): 0}, 0)):
+        assert clisting.components(gates, links, m) is NotImplemented
+        with pytest.raises(KeyError):
+            core.components(gates, links, m)
+    assert clisting.components({1: {"a"}}, {}, 3) is NotImplemented
+    monkeypatch.setattr(listing, "COMPILED_COMPONENTS", None)
+    assert core.components({4: {0}, 2: {0}}, {}, 2) == [
+        (frozenset({2, 4}), [0]),
+        (frozenset(), [1]),
+    ]
+
+
 def test_pure_python_switch(monkeypatch: pytest.MonkeyPatch) -> None:
     """LASERPEOPLE_PURE_PYTHON set (not to 0) runs the Python listing, and says so."""
     monkeypatch.setenv(compiled.PURE_PYTHON, "1")

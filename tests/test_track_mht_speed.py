@@ -180,3 +180,65 @@ def test_track_node_fields_in_the_order_the_core_passes_them() -> None:
         "hits", "misses", "age", "loglik", "payload", "pred_mean", "pred_cov", "children",
         "detected_stamp",
     ]  # fmt: skip
+
+
+def test_predictions_kept_in_the_batch_give_the_same_hypotheses_every_scan() -> None:
+    """Six walkers with clutter and misses: the leg MHT whose point model keeps its
+    predictions in the batch (the leg tracker's, ``node_predictions`` false) holds exactly
+    the hypotheses (weights, node and family ids, states bit for bit) of one whose model
+    sets every node's ``pred_mean`` and ``pred_cov``, after every scan, and reports the same
+    tracks; its nodes' own predictions stay unset, the other's are the batch's rows."""
+    from laserpeople.tracking import synthetic as syn
+    from laserpeople.tracking.legs import LegMHTTracker
+
+    scene = syn.walkers_scene(11, 1.5)
+    batch, views = LegMHTTracker(), LegMHTTracker()
+    assert not batch.mht.model.node_predictions  # type: ignore[attr-defined]
+    views.mht.model.node_predictions = True  # type: ignore[attr-defined]
+    for d in scene.detections:
+        out_b, out_v = batch.update(d), views.update(d)
+        assert _state(batch) == _state(views), d.scan_index
+        assert [(t.track_id, t.kind, t.position.tobytes(), t.score) for t in out_b] == [
+            (t.track_id, t.kind, t.position.tobytes(), t.score) for t in out_v
+        ]
+    # the last step's predicted nodes; those the step dropped keep what predict set on them
+    done_b = batch.mht.model._predicted[0]  # type: ignore[attr-defined]
+    done_v = views.mht.model._predicted[0]  # type: ignore[attr-defined]
+    assert len(done_b) == len(done_v) > 10
+    assert all(n.pred_mean is None and n.pred_cov is None for n in done_b)
+    kept = [(b, v) for b, v in zip(done_b, done_v, strict=True) if v.pred_mean is not None]
+    assert kept
+    for b, v in kept:
+        mean, cov = batch.mht.model._pred(b)  # type: ignore[attr-defined]
+        assert mean.tobytes() == v.pred_mean.tobytes() and cov.tobytes() == v.pred_cov.tobytes()
+
+
+def test_one_step_prediction_and_coasting_in_one_stacked_product_are_the_two_products() -> None:
+    """What keeps the one-step prediction exact: the predicted and coasted covariances
+    formed as one stacked product ``[F, F_c] P [F, F_c]^T + Q`` are, bit for bit, the two
+    products ``F P F^T + Q`` and ``F_c P F_c^T + Q`` with the transition and coasting
+    matrices built here from their definitions (a swapped pair or transpose, or a dropped
+    Q, differs by far more than the last bit)."""
+    from laserpeople.tracking import kalman
+
+    rng = np.random.default_rng(8)
+    for _ in range(300):
+        t = int(rng.integers(1, 60))
+        means = rng.normal(scale=[5.0, 5.0, 1.0, 1.0], size=(t, 4))
+        a = rng.normal(size=(t, 4, 4)) * rng.uniform(0.01, 3.0)
+        covs = a @ a.transpose(0, 2, 1) + np.eye(4) * rng.uniform(1e-4, 1.0)
+        d = float(rng.choice([1.0 / 40.0, 0.1, 0.7]) + abs(rng.normal(scale=1e-3)))
+        psd, tau = float(rng.uniform(0.1, 40.0)), float(rng.uniform(0.2, 5.0))
+        f = np.array([[1.0, 0, d, 0], [0, 1.0, 0, d], [0, 0, 1.0, 0], [0, 0, 0, 1.0]])
+        pp, pv, vv = psd * d**3 / 3.0, psd * (d * d) / 2.0, psd * d
+        q = np.array([[pp, 0, pv, 0], [0, pp, 0, pv], [pv, 0, vv, 0], [0, pv, 0, vv]])
+        k = float(np.exp(np.array([-d / tau]))[0])
+        g = tau * (1.0 - k)
+        fc = np.array([[1.0, 0, g, 0], [0, 1.0, 0, g], [0, 0, k, 0], [0, 0, 0, k]])
+        kalman._STEP_MATRICES.clear()
+        _, pc, cm, cc = kalman._one_step_predict_and_coast(means, covs, d, psd, tau)
+        assert pc.tobytes() == (f @ covs @ f.T + q).tobytes()
+        assert cc.tobytes() == (fc @ covs @ fc.T + q).tobytes()
+        assert cm.tobytes() == np.einsum("ij,tj->ti", fc, means).tobytes()
+        assert pc.shape == cc.shape == (t, 4, 4)
+    kalman._STEP_MATRICES.clear()

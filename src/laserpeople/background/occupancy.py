@@ -41,6 +41,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -714,6 +715,33 @@ class OccupancyGrid:
         return np.asarray(np.where(held, tk + p.first_sight_static, tk))
 
     def _static_few(self, xy: list[list[float]]) -> list[float] | None:
+        """:meth:`_static_few_python` compiled where the MHT's C extension is built (the
+        same values; it leaves to the Python one what that one decides otherwise)."""
+        compiled = _compiled_static_few()
+        if compiled is not None:
+            p = self.params
+            out = compiled(
+                self._evidence,
+                self._touched,
+                self._since,
+                self._first_sight,
+                int(self._origin[0]),
+                int(self._origin[1]),
+                xy,
+                float(p.resolution),
+                int(p.neighbourhood),
+                float(self.stamp),
+                float(p.decay_time),
+                float(p.occupied_evidence),
+                float(p.first_sight_hold),
+                float(p.first_sight_static),
+                1e-9 * p.occupied_evidence,
+            )
+            if out is not NotImplemented:
+                return out
+        return self._static_few_python(xy)
+
+    def _static_few_python(self, xy: list[list[float]]) -> list[float] | None:
         """:meth:`static_time` without the prior map of a few positions ``xy`` (M lists
         ``[x, y]`` [m]) in plain floats: the same values, at a fraction of the ~40 numpy
         calls of the array path (which costs ~60 us whatever M; the people layer asks 1-3
@@ -844,6 +872,21 @@ class OccupancyGrid:
         ids = points.beams if len(points.sensors) == 1 else (points.sensor_ids << 32) | points.beams
         self.learn(points.points, frame.stamp, _one_sensor_position(frame, points), ids)
         return frame
+
+
+_UNLOADED = object()
+_static_few_compiled: object = _UNLOADED
+
+
+def _compiled_static_few() -> Any:
+    """The compiled ``static_few`` of the MHT's C extension, or None where it is not built
+    (imported at first use: the trackers have loaded it by then)."""
+    global _static_few_compiled
+    if _static_few_compiled is _UNLOADED:
+        from laserpeople.tracking.mht import listing
+
+        _static_few_compiled = listing.COMPILED_STATIC_FEW
+    return _static_few_compiled
 
 
 def sorted_unique(values: IntArray) -> IntArray:

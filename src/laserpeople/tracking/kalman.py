@@ -205,15 +205,17 @@ def _one_step_predict_and_coast(
         if len(_STEP_MATRICES) >= STEP_MATRICES_KEPT:
             _STEP_MATRICES.clear()
         _STEP_MATRICES[key] = mats
-    f, ft, q, fc, fct = mats
+    f, ft, q, pair, pair_t = mats
     pm = means.copy()
     pm[:, :2] += means[:, 2:] * d
-    pc = f @ covs @ ft + q
-    if fc is None or fct is None:
+    if pair is None or pair_t is None:
+        pc = f @ covs @ ft + q
         return pm, pc, pm, pc
-    cm = np.einsum("ij,tj->ti", fc, means)
-    cc = fc @ covs @ fct + q
-    return pm, pc, cm, cc
+    # (both covariance products in one set of calls: each matrix of a stacked product is
+    # the same gemm on the same operands, so the same floats as two separate products)
+    both = pair @ covs @ pair_t + q  # (2, T, 4, 4): predicted, coasted
+    cm = np.einsum("ij,tj->ti", pair[1, 0], means)
+    return pm, both[0], cm, both[1]
 
 
 STEP_MATRICES_KEPT = 16
@@ -232,26 +234,26 @@ def _step_matrices(
     d: float, accel_psd: float, tau: float
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray | None, FloatArray | None]:
     """The transition matrix (4, 4) of a step ``d`` [s], its transpose, the process noise
-    (4, 4) and the coasting transition matrix and its transpose (None when ``tau`` is
-    infinite), built from plain floats by the array path's IEEE operations (as
-    :func:`_few_predict_and_coast`); read-only."""
+    (4, 4), and the transition and coasting transition matrices stacked (2, 1, 4, 4) and
+    their transposes (None when ``tau`` is infinite), built from plain floats by the array
+    path's IEEE operations (as :func:`_few_predict_and_coast`); read-only."""
     a = accel_psd
     pp, pv, vv = a * d**3 / 3.0, a * (d * d) / 2.0, a * d
     rows = [1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, d, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
-    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
     if not math.isinf(tau):
         k = float(np.exp(np.array((-d / tau,)))[0])  # (numpy's exp, as the array path's)
         g = tau * (1.0 - k)
         rows += (1.0, 0.0, g, 0.0, 0.0, 1.0, 0.0, g, 0.0, 0.0, k, 0.0, 0.0, 0.0, 0.0, k)
-    # (one array for the two or three matrices: a scan of a recording whose stamps jitter
-    # builds them every time)
+    rows += (pp, 0.0, pv, 0.0, 0.0, pp, 0.0, pv, pv, 0.0, vv, 0.0, 0.0, pv, 0.0, vv)
+    # (one array for the two or three matrices, transition, coasting, noise: a scan of a
+    # recording whose stamps jitter builds them every time)
     mats = np.array(rows).reshape(-1, 4, 4)
     mats.setflags(write=False)
-    f, q = mats[0], mats[1]
+    f, q = mats[0], mats[-1]
     if mats.shape[0] == 2:
         return f, f.T, q, None, None
-    fc = mats[2]
-    return f, f.T, q, fc, fc.T
+    pair = mats[:2, None]  # (a view: the transition and the coasting one, (2, 1, 4, 4))
+    return f, f.T, q, pair, pair.transpose(0, 1, 3, 2)
 
 
 def _few_predict_and_coast(

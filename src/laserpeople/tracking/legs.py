@@ -230,9 +230,9 @@ class LegMHTTracker:
             else None
         )
         self.labels = LegLabelModel(self.params)
-        self.mht: MHT[PointMeasurements] = MHT(
-            self.params.mht_params(), KalmanPointModel(self.params.kalman), self.labels
-        )
+        # (one model per parent: nothing reads the nodes' own predictions)
+        model = KalmanPointModel(self.params.kalman, node_predictions=False)
+        self.mht: MHT[PointMeasurements] = MHT(self.params.mht_params(), model, self.labels)
         self.people = PersonFuser(self.params.person)
         self.frame: CoordinateFrame | None = None
         self.last_stats: StepStats | None = None

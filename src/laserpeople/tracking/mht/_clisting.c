@@ -1,4 +1,6 @@
-/* The leg MHT's depth-first listing of a cluster's k best children, compiled.
+/* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
+ * end of this file, the scan's clusters, `components`, and the occupancy grid's static
+ * time of a few positions, `static_few`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -953,6 +955,304 @@ static PyObject *setup(PyObject *self, PyObject *args) {
     Py_RETURN_NONE;
 }
 
+/* ------------------------------------------------------------------ components
+ *
+ * core.components_python compiled: the connected components of a scan's families (ints,
+ * the keys of fam_meas, in its order) and measurements 0..n_meas-1 by union-find. Which
+ * element is a root does not change the result: the components are listed by their first
+ * family in fam_meas order, then those of measurements alone by their first measurement;
+ * each one's families as a frozenset made from a set filled in fam_meas order (the same
+ * table, so the same iteration order, as the Python one's) and its measurements as a list,
+ * increasing. Input the Python function would refuse (a link of a family not in fam_meas, a
+ * measurement out of range, not an int) returns NotImplemented: the Python one takes it. */
+
+static Py_ssize_t uf_root(Py_ssize_t *up, Py_ssize_t x) {
+    Py_ssize_t r = x;
+    while (up[r] != r) r = up[r];
+    while (up[x] != r) { /* path compression */
+        Py_ssize_t next = up[x];
+        up[x] = r;
+        x = next;
+    }
+    return r;
+}
+
+static void uf_join(Py_ssize_t *up, Py_ssize_t a, Py_ssize_t b) {
+    Py_ssize_t ra = uf_root(up, a), rb = uf_root(up, b);
+    if (ra != rb) up[rb] = ra;
+}
+
+/* The index (in fam_meas order) of family `key`, -1 when it is not one, -2 on an error. */
+static Py_ssize_t family_index(PyObject *index, PyObject *key) {
+    PyObject *v = PyDict_GetItemWithError(index, key);
+    if (!v) return PyErr_Occurred() ? -2 : -1;
+    return PyLong_AsSsize_t(v);
+}
+
+static PyObject *components(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "components(fam_meas, links, n_meas)");
+        return NULL;
+    }
+    PyObject *fam_meas = args[0], *links = args[1];
+    Py_ssize_t n_meas = PyLong_AsSsize_t(args[2]);
+    if (n_meas == -1 && PyErr_Occurred()) return NULL;
+    if (!PyDict_CheckExact(fam_meas) || n_meas < 0) Py_RETURN_NOTIMPLEMENTED;
+    Py_ssize_t nf = PyDict_GET_SIZE(fam_meas), total = nf + n_meas;
+    PyObject *result = NULL, *index = NULL, *it = NULL, *item = NULL;
+    PyObject **fams = PyMem_Malloc((size_t)(nf + 1) * sizeof(PyObject *));
+    Py_ssize_t *up = PyMem_Malloc((size_t)(total + 1) * sizeof(Py_ssize_t));
+    Py_ssize_t *slot = PyMem_Malloc((size_t)(total + 1) * sizeof(Py_ssize_t));
+    PyObject **sets = PyMem_Calloc((size_t)(total + 1), sizeof(PyObject *));
+    PyObject **lists = PyMem_Calloc((size_t)(total + 1), sizeof(PyObject *));
+    Py_ssize_t ncomp = 0, i, pos = 0;
+    PyObject *key, *value;
+    int refused = 0;
+    if (!fams || !up || !slot || !sets || !lists) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    index = PyDict_New();
+    if (!index) goto done;
+    for (i = 0; i < total; i++) up[i] = i, slot[i] = -1;
+    for (i = 0; PyDict_Next(fam_meas, &pos, &key, &value); i++) {
+        PyObject *at = PyLong_FromSsize_t(i);
+        if (!at) goto done;
+        int bad = PyDict_SetItem(index, key, at);
+        Py_DECREF(at);
+        if (bad < 0) goto done;
+        fams[i] = key; /* (borrowed: fam_meas holds it through the call) */
+    }
+    if (PyDict_GET_SIZE(index) != nf) { /* (keys equal but not the same: not ints) */
+        refused = 1;
+        goto done;
+    }
+    it = PyObject_GetIter(links);
+    if (!it) goto done;
+    while ((item = PyIter_Next(it))) {
+        if (!PyTuple_CheckExact(item) || PyTuple_GET_SIZE(item) != 2) {
+            refused = 1;
+            goto done;
+        }
+        Py_ssize_t a = family_index(index, PyTuple_GET_ITEM(item, 0));
+        Py_ssize_t b = family_index(index, PyTuple_GET_ITEM(item, 1));
+        if (a == -2 || b == -2) goto done;
+        if (a < 0 || b < 0) {
+            refused = 1;
+            goto done;
+        }
+        uf_join(up, a, b);
+        Py_CLEAR(item);
+    }
+    if (PyErr_Occurred()) goto done;
+    Py_CLEAR(it);
+    for (i = 0; i < nf; i++) {
+        PyObject *js = PyDict_GetItemWithError(fam_meas, fams[i]);
+        if (!js) {
+            if (!PyErr_Occurred()) refused = 1;
+            goto done;
+        }
+        it = PyObject_GetIter(js);
+        if (!it) goto done;
+        while ((item = PyIter_Next(it))) {
+            Py_ssize_t j = PyLong_Check(item) ? PyLong_AsSsize_t(item) : -1;
+            if (j == -1 && PyErr_Occurred()) PyErr_Clear(); /* (too large: refused) */
+            if (j < 0 || j >= n_meas) {
+                refused = 1;
+                goto done;
+            }
+            uf_join(up, i, nf + j);
+            Py_CLEAR(item);
+        }
+        if (PyErr_Occurred()) goto done;
+        Py_CLEAR(it);
+    }
+    for (i = 0; i < nf; i++) { /* components by their first family */
+        Py_ssize_t r = uf_root(up, i);
+        if (slot[r] < 0) {
+            slot[r] = ncomp;
+            sets[ncomp] = PySet_New(NULL);
+            if (!sets[ncomp++]) goto done;
+        }
+        if (PySet_Add(sets[slot[r]], fams[i]) < 0) goto done;
+    }
+    for (i = 0; i < n_meas; i++) { /* then those of measurements alone */
+        Py_ssize_t r = uf_root(up, nf + i);
+        if (slot[r] < 0) slot[r] = ncomp++;
+        Py_ssize_t c = slot[r];
+        if (!lists[c] && !(lists[c] = PyList_New(0))) goto done;
+        PyObject *j = PyLong_FromSsize_t(i);
+        if (!j) goto done;
+        int bad = PyList_Append(lists[c], j);
+        Py_DECREF(j);
+        if (bad < 0) goto done;
+    }
+    result = PyList_New(ncomp);
+    if (!result) goto done;
+    for (i = 0; i < ncomp; i++) {
+        PyObject *fs = PyFrozenSet_New(sets[i]); /* (NULL: the empty one) */
+        if (!fs) {
+            Py_CLEAR(result);
+            goto done;
+        }
+        if (!lists[i] && !(lists[i] = PyList_New(0))) {
+            Py_DECREF(fs);
+            Py_CLEAR(result);
+            goto done;
+        }
+        PyObject *pair = PyTuple_Pack(2, fs, lists[i]);
+        Py_DECREF(fs);
+        if (!pair) {
+            Py_CLEAR(result);
+            goto done;
+        }
+        PyList_SET_ITEM(result, i, pair);
+    }
+done:
+    Py_XDECREF(item);
+    Py_XDECREF(it);
+    Py_XDECREF(index);
+    if (sets)
+        for (i = 0; i < ncomp; i++) Py_XDECREF(sets[i]);
+    if (lists)
+        for (i = 0; i < ncomp; i++) Py_XDECREF(lists[i]);
+    PyMem_Free(fams);
+    PyMem_Free(up);
+    PyMem_Free(slot);
+    PyMem_Free(sets);
+    PyMem_Free(lists);
+    if (refused && !result) {
+        PyErr_Clear();
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    return result;
+}
+
+/* ------------------------------------------------------------------ static_few
+ *
+ * OccupancyGrid._static_few_python compiled: the static time [s] of a few positions, the
+ * largest over the (2n + 1)^2 cells round each, read from the grid's C-contiguous arrays
+ * (evidence, touched, since: float64; first_sight: bool) with the same IEEE operations in
+ * the same order (division, floor, subtraction, multiplication; exp is the C library's,
+ * which math.exp calls too). NotImplemented wherever the Python one decides otherwise or
+ * numpy's exp would (a position not finite or whose cells leave the arrays, a decayed
+ * evidence within `near` of the threshold, arrays not as expected): it runs then. */
+
+/* 0 with the C-contiguous 2-D buffer of `obj` of items `format` in `view`, else 1 (no
+ * buffer held, no error set: the caller refuses). */
+static int grid_buffer(PyObject *obj, Py_buffer *view, const char *format) {
+    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear(); /* (not an array, or not C-contiguous) */
+        return 1;
+    }
+    if (view->ndim != 2 || !view->format || strcmp(view->format, format) != 0) {
+        PyBuffer_Release(view);
+        view->obj = NULL;
+        return 1;
+    }
+    return 0;
+}
+
+static PyObject *static_few(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 15) {
+        PyErr_SetString(PyExc_TypeError,
+                        "static_few(evidence, touched, since, first_sight, o0, o1, xy, "
+                        "resolution, n, stamp, decay_time, threshold, hold, extra, near)");
+        return NULL;
+    }
+    Py_buffer bufs[4];
+    const char *formats[4] = {"d", "d", "d", "?"};
+    int got = 0, refused = 0;
+    PyObject *out = NULL;
+    long long o0 = PyLong_AsLongLong(args[4]), o1 = PyLong_AsLongLong(args[5]);
+    long n = PyLong_AsLong(args[8]);
+    double res = PyFloat_AsDouble(args[7]), stamp = PyFloat_AsDouble(args[9]);
+    double tau = PyFloat_AsDouble(args[10]), thr = PyFloat_AsDouble(args[11]);
+    double hold = PyFloat_AsDouble(args[12]), extra = PyFloat_AsDouble(args[13]);
+    double near = PyFloat_AsDouble(args[14]);
+    PyObject *xy = args[6];
+    if (PyErr_Occurred()) return NULL;
+    if (!PyList_CheckExact(xy) || n < 0 || !isfinite(stamp)) Py_RETURN_NOTIMPLEMENTED;
+    for (; got < 4; got++) {
+        if (grid_buffer(args[got], &bufs[got], formats[got])) {
+            refused = 1;
+            goto done;
+        }
+    }
+    Py_ssize_t h = bufs[0].shape[0], w = bufs[0].shape[1];
+    for (int b = 1; b < 4; b++)
+        if (bufs[b].shape[0] != h || bufs[b].shape[1] != w) {
+            refused = 1;
+            goto done;
+        }
+    const double *ev = bufs[0].buf, *touched = bufs[1].buf, *since = bufs[2].buf;
+    const char *first = bufs[3].buf;
+    Py_ssize_t m = PyList_GET_SIZE(xy);
+    out = PyList_New(m);
+    if (!out) goto done;
+    for (Py_ssize_t q = 0; q < m; q++) {
+        PyObject *pos = PyList_GET_ITEM(xy, q);
+        if (!PyList_CheckExact(pos) || PyList_GET_SIZE(pos) != 2) {
+            refused = 1;
+            goto done;
+        }
+        double x = PyFloat_AsDouble(PyList_GET_ITEM(pos, 0));
+        double y = PyFloat_AsDouble(PyList_GET_ITEM(pos, 1));
+        if (PyErr_Occurred()) goto done;
+        if (!isfinite(x) || !isfinite(y)) {
+            refused = 1;
+            goto done;
+        }
+        double fi = floor(x / res), fj = floor(y / res);
+        if (!(fabs(fi) < 4e18 && fabs(fj) < 4e18)) {
+            refused = 1;
+            goto done;
+        }
+        long long i = (long long)fi - o0, j = (long long)fj - o1;
+        if (i < n || j < n || i >= h - n || j >= w - n) {
+            refused = 1;
+            goto done;
+        }
+        double best = 0.0;
+        int first_cell = 1;
+        for (long long a = i - n; a <= i + n; a++) {
+            for (long long c = j - n; c <= j + n; c++) {
+                Py_ssize_t k = (Py_ssize_t)(a * w + c);
+                double tk = 0.0, s = since[k];
+                if (s == s) { /* (a free cell, since nan, is 0 s static) */
+                    double dt = stamp - touched[k];
+                    if (dt < 0.0) dt = 0.0;
+                    double decayed = ev[k] * exp(-dt / tau);
+                    if (fabs(decayed - thr) <= near) { /* numpy's exp decides: Python */
+                        refused = 1;
+                        goto done;
+                    }
+                    if (decayed >= thr) tk = stamp - s;
+                }
+                double t = (first[k] && tk >= hold) ? tk + extra : tk;
+                if (first_cell || t > best) best = t; /* (max: the first of the largest) */
+                first_cell = 0;
+            }
+        }
+        PyObject *v = PyFloat_FromDouble(best > 0.0 ? best : 0.0);
+        if (!v) goto done;
+        PyList_SET_ITEM(out, q, v);
+    }
+done:
+    for (int b = 0; b < got; b++) PyBuffer_Release(&bufs[b]);
+    if (PyErr_Occurred()) {
+        Py_XDECREF(out);
+        return NULL;
+    }
+    if (refused) {
+        Py_XDECREF(out);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -963,6 +1263,13 @@ static PyMethodDef methods[] = {
      "new_all, fal_all, k, max_gap, shortcut, max_cluster_size): MHT._k_best of the plain "
      "MHT on the scan's tables, as (children, cluster size), or NotImplemented for a "
      "cluster its Python path takes."},
+    {"components", (PyCFunction)(void (*)(void))components, METH_FASTCALL,
+     "components(fam_meas, links, n_meas): core.components_python's components, or "
+     "NotImplemented for input the Python one takes (and refuses)."},
+    {"static_few", (PyCFunction)(void (*)(void))static_few, METH_FASTCALL,
+     "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
+     "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
+     "values, or NotImplemented where it decides otherwise."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -1,6 +1,6 @@
 """The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from types import NotImplementedType
 
 import numpy as np
@@ -51,3 +51,27 @@ def k_best_plain(
     max_cluster_size: int,
     /,
 ) -> tuple[list[tuple[int, LabelledAssignment, float]], int] | NotImplementedType: ...
+def components(
+    fam_meas: dict[int, set[int]],
+    links: Iterable[tuple[int, int]],
+    n_meas: int,
+    /,
+) -> list[tuple[frozenset[int], list[int]]] | NotImplementedType: ...
+def static_few(
+    evidence: NDArray[np.float64],
+    touched: NDArray[np.float64],
+    since: NDArray[np.float64],
+    first_sight: NDArray[np.bool_],
+    o0: int,
+    o1: int,
+    xy: list[list[float]],
+    resolution: float,
+    n: int,
+    stamp: float,
+    decay_time: float,
+    threshold: float,
+    hold: float,
+    extra: float,
+    near: float,
+    /,
+) -> list[float] | NotImplementedType: ...

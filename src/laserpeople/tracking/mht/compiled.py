@@ -1,6 +1,8 @@
 """Which listing of a cluster's k best children runs: the optional C extension
 (``_clisting``, built by ``pip install -e .`` where a C compiler is) or the Python reference
-in :mod:`~laserpeople.tracking.mht.listing`, which gives the same children and costs.
+in :mod:`~laserpeople.tracking.mht.listing`, which gives the same children and costs. The
+same choice holds for the extension's other functions (a scan's clusters,
+``core.components``; the occupancy grid's static time of a few positions).
 
 The Python listing runs when the environment variable :data:`PURE_PYTHON` is set (to
 anything but ``0`` or nothing), when the extension is not built, or when it is stale: built

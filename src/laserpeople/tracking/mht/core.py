@@ -227,7 +227,22 @@ def components(
     a family is joined to the measurements in its gate (``fam_meas``) and to the families
     it is linked with (``links``, pairs of families in ``fam_meas``). Per component its
     families and its measurements (increasing); components in the order of their first
-    family in ``fam_meas``, then those of measurements alone in measurement order."""
+    family in ``fam_meas``, then those of measurements alone in measurement order.
+
+    Runs the compiled one (:data:`~.listing.COMPILED_COMPONENTS`) where it is built, else
+    (and for input it leaves to Python) :func:`components_python`, its reference: the same
+    components, frozensets made in the same order."""
+    if listing.COMPILED_COMPONENTS is not None:
+        out = listing.COMPILED_COMPONENTS(fam_meas, links, n_meas)
+        if out is not NotImplemented:
+            return out
+    return components_python(fam_meas, links, n_meas)
+
+
+def components_python(
+    fam_meas: dict[int, set[int]], links: Iterable[tuple[int, int]], n_meas: int
+) -> list[tuple[frozenset[int], list[int]]]:
+    """:func:`components` in Python (union-find over dicts)."""
     up: dict[int, int] = {f: f for f in fam_meas}  # union-find; measurement j is ~j (< 0)
     for j in range(n_meas):
         up[~j] = ~j

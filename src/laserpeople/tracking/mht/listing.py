@@ -82,6 +82,12 @@ COMPILED_K_BEST = None if _extension is None else _extension.k_best_plain
 """The compiled ``MHT._k_best`` of the plain MHT on the scan's tables (the same children
 and cost floats), or None: it returns NotImplemented for the clusters the Python one takes
 (the shortcut, Murty's method, a degraded cluster, a node not scored this scan)."""
+COMPILED_COMPONENTS = None if _extension is None else _extension.components
+"""The compiled :func:`~.core.components_python` (the same components, in the same
+order), or None: it returns NotImplemented for input the Python one takes."""
+COMPILED_STATIC_FEW = None if _extension is None else _extension.static_few
+"""The compiled ``OccupancyGrid._static_few_python`` (the same values), or None: it
+returns NotImplemented where the Python one decides otherwise."""
 
 
 def children_bound(rows: Sequence[Sequence[int]], n_labels: Sequence[int], m: int) -> int:

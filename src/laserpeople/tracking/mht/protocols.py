@@ -31,7 +31,9 @@ class TrackModel(Protocol[M]):
     """
 
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
-        """Set ``pred_mean``/``pred_cov`` of every node for time ``stamp`` [s]."""
+        """Predict every node to time ``stamp`` [s] (setting its ``pred_mean``/``pred_cov``,
+        or keeping the predictions in the model, as :class:`~..point_model.KalmanPointModel`
+        does)."""
         ...
 
     def score(self, nodes: Sequence[TrackNode], measurements: M) -> tuple[BoolArray, FloatArray]:

@@ -43,6 +43,48 @@ def _check_seconds(option: str, value: float | None, *, zero: bool) -> None:
         )
 
 
+def check_live_names(
+    lasers: list[str],
+    tf_topic: str,
+    tf_static_topic: str,
+    odom_topic: str,
+    output_prefix: str,
+    key_prefix: str,
+) -> None:
+    """Refuse topic options that are not ROS 2 topic names, a ``--key-prefix`` that cannot
+    start a Zenoh key (:mod:`laserpeople.live.names`), a laser topic given twice, and an
+    ``--output-prefix`` under which a topic the run reads would be published to.
+
+    Raises:
+        ConfigError: Naming the option and the value.
+    """
+    from laserpeople.live.keys import strip_topic
+    from laserpeople.live.messages import output_topics
+    from laserpeople.live.names import check_key_prefix, check_topic
+
+    for laser in lasers:
+        check_topic("--topic", laser)
+    read = {"--tf-topic": tf_topic, "--tf-static-topic": tf_static_topic}
+    read["--odom-topic"] = odom_topic
+    for option, name in read.items():
+        if _optional_topic(name) is not None:
+            check_topic(option, name)
+    check_topic("--output-prefix", output_prefix, empty_ok=True)
+    check_key_prefix(key_prefix)
+    names = [strip_topic(t) for t in lasers]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ConfigError(f"--topic /{twice[0]} is given twice", hint="give each laser topic once")
+    written = {strip_topic(t) for t in output_topics(output_prefix)}
+    for option, name in [*(("--topic", t) for t in lasers), *read.items()]:
+        if _optional_topic(name) is not None and strip_topic(name) in written:
+            raise ConfigError(
+                f"{option} {name!r} is a topic this run publishes its tracks on "
+                f"(--output-prefix {output_prefix!r})",
+                hint="choose another --output-prefix",
+            )
+
+
 def _status_printer(meter: Any, stop: Any) -> None:
     """Refresh the status line every half second (a line every 10 s when not a terminal)."""
     import sys
@@ -201,6 +243,8 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--foxglove",
                 metavar="PORT",
+                min=0,
+                max=65535,
                 help="Serve scans, legs, people and groups to Foxglove on this port "
                 "(ws://HOST:PORT; 8765 is Foxglove's default).",
             ),
@@ -250,6 +294,9 @@ def register(app: typer.Typer) -> None:
         _check_seconds("--order-wait", order_wait, zero=True)
         if frame not in ("auto", "world", "sensor"):
             raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
+        check_live_names(
+            topic or ["/scan"], tf_topic, tf_static_topic, odom_topic, output_prefix, key_prefix
+        )
         if frame == "sensor" and topic is not None and len(topic) > 1:
             raise ConfigError(
                 f"--frame sensor with {len(topic)} lasers: several lasers are fused only in the "

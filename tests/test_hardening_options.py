@@ -1,0 +1,202 @@
+"""Options a command takes but a run would not use are said, and live names are checked
+before a session opens (third hardening round)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from laserpeople.cli import app
+from laserpeople.errors import ConfigError
+
+
+@pytest.fixture(scope="module")
+def still(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A short recording of a still laser (simulated, with poses)."""
+    from laserpeople.sim.scenarios import run_scenario
+
+    path = tmp_path_factory.mktemp("still") / "demo.npz"
+    run_scenario("demo", seconds=2.0, seed=3).write(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def model(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A copy of the shipped leg model, as a user's --model file."""
+    import shutil
+
+    import laserpeople.detection as detection
+
+    path = tmp_path_factory.mktemp("model") / "mine.json"
+    shutil.copy(Path(detection.__file__).parent / "models" / "default.json", path)
+    return path
+
+
+def _track(still: Path, out: Path, *args: str) -> str:
+    run = CliRunner().invoke(app, ["track", str(still), "-o", str(out), *args])
+    assert run.exit_code == 0, run.output
+    return run.output
+
+
+def test_a_leg_model_a_tracker_of_points_never_used_is_said(
+    still: Path, model: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "t.csv"
+    said = _track(still, out, "--tracker", "feet-pf", "--model", str(model))
+    assert f"--model {model} had no effect: feet-pf tracks foreground points" in said
+    said = _track(still, out, "--tracker", "group-mht", "--detector", "heuristic")
+    assert "--detector heuristic had no effect: group-mht" in said
+    config = tmp_path / "legs.toml"
+    config.write_text("[leg_detector]\n")
+    said = _track(still, out, "--tracker", "feet-pf", "--config", str(config))
+    assert f"[leg_detector] of {config} had no effect" in said
+    # used: a tracker of legs; points narrowed to legs on a still laser too
+    assert "had no effect" not in _track(still, out, "--model", str(model))
+    config.write_text('[leg_foreground]\nuse = "always"\n')
+    said = _track(
+        still, out, "--tracker", "feet-pf", "--model", str(model), "--config", str(config)
+    )
+    assert "had no effect" not in said
+    # nothing given: nothing said
+    assert "had no effect" not in _track(still, out, "--tracker", "feet-pf")
+
+
+def test_a_static_world_model_nobody_asks_is_said(still: Path, tmp_path: Path) -> None:
+    out = tmp_path / "t.csv"
+    said = _track(still, out, "--people-policy", "arras", "--background", "histogram")
+    assert "--background histogram had no effect: leg-mht with the arras people policy" in said
+    off = tmp_path / "off.toml"
+    off.write_text("[static_tracks]\nhide = false\n")
+    said = _track(still, out, "--tracker", "nn", "--config", str(off), "--background", "occupancy")
+    assert "--background occupancy had no effect: nn asks no static world model" in said
+    # asked: nn hides person tracks on static places by default
+    assert "had no effect" not in _track(still, out, "--tracker", "nn", "--background", "histogram")
+    assert "had no effect" not in _track(still, out, "--people-policy", "arras")
+
+
+def _map(tmp_path: Path) -> Path:
+    image = tmp_path / "free.pgm"
+    image.write_bytes(b"P5\n40 40\n255\n" + bytes([254]) * 1600)
+    yaml = tmp_path / "free.yaml"
+    yaml.write_text(
+        "image: free.pgm\nresolution: 0.5\norigin: [-10.0, -10.0, 0.0]\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n"
+    )
+    return yaml
+
+
+def test_a_map_seeds_the_model_that_hides_static_person_tracks(still: Path, tmp_path: Path) -> None:
+    out = tmp_path / "t.csv"
+    grid = _map(tmp_path)
+    # nn asks the people's model (static_tracks.hide): the map seeds it (it was refused)
+    said = _track(still, out, "--tracker", "nn", "--map", str(grid))
+    assert f"seeded by the map {grid}" in said
+    off = tmp_path / "off.toml"
+    off.write_text("[static_tracks]\nhide = false\n")
+    for args, why in (
+        (["--tracker", "nn", "--config", str(off)], "with static_tracks.hide = false"),
+        (["--people-policy", "arras"], "arras people policy has no static world model"),
+    ):
+        run = CliRunner().invoke(
+            app, ["track", str(still), "-o", str(out), "--map", str(grid), *args]
+        )
+        assert isinstance(run.exception, ConfigError), run.output
+        assert "--map seeds the static world model, but this run uses none" in str(run.exception)
+        assert why in str(run.exception)
+
+
+def test_a_preset_that_sets_nothing_of_the_tracker_is_said(still: Path, tmp_path: Path) -> None:
+    from laserpeople.cli.track import preset_note
+    from laserpeople.tracking import registry
+
+    out = tmp_path / "t.csv"
+    said = _track(still, out, "--preset", "paper")
+    assert "--preset paper sets nothing of [leg_tracker]" in said
+    assert "--people-policy arras" in said
+    said = _track(still, out, "--tracker", "nn", "--preset", "paper")
+    assert "--preset paper sets nothing of [nn_tracker]: nn follows no paper" in said
+    for name in ("group-mht", "csa", "feet-pf", "upper-body-pf"):
+        assert preset_note(name, registry.get(name).params_cls, "paper", None) is None
+    legs = registry.get("leg-mht").params_cls
+    assert preset_note("leg-mht", legs, "paper", "arras") is None
+    assert preset_note("leg-mht", legs, None, None) is None
+
+
+@pytest.mark.parametrize(
+    ("name", "problem"),
+    [
+        ("/my people", "holds ' '"),
+        ("/a*b", "holds '*'"),
+        ("/x//y", "empty part"),
+        ("/1st/people", "'1st' starts with a digit"),
+        ("/robot/2d", "'2d' starts with a digit"),
+        ("/a__b", "holds '__'"),
+        ("/odöm", "holds 'ö'"),
+        ("~/scan", "holds '~'"),
+        ("/{ns}/scan", "holds '{'"),
+        ("", "empty"),
+        ("/", "empty"),
+    ],
+)
+def test_topic_names_that_ros_2_refuses(name: str, problem: str) -> None:
+    from laserpeople.live.names import topic_problem
+
+    found = topic_problem(name)
+    assert found is not None and problem in found
+
+
+@pytest.mark.parametrize("name", ["/scan", "scan", "/scan/", "/robot1/base_scan", "/_x", "/a_b/c9"])
+def test_topic_names_that_ros_2_takes(name: str) -> None:
+    from laserpeople.live.names import topic_problem
+
+    assert topic_problem(name) is None
+
+
+def test_live_names_are_checked_before_a_session_opens() -> None:
+    from laserpeople.cli.live import check_live_names
+    from laserpeople.live.names import check_key_prefix
+
+    def refused(**over: object) -> str:
+        args: dict[str, object] = {
+            "lasers": ["/scan"],
+            "tf_topic": "/tf",
+            "tf_static_topic": "/tf_static",
+            "odom_topic": "/odom",
+            "output_prefix": "/laserpeople",
+            "key_prefix": "",
+        }
+        args.update(over)
+        with pytest.raises(ConfigError) as caught:
+            check_live_names(**args)  # type: ignore[arg-type]
+        return str(caught.value)
+
+    assert "--output-prefix '/my people' is not a ROS 2 topic name" in refused(
+        output_prefix="/my people"
+    )
+    assert "--topic '/sc an'" in refused(lasers=["/sc an"])
+    assert "--odom-topic '/od om'" in refused(odom_topic="/od om")
+    assert "--topic /scan is given twice" in refused(lasers=["/scan", "scan/"])
+    assert "--topic '/laserpeople/people' is a topic this run publishes" in refused(
+        lasers=["/laserpeople/people"]
+    )
+    assert "--tf-topic '/out/markers' is a topic this run publishes" in refused(
+        tf_topic="/out/markers", output_prefix="/out"
+    )
+    assert "--key-prefix 'robot/$' cannot start a Zenoh key" in refused(key_prefix="robot/$")
+    assert "empty part" in refused(key_prefix="a//b")
+    # taken: no prefix at all, topics switched off, a prefix with slashes round it
+    check_live_names(["/scan"], "none", "", "none", "/", "/robot1/")
+    check_live_names(["/front", "/back"], "/tf", "/tf_static", "/odom", "people_out", "")
+    for fine in ("", "/", "robot1", "fleet/robot 1"):
+        check_key_prefix(fine)
+
+
+def test_live_refuses_a_bad_name_on_the_command_line() -> None:
+    pytest.importorskip("zenoh")
+    run = CliRunner().invoke(app, ["live", "--output-prefix", "/my people", "--duration", "0.3"])
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--output-prefix '/my people' is not a ROS 2 topic name" in str(run.exception)
+    port = CliRunner().invoke(app, ["live", "--foxglove", "70000", "--duration", "0.3"])
+    assert port.exit_code == 2 and "Invalid value for '--foxglove'" in port.output

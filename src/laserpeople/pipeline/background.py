@@ -502,9 +502,11 @@ class AutoBackground:
 
     @property
     def detected_legs(self) -> bool:
-        """Whether the model ran the leg detector on some frame: narrowed its foreground to
-        points near legs, or kept the people out of the histogram while it learned."""
-        return self.legs is not None or self._people_legs is not None
+        """Whether the model ran the leg detector on some frame to narrow its foreground to
+        points near legs. (Keeping the people out of the histogram while it learns,
+        ``learn_people``, is asked only by a tracker of legs, whose leg detection stage
+        runs the detector anyway: :func:`detector_used`.)"""
+        return self.legs is not None
 
     def describe(self) -> str:
         """One line for the user: which model ran and why."""
@@ -697,9 +699,9 @@ def background_of(stages: Sequence[object]) -> object | None:
 def detector_used(stages: Sequence[object]) -> bool:
     """Whether a pipeline's ``stages`` ran the leg detector on some frame: a leg detection
     stage (a tracker of legs; the CSA's people), or an ``auto`` static world model that
-    narrowed its foreground to points near legs or learned behind people
-    (:attr:`AutoBackground.detected_legs`). False for a tracker of points whose foreground
-    never needed legs (e.g. ``feet-pf`` on a still laser)."""
+    narrowed its foreground to points near legs (:attr:`AutoBackground.detected_legs`).
+    False for a tracker of points whose foreground never needed legs (e.g. ``feet-pf`` on a
+    still laser)."""
     from laserpeople.pipeline.observe import DetectLegs
 
     return any(

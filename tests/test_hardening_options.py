@@ -200,3 +200,36 @@ def test_live_refuses_a_bad_name_on_the_command_line() -> None:
     assert "--output-prefix '/my people' is not a ROS 2 topic name" in str(run.exception)
     port = CliRunner().invoke(app, ["live", "--foxglove", "70000", "--duration", "0.3"])
     assert port.exit_code == 2 and "Invalid value for '--foxglove'" in port.output
+
+
+@pytest.mark.parametrize(
+    ("value", "forced", "warned"),
+    [
+        ("", False, False),
+        ("0", False, False),
+        ("false", False, False),
+        (" No ", False, False),
+        ("OFF", False, False),
+        ("1", True, False),
+        ("true", True, False),
+        ("yes", True, False),
+        ("junk", True, True),
+        ("2", True, True),
+    ],
+)
+def test_the_pure_python_switch_reads_words_and_warns_of_junk(
+    monkeypatch: pytest.MonkeyPatch, value: str, forced: bool, warned: bool
+) -> None:
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+    from laserpeople.tracking.mht import compiled
+
+    monkeypatch.setenv(compiled.PURE_PYTHON, value)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert compiled.forced_pure_python() is forced
+    said = [w for w in caught if issubclass(w.category, LaserPeopleWarning)]
+    assert bool(said) is warned
+    if warned:
+        assert f"LASERPEOPLE_PURE_PYTHON={value!r} is neither 1 nor 0" in str(said[0].message)

@@ -233,3 +233,31 @@ def test_the_pure_python_switch_reads_words_and_warns_of_junk(
     assert bool(said) is warned
     if warned:
         assert f"LASERPEOPLE_PURE_PYTHON={value!r} is neither 1 nor 0" in str(said[0].message)
+
+
+def test_a_laser_frame_changing_mid_recording_and_zero_stamps_are_said(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from laserpeople.io.rosbag_writer import open_bag
+    from laserpeople.sim.scenarios import run_scenario
+
+    scans = list(run_scenario("demo", seconds=1.0, seed=1).scans)
+    bag = tmp_path / "changed.bag"
+    with open_bag(bag) as sink:
+        for k, scan in enumerate(scans):
+            frame = "laser" if k < 8 else ("laser_b" if k < 15 else "laser_c")
+            if k in (3, 4):  # a driver that wrote no stamp: the bag's log time is used
+                sink.scan(replace(scan, stamp=0.0), "/scan", frame, log_stamp=scan.stamp)
+            else:
+                sink.scan(scan, "/scan", frame)
+    n = len(scans)
+    run = CliRunner().invoke(app, ["track", str(bag), "-o", str(tmp_path / "t.csv")])
+    assert run.exit_code == 0, run.output
+    others = sorted([(7, "laser_b"), (n - 15, "laser_c")], key=lambda c: (-c[0], c[1]))
+    counted = ", ".join(f"{count} in {frame!r}" for count, frame in others)
+    assert f"/scan: header.frame_id changed from 'laser' at scan 8 ({counted})" in run.output
+    assert "2 scans with a zero header stamp were stamped with the time the bag logged" in (
+        run.output
+    )
+    info = CliRunner().invoke(app, ["info", str(bag)])
+    assert "header.frame_id changed from 'laser' at scan 8" in info.output

@@ -178,9 +178,13 @@ class RecordingFrames:
             yield frame
 
     def summary(self) -> list[str]:
-        """Lines for the user: given laser mounts left out; the frame used and why; the
+        """Lines for the user: given laser mounts left out; what the reader took other than
+        as written (``read_notes``: zero stamps, a changed frame id); the frame used and why; the
         grouping figures; changes of a laser's beam layout; scans without a valid beam."""
         lines = list(getattr(self.recording, "mount_notes", []))
+        notes = getattr(self.recording, "read_notes", None)
+        if callable(notes):
+            lines.extend(notes())
         lines.append(self.chooser.stats.summary())
         if self.restamper is not None:
             lines.append(self.restamper.summary())

@@ -48,6 +48,7 @@ def forced_pure_python() -> bool:
         )
     return True
 
+
 SOURCE = Path(__file__).with_name("_clisting.c")
 """The extension's source, beside this module (in an installed package as well)."""
 

@@ -1971,6 +1971,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_options.py",),
     ),
     Mutant(
+        "features-jumps-by-beam-order",
+        "000 features 4, 5: jumps by beam order on a scanner sweeping clockwise",
+        "detection/features.py",
+        "            out[rows, 3:5] = out[rows, 4:2:-1].copy()\n",
+        "",
+        ("tests/test_hardening_options.py",),
+    ),
+    Mutant(
+        "frame-change-from-scan",
+        "bags: a frame_id change is said from the scan after it",
+        "io/rosbag.py",
+        "FrameChange(first_frame, index)",
+        "FrameChange(first_frame, index + 1)",
+        ("tests/test_hardening_options.py",),
+    ),
+    Mutant(
         "map-needs-foreground-model",
         "track: --map refused unless a tracker of points reads the model's foreground",
         "pipeline/recording.py",

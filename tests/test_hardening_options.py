@@ -261,3 +261,45 @@ def test_a_laser_frame_changing_mid_recording_and_zero_stamps_are_said(tmp_path:
     )
     info = CliRunner().invoke(app, ["info", str(bag)])
     assert "header.frame_id changed from 'laser' at scan 8" in info.output
+
+
+def test_a_scanner_sweeping_the_other_way_gives_the_same_features_and_legs() -> None:
+    """A scanner with negative angle_increment (mounted upside down, the MiR's) gives each
+    segment the features of the same beams swept by increasing angle: features 4 and 5
+    (jump to the segment at smaller / larger angles) were swapped: on 4 s of this scene the
+    mirrored copy gave 249 legs against 221."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from laserpeople.detection.detector import AdaBoostLegDetector
+    from laserpeople.detection.features import compute_features
+    from laserpeople.segmentation import JumpDistanceSegmenter
+    from laserpeople.sim.scenarios import run_scenario
+
+    scans = list(run_scenario("demo", seconds=1.0, seed=0).scans)
+    step = 2.0**-10  # binary angles: the reversed layout has exactly the same beam angles
+    up, down = [], []
+    for scan in scans:
+        half = (scan.n_beams - 1) * step / 2.0
+        up.append(replace(scan, angle_min=-half, angle_increment=step, pose=None, labels=None))
+        down.append(
+            replace(
+                scan,
+                ranges=scan.ranges[::-1].copy(),
+                angle_min=half,
+                angle_increment=-step,
+                pose=None,
+                labels=None,
+            )
+        )
+    segmenter = JumpDistanceSegmenter()
+    for k in (5, 15):
+        a = compute_features(segmenter(up[k]), up[k], up[k - 1]).values
+        b = compute_features(segmenter(down[k]), down[k], down[k - 1]).values[::-1]
+        assert a.shape == b.shape and np.max(np.abs(a[:, 3:5] - b[:, 3:5])) < 1e-9
+        assert np.max(np.abs(a - b)) < 1e-6  # (sums in the other order)
+    ups, downs = AdaBoostLegDetector.default(), AdaBoostLegDetector.default()
+    found_up = sum(len(ups.detect(s).positions) for s in up)
+    found_down = sum(len(downs.detect(s).positions) for s in down)
+    assert found_up == found_down

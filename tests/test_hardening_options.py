@@ -303,3 +303,31 @@ def test_a_scanner_sweeping_the_other_way_gives_the_same_features_and_legs() -> 
     found_up = sum(len(ups.detect(s).positions) for s in up)
     found_down = sum(len(downs.detect(s).positions) for s in down)
     assert found_up == found_down
+
+
+def test_batch_takes_a_recording_once_by_any_spelling_and_not_its_own_output(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from laserpeople.cli.batch import expand
+
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    a, b = runs / "a.bag", runs / "b.bag"
+    a.write_bytes(b"")
+    b.write_bytes(b"")
+    monkeypatch.chdir(tmp_path)
+    # one file, three spellings: tracked once (it was tracked three times into one file)
+    got = expand(["runs/a.bag", str(a), "runs/../runs/a.bag", "runs/b.bag"])
+    assert got == [Path("runs/a.bag"), Path("runs/b.bag")]
+    assert "tracked once: runs/a.bag" in capsys.readouterr().err
+    # the output folder inside the input folder: a rerun's glob leaves it out, and says so
+    out = runs / "out"
+    (out / "tracks").mkdir(parents=True)
+    (out / "summary.csv").write_text("")
+    assert expand(["runs/*"], Path("runs/out")) == [Path("runs/a.bag"), Path("runs/b.bag")]
+    assert "left out 1 glob matches in the output folder runs/out" in capsys.readouterr().err
+    assert expand(["runs/**"], out) == [Path("runs"), Path("runs/a.bag"), Path("runs/b.bag")]
+    assert "left out 3 glob matches" in capsys.readouterr().err
+    with pytest.raises(ConfigError, match="matches only the output folder"):
+        expand(["runs/out/*"], out)
+    assert expand(["runs/*"]) == [Path("runs/a.bag"), Path("runs/b.bag"), Path("runs/out")]

@@ -331,3 +331,34 @@ def test_batch_takes_a_recording_once_by_any_spelling_and_not_its_own_output(
     with pytest.raises(ConfigError, match="matches only the output folder"):
         expand(["runs/out/*"], out)
     assert expand(["runs/*"]) == [Path("runs/a.bag"), Path("runs/b.bag"), Path("runs/out")]
+
+
+def test_evaluate_says_when_one_truth_scores_several_tracks_files(
+    still: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    _track(still, tmp_path / "a" / "tracks.csv")
+    _track(still, tmp_path / "b" / "tracks.csv", "--tracker", "nn")
+    shutil.copy(still, tmp_path / "other.npz")
+    run = CliRunner().invoke(
+        app,
+        ["evaluate", "a/tracks.csv", "b/tracks.csv", "--truth", str(still), "--truth", str(still)],
+    )
+    assert run.exit_code == 0, run.output
+    assert (
+        "one truth scores 2 TRACKS files (a/tracks.csv, b/tracks.csv): the pooled row counts "
+        "its people 2 times" in run.output
+    )
+    # another recording (even a copy) for each file: nothing said; rows named by path (the
+    # stems are the same)
+    other = CliRunner().invoke(
+        app,
+        ["evaluate", "a/tracks.csv", "b/tracks.csv", "--truth", str(still), "--truth", "other.npz"],
+    )
+    assert other.exit_code == 0, other.output
+    assert "one truth scores" not in other.output
+    assert "a/tracks.csv" in other.output and "b/tracks.csv" in other.output

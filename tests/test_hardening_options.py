@@ -49,9 +49,15 @@ def test_a_leg_model_a_tracker_of_points_never_used_is_said(
     said = _track(still, out, "--tracker", "group-mht", "--detector", "heuristic")
     assert "--detector heuristic had no effect: group-mht" in said
     config = tmp_path / "legs.toml"
-    config.write_text("[leg_detector]\n")
+    config.write_text("[leg_detector]\nscore_threshold = 0.5\n")
     said = _track(still, out, "--tracker", "feet-pf", "--config", str(config))
     assert f"[leg_detector] of {config} had no effect" in said
+    # a --print-config dump holds the defaults: fed back, it asks nothing of the detector
+    dump = CliRunner().invoke(app, ["track", "--tracker", "feet-pf", "--print-config"])
+    config.write_text(dump.output)
+    assert "[leg_detector]" in dump.output
+    said = _track(still, out, "--tracker", "feet-pf", "--config", str(config))
+    assert "had no effect" not in said
     # used: a tracker of legs; points narrowed to legs on a still laser too
     assert "had no effect" not in _track(still, out, "--model", str(model))
     config.write_text('[leg_foreground]\nuse = "always"\n')

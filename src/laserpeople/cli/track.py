@@ -355,14 +355,15 @@ def draw_tracks(
 def detector_options(detector: str, model: Path | None, config: Path | None) -> list[str]:
     """The options of a ``track`` command line that choose or tune the leg detector
     (``--detector`` other than the default, ``--model``, a ``[leg_detector]`` section in
-    ``config``), as the user wrote them."""
-    from laserpeople.config import read_toml, section_name
+    ``config`` that sets a value other than the default: not the defaults a
+    ``--print-config`` dump holds), as the user wrote them."""
+    from laserpeople.config import section_name
     from laserpeople.detection.detector import LegDetectorParams
 
     asked = [f"--detector {detector}"] if detector != "adaboost" else []
     if model is not None:
         asked.append(f"--model {model}")
-    if config is not None and section_name(LegDetectorParams) in read_toml(config):
+    if config is not None and load_config(LegDetectorParams, config) != LegDetectorParams():
         asked.append(f"[{section_name(LegDetectorParams)}] of {config}")
     return asked
 

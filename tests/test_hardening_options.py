@@ -368,3 +368,33 @@ def test_evaluate_says_when_one_truth_scores_several_tracks_files(
     assert other.exit_code == 0, other.output
     assert "one truth scores" not in other.output
     assert "a/tracks.csv" in other.output and "b/tracks.csv" in other.output
+
+
+def test_a_csv_of_another_of_our_formats_is_named_so(tmp_path: Path) -> None:
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    tracks = tmp_path / "tracks.csv"
+    tracks.write_text("scan,stamp,track_id,kind,x,y\n0,0.0,1,person,1.0,2.0\n")
+    truth = tmp_path / "run.people.csv"
+    truth.write_text("scan,stamp,person_id,x,y\n0,0.0,1,1.0,2.0\n")
+    legs = tmp_path / "legs.csv"
+    legs.write_text("scan,stamp,x,y,score,topic\n0,0.0,1.0,2.0,0.5,laser\n")
+    with pytest.raises(RecordingError) as as_truth:
+        read_truth_csv(tracks)
+    assert "this header is that of a tracks CSV (`laserpeople track -o`): give it as TRACKS" in (
+        str(as_truth.value)
+    )
+    for wrong, said in ((truth, "a ground-truth CSV: give it with --truth"), (legs, "detections")):
+        with pytest.raises(RecordingError) as as_tracks:
+            list(iter_tracks_csv(wrong))
+        assert f"this header is that of {said}" in str(as_tracks.value)
+    with pytest.raises(RecordingError) as neither:
+        read_truth_csv(legs)
+    assert "detections CSV" in str(neither.value)
+    odd = tmp_path / "odd.csv"
+    odd.write_text("frame,id,x,y\n1,1,0.5,0.5\n")
+    with pytest.raises(RecordingError) as unknown:
+        read_truth_csv(odd)
+    assert "this header is that of" not in str(unknown.value)

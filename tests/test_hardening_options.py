@@ -386,7 +386,10 @@ def test_a_csv_of_another_of_our_formats_is_named_so(tmp_path: Path) -> None:
     assert "this header is that of a tracks CSV (`laserpeople track -o`): give it as TRACKS" in (
         str(as_truth.value)
     )
-    for wrong, said in ((truth, "a ground-truth CSV: give it with --truth"), (legs, "detections")):
+    for wrong, said in (
+        (truth, "a ground-truth CSV: give it with --truth"),
+        (legs, "a detections CSV"),
+    ):
         with pytest.raises(RecordingError) as as_tracks:
             list(iter_tracks_csv(wrong))
         assert f"this header is that of {said}" in str(as_tracks.value)

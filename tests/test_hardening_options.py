@@ -401,3 +401,41 @@ def test_a_csv_of_another_of_our_formats_is_named_so(tmp_path: Path) -> None:
     with pytest.raises(RecordingError) as unknown:
         read_truth_csv(odd)
     assert "this header is that of" not in str(unknown.value)
+
+
+def test_live_options_the_transport_or_frame_would_not_use_are_refused() -> None:
+    from laserpeople.cli.live import check_live_options
+
+    def refused(**over: object) -> str:
+        args: dict[str, object] = {
+            "transport": "bridge",
+            "key_prefix": "",
+            "domain": 0,
+            "type_hashes": "rihs01",
+            "frame": "auto",
+            "world_frame": None,
+            "mount": None,
+            "map_path": None,
+        }
+        args.update(over)
+        with pytest.raises(ConfigError) as caught:
+            check_live_options(**args)  # type: ignore[arg-type]
+        return str(caught.value)
+
+    assert "--key-prefix 'robot1' applies to the bridge transport" in refused(
+        transport="rmw", key_prefix="robot1"
+    )
+    assert "--domain 5 applies to the rmw transport" in refused(domain=5)
+    assert "--domain 5 and --type-hashes none apply to the rmw transport" in refused(
+        domain=5, type_hashes="none"
+    )
+    assert "--type-hashes 'junk': choose rihs01 or none" in refused(
+        transport="rmw", type_hashes="junk"
+    )
+    assert "--world-frame needs the world frame" in refused(frame="sensor", world_frame="map")
+    assert "--mount and --map need the world frame" in refused(
+        frame="sensor", mount=["mir100"], map_path=Path("map.yaml")
+    )
+    # what each transport and frame uses is taken
+    check_live_options("rmw", "", 5, "none", "world", "map", ["mir100"], Path("map.yaml"))
+    check_live_options("bridge", "/robot1/", 0, "rihs01", "sensor", None, [], None)

@@ -85,6 +85,52 @@ def check_live_names(
             )
 
 
+def check_live_options(
+    transport: str,
+    key_prefix: str,
+    domain: int,
+    type_hashes: str,
+    frame: str,
+    world_frame: str | None,
+    mount: list[str] | None,
+    map_path: Path | None,
+) -> None:
+    """Refuse options the chosen transport or frame would not use: ``--key-prefix`` with
+    rmw_zenoh (its keys start with the domain), ``--domain`` and ``--type-hashes`` with the
+    bridge (its keys are the topic names), poses (``--world-frame``, ``--mount``) and a
+    ``--map`` with ``--frame sensor``; and a ``--type-hashes`` that is not rihs01 or none.
+
+    Raises:
+        ConfigError: Naming the option and what it needs.
+    """
+    if type_hashes not in ("rihs01", "none"):
+        raise ConfigError(f"--type-hashes {type_hashes!r}: choose rihs01 or none")
+    if transport == "rmw" and key_prefix.strip("/"):
+        raise ConfigError(
+            f"--key-prefix {key_prefix!r} applies to the bridge transport",
+            hint="rmw_zenoh keys start with the ROS domain: give --domain, or --transport bridge",
+        )
+    if transport == "bridge":
+        unused = [f"--domain {domain}"] if domain != 0 else []
+        unused += [f"--type-hashes {type_hashes}"] if type_hashes != "rihs01" else []
+        if unused:
+            raise ConfigError(
+                f"{' and '.join(unused)} {'apply' if len(unused) > 1 else 'applies'} to the "
+                "rmw transport",
+                hint="zenoh-bridge-ros2dds keys are the topic names, and the bridge's own "
+                "configuration picks the domain; drop them, or give --transport rmw",
+            )
+    if frame == "sensor":
+        given = [name for name, value in (("--world-frame", world_frame), ("--mount", mount),
+                                          ("--map", map_path)) if value]  # fmt: skip
+        if given:
+            raise ConfigError(
+                f"{' and '.join(given)} {'need' if len(given) > 1 else 'needs'} the world "
+                "frame, but --frame sensor tracks without poses",
+                hint="drop them, or give --frame world (or auto)",
+            )
+
+
 def _status_printer(meter: Any, stop: Any) -> None:
     """Refresh the status line every half second (a line every 10 s when not a terminal)."""
     import sys
@@ -296,6 +342,9 @@ def register(app: typer.Typer) -> None:
             raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
         check_live_names(
             topic or ["/scan"], tf_topic, tf_static_topic, odom_topic, output_prefix, key_prefix
+        )
+        check_live_options(
+            transport, key_prefix, domain, type_hashes, frame, world_frame, mount, map_path
         )
         if frame == "sensor" and topic is not None and len(topic) > 1:
             raise ConfigError(

@@ -439,3 +439,45 @@ def test_live_options_the_transport_or_frame_would_not_use_are_refused() -> None
     # what each transport and frame uses is taken
     check_live_options("rmw", "", 5, "none", "world", "map", ["mir100"], Path("map.yaml"))
     check_live_options("bridge", "/robot1/", 0, "rihs01", "sensor", None, [], None)
+
+
+@pytest.mark.slow
+def test_live_says_a_leg_model_a_tracker_of_points_never_used(model: Path, tmp_path: Path) -> None:
+    pytest.importorskip("zenoh")
+    import threading
+    import time
+
+    from laserpeople.io import open_recording
+    from laserpeople.live.replay import replay_bag
+    from laserpeople.live.runner import key_style
+    from laserpeople.live.zenoh_link import Publishers, ZenohSettings, open_session
+    from laserpeople.sim.scenarios import run_scenario
+    from live_harness import free_port
+
+    bag = tmp_path / "walk.bag"
+    run_scenario("demo", seconds=2.0, seed=3).write(bag)
+    with open_recording(bag) as rec:
+        topic, n = rec.topics()[0].name, rec.topics()[0].count
+    port = free_port()
+
+    def play() -> None:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:  # until the command listens and has subscribed
+            tx = open_session(ZenohSettings(connect=(f"tcp/127.0.0.1:{port}",)))
+            pubs = Publishers(tx, key_style("bridge"), block=True)
+            if pubs.matched(topic, "sensor_msgs/msg/LaserScan", timeout=2.0):
+                time.sleep(0.5)
+                replay_bag(bag, pubs.publish, speed=2.0)
+                tx.close()
+                return
+            tx.close()
+
+    player = threading.Thread(target=play, daemon=True)
+    player.start()
+    args = ["live", "--topic", topic, "--listen", f"tcp/127.0.0.1:{port}", "--frame", "sensor"]
+    args += ["--tracker", "feet-pf", "--model", str(model)]
+    args += ["--queue", "100000", "--max-scans", str(n), "--duration", "120"]
+    result = CliRunner().invoke(app, args)
+    player.join(30)
+    assert result.exit_code == 0, result.output
+    assert f"--model {model} had no effect: feet-pf tracks foreground points" in result.output

@@ -20,7 +20,7 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.cli.track import make_detector
+from laserpeople.cli.track import detector_options, make_detector, unused_detector_warning
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 
@@ -451,6 +451,7 @@ def register(app: typer.Typer) -> None:
             status.join(timeout=1.0)
             session.close()
             _summary(session, stats, record)
+            _unused_detector(session, tracker, detector_options(detector, model, config))
         finally:
             stop.set()
             if timer is not None:
@@ -458,6 +459,20 @@ def register(app: typer.Typer) -> None:
             session.close()
             for s, handler in old.items():
                 signal.signal(s, handler)
+
+
+def _unused_detector(session: Any, tracker: str, asked: list[str]) -> None:
+    """Warn when the leg detector options ``asked`` had no effect on a run without resets
+    (:func:`~laserpeople.cli.track.unused_detector_warning`; after a reset, the pipelines
+    before it are gone)."""
+    pipeline = getattr(session.run, "pipeline", None)
+    if pipeline is None or session.scans.counts.resets or not pipeline.stats.frames:
+        return
+    from laserpeople.pipeline.background import detector_used
+
+    unused = unused_detector_warning(tracker, asked, detector_used(pipeline.stages))
+    if unused:
+        warn(unused)
 
 
 def _summary(session: Any, stats: Any, record: Path | None) -> None:

@@ -481,3 +481,15 @@ def test_live_says_a_leg_model_a_tracker_of_points_never_used(model: Path, tmp_p
     player.join(30)
     assert result.exit_code == 0, result.output
     assert f"--model {model} had no effect: feet-pf tracks foreground points" in result.output
+
+
+def test_a_topic_given_twice_is_said_and_read_once(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from laserpeople.cli.track import topics_from
+
+    assert topics_from(["/a", "/b", "/a"], None) == ["/a", "/b"]
+    assert "--topic /a given more than once: read once" in capsys.readouterr().err
+    assert topics_from(["/a", "/b"], None) == ["/a", "/b"]
+    assert capsys.readouterr().err == ""
+    assert topics_from(None, None) is None

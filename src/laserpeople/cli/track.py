@@ -91,7 +91,13 @@ def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None
         if topic:
             raise ConfigError("give --topic or --topics all, not both")
         return ["all"]
-    return list(topic) if topic else None
+    if not topic:
+        return None
+    once = list(dict.fromkeys(topic))
+    if len(once) < len(topic):
+        twice = [t for t in once if topic.count(t) > 1]
+        say(f"--topic {', '.join(twice)} given more than once: read once")
+    return once
 
 
 LEFT_OUT = (

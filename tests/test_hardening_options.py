@@ -206,6 +206,8 @@ def test_live_refuses_a_bad_name_on_the_command_line() -> None:
     assert "--output-prefix '/my people' is not a ROS 2 topic name" in str(run.exception)
     port = CliRunner().invoke(app, ["live", "--foxglove", "70000", "--duration", "0.3"])
     assert port.exit_code == 2 and "Invalid value for '--foxglove'" in port.output
+    queue = CliRunner().invoke(app, ["live", "--queue", "0", "--duration", "0.3"])
+    assert queue.exit_code == 2 and "Invalid value for '--queue'" in queue.output
 
 
 @pytest.mark.parametrize(

@@ -258,6 +258,7 @@ def register(app: typer.Typer) -> None:
             int | None,
             typer.Option(
                 "--queue",
+                min=1,
                 help="Scans kept per laser while the tracker is busy; older ones are dropped "
                 "and counted (1: always the newest). Default: 1 with one laser, 2 with several.",
             ),

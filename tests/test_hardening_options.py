@@ -128,6 +128,17 @@ def test_a_preset_that_sets_nothing_of_the_tracker_is_said(still: Path, tmp_path
     legs = registry.get("leg-mht").params_cls
     assert preset_note("leg-mht", legs, "paper", "arras") is None
     assert preset_note("leg-mht", legs, None, None) is None
+    # batch and live say it too (before anything runs)
+    pytest.importorskip("dask")
+    batch = CliRunner().invoke(
+        app, ["batch", str(tmp_path / "none*.bag"), "-o", str(tmp_path / "b"), "--preset", "paper"]
+    )
+    assert "--preset paper sets nothing of [leg_tracker]" in batch.output
+    pytest.importorskip("zenoh")
+    live = CliRunner().invoke(
+        app, ["live", "--tracker", "nn", "--preset", "paper", "--duration", "0.3"]
+    )
+    assert "--preset paper sets nothing of [nn_tracker]" in live.output
 
 
 @pytest.mark.parametrize(

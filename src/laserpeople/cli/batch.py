@@ -244,8 +244,12 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from laserpeople.batch import ClusterSpec, TrackOptions, parse_topics, run_batch
         from laserpeople.cli.common import JobProgress
-        from laserpeople.cli.track import appearance_choice
+        from laserpeople.cli.track import appearance_choice, preset_note
+        from laserpeople.tracking import registry
 
+        note = preset_note(tracker, registry.get(tracker).params_cls, preset, people_policy)
+        if note:
+            warn(note)
         options = TrackOptions(
             tracker=tracker,
             config=config,

@@ -20,7 +20,12 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.cli.track import detector_options, make_detector, unused_detector_warning
+from laserpeople.cli.track import (
+    detector_options,
+    make_detector,
+    preset_note,
+    unused_detector_warning,
+)
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 
@@ -359,6 +364,9 @@ def register(app: typer.Typer) -> None:
 
             check_outputs({"--record": record}, [config, model, map_path])
         entry = registry.get(tracker)
+        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        if note:
+            warn(note)
         ignored_sections(
             config,
             check_sections(

@@ -506,3 +506,19 @@ def test_a_topic_given_twice_is_said_and_read_once(
     assert topics_from(["/a", "/b"], None) == ["/a", "/b"]
     assert capsys.readouterr().err == ""
     assert topics_from(None, None) is None
+
+
+def test_view_of_a_scan_outside_the_window_names_the_scans_it_holds(
+    still: Path, tmp_path: Path
+) -> None:
+    from laserpeople.errors import LaserPeopleError
+
+    out = str(tmp_path / "v.png")
+    for args, held in (
+        (["--scan", "500"], "it holds scans 0-40"),
+        (["--scan", "30", "--stop", "20"], "it holds scans 0-19"),
+        (["--scan", "5", "--start", "20"], "it holds scans 20-40"),
+    ):
+        run = CliRunner().invoke(app, ["view", str(still), "-o", out, *args])
+        assert isinstance(run.exception, LaserPeopleError), run.output
+        assert f"is not in the recording window ({held})" in str(run.exception)

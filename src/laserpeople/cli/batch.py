@@ -50,27 +50,48 @@ TABLE_ROWS = 40
 """Rows printed in full; a larger run prints its failed and retried rows only."""
 
 
-def expand(patterns: list[str]) -> list[Path]:
+def expand(patterns: list[str], out: Path | None = None) -> list[Path]:
     """Recording paths from paths and globs (``**`` recurses), in the order given, each
-    once (a recording named twice is said, and tracked once). A path that exists is taken
-    as it is, even with glob characters (``run[1].bag``). A glob matching nothing is a
-    ConfigError; a missing plain path is kept (its row then says so)."""
-    out: list[Path] = []
+    once (a recording named twice, also by another spelling of its path such as
+    ``./run.bag`` and ``/data/run.bag``, is said, and tracked once). A path that exists is
+    taken as it is, even with glob characters (``run[1].bag``). Glob matches inside the
+    output folder ``out`` (a rerun with the output folder among the inputs) are left out,
+    and said. A glob matching nothing is a ConfigError; a missing plain path is kept (its
+    row then says so)."""
+    found_paths: list[Path] = []
+    inside = 0
+    home = out.resolve() if out is not None else None
     for pattern in patterns:
         if glob.has_magic(pattern) and not Path(pattern).exists():  # run[1].bag is a name
             found = sorted(glob.glob(pattern, recursive=True))
             found = [f for f in found if not f.endswith(".people.csv")]
+            if home is not None:
+                kept = [f for f in found if not Path(f).resolve().is_relative_to(home)]
+                inside += len(found) - len(kept)
+                if found and not kept:
+                    raise ConfigError(
+                        f"{pattern!r} matches only the output folder {out} and what is in it",
+                        hint="check the glob, or write the output elsewhere",
+                    )
+                found = kept
             if not found:
                 raise ConfigError(f"{pattern!r} matches no file", hint="check the glob")
-            out.extend(Path(f) for f in found)
+            found_paths.extend(Path(f) for f in found)
         else:
-            out.append(Path(pattern))
-    once = list(dict.fromkeys(out))
-    if len(once) < len(out):
-        twice = [str(p) for p in once if out.count(p) > 1]
+            found_paths.append(Path(pattern))
+    if inside:
+        say(f"left out {inside} glob matches in the output folder {out} (its own files)")
+    first: dict[Path, Path] = {}  # resolved -> as first named
+    named: dict[Path, int] = {}
+    for path in found_paths:
+        key = path.resolve()
+        first.setdefault(key, path)
+        named[key] = named.get(key, 0) + 1
+    twice = [str(first[key]) for key, n in named.items() if n > 1]
+    if twice:
         shown = ", ".join(twice[:3]) + (f" and {len(twice) - 3} more" if len(twice) > 3 else "")
         say(f"named more than once by the paths and globs given, tracked once: {shown}")
-    return once
+    return list(first.values())
 
 
 def render(rows: list[TopicRow], title: str) -> Table:
@@ -223,8 +244,12 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from laserpeople.batch import ClusterSpec, TrackOptions, parse_topics, run_batch
         from laserpeople.cli.common import JobProgress
-        from laserpeople.cli.track import appearance_choice
+        from laserpeople.cli.track import appearance_choice, preset_note
+        from laserpeople.tracking import registry
 
+        note = preset_note(tracker, registry.get(tracker).params_cls, preset, people_policy)
+        if note:
+            warn(note)
         options = TrackOptions(
             tracker=tracker,
             config=config,
@@ -250,7 +275,7 @@ def register(app: typer.Typer) -> None:
             processes=processes,
             retries=retries,
         )
-        paths = expand(recordings)
+        paths = expand(recordings, out)
         from laserpeople.io.paths import check_outputs
 
         check_outputs({"--out": out}, [*paths, config, model, map_path, sweep])

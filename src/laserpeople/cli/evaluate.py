@@ -417,7 +417,12 @@ def _many(
             "TRACKS files need their --truth (one each, in order)",
             hint="or give the --out folder of `laserpeople batch`: truth is then found by name",
         )
-    pairs.extend((f.stem, f, t, None) for f, t in zip(files, truth, strict=True))
+    stems = [f.stem for f in files]
+    pairs.extend(  # a stem shared by two files (a/tracks.csv, b/tracks.csv): the paths
+        (f.stem if stems.count(f.stem) == 1 else str(f), f, t, None)
+        for f, t in zip(files, truth, strict=True)
+    )
+    shared_truth_note(pairs)
     params = EvaluationParams(gate=gate, kind=kind)
     scores = []
     for name, path, spec, topic in progress(pairs, len(pairs), "recordings"):
@@ -443,6 +448,33 @@ def _many(
         print(json.dumps(safe, allow_nan=False))
     else:
         console.print(render_many(rows, gate))
+
+
+def _truth_key(spec: str) -> str:
+    """One spelling of a ``--truth``: the resolved path of a file, or of a bag's with its
+    ``:TOPIC`` (``./run.bag:/people`` and ``run.bag:/people`` are one truth)."""
+    if Path(spec).exists():
+        return str(Path(spec).resolve())
+    bag, sep, topic = spec.rpartition(":")
+    if sep and Path(bag).exists():
+        return f"{Path(bag).resolve()}:{topic}"
+    return spec
+
+
+def shared_truth_note(pairs: list[tuple[str, Path, str | None, str | None]]) -> None:
+    """Warn when one truth scores several tracks files (e.g. two trackers' tracks of one
+    recording): the pooled row then counts its people once per file."""
+    by_truth: dict[str, list[str]] = {}
+    for name, _, spec, topic in pairs:
+        if spec is None:
+            continue
+        by_truth.setdefault(f"{_truth_key(spec)}|{topic}", []).append(name)
+    for names in by_truth.values():
+        if len(names) > 1:
+            warn(
+                f"one truth scores {len(names)} TRACKS files ({', '.join(names)}): the pooled "
+                f"row counts its people {len(names)} times; compare those files row by row"
+            )
 
 
 def render_many(rows: list[dict[str, object]], gate: float) -> Table:

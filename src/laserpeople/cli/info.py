@@ -162,6 +162,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     for attr in ("bad_lines", "scans_with_log_time"):
         if getattr(rec, attr, 0):
             out[attr] = getattr(rec, attr)
+    changes = getattr(rec, "frame_changes", None)
+    if changes:
+        out["frame_changes"] = [change.describe(topic) for topic, change in sorted(changes.items())]
     other_lines = getattr(rec, "other_lines", None)
     if other_lines:
         out["other_lines"] = dict(other_lines)
@@ -241,6 +244,8 @@ def _print_table(report: dict[str, Any]) -> None:
         line(f"malformed lines skipped: {report['bad_lines']}")
     if report.get("scans_with_log_time"):
         line(f"scans with a zero header stamp (bag time used): {report['scans_with_log_time']}")
+    for note in report.get("frame_changes", []):
+        line(note)
     if report.get("other_lines"):
         lines = ", ".join(f"{k} ({n})" for k, n in report["other_lines"].items())
         line(f"other lines: {lines}")

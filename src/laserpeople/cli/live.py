@@ -20,7 +20,12 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.cli.track import make_detector
+from laserpeople.cli.track import (
+    detector_options,
+    make_detector,
+    preset_note,
+    unused_detector_warning,
+)
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 
@@ -41,6 +46,94 @@ def _check_seconds(option: str, value: float | None, *, zero: bool) -> None:
             + ("(0 or more)" if zero else "above 0"),
             hint=f"e.g. {option} {'0.1' if zero else '60'}",
         )
+
+
+def check_live_names(
+    lasers: list[str],
+    tf_topic: str,
+    tf_static_topic: str,
+    odom_topic: str,
+    output_prefix: str,
+    key_prefix: str,
+) -> None:
+    """Refuse topic options that are not ROS 2 topic names, a ``--key-prefix`` that cannot
+    start a Zenoh key (:mod:`laserpeople.live.names`), a laser topic given twice, and an
+    ``--output-prefix`` under which a topic the run reads would be published to.
+
+    Raises:
+        ConfigError: Naming the option and the value.
+    """
+    from laserpeople.live.keys import strip_topic
+    from laserpeople.live.messages import output_topics
+    from laserpeople.live.names import check_key_prefix, check_topic
+
+    for laser in lasers:
+        check_topic("--topic", laser)
+    read = {"--tf-topic": tf_topic, "--tf-static-topic": tf_static_topic}
+    read["--odom-topic"] = odom_topic
+    for option, name in read.items():
+        if _optional_topic(name) is not None:
+            check_topic(option, name)
+    check_topic("--output-prefix", output_prefix, empty_ok=True)
+    check_key_prefix(key_prefix)
+    names = [strip_topic(t) for t in lasers]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ConfigError(f"--topic /{twice[0]} is given twice", hint="give each laser topic once")
+    written = {strip_topic(t) for t in output_topics(output_prefix)}
+    for option, name in [*(("--topic", t) for t in lasers), *read.items()]:
+        if _optional_topic(name) is not None and strip_topic(name) in written:
+            raise ConfigError(
+                f"{option} {name!r} is a topic this run publishes its tracks on "
+                f"(--output-prefix {output_prefix!r})",
+                hint="choose another --output-prefix",
+            )
+
+
+def check_live_options(
+    transport: str,
+    key_prefix: str,
+    domain: int,
+    type_hashes: str,
+    frame: str,
+    world_frame: str | None,
+    mount: list[str] | None,
+    map_path: Path | None,
+) -> None:
+    """Refuse options the chosen transport or frame would not use: ``--key-prefix`` with
+    rmw_zenoh (its keys start with the domain), ``--domain`` and ``--type-hashes`` with the
+    bridge (its keys are the topic names), poses (``--world-frame``, ``--mount``) and a
+    ``--map`` with ``--frame sensor``; and a ``--type-hashes`` that is not rihs01 or none.
+
+    Raises:
+        ConfigError: Naming the option and what it needs.
+    """
+    if type_hashes not in ("rihs01", "none"):
+        raise ConfigError(f"--type-hashes {type_hashes!r}: choose rihs01 or none")
+    if transport == "rmw" and key_prefix.strip("/"):
+        raise ConfigError(
+            f"--key-prefix {key_prefix!r} applies to the bridge transport",
+            hint="rmw_zenoh keys start with the ROS domain: give --domain, or --transport bridge",
+        )
+    if transport == "bridge":
+        unused = [f"--domain {domain}"] if domain != 0 else []
+        unused += [f"--type-hashes {type_hashes}"] if type_hashes != "rihs01" else []
+        if unused:
+            raise ConfigError(
+                f"{' and '.join(unused)} {'apply' if len(unused) > 1 else 'applies'} to the "
+                "rmw transport",
+                hint="zenoh-bridge-ros2dds keys are the topic names, and the bridge's own "
+                "configuration picks the domain; drop them, or give --transport rmw",
+            )
+    if frame == "sensor":
+        given = [name for name, value in (("--world-frame", world_frame), ("--mount", mount),
+                                          ("--map", map_path)) if value]  # fmt: skip
+        if given:
+            raise ConfigError(
+                f"{' and '.join(given)} {'need' if len(given) > 1 else 'needs'} the world "
+                "frame, but --frame sensor tracks without poses",
+                hint="drop them, or give --frame world (or auto)",
+            )
 
 
 def _status_printer(meter: Any, stop: Any) -> None:
@@ -170,6 +263,7 @@ def register(app: typer.Typer) -> None:
             int | None,
             typer.Option(
                 "--queue",
+                min=1,
                 help="Scans kept per laser while the tracker is busy; older ones are dropped "
                 "and counted (1: always the newest). Default: 1 with one laser, 2 with several.",
             ),
@@ -201,6 +295,8 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--foxglove",
                 metavar="PORT",
+                min=0,
+                max=65535,
                 help="Serve scans, legs, people and groups to Foxglove on this port "
                 "(ws://HOST:PORT; 8765 is Foxglove's default).",
             ),
@@ -250,6 +346,12 @@ def register(app: typer.Typer) -> None:
         _check_seconds("--order-wait", order_wait, zero=True)
         if frame not in ("auto", "world", "sensor"):
             raise ConfigError(f"--frame {frame!r}: choose auto, world or sensor")
+        check_live_names(
+            topic or ["/scan"], tf_topic, tf_static_topic, odom_topic, output_prefix, key_prefix
+        )
+        check_live_options(
+            transport, key_prefix, domain, type_hashes, frame, world_frame, mount, map_path
+        )
         if frame == "sensor" and topic is not None and len(topic) > 1:
             raise ConfigError(
                 f"--frame sensor with {len(topic)} lasers: several lasers are fused only in the "
@@ -262,6 +364,9 @@ def register(app: typer.Typer) -> None:
 
             check_outputs({"--record": record}, [config, model, map_path])
         entry = registry.get(tracker)
+        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        if note:
+            warn(note)
         ignored_sections(
             config,
             check_sections(
@@ -355,6 +460,7 @@ def register(app: typer.Typer) -> None:
             status.join(timeout=1.0)
             session.close()
             _summary(session, stats, record)
+            _unused_detector(session, tracker, detector_options(detector, model, config))
         finally:
             stop.set()
             if timer is not None:
@@ -362,6 +468,20 @@ def register(app: typer.Typer) -> None:
             session.close()
             for s, handler in old.items():
                 signal.signal(s, handler)
+
+
+def _unused_detector(session: Any, tracker: str, asked: list[str]) -> None:
+    """Warn when the leg detector options ``asked`` had no effect on a run without resets
+    (:func:`~laserpeople.cli.track.unused_detector_warning`; after a reset, the pipelines
+    before it are gone)."""
+    pipeline = getattr(session.run, "pipeline", None)
+    if pipeline is None or session.scans.counts.resets or not pipeline.stats.frames:
+        return
+    from laserpeople.pipeline.background import detector_used
+
+    unused = unused_detector_warning(tracker, asked, detector_used(pipeline.stages))
+    if unused:
+        warn(unused)
 
 
 def _summary(session: Any, stats: Any, record: Path | None) -> None:

@@ -91,7 +91,13 @@ def topics_from(topic: list[str] | None, topics: str | None) -> list[str] | None
         if topic:
             raise ConfigError("give --topic or --topics all, not both")
         return ["all"]
-    return list(topic) if topic else None
+    if not topic:
+        return None
+    once = list(dict.fromkeys(topic))
+    if len(once) < len(topic):
+        twice = [t for t in once if topic.count(t) > 1]
+        say(f"--topic {', '.join(twice)} given more than once: read once")
+    return once
 
 
 LEFT_OUT = (
@@ -155,7 +161,9 @@ def run_tracking(
     parameter section from the papers' values (docs/papers.md) before ``config``.
 
     Returns counts and timings: scans (frames), rows, leg, person and group tracks created,
-    median/mean tracking time per frame [ms] (detection excluded).
+    median/mean tracking time per frame [ms] (detection excluded), and ``detector_used``
+    (1.0 when the leg detector ran on some frame, :func:`detector_used`) and
+    ``static_model_used`` (1.0 when a static world model ran, :func:`static_model_used`).
     """
     from laserpeople.identity.reid import ReidParams
     from laserpeople.pipeline import (
@@ -168,7 +176,11 @@ def run_tracking(
         describe_foreground,
         output_sink,
     )
-    from laserpeople.pipeline.background import load_static_world
+    from laserpeople.pipeline.background import (
+        detector_used,
+        load_static_world,
+        static_model_used,
+    )
     from laserpeople.pipeline.static_people import describe_people_model, describe_static_cost
     from laserpeople.pipeline.static_tracks import StaticTrackFilter
     from laserpeople.tracking import registry
@@ -307,6 +319,8 @@ def run_tracking(
     stats = pipe.stats
     return {
         "interrupted": float(interrupted),
+        "detector_used": float(detector_used(pipe.stages)),
+        "static_model_used": float(static_model_used(pipe.stages)),
         "scans": float(stats.frames),
         "rows": float(stats.rows),
         "leg_tracks": float(stats.count("leg")),
@@ -342,6 +356,62 @@ def draw_tracks(
             progress=lambda it, n: progress(it, n, "drawing"),
         )
         say(f"wrote {drawn.path} ({drawn.frames} frames)")
+
+
+def detector_options(detector: str, model: Path | None, config: Path | None) -> list[str]:
+    """The options of a ``track`` command line that choose or tune the leg detector
+    (``--detector`` other than the default, ``--model``, a ``[leg_detector]`` section in
+    ``config`` that sets a value other than the default: not the defaults a
+    ``--print-config`` dump holds), as the user wrote them."""
+    from laserpeople.config import section_name
+    from laserpeople.detection.detector import LegDetectorParams
+
+    asked = [f"--detector {detector}"] if detector != "adaboost" else []
+    if model is not None:
+        asked.append(f"--model {model}")
+    if config is not None and load_config(LegDetectorParams, config) != LegDetectorParams():
+        asked.append(f"[{section_name(LegDetectorParams)}] of {config}")
+    return asked
+
+
+def unused_detector_warning(tracker: str, asked: list[str], used: bool) -> str | None:
+    """What to tell a user whose leg detector options (``asked``, from
+    :func:`detector_options`) had no effect because the run never detected legs (``used``
+    False: a tracker of points on a still laser, or another static world model than
+    ``auto``); None when there is nothing to say."""
+    if used or not asked:
+        return None
+    return (
+        f"{' and '.join(asked)} had no effect: {tracker} tracks foreground points and this "
+        "run detected no legs (the static world model narrows the foreground to points near "
+        "legs only with --background auto and where [leg_foreground] use says so: by default "
+        'once the laser moves); drop the option, or set [leg_foreground] use = "always"'
+    )
+
+
+def preset_note(
+    tracker: str, params_cls: type, preset: str | None, people_policy: str | None
+) -> str | None:
+    """What to tell a user whose ``--preset`` sets nothing of the tracker's own section
+    (a tracker without ``paper_preset`` values: ``nn``, a baseline of no paper, and the leg
+    MHT, whose paper setting is ``--people-policy arras``); None when there is nothing to
+    say."""
+    from laserpeople.config import section_name
+
+    if preset is None or getattr(params_cls, "paper_preset", None):
+        return None
+    if tracker == "leg-mht" and people_policy is None:
+        return (
+            f"--preset {preset} sets nothing of [{section_name(params_cls)}]: the leg MHT "
+            "keeps people policy tracks; Arras et al.'s people from validated leg pairs are "
+            "--people-policy arras"
+        )
+    if tracker == "leg-mht":
+        return None
+    return (
+        f"--preset {preset} sets nothing of [{section_name(params_cls)}]: {tracker} follows no "
+        "paper (the preset sets the static world model's and re-identification's sections only)"
+    )
 
 
 def appearance_choice(tracker: str, appearance: str, reidentify: str | None) -> bool:
@@ -447,6 +517,9 @@ def register(app: typer.Typer) -> None:
 
         preset_values(ReidParams, preset)  # an unknown preset is an error before anything
         entry = registry.get(tracker)
+        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        if note:
+            warn(note)
         static_sections = StaticWorldParams.sections()
         ignored_sections(
             config,
@@ -516,6 +589,21 @@ def register(app: typer.Typer) -> None:
             restamp=restamp,
             preset=preset,
         )
+        unused = unused_detector_warning(
+            tracker, detector_options(detector, model, config), bool(stats["detector_used"])
+        )
+        if unused and stats["scans"]:
+            warn(unused)
+        if background not in ("auto", "none") and not stats["static_model_used"]:
+            warn(
+                f"--background {background} had no effect: {tracker} "
+                + (
+                    "with the arras people policy asks no static world model "
+                    "(--people-policy tracks does)"
+                    if tracker == "leg-mht"
+                    else "asks no static world model with static_tracks.hide = false"
+                )
+            )
         groups = int(stats["group_tracks"])
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

@@ -33,7 +33,10 @@ Choices where 000 is silent or ambiguous (all documented in the tests):
 * Feature 12 is called "mean" but written as a sum in 000; we take the mean over the n - 2
   interior points (the sum would just rescale by the segment size, which feature 1 has).
 * Feature 13 is signed (convex vs concave) and is measured traversing the segment by
-  increasing beam *angle*, so a scanner with negative ``angle_increment`` gives the same value.
+  increasing beam *angle*, so a scanner with negative ``angle_increment`` gives the same value;
+  so are features 4 and 5: the preceding segment is the one at smaller angles (for such a
+  scanner, the next in beam order), so that the features of a segment do not depend on the
+  direction the scanner sweeps.
 * The circle fit is done in coordinates centred on the segment's mean (the algebraic fit is
   translation invariant, and centring keeps the normal equations well conditioned). For
   collinear points (no circle) the radius is :attr:`FeatureParams.no_circle_radius` and the
@@ -376,8 +379,10 @@ def _compute(
     out[:, 12] = s1[:, 2] / n_inner
     first = 0
     for table, scan in zip(tables, scans, strict=True):
-        if scan.angle_increment < 0.0:
-            out[first : first + len(table), 12] *= -1.0
+        if scan.angle_increment < 0.0:  # 4, 5 and 13 by increasing angle, as for the others
+            rows = slice(first, first + len(table))
+            out[rows, 12] *= -1.0
+            out[rows, 3:5] = out[rows, 4:2:-1].copy()
         first += len(table)
 
     # 14: mean speed along the beams, against the same beams of the previous scan (0 for

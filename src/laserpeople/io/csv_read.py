@@ -86,6 +86,9 @@ class CsvRows:
         if not missing:
             return names
         hint = f"expected header {expected}"
+        other = csv_format_of(names)
+        if other is not None and other[0] != self.what:
+            hint += f"; this header is that of {other[1]}"
         if len(names) == 1:
             sep = next((s for s in (";", "\t", "|") if s in names[0]), None)
             if sep is not None:
@@ -103,6 +106,37 @@ class CsvRows:
             return next(self._reader)
         except csv.Error as exc:
             raise self._error(exc) from exc
+
+
+CSV_FORMATS: tuple[tuple[str, frozenset[str], str], ...] = (
+    (
+        "tracks CSV",
+        frozenset({"scan", "track_id", "kind", "x", "y"}),
+        "a tracks CSV (`laserpeople track -o`): give it as TRACKS",
+    ),
+    (
+        "ground-truth CSV",
+        frozenset({"scan", "stamp", "person_id", "x", "y"}),
+        "a ground-truth CSV: give it with --truth",
+    ),
+    (
+        "detections CSV",
+        frozenset({"scan", "stamp", "x", "y", "score"}),
+        "a detections CSV (`laserpeople detect -o`): legs, not tracks or truth",
+    ),
+)
+"""The CSV files of this program by the columns their headers hold: what each is called
+(:attr:`CsvRows.what`), the columns that tell it, and what to say of it."""
+
+
+def csv_format_of(names: Iterable[str]) -> tuple[str, str] | None:
+    """Which of :data:`CSV_FORMATS` a header of column ``names`` is (its name and what to
+    say of it), or None."""
+    have = set(names)
+    for what, columns, said in CSV_FORMATS:
+        if columns <= have:
+            return what, said
+    return None
 
 
 BOM = "\ufeff"

@@ -20,7 +20,7 @@ import heapq
 import math
 from collections import Counter, defaultdict
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -221,6 +221,9 @@ class RosbagRecording:
         self.mount_notes: list[str] = []
         """Given mounts left out, one line each (see
         :func:`~laserpeople.io.poses.mounts_to_use`)."""
+        self.frame_changes: dict[str, FrameChange] = {}
+        """Per laser topic whose ``header.frame_id`` changed within the last read: the
+        first frame, the first scan in another frame and how many scans were in others."""
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
@@ -503,6 +506,20 @@ class RosbagRecording:
             lines.append("  " + _mount_hint(self._tree))
         return "\n".join(lines)
 
+    def read_notes(self) -> list[str]:
+        """Lines for the user about what the last read took other than as written: scans
+        stamped with the bag's log time (a zero header stamp), laser topics whose
+        ``header.frame_id`` changed (:class:`FrameChange`)."""
+        lines = []
+        if self.scans_with_log_time:
+            lines.append(
+                f"{self.scans_with_log_time} scans with a zero header stamp were stamped with "
+                "the time the bag logged them"
+            )
+        for topic, change in sorted(self.frame_changes.items()):
+            lines.append(change.describe(topic))
+        return lines
+
     # -- scans -----------------------------------------------------------------------------
     def scans(self, topics: Sequence[str] | None = None) -> Iterator[Scan]:
         """Scans of ``topics`` (all laser topics when None) in header-stamp order.
@@ -519,6 +536,7 @@ class RosbagRecording:
         self.scans_without_pose = 0
         self.scans_with_log_time = 0
         self.scans_read = 0
+        self.frame_changes = {}
         self.pose_misses.clear()
         self.damaged.reset()
         streams = [self._topic_scans(name, tree, world) for name in names]
@@ -535,6 +553,7 @@ class RosbagRecording:
         index = -1
         read = 0
         last = -math.inf
+        first_frame: str | None = None
         reader = self._open()
         try:
             conns = [c for c in reader.connections if c.topic == topic]
@@ -595,8 +614,16 @@ class RosbagRecording:
                     )
                     continue
                 last = stamp
+                frame_id = str(msg.header.frame_id)
+                if first_frame is None:
+                    first_frame = frame_id
+                elif frame_id != first_frame:
+                    change = self.frame_changes.get(topic)
+                    if change is None:
+                        change = self.frame_changes[topic] = FrameChange(first_frame, index)
+                    change.count(frame_id)
                 if tree is not None:
-                    pose, reason = self._pose(tree, world, str(msg.header.frame_id), stamp)
+                    pose, reason = self._pose(tree, world, frame_id, stamp)
                     if pose is None:
                         self.scans_without_pose += 1
                         self.pose_misses[(topic, reason)] += 1
@@ -645,6 +672,36 @@ class RosbagRecording:
             )
             return None, reason
         return tree.lookup(world, frame, stamp)
+
+
+@dataclass
+class FrameChange:
+    """A laser topic whose ``header.frame_id`` changed mid-recording (a driver restarted
+    with another frame, two lasers publishing on one topic).
+
+    Attributes:
+        first: The frame of the topic's first scan.
+        at: Index of the first scan in another frame.
+        others: Scans in each other frame.
+    """
+
+    first: str
+    at: int
+    others: Counter[str] = field(default_factory=Counter)
+
+    def count(self, frame_id: str) -> None:
+        """Count one scan in ``frame_id`` (not :attr:`first`)."""
+        self.others[frame_id] += 1
+
+    def describe(self, topic: str) -> str:
+        """One line for the user: what changed, from which scan, and what it means."""
+        most = sorted(self.others.items(), key=lambda item: (-item[1], item[0]))
+        frames = ", ".join(f"{n} in {frame!r}" for frame, n in most)
+        return (
+            f"{topic}: header.frame_id changed from {self.first!r} at scan {self.at} ({frames}): "
+            "with poses each scan is placed by its own frame; in the sensor frame (no poses) "
+            "the positions of those scans are in their own frame, not in the first one's"
+        )
 
 
 FLOOR_FRAMES = ("base_footprint",)

@@ -69,7 +69,8 @@ class FoxgloveSink:
         except Exception as exc:  # the SDK's own error for a port in use
             raise ConfigError(
                 f"cannot serve Foxglove on {host}:{port}: {exc}",
-                hint="choose another port with --foxglove PORT",
+                hint="choose another port with --foxglove PORT, or with --foxglove-host an "
+                "address of this machine (127.0.0.1, 0.0.0.0 for every interface)",
             ) from exc
         self.port = int(self.server.port)
         self.host = host

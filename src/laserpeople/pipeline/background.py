@@ -500,6 +500,14 @@ class AutoBackground:
         model: StaticWorldModel = self.model  # type: ignore[assignment]
         return np.asarray(model.static_time(positions), dtype=np.float64)
 
+    @property
+    def detected_legs(self) -> bool:
+        """Whether the model ran the leg detector on some frame to narrow its foreground to
+        points near legs. (Keeping the people out of the histogram while it learns,
+        ``learn_people``, is asked only by a tracker of legs, whose leg detection stage
+        runs the detector anyway: :func:`detector_used`.)"""
+        return self.legs is not None
+
     def describe(self) -> str:
         """One line for the user: which model ran and why."""
         if self.chosen == "none":
@@ -688,6 +696,32 @@ def background_of(stages: Sequence[object]) -> object | None:
     return None
 
 
+def detector_used(stages: Sequence[object]) -> bool:
+    """Whether a pipeline's ``stages`` ran the leg detector on some frame: a leg detection
+    stage (a tracker of legs; the CSA's people), or an ``auto`` static world model that
+    narrowed its foreground to points near legs (:attr:`AutoBackground.detected_legs`).
+    False for a tracker of points whose foreground never needed legs (e.g. ``feet-pf`` on a
+    still laser)."""
+    from laserpeople.pipeline.observe import DetectLegs
+
+    return any(
+        isinstance(stage, DetectLegs) or (isinstance(stage, AutoBackground) and stage.detected_legs)
+        for stage in stages
+    )
+
+
+def static_model_used(stages: Sequence[object]) -> bool:
+    """Whether a pipeline's ``stages`` hold a static world model: one that fills the
+    trackers' foreground (:func:`background_of`) or the people's model that answers how
+    long places have been static (the leg MHT's people, the filter of person tracks on
+    static places)."""
+    from laserpeople.pipeline.static_people import PeopleStaticModel
+
+    return background_of(stages) is not None or any(
+        isinstance(stage, PeopleStaticModel) for stage in stages
+    )
+
+
 def at_torso_height(height: float | None) -> bool:
     """Whether a laser mounted at ``height`` [m] (None: unknown) sits at torso height
     (:data:`~laserpeople.pipeline.laser_height.UPPER_BODY_MIN_HEIGHT` or higher)."""
@@ -768,8 +802,10 @@ __all__ = [
     "background_stage",
     "describe_background",
     "describe_foreground",
+    "detector_used",
     "load_static_world",
     "occupancy_model",
     "pose_moved",
     "set_laser_height",
+    "static_model_used",
 ]

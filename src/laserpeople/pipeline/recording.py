@@ -22,6 +22,7 @@ from laserpeople.pipeline.background import (
     background_of,
     background_stage,
     set_laser_height,
+    static_model_used,
 )
 from laserpeople.pipeline.core import Pipeline
 from laserpeople.pipeline.empty_scans import EmptyScanCheck
@@ -177,9 +178,13 @@ class RecordingFrames:
             yield frame
 
     def summary(self) -> list[str]:
-        """Lines for the user: given laser mounts left out; the frame used and why; the
+        """Lines for the user: given laser mounts left out; what the reader took other than
+        as written (``read_notes``: zero stamps, a changed frame id); the frame used and why; the
         grouping figures; changes of a laser's beam layout; scans without a valid beam."""
         lines = list(getattr(self.recording, "mount_notes", []))
+        notes = getattr(self.recording, "read_notes", None)
+        if callable(notes):
+            lines.extend(notes())
         lines.append(self.chooser.stats.summary())
         if self.restamper is not None:
             lines.append(self.restamper.summary())
@@ -263,11 +268,6 @@ def add_people_static_model(
     hand it to the tracker; returns it (None: the tracker asks none, or ``none``).
     ``static_world`` holds the models' parameters (None: defaults)."""
     if not uses_static_model(tracker):
-        if map_path is not None and background_of(preprocess) is None:
-            raise ConfigError(
-                "--map seeds the static world model, but this tracker uses none",
-                hint="drop --map (the leg MHT's arras people policy has no static world model)",
-            )
         return None
     model = people_static_model(background, map_path, static=static_world)
     tracker.use_static_model(model)
@@ -356,6 +356,17 @@ def tracker_stages(
     )
     add_people_static_model(tracker, preprocess, background, map_path, static_world)
     hide = add_static_track_filter(tracker, preprocess, background, map_path, static_world)
+    if map_path is not None and not static_model_used(preprocess):
+        raise ConfigError(
+            "--map seeds the static world model, but this run uses none",
+            hint="drop --map; "
+            + (
+                "the leg MHT's arras people policy has no static world model "
+                "(--people-policy tracks has)"
+                if callable(getattr(tracker, "use_static_model", None))
+                else "with static_tracks.hide = false nothing asks one"
+            ),
+        )
     return preprocess, observe, hide
 
 

@@ -99,16 +99,20 @@ def plot_scan(
     its tracks and truth as PNG; trails show the ``trail`` scans before it."""
     frames: list[SceneFrame] = []
     target: SceneFrame | None = None
+    first = last = None  # the scan indices the window holds
     for f in scene.frames():
         if scan is None or f.scan.index == scan:
             target = f
             break
+        first = f.scan.index if first is None else first
+        last = f.scan.index
         frames.append(f)
         if len(frames) > trail:
             frames.pop(0)
     if target is None:
+        held = f"it holds scans {first}-{last}" if first is not None else "it holds no scan"
         raise LaserPeopleError(
-            f"scan {scan} is not in the recording window",
+            f"scan {scan} is not in the recording window ({held})",
             path=scene.source_name or None,
             hint="check --scan against the topic's scan count, --start and --stop",
         )

@@ -17,9 +17,37 @@ import warnings
 from pathlib import Path
 from types import ModuleType
 
+from laserpeople.errors import LaserPeopleWarning
+
 PURE_PYTHON = "LASERPEOPLE_PURE_PYTHON"
-"""Environment variable that, set to anything but ``0`` or nothing, forces the Python
-listing."""
+"""Environment variable that, set to anything but ``0`` or nothing (or ``false``, ``no``,
+``off``), forces the Python listing."""
+
+OFF_VALUES = ("", "0", "false", "no", "off")
+"""Values of :data:`PURE_PYTHON` (any case, spaces round them ignored) that leave the
+compiled listing on."""
+
+ON_VALUES = ("1", "true", "yes", "on")
+"""Values of :data:`PURE_PYTHON` that force the Python listing without a word; any other
+value forces it too, with a warning naming the value."""
+
+
+def forced_pure_python() -> bool:
+    """Whether :data:`PURE_PYTHON` forces the Python listing (a value neither in
+    :data:`OFF_VALUES` nor :data:`ON_VALUES` does, and a warning says so)."""
+    value = os.environ.get(PURE_PYTHON, "")
+    word = value.strip().lower()
+    if word in OFF_VALUES:
+        return False
+    if word not in ON_VALUES:
+        warnings.warn(
+            f"{PURE_PYTHON}={value[:40]!r} is neither 1 nor 0: the pure-Python MHT listing "
+            f"runs (unset it or set it to 0 for the compiled one)",
+            LaserPeopleWarning,
+            stacklevel=3,
+        )
+    return True
+
 
 SOURCE = Path(__file__).with_name("_clisting.c")
 """The extension's source, beside this module (in an installed package as well)."""
@@ -34,7 +62,7 @@ class StaleExtensionWarning(RuntimeWarning):
 def load() -> tuple[ModuleType | None, str]:
     """The extension module, or None when the Python listing is to run, and which one runs
     (and why), as :func:`describe` says it."""
-    if os.environ.get(PURE_PYTHON, "") not in ("", "0"):
+    if forced_pure_python():
         return None, f"pure Python ({PURE_PYTHON} is set)"
     try:
         from laserpeople.tracking.mht import _clisting

@@ -864,8 +864,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "kalman-one-step-coast-cov",
         "Kalman: one-step coasting covariance (F_c P F_c')",
         K,
-        "cc = fc @ covs @ fct + q\n    return pm, pc, cm, cc",
-        "cc = f @ covs @ ft + q\n    return pm, pc, cm, cc",
+        "return pm, both[0], cm, both[1]",
+        "return pm, both[0], cm, both[0]",
         KALMAN,
     ),
     Mutant(

@@ -43,11 +43,13 @@ REFERENCE_REPORTING: dict[str, float] = {
     "confirm_event_scans": 1,
     "id_memory": 0.0,
     "coast_time": 0.0,
+    "merged_coast_time": 0.0,
 }
 """Every group of the best hypothesis reported in every scan under its own id (000; the
 default confirms a group after 3 scans, docs/groups.md "Confirmed groups", and hands a
 vanished group's id to the group taking its place, ``id_memory``, and reports a vanished
-group at its prediction for a second, ``coast_time``), pinned so that the
+group at its prediction for a second, ``coast_time``, longer among another group's points,
+``merged_coast_time``), pinned so that the
 reference recorded before keeps checking the tracker's decisions."""
 REFERENCE_SIZE_COUNT = "legs"
 REFERENCE_SIZE_STD = 0.25

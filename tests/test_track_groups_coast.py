@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -145,3 +147,75 @@ def test_a_place_is_seen_empty_only_where_beams_went_past_every_point() -> None:
     assert shadows(2.4).seen_empty(both, 0.3)
     assert not shadows(2.2).seen_empty(both, 0.3)
     assert not shadows(2.4).seen_empty(np.empty((0, 2)), 0.3)
+
+
+def test_a_group_among_a_reported_groups_points_is_coasted_for_merged_seconds() -> None:
+    """``coast_time`` 1 s, ``merged_coast_time`` 3 s, reported from 5.0 s to 10.0 s: while
+    ``among`` holds it is coasted until 13.0 s and not at 13.01 s; within the first second
+    it is coasted whether or not ``among`` holds; after it, the first scan ``among`` fails
+    ends it (not coasted again at 12.1 s though ``among`` holds again)."""
+    c = CoastedReports(1.0, 3.0)
+    assert c.memory == 3.0
+    for stamp in (5.0, 10.0):
+        c.record(stamp, [_track(7, 0.0, 0.0, 0.5, 0.0)])
+
+    def never(t: Track) -> bool:
+        return False
+
+    def always(t: Track) -> bool:
+        return True
+
+    assert [t.track_id for t in c.coasted(10.9, set(), None, never)] == [7]
+    (out,) = c.coasted(12.5, set(), None, always)
+    np.testing.assert_allclose(out.position, [1.25, 0.0], atol=1e-12)
+    assert [t.track_id for t in c.coasted(13.0, set(), None, always)] == [7]
+    assert c.coasted(13.01, set(), None, always) == []
+    c.record(13.0, [_track(8, 0.0, 0.0, 0.0, 0.0)])  # 7, last reported at 10.0 s: kept
+    assert len(c) == 2
+    c.record(20.0, [_track(9, 0.0, 0.0, 0.0, 0.0)])
+    c.record(25.0, [_track(9, 0.0, 0.0, 0.0, 0.0)])
+    assert [t.track_id for t in c.coasted(26.5, set(), None, always)] == [9]
+    assert c.coasted(26.6, set(), None, never) == []
+    assert c.coasted(26.7, set(), None, always) == []
+    plain = CoastedReports(1.0)  # merged_seconds 0: coast_time for every group
+    for stamp in (5.0, 10.0):
+        plain.record(stamp, [_track(7, 0.0, 0.0, 0.5, 0.0)])
+    assert plain.coasted(11.5, set(), None, always) == []
+
+
+def test_among_is_a_contour_point_within_blob_distance_of_a_reported_groups_point() -> None:
+    """Reported group points at x = 0 and 5 m (y = 0); a coasted contour point 0.29 m from
+    one of them is among them (blob_distance 0.3 m), 0.31 m not; a group without a contour
+    is judged by its position; a reported group without points (occluded) counts for
+    nothing."""
+    from laserpeople.tracking.groups import GroupMHTTracker
+    from laserpeople.tracking.groups.tracker import GroupEstimate
+    from test_track_groups import _frame
+
+    params = GroupTrackerParams()
+    assert params.blob_distance == pytest.approx(0.3)
+    tracker = GroupMHTTracker(params)
+    frame = _frame(np.array([[0.0, 0.0], [5.0, 0.0], [9.0, 0.0]]), 0, 0.0)
+
+    def estimate(members: list[int]) -> GroupEstimate:
+        return GroupEstimate(
+            1, ("0",), np.zeros(5), np.eye(5), np.array(members, dtype=np.int64),
+            np.zeros((0, 2)), "",
+        )  # fmt: skip
+
+    among = tracker._among(frame, [estimate([0, 1]), estimate([])])
+    near = _track(7, 5.0 + 0.5, 0.29, 0.0, 0.0)  # contour (5.0, 0.29) and (6.0, 0.29)
+    far = _track(7, 5.0 + 0.5, 0.31, 0.0, 0.0)
+    assert among(near) and not among(far)
+    bare = dataclasses.replace(far, contour=np.empty((0, 2)), position=np.array([0.0, 0.29]))
+    assert among(bare)
+    assert not among(_track(7, 9.5, 0.0, 0.0, 0.0))  # point 2 is in no reported group
+    assert not tracker._among(frame, [estimate([])])(near)
+
+
+def test_merged_coast_time_is_checked() -> None:
+    with pytest.raises(ValueError, match="merged_coast_time"):
+        GroupTrackerParams(merged_coast_time=-0.1)
+    with pytest.raises(ValueError, match="merged_coast_time"):
+        GroupTrackerParams(merged_coast_time=float("inf"))
+    assert GroupTrackerParams.paper_preset["merged_coast_time"] == 0.0

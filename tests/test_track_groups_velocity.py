@@ -143,10 +143,11 @@ def test_passing_parties_end_to_end_on_a_random_groups_scene() -> None:
     merges parties walking past each other. (Before groups in the shadow were kept,
     ``shadow_occlusion`` false: 0.718 / 0.729 and 0.643 / 0.663; the kept groups add 22
     false-positive group-frames here, coasting after their party turned.) Vanished groups
-    are not reported at their predictions here (``coast_time`` 0), which would report a
-    merged party through the pass with either velocity (Kalman: 0.684)."""
+    are not reported at their predictions here (``coast_time`` and ``merged_coast_time``
+    0), which would report a merged party through the pass with either velocity (Kalman:
+    0.684 with ``coast_time`` alone, 0.706 with ``merged_coast_time`` 3 s as well)."""
     scene = run_scenario("random-groups", seed=0, seconds=15.0)
-    base = GroupTrackerParams(coast_time=0.0)
+    base = GroupTrackerParams(coast_time=0.0, merged_coast_time=0.0)
     r = run_groups(scene.scans, base, truth=scene.truth)
     assert r.group_mot.num_truth > 400
     assert r.group_mot.mota >= 0.67

@@ -159,3 +159,18 @@ def test_info_missing_topic_fails_with_one_line(shared_data: Path) -> None:
     assert proc.returncode == 1
     assert "no topic '/nope'" in proc.stderr and "/scan" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_info_says_the_malformed_lines_of_a_carmen_log_once(tmp_path: Path) -> None:
+    scans = [
+        Scan(0.1 * k, -1.0, 0.5, np.array([1.0, 2.0, 2.0, 9.0, 3.0]), 0.0, 8.0, sensor="s")
+        for k in range(3)
+    ]
+    log = tmp_path / "r.log"
+    write_carmen_log(log, [s.with_pose(Pose2D(1, 2, 0)) for s in scans])
+    lines = log.read_text().splitlines()
+    log.write_text("\n".join([*lines[:2], "RAWLASER1 garbage", *lines[2:]]) + "\n")
+    result = CliRunner().invoke(app, ["info", str(log), "--on-error", "skip"])
+    assert result.exit_code == 0, result.output
+    assert result.output.count("malformed lines skipped") == 1
+    assert "malformed lines skipped: 1" in result.output

@@ -370,8 +370,6 @@ class CarmenRecording:
             lines.append(f"{self.scans_without_pose} of {self.scans_read} scans have no pose")
             for (topic, reason), n in sorted(self.pose_misses.items()):
                 lines.append(f"  {topic}: {n} scans: {reason}")
-        if self.bad_lines:
-            lines.append(f"{self.bad_lines} malformed lines skipped")
         return "\n".join(lines)
 
     def scans(self, topics: Sequence[str] | None = None) -> Iterator[Scan]:

@@ -115,7 +115,6 @@ SEGMENTS = ("tests/test_detect_segmentation.py",)
 BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
 SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)
-LEG_RUNS = ("tests/test_pipeline_leg_runs.py",)
 LIVE_FRAME = ("tests/test_live_frame.py",)
 HANDOVER = ("tests/test_track_groups_handover.py",)
 COAST = ("tests/test_track_groups_coast.py",)
@@ -140,7 +139,6 @@ MC = "tracking/mht/core.py"
 GO = "tracking/groups/observations.py"
 GS = "tracking/groups/occlusion.py"
 TB = "pipeline/torso_blobs.py"
-LR = "pipeline/leg_runs.py"
 LC = "live/choice.py"
 GHO = "tracking/groups/handover.py"
 GC = "tracking/groups/coast.py"
@@ -1584,47 +1582,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "                sensor = np.array([pose.x, pose.y])",
         "                sensor = np.zeros(2)",
         (*TORSO, *LEARN_PEOPLE),
-    ),
-    # ---- leg-wide runs on a moving laser (pipeline/leg_runs.py, [leg_foreground] leg_runs)
-    Mutant(
-        "leg-run-width-chord-only",
-        "leg runs (a run's width is its chord plus one beam's spacing at its range)",
-        LR,
-        "width = float(np.hypot(*(p[-1] - p[0]))) + reach * spacing",
-        "width = float(np.hypot(*(p[-1] - p[0])))",
-        LEG_RUNS,
-    ),
-    Mutant(
-        "leg-run-not-apart",
-        "leg runs (a run must stand JUMP in front of the returns beside it)",
-        LR,
-        "return other is None or bool(ranges[other] - ranges[end] >= JUMP)",
-        "return other is None or bool(abs(ranges[other] - ranges[end]) >= 0.0)",
-        LEG_RUNS,
-    ),
-    Mutant(
-        "leg-run-skip-two",
-        "leg runs (a skipped beam cuts a run)",
-        LR,
-        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 1)) + 1",
-        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 2)) + 1",
-        LEG_RUNS,
-    ),
-    Mutant(
-        "leg-run-points-only",
-        "leg runs in leg_foreground (the whole blob of a run is kept)",
-        "pipeline/leg_foreground.py",
-        "        return np.isin(labels, hit) & (labels >= 0)",
-        "        return runs",
-        LEG_RUNS,
-    ),
-    Mutant(
-        "leg-run-every-tracker",
-        "leg runs in leg_foreground (only for the trackers that need steady points)",
-        "pipeline/leg_foreground.py",
-        "self.leg_runs = steady and self.params.leg_runs",
-        "self.leg_runs = self.params.leg_runs",
-        LEG_RUNS,
     ),
     # ---- live --frame auto (live/choice.py)
     Mutant(

@@ -73,7 +73,7 @@ class LegForegroundParams:
 
     config_section = "leg_foreground"
     paper_preset = MappingProxyType(  # 002, 004: no moving blobs, no torso runs
-        {"moving_travel": 0.0, "torso_blobs": False, "leg_runs": False}
+        {"moving_travel": 0.0, "torso_blobs": False}
     )
 
     use: str = param(
@@ -168,16 +168,6 @@ class LegForegroundParams:
         "the time over which a blob must have moved moving_travel, steadily (its centre "
         "halfway in time a third of it from either end)",
         "s",
-    )
-    leg_runs: bool = param(
-        True,
-        "measured (docs/schenk-tables.md, 'Legs the detector cannot classify'): of the "
-        "moving tuning person-scans 10.7 % had the grid's foreground in a person-sized blob "
-        "kept by neither rule, median 3 points, too few for the leg detector",
-        "for the trackers that need steady points (feet-pf, upper-body-pf), on a moving "
-        "laser with poses not stated at torso height: also keep the grid's foreground "
-        "points of a person-sized blob holding a run of 2 or more neighbouring beams, apart "
-        "from the returns beside it, 0.08-0.2 m wide (pipeline/leg_runs.py)",
     )
     torso_blobs: bool = param(
         True,
@@ -330,12 +320,6 @@ class LegForeground:
         self._blobs: MovingBlobs | None = None
         self.points_moving = 0
         """Foreground points kept only because their blob moved, summed over frames."""
-        self.leg_runs = steady and self.params.leg_runs
-        """Whether the grid's foreground blobs holding a run as wide as a leg are kept on a
-        moving laser at feet height (``leg_runs``, for the trackers that need steady
-        points)."""
-        self.points_leg_runs = 0
-        """Foreground points kept only because their blob holds a leg-wide run."""
         self.torso = False
         """Whether the laser is known to sit at torso height (set by the static world
         model from the recording's laser height): then torso-shaped runs of the
@@ -463,10 +447,6 @@ class LegForeground:
             moved = self._blobs(float(frame.stamp), frame.points.points, fg) & ~kept
             self.points_moving += int(np.count_nonzero(moved))
             kept |= moved
-        if self._wants_leg_runs(frame):
-            runs = self._leg_run_blobs(frame, fg) & ~kept
-            self.points_leg_runs += int(np.count_nonzero(runs))
-            kept |= runs
         if self.torso and self.params.torso_blobs and frame.frame == "world":
             pose = frame.sensor_pose
             if pose is not None:
@@ -480,34 +460,6 @@ class LegForeground:
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
         return frame.with_fields(foreground=kept)
-
-    def _wants_leg_runs(self, frame: Frame) -> bool:
-        """Whether ``frame`` keeps the blobs holding a leg-wide run (``leg_runs``): a
-        tracker that needs steady points, a moving laser with poses (world frame) not known
-        to sit at torso height, one laser."""
-        return (
-            self.leg_runs
-            and self.moving
-            and not self.torso
-            and frame.frame == "world"
-            and len(frame.scans) == 1
-        )
-
-    def _leg_run_blobs(self, frame: Frame, fg: NDArray[np.bool_]) -> NDArray[np.bool_]:
-        """The foreground points (N,) of ``frame`` (one laser, world frame) in a
-        person-sized blob that holds a run as wide as a leg (``leg_runs``)."""
-        from laserpeople.pipeline.leg_runs import leg_runs
-        from laserpeople.pipeline.moving_blobs import blob_labels
-
-        points, pose = frame.points, frame.sensor_pose
-        if points is None or pose is None:
-            return np.zeros(len(fg), dtype=bool)
-        pts = points.points
-        sensor = np.array([pose.x, pose.y])
-        runs = leg_runs(pts, points.beams, fg, sensor, frame.scans[0].angle_increment)
-        labels = blob_labels(pts, fg)
-        hit = np.unique(labels[runs & (labels >= 0)])
-        return np.isin(labels, hit) & (labels >= 0)
 
     def describe_hold(self) -> str:
         """How long missed legs are held, for the user (empty: not held)."""

@@ -1020,6 +1020,36 @@ MUTANTS: tuple[Mutant, ...] = (
         "if d[k].min() > p.separation_distance",
         CSA_RULES,
     ),
+    Mutant(
+        "csa-coast-people-from-now",
+        "CSA coast_people (a person without a time counts from the cluster's last scan)",
+        C,
+        "continued.setdefault(o, before)  # its clock",
+        "continued.setdefault(o, stamp)  # its clock",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-coast-people-clock-not-kept",
+        "CSA coast_people (a person counted into a cluster keeps the time it was first missed)",
+        C,
+        "    for o in {int(o) for o in old_origin}:\n"
+        "        continued.setdefault(o, before)  # its clock runs from the cluster's last scan\n"
+        "    coast = [\n"
+        "        o for o in sorted({int(o) for o in old_origin} - kept) if stamp - continued[o] "
+        "<= max_unseen\n",
+        "    coast = [\n"
+        "        o for o in sorted({int(o) for o in old_origin} - kept) "
+        "if stamp - continued.get(o, before) <= max_unseen\n",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-coast-people-forever",
+        "CSA coast_people (paths continued now restart the person's time)",
+        C,
+        "    for o in kept:\n        continued[o] = stamp\n",
+        "    for o in kept:\n        continued.setdefault(o, stamp)\n",
+        CSA_RULES,
+    ),
     # ---- the histogram's people of the learning period (background_people)
     Mutant(
         "histogram-people-share-complement",

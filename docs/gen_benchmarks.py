@@ -216,7 +216,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Colour re-identification after crossings (8 variants × 5 seeds, 135 people)",
         ("benchmarks/csa_crossings.py",),
         10.0,
-        "people right after the crossing: CSA 83 → 135 with colour, leg MHT 85 → 135",
+        "people right after the crossing: CSA 81 → 135 with colour, leg MHT 85 → 135",
         "csa.md",
     ),
     Benchmark(
@@ -232,8 +232,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.502, IDF1 0.455 (goal 0.5; moving lasers 0.348, still 0.657); ID "
-        "switches 23.7 per scene, 4.8 s per scene on static objects",
+        "person MOTA 0.511, IDF1 0.469 (goal 0.5; moving lasers 0.350, still 0.672); ID "
+        "switches 22.4 per scene, 5.8 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(

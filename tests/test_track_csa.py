@@ -16,6 +16,7 @@ from laserpeople.tracking.csa import (
     ClusterSortingTracker,
     CSAEvent,
     CSAParams,
+    coast_people,
     leader_clusters,
     on_a_wall,
     per_person_scores,
@@ -189,19 +190,23 @@ def test_crossing3_end_to_end_with_colour() -> None:
 def test_a_person_lost_in_the_cluster_is_adopted_at_the_split() -> None:
     """002 Sec. 4: a person who walks away unseen (in the others' shadow) is lost by the VBA
     and found again as a new target. The cluster, short of one sub-cluster, splits with that
-    target once all are 3 m apart, and the target takes the cluster's third person."""
+    target once all are 3 m apart, and the target takes the cluster's third person.
+    Without coast_people: with it, person 2's paths coast 1 s, its orphan then claims a leg
+    of person 1 that leader clustering cut apart, person 0 leaves first (split_apart) and
+    the split of the other two gives 1 and 2 each other's places (docs/csa.md, "What it
+    cannot do")."""
     a = [(0, -2.5, 3.0), (2, -0.3, 3.0), (5, -0.3, 3.0), (7, -2.2, 3.0), (9, -2.2, 3.0)]
     b = [(0, 2.5, 3.0), (2, 0.3, 3.0), (5, 0.3, 3.0), (7, 2.2, 3.0), (9, 2.2, 3.0)]
     c = [(0, 0.0, 0.5), (2, 0.0, 2.5), (4, 0.0, 2.5), (6, 0.0, -0.5), (9, 0.0, -0.5)]
     frames = _frames([a, b, c], 9.0, hidden={2: (4.0, 5.5)})
-    csa = ClusterSortingTracker()
+    csa = ClusterSortingTracker(CSAParams(coast_people=False))
     out = [csa.update(f) for f in frames]
     assert [e.kind for e in csa.events][-1] == "split"
     assert csa.events[-1].members == (0, 1, 2)
     assert sorted(t.track_id for t in out[-1].of_kind("person")) == [0, 1, 2]
     # without the extension the cluster never splits
     plain = ClusterSortingTracker(
-        CSAParams(adopt_escaped=False, adopt_orphans=False, group_rows=True)
+        CSAParams(adopt_escaped=False, adopt_orphans=False, group_rows=True, coast_people=False)
     )
     last = [plain.update(f) for f in frames][-1]
     assert last.of_kind("group") and "split" not in [e.kind for e in plain.events]
@@ -1255,7 +1260,8 @@ def test_a_person_apart_from_the_rest_of_its_cluster_leaves_it_with_its_id() -> 
     leaves the cluster as a single target with id 0, which coasts through the scans
     without points and keeps its id to the end. Without the rule (002) its Viterbi paths
     die while it is unseen and it comes back as a new id; a rule that lets a person leave
-    at subcluster_distance (1.5 m) leaves before t = 5.5 s."""
+    at subcluster_distance (1.5 m) leaves before t = 5.5 s. (With coast_people alone its
+    paths coast through the 0.3 s unseen and it keeps id 0 too.)"""
     frames = _one_walks_off()
     csa = ClusterSortingTracker()
     out = [csa.update(f) for f in frames]
@@ -1267,8 +1273,66 @@ def test_a_person_apart_from_the_rest_of_its_cluster_leaves_it_with_its_id() -> 
     assert np.linalg.norm(rows[0] - [-5.25, 3.0]) < 0.3
     assert np.linalg.norm(rows[1] - [0.25, 3.0]) < 0.3
     assert np.linalg.norm(rows[2] - [0.0, 3.4]) < 0.3
-    plain = ClusterSortingTracker(CSAParams(split_apart=False))
+    plain = ClusterSortingTracker(CSAParams(split_apart=False, coast_people=False))
     last = [plain.update(f) for f in frames][-1]
     far = [t.track_id for t in last.of_kind("person") if t.position[0] < -4.0]
     assert far and 0 not in far
     assert CSAParams.paper_preset["split_apart"] is False
+
+
+def test_coast_people_appends_the_predicted_paths_of_people_not_continued() -> None:
+    """coast_people at t = 10 s, max_unseen 1 s: the step continued person 1's paths only.
+    Person 2 (paths last continued 0.9 s ago) keeps its two predicted estimates, appended
+    after the step's in their order; person 3 (1.1 s ago) and person 4 (not in
+    ``continued``: counted from the cluster's last scan with measurements, 1.5 s ago) do
+    not; the predicted estimate of person 1 is not appended again. ``continued`` of person
+    1 becomes 10 s, the others' stay."""
+    new = (
+        np.array([[0.0, 0.0, 0.1, 0.0]]),
+        np.eye(4)[None] * 0.01,
+        np.array([0.0]),
+        np.array([1]),
+    )
+    pm = np.arange(20.0).reshape(5, 4)
+    predicted = (
+        pm,
+        np.eye(4)[None].repeat(5, 0) * 0.5,
+        np.array([-1.0, -2.0, -3.0, -4.0, -5.0]),
+        np.array([1, 2, 3, 2, 4]),
+    )
+    continued = {1: 9.5, 2: 9.1, 3: 8.9}
+    means, covs, scores, origin = coast_people(new, predicted, continued, (10.0, 8.5), 1.0)
+    assert origin.tolist() == [1, 2, 2]
+    assert means.tolist() == [[0.0, 0.0, 0.1, 0.0], pm[1].tolist(), pm[3].tolist()]
+    assert scores.tolist() == [0.0, -2.0, -4.0]
+    assert covs[1:, 0, 0] == pytest.approx([0.5, 0.5], abs=1e-12)
+    assert continued == {1: 10.0, 2: 9.1, 3: 8.9, 4: 8.5}
+    late = {1: 9.5, 2: 9.1, 3: 8.9}  # person 4 counted from 9.2 s: 0.8 s ago
+    assert coast_people(new, predicted, late, (10.0, 9.2), 1.0)[3].tolist() == [1, 2, 2, 4]
+    # and from then on: 1.1 s later it is not coasted, although the cluster was seen since
+    later = coast_people(new, predicted, late, (10.3, 10.2), 1.0)[3].tolist()
+    assert later == [1]  # person 2 too: 1.2 s
+
+
+def test_a_person_of_a_cluster_missed_for_a_moment_keeps_its_id() -> None:
+    """coast_people: people 0 and 1 stand 0.6 m apart in one cluster; person 1's points
+    are missed for 0.3 s (t = 3.0-3.3 s). Its paths, not continued, are kept predicted, and
+    its points, back, continue them: ids 0 and 1 at their places to the end, nobody
+    counted. Without the rule (002) its paths end, person 0's paths take its points when
+    they come back, and a new person (id 2) is counted there a second later."""
+    a = [(0, -2.5, 3.0), (2, -0.3, 3.0), (6, -0.3, 3.0)]
+    b = [(0, 2.5, 3.0), (2, 0.3, 3.0), (6, 0.3, 3.0)]
+    frames = _frames([a, b], 6.0, hidden={1: (3.0, 3.3)})
+    csa = ClusterSortingTracker()
+    out = [csa.update(f) for f in frames]
+    assert [e.kind for e in csa.events] == ["merge person+person"]
+    for k, rows in enumerate(out[30:], 30):
+        at = {t.track_id: t.position for t in rows.of_kind("person")}
+        assert sorted(at) == [0, 1]
+        if k >= 36:  # from 0.3 s after the points are back: each at its own legs
+            assert np.linalg.norm(at[0] - [-0.3, 3.0]) < 0.1
+            assert np.linalg.norm(at[1] - [0.3, 3.0]) < 0.1
+    plain = ClusterSortingTracker(CSAParams(coast_people=False))
+    last = [plain.update(f) for f in frames][-1]
+    assert sorted(t.track_id for t in last.of_kind("person")) == [0, 2]
+    assert CSAParams.paper_preset["coast_people"] is False

@@ -411,9 +411,6 @@ class LegObservation:
         score: Detector score of its detection in this scan (NaN if not detected).
         width: Width [m] of its detection's segment as one leg (:func:`leg_width`; NaN if
             not detected, wide or without segment points).
-        xy: ``position`` as plain floats ``[x, y]`` [m] (made once per leg and scan: the
-            person layer reads them several times).
-        vxy: ``velocity`` as plain floats ``[vx, vy]`` [m/s].
     """
 
     track_id: int
@@ -425,24 +422,18 @@ class LegObservation:
     velocity: FloatArray = field(default_factory=lambda: np.zeros(2))
     score: float = math.nan
     width: float = math.nan
-    xy: list[float] = field(init=False, repr=False)
-    vxy: list[float] = field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        self.xy = self.position.tolist()
-        self.vxy = self.velocity.tolist()
 
 
 def spread(a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """Distance [m] between legs ``a`` and ``b`` across their mean velocity, or the plain
     distance when their mean speed is below ``min_speed`` [m/s]."""
-    (ax, ay), (bx, by) = a.xy, b.xy
+    (ax, ay), (bx, by) = a.position.tolist(), b.position.tolist()
     return _spread(ax - bx, ay - by, a, b, min_speed)
 
 
 def _spread(dx: float, dy: float, a: LegObservation, b: LegObservation, min_speed: float) -> float:
     """:func:`spread` of legs ``a`` and ``b`` whose positions differ by ``(dx, dy)`` [m]."""
-    (avx, avy), (bvx, bvy) = a.vxy, b.vxy
+    (avx, avy), (bvx, bvy) = a.velocity.tolist(), b.velocity.tolist()
     vx, vy = 0.5 * (avx + bvx), 0.5 * (avy + bvy)
     speed = math.hypot(vx, vy)
     if speed < min_speed:
@@ -625,7 +616,7 @@ class PersonTracker:
                 leg = legs.get(m)
                 if leg is None or leg.unseen_for > p.member_unseen:
                     continue
-                lx, ly = leg.xy
+                lx, ly = leg.position.tolist()
                 if math.hypot(lx - px, ly - py) > p.max_member_distance:
                     continue
                 keep.append(m)
@@ -641,7 +632,7 @@ class PersonTracker:
         if not free or not open_:
             return
         # (np.array of the rows: np.stack's values at half its cost on a few)
-        z = np.array([leg.xy for leg in free], dtype=np.float64)
+        z = np.array([leg.position for leg in free], dtype=np.float64)
         means = np.array([q.mean for q in open_], dtype=np.float64)
         covs = np.array([q.cov for q in open_], dtype=np.float64)
         d2, _ = kalman.mahalanobis_and_loglik(means, covs, z, self._one_leg_covs(len(free)))
@@ -677,7 +668,7 @@ class PersonTracker:
             if not leg.detected:
                 continue
             tid = leg.track_id
-            x, y = leg.xy
+            x, y = leg.position.tolist()
             path = paths.get(tid)
             if path is None:
                 path = paths[tid] = deque()
@@ -708,7 +699,7 @@ class PersonTracker:
         young = (
             0 < p.moving_min_detections <= len(path)
             and path[0][0] > path[-1][0] - p.moving_time + 1e-9
-            and self._static_of([leg.xy])[0] <= p.arrival_slack
+            and self._static_of([leg.position[:2].tolist()])[0] <= p.arrival_slack
         )
         return moves_consistently(path, p, young=young)
 
@@ -720,7 +711,7 @@ class PersonTracker:
         if first is None or leg is None:
             return False
         t0, x0, y0 = first
-        x, y = leg.xy
+        x, y = leg.position.tolist()
         net = math.hypot(x - x0, y - y0)
         return net >= self.params.walked_distance and net >= self.params.moving_speed * (
             self._stamp - t0
@@ -746,7 +737,7 @@ class PersonTracker:
         (in the order of the members)."""
         p = self.params
         if len(seen) == 2:
-            (ax, ay), (bx, by) = seen[0].xy, seen[1].xy
+            (ax, ay), (bx, by) = seen[0].position.tolist(), seen[1].position.tolist()
             dx, dy = ax - bx, ay - by
             if (
                 math.hypot(dx, dy) <= p.pair_distance
@@ -758,7 +749,7 @@ class PersonTracker:
             px, py = person.mean[:2].tolist()
 
             def off(leg: LegObservation) -> float:
-                lx, ly = leg.xy
+                lx, ly = leg.position.tolist()
                 return math.hypot(lx - px, ly - py)
 
             return ONE, min(seen, key=off).position, p.one_leg_std
@@ -871,7 +862,7 @@ class PersonTracker:
         )
         used: set[int] = set()
         if len(free) >= 2:
-            pos = np.array([leg.xy for leg in free], dtype=np.float64)
+            pos = np.array([leg.position for leg in free], dtype=np.float64)
             dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
             ii, jj = (dist < p.pair_distance).nonzero()  # (row by row: as np.triu's)
             upper = ii < jj
@@ -898,7 +889,7 @@ class PersonTracker:
             # a leg within pair_distance of a person is most likely its other leg: no birth
             near = [q.mean[:2].tolist() for q in self.persons.values()]
             for leg in free:
-                lx, ly = leg.xy
+                lx, ly = leg.position.tolist()
                 if any(math.hypot(lx - x, ly - y) < p.pair_distance for x, y in near):
                     continue
                 if leg.track_id not in used and leg.score > p.one_leg_min_score:

@@ -360,30 +360,6 @@ def test_static_time_of_few_positions_is_the_array_path_bit_for_bit(
             assert a.tobytes() == b.tobytes()
 
 
-def test_static_time_of_plain_floats_are_the_arrays_values(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    """``static_time_of`` (lists of floats in and out) gives :meth:`static_time`'s floats
-    bit for bit: a few positions, more than ``FEW_POSITIONS``, one outside the arrays, on
-    an empty grid, and on a prior map's obstacle (inf, where the few path must not
-    answer)."""
-    for seed in range(3):
-        g = _learnt_grid(seed)
-        rng = np.random.default_rng(300 + seed)
-        cases = [rng.uniform(-4.5, 4.5, size=(m, 2)) for m in (1, 3, 8, 9, 20)]
-        cases.append(np.array([[40.0, -40.0], [0.5, 0.5]]))
-        # (the centres of cells that became occupied: static places)
-        cases.append((np.argwhere(np.isfinite(g._since))[:3] + g._origin + 0.5) * P.resolution)
-        for pos in cases:
-            got = g.static_time_of(pos.tolist())
-            want = g.static_time(pos).tolist()
-            assert type(got) is list and got == want
-            assert np.array(got).tobytes() == np.array(want).tobytes()
-        assert any(t > 0.0 for pos in cases for t in g.static_time_of(pos.tolist()))
-    assert OccupancyGrid().static_time_of([[0.0, 0.0], [1.0, 2.0]]) == [0.0, 0.0]
-    prior = OccupancyGrid(prior=load_ros_map(_write_map(tmp_path, 0, "map.pgm")))
-    prior.learn(np.array([[0.25, 3.0], [0.3, 3.1]]), 1.0)
-    assert prior.static_time_of([[-0.75, 3.75], [0.25, 3.0]])[0] == math.inf
-
-
 @pytest.mark.regression  # bits from two code paths: CI runs it again on another CPU path
 def test_compiled_static_time_of_few_positions_is_the_python_one(
     monkeypatch: pytest.MonkeyPatch,

@@ -439,21 +439,3 @@ def test_track_says_how_many_furniture_legs_it_left_out(tmp_path: Path) -> None:
     result = CliRunner().invoke(app, ["track", str(rec), "-o", str(out), "--config", str(config)])
     assert result.exit_code == 0, result.output
     assert "leg detections on places static" not in result.output
-
-
-def test_static_time_of_is_static_time_as_plain_floats() -> None:
-    """The people's model answers lists of positions as :meth:`static_time` answers arrays
-    (zeros until the lasers have been seen still in a sensor-frame run, then the grid's
-    floats), and counts its time in ``query_cpu``."""
-    stage = PeopleStaticModel("auto")
-    rng = np.random.default_rng(5)
-    posts = rng.uniform(-3.0, 3.0, size=(20, 2))
-    for k in range(60):
-        stage.model.learn(posts, 0.5 * k, sensor=np.zeros(2))
-    xy = [[float(x), float(y)] for x, y in posts[:3]] + [[9.0, 9.0]]
-    got = stage.static_time_of(xy)
-    assert got == stage.static_time(np.array(xy)).tolist()
-    assert got[0] > 20.0 and got[-1] == 0.0
-    stage.model = None  # dropped: every place is 0 s static
-    assert stage.static_time_of(xy) == [0.0, 0.0, 0.0, 0.0]
-    assert stage.query_cpu >= 0.0

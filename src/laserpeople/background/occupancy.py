@@ -834,19 +834,6 @@ class OccupancyGrid:
             out[self.prior.contains_obstacle(pos, reach)] = np.inf
         return out
 
-    def static_time_of(self, xy: list[list[float]]) -> list[float]:
-        """:meth:`static_time` of the positions ``xy`` (M lists ``[x, y]`` [m]) as plain
-        floats (the same values): a few positions without a prior map take the plain-float
-        path without building arrays around it (a person tracker asks one to three
-        positions a few times per scan)."""
-        if self.prior is None and self._evidence.size and 0 < len(xy) <= FEW_POSITIONS:
-            few = self._static_few(xy)
-            if few is not None:
-                return few
-        pos = np.array(xy, dtype=np.float64).reshape(-1, 2)
-        times: list[float] = self.static_time(pos).tolist()
-        return times
-
     def __call__(self, frame: Frame) -> Frame:
         """Learn from ``frame.points`` (built from ``frame.scans`` when missing) and return
         the frame with ``foreground``: False on cells static for ``background_time``."""

@@ -146,34 +146,12 @@ class PeopleStaticModel:
         a sensor-frame run until the lasers have been seen still for ``still_seconds``."""
         t0 = time.process_time()
         pos = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        if not self._answers():
+        if self.model is None or (self.motion is not None and not self.motion.settled):
             out = np.zeros(len(pos))
         else:
             out = np.asarray(self.model.static_time(pos), dtype=np.float64)
         self.query_cpu += time.process_time() - t0
         return out
-
-    def static_time_of(self, xy: list[list[float]]) -> list[float]:
-        """:meth:`static_time` of the positions ``xy`` (M lists ``[x, y]`` [m]) as plain
-        floats (the same values; the model's own ``static_time_of`` where it has one, which
-        spares a few positions the arrays)."""
-        t0 = time.process_time()
-        if not self._answers():
-            out = [0.0] * len(xy)
-        else:
-            of = getattr(self.model, "static_time_of", None)
-            if of is not None:
-                out = of(xy)
-            else:
-                pos = np.array(xy, dtype=np.float64).reshape(-1, 2)
-                out = np.asarray(self.model.static_time(pos), dtype=np.float64).tolist()
-        self.query_cpu += time.process_time() - t0
-        return out
-
-    def _answers(self) -> bool:
-        """Whether the model answers (not dropped, and the lasers seen still long enough in
-        a sensor-frame run); otherwise every place is 0 s static."""
-        return self.model is not None and (self.motion is None or self.motion.settled)
 
     def describe(self) -> str:
         """One line for the user: which model the people tracker used, and in which frame."""

@@ -699,7 +699,7 @@ class PersonTracker:
         young = (
             0 < p.moving_min_detections <= len(path)
             and path[0][0] > path[-1][0] - p.moving_time + 1e-9
-            and self._static_of([leg.position[:2].tolist()])[0] <= p.arrival_slack
+            and float(self._static(leg.position[None, :2])[0]) <= p.arrival_slack
         )
         return moves_consistently(path, p, young=young)
 
@@ -764,18 +764,6 @@ class PersonTracker:
             return np.zeros(positions.shape[0])
         return np.asarray(self.static_model.static_time(positions), dtype=np.float64)
 
-    def _static_of(self, xy: list[list[float]]) -> list[float]:
-        """Static times [s] of the positions ``xy`` (M lists ``[x, y]`` [m]) as plain floats:
-        :meth:`_static`'s values, through the model's ``static_time_of`` where it has one
-        (a few positions without the arrays around them)."""
-        if self.static_model is None or not xy:
-            return [0.0] * len(xy)
-        of = getattr(self.static_model, "static_time_of", None)
-        if of is not None:
-            times: list[float] = of(xy)
-            return times
-        return self._static(np.array(xy, dtype=np.float64).reshape(-1, 2)).tolist()
-
     def on_furniture(self, positions: FloatArray) -> NDArray[np.bool_]:
         """Which leg detections at ``positions`` (M, 2) [m] are left out of the leg MHT when
         ``static_legs`` is false: on places static for longer than ``static_time`` and
@@ -816,7 +804,7 @@ class PersonTracker:
                 and one_leg
                 and not person.confirmed
                 and any(self._walked(m, legs) for m in person.members)
-                and self._static_of([person.mean[:2].tolist()])[0] <= p.arrival_slack
+                and float(self._static(person.mean[None, :2])[0]) <= p.arrival_slack
             ):
                 step = p.walked_miss
             person.llr = min(max(person.llr + step, p.llr_min), p.llr_max)
@@ -827,8 +815,10 @@ class PersonTracker:
                 person.last_seen = stamp
                 rows.append((person, z, std))
         if rows:
-            # (the measurement covariances std^2 I in one array call: the same floats)
-            meas_covs = np.array([((v, 0.0), (0.0, v)) for v in (r[2] ** 2 for r in rows)])
+            var = np.array([r[2] ** 2 for r in rows])
+            meas_covs = np.zeros((len(rows), 2, 2))
+            meas_covs[:, 0, 0] = var
+            meas_covs[:, 1, 1] = var
             means, covs = kalman.update_batch(
                 np.array([r[0].mean for r in rows]),
                 np.array([r[0].cov for r in rows]),
@@ -839,8 +829,8 @@ class PersonTracker:
             # (asked only of people who have not yet travelled min_travel: travelled is only
             # compared with it)
             walking = [i for i, r in enumerate(rows) if r[0].travelled < p.min_travel]
+            static = dict(zip(walking, self._static(means[walking, :2]).tolist(), strict=True))
             xy = means[:, :2].tolist()
-            static = dict(zip(walking, self._static_of([xy[i] for i in walking]), strict=True))
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
                 x, y = xy[i]
@@ -961,7 +951,7 @@ class PersonTracker:
             known = self._static_now
             new = [q for q in ask if q.person_id not in known]
             if new:
-                values = self._static_of([q.mean[:2].tolist() for q in new])
+                values = self._static(np.array([q.mean[:2] for q in new])).tolist()
                 known.update(zip((q.person_id for q in new), values, strict=True))
             static = [known[q.person_id] for q in ask]
             blocked = {

@@ -179,7 +179,8 @@ def leg_width(points: FloatArray) -> float:
     n = points.shape[0]
     if n < 2:
         return math.nan
-    (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()
+    x0, y0 = float(points[0, 0]), float(points[0, 1])
+    x1, y1 = float(points[-1, 0]), float(points[-1, 1])
     angle = math.atan2(abs(x0 * y1 - y0 * x1), x0 * x1 + y0 * y1)
     rng = 0.5 * (math.hypot(x0, y0) + math.hypot(x1, y1))
     return math.hypot(x1 - x0, y1 - y0) + rng * angle / (n - 1)

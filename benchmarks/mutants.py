@@ -1050,22 +1050,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "    for o in kept:\n        continued.setdefault(o, stamp)\n",
         CSA_RULES,
     ),
-    Mutant(
-        "csa-jump-back-any-points",
-        "CSA jump_back (at least min_points points go back to the state before the jump)",
-        C,
-        "(back := self._jump_back(before, z, free)).sum() >= p.min_points",
-        "(back := self._jump_back(before, z, free)).sum() >= 1",
-        CSA_RULES,
-    ),
-    Mutant(
-        "csa-jump-back-forever",
-        "CSA jump_back (the state before the jump is kept for max_unseen only)",
-        C,
-        "if t.before is None or self._stamp - t.before[2] > self.params.max_unseen:",
-        "if t.before is None:",
-        CSA_RULES,
-    ),
     # ---- the histogram's people of the learning period (background_people)
     Mutant(
         "histogram-people-share-complement",

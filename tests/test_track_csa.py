@@ -403,62 +403,6 @@ def test_a_target_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> No
         CSAParams(lost_keep=-0.1)
 
 
-def _jump_then_back(back: int, points: int = 10) -> list[Frame]:
-    """Target 0 stands at (0, 3); person 1 stands at (3, 3), unseen in scans 5 to
-    ``back`` - 1; in scan 7 only, a blob (someone else) shows 0.7 m aside, at (3.7, 3).
-    From scan ``back`` on person 1's blob is there again, with only its first ``points``
-    points in scan ``back``."""
-    frames = _standing(
-        [
-            lambda k: (0.0, 3.0),
-            lambda k: None if 5 <= k < back else (3.0, 3.0),
-            lambda k: (3.7, 3.0) if k == 7 else None,
-        ],
-        back + 8,
-    )
-    f = frames[back]
-    assert f.points is not None
-    xy = np.r_[_blob((0.0, 3.0), back), _blob((3.0, 3.0), back)[:points]]
-    ps = PointSet(f.stamp, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
-    frames[back] = replace(f, points=ps, foreground=np.ones(len(xy), dtype=bool))
-    return frames
-
-
-def _person_1(frames: list[Frame], params: CSAParams) -> list[tuple[int, float] | None]:
-    """Per scan: the id and x [m] of the person track nearest (3, 3) other than target 0."""
-    csa = ClusterSortingTracker(params)
-    out: list[tuple[int, float] | None] = []
-    for f in frames:
-        rows = [t for t in csa.update(f).of_kind("person") if t.track_id != 0]
-        near = min(rows, key=lambda t: abs(t.position[0] - 3.0), default=None)
-        out.append(None if near is None else (near.track_id, float(near.position[0])))
-    return out
-
-
-def test_jump_back_a_target_that_jumped_onto_a_blob_gets_its_person_back() -> None:
-    """jump_back: unseen since 0.4 s, target 1 takes the blob of scan 7 (0.7 m aside, more
-    than init_distance 0.6 m from its prediction: a jump) and
-    runs off (x 4.1 m in scan 9). Its person's points, back in scan 10 inside the gate of
-    its state before the jump and selected by nobody, continue it: id 1 at x 3.0 +- 0.05 m
-    from scan 10 on. Without the setting (002, the paper preset) they start target 2,
-    reported from scan 11. Not for fewer than min_points (3) points in scan 10 (they could
-    not start a target either: id 1 runs on), nor once the state before the jump was last
-    seen more than max_unseen (1 s) ago (back in scan 16, 1.2 s later: a new target 2)."""
-    assert CSAParams().min_points == 3 and CSAParams().max_unseen == pytest.approx(1.0)
-    jumped = _person_1(_jump_then_back(10), CSAParams())
-    assert jumped[9] is not None and jumped[9][0] == 1 and jumped[9][1] > 4.0
-    assert all(r is not None and r[0] == 1 for r in jumped[10:])
-    assert all(r is not None and abs(r[1] - 3.0) < 0.05 for r in jumped[10:])
-    plain = _person_1(_jump_then_back(10), CSAParams(jump_back=False))
-    assert plain[10] is not None and plain[10][0] == 1 and plain[10][1] > 4.2
-    assert plain[11] == (2, pytest.approx(3.0, abs=0.05))
-    assert CSAParams.paper_preset["jump_back"] is False
-    two = _person_1(_jump_then_back(10, points=2), CSAParams())
-    assert two[10] is not None and two[10][0] == 1 and two[10][1] > 4.2
-    late = _person_1(_jump_then_back(16), CSAParams())
-    assert late[17] == (2, pytest.approx(3.0, abs=0.05))
-
-
 def test_a_cluster_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> None:
     """lost_keep for a cluster: two people merged at 2 s (targets 1 and 2; target 0 stands
     far off) are not seen from 2.5 to 3.8 s (last seen at 2.4 s). The cluster's people are

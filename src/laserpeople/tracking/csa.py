@@ -77,7 +77,6 @@ class CSAParams:
             "lost_keep": 0.0,
             "split_apart": False,
             "coast_people": False,
-            "jump_back": False,
         }
     )
 
@@ -197,19 +196,6 @@ class CSAParams:
         "(its points were missed, or all went to other people's paths) keeps its paths, "
         "predicted, until it had continued paths max_unseen ago: its points, back, "
         "continue them, instead of another person's paths taking them over",
-    )
-    jump_back: bool = param(
-        True,
-        "extension of 002 (whose KFA keeps one state; false restores 002): on the real "
-        "followed-person recording the target of the person, unseen for 0.2 s, takes a "
-        "7-point blob 0.85 m aside seen in that scan only, runs off at 3 m/s, and the "
-        "person's points, back 4 scans later, start a new id (docs/csa.md, 'Real data')",
-        "a single target that takes selected measurements after a scan without any, "
-        "their mean farther than init_distance from its prediction (a jump), keeps its "
-        "state before them (predicted on) for max_unseen from when it last had "
-        "points; when the target then has a scan without selected measurements and "
-        "foreground points no object selects lie inside that older state's gate, the "
-        "target goes back to it, updated with their mean (the jump was someone else)",
     )
     confirm_scans: int = param(
         2,
@@ -612,10 +598,6 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
-    before: tuple[FloatArray, FloatArray, float] | None = None
-    """jump_back: the state (4,), covariance (4, 4) and last-seen time [s] the target had
-    before it last took measurements after a scan without any, predicted to its last
-    scan."""
 
 
 @dataclass
@@ -772,7 +754,6 @@ class ClusterSortingTracker:
             # the legs the leg MHT holds and the foreground lacks
             z = np.vstack([z, missed_legs(z, people.legs)])
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
-        prev = self._last
         self._last = stamp
         point_var = p.point_std**2
         gate2 = p.gate
@@ -805,7 +786,6 @@ class ClusterSortingTracker:
                 gates[len(singles) + k] = g.any(axis=0)
         comps = gate_components(gates)
         selected_any = gates.any(axis=0)
-        free = np.asarray(~selected_any, dtype=bool)  # no object selects (jump_back takes some)
 
         new_singles: dict[int, _Single] = {}
         new_clusters: dict[int, _Cluster] = {}
@@ -815,12 +795,9 @@ class ClusterSortingTracker:
                 i = objs_s[0]
                 t = singles[i]
                 sel = gates[i]
-                before = self._before(t, dt)
                 if sel.any():  # KFA: the mean of the selected measurements
                     centre = z[sel].mean(axis=0)
                     mean, cov = kalman.update(sm[i], sc[i], centre, np.eye(2) * p.mean_std**2)
-                    unseen = prev is not None and t.last_seen < prev
-                    jump = unseen and np.hypot(*(centre - sm[i][:2])) > p.init_distance
                     new_singles[t.pid] = _Single(
                         t.pid,
                         mean,
@@ -829,27 +806,13 @@ class ClusterSortingTracker:
                         t.spawned_by,
                         t.born,
                         t.hits + 1,
-                        (sm[i], sc[i], t.last_seen) if p.jump_back and jump else None,
-                    )
-                    self._walked(t.pid, centre)
-                elif (
-                    before is not None
-                    and (back := self._jump_back(before, z, free)).sum() >= p.min_points
-                ):
-                    free &= ~back  # the target goes back to its state before the jump
-                    centre = z[back].mean(axis=0)
-                    mean, cov = kalman.update(
-                        before[0], before[1], centre, np.eye(2) * p.mean_std**2
-                    )
-                    new_singles[t.pid] = _Single(
-                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1
                     )
                     self._walked(t.pid, centre)
                 elif stamp - t.last_seen <= p.max_unseen + p.lost_keep:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits, before
+                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
                     )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
@@ -879,29 +842,8 @@ class ClusterSortingTracker:
         if people is not None and self._moving:
             self._people_births(people.people, stamp)
         else:
-            self._initiate(z[free], stamp)
+            self._initiate(z[~selected_any], stamp)
         return self._report(frame)
-
-    def _before(self, t: _Single, dt: float) -> tuple[FloatArray, FloatArray, float] | None:
-        """``jump_back``: the state of single target ``t`` before its last jump, predicted
-        by ``dt`` [s], or None (none kept, or last seen more than ``max_unseen`` ago)."""
-        if t.before is None or self._stamp - t.before[2] > self.params.max_unseen:
-            return None
-        mean, cov = kalman.predict(
-            t.before[0][None], t.before[1][None], np.array([dt]), self.params.person_accel_psd
-        )
-        return mean[0], cov[0], t.before[2]
-
-    def _jump_back(
-        self, before: tuple[FloatArray, FloatArray, float], z: FloatArray, free: NDArray[np.bool_]
-    ) -> NDArray[np.bool_]:
-        """``jump_back``: which measurements ``z`` (M, 2) [m] among the ``free`` ones (M,)
-        lie inside the gate of the state ``before`` (see :meth:`_before`)."""
-        p = self.params
-        inside = _gate_loglik(
-            before[0][None], before[1][None], z, p.point_std**2, p.gate, p.max_gate_distance
-        )[0][0]
-        return np.asarray(inside & free, dtype=bool)
 
     def _people_births(self, people: FloatArray, stamp: float) -> None:
         """``moving_people``: a single target for each of the leg MHT's ``people`` (P, 2)

@@ -2081,6 +2081,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "    if map_path is not None and background_of(preprocess) is None:",
         ("tests/test_hardening_options.py",),
     ),
+    Mutant(
+        "batch-unused-last-run-decides",
+        "batch: an option unused on a recording when none of its runs (lasers) used it",
+        "pipeline/unused_options.py",
+        "        used[name] = used.get(name, False) or flag",
+        "        used[name] = flag",
+        ("tests/test_batch_unused.py",),
+    ),
+    Mutant(
+        "batch-unused-failed-judged",
+        "batch: failed and empty rows are not counted among the recordings judged",
+        "batch/unused.py",
+        "        known = row.status != FAILED and row.scans > 0 and flag != UNKNOWN",
+        "        known = flag != UNKNOWN",
+        ("tests/test_batch_unused.py",),
+    ),
 )
 
 

@@ -114,7 +114,7 @@ def test_a_map_seeds_the_model_that_hides_static_person_tracks(still: Path, tmp_
 
 
 def test_a_preset_that_sets_nothing_of_the_tracker_is_said(still: Path, tmp_path: Path) -> None:
-    from laserpeople.cli.track import preset_note
+    from laserpeople.pipeline.unused_options import preset_note
     from laserpeople.tracking import registry
 
     out = tmp_path / "t.csv"

@@ -44,6 +44,7 @@ from laserpeople.batch.task import (
     count_attempts,
     track_recording,
 )
+from laserpeople.batch.unused import unused_warnings
 from laserpeople.errors import ConfigError
 from laserpeople.io.paths import make_folder
 
@@ -127,6 +128,8 @@ class BatchResult:
         submitted: Tasks submitted (recordings not skipped).
         workers: Workers of the cluster at the start.
         summary: The summary files written (parquet, csv).
+        unused: Options of the run that had no effect on some recordings, one line each,
+            naming them (:func:`~laserpeople.batch.unused.unused_warnings`).
     """
 
     rows: list[TopicRow] = field(default_factory=list)
@@ -134,6 +137,7 @@ class BatchResult:
     submitted: int = 0
     workers: int = 0
     summary: tuple[Path, ...] = ()
+    unused: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> int:
@@ -244,6 +248,7 @@ def run_batch(
     result.rows = [row for rows in slots for row in (rows or [])]
     result.submitted = len(tasks)
     result.summary = write_summary(result.rows, folder)
+    result.unused = unused_warnings(result.rows, resolved.options)
     result.seconds = time.perf_counter() - start
     return result
 

@@ -23,6 +23,8 @@ from laserpeople.batch.options import ResolvedTrack
 FAILED = "failed"
 DONE = "done"
 SKIPPED = "skipped"
+UNKNOWN = -1
+"""A row's ``detector_used`` / ``static_model_used`` when not known."""
 
 
 @dataclass(frozen=True)
@@ -77,6 +79,12 @@ class TopicRow:
         notes: What the read left out or changed, as ``track`` says it (scans skipped
             with ``--on-error skip``, intensities left out, a laser's beam layout
             changing); empty when nothing.
+        detector_used: 1 when the leg detector ran on some frame
+            (:func:`~laserpeople.pipeline.background.detector_used`), 0 when not, -1 when
+            unknown (a failed row, or one done by a version that did not record it).
+        static_model_used: 1 when a static world model ran
+            (:func:`~laserpeople.pipeline.background.static_model_used`), 0 when not, -1
+            when unknown.
     """
 
     recording: str
@@ -98,6 +106,8 @@ class TopicRow:
     input_hash: str = ""
     config_hash: str = ""
     notes: str = ""
+    detector_used: int = UNKNOWN
+    static_model_used: int = UNKNOWN
 
 
 @dataclass
@@ -209,6 +219,7 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
     from laserpeople.batch.parquet import TracksParquetSink
     from laserpeople.detection.detector import make_leg_detector
     from laserpeople.pipeline import TracksCsvSink, build
+    from laserpeople.pipeline.background import detector_used, static_model_used
     from laserpeople.tracking import registry
 
     start = time.perf_counter()
@@ -264,6 +275,8 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
             rows=stats.rows,
             output=str(final.relative_to(task.out)),
             notes=notes,
+            detector_used=int(detector_used(pipe.stages)),
+            static_model_used=int(static_model_used(pipe.stages)),
         )
     )
 
@@ -295,6 +308,7 @@ __all__ = [
     "DONE",
     "FAILED",
     "SKIPPED",
+    "UNKNOWN",
     "RecordingTask",
     "TopicRow",
     "attempt_marker",

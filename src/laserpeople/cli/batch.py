@@ -153,6 +153,8 @@ def report(result: BatchResult, out: Path) -> None:
     for r in rows:
         if r.notes:
             warn(f"{r.name} {r.topic}: {r.notes}")
+    for line in result.unused:
+        warn(line)
     say(
         f"wrote {out / 'summary.parquet'}, {out / 'summary.csv'} and the tracks in {out / 'tracks'}"
     )
@@ -244,7 +246,8 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from laserpeople.batch import ClusterSpec, TrackOptions, parse_topics, run_batch
         from laserpeople.cli.common import JobProgress
-        from laserpeople.cli.track import appearance_choice, preset_note
+        from laserpeople.cli.track import appearance_choice
+        from laserpeople.pipeline.unused_options import preset_note
         from laserpeople.tracking import registry
 
         note = preset_note(tracker, registry.get(tracker).params_cls, preset, people_policy)

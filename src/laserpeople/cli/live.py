@@ -20,13 +20,13 @@ from laserpeople.cli.common import (
     say,
     warn,
 )
-from laserpeople.cli.track import (
+from laserpeople.cli.track import make_detector
+from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.pipeline.unused_options import (
     detector_options,
-    make_detector,
     preset_note,
     unused_detector_warning,
 )
-from laserpeople.errors import ConfigError, LaserPeopleError
 
 
 def _optional_topic(name: str) -> str | None:
@@ -472,8 +472,8 @@ def register(app: typer.Typer) -> None:
 
 def _unused_detector(session: Any, tracker: str, asked: list[str]) -> None:
     """Warn when the leg detector options ``asked`` had no effect on a run without resets
-    (:func:`~laserpeople.cli.track.unused_detector_warning`; after a reset, the pipelines
-    before it are gone)."""
+    (:func:`~laserpeople.pipeline.unused_options.unused_detector_warning`; after a reset,
+    the pipelines before it are gone)."""
     pipeline = getattr(session.run, "pipeline", None)
     if pipeline is None or session.scans.counts.resets or not pipeline.stats.frames:
         return

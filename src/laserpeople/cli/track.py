@@ -358,62 +358,6 @@ def draw_tracks(
         say(f"wrote {drawn.path} ({drawn.frames} frames)")
 
 
-def detector_options(detector: str, model: Path | None, config: Path | None) -> list[str]:
-    """The options of a ``track`` command line that choose or tune the leg detector
-    (``--detector`` other than the default, ``--model``, a ``[leg_detector]`` section in
-    ``config`` that sets a value other than the default: not the defaults a
-    ``--print-config`` dump holds), as the user wrote them."""
-    from laserpeople.config import section_name
-    from laserpeople.detection.detector import LegDetectorParams
-
-    asked = [f"--detector {detector}"] if detector != "adaboost" else []
-    if model is not None:
-        asked.append(f"--model {model}")
-    if config is not None and load_config(LegDetectorParams, config) != LegDetectorParams():
-        asked.append(f"[{section_name(LegDetectorParams)}] of {config}")
-    return asked
-
-
-def unused_detector_warning(tracker: str, asked: list[str], used: bool) -> str | None:
-    """What to tell a user whose leg detector options (``asked``, from
-    :func:`detector_options`) had no effect because the run never detected legs (``used``
-    False: a tracker of points on a still laser, or another static world model than
-    ``auto``); None when there is nothing to say."""
-    if used or not asked:
-        return None
-    return (
-        f"{' and '.join(asked)} had no effect: {tracker} tracks foreground points and this "
-        "run detected no legs (the static world model narrows the foreground to points near "
-        "legs only with --background auto and where [leg_foreground] use says so: by default "
-        'once the laser moves); drop the option, or set [leg_foreground] use = "always"'
-    )
-
-
-def preset_note(
-    tracker: str, params_cls: type, preset: str | None, people_policy: str | None
-) -> str | None:
-    """What to tell a user whose ``--preset`` sets nothing of the tracker's own section
-    (a tracker without ``paper_preset`` values: ``nn``, a baseline of no paper, and the leg
-    MHT, whose paper setting is ``--people-policy arras``); None when there is nothing to
-    say."""
-    from laserpeople.config import section_name
-
-    if preset is None or getattr(params_cls, "paper_preset", None):
-        return None
-    if tracker == "leg-mht" and people_policy is None:
-        return (
-            f"--preset {preset} sets nothing of [{section_name(params_cls)}]: the leg MHT "
-            "keeps people policy tracks; Arras et al.'s people from validated leg pairs are "
-            "--people-policy arras"
-        )
-    if tracker == "leg-mht":
-        return None
-    return (
-        f"--preset {preset} sets nothing of [{section_name(params_cls)}]: {tracker} follows no "
-        "paper (the preset sets the static world model's and re-identification's sections only)"
-    )
-
-
 def appearance_choice(tracker: str, appearance: str, reidentify: str | None) -> bool:
     """Whether ``--appearance`` / ``--reidentify`` ask for colour re-identification."""
     if appearance not in ("on", "off"):
@@ -513,6 +457,12 @@ def register(app: typer.Typer) -> None:
         from laserpeople.identity.reid import ReidParams
         from laserpeople.pipeline import GroupingParams, LegFusionParams
         from laserpeople.pipeline.background import StaticWorldParams
+        from laserpeople.pipeline.unused_options import (
+            detector_options,
+            preset_note,
+            unused_background_warning,
+            unused_detector_warning,
+        )
         from laserpeople.tracking import registry
 
         preset_values(ReidParams, preset)  # an unknown preset is an error before anything
@@ -594,16 +544,9 @@ def register(app: typer.Typer) -> None:
         )
         if unused and stats["scans"]:
             warn(unused)
-        if background not in ("auto", "none") and not stats["static_model_used"]:
-            warn(
-                f"--background {background} had no effect: {tracker} "
-                + (
-                    "with the arras people policy asks no static world model "
-                    "(--people-policy tracks does)"
-                    if tracker == "leg-mht"
-                    else "asks no static world model with static_tracks.hide = false"
-                )
-            )
+        unused = unused_background_warning(tracker, background, bool(stats["static_model_used"]))
+        if unused:
+            warn(unused)
         groups = int(stats["group_tracks"])
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

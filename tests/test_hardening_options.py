@@ -522,3 +522,27 @@ def test_view_of_a_scan_outside_the_window_names_the_scans_it_holds(
         run = CliRunner().invoke(app, ["view", str(still), "-o", out, *args])
         assert isinstance(run.exception, LaserPeopleError), run.output
         assert f"is not in the recording window ({held})" in str(run.exception)
+
+
+def test_live_says_a_background_its_run_never_used(
+    still: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from types import SimpleNamespace
+
+    from laserpeople.cli.live import _unused_options
+    from laserpeople.pipeline.recording import build
+
+    def session(background: str) -> SimpleNamespace:
+        pipe = build(still, tracker="leg-mht", background=background)
+        for _ in pipe:
+            pass
+        return SimpleNamespace(
+            run=SimpleNamespace(pipeline=pipe),
+            scans=SimpleNamespace(counts=SimpleNamespace(resets=0)),
+        )
+
+    _unused_options(session("none"), "leg-mht", [], "histogram")
+    said = capsys.readouterr().err
+    assert "--background histogram had no effect: leg-mht with the arras people policy" in said
+    _unused_options(session("histogram"), "leg-mht", [], "histogram")
+    assert "had no effect" not in capsys.readouterr().err

@@ -25,6 +25,7 @@ from laserpeople.errors import ConfigError, LaserPeopleError
 from laserpeople.pipeline.unused_options import (
     detector_options,
     preset_note,
+    unused_background_warning,
     unused_detector_warning,
 )
 
@@ -460,7 +461,9 @@ def register(app: typer.Typer) -> None:
             status.join(timeout=1.0)
             session.close()
             _summary(session, stats, record)
-            _unused_detector(session, tracker, detector_options(detector, model, config))
+            _unused_options(
+                session, tracker, detector_options(detector, model, config), background
+            )
         finally:
             stop.set()
             if timer is not None:
@@ -470,18 +473,21 @@ def register(app: typer.Typer) -> None:
                 signal.signal(s, handler)
 
 
-def _unused_detector(session: Any, tracker: str, asked: list[str]) -> None:
-    """Warn when the leg detector options ``asked`` had no effect on a run without resets
-    (:func:`~laserpeople.pipeline.unused_options.unused_detector_warning`; after a reset,
-    the pipelines before it are gone)."""
+def _unused_options(session: Any, tracker: str, asked: list[str], background: str) -> None:
+    """Warn when the leg detector options ``asked`` or ``--background`` had no effect on a
+    run without resets (the rules of :mod:`laserpeople.pipeline.unused_options`, as
+    ``track``'s; after a reset, the pipelines before it are gone)."""
     pipeline = getattr(session.run, "pipeline", None)
     if pipeline is None or session.scans.counts.resets or not pipeline.stats.frames:
         return
-    from laserpeople.pipeline.background import detector_used
+    from laserpeople.pipeline.background import detector_used, static_model_used
 
-    unused = unused_detector_warning(tracker, asked, detector_used(pipeline.stages))
-    if unused:
-        warn(unused)
+    for unused in (
+        unused_detector_warning(tracker, asked, detector_used(pipeline.stages)),
+        unused_background_warning(tracker, background, static_model_used(pipeline.stages)),
+    ):
+        if unused:
+            warn(unused)
 
 
 def _summary(session: Any, stats: Any, record: Path | None) -> None:

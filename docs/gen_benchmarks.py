@@ -316,9 +316,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "0.99 / 1.41 / 2.63 / 4.12 / 4.81 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(idle machine, the compiled listing); log-log slope of cost against people 0.55 "
-        "(4–40 people); whole `track` on the demo bag 2.05 s CPU idle, about 620 scans per "
+        "0.98 / 1.30 / 2.04 / 3.18 / 4.03 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(idle machine, the compiled listing); log-log slope of cost against people 0.51 "
+        "(4–40 people); whole `track` on the demo bag 1.83 s CPU idle, about 690 scans per "
         "CPU second",
         "speed.md#cost-against-people-in-view",
         needs_data=True,

@@ -27,6 +27,32 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+def play_when_subscribed(bag: Path, topic: str, port: int) -> threading.Thread:
+    """A thread that connects to a `live` command listening on loopback ``port``, waits
+    (up to 60 s) until it has subscribed to ``topic``, then plays ``bag`` into it at twice
+    its speed over the bridge's keys (started)."""
+
+    def play() -> None:
+        from laserpeople.live.replay import replay_bag
+        from laserpeople.live.runner import key_style
+        from laserpeople.live.zenoh_link import Publishers, ZenohSettings, open_session
+
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:  # until the command listens and has subscribed
+            tx = open_session(ZenohSettings(connect=(f"tcp/127.0.0.1:{port}",)))
+            pubs = Publishers(tx, key_style("bridge"), block=True)
+            if pubs.matched(topic, "sensor_msgs/msg/LaserScan", timeout=2.0):
+                time.sleep(0.5)
+                replay_bag(bag, pubs.publish, speed=2.0)
+                tx.close()
+                return
+            tx.close()
+
+    player = threading.Thread(target=play, daemon=True)
+    player.start()
+    return player
+
+
 class Collect:
     """A pipeline sink keeping (kind, id, x, y) per frame index."""
 

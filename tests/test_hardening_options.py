@@ -457,15 +457,9 @@ def test_live_options_the_transport_or_frame_would_not_use_are_refused() -> None
 @pytest.mark.slow
 def test_live_says_a_leg_model_a_tracker_of_points_never_used(model: Path, tmp_path: Path) -> None:
     pytest.importorskip("zenoh")
-    import threading
-    import time
-
     from laserpeople.io import open_recording
-    from laserpeople.live.replay import replay_bag
-    from laserpeople.live.runner import key_style
-    from laserpeople.live.zenoh_link import Publishers, ZenohSettings, open_session
     from laserpeople.sim.scenarios import run_scenario
-    from live_harness import free_port
+    from live_harness import free_port, play_when_subscribed
 
     bag = tmp_path / "walk.bag"
     run_scenario("demo", seconds=2.0, seed=3).write(bag)
@@ -473,20 +467,7 @@ def test_live_says_a_leg_model_a_tracker_of_points_never_used(model: Path, tmp_p
         topic, n = rec.topics()[0].name, rec.topics()[0].count
     port = free_port()
 
-    def play() -> None:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:  # until the command listens and has subscribed
-            tx = open_session(ZenohSettings(connect=(f"tcp/127.0.0.1:{port}",)))
-            pubs = Publishers(tx, key_style("bridge"), block=True)
-            if pubs.matched(topic, "sensor_msgs/msg/LaserScan", timeout=2.0):
-                time.sleep(0.5)
-                replay_bag(bag, pubs.publish, speed=2.0)
-                tx.close()
-                return
-            tx.close()
-
-    player = threading.Thread(target=play, daemon=True)
-    player.start()
+    player = play_when_subscribed(bag, topic, port)
     args = ["live", "--topic", topic, "--listen", f"tcp/127.0.0.1:{port}", "--frame", "sensor"]
     args += ["--tracker", "feet-pf", "--model", str(model)]
     args += ["--queue", "100000", "--max-scans", str(n), "--duration", "120"]

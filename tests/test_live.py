@@ -316,30 +316,14 @@ def test_live_command_records_what_track_replays(sim_bag: Path, tmp_path: Path) 
     from laserpeople.cli import app
     from laserpeople.io import open_recording
     from laserpeople.io.tracks_bag import iter_tracks_bag
-    from laserpeople.live.replay import replay_bag
-    from laserpeople.live.runner import key_style
-    from laserpeople.live.zenoh_link import Publishers, ZenohSettings, open_session
-    from live_harness import free_port
+    from live_harness import free_port, play_when_subscribed
 
     with open_recording(sim_bag) as rec:
         topic, n = rec.topics()[0].name, rec.topics()[0].count
     port = free_port()
     out = tmp_path / "live.mcap"
 
-    def play() -> None:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:  # until the command listens and has subscribed
-            tx = open_session(ZenohSettings(connect=(f"tcp/127.0.0.1:{port}",)))
-            pubs = Publishers(tx, key_style("bridge"), block=True)
-            if pubs.matched(topic, "sensor_msgs/msg/LaserScan", timeout=2.0):
-                time.sleep(0.5)
-                replay_bag(sim_bag, pubs.publish, speed=2.0)
-                tx.close()
-                return
-            tx.close()
-
-    player = threading.Thread(target=play, daemon=True)
-    player.start()
+    player = play_when_subscribed(sim_bag, topic, port)
     args = ["live", "--topic", topic, "--listen", f"tcp/127.0.0.1:{port}", "--frame", "sensor"]
     args += ["--queue", "100000", "--max-scans", str(n), "--record", str(out), "--duration", "120"]
     result = CliRunner().invoke(app, args)

@@ -461,9 +461,7 @@ def register(app: typer.Typer) -> None:
             status.join(timeout=1.0)
             session.close()
             _summary(session, stats, record)
-            _unused_options(
-                session, tracker, detector_options(detector, model, config), background
-            )
+            _unused_options(session, tracker, detector_options(detector, model, config), background)
         finally:
             stop.set()
             if timer is not None:

@@ -281,9 +281,13 @@ def test_sweep_ranks_settings_and_scores_held_out(recordings, tmp_path):
     spec = load_sweep(sweep)
     assert len(spec.settings()) == 2
     paths = [recordings[n] for n in GOOD]
+    # (the arras people ask no static world model: --background is said to have no effect)
+    options = replace(ONE_TOPIC, people_policy="arras", background="histogram")
     result = run_sweep(
-        paths, tmp_path / "out", ONE_TOPIC, spec, ClusterSpec(workers=1, processes=False)
+        paths, tmp_path / "out", options, spec, ClusterSpec(workers=1, processes=False)
     )
+    (said,) = result.unused
+    assert said.startswith("--background histogram had no effect on 3 of 3 recordings")
     best, worst = result.ranked
     # a margin threshold of 20 leaves almost no leg: the default ranks first
     assert best.setting == {"leg_detector": {"score_threshold": 0.0}}

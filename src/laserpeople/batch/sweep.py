@@ -36,6 +36,8 @@ from typing import Any
 
 from laserpeople.batch.options import TrackOptions, resolve
 from laserpeople.batch.run import BatchResult, ClusterSpec, open_client, run_batch
+from laserpeople.batch.task import TopicRow
+from laserpeople.batch.unused import unused_warnings
 from laserpeople.errors import ConfigError
 from laserpeople.io.paths import make_folder
 
@@ -143,12 +145,15 @@ class SettingScore:
 
 @dataclass
 class SweepResult:
-    """A sweep's settings, best first (by the tuning score of ``metric``)."""
+    """A sweep's settings, best first (by the tuning score of ``metric``), and the
+    options that had no effect on some recordings in every setting's runs (``unused``, one
+    line each, as :attr:`~laserpeople.batch.run.BatchResult.unused`)."""
 
     metric: str
     ranked: list[SettingScore]
     tune: list[str]
     held_out: list[str]
+    unused: list[str] = field(default_factory=list)
 
 
 def split_held_out(
@@ -185,6 +190,7 @@ def run_sweep(
     settings = spec.settings()
     resolved = [resolve(options, s) for s in settings]  # every setting checked before any runs
     scores = [SettingScore(k, s) for k, s in enumerate(settings)]
+    rows: list[TopicRow] = []  # every run's rows, for what its options did not do
     with open_client(cluster or ClusterSpec()) as client:
         for score, res in zip(scores, resolved, strict=True):
             sub = folder / f"settings-{score.index:03d}"
@@ -194,6 +200,7 @@ def run_sweep(
             text = "\n".join(dict.fromkeys(to_toml(p) for p in [*params, *static]))
             (sub / "config.toml").write_text(text, encoding="utf-8")
             result = run_batch(tune, sub / "tune", res, force=force, client=client)
+            rows += result.rows
             score.tune, score.failed = _scored(client, result, sub / "tune")
             if on_setting is not None:
                 on_setting(score)
@@ -203,10 +210,17 @@ def run_sweep(
             result = run_batch(
                 held, sub / "held_out", resolved[score.index], force=force, client=client
             )
+            rows += result.rows
             score.held_out, failed = _scored(client, result, sub / "held_out")
             score.failed += failed
     write_sweep(ranked, folder / "sweep.csv")
-    return SweepResult(spec.metric, ranked, [str(t) for t in tune], [str(h) for h in held])
+    return SweepResult(
+        spec.metric,
+        ranked,
+        [str(t) for t in tune],
+        [str(h) for h in held],
+        unused_warnings(rows, options),
+    )
 
 
 def _rank_key(value: float) -> float:

@@ -353,6 +353,8 @@ def _sweep(
             str(s.failed),
         )
     console.print(table)
+    for line in result.unused:
+        warn(line)
     best = result.ranked[0]
     say(
         f"best: settings-{best.index:03d}; its --config is "

@@ -360,12 +360,30 @@ def test_static_time_of_few_positions_is_the_array_path_bit_for_bit(
             assert a.tobytes() == b.tobytes()
 
 
-@pytest.mark.regression  # bits from two code paths: CI runs it again on another CPU path
+STATIC_TOL = 1e-9
+"""Tolerance [s] of a static time computed by two code paths (times are 0-1000 s)."""
+
+
+def _same_static_times(got: list[float] | None, want: list[float] | None) -> bool:
+    """Both None, or the same positions static (time > 0) with times within STATIC_TOL."""
+    if got is None or want is None:
+        return got is None and want is None
+    return (
+        len(got) == len(want)
+        and [g > 0.0 for g in got] == [w > 0.0 for w in want]
+        and all(abs(g - w) <= STATIC_TOL for g, w in zip(got, want, strict=True))
+    )
+
+
+@pytest.mark.regression  # two code paths: CI runs it again on another CPU path
 def test_compiled_static_time_of_few_positions_is_the_python_one(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """The compiled static time of a few positions (the MHT's C extension) is the Python
-    one's bit for bit on learnt grids (cells free, occupied, first sight held), and leaves
+    one on learnt grids (cells free, occupied, first sight held: the same positions
+    static, each static time within STATIC_TOL; they are the same IEEE operations, so
+    the same floats on one machine, but a C compiler and libm may differ in the last
+    bit on another CPU), and leaves
     to it (NotImplemented) the positions it hands to the array path (not finite, cells
     outside the arrays) and a decayed evidence at the threshold (numpy's exp decides);
     without the extension the Python one runs alone, with the same values."""
@@ -398,9 +416,10 @@ def test_compiled_static_time_of_few_positions_is_the_python_one(
         for xy in cases:
             want = g._static_few_python(xy)
             got = g._static_few(xy)
-            assert got == want and (got is None or all(type(v) is float for v in got))
+            assert _same_static_times(got, want)
+            assert got is None or all(type(v) is float for v in got)
             monkeypatch.setattr(occupancy, "_static_few_compiled", None)
-            assert g._static_few(xy) == want
+            assert _same_static_times(g._static_few(xy), want)
             monkeypatch.undo()
             if want is not None and any(v > 0.0 for v in want):
                 answered += 1
@@ -420,7 +439,8 @@ def test_compiled_static_time_of_few_positions_is_the_python_one(
             assert compiled(*args, [at], *tail) is NotImplemented
             left += 1
             want = g._static_few_python([at])
-            assert want is not None and want[0] >= 7.0 and g._static_few([at]) == want
+            assert want is not None and want[0] >= 7.0
+            assert _same_static_times(g._static_few([at]), want)
     assert answered > 10 and held_seen and left > 0
     # arrays it cannot read as they are (not C-contiguous, another dtype): left to Python
     ev = g._evidence[:, ::2]

@@ -123,7 +123,10 @@ TRUTH_BAG = ("tests/test_io_truth_bag.py", "tests/test_eval_followed.py")
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
-C = "tracking/csa.py"
+CP = "tracking/csa/params.py"
+CV = "tracking/csa/viterbi.py"
+CC = "tracking/csa/clusters.py"
+CT = "tracking/csa/tracker.py"
 F = "tracking/particle/feet.py"
 U = "tracking/particle/upper_body.py"
 A = "identity/appearance.py"
@@ -439,7 +442,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-merge-two-points",
         "002 Sec. 2 (objects sharing one measurement merge)",
-        C,
+        CC,
         "shared = (g @ g.T) > 0  # share at least one measurement",
         "shared = (g @ g.T) > 1  # share at least one measurement",
         CSA,
@@ -447,7 +450,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-split-one-pair-apart",
         "002 split condition 2 (every pair apart)",
-        C,
+        CC,
         "return separated == n_sub * (n_sub - 1) // 2, labels",
         "return separated >= 1, labels",
         CSA,
@@ -455,7 +458,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-split-fewer-subclusters",
         "002 split condition 1 (as many sub-clusters as people)",
-        C,
+        CC,
         "if n_sub != n_people:",
         "if n_sub < n_people:",
         CSA,
@@ -463,7 +466,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-leader-double-radius",
         "002 Sec. 2 (leader clustering at 1.5 m)",
-        C,
+        CC,
         "near = np.linalg.norm(pts[free] - first, axis=1) < distance",
         "near = np.linalg.norm(pts[free] - first, axis=1) < 2.0 * distance",
         CSA,
@@ -471,7 +474,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-viterbi-no-path-score",
         "002 Sec. 2 / 2004a (Viterbi path scores)",
-        C,
+        CV,
         "total = np.where(inside, np.asarray(scores, dtype=np.float64)[:, None] + loglik, -np.inf)",
         "total = np.where(inside, 0.0 * np.asarray(scores)[:, None] + loglik, -np.inf)",
         CSA,
@@ -479,7 +482,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-fragment-rule-always",
         "002 Sec. 2 (the cluster remembers everyone who merged)",
-        C,
+        CT,
         "cids = {clusters[k].cid for k in objs_c} if p.fragment_rule else set()",
         "cids = {clusters[k].cid for k in objs_c}",
         CSA,
@@ -487,7 +490,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-kfa-first-point",
         "002 Sec. 2 (KFA: mean of the selected measurements)",
-        C,
+        CT,
         "centre = z[sel].mean(axis=0)",
         "centre = z[sel][0]",
         CSA,
@@ -495,7 +498,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-gate-cross-term-sign",
         "002 Sec. 2 (Mahalanobis validation gate)",
-        C,
+        CV,
         "d2 = (d[:, None] * vx * vx - 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy)",
         "d2 = (d[:, None] * vx * vx + 2.0 * b[:, None] * vx * vy + a[:, None] * vy * vy)",
         CSA,
@@ -503,7 +506,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-gate-half",
         "002 Sec. 2 (chi-square gate -2 ln(1 - p))",
-        C,
+        CP,
         "return -2.0 * math.log1p(-self.gate_probability)",
         "return -1.0 * math.log1p(-self.gate_probability)",
         CSA,
@@ -652,7 +655,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-confirm-no-reset",
         "CSA confirm_scans (a miss restarts the count)",
-        C,
+        CT,
         "hits = t.hits if t.hits >= p.confirm_scans else 0",
         "hits = t.hits",
         CSA_CONFIRM,
@@ -660,7 +663,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-confirm-off-by-one",
         "CSA confirm_scans (reported at the n-th scan)",
-        C,
+        CT,
         "return t.born == -math.inf or t.hits >= self.params.confirm_scans",
         "return t.born == -math.inf or t.hits > self.params.confirm_scans",
         CSA_CONFIRM,
@@ -668,7 +671,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-confirm-lost-on-miss",
         "CSA confirm_scans (a confirmed target stays so)",
-        C,
+        CT,
         "hits = t.hits if t.hits >= p.confirm_scans else 0",
         "hits = 0",
         CSA_CONFIRM,
@@ -936,7 +939,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-cut-free-legs-apart",
         "CSA cut_free (not within 1.5 m of the main paths)",
-        C,
+        CT,
         "            if gap <= p.subcluster_distance:"
         "  # leader clustering cut a person's legs apart\n"
         "                continue\n",
@@ -946,7 +949,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-cut-free-min-points-off-by-one",
         "CSA cut_free (>= min_points estimates start a target)",
-        C,
+        CT,
         "if int(sel.sum()) < p.min_points:  # too few to start a target: dropped",
         "if int(sel.sum()) <= p.min_points:  # too few to start a target: dropped",
         CSA_RULES,
@@ -954,7 +957,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-cut-free-few-kept",
         "CSA cut_free (fewer than min_points dropped)",
-        C,
+        CT,
         "            keep &= ~sel\n"
         "            if int(sel.sum()) < p.min_points:  # too few to start a target: dropped\n"
         "                continue\n",
@@ -966,7 +969,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-moving-travel-still-laser",
         "CSA moving_travel (a moving laser only)",
-        C,
+        CT,
         "return not (self._moving and pid in self._unwalked)",
         "return pid not in self._unwalked",
         CSA_RULES,
@@ -974,7 +977,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-moving-unseen-still-laser",
         "CSA moving_unseen (a moving laser only)",
-        C,
+        CT,
         "return not (self._moving and limit > 0 and stamp - t.last_seen > limit)",
         "return not (limit > 0 and stamp - t.last_seen > limit)",
         CSA_RULES,
@@ -982,7 +985,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-lost-keep-reported",
         "CSA lost_keep (kept, not reported)",
-        C,
+        CT,
         "        if stamp - t.last_seen > self.params.max_unseen:\n            return False\n",
         "",
         CSA_RULES,
@@ -990,7 +993,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-lost-keep-cluster-reported",
         "CSA lost_keep (a kept cluster is not reported)",
-        C,
+        CT,
         "if frame.stamp - c.last_seen > p.max_unseen:  # kept by lost_keep: not reported\n"
         "                continue\n",
         "if False:  # kept by lost_keep: reported\n                continue\n",
@@ -999,7 +1002,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-lost-keep-singles-only",
         "CSA lost_keep (clusters kept too)",
-        C,
+        CT,
         "if stamp - last_seen > p.max_unseen + p.lost_keep:\n                return None",
         "if stamp - last_seen > p.max_unseen:\n                return None",
         CSA_RULES,
@@ -1007,7 +1010,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-split-apart-at-subcluster-distance",
         "CSA split_apart (002 condition 2: more than 3 m from every other sub-cluster)",
-        C,
+        CT,
         "if len(ms) == 1 and d[k].min() > p.separation_distance",
         "if len(ms) == 1 and d[k].min() > p.subcluster_distance",
         CSA_RULES,
@@ -1015,7 +1018,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-split-apart-shared-subcluster",
         "CSA split_apart (a sub-cluster that is the main one of one person only)",
-        C,
+        CT,
         "if len(ms) == 1 and d[k].min() > p.separation_distance",
         "if d[k].min() > p.separation_distance",
         CSA_RULES,
@@ -1023,7 +1026,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-coast-people-from-now",
         "CSA coast_people (a person without a time counts from the cluster's last scan)",
-        C,
+        CV,
         "continued.setdefault(o, before)  # its clock",
         "continued.setdefault(o, stamp)  # its clock",
         CSA_RULES,
@@ -1031,7 +1034,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-coast-people-clock-not-kept",
         "CSA coast_people (a person counted into a cluster keeps the time it was first missed)",
-        C,
+        CV,
         "    for o in {int(o) for o in old_origin}:\n"
         "        continued.setdefault(o, before)  # its clock runs from the cluster's last scan\n"
         "    coast = [\n"
@@ -1045,7 +1048,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-coast-people-forever",
         "CSA coast_people (paths continued now restart the person's time)",
-        C,
+        CV,
         "    for o in kept:\n        continued[o] = stamp\n",
         "    for o in kept:\n        continued.setdefault(o, stamp)\n",
         CSA_RULES,
@@ -1219,7 +1222,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-count-leg-gap",
         "CSA count_people (within leg_gap of its owner: the other leg)",
-        C,
+        CT,
         "if gap <= p.leg_gap:  # may be an owner's other leg",
         "if gap <= 0.0:  # may be an owner's other leg",
         CSA_RULES,
@@ -1227,7 +1230,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-count-seconds",
         "CSA count_people (seen for count_seconds near one place)",
-        C,
+        CT,
         "if stamp - since < wait:",
         "if stamp - since < 0.0:",
         CSA_RULES,
@@ -1235,7 +1238,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-person-groups-single-linkage",
         "CSA person-sized groups by complete linkage",
-        C,
+        CC,
         "d[i] = np.maximum(d[i], d[j])  # complete linkage: the farthest pair",
         "d[i] = np.minimum(d[i], d[j])  # complete linkage: the farthest pair",
         CSA_RULES,
@@ -1307,7 +1310,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-person-mixture-sum",
         "Cluster Sorting person_mixture (a person's claim: sum over sqrt of its paths)",
-        C,
+        CV,
         "best = np.argmax(mix / np.sqrt(np.maximum(cnt, 1.0)), axis=0)",
         "best = np.argmax(mix, axis=0)",
         CSA_RULES,
@@ -1315,7 +1318,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-person-mixture-mean",
         "Cluster Sorting person_mixture (not the mean of a person's paths)",
-        C,
+        CV,
         "best = np.argmax(mix / np.sqrt(np.maximum(cnt, 1.0)), axis=0)",
         "best = np.argmax(mix / np.maximum(cnt, 1.0), axis=0)",
         CSA_RULES,
@@ -1323,7 +1326,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-person-mixture-unused",
         "Cluster Sorting person_mixture (the Viterbi step uses it)",
-        C,
+        CV,
         "if origin is not None and total.size:",
         "if False:",
         CSA_RULES,
@@ -1331,7 +1334,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-walked-from-first-pose",
         "Cluster Sorting moving_travel (counted from the first scan of a posed run)",
-        C,
+        CT,
         "self._posed = frame.sensor_pose is not None",
         "self._posed = self._moving",
         CSA_RULES,
@@ -1339,7 +1342,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-members-unwalked-shown",
         "Cluster Sorting moving_travel (a cluster's people who have not walked are not reported)",
-        C,
+        CT,
         """                if not self._shown_walker(pid):
                     continue
 """,
@@ -1349,7 +1352,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-members-walk",
         "Cluster Sorting moving_travel (a cluster's people walk too)",
-        C,
+        CT,
         """                self._walked(m, xy)
                 cl.shown[m] = xy""",
         """                cl.shown[m] = xy""",
@@ -1377,7 +1380,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-adopted-walk-split",
         "Cluster Sorting moving_travel (a split's new target hands on its own walk)",
-        C,
+        CT,
         """                self._adopted(t.pid, pid, cl.shown.get(pid))
 """,
         "",
@@ -1386,7 +1389,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-adopted-walk-orphan",
         "Cluster Sorting moving_travel (an orphan's adopter hands on its own walk)",
-        C,
+        CT,
         """                self._adopted(t.pid, m, cl.shown[m])
 """,
         "",
@@ -1395,7 +1398,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-moving-wall-span",
         "Cluster Sorting moving_wall (the wall continues for the length asked)",
-        C,
+        CC,
         "    return bool(along.max() - along.min() >= length)",
         "    return bool(along.max() - along.min() >= 3.0 * length)",
         CSA_RULES,
@@ -1533,7 +1536,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-moving-window-keeps-start",
         "Cluster Sorting moving_window (where travel is measured from moves on)",
-        C,
+        CT,
         """            if window > 0 and self._stamp - since >= window:  # too slow: measure anew
                 self._unwalked[pid] = (np.array(xy, dtype=np.float64), self._stamp)""",
         """            if window > 0 and self._stamp - since >= window:  # too slow: measure anew
@@ -1543,7 +1546,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-moving-window-no-clock",
         "Cluster Sorting moving_window (the scan's time is the window's clock)",
-        C,
+        CT,
         "        self._stamp = float(stamp)\n",
         "",
         CSA_RULES,
@@ -1551,7 +1554,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-adopt-near-strict",
         "Cluster Sorting moving_adopt_near (within the distance, inclusive)",
-        C,
+        CT,
         "if person not in self._unwalked and near > 0 and gap <= near:",
         "if person not in self._unwalked and near > 0 and gap < near:",
         CSA_RULES,
@@ -1559,7 +1562,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-adopt-near-unwalked-too",
         "Cluster Sorting moving_adopt_near (only a person who walked keeps it)",
-        C,
+        CT,
         "if person not in self._unwalked and near > 0 and gap <= near:",
         "if near > 0 and gap <= near:",
         CSA_RULES,
@@ -1567,7 +1570,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-adopt-near-from-target",
         "Cluster Sorting moving_adopt_near (from where the orphan was last estimated)",
-        C,
+        CT,
         "self._adopted(t.pid, m, cl.shown[m])",
         "self._adopted(t.pid, m, t.mean[:2])",
         CSA_RULES,
@@ -1874,7 +1877,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-people-among-themselves",
         "csa moving_people: two people of the leg MHT closer than the birth gap start one target",
-        "tracking/csa_people.py",
+        "tracking/csa/leg_people.py",
         "        held = np.vstack([held, xy])",
         "        held = held",
         ("tests/test_track_csa.py",),
@@ -1882,7 +1885,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-people-missed-legs",
         "csa moving_people: a held leg becomes a point only where the foreground has none",
-        "tracking/csa_people.py",
+        "tracking/csa/leg_people.py",
         "    return legs[d > gap]",
         "    return legs[d >= 0.0]",
         ("tests/test_track_csa.py",),
@@ -1890,7 +1893,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-people-hold-window",
         "csa moving_people: the held frames reach back HOLD_SECONDS, both ends kept",
-        "tracking/csa_people.py",
+        "tracking/csa/leg_people.py",
         "        while frame.stamp - self._held[0].stamp > self.hold_seconds:",
         "        while frame.stamp - self._held[0].stamp >= self.hold_seconds:",
         ("tests/test_track_csa.py",),
@@ -1898,7 +1901,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-people-replay",
         "csa moving_people: the held frames are tracked when the laser first moves",
-        "tracking/csa_people.py",
+        "tracking/csa/leg_people.py",
         "            self._tracker.update(self._held.popleft())",
         "            self._held.popleft()",
         ("tests/test_track_csa.py",),
@@ -1906,7 +1909,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-people-watch-from",
         "csa moving_people: the held leg MHT measures the robot's motion from the first pose",
-        "tracking/csa_people.py",
+        "tracking/csa/leg_people.py",
         "            self._tracker.watch_from(frame.sensor_pose)",
         "            self._tracker.watch_from(None)",
         ("tests/test_track_csa.py",),
@@ -1914,7 +1917,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "csa-torso-count-seconds",
         "csa count_people: at torso height people are counted after torso_count_seconds",
-        "tracking/csa.py",
+        CT,
         "        wait = p.torso_count_seconds if self.at_torso_height else p.count_seconds",
         "        wait = p.count_seconds",
         ("tests/test_track_csa.py",),

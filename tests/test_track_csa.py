@@ -812,7 +812,7 @@ def test_cut_free_starts_a_target_from_min_points_estimates_and_drops_fewer() ->
     paths around (0, 3) (min_points = 3: a new target at their mean, (0, 3.033), started
     next to the cluster) and 2 of person 1's around (3, 0) (fewer: dropped). The cluster keeps
     its 8 leg estimates and nothing else."""
-    from laserpeople.tracking.csa import _Cluster
+    from laserpeople.tracking.csa.tracker import _Cluster
 
     legs0 = [(-0.3, 0.0), (-0.1, 0.0), (-0.3, 0.05), (-0.1, 0.05)]
     legs1 = [(0.1, 0.0), (0.3, 0.0), (0.1, 0.05), (0.3, 0.05)]
@@ -1073,7 +1073,7 @@ def test_missed_legs_and_unheld_people_by_hand() -> None:
     """missed_legs: a leg with a point exactly 0.2 m away is held, one 0.21 m away is
     missed; unheld_people: a person 0.75 m from an object is held, 0.76 m is not, and of
     two unheld people 0.5 m apart only the first starts a target."""
-    from laserpeople.tracking.csa_people import missed_legs, unheld_people
+    from laserpeople.tracking.csa.leg_people import missed_legs, unheld_people
 
     legs = np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]])
     pts = np.array([[0.2, 0.0], [1.21, 0.0]])
@@ -1171,7 +1171,7 @@ def test_the_leg_mht_runs_over_the_held_frames_when_the_laser_first_moves() -> N
     held frames (0.0-2.0 s before, both ends kept) and then the current one, so its people
     are those of a leg MHT run on every frame from 2 s before, and the person standing
     since scan 5 is confirmed at that moment (one frame alone confirms nobody)."""
-    from laserpeople.tracking.csa_people import HOLD_SECONDS, LegPeople
+    from laserpeople.tracking.csa.leg_people import HOLD_SECONDS, LegPeople
 
     assert HOLD_SECONDS == 2.0
     frames = _still_then_moving(40)
@@ -1205,7 +1205,7 @@ def test_the_leg_mhts_people_layer_measures_motion_from_the_first_frame_held() -
     0.05 m (MotionParams.moved_distance) from the run's first pose, not from the first of
     the frames it tracks: the laser creeps 0.004 m per scan for 15 scans (0.06 m), and
     with 0.5 s held, the first frame tracked is only 0.02 m behind."""
-    from laserpeople.tracking.csa_people import LegPeople
+    from laserpeople.tracking.csa.leg_people import LegPeople
 
     frames = _still_then_moving(1, step=0.004)
     people = LegPeople(hold_seconds=0.5)

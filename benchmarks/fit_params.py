@@ -36,7 +36,7 @@ from laserpeople.fitting.legs import LegMHTFitter
 from laserpeople.fitting.output import write
 from laserpeople.fitting.validate import ValidationRow, validate_groups, validate_legs
 from laserpeople.sim.scenarios import run_scenario
-from laserpeople.tracking.groups.tracker import GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
 from laserpeople.tracking.legs import LegTrackerParams
 from laserpeople.tracks import Detections
 

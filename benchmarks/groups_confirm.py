@@ -48,7 +48,8 @@ from laserpeople.pipeline import build
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking import registry
 from laserpeople.tracking.groups.confirm import ConfirmSettings
-from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
+from laserpeople.tracking.groups.tracker import GroupMHTTracker
 from laserpeople.tracks import Tracks
 from real_people import BAGS, ROOT, count
 

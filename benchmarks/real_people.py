@@ -46,7 +46,7 @@ from laserpeople.pipeline.background import StaticWorldParams
 from laserpeople.pipeline.static_people import describe_people_model
 from laserpeople.pipeline.static_tracks import StaticTrackFilter, StaticTrackParams
 from laserpeople.tracking import registry
-from laserpeople.tracking.groups.tracker import GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
 from laserpeople.tracking.legs import LegTrackerParams
 from laserpeople.tracks import Tracks
 

@@ -508,7 +508,7 @@ def test_fit_errors(sims: list[Path], tmp_path: Path) -> None:
 
 
 def test_fit_group_tracker(tmp_path: Path) -> None:
-    from laserpeople.tracking.groups.tracker import GroupTrackerParams
+    from laserpeople.tracking.groups.params import GroupTrackerParams
 
     npz = tmp_path / "hall.npz"
     res = CliRunner().invoke(

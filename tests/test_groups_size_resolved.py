@@ -16,7 +16,7 @@ from laserpeople.tracking.groups.observations import (
     matched_legs,
     resolved_people,
 )
-from laserpeople.tracking.groups.tracker import GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
 
 RESOLVED = SizeCounting("resolved", pair_distance=0.7, leg_radius=0.12, leg_width=0.18)
 LEGS = SizeCounting("legs", pair_distance=0.7, leg_radius=0.12)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from laserpeople.config import ConfigError, from_mapping, load_config, to_toml
-from laserpeople.tracking.groups.tracker import GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 from laserpeople.tracking.mht.core import MIN_RATIO, MHTParams
 from laserpeople.tracks import Detections

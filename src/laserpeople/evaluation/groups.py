@@ -31,7 +31,8 @@ from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.frame import Frame
 from laserpeople.pipeline.background import at_torso_height
 from laserpeople.scan import PointSet, Scan
-from laserpeople.tracking.groups.tracker import GroupMHTTracker, GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
+from laserpeople.tracking.groups.tracker import GroupMHTTracker
 from laserpeople.truth import TruthFrame
 
 FloatArray = NDArray[np.float64]

@@ -136,7 +136,7 @@ def learn(
     else:
         from laserpeople.fitting.groups import GroupFitParams, GroupModelFitter
         from laserpeople.fitting.validate import validate_groups
-        from laserpeople.tracking.groups.tracker import GroupTrackerParams
+        from laserpeople.tracking.groups.params import GroupTrackerParams
 
         base = load_config(GroupTrackerParams, config)
         gsettings = load_config(GroupFitParams, config)

@@ -31,7 +31,7 @@ from laserpeople.fitting.data import LabelledRecording
 from laserpeople.fitting.estimates import Estimate, FitError, multinomial, rate
 from laserpeople.fitting.legs import with_learned
 from laserpeople.scan import Scan
-from laserpeople.tracking.groups.tracker import GroupTrackerParams
+from laserpeople.tracking.groups.params import GroupTrackerParams
 
 GroupKey = tuple[str, int]
 """("g", group id) or ("p", person id) of a person walking alone."""

@@ -2,12 +2,8 @@
 and group size, on the MHT core of :mod:`laserpeople.tracking.mht`."""
 
 from laserpeople.tracking.groups.observations import GroupObservations
-from laserpeople.tracking.groups.tracker import (
-    GroupEstimate,
-    GroupEvent,
-    GroupMHTTracker,
-    GroupTrackerParams,
-)
+from laserpeople.tracking.groups.params import GroupTrackerParams
+from laserpeople.tracking.groups.tracker import GroupEstimate, GroupEvent, GroupMHTTracker
 
 __all__ = [
     "GroupEstimate",

@@ -1,5 +1,6 @@
-"""The compiled segment features (``detection/_cfeatures.c``) against their Python
-reference (``features._compute``), and the rules of loading the extension.
+"""The compiled segment features and AdaBoost margins (``detection/_cfeatures.c``) against
+their Python references (``features._compute``, ``adaboost._StumpTables.evaluate``), and
+the rules of loading the extension.
 
 Both paths are run on the same blocks of scans: random segments of every size round
 numpy's pairwise-sum block sizes (1-3, 7-9, 127-130, 300 points), degenerate ones (two or
@@ -23,12 +24,12 @@ import numpy as np
 import pytest
 
 from laserpeople import extensions
-from laserpeople.detection import features
+from laserpeople.detection import adaboost, compiled, features
 from laserpeople.scan import Scan
 from laserpeople.segmentation import JumpDistanceSegmenter, SegmentTable, covers_full_circle
 
 TOL = 1e-12
-NAME = "laserpeople.detection._cfeatures"
+NAME = compiled.NAME
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +39,7 @@ def cfeatures() -> ModuleType:
         from laserpeople.detection import _cfeatures
     except ImportError:
         pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
-    if extensions.source_hash(features.SOURCE) != _cfeatures.SOURCE_HASH:
+    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
         pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
     return _cfeatures
 
@@ -200,9 +201,40 @@ def test_compute_features_many_runs_the_extension_and_python_alike(
         _assert_same(b, a)
 
 
+def _stump_tables() -> adaboost._StumpTables:
+    from laserpeople.detection.detector import default_model
+
+    tables = default_model().classifier._tables
+    assert isinstance(tables, adaboost._StumpTables)
+    return tables
+
+
+def test_stump_sums_give_the_reference_margins(
+    cfeatures: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The shipped model's margins of random rows, rows of its thresholds themselves (a
+    tie counts -1 for one polarity and +1 for the other: left and right ranks), their
+    neighbouring floats and a single row, the same floats both ways."""
+    tables = _stump_tables()
+    rng = np.random.default_rng(9)
+    width = int(tables.columns.max()) + 1
+    rows = [rng.normal(0.0, 1.0, (200, width)) * rng.choice([1e-3, 0.1, 1.0, 100.0], width)]
+    picks = rng.choice(tables.grid, (300, width))
+    rows += [picks, np.nextafter(picks, np.inf), np.nextafter(picks, -np.inf), picks[:1]]
+    for X in rows:
+        monkeypatch.setattr(adaboost, "_extension", None)
+        want = tables.evaluate(X)
+        monkeypatch.setattr(adaboost, "_extension", cfeatures)
+        got = tables.evaluate(X)
+        np.testing.assert_allclose(got, want, rtol=TOL, atol=TOL)
+        np.testing.assert_array_equal(got, want)  # (the same sums in the same order)
+    ties = tables.evaluate(picks)
+    assert not np.array_equal(ties, tables.evaluate(np.nextafter(picks, np.inf)))
+
+
 def test_the_pure_python_switch(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv(extensions.PURE_PYTHON, "1")
-    assert extensions.load_extension(NAME, features.SOURCE, "segment features") == (
+    assert extensions.load_extension(NAME, compiled.SOURCE, "segment features") == (
         None,
         "pure Python (LASERPEOPLE_PURE_PYTHON is set)",
     )
@@ -214,7 +246,7 @@ def test_extension_not_built_runs_python(monkeypatch: pytest.MonkeyPatch) -> Non
     monkeypatch.delenv(extensions.PURE_PYTHON, raising=False)
     monkeypatch.delattr(detection, "_cfeatures", raising=False)
     monkeypatch.setitem(sys.modules, NAME, None)  # (ImportError)
-    assert extensions.load_extension(NAME, features.SOURCE, "segment features") == (
+    assert extensions.load_extension(NAME, compiled.SOURCE, "segment features") == (
         None,
         "pure Python (the C extension is not built)",
     )
@@ -225,11 +257,11 @@ def test_a_stale_extension_is_not_used(
 ) -> None:
     monkeypatch.delenv(extensions.PURE_PYTHON, raising=False)
     edited = tmp_path / "_cfeatures.c"
-    edited.write_bytes(features.SOURCE.read_bytes() + b"\n")
+    edited.write_bytes(compiled.SOURCE.read_bytes() + b"\n")
     with pytest.warns(extensions.StaleExtensionWarning, match=r"segment features.*pip install"):
         module, which = extensions.load_extension(NAME, edited, "segment features")
     assert module is None and "stale" in which
-    edited.write_bytes(features.SOURCE.read_bytes())
+    edited.write_bytes(compiled.SOURCE.read_bytes())
     assert extensions.load_extension(NAME, edited, "segment features") == (
         cfeatures,
         "compiled (C extension)",
@@ -247,10 +279,12 @@ def test_without_the_extension_detection_runs_in_python(tmp_path: Path) -> None:
         from laserpeople.detection import features
         from laserpeople.detection.detector import AdaBoostLegDetector
         from laserpeople.scan import Scan
-        assert features._extension is None, features.IMPLEMENTATION
+        from laserpeople.detection import adaboost, compiled
+        assert features._extension is None and adaboost._extension is None
+        assert compiled.EXTENSION is None, compiled.IMPLEMENTATION
         ranges = np.r_[np.full(20, 3.0), np.full(8, 1.5), np.full(20, 3.0)]
         det = AdaBoostLegDetector.default().detect(Scan(0.0, -0.4, 0.017, ranges))
-        print(features.IMPLEMENTATION, len(det.positions))
+        print(compiled.IMPLEMENTATION, len(det.positions))
         """
     )
     done = subprocess.run(

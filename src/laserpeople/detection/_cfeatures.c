@@ -1,5 +1,7 @@
 /* The fourteen segment features of features.py's _compute, compiled: every segment of a
- * block of scans in one call per pass, arrays in, arrays out.
+ * block of scans in one call per pass, arrays in, arrays out (and, at the end of this file,
+ * the AdaBoost margins of adaboost._StumpTables.evaluate: the groups' table values at
+ * each value's rank, added in group order as its cumulative sum adds them).
  *
  * The same IEEE double operations in the same order as the numpy reference (build with
  * -ffp-contract=off: no fused multiply-add):
@@ -8,8 +10,9 @@
  *     (pairwise_sum below: 8 accumulators up to 128 terms, halves at multiples of 8 above);
  *   - np.bincount sums (boundary length, curvature, turning angles, the beams' range
  *     changes, the steps' squared deviations) add in point order from 0.0;
- *   - the vector of medians sorts each coordinate within its segment by the reference's
- *     key (coordinate + interval * span), ties in point order, as its stable argsort;
+ *   - the vector of medians takes the middle elements of each coordinate within its
+ *     segment in the order of the reference's stable argsort (by the key coordinate +
+ *     interval * span, ties in point order), found by quickselect;
  *   - hypot, sqrt, cos and sin are the C library's, as numpy's on x86-64 and aarch64.
  * atan2 is not computed here: numpy's arctan2 is SIMD code (SVML on AVX-512) that differs
  * from the C library's in the last bit of some values, so pass1 returns the arguments of
@@ -69,11 +72,46 @@ typedef struct {
     Py_ssize_t at;
 } Keyed;
 
-static int keyed_order(const void *pa, const void *pb) {
-    const Keyed *a = pa, *b = pb;
-    if (a->key < b->key) return -1;
-    if (a->key > b->key) return 1;
-    return (a->at > b->at) - (a->at < b->at);
+/* whether a comes before b in the stable sort: by key, ties in point order */
+static inline int before(const Keyed *a, const Keyed *b) {
+    return a->key < b->key || (a->key == b->key && a->at < b->at);
+}
+
+/* Reorder v[0..n) so that v[j] is the element at j in the stable sort, those before it
+ * come before it and those after it after it (quickselect; the points' order breaks ties,
+ * so no two elements are equal). */
+static void select_at(Keyed *v, Py_ssize_t n, Py_ssize_t j) {
+    Py_ssize_t lo = 0, hi = n - 1;
+    while (hi - lo >= 16) {
+        Py_ssize_t mid = lo + (hi - lo) / 2;
+        Keyed tmp;
+        if (before(&v[mid], &v[lo])) tmp = v[mid], v[mid] = v[lo], v[lo] = tmp;
+        if (before(&v[hi], &v[lo])) tmp = v[hi], v[hi] = v[lo], v[lo] = tmp;
+        if (before(&v[hi], &v[mid])) tmp = v[hi], v[hi] = v[mid], v[mid] = tmp;
+        Keyed pivot = v[mid];
+        Py_ssize_t a = lo, b = hi;
+        while (a <= b) {
+            while (before(&v[a], &pivot)) a++;
+            while (before(&pivot, &v[b])) b--;
+            if (a <= b) {
+                tmp = v[a], v[a] = v[b], v[b] = tmp;
+                a++;
+                b--;
+            }
+        }
+        if (j <= b)
+            hi = b;
+        else if (j >= a)
+            lo = a;
+        else
+            return; /* (v[j] is the pivot) */
+    }
+    for (Py_ssize_t i = lo + 1; i <= hi; i++) { /* insertion sort of the rest */
+        Keyed x = v[i];
+        Py_ssize_t q = i;
+        for (; q > lo && before(&x, &v[q - 1]); q--) v[q] = v[q - 1];
+        v[q] = x;
+    }
 }
 
 /* The median of one segment's coordinate (values at stride 2), as features._sorted_within
@@ -86,8 +124,15 @@ static double median_of(const double *v, Py_ssize_t n, double interval, double s
         scratch[i].value = v[2 * i];
         scratch[i].at = i;
     }
-    qsort(scratch, (size_t)n, sizeof(Keyed), keyed_order);
-    return 0.5 * (scratch[(n - 1) / 2].value + scratch[n / 2].value);
+    Py_ssize_t lo = (n - 1) / 2, hi = n / 2;
+    select_at(scratch, n, lo);
+    const Keyed *upper = &scratch[lo];
+    if (hi != lo) { /* the first after v[lo] in the sort: the least of those after it */
+        upper = &scratch[hi];
+        for (Py_ssize_t i = hi + 1; i < n; i++)
+            if (before(&scratch[i], upper)) upper = &scratch[i];
+    }
+    return 0.5 * (scratch[lo].value + upper->value);
 }
 
 /* ---- buffers ---- */
@@ -117,35 +162,97 @@ static int take(PyObject *obj, Buf *b, int integer, int writable, Py_ssize_t cou
     return 0;
 }
 
+/* A C-contiguous buffer of `count` bools ('?'); sets ValueError and returns -1 otherwise. */
+static int take_bools(PyObject *obj, Buf *b, Py_ssize_t count, const char *name) {
+    if (PyObject_GetBuffer(obj, &b->view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) return -1;
+    b->held = 1;
+    if (b->view.itemsize != 1 || !b->view.format || strcmp(b->view.format, "?") != 0 ||
+        b->view.len != count) {
+        PyErr_Format(PyExc_ValueError, "%s: expected %zd bool", name, count);
+        return -1;
+    }
+    return 0;
+}
+
 static void release(Buf *bufs, int n) {
     for (int i = 0; i < n; i++)
         if (bufs[i].held) PyBuffer_Release(&bufs[i].view);
 }
 
+/* features._beam_changes: every point's range change since the same beam of the previous
+ * scan, delta (K,), 1.0 in both (K,) where that beam is valid in both scans, and each
+ * segment's time since the previous scan dt (M,) (1.0 for the tables without one). */
+static int beam_changes(PyObject *changes, const long long *off, const long long *tables,
+                        Py_ssize_t t_count, Py_ssize_t m, double *delta, double *both,
+                        double *dt) {
+    for (Py_ssize_t s = 0; s < m; s++) dt[s] = 1.0;
+    for (Py_ssize_t q = 0; q < t_count; q++) {
+        PyObject *item = PyList_GET_ITEM(changes, q);
+        if (item == Py_None) continue;
+        if (!PyTuple_CheckExact(item) || PyTuple_GET_SIZE(item) != 5) {
+            PyErr_SetString(PyExc_ValueError,
+                            "changes: (beams, ranges, previous ranges, previous valid, dt)");
+            return -1;
+        }
+        double since = PyFloat_AsDouble(PyTuple_GET_ITEM(item, 4));
+        if (since == -1.0 && PyErr_Occurred()) return -1;
+        Py_ssize_t first = off[tables[q]], count = off[tables[q + 1]] - first;
+        Buf v[4];
+        memset(v, 0, sizeof(v));
+        int failed = take(PyTuple_GET_ITEM(item, 0), &v[0], 1, 0, count, "beams") < 0 ||
+                     take(PyTuple_GET_ITEM(item, 1), &v[1], 0, 0, -1, "ranges") < 0;
+        Py_ssize_t n_beams = failed ? 0 : v[1].view.len / 8;
+        failed = failed || take(PyTuple_GET_ITEM(item, 2), &v[2], 0, 0, n_beams, "ranges") < 0;
+        failed = failed || take_bools(PyTuple_GET_ITEM(item, 3), &v[3], n_beams, "valid") < 0;
+        if (!failed) {
+            const long long *beams = v[0].view.buf;
+            const double *now = v[1].view.buf, *before = v[2].view.buf;
+            const char *valid = v[3].view.buf;
+            for (Py_ssize_t i = 0; i < count; i++) {
+                long long beam = beams[i] < 0 ? beams[i] + n_beams : beams[i];
+                if (beam < 0 || beam >= n_beams) {
+                    PyErr_SetString(PyExc_IndexError, "beams: a beam outside the scan");
+                    failed = 1;
+                    break;
+                }
+                if (valid[beam]) {
+                    delta[first + i] = now[beam] - before[beam];
+                    both[first + i] = 1.0;
+                }
+            }
+            for (Py_ssize_t s = tables[q]; s < tables[q + 1]; s++) dt[s] = since;
+        }
+        release(v, 4);
+        if (failed) return -1;
+    }
+    return 0;
+}
+
 /* ---- pass 1 ---- */
 
-/* pass1(points, offsets, tables, circle, delta, both, dt, no_neighbour_jump, out, centres,
+/* pass1(points, offsets, tables, circle, changes, no_neighbour_jump, out, centres,
  *       max_motion, work, ys, xs) -> number of turning angles t
  * points (K, 2); offsets (M + 1,) int64; tables (T + 1,) int64 (each table's first segment);
- * circle (T,) int64 (full circle); delta, both (K,) the beams' range changes and whether
- * valid in both scans, or None (no usable previous scan in the block); dt (M,) seconds
- * since the previous scan. Fills out (M, 14) but for features 8, 9 and 13 (pass2), the
+ * circle (T,) int64 (full circle); changes: None (no usable previous scan in the block) or
+ * a list with, per table, None (no usable previous scan) or a tuple (beams (K_t,) int64,
+ * ranges (N,) float64, previous ranges (N,) float64, previous valid (N,) bool, seconds
+ * since the previous scan) for feature 14. Fills out (M, 14) but for features 8, 9 and 13 (pass2), the
  * centres (M, 2), max_motion (M,), work (M, 6) (the centred moments), and ys, xs (K + M,):
  * the turning angles' atan2 arguments at [0, t), the line fits' at [t, t + M). */
 static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
-    if (nargs != 14) {
+    if (nargs != 12) {
         PyErr_SetString(PyExc_TypeError,
-                        "pass1(points, offsets, tables, circle, delta, both, dt, "
-                        "no_neighbour_jump, out, centres, max_motion, work, ys, xs)");
+                        "pass1(points, offsets, tables, circle, changes, no_neighbour_jump, "
+                        "out, centres, max_motion, work, ys, xs)");
         return NULL;
     }
     Buf b[13];
     memset(b, 0, sizeof(b));
     Keyed *keyed = NULL;
-    double *scratch = NULL;
+    double *scratch = NULL, *delta = NULL, *both = NULL, *dt = NULL;
     PyObject *result = NULL;
-    double no_jump = PyFloat_AsDouble(args[7]);
+    double no_jump = PyFloat_AsDouble(args[5]);
     if (no_jump == -1.0 && PyErr_Occurred()) return NULL;
     if (take(args[0], &b[0], 0, 0, -1, "points") < 0) goto done;
     Py_ssize_t k = b[0].view.len / 16;
@@ -158,22 +265,21 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     if (take(args[2], &b[2], 1, 0, -1, "tables") < 0) goto done;
     Py_ssize_t t_count = b[2].view.len / 8 - 1;
     if (take(args[3], &b[3], 1, 0, t_count, "circle") < 0) goto done;
-    int speed = args[4] != Py_None;
-    if (speed && (take(args[4], &b[4], 0, 0, k, "delta") < 0 ||
-                  take(args[5], &b[5], 0, 0, k, "both") < 0))
+    PyObject *changes = args[4];
+    int speed = changes != Py_None;
+    if (speed && (!PyList_CheckExact(changes) || PyList_GET_SIZE(changes) != t_count)) {
+        PyErr_SetString(PyExc_ValueError, "changes: expected None or a list, one per table");
         goto done;
-    if (take(args[6], &b[6], 0, 0, m, "dt") < 0) goto done;
-    if (take(args[8], &b[7], 0, 1, m * N_FEATURES, "out") < 0 ||
-        take(args[9], &b[8], 0, 1, 2 * m, "centres") < 0 ||
-        take(args[10], &b[9], 0, 1, m, "max_motion") < 0 ||
-        take(args[11], &b[10], 0, 1, m * N_WORK, "work") < 0 ||
-        take(args[12], &b[11], 0, 1, k + m, "ys") < 0 ||
-        take(args[13], &b[12], 0, 1, k + m, "xs") < 0)
+    }
+    if (take(args[6], &b[7], 0, 1, m * N_FEATURES, "out") < 0 ||
+        take(args[7], &b[8], 0, 1, 2 * m, "centres") < 0 ||
+        take(args[8], &b[9], 0, 1, m, "max_motion") < 0 ||
+        take(args[9], &b[10], 0, 1, m * N_WORK, "work") < 0 ||
+        take(args[10], &b[11], 0, 1, k + m, "ys") < 0 ||
+        take(args[11], &b[12], 0, 1, k + m, "xs") < 0)
         goto done;
     const double *P = b[0].view.buf;
     const long long *off = b[1].view.buf, *tables = b[2].view.buf, *circle = b[3].view.buf;
-    const double *delta = speed ? b[4].view.buf : NULL, *both = speed ? b[5].view.buf : NULL;
-    const double *dt = b[6].view.buf;
     double *out = b[7].view.buf, *centres = b[8].view.buf, *max_motion = b[9].view.buf;
     double *work = b[10].view.buf, *ys = b[11].view.buf, *xs = b[12].view.buf;
     if (m < 1 || off[0] != 0 || off[m] != k || t_count < 1 || tables[0] != 0 ||
@@ -194,6 +300,16 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
             PyErr_SetString(PyExc_ValueError, "tables not in order");
             goto done;
         }
+    if (speed) {
+        delta = PyMem_Calloc((size_t)k, sizeof(double));
+        both = PyMem_Calloc((size_t)k, sizeof(double));
+        dt = PyMem_Malloc((size_t)m * sizeof(double));
+        if (!delta || !both || !dt) {
+            PyErr_NoMemory();
+            goto done;
+        }
+        if (beam_changes(changes, off, tables, t_count, m, delta, both, dt) < 0) goto done;
+    }
     keyed = PyMem_Malloc((size_t)longest * sizeof(Keyed));
     scratch = PyMem_Malloc((size_t)longest * 8 * sizeof(double));
     if (!keyed || !scratch) {
@@ -310,6 +426,9 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
 done:
     PyMem_Free(keyed);
     PyMem_Free(scratch);
+    PyMem_Free(delta);
+    PyMem_Free(both);
+    PyMem_Free(dt);
     release(b, 13);
     return result;
 }
@@ -444,6 +563,82 @@ done:
     return result;
 }
 
+/* ---- AdaBoost ---- */
+
+/* the number of grid values below x (left) or at most x (right), as np.searchsorted */
+static Py_ssize_t rank_of(const double *grid, Py_ssize_t u, double x, int right) {
+    Py_ssize_t lo = 0, hi = u;
+    while (lo < hi) {
+        Py_ssize_t mid = lo + (hi - lo) / 2;
+        if (right ? grid[mid] <= x : grid[mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* stump_sums(X, columns, group_column, right, grid, values, out) -> None
+ * adaboost._StumpTables.evaluate: for each row of X (N, F) the groups' table values
+ * (values (G, U + 1) at the rank of the row's value of feature columns[group_column[g]] in
+ * grid (U,), counted on the right for the groups whose right (G,) bool is set) added in
+ * group order, into out (N,). X must be finite (decision_function checks). */
+static PyObject *stump_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError,
+                        "stump_sums(X, columns, group_column, right, grid, values, out)");
+        return NULL;
+    }
+    Buf b[7];
+    memset(b, 0, sizeof(b));
+    PyObject *result = NULL;
+    if (take(args[0], &b[0], 0, 0, -1, "X") < 0 || take(args[1], &b[1], 1, 0, -1, "columns") < 0 ||
+        take(args[2], &b[2], 1, 0, -1, "group_column") < 0)
+        goto done;
+    Py_ssize_t g_count = b[2].view.len / 8, c_count = b[1].view.len / 8;
+    if (take_bools(args[3], &b[3], g_count, "right") < 0 ||
+        take(args[4], &b[4], 0, 0, -1, "grid") < 0)
+        goto done;
+    Py_ssize_t u = b[4].view.len / 8;
+    if (take(args[5], &b[5], 0, 0, g_count * (u + 1), "values") < 0) goto done;
+    if (b[0].view.ndim != 2) {
+        PyErr_SetString(PyExc_ValueError, "X: expected (N, F) float64");
+        goto done;
+    }
+    Py_ssize_t n = b[0].view.shape[0], f = b[0].view.shape[1];
+    if (take(args[6], &b[6], 0, 1, n, "out") < 0) goto done;
+    const double *X = b[0].view.buf, *grid = b[4].view.buf, *values = b[5].view.buf;
+    const long long *columns = b[1].view.buf, *group_column = b[2].view.buf;
+    const char *right = b[3].view.buf;
+    double *out = b[6].view.buf;
+    for (Py_ssize_t g = 0; g < g_count; g++)
+        if (group_column[g] < 0 || group_column[g] >= c_count || columns[group_column[g]] < 0 ||
+            columns[group_column[g]] >= f) {
+            PyErr_SetString(PyExc_ValueError, "a stump's feature outside X");
+            goto done;
+        }
+    if (g_count == 0) {
+        PyErr_SetString(PyExc_ValueError, "no stumps");
+        goto done;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        const double *row = X + i * f;
+        double sum = 0.0;
+        for (Py_ssize_t g = 0; g < g_count; g++) {
+            double x = row[columns[group_column[g]]];
+            double v = values[g * (u + 1) + rank_of(grid, u, x, (int)right[g])];
+            sum = g == 0 ? v : sum + v;
+        }
+        out[i] = sum;
+    }
+    result = Py_None;
+    Py_INCREF(result);
+done:
+    release(b, 7);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"pass1", (PyCFunction)(void (*)(void))pass1, METH_FASTCALL,
      "pass1(points, offsets, tables, circle, delta, both, dt, no_neighbour_jump, out, "
@@ -452,6 +647,9 @@ static PyMethodDef methods[] = {
     {"pass2", (PyCFunction)(void (*)(void))pass2, METH_FASTCALL,
      "pass2(points, offsets, tables, flip, angles, no_circle_radius, out, centres, work, "
      "circle_centres): the line and circle fits and the turning angles from numpy's atan2."},
+    {"stump_sums", (PyCFunction)(void (*)(void))stump_sums, METH_FASTCALL,
+     "stump_sums(X, columns, group_column, right, grid, values, out): "
+     "adaboost._StumpTables.evaluate's margins into out."},
     {NULL, NULL, 0, NULL},
 };
 

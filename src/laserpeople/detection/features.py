@@ -51,14 +51,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
-from laserpeople.extensions import load_extension
+from laserpeople.detection import compiled
 from laserpeople.scan import Scan
 from laserpeople.segmentation import SegmentTable
 
@@ -86,14 +85,9 @@ N_FEATURES = len(FEATURE_NAMES)
 MIN_POINTS = 3
 """Segments with fewer points are not classified (000 Sec. 2.2: only n > 2)."""
 
-SOURCE = Path(__file__).with_name("_cfeatures.c")
-"""The C extension's source, beside this module (in an installed package as well)."""
-
-_extension, IMPLEMENTATION = load_extension(
-    "laserpeople.detection._cfeatures", SOURCE, "segment features"
-)
+_extension = compiled.EXTENSION
 """The C extension computing :func:`_compute`'s features (the same floats), or None: the
-Python reference runs (see :func:`laserpeople.extensions.load_extension`); and which runs."""
+Python reference runs (:mod:`~laserpeople.detection.compiled`)."""
 
 
 @dataclass(frozen=True)
@@ -447,13 +441,21 @@ def _compute_compiled(
     counts = [len(t) for t in tables]
     bounds = np.zeros(len(tables) + 1, dtype=np.int64)
     np.cumsum(counts, out=bounds[1:])
+    changes = None  # (_beam_changes's, in C)
     usable = [_usable_previous(s, p) for s, p in zip(scans, previous, strict=True)]
-    dt = np.ones(m)
-    delta: FloatArray | None = None
-    both: FloatArray | None = None
     if any(usable):
-        delta, both = np.zeros(k), np.zeros(k)
-        _beam_changes(tables, scans, previous, usable, delta, both, dt)
+        changes = [
+            (
+                np.ascontiguousarray(table.beams, dtype=np.int64),
+                np.ascontiguousarray(scan.ranges, dtype=np.float64),
+                np.ascontiguousarray(prev.ranges, dtype=np.float64),
+                np.ascontiguousarray(prev.valid, dtype=np.bool_),
+                scan.stamp - prev.stamp,
+            )
+            if ok and prev is not None and table.beams.size
+            else None
+            for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True)
+        ]
     out = np.empty((m, N_FEATURES))
     centres = np.empty((m, 2))
     max_motion = np.empty(m)
@@ -462,8 +464,8 @@ def _compute_compiled(
     xs = np.empty(k + m)
     circle = np.array(full_circle, dtype=np.int64)
     t = ext.pass1(
-        P, offsets, bounds, circle, delta, both, dt, float(params.no_neighbour_jump),
-        out, centres, max_motion, work, ys, xs,
+        P, offsets, bounds, circle, changes, float(params.no_neighbour_jump), out, centres,
+        max_motion, work, ys, xs,
     )  # fmt: skip
     angles = np.arctan2(ys[: t + m], xs[: t + m])
     flip = np.array([scan.angle_increment < 0.0 for scan in scans], dtype=np.int64)

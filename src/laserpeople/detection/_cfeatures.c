@@ -624,10 +624,19 @@ static PyObject *stump_sums(PyObject *self, PyObject *const *args, Py_ssize_t na
     }
     for (Py_ssize_t i = 0; i < n; i++) {
         const double *row = X + i * f;
-        double sum = 0.0;
+        double sum = 0.0, x = 0.0;
+        long long column = -1;
+        Py_ssize_t ranks[2] = {-1, -1}; /* of x, left and right (the groups of a feature
+                                          follow each other: searched once per side) */
         for (Py_ssize_t g = 0; g < g_count; g++) {
-            double x = row[columns[group_column[g]]];
-            double v = values[g * (u + 1) + rank_of(grid, u, x, (int)right[g])];
+            if (columns[group_column[g]] != column) {
+                column = columns[group_column[g]];
+                x = row[column];
+                ranks[0] = ranks[1] = -1;
+            }
+            int side = right[g] ? 1 : 0;
+            if (ranks[side] < 0) ranks[side] = rank_of(grid, u, x, side);
+            double v = values[g * (u + 1) + ranks[side]];
             sum = g == 0 ? v : sum + v;
         }
         out[i] = sum;

@@ -213,12 +213,6 @@ class _StumpTables:
 
     def evaluate(self, X: FloatArray) -> FloatArray:
         """The summed alpha_t h_t of all stumps for the rows of X (N, F) -> (N,)."""
-        cols = X[:, self.columns]
-        ranks = np.where(
-            self.right[:, None],
-            np.searchsorted(self.grid, cols, side="right").T[self.group_column],
-            np.searchsorted(self.grid, cols, side="left").T[self.group_column],
-        )
         if _extension is not None:
             out = np.empty(X.shape[0])
             _extension.stump_sums(
@@ -231,6 +225,12 @@ class _StumpTables:
                 out,
             )
             return out
+        cols = X[:, self.columns]
+        ranks = np.where(
+            self.right[:, None],
+            np.searchsorted(self.grid, cols, side="right").T[self.group_column],
+            np.searchsorted(self.grid, cols, side="left").T[self.group_column],
+        )
         rows = np.arange(self.values.shape[0])[:, None]
         # groups added in order, the floats a loop over the groups gives, for any number of
         # rows (a cumulative sum adds in order; ``np.add.reduce`` over the groups would

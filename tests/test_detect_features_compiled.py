@@ -14,6 +14,7 @@ where the reference has NaN (the circle centre of a straight segment).
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -287,8 +288,14 @@ def test_without_the_extension_detection_runs_in_python(tmp_path: Path) -> None:
         print(compiled.IMPLEMENTATION, len(det.positions))
         """
     )
+    env = {k: v for k, v in os.environ.items() if k != extensions.PURE_PYTHON}
     done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, check=False, timeout=120
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=120,
+        env=env,
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("pure Python (the C extension is not built)")

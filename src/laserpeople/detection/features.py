@@ -2,8 +2,10 @@
 
 Every feature is computed for every segment at once from the flat arrays of a
 :class:`~laserpeople.segmentation.SegmentTable` (segment ids + ``np.bincount`` /
-``np.add.reduceat``); no Python loop runs over segments. Features are returned as a matrix
-(M, 14) whose column ``j - 1`` is feature ``j`` of the paper:
+``np.add.reduceat``); no Python loop runs over segments. Where the optional C extension is
+built (:mod:`~laserpeople.detection.compiled`) it computes the same floats, every operation
+in the same order. Features are returned as a matrix (M, 14) whose column ``j - 1`` is
+feature ``j`` of the paper:
 
 ==  =====================  ========================================================
 #   name                   definition (units)

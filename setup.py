@@ -1,11 +1,12 @@
-"""The optional C extension of the leg MHT's listing, its clusters and the occupancy grid's
-static times of a few positions (everything else is in pyproject.toml).
+"""The optional C extensions: the leg MHT's listing, its clusters and the occupancy grid's
+static times of a few positions; the segment features of leg detection (everything else is
+in pyproject.toml).
 
-``pip install -e .`` builds ``laserpeople.tracking.mht._clisting`` beside its source when a C
-compiler is there, and installs without it (the pure-Python listing runs) when not. The
-source's checksum (CRC-32 and length, as ``laserpeople.tracking.mht.compiled.source_hash``
-computes it) is compiled in, so that an extension built from another version of the source
-is not used.
+``pip install -e .`` builds ``laserpeople.tracking.mht._clisting`` and
+``laserpeople.detection._cfeatures`` beside their sources when a C compiler is there, and
+installs without them (the pure-Python references run) when not. Each source's checksum
+(CRC-32 and length, as ``laserpeople.extensions.source_hash`` computes it) is compiled in, so
+that an extension built from another version of its source is not used.
 """
 
 from __future__ import annotations
@@ -15,19 +16,27 @@ from pathlib import Path
 
 from setuptools import Extension, setup
 
-SOURCE = "src/laserpeople/tracking/mht/_clisting.c"
-DATA = (Path(__file__).parent / SOURCE).read_bytes()
-DIGEST = f"{zlib.crc32(DATA):08x}-{len(DATA)}"
+SOURCES = {
+    "laserpeople.tracking.mht._clisting": "src/laserpeople/tracking/mht/_clisting.c",
+    "laserpeople.detection._cfeatures": "src/laserpeople/detection/_cfeatures.c",
+}
+
+
+def _digest(source: str) -> str:
+    data = (Path(__file__).parent / source).read_bytes()
+    return f"{zlib.crc32(data):08x}-{len(data)}"
+
 
 setup(
     ext_modules=[
         Extension(
-            "laserpeople.tracking.mht._clisting",
-            sources=[SOURCE],
-            define_macros=[("LP_SOURCE_HASH", f'"{DIGEST}"')],
+            name,
+            sources=[source],
+            define_macros=[("LP_SOURCE_HASH", f'"{_digest(source)}"')],
             # no fused multiply-add (aarch64 gcc contracts by default): Python's floats
             extra_compile_args=["-O2", "-ffp-contract=off", "-std=c99"],
             optional=True,
         )
+        for name, source in SOURCES.items()
     ]
 )

@@ -92,7 +92,11 @@ HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_p
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 KALMAN = ("tests/test_track_kalman.py",)
-FEATURES = ("tests/test_detect_features_reference.py", "tests/test_pipeline_lookahead.py")
+FEATURES = (
+    "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
+    "tests/test_detect_features_reference.py",
+    "tests/test_pipeline_lookahead.py",
+)
 LASERSCAN = ("tests/test_io_laserscan_fast.py",)
 VIEW = ("tests/test_viz_acceptance.py",)
 EVAL = ("tests/test_eval_cli.py",)
@@ -2034,7 +2038,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "detection/features.py",
         "            out[rows, 3:5] = out[rows, 4:2:-1].copy()\n",
         "",
-        ("tests/test_hardening_options.py",),
+        ("tests/test_detect_features_compiled.py", "tests/test_hardening_options.py"),
     ),
     Mutant(
         "frame-change-from-scan",
@@ -2062,8 +2066,8 @@ MUTANTS: tuple[Mutant, ...] = (
     ),
     Mutant(
         "pure-python-false-forces",
-        "LASERPEOPLE_PURE_PYTHON=false forces the Python listing",
-        "tracking/mht/compiled.py",
+        "LASERPEOPLE_PURE_PYTHON=false forces the Python listing and features",
+        "extensions.py",
         'OFF_VALUES = ("", "0", "false", "no", "off")',
         'OFF_VALUES = ("", "0")',
         ("tests/test_hardening_options.py",),

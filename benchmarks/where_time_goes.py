@@ -44,6 +44,7 @@ PARTS: list[tuple[Any, str, str, int]] = [
     # (detect_many: the blocks of frames read ahead; detect: a scan not read ahead)
     (detector.AdaBoostLegDetector, "detect_many", LEG_DETECTION, 0),
     (features, "_compute", "features of the segments", 1),
+    (features, "_compute_compiled", "features of the segments (the C extension)", 1),
     (detector.AdaBoostLegDetector, "detect", "leg detection scan by scan", 0),
     (legs.LegMHTTracker, "update", "leg tracker (MHT, people layer, glue)", 0),
     (core.MHT, "step", "MHT step", 1),

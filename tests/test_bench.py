@@ -62,3 +62,9 @@ def test_bench_command_json() -> None:
     compiled = data["mht_listing"] == "compiled (C extension)"
     assert compiled == (COMPILED is not None)
     assert compiled or data["mht_listing"].startswith("pure Python (")
+    # and which leg detection: the compiled features and margins where built, else Python's
+    from laserpeople.detection.compiled import EXTENSION
+
+    features = data["leg_detection"] == "compiled (C extension)"
+    assert features == (EXTENSION is not None)
+    assert features or data["leg_detection"].startswith("pure Python (")

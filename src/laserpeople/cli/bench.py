@@ -120,6 +120,7 @@ def register(app: typer.Typer) -> None:
         for name, make_step, items in progress(stages, len(stages), "stages"):
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
+        from laserpeople.detection.compiled import IMPLEMENTATION as DETECTION
         from laserpeople.tracking.mht.listing import IMPLEMENTATION as LISTING
 
         if as_json:
@@ -134,6 +135,7 @@ def register(app: typer.Typer) -> None:
                         "stages": [t.as_dict() for t in timings],
                         "peak_memory_mib": memory,
                         "mht_listing": LISTING,
+                        "leg_detection": DETECTION,
                     }
                 )
             )
@@ -162,6 +164,7 @@ def register(app: typer.Typer) -> None:
             )
         console.print(table)
         say(f"leg MHT listing of the k best children: {LISTING}")
+        say(f"segment features and AdaBoost margins of leg detection: {DETECTION}")
         console.print(f"peak memory {memory:.0f} MiB")
 
 

@@ -18,8 +18,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from laserpeople.detection import compiled
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+
+_extension = compiled.EXTENSION
+"""The C extension whose ``stump_sums`` is :meth:`_StumpTables.evaluate` (the same floats),
+or None: the Python one runs (:mod:`~laserpeople.detection.compiled`)."""
 
 R_CLIP = 1.0 - 1e-10
 """A perfect stump (r = 1) would get an infinite weight; r is clipped to this."""
@@ -207,6 +213,18 @@ class _StumpTables:
 
     def evaluate(self, X: FloatArray) -> FloatArray:
         """The summed alpha_t h_t of all stumps for the rows of X (N, F) -> (N,)."""
+        if _extension is not None:
+            out = np.empty(X.shape[0])
+            _extension.stump_sums(
+                np.ascontiguousarray(X, dtype=np.float64),
+                self.columns,
+                self.group_column,
+                self.right,
+                self.grid,
+                self.values,
+                out,
+            )
+            return out
         cols = X[:, self.columns]
         ranks = np.where(
             self.right[:, None],

@@ -2,8 +2,10 @@
 
 Every feature is computed for every segment at once from the flat arrays of a
 :class:`~laserpeople.segmentation.SegmentTable` (segment ids + ``np.bincount`` /
-``np.add.reduceat``); no Python loop runs over segments. Features are returned as a matrix
-(M, 14) whose column ``j - 1`` is feature ``j`` of the paper:
+``np.add.reduceat``); no Python loop runs over segments. Where the optional C extension is
+built (:mod:`~laserpeople.detection.compiled`) it computes the same floats, every operation
+in the same order. Features are returned as a matrix (M, 14) whose column ``j - 1`` is
+feature ``j`` of the paper:
 
 ==  =====================  ========================================================
 #   name                   definition (units)
@@ -51,11 +53,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.detection import compiled
 from laserpeople.scan import Scan
 from laserpeople.segmentation import SegmentTable
 
@@ -82,6 +86,10 @@ FEATURE_NAMES: tuple[str, ...] = (
 N_FEATURES = len(FEATURE_NAMES)
 MIN_POINTS = 3
 """Segments with fewer points are not classified (000 Sec. 2.2: only n > 2)."""
+
+_extension = compiled.EXTENSION
+"""The C extension computing :func:`_compute`'s features (the same floats), or None: the
+Python reference runs (:mod:`~laserpeople.detection.compiled`)."""
 
 
 @dataclass(frozen=True)
@@ -174,8 +182,11 @@ def compute_features_many(
             )
             for _ in tables
         ]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        every = _compute(tables, scans, previous, params, flags)
+    if _extension is not None:
+        every = _compute_compiled(_extension, tables, scans, previous, params, flags)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            every = _compute(tables, scans, previous, params, flags)
     if len(tables) == 1:
         return [every]
     out = []
@@ -266,18 +277,7 @@ def _compute(
     delta = np.zeros(k)
     dt = np.ones(m)
     if speed:
-        at = seg_at = 0
-        for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True):
-            size, count = table.beams.size, len(table)
-            if ok and size:
-                assert prev is not None
-                beams = table.beams
-                both = prev.valid[beams]
-                delta[at : at + size] = np.where(both, scan.ranges[beams] - prev.ranges[beams], 0.0)
-                t1[at : at + size, 3] = both
-                dt[seg_at : seg_at + count] = scan.stamp - prev.stamp
-            at += size
-            seg_at += count
+        _beam_changes(tables, scans, previous, usable, delta, t1[:, 3], dt)
         t1[:, 4] = delta
     s1 = _sums_in_order(seg, t1, m)
     length = s1[:, 0]
@@ -394,6 +394,88 @@ def _compute(
     else:
         out[:, 13] = 0.0
         max_motion = np.zeros(m)
+    return SegmentFeatures(out, max_motion, centres, circle_centres)
+
+
+def _beam_changes(
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    usable: Sequence[bool],
+    delta: FloatArray,
+    both: FloatArray,
+    dt: FloatArray,
+) -> None:
+    """Fill, for feature 14, every segment point's range change [m] since the same beam of
+    the previous scan ``delta`` (K,) and whether that beam is valid in both ``both`` (K,)
+    (1.0 or left as it is), and each segment's time since the previous scan ``dt`` (M,)
+    [s], for the scans with a ``usable`` previous one (left as they are for the others)."""
+    at = seg_at = 0
+    for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True):
+        size, count = table.beams.size, len(table)
+        if ok and size:
+            assert prev is not None
+            beams = table.beams
+            valid = prev.valid[beams]
+            delta[at : at + size] = np.where(valid, scan.ranges[beams] - prev.ranges[beams], 0.0)
+            both[at : at + size] = valid
+            dt[seg_at : seg_at + count] = scan.stamp - prev.stamp
+        at += size
+        seg_at += count
+
+
+def _compute_compiled(
+    ext: ModuleType,
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    params: FeatureParams,
+    full_circle: Sequence[bool],
+) -> SegmentFeatures:
+    """:func:`_compute` by the C extension ``_cfeatures``: the same floats, the same
+    operations in the same order (see ``_cfeatures.c``), in two calls for all segments of
+    the block; numpy's ``arctan2`` between them, as :func:`_compute` takes it."""
+    P, offsets = _joined(tables)
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    m = offsets.size - 1
+    k = P.shape[0]
+    counts = [len(t) for t in tables]
+    bounds = np.zeros(len(tables) + 1, dtype=np.int64)
+    np.cumsum(counts, out=bounds[1:])
+    changes = None  # (_beam_changes's, in C)
+    usable = [_usable_previous(s, p) for s, p in zip(scans, previous, strict=True)]
+    if any(usable):
+        changes = [
+            (
+                np.ascontiguousarray(table.beams, dtype=np.int64),
+                np.ascontiguousarray(scan.ranges, dtype=np.float64),
+                np.ascontiguousarray(prev.ranges, dtype=np.float64),
+                np.ascontiguousarray(prev.valid, dtype=np.bool_),
+                scan.stamp - prev.stamp,
+            )
+            if ok and prev is not None and table.beams.size
+            else None
+            for table, scan, prev, ok in zip(tables, scans, previous, usable, strict=True)
+        ]
+    out = np.empty((m, N_FEATURES))
+    centres = np.empty((m, 2))
+    max_motion = np.empty(m)
+    work = np.empty((m, 6))
+    ys = np.empty(k + m)
+    xs = np.empty(k + m)
+    circle = np.array(full_circle, dtype=np.int64)
+    t = ext.pass1(
+        P, offsets, bounds, circle, changes, float(params.no_neighbour_jump), out, centres,
+        max_motion, work, ys, xs,
+    )  # fmt: skip
+    angles = np.arctan2(ys[: t + m], xs[: t + m])
+    flip = np.array([scan.angle_increment < 0.0 for scan in scans], dtype=np.int64)
+    circle_centres = np.empty((m, 2))
+    ext.pass2(
+        P, offsets, bounds, flip, angles, float(params.no_circle_radius), out, centres, work,
+        circle_centres,
+    )  # fmt: skip
     return SegmentFeatures(out, max_motion, centres, circle_centres)
 
 

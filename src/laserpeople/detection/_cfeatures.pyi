@@ -1,0 +1,50 @@
+"""The compiled segment features and AdaBoost margins (``_cfeatures.c``; see
+:mod:`laserpeople.detection.compiled`)."""
+
+import numpy as np
+from numpy.typing import NDArray
+
+SOURCE_HASH: str
+
+def pass1(
+    points: NDArray[np.float64],
+    offsets: NDArray[np.int64],
+    tables: NDArray[np.int64],
+    circle: NDArray[np.int64],
+    changes: list[
+        tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], float]
+        | None
+    ]
+    | None,
+    no_neighbour_jump: float,
+    out: NDArray[np.float64],
+    centres: NDArray[np.float64],
+    max_motion: NDArray[np.float64],
+    work: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    xs: NDArray[np.float64],
+    /,
+) -> int: ...
+def pass2(
+    points: NDArray[np.float64],
+    offsets: NDArray[np.int64],
+    tables: NDArray[np.int64],
+    flip: NDArray[np.int64],
+    angles: NDArray[np.float64],
+    no_circle_radius: float,
+    out: NDArray[np.float64],
+    centres: NDArray[np.float64],
+    work: NDArray[np.float64],
+    circle_centres: NDArray[np.float64],
+    /,
+) -> None: ...
+def stump_sums(
+    X: NDArray[np.float64],
+    columns: NDArray[np.int64],
+    group_column: NDArray[np.int64],
+    right: NDArray[np.bool_],
+    grid: NDArray[np.float64],
+    values: NDArray[np.float64],
+    out: NDArray[np.float64],
+    /,
+) -> None: ...

@@ -14,6 +14,7 @@ where the reference has NaN (the circle centre of a straight segment).
 
 from __future__ import annotations
 
+import math
 import os
 import subprocess
 import sys
@@ -43,6 +44,25 @@ def cfeatures() -> ModuleType:
     if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
         pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
     return _cfeatures
+
+
+def _numpy_trig_is_the_c_librarys() -> bool:
+    """Whether numpy's float64 cos and sin give the C library's floats here (Python's
+    ``math.cos`` and ``math.sin`` call the C library): the compiled features call the C
+    library's, the reference numpy's. Where numpy runs its own SIMD code for them, the
+    last bits of the line-fit features may differ, and only the tolerance holds."""
+    x = np.random.default_rng(0).uniform(-4.0, 4.0, 2000)
+    return bool(
+        np.array_equal(np.cos(x), [math.cos(v) for v in x])
+        and np.array_equal(np.sin(x), [math.sin(v) for v in x])
+    )
+
+
+BIT_FOR_BIT = pytest.mark.skipif(
+    not _numpy_trig_is_the_c_librarys(),
+    reason="numpy's cos/sin here are not the C library's: the features agree within "
+    "1e-12 (the other tests), not to the last bit",
+)
 
 
 def _both(
@@ -131,6 +151,7 @@ def test_random_and_degenerate_segments_give_the_reference_features(
         _assert_same(*_both(cfeatures, tables, scans, previous, circle))
 
 
+@BIT_FOR_BIT
 def test_the_same_floats_here(cfeatures: ModuleType) -> None:
     """On this machine not a bit differs (the same operations in the same order; a sum in
     another order or a fused multiply-add would change the last bits of some)."""
@@ -167,7 +188,7 @@ def test_simulated_scans_give_the_reference_features(cfeatures: ModuleType) -> N
         last[scan.sensor] = scan
     want, got = _both(cfeatures, tables, scans, previous, [covers_full_circle(s) for s in scans])
     assert len(got) > 1000
-    np.testing.assert_array_equal(got.values, want.values)
+    _assert_same(want, got)
 
 
 def test_a_wrong_sum_order_is_told(cfeatures: ModuleType) -> None:

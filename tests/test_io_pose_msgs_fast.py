@@ -196,25 +196,27 @@ def test_the_corridor_bags_pose_data_decode_as_rosbags_decodes_them() -> None:
 
 
 def test_the_transform_tree_is_the_same_either_way(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The corridor bag's poses of its scans and its laser heights through the direct
-    decoders and through rosbags' deserialiser alone: equal."""
+    """The corridor bag's poses of its scans, its laser heights and its lasers' frame ids
+    through the direct decoders and through rosbags' deserialiser alone: equal."""
     from laserpeople.io import rosbag
 
     path = _shared(CORRIDOR)
 
-    def poses() -> tuple[list[Any], dict[str, float]]:
+    def poses() -> tuple[list[Any], dict[str, float], dict[str, str]]:
         rec = rosbag.RosbagRecording(path)
         try:
             out = [(s.index, s.pose) for _, s in zip(range(300), rec.scans(), strict=False)]
-            return out, rec.laser_heights()
+            return out, rec.laser_heights(), rec.laser_frames()
         finally:
             rec.close()
 
     fast = poses()
     monkeypatch.setattr(rosbag, "standard_pose_decoder", lambda reader, conn: None)
+    monkeypatch.setattr(rosbag, "decode_laserscan", lambda raw: None)
     slow = poses()
     assert fast == slow
     assert sum(p is not None for _, p in fast[0]) > 250
+    assert set(fast[2]) == {"/RAWLASER1", "/ROBOTLASER1"} and all(fast[2].values())
 
 
 def test_a_set_of_definitions_is_built_into_a_typestore_once(tmp_path: Path) -> None:

@@ -22,12 +22,6 @@ from laserpeople.cli.common import (
 )
 from laserpeople.cli.track import make_detector
 from laserpeople.errors import ConfigError, LaserPeopleError
-from laserpeople.pipeline.unused_options import (
-    detector_options,
-    preset_note,
-    unused_background_warning,
-    unused_detector_warning,
-)
 
 
 def _optional_topic(name: str) -> str | None:
@@ -365,6 +359,9 @@ def register(app: typer.Typer) -> None:
 
             check_outputs({"--record": record}, [config, model, map_path])
         entry = registry.get(tracker)
+        # (imported here: laserpeople.pipeline imports numpy, which `live --help` needs not)
+        from laserpeople.pipeline.unused_options import preset_note
+
         note = preset_note(tracker, entry.params_cls, preset, people_policy)
         if note:
             warn(note)
@@ -461,6 +458,8 @@ def register(app: typer.Typer) -> None:
             status.join(timeout=1.0)
             session.close()
             _summary(session, stats, record)
+            from laserpeople.pipeline.unused_options import detector_options
+
             _unused_options(session, tracker, detector_options(detector, model, config), background)
         finally:
             stop.set()
@@ -479,6 +478,10 @@ def _unused_options(session: Any, tracker: str, asked: list[str], background: st
     if pipeline is None or session.scans.counts.resets or not pipeline.stats.frames:
         return
     from laserpeople.pipeline.background import detector_used, static_model_used
+    from laserpeople.pipeline.unused_options import (
+        unused_background_warning,
+        unused_detector_warning,
+    )
 
     for unused in (
         unused_detector_warning(tracker, asked, detector_used(pipeline.stages)),

@@ -34,6 +34,7 @@ from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
 from laserpeople.io.npz import TopicInfo
+from laserpeople.io.pose_msgs_ros1 import standard_pose_decoder
 from laserpeople.io.poses import (
     KNOWN_MOUNTS,
     PoseParams,
@@ -341,9 +342,15 @@ class RosbagRecording:
         pose_conns = tf_conns + odom_conns
         try:
             # an empty connection list would mean "every topic" to rosbags
+            direct = {id(c): standard_pose_decoder(reader, c) for c in pose_conns}
             for conn, _, raw in reader.messages(connections=pose_conns) if pose_conns else ():
                 try:
-                    msg: Any = reader.deserialize(raw, conn.msgtype)
+                    decode = direct.get(id(conn))
+                    msg: Any = None
+                    if decode is not None and isinstance(raw, bytes | bytearray | memoryview):
+                        msg = decode(raw)  # (None: not the standard layout)
+                    if msg is None:
+                        msg = reader.deserialize(raw, conn.msgtype)
                     if conn.msgtype in TF_TYPES:
                         msg.transforms  # noqa: B018  (a record filed under another type)
                     else:
@@ -453,7 +460,15 @@ class RosbagRecording:
             try:
                 for conn, _, raw in self._reader.messages(connections=self._connections[name]):
                     try:
-                        msg = self._reader.deserialize(raw, conn.msgtype)
+                        # (a standard LaserScan decoded directly, as the scans are: rosbags'
+                        # deserialiser would be generated for this one message)
+                        msg: Any = None
+                        if is_standard_laserscan(self._reader, conn) and isinstance(
+                            raw, bytes | bytearray | memoryview
+                        ):
+                            msg = decode_laserscan(raw)
+                        if msg is None:
+                            msg = self._reader.deserialize(raw, conn.msgtype)
                         out[name] = normalise_frame(str(msg.header.frame_id))
                     except Exception:
                         if self.damaged.on_error == "stop":

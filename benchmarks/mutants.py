@@ -2082,6 +2082,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_options.py",),
     ),
     Mutant(
+        "train-minimum-inclusive",
+        "train: exactly the minimum of legs is enough (a near miss refuses it)",
+        "detection/training.py",
+        '(others, "non-legs")) if n < minimum]',
+        '(others, "non-legs")) if n <= minimum]',
+        ("tests/test_hardening_train.py",),
+    ),
+    Mutant(
+        "train-minimum-variants-summed",
+        "train --augment: legs counted once as recorded, not once per scanner variant",
+        "detection/training.py",
+        "return max(int((y > 0).sum()) for y in seen), max(",
+        "return sum(int((y > 0).sum()) for y in seen), sum(",
+        ("tests/test_hardening_train.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

@@ -346,7 +346,8 @@ def test_train_writes_its_model_into_a_missing_folder(tmp_path: Path, shared_dat
     out = tmp_path / "new" / "model.json"
     neko = shared_data / "neko7055"
     run = CliRunner().invoke(
-        app, ["train", "--neko", str(neko), "--neko-frames", "0-3", "--rounds", "1", "-o", str(out)]
+        app,
+        ["train", "--neko", str(neko), "--neko-frames", "0-19", "--rounds", "1", "-o", str(out)],
     )
     assert run.exit_code == 0, run.output
     assert out.is_file()

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import uuid
+from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
@@ -37,14 +41,34 @@ def render(
             (the message names it).
     """
     p = Path(out)
+    # the MCAP export assembles its file beside ``out`` itself; the other writers stream into
+    # a file of their own beside it that replaces ``out`` once complete, so that a full disk
+    # or an interruption leaves no torn picture and an older file as it was
+    staged = p.suffix.lower() in OUTPUT_KINDS and p.suffix.lower() != ".mcap"
+    target = _staging_name(p) if staged else p
     try:
-        return _render(scene, p, scan, size, extent, fps, trail, progress)
+        result = _render(scene, target, scan, size, extent, fps, trail, progress)
+        if staged:
+            os.replace(target, p)
+        return replace(result, path=p)
+    except LaserPeopleError as exc:
+        raise exc.moved(target, p) from exc.__cause__
     except OSError as exc:  # image and animation writers let file-system errors through
         raise LaserPeopleError(
             f"cannot write the output: {why_unwritable(exc, p)}",
             path=p,
             hint="give -o a path in a writable directory",
         ) from exc
+    finally:
+        if staged:
+            with suppress(OSError):
+                target.unlink(missing_ok=True)
+
+
+def _staging_name(p: Path) -> Path:
+    """A hidden file beside ``p`` with its extension (the writers choose by it), named for
+    this process alone so that two runs writing the same output do not share it."""
+    return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
 
 
 def _render(

@@ -2122,6 +2122,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_pictures.py",),
     ),
     Mutant(
+        "batch-workers-take-ctrl-c",
+        "batch: local workers start with Ctrl-C ignored; this process shuts them down",
+        "batch/run.py",
+        "    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)",
+        "    handler = signal.getsignal(signal.SIGINT)",
+        ("tests/test_hardening_batch_interrupt.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

@@ -23,6 +23,8 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import signal
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator, Sequence
@@ -103,19 +105,33 @@ def open_client(spec: ClusterSpec) -> Iterator[Any]:
     config = {
         "distributed.scheduler.allowed-failures": spec.retries,
     }
-    with (
-        dask.config.set(config),
-        LocalCluster(
+    with dask.config.set(config), workers_deaf_to_ctrl_c():
+        cluster = LocalCluster(
             n_workers=spec.workers or machine_workers(),
             threads_per_worker=spec.threads,
             processes=spec.processes,
             memory_limit=spec.memory_limit,
             dashboard_address=":0",
             silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+        )
+    with dask.config.set(config), cluster, Client(cluster) as client:
         yield client
+
+
+@contextmanager
+def workers_deaf_to_ctrl_c() -> Iterator[None]:
+    """Start worker processes with SIGINT ignored (they inherit it): a terminal's Ctrl-C
+    goes to every process of the command, and workers that took it printed a traceback each
+    while this process, which took it too, shuts them down. Off the main thread (where
+    Python cannot set handlers) nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, handler)
 
 
 @dataclass

@@ -38,3 +38,21 @@ def test_bench_says_the_frame_and_the_frames_it_timed(poses_stop: tuple[Path, in
     )
     doc = json.loads(as_json.stdout)
     assert (doc["scans"], doc["tracking_frame"], doc["tracked_frames"]) == (n, "world", posed)
+
+
+@pytest.mark.parametrize(
+    ("window", "said"),
+    [
+        (["--start", "5000"], "(scans from 5000): topic laser holds scans 0-{last}"),
+        (["--start", "500", "--stop", "600"], "(scans 500-599): topic laser holds scans 0-{last}"),
+    ],
+)
+@pytest.mark.parametrize("out", ["v.png", "v.gif"])
+def test_view_of_a_window_beyond_the_recording_names_the_scans_it_holds(
+    poses_stop: tuple[Path, int, int], tmp_path: Path, window: list[str], said: str, out: str
+) -> None:
+    rec, n, _ = poses_stop
+    run = CliRunner().invoke(app, ["view", str(rec), "-o", str(tmp_path / out), *window])
+    assert run.exit_code == 1
+    assert f"no scans in the chosen window {said.format(last=n - 1)}" in str(run.exception)
+    assert not (tmp_path / out).exists()

@@ -2130,6 +2130,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_batch_interrupt.py",),
     ),
     Mutant(
+        "csv-lock-shared",
+        "tracks/detections CSV: one writer at a time (a shared lock lets two mix their rows)",
+        "io/scan_lines.py",
+        "fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)",
+        "fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)",
+        ("tests/test_hardening_commands.py",),
+    ),
+    Mutant(
+        "csv-taken-not-emptied",
+        "tracks/detections CSV: a file taken over is emptied (opened without O_TRUNC)",
+        "io/scan_lines.py",
+        "        os.ftruncate(fd, 0)\n",
+        "        pass\n",
+        ("tests/test_hardening_commands.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

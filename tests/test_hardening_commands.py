@@ -56,3 +56,60 @@ def test_view_of_a_window_beyond_the_recording_names_the_scans_it_holds(
     assert run.exit_code == 1
     assert f"no scans in the chosen window {said.format(last=n - 1)}" in str(run.exception)
     assert not (tmp_path / out).exists()
+
+
+@pytest.mark.parametrize("writer", ["tracks", "detections"])
+def test_a_csv_another_run_is_writing_is_refused_and_left_as_it_is(
+    tmp_path: Path, writer: str
+) -> None:
+    """Two runs with one -o at once mixed their rows into a file neither wrote; the second
+    is refused before it changes a byte, and the first writes on."""
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.detections_csv import DetectionsCsvWriter
+    from laserpeople.io.tracks_csv import TracksCsvWriter
+
+    make = TracksCsvWriter if writer == "tracks" else DetectionsCsvWriter
+    out = tmp_path / "run.csv"
+    with make(out) as first:
+        before = out.read_bytes()
+        with pytest.raises(RecordingError) as info:
+            make(out)
+        assert str(info.value).startswith(f"{out}: another run is writing this {writer} CSV now")
+        assert out.read_bytes() == before
+        assert first.rows == 0
+    with make(out):  # once the first has closed it, the file is free again
+        pass
+    assert out.read_bytes() == before
+
+
+def test_an_older_file_is_emptied_when_taken(tmp_path: Path) -> None:
+    from laserpeople.io.tracks_csv import TracksCsvWriter
+
+    out = tmp_path / "run.csv"
+    out.write_text("x" * 10_000)
+    with TracksCsvWriter(out):
+        pass
+    assert (
+        out.read_text() == "scan,stamp,track_id,kind,x,y,vx,vy,cov_xx,cov_xy,cov_yy,size,labels\n"
+    )
+
+
+def test_staging_names_differ_per_call_and_keep_the_extension(tmp_path: Path) -> None:
+    """Two runs writing one output at once each write their own hidden file (one name would
+    let their bytes mix before the rename); the extension stays for writers that need it."""
+    import os
+
+    from laserpeople.io.paths import staging_name
+
+    out = tmp_path / "walk.npz"
+    a, b = staging_name(out), staging_name(out)
+    assert a != b and a.parent == b.parent == tmp_path
+    assert a.name.startswith(".walk.") and a.suffix == ".npz"
+    assert f".{os.getpid()}-" in a.name
+
+
+def test_simulate_leaves_no_staging_file(tmp_path: Path) -> None:
+    out = tmp_path / "walk.npz"
+    run = CliRunner().invoke(app, ["simulate", "figure-eight", "-s", "1", "-o", str(out)])
+    assert run.exit_code == 0, run.output
+    assert [p.name for p in tmp_path.iterdir()] == ["walk.npz"]

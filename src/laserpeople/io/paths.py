@@ -135,6 +135,17 @@ def check_outputs(
                 )
 
 
+def staging_name(path: str | Path) -> Path:
+    """A hidden file beside ``path`` to write it under until it is complete (then
+    ``os.replace`` gives it its name): named for this process and call alone, so that two
+    runs writing one output at once never write into the same file (the last complete one
+    wins), and ending in ``path``'s extension, for writers that choose the format by it."""
+    import uuid
+
+    p = Path(path)
+    return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
+
+
 def write_text_file(
     path: str | Path, text: str, what: str, error: type[LaserPeopleError] = ConfigError
 ) -> Path:
@@ -150,7 +161,7 @@ def write_text_file(
         LaserPeopleError: (``error``) the file cannot be written; names it.
     """
     p = Path(path)
-    tmp = p.with_name(f".{p.name}.tmp")
+    tmp = staging_name(p)
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
         tmp.write_text(text, encoding="utf-8")

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import os
-import uuid
 from contextlib import suppress
 from dataclasses import replace
 from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import staging_name, why_unwritable
 from laserpeople.viz.figure import Extent
 from laserpeople.viz.raster import RenderResult, animate, plot_overview, plot_scan
 from laserpeople.viz.scene import ProgressFn, Scene
@@ -45,7 +44,7 @@ def render(
     # a file of their own beside it that replaces ``out`` once complete, so that a full disk
     # or an interruption leaves no torn picture and an older file as it was
     staged = p.suffix.lower() in OUTPUT_KINDS and p.suffix.lower() != ".mcap"
-    target = _staging_name(p) if staged else p
+    target = staging_name(p) if staged else p
     try:
         result = _render(scene, target, scan, size, extent, fps, trail, progress)
         if staged:
@@ -63,12 +62,6 @@ def render(
         if staged:
             with suppress(OSError):
                 target.unlink(missing_ok=True)
-
-
-def _staging_name(p: Path) -> Path:
-    """A hidden file beside ``p`` with its extension (the writers choose by it), named for
-    this process alone so that two runs writing the same output do not share it."""
-    return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
 
 
 def _render(

@@ -2146,6 +2146,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_commands.py",),
     ),
     Mutant(
+        "build-one-name-only-str",
+        "build/run_batch: a single path where a list is asked for is refused like a string",
+        "pipeline/recording.py",
+        "    if isinstance(given, str | Path):",
+        "    if isinstance(given, str):",
+        ("tests/test_hardening_commands.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

@@ -113,3 +113,45 @@ def test_simulate_leaves_no_staging_file(tmp_path: Path) -> None:
     run = CliRunner().invoke(app, ["simulate", "figure-eight", "-s", "1", "-o", str(out)])
     assert run.exit_code == 0, run.output
     assert [p.name for p in tmp_path.iterdir()] == ["walk.npz"]
+
+
+@pytest.mark.parametrize(
+    ("keyword", "given", "said"),
+    [
+        ("topics", "/scan", "topics takes a list, got the single str '/scan'"),
+        ("outputs", "tracks.csv", "outputs takes a list, got the single str 'tracks.csv'"),
+        ("outputs", Path("t.csv"), "outputs takes a list, got the single PosixPath 't.csv'"),
+        ("mounts", "mir100", "mounts takes a list, got the single str 'mir100'"),
+    ],
+)
+def test_build_refuses_one_name_where_a_list_is_asked(
+    tmp_path: Path, keyword: str, given: object, said: str
+) -> None:
+    """``topics="/scan"`` was read letter by letter: "no topic '/'"; refused before the
+    recording is opened (it need not exist)."""
+    from laserpeople.errors import ConfigError
+    from laserpeople.pipeline import build
+
+    with pytest.raises(ConfigError) as info:
+        build(tmp_path / "missing.bag", **{keyword: given})  # type: ignore[arg-type]
+    assert str(info.value).startswith(said)
+    assert f"write {keyword}=[" in str(info.value)
+
+
+def test_build_takes_lists_as_before(poses_stop: tuple[Path, int, int], tmp_path: Path) -> None:
+    from laserpeople.pipeline import build
+
+    rec = poses_stop[0]
+    out = tmp_path / "t.csv"
+    stats = build(rec, topics=("laser",), outputs=[out], tracker="nn").run()
+    assert stats.frames > 0 and out.is_file()
+
+
+def test_run_batch_refuses_one_recording_given_as_a_string(tmp_path: Path) -> None:
+    pytest.importorskip("dask.distributed")
+    from laserpeople.batch import TrackOptions, run_batch
+    from laserpeople.errors import ConfigError
+
+    with pytest.raises(ConfigError, match=r"recordings takes a list, got the single str 'a\.npz'"):
+        run_batch("a.npz", tmp_path / "out", TrackOptions())
+    assert not (tmp_path / "out").exists()

@@ -225,6 +225,9 @@ def run_batch(
     start = time.perf_counter()
     resolved = options if isinstance(options, ResolvedTrack) else resolve(options)
     folder = Path(out)
+    from laserpeople.pipeline.recording import refuse_one_for_many
+
+    refuse_one_for_many("recordings", recordings)
     paths = [Path(r) for r in recordings]
     for p in paths:
         if folder.resolve() == p.resolve():

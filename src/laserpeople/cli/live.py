@@ -496,11 +496,18 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
     """
     counts = session.scans.counts
     run = session.run
+    end = session.scans.now()
     for laser in session.topics.lasers:
         say(
             f"{laser}: {counts.received[laser]} scans received, {counts.dropped[laser]} dropped "
             f"(queue full), {counts.undecodable[laser]} undecodable"
         )
+        quiet = counts.silence(laser, end)
+        if quiet is not None:
+            warn(
+                f"{laser}: no scan in the last {quiet:.1f} s of the run: the laser, its "
+                "driver, the robot or the link stopped publishing (the tracks end there)"
+            )
         if laser in counts.errors:
             warn(f"{laser}: {counts.errors[laser]}")
     if session.scans.transforms is not None:

@@ -155,3 +155,35 @@ def test_run_batch_refuses_one_recording_given_as_a_string(tmp_path: Path) -> No
     with pytest.raises(ConfigError, match=r"recordings takes a list, got the single str 'a\.npz'"):
         run_batch("a.npz", tmp_path / "out", TrackOptions())
     assert not (tmp_path / "out").exists()
+
+
+def test_a_per_frame_table_on_a_full_disk_leaves_the_older_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`evaluate --per-frame` on a full disk wrote over the older table with a torn one."""
+    import errno
+
+    from laserpeople.errors import EvaluationError
+    from laserpeople.evaluation.detail import FrameTable
+
+    real = Path.write_text
+
+    def full(self: Path, text: str, *args: object, **kwargs: object) -> int:
+        real(self, text[:20], encoding="utf-8")  # what fitted before the disk was full
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    out = tmp_path / "per-frame.csv"
+    out.write_text("the older table\n")
+    table = FrameTable(("scan", "stamp", "misses"), ((0, 0.0, 1), (1, 0.1, 0)))
+    monkeypatch.setattr(Path, "write_text", full)
+    with pytest.raises(EvaluationError) as info:
+        table.to_csv(out)
+    monkeypatch.undo()
+    assert str(info.value) == (
+        f"{out}: cannot write the per-frame table: No space left on device "
+        "(give a writable file path)"
+    )
+    assert out.read_text() == "the older table\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["per-frame.csv"]
+    table.to_csv(out)
+    assert out.read_text() == "scan,stamp,misses\n0,0.000000,1\n1,0.100000,0\n"

@@ -147,7 +147,11 @@ def staging_name(path: str | Path) -> Path:
 
 
 def write_text_file(
-    path: str | Path, text: str, what: str, error: type[LaserPeopleError] = ConfigError
+    path: str | Path,
+    text: str,
+    what: str,
+    error: type[LaserPeopleError] = ConfigError,
+    hint: str = "choose a writable file path with -o",
 ) -> Path:
     """Write ``text`` to ``path`` whole: its folder is created as the other outputs' are, the
     text goes to a temporary file beside it that replaces ``path`` once written (a failed
@@ -156,6 +160,7 @@ def write_text_file(
     Args:
         what: What the file holds, for the error (``"model"``).
         error: The error class raised.
+        hint: What to do, for the error.
 
     Raises:
         LaserPeopleError: (``error``) the file cannot be written; names it.
@@ -172,6 +177,6 @@ def write_text_file(
         raise error(
             f"cannot write the {what}: {why_unwritable(exc, p)}",
             path=p,
-            hint="choose a writable file path with -o",
+            hint=hint,
         ) from exc
     return p

@@ -187,3 +187,13 @@ def test_a_per_frame_table_on_a_full_disk_leaves_the_older_file(
     assert [p.name for p in tmp_path.iterdir()] == ["per-frame.csv"]
     table.to_csv(out)
     assert out.read_text() == "scan,stamp,misses\n0,0.000000,1\n1,0.100000,0\n"
+
+
+def test_align_of_one_laser_names_the_file_and_the_laser(
+    poses_stop: tuple[Path, int, int], tmp_path: Path
+) -> None:
+    rec = poses_stop[0]
+    run = CliRunner().invoke(app, ["align", str(rec), "-o", str(tmp_path / "m.toml")])
+    assert run.exit_code == 1
+    assert str(run.exception).startswith(f"{rec}: need two lasers to align, found 1 (laser)")
+    assert not (tmp_path / "m.toml").exists()

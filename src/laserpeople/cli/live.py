@@ -456,10 +456,17 @@ def register(app: typer.Typer) -> None:
             if timer is not None:
                 timer.start()
             status.start()
-            stats = session.run.run()
-            stop.set()
-            status.join(timeout=1.0)
-            session.close()
+            try:
+                stats = session.run.run()
+                stop.set()
+                status.join(timeout=1.0)
+                session.close()
+            except LaserPeopleError:  # e.g. --record on a full disk: what ran is still said
+                stop.set()
+                status.join(timeout=1.0)
+                if sum(session.scans.counts.received.values()):
+                    _summary(session, session.run.stats, None)
+                raise
             _summary(session, stats, record)
             _unused_options(session, tracker, detector_options(detector, model, config), background)
         finally:

@@ -197,3 +197,52 @@ def test_align_of_one_laser_names_the_file_and_the_laser(
     assert run.exit_code == 1
     assert str(run.exception).startswith(f"{rec}: need two lasers to align, found 1 (laser)")
     assert not (tmp_path / "m.toml").exists()
+
+
+@pytest.mark.parametrize(
+    ("offset_periods", "shift"),
+    [
+        (-100.0, 100),  # a label numbered i has the stamp of scan i - 100
+        (-100.015, 100),  # within 0.02 of a period
+        (-100.025, 0),  # beyond it: an unrelated clock
+        (3.0, -3),
+        (0.4, 0),  # under a period: another clock (the receive time)
+        (-374.0, 374),  # fewer than the 375 scans the tracks span
+        (-375.0, 0),  # not fewer: far beyond the recording
+        (-37500.0, 0),
+    ],
+)
+def test_a_stamp_offset_of_whole_scan_periods_is_a_shift_of_the_numbering(
+    offset_periods: float, shift: int
+) -> None:
+    from laserpeople.evaluation.pairing import PairingCounts
+
+    period = 10.0 / 375  # tracks of scans 0-375 over 10 s
+    counts = PairingCounts(tracks_scans=(0, 375), tracks_stamps=(100.0, 110.0))
+    assert counts.scan_shift(offset_periods * period) == shift
+
+
+def test_evaluate_says_a_truth_numbered_from_another_scan(tmp_path: Path) -> None:
+    """Labels numbered 100 scans late scored tracks of other scans, with only a note on
+    another clock; now a warning naming the shift."""
+    import csv
+
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "walk.npz"
+    run_scenario("figure-eight", seconds=6.0, seed=1).write(rec)
+    tracks = tmp_path / "t.csv"
+    assert CliRunner().invoke(app, ["track", str(rec), "-o", str(tracks)]).exit_code == 0
+    with np.load(rec) as z:
+        index, stamp, offset = z["truth_scan_index"], z["truth_stamp"], z["truth_offset"]
+        ids, xy = z["truth_person_id"], z["truth_xy"]
+    truth = tmp_path / "truth.csv"
+    with truth.open("w", newline="") as fh:
+        out = csv.writer(fh)
+        out.writerow(["scan", "stamp", "person_id", "x", "y"])
+        for k in range(len(index)):
+            for j in range(offset[k], offset[k + 1]):
+                out.writerow([index[k] + 100, stamp[k], ids[j], xy[j, 0], xy[j, 1]])
+    run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(truth)])
+    assert "100 scan periods, so the truth's scan numbers may be +100 off" in run.output
+    assert "warning: truth stamps are -" in run.output

@@ -2131,11 +2131,11 @@ MUTANTS: tuple[Mutant, ...] = (
     ),
     Mutant(
         "csv-lock-shared",
-        "tracks/detections CSV: one writer at a time (a shared lock lets two mix their rows)",
-        "io/scan_lines.py",
+        "tracks/detections CSV, batch folder: one writer at a time (a shared lock lets two in)",
+        "io/paths.py",
         "fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)",
         "fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)",
-        ("tests/test_hardening_commands.py",),
+        ("tests/test_hardening_commands.py", "tests/test_hardening_batch_interrupt.py"),
     ),
     Mutant(
         "csv-taken-not-emptied",

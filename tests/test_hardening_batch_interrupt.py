@@ -65,3 +65,24 @@ def test_batch_interrupted_says_what_is_kept_and_how_to_go_on(
     assert f"{out / 'manifest.jsonl'} are kept" in run.output
     assert "the same command again tracks the rest" in run.output
     assert "interrupted (Ctrl-C)" in run.output
+
+
+def test_a_second_batch_into_a_folder_in_use_is_refused(tmp_path: Path) -> None:
+    """Two runs into one folder took each other's task starts for dead workers ("started 2
+    times") and wrote one summary over the other; the second is refused before it starts."""
+    from laserpeople.batch import TrackOptions, run_batch
+    from laserpeople.batch.run import one_run_in
+    from laserpeople.errors import ConfigError
+
+    out = tmp_path / "out"
+    out.mkdir()
+    with one_run_in(out):
+        with pytest.raises(ConfigError) as info:
+            run_batch([tmp_path / "a.npz"], out, TrackOptions(), client=object())
+        assert str(info.value) == (
+            f"{out}: another batch run is writing into this folder now (wait until it has "
+            "finished, or give --out another folder)"
+        )
+        assert sorted(p.name for p in out.iterdir()) == [".batch"]
+    with one_run_in(out):  # free again once the first has finished
+        pass

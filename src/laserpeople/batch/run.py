@@ -48,7 +48,7 @@ from laserpeople.batch.task import (
 )
 from laserpeople.batch.unused import unused_warnings
 from laserpeople.errors import ConfigError
-from laserpeople.io.paths import make_folder
+from laserpeople.io.paths import lock_for_one_writer, make_folder
 
 
 @dataclass(frozen=True)
@@ -233,43 +233,67 @@ def run_batch(
         if folder.resolve() == p.resolve():
             raise ConfigError("--out is one of the recordings", path=p)
     make_folder(folder, "--out")
-    manifest = Manifest(folder)
-    slots: list[list[TopicRow] | None] = [None] * len(paths)
-    tasks: list[tuple[int, RecordingTask]] = []
-    for k, (path, name) in enumerate(zip(paths, recording_names(paths), strict=True)):
-        try:
-            digest = content_hash(path)
-        except Exception as exc:
-            slots[k] = [_row_failed(path, name, exc, resolved)]
-            if on_done is not None:
-                on_done(slots[k] or [])
-            continue
-        done = None if force else manifest.done_rows(name, digest, resolved.digest)
-        if done is not None:
-            slots[k] = done
-            if on_done is not None:
-                on_done(done)
-            continue
-        tasks.append((k, RecordingTask(path.absolute(), name, folder.absolute(), resolved, digest)))
-    result = BatchResult()
-    if tasks:
-        if client is not None:
-            _gather(
-                client, tasks, slots, manifest, cluster or ClusterSpec(), on_done, task_function
+    with one_run_in(folder):
+        manifest = Manifest(folder)
+        slots: list[list[TopicRow] | None] = [None] * len(paths)
+        tasks: list[tuple[int, RecordingTask]] = []
+        for k, (path, name) in enumerate(zip(paths, recording_names(paths), strict=True)):
+            try:
+                digest = content_hash(path)
+            except Exception as exc:
+                slots[k] = [_row_failed(path, name, exc, resolved)]
+                if on_done is not None:
+                    on_done(slots[k] or [])
+                continue
+            done = None if force else manifest.done_rows(name, digest, resolved.digest)
+            if done is not None:
+                slots[k] = done
+                if on_done is not None:
+                    on_done(done)
+                continue
+            tasks.append(
+                (k, RecordingTask(path.absolute(), name, folder.absolute(), resolved, digest))
             )
-            result.workers = len(client.scheduler_info().get("workers", {}))
-        else:
-            spec = cluster or ClusterSpec()
-            with open_client(spec) as own:
-                result.workers = len(own.scheduler_info().get("workers", {}))
-                _gather(own, tasks, slots, manifest, spec, on_done, task_function)
-    manifest.compact()
-    result.rows = [row for rows in slots for row in (rows or [])]
-    result.submitted = len(tasks)
-    result.summary = write_summary(result.rows, folder)
-    result.unused = unused_warnings(result.rows, resolved.options)
-    result.seconds = time.perf_counter() - start
-    return result
+        result = BatchResult()
+        if tasks:
+            if client is not None:
+                _gather(
+                    client, tasks, slots, manifest, cluster or ClusterSpec(), on_done, task_function
+                )
+                result.workers = len(client.scheduler_info().get("workers", {}))
+            else:
+                spec = cluster or ClusterSpec()
+                with open_client(spec) as own:
+                    result.workers = len(own.scheduler_info().get("workers", {}))
+                    _gather(own, tasks, slots, manifest, spec, on_done, task_function)
+        manifest.compact()
+        result.rows = [row for rows in slots for row in (rows or [])]
+        result.submitted = len(tasks)
+        result.summary = write_summary(result.rows, folder)
+        result.unused = unused_warnings(result.rows, resolved.options)
+        result.seconds = time.perf_counter() - start
+        return result
+
+
+@contextmanager
+def one_run_in(folder: Path) -> Iterator[None]:
+    """Hold ``folder`` (a batch output folder) for this run alone: two runs into one folder
+    at once took each other's task starts for workers that died, and wrote one summary over
+    the other.
+
+    Raises:
+        ConfigError: another run holds it; names the folder.
+    """
+    marker = folder / ".batch" / "run.lock"
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    with open(marker, "a") as fh:
+        if not lock_for_one_writer(fh.fileno()):
+            raise ConfigError(
+                "another batch run is writing into this folder now",
+                path=folder,
+                hint="wait until it has finished, or give --out another folder",
+            )
+        yield
 
 
 def _gather(

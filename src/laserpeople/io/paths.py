@@ -135,6 +135,23 @@ def check_outputs(
                 )
 
 
+def lock_for_one_writer(fd: int) -> bool:
+    """Take an exclusive lock (``flock``, released when ``fd`` is closed) on the open file
+    ``fd``: False when another process holds it; True when taken, or when the system or the
+    file system has no such locks (some network ones: then nothing is locked)."""
+    try:
+        import fcntl
+    except ImportError:  # not on a POSIX system
+        return True
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
 def staging_name(path: str | Path) -> Path:
     """A hidden file beside ``path`` to write it under until it is complete (then
     ``os.replace`` gives it its name): named for this process and call alone, so that two

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from laserpeople.errors import LaserPeopleWarning, RecordingError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import lock_for_one_writer, why_unwritable
 
 PAGE = mmap.PAGESIZE  # bytes the kernel copies between two checks for a fatal signal
 
@@ -155,22 +155,13 @@ def claim(fd: int, path: Path, what: str) -> None:
 
     if not stat.S_ISREG(os.fstat(fd).st_mode):
         return
-    try:
-        import fcntl
-    except ImportError:  # not on a POSIX system: emptied without a lock
-        fcntl = None  # type: ignore[assignment]
-    if fcntl is not None:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise RecordingError(
-                f"another run is writing this {what} now: two runs writing one file would "
-                "mix their rows; it is left as it is",
-                path=path,
-                hint="give each run its own -o, or wait until the other has finished",
-            ) from None
-        except OSError:  # a file system without locks (some network ones): write unlocked
-            pass
+    if not lock_for_one_writer(fd):
+        raise RecordingError(
+            f"another run is writing this {what} now: two runs writing one file would "
+            "mix their rows; it is left as it is",
+            path=path,
+            hint="give each run its own -o, or wait until the other has finished",
+        )
     try:
         os.ftruncate(fd, 0)
     except OSError as exc:

@@ -246,3 +246,71 @@ def test_evaluate_says_a_truth_numbered_from_another_scan(tmp_path: Path) -> Non
     run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(truth)])
     assert "100 scan periods, so the truth's scan numbers may be +100 off" in run.output
     assert "warning: truth stamps are -" in run.output
+
+
+@pytest.fixture(scope="module")
+def tracked(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, Path]:
+    """A simulated walk and its tracks as a CSV and as the bag of ``track --bag``."""
+    from laserpeople.sim.scenarios import run_scenario
+
+    folder = tmp_path_factory.mktemp("tracked")
+    rec = folder / "walk.npz"
+    run_scenario("figure-eight", seconds=2.0, seed=2).write(rec)
+    csv, bag = folder / "t.csv", folder / "t.mcap"
+    run = CliRunner().invoke(app, ["track", str(rec), "-o", str(csv), "--bag", str(bag)])
+    assert run.exit_code == 0, run.output
+    return rec, csv, bag
+
+
+def _parquet_of(csv: Path, out: Path) -> Path:
+    """The tracks of ``csv`` as `batch --format parquet` writes them."""
+    pytest.importorskip("pyarrow")
+    from types import SimpleNamespace
+
+    from laserpeople.batch.parquet import TracksParquetSink
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+
+    sink = TracksParquetSink(out)
+    for t in iter_tracks_csv(csv):
+        sink.write(SimpleNamespace(topic="laser"), t)  # type: ignore[arg-type]
+    sink.close()
+    return out
+
+
+def test_view_and_evaluate_read_every_tracks_file_the_package_writes(
+    tracked: tuple[Path, Path, Path], tmp_path: Path
+) -> None:
+    """`view --tracks` read only CSVs ("not a text CSV: not UTF-8" for the bag of `track
+    --bag` and the Parquet of `batch`), `evaluate` of one Parquet file likewise."""
+    rec, csv, bag = tracked
+    parquet = _parquet_of(csv, tmp_path / "t.parquet")
+    for tracks in (csv, bag, parquet):
+        out = tmp_path / f"{tracks.suffix[1:]}.png"
+        run = CliRunner().invoke(app, ["view", str(rec), "--tracks", str(tracks), "-o", str(out)])
+        assert run.exit_code == 0, (tracks, run.output)
+        assert "may not belong" not in run.output and out.is_file()
+    scores = {}
+    for tracks in (csv, bag, parquet):
+        run = CliRunner().invoke(
+            app, ["--quiet", "evaluate", str(tracks), "--truth", str(rec), "--json"]
+        )
+        assert run.exit_code == 0, (tracks, run.output)
+        scores[tracks.suffix] = json.loads(run.stdout)["mota"]
+    assert scores[".csv"] == pytest.approx(scores[".parquet"], abs=1e-12)
+    assert scores[".csv"] == pytest.approx(scores[".mcap"], abs=1e-3)  # (bag: float32 positions)
+
+
+def test_a_truth_given_with_a_batch_folder_says_that_its_truth_is_found_by_name(
+    tracked: tuple[Path, Path, Path], tmp_path: Path
+) -> None:
+    rec, csv, _ = tracked
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.csv").write_text(
+        f"recording,name,topic,status,output\n{rec},walk,laser,done,{csv}\n"
+    )
+    run = CliRunner().invoke(app, ["evaluate", str(out), "--truth", str(rec)])
+    assert run.exit_code == 1
+    assert str(run.exception).startswith(
+        "0 TRACKS files but 1 --truth (1 batch folder: its recordings' truth is found by name"
+    )

@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from laserpeople.errors import LaserPeopleError, PoseUnavailableError, RecordingError
 from laserpeople.io import RecordingSource, open_recording
 from laserpeople.io.topics import no_laser_topic
-from laserpeople.io.tracks_csv import convert_tracks, iter_tracks_csv
+from laserpeople.io.tracks_csv import convert_tracks
+from laserpeople.io.tracks_files import read_tracks_file
 from laserpeople.io.truth_csv import read_truth_csv
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.tracks import Track, Tracks
@@ -275,7 +276,7 @@ class Scene:
         if tracks is None:
             return iter(())
         if isinstance(tracks, str | Path):
-            return iter_tracks_csv(tracks, frame=self.tracks_frame)
+            return read_tracks_file(tracks, self.tracks_frame)
         return iter(tracks)
 
     def track_kinds(self) -> frozenset[str]:

@@ -2101,7 +2101,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "render-written-in-place",
         "view/track --animate: a picture is written under its own name, not staged beside it",
         "viz/render.py",
-        "    target = _staging_name(p) if staged else p",
+        "    target = staging_name(p) if staged else p",
         "    target = p",
         ("tests/test_hardening_pictures.py",),
     ),

@@ -307,7 +307,8 @@ def align_lasers(
     names = list(dict.fromkeys(s.sensor for s in scans))
     if len(names) < 2:
         raise AlignmentError(
-            f"need two lasers to align, found {len(names)}", hint="give a multi-laser recording"
+            f"need two lasers to align, found {len(names)}" + (f" ({names[0]})" if names else ""),
+            hint="give a recording of several lasers that see the same walls",
         )
     ref = reference or names[0]
     if ref not in names:
@@ -408,7 +409,10 @@ def align_recording(
             for n in names
             if n in given and given[n][0] == anchor[0]
         }
-    fits = align_lasers(scans, ref, static=static, initial=initial, params=params)
+    try:
+        fits = align_lasers(scans, ref, static=static, initial=initial, params=params)
+    except AlignmentError as exc:
+        raise exc.located(path) from exc.__cause__
     out = []
     if anchor is not None:
         out.append(Mount(ref, anchor[0], anchor[1], None, anchor[1]))

@@ -59,6 +59,14 @@ class LaserPeopleError(Exception):
             self.args = (self._compose(),)
         return self
 
+    def moved(self, old: str | Path, new: str | Path) -> LaserPeopleError:
+        """This error naming ``new`` where it named ``old`` (an output written under a
+        staging name beside ``new`` and moved into place once complete)."""
+        if self.path == str(old):
+            self.path = str(new)
+            self.args = (self._compose(),)
+        return self
+
     def _compose(self) -> str:
         where = []
         if self.path is not None:

@@ -23,6 +23,8 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import signal
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator, Sequence
@@ -46,7 +48,7 @@ from laserpeople.batch.task import (
 )
 from laserpeople.batch.unused import unused_warnings
 from laserpeople.errors import ConfigError
-from laserpeople.io.paths import make_folder
+from laserpeople.io.paths import lock_for_one_writer, make_folder
 
 
 @dataclass(frozen=True)
@@ -103,19 +105,33 @@ def open_client(spec: ClusterSpec) -> Iterator[Any]:
     config = {
         "distributed.scheduler.allowed-failures": spec.retries,
     }
-    with (
-        dask.config.set(config),
-        LocalCluster(
+    with dask.config.set(config), workers_deaf_to_ctrl_c():
+        cluster = LocalCluster(
             n_workers=spec.workers or machine_workers(),
             threads_per_worker=spec.threads,
             processes=spec.processes,
             memory_limit=spec.memory_limit,
             dashboard_address=":0",
             silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+        )
+    with dask.config.set(config), cluster, Client(cluster) as client:
         yield client
+
+
+@contextmanager
+def workers_deaf_to_ctrl_c() -> Iterator[None]:
+    """Start worker processes with SIGINT ignored (they inherit it): a terminal's Ctrl-C
+    goes to every process of the command, and workers that took it printed a traceback each
+    while this process, which took it too, shuts them down. Off the main thread (where
+    Python cannot set handlers) nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, handler)
 
 
 @dataclass
@@ -209,48 +225,75 @@ def run_batch(
     start = time.perf_counter()
     resolved = options if isinstance(options, ResolvedTrack) else resolve(options)
     folder = Path(out)
+    from laserpeople.pipeline.recording import refuse_one_for_many
+
+    refuse_one_for_many("recordings", recordings)
     paths = [Path(r) for r in recordings]
     for p in paths:
         if folder.resolve() == p.resolve():
             raise ConfigError("--out is one of the recordings", path=p)
     make_folder(folder, "--out")
-    manifest = Manifest(folder)
-    slots: list[list[TopicRow] | None] = [None] * len(paths)
-    tasks: list[tuple[int, RecordingTask]] = []
-    for k, (path, name) in enumerate(zip(paths, recording_names(paths), strict=True)):
-        try:
-            digest = content_hash(path)
-        except Exception as exc:
-            slots[k] = [_row_failed(path, name, exc, resolved)]
-            if on_done is not None:
-                on_done(slots[k] or [])
-            continue
-        done = None if force else manifest.done_rows(name, digest, resolved.digest)
-        if done is not None:
-            slots[k] = done
-            if on_done is not None:
-                on_done(done)
-            continue
-        tasks.append((k, RecordingTask(path.absolute(), name, folder.absolute(), resolved, digest)))
-    result = BatchResult()
-    if tasks:
-        if client is not None:
-            _gather(
-                client, tasks, slots, manifest, cluster or ClusterSpec(), on_done, task_function
+    with one_run_in(folder):
+        manifest = Manifest(folder)
+        slots: list[list[TopicRow] | None] = [None] * len(paths)
+        tasks: list[tuple[int, RecordingTask]] = []
+        for k, (path, name) in enumerate(zip(paths, recording_names(paths), strict=True)):
+            try:
+                digest = content_hash(path)
+            except Exception as exc:
+                slots[k] = [_row_failed(path, name, exc, resolved)]
+                if on_done is not None:
+                    on_done(slots[k] or [])
+                continue
+            done = None if force else manifest.done_rows(name, digest, resolved.digest)
+            if done is not None:
+                slots[k] = done
+                if on_done is not None:
+                    on_done(done)
+                continue
+            tasks.append(
+                (k, RecordingTask(path.absolute(), name, folder.absolute(), resolved, digest))
             )
-            result.workers = len(client.scheduler_info().get("workers", {}))
-        else:
-            spec = cluster or ClusterSpec()
-            with open_client(spec) as own:
-                result.workers = len(own.scheduler_info().get("workers", {}))
-                _gather(own, tasks, slots, manifest, spec, on_done, task_function)
-    manifest.compact()
-    result.rows = [row for rows in slots for row in (rows or [])]
-    result.submitted = len(tasks)
-    result.summary = write_summary(result.rows, folder)
-    result.unused = unused_warnings(result.rows, resolved.options)
-    result.seconds = time.perf_counter() - start
-    return result
+        result = BatchResult()
+        if tasks:
+            if client is not None:
+                _gather(
+                    client, tasks, slots, manifest, cluster or ClusterSpec(), on_done, task_function
+                )
+                result.workers = len(client.scheduler_info().get("workers", {}))
+            else:
+                spec = cluster or ClusterSpec()
+                with open_client(spec) as own:
+                    result.workers = len(own.scheduler_info().get("workers", {}))
+                    _gather(own, tasks, slots, manifest, spec, on_done, task_function)
+        manifest.compact()
+        result.rows = [row for rows in slots for row in (rows or [])]
+        result.submitted = len(tasks)
+        result.summary = write_summary(result.rows, folder)
+        result.unused = unused_warnings(result.rows, resolved.options)
+        result.seconds = time.perf_counter() - start
+        return result
+
+
+@contextmanager
+def one_run_in(folder: Path) -> Iterator[None]:
+    """Hold ``folder`` (a batch output folder) for this run alone: two runs into one folder
+    at once took each other's task starts for workers that died, and wrote one summary over
+    the other.
+
+    Raises:
+        ConfigError: another run holds it; names the folder.
+    """
+    marker = folder / ".batch" / "run.lock"
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    with open(marker, "a") as fh:
+        if not lock_for_one_writer(fh.fileno()):
+            raise ConfigError(
+                "another batch run is writing into this folder now",
+                path=folder,
+                hint="wait until it has finished, or give --out another folder",
+            )
+        yield
 
 
 def _gather(

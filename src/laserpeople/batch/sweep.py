@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import csv
 import fnmatch
+import io
 import itertools
 import math
 import tomllib
@@ -39,7 +40,7 @@ from laserpeople.batch.run import BatchResult, ClusterSpec, open_client, run_bat
 from laserpeople.batch.task import TopicRow
 from laserpeople.batch.unused import unused_warnings
 from laserpeople.errors import ConfigError
-from laserpeople.io.paths import make_folder
+from laserpeople.io.paths import make_folder, write_text_file
 
 METRICS = ("hota", "deta", "assa", "mota", "idf1")
 """Metrics a sweep can rank by (pooled over recordings; higher is better)."""
@@ -269,21 +270,25 @@ SWEEP_COLUMNS = (
 
 
 def write_sweep(ranked: Sequence[SettingScore], path: Path) -> None:
-    """The ranking as CSV (:data:`SWEEP_COLUMNS`; held-out columns empty where not run)."""
-    with path.open("w", newline="", encoding="utf-8") as f:
-        writer = csv.writer(f)
-        writer.writerow(SWEEP_COLUMNS)
-        for rank, s in enumerate(ranked, start=1):
-            writer.writerow(
-                [
-                    rank,
-                    f"settings-{s.index:03d}",
-                    s.label,
-                    *(s.tune.get(m, "") for m in METRICS),
-                    *(s.held_out.get(m, "") for m in METRICS),
-                    s.failed,
-                ]
-            )
+    """The ranking as CSV (:data:`SWEEP_COLUMNS`; held-out columns empty where not run),
+    written whole (a failed write leaves the older file as it was)."""
+    f = io.StringIO()
+    writer = csv.writer(f)
+    writer.writerow(SWEEP_COLUMNS)
+    for rank, s in enumerate(ranked, start=1):
+        writer.writerow(
+            [
+                rank,
+                f"settings-{s.index:03d}",
+                s.label,
+                *(s.tune.get(m, "") for m in METRICS),
+                *(s.held_out.get(m, "") for m in METRICS),
+                s.failed,
+            ]
+        )
+    write_text_file(
+        path, f.getvalue(), "sweep ranking", hint="free disk space, or give --out a writable folder"
+    )
 
 
 __all__ = [

@@ -296,7 +296,15 @@ def register(app: typer.Typer) -> None:
                     sum(r.status == "failed" for r in rows),
                 )
 
-            result = run_batch(paths, out, options, cluster, force=force, on_done=on_done)
+            try:
+                result = run_batch(paths, out, options, cluster, force=force, on_done=on_done)
+            except KeyboardInterrupt:
+                say(
+                    f"{len(seen)} of {len(paths)} recordings finished before the interruption; "
+                    f"their tracks and rows in {out / 'manifest.jsonl'} are kept, no summary "
+                    "was written: the same command again tracks the rest and writes it"
+                )
+                raise
         report(result, out)
         raise typer.Exit(min(result.failed, MAX_EXIT))
 

@@ -109,10 +109,13 @@ def register(app: typer.Typer) -> None:
         preprocess, observe_stages = observe_stages_for(
             consumes, make_detector(detector, None, None)
         )
+        chooser = FrameChooser()
         observe = Pipeline(
-            FrameChooser()(laser_frames(scans)), preprocess=preprocess, observe=observe_stages
+            chooser(laser_frames(scans)), preprocess=preprocess, observe=observe_stages
         )
         frames = [step.frame for step in observe]
+        # the trackers are timed on the frames of that frame (without a pose, none in the world)
+        say(f"trackers timed on {len(frames)} frames, {chooser.stats.summary()}")
         stages: list[tuple[str, Callable[[], Callable[[Any], object]], Sequence[Any]]] = [
             ("detect", lambda: make_detector(detector, None, None).detect, scans)
         ]
@@ -133,6 +136,8 @@ def register(app: typer.Typer) -> None:
                         "scans": len(scans),
                         "beams": scans[0].n_beams,
                         "stages": [t.as_dict() for t in timings],
+                        "tracking_frame": chooser.stats.frame,
+                        "tracked_frames": len(frames),
                         "peak_memory_mib": memory,
                         "mht_listing": LISTING,
                         "leg_detection": DETECTION,

@@ -231,10 +231,10 @@ def register(app: typer.Typer) -> None:
         names = TrackIdNames()
         kinds = (params.kind,)
         notes: list[str] = []
-        if is_rosbag(tracks):
-            from laserpeople.io.tracks_bag import iter_tracks_bag
+        if is_rosbag(tracks) or tracks.suffix.lower() == ".parquet":
+            from laserpeople.io.tracks_files import read_tracks_file
 
-            track_stream = iter_tracks_bag(tracks, kinds=kinds)  # type: ignore[arg-type]
+            track_stream = read_tracks_file(tracks, kinds=kinds)  # type: ignore[arg-type]
         else:
             _check_kind(tracks, params.kind)
             _unstated_frame_note(tracks, truth_path, notes)
@@ -408,8 +408,16 @@ def _many(
     for folder in (t for t in tracks if t.is_dir()):
         pairs.extend(batch_pairs(folder))
     if truth and len(truth) != len(files):
+        folders = len(tracks) - len(files)
         raise ConfigError(
-            f"{len(files)} TRACKS files but {len(truth)} --truth",
+            f"{len(files)} TRACKS files but {len(truth)} --truth"
+            + (
+                f" ({folders} batch folder{'s' if folders > 1 else ''}: "
+                f"{'their' if folders > 1 else 'its'} recordings' truth is found by name, "
+                "not given)"
+                if folders
+                else ""
+            ),
             hint="give one --truth per TRACKS file, in the same order",
         )
     if files and not truth:

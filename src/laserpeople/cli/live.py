@@ -453,10 +453,17 @@ def register(app: typer.Typer) -> None:
             if timer is not None:
                 timer.start()
             status.start()
-            stats = session.run.run()
-            stop.set()
-            status.join(timeout=1.0)
-            session.close()
+            try:
+                stats = session.run.run()
+                stop.set()
+                status.join(timeout=1.0)
+                session.close()
+            except LaserPeopleError:  # e.g. --record on a full disk: what ran is still said
+                stop.set()
+                status.join(timeout=1.0)
+                if sum(session.scans.counts.received.values()):
+                    _summary(session, session.run.stats, None)
+                raise
             _summary(session, stats, record)
             from laserpeople.pipeline.unused_options import detector_options
 
@@ -499,11 +506,18 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
     """
     counts = session.scans.counts
     run = session.run
+    end = session.scans.now()
     for laser in session.topics.lasers:
         say(
             f"{laser}: {counts.received[laser]} scans received, {counts.dropped[laser]} dropped "
             f"(queue full), {counts.undecodable[laser]} undecodable"
         )
+        quiet = counts.silence(laser, end)
+        if quiet is not None:
+            warn(
+                f"{laser}: no scan in the last {quiet:.1f} s of the run: the laser, its "
+                "driver, the robot or the link stopped publishing (the tracks end there)"
+            )
         if laser in counts.errors:
             warn(f"{laser}: {counts.errors[laser]}")
     if session.scans.transforms is not None:

@@ -115,6 +115,21 @@ class LabelledSegments:
         """Number of non-legs."""
         return int((self.labels < 0).sum())
 
+    def recorded_counts(self) -> tuple[int, int]:
+        """Legs and non-legs as recorded: ``train --augment`` shows every recorded segment
+        to each scanner variant, so these are the counts of the variant with the most
+        (the plain counts when there are no variants)."""
+        variant = np.array(
+            [
+                m.group(0) if (m := _VARIANT_SUFFIX.search(g.rpartition(":")[0] or g)) else ""
+                for g in self.groups
+            ],
+            dtype=object,
+        )
+        of_row = variant[self.group]
+        seen = [self.labels[of_row == v] for v in set(of_row.tolist())] or [self.labels]
+        return max(int((y > 0).sum()) for y in seen), max(int((y < 0).sum()) for y in seen)
+
     def select(self, mask: NDArray[np.bool_]) -> LabelledSegments:
         """The rows where ``mask`` is true (groups kept)."""
         return LabelledSegments(
@@ -190,6 +205,15 @@ class LabelledSegments:
             np.concatenate([p.scan for p in parts]),
             tuple(names),
         )
+
+
+def too_few_examples(data: LabelledSegments, minimum: int) -> str | None:
+    """What ``data`` lacks to train on (``"3 legs"``, ``"0 legs and 12 non-legs"``), or None
+    when it holds at least ``minimum`` legs and ``minimum`` non-legs as recorded (see
+    :meth:`LabelledSegments.recorded_counts`)."""
+    legs, others = data.recorded_counts()
+    short = [f"{n} {name}" for n, name in ((legs, "legs"), (others, "non-legs")) if n < minimum]
+    return " and ".join(short) or None
 
 
 def label_scans(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -12,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.errors import EvaluationError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import write_text_file
 
 Cell = int | float
 
@@ -61,20 +62,15 @@ class FrameTable:
         return FrameTable(columns, rows)
 
     def to_csv(self, path: str | Path) -> None:
-        """Write the table as CSV with a header line (NaN written as an empty cell)."""
-        p = Path(path)
-        try:
-            p.parent.mkdir(parents=True, exist_ok=True)
-            with open(p, "w", newline="", encoding="utf-8") as fh:
-                out = csv.writer(fh, lineterminator="\n")
-                out.writerow(self.columns)
-                out.writerows(_format(self.columns, row) for row in self.rows)
-        except OSError as exc:
-            raise EvaluationError(
-                f"cannot write the per-frame table: {why_unwritable(exc, p)}",
-                path=p,
-                hint="give a writable file path",
-            ) from exc
+        """Write the table as CSV with a header line (NaN written as an empty cell), whole:
+        a failed write leaves no torn file and an older file as it was."""
+        buf = io.StringIO()
+        out = csv.writer(buf, lineterminator="\n")
+        out.writerow(self.columns)
+        out.writerows(_format(self.columns, row) for row in self.rows)
+        write_text_file(
+            path, buf.getvalue(), "per-frame table", EvaluationError, "give a writable file path"
+        )
 
 
 def _format(columns: Sequence[str], row: Sequence[Cell]) -> list[str]:

@@ -101,20 +101,10 @@ def track_frames(
     """The tracks of ``kind`` per scan from a tracks CSV, Parquet file or tracks bag
     (``names``: a :class:`~laserpeople.io.tracks_csv.TrackIdNames` for text ids; a CSV
     without a ``frame`` column is in :func:`unstated_tracks_frame` of ``truth``)."""
-    from laserpeople.io import is_rosbag
-    from laserpeople.io.tracks_csv import iter_tracks_csv
+    from laserpeople.io.tracks_files import read_tracks_file
 
-    p = Path(path)
     kinds: Any = (kind,)
-    if p.suffix.lower() == ".parquet":
-        from laserpeople.batch.parquet import iter_tracks_parquet
-
-        return iter_tracks_parquet(p, kinds=kinds)
-    if is_rosbag(p):
-        from laserpeople.io.tracks_bag import iter_tracks_bag
-
-        return iter_tracks_bag(p, kinds=kinds)
-    return iter_tracks_csv(p, frame=unstated_tracks_frame(truth), kinds=kinds, ids=names)
+    return read_tracks_file(path, unstated_tracks_frame(truth), kinds=kinds, ids=names)
 
 
 def find_truth(recording: str | Path) -> str | None:

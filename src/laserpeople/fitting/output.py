@@ -17,7 +17,7 @@ from typing import Any
 
 from laserpeople.config import load_config, section_name
 from laserpeople.fitting.estimates import Estimate, FitError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import staging_name, why_unwritable
 
 
 def check(estimates: Sequence[Estimate]) -> None:
@@ -81,7 +81,7 @@ def write(
     """
     check(estimates)
     text = render(params, estimates, kept, header)
-    tmp = path.with_name(f".{path.name}.tmp")
+    tmp = staging_name(path)
     try:
         try:
             path.parent.mkdir(parents=True, exist_ok=True)

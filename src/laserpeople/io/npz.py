@@ -55,7 +55,7 @@ from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError, TopicNotFoundError
 from laserpeople.io.damage import DamagedRecords, OnError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import staging_name, why_unwritable
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.truth import BeamLabels, TruthFrame
 
@@ -547,7 +547,7 @@ def write_recording(
         stated = {f.frame for f in frames}
         if len(stated) == 1 and None not in stated:
             arrays["truth_frame"] = np.array(stated.pop())
-    tmp = path.with_name(path.name + ".partial")
+    tmp = staging_name(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(tmp, "wb") as fh:

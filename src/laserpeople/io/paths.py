@@ -135,8 +135,40 @@ def check_outputs(
                 )
 
 
+def lock_for_one_writer(fd: int) -> bool:
+    """Take an exclusive lock (``flock``, released when ``fd`` is closed) on the open file
+    ``fd``: False when another process holds it; True when taken, or when the system or the
+    file system has no such locks (some network ones: then nothing is locked)."""
+    try:
+        import fcntl
+    except ImportError:  # not on a POSIX system
+        return True
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def staging_name(path: str | Path) -> Path:
+    """A hidden file beside ``path`` to write it under until it is complete (then
+    ``os.replace`` gives it its name): named for this process and call alone, so that two
+    runs writing one output at once never write into the same file (the last complete one
+    wins), and ending in ``path``'s extension, for writers that choose the format by it."""
+    import uuid
+
+    p = Path(path)
+    return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
+
+
 def write_text_file(
-    path: str | Path, text: str, what: str, error: type[LaserPeopleError] = ConfigError
+    path: str | Path,
+    text: str,
+    what: str,
+    error: type[LaserPeopleError] = ConfigError,
+    hint: str = "choose a writable file path with -o",
 ) -> Path:
     """Write ``text`` to ``path`` whole: its folder is created as the other outputs' are, the
     text goes to a temporary file beside it that replaces ``path`` once written (a failed
@@ -145,12 +177,13 @@ def write_text_file(
     Args:
         what: What the file holds, for the error (``"model"``).
         error: The error class raised.
+        hint: What to do, for the error.
 
     Raises:
         LaserPeopleError: (``error``) the file cannot be written; names it.
     """
     p = Path(path)
-    tmp = p.with_name(f".{p.name}.tmp")
+    tmp = staging_name(p)
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
         tmp.write_text(text, encoding="utf-8")
@@ -161,6 +194,6 @@ def write_text_file(
         raise error(
             f"cannot write the {what}: {why_unwritable(exc, p)}",
             path=p,
-            hint="choose a writable file path with -o",
+            hint=hint,
         ) from exc
     return p

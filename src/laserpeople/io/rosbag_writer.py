@@ -175,7 +175,7 @@ def open_bag(path: str | Path) -> Iterator[BagSink]:
         target.parent.mkdir(parents=True, exist_ok=True)
         workdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     except OSError as exc:
-        raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+        raise _unwritable(exc, target) from exc
     try:
         try:
             if ros1:
@@ -195,7 +195,7 @@ def open_bag(path: str | Path) -> Iterator[BagSink]:
                 typestore = get_typestore(Stores.LATEST)
             writer.open()
         except OSError as exc:
-            raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+            raise _unwritable(exc, target) from exc
         try:
             yield BagSink(writer, typestore, ros1)
         except BaseException:
@@ -206,9 +206,21 @@ def open_bag(path: str | Path) -> Iterator[BagSink]:
             writer.close()
             os.replace(written, target)
         except OSError as exc:
-            raise RecordingError(f"cannot write bag: {exc}", path=target) from exc
+            raise _unwritable(exc, target) from exc
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _unwritable(exc: OSError, target: Path) -> RecordingError:
+    """The error for a bag that could not be written: the system's reason, not the
+    temporary file the bag is assembled in."""
+    from laserpeople.io.paths import why_unwritable
+
+    return RecordingError(
+        f"cannot write the bag: {why_unwritable(exc, target)}",
+        path=target,
+        hint="free disk space, or give a path in a writable directory",
+    )
 
 
 def write_laserscan_bag(

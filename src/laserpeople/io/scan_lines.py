@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from laserpeople.errors import LaserPeopleWarning, RecordingError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import lock_for_one_writer, why_unwritable
 
 PAGE = mmap.PAGESIZE  # bytes the kernel copies between two checks for a fatal signal
 
@@ -57,7 +57,9 @@ class ScanLineWriter:
         self._csv = csv.writer(self._buf, lineterminator="\n")
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._fh: IO[bytes] = open(self.path, "wb", buffering=0)  # noqa: SIM115
+            # opened without truncating: a file another run is writing is left to it
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT, 0o666)
+            self._fh: IO[bytes] = open(fd, "wb", buffering=0)  # noqa: SIM115
             self._seekable = self._fh.seekable()  # False for a pipe or a terminal
         except OSError as exc:
             raise RecordingError(
@@ -65,6 +67,11 @@ class ScanLineWriter:
                 path=self.path,
                 hint="choose a writable file path with -o",
             ) from exc
+        try:
+            claim(fd, self.path, what)
+        except BaseException:
+            self._fh.close()
+            raise
         try:
             self.write_rows([header], count=False)
         except RecordingError:
@@ -132,6 +139,37 @@ class ScanLineWriter:
         """Close the file."""
         if not self._fh.closed:
             self._fh.close()
+
+
+def claim(fd: int, path: Path, what: str) -> None:
+    """Take the file ``fd`` (``path``) for this writer alone and empty it: two runs writing
+    one file at once would mix their rows into a file neither wrote. An exclusive lock
+    (``flock``, released when the file is closed) on a regular file; pipes, terminals and
+    devices are taken as they are.
+
+    Raises:
+        RecordingError: another process holds the file; names it, before anything of it is
+            changed.
+    """
+    import stat
+
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        return
+    if not lock_for_one_writer(fd):
+        raise RecordingError(
+            f"another run is writing this {what} now: two runs writing one file would "
+            "mix their rows; it is left as it is",
+            path=path,
+            hint="give each run its own -o, or wait until the other has finished",
+        )
+    try:
+        os.ftruncate(fd, 0)
+    except OSError as exc:
+        raise RecordingError(
+            f"cannot write the {what}: {why_unwritable(exc, path)}",
+            path=path,
+            hint="choose a writable file path with -o",
+        ) from exc
 
 
 def complete_lines(fh: IO[str], torn: list[str]) -> Iterator[str]:

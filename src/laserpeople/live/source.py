@@ -76,6 +76,13 @@ class TimeJump(Exception):  # noqa: N818 (a signal to the run, not an error)
         )
 
 
+SILENT_PERIODS = 10
+"""Mean scan periods without a scan after which a laser counts as having stopped (a scan
+or two lost on the link is not a stop)."""
+SILENT_MIN = 1.0
+"""Shortest silence [s] counted as a stop, whatever the scan rate."""
+
+
 @dataclass
 class LiveCounts:
     """What arrived and what was dropped, per laser.
@@ -93,6 +100,8 @@ class LiveCounts:
         resets: Time jumps that reset tracking.
         errors: The first decoding error per topic.
         reasons: Why scans had no pose, counted.
+        first_arrival: Arrival time of each laser's first scan [s] (the source's clock).
+        last_arrival: Arrival time of each laser's latest scan [s].
     """
 
     received: Counter[str] = field(default_factory=Counter)
@@ -105,6 +114,19 @@ class LiveCounts:
     resets: int = 0
     errors: dict[str, str] = field(default_factory=dict)
     reasons: Counter[str] = field(default_factory=Counter)
+    first_arrival: dict[str, float] = field(default_factory=dict)
+    last_arrival: dict[str, float] = field(default_factory=dict)
+
+    def silence(self, laser: str, end: float) -> float | None:
+        """How long [s] ``laser`` had been silent at ``end`` when that is longer than
+        :data:`SILENT_PERIODS` of its mean scan period and :data:`SILENT_MIN` (its driver,
+        the robot or the link stopped publishing); None otherwise, or before two scans."""
+        n = self.received[laser]
+        if n < 2:
+            return None
+        period = (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
+        quiet = end - self.last_arrival[laser]
+        return quiet if quiet > max(SILENT_MIN, SILENT_PERIODS * period) else None
 
 
 @dataclass
@@ -241,6 +263,8 @@ class LiveScans:
             queue = self._queues[scan.sensor]
             scan = replace(scan, index=self._index[scan.sensor])
             self.counts.received[scan.sensor] += 1
+            self.counts.first_arrival.setdefault(scan.sensor, arrival)
+            self.counts.last_arrival[scan.sensor] = arrival
             self._index[scan.sensor] += 1
             if self.limit is not None and sum(self.counts.received.values()) >= self.limit:
                 self._finished = True
@@ -553,6 +577,8 @@ class LiveFrames:
 
 __all__ = [
     "SEVERAL_LASERS_DEPTH",
+    "SILENT_MIN",
+    "SILENT_PERIODS",
     "LiveCounts",
     "LiveFrames",
     "LiveScans",

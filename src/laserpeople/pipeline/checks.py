@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from laserpeople.io import RecordingSource
-from laserpeople.io.tracks_csv import iter_tracks_csv, read_tracks_topic
+from laserpeople.io.tracks_csv import read_tracks_topic
+from laserpeople.io.tracks_files import read_tracks_file
 from laserpeople.pipeline.sources import FUSED
 from laserpeople.truth import TruthFrame
 
@@ -22,8 +23,9 @@ def tracks_mismatch(tracks_csv: str | Path, recording: RecordingSource, topic: s
     another topic in its ``topic`` column, scan indices beyond the topic's scans, or stamps
     that differ from the scans' by more than :data:`STAMP_TOLERANCE`."""
     problems: list[str] = []
-    rows = [(t.scan_index, t.stamp) for t in iter_tracks_csv(tracks_csv)]  # checks the file
-    csv_topic = read_tracks_topic(tracks_csv)
+    rows = [(t.scan_index, t.stamp) for t in read_tracks_file(tracks_csv)]  # checks the file
+    csv = Path(tracks_csv).suffix.lower() == ".csv"
+    csv_topic = read_tracks_topic(tracks_csv) if csv else None
     if csv_topic not in (None, "", FUSED, topic) and csv_topic.strip("/") != topic.strip("/"):
         problems.append(f"the tracks are of topic {csv_topic}, the drawing shows {topic}")
     if not rows:

@@ -436,6 +436,8 @@ def build(
     """
     from laserpeople.tracking import registry
 
+    for name, given in (("topics", topics), ("outputs", outputs), ("mounts", mounts)):
+        refuse_one_for_many(name, given)
     if isinstance(tracker, str):
         tracker = registry.get(tracker).make(params)
     rec = open_source(recording, world_frame, mounts, on_error)
@@ -504,6 +506,20 @@ def build(
         raise
 
 
+def refuse_one_for_many(name: str, given: object) -> None:
+    """Refuse a single name where a list of them is asked for: ``topics="/scan"`` would be
+    read letter by letter (topic ``/``, then ``s``, ...).
+
+    Raises:
+        ConfigError: ``given`` is a string or a path; names the argument and how to write it.
+    """
+    if isinstance(given, str | Path):
+        raise ConfigError(
+            f"{name} takes a list, got the single {type(given).__name__} {str(given)!r}",
+            hint=f"write {name}=[{str(given)!r}]",
+        )
+
+
 __all__ = [
     "ALL_TOPICS",
     "LOOKAHEAD",
@@ -514,6 +530,7 @@ __all__ = [
     "observe_stages_for",
     "open_source",
     "output_sink",
+    "refuse_one_for_many",
     "resolve_topics",
     "tracker_stages",
 ]

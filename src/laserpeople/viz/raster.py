@@ -395,10 +395,24 @@ def write_mp4(images: Iterable[RGBImage], out: str | Path, frame_seconds: float)
         raise LaserPeopleError(
             f"ffmpeg ({ffmpeg}) failed after {n} frames: {err.strip()[-400:]}",
             path=p,
-            hint="an ffmpeg without libx264 cannot write H.264: pip install "
-            "'laserpeople[all]' bundles one that can",
+            hint=ffmpeg_hint(err),
         )
     return n
+
+
+FFMPEG_WRITE_ERRORS = ("No space left on device", "Read-only file system", "Permission denied")
+"""What ffmpeg prints (the C library's wording) when the file system refused its output."""
+
+
+def ffmpeg_hint(err: str) -> str:
+    """What to do about ffmpeg's error text ``err``: free space or another folder when the
+    file system refused the output, else an ffmpeg that can write H.264."""
+    if any(text in err for text in FFMPEG_WRITE_ERRORS):
+        return "free disk space, or give -o a path in a writable directory"
+    return (
+        "an ffmpeg without libx264 cannot write H.264: pip install "
+        "'laserpeople[all]' bundles one that can"
+    )
 
 
 def _chain(first: RGBImage, rest: Iterator[RGBImage]) -> Iterator[RGBImage]:

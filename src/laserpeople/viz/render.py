@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import os
+from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
-from laserpeople.io.paths import why_unwritable
+from laserpeople.io.paths import staging_name, why_unwritable
 from laserpeople.viz.figure import Extent
 from laserpeople.viz.raster import RenderResult, animate, plot_overview, plot_scan
 from laserpeople.viz.scene import ProgressFn, Scene
@@ -37,14 +40,28 @@ def render(
             (the message names it).
     """
     p = Path(out)
+    # the MCAP export assembles its file beside ``out`` itself; the other writers stream into
+    # a file of their own beside it that replaces ``out`` once complete, so that a full disk
+    # or an interruption leaves no torn picture and an older file as it was
+    staged = p.suffix.lower() in OUTPUT_KINDS and p.suffix.lower() != ".mcap"
+    target = staging_name(p) if staged else p
     try:
-        return _render(scene, p, scan, size, extent, fps, trail, progress)
+        result = _render(scene, target, scan, size, extent, fps, trail, progress)
+        if staged:
+            os.replace(target, p)
+        return replace(result, path=p)
+    except LaserPeopleError as exc:
+        raise exc.moved(target, p) from exc.__cause__
     except OSError as exc:  # image and animation writers let file-system errors through
         raise LaserPeopleError(
             f"cannot write the output: {why_unwritable(exc, p)}",
             path=p,
             hint="give -o a path in a writable directory",
         ) from exc
+    finally:
+        if staged:
+            with suppress(OSError):
+                target.unlink(missing_ok=True)
 
 
 def _render(

@@ -130,15 +130,30 @@ def export_rerun(
             ),
         )
         n += 1
-    _close(rec)
+    _close(rec, p)
     if n == 0:
         p.unlink(missing_ok=True)
         raise scene.empty_window_error()
     return n
 
 
-def _close(rec: Any) -> None:
+def _close(rec: Any, path: Path) -> None:
     """Flush and close the file sink, so the ``.rrd`` is complete (with its footer, on
-    rerun versions that write one) when this returns rather than when ``rec`` is collected."""
-    rec.flush()
-    rec.disconnect()
+    rerun versions that write one) when this returns rather than when ``rec`` is collected.
+
+    Raises:
+        LaserPeopleError: rerun's file writer stopped (a full disk, a file system that
+            refused the write: rerun logs the cause and raises a RuntimeError that does not
+            name it); names ``path``.
+    """
+    try:
+        rec.flush()
+    except RuntimeError as exc:
+        raise LaserPeopleError(
+            f"cannot write the output: rerun's file writer stopped ({exc}; its log line "
+            "above says why, e.g. no space left on device)",
+            path=path,
+            hint="free disk space, or give -o a path in a writable directory",
+        ) from exc
+    finally:
+        rec.disconnect()

@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from laserpeople.errors import LaserPeopleError, PoseUnavailableError, RecordingError
 from laserpeople.io import RecordingSource, open_recording
 from laserpeople.io.topics import no_laser_topic
-from laserpeople.io.tracks_csv import convert_tracks, iter_tracks_csv
+from laserpeople.io.tracks_csv import convert_tracks
+from laserpeople.io.tracks_files import read_tracks_file
 from laserpeople.io.truth_csv import read_truth_csv
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.tracks import Track, Tracks
@@ -275,7 +276,7 @@ class Scene:
         if tracks is None:
             return iter(())
         if isinstance(tracks, str | Path):
-            return iter_tracks_csv(tracks, frame=self.tracks_frame)
+            return read_tracks_file(tracks, self.tracks_frame)
         return iter(tracks)
 
     def track_kinds(self) -> frozenset[str]:
@@ -404,9 +405,35 @@ class Scene:
     def empty_window_error(self, options: str = "--topic, --start and --stop") -> LaserPeopleError:
         """The error for a window without scans, naming the command-line ``options`` to
         check."""
-        return LaserPeopleError(
-            "no scans in the chosen window", path=self.source_name or None, hint=f"check {options}"
+        window = (
+            f"scans from {self.start}"
+            if self.stop is None
+            else f"scans {self.start}-{self.stop - 1}"
         )
+        count = self._topic_count()
+        held = (
+            ""
+            if count is None
+            else f": topic {self.topic} holds " + (f"scans 0-{count - 1}" if count else "no scan")
+        )
+        return LaserPeopleError(
+            f"no scans in the chosen window ({window}){held}",
+            path=self.source_name or None,
+            hint=f"check {options}",
+        )
+
+    def _topic_count(self) -> int | None:
+        """Scans of the drawn topic as the recording's index counts them (None when the
+        scans do not come from a recording or the topic is not known)."""
+        rec = self._recording
+        if self.topic is None or not isinstance(rec, str | Path | RecordingSource):
+            return None
+        source = open_recording(rec) if isinstance(rec, str | Path) else rec
+        try:
+            return next((t.count for t in source.topics() if t.name == self.topic), None)
+        finally:
+            if source is not rec:
+                source.close()
 
     def extent(
         self, margin: float = 0.5, max_scans: int = 400, track_slack: float = 2.0

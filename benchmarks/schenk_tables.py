@@ -425,7 +425,8 @@ def _document(
         "the paper has no MHT column).",
         "",
         "| Table | FT avg (paper) | FT avg (simulated) | UBT avg (paper) | UBT avg (simulated) "
-        "| MHT avg (simulated) |" + (" FT avg (before) | UBT avg (before) |" if args.before else ""),
+        "| MHT avg (simulated) |"
+        + (" FT avg (before) | UBT avg (before) |" if args.before else ""),
         "|---|---:|---:|---:|---:|---:|" + ("---:|---:|" if args.before else ""),
     ]
     for number, avg in summary:
@@ -492,8 +493,8 @@ def _render(
         lines += [
             f"### {title}",
             "",
-            "| Scene | FT (paper) | UBT (paper) | FT (simulated) | UBT (simulated) | MHT (simulated) |"
-            + (" FT (before) | UBT (before) |" if before else ""),
+            "| Scene | FT (paper) | UBT (paper) | FT (simulated) | UBT (simulated) "
+            "| MHT (simulated) |" + (" FT (before) | UBT (before) |" if before else ""),
             "|---|---:|---:|---:|---:|---:|" + ("---:|---:|" if before else ""),
         ]
         vals: dict[str, list[float]] = {k: [] for k in LABELS}

@@ -2224,6 +2224,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "        known = flag != UNKNOWN",
         ("tests/test_batch_unused.py",),
     ),
+    Mutant(
+        "fit-worse-error-direction",
+        "fit: a learned set whose error rises (clustering error) scores below the defaults",
+        "fitting/flow.py",
+        "loss = was - now if higher_is_better else now - was",
+        "loss = was - now",
+        ("tests/test_fit.py",),
+    ),
 )
 
 

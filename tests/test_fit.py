@@ -24,6 +24,7 @@ from laserpeople.fitting.estimates import (
     quantile,
     rate,
 )
+from laserpeople.fitting.flow import WORSE_BY, FitResult
 from laserpeople.fitting.groups import GroupEventCounts, count_group_events
 from laserpeople.fitting.legs import (
     DEL,
@@ -624,3 +625,67 @@ def test_validation_counts_are_shown_whole() -> None:
 
     assert _score_text("ids", 2.0) == "2" and _score_text("ID switches", 14.0) == "14"
     assert _score_text("recall", 1.0) == "1.000" and _score_text("MOTA", -0.1234) == "-0.123"
+
+
+def _fit_result(rows: list[tuple[str, str, dict[str, float]]]) -> FitResult:
+    from laserpeople.fitting.validate import ValidationRow
+
+    return FitResult(
+        "leg-mht",
+        LegTrackerParams(),
+        (),
+        (),
+        "",
+        ("a",),
+        tuple(dict.fromkeys(r[0] for r in rows)),
+        tuple(ValidationRow(*r) for r in rows),
+    )
+
+
+def test_learned_parameters_that_score_below_the_defaults_are_said() -> None:
+    """A learned set that stops the tracker (MOTA 0.797 -> 0) is said per validation
+    recording, in the CLI and in the TOML header; a loss within WORSE_BY, a gain, and the
+    other scores of a row (IDF1 lost, MOTA not) are not; for an error (groups' clustering
+    error) higher is worse, for identity recall lower."""
+    result = _fit_result(
+        [
+            ("d3", "default", {"MOTA": 0.797, "IDF1": 0.9}),
+            ("d3", "learned", {"MOTA": 0.0, "IDF1": 0.0}),
+            ("d4", "default", {"MOTA": 0.80, "IDF1": 0.9}),
+            ("d4", "learned", {"MOTA": 0.80 - WORSE_BY / 2, "IDF1": 0.1}),
+            ("d5", "default", {"MOTA": 0.5}),
+            ("d5", "learned", {"MOTA": 0.7}),
+            ("f", "default", {"identity recall": 0.98, "recall": 0.9}),
+            ("f", "learned", {"identity recall": 0.60, "recall": 0.99}),
+            ("g", "default", {"clustering error": 0.25, "size error": 0.26}),
+            ("g", "learned", {"clustering error": 0.51, "size error": 0.18}),
+            ("h", "default", {"clustering error": 0.25}),
+            ("h", "learned", {"clustering error": 0.20}),
+        ]
+    )
+    lines = result.worse_than_default()
+    assert [line.split()[1] for line in lines] == ["d3", "f", "g"]
+    assert "MOTA 0.797 -> 0.000" in lines[0]
+    assert "identity recall 0.980 -> 0.600" in lines[1]
+    assert "clustering error 0.250 -> 0.510" in lines[2]
+    assert [h for h in result.header() if h.startswith("WARNING: ")] == [
+        f"WARNING: {line}" for line in lines
+    ]
+
+
+def test_fit_warns_when_the_learned_parameters_lose(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The command prints the warning after writing the file (it is still written: the
+    user may keep some of its keys)."""
+    from laserpeople.fitting import flow
+
+    losing = _fit_result([("v", "default", {"MOTA": 0.8}), ("v", "learned", {"MOTA": 0.1})])
+    monkeypatch.setattr(flow, "learn", lambda *a, **k: losing)
+    rec = tmp_path / "a.npz"
+    rec.write_bytes(b"")
+    out = tmp_path / "p.toml"
+    res = CliRunner().invoke(app, ["fit", str(rec), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert out.is_file()
+    assert "warning: on v the learned parameters score below the defaults (MOTA" in res.output

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from laserpeople.cli.common import console, plain, say
+from laserpeople.cli.common import console, plain, say, warn
 
 if TYPE_CHECKING:
     from laserpeople.fitting.flow import FitResult
@@ -94,6 +94,8 @@ def register(app: typer.Typer) -> None:
         _print(result)
         write_result(result, output)
         say(f"wrote {output} (for: laserpeople track ... --tracker {tracker} --config {output})")
+        for line in result.worse_than_default():
+            warn(line)
 
 
 def _print(result: FitResult) -> None:

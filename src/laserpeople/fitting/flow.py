@@ -58,7 +58,44 @@ class FitResult:
             f"training data: {', '.join(self.training)}",
             f"validation data: {', '.join(self.validation) or 'none'}",
             f"counts: {self.counts}",
+            *(f"WARNING: {line}" for line in self.worse_than_default()),
         ]
+
+    def worse_than_default(self) -> list[str]:
+        """One line per validation recording on which the learned parameters score below
+        the defaults by more than :data:`WORSE_BY` on the headline score (the first of
+        :data:`HEADLINES` the rows hold): a value counted from few events can stop a
+        tracker altogether (e.g. a ``lambda_new`` so small that no track starts)."""
+        scores: dict[str, dict[str, dict[str, float]]] = {}
+        for row in self.rows:
+            scores.setdefault(row.recording, {})[row.label] = row.scores
+        out = []
+        for recording, by_label in scores.items():
+            default, learned = by_label.get("default"), by_label.get("learned")
+            if default is None or learned is None:
+                continue
+            for name, higher_is_better in HEADLINES:
+                if name in default and name in learned:
+                    was, now = default[name], learned[name]
+                    loss = was - now if higher_is_better else now - was
+                    if loss > WORSE_BY:
+                        out.append(
+                            f"on {recording} the learned parameters score below the "
+                            f"defaults ({name} {was:.3f} -> {now:.3f}): keep only the keys "
+                            "that win (--learn PATTERN) or learn from more data"
+                        )
+                    break
+        return out
+
+
+HEADLINES = (("MOTA", True), ("identity recall", True), ("clustering error", False))
+"""The validation scores :meth:`FitResult.worse_than_default` compares, the first a row
+holds (full truth, a followed person, groups), and whether a higher value is better."""
+
+WORSE_BY = 0.01
+"""How much lower (for an error: higher) the learned parameters' headline validation score
+may be than the defaults' before :meth:`FitResult.worse_than_default` says so: the
+validation scores move by about this much with one scan's decision."""
 
 
 def learn(

@@ -527,3 +527,32 @@ def test_live_says_a_background_its_run_never_used(
     assert "--background histogram had no effect: leg-mht with the arras people policy" in said
     _unused_options(session("histogram"), "leg-mht", [], "histogram")
     assert "had no effect" not in capsys.readouterr().err
+
+
+def test_evaluate_says_when_a_batch_scored_a_recording_laser_by_laser(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A batch folder's rows of one recording tracked per laser are each scored against
+    every labelled person: said once per recording, with its lasers; one laser, fused
+    rows (topic None) and two recordings with one laser each are not."""
+    from laserpeople.cli.evaluate import shared_truth_note
+
+    truth = tmp_path / "scene.npz"
+    truth.write_bytes(b"")
+    other = tmp_path / "other.npz"
+    other.write_bytes(b"")
+    csv = tmp_path / "t.csv"
+    shared_truth_note(
+        [
+            ("scene /front", csv, str(truth), "/front"),
+            ("scene /rear", csv, str(truth), "/rear"),
+            ("other /front", csv, str(other), "/front"),
+            ("fused", csv, str(other), None),
+        ]
+    )
+    err = capsys.readouterr().err
+    assert err.count("laser by laser") == 1
+    assert "scene was tracked laser by laser (/front, /rear)" in err
+    assert "track it fused (`batch --topics all`)" in err
+    shared_truth_note([("scene /front", csv, str(truth), "/front")])
+    assert "laser by laser" not in capsys.readouterr().err

@@ -471,17 +471,31 @@ def _truth_key(spec: str) -> str:
 
 def shared_truth_note(pairs: list[tuple[str, Path, str | None, str | None]]) -> None:
     """Warn when one truth scores several tracks files (e.g. two trackers' tracks of one
-    recording): the pooled row then counts its people once per file."""
+    recording): the pooled row then counts its people once per file; and when a batch
+    tracked a recording laser by laser: each laser's tracks are scored against every
+    labelled person, also those only another laser sees."""
     by_truth: dict[str, list[str]] = {}
+    lasers: dict[str, tuple[str, list[str]]] = {}
     for name, _, spec, topic in pairs:
         if spec is None:
             continue
         by_truth.setdefault(f"{_truth_key(spec)}|{topic}", []).append(name)
+        if topic is not None:
+            recording = name.removesuffix(f" {topic}")
+            lasers.setdefault(_truth_key(spec), (recording, []))[1].append(topic)
     for names in by_truth.values():
         if len(names) > 1:
             warn(
                 f"one truth scores {len(names)} TRACKS files ({', '.join(names)}): the pooled "
                 f"row counts its people {len(names)} times; compare those files row by row"
+            )
+    for recording, topics in lasers.values():
+        if len(set(topics)) > 1:
+            warn(
+                f"{recording} was tracked laser by laser ({', '.join(sorted(set(topics)))})"
+                ": each laser's tracks are scored against every labelled person, also those "
+                "only another laser sees; to score what the robot sees, track it fused "
+                "(`batch --topics all`)"
             )
 
 

@@ -185,41 +185,139 @@ class JumpDistanceSegmenter:
     def many(self, scans: Sequence[Scan]) -> list[SegmentTable]:
         """The segments of each of ``scans`` (the same tables as one at a time), the
         distances between neighbouring points of all of them computed at once."""
-        if len(scans) < 2:
-            return [self(scan) for scan in scans]
-        parts = [scan.valid_points("sensor") for scan in scans]
-        sizes = [idx.size for _, idx in parts]
-        bounds = np.zeros(len(scans) + 1, dtype=np.int64)
-        np.cumsum(sizes, out=bounds[1:])
-        if bounds[-1] == 0:
-            return [self(scan) for scan in scans]
-        every = np.concatenate([pts for pts, _ in parts])
-        gaps = np.hypot(*(every[1:] - every[:-1]).T)
-        jumps = np.flatnonzero(gaps >= self.params.threshold) + 1  # (the step into a point)
-        # a scan's own jumps lie strictly inside its points (the step into its first point
-        # comes from the scan before)
-        lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()
-        hi = np.searchsorted(jumps, bounds[1:], side="left").tolist()
-        first = bounds.tolist()
-        out = []
-        for k, (scan, (pts, idx)) in enumerate(zip(scans, parts, strict=True)):
-            n_invalid = scan.n_beams - idx.size
-            if idx.size == 0:
-                out.append(SegmentTable.empty(scan.n_beams, n_invalid))
-                continue
-            inner = jumps[lo[k] : hi[k]] - first[k]
-            out.append(
-                _table_from_starts(
-                    pts,
-                    idx,
-                    np.concatenate(([0], inner)).astype(np.int64),
+        return self.block(scans).tables
+
+    def block(self, scans: Sequence[Scan]) -> SegmentBlock:
+        """The segments of ``scans`` as one :class:`SegmentBlock`: the same tables as one
+        scan at a time, whose arrays are views of the block's."""
+        return segment_block(scans, self.params)
+
+
+@dataclass(frozen=True, eq=False)
+class SegmentBlock:
+    """The segments of several scans (T scans, M segments over K points) as flat arrays,
+    each scan's :class:`SegmentTable` a view of them (all read-only).
+
+    Attributes:
+        tables: Each scan's table (T,); its ``beams`` and ``points`` are rows of the
+            block's, its ``offsets`` count from its own first point.
+        beams: Beam index (K,) of every point, the scans' tables one after the other.
+        points: Sensor-frame coordinates (K, 2) [m] of those beams.
+        offsets: Start (M + 1,) of every segment in ``beams``.
+        table_starts: First segment (T + 1,) of each scan's table in ``offsets``.
+        full_circle: Whether each scan covers the full circle (T,).
+    """
+
+    tables: list[SegmentTable]
+    beams: IntArray
+    points: FloatArray
+    offsets: IntArray
+    table_starts: IntArray
+    full_circle: list[bool]
+
+    def segments_at(self, which: IntArray, n_beams: IntArray) -> list[Segment]:
+        """Segments ``which`` (L,) of the block (increasing) as their tables'
+        :meth:`SegmentTable.segments_at` gives them (the same values), ``n_beams`` (L,)
+        the beam count of each one's scan; views of the block's arrays."""
+        if len(which) == 0:
+            return []
+        lo = self.offsets[which]
+        hi = self.offsets[which + 1]
+        first = self.beams[lo]
+        last = self.beams[hi - 1]
+        stop = last + 1 + np.where(last >= first, 0, n_beams)
+        beams, points = self.beams, self.points
+        return [
+            Segment(f, t, beams[a:b], points[a:b])
+            for a, b, f, t in zip(
+                lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
+            )
+        ]
+
+
+def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentBlock:
+    """Jump-distance segmentation of ``scans`` (in order) at once: one distance between
+    neighbouring points over all of them, one pass over the starts, a scan's last and
+    first segment merged where it wraps (as :func:`jump_distance_table` does)."""
+    parts = [scan.valid_points("sensor") for scan in scans]
+    sizes = [idx.size for _, idx in parts]
+    bounds = np.zeros(len(scans) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=bounds[1:])
+    k = int(bounds[-1])
+    circle = [covers_full_circle(scan) for scan in scans]
+    if k == 0:
+        points = np.empty((0, 2))
+        beams = np.empty(0, dtype=np.int64)
+    else:
+        points = np.concatenate([pts for pts, _ in parts])
+        beams = np.concatenate([idx for _, idx in parts]).astype(np.int64, copy=False)
+    threshold = params.threshold
+    is_start = np.zeros(k + 1, dtype=bool)  # (the step into a point is a jump)
+    if k > 1:
+        is_start[1:k] = np.hypot(*(points[1:] - points[:-1]).T) >= threshold
+    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
+    if params.wrap_around:
+        for q, full in enumerate(circle):
+            if full and sizes[q]:
+                _wrap(points, beams, is_start, int(bounds[q]), int(bounds[q + 1]), threshold)
+    is_start[k] = True
+    offsets = np.flatnonzero(is_start)  # (M + 1,): the segments' starts, then K
+    table_starts = np.searchsorted(offsets, bounds)
+    table_starts[-1] = offsets.size - 1
+    # each table's offsets from its own first point, one table after the other (M + T,)
+    counts = np.diff(table_starts)
+    owner = np.repeat(np.arange(len(scans)), counts)
+    local = np.empty(offsets.size - 1 + len(scans), dtype=np.int64)
+    local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
+    local[table_starts[1:] + np.arange(len(scans))] = sizes
+    for a in (points, beams, offsets, table_starts, local):
+        a.flags.writeable = False
+    lo, hi, at = bounds.tolist(), table_starts.tolist(), 0
+    tables = []
+    for q, scan in enumerate(scans):
+        n_invalid = scan.n_beams - sizes[q]
+        if sizes[q] == 0:
+            tables.append(SegmentTable.empty(scan.n_beams, n_invalid))
+        else:
+            end = at + hi[q + 1] - hi[q] + 1
+            tables.append(
+                SegmentTable(
+                    beams[lo[q] : lo[q + 1]],
+                    points[lo[q] : lo[q + 1]],
+                    local[at:end],
                     scan.n_beams,
-                    self.params.threshold,
-                    wrap=self.params.wrap_around and covers_full_circle(scan),
-                    n_invalid=n_invalid,
+                    n_invalid,
                 )
             )
-        return out
+        at += hi[q + 1] - hi[q] + 1
+    return SegmentBlock(tables, beams, points, offsets, table_starts, circle)
+
+
+def _wrap(
+    points: FloatArray,
+    beams: IntArray,
+    is_start: NDArray[np.bool_],
+    a: int,
+    b: int,
+    threshold: float,
+) -> None:
+    """Merge the last segment of the scan at rows ``[a, b)`` into its first, in place, as
+    :func:`_table_from_starts` does: its rows moved to the front, its start cleared."""
+    starts = np.flatnonzero(is_start[a + 1 : b])
+    if starts.size == 0:
+        return
+    closing = float(np.hypot(*(points[a] - points[b - 1])))
+    if closing >= threshold:
+        return
+    last = a + 1 + int(starts[-1])
+    order = np.concatenate((np.arange(last, b), np.arange(a, last)))
+    points[a:b] = points[order]
+    beams[a:b] = beams[order]
+    moved = is_start[a:last].copy()
+    is_start[a : a + b - last] = False
+    is_start[a + b - last : b] = moved
+    is_start[a] = True
+    is_start[a + b - last] = False  # (the first segment now continues the moved last one)
 
 
 def covers_full_circle(scan: Scan) -> bool:

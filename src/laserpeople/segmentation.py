@@ -30,10 +30,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.detection import compiled
 from laserpeople.scan import Scan, Segment
 
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
+
+_extension = compiled.EXTENSION
+"""Leg detection's C extension (:func:`jumps`), or None: :func:`at_least` runs."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,7 +258,7 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     threshold = params.threshold
     is_start = np.zeros(k + 1, dtype=bool)  # (the step into a point is a jump)
     if k > 1:
-        is_start[1:k] = np.hypot(*(points[1:] - points[:-1]).T) >= threshold
+        is_start[1:k] = jumps(points, threshold)
     is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
     if params.wrap_around:
         for q, full in enumerate(circle):
@@ -320,6 +324,41 @@ def _wrap(
     is_start[a + b - last] = False  # (the first segment now continues the moved last one)
 
 
+NEAR = 1e-12
+"""Relative band round the squared threshold within which :func:`at_least` asks ``hypot``
+(the squared length and hypot's length squared differ by a few 1e-16 relative)."""
+
+
+def at_least(steps: FloatArray, threshold: float) -> NDArray[np.bool_]:
+    """Whether each step (L, 2) [m] is at least ``threshold`` [m] long, exactly as
+    ``np.hypot(dx, dy) >= threshold`` decides it: by the squared length where it lies
+    farther than :data:`NEAR` (relative) from the squared threshold, by ``hypot`` within
+    (a squared length costs a tenth of a ``hypot``). Thresholds whose square would leave
+    the normal floats are all decided by ``hypot``."""
+    if not 1e-150 < threshold < 1e150:
+        return np.asarray(np.hypot(steps[:, 0], steps[:, 1]) >= threshold)
+    limit = threshold * threshold
+    squares = steps * steps
+    lengths = squares[:, 0] + squares[:, 1]
+    out = np.asarray(lengths >= limit)
+    near = np.flatnonzero(np.abs(lengths - limit) <= NEAR * limit)
+    if near.size:
+        out[near] = np.hypot(steps[near, 0], steps[near, 1]) >= threshold
+    return out
+
+
+def jumps(points: FloatArray, threshold: float) -> NDArray[np.bool_]:
+    """Whether each step between neighbouring points (K, 2) [m] (K - 1,) is at least
+    ``threshold`` [m] long (:func:`at_least`), by the C extension of leg detection where it
+    is built (the same decisions, without the arrays of steps and squares), else by
+    :func:`at_least` itself."""
+    if _extension is not None and points.shape[0] > 1:
+        out = np.empty(points.shape[0] - 1, dtype=bool)
+        _extension.jumps(np.ascontiguousarray(points, dtype=np.float64), threshold, out)
+        return out
+    return at_least(points[1:] - points[:-1], threshold)
+
+
 def covers_full_circle(scan: Scan) -> bool:
     """Whether the beams of ``scan`` go all the way round (beam N-1 neighbours beam 0)."""
     span = abs(scan.angle_increment) * scan.n_beams
@@ -349,8 +388,7 @@ def jump_distance_table(
     k = points.shape[0]
     if k == 0:
         return SegmentTable.empty(n_beams, n_invalid)
-    gaps = np.hypot(*(points[1:] - points[:-1]).T)
-    starts = np.concatenate(([0], np.flatnonzero(gaps >= threshold) + 1)).astype(np.int64)
+    starts = np.concatenate(([0], np.flatnonzero(jumps(points, threshold)) + 1)).astype(np.int64)
     return _table_from_starts(
         points, beams, starts, n_beams, threshold, wrap=wrap, n_invalid=n_invalid
     )

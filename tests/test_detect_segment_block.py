@@ -55,7 +55,7 @@ def test_at_least_decides_as_hypot_where_squares_alone_do_not() -> None:
     for seed in range(6):
         _, steps, thresholds = _walk(seed)
         hypot = np.hypot(steps[:, 0], steps[:, 1])
-        for threshold in thresholds + [1e-200, 1e200, 0.1]:
+        for threshold in [*thresholds, 1e-200, 1e200, 0.1]:
             want = hypot >= threshold
             assert np.array_equal(at_least(steps, threshold), want)
             squares = steps[:, 0] * steps[:, 0] + steps[:, 1] * steps[:, 1]
@@ -66,7 +66,7 @@ def test_at_least_decides_as_hypot_where_squares_alone_do_not() -> None:
 def test_compiled_jumps_decide_as_at_least(cfeatures: ModuleType) -> None:
     for seed in range(6):
         points, steps, thresholds = _walk(seed)
-        for threshold in thresholds + [1e-200, 1e200, math.nan]:
+        for threshold in [*thresholds, 1e-200, 1e200, math.nan]:
             out = np.empty(points.shape[0] - 1, dtype=bool)
             cfeatures.jumps(points, threshold, out)
             assert np.array_equal(out, at_least(steps, threshold))

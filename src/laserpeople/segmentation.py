@@ -243,6 +243,8 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     """Jump-distance segmentation of ``scans`` (in order) at once: one distance between
     neighbouring points over all of them, one pass over the starts, a scan's last and
     first segment merged where it wraps (as :func:`jump_distance_table` does)."""
+    if len(scans) == 1:  # (one scan: its table's arrays are the block's)
+        return _block_of_one(scans[0], params)
     parts = [scan.valid_points("sensor") for scan in scans]
     sizes = [idx.size for _, idx in parts]
     bounds = np.zeros(len(scans) + 1, dtype=np.int64)
@@ -295,6 +297,17 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
             )
         at += hi[q + 1] - hi[q] + 1
     return SegmentBlock(tables, beams, points, offsets, table_starts, circle)
+
+
+def _block_of_one(scan: Scan, params: JumpDistanceParams) -> SegmentBlock:
+    """:func:`segment_block` of one scan: its :class:`JumpDistanceSegmenter` table."""
+    circle = covers_full_circle(scan)
+    table = JumpDistanceSegmenter(params)(scan)
+    for a in (table.beams, table.points, table.offsets):
+        a.flags.writeable = False
+    starts = np.array([0, len(table)], dtype=np.int64)
+    starts.flags.writeable = False
+    return SegmentBlock([table], table.beams, table.points, table.offsets, starts, [circle])
 
 
 def _wrap(

@@ -145,6 +145,8 @@ class _SegmentDetector(abc.ABC):
         """:meth:`classify` of each of ``scans`` in turn (the same results), their features
         and scores computed for all of them at once."""
         block, feats, scores, is_leg = self._classify_block(scans)
+        if len(scans) == 1:
+            return [ScanClassification(block.tables[0], feats, scores, is_leg)]
         first = block.table_starts.tolist()
         parts = split_features(feats, [b - a for a, b in itertools.pairwise(first)])
         return [

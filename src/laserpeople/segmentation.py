@@ -193,22 +193,24 @@ class JumpDistanceSegmenter:
 
     def block(self, scans: Sequence[Scan]) -> SegmentBlock:
         """The segments of ``scans`` as one :class:`SegmentBlock`: the same tables as one
-        scan at a time, whose arrays are views of the block's."""
+        scan at a time."""
         return segment_block(scans, self.params)
 
 
 @dataclass(frozen=True, eq=False)
 class SegmentBlock:
     """The segments of several scans (T scans, M segments over K points) as flat arrays,
-    each scan's :class:`SegmentTable` a view of them (all read-only).
+    and each scan's :class:`SegmentTable` (all read-only).
 
     Attributes:
-        tables: Each scan's table (T,); its ``beams`` and ``points`` are rows of the
-            block's, its ``offsets`` count from its own first point.
+        tables: Each scan's table (T,); its ``beams`` and ``points`` are the scan's own
+            valid beams and points (a wrapped scan's a reordered copy), as one scan at a
+            time gives them, so that its segments do not hold the block's arrays.
         beams: Beam index (K,) of every point, the scans' tables one after the other.
         points: Sensor-frame coordinates (K, 2) [m] of those beams.
         offsets: Start (M + 1,) of every segment in ``beams``.
         table_starts: First segment (T + 1,) of each scan's table in ``offsets``.
+        point_starts: First point (T + 1,) of each scan's table in ``beams``.
         full_circle: Whether each scan covers the full circle (T,).
     """
 
@@ -217,24 +219,33 @@ class SegmentBlock:
     points: FloatArray
     offsets: IntArray
     table_starts: IntArray
+    point_starts: IntArray
     full_circle: list[bool]
 
-    def segments_at(self, which: IntArray, n_beams: IntArray) -> list[Segment]:
-        """Segments ``which`` (L,) of the block (increasing) as their tables'
-        :meth:`SegmentTable.segments_at` gives them (the same values), ``n_beams`` (L,)
-        the beam count of each one's scan; views of the block's arrays."""
+    def segments_at(self, which: IntArray) -> list[Segment]:
+        """Segments ``which`` (L,) of the block, increasing, as their tables'
+        :meth:`SegmentTable.segments_at` gives them (the same values, views of the same
+        arrays), their bounds read for all of them at once."""
         if len(which) == 0:
             return []
+        owner = np.searchsorted(self.table_starts, which, side="right") - 1
         lo = self.offsets[which]
         hi = self.offsets[which + 1]
         first = self.beams[lo]
         last = self.beams[hi - 1]
+        n_beams = np.array([t.n_beams for t in self.tables], dtype=np.int64)[owner]
         stop = last + 1 + np.where(last >= first, 0, n_beams)
-        beams, points = self.beams, self.points
+        base = self.point_starts[owner]
+        tables = self.tables
         return [
-            Segment(f, t, beams[a:b], points[a:b])
-            for a, b, f, t in zip(
-                lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
+            Segment(f, t, tables[q].beams[a:b], tables[q].points[a:b])
+            for q, a, b, f, t in zip(
+                owner.tolist(),
+                (lo - base).tolist(),
+                (hi - base).tolist(),
+                first.tolist(),
+                stop.tolist(),
+                strict=True,
             )
         ]
 
@@ -262,10 +273,12 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     if k > 1:
         is_start[1:k] = jumps(points, threshold)
     is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
+    wrapped = set()
     if params.wrap_around:
         for q, full in enumerate(circle):
-            if full and sizes[q]:
-                _wrap(points, beams, is_start, int(bounds[q]), int(bounds[q + 1]), threshold)
+            a, b = int(bounds[q]), int(bounds[q + 1])
+            if full and b > a and _wrap(points, beams, is_start, a, b, threshold):
+                wrapped.add(q)
     is_start[k] = True
     offsets = np.flatnonzero(is_start)  # (M + 1,): the segments' starts, then K
     table_starts = np.searchsorted(offsets, bounds)
@@ -276,7 +289,7 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     local = np.empty(offsets.size - 1 + len(scans), dtype=np.int64)
     local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
     local[table_starts[1:] + np.arange(len(scans))] = sizes
-    for a in (points, beams, offsets, table_starts, local):
+    for a in (points, beams, offsets, table_starts, local, bounds):
         a.flags.writeable = False
     lo, hi, at = bounds.tolist(), table_starts.tolist(), 0
     tables = []
@@ -285,18 +298,14 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
         if sizes[q] == 0:
             tables.append(SegmentTable.empty(scan.n_beams, n_invalid))
         else:
+            pts, idx = parts[q]
+            if q in wrapped:  # (its reordered rows, copied: the block's die with it)
+                pts, idx = points[lo[q] : lo[q + 1]].copy(), beams[lo[q] : lo[q + 1]].copy()
+                pts.flags.writeable = idx.flags.writeable = False
             end = at + hi[q + 1] - hi[q] + 1
-            tables.append(
-                SegmentTable(
-                    beams[lo[q] : lo[q + 1]],
-                    points[lo[q] : lo[q + 1]],
-                    local[at:end],
-                    scan.n_beams,
-                    n_invalid,
-                )
-            )
+            tables.append(SegmentTable(idx, pts, local[at:end], scan.n_beams, n_invalid))
         at += hi[q + 1] - hi[q] + 1
-    return SegmentBlock(tables, beams, points, offsets, table_starts, circle)
+    return SegmentBlock(tables, beams, points, offsets, table_starts, bounds, circle)
 
 
 def _block_of_one(scan: Scan, params: JumpDistanceParams) -> SegmentBlock:
@@ -306,8 +315,9 @@ def _block_of_one(scan: Scan, params: JumpDistanceParams) -> SegmentBlock:
     for a in (table.beams, table.points, table.offsets):
         a.flags.writeable = False
     starts = np.array([0, len(table)], dtype=np.int64)
-    starts.flags.writeable = False
-    return SegmentBlock([table], table.beams, table.points, table.offsets, starts, [circle])
+    at = np.array([0, table.beams.size], dtype=np.int64)
+    starts.flags.writeable = at.flags.writeable = False
+    return SegmentBlock([table], table.beams, table.points, table.offsets, starts, at, [circle])
 
 
 def _wrap(
@@ -317,15 +327,16 @@ def _wrap(
     a: int,
     b: int,
     threshold: float,
-) -> None:
+) -> bool:
     """Merge the last segment of the scan at rows ``[a, b)`` into its first, in place, as
-    :func:`_table_from_starts` does: its rows moved to the front, its start cleared."""
+    :func:`_table_from_starts` does: its rows moved to the front, its start cleared;
+    whether it did (the scan has more than one segment, and its ends are close)."""
     starts = np.flatnonzero(is_start[a + 1 : b])
     if starts.size == 0:
-        return
+        return False
     closing = float(np.hypot(*(points[a] - points[b - 1])))
     if closing >= threshold:
-        return
+        return False
     last = a + 1 + int(starts[-1])
     order = np.concatenate((np.arange(last, b), np.arange(a, last)))
     points[a:b] = points[order]
@@ -335,6 +346,7 @@ def _wrap(
     is_start[a + b - last : b] = moved
     is_start[a] = True
     is_start[a + b - last] = False  # (the first segment now continues the moved last one)
+    return True
 
 
 NEAR = 1e-12

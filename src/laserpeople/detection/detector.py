@@ -200,11 +200,8 @@ class _SegmentDetector(abc.ABC):
         positions = self._positions(feats.centres[idx])
         cov = self._covariances(idx.size)
         legs = scores[idx]
-        first = block.table_starts
-        n_beams = np.array([scan.n_beams for scan in scans], dtype=np.int64)
-        owner = np.searchsorted(first, idx, side="right") - 1
-        segments = block.segments_at(idx, n_beams[owner])
-        cuts = np.searchsorted(idx, first).tolist()
+        segments = block.segments_at(idx)
+        cuts = np.searchsorted(idx, block.table_starts).tolist()
         out = []
         for k, scan in enumerate(scans):
             a, b = cuts[k], cuts[k + 1]

@@ -173,18 +173,7 @@ class JumpDistanceSegmenter:
 
     def __call__(self, scan: Scan) -> SegmentTable:
         """The segments of ``scan`` in beam order."""
-        pts, idx = scan.valid_points("sensor")
-        n_invalid = scan.n_beams - idx.size
-        if idx.size == 0:
-            return SegmentTable.empty(scan.n_beams, n_invalid)
-        return jump_distance_table(
-            pts,
-            idx,
-            scan.n_beams,
-            self.params.threshold,
-            wrap=self.params.wrap_around and covers_full_circle(scan),
-            n_invalid=n_invalid,
-        )
+        return _table_of(scan, self.params, covers_full_circle(scan))
 
     def many(self, scans: Sequence[Scan]) -> list[SegmentTable]:
         """The segments of each of ``scans`` (the same tables as one at a time), the
@@ -308,10 +297,27 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     return SegmentBlock(tables, beams, points, offsets, table_starts, bounds, circle)
 
 
+def _table_of(scan: Scan, params: JumpDistanceParams, full_circle: bool) -> SegmentTable:
+    """The table of :class:`JumpDistanceSegmenter` ``params`` of ``scan`` (``full_circle``
+    whether it covers the full circle)."""
+    pts, idx = scan.valid_points("sensor")
+    n_invalid = scan.n_beams - idx.size
+    if idx.size == 0:
+        return SegmentTable.empty(scan.n_beams, n_invalid)
+    return jump_distance_table(
+        pts,
+        idx,
+        scan.n_beams,
+        params.threshold,
+        wrap=params.wrap_around and full_circle,
+        n_invalid=n_invalid,
+    )
+
+
 def _block_of_one(scan: Scan, params: JumpDistanceParams) -> SegmentBlock:
     """:func:`segment_block` of one scan: its :class:`JumpDistanceSegmenter` table."""
     circle = covers_full_circle(scan)
-    table = JumpDistanceSegmenter(params)(scan)
+    table = _table_of(scan, params, circle)
     for a in (table.beams, table.points, table.offsets):
         a.flags.writeable = False
     starts = np.array([0, len(table)], dtype=np.int64)

@@ -278,8 +278,8 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     local = np.empty(offsets.size - 1 + len(scans), dtype=np.int64)
     local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
     local[table_starts[1:] + np.arange(len(scans))] = sizes
-    for a in (points, beams, offsets, table_starts, local, bounds):
-        a.flags.writeable = False
+    for array in (points, beams, offsets, table_starts, local, bounds):
+        array.flags.writeable = False
     lo, hi, at = bounds.tolist(), table_starts.tolist(), 0
     tables = []
     for q, scan in enumerate(scans):

@@ -30,10 +30,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.detection import compiled
 from laserpeople.scan import Scan, Segment
 
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
+
+_extension = compiled.EXTENSION
+"""Leg detection's C extension (:func:`jumps`), or None: :func:`at_least` runs."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,57 +173,221 @@ class JumpDistanceSegmenter:
 
     def __call__(self, scan: Scan) -> SegmentTable:
         """The segments of ``scan`` in beam order."""
-        pts, idx = scan.valid_points("sensor")
-        n_invalid = scan.n_beams - idx.size
-        if idx.size == 0:
-            return SegmentTable.empty(scan.n_beams, n_invalid)
-        return jump_distance_table(
-            pts,
-            idx,
-            scan.n_beams,
-            self.params.threshold,
-            wrap=self.params.wrap_around and covers_full_circle(scan),
-            n_invalid=n_invalid,
-        )
+        return _table_of(scan, self.params, covers_full_circle(scan))
 
     def many(self, scans: Sequence[Scan]) -> list[SegmentTable]:
         """The segments of each of ``scans`` (the same tables as one at a time), the
         distances between neighbouring points of all of them computed at once."""
-        if len(scans) < 2:
-            return [self(scan) for scan in scans]
-        parts = [scan.valid_points("sensor") for scan in scans]
-        sizes = [idx.size for _, idx in parts]
-        bounds = np.zeros(len(scans) + 1, dtype=np.int64)
-        np.cumsum(sizes, out=bounds[1:])
-        if bounds[-1] == 0:
-            return [self(scan) for scan in scans]
-        every = np.concatenate([pts for pts, _ in parts])
-        gaps = np.hypot(*(every[1:] - every[:-1]).T)
-        jumps = np.flatnonzero(gaps >= self.params.threshold) + 1  # (the step into a point)
-        # a scan's own jumps lie strictly inside its points (the step into its first point
-        # comes from the scan before)
-        lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()
-        hi = np.searchsorted(jumps, bounds[1:], side="left").tolist()
-        first = bounds.tolist()
-        out = []
-        for k, (scan, (pts, idx)) in enumerate(zip(scans, parts, strict=True)):
-            n_invalid = scan.n_beams - idx.size
-            if idx.size == 0:
-                out.append(SegmentTable.empty(scan.n_beams, n_invalid))
-                continue
-            inner = jumps[lo[k] : hi[k]] - first[k]
-            out.append(
-                _table_from_starts(
-                    pts,
-                    idx,
-                    np.concatenate(([0], inner)).astype(np.int64),
-                    scan.n_beams,
-                    self.params.threshold,
-                    wrap=self.params.wrap_around and covers_full_circle(scan),
-                    n_invalid=n_invalid,
-                )
+        return self.block(scans).tables
+
+    def block(self, scans: Sequence[Scan]) -> SegmentBlock:
+        """The segments of ``scans`` as one :class:`SegmentBlock`: the same tables as one
+        scan at a time."""
+        return segment_block(scans, self.params)
+
+
+@dataclass(frozen=True, eq=False)
+class SegmentBlock:
+    """The segments of several scans (T scans, M segments over K points) as flat arrays,
+    and each scan's :class:`SegmentTable` (all read-only).
+
+    Attributes:
+        tables: Each scan's table (T,); its ``beams`` and ``points`` are the scan's own
+            valid beams and points (a wrapped scan's a reordered copy), as one scan at a
+            time gives them, so that its segments do not hold the block's arrays.
+        beams: Beam index (K,) of every point, the scans' tables one after the other.
+        points: Sensor-frame coordinates (K, 2) [m] of those beams.
+        offsets: Start (M + 1,) of every segment in ``beams``.
+        table_starts: First segment (T + 1,) of each scan's table in ``offsets``.
+        point_starts: First point (T + 1,) of each scan's table in ``beams``.
+        full_circle: Whether each scan covers the full circle (T,).
+    """
+
+    tables: list[SegmentTable]
+    beams: IntArray
+    points: FloatArray
+    offsets: IntArray
+    table_starts: IntArray
+    point_starts: IntArray
+    full_circle: list[bool]
+
+    def segments_at(self, which: IntArray) -> list[Segment]:
+        """Segments ``which`` (L,) of the block, increasing, as their tables'
+        :meth:`SegmentTable.segments_at` gives them (the same values, views of the same
+        arrays), their bounds read for all of them at once."""
+        if len(which) == 0:
+            return []
+        owner = np.searchsorted(self.table_starts, which, side="right") - 1
+        lo = self.offsets[which]
+        hi = self.offsets[which + 1]
+        first = self.beams[lo]
+        last = self.beams[hi - 1]
+        n_beams = np.array([t.n_beams for t in self.tables], dtype=np.int64)[owner]
+        stop = last + 1 + np.where(last >= first, 0, n_beams)
+        base = self.point_starts[owner]
+        tables = self.tables
+        return [
+            Segment(f, t, tables[q].beams[a:b], tables[q].points[a:b])
+            for q, a, b, f, t in zip(
+                owner.tolist(),
+                (lo - base).tolist(),
+                (hi - base).tolist(),
+                first.tolist(),
+                stop.tolist(),
+                strict=True,
             )
+        ]
+
+
+def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentBlock:
+    """Jump-distance segmentation of ``scans`` (in order) at once: one distance between
+    neighbouring points over all of them, one pass over the starts, a scan's last and
+    first segment merged where it wraps (as :func:`jump_distance_table` does)."""
+    if len(scans) == 1:  # (one scan: its table's arrays are the block's)
+        return _block_of_one(scans[0], params)
+    parts = [scan.valid_points("sensor") for scan in scans]
+    sizes = [idx.size for _, idx in parts]
+    bounds = np.zeros(len(scans) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=bounds[1:])
+    k = int(bounds[-1])
+    circle = [covers_full_circle(scan) for scan in scans]
+    if k == 0:
+        points = np.empty((0, 2))
+        beams = np.empty(0, dtype=np.int64)
+    else:
+        points = np.concatenate([pts for pts, _ in parts])
+        beams = np.concatenate([idx for _, idx in parts]).astype(np.int64, copy=False)
+    threshold = params.threshold
+    is_start = np.zeros(k + 1, dtype=bool)  # (the step into a point is a jump)
+    if k > 1:
+        is_start[1:k] = jumps(points, threshold)
+    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
+    wrapped = set()
+    if params.wrap_around:
+        for q, full in enumerate(circle):
+            a, b = int(bounds[q]), int(bounds[q + 1])
+            if full and b > a and _wrap(points, beams, is_start, a, b, threshold):
+                wrapped.add(q)
+    is_start[k] = True
+    offsets = np.flatnonzero(is_start)  # (M + 1,): the segments' starts, then K
+    table_starts = np.searchsorted(offsets, bounds)
+    table_starts[-1] = offsets.size - 1
+    # each table's offsets from its own first point, one table after the other (M + T,)
+    counts = np.diff(table_starts)
+    owner = np.repeat(np.arange(len(scans)), counts)
+    local = np.empty(offsets.size - 1 + len(scans), dtype=np.int64)
+    local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
+    local[table_starts[1:] + np.arange(len(scans))] = sizes
+    for array in (points, beams, offsets, table_starts, local, bounds):
+        array.flags.writeable = False
+    lo, hi, at = bounds.tolist(), table_starts.tolist(), 0
+    tables = []
+    for q, scan in enumerate(scans):
+        n_invalid = scan.n_beams - sizes[q]
+        if sizes[q] == 0:
+            tables.append(SegmentTable.empty(scan.n_beams, n_invalid))
+        else:
+            pts, idx = parts[q]
+            if q in wrapped:  # (its reordered rows, copied: the block's die with it)
+                pts, idx = points[lo[q] : lo[q + 1]].copy(), beams[lo[q] : lo[q + 1]].copy()
+                pts.flags.writeable = idx.flags.writeable = False
+            end = at + hi[q + 1] - hi[q] + 1
+            tables.append(SegmentTable(idx, pts, local[at:end], scan.n_beams, n_invalid))
+        at += hi[q + 1] - hi[q] + 1
+    return SegmentBlock(tables, beams, points, offsets, table_starts, bounds, circle)
+
+
+def _table_of(scan: Scan, params: JumpDistanceParams, full_circle: bool) -> SegmentTable:
+    """The table of :class:`JumpDistanceSegmenter` ``params`` of ``scan`` (``full_circle``
+    whether it covers the full circle)."""
+    pts, idx = scan.valid_points("sensor")
+    n_invalid = scan.n_beams - idx.size
+    if idx.size == 0:
+        return SegmentTable.empty(scan.n_beams, n_invalid)
+    return jump_distance_table(
+        pts,
+        idx,
+        scan.n_beams,
+        params.threshold,
+        wrap=params.wrap_around and full_circle,
+        n_invalid=n_invalid,
+    )
+
+
+def _block_of_one(scan: Scan, params: JumpDistanceParams) -> SegmentBlock:
+    """:func:`segment_block` of one scan: its :class:`JumpDistanceSegmenter` table."""
+    circle = covers_full_circle(scan)
+    table = _table_of(scan, params, circle)
+    for a in (table.beams, table.points, table.offsets):
+        a.flags.writeable = False
+    starts = np.array([0, len(table)], dtype=np.int64)
+    at = np.array([0, table.beams.size], dtype=np.int64)
+    starts.flags.writeable = at.flags.writeable = False
+    return SegmentBlock([table], table.beams, table.points, table.offsets, starts, at, [circle])
+
+
+def _wrap(
+    points: FloatArray,
+    beams: IntArray,
+    is_start: NDArray[np.bool_],
+    a: int,
+    b: int,
+    threshold: float,
+) -> bool:
+    """Merge the last segment of the scan at rows ``[a, b)`` into its first, in place, as
+    :func:`_table_from_starts` does: its rows moved to the front, its start cleared;
+    whether it did (the scan has more than one segment, and its ends are close)."""
+    starts = np.flatnonzero(is_start[a + 1 : b])
+    if starts.size == 0:
+        return False
+    closing = float(np.hypot(*(points[a] - points[b - 1])))
+    if closing >= threshold:
+        return False
+    last = a + 1 + int(starts[-1])
+    order = np.concatenate((np.arange(last, b), np.arange(a, last)))
+    points[a:b] = points[order]
+    beams[a:b] = beams[order]
+    moved = is_start[a:last].copy()
+    is_start[a : a + b - last] = False
+    is_start[a + b - last : b] = moved
+    is_start[a] = True
+    is_start[a + b - last] = False  # (the first segment now continues the moved last one)
+    return True
+
+
+NEAR = 1e-12
+"""Relative band round the squared threshold within which :func:`at_least` asks ``hypot``
+(the squared length and hypot's length squared differ by a few 1e-16 relative)."""
+
+
+def at_least(steps: FloatArray, threshold: float) -> NDArray[np.bool_]:
+    """Whether each step (L, 2) [m] is at least ``threshold`` [m] long, exactly as
+    ``np.hypot(dx, dy) >= threshold`` decides it: by the squared length where it lies
+    farther than :data:`NEAR` (relative) from the squared threshold, by ``hypot`` within
+    (a squared length costs a tenth of a ``hypot``). Thresholds whose square would leave
+    the normal floats are all decided by ``hypot``."""
+    if not 1e-150 < threshold < 1e150:
+        return np.asarray(np.hypot(steps[:, 0], steps[:, 1]) >= threshold)
+    limit = threshold * threshold
+    squares = steps * steps
+    lengths = squares[:, 0] + squares[:, 1]
+    out = np.asarray(lengths >= limit)
+    near = np.flatnonzero(np.abs(lengths - limit) <= NEAR * limit)
+    if near.size:
+        out[near] = np.hypot(steps[near, 0], steps[near, 1]) >= threshold
+    return out
+
+
+def jumps(points: FloatArray, threshold: float) -> NDArray[np.bool_]:
+    """Whether each step between neighbouring points (K, 2) [m] (K - 1,) is at least
+    ``threshold`` [m] long (:func:`at_least`), by the C extension of leg detection where it
+    is built (the same decisions, without the arrays of steps and squares), else by
+    :func:`at_least` itself."""
+    if _extension is not None and points.shape[0] > 1:
+        out = np.empty(points.shape[0] - 1, dtype=bool)
+        _extension.jumps(np.ascontiguousarray(points, dtype=np.float64), threshold, out)
         return out
+    return at_least(points[1:] - points[:-1], threshold)
 
 
 def covers_full_circle(scan: Scan) -> bool:
@@ -251,8 +419,7 @@ def jump_distance_table(
     k = points.shape[0]
     if k == 0:
         return SegmentTable.empty(n_beams, n_invalid)
-    gaps = np.hypot(*(points[1:] - points[:-1]).T)
-    starts = np.concatenate(([0], np.flatnonzero(gaps >= threshold) + 1)).astype(np.int64)
+    starts = np.concatenate(([0], np.flatnonzero(jumps(points, threshold)) + 1)).astype(np.int64)
     return _table_from_starts(
         points, beams, starts, n_beams, threshold, wrap=wrap, n_invalid=n_invalid
     )

@@ -1,7 +1,8 @@
 /* The fourteen segment features of features.py's _compute, compiled: every segment of a
  * block of scans in one call per pass, arrays in, arrays out (and, at the end of this file,
  * the AdaBoost margins of adaboost._StumpTables.evaluate: the groups' table values at
- * each value's rank, added in group order as its cumulative sum adds them).
+ * each value's rank, added in group order as its cumulative sum adds them; before them
+ * the jumps between neighbouring points of segmentation.at_least).
  *
  * The same IEEE double operations in the same order as the numpy reference (build with
  * -ffp-contract=off: no fused multiply-add):
@@ -563,6 +564,66 @@ done:
     return result;
 }
 
+/* ---- segmentation ---- */
+
+#define NEAR 1e-12 /* segmentation.NEAR */
+
+/* jumps(points, threshold, out) -> None
+ * segmentation.at_least of the steps between neighbouring points (K, 2): out[i] (K - 1,)
+ * bool, whether the step into point i + 1 is at least threshold long, as
+ * np.hypot(dx, dy) >= threshold decides it (the same operations as at_least: the squared
+ * length dx * dx + dy * dy against threshold * threshold, hypot within NEAR of it). */
+static PyObject *jumps(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "jumps(points, threshold, out)");
+        return NULL;
+    }
+    Buf b[2];
+    memset(b, 0, sizeof(b));
+    PyObject *result = NULL;
+    double threshold = PyFloat_AsDouble(args[1]);
+    if (threshold == -1.0 && PyErr_Occurred()) return NULL;
+    if (take(args[0], &b[0], 0, 0, -1, "points") < 0) goto done;
+    Py_ssize_t k = b[0].view.len / 16;
+    if (k < 2 || b[0].view.len != 16 * k) {
+        PyErr_SetString(PyExc_ValueError, "points: expected (K, 2) float64, K >= 2");
+        goto done;
+    }
+    if (PyObject_GetBuffer(args[2], &b[1].view,
+                           PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0)
+        goto done;
+    b[1].held = 1;
+    if (b[1].view.itemsize != 1 || !b[1].view.format || strcmp(b[1].view.format, "?") != 0 ||
+        b[1].view.len != k - 1) {
+        PyErr_Format(PyExc_ValueError, "out: expected %zd bool", k - 1);
+        goto done;
+    }
+    const double *P = b[0].view.buf;
+    char *out = b[1].view.buf;
+    int direct = !(1e-150 < threshold && threshold < 1e150);
+    double limit = threshold * threshold;
+    for (Py_ssize_t i = 1; i < k; i++) {
+        double dx = P[2 * i] - P[2 * i - 2], dy = P[2 * i + 1] - P[2 * i - 1];
+        int jump;
+        if (direct) {
+            jump = hypot(dx, dy) >= threshold;
+        } else {
+            double length = dx * dx + dy * dy;
+            if (fabs(length - limit) <= NEAR * limit)
+                jump = hypot(dx, dy) >= threshold;
+            else
+                jump = length >= limit;
+        }
+        out[i - 1] = (char)jump;
+    }
+    result = Py_None;
+    Py_INCREF(result);
+done:
+    release(b, 2);
+    return result;
+}
+
 /* ---- AdaBoost ---- */
 
 /* the number of grid values below x (left) or at most x (right), as np.searchsorted */
@@ -656,6 +717,9 @@ static PyMethodDef methods[] = {
     {"pass2", (PyCFunction)(void (*)(void))pass2, METH_FASTCALL,
      "pass2(points, offsets, tables, flip, angles, no_circle_radius, out, centres, work, "
      "circle_centres): the line and circle fits and the turning angles from numpy's atan2."},
+    {"jumps", (PyCFunction)(void (*)(void))jumps, METH_FASTCALL,
+     "jumps(points, threshold, out): segmentation.at_least of the steps between "
+     "neighbouring points into out."},
     {"stump_sums", (PyCFunction)(void (*)(void))stump_sums, METH_FASTCALL,
      "stump_sums(X, columns, group_column, right, grid, values, out): "
      "adaboost._StumpTables.evaluate's margins into out."},

@@ -38,6 +38,7 @@ def pass2(
     circle_centres: NDArray[np.float64],
     /,
 ) -> None: ...
+def jumps(points: NDArray[np.float64], threshold: float, out: NDArray[np.bool_], /) -> None: ...
 def stump_sums(
     X: NDArray[np.float64],
     columns: NDArray[np.int64],

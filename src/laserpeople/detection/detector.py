@@ -10,6 +10,7 @@ of a recording in time order; :meth:`reset` forgets them.
 from __future__ import annotations
 
 import abc
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -23,7 +24,8 @@ from laserpeople.config import param
 from laserpeople.detection.features import (
     FeatureParams,
     SegmentFeatures,
-    compute_features_many,
+    compute_features_joined,
+    split_features,
 )
 from laserpeople.detection.heuristic import HeuristicLegClassifier, HeuristicParams
 from laserpeople.detection.model_file import LegModel, load_model, model_from_json
@@ -31,8 +33,8 @@ from laserpeople.scan import Scan
 from laserpeople.segmentation import (
     JumpDistanceParams,
     JumpDistanceSegmenter,
+    SegmentBlock,
     SegmentTable,
-    covers_full_circle,
 )
 from laserpeople.tracks import Detections
 
@@ -142,20 +144,35 @@ class _SegmentDetector(abc.ABC):
     def classify_many(self, scans: Sequence[Scan]) -> list[ScanClassification]:
         """:meth:`classify` of each of ``scans`` in turn (the same results), their features
         and scores computed for all of them at once."""
-        tables = self.segmenter.many(scans)
+        block, feats, scores, is_leg = self._classify_block(scans)
+        if len(scans) == 1:
+            return [ScanClassification(block.tables[0], feats, scores, is_leg)]
+        first = block.table_starts.tolist()
+        parts = split_features(feats, [b - a for a, b in itertools.pairwise(first)])
+        return [
+            ScanClassification(table, part, scores[a:b], is_leg[a:b])
+            for table, part, a, b in zip(block.tables, parts, first[:-1], first[1:], strict=True)
+        ]
+
+    def _classify_block(
+        self, scans: Sequence[Scan]
+    ) -> tuple[SegmentBlock, SegmentFeatures, NDArray[np.float64], NDArray[np.bool_]]:
+        """The segments of ``scans`` as one block, with the features (M, ...), scores (M,)
+        and decisions (M,) of all its segments; remembers the scans as previous ones."""
+        block = self.segmenter.block(scans)
         previous = []
         last = dict(self._previous)
         for scan in scans:
             previous.append(last.get(scan.sensor))
             last[scan.sensor] = scan
-        parts = compute_features_many(
-            tables,
+        feats = compute_features_joined(
+            block.tables,
             scans,
             previous,
             self.feature_params,
-            [covers_full_circle(scan) for scan in scans],
+            block.full_circle,
+            (block.points, block.offsets),
         )
-        feats = parts[0] if len(parts) == 1 else _joined(parts)
         scores = np.full(len(feats), np.nan)
         ok = feats.classifiable
         if self.params.min_distance > 0.0 or self.params.max_distance < math.inf:
@@ -168,13 +185,7 @@ class _SegmentDetector(abc.ABC):
             scores[ok] = self._scores(_subset(feats, ok))
         is_leg = ok & (scores > self.params.score_threshold)  # (NaN compares False)
         self._previous.update(last)  # (only once all of them are classified)
-        out = []
-        start = 0
-        for table, part in zip(tables, parts, strict=True):
-            sl = slice(start, start + len(table))
-            out.append(ScanClassification(table, part, scores[sl], is_leg[sl]))
-            start += len(table)
-        return out
+        return block, feats, scores, is_leg
 
     def detect(self, scan: Scan) -> Detections:
         """The legs found in ``scan`` (sensor frame)."""
@@ -182,25 +193,17 @@ class _SegmentDetector(abc.ABC):
 
     def detect_many(self, scans: Sequence[Scan]) -> list[Detections]:
         """:meth:`detect` of each of ``scans`` in turn (the same detections), classified all
-        at once (:meth:`classify_many`)."""
-        results = self.classify_many(scans)
-        if len(results) == 1:
-            return [self.detections_from(scans[0], results[0])]
-        # every scan's legs, centres and scores picked out at once, then split by scan
-        is_leg = np.concatenate([r.is_leg for r in results])
-        centres = np.concatenate([r.features.centres for r in results])
-        scores = np.concatenate([r.scores for r in results])
+        at once: the legs, their positions, scores and segments picked out of the whole
+        block, then split by scan."""
+        block, feats, scores, is_leg = self._classify_block(scans)
         idx = np.flatnonzero(is_leg)
-        positions = self._positions(centres[idx])
+        positions = self._positions(feats.centres[idx])
         cov = self._covariances(idx.size)
         legs = scores[idx]
-        counts = np.array([len(r.table) for r in results], dtype=np.int64)
-        starts = np.zeros(counts.size + 1, dtype=np.int64)
-        np.cumsum(counts, out=starts[1:])
-        cuts = np.searchsorted(idx, starts).tolist()
-        first = starts.tolist()
+        segments = block.segments_at(idx)
+        cuts = np.searchsorted(idx, block.table_starts).tolist()
         out = []
-        for k, (scan, result) in enumerate(zip(scans, results, strict=True)):
+        for k, scan in enumerate(scans):
             a, b = cuts[k], cuts[k + 1]
             out.append(
                 Detections(
@@ -211,7 +214,7 @@ class _SegmentDetector(abc.ABC):
                     scores=legs[a:b],
                     frame="sensor",
                     sensor_pose=scan.pose,
-                    segments=result.table.segments_at(idx[a:b] - first[k]) if b > a else (),
+                    segments=tuple(segments[a:b]),
                 )
             )
         return out
@@ -245,16 +248,6 @@ class _SegmentDetector(abc.ABC):
             sensor_pose=scan.pose,
             segments=result.table.segments_at(idx),
         )
-
-
-def _joined(parts: Sequence[SegmentFeatures]) -> SegmentFeatures:
-    """The features of several scans as one (rows in order)."""
-    return SegmentFeatures(
-        np.concatenate([p.values for p in parts]),
-        np.concatenate([p.max_beam_motion for p in parts]),
-        np.concatenate([p.centres for p in parts]),
-        np.concatenate([p.circle_centres for p in parts]),
-    )
 
 
 def _subset(features: SegmentFeatures, mask: NDArray[np.bool_]) -> SegmentFeatures:

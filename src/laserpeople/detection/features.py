@@ -172,23 +172,16 @@ def compute_features_many(
     """:func:`compute_features` of several scans at once (each with its table, previous
     scan and ``full_circle`` flag; all False when None): the same values, with the fixed
     cost of the whole-scan array operations paid once for all of them."""
-    flags = [False] * len(scans) if full_circle is None else list(full_circle)
-    counts = [len(t) for t in tables]
-    total = sum(counts)
-    if total == 0:
-        return [
-            SegmentFeatures(
-                np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
-            )
-            for _ in tables
-        ]
-    if _extension is not None:
-        every = _compute_compiled(_extension, tables, scans, previous, params, flags)
-    else:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            every = _compute(tables, scans, previous, params, flags)
+    if not tables:
+        return []
+    every = compute_features_joined(tables, scans, previous, params, full_circle)
     if len(tables) == 1:
         return [every]
+    return split_features(every, [len(t) for t in tables])
+
+
+def split_features(every: SegmentFeatures, counts: Sequence[int]) -> list[SegmentFeatures]:
+    """``every`` cut into consecutive parts of ``counts`` segments (views of its rows)."""
     out = []
     start = 0
     for m in counts:
@@ -203,6 +196,30 @@ def compute_features_many(
         )
         start += m
     return out
+
+
+def compute_features_joined(
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    params: FeatureParams = DEFAULT_FEATURE_PARAMS,
+    full_circle: Sequence[bool] | None = None,
+    joined: tuple[FloatArray, NDArray[np.int64]] | None = None,
+) -> SegmentFeatures:
+    """The features of :func:`compute_features_many` as one (the tables' rows one after the
+    other); ``joined``: the tables' points (K, 2) and offsets (M + 1,) as one, when the
+    caller has them (a :class:`~laserpeople.segmentation.SegmentBlock`'s)."""
+    flags = [False] * len(scans) if full_circle is None else list(full_circle)
+    if joined is None:
+        joined = _joined(tables)
+    if joined[1].size == 1:
+        return SegmentFeatures(
+            np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
+        )
+    if _extension is not None:
+        return _compute_compiled(_extension, tables, scans, previous, params, flags, joined)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return _compute(tables, scans, previous, params, flags, joined)
 
 
 def _joined(tables: Sequence[SegmentTable]) -> tuple[FloatArray, NDArray[np.int64]]:
@@ -222,8 +239,10 @@ def _compute(
     previous: Sequence[Scan | None],
     params: FeatureParams,
     full_circle: Sequence[bool],
+    joined: tuple[FloatArray, NDArray[np.int64]] | None = None,
 ) -> SegmentFeatures:
-    """All features of the segments of ``tables`` (at least one segment in all), in three
+    """All features of the segments of ``tables`` (at least one segment in all; ``joined``
+    their points and offsets as one, if at hand), in three
     passes over the points, each a few reductions of (K, C) matrices of per-point terms:
     (1) centres; boundary steps, curvature, turning angles and the beams' range changes;
     (2) the centred moments and distances to the vector of medians; the steps' deviations
@@ -239,7 +258,7 @@ def _compute(
     features that are zero but for rounding (the circularity of three points,
     the regularity of evenly spaced points) then keep their rounding, and the stumps whose
     thresholds lie at that level decide the same."""
-    P, offsets = _joined(tables)
+    P, offsets = _joined(tables) if joined is None else joined
     m = offsets.size - 1
     k = P.shape[0]
     off = offsets[:-1]
@@ -431,11 +450,12 @@ def _compute_compiled(
     previous: Sequence[Scan | None],
     params: FeatureParams,
     full_circle: Sequence[bool],
+    joined: tuple[FloatArray, NDArray[np.int64]] | None = None,
 ) -> SegmentFeatures:
     """:func:`_compute` by the C extension ``_cfeatures``: the same floats, the same
     operations in the same order (see ``_cfeatures.c``), in two calls for all segments of
     the block; numpy's ``arctan2`` between them, as :func:`_compute` takes it."""
-    P, offsets = _joined(tables)
+    P, offsets = _joined(tables) if joined is None else joined
     P = np.ascontiguousarray(P, dtype=np.float64)
     offsets = np.ascontiguousarray(offsets, dtype=np.int64)
     m = offsets.size - 1

@@ -115,7 +115,7 @@ HALVES = (
 )
 SETTINGS = ("tests/test_paper_settings.py",)
 MOTION_MEDIAN = ("tests/test_pipeline_motion_median.py",)
-SEGMENTS = ("tests/test_detect_segmentation.py",)
+SEGMENTS = ("tests/test_detect_segmentation.py", "tests/test_detect_segment_block.py")
 BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
 SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)
@@ -1257,10 +1257,10 @@ MUTANTS: tuple[Mutant, ...] = (
     ),
     Mutant(
         "segments-many-scan-start",
-        "segmentation of a block of scans (the step into a scan's first point is no jump)",
+        "segmentation of a block of scans (every scan's first point starts a segment)",
         "segmentation.py",
-        'lo = np.searchsorted(jumps, bounds[:-1], side="right").tolist()',
-        'lo = np.searchsorted(jumps, bounds[:-1], side="left").tolist()',
+        "    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)\n",
+        "",
         SEGMENTS,
     ),
     Mutant(

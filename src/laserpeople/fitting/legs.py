@@ -8,9 +8,11 @@ the scans between two detections, and deleted in the scan after its last one (a 
 than ``max_gap`` ends the track and the next detection starts a new one, as the tracker's
 gate could not bridge it). A leg is *approved* in a scan when its person's other leg has a
 live ideal track in the previous scan (a person candidate exists, 000 Sec. 3.3), else
-*free*. Counting the labels gives p_det, p_occ, p_del per class (000 eqs. 9-10);
-detections matched to no true leg are false alarms, births are new tracks, and dividing by
-the scans and the area the laser saw gives lambda_fal and lambda_new per m^2 (000 eq. 5).
+*free*. Counting the labels gives p_det, p_occ, p_del per class (000 eqs. 9-10).
+Detections matched to no true leg that recur at one place are the leg tracks the tracker
+makes of clutter (:func:`clutter_tracks`): free tracks, born as new tracks; the others are
+false alarms. Births and false alarms divided by the scans and the area the laser saw give
+lambda_new and lambda_fal per m^2 (000 eq. 5).
 
 Beyond the labels: the white-acceleration process noise of legs and people from the true
 trajectories (:class:`~laserpeople.fitting.estimates.AccelTally`), the gate on a leg's
@@ -218,7 +220,8 @@ class LegEventCounts:
         """One line of the counts."""
         return (
             f"free leg-scans det/occ/del {self.free.tolist()}, approved {self.approved.tolist()}, "
-            f"new legs {self.new} ({self.clutter_tracks} on clutter), false alarms {self.false} in {self.scans} scans, "
+            f"new legs {self.new} ({self.clutter_tracks} on clutter), "
+            f"false alarms {self.false} in {self.scans} scans, "
             f"person-scans two/one/no legs {self.persons.tolist()}, clutter-site-scans "
             f"{self.clutter.tolist()}"
         )

@@ -1216,6 +1216,14 @@ MUTANTS: tuple[Mutant, ...] = (
         FIT,
     ),
     Mutant(
+        "fit-clutter-tracks-not-born",
+        "000 eq. 14 (a detection of no track: new track, lambda_new, or false alarm)",
+        "fitting/legs.py",
+        "    counts.new += tally.new\n",
+        "    counts.new += 0\n",
+        FIT,
+    ),
+    Mutant(
         "mean-shift-merge-radius",
         "004 Sec. 3 (modes within bandwidth / 2 are one cluster)",
         "clustering/mean_shift.py",

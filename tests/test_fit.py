@@ -577,6 +577,26 @@ def test_clutter_evidence_by_hand() -> None:
     assert clutter_evidence([], stamps, 0.5, 1, 1.0).tolist() == [0, 0, 0]
 
 
+def test_clutter_tracks_are_born_and_not_false_alarms() -> None:
+    from laserpeople.fitting.legs import count_clutter_tracks
+
+    stamps = np.arange(20) * 0.1
+    false_at = [
+        (0, np.array([[1.0, 0.0], [3.0, 0.0]])),
+        (1, np.array([[1.05, 0.0]])),  # continues the track at (1, 0)
+        (2, np.array([[5.0, 5.0]])),  # once only: a false alarm
+        (3, np.array([[1.0, 0.02], [3.3, 0.0]])),  # (1, 0) again; 0.3 m from (3, 0): new
+        (15, np.array([[3.0, 0.0]])),  # 1.5 s after (3, 0) at scan 0: not the same track
+    ]
+    c = LegEventCounts(false=7)
+    count_clutter_tracks(false_at, stamps, LegFitParams(), c)
+    # one clutter track, scans 0 1 3: born, detected at 1, occluded at 2, detected at 3,
+    # deleted after 3 (free: no other leg); the other four stay false alarms
+    assert (c.new, c.clutter_tracks, c.false) == (1, 1, 4)
+    assert c.free.tolist() == [2, 1, 1]
+    assert c.approved.tolist() == [0, 0, 0]
+
+
 def test_fit_with_followed_person_truth_csv(tmp_path: Path) -> None:
     from laserpeople.io import open_recording
     from laserpeople.io.truth_csv import write_truth_csv

@@ -1267,7 +1267,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "segments-many-scan-start",
         "segmentation of a block of scans (every scan's first point starts a segment)",
         "segmentation.py",
-        "    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)\n",
+        "    is_start[bounds[:-1]] = True  # (every scan's first point; "
+        "an empty one's is the next's)\n",
         "",
         SEGMENTS,
     ),

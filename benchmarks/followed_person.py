@@ -46,7 +46,7 @@ from laserpeople.pipeline import build
 from laserpeople.pipeline.static_people import describe_people_model
 from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegTrackerParams
-from laserpeople.tracks import Tracks
+from laserpeople.tracks import TrackKind, Tracks
 
 GATE = 0.75  # m, the benchmark's matching distance
 TOPIC = "/scan_base2"
@@ -112,9 +112,12 @@ def stretches(scans: Sequence[int], max_gap: int) -> list[list[int]]:
 
 
 def score_followed(
-    tracks: Sequence[Tracks], labels: dict[int, np.ndarray], scans_per_second: float = 10.0
+    tracks: Sequence[Tracks],
+    labels: dict[int, np.ndarray],
+    scans_per_second: float = 10.0,
+    kind: TrackKind = "person",
 ) -> FollowedScore:
-    """Score the person tracks of every scan (``tracks[i]`` for scan index i) against
+    """Score the tracks of ``kind`` of every scan (``tracks[i]`` for scan index i) against
     ``labels``."""
     covering: Counter[int] = Counter()
     nearest: Counter[int] = Counter()
@@ -123,7 +126,7 @@ def score_followed(
     for scan, truth in labels.items():
         if scan >= len(tracks):
             continue
-        people = tracks[scan].of_kind("person")
+        people = tracks[scan].of_kind(kind)
         if not people:
             continue
         pos = np.stack([t.position for t in people])
@@ -147,7 +150,7 @@ def score_followed(
     elsewhere = 0
     if best:
         for scan, t in enumerate(tracks):
-            mine = [p for p in t.of_kind("person") if p.track_id == best[0][0]]
+            mine = [p for p in t.of_kind(kind) if p.track_id == best[0][0]]
             if not mine:
                 continue
             truth = labels.get(scan)
@@ -167,6 +170,17 @@ def score_followed(
         stretches=len(parts),
         best_id_elsewhere=elsewhere,
     )
+
+
+def scored_kind(tracks: Sequence[Tracks]) -> TrackKind:
+    """``person`` if any scan holds a person track, else ``group`` if any holds a group
+    (``group-mht`` reports groups only; its group holding the person is scored, as
+    ``laserpeople evaluate --kind group`` does), else ``person``."""
+    kinds: tuple[TrackKind, ...] = ("person", "group")
+    for kind in kinds:
+        if any(t.of_kind(kind) for t in tracks):
+            return kind
+    return "person"
 
 
 def track_bag(
@@ -221,8 +235,9 @@ def main() -> None:
         entry = registry.get(args.tracker)
         other = load_config(entry.params_cls, args.config)
         tracks, ms, model = track_bag(args.bag, other, args.background, args.model, args.tracker)
-        s = score_followed(tracks, read_labels(args.labels))
-        print(f"tracker              {args.tracker}")
+        kind = scored_kind(tracks)
+        s = score_followed(tracks, read_labels(args.labels), kind=kind)
+        print(f"tracker              {args.tracker} (its {kind} tracks scored)")
         _print_score(s, ms, model)
         return
     params = load_config(LegTrackerParams, args.config)

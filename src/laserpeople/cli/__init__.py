@@ -21,7 +21,7 @@ import typing
 from collections.abc import Iterator, MutableMapping, Sequence
 from importlib import import_module
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
@@ -384,6 +384,39 @@ def __getattr__(name: str) -> Any:
         globals()["app"] = program
         return program
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def run() -> NoReturn:
+    """The ``laserpeople`` program (and ``python -m laserpeople.cli``): :func:`main`, then
+    :func:`end_process` with its exit status."""
+    try:
+        main()
+    except SystemExit as exc:
+        end_process(exc.code)
+    end_process(0)
+
+
+def end_process(code: object) -> NoReturn:
+    """End the process with the exit status ``code`` (None or an int, as ``sys.exit``)
+    without the interpreter's finalisation: the ``atexit`` functions run and the standard
+    streams are flushed, then ``os._exit``. Tearing down the modules and objects of a run
+    cost 67 ms of CPU after ``track`` on the demo bag (41 ms after its imports alone), for
+    a process that ends anyway; the files a command writes are closed by then. With other
+    Python threads alive, another kind of ``code``, or a stream that cannot be flushed (a
+    closed pipe), the usual ``sys.exit`` ends it."""
+    import atexit
+    import threading
+
+    if threading.active_count() > 1 or not (code is None or isinstance(code, int)):
+        raise SystemExit(code)
+    atexit._run_exitfuncs()
+    try:
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:
+                stream.flush()
+    except (OSError, ValueError):
+        raise SystemExit(code) from None
+    os._exit(code or 0)
 
 
 def main() -> None:

@@ -54,7 +54,12 @@ from typing import Any
 HERE = Path(__file__).resolve()
 THIS_SRC = HERE.parents[1] / "src"
 DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
-RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
+RUN_CLI = (
+    "import sys; sys.argv[0] = 'laserpeople'; from laserpeople import cli; "
+    "getattr(cli, 'run', cli.main)()"
+)
+"""The ``laserpeople`` program of the tree on ``PYTHONPATH`` (``cli.run``; ``cli.main`` in
+trees from before it)."""
 sys.path.insert(0, str(HERE.parent))
 
 sys.path.insert(0, str(HERE.parent))

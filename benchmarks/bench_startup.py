@@ -26,7 +26,12 @@ import sys
 import time
 from pathlib import Path
 
-RUN_CLI = "import sys; sys.argv[0] = 'laserpeople'; from laserpeople.cli import main; main()"
+RUN_CLI = (
+    "import sys; sys.argv[0] = 'laserpeople'; from laserpeople import cli; "
+    "getattr(cli, 'run', cli.main)()"
+)
+"""The ``laserpeople`` program of the tree on ``PYTHONPATH`` (``cli.run``; ``cli.main`` in
+trees from before it)."""
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from laserpeople.cli import COMMANDS  # noqa: E402  (every command: its --help is timed)

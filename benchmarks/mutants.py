@@ -801,6 +801,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "if not conn.digest:\n            digests[conn.msgtype] = conn.digest",
         ROS1,
     ),
+    Mutant(
+        "ros1-lazy-typestore-any-standard",
+        "ROS 1 reader: a bag with one standard type among others defers its typestore",
+        R,
+        "            if key not in TYPESTORES and all(",
+        "            if key not in TYPESTORES and any(",
+        ("tests/test_io_ros1_lazy_typestore.py",),
+    ),
+    Mutant(
+        "ros1-lazy-typestore-empty-is-standard",
+        "ROS 1 reader: a type without connections counts as standard",
+        R,
+        "        return bool(digests) and all((msgtype, d) in standard for d in digests)",
+        "        return all((msgtype, d) in standard for d in digests)",
+        ("tests/test_io_ros1_lazy_typestore.py",),
+    ),
     # ---- code added since: walked candidates, one-step Kalman prediction, block features,
     # direct LaserScan decoding, the view's truth transform, the evaluation's warning
     Mutant(

@@ -146,6 +146,9 @@ def _is_laserscan(reader: Any, msgtype: str) -> bool:
     """LaserScan itself, or a custom type defined in the bag with LaserScan's fields."""
     if msgtype == LASERSCAN:
         return True
+    standard = getattr(reader, "is_standard", None)
+    if standard is not None and standard(msgtype):  # (TFMessage, Odometry: no typestore built)
+        return False
     fields = reader.typestore.fielddefs.get(msgtype)
     if not fields:
         return False

@@ -1065,6 +1065,38 @@ MUTANTS: tuple[Mutant, ...] = (
         "    for o in kept:\n        continued.setdefault(o, stamp)\n",
         CSA_RULES,
     ),
+    Mutant(
+        "csa-jump-back-any-points",
+        "CSA jump_back (at least min_points points go back to the state before the jump)",
+        CT,
+        "(back := self._jump_back(before, z, free)).sum() >= p.min_points",
+        "(back := self._jump_back(before, z, free)).sum() >= 1",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-jump-back-forever",
+        "CSA jump_back (the state before the jump is kept for max_unseen only)",
+        CT,
+        "if t.before is None or self._stamp - t.before[2] > self.params.max_unseen:",
+        "if t.before is None:",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-jump-back-seen-any",
+        "CSA jump_back_seen (only a target with points in every scan for 0.5 s jumps back)",
+        CT,
+        "steady = t.last_seen - t.seen_since >= p.jump_back_seen",
+        "steady = True",
+        CSA_RULES,
+    ),
+    Mutant(
+        "csa-jump-back-seen-not-restarted",
+        "CSA jump_back_seen (the time counts from the target's last missed scan)",
+        CT,
+        "stamp if unseen else t.seen_since,",
+        "t.seen_since,",
+        CSA_RULES,
+    ),
     # ---- the histogram's people of the learning period (background_people)
     Mutant(
         "histogram-people-share-complement",

@@ -403,6 +403,85 @@ def test_a_target_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> No
         CSAParams(lost_keep=-0.1)
 
 
+def _jump_then_back(gap: int, back: int, points: int = 10, missed: int = -1) -> list[Frame]:
+    """Target 0 stands at (0, 3); person 1 stands at (3, 3), seen from scan 0 (not in scan
+    ``missed``), unseen in scans ``gap`` to ``back`` - 1; in scan ``gap`` + 2 only, a blob
+    (someone else) shows 0.7 m aside, at (3.7, 3). From scan ``back`` on person 1's blob is
+    there again, with only its first ``points`` points in scan ``back``. 10 Hz."""
+    frames = _standing(
+        [
+            lambda k: (0.0, 3.0),
+            lambda k: None if gap <= k < back or k == missed else (3.0, 3.0),
+            lambda k: (3.7, 3.0) if k == gap + 2 else None,
+        ],
+        back + 8,
+    )
+    f = frames[back]
+    assert f.points is not None
+    xy = np.r_[_blob((0.0, 3.0), back), _blob((3.0, 3.0), back)[:points]]
+    ps = PointSet(f.stamp, xy, np.zeros(len(xy), dtype=np.int64), np.arange(len(xy)))
+    frames[back] = replace(f, points=ps, foreground=np.ones(len(xy), dtype=bool))
+    return frames
+
+
+def _person_1(frames: list[Frame], params: CSAParams) -> list[tuple[int, float] | None]:
+    """Per scan: the id and x [m] of the person track nearest (3, 3) other than target 0."""
+    csa = ClusterSortingTracker(params)
+    out: list[tuple[int, float] | None] = []
+    for f in frames:
+        rows = [t for t in csa.update(f).of_kind("person") if t.track_id != 0]
+        near = min(rows, key=lambda t: abs(t.position[0] - 3.0), default=None)
+        out.append(None if near is None else (near.track_id, float(near.position[0])))
+    return out
+
+
+def test_jump_back_a_steady_target_that_jumped_onto_a_blob_gets_its_person_back() -> None:
+    """jump_back: target 1, seen in every scan from 0.0 to 0.7 s (jump_back_seen 0.5 s),
+    unseen for 0.2 s, takes the blob of scan 10 (0.7 m aside, more than init_distance
+    0.6 m from its prediction: a jump) and runs off (x > 4.0 m in scan 12). Its person's
+    points, back in scan 13 inside the gate of its state before the jump and selected by
+    nobody, continue it: id 1 at x 3.0 +- 0.05 m from scan 13 on. Without the setting (002,
+    the paper preset) they start target 2, reported from scan 14. Not for fewer than
+    min_points (3) points in scan 13 (they could not start a target either: id 1 runs on),
+    nor once the state before the jump was last seen more than max_unseen (1 s) ago (back
+    in scan 19, 1.2 s later: a new target 2)."""
+    p = CSAParams()
+    assert p.min_points == 3 and p.max_unseen == pytest.approx(1.0)
+    assert p.jump_back_seen == pytest.approx(0.5)
+    jumped = _person_1(_jump_then_back(8, 13), p)
+    assert jumped[12] is not None and jumped[12][0] == 1 and jumped[12][1] > 4.0
+    assert all(r is not None and r[0] == 1 for r in jumped[13:])
+    assert all(r is not None and abs(r[1] - 3.0) < 0.05 for r in jumped[13:])
+    plain = _person_1(_jump_then_back(8, 13), CSAParams(jump_back=False))
+    assert plain[13] is not None and plain[13][0] == 1 and plain[13][1] > 4.2
+    assert plain[14] == (2, pytest.approx(3.0, abs=0.05))
+    assert CSAParams.paper_preset["jump_back"] is False
+    two = _person_1(_jump_then_back(8, 13, points=2), p)
+    assert two[13] is not None and two[13][0] == 1 and two[13][1] > 4.2
+    late = _person_1(_jump_then_back(8, 19), p)
+    assert late[20] == (2, pytest.approx(3.0, abs=0.05))
+
+
+def test_jump_back_not_for_a_target_seen_for_less_than_jump_back_seen() -> None:
+    """jump_back_seen: target 1 had points in every scan for 0.4 s only (scans 0-4) before
+    its gap, as a target on clutter that flickers: its jump onto the blob of scan 7 is not
+    undone, the points back in scan 10 start target 2 (reported from scan 11), as without
+    jump_back. With jump_back_seen 0.3 s (below 0.4 s) the target goes back. Seen from
+    scan 0 to 7 but not in scan 3, it had points in every scan for 0.3 s (scans 4-7) before
+    its gap at scan 8: no jump back either (the time counts from the last missed scan)."""
+    short = _person_1(_jump_then_back(5, 10), CSAParams())
+    assert short[10] is not None and short[10][0] == 1 and short[10][1] > 4.2
+    assert short[11] == (2, pytest.approx(3.0, abs=0.05))
+    assert short == _person_1(_jump_then_back(5, 10), CSAParams(jump_back=False))
+    lower = _person_1(_jump_then_back(5, 10), CSAParams(jump_back_seen=0.3))
+    assert all(r is not None and r[0] == 1 and abs(r[1] - 3.0) < 0.05 for r in lower[10:])
+    broken = _person_1(_jump_then_back(8, 13, missed=3), CSAParams())
+    assert broken[13] is not None and broken[13][0] == 1 and broken[13][1] > 4.2
+    assert broken[14] == (2, pytest.approx(3.0, abs=0.05))
+    with pytest.raises(ValueError, match="jump_back_seen"):
+        CSAParams(jump_back_seen=-0.1)
+
+
 def test_a_cluster_unseen_for_max_unseen_is_kept_unreported_for_lost_keep() -> None:
     """lost_keep for a cluster: two people merged at 2 s (targets 1 and 2; target 0 stands
     far off) are not seen from 2.5 to 3.8 s (last seen at 2.4 s). The cluster's people are

@@ -46,6 +46,17 @@ class _Single:
     spawned_by: int = -1  # the cluster it was started next to (a fragment of its people?)
     born: float = -math.inf  # when it was started from unselected points
     hits: int = 0  # scans in a row with selected measurements (see confirm_scans)
+    before: tuple[FloatArray, FloatArray, float] | None = None
+    """jump_back: the state (4,), covariance (4, 4) and last-seen time [s] the target had
+    before it last jumped (see :meth:`ClusterSortingTracker._jumped`), predicted to its
+    last scan."""
+    seen_since: float | None = None
+    """Since when [s] the target had selected measurements in every scan up to
+    ``last_seen`` (None: since ``last_seen``)."""
+
+    def __post_init__(self) -> None:
+        if self.seen_since is None:
+            self.seen_since = self.last_seen
 
 
 @dataclass
@@ -202,6 +213,7 @@ class ClusterSortingTracker:
             # the legs the leg MHT holds and the foreground lacks
             z = np.vstack([z, missed_legs(z, people.legs)])
         dt = 0.0 if self._last is None else min(max(stamp - self._last, 0.0), p.max_dt)
+        prev = self._last
         self._last = stamp
         point_var = p.point_std**2
         gate2 = p.gate
@@ -234,6 +246,7 @@ class ClusterSortingTracker:
                 gates[len(singles) + k] = g.any(axis=0)
         comps = gate_components(gates)
         selected_any = gates.any(axis=0)
+        free = np.asarray(~selected_any, dtype=bool)  # no object selects (jump_back takes some)
 
         new_singles: dict[int, _Single] = {}
         new_clusters: dict[int, _Cluster] = {}
@@ -243,9 +256,12 @@ class ClusterSortingTracker:
                 i = objs_s[0]
                 t = singles[i]
                 sel = gates[i]
+                before = self._before(t, dt)
                 if sel.any():  # KFA: the mean of the selected measurements
                     centre = z[sel].mean(axis=0)
                     mean, cov = kalman.update(sm[i], sc[i], centre, np.eye(2) * p.mean_std**2)
+                    unseen = prev is not None and t.last_seen < prev
+                    jumped = self._jumped(t, sm[i], centre, unseen)
                     new_singles[t.pid] = _Single(
                         t.pid,
                         mean,
@@ -254,13 +270,36 @@ class ClusterSortingTracker:
                         t.spawned_by,
                         t.born,
                         t.hits + 1,
+                        (sm[i], sc[i], t.last_seen) if jumped else None,
+                        stamp if unseen else t.seen_since,
+                    )
+                    self._walked(t.pid, centre)
+                elif (
+                    before is not None
+                    and (back := self._jump_back(before, z, free)).sum() >= p.min_points
+                ):
+                    free &= ~back  # the target goes back to its state before the jump
+                    centre = z[back].mean(axis=0)
+                    mean, cov = kalman.update(
+                        before[0], before[1], centre, np.eye(2) * p.mean_std**2
+                    )
+                    new_singles[t.pid] = _Single(
+                        t.pid, mean, cov, stamp, t.spawned_by, t.born, t.hits + 1, None, stamp
                     )
                     self._walked(t.pid, centre)
                 elif stamp - t.last_seen <= p.max_unseen + p.lost_keep:
                     # a miss before confirmation starts the count again
                     hits = t.hits if t.hits >= p.confirm_scans else 0
                     new_singles[t.pid] = _Single(
-                        t.pid, sm[i], sc[i], t.last_seen, t.spawned_by, t.born, hits
+                        t.pid,
+                        sm[i],
+                        sc[i],
+                        t.last_seen,
+                        t.spawned_by,
+                        t.born,
+                        hits,
+                        before,
+                        t.seen_since,
                     )
                 continue
             cl = self._vba(comp, singles, sm, sc, clusters, cpred, z, stamp, point_var)
@@ -290,8 +329,42 @@ class ClusterSortingTracker:
         if people is not None and self._moving:
             self._people_births(people.people, stamp)
         else:
-            self._initiate(z[~selected_any], stamp)
+            self._initiate(z[free], stamp)
         return self._report(frame)
+
+    def _jumped(self, t: _Single, pred: FloatArray, centre: FloatArray, unseen: bool) -> bool:
+        """``jump_back``: whether single target ``t``, predicted to ``pred`` (4,), jumps by
+        taking selected measurements with mean ``centre`` (2,) [m] after a scan without any
+        (``unseen``): farther than ``init_distance`` from its prediction, having had
+        selected measurements in every scan for at least ``jump_back_seen`` [s] before the
+        gap (a person tracked steadily, not a flickering blob)."""
+        p = self.params
+        if not (p.jump_back and unseen):
+            return False
+        assert t.seen_since is not None
+        steady = t.last_seen - t.seen_since >= p.jump_back_seen
+        return steady and float(np.hypot(*(centre - pred[:2]))) > p.init_distance
+
+    def _before(self, t: _Single, dt: float) -> tuple[FloatArray, FloatArray, float] | None:
+        """``jump_back``: the state of single target ``t`` before its last jump, predicted
+        by ``dt`` [s], or None (none kept, or last seen more than ``max_unseen`` ago)."""
+        if t.before is None or self._stamp - t.before[2] > self.params.max_unseen:
+            return None
+        mean, cov = kalman.predict(
+            t.before[0][None], t.before[1][None], np.array([dt]), self.params.person_accel_psd
+        )
+        return mean[0], cov[0], t.before[2]
+
+    def _jump_back(
+        self, before: tuple[FloatArray, FloatArray, float], z: FloatArray, free: NDArray[np.bool_]
+    ) -> NDArray[np.bool_]:
+        """``jump_back``: which measurements ``z`` (M, 2) [m] among the ``free`` ones (M,)
+        lie inside the gate of the state ``before`` (see :meth:`_before`)."""
+        p = self.params
+        inside = gate_loglik(
+            before[0][None], before[1][None], z, p.point_std**2, p.gate, p.max_gate_distance
+        )[0][0]
+        return np.asarray(inside & free, dtype=bool)
 
     def _people_births(self, people: FloatArray, stamp: float) -> None:
         """``moving_people``: a single target for each of the leg MHT's ``people`` (P, 2)

@@ -510,10 +510,14 @@ def moves_consistently(
     if len(path) < 2:
         return False
     t1, x1, y1 = path[-1]
+    # (the last position at least moving_time old: times only grow along the path, so the
+    # count of those old enough, found from the oldest on, stops at the first younger one)
+    since = t1 - params.moving_time + 1e-9
     start = -1
-    for i, (t, _, _) in enumerate(path):
-        if t <= t1 - params.moving_time + 1e-9:
-            start = i
+    for t, _, _ in path:
+        if t > since:
+            break
+        start += 1
     if start < 0:
         if not (
             young and params.moving_min_detections and len(path) >= params.moving_min_detections
@@ -522,10 +526,9 @@ def moves_consistently(
         start = 0
     t0, x0, y0 = path[start]
     net = math.hypot(x1 - x0, y1 - y0)
-    length = sum(
-        math.hypot(path[i + 1][1] - path[i][1], path[i + 1][2] - path[i][2])
-        for i in range(start, len(path) - 1)
-    )
+    # (the steps' lengths summed oldest first, as a sum over their indices: the same float)
+    steps = itertools.pairwise(itertools.islice(path, start, None))
+    length = sum(math.hypot(bx - ax, by - ay) for (_, ax, ay), (_, bx, by) in steps)
     return net >= params.moving_speed * (t1 - t0) and net >= params.moving_straightness * length
 
 

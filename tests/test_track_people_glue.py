@@ -89,7 +89,7 @@ def test_measurement_covariances_of_pairs_and_single_legs() -> None:
     t = PersonTracker(replace(P, pair_std=0.1, one_leg_std=0.25))
     for stds in ([0.25], [0.1], [0.25, 0.1, 0.25], [0.1] * 3, [0.25] * 40, [0.1, 0.25] * 20):
         want = np.zeros((len(stds), 2, 2))
-        want[:, 0, 0] = want[:, 1, 1] = np.array(stds) ** 2
+        want[:, 0, 0] = want[:, 1, 1] = [s**2 for s in stds]  # (as the update wrote them)
         got = t._meas_covs(stds)
         assert got.shape == want.shape
         assert np.array_equal(got, want)

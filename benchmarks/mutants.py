@@ -76,6 +76,7 @@ REID = (
 )
 FIT = ("tests/test_paper_fit.py", "tests/test_fit.py")
 MEAN_SHIFT = ("tests/test_mean_shift.py",)
+PEOPLE_GLUE = ("tests/test_track_people_glue.py",)
 
 CSA_CONFIRM = ("tests/test_track_csa.py", "tests/test_paper_csa.py")
 FEET_REFRESH = ("tests/test_pf_feet_refresh.py", "tests/test_pf_feet_cells.py")
@@ -2280,6 +2281,48 @@ MUTANTS: tuple[Mutant, ...] = (
         "loss = was - now if higher_is_better else now - was",
         "loss = was - now",
         ("tests/test_fit.py",),
+    ),
+    # ---- the people layer and the leg tracker's glue (issue 35): the same decisions and
+    # floats as the arrays they replace
+    Mutant(
+        "people-width-band-low-only",
+        "person tracks: a wide segment's width as numpy's hypot decides it, at both bounds",
+        PT,
+        "if abs(width - low) <= HYPOT_BAND * width or abs(width - high) <= HYPOT_BAND * width:",
+        "if abs(width - low) <= HYPOT_BAND * width:",
+        PEOPLE_GLUE,
+    ),
+    Mutant(
+        "people-meas-covs-rows-swapped",
+        "person tracks: one leg's and a pair's measurement covariances by row",
+        PT,
+        "rows = np.array([0 if s == one else 1 for s in stds], dtype=np.intp)",
+        "rows = np.array([1 if s == one else 0 for s in stds], dtype=np.intp)",
+        PEOPLE_GLUE,
+    ),
+    Mutant(
+        "people-sensor-frame-one-leg",
+        "person tracks: no one-leg births in the sensor frame, even when told moving",
+        PT,
+        "return self.params.one_leg_birth and self.moving and self.world_frame",
+        "return self.params.one_leg_birth and self.moving",
+        PEOPLE_GLUE,
+    ),
+    Mutant(
+        "legs-log-rates-swapped",
+        "leg tracker: log lambda_new, log lambda_fal per measurement (000 Table 10)",
+        "tracking/legs.py",
+        "        return new[:m], fal[:m]",
+        "        return fal[:m], new[:m]",
+        PEOPLE_GLUE,
+    ),
+    Mutant(
+        "guard-positive-bound-only",
+        "input guard: positions beyond MAX_COORDINATE on either side",
+        "tracking/guard.py",
+        "clean = bool(np.abs(pos).max(initial=0.0) <= MAX_COORDINATE)",
+        "clean = bool(pos.max(initial=0.0) <= MAX_COORDINATE)",
+        PEOPLE_GLUE,
     ),
 )
 

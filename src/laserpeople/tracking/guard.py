@@ -61,9 +61,12 @@ class InputGuard:
         """
         stamp = self.check_stamp(float(detections.stamp), detections.scan_index)
         pos, cov = detections.positions, detections.covariances
-        # (the usual case first: everything in bounds, two flat checks; no np.errstate:
-        # numpy 2's comparisons raise no floating-point warning on NaN)
-        clean = bool((np.abs(pos) <= MAX_COORDINATE).all()) and bool(np.isfinite(cov).all())
+        # (the usual case first: everything in bounds, two flat checks, the first by the
+        # largest magnitude, NaN if any is; no np.errstate: numpy 2's comparisons and
+        # maxima raise no floating-point warning on NaN)
+        clean = bool(np.abs(pos).max(initial=0.0) <= MAX_COORDINATE) and bool(
+            np.isfinite(cov).all()
+        )
         if not clean:
             finite = (np.abs(pos) <= MAX_COORDINATE).all(axis=1) & np.isfinite(cov).all(axis=(1, 2))
             self.dropped_detections += int(np.count_nonzero(~finite))

@@ -184,6 +184,7 @@ class LegLabelModel:
         self._by_class = np.stack([self._free, self._approved])  # rows: free, approved
         self._log_new = float(np.log(params.lambda_new))
         self._log_fal = float(np.log(params.lambda_fal))
+        self._rates = self._rate_rows(16)
 
     def track_log_probs(self, nodes: Sequence[TrackNode]) -> FloatArray:
         """(T, 3) log p of detected/occluded/deleted for each node's class."""
@@ -200,9 +201,20 @@ class LegLabelModel:
     def measurement_log_rates(
         self, measurements: PointMeasurements
     ) -> tuple[FloatArray, FloatArray]:
-        """log lambda_new, log lambda_fal for every measurement."""
+        """log lambda_new, log lambda_fal for every measurement (read-only views of rows
+        kept between scans: two slices instead of two ``np.full`` a scan)."""
         m = len(measurements)
-        return np.full(m, self._log_new), np.full(m, self._log_fal)
+        if self._rates[0].shape[0] < m:
+            self._rates = self._rate_rows(max(m, 2 * self._rates[0].shape[0]))
+        new, fal = self._rates
+        return new[:m], fal[:m]
+
+    def _rate_rows(self, n: int) -> tuple[FloatArray, FloatArray]:
+        """``n`` copies (n,) of log lambda_new and of log lambda_fal, read-only."""
+        new, fal = np.full(n, self._log_new), np.full(n, self._log_fal)
+        new.setflags(write=False)
+        fal.setflags(write=False)
+        return new, fal
 
 
 class LegMHTTracker:
@@ -248,28 +260,44 @@ class LegMHTTracker:
         self.guard = InputGuard()
         """Counts of hostile input (repeated/backward stamps, non-finite values)."""
         self._kept: NDArray[np.intp] = np.empty(0, dtype=np.intp)
+        self._all_rows: NDArray[np.intp] = np.empty(0, dtype=np.intp)
         self.hidden_tracks = 0
         """Leg and person tracks of the last scan left out of the output (unseen too long)."""
 
     def _measurements(self, detections: Detections) -> PointMeasurements:
         if self.frame is None:
             self.frame = tracking_frame(detections)
+            if self.person_tracks is not None:
+                self.person_tracks.world_frame = self.frame == "world"
         detections = in_frame(detections, self.frame)
         meas = PointMeasurements.from_detections(detections, self.params.kalman.measurement_std)
-        keep = np.asarray(np.isfinite(meas.positions).all(axis=1))
-        if not keep.all():  # e.g. a sensor pose with a NaN
-            self._dropped_in_frame += int(np.count_nonzero(~keep))
+        pos = meas.positions
+        # (None: every row kept, the usual case, without the arrays of rows)
+        keep: NDArray[np.bool_] | None = None
+        if not np.isfinite(pos).all():  # e.g. a sensor pose with a NaN
+            finite_rows = np.asarray(np.isfinite(pos).all(axis=1))
+            self._dropped_in_frame += int(np.count_nonzero(~finite_rows))
+            keep = finite_rows
         if self.person_tracks is not None:
-            finite = keep.nonzero()[0]
-            furniture = finite[self.person_tracks.on_furniture(meas.positions.take(finite, axis=0))]
-            keep[furniture] = False
-            self.static_legs_left_out += int(furniture.size)
+            finite = None if keep is None else keep.nonzero()[0]
+            on = self.person_tracks.on_furniture(pos if finite is None else pos.take(finite, 0))
+            if on.any():
+                if keep is None or finite is None:
+                    keep, finite = np.ones(len(meas), dtype=bool), self._rows(len(meas))
+                keep[finite[on]] = False
+                self.static_legs_left_out += int(np.count_nonzero(on))
+        if keep is None:
+            self._kept = self._rows(len(meas))
+            return meas
         self._kept = keep.nonzero()[0]
-        if self._kept.size < len(meas):
-            meas = PointMeasurements(
-                meas.positions.take(self._kept, axis=0), meas.covariances.take(self._kept, axis=0)
-            )
-        return meas
+        return PointMeasurements(pos.take(self._kept, axis=0), meas.covariances.take(self._kept, 0))
+
+    def _rows(self, n: int) -> NDArray[np.intp]:
+        """0, 1, ..., n - 1 (a read-only slice of rows kept between scans)."""
+        if self._all_rows.shape[0] < n:
+            self._all_rows = np.arange(max(n, 2 * self._all_rows.shape[0]), dtype=np.intp)
+            self._all_rows.setflags(write=False)
+        return self._all_rows[:n]
 
     def update(self, detections: Detections) -> Tracks:
         """Track one scan's leg detections (checked by :class:`InputGuard` first)."""
@@ -282,16 +310,18 @@ class LegMHTTracker:
         probs = self.mht.best_probabilities()
         best = self.mht.best_tracks()
         nodes = {n.family: n for n in best}  # (one node per family)
+        stamp = detections.stamp
+        unseen = [n.unseen_for(stamp) for n in best]  # (once per node: output and people)
         if self.person_tracks is None:
             legs = {f: LegState(f, n.mean, n.cov, probs.get(f, 1.0)) for f, n in nodes.items()}
             persons = self.people.update(legs, detections.stamp)
             self.labels.approved = self.people.approved_legs
         else:
-            persons = self._people_as_tracks(best, detections)
+            persons = self._people_as_tracks(best, unseen, detections)
             self.labels.approved = self.person_tracks.approved_legs
         # legs unseen for too long stay in the MHT and the person layer, but are not reported
         limit = self.params.max_report_unseen
-        shown = {n.family for n in best if n.unseen_for(detections.stamp) <= limit}
+        shown = {n.family for n, u in zip(best, unseen, strict=True) if u <= limit}
         n_tracks = len(nodes) + len(persons)
         persons = [p for p in persons if any(m in shown for m in p.members)]
         nodes = {k: v for k, v in nodes.items() if k in shown}
@@ -318,8 +348,11 @@ class LegMHTTracker:
             detections.sensor_pose,
         )
 
-    def _people_as_tracks(self, best: list[TrackNode], detections: Detections) -> list[Track]:
-        """Person tracks of the ``tracks`` policy from the best hypothesis's leg nodes."""
+    def _people_as_tracks(
+        self, best: list[TrackNode], unseen: list[float], detections: Detections
+    ) -> list[Track]:
+        """Person tracks of the ``tracks`` policy from the best hypothesis's leg nodes and
+        the time [s] each is unseen for."""
         assert self.person_tracks is not None
         stamp = detections.stamp
         kept = self._kept
@@ -327,12 +360,12 @@ class LegMHTTracker:
             (
                 n.family,
                 n.mean,
-                n.unseen_for(stamp),
+                u,
                 int(kept[n.measurement])
                 if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp
                 else -1,
             )
-            for n in best
+            for n, u in zip(best, unseen, strict=True)
         ]
         segments = [s.points for s in detections.segments]
         obs = leg_observations(rows, segments, detections.scores, self.params.people)

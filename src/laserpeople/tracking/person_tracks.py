@@ -510,10 +510,14 @@ def moves_consistently(
     if len(path) < 2:
         return False
     t1, x1, y1 = path[-1]
+    # (the last position at least moving_time old: times only grow along the path, so the
+    # count of those old enough, found from the oldest on, stops at the first younger one)
+    since = t1 - params.moving_time + 1e-9
     start = -1
-    for i, (t, _, _) in enumerate(path):
-        if t <= t1 - params.moving_time + 1e-9:
-            start = i
+    for t, _, _ in path:
+        if t > since:
+            break
+        start += 1
     if start < 0:
         if not (
             young and params.moving_min_detections and len(path) >= params.moving_min_detections
@@ -522,10 +526,9 @@ def moves_consistently(
         start = 0
     t0, x0, y0 = path[start]
     net = math.hypot(x1 - x0, y1 - y0)
-    length = sum(
-        math.hypot(path[i + 1][1] - path[i][1], path[i + 1][2] - path[i][2])
-        for i in range(start, len(path) - 1)
-    )
+    # (the steps' lengths summed oldest first, as a sum over their indices: the same float)
+    steps = itertools.pairwise(itertools.islice(path, start, None))
+    length = sum(math.hypot(bx - ax, by - ay) for (_, ax, ay), (_, bx, by) in steps)
     return net >= params.moving_speed * (t1 - t0) and net >= params.moving_straightness * length
 
 
@@ -535,8 +538,24 @@ def segment_holds_two_legs(points: FloatArray, score: float, params: PersonTrack
     if points.shape[0] < params.wide_min_points or not score > params.wide_min_score:
         return False
     (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()
-    width = float(np.hypot(x1 - x0, y1 - y0))  # (numpy's hypot of the same differences)
-    return params.wide_min_width <= width <= params.wide_max_width
+    return within_width(x1 - x0, y1 - y0, params.wide_min_width, params.wide_max_width)
+
+
+HYPOT_BAND = 1e-12
+"""Relative distance [1] from a bound within which :func:`within_width` asks numpy's
+``hypot`` itself: Python's ``math.hypot`` and the C library's (numpy's) differ by at most a
+few units in the last place (about 1e-16 relative), far inside this band."""
+
+
+def within_width(dx: float, dy: float, low: float, high: float) -> bool:
+    """Whether ``low <= hypot(dx, dy) <= high`` [m] as numpy's ``hypot`` decides it:
+    Python's ``math.hypot`` (a twentieth of a scalar ``np.hypot`` call) where it lies more
+    than :data:`HYPOT_BAND` (relative) from both bounds, numpy's within that band (where
+    the two may round a tie to either side)."""
+    width = math.hypot(dx, dy)
+    if abs(width - low) <= HYPOT_BAND * width or abs(width - high) <= HYPOT_BAND * width:
+        width = float(np.hypot(dx, dy))
+    return low <= width <= high
 
 
 class PersonTracker:
@@ -562,6 +581,9 @@ class PersonTracker:
         """Measurement covariance [m^2] of a person's position from one leg (constant)."""
         self._one_leg_stack = np.repeat(self._one_leg_cov[None], 16, axis=0)
         self._one_leg_stack.setflags(write=False)
+        self._cov_table = np.stack([self._one_leg_cov, np.eye(2) * params.pair_std**2])
+        """Measurement covariances [m^2] of a person's position from one leg, then from a
+        pair or a wide segment (rows taken by :meth:`_meas_covs`)."""
         self._llr = params.evidence_llr()
         self._llr_steps = [float(x) for x in self._llr]  # (plain floats: per person and scan)
         self._static_now: dict[int, float] = {}
@@ -572,6 +594,10 @@ class PersonTracker:
         self.moving = False
         """The lasers ride on a robot that has moved, and the tracking frame is the world
         (set by the caller; one-leg births, ``one_leg_birth``, only then)."""
+        self.world_frame = True
+        """The tracking frame is the world (set by the caller once it has chosen its frame):
+        in the sensor frame the lasers never count as moving (:meth:`_one_leg_on`), so the
+        leg paths that only one-leg births read are not recorded."""
         self._leg_first: dict[int, tuple[float, float, float]] = {}
         """Per leg track: (time [s], x, y [m]) of its first detection."""
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
@@ -683,9 +709,10 @@ class PersonTracker:
             del first[gone]
 
     def _one_leg_on(self) -> bool:
-        """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`;
-        in the sensor frame of a moving laser walls and furniture move consistently too)."""
-        return self.params.one_leg_birth and self.moving
+        """``one_leg_birth`` on a moving robot tracked in the world frame (:attr:`moving`
+        and :attr:`world_frame`; in the sensor frame of a moving laser walls and furniture
+        move consistently too)."""
+        return self.params.one_leg_birth and self.moving and self.world_frame
 
     def _moves(self, leg: LegObservation) -> bool:
         """A detected leg with a detector score above ``one_leg_min_score`` whose path
@@ -729,6 +756,18 @@ class PersonTracker:
             stack.setflags(write=False)
             self._one_leg_stack = stack
         return self._one_leg_stack[:n]
+
+    def _meas_covs(self, stds: list[float]) -> FloatArray:
+        """Measurement covariances (K, 2, 2) [m^2] ``std^2 I`` of the standard deviations
+        ``stds`` [m], each ``one_leg_std`` or ``pair_std`` (:meth:`_measure`'s): a slice of
+        the kept one-leg copies where all are one leg's, else rows of the two covariances
+        (the same floats as ``std**2`` on a zero matrix's diagonal)."""
+        n = len(stds)
+        one = self.params.one_leg_std
+        if stds.count(one) == n:
+            return self._one_leg_covs(n)
+        rows = np.array([0 if s == one else 1 for s in stds], dtype=np.intp)
+        return self._cov_table.take(rows, axis=0)
 
     def _measure(
         self, person: PersonTrack, seen: Sequence[LegObservation]
@@ -815,10 +854,7 @@ class PersonTracker:
                 person.last_seen = stamp
                 rows.append((person, z, std))
         if rows:
-            var = np.array([r[2] ** 2 for r in rows])
-            meas_covs = np.zeros((len(rows), 2, 2))
-            meas_covs[:, 0, 0] = var
-            meas_covs[:, 1, 1] = var
+            meas_covs = self._meas_covs([r[2] for r in rows])
             means, covs = kalman.update_batch(
                 np.array([r[0].mean for r in rows]),
                 np.array([r[0].cov for r in rows]),
@@ -829,7 +865,11 @@ class PersonTracker:
             # (asked only of people who have not yet travelled min_travel: travelled is only
             # compared with it)
             walking = [i for i, r in enumerate(rows) if r[0].travelled < p.min_travel]
-            static = dict(zip(walking, self._static(means[walking, :2]).tolist(), strict=True))
+            static = (
+                dict(zip(walking, self._static(means[walking, :2]).tolist(), strict=True))
+                if walking
+                else {}
+            )
             xy = means[:, :2].tolist()
             for i, (person, _, _) in enumerate(rows):
                 person.mean, person.cov = means[i], covs[i]
@@ -1031,7 +1071,7 @@ class PersonTracker:
         whose last leg detection is at most ``max_report_unseen`` [s] old."""
         self._static_now = {}
         self._stamp = stamp
-        if self.params.one_leg_birth:
+        if self.params.one_leg_birth and self.world_frame:
             self._record_paths(legs, stamp)
         self._predict(stamp)
         self._release(legs)

@@ -1253,6 +1253,260 @@ done:
     return out;
 }
 
+/* ------------------------------------------------------------------ prune
+ *
+ * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
+ * ratio pruned, the same hypotheses in the same order with the same log weights. Every
+ * float is made by the reference's IEEE operations in its order: logsumexp is
+ * top + log(fsum(exp(v - top))) with math.fsum's algorithm (CPython's msum: exact partials,
+ * rounded once), exp and log the C library's as Python's math module; the sorts are stable
+ * (Python's). The weights are worked on in a C array and written to the hypotheses kept
+ * only (the reference also rewrites the ones it drops, which nobody reads). Children with
+ * a weight that is not finite, an N-scan ancestor that cannot be hashed, or a total that is
+ * not finite return NotImplemented: the Python one takes them. */
+
+/* math.fsum of n finite values (CPython's algorithm; no special values can occur). */
+static double fsum_finite(const double *v, Py_ssize_t n, double *partials) {
+    Py_ssize_t np_ = 0;
+    for (Py_ssize_t k = 0; k < n; k++) {
+        double x = v[k];
+        Py_ssize_t i = 0;
+        for (Py_ssize_t j = 0; j < np_; j++) {
+            double y = partials[j];
+            if (fabs(x) < fabs(y)) {
+                double t = x;
+                x = y;
+                y = t;
+            }
+            double hi = x + y;
+            double yr = hi - x;
+            double lo = y - yr;
+            if (lo != 0.0) partials[i++] = lo;
+            x = hi;
+        }
+        np_ = i;
+        if (x != 0.0) partials[np_++] = x;
+    }
+    double hi = 0.0;
+    if (np_ > 0) {
+        double lo = 0.0;
+        hi = partials[--np_];
+        while (np_ > 0) {
+            double x = hi;
+            double y = partials[--np_];
+            hi = x + y;
+            double yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0) break;
+        }
+        if (np_ > 0 && ((lo < 0.0 && partials[np_ - 1] < 0.0) ||
+                        (lo > 0.0 && partials[np_ - 1] > 0.0))) {
+            double y = lo * 2.0;
+            double x = hi + y;
+            double yr = x - hi;
+            if (y == yr) hi = x;
+        }
+    }
+    return hi;
+}
+
+/* hypothesis.logsumexp of w[idx[0..n-1]] (n >= 1, finite values); scratch holds 2n. */
+static double logsumexp_at(const double *w, const Py_ssize_t *idx, Py_ssize_t n,
+                           double *scratch) {
+    double top = w[idx[0]];
+    for (Py_ssize_t i = 1; i < n; i++)
+        if (w[idx[i]] > top) top = w[idx[i]];
+    for (Py_ssize_t i = 0; i < n; i++) scratch[i] = exp(w[idx[i]] - top);
+    return top + log(fsum_finite(scratch, n, scratch + n));
+}
+
+/* hypothesis._renormalise of w[idx[0..n-1]]: 0 when the total is not finite (refused). */
+static int renormalise_at(double *w, const Py_ssize_t *idx, Py_ssize_t n, double *scratch) {
+    if (n == 0) return 1;
+    double total = logsumexp_at(w, idx, n, scratch);
+    if (!isfinite(total)) return 0;
+    for (Py_ssize_t i = 0; i < n; i++) w[idx[i]] -= total;
+    return 1;
+}
+
+static PyObject *log_weight_name = NULL, *ancestors_name = NULL;
+
+static PyObject *prune(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "prune(hypotheses, depth, min_ratio)");
+        return NULL;
+    }
+    PyObject *hyps = args[0];
+    if (!PyList_Check(hyps)) {
+        PyErr_SetString(PyExc_TypeError, "prune: a list of hypotheses expected");
+        return NULL;
+    }
+    Py_ssize_t depth = PyLong_AsSsize_t(args[1]);
+    if (depth == -1 && PyErr_Occurred()) return NULL;
+    double min_ratio = PyFloat_AsDouble(args[2]);
+    if (min_ratio == -1.0 && PyErr_Occurred()) return NULL;
+    if (!log_weight_name) {
+        log_weight_name = PyUnicode_InternFromString("log_weight");
+        if (!log_weight_name) return NULL;
+    }
+    if (!ancestors_name) {
+        ancestors_name = PyUnicode_InternFromString("ancestors");
+        if (!ancestors_name) return NULL;
+    }
+    Py_ssize_t n = PyList_GET_SIZE(hyps);
+    if (n == 0) return PyList_New(0);
+    PyObject *out = NULL, *items = NULL, *groups = NULL;
+    int refused = 0;
+    /* w: weights; order, idx: index lists; scratch: 2n doubles for logsumexp */
+    double *w = PyMem_Malloc(sizeof(double) * (size_t)(3 * n));
+    Py_ssize_t *order = PyMem_Malloc(sizeof(Py_ssize_t) * (size_t)(3 * n));
+    if (!w || !order) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    double *scratch = w + n;
+    Py_ssize_t *idx = order + n, *group_of = order + 2 * n;
+    items = PySequence_List(hyps); /* (a copy: the callers' objects stay referenced) */
+    if (!items) goto done;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *v = PyObject_GetAttr(PyList_GET_ITEM(items, i), log_weight_name);
+        if (!v) goto done;
+        w[i] = PyFloat_AsDouble(v);
+        Py_DECREF(v);
+        if (w[i] == -1.0 && PyErr_Occurred()) goto done;
+        if (!isfinite(w[i])) {
+            refused = 1;
+            goto done;
+        }
+    }
+    /* normalise_hypotheses: subtract the total, sort best first (stable) */
+    for (Py_ssize_t i = 0; i < n; i++) order[i] = i;
+    if (!renormalise_at(w, order, n, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    for (Py_ssize_t i = 1; i < n; i++) { /* stable insertion sort by -w */
+        Py_ssize_t x = order[i], j = i - 1;
+        while (j >= 0 && w[order[j]] < w[x]) {
+            order[j + 1] = order[j];
+            j--;
+        }
+        order[j + 1] = x;
+    }
+    Py_ssize_t kept = n;
+    if (depth <= 0) { /* the best one (the first of the largest) */
+        Py_ssize_t best = order[0];
+        for (Py_ssize_t i = 1; i < n; i++)
+            if (w[order[i]] > w[best]) best = order[i];
+        order[0] = best;
+        kept = 1;
+    } else {
+        int short_history = 0;
+        for (Py_ssize_t i = 0; i < n && !short_history; i++) {
+            PyObject *anc = PyObject_GetAttr(PyList_GET_ITEM(items, order[i]), ancestors_name);
+            if (!anc) goto done;
+            if (!PyTuple_Check(anc)) {
+                Py_DECREF(anc);
+                refused = 1;
+                goto done;
+            }
+            if (PyTuple_GET_SIZE(anc) < depth) short_history = 1;
+            Py_DECREF(anc);
+        }
+        if (!short_history) { /* the groups by the ancestor depth generations back */
+            groups = PyDict_New();
+            if (!groups) goto done;
+            Py_ssize_t n_groups = 0;
+            for (Py_ssize_t i = 0; i < n; i++) {
+                PyObject *anc = PyObject_GetAttr(PyList_GET_ITEM(items, order[i]),
+                                                 ancestors_name);
+                if (!anc) goto done;
+                PyObject *key = PyTuple_GET_ITEM(anc, PyTuple_GET_SIZE(anc) - depth);
+                PyObject *g = PyDict_GetItemWithError(groups, key);
+                if (!g && PyErr_Occurred()) {
+                    Py_DECREF(anc);
+                    if (PyErr_ExceptionMatches(PyExc_TypeError)) { /* unhashable */
+                        PyErr_Clear();
+                        refused = 1;
+                    }
+                    goto done;
+                }
+                if (g) {
+                    group_of[i] = PyLong_AsSsize_t(g);
+                } else {
+                    PyObject *gi = PyLong_FromSsize_t(n_groups);
+                    int bad = !gi || PyDict_SetItem(groups, key, gi) < 0;
+                    Py_XDECREF(gi);
+                    if (bad) {
+                        Py_DECREF(anc);
+                        goto done;
+                    }
+                    group_of[i] = n_groups++;
+                }
+                Py_DECREF(anc);
+            }
+            if (n_groups > 1) { /* keep the group of the most mass (the first of them) */
+                Py_ssize_t keep = -1;
+                double most = 0.0;
+                for (Py_ssize_t g = 0; g < n_groups; g++) {
+                    Py_ssize_t m = 0;
+                    for (Py_ssize_t i = 0; i < n; i++)
+                        if (group_of[i] == g) idx[m++] = order[i];
+                    double mass = logsumexp_at(w, idx, m, scratch);
+                    if (keep < 0 || mass > most) {
+                        keep = g;
+                        most = mass;
+                    }
+                }
+                Py_ssize_t m = 0;
+                for (Py_ssize_t i = 0; i < n; i++)
+                    if (group_of[i] == keep) order[m++] = order[i];
+                kept = m;
+            }
+        }
+    }
+    if (!renormalise_at(w, order, kept, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    /* ratio pruning: at least the best's weight plus log min_ratio */
+    double best = w[order[0]];
+    for (Py_ssize_t i = 1; i < kept; i++)
+        if (w[order[i]] > best) best = w[order[i]];
+    double floor_ = min_ratio > 0 ? best + log(min_ratio) : -INFINITY;
+    Py_ssize_t m = 0;
+    for (Py_ssize_t i = 0; i < kept; i++)
+        if (w[order[i]] >= floor_) order[m++] = order[i];
+    if (!renormalise_at(w, order, m, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    out = PyList_New(m);
+    if (!out) goto done;
+    for (Py_ssize_t i = 0; i < m; i++) {
+        PyObject *h = PyList_GET_ITEM(items, order[i]);
+        PyObject *v = PyFloat_FromDouble(w[order[i]]);
+        if (!v || PyObject_SetAttr(h, log_weight_name, v) < 0) {
+            Py_XDECREF(v);
+            Py_CLEAR(out);
+            goto done;
+        }
+        Py_DECREF(v);
+        PyList_SET_ITEM(out, i, Py_NewRef(h));
+    }
+done:
+    PyMem_Free(w);
+    PyMem_Free(order);
+    Py_XDECREF(items);
+    Py_XDECREF(groups);
+    if (refused && !PyErr_Occurred()) {
+        Py_XDECREF(out);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -1270,6 +1524,10 @@ static PyMethodDef methods[] = {
      "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
      "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
      "values, or NotImplemented where it decides otherwise."},
+    {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
+     "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
+     "weights set), or NotImplemented for children the Python one takes (a weight or a "
+     "total not finite, an ancestor that cannot be hashed)."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -6,6 +6,7 @@ from types import NotImplementedType
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.tracking.mht.hypothesis import Hypothesis
 from laserpeople.tracking.mht.matrix import LabelledAssignment
 from laserpeople.tracking.mht.tracktree import TrackNode
 
@@ -75,3 +76,6 @@ def static_few(
     near: float,
     /,
 ) -> list[float] | NotImplementedType: ...
+def prune(
+    hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
+) -> list[Hypothesis] | NotImplementedType: ...

@@ -809,13 +809,20 @@ class MHT(Generic[Meas]):
         return ancestors[-n_scan:] if n_scan else ()
 
     def _prune_children(self, children: dict[tuple[int, ...], Hypothesis]) -> list[Hypothesis]:
-        """A cluster's children normalised, N-scan and ratio pruned."""
+        """A cluster's children normalised, N-scan and ratio pruned (by the compiled
+        :func:`~.hypothesis.prune_children` where it is built)."""
         if len(children) == 1:
             (only,) = children.values()
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.depth, self.params.ratio)
+        hyps = list(children.values())
+        compiled = listing.COMPILED_PRUNE
+        if compiled is not None:  # (the same hypotheses and floats, or NotImplemented)
+            out = compiled(hyps, self.params.depth, self.params.ratio)
+            if out is not NotImplemented:
+                return out
+        return prune_children(hyps, self.params.depth, self.params.ratio)
 
     def _branch_lone(
         self,

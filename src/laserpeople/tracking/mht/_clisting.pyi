@@ -1,6 +1,7 @@
 """The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence
+from typing import Any
 from types import NotImplementedType
 
 import numpy as np
@@ -79,3 +80,26 @@ def static_few(
 def prune(
     hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
 ) -> list[Hypothesis] | NotImplementedType: ...
+def plan_plain(
+    solutions: list[tuple[int, LabelledAssignment, float]],
+    tracks_of: list[tuple[TrackNode, ...]],
+    meas_list: list[int],
+    measurements: Any,
+    /,
+) -> (
+    tuple[list[tuple[TrackNode, Hashable, Any, int]], dict[Hashable, tuple[Any, int, int]]]
+    | NotImplementedType
+): ...
+def assemble_plain(
+    solutions: list[tuple[int, LabelledAssignment, float]],
+    parents: list[Hypothesis],
+    tracks_of: list[tuple[TrackNode, ...]],
+    meas_list: list[int],
+    new_nodes: dict[Hashable, TrackNode],
+    occluded_child: Callable[[TrackNode, float], TrackNode],
+    stamp: float,
+    hypothesis: type[Hypothesis],
+    n_scan: int,
+    logaddexp: Callable[[float, float], Any],
+    /,
+) -> dict[tuple[int, ...], Hypothesis] | NotImplementedType: ...

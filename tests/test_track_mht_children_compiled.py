@@ -244,9 +244,7 @@ def test_compiled_plan_and_assembly_by_hand(
     sol, parents, tracks_of, meas_list, _ = _cluster_by_hand()
     got_plan = clisting.plan_plain(sol, tracks_of, meas_list, measurements)
     want_plan = mht._plan_plain(sol, tracks_of, meas_list, measurements)
-    assert got_plan[0] == want_plan[0] and list(got_plan[1].items()) == list(
-        want_plan[1].items()
-    )
+    assert got_plan[0] == want_plan[0] and list(got_plan[1].items()) == list(want_plan[1].items())
     assert [(p[0].node_id, p[1]) for p in got_plan[0]] == []  # (every child made already)
     assert list(got_plan[1]) == [5, 3]
 
@@ -349,3 +347,45 @@ def test_tracker_with_the_compiled_bookkeeping_holds_the_same_hypotheses(
         ]
     assert taken["compiled"] > 200 and taken["python"] == 0
 
+
+@pytest.mark.parametrize("plan", ["refused", "planned"])
+def test_refused_children_go_to_the_python_code(monkeypatch: pytest.MonkeyPatch, plan: str) -> None:
+    """Where the compiled plan, assembly or pruning refuse (NotImplemented), the Python
+    code makes the children: a tracker whose compiled parts refuse every call (or whose
+    plan is the Python one's and the assembly and pruning refuse) holds the hypotheses and
+    reports the tracks of one without them (built or not)."""
+    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+    from laserpeople.tracking.mht.core import MHT
+
+    calls = {"plan": 0, "assemble": 0, "prune": 0}
+
+    def part(name: str) -> Any:
+        def refuse_or_plan(*args: Any) -> Any:
+            calls[name] += 1
+            if name == "plan" and plan == "planned":
+                return MHT._plan_plain(*args)
+            return NotImplemented
+
+        return refuse_or_plan
+
+    names = {"plan": "COMPILED_PLAN_PLAIN", "assemble": "COMPILED_ASSEMBLE_PLAIN",
+             "prune": "COMPILED_PRUNE"}  # fmt: skip
+    refusing, without = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
+
+    def hypotheses(tracker: LegMHTTracker) -> list[list[int]]:
+        return [[t.node_id for t in h.tracks] for c in tracker.mht.clusters for h in c.hypotheses]
+
+    for d in walkers_scene(21, 1.5).detections[:150]:
+        for key, name in names.items():
+            monkeypatch.setattr(listing, name, part(key))
+        out_refusing = refusing.update(d)
+        for name in names.values():
+            monkeypatch.setattr(listing, name, None)
+        out_without = without.update(d)
+        assert hypotheses(refusing) == hypotheses(without)
+        assert [(t.track_id, t.position.tobytes()) for t in out_refusing] == [
+            (t.track_id, t.position.tobytes()) for t in out_without
+        ]
+    assert calls["plan"] > 50 and calls["prune"] > 50
+    # (a refused plan leaves the assembly to Python without asking the compiled one)
+    assert (calls["assemble"] > 50) == (plan == "planned") == (calls["assemble"] > 0)

@@ -1,8 +1,8 @@
 """The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
 
 from collections.abc import Callable, Hashable, Iterable, Sequence
-from typing import Any
 from types import NotImplementedType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray

@@ -304,10 +304,10 @@ def test_tracker_with_the_compiled_bookkeeping_holds_the_same_hypotheses(
     clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Two leg MHTs stepped side by side over a scene of six walkers with clutter, one
-    with the compiled plan, assembly and pruning, one with their
-    Python references: after every scan the same hypotheses (node ids, histories' lengths,
-    exact weights), the same live nodes by family, the same reported tracks; the compiled
-    assembly took every cluster of the general path."""
+    with the compiled plan, assembly and pruning, one with their Python references: after
+    every scan the same hypotheses (node ids, histories' lengths, exact weights), the same
+    live nodes by family, the same links, the same reported tracks; the compiled assembly
+    took every cluster of the general path."""
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
     fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
@@ -332,6 +332,7 @@ def test_tracker_with_the_compiled_bookkeeping_holds_the_same_hypotheses(
             [len(h.ancestors) for h in hyps],
             [h.log_weight for h in hyps],
             list(tree.items()),
+            list(tracker.mht.links.items()),
         )
 
     for d in walkers_scene(21, 1.5).detections:

@@ -1164,6 +1164,23 @@ MUTANTS: tuple[Mutant, ...] = (
         "        plain = type(self.branches) is SingleModel",
         MHT_CORE,
     ),
+    Mutant(
+        "mht-compiled-assembly-refusal-ignored",
+        "leg MHT: the compiled assembly's refusal taken for children",
+        MC,
+        "            if children is not NotImplemented:  # (the children _assemble makes)\n",
+        "            if True:  # (the children _assemble makes)\n",
+        ("tests/test_track_mht_children_compiled.py",),
+    ),
+    Mutant(
+        "mht-compiled-prune-refusal-ignored",
+        "leg MHT: the compiled pruning's refusal taken for hypotheses",
+        MC,
+        "            if out is not NotImplemented:\n                return out\n"
+        "        return prune_children(",
+        "            return out\n        return prune_children(",
+        ("tests/test_track_mht_children_compiled.py",),
+    ),
     # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives
     Mutant(
         "gnn-diagnose-before-after-swapped",

@@ -57,6 +57,7 @@ PARTS: list[tuple[Any, str, str, int]] = [
     (listing, "COMPILED_K_BEST", "compiled costs and listing (the C extension)", 4),
     (core, "k_best_children", "Murty's method", 4),
     (core.MHT, "_assemble", "children's hypotheses, normalising, pruning", 3),
+    (listing, "COMPILED_ASSEMBLE_PLAIN", "children's hypotheses (the C extension)", 3),
     (core.MHT, "_fill_deferred", "Kalman updates and births of kept children", 2),
     (core.MHT, "_expire", "expiry of unseen tracks", 2),
     (person_tracks.PersonTracker, "update", "people layer (person tracks)", 1),

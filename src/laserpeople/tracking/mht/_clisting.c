@@ -1253,6 +1253,676 @@ done:
     return out;
 }
 
+/* ------------------------------------------------------------------ prune
+ *
+ * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
+ * ratio pruned, the same hypotheses in the same order with the same log weights. Every
+ * float is made by the reference's IEEE operations in its order: logsumexp is
+ * top + log(fsum(exp(v - top))) with math.fsum's algorithm (CPython's msum: exact partials,
+ * rounded once), exp and log the C library's as Python's math module; the sorts are stable
+ * (Python's). The weights are worked on in a C array and written to the hypotheses kept
+ * only (the reference also rewrites the ones it drops, which nobody reads). Children with
+ * a weight that is not finite, an N-scan ancestor that cannot be hashed, or a total that is
+ * not finite return NotImplemented: the Python one takes them. */
+
+/* math.fsum of n finite values (CPython's algorithm; no special values can occur). */
+static double fsum_finite(const double *v, Py_ssize_t n, double *partials) {
+    Py_ssize_t np_ = 0;
+    for (Py_ssize_t k = 0; k < n; k++) {
+        double x = v[k];
+        Py_ssize_t i = 0;
+        for (Py_ssize_t j = 0; j < np_; j++) {
+            double y = partials[j];
+            if (fabs(x) < fabs(y)) {
+                double t = x;
+                x = y;
+                y = t;
+            }
+            double hi = x + y;
+            double yr = hi - x;
+            double lo = y - yr;
+            if (lo != 0.0) partials[i++] = lo;
+            x = hi;
+        }
+        np_ = i;
+        if (x != 0.0) partials[np_++] = x;
+    }
+    double hi = 0.0;
+    if (np_ > 0) {
+        double lo = 0.0;
+        hi = partials[--np_];
+        while (np_ > 0) {
+            double x = hi;
+            double y = partials[--np_];
+            hi = x + y;
+            double yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0) break;
+        }
+        if (np_ > 0 && ((lo < 0.0 && partials[np_ - 1] < 0.0) ||
+                        (lo > 0.0 && partials[np_ - 1] > 0.0))) {
+            double y = lo * 2.0;
+            double x = hi + y;
+            double yr = x - hi;
+            if (y == yr) hi = x;
+        }
+    }
+    return hi;
+}
+
+/* hypothesis.logsumexp of w[idx[0..n-1]] (n >= 1, finite values); scratch holds 2n. */
+static double logsumexp_at(const double *w, const Py_ssize_t *idx, Py_ssize_t n,
+                           double *scratch) {
+    double top = w[idx[0]];
+    for (Py_ssize_t i = 1; i < n; i++)
+        if (w[idx[i]] > top) top = w[idx[i]];
+    for (Py_ssize_t i = 0; i < n; i++) scratch[i] = exp(w[idx[i]] - top);
+    return top + log(fsum_finite(scratch, n, scratch + n));
+}
+
+/* hypothesis._renormalise of w[idx[0..n-1]]: 0 when the total is not finite (refused). */
+static int renormalise_at(double *w, const Py_ssize_t *idx, Py_ssize_t n, double *scratch) {
+    if (n == 0) return 1;
+    double total = logsumexp_at(w, idx, n, scratch);
+    if (!isfinite(total)) return 0;
+    for (Py_ssize_t i = 0; i < n; i++) w[idx[i]] -= total;
+    return 1;
+}
+
+static PyObject *log_weight_name = NULL, *ancestors_name = NULL;
+
+static PyObject *prune(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "prune(hypotheses, depth, min_ratio)");
+        return NULL;
+    }
+    PyObject *hyps = args[0];
+    if (!PyList_Check(hyps)) {
+        PyErr_SetString(PyExc_TypeError, "prune: a list of hypotheses expected");
+        return NULL;
+    }
+    Py_ssize_t depth = PyLong_AsSsize_t(args[1]);
+    if (depth == -1 && PyErr_Occurred()) return NULL;
+    double min_ratio = PyFloat_AsDouble(args[2]);
+    if (min_ratio == -1.0 && PyErr_Occurred()) return NULL;
+    if (!log_weight_name) {
+        log_weight_name = PyUnicode_InternFromString("log_weight");
+        if (!log_weight_name) return NULL;
+    }
+    if (!ancestors_name) {
+        ancestors_name = PyUnicode_InternFromString("ancestors");
+        if (!ancestors_name) return NULL;
+    }
+    Py_ssize_t n = PyList_GET_SIZE(hyps);
+    if (n == 0) return PyList_New(0);
+    PyObject *out = NULL, *items = NULL, *groups = NULL;
+    int refused = 0;
+    /* w: weights; order, idx: index lists; scratch: 2n doubles for logsumexp */
+    double *w = PyMem_Malloc(sizeof(double) * (size_t)(3 * n));
+    Py_ssize_t *order = PyMem_Malloc(sizeof(Py_ssize_t) * (size_t)(3 * n));
+    if (!w || !order) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    double *scratch = w + n;
+    Py_ssize_t *idx = order + n, *group_of = order + 2 * n;
+    items = PySequence_List(hyps); /* (a copy: the callers' objects stay referenced) */
+    if (!items) goto done;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *v = PyObject_GetAttr(PyList_GET_ITEM(items, i), log_weight_name);
+        if (!v) goto done;
+        w[i] = PyFloat_AsDouble(v);
+        Py_DECREF(v);
+        if (w[i] == -1.0 && PyErr_Occurred()) goto done;
+        if (!isfinite(w[i])) {
+            refused = 1;
+            goto done;
+        }
+    }
+    /* normalise_hypotheses: subtract the total, sort best first (stable) */
+    for (Py_ssize_t i = 0; i < n; i++) order[i] = i;
+    if (!renormalise_at(w, order, n, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    for (Py_ssize_t i = 1; i < n; i++) { /* stable insertion sort by -w */
+        Py_ssize_t x = order[i], j = i - 1;
+        while (j >= 0 && w[order[j]] < w[x]) {
+            order[j + 1] = order[j];
+            j--;
+        }
+        order[j + 1] = x;
+    }
+    Py_ssize_t kept = n;
+    if (depth <= 0) { /* the best one (the first of the largest) */
+        Py_ssize_t best = order[0];
+        for (Py_ssize_t i = 1; i < n; i++)
+            if (w[order[i]] > w[best]) best = order[i];
+        order[0] = best;
+        kept = 1;
+    } else {
+        int short_history = 0;
+        for (Py_ssize_t i = 0; i < n && !short_history; i++) {
+            PyObject *anc = PyObject_GetAttr(PyList_GET_ITEM(items, order[i]), ancestors_name);
+            if (!anc) goto done;
+            if (!PyTuple_Check(anc)) {
+                Py_DECREF(anc);
+                refused = 1;
+                goto done;
+            }
+            if (PyTuple_GET_SIZE(anc) < depth) short_history = 1;
+            Py_DECREF(anc);
+        }
+        if (!short_history) { /* the groups by the ancestor depth generations back */
+            groups = PyDict_New();
+            if (!groups) goto done;
+            Py_ssize_t n_groups = 0;
+            for (Py_ssize_t i = 0; i < n; i++) {
+                PyObject *anc = PyObject_GetAttr(PyList_GET_ITEM(items, order[i]),
+                                                 ancestors_name);
+                if (!anc) goto done;
+                PyObject *key = PyTuple_GET_ITEM(anc, PyTuple_GET_SIZE(anc) - depth);
+                PyObject *g = PyDict_GetItemWithError(groups, key);
+                if (!g && PyErr_Occurred()) {
+                    Py_DECREF(anc);
+                    if (PyErr_ExceptionMatches(PyExc_TypeError)) { /* unhashable */
+                        PyErr_Clear();
+                        refused = 1;
+                    }
+                    goto done;
+                }
+                if (g) {
+                    group_of[i] = PyLong_AsSsize_t(g);
+                } else {
+                    PyObject *gi = PyLong_FromSsize_t(n_groups);
+                    int bad = !gi || PyDict_SetItem(groups, key, gi) < 0;
+                    Py_XDECREF(gi);
+                    if (bad) {
+                        Py_DECREF(anc);
+                        goto done;
+                    }
+                    group_of[i] = n_groups++;
+                }
+                Py_DECREF(anc);
+            }
+            if (n_groups > 1) { /* keep the group of the most mass (the first of them) */
+                Py_ssize_t keep = -1;
+                double most = 0.0;
+                for (Py_ssize_t g = 0; g < n_groups; g++) {
+                    Py_ssize_t m = 0;
+                    for (Py_ssize_t i = 0; i < n; i++)
+                        if (group_of[i] == g) idx[m++] = order[i];
+                    double mass = logsumexp_at(w, idx, m, scratch);
+                    if (keep < 0 || mass > most) {
+                        keep = g;
+                        most = mass;
+                    }
+                }
+                Py_ssize_t m = 0;
+                for (Py_ssize_t i = 0; i < n; i++)
+                    if (group_of[i] == keep) order[m++] = order[i];
+                kept = m;
+            }
+        }
+    }
+    if (!renormalise_at(w, order, kept, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    /* ratio pruning: at least the best's weight plus log min_ratio */
+    double best = w[order[0]];
+    for (Py_ssize_t i = 1; i < kept; i++)
+        if (w[order[i]] > best) best = w[order[i]];
+    double floor_ = min_ratio > 0 ? best + log(min_ratio) : -INFINITY;
+    Py_ssize_t m = 0;
+    for (Py_ssize_t i = 0; i < kept; i++)
+        if (w[order[i]] >= floor_) order[m++] = order[i];
+    if (!renormalise_at(w, order, m, scratch)) {
+        refused = 1;
+        goto done;
+    }
+    out = PyList_New(m);
+    if (!out) goto done;
+    for (Py_ssize_t i = 0; i < m; i++) {
+        PyObject *h = PyList_GET_ITEM(items, order[i]);
+        PyObject *v = PyFloat_FromDouble(w[order[i]]);
+        if (!v || PyObject_SetAttr(h, log_weight_name, v) < 0) {
+            Py_XDECREF(v);
+            Py_CLEAR(out);
+            goto done;
+        }
+        Py_DECREF(v);
+        PyList_SET_ITEM(out, i, Py_NewRef(h));
+    }
+done:
+    PyMem_Free(w);
+    PyMem_Free(order);
+    Py_XDECREF(items);
+    Py_XDECREF(groups);
+    if (refused && !PyErr_Occurred()) {
+        Py_XDECREF(out);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    return out;
+}
+
+/* ------------------------------------------------------------------ the plain MHT's children
+ *
+ * MHT._branch_plain's bookkeeping around the listing, compiled: `plan_plain` gathers which
+ * detected children and new tracks the listed children need (the loops before
+ * _make_detected_children and _new_nodes), `assemble_plain` makes the children's
+ * hypotheses (MHT._assemble with models=False and _add_child, _history): the same
+ * structures in the same order, the same objects looked up, the same hypotheses made by
+ * calling Hypothesis(-total, tracks, history) in the same order (so the same ids), an
+ * occluded child made by the tracker's own function, the weights of two children with
+ * the same tracks joined by numpy's logaddexp (passed in). Children that are not what the
+ * listing gives (a solution not (int, LabelledAssignment, float), labels not lists of the
+ * right lengths, a measurement out of range, a parent's ancestors not a tuple) return
+ * NotImplemented before anything is made: the Python code takes them. */
+
+static PyObject *tl_name = NULL, *tm_name = NULL, *ml_name = NULL, *children_name = NULL;
+static PyObject *family_name = NULL, *hyp_id_name = NULL, *minus_one = NULL;
+
+static int plain_names(void) {
+    struct {
+        PyObject **slot;
+        const char *text;
+    } names[] = {{&tl_name, "track_label"},          {&tm_name, "track_measurement"},
+                 {&ml_name, "measurement_label"},    {&children_name, "children"},
+                 {&family_name, "family"},           {&hyp_id_name, "hypothesis_id"},
+                 {&ancestors_name, "ancestors"},     {&log_weight_name, "log_weight"}};
+    for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++)
+        if (!*names[i].slot) {
+            *names[i].slot = PyUnicode_InternFromString(names[i].text);
+            if (!*names[i].slot) return -1;
+        }
+    if (!minus_one) {
+        minus_one = PyLong_FromLong(-1);
+        if (!minus_one) return -1;
+    }
+    return 0;
+}
+
+/* One listed child, read and checked: its parent, labels (borrowed: the assignment holds
+ * them) and total. */
+typedef struct {
+    Py_ssize_t pi;
+    PyObject *tlabels, *tmeas, *mlabels; /* list, list or tuple, list */
+    double total;
+} Listed;
+
+static long small_int(PyObject *v, int *ok) {
+    long x = PyLong_Check(v) ? PyLong_AsLong(v) : -1;
+    if (!PyLong_Check(v) || (x == -1 && PyErr_Occurred())) {
+        PyErr_Clear();
+        *ok = 0;
+    }
+    return x;
+}
+
+/* Read and check every solution: 1, 0 (not what the listing gives: NotImplemented) or -1
+ * (an error). `listed` holds PyList_GET_SIZE(solutions) entries. */
+static int read_solutions(PyObject *solutions, PyObject *tracks_of, Py_ssize_t m,
+                          Listed *listed) {
+    if (!labelled_assignment) {
+        PyErr_SetString(PyExc_RuntimeError, "_clisting.setup() was not called");
+        return -1;
+    }
+    Py_ssize_t n_sol = PyList_GET_SIZE(solutions), n_par = PyList_GET_SIZE(tracks_of);
+    for (Py_ssize_t s = 0; s < n_sol; s++) {
+        PyObject *sol = PyList_GET_ITEM(solutions, s);
+        if (!PyTuple_CheckExact(sol) || PyTuple_GET_SIZE(sol) != 3) return 0;
+        PyObject *dec = PyTuple_GET_ITEM(sol, 1);
+        if ((PyObject *)Py_TYPE(dec) != labelled_assignment) return 0;
+        if (!PyFloat_CheckExact(PyTuple_GET_ITEM(sol, 2))) return 0;
+        int ok = 1;
+        long pi = small_int(PyTuple_GET_ITEM(sol, 0), &ok);
+        if (!ok || pi < 0 || pi >= n_par) return 0;
+        PyObject *tracks = PyList_GET_ITEM(tracks_of, pi);
+        if (!PyTuple_Check(tracks)) return 0;
+        Listed *L = &listed[s];
+        L->pi = pi;
+        L->total = PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(sol, 2));
+        PyObject *v[3];
+        PyObject *names[3] = {tl_name, tm_name, ml_name};
+        for (int a = 0; a < 3; a++) {
+            v[a] = PyObject_GetAttr(dec, names[a]);
+            if (!v[a]) return -1;
+            Py_DECREF(v[a]); /* (the assignment holds it) */
+        }
+        L->tlabels = v[0];
+        L->tmeas = v[1];
+        L->mlabels = v[2];
+        Py_ssize_t n = PyTuple_GET_SIZE(tracks);
+        if (!PyList_CheckExact(v[0]) || PyList_GET_SIZE(v[0]) != n) return 0;
+        if (!(PyList_CheckExact(v[1]) || PyTuple_CheckExact(v[1])) ||
+            PySequence_Fast_GET_SIZE(v[1]) != n)
+            return 0;
+        if (!PyList_CheckExact(v[2]) || PyList_GET_SIZE(v[2]) != m) return 0;
+        PyObject **tm = PySequence_Fast_ITEMS(v[1]);
+        for (Py_ssize_t i = 0; i < n; i++) {
+            long label = small_int(PyList_GET_ITEM(v[0], i), &ok);
+            if (!ok || label < DETECTED || label > DELETED) return 0;
+            if (label == DETECTED) {
+                long j = small_int(tm[i], &ok);
+                if (!ok || j < 0 || j >= m) return 0;
+            }
+        }
+        for (Py_ssize_t a = 0; a < m; a++) {
+            long label = small_int(PyList_GET_ITEM(v[2], a), &ok);
+            if (!ok || label < MATCHED || label > FALSE_ALARM) return 0;
+        }
+    }
+    return 1;
+}
+
+static PyObject *plan_plain(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError,
+                        "plan_plain(solutions, tracks_of, meas_list, measurements)");
+        return NULL;
+    }
+    PyObject *solutions = args[0], *tracks_of = args[1], *meas_list = args[2];
+    PyObject *measurements = args[3];
+    if (!PyList_Check(solutions) || !PyList_Check(tracks_of) || !PyList_Check(meas_list)) {
+        PyErr_SetString(PyExc_TypeError, "plan_plain: lists expected");
+        return NULL;
+    }
+    if (plain_names() < 0) return NULL;
+    Py_ssize_t n_sol = PyList_GET_SIZE(solutions), m = PyList_GET_SIZE(meas_list);
+    Listed *listed = PyMem_Malloc(sizeof(Listed) * (size_t)(n_sol ? n_sol : 1));
+    if (!listed) return PyErr_NoMemory();
+    PyObject *seen = NULL, *pairs = NULL, *born = NULL, *result = NULL;
+    int ok = read_solutions(solutions, tracks_of, m, listed);
+    if (ok <= 0) goto done;
+    seen = PySet_New(NULL);
+    pairs = PyList_New(0);
+    born = PyDict_New();
+    if (!seen || !pairs || !born) goto done;
+    for (Py_ssize_t s = 0; s < n_sol; s++) {
+        Listed *L = &listed[s];
+        PyObject *tracks = PyList_GET_ITEM(tracks_of, L->pi);
+        PyObject **tm = PySequence_Fast_ITEMS(L->tmeas);
+        for (Py_ssize_t i = 0; i < PyTuple_GET_SIZE(tracks); i++) {
+            if (PyLong_AsLong(PyList_GET_ITEM(L->tlabels, i)) != DETECTED) continue;
+            PyObject *node = PyTuple_GET_ITEM(tracks, i);
+            PyObject *j = PyList_GET_ITEM(meas_list, PyLong_AsSsize_t(tm[i]));
+            PyObject *node_id = PyObject_GetAttr(node, node_id_name);
+            if (!node_id) goto done;
+            PyObject *key = PyTuple_Pack(2, node_id, j);
+            Py_DECREF(node_id);
+            if (!key) goto done;
+            int had = PySet_Contains(seen, key);
+            if (had != 0) {
+                Py_DECREF(key);
+                if (had < 0) goto done;
+                continue;
+            }
+            PyObject *kids = PyObject_GetAttr(node, children_name);
+            if (!kids) {
+                Py_DECREF(key);
+                goto done;
+            }
+            int made = PySequence_Contains(kids, j);
+            Py_DECREF(kids);
+            if (made != 0) {
+                Py_DECREF(key);
+                if (made < 0) goto done;
+                continue;
+            }
+            int bad = PySet_Add(seen, key) < 0;
+            Py_DECREF(key);
+            if (bad) goto done;
+            PyObject *item = PyTuple_Pack(4, node, j, measurements, j);
+            if (!item) goto done;
+            bad = PyList_Append(pairs, item) < 0;
+            Py_DECREF(item);
+            if (bad) goto done;
+        }
+        for (Py_ssize_t a = 0; a < m; a++) {
+            if (PyLong_AsLong(PyList_GET_ITEM(L->mlabels, a)) != NEW_LABEL) continue;
+            PyObject *j = PyList_GET_ITEM(meas_list, a);
+            int had = PyDict_Contains(born, j);
+            if (had < 0) goto done;
+            if (had) continue;
+            PyObject *item = PyTuple_Pack(3, measurements, j, j);
+            if (!item) goto done;
+            int bad = PyDict_SetItem(born, j, item) < 0;
+            Py_DECREF(item);
+            if (bad) goto done;
+        }
+    }
+    result = PyTuple_Pack(2, pairs, born);
+done:
+    PyMem_Free(listed);
+    Py_XDECREF(seen);
+    Py_XDECREF(pairs);
+    Py_XDECREF(born);
+    if (ok == 0 && !PyErr_Occurred()) Py_RETURN_NOTIMPLEMENTED;
+    return result;
+}
+
+/* MHT._history: the parent's ancestors and its id, the last n_scan (none for 0). */
+static PyObject *history_of(PyObject *parent, Py_ssize_t n_scan) {
+    if (n_scan <= 0) return PyTuple_New(0);
+    PyObject *anc = PyObject_GetAttr(parent, ancestors_name);
+    if (!anc) return NULL;
+    PyObject *hid = PyObject_GetAttr(parent, hyp_id_name);
+    if (!hid) {
+        Py_DECREF(anc);
+        return NULL;
+    }
+    Py_ssize_t len = PyTuple_GET_SIZE(anc) + 1;
+    Py_ssize_t start = len > n_scan ? len - n_scan : 0;
+    PyObject *out = PyTuple_New(len - start);
+    if (out) {
+        for (Py_ssize_t i = start; i < len - 1; i++)
+            PyTuple_SET_ITEM(out, i - start, Py_NewRef(PyTuple_GET_ITEM(anc, i)));
+        PyTuple_SET_ITEM(out, len - 1 - start, Py_NewRef(hid));
+    }
+    Py_DECREF(anc);
+    Py_DECREF(hid);
+    return out;
+}
+
+static PyObject *assemble_plain(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 10) {
+        PyErr_SetString(PyExc_TypeError,
+                        "assemble_plain(solutions, parents, tracks_of, meas_list, new_nodes, "
+                        "occluded_child, stamp, Hypothesis, n_scan, logaddexp)");
+        return NULL;
+    }
+    PyObject *solutions = args[0], *parents = args[1], *tracks_of = args[2];
+    PyObject *meas_list = args[3], *new_nodes = args[4], *occluded = args[5];
+    PyObject *stamp = args[6], *hyp_cls = args[7], *logaddexp = args[9];
+    if (!PyList_Check(solutions) || !PyList_Check(parents) || !PyList_Check(tracks_of) ||
+        !PyList_Check(meas_list) || !PyDict_Check(new_nodes)) {
+        PyErr_SetString(PyExc_TypeError, "assemble_plain: lists and a dict expected");
+        return NULL;
+    }
+    Py_ssize_t n_scan = PyLong_AsSsize_t(args[8]);
+    if (n_scan == -1 && PyErr_Occurred()) return NULL;
+    if (plain_names() < 0) return NULL;
+    Py_ssize_t n_sol = PyList_GET_SIZE(solutions), m = PyList_GET_SIZE(meas_list);
+    Py_ssize_t n_par = PyList_GET_SIZE(parents);
+    if (PyList_GET_SIZE(tracks_of) != n_par) {
+        PyErr_SetString(PyExc_ValueError, "parents and tracks_of differ in length");
+        return NULL;
+    }
+    Listed *listed = PyMem_Malloc(sizeof(Listed) * (size_t)(n_sol ? n_sol : 1));
+    PyObject **history = PyMem_Calloc((size_t)(n_par ? n_par : 1), sizeof(PyObject *));
+    PyObject *children = NULL, *tracks = NULL;
+    long long *fam = NULL;
+    Py_ssize_t fam_cap = 0;
+    int ok = 0;
+    if (!listed || !history) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    ok = read_solutions(solutions, tracks_of, m, listed);
+    if (ok <= 0) goto done;
+    for (Py_ssize_t p = 0; p < n_par; p++) { /* (checked before anything is made) */
+        PyObject *anc = PyObject_GetAttr(PyList_GET_ITEM(parents, p), ancestors_name);
+        if (!anc) goto done;
+        int is_tuple = PyTuple_Check(anc);
+        Py_DECREF(anc);
+        if (!is_tuple) {
+            ok = 0;
+            goto done;
+        }
+    }
+    children = PyDict_New();
+    if (!children) goto done;
+    for (Py_ssize_t s = 0; s < n_sol; s++) {
+        Listed *L = &listed[s];
+        PyObject *parent = PyList_GET_ITEM(parents, L->pi);
+        if (!history[L->pi]) {
+            history[L->pi] = history_of(parent, n_scan);
+            if (!history[L->pi]) goto done;
+        }
+        PyObject *nodes = PyList_GET_ITEM(tracks_of, L->pi);
+        PyObject **tm = PySequence_Fast_ITEMS(L->tmeas);
+        tracks = PyList_New(0);
+        if (!tracks) goto done;
+        for (Py_ssize_t i = 0; i < PyTuple_GET_SIZE(nodes); i++) {
+            long label = PyLong_AsLong(PyList_GET_ITEM(L->tlabels, i));
+            if (label == DELETED) continue;
+            PyObject *node = PyTuple_GET_ITEM(nodes, i);
+            PyObject *kids = PyObject_GetAttr(node, children_name);
+            if (!kids) goto done;
+            PyObject *child;
+            if (label == DETECTED) {
+                PyObject *j = PyList_GET_ITEM(meas_list, PyLong_AsSsize_t(tm[i]));
+                child = PyObject_GetItem(kids, j);
+            } else {
+                child = PyDict_Check(kids) ? PyDict_GetItemWithError(kids, minus_one) : NULL;
+                if (child) {
+                    Py_INCREF(child);
+                } else if (!PyErr_Occurred()) {
+                    PyObject *call[2] = {node, stamp};
+                    child = PyObject_Vectorcall(occluded, call, 2, NULL);
+                }
+            }
+            Py_DECREF(kids);
+            if (!child) goto done;
+            int bad = PyList_Append(tracks, child) < 0;
+            Py_DECREF(child);
+            if (bad) goto done;
+        }
+        int born_here = 0;
+        for (Py_ssize_t a = 0; a < m; a++) {
+            if (PyLong_AsLong(PyList_GET_ITEM(L->mlabels, a)) != NEW_LABEL) continue;
+            PyObject *node = PyObject_GetItem(new_nodes, PyList_GET_ITEM(meas_list, a));
+            if (!node) goto done;
+            int bad = PyList_Append(tracks, node) < 0;
+            Py_DECREF(node);
+            if (bad) goto done;
+            born_here = 1;
+        }
+        Py_ssize_t n = PyList_GET_SIZE(tracks);
+        if (born_here && n > 1) { /* tracks.sort(key=BY_FAMILY): stable, by family */
+            if (n > fam_cap) {
+                long long *grown = PyMem_Realloc(fam, sizeof(long long) * (size_t)n);
+                if (!grown) {
+                    PyErr_NoMemory();
+                    goto done;
+                }
+                fam = grown;
+                fam_cap = n;
+            }
+            for (Py_ssize_t i = 0; i < n; i++) {
+                PyObject *f = PyObject_GetAttr(PyList_GET_ITEM(tracks, i), family_name);
+                if (!f) goto done;
+                fam[i] = PyLong_AsLongLong(f);
+                Py_DECREF(f);
+                if (fam[i] == -1 && PyErr_Occurred()) goto done;
+            }
+            PyObject **items = ((PyListObject *)tracks)->ob_item;
+            for (Py_ssize_t i = 1; i < n; i++) {
+                PyObject *x = items[i];
+                long long fx = fam[i];
+                Py_ssize_t j = i - 1;
+                while (j >= 0 && fam[j] > fx) {
+                    items[j + 1] = items[j];
+                    fam[j + 1] = fam[j];
+                    j--;
+                }
+                items[j + 1] = x;
+                fam[j + 1] = fx;
+            }
+        }
+        /* _add_child: the key of the node ids; a second child of the same tracks adds its
+         * probability to the first's */
+        PyObject *key = PyTuple_New(n);
+        if (!key) goto done;
+        for (Py_ssize_t i = 0; i < n; i++) {
+            PyObject *id = PyObject_GetAttr(PyList_GET_ITEM(tracks, i), node_id_name);
+            if (!id) {
+                Py_DECREF(key);
+                goto done;
+            }
+            PyTuple_SET_ITEM(key, i, id);
+        }
+        PyObject *there = PyDict_GetItemWithError(children, key);
+        if (!there && PyErr_Occurred()) {
+            Py_DECREF(key);
+            goto done;
+        }
+        PyObject *neg = PyFloat_FromDouble(-L->total);
+        if (!neg) {
+            Py_DECREF(key);
+            goto done;
+        }
+        int bad;
+        if (there) {
+            PyObject *w = PyObject_GetAttr(there, log_weight_name);
+            PyObject *joined = NULL, *as_float = NULL;
+            if (w) {
+                PyObject *call[2] = {w, neg};
+                joined = PyObject_Vectorcall(logaddexp, call, 2, NULL);
+            }
+            if (joined) as_float = PyNumber_Float(joined);
+            bad = !as_float || PyObject_SetAttr(there, log_weight_name, as_float) < 0;
+            Py_XDECREF(w);
+            Py_XDECREF(joined);
+            Py_XDECREF(as_float);
+        } else {
+            PyObject *as_tuple = PyList_AsTuple(tracks);
+            PyObject *h = NULL;
+            if (as_tuple) {
+                PyObject *call[3] = {neg, as_tuple, history[L->pi]};
+                h = PyObject_Vectorcall(hyp_cls, call, 3, NULL);
+            }
+            bad = !h || PyDict_SetItem(children, key, h) < 0;
+            Py_XDECREF(as_tuple);
+            Py_XDECREF(h);
+        }
+        Py_DECREF(neg);
+        Py_DECREF(key);
+        Py_CLEAR(tracks);
+        if (bad) goto done;
+    }
+done:
+    if (history)
+        for (Py_ssize_t p = 0; p < n_par; p++) Py_XDECREF(history[p]);
+    PyMem_Free(history);
+    PyMem_Free(listed);
+    PyMem_Free(fam);
+    Py_XDECREF(tracks);
+    if (ok == 0 && !PyErr_Occurred()) {
+        Py_XDECREF(children);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    if (PyErr_Occurred()) {
+        Py_XDECREF(children);
+        return NULL;
+    }
+    return children;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -1270,6 +1940,18 @@ static PyMethodDef methods[] = {
      "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
      "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
      "values, or NotImplemented where it decides otherwise."},
+    {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
+     "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
+     "weights set), or NotImplemented for children the Python one takes (a weight or a "
+     "total not finite, an ancestor that cannot be hashed)."},
+    {"plan_plain", (PyCFunction)(void (*)(void))plan_plain, METH_FASTCALL,
+     "plan_plain(solutions, tracks_of, meas_list, measurements): MHT._branch_plain's "
+     "detected children to make, [(node, j, measurements, j)], and new tracks, {j: "
+     "(measurements, j, j)}, or NotImplemented for solutions the Python code takes."},
+    {"assemble_plain", (PyCFunction)(void (*)(void))assemble_plain, METH_FASTCALL,
+     "assemble_plain(solutions, parents, tracks_of, meas_list, new_nodes, occluded_child, "
+     "stamp, Hypothesis, n_scan, logaddexp): MHT._assemble's children (models=False) by "
+     "their node ids, before pruning, or NotImplemented for solutions the Python code takes."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -1,11 +1,13 @@
 """The compiled listing (``_clisting.c``; see :mod:`laserpeople.tracking.mht.compiled`)."""
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence
 from types import NotImplementedType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.tracking.mht.hypothesis import Hypothesis
 from laserpeople.tracking.mht.matrix import LabelledAssignment
 from laserpeople.tracking.mht.tracktree import TrackNode
 
@@ -75,3 +77,29 @@ def static_few(
     near: float,
     /,
 ) -> list[float] | NotImplementedType: ...
+def prune(
+    hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
+) -> list[Hypothesis] | NotImplementedType: ...
+def plan_plain(
+    solutions: list[tuple[int, LabelledAssignment, float]],
+    tracks_of: list[tuple[TrackNode, ...]],
+    meas_list: list[int],
+    measurements: Any,
+    /,
+) -> (
+    tuple[list[tuple[TrackNode, Hashable, Any, int]], dict[Hashable, tuple[Any, int, int]]]
+    | NotImplementedType
+): ...
+def assemble_plain(
+    solutions: list[tuple[int, LabelledAssignment, float]],
+    parents: list[Hypothesis],
+    tracks_of: list[tuple[TrackNode, ...]],
+    meas_list: list[int],
+    new_nodes: dict[Hashable, TrackNode],
+    occluded_child: Callable[[TrackNode, float], TrackNode],
+    stamp: float,
+    hypothesis: type[Hypothesis],
+    n_scan: int,
+    logaddexp: Callable[[float, float], Any],
+    /,
+) -> dict[tuple[int, ...], Hypothesis] | NotImplementedType: ...

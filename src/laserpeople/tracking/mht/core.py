@@ -714,6 +714,40 @@ class MHT(Generic[Meas]):
         )
         # make the children nodes each (node, label) needs, once, in batches
         meas_list = meas_idx.tolist()
+        plan, assemble = listing.COMPILED_PLAN_PLAIN, listing.COMPILED_ASSEMBLE_PLAIN
+        planned = NotImplemented
+        if plan is not None:  # (the same pairs and births, or NotImplemented)
+            planned = plan(solutions, tracks_of, meas_list, measurements)
+        if planned is NotImplemented:
+            pairs, born = self._plan_plain(solutions, tracks_of, meas_list, measurements)
+        else:
+            pairs, born = planned
+        self._make_detected_children(pairs, measurements, stamp, loglik, row_of)
+        new_nodes = self._new_nodes(born, measurements, stamp)
+
+        if assemble is not None and planned is not NotImplemented:
+            children = assemble(
+                solutions, parents, tracks_of, meas_list, new_nodes, self._occluded_child,
+                stamp, Hypothesis, self.params.depth, np.logaddexp,
+            )  # fmt: skip
+            if children is not NotImplemented:  # (the children _assemble makes)
+                return self._prune_children(children)
+        n = len(parents)
+        return self._assemble(
+            solutions, parents, tracks_of, [meas_list] * n, [0] * n, new_nodes, stamp, models=False
+        )
+
+    @staticmethod
+    def _plan_plain(
+        solutions: list[tuple[int, LabelledAssignment, float]],
+        tracks_of: list[tuple[TrackNode, ...]],
+        meas_list: list[int],
+        measurements: Meas,
+    ) -> tuple[list[tuple[TrackNode, Hashable, Any, int]], dict[Hashable, tuple[Any, int, int]]]:
+        """The children nodes the plain MHT's ``solutions`` need, each once, in the order
+        they are first met: ``(node, j, measurements, j)`` per detected child not made yet
+        (for :meth:`_make_detected_children`) and ``{j: (measurements, j, j)}`` per
+        measurement labelled new (for :meth:`_new_nodes`); ``j`` a scan measurement."""
         to_update: dict[tuple[int, int], tuple[TrackNode, Hashable, Any, int]] = {}
         born: dict[Hashable, tuple[Any, int, int]] = {}
         for pi, dec, _ in solutions:
@@ -729,13 +763,7 @@ class MHT(Generic[Meas]):
                     j = meas_list[a]
                     if j not in born:
                         born[j] = (measurements, j, j)
-        self._make_detected_children(list(to_update.values()), measurements, stamp, loglik, row_of)
-        new_nodes = self._new_nodes(born, measurements, stamp)
-
-        n = len(parents)
-        return self._assemble(
-            solutions, parents, tracks_of, [meas_list] * n, [0] * n, new_nodes, stamp, models=False
-        )
+        return list(to_update.values()), born
 
     def _assemble(
         self,
@@ -809,13 +837,20 @@ class MHT(Generic[Meas]):
         return ancestors[-n_scan:] if n_scan else ()
 
     def _prune_children(self, children: dict[tuple[int, ...], Hypothesis]) -> list[Hypothesis]:
-        """A cluster's children normalised, N-scan and ratio pruned."""
+        """A cluster's children normalised, N-scan and ratio pruned (by the compiled
+        :func:`~.hypothesis.prune_children` where it is built)."""
         if len(children) == 1:
             (only,) = children.values()
             if math.isfinite(only.log_weight):  # normalising and both prunings give log 1
                 only.log_weight = 0.0
                 return [only]
-        return prune_children(list(children.values()), self.params.depth, self.params.ratio)
+        hyps = list(children.values())
+        compiled = listing.COMPILED_PRUNE
+        if compiled is not None:  # (the same hypotheses and floats, or NotImplemented)
+            out = compiled(hyps, self.params.depth, self.params.ratio)
+            if out is not NotImplemented:
+                return out
+        return prune_children(hyps, self.params.depth, self.params.ratio)
 
     def _branch_lone(
         self,

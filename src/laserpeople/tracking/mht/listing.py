@@ -85,6 +85,17 @@ and cost floats), or None: it returns NotImplemented for the clusters the Python
 COMPILED_COMPONENTS = None if _extension is None else _extension.components
 """The compiled :func:`~.core.components_python` (the same components, in the same
 order), or None: it returns NotImplemented for input the Python one takes."""
+COMPILED_PRUNE = None if _extension is None else _extension.prune
+"""The compiled :func:`~.hypothesis.prune_children` (the same hypotheses in the same order
+with the same log weights), or None: it returns NotImplemented for children the Python one
+takes (a weight or a total not finite, an N-scan ancestor that cannot be hashed)."""
+COMPILED_PLAN_PLAIN = None if _extension is None else _extension.plan_plain
+"""The compiled ``MHT._plan_plain`` (the same pairs and births in the same order), or None:
+it returns NotImplemented for solutions the Python one takes (not the listing's)."""
+COMPILED_ASSEMBLE_PLAIN = None if _extension is None else _extension.assemble_plain
+"""The compiled ``MHT._assemble`` of the plain MHT before its pruning (the same children,
+made in the same order by the same calls), or None: it returns NotImplemented for solutions
+the Python one takes (not the listing's)."""
 COMPILED_STATIC_FEW = None if _extension is None else _extension.static_few
 """The compiled ``OccupancyGrid._static_few_python`` (the same values), or None: it
 returns NotImplemented where the Python one decides otherwise."""

@@ -264,6 +264,14 @@ def _draw(
         drawn = drawn or resolve_topics(source, None)
         for problem in tracks_mismatch(tracks, source, drawn[0]):
             warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        from laserpeople.io.tracks_files import read_tracks_file
+
+        rows = read_tracks_file(tracks)
+        if next(iter(rows), None) is None:  # a header alone: a run that tracked nobody
+            warn(f"{tracks} holds no track: the drawing shows none")
+        close = getattr(rows, "close", None)
+        if close is not None:
+            close()
         if tracks_frame is None and tracks.suffix.lower() == ".csv":
             from laserpeople.io.tracks_csv import read_tracks_frame
 

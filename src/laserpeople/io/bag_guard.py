@@ -273,10 +273,11 @@ def open_reader(
             errors, ``UnicodeDecodeError``, ``MemoryError``), naming the file.
     """
     from laserpeople.errors import RecordingError
+    from laserpeople.io.paths import not_found
 
     p = Path(path)
     if not p.exists():
-        raise RecordingError("file not found", path=p, hint="check the path")
+        raise RecordingError(not_found(p), path=p, hint="check the path")
     # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
     # the caller registers types (they reach AnyReader's default typestore)
     ros1 = p.suffix == ".bag" and register is None

@@ -46,6 +46,17 @@ FORMATS = frozenset(
 """Extensions of the formats this package reads or writes."""
 
 
+def not_found(path: str | Path) -> str:
+    """Why ``path`` cannot be opened when it does not exist, for an error message: ``file not
+    found``, or for a symbolic link whose target is missing, where it points."""
+    p = Path(path)
+    if not p.is_symlink():
+        return "file not found"
+    target = os.readlink(p)
+    relative = "" if os.path.isabs(target) else " (a relative link is read from its own folder)"
+    return f"a symbolic link to {target!r}, which does not exist{relative}"
+
+
 def why_unwritable(exc: OSError, path: str | Path) -> str:
     """Why ``path`` could not be written, for an error message: the system's reason, or
     ``runs.bag is a file, not a folder`` when a folder on the way to it is a file (where the

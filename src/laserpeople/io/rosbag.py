@@ -34,6 +34,7 @@ from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
 from laserpeople.io.npz import TopicInfo
+from laserpeople.io.paths import not_found
 from laserpeople.io.pose_msgs_ros1 import standard_pose_decoder
 from laserpeople.io.poses import (
     KNOWN_MOUNTS,
@@ -189,7 +190,7 @@ class RosbagRecording:
         self.path = Path(path)
         self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
-            raise RecordingError("file not found", path=self.path, hint="check the path")
+            raise RecordingError(not_found(self.path), path=self.path, hint="check the path")
         if self.path.is_dir() and not (self.path / "metadata.yaml").is_file():
             raise RecordingError(
                 "is a directory, not a bag",

@@ -2233,6 +2233,63 @@ MUTANTS: tuple[Mutant, ...] = (
         "loss = was - now",
         ("tests/test_fit.py",),
     ),
+    Mutant(
+        "record-salvage-not-cut-back",
+        "live --record: a failed write's partial bytes stay before the MCAP end records",
+        "io/mcap_record.py",
+        "            os.ftruncate(self._fd, self.kept_bytes)\n",
+        "",
+        ("tests/test_hardening_live_record_salvage.py",),
+    ),
+    Mutant(
+        "record-frames-left-in-memory",
+        "live --record: frames stay in the chunk buffer (1 MiB) instead of being written out",
+        "io/mcap_record.py",
+        "        if storage.chunk.bio.tell():\n",
+        "        if storage.chunk.bio.tell() > 2**20:\n",
+        ("tests/test_hardening_live_record_salvage.py",),
+    ),
+    Mutant(
+        "record-frame-counted-before-written",
+        "live --record: the frame the disk refused is counted as held",
+        "live/sinks.py",
+        'raise self._stopped(exc, f"at frame {self.frames + 1}") from exc',
+        "self._writer.frames += 1\n"
+        '            raise self._stopped(exc, f"at frame {self.frames}") from exc',
+        ("tests/test_hardening_live_record_salvage.py",),
+    ),
+    Mutant(
+        "scan-lines-count-rows-only",
+        "track/detect -o on a full disk: scans without rows not counted as held",
+        "io/scan_lines.py",
+        "        self.scans += 1\n        self.last = scan\n",
+        "        self.last = scan\n",
+        ("tests/test_hardening_full_disk.py",),
+    ),
+    Mutant(
+        "spelling-underscore-not-dash",
+        "names: leg_mht is not leg-mht",
+        "spelling.py",
+        '    return name.strip().lower().replace("_", "-")',
+        "    return name.strip().lower()",
+        ("tests/test_hardening_new_user.py",),
+    ),
+    Mutant(
+        "spelling-cutoff-lower",
+        "names: suggestions 0.75 alike (p_det -> p_t) are offered",
+        "spelling.py",
+        "CUTOFF = 0.8\n",
+        "CUTOFF = 0.75\n",
+        ("tests/test_hardening_new_user.py",),
+    ),
+    Mutant(
+        "config-nested-names-without-table",
+        "config: a misspelt nested parameter is offered without its table",
+        "config.py",
+        '            names.extend(f"{f.name}.{n}" for n in dotted_names(hints[f.name]))\n',
+        "            names.extend(dotted_names(hints[f.name]))\n",
+        ("tests/test_hardening_new_user.py",),
+    ),
 )
 
 

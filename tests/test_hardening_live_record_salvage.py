@@ -186,3 +186,48 @@ def test_a_recording_that_cannot_be_moved_into_place_names_where_it_is(
     assert kept.is_file() and not out.exists()
     monkeypatch.setattr(os, "replace", real)
     assert _tracks(kept) == _whole(tmp_path)[1]
+
+
+@pytest.mark.slow
+def test_live_on_a_full_disk_keeps_the_recording_and_says_what_it_holds(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The whole command: `live --record` whose disk fills up mid-run prints its summary,
+    ends with an error saying how many frames and scans the recording holds, and the
+    recording reads with exactly those."""
+    pytest.importorskip("zenoh")
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.live import sinks
+    from laserpeople.sim.scenarios import run_scenario
+    from live_harness import free_port, play_when_subscribed
+
+    bag = tmp_path / "walk.bag"
+    run_scenario("figure-eight", seconds=2.0, seed=3).write(bag)
+    with open_recording(bag) as rec:
+        topic, n = rec.topics()[0].name, rec.topics()[0].count
+    made = sinks.RecordSink.__init__
+
+    def on_a_small_disk(self: RecordSink, *args: object, **kwargs: object) -> None:
+        made(self, *args, **kwargs)  # type: ignore[arg-type]
+        _fill_disk_at(self, 60_000)
+
+    monkeypatch.setattr(sinks.RecordSink, "__init__", on_a_small_disk)
+    out = tmp_path / "live.mcap"
+    port = free_port()
+    player = play_when_subscribed(bag, topic, port)
+    args = ["live", "--topic", topic, "--listen", f"tcp/127.0.0.1:{port}", "--frame", "sensor"]
+    args += ["--queue", "100000", "--max-scans", str(n), "--duration", "120"]
+    args += ["--record", str(out)]
+    result = CliRunner().invoke(app, args)
+    player.join(30)
+    assert isinstance(result.exception, RecordingError), result.output
+    said = re.search(r"holds the (\d+) whole frames before \((\d+) scans", str(result.exception))
+    assert said, str(result.exception)
+    frames, scans = int(said.group(1)), int(said.group(2))
+    assert 0 < frames < n and scans == frames
+    # the summary came first; the frame whose recording failed had been published
+    assert f"{frames} frames tracked, {frames + 1} published" in result.output
+    with open_recording(out) as rec:
+        assert rec.topics()[0].count == scans

@@ -168,3 +168,24 @@ def test_misspelt_option_values_get_a_suggestion(
     ]
     run = CliRunner().invoke(app, args)
     assert run.exception is not None and said in str(run.exception)
+
+
+def test_view_of_several_lasers_names_the_one_drawn(tmp_path: Path, recording: Path) -> None:
+    import dataclasses
+
+    from laserpeople.io import open_recording, write_recording
+
+    with open_recording(recording) as rec:
+        scans = list(rec.scans())
+    both = [dataclasses.replace(s, sensor=name) for s in scans for name in ("/front", "/rear")]
+    two = tmp_path / "two.npz"
+    write_recording(two, both)
+    run = CliRunner().invoke(app, ["view", str(two), "-o", str(tmp_path / "a.png")])
+    assert run.exit_code == 0, run.output
+    line = "drew topic /front (the recording has /front, /rear; use --topic, or --topics all"
+    assert line in " ".join(run.output.split())
+    for more in (["--topics", "all"], ["--topic", "/rear"]):
+        run = CliRunner().invoke(app, ["view", str(two), "-o", str(tmp_path / "b.png"), *more])
+        assert run.exit_code == 0 and "drew topic" not in run.output, run.output
+    run = CliRunner().invoke(app, ["view", str(recording), "-o", str(tmp_path / "c.png")])
+    assert run.exit_code == 0 and "drew topic" not in run.output

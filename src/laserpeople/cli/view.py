@@ -209,6 +209,7 @@ def register(app: typer.Typer) -> None:
                 source, recording, output, tracks, (tracks_frame, truth_frame), truth_input,
                 asked, frame, (start, stop, every), scan, size_px, extent_m, fps, trail,
             )  # fmt: skip
+            lasers_here = [t.name for t in source.topics()] if not asked else []
         finally:
             source.close()
         if result.overview_scans:  # one image of many scans: say how many
@@ -221,6 +222,11 @@ def register(app: typer.Typer) -> None:
             f"topic{'s' if scene.other_topics else ''} "
             f"{lasers}, {scene.frame} frame)"
         )
+        if len(lasers_here) > 1:
+            say(
+                f"drew topic {scene.topic} (the recording has {', '.join(lasers_here)}; use "
+                "--topic, or --topics all to draw them all)"
+            )
         if scene.others_unplaced:
             warn(
                 f"{scene.others_unplaced} scans of {', '.join(scene.other_topics)} not drawn: "

@@ -53,7 +53,7 @@ def test_detections_count_the_scans_without_legs(
     out.close()
     assert (
         "cannot write the detections CSV at scan 5 of /scan: No space left on device; it "
-        "holds the rows of the 5 scans handled before (2 of them with rows, up to scan 4 of "
+        "holds the rows of the 5 scans handled before (2 with rows, up to scan 4 of "
         "/scan), whole: scan 5 of /scan and the scans after it are missing"
     ) in str(err.value)
     with warnings.catch_warnings():
@@ -70,7 +70,9 @@ def test_tracks_count_the_scans_without_tracks(
     for k in range(3):
         out.write(Tracks(0.1 * k, k, (track,) if k == 0 else (), "world"))
     _full_after(monkeypatch, 0)
-    with pytest.raises(RecordingError, match=r"at scan 3: .* the 3 scans handled before \(1 of"):
+    with pytest.raises(
+        RecordingError, match=r"at scan 3: .* the 3 scans handled before \(1 with rows"
+    ):
         out.write(Tracks(0.3, 3, (track,), "world"))
     out.close()
     assert [t.scan_index for t in iter_tracks_csv(path)] == [0]
@@ -114,7 +116,7 @@ def test_detect_on_a_full_disk_says_what_the_csv_holds(
     text = str(run.exception)
     said = re.search(
         r"at scan (\d+) of (\S+): No space left on device; it holds the rows of the (\d+) scans "
-        r"handled before \((\d+) of them with rows, up to scan (\d+) of \2\)",
+        r"handled before \((\d+) with rows, up to scan (\d+) of \2\)",
         text,
     )
     assert said, text

@@ -183,7 +183,7 @@ def test_a_failed_write_leaves_the_complete_scans(
 
     monkeypatch.setattr("laserpeople.io.scan_lines.os.pwrite", fills_up)
     with pytest.raises(
-        RecordingError, match=r"the 1 scans handled before \(1 of them with rows, up to scan 0\)"
+        RecordingError, match=r"the 1 scan handled before \(1 with rows, up to scan 0\)"
     ):
         out.write(_tracks(1, rows=200))
     out.close()

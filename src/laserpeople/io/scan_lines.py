@@ -140,7 +140,8 @@ class ScanLineWriter:
         upto = f", up to {self.last}" if self.last else ""
         return (
             f"cannot write the {self.what}{at}: {why}; it holds the rows of "
-            f"the {self.scans} scans handled before ({self.scans_with_rows} of them with rows"
+            f"the {self.scans} scan{'' if self.scans == 1 else 's'} handled before "
+            f"({self.scans_with_rows} with rows"
             f"{upto}), whole: {scan or 'that scan'} and the scans after it are missing"
         )
 

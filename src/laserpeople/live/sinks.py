@@ -178,7 +178,8 @@ class RecordSink:
         )
         return RecordingError(
             f"the recording stopped {where}: {why_unwritable(exc, self.path)}; the file holds "
-            f"the {self.frames} whole frames before ({self.scans} scans{upto}) and is ended "
+            f"the {self.frames} whole frame{'' if self.frames == 1 else 's'} before "
+            f"({self.scans} scan{'' if self.scans == 1 else 's'}{upto}) and is ended "
             "there, readable",
             path=self.path,
             hint="free disk space or record into another folder; `laserpeople track` reads "

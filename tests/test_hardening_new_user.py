@@ -189,3 +189,16 @@ def test_view_of_several_lasers_names_the_one_drawn(tmp_path: Path, recording: P
         assert run.exit_code == 0 and "drew topic" not in run.output, run.output
     run = CliRunner().invoke(app, ["view", str(recording), "-o", str(tmp_path / "c.png")])
     assert run.exit_code == 0 and "drew topic" not in run.output
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".log", ".bag", ".mcap"])
+def test_an_empty_recording_of_any_format_is_said_empty(tmp_path: Path, suffix: str) -> None:
+    """An .npz said 'File is not a zip file' and a CARMEN log 'no laser lines'."""
+    from laserpeople.io import open_recording
+
+    empty = tmp_path / f"run{suffix}"
+    empty.write_bytes(b"")
+    with pytest.raises(RecordingError, match=r"the file is empty \(0 bytes\), not a recording"):
+        open_recording(empty)
+    run = CliRunner().invoke(app, ["info", str(empty)])
+    assert "empty (0 bytes)" in str(run.exception)

@@ -228,11 +228,9 @@ def check_bag_file(path: Path) -> None:
     except OSError as exc:
         raise RecordingError(f"cannot read the file: {exc.strerror or exc}", path=path) from exc
     if not head:
-        raise RecordingError(
-            "the file is empty (0 bytes), not a bag",
-            path=path,
-            hint="the copy or the recording was cut short: copy or record it again",
-        )
+        from laserpeople.io.paths import empty_file
+
+        raise empty_file(path, "a bag")
     if any(head.startswith(m[: len(head)]) for m in BAG_MAGIC):
         check_extension(path)  # a whole bag of another kind than its extension says
         return

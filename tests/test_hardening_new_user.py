@@ -202,3 +202,35 @@ def test_an_empty_recording_of_any_format_is_said_empty(tmp_path: Path, suffix: 
         open_recording(empty)
     run = CliRunner().invoke(app, ["info", str(empty)])
     assert "empty (0 bytes)" in str(run.exception)
+
+
+def test_batch_of_a_folder_takes_the_recordings_in_it_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from laserpeople.cli.batch import expand
+
+    runs = tmp_path / "runs"
+    (runs / "ros2bag").mkdir(parents=True)
+    (runs / "ros2bag" / "metadata.yaml").write_text("")
+    (runs / "deeper").mkdir()
+    (runs / "deeper" / "x.bag").write_bytes(b"")
+    for name in ("a.npz", "c.MCAP", "run.log", "notes.txt", "a.people.csv"):
+        (runs / name).write_bytes(b"")
+    (runs / "b.npz").symlink_to("a.npz")  # the same recording by another name
+    monkeypatch.chdir(tmp_path)
+    got = expand(["runs"], Path("runs/out"))
+    assert got == [Path(f"runs/{n}") for n in ("a.npz", "c.MCAP", "ros2bag", "run.log")]
+    said = " ".join(capsys.readouterr().err.split())
+    assert (
+        "runs: a folder: its 5 recordings; left out 2 other entries (deeper, notes.txt); "
+        "subfolders are not searched" in said
+    )
+    assert "tracked once: runs/a.npz (also as runs/b.npz)" in said
+    # the output folder inside it is left out and said; a ROS 2 bag folder is one recording
+    (runs / "out").mkdir()
+    assert expand(["runs"], runs / "out") == got
+    assert "3 other entries (deeper, notes.txt, out (the output folder))" in capsys.readouterr().err
+    assert expand(["runs/ros2bag"]) == [Path("runs/ros2bag")]
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ConfigError, match=r"the folder empty holds no recording"):
+        expand(["empty"])

@@ -231,3 +231,10 @@ def test_live_on_a_full_disk_keeps_the_recording_and_says_what_it_holds(
     assert f"{frames} frames tracked, {frames + 1} published" in result.output
     with open_recording(out) as rec:
         assert rec.topics()[0].count == scans
+
+
+def test_a_recording_onto_a_folder_is_refused_before_the_run(tmp_path: Path) -> None:
+    (tmp_path / "run.mcap").mkdir()
+    with pytest.raises(RecordingError, match="is a folder, not a file"):
+        RecordSink(tmp_path / "run.mcap", TrackEncoder(ros2_typestore()))
+    assert _hidden(tmp_path) == []

@@ -59,6 +59,8 @@ class McapRecorder:
         from rosbags.typesys import Stores, get_typestore
 
         self.path = Path(path)
+        if self.path.is_dir():  # (found out only when it is moved into place, at the end)
+            raise self._error(IsADirectoryError(21, "is a folder, not a file"))
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self._workdir = Path(

@@ -2266,6 +2266,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_new_user.py",),
     ),
     Mutant(
+        "mcap-tail-last-record-dropped",
+        "an MCAP cut short: a record ending at the cut is left out",
+        "io/mcap_tail.py",
+        "            if op == 0 or op >= DATA_END or at + 9 + length > size:",
+        "            if op == 0 or op >= DATA_END or at + 9 + length >= size:",
+        ("tests/test_hardening_live_record_salvage.py",),
+    ),
+    Mutant(
+        "mcap-tail-records-not-counted",
+        "an MCAP cut short: its whole records are not counted (read as holding none)",
+        "io/mcap_tail.py",
+        "            records += 1\n",
+        "",
+        ("tests/test_hardening_live_record_salvage.py",),
+    ),
+    Mutant(
         "record-salvage-not-cut-back",
         "live --record: a failed write's partial bytes stay before the MCAP end records",
         "io/mcap_record.py",

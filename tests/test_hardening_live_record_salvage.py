@@ -22,6 +22,7 @@ from laserpeople.live.runner import tracker_pipelines
 from laserpeople.live.sinks import RecordSink
 from laserpeople.pipeline.sources import laser_frames
 from laserpeople.scan import Pose2D, Scan
+from laserpeople.tracks import Tracks
 
 FRAMES = 30
 
@@ -238,3 +239,68 @@ def test_a_recording_onto_a_folder_is_refused_before_the_run(tmp_path: Path) -> 
     with pytest.raises(RecordingError, match="is a folder, not a file"):
         RecordSink(tmp_path / "run.mcap", TrackEncoder(ros2_typestore()))
     assert _hidden(tmp_path) == []
+
+
+def test_a_recording_killed_mid_run_reads_up_to_the_cut_with_on_error_skip(
+    tmp_path: Path,
+) -> None:
+    """`kill -9` leaves the hidden file with whole frames and no MCAP end records (and a cut
+    copy may stop inside a frame): `--on-error skip` reads the frames before the cut and
+    says what it left out; `stop` says what is wrong and what to do."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = tmp_path / "run.mcap"
+    sink = RecordSink(out, TrackEncoder(ros2_typestore()))
+    for frame in list(laser_frames(_scans()))[:12]:
+        sink.write(frame, Tracks(frame.stamp, frame.scans[0].index, (), "world"))
+    staged = sink._recorder._staged
+    data = staged.read_bytes()  # what a kill -9 leaves: 12 whole frames, no end records
+    sink.close()
+    killed = tmp_path / "killed.mcap"
+    cut = tmp_path / "cut.mcap"
+    killed.write_bytes(data)
+    cut.write_bytes(data[: len(data) - 1000])  # inside the last frame's chunk (about 5 kB)
+    for path, scans in ((killed, 12), (cut, 11)):
+        with pytest.raises(RecordingError, match="ends without its end records") as err:
+            open_recording(path)
+        assert "--on-error skip reads its whole records" in str(err.value)
+        with open_recording(path, on_error="skip") as rec:
+            assert len(list(rec.scans())) == scans
+            assert "bytes after the cut are left out" in rec.damaged.summary()
+        assert path.read_bytes() == data[: path.stat().st_size]  # the input is not changed
+    run = CliRunner().invoke(
+        app, ["track", str(cut), "-o", str(tmp_path / "t.csv"), "--on-error", "skip"]
+    )
+    assert run.exit_code == 0, run.output
+    text = " ".join(run.output.split())
+    assert f"{cut}: the MCAP ends without its end records" in text and "11 scans tracked" in text
+    (tmp_path / "empty.mcap").write_bytes(data[:60])
+    with pytest.raises(RecordingError, match="no record before the cut is whole"):
+        open_recording(tmp_path / "empty.mcap", on_error="skip")
+
+
+def test_whole_records_end_at_the_cut_or_before_it(tmp_path: Path) -> None:
+    import struct
+
+    from laserpeople.io.mcap_record import MCAP_MAGIC
+    from laserpeople.io.mcap_tail import missing_end, whole_records
+
+    def record(op: int, body: bytes) -> bytes:
+        return bytes([op]) + struct.pack("<Q", len(body)) + body
+
+    header = MCAP_MAGIC + record(0x01, b"\x04\x00\x00\x00ros2\x00\x00\x00\x00")
+    path = tmp_path / "a.mcap"
+    two = header + record(0x03, b"x" * 20) + record(0x05, b"y" * 7)
+    path.write_bytes(two)  # the last record ends at the last byte: whole
+    assert missing_end(path) and whole_records(path) == (len(two), 2)
+    path.write_bytes(two[:-1])
+    assert whole_records(path) == (len(two) - 9 - 7, 1)
+    path.write_bytes(two + b"\x0f" + struct.pack("<QI", 4, 0) + b"junk")  # DataEnd: stop
+    assert whole_records(path) == (len(two), 2)
+    path.write_bytes(header + b"\x00" * 30)  # a hole of NUL bytes is no record
+    assert whole_records(path) == (len(header), 0)
+    path.write_bytes(two + MCAP_MAGIC)
+    assert not missing_end(path)
+    assert not missing_end(tmp_path / "none.mcap")

@@ -253,8 +253,10 @@ def test_a_recording_killed_mid_run_reads_up_to_the_cut_with_on_error_skip(
 
     out = tmp_path / "run.mcap"
     sink = RecordSink(out, TrackEncoder(ros2_typestore()))
+    ends = []  # the byte after each whole frame
     for frame in list(laser_frames(_scans()))[:12]:
         sink.write(frame, Tracks(frame.stamp, frame.scans[0].index, (), "world"))
+        ends.append(sink._recorder.kept_bytes)
     staged = sink._recorder._staged
     data = staged.read_bytes()  # what a kill -9 leaves: 12 whole frames, no end records
     sink.close()
@@ -262,13 +264,18 @@ def test_a_recording_killed_mid_run_reads_up_to_the_cut_with_on_error_skip(
     cut = tmp_path / "cut.mcap"
     killed.write_bytes(data)
     cut.write_bytes(data[: len(data) - 1000])  # inside the last frame's chunk (about 5 kB)
+    said = {
+        killed: f"read its {len(data):,} bytes, whole records up to the cut",
+        cut: f"read its whole records, {ends[10]:,} of its {len(data) - 1000:,} bytes; the "
+        f"{len(data) - 1000 - ends[10]:,} bytes after the cut are left out",
+    }
     for path, scans in ((killed, 12), (cut, 11)):
         with pytest.raises(RecordingError, match="ends without its end records") as err:
             open_recording(path)
         assert "--on-error skip reads its whole records" in str(err.value)
         with open_recording(path, on_error="skip") as rec:
             assert len(list(rec.scans())) == scans
-            assert "bytes after the cut are left out" in rec.damaged.summary()
+            assert said[path] in rec.damaged.summary()
         assert path.read_bytes() == data[: path.stat().st_size]  # the input is not changed
     run = CliRunner().invoke(
         app, ["track", str(cut), "-o", str(tmp_path / "t.csv"), "--on-error", "skip"]

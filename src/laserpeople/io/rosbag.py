@@ -262,11 +262,24 @@ class RosbagRecording:
                 hint=f"--on-error skip reads its whole records, {kept:,} of its {size:,} bytes; "
                 "`mcap recover` writes a repaired copy",
             )
-        self._copy_dir = tempfile.TemporaryDirectory(prefix="laserpeople-mcap-")
-        self._read_path, _ = ended_copy(self.path, self._copy_dir.name)
+        try:
+            self._copy_dir = tempfile.TemporaryDirectory(prefix="laserpeople-mcap-")
+            self._read_path, _ = ended_copy(self.path, self._copy_dir.name)
+        except OSError as exc:
+            if self._copy_dir is not None:
+                self._copy_dir.cleanup()
+                self._copy_dir = None
+            raise RecordingError(
+                f"{what}; its whole records cannot be copied to read them "
+                f"({exc.strerror or exc}, in {tempfile.gettempdir()})",
+                path=self.path,
+                hint="free space there or point TMPDIR elsewhere; or `mcap recover` it",
+            ) from exc
         self.damaged.cut = (
             f"{what}: read its whole records, {kept:,} of its {size:,} bytes; the "
             f"{size - kept:,} bytes after the cut are left out"
+            if kept < size
+            else f"{what}: read its {size:,} bytes, whole records up to the cut"
         )
 
     def __enter__(self) -> RosbagRecording:

@@ -2053,8 +2053,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "batch-spellings-apart",
         "batch: two spellings of one recording's path are two recordings",
         "cli/batch.py",
-        "        key = path.resolve()\n",
-        "        key = path\n",
+        "        spellings.setdefault(path.resolve(), []).append(path)\n",
+        "        spellings.setdefault(path, []).append(path)\n",
         ("tests/test_hardening_options.py",),
     ),
     Mutant(

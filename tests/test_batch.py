@@ -80,7 +80,7 @@ def test_processes_cluster_tracks_good_and_reports_bad(recordings, client, tmp_p
     for name, text in (
         ("garbage", "garbage.npz"),
         ("truncated", "truncated.npz"),
-        ("missing", "no such file"),
+        ("missing", "missing.bag: file not found"),
     ):
         assert rows[name].status == "failed"
         assert text in rows[name].error

@@ -182,7 +182,9 @@ def test_a_failed_write_leaves_the_complete_scans(
         return real(fd, data, offset)
 
     monkeypatch.setattr("laserpeople.io.scan_lines.os.pwrite", fills_up)
-    with pytest.raises(RecordingError, match="holds the 1 complete scan"):
+    with pytest.raises(
+        RecordingError, match=r"the 1 scan handled before \(1 with rows, up to scan 0\)"
+    ):
         out.write(_tracks(1, rows=200))
     out.close()
     with warnings.catch_warnings():

@@ -25,6 +25,7 @@ from typing import Any, TypeVar, get_type_hints
 
 from laserpeople.citations import cite
 from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.spelling import did_you_mean
 
 T = TypeVar("T")
 
@@ -48,6 +49,18 @@ def section_name(cls: type) -> str:
     return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
 
 
+def dotted_names(cls: type) -> list[str]:
+    """The parameters of ``cls`` as a config file names them in its section: fields, and
+    the fields of nested tables with their prefix (``people.gate_probability``)."""
+    names = []
+    hints = get_type_hints(cls)
+    for f in dataclasses.fields(cls):
+        names.append(f.name)
+        if dataclasses.is_dataclass(hints[f.name]):
+            names.extend(f"{f.name}.{n}" for n in dotted_names(hints[f.name]))
+    return names
+
+
 def from_mapping(
     cls: type[T], values: Mapping[str, Any], *, where: str = "", within: str = ""
 ) -> T:
@@ -62,8 +75,10 @@ def from_mapping(
     table = section.strip().rstrip(".")  # "[leg_tracker]", "[leg_tracker] people"
     unknown = sorted(set(values) - set(fields))
     if unknown:
+        named = dotted_names(cls)
+        guesses = "".join(f"; {u}: {g}" for u in unknown if (g := did_you_mean(u, named)))
         raise ConfigError(
-            f"unknown parameter(s) {', '.join(unknown)} in {table}",
+            f"unknown parameter(s) {', '.join(unknown)} in {table}{guesses}",
             path=where or None,
             hint=f"known: {', '.join(sorted(fields))}",
         )
@@ -204,8 +219,10 @@ def preset_values(cls: type, preset: str | None) -> dict[str, Any]:
     if preset is None:
         return {}
     if preset not in PRESETS:
+        guess = did_you_mean(preset, PRESETS)
         raise ConfigError(
-            f"unknown preset {preset!r}", hint=f"use one of {', '.join(PRESETS)} (docs/papers.md)"
+            f"unknown preset {preset!r}" + (f": {guess}" if guess else ""),
+            hint=f"use one of {', '.join(PRESETS)} (docs/papers.md)",
         )
     return dict(getattr(cls, "paper_preset", {}))
 
@@ -256,9 +273,21 @@ def check_sections(
     data = read_toml(p)
     elsewhere = {section_name(c) for c in others} - known
     unknown = sorted(set(data) - known - elsewhere)
-    if unknown:
+    loose = [u for u in unknown if not isinstance(data[u], Mapping)]
+    if loose:  # `p_det = 0.9` above every [section]
+        owners = {f"{section_name(c)}.{n}" for c in (*classes, *others) for n in dotted_names(c)}
+        guesses = "".join(f"; {u}: {g}" for u in loose if (g := did_you_mean(u, sorted(owners))))
         raise ConfigError(
-            f"unknown section(s) {', '.join(f'[{u}]' for u in unknown)}",
+            f"{', '.join(loose)} outside any [section]{guesses}",
+            path=p,
+            hint="write each parameter under the [section] of its class (docs/parameters.md)",
+        )
+    if unknown:
+        guesses = "".join(
+            f"; [{u}]: {g}" for u in unknown if (g := did_you_mean(u, sorted(known | elsewhere)))
+        )
+        raise ConfigError(
+            f"unknown section(s) {', '.join(f'[{u}]' for u in unknown)}{guesses}",
             path=p,
             hint=f"this command reads {', '.join(f'[{k}]' for k in sorted(known))}",
         )

@@ -11,6 +11,7 @@ import hashlib
 from pathlib import Path
 
 from laserpeople.errors import RecordingError
+from laserpeople.io.paths import not_found
 
 CHUNK = 1 << 20
 """Bytes read at a time [B]."""
@@ -36,7 +37,7 @@ def content_hash(path: str | Path) -> str:
                 digest.update(block)
         return digest.hexdigest()
     except FileNotFoundError:
-        raise RecordingError("no such file", path=p, hint="check the path or the glob") from None
+        raise RecordingError(not_found(p), path=p, hint="check the path or the glob") from None
     except OSError as exc:
         raise RecordingError(f"cannot read: {exc.strerror or exc}", path=p) from None
 

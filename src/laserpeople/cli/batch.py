@@ -77,21 +77,62 @@ def expand(patterns: list[str], out: Path | None = None) -> list[Path]:
             if not found:
                 raise ConfigError(f"{pattern!r} matches no file", hint="check the glob")
             found_paths.extend(Path(f) for f in found)
+        elif Path(pattern).is_dir() and not (Path(pattern) / "metadata.yaml").is_file():
+            found_paths.extend(folder_recordings(Path(pattern), home))
         else:
             found_paths.append(Path(pattern))
     if inside:
         say(f"left out {inside} glob matches in the output folder {out} (its own files)")
-    first: dict[Path, Path] = {}  # resolved -> as first named
-    named: dict[Path, int] = {}
+    spellings: dict[Path, list[Path]] = {}  # resolved -> as named, the first first
     for path in found_paths:
-        key = path.resolve()
-        first.setdefault(key, path)
-        named[key] = named.get(key, 0) + 1
-    twice = [str(first[key]) for key, n in named.items() if n > 1]
+        spellings.setdefault(path.resolve(), []).append(path)
+    twice = []
+    for first, *more in (v for v in spellings.values() if len(v) > 1):
+        others = sorted({str(m) for m in more} - {str(first)})
+        twice.append(f"{first} (also as {', '.join(others)})" if others else str(first))
     if twice:
         shown = ", ".join(twice[:3]) + (f" and {len(twice) - 3} more" if len(twice) > 3 else "")
         say(f"named more than once by the paths and globs given, tracked once: {shown}")
-    return list(first.values())
+    return [v[0] for v in spellings.values()]
+
+
+RECORDING_SUFFIXES = (".bag", ".mcap", ".db3", ".npz", ".log", ".clf", ".carmen")
+"""What `batch FOLDER` takes from a folder: files of these extensions (and ROS 2 bag
+folders, those with a metadata.yaml)."""
+
+
+def folder_recordings(folder: Path, home: Path | None) -> list[Path]:
+    """The recordings directly in ``folder`` (given without a glob), in name order: files of
+    :data:`RECORDING_SUFFIXES` and ROS 2 bag folders, but not the output folder ``home`` or
+    what is in it; says how many it took and how many other entries it left.
+
+    Raises:
+        ConfigError: None is there.
+    """
+    taken, left = [], []
+    for entry in sorted(folder.iterdir()):
+        if home is not None and entry.resolve().is_relative_to(home):
+            left.append(f"{entry.name} (the output folder)")
+            continue
+        bag_folder = entry.is_dir() and (entry / "metadata.yaml").is_file()
+        if bag_folder or (entry.is_file() and entry.suffix.lower() in RECORDING_SUFFIXES):
+            taken.append(entry)
+        elif not entry.name.endswith(".people.csv"):  # (the truth of a recording beside it)
+            left.append(entry.name)
+    if not taken:
+        raise ConfigError(
+            f"the folder {folder} holds no recording ({', '.join(RECORDING_SUFFIXES)} files or "
+            "ROS 2 bag folders)",
+            hint=f"for recordings in its subfolders give a glob: '{folder}/**/*.bag'",
+        )
+    if left:
+        shown = ", ".join(left[:3]) + (", ..." if len(left) > 3 else "")
+        kind = "entry" if len(left) == 1 else "entries"
+        extra = f"; left out {len(left)} other {kind} ({shown})"
+    else:
+        extra = ""
+    say(f"{folder}: a folder: its {len(taken)} recordings{extra}; subfolders are not searched")
+    return taken
 
 
 def render(rows: list[TopicRow], title: str) -> Table:
@@ -167,7 +208,10 @@ def register(app: typer.Typer) -> None:
     def _command(
         recordings: Annotated[
             list[str],
-            typer.Argument(help="Recordings or globs (quote them: 'runs/**/*.bag')."),
+            typer.Argument(
+                help="Recordings, globs (quote them: 'runs/**/*.bag') or folders (the "
+                "recordings directly in them)."
+            ),
         ],
         out: Annotated[Path, typer.Option("--out", "-o", help="Output folder.")],
         tracker: Annotated[

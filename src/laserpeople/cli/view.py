@@ -209,6 +209,7 @@ def register(app: typer.Typer) -> None:
                 source, recording, output, tracks, (tracks_frame, truth_frame), truth_input,
                 asked, frame, (start, stop, every), scan, size_px, extent_m, fps, trail,
             )  # fmt: skip
+            lasers_here = [t.name for t in source.topics()] if not asked else []
         finally:
             source.close()
         if result.overview_scans:  # one image of many scans: say how many
@@ -221,6 +222,11 @@ def register(app: typer.Typer) -> None:
             f"topic{'s' if scene.other_topics else ''} "
             f"{lasers}, {scene.frame} frame)"
         )
+        if len(lasers_here) > 1:
+            say(
+                f"drew topic {scene.topic} (the recording has {', '.join(lasers_here)}; use "
+                "--topic, or --topics all to draw them all)"
+            )
         if scene.others_unplaced:
             warn(
                 f"{scene.others_unplaced} scans of {', '.join(scene.other_topics)} not drawn: "
@@ -264,6 +270,14 @@ def _draw(
         drawn = drawn or resolve_topics(source, None)
         for problem in tracks_mismatch(tracks, source, drawn[0]):
             warn(f"{tracks} may not belong to {recording.name}: {problem}")
+        from laserpeople.io.tracks_files import read_tracks_file
+
+        rows = read_tracks_file(tracks)
+        if next(iter(rows), None) is None:  # a header alone: a run that tracked nobody
+            warn(f"{tracks} holds no track: the drawing shows none")
+        close = getattr(rows, "close", None)
+        if close is not None:
+            close()
         if tracks_frame is None and tracks.suffix.lower() == ".csv":
             from laserpeople.io.tracks_csv import read_tracks_frame
 

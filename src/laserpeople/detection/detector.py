@@ -349,4 +349,10 @@ def make_leg_detector(
         if model is not None:
             raise ConfigError("--model applies to the adaboost detector only")
         return HeuristicLegDetector(params=params)
-    raise ConfigError(f"unknown detector {name!r}", hint="choose adaboost or heuristic")
+    from laserpeople.spelling import did_you_mean
+
+    guess = did_you_mean(name, ("adaboost", "heuristic"))
+    raise ConfigError(
+        f"unknown detector {name!r}" + (f": {guess}" if guess else ""),
+        hint="choose adaboost or heuristic",
+    )

@@ -13,6 +13,7 @@ from typing import Any, Protocol, runtime_checkable
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
+from laserpeople.io.paths import empty_file, not_found
 from laserpeople.io.sniff import check_extension
 from laserpeople.scan import Scan
 from laserpeople.truth import TruthFrame
@@ -75,7 +76,7 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     """
     p = Path(path)
     if not p.exists():
-        raise RecordingError("file not found", path=p, hint="check the path")
+        raise RecordingError(not_found(p), path=p, hint="check the path")
     suffix = p.suffix.lower()
     if p.is_dir() and not (p / "metadata.yaml").exists():
         neko = (p / "xy_data.txt").is_file()
@@ -86,6 +87,8 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
             if neko
             else "give a file, or a ROS 2 bag folder (one with metadata.yaml)",
         )
+    if p.is_file() and p.stat().st_size == 0:
+        raise empty_file(p, "a recording")
     check_extension(p)
     if suffix == ".npz":
         extra = set(options) - {"on_error"}

@@ -228,11 +228,9 @@ def check_bag_file(path: Path) -> None:
     except OSError as exc:
         raise RecordingError(f"cannot read the file: {exc.strerror or exc}", path=path) from exc
     if not head:
-        raise RecordingError(
-            "the file is empty (0 bytes), not a bag",
-            path=path,
-            hint="the copy or the recording was cut short: copy or record it again",
-        )
+        from laserpeople.io.paths import empty_file
+
+        raise empty_file(path, "a bag")
     if any(head.startswith(m[: len(head)]) for m in BAG_MAGIC):
         check_extension(path)  # a whole bag of another kind than its extension says
         return
@@ -273,10 +271,11 @@ def open_reader(
             errors, ``UnicodeDecodeError``, ``MemoryError``), naming the file.
     """
     from laserpeople.errors import RecordingError
+    from laserpeople.io.paths import not_found
 
     p = Path(path)
     if not p.exists():
-        raise RecordingError("file not found", path=p, hint="check the path")
+        raise RecordingError(not_found(p), path=p, hint="check the path")
     # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
     # the caller registers types (they reach AnyReader's default typestore)
     ros1 = p.suffix == ".bag" and register is None

@@ -56,6 +56,7 @@ from laserpeople.errors import (
 )
 from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.npz import TopicInfo
+from laserpeople.io.paths import not_found
 from laserpeople.io.poses import PoseParams, PoseTrack
 from laserpeople.io.topics import match_topics
 from laserpeople.scan import Pose2D, Scan, wrap_angle
@@ -237,7 +238,7 @@ class CarmenRecording:
         self.path = Path(path)
         self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
-            raise RecordingError("file not found", path=self.path, hint="check the path")
+            raise RecordingError(not_found(self.path), path=self.path, hint="check the path")
         if self.path.is_dir():
             raise RecordingError(
                 "is a directory, not a CARMEN log", path=self.path, hint="give the log file itself"

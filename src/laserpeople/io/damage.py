@@ -61,6 +61,8 @@ class DamagedRecords:
         intensities_dropped: Scans read without their intensities, which did not match
             their ranges in number (the ranges are sound; nothing in tracking reads
             intensities).
+        cut: What was left out of a file cut short that is read up to the cut (``skip``;
+            it stays through :meth:`reset`: it is the file's, not one read's).
     """
 
     def __init__(self, path: str | Path, on_error: OnError = "stop") -> None:
@@ -71,6 +73,7 @@ class DamagedRecords:
         self.examples: list[str] = []
         self.intensities_dropped = 0
         self._intensities_example = ""
+        self.cut: str | None = None
 
     def reset(self) -> None:
         """Forget the records of an earlier read."""
@@ -163,7 +166,7 @@ class DamagedRecords:
 
     def summary(self) -> str:
         """Lines for the user; empty when nothing was skipped or left out."""
-        parts = []
+        parts = [f"{self.path}: {self.cut}"] if self.cut else []
         if self.count:
             shown = "; ".join(self.examples)
             more = "" if self.count <= len(self.examples) else f"; and {self.count - 5} more"

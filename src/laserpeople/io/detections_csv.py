@@ -97,9 +97,16 @@ class DetectionsCsvWriter:
                     *tail,
                 ]
             )
+        self._scan_rows(rows, detections.scan_index, topic if topic is not None else self.topic)
+
+    def _scan_rows(self, rows: list[list[Any]], index: int, topic: str | None) -> None:
+        """Write one scan's ``rows``, or count the scan when it has none."""
+        name = f"scan {index}" + (f" of {topic}" if topic else "")
         if rows:
-            self._out.write_rows(rows)
+            self._out.write_rows(rows, scan=name)
             self.rows += len(rows)
+        else:
+            self._out.pass_scan(name)
 
     def write_segments(
         self,
@@ -131,9 +138,7 @@ class DetectionsCsvWriter:
             row.extend(_num(v) for v in values[i])
             row.extend(tail)
             rows.append(row)
-        if rows:
-            self._out.write_rows(rows)
-            self.rows += len(rows)
+        self._scan_rows(rows, scan.index, topic if topic is not None else scan.sensor)
 
     def close(self) -> None:
         """Close the file."""

@@ -55,7 +55,7 @@ from numpy.typing import NDArray
 
 from laserpeople.errors import RecordingError, TopicNotFoundError
 from laserpeople.io.damage import DamagedRecords, OnError
-from laserpeople.io.paths import staging_name, why_unwritable
+from laserpeople.io.paths import not_found, staging_name, why_unwritable
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
 from laserpeople.truth import BeamLabels, TruthFrame
 
@@ -252,7 +252,7 @@ class NpzRecording:
         self.path = Path(path)
         self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
-            raise RecordingError("file not found", path=self.path)
+            raise RecordingError(not_found(self.path), path=self.path)
         if self.path.is_dir():
             raise RecordingError("is a directory, not an .npz recording", path=self.path)
         self._a = _open_members(self.path)

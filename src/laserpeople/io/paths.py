@@ -15,7 +15,7 @@ from collections.abc import Iterable, Mapping
 from contextlib import suppress
 from pathlib import Path
 
-from laserpeople.errors import ConfigError, LaserPeopleError
+from laserpeople.errors import ConfigError, LaserPeopleError, RecordingError
 
 
 def _resolved(path: Path) -> Path:
@@ -44,6 +44,26 @@ FORMATS = frozenset(
     }
 )  # fmt: skip
 """Extensions of the formats this package reads or writes."""
+
+
+def not_found(path: str | Path) -> str:
+    """Why ``path`` cannot be opened when it does not exist, for an error message: ``file not
+    found``, or for a symbolic link whose target is missing, where it points."""
+    p = Path(path)
+    if not p.is_symlink():
+        return "file not found"
+    target = os.readlink(p)
+    relative = "" if os.path.isabs(target) else " (a relative link is read from its own folder)"
+    return f"a symbolic link to {target!r}, which does not exist{relative}"
+
+
+def empty_file(path: str | Path, what: str) -> RecordingError:
+    """The error for a file of 0 bytes given as ``what`` (``"a bag"``, ``"a recording"``)."""
+    return RecordingError(
+        f"the file is empty (0 bytes), not {what}",
+        path=Path(path),
+        hint="the copy or the recording was cut short: copy or record it again",
+    )
 
 
 def why_unwritable(exc: OSError, path: str | Path) -> str:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import tempfile
 from collections import Counter, defaultdict
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -33,7 +34,9 @@ from laserpeople.errors import (
 from laserpeople.io.bag_guard import CORRUPT_HINT, describe, open_reader
 from laserpeople.io.damage import BACKWARD_HINT, DamagedRecords, OnError, stamp_back
 from laserpeople.io.laserscan_ros1 import decode_laserscan, is_standard_laserscan
+from laserpeople.io.mcap_tail import ended_copy, missing_end, whole_records
 from laserpeople.io.npz import TopicInfo
+from laserpeople.io.paths import not_found
 from laserpeople.io.pose_msgs_ros1 import standard_pose_decoder
 from laserpeople.io.poses import (
     KNOWN_MOUNTS,
@@ -192,7 +195,7 @@ class RosbagRecording:
         self.path = Path(path)
         self.damaged = DamagedRecords(self.path, on_error)
         if not self.path.exists():
-            raise RecordingError("file not found", path=self.path, hint="check the path")
+            raise RecordingError(not_found(self.path), path=self.path, hint="check the path")
         if self.path.is_dir() and not (self.path / "metadata.yaml").is_file():
             raise RecordingError(
                 "is a directory, not a bag",
@@ -206,6 +209,10 @@ class RosbagRecording:
         self._mounts = dict(mounts or {})
         if self.path.is_dir():
             _check_metadata(self.path / "metadata.yaml")
+        self._read_path = self.path
+        self._copy_dir: tempfile.TemporaryDirectory[str] | None = None
+        if missing_end(self.path):
+            self._read_up_to_the_cut()
         self._reader = self._open()
         self._connections: dict[str, list[Any]] = defaultdict(list)
         for conn in self._reader.connections:
@@ -231,7 +238,52 @@ class RosbagRecording:
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
-        return open_reader(self.path)
+        try:
+            return open_reader(self._read_path)
+        except RecordingError as exc:  # (the copy of an MCAP cut short: name the file)
+            raise exc.moved(self._read_path, self.path) from exc
+
+    def _read_up_to_the_cut(self) -> None:
+        """An MCAP without its end records: an error (``stop``), or (``skip``) read from a
+        copy of its whole records, ended, with what was left out in :attr:`damaged`."""
+        size = self.path.stat().st_size
+        kept, records = whole_records(self.path)
+        what = (
+            "the MCAP ends without its end records (the recorder was stopped before it "
+            "closed the file, or the copy was cut short)"
+        )
+        if not records:
+            raise RecordingError(
+                f"{what}, and no record before the cut is whole: nothing can be read",
+                path=self.path,
+                hint="re-copy or re-record it",
+            )
+        if self.damaged.on_error == "stop":
+            raise RecordingError(
+                what,
+                path=self.path,
+                hint=f"--on-error skip reads its whole records, {kept:,} of its {size:,} bytes; "
+                "`mcap recover` writes a repaired copy",
+            )
+        try:
+            self._copy_dir = tempfile.TemporaryDirectory(prefix="laserpeople-mcap-")
+            self._read_path, _ = ended_copy(self.path, self._copy_dir.name)
+        except OSError as exc:
+            if self._copy_dir is not None:
+                self._copy_dir.cleanup()
+                self._copy_dir = None
+            raise RecordingError(
+                f"{what}; its whole records cannot be copied to read them "
+                f"({exc.strerror or exc}, in {tempfile.gettempdir()})",
+                path=self.path,
+                hint="free space there or point TMPDIR elsewhere; or `mcap recover` it",
+            ) from exc
+        self.damaged.cut = (
+            f"{what}: read its whole records, {kept:,} of its {size:,} bytes; the "
+            f"{size - kept:,} bytes after the cut are left out"
+            if kept < size
+            else f"{what}: read its {size:,} bytes, whole records up to the cut"
+        )
 
     def __enter__(self) -> RosbagRecording:
         return self
@@ -240,9 +292,12 @@ class RosbagRecording:
         self.close()
 
     def close(self) -> None:
-        """Close the bag."""
+        """Close the bag (and remove the copy of an MCAP cut short)."""
         if self._reader is not None and self._reader.stack is not None:
             self._reader.close()
+        if self._copy_dir is not None:
+            self._copy_dir.cleanup()
+            self._copy_dir = None
 
     # -- topics ----------------------------------------------------------------------------
     @property

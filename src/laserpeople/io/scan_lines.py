@@ -42,16 +42,27 @@ class TornScanWarning(LaserPeopleWarning):
 class ScanLineWriter:
     """CSV rows written whole scans at a time, a scan's pages from its end backwards.
 
+    A failing write names the scan it failed at and what the file holds: the scans handed
+    to :meth:`write_rows` or :meth:`pass_scan` before it, with rows or without (a scan with
+    no track or leg has no row but is in the file all the same).
+
     Args:
         path: The file to write (created or truncated).
         header: Column names, written first.
         what: What the file holds, for error messages (``"tracks CSV"``).
+
+    Attributes:
+        scans: Scans handled (their rows, if any, written).
+        scans_with_rows: Of those, the scans that have rows.
+        last: Name of the last scan handled (``"scan 41 of /scan"``; ``""``: none).
     """
 
     def __init__(self, path: str | Path, header: Sequence[str], what: str) -> None:
         self.path = Path(path)
         self.what = what
         self.scans = 0
+        self.scans_with_rows = 0
+        self.last = ""
         self._end = 0  # bytes of complete rows in the file
         self._buf = io.StringIO()
         self._csv = csv.writer(self._buf, lineterminator="\n")
@@ -78,12 +89,20 @@ class ScanLineWriter:
             self._fh.close()  # the caller never gets the writer to close it
             raise
 
-    def write_rows(self, rows: Iterable[Sequence[Any]], *, count: bool = True) -> None:
-        """Write ``rows`` (one scan's), complete or detectably torn if the process dies.
+    def pass_scan(self, scan: str) -> None:
+        """Count the scan named ``scan`` (``"scan 41 of /scan"``), which has no rows."""
+        self.scans += 1
+        self.last = scan
+
+    def write_rows(
+        self, rows: Iterable[Sequence[Any]], *, count: bool = True, scan: str = ""
+    ) -> None:
+        """Write ``rows`` (those of the scan named ``scan``), complete or detectably torn if
+        the process dies.
 
         Raises:
             RecordingError: The write failed (disk full, file system gone); the file holds
-                the scans written before this one.
+                the scans handled before this one, and the message says so.
         """
         self._buf.seek(0)
         self._buf.truncate()
@@ -101,15 +120,30 @@ class ScanLineWriter:
         except OSError as exc:
             if self._seekable:
                 self._undo()
-            raise RecordingError(
-                f"cannot write the {self.what}: {exc.strerror or exc}; it holds the "
-                f"{self.scans} complete scan(s) written before",
-                path=self.path,
-                hint="free disk space or choose another path with -o",
-            ) from exc
+            raise RecordingError(self._stopped(exc, scan), path=self.path, hint=(
+                "free disk space or choose another path with -o"
+            )) from exc  # fmt: skip
         self._end += len(data)
         if count:
             self.scans += 1
+            self.scans_with_rows += 1
+            self.last = scan
+
+    def _stopped(self, exc: OSError, scan: str) -> str:
+        """What a write that failed at ``scan`` left: the scans the file holds, whole."""
+        at = f" at {scan}" if scan else ""
+        why = exc.strerror or exc
+        if not self._end:
+            return f"cannot write the {self.what}: {why} (not even its header)"
+        if not self.scans:
+            return f"cannot write the {self.what}{at}: {why}; it holds the header alone"
+        upto = f", up to {self.last}" if self.last else ""
+        return (
+            f"cannot write the {self.what}{at}: {why}; it holds the rows of "
+            f"the {self.scans} scan{'' if self.scans == 1 else 's'} handled before "
+            f"({self.scans_with_rows} with rows"
+            f"{upto}), whole: {scan or 'that scan'} and the scans after it are missing"
+        )
 
     def _write_backwards(self, data: bytes) -> None:
         fd = self._fh.fileno()

@@ -181,9 +181,12 @@ class TracksCsvWriter:
                     *((format_contour(t.contour),) if self.contours else ()),
                 )
             )
+        name = f"scan {scan}" + (f" of {self.topic}" if self.topic else "")
         if rows:
-            self._out.write_rows(rows)
+            self._out.write_rows(rows, scan=name)
             self.rows += len(rows)
+        else:
+            self._out.pass_scan(name)
 
     def close(self) -> None:
         """Close the file."""

@@ -13,14 +13,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, RecordingError
 from laserpeople.frame import Frame
+from laserpeople.io.mcap_record import McapRecorder
+from laserpeople.io.paths import why_unwritable
 from laserpeople.io.rosbag_writer import ROS1_SUFFIXES
-from laserpeople.io.tracks_bag import MARKER_TOPIC, TRACK_TOPICS
+from laserpeople.io.tracks_bag import MARKER_TOPIC, TRACK_TOPICS, TracksBagWriter
 from laserpeople.live.messages import Message, TrackEncoder, moved_topic
 from laserpeople.live.source import LiveScans
 from laserpeople.pipeline.core import PipelineStats
-from laserpeople.pipeline.sinks import TracksBagSink
 from laserpeople.pipeline.stages import Sink
 from laserpeople.samples import Samples
 from laserpeople.tracks import Tracks
@@ -92,7 +93,7 @@ class PublishSink:
         """Nothing to close (the publishers belong to the run)."""
 
 
-class RecordSink(TracksBagSink):
+class RecordSink:
     """``live --record``: an MCAP with each frame's scans, their poses and the tracks, the
     tracks being the very bytes published (the frame is encoded once, by the shared
     ``encoder``).
@@ -103,9 +104,17 @@ class RecordSink(TracksBagSink):
     robot's world frame and lasers' frame ids); the ``frame`` tag of each person says
     whether the positions are in the world or the sensor frame.
 
+    The file is written out after every frame (see :class:`~laserpeople.io.mcap_record.
+    McapRecorder`): when the disk refuses a write, it is ended after the last whole frame,
+    moved into place, and the error says how many frames and scans it holds.
+
     Args:
         path: The ``.mcap`` to write.
         encoder: The publisher's encoder.
+
+    Attributes:
+        scans: Scans in the whole frames written.
+        last_stamp: Stamp of the last of them [s] (None: none yet).
     """
 
     def __init__(self, path: str | Path, encoder: TrackEncoder) -> None:
@@ -115,20 +124,67 @@ class RecordSink(TracksBagSink):
                 "the published ROS 2 (CDR) bytes",
                 hint="give --record a .mcap path",
             )
-        super().__init__(path)
+        self.path = Path(path)
+        self._recorder = McapRecorder(self.path)
+        self._writer = TracksBagWriter(self._recorder.sink)
         self.encoder = encoder
+        self.scans = 0
+        self.last_stamp: float | None = None
         prefix = encoder.sink.prefix
         self._topics = {moved_topic(t, prefix): t for t in (*TRACK_TOPICS.values(), MARKER_TOPIC)}
 
+    @property
+    def frames(self) -> int:
+        """Whole frames written."""
+        return self._writer.frames
+
     def write(self, frame: Frame, tracks: Tracks | None) -> None:
-        """Append the frame's scans and poses, and its published tracks."""
+        """Append the frame's scans and poses, and its published tracks, and write them out.
+
+        Raises:
+            RecordingError: The disk refused them; the recording was ended before this frame
+                (the message says what it holds).
+        """
         if tracks is None:
             return
-        self._writer.write_scans(frame.scans, tracks.frame == "world")
-        bag = self._writer.sink
-        for m in self.encoder.encode(frame.scans, tracks):
-            bag.write_serialised(self._topics.get(m.topic, m.topic), m.msgtype, m.data, m.stamp)
+        try:
+            self._writer.write_scans(frame.scans, tracks.frame == "world")
+            bag = self._writer.sink
+            for m in self.encoder.encode(frame.scans, tracks):
+                bag.write_serialised(self._topics.get(m.topic, m.topic), m.msgtype, m.data, m.stamp)
+            self._recorder.checkpoint()
+        except OSError as exc:
+            self._recorder.salvage(exc)
+            raise self._stopped(exc, f"at frame {self.frames + 1}") from exc
         self._writer.frames += 1
+        self.scans += len(frame.scans)
+        self.last_stamp = max(s.stamp for s in frame.scans)
+
+    def close(self) -> None:
+        """End the recording and move it into place.
+
+        Raises:
+            RecordingError: It could not be ended (it is kept up to the last whole frame).
+        """
+        try:
+            self._recorder.close()
+        except OSError as exc:
+            raise self._stopped(exc, "at its end") from exc
+
+    def _stopped(self, exc: OSError, where: str) -> RecordingError:
+        """The error for a recording the disk refused ``where``: what the file holds."""
+        upto = (
+            "" if self.last_stamp is None else f", up to the scan stamped {self.last_stamp:.3f} s"
+        )
+        return RecordingError(
+            f"the recording stopped {where}: {why_unwritable(exc, self.path)}; the file holds "
+            f"the {self.frames} whole frame{'' if self.frames == 1 else 's'} before "
+            f"({self.scans} scan{'' if self.scans == 1 else 's'}{upto}) and is ended "
+            "there, readable",
+            path=self.path,
+            hint="free disk space or record into another folder; `laserpeople track` reads "
+            "what the file holds",
+        )
 
 
 class KeepOpen:

@@ -96,8 +96,11 @@ def get_scenario(name: str) -> ScenarioDef:
     try:
         return REGISTRY[name]
     except KeyError:
+        from laserpeople.spelling import did_you_mean
+
+        guess = did_you_mean(name, REGISTRY)
         raise UnknownScenarioError(
-            f"unknown scenario {name!r}",
+            f"unknown scenario {name!r}" + (f": {guess}" if guess else ""),
             hint=f"known scenarios: {', '.join(REGISTRY)} (see `laserpeople scenarios`)",
         ) from None
 

@@ -1331,6 +1331,23 @@ MUTANTS: tuple[Mutant, ...] = (
         SEGMENTS,
     ),
     Mutant(
+        "duplicate-scans-any-stamp",
+        "scans recorded twice: a scan with the previous one's ranges but another stamp "
+        "dropped as a copy",
+        "pipeline/duplicate_scans.py",
+        "        and a.stamp == b.stamp\n",
+        "",
+        ("tests/test_hardening_cli.py",),
+    ),
+    Mutant(
+        "duplicate-scans-no-intensities",
+        "scans recorded twice: intensities not compared",
+        "pipeline/duplicate_scans.py",
+        "                and np.array_equal(a.intensities, b.intensities, equal_nan=True)\n",
+        "                and True\n",
+        ("tests/test_hardening_cli.py",),
+    ),
+    Mutant(
         "blobs-halfway-from-first",
         "moving blobs (the centre halfway in time a third of the travel from the first)",
         "pipeline/moving_blobs.py",

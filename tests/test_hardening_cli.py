@@ -126,3 +126,55 @@ def test_nonsense_parameters_and_mounts_are_errors() -> None:
         with pytest.raises(ConfigError, match="off its robot"):
             parse_mounts([bad])
     assert parse_mounts(["laser=base:0.2,0,1.57"])["laser"][1].x == 0.2
+
+
+def test_scans_recorded_twice_are_dropped_and_said(tmp_path: Path) -> None:
+    """Copies of a scan (the same laser, stamp and ranges, as a bag recorded from two
+    subscribers holds) are dropped and counted; the tracks are those of the recording
+    without them. A scan with the previous stamp but its own ranges is no copy."""
+    import numpy as np
+
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+    from laserpeople.pipeline.duplicate_scans import DuplicateScanCheck
+    from laserpeople.scan import Scan
+    from laserpeople.sim.scenarios import run_scenario
+
+    result = run_scenario("figure-eight", seconds=3.0, seed=1)
+    scans = list(result.scans)
+    twice = [*scans[:11], scans[10], scans[10], *scans[11:40], scans[39], *scans[40:]]
+    paths = {"once": tmp_path / "once.npz", "twice": tmp_path / "twice.npz"}
+    SimResult(scans, result.truth, result.meta).write(paths["once"])
+    SimResult(twice, result.truth, result.meta).write(paths["twice"])
+    rows = {}
+    for name, path in paths.items():
+        out = tmp_path / f"{name}.csv"
+        run = CliRunner().invoke(app, ["track", str(path), "-o", str(out)])
+        assert run.exit_code == 0, run.output
+        rows[name] = [
+            [(t.track_id, t.kind, *np.round(t.position, 9)) for t in tracks]
+            for tracks in iter_tracks_csv(out)
+        ]
+        if name == "twice":
+            said = " ".join(run.output.split())
+            assert f"3 of {len(twice)} scans were copies of the scan before them" in said
+            assert "the first: scan 10 of laser" in said  # (the npz keeps the copy's index)
+    assert rows["twice"] == rows["once"] and any(rows["once"])
+
+    def scan(stamp: float, ranges: list[float], intensities: list[float] | None = None) -> Scan:
+        return Scan(stamp, -1.0, 0.5, np.array(ranges), intensities=None
+                    if intensities is None else np.array(intensities))  # fmt: skip
+
+    check = DuplicateScanCheck()
+    seq = [
+        scan(1.0, [1.0, np.nan, 2.0]),
+        scan(1.0, [1.0, np.nan, 2.0]),  # a copy (NaN where NaN)
+        scan(1.0, [1.0, np.nan, 2.5]),  # the same stamp, other ranges: kept
+        scan(1.0, [1.0, np.nan, 2.5], [5.0, 0.0, 7.0]),  # intensities now: kept
+        scan(1.0, [1.0, np.nan, 2.5], [5.0, 0.0, 8.0]),  # other intensities: kept
+        scan(1.1, [1.0, np.nan, 2.5], [5.0, 0.0, 8.0]),  # another stamp: kept
+        replace(scan(1.1, [1.0, np.nan, 2.5], [5.0, 0.0, 8.0]), sensor="b"),  # another laser
+    ]
+    kept = list(check(seq))
+    assert [s.stamp for s in kept] == [1.0, 1.0, 1.0, 1.0, 1.1, 1.1]
+    assert (check.scans, check.dropped) == (7, 1)
+    assert DuplicateScanCheck().summary() == ""

@@ -157,6 +157,7 @@ def test_a_dotted_key_as_suggested_reads() -> None:
         (["simulate", "demoo", "-o", "x.npz"], "unknown scenario 'demoo': did you mean 'demo'?"),
         (["track", "REC", "-o", "t.csv", "--detector", "adaboot"], "did you mean 'adaboost'?"),
         (["track", "REC", "-o", "t.csv", "--preset", "papers"], "did you mean 'paper'?"),
+        (["track", "REC", "-o", "t.csv", "--tracker", "group-mth"], "did you mean 'group-mht'?"),
     ],
 )
 def test_misspelt_option_values_get_a_suggestion(

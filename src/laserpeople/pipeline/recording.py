@@ -25,6 +25,7 @@ from laserpeople.pipeline.background import (
     static_model_used,
 )
 from laserpeople.pipeline.core import Pipeline
+from laserpeople.pipeline.duplicate_scans import DuplicateScanCheck
 from laserpeople.pipeline.empty_scans import EmptyScanCheck
 from laserpeople.pipeline.laser_height import laser_heights
 from laserpeople.pipeline.layout import LayoutCheck
@@ -136,6 +137,7 @@ class RecordingFrames:
         restamper: The re-stamping and its counts (None without ``restamp``).
         layouts: The changes of a laser's beam layout seen so far.
         empty: The scans without a valid beam seen so far.
+        duplicates: The scans dropped as copies of the scan before them so far.
     """
 
     def __init__(
@@ -158,6 +160,7 @@ class RecordingFrames:
         self.max_frames = max_frames
         self.layouts = LayoutCheck()
         self.empty = EmptyScanCheck()
+        self.duplicates = DuplicateScanCheck()
 
     @property
     def total(self) -> int | None:
@@ -168,7 +171,7 @@ class RecordingFrames:
         return count
 
     def __iter__(self) -> Iterator[Frame]:
-        scans = self.recording.scans(self.topics)
+        scans = self.duplicates(self.recording.scans(self.topics))
         scans = self.restamper(scans) if self.restamper is not None else StampCheck()(scans)
         scans = self.empty(self.layouts(scans))
         frames = laser_frames(scans, self.topic) if self.grouper is None else self.grouper(scans)
@@ -180,7 +183,8 @@ class RecordingFrames:
     def summary(self) -> list[str]:
         """Lines for the user: given laser mounts left out; what the reader took other than
         as written (``read_notes``: zero stamps, a changed frame id); the frame used and why; the
-        grouping figures; changes of a laser's beam layout; scans without a valid beam."""
+        grouping figures; changes of a laser's beam layout; scans without a valid beam;
+        scans dropped as copies."""
         lines = list(getattr(self.recording, "mount_notes", []))
         notes = getattr(self.recording, "read_notes", None)
         if callable(notes):
@@ -194,6 +198,8 @@ class RecordingFrames:
             lines.append(self.layouts.summary())
         if self.empty.empty:
             lines.append(self.empty.summary())
+        if self.duplicates.dropped:
+            lines.append(self.duplicates.summary())
         return lines
 
     def close(self) -> None:

@@ -192,9 +192,13 @@ def get(name: str) -> TrackerEntry:
     try:
         return TRACKERS[name]
     except KeyError:
+        from laserpeople.spelling import did_you_mean
+
         known = sorted(TRACKERS)
+        guess = did_you_mean(name, known)
         raise ConfigError(
-            f"unknown tracker {name!r}", hint=f"choose one of: {', '.join(known)}"
+            f"unknown tracker {name!r}" + (f"; {guess}" if guess else ""),
+            hint=f"choose one of: {', '.join(known)}",
         ) from None
 
 

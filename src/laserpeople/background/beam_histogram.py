@@ -36,9 +36,11 @@ towards the first steady farther return as above. With a guess, the beam relearn
 beyond the guess, so a person who later stands farther along the same beams stays
 foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
 after learning, never farther, saw something static after all (a leg detection on
-furniture) and is learned as static. Returns that only may be people (``legs``: near
-any leg detection, furniture the detector fires on too) stay static, but the wall behind
-them is guessed as well, so that it is background at once when a person there leaves.
+furniture) and is learned as static; a beam that saw people at two ranges (someone who
+passed in front of the furniture) is watched on at the farther once it returns there.
+Returns that only may be people (``legs``: near any leg detection, furniture the detector
+fires on too) stay static, but the wall behind them is guessed as well, so that it is
+background at once when a person there leaves.
 The people counts are saved with the histograms.
 
 A recording on disk can be read whole before it is tracked

@@ -455,6 +455,36 @@ def test_people_of_the_learning_who_never_leave_settle_into_the_background() -> 
     assert again.settled("a") == 0
 
 
+def test_a_chair_a_person_passed_in_front_of_while_learning_settles_after_all() -> None:
+    """Beams 40-43 see a chair at 2.0 m, taken for a person through the learning (11 scans,
+    0.0 .. 1.0 s), and in the first 3 and the last a person in front at 1.0 m, marked as
+    well: both ranges are on people, the beams are watched at the nearer from 1.0 s. The
+    person stands in front until 1.5 s, then the chair is seen again: a farther return on a
+    range of the people, watched from 1.6 s on; it holds ``people_settle_seconds`` (2 s) at
+    3.6 s and is background from the next scan (a clock kept from 1.0 s: from 3.1 s; the
+    chair taken for the people leaving: foreground for good). A person at 1.0 m is
+    foreground after."""
+    p = BeamHistogramParams(learn_seconds=1.0, people_settle_seconds=2.0)
+    model = BeamHistogramBackground(p)
+    chair, passing = _walls(), _walls()
+    chair[40:44] = 2.0
+    passing[40:44] = 1.0
+    for k in range(11):
+        frame = _frame([_scan(passing if k < 3 or k == 10 else chair, 0.1 * k, index=k)])
+        assert frame.points is not None
+        model.learn_foreground(frame, np.isin(frame.points.beams, np.arange(40, 44)))
+    assert not model.learning
+    fg = {}
+    for j in range(1, 41):
+        ranges = passing if j <= 5 else chair
+        out = model(_frame([_scan(ranges, 1.0 + 0.1 * j, index=10 + j)]))
+        assert out.foreground is not None
+        fg[round(1.0 + 0.1 * j, 1)] = int(out.foreground.sum())
+    assert [fg[t] for t in (1.5, 1.6, 3.1, 3.5, 3.6, 3.7, 4.0, 5.0)] == [4, 4, 4, 4, 4, 0, 0, 0]
+    assert model.settled("a") == 4
+    assert int(model.foreground_of(_scan(passing, 5.1)).sum()) == 4
+
+
 def test_a_wall_seen_between_the_legs_and_taken_for_a_leg_is_the_wall() -> None:
     """Through the learning beams 40-47 see a person at 2 m, and beam 43 sees the wall
     through the gap between the legs; the detector takes that wall segment for a leg too

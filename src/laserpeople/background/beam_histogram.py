@@ -36,9 +36,11 @@ towards the first steady farther return as above. With a guess, the beam relearn
 beyond the guess, so a person who later stands farther along the same beams stays
 foreground. A beam that keeps returning the people's range for ``people_settle_seconds``
 after learning, never farther, saw something static after all (a leg detection on
-furniture) and is learned as static. Returns that only may be people (``legs``: near
-any leg detection, furniture the detector fires on too) stay static, but the wall behind
-them is guessed as well, so that it is background at once when a person there leaves.
+furniture) and is learned as static; a beam that saw people at two ranges (someone who
+passed in front of the furniture) is watched on at the farther once it returns there.
+Returns that only may be people (``legs``: near any leg detection, furniture the detector
+fires on too) stay static, but the wall behind them is guessed as well, so that it is
+background at once when a person there leaves.
 The people counts are saved with the histograms.
 
 A recording on disk can be read whole before it is tracked
@@ -171,6 +173,7 @@ class _BeamTable:
     angles: NDArray[np.float64] | None = None  # (B,) beam angles [rad] in the laser frame
     person_bin: NDArray[np.int64] | None = None  # (B,) nearest bin on people (-1: none)
     settling: NDArray[np.float64] | None = None  # (B,) stamp it was first seen again (nan)
+    people_bins: NDArray[np.bool_] | None = None  # (B, K) bins on people, widened
     static: NDArray[np.bool_] | None = None  # (B, K) dilated by the tolerance
     nearest: NDArray[np.int64] | None = None  # (B,) nearest static core bin (K: none)
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
@@ -197,6 +200,7 @@ class _BeamTable:
         self.person_bin = np.where(on_people.any(axis=1), np.argmax(on_people, axis=1), -1)
         self.marked = int(np.count_nonzero(self.person_bin >= 0))
         self.settling = np.full(core.shape[0], np.nan)
+        self.people_bins = _dilate(on_people, math.ceil(p.tolerance / p.bin_width))
 
     def settle(
         self,
@@ -210,9 +214,18 @@ class _BeamTable:
         (within the tolerance; nearer returns, someone passing in front, do not count
         against it) for ``people_settle_seconds`` saw something static after all (a leg
         detection on furniture): its people counts are dropped and its histogram marks it
-        static. A farther return shows the people have left: the beam is no longer
-        watched (someone who later stands on the same place stays foreground)."""
-        if self.person_bin is None or self.settling is None or self.people is None:
+        static. A beam that saw people at more than one range (a person who passed in
+        front of a chair taken for a person) is watched at the nearest: a farther return
+        on another range of its people is watched from then on, with the clock started
+        afresh. A return farther than every range of its people shows the people have
+        left: the beam is no longer watched (someone who later stands on the same place
+        stays foreground)."""
+        if (
+            self.person_bin is None
+            or self.settling is None
+            or self.people is None
+            or self.people_bins is None
+        ):
             return
         on = self.person_bin[beams] >= 0
         if not on.any():
@@ -220,10 +233,15 @@ class _BeamTable:
         beams, bins = beams[on], bins[on]
         reach = math.ceil(p.tolerance / p.bin_width)
         person = self.person_bin[beams]
+        farther = bins > person + reach
+        moved = farther & self.people_bins[beams, bins]  # on a farther range of its people
+        self.person_bin[beams[moved]] = bins[moved]
+        self.settling[beams[moved]] = stamp
+        person = self.person_bin[beams]
         same = np.abs(bins - person) <= reach
         start = same & np.isnan(self.settling[beams])
         self.settling[beams[start]] = stamp
-        gone = beams[bins > person + reach]  # the people left: they were people
+        gone = beams[farther & ~moved]  # the people left: they were people
         self.settling[gone] = np.nan
         self.person_bin[gone] = -1
         ripe = beams[same & (stamp - self.settling[beams] >= p.people_settle_seconds)]

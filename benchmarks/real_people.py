@@ -42,9 +42,9 @@ from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.frame import Frame
 from laserpeople.pipeline import Pipeline, build
-from laserpeople.pipeline.background import StaticWorldParams
+from laserpeople.pipeline.background import load_static_world
 from laserpeople.pipeline.static_people import describe_people_model
-from laserpeople.pipeline.static_tracks import StaticTrackFilter, StaticTrackParams
+from laserpeople.pipeline.static_tracks import StaticTrackFilter
 from laserpeople.tracking import registry
 from laserpeople.tracking.groups.params import GroupTrackerParams
 from laserpeople.tracking.legs import LegTrackerParams
@@ -192,15 +192,24 @@ class HiddenSplit:
 
 
 def run_tracker(
-    key: str, name: str, hide: bool, walk: float, reference: dict[int, np.ndarray]
+    key: str,
+    name: str,
+    hide: bool,
+    walk: float,
+    reference: dict[int, np.ndarray],
+    config: Path | None = None,
 ) -> tuple[RealCount, HiddenSplit | None]:
-    """Track one recording's people with the registered tracker ``name`` (its defaults),
-    its person tracks on static places left out when ``hide`` (``static_tracks.hide``);
-    with ``hide``, also where the hidden rows were (see :class:`HiddenSplit`)."""
+    """Track one recording's people with the registered tracker ``name`` (its section of
+    ``config`` and the static world models' sections, as ``laserpeople track --config``
+    reads them; None: defaults), its person tracks on static places left out when ``hide``
+    (``static_tracks.hide``); with ``hide``, also where the hidden rows were (see
+    :class:`HiddenSplit`)."""
     bag, topics, mounts = BAGS[key]
-    tracker = registry.get(name).make(None)
+    entry = registry.get(name)
+    tracker = entry.make(load_config(entry.params_cls, config))
     detector = AdaBoostLegDetector.default() if "legs" in tracker.consumes else None
-    static = StaticWorldParams(static_tracks=StaticTrackParams(hide=hide))
+    static = load_static_world(config)
+    static = replace(static, static_tracks=replace(static.static_tracks, hide=hide))
     pipe = build(
         bag, tracker=tracker, topics=topics, mounts=mounts, detector=detector, static_world=static
     )
@@ -227,7 +236,9 @@ def run_tracker(
     return replace(count(out, walk), ms=ms), hidden
 
 
-def main_trackers(bags: list[str], names: list[str], walk: float) -> None:
+def main_trackers(
+    bags: list[str], names: list[str], walk: float, config: Path | None = None
+) -> None:
     """The table of other trackers' people (``--trackers``), with ``static_tracks.hide``
     false (the papers: every track) and true (the default), and where the hidden rows were:
     near a person of the default leg MHT (4 ids for 4 walkers on the demo bag) or not."""
@@ -239,7 +250,7 @@ def main_trackers(bags: list[str], names: list[str], walk: float) -> None:
         reference = leg_mht_people(key)
         for name in names:
             for hide in (False, True):
-                c, h = run_tracker(key, name, hide, walk, reference)
+                c, h = run_tracker(key, name, hide, walk, reference, config)
                 where = (
                     f"  | {h.near_kept:6.1f} / {h.near_hidden:5.1f}, "
                     f"{h.far_kept:6.1f} / {h.far_hidden:5.1f}"
@@ -264,14 +275,15 @@ def main() -> None:
     ap.add_argument(
         "--config",
         type=Path,
-        help="TOML whose [leg_tracker] section the leg MHT uses ([group_tracker] with --groups)",
+        help="TOML whose [leg_tracker] section the leg MHT uses ([group_tracker] with --groups; "
+        "with --trackers each tracker's own section and the static world models' sections)",
     )
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"
     )
     args = ap.parse_args()
     if args.trackers:
-        main_trackers(args.bags, args.trackers, args.walk)
+        main_trackers(args.bags, args.trackers, args.walk, args.config)
         return
     if args.groups:
         main_groups(args.bags, args.walk, args.config)

@@ -523,3 +523,60 @@ def test_no_wall_is_guessed_in_front_of_people_standing_in_a_recess() -> None:
     passing[40:44] = 4.46
     assert int(model.foreground_of(_scan(passing, 1.1)).sum()) == 4
     assert int(model.foreground_of(_scan(ranges, 1.1)).sum()) == 4
+
+
+def _unknown_run(p: BeamHistogramParams) -> tuple[BeamHistogramBackground, dict[float, set[int]]]:
+    """Learn 1 s (scans every 0.125 s) with no return on beams 60-68 (e.g. beyond the
+    range limit) and a person at 2.0 m in front of the wall on beams 80-83 from 1.125 s on,
+    then from 2.0 s: beams 60-63 return 5.3 m, with no return every fourth scan; beams
+    66-67 return 5.3 m until 2.5 s, nothing until 3.25 s (longer than ``relearn_seconds``)
+    and 5.3 m again from 3.375 s; beam 68 returns 5.3 m until 2.875 s and 4.0 m from
+    3.0 s. Returns the model and the foreground beams of every scan by stamp."""
+    dt = 0.125
+    model = BeamHistogramBackground(p)
+    out: dict[float, set[int]] = {}
+    for j in range(57):  # 0.0 .. 7.0 s
+        t = j * dt
+        ranges = _walls()
+        ranges[60:69] = np.nan
+        if t > 1.0:
+            ranges[80:84] = 2.0
+        if t >= 2.0:
+            ranges[60:64] = np.nan if j % 4 == 3 else 5.3
+            ranges[66:68] = 5.3 if (t <= 2.5 or t >= 3.375) else np.nan
+            ranges[68] = 5.3 if t < 3.0 else 4.0
+        done = model(_frame([_scan(ranges, t, index=j)]))
+        assert done.foreground is not None and done.points is not None
+        out[t] = set(done.points.beams[done.foreground].tolist())
+    return model, out
+
+
+def test_a_beam_without_return_while_learning_learns_a_steady_range_later() -> None:
+    """``unknown_settle_seconds`` (2 s here): beams 60-63, with no return while learning,
+    return 5.3 m from 2.0 s (missing every fourth scan, which does not restart the clock):
+    foreground until the scan at 4.0 s completes the 2 s (from their first return, not from
+    the end of learning at 1.0 s), background from 4.125 s. Beams 66-67 paused 0.75 s
+    (> ``relearn_seconds`` 0.5 s): their clock restarts at 3.375 s, background from 5.5 s.
+    Beam 68 changed range at 3.0 s: background from 5.125 s. The person in front of the
+    wall (beams 80-83, a beam with a static bin) stays foreground."""
+    p = BeamHistogramParams(learn_seconds=1.0, unknown_settle_seconds=2.0)
+    model, fg = _unknown_run(p)
+    far, paused, person = set(range(60, 64)), {66, 67}, set(range(80, 84))
+    assert far <= fg[2.0] and far <= fg[3.0] and far <= fg[4.0]
+    assert not far & fg[4.125] and not far & fg[7.0]
+    assert paused <= fg[4.5] and paused <= fg[5.375] and not paused & fg[5.5]
+    assert 68 in fg[4.5] and 68 in fg[5.0] and 68 not in fg[5.125]
+    assert fg[7.0] == person
+    assert model.found("a") == 7
+
+
+def test_a_beam_without_return_while_learning_stays_foreground_in_the_paper() -> None:
+    """004 learns before tracking only: with ``unknown_settle_seconds`` 0 (the paper
+    preset) the beams without return while learning stay foreground."""
+    p = BeamHistogramParams(learn_seconds=1.0, unknown_settle_seconds=0.0)
+    model, fg = _unknown_run(p)
+    assert fg[7.0] == set(range(60, 64)) | {66, 67, 68} | set(range(80, 84))
+    assert model.found("a") == 0
+    assert BeamHistogramParams.paper_preset["unknown_settle_seconds"] == 0.0
+    with pytest.raises(LaserPeopleError):
+        BeamHistogramParams(unknown_settle_seconds=-1.0)

@@ -1155,38 +1155,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "",
         PEOPLE_BG,
     ),
-    Mutant(
-        "histogram-unknown-pause-kept",
-        "beam histogram unknown_settle_seconds (a pause longer than relearn_seconds restarts)",
-        H,
-        "paused = stamp - self.unknown_last[beams] > p.relearn_seconds",
-        "paused = np.zeros_like(cand, dtype=bool)",
-        PEOPLE_BG,
-    ),
-    Mutant(
-        "histogram-unknown-any-range",
-        "beam histogram unknown_settle_seconds (held within the tolerance of one range)",
-        H,
-        "same = (cand >= 0) & (np.abs(bins - cand) <= reach) & ~paused",
-        "same = (cand >= 0) & ~paused",
-        PEOPLE_BG,
-    ),
-    Mutant(
-        "histogram-unknown-clock-kept",
-        "beam histogram unknown_settle_seconds (the clock restarts at a new range or a pause)",
-        H,
-        "self.unknown_since[fresh] = stamp",
-        "self.unknown_since[fresh] = np.fmin(self.unknown_since[fresh], stamp)",
-        PEOPLE_BG,
-    ),
-    Mutant(
-        "histogram-unknown-beams-with-static",
-        "beam histogram unknown_settle_seconds (only beams without a static bin are watched)",
-        H,
-        "none = ~(core | on_people).any(axis=1)",
-        "none = np.ones(core.shape[0], dtype=bool)",
-        PEOPLE_BG,
-    ),
     # ---- the MHT listing on plain floats
     Mutant(
         "listing-plain-occluded-deleted-swapped",

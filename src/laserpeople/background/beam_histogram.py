@@ -682,11 +682,6 @@ class BeamHistogramBackground:
         static after all (``people_settle_seconds``)."""
         return self._table(sensor).settled
 
-    def found_beams(self) -> int:
-        """Over all lasers: beams without a static bin when learning ended that learned one
-        later (``unknown_settle_seconds``)."""
-        return sum(t.found for t in self._tables.values())
-
     def found(self, sensor: str) -> int:
         """How many beams of laser ``sensor`` without a static bin when learning ended
         learned one later (``unknown_settle_seconds``)."""

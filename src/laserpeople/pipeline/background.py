@@ -527,7 +527,6 @@ class AutoBackground:
                 + self._learned_from()
                 + ")"
                 + self._people_note()
-                + self._found_note()
             )
         return (
             "static world model: occupancy grid (a laser moved at frame "
@@ -563,18 +562,6 @@ class AutoBackground:
             f"; {marked} beams on the leg MHT's people while it learned were not learned "
             f"as static ([csa] background_people), {settled} of them static after all "
             "([beam_histogram] people_settle_seconds)"
-        )
-
-    def _found_note(self) -> str:
-        """How many beams the histogram learned after learning ended because they had no
-        return while it learned (empty: none)."""
-        count = getattr(self.model, "found_beams", None)
-        found = 0 if count is None else int(count())
-        if not found:
-            return ""
-        return (
-            f"; {found} beams without a steady return while it learned (e.g. at the range "
-            "limit) learned their range later ([beam_histogram] unknown_settle_seconds)"
         )
 
     def describe_foreground(self) -> str:

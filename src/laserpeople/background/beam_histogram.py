@@ -84,9 +84,7 @@ class BeamHistogramParams:
     """Parameters of the per-beam histogram background."""
 
     config_section = "beam_histogram"
-    paper_preset = MappingProxyType(
-        {"farthest": False, "unknown_settle_seconds": 0.0}  # 004: learned before tracking
-    )
+    paper_preset = MappingProxyType({"farthest": False})  # 004: every frequent bin is static
 
     bin_width: float = param(
         0.05, "assumed (004 Sec. 2 gives no numbers)", "width of a range bin", "m"
@@ -145,24 +143,7 @@ class BeamHistogramParams:
         "s",
     )
 
-    unknown_settle_seconds: float = param(
-        5.0,
-        "assumption (not in 004), as people_settle_seconds: on the real demo bag an object "
-        "5.3 m away (range_max 5.6 m) returned on its edge beams in 0-4 % of the learning "
-        "scans and in 73 % later, and feet-pf kept person tracks on it "
-        "(docs/schenk-tables.md)",
-        "a beam with no static bin (it returned in fewer than min_fraction of the learning "
-        "scans, none on people) that then returns within the tolerance of one range this "
-        "long, never pausing longer than relearn_seconds, learns that range as static; "
-        "0: off (004)",
-        "s",
-    )
-
     def __post_init__(self) -> None:
-        if self.unknown_settle_seconds < 0.0:
-            raise LaserPeopleError(
-                f"unknown_settle_seconds must not be negative, got {self.unknown_settle_seconds}"
-            )
         if not (0.0 < self.people_share <= 1.0) or self.people_settle_seconds < 0.0:
             raise LaserPeopleError(
                 "people_share must be in (0, 1] and people_settle_seconds not negative"
@@ -198,10 +179,6 @@ class _BeamTable:
     candidate: NDArray[np.int64] | None = None  # (B,) bin of a farther return (-1: none)
     since: NDArray[np.float64] | None = None  # (B,) stamp the candidate first appeared
     beyond: NDArray[np.bool_] | None = None  # (B, K) frequent in a whole recording, until frozen
-    unknown: NDArray[np.int64] | None = None  # (B,) bin an unknown beam returns (-1: none)
-    unknown_since: NDArray[np.float64] | None = None  # (B,) stamp it first returned there
-    unknown_last: NDArray[np.float64] | None = None  # (B,) stamp it last returned there
-    found: int = 0  # beams without a static bin while learning learned as static later
 
     def finish(self, p: BeamHistogramParams) -> None:
         """Mark static bins and widen them by the tolerance (vectorised over beams)."""
@@ -224,48 +201,6 @@ class _BeamTable:
         self.marked = int(np.count_nonzero(self.person_bin >= 0))
         self.settling = np.full(core.shape[0], np.nan)
         self.people_bins = _dilate(on_people, math.ceil(p.tolerance / p.bin_width))
-        none = ~(core | on_people).any(axis=1)  # (the wall guessed behind people is core)
-        self.unknown = np.where(none, np.int64(-1), np.int64(-2))  # -2: not watched
-        self.unknown_since = np.full(core.shape[0], np.nan)
-        self.unknown_last = np.full(core.shape[0], np.nan)
-
-    def settle_unknown(
-        self,
-        beams: NDArray[np.int64],
-        bins: NDArray[np.int64],
-        stamp: float,
-        p: BeamHistogramParams,
-    ) -> None:
-        """Follow the returns (``beams`` (M,), range ``bins`` (M,)) of one scan on the beams
-        that had no static bin when learning ended (they returned in fewer than
-        ``min_fraction`` of the learning scans, not on people; e.g. something at the range
-        limit of the laser): a beam that returns within the tolerance of the range it first
-        returned for ``unknown_settle_seconds``, pausing (no return at all) no longer than
-        ``relearn_seconds`` (a return at another range or a longer pause starts the clock
-        afresh), learns that range as static."""
-        if self.unknown is None or self.unknown_since is None or self.unknown_last is None:
-            return
-        watched = self.unknown[beams] > -2
-        if not watched.any():
-            return
-        beams, bins = beams[watched], bins[watched]
-        reach = math.ceil(p.tolerance / p.bin_width)
-        cand = self.unknown[beams]
-        paused = stamp - self.unknown_last[beams] > p.relearn_seconds
-        same = (cand >= 0) & (np.abs(bins - cand) <= reach) & ~paused
-        fresh = beams[~same]
-        self.unknown[fresh] = bins[~same]
-        self.unknown_since[fresh] = stamp
-        self.unknown_last[beams] = stamp
-        ripe = beams[same & (stamp - self.unknown_since[beams] >= p.unknown_settle_seconds)]
-        if ripe.size == 0:
-            return
-        need = max(1, math.ceil(p.min_fraction * self.scans))
-        k_new = self.unknown[ripe]
-        self.counts[ripe, k_new] = np.maximum(self.counts[ripe, k_new], need)
-        self._mark(ripe, p)
-        self.unknown[ripe] = -2
-        self.found += int(ripe.size)
 
     def settle(
         self,
@@ -682,11 +617,6 @@ class BeamHistogramBackground:
         static after all (``people_settle_seconds``)."""
         return self._table(sensor).settled
 
-    def found(self, sensor: str) -> int:
-        """How many beams of laser ``sensor`` without a static bin when learning ended
-        learned one later (``unknown_settle_seconds``)."""
-        return self._table(sensor).found
-
     def relearned(self, sensor: str) -> int:
         """How many times a beam of laser ``sensor`` relearned after learning."""
         return self._table(sensor).relearned
@@ -737,8 +667,6 @@ class BeamHistogramBackground:
                 table = self._tables.get(scan.sensor)
                 if beams is not None and table is not None and table.people is not None:
                     table.settle(beams[0], beams[1], scan.stamp, self.params)
-                if beams is not None and table is not None and self.params.unknown_settle_seconds:
-                    table.settle_unknown(beams[0], beams[1], scan.stamp, self.params)
                 if self.params.relearn_seconds > 0.0:
                     self._relearn(scan, beams)
         pts = frame.points
@@ -824,7 +752,6 @@ class BeamHistogramBackground:
                 "farthest": self.params.farthest,
                 "people_share": self.params.people_share,
                 "people_settle_seconds": self.params.people_settle_seconds,
-                "unknown_settle_seconds": self.params.unknown_settle_seconds,
             },
             "sensors": [
                 {

@@ -111,7 +111,8 @@ def run(
     key: str, policy: str, background: str, walk: float, config: Path | None = None
 ) -> RealCount:
     """Track one recording through the pipeline with ``policy`` and ``background`` (the
-    leg MHT's other parameters from ``config``'s ``[leg_tracker]``; None: defaults)."""
+    leg MHT's other parameters from ``config``'s ``[leg_tracker]``, the static world
+    models' from their sections; None: defaults)."""
     bag, topics, mounts = BAGS[key]
     base = load_config(LegTrackerParams, config)
     params = replace(base, people_policy=policy.removesuffix("-noreid"))
@@ -126,6 +127,7 @@ def run(
         mounts=mounts,
         detector=AdaBoostLegDetector.default(),
         background=background if params.people_policy == "tracks" else "none",
+        static_world=load_static_world(config),
     )
     out, ms = track_all(pipe)
     return replace(count(out, walk), ms=ms, model=describe_people_model(tracker, pipe.stages))
@@ -275,8 +277,8 @@ def main() -> None:
     ap.add_argument(
         "--config",
         type=Path,
-        help="TOML whose [leg_tracker] section the leg MHT uses ([group_tracker] with --groups; "
-        "with --trackers each tracker's own section and the static world models' sections)",
+        help="TOML whose [leg_tracker] section the leg MHT uses and the static world models' "
+        "sections ([group_tracker] with --groups; with --trackers each tracker's own section)",
     )
     ap.add_argument(
         "--trackers", nargs="+", default=[], help="count the people of these registered trackers"

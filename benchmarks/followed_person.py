@@ -43,6 +43,7 @@ import numpy as np
 from laserpeople.config import load_config
 from laserpeople.detection.detector import AdaBoostLegDetector
 from laserpeople.pipeline import build
+from laserpeople.pipeline.background import StaticWorldParams, load_static_world
 from laserpeople.pipeline.static_people import describe_people_model
 from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegTrackerParams
@@ -189,12 +190,14 @@ def track_bag(
     background: str = "auto",
     model: str | None = None,
     tracker_name: str = "leg-mht",
+    static_world: StaticWorldParams | None = None,
 ) -> tuple[list[Tracks], float, str]:
     """Person/leg tracks of every scan of the bag's ``/scan_base2`` through the pipeline
     (as ``laserpeople track --tracker tracker_name`` runs it, static world model
     ``background``), the mean CPU time per scan [ms] (detection included) and the line
     naming the static world model (leg model: the shipped default, or the model file
-    ``model``). ``params``: the tracker's parameters."""
+    ``model``). ``params``: the tracker's parameters; ``static_world``: the static world
+    models' (None: defaults)."""
     tracker = registry.get(tracker_name).make(params)
     pipe = build(
         bag,
@@ -204,6 +207,7 @@ def track_bag(
             AdaBoostLegDetector.default() if model is None else AdaBoostLegDetector.from_file(model)
         ),
         background=background if getattr(params, "people_policy", "tracks") == "tracks" else "none",
+        static_world=static_world,
     )
     out: list[Tracks] = []
     t0 = time.process_time()
@@ -223,7 +227,11 @@ def main() -> None:
     ap.add_argument("--model", default=None, help="leg model file (default: the shipped model)")
     ap.add_argument("--no-reid", action="store_true", help="tracks without re-identification")
     ap.add_argument("--background", default="auto", help="static world model (track --background)")
-    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section is used")
+    ap.add_argument(
+        "--config",
+        type=Path,
+        help="TOML whose [leg_tracker] section and static world models' sections are used",
+    )
     ap.add_argument(
         "--tracker",
         default="leg-mht",
@@ -231,10 +239,13 @@ def main() -> None:
         "other than --background and --model are the leg MHT's)",
     )
     args = ap.parse_args()
+    static = load_static_world(args.config)
     if args.tracker != "leg-mht":
         entry = registry.get(args.tracker)
         other = load_config(entry.params_cls, args.config)
-        tracks, ms, model = track_bag(args.bag, other, args.background, args.model, args.tracker)
+        tracks, ms, model = track_bag(
+            args.bag, other, args.background, args.model, args.tracker, static
+        )
         kind = scored_kind(tracks)
         s = score_followed(tracks, read_labels(args.labels), kind=kind)
         print(f"tracker              {args.tracker} (its {kind} tracks scored)")
@@ -246,7 +257,7 @@ def main() -> None:
     if args.no_reid:
         people = params.people
         params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
-    tracks, ms, model = track_bag(args.bag, params, args.background, args.model)
+    tracks, ms, model = track_bag(args.bag, params, args.background, args.model, "leg-mht", static)
     s = score_followed(tracks, read_labels(args.labels))
     reid = params.people_policy == "tracks" and params.people.reid.enabled
     print(f"people_policy        {params.people_policy}{' + re-identification' * reid}")

@@ -57,6 +57,7 @@ from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.io import open_recording
 from laserpeople.io.tracks_csv import convert_tracks
 from laserpeople.pipeline import build
+from laserpeople.pipeline.background import StaticWorldParams, load_static_world
 from laserpeople.scan import Pose2D, Scan
 from laserpeople.tracking import registry
 from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
@@ -358,6 +359,7 @@ def diagnose(
     labels: dict[int, dict[int, np.ndarray]],
     background: str = "auto",
     map_path: str | None = None,
+    static_world: StaticWorldParams | None = None,
 ) -> list[LabelStage]:
     """Track ``bag`` as :func:`track_bag` does and tell, for every label with a leg
     detection within :data:`NEAR`, where the pipeline loses it (:func:`diagnose_label`)."""
@@ -372,7 +374,7 @@ def diagnose(
             if row is not None:
                 out.append(replace(row, person=pid))
 
-    track_bag_with_legs(bag, params, background, map_path, look)
+    track_bag_with_legs(bag, params, background, map_path, look, static_world)
     return out
 
 
@@ -439,10 +441,12 @@ def track_bag(
     params: LegTrackerParams,
     background: str = "auto",
     map_path: str | None = None,
+    static_world: StaticWorldParams | None = None,
 ) -> tuple[list[Tracks], float]:
     """Every scan's tracks of ``/scan`` through the pipeline (as ``laserpeople track``
-    runs it) and the mean CPU time per scan [ms] (detection included)."""
-    out, _, ms = track_bag_with_legs(bag, params, background, map_path)
+    runs it; ``static_world``: the static world models' parameters, None: defaults) and
+    the mean CPU time per scan [ms] (detection included)."""
+    out, _, ms = track_bag_with_legs(bag, params, background, map_path, None, static_world)
     return out, ms
 
 
@@ -452,6 +456,7 @@ def track_bag_with_legs(
     background: str = "auto",
     map_path: str | None = None,
     look: Callable[[LegMHTTracker, Tracks, Detections | None], None] | None = None,
+    static_world: StaticWorldParams | None = None,
 ) -> tuple[list[Tracks], dict[int, np.ndarray], float]:
     """:func:`track_bag`, with each scan's leg detections (scan -> (M, 2) [m], laser
     frame) between the tracks and the CPU time; ``look(tracker, tracks, detections)`` is
@@ -464,6 +469,7 @@ def track_bag_with_legs(
         detector=AdaBoostLegDetector.default(),
         background=background,
         map_path=map_path,
+        static_world=static_world,
     )
     out: list[Tracks] = []
     legs: dict[int, np.ndarray] = {}
@@ -501,7 +507,11 @@ def main() -> None:
     ap.add_argument("--people-policy", default=None, help="arras or the default")
     ap.add_argument("--background", default="auto", help="static world model (track --background)")
     ap.add_argument("--map", default=None, help="map.yaml or BAG:/topic (track --map)")
-    ap.add_argument("--config", type=Path, help="TOML whose [leg_tracker] section is used")
+    ap.add_argument(
+        "--config",
+        type=Path,
+        help="TOML whose [leg_tracker] section and static world models' sections are used",
+    )
     ap.add_argument("--per-scan", action="store_true", help="a row per labelled scan")
     ap.add_argument("--ceiling", action="store_true", help="what the detections allow")
     ap.add_argument(
@@ -509,13 +519,16 @@ def main() -> None:
     )
     args = ap.parse_args()
     params = load_config(LegTrackerParams, args.config)
+    static = load_static_world(args.config)
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
     if args.diagnose:
         print_diagnosis(
-            diagnose(args.bag, params, read_labels(args.labels), args.background, args.map)
+            diagnose(args.bag, params, read_labels(args.labels), args.background, args.map, static)
         )
-    tracks, legs, ms = track_bag_with_legs(args.bag, params, args.background, args.map)
+    tracks, legs, ms = track_bag_with_legs(
+        args.bag, params, args.background, args.map, None, static
+    )
     labels = read_labels(args.labels)
     s = score_moving(tracks, labels)
     if args.per_scan:

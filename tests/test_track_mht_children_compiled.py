@@ -158,39 +158,6 @@ def test_compiled_prune_leaves_other_children_to_python(clisting: ModuleType) ->
         clisting.prune(tuple(listed), 1, 1e-3)
 
 
-def test_tracker_with_the_compiled_prune_holds_the_same_hypotheses(
-    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Two leg MHTs stepped side by side over a scene of six walkers with clutter, one
-    pruning by the extension, one in Python: the same hypotheses with the same weights
-    after every scan and the same reported tracks; the compiled one pruned most clusters
-    of several children."""
-    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
-
-    fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
-    taken = {"compiled": 0, "python": 0}
-
-    def prune(*args: Any) -> Any:
-        out = clisting.prune(*args)
-        taken["python" if out is NotImplemented else "compiled"] += 1
-        return out
-
-    def state(tracker: LegMHTTracker) -> tuple[list[Any], list[float]]:
-        hyps = [h for c in tracker.mht.clusters for h in c.hypotheses]
-        return [[t.node_id for t in h.tracks] for h in hyps], [h.log_weight for h in hyps]
-
-    for d in walkers_scene(21, 1.5).detections:
-        monkeypatch.setattr(listing, "COMPILED_PRUNE", prune)
-        out_fast = fast.update(d)
-        monkeypatch.setattr(listing, "COMPILED_PRUNE", None)
-        out_slow = slow.update(d)
-        _same_state(state(fast), state(slow), d.scan_index)
-        assert [(t.track_id, t.position.tobytes()) for t in out_fast] == [
-            (t.track_id, t.position.tobytes()) for t in out_slow
-        ]
-    assert taken["compiled"] > 200 and taken["python"] == 0
-
-
 def _cluster_by_hand() -> tuple[Any, ...]:
     """Two parents (tracks a, b; track a alone) and two measurements (scan indices 3 and
     5), the children the listing could give: detected, occluded and deleted tracks, births
@@ -320,30 +287,36 @@ def test_compiled_plan_and_assembly_leave_other_solutions_to_python(
     assert out is NotImplemented and -1 not in tracks_of[0][0].children
 
 
+@pytest.mark.parametrize("compiled", ["pruning", "plan, assembly and pruning"])
 def test_tracker_with_the_compiled_bookkeeping_holds_the_same_hypotheses(
-    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch, compiled: str
 ) -> None:
     """Two leg MHTs stepped side by side over a scene of six walkers with clutter, one
-    with the compiled plan, assembly and pruning, one with their Python references: after
-    every scan the same hypotheses (node ids, histories' lengths; weights within
-    WEIGHT_TOL), the same
-    live nodes by family, the same links, the same reported tracks; the compiled assembly
-    took every cluster of the general path."""
+    with the ``compiled`` parts, one with their Python references: after every scan the
+    same hypotheses (node ids, histories' lengths; weights within WEIGHT_TOL), the same
+    live nodes by family, the same links, the same reported tracks; the compiled part
+    counted (the pruning, or the assembly) took every cluster it was offered, over 200."""
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
     fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
     taken = {"compiled": 0, "python": 0}
 
-    def assemble(*args: Any) -> Any:
-        out = clisting.assemble_plain(*args)
-        taken["python" if out is NotImplemented else "compiled"] += 1
-        return out
+    def counted(part: Any) -> Any:
+        def call(*args: Any) -> Any:
+            out = part(*args)
+            taken["python" if out is NotImplemented else "compiled"] += 1
+            return out
 
-    parts = {
-        "COMPILED_PRUNE": clisting.prune,
-        "COMPILED_PLAN_PLAIN": clisting.plan_plain,
-        "COMPILED_ASSEMBLE_PLAIN": assemble,
-    }
+        return call
+
+    if compiled == "pruning":
+        parts = {"COMPILED_PRUNE": counted(clisting.prune)}
+    else:
+        parts = {
+            "COMPILED_PRUNE": clisting.prune,
+            "COMPILED_PLAN_PLAIN": clisting.plan_plain,
+            "COMPILED_ASSEMBLE_PLAIN": counted(clisting.assemble_plain),
+        }
 
     def state(tracker: LegMHTTracker) -> tuple[Any, ...]:
         hyps = [h for c in tracker.mht.clusters for h in c.hypotheses]

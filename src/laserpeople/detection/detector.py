@@ -46,6 +46,11 @@ DEFAULT_JUMP_DISTANCE_PARAMS = JumpDistanceParams()
 
 DEFAULT_MODEL = "default.json"
 
+BOUND_MIN_POINTS = 16
+"""Segments with fewer points have their deferred features computed without asking
+:meth:`_SegmentDetector._may_pass` first: for them the margin's bound costs more than the
+features it could save."""
+
 
 @dataclass(frozen=True)
 class LegDetectorParams:
@@ -188,7 +193,7 @@ class _SegmentDetector(abc.ABC):
             distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
             ok &= (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
         if deferred is not None:
-            rows = np.flatnonzero(ok)
+            rows = np.flatnonzero(ok & (feats.values[:, 0] >= BOUND_MIN_POINTS))
             ok[rows] = self._may_pass(feats, rows)
             deferred.complete(np.flatnonzero(ok))
         n_ok = int(np.count_nonzero(ok))

@@ -268,7 +268,9 @@ def compute_features_deferred(
     extension computes them (its ``complete`` fills them later, for the segments whose
     score can matter); the Python reference computes them all at once."""
     if joined[1].size == 1 or _extension is None:
-        return Deferred(compute_features_joined(tables, scans, previous, params, full_circle, joined))
+        return Deferred(
+            compute_features_joined(tables, scans, previous, params, full_circle, joined)
+        )
     features, work = _compute_compiled(
         _extension, tables, scans, previous, params, full_circle, joined, defer=True
     )

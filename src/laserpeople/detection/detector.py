@@ -206,9 +206,8 @@ class _SegmentDetector(abc.ABC):
         return block, feats, scores, is_leg
 
     def detect(self, scan: Scan) -> Detections:
-        """The legs found in ``scan`` (sensor frame): :meth:`detect_many` of it alone (the
-        same detections as :meth:`detections_from` its :meth:`classify`)."""
-        return self.detect_many([scan])[0]
+        """The legs found in ``scan`` (sensor frame)."""
+        return self.detections_from(scan, self.classify(scan))
 
     def detect_many(self, scans: Sequence[Scan]) -> list[Detections]:
         """:meth:`detect` of each of ``scans`` in turn (the same detections), classified all

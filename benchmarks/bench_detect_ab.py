@@ -5,10 +5,11 @@ simulated halls of ``bench_scaling.py``, 4 people or ``--people``, read once); t
 imported as the package ``laserpeople_ab`` (``bench_track_ab.load_other``). Per pass each
 tree segments, featurises and scores every scan (``classify``), then scores the
 classifiable segments of every scan once more on their own (``decision_function``: the
-AdaBoost part); who goes first alternates between passes. Printed per recording: median
-process CPU per scan over the passes for the whole classification and for the AdaBoost
-part, their ratio other/this, and whether the two trees gave the same features, scores
-and legs, bit for bit.
+AdaBoost part), then detects the legs in blocks of 16 scans as ``track`` does
+(``detect_many``); who goes first alternates between passes. Printed per recording: median
+process CPU per scan over the passes for the whole classification, the AdaBoost part and
+the blocks' detection, their ratio other/this, and whether the two trees gave the same
+features, scores and legs, and the same detections (positions and scores), bit for bit.
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_detect_ab.py --other /path/to/old/src
         [--passes 7] [--max-scans 400] [--halls /tmp/halls]
@@ -64,7 +65,9 @@ def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> No
     own = {p: as_package(p, scans) for p in packages}
     whole: dict[str, list[float]] = {p: [] for p in packages}
     boost: dict[str, list[float]] = {p: [] for p in packages}
+    blocks: dict[str, list[float]] = {p: [] for p in packages}
     results: dict[str, list[Any]] = {}
+    found: dict[str, list[Any]] = {}
     for k in range(passes):
         for p in packages if k % 2 == 0 else packages[::-1]:
             det = dets[p]
@@ -79,6 +82,13 @@ def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> No
             for x in rows:
                 clf.decision_function(x)
             boost[p].append((time.process_time() - t0) / len(scans))
+            det.reset()
+            t0 = time.process_time()
+            legs = [
+                d for i in range(0, len(scans), 16) for d in det.detect_many(own[p][i : i + 16])
+            ]
+            blocks[p].append((time.process_time() - t0) / len(scans))
+            found[p] = legs
     a, b = (results[p] for p in packages)
     same_features = all(
         np.array_equal(x.features.values, y.features.values, equal_nan=True)
@@ -88,12 +98,21 @@ def compare(name: str, scans: list[Any], packages: list[str], passes: int) -> No
         np.array_equal(x.scores, y.scores, equal_nan=True) for x, y in zip(a, b, strict=True)
     )
     same_legs = all(np.array_equal(x.is_leg, y.is_leg) for x, y in zip(a, b, strict=True))
+    same_detections = all(
+        np.array_equal(x.positions, y.positions) and np.array_equal(x.scores, y.scores)
+        for x, y in zip(*(found[p] for p in packages), strict=True)
+    )
     other, this = packages
     print(f"\n{name}: {len(scans)} scans, {passes} passes, median CPU ms per scan")
-    for label, times in (("classify (segments, features, AdaBoost)", whole), ("AdaBoost", boost)):
+    for label, times in (
+        ("classify (segments, features, AdaBoost)", whole),
+        ("AdaBoost", boost),
+        ("detect_many, blocks of 16 (as track)", blocks),
+    ):
         o, t = statistics.median(times[other]), statistics.median(times[this])
         print(f"  {label:42s} other {1e3 * o:7.3f}  this {1e3 * t:7.3f}  other/this {o / t:5.2f}x")
     print(f"  same features: {same_features}, same scores: {same_scores}, same legs: {same_legs}")
+    print(f"  same detections in blocks: {same_detections}")
 
 
 def add_recording_arguments(ap: argparse.ArgumentParser) -> None:

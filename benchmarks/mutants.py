@@ -94,6 +94,7 @@ ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
+DEFERRED = ("tests/test_detect_deferred.py",)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
     "tests/test_detect_features_reference.py",
@@ -2519,6 +2520,30 @@ MUTANTS: tuple[Mutant, ...] = (
         "clean = bool(np.abs(pos).max(initial=0.0) <= MAX_COORDINATE)",
         "clean = bool(pos.max(initial=0.0) <= MAX_COORDINATE)",
         PEOPLE_GLUE,
+    ),
+    Mutant(
+        "detect-bound-at-worst",
+        "leg detection: the margin's bound takes the deferred stumps at their worst",
+        "detection/adaboost.py",
+        "values[free] = values[free].max(axis=1, keepdims=True)",
+        "values[free] = values[free].min(axis=1, keepdims=True)",
+        DEFERRED,
+    ),
+    Mutant(
+        "detect-bound-against-zero",
+        "leg detection: the margin's bound compared with 0, not the score threshold",
+        "detection/detector.py",
+        "return np.asarray(bounds > self.params.score_threshold)",
+        "return np.asarray(bounds > 0.0)",
+        DEFERRED,
+    ),
+    Mutant(
+        "detect-small-segments-not-completed",
+        "leg detection: the deferred features of segments the bound was not asked about",
+        "detection/detector.py",
+        "            deferred.complete(np.flatnonzero(ok))",
+        "            deferred.complete(rows[ok[rows]])",
+        DEFERRED,
     ),
 )
 

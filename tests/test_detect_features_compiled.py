@@ -56,7 +56,7 @@ def _both(
     params = features.DEFAULT_FEATURE_PARAMS
     with np.errstate(divide="ignore", invalid="ignore"):
         want = features._compute(tables, scans, previous, params, circle)
-    got = features._compute_compiled(ext, tables, scans, previous, params, circle)
+    got = features._compute_compiled(ext, tables, scans, previous, params, circle)[0]
     return want, got
 
 

@@ -136,6 +136,55 @@ static double median_of(const double *v, Py_ssize_t n, double interval, double s
     return 0.5 * (scratch[lo].value + upper->value);
 }
 
+/* The span of the medians' sort key over all points P (K, 2), as _sorted_within. */
+static double key_span(const double *P, Py_ssize_t k) {
+    double big = 0.0;
+    for (Py_ssize_t i = 0; i < 2 * k; i++)
+        if (fabs(P[i]) > big) big = fabs(P[i]);
+    return 2.0 * big + 1.0;
+}
+
+/* Feature 3 of segment s of m (its n points p at stride 2): the mean distance to the
+ * vector of medians (md: n doubles of scratch). */
+static double mad_median(const double *p, Py_ssize_t n, Py_ssize_t s, Py_ssize_t m,
+                         double span, Keyed *keyed, double *md) {
+    double medx = median_of(p, n, (double)s, span, keyed);
+    double medy = median_of(p + 1, n, (double)(m + s), span, keyed);
+    for (Py_ssize_t i = 0; i < n; i++) md[i] = hypot(p[2 * i] - medx, p[2 * i + 1] - medy);
+    return reduce_sum(md, n, 1) / (double)n;
+}
+
+/* Features 8, 9: the algebraic circle fit of a segment of n points from its centred
+ * moments w (N_WORK): the centre (xc, yc) relative to the centroid and the radius rc;
+ * whether it has a circle (not collinear). */
+static int circle_fit(const double *w, Py_ssize_t n, double *xc, double *yc, double *rc) {
+    double sxx = w[0], syy = w[1], sxy = w[2], sxz = w[3], syz = w[4], sz = w[5];
+    double det = sxx * syy - sxy * sxy;
+    double scale = (sxx + syy) * (sxx + syy);
+    int has_circle = n >= 3 && det > 1e-12 * scale && scale > 0.0;
+    *xc = 0.0;
+    *yc = 0.0;
+    if (has_circle) {
+        double safe = 2.0 * det;
+        *xc = (syy * sxz - sxy * syz) / safe;
+        *yc = (sxx * syz - sxy * sxz) / safe;
+    }
+    *rc = sqrt(*xc * *xc + *yc * *yc + sz / (double)n);
+    return has_circle;
+}
+
+/* Feature 8 of a segment with a circle: the residual sum of squares of its n points p
+ * (stride 2) to the circle (xc, yc, rc) about the centroid (cx, cy) (r2: n doubles). */
+static double circle_residual(const double *p, Py_ssize_t n, double cx, double cy, double xc,
+                              double yc, double rc, double *r2) {
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double dx = p[2 * i] - cx, dy = p[2 * i + 1] - cy;
+        double r = rc - hypot(dx - xc, dy - yc);
+        r2[i] = r * r;
+    }
+    return reduce_sum(r2, n, 1);
+}
+
 /* ---- buffers ---- */
 
 typedef struct {
@@ -232,20 +281,21 @@ static int beam_changes(PyObject *changes, const long long *off, const long long
 /* ---- pass 1 ---- */
 
 /* pass1(points, offsets, tables, circle, changes, no_neighbour_jump, out, centres,
- *       max_motion, work, ys, xs) -> number of turning angles t
+ *       max_motion, work, ys, xs, defer) -> number of turning angles t
  * points (K, 2); offsets (M + 1,) int64; tables (T + 1,) int64 (each table's first segment);
  * circle (T,) int64 (full circle); changes: None (no usable previous scan in the block) or
  * a list with, per table, None (no usable previous scan) or a tuple (beams (K_t,) int64,
  * ranges (N,) float64, previous ranges (N,) float64, previous valid (N,) bool, seconds
  * since the previous scan) for feature 14. Fills out (M, 14) but for features 8, 9 and 13 (pass2), the
  * centres (M, 2), max_motion (M,), work (M, 6) (the centred moments), and ys, xs (K + M,):
- * the turning angles' atan2 arguments at [0, t), the line fits' at [t, t + M). */
+ * the turning angles' atan2 arguments at [0, t), the line fits' at [t, t + M). With defer
+ * set, feature 3 (the medians) is left NaN for complete(). */
 static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
-    if (nargs != 12) {
+    if (nargs != 13) {
         PyErr_SetString(PyExc_TypeError,
                         "pass1(points, offsets, tables, circle, changes, no_neighbour_jump, "
-                        "out, centres, max_motion, work, ys, xs)");
+                        "out, centres, max_motion, work, ys, xs, defer)");
         return NULL;
     }
     Buf b[13];
@@ -255,6 +305,8 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     PyObject *result = NULL;
     double no_jump = PyFloat_AsDouble(args[5]);
     if (no_jump == -1.0 && PyErr_Occurred()) return NULL;
+    int defer = PyObject_IsTrue(args[12]);
+    if (defer < 0) return NULL;
     if (take(args[0], &b[0], 0, 0, -1, "points") < 0) goto done;
     Py_ssize_t k = b[0].view.len / 16;
     if (k < 1 || b[0].view.len != 16 * k) {
@@ -317,10 +369,7 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         PyErr_NoMemory();
         goto done;
     }
-    double big = 0.0; /* span of the medians' sort key, as _sorted_within */
-    for (Py_ssize_t i = 0; i < 2 * k; i++)
-        if (fabs(P[i]) > big) big = fabs(P[i]);
-    double span = 2.0 * big + 1.0;
+    double span = defer ? 0.0 : key_span(P, k);
     Py_ssize_t t = 0;
     for (Py_ssize_t s = 0; s < m; s++) {
         Py_ssize_t a = off[s], n = off[s + 1] - a;
@@ -360,12 +409,9 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         }
         max_motion[s] = most;
         row[13] = speed && count > 0.0 ? total / (count > 1.0 ? count : 1.0) / dt[s] : 0.0;
-        /* vector of medians */
-        double medx = median_of(p, n, (double)s, span, keyed);
-        double medy = median_of(p + 1, n, (double)(m + s), span, keyed);
-        /* centred moments and distances to the medians, pairwise */
+        /* centred moments, pairwise */
         double *xx = scratch + n, *yy = xx + n, *xy = yy + n, *xz = xy + n, *yz = xz + n;
-        double *z = yz + n, *md = z + n;
+        double *z = yz + n;
         for (Py_ssize_t i = 0; i < n; i++) {
             double dx = p[2 * i] - cx, dy = p[2 * i + 1] - cy;
             xx[i] = dx * dx;
@@ -374,7 +420,6 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
             z[i] = xx[i] + yy[i];
             xz[i] = dx * z[i];
             yz[i] = dy * z[i];
-            md[i] = hypot(p[2 * i] - medx, p[2 * i + 1] - medy);
         }
         double sxx = reduce_sum(xx, n, 1), syy = reduce_sum(yy, n, 1);
         double sxy = reduce_sum(xy, n, 1);
@@ -384,7 +429,6 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         w[3] = reduce_sum(xz, n, 1);
         w[4] = reduce_sum(yz, n, 1);
         w[5] = reduce_sum(z, n, 1);
-        double sdev = reduce_sum(md, n, 1);
         /* squared deviations of the steps from their mean, in point order */
         double mean_step = n > 1 ? length / (nn - 1.0) : 0.0, ss = 0.0;
         for (Py_ssize_t i = 1; i < n; i++) {
@@ -394,7 +438,8 @@ static PyObject *pass1(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         double inner = nn - 2.0 > 1.0 ? nn - 2.0 : 1.0;
         row[0] = nn;
         row[1] = n <= 1 ? 0.0 : sqrt((sxx + syy) / (nn - 1.0));
-        row[2] = sdev / nn;
+        /* 3: distances to the vector of medians */
+        row[2] = defer ? NAN : mad_median(p, n, s, m, span, keyed, z + n);
         row[5] = hypot(p[2 * n - 2] - p[0], p[2 * n - 1] - p[1]);
         row[9] = length;
         row[10] = n < 3 ? 0.0 : sqrt(ss / (nn - 2.0));
@@ -437,16 +482,17 @@ done:
 /* ---- pass 2 ---- */
 
 /* pass2(points, offsets, tables, flip, angles, no_circle_radius, out, centres, work,
- *       circle_centres) -> None
+ *       circle_centres, defer) -> None
  * angles (t + M,): numpy's arctan2 of pass1's ys, xs. Fills features 7, 8, 9 and 13 of out
  * and circle_centres (M, 2) (NaN without a circle); flips features 4, 5 and 13 of the
- * scans whose flip (T,) int64 is set (negative angle increment). */
+ * scans whose flip (T,) int64 is set (negative angle increment). With defer set, feature
+ * 8 of the segments with a circle (their residuals) is left NaN for complete(). */
 static PyObject *pass2(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
-    if (nargs != 10) {
+    if (nargs != 11) {
         PyErr_SetString(PyExc_TypeError,
                         "pass2(points, offsets, tables, flip, angles, no_circle_radius, out, "
-                        "centres, work, circle_centres)");
+                        "centres, work, circle_centres, defer)");
         return NULL;
     }
     Buf b[9];
@@ -455,6 +501,8 @@ static PyObject *pass2(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     PyObject *result = NULL;
     double no_radius = PyFloat_AsDouble(args[5]);
     if (no_radius == -1.0 && PyErr_Occurred()) return NULL;
+    int defer = PyObject_IsTrue(args[10]);
+    if (defer < 0) return NULL;
     if (take(args[0], &b[0], 0, 0, -1, "points") < 0 ||
         take(args[1], &b[1], 1, 0, -1, "offsets") < 0 ||
         take(args[2], &b[2], 1, 0, -1, "tables") < 0)
@@ -504,7 +552,7 @@ static PyObject *pass2(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         double nn = (double)n;
         const double *p = P + 2 * a, *w = work + s * N_WORK;
         double *row = out + s * N_FEATURES;
-        double sxx = w[0], syy = w[1], sxy = w[2], sxz = w[3], syz = w[4], sz = w[5];
+        double sxx = w[0], syy = w[1], sxy = w[2];
         double cx = centres[2 * s], cy = centres[2 * s + 1];
         /* 13: mean turning angle */
         double turning = 0.0;
@@ -518,23 +566,9 @@ static PyObject *pass2(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
         if (!isnan(lin) && !(lin > 0.0)) lin = 0.0; /* np.maximum(lin, 0.0) */
         row[6] = lin;
         /* 8, 9: algebraic circle fit */
-        double det = sxx * syy - sxy * sxy;
-        double scale = (sxx + syy) * (sxx + syy);
-        int has_circle = n >= 3 && det > 1e-12 * scale && scale > 0.0;
-        double xc = 0.0, yc = 0.0;
-        if (has_circle) {
-            double safe = 2.0 * det;
-            xc = (syy * sxz - sxy * syz) / safe;
-            yc = (sxx * syz - sxy * sxz) / safe;
-        }
-        double rc = sqrt(xc * xc + yc * yc + sz / nn);
-        if (has_circle) {
-            for (Py_ssize_t i = 0; i < n; i++) {
-                double dx = p[2 * i] - cx, dy = p[2 * i + 1] - cy;
-                double r = rc - hypot(dx - xc, dy - yc);
-                scratch[i] = r * r;
-            }
-            row[7] = reduce_sum(scratch, n, 1);
+        double xc, yc, rc;
+        if (circle_fit(w, n, &xc, &yc, &rc)) {
+            row[7] = defer ? NAN : circle_residual(p, n, cx, cy, xc, yc, rc, scratch);
             row[8] = rc;
             cc[2 * s] = cx + xc;
             cc[2 * s + 1] = cy + yc;
@@ -561,6 +595,78 @@ static PyObject *pass2(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
 done:
     PyMem_Free(scratch);
     release(b, 9);
+    return result;
+}
+
+/* ---- the deferred features ---- */
+
+/* complete(points, offsets, rows, centres, work, out) -> None
+ * Fills, for the segments rows (R,) int64, the features pass1 and pass2 left NaN with defer
+ * set: 3 (the vector of medians) and 8 of the segments with a circle (the residuals), the
+ * same floats as without defer (the medians' sort key spans all points, as there). */
+static PyObject *complete(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "complete(points, offsets, rows, centres, work, out)");
+        return NULL;
+    }
+    Buf b[6];
+    memset(b, 0, sizeof(b));
+    Keyed *keyed = NULL;
+    double *scratch = NULL;
+    PyObject *result = NULL;
+    if (take(args[0], &b[0], 0, 0, -1, "points") < 0 ||
+        take(args[1], &b[1], 1, 0, -1, "offsets") < 0 ||
+        take(args[2], &b[2], 1, 0, -1, "rows") < 0)
+        goto done;
+    Py_ssize_t k = b[0].view.len / 16, m = b[1].view.len / 8 - 1, r = b[2].view.len / 8;
+    if (take(args[3], &b[3], 0, 0, 2 * m, "centres") < 0 ||
+        take(args[4], &b[4], 0, 0, m * N_WORK, "work") < 0 ||
+        take(args[5], &b[5], 0, 1, m * N_FEATURES, "out") < 0)
+        goto done;
+    const double *P = b[0].view.buf, *centres = b[3].view.buf, *work = b[4].view.buf;
+    const long long *off = b[1].view.buf, *rows = b[2].view.buf;
+    double *out = b[5].view.buf;
+    if (m < 1 || off[0] != 0 || off[m] != k) {
+        PyErr_SetString(PyExc_ValueError, "offsets do not cover the points");
+        goto done;
+    }
+    Py_ssize_t longest = 0;
+    for (Py_ssize_t q = 0; q < r; q++) {
+        if (rows[q] < 0 || rows[q] >= m || off[rows[q] + 1] <= off[rows[q]]) {
+            PyErr_SetString(PyExc_ValueError, "a row outside the segments, or without points");
+            goto done;
+        }
+        if (off[rows[q] + 1] - off[rows[q]] > longest) longest = off[rows[q] + 1] - off[rows[q]];
+    }
+    if (r == 0) {
+        result = Py_None;
+        Py_INCREF(result);
+        goto done;
+    }
+    keyed = PyMem_Malloc((size_t)longest * sizeof(Keyed));
+    scratch = PyMem_Malloc((size_t)longest * sizeof(double));
+    if (!keyed || !scratch) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    double span = key_span(P, k);
+    for (Py_ssize_t q = 0; q < r; q++) {
+        Py_ssize_t s = rows[q], a = off[s], n = off[s + 1] - a;
+        const double *p = P + 2 * a;
+        double *row = out + s * N_FEATURES;
+        row[2] = mad_median(p, n, s, m, span, keyed, scratch);
+        double xc, yc, rc;
+        if (circle_fit(work + s * N_WORK, n, &xc, &yc, &rc))
+            row[7] = circle_residual(p, n, centres[2 * s], centres[2 * s + 1], xc, yc, rc,
+                                     scratch);
+    }
+    result = Py_None;
+    Py_INCREF(result);
+done:
+    PyMem_Free(keyed);
+    PyMem_Free(scratch);
+    release(b, 6);
     return result;
 }
 
@@ -711,12 +817,15 @@ done:
 
 static PyMethodDef methods[] = {
     {"pass1", (PyCFunction)(void (*)(void))pass1, METH_FASTCALL,
-     "pass1(points, offsets, tables, circle, delta, both, dt, no_neighbour_jump, out, "
-     "centres, max_motion, work, ys, xs) -> t: the features but the line and circle fits "
+     "pass1(points, offsets, tables, circle, changes, no_neighbour_jump, out, "
+     "centres, max_motion, work, ys, xs, defer) -> t: the features but the line and circle fits "
      "and the turning angles, and the arguments of their atan2 (see the source)."},
     {"pass2", (PyCFunction)(void (*)(void))pass2, METH_FASTCALL,
      "pass2(points, offsets, tables, flip, angles, no_circle_radius, out, centres, work, "
-     "circle_centres): the line and circle fits and the turning angles from numpy's atan2."},
+     "circle_centres, defer): the line and circle fits and the turning angles from numpy's atan2."},
+    {"complete", (PyCFunction)(void (*)(void))complete, METH_FASTCALL,
+     "complete(points, offsets, rows, centres, work, out): the features pass1 and pass2 "
+     "deferred (3, and 8 with a circle) of the segments rows."},
     {"jumps", (PyCFunction)(void (*)(void))jumps, METH_FASTCALL,
      "jumps(points, threshold, out): segmentation.at_least of the steps between "
      "neighbouring points into out."},

@@ -23,6 +23,7 @@ def pass1(
     work: NDArray[np.float64],
     ys: NDArray[np.float64],
     xs: NDArray[np.float64],
+    defer: bool,
     /,
 ) -> int: ...
 def pass2(
@@ -36,6 +37,16 @@ def pass2(
     centres: NDArray[np.float64],
     work: NDArray[np.float64],
     circle_centres: NDArray[np.float64],
+    defer: bool,
+    /,
+) -> None: ...
+def complete(
+    points: NDArray[np.float64],
+    offsets: NDArray[np.int64],
+    rows: NDArray[np.int64],
+    centres: NDArray[np.float64],
+    work: NDArray[np.float64],
+    out: NDArray[np.float64],
     /,
 ) -> None: ...
 def jumps(points: NDArray[np.float64], threshold: float, out: NDArray[np.bool_], /) -> None: ...

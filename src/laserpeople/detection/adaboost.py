@@ -138,6 +138,7 @@ class AdaBoostLegClassifier:
         self._tables = _stump_tables(
             self.features_, self.thresholds_, self.polarities_, self.alphas_
         )
+        self._bound_tables: dict[tuple[int, ...], _StumpTables] = {}
 
     @classmethod
     def from_stumps(cls, stumps: list[Stump], n_features: int) -> AdaBoostLegClassifier:
@@ -172,6 +173,21 @@ class AdaBoostLegClassifier:
         if self._tables.values.shape[0] == 0 or X.shape[0] == 0:
             return np.zeros(X.shape[0])
         return self._tables.evaluate(X)
+
+    def margin_bounds(self, X: FloatArray, unknown: tuple[int, ...]) -> FloatArray:
+        """Upper bounds (N,) of :meth:`decision_function` of the rows of X (N, F) whatever
+        their values in the columns ``unknown`` (not read; the others finite): each stump
+        group of an unknown column counts its largest sum. The groups are added in the same
+        order as the margin's, and rounded addition is monotone, so a margin is never above
+        its bound, to the last bit."""
+        self._check_fitted()
+        if X.shape[0] == 0 or self._tables.values.shape[0] == 0:
+            return np.zeros(X.shape[0])
+        tables = self._bound_tables.get(unknown)
+        if tables is None:
+            tables = _bounded(self._tables, unknown)
+            self._bound_tables[unknown] = tables
+        return tables.evaluate(X)
 
     def predict(self, X: ArrayLike) -> IntArray:
         """H(e) = sign(F(e)) in {+1, -1} (a margin of exactly 0 counts as -1)."""
@@ -273,6 +289,15 @@ def _stump_tables(
         grid,
         np.array(values, dtype=np.float64).reshape(len(values), n_ranks),
     )
+
+
+def _bounded(tables: _StumpTables, unknown: tuple[int, ...]) -> _StumpTables:
+    """``tables`` with each group of a feature column in ``unknown`` at its largest sum for
+    every rank (those columns' values no longer matter)."""
+    values = tables.values.copy()
+    free = np.array([c in unknown for c in tables.columns[tables.group_column].tolist()], bool)
+    values[free] = values[free].max(axis=1, keepdims=True)
+    return _StumpTables(tables.columns, tables.group_column, tables.right, tables.grid, values)
 
 
 def _stump_output(values: FloatArray, threshold: float, polarity: int) -> FloatArray:

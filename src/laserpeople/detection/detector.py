@@ -22,8 +22,10 @@ from numpy.typing import NDArray
 
 from laserpeople.config import param
 from laserpeople.detection.features import (
+    DEFERRED,
     FeatureParams,
     SegmentFeatures,
+    compute_features_deferred,
     compute_features_joined,
     split_features,
 )
@@ -43,6 +45,11 @@ DEFAULT_HEURISTIC_PARAMS = HeuristicParams()
 DEFAULT_JUMP_DISTANCE_PARAMS = JumpDistanceParams()
 
 DEFAULT_MODEL = "default.json"
+
+BOUND_MIN_POINTS = 16
+"""Segments with fewer points have their deferred features computed without asking
+:meth:`_SegmentDetector._may_pass` first: for them the margin's bound costs more than the
+features it could save."""
 
 
 @dataclass(frozen=True)
@@ -137,6 +144,13 @@ class _SegmentDetector(abc.ABC):
     def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
         """Score (M,) of every classifiable segment; larger means more leg-like."""
 
+    def _may_pass(self, features: SegmentFeatures, rows: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """Whether each of the segments ``rows`` (R,) may score above ``score_threshold``
+        whatever its features :data:`~laserpeople.detection.features.DEFERRED` (NaN in
+        ``features``); those that cannot are no legs, and their deferred features are
+        never computed. Here: all of them."""
+        return np.ones(rows.size, dtype=bool)
+
     def classify(self, scan: Scan) -> ScanClassification:
         """Segment, featurise and score ``scan``; remembers it as the previous scan."""
         return self.classify_many([scan])[0]
@@ -155,29 +169,33 @@ class _SegmentDetector(abc.ABC):
         ]
 
     def _classify_block(
-        self, scans: Sequence[Scan]
+        self, scans: Sequence[Scan], legs_only: bool = False
     ) -> tuple[SegmentBlock, SegmentFeatures, NDArray[np.float64], NDArray[np.bool_]]:
         """The segments of ``scans`` as one block, with the features (M, ...), scores (M,)
-        and decisions (M,) of all its segments; remembers the scans as previous ones."""
+        and decisions (M,) of all its segments; remembers the scans as previous ones. With
+        ``legs_only`` the decisions are the same, but the segments that :meth:`_may_pass`
+        rules out are not scored (score NaN, and NaN in the columns
+        :data:`~laserpeople.detection.features.DEFERRED` where the extension computes the
+        features)."""
         block = self.segmenter.block(scans)
         previous = []
         last = dict(self._previous)
         for scan in scans:
             previous.append(last.get(scan.sensor))
             last[scan.sensor] = scan
-        feats = compute_features_joined(
-            block.tables,
-            scans,
-            previous,
-            self.feature_params,
-            block.full_circle,
-            (block.points, block.offsets),
-        )
+        joined = (block.points, block.offsets)
+        args = (block.tables, scans, previous, self.feature_params, block.full_circle, joined)
+        deferred = compute_features_deferred(*args) if legs_only else None
+        feats = compute_features_joined(*args) if deferred is None else deferred.features
         scores = np.full(len(feats), np.nan)
         ok = feats.classifiable
         if self.params.min_distance > 0.0 or self.params.max_distance < math.inf:
             distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
             ok &= (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
+        if deferred is not None:
+            rows = np.flatnonzero(ok & (feats.values[:, 0] >= BOUND_MIN_POINTS))
+            ok[rows] = self._may_pass(feats, rows)
+            deferred.complete(np.flatnonzero(ok))
         n_ok = int(np.count_nonzero(ok))
         if n_ok == len(feats):  # (every segment: the features as they are, no copies)
             scores[:] = self._scores(feats)
@@ -195,7 +213,7 @@ class _SegmentDetector(abc.ABC):
         """:meth:`detect` of each of ``scans`` in turn (the same detections), classified all
         at once: the legs, their positions, scores and segments picked out of the whole
         block, then split by scan."""
-        block, feats, scores, is_leg = self._classify_block(scans)
+        block, feats, scores, is_leg = self._classify_block(scans, legs_only=True)
         idx = np.flatnonzero(is_leg)
         positions = self._positions(feats.centres[idx])
         cov = self._covariances(idx.size)
@@ -278,9 +296,19 @@ class AdaBoostLegDetector(_SegmentDetector):
         super().__init__(seg, params, feature_params)
         self.model = model
         self._columns = np.array(model.columns, dtype=np.int64)
+        self._deferred = tuple(i for i, c in enumerate(model.columns) if c in DEFERRED)
 
     def _scores(self, features: SegmentFeatures) -> NDArray[np.float64]:
         return self.model.classifier.decision_function(features.values[:, self._columns])
+
+    def _may_pass(self, features: SegmentFeatures, rows: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """Whether the margin's upper bound over the deferred features (each of their
+        stumps at its best) is above ``score_threshold``: the margin never is when its
+        bound is not."""
+        X = features.values[rows][:, self._columns]
+        X[:, list(self._deferred)] = 0.0  # (not read: any finite value)
+        bounds = self.model.classifier.margin_bounds(X, self._deferred)
+        return np.asarray(bounds > self.params.score_threshold)
 
     @classmethod
     def default(

@@ -86,6 +86,10 @@ FEATURE_NAMES: tuple[str, ...] = (
 N_FEATURES = len(FEATURE_NAMES)
 MIN_POINTS = 3
 """Segments with fewer points are not classified (000 Sec. 2.2: only n > 2)."""
+DEFERRED = (2, 7)
+"""Columns of the features (3, the mean distance to the vector of medians, and 8, the
+circularity) that :func:`compute_features_deferred` may leave for :meth:`Deferred.complete`:
+each costs a pass over the points (a median and a ``hypot`` per point)."""
 
 _extension = compiled.EXTENSION
 """The C extension computing :func:`_compute`'s features (the same floats), or None: the
@@ -217,9 +221,68 @@ def compute_features_joined(
             np.empty((0, N_FEATURES)), np.empty(0), np.empty((0, 2)), np.empty((0, 2))
         )
     if _extension is not None:
-        return _compute_compiled(_extension, tables, scans, previous, params, flags, joined)
+        return _compute_compiled(_extension, tables, scans, previous, params, flags, joined)[0]
     with np.errstate(divide="ignore", invalid="ignore"):
         return _compute(tables, scans, previous, params, flags, joined)
+
+
+@dataclass(frozen=True, eq=False)
+class Deferred:
+    """Features of a block with the columns :data:`DEFERRED` possibly left NaN (compiled
+    path) until :meth:`complete` fills them for the segments that need them.
+
+    Attributes:
+        features: The features; the other columns and arrays are final.
+    """
+
+    features: SegmentFeatures
+    _rest: tuple[FloatArray, NDArray[np.int64], FloatArray] | None = None
+    """Points, offsets and centred moments for the extension's ``complete``; None: every
+    column is computed already."""
+
+    def complete(self, rows: NDArray[np.int64]) -> None:
+        """Fill the deferred columns of the segments ``rows`` (the same floats as
+        :func:`compute_features_joined`'s); the other rows keep NaN there."""
+        if self._rest is None or rows.size == 0 or _extension is None:
+            return
+        points, offsets, work = self._rest
+        _extension.complete(
+            points,
+            offsets,
+            np.ascontiguousarray(rows, dtype=np.int64),
+            self.features.centres,
+            work,
+            self.features.values,
+        )
+
+
+def compute_features_deferred(
+    tables: Sequence[SegmentTable],
+    scans: Sequence[Scan],
+    previous: Sequence[Scan | None],
+    params: FeatureParams,
+    full_circle: Sequence[bool],
+    joined: tuple[FloatArray, NDArray[np.int64]],
+) -> Deferred:
+    """:func:`compute_features_joined`, the columns :data:`DEFERRED` left NaN where the
+    extension computes them (its ``complete`` fills them later, for the segments whose
+    score can matter); the Python reference computes them all at once."""
+    if joined[1].size == 1 or _extension is None:
+        return Deferred(
+            compute_features_joined(tables, scans, previous, params, full_circle, joined)
+        )
+    features, work = _compute_compiled(
+        _extension, tables, scans, previous, params, full_circle, joined, defer=True
+    )
+    points, offsets = joined
+    return Deferred(
+        features,
+        (
+            np.ascontiguousarray(points, dtype=np.float64),
+            np.ascontiguousarray(offsets, dtype=np.int64),
+            work,
+        ),
+    )
 
 
 def _joined(tables: Sequence[SegmentTable]) -> tuple[FloatArray, NDArray[np.int64]]:
@@ -451,10 +514,14 @@ def _compute_compiled(
     params: FeatureParams,
     full_circle: Sequence[bool],
     joined: tuple[FloatArray, NDArray[np.int64]] | None = None,
-) -> SegmentFeatures:
+    *,
+    defer: bool = False,
+) -> tuple[SegmentFeatures, FloatArray]:
     """:func:`_compute` by the C extension ``_cfeatures``: the same floats, the same
     operations in the same order (see ``_cfeatures.c``), in two calls for all segments of
-    the block; numpy's ``arctan2`` between them, as :func:`_compute` takes it."""
+    the block; numpy's ``arctan2`` between them, as :func:`_compute` takes it. Also the
+    segments' centred moments (M, 6); with ``defer``, the columns :data:`DEFERRED` are
+    left NaN (see :class:`Deferred`)."""
     P, offsets = _joined(tables) if joined is None else joined
     P = np.ascontiguousarray(P, dtype=np.float64)
     offsets = np.ascontiguousarray(offsets, dtype=np.int64)
@@ -487,16 +554,16 @@ def _compute_compiled(
     circle = np.array(full_circle, dtype=np.int64)
     t = ext.pass1(
         P, offsets, bounds, circle, changes, float(params.no_neighbour_jump), out, centres,
-        max_motion, work, ys, xs,
+        max_motion, work, ys, xs, defer,
     )  # fmt: skip
     angles = np.arctan2(ys[: t + m], xs[: t + m])
     flip = np.array([scan.angle_increment < 0.0 for scan in scans], dtype=np.int64)
     circle_centres = np.empty((m, 2))
     ext.pass2(
         P, offsets, bounds, flip, angles, float(params.no_circle_radius), out, centres, work,
-        circle_centres,
+        circle_centres, defer,
     )  # fmt: skip
-    return SegmentFeatures(out, max_motion, centres, circle_centres)
+    return SegmentFeatures(out, max_motion, centres, circle_centres), work
 
 
 def _sums_in_order(seg: NDArray[np.int64], terms: FloatArray, m: int) -> FloatArray:

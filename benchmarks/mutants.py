@@ -92,6 +92,7 @@ LISTING = (
 HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
+PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
 FEATURES = (
@@ -924,6 +925,70 @@ MUTANTS: tuple[Mutant, ...] = (
         "came = path[-1][0] - path[-2][0]",
         "came = path[-1][0] - path[0][0]",
         WALKED,
+    ),
+    Mutant(
+        "furniture-two-legs",
+        "person tracks: furniture_scans count three legs, not a person's two",
+        PT,
+        "if mine.count(q.person_id) >= 3:",
+        "if mine.count(q.person_id) >= 2:",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-radius-unsquared",
+        "person tracks: legs within furniture_radius (squared distances)",
+        PT,
+        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius**2',
+        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius',
+        PERSON,
+    ),
+    Mutant(
+        "furniture-verdict-late",
+        "person tracks: a place is judged furniture at furniture_scans scans, not one more",
+        PT,
+        "if q.posts == p.furniture_scans:",
+        "if q.posts == p.furniture_scans + 1:",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-walked-too",
+        "person tracks: furniture only for people that never travelled min_travel",
+        PT,
+        "if q.travelled < p.min_travel\n                and (q.posts >= p.furniture_scans or",
+        "if (q.posts >= p.furniture_scans or",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-forgotten",
+        "person tracks: a furniture verdict holds for its place (the chair born again)",
+        PT,
+        "(q.posts >= p.furniture_scans or self._on_furniture_place(q))",
+        "(q.posts >= p.furniture_scans)",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-radius-squared",
+        "person tracks: a judged place holds within furniture_radius",
+        PT,
+        "<= r for fx, fy in self._furniture)",
+        "<= r * r for fx, fy in self._furniture)",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-any-speed",
+        "person tracks: posts counted only for a person slower than furniture_speed",
+        PT,
+        "q.mean[3] * q.mean[3] < p.furniture_speed**2",
+        "q.mean[3] * q.mean[3] < 1e6",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-neighbours-legs-too",
+        "person tracks: furniture legs not another person's",
+        PT,
+        "mine = [owner.get(seen[j].track_id, q.person_id) for j",
+        "mine = [q.person_id for j",
+        PERSON,
     ),
     Mutant(
         "kalman-one-step-any-steps",

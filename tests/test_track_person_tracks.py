@@ -322,21 +322,40 @@ def test_a_furniture_verdict_holds_for_its_place() -> None:
 
 def test_a_person_starting_to_walk_beside_a_free_leg_is_not_furniture() -> None:
     """A pair walking at 0.5 m/s from its first scan with a free leg walking beside it
-    (0.30 m from its centre) has not yet travelled min_travel after 0.8 s, but moves faster
-    than furniture_speed (0.1 m/s): reported; counting posts at any speed hides it."""
+    (0.30 m from its centre; all three legs at 0.5 m/s) has not yet travelled min_travel
+    after 0.8 s, but moves faster than furniture_speed (0.1 m/s) and its legs faster than
+    furniture_leg_speed (0.2 m/s): reported; counting posts at any speed hides it. Legs at
+    0.15 m/s (slower than furniture_leg_speed, as a chair's legs whose person moves because
+    they hop between its posts) count: hidden; at 0.25 m/s, or with the third leg at
+    0.5 m/s, they do not."""
     assert P.furniture_speed == pytest.approx(0.1)
+    assert P.furniture_leg_speed == pytest.approx(0.2)
 
-    def walk(t: PersonTracker) -> list[int]:
+    def walk(t: PersonTracker, pair: float = 0.5, third: float | None = None) -> list[int]:
+        """Speeds [m/s] of the pair's legs and of the third (as the pair's when None)."""
+        third = pair if third is None else third
         out: list = []
         for k in range(9):
             x = 1.0 + 0.05 * k
-            scan = legs(leg(1, x, 0.0), leg(2, x, 0.3), leg(3, x + 0.3, 0.15))
+            scan = {
+                i: LegObservation(
+                    i, np.array([lx, ly]), True, 0.0, 0, velocity=np.array([v, 0.0]), score=1.0
+                )
+                for i, lx, ly, v in (
+                    (1, x, 0.0, pair),
+                    (2, x, 0.3, pair),
+                    (3, x + 0.3, 0.15, third),
+                )
+            }
             out = t.update(scan, 0.1 * k, 1.0)
         assert all(q.travelled < P.min_travel for q in t.persons.values())
         return [p.track_id for p in out]
 
     assert walk(PersonTracker(P)) == [0]
     assert walk(PersonTracker(PersonTrackParams(furniture_speed=10.0))) == []
+    assert walk(PersonTracker(P), 0.15) == []
+    assert walk(PersonTracker(P), 0.25) == [0]
+    assert walk(PersonTracker(P), 0.15, 0.5) == [0]  # (every leg: the pair's alone do not)
 
 
 def test_a_neighbours_leg_is_not_a_post() -> None:
@@ -358,6 +377,8 @@ def test_furniture_params_are_checked() -> None:
         PersonTrackParams(furniture_radius=0.0)
     with pytest.raises(ValueError, match="furniture"):
         PersonTrackParams(furniture_speed=0.0)
+    with pytest.raises(ValueError, match="furniture"):
+        PersonTrackParams(furniture_leg_speed=0.0)
 
 
 # ------------------------------------------------------------------ through the leg MHT

@@ -970,8 +970,16 @@ MUTANTS: tuple[Mutant, ...] = (
         "furniture-place-radius-squared",
         "person tracks: a judged place holds within furniture_radius",
         PT,
-        "<= r for fx, fy in self._furniture)",
-        "<= r * r for fx, fy in self._furniture)",
+        "if math.hypot(x - fx, y - fy) <= r]",
+        "if math.hypot(x - fx, y - fy) <= r * r]",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-not-static",
+        "person tracks: a furniture verdict holds while its place is static",
+        PT,
+        "return bool(near) and bool((self._static(np.array(near)) > 0.0).any())",
+        "return bool(near)",
         PERSON,
     ),
     Mutant(

@@ -278,10 +278,21 @@ def test_three_legs_near_a_person_that_never_walked_are_furniture() -> None:
     assert [p.track_id for p in out] == [0]
 
 
-def _judged_and_gone() -> PersonTracker:
-    """A tracker whose confirmed pair at (1.0, 0.15) was judged furniture (a third leg
-    0.30 m off in scan 4) and then deleted (no leg for 0.7 s > unconfirmed_coast)."""
-    t = PersonTracker(P)
+class SecondStatic(FakeStatic):
+    """Every place static for ``value`` seconds (1 s: static, below static_time)."""
+
+    def __init__(self, value: float = 1.0) -> None:
+        self.value = value
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.full(positions.shape[0], self.value)
+
+
+def _judged_and_gone(model: SecondStatic | None = None) -> PersonTracker:
+    """A tracker (static world ``model``, default 1 s everywhere) whose confirmed pair at
+    (1.0, 0.15) was judged furniture (a third leg 0.30 m off in scan 4) and then deleted
+    (no leg for 0.7 s > unconfirmed_coast)."""
+    t = PersonTracker(P, SecondStatic() if model is None else model)
     _confirmed(t)
     assert _three_legs(t, 1.3, 4, 5) == []
     for k in range(5, 12):
@@ -301,12 +312,18 @@ def _pair_at(t: PersonTracker, x: float, k0: int, k1: int) -> list[int]:
 
 def test_a_furniture_verdict_holds_for_its_place() -> None:
     """The legs of a chair judged furniture come back as new leg tracks after its person was
-    deleted: a pair born within furniture_radius (0.35 m) of the judged place is not
-    confirmed in 10 scans (0.0 and 0.30 m off), one 0.40 m off is, as is the same pair
-    without the verdict; the pair on the place is reported once it walks off it."""
-    assert _pair_at(PersonTracker(P), 1.0, 12, 22) == [0]
+    deleted: a pair born within furniture_radius (0.35 m) of the judged place, static for
+    1 s, is not confirmed in 10 scans (0.0 and 0.30 m off), one 0.40 m off is, as is the
+    same pair without the verdict; the pair on the place is reported once it walks off it.
+    The verdict holds only while its place is static: not once the static world answers
+    0 s there (the chair gone, or no model, as on a laser moving without poses)."""
+    assert _pair_at(PersonTracker(P, SecondStatic()), 1.0, 12, 22) == [0]
     assert _pair_at(_judged_and_gone(), 1.3, 12, 22) == []
     assert _pair_at(_judged_and_gone(), 1.4, 12, 22) == [1]
+    gone = SecondStatic()
+    t = _judged_and_gone(gone)
+    gone.value = 0.0
+    assert _pair_at(t, 1.0, 12, 22) == [1]
     t = _judged_and_gone()
     assert _pair_at(t, 1.0, 12, 22) == []
     out: list = []

@@ -386,12 +386,12 @@ class PersonTrackParams:
         1,
         "measured (docs/people-benchmarks.md): the real MiR bag's chair taken for a person "
         "75 -> 3 scans (front laser static 10.6 -> 4.9 s, walkers kept); halls and held "
-        "back unchanged, furniture-only 5.9 -> 5.7 s",
+        "back unchanged, furniture-only 5.9 -> 5.8 s",
         "a confirmed person that has not travelled min_travel, with three or more legs (its "
         "own or free ones, not another person's) detected within furniture_radius of it in "
         "this many scans (the posts of a chair or a table), is unconfirmed, and no person "
-        "within furniture_radius of its place is confirmed, until it has travelled "
-        "min_travel (0: never)",
+        "within furniture_radius of its place (while the place is static) is confirmed, "
+        "until it has travelled min_travel (0: never)",
     )
     furniture_speed: float = param(
         0.1,
@@ -681,8 +681,8 @@ class PersonTracker:
         leg paths that only one-leg births read are not recorded."""
         self._furniture: list[tuple[float, float]] = []
         """Places (x, y) [m] of the people judged furniture (``furniture_scans``): a person
-        that has not travelled ``min_travel`` within ``furniture_radius`` of one is not
-        confirmed either (the same chair born again from its legs)."""
+        that has not travelled ``min_travel`` within ``furniture_radius`` of one that is
+        still static is not confirmed either (the same chair born again from its legs)."""
         self._leg_first: dict[int, tuple[float, float, float]] = {}
         """Per leg track: (time [s], x, y [m]) of its first detection."""
         self._leg_paths: dict[int, deque[tuple[float, float, float]]] = {}
@@ -1133,10 +1133,14 @@ class PersonTracker:
                     self._furniture.append((x, y))
 
     def _on_furniture_place(self, person: PersonTrack) -> bool:
-        """Whether ``person`` is within ``furniture_radius`` of a place judged furniture."""
+        """Whether ``person`` is within ``furniture_radius`` of a place judged furniture that
+        is still static (the static world model answers more than 0 s: not once the thing
+        has gone, nor without a model or once it is dropped, e.g. on a laser that moves
+        without poses, where places in the sensor frame move with it)."""
         x, y = person.mean[:2].tolist()
         r = self.params.furniture_radius
-        return any(math.hypot(x - fx, y - fy) <= r for fx, fy in self._furniture)
+        near = [(fx, fy) for fx, fy in self._furniture if math.hypot(x - fx, y - fy) <= r]
+        return bool(near) and bool((self._static(np.array(near)) > 0.0).any())
 
     def _confirm_and_delete(self, stamp: float) -> None:
         p = self.params

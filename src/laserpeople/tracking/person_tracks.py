@@ -51,8 +51,9 @@ an existence score:
   or a table four posts); such a scan counts when the person is slower than
   ``furniture_speed`` or each of these legs slower than ``furniture_leg_speed`` (the
   person of a chair moves while its legs hop between the posts). A person judged furniture
-  is unconfirmed until it travels, and its place is remembered: no person within
-  ``furniture_radius`` of it is confirmed before travelling ``min_travel`` (the chair's
+  is unconfirmed until it travels, and its place is remembered: while the static world
+  model sees the place static, no person within ``furniture_radius`` of it is confirmed
+  before travelling ``min_travel`` (the chair's
   legs, born again as a new person once the unconfirmed one is deleted, stay furniture; a
   person standing there is confirmed once it walks off the place).
 

@@ -11,13 +11,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.extensions import load_extension
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+SOURCE = Path(__file__).with_name("_ckalman.c")
+"""The C extension's source, beside this module (in an installed package as well)."""
+
+_extension, IMPLEMENTATION = load_extension(
+    "laserpeople.tracking._ckalman", SOURCE, "Kalman steps of the track nodes"
+)
+"""The optional C extension of :func:`predict_rows`, :func:`gate_and_loglik` and
+:func:`update_rows` (None: their numpy references run), and which runs: ``"compiled (C
+extension)"`` or ``"pure Python (...)"`` with the reason."""
 
 H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
 """Measurement matrix: positions are observed directly (000 Sec. 3.1)."""
@@ -476,6 +489,180 @@ def _few_update(
     ikh = np.array(rows).reshape(-1, 4, 4)
     new_covs = ikh @ covs @ ikh.transpose(0, 2, 1) + k @ meas_covs @ k.transpose(0, 2, 1)
     return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
+
+
+def predict_rows(
+    means: list[FloatArray],
+    covs: list[FloatArray],
+    dts: list[float],
+    accel_psd: float,
+    tau: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict_and_coast` of N tracks given as rows: ``means`` a list of N arrays
+    (4,), ``covs`` of N arrays (4, 4), ``dts`` N steps [s] as plain floats. Compiled where the
+    extension is built (the same floats: numpy's decay ``exp(-dt / tau)`` passed in, the
+    products as numpy's), else stacked and :func:`predict_and_coast`."""
+    if _extension is None or not dts:
+        return _predict_rows(means, covs, dts, accel_psd, tau)
+    n = len(dts)
+    pm, cm = np.empty((2, n, 4))
+    pc, cc = np.empty((2, n, 4, 4))
+    cubes, decays = _step_powers(dts, tau)
+    try:
+        _extension.predict(
+            means, covs, dts, cubes, decays, float(accel_psd), float(tau), pm, pc, cm, cc
+        )
+    except (ValueError, TypeError):  # (rows that are not 4 and 16 float64 each)
+        return _predict_rows(means, covs, dts, accel_psd, tau)
+    if decays is None:
+        return pm, pc, pm, pc
+    return pm, pc, cm, cc
+
+
+def _predict_rows(
+    means: list[FloatArray],
+    covs: list[FloatArray],
+    dts: list[float],
+    accel_psd: float,
+    tau: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict_rows` in numpy (its reference)."""
+    return predict_and_coast(
+        np.array(means, dtype=np.float64).reshape(-1, 4),
+        np.array(covs, dtype=np.float64).reshape(-1, 4, 4),
+        np.array(dts, dtype=np.float64),
+        accel_psd,
+        tau,
+    )
+
+
+def _step_powers(dts: list[float], tau: float) -> tuple[list[float], list[float] | None]:
+    """``dt**3`` and ``exp(-dt / tau)`` (None for an infinite ``tau``) of each step, as
+    :func:`predict_and_coast`'s path for these steps computes them: steps that are all the
+    same and a few steps (:data:`SMALL_BATCH`) cube by Python's ``pow`` (the C library's),
+    more steps that differ by numpy's power (SIMD code on AVX-512 that differs from the C
+    library's in the last bit of some values); the decay always by numpy's ``exp``."""
+    d = dts[0]
+    n = len(dts)
+    if dts.count(d) == n:
+        return [d**3] * n, None if math.isinf(tau) else [_decay(d, tau)] * n
+    steps = np.array(dts)
+    cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()
+    if math.isinf(tau):
+        return cubes, None
+    decays: list[float] = np.exp(-steps / tau).tolist()
+    return cubes, decays
+
+
+def _decay(d: float, tau: float) -> float:
+    """``exp(-d / tau)`` by numpy's ``exp``, kept by step (as the step matrices are)."""
+    key = (d, tau)
+    k = _DECAYS.get(key)
+    if k is None:
+        k = float(np.exp(np.array((-d / tau,)))[0])
+        if len(_DECAYS) >= STEP_MATRICES_KEPT:
+            _DECAYS.clear()
+        _DECAYS[key] = k
+    return k
+
+
+_DECAYS: dict[tuple[float, float], float] = {}
+
+
+def gate_and_loglik(
+    means: FloatArray,
+    covs: FloatArray,
+    z: FloatArray,
+    meas_covs: FloatArray,
+    gate: float,
+    max_gate_sq: float,
+) -> tuple[BoolArray, FloatArray]:
+    """Which (track, measurement) pairs are gated, (T, M): squared Mahalanobis distance at
+    most ``gate`` and squared distance at most ``max_gate_sq`` [m^2]; and their Gaussian
+    log-likelihoods (T, M) (:func:`mahalanobis_and_loglik`). Compiled where the extension
+    is built (the same floats: the logarithm numpy's), else in numpy."""
+    t, m = means.shape[0], z.shape[0]
+    if _extension is None or t * m == 0:
+        return _gate_and_loglik(means, covs, z, meas_covs, gate, max_gate_sq)
+    gated = np.empty((t, m), dtype=np.bool_)
+    loglik, det = np.empty((2, t, m))
+    _extension.score(
+        np.ascontiguousarray(means, dtype=np.float64),
+        np.ascontiguousarray(covs, dtype=np.float64),
+        np.ascontiguousarray(z, dtype=np.float64),
+        np.ascontiguousarray(meas_covs, dtype=np.float64),
+        float(gate),
+        float(max_gate_sq),
+        LOG_2PI,
+        gated,
+        loglik,
+        det,
+    )
+    np.log(det, out=det)
+    det *= 0.5
+    loglik -= det  # (-0.5 d2 - log 2 pi) - 0.5 log det, the reference's order
+    return gated, loglik
+
+
+def _gate_and_loglik(
+    means: FloatArray,
+    covs: FloatArray,
+    z: FloatArray,
+    meas_covs: FloatArray,
+    gate: float,
+    max_gate_sq: float,
+) -> tuple[BoolArray, FloatArray]:
+    """:func:`gate_and_loglik` in numpy (its reference)."""
+    d2, ll = mahalanobis_and_loglik(means, covs, z, meas_covs)
+    near = euclidean_sq(means, z) <= max_gate_sq
+    return (d2 <= gate) & near, ll
+
+
+def update_rows(
+    means: FloatArray,
+    covs: FloatArray,
+    rows: list[int],
+    z: FloatArray,
+    meas_covs: FloatArray,
+    js: list[int],
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`update_batch` of the states at ``rows`` of ``means`` (N, 4) and ``covs``
+    (N, 4, 4) with the measurements at ``js`` of ``z`` (M, 2) and ``meas_covs`` (M, 2, 2).
+    Compiled where the extension is built (the same floats), else in numpy."""
+    if _extension is None or not rows:
+        return _update_rows(means, covs, rows, z, meas_covs, js)
+    k = len(rows)
+    out_m = np.empty((k, 4))
+    out_c = np.empty((k, 4, 4))
+    _extension.update(
+        np.ascontiguousarray(means, dtype=np.float64),
+        np.ascontiguousarray(covs, dtype=np.float64),
+        rows,
+        np.ascontiguousarray(z, dtype=np.float64),
+        np.ascontiguousarray(meas_covs, dtype=np.float64),
+        js,
+        out_m,
+        out_c,
+    )
+    return out_m, out_c
+
+
+def _update_rows(
+    means: FloatArray,
+    covs: FloatArray,
+    rows: list[int],
+    z: FloatArray,
+    meas_covs: FloatArray,
+    js: list[int],
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`update_rows` in numpy (its reference)."""
+    idx = np.asarray(js, dtype=np.intp)
+    return update_batch(
+        means.take(rows, axis=0),
+        covs.take(rows, axis=0),
+        z.take(idx, axis=0),
+        meas_covs.take(idx, axis=0),
+    )
 
 
 def initiate(

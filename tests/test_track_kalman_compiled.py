@@ -1,7 +1,8 @@
-"""The Kalman steps of a scan's track nodes, compiled (the C extension ``_ckalman``):
-``kalman.predict_rows``, ``gate_and_loglik`` and ``update_rows`` against their numpy
-references on random nodes, by hand and in a leg MHT stepped side by side; what goes to
-numpy; the stale guard of the buffer helpers' header the extensions share.
+"""The Kalman steps of many tracks, compiled (the C extension ``_ckalman``): ``kalman``'s
+predictions, gates, likelihoods and updates of rows and of stacked arrays against its numpy
+code (the reference, ``kalman._extension`` None) on random tracks, by hand and in a leg MHT
+stepped side by side; what goes to numpy; the stale guard of the buffer helpers' header the
+extensions share.
 
 On x86-64 with FMA the compiled steps give numpy's floats to the bit (numpy's products of
 these small matrices are OpenBLAS's fused sums in order, which the C code repeats; the
@@ -50,6 +51,13 @@ def compiled(ckalman: ModuleType, monkeypatch: pytest.MonkeyPatch) -> ModuleType
     return ckalman
 
 
+def _numpy(monkeypatch: pytest.MonkeyPatch, fn: Any, *args: Any) -> Any:
+    """``fn(*args)`` by kalman's numpy code."""
+    with monkeypatch.context() as m:
+        m.setattr(kalman, "_extension", None)
+        return fn(*args)
+
+
 def _close(got: Any, want: Any) -> None:
     np.testing.assert_allclose(got, want, rtol=TOL, atol=TOL * np.max(np.abs(want), initial=1.0))
 
@@ -71,30 +79,45 @@ def _steps(rng: np.random.Generator, n: int, trial: int) -> list[float]:
     return [float(rng.uniform(0.01, 0.1))] * n
 
 
-def test_compiled_prediction_is_numpy_on_random_nodes(compiled: ModuleType) -> None:
+def test_compiled_prediction_is_numpy_on_random_nodes(
+    compiled: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """1200 random batches of 1-40 nodes (one step, a few and many different steps, zero
     and long steps; coasting with tau 0.1, 0.35 and without): the predicted and coasted
-    means and covariances of numpy's ``predict_and_coast``."""
+    means and covariances of numpy's ``predict_and_coast``, from rows and from arrays
+    (also ``predict`` and ``coast``)."""
     rng = np.random.default_rng(35)
     for trial in range(1200):
         n = int(rng.integers(1, 41))
-        means = list(rng.standard_normal((n, 4)) * rng.choice([0.1, 1.0, 10.0]))
-        covs = list(_covariances(rng, n, float(rng.choice([0.01, 0.1, 1.0]))))
+        means = rng.standard_normal((n, 4)) * rng.choice([0.1, 1.0, 10.0])
+        covs = _covariances(rng, n, float(rng.choice([0.01, 0.1, 1.0])))
         dts = _steps(rng, n, trial)
         tau = (0.35, math.inf, 0.1)[trial % 3]
-        got = kalman.predict_rows(means, covs, dts, 32.0, tau)
-        want = kalman._predict_rows(means, covs, dts, 32.0, tau)
+        want = _numpy(monkeypatch, kalman.predict_and_coast, means, covs, np.array(dts), 32.0, tau)
+        got = kalman.predict_rows(list(means), list(covs), dts, 32.0, tau)
         for g, w in zip(got, want, strict=True):
             _close(g, w)
+        got = kalman.predict_and_coast(means, covs, np.array(dts), 32.0, tau)
+        for g, w in zip(got, want, strict=True):
+            _close(g, w)
+        for fn, args, rows in [
+            (kalman.predict, (means, covs, np.array(dts), 32.0), want[:2]),
+            (kalman.coast, (means, covs, np.array(dts), 32.0, tau), want[2:]),
+        ]:
+            for g, w in zip(fn(*args), rows, strict=True):
+                _close(g, w)
 
 
-def test_compiled_gates_and_likelihoods_are_numpy_on_random_pairs(compiled: ModuleType) -> None:
+def test_compiled_gates_and_likelihoods_are_numpy_on_random_pairs(
+    compiled: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """1200 random sets of 1-40 predicted nodes and 1-30 measurements around them: the
-    same gated pairs (but within GATE_BAND of the gate) and log-likelihoods as numpy's
-    ``mahalanobis_and_loglik`` and ``euclidean_sq``; every trial gates some pairs and
-    leaves others."""
+    same gated pairs (but within GATE_BAND of the gate), squared Mahalanobis distances and
+    log-likelihoods as numpy's ``mahalanobis_and_loglik`` and ``euclidean_sq``; the trials
+    gate some pairs and leave others."""
     rng = np.random.default_rng(36)
     gate, cap = kalman.KalmanParams().gate, 1.0
+    seen = np.zeros(2, dtype=int)
     for _ in range(1200):
         n, m = int(rng.integers(1, 41)), int(rng.integers(1, 31))
         pm = rng.standard_normal((n, 4))
@@ -102,16 +125,24 @@ def test_compiled_gates_and_likelihoods_are_numpy_on_random_pairs(compiled: Modu
         z = pm[rng.integers(0, n, m), :2] + rng.standard_normal((m, 2)) * 0.5
         r = _covariances(rng, m, 0.05)[:, :2, :2]
         gated, ll = kalman.gate_and_loglik(pm, pc, z, r, gate, cap)
-        want_gated, want_ll = kalman._gate_and_loglik(pm, pc, z, r, gate, cap)
-        d2, _ = kalman.mahalanobis_and_loglik(pm, pc, z, r)
+        d2, want_ll = _numpy(monkeypatch, kalman.mahalanobis_and_loglik, pm, pc, z, r)
+        want_gated = (d2 <= gate) & (kalman.euclidean_sq(pm, z) <= cap)
         clear = np.abs(d2 - gate) > GATE_BAND * gate
         assert np.array_equal(gated[clear], want_gated[clear])
         _close(ll, want_ll)
+        got_d2, got_ll = kalman.mahalanobis_and_loglik(pm, pc, z, r)
+        _close(got_d2, d2)
+        _close(got_ll, want_ll)
+        seen += [int(gated.sum()), int((~gated).sum())]
+    assert seen.min() > 1000
 
 
-def test_compiled_updates_are_numpy_on_random_states(compiled: ModuleType) -> None:
+def test_compiled_updates_are_numpy_on_random_states(
+    compiled: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """1200 random sets of 1-40 updates of rows of a predicted batch with measurements
-    (rows and measurements repeated): numpy's ``update_batch`` of the rows taken."""
+    (rows and measurements repeated): numpy's ``update_batch`` of the rows taken, from
+    rows and from arrays."""
     rng = np.random.default_rng(37)
     for _ in range(1200):
         n, m, k = (int(v) for v in rng.integers(1, 41, 3))
@@ -120,10 +151,11 @@ def test_compiled_updates_are_numpy_on_random_states(compiled: ModuleType) -> No
         z = rng.standard_normal((m, 2))
         r = _covariances(rng, m, 0.05)[:, :2, :2]
         rows, js = rng.integers(0, n, k).tolist(), rng.integers(0, m, k).tolist()
-        got = kalman.update_rows(pm, pc, rows, z, r, js)
-        want = kalman._update_rows(pm, pc, rows, z, r, js)
-        for g, w in zip(got, want, strict=True):
-            _close(g, w)
+        taken = (pm[rows], pc[rows], z[js], r[js])
+        want = _numpy(monkeypatch, kalman.update_batch, *taken)
+        for got in (kalman.update_rows(pm, pc, rows, z, r, js), kalman.update_batch(*taken)):
+            for g, w in zip(got, want, strict=True):
+                _close(g, w)
 
 
 @pytest.mark.parametrize("path", ["compiled", "numpy"])
@@ -196,9 +228,9 @@ def test_bad_arguments_raise(ckalman: ModuleType) -> None:
         ckalman.update(pm, pc, [0], z, r, [0], np.empty((2, 4)), out_c)
     gated, part, det = np.empty((2, 1), bool), np.empty((2, 1)), np.empty((2, 1))
     with pytest.raises(ValueError):
-        ckalman.score(pm, pc[:1], z, r, 9.0, 1.0, 1.8, gated, part, det)
+        ckalman.score(pm, pc[:1], z, r, 9.0, 1.0, 1.8, gated, part, det, None)
     with pytest.raises(ValueError):
-        ckalman.score(pm, pc, z, r, 9.0, 1.0, 1.8, np.empty((2, 1)), part, det)
+        ckalman.score(pm, pc, z, r, 9.0, 1.0, 1.8, np.empty((2, 1)), part, det, None)
     with pytest.raises(ValueError):
         ckalman.predict([pm[0]], [pc[0]], [0.1, 0.2], [0.001], None, 1.0, 1.0, pm, pc, None, None)
 

@@ -137,7 +137,7 @@ static LP_FMA_CLONES void predict_node(const double *x, const double *p, double 
 
 /* predict(means, covs, dts, cubes, decays, accel_psd, tau, pm, pc, cm, cc):
  * kalman.predict_and_coast of N nodes. means and covs are lists of N arrays of 4 and 16
- * doubles, dts a list of N steps [s], cubes their dt**3 (as the reference's path computes
+ * doubles or arrays (N, 4) and (N, 4, 4), dts a list of N steps [s], cubes their dt**3 (as the reference's path computes
  * them: by the C library's pow or numpy's), decays a list of N exp(-dt / tau) (numpy's) or
  * None (tau infinite: cm and cc are not written and may be None); pm (N, 4), pc (N, 4, 4),
  * cm, cc float64 out. */
@@ -154,19 +154,22 @@ static PyObject *predict(PyObject *self, PyObject *const *args, Py_ssize_t nargs
         return NULL;
     }
     Py_ssize_t n = PyList_GET_SIZE(dts);
-    int coasting = decays != Py_None;
-    if (check_list(means, n, "means") < 0 || check_list(covs, n, "covs") < 0 ||
+    int coasting = decays != Py_None, rows = PyList_CheckExact(means);
+    if ((rows && (check_list(means, n, "means") < 0 || check_list(covs, n, "covs") < 0)) ||
         check_list(cubes, n, "cubes") < 0 || (coasting && check_list(decays, n, "decays") < 0))
         return NULL;
     double a = PyFloat_AsDouble(args[5]);
     if (a == -1.0 && PyErr_Occurred()) return NULL;
     double tau = PyFloat_AsDouble(args[6]);
     if (tau == -1.0 && PyErr_Occurred()) return NULL;
-    Buf b[4];
+    Buf b[6];
     memset(b, 0, sizeof b);
     PyObject *result = NULL;
     if (take(args[7], &b[0], 0, 1, 4 * n, "pm") < 0 ||
         take(args[8], &b[1], 0, 1, 16 * n, "pc") < 0)
+        goto done;
+    if (!rows && (take(means, &b[4], 0, 0, 4 * n, "means") < 0 ||
+                  take(covs, &b[5], 0, 0, 16 * n, "covs") < 0))
         goto done;
     if (coasting && (take(args[9], &b[2], 0, 1, 4 * n, "cm") < 0 ||
                      take(args[10], &b[3], 0, 1, 16 * n, "cc") < 0))
@@ -174,7 +177,11 @@ static PyObject *predict(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     double *pm = b[0].view.buf, *pc = b[1].view.buf;
     for (Py_ssize_t i = 0; i < n; i++) {
         double x[4], p[16];
-        if (read_rows(means, i, 4, x, "means") < 0 || read_rows(covs, i, 16, p, "covs") < 0)
+        if (!rows) {
+            memcpy(x, (double *)b[4].view.buf + 4 * i, sizeof x);
+            memcpy(p, (double *)b[5].view.buf + 16 * i, sizeof p);
+        } else if (read_rows(means, i, 4, x, "means") < 0 ||
+                   read_rows(covs, i, 16, p, "covs") < 0)
             goto done;
         double d = PyFloat_AsDouble(PyList_GET_ITEM(dts, i));
         if (d == -1.0 && PyErr_Occurred()) goto done;
@@ -192,21 +199,22 @@ static PyObject *predict(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     result = Py_None;
     Py_INCREF(result);
 done:
-    release(b, 4);
+    release(b, 6);
     return result;
 }
 
-/* score(pm, pc, z, r, gate, max_gate_sq, log_2pi, gated, partial, det): the gate and likelihood
+/* score(pm, pc, z, r, gate, max_gate_sq, log_2pi, gated, partial, det, d2): the gate and likelihood
  * terms of every (node, measurement) pair of N predicted nodes, pm (N, 4) and pc (N, 4, 4),
  * and M measurements, z (M, 2) and r (M, 2, 2): gated (N, M) bool out, whether the squared
  * Mahalanobis distance is within gate and the squared distance within max_gate_sq
  * (kalman.mahalanobis_and_loglik, euclidean_sq); partial (N, M) out, -0.5 d2 - log_2pi,
- * and det (N, M) out, det S, whose logarithm the caller takes (loglik = partial - 0.5
- * log(det)). */
+ * det (N, M) out, det S, whose logarithm the caller takes (loglik = partial - 0.5
+ * log(det)), and d2 (N, M) out, the squared Mahalanobis distances; gated and d2 may be None
+ * (not written). */
 static PyObject *score(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
-    if (nargs != 10) {
-        PyErr_SetString(PyExc_TypeError, "score takes 10 arguments");
+    if (nargs != 11) {
+        PyErr_SetString(PyExc_TypeError, "score takes 11 arguments");
         return NULL;
     }
     double gate = PyFloat_AsDouble(args[4]);
@@ -215,7 +223,7 @@ static PyObject *score(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     if (max_sq == -1.0 && PyErr_Occurred()) return NULL;
     double log_2pi = PyFloat_AsDouble(args[6]);
     if (log_2pi == -1.0 && PyErr_Occurred()) return NULL;
-    Buf b[7];
+    Buf b[8];
     memset(b, 0, sizeof b);
     PyObject *result = NULL;
     if (take(args[0], &b[0], 0, 0, -1, "pm") < 0 || take(args[2], &b[2], 0, 0, -1, "z") < 0)
@@ -223,14 +231,16 @@ static PyObject *score(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     Py_ssize_t n = b[0].view.len / 32, m = b[2].view.len / 16;
     if (take(args[1], &b[1], 0, 0, 16 * n, "pc") < 0 ||
         take(args[3], &b[3], 0, 0, 4 * m, "r") < 0 ||
-        take_bools(args[7], &b[4], n * m, "gated") < 0 ||
+        (args[7] != Py_None && take_bools(args[7], &b[4], n * m, "gated") < 0) ||
         take(args[8], &b[5], 0, 1, n * m, "partial") < 0 ||
-        take(args[9], &b[6], 0, 1, n * m, "det") < 0)
+        take(args[9], &b[6], 0, 1, n * m, "det") < 0 ||
+        (args[10] != Py_None && take(args[10], &b[7], 0, 1, n * m, "d2") < 0))
         goto done;
     const double *pm = b[0].view.buf, *pc = b[1].view.buf, *z = b[2].view.buf;
     const double *r = b[3].view.buf;
-    char *gated = b[4].view.buf;
+    char *gated = b[4].held ? b[4].view.buf : NULL;
     double *partial = b[5].view.buf, *dets = b[6].view.buf;
+    double *d2s = b[7].held ? b[7].view.buf : NULL;
     for (Py_ssize_t i = 0; i < n; i++) {
         double mx = pm[4 * i], my = pm[4 * i + 1];
         const double *p = pc + 16 * i;
@@ -241,7 +251,8 @@ static PyObject *score(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
             double vx = z[2 * j] - mx, vy = z[2 * j + 1] - my;
             double d2 = (sd * vx * vx - 2.0 * sb * vx * vy + sa * vy * vy) / det;
             Py_ssize_t at = i * m + j;
-            gated[at] = (char)(d2 <= gate && dot2(vx, vx, vy, vy) <= max_sq);
+            if (gated) gated[at] = (char)(d2 <= gate && dot2(vx, vx, vy, vy) <= max_sq);
+            if (d2s) d2s[at] = d2;
             partial[at] = -0.5 * d2 - log_2pi;
             dets[at] = det;
         }
@@ -249,7 +260,7 @@ static PyObject *score(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     result = Py_None;
     Py_INCREF(result);
 done:
-    release(b, 7);
+    release(b, 8);
     return result;
 }
 
@@ -351,8 +362,8 @@ static PyMethodDef methods[] = {
      "predict(means, covs, dts, cubes, decays, accel_psd, tau, pm, pc, cm, cc): "
      "kalman.predict_and_coast of the nodes into pm, pc (and cm, cc)."},
     {"score", (PyCFunction)(void (*)(void))score, METH_FASTCALL,
-     "score(pm, pc, z, r, gate, max_gate_sq, log_2pi, gated, partial, det): the gate, "
-     "-0.5 d2 - log_2pi and det S of every (node, measurement) pair."},
+     "score(pm, pc, z, r, gate, max_gate_sq, log_2pi, gated, partial, det, d2): the gate, "
+     "-0.5 d2 - log_2pi, det S and d2 of every (node, measurement) pair."},
     {"update", (PyCFunction)(void (*)(void))update, METH_FASTCALL,
      "update(pm, pc, rows, z, r, js, means, covs): kalman.update_batch of the rows "
      "with the measurements js into means, covs."},

@@ -6,8 +6,8 @@ from numpy.typing import NDArray
 SOURCE_HASH: str
 
 def predict(
-    means: list[NDArray[np.float64]],
-    covs: list[NDArray[np.float64]],
+    means: list[NDArray[np.float64]] | NDArray[np.float64],
+    covs: list[NDArray[np.float64]] | NDArray[np.float64],
     dts: list[float],
     cubes: list[float],
     decays: list[float] | None,
@@ -26,9 +26,10 @@ def score(
     gate: float,
     max_gate_sq: float,
     log_2pi: float,
-    gated: NDArray[np.bool_],
+    gated: NDArray[np.bool_] | None,
     partial: NDArray[np.float64],
     det: NDArray[np.float64],
+    d2: NDArray[np.float64] | None,
 ) -> None: ...
 def update(
     pm: NDArray[np.float64],

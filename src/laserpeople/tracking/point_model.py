@@ -63,9 +63,8 @@ class KalmanPointModel:
         self.node_predictions = node_predictions
         self.gate = params.gate
         self.max_gate_sq = params.max_gate_distance**2
-        # the occluded states of the last predict() call (N, 4), (N, 4, 4), rows by node id
+        # the occluded states of the last predict() call (N, 4), (N, 4, 4), rows as _rows
         self._coast_batch: tuple[FloatArray, FloatArray] = (np.empty((0, 4)), np.empty((0, 4, 4)))
-        self._coast_rows: dict[int, int] = {}
         self._rows: dict[int, int] = {}  # id(node) -> row of the last predict() call
         # the node list of the last predict() call and its predictions (N, 4), (N, 4, 4)
         self._predicted: tuple[Sequence[TrackNode], FloatArray, FloatArray] = (
@@ -103,12 +102,8 @@ class KalmanPointModel:
                 n.pred_cov = cov
         self._predicted = (nodes, pm, pc)
         # where each node's prediction is in the batch (update takes its rows from there)
-        rank = range(len(nodes))
-        self._rows = dict(zip(map(id, nodes), rank, strict=True))
-        self._coast_rows.clear()
-        if not math.isinf(tau):
-            self._coast_batch = (cm, cc)
-            self._coast_rows = dict(zip([n.node_id for n in nodes], rank, strict=True))
+        self._rows = dict(zip(map(id, nodes), range(len(nodes)), strict=True))
+        self._coast_batch = (cm, cc)
 
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
@@ -160,8 +155,9 @@ class KalmanPointModel:
         if math.isinf(tau):
             mean, cov = self._pred(node)
             return mean, cov, None
-        row = self._coast_rows.get(node.node_id)
-        if row is not None:
+        done = self._predicted[0]
+        row = self._rows.get(id(node), -1)
+        if row >= 0 and done[row] is node:  # predicted in the last batch: its coasted row
             cm, cc = self._coast_batch
             return cm[row], cc[row], None
         means, covs = kalman.coast(

@@ -50,8 +50,9 @@ def forced_pure_python() -> bool:
         return False
     if word not in ON_VALUES:
         warnings.warn(
-            f"{PURE_PYTHON}={value[:40]!r} is neither 1 nor 0: the pure-Python MHT listing "
-            f"and segment features run (unset it or set it to 0 for the compiled ones)",
+            f"{PURE_PYTHON}={value[:40]!r} is neither 1 nor 0: the pure-Python MHT listing, "
+            f"segment features and Kalman steps run (unset it or set it to 0 for the compiled "
+            f"ones)",
             LaserPeopleWarning,
             stacklevel=4,
         )

@@ -93,6 +93,7 @@ HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_p
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 KALMAN = ("tests/test_track_kalman.py",)
+KALMAN_ROWS = ("tests/test_track_kalman_compiled.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
@@ -143,6 +144,7 @@ H = "background/beam_histogram.py"
 R = "io/ros1_reader.py"
 PT = "tracking/person_tracks.py"
 K = "tracking/kalman.py"
+PM = "tracking/point_model.py"
 LS = "io/laserscan_ros1.py"
 MC = "tracking/mht/core.py"
 GO = "tracking/groups/observations.py"
@@ -948,6 +950,54 @@ MUTANTS: tuple[Mutant, ...] = (
         "return pm, both[0], cm, both[1]",
         "return pm, both[0], cm, both[0]",
         KALMAN,
+    ),
+    Mutant(
+        "kalman-rows-cubes-by-numpy",
+        "Kalman rows: a few steps cubed by Python's pow, as the reference's few-track path",
+        K,
+        "cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()",
+        "cubes: list[float] = (steps**3).tolist()",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-cubes-by-pow",
+        "Kalman rows: many different steps cubed by numpy's power, as the reference's",
+        K,
+        "cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()",
+        "cubes: list[float] = [e**3 for e in dts]",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-decay-by-math-exp",
+        "Kalman rows: the shared step's decay by numpy's exp",
+        K,
+        "k = float(np.exp(np.array((-d / tau,)))[0])\n        if len(_DECAYS)",
+        "k = math.exp(-d / tau)\n        if len(_DECAYS)",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-half-log-det",
+        "Kalman rows: loglik = -0.5 d2 - log 2 pi - 0.5 log det S (the half)",
+        K,
+        "    det *= 0.5\n",
+        "",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "point-model-steps-negative",
+        "point model: a node stamped after the scan steps 0 s (shared step)",
+        PM,
+        "if 0.0 <= d <= top and steps.count(d) == len(steps):",
+        "if d <= top and steps.count(d) == len(steps):",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "point-model-steps-max-dt",
+        "point model: a shared step longer than max_dt is clipped",
+        PM,
+        "if 0.0 <= d <= top and steps.count(d) == len(steps):",
+        "if 0.0 <= d and steps.count(d) == len(steps):",
+        KALMAN_ROWS,
     ),
     Mutant(
         "features-step-across-segments",

@@ -124,6 +124,7 @@ def register(app: typer.Typer) -> None:
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
         from laserpeople.detection.compiled import IMPLEMENTATION as DETECTION
+        from laserpeople.tracking.kalman import IMPLEMENTATION as KALMAN
         from laserpeople.tracking.mht.listing import IMPLEMENTATION as LISTING
 
         if as_json:
@@ -141,6 +142,7 @@ def register(app: typer.Typer) -> None:
                         "peak_memory_mib": memory,
                         "mht_listing": LISTING,
                         "leg_detection": DETECTION,
+                        "kalman_steps": KALMAN,
                     }
                 )
             )
@@ -170,6 +172,7 @@ def register(app: typer.Typer) -> None:
         console.print(table)
         say(f"leg MHT listing of the k best children: {LISTING}")
         say(f"segment features and AdaBoost margins of leg detection: {DETECTION}")
+        say(f"Kalman steps of the tracks (prediction, gating, updates): {KALMAN}")
         console.print(f"peak memory {memory:.0f} MiB")
 
 

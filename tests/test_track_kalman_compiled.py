@@ -240,7 +240,7 @@ def test_leg_trackers_with_and_without_the_compiled_steps_track_the_same(
 ) -> None:
     """Two leg MHTs stepped side by side over a scene of six walkers with clutter, one with
     the compiled Kalman steps, one with numpy's: after every scan the same hypotheses (node
-    ids), the same live nodes, their states within TOL, the same reported tracks."""
+    ids, in any order), the same live nodes, their states within TOL, the same reported tracks."""
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
 
     fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
@@ -253,6 +253,11 @@ def test_leg_trackers_with_and_without_the_compiled_steps_track_the_same(
     wrapper = type("Counted", (), {"predict": ckalman.predict, "score": ckalman.score})()
     wrapper.update = counted  # type: ignore[attr-defined]
 
+    def hypothesis_sets(tracker: LegMHTTracker) -> list[set[tuple[int, ...]]]:
+        return [
+            {tuple(t.node_id for t in h.tracks) for h in c.hypotheses} for c in tracker.mht.clusters
+        ]
+
     def nodes(tracker: LegMHTTracker) -> list[Any]:
         return [n for ns in tracker.mht.tree.nodes_by_family.values() for n in ns]
 
@@ -261,10 +266,9 @@ def test_leg_trackers_with_and_without_the_compiled_steps_track_the_same(
         out_fast = fast.update(d)
         monkeypatch.setattr(kalman, "_extension", None)
         out_slow = slow.update(d)
-        hyps = [[[t.node_id for t in h.tracks] for h in c.hypotheses] for c in fast.mht.clusters]
-        assert hyps == [
-            [[t.node_id for t in h.tracks] for h in c.hypotheses] for c in slow.mht.clusters
-        ]
+        # (as sets: hypotheses of equal weight may trade places where another CPU's
+        # products round differently in the last bit)
+        assert hypothesis_sets(fast) == hypothesis_sets(slow)
         for a, b in zip(nodes(fast), nodes(slow), strict=True):
             assert a.node_id == b.node_id
             _close(a.mean, b.mean)

@@ -2415,6 +2415,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_commands.py",),
     ),
     Mutant(
+        "beam-kind-zero-takes-negative",
+        "track: a negative range is counted as negative, not as zero",
+        "pipeline/empty_scans.py",
+        "counts[4] = np.count_nonzero(r == 0.0)",
+        "counts[4] = np.count_nonzero(finite & (r <= 0.0))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "beam-kind-under-min-takes-zero",
+        "track: a zero range is counted as zero, not as under range_min",
+        "pipeline/empty_scans.py",
+        "counts[5] = np.count_nonzero(positive & (r < scan.range_min))",
+        "counts[5] = np.count_nonzero(finite & (r >= 0.0) & (r < scan.range_min))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

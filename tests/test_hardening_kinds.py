@@ -5,14 +5,18 @@ be written."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
 
+if TYPE_CHECKING:
+    from laserpeople.scan import Scan
 
-def _scan(ranges: list[float], range_min: float = 0.1, range_max: float = 8.0) -> object:
+
+def _scan(ranges: list[float], range_min: float = 0.1, range_max: float = 8.0) -> Scan:
     from laserpeople.scan import Scan
 
     return Scan(
@@ -37,7 +41,7 @@ def test_each_kind_of_beam_left_out_is_counted_apart() -> None:
     ranges += [0.05, 0.09, 0.02, 0.01, 0.07, 8.5, 9.0, 1e6, 20.0, 30.0, 40.0, 50.0]
     ranges += [0.1, 8.0, 4.0]  # range_min and range_max count as returns
     scan = _scan(ranges)
-    counts = beam_kinds(scan)  # type: ignore[arg-type]
+    counts = beam_kinds(scan)
     assert dict(zip(BEAM_KINDS, counts.tolist(), strict=True)) == {
         "NaN": 3,
         "+inf": 2,
@@ -47,11 +51,11 @@ def test_each_kind_of_beam_left_out_is_counted_apart() -> None:
         "under range_min": 5,
         "over range_max": 7,
     }
-    assert int(counts.sum()) == scan.n_invalid  # type: ignore[attr-defined]
+    assert int(counts.sum()) == scan.n_invalid
     # range_min 0: a zero range is still 'zero', never 'under range_min'
-    zero_min = beam_kinds(_scan([0.0, 0.0, 1.0], range_min=0.0))  # type: ignore[arg-type]
+    zero_min = beam_kinds(_scan([0.0, 0.0, 1.0], range_min=0.0))
     assert zero_min.tolist() == [0, 0, 0, 0, 2, 0, 0]
-    assert beam_kinds(_scan([1.0, 2.0])).tolist() == [0] * 7  # type: ignore[arg-type]
+    assert beam_kinds(_scan([1.0, 2.0])).tolist() == [0] * 7
 
 
 def test_check_sums_kinds_over_scans_and_says_each() -> None:
@@ -59,14 +63,14 @@ def test_check_sums_kinds_over_scans_and_says_each() -> None:
 
     nan = float("nan")
     check = EmptyScanCheck()
-    list(check(iter([_scan([nan, 1.0, -1.0]), _scan([nan, 9.0, 0.0, 2.0])])))  # type: ignore[list-item]
+    list(check(iter([_scan([nan, 1.0, -1.0]), _scan([nan, 9.0, 0.0, 2.0])])))
     assert (check.beams, check.left_out) == (7, 5)
     assert check.beam_summary().startswith(
         "5 of 7 beams had no valid return and were left out "
         "(NaN 2, negative 1, zero 1, over range_max 1;"
     )
     clean = EmptyScanCheck()
-    list(clean(iter([_scan([1.0, 2.0])])))  # type: ignore[list-item]
+    list(clean(iter([_scan([1.0, 2.0])])))
     assert clean.beam_summary() == ""
 
 
@@ -84,7 +88,7 @@ def test_track_says_each_kind_of_beam_left_out(tmp_path: Path) -> None:
     after = int(np.count_nonzero(np.isposinf(ranges)))
     limit = np.repeat(arrays["scan_range_max"], np.diff(arrays["scan_offset"]))
     over = int(np.count_nonzero(np.isfinite(ranges) & (ranges > limit)))
-    np.savez(rec, **arrays)  # type: ignore[arg-type]
+    np.savez(rec, **arrays)
     run = CliRunner().invoke(app, ["track", str(rec), "-o", str(tmp_path / "t.csv")])
     assert run.exit_code == 0, run.output
     text = " ".join(run.output.split())

@@ -2431,6 +2431,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "truth-names-overlap-integer-ids",
+        "evaluate: a named person is numbered after the file's largest integer id",
+        "io/truth_csv.py",
+        "start = max((i for i in ids if isinstance(i, int)), default=-1) + 1",
+        "start = max((i for i in ids if isinstance(i, int)), default=-1)",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "truth-names-sorted",
+        "evaluate: names are numbered in the order first seen, not alphabetically",
+        "io/truth_csv.py",
+        "names = [i for i in dict.fromkeys(ids) if isinstance(i, str)]",
+        "names = sorted(i for i in set(ids) if isinstance(i, str))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

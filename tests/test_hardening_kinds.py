@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 from laserpeople.cli import app
@@ -94,3 +95,92 @@ def test_track_says_each_kind_of_beam_left_out(tmp_path: Path) -> None:
     text = " ".join(run.output.split())
     assert f"NaN 3, +inf {after:,}, -inf 1, negative 4, zero 2, over range_max {over};" in text
     assert over >= 5  # the counts are the file's, after the edit
+
+
+def test_truth_names_are_numbered_after_the_integer_ids_and_said(tmp_path: Path) -> None:
+    """A name keeps one number across scans; integer ids stay themselves; names are
+    numbered after the largest integer id in the order first seen, and the reader says so."""
+    from laserpeople.errors import LaserPeopleWarning
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    path = tmp_path / "named.csv"
+    path.write_text(
+        "scan,stamp,person_id,x,y\n"
+        "0,0.0,p3,1,2\n0,0.0,alice,3,4\n0,0.0,4,5,6\n"
+        "1,0.1,alice,3.1,4\n1,0.1,p3,1.1,2\n1,0.1,9,7,7\n"
+    )
+    with pytest.warns(LaserPeopleWarning, match=r"p3 = 10, alice = 11 \(") as caught:
+        frames = read_truth_csv(path)
+    assert str(path) in str(caught[0].message)
+    assert [f.person_ids.tolist() for f in frames] == [[10, 11, 4], [11, 10, 9]]
+    np.testing.assert_allclose(frames[1].positions[0], [3.1, 4.0], atol=1e-12)
+    only_names = tmp_path / "names.csv"
+    only_names.write_text("scan,stamp,person_id,x,y\n0,0.0,bob,1,2\n1,0.1,bob,1,2\n")
+    with pytest.warns(LaserPeopleWarning, match=r"for 1 people, numbered in the order first "):
+        assert [f.person_ids.tolist() for f in read_truth_csv(only_names)] == [[0], [0]]
+
+
+@pytest.mark.parametrize(
+    ("cell", "message"),
+    [("3.0", "'3.0', a number but not an integer"), ("-2", "negative"), ("1e400", "not an")],
+)
+def test_truth_ids_that_are_numbers_but_no_ids_are_refused_with_the_line(
+    tmp_path: Path, cell: str, message: str
+) -> None:
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.truth_csv import read_truth_csv
+
+    path = tmp_path / "t.csv"
+    path.write_text(f"scan,stamp,person_id,x,y\n0,0.0,1,1,2\n1,0.1,{cell},1,2\n")
+    with pytest.raises(RecordingError, match=message) as info:
+        read_truth_csv(path)
+    assert str(info.value).startswith(f"{path}: line 3: ")
+
+
+def test_evaluate_scores_named_truth_as_numbered_truth(tmp_path: Path) -> None:
+    import json
+
+    from laserpeople.io.truth_csv import write_truth_csv
+    from laserpeople.sim.scenarios import run_scenario
+
+    result = run_scenario("figure-eight", seconds=4.0, seed=3)
+    rec = tmp_path / "rec.npz"
+    result.write(rec)
+    tracks = tmp_path / "tracks.csv"
+    assert CliRunner().invoke(app, ["track", str(rec), "-o", str(tracks)]).exit_code == 0
+    numbered = tmp_path / "numbered.csv"
+    write_truth_csv(numbered, result.truth)
+    ids = {int(i) for f in result.truth for i in f.person_ids}
+    named = tmp_path / "named.csv"
+    lines = numbered.read_text().splitlines()
+    renamed = [lines[0]]
+    for line in lines[1:]:
+        cells = line.split(",")
+        cells[2] = f"walker {cells[2]}" if cells[2] else ""
+        renamed.append(",".join(cells))
+    named.write_text("\n".join(renamed) + "\n")
+    scores = []
+    for truth in (numbered, named):
+        run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(truth), "--json"])
+        assert run.exit_code == 0, run.output
+        scores.append(run.output)
+    assert "person_id is a name" not in scores[0]
+    assert f"person_id is a name for {len(ids)} people" in " ".join(scores[1].split())
+    assert ids and len(lines) > 10
+    first = json.loads(scores[0][scores[0].index("{") :])
+    second = json.loads(scores[1][scores[1].index("{") :])
+    assert first == second and first["mota"] > 0.5
+
+
+def test_view_reads_a_named_truth_once_and_says_the_numbers_once(tmp_path: Path) -> None:
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "rec.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=3).write(rec)
+    truth = tmp_path / "named.csv"
+    truth.write_text("scan,stamp,person_id,x,y\n0,0.0,alice,1,2\n1,0.1,alice,1.1,2\n")
+    run = CliRunner().invoke(
+        app, ["view", str(rec), "--truth", str(truth), "-o", str(tmp_path / "v.png")]
+    )
+    assert run.exit_code == 0, run.output
+    assert " ".join(run.output.split()).count("alice = 0") == 1

@@ -2447,6 +2447,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "clear-mot-last-pairs-ever",
+        "evaluation: CLEAR MOT's last pairs are the last frame's, not every last match",
+        "evaluation/clear_mot.py",
+        "        self._pairs = {truth_ids[i]: track_ids[j] for i, j in pairs}",
+        "        self._pairs.update({truth_ids[i]: track_ids[j] for i, j in pairs})",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

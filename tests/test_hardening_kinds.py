@@ -184,3 +184,44 @@ def test_view_reads_a_named_truth_once_and_says_the_numbers_once(tmp_path: Path)
     )
     assert run.exit_code == 0, run.output
     assert " ".join(run.output.split()).count("alice = 0") == 1
+
+
+def test_clear_mot_last_pairs_are_the_last_frame_s_only_and_read_only() -> None:
+    """The pairs of the frame accumulated last: not a person's last match in any frame
+    (person 2 missed in frame 1 is not in them), the new track after a switch."""
+    from laserpeople.evaluation import ClearMot
+    from laserpeople.evaluation.synthetic import synthetic_sequence
+
+    nan = [np.nan, np.nan]
+    people = {1: np.array([[0.0, 0.0]] * 3), 2: np.array([[5.0, 0.0]] * 3)}
+    tracks = {
+        7: np.array([[0.0, 0.1], [0.0, 0.1], nan]),
+        8: np.array([[5.0, 0.1], [9.0, 0.0], [5.0, 0.0]]),  # person 2 missed in frame 1
+        9: np.array([nan, nan, [0.1, 0.0]]),  # person 1's track from frame 2
+    }
+    metric = ClearMot()
+    assert dict(metric.last_pairs) == {}
+    seen = []
+    for truth, frame_tracks in zip(*synthetic_sequence(people, tracks), strict=True):
+        metric.accumulate(truth, frame_tracks)
+        seen.append(dict(metric.last_pairs))
+    assert seen == [{1: 7, 2: 8}, {1: 7}, {1: 9, 2: 8}]
+    assert metric.result().id_switches == 1
+    with pytest.raises(TypeError):
+        metric.last_pairs[1] = 3  # type: ignore[index]
+
+
+def test_groups_oracle_gap_reads_no_private_attribute_of_the_evaluation() -> None:
+    import ast
+
+    bench = Path(__file__).resolve().parents[1] / "benchmarks" / "groups_oracle_gap.py"
+    tree = ast.parse(bench.read_text())
+    private = {
+        node.attr
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "mot"
+        and node.attr.startswith("_")
+    }
+    assert private == set()

@@ -225,3 +225,42 @@ def test_groups_oracle_gap_reads_no_private_attribute_of_the_evaluation() -> Non
         and node.attr.startswith("_")
     }
     assert private == set()
+
+
+def test_no_scan_note_names_what_to_check_after_its_wait() -> None:
+    from laserpeople.live.waiting import NO_SCAN_WAIT, no_scan_note
+
+    lasers, endpoint = ("/scan",), ("tcp/10.0.0.9:7447",)
+    assert no_scan_note(NO_SCAN_WAIT - 0.1, lasers, endpoint, 0) == ""
+    unanswered = no_scan_note(NO_SCAN_WAIT, lasers, endpoint, 0)
+    assert unanswered.startswith(
+        "no scan on /scan after 10 s: nothing answers at tcp/10.0.0.9:7447"
+    )
+    assert "still waiting (Ctrl-C stops" in unanswered
+    alone = no_scan_note(12.0, lasers, (), 0)
+    assert "no Zenoh peer or router found: give --connect" in alone
+    reached = no_scan_note(12.0, ("/front", "/back"), endpoint, 2)
+    assert reached.startswith("no scan on /front, /back after 12 s: connected to 2 Zenoh")
+    assert "check the topic names" in reached and "nothing answers" not in reached
+    unknown = no_scan_note(12.0, lasers, endpoint, None)
+    assert "nothing answers" not in unknown and "connected to" not in unknown
+
+
+def test_live_says_while_waiting_that_nothing_answers_at_its_endpoint(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    pytest.importorskip("zenoh")
+    import laserpeople.live.waiting as waiting
+    from laserpeople.errors import LaserPeopleError
+    from live_harness import free_port
+
+    monkeypatch.setattr(waiting, "NO_SCAN_WAIT", 0.5)
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    run = CliRunner().invoke(app, ["live", "--connect", endpoint, "--duration", "2.5"])
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    text = " ".join(run.output.split())
+    import re
+
+    assert re.search(rf"warning: no scan on /scan after \d+ s: nothing answers at {endpoint}", text)
+    assert text.count("warning: no scan on /scan") == 1
+    assert f"nothing answers at {endpoint}" in str(run.exception)

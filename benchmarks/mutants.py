@@ -2455,6 +2455,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "outputs-folder-for-every-option",
+        "outputs: only a file output is refused for naming a folder (batch --out is one)",
+        "io/paths.py",
+        "        if name not in folders and out.is_dir():",
+        "        if out.is_dir():",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

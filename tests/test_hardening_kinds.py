@@ -264,3 +264,68 @@ def test_live_says_while_waiting_that_nothing_answers_at_its_endpoint(
     assert re.search(rf"warning: no scan on /scan after \d+ s: nothing answers at {endpoint}", text)
     assert text.count("warning: no scan on /scan") == 1
     assert f"nothing answers at {endpoint}" in str(run.exception)
+
+
+@pytest.fixture(scope="module")
+def small_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from laserpeople.sim.scenarios import run_scenario
+
+    path = tmp_path_factory.mktemp("small") / "small run.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=2).write(path)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("option", "name", "extra"),
+    [
+        ("--bag", "b.bag", []),
+        ("--plot", "p.png", []),
+        ("--animate", "a.gif", []),
+        ("-o", "t.csv", None),
+    ],
+)
+def test_track_refuses_a_folder_for_a_file_output_before_tracking(
+    tmp_path: Path, small_recording: Path, option: str, name: str, extra: list[str] | None
+) -> None:
+    """Found after the whole run before ("Is a directory", with "free disk space" for a
+    bag): now before any work, the CSV not begun."""
+    from laserpeople.errors import ConfigError
+
+    folder = tmp_path / name
+    folder.mkdir()
+    csv = tmp_path / "tracks.csv"
+    args = ["track", str(small_recording), "-o", str(folder if extra is None else csv)]
+    if extra is not None:
+        args += [option, str(folder)]
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, ConfigError), run.output
+    assert str(run.exception).startswith(f"{option} {folder} is a folder: {option} writes a file")
+    assert not csv.exists()
+
+
+def test_simulate_view_and_detect_refuse_a_folder_for_their_file(
+    tmp_path: Path, small_recording: Path
+) -> None:
+    from laserpeople.errors import ConfigError
+
+    folder = tmp_path / "out.npz"
+    folder.mkdir()
+    for args in (
+        ["simulate", "figure-eight", "--seconds", "1", "-o", str(folder)],
+        ["view", str(small_recording), "-o", str(folder)],
+        ["detect", str(small_recording), "-o", str(folder)],
+    ):
+        run = CliRunner().invoke(app, args)
+        assert isinstance(run.exception, ConfigError), (args, run.output)
+        assert f"-o {folder} is a folder" in str(run.exception)
+    assert list(folder.iterdir()) == []
+
+
+def test_batch_out_is_a_folder_and_stays_allowed(tmp_path: Path) -> None:
+    from laserpeople.io.paths import check_outputs
+
+    out = tmp_path / "runs"
+    out.mkdir()
+    check_outputs({"--out": out}, [], folders={"--out"})
+    with pytest.raises(Exception, match="is a folder"):
+        check_outputs({"--out": out}, [])

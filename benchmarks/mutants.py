@@ -2463,6 +2463,22 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "config-line-exact-key-only",
+        "config: a key set inside an inline table is found on the inline table's line",
+        "config.py",
+        "            if len(full) <= len(target) and full == target[: len(full)]:",
+        "            if full == target:",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "config-line-ignores-table",
+        "config: a key is found under its own table, not under another that sets the name",
+        "config.py",
+        "            full = table + _split_key(key.group(1))",
+        "            full = [target[0], *_split_key(key.group(1))]",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

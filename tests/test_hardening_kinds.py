@@ -329,3 +329,79 @@ def test_batch_out_is_a_folder_and_stays_allowed(tmp_path: Path) -> None:
     check_outputs({"--out": out}, [], folders={"--out"})
     with pytest.raises(Exception, match="is a folder"):
         check_outputs({"--out": out}, [])
+
+
+CONFIG = """# my settings
+[group_tracker]
+static_groups = true
+p_c = 0.5
+
+[leg_tracker]
+p_det_free = 0.3
+people.static_legs = "yes"
+kalman = { accel_psd = "x" }
+
+[leg_tracker.people]
+gate_probability = 0.9
+"""
+
+
+@pytest.mark.parametrize(
+    ("keys", "line"),
+    [
+        (["group_tracker", "static_groups"], 3),
+        (["leg_tracker", "p_det_free"], 7),
+        (["leg_tracker", "people", "static_legs"], 8),  # a dotted key under its table
+        (["leg_tracker", "kalman", "accel_psd"], 9),  # inside an inline table
+        (["leg_tracker", "people", "gate_probability"], 12),  # under [leg_tracker.people]
+        (["leg_tracker", "people"], 11),  # a table: its header
+        (["leg_tracker", "p_c"], None),  # p_c is set under another table only
+        (["reid", "p_det_free"], None),
+    ],
+)
+def test_key_line_finds_the_line_of_a_dotted_key_under_its_table(
+    tmp_path: Path, keys: list[str], line: int | None
+) -> None:
+    from laserpeople.config import key_line
+
+    path = tmp_path / "c.toml"
+    path.write_text(CONFIG)
+    assert key_line(path, keys) == line
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            '[leg_tracker]\n\n# speed\nlambda_new = "fast"\n',
+            'line 4: [leg_tracker] lambda_new = "fast" has the wrong type (text): expected a '
+            "number like the default 0.001",
+        ),
+        (
+            "[leg_tracker]\np_det_free = 0.3\n[leg_tracker.people]\nstatic_legs = 1\n",
+            "line 4: [leg_tracker] people.static_legs = 1 has the wrong type (an integer): "
+            "expected true or false like the default false",
+        ),
+        (
+            "[leg_tracker]\npeople_policy = true\n",
+            "line 2: [leg_tracker] people_policy = true has the wrong type (true or false): "
+            'expected text in quotes like the default "tracks"',
+        ),
+        ("leg_tracker = 3\n", "line 1: [leg_tracker] must be a table"),
+        ("[leg_tracker]\n\nmax_sped = 1.0\n", "line 3: unknown parameter(s) max_sped"),
+        ("# a\n\n[leg_trackr]\n", "line 3: unknown section(s) [leg_trackr]"),
+        ("[leg_tracker]\n\np_det_free = 1.5\n", "line 3: [leg_tracker] p_det_free = 1.5 is a"),
+    ],
+)
+def test_track_names_the_file_line_key_and_type_wanted_of_a_config_value(
+    tmp_path: Path, small_recording: Path, text: str, message: str
+) -> None:
+    from laserpeople.errors import ConfigError
+
+    config = tmp_path / "my settings.toml"
+    config.write_text(text)
+    run = CliRunner().invoke(
+        app, ["track", str(small_recording), "-o", str(tmp_path / "t.csv"), "--config", str(config)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert str(run.exception).startswith(f"{config}: {message}")

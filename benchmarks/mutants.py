@@ -2479,6 +2479,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "environment-case-blind",
+        "environment: a variable is read only under its exact name (case counts)",
+        "cli/environment.py",
+        "or name in KNOWN:",
+        "or name.upper() in KNOWN:",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

@@ -405,3 +405,57 @@ def test_track_names_the_file_line_key_and_type_wanted_of_a_config_value(
     )
     assert isinstance(run.exception, ConfigError), run.output
     assert str(run.exception).startswith(f"{config}: {message}")
+
+
+def test_a_misspelt_laserpeople_variable_is_said_and_the_known_ones_are_not() -> None:
+    from laserpeople.cli.environment import unknown_variables
+
+    env = {
+        "LASERPEOPLE_PURE_PYHTON": "1",
+        "laserpeople_shared_data": "/data",
+        "LASERPEOPLE_PURE_PYTHON": "1",
+        "LASERPEOPLE_SHARED_DATA": "/data",
+        "PATH": "/bin",
+        "MY_LASERPEOPLE_X": "1",
+    }
+    lines = unknown_variables(env)
+    assert lines == [
+        "the environment variable LASERPEOPLE_PURE_PYHTON is not read by laserpeople (did you "
+        "mean 'LASERPEOPLE_PURE_PYTHON'?); it reads LASERPEOPLE_PURE_PYTHON and "
+        "LASERPEOPLE_SHARED_DATA",
+        "the environment variable laserpeople_shared_data is not read by laserpeople (did you "
+        "mean 'LASERPEOPLE_SHARED_DATA'?); it reads LASERPEOPLE_PURE_PYTHON and "
+        "LASERPEOPLE_SHARED_DATA",
+    ]
+
+
+def test_commands_warn_of_an_unread_variable(small_recording: Path, tmp_path: Path) -> None:
+    run = CliRunner().invoke(
+        app,
+        ["track", str(small_recording), "-o", str(tmp_path / "t.csv")],
+        env={"LASERPEOPLE_PURE_PYHTON": "1"},
+    )
+    assert run.exit_code == 0, run.output
+    text = " ".join(run.output.split())
+    assert "warning: the environment variable LASERPEOPLE_PURE_PYHTON is not read" in text
+
+
+def test_a_warning_of_the_same_text_is_said_once_per_command(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """LASERPEOPLE_PURE_PYTHON=maybe was said by each of the two C extensions loaded."""
+    import warnings
+
+    import laserpeople.cli.common as common
+    from laserpeople.errors import LaserPeopleWarning
+
+    said: list[str] = []
+    monkeypatch.setattr(common, "warn", said.append)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        common.warnings_as_lines()
+        for text in ("a note", "a note", "another note", "a note"):
+            warnings.warn(text, LaserPeopleWarning, stacklevel=1)
+        common.warnings_as_lines()  # the next command says it again
+        warnings.warn("a note", LaserPeopleWarning, stacklevel=1)
+    assert said == ["a note", "another note", "a note"]

@@ -417,16 +417,20 @@ def warn(message: str) -> None:
 def warnings_as_lines() -> None:
     """Print this package's warnings (:class:`~laserpeople.errors.LaserPeopleWarning`) as
     :func:`warn` lines, not as Python shows them (with the source file and line of the
-    code that warned); other warnings, and all with --debug, as Python shows them."""
+    code that warned), each text once per command (a note of a file read twice, a setting
+    checked by two modules); other warnings, and all with --debug, as Python shows them."""
     import warnings
 
     from laserpeople.errors import LaserPeopleWarning
 
     shown = getattr(warnings.showwarning, "python_showwarning", warnings.showwarning)
+    said: set[str] = set()
 
     def show(message: Warning | str, category: type[Warning], *args: Any, **kw: Any) -> None:
         if issubclass(category, LaserPeopleWarning) and not STATE.debug:
-            warn(str(message))
+            if str(message) not in said:
+                said.add(str(message))
+                warn(str(message))
         else:
             shown(message, category, *args, **kw)
 

@@ -459,3 +459,33 @@ def test_a_warning_of_the_same_text_is_said_once_per_command(
         common.warnings_as_lines()  # the next command says it again
         warnings.warn("a note", LaserPeopleWarning, stacklevel=1)
     assert said == ["a note", "another note", "a note"]
+
+
+def test_titles_draw_what_the_font_has_and_a_question_mark_for_the_rest() -> None:
+    pytest.importorskip("matplotlib")
+    from laserpeople.viz.figure import drawable
+
+    assert drawable("run ü é 🙂.npz /scan") == "run ü é ?.npz /scan"
+    assert drawable("plain\nascii") == "plain\nascii"
+
+
+@pytest.mark.parametrize("suffix", [".png", ".gif"])
+def test_view_of_a_recording_named_with_an_emoji_prints_no_font_warning(
+    tmp_path: Path, suffix: str
+) -> None:
+    pytest.importorskip("matplotlib")
+    import shutil
+    import warnings
+
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "my run ü 🙂.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=2).write(rec)
+    out = tmp_path / "out ü" / f"v 🙂{suffix}"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run = CliRunner().invoke(app, ["view", str(rec), "-o", str(out)])
+    assert run.exit_code == 0, run.output
+    assert [str(w.message) for w in caught if "Glyph" in str(w.message)] == []
+    assert out.stat().st_size > 1000
+    shutil.rmtree(out.parent)

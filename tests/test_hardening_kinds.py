@@ -489,3 +489,41 @@ def test_view_of_a_recording_named_with_an_emoji_prints_no_font_warning(
     assert [str(w.message) for w in caught if "Glyph" in str(w.message)] == []
     assert out.stat().st_size > 1000
     shutil.rmtree(out.parent)
+
+
+def test_train_neko_names_a_file_a_missing_folder_and_a_folder_without_the_data(
+    tmp_path: Path, small_recording: Path
+) -> None:
+    from laserpeople.errors import RecordingError
+
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (tmp_path / "half").mkdir()
+    (tmp_path / "half" / "xy_data.txt").write_text("720 2 0\n")
+    cases = [
+        (small_recording, "is a file, not a neko7055 folder"),
+        (tmp_path / "missing", "neko7055 folder not found"),
+        (empty, "no xy_data.txt and no leg_segment_labels.json in this folder"),
+        (tmp_path / "half", "no leg_segment_labels.json in this folder: not a neko7055"),
+    ]
+    for folder, message in cases:
+        run = CliRunner().invoke(
+            app, ["train", "-o", str(tmp_path / "m.json"), "--neko", str(folder)]
+        )
+        assert isinstance(run.exception, RecordingError), run.output
+        assert str(run.exception).startswith(f"{folder}: {message}")
+        assert "holding xy_data.txt and leg_segment_labels.json" in str(run.exception)
+
+
+def test_a_folder_given_as_a_bag_is_named_so_not_called_corrupt(tmp_path: Path) -> None:
+    from laserpeople.errors import RecordingError
+
+    folder = tmp_path / "positives"
+    folder.mkdir()
+    run = CliRunner().invoke(
+        app, ["train", "-o", str(tmp_path / "m.json"), "--positives", str(folder)]
+    )
+    assert isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert text.startswith(f"{folder}: is a folder without metadata.yaml, not a bag")
+    assert "reindex" not in text and "corrupt" not in text

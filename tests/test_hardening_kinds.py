@@ -527,3 +527,38 @@ def test_a_folder_given_as_a_bag_is_named_so_not_called_corrupt(tmp_path: Path) 
     text = str(run.exception)
     assert text.startswith(f"{folder}: is a folder without metadata.yaml, not a bag")
     assert "reindex" not in text and "corrupt" not in text
+
+
+@pytest.mark.parametrize("command", ["info", "track", "view", "detect"])
+def test_an_empty_world_frame_is_refused_not_taken_for_the_default(
+    small_recording: Path, tmp_path: Path, command: str
+) -> None:
+    args = [command, str(small_recording), "--world-frame", ""]
+    if command != "info":
+        args += ["-o", str(tmp_path / ("v.png" if command == "view" else "t.csv"))]
+    run = CliRunner().invoke(app, args)
+    assert run.exit_code == 2, run.output
+    assert "Invalid value for '--world-frame': is empty" in " ".join(run.output.split())
+
+
+@pytest.mark.parametrize("option", [["--world-frame", "odom"], ["--mount", "laser=base:1,0,0"]])
+def test_info_refuses_bag_options_on_a_recording_without_tf_as_the_others_do(
+    small_recording: Path, option: list[str]
+) -> None:
+    from laserpeople.errors import ConfigError
+
+    run = CliRunner().invoke(app, ["info", str(small_recording), *option])
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--world-frame and --mount apply to ROS bags only" in str(run.exception)
+
+
+def test_bench_of_a_recording_says_the_scenario_options_are_not_used(
+    small_recording: Path,
+) -> None:
+    args = ["bench", str(small_recording), "--tracker", "nn", "--repeat", "1", "--max-scans", "5"]
+    run = CliRunner().invoke(app, [*args, "--seconds", "-1", "--seed", "3"])
+    assert run.exit_code == 0, run.output
+    text = " ".join(run.output.split())
+    assert "warning: --seconds, --seed set the simulated scenario, which is not run" in text
+    plain = CliRunner().invoke(app, args)
+    assert plain.exit_code == 0 and "simulated scenario" not in plain.output

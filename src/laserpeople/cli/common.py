@@ -27,10 +27,31 @@ if TYPE_CHECKING:
 
 T = TypeVar("T")
 
+
+def given_options(ctx: typer.Context, names: Sequence[str]) -> list[str]:
+    """The options among the parameters ``names`` of the command of ``ctx`` that the user
+    gave on the command line (``--seconds``), in the order of ``names``."""
+    return [
+        f"--{name.replace('_', '-')}"
+        for name in names
+        if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
+    ]
+
+
+def frame_name(value: str | None) -> str | None:
+    """``--world-frame``: a frame's name; empty (``--world-frame ""``, an unset shell
+    variable) is refused, not taken for the default."""
+    if value is not None and not value.strip():
+        raise typer.BadParameter("is empty: give a frame name such as map or odom, or drop it")
+    return value
+
+
 WorldFrameOption = Annotated[
     str | None,
     typer.Option(
-        "--world-frame", help="Fixed frame for sensor poses in bags (default: map, else odom)."
+        "--world-frame",
+        help="Fixed frame for sensor poses in bags (default: map, else odom).",
+        callback=frame_name,
     ),
 ]
 """The ``--world-frame`` option of commands that read sensor poses from a bag's tf."""

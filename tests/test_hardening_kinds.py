@@ -562,3 +562,11 @@ def test_bench_of_a_recording_says_the_scenario_options_are_not_used(
     assert "warning: --seconds, --seed set the simulated scenario, which is not run" in text
     plain = CliRunner().invoke(app, args)
     assert plain.exit_code == 0 and "simulated scenario" not in plain.output
+
+
+def test_align_refuses_an_empty_reference(small_recording: Path, tmp_path: Path) -> None:
+    run = CliRunner().invoke(
+        app, ["align", str(small_recording), "-o", str(tmp_path / "m.toml"), "--reference", ""]
+    )
+    assert run.exit_code == 2, run.output
+    assert "Invalid value for '--reference': is empty" in " ".join(run.output.split())

@@ -46,6 +46,13 @@ def frame_name(value: str | None) -> str | None:
     return value
 
 
+def laser_name(value: str | None) -> str | None:
+    """A laser's topic or frame id; empty is refused, not taken for the default."""
+    if value is not None and not value.strip():
+        raise typer.BadParameter("is empty: give a laser's topic or frame id, or drop it")
+    return value
+
+
 WorldFrameOption = Annotated[
     str | None,
     typer.Option(

@@ -2487,6 +2487,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "staging-left-by-running-run",
+        "outputs: only the folder of a process no longer running is said to be left over",
+        "io/paths.py",
+        "if (m := pattern.fullmatch(e.name)) and e.is_dir() and not _running(int(m.group(1)))",
+        "if (m := pattern.fullmatch(e.name)) and e.is_dir()",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

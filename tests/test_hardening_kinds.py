@@ -570,3 +570,59 @@ def test_align_refuses_an_empty_reference(small_recording: Path, tmp_path: Path)
     )
     assert run.exit_code == 2, run.output
     assert "Invalid value for '--reference': is empty" in " ".join(run.output.split())
+
+
+def _dead_pid() -> int:
+    import subprocess
+
+    done = subprocess.run(["true"], check=True)
+    assert done.returncode == 0
+    proc = subprocess.Popen(["true"])
+    proc.wait()
+    return proc.pid
+
+
+def test_track_bag_says_a_folder_left_by_a_killed_run_and_not_a_running_one(
+    small_recording: Path, tmp_path: Path
+) -> None:
+    import os
+
+    bag = tmp_path / "out.bag"
+    dead = tmp_path / f".out.bag.{_dead_pid()}-abcd1234"
+    running = tmp_path / f".out.bag.{os.getpid()}-efgh5678"
+    other = tmp_path / f".other.bag.{_dead_pid()}-abcd1234"
+    for folder in (dead, running, other):
+        folder.mkdir()
+    run = CliRunner().invoke(
+        app, ["track", str(small_recording), "-o", str(tmp_path / "t.csv"), "--bag", str(bag)]
+    )
+    assert run.exit_code == 0, run.output
+    text = " ".join(run.output.split())
+    assert f"warning: {bag}: {dead.name} beside it was left by an earlier run" in text
+    assert running.name not in text and other.name not in text
+    assert bag.is_file() and dead.is_dir()  # said, not removed
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".out.bag.")) == sorted(
+        [dead.name, running.name]
+    )  # the run's own folder is gone
+
+
+def test_live_record_says_where_the_frames_of_a_killed_recording_are(tmp_path: Path) -> None:
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+    from laserpeople.io.mcap_record import McapRecorder
+
+    target = tmp_path / "run.mcap"
+    dead = tmp_path / f".run.mcap.{_dead_pid()}-zz"
+    dead.mkdir()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        recorder = McapRecorder(target)
+        recorder.close()
+    said = [str(w.message) for w in caught if issubclass(w.category, LaserPeopleWarning)]
+    assert said == [
+        f"{target}: {dead.name} beside it holds the frames of an earlier recording into it "
+        f"that was killed: `laserpeople track {dead / 'out' / 'out.mcap'} --on-error skip` "
+        "reads them; move or remove the folder"
+    ]
+    assert target.is_file()

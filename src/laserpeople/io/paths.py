@@ -194,6 +194,48 @@ def staging_name(path: str | Path) -> Path:
     return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
 
 
+def staging_folder(target: Path) -> Path:
+    """A new hidden folder beside ``target`` to assemble it in (a bag, an MCAP),
+    ``.NAME.PID-XXXXXXXX``: named for this process, so that a later run can tell the folder
+    of a run that was killed (:func:`left_by_killed_runs`).
+
+    Raises:
+        OSError: The folder cannot be made.
+    """
+    import tempfile
+
+    return Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}-", dir=target.parent))
+
+
+def _running(pid: int) -> bool:
+    """Whether a process ``pid`` runs on this machine (unknown counts as running)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process, or no signals here
+        return True
+    return True
+
+
+def left_by_killed_runs(target: Path) -> list[Path]:
+    """The hidden folders of :func:`staging_folder` beside ``target`` whose process no
+    longer runs: a run writing ``target`` that was killed outright (``kill -9``, a power
+    cut) left them, with what it had written. Empty when the folder cannot be listed."""
+    import re
+
+    pattern = re.compile(rf"\.{re.escape(target.name)}\.(\d+)-[^/]*")
+    try:
+        entries = sorted(target.parent.iterdir())
+    except OSError:
+        return []
+    return [
+        e
+        for e in entries
+        if (m := pattern.fullmatch(e.name)) and e.is_dir() and not _running(int(m.group(1)))
+    ]
+
+
 def write_text_file(
     path: str | Path,
     text: str,

@@ -626,3 +626,24 @@ def test_live_record_says_where_the_frames_of_a_killed_recording_are(tmp_path: P
         "reads them; move or remove the folder"
     ]
     assert target.is_file()
+
+
+def test_detect_says_each_kind_of_beam_it_skipped(tmp_path: Path) -> None:
+    from laserpeople.sim.scenarios import run_scenario
+
+    rec = tmp_path / "bad ranges.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=5).write(rec)
+    with np.load(rec) as z:
+        arrays = {k: z[k] for k in z.files}
+    ranges = arrays["ranges"]
+    ranges[np.isposinf(ranges)] = 30.0  # no return written as a long range
+    start = int(arrays["scan_offset"][2])
+    ranges[start : start + 6] = [np.nan, np.nan, -1.0, 0.0, 0.0, 0.0]
+    np.savez(rec, **arrays)  # type: ignore[arg-type]
+    limit = np.repeat(arrays["scan_range_max"], np.diff(arrays["scan_offset"]))
+    over = int(np.count_nonzero(np.isfinite(ranges) & (ranges > limit)))
+    run = CliRunner().invoke(app, ["detect", str(rec), "-o", str(tmp_path / "d.csv")])
+    assert run.exit_code == 0, run.output
+    text = " ".join(run.output.split())
+    assert f"{over + 6:,} invalid beams skipped (NaN 2, negative 1, zero 3, over range_max " in text
+    assert f"over range_max {over:,}); wrote" in text and over > 0

@@ -73,31 +73,40 @@ class EmptyScanCheck:
     def __call__(self, scans: Iterable[Scan]) -> Iterator[Scan]:
         """``scans`` unchanged, counted."""
         for scan in scans:
-            self.scans += 1
-            self.beams += scan.n_beams
-            self.kinds += beam_kinds(scan)
-            if not scan.valid.any():
-                self.empty += 1
-                if self.first is None:
-                    self.first = (scan.sensor, scan.index)
+            self.count(scan)
             yield scan
+
+    def count(self, scan: Scan) -> None:
+        """Count ``scan``'s beams without a valid return, and the scan if it has none."""
+        self.scans += 1
+        self.beams += scan.n_beams
+        self.kinds += beam_kinds(scan)
+        if not scan.valid.any():
+            self.empty += 1
+            if self.first is None:
+                self.first = (scan.sensor, scan.index)
 
     @property
     def left_out(self) -> int:
         """Beams without a valid return, all kinds."""
         return int(self.kinds.sum())
 
+    def kinds_text(self) -> str:
+        """Each kind of beam left out with its count (``NaN 3, +inf 2,690``); empty without
+        any."""
+        return ", ".join(
+            f"{kind} {int(n):,}" for kind, n in zip(BEAM_KINDS, self.kinds, strict=True) if n
+        )
+
     def beam_summary(self) -> str:
         """One line for the user naming each kind of beam left out and its count; empty
         when every beam had a valid return."""
         if not self.left_out:
             return ""
-        kinds = ", ".join(
-            f"{kind} {int(n):,}" for kind, n in zip(BEAM_KINDS, self.kinds, strict=True) if n
-        )
         return (
             f"{self.left_out:,} of {self.beams:,} beams had no valid return and were left "
-            f"out ({kinds}; +inf and over range_max are most lasers' 'nothing in range')"
+            f"out ({self.kinds_text()}; +inf and over range_max are most lasers' 'nothing in "
+            "range')"
         )
 
     def summary(self) -> str:

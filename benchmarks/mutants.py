@@ -2495,6 +2495,15 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_kinds.py",),
     ),
     Mutant(
+        "sweep-nested-as-objects",
+        "batch --sweep: a grid point is set over the section as a table, nested ones too",
+        "batch/options.py",
+        "return from_mapping(cls, merged(dataclasses.asdict(obj), values))",
+        "return from_mapping(cls, {**{k: getattr(obj, k) for k in obj.__dataclass_fields__}, "
+        "**values})",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",

@@ -647,3 +647,39 @@ def test_detect_says_each_kind_of_beam_it_skipped(tmp_path: Path) -> None:
     text = " ".join(run.output.split())
     assert f"{over + 6:,} invalid beams skipped (NaN 2, negative 1, zero 3, over range_max " in text
     assert f"over range_max {over:,}); wrote" in text and over > 0
+
+
+def test_a_sweep_over_a_section_with_nested_tables_keeps_the_config_s_nested_values(
+    tmp_path: Path,
+) -> None:
+    """[grid.leg_tracker] failed on every setting ('kalman = KalmanParams(...) must be a
+    table'): the leg tracker's parameters hold nested tables."""
+    from laserpeople.batch.options import TrackOptions, resolve
+
+    config = tmp_path / "base.toml"
+    config.write_text("[leg_tracker]\npeople.static_legs = true\nkalman.accel_psd = 20.0\n")
+    options = TrackOptions(config=config)
+    plain = resolve(options)
+    swept = resolve(options, {"leg_tracker": {"lambda_new": 0.0005}})
+    assert swept.tracker_params.lambda_new == pytest.approx(0.0005, abs=1e-15)
+    assert swept.tracker_params.people.static_legs is True
+    assert swept.tracker_params.kalman.accel_psd == pytest.approx(20.0, abs=1e-12)
+    assert swept.tracker_params.kalman == plain.tracker_params.kalman
+    assert swept.digest != plain.digest
+    same = resolve(options, {"leg_tracker": {"lambda_new": plain.tracker_params.lambda_new}})
+    assert same.digest == plain.digest
+
+
+def test_a_grid_value_the_parameters_refuse_names_the_sweep_file(
+    small_recording: Path, tmp_path: Path
+) -> None:
+    from laserpeople.errors import ConfigError
+
+    sweep = tmp_path / "grid.toml"
+    sweep.write_text("[grid.leg_tracker]\nlambda_neww = [0.1]\n")
+    run = CliRunner().invoke(
+        app,
+        ["batch", str(small_recording), "--out", str(tmp_path / "out"), "--sweep", str(sweep)],
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert str(run.exception).startswith(f"{sweep}: unknown parameter(s) lambda_neww in")

@@ -323,17 +323,17 @@ def load_config(cls: type[T], path: str | Path | None, preset: str | None = None
     if not isinstance(section, Mapping):
         name = f"[{section_name(cls)}]"
         raise ConfigError(f"{_at(str(p), name)}{name} must be a table", path=p)
-    return from_mapping(cls, _over(base, section), where=str(p))
+    return from_mapping(cls, merged(base, section), where=str(p))
 
 
-def _over(base: Mapping[str, Any], values: Mapping[str, Any]) -> dict[str, Any]:
+def merged(base: Mapping[str, Any], values: Mapping[str, Any]) -> dict[str, Any]:
     """``base`` with ``values`` over it; a nested table (both sides mappings) merged key by
     key, so that a file setting one key of ``[x.mht]`` keeps the preset's others."""
     out = dict(base)
     for key, value in values.items():
         old = out.get(key)
         if isinstance(old, Mapping) and isinstance(value, Mapping):
-            out[key] = _over(old, value)
+            out[key] = merged(old, value)
         else:
             out[key] = value
     return out

@@ -683,3 +683,19 @@ def test_a_grid_value_the_parameters_refuse_names_the_sweep_file(
     )
     assert isinstance(run.exception, ConfigError), run.output
     assert str(run.exception).startswith(f"{sweep}: unknown parameter(s) lambda_neww in")
+
+
+def test_evaluate_of_a_folder_that_is_no_batch_folder_says_so(tmp_path: Path) -> None:
+    from laserpeople.errors import EvaluationError
+
+    plain = tmp_path / "runs"
+    plain.mkdir()
+    sweep = tmp_path / "sweep"
+    (sweep / "settings-000" / "tune").mkdir(parents=True)
+    (sweep / "sweep.csv").write_text("rank\n")
+    for folder, hint in ((plain, "give a tracks file and its --truth"), (sweep, "a sweep's")):
+        run = CliRunner().invoke(app, ["evaluate", str(folder)])
+        assert isinstance(run.exception, EvaluationError), run.output
+        text = str(run.exception)
+        assert text.startswith(f"{folder}: is a folder but not the --out folder of")
+        assert hint in text

@@ -271,6 +271,9 @@ def run_tracking(
         report_damage(source.recording)
     for line in source.summary():
         say(line)
+    beams = source.empty.beam_summary()
+    if beams:
+        say(beams)
     merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
     if merged:
         say(f"{merged} leg detections dropped as another laser's view of the same leg")

@@ -1383,7 +1383,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "config-nested-table-replaced",
         "configuration: a nested table merged over the preset's key by key",
         "config.py",
-        "            out[key] = _over(old, value)\n",
+        "            out[key] = merged(old, value)\n",
         "            out[key] = value\n",
         SETTINGS,
     ),

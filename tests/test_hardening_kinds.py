@@ -699,3 +699,20 @@ def test_evaluate_of_a_folder_that_is_no_batch_folder_says_so(tmp_path: Path) ->
         text = str(run.exception)
         assert text.startswith(f"{folder}: is a folder but not the --out folder of")
         assert hint in text
+
+
+def test_simulate_refuses_an_output_it_cannot_write_before_simulating(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`simulate -o scene.csv` says which extensions it writes before any simulation runs
+    (a long scenario was simulated in full and then refused)."""
+    from laserpeople import sim
+    from laserpeople.errors import LaserPeopleError
+
+    ran: list[str] = []
+    monkeypatch.setattr(sim, "run_scenario", lambda name, **_: ran.append(name))
+    out = tmp_path / "scene.csv"
+    run = CliRunner().invoke(app, ["simulate", "demo", "--seconds", "600", "-o", str(out)])
+    assert isinstance(run.exception, LaserPeopleError), run.output
+    assert "cannot write simulated recordings as '.csv'" in str(run.exception)
+    assert ran == [] and not out.exists()

@@ -716,3 +716,19 @@ def test_simulate_refuses_an_output_it_cannot_write_before_simulating(
     assert isinstance(run.exception, LaserPeopleError), run.output
     assert "cannot write simulated recordings as '.csv'" in str(run.exception)
     assert ran == [] and not out.exists()
+
+
+def test_fit_truth_that_is_a_folder_or_missing_is_named_so(tmp_path: Path) -> None:
+    """`fit --truth` given a folder, a missing file or another file says which it is."""
+    from laserpeople.fitting.data import read_truth
+    from laserpeople.fitting.estimates import FitError
+
+    (tmp_path / "runs").mkdir()
+    (tmp_path / "notes.txt").write_text("scan,stamp\n")
+    for name, what in (
+        ("runs", "is a folder, not a truth file"),
+        ("nosuch.csv", "does not exist"),
+        ("notes.txt", "is neither a truth CSV nor a bag"),
+    ):
+        with pytest.raises(FitError, match=what):
+            read_truth(str(tmp_path / name), None)

@@ -727,7 +727,7 @@ def test_fit_truth_that_is_a_folder_or_missing_is_named_so(tmp_path: Path) -> No
     (tmp_path / "notes.txt").write_text("scan,stamp\n")
     for name, what in (
         ("runs", "is a folder, not a truth file"),
-        ("nosuch.csv", "does not exist"),
+        ("nosuch.txt", "does not exist"),
         ("notes.txt", "is neither a truth CSV nor a bag"),
     ):
         with pytest.raises(FitError, match=what):

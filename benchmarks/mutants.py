@@ -94,6 +94,7 @@ ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
+SPARSE = ("tests/test_detect_sparse.py",)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
     "tests/test_detect_features_reference.py",
@@ -2503,6 +2504,38 @@ MUTANTS: tuple[Mutant, ...] = (
         "            deferred.complete(np.flatnonzero(ok))",
         "            deferred.complete(rows[ok[rows]])",
         DEFERRED,
+    ),
+    Mutant(
+        "sparse-two-beams",
+        "sparse legs: taken where a leg gets fewer than two beams, not three",
+        "detection/sparse.py",
+        "ok = expected_beams(distance, scan.angle_increment, params.leg_width) < MIN_POINTS",
+        "ok = expected_beams(distance, scan.angle_increment, params.leg_width) < MIN_POINTS - 1",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-depth",
+        "sparse legs: a neighbour anywhere behind, not a jump distance behind",
+        "detection/sparse.py",
+        "return np.asarray(~valid | (ranges[at] - distance >= jump_distance))",
+        "return np.asarray(~valid | (ranges[at] - distance >= 0.0))",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-width",
+        "sparse legs: two points up to twice the leg width apart",
+        "detection/sparse.py",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= params.leg_width",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= 2.0 * params.leg_width",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-repeated-reading",
+        "sparse legs: one reading on two beams counted as two points",
+        "detection/sparse.py",
+        "ok &= distinct >= params.min_points",
+        "ok &= distinct >= 1",
+        SPARSE,
     ),
 )
 

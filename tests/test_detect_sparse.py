@@ -22,10 +22,11 @@ def _scan(
     leg: list[float], increment: float = ONE_DEG, wall: float = 6.0, beam: int = LEG
 ) -> tuple[Scan, JumpDistanceSegmenter]:
     """A scan of a wall at ``wall`` m with the ranges ``leg`` [m] from beam ``beam`` on."""
-    n = round(math.radians(120.0) / increment) + 1
+    n = round(math.radians(120.0) / abs(increment)) + 1
     ranges = np.full(n, wall)
     ranges[beam : beam + len(leg)] = leg
-    scan = Scan(0.0, -math.radians(60.0), increment, ranges, 0.05, 20.0)
+    start = -math.copysign(math.radians(60.0), increment)  # (a negative one sweeps clockwise)
+    scan = Scan(0.0, start, increment, ranges, 0.05, 20.0)
     return scan, JumpDistanceSegmenter(JumpDistanceParams(threshold=JUMP))
 
 
@@ -86,6 +87,32 @@ def test_at_the_end_of_a_scan_there_is_no_neighbour() -> None:
     assert _sparse_beams(scan, seg) == [[N - 2, N - 1]]
     scan, seg = _scan([5.0, 5.02], beam=0)
     assert _sparse_beams(scan, seg) == [[0, 1]]
+
+
+def test_a_full_circle_wraps_to_its_last_beam() -> None:
+    ranges = np.full(360, 6.0)
+    ranges[:2] = [5.0, 5.02]
+    full = Scan(0.0, -math.pi, ONE_DEG, ranges, 0.05, 20.0)
+    seg = JumpDistanceSegmenter(JumpDistanceParams(threshold=JUMP))
+    assert _sparse_beams(full, seg) == [[0, 1]]
+    ranges[-1] = 5.1  # (a segment of its own, 0.133 m away, but not a jump distance behind)
+    full = Scan(0.0, -math.pi, ONE_DEG, ranges, 0.05, 20.0)
+    assert _sparse_beams(full, seg) == []
+    part = Scan(0.0, -math.pi, ONE_DEG, ranges[:-1], 0.05, 20.0)  # (359 deg: no wrap)
+    assert _sparse_beams(part, seg) == [[0, 1]]
+
+
+def test_a_block_of_scans_gives_each_scan_its_own_legs() -> None:
+    a, _ = _scan([5.0, 5.02])  # a sparse leg
+    b, _ = _scan([5.0, 5.02], increment=math.radians(0.25), beam=240)  # none: fine scanner
+    c, _ = _scan([5.0, 5.03], increment=-math.radians(0.5), beam=100)  # one, clockwise
+    d, _ = _scan([3.0, 3.02], beam=20)
+    one = [AdaBoostLegDetector.default().detect(s) for s in (a, b, c, d)]
+    block = AdaBoostLegDetector.default().detect_many([a, b, c, d])
+    assert [len(x) for x in one] == [1, 0, 1, 1]
+    for x, y in zip(one, block, strict=True):
+        np.testing.assert_allclose(x.positions, y.positions, atol=1e-12)
+        assert x.scores.tolist() == y.scores.tolist()
 
 
 def test_no_wider_than_a_leg() -> None:

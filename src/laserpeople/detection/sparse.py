@@ -91,10 +91,13 @@ class SparseLegParams:
             raise ValueError(f"score must be finite, got {self.score}")
 
 
-def expected_beams(distance: FloatArray, increment: float, leg_width: float) -> FloatArray:
+def expected_beams(
+    distance: FloatArray, increment: FloatArray | float, leg_width: float
+) -> FloatArray:
     """Beams (n,) a leg of ``leg_width`` [m] gets at ``distance`` (n,) [m] from a scanner of
-    angle increment ``increment`` [rad] (either sign): the width over the beam spacing."""
-    spacing = np.maximum(np.asarray(distance, dtype=np.float64) * abs(increment), 1e-12)
+    angle increment ``increment`` [rad] (either sign; one or (n,)): the width over the beam
+    spacing."""
+    spacing = np.maximum(np.asarray(distance, dtype=np.float64) * np.abs(increment), 1e-12)
     return np.asarray(leg_width / spacing)
 
 
@@ -103,25 +106,8 @@ def sparse_legs(
 ) -> IntArray:
     """Indices (L,) of the segments of ``table`` (the segmentation of ``scan`` with jump
     distance ``jump_distance`` [m]) that are sparse legs, increasing."""
-    sizes = table.sizes
-    cand = np.flatnonzero((sizes >= params.min_points) & (sizes < MIN_POINTS))
-    if not params.enabled or cand.size == 0:
-        return cand[:0]
-    lo = table.offsets[cand]
-    hi = table.offsets[cand + 1] - 1
-    p0, p1 = table.points[lo], table.points[hi]
-    ranges = np.asarray(scan.ranges, dtype=np.float64)
-    r0, r1 = ranges[table.beams[lo]], ranges[table.beams[hi]]
-    distance = 0.5 * (r0 + r1)
-    ok = expected_beams(distance, scan.angle_increment, params.leg_width) < MIN_POINTS
-    distinct = 1 + (sizes[cand] == 2) * (r0 != r1)  # (ranges exactly equal: one reading twice)
-    ok &= distinct >= params.min_points
-    ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= params.leg_width
-    before, after = table.beams[lo] - 1, table.beams[hi] + 1
-    full = covers_full_circle(scan)
-    ok &= _behind(scan.valid, ranges, before, r0, jump_distance, full)
-    ok &= _behind(scan.valid, ranges, after, r1, jump_distance, full)
-    return cand[ok]
+    starts = np.array([0, len(table)], dtype=np.int64)
+    return _sparse(table.beams, table.points, table.offsets, starts, [scan], jump_distance, params)
 
 
 def sparse_legs_of_block(
@@ -131,34 +117,59 @@ def sparse_legs_of_block(
     params: SparseLegParams,
 ) -> IntArray:
     """Indices (L,) of the sparse legs among all segments of ``block`` (the segmentation of
-    ``scans``), increasing."""
-    if not params.enabled:
-        return np.empty(0, dtype=np.int64)
-    parts = [
-        start + sparse_legs(table, scan, jump_distance, params)
-        for start, table, scan in zip(
-            block.table_starts[:-1].tolist(), block.tables, scans, strict=True
-        )
-    ]
-    return np.concatenate(parts) if parts else np.empty(0, dtype=np.int64)
+    ``scans``), increasing: those :func:`sparse_legs` gives each scan's table, found for
+    all of them at once."""
+    return _sparse(
+        block.beams, block.points, block.offsets, block.table_starts, scans, jump_distance, params
+    )
 
 
-def _behind(
-    valid: BoolArray,
-    ranges: FloatArray,
+def _sparse(
     beams: IntArray,
-    distance: FloatArray,
+    points: FloatArray,
+    offsets: IntArray,
+    table_starts: IntArray,
+    scans: Sequence[Scan],
     jump_distance: float,
-    full_circle: bool,
-) -> BoolArray:
-    """Whether each beam of ``beams`` (L,) (may run one past either end of the scan, whose
-    beams are ``valid`` (N,) with ``ranges`` (N,) [m]) has no return, or one at least
-    ``jump_distance`` [m] beyond ``distance`` (L,) [m]. Past the end of a scan that covers
-    less than the full circle (``full_circle`` False) there is no beam: no return."""
-    n = valid.size
-    if full_circle:
-        beams = beams % n
-    inside = (beams >= 0) & (beams < n)
-    at = np.clip(beams, 0, n - 1)
-    valid = inside & valid[at]
-    return np.asarray(~valid | (ranges[at] - distance >= jump_distance))
+    params: SparseLegParams,
+) -> IntArray:
+    """The sparse legs among the segments (``offsets`` (M + 1,) into ``beams`` (K,) and
+    ``points`` (K, 2) [m]) of ``scans`` (T,), scan q's segments from ``table_starts[q]``."""
+    sizes = np.diff(offsets)
+    cand = np.flatnonzero((sizes >= params.min_points) & (sizes < MIN_POINTS))
+    if not params.enabled or cand.size == 0:
+        return cand[:0]
+    lo, hi = offsets[cand], offsets[cand + 1] - 1
+    first, last = beams[lo], beams[hi]
+    if len(scans) == 1:
+        scan = scans[0]
+        ranges, valid = np.asarray(scan.ranges, dtype=np.float64), scan.valid
+        base: IntArray | int = 0
+        n: IntArray | int = scan.n_beams
+        increment: FloatArray | float = abs(scan.angle_increment)
+        full: BoolArray | bool = covers_full_circle(scan)
+    else:
+        owner = np.searchsorted(table_starts, cand, side="right") - 1
+        counts = np.array([s.n_beams for s in scans], dtype=np.int64)
+        starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+        ranges = np.concatenate([np.asarray(s.ranges, dtype=np.float64) for s in scans])
+        valid = np.concatenate([s.valid for s in scans])
+        base, n = starts[owner], counts[owner]
+        increment = np.array([abs(s.angle_increment) for s in scans])[owner]
+        full = np.array([covers_full_circle(s) for s in scans])[owner]
+    r0, r1 = ranges[base + first], ranges[base + last]
+    distance = 0.5 * (r0 + r1)
+    ok = expected_beams(distance, increment, params.leg_width) < MIN_POINTS
+    if not ok.any():  # (a fine scanner's: none, and nothing more to compute)
+        return cand[:0]
+    distinct = 1 + (sizes[cand] == 2) * (r0 != r1)  # (ranges exactly equal: one reading twice)
+    ok &= distinct >= params.min_points
+    p0, p1 = points[lo], points[hi]
+    ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= params.leg_width
+    for beam, r in ((first - 1, r0), (last + 1, r1)):
+        beam = np.where(full, beam % n, beam)
+        inside = (beam >= 0) & (beam < n)
+        at = base + np.clip(beam, 0, n - 1)
+        seen = inside & valid[at]
+        ok &= ~seen | (ranges[at] - r >= jump_distance)
+    return cand[ok]

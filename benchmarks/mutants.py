@@ -95,6 +95,7 @@ WALKED = ("tests/test_track_moving_robot.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 KALMAN_ROWS = ("tests/test_track_kalman_compiled.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
+SPARSE = ("tests/test_detect_sparse.py",)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
     "tests/test_detect_features_reference.py",
@@ -2698,6 +2699,54 @@ MUTANTS: tuple[Mutant, ...] = (
         "            deferred.complete(np.flatnonzero(ok))",
         "            deferred.complete(rows[ok[rows]])",
         DEFERRED,
+    ),
+    Mutant(
+        "sparse-two-beams",
+        "sparse legs: taken where a leg gets fewer than two beams, not three",
+        "detection/sparse.py",
+        "ok = expected_beams(distance, increment, params.leg_width) < MIN_POINTS",
+        "ok = expected_beams(distance, increment, params.leg_width) < MIN_POINTS - 1",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-depth",
+        "sparse legs: a neighbour anywhere behind, not a jump distance behind",
+        "detection/sparse.py",
+        "ok &= ~seen | (ranges[at] - r >= jump_distance)",
+        "ok &= ~seen | (ranges[at] - r >= 0.0)",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-width",
+        "sparse legs: two points up to twice the leg width apart",
+        "detection/sparse.py",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= params.leg_width",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= 2.0 * params.leg_width",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-no-wrap",
+        "sparse legs: the neighbour of beam 0 of a full-circle scan taken as no return",
+        "detection/sparse.py",
+        "beam = np.where(full, beam % n, beam)",
+        "beam = np.where(False, beam % n, beam)",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-block-offsets",
+        "sparse legs: every scan of a block read from the first scan's ranges",
+        "detection/sparse.py",
+        "        base, n = starts[owner], counts[owner]",
+        "        base, n = 0 * starts[owner], counts[owner]",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-repeated-reading",
+        "sparse legs: one reading on two beams counted as two points",
+        "detection/sparse.py",
+        "ok &= distinct >= params.min_points",
+        "ok &= distinct >= 1",
+        SPARSE,
     ),
 )
 

@@ -176,3 +176,17 @@ def test_the_detector_reports_a_sparse_leg_with_its_score() -> None:
 def test_bad_values_are_refused(kw: dict[str, float]) -> None:
     with pytest.raises(ValueError):
         SparseLegParams(**kw)  # type: ignore[arg-type]
+
+
+def test_the_paper_preset_detects_legs_of_three_points_or_more_only() -> None:
+    """`--preset paper` (000: features of segments of 3+ points) turns the sparse legs off,
+    for `track` and `live` alike (cli.track.make_detector)."""
+    from laserpeople.cli.track import make_detector
+    from laserpeople.config import load_config
+
+    assert load_config(LegDetectorParams, None).sparse.enabled
+    assert not load_config(LegDetectorParams, None, "paper").sparse.enabled
+    detector = make_detector("adaboost", None, None, "paper")
+    assert isinstance(detector, AdaBoostLegDetector)
+    assert not detector.params.sparse.enabled
+    assert make_detector("adaboost", None, None).params.sparse.enabled  # type: ignore[attr-defined]

@@ -409,7 +409,7 @@ def register(app: typer.Typer) -> None:
         make = tracker_pipelines(
             tracker,
             params,
-            detector=make_detector(detector, model, config),
+            detector=make_detector(detector, model, config, preset),
             leg_fusion=load_config(LegFusionParams, config),
             background=background,
             map_path=map_path,

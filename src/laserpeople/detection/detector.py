@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,6 +59,7 @@ class LegDetectorParams:
     """Parameters shared by the segment-based leg detectors."""
 
     config_section = "leg_detector"
+    paper_preset = MappingProxyType({"sparse": {"enabled": False}})  # 000: 3+ points a leg
 
     leg_position_std: float = param(
         0.1,

@@ -132,6 +132,15 @@ class StillCast:
         live = (self._cover.take(flat) > 0) & (self._hit_frame.take(flat) != self._frame)
         return np.where(live, self._stamp, stored)
 
+    def live(self) -> tuple[NDArray[np.int32], IntArray, int, float] | None:
+        """What :meth:`value` reads besides ``seen_free`` while active: the samples per
+        cell, the last frame with a return per cell, the last frame's number and stamp [s]
+        (a cell is live, its ``seen_free`` that stamp, where it has samples and no return
+        in that frame); None when not active (``seen_free`` holds every cell's)."""
+        if not self.active:
+            return None
+        return self._cover, self._hit_frame, self._frame, float(self._stamp)
+
     def settle(self, seen_free: FloatArray) -> None:
         """Write the last frame's stamp into ``seen_free`` (the grid's array, flat, of the
         shape the coverage was made for) for every live cell and stop (the laser moved, or

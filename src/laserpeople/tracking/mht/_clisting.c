@@ -1,6 +1,6 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
- * end of this file, the scan's clusters, `components`, and the occupancy grid's static
- * time of a few positions, `static_few`).
+ * end of this file, the scan's clusters, `components`, the occupancy grid's static time
+ * of a few positions, `static_few`, and its cells hit by a frame, `grid_hits`, `grid_mark`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1253,6 +1253,184 @@ done:
     return out;
 }
 
+/* ------------------------------------------------------------------ grid_hits, grid_mark
+ *
+ * OccupancyGrid._hits_python and _mark_hits_python compiled: a frame's cells with a return
+ * (the flat indices of floor(x / resolution), floor(y / resolution) into the grid's arrays,
+ * sorted, each once) with the exponents -max(stamp - touched, 0) / decay_time of their
+ * decayed evidence; then, given numpy's exp of those exponents (the C library's exp may
+ * differ from numpy's in the last bit, and the evidence is kept), the cells' evidence,
+ * touched stamps, occupied-since stamps and first-sight flags, with the same IEEE
+ * operations as the numpy reference in the same order. NotImplemented for input the
+ * Python one takes (a point not finite, a cell outside the arrays, buffers not as
+ * expected): nothing is written then. */
+
+/* 0 with the C-contiguous buffer of `obj` (any dimensions) of items `format` (or, with
+ * `alt`, that one) in `view`, `len` its number of items, else 1 (no buffer held, no error
+ * set: the caller refuses). */
+static int flat_buffer(PyObject *obj, Py_buffer *view, const char *format, const char *alt,
+                       int writable, Py_ssize_t *len) {
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) {
+        PyErr_Clear();
+        return 1;
+    }
+    if (!view->format ||
+        (strcmp(view->format, format) != 0 && !(alt && strcmp(view->format, alt) == 0))) {
+        PyBuffer_Release(view);
+        view->obj = NULL;
+        return 1;
+    }
+    *len = view->len / view->itemsize;
+    return 0;
+}
+
+static void release_all(Py_buffer *bufs, int got) {
+    for (int b = 0; b < got; b++) PyBuffer_Release(&bufs[b]);
+}
+
+/* Sort the non-negative v[0..n) ascending: least significant byte first, one counting
+ * pass per byte up to the largest value's (`scratch` holds n items). */
+static void sort_cells(long long *v, long long *scratch, Py_ssize_t n) {
+    long long top = 0;
+    for (Py_ssize_t q = 0; q < n; q++)
+        if (v[q] > top) top = v[q];
+    for (int shift = 0; shift < 64 && (top >> shift) > 0; shift += 8) {
+        Py_ssize_t count[257] = {0};
+        for (Py_ssize_t q = 0; q < n; q++) count[((v[q] >> shift) & 0xff) + 1]++;
+        for (int d = 0; d < 256; d++) count[d + 1] += count[d];
+        for (Py_ssize_t q = 0; q < n; q++) scratch[count[(v[q] >> shift) & 0xff]++] = v[q];
+        memcpy(v, scratch, (size_t)n * sizeof(long long));
+    }
+}
+
+static PyObject *grid_hits(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError,
+                        "grid_hits(points, touched, o0, o1, resolution, stamp, decay_time, "
+                        "hit_out, exponent_out)");
+        return NULL;
+    }
+    long long o0 = PyLong_AsLongLong(args[2]), o1 = PyLong_AsLongLong(args[3]);
+    double res = PyFloat_AsDouble(args[4]), stamp = PyFloat_AsDouble(args[5]);
+    double tau = PyFloat_AsDouble(args[6]);
+    if (PyErr_Occurred()) return NULL;
+    Py_buffer bufs[4];
+    int got = 0;
+    Py_ssize_t lens[4];
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[1], &bufs[1], "d", NULL, 0, &lens[1])) goto refuse;
+    got = 2;
+    if (flat_buffer(args[7], &bufs[2], "l", "q", 1, &lens[2])) goto refuse;
+    got = 3;
+    if (flat_buffer(args[8], &bufs[3], "d", NULL, 1, &lens[3])) goto refuse;
+    got = 4;
+    if (bufs[0].ndim != 2 || bufs[0].shape[1] != 2 || bufs[1].ndim != 2 ||
+        bufs[2].itemsize != 8)
+        goto refuse;
+    Py_ssize_t n = bufs[0].shape[0], h = bufs[1].shape[0], w = bufs[1].shape[1];
+    if (lens[2] < n || lens[3] < n) goto refuse;
+    const double *pts = bufs[0].buf, *touched = bufs[1].buf;
+    long long *hit = bufs[2].buf;
+    double *exponent = bufs[3].buf;
+    for (Py_ssize_t q = 0; q < n; q++) {
+        double x = pts[2 * q], y = pts[2 * q + 1];
+        if (!isfinite(x) || !isfinite(y)) goto refuse;
+        double fi = floor(x / res), fj = floor(y / res);
+        if (!(fabs(fi) < 4e18 && fabs(fj) < 4e18)) goto refuse;
+        long long i = (long long)fi - o0, j = (long long)fj - o1;
+        if (i < 0 || j < 0 || i >= h || j >= w) goto refuse;
+        hit[q] = i * w + j;
+    }
+    long long *scratch = PyMem_Malloc((size_t)(n > 0 ? n : 1) * sizeof(long long));
+    if (!scratch) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    sort_cells(hit, scratch, n);
+    PyMem_Free(scratch);
+    Py_ssize_t k = 0;
+    for (Py_ssize_t q = 0; q < n; q++)
+        if (k == 0 || hit[q] != hit[k - 1]) hit[k++] = hit[q];
+    for (Py_ssize_t q = 0; q < k; q++) {
+        double dt = stamp - touched[hit[q]];
+        if (dt < 0.0) dt = 0.0; /* np.maximum(dt, 0.0): nan and -0.0 stay */
+        exponent[q] = -dt / tau;
+    }
+    release_all(bufs, got);
+    return PyLong_FromSsize_t(k);
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+static PyObject *grid_mark(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 17) {
+        PyErr_SetString(PyExc_TypeError,
+                        "grid_mark(evidence, touched, since, first_sight, seen_free, hit, "
+                        "factor, stamp, occupied, hit_evidence, max_evidence, arrival_window, "
+                        "casting, cover, hit_frame, frame, cast_stamp)");
+        return NULL;
+    }
+    double stamp = PyFloat_AsDouble(args[7]), occ = PyFloat_AsDouble(args[8]);
+    double add = PyFloat_AsDouble(args[9]), top = PyFloat_AsDouble(args[10]);
+    double window = PyFloat_AsDouble(args[11]);
+    int casting = PyObject_IsTrue(args[12]);
+    long long frame = PyLong_AsLongLong(args[15]);
+    double cast_stamp = PyFloat_AsDouble(args[16]);
+    if (PyErr_Occurred() || casting < 0) return NULL;
+    int live = args[13] != Py_None;
+    Py_buffer bufs[9];
+    Py_ssize_t lens[9];
+    int got = 0;
+    const char *formats[9] = {"d", "d", "d", "?", "d", "l", "d", "i", "l"};
+    const char *alts[9] = {NULL, NULL, NULL, NULL, NULL, "q", NULL, NULL, "q"};
+    const int writable[9] = {1, 1, 1, 1, 0, 0, 0, 0, 0};
+    const int which[9] = {0, 1, 2, 3, 4, 5, 6, 13, 14};
+    for (int b = 0; b < (live ? 9 : 7); b++) {
+        if (flat_buffer(args[which[b]], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+    }
+    Py_ssize_t size = lens[0], k = lens[5];
+    if (bufs[5].itemsize != 8 || lens[1] != size || lens[2] != size || lens[3] != size ||
+        lens[4] != size || lens[6] != k || (live && (lens[7] != size || lens[8] != size ||
+                                                     bufs[8].itemsize != 8)))
+        goto refuse;
+    double *ev = bufs[0].buf, *touched = bufs[1].buf, *since = bufs[2].buf;
+    char *first = bufs[3].buf;
+    const double *seen_free = bufs[4].buf, *factor = bufs[6].buf;
+    const long long *hit = bufs[5].buf;
+    const int *cover = live ? bufs[7].buf : NULL;
+    const long long *hit_frame = live ? bufs[8].buf : NULL;
+    for (Py_ssize_t q = 0; q < k; q++)
+        if (hit[q] < 0 || hit[q] >= size) goto refuse;
+    for (Py_ssize_t q = 0; q < k; q++) {
+        Py_ssize_t c = (Py_ssize_t)hit[q];
+        double before = ev[c] * factor[q];
+        int was = before >= occ;
+        double after = before + add;
+        if (!(after <= top || after != after)) after = top; /* np.minimum: nan stays */
+        int now = after >= occ;
+        ev[c] = after;
+        touched[c] = stamp;
+        double s = since[c];
+        int kept = was && s == s; /* occupied before, and not free: since not nan */
+        since[c] = kept ? s : (now ? stamp : Py_NAN);
+        double seen = (live && cover[c] > 0 && hit_frame[c] != frame) ? cast_stamp : seen_free[c];
+        int arrived = stamp - seen <= window;
+        if (!kept) first[c] = (char)(casting && now && !arrived);
+    }
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 /* ------------------------------------------------------------------ prune
  *
  * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
@@ -1940,6 +2118,16 @@ static PyMethodDef methods[] = {
      "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
      "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
      "values, or NotImplemented where it decides otherwise."},
+    {"grid_hits", (PyCFunction)(void (*)(void))grid_hits, METH_FASTCALL,
+     "grid_hits(points, touched, o0, o1, resolution, stamp, decay_time, hit_out, "
+     "exponent_out): OccupancyGrid._hits_python's cells written to hit_out and their decay "
+     "exponents to exponent_out, their number returned, or NotImplemented where the Python "
+     "one runs."},
+    {"grid_mark", (PyCFunction)(void (*)(void))grid_mark, METH_FASTCALL,
+     "grid_mark(evidence, touched, since, first_sight, seen_free, hit, factor, stamp, "
+     "occupied, hit_evidence, max_evidence, arrival_window, casting, cover, hit_frame, frame, "
+     "cast_stamp): OccupancyGrid._mark_hits_python's update of the cells hit, None, or "
+     "NotImplemented (nothing written) where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

@@ -77,6 +77,38 @@ def static_few(
     near: float,
     /,
 ) -> list[float] | NotImplementedType: ...
+def grid_hits(
+    points: NDArray[np.float64],
+    touched: NDArray[np.float64],
+    o0: int,
+    o1: int,
+    resolution: float,
+    stamp: float,
+    decay_time: float,
+    hit_out: NDArray[np.int64],
+    exponent_out: NDArray[np.float64],
+    /,
+) -> int | NotImplementedType: ...
+def grid_mark(
+    evidence: NDArray[np.float64],
+    touched: NDArray[np.float64],
+    since: NDArray[np.float64],
+    first_sight: NDArray[np.bool_],
+    seen_free: NDArray[np.float64],
+    hit: NDArray[np.int64],
+    factor: NDArray[np.float64],
+    stamp: float,
+    occupied: float,
+    hit_evidence: float,
+    max_evidence: float,
+    arrival_window: float,
+    casting: bool,
+    cover: NDArray[np.int32] | None,
+    hit_frame: NDArray[np.int64] | None,
+    frame: int,
+    cast_stamp: float,
+    /,
+) -> None | NotImplementedType: ...
 def prune(
     hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
 ) -> list[Hypothesis] | NotImplementedType: ...

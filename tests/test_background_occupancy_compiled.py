@@ -1,0 +1,225 @@
+"""The occupancy grid's learning of the cells a frame hits, compiled (``grid_hits`` and
+``grid_mark`` of the MHT's C extension), against its Python reference: the same cells,
+and the same evidence, stamps and first-sight flags to the bit (the same IEEE operations
+in the same order, and numpy's ``exp`` in both)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+
+import numpy as np
+import pytest
+
+from laserpeople.background import occupancy
+from laserpeople.background.occupancy import OccupancyGrid, OccupancyParams
+
+Learn = tuple[np.ndarray, float, np.ndarray | None, np.ndarray | None]
+"""One call of ``learn``: points (N, 2), stamp, sensor position, beam ids."""
+
+
+def _compiled() -> tuple[Callable[..., object], Callable[..., object]]:
+    grid = occupancy._compiled_grid()
+    if grid is None:
+        pytest.skip("the C extension is not built, or stale")
+    return grid
+
+
+def _still_room(seed: int) -> Iterator[Learn]:
+    """A laser standing still at the origin (beam ids: the still cast and its live cells)
+    sees walls from the start (occupied at first sight), a box put down after 2 s (it
+    arrives in space seen free), a walker, NaN returns, a pause longer than the decay and
+    a stamp going back."""
+    rng = np.random.default_rng(seed)
+    n = 181
+    angles = np.linspace(-np.pi / 2, np.pi / 2, n)
+    walls = rng.uniform(3.0, 6.0) / np.maximum(np.abs(np.cos(angles)), 0.3)
+    stamps = [0.05 * k for k in range(80)]
+    stamps += [stamps[-1] + 40.0 + 0.05 * k for k in range(20)]  # back after the decay
+    stamps += [stamps[-1] - 0.02, stamps[-1] + 0.05]  # a stamp going back, then on
+    for k, stamp in enumerate(stamps):
+        r = walls + rng.normal(scale=0.01, size=n)
+        if k >= 40:
+            r[60:70] = 1.5  # the box
+        walker = 20 + (k % 120)
+        r[walker : walker + 6] = rng.uniform(0.8, 2.5)
+        if k % 9 == 4:
+            r[rng.integers(0, n, 4)] = np.nan
+        pts = np.column_stack([r * np.cos(angles), r * np.sin(angles)])
+        yield pts, stamp, np.zeros(2), np.arange(n)
+
+
+def _moving_room(seed: int) -> Iterator[Learn]:
+    """Returns from a sensor that drifts (the grid grows; no still cast), then frames
+    without a sensor position (no casting)."""
+    rng = np.random.default_rng(seed)
+    posts = rng.uniform(-4.0, 4.0, size=(30, 2))
+    for k in range(60):
+        walkers = rng.uniform(-4.0, 4.0, size=(12, 2))
+        pts = np.vstack([posts + rng.normal(scale=0.01, size=posts.shape), walkers])
+        sensor = np.array([0.03 * k, -0.01 * k]) if k < 45 else None
+        yield pts, 0.1 * k, sensor, None
+
+
+def _blind_room(seed: int) -> Iterator[Learn]:
+    """The returns of :func:`_moving_room` without a sensor position: no free space is ever
+    cast (nothing is occupied at first sight)."""
+    for pts, stamp, _, _ in _moving_room(seed):
+        yield pts, stamp, None, None
+
+
+def _arrays(g: OccupancyGrid) -> list[bytes]:
+    """The grid's learnt arrays, as bytes (NaN compared by its bits)."""
+    arrays = (g._evidence, g._touched, g._since, g._first_sight, g._seen_free_now())
+    return [g._origin.tobytes()] + [a.tobytes() for a in arrays]
+
+
+@pytest.mark.regression  # two code paths: CI runs it again on another CPU path
+@pytest.mark.parametrize("scene", [_still_room, _moving_room, _blind_room])
+@pytest.mark.parametrize("free_period", [0.0, 0.2])
+def test_compiled_learning_is_the_python_one_to_the_bit(
+    monkeypatch: pytest.MonkeyPatch,
+    scene: Callable[[int], Iterator[Learn]],
+    free_period: float,
+) -> None:
+    """Two grids learn the same frames, one compiled and one in Python: after every frame
+    their evidence, stamps, occupied-since times, first-sight flags and seen-free times are
+    the same bits (exact: each float is the same IEEE operation on the same operands, and
+    the decay's exp is numpy's in both). The frames reach every branch: cells occupied at
+    first sight and arrived ones, cells that stay occupied and cells decayed free, the
+    still laser's live cells."""
+    hits, mark = _compiled()
+    calls = {"hits": 0, "mark": 0}
+
+    def counted(name: str, f: Callable[..., object]) -> Callable[..., object]:
+        def call(*args: object) -> object:
+            out = f(*args)
+            calls[name] += out is not NotImplemented
+            return out
+
+        return call
+
+    monkeypatch.setattr(occupancy, "_grid_compiled", (counted("hits", hits), counted("mark", mark)))
+    params = OccupancyParams(free_period=free_period)
+    for seed in range(3):
+        fast, slow = OccupancyGrid(params), OccupancyGrid(params)
+        first_seen = arrived_seen = live_seen = False
+        for pts, stamp, sensor, beams in scene(seed):
+            fast.learn(pts, stamp, sensor, beams)
+            live_seen = live_seen or fast._still.live() is not None
+            with monkeypatch.context() as m:
+                m.setattr(occupancy, "_grid_compiled", None)
+                slow.learn(pts, stamp, sensor, beams)
+            assert _arrays(fast) == _arrays(slow)
+            occupied = np.isfinite(fast._since)
+            first_seen = first_seen or bool((fast._first_sight & occupied).any())
+            arrived_seen = arrived_seen or bool((~fast._first_sight & occupied).any())
+        assert first_seen == (scene is not _blind_room) and arrived_seen
+        assert live_seen == (scene is _still_room)
+    assert calls["hits"] > 100 and calls["mark"] == calls["hits"]
+
+
+@pytest.mark.parametrize("refusing", [0, 1])
+def test_a_refusal_of_the_compiled_learning_leaves_it_to_python(
+    monkeypatch: pytest.MonkeyPatch, refusing: int
+) -> None:
+    """Where ``grid_hits`` or ``grid_mark`` returns NotImplemented, the Python one does
+    that part: the same grid as Python alone."""
+    grid = list(_compiled())
+    grid[refusing] = lambda *args: NotImplemented
+    fast, slow = OccupancyGrid(), OccupancyGrid()
+    for pts, stamp, sensor, beams in _still_room(1):
+        with monkeypatch.context() as m:
+            m.setattr(occupancy, "_grid_compiled", tuple(grid))
+            fast.learn(pts, stamp, sensor, beams)
+            m.setattr(occupancy, "_grid_compiled", None)
+            slow.learn(pts, stamp, sensor, beams)
+        assert _arrays(fast) == _arrays(slow)
+    assert np.isfinite(fast._since).any()
+
+
+def test_cells_hit_are_sorted_once_each_and_their_decay_exponents() -> None:
+    """``grid_hits``: the flat indices of the returns' cells, sorted, each once (many
+    returns share a cell; indices above 2^8 and 2^16, sorted byte by byte), and
+    ``-max(stamp - touched, 0) / decay_time`` of each (0 where touched later than the
+    stamp)."""
+    hits, _ = _compiled()
+    rng = np.random.default_rng(5)
+    for h, w in ((3, 4), (40, 50), (700, 900)):
+        touched = rng.uniform(0.0, 20.0, size=(h, w))
+        touched[0, :] = np.inf  # later than the stamp: no decay (exponent -0.0 / tau)
+        touched[1, :] = -np.inf  # never: exponent -inf
+        o0, o1, res = -7, 3, 0.05
+        n = 2000
+        cells = np.column_stack([rng.integers(0, h, n), rng.integers(0, w, n)])
+        pts = (cells + np.array([o0, o1]) + rng.uniform(0.1, 0.9, size=(n, 2))) * res
+        hit, exponent = np.empty(n, dtype=np.int64), np.empty(n)
+        k = hits(pts, touched, o0, o1, res, 10.0, 2.5, hit, exponent)
+        assert isinstance(k, int)
+        want = np.unique(np.floor(pts / res).astype(np.int64) @ [w, 1] - (o0 * w + o1))
+        assert hit[:k].tolist() == want.tolist()
+        dt = np.maximum(10.0 - touched.reshape(-1)[want], 0.0)
+        assert exponent[:k].tobytes() == (-dt / 2.5).tobytes()
+        assert np.isneginf(exponent[:k]).sum() == np.isin(want, np.arange(w, 2 * w)).sum()
+    assert hits(np.zeros((0, 2)), touched, 0, 0, 0.05, 1.0, 2.5, hit, exponent) == 0
+
+
+def test_compiled_learning_leaves_to_python_what_it_cannot_read() -> None:
+    """NotImplemented, nothing written, for a return outside the arrays or not finite, an
+    output too short, arrays of another dtype or not C-contiguous, or arrays of another
+    size than the grid's."""
+    hits, mark = _compiled()
+    touched = np.zeros((10, 10))
+    hit, exponent = np.full(3, 7, dtype=np.int64), np.full(3, 7.0)
+    pts = np.array([[0.01, 0.01], [0.2, 0.3], [0.45, 0.05]])
+    assert hits(pts, touched, 0, 0, 0.05, 1.0, 2.5, hit, exponent) == 3
+    outside, below = pts + np.array([0.5, 0.0]), pts - np.array([0.0, 0.05])
+    for bad in (outside, below, np.where(pts > 0.3, np.nan, pts)):
+        assert hits(bad, touched, 0, 0, 0.05, 1.0, 2.5, hit, exponent) is NotImplemented
+    assert hits(pts, touched, 0, 0, 0.05, 1.0, 2.5, hit[:2], exponent) is NotImplemented
+    assert hits(pts, touched[:, ::2], 0, 0, 0.05, 1.0, 2.5, hit, exponent) is NotImplemented
+    assert hits(pts, touched, 0, 0, 0.05, 1.0, 2.5, hit.astype(np.int32), exponent) is (
+        NotImplemented
+    )
+    ev, tt, since = np.zeros((10, 10)), np.zeros((10, 10)), np.full((10, 10), np.nan)
+    first, seen = np.zeros((10, 10), dtype=bool), np.full((10, 10), -np.inf)
+    tail = (1.0, 2.0, 1.0, 10.0, 0.5, True, None, None, 0, 0.0)
+    for cells in (np.array([5, 100]), np.array([-1, 5])):
+        assert mark(ev, tt, since, first, seen, cells, np.ones(2), *tail) is NotImplemented
+    assert mark(ev, tt, since, first, seen, hit, np.ones(2), *tail) is NotImplemented
+    assert mark(ev, tt, since.astype(np.float32), first, seen, hit, np.ones(3), *tail) is (
+        NotImplemented
+    )
+    cover = np.zeros(99, dtype=np.int32)
+    live = (*tail[:6], cover, np.zeros(100, dtype=np.int64), 0, 0.0)
+    assert mark(ev, tt, since, first, seen, hit, np.ones(3), *live) is NotImplemented
+    assert not ev.any() and not tt.any() and np.isnan(since).all() and not first.any()
+    assert mark(ev, tt, since, first, seen, hit, np.ones(3), *tail) is None
+    assert ev.reshape(-1)[hit].tolist() == [1.0] * 3 and tt.reshape(-1)[hit].tolist() == [1.0] * 3
+
+
+def test_a_cell_by_hand_compiled() -> None:
+    """One cell through ``grid_mark``, by hand (evidence 1.5 decayed by 0.5, plus 2, at
+    most 3; occupied from 2): 1.5 * 0.5 + 2 = 2.75 occupied since the stamp; again with
+    factor 1, 3 (the maximum), still occupied since the first stamp; its first sight
+    True only where it was not seen free within the arrival window, and kept while
+    occupied."""
+    _, mark = _compiled()
+    ev, tt = np.full((1, 2), 1.5), np.zeros((1, 2))
+    since, first = np.full((1, 2), np.nan), np.zeros((1, 2), dtype=bool)
+    seen = np.array([[-np.inf, 9.8]])  # cell 1 seen free 0.2 s before the stamp 10
+    hit = np.array([0, 1])
+    args = (2.0, 2.0, 3.0, 0.5, True, None, None, 0, 0.0)
+    assert mark(ev, tt, since, first, seen, hit, np.full(2, 0.5), 10.0, *args) is None
+    assert ev.tolist() == [[2.75, 2.75]] and tt.tolist() == [[10.0, 10.0]]
+    assert since.tolist() == [[10.0, 10.0]] and first.tolist() == [[True, False]]
+    seen[0, 0] = 10.5  # seen free since: the flag is kept while the cell stays occupied
+    assert mark(ev, tt, since, first, seen, hit, np.ones(2), 11.0, *args) is None
+    assert ev.tolist() == [[3.0, 3.0]] and since.tolist() == [[10.0, 10.0]]
+    assert first.tolist() == [[True, False]]
+    # decayed below 2 before this return: occupied anew, since the stamp; the still
+    # laser's live cell counts as seen free at the cast's stamp 11.9
+    cover, frames = np.array([0, 1], dtype=np.int32), np.array([3, 3], dtype=np.int64)
+    live = (2.0, 2.0, 3.0, 0.5, True, cover, frames, 4, 11.9)
+    assert mark(ev, tt, since, first, seen, hit, np.full(2, 0.1), 12.0, *live) is None
+    assert ev.reshape(-1).tolist() == pytest.approx([2.3, 2.3], abs=1e-12)
+    assert since.tolist() == [[12.0, 12.0]] and first.tolist() == [[True, False]]

@@ -1496,6 +1496,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_occupancy_compiled.py",),
     ),
     Mutant(
+        "still-cast-compiled-this-frames-stamp",
+        "still laser's casting, compiled (cells that stop being live get the last frame's stamp)",
+        "background/still_cast.py",
+        "seen_free, hit, self._safe, self._frame, self._stamp, DIRECTION_TOL",
+        "seen_free, hit, self._safe, self._frame, stamp, DIRECTION_TOL",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
         "histogram-no-beyond-ends-candidates",
         "beam histogram (a scan with no beam beyond its static world ends the candidates)",
         H,

@@ -10,7 +10,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 import pytest
 
-from laserpeople.background import occupancy
+from laserpeople.background import occupancy, still_cast
 from laserpeople.background.occupancy import OccupancyGrid, OccupancyParams
 
 Learn = tuple[np.ndarray, float, np.ndarray | None, np.ndarray | None]
@@ -88,7 +88,8 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
     first sight and arrived ones, cells that stay occupied and cells decayed free, the
     still laser's live cells."""
     hits, mark = _compiled()
-    calls = {"hits": 0, "mark": 0}
+    cast = still_cast._compiled_cast()
+    calls = {"hits": 0, "mark": 0, "cast": 0}
 
     def counted(name: str, f: Callable[..., object]) -> Callable[..., object]:
         def call(*args: object) -> object:
@@ -99,6 +100,7 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
         return call
 
     monkeypatch.setattr(occupancy, "_grid_compiled", (counted("hits", hits), counted("mark", mark)))
+    monkeypatch.setattr(still_cast, "_cast_compiled", counted("cast", cast))
     params = OccupancyParams(free_period=free_period)
     for seed in range(3):
         fast, slow = OccupancyGrid(params), OccupancyGrid(params)
@@ -108,6 +110,7 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
             live_seen = live_seen or fast._still.live() is not None
             with monkeypatch.context() as m:
                 m.setattr(occupancy, "_grid_compiled", None)
+                m.setattr(still_cast, "_cast_compiled", None)
                 slow.learn(pts, stamp, sensor, beams)
             assert _arrays(fast) == _arrays(slow)
             occupied = np.isfinite(fast._since)
@@ -116,22 +119,25 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
         assert first_seen == (scene is not _blind_room) and arrived_seen
         assert live_seen == (scene is _still_room)
     assert calls["hits"] > 100 and calls["mark"] == calls["hits"]
+    assert (calls["cast"] > 20) == (scene is _still_room)
 
 
-@pytest.mark.parametrize("refusing", [0, 1])
+@pytest.mark.parametrize("refusing", [0, 1, 2])
 def test_a_refusal_of_the_compiled_learning_leaves_it_to_python(
     monkeypatch: pytest.MonkeyPatch, refusing: int
 ) -> None:
-    """Where ``grid_hits`` or ``grid_mark`` returns NotImplemented, the Python one does
-    that part: the same grid as Python alone."""
-    grid = list(_compiled())
-    grid[refusing] = lambda *args: NotImplemented
+    """Where ``grid_hits``, ``grid_mark`` or ``still_cast_usual`` returns NotImplemented,
+    the Python one does that part: the same grid as Python alone."""
+    parts = [*_compiled(), still_cast._compiled_cast()]
+    parts[refusing] = lambda *args: NotImplemented
     fast, slow = OccupancyGrid(), OccupancyGrid()
     for pts, stamp, sensor, beams in _still_room(1):
         with monkeypatch.context() as m:
-            m.setattr(occupancy, "_grid_compiled", tuple(grid))
+            m.setattr(occupancy, "_grid_compiled", tuple(parts[:2]))
+            m.setattr(still_cast, "_cast_compiled", parts[2])
             fast.learn(pts, stamp, sensor, beams)
             m.setattr(occupancy, "_grid_compiled", None)
+            m.setattr(still_cast, "_cast_compiled", None)
             slow.learn(pts, stamp, sensor, beams)
         assert _arrays(fast) == _arrays(slow)
     assert np.isfinite(fast._since).any()
@@ -223,3 +229,53 @@ def test_a_cell_by_hand_compiled() -> None:
     assert mark(ev, tt, since, first, seen, hit, np.full(2, 0.1), 12.0, *live) is None
     assert ev.reshape(-1).tolist() == pytest.approx([2.3, 2.3], abs=1e-12)
     assert since.tolist() == [[12.0, 12.0]] and first.tolist() == [[True, False]]
+
+
+def test_the_compiled_still_cast_leaves_to_python_what_is_not_the_usual_frame() -> None:
+    """``still_cast_usual`` returns NotImplemented, and writes nothing, for a beam not
+    listed, beams not increasing, a direction beyond the tolerance, a changed direction of
+    an unsafe list, a NaN direction or a sample count beyond the lists; and casts a frame
+    by hand: beam 0 shortens from 3 samples to 1 (its cells 11 and 12 lose them: 12 had only
+    that one and was live, so it gets the last frame's stamp 5.0; 11 keeps one from beam 1),
+    beam 1 reaches 1 farther (cell 13 gains), beam 2 is not in the frame (cell 14 loses
+    its sample but had a return in the last frame: no stamp), the return in cell 11 (live:
+    stamped) and in cell 15 (not covered) get frame number 8."""
+    cast = still_cast._compiled_cast()
+    if cast is None:
+        pytest.skip("the C extension is not built, or stale")
+    listed, u_listed = np.array([3, 5, 9]), np.array([[1.0, 0.0], [0.0, 1.0], [0.6, 0.8]])
+    cells = np.array([[10, 11, 12, 0], [11, 13, 0, 0], [14, 0, 0, 0]])
+    safe = np.array([True, False, True])
+
+    def state() -> tuple[np.ndarray, ...]:
+        cover = np.zeros(20, dtype=np.int32)
+        cover[[10, 11, 12, 11, 14]] += 1
+        cover[11] = 2
+        hit_frame = np.full(20, -1, dtype=np.int64)
+        hit_frame[14] = 7
+        return np.array([3, 1, 1]), cover, hit_frame, np.full(20, -np.inf)
+
+    ids, n, hit = np.array([3, 5]), np.array([1, 2]), np.array([11, 15])
+    u = u_listed[:2] + np.array([[1e-13, 0.0], [0.0, 0.0]])
+    refused = [
+        (np.array([3, 4]), u, n),  # beam 4 is not listed
+        (np.array([5, 3]), u, n),  # not increasing
+        (ids, u_listed[:2] + 2e-12, n),  # beyond the tolerance
+        (ids, u_listed[:2] + np.array([[0.0, 0.0], [1e-13, 0.0]]), n),  # beam 5: unsafe list
+        (ids, np.array([[np.nan, 0.0], [0.0, 1.0]]), n),
+        (ids, u, np.array([1, 5])),  # more samples than listed
+    ]
+    for frame_ids, frame_u, frame_n in refused:
+        ln, cover, hit_frame, seen = state()
+        before = [a.copy() for a in (ln, cover, hit_frame, seen)]
+        args = (frame_ids, listed, frame_u, u_listed, frame_n, ln, cells, cover, hit_frame, seen)
+        assert cast(*args, hit, safe, 7, 5.0, 1e-12) is NotImplemented
+        after = (ln, cover, hit_frame, seen)
+        assert all(np.array_equal(a, b) for a, b in zip(after, before, strict=True))
+    ln, cover, hit_frame, seen = state()
+    args = (ids, listed, u, u_listed, n, ln, cells, cover, hit_frame, seen, hit, safe, 7, 5.0)
+    assert cast(*args, 1e-12) is None
+    assert ln.tolist() == [1, 2, 0]
+    assert {c: int(cover[c]) for c in range(10, 16)} == {10: 1, 11: 1, 12: 0, 13: 1, 14: 0, 15: 0}
+    assert np.flatnonzero(np.isfinite(seen)).tolist() == [11, 12] and seen[11] == seen[12] == 5.0
+    assert hit_frame[[11, 15]].tolist() == [8, 8] and hit_frame[14] == 7

@@ -32,6 +32,8 @@ otherwise its list is computed again from its present direction.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -213,6 +215,16 @@ class StillCast:
             self._hit_frame = np.full(where[5], -1, dtype=np.int64)
             self.active = True
         listed = self._ids
+        compiled = _compiled_cast()
+        if compiled is not None and listed.size:
+            state = (listed, u, self._u, n, self._n, self._cells, self._cover, self._hit_frame)
+            done = compiled(
+                ids, *state, seen_free, hit, self._safe, self._frame, self._stamp, DIRECTION_TOL
+            )
+            if done is not NotImplemented:
+                self._frame += 1
+                self._stamp = stamp
+                return
         same = listed.size == ids.size and listed.size > 0 and bool((listed == ids).all())
         if same:  # (the usual frame: the same beams as the lists, in the same order)
             pos = self._identity(ids.size)
@@ -305,6 +317,24 @@ class StillCast:
         seen_free[hit[hit_live]] = self._stamp
         self._frame = last + 1
         self._stamp = stamp
+
+
+_UNLOADED = object()
+_cast_compiled: object = _UNLOADED
+
+
+def _compiled_cast() -> Any:
+    """The compiled ``still_cast_usual`` of the MHT's C extension (beside the occupancy
+    grid's ``static_few``, and run where that is: built, not stale, not forced off), or
+    None."""
+    global _cast_compiled
+    if _cast_compiled is _UNLOADED:
+        from laserpeople.background.occupancy import _compiled_static_few
+
+        few = _compiled_static_few()
+        module = None if few is None else few.__self__  # (a module's function: the module)
+        _cast_compiled = getattr(module, "still_cast_usual", None)
+    return _cast_compiled
 
 
 __all__ = ["BOUNDARY_MARGIN", "DIRECTION_TOL", "MAX_COORDINATE", "StillCast"]

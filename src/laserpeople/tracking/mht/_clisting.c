@@ -1,6 +1,7 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
- * of a few positions, `static_few`, and its cells hit by a frame, `grid_hits`, `grid_mark`).
+ * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
+ * and the free-space casting of a laser standing still, `still_cast_usual`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1431,6 +1432,120 @@ refuse:
     Py_RETURN_NOTIMPLEMENTED;
 }
 
+/* ------------------------------------------------------------------ still_cast
+ *
+ * StillCast.cast's usual frame compiled (background/still_cast.py): every beam of the
+ * frame (ids, increasing) already listed, its direction the listed one bit for bit or,
+ * its list safe, within the tolerance per coordinate. Then every beam takes its cells from its list
+ * (a listed beam not in the frame has 0 samples): the coverage gains the samples
+ * [n_old, n) of a beam that reaches farther and loses [n, n_old) of one that reaches less;
+ * a cell with a return that was live (covered, no return in the last frame) and a cell
+ * that loses its last sample while live get the last frame's stamp in seen_free; the
+ * cells with a return get this frame's number; the lists' sample counts become n.
+ * Integers and stored stamps only (no arithmetic on floats but the directions'
+ * differences, |u - u_listed|, compared as the Python one does), so the arrays are the
+ * same as the Python one's. NotImplemented (nothing written) for every other frame and
+ * for input not as expected: the Python one runs. (A cell loses its last sample only if
+ * it had one: its coverage before was positive, as the Python one asks.) */
+
+static PyObject *still_cast_usual(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 15) {
+        PyErr_SetString(PyExc_TypeError,
+                        "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, "
+                        "hit_frame, seen_free, hit, safe, frame, stamp, tolerance)");
+        return NULL;
+    }
+    long long last = PyLong_AsLongLong(args[12]);
+    double stamp = PyFloat_AsDouble(args[13]), tol = PyFloat_AsDouble(args[14]);
+    if (PyErr_Occurred()) return NULL;
+    enum { IDS, LISTED, U, LU, N, LN, CELLS, COVER, HF, SEEN, HIT, SAFE, NBUF };
+    const char *formats[NBUF] = {"l", "l", "d", "d", "l", "l", "l", "i", "l", "d", "l", "?"};
+    const char *alts[NBUF] = {"q", "q", NULL, NULL, "q", "q", "q", NULL, "q", NULL, "q", NULL};
+    const int writable[NBUF] = {0, 0, 0, 0, 0, 1, 0, 1, 1, 1, 0, 0};
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    long long *n_new = NULL;
+    int got = 0;
+    for (int b = 0; b < NBUF; b++) {
+        if (flat_buffer(args[b], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != (b == COVER ? 4 : b == SAFE ? 1 : 8)) goto refuse;
+    }
+    Py_ssize_t nb = lens[IDS], nl = lens[LISTED], size = lens[COVER];
+    if (nb == 0 || nb > nl || lens[U] != 2 * nb || lens[LU] != 2 * nl || lens[N] != nb ||
+        lens[LN] != nl || bufs[CELLS].ndim != 2 || bufs[CELLS].shape[0] != nl ||
+        lens[HF] != size || lens[SEEN] != size || lens[SAFE] != nl)
+        goto refuse;
+    Py_ssize_t kk = bufs[CELLS].shape[1], nh = lens[HIT];
+    const long long *ids = bufs[IDS].buf, *listed = bufs[LISTED].buf, *n = bufs[N].buf;
+    const long long *cells = bufs[CELLS].buf, *hit = bufs[HIT].buf;
+    const double *u = bufs[U].buf, *lu = bufs[LU].buf;
+    long long *ln = bufs[LN].buf, *hit_frame = bufs[HF].buf;
+    int *cover = bufs[COVER].buf;
+    double *seen_free = bufs[SEEN].buf;
+    const char *safe = bufs[SAFE].buf;
+    n_new = PyMem_Calloc((size_t)nl, sizeof(long long)); /* 0: a listed beam not in the frame */
+    if (!n_new) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    /* the usual frame? (and every index in range: nothing is written before this holds) */
+    Py_ssize_t p = 0;
+    for (Py_ssize_t b = 0; b < nb; b++) {
+        if (b > 0 && ids[b] <= ids[b - 1]) goto refuse; /* (not increasing) */
+        while (p < nl && listed[p] < ids[b]) p++;
+        if (p == nl || listed[p] != ids[b]) goto refuse; /* a beam not listed */
+        /* its list stands: the same direction bit for bit, or a safe one within tol */
+        double dx = fabs(u[2 * b] - lu[2 * p]), dy = fabs(u[2 * b + 1] - lu[2 * p + 1]);
+        if (!(dx == 0.0 && dy == 0.0) && !(safe[p] && dx <= tol && dy <= tol)) goto refuse;
+        if (n[b] < 0 || n[b] > kk) goto refuse;
+        n_new[p] = n[b];
+    }
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        if (ln[q] < 0 || ln[q] > kk) goto refuse;
+        long long lo = n_new[q] < ln[q] ? n_new[q] : ln[q];
+        long long hi = n_new[q] < ln[q] ? ln[q] : n_new[q];
+        for (long long k = lo; k < hi; k++) {
+            long long c = cells[q * kk + k];
+            if (c < 0 || c >= size) goto refuse;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nh; q++)
+        if (hit[q] < 0 || hit[q] >= size) goto refuse;
+    /* a cell with a return now that was live in the last frame: its stamp is written */
+    for (Py_ssize_t q = 0; q < nh; q++) {
+        long long c = hit[q];
+        if (cover[c] > 0 && hit_frame[c] != last) seen_free[c] = stamp;
+    }
+    /* the samples gained and lost */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        if (n_new[q] > ln[q])
+            for (long long k = ln[q]; k < n_new[q]; k++) cover[row[k]] += 1;
+        else
+            for (long long k = n_new[q]; k < ln[q]; k++) cover[row[k]] -= 1;
+    }
+    /* a cell that lost its last sample while live (no return in the last frame) */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        for (long long k = n_new[q]; k < ln[q]; k++) {
+            long long c = row[k];
+            if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nh; q++) hit_frame[hit[q]] = last + 1;
+    memcpy(ln, n_new, (size_t)nl * sizeof(long long));
+    PyMem_Free(n_new);
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
+    PyMem_Free(n_new);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 /* ------------------------------------------------------------------ prune
  *
  * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
@@ -2128,6 +2243,10 @@ static PyMethodDef methods[] = {
      "occupied, hit_evidence, max_evidence, arrival_window, casting, cover, hit_frame, frame, "
      "cast_stamp): OccupancyGrid._mark_hits_python's update of the cells hit, None, or "
      "NotImplemented (nothing written) where the Python one runs."},
+    {"still_cast_usual", (PyCFunction)(void (*)(void))still_cast_usual, METH_FASTCALL,
+     "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, hit_frame, "
+     "seen_free, hit, safe, frame, stamp, tolerance): StillCast.cast's usual frame "
+     "(None), or NotImplemented (nothing written) where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

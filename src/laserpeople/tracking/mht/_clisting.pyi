@@ -108,7 +108,25 @@ def grid_mark(
     frame: int,
     cast_stamp: float,
     /,
-) -> None | NotImplementedType: ...
+) -> NotImplementedType | None: ...
+def still_cast_usual(
+    ids: NDArray[np.int64],
+    listed: NDArray[np.int64],
+    u: NDArray[np.float64],
+    listed_u: NDArray[np.float64],
+    n: NDArray[np.int64],
+    listed_n: NDArray[np.int64],
+    cells: NDArray[np.int64],
+    cover: NDArray[np.int32],
+    hit_frame: NDArray[np.int64],
+    seen_free: NDArray[np.float64],
+    hit: NDArray[np.int64],
+    safe: NDArray[np.bool_],
+    frame: int,
+    stamp: float,
+    tolerance: float,
+    /,
+) -> NotImplementedType | None: ...
 def prune(
     hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
 ) -> list[Hypothesis] | NotImplementedType: ...

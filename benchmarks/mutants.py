@@ -1504,6 +1504,23 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_occupancy_compiled.py",),
     ),
     Mutant(
+        "histogram-compiled-beyond-not-relearned",
+        "beam histogram, compiled foreground (a return beyond its static world relearns)",
+        H,
+        "        if beyond:  # (a return beyond its static world: the Python relearning "
+        "follows it)\n            self._relearn(scan)\n",
+        "",
+        ("tests/test_background_histogram_compiled.py",),
+    ),
+    Mutant(
+        "histogram-compiled-relearning-always",
+        "beam histogram, compiled foreground (candidates only where relearning is asked)",
+        H,
+        "            table.candidate if relearn else None,",
+        "            table.candidate,",
+        ("tests/test_background_histogram_compiled.py",),
+    ),
+    Mutant(
         "histogram-no-beyond-ends-candidates",
         "beam histogram (a scan with no beam beyond its static world ends the candidates)",
         H,

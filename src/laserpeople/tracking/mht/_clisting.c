@@ -1,7 +1,8 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
  * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
- * and the free-space casting of a laser standing still, `still_cast_usual`).
+ * the free-space casting of a laser standing still, `still_cast_usual`, and the beam
+ * histogram's foreground of a frame, `histogram_foreground`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1546,6 +1547,88 @@ refuse:
     Py_RETURN_NOTIMPLEMENTED;
 }
 
+/* ------------------------------------------------------------------ histogram_foreground
+ *
+ * BeamHistogramBackground.learn_foreground's frozen frame of one laser compiled
+ * (background/beam_histogram.py, _foreground_and_bins and the usual case of
+ * _BeamTable.relearn): each valid beam's range bin, min(trunc(range / bin_width), K - 1),
+ * is foreground where it is not static; the points' foreground is their beams'. With the
+ * candidates (relearning asked): where no return lies beyond its beam's nearest static bin
+ * by more than `reach` bins, every valid beam's candidate ends (-1) and False is returned;
+ * where one does, nothing is written to them and True is returned (the Python relearning
+ * follows them). The same division and truncation as numpy's; NotImplemented (fg_out
+ * untouched) for input not as expected: the Python one runs. */
+
+static PyObject *histogram_foreground(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError,
+                        "histogram_foreground(ranges, valid_beams, static, nearest, candidate, "
+                        "bin_width, reach, point_beams, fg_out)");
+        return NULL;
+    }
+    double bw = PyFloat_AsDouble(args[5]);
+    long long reach = PyLong_AsLongLong(args[6]);
+    if (PyErr_Occurred()) return NULL;
+    int relearn = args[4] != Py_None;
+    enum { RANGES, VALID, STATIC, NEAREST, PB, FG, CAND, NBUF };
+    const int which[NBUF] = {0, 1, 2, 3, 7, 8, 4};
+    const char *formats[NBUF] = {"d", "l", "?", "l", "l", "?", "l"};
+    const char *alts[NBUF] = {NULL, "q", NULL, "q", "q", NULL, "q"};
+    const int writable[NBUF] = {0, 0, 0, 0, 0, 1, 1};
+    const Py_ssize_t items[NBUF] = {8, 8, 1, 8, 8, 1, 8};
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    char *fg_beam = NULL;
+    int got = 0;
+    for (int b = 0; b < (relearn ? NBUF : NBUF - 1); b++) {
+        if (flat_buffer(args[which[b]], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != items[b]) goto refuse;
+    }
+    Py_ssize_t n_beams = lens[RANGES], nv = lens[VALID], np_ = lens[PB];
+    if (bufs[STATIC].ndim != 2 || lens[FG] != np_) goto refuse;
+    Py_ssize_t rows = bufs[STATIC].shape[0], kk = bufs[STATIC].shape[1];
+    if (kk < 1 || lens[NEAREST] != rows || (relearn && lens[CAND] != rows)) goto refuse;
+    const double *ranges = bufs[RANGES].buf;
+    const long long *valid = bufs[VALID].buf, *nearest = bufs[NEAREST].buf;
+    const long long *pb = bufs[PB].buf;
+    const char *stat = bufs[STATIC].buf;
+    char *fg = bufs[FG].buf;
+    fg_beam = PyMem_Calloc((size_t)(n_beams > 0 ? n_beams : 1), 1); /* invalid beams: 0 */
+    if (!fg_beam) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    int beyond = 0;
+    for (Py_ssize_t q = 0; q < nv; q++) {
+        long long b = valid[q];
+        if (b < 0 || b >= n_beams || b >= rows) goto refuse;
+        double x = ranges[b] / bw;
+        if (!(x >= 0.0 && x < 9e18)) goto refuse; /* (a valid range is finite, positive) */
+        long long k = (long long)x;
+        if (k > kk - 1) k = kk - 1;
+        fg_beam[b] = !stat[b * kk + k];
+        if (k > nearest[b] + reach) beyond = 1;
+    }
+    for (Py_ssize_t q = 0; q < np_; q++)
+        if (pb[q] < 0 || pb[q] >= n_beams) goto refuse;
+    for (Py_ssize_t q = 0; q < np_; q++) fg[q] = fg_beam[pb[q]];
+    if (relearn && !beyond) {
+        long long *cand = bufs[CAND].buf;
+        for (Py_ssize_t q = 0; q < nv; q++) cand[valid[q]] = -1;
+    }
+    PyMem_Free(fg_beam);
+    release_all(bufs, got);
+    if (relearn && beyond) Py_RETURN_TRUE;
+    Py_RETURN_FALSE;
+refuse:
+    PyMem_Free(fg_beam);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 /* ------------------------------------------------------------------ prune
  *
  * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
@@ -2247,6 +2330,12 @@ static PyMethodDef methods[] = {
      "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, hit_frame, "
      "seen_free, hit, safe, frame, stamp, tolerance): StillCast.cast's usual frame "
      "(None), or NotImplemented (nothing written) where the Python one runs."},
+    {"histogram_foreground", (PyCFunction)(void (*)(void))histogram_foreground,
+     METH_FASTCALL,
+     "histogram_foreground(ranges, valid_beams, static, nearest, candidate, bin_width, reach, "
+     "point_beams, fg_out): the points' foreground of a frozen beam histogram's frame of one "
+     "laser written to fg_out, and whether a return lies beyond its static world (True: the "
+     "candidates untouched), or NotImplemented where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

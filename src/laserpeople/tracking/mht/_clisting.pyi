@@ -127,6 +127,18 @@ def still_cast_usual(
     tolerance: float,
     /,
 ) -> NotImplementedType | None: ...
+def histogram_foreground(
+    ranges: NDArray[np.float64],
+    valid_beams: NDArray[np.int64],
+    static: NDArray[np.bool_],
+    nearest: NDArray[np.int64],
+    candidate: NDArray[np.int64] | None,
+    bin_width: float,
+    reach: int,
+    point_beams: NDArray[np.int64],
+    fg_out: NDArray[np.bool_],
+    /,
+) -> bool | NotImplementedType: ...
 def prune(
     hypotheses: list[Hypothesis], depth: int, min_ratio: float, /
 ) -> list[Hypothesis] | NotImplementedType: ...

@@ -1521,6 +1521,14 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_histogram_compiled.py",),
     ),
     Mutant(
+        "still-cast-compiled-lost-samples-ignored",
+        "still laser's casting, compiled (the old samples of re-listed beams are lost)",
+        "background/still_cast.py",
+        "lost[0] if lost else None, self._frame",
+        "None, self._frame",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
         "histogram-no-beyond-ends-candidates",
         "beam histogram (a scan with no beam beyond its static world ends the candidates)",
         H,

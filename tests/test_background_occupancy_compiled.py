@@ -48,6 +48,20 @@ def _still_room(seed: int) -> Iterator[Learn]:
         yield pts, stamp, np.zeros(2), np.arange(n)
 
 
+def _wobbly_room(seed: int) -> Iterator[Learn]:
+    """:func:`_still_room` with the directions of beams 20-79 off by about 1e-9 rad in
+    every other frame (beyond the still cast's tolerance: their lists are computed again,
+    their old samples lost)."""
+    rng = np.random.default_rng(seed + 50)
+    for k, (pts, stamp, sensor, beams) in enumerate(_still_room(seed)):
+        if k % 2:
+            turn = rng.normal(scale=1e-9, size=60)
+            x, y = pts[20:80, 0].copy(), pts[20:80, 1].copy()
+            pts[20:80, 0] = x * np.cos(turn) - y * np.sin(turn)
+            pts[20:80, 1] = x * np.sin(turn) + y * np.cos(turn)
+        yield pts, stamp, sensor, beams
+
+
 def _moving_room(seed: int) -> Iterator[Learn]:
     """Returns from a sensor that drifts (the grid grows; no still cast), then frames
     without a sensor position (no casting)."""
@@ -74,7 +88,7 @@ def _arrays(g: OccupancyGrid) -> list[bytes]:
 
 
 @pytest.mark.regression  # two code paths: CI runs it again on another CPU path
-@pytest.mark.parametrize("scene", [_still_room, _moving_room, _blind_room])
+@pytest.mark.parametrize("scene", [_still_room, _wobbly_room, _moving_room, _blind_room])
 @pytest.mark.parametrize("free_period", [0.0, 0.2])
 def test_compiled_learning_is_the_python_one_to_the_bit(
     monkeypatch: pytest.MonkeyPatch,
@@ -88,8 +102,8 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
     first sight and arrived ones, cells that stay occupied and cells decayed free, the
     still laser's live cells."""
     hits, mark = _compiled()
-    cast = still_cast._compiled_cast()
-    calls = {"hits": 0, "mark": 0, "cast": 0}
+    cast, apply = still_cast._compiled_cast(), still_cast._compiled_cast_apply()
+    calls = {"hits": 0, "mark": 0, "cast": 0, "apply": 0}
 
     def counted(name: str, f: Callable[..., object]) -> Callable[..., object]:
         def call(*args: object) -> object:
@@ -101,6 +115,7 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
 
     monkeypatch.setattr(occupancy, "_grid_compiled", (counted("hits", hits), counted("mark", mark)))
     monkeypatch.setattr(still_cast, "_cast_compiled", counted("cast", cast))
+    monkeypatch.setattr(still_cast, "_cast_apply_compiled", counted("apply", apply))
     params = OccupancyParams(free_period=free_period)
     for seed in range(3):
         fast, slow = OccupancyGrid(params), OccupancyGrid(params)
@@ -111,33 +126,42 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
             with monkeypatch.context() as m:
                 m.setattr(occupancy, "_grid_compiled", None)
                 m.setattr(still_cast, "_cast_compiled", None)
+                m.setattr(still_cast, "_cast_apply_compiled", None)
                 slow.learn(pts, stamp, sensor, beams)
             assert _arrays(fast) == _arrays(slow)
             occupied = np.isfinite(fast._since)
             first_seen = first_seen or bool((fast._first_sight & occupied).any())
             arrived_seen = arrived_seen or bool((~fast._first_sight & occupied).any())
         assert first_seen == (scene is not _blind_room) and arrived_seen
-        assert live_seen == (scene is _still_room)
+        assert live_seen == (scene in (_still_room, _wobbly_room))
     assert calls["hits"] > 100 and calls["mark"] == calls["hits"]
-    assert (calls["cast"] > 20) == (scene is _still_room)
+    # (the usual frames take still_cast_usual, those with beams listed again (their old
+    # samples lost) or not listed yet still_cast_apply)
+    assert calls["cast"] > 20 if scene is _still_room else True
+    assert calls["apply"] > 40 if scene is _wobbly_room else True
+    if scene not in (_still_room, _wobbly_room):
+        assert calls["cast"] == calls["apply"] == 0
 
 
-@pytest.mark.parametrize("refusing", [0, 1, 2])
+@pytest.mark.parametrize("refusing", [0, 1, 2, 3])
 def test_a_refusal_of_the_compiled_learning_leaves_it_to_python(
     monkeypatch: pytest.MonkeyPatch, refusing: int
 ) -> None:
-    """Where ``grid_hits``, ``grid_mark`` or ``still_cast_usual`` returns NotImplemented,
-    the Python one does that part: the same grid as Python alone."""
-    parts = [*_compiled(), still_cast._compiled_cast()]
+    """Where ``grid_hits``, ``grid_mark``, ``still_cast_usual`` or ``still_cast_apply``
+    returns NotImplemented, the Python one does that part: the same grid as Python
+    alone."""
+    parts = [*_compiled(), still_cast._compiled_cast(), still_cast._compiled_cast_apply()]
     parts[refusing] = lambda *args: NotImplemented
     fast, slow = OccupancyGrid(), OccupancyGrid()
     for pts, stamp, sensor, beams in _still_room(1):
         with monkeypatch.context() as m:
             m.setattr(occupancy, "_grid_compiled", tuple(parts[:2]))
             m.setattr(still_cast, "_cast_compiled", parts[2])
+            m.setattr(still_cast, "_cast_apply_compiled", parts[3])
             fast.learn(pts, stamp, sensor, beams)
             m.setattr(occupancy, "_grid_compiled", None)
             m.setattr(still_cast, "_cast_compiled", None)
+            m.setattr(still_cast, "_cast_apply_compiled", None)
             slow.learn(pts, stamp, sensor, beams)
         assert _arrays(fast) == _arrays(slow)
     assert np.isfinite(fast._since).any()
@@ -279,3 +303,30 @@ def test_the_compiled_still_cast_leaves_to_python_what_is_not_the_usual_frame() 
     assert {c: int(cover[c]) for c in range(10, 16)} == {10: 1, 11: 1, 12: 0, 13: 1, 14: 0, 15: 0}
     assert np.flatnonzero(np.isfinite(seen)).tolist() == [11, 12] and seen[11] == seen[12] == 5.0
     assert hit_frame[[11, 15]].tolist() == [8, 8] and hit_frame[14] == 7
+
+
+def test_the_compiled_coverage_of_relisted_beams_by_hand() -> None:
+    """``still_cast_apply`` once the beams are listed: list 0 goes from 2 samples to 3
+    (cell 12 gains), list 1 was listed again (its counts start from 0: cells 13 and 14
+    gain) and its old samples, cells 11 and 15, are lost: cell 15 had only that sample and
+    was live (stamped with the last frame's 4.0), cell 11 keeps list 0's. The return in
+    cell 13 (not covered before) gets frame number 3. A cell outside the arrays, in the
+    lists or the lost ones: NotImplemented, nothing written."""
+    apply = still_cast._compiled_cast_apply()
+    if apply is None:
+        pytest.skip("the C extension is not built, or stale")
+    cells = np.array([[10, 11, 12], [13, 14, 0]])
+    cover = np.zeros(20, dtype=np.int32)
+    cover[[10, 11, 15]] = [1, 2, 1]
+    hit_frame, seen = np.full(20, -1, dtype=np.int64), np.full(20, -np.inf)
+    n_new, n_old = np.array([3, 2]), np.array([2, 0])
+    hit, lost = np.array([13]), np.array([11, 15])
+    for bad_lost, bad_hit in ((np.array([11, 20]), hit), (lost, np.array([-1]))):
+        args = (n_new, n_old, cells, cover, hit_frame, seen, bad_hit, bad_lost, 2, 4.0)
+        assert apply(*args) is NotImplemented
+    assert cover[[10, 11, 15]].tolist() == [1, 2, 1] and np.isneginf(seen).all()
+    assert apply(n_new, n_old, cells, cover, hit_frame, seen, hit, lost, 2, 4.0) is None
+    assert cover[10:16].tolist() == [1, 1, 1, 1, 1, 0]
+    assert np.flatnonzero(np.isfinite(seen)).tolist() == [15] and seen[15] == 4.0
+    assert np.flatnonzero(hit_frame >= 0).tolist() == [13] and hit_frame[13] == 3
+    assert n_old.tolist() == [2, 0]  # (the caller keeps n_new)

@@ -281,6 +281,15 @@ class StillCast:
         else:
             n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
             n_new[pos] = n
+        apply = _compiled_cast_apply()
+        if apply is not None:
+            counts = (self._n, self._cells, self._cover, self._hit_frame, seen_free, hit)
+            done = apply(n_new, *counts, lost[0] if lost else None, self._frame, self._stamp)
+            if done is not NotImplemented:
+                self._n = n_new
+                self._frame += 1
+                self._stamp = stamp
+                return
         changed = np.flatnonzero(n_new != self._n)
         n_old = self._n[changed]
         n_now = n_new[changed]
@@ -321,20 +330,34 @@ class StillCast:
 
 _UNLOADED = object()
 _cast_compiled: object = _UNLOADED
+_cast_apply_compiled: object = _UNLOADED
+
+
+def _extension_function(name: str) -> Any:
+    """The function ``name`` of the MHT's C extension (beside the occupancy grid's
+    ``static_few``, and run where that is: built, not stale, not forced off), or None."""
+    from laserpeople.background.occupancy import _compiled_static_few
+
+    few = _compiled_static_few()
+    module = None if few is None else few.__self__  # (a module's function: the module)
+    return getattr(module, name, None)
 
 
 def _compiled_cast() -> Any:
-    """The compiled ``still_cast_usual`` of the MHT's C extension (beside the occupancy
-    grid's ``static_few``, and run where that is: built, not stale, not forced off), or
-    None."""
+    """The compiled usual frame of :meth:`StillCast.cast` (``still_cast_usual``), or None."""
     global _cast_compiled
     if _cast_compiled is _UNLOADED:
-        from laserpeople.background.occupancy import _compiled_static_few
-
-        few = _compiled_static_few()
-        module = None if few is None else few.__self__  # (a module's function: the module)
-        _cast_compiled = getattr(module, "still_cast_usual", None)
+        _cast_compiled = _extension_function("still_cast_usual")
     return _cast_compiled
+
+
+def _compiled_cast_apply() -> Any:
+    """The compiled coverage and stamps of :meth:`StillCast.cast` once its beams are listed
+    (``still_cast_apply``), or None."""
+    global _cast_apply_compiled
+    if _cast_apply_compiled is _UNLOADED:
+        _cast_apply_compiled = _extension_function("still_cast_apply")
+    return _cast_apply_compiled
 
 
 __all__ = ["BOUNDARY_MARGIN", "DIRECTION_TOL", "MAX_COORDINATE", "StillCast"]

@@ -1,7 +1,8 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
  * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
- * the free-space casting of a laser standing still, `still_cast_usual`, and the beam
+ * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
+ * and the beam
  * histogram's foreground of a frame, `histogram_foreground`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
@@ -1449,6 +1450,64 @@ refuse:
  * for input not as expected: the Python one runs. (A cell loses its last sample only if
  * it had one: its coverage before was positive, as the Python one asks.) */
 
+/* The coverage and stamps of a still laser's frame (see still_cast_usual), all indices
+ * checked by the caller: the lists' samples go from ln to n_new (cells (nl, kk)), the
+ * cells `lost` (nlost, each a sample of a list computed again) lose one each. */
+static void cast_apply(const long long *n_new, const long long *ln, Py_ssize_t nl,
+                       const long long *cells, Py_ssize_t kk, const long long *lost,
+                       Py_ssize_t nlost, const long long *hit, Py_ssize_t nh, int *cover,
+                       long long *hit_frame, double *seen_free, long long last, double stamp) {
+    /* a cell with a return now that was live in the last frame: its stamp is written */
+    for (Py_ssize_t q = 0; q < nh; q++) {
+        long long c = hit[q];
+        if (cover[c] > 0 && hit_frame[c] != last) seen_free[c] = stamp;
+    }
+    /* the samples gained and lost */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        if (n_new[q] > ln[q])
+            for (long long k = ln[q]; k < n_new[q]; k++) cover[row[k]] += 1;
+        else
+            for (long long k = n_new[q]; k < ln[q]; k++) cover[row[k]] -= 1;
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++) cover[lost[q]] -= 1;
+    /* a cell that lost its last sample while live (no return in the last frame) */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        for (long long k = n_new[q]; k < ln[q]; k++) {
+            long long c = row[k];
+            if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++) {
+        long long c = lost[q];
+        if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
+    }
+    for (Py_ssize_t q = 0; q < nh; q++) hit_frame[hit[q]] = last + 1;
+}
+
+/* 0 when every cell of the samples between ln and n_new (each within [0, kk]), of `lost`
+ * and of `hit` lies in [0, size), else 1. */
+static int cast_indices_ok(const long long *n_new, const long long *ln, Py_ssize_t nl,
+                           const long long *cells, Py_ssize_t kk, const long long *lost,
+                           Py_ssize_t nlost, const long long *hit, Py_ssize_t nh,
+                           Py_ssize_t size) {
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        if (n_new[q] < 0 || n_new[q] > kk || ln[q] < 0 || ln[q] > kk) return 1;
+        long long lo = n_new[q] < ln[q] ? n_new[q] : ln[q];
+        long long hi = n_new[q] < ln[q] ? ln[q] : n_new[q];
+        for (long long k = lo; k < hi; k++) {
+            long long c = cells[q * kk + k];
+            if (c < 0 || c >= size) return 1;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++)
+        if (lost[q] < 0 || lost[q] >= size) return 1;
+    for (Py_ssize_t q = 0; q < nh; q++)
+        if (hit[q] < 0 || hit[q] >= size) return 1;
+    return 0;
+}
+
 static PyObject *still_cast_usual(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
     if (nargs != 15) {
@@ -1504,45 +1563,62 @@ static PyObject *still_cast_usual(PyObject *self, PyObject *const *args, Py_ssiz
         if (n[b] < 0 || n[b] > kk) goto refuse;
         n_new[p] = n[b];
     }
-    for (Py_ssize_t q = 0; q < nl; q++) {
-        if (ln[q] < 0 || ln[q] > kk) goto refuse;
-        long long lo = n_new[q] < ln[q] ? n_new[q] : ln[q];
-        long long hi = n_new[q] < ln[q] ? ln[q] : n_new[q];
-        for (long long k = lo; k < hi; k++) {
-            long long c = cells[q * kk + k];
-            if (c < 0 || c >= size) goto refuse;
-        }
-    }
-    for (Py_ssize_t q = 0; q < nh; q++)
-        if (hit[q] < 0 || hit[q] >= size) goto refuse;
-    /* a cell with a return now that was live in the last frame: its stamp is written */
-    for (Py_ssize_t q = 0; q < nh; q++) {
-        long long c = hit[q];
-        if (cover[c] > 0 && hit_frame[c] != last) seen_free[c] = stamp;
-    }
-    /* the samples gained and lost */
-    for (Py_ssize_t q = 0; q < nl; q++) {
-        const long long *row = cells + q * kk;
-        if (n_new[q] > ln[q])
-            for (long long k = ln[q]; k < n_new[q]; k++) cover[row[k]] += 1;
-        else
-            for (long long k = n_new[q]; k < ln[q]; k++) cover[row[k]] -= 1;
-    }
-    /* a cell that lost its last sample while live (no return in the last frame) */
-    for (Py_ssize_t q = 0; q < nl; q++) {
-        const long long *row = cells + q * kk;
-        for (long long k = n_new[q]; k < ln[q]; k++) {
-            long long c = row[k];
-            if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
-        }
-    }
-    for (Py_ssize_t q = 0; q < nh; q++) hit_frame[hit[q]] = last + 1;
+    if (cast_indices_ok(n_new, ln, nl, cells, kk, NULL, 0, hit, nh, size)) goto refuse;
+    cast_apply(n_new, ln, nl, cells, kk, NULL, 0, hit, nh, cover, hit_frame, seen_free, last,
+               stamp);
     memcpy(ln, n_new, (size_t)nl * sizeof(long long));
     PyMem_Free(n_new);
     release_all(bufs, got);
     Py_RETURN_NONE;
 refuse:
     PyMem_Free(n_new);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+/* StillCast.cast's coverage and stamps of any frame compiled, once the Python one has
+ * listed its beams again where needed: the lists' sample counts go from listed_n to n_new
+ * (the caller keeps n_new), `lost` (or None) the cells of the old samples of the lists
+ * computed again. None, or NotImplemented (nothing written) for input not as expected. */
+static PyObject *still_cast_apply(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 10) {
+        PyErr_SetString(PyExc_TypeError,
+                        "still_cast_apply(n_new, listed_n, cells, cover, hit_frame, seen_free, "
+                        "hit, lost, frame, stamp)");
+        return NULL;
+    }
+    long long last = PyLong_AsLongLong(args[8]);
+    double stamp = PyFloat_AsDouble(args[9]);
+    if (PyErr_Occurred()) return NULL;
+    enum { NN, LN, CELLS, COVER, HF, SEEN, HIT, LOST, NBUF };
+    const char *formats[NBUF] = {"l", "l", "l", "i", "l", "d", "l", "l"};
+    const char *alts[NBUF] = {"q", "q", "q", NULL, "q", NULL, "q", "q"};
+    const int writable[NBUF] = {0, 0, 0, 1, 1, 1, 0, 0};
+    int with_lost = args[7] != Py_None;
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    int got = 0;
+    for (int b = 0; b < (with_lost ? NBUF : NBUF - 1); b++) {
+        if (flat_buffer(args[b], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != (b == COVER ? 4 : 8)) goto refuse;
+    }
+    Py_ssize_t nl = lens[NN], size = lens[COVER];
+    if (lens[LN] != nl || bufs[CELLS].ndim != 2 || bufs[CELLS].shape[0] != nl ||
+        lens[HF] != size || lens[SEEN] != size)
+        goto refuse;
+    Py_ssize_t kk = bufs[CELLS].shape[1], nh = lens[HIT];
+    Py_ssize_t nlost = with_lost ? lens[LOST] : 0;
+    const long long *n_new = bufs[NN].buf, *ln = bufs[LN].buf, *cells = bufs[CELLS].buf;
+    const long long *hit = bufs[HIT].buf, *lost = with_lost ? bufs[LOST].buf : NULL;
+    if (cast_indices_ok(n_new, ln, nl, cells, kk, lost, nlost, hit, nh, size)) goto refuse;
+    cast_apply(n_new, ln, nl, cells, kk, lost, nlost, hit, nh, bufs[COVER].buf, bufs[HF].buf,
+               bufs[SEEN].buf, last, stamp);
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
     release_all(bufs, got);
     Py_RETURN_NOTIMPLEMENTED;
 }
@@ -2330,6 +2406,10 @@ static PyMethodDef methods[] = {
      "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, hit_frame, "
      "seen_free, hit, safe, frame, stamp, tolerance): StillCast.cast's usual frame "
      "(None), or NotImplemented (nothing written) where the Python one runs."},
+    {"still_cast_apply", (PyCFunction)(void (*)(void))still_cast_apply, METH_FASTCALL,
+     "still_cast_apply(n_new, listed_n, cells, cover, hit_frame, seen_free, hit, lost, frame, "
+     "stamp): StillCast.cast's coverage and stamps once its beams are listed (None), or "
+     "NotImplemented (nothing written) where the Python one runs."},
     {"histogram_foreground", (PyCFunction)(void (*)(void))histogram_foreground,
      METH_FASTCALL,
      "histogram_foreground(ranges, valid_beams, static, nearest, candidate, bin_width, reach, "

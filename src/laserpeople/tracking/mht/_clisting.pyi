@@ -127,6 +127,19 @@ def still_cast_usual(
     tolerance: float,
     /,
 ) -> NotImplementedType | None: ...
+def still_cast_apply(
+    n_new: NDArray[np.int64],
+    listed_n: NDArray[np.int64],
+    cells: NDArray[np.int64],
+    cover: NDArray[np.int32],
+    hit_frame: NDArray[np.int64],
+    seen_free: NDArray[np.float64],
+    hit: NDArray[np.int64],
+    lost: NDArray[np.int64] | None,
+    frame: int,
+    stamp: float,
+    /,
+) -> NotImplementedType | None: ...
 def histogram_foreground(
     ranges: NDArray[np.float64],
     valid_beams: NDArray[np.int64],

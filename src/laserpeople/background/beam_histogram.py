@@ -418,16 +418,13 @@ _foreground_compiled: object = _UNLOADED
 
 
 def _compiled_foreground() -> Any:
-    """The compiled ``histogram_foreground`` of the MHT's C extension (beside the occupancy
-    grid's ``static_few``, and run where that is: built, not stale, not forced off), or
-    None."""
+    """The compiled foreground of a frozen model's frame (``histogram_foreground`` of the
+    MHT's C extension, beside the occupancy grid's), or None."""
     global _foreground_compiled
     if _foreground_compiled is _UNLOADED:
-        from laserpeople.background.occupancy import _compiled_static_few
+        from laserpeople.background.occupancy import compiled_function
 
-        few = _compiled_static_few()
-        module = None if few is None else few.__self__  # (a module's function: the module)
-        _foreground_compiled = getattr(module, "histogram_foreground", None)
+        _foreground_compiled = compiled_function("histogram_foreground")
     return _foreground_compiled
 
 

@@ -952,14 +952,20 @@ _static_few_compiled: object = _UNLOADED
 _grid_compiled: object = _UNLOADED
 
 
+def compiled_function(name: str) -> Any:
+    """The static world's function ``name`` of the MHT's C extension (``grid_hits``,
+    ``still_cast_usual``, ...), run where its ``static_few`` is (built, not stale, not
+    forced off), or None."""
+    few = _compiled_static_few()
+    module = None if few is None else few.__self__  # (a module's function: the module)
+    return getattr(module, name, None)
+
+
 def _compiled_grid() -> tuple[Any, Any] | None:
-    """The compiled ``grid_hits`` and ``grid_mark`` of the MHT's C extension (beside its
-    ``static_few``, and run where that is: built, not stale, not forced off), or None."""
+    """The compiled ``grid_hits`` and ``grid_mark``, or None."""
     global _grid_compiled
     if _grid_compiled is _UNLOADED:
-        few = _compiled_static_few()
-        module = None if few is None else few.__self__  # (a module's function: the module)
-        hits, mark = (getattr(module, name, None) for name in ("grid_hits", "grid_mark"))
+        hits, mark = compiled_function("grid_hits"), compiled_function("grid_mark")
         _grid_compiled = None if hits is None or mark is None else (hits, mark)
     return _grid_compiled  # type: ignore[return-value]
 

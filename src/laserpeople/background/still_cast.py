@@ -333,21 +333,13 @@ _cast_compiled: object = _UNLOADED
 _cast_apply_compiled: object = _UNLOADED
 
 
-def _extension_function(name: str) -> Any:
-    """The function ``name`` of the MHT's C extension (beside the occupancy grid's
-    ``static_few``, and run where that is: built, not stale, not forced off), or None."""
-    from laserpeople.background.occupancy import _compiled_static_few
-
-    few = _compiled_static_few()
-    module = None if few is None else few.__self__  # (a module's function: the module)
-    return getattr(module, name, None)
-
-
 def _compiled_cast() -> Any:
     """The compiled usual frame of :meth:`StillCast.cast` (``still_cast_usual``), or None."""
     global _cast_compiled
     if _cast_compiled is _UNLOADED:
-        _cast_compiled = _extension_function("still_cast_usual")
+        from laserpeople.background.occupancy import compiled_function  # (it imports this)
+
+        _cast_compiled = compiled_function("still_cast_usual")
     return _cast_compiled
 
 
@@ -356,7 +348,9 @@ def _compiled_cast_apply() -> Any:
     (``still_cast_apply``), or None."""
     global _cast_apply_compiled
     if _cast_apply_compiled is _UNLOADED:
-        _cast_apply_compiled = _extension_function("still_cast_apply")
+        from laserpeople.background.occupancy import compiled_function
+
+        _cast_apply_compiled = compiled_function("still_cast_apply")
     return _cast_apply_compiled
 
 

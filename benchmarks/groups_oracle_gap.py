@@ -72,8 +72,7 @@ WALKING = 0.3
 
 def matched(mot: ClearMot) -> dict[int, int]:
     """Truth id -> track id of the pairs ``mot`` made in the frame it last accumulated."""
-    last = mot._frame - 1
-    return {oid: mot._last_track[oid] for oid, t in mot._last_time.items() if t == last}
+    return dict(mot.last_pairs)
 
 
 def switched(before: dict[int, int], now: dict[int, int]) -> set[int]:

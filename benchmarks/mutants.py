@@ -94,7 +94,9 @@ ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
+KALMAN_ROWS = ("tests/test_track_kalman_compiled.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
+SPARSE = ("tests/test_detect_sparse.py",)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
     "tests/test_detect_features_reference.py",
@@ -144,6 +146,7 @@ H = "background/beam_histogram.py"
 R = "io/ros1_reader.py"
 PT = "tracking/person_tracks.py"
 K = "tracking/kalman.py"
+PM = "tracking/point_model.py"
 LS = "io/laserscan_ros1.py"
 MC = "tracking/mht/core.py"
 GO = "tracking/groups/observations.py"
@@ -1040,6 +1043,54 @@ MUTANTS: tuple[Mutant, ...] = (
         KALMAN,
     ),
     Mutant(
+        "kalman-rows-cubes-by-numpy",
+        "Kalman rows: a few steps cubed by Python's pow, as the reference's few-track path",
+        K,
+        "cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()",
+        "cubes: list[float] = (steps**3).tolist()",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-cubes-by-pow",
+        "Kalman rows: many different steps cubed by numpy's power, as the reference's",
+        K,
+        "cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()",
+        "cubes: list[float] = [e**3 for e in dts]",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-decay-by-math-exp",
+        "Kalman rows: the shared step's decay by numpy's exp",
+        K,
+        "k = float(np.exp(np.array((-d / tau,)))[0])\n        if len(_DECAYS)",
+        "k = math.exp(-d / tau)\n        if len(_DECAYS)",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "kalman-rows-half-log-det",
+        "Kalman rows: loglik = -0.5 d2 - log 2 pi - 0.5 log det S (the half)",
+        K,
+        "    det *= 0.5\n",
+        "",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "point-model-steps-negative",
+        "point model: a node stamped after the scan steps 0 s (shared step)",
+        PM,
+        "if 0.0 <= d <= top and steps.count(d) == len(steps):",
+        "if d <= top and steps.count(d) == len(steps):",
+        KALMAN_ROWS,
+    ),
+    Mutant(
+        "point-model-steps-max-dt",
+        "point model: a shared step longer than max_dt is clipped",
+        PM,
+        "if 0.0 <= d <= top and steps.count(d) == len(steps):",
+        "if 0.0 <= d and steps.count(d) == len(steps):",
+        KALMAN_ROWS,
+    ),
+    Mutant(
         "features-step-across-segments",
         "block features: no step into a segment's first point",
         "detection/features.py",
@@ -1423,7 +1474,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "config-nested-table-replaced",
         "configuration: a nested table merged over the preset's key by key",
         "config.py",
-        "            out[key] = _over(old, value)\n",
+        "            out[key] = merged(old, value)\n",
         "            out[key] = value\n",
         SETTINGS,
     ),
@@ -1616,6 +1667,63 @@ MUTANTS: tuple[Mutant, ...] = (
         "and math.floor((x + radius) / res) + 1 < o0 + h",
         "and math.floor((x + radius) / res) - 3 < o0 + h",
         ("tests/test_background_occupancy.py",),
+    ),
+    Mutant(
+        "occupancy-compiled-casting-always",
+        "occupancy grid, compiled learning (first sight only once free space was cast)",
+        "background/occupancy.py",
+        "                float(p.arrival_window),\n                self.casting,\n",
+        "                float(p.arrival_window),\n                True,\n",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "occupancy-compiled-live-cells-ignored",
+        "occupancy grid, compiled learning (a still laser's live cells seen free at its cast)",
+        "background/occupancy.py",
+        "(None, None, 0, 0.0) if live is None else live",
+        "(None, None, 0, 0.0)",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "occupancy-compiled-mark-refusal-ignored",
+        "occupancy grid, compiled learning (a refusal of grid_mark left to Python)",
+        "background/occupancy.py",
+        "            if done is not NotImplemented:\n                return\n",
+        "            return\n",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "still-cast-compiled-this-frames-stamp",
+        "still laser's casting, compiled (cells that stop being live get the last frame's stamp)",
+        "background/still_cast.py",
+        "seen_free, hit, self._safe, self._frame, self._stamp, DIRECTION_TOL",
+        "seen_free, hit, self._safe, self._frame, stamp, DIRECTION_TOL",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "histogram-compiled-beyond-not-relearned",
+        "beam histogram, compiled foreground (a return beyond its static world relearns)",
+        H,
+        "        if beyond:  # (a return beyond its static world: the Python relearning "
+        "follows it)\n            self._relearn(scan)\n",
+        "",
+        ("tests/test_background_histogram_compiled.py",),
+    ),
+    Mutant(
+        "histogram-compiled-relearning-always",
+        "beam histogram, compiled foreground (candidates only where relearning is asked)",
+        H,
+        "            table.candidate if relearn else None,",
+        "            table.candidate,",
+        ("tests/test_background_histogram_compiled.py",),
+    ),
+    Mutant(
+        "still-cast-compiled-lost-samples-ignored",
+        "still laser's casting, compiled (the old samples of re-listed beams are lost)",
+        "background/still_cast.py",
+        "lost[0] if lost else None, self._frame",
+        "None, self._frame",
+        ("tests/test_background_occupancy_compiled.py",),
     ),
     Mutant(
         "histogram-no-beyond-ends-candidates",
@@ -2561,6 +2669,95 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_commands.py",),
     ),
     Mutant(
+        "beam-kind-zero-takes-negative",
+        "track: a negative range is counted as negative, not as zero",
+        "pipeline/empty_scans.py",
+        "counts[4] = np.count_nonzero(r == 0.0)",
+        "counts[4] = np.count_nonzero(finite & (r <= 0.0))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "beam-kind-under-min-takes-zero",
+        "track: a zero range is counted as zero, not as under range_min",
+        "pipeline/empty_scans.py",
+        "counts[5] = np.count_nonzero(positive & (r < scan.range_min))",
+        "counts[5] = np.count_nonzero(finite & (r >= 0.0) & (r < scan.range_min))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "truth-names-overlap-integer-ids",
+        "evaluate: a named person is numbered after the file's largest integer id",
+        "io/truth_csv.py",
+        "start = max((i for i in ids if isinstance(i, int)), default=-1) + 1",
+        "start = max((i for i in ids if isinstance(i, int)), default=-1)",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "truth-names-sorted",
+        "evaluate: names are numbered in the order first seen, not alphabetically",
+        "io/truth_csv.py",
+        "names = [i for i in dict.fromkeys(ids) if isinstance(i, str)]",
+        "names = sorted(i for i in set(ids) if isinstance(i, str))",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "clear-mot-last-pairs-ever",
+        "evaluation: CLEAR MOT's last pairs are the last frame's, not every last match",
+        "evaluation/clear_mot.py",
+        "        self._pairs = {truth_ids[i]: track_ids[j] for i, j in pairs}",
+        "        self._pairs.update({truth_ids[i]: track_ids[j] for i, j in pairs})",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "outputs-folder-for-every-option",
+        "outputs: only a file output is refused for naming a folder (batch --out is one)",
+        "io/paths.py",
+        "        if name not in folders and out.is_dir():",
+        "        if out.is_dir():",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "config-line-exact-key-only",
+        "config: a key set inside an inline table is found on the inline table's line",
+        "config.py",
+        "            if len(full) <= len(target) and full == target[: len(full)]:",
+        "            if full == target:",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "config-line-ignores-table",
+        "config: a key is found under its own table, not under another that sets the name",
+        "config.py",
+        "            full = table + _split_key(key.group(1))",
+        "            full = [target[0], *_split_key(key.group(1))]",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "environment-case-blind",
+        "environment: a variable is read only under its exact name (case counts)",
+        "cli/environment.py",
+        "or name in KNOWN:",
+        "or name.upper() in KNOWN:",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "staging-left-by-running-run",
+        "outputs: only the folder of a process no longer running is said to be left over",
+        "io/paths.py",
+        "if (m := pattern.fullmatch(e.name)) and e.is_dir() and not _running(int(m.group(1)))",
+        "if (m := pattern.fullmatch(e.name)) and e.is_dir()",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
+        "sweep-nested-as-objects",
+        "batch --sweep: a grid point is set over the section as a table, nested ones too",
+        "batch/options.py",
+        "return from_mapping(cls, merged(dataclasses.asdict(obj), values))",
+        "return from_mapping(cls, {**{k: getattr(obj, k) for k in obj.__dataclass_fields__}, "
+        "**values})",
+        ("tests/test_hardening_kinds.py",),
+    ),
+    Mutant(
         "batch-unused-last-run-decides",
         "batch: an option unused on a recording when none of its runs (lasers) used it",
         "pipeline/unused_options.py",
@@ -2649,6 +2846,54 @@ MUTANTS: tuple[Mutant, ...] = (
         "            deferred.complete(np.flatnonzero(ok))",
         "            deferred.complete(rows[ok[rows]])",
         DEFERRED,
+    ),
+    Mutant(
+        "sparse-two-beams",
+        "sparse legs: taken where a leg gets fewer than two beams, not three",
+        "detection/sparse.py",
+        "ok = expected_beams(distance, increment, params.leg_width) < MIN_POINTS",
+        "ok = expected_beams(distance, increment, params.leg_width) < MIN_POINTS - 1",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-depth",
+        "sparse legs: a neighbour anywhere behind, not a jump distance behind",
+        "detection/sparse.py",
+        "ok &= ~seen | (ranges[at] - r >= jump_distance)",
+        "ok &= ~seen | (ranges[at] - r >= 0.0)",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-any-width",
+        "sparse legs: two points up to twice the leg width apart",
+        "detection/sparse.py",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= params.leg_width",
+        "ok &= np.hypot(p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1]) <= 2.0 * params.leg_width",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-no-wrap",
+        "sparse legs: the neighbour of beam 0 of a full-circle scan taken as no return",
+        "detection/sparse.py",
+        "beam = np.where(full, beam % n, beam)",
+        "beam = np.where(False, beam % n, beam)",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-block-offsets",
+        "sparse legs: every scan of a block read from the first scan's ranges",
+        "detection/sparse.py",
+        "        base, n = starts[owner], counts[owner]",
+        "        base, n = 0 * starts[owner], counts[owner]",
+        SPARSE,
+    ),
+    Mutant(
+        "sparse-repeated-reading",
+        "sparse legs: one reading on two beams counted as two points",
+        "detection/sparse.py",
+        "ok &= distinct >= params.min_points",
+        "ok &= distinct >= 1",
+        SPARSE,
     ),
 )
 

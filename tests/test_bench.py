@@ -68,3 +68,9 @@ def test_bench_command_json() -> None:
     features = data["leg_detection"] == "compiled (C extension)"
     assert features == (EXTENSION is not None)
     assert features or data["leg_detection"].startswith("pure Python (")
+    # and which Kalman steps: the compiled ones where built, else numpy's
+    from laserpeople.tracking import kalman
+
+    steps = data["kalman_steps"] == "compiled (C extension)"
+    assert steps == (kalman._extension is not None)
+    assert steps or data["kalman_steps"].startswith("pure Python (")

@@ -1,4 +1,5 @@
-"""Constant-velocity Kalman filter and gating against textbook formulas."""
+"""Constant-velocity Kalman filter and gating against textbook formulas: the numpy code,
+the reference (``tests/test_track_kalman_compiled.py`` compares the C extension with it)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,12 @@ order, and numpy's SIMD loops and OpenBLAS' kernels (which fuse multiply and add
 from CPU to CPU: a few units in the last place (1e-16 relative) of the largest term, 1e-13
 at most after a covariance's cancellations. A wrong term (a dropped dt^2 / 2, a transposed
 F) changes the values by 1e-3 or more."""
+
+
+@pytest.fixture(autouse=True)
+def numpy_reference(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The numpy code runs, whether the extension is built or not."""
+    monkeypatch.setattr(kalman, "_extension", None)
 
 
 def assert_paths_agree(got: np.ndarray, want: np.ndarray) -> None:

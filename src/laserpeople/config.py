@@ -78,7 +78,8 @@ def from_mapping(
         named = dotted_names(cls)
         guesses = "".join(f"; {u}: {g}" for u in unknown if (g := did_you_mean(u, named)))
         raise ConfigError(
-            f"unknown parameter(s) {', '.join(unknown)} in {table}{guesses}",
+            f"{_at(where, f'{section}{unknown[0]}')}unknown parameter(s) {', '.join(unknown)} "
+            f"in {table}{guesses}",
             path=where or None,
             hint=f"known: {', '.join(sorted(fields))}",
         )
@@ -88,7 +89,8 @@ def from_mapping(
         if dataclasses.is_dataclass(hint):
             if not isinstance(value, Mapping):
                 raise ConfigError(
-                    f"{section}{key} = {value!r:.60} must be a table of parameters "
+                    f"{_at(where, f'{section}{key}')}{section}{key} = {_shown(value)} must be "
+                    "a table of parameters "
                     f"([{section_name(cls)}.{key}])",
                     path=where or None,
                 )
@@ -133,12 +135,93 @@ def _coerce(name: str, value: Any, default: Any, where: str) -> Any:
         ok = True
     if not ok:
         raise ConfigError(
-            f"{name} = {value!r:.60} has the wrong type; "
-            f"expected {type(default).__name__} like the default {default!r}",
+            f"{_at(where, name)}{name} = {_shown(value)} has the wrong type ({_kind(value)}): "
+            f"expected {WANTED.get(type(default), type(default).__name__)} like the default "
+            f"{_toml_value(default)}",
             path=where or None,
         )
     _check_number(name, value, default, where)
     return value
+
+
+WANTED: dict[type, str] = {
+    bool: "true or false",
+    int: "an integer",
+    float: "a number",
+    str: "text in quotes",
+    tuple: "a list",
+}
+"""What a value of a parameter whose default has this type must be, in TOML's words."""
+
+
+def _kind(value: Any) -> str:
+    """What a TOML value read by ``tomllib`` is, in TOML's words (a quoted "1.5" is text)."""
+    if isinstance(value, bool):
+        return "true or false"
+    if isinstance(value, str):
+        return "text"
+    if isinstance(value, Mapping):
+        return "a table"
+    if isinstance(value, list | tuple):
+        return "a list"
+    if isinstance(value, int):
+        return "an integer"
+    if isinstance(value, float):
+        return "a number"
+    return type(value).__name__  # a date or time
+
+
+def _shown(value: Any) -> str:
+    """``value`` as the file writes it (TOML: ``true``, ``"fast"``), at most 60 characters."""
+    text = "{...}" if isinstance(value, Mapping) else _toml_value(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+TABLE_LINE = re.compile(r"\s*\[\s*([^\[\]]+?)\s*\](\s*#.*)?\s*$")
+"""A TOML table header ``[a.b]`` (not an array of tables ``[[a]]``)."""
+
+KEY_LINE = re.compile(r"\s*([A-Za-z0-9_\-.\"' ]+?)\s*=")
+"""The key of a TOML ``key = value`` line (bare, dotted or quoted)."""
+
+
+def _split_key(text: str) -> list[str]:
+    return [part.strip().strip("\"'") for part in text.split(".")]
+
+
+def key_line(path: Path, keys: Sequence[str]) -> int | None:
+    """The line (1-based) of the TOML file ``path`` that sets the dotted key ``keys``
+    (``["leg_tracker", "people", "static_legs"]``): its ``key = value`` line under its
+    table, a dotted key under a table above it, or the inline table or header holding it.
+    None when no line is found (a value from a preset, an unreadable file)."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        return None
+    target = list(keys)
+    table: list[str] = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if header := TABLE_LINE.match(line):
+            table = _split_key(header.group(1))
+            if table == target:
+                return number
+            continue
+        if key := KEY_LINE.match(line):
+            full = table + _split_key(key.group(1))
+            if len(full) <= len(target) and full == target[: len(full)]:
+                return number
+    return None
+
+
+def _at(where: str, name: str) -> str:
+    """``"line N: "`` for the parameter ``name`` as errors show it (``[leg_tracker]
+    people.gate_probability``, ``[x] y[2]``) in the config file ``where``; empty when
+    ``where`` is no file or the line is not found."""
+    named = re.fullmatch(r"\[([^\]]+)\]\s*(.*?)(\[\d+\])?", name.strip().rstrip("."))
+    if not where or named is None or not Path(where).is_file():
+        return ""
+    keys = _split_key(named.group(1)) + (_split_key(named.group(2)) if named.group(2) else [])
+    number = key_line(Path(where), keys)
+    return f"line {number}: " if number is not None else ""
 
 
 INT_LIMIT = 2**53
@@ -163,7 +246,7 @@ def _check_number(name: str, value: Any, default: Any, where: str) -> None:
         problem = f"is larger than {INT_LIMIT}"
     if problem:
         raise ConfigError(
-            f"{name} {problem}",
+            f"{_at(where, name)}{name} {problem}",
             path=where or None,
             hint=f"give a finite number like the default {default!r}",
         )
@@ -202,7 +285,7 @@ def _check_range(key: str, name: str, value: Any, default: Any, unit: str, where
         problem = f"is {what}: it cannot be negative"
     if problem:
         raise ConfigError(
-            f"{name} = {value!r} {problem}",
+            f"{_at(where, name)}{name} = {value!r} {problem}",
             path=where or None,
             hint=f"the default is {default!r}" + (f" {unit}" if unit else ""),
         )
@@ -238,18 +321,19 @@ def load_config(cls: type[T], path: str | Path | None, preset: str | None = None
     data = read_toml(p)
     section = data.get(section_name(cls), {})
     if not isinstance(section, Mapping):
-        raise ConfigError(f"[{section_name(cls)}] must be a table", path=p)
-    return from_mapping(cls, _over(base, section), where=str(p))
+        name = f"[{section_name(cls)}]"
+        raise ConfigError(f"{_at(str(p), name)}{name} must be a table", path=p)
+    return from_mapping(cls, merged(base, section), where=str(p))
 
 
-def _over(base: Mapping[str, Any], values: Mapping[str, Any]) -> dict[str, Any]:
+def merged(base: Mapping[str, Any], values: Mapping[str, Any]) -> dict[str, Any]:
     """``base`` with ``values`` over it; a nested table (both sides mappings) merged key by
     key, so that a file setting one key of ``[x.mht]`` keeps the preset's others."""
     out = dict(base)
     for key, value in values.items():
         old = out.get(key)
         if isinstance(old, Mapping) and isinstance(value, Mapping):
-            out[key] = _over(old, value)
+            out[key] = merged(old, value)
         else:
             out[key] = value
     return out
@@ -278,7 +362,7 @@ def check_sections(
         owners = {f"{section_name(c)}.{n}" for c in (*classes, *others) for n in dotted_names(c)}
         guesses = "".join(f"; {u}: {g}" for u in loose if (g := did_you_mean(u, sorted(owners))))
         raise ConfigError(
-            f"{', '.join(loose)} outside any [section]{guesses}",
+            f"{_at(str(p), f'[{loose[0]}]')}{', '.join(loose)} outside any [section]{guesses}",
             path=p,
             hint="write each parameter under the [section] of its class (docs/parameters.md)",
         )
@@ -287,7 +371,8 @@ def check_sections(
             f"; [{u}]: {g}" for u in unknown if (g := did_you_mean(u, sorted(known | elsewhere)))
         )
         raise ConfigError(
-            f"unknown section(s) {', '.join(f'[{u}]' for u in unknown)}{guesses}",
+            f"{_at(str(p), f'[{unknown[0]}]')}unknown section(s) "
+            f"{', '.join(f'[{u}]' for u in unknown)}{guesses}",
             path=p,
             hint=f"this command reads {', '.join(f'[{k}]' for k in sorted(known))}",
         )

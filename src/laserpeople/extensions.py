@@ -1,7 +1,8 @@
 """Loading the optional C extensions (built by ``pip install -e .`` where a C compiler is),
 each with its pure-Python reference as the fallback: the MHT's listing
-(:mod:`laserpeople.tracking.mht.compiled`) and the segment features
-(:mod:`laserpeople.detection.features`).
+(:mod:`laserpeople.tracking.mht.compiled`), the segment features
+(:mod:`laserpeople.detection.features`) and the Kalman steps of a scan's track nodes
+(:mod:`laserpeople.tracking.kalman`).
 
 The Python reference runs when the environment variable :data:`PURE_PYTHON` is set (to
 anything but ``0`` or nothing), when the extension is not built, or when it is stale: built
@@ -32,6 +33,9 @@ value forces them too, with a warning naming the value."""
 
 REBUILD = "rebuild it with `pip install -e .` (a C compiler is needed)"
 
+HEADER = Path(__file__).with_name("_cbuffers.h")
+"""The buffer helpers every extension's source includes; :func:`source_hash` covers it."""
+
 
 class StaleExtensionWarning(RuntimeWarning):
     """A C extension was built from another source than the one beside it."""
@@ -46,8 +50,9 @@ def forced_pure_python() -> bool:
         return False
     if word not in ON_VALUES:
         warnings.warn(
-            f"{PURE_PYTHON}={value[:40]!r} is neither 1 nor 0: the pure-Python MHT listing "
-            f"and segment features run (unset it or set it to 0 for the compiled ones)",
+            f"{PURE_PYTHON}={value[:40]!r} is neither 1 nor 0: the pure-Python MHT listing, "
+            f"segment features and Kalman steps run (unset it or set it to 0 for the compiled "
+            f"ones)",
             LaserPeopleWarning,
             stacklevel=4,
         )
@@ -82,9 +87,11 @@ def load_extension(name: str, source: Path, what: str) -> tuple[ModuleType | Non
 
 
 def source_hash(path: Path) -> str:
-    """The checksum of the file at ``path`` that setup.py compiles in: its CRC-32 and its
-    length in bytes (zlib is loaded anyway; hashlib would add some 5 ms to the start-up)."""
+    """The checksum that setup.py compiles in: the CRC-32 and the length in bytes of the
+    file at ``path`` followed by the shared header :data:`HEADER` (so a changed header makes
+    the extension stale too; zlib is loaded anyway, hashlib would add some 5 ms to the
+    start-up)."""
     import zlib
 
-    data = path.read_bytes()
+    data = path.read_bytes() + (HEADER.read_bytes() if HEADER.is_file() else b"")
     return f"{zlib.crc32(data):08x}-{len(data)}"

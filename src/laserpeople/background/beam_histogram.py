@@ -62,6 +62,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import MappingProxyType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -69,7 +70,7 @@ from numpy.typing import NDArray
 from laserpeople.config import param
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.scan import Layout, Pose2D, Scan, same_layout
+from laserpeople.scan import Layout, PointSet, Pose2D, Scan, same_layout
 
 FORMAT = "laserpeople-beam-histogram"
 VERSION = 1
@@ -412,6 +413,21 @@ def _beams_of(
     return out
 
 
+_UNLOADED = object()
+_foreground_compiled: object = _UNLOADED
+
+
+def _compiled_foreground() -> Any:
+    """The compiled foreground of a frozen model's frame (``histogram_foreground`` of the
+    MHT's C extension, beside the occupancy grid's), or None."""
+    global _foreground_compiled
+    if _foreground_compiled is _UNLOADED:
+        from laserpeople.background.occupancy import compiled_function
+
+        _foreground_compiled = compiled_function("histogram_foreground")
+    return _foreground_compiled
+
+
 def _dilate(core: NDArray[np.bool_], reach: int) -> NDArray[np.bool_]:
     """``core`` (B, K) widened by ``reach`` bins either way (loop over offsets, not beams)."""
     static = core.copy()
@@ -657,6 +673,10 @@ class BeamHistogramBackground:
                 self.freeze()
         for scan in frame.scans:
             self._poses[scan.sensor] = scan.pose
+        if self._frozen and len(frame.scans) == 1:
+            fast = self._frozen_foreground(frame.scans[0], frame.points)
+            if fast is not None:
+                return fast
         by_name: dict[str, NDArray[np.bool_]] = {}
         valid_bins = []
         for scan in frame.scans:
@@ -679,6 +699,42 @@ class BeamHistogramBackground:
                 continue
             sel = pts.sensor_ids == i
             fg[sel] = by_name[name][pts.beams[sel]]
+        return fg
+
+    def _frozen_foreground(self, scan: Scan, pts: PointSet) -> NDArray[np.bool_] | None:
+        """The rest of :meth:`learn_foreground` for a frozen model's frame of one laser
+        (its points all of that laser), compiled where the MHT's C extension is built: the
+        same foreground, the same relearning. None where the Python code runs (no compiled
+        function, no table or no static bins yet, beams that saw people while learning, or
+        input it leaves to Python)."""
+        compiled = _compiled_foreground()
+        table = self._tables.get(scan.sensor)
+        if (
+            compiled is None
+            or table is None
+            or table.static is None
+            or table.people is not None
+            or pts.sensors != (scan.sensor,)
+        ):
+            return None
+        p = self.params
+        relearn = p.relearn_seconds > 0.0 and table.counts.shape[0] == scan.n_beams
+        fg = np.empty(len(pts.beams), dtype=bool)
+        beyond = compiled(
+            scan.ranges,
+            scan.valid_beams,
+            table.static,
+            table.nearest,
+            table.candidate if relearn else None,
+            float(p.bin_width),
+            math.ceil(p.tolerance / p.bin_width),
+            pts.beams,
+            fg,
+        )
+        if beyond is NotImplemented:
+            return None
+        if beyond:  # (a return beyond its static world: the Python relearning follows it)
+            self._relearn(scan)
         return fg
 
     def _forget_changed_layout(self, scan: Scan) -> None:

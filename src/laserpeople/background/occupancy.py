@@ -654,7 +654,7 @@ class OccupancyGrid:
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
-        cells = self._cells(pts)
+        cells: IntArray | None = None  # (made when the arrays may have to grow)
         casting = sensor is not None and p.free_range > 0
         if casting:
             self.casting = True
@@ -662,14 +662,17 @@ class OccupancyGrid:
             # those cells too (the corners of the sensors' bounding box suffice)
             if single is not None:
                 if not self._holds_disc(single, reach):
+                    cells = self._cells(pts)
                     self._ensure(cells, self._cells(single.reshape(1, 2)))
             else:
                 assert origins is not None
+                cells = self._cells(pts)
                 corners = self._cells(np.vstack([origins.min(axis=0), origins.max(axis=0)]))
                 self._ensure(cells, corners)
         else:
+            cells = self._cells(pts)
             self._ensure(cells)
-        hit = sorted_unique(self._flat(cells))  # each cell with a return once
+        hit, exponent = self._hits(pts, cells, stamp)  # each cell with a return once
         if casting:
             assert r is not None
             if single is None:
@@ -688,6 +691,76 @@ class OccupancyGrid:
             )
             if not skip:
                 self._cast(pts, r, ids, hit, stamp, single, origins, where)
+        self._mark_hits(hit, exponent, stamp)
+
+    def _hits(
+        self, pts: FloatArray, cells: IntArray | None, stamp: float
+    ) -> tuple[IntArray, FloatArray | None]:
+        """:meth:`_hits_python` compiled where the MHT's C extension is built (the same
+        cells), with the exponents ``-max(stamp - touched, 0) / decay_time`` of their
+        evidence's decay (None: the Python one ran)."""
+        compiled = _compiled_grid()
+        if compiled is not None:
+            n = pts.shape[0]
+            hit, exponent = np.empty(n, dtype=np.int64), np.empty(n)
+            o0, o1 = self._origin.tolist()
+            k = compiled[0](
+                pts,
+                self._touched,
+                o0,
+                o1,
+                float(self.params.resolution),
+                float(stamp),
+                float(self.params.decay_time),
+                hit,
+                exponent,
+            )
+            if k is not NotImplemented:
+                return hit[:k], exponent[:k]
+        return self._hits_python(pts, cells), None
+
+    def _hits_python(self, pts: FloatArray, cells: IntArray | None) -> IntArray:
+        """Flat indices (sorted, each once) of the cells of the returns ``pts`` (N, 2) [m]
+        (``cells``, their cells, when known), which the arrays must hold."""
+        return sorted_unique(self._flat(self._cells(pts) if cells is None else cells))
+
+    def _mark_hits(self, hit: IntArray, exponent: FloatArray | None, stamp: float) -> None:
+        """:meth:`_mark_hits_python` compiled where the MHT's C extension is built and
+        :meth:`_hits` gave the exponents: numpy's ``exp`` of them, then the same floats."""
+        compiled = _compiled_grid()
+        if compiled is not None and exponent is not None:
+            p = self.params
+            live = self._still.live()
+            cover, hit_frame, frame, cast_stamp = (None, None, 0, 0.0) if live is None else live
+            done = compiled[1](
+                self._evidence,
+                self._touched,
+                self._since,
+                self._first_sight,
+                self._seen_free,
+                hit,
+                np.exp(exponent),
+                float(stamp),
+                float(p.occupied_evidence),
+                float(p.hit_evidence),
+                float(p.max_evidence),
+                float(p.arrival_window),
+                self.casting,
+                cover,
+                hit_frame,
+                frame,
+                float(cast_stamp),
+            )
+            if done is not NotImplemented:
+                return
+        self._mark_hits_python(hit, stamp)
+
+    def _mark_hits_python(self, hit: IntArray, stamp: float) -> None:
+        """Add a return at ``stamp`` [s] to each of the cells ``hit`` (flat indices, each
+        once): their evidence decayed and raised, the time since they are occupied, and
+        whether they were occupied at first sight (occupied now, and not seen free within
+        ``arrival_window``)."""
+        p = self.params
         before = self._decayed(hit, stamp)
         was = before >= p.occupied_evidence
         after = np.minimum(before + p.hit_evidence, p.max_evidence)
@@ -876,6 +949,25 @@ class OccupancyGrid:
 
 _UNLOADED = object()
 _static_few_compiled: object = _UNLOADED
+_grid_compiled: object = _UNLOADED
+
+
+def compiled_function(name: str) -> Any:
+    """The static world's function ``name`` of the MHT's C extension (``grid_hits``,
+    ``still_cast_usual``, ...), run where its ``static_few`` is (built, not stale, not
+    forced off), or None."""
+    few = _compiled_static_few()
+    module = None if few is None else few.__self__  # (a module's function: the module)
+    return getattr(module, name, None)
+
+
+def _compiled_grid() -> tuple[Any, Any] | None:
+    """The compiled ``grid_hits`` and ``grid_mark``, or None."""
+    global _grid_compiled
+    if _grid_compiled is _UNLOADED:
+        hits, mark = compiled_function("grid_hits"), compiled_function("grid_mark")
+        _grid_compiled = None if hits is None or mark is None else (hits, mark)
+    return _grid_compiled  # type: ignore[return-value]
 
 
 def _compiled_static_few() -> Any:

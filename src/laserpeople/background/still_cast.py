@@ -32,6 +32,8 @@ otherwise its list is computed again from its present direction.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -132,6 +134,15 @@ class StillCast:
         live = (self._cover.take(flat) > 0) & (self._hit_frame.take(flat) != self._frame)
         return np.where(live, self._stamp, stored)
 
+    def live(self) -> tuple[NDArray[np.int32], IntArray, int, float] | None:
+        """What :meth:`value` reads besides ``seen_free`` while active: the samples per
+        cell, the last frame with a return per cell, the last frame's number and stamp [s]
+        (a cell is live, its ``seen_free`` that stamp, where it has samples and no return
+        in that frame); None when not active (``seen_free`` holds every cell's)."""
+        if not self.active:
+            return None
+        return self._cover, self._hit_frame, self._frame, float(self._stamp)
+
     def settle(self, seen_free: FloatArray) -> None:
         """Write the last frame's stamp into ``seen_free`` (the grid's array, flat, of the
         shape the coverage was made for) for every live cell and stop (the laser moved, or
@@ -204,6 +215,16 @@ class StillCast:
             self._hit_frame = np.full(where[5], -1, dtype=np.int64)
             self.active = True
         listed = self._ids
+        compiled = _compiled_cast()
+        if compiled is not None and listed.size:
+            state = (listed, u, self._u, n, self._n, self._cells, self._cover, self._hit_frame)
+            done = compiled(
+                ids, *state, seen_free, hit, self._safe, self._frame, self._stamp, DIRECTION_TOL
+            )
+            if done is not NotImplemented:
+                self._frame += 1
+                self._stamp = stamp
+                return
         same = listed.size == ids.size and listed.size > 0 and bool((listed == ids).all())
         if same:  # (the usual frame: the same beams as the lists, in the same order)
             pos = self._identity(ids.size)
@@ -260,6 +281,15 @@ class StillCast:
         else:
             n_new = np.zeros(self._ids.size, dtype=np.int64)  # 0: the beam is not in this frame
             n_new[pos] = n
+        apply = _compiled_cast_apply()
+        if apply is not None:
+            counts = (self._n, self._cells, self._cover, self._hit_frame, seen_free, hit)
+            done = apply(n_new, *counts, lost[0] if lost else None, self._frame, self._stamp)
+            if done is not NotImplemented:
+                self._n = n_new
+                self._frame += 1
+                self._stamp = stamp
+                return
         changed = np.flatnonzero(n_new != self._n)
         n_old = self._n[changed]
         n_now = n_new[changed]
@@ -296,6 +326,32 @@ class StillCast:
         seen_free[hit[hit_live]] = self._stamp
         self._frame = last + 1
         self._stamp = stamp
+
+
+_UNLOADED = object()
+_cast_compiled: object = _UNLOADED
+_cast_apply_compiled: object = _UNLOADED
+
+
+def _compiled_cast() -> Any:
+    """The compiled usual frame of :meth:`StillCast.cast` (``still_cast_usual``), or None."""
+    global _cast_compiled
+    if _cast_compiled is _UNLOADED:
+        from laserpeople.background.occupancy import compiled_function  # (it imports this)
+
+        _cast_compiled = compiled_function("still_cast_usual")
+    return _cast_compiled
+
+
+def _compiled_cast_apply() -> Any:
+    """The compiled coverage and stamps of :meth:`StillCast.cast` once its beams are listed
+    (``still_cast_apply``), or None."""
+    global _cast_apply_compiled
+    if _cast_apply_compiled is _UNLOADED:
+        from laserpeople.background.occupancy import compiled_function
+
+        _cast_apply_compiled = compiled_function("still_cast_apply")
+    return _cast_apply_compiled
 
 
 __all__ = ["BOUNDARY_MARGIN", "DIRECTION_TOL", "MAX_COORDINATE", "StillCast"]

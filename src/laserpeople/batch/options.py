@@ -12,6 +12,7 @@ recording is tracked again.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -127,7 +128,14 @@ def resolve(
     Raises:
         ConfigError: An unknown tracker, section, key or value (naming the file).
     """
-    from laserpeople.config import check_sections, from_mapping, load_config, section_name, to_toml
+    from laserpeople.config import (
+        check_sections,
+        from_mapping,
+        load_config,
+        merged,
+        section_name,
+        to_toml,
+    )
     from laserpeople.detection.detector import LegDetectorParams
     from laserpeople.pipeline import GroupingParams, LegFusionParams
     from laserpeople.pipeline.background import StaticWorldParams, load_static_world
@@ -152,8 +160,9 @@ def resolve(
         values = overrides.get(section_name(cls))
         if not values:
             return obj
-        current = {k: getattr(obj, k) for k in obj.__dataclass_fields__}
-        return from_mapping(cls, {**current, **values}, where=f"[{section_name(cls)}]")
+        # the current values as a table (nested parameter classes as tables, as a file
+        # writes them), the grid point's over them; the error names no file: the sweep's
+        return from_mapping(cls, merged(dataclasses.asdict(obj), values))
 
     params = load(entry.params_cls)
     if options.people_policy is not None:

@@ -55,12 +55,14 @@ class SweepSpec:
         metric: The ranking metric.
         held_out: Name globs of the held-out recordings.
         best: Settings scored on the held-out recordings.
+        path: The sweep file (named by errors of its grid values).
     """
 
     grid: Mapping[str, Mapping[str, tuple[Any, ...]]]
     metric: str = "hota"
     held_out: tuple[str, ...] = ()
     best: int = 3
+    path: Path | None = None
 
     def settings(self) -> list[dict[str, dict[str, Any]]]:
         """Every setting of the grid, as ``{section: {key: value}}``, in grid order."""
@@ -116,7 +118,7 @@ def load_sweep(path: str | Path) -> SweepSpec:
     best = data.get("best", 3)
     if not isinstance(best, int) or best < 1:
         raise ConfigError(f"best must be a positive integer, not {best!r}", path=p)
-    return SweepSpec(grid, metric, tuple(str(h) for h in held), best)
+    return SweepSpec(grid, metric, tuple(str(h) for h in held), best, p)
 
 
 @dataclass
@@ -189,7 +191,12 @@ def run_sweep(
             "every recording is held out", hint="held_out must leave recordings to tune on"
         )
     settings = spec.settings()
-    resolved = [resolve(options, s) for s in settings]  # every setting checked before any runs
+    try:  # every setting checked before any runs
+        resolved = [resolve(options, s) for s in settings]
+    except ConfigError as exc:  # one naming no file (the --config's name theirs): the grid's
+        if spec.path is not None:
+            raise exc.located(spec.path) from None
+        raise
     scores = [SettingScore(k, s) for k, s in enumerate(settings)]
     rows: list[TopicRow] = []  # every run's rows, for what its options did not do
     with open_client(cluster or ClusterSpec()) as client:

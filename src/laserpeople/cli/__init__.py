@@ -26,7 +26,7 @@ from typing import Any, NoReturn
 import typer
 from typer.core import TyperArgument, TyperGroup, TyperOption
 
-from laserpeople.cli.common import STATE, err_console, warnings_as_lines
+from laserpeople.cli.common import STATE, err_console, warn, warnings_as_lines
 from laserpeople.errors import LaserPeopleError, cut_long_values
 
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
@@ -311,6 +311,10 @@ def _global_options(
     STATE.debug = debug
     STATE.quiet = quiet
     warnings_as_lines()
+    from laserpeople.cli.environment import unknown_variables
+
+    for line in unknown_variables(os.environ):
+        warn(line)
 
 
 COMMANDS = (

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from laserpeople.cli.common import MountOption, console, plain, warn
+from laserpeople.cli.common import MountOption, console, laser_name, plain, warn
 
 
 def register(app: typer.Typer) -> None:
@@ -26,6 +26,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--reference",
                 help="Laser whose frame is the reference (its topic or frame id).",
+                callback=laser_name,
             ),
         ] = None,
         static: Annotated[

@@ -325,7 +325,7 @@ def register(app: typer.Typer) -> None:
         paths = expand(recordings, out)
         from laserpeople.io.paths import check_outputs
 
-        check_outputs({"--out": out}, [*paths, config, model, map_path, sweep])
+        check_outputs({"--out": out}, [*paths, config, model, map_path, sweep], folders={"--out"})
         if sweep is not None:
             raise typer.Exit(_sweep(sweep, paths, out, options, cluster, force))
         with JobProgress(len(paths)) as bar:

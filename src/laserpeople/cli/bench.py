@@ -9,7 +9,15 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from laserpeople.cli.common import OnErrorOption, console, plain, progress, say
+from laserpeople.cli.common import (
+    OnErrorOption,
+    console,
+    given_options,
+    plain,
+    progress,
+    say,
+    warn,
+)
 from laserpeople.errors import ConfigError, LaserPeopleError
 
 if TYPE_CHECKING:
@@ -22,6 +30,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command("bench")
     def bench(
+        ctx: typer.Context,
         recording: Annotated[
             Path | None,
             typer.Argument(help="Recording to time on (default: a simulated scenario)."),
@@ -62,6 +71,13 @@ def register(app: typer.Typer) -> None:
         )
         from laserpeople.tracking import registry
 
+        if recording is not None:
+            unused = given_options(ctx, ("scenario", "seconds", "seed"))
+            if unused:
+                warn(
+                    f"{', '.join(unused)} set the simulated scenario, which is not run: the "
+                    f"scans timed are those of {recording}"
+                )
         names = tracker or list(registry.TRACKERS)
         entries = [registry.get(n) for n in names]
         timings: list[StageTiming] = []
@@ -124,6 +140,7 @@ def register(app: typer.Typer) -> None:
             timings.append(time_per_item(name, make_step, items, repeat))
         memory = peak_memory_mib()
         from laserpeople.detection.compiled import IMPLEMENTATION as DETECTION
+        from laserpeople.tracking.kalman import IMPLEMENTATION as KALMAN
         from laserpeople.tracking.mht.listing import IMPLEMENTATION as LISTING
 
         if as_json:
@@ -141,6 +158,7 @@ def register(app: typer.Typer) -> None:
                         "peak_memory_mib": memory,
                         "mht_listing": LISTING,
                         "leg_detection": DETECTION,
+                        "kalman_steps": KALMAN,
                     }
                 )
             )
@@ -170,6 +188,7 @@ def register(app: typer.Typer) -> None:
         console.print(table)
         say(f"leg MHT listing of the k best children: {LISTING}")
         say(f"segment features and AdaBoost margins of leg detection: {DETECTION}")
+        say(f"Kalman steps of the tracks (prediction, gating, updates): {KALMAN}")
         console.print(f"peak memory {memory:.0f} MiB")
 
 

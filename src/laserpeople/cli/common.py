@@ -27,10 +27,38 @@ if TYPE_CHECKING:
 
 T = TypeVar("T")
 
+
+def given_options(ctx: typer.Context, names: Sequence[str]) -> list[str]:
+    """The options among the parameters ``names`` of the command of ``ctx`` that the user
+    gave on the command line (``--seconds``), in the order of ``names``."""
+    return [
+        f"--{name.replace('_', '-')}"
+        for name in names
+        if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
+    ]
+
+
+def frame_name(value: str | None) -> str | None:
+    """``--world-frame``: a frame's name; empty (``--world-frame ""``, an unset shell
+    variable) is refused, not taken for the default."""
+    if value is not None and not value.strip():
+        raise typer.BadParameter("is empty: give a frame name such as map or odom, or drop it")
+    return value
+
+
+def laser_name(value: str | None) -> str | None:
+    """A laser's topic or frame id; empty is refused, not taken for the default."""
+    if value is not None and not value.strip():
+        raise typer.BadParameter("is empty: give a laser's topic or frame id, or drop it")
+    return value
+
+
 WorldFrameOption = Annotated[
     str | None,
     typer.Option(
-        "--world-frame", help="Fixed frame for sensor poses in bags (default: map, else odom)."
+        "--world-frame",
+        help="Fixed frame for sensor poses in bags (default: map, else odom).",
+        callback=frame_name,
     ),
 ]
 """The ``--world-frame`` option of commands that read sensor poses from a bag's tf."""
@@ -417,16 +445,20 @@ def warn(message: str) -> None:
 def warnings_as_lines() -> None:
     """Print this package's warnings (:class:`~laserpeople.errors.LaserPeopleWarning`) as
     :func:`warn` lines, not as Python shows them (with the source file and line of the
-    code that warned); other warnings, and all with --debug, as Python shows them."""
+    code that warned), each text once per command (a note of a file read twice, a setting
+    checked by two modules); other warnings, and all with --debug, as Python shows them."""
     import warnings
 
     from laserpeople.errors import LaserPeopleWarning
 
     shown = getattr(warnings.showwarning, "python_showwarning", warnings.showwarning)
+    said: set[str] = set()
 
     def show(message: Warning | str, category: type[Warning], *args: Any, **kw: Any) -> None:
         if issubclass(category, LaserPeopleWarning) and not STATE.debug:
-            warn(str(message))
+            if str(message) not in said:
+                said.add(str(message))
+                warn(str(message))
         else:
             shown(message, category, *args, **kw)
 

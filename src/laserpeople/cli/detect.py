@@ -153,7 +153,10 @@ def register(app: typer.Typer) -> None:
                 topic="",
             )
         pipe = Pipeline(frames, observe=[stage], sinks=[] if all_segments else [sink])
+        from laserpeople.pipeline.empty_scans import EmptyScanCheck
+
         counts = {"scans": 0, "segments": 0, "legs": 0, "small": 0, "invalid": 0}
+        beams = EmptyScanCheck()
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
         interrupted = False
@@ -165,6 +168,7 @@ def register(app: typer.Typer) -> None:
                     counts["legs"] += int(result.is_leg.sum())
                     counts["small"] += int((~result.features.classifiable).sum())
                     counts["invalid"] += result.table.n_invalid
+                    beams.count(scan)
                     if all_segments:
                         t = result.table
                         segments.write_segments(
@@ -200,8 +204,9 @@ def register(app: typer.Typer) -> None:
         say(
             f"{counts['scans']} scans, {counts['segments']} segments "
             f"({counts['small']} with fewer than 3 points not classified), "
-            f"{counts['legs']} legs detected, {counts['invalid']} invalid beams skipped; "
-            f"wrote {output}"
+            f"{counts['legs']} legs detected, {counts['invalid']:,} invalid beams skipped"
+            + (f" ({beams.kinds_text()})" if counts["invalid"] else "")
+            + f"; wrote {output}"
         )
         if interrupted:
             written = counts["scans"] if all_segments else sink.scans

@@ -197,7 +197,23 @@ def register(app: typer.Typer) -> None:
         from laserpeople.evaluation import EvaluationParams, evaluate
         from laserpeople.io import is_rosbag
 
-        if len(tracks_args) > 1 or (tracks_args[0] / "summary.csv").is_file():
+        folder = tracks_args[0]
+        if (
+            len(tracks_args) == 1
+            and folder.is_dir()
+            and not (folder / "summary.csv").is_file()
+            and not is_rosbag(folder)  # a ROS 2 bag of tracks is a folder
+        ):
+            sweep = (folder / "sweep.csv").is_file()
+            raise EvaluationError(
+                "is a folder but not the --out folder of `laserpeople batch` (no summary.csv)",
+                path=folder,
+                hint=f"a sweep's folder: give one of its {folder}/settings-NNN/tune folders, "
+                "whose scores sweep.csv ranks"
+                if sweep
+                else "give a tracks file and its --truth, or a batch --out folder",
+            )
+        if len(tracks_args) > 1 or (folder / "summary.csv").is_file():
             if followed_person is not None or per_frame is not None:
                 raise ConfigError(
                     "--followed-person and --per-frame score one recording",

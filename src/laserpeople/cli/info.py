@@ -110,6 +110,10 @@ def _open(
             mounts=parse_mounts(mounts),
             on_error=policy,
         )
+    if (world_frame or mounts) and not is_bag:  # refused as by every other command
+        from laserpeople.pipeline.recording import open_source
+
+        return open_source(path, world_frame, mounts, on_error)
     if path.suffix.lower() in _CARMEN_SUFFIXES and not poses and path.exists():
         from laserpeople.io.carmen import CarmenRecording
 

@@ -132,16 +132,36 @@ def check_live_options(
 
 
 def _status_printer(meter: Any, stop: Any) -> None:
-    """Refresh the status line every half second (a line every 10 s when not a terminal)."""
+    """Refresh the status line every half second (a line every 10 s when not a terminal);
+    once, after :data:`~laserpeople.live.waiting.NO_SCAN_WAIT` without a scan, warn what to
+    check (warnings are printed with ``--quiet`` too)."""
     import sys
+    import time
 
     from laserpeople.cli.common import STATE
+    from laserpeople.live.waiting import connected_count, no_scan_note
 
     tty = sys.stderr.isatty()
     period = 0.5 if tty else 10.0
-    while not stop.wait(period):
-        if STATE.quiet:
+    session = meter.session
+    start = last = time.monotonic()
+    noted = False
+    while not stop.wait(min(period, 1.0)):  # (each second at least: the warning's time)
+        if not noted and not sum(session.scans.counts.received.values()):
+            note = no_scan_note(
+                time.monotonic() - start,
+                session.topics.lasers,
+                session.settings.connect,
+                connected_count(session.session),
+            )
+            if note:
+                noted = True
+                if tty and not STATE.quiet:
+                    sys.stderr.write("\n")
+                warn(note)
+        if STATE.quiet or time.monotonic() - last < period - 0.01:
             continue
+        last = time.monotonic()
         line = meter.line()
         if tty:
             sys.stderr.write("\r" + line + "\x1b[K")
@@ -389,7 +409,7 @@ def register(app: typer.Typer) -> None:
         make = tracker_pipelines(
             tracker,
             params,
-            detector=make_detector(detector, model, config),
+            detector=make_detector(detector, model, config, preset),
             leg_fusion=load_config(LegFusionParams, config),
             background=background,
             map_path=map_path,
@@ -557,9 +577,9 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
     if record is not None:
         say(f"wrote {record}")
     if not sum(counts.received.values()):
+        from laserpeople.live.waiting import connected_count, why_no_scan
+
         raise LaserPeopleError(
             f"no scan arrived on {', '.join(session.topics.lasers)}: nothing was tracked",
-            hint="check the topic names (ros2 topic list on the robot), --transport, --domain "
-            "and --key-prefix, and that --connect reaches the robot's bridge or router (a "
-            "peer whose endpoint cannot be reached waits without an error)",
+            hint=why_no_scan(session.settings.connect, connected_count(session.session)),
         )

@@ -35,8 +35,12 @@ def register(app: typer.Typer) -> None:
             typer.Option("--rate", help="Scan rate [Hz] of every sensor; the models' if omitted."),
         ] = None,
     ) -> None:
+        from laserpeople.io.paths import check_outputs
         from laserpeople.sim import run_scenario
+        from laserpeople.sim.simulator import check_recording_suffix
 
+        check_outputs({"-o": output}, [])
+        check_recording_suffix(output)  # (before the simulation, not after it)
         result = run_scenario(scenario, seconds=seconds, seed=seed, rate=rate, progress=progress)
         path = result.write(output)
         sensors = ", ".join(s["name"] for s in result.meta["sensors"])

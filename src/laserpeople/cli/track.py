@@ -60,12 +60,14 @@ def tracker_param_classes() -> list[type]:
     return list(dict.fromkeys([*classes, ReidParams, *StaticWorldParams.sections()]))
 
 
-def make_detector(name: str, model: Path | None, config: Path | None) -> Detector:
+def make_detector(
+    name: str, model: Path | None, config: Path | None, preset: str | None = None
+) -> Detector:
     """The leg detector ``adaboost`` (shipped or ``model`` file) or ``heuristic``, with its
-    ``[leg_detector]`` parameters from ``config``."""
+    ``[leg_detector]`` parameters from ``config`` over ``preset``'s."""
     from laserpeople.detection.detector import LegDetectorParams, make_leg_detector
 
-    return make_leg_detector(name, model, load_config(LegDetectorParams, config))
+    return make_leg_detector(name, model, load_config(LegDetectorParams, config, preset))
 
 
 TopicOption = Annotated[
@@ -191,7 +193,7 @@ def run_tracking(
     if people_policy is not None:
         params = registry.with_people_policy(params, people_policy, tracker_name)
     if detector is None:
-        detector = make_detector("adaboost", None, config)
+        detector = make_detector("adaboost", None, config, preset)
     from laserpeople.background.occupancy import map_files
     from laserpeople.io.paths import check_output_format, check_outputs
 
@@ -271,6 +273,9 @@ def run_tracking(
         report_damage(source.recording)
     for line in source.summary():
         say(line)
+    beams = source.empty.beam_summary()
+    if beams:
+        say(beams)
     merged = sum(int(getattr(stage, "duplicates", 0)) for stage in pipe.stages)
     if merged:
         say(f"{merged} leg detections dropped as another laser's view of the same leg")
@@ -517,7 +522,7 @@ def register(app: typer.Typer) -> None:
         check_outputs(
             {"-o": output, "--bag": bag, "--plot": plot, "--animate": animate}, [model, mounts]
         )
-        det = make_detector(detector, model, config)
+        det = make_detector(detector, model, config, preset)
         stats = run_tracking(
             recording,
             output,

@@ -294,6 +294,7 @@ def _draw(
         for problem in truth_mismatch(given, source, drawn[0]):
             name = "the truth" if listed else truth_input
             warn(f"{name} may not belong to {recording.name}: {problem}")
+        truth_input = given  # read once: its notes (names numbered) said once
     start, stop, every = scans
     scene = Scene(
         source,

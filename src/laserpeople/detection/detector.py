@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +32,7 @@ from laserpeople.detection.features import (
 )
 from laserpeople.detection.heuristic import HeuristicLegClassifier, HeuristicParams
 from laserpeople.detection.model_file import LegModel, load_model, model_from_json
+from laserpeople.detection.sparse import SparseLegParams, sparse_legs_of_block
 from laserpeople.scan import Scan
 from laserpeople.segmentation import (
     JumpDistanceParams,
@@ -57,6 +59,7 @@ class LegDetectorParams:
     """Parameters shared by the segment-based leg detectors."""
 
     config_section = "leg_detector"
+    paper_preset = MappingProxyType({"sparse": {"enabled": False}})  # 000: 3+ points a leg
 
     leg_position_std: float = param(
         0.1,
@@ -92,6 +95,11 @@ class LegDetectorParams:
         "distance a leg's position is moved from its points' centroid away from the sensor",
         "m",
     )
+    sparse: SparseLegParams = param(  # noqa: RUF009 (a frozen default instance)
+        SparseLegParams(),
+        "extension (docs/leg-detection.md, Legs of one or two points)",
+        "legs a coarse scanner shows by one or two points (detection/sparse.py)",
+    )
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.min_distance < self.max_distance:
@@ -112,7 +120,7 @@ class ScanClassification:
         table: The segments.
         features: Their features.
         scores: Score (M,) of every segment (NaN for segments not classified: fewer than 3
-            points, or outside the detector's distance limits).
+            points and no sparse leg, or outside the detector's distance limits).
         is_leg: Decision (M,) for every segment (False for unclassified segments).
     """
 
@@ -189,9 +197,15 @@ class _SegmentDetector(abc.ABC):
         feats = compute_features_joined(*args) if deferred is None else deferred.features
         scores = np.full(len(feats), np.nan)
         ok = feats.classifiable
+        sparse = sparse_legs_of_block(
+            block, scans, self.segmenter.params.threshold, self.params.sparse
+        )
+        scores[sparse] = self.params.sparse.score
         if self.params.min_distance > 0.0 or self.params.max_distance < math.inf:
             distance = np.hypot(feats.centres[:, 0], feats.centres[:, 1])
-            ok &= (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
+            within = (distance >= self.params.min_distance) & (distance <= self.params.max_distance)
+            ok &= within
+            scores[sparse[~within[sparse]]] = np.nan
         if deferred is not None:
             rows = np.flatnonzero(ok & (feats.values[:, 0] >= BOUND_MIN_POINTS))
             ok[rows] = self._may_pass(feats, rows)
@@ -201,7 +215,7 @@ class _SegmentDetector(abc.ABC):
             scores[:] = self._scores(feats)
         elif n_ok:
             scores[ok] = self._scores(_subset(feats, ok))
-        is_leg = ok & (scores > self.params.score_threshold)  # (NaN compares False)
+        is_leg = scores > self.params.score_threshold  # (NaN, unscored, compares False)
         self._previous.update(last)  # (only once all of them are classified)
         return block, feats, scores, is_leg
 

@@ -25,7 +25,9 @@ py-motmetrics).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -104,6 +106,7 @@ class ClearMot:
         self._last_was_match: dict[int, bool] = {}
         self._gap_open: set[int] = set()
         self._frame = 0
+        self._pairs: dict[int, int] = {}
         self._rows: list[tuple[int | float, ...]] = []
         self._totals = np.zeros(8, dtype=np.int64)
         self._distance_sum = 0.0
@@ -156,9 +159,10 @@ class ClearMot:
                 if self._last_was_match.get(oid, False):
                     self._gap_open.add(oid)
                 self._last_was_match[oid] = False
-        for i, j in pairs:
-            self._last_track[truth_ids[i]] = track_ids[j]
-            self._last_time[truth_ids[i]] = self._frame
+        self._pairs = {truth_ids[i]: track_ids[j] for i, j in pairs}
+        for oid, tid in self._pairs.items():
+            self._last_track[oid] = tid
+            self._last_time[oid] = self._frame
         self._frame += 1
 
         matches = len(pairs)
@@ -180,6 +184,12 @@ class ClearMot:
         self._distance_sum += dsum
         if self.keep_frames:
             self._rows.append((pts.scan_index, float(pts.stamp), *counts[:7].tolist(), dsum))
+
+    @property
+    def last_pairs(self) -> Mapping[int, int]:
+        """Truth id -> track id of the pairs made in the frame accumulated last (kept or
+        newly assigned; empty before the first frame), read-only."""
+        return MappingProxyType(self._pairs)
 
     def result(self) -> ClearMotResult:
         """CLEAR MOT over the frames accumulated so far."""

@@ -217,8 +217,15 @@ def read_truth(spec: str, laser_topic: str | None) -> tuple[list[TruthFrame], st
         from laserpeople.io.truth_csv import read_truth_csv
 
         return read_truth_csv(path), path.name
+    what = (
+        "is a folder, not a truth file"
+        if path.is_dir()
+        else "does not exist"
+        if not path.exists()
+        else "is neither a truth CSV nor a bag"
+    )
     raise FitError(
-        "cannot read ground truth from this file",
+        f"cannot read ground truth: {path} {what}",
         path=path,
         hint="give a CSV scan,stamp,person_id,x,y or BAG[:TOPIC]",
     )

@@ -276,6 +276,13 @@ def open_reader(
     p = Path(path)
     if not p.exists():
         raise RecordingError(not_found(p), path=p, hint="check the path")
+    if p.is_dir() and not (p / "metadata.yaml").exists():
+        raise RecordingError(
+            "is a folder without metadata.yaml, not a bag",
+            path=p,
+            hint="give a bag file (.bag, .mcap, .db3) or a ROS 2 bag folder (one with "
+            "metadata.yaml)",
+        )
     # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
     # the caller registers types (they reach AnyReader's default typestore)
     ros1 = p.suffix == ".bag" and register is None

@@ -20,11 +20,12 @@ import os
 import shutil
 import struct
 import tempfile
+import warnings
 from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
-from laserpeople.errors import RecordingError
+from laserpeople.errors import LaserPeopleWarning, RecordingError
 from laserpeople.io.rosbag_writer import BagSink
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
@@ -61,13 +62,21 @@ class McapRecorder:
         self.path = Path(path)
         if self.path.is_dir():  # (found out only when it is moved into place, at the end)
             raise self._error(IsADirectoryError(21, "is a folder, not a file"))
+        from laserpeople.io.paths import left_by_killed_runs, staging_folder
+
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._workdir = Path(
-                tempfile.mkdtemp(prefix=f".{self.path.name}.", dir=self.path.parent)
-            )
+            self._workdir = staging_folder(self.path)
         except OSError as exc:
             raise self._error(exc) from exc
+        for left in left_by_killed_runs(self.path):
+            warnings.warn(
+                f"{self.path}: {left.name} beside it holds the frames of an earlier recording "
+                f"into it that was killed: `laserpeople track {left / 'out' / 'out.mcap'} "
+                "--on-error skip` reads them; move or remove the folder",
+                LaserPeopleWarning,
+                stacklevel=2,
+            )
         self._staged = self._workdir / "out" / "out.mcap"
         self._writer: Any = Writer2(
             self._workdir / "out", version=9, storage_plugin=StoragePlugin.MCAP

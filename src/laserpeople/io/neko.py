@@ -144,6 +144,18 @@ def _label_index(value: object) -> int:
 def read_neko(directory: str | Path, frame_period: float = 0.1) -> NekoData:
     """Scans and labels of a neko7055 directory."""
     d = Path(directory)
+    hint = "give the neko7055 folder, the one holding xy_data.txt and leg_segment_labels.json"
+    if not d.exists():
+        raise RecordingError("neko7055 folder not found", path=d, hint=hint)
+    if not d.is_dir():
+        raise RecordingError("is a file, not a neko7055 folder", path=d, hint=hint)
+    missing = [n for n in ("xy_data.txt", "leg_segment_labels.json") if not (d / n).exists()]
+    if missing:
+        raise RecordingError(
+            f"no {' and no '.join(missing)} in this folder: not a neko7055 folder",
+            path=d,
+            hint=hint,
+        )
     scans = read_neko_scans(d / "xy_data.txt", frame_period)
     labels, rule = read_neko_labels(d / "leg_segment_labels.json")
     return NekoData(scans, labels, rule)

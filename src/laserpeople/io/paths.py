@@ -11,7 +11,7 @@ recording it is about to read.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from contextlib import suppress
 from pathlib import Path
 
@@ -121,17 +121,22 @@ def check_output_format(
 
 
 def check_outputs(
-    outputs: Mapping[str, str | Path | None], inputs: Iterable[str | Path | None]
+    outputs: Mapping[str, str | Path | None],
+    inputs: Iterable[str | Path | None],
+    folders: Collection[str] = (),
 ) -> None:
-    """Refuse to write over an input.
+    """Refuse to write over an input, or a file over a folder, before any work is done.
 
     Args:
         outputs: Option name (``"-o"``, ``"--plot"``) -> the path it names (None: not given).
         inputs: Every file or folder the command reads (None entries are ignored).
+        folders: The options of ``outputs`` that name a folder (``batch --out``); every
+            other output is a file.
 
     Raises:
         ConfigError: An output is an input, lies inside an input folder, or two outputs
-            are the same file; the message names both paths.
+            are the same file; the message names both paths. A file output names an
+            existing folder (it was found only after the run, as "Is a directory").
     """
     given = [(name, Path(p)) for name, p in outputs.items() if p is not None]
     sources = [Path(p) for p in inputs if p is not None]
@@ -146,6 +151,12 @@ def check_outputs(
                     f"{name} {out} would write over the input {src}",
                     hint="choose another output path; inputs are never overwritten",
                 )
+    for name, out in given:
+        if name not in folders and out.is_dir():
+            raise ConfigError(
+                f"{name} {out} is a folder: {name} writes a file",
+                hint="give the path of a file: a name inside that folder, or another name",
+            )
     for i, (name, out) in enumerate(given):
         for other, path in given[i + 1 :]:
             if same_file(out, path):
@@ -181,6 +192,48 @@ def staging_name(path: str | Path) -> Path:
 
     p = Path(path)
     return p.with_name(f".{p.stem}.{os.getpid()}-{uuid.uuid4().hex[:6]}.partial{p.suffix}")
+
+
+def staging_folder(target: Path) -> Path:
+    """A new hidden folder beside ``target`` to assemble it in (a bag, an MCAP),
+    ``.NAME.PID-XXXXXXXX``: named for this process, so that a later run can tell the folder
+    of a run that was killed (:func:`left_by_killed_runs`).
+
+    Raises:
+        OSError: The folder cannot be made.
+    """
+    import tempfile
+
+    return Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}-", dir=target.parent))
+
+
+def _running(pid: int) -> bool:
+    """Whether a process ``pid`` runs on this machine (unknown counts as running)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process, or no signals here
+        return True
+    return True
+
+
+def left_by_killed_runs(target: Path) -> list[Path]:
+    """The hidden folders of :func:`staging_folder` beside ``target`` whose process no
+    longer runs: a run writing ``target`` that was killed outright (``kill -9``, a power
+    cut) left them, with what it had written. Empty when the folder cannot be listed."""
+    import re
+
+    pattern = re.compile(rf"\.{re.escape(target.name)}\.(\d+)-[^/]*")
+    try:
+        entries = sorted(target.parent.iterdir())
+    except OSError:
+        return []
+    return [
+        e
+        for e in entries
+        if (m := pattern.fullmatch(e.name)) and e.is_dir() and not _running(int(m.group(1)))
+    ]
 
 
 def write_text_file(

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import os
 import shutil
-import tempfile
+import warnings
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager, suppress
 from pathlib import Path
@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from laserpeople.errors import RecordingError
+from laserpeople.errors import LaserPeopleWarning, RecordingError
 from laserpeople.scan import Pose2D, Scan
 
 ROS1_SUFFIXES = frozenset({".bag"})
@@ -171,11 +171,20 @@ def open_bag(path: str | Path) -> Iterator[BagSink]:
             hint="use .bag (ROS 1), .mcap or .db3 (ROS 2)",
         )
     ros1 = suffix in ROS1_SUFFIXES
+    from laserpeople.io.paths import left_by_killed_runs, staging_folder
+
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        workdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+        workdir = staging_folder(target)
     except OSError as exc:
         raise _unwritable(exc, target) from exc
+    for left in left_by_killed_runs(target):
+        warnings.warn(
+            f"{target}: {left.name} beside it was left by an earlier run writing it that was "
+            "killed (a bag without its index, not used): remove it",
+            LaserPeopleWarning,
+            stacklevel=3,
+        )
     try:
         try:
             if ros1:

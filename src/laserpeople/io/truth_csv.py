@@ -5,7 +5,9 @@ Header (extra columns are ignored; ``group_id`` is optional)::
     scan,stamp,person_id,x,y[,group_id][,frame]
 
 ``scan`` is the 0-based index of the scan on its topic (as in the tracks CSV), ``stamp`` its
-time [s], ``person_id`` an integer ``0 <= id < 2**62``, ``x, y`` the person's position [m] in the
+time [s], ``person_id`` an integer ``0 <= id < 2**62`` or a name (``alice``, ``p3``: text that is no
+number; each name is numbered after the largest integer id of the file, in the order first
+seen, and the reader says which number each name got), ``x, y`` the person's position [m] in the
 world frame, ``group_id`` the group (-1 or empty: walks alone), ``frame`` the frame of x, y
 (``world``, or ``sensor``: the laser's frame at that scan; one for the whole file; without
 it the frame is not stated, and the scorer says it took the tracks'). The annotation may be
@@ -64,8 +66,44 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
         ) from exc
 
 
+Person = tuple[int | str, float, float, int]
+"""One truth row's person: id (an integer or a name), x, y [m], group id."""
+
+NAMES_SHOWN = 10
+"""Names whose numbers the reader's note lists (then "and k more")."""
+
+
+def number_names(ids: list[int | str], path: Path) -> dict[int | str, int]:
+    """The integer id of every person id of a file: an integer stays itself; a name gets
+    the next number after the file's largest integer id (0 without any), in the order first
+    seen in ``ids``. Warns (:class:`LaserPeopleWarning`) with each name's number when there
+    are names."""
+    numbers: dict[int | str, int] = {i: i for i in ids if isinstance(i, int)}
+    names = [i for i in dict.fromkeys(ids) if isinstance(i, str)]
+    if not names:
+        return numbers
+    start = max((i for i in ids if isinstance(i, int)), default=-1) + 1
+    if start + len(names) > ID_LIMIT:
+        raise RecordingError(
+            f"{len(names)} person_id names do not fit after the integer id {start - 1}",
+            path=path,
+            hint="give every person a name, or every person an integer id",
+        )
+    numbers.update({name: start + k for k, name in enumerate(names)})
+    shown = ", ".join(f"{name} = {start + k}" for k, name in enumerate(names[:NAMES_SHOWN]))
+    more = f" and {len(names) - NAMES_SHOWN} more" if len(names) > NAMES_SHOWN else ""
+    warnings.warn(
+        f"{path}: person_id is a name for {len(names)} people, numbered in the order first "
+        f"seen{' after the largest integer id' if start else ''}: {shown}{more} (the "
+        "figures and pictures name people by these numbers)",
+        LaserPeopleWarning,
+        stacklevel=4,
+    )
+    return numbers
+
+
 def _read_truth_csv(p: Path) -> list[TruthFrame]:
-    scans: dict[int, tuple[float, list[tuple[int, float, float, int]]]] = {}
+    scans: dict[int, tuple[float, list[Person]]] = {}
     frame: CoordinateFrame | None = None
     with open(p, newline="", encoding="utf-8") as fh:
         reader = CsvRows(fh, p, "ground-truth CSV", TRUTH_HINT)
@@ -104,10 +142,11 @@ def _read_truth_csv(p: Path) -> list[TruthFrame]:
         raise RecordingError(
             "the ground-truth CSV has no rows", path=p, hint="annotate at least one scan"
         )
+    numbers = number_names([q[0] for _, people in scans.values() for q in people], p)
     frames = []
     for scan in sorted(scans):
         stamp, people = scans[scan]
-        ids = np.array([q[0] for q in people], dtype=np.int64)
+        ids = np.array([numbers[q[0]] for q in people], dtype=np.int64)
         xy = np.array([(q[1], q[2]) for q in people], dtype=np.float64).reshape(-1, 2)
         n = ids.size
         frames.append(
@@ -143,9 +182,30 @@ def _file_frame(
     return given
 
 
+def _person_id(text: str) -> int | str:
+    """A person_id cell: an integer ``0 <= id < 2**62``, or a name (text that is no
+    number). Raises ValueError for a number that is no such integer."""
+    try:
+        person = int(text)
+    except ValueError:
+        try:
+            float(text)
+        except ValueError:
+            if not text:
+                raise ValueError("column person_id is empty, not an id") from None
+            return text
+        raise ValueError(
+            f"column person_id is {text!r}, a number but not an integer (a table program "
+            "that wrote ids as 3.0: save the column as integers, or name each person)"
+        ) from None
+    if not 0 <= person < ID_LIMIT:
+        raise ValueError(f"person_id {person} is negative or too large")
+    return person
+
+
 def _parse_row(
     row: dict[str, str | None], path: Path, line: int
-) -> tuple[int, float, tuple[int, float, float, int] | None]:
+) -> tuple[int, float, Person | None]:
     def cell(key: str) -> str:
         value = row.get(key)
         return "" if value is None else value.strip()
@@ -171,9 +231,7 @@ def _parse_row(
             raise ValueError("stamp is not finite")
         if cell("person_id") == "" and cell("x") == "" and cell("y") == "":
             return scan, stamp, None
-        person = int(number("person_id", int))
-        if not 0 <= person < ID_LIMIT:
-            raise ValueError(f"person_id {person} is negative or too large")
+        person = _person_id(cell("person_id"))
         x, y = float(number("x", float)), float(number("y", float))
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError("x or y is not finite")
@@ -186,8 +244,8 @@ def _parse_row(
         raise RecordingError(
             f"line {line}: {exc}",
             path=path,
-            hint="each row is scan (int), stamp (s), person_id (int), x, y (m) "
-            "[, group_id]; an empty scan is scan,stamp,,,",
+            hint="each row is scan (int), stamp (s), person_id (an integer or a name), "
+            "x, y (m) [, group_id]; an empty scan is scan,stamp,,,",
         ) from exc
     return scan, stamp, (person, x, y, group)
 

@@ -88,7 +88,7 @@ class SimResult:
 
     def write(self, path: str | Path) -> Path:
         """Write the recording; ``.npz`` keeps the ground truth, ``.mcap``/``.bag`` only scans."""
-        p = Path(path)
+        p = check_recording_suffix(path)
         suffix = p.suffix.lower()
         if suffix == ".npz":
             from laserpeople.io import write_recording
@@ -101,13 +101,22 @@ class SimResult:
                     path=p,
                     hint="choose a writable directory for -o",
                 ) from exc
-        if suffix in {".mcap", ".bag", ".db3"}:
-            return _write_rosbag(p, self.scans)
+        return _write_rosbag(p, self.scans)
+
+
+def check_recording_suffix(path: str | Path) -> Path:
+    """``path`` if :meth:`SimResult.write` can write a recording there (``.npz``,
+    ``.mcap``, ``.db3``, ``.bag``), else a :class:`LaserPeopleError` naming it: for a
+    caller to check before it simulates."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix not in {".npz", ".mcap", ".bag", ".db3"}:
         raise LaserPeopleError(
             f"cannot write simulated recordings as {suffix or '(no extension)'!r}",
             path=p,
             hint="use .npz (scans and ground truth), or .mcap/.db3/.bag (scans only)",
         )
+    return p
 
 
 def _write_rosbag(path: Path, scans: list[Scan]) -> Path:

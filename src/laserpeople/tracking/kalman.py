@@ -11,13 +11,30 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.extensions import load_extension
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+SOURCE = Path(__file__).with_name("_ckalman.c")
+"""The C extension's source, beside this module (in an installed package as well)."""
+
+_extension, IMPLEMENTATION = load_extension(
+    "laserpeople.tracking._ckalman", SOURCE, "Kalman steps of the track nodes"
+)
+"""The optional C extension of the Kalman steps of many tracks at once (None: their numpy
+code, the reference, runs), and which runs: ``"compiled (C extension)"`` or ``"pure Python
+(...)"`` with the reason. :func:`predict`, :func:`coast`, :func:`predict_and_coast`,
+:func:`predict_rows`, :func:`mahalanobis_and_loglik`, :func:`gate_and_loglik`,
+:func:`update_batch` and :func:`update_rows` use it: the same floats as numpy's (its
+products are OpenBLAS's fused sums in order; numpy's ``pow``, ``exp`` and ``log`` are
+passed in or taken after)."""
 
 H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
 """Measurement matrix: positions are observed directly (000 Sec. 3.1)."""
@@ -170,6 +187,9 @@ def predict(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    got = _compiled_arrays(means, covs, dt, accel_psd, math.inf)
+    if got is not None:
+        return got[0], got[1]
     step = _one_step(dt)
     if step is not None:
         pm, pc, _, _ = _one_step_predict_and_coast(means, covs, step, accel_psd, math.inf)
@@ -315,6 +335,9 @@ def coast(
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    got = _compiled_arrays(means, covs, dt, accel_psd, tau)
+    if got is not None:
+        return got[2], got[3]
     return _coast(means, covs, dt, process_noise(dt, accel_psd), tau)
 
 
@@ -336,10 +359,14 @@ def predict_and_coast(
     means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float, tau: float
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """:func:`predict` and :func:`coast` of the same tracks at once (the process noise is
-    computed once): predicted means (T, 4), covariances (T, 4, 4), then the coasted ones."""
+    computed once): predicted means (T, 4), covariances (T, 4, 4), then the coasted ones.
+    Compiled where the extension is built (:func:`predict_rows`: the same floats)."""
     dt = np.asarray(dt, dtype=np.float64).reshape(-1)
     means = np.asarray(means, dtype=np.float64).reshape(-1, 4)
     covs = np.asarray(covs, dtype=np.float64).reshape(-1, 4, 4)
+    got = _compiled_arrays(means, covs, dt, accel_psd, tau)
+    if got is not None:
+        return got
     step = _one_step(dt)
     if step is not None:
         return _one_step_predict_and_coast(means, covs, step, accel_psd, tau)
@@ -372,7 +399,23 @@ def mahalanobis_and_loglik(
 
     Returns:
         ``(d2, loglik)``, both (T, M); loglik is a density per m^2 in log space.
+
+    Compiled where the extension is built (the same floats, the logarithm numpy's).
     """
+    t, m = covs.shape[0], z.shape[0]
+    if _extension is not None and t * m:
+        d2, loglik, det = np.empty((3, t, m))
+        _extension.score(
+            *_contiguous(means, covs, z, meas_covs),
+            0.0,
+            0.0,
+            LOG_2PI,
+            None,
+            loglik,
+            det,
+            d2,
+        )
+        return d2, _finish_loglik(loglik, det)
     if 0 < covs.shape[0] * z.shape[0] <= SMALL_PAIRS:
         return _few_mahalanobis_and_loglik(means, covs, z, meas_covs)
     s = innovation_covariances(covs, meas_covs)  # (T, M, 2, 2)
@@ -436,7 +479,11 @@ def update_batch(
     means: FloatArray, covs: FloatArray, z: FloatArray, meas_covs: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
     """Kalman updates of K states (K, 4), (K, 4, 4) with measurements (K, 2), (K, 2, 2) at
-    once (Joseph form)."""
+    once (Joseph form). Compiled where the extension is built (the same floats)."""
+    k = covs.shape[0]
+    if _extension is not None and k:
+        every = list(range(k))
+        return _compiled_update(means, covs, every, z, meas_covs, every)
     if 0 < covs.shape[0] <= SMALL_UPDATE:
         return _few_update(means, covs, z, meas_covs)
     s = covs[:, :2, :2] + meas_covs
@@ -476,6 +523,185 @@ def _few_update(
     ikh = np.array(rows).reshape(-1, 4, 4)
     new_covs = ikh @ covs @ ikh.transpose(0, 2, 1) + k @ meas_covs @ k.transpose(0, 2, 1)
     return new_means, 0.5 * (new_covs + new_covs.transpose(0, 2, 1))
+
+
+def predict_rows(
+    means: list[FloatArray],
+    covs: list[FloatArray],
+    dts: list[float],
+    accel_psd: float,
+    tau: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`predict_and_coast` of N tracks given as rows: ``means`` a list of N arrays
+    (4,), ``covs`` of N arrays (4, 4), ``dts`` N steps [s] as plain floats; the rows read
+    where they are where the extension is built, else stacked."""
+    got = _compiled_predict(means, covs, dts, accel_psd, tau)
+    if got is not None:
+        return got
+    return predict_and_coast(
+        np.array(means, dtype=np.float64).reshape(-1, 4),
+        np.array(covs, dtype=np.float64).reshape(-1, 4, 4),
+        np.array(dts, dtype=np.float64),
+        accel_psd,
+        tau,
+    )
+
+
+def _compiled_arrays(
+    means: FloatArray, covs: FloatArray, dt: FloatArray, accel_psd: float, tau: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+    """:func:`_compiled_predict` of stacked tracks (None: the extension is not built)."""
+    if _extension is None or not dt.size:
+        return None
+    return _compiled_predict(
+        np.ascontiguousarray(means), np.ascontiguousarray(covs), dt.tolist(), accel_psd, tau
+    )
+
+
+def _compiled_predict(
+    means: list[FloatArray] | FloatArray,
+    covs: list[FloatArray] | FloatArray,
+    dts: list[float],
+    accel_psd: float,
+    tau: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+    """:func:`predict_and_coast` by the extension, of rows (lists of arrays) or stacked
+    contiguous arrays (the same floats: the cubes and decays as :func:`_step_powers`
+    gives them, the products as numpy's); None where the extension is not built or does
+    not take them (rows that are not 4 and 16 float64 each)."""
+    if _extension is None or not dts:
+        return None
+    n = len(dts)
+    pm, cm = np.empty((2, n, 4))
+    pc, cc = np.empty((2, n, 4, 4))
+    cubes, decays = _step_powers(dts, tau)
+    try:
+        _extension.predict(
+            means, covs, dts, cubes, decays, float(accel_psd), float(tau), pm, pc, cm, cc
+        )
+    except (ValueError, TypeError):
+        return None
+    if decays is None:
+        return pm, pc, pm, pc
+    return pm, pc, cm, cc
+
+
+def _step_powers(dts: list[float], tau: float) -> tuple[list[float], list[float] | None]:
+    """``dt**3`` and ``exp(-dt / tau)`` (None for an infinite ``tau``) of each step, as
+    :func:`predict_and_coast`'s numpy path for these steps computes them: steps that are
+    all the same and a few steps (:data:`SMALL_BATCH`) cube by Python's ``pow`` (the C
+    library's), more steps that differ by numpy's power (SIMD code on AVX-512 that differs
+    from the C library's in the last bit of some values); the decay always by numpy's
+    ``exp``."""
+    d = dts[0]
+    n = len(dts)
+    if dts.count(d) == n:
+        return [d**3] * n, None if math.isinf(tau) else [_decay(d, tau)] * n
+    steps = np.array(dts)
+    cubes: list[float] = [e**3 for e in dts] if n <= SMALL_BATCH else (steps**3).tolist()
+    if math.isinf(tau):
+        return cubes, None
+    decays: list[float] = np.exp(-steps / tau).tolist()
+    return cubes, decays
+
+
+def _decay(d: float, tau: float) -> float:
+    """``exp(-d / tau)`` by numpy's ``exp``, kept by step (as the step matrices are)."""
+    key = (d, tau)
+    k = _DECAYS.get(key)
+    if k is None:
+        k = float(np.exp(np.array((-d / tau,)))[0])
+        if len(_DECAYS) >= STEP_MATRICES_KEPT:
+            _DECAYS.clear()
+        _DECAYS[key] = k
+    return k
+
+
+_DECAYS: dict[tuple[float, float], float] = {}
+
+
+def _contiguous(*arrays: FloatArray) -> list[FloatArray]:
+    """The arrays as C-contiguous float64 (themselves where they are)."""
+    return [np.ascontiguousarray(a, dtype=np.float64) for a in arrays]
+
+
+def _finish_loglik(partial: FloatArray, det: FloatArray) -> FloatArray:
+    """The log-likelihoods from the extension's ``-0.5 d2 - log(2 pi)`` and ``det S``, in
+    place: ``partial - 0.5 log(det)`` by numpy's ``log``, in the reference's order."""
+    np.log(det, out=det)
+    det *= 0.5
+    partial -= det
+    return partial
+
+
+def gate_and_loglik(
+    means: FloatArray,
+    covs: FloatArray,
+    z: FloatArray,
+    meas_covs: FloatArray,
+    gate: float,
+    max_gate_sq: float,
+) -> tuple[BoolArray, FloatArray]:
+    """Which (track, measurement) pairs are gated, (T, M): squared Mahalanobis distance at
+    most ``gate`` and squared distance at most ``max_gate_sq`` [m^2]; and their Gaussian
+    log-likelihoods (T, M) (:func:`mahalanobis_and_loglik`, :func:`euclidean_sq`).
+    Compiled where the extension is built (the same floats, the logarithm numpy's)."""
+    t, m = means.shape[0], z.shape[0]
+    if _extension is None or t * m == 0:
+        d2, ll = mahalanobis_and_loglik(means, covs, z, meas_covs)
+        return (d2 <= gate) & (euclidean_sq(means, z) <= max_gate_sq), ll
+    gated = np.empty((t, m), dtype=np.bool_)
+    loglik, det = np.empty((2, t, m))
+    _extension.score(
+        *_contiguous(means, covs, z, meas_covs),
+        float(gate),
+        float(max_gate_sq),
+        LOG_2PI,
+        gated,
+        loglik,
+        det,
+        None,
+    )
+    return gated, _finish_loglik(loglik, det)
+
+
+def update_rows(
+    means: FloatArray,
+    covs: FloatArray,
+    rows: list[int],
+    z: FloatArray,
+    meas_covs: FloatArray,
+    js: list[int],
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`update_batch` of the states at ``rows`` of ``means`` (N, 4) and ``covs``
+    (N, 4, 4) with the measurements at ``js`` of ``z`` (M, 2) and ``meas_covs`` (M, 2, 2);
+    the rows read where they are where the extension is built, else taken."""
+    if _extension is not None and rows:
+        return _compiled_update(means, covs, rows, z, meas_covs, js)
+    idx = np.asarray(js, dtype=np.intp)
+    return update_batch(
+        means.take(rows, axis=0),
+        covs.take(rows, axis=0),
+        z.take(idx, axis=0),
+        meas_covs.take(idx, axis=0),
+    )
+
+
+def _compiled_update(
+    means: FloatArray,
+    covs: FloatArray,
+    rows: list[int],
+    z: FloatArray,
+    meas_covs: FloatArray,
+    js: list[int],
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`update_rows` by the extension (the same floats as :func:`update_batch`)."""
+    assert _extension is not None
+    k = len(rows)
+    out_m = np.empty((k, 4))
+    out_c = np.empty((k, 4, 4))
+    _extension.update(*_contiguous(means, covs), rows, *_contiguous(z, meas_covs), js, out_m, out_c)
+    return out_m, out_c
 
 
 def initiate(

@@ -63,9 +63,8 @@ class KalmanPointModel:
         self.node_predictions = node_predictions
         self.gate = params.gate
         self.max_gate_sq = params.max_gate_distance**2
-        # the occluded states of the last predict() call (N, 4), (N, 4, 4), rows by node id
+        # the occluded states of the last predict() call (N, 4), (N, 4, 4), rows as _rows
         self._coast_batch: tuple[FloatArray, FloatArray] = (np.empty((0, 4)), np.empty((0, 4, 4)))
-        self._coast_rows: dict[int, int] = {}
         self._rows: dict[int, int] = {}  # id(node) -> row of the last predict() call
         # the node list of the last predict() call and its predictions (N, 4), (N, 4, 4)
         self._predicted: tuple[Sequence[TrackNode], FloatArray, FloatArray] = (
@@ -74,34 +73,37 @@ class KalmanPointModel:
             np.empty((0, 4, 4)),
         )
 
-    def _dt(self, nodes: Sequence[TrackNode], stamp: float) -> FloatArray:
-        """Steps (N,) [s] from each node's stamp to ``stamp``, clipped to [0, max_dt] (in
-        plain floats: ``np.clip``'s values at a fraction of its cost on a few nodes)."""
+    def _steps(self, nodes: Sequence[TrackNode], stamp: float) -> list[float]:
+        """Steps [s] from each node's stamp to ``stamp``, clipped to [0, max_dt] (in plain
+        floats: ``np.clip``'s values at a fraction of its cost on a few nodes)."""
         top = self.params.max_dt
-        return np.array([min(max(stamp - n.stamp, 0.0), top) for n in nodes], dtype=np.float64)
+        steps = [stamp - n.stamp for n in nodes]
+        d = steps[0] if steps else 0.0
+        if 0.0 <= d <= top and steps.count(d) == len(steps):  # (most scans: one step)
+            return steps
+        return [min(max(s, 0.0), top) for s in steps]
 
     def predict(self, nodes: Sequence[TrackNode], stamp: float) -> None:
         """Predict all nodes to ``stamp`` at once."""
         if not nodes:
             return
-        means = np.array([n.mean for n in nodes], dtype=np.float64).reshape(-1, 4)
-        covs = np.array([n.cov for n in nodes], dtype=np.float64).reshape(-1, 4, 4)
-        dt = self._dt(nodes, stamp)
         tau = self.params.coast_velocity_time
         # the occluded children's states come from the same batch (used by coast)
-        pm, pc, cm, cc = kalman.predict_and_coast(means, covs, dt, self.params.accel_psd, tau)
+        pm, pc, cm, cc = kalman.predict_rows(
+            [n.mean for n in nodes],
+            [n.cov for n in nodes],
+            self._steps(nodes, stamp),
+            self.params.accel_psd,
+            tau,
+        )
         if self.node_predictions:
             for n, mean, cov in zip(nodes, pm, pc, strict=True):
                 n.pred_mean = mean
                 n.pred_cov = cov
         self._predicted = (nodes, pm, pc)
         # where each node's prediction is in the batch (update takes its rows from there)
-        rank = range(len(nodes))
-        self._rows = dict(zip(map(id, nodes), rank, strict=True))
-        self._coast_rows.clear()
-        if not math.isinf(tau):
-            self._coast_batch = (cm, cc)
-            self._coast_rows = dict(zip([n.node_id for n in nodes], rank, strict=True))
+        self._rows = dict(zip(map(id, nodes), range(len(nodes)), strict=True))
+        self._coast_batch = (cm, cc)
 
     def score(
         self, nodes: Sequence[TrackNode], measurements: PointMeasurements
@@ -114,11 +116,14 @@ class KalmanPointModel:
         else:
             means = np.stack([self._pred(n)[0] for n in nodes])
             covs = np.stack([self._pred(n)[1] for n in nodes])
-        d2, ll = kalman.mahalanobis_and_loglik(
-            means, covs, measurements.positions, measurements.covariances
+        return kalman.gate_and_loglik(
+            means,
+            covs,
+            measurements.positions,
+            measurements.covariances,
+            self.gate,
+            self.max_gate_sq,
         )
-        near = kalman.euclidean_sq(means, measurements.positions) <= self.max_gate_sq
-        return (d2 <= self.gate) & near, ll
 
     def update(
         self,
@@ -130,21 +135,16 @@ class KalmanPointModel:
         """Kalman updates of ``nodes[i]`` with measurement ``js[i]``, all at once."""
         if not nodes:
             return []
-        idx = np.asarray(js, dtype=np.intp)
         done, pm, pc = self._predicted
         rows = [self._rows.get(id(n), -1) for n in nodes]
         fresh = (r >= 0 and done[r] is n for r, n in zip(rows, nodes, strict=True))
-        if all(fresh):  # all predicted in the last batch: its rows
-            pred_means, pred_covs = pm.take(rows, axis=0), pc.take(rows, axis=0)
-        else:
+        if not all(fresh):  # not all predicted in the last batch: their own predictions
             preds = [self._pred(n) for n in nodes]
-            pred_means = np.stack([p[0] for p in preds])
-            pred_covs = np.stack([p[1] for p in preds])
-        means, covs = kalman.update_batch(
-            pred_means,
-            pred_covs,
-            measurements.positions.take(idx, axis=0),
-            measurements.covariances.take(idx, axis=0),
+            pm = np.stack([p[0] for p in preds])
+            pc = np.stack([p[1] for p in preds])
+            rows = list(range(len(nodes)))
+        means, covs = kalman.update_rows(
+            pm, pc, rows, measurements.positions, measurements.covariances, list(js)
         )
         return [(mean, cov, None) for mean, cov in zip(means, covs, strict=True)]
 
@@ -155,12 +155,17 @@ class KalmanPointModel:
         if math.isinf(tau):
             mean, cov = self._pred(node)
             return mean, cov, None
-        row = self._coast_rows.get(node.node_id)
-        if row is not None:
+        done = self._predicted[0]
+        row = self._rows.get(id(node), -1)
+        if row >= 0 and done[row] is node:  # predicted in the last batch: its coasted row
             cm, cc = self._coast_batch
             return cm[row], cc[row], None
         means, covs = kalman.coast(
-            node.mean[None, :], node.cov[None], self._dt([node], stamp), self.params.accel_psd, tau
+            node.mean[None, :],
+            node.cov[None],
+            np.array(self._steps([node], stamp)),
+            self.params.accel_psd,
+            tau,
         )
         return means[0], covs[0], None
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Sequence
+from functools import lru_cache
 from types import ModuleType
 from typing import Any
 
@@ -59,6 +60,31 @@ def import_matplotlib() -> ModuleType:
         ) from exc
     matplotlib.use("Agg", force=True)
     return matplotlib
+
+
+MISSING_GLYPH = "?"
+"""Drawn for a character of a title that the font has no glyph for."""
+
+
+@lru_cache(maxsize=1)
+def _font_chars() -> frozenset[int]:
+    """The characters (code points) the default font of the drawings has glyphs for."""
+    import_matplotlib()
+    from matplotlib import font_manager
+    from matplotlib.ft2font import FT2Font
+
+    path = font_manager.findfont(font_manager.FontProperties())
+    return frozenset(FT2Font(path).get_charmap())
+
+
+def drawable(text: str) -> str:
+    """``text`` with each character the font cannot draw (an emoji of a file name) as
+    :data:`MISSING_GLYPH`: matplotlib would draw a box and warn with its own source line
+    on every frame."""
+    if text.isascii():
+        return text
+    chars = _font_chars()
+    return "".join(c if ord(c) in chars or c in "\n\t" else MISSING_GLYPH for c in text)
 
 
 def _rgb(color: tuple[int, int, int], alpha: float = 1.0) -> tuple[float, float, float, float]:

@@ -29,6 +29,7 @@ from laserpeople.viz.figure import (
     Extent,
     FrameRenderer,
     PlotsExtraMissingError,
+    drawable,
     import_matplotlib,
 )
 from laserpeople.viz.geometry import square_extent
@@ -150,10 +151,12 @@ def _frames_extent(frames: list[SceneFrame], margin: float = 0.5) -> Extent:
 
 
 def _title(scene: Scene) -> str:
+    """The drawings' title: the scene's, else the recording's name and the topic (each
+    character the font lacks as ``?``, :func:`~laserpeople.viz.figure.drawable`)."""
     if scene.title is not None:
-        return scene.title
+        return drawable(scene.title)
     name = Path(scene.source_name).name if scene.source_name else ""
-    return f"{name} {scene.topic or ''}".strip()
+    return drawable(f"{name} {scene.topic or ''}".strip())
 
 
 def iter_images(

@@ -1,6 +1,9 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
- * end of this file, the scan's clusters, `components`, and the occupancy grid's static
- * time of a few positions, `static_few`).
+ * end of this file, the scan's clusters, `components`, the occupancy grid's static time
+ * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
+ * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
+ * and the beam
+ * histogram's foreground of a frame, `histogram_foreground`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1253,6 +1256,455 @@ done:
     return out;
 }
 
+/* ------------------------------------------------------------------ grid_hits, grid_mark
+ *
+ * OccupancyGrid._hits_python and _mark_hits_python compiled: a frame's cells with a return
+ * (the flat indices of floor(x / resolution), floor(y / resolution) into the grid's arrays,
+ * sorted, each once) with the exponents -max(stamp - touched, 0) / decay_time of their
+ * decayed evidence; then, given numpy's exp of those exponents (the C library's exp may
+ * differ from numpy's in the last bit, and the evidence is kept), the cells' evidence,
+ * touched stamps, occupied-since stamps and first-sight flags, with the same IEEE
+ * operations as the numpy reference in the same order. NotImplemented for input the
+ * Python one takes (a point not finite, a cell outside the arrays, buffers not as
+ * expected): nothing is written then. */
+
+/* 0 with the C-contiguous buffer of `obj` (any dimensions) of items `format` (or, with
+ * `alt`, that one) in `view`, `len` its number of items, else 1 (no buffer held, no error
+ * set: the caller refuses). */
+static int flat_buffer(PyObject *obj, Py_buffer *view, const char *format, const char *alt,
+                       int writable, Py_ssize_t *len) {
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) {
+        PyErr_Clear();
+        return 1;
+    }
+    if (!view->format ||
+        (strcmp(view->format, format) != 0 && !(alt && strcmp(view->format, alt) == 0))) {
+        PyBuffer_Release(view);
+        view->obj = NULL;
+        return 1;
+    }
+    *len = view->len / view->itemsize;
+    return 0;
+}
+
+static void release_all(Py_buffer *bufs, int got) {
+    for (int b = 0; b < got; b++) PyBuffer_Release(&bufs[b]);
+}
+
+/* Sort the non-negative v[0..n) ascending: least significant byte first, one counting
+ * pass per byte up to the largest value's (`scratch` holds n items). */
+static void sort_cells(long long *v, long long *scratch, Py_ssize_t n) {
+    long long top = 0;
+    for (Py_ssize_t q = 0; q < n; q++)
+        if (v[q] > top) top = v[q];
+    for (int shift = 0; shift < 64 && (top >> shift) > 0; shift += 8) {
+        Py_ssize_t count[257] = {0};
+        for (Py_ssize_t q = 0; q < n; q++) count[((v[q] >> shift) & 0xff) + 1]++;
+        for (int d = 0; d < 256; d++) count[d + 1] += count[d];
+        for (Py_ssize_t q = 0; q < n; q++) scratch[count[(v[q] >> shift) & 0xff]++] = v[q];
+        memcpy(v, scratch, (size_t)n * sizeof(long long));
+    }
+}
+
+static PyObject *grid_hits(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError,
+                        "grid_hits(points, touched, o0, o1, resolution, stamp, decay_time, "
+                        "hit_out, exponent_out)");
+        return NULL;
+    }
+    long long o0 = PyLong_AsLongLong(args[2]), o1 = PyLong_AsLongLong(args[3]);
+    double res = PyFloat_AsDouble(args[4]), stamp = PyFloat_AsDouble(args[5]);
+    double tau = PyFloat_AsDouble(args[6]);
+    if (PyErr_Occurred()) return NULL;
+    Py_buffer bufs[4];
+    int got = 0;
+    Py_ssize_t lens[4];
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[1], &bufs[1], "d", NULL, 0, &lens[1])) goto refuse;
+    got = 2;
+    if (flat_buffer(args[7], &bufs[2], "l", "q", 1, &lens[2])) goto refuse;
+    got = 3;
+    if (flat_buffer(args[8], &bufs[3], "d", NULL, 1, &lens[3])) goto refuse;
+    got = 4;
+    if (bufs[0].ndim != 2 || bufs[0].shape[1] != 2 || bufs[1].ndim != 2 ||
+        bufs[2].itemsize != 8)
+        goto refuse;
+    Py_ssize_t n = bufs[0].shape[0], h = bufs[1].shape[0], w = bufs[1].shape[1];
+    if (lens[2] < n || lens[3] < n) goto refuse;
+    const double *pts = bufs[0].buf, *touched = bufs[1].buf;
+    long long *hit = bufs[2].buf;
+    double *exponent = bufs[3].buf;
+    for (Py_ssize_t q = 0; q < n; q++) {
+        double x = pts[2 * q], y = pts[2 * q + 1];
+        if (!isfinite(x) || !isfinite(y)) goto refuse;
+        double fi = floor(x / res), fj = floor(y / res);
+        if (!(fabs(fi) < 4e18 && fabs(fj) < 4e18)) goto refuse;
+        long long i = (long long)fi - o0, j = (long long)fj - o1;
+        if (i < 0 || j < 0 || i >= h || j >= w) goto refuse;
+        hit[q] = i * w + j;
+    }
+    long long *scratch = PyMem_Malloc((size_t)(n > 0 ? n : 1) * sizeof(long long));
+    if (!scratch) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    sort_cells(hit, scratch, n);
+    PyMem_Free(scratch);
+    Py_ssize_t k = 0;
+    for (Py_ssize_t q = 0; q < n; q++)
+        if (k == 0 || hit[q] != hit[k - 1]) hit[k++] = hit[q];
+    for (Py_ssize_t q = 0; q < k; q++) {
+        double dt = stamp - touched[hit[q]];
+        if (dt < 0.0) dt = 0.0; /* np.maximum(dt, 0.0): nan and -0.0 stay */
+        exponent[q] = -dt / tau;
+    }
+    release_all(bufs, got);
+    return PyLong_FromSsize_t(k);
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+static PyObject *grid_mark(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 17) {
+        PyErr_SetString(PyExc_TypeError,
+                        "grid_mark(evidence, touched, since, first_sight, seen_free, hit, "
+                        "factor, stamp, occupied, hit_evidence, max_evidence, arrival_window, "
+                        "casting, cover, hit_frame, frame, cast_stamp)");
+        return NULL;
+    }
+    double stamp = PyFloat_AsDouble(args[7]), occ = PyFloat_AsDouble(args[8]);
+    double add = PyFloat_AsDouble(args[9]), top = PyFloat_AsDouble(args[10]);
+    double window = PyFloat_AsDouble(args[11]);
+    int casting = PyObject_IsTrue(args[12]);
+    long long frame = PyLong_AsLongLong(args[15]);
+    double cast_stamp = PyFloat_AsDouble(args[16]);
+    if (PyErr_Occurred() || casting < 0) return NULL;
+    int live = args[13] != Py_None;
+    Py_buffer bufs[9];
+    Py_ssize_t lens[9];
+    int got = 0;
+    const char *formats[9] = {"d", "d", "d", "?", "d", "l", "d", "i", "l"};
+    const char *alts[9] = {NULL, NULL, NULL, NULL, NULL, "q", NULL, NULL, "q"};
+    const int writable[9] = {1, 1, 1, 1, 0, 0, 0, 0, 0};
+    const int which[9] = {0, 1, 2, 3, 4, 5, 6, 13, 14};
+    for (int b = 0; b < (live ? 9 : 7); b++) {
+        if (flat_buffer(args[which[b]], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+    }
+    Py_ssize_t size = lens[0], k = lens[5];
+    if (bufs[5].itemsize != 8 || lens[1] != size || lens[2] != size || lens[3] != size ||
+        lens[4] != size || lens[6] != k || (live && (lens[7] != size || lens[8] != size ||
+                                                     bufs[8].itemsize != 8)))
+        goto refuse;
+    double *ev = bufs[0].buf, *touched = bufs[1].buf, *since = bufs[2].buf;
+    char *first = bufs[3].buf;
+    const double *seen_free = bufs[4].buf, *factor = bufs[6].buf;
+    const long long *hit = bufs[5].buf;
+    const int *cover = live ? bufs[7].buf : NULL;
+    const long long *hit_frame = live ? bufs[8].buf : NULL;
+    for (Py_ssize_t q = 0; q < k; q++)
+        if (hit[q] < 0 || hit[q] >= size) goto refuse;
+    for (Py_ssize_t q = 0; q < k; q++) {
+        Py_ssize_t c = (Py_ssize_t)hit[q];
+        double before = ev[c] * factor[q];
+        int was = before >= occ;
+        double after = before + add;
+        if (!(after <= top || after != after)) after = top; /* np.minimum: nan stays */
+        int now = after >= occ;
+        ev[c] = after;
+        touched[c] = stamp;
+        double s = since[c];
+        int kept = was && s == s; /* occupied before, and not free: since not nan */
+        since[c] = kept ? s : (now ? stamp : Py_NAN);
+        double seen = (live && cover[c] > 0 && hit_frame[c] != frame) ? cast_stamp : seen_free[c];
+        int arrived = stamp - seen <= window;
+        if (!kept) first[c] = (char)(casting && now && !arrived);
+    }
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+/* ------------------------------------------------------------------ still_cast
+ *
+ * StillCast.cast's usual frame compiled (background/still_cast.py): every beam of the
+ * frame (ids, increasing) already listed, its direction the listed one bit for bit or,
+ * its list safe, within the tolerance per coordinate. Then every beam takes its cells from its list
+ * (a listed beam not in the frame has 0 samples): the coverage gains the samples
+ * [n_old, n) of a beam that reaches farther and loses [n, n_old) of one that reaches less;
+ * a cell with a return that was live (covered, no return in the last frame) and a cell
+ * that loses its last sample while live get the last frame's stamp in seen_free; the
+ * cells with a return get this frame's number; the lists' sample counts become n.
+ * Integers and stored stamps only (no arithmetic on floats but the directions'
+ * differences, |u - u_listed|, compared as the Python one does), so the arrays are the
+ * same as the Python one's. NotImplemented (nothing written) for every other frame and
+ * for input not as expected: the Python one runs. (A cell loses its last sample only if
+ * it had one: its coverage before was positive, as the Python one asks.) */
+
+/* The coverage and stamps of a still laser's frame (see still_cast_usual), all indices
+ * checked by the caller: the lists' samples go from ln to n_new (cells (nl, kk)), the
+ * cells `lost` (nlost, each a sample of a list computed again) lose one each. */
+static void cast_apply(const long long *n_new, const long long *ln, Py_ssize_t nl,
+                       const long long *cells, Py_ssize_t kk, const long long *lost,
+                       Py_ssize_t nlost, const long long *hit, Py_ssize_t nh, int *cover,
+                       long long *hit_frame, double *seen_free, long long last, double stamp) {
+    /* a cell with a return now that was live in the last frame: its stamp is written */
+    for (Py_ssize_t q = 0; q < nh; q++) {
+        long long c = hit[q];
+        if (cover[c] > 0 && hit_frame[c] != last) seen_free[c] = stamp;
+    }
+    /* the samples gained and lost */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        if (n_new[q] > ln[q])
+            for (long long k = ln[q]; k < n_new[q]; k++) cover[row[k]] += 1;
+        else
+            for (long long k = n_new[q]; k < ln[q]; k++) cover[row[k]] -= 1;
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++) cover[lost[q]] -= 1;
+    /* a cell that lost its last sample while live (no return in the last frame) */
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        const long long *row = cells + q * kk;
+        for (long long k = n_new[q]; k < ln[q]; k++) {
+            long long c = row[k];
+            if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++) {
+        long long c = lost[q];
+        if (cover[c] == 0 && hit_frame[c] != last) seen_free[c] = stamp;
+    }
+    for (Py_ssize_t q = 0; q < nh; q++) hit_frame[hit[q]] = last + 1;
+}
+
+/* 0 when every cell of the samples between ln and n_new (each within [0, kk]), of `lost`
+ * and of `hit` lies in [0, size), else 1. */
+static int cast_indices_ok(const long long *n_new, const long long *ln, Py_ssize_t nl,
+                           const long long *cells, Py_ssize_t kk, const long long *lost,
+                           Py_ssize_t nlost, const long long *hit, Py_ssize_t nh,
+                           Py_ssize_t size) {
+    for (Py_ssize_t q = 0; q < nl; q++) {
+        if (n_new[q] < 0 || n_new[q] > kk || ln[q] < 0 || ln[q] > kk) return 1;
+        long long lo = n_new[q] < ln[q] ? n_new[q] : ln[q];
+        long long hi = n_new[q] < ln[q] ? ln[q] : n_new[q];
+        for (long long k = lo; k < hi; k++) {
+            long long c = cells[q * kk + k];
+            if (c < 0 || c >= size) return 1;
+        }
+    }
+    for (Py_ssize_t q = 0; q < nlost; q++)
+        if (lost[q] < 0 || lost[q] >= size) return 1;
+    for (Py_ssize_t q = 0; q < nh; q++)
+        if (hit[q] < 0 || hit[q] >= size) return 1;
+    return 0;
+}
+
+static PyObject *still_cast_usual(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 15) {
+        PyErr_SetString(PyExc_TypeError,
+                        "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, "
+                        "hit_frame, seen_free, hit, safe, frame, stamp, tolerance)");
+        return NULL;
+    }
+    long long last = PyLong_AsLongLong(args[12]);
+    double stamp = PyFloat_AsDouble(args[13]), tol = PyFloat_AsDouble(args[14]);
+    if (PyErr_Occurred()) return NULL;
+    enum { IDS, LISTED, U, LU, N, LN, CELLS, COVER, HF, SEEN, HIT, SAFE, NBUF };
+    const char *formats[NBUF] = {"l", "l", "d", "d", "l", "l", "l", "i", "l", "d", "l", "?"};
+    const char *alts[NBUF] = {"q", "q", NULL, NULL, "q", "q", "q", NULL, "q", NULL, "q", NULL};
+    const int writable[NBUF] = {0, 0, 0, 0, 0, 1, 0, 1, 1, 1, 0, 0};
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    long long *n_new = NULL;
+    int got = 0;
+    for (int b = 0; b < NBUF; b++) {
+        if (flat_buffer(args[b], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != (b == COVER ? 4 : b == SAFE ? 1 : 8)) goto refuse;
+    }
+    Py_ssize_t nb = lens[IDS], nl = lens[LISTED], size = lens[COVER];
+    if (nb == 0 || nb > nl || lens[U] != 2 * nb || lens[LU] != 2 * nl || lens[N] != nb ||
+        lens[LN] != nl || bufs[CELLS].ndim != 2 || bufs[CELLS].shape[0] != nl ||
+        lens[HF] != size || lens[SEEN] != size || lens[SAFE] != nl)
+        goto refuse;
+    Py_ssize_t kk = bufs[CELLS].shape[1], nh = lens[HIT];
+    const long long *ids = bufs[IDS].buf, *listed = bufs[LISTED].buf, *n = bufs[N].buf;
+    const long long *cells = bufs[CELLS].buf, *hit = bufs[HIT].buf;
+    const double *u = bufs[U].buf, *lu = bufs[LU].buf;
+    long long *ln = bufs[LN].buf, *hit_frame = bufs[HF].buf;
+    int *cover = bufs[COVER].buf;
+    double *seen_free = bufs[SEEN].buf;
+    const char *safe = bufs[SAFE].buf;
+    n_new = PyMem_Calloc((size_t)nl, sizeof(long long)); /* 0: a listed beam not in the frame */
+    if (!n_new) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    /* the usual frame? (and every index in range: nothing is written before this holds) */
+    Py_ssize_t p = 0;
+    for (Py_ssize_t b = 0; b < nb; b++) {
+        if (b > 0 && ids[b] <= ids[b - 1]) goto refuse; /* (not increasing) */
+        while (p < nl && listed[p] < ids[b]) p++;
+        if (p == nl || listed[p] != ids[b]) goto refuse; /* a beam not listed */
+        /* its list stands: the same direction bit for bit, or a safe one within tol */
+        double dx = fabs(u[2 * b] - lu[2 * p]), dy = fabs(u[2 * b + 1] - lu[2 * p + 1]);
+        if (!(dx == 0.0 && dy == 0.0) && !(safe[p] && dx <= tol && dy <= tol)) goto refuse;
+        if (n[b] < 0 || n[b] > kk) goto refuse;
+        n_new[p] = n[b];
+    }
+    if (cast_indices_ok(n_new, ln, nl, cells, kk, NULL, 0, hit, nh, size)) goto refuse;
+    cast_apply(n_new, ln, nl, cells, kk, NULL, 0, hit, nh, cover, hit_frame, seen_free, last,
+               stamp);
+    memcpy(ln, n_new, (size_t)nl * sizeof(long long));
+    PyMem_Free(n_new);
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
+    PyMem_Free(n_new);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+/* StillCast.cast's coverage and stamps of any frame compiled, once the Python one has
+ * listed its beams again where needed: the lists' sample counts go from listed_n to n_new
+ * (the caller keeps n_new), `lost` (or None) the cells of the old samples of the lists
+ * computed again. None, or NotImplemented (nothing written) for input not as expected. */
+static PyObject *still_cast_apply(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 10) {
+        PyErr_SetString(PyExc_TypeError,
+                        "still_cast_apply(n_new, listed_n, cells, cover, hit_frame, seen_free, "
+                        "hit, lost, frame, stamp)");
+        return NULL;
+    }
+    long long last = PyLong_AsLongLong(args[8]);
+    double stamp = PyFloat_AsDouble(args[9]);
+    if (PyErr_Occurred()) return NULL;
+    enum { NN, LN, CELLS, COVER, HF, SEEN, HIT, LOST, NBUF };
+    const char *formats[NBUF] = {"l", "l", "l", "i", "l", "d", "l", "l"};
+    const char *alts[NBUF] = {"q", "q", "q", NULL, "q", NULL, "q", "q"};
+    const int writable[NBUF] = {0, 0, 0, 1, 1, 1, 0, 0};
+    int with_lost = args[7] != Py_None;
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    int got = 0;
+    for (int b = 0; b < (with_lost ? NBUF : NBUF - 1); b++) {
+        if (flat_buffer(args[b], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != (b == COVER ? 4 : 8)) goto refuse;
+    }
+    Py_ssize_t nl = lens[NN], size = lens[COVER];
+    if (lens[LN] != nl || bufs[CELLS].ndim != 2 || bufs[CELLS].shape[0] != nl ||
+        lens[HF] != size || lens[SEEN] != size)
+        goto refuse;
+    Py_ssize_t kk = bufs[CELLS].shape[1], nh = lens[HIT];
+    Py_ssize_t nlost = with_lost ? lens[LOST] : 0;
+    const long long *n_new = bufs[NN].buf, *ln = bufs[LN].buf, *cells = bufs[CELLS].buf;
+    const long long *hit = bufs[HIT].buf, *lost = with_lost ? bufs[LOST].buf : NULL;
+    if (cast_indices_ok(n_new, ln, nl, cells, kk, lost, nlost, hit, nh, size)) goto refuse;
+    cast_apply(n_new, ln, nl, cells, kk, lost, nlost, hit, nh, bufs[COVER].buf, bufs[HF].buf,
+               bufs[SEEN].buf, last, stamp);
+    release_all(bufs, got);
+    Py_RETURN_NONE;
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+/* ------------------------------------------------------------------ histogram_foreground
+ *
+ * BeamHistogramBackground.learn_foreground's frozen frame of one laser compiled
+ * (background/beam_histogram.py, _foreground_and_bins and the usual case of
+ * _BeamTable.relearn): each valid beam's range bin, min(trunc(range / bin_width), K - 1),
+ * is foreground where it is not static; the points' foreground is their beams'. With the
+ * candidates (relearning asked): where no return lies beyond its beam's nearest static bin
+ * by more than `reach` bins, every valid beam's candidate ends (-1) and False is returned;
+ * where one does, nothing is written to them and True is returned (the Python relearning
+ * follows them). The same division and truncation as numpy's; NotImplemented (fg_out
+ * untouched) for input not as expected: the Python one runs. */
+
+static PyObject *histogram_foreground(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError,
+                        "histogram_foreground(ranges, valid_beams, static, nearest, candidate, "
+                        "bin_width, reach, point_beams, fg_out)");
+        return NULL;
+    }
+    double bw = PyFloat_AsDouble(args[5]);
+    long long reach = PyLong_AsLongLong(args[6]);
+    if (PyErr_Occurred()) return NULL;
+    int relearn = args[4] != Py_None;
+    enum { RANGES, VALID, STATIC, NEAREST, PB, FG, CAND, NBUF };
+    const int which[NBUF] = {0, 1, 2, 3, 7, 8, 4};
+    const char *formats[NBUF] = {"d", "l", "?", "l", "l", "?", "l"};
+    const char *alts[NBUF] = {NULL, "q", NULL, "q", "q", NULL, "q"};
+    const int writable[NBUF] = {0, 0, 0, 0, 0, 1, 1};
+    const Py_ssize_t items[NBUF] = {8, 8, 1, 8, 8, 1, 8};
+    Py_buffer bufs[NBUF];
+    Py_ssize_t lens[NBUF];
+    char *fg_beam = NULL;
+    int got = 0;
+    for (int b = 0; b < (relearn ? NBUF : NBUF - 1); b++) {
+        if (flat_buffer(args[which[b]], &bufs[b], formats[b], alts[b], writable[b], &lens[b]))
+            goto refuse;
+        got = b + 1;
+        if (bufs[b].itemsize != items[b]) goto refuse;
+    }
+    Py_ssize_t n_beams = lens[RANGES], nv = lens[VALID], np_ = lens[PB];
+    if (bufs[STATIC].ndim != 2 || lens[FG] != np_) goto refuse;
+    Py_ssize_t rows = bufs[STATIC].shape[0], kk = bufs[STATIC].shape[1];
+    if (kk < 1 || lens[NEAREST] != rows || (relearn && lens[CAND] != rows)) goto refuse;
+    const double *ranges = bufs[RANGES].buf;
+    const long long *valid = bufs[VALID].buf, *nearest = bufs[NEAREST].buf;
+    const long long *pb = bufs[PB].buf;
+    const char *stat = bufs[STATIC].buf;
+    char *fg = bufs[FG].buf;
+    fg_beam = PyMem_Calloc((size_t)(n_beams > 0 ? n_beams : 1), 1); /* invalid beams: 0 */
+    if (!fg_beam) {
+        release_all(bufs, got);
+        return PyErr_NoMemory();
+    }
+    int beyond = 0;
+    for (Py_ssize_t q = 0; q < nv; q++) {
+        long long b = valid[q];
+        if (b < 0 || b >= n_beams || b >= rows) goto refuse;
+        double x = ranges[b] / bw;
+        if (!(x >= 0.0 && x < 9e18)) goto refuse; /* (a valid range is finite, positive) */
+        long long k = (long long)x;
+        if (k > kk - 1) k = kk - 1;
+        fg_beam[b] = !stat[b * kk + k];
+        if (k > nearest[b] + reach) beyond = 1;
+    }
+    for (Py_ssize_t q = 0; q < np_; q++)
+        if (pb[q] < 0 || pb[q] >= n_beams) goto refuse;
+    for (Py_ssize_t q = 0; q < np_; q++) fg[q] = fg_beam[pb[q]];
+    if (relearn && !beyond) {
+        long long *cand = bufs[CAND].buf;
+        for (Py_ssize_t q = 0; q < nv; q++) cand[valid[q]] = -1;
+    }
+    PyMem_Free(fg_beam);
+    release_all(bufs, got);
+    if (relearn && beyond) Py_RETURN_TRUE;
+    Py_RETURN_FALSE;
+refuse:
+    PyMem_Free(fg_beam);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 /* ------------------------------------------------------------------ prune
  *
  * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
@@ -1940,6 +2392,30 @@ static PyMethodDef methods[] = {
      "static_few(evidence, touched, since, first_sight, o0, o1, xy, resolution, n, stamp, "
      "decay_time, threshold, hold, extra, near): OccupancyGrid._static_few_python's "
      "values, or NotImplemented where it decides otherwise."},
+    {"grid_hits", (PyCFunction)(void (*)(void))grid_hits, METH_FASTCALL,
+     "grid_hits(points, touched, o0, o1, resolution, stamp, decay_time, hit_out, "
+     "exponent_out): OccupancyGrid._hits_python's cells written to hit_out and their decay "
+     "exponents to exponent_out, their number returned, or NotImplemented where the Python "
+     "one runs."},
+    {"grid_mark", (PyCFunction)(void (*)(void))grid_mark, METH_FASTCALL,
+     "grid_mark(evidence, touched, since, first_sight, seen_free, hit, factor, stamp, "
+     "occupied, hit_evidence, max_evidence, arrival_window, casting, cover, hit_frame, frame, "
+     "cast_stamp): OccupancyGrid._mark_hits_python's update of the cells hit, None, or "
+     "NotImplemented (nothing written) where the Python one runs."},
+    {"still_cast_usual", (PyCFunction)(void (*)(void))still_cast_usual, METH_FASTCALL,
+     "still_cast_usual(ids, listed, u, listed_u, n, listed_n, cells, cover, hit_frame, "
+     "seen_free, hit, safe, frame, stamp, tolerance): StillCast.cast's usual frame "
+     "(None), or NotImplemented (nothing written) where the Python one runs."},
+    {"still_cast_apply", (PyCFunction)(void (*)(void))still_cast_apply, METH_FASTCALL,
+     "still_cast_apply(n_new, listed_n, cells, cover, hit_frame, seen_free, hit, lost, frame, "
+     "stamp): StillCast.cast's coverage and stamps once its beams are listed (None), or "
+     "NotImplemented (nothing written) where the Python one runs."},
+    {"histogram_foreground", (PyCFunction)(void (*)(void))histogram_foreground,
+     METH_FASTCALL,
+     "histogram_foreground(ranges, valid_beams, static, nearest, candidate, bin_width, reach, "
+     "point_beams, fg_out): the points' foreground of a frozen beam histogram's frame of one "
+     "laser written to fg_out, and whether a return lies beyond its static world (True: the "
+     "candidates untouched), or NotImplemented where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

@@ -387,7 +387,7 @@ class PersonTrackParams:
         1,
         "measured (docs/people-benchmarks.md): the real MiR bag's chair taken for a person "
         "75 -> 3 scans (front laser static 10.6 -> 4.9 s, walkers kept); halls and held "
-        "back unchanged, furniture-only 5.9 -> 5.8 s",
+        "back unchanged, furniture-only 6.6 -> 6.5 s",
         "a confirmed person that has not travelled min_travel, with three or more legs (its "
         "own or free ones, not another person's) detected within furniture_radius of it in "
         "this many scans (the posts of a chair or a table), is unconfirmed, and no person "

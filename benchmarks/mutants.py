@@ -92,6 +92,7 @@ LISTING = (
 HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
+PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 KALMAN_ROWS = ("tests/test_track_kalman_compiled.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
@@ -927,6 +928,95 @@ MUTANTS: tuple[Mutant, ...] = (
         "came = path[-1][0] - path[-2][0]",
         "came = path[-1][0] - path[0][0]",
         WALKED,
+    ),
+    Mutant(
+        "furniture-two-legs",
+        "person tracks: furniture_scans count three legs, not a person's two",
+        PT,
+        "if len(posts) < 3:",
+        "if len(posts) < 2:",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-radius-unsquared",
+        "person tracks: legs within furniture_radius (squared distances)",
+        PT,
+        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius**2',
+        'near = np.einsum("mnk,mnk->mn", d, d) <= p.furniture_radius',
+        PERSON,
+    ),
+    Mutant(
+        "furniture-verdict-late",
+        "person tracks: a place is judged furniture at furniture_scans scans, not one more",
+        PT,
+        "if q.posts == p.furniture_scans:",
+        "if q.posts == p.furniture_scans + 1:",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-walked-too",
+        "person tracks: furniture only for people that never travelled min_travel",
+        PT,
+        "if q.travelled < p.min_travel\n                and (q.posts >= p.furniture_scans or",
+        "if (q.posts >= p.furniture_scans or",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-forgotten",
+        "person tracks: a furniture verdict holds for its place (the chair born again)",
+        PT,
+        "(q.posts >= p.furniture_scans or self._on_furniture_place(q))",
+        "(q.posts >= p.furniture_scans)",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-radius-squared",
+        "person tracks: a judged place holds within furniture_radius",
+        PT,
+        "if math.hypot(x - fx, y - fy) <= r]",
+        "if math.hypot(x - fx, y - fy) <= r * r]",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-place-not-static",
+        "person tracks: a furniture verdict holds while its place is static",
+        PT,
+        "return bool(near) and bool((self._static(np.array(near)) > 0.0).any())",
+        "return bool(near)",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-any-speed",
+        "person tracks: posts counted only for a person slower than furniture_speed",
+        PT,
+        "if vx * vx + vy * vy < p.furniture_speed**2 or all(",
+        "if True or all(",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-any-leg-speed",
+        "person tracks: a fast person's posts counted only when its legs are slower than "
+        "furniture_leg_speed",
+        PT,
+        "< p.furniture_leg_speed for leg in posts",
+        "< 1e6 for leg in posts",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-leg-speed-any-leg",
+        "person tracks: every leg near a fast person slower than furniture_leg_speed",
+        PT,
+        "furniture_speed**2 or all(",
+        "furniture_speed**2 or any(",
+        PERSON,
+    ),
+    Mutant(
+        "furniture-neighbours-legs-too",
+        "person tracks: furniture legs not another person's",
+        PT,
+        "if owner.get(seen[j].track_id, q.person_id) == q.person_id",
+        "if owner.get(seen[j].track_id, q.person_id) >= 0",
+        PERSON,
     ),
     Mutant(
         "kalman-one-step-any-steps",

@@ -235,6 +235,169 @@ def test_confirmed_clutter_is_dropped_once_its_place_is_static() -> None:
     assert t.update(legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3)), 0.5, 1.0) == []
 
 
+def _three_legs(t: PersonTracker, third_x: float, k0: int, k1: int) -> list[int]:
+    """Scans k0..k1-1 of a pair at x = 1.0 m (centre (1.0, 0.15)) and a third detected
+    leg at (third_x, 0.15); the ids reported in the last scan."""
+    out: list = []
+    for k in range(k0, k1):
+        scan = legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3), leg(3, third_x, 0.15))
+        out = t.update(scan, 0.1 * k, 1.0)
+    return [p.track_id for p in out]
+
+
+def test_three_legs_near_a_person_that_never_walked_are_furniture() -> None:
+    """A confirmed pair with a third leg 0.30 m from its centre (within furniture_radius
+    0.35 m) in one scan is not reported; at 0.40 m (outside) it is, as with
+    furniture_scans = 0; with furniture_scans = 2 one scan is not enough, two are."""
+    assert P.furniture_scans == 1 and P.furniture_radius == pytest.approx(0.35)
+    t = PersonTracker(P)
+    _confirmed(t)
+    assert _three_legs(t, 1.3, 4, 5) == []
+    far = PersonTracker(P)
+    _confirmed(far)
+    assert _three_legs(far, 1.4, 4, 10) == [0]
+    off = PersonTracker(PersonTrackParams(furniture_scans=0))
+    _confirmed(off)
+    assert _three_legs(off, 1.3, 4, 10) == [0]
+    two = PersonTracker(PersonTrackParams(furniture_scans=2))
+    _confirmed(two)
+    assert _three_legs(two, 1.3, 4, 5) == [0]
+    assert _three_legs(two, 1.3, 5, 6) == []
+    # a candidate with three legs near it is not confirmed in the first place
+    young = PersonTracker(P)
+    assert _three_legs(young, 1.3, 0, 10) == []
+    # walks off (0.05 m per scan, min_travel 0.5 m): reported again with its id
+    out: list = []
+    x = 1.0
+    for k in range(5, 25):
+        x += 0.05
+        out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3)), 0.1 * k, 1.0)
+    assert [p.track_id for p in out] == [0]
+    # and once it has walked, three legs near it (a person by a chair) do not hide it
+    out = t.update(legs(leg(1, x, 0.0), leg(2, x, 0.3), leg(3, x + 0.3, 0.15)), 2.5, 1.0)
+    assert [p.track_id for p in out] == [0]
+
+
+class SecondStatic(FakeStatic):
+    """Every place static for ``value`` seconds (1 s: static, below static_time)."""
+
+    def __init__(self, value: float = 1.0) -> None:
+        self.value = value
+
+    def static_time(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.full(positions.shape[0], self.value)
+
+
+def _judged_and_gone(model: SecondStatic | None = None) -> PersonTracker:
+    """A tracker (static world ``model``, default 1 s everywhere) whose confirmed pair at
+    (1.0, 0.15) was judged furniture (a third leg 0.30 m off in scan 4) and then deleted
+    (no leg for 0.7 s > unconfirmed_coast)."""
+    t = PersonTracker(P, SecondStatic() if model is None else model)
+    _confirmed(t)
+    assert _three_legs(t, 1.3, 4, 5) == []
+    for k in range(5, 12):
+        assert t.update({}, 0.1 * k, 1.0) == []
+    assert not t.persons
+    return t
+
+
+def _pair_at(t: PersonTracker, x: float, k0: int, k1: int) -> list[int]:
+    """Scans k0..k1-1 of a pair of new leg tracks (11, 12) at x [m], y = 0 and 0.3 m; the
+    ids reported in the last scan."""
+    out: list = []
+    for k in range(k0, k1):
+        out = t.update(legs(leg(11, x, 0.0), leg(12, x, 0.3)), 0.1 * k, 1.0)
+    return [p.track_id for p in out]
+
+
+def test_a_furniture_verdict_holds_for_its_place() -> None:
+    """The legs of a chair judged furniture come back as new leg tracks after its person was
+    deleted: a pair born within furniture_radius (0.35 m) of the judged place, static for
+    1 s, is not confirmed in 10 scans (0.0 and 0.30 m off), one 0.40 m off is, as is the
+    same pair without the verdict; the pair on the place is reported once it walks off it.
+    The verdict holds only while its place is static: not once the static world answers
+    0 s there (the chair gone, or no model, as on a laser moving without poses)."""
+    assert _pair_at(PersonTracker(P, SecondStatic()), 1.0, 12, 22) == [0]
+    assert _pair_at(_judged_and_gone(), 1.3, 12, 22) == []
+    assert _pair_at(_judged_and_gone(), 1.4, 12, 22) == [1]
+    gone = SecondStatic()
+    t = _judged_and_gone(gone)
+    gone.value = 0.0
+    assert _pair_at(t, 1.0, 12, 22) == [1]
+    t = _judged_and_gone()
+    assert _pair_at(t, 1.0, 12, 22) == []
+    out: list = []
+    x = 1.0
+    for k in range(22, 37):  # walks off at 0.5 m/s: 0.75 m
+        x += 0.05
+        out = t.update(legs(leg(11, x, 0.0), leg(12, x, 0.3)), 0.1 * k, 1.0)
+        (q,) = t.persons.values()
+        off = math.hypot(q.mean[0] - 1.0, q.mean[1] - 0.15) > P.furniture_radius
+        assert bool(out) == off, k  # (off the place before it has travelled min_travel)
+    assert [p.track_id for p in out] == [1]
+
+
+def test_a_person_starting_to_walk_beside_a_free_leg_is_not_furniture() -> None:
+    """A pair walking at 0.5 m/s from its first scan with a free leg walking beside it
+    (0.30 m from its centre; all three legs at 0.5 m/s) has not yet travelled min_travel
+    after 0.8 s, but moves faster than furniture_speed (0.1 m/s) and its legs faster than
+    furniture_leg_speed (0.2 m/s): reported; counting posts at any speed hides it. Legs at
+    0.15 m/s (slower than furniture_leg_speed, as a chair's legs whose person moves because
+    they hop between its posts) count: hidden; at 0.25 m/s, or with the third leg at
+    0.5 m/s, they do not."""
+    assert P.furniture_speed == pytest.approx(0.1)
+    assert P.furniture_leg_speed == pytest.approx(0.2)
+
+    def walk(t: PersonTracker, pair: float = 0.5, third: float | None = None) -> list[int]:
+        """Speeds [m/s] of the pair's legs and of the third (as the pair's when None)."""
+        third = pair if third is None else third
+        out: list = []
+        for k in range(9):
+            x = 1.0 + 0.05 * k
+            scan = {
+                i: LegObservation(
+                    i, np.array([lx, ly]), True, 0.0, 0, velocity=np.array([v, 0.0]), score=1.0
+                )
+                for i, lx, ly, v in (
+                    (1, x, 0.0, pair),
+                    (2, x, 0.3, pair),
+                    (3, x + 0.3, 0.15, third),
+                )
+            }
+            out = t.update(scan, 0.1 * k, 1.0)
+        assert all(q.travelled < P.min_travel for q in t.persons.values())
+        return [p.track_id for p in out]
+
+    assert walk(PersonTracker(P)) == [0]
+    assert walk(PersonTracker(PersonTrackParams(furniture_speed=10.0))) == []
+    assert walk(PersonTracker(P), 0.15) == []
+    assert walk(PersonTracker(P), 0.25) == [0]
+    assert walk(PersonTracker(P), 0.15, 0.5) == [0]  # (every leg: the pair's alone do not)
+
+
+def test_a_neighbours_leg_is_not_a_post() -> None:
+    """Two people standing side by side: a leg of the other within furniture_radius of each
+    centre (0.304 m; the other's second leg 0.39 m off) makes three legs, but not three
+    of its own or free ones: both are reported."""
+    t = PersonTracker(P)
+    out: list = []
+    for k in range(10):
+        scan = legs(leg(1, 1.0, 0.0), leg(2, 1.0, 0.3), leg(3, 1.3, 0.1), leg(4, 1.3, 0.4))
+        out = t.update(scan, 0.1 * k, 1.0)
+    assert sorted(p.members for p in out) == [(1, 2), (3, 4)]
+
+
+def test_furniture_params_are_checked() -> None:
+    with pytest.raises(ValueError, match="furniture"):
+        PersonTrackParams(furniture_scans=-1)
+    with pytest.raises(ValueError, match="furniture"):
+        PersonTrackParams(furniture_radius=0.0)
+    with pytest.raises(ValueError, match="furniture"):
+        PersonTrackParams(furniture_speed=0.0)
+    with pytest.raises(ValueError, match="furniture"):
+        PersonTrackParams(furniture_leg_speed=0.0)
+
+
 # ------------------------------------------------------------------ through the leg MHT
 
 

@@ -21,22 +21,24 @@ def join() -> tuple:
 
 
 def test_join_keeps_one_filter_per_person(join: tuple) -> None:
-    """Median adapted MOTP over three filter seeds: measured 0.90-0.92 with the feet's
-    Voronoi cells, 0.42-0.53 without (004: every point within ``gate`` weighs every filter;
-    one filter is drawn onto both people and the other dies). One seed alone is not enough:
-    which filter wins is decided by last-bit differences between CPUs (seed 0 without the
-    cells gave 0.36 on AVX2 and 0.88 with numpy's baseline loops), the median is not."""
+    """Mean adapted MOTP over seven filter seeds: measured 0.93 with the feet's Voronoi
+    cells on every seed, 0.56-0.62 without (004: every point within ``gate`` weighs every
+    filter; one filter is drawn onto both people and the other dies). Without the cells a
+    run ends near 0.4 or near 0.87, and which one is decided by last-bit differences between
+    CPUs (seed 0 gave 0.37 on AVX-512 and 0.88 with OpenBLAS's Nehalem kernels and numpy's
+    baseline loops): the mean of seven holds on both, a median of three did not."""
     rec, bg = join
 
-    def median_motp(voronoi: bool) -> float:
+    def mean_motp(voronoi: bool) -> float:
         runs = [
             run_tracker(rec, bg, "feet", FeetTracker(FeetParams(voronoi=voronoi, seed=s))).motp
-            for s in range(3)
+            for s in range(7)
         ]
-        return float(np.median(runs))
+        return float(np.mean(runs))
 
-    assert median_motp(True) > 0.85
-    assert median_motp(False) < 0.7
+    with_cells = mean_motp(True)
+    assert with_cells > 0.9
+    assert mean_motp(False) < with_cells - 0.15
 
 
 def frame_of(points: np.ndarray, stamp: float, index: int) -> Frame:

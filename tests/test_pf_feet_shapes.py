@@ -111,12 +111,24 @@ def skirt() -> tuple:
 
 
 def test_carried_suitcase_weighs_less_than_the_legs(carried: tuple) -> None:
-    """Measured 0.80 with ``long_weight`` 0.1, 0.44 with 1 (004): the filter's
-    feet settled on the right leg and the suitcase's face."""
+    """Mean adapted MOTP over seven filter seeds: measured 0.75 with ``long_weight`` 0.1,
+    0.52-0.55 with 1 (004): the filter's feet settled on the right leg and the suitcase's
+    face. (One seed is not enough: seed 0 with 0.1 gave 0.76 on AVX-512 and 0.56 with
+    OpenBLAS's Nehalem kernels and numpy's baseline loops.)"""
     rec, bg = carried
-    on = run_tracker(rec, bg, "feet", FeetTracker()).motp
-    off = run_tracker(rec, bg, "feet", FeetTracker(FeetParams(long_weight=1.0))).motp
-    assert on > 0.7 and on > off + 0.05
+
+    def mean_motp(long_weight: float) -> float:
+        runs = [
+            run_tracker(
+                rec, bg, "feet", FeetTracker(FeetParams(long_weight=long_weight, seed=s))
+            ).motp
+            for s in range(7)
+        ]
+        return float(np.mean(runs))
+
+    on = mean_motp(0.1)
+    assert on > 0.68
+    assert on > mean_motp(1.0) + 0.12
 
 
 def test_skirt_reports_the_blob_centre(skirt: tuple) -> None:

@@ -180,8 +180,9 @@ class LegForegroundParams:
         "measured (docs/schenk-tables.md, 'Far legs on a moving laser'): of the moving tuning "
         "person-scans 10.6 % had the grid's foreground in a person-sized blob near no leg "
         "detection and not moving, at a median 4.9 m with 3 returns on the legs; feet-pf "
-        "random-groups moving tuning seeds 0.525 -> 0.548 (3: 0.533, 5: 0.546, any number: "
-        "0.550 but the real lobby recording MOTA -0.281 -> -0.825 on wall ends)",
+        "random-groups moving tuning seeds 0.532 -> 0.547 with [leg_detector.sparse], "
+        "0.525 -> 0.548 without (3: 0.533, 5: 0.546, any number: 0.550 but the real lobby "
+        "recording MOTA -0.281 -> -0.825 on wall ends)",
         "for the trackers that need steady points (feet-pf, upper-body-pf), on a moving "
         "laser with poses not stated at torso height: also keep the grid's foreground "
         "points of a person-sized blob whose runs as wide as a leg (2 or more neighbouring "

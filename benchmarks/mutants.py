@@ -124,6 +124,7 @@ SEGMENTS = ("tests/test_detect_segmentation.py", "tests/test_detect_segment_bloc
 BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
 SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)
+LEG_RUNS = ("tests/test_pipeline_leg_runs.py",)
 LIVE_FRAME = ("tests/test_live_frame.py",)
 HANDOVER = ("tests/test_track_groups_handover.py",)
 COAST = ("tests/test_track_groups_coast.py",)
@@ -152,6 +153,7 @@ MC = "tracking/mht/core.py"
 GO = "tracking/groups/observations.py"
 GS = "tracking/groups/occlusion.py"
 TB = "pipeline/torso_blobs.py"
+LR = "pipeline/leg_runs.py"
 LC = "live/choice.py"
 GHO = "tracking/groups/handover.py"
 GC = "tracking/groups/coast.py"
@@ -1974,6 +1976,71 @@ MUTANTS: tuple[Mutant, ...] = (
         "                sensor = np.array([pose.x, pose.y])",
         "                sensor = np.zeros(2)",
         (*TORSO, *LEARN_PEOPLE),
+    ),
+    # ---- far legs on a moving laser (pipeline/leg_runs.py, [leg_foreground] leg_run_points)
+    Mutant(
+        "leg-run-width-chord-only",
+        "leg runs (a run's width is its chord plus one beam's spacing at its range)",
+        LR,
+        "width = float(np.hypot(*(p[-1] - p[0]))) + reach * spacing",
+        "width = float(np.hypot(*(p[-1] - p[0])))",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-not-apart",
+        "leg runs (a run must stand JUMP in front of the returns beside it)",
+        LR,
+        "return other is None or bool(ranges[other] - ranges[end] >= JUMP)",
+        "return other is None or bool(abs(ranges[other] - ranges[end]) >= 0.0)",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-skip-two",
+        "leg runs (a skipped beam cuts a run)",
+        LR,
+        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 1)) + 1",
+        "cuts = np.flatnonzero((step > RUN_GAP) | (skip > 2)) + 1",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-bound-exclusive",
+        "far leg blobs (at most max_points run points, inclusive)",
+        LR,
+        "few = (counts >= 1) & (counts <= max_points)",
+        "few = (counts >= 1) & (counts < max_points)",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-no-bound",
+        "far leg blobs (a blob of many run points is not kept)",
+        LR,
+        "few = (counts >= 1) & (counts <= max_points)",
+        "few = counts >= 1",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-blob-without-run",
+        "far leg blobs (a blob must hold a run)",
+        LR,
+        "few = (counts >= 1) & (counts <= max_points)",
+        "few = counts <= max_points",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-points-only",
+        "far leg blobs (the whole blob of a run is kept)",
+        LR,
+        "return inside & few[np.where(inside, labels, 0)]",
+        "return runs & few[np.where(inside, labels, 0)]",
+        LEG_RUNS,
+    ),
+    Mutant(
+        "leg-run-every-tracker",
+        "far leg blobs in leg_foreground (only for the trackers that need steady points)",
+        "pipeline/leg_foreground.py",
+        "self.leg_runs = self.params.leg_run_points if steady else 0",
+        "self.leg_runs = self.params.leg_run_points",
+        LEG_RUNS,
     ),
     # ---- live --frame auto (live/choice.py)
     Mutant(

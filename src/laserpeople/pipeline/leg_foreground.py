@@ -36,6 +36,12 @@ grid's foreground points of a person-sized blob that moved ``moving_travel`` (0.
 the leg detector misses many people the grid's foreground holds, and walls and clutter
 do not move there while walkers do (0: only points near legs).
 
+For the trackers that need steady points (the particle filters), on a moving laser with
+poses not known to sit at torso height, it also keeps the grid's foreground points of a
+person-sized blob whose leg-wide runs hold at most ``leg_run_points`` (4) points
+(:mod:`laserpeople.pipeline.leg_runs`): far legs shown by one or two beams each, which the
+detector cannot classify (0: none).
+
 When :class:`~laserpeople.pipeline.background.AutoBackground` uses it is
 ``[leg_foreground] use`` (:class:`LegForegroundParams`): ``never`` (the papers: every
 point, or plain background subtraction), ``no-poses`` (only once the model is dropped on a
@@ -73,7 +79,7 @@ class LegForegroundParams:
 
     config_section = "leg_foreground"
     paper_preset = MappingProxyType(  # 002, 004: no moving blobs, no torso runs
-        {"moving_travel": 0.0, "torso_blobs": False}
+        {"moving_travel": 0.0, "torso_blobs": False, "leg_run_points": 0}
     )
 
     use: str = param(
@@ -169,6 +175,21 @@ class LegForegroundParams:
         "halfway in time a third of it from either end)",
         "s",
     )
+    leg_run_points: int = param(
+        4,
+        "measured (docs/schenk-tables.md, 'Far legs on a moving laser'): of the moving tuning "
+        "person-scans 10.6 % had the grid's foreground in a person-sized blob near no leg "
+        "detection and not moving, at a median 4.9 m with 3 returns on the legs; feet-pf "
+        "random-groups moving tuning seeds 0.532 -> 0.547 with [leg_detector.sparse], "
+        "0.525 -> 0.548 without (3: 0.533, 5: 0.546, any number: 0.550 but the real lobby "
+        "recording MOTA -0.281 -> -0.825 on wall ends)",
+        "for the trackers that need steady points (feet-pf, upper-body-pf), on a moving "
+        "laser with poses not stated at torso height: also keep the grid's foreground "
+        "points of a person-sized blob whose runs as wide as a leg (2 or more neighbouring "
+        "beams, 0.08-0.2 m, apart from the returns beside) hold at most this many points in "
+        "all (0: none; pipeline/leg_runs.py)",
+        "points",
+    )
     torso_blobs: bool = param(
         True,
         "measured (docs/csa.md, 'Torso blobs on a moving laser'): at torso height the leg "
@@ -195,6 +216,8 @@ class LegForegroundParams:
     )
 
     def __post_init__(self) -> None:
+        if self.leg_run_points < 0:
+            raise ValueError(f"leg_run_points must not be negative, got {self.leg_run_points}")
         if self.learn_people_warmup < 0:
             raise ValueError(
                 f"learn_people_warmup must not be negative, got {self.learn_people_warmup}"
@@ -320,6 +343,12 @@ class LegForeground:
         self._blobs: MovingBlobs | None = None
         self.points_moving = 0
         """Foreground points kept only because their blob moved, summed over frames."""
+        self.leg_runs = self.params.leg_run_points if steady else 0
+        """At most how many points of leg-wide runs a grid foreground blob that is kept on a
+        moving laser at feet height holds (``leg_run_points`` for the trackers that need
+        steady points, else 0: none)."""
+        self.points_leg_runs = 0
+        """Foreground points kept only because their blob holds a few leg-wide runs."""
         self.torso = False
         """Whether the laser is known to sit at torso height (set by the static world
         model from the recording's laser height): then torso-shaped runs of the
@@ -447,6 +476,10 @@ class LegForeground:
             moved = self._blobs(float(frame.stamp), frame.points.points, fg) & ~kept
             self.points_moving += int(np.count_nonzero(moved))
             kept |= moved
+        if self._wants_leg_runs(frame):
+            runs = self._far_legs(frame, fg) & ~kept
+            self.points_leg_runs += int(np.count_nonzero(runs))
+            kept |= runs
         if self.torso and self.params.torso_blobs and frame.frame == "world":
             pose = frame.sensor_pose
             if pose is not None:
@@ -460,6 +493,30 @@ class LegForeground:
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
         return frame.with_fields(foreground=kept)
+
+    def _wants_leg_runs(self, frame: Frame) -> bool:
+        """Whether ``frame`` keeps the blobs of far legs (``leg_run_points``): a tracker that
+        needs steady points, a moving laser with poses (world frame) not known to sit at
+        torso height, one laser (beam order is one scan's)."""
+        return (
+            self.leg_runs > 0
+            and self.moving
+            and not self.torso
+            and frame.frame == "world"
+            and len(frame.scans) == 1
+        )
+
+    def _far_legs(self, frame: Frame, fg: NDArray[np.bool_]) -> NDArray[np.bool_]:
+        """The foreground points (N,) of ``frame`` (one laser, world frame) in a
+        person-sized blob whose leg-wide runs hold at most ``leg_run_points`` points."""
+        from laserpeople.pipeline.leg_runs import far_leg_blobs
+
+        points, pose = frame.points, frame.sensor_pose
+        if points is None or pose is None:
+            return np.zeros(len(fg), dtype=bool)
+        sensor = np.array([pose.x, pose.y])
+        increment = frame.scans[0].angle_increment
+        return far_leg_blobs(points.points, points.beams, fg, sensor, increment, self.leg_runs)
 
     def describe_hold(self) -> str:
         """How long missed legs are held, for the user (empty: not held)."""

@@ -27,7 +27,8 @@ def test_tracks_directory_binary_and_unsorted(tmp_path: Path) -> None:
     folder = tmp_path / "dir.csv"
     folder.mkdir()
     exc = _evaluate(str(folder), "--truth", str(rec))
-    assert isinstance(exc, RecordingError) and "is a directory" in str(exc)
+    assert isinstance(exc, EvaluationError)
+    assert "is a folder but not the --out folder of `laserpeople batch`" in str(exc)
     exc = _evaluate(str(rec), "--truth", str(rec))  # the .npz given as tracks
     assert isinstance(exc, RecordingError) and "not a text CSV" in str(exc)
     lines = csv.read_text().splitlines()

@@ -44,7 +44,7 @@ def test_truth_csv_directory_and_binary(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("row", "message"),
     [
-        ("5,0.25,x,1,2", "line 2: column person_id is 'x', not an integer"),
+        ("5,0.25,3.0,1,2", "line 2: column person_id is '3.0', a number but not an integer"),
         ("5,0.25,1,2", "line 2: column y is empty, not a number"),
         ("5,0.25,1,2,3,4,9", "line 2: 1 more field"),
     ],

@@ -323,12 +323,12 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Detect + leg MHT + people in a hall at 1–40 people, and `track` on the demo bag",
         ("benchmarks/bench_scaling.py",),
         8.0,
-        "0.85 / 1.30 / 2.10 / 3.52 / 4.24 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
-        "(idle machine, the compiled listing and leg detection); log-log slope of cost "
-        "against people 0.53 (4–40 people); whole `track` on the demo bag 1.78 s CPU idle, "
-        "about 710 scans per CPU second; the compiled children of the MHT's clusters, the "
-        "deferred leg features and the leaner people layer since: 1.05 / 1.05 / 1.06 / 1.07 "
-        "/ 1.09 times as fast side by side, the demo bag's loop 1.06",
+        "0.67 / 1.23 / 1.86 / 2.92 / 3.73 ms CPU per scan at 1 / 4 / 10 / 20 / 40 people "
+        "(load about 1.5, every compiled part); log-log slope of cost against people 0.50 "
+        "(4–40 people); the demo bag's loop 0.82 ms per scan; whole `track` on the demo "
+        "bag 1.29 s CPU, about 980 scans per CPU second; the compiled Kalman steps and "
+        "static world model since the previous release: 1.23 / 1.20 / 1.16 / 1.14 / 1.13 "
+        "times as fast side by side, the demo bag's loop 1.35, its whole process 1.23",
         "speed.md#cost-against-people-in-view",
         needs_data=True,
     ),

@@ -89,7 +89,11 @@ LISTING = (
     # reference to it
     "tests/test_track_mht_compiled.py",
 )
-HISTOGRAM = ("tests/test_background_histogram.py", "tests/test_pipeline_static_people.py")
+HISTOGRAM = (
+    "tests/test_background_histogram.py",
+    "tests/test_pipeline_static_people.py",
+    "tests/test_background_histogram_compiled.py",
+)
 ROS1 = ("tests/test_io_ros1_reader.py",)
 WALKED = ("tests/test_track_moving_robot.py",)
 PERSON = ("tests/test_track_person_tracks.py",)

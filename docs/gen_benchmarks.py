@@ -177,13 +177,13 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "peers",
         "Leg MHT against Stone Soup GNN, held-back randomised scenes",
         ("benchmarks/peers.py", "--tracker", "leg-mht", "--peer", "gnn", "--family", "randomised"),
-        15.0,
-        "randomised 100–109 MOTA / IDF1 0.369 / 0.436 against 0.253 / 0.337 at 0.78× GNN's "
-        "CPU; crossing-3 100–102 0.901 / 0.826 against 0.807 / 0.844 at 0.84×; narrow "
-        "corridor 0.360 / 0.412 against 0.321 / 0.411 at 0.85×; entrance hall 0.351 / 0.389 "
-        "against 0.269 / 0.331 at 0.66×; moving robot 100–119 (scored while in view) "
-        "0.647 / 0.693 against 0.566 / 0.672 at 1.59× (all measured before `young_credit`, "
-        "the sparse legs and the furniture verdict; needs the `peers` extra)",
+        1.0,
+        "randomised 100–119 MOTA / IDF1 0.377 / 0.440 against 0.284 / 0.364 at 0.60× GNN's "
+        "CPU; crossing-3 100–119 0.923 / 0.893 against 0.786 / 0.782 at 0.43×; narrow "
+        "corridor 100–119 0.399 / 0.420 against 0.344 / 0.389 at 0.50×; entrance hall "
+        "100–109 0.462 / 0.451 against 0.351 / 0.377 at 0.28×; moving robot 100–119 (scored "
+        "while in view) 0.702 / 0.728 against 0.614 / 0.706 at 1.02× (load average 2-5; "
+        "needs the `peers` extra)",
         "people-benchmarks.md",
     ),
     Benchmark(

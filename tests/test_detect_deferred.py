@@ -138,6 +138,8 @@ def test_deferred_features_complete_to_the_full_ones(cfeatures: ModuleType) -> N
         np.testing.assert_allclose(getattr(got, name), getattr(full, name), rtol=0.0, atol=TOL)
     circle = ~np.isnan(full.circle_centres[:, 0])
     assert circle.any() and (~circle).any()
+    # (which features are left out, NaN, compared with where the full pass found a circle:
+    # a yes/no per row, not a float)
     assert np.isnan(got.values[:, 2]).all()
     np.testing.assert_array_equal(np.isnan(got.values[:, 7]), circle)
     rows = np.arange(0, len(full), 3)

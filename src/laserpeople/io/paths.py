@@ -196,8 +196,9 @@ def staging_name(path: str | Path) -> Path:
 
 def staging_folder(target: Path) -> Path:
     """A new hidden folder beside ``target`` to assemble it in (a bag, an MCAP),
-    ``.NAME.PID-XXXXXXXX``: named for this process, so that a later run can tell the folder
-    of a run that was killed (:func:`left_by_killed_runs`).
+    named ``.NAME.PID-`` and a random suffix (``tempfile.mkdtemp``'s): it names this
+    process, so that a later run can tell the folder of a run that was killed
+    (:func:`left_by_killed_runs`).
 
     Raises:
         OSError: The folder cannot be made.

@@ -2,8 +2,9 @@
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
  * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
- * and the beam
- * histogram's foreground of a frame, `histogram_foreground`).
+ * the beam
+ * histogram's foreground of a frame, `histogram_foreground`, and a scan's beams without
+ * a valid return by kind, `beam_kinds`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1705,6 +1706,57 @@ refuse:
     Py_RETURN_NOTIMPLEMENTED;
 }
 
+/* ------------------------------------------------------------------ empty beams
+ *
+ * empty_scans.beam_kinds_python compiled: a scan's beams without a valid return counted by
+ * kind in one pass, each count by the reference's own test of a beam that is not valid
+ * (not finite, positive, at least range_min and at most range_max): NaN, +inf, -inf,
+ * finite and negative, zero, positive and finite under range_min, over range_max. The
+ * comparisons are numpy's (IEEE doubles, range_min and range_max as Python floats), so the
+ * counts are the same integers. Returns the number of beams not valid; NotImplemented
+ * (nothing written) for input not as expected: the Python one runs. */
+
+static PyObject *beam_kinds(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "beam_kinds(ranges, range_min, range_max, counts_out)");
+        return NULL;
+    }
+    if (!PyFloat_CheckExact(args[1]) || !PyFloat_CheckExact(args[2])) Py_RETURN_NOTIMPLEMENTED;
+    double lo = PyFloat_AS_DOUBLE(args[1]), hi = PyFloat_AS_DOUBLE(args[2]);
+    Py_buffer bufs[2];
+    Py_ssize_t lens[2];
+    int got = 0;
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[3], &bufs[1], "l", "q", 1, &lens[1])) goto refuse;
+    got = 2;
+    if (bufs[0].ndim != 1 || bufs[1].itemsize != 8 || lens[1] != 7) goto refuse;
+    const double *r = bufs[0].buf;
+    long long c[7] = {0, 0, 0, 0, 0, 0, 0}, bad = 0;
+    for (Py_ssize_t q = 0; q < lens[0]; q++) {
+        double x = r[q];
+        int finite = isfinite(x);
+        if (finite && x > 0.0 && x >= lo && x <= hi) continue;
+        bad++;
+        int positive = finite && x > 0.0;
+        c[0] += isnan(x) != 0;
+        c[1] += x == INFINITY;
+        c[2] += x == -INFINITY;
+        c[3] += finite && x < 0.0;
+        c[4] += x == 0.0;
+        c[5] += positive && x < lo;
+        c[6] += positive && x > hi;
+    }
+    long long *out = bufs[1].buf;
+    for (int k = 0; k < 7; k++) out[k] = c[k];
+    release_all(bufs, got);
+    return PyLong_FromLongLong(bad);
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 /* ------------------------------------------------------------------ prune
  *
  * hypothesis.prune_children compiled: a cluster's children normalised, N-scan-back and
@@ -2416,6 +2468,10 @@ static PyMethodDef methods[] = {
      "point_beams, fg_out): the points' foreground of a frozen beam histogram's frame of one "
      "laser written to fg_out, and whether a return lies beyond its static world (True: the "
      "candidates untouched), or NotImplemented where the Python one runs."},
+    {"beam_kinds", (PyCFunction)(void (*)(void))beam_kinds, METH_FASTCALL,
+     "beam_kinds(ranges, range_min, range_max, counts_out): empty_scans.beam_kinds_python's "
+     "counts written to counts_out (7,) and the number of beams not valid returned, or "
+     "NotImplemented (nothing written) where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

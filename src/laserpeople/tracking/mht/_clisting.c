@@ -1,6 +1,7 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
- * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
+ * of a few positions, `static_few`, a frame's distances from its laser, `grid_frame`,
+ * its cells hit by a frame, `grid_hits`, `grid_mark`,
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
  * the beam
  * histogram's foreground of a frame, `histogram_foreground`, and a scan's beams without
@@ -1370,6 +1371,52 @@ refuse:
     Py_RETURN_NOTIMPLEMENTED;
 }
 
+/* OccupancyGrid.learn's look at a frame of one sensor position: the distance of every
+ * return from it, hypot(x - ox, y - oy) (the C library's hypot, numpy's; the same
+ * subtraction), written to r_out, and returned: the largest of them (0.0 without returns)
+ * and whether the beam ids increase strictly along the returns. NotImplemented (r_out
+ * not to be read) where a return or the position is not finite: the Python one filters
+ * them first. */
+static PyObject *grid_frame(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "grid_frame(points, ids, ox, oy, r_out)");
+        return NULL;
+    }
+    if (!PyFloat_CheckExact(args[2]) || !PyFloat_CheckExact(args[3])) Py_RETURN_NOTIMPLEMENTED;
+    double ox = PyFloat_AS_DOUBLE(args[2]), oy = PyFloat_AS_DOUBLE(args[3]);
+    if (!isfinite(ox) || !isfinite(oy)) Py_RETURN_NOTIMPLEMENTED;
+    Py_buffer bufs[3];
+    Py_ssize_t lens[3];
+    int got = 0;
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[1], &bufs[1], "l", "q", 0, &lens[1])) goto refuse;
+    got = 2;
+    if (flat_buffer(args[4], &bufs[2], "d", NULL, 1, &lens[2])) goto refuse;
+    got = 3;
+    if (bufs[0].ndim != 2 || bufs[0].shape[1] != 2 || bufs[1].itemsize != 8) goto refuse;
+    Py_ssize_t n = bufs[0].shape[0];
+    if (lens[1] != n || lens[2] != n) goto refuse;
+    const double *pts = bufs[0].buf;
+    const long long *ids = bufs[1].buf;
+    double *r = bufs[2].buf, reach = 0.0;
+    int increasing = 1;
+    for (Py_ssize_t q = 0; q < n; q++) {
+        double x = pts[2 * q], y = pts[2 * q + 1];
+        if (!isfinite(x) || !isfinite(y)) goto refuse;
+        double d = hypot(x - ox, y - oy);
+        r[q] = d;
+        if (q == 0 || d > reach) reach = d;
+        if (q > 0 && !(ids[q] > ids[q - 1])) increasing = 0;
+    }
+    release_all(bufs, got);
+    return Py_BuildValue("(dO)", reach, increasing ? Py_True : Py_False);
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 static PyObject *grid_mark(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
     if (nargs != 17) {
@@ -2449,6 +2496,10 @@ static PyMethodDef methods[] = {
      "exponent_out): OccupancyGrid._hits_python's cells written to hit_out and their decay "
      "exponents to exponent_out, their number returned, or NotImplemented where the Python "
      "one runs."},
+    {"grid_frame", (PyCFunction)(void (*)(void))grid_frame, METH_FASTCALL,
+     "grid_frame(points, ids, ox, oy, r_out): the returns' distances from one sensor "
+     "position written to r_out, and (their largest, whether the ids increase), or "
+     "NotImplemented where a value is not finite (the Python one filters first)."},
     {"grid_mark", (PyCFunction)(void (*)(void))grid_mark, METH_FASTCALL,
      "grid_mark(evidence, touched, since, first_sight, seen_free, hit, factor, stamp, "
      "occupied, hit_evidence, max_evidence, arrival_window, casting, cover, hit_frame, frame, "

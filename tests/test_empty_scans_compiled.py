@@ -124,4 +124,7 @@ def test_check_counts_empty_scans_either_way(monkeypatch: pytest.MonkeyPatch) ->
         list(check(iter(scans)))
         checks.append((check.kinds.tolist(), check.empty, check.first, check.beams))
     assert checks[0] == checks[1]
-    assert checks[0][1] >= 60
+    empty = [k for k, scan in enumerate(scans) if not scan.valid.any()]
+    assert checks[0][1] == len(empty) >= 60  # (those of all NaN, and those of no beam)
+    assert checks[0][2] == ("a", scans[empty[0]].index)
+    assert checks[0][0] == np.sum([beam_kinds_python(s) for s in scans], axis=0).tolist()

@@ -57,6 +57,9 @@ def run_parts(package: str, path: Path) -> tuple[dict[str, float], dict[str, Any
     detector = importlib.import_module(f"{package}.detection.detector")
     pipe = importlib.import_module(f"{package}.pipeline")
     static = importlib.import_module(f"{package}.pipeline.static_people")
+    # (``track`` makes its tracker, which imports the MHT's listing and its C extension,
+    # before the first frame: the frames' checks find the extension then)
+    importlib.import_module(f"{package}.tracking.mht.listing")
     clock = time.process_time
     cpu: dict[str, float] = {}
     t0 = clock()

@@ -21,6 +21,8 @@ from laserpeople.scan import Scan
 
 
 def _compiled() -> Callable[..., object]:
+    import laserpeople.tracking.mht.listing  # noqa: F401  (loads the extension)
+
     compiled = empty_scans._compiled_beam_kinds()
     if compiled is None:
         pytest.skip("the C extension is not built, or stale")
@@ -108,7 +110,8 @@ def test_compiled_refuses_what_it_does_not_expect() -> None:
 
 
 def test_check_counts_empty_scans_either_way(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The check counts the same kinds and the same empty scans compiled and in numpy."""
+    """The check counts the same kinds and the same empty scans compiled and in numpy, and
+    as many empty scans as have no valid beam."""
     rng = np.random.default_rng(7)
     scans = []
     for k in range(300):
@@ -118,7 +121,7 @@ def test_check_counts_empty_scans_either_way(monkeypatch: pytest.MonkeyPatch) ->
             r[:] = math.nan  # no valid beam
         scans.append(_scan(r, lo, hi))
     checks = []
-    for compiled in (empty_scans._compiled_beam_kinds(), None):
+    for compiled in (_compiled(), None):
         monkeypatch.setattr(empty_scans, "_compiled", compiled)
         check = EmptyScanCheck()
         list(check(iter(scans)))
@@ -128,3 +131,15 @@ def test_check_counts_empty_scans_either_way(monkeypatch: pytest.MonkeyPatch) ->
     assert checks[0][1] == len(empty) >= 60  # (those of all NaN, and those of no beam)
     assert checks[0][2] == ("a", scans[empty[0]].index)
     assert checks[0][0] == np.sum([beam_kinds_python(s) for s in scans], axis=0).tolist()
+
+
+def test_not_compiled_before_the_listing_is_imported(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without the leg MHT's listing imported (``detect``), the count runs in numpy and is
+    asked again at the next scan; once imported, the compiled one is found."""
+    compiled = _compiled()
+    monkeypatch.setattr(empty_scans, "_compiled", empty_scans._UNLOADED)
+    monkeypatch.setattr(empty_scans, "LISTING", "laserpeople.not_imported")
+    assert empty_scans._compiled_beam_kinds() is None
+    assert empty_scans._compiled is empty_scans._UNLOADED
+    monkeypatch.setattr(empty_scans, "LISTING", "laserpeople.tracking.mht.listing")
+    assert empty_scans._compiled_beam_kinds() is compiled

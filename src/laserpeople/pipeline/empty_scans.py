@@ -11,6 +11,7 @@ that the command says how many of each there were and where the first empty scan
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterable, Iterator
 from typing import Any
 
@@ -33,14 +34,20 @@ BEAM_KINDS: tuple[str, ...] = (
 
 _UNLOADED = object()
 _compiled: Any = _UNLOADED
+LISTING = "laserpeople.tracking.mht.listing"
+"""The module that loads the MHT's C extension (:func:`_compiled_beam_kinds`)."""
 
 
 def _compiled_beam_kinds() -> Any:
     """The compiled :func:`beam_kinds_python` (``beam_kinds`` of the MHT's C extension,
     where its static-world part runs: built, not stale, not forced off), or None; looked up
-    at the first scan counted."""
+    at the first scan counted once the leg MHT's listing is imported. Before that (``detect``
+    never imports it) None: importing the tracker's modules for this alone costs 30-50 ms
+    of start-up, more than the pass saves on the demo bag's 1265 scans."""
     global _compiled
     if _compiled is _UNLOADED:
+        if LISTING not in sys.modules:
+            return None
         from laserpeople.background.occupancy import compiled_function
 
         _compiled = compiled_function("beam_kinds")

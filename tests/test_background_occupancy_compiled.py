@@ -107,9 +107,7 @@ def _arrays(g: OccupancyGrid) -> list[bytes]:
 
 
 @pytest.mark.regression  # two code paths: CI runs it again on another CPU path
-@pytest.mark.parametrize(
-    "scene", [_still_room, _wobbly_room, _far_room, _moving_room, _blind_room]
-)
+@pytest.mark.parametrize("scene", [_still_room, _wobbly_room, _far_room, _moving_room, _blind_room])
 @pytest.mark.parametrize("free_period", [0.0, 0.2])
 def test_compiled_learning_is_the_python_one_to_the_bit(
     monkeypatch: pytest.MonkeyPatch,

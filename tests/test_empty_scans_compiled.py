@@ -73,10 +73,8 @@ def test_compiled_counts_by_hand() -> None:
     range_max is over it and the one below range_min under it."""
     compiled = _compiled()
     lo, hi = 0.1, 8.0
-    r = np.array(
-        [math.nan, math.inf, -math.inf, -0.0, 0.0, -3.0, lo, hi, 4.0]
-        + [float(np.nextafter(lo, 0.0)), float(np.nextafter(hi, 9.0)), 1e300]
-    )
+    below, above = float(np.nextafter(lo, 0.0)), float(np.nextafter(hi, 9.0))
+    r = np.array([math.nan, math.inf, -math.inf, -0.0, 0.0, -3.0, lo, hi, 4.0, below, above, 1e300])
     counts = np.zeros(7, dtype=np.int64)
     assert compiled(r, lo, hi, counts) == 9
     assert dict(zip(BEAM_KINDS, counts.tolist(), strict=True)) == {

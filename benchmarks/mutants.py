@@ -1699,6 +1699,32 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_occupancy_compiled.py",),
     ),
     Mutant(
+        "occupancy-compiled-look-increasing-assumed",
+        "occupancy grid, a frame looked at in C (beam ids that go back: no still cast)",
+        "background/occupancy.py",
+        "        return sen, r, reach, increasing\n",
+        "        return sen, r, reach, True\n",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "occupancy-compiled-look-near-part-kept",
+        "occupancy grid, a frame looked at in C (the near returns of ids that went back "
+        "are looked at again)",
+        "background/occupancy.py",
+        "            if not increasing:  # (a part of an increasing run increases too)\n"
+        "                increasing = None\n",
+        "",
+        ("tests/test_background_occupancy_compiled.py",),
+    ),
+    Mutant(
+        "empty-scans-compiled-empty-any-bad",
+        "empty scans, counted in C (a scan is empty when no beam is valid, not any)",
+        "pipeline/empty_scans.py",
+        "        if bad == n:  # (no valid beam)\n",
+        "        if bad:  # (no valid beam)\n",
+        ("tests/test_empty_scans_compiled.py",),
+    ),
+    Mutant(
         "still-cast-compiled-this-frames-stamp",
         "still laser's casting, compiled (cells that stop being live get the last frame's stamp)",
         "background/still_cast.py",

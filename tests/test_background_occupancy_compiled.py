@@ -1,7 +1,7 @@
-"""The occupancy grid's learning of the cells a frame hits, compiled (``grid_hits`` and
-``grid_mark`` of the MHT's C extension), against its Python reference: the same cells,
-and the same evidence, stamps and first-sight flags to the bit (the same IEEE operations
-in the same order, and numpy's ``exp`` in both)."""
+"""The occupancy grid's learning of the cells a frame hits, compiled (``grid_frame``,
+``grid_hits`` and ``grid_mark`` of the MHT's C extension), against its Python reference:
+the same distances, cells, and the same evidence, stamps and first-sight flags to the bit
+(the same IEEE operations in the same order, and numpy's ``exp`` in both)."""
 
 from __future__ import annotations
 
@@ -62,6 +62,25 @@ def _wobbly_room(seed: int) -> Iterator[Learn]:
         yield pts, stamp, sensor, beams
 
 
+def _far_room(seed: int) -> Iterator[Learn]:
+    """:func:`_still_room` seen from (0.7, -0.3) with returns beyond ``max_range`` in
+    some frames (they are left out), beam ids that go back in others (no still cast: the
+    beams are cast one by one), both in some, and frames without a return."""
+    rng = np.random.default_rng(seed + 90)
+    at = np.array([0.7, -0.3])
+    for k, (pts, stamp, _, beams) in enumerate(_still_room(seed)):
+        pts = pts + at
+        if k % 4 == 1:
+            far = rng.integers(0, len(pts), 5)
+            pts[far] = at + rng.uniform(31.0, 60.0, size=(5, 1)) * [[0.6, 0.8]]
+        if k % 6 == 3:
+            beams = beams.copy()
+            beams[[10, 11]] = beams[[11, 10]]
+        if k % 25 == 24:
+            pts, beams = pts[:0], beams[:0]
+        yield pts, stamp, at, beams
+
+
 def _moving_room(seed: int) -> Iterator[Learn]:
     """Returns from a sensor that drifts (the grid grows; no still cast), then frames
     without a sensor position (no casting)."""
@@ -88,7 +107,7 @@ def _arrays(g: OccupancyGrid) -> list[bytes]:
 
 
 @pytest.mark.regression  # two code paths: CI runs it again on another CPU path
-@pytest.mark.parametrize("scene", [_still_room, _wobbly_room, _moving_room, _blind_room])
+@pytest.mark.parametrize("scene", [_still_room, _wobbly_room, _far_room, _moving_room, _blind_room])
 @pytest.mark.parametrize("free_period", [0.0, 0.2])
 def test_compiled_learning_is_the_python_one_to_the_bit(
     monkeypatch: pytest.MonkeyPatch,
@@ -103,7 +122,8 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
     still laser's live cells."""
     hits, mark = _compiled()
     cast, apply = still_cast._compiled_cast(), still_cast._compiled_cast_apply()
-    calls = {"hits": 0, "mark": 0, "cast": 0, "apply": 0}
+    look = occupancy._compiled_look()
+    calls = {"hits": 0, "mark": 0, "cast": 0, "apply": 0, "look": 0}
 
     def counted(name: str, f: Callable[..., object]) -> Callable[..., object]:
         def call(*args: object) -> object:
@@ -116,6 +136,7 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
     monkeypatch.setattr(occupancy, "_grid_compiled", (counted("hits", hits), counted("mark", mark)))
     monkeypatch.setattr(still_cast, "_cast_compiled", counted("cast", cast))
     monkeypatch.setattr(still_cast, "_cast_apply_compiled", counted("apply", apply))
+    monkeypatch.setattr(occupancy, "_look_compiled", counted("look", look))
     params = OccupancyParams(free_period=free_period)
     for seed in range(3):
         fast, slow = OccupancyGrid(params), OccupancyGrid(params)
@@ -127,30 +148,36 @@ def test_compiled_learning_is_the_python_one_to_the_bit(
                 m.setattr(occupancy, "_grid_compiled", None)
                 m.setattr(still_cast, "_cast_compiled", None)
                 m.setattr(still_cast, "_cast_apply_compiled", None)
+                m.setattr(occupancy, "_look_compiled", None)
                 slow.learn(pts, stamp, sensor, beams)
             assert _arrays(fast) == _arrays(slow)
             occupied = np.isfinite(fast._since)
             first_seen = first_seen or bool((fast._first_sight & occupied).any())
             arrived_seen = arrived_seen or bool((~fast._first_sight & occupied).any())
         assert first_seen == (scene is not _blind_room) and arrived_seen
-        assert live_seen == (scene in (_still_room, _wobbly_room))
+        assert live_seen == (scene in (_still_room, _wobbly_room, _far_room))
     assert calls["hits"] > 100 and calls["mark"] == calls["hits"]
+    # (one sensor position with beam ids and every return finite: one pass in C)
+    assert calls["look"] > 200 if scene in (_still_room, _wobbly_room, _far_room) else True
+    if scene in (_moving_room, _blind_room):
+        assert calls["look"] == 0
     # (the usual frames take still_cast_usual, those with beams listed again (their old
     # samples lost) or not listed yet still_cast_apply)
     assert calls["cast"] > 20 if scene is _still_room else True
     assert calls["apply"] > 40 if scene is _wobbly_room else True
-    if scene not in (_still_room, _wobbly_room):
+    if scene in (_moving_room, _blind_room):
         assert calls["cast"] == calls["apply"] == 0
 
 
-@pytest.mark.parametrize("refusing", [0, 1, 2, 3])
+@pytest.mark.parametrize("refusing", [0, 1, 2, 3, 4])
 def test_a_refusal_of_the_compiled_learning_leaves_it_to_python(
     monkeypatch: pytest.MonkeyPatch, refusing: int
 ) -> None:
-    """Where ``grid_hits``, ``grid_mark``, ``still_cast_usual`` or ``still_cast_apply``
-    returns NotImplemented, the Python one does that part: the same grid as Python
-    alone."""
+    """Where ``grid_hits``, ``grid_mark``, ``still_cast_usual``, ``still_cast_apply`` or
+    ``grid_frame`` returns NotImplemented, the Python one does that part: the same grid as
+    Python alone."""
     parts = [*_compiled(), still_cast._compiled_cast(), still_cast._compiled_cast_apply()]
+    parts.append(occupancy._compiled_look())
     parts[refusing] = lambda *args: NotImplemented
     fast, slow = OccupancyGrid(), OccupancyGrid()
     for pts, stamp, sensor, beams in _still_room(1):
@@ -158,10 +185,12 @@ def test_a_refusal_of_the_compiled_learning_leaves_it_to_python(
             m.setattr(occupancy, "_grid_compiled", tuple(parts[:2]))
             m.setattr(still_cast, "_cast_compiled", parts[2])
             m.setattr(still_cast, "_cast_apply_compiled", parts[3])
+            m.setattr(occupancy, "_look_compiled", parts[4])
             fast.learn(pts, stamp, sensor, beams)
             m.setattr(occupancy, "_grid_compiled", None)
             m.setattr(still_cast, "_cast_compiled", None)
             m.setattr(still_cast, "_cast_apply_compiled", None)
+            m.setattr(occupancy, "_look_compiled", None)
             slow.learn(pts, stamp, sensor, beams)
         assert _arrays(fast) == _arrays(slow)
     assert np.isfinite(fast._since).any()
@@ -331,3 +360,38 @@ def test_the_compiled_coverage_of_relisted_beams_by_hand() -> None:
     assert np.flatnonzero(np.isfinite(seen)).tolist() == [15] and seen[15] == 4.0
     assert np.flatnonzero(hit_frame >= 0).tolist() == [13] and hit_frame[13] == 3
     assert n_old.tolist() == [2, 0]  # (the caller keeps n_new)
+
+
+def test_a_frame_looked_at_in_one_pass() -> None:
+    """``grid_frame``: each return's distance from the sensor is numpy's ``hypot`` of the
+    same differences, to the bit; the largest of them (0.0 without returns); whether the
+    ids increase strictly (an equal pair does not); NotImplemented (r_out not to be read)
+    for a return or a position not finite and for a position not given as floats."""
+    _compiled()
+    look = occupancy._compiled_look()
+    rng = np.random.default_rng(3)
+    for n in (0, 1, 2, 7, 361, 1081):
+        pts = rng.normal(scale=rng.choice([1e-3, 5.0, 1e5]), size=(n, 2))
+        ox, oy = rng.normal(scale=3.0, size=2).tolist()
+        ids = np.arange(n, dtype=np.int64) * 2
+        r = np.empty(n)
+        reach, increasing = look(pts, ids, ox, oy, r)
+        d = pts - np.array([ox, oy])
+        expected = np.hypot(d[:, 0], d[:, 1])
+        assert r.tobytes() == expected.tobytes()
+        assert reach == (float(expected.max()) if n else 0.0)
+        assert increasing is True
+        if n > 2:
+            ids[n // 2] = ids[n // 2 - 1]  # equal: not increasing
+            assert look(pts, ids, ox, oy, r)[1] is False
+            ids[n // 2] = ids[n // 2 - 1] - 1
+            assert look(pts, ids, ox, oy, r)[1] is False
+            for bad in (np.nan, np.inf):
+                broken = pts.copy()
+                broken[n - 1, 1] = bad
+                assert look(broken, ids, ox, oy, r) is NotImplemented
+    pts, ids, r = np.ones((3, 2)), np.arange(3), np.empty(3)
+    assert look(pts, ids, np.nan, 0.0, r) is NotImplemented
+    assert look(pts, ids, 0, 0.0, r) is NotImplemented  # (an int: the Python one)
+    assert look(pts, ids[:2], 0.0, 0.0, r) is NotImplemented
+    assert look(pts.astype(np.float32), ids, 0.0, 0.0, r) is NotImplemented

@@ -623,34 +623,41 @@ class OccupancyGrid:
         ``background/still_cast.py``)."""
         p = self.params
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        every = bool(np.isfinite(pts).all())  # (the usual case: no copies)
         ids = None if beams is None else np.asarray(beams, dtype=np.int64).reshape(-1)
-        finite = None
-        if not every:
-            finite = np.isfinite(pts).all(axis=1)
-            pts = pts[finite]
-            ids = None if ids is None else ids[finite]
         origins: FloatArray | None = None  # the sensor position of each return (N, 2)
         single: FloatArray | None = None  # the one sensor position of all returns (2,)
         r: FloatArray | None = None  # distances of the returns from their sensor
         reach = math.nan  # the largest of them (nan: not known)
-        if sensor is not None:
-            sen = np.asarray(sensor, dtype=np.float64)
-            if sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0):  # (broadcast)
-                single = sen if sen.ndim == 1 else sen[0]
-                d = pts - single
-            else:
-                origins = sen if finite is None else sen[finite]
-                d = pts - origins
-            r = np.hypot(d[:, 0], d[:, 1])
-            # (one reduction: every return is near when the farthest is; NaN is not near)
-            reach = float(r.max()) if r.size else 0.0
-            if not reach <= p.max_range:
-                near = r <= p.max_range
-                pts, r = pts[near], r[near]
-                origins = None if origins is None else origins[near]
-                ids = None if ids is None else ids[near]
-                reach = math.nan
+        increasing: bool | None = None  # whether ids increase along pts (None: not known)
+        looked = self._look(pts, ids, sensor)
+        if looked is not None:  # (one sensor position, every value finite: one C pass)
+            single, r, reach, increasing = looked
+        else:
+            every = bool(np.isfinite(pts).all())  # (the usual case: no copies)
+            finite = None
+            if not every:
+                finite = np.isfinite(pts).all(axis=1)
+                pts = pts[finite]
+                ids = None if ids is None else ids[finite]
+            if sensor is not None:
+                sen = np.asarray(sensor, dtype=np.float64)
+                if sen.ndim == 1 or (sen.shape[0] > 0 and sen.strides[0] == 0):  # (broadcast)
+                    single = sen if sen.ndim == 1 else sen[0]
+                    d = pts - single
+                else:
+                    origins = sen if finite is None else sen[finite]
+                    d = pts - origins
+                r = np.hypot(d[:, 0], d[:, 1])
+                # (one reduction: every return is near when the farthest is; NaN is not near)
+                reach = float(r.max()) if r.size else 0.0
+        if r is not None and not reach <= p.max_range:
+            near = r <= p.max_range
+            pts, r = pts[near], r[near]
+            origins = None if origins is None else origins[near]
+            ids = None if ids is None else ids[near]
+            reach = math.nan
+            if not increasing:  # (a part of an increasing run increases too)
+                increasing = None
         self.stamp = max(self.stamp, stamp)
         if pts.shape[0] == 0:
             return
@@ -680,7 +687,9 @@ class OccupancyGrid:
                 if bool((origins == origins[0]).all()):
                     single = origins[0]
             where: Where | None = None
-            if ids is not None and single is not None and bool((ids[1:] > ids[:-1]).all()):
+            if increasing is None and ids is not None and single is not None:
+                increasing = bool((ids[1:] > ids[:-1]).all())
+            if ids is not None and single is not None and increasing:
                 (i0, j0), (h, w) = self._origin.tolist(), self._seen_free.shape
                 ox, oy = single.tolist()
                 where = (ox, oy, i0, j0, w, h * w)
@@ -692,6 +701,32 @@ class OccupancyGrid:
             if not skip:
                 self._cast(pts, r, ids, hit, stamp, single, origins, where)
         self._mark_hits(hit, exponent, stamp)
+
+    def _look(
+        self, pts: FloatArray, ids: IntArray | None, sensor: FloatArray | None
+    ) -> tuple[FloatArray, FloatArray, float, bool] | None:
+        """For :meth:`learn`, where the C extension is built: a frame's returns ``pts``
+        (N, 2) [m] seen from one sensor position ``sensor`` (2,), beams ``ids`` (N,), all
+        finite, in one pass: the position, the returns' distances from it (numpy's
+        ``hypot`` of the same differences: the C library's), the largest (0.0 without
+        returns) and whether ``ids`` increase. None for any other frame (several
+        positions, no sensor or ids, a value not finite): :meth:`learn` looks at it in
+        numpy."""
+        if sensor is None or ids is None:
+            return None
+        compiled = _compiled_look()
+        if compiled is None:
+            return None
+        sen = np.asarray(sensor, dtype=np.float64)
+        if sen.shape != (2,):
+            return None
+        ox, oy = sen.tolist()
+        r = np.empty(pts.shape[0])
+        out = compiled(pts, ids, ox, oy, r)
+        if out is NotImplemented:
+            return None
+        reach, increasing = out
+        return sen, r, reach, increasing
 
     def _hits(
         self, pts: FloatArray, cells: IntArray | None, stamp: float
@@ -950,6 +985,7 @@ class OccupancyGrid:
 _UNLOADED = object()
 _static_few_compiled: object = _UNLOADED
 _grid_compiled: object = _UNLOADED
+_look_compiled: object = _UNLOADED
 
 
 def compiled_function(name: str) -> Any:
@@ -968,6 +1004,14 @@ def _compiled_grid() -> tuple[Any, Any] | None:
         hits, mark = compiled_function("grid_hits"), compiled_function("grid_mark")
         _grid_compiled = None if hits is None or mark is None else (hits, mark)
     return _grid_compiled  # type: ignore[return-value]
+
+
+def _compiled_look() -> Any:
+    """The compiled ``grid_frame`` (:meth:`OccupancyGrid._look`), or None."""
+    global _look_compiled
+    if _look_compiled is _UNLOADED:
+        _look_compiled = compiled_function("grid_frame")
+    return _look_compiled
 
 
 def _compiled_static_few() -> Any:

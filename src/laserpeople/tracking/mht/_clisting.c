@@ -1,9 +1,11 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
  * end of this file, the scan's clusters, `components`, the occupancy grid's static time
- * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
+ * of a few positions, `static_few`, a frame's distances from its laser, `grid_frame`,
+ * its cells hit by a frame, `grid_hits`, `grid_mark`,
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
- * and the beam
- * histogram's foreground of a frame, `histogram_foreground`).
+ * the beam
+ * histogram's foreground of a frame, `histogram_foreground`, and a scan's beams without
+ * a valid return by kind, `beam_kinds`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -1369,6 +1371,52 @@ refuse:
     Py_RETURN_NOTIMPLEMENTED;
 }
 
+/* OccupancyGrid.learn's look at a frame of one sensor position: the distance of every
+ * return from it, hypot(x - ox, y - oy) (the C library's hypot, numpy's; the same
+ * subtraction), written to r_out, and returned: the largest of them (0.0 without returns)
+ * and whether the beam ids increase strictly along the returns. NotImplemented (r_out
+ * not to be read) where a return or the position is not finite: the Python one filters
+ * them first. */
+static PyObject *grid_frame(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "grid_frame(points, ids, ox, oy, r_out)");
+        return NULL;
+    }
+    if (!PyFloat_CheckExact(args[2]) || !PyFloat_CheckExact(args[3])) Py_RETURN_NOTIMPLEMENTED;
+    double ox = PyFloat_AS_DOUBLE(args[2]), oy = PyFloat_AS_DOUBLE(args[3]);
+    if (!isfinite(ox) || !isfinite(oy)) Py_RETURN_NOTIMPLEMENTED;
+    Py_buffer bufs[3];
+    Py_ssize_t lens[3];
+    int got = 0;
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[1], &bufs[1], "l", "q", 0, &lens[1])) goto refuse;
+    got = 2;
+    if (flat_buffer(args[4], &bufs[2], "d", NULL, 1, &lens[2])) goto refuse;
+    got = 3;
+    if (bufs[0].ndim != 2 || bufs[0].shape[1] != 2 || bufs[1].itemsize != 8) goto refuse;
+    Py_ssize_t n = bufs[0].shape[0];
+    if (lens[1] != n || lens[2] != n) goto refuse;
+    const double *pts = bufs[0].buf;
+    const long long *ids = bufs[1].buf;
+    double *r = bufs[2].buf, reach = 0.0;
+    int increasing = 1;
+    for (Py_ssize_t q = 0; q < n; q++) {
+        double x = pts[2 * q], y = pts[2 * q + 1];
+        if (!isfinite(x) || !isfinite(y)) goto refuse;
+        double d = hypot(x - ox, y - oy);
+        r[q] = d;
+        if (q == 0 || d > reach) reach = d;
+        if (q > 0 && !(ids[q] > ids[q - 1])) increasing = 0;
+    }
+    release_all(bufs, got);
+    return Py_BuildValue("(dO)", reach, increasing ? Py_True : Py_False);
+refuse:
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
 static PyObject *grid_mark(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     (void)self;
     if (nargs != 17) {
@@ -1701,6 +1749,57 @@ static PyObject *histogram_foreground(PyObject *self, PyObject *const *args, Py_
     Py_RETURN_FALSE;
 refuse:
     PyMem_Free(fg_beam);
+    release_all(bufs, got);
+    Py_RETURN_NOTIMPLEMENTED;
+}
+
+/* ------------------------------------------------------------------ empty beams
+ *
+ * empty_scans.beam_kinds_python compiled: a scan's beams without a valid return counted by
+ * kind in one pass, each count by the reference's own test of a beam that is not valid
+ * (not finite, positive, at least range_min and at most range_max): NaN, +inf, -inf,
+ * finite and negative, zero, positive and finite under range_min, over range_max. The
+ * comparisons are numpy's (IEEE doubles, range_min and range_max as Python floats), so the
+ * counts are the same integers. Returns the number of beams not valid; NotImplemented
+ * (nothing written) for input not as expected: the Python one runs. */
+
+static PyObject *beam_kinds(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "beam_kinds(ranges, range_min, range_max, counts_out)");
+        return NULL;
+    }
+    if (!PyFloat_CheckExact(args[1]) || !PyFloat_CheckExact(args[2])) Py_RETURN_NOTIMPLEMENTED;
+    double lo = PyFloat_AS_DOUBLE(args[1]), hi = PyFloat_AS_DOUBLE(args[2]);
+    Py_buffer bufs[2];
+    Py_ssize_t lens[2];
+    int got = 0;
+    if (flat_buffer(args[0], &bufs[0], "d", NULL, 0, &lens[0])) goto refuse;
+    got = 1;
+    if (flat_buffer(args[3], &bufs[1], "l", "q", 1, &lens[1])) goto refuse;
+    got = 2;
+    if (bufs[0].ndim != 1 || bufs[1].itemsize != 8 || lens[1] != 7) goto refuse;
+    const double *r = bufs[0].buf;
+    long long c[7] = {0, 0, 0, 0, 0, 0, 0}, bad = 0;
+    for (Py_ssize_t q = 0; q < lens[0]; q++) {
+        double x = r[q];
+        int finite = isfinite(x);
+        if (finite && x > 0.0 && x >= lo && x <= hi) continue;
+        bad++;
+        int positive = finite && x > 0.0;
+        c[0] += isnan(x) != 0;
+        c[1] += x == INFINITY;
+        c[2] += x == -INFINITY;
+        c[3] += finite && x < 0.0;
+        c[4] += x == 0.0;
+        c[5] += positive && x < lo;
+        c[6] += positive && x > hi;
+    }
+    long long *out = bufs[1].buf;
+    for (int k = 0; k < 7; k++) out[k] = c[k];
+    release_all(bufs, got);
+    return PyLong_FromLongLong(bad);
+refuse:
     release_all(bufs, got);
     Py_RETURN_NOTIMPLEMENTED;
 }
@@ -2397,6 +2496,10 @@ static PyMethodDef methods[] = {
      "exponent_out): OccupancyGrid._hits_python's cells written to hit_out and their decay "
      "exponents to exponent_out, their number returned, or NotImplemented where the Python "
      "one runs."},
+    {"grid_frame", (PyCFunction)(void (*)(void))grid_frame, METH_FASTCALL,
+     "grid_frame(points, ids, ox, oy, r_out): the returns' distances from one sensor "
+     "position written to r_out, and (their largest, whether the ids increase), or "
+     "NotImplemented where a value is not finite (the Python one filters first)."},
     {"grid_mark", (PyCFunction)(void (*)(void))grid_mark, METH_FASTCALL,
      "grid_mark(evidence, touched, since, first_sight, seen_free, hit, factor, stamp, "
      "occupied, hit_evidence, max_evidence, arrival_window, casting, cover, hit_frame, frame, "
@@ -2416,6 +2519,10 @@ static PyMethodDef methods[] = {
      "point_beams, fg_out): the points' foreground of a frozen beam histogram's frame of one "
      "laser written to fg_out, and whether a return lies beyond its static world (True: the "
      "candidates untouched), or NotImplemented where the Python one runs."},
+    {"beam_kinds", (PyCFunction)(void (*)(void))beam_kinds, METH_FASTCALL,
+     "beam_kinds(ranges, range_min, range_max, counts_out): empty_scans.beam_kinds_python's "
+     "counts written to counts_out (7,) and the number of beams not valid returned, or "
+     "NotImplemented (nothing written) where the Python one runs."},
     {"prune", (PyCFunction)(void (*)(void))prune, METH_FASTCALL,
      "prune(hypotheses, depth, min_ratio): hypothesis.prune_children's hypotheses (their log "
      "weights set), or NotImplemented for children the Python one takes (a weight or a "

@@ -219,3 +219,86 @@ def test_merged_coast_time_is_checked() -> None:
     with pytest.raises(ValueError, match="merged_coast_time"):
         GroupTrackerParams(merged_coast_time=float("inf"))
     assert GroupTrackerParams.paper_preset["merged_coast_time"] == 0.0
+
+
+def test_share_centres_are_lloyd_rounds_from_the_given_centres() -> None:
+    """Points at x = 0, 1 (y = 0) and 4, 5 from centres (-0.5, 0) and (1.4, 0): the first
+    round gives the second centre points 1, 4, 5 (mean 3.333...), the second only 4 and 5
+    (mean 4.5) and the first 0 and 1 (0.5); one round only would leave (0, 0) and (3.333,
+    0); a centre that gets no point stays where it was and is not held."""
+    from laserpeople.tracking.groups.coast import SHARE_ROUNDS, share_centres
+
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [4.0, 0.0], [5.0, 0.0]])
+    assert SHARE_ROUNDS == 2
+    centres, held = share_centres(points, np.array([[-0.5, 0.0], [1.4, 0.0], [20.0, 3.0]]))
+    np.testing.assert_allclose(centres, [[0.5, 0.0], [4.5, 0.0], [20.0, 3.0]], atol=1e-12)
+    assert held.tolist() == [True, True, False]
+    once, _ = share_centres(points, np.array([[-0.5, 0.0], [1.4, 0.0]]), rounds=1)
+    np.testing.assert_allclose(once, [[0.0, 0.0], [10.0 / 3.0, 0.0]], atol=1e-12)
+    none, held = share_centres(np.empty((0, 2)), np.array([[1.0, 2.0]]))
+    np.testing.assert_allclose(none, [[1.0, 2.0]])
+    assert not held.any()
+
+
+def test_a_followed_group_is_predicted_from_its_share_with_a_smoothed_velocity() -> None:
+    """Reported until 10.0 s at (0, 0) moving (1, 0) m/s, ``follow_time`` 1 s: followed at
+    10.5 s to its share at (0.2, 0.1) (velocity kept (1, 0): no share before), its next
+    prediction at 10.7 s starts there, (0.4, 0.1); followed at 10.7 s to (0.3, 0.1) the
+    share moved (0.5, 0) m/s, and the velocity moves 0.2 / 1 of the way: (0.9, 0); at 11.0 s
+    it is predicted at (0.57, 0.1) with that velocity; reported again, it is predicted from
+    the new report."""
+    c = CoastedReports(1.0, 3.0, 1.0)
+    c.record(9.0, [_track(7, -1.0, 0.0, 1.0, 0.0)])
+    c.record(10.0, [_track(7, 0.0, 0.0, 1.0, 0.0)])
+    (out,) = c.coasted(10.5, set())
+    np.testing.assert_allclose(out.position, [0.5, 0.0], atol=1e-12)
+    moved = c.follow(10.5, out, np.array([0.2, 0.1]))
+    np.testing.assert_allclose(moved.position, [0.2, 0.1], atol=1e-12)
+    np.testing.assert_allclose(moved.contour, [[-0.3, 0.1], [0.7, 0.1]], atol=1e-12)
+    np.testing.assert_allclose(moved.velocity, [1.0, 0.0], atol=1e-12)
+    (out,) = c.coasted(10.7, set())
+    np.testing.assert_allclose(out.position, [0.4, 0.1], atol=1e-12)
+    np.testing.assert_allclose(out.contour, [[-0.1, 0.1], [0.9, 0.1]], atol=1e-12)
+    moved = c.follow(10.7, out, np.array([0.3, 0.1]))
+    np.testing.assert_allclose(moved.velocity, [0.9, 0.0], atol=1e-12)
+    (out,) = c.coasted(11.0, set())
+    np.testing.assert_allclose(out.position, [0.57, 0.1], atol=1e-12)
+    np.testing.assert_allclose(out.velocity, [0.9, 0.0], atol=1e-12)
+    c.record(11.1, [_track(7, 2.0, 2.0, 0.0, 1.0)])
+    c.record(11.2, [_track(8, 0.0, 0.0, 0.0, 0.0)])
+    (out,) = c.coasted(11.3, {8})
+    np.testing.assert_allclose(out.position, [2.0, 2.2], atol=1e-12)
+
+
+def test_a_group_among_a_reported_groups_points_follows_its_share() -> None:
+    """A reported group's points at x = 0, 0.2 and 1.0, 1.2 m (y = 0) at its position
+    (0.6, 0); a vanished group predicted at (1.3, 0), touching them: with
+    ``coast_follow_time`` it is reported at its share's centre (1.1, 0), the reported
+    group's own share (0.1, 0) untouched; without it, at its prediction; a coasted group
+    that touches no point is not moved."""
+    from laserpeople.tracking.groups import GroupMHTTracker
+    from laserpeople.tracking.groups.tracker import GroupEstimate
+    from test_track_groups import _frame
+
+    frame = _frame(np.array([[0.0, 0.0], [0.2, 0.0], [1.0, 0.0], [1.2, 0.0]]), 0, 0.0)
+    mean = np.array([0.6, 0.0, 0.0, 0.0, 2.0])
+    holder = GroupEstimate(
+        1, ("0",), mean, np.eye(5), np.arange(4, dtype=np.int64), np.zeros((0, 2)), ""
+    )
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    assert tracker.coasting.follow_time == pytest.approx(1.0)
+    among = tracker._among(frame, [holder])
+    inside, away = _track(7, 1.3, 0.0, 0.0, 0.0), _track(8, 9.0, 0.0, 0.0, 0.0)
+    out = tracker._follow(frame, [holder], [inside, away], among)
+    np.testing.assert_allclose(out[0].position, [1.1, 0.0], atol=1e-12)
+    assert out[1] is away
+    off = GroupMHTTracker(GroupTrackerParams(coast_follow_time=0.0))
+    assert off.coasting.follow_time == 0.0
+
+
+def test_coast_follow_time_is_checked() -> None:
+    with pytest.raises(ValueError, match="coast_follow_time"):
+        GroupTrackerParams(coast_follow_time=-0.1)
+    with pytest.raises(ValueError, match="coast_follow_time"):
+        GroupTrackerParams(coast_follow_time=float("nan"))
+    assert GroupTrackerParams.paper_preset["coast_follow_time"] == 0.0

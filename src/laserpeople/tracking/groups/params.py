@@ -48,7 +48,6 @@ class GroupTrackerParams:
             "id_memory": 0.0,
             "coast_time": 0.0,
             "merged_coast_time": 0.0,
-            "coast_follow_time": 0.0,
             "velocity_window": 0.0,
             "shadow_occlusion": False,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
@@ -450,17 +449,6 @@ class GroupTrackerParams:
         "does (0: coast_time for every vanished group)",
         "s",
     )
-    coast_follow_time: float = param(
-        1.0,
-        "extension of 000 (0: at its constant-velocity prediction); chosen on random-groups "
-        "seeds 0-19 (docs/groups.md)",
-        "a group coasted among the points of reported groups (merged_coast_time) is "
-        "reported at the centre of its share of them (the points nearer to it than to those "
-        "groups and the other coasted ones, two Lloyd rounds) and its velocity follows that "
-        "share's motion, smoothed with this time constant (0: it stays at its "
-        "constant-velocity prediction)",
-        "s",
-    )
     confirm_window: int = param(
         0,
         "chosen on the real recordings (3 of 4 or 5 scans: the same or more ids than 3 "
@@ -541,8 +529,6 @@ class GroupTrackerParams:
             raise ValueError("coast_time must be finite and not negative (0: never)")
         if not (self.merged_coast_time >= 0.0 and math.isfinite(self.merged_coast_time)):
             raise ValueError("merged_coast_time must be finite and not negative (0: coast_time)")
-        if not (self.coast_follow_time >= 0.0 and math.isfinite(self.coast_follow_time)):
-            raise ValueError("coast_follow_time must be finite and not negative (0: off)")
         if self.confirm_window < 0:
             raise ValueError("confirm_window must not be negative (0: consecutive scans)")
         self.confirm_settings()  # checks the confirmation values

@@ -29,7 +29,7 @@ from laserpeople.background import StaticWorldModel
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.scan import visible_area
-from laserpeople.tracking.groups.coast import CoastedReports, share_centres
+from laserpeople.tracking.groups.coast import CoastedReports
 from laserpeople.tracking.groups.confirm import Candidate, Confirmation
 from laserpeople.tracking.groups.handover import IdHandover
 from laserpeople.tracking.groups.interaction import (
@@ -188,7 +188,7 @@ class GroupMHTTracker:
         self.handover = IdHandover(p.id_memory if p.reuse_ids else 0.0, p.id_gate)
         """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
         self._taken_over: set[int] = set()  # coasting families a new group replaced
-        self.coasting = CoastedReports(p.coast_time, p.merged_coast_time, p.coast_follow_time)
+        self.coasting = CoastedReports(p.coast_time, p.merged_coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
 
     @property
@@ -334,43 +334,18 @@ class GroupMHTTracker:
         if self.coasting.memory > 0.0:
             shown = {node.family for node in nodes}
             hidden = {self._ids.get(self.name(n), n.family) for n in best if n.family not in shown}
-            among = self._among(frame, groups)
             coasted = self.coasting.coasted(
-                frame.stamp, set(ids) | hidden, self._seen_gone(frame), among
+                frame.stamp,
+                set(ids) | hidden,
+                self._seen_gone(frame),
+                self._among(frame, groups),
             )
-            if self.coasting.follow_time > 0.0:
-                coasted = self._follow(frame, groups, coasted, among)
             self.coasting.record(frame.stamp, tracks)
             tracks += coasted
         self._reported.intersection_update(self.mht.tree.nodes_by_family)
         if self._scans % FORGET_EVERY == 0:
             self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
-
-    def _follow(
-        self,
-        frame: Frame,
-        groups: list[GroupEstimate],
-        coasted: list[Track],
-        among: Callable[[Track], bool],
-    ) -> list[Track]:
-        """``coasted`` with those ``among`` the points of the groups reported in ``frame``
-        moved to their shares of those points (``coast_follow_time``,
-        :func:`~laserpeople.tracking.groups.coast.share_centres` from the reported groups'
-        positions and the coasted predictions)."""
-        assert frame.points is not None
-        seen = [g for g in groups if g.members.size]
-        inside = [k for k, t in enumerate(coasted) if seen and among(t)]
-        if not inside:
-            return coasted
-        points = frame.points.points[np.concatenate([g.members for g in seen])]
-        start = np.array([g.mean[:2] for g in seen] + [coasted[k].position for k in inside])
-        centres, held = share_centres(points, start)
-        out = list(coasted)
-        for j, k in enumerate(inside, start=len(seen)):
-            if held[j]:
-                out[k] = self.coasting.follow(frame.stamp, coasted[k], centres[j])
-        return out
 
     def _among(self, frame: Frame, groups: list[GroupEstimate]) -> Callable[[Track], bool]:
         """Whether a coasted group is among the points of the groups reported in ``frame``

@@ -323,8 +323,6 @@ class LegForeground:
         )
         """How long [s] legs of the leg MHT's people are held (``steady_person_memory`` or
         ``person_memory``; 0: no leg MHT is run)."""
-        self.steady = steady
-        """Whether the frames it narrows hand their legs on (:meth:`handed_legs`)."""
         self._detector = detector
         self._detect: Any = legs_stage
         self._own_detect = legs_stage is None
@@ -494,31 +492,7 @@ class LegForeground:
         self.frames += 1
         self.points_in += int(np.count_nonzero(fg))
         self.points_kept += int(np.count_nonzero(kept))
-        if self.steady and frame.legs is None:
-            return frame.with_fields(foreground=kept, legs=self.handed_legs(detections, legs))
         return frame.with_fields(foreground=kept)
-
-    def handed_legs(self, detections: Any, legs: NDArray[np.float64]) -> Any:
-        """The legs whose points the foreground keeps (``legs`` (M, 2) [m] from
-        :meth:`remembered`, the frame's last) as ``Detections`` of the frame, scored for a
-        tracker that needs steady points (``feet-pf`` births filters only on confident
-        legs): the frame's own by the detector, a leg of the leg MHT's people (this frame's
-        or held) at +inf, another held leg at ``min_score``."""
-        from laserpeople.tracks import Detections
-
-        own = detections.scores[detections.scores > self.params.min_score]
-        held = len(legs) - len(own)
-        person = self._held_long  # (M,), in the order of legs
-        scores = np.where(person, np.inf, np.r_[np.full(held, self.params.min_score), own])
-        return Detections(
-            detections.stamp,
-            detections.scan_index,
-            legs,
-            np.zeros((len(legs), 2, 2)),
-            scores,
-            detections.frame,
-            detections.sensor_pose,
-        )
 
     def _wants_leg_runs(self, frame: Frame) -> bool:
         """Whether ``frame`` keeps the blobs of far legs (``leg_run_points``): a tracker that

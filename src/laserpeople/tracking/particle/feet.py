@@ -97,7 +97,7 @@ from laserpeople.tracking.particle.objects import (
 from laserpeople.tracking.particle.split import PartySplitter, Split
 from laserpeople.tracking.particle.unclaimed import UnclaimedDetector
 from laserpeople.tracking.particle.upper_body import gather_cells, voronoi_cells
-from laserpeople.tracks import Detections, Tracks
+from laserpeople.tracks import Tracks
 
 XL, YL, XR, YR, S, T, GAMMA, ALPHA = range(8)
 TWO_PI = 2.0 * np.pi
@@ -462,21 +462,6 @@ class FeetParams:
         "assumed: a brisk walk (random-groups walkers 0.5-1.5 m/s)",
         "growth of a lost identity's reach with the time since its track was last reported",
         "m/s",
-    )
-    birth_score: float = param(
-        0.0,
-        "experiment (docs/schenk-tables.md)",
-        "on a moving laser whose foreground keeps the points near leg detections (the "
-        "frame's legs handed on by pipeline/leg_foreground.py), a filter starts only where "
-        "a point within ``support_radius`` of its feet is not near (``birth_reach``) a leg "
-        "scoring below this alone (the leg MHT's people's legs count as certain); points "
-        "near weaker legs only weigh and support filters; 0 disables",
-    )
-    birth_reach: float = param(
-        0.35,
-        "assumed: [leg_foreground] radius, within which the foreground keeps a leg's points",
-        "a point this close to a leg detection is near it (for ``birth_score``)",
-        "m",
     )
     merge_distance: float = param(
         0.3, "assumed", "a filter this close to an older one is removed", "m"
@@ -884,7 +869,6 @@ class FeetTracker:
         sized = small_objects(pts, p.link_distance, p.max_eigenvalue, objects)
         remembered = self.objects.update(pts, ~sized, frame.stamp)
         births = pts[~remembered]
-        weak = weak_points(births, frame.legs, p.birth_score, p.birth_reach)
         birth_objects = _kept(pts, objects, ~remembered, p.link_distance)
         segments = None
         if p.rescue_legs and len(pts) and not sized.all():
@@ -935,7 +919,7 @@ class FeetTracker:
             supported = _supported(pts, feet_est, p.support_radius)
             bank.support(supported, frame.stamp)
             self._cull(frame.stamp)
-        self._births(births, frame.stamp, birth_objects, [sp.new for sp in splits], weak)
+        self._births(births, frame.stamp, birth_objects, [sp.new for sp in splits])
         return self._report(frame, pts, objects, segments, rays)
 
     def _leg_weights(
@@ -971,12 +955,10 @@ class FeetTracker:
         stamp: float,
         objects: NDArray[np.int64] | None = None,
         split: list[NDArray[np.float64]] | None = None,
-        weak: NDArray[np.bool_] | None = None,
     ) -> None:
         """Start filters at step sequences, still objects, unclaimed walkers and the
         other person of a split filter (``split``: feet (2, 2) [m] each; no birth
-        exclusion for them); none whose points are all near weak legs (``weak`` (N,) over
-        ``pts``, :func:`weak_points`; None: every start)."""
+        exclusion for them)."""
         p, bank = self.params, self.bank
         found = self.detector.detections(pts, stamp)
         still = self.still.detections(pts, stamp, objects)
@@ -1015,8 +997,6 @@ class FeetTracker:
             ):
                 continue
             starts.append(two)
-        if weak is not None and starts:
-            starts = [f for f in starts if not weak_start(f, pts, weak, p.support_radius)]
         if starts:
             first = len(bank)
             bank.add(np.stack([self._initial(f) for f in starts]), stamp)
@@ -1210,37 +1190,6 @@ def _leg_segments(
     return np.asarray(leg[labels], dtype=bool)
 
 
-def weak_points(
-    points: NDArray[np.float64], legs: Detections | None, threshold: float, reach: float
-) -> NDArray[np.bool_] | None:
-    """(N,) True for the ``points`` (N, 2) [m] within ``reach`` [m] of a leg of ``legs``
-    (the frame's, handed on by the leg foreground) but of none scoring ``threshold`` or
-    more; None when ``threshold`` is 0 or no legs were handed on (every point may start a
-    filter)."""
-    if threshold <= 0.0 or legs is None or len(legs) == 0 or len(points) == 0:
-        return None
-    tree = cKDTree(points)
-    near = np.zeros(len(points), dtype=bool)
-    strong = np.zeros(len(points), dtype=bool)
-    for leg, score in zip(legs.positions, legs.scores, strict=True):
-        idx = tree.query_ball_point(leg, reach)
-        near[idx] = True
-        if score >= threshold:
-            strong[idx] = True
-    return near & ~strong
-
-
-def weak_start(
-    feet: NDArray[np.float64], points: NDArray[np.float64], weak: NDArray[np.bool_], radius: float
-) -> bool:
-    """Whether a filter starting at ``feet`` (2, 2) [m] stands on weak legs only: the
-    ``points`` (N, 2) [m] within ``radius`` [m] of either foot are all ``weak`` (N,), and
-    there is one."""
-    d = np.hypot(*(points[:, None, :] - feet[None, :, :]).transpose(2, 0, 1)).min(axis=1)
-    on = d <= radius
-    return bool(on.any() and weak[on].all())
-
-
 def _kept(
     points: NDArray[np.float64],
     labels: NDArray[np.int64] | None,
@@ -1309,7 +1258,5 @@ __all__ = [
     "scaled_to_beams",
     "stride_likelihood",
     "walking_model",
-    "weak_points",
-    "weak_start",
     "width_likelihood",
 ]

@@ -1,4 +1,4 @@
-"""What a demanding user meets, seventh round: empty paths, the group tracker's coasting view, ..."""
+"""What a demanding user meets, seventh round: empty paths, the coasting's public view."""
 
 from __future__ import annotations
 
@@ -48,3 +48,22 @@ def test_an_empty_path_is_refused_naming_the_option(
     text = " ".join(run.output.split())
     assert run.exit_code == 2, run.output
     assert f"Invalid value for '{option}'" in text and "': is empty: give a file" in text, text
+
+
+def test_groups_oracle_gap_reads_no_private_attribute_but_its_own() -> None:
+    """The benchmark asks the tracker's coasting through its public ``in``, not ``_last``."""
+    import ast
+    from pathlib import Path
+
+    bench = Path(__file__).resolve().parents[1] / "benchmarks" / "groups_oracle_gap.py"
+    tree = ast.parse(bench.read_text(encoding="utf-8"))
+    private = {
+        ast.unparse(node)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Attribute)
+        and node.attr.startswith("_")
+        and not node.attr.startswith("__")
+        and not (isinstance(node.value, ast.Name) and node.value.id == "self")
+    }
+    assert private == set()
+    assert "self.tracker.coasting" in bench.read_text(encoding="utf-8")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 import typer
 from typer.testing import CliRunner
@@ -67,3 +69,75 @@ def test_groups_oracle_gap_reads_no_private_attribute_but_its_own() -> None:
     }
     assert private == set()
     assert "self.tracker.coasting" in bench.read_text(encoding="utf-8")
+
+
+SIGTERM_AFTER = """
+import os, signal, sys
+from laserpeople.cli import {module} as command
+
+def progress(items, total=None, description=""):
+    for k, item in enumerate(items):
+        if k == 6:
+            os.kill(os.getpid(), signal.SIGTERM)
+        yield item
+
+command.progress = progress
+sys.argv = ["laserpeople", *sys.argv[1:]]
+from laserpeople.cli import run
+run()
+"""
+"""A program that sends itself SIGTERM when the command's 7th scan is asked for."""
+
+
+@pytest.mark.parametrize(("module", "what"), [("track", "tracks"), ("detect", "legs")])
+def test_sigterm_stops_as_ctrl_c_naming_it_with_a_complete_csv(
+    module: str, what: str, tmp_path: Path
+) -> None:
+    """``kill PID`` (SIGTERM) ended the process at once without a word; now it stops as on
+    Ctrl-C: status 143, the message names SIGTERM and the scans the CSV holds, whole."""
+    import csv
+    import os
+    import subprocess
+    import sys
+
+    from laserpeople.sim.scenarios import run_scenario
+
+    recording = tmp_path / "walk.npz"
+    run_scenario("figure-eight", seconds=3.0, seed=3).write(recording)
+    out = tmp_path / "out.csv"
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")}
+    program = [sys.executable, "-c", SIGTERM_AFTER.format(module=module)]
+    done = subprocess.run(
+        [*program, module, str(recording), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+        check=False,
+    )
+    text = " ".join(done.stderr.split())
+    assert done.returncode == 143, done.stderr
+    assert f"interrupted (SIGTERM) after 7 scans: {out} holds the {what}" in text, text
+    with open(out, newline="", encoding="utf-8") as fh:
+        scans = {int(row["scan"]) for row in csv.DictReader(fh)}
+    assert scans and max(scans) <= 6, scans
+
+
+def test_sigterm_is_named_and_gets_its_own_exit_status() -> None:
+    import signal
+
+    from laserpeople.cli.stopping import Terminated, stop_name, stop_on_sigterm, stop_status
+
+    assert (stop_status(Terminated()), stop_status(KeyboardInterrupt())) == (143, 130)
+    assert (stop_name(143), stop_name(130)) == ("SIGTERM", "Ctrl-C")
+    before = signal.getsignal(signal.SIGTERM)
+    try:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        assert not stop_on_sigterm()  # ignored by the parent: kept ignored
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        assert stop_on_sigterm()
+        with pytest.raises(Terminated):
+            signal.raise_signal(signal.SIGTERM)
+    finally:
+        signal.signal(signal.SIGTERM, before)

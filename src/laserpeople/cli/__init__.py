@@ -246,9 +246,14 @@ class LaserPeopleGroup(TyperGroup):
         with _short_usage_errors():
             try:
                 return super().invoke(ctx)
-            except KeyboardInterrupt:  # (typer would exit 130 without a word)
-                err_console.print("interrupted (Ctrl-C)", markup=False, highlight=False)
-                raise typer.Exit(130) from None
+            except KeyboardInterrupt as exc:  # (typer would exit 130 without a word)
+                from laserpeople.cli.stopping import stop_name, stop_status
+
+                status = stop_status(exc)
+                err_console.print(
+                    f"interrupted ({stop_name(status)})", markup=False, highlight=False
+                )
+                raise typer.Exit(status) from None
 
 
 TEXT_PATH_PARAMETERS = frozenset(
@@ -459,6 +464,9 @@ def end_process(code: object) -> NoReturn:
 def main() -> None:
     """Entry point of the ``laserpeople`` command."""
     one_blas_thread()
+    from laserpeople.cli.stopping import stop_on_sigterm, stop_status
+
+    stop_on_sigterm()
     try:
         make_app(commands_needed(sys.argv[1:]))(prog_name="laserpeople")
     except LaserPeopleError as exc:
@@ -469,6 +477,6 @@ def main() -> None:
         # the message as written: file names and topics are neither markup nor emoji codes
         err_console.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
         sys.exit(1)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         err_console.print("interrupted")
-        sys.exit(130)
+        sys.exit(stop_status(exc))

@@ -141,3 +141,65 @@ def test_sigterm_is_named_and_gets_its_own_exit_status() -> None:
             signal.raise_signal(signal.SIGTERM)
     finally:
         signal.signal(signal.SIGTERM, before)
+
+
+def test_a_file_of_another_format_is_given_the_name_its_reader_wants() -> None:
+    from laserpeople.io.sniff import renamed
+
+    assert renamed(Path("d/run.txt"), ".bag") == "run.bag"
+    assert renamed(Path("run.bag.active"), ".bag") == "run.bag"  # not run.bag.bag
+    assert renamed(Path("run.mcap.active"), ".bag") == "run.mcap.bag"
+    assert renamed(Path("run"), ".npz") == "run.npz"
+
+
+def _ros1_bag(path: Path) -> Path:
+    path.write_bytes(b"#ROSBAG V2.0\n" + bytes(64))
+    return path
+
+
+def _ros2_folder_being_recorded(folder: Path, files: int = 1) -> Path:
+    folder.mkdir()
+    for k in range(files):
+        (folder / f"{folder.name}_{k}.mcap").write_bytes(b"\x89MCAP0\r\n" + bytes(64))
+    return folder
+
+
+def test_recordings_still_being_written_are_named_so(tmp_path: Path) -> None:
+    """``rosbag record``'s ``x.bag.active`` and a ROS 2 bag folder whose metadata.yaml is not
+    written yet: said to be still recording (or stopped hard), with the file that reads."""
+    from laserpeople.errors import RecordingError
+    from laserpeople.io import open_recording
+
+    active = _ros1_bag(tmp_path / "run.bag.active")
+    with pytest.raises(RecordingError) as caught:
+        open_recording(active)
+    message = str(caught.value)
+    assert "`rosbag record` writes a bag under this name while it records" in message
+    assert "renamed to run.bag" in message and "run.bag.bag" not in message
+    folder = _ros2_folder_being_recorded(tmp_path / "live", files=2)
+    with pytest.raises(RecordingError) as caught:
+        open_recording(folder)
+    message = " ".join(str(caught.value).split())
+    assert "a ROS 2 bag folder without metadata.yaml" in message
+    assert f"give {folder / 'live_0.mcap'} itself (2 storage files: one at a time)" in message
+    assert f"`ros2 bag reindex {folder}`" in message
+    (tmp_path / "plain").mkdir()
+    with pytest.raises(RecordingError, match="is a directory, not a recording"):
+        open_recording(tmp_path / "plain")
+
+
+def test_batch_of_a_folder_names_each_recording_still_being_written(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from laserpeople.cli.batch import folder_recordings
+
+    for name in ("a.txt", "b.txt", "c.png", "d.png"):
+        (tmp_path / name).write_text("x")
+    _ros1_bag(tmp_path / "z.bag.active")
+    _ros2_folder_being_recorded(tmp_path / "y_live")
+    (tmp_path / "whole.npz").write_bytes(b"PK\x03\x04")
+    assert folder_recordings(tmp_path, None) == [tmp_path / "whole.npz"]
+    text = " ".join(capsys.readouterr().err.split())
+    assert "left out 6 other entries (y_live (a ROS 2 bag folder without metadata.yaml" in text
+    assert "z.bag.active (named as a bag `rosbag record` is still writing" in text
+    assert "a.txt, b.txt, c.png, ...)" in text

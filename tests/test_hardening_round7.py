@@ -203,3 +203,53 @@ def test_batch_of_a_folder_names_each_recording_still_being_written(
     assert "left out 6 other entries (y_live (a ROS 2 bag folder without metadata.yaml" in text
     assert "z.bag.active (named as a bag `rosbag record` is still writing" in text
     assert "a.txt, b.txt, c.png, ...)" in text
+
+
+def test_columns_of_another_tool_are_named_with_the_names_wanted() -> None:
+    """Another case or an alias (``Timestamp``, ``ID``) is named for the missing column;
+    a column stands for one missing column at most; a missing ``scan`` or ``kind`` none
+    stands for is explained."""
+    from laserpeople.io.csv_read import columns_to_rename
+
+    hint = columns_to_rename(["scan", "stamp", "track_id", "x"], ["Timestamp", "ID", " X ", "k"])
+    assert hint == (
+        "; scan is the 0-based index of each scan on its laser topic, by which tracks and truth"
+        " are paired; rename the column(s) Timestamp to stamp, ID to track_id,  X  to x (stamps"
+        " in seconds, positions in metres, as this program writes them)"
+    )
+    assert "ID to track_id (" in columns_to_rename(["track_id", "person_id"], ["ID"])
+    assert "to track_id" not in columns_to_rename(["person_id", "track_id"], ["ID"])
+    assert columns_to_rename(["stamp"], ["when"]) == ""
+    assert columns_to_rename(["kind"], ["KIND"]).startswith("; rename the column(s) KIND to kind")
+    assert columns_to_rename(["kind"], []).startswith("; kind is leg, person or group")
+
+
+def test_a_tracks_csv_of_another_tool_is_read_with_its_extra_columns_said(
+    tmp_path: Path,
+) -> None:
+    from laserpeople.errors import LaserPeopleWarning, RecordingError
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+
+    path = tmp_path / "other.csv"
+    path.write_text("y,x,kind,track_id,stamp,scan,confidence,note\n2,1,person,a,0.1,3,0.9,\n")
+    with pytest.warns(LaserPeopleWarning, match=r"column\(s\) confidence, note not read"):
+        (scan,) = list(iter_tracks_csv(path))
+    assert (scan.scan_index, scan.tracks[0].position.tolist()) == (3, [1.0, 2.0])
+    path.write_text("Scan,Timestamp,ID,kind,X,Y\n3,0.1,a,person,1,2\n")
+    with pytest.raises(RecordingError, match=r"rename the column\(s\) Scan to scan, Timestamp to"):
+        list(iter_tracks_csv(path))
+
+
+def test_a_tracks_csv_of_this_program_reads_without_a_warning(tmp_path: Path) -> None:
+    import warnings
+
+    from laserpeople.errors import LaserPeopleWarning
+    from laserpeople.io.tracks_csv import KNOWN_COLUMNS, iter_tracks_csv
+
+    path = tmp_path / "ours.csv"
+    row = "3,0.1,7,group,1,2,0,0,0.1,0,0.1,2,,/scan,world,0,0,0,1 2;3 4"
+    path.write_text(",".join(KNOWN_COLUMNS) + "\n" + row + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LaserPeopleWarning)
+        (scan,) = list(iter_tracks_csv(path))
+    assert scan.tracks[0].contour.tolist() == [[1.0, 2.0], [3.0, 4.0]]

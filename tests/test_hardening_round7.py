@@ -253,3 +253,132 @@ def test_a_tracks_csv_of_this_program_reads_without_a_warning(tmp_path: Path) ->
         warnings.simplefilter("error", LaserPeopleWarning)
         (scan,) = list(iter_tracks_csv(path))
     assert scan.tracks[0].contour.tolist() == [[1.0, 2.0], [3.0, 4.0]]
+
+
+def _paired(truth_stamps: list[float], tracks_stamps: list[float]) -> object:
+    """The counts of pairing one person (5 m from the origin) and one track 0.1 m from
+    them per scan, with these stamps."""
+    import numpy as np
+
+    from laserpeople.evaluation.pairing import PairingCounts, pair_by_scan
+    from laserpeople.tracks import Track, Tracks
+    from laserpeople.truth import TruthFrame
+
+    def truth(k: int, stamp: float) -> TruthFrame:
+        return TruthFrame(
+            stamp=stamp,
+            scan_index=k,
+            person_ids=np.array([1]),
+            positions=np.array([[3.0, 4.0]]),
+            velocities=np.zeros((1, 2)),
+            group_ids=np.array([-1]),
+            leg_positions=np.zeros((1, 2, 2)),
+            hues=np.zeros(1),
+        )
+
+    def tracks(k: int, stamp: float) -> Tracks:
+        track = Track(
+            track_id=1,
+            kind="person",
+            position=np.array([3.0, 4.1]),
+            velocity=np.zeros(2),
+            covariance=np.eye(2),
+        )
+        return Tracks(stamp, k, (track,), "world")
+
+    counts = PairingCounts()
+    frames = [truth(k, s) for k, s in enumerate(truth_stamps)]
+    list(pair_by_scan(frames, [tracks(k, s) for k, s in enumerate(tracks_stamps)], counts))
+    return counts
+
+
+@pytest.mark.parametrize(
+    ("factor", "unit", "said"),
+    [
+        (1000.0, "milliseconds", True),
+        (1e6, "microseconds", True),
+        (1e9, "nanoseconds", True),
+        (1009.0, "milliseconds", True),  # within 1 %
+        (1011.0, "", False),  # beyond it
+        (100.0, "", False),
+        (1.0, "", False),
+        (1e-3, "milliseconds", True),  # the truth's in ms
+    ],
+)
+def test_stamps_in_another_unit_are_named_by_the_ratio_of_their_spans(
+    factor: float, unit: str, said: bool
+) -> None:
+    """Spans are compared, not stamps: tracks stamped from 0 in ms against truth stamped
+    from 50 s in s still show the factor of 1000."""
+    truth = [50.0 + 0.1 * k for k in range(20)]
+    tracks = [0.1 * k * factor for k in range(20)]
+    text = _paired(truth, tracks).stamp_unit()  # type: ignore[attr-defined]
+    assert bool(text) == said, text
+    if said:
+        whose = "truth's" if factor < 1 else "tracks'"
+        assert f"the {whose} stamps advance" in text and f"in {unit}?" in text
+
+
+def test_a_stamp_unit_is_said_in_the_stamp_warning_and_not_with_one_pair() -> None:
+    counts = _paired([0.1 * k for k in range(10)], [100.0 * k for k in range(10)])
+    text, is_warning = counts.stamp_check()  # type: ignore[attr-defined]
+    assert is_warning and "advance 1,000 times as far as the truth's" in text
+    assert "check that they come from the same recording" not in text
+    one = _paired([5.0], [5000.0])
+    assert one.stamp_unit() == ""  # type: ignore[attr-defined]
+    other = _paired([0.1 * k for k in range(10)], [3.0 * k for k in range(10)])
+    assert "check that they come from the same recording" in other.stamp_check()[0]  # type: ignore[attr-defined]
+
+
+def test_positions_in_another_unit_are_named_by_their_mean_distance() -> None:
+    """One person 5 m out, one track 5.1 m out: the ratio is 1.02 (metres); the track in
+    mm is 1020 times as far; 3x around the factor is the band (2,900 still mm, 3,100 not)."""
+    from laserpeople.evaluation.pairing import PairingCounts
+
+    def said(truth: float, tracks: float) -> str:
+        counts = PairingCounts(truth_distances=(truth, 1), tracks_distances=(tracks, 1))
+        return counts.position_unit()
+
+    assert said(5.0, 5.1) == ""
+    assert "the tracks are 1,020 times as far" in said(5.0, 5100.0)
+    assert "in millimetres?" in said(1.0, 2900.0) and said(1.0, 3100.0) == ""
+    assert "in millimetres?" in said(1.0, 340.0) and said(1.0, 320.0) == ""
+    assert "the people are 1,000 times as far" in said(1000.0, 1.0)
+    assert "in micrometres?" in said(1.0, 1e6)
+    assert said(0.0, 5.0) == "" and PairingCounts().position_unit() == ""
+    counts = _paired([0.1 * k for k in range(3)], [0.1 * k for k in range(3)])
+    assert counts.truth_distances == pytest.approx((15.0, 3), abs=1e-12)  # type: ignore[attr-defined]
+    assert counts.tracks_distances[0] == pytest.approx(3 * 5.08035, abs=1e-4)  # type: ignore[attr-defined]
+
+
+def test_evaluate_names_millimetres_and_milliseconds_of_another_tool(tmp_path: Path) -> None:
+    from laserpeople.cli import app
+
+    truth = tmp_path / "truth.csv"
+    truth.write_text(
+        "scan,stamp,person_id,x,y\n" + "".join(f"{k},{0.1 * k:.1f},1,3,4\n" for k in range(10))
+    )
+    mm = tmp_path / "mm.csv"
+    mm.write_text(
+        "scan,stamp,track_id,kind,x,y\n"
+        + "".join(f"{k},{0.1 * k:.1f},1,person,3000,4100\n" for k in range(10))
+    )
+    run = CliRunner().invoke(app, ["evaluate", str(mm), "--truth", str(truth)])
+    text = " ".join(run.output.split())
+    assert (
+        "as far from the origin as the people on average: are their positions in millimetres?"
+        in text
+    )
+    assert "if not, are the truth and the tracks in the same frame?" in text
+    ms = tmp_path / "ms.csv"
+    ms.write_text(
+        "scan,stamp,track_id,kind,x,y\n"
+        + "".join(f"{k},{100 * k},1,person,3,4.1\n" for k in range(10))
+    )
+    run = CliRunner().invoke(app, ["evaluate", str(ms), "--truth", str(truth)])
+    text = " ".join(run.output.split())
+    assert run.exit_code == 0, text
+    assert (
+        "the tracks' stamps advance 1,000 times as far as the truth's: are they in milliseconds?"
+        in text
+    )

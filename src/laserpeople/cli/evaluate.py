@@ -293,10 +293,12 @@ def register(app: typer.Typer) -> None:
             )
             _stamp_check(pairing)
         if report.nothing_matched():
+            unit = pairing.position_unit() if pairing is not None else ""
             warn(
-                f"no {kind} track came within {params.gate:g} m of any labelled person: are "
-                "the truth and the tracks in the same frame? Labels in each scan's laser frame "
-                "(as the leg_tracker benchmark's) need tracks written with "
+                f"no {kind} track came within {params.gate:g} m of any labelled person: "
+                + (f"{unit}; if not, " if unit else "")
+                + "are the truth and the tracks in the same frame? Labels in each scan's "
+                "laser frame (as the leg_tracker benchmark's) need tracks written with "
                 "`track --output-frame sensor`, or a truth that states its frame (the labels "
                 "of the bag itself, or a frame column), into which tracks written with their "
                 "sensor poses are moved"

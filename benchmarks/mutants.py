@@ -3014,6 +3014,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "",
         ("tests/test_hardening_round7.py",),
     ),
+    Mutant(
+        "bag-other-type-read-as-scans",
+        "bags: a laser topic's messages of another type are left out, not damaged scans",
+        "io/rosbag.py",
+        "            conns = [c for c in conns if c not in others]\n",
+        "",
+        ("tests/test_hardening_round7.py",),
+    ),
 )
 
 

@@ -382,3 +382,63 @@ def test_evaluate_names_millimetres_and_milliseconds_of_another_tool(tmp_path: P
         "the tracks' stamps advance 1,000 times as far as the truth's: are they in milliseconds?"
         in text
     )
+
+
+def _bag_with_two_types_on_scan(path: Path) -> None:
+    """A ROS 2 MCAP bag whose /scan carries 6 LaserScans and, first, 2 std_msgs Strings."""
+    import math
+
+    import numpy as np
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    types = store.types
+    with Writer(path, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
+        text = writer.add_connection("/scan", "std_msgs/msg/String", typestore=store)
+        laser = writer.add_connection("/scan", "sensor_msgs/msg/LaserScan", typestore=store)
+        for k in range(6):
+            t = 10 * 10**9 + k * 10**8
+            header = types["std_msgs/msg/Header"](
+                stamp=types["builtin_interfaces/msg/Time"](sec=10, nanosec=k * 10**8),
+                frame_id="laser",
+            )
+            msg = types["sensor_msgs/msg/LaserScan"](
+                header=header,
+                angle_min=-0.5,
+                angle_max=-0.5 + 9 * math.radians(1.0),
+                angle_increment=math.radians(1.0),
+                time_increment=0.0,
+                scan_time=0.0,
+                range_min=0.0,
+                range_max=5.0,
+                ranges=np.full(10, 2.0, dtype=np.float32),
+                intensities=np.empty(0, dtype=np.float32),
+            )
+            writer.write(laser, t, store.serialize_cdr(msg, "sensor_msgs/msg/LaserScan"))
+            if k % 3 == 0:
+                note = types["std_msgs/msg/String"](data="hello")
+                writer.write(text, t + 1, store.serialize_cdr(note, "std_msgs/msg/String"))
+
+
+def test_a_laser_topic_carrying_another_type_too_is_read_and_the_rest_said(
+    tmp_path: Path,
+) -> None:
+    """Not 'scan 1 is damaged': the other type's messages are left out and counted; the
+    topic is a laser topic even when the other type's connection comes first."""
+    from laserpeople.cli import app
+    from laserpeople.io import open_recording
+
+    bag = tmp_path / "two"
+    _bag_with_two_types_on_scan(bag)
+    rec = open_recording(bag)
+    assert [(t.name, t.count) for t in rec.topics()] == [("/scan", 6)]
+    assert [s.index for s in rec.scans()] == [0, 1, 2, 3, 4, 5]
+    assert rec.read_notes() == [  # type: ignore[attr-defined]
+        "/scan also carries messages of another type: 2 std_msgs/msg/String messages left "
+        "out (only its laser scans are read)"
+    ]
+    rec.close()
+    run = CliRunner().invoke(app, ["info", str(bag)])
+    assert run.exit_code == 0, run.output
+    assert "/scan also carries other messages, left out: 2 std_msgs/msg/String" in run.output

@@ -169,6 +169,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     changes = getattr(rec, "frame_changes", None)
     if changes:
         out["frame_changes"] = [change.describe(topic) for topic, change in sorted(changes.items())]
+    other_types = getattr(rec, "other_types", None)
+    if other_types:  # a laser topic carrying other messages too: {topic: {type: count}}
+        out["other_types"] = {topic: dict(types) for topic, types in sorted(other_types.items())}
     other_lines = getattr(rec, "other_lines", None)
     if other_lines:
         out["other_lines"] = dict(other_lines)
@@ -250,6 +253,9 @@ def _print_table(report: dict[str, Any]) -> None:
         line(f"scans with a zero header stamp (bag time used): {report['scans_with_log_time']}")
     for note in report.get("frame_changes", []):
         line(note)
+    for topic, types in report.get("other_types", {}).items():
+        shown = ", ".join(f"{n} {msgtype}" for msgtype, n in sorted(types.items()))
+        line(f"{topic} also carries other messages, left out: {shown}")
     if report.get("other_lines"):
         lines = ", ".join(f"{k} ({n})" for k, n in report["other_lines"].items())
         line(f"other lines: {lines}")

@@ -442,3 +442,29 @@ def test_a_laser_topic_carrying_another_type_too_is_read_and_the_rest_said(
     run = CliRunner().invoke(app, ["info", str(bag)])
     assert run.exit_code == 0, run.output
     assert "/scan also carries other messages, left out: 2 std_msgs/msg/String" in run.output
+
+
+def test_a_batch_tracks_file_not_written_names_the_output_and_keeps_nothing(
+    tmp_path: Path,
+) -> None:
+    """The writer's error named the hidden staging file and said what it holds, but the
+    staging file is removed: the row names the tracks file and says nothing is kept."""
+    from laserpeople.batch.task import unwritten
+    from laserpeople.errors import RecordingError
+
+    temp, final = tmp_path / ".run.csv.1-abc.tmp", tmp_path / "run.csv"
+    full = RecordingError(
+        "cannot write the tracks CSV at scan 145 of /scan: No space left on device; it holds "
+        "the rows of the 141 scans handled before (120 with rows, up to scan 144 of /scan), "
+        "whole: scan 145 of /scan and the scans after it are missing",
+        path=temp,
+        hint="free disk space or choose another path with -o",
+    )
+    said = unwritten(full, temp, final)
+    assert str(said) == (
+        f"{final}: cannot write the tracks CSV at scan 145 of /scan: No space left on device; "
+        "nothing of it is kept (a tracks file is moved into place whole) (free disk space, "
+        "then run the same command again: it tracks what is not done)"
+    )
+    other = RecordingError("scan 3 is damaged", path=tmp_path / "run.bag")
+    assert unwritten(other, temp, final) is other

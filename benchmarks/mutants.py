@@ -3022,6 +3022,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "",
         ("tests/test_hardening_round7.py",),
     ),
+    Mutant(
+        "view-outside-on-both-axes-only",
+        "view: a track position outside the area on one axis is outside it",
+        "viz/scene.py",
+        "off = np.maximum(lo - t, t - hi).max(axis=1)",
+        "off = np.maximum(lo - t, t - hi).min(axis=1)",
+        ("tests/test_hardening_round7.py",),
+    ),
 )
 
 

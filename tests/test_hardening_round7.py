@@ -468,3 +468,67 @@ def test_a_batch_tracks_file_not_written_names_the_output_and_keeps_nothing(
     )
     other = RecordingError("scan 3 is damaged", path=tmp_path / "run.bag")
     assert unwritten(other, temp, final) is other
+
+
+def _scene_with_tracks(positions: list[tuple[float, float]]) -> object:
+    """A scene of 3 sensor-frame scans (points 2 m out over +-0.5 rad), one track at each
+    of ``positions`` in every scan."""
+    import numpy as np
+
+    from laserpeople.scan import Scan
+    from laserpeople.tracks import Track, Tracks
+    from laserpeople.viz.scene import Scene
+
+    scans = [
+        Scan(
+            stamp=0.1 * k,
+            angle_min=-0.5,
+            angle_increment=0.1,
+            ranges=np.full(11, 2.0),
+            range_min=0.1,
+            range_max=8.0,
+            sensor="laser",
+            index=k,
+        )
+        for k in range(3)
+    ]
+    tracks = [
+        Tracks(
+            0.1 * k,
+            k,
+            tuple(
+                Track(
+                    track_id=i,
+                    kind="person",
+                    position=np.array(p),
+                    velocity=np.zeros(2),
+                    covariance=np.eye(2),
+                )
+                for i, p in enumerate(positions)
+            ),
+            "sensor",
+        )
+        for k in range(3)
+    ]
+    return Scene(scans, tracks, frame="sensor", tracks_frame="sensor")
+
+
+def test_track_positions_outside_the_drawn_area_are_counted_with_the_farthest() -> None:
+    """A track inside the area is not counted; one 5 km out (mm) and one 2.5 m beyond the
+    box of the points (beyond the 2 m slack: not fitted) are, with the farthest distance
+    beyond the area's edge; the warning asks about millimetres only past 100 m."""
+    inside = _scene_with_tracks([(1.9, 0.0)])
+    xmin, xmax, ymin, ymax = inside.extent()  # type: ignore[attr-defined]
+    assert inside.tracks_outside.count == 0 and inside.tracks_outside.warning() == ""  # type: ignore[attr-defined]
+    box_hi = xmax - 0.5  # (the area is the box with a 0.5 m margin)
+    scene = _scene_with_tracks([(1.9, 0.0), (box_hi + 2.5, 0.0), (5000.0, 4000.0)])
+    assert scene.extent() == pytest.approx((xmin, xmax, ymin, ymax), abs=1e-12)  # type: ignore[attr-defined]
+    outside = scene.tracks_outside  # type: ignore[attr-defined]
+    assert (outside.count, outside.of) == (6, 9)
+    assert outside.farthest == pytest.approx(5000.0 - xmax, abs=1e-9)
+    assert "6 of 9 track positions lie outside" in outside.warning()
+    assert "positions in millimetres" in outside.warning()
+    near = _scene_with_tracks([(1.9, 0.0), (box_hi + 2.5, 0.0)])
+    near.extent()  # type: ignore[attr-defined]
+    assert near.tracks_outside.farthest == pytest.approx(2.0, abs=1e-9)  # type: ignore[attr-defined]
+    assert "tracks beyond the bulk of the scan points" in near.tracks_outside.warning()  # type: ignore[attr-defined]

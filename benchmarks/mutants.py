@@ -3030,6 +3030,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "off = np.maximum(lo - t, t - hi).min(axis=1)",
         ("tests/test_hardening_round7.py",),
     ),
+    Mutant(
+        "live-dropped-warning-any-drop",
+        "live: a scan or two dropped is no warning; more than 1 % is",
+        "live/source.py",
+        "if not n or dropped <= DROPPED_WARN * n:",
+        "if not n or not dropped:",
+        ("tests/test_hardening_round7.py",),
+    ),
 )
 
 

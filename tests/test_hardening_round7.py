@@ -532,3 +532,22 @@ def test_track_positions_outside_the_drawn_area_are_counted_with_the_farthest() 
     near.extent()  # type: ignore[attr-defined]
     assert near.tracks_outside.farthest == pytest.approx(2.0, abs=1e-9)  # type: ignore[attr-defined]
     assert "tracks beyond the bulk of the scan points" in near.tracks_outside.warning()  # type: ignore[attr-defined]
+
+
+def test_live_warns_when_the_tracking_drops_more_than_one_scan_in_a_hundred() -> None:
+    """1 of 100 dropped is no news; 2 of 100 is, with the share, the laser's mean period
+    (from the arrivals: 99 periods over 0.99 s = 10.0 ms) and the tracking time."""
+    from laserpeople.live.source import LiveCounts
+
+    counts = LiveCounts()
+    counts.received["/scan"] = 100
+    counts.first_arrival["/scan"], counts.last_arrival["/scan"] = 5.0, 5.99
+    counts.dropped["/scan"] = 1
+    assert counts.dropped_warning("/scan", 12.0) == ""
+    counts.dropped["/scan"] = 2
+    assert counts.dropped_warning("/scan", 12.0) == (
+        "/scan: 2 of 100 scans (2%) were dropped, not tracked: the tracking did not keep up "
+        "(median 12.00 ms a frame against a scan every 10.0 ms), so the tracks skip them; a "
+        "lighter tracker, fewer lasers or a less loaded computer keeps up"
+    )
+    assert LiveCounts().dropped_warning("/scan", 1.0) == ""

@@ -551,3 +551,46 @@ def test_live_warns_when_the_tracking_drops_more_than_one_scan_in_a_hundred() ->
         "lighter tracker, fewer lasers or a less loaded computer keeps up"
     )
     assert LiveCounts().dropped_warning("/scan", 1.0) == ""
+
+
+def _bag_with_an_empty_laser_topic(path: Path) -> None:
+    """A ROS 2 MCAP bag with a /scan connection and no scan on it (and one String)."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    with Writer(path, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
+        writer.add_connection("/scan", "sensor_msgs/msg/LaserScan", typestore=store)
+        chat = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=store)
+        text = store.types["std_msgs/msg/String"](data="x")
+        writer.write(chat, 10**9, store.serialize_cdr(text, "std_msgs/msg/String"))
+
+
+@pytest.mark.parametrize("command", ["track", "detect"])
+def test_a_laser_topic_without_a_scan_is_an_error_not_an_empty_success(
+    command: str, tmp_path: Path
+) -> None:
+    from laserpeople.cli import app
+    from laserpeople.errors import RecordingError
+
+    bag = tmp_path / "empty_topic"
+    _bag_with_an_empty_laser_topic(bag)
+    out = tmp_path / "out.csv"
+    run = CliRunner().invoke(app, [command, str(bag), "-o", str(out)])
+    assert run.exit_code == 1 and isinstance(run.exception, RecordingError), run.output
+    assert str(run.exception).startswith(
+        f"{bag}: no scan was read, so {out} holds the CSV header alone (`laserpeople info`"
+    )
+    assert out.read_text().startswith("scan,stamp,") and len(out.read_text().splitlines()) == 1
+
+
+def test_info_lists_a_laser_topic_without_a_scan_and_no_pose_line(tmp_path: Path) -> None:
+    from laserpeople.cli import app
+
+    bag = tmp_path / "empty_topic"
+    _bag_with_an_empty_laser_topic(bag)
+    run = CliRunner().invoke(app, ["info", str(bag)])
+    assert run.exit_code == 0, run.output
+    row = next(line for line in run.output.splitlines() if "/scan" in line)
+    assert row.split() == ["/scan", "0", "-", "-", "-", "-", "-", "-", "0/0"]
+    assert "poses:" not in run.output  # (was 'every scan has a pose in frame None')

@@ -13,6 +13,7 @@ from laserpeople.cli.common import (
     WorldFrameOption,
     console,
     ignored_sections,
+    no_scan_read,
     progress,
     report_damage,
     say,
@@ -216,6 +217,8 @@ def register(app: typer.Typer) -> None:
                 "the legs of those scans and is a complete CSV"
             )
             raise typer.Exit(interrupted)
+        if not counts["scans"]:
+            raise no_scan_read(recording, output)
         if report:
             if not truth_ada:
                 raise _no_beam_truth(recording)

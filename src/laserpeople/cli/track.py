@@ -24,6 +24,7 @@ from laserpeople.cli.common import (
     WorldFrameOption,
     ignored_sections,
     mount_specs,
+    no_scan_read,
     open_with_poses,
     progress,
     report_damage,
@@ -571,3 +572,5 @@ def register(app: typer.Typer) -> None:
                 "holds the tracks of those scans and is a complete CSV"
             )
             raise typer.Exit(status)
+        if not stats["scans"]:
+            raise no_scan_read(recording, output)

@@ -594,3 +594,16 @@ def test_info_lists_a_laser_topic_without_a_scan_and_no_pose_line(tmp_path: Path
     row = next(line for line in run.output.splitlines() if "/scan" in line)
     assert row.split() == ["/scan", "0", "-", "-", "-", "-", "-", "-", "0/0"]
     assert "poses:" not in run.output  # (was 'every scan has a pose in frame None')
+
+
+def test_a_truth_spec_without_a_bag_before_its_topic_is_refused() -> None:
+    """``--truth :/people`` (``--truth "$BAG:/people"`` with BAG unset) named the current
+    folder ('.: a topic can only be given for a bag')."""
+    from laserpeople.errors import ConfigError
+    from laserpeople.io.truth_bag import split_truth_spec
+
+    with pytest.raises(ConfigError, match=r"truth ':/people' names no bag before ':/people'"):
+        split_truth_spec(":/people")
+    assert split_truth_spec("run.bag:/people") == (Path("run.bag"), "/people")
+    assert split_truth_spec("run.bag:") == (Path("run.bag"), None)
+    assert split_truth_spec("truth.csv") == (Path("truth.csv"), None)

@@ -607,3 +607,34 @@ def test_a_truth_spec_without_a_bag_before_its_topic_is_refused() -> None:
     assert split_truth_spec("run.bag:/people") == (Path("run.bag"), "/people")
     assert split_truth_spec("run.bag:") == (Path("run.bag"), None)
     assert split_truth_spec("truth.csv") == (Path("truth.csv"), None)
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_tracks_parquet_on_a_full_disk_is_a_clear_error() -> None:
+    """pyarrow's own words were 'OSError: [Errno 28] Error writing bytes to file ... (at
+    error.pxi:92)'; the error names the file, the scans buffered and the reason."""
+    import numpy as np
+
+    from laserpeople.batch.parquet import TracksParquetSink
+    from laserpeople.errors import RecordingError
+    from laserpeople.frame import Frame
+    from laserpeople.tracks import Track, Tracks
+
+    sink = TracksParquetSink("/dev/full")
+    track = Track(
+        track_id=1,
+        kind="person",
+        position=np.array([1.0, 2.0]),
+        velocity=np.zeros(2),
+        covariance=np.eye(2),
+    )
+    for k in range(3):
+        sink.write(
+            Frame(index=k, stamp=0.1 * k, scans=(), topic="/scan"), Tracks(0.1 * k, k, (track,))
+        )
+    with pytest.raises(RecordingError) as caught:
+        sink.close()
+    assert str(caught.value) == (
+        "/dev/full: cannot write the tracks Parquet with the rows up to scan 2: No space left "
+        "on device (free disk space or choose another output folder)"
+    )

@@ -3038,6 +3038,30 @@ MUTANTS: tuple[Mutant, ...] = (
         "if not n or not dropped:",
         ("tests/test_hardening_round7.py",),
     ),
+    Mutant(
+        "evaluate-disjoint-no-clock-drift",
+        "evaluate: truth of the tracks' clock within 0.5 s + 2 % of the time between",
+        "evaluation/pairing.py",
+        "<= CLOCK_TOLERANCE + CLOCK_DRIFT * abs(",
+        "<= CLOCK_TOLERANCE + 0.0 * abs(",
+        ("tests/test_hardening_round7.py",),
+    ),
+    Mutant(
+        "evaluate-disjoint-without-clock",
+        "evaluate: truth of later scans of the tracks' own clock is all missed, not refused",
+        "evaluation/pairing.py",
+        "        if self.one_clock():\n            return None\n",
+        "",
+        ("tests/test_hardening_round7.py",),
+    ),
+    Mutant(
+        "evaluate-disjoint-overlapping-ranges",
+        "evaluate: scans that overlap in range are no disjoint truth",
+        "evaluation/pairing.py",
+        "if tracks_first < 0 or not (tracks_last < truth_first or tracks_first > truth_last):",
+        "if tracks_first < 0:",
+        ("tests/test_hardening_round7.py",),
+    ),
 )
 
 

@@ -638,3 +638,87 @@ def test_a_tracks_parquet_on_a_full_disk_is_a_clear_error() -> None:
         "/dev/full: cannot write the tracks Parquet with the rows up to scan 2: No space left "
         "on device (free disk space or choose another output folder)"
     )
+
+
+def _apart(
+    truth: tuple[int, int],
+    truth_stamps: tuple[float, float],
+    tracks: tuple[int, int],
+    tracks_stamps: tuple[float, float],
+) -> object:
+    from laserpeople.evaluation.pairing import PairingCounts
+
+    return PairingCounts(
+        frames_scored=30,
+        frames_without_tracks=30,
+        truth_scans=truth,
+        truth_stamps=truth_stamps,
+        tracks_scans=tracks,
+        tracks_stamps=tracks_stamps,
+    )
+
+
+def test_truth_of_the_tracks_own_clock_is_told_from_another_recording() -> None:
+    """The truth's scans 1000-1029 at 0.1 s put the tracks' scan 0 at 100.0 s; 0.5 s plus
+    2 % of the 100 s between is the tolerance (2.5 s): 102.49 is one clock, 102.51 not."""
+    truth, stamps = (1000, 1029), (200.0, 202.9)
+    assert _apart(truth, stamps, (0, 49), (100.0, 104.9)).one_clock()  # type: ignore[attr-defined]
+    assert _apart(truth, stamps, (0, 49), (102.49, 107.39)).one_clock()  # type: ignore[attr-defined]
+    assert not _apart(truth, stamps, (0, 49), (102.51, 107.41)).one_clock()  # type: ignore[attr-defined]
+    assert not _apart(truth, stamps, (0, 49), (97.49, 102.39)).one_clock()  # type: ignore[attr-defined]
+    # a truth of one scan: the tracks' period (0.1 s) puts scan 0 at 200 - 100 = 100 s
+    assert _apart((1000, 1000), (200.0, 200.0), (0, 49), (100.0, 104.9)).one_clock()  # type: ignore[attr-defined]
+    assert not _apart((1000, 1000), (200.0, 200.0), (0, 0), (100.0, 100.0)).one_clock()  # type: ignore[attr-defined]
+
+
+def test_only_truth_and_tracks_apart_in_scans_and_clock_are_refused() -> None:
+    other = _apart((1000, 1029), (600.0, 602.9), (0, 49), (100.0, 104.9))
+    error = other.disjoint()  # type: ignore[attr-defined]
+    assert error is not None and str(error).startswith(
+        "truth and tracks share no scan: the truth covers scans 1000-1029 (stamps "
+        "600.000-602.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s)"
+    )
+    assert _apart((1000, 1029), (200.0, 202.9), (0, 49), (100.0, 104.9)).disjoint() is None  # type: ignore[attr-defined]
+    overlapping = _apart((40, 69), (600.0, 602.9), (0, 49), (100.0, 104.9))
+    assert overlapping.disjoint() is None  # type: ignore[attr-defined]
+    touching = _apart((50, 79), (600.0, 602.9), (0, 49), (100.0, 104.9))
+    assert touching.disjoint() is not None  # type: ignore[attr-defined]
+    from laserpeople.evaluation.pairing import PairingCounts
+
+    some_matched = PairingCounts(
+        frames_scored=30,
+        frames_without_tracks=29,
+        truth_scans=(1000, 1029),
+        truth_stamps=(600.0, 602.9),
+        tracks_scans=(0, 49),
+        tracks_stamps=(100.0, 104.9),
+    )
+    assert some_matched.disjoint() is None
+
+
+def test_evaluate_of_several_files_makes_truth_of_no_shared_scan_a_row_error(
+    tmp_path: Path,
+) -> None:
+    from laserpeople.cli import app
+
+    def write(path: Path, header: str, row: str, scans: range, stamp0: float) -> Path:
+        path.write_text(
+            header + "".join(row.format(k=k, t=stamp0 + 0.1 * k, x=0.1 * k) for k in scans)
+        )
+        return path
+
+    tracks_header = "scan,stamp,track_id,kind,x,y\n"
+    good = write(tmp_path / "good.csv", tracks_header, "{k},{t:.3f},1,person,{x:.2f},1\n",
+                 range(0, 30), 100.0)  # fmt: skip
+    other = write(tmp_path / "other.csv", tracks_header, "{k},{t:.3f},1,person,{x:.2f},1\n",
+                  range(500, 530), 900.0)  # fmt: skip
+    truth = write(tmp_path / "truth.csv", "scan,stamp,person_id,x,y\n", "{k},{t:.3f},7,{x:.2f},1\n",
+                  range(0, 30), 100.0)  # fmt: skip
+    run = CliRunner().invoke(
+        app, ["evaluate", str(good), str(other), "--truth", str(truth), "--truth", str(truth)]
+    )
+    text = " ".join(run.output.split())
+    assert "other: truth and tracks share no scan: the truth covers scans 0-29" in text, text
+    row = next(line for line in run.output.splitlines() if "│ other" in line)
+    assert "error" in row
+    assert "pooled (1)" in run.output

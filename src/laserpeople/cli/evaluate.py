@@ -342,7 +342,14 @@ def _check_kind(tracks: Path, kind: str) -> None:
 def _stamp_check(pairing: PairingCounts) -> None:
     """Print the frame compared in when the truth states none, what the paired stamps say
     (a note, or a warning when they disagree), and a warning when truth and tracks share no
-    scan."""
+    scan.
+
+    Raises:
+        EvaluationError: the scans of truth and tracks do not overlap at all (nothing to
+            score)."""
+    apart = pairing.disjoint()
+    if apart is not None:
+        raise apart
     frame = pairing.frame_check()
     if frame:
         say(frame)

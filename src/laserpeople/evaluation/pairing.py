@@ -94,6 +94,51 @@ class PairingCounts:
             "truth and tracks come from the same recording and laser topic"
         )
 
+    def disjoint(self) -> EvaluationError | None:
+        """The error to raise when truth and tracks cover scans that do not overlap at all
+        (every track scan before the truth's first or after its last) and their stamps are
+        not of one clock (:meth:`one_clock`): truth of another recording, topic or time
+        range, which would score as all missed (MOTA 0). None otherwise (a tracker that
+        reported nothing in the scans the truth covers of its own recording is all missed,
+        with :meth:`overlap_check`'s warning), or when either is empty."""
+        if not self.frames_scored or self.frames_without_tracks < self.frames_scored:
+            return None
+        (truth_first, truth_last), (tracks_first, tracks_last) = (
+            self.truth_scans,
+            self.tracks_scans,
+        )
+        if tracks_first < 0 or not (tracks_last < truth_first or tracks_first > truth_last):
+            return None
+        if self.one_clock():
+            return None
+        return EvaluationError(
+            f"truth and tracks share no scan: the truth covers scans {_span(self.truth_scans)} "
+            f"(stamps {_span(self.truth_stamps)} s), the tracks scans "
+            f"{_span(self.tracks_scans)} (stamps {_span(self.tracks_stamps)} s); nothing was "
+            "scored (not all missed)",
+            hint="give the truth and the tracks of the same recording and laser topic",
+        )
+
+    def one_clock(self) -> bool:
+        """Whether the tracks' first scan has the stamp the truth's scans give it: the
+        truth's first stamp plus the scans between at the truth's mean scan period (the
+        tracks' when the truth spans one scan), within :data:`CLOCK_TOLERANCE` s plus
+        :data:`CLOCK_DRIFT` of the time between (scans a driver dropped make the stamps
+        run ahead of the count). False when no period is known."""
+        (truth_first, truth_last), (tracks_first, tracks_last) = (
+            self.truth_scans,
+            self.tracks_scans,
+        )
+        if truth_last > truth_first:
+            period = (self.truth_stamps[1] - self.truth_stamps[0]) / (truth_last - truth_first)
+        elif tracks_last > tracks_first:
+            period = (self.tracks_stamps[1] - self.tracks_stamps[0]) / (tracks_last - tracks_first)
+        else:
+            return False
+        between = (tracks_first - truth_first) * period
+        expected = self.truth_stamps[0] + between
+        return abs(expected - self.tracks_stamps[0]) <= CLOCK_TOLERANCE + CLOCK_DRIFT * abs(between)
+
     def stamp_check(self) -> tuple[str, bool]:
         """What the paired scans' stamps say, and whether it is a warning: nothing when
         they agree; a note when every truth stamp is off by the same amount (another clock,
@@ -218,6 +263,16 @@ labelled people and a unit's factor for positions to be taken as in that unit: t
 near the people they follow, but their mean distance differs with the false tracks and the
 people missed, and a laser frame's origin (the sensor) and a world frame's differ; a
 factor of 3 keeps millimetres (1,000) apart from metres (1) and from micrometres."""
+
+
+CLOCK_TOLERANCE = 0.5
+"""Largest difference [s] between a stamp and the one extrapolated from another part of
+the same recording at its mean scan period, for them to be of one clock (five periods of a
+10 Hz laser)."""
+
+CLOCK_DRIFT = 0.02
+"""Share of the time between the two parts added to :data:`CLOCK_TOLERANCE`: a driver
+that drops 2 scans in 100 puts its stamps 2 % ahead of the count of scans recorded."""
 
 
 def _span(pair: tuple[float, float]) -> str:

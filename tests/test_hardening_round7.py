@@ -1,4 +1,7 @@
-"""What a demanding user meets, seventh round: empty paths, the coasting's public view."""
+"""What a demanding user meets, seventh round: empty paths, the coasting's public view,
+SIGTERM, recordings still being written, CSVs and units of other tools, a laser topic with
+two message types or none, full disks in batch, tracks outside the picture, scans dropped
+live, truth of no shared scan."""
 
 from __future__ import annotations
 

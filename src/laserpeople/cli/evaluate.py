@@ -347,9 +347,9 @@ def _stamp_check(pairing: PairingCounts) -> None:
     Raises:
         EvaluationError: the scans of truth and tracks do not overlap at all (nothing to
             score)."""
-    apart = pairing.disjoint()
-    if apart is not None:
-        raise apart
+    refused = pairing.disjoint()
+    if refused is not None:
+        raise refused
     frame = pairing.frame_check()
     if frame:
         say(frame)

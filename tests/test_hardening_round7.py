@@ -725,3 +725,34 @@ def test_evaluate_of_several_files_makes_truth_of_no_shared_scan_a_row_error(
     row = next(line for line in run.output.splitlines() if "│ other" in line)
     assert "error" in row
     assert "pooled (1)" in run.output
+
+
+def test_a_manifest_that_cannot_be_written_is_an_error_naming_it(tmp_path: Path) -> None:
+    """A full disk while `batch` appends a manifest line ended in a traceback
+    (``OSError: [Errno 28]`` from manifest.py); the error names the manifest and the line,
+    and keeps the lines before."""
+    import os
+
+    from laserpeople.batch.manifest import Manifest
+    from laserpeople.batch.task import TopicRow
+    from laserpeople.errors import RecordingError
+
+    manifest = Manifest(tmp_path)
+    row = TopicRow(recording="a.bag", name="a", topic="/scan", status="done")
+    manifest.record("a", "h", "d", [row])
+    kept = (tmp_path / "manifest.jsonl").read_text()
+    (tmp_path / "manifest.jsonl").unlink()
+    (tmp_path / "manifest.jsonl").mkdir()  # (a write that fails as a full disk's does)
+    with pytest.raises(RecordingError) as caught:
+        manifest.record("b", "h", "d", [row])
+    message = str(caught.value)
+    assert message.startswith(
+        f"{tmp_path / 'manifest.jsonl'}: cannot write the line of b into the manifest: "
+    )
+    assert "the lines written before are kept" in message and "free disk space" in message
+    (tmp_path / "manifest.jsonl").rmdir()
+    (tmp_path / "manifest.jsonl").write_text(kept)
+    (tmp_path / f".manifest.jsonl.{os.getpid()}.tmp").mkdir()
+    with pytest.raises(RecordingError, match="cannot write its lines in one per recording"):
+        manifest.compact()
+    assert (tmp_path / "manifest.jsonl").read_text() == kept

@@ -756,3 +756,25 @@ def test_a_manifest_that_cannot_be_written_is_an_error_naming_it(tmp_path: Path)
     with pytest.raises(RecordingError, match="cannot write its lines in one per recording"):
         manifest.compact()
     assert (tmp_path / "manifest.jsonl").read_text() == kept
+
+
+@pytest.mark.parametrize("name", ["summary.parquet", "summary.csv"])
+def test_a_batch_summary_that_cannot_be_written_is_an_error_naming_it(
+    name: str, tmp_path: Path
+) -> None:
+    """(pyarrow's 'OSError: ... error.pxi' or a traceback before.)"""
+    import os
+
+    from laserpeople.batch.summary import write_summary
+    from laserpeople.batch.task import TopicRow
+    from laserpeople.errors import RecordingError
+
+    blocker = tmp_path / f".{name}.{os.getpid()}.tmp"
+    blocker.mkdir()  # (a write that fails as a full disk's does)
+    (blocker / "x").write_text("x")  # (not removed: a folder, not the staging file)
+    row = TopicRow(recording="a.bag", name="a", topic="/scan", status="done")
+    with pytest.raises(RecordingError) as caught:
+        write_summary([row], tmp_path)
+    assert str(caught.value).startswith(f"{tmp_path / name}: cannot write the batch summary: ")
+    assert "the tracks and the manifest are kept" in str(caught.value)
+    assert not (tmp_path / name).exists()

@@ -128,10 +128,8 @@ class LiveCounts:
         n, dropped = self.received[laser], self.dropped[laser]
         if not n or dropped <= DROPPED_WARN * n:
             return ""
-        period = ""
-        if n >= 2 and self.last_arrival[laser] > self.first_arrival[laser]:
-            every = 1e3 * (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
-            period = f" against a scan every {every:.1f} ms"
+        every = self.mean_period(laser)
+        period = f" against a scan every {1e3 * every:.1f} ms" if every else ""
         return (
             f"{laser}: {dropped} of {n} scans ({dropped / n:.0%}) were dropped, not tracked: "
             f"the tracking did not keep up (median {tracking_ms:.2f} ms a frame{period}), so "
@@ -139,14 +137,20 @@ class LiveCounts:
             "keeps up"
         )
 
+    def mean_period(self, laser: str) -> float | None:
+        """``laser``'s mean time between scans [s] from their arrivals (None before two)."""
+        n = self.received[laser]
+        if n < 2:
+            return None
+        return (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
+
     def silence(self, laser: str, end: float) -> float | None:
         """How long [s] ``laser`` had been silent at ``end`` when that is longer than
         :data:`SILENT_PERIODS` of its mean scan period and :data:`SILENT_MIN` (its driver,
         the robot or the link stopped publishing); None otherwise, or before two scans."""
-        n = self.received[laser]
-        if n < 2:
+        period = self.mean_period(laser)
+        if period is None:
             return None
-        period = (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
         quiet = end - self.last_arrival[laser]
         return quiet if quiet > max(SILENT_MIN, SILENT_PERIODS * period) else None
 

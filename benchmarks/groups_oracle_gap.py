@@ -200,7 +200,7 @@ class Scene:
         prev = self.last_t.get(oid)
         if prev is None:
             return f"unseen {since} | never matched"
-        if prev in self.tracker.coasting._last:
+        if prev in self.tracker.coasting:
             return f"unseen {since} | last id remembered, not coasted"
         return f"unseen {since} | last id forgotten"
 
@@ -230,7 +230,7 @@ class Scene:
         if now is not None:
             far = "> 1 m off" if np.hypot(*(now.position - centre)) > GROUP_GATE else "taken"
             return f"its last id {'coasted' if now in coasted else 'reported with points'}, {far}"
-        if prev in self.tracker.coasting._last:
+        if prev in self.tracker.coasting:
             return "its last id not reported, remembered (reported shorter than gone)"
         return "its last id not reported, its coasting ended"
 

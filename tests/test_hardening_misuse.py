@@ -241,20 +241,32 @@ def _truth_csv(path: Path, scans: range, stamp0: float = 100.0) -> Path:
     return path
 
 
-def test_evaluate_warns_when_truth_and_tracks_share_no_scan(tmp_path: Path) -> None:
+def test_evaluate_refuses_truth_and_tracks_that_share_no_scan(tmp_path: Path) -> None:
+    """Truth of other scans and another clock is an error, not MOTA 0 (nothing is scored);
+    truth of later scans of the tracks' own clock is all missed, with a warning."""
+    from laserpeople.errors import EvaluationError
+
     tracks = _tracks_csv(tmp_path / "t.csv", range(0, 50))
     same = _truth_csv(tmp_path / "same.csv", range(10, 40))
     other = _truth_csv(tmp_path / "other.csv", range(1000, 1030), stamp0=500.0)
+    later = _truth_csv(tmp_path / "later.csv", range(1000, 1030))
     run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(same)])
     assert run.exit_code == 0, run.output
     assert "no scored scan has track rows" not in run.output
     for extra in ([], ["--followed-person", "auto"]):
         run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(other), *extra])
+        assert run.exit_code == 1 and isinstance(run.exception, EvaluationError), run.output
+        assert str(run.exception).startswith(
+            "truth and tracks share no scan: the truth covers scans 1000-1029 (stamps "
+            "600.000-602.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s); nothing "
+            "was scored (not all missed)"
+        ), run.exception
+        run = CliRunner().invoke(app, ["evaluate", str(tracks), "--truth", str(later), *extra])
         assert run.exit_code == 0, run.output
         text = " ".join(run.output.split())
         assert (
             "no scored scan has track rows: the truth covers scans 1000-1029 (stamps "
-            "600.000-602.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s)"
+            "200.000-202.900 s), the tracks scans 0-49 (stamps 100.000-104.900 s)"
         ) in text, text
 
 

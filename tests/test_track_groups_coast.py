@@ -219,3 +219,23 @@ def test_merged_coast_time_is_checked() -> None:
     with pytest.raises(ValueError, match="merged_coast_time"):
         GroupTrackerParams(merged_coast_time=float("inf"))
     assert GroupTrackerParams.paper_preset["merged_coast_time"] == 0.0
+
+
+def test_in_tells_the_ids_whose_last_report_is_remembered() -> None:
+    """``id in coasting``: remembered while within ``memory`` of the last record and not
+    seen gone; an id reported for less time than it has been gone is remembered though not
+    coasted; forgotten ones and ids never reported are not in it."""
+    c = CoastedReports(1.0, merged_seconds=2.0)
+    c.record(8.0, [_track(7, 0.0, 0.0, 1.0, 0.0), _track(8, 5.0, 5.0, 0.0, 0.0)])
+    c.record(8.1, [_track(9, 9.0, 9.0, 0.0, 0.0)])
+    assert (7 in c, 8 in c, 9 in c, 10 in c, "7" in c) == (True, True, True, False, False)
+    assert [t.track_id for t in c.coasted(8.5, set())] == []  # 7, 8: reported 0 s; 9: 0.4 s
+    assert 7 in c and 9 in c  # remembered, not coasted
+    c.record(10.0, [_track(9, 9.0, 9.0, 0.0, 0.0)])  # 8.0 s is exactly 2.0 s before: kept
+    assert (7 in c, 8 in c) == (True, True)
+    c.record(10.05, [_track(9, 9.0, 9.0, 0.0, 0.0)])  # now 2.05 s: forgotten
+    assert (7 in c, 8 in c, 9 in c) == (False, False, True)
+    c.record(10.1, [_track(11, 0.0, 0.0, 1.0, 0.0)])
+    c.record(10.5, [_track(11, 0.4, 0.0, 1.0, 0.0)])
+    c.coasted(10.7, {9}, gone=lambda t: t.track_id == 11)  # seen gone: forgotten
+    assert (11 in c, 9 in c) == (False, True)

@@ -16,6 +16,7 @@ one line per recording, to a temporary name and then renamed.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 from dataclasses import asdict
@@ -23,7 +24,8 @@ from pathlib import Path
 from typing import Any
 
 from laserpeople.batch.task import DONE, SKIPPED, TopicRow
-from laserpeople.errors import ConfigError
+from laserpeople.errors import ConfigError, RecordingError
+from laserpeople.io.paths import why_unwritable
 
 MANIFEST = "manifest.jsonl"
 VERSION = 1
@@ -91,19 +93,38 @@ class Manifest:
             "rows": [asdict(r) for r in rows],
         }
         self.entries[name] = entry
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        with self.path.open("a", encoding="utf-8") as f:
-            f.write(json.dumps(entry) + "\n")
-            f.flush()
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            with self.path.open("a", encoding="utf-8") as f:
+                f.write(json.dumps(entry) + "\n")
+                f.flush()
+        except OSError as exc:
+            raise self._unwritable(exc, f"the line of {name}") from exc
 
     def compact(self) -> None:
         """Rewrite the file with one line per recording (temporary name, then rename)."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
         temp = self.path.with_name(f".{MANIFEST}.{os.getpid()}.tmp")
         text = "".join(json.dumps(e) + "\n" for e in self.entries.values())
-        temp.write_text(text, encoding="utf-8")
-        os.replace(temp, self.path)
+        try:
+            temp.write_text(text, encoding="utf-8")
+            os.replace(temp, self.path)
+        except OSError as exc:
+            with contextlib.suppress(OSError):
+                temp.unlink(missing_ok=True)
+            raise self._unwritable(exc, "its lines in one per recording") from exc
         self.torn = 0
+
+    def _unwritable(self, exc: OSError, what: str) -> RecordingError:
+        """The error of a write of ``what`` that failed (a full disk): the lines written
+        before stay, and a rerun tracks what they do not hold."""
+        return RecordingError(
+            f"cannot write {what} into the manifest: {why_unwritable(exc, self.path)}; the "
+            "lines written before are kept",
+            path=self.path,
+            hint="free disk space, then run the same command again: it tracks the recordings "
+            "the manifest does not hold as done",
+        )
 
 
 __all__ = ["MANIFEST", "Manifest"]

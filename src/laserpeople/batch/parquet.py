@@ -14,12 +14,14 @@ metadata ``frame`` (``world`` or ``sensor``). Rows are buffered and written as r
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from laserpeople.errors import RecordingError
 from laserpeople.frame import Frame
+from laserpeople.io.paths import why_unwritable
 from laserpeople.io.tracks_csv import convert_tracks, format_contour, parse_contour
 from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import Track, TrackKind, Tracks
@@ -117,8 +119,6 @@ class TracksParquetSink:
         import pyarrow.parquet as pq
 
         schema = tracks_schema().with_metadata({"frame": self.written_frame or "sensor"})
-        if self._writer is None:
-            self._writer = pq.ParquetWriter(self.path, schema)
         table = pa.table(
             {
                 name: pa.array(values, type=schema.field(name).type)
@@ -126,8 +126,25 @@ class TracksParquetSink:
             },
             schema=schema,
         )
-        self._writer.write_table(table)
+        scans = self._columns["scan"]
+        try:
+            if self._writer is None:
+                self._writer = pq.ParquetWriter(self.path, schema)
+            self._writer.write_table(table)
+        except OSError as exc:
+            raise self._unwritable(exc, scans[-1] if scans else None) from exc
         self._columns = {name: [] for name, _ in COLUMNS}
+
+    def _unwritable(self, exc: OSError, scan: int | None) -> RecordingError:
+        """The error of a write that failed (a full disk): pyarrow's own words name its
+        source file; this names the Parquet file, the last scan buffered and the reason."""
+        why = os.strerror(exc.errno) if exc.errno else why_unwritable(exc, self.path)
+        at = f" with the rows up to scan {scan}" if scan is not None else ""
+        return RecordingError(
+            f"cannot write the tracks Parquet{at}: {why}",
+            path=self.path,
+            hint="free disk space or choose another output folder",
+        )
 
     def close(self) -> None:
         """Write what is buffered and close; with no frame at all, a file with the schema
@@ -136,7 +153,10 @@ class TracksParquetSink:
             return
         if self._writer is None or self._columns["scan"]:
             self._flush()
-        self._writer.close()
+        try:
+            self._writer.close()
+        except OSError as exc:
+            raise self._unwritable(exc, None) from exc
         self._closed = True
 
 

@@ -7,14 +7,16 @@ temporary name and renamed.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, fields
 from pathlib import Path
 from typing import Any
 
 from laserpeople.batch.task import TopicRow
+from laserpeople.errors import RecordingError
 
 _ARROW = {"str": "string", "int": "int64", "float": "float64"}
 
@@ -49,17 +51,34 @@ def write_summary(rows: Sequence[TopicRow], out: str | Path) -> tuple[Path, Path
         schema=schema,
     )
     parquet = folder / "summary.parquet"
-    temp = folder / f".summary.parquet.{os.getpid()}.tmp"
-    pq.write_table(table, temp)
-    os.replace(temp, parquet)
+    with _written_whole(parquet) as temp:
+        pq.write_table(table, temp)
     text = folder / "summary.csv"
-    temp = folder / f".summary.csv.{os.getpid()}.tmp"
-    with temp.open("w", newline="", encoding="utf-8") as f:
+    with _written_whole(text) as temp, temp.open("w", newline="", encoding="utf-8") as f:
         writer = csv.DictWriter(f, fieldnames=[name for name, _ in SUMMARY_COLUMNS])
         writer.writeheader()
         writer.writerows(records)
-    os.replace(temp, text)
     return parquet, text
+
+
+@contextlib.contextmanager
+def _written_whole(path: Path) -> Iterator[Path]:
+    """A staging name beside ``path``, renamed to it when the block ends; a write that
+    fails (a full disk) removes it and is a :class:`RecordingError` naming ``path``."""
+    temp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        yield temp
+        os.replace(temp, path)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            temp.unlink(missing_ok=True)
+        why = os.strerror(exc.errno) if exc.errno else str(exc)
+        raise RecordingError(
+            f"cannot write the batch summary: {why}; the tracks and the manifest are kept",
+            path=path,
+            hint="free disk space, then run the same command again: it writes the summary "
+            "without tracking the recordings done again",
+        ) from exc
 
 
 __all__ = ["SUMMARY_COLUMNS", "summary_schema", "write_summary"]

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from laserpeople.batch.options import ResolvedTrack
+from laserpeople.errors import LaserPeopleError, RecordingError
 
 FAILED = "failed"
 DONE = "done"
@@ -258,6 +259,8 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
             _count(counts, step.frame.stamp, step.tracks)
         os.replace(temp, final)
         notes = read_notes(pipe.source)
+    except LaserPeopleError as exc:
+        raise unwritten(exc, temp, final) from exc
     finally:
         temp.unlink(missing_ok=True)
     stats = pipe.stats
@@ -278,6 +281,22 @@ def _track_topic(task: RecordingTask, topics: list[str], row: TopicRow, several:
             detector_used=int(detector_used(pipe.stages)),
             static_model_used=int(static_model_used(pipe.stages)),
         )
+    )
+
+
+def unwritten(exc: LaserPeopleError, temp: Path, final: Path) -> LaserPeopleError:
+    """``exc`` when it is not about the staging file ``temp``; otherwise the error of a
+    tracks file ``final`` that could not be written (a full disk): named as ``final``, and
+    saying that nothing of it is kept (``temp`` is removed, so what the writer says the
+    file holds is gone with it) and that the same command again tracks the recording."""
+    if exc.path != str(temp):
+        return exc
+    what = exc.detail.split("; it holds")[0]
+    return RecordingError(
+        f"{what}; nothing of it is kept (a tracks file is moved into place whole)",
+        path=final,
+        scan=exc.scan,
+        hint="free disk space, then run the same command again: it tracks what is not done",
     )
 
 

@@ -213,9 +213,11 @@ class LaserPeopleGroup(TyperGroup):
         super().__init__(*args, **kwargs)
         for param in self.params:
             _plain_values(param)
-        for command in self.commands.values():
+        for name, command in self.commands.items():
             for param in command.params:
                 _plain_values(param)
+                if is_path_parameter(name, param):
+                    _refuse_empty_paths(param)
                 if isinstance(param, TyperOption) and param.metavar is None:
                     param.metavar = _metavar(param)
                 if isinstance(param, TyperArgument):
@@ -244,9 +246,45 @@ class LaserPeopleGroup(TyperGroup):
         with _short_usage_errors():
             try:
                 return super().invoke(ctx)
-            except KeyboardInterrupt:  # (typer would exit 130 without a word)
-                err_console.print("interrupted (Ctrl-C)", markup=False, highlight=False)
-                raise typer.Exit(130) from None
+            except KeyboardInterrupt as exc:  # (typer would exit 130 without a word)
+                from laserpeople.cli.stopping import stop_name, stop_status
+
+                status = stop_status(exc)
+                err_console.print(
+                    f"interrupted ({stop_name(status)})", markup=False, highlight=False
+                )
+                raise typer.Exit(status) from None
+
+
+TEXT_PATH_PARAMETERS = frozenset(
+    {("evaluate", "truth_args"), ("fit", "truth"), ("view", "truth"), ("batch", "recordings")}
+)
+"""(command, parameter) of the files given as text (``BAG[:TOPIC]``, globs)."""
+
+
+def is_path_parameter(command: str, param: Any) -> bool:
+    """Whether ``param`` of ``command`` names files: typed ``Path`` (or a list of them), or
+    one of :data:`TEXT_PATH_PARAMETERS`."""
+    if (command, param.name) in TEXT_PATH_PARAMETERS:
+        return True
+    descriptor = getattr(param, "type_descriptor", None)
+    annotation = getattr(descriptor, "annotation", None)
+    return annotation is Path or Path in typing.get_args(annotation)
+
+
+def _refuse_empty_paths(param: Any) -> None:
+    """Make ``param`` refuse an empty path (``--config ""``, an unset shell variable),
+    which ``Path`` would take for ``.``, the current folder: a usage error naming the
+    option, before any file is read or written."""
+    process = param.process_value
+
+    def checked(ctx: Any, value: Any) -> Any:
+        values = value if isinstance(value, (list, tuple)) else (value,)
+        if any(isinstance(v, str) and v == "" for v in values):
+            raise typer.BadParameter("is empty: give a file or folder name, or drop it")
+        return process(ctx, value)
+
+    param.process_value = checked
 
 
 def _help_flag_false(option: Any) -> Any:
@@ -426,6 +464,9 @@ def end_process(code: object) -> NoReturn:
 def main() -> None:
     """Entry point of the ``laserpeople`` command."""
     one_blas_thread()
+    from laserpeople.cli.stopping import stop_on_sigterm, stop_status
+
+    stop_on_sigterm()
     try:
         make_app(commands_needed(sys.argv[1:]))(prog_name="laserpeople")
     except LaserPeopleError as exc:
@@ -436,6 +477,6 @@ def main() -> None:
         # the message as written: file names and topics are neither markup nor emoji codes
         err_console.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
         sys.exit(1)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         err_console.print("interrupted")
-        sys.exit(130)
+        sys.exit(stop_status(exc))

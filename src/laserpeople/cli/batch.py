@@ -104,12 +104,16 @@ folders, those with a metadata.yaml)."""
 def folder_recordings(folder: Path, home: Path | None) -> list[Path]:
     """The recordings directly in ``folder`` (given without a glob), in name order: files of
     :data:`RECORDING_SUFFIXES` and ROS 2 bag folders, but not the output folder ``home`` or
-    what is in it; says how many it took and how many other entries it left.
+    what is in it; says how many it took and how many other entries it left, naming every
+    one that looks like a recording still being written
+    (:func:`~laserpeople.io.sniff.unfinished_recording`).
 
     Raises:
         ConfigError: None is there.
     """
-    taken, left = [], []
+    from laserpeople.io.sniff import unfinished_recording
+
+    taken, left, unfinished = [], [], []
     for entry in sorted(folder.iterdir()):
         if home is not None and entry.resolve().is_relative_to(home):
             left.append(f"{entry.name} (the output folder)")
@@ -118,15 +122,21 @@ def folder_recordings(folder: Path, home: Path | None) -> list[Path]:
         if bag_folder or (entry.is_file() and entry.suffix.lower() in RECORDING_SUFFIXES):
             taken.append(entry)
         elif not entry.name.endswith(".people.csv"):  # (the truth of a recording beside it)
-            left.append(entry.name)
+            being_written = unfinished_recording(entry)
+            if being_written:
+                unfinished.append(f"{entry.name} ({being_written})")
+            else:
+                left.append(entry.name)
     if not taken:
         raise ConfigError(
             f"the folder {folder} holds no recording ({', '.join(RECORDING_SUFFIXES)} files or "
             "ROS 2 bag folders)",
             hint=f"for recordings in its subfolders give a glob: '{folder}/**/*.bag'",
         )
+    left = unfinished + left  # (each recording still being written is named)
     if left:
-        shown = ", ".join(left[:3]) + (", ..." if len(left) > 3 else "")
+        cut = len(unfinished) + 3
+        shown = ", ".join(left[:cut]) + (", ..." if len(left) > cut else "")
         kind = "entry" if len(left) == 1 else "entries"
         extra = f"; left out {len(left)} other {kind} ({shown})"
     else:

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
-from laserpeople.errors import ConfigError, NotBuiltError
+from laserpeople.errors import ConfigError, NotBuiltError, RecordingError
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -36,6 +36,18 @@ def given_options(ctx: typer.Context, names: Sequence[str]) -> list[str]:
         for name in names
         if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
     ]
+
+
+def no_scan_read(recording: Path, output: Path) -> RecordingError:
+    """The error of a run of ``recording`` that read not one scan (a laser topic recorded
+    empty, every scan damaged and skipped): not an empty success; its CSV ``output`` holds
+    the header alone."""
+    return RecordingError(
+        f"no scan was read, so {output} holds the CSV header alone",
+        path=recording,
+        hint="`laserpeople info` lists the recording's laser topics and their scans; "
+        "choose one with --topic",
+    )
 
 
 def frame_name(value: str | None) -> str | None:

@@ -13,11 +13,13 @@ from laserpeople.cli.common import (
     WorldFrameOption,
     console,
     ignored_sections,
+    no_scan_read,
     progress,
     report_damage,
     say,
     warn,
 )
+from laserpeople.cli.stopping import stop_name, stop_status
 from laserpeople.cli.track import TopicsOption, make_detector, topics_from, tracker_param_classes
 from laserpeople.config import check_sections, load_config
 from laserpeople.errors import ConfigError
@@ -159,7 +161,7 @@ def register(app: typer.Typer) -> None:
         beams = EmptyScanCheck()
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
-        interrupted = False
+        interrupted = 0  # the exit status of a stop by Ctrl-C or SIGTERM
         try:
             for step in progress(pipe, total=total):
                 for scan, result in zip(step.frame.scans, stage.classifications, strict=True):
@@ -188,8 +190,8 @@ def register(app: typer.Typer) -> None:
                         truth = beam_truth_labeller(scan, result.table, result.features)[ok]
                         truth_ada.append(Confusion.of(np.where(result.is_leg[ok], 1, -1), truth))
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
-        except KeyboardInterrupt:  # Ctrl-C: close the CSV with the scans done, say so
-            interrupted = True
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM: close the CSV with the scans done
+            interrupted = stop_status(exc)
             pipe.close()
         finally:
             if all_segments:
@@ -211,10 +213,12 @@ def register(app: typer.Typer) -> None:
         if interrupted:
             written = counts["scans"] if all_segments else sink.scans
             warn(
-                f"interrupted (Ctrl-C) after {written} scans: {output} holds the legs "
-                "of those scans and is a complete CSV"
+                f"interrupted ({stop_name(interrupted)}) after {written} scans: {output} holds "
+                "the legs of those scans and is a complete CSV"
             )
-            raise typer.Exit(130)
+            raise typer.Exit(interrupted)
+        if not counts["scans"]:
+            raise no_scan_read(recording, output)
         if report:
             if not truth_ada:
                 raise _no_beam_truth(recording)

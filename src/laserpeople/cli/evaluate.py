@@ -293,10 +293,12 @@ def register(app: typer.Typer) -> None:
             )
             _stamp_check(pairing)
         if report.nothing_matched():
+            unit = pairing.position_unit() if pairing is not None else ""
             warn(
-                f"no {kind} track came within {params.gate:g} m of any labelled person: are "
-                "the truth and the tracks in the same frame? Labels in each scan's laser frame "
-                "(as the leg_tracker benchmark's) need tracks written with "
+                f"no {kind} track came within {params.gate:g} m of any labelled person: "
+                + (f"{unit}; if not, " if unit else "")
+                + "are the truth and the tracks in the same frame? Labels in each scan's "
+                "laser frame (as the leg_tracker benchmark's) need tracks written with "
                 "`track --output-frame sensor`, or a truth that states its frame (the labels "
                 "of the bag itself, or a frame column), into which tracks written with their "
                 "sensor poses are moved"
@@ -340,7 +342,14 @@ def _check_kind(tracks: Path, kind: str) -> None:
 def _stamp_check(pairing: PairingCounts) -> None:
     """Print the frame compared in when the truth states none, what the paired stamps say
     (a note, or a warning when they disagree), and a warning when truth and tracks share no
-    scan."""
+    scan.
+
+    Raises:
+        EvaluationError: the scans of truth and tracks do not overlap at all (nothing to
+            score)."""
+    refused = pairing.disjoint()
+    if refused is not None:
+        raise refused
     frame = pairing.frame_check()
     if frame:
         say(frame)

@@ -147,6 +147,10 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
                 scan.sensor, info.msgtype if info else "sensor_msgs/msg/LaserScan"
             )
         s.add(scan)
+    if not topics:  # a laser topic recorded without a scan is a row of 0 scans, not left out
+        for name, info in listed.items():
+            if not info.count and name not in summaries:
+                summaries[name] = TopicSummary(name, info.msgtype)
     # in the recording's order, whose first laser `track` takes by default (the scans of
     # another laser may come first, as on the corridor bags)
     order = {name: k for k, name in enumerate(listed)}
@@ -158,7 +162,7 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
         "world_frame": getattr(rec, "world_frame", None),
     }
     pose_summary = getattr(rec, "pose_summary", None)
-    if callable(pose_summary):
+    if callable(pose_summary) and any(s.count for s in summaries.values()):
         out["pose_summary"] = pose_summary()
     mount_notes = getattr(rec, "mount_notes", [])  # given mounts left out, and why
     if mount_notes:
@@ -169,6 +173,9 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
     changes = getattr(rec, "frame_changes", None)
     if changes:
         out["frame_changes"] = [change.describe(topic) for topic, change in sorted(changes.items())]
+    other_types = getattr(rec, "other_types", None)
+    if other_types:  # a laser topic carrying other messages too: {topic: {type: count}}
+        out["other_types"] = {topic: dict(types) for topic, types in sorted(other_types.items())}
     other_lines = getattr(rec, "other_lines", None)
     if other_lines:
         out["other_lines"] = dict(other_lines)
@@ -218,7 +225,7 @@ def _print_table(report: dict[str, Any]) -> None:
             str(t["scans"]),
             "-" if rate is None else f"{rate:.2f}",
             _fmt(t["fov_deg"], 1),
-            ", ".join(str(b) for b in t["beams"]),
+            ", ".join(str(b) for b in t["beams"]) or "-",
             _fmt(t["angular_resolution_deg"], 3),
             "-" if t["range_min_m"] is None else f"{t['range_min_m']:.2f}–{t['range_max_m']:.1f}",
             "-" if invalid is None else f"{100 * invalid:.1f}%",
@@ -250,6 +257,9 @@ def _print_table(report: dict[str, Any]) -> None:
         line(f"scans with a zero header stamp (bag time used): {report['scans_with_log_time']}")
     for note in report.get("frame_changes", []):
         line(note)
+    for topic, types in report.get("other_types", {}).items():
+        shown = ", ".join(f"{n} {msgtype}" for msgtype, n in sorted(types.items()))
+        line(f"{topic} also carries other messages, left out: {shown}")
     if report.get("other_lines"):
         lines = ", ".join(f"{k} ({n})" for k, n in report["other_lines"].items())
         line(f"other lines: {lines}")

@@ -532,6 +532,9 @@ def _summary(session: Any, stats: Any, record: Path | None) -> None:
             f"{laser}: {counts.received[laser]} scans received, {counts.dropped[laser]} dropped "
             f"(queue full), {counts.undecodable[laser]} undecodable"
         )
+        behind = counts.dropped_warning(laser, stats.median_ms)
+        if behind:
+            warn(behind)
         quiet = counts.silence(laser, end)
         if quiet is not None:
             warn(

@@ -24,12 +24,14 @@ from laserpeople.cli.common import (
     WorldFrameOption,
     ignored_sections,
     mount_specs,
+    no_scan_read,
     open_with_poses,
     progress,
     report_damage,
     say,
     warn,
 )
+from laserpeople.cli.stopping import stop_name, stop_status
 from laserpeople.config import check_sections, load_config, origins, to_toml
 from laserpeople.errors import ConfigError, LaserPeopleError
 
@@ -252,13 +254,13 @@ def run_tracking(
     )
     if height_warning:
         warn(height_warning)
-    interrupted = False
+    interrupted = 0  # the exit status of a stop by Ctrl-C or SIGTERM
     loop_start = time.process_time()
     try:
         for _ in progress(pipe, total=source.total, description="tracking"):
             pass
-    except KeyboardInterrupt:  # Ctrl-C: close the outputs, report what was done
-        interrupted = True
+    except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM: close the outputs, report what was done
+        interrupted = stop_status(exc)
         pipe.close()
     except LaserPeopleError as exc:
         for note in getattr(source.recording, "mount_notes", []):  # a mount left out may be
@@ -564,8 +566,11 @@ def register(app: typer.Typer) -> None:
         if bag is not None:
             say(f"wrote {bag}")
         if stats["interrupted"]:
+            status = int(stats["interrupted"])
             warn(
-                f"interrupted (Ctrl-C) after {int(stats['scans'])} scans: {output} holds the "
-                "tracks of those scans and is a complete CSV"
+                f"interrupted ({stop_name(status)}) after {int(stats['scans'])} scans: {output} "
+                "holds the tracks of those scans and is a complete CSV"
             )
-            raise typer.Exit(130)
+            raise typer.Exit(status)
+        if not stats["scans"]:
+            raise no_scan_read(recording, output)

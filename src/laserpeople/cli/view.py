@@ -238,6 +238,8 @@ def register(app: typer.Typer) -> None:
                 "pose for the world frame (`laserpeople info` says why; --frame sensor draws "
                 "them all)"
             )
+        if scene.tracks_outside.count:
+            warn(scene.tracks_outside.warning())
 
 
 def _draw(

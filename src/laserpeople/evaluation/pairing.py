@@ -6,6 +6,8 @@ import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
+import numpy as np
+
 from laserpeople.errors import EvaluationError
 from laserpeople.tracks import Tracks
 from laserpeople.truth import TruthFrame
@@ -31,6 +33,12 @@ class PairingCounts:
         truth_stamps: Their stamps [s].
         tracks_scans: First and last scan index with track rows ((-1, -1): none).
         tracks_stamps: Their stamps [s].
+        paired_stamps: The truth's and the tracks' stamps [s] of the first and the last
+            paired scan: (truth first, truth last, tracks first, tracks last); NaN before a
+            pair.
+        truth_distances: Sum [m] and count of the distances from the origin of the labelled
+            people of the paired scans.
+        tracks_distances: The same of their tracks.
     """
 
     frames_scored: int = 0
@@ -46,6 +54,9 @@ class PairingCounts:
     truth_stamps: tuple[float, float] = (math.nan, math.nan)
     tracks_scans: tuple[int, int] = (-1, -1)
     tracks_stamps: tuple[float, float] = (math.nan, math.nan)
+    paired_stamps: tuple[float, float, float, float] = (math.nan,) * 4
+    truth_distances: tuple[float, int] = (0.0, 0)
+    tracks_distances: tuple[float, int] = (0.0, 0)
 
     STAMP_TOLERANCE = 0.05
     """Largest stamp difference [s] (or spread of the differences) taken as the same scan:
@@ -83,6 +94,51 @@ class PairingCounts:
             "truth and tracks come from the same recording and laser topic"
         )
 
+    def disjoint(self) -> EvaluationError | None:
+        """The error to raise when truth and tracks cover scans that do not overlap at all
+        (every track scan before the truth's first or after its last) and their stamps are
+        not of one clock (:meth:`one_clock`): truth of another recording, topic or time
+        range, which would score as all missed (MOTA 0). None otherwise (a tracker that
+        reported nothing in the scans the truth covers of its own recording is all missed,
+        with :meth:`overlap_check`'s warning), or when either is empty."""
+        if not self.frames_scored or self.frames_without_tracks < self.frames_scored:
+            return None
+        (truth_first, truth_last), (tracks_first, tracks_last) = (
+            self.truth_scans,
+            self.tracks_scans,
+        )
+        if tracks_first < 0 or not (tracks_last < truth_first or tracks_first > truth_last):
+            return None
+        if self.one_clock():
+            return None
+        return EvaluationError(
+            f"truth and tracks share no scan: the truth covers scans {_span(self.truth_scans)} "
+            f"(stamps {_span(self.truth_stamps)} s), the tracks scans "
+            f"{_span(self.tracks_scans)} (stamps {_span(self.tracks_stamps)} s); nothing was "
+            "scored (not all missed)",
+            hint="give the truth and the tracks of the same recording and laser topic",
+        )
+
+    def one_clock(self) -> bool:
+        """Whether the tracks' first scan has the stamp the truth's scans give it: the
+        truth's first stamp plus the scans between at the truth's mean scan period (the
+        tracks' when the truth spans one scan), within :data:`CLOCK_TOLERANCE` s plus
+        :data:`CLOCK_DRIFT` of the time between (scans a driver dropped make the stamps
+        run ahead of the count). False when no period is known."""
+        (truth_first, truth_last), (tracks_first, tracks_last) = (
+            self.truth_scans,
+            self.tracks_scans,
+        )
+        if truth_last > truth_first:
+            period = (self.truth_stamps[1] - self.truth_stamps[0]) / (truth_last - truth_first)
+        elif tracks_last > tracks_first:
+            period = (self.tracks_stamps[1] - self.tracks_stamps[0]) / (tracks_last - tracks_first)
+        else:
+            return False
+        between = (tracks_first - truth_first) * period
+        expected = self.truth_stamps[0] + between
+        return abs(expected - self.tracks_stamps[0]) <= CLOCK_TOLERANCE + CLOCK_DRIFT * abs(between)
+
     def stamp_check(self) -> tuple[str, bool]:
         """What the paired scans' stamps say, and whether it is a warning: nothing when
         they agree; a note when every truth stamp is off by the same amount (another clock,
@@ -110,10 +166,56 @@ class PairingCounts:
             )
         return (
             f"truth and track stamps differ by up to {self.max_stamp_offset:.3f} s for the "
-            f"same scan index, by amounts varying over {spread:.3f} s: check that they come "
-            "from the same recording and topic",
+            f"same scan index, by amounts varying over {spread:.3f} s: "
+            + (self.stamp_unit() or "check that they come from the same recording and topic"),
             True,
         )
+
+    def stamp_unit(self) -> str:
+        """What to say when the tracks' stamps run a power of a thousand times as fast as
+        the truth's over the paired scans (within :data:`UNIT_TOLERANCE`): stamps written in
+        milliseconds, microseconds or nanoseconds where seconds are read (or the truth's);
+        empty otherwise, or with fewer than two paired stamps apart."""
+        truth_first, truth_last, tracks_first, tracks_last = self.paired_stamps
+        truth_span, tracks_span = truth_last - truth_first, tracks_last - tracks_first
+        if not (truth_span > 0 and tracks_span > 0):
+            return ""
+        ratio = tracks_span / truth_span
+        for factor, unit in STAMP_UNITS:
+            for scale, whose, other in (
+                (ratio, "tracks'", "truth's"),
+                (1 / ratio, "truth's", "tracks'"),
+            ):
+                if abs(scale / factor - 1.0) <= UNIT_TOLERANCE:
+                    return (
+                        f"over the paired scans the {whose} stamps advance {factor:,.0f} times "
+                        f"as far as the {other}: are they in {unit}? Stamps are read in "
+                        f"seconds: write the {whose} in seconds (the scores stand: scans are "
+                        "paired by index)"
+                    )
+        return ""
+
+    def position_unit(self) -> str:
+        """What to say when the tracks of the paired scans lie a power of a thousand times
+        as far from the origin as the labelled people on average (within a factor
+        :data:`POSITION_UNIT_SPREAD` of it): positions written in millimetres or micrometres
+        where metres are read (or the truth's); empty otherwise."""
+        (truth_sum, truth_n), (tracks_sum, tracks_n) = self.truth_distances, self.tracks_distances
+        if not (truth_n and tracks_n and truth_sum > 0 and tracks_sum > 0):
+            return ""
+        ratio = (tracks_sum / tracks_n) / (truth_sum / truth_n)
+        for factor, unit in POSITION_UNITS:
+            for scale, whose, other in (
+                (ratio, "tracks", "people"),
+                (1 / ratio, "people", "tracks"),
+            ):
+                if 1 / POSITION_UNIT_SPREAD <= scale / factor <= POSITION_UNIT_SPREAD:
+                    return (
+                        f"the {whose} are {scale:,.0f} times as far from the origin as the "
+                        f"{other} on average: are their positions in {unit}? Positions are "
+                        "read in metres"
+                    )
+        return ""
 
     def scan_shift(self, offset: float) -> int:
         """How many scans the truth's scan numbers are ahead of the tracks' when the
@@ -143,9 +245,48 @@ clock offset falls this close to a whole number 4 % of the time (the leg_tracker
 benchmark's -130.29 s at 10 Hz is 0.22 periods off, its 0.064 s at 7.5 Hz 0.48)."""
 
 
+STAMP_UNITS = ((1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds"))
+"""Units other tools write stamps in, by how many of them make a second."""
+
+UNIT_TOLERANCE = 0.01
+"""Largest relative distance of the ratio of the paired stamps' spans from a unit's
+factor for the stamps to be taken as in that unit: the stamps of one scan written by two
+programs agree to far better than 1 % over any span of scans (rounding to microseconds)."""
+
+
+POSITION_UNITS = ((1e3, "millimetres"), (1e6, "micrometres"))
+"""Units other tools write positions in, by how many of them make a metre."""
+
+POSITION_UNIT_SPREAD = 3.0
+"""Largest factor between the ratio of the mean distances from the origin of tracks and
+labelled people and a unit's factor for positions to be taken as in that unit: tracks lie
+near the people they follow, but their mean distance differs with the false tracks and the
+people missed, and a laser frame's origin (the sensor) and a world frame's differ; a
+factor of 3 keeps millimetres (1,000) apart from metres (1) and from micrometres."""
+
+
+CLOCK_TOLERANCE = 0.5
+"""Largest difference [s] between a stamp and the one extrapolated from another part of
+the same recording at its mean scan period, for them to be of one clock (five periods of a
+10 Hz laser)."""
+
+CLOCK_DRIFT = 0.02
+"""Share of the time between the two parts added to :data:`CLOCK_TOLERANCE`: a driver
+that drops 2 scans in 100 puts its stamps 2 % ahead of the count of scans recorded."""
+
+
 def _span(pair: tuple[float, float]) -> str:
     """``first-last`` of a range of scan indices or stamps."""
     return "-".join(f"{v:.3f}" if isinstance(v, float) else str(v) for v in pair)
+
+
+def _add_distances(total: tuple[float, int], positions: np.ndarray) -> tuple[float, int]:
+    """``total`` (sum [m], count) with the distances from the origin of ``positions`` (N, 2)
+    [m] added."""
+    if not len(positions):
+        return total
+    distances = np.hypot(positions[:, 0], positions[:, 1])
+    return total[0] + float(distances.sum()), total[1] + len(positions)
 
 
 def pair_by_scan(
@@ -216,6 +357,14 @@ def pair_by_scan(
                 if stats.tracks_frame != pending.frame:
                     stats.tracks_moved_from = pending.frame
             diff = truth.stamp - pending.stamp
+            stats.truth_distances = _add_distances(stats.truth_distances, truth.positions)
+            if pending.tracks:
+                positions = np.array([t.position for t in pending.tracks])
+                stats.tracks_distances = _add_distances(stats.tracks_distances, positions)
+            if math.isnan(stats.paired_stamps[0]):
+                stats.paired_stamps = (truth.stamp, truth.stamp, pending.stamp, pending.stamp)
+            truth_first, _, tracks_first, _ = stats.paired_stamps
+            stats.paired_stamps = (truth_first, truth.stamp, tracks_first, pending.stamp)
             stats.max_stamp_offset = max(stats.max_stamp_offset, abs(diff))
             stats.min_stamp_difference = min(stats.min_stamp_difference, diff)
             stats.max_stamp_difference = max(stats.max_stamp_difference, diff)

@@ -165,7 +165,11 @@ def score_recording(
             keep_frames=False,
             also=[hota],
         )
-        return RecordingScore(name, str(tracks), str(truth), run.result(), hota.result())
+        report = run.result()
+        apart = report.pairing.disjoint() if report.pairing is not None else None
+        if apart is not None:
+            raise apart
+        return RecordingScore(name, str(tracks), str(truth), report, hota.result())
     except LaserPeopleError as exc:
         return RecordingScore(name, str(tracks), str(truth), error=str(exc))
 

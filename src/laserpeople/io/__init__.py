@@ -14,7 +14,7 @@ from typing import Any, Protocol, runtime_checkable
 from laserpeople.errors import RecordingError
 from laserpeople.io.npz import NpzRecording, TopicInfo, write_recording
 from laserpeople.io.paths import empty_file, not_found
-from laserpeople.io.sniff import check_extension
+from laserpeople.io.sniff import check_extension, unfinished_bag_files, unfinished_recording
 from laserpeople.scan import Scan
 from laserpeople.truth import TruthFrame
 
@@ -80,6 +80,15 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     suffix = p.suffix.lower()
     if p.is_dir() and not (p / "metadata.yaml").exists():
         neko = (p / "xy_data.txt").is_file()
+        storage = unfinished_bag_files(p)
+        if storage:
+            raise RecordingError(
+                f"is {unfinished_recording(p)}",
+                path=p,
+                hint=f"wait for the recording to end, or give {storage[0]} itself"
+                + (f" ({len(storage)} storage files: one at a time)" if len(storage) > 1 else "")
+                + f"; `ros2 bag reindex {p}` writes the missing metadata.yaml",
+            )
         raise RecordingError(
             "is a directory, not a recording",
             path=p,

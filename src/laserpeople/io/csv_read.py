@@ -85,7 +85,7 @@ class CsvRows:
         missing = [c for c in columns if c not in names]
         if not missing:
             return names
-        hint = f"expected header {expected}"
+        hint = f"expected header {expected}" + columns_to_rename(missing, names)
         other = csv_format_of(names)
         if other is not None and other[0] != self.what:
             hint += f"; this header is that of {other[1]}"
@@ -106,6 +106,53 @@ class CsvRows:
             return next(self._reader)
         except csv.Error as exc:
             raise self._error(exc) from exc
+
+
+COLUMN_ALIASES: dict[str, tuple[str, ...]] = {
+    "scan": ("scan_index", "seq", "frame_index", "frame_id", "index"),
+    "stamp": ("timestamp", "time", "t", "secs", "sec", "stamp_s", "time_s"),
+    "track_id": ("id", "track", "trackid", "tid", "object_id"),
+    "person_id": ("id", "person", "personid", "pid", "label"),
+    "x": ("pos_x", "position_x", "px", "x_m"),
+    "y": ("pos_y", "position_y", "py", "y_m"),
+}
+"""Names other tools give the columns of this program's CSVs (compared in lower case)."""
+
+
+def columns_to_rename(missing: Iterable[str], names: Iterable[str]) -> str:
+    """A hint naming the columns of a header of column ``names`` that stand for the
+    ``missing`` ones: the same name in other case or spacing (``SCAN``), or one of
+    :data:`COLUMN_ALIASES` (``timestamp`` for ``stamp``), and what a missing column none
+    stands for holds (:data:`COLUMN_MEANINGS`); empty when there is nothing to say. Each
+    column of the header is named for one missing column at most."""
+    by_lower: dict[str, str] = {}
+    for name in names:
+        by_lower.setdefault(name.strip().lower(), name)
+    renames: dict[str, str] = {}  # missing column -> the header's column standing for it
+    for column in missing:
+        for candidate in (column, *COLUMN_ALIASES.get(column, ())):
+            found = by_lower.pop(candidate, None)
+            if found is not None and found != column:
+                renames[column] = found
+                break
+    text = "".join(
+        f"; {COLUMN_MEANINGS[c]}" for c in missing if c in COLUMN_MEANINGS and c not in renames
+    )
+    if renames:
+        shown = ", ".join(f"{found} to {column}" for column, found in renames.items())
+        text += (
+            f"; rename the column(s) {shown} (stamps in seconds, positions in metres, as this "
+            "program writes them)"
+        )
+    return text
+
+
+COLUMN_MEANINGS = {
+    "scan": "scan is the 0-based index of each scan on its laser topic, by which tracks and "
+    "truth are paired",
+    "kind": "kind is leg, person or group (person for tracks of people)",
+}
+"""What a missing column holds, said when no column of the header stands for it."""
 
 
 CSV_FORMATS: tuple[tuple[str, frozenset[str], str], ...] = (

@@ -235,6 +235,9 @@ class RosbagRecording:
         self.frame_changes: dict[str, FrameChange] = {}
         """Per laser topic whose ``header.frame_id`` changed within the last read: the
         first frame, the first scan in another frame and how many scans were in others."""
+        self.other_types: dict[str, dict[str, int]] = {}
+        """Per laser topic of the last read that also carries other types of message: their
+        counts by type (left out of the scans)."""
 
     # -- opening -------------------------------------------------------------------------
     def _open(self) -> Any:
@@ -317,8 +320,14 @@ class RosbagRecording:
         ]
 
     def topics(self) -> list[TopicInfo]:
-        """The laser scan topics with their message counts."""
-        return [t for t in self.all_topics() if _is_laserscan(self._reader, t.msgtype)]
+        """The laser scan topics with the counts of their laser scans (a topic that carries
+        other types of message too is one: those are left out of its scans, and said)."""
+        found = []
+        for topic, conns in self._connections.items():
+            lasers = [c for c in conns if _is_laserscan(self._reader, c.msgtype)]
+            if lasers:
+                found.append(TopicInfo(topic, lasers[0].msgtype, sum(c.msgcount for c in lasers)))
+        return found
 
     def _match(self, topics: Sequence[str], what: str, hint: str) -> list[str]:
         """Bag topic names for ``topics`` (a leading slash is optional)."""
@@ -591,6 +600,12 @@ class RosbagRecording:
             )
         for topic, change in sorted(self.frame_changes.items()):
             lines.append(change.describe(topic))
+        for topic, types in sorted(self.other_types.items()):
+            shown = ", ".join(f"{n} {msgtype}" for msgtype, n in sorted(types.items()))
+            lines.append(
+                f"{topic} also carries messages of another type: {shown} messages left out "
+                "(only its laser scans are read)"
+            )
         return lines
 
     # -- scans -----------------------------------------------------------------------------
@@ -610,6 +625,7 @@ class RosbagRecording:
         self.scans_with_log_time = 0
         self.scans_read = 0
         self.frame_changes = {}
+        self.other_types = {}
         self.pose_misses.clear()
         self.damaged.reset()
         streams = [self._topic_scans(name, tree, world) for name in names]
@@ -630,6 +646,11 @@ class RosbagRecording:
         reader = self._open()
         try:
             conns = [c for c in reader.connections if c.topic == topic]
+            others = [c for c in conns if not _is_laserscan(reader, c.msgtype)]
+            for c in others:  # (a second type on the topic: not damage, left out and said)
+                counts = self.other_types.setdefault(topic, {})
+                counts[c.msgtype] = counts.get(c.msgtype, 0) + c.msgcount
+            conns = [c for c in conns if c not in others]
             fast = {id(c) for c in conns if is_standard_laserscan(reader, c)}
             try:
                 messages = reader.messages(connections=conns)

@@ -50,8 +50,54 @@ def check_extension(path: Path) -> None:
     if path.suffix.lower() == suffix:
         return
     named = f"named {path.suffix!r}" if path.suffix else "has no extension"
-    raise RecordingError(
-        f"is {what} by its first bytes, but {named}",
-        path=path,
-        hint=f"rename it to {path.stem}{suffix}: the reader is chosen by the extension",
+    new = renamed(path, suffix)
+    hint = f"rename it to {new}: the reader is chosen by the extension"
+    if path.name.lower().endswith(ACTIVE_BAG):
+        hint = (
+            f"`rosbag record` writes a bag under this name while it records and renames it to "
+            f"{new} when it stops: wait for it; a bag left so by a recorder stopped hard reads "
+            f"once renamed to {new} (`rosbag reindex` it if its index is missing)"
+        )
+    raise RecordingError(f"is {what} by its first bytes, but {named}", path=path, hint=hint)
+
+
+ACTIVE_BAG = ".bag.active"
+"""The ending of the name of a ROS 1 bag that ``rosbag record`` is writing."""
+
+
+def renamed(path: Path, suffix: str) -> str:
+    """The name ``path`` should have for the extension ``suffix``: ``run.bag`` for
+    ``run.txt`` and for ``run.bag.active`` (its last extension dropped when the one before
+    is ``suffix`` already), ``run.bag`` for ``run``."""
+    stem = path.stem
+    return stem if Path(stem).suffix.lower() == suffix else f"{stem}{suffix}"
+
+
+def unfinished_bag_files(path: Path) -> list[Path]:
+    """The ROS 2 storage files (``.mcap``, ``.db3``) directly in the folder ``path`` when
+    it has no ``metadata.yaml``: ``ros2 bag record`` writes that file when it stops, so such
+    a folder is a bag still being recorded, or one whose recorder was stopped hard (each
+    storage file reads alone). Empty for anything else."""
+    if not path.is_dir() or (path / "metadata.yaml").exists():
+        return []
+    try:
+        return sorted(
+            p for p in path.iterdir() if p.suffix.lower() in (".mcap", ".db3") and p.is_file()
+        )
+    except OSError:
+        return []
+
+
+def unfinished_recording(path: Path) -> str:
+    """What a recording still being written looks like, said of ``path``: a ROS 1 bag
+    named ``.bag.active`` (``rosbag record``'s name while it records) or a ROS 2 bag
+    folder without ``metadata.yaml`` (:func:`unfinished_bag_files`); empty otherwise."""
+    if path.name.lower().endswith(ACTIVE_BAG):
+        return "named as a bag `rosbag record` is still writing, or left by one stopped hard"
+    files = unfinished_bag_files(path)
+    if not files:
+        return ""
+    return (
+        "a ROS 2 bag folder without metadata.yaml (`ros2 bag record` writes it when it "
+        f"stops: still recording, or stopped hard); its {files[0].name} reads alone"
     )

@@ -32,13 +32,14 @@ metric and drawing works unchanged; :class:`TrackIdNames` maps them back to the 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, get_args
 
 import numpy as np
 
-from laserpeople.errors import LaserPeopleError, RecordingError
+from laserpeople.errors import LaserPeopleError, LaserPeopleWarning, RecordingError
 from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame, Pose2D
@@ -65,6 +66,8 @@ FRAME_COLUMN = "frame"
 CONTOUR_COLUMN = "contour"
 SENSOR_POSE_COLUMNS = ("sensor_x", "sensor_y", "sensor_yaw")
 """The laser's pose in the world frame ([m], [m], [rad]), written with the topic column."""
+KNOWN_COLUMNS = (*HEADER, TOPIC_COLUMN, FRAME_COLUMN, *SENSOR_POSE_COLUMNS, CONTOUR_COLUMN)
+"""Every column a reader of tracks CSVs reads; others are said not read."""
 
 
 def format_contour(contour: np.ndarray) -> str:
@@ -450,7 +453,15 @@ def _read_tracks(
     with open(p, newline="", encoding="utf-8") as fh:
         torn: list[str] = []
         reader = CsvRows(complete_lines(fh, torn), p, "tracks CSV", TRACKS_HINT)
-        reader.require(("scan", "stamp", "track_id", "kind", "x", "y"), ",".join(HEADER))
+        columns = reader.require(("scan", "stamp", "track_id", "kind", "x", "y"), ",".join(HEADER))
+        unread = [c for c in columns if c not in KNOWN_COLUMNS]
+        if unread:
+            warnings.warn(
+                f"{p}: column(s) {', '.join(unread)} not read (a tracks CSV's columns are "
+                f"{','.join(HEADER)}[,{','.join(KNOWN_COLUMNS[len(HEADER) :])}])",
+                LaserPeopleWarning,
+                stacklevel=4,
+            )
         current: list[Track] = []
         key: tuple[int, float] | None = None
         last = -1

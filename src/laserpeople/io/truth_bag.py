@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from laserpeople.errors import MessageTypeError, RecordingError, TopicNotFoundError
+from laserpeople.errors import ConfigError, MessageTypeError, RecordingError, TopicNotFoundError
 from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import TruthFrame
 
@@ -82,11 +82,20 @@ def is_bag_path(path: Path) -> bool:
 
 def split_truth_spec(spec: str) -> tuple[Path, str | None]:
     """``BAG[:TOPIC]`` -> (path, topic or None). A spec that names an existing file or
-    folder is a path even when it contains a colon."""
+    folder is a path even when it contains a colon.
+
+    Raises:
+        ConfigError: the path before ``:TOPIC`` is empty (``:/people``, an unset shell
+            variable), which would name the current folder."""
     whole = Path(spec)
     if whole.exists() or ":" not in spec:
         return whole, None
     head, _, topic = spec.rpartition(":")
+    if not head:
+        raise ConfigError(
+            f"truth {spec!r} names no bag before ':{topic}'",
+            hint=f"give BAG:TOPIC, e.g. run.bag:{topic or '/people'}",
+        )
     return Path(head), topic or None
 
 

@@ -81,6 +81,10 @@ SILENT_PERIODS = 10
 or two lost on the link is not a stop)."""
 SILENT_MIN = 1.0
 """Shortest silence [s] counted as a stop, whatever the scan rate."""
+DROPPED_WARN = 0.01
+"""Share of a laser's scans dropped (queue full) from which the summary warns: a scan or
+two dropped while the computer was busy is no news; a tracker that falls behind the laser
+drops a steady share, and the tracks then skip those scans."""
 
 
 @dataclass
@@ -117,14 +121,36 @@ class LiveCounts:
     first_arrival: dict[str, float] = field(default_factory=dict)
     last_arrival: dict[str, float] = field(default_factory=dict)
 
+    def dropped_warning(self, laser: str, tracking_ms: float) -> str:
+        """A warning when more than :data:`DROPPED_WARN` of ``laser``'s scans were dropped,
+        with the laser's mean scan period against ``tracking_ms`` (the tracker's median
+        time per frame [ms]); empty otherwise."""
+        n, dropped = self.received[laser], self.dropped[laser]
+        if not n or dropped <= DROPPED_WARN * n:
+            return ""
+        every = self.mean_period(laser)
+        period = f" against a scan every {1e3 * every:.1f} ms" if every else ""
+        return (
+            f"{laser}: {dropped} of {n} scans ({dropped / n:.0%}) were dropped, not tracked: "
+            f"the tracking did not keep up (median {tracking_ms:.2f} ms a frame{period}), so "
+            "the tracks skip them; a lighter tracker, fewer lasers or a less loaded computer "
+            "keeps up"
+        )
+
+    def mean_period(self, laser: str) -> float | None:
+        """``laser``'s mean time between scans [s] from their arrivals (None before two)."""
+        n = self.received[laser]
+        if n < 2:
+            return None
+        return (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
+
     def silence(self, laser: str, end: float) -> float | None:
         """How long [s] ``laser`` had been silent at ``end`` when that is longer than
         :data:`SILENT_PERIODS` of its mean scan period and :data:`SILENT_MIN` (its driver,
         the robot or the link stopped publishing); None otherwise, or before two scans."""
-        n = self.received[laser]
-        if n < 2:
+        period = self.mean_period(laser)
+        if period is None:
             return None
-        period = (self.last_arrival[laser] - self.first_arrival[laser]) / (n - 1)
         quiet = end - self.last_arrival[laser]
         return quiet if quiet > max(SILENT_MIN, SILENT_PERIODS * period) else None
 

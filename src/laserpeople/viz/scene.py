@@ -165,6 +165,8 @@ class Scene:
         self.every = every
         self.skipped_without_pose = 0
         """Scans of the last :meth:`frames` pass not drawn: world frame, but no sensor pose."""
+        self.tracks_outside = TracksOutside()
+        """Track positions the last :meth:`extent` left out of the area drawn."""
         self._first_stamp: float | None = None
         auto = self._pose_frame()
         if frame == "world" and auto == "sensor":
@@ -462,6 +464,7 @@ class Scene:
         if cloud.shape[0]:
             lo = np.minimum(lo, np.percentile(cloud, 1.0, axis=0))
             hi = np.maximum(hi, np.percentile(cloud, 99.0, axis=0))
+        self.tracks_outside = TracksOutside()
         if tracked:
             # tracks far outside everything measured (a diverging estimate) would shrink
             # the scene to a corner; they are left out of the extent, not of the drawing
@@ -471,7 +474,56 @@ class Scene:
                 lo = np.minimum(lo, t[near].min(axis=0))
                 hi = np.maximum(hi, t[near].max(axis=0))
         lo, hi = lo - margin, hi + margin
+        if tracked:
+            off = np.maximum(lo - t, t - hi).max(axis=1)  # > 0: outside the area [m]
+            out = ~(off <= 0.0)  # (NaN positions too)
+            if np.any(out):
+                finite = off[out & np.isfinite(off)]
+                self.tracks_outside = TracksOutside(
+                    int(np.count_nonzero(out)),
+                    len(t),
+                    float(finite.max()) if len(finite) else float("inf"),
+                )
         return float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])
+
+
+@dataclass(frozen=True)
+class TracksOutside:
+    """Track positions outside the area :meth:`Scene.extent` fits (those more than its
+    ``track_slack`` outside the box of the sensor, the truth and the bulk of the points are
+    left out of the fit).
+
+    Attributes:
+        count: Positions outside the area.
+        of: Track positions in all.
+        farthest: How far the farthest lies outside it [m] (per axis).
+    """
+
+    count: int = 0
+    of: int = 0
+    farthest: float = 0.0
+
+    def warning(self) -> str:
+        """What to tell the user (empty when none is left out): a track that diverged, or
+        positions in millimetres, would otherwise be missing from the picture unsaid."""
+        if not self.count:
+            return ""
+        why = (
+            "positions in millimetres, or tracks that diverged?"
+            if self.farthest > FAR_OUTSIDE
+            else "tracks beyond the bulk of the scan points"
+        )
+        return (
+            f"{self.count:,} of {self.of:,} track positions lie outside the area the picture "
+            f"is fitted to (the scans, sensor and truth; up to {self.farthest:,.1f} m beyond it) "
+            f"and may be cut from it ({why}); --extent XMIN,XMAX,YMIN,YMAX draws a larger area"
+        )
+
+
+FAR_OUTSIDE = 100.0
+"""Distance [m] beyond the drawn area past which track positions are asked about as
+millimetres (a laser sees a few tens of metres; a person 5 m away written in mm is 5,000
+m out)."""
 
 
 def track_positions(tracks: Iterable[Track]) -> FloatArray:

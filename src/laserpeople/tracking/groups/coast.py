@@ -41,6 +41,13 @@ class CoastedReports:
     def __len__(self) -> int:
         return len(self._last)
 
+    def __contains__(self, track_id: object) -> bool:
+        """Whether the last report of group ``track_id`` is remembered: reported within
+        :attr:`memory` before the last :meth:`record` and neither seen gone nor coasted past
+        its time since (it may still not be coasted now: reported for less time than it
+        has been gone)."""
+        return track_id in self._last
+
     @property
     def memory(self) -> float:
         """How long a report is remembered [s]: the longer of the two times."""

@@ -22,6 +22,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../_cbuffers.h"
+
 #ifndef LP_SOURCE_HASH
 #define LP_SOURCE_HASH ""
 #endif
@@ -2375,6 +2377,51 @@ done:
     return children;
 }
 
+/* MHT's detection costs of a scan, core._detection_costs: out[i, j] = -(lp[i, 0] +
+ * loglik[i, j]) where gated[i, j], else inf; (T, M) bools, (T, M) and (T, 3) doubles in,
+ * (T, M) doubles out (C-contiguous; ValueError otherwise). The same IEEE operations as
+ * numpy's `np.where(gated, -(lp[:, 0, None] + loglik), inf)`. */
+static PyObject *detection_costs(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "detection_costs(gated, loglik, lp, out)");
+        return NULL;
+    }
+    Buf b[4];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    if (take(args[2], &b[2], 0, 0, -1, "lp") < 0 || take(args[1], &b[1], 0, 0, -1, "loglik") < 0)
+        goto done;
+    if (b[2].view.ndim != 2 || b[2].view.shape[1] != 3 || b[1].view.ndim != 2 ||
+        b[1].view.shape[0] != b[2].view.shape[0]) {
+        PyErr_SetString(PyExc_ValueError, "detection_costs: lp (T, 3), loglik (T, M) expected");
+        goto done;
+    }
+    Py_ssize_t t = b[1].view.shape[0], m = b[1].view.shape[1];
+    if (take_bools(args[0], &b[0], t * m, "gated") < 0 ||
+        take(args[3], &b[3], 0, 1, t * m, "out") < 0)
+        goto done;
+    for (int a = 0; a < 4; a += 3)
+        if (b[a].view.ndim != 2 || b[a].view.shape[0] != t || b[a].view.shape[1] != m) {
+            PyErr_SetString(PyExc_ValueError, "detection_costs: gated and out (T, M) expected");
+            goto done;
+        }
+    const char *gated = b[0].view.buf;
+    const double *ll = b[1].view.buf, *lp = b[2].view.buf;
+    double *out = b[3].view.buf;
+    for (Py_ssize_t i = 0; i < t; i++) {
+        double lp_det = lp[3 * i + DETECTED];
+        for (Py_ssize_t j = 0; j < m; j++) {
+            Py_ssize_t at = i * m + j;
+            out[at] = gated[at] ? -(lp_det + ll[at]) : INFINITY;
+        }
+    }
+    result = Py_NewRef(Py_None);
+done:
+    release(b, 4);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -2428,6 +2475,9 @@ static PyMethodDef methods[] = {
      "assemble_plain(solutions, parents, tracks_of, meas_list, new_nodes, occluded_child, "
      "stamp, Hypothesis, n_scan, logaddexp): MHT._assemble's children (models=False) by "
      "their node ids, before pruning, or NotImplemented for solutions the Python code takes."},
+    {"detection_costs", (PyCFunction)(void (*)(void))detection_costs, METH_FASTCALL,
+     "detection_costs(gated, loglik, lp, out): core._detection_costs of a scan written to "
+     "out (T, M): -(lp[:, 0] + loglik) where gated, inf elsewhere."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -328,7 +328,23 @@ def _max_gap(min_ratio: float) -> float:
 
 
 def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
-    """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log)."""
+    """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log):
+    by the compiled one (:data:`~.listing.COMPILED_DETECTION_COSTS`, one call instead of
+    four numpy calls on a few dozen pairs) where it is built and takes the arrays, else
+    :func:`_detection_costs_python`, its reference (the same floats)."""
+    compiled = listing.COMPILED_DETECTION_COSTS
+    if compiled is not None:
+        out = np.empty(gated.shape)
+        try:
+            compiled(gated, loglik, lp, out)
+        except ValueError:  # (not C-contiguous, or not of the shapes expected)
+            return _detection_costs_python(gated, loglik, lp)
+        return out
+    return _detection_costs_python(gated, loglik, lp)
+
+
+def _detection_costs_python(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
+    """:func:`_detection_costs` in numpy."""
     return np.where(gated, -(lp[:, DETECTED, None] + loglik), np.inf)
 
 
@@ -394,15 +410,25 @@ class MHT(Generic[Meas]):
 
     def best_tracks(self) -> list[TrackNode]:
         """Track nodes of the best hypothesis (best of every cluster), by family."""
-        out = [t for c in self.clusters for t in c.best().tracks]
-        out.sort(key=BY_FAMILY)
-        return out
+        return self.best_nodes()[0]
 
     def best_probabilities(self) -> dict[int, float]:
         """Family -> probability of its cluster's best hypothesis."""
-        return {
-            t.family: math.exp(c.best().log_weight) for c in self.clusters for t in c.best().tracks
-        }
+        return self.best_nodes()[1]
+
+    def best_nodes(self) -> tuple[list[TrackNode], dict[int, float]]:
+        """:meth:`best_tracks` and :meth:`best_probabilities` in one pass over the
+        clusters (the probability of each cluster's best hypothesis computed once)."""
+        out: list[TrackNode] = []
+        probs: dict[int, float] = {}
+        for c in self.clusters:
+            best = c.hypotheses[0]  # (Cluster.best)
+            p = math.exp(best.log_weight)
+            for t in best.tracks:
+                probs[t.family] = p
+            out += best.tracks
+        out.sort(key=BY_FAMILY)
+        return out, probs
 
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
@@ -424,11 +450,11 @@ class MHT(Generic[Meas]):
         self._defer = plain and self.deferred_states
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
-        self._drop_settled_links()
+        cluster_of = {f: c for c in self.clusters for f in c.families}
+        self._drop_settled_links(cluster_of)
         parts = components(fam_meas, self.links, n_meas)
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         self._log_rates = (log_new, log_fal)
-        cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
@@ -464,7 +490,7 @@ class MHT(Generic[Meas]):
             n_clusters=len(self.clusters),
             n_hypotheses=int(sum(sizes)),
             max_cluster_hypotheses=max(sizes, default=0),
-            n_live_nodes=self.tree.n_nodes,
+            n_live_nodes=len(live_nodes),  # (tree.n_nodes: collect indexed each once)
             n_families=self.tree.n_families,
             families_created=self.tree.families_created,
             assignment_solves=self._solves,
@@ -507,31 +533,37 @@ class MHT(Generic[Meas]):
             out[live[i].family].add(j)
         return out
 
-    def _drop_settled_links(self) -> None:
-        """Forget links whose shared measurements are settled in every hypothesis.
+    def _drop_settled_links(self, cluster_of: dict[int, Cluster]) -> None:
+        """Forget links whose shared measurements are settled in every hypothesis
+        (``cluster_of``: each family's cluster).
 
         A cluster with a single hypothesis has nothing uncertain: all its links go. Once
         N-scan pruning has acted (every hypothesis has N ancestors) all hypotheses share the
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
+        Each cluster's two questions are asked only for the clusters of linked families,
+        and whether it is pruned only where the answer can matter.
         """
+        if not self.links:
+            return
         n = self.params.depth
         settled_before = self.generation - 1 - n
-        settled: dict[int, bool] = {}
-        all_links: dict[int, bool] = {}
-        for c in self.clusters:
-            single = len(c.hypotheses) == 1
-            pruned = all(len(h.ancestors) >= n for h in c.hypotheses)
-            for f in c.families:
-                all_links[f] = single
-                settled[f] = pruned
+        pruned: dict[int, bool] = {}  # by id(cluster)
+
+        def settled(c: Cluster) -> bool:
+            got = pruned.get(id(c))
+            if got is None:
+                got = pruned[id(c)] = all(len(h.ancestors) >= n for h in c.hypotheses)
+            return got
+
         keep: dict[tuple[int, int], int] = {}
         for (a, b), last in self.links.items():
-            if a not in settled or b not in settled:
+            ca, cb = cluster_of.get(a), cluster_of.get(b)
+            if ca is None or cb is None:
                 continue  # a family died
-            if all_links[a] or all_links[b]:
+            if len(ca.hypotheses) == 1 or len(cb.hypotheses) == 1:
                 continue
-            if settled[a] and settled[b] and last <= settled_before:
+            if last <= settled_before and settled(ca) and settled(cb):
                 continue
             keep[(a, b)] = last
         self.links = keep
@@ -564,6 +596,8 @@ class MHT(Generic[Meas]):
         fam_meas: dict[int, set[int]],
         meas_idx: list[int],
     ) -> None:
+        if not meas_idx or not fams:  # (a family alone, or a measurement alone: no link)
+            return
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement
             return

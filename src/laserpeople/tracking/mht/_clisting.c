@@ -1,5 +1,7 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
- * end of this file, the scan's clusters, `components`, the occupancy grid's static time
+ * end of this file, the general path's children: their plan, nodes, hypotheses and pruning,
+ * `plan_plain`, `make_plain`, `assemble_plain`, `prune`; a scan's detection costs,
+ * `detection_costs`; the scan's clusters, `components`, the occupancy grid's static time
  * of a few positions, `static_few`, its cells hit by a frame, `grid_hits`, `grid_mark`,
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
  * and the beam

@@ -23,7 +23,8 @@ SOURCES = {
     "laserpeople.tracking._ckalman": "src/laserpeople/tracking/_ckalman.c",
 }
 HEADER = "src/laserpeople/_cbuffers.h"
-"""The buffer helpers the sources share (``#include "../_cbuffers.h"``)."""
+"""The buffer helpers the sources share (``#include "../_cbuffers.h"``, from
+``tracking/mht/`` ``"../../_cbuffers.h"``)."""
 
 
 def _digest(source: str) -> str:

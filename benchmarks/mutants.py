@@ -114,6 +114,11 @@ PEOPLE_BG = ("tests/test_background_histogram.py", "tests/test_background_histog
 LEARN_PEOPLE = ("tests/test_pipeline_leg_foreground.py",)
 GROUP_SIZE = ("tests/test_groups_size_resolved.py",)
 MHT_CORE = ("tests/test_track_mht_core.py",)
+MHT_STEP = (
+    "tests/test_track_mht_core.py",
+    "tests/test_track_mht_regression.py",
+    "tests/test_track_legs.py",
+)
 DIAGNOSE = ("tests/test_eval_suite.py",)
 FEET_BEAMS = ("tests/test_pf_feet_beams.py",)
 FEET_HEIGHT = ("tests/test_laser_height_feet.py",)
@@ -1399,6 +1404,70 @@ MUTANTS: tuple[Mutant, ...] = (
         "            if out is not NotImplemented:\n                return out\n"
         "        return prune_children(",
         "            return out\n        return prune_children(",
+        ("tests/test_track_mht_children_compiled.py",),
+    ),
+    Mutant(
+        "mht-settled-links-both-single",
+        "leg MHT: a link goes when either family's cluster has a single hypothesis",
+        MC,
+        "            if len(ca.hypotheses) == 1 or len(cb.hypotheses) == 1:\n",
+        "            if len(ca.hypotheses) == 1 and len(cb.hypotheses) == 1:\n",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-settled-links-strict-generation",
+        "leg MHT: a link made N scans back is settled",
+        MC,
+        "            if last <= settled_before and settled(ca) and settled(cb):\n",
+        "            if last < settled_before and settled(ca) and settled(cb):\n",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-link-one-family-skipped",
+        "leg MHT: a family and a track born in its gate are linked",
+        MC,
+        "        if not meas_idx or not fams:  # (families without measurements, or one",
+        "        if len(fams) < 2:  # (families without measurements, or one",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-parents-of-a-part-of-the-cluster",
+        "leg MHT: parents of merged clusters (a cluster's own only when it is the whole)",
+        MC,
+        "            if c.families == fams:  # (the general path below gives its hypotheses)\n",
+        "            if c.families <= fams:  # (the general path below gives its hypotheses)\n",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-best-probability-of-the-last",
+        "leg MHT: a family's probability is its cluster's best hypothesis's",
+        MC,
+        "            p = math.exp(best.log_weight)\n",
+        "            p = math.exp(c.hypotheses[-1].log_weight)\n",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-cluster-families-of-the-best",
+        "leg MHT: a cluster's families are those of all its hypotheses",
+        MC,
+        "                families = frozenset([t.family for t in nodes.values()])\n",
+        "                families = frozenset([t.family for t in children[0].tracks])\n",
+        MHT_STEP,
+    ),
+    Mutant(
+        "mht-expiry-usual-call-unknown-pairs",
+        "leg MHT expiry: odds of pairs not met yet are computed (not taken as existing)",
+        "tracking/mht/expiry.py",
+        "zip(nodes, keys, strict=True) if table[k] < log_ratio}",
+        "zip(nodes, keys, strict=True) if table.get(k, 0.0) < log_ratio}",
+        ("tests/test_track_mht_bounds.py",),
+    ),
+    Mutant(
+        "mht-compiled-make-refusal-ignored",
+        "leg MHT: the compiled node making's refusal taken for new tracks",
+        MC,
+        "            if new_nodes is not NotImplemented:\n                return new_nodes\n",
+        "            return new_nodes\n",
         ("tests/test_track_mht_children_compiled.py",),
     ),
     # ---- benchmarks/gnn_diagnose.py: the sorting of misses and false positives

@@ -351,14 +351,14 @@ def test_tracker_with_the_compiled_bookkeeping_holds_the_same_hypotheses(
 
 @pytest.mark.parametrize("plan", ["refused", "planned"])
 def test_refused_children_go_to_the_python_code(monkeypatch: pytest.MonkeyPatch, plan: str) -> None:
-    """Where the compiled plan, assembly or pruning refuse (NotImplemented), the Python
-    code makes the children: a tracker whose compiled parts refuse every call (or whose
-    plan is the Python one's and the assembly and pruning refuse) holds the hypotheses and
+    """Where the compiled plan, node making, assembly or pruning refuse (NotImplemented),
+    the Python code makes the children: a tracker whose compiled parts refuse every call
+    (or whose plan is the Python one's and the others refuse) holds the hypotheses and
     reports the tracks of one without them (built or not)."""
     from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
     from laserpeople.tracking.mht.core import MHT
 
-    calls = {"plan": 0, "assemble": 0, "prune": 0}
+    calls = {"plan": 0, "assemble": 0, "prune": 0, "make": 0}
 
     def part(name: str) -> Any:
         def refuse_or_plan(*args: Any) -> Any:
@@ -370,7 +370,7 @@ def test_refused_children_go_to_the_python_code(monkeypatch: pytest.MonkeyPatch,
         return refuse_or_plan
 
     names = {"plan": "COMPILED_PLAN_PLAIN", "assemble": "COMPILED_ASSEMBLE_PLAIN",
-             "prune": "COMPILED_PRUNE"}  # fmt: skip
+             "prune": "COMPILED_PRUNE", "make": "COMPILED_MAKE_PLAIN"}  # fmt: skip
     refusing, without = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
 
     def hypotheses(tracker: LegMHTTracker) -> list[list[int]]:
@@ -385,6 +385,105 @@ def test_refused_children_go_to_the_python_code(monkeypatch: pytest.MonkeyPatch,
         out_without = without.update(d)
         assert hypotheses(refusing) == hypotheses(without)
         _same_tracks(out_refusing, out_without)
-    assert calls["plan"] > 50 and calls["prune"] > 50
+    assert calls["plan"] > 50 and calls["prune"] > 50 and calls["make"] > 50
     # (a refused plan leaves the assembly to Python without asking the compiled one)
     assert (calls["assemble"] > 50) == (plan == "planned") == (calls["assemble"] > 0)
+
+
+def test_compiled_node_making_is_the_pythons(
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two leg MHTs stepped side by side over a scene of six walkers with clutter, one
+    making its general path's detected children and new tracks by the compiled
+    ``make_plain``, one by ``MHT._make_detected_children`` and ``MHT._new_nodes``: after
+    every scan the same live nodes, every field the same (ids, families, parents,
+    measurements, hits, misses, ages, stamps, labels, log-likelihoods to the bit: one
+    float read from the same table), the same hypotheses and the same reported tracks;
+    the compiled one took every call, over 200."""
+    from laserpeople.tracking.legs import LegMHTTracker, LegTrackerParams
+
+    fast, slow = LegMHTTracker(LegTrackerParams()), LegMHTTracker(LegTrackerParams())
+    calls = {"compiled": 0, "python": 0}
+
+    def counted(*args: Any) -> Any:
+        out = clisting.make_plain(*args)
+        calls["python" if out is NotImplemented else "compiled"] += 1
+        return out
+
+    fields = ("node_id", "family", "parent_id", "measurement", "hits", "misses", "age",
+              "stamp", "detected_stamp", "label", "loglik")  # fmt: skip
+
+    def nodes(tracker: LegMHTTracker) -> list[Any]:
+        return [
+            (tuple(getattr(n, f) for f in fields), n.mean.tobytes(), n.cov.tobytes())
+            for ns in tracker.mht.tree.nodes_by_family.values()
+            for n in ns
+        ]
+
+    for d in walkers_scene(21, 1.5).detections:
+        monkeypatch.setattr(listing, "COMPILED_MAKE_PLAIN", counted)
+        out_fast = fast.update(d)
+        monkeypatch.setattr(listing, "COMPILED_MAKE_PLAIN", None)
+        out_slow = slow.update(d)
+        assert nodes(fast) == nodes(slow), d.scan_index
+        hyps = [[[t.node_id for t in h.tracks] for h in c.hypotheses] for c in fast.mht.clusters]
+        assert hyps == [[[t.node_id for t in h.tracks] for h in c.hypotheses]
+                        for c in slow.mht.clusters]  # fmt: skip
+        _same_tracks(out_fast, out_slow)
+    assert calls["compiled"] > 200 and calls["python"] == 0
+
+
+def test_compiled_node_making_leaves_other_input_to_python(clisting: ModuleType) -> None:
+    """``make_plain`` by hand: the detected child of each pair (its fields from its parent,
+    its log-likelihood from the table's row of the parent and column of the measurement,
+    stored among the parent's children and listed with it) and the new tracks in the order
+    of their measurements (ids after the children's, families from the counter); input the
+    Python code takes (a node not scored this scan, a measurement outside the table or not
+    an int, a table not of float64, a birth not keyed by its measurement) returns
+    NotImplemented with nothing made."""
+    import itertools
+
+    from laserpeople.tracking.mht.tracktree import TrackNode
+
+    deferred = np.full(0, np.nan)
+    loglik = np.array([[-1.0, -2.0, -3.0], [-4.0, -5.0, -6.0]])
+    parent = TrackNode(7, 3, 1, np.zeros(4), np.eye(4), 0.5, "detected", 0, 4, 0, 9)
+    other = TrackNode(8, 5, 2, np.zeros(4), np.eye(4), 0.5, "occluded", -1, 2, 1, 3)
+    ids, fams = itertools.count(100), itertools.count(40)
+
+    def call(pairs: Any, born: Any, table: Any = loglik, rows: Any = None) -> Any:
+        made: list[Any] = []
+        births: list[Any] = []
+        rows = {7: 1, 8: 0} if rows is None else rows
+        out = clisting.make_plain(pairs, born, table, rows, TrackNode, ids.__next__,
+                                  fams.__next__, 1.5, deferred, "detected", "new", made,
+                                  births)  # fmt: skip
+        return out, made, births
+
+    m = object()  # (the measurement set: passed through, never read)
+    out, made, births = call([(parent, 2, m, 2), (other, 0, m, 0)], {1: (m, 1, 1), 0: (m, 0, 0)})
+    child, child2 = parent.children[2], other.children[0]
+    assert [(c.node_id, c.family, c.parent_id, c.measurement, c.hits, c.misses, c.age, c.loglik)
+            for c in (child, child2)] == [(100, 3, 7, 2, 5, 0, 10, -6.0),
+                                          (101, 5, 8, 0, 3, 0, 4, -1.0)]  # fmt: skip
+    assert child.stamp == child.detected_stamp == 1.5 and child.label == "detected"
+    assert child.mean is deferred and child.payload is None
+    assert made == [(child, parent, 2), (child2, other, 0)]
+    assert list(out) == [0, 1] and [(n.node_id, n.family) for n in out.values()] == [
+        (102, 40),
+        (103, 41),
+    ]
+    assert out[0].label == "new" and out[0].parent_id == -1 and out[0].measurement == 0
+    assert births == [(out[0], 0), (out[1], 1)]
+    for pairs, born, table, rows in (
+        ([(parent, 1, m, 1)], {}, loglik, {8: 0}),  # the parent not scored
+        ([(parent, 1, m, 3)], {}, loglik, None),  # beyond the table
+        ([(parent, 1, m, -1)], {}, loglik, None),  # (numpy's last column: Python's)
+        ([(parent, 1, m, 1.0)], {}, loglik, None),
+        ([(parent, 1, m, 1)], {}, loglik.astype(np.float32), None),
+        ([(parent, 1, m, 1)], {0: (m, 1, 1)}, loglik, None),  # birth keyed otherwise
+    ):
+        before = dict(parent.children)
+        out, made, births = call(pairs, born, table, rows)
+        assert out is NotImplemented and made == births == [] and parent.children == before
+    assert next(ids) == 104 and next(fams) == 42  # (no id taken by a refused call)

@@ -373,6 +373,54 @@ def test_compiled_components_leave_refused_input_to_python(
     ]
 
 
+def test_compiled_detection_costs_are_numpys(
+    clisting: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The compiled detection costs of a scan are numpy's to the bit (one addition and a
+    negation per pair: the same IEEE operations on any CPU): random tables of 0-40 nodes
+    and 0-30 measurements with infinities and NaNs among the log-likelihoods, and by hand
+    (the detected column, not another, and inf where not gated); arrays it does not take
+    raise ValueError and :func:`core._detection_costs` gives numpy's for them."""
+    from laserpeople.tracking.mht import core
+
+    rng = np.random.default_rng(35)
+    for _ in range(800):
+        t, m = int(rng.integers(0, 41)), int(rng.integers(0, 31))
+        gated = rng.random((t, m)) < 0.4
+        loglik = rng.normal(-3.0, 40.0, (t, m))
+        loglik[rng.random((t, m)) < 0.05] = -np.inf
+        loglik[rng.random((t, m)) < 0.02] = np.nan
+        lp = np.log(rng.dirichlet((1.0, 1.0, 1.0), t)).reshape(t, 3)
+        out = np.empty((t, m))
+        clisting.detection_costs(gated, loglik, lp, out)
+        want = core._detection_costs_python(gated, loglik, lp)
+        assert out.tobytes() == want.tobytes()
+        assert core._detection_costs(gated, loglik, lp).tobytes() == want.tobytes()
+    lp = np.log(np.array([[0.5, 0.25, 0.25], [0.2, 0.7, 0.1]]))
+    got = core._detection_costs(np.array([[True, False], [False, True]]), np.ones((2, 2)), lp)
+    assert got[0, 0] == -(math.log(0.5) + 1.0) and got[1, 1] == -(math.log(0.2) + 1.0)
+    assert got[0, 1] == got[1, 0] == INF
+    gated, loglik = np.ones((3, 2), dtype=bool), np.zeros((3, 2))
+    for bad in (
+        (gated, loglik, np.zeros((3, 2)), np.empty((3, 2))),  # lp not (T, 3)
+        (gated, loglik[:2], np.zeros((3, 3)), np.empty((3, 2))),  # rows differ
+        (gated.T.copy(), loglik, np.zeros((3, 3)), np.empty((3, 2))),  # gated (M, T)
+        (gated, loglik, np.zeros((3, 3)), np.empty((2, 3))),  # out (M, T)
+        (gated.astype(np.float64), loglik, np.zeros((3, 3)), np.empty((3, 2))),
+    ):
+        with pytest.raises(ValueError):
+            clisting.detection_costs(*bad)
+    strided = np.zeros((3, 4))[:, ::2]  # (not C-contiguous: numpy's path)
+    lp = np.log(np.full((3, 3), 1 / 3))
+    assert np.array_equal(
+        core._detection_costs(gated, strided, lp), core._detection_costs_python(gated, strided, lp)
+    )
+    monkeypatch.setattr(listing, "COMPILED_DETECTION_COSTS", None)
+    assert np.array_equal(
+        core._detection_costs(gated, loglik, lp), core._detection_costs_python(gated, loglik, lp)
+    )
+
+
 def test_pure_python_switch(monkeypatch: pytest.MonkeyPatch) -> None:
     """LASERPEOPLE_PURE_PYTHON set (not to 0) runs the Python listing, and says so."""
     monkeypatch.setenv(compiled.PURE_PYTHON, "1")

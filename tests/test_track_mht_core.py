@@ -463,3 +463,47 @@ def test_listing_costs_are_each_clusters_own_measurements_rates(
     mht = MHT(MHTParams(), KalmanPointModel(KalmanParams()), labels)  # type: ignore[arg-type]
     run_targets(mht, 60)
     assert later >= 4  # clusters whose measurements do not start the scan's list
+
+
+def test_settled_links_go_and_the_others_stay() -> None:
+    """``MHT._drop_settled_links`` by hand: a link goes when either family's cluster has a
+    single hypothesis, when one of its families has no cluster any more, or when both
+    clusters are N-scan pruned (every hypothesis N ancestors deep) and the link is at
+    least N + 1 generations old; every other link stays, in its order."""
+    from laserpeople.tracking.legs import LegMHTTracker
+    from laserpeople.tracking.mht.hypothesis import Cluster
+
+    mht = LegMHTTracker().mht
+    n = mht.params.depth
+    deep, shallow = tuple(range(n)), tuple(range(n - 1))
+
+    def cluster(families: set[int], hyps: int, ancestors: tuple[int, ...]) -> Cluster:
+        return Cluster(frozenset(families), [Hypothesis(-1.0, (), ancestors) for _ in range(hyps)])
+
+    single = cluster({1}, 1, deep)  # one hypothesis: nothing uncertain
+    pruned_a, pruned_b = cluster({2, 5}, 2, deep), cluster({3}, 3, deep)
+    young = cluster({4}, 2, shallow)  # formed lately: not N-scan pruned yet
+    mht.clusters = [single, pruned_a, pruned_b, young]
+    mht.generation = 20
+    settled_before = mht.generation - 1 - n  # links made then or earlier are settled
+    mht.links = {
+        (1, 2): mht.generation - 1,  # goes: family 1's cluster is single
+        (2, 3): settled_before,  # goes: both pruned, old enough
+        (3, 5): settled_before + 1,  # stays: too recent
+        (2, 4): settled_before - 3,  # stays: family 4's cluster is not pruned
+        (3, 9): settled_before + 1,  # goes: family 9 has no cluster
+        (5, 3): settled_before - 1,  # goes: both pruned, old enough
+        (4, 5): mht.generation - 1,  # stays
+    }
+    cluster_of = {f: c for c in mht.clusters for f in c.families}
+    mht._drop_settled_links(cluster_of)
+    assert list(mht.links.items()) == [
+        ((3, 5), settled_before + 1),
+        ((2, 4), settled_before - 3),
+        ((4, 5), mht.generation - 1),
+    ]
+    mht._drop_settled_links(cluster_of)  # (what stays is not settled: the same again)
+    assert list(mht.links) == [(3, 5), (2, 4), (4, 5)]
+    mht.links = {}
+    mht._drop_settled_links(cluster_of)
+    assert mht.links == {}

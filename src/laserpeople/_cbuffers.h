@@ -1,4 +1,5 @@
-/* Buffer helpers shared by the C extensions (detection/_cfeatures.c, tracking/_ckalman.c):
+/* Buffer helpers shared by the C extensions (detection/_cfeatures.c, tracking/_ckalman.c,
+ * tracking/mht/_clisting.c's detection costs and node making):
  * numpy arrays (or any object with the buffer protocol) taken as C-contiguous doubles,
  * 64-bit integers or bools, and released. setup.py compiles the checksum of each source
  * followed by this header into its extension (extensions.source_hash), so a changed header

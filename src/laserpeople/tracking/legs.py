@@ -307,13 +307,12 @@ class LegMHTTracker:
         self.last_stats = self.mht.step(meas, detections.stamp)
         if self.last_stats.degraded_clusters:
             self.guard.degraded(detections.scan_index)
-        probs = self.mht.best_probabilities()
-        best = self.mht.best_tracks()
-        nodes = {n.family: n for n in best}  # (one node per family)
+        # (one node per family, by family; the probability of each family's cluster)
+        best, probs = self.mht.best_nodes()
         stamp = detections.stamp
         unseen = [n.unseen_for(stamp) for n in best]  # (once per node: output and people)
         if self.person_tracks is None:
-            legs = {f: LegState(f, n.mean, n.cov, probs.get(f, 1.0)) for f, n in nodes.items()}
+            legs = {n.family: LegState(n.family, n.mean, n.cov, probs[n.family]) for n in best}
             persons = self.people.update(legs, detections.stamp)
             self.labels.approved = self.people.approved_legs
         else:
@@ -321,23 +320,18 @@ class LegMHTTracker:
             self.labels.approved = self.person_tracks.approved_legs
         # legs unseen for too long stay in the MHT and the person layer, but are not reported
         limit = self.params.max_report_unseen
-        shown = {n.family for n, u in zip(best, unseen, strict=True) if u <= limit}
-        n_tracks = len(nodes) + len(persons)
+        nodes = [n for n, u in zip(best, unseen, strict=True) if u <= limit]
+        shown = {n.family for n in nodes}
+        n_tracks = len(best) + len(persons)
         persons = [p for p in persons if any(m in shown for m in p.members)]
-        nodes = {k: v for k, v in nodes.items() if k in shown}
         self.hidden_tracks = n_tracks - len(nodes) - len(persons)
         self.leg_ids_reported.prune(self.mht.tree.nodes_by_family)
-        self.leg_ids_reported.add(nodes)
+        self.leg_ids_reported.add(shown)
+        # (positional: track_id, kind, position, velocity, covariance, size, labels, score;
+        # a sixth of the cost of passing them by keyword)
         leg_tracks = [
-            Track(
-                track_id=f,
-                kind="leg",
-                position=n.mean[:2],
-                velocity=n.mean[2:4],
-                covariance=n.cov[:2, :2],
-                score=probs.get(f, 1.0),
-            )
-            for f, n in nodes.items()
+            Track(n.family, "leg", n.mean[:2], n.mean[2:4], n.cov[:2, :2], 1, "", probs[n.family])
+            for n in nodes
         ]
         assert self.frame is not None
         return Tracks(
@@ -355,13 +349,13 @@ class LegMHTTracker:
         the time [s] each is unseen for."""
         assert self.person_tracks is not None
         stamp = detections.stamp
-        kept = self._kept
+        kept = self._kept.tolist()  # (plain ints: no numpy scalar per leg)
         rows = [
             (
                 n.family,
                 n.mean,
                 u,
-                int(kept[n.measurement])
+                kept[n.measurement]
                 if n.label != OCCLUDED and n.measurement >= 0 and n.stamp == stamp
                 else -1,
             )

@@ -1,5 +1,7 @@
 /* The leg MHT's depth-first listing of a cluster's k best children, compiled (and, at the
- * end of this file, the scan's clusters, `components`, the occupancy grid's static time
+ * end of this file, the general path's children: their plan, nodes, hypotheses and pruning,
+ * `plan_plain`, `make_plain`, `assemble_plain`, `prune`; a scan's detection costs,
+ * `detection_costs`; the scan's clusters, `components`, the occupancy grid's static time
  * of a few positions, `static_few`, a frame's distances from its laser, `grid_frame`,
  * its cells hit by a frame, `grid_hits`, `grid_mark`,
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
@@ -23,6 +25,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "../../_cbuffers.h"
 
 #ifndef LP_SOURCE_HASH
 #define LP_SOURCE_HASH ""
@@ -2474,6 +2478,239 @@ done:
     return children;
 }
 
+/* MHT._make_detected_children and MHT._new_nodes_deferred of the plain MHT (its states
+ * deferred): per pair (node, j, measurements, jl) of `pairs`, in order, the detected
+ * child TrackNode(new_node_id(), node.family, node.node_id, deferred, deferred, stamp,
+ * detected, jl, node.hits + 1, 0, node.age + 1, loglik[row_of[node.node_id], jl], None),
+ * stored as node.children[j] and appended to `made` as (child, node, jl); then per
+ * measurement of `born` ({j: (measurements, j, origin)}) in increasing order the new
+ * TrackNode(new_node_id(), new_family(), -1, deferred, deferred, stamp, new_label, origin),
+ * appended to `births` as (node, j). Returns {j: new node}, or NotImplemented (nothing
+ * made) for input the Python code takes: a node not in row_of, an index that is not an
+ * int within loglik (T, M) (C-contiguous float64), a birth not keyed by its index. */
+static PyObject *make_plain(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 13) {
+        PyErr_SetString(PyExc_TypeError,
+                        "make_plain(pairs, born, loglik, row_of, TrackNode, new_node_id, "
+                        "new_family, stamp, deferred, detected, new_label, made, births)");
+        return NULL;
+    }
+    PyObject *pairs = args[0], *born = args[1], *row_of = args[3], *node_type = args[4];
+    PyObject *new_id = args[5], *new_family = args[6], *stamp = args[7], *deferred = args[8];
+    PyObject *detected = args[9], *new_label = args[10], *made = args[11], *births = args[12];
+    if (!PyList_CheckExact(pairs) || !PyDict_CheckExact(born) || !PyDict_CheckExact(row_of) ||
+        !PyList_CheckExact(made) || !PyList_CheckExact(births)) {
+        PyErr_SetString(PyExc_TypeError, "make_plain: lists and dicts expected");
+        return NULL;
+    }
+    if (plain_names() < 0) return NULL;
+    static PyObject *hits_name = NULL, *age_name = NULL, *one = NULL, *zero = NULL;
+    if (!hits_name && !(hits_name = PyUnicode_InternFromString("hits"))) return NULL;
+    if (!age_name && !(age_name = PyUnicode_InternFromString("age"))) return NULL;
+    if (!one && !(one = PyLong_FromLong(1))) return NULL;
+    if (!zero && !(zero = PyLong_FromLong(0))) return NULL;
+    Buf b;
+    memset(&b, 0, sizeof b);
+    Py_ssize_t n_pairs = PyList_GET_SIZE(pairs), n_born = PyDict_GET_SIZE(born);
+    Py_ssize_t *rows = PyMem_Malloc(sizeof(Py_ssize_t) * (size_t)(n_pairs ? n_pairs : 1));
+    PyObject *order = NULL, *out = NULL;
+    int ok = 0;
+    if (!rows) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    if (PyObject_GetBuffer(args[2], &b.view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear();
+        goto done;
+    }
+    b.held = 1;
+    if (b.view.ndim != 2 || b.view.itemsize != 8 || !b.view.format ||
+        strcmp(b.view.format, "d") != 0)
+        goto done;
+    Py_ssize_t t = b.view.shape[0], m = b.view.shape[1];
+    const double *ll = b.view.buf;
+    /* checked before anything is made */
+    for (Py_ssize_t p = 0; p < n_pairs; p++) {
+        PyObject *item = PyList_GET_ITEM(pairs, p);
+        if (!PyTuple_CheckExact(item) || PyTuple_GET_SIZE(item) != 4) goto done;
+        PyObject *jl = PyTuple_GET_ITEM(item, 3);
+        if (!PyLong_CheckExact(jl)) goto done;
+        Py_ssize_t j = PyLong_AsSsize_t(jl);
+        if (j == -1 && PyErr_Occurred()) {
+            PyErr_Clear();
+            goto done;
+        }
+        PyObject *node_id = PyObject_GetAttr(PyTuple_GET_ITEM(item, 0), node_id_name);
+        if (!node_id) goto done;
+        PyObject *row = PyDict_GetItemWithError(row_of, node_id);
+        Py_DECREF(node_id);
+        if (!row) {
+            PyErr_Clear();
+            goto done;
+        }
+        Py_ssize_t r = PyLong_CheckExact(row) ? PyLong_AsSsize_t(row) : -1;
+        if (r == -1) PyErr_Clear();
+        if (r < 0 || r >= t || j < 0 || j >= m) goto done;
+        rows[p] = r * m + j;
+    }
+    order = PyList_New(0);
+    if (!order) goto done;
+    {
+        Py_ssize_t pos = 0;
+        PyObject *key, *value;
+        while (PyDict_Next(born, &pos, &key, &value)) {
+            if (!PyTuple_CheckExact(value) || PyTuple_GET_SIZE(value) != 3) goto done;
+            PyObject *j = PyTuple_GET_ITEM(value, 1);
+            if (!PyLong_CheckExact(j) || PyList_Append(order, j) < 0) goto done;
+        }
+    }
+    if (PyList_Sort(order) < 0) goto done;
+    for (Py_ssize_t a = 0; a < n_born; a++) {
+        PyObject *v = PyDict_GetItemWithError(born, PyList_GET_ITEM(order, a));
+        if (!v) { /* (not keyed by its index: Python's KeyError) */
+            PyErr_Clear();
+            goto done;
+        }
+    }
+    ok = 1;
+    for (Py_ssize_t p = 0; p < n_pairs; p++) {
+        PyObject *item = PyList_GET_ITEM(pairs, p);
+        PyObject *node = PyTuple_GET_ITEM(item, 0), *j = PyTuple_GET_ITEM(item, 1);
+        PyObject *jl = PyTuple_GET_ITEM(item, 3);
+        PyObject *a[13] = {NULL};
+        a[0] = PyObject_CallNoArgs(new_id);
+        if (a[0]) a[1] = PyObject_GetAttr(node, family_name);
+        if (a[1]) a[2] = PyObject_GetAttr(node, node_id_name);
+        PyObject *hits = a[2] ? PyObject_GetAttr(node, hits_name) : NULL;
+        if (hits) {
+            a[8] = PyNumber_Add(hits, one);
+            Py_DECREF(hits);
+        }
+        PyObject *age = a[8] ? PyObject_GetAttr(node, age_name) : NULL;
+        if (age) {
+            a[10] = PyNumber_Add(age, one);
+            Py_DECREF(age);
+        }
+        if (a[10]) a[11] = PyFloat_FromDouble(ll[rows[p]]);
+        PyObject *child = NULL;
+        if (a[11]) {
+            a[3] = deferred;
+            a[4] = deferred;
+            a[5] = stamp;
+            a[6] = detected;
+            a[7] = jl;
+            a[9] = zero;
+            a[12] = Py_None;
+            child = PyObject_Vectorcall(node_type, a, 13, NULL);
+        }
+        Py_XDECREF(a[0]);
+        Py_XDECREF(a[1]);
+        Py_XDECREF(a[2]);
+        Py_XDECREF(a[8]);
+        Py_XDECREF(a[10]);
+        Py_XDECREF(a[11]);
+        if (!child) goto done;
+        PyObject *kids = PyObject_GetAttr(node, children_name);
+        int bad = !kids || PyObject_SetItem(kids, j, child) < 0;
+        Py_XDECREF(kids);
+        PyObject *entry = bad ? NULL : PyTuple_Pack(3, child, node, jl);
+        bad = !entry || PyList_Append(made, entry) < 0;
+        Py_XDECREF(entry);
+        Py_DECREF(child);
+        if (bad) goto done;
+    }
+    out = PyDict_New();
+    if (!out) goto done;
+    for (Py_ssize_t a = 0; a < n_born; a++) {
+        PyObject *j = PyList_GET_ITEM(order, a);
+        PyObject *v = PyDict_GetItemWithError(born, j);
+        if (!v) {
+            if (!PyErr_Occurred()) PyErr_SetObject(PyExc_KeyError, j);
+            goto done;
+        }
+        PyObject *c[8] = {NULL};
+        c[0] = PyObject_CallNoArgs(new_id);
+        if (c[0]) c[1] = PyObject_CallNoArgs(new_family);
+        PyObject *node = NULL;
+        if (c[1]) {
+            c[2] = minus_one;
+            c[3] = deferred;
+            c[4] = deferred;
+            c[5] = stamp;
+            c[6] = new_label;
+            c[7] = PyTuple_GET_ITEM(v, 2);
+            node = PyObject_Vectorcall(node_type, c, 8, NULL);
+        }
+        Py_XDECREF(c[0]);
+        Py_XDECREF(c[1]);
+        if (!node) goto done;
+        PyObject *entry = PyTuple_Pack(2, node, j);
+        int bad = !entry || PyDict_SetItem(out, j, node) < 0 || PyList_Append(births, entry) < 0;
+        Py_XDECREF(entry);
+        Py_DECREF(node);
+        if (bad) goto done;
+    }
+done:
+    PyMem_Free(rows);
+    release(&b, 1);
+    Py_XDECREF(order);
+    if (!ok && !PyErr_Occurred()) {
+        Py_XDECREF(out);
+        Py_RETURN_NOTIMPLEMENTED;
+    }
+    if (PyErr_Occurred()) {
+        Py_XDECREF(out);
+        return NULL;
+    }
+    return out;
+}
+
+/* MHT's detection costs of a scan, core._detection_costs: out[i, j] = -(lp[i, 0] +
+ * loglik[i, j]) where gated[i, j], else inf; (T, M) bools, (T, M) and (T, 3) doubles in,
+ * (T, M) doubles out (C-contiguous; ValueError otherwise). The same IEEE operations as
+ * numpy's `np.where(gated, -(lp[:, 0, None] + loglik), inf)`. */
+static PyObject *detection_costs(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "detection_costs(gated, loglik, lp, out)");
+        return NULL;
+    }
+    Buf b[4];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    if (take(args[2], &b[2], 0, 0, -1, "lp") < 0 || take(args[1], &b[1], 0, 0, -1, "loglik") < 0)
+        goto done;
+    if (b[2].view.ndim != 2 || b[2].view.shape[1] != 3 || b[1].view.ndim != 2 ||
+        b[1].view.shape[0] != b[2].view.shape[0]) {
+        PyErr_SetString(PyExc_ValueError, "detection_costs: lp (T, 3), loglik (T, M) expected");
+        goto done;
+    }
+    Py_ssize_t t = b[1].view.shape[0], m = b[1].view.shape[1];
+    if (take_bools(args[0], &b[0], t * m, "gated") < 0 ||
+        take(args[3], &b[3], 0, 1, t * m, "out") < 0)
+        goto done;
+    for (int a = 0; a < 4; a += 3)
+        if (b[a].view.ndim != 2 || b[a].view.shape[0] != t || b[a].view.shape[1] != m) {
+            PyErr_SetString(PyExc_ValueError, "detection_costs: gated and out (T, M) expected");
+            goto done;
+        }
+    const char *gated = b[0].view.buf;
+    const double *ll = b[1].view.buf, *lp = b[2].view.buf;
+    double *out = b[3].view.buf;
+    for (Py_ssize_t i = 0; i < t; i++) {
+        double lp_det = lp[3 * i + DETECTED];
+        for (Py_ssize_t j = 0; j < m; j++) {
+            Py_ssize_t at = i * m + j;
+            out[at] = gated[at] ? -(lp_det + ll[at]) : INFINITY;
+        }
+    }
+    result = Py_NewRef(Py_None);
+done:
+    release(b, 4);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -2535,6 +2772,14 @@ static PyMethodDef methods[] = {
      "assemble_plain(solutions, parents, tracks_of, meas_list, new_nodes, occluded_child, "
      "stamp, Hypothesis, n_scan, logaddexp): MHT._assemble's children (models=False) by "
      "their node ids, before pruning, or NotImplemented for solutions the Python code takes."},
+    {"make_plain", (PyCFunction)(void (*)(void))make_plain, METH_FASTCALL,
+     "make_plain(pairs, born, loglik, row_of, TrackNode, new_node_id, new_family, stamp, "
+     "deferred, detected, new_label, made, births): MHT._make_detected_children and "
+     "MHT._new_nodes_deferred of the plain MHT, the new nodes by index, or NotImplemented "
+     "(nothing made) for input the Python code takes."},
+    {"detection_costs", (PyCFunction)(void (*)(void))detection_costs, METH_FASTCALL,
+     "detection_costs(gated, loglik, lp, out): core._detection_costs of a scan written to "
+     "out (T, M): -(lp[:, 0] + loglik) where gated, inf elsewhere."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

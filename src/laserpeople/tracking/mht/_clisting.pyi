@@ -178,3 +178,26 @@ def assemble_plain(
     logaddexp: Callable[[float, float], Any],
     /,
 ) -> dict[tuple[int, ...], Hypothesis] | NotImplementedType: ...
+def make_plain(
+    pairs: list[tuple[TrackNode, Hashable, Any, int]],
+    born: dict[Hashable, tuple[Any, int, int]],
+    loglik: NDArray[np.float64],
+    row_of: dict[int, int],
+    node_type: type[TrackNode],
+    new_node_id: Callable[[], int],
+    new_family: Callable[[], int],
+    stamp: float,
+    deferred: NDArray[np.float64],
+    detected: str,
+    new_label: str,
+    made: list[tuple[TrackNode, TrackNode, int]],
+    births: list[tuple[TrackNode, int]],
+    /,
+) -> dict[Hashable, TrackNode] | NotImplementedType: ...
+def detection_costs(
+    gated: NDArray[np.bool_],
+    loglik: NDArray[np.float64],
+    lp: NDArray[np.float64],
+    out: NDArray[np.float64],
+    /,
+) -> None: ...

@@ -25,6 +25,7 @@ best hypothesis because clusters are independent).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Hashable, Iterable, Sequence, Sized
 from dataclasses import dataclass, replace
@@ -328,7 +329,23 @@ def _max_gap(min_ratio: float) -> float:
 
 
 def _detection_costs(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
-    """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log)."""
+    """``-(log p_det + log N)`` (n, m) where gated, inf elsewhere (000 eq. 15 in -log):
+    by the compiled one (:data:`~.listing.COMPILED_DETECTION_COSTS`, one call instead of
+    four numpy calls on a few dozen pairs) where it is built and takes the arrays, else
+    :func:`_detection_costs_python`, its reference (the same floats)."""
+    compiled = listing.COMPILED_DETECTION_COSTS
+    if compiled is not None:
+        out = np.empty(gated.shape)
+        try:
+            compiled(gated, loglik, lp, out)
+        except ValueError:  # (not C-contiguous, or not of the shapes expected)
+            return _detection_costs_python(gated, loglik, lp)
+        return out
+    return _detection_costs_python(gated, loglik, lp)
+
+
+def _detection_costs_python(gated: BoolArray, loglik: FloatArray, lp: FloatArray) -> FloatArray:
+    """:func:`_detection_costs` in numpy."""
     return np.where(gated, -(lp[:, DETECTED, None] + loglik), np.inf)
 
 
@@ -377,6 +394,7 @@ class MHT(Generic[Meas]):
         self._plain_made = False
         self._log_rates: tuple[FloatArray, FloatArray] = (np.empty(0), np.empty(0))
         self._expiry = ExpiryOdds()  # existence odds by label probabilities and misses
+        self._gap = _max_gap(params.ratio)  # ratio pruning's cost gap, set each step
         self._solves = 0  # this step's assignment problems solved
         self._degraded = 0  # this step's degraded clusters
         self._largest = 0  # this step's largest cluster problem (tracks + measurements)
@@ -394,19 +412,30 @@ class MHT(Generic[Meas]):
 
     def best_tracks(self) -> list[TrackNode]:
         """Track nodes of the best hypothesis (best of every cluster), by family."""
-        out = [t for c in self.clusters for t in c.best().tracks]
-        out.sort(key=BY_FAMILY)
-        return out
+        return self.best_nodes()[0]
 
     def best_probabilities(self) -> dict[int, float]:
         """Family -> probability of its cluster's best hypothesis."""
-        return {
-            t.family: math.exp(c.best().log_weight) for c in self.clusters for t in c.best().tracks
-        }
+        return self.best_nodes()[1]
+
+    def best_nodes(self) -> tuple[list[TrackNode], dict[int, float]]:
+        """:meth:`best_tracks` and :meth:`best_probabilities` in one pass over the
+        clusters (the probability of each cluster's best hypothesis computed once)."""
+        out: list[TrackNode] = []
+        probs: dict[int, float] = {}
+        for c in self.clusters:
+            best = c.hypotheses[0]  # (Cluster.best)
+            p = math.exp(best.log_weight)
+            for t in best.tracks:
+                probs[t.family] = p
+            out += best.tracks
+        out.sort(key=BY_FAMILY)
+        return out, probs
 
     def step(self, measurements: Meas, stamp: float) -> StepStats:
         """Process one scan's measurements taken at ``stamp`` [s]."""
         self._solves = self._degraded = self._largest = self._most_solves = 0
+        self._gap = _max_gap(self.params.ratio)
         live = [n for nodes in self.tree.nodes_by_family.values() for n in nodes]
         if live:
             self.model.predict(live, stamp)
@@ -424,12 +453,13 @@ class MHT(Generic[Meas]):
         self._defer = plain and self.deferred_states
         self._prepare_children(live, gated, measurements, stamp)
         fam_meas = self._family_gates(live, gated)
-        self._drop_settled_links()
+        cluster_of = {f: c for c in self.clusters for f in c.families}
+        self._drop_settled_links(cluster_of)
         parts = components(fam_meas, self.links, n_meas)
         log_new, log_fal = self.labels.measurement_log_rates(measurements)
         self._log_rates = (log_new, log_fal)
-        cluster_of = {f: c for c in self.clusters for f in c.families}
         new_clusters: list[Cluster] = []
+        live_nodes: dict[int, TrackNode] = {}  # (the clusters' nodes by id)
         for fams, meas_idx in parts:
             parents = self._parents(fams, cluster_of)
             lone = None
@@ -443,14 +473,16 @@ class MHT(Generic[Meas]):
                     parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
                 )
             children = lone if lone is not None else self._branch(
-                parents, measurements, np.asarray(meas_idx, dtype=np.intp), stamp,
-                gated, loglik, row_of, log_new, log_fal,
+                parents, measurements, meas_idx, stamp, gated, loglik, row_of, log_new, log_fal
             )  # fmt: skip
             self._link(children, fams, fam_meas, meas_idx)
-            families = frozenset(t.family for h in children for t in h.tracks)
-            if families:
+            # (the cluster's nodes, each once, by id: its families in the order of their
+            # first node, and the scan's live nodes in the order of the clusters)
+            nodes = {id(t): t for h in children for t in h.tracks}
+            if nodes:
+                families = frozenset([t.family for t in nodes.values()])
                 new_clusters.append(Cluster(families, children))
-        live_nodes = {id(t): t for c in new_clusters for h in c.hypotheses for t in h.tracks}
+                live_nodes.update(nodes)
         if self._defer:
             self._fill_deferred(measurements, stamp, live_nodes)
         self.clusters = self._expire(new_clusters, live_nodes.values())
@@ -464,7 +496,7 @@ class MHT(Generic[Meas]):
             n_clusters=len(self.clusters),
             n_hypotheses=int(sum(sizes)),
             max_cluster_hypotheses=max(sizes, default=0),
-            n_live_nodes=self.tree.n_nodes,
+            n_live_nodes=len(live_nodes),  # (tree.n_nodes: collect indexed each once)
             n_families=self.tree.n_families,
             families_created=self.tree.families_created,
             assignment_solves=self._solves,
@@ -507,40 +539,45 @@ class MHT(Generic[Meas]):
             out[live[i].family].add(j)
         return out
 
-    def _drop_settled_links(self) -> None:
-        """Forget links whose shared measurements are settled in every hypothesis.
+    def _drop_settled_links(self, cluster_of: dict[int, Cluster]) -> None:
+        """Forget links whose shared measurements are settled in every hypothesis
+        (``cluster_of``: each family's cluster).
 
         A cluster with a single hypothesis has nothing uncertain: all its links go. Once
         N-scan pruning has acted (every hypothesis has N ancestors) all hypotheses share the
         ancestor N generations back, which fixes every assignment up to then; a link made at
         or before that generation cannot make the parts' hypotheses inconsistent any more.
+        Each cluster's two questions are asked only for the clusters of linked families,
+        and whether it is pruned only where the answer can matter.
         """
+        if not self.links:
+            return
         n = self.params.depth
         settled_before = self.generation - 1 - n
-        settled: dict[int, bool] = {}
-        all_links: dict[int, bool] = {}
-        for c in self.clusters:
-            single = len(c.hypotheses) == 1
-            pruned = all(len(h.ancestors) >= n for h in c.hypotheses)
-            for f in c.families:
-                all_links[f] = single
-                settled[f] = pruned
+        pruned: dict[int, bool] = {}  # by id(cluster)
+
+        def settled(c: Cluster) -> bool:
+            got = pruned.get(id(c))
+            if got is None:
+                got = pruned[id(c)] = all(len(h.ancestors) >= n for h in c.hypotheses)
+            return got
+
         keep: dict[tuple[int, int], int] = {}
         for (a, b), last in self.links.items():
-            if a not in settled or b not in settled:
+            ca, cb = cluster_of.get(a), cluster_of.get(b)
+            if ca is None or cb is None:
                 continue  # a family died
-            if all_links[a] or all_links[b]:
+            if len(ca.hypotheses) == 1 or len(cb.hypotheses) == 1:
                 continue
-            if settled[a] and settled[b] and last <= settled_before:
+            if last <= settled_before and settled(ca) and settled(cb):
                 continue
             keep[(a, b)] = last
         self.links = keep
 
     def _parents(self, fams: frozenset[int], cluster_of: dict[int, Cluster]) -> list[Hypothesis]:
-        if len(fams) == 1:  # (most clusters: the general path below, without its objects)
-            (f,) = fams
-            c = cluster_of[f]
-            if c.families <= fams:
+        if fams:  # (most clusters: one cluster of the last scan, the same families)
+            c = cluster_of[next(iter(fams))]
+            if c.families == fams:  # (the general path below gives its hypotheses)
                 return c.hypotheses
         touching = list({id(c): c for f in fams for c in (cluster_of[f],)}.values())
         if not touching:
@@ -564,17 +601,20 @@ class MHT(Generic[Meas]):
         fam_meas: dict[int, set[int]],
         meas_idx: list[int],
     ) -> None:
+        if not meas_idx or not fams:  # (families without measurements, or one measurement)
+            return
         born = {t.measurement: t.family for h in children for t in h.tracks if t.label == NEW}
         if len(fams) + bool(born) < 2:  # no two families can share a measurement
             return
+        links, generation = self.links, self.generation
         for j in meas_idx:
             sharing = [f for f in fams if j in fam_meas[f]]
             if j in born:
                 sharing.append(born[j])
-            sharing.sort()
-            for x in range(len(sharing)):
-                for y in range(x + 1, len(sharing)):
-                    self.links[(sharing[x], sharing[y])] = self.generation
+            if len(sharing) > 1:  # every pair (x, y), x < y, in the order of x then y
+                sharing.sort()
+                for pair in itertools.combinations(sharing, 2):
+                    links[pair] = generation
 
     def _link_replaced(self, child: Sequence[TrackNode], parent: Sequence[TrackNode]) -> None:
         """Link families a child created other than from a new measurement (a model's split
@@ -596,7 +636,7 @@ class MHT(Generic[Meas]):
         self,
         parents: list[Hypothesis],
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         stamp: float,
         gated: BoolArray,
         loglik: FloatArray,
@@ -606,8 +646,9 @@ class MHT(Generic[Meas]):
     ) -> list[Hypothesis]:
         if type(self.branches) is SingleModel:
             return self._branch_plain(
-                parents, measurements, meas_idx, stamp, loglik, row_of, log_new, log_fal
+                parents, measurements, meas_list, stamp, loglik, row_of, log_new, log_fal
             )
+        meas_idx = np.asarray(meas_list, dtype=np.intp)
         # the branches (models) of every parent
         plans: list[tuple[Hypothesis, Branch]] = []
 
@@ -623,7 +664,7 @@ class MHT(Generic[Meas]):
         for pi, (_, branch) in enumerate(plans):
             obs = branch.observations
             partitions.setdefault(None if obs is None else obs.keys, []).append(pi)
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions: list[tuple[int, LabelledAssignment, float]] = []
         for members in partitions.values():
             found = self._k_best(
@@ -631,7 +672,7 @@ class MHT(Generic[Meas]):
                 [-(plans[pi][0].log_weight + plans[pi][1].log_prior) for pi in members],
                 plans[members[0]][1].observations,
                 measurements,
-                meas_idx,
+                meas_list,
                 row_of,
                 log_new,
                 log_fal,
@@ -644,7 +685,6 @@ class MHT(Generic[Meas]):
             solutions = [sol for sol in solutions[: self.params.k] if sol[2] <= best + max_gap]
 
         # make the children nodes each (node, label) needs, once, in batches
-        meas_list = meas_idx.tolist()
         # per plan: ids, scan origins and measurement set of its branch's observations
         plan_items: list[tuple[Sequence[Hashable], Sequence[int], Any, bool]] = []
         for _, branch in plans:
@@ -689,7 +729,7 @@ class MHT(Generic[Meas]):
         self,
         parents: list[Hypothesis],
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         stamp: float,
         loglik: FloatArray,
         row_of: dict[int, int],
@@ -697,23 +737,22 @@ class MHT(Generic[Meas]):
         log_fal: FloatArray,
     ) -> list[Hypothesis]:
         """:meth:`_branch` of the plain MHT (one branch per parent: its own tracks, prior
-        1, the cluster's measurements): the same children, nodes and ids in the same order,
-        without the branch objects and their bookkeeping."""
+        1, the cluster's measurements ``meas_list``): the same children, nodes and ids in the
+        same order, without the branch objects and their bookkeeping."""
         tracks_of = [p.tracks for p in parents]
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions = self._k_best(
             tracks_of,
             [-(p.log_weight + 0.0) for p in parents],  # (+ the single branch's log prior)
             None,
             measurements,
-            meas_idx,
+            meas_list,
             row_of,
             log_new,
             log_fal,
             max_gap,
         )
         # make the children nodes each (node, label) needs, once, in batches
-        meas_list = meas_idx.tolist()
         plan, assemble = listing.COMPILED_PLAN_PLAIN, listing.COMPILED_ASSEMBLE_PLAIN
         planned = NotImplemented
         if plan is not None:  # (the same pairs and births, or NotImplemented)
@@ -722,8 +761,7 @@ class MHT(Generic[Meas]):
             pairs, born = self._plan_plain(solutions, tracks_of, meas_list, measurements)
         else:
             pairs, born = planned
-        self._make_detected_children(pairs, measurements, stamp, loglik, row_of)
-        new_nodes = self._new_nodes(born, measurements, stamp)
+        new_nodes = self._make_plain(pairs, born, measurements, stamp, loglik, row_of)
 
         if assemble is not None and planned is not NotImplemented:
             children = assemble(
@@ -736,6 +774,31 @@ class MHT(Generic[Meas]):
         return self._assemble(
             solutions, parents, tracks_of, [meas_list] * n, [0] * n, new_nodes, stamp, models=False
         )
+
+    def _make_plain(
+        self,
+        pairs: list[tuple[TrackNode, Hashable, Any, int]],
+        born: dict[Hashable, tuple[Any, int, int]],
+        measurements: Meas,
+        stamp: float,
+        loglik: FloatArray,
+        row_of: dict[int, int],
+    ) -> dict[Hashable, TrackNode]:
+        """:meth:`_make_detected_children` of ``pairs``, then :meth:`_new_nodes` of
+        ``born``: by the compiled one (:data:`~.listing.COMPILED_MAKE_PLAIN`) where the
+        states are deferred, which makes the same nodes with the same ids in the same
+        order, else (and for input it leaves to Python) by those two."""
+        made = listing.COMPILED_MAKE_PLAIN
+        if made is not None and self._defer:
+            tree = self.tree
+            new_nodes = made(
+                pairs, born, loglik, row_of, TrackNode, tree.new_node_id, tree.new_family,
+                stamp, _DEFERRED, NODE_DETECTED, NEW, self._deferred, self._deferred_births,
+            )  # fmt: skip
+            if new_nodes is not NotImplemented:
+                return new_nodes
+        self._make_detected_children(pairs, measurements, stamp, loglik, row_of)
+        return self._new_nodes(born, measurements, stamp)
 
     @staticmethod
     def _plan_plain(
@@ -908,7 +971,7 @@ class MHT(Generic[Meas]):
             c_del.append(-float(lp_live[row, DELETED]))
         meas = (-float(log_new[j]), -float(log_fal[j])) if m else None
         priors = [-(p.log_weight + 0.0) for p in parents]  # the single branch's log prior is 0
-        max_gap = _max_gap(self.params.ratio)
+        max_gap = self._gap
         solutions = single_children(priors, rows_of, tm, c_occ, c_del, meas, self.params.k, max_gap)
         # the nodes, in the order _branch makes them: detected children, new track, occluded
         to_update: list[tuple[TrackNode, Hashable, Any, int]] = []
@@ -970,7 +1033,7 @@ class MHT(Generic[Meas]):
         detected = prior + tm
         if not (math.isfinite(detected) and math.isfinite(prior)):
             return None
-        limit = detected + _max_gap(self.params.ratio)
+        limit = detected + self._gap
         lp = self._lp_live
         c_new, c_fal = -float(log_new[j]), -float(log_fal[j])
         for c in (-float(lp[row, OCCLUDED]), -float(lp[row, DELETED])):
@@ -989,7 +1052,7 @@ class MHT(Generic[Meas]):
         priors: list[float],
         obs: BranchObservations | None,
         measurements: Meas,
-        meas_idx: NDArray[np.intp],
+        meas_list: list[int],
         row_of: dict[int, int],
         log_new: FloatArray,
         log_fal: FloatArray,
@@ -997,13 +1060,13 @@ class MHT(Generic[Meas]):
     ) -> list[tuple[int, LabelledAssignment, float]]:
         """The k best children of parents (or branches) with tracks ``tracks_of`` and costs
         ``priors`` (-log weight, with the model prior) that all see the same observations
-        (``obs``, or the cluster's measurements when None); parent indices of the result
-        index ``tracks_of``."""
+        (``obs``, or the cluster's measurements ``meas_list`` when None); parent indices of
+        the result index ``tracks_of``."""
         compiled = listing.COMPILED_K_BEST
         if obs is None and compiled is not None:  # (the same children, or NotImplemented)
             _, occ_all, del_all, new_all, fal_all = self._scan_plain()
             out = compiled(
-                tracks_of, priors, row_of, self._cost_live, meas_idx.tolist(), occ_all,
+                tracks_of, priors, row_of, self._cost_live, meas_list, occ_all,
                 del_all, new_all, fal_all, self.params.k, max_gap, self.shortcuts,
                 self.params.max_cluster_size,
             )  # fmt: skip
@@ -1011,6 +1074,7 @@ class MHT(Generic[Meas]):
                 solutions, size = out
                 self._largest = max(self._largest, size)
                 return solutions
+        meas_idx = np.asarray(meas_list, dtype=np.intp)
         uniq: dict[int, int] = {}
         nodes_u: list[TrackNode] = []
         rows_of: list[list[int]] = []  # each parent's tracks as indices into nodes_u

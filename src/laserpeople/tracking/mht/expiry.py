@@ -96,6 +96,10 @@ class ExpiryOdds:
         rows = log_probs.tolist()
         keys = [(r[OCCLUDED], r[DELETED], n.misses) for n, r in zip(nodes, rows, strict=True)]
         table = self._odds
+        try:  # (the usual call: every pair met before, none at 0 misses: one pass)
+            return {n.node_id for n, k in zip(nodes, keys, strict=True) if table[k] < log_ratio}
+        except KeyError:  # (a pair not met yet, or 0 misses, which is never in the table)
+            pass
         new = list(dict.fromkeys(k for k in keys if k[2] > 0 and k not in table))
         if new:
             if len(table) + len(new) > self.limit:  # full: start afresh with this call's

@@ -54,7 +54,8 @@ class Hypothesis:
     log_weight: float
     tracks: tuple[TrackNode, ...]
     ancestors: tuple[Hashable, ...] = ()
-    hypothesis_id: int = field(default_factory=new_hypothesis_id)
+    # (the counter's own __next__, new_hypothesis_id's ids without a Python call each)
+    hypothesis_id: int = field(default_factory=_hypothesis_ids.__next__)
     model: int = 0
 
     def families(self) -> tuple[int, ...]:

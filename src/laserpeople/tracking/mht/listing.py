@@ -96,6 +96,13 @@ COMPILED_ASSEMBLE_PLAIN = None if _extension is None else _extension.assemble_pl
 """The compiled ``MHT._assemble`` of the plain MHT before its pruning (the same children,
 made in the same order by the same calls), or None: it returns NotImplemented for solutions
 the Python one takes (not the listing's)."""
+COMPILED_MAKE_PLAIN = None if _extension is None else _extension.make_plain
+"""The compiled ``MHT._make_detected_children`` and ``MHT._new_nodes_deferred`` of the
+plain MHT (the same nodes, ids and order), or None: it returns NotImplemented (nothing
+made) for input the Python code takes."""
+COMPILED_DETECTION_COSTS = None if _extension is None else _extension.detection_costs
+"""The compiled ``core._detection_costs_python`` (the same floats), written to an array
+given, or None."""
 COMPILED_STATIC_FEW = None if _extension is None else _extension.static_few
 """The compiled ``OccupancyGrid._static_few_python`` (the same values), or None: it
 returns NotImplemented where the Python one decides otherwise."""

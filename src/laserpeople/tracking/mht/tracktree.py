@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Hashable, Iterable
+from collections.abc import Callable, Hashable, Iterable
 from dataclasses import dataclass, field
 from operator import attrgetter
 from typing import Any
@@ -90,6 +90,8 @@ class TrackTree:
 
     def __init__(self) -> None:
         self._node_ids = itertools.count()
+        self.new_node_id: Callable[[], int] = self._node_ids.__next__
+        """A fresh node id (the counter's own ``__next__``: no Python call per node)."""
         self._family_ids = itertools.count()
         self.nodes_by_family: dict[int, list[TrackNode]] = {}
         self.families_created = 0
@@ -98,10 +100,6 @@ class TrackTree:
         """A fresh track identity."""
         self.families_created += 1
         return next(self._family_ids)
-
-    def new_node_id(self) -> int:
-        """A fresh node id."""
-        return next(self._node_ids)
 
     def collect(self, live: Iterable[TrackNode]) -> None:
         """Rebuild the index from the nodes still referred to by a hypothesis; everything

@@ -78,7 +78,7 @@ def test_compiled_segmentation_of_a_block_is_the_reference(
     cfeatures: ModuleType, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     rng = np.random.default_rng(3)
-    wrapped = segments = 0
+    wrapped = segments = most = 0
     for _ in range(150):
         scans = _scans(rng, int(rng.integers(2, 18)))
         for threshold in _thresholds(rng, scans):
@@ -96,7 +96,9 @@ def test_compiled_segmentation_of_a_block_is_the_reference(
                 assert np.array_equal(a.points, b.points)
                 wrapped += int(len(a) > 0 and a.segment(0).stop > a.n_beams)
             segments += got.offsets.size - 1
+            most = max(most, got.offsets.size - 1)
     assert segments > 100000 and wrapped > 300
+    assert most > 1024  # (a block with more segments than the extension's first buffer)
 
 
 def test_compiled_segmentation_checks_its_arguments(cfeatures: ModuleType) -> None:

@@ -106,8 +106,9 @@ class SegmentTable:
         last = self.beams[hi - 1]
         stop = last + 1 + np.where(last >= first, 0, self.n_beams)
         beams, points = _read_only(self.beams), _read_only(self.points)
+        of = Segment.of
         return tuple(
-            Segment(f, t, beams[a:b], points[a:b])
+            of(f, t, beams[a:b], points[a:b])
             for a, b, f, t in zip(
                 lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
             )
@@ -225,9 +226,9 @@ class SegmentBlock:
         n_beams = np.array([t.n_beams for t in self.tables], dtype=np.int64)[owner]
         stop = last + 1 + np.where(last >= first, 0, n_beams)
         base = self.point_starts[owner]
-        tables = self.tables
+        tables, of = self.tables, Segment.of
         return [
-            Segment(f, t, tables[q].beams[a:b], tables[q].points[a:b])
+            of(f, t, tables[q].beams[a:b], tables[q].points[a:b])
             for q, a, b, f, t in zip(
                 owner.tolist(),
                 (lo - base).tolist(),

@@ -734,28 +734,31 @@ static PyObject *segment(PyObject *self, PyObject *const *args, Py_ssize_t nargs
         }
     int direct = !(1e-150 < threshold && threshold < 1e150);
     double limit = threshold * threshold;
-    Py_ssize_t m = 0;
-    for (Py_ssize_t q = 0; q < t; q++) { /* (counted first: the outputs' sizes) */
-        if (bounds[q + 1] > bounds[q]) m++;
-        for (Py_ssize_t i = bounds[q] + 1; i < bounds[q + 1]; i++)
-            m += is_jump(P, i, threshold, direct, limit);
-    }
-    offsets = PyMem_Malloc((size_t)(m + 1) * sizeof(long long));
+    Py_ssize_t cap = 1024; /* (offsets grown as needed: most of a block's points are no start) */
+    offsets = PyMem_Malloc((size_t)cap * sizeof(long long));
     parts[1] = PyBytes_FromStringAndSize(NULL, (t + 1) * 8);
     parts[3] = PyBytes_FromStringAndSize(NULL, (t > 0 ? t : 0) * 8);
     if (!offsets) PyErr_NoMemory();
     if (!offsets || !parts[1] || !parts[3]) goto done;
     long long *starts = (long long *)PyBytes_AS_STRING(parts[1]),
               *wrapped = (long long *)PyBytes_AS_STRING(parts[3]);
-    m = 0;
+    Py_ssize_t m = 0;
     for (Py_ssize_t q = 0; q < t; q++) {
         Py_ssize_t a = bounds[q], e = bounds[q + 1], first = m;
         starts[q] = m;
         wrapped[q] = 0;
-        if (e > a) {
-            offsets[m++] = a;
-            for (Py_ssize_t i = a + 1; i < e; i++)
-                if (is_jump(P, i, threshold, direct, limit)) offsets[m++] = i;
+        for (Py_ssize_t i = a; i < e; i++) {
+            if (i > a && !is_jump(P, i, threshold, direct, limit)) continue;
+            if (m + 1 >= cap) { /* (room for this start and K after the last) */
+                long long *more = PyMem_Realloc(offsets, (size_t)(2 * cap) * sizeof(long long));
+                if (!more) {
+                    PyErr_NoMemory();
+                    goto done;
+                }
+                offsets = more;
+                cap *= 2;
+            }
+            offsets[m++] = i;
         }
         if (wrap[q] && m - first > 1 &&
             hypot(P[2 * a] - P[2 * e - 2], P[2 * a + 1] - P[2 * e - 1]) < threshold) {

@@ -62,15 +62,23 @@ def _scans(rng: np.random.Generator, count: int) -> list[Scan]:
 
 
 def _thresholds(rng: np.random.Generator, scans: list[Scan]) -> list[float]:
-    """A random jump distance and the length of a step of the block (and the floats either
-    side of it), where the rule decides by a hair."""
+    """A random jump distance, the length of a step of the block and the distance between
+    the ends of a full circle (and the floats either side of each), where the rules decide
+    by a hair."""
     pts = np.concatenate([s.valid_points("sensor")[0] for s in scans])
     out = [float(rng.uniform(0.05, 1.0))]
+    lengths = []
     if pts.shape[0] > 1:
         d = pts[1:] - pts[:-1]
-        step = float(np.hypot(*d[int(rng.integers(0, d.shape[0]))]))
-        if step > 0.0:
-            out += [step, float(np.nextafter(step, 0.0)), float(np.nextafter(step, np.inf))]
+        lengths.append(float(np.hypot(*d[int(rng.integers(0, d.shape[0]))])))
+    for scan in scans:
+        ends = scan.valid_points("sensor")[0]
+        if segmentation.covers_full_circle(scan) and ends.shape[0] > 1:
+            lengths.append(float(np.hypot(*(ends[0] - ends[-1]))))  # (where it wraps)
+            break
+    for x in lengths:
+        if x > 0.0:
+            out += [x, float(np.nextafter(x, 0.0)), float(np.nextafter(x, np.inf))]
     return out
 
 
@@ -142,3 +150,30 @@ def test_compiled_sparse_legs_check_their_arguments(cfeatures: ModuleType) -> No
         cfeatures.sparse(offsets, beams, points, starts, ranges, valid, *args)
     with pytest.raises(ValueError, match="lists"):
         cfeatures.sparse(offsets, beams, points, starts, ranges, [], *args)
+
+
+def test_compiled_sparse_legs_decide_at_the_rules_edges_as_the_reference(
+    cfeatures: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a leg of two beams (5.0 and 5.0625 m, 2^-6 rad apart) between walls exactly the jump
+    # distance (0.25 m) farther: a sparse leg, as ">=" decides; with a leg width of exactly
+    # three beam spacings (5.03125 * 2^-6 m; every value a binary fraction) none, as "<"
+    # decides, and one again a float narrower; with a leg width of exactly the leg's two
+    # points' distance one, as "<=" decides, and none a float narrower
+    ranges = np.array([5.25] * 10 + [5.0, 5.0625] + [5.3125] * 10)
+    jump, increment = 0.25, 2.0**-6
+    scans = [Scan(0.0, -0.2, increment, ranges, 0.05, 30.0)] * 2
+    block = segment_block(scans, JumpDistanceParams(threshold=jump))
+    exactly_three = 3.0 * (0.5 * (5.0 + 5.0625) * increment)
+    below = float(np.nextafter(exactly_three, 0.0))
+    points = scans[0].valid_points("sensor")[0]
+    span = float(np.hypot(*(points[11] - points[10])))
+    legs = []
+    for width in (0.12, exactly_three, below, span, float(np.nextafter(span, 0.0))):
+        params = SparseLegParams(leg_width=width)
+        monkeypatch.setattr(sparse, "_extension", None)
+        want = sparse_legs_of_block(block, scans, jump, params)
+        monkeypatch.setattr(sparse, "_extension", cfeatures)
+        assert sparse_legs_of_block(block, scans, jump, params).tolist() == want.tolist()
+        legs.append(want.size)
+    assert legs == [2, 0, 2, 2, 0]  # (a leg in each scan, or none)

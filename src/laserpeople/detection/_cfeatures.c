@@ -893,7 +893,7 @@ static PyObject *sparse(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
             }
             double r0 = ranges[first], r1 = ranges[last];
             double spacing = 0.5 * (r0 + r1) * increment[q];
-            if (!isnan(spacing) && spacing < 1e-12) spacing = 1e-12;
+            if (spacing < 1e-12) spacing = 1e-12; /* (NaN stays: np.maximum's, no leg) */
             if (!(leg_width / spacing < MIN_POINTS)) continue;
             int distinct = 1 + (size == 2) * (r0 != r1);
             if (distinct < min_points) continue;

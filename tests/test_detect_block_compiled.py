@@ -1,6 +1,7 @@
 """A block's segmentation and sparse legs by the C extension (``_cfeatures.segment`` and
 ``_cfeatures.sparse``) against their Python references (``segmentation._block_starts`` and
-``sparse._sparse``) on random blocks of scans.
+``sparse._sparse``) on random blocks of scans, and a scan's validity and points
+(``_cfeatures.scan_points``) against numpy's.
 
 Both are integers and decisions (segment starts, reordered rows of the scans' own
 coordinates, segment indices), so they are compared exactly; the random scans are coarse
@@ -18,6 +19,7 @@ import numpy as np
 import pytest
 
 from laserpeople import extensions, segmentation
+from laserpeople import scan as scan_module
 from laserpeople.detection import compiled, sparse
 from laserpeople.detection.sparse import SparseLegParams, sparse_legs_of_block
 from laserpeople.scan import Scan
@@ -177,3 +179,36 @@ def test_compiled_sparse_legs_decide_at_the_rules_edges_as_the_reference(
         assert sparse_legs_of_block(block, scans, jump, params).tolist() == want.tolist()
         legs.append(want.size)
     assert legs == [2, 0, 2, 2, 0]  # (a leg in each scan, or none)
+
+
+def test_compiled_scan_points_are_numpys(
+    cfeatures: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # random ranges round the limits (NaN, inf, 0, negative, exactly range_min and
+    # range_max) and angles; the same masks, indices and floats (NaN rows where invalid),
+    # to the bit
+    rng = np.random.default_rng(13)
+    valid_beams = 0
+    for _ in range(300):
+        n = int(rng.integers(0, 400))
+        lo, hi = float(rng.uniform(0.0, 0.5)), float(rng.choice([10.0, 30.0, math.inf]))
+        pool = np.array([math.nan, math.inf, -math.inf, 0.0, -1.0, lo, hi, 1e300])
+        ranges = rng.uniform(-1.0, 40.0, n)
+        odd = rng.random(n) < 0.2
+        ranges[odd] = rng.choice(pool, int(np.count_nonzero(odd)))
+        step = float(rng.choice([-1.0, 1.0]) * rng.uniform(1e-4, 0.1))
+        args = (0.1, float(rng.uniform(-4.0, 4.0)), step, ranges, lo, hi)
+        monkeypatch.setattr(scan_module, "_extension", None)
+        want = Scan(*args)
+        monkeypatch.setattr(scan_module, "_extension", cfeatures)
+        got = Scan(*args)
+        got_points, want_points = got.points("sensor"), want.points("sensor")
+        assert got.valid.tolist() == want.valid.tolist()
+        assert got.valid.flags.writeable and not got_points.flags.writeable
+        assert got_points.tobytes() == want_points.tobytes()  # (NaN rows too)
+        (gv, gb), (wv, wb) = got.valid_points("sensor"), want.valid_points("sensor")
+        assert gb.tolist() == wb.tolist() and gb.dtype == wb.dtype == np.int64
+        assert gv.tobytes() == wv.tobytes() and gv.shape == wv.shape
+        assert not gv.flags.writeable and not gb.flags.writeable
+        valid_beams += gb.size
+    assert valid_beams > 20000

@@ -2,7 +2,9 @@
  * block of scans in one call per pass, arrays in, arrays out (and, at the end of this file,
  * the AdaBoost margins of adaboost._StumpTables.evaluate: the groups' table values at
  * each value's rank, added in group order as its cumulative sum adds them; before them
- * the jumps between neighbouring points of segmentation.at_least).
+ * a scan's validity and points (scan.Scan's cached arrays), the jumps between neighbouring
+ * points of segmentation.at_least, the segments of a block of scans
+ * (segmentation._block_starts) and its sparse legs (detection/sparse.py's _sparse)).
  *
  * The same IEEE double operations in the same order as the numpy reference (build with
  * -ffp-contract=off: no fused multiply-add):
@@ -628,6 +630,65 @@ done:
     return result;
 }
 
+/* ---- a scan's points ---- */
+
+/* scan_points(ranges, range_min, range_max, cos, sin) -> (valid, points, beams, valid_points)
+ * Scan's cached arrays of one scan of N beams (ranges, cos, sin (N,) float64): whether
+ * each beam is valid (finite, above 0, within [range_min, range_max]; a bytearray of N
+ * bools, as Scan.valid), the sensor-frame points (N, 2) with NaN rows for invalid beams (r
+ * cos and r sin, one product each, as Scan._sensor_points), the valid beams' indices (K,)
+ * int64 and their points (K, 2) (bytes). */
+static PyObject *scan_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "scan_points(ranges, range_min, range_max, cos, sin)");
+        return NULL;
+    }
+    Buf b[3];
+    memset(b, 0, sizeof(b));
+    PyObject *result = NULL, *parts[4] = {NULL, NULL, NULL, NULL};
+    double lo = PyFloat_AsDouble(args[1]);
+    if (lo == -1.0 && PyErr_Occurred()) return NULL;
+    double hi = PyFloat_AsDouble(args[2]);
+    if (hi == -1.0 && PyErr_Occurred()) return NULL;
+    if (take(args[0], &b[0], 0, 0, -1, "ranges") < 0) goto done;
+    Py_ssize_t n = b[0].view.len / 8;
+    if (take(args[3], &b[1], 0, 0, n, "cos") < 0 || take(args[4], &b[2], 0, 0, n, "sin") < 0)
+        goto done;
+    const double *r = b[0].view.buf, *c = b[1].view.buf, *s = b[2].view.buf;
+    parts[0] = PyByteArray_FromStringAndSize(NULL, n);
+    parts[1] = PyBytes_FromStringAndSize(NULL, 16 * n);
+    if (!parts[0] || !parts[1]) goto done;
+    char *valid = PyByteArray_AS_STRING(parts[0]);
+    double *points = (double *)PyBytes_AS_STRING(parts[1]);
+    Py_ssize_t k = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = r[i];
+        valid[i] = (char)(isfinite(x) && x > 0.0 && x >= lo && x <= hi);
+        k += valid[i];
+        double v = valid[i] ? x : NAN;
+        points[2 * i] = v * c[i];
+        points[2 * i + 1] = v * s[i];
+    }
+    parts[2] = PyBytes_FromStringAndSize(NULL, 8 * k);
+    parts[3] = PyBytes_FromStringAndSize(NULL, 16 * k);
+    if (!parts[2] || !parts[3]) goto done;
+    long long *beams = (long long *)PyBytes_AS_STRING(parts[2]);
+    double *kept = (double *)PyBytes_AS_STRING(parts[3]);
+    for (Py_ssize_t i = 0, j = 0; i < n; i++)
+        if (valid[i]) {
+            beams[j] = i;
+            kept[2 * j] = points[2 * i];
+            kept[2 * j + 1] = points[2 * i + 1];
+            j++;
+        }
+    result = PyTuple_Pack(4, parts[0], parts[1], parts[2], parts[3]);
+done:
+    for (int i = 0; i < 4; i++) Py_XDECREF(parts[i]);
+    release(b, 3);
+    return result;
+}
+
 /* ---- segmentation ---- */
 
 #define NEAR 1e-12 /* segmentation.NEAR */
@@ -1019,6 +1080,9 @@ static PyMethodDef methods[] = {
     {"jumps", (PyCFunction)(void (*)(void))jumps, METH_FASTCALL,
      "jumps(points, threshold, out): segmentation.at_least of the steps between "
      "neighbouring points into out."},
+    {"scan_points", (PyCFunction)(void (*)(void))scan_points, METH_FASTCALL,
+     "scan_points(ranges, range_min, range_max, cos, sin) -> (valid, points, beams, "
+     "valid_points): a scan's validity and points (see the source)."},
     {"segment", (PyCFunction)(void (*)(void))segment, METH_FASTCALL,
      "segment(points, beams, bounds, wrap, threshold) -> (offsets, table_starts, local, "
      "wrapped): segmentation.segment_block's segments of a block of scans (see the source)."},

@@ -82,3 +82,11 @@ def sparse(
     jump_distance: float,
     /,
 ) -> bytes: ...
+def scan_points(
+    ranges: NDArray[np.float64],
+    range_min: float,
+    range_max: float,
+    cos: NDArray[np.float64],
+    sin: NDArray[np.float64],
+    /,
+) -> tuple[bytearray, bytes, bytes, bytes]: ...

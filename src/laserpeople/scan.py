@@ -17,12 +17,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
+from types import ModuleType
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.detection import compiled
 from laserpeople.errors import ScanFormatError
 
 if TYPE_CHECKING:
@@ -39,8 +39,22 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
 
-_extension = compiled.EXTENSION
-"""Leg detection's C extension (a scan's validity and points in one call), or None."""
+_UNSET = object()
+_extension: object = _UNSET
+"""Leg detection's C extension (a scan's validity and points in one call), or None;
+looked up at the first scan's arrays (:func:`_points_extension`)."""
+
+
+def _points_extension() -> ModuleType | None:
+    """Leg detection's C extension, or None (its Python references run), imported when a
+    scan first needs it: reading recordings does not import the detector."""
+    global _extension
+    if _extension is _UNSET:
+        from laserpeople.detection import compiled
+
+        _extension = compiled.EXTENSION
+    assert _extension is None or isinstance(_extension, ModuleType)
+    return _extension
 
 
 Layout = tuple[float, float, int]
@@ -276,7 +290,7 @@ class Scan:
     @cached_property
     def valid(self) -> BoolArray:
         """Validity mask (N,): finite, non-zero and inside [range_min, range_max]."""
-        if _extension is not None:
+        if _points_extension() is not None:
             return self._compiled_points()[0]
         r = self.ranges
         # (no np.errstate: numpy 2's comparisons raise no floating-point warning on NaN,
@@ -293,10 +307,11 @@ class Scan:
         :attr:`_valid_sensor_points` at once by leg detection's C extension (the same
         arrays, in one pass over the beams instead of some ten numpy calls), stored as
         those cached properties."""
-        assert _extension is not None
+        extension = _points_extension()
+        assert extension is not None
         cos, sin = self._directions()
         ranges = np.ascontiguousarray(self.ranges, dtype=np.float64)
-        parts = _extension.scan_points(ranges, self.range_min, self.range_max, cos, sin)
+        parts = extension.scan_points(ranges, self.range_min, self.range_max, cos, sin)
         valid = np.frombuffer(parts[0], dtype=np.bool_)  # (writable, as numpy's mask)
         points = np.frombuffer(parts[1], dtype=np.float64).reshape(-1, 2)
         beams = np.frombuffer(parts[2], dtype=np.int64)
@@ -312,7 +327,7 @@ class Scan:
 
     @cached_property
     def _sensor_points(self) -> FloatArray:
-        if _extension is not None:
+        if _points_extension() is not None:
             return self._compiled_points()[1]
         r = np.where(self.valid, self.ranges, np.nan)
         cos, sin = self._directions()
@@ -334,7 +349,7 @@ class Scan:
     @cached_property
     def valid_beams(self) -> IntArray:
         """Indices (K,) of the valid beams, increasing (read-only)."""
-        if _extension is not None:
+        if _points_extension() is not None:
             return self._compiled_points()[2]
         idx = np.flatnonzero(self.valid).astype(np.int64)
         idx.setflags(write=False)
@@ -342,7 +357,7 @@ class Scan:
 
     @cached_property
     def _valid_sensor_points(self) -> FloatArray:
-        if _extension is not None:
+        if _points_extension() is not None:
             return self._compiled_points()[3]
         # (take along rows: the rows of ``[idx]`` at a tenth of its cost on ~700 beams)
         pts = self._sensor_points.take(self.valid_beams, axis=0)

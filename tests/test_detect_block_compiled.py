@@ -198,15 +198,15 @@ def test_compiled_scan_points_are_numpys(
         ranges[odd] = rng.choice(pool, int(np.count_nonzero(odd)))
         step = float(rng.choice([-1.0, 1.0]) * rng.uniform(1e-4, 0.1))
         args = (0.1, float(rng.uniform(-4.0, 4.0)), step, ranges, lo, hi)
-        monkeypatch.setattr(scan_module, "_extension", None)
-        want = Scan(*args)
-        monkeypatch.setattr(scan_module, "_extension", cfeatures)
-        got = Scan(*args)
-        got_points, want_points = got.points("sensor"), want.points("sensor")
-        assert got.valid.tolist() == want.valid.tolist()
-        assert got.valid.flags.writeable and not got_points.flags.writeable
+        arrays = []
+        for extension in (None, cfeatures):  # (the arrays are computed when first asked)
+            monkeypatch.setattr(scan_module, "_extension", extension)
+            scan = Scan(*args)
+            arrays.append((scan.valid, scan.points("sensor"), scan.valid_points("sensor")))
+        (want_valid, want_points, (wv, wb)), (valid, got_points, (gv, gb)) = arrays
+        assert valid.tolist() == want_valid.tolist()
+        assert valid.flags.writeable and not got_points.flags.writeable
         assert got_points.tobytes() == want_points.tobytes()  # (NaN rows too)
-        (gv, gb), (wv, wb) = got.valid_points("sensor"), want.valid_points("sensor")
         assert gb.tolist() == wb.tolist() and gb.dtype == wb.dtype == np.int64
         assert gv.tobytes() == wv.tobytes() and gv.shape == wv.shape
         assert not gv.flags.writeable and not gb.flags.writeable

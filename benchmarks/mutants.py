@@ -100,7 +100,10 @@ PERSON = ("tests/test_track_person_tracks.py",)
 KALMAN = ("tests/test_track_kalman.py",)
 KALMAN_ROWS = ("tests/test_track_kalman_compiled.py",)
 DEFERRED = ("tests/test_detect_deferred.py",)
-SPARSE = ("tests/test_detect_sparse.py",)
+SPARSE = (
+    "tests/test_detect_sparse.py",
+    "tests/test_detect_block_compiled.py",  # (the Python reference against the extension)
+)
 FEATURES = (
     "tests/test_detect_features_compiled.py",  # (the Python reference against the extension)
     "tests/test_detect_features_reference.py",
@@ -129,7 +132,11 @@ HALVES = (
 )
 SETTINGS = ("tests/test_paper_settings.py",)
 MOTION_MEDIAN = ("tests/test_pipeline_motion_median.py",)
-SEGMENTS = ("tests/test_detect_segmentation.py", "tests/test_detect_segment_block.py")
+SEGMENTS = (
+    "tests/test_detect_segmentation.py",
+    "tests/test_detect_segment_block.py",
+    "tests/test_detect_block_compiled.py",
+)
 BLOBS = ("tests/test_pipeline_moving_blobs.py", "tests/test_pipeline_leg_foreground.py")
 SHADOW = ("tests/test_track_groups_occlusion.py",)
 TORSO = ("tests/test_pipeline_torso_blobs.py",)

@@ -10,6 +10,7 @@ length and one float either side, where comparing squared lengths alone goes wro
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from types import ModuleType
 
@@ -18,7 +19,7 @@ import pytest
 
 from laserpeople import extensions, segmentation
 from laserpeople.detection import compiled
-from laserpeople.scan import Scan
+from laserpeople.scan import Scan, Segment
 from laserpeople.segmentation import (
     JumpDistanceParams,
     JumpDistanceSegmenter,
@@ -138,3 +139,14 @@ def test_block_segments_are_the_tables_segments() -> None:
             assert np.array_equal(s.points, t.points)
             assert not s.points.flags.writeable and not s.beams.flags.writeable
             assert not np.shares_memory(s.points, block.points)  # (the scans' own arrays)
+
+
+def test_segment_of_is_the_dataclass_built_by_hand() -> None:
+    beams, points = np.array([7, 8, 10]), np.array([[1.0, 2.0], [1.5, 2.5], [2.0, 3.0]])
+    got, want = Segment.of(7, 11, beams, points), Segment(7, 11, beams, points)
+    assert vars(got).keys() == vars(want).keys()  # (the same fields, in the same order)
+    assert (got.start, got.stop, len(got)) == (want.start, want.stop, len(want)) == (7, 11, 3)
+    assert got.beams is beams and got.points is points
+    assert got.centre.tolist() == [1.5, 2.5]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        got.start = 8  # type: ignore[misc]

@@ -106,8 +106,9 @@ class SegmentTable:
         last = self.beams[hi - 1]
         stop = last + 1 + np.where(last >= first, 0, self.n_beams)
         beams, points = _read_only(self.beams), _read_only(self.points)
+        of = Segment.of
         return tuple(
-            Segment(f, t, beams[a:b], points[a:b])
+            of(f, t, beams[a:b], points[a:b])
             for a, b, f, t in zip(
                 lo.tolist(), hi.tolist(), first.tolist(), stop.tolist(), strict=True
             )
@@ -225,9 +226,9 @@ class SegmentBlock:
         n_beams = np.array([t.n_beams for t in self.tables], dtype=np.int64)[owner]
         stop = last + 1 + np.where(last >= first, 0, n_beams)
         base = self.point_starts[owner]
-        tables = self.tables
+        tables, of = self.tables, Segment.of
         return [
-            Segment(f, t, tables[q].beams[a:b], tables[q].points[a:b])
+            of(f, t, tables[q].beams[a:b], tables[q].points[a:b])
             for q, a, b, f, t in zip(
                 owner.tolist(),
                 (lo - base).tolist(),
@@ -257,27 +258,10 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
     else:
         points = np.concatenate([pts for pts, _ in parts])
         beams = np.concatenate([idx for _, idx in parts]).astype(np.int64, copy=False)
-    threshold = params.threshold
-    is_start = np.zeros(k + 1, dtype=bool)  # (the step into a point is a jump)
-    if k > 1:
-        is_start[1:k] = jumps(points, threshold)
-    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
-    wrapped = set()
-    if params.wrap_around:
-        for q, full in enumerate(circle):
-            a, b = int(bounds[q]), int(bounds[q + 1])
-            if full and b > a and _wrap(points, beams, is_start, a, b, threshold):
-                wrapped.add(q)
-    is_start[k] = True
-    offsets = np.flatnonzero(is_start)  # (M + 1,): the segments' starts, then K
-    table_starts = np.searchsorted(offsets, bounds)
-    table_starts[-1] = offsets.size - 1
-    # each table's offsets from its own first point, one table after the other (M + T,)
-    counts = np.diff(table_starts)
-    owner = np.repeat(np.arange(len(scans)), counts)
-    local = np.empty(offsets.size - 1 + len(scans), dtype=np.int64)
-    local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
-    local[table_starts[1:] + np.arange(len(scans))] = sizes
+    wrap = [params.wrap_around and full for full in circle]
+    compiled = _extension is not None and points.dtype == np.float64
+    starts = _block_starts_compiled if compiled else _block_starts
+    offsets, table_starts, local, wrapped = starts(points, beams, bounds, wrap, params.threshold)
     for array in (points, beams, offsets, table_starts, local, bounds):
         array.flags.writeable = False
     lo, hi, at = bounds.tolist(), table_starts.tolist(), 0
@@ -288,13 +272,62 @@ def segment_block(scans: Sequence[Scan], params: JumpDistanceParams) -> SegmentB
             tables.append(SegmentTable.empty(scan.n_beams, n_invalid))
         else:
             pts, idx = parts[q]
-            if q in wrapped:  # (its reordered rows, copied: the block's die with it)
+            if wrapped[q]:  # (its reordered rows, copied: the block's die with it)
                 pts, idx = points[lo[q] : lo[q + 1]].copy(), beams[lo[q] : lo[q + 1]].copy()
                 pts.flags.writeable = idx.flags.writeable = False
             end = at + hi[q + 1] - hi[q] + 1
             tables.append(SegmentTable(idx, pts, local[at:end], scan.n_beams, n_invalid))
         at += hi[q + 1] - hi[q] + 1
     return SegmentBlock(tables, beams, points, offsets, table_starts, bounds, circle)
+
+
+_Starts = tuple[IntArray, IntArray, IntArray, list[bool]]
+"""A block's segments (:func:`_block_starts`): offsets (M + 1,), each scan's first segment
+(T + 1,), each scan's offsets from its own first point followed by its point count
+(M + T,), and whether each scan wrapped (T,)."""
+
+
+def _block_starts(
+    points: FloatArray, beams: IntArray, bounds: IntArray, wrap: list[bool], threshold: float
+) -> _Starts:
+    """The segments of the joined valid points (K, 2) [m] and beams (K,) of T scans, scan q's
+    at rows ``bounds[q]:bounds[q + 1]``: a segment starts at each scan's first point and at
+    every jump of ``threshold`` [m] (:func:`jumps`); a scan whose ``wrap`` is set has its
+    last segment merged into its first where its ends are close (:func:`_wrap`, points and
+    beams reordered in place). The Python reference of :func:`_block_starts_compiled`."""
+    k = points.shape[0]
+    is_start = np.zeros(k + 1, dtype=bool)  # (the step into a point is a jump)
+    if k > 1:
+        is_start[1:k] = jumps(points, threshold)
+    is_start[bounds[:-1]] = True  # (every scan's first point; an empty one's is the next's)
+    wrapped = [False] * len(wrap)
+    for q, full in enumerate(wrap):
+        a, b = int(bounds[q]), int(bounds[q + 1])
+        if full and b > a and _wrap(points, beams, is_start, a, b, threshold):
+            wrapped[q] = True
+    is_start[k] = True
+    offsets = np.flatnonzero(is_start)  # (M + 1,): the segments' starts, then K
+    table_starts = np.searchsorted(offsets, bounds)
+    table_starts[-1] = offsets.size - 1
+    # each table's offsets from its own first point, one table after the other (M + T,)
+    counts = np.diff(table_starts)
+    owner = np.repeat(np.arange(len(wrap)), counts)
+    local = np.empty(offsets.size - 1 + len(wrap), dtype=np.int64)
+    local[np.arange(offsets.size - 1) + owner] = offsets[:-1] - bounds[owner]
+    local[table_starts[1:] + np.arange(len(wrap))] = np.diff(bounds)
+    return offsets, table_starts, local, wrapped
+
+
+def _block_starts_compiled(
+    points: FloatArray, beams: IntArray, bounds: IntArray, wrap: list[bool], threshold: float
+) -> _Starts:
+    """:func:`_block_starts` by the C extension's ``segment`` in one call (the same
+    segments, the same reordered rows)."""
+    assert _extension is not None
+    flags = np.array(wrap, dtype=np.int64)
+    parts = _extension.segment(points, beams, bounds, flags, threshold)
+    offsets, table_starts, local, wrapped = (np.frombuffer(p, dtype=np.int64) for p in parts)
+    return offsets, table_starts, local, [w != 0 for w in wrapped.tolist()]
 
 
 def _table_of(scan: Scan, params: JumpDistanceParams, full_circle: bool) -> SegmentTable:

@@ -2,7 +2,9 @@
  * block of scans in one call per pass, arrays in, arrays out (and, at the end of this file,
  * the AdaBoost margins of adaboost._StumpTables.evaluate: the groups' table values at
  * each value's rank, added in group order as its cumulative sum adds them; before them
- * the jumps between neighbouring points of segmentation.at_least).
+ * a scan's validity and points (scan.Scan's cached arrays), the jumps between neighbouring
+ * points of segmentation.at_least, the segments of a block of scans
+ * (segmentation._block_starts) and its sparse legs (detection/sparse.py's _sparse)).
  *
  * The same IEEE double operations in the same order as the numpy reference (build with
  * -ffp-contract=off: no fused multiply-add):
@@ -628,9 +630,78 @@ done:
     return result;
 }
 
+/* ---- a scan's points ---- */
+
+/* scan_points(ranges, range_min, range_max, cos, sin) -> (valid, points, beams, valid_points)
+ * Scan's cached arrays of one scan of N beams (ranges, cos, sin (N,) float64): whether
+ * each beam is valid (finite, above 0, within [range_min, range_max]; a bytearray of N
+ * bools, as Scan.valid), the sensor-frame points (N, 2) with NaN rows for invalid beams (r
+ * cos and r sin, one product each, as Scan._sensor_points), the valid beams' indices (K,)
+ * int64 and their points (K, 2) (bytes). */
+static PyObject *scan_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "scan_points(ranges, range_min, range_max, cos, sin)");
+        return NULL;
+    }
+    Buf b[3];
+    memset(b, 0, sizeof(b));
+    PyObject *result = NULL, *parts[4] = {NULL, NULL, NULL, NULL};
+    double lo = PyFloat_AsDouble(args[1]);
+    if (lo == -1.0 && PyErr_Occurred()) return NULL;
+    double hi = PyFloat_AsDouble(args[2]);
+    if (hi == -1.0 && PyErr_Occurred()) return NULL;
+    if (take(args[0], &b[0], 0, 0, -1, "ranges") < 0) goto done;
+    Py_ssize_t n = b[0].view.len / 8;
+    if (take(args[3], &b[1], 0, 0, n, "cos") < 0 || take(args[4], &b[2], 0, 0, n, "sin") < 0)
+        goto done;
+    const double *r = b[0].view.buf, *c = b[1].view.buf, *s = b[2].view.buf;
+    parts[0] = PyByteArray_FromStringAndSize(NULL, n);
+    parts[1] = PyBytes_FromStringAndSize(NULL, 16 * n);
+    if (!parts[0] || !parts[1]) goto done;
+    char *valid = PyByteArray_AS_STRING(parts[0]);
+    double *points = (double *)PyBytes_AS_STRING(parts[1]);
+    Py_ssize_t k = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = r[i];
+        valid[i] = (char)(isfinite(x) && x > 0.0 && x >= lo && x <= hi);
+        k += valid[i];
+        double v = valid[i] ? x : NAN;
+        points[2 * i] = v * c[i];
+        points[2 * i + 1] = v * s[i];
+    }
+    parts[2] = PyBytes_FromStringAndSize(NULL, 8 * k);
+    parts[3] = PyBytes_FromStringAndSize(NULL, 16 * k);
+    if (!parts[2] || !parts[3]) goto done;
+    long long *beams = (long long *)PyBytes_AS_STRING(parts[2]);
+    double *kept = (double *)PyBytes_AS_STRING(parts[3]);
+    for (Py_ssize_t i = 0, j = 0; i < n; i++)
+        if (valid[i]) {
+            beams[j] = i;
+            kept[2 * j] = points[2 * i];
+            kept[2 * j + 1] = points[2 * i + 1];
+            j++;
+        }
+    result = PyTuple_Pack(4, parts[0], parts[1], parts[2], parts[3]);
+done:
+    for (int i = 0; i < 4; i++) Py_XDECREF(parts[i]);
+    release(b, 3);
+    return result;
+}
+
 /* ---- segmentation ---- */
 
 #define NEAR 1e-12 /* segmentation.NEAR */
+
+/* whether the step from point i - 1 to point i of P is a jump: jumps' rule */
+static inline int is_jump(const double *P, Py_ssize_t i, double threshold, int direct,
+                          double limit) {
+    double dx = P[2 * i] - P[2 * i - 2], dy = P[2 * i + 1] - P[2 * i - 1];
+    if (direct) return hypot(dx, dy) >= threshold;
+    double length = dx * dx + dy * dy;
+    if (fabs(length - limit) <= NEAR * limit) return hypot(dx, dy) >= threshold;
+    return length >= limit;
+}
 
 /* jumps(points, threshold, out) -> None
  * segmentation.at_least of the steps between neighbouring points (K, 2): out[i] (K - 1,)
@@ -667,24 +738,246 @@ static PyObject *jumps(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     char *out = b[1].view.buf;
     int direct = !(1e-150 < threshold && threshold < 1e150);
     double limit = threshold * threshold;
-    for (Py_ssize_t i = 1; i < k; i++) {
-        double dx = P[2 * i] - P[2 * i - 2], dy = P[2 * i + 1] - P[2 * i - 1];
-        int jump;
-        if (direct) {
-            jump = hypot(dx, dy) >= threshold;
-        } else {
-            double length = dx * dx + dy * dy;
-            if (fabs(length - limit) <= NEAR * limit)
-                jump = hypot(dx, dy) >= threshold;
-            else
-                jump = length >= limit;
-        }
-        out[i - 1] = (char)jump;
-    }
+    for (Py_ssize_t i = 1; i < k; i++) out[i - 1] = (char)is_jump(P, i, threshold, direct, limit);
     result = Py_None;
     Py_INCREF(result);
 done:
     release(b, 2);
+    return result;
+}
+
+/* segment(points, beams, bounds, wrap, threshold) -> (offsets, table_starts, local, wrapped)
+ * segmentation.segment_block's segments of T scans whose valid points (K, 2) and beams (K,)
+ * int64 are joined, scan q's at rows [bounds[q], bounds[q + 1]) (bounds (T + 1,) int64):
+ * a segment starts at every scan's first point and at every jump (is_jump, within the
+ * scan); where wrap[q] (T,) int64 is set, the scan has more than one segment and its first
+ * and last point lie closer than threshold (hypot, as segmentation._wrap), its last
+ * segment's rows are moved in front of its first (points and beams reordered in place) and
+ * the two are one. Returns, as bytes of int64: the M segments' first rows and K (M + 1),
+ * each scan's first segment and M (T + 1), each scan's segments' first rows counted from
+ * its own first row followed by its point count (M + T), and whether each scan wrapped
+ * (T). (Bytes sized to the result: arrays of K entries allocated per block cost more than
+ * the work, as glibc returns and maps their pages again.) */
+static PyObject *segment(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "segment(points, beams, bounds, wrap, threshold)");
+        return NULL;
+    }
+    Buf b[4];
+    memset(b, 0, sizeof(b));
+    PyObject *result = NULL, *parts[4] = {NULL, NULL, NULL, NULL};
+    long long *offsets = NULL;
+    double threshold = PyFloat_AsDouble(args[4]);
+    if (threshold == -1.0 && PyErr_Occurred()) return NULL;
+    if (take(args[0], &b[0], 0, 1, -1, "points") < 0) goto done;
+    Py_ssize_t k = b[0].view.len / 16;
+    if (b[0].view.len != 16 * k) {
+        PyErr_SetString(PyExc_ValueError, "points: expected (K, 2) float64");
+        goto done;
+    }
+    if (take(args[1], &b[1], 1, 1, k, "beams") < 0 ||
+        take(args[2], &b[2], 1, 0, -1, "bounds") < 0)
+        goto done;
+    Py_ssize_t t = b[2].view.len / 8 - 1;
+    if (t < 0 || take(args[3], &b[3], 1, 0, t, "wrap") < 0) goto done;
+    double *P = b[0].view.buf;
+    long long *beams = b[1].view.buf;
+    const long long *bounds = b[2].view.buf, *wrap = b[3].view.buf;
+    if (bounds[0] != 0 || bounds[t] != k) {
+        PyErr_SetString(PyExc_ValueError, "bounds do not cover the points");
+        goto done;
+    }
+    for (Py_ssize_t q = 0; q < t; q++)
+        if (bounds[q + 1] < bounds[q]) {
+            PyErr_SetString(PyExc_ValueError, "bounds do not increase");
+            goto done;
+        }
+    int direct = !(1e-150 < threshold && threshold < 1e150);
+    double limit = threshold * threshold;
+    Py_ssize_t cap = 1024; /* (offsets grown as needed: most of a block's points are no start) */
+    offsets = PyMem_Malloc((size_t)cap * sizeof(long long));
+    parts[1] = PyBytes_FromStringAndSize(NULL, (t + 1) * 8);
+    parts[3] = PyBytes_FromStringAndSize(NULL, (t > 0 ? t : 0) * 8);
+    if (!offsets) PyErr_NoMemory();
+    if (!offsets || !parts[1] || !parts[3]) goto done;
+    long long *starts = (long long *)PyBytes_AS_STRING(parts[1]),
+              *wrapped = (long long *)PyBytes_AS_STRING(parts[3]);
+    Py_ssize_t m = 0;
+    for (Py_ssize_t q = 0; q < t; q++) {
+        Py_ssize_t a = bounds[q], e = bounds[q + 1], first = m;
+        starts[q] = m;
+        wrapped[q] = 0;
+        for (Py_ssize_t i = a; i < e; i++) {
+            if (i > a && !is_jump(P, i, threshold, direct, limit)) continue;
+            if (m + 1 >= cap) { /* (room for this start and K after the last) */
+                long long *more = PyMem_Realloc(offsets, (size_t)(2 * cap) * sizeof(long long));
+                if (!more) {
+                    PyErr_NoMemory();
+                    goto done;
+                }
+                offsets = more;
+                cap *= 2;
+            }
+            offsets[m++] = i;
+        }
+        if (wrap[q] && m - first > 1 &&
+            hypot(P[2 * a] - P[2 * e - 2], P[2 * a + 1] - P[2 * e - 1]) < threshold) {
+            Py_ssize_t last = offsets[m - 1], moved = e - last;
+            /* rows [a, e) rotated left by last - a: three reversals */
+            Py_ssize_t spans[3][2] = {{a, last - 1}, {last, e - 1}, {a, e - 1}};
+            for (int r = 0; r < 3; r++)
+                for (Py_ssize_t i = spans[r][0], j = spans[r][1]; i < j; i++, j--) {
+                    double x = P[2 * i], y = P[2 * i + 1];
+                    P[2 * i] = P[2 * j], P[2 * i + 1] = P[2 * j + 1];
+                    P[2 * j] = x, P[2 * j + 1] = y;
+                    long long c = beams[i];
+                    beams[i] = beams[j], beams[j] = c;
+                }
+            /* the first segment continues the moved last one: the others shift by moved */
+            for (Py_ssize_t s = first + 1; s < m - 1; s++) offsets[s] += moved;
+            m--;
+            wrapped[q] = 1;
+        }
+    }
+    offsets[m] = k;
+    starts[t] = m;
+    parts[0] = PyBytes_FromStringAndSize((const char *)offsets, (m + 1) * 8);
+    parts[2] = PyBytes_FromStringAndSize(NULL, (m + t) * 8);
+    if (!parts[0] || !parts[2]) goto done;
+    long long *local = (long long *)PyBytes_AS_STRING(parts[2]);
+    Py_ssize_t at = 0;
+    for (Py_ssize_t q = 0; q < t; q++) {
+        for (Py_ssize_t s = starts[q]; s < starts[q + 1]; s++)
+            local[at++] = offsets[s] - bounds[q];
+        local[at++] = bounds[q + 1] - bounds[q];
+    }
+    result = PyTuple_Pack(4, parts[0], parts[1], parts[2], parts[3]);
+done:
+    for (int i = 0; i < 4; i++) Py_XDECREF(parts[i]);
+    PyMem_Free(offsets);
+    release(b, 4);
+    return result;
+}
+
+/* ---- sparse legs ---- */
+
+#define MIN_POINTS 3 /* features.MIN_POINTS: fewer points are no classifiable segment */
+
+/* sparse(offsets, beams, points, table_starts, ranges, valid, increment, full, min_points,
+ *        leg_width, jump_distance) -> bytes
+ * sparse._sparse: the segments (offsets (M + 1,) into beams (K,) int64 and points (K, 2))
+ * of T scans, scan q's from table_starts[q] (T + 1,), its ranges[q] (N_q,) float64 and
+ * valid[q] (N_q,) bool (lists of T), its angle increment's magnitude increment[q] (T,)
+ * [rad] and whether it covers the full circle full[q] (T,) int64. A segment of min_points
+ * to MIN_POINTS - 1 points is a sparse leg where a leg_width leg at its mean end range gets
+ * fewer than MIN_POINTS beams (leg_width / max(r |dtheta|, 1e-12), as expected_beams), its distinct readings
+ * (two equal ranges count once) are at least min_points, its end points lie at most
+ * leg_width apart (hypot), and each beam beside it (wrapping round a full circle) is
+ * invalid, outside the scan or at least jump_distance farther. Returns their indices,
+ * increasing, as bytes of int64. */
+static PyObject *sparse(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 11) {
+        PyErr_SetString(PyExc_TypeError,
+                        "sparse(offsets, beams, points, table_starts, ranges, valid, increment, "
+                        "full, min_points, leg_width, jump_distance)");
+        return NULL;
+    }
+    Buf b[6];
+    memset(b, 0, sizeof(b));
+    Buf *scan_bufs = NULL;
+    Py_ssize_t t = 0;
+    PyObject *result = NULL;
+    long long *found = NULL;
+    long min_points = PyLong_AsLong(args[8]);
+    if (min_points == -1 && PyErr_Occurred()) return NULL;
+    double leg_width = PyFloat_AsDouble(args[9]);
+    if (leg_width == -1.0 && PyErr_Occurred()) return NULL;
+    double jump_distance = PyFloat_AsDouble(args[10]);
+    if (jump_distance == -1.0 && PyErr_Occurred()) return NULL;
+    if (take(args[0], &b[0], 1, 0, -1, "offsets") < 0 ||
+        take(args[1], &b[1], 1, 0, -1, "beams") < 0)
+        goto done;
+    Py_ssize_t m = b[0].view.len / 8 - 1, k = b[1].view.len / 8;
+    if (take(args[2], &b[2], 0, 0, 2 * k, "points") < 0 ||
+        take(args[3], &b[3], 1, 0, -1, "table_starts") < 0)
+        goto done;
+    t = b[3].view.len / 8 - 1;
+    if (t < 0 || take(args[6], &b[4], 0, 0, t, "increment") < 0 ||
+        take(args[7], &b[5], 1, 0, t, "full") < 0)
+        goto done;
+    const long long *off = b[0].view.buf, *beams = b[1].view.buf, *tables = b[3].view.buf,
+                    *full = b[5].view.buf;
+    const double *P = b[2].view.buf, *increment = b[4].view.buf;
+    if (m < 0 || off[0] != 0 || off[m] != k || tables[0] != 0 || tables[t] != m) {
+        PyErr_SetString(PyExc_ValueError, "offsets or table_starts do not cover the block");
+        goto done;
+    }
+    if (!PyList_Check(args[4]) || !PyList_Check(args[5]) || PyList_GET_SIZE(args[4]) != t ||
+        PyList_GET_SIZE(args[5]) != t) {
+        PyErr_SetString(PyExc_ValueError, "ranges, valid: expected lists of one array a scan");
+        goto done;
+    }
+    scan_bufs = PyMem_Calloc((size_t)(2 * t + 1), sizeof(Buf));
+    found = PyMem_Malloc((size_t)(m + 1) * sizeof(long long));
+    if (!scan_bufs || !found) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    Py_ssize_t count = 0;
+    for (Py_ssize_t q = 0; q < t; q++) {
+        if (tables[q + 1] < tables[q]) {
+            PyErr_SetString(PyExc_ValueError, "table_starts do not increase");
+            goto done;
+        }
+        int taken = 0;
+        for (Py_ssize_t i = tables[q]; i < tables[q + 1]; i++) {
+            Py_ssize_t a = off[i], size = off[i + 1] - a;
+            if (size < min_points || size >= MIN_POINTS) continue;
+            if (!taken) { /* (the scan's arrays, once it has a candidate) */
+                if (take(PyList_GET_ITEM(args[4], q), &scan_bufs[2 * q], 0, 0, -1, "ranges") < 0)
+                    goto done;
+                Py_ssize_t n = scan_bufs[2 * q].view.len / 8;
+                if (take_bools(PyList_GET_ITEM(args[5], q), &scan_bufs[2 * q + 1], n, "valid") <
+                    0)
+                    goto done;
+                taken = 1;
+            }
+            const double *ranges = scan_bufs[2 * q].view.buf;
+            const char *valid = scan_bufs[2 * q + 1].view.buf;
+            long long n = scan_bufs[2 * q].view.len / 8;
+            long long first = beams[a], last = beams[a + size - 1];
+            if (first < 0 || first >= n || last < 0 || last >= n) {
+                PyErr_SetString(PyExc_ValueError, "a segment's beam outside its scan");
+                goto done;
+            }
+            double r0 = ranges[first], r1 = ranges[last];
+            double spacing = 0.5 * (r0 + r1) * increment[q];
+            if (spacing < 1e-12) spacing = 1e-12; /* (NaN stays: np.maximum's, no leg) */
+            if (!(leg_width / spacing < MIN_POINTS)) continue;
+            int distinct = 1 + (size == 2) * (r0 != r1);
+            if (distinct < min_points) continue;
+            const double *p0 = P + 2 * a, *p1 = P + 2 * (a + size - 1);
+            if (!(hypot(p1[0] - p0[0], p1[1] - p0[1]) <= leg_width)) continue;
+            int ok = 1;
+            for (int side = 0; side < 2 && ok; side++) {
+                long long beam = side ? last + 1 : first - 1;
+                double r = side ? r1 : r0;
+                if (full[q]) beam = ((beam % n) + n) % n;
+                int inside = beam >= 0 && beam < n;
+                long long at = beam < 0 ? 0 : (beam > n - 1 ? n - 1 : beam);
+                if (inside && valid[at] && !(ranges[at] - r >= jump_distance)) ok = 0;
+            }
+            if (ok) found[count++] = i;
+        }
+    }
+    result = PyBytes_FromStringAndSize((const char *)found, count * 8);
+done:
+    if (scan_bufs) release(scan_bufs, (int)(2 * t));
+    PyMem_Free(scan_bufs);
+    PyMem_Free(found);
+    release(b, 6);
     return result;
 }
 
@@ -787,6 +1080,15 @@ static PyMethodDef methods[] = {
     {"jumps", (PyCFunction)(void (*)(void))jumps, METH_FASTCALL,
      "jumps(points, threshold, out): segmentation.at_least of the steps between "
      "neighbouring points into out."},
+    {"scan_points", (PyCFunction)(void (*)(void))scan_points, METH_FASTCALL,
+     "scan_points(ranges, range_min, range_max, cos, sin) -> (valid, points, beams, "
+     "valid_points): a scan's validity and points (see the source)."},
+    {"segment", (PyCFunction)(void (*)(void))segment, METH_FASTCALL,
+     "segment(points, beams, bounds, wrap, threshold) -> (offsets, table_starts, local, "
+     "wrapped): segmentation.segment_block's segments of a block of scans (see the source)."},
+    {"sparse", (PyCFunction)(void (*)(void))sparse, METH_FASTCALL,
+     "sparse(offsets, beams, points, table_starts, ranges, valid, increment, full, "
+     "min_points, leg_width, jump_distance) -> bytes: sparse._sparse's sparse legs."},
     {"stump_sums", (PyCFunction)(void (*)(void))stump_sums, METH_FASTCALL,
      "stump_sums(X, columns, group_column, right, grid, values, out): "
      "adaboost._StumpTables.evaluate's margins into out."},

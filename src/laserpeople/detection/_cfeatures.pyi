@@ -60,3 +60,33 @@ def stump_sums(
     out: NDArray[np.float64],
     /,
 ) -> None: ...
+def segment(
+    points: NDArray[np.float64],
+    beams: NDArray[np.int64],
+    bounds: NDArray[np.int64],
+    wrap: NDArray[np.int64],
+    threshold: float,
+    /,
+) -> tuple[bytes, bytes, bytes, bytes]: ...
+def sparse(
+    offsets: NDArray[np.int64],
+    beams: NDArray[np.int64],
+    points: NDArray[np.float64],
+    table_starts: NDArray[np.int64],
+    ranges: list[NDArray[np.float64]],
+    valid: list[NDArray[np.bool_]],
+    increment: NDArray[np.float64],
+    full: NDArray[np.int64],
+    min_points: int,
+    leg_width: float,
+    jump_distance: float,
+    /,
+) -> bytes: ...
+def scan_points(
+    ranges: NDArray[np.float64],
+    range_min: float,
+    range_max: float,
+    cos: NDArray[np.float64],
+    sin: NDArray[np.float64],
+    /,
+) -> tuple[bytearray, bytes, bytes, bytes]: ...

@@ -1,7 +1,10 @@
 """Which leg-detection code runs: the optional C extension ``_cfeatures`` (built by
 ``pip install -e .`` where a C compiler is: the segment features of
-:mod:`~laserpeople.detection.features` and the AdaBoost margins of
-:mod:`~laserpeople.detection.adaboost`, the same floats) or their Python references, which
+:mod:`~laserpeople.detection.features`, the AdaBoost margins of
+:mod:`~laserpeople.detection.adaboost`, a scan's validity and points
+(:class:`~laserpeople.scan.Scan`), a block's segments
+(:mod:`~laserpeople.segmentation`) and sparse legs (:mod:`~laserpeople.detection.sparse`),
+the same floats and decisions) or their Python references, which
 run where it is not built, is stale or :data:`~laserpeople.extensions.PURE_PYTHON` is set
 (:func:`laserpeople.extensions.load_extension`)."""
 

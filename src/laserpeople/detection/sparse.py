@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.config import param
+from laserpeople.detection import compiled
 from laserpeople.detection.features import MIN_POINTS
 from laserpeople.scan import Scan
 from laserpeople.segmentation import SegmentBlock, SegmentTable, covers_full_circle
@@ -39,6 +40,9 @@ from laserpeople.segmentation import SegmentBlock, SegmentTable, covers_full_cir
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
+
+_extension = compiled.EXTENSION
+"""Leg detection's C extension (:func:`sparse_legs_of_block` in one call), or None."""
 
 
 @dataclass(frozen=True)
@@ -119,9 +123,34 @@ def sparse_legs_of_block(
     """Indices (L,) of the sparse legs among all segments of ``block`` (the segmentation of
     ``scans``), increasing: those :func:`sparse_legs` gives each scan's table, found for
     all of them at once."""
+    typed = block.points.dtype == np.float64 and block.beams.dtype == np.int64
+    if _extension is not None and params.enabled and typed:
+        return _sparse_compiled(block, scans, jump_distance, params)
     return _sparse(
         block.beams, block.points, block.offsets, block.table_starts, scans, jump_distance, params
     )
+
+
+def _sparse_compiled(
+    block: SegmentBlock, scans: Sequence[Scan], jump_distance: float, params: SparseLegParams
+) -> IntArray:
+    """:func:`_sparse` of a block by the C extension's ``sparse`` in one call: the same
+    rules by the same floating-point operations (the same legs)."""
+    assert _extension is not None
+    found = _extension.sparse(
+        np.ascontiguousarray(block.offsets),
+        np.ascontiguousarray(block.beams),
+        np.ascontiguousarray(block.points),
+        np.ascontiguousarray(block.table_starts, dtype=np.int64),
+        [scan.ranges for scan in scans],
+        [scan.valid for scan in scans],
+        np.array([abs(scan.angle_increment) for scan in scans]),
+        np.array(block.full_circle, dtype=np.int64),
+        params.min_points,
+        float(params.leg_width),
+        float(jump_distance),
+    )
+    return np.frombuffer(found, dtype=np.int64)
 
 
 def _sparse(

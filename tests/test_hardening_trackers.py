@@ -119,8 +119,19 @@ def test_guard_counts_and_clamps() -> None:
     guard.check(_dets(10.0 + 2 * JUMP, 3, np.zeros((0, 2))))
     assert guard.stamp_jumps == 1
     assert "stamped before" in guard.summary() and "jumps in time" in guard.summary()
+    assert "first: scan 1" in guard.summary()
     with pytest.raises(LaserPeopleError, match="scan 4"):
         guard.check(_dets(math.nan, 4, np.zeros((0, 2))))
+
+
+def test_guard_says_the_first_backward_scan_and_the_largest_step_back() -> None:
+    guard = InputGuard()
+    for k, stamp in enumerate([5.0, 4.75, 5.5, 5.0, 4.5, 6.0]):
+        guard.check(_dets(stamp, 10 + k, np.zeros((0, 2))))
+    # 4.75 is 0.25 s before 5.0; 5.0 is 0.5 s and 4.5 1.0 s before the clamped 5.5
+    assert guard.backward_stamps == 3 and guard.first_backward == 11
+    assert math.isclose(guard.largest_backward, 1.0, abs_tol=1e-12)
+    assert "by up to 1 s (first: scan 11;" in guard.summary()
 
 
 def test_guard_drops_non_finite_and_far_detections_without_warnings() -> None:

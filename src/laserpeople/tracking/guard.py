@@ -12,7 +12,8 @@ Every tracker's ``update`` passes its input through :class:`InputGuard` first:
   (a time step of zero; a recording whose stamps stay put for many scans is refused
   before it reaches a tracker, :mod:`laserpeople.pipeline.stamps`);
 * a stamp before the previous one is counted in :attr:`InputGuard.backward_stamps` and
-  replaced by the previous stamp, so that the filters never predict backwards in time;
+  replaced by the previous stamp, so that the filters never predict backwards in time (the
+  first such scan and the largest step back are kept for the summary);
 * a step longer than :data:`JUMP` seconds is counted in :attr:`InputGuard.stamp_jumps`
   (the filters clip their own time step);
 * a scan the tracker could not process in full within its work bounds (e.g. the leg MHT's
@@ -48,6 +49,8 @@ class InputGuard:
         self.dropped_detections = 0
         self.repeated_stamps = 0
         self.backward_stamps = 0
+        self.first_backward: int | None = None
+        self.largest_backward = 0.0
         self.stamp_jumps = 0
         self.degraded_scans = 0
         self.first_degraded: int | None = None
@@ -100,6 +103,9 @@ class InputGuard:
                 self.repeated_stamps += 1
             elif stamp < self.last_stamp:
                 self.backward_stamps += 1
+                if self.first_backward is None:
+                    self.first_backward = scan_index
+                self.largest_backward = max(self.largest_backward, self.last_stamp - stamp)
                 stamp = self.last_stamp
             elif stamp - self.last_stamp > JUMP:
                 self.stamp_jumps += 1
@@ -124,8 +130,9 @@ class InputGuard:
             parts.append(f"{self.repeated_stamps} scans with the same stamp as the one before")
         if self.backward_stamps:
             parts.append(
-                f"{self.backward_stamps} scans stamped before the one before "
-                "(tracked at the previous stamp)"
+                f"{self.backward_stamps} scans stamped before the one before, by up to "
+                f"{self.largest_backward:.3g} s (first: scan {self.first_backward}; tracked at "
+                "the previous stamp)"
             )
         if self.stamp_jumps:
             parts.append(f"{self.stamp_jumps} jumps in time of more than {JUMP:g} s")

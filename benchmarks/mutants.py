@@ -2997,6 +2997,14 @@ MUTANTS: tuple[Mutant, ...] = (
         PEOPLE_GLUE,
     ),
     Mutant(
+        "guard-backward-last-not-first",
+        "input guard: the summary names the first scan stamped before the one before",
+        "tracking/guard.py",
+        "if self.first_backward is None:\n                    self.first_backward = scan_index",
+        "if True:\n                    self.first_backward = scan_index",
+        ("tests/test_hardening_trackers.py",),
+    ),
+    Mutant(
         "detect-bound-at-worst",
         "leg detection: the margin's bound takes the deferred stumps at their worst",
         "detection/adaboost.py",

@@ -30,7 +30,10 @@ TOL = 1e-12
 
 @pytest.fixture(scope="module")
 def cfeatures() -> ModuleType:
-    """The built extension; skips when it is not built or stale."""
+    """The built extension; skips when it is not built or stale, or the Python references
+    are forced (``LASERPEOPLE_PURE_PYTHON``: the features then run in Python)."""
+    if extensions.forced_pure_python():
+        pytest.skip(f"{extensions.PURE_PYTHON} forces the Python references")
     try:
         from laserpeople.detection import _cfeatures
     except ImportError:

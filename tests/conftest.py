@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -26,6 +27,18 @@ def shared_data() -> Path:
             "or set LASERPEOPLE_SHARED_DATA)"
         )
     return path
+
+
+@pytest.fixture(autouse=True)
+def _global_flags_reset() -> None:
+    """Each test starts with the command line's global flags off: a command run with
+    ``--quiet`` or ``--debug`` sets them for the process, and a later test that calls a
+    command's functions directly (not through the app) would inherit them. Only when the
+    command line is imported already: some tests check what reading imports."""
+    common = sys.modules.get("laserpeople.cli.common")
+    if common is not None:
+        common.STATE.quiet = False
+        common.STATE.debug = False
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
@@ -27,6 +28,22 @@ def shared_data() -> Path:
             "or set LASERPEOPLE_SHARED_DATA)"
         )
     return path
+
+
+@pytest.fixture(scope="module")
+def cfeatures() -> ModuleType:
+    """The leg detector's built C extension; the test is skipped when it is not built or
+    is stale (nothing compiled to compare with the Python references)."""
+    from laserpeople import extensions
+    from laserpeople.detection import compiled
+
+    try:
+        from laserpeople.detection import _cfeatures
+    except ImportError:
+        pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
+    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
+        pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
+    return _cfeatures
 
 
 @pytest.fixture(autouse=True)

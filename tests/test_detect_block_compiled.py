@@ -18,24 +18,12 @@ from types import ModuleType
 import numpy as np
 import pytest
 
-from laserpeople import extensions, segmentation
 from laserpeople import scan as scan_module
-from laserpeople.detection import compiled, sparse
+from laserpeople import segmentation
+from laserpeople.detection import sparse
 from laserpeople.detection.sparse import SparseLegParams, sparse_legs_of_block
 from laserpeople.scan import Scan
 from laserpeople.segmentation import JumpDistanceParams, segment_block
-
-
-@pytest.fixture(scope="module")
-def cfeatures() -> ModuleType:
-    """The built extension; skips when it is not built or stale (nothing to compare)."""
-    try:
-        from laserpeople.detection import _cfeatures
-    except ImportError:
-        pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
-    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
-        pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
-    return _cfeatures
 
 
 def _scans(rng: np.random.Generator, count: int) -> list[Scan]:

@@ -28,21 +28,6 @@ TOL = 1e-12
 """Tolerance of float comparisons: features [m, rad and their products], margins."""
 
 
-@pytest.fixture(scope="module")
-def cfeatures() -> ModuleType:
-    """The built extension; skips when it is not built or stale, or the Python references
-    are forced (``LASERPEOPLE_PURE_PYTHON``: the features then run in Python)."""
-    if extensions.forced_pure_python():
-        pytest.skip(f"{extensions.PURE_PYTHON} forces the Python references")
-    try:
-        from laserpeople.detection import _cfeatures
-    except ImportError:
-        pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
-    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
-        pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
-    return _cfeatures
-
-
 @pytest.fixture(params=["compiled", "python"])
 def path(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
     """Both paths: the extension where built, and the Python references."""
@@ -122,6 +107,8 @@ def test_deferred_features_complete_to_the_full_ones(cfeatures: ModuleType) -> N
     """Compiled: the deferred block's features are the full ones (within TOL) but for
     columns 3 and 8 (NaN: all of column 3, column 8 where there is a circle); completing
     some rows gives those rows' full features and leaves the others NaN."""
+    if extensions.forced_pure_python():
+        pytest.skip(f"{extensions.PURE_PYTHON} forces the Python features")
     scans, previous, det = _block(4)
     block = det.segmenter.block(scans)
     args = (

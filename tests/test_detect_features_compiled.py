@@ -34,18 +34,6 @@ TOL = 1e-12
 NAME = compiled.NAME
 
 
-@pytest.fixture(scope="module")
-def cfeatures() -> ModuleType:
-    """The built extension; skips when it is not built or stale (nothing to compare)."""
-    try:
-        from laserpeople.detection import _cfeatures
-    except ImportError:
-        pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
-    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
-        pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
-    return _cfeatures
-
-
 def _both(
     ext: ModuleType,
     tables: list[SegmentTable],

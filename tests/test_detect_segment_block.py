@@ -17,8 +17,7 @@ from types import ModuleType
 import numpy as np
 import pytest
 
-from laserpeople import extensions, segmentation
-from laserpeople.detection import compiled
+from laserpeople import segmentation
 from laserpeople.scan import Scan, Segment
 from laserpeople.segmentation import (
     JumpDistanceParams,
@@ -26,18 +25,6 @@ from laserpeople.segmentation import (
     at_least,
     segment_block,
 )
-
-
-@pytest.fixture(scope="module")
-def cfeatures() -> ModuleType:
-    """The built extension; skips when it is not built or stale (nothing to compare)."""
-    try:
-        from laserpeople.detection import _cfeatures
-    except ImportError:
-        pytest.skip("the C extension is not built (`pip install -e .` with a C compiler)")
-    if extensions.source_hash(compiled.SOURCE) != _cfeatures.SOURCE_HASH:
-        pytest.skip("the C extension is stale (`pip install -e .` rebuilds it)")
-    return _cfeatures
 
 
 def _walk(seed: int, n: int = 4000) -> tuple[np.ndarray, np.ndarray, list[float]]:

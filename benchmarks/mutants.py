@@ -2997,6 +2997,14 @@ MUTANTS: tuple[Mutant, ...] = (
         PEOPLE_GLUE,
     ),
     Mutant(
+        "track-drawn-outside-unsaid",
+        "track --plot/--animate: track positions outside the picture are said",
+        "cli/track.py",
+        "    if outside:  # (once",
+        "    if not outside:  # (once",
+        ("tests/test_hardening_round7.py",),
+    ),
+    Mutant(
         "guard-backward-last-not-first",
         "input guard: the summary names the first scan stamped before the one before",
         "tracking/guard.py",

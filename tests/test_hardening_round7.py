@@ -537,6 +537,32 @@ def test_track_positions_outside_the_drawn_area_are_counted_with_the_farthest() 
     assert "tracks beyond the bulk of the scan points" in near.tracks_outside.warning()  # type: ignore[attr-defined]
 
 
+def test_track_plot_and_animate_say_the_tracks_outside_the_picture_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A drawing's result carries the scene's count (render), and `track --plot --animate`
+    says it once, as `view` does; nothing is said when every track is inside."""
+    from laserpeople import viz
+    from laserpeople.cli.track import draw_tracks
+    from laserpeople.viz.render import render
+
+    scene = _scene_with_tracks([(1.9, 0.0), (5000.0, 4000.0)])
+    drawn = render(scene, tmp_path / "p.png")  # type: ignore[arg-type]
+    assert (drawn.tracks_outside.count, drawn.tracks_outside.of) == (3, 6)
+
+    def fake(scene: object) -> object:
+        return lambda *args, **kwargs: render(scene, args[2])  # type: ignore[arg-type]
+
+    monkeypatch.setattr(viz, "plot_tracks", fake(scene))
+    monkeypatch.setattr(viz, "animate_tracks", fake(scene))
+    draw_tracks(None, tmp_path / "t.csv", None, "sensor", tmp_path / "a.png", tmp_path / "b.gif")  # type: ignore[arg-type]
+    assert capsys.readouterr().err.count("3 of 6 track positions lie outside") == 1
+    inside = _scene_with_tracks([(1.9, 0.0)])
+    monkeypatch.setattr(viz, "plot_tracks", fake(inside))
+    draw_tracks(None, tmp_path / "t.csv", None, "sensor", tmp_path / "c.png", None)  # type: ignore[arg-type]
+    assert "lie outside" not in capsys.readouterr().err
+
+
 def test_live_warns_when_the_tracking_drops_more_than_one_scan_in_a_hundred() -> None:
     """1 of 100 dropped is no news; 2 of 100 is, with the share, the laser's mean period
     (from the arrivals: 99 periods over 0.99 s = 10.0 ms) and the tracking time."""

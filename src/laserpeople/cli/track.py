@@ -350,9 +350,11 @@ def draw_tracks(
     trajectory overview PNG ``plot`` and/or the animation ``animate``."""
     from laserpeople.viz import animate_tracks, plot_tracks
 
+    outside = ""
     if plot is not None:
         drawn = plot_tracks(recording, tracks_csv, plot, topic=topic, tracks_frame=tracks_frame)
         say(f"wrote {drawn.path}")
+        outside = drawn.tracks_outside.warning()
     if animate is not None:
         drawn = animate_tracks(
             recording,
@@ -363,6 +365,9 @@ def draw_tracks(
             progress=lambda it, n: progress(it, n, "drawing"),
         )
         say(f"wrote {drawn.path} ({drawn.frames} frames)")
+        outside = drawn.tracks_outside.warning()
+    if outside:  # (once: the picture and the animation are fitted to the same area)
+        warn(outside)
 
 
 def appearance_choice(tracker: str, appearance: str, reidentify: str | None) -> bool:

@@ -7,7 +7,7 @@ import math
 import shutil
 import subprocess
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +33,7 @@ from laserpeople.viz.figure import (
     import_matplotlib,
 )
 from laserpeople.viz.geometry import square_extent
-from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame
+from laserpeople.viz.scene import ProgressFn, Scene, SceneFrame, TracksOutside
 
 RGBImage = NDArray[np.uint8]
 
@@ -52,6 +52,8 @@ class RenderResult:
         size: Image ``(width, height)`` [px].
         extent: The shown area ``(xmin, xmax, ymin, ymax)`` [m] before squaring the metres.
         overview_scans: Scans drawn into a trajectory overview (0: not an overview).
+        tracks_outside: Track positions outside the area the picture is fitted to (none
+            when the output has no fitted area, e.g. ``.mcap``).
     """
 
     path: Path
@@ -59,6 +61,7 @@ class RenderResult:
     size: tuple[int, int]
     extent: Extent
     overview_scans: int = 0
+    tracks_outside: TracksOutside = field(default_factory=TracksOutside)
 
 
 def _pil() -> object:

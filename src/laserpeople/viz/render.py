@@ -49,7 +49,7 @@ def render(
         result = _render(scene, target, scan, size, extent, fps, trail, progress)
         if staged:
             os.replace(target, p)
-        return replace(result, path=p)
+        return replace(result, path=p, tracks_outside=scene.tracks_outside)
     except LaserPeopleError as exc:
         raise exc.moved(target, p) from exc.__cause__
     except OSError as exc:  # image and animation writers let file-system errors through

@@ -297,10 +297,9 @@ class GroupMHTTracker:
         self.branches.begin_scan(obs, frame.stamp)
         self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)
-        probs = self.mht.best_probabilities()
+        best, probs = self.mht.best_nodes()
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
-        best = self.mht.best_tracks()
         nodes = self._confirmed(best, frame.stamp)
         ids = self._reported_ids(nodes, frame.stamp)
         for node, track_id in zip(nodes, ids, strict=True):

@@ -146,6 +146,8 @@ HANDOVER = ("tests/test_track_groups_handover.py",)
 COAST = ("tests/test_track_groups_coast.py",)
 FEET_SURFACE = ("tests/test_pf_feet_surface.py",)
 TRUTH_BAG = ("tests/test_io_truth_bag.py", "tests/test_eval_followed.py")
+PAPER_FEATURES = ("tests/test_paper_features.py",)
+PAPER_ADABOOST = ("tests/test_paper_adaboost.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -174,6 +176,8 @@ LC = "live/choice.py"
 GHO = "tracking/groups/handover.py"
 GC = "tracking/groups/coast.py"
 GT = "tracking/groups/tracker.py"
+FT = "detection/features.py"
+AB = "detection/adaboost.py"
 GD = "../../benchmarks/gnn_diagnose.py"  # (a benchmark script, beside src/ in the copy)
 
 MUTANTS: tuple[Mutant, ...] = (
@@ -3179,6 +3183,202 @@ MUTANTS: tuple[Mutant, ...] = (
         "if tracks_first < 0 or not (tracks_last < truth_first or tracks_first > truth_last):",
         "if tracks_first < 0:",
         ("tests/test_hardening_round7.py",),
+    ),
+    # --- s35-faithful ---
+    # 000 Sec. 2.2, the fourteen features (the Python reference: tests/test_paper_features.py
+    # runs it directly, the extension's floats are compared with it elsewhere)
+    Mutant(
+        "f2-std-divisor-n",
+        "000 feature 2 (sigma: divisor n - 1)",
+        FT,
+        "out[:, 1] = np.sqrt((sxx + syy) / (n - 1.0))",
+        "out[:, 1] = np.sqrt((sxx + syy) / n)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f3-lower-median",
+        "000 feature 3 (median of an even count: mean of the middle two)",
+        FT,
+        "med = 0.5 * (vals[:, lo] + vals[:, hi])",
+        "med = vals[:, lo] + 0.0 * vals[:, hi]",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f3-deviation-from-mean",
+        "000 feature 3 (deviation from the vector of medians, not the mean)",
+        FT,
+        "t2[:, 6] = np.hypot(px - med[0, seg], py - med[1, seg])",
+        "t2[:, 6] = np.hypot(dx, dy)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f3-divisor-n-1",
+        "000 feature 3 (1/n sum ||x_j - median||)",
+        FT,
+        "out[:, 2] = sdev / n",
+        "out[:, 2] = sdev / (n - 1.0)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f4-f5-jumps-swapped",
+        "000 features 4, 5 (jump from the preceding, to the succeeding segment)",
+        FT,
+        "    out[1:, 3] = gap\n    out[:-1, 4] = gap",
+        "    out[1:, 4] = gap\n    out[:-1, 3] = gap",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f7-line-largest-residual",
+        "000 feature 7 (residual of the best Hessian line)",
+        FT,
+        "alpha = 0.5 * np.arctan2(-2.0 * sxy, syy - sxx)",
+        "alpha = 0.5 * np.arctan2(2.0 * sxy, sxx - syy)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f7-line-mean-residual",
+        "000 feature 7 (the residual sum of squares, not its mean)",
+        FT,
+        "    out[:, 6] = linearity\n",
+        "    out[:, 6] = linearity / n\n",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f8-circle-absolute-residual",
+        "000 feature 8 (sum of squared residuals to the circle)",
+        FT,
+        "sc = np.add.reduceat(resid * resid, off)",
+        "sc = np.add.reduceat(np.abs(resid), off)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f9-radius-sample-moment",
+        "000 feature 9 (r_c of x = (A^T A)^-1 A^T b)",
+        FT,
+        "rc = np.sqrt(xc * xc + yc * yc + sz / n)",
+        "rc = np.sqrt(xc * xc + yc * yc + sz / (n - 1.0))",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f11-regularity-population-std",
+        "000 feature 11 (standard deviation of the steps; sample, documented)",
+        FT,
+        "out[:, 10] = np.sqrt(ss / (n - 2.0))",
+        "out[:, 10] = np.sqrt(ss / (n - 1.0))",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f12-curvature-2a",
+        "000 feature 12 (k = 4A / (dA dB dC))",
+        FT,
+        "2.0 * np.abs(cross) / prod, 0.0)",
+        "np.abs(cross) / prod, 0.0)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f12-curvature-sum",
+        "000 feature 12 (mean curvature; 000 writes a sum, documented)",
+        FT,
+        "out[:, 11] = s1[:, 1] / n_inner",
+        "out[:, 11] = s1[:, 1]",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f13-unsigned-angle",
+        "000 feature 13 (signed turning angle: convexity/concavity)",
+        FT,
+        "t1[1:-1, 2] = np.where(mid, np.arctan2(cross, dot), 0.0)",
+        "t1[1:-1, 2] = np.where(mid, np.abs(np.arctan2(cross, dot)), 0.0)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f13-mean-over-chords",
+        "000 feature 13 (average over the n - 2 angles)",
+        FT,
+        "out[:, 12] = s1[:, 2] / n_inner",
+        "out[:, 12] = s1[:, 2] / (n - 1.0)",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f14-speed-over-all-beams",
+        "000 feature 14 (averaged over the beams valid in both scans)",
+        FT,
+        "total / np.maximum(counts, 1.0) / dt",
+        "total / n / dt",
+        PAPER_FEATURES,
+    ),
+    Mutant(
+        "f14-speed-time-reversed",
+        "000 feature 14 (v = (rho_k+1 - rho_k) / (T_k+1 - T_k))",
+        FT,
+        "dt[seg_at : seg_at + count] = scan.stamp - prev.stamp",
+        "dt[seg_at : seg_at + count] = prev.stamp - scan.stamp",
+        PAPER_FEATURES,
+    ),
+    # 000 Table 1 and eq. 1 (AdaBoost with decision stumps)
+    Mutant(
+        "ab-equal-initial-weights",
+        "000 Table 1 (D_1 = 1/(2a), 1/(2b))",
+        AB,
+        "weights = np.where(pos, 1.0 / (2.0 * a), 1.0 / (2.0 * b))",
+        "weights = np.where(pos, 1.0 / (a + b), 1.0 / (a + b))",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-alpha-without-half",
+        "000 Table 1 (alpha = 1/2 log((1 + r) / (1 - r)))",
+        AB,
+        "alpha = 0.5 * float(np.log((1.0 + r_c) / (1.0 - r_c)))",
+        "alpha = float(np.log((1.0 + r_c) / (1.0 - r_c)))",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-update-sign",
+        "000 Table 1 step 5 (D exp(-alpha l h))",
+        AB,
+        "weights = weights * np.exp(-alpha * labels * h)",
+        "weights = weights * np.exp(alpha * labels * h)",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-no-normalisation",
+        "000 Table 1 step 1 (normalise the weights)",
+        AB,
+        "weights = weights / weights.sum()",
+        "weights = weights",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-r-halved",
+        "000 Table 1 step 3 (r = sum D l h)",
+        AB,
+        "r_plus = 2.0 * cum - wl.sum()",
+        "r_plus = cum - 0.5 * wl.sum()",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-polarity-flipped",
+        "000 eq. 1 (p: the direction of the inequality)",
+        AB,
+        "polarity = 1 if r_plus[k, j] >= 0.0 else -1",
+        "polarity = -1 if r_plus[k, j] >= 0.0 else 1",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-score-ties-plus-side",
+        "000 eq. 1 (p f < p theta: a tie is -1)",
+        AB,
+        'idx = np.searchsorted(th, grid, side="right" if p > 0 else "left")',
+        'idx = np.searchsorted(th, grid, side="left" if p > 0 else "right")',
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "ab-zero-margin-a-leg",
+        "000 Table 1 (H = sign(F); F = 0 is not a leg)",
+        AB,
+        "np.where(self.decision_function(X) > 0.0, 1, -1)",
+        "np.where(self.decision_function(X) >= 0.0, 1, -1)",
+        PAPER_ADABOOST,
     ),
 )
 

@@ -148,6 +148,7 @@ FEET_SURFACE = ("tests/test_pf_feet_surface.py",)
 TRUTH_BAG = ("tests/test_io_truth_bag.py", "tests/test_eval_followed.py")
 PAPER_FEATURES = ("tests/test_paper_features.py",)
 PAPER_ADABOOST = ("tests/test_paper_adaboost.py",)
+PAPER_LEGS = ("tests/test_paper_legs.py",)
 
 M = "tracking/groups/model.py"
 I = "tracking/groups/interaction.py"  # noqa: E741 (a path, not a number)
@@ -3379,6 +3380,111 @@ MUTANTS: tuple[Mutant, ...] = (
         "np.where(self.decision_function(X) > 0.0, 1, -1)",
         "np.where(self.decision_function(X) >= 0.0, 1, -1)",
         PAPER_ADABOOST,
+    ),
+    # 000 Sec. 3 (eqs. 8-15, Table 10) and Sec. 3.3 (people from leg pairs)
+    Mutant(
+        "legs-approved-rows-swapped",
+        "000 eqs. 9-10 (approved legs take the A column)",
+        "tracking/legs.py",
+        "rows = [1 if n.family in approved else 0 for n in nodes]",
+        "rows = [0 if n.family in approved else 1 for n in nodes]",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "legs-nonadaptive-always-free",
+        "000 Sec. 3.4 (non-adaptive with the approved column, Fig. 9)",
+        "tracking/legs.py",
+        'self._fixed = self._approved if fixed == "approved" else self._free',
+        "self._fixed = self._free",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "legs-nonadaptive-still-adapts",
+        "000 Sec. 3.4 (non-adaptive: one column for every track)",
+        "tracking/legs.py",
+        "        if not self.params.adaptive:",
+        "        if not self.params.adaptive and not self.approved:",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "legs-lambda-new-is-fal",
+        "000 eq. 15 (lambda_new^N_new lambda_fal^N_fal)",
+        "tracking/legs.py",
+        "self._log_new = float(np.log(params.lambda_new))",
+        "self._log_new = float(np.log(params.lambda_fal))",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "mht-lone-occluded-as-deleted",
+        "000 eq. 15 (p_occ of an occluded track, one-track cluster)",
+        MC,
+        "c_occ.append(-float(lp_live[row, OCCLUDED]))",
+        "c_occ.append(-float(lp_live[row, DELETED]))",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "mht-matrix-occluded-as-deleted",
+        "000 eq. 15 (p_occ of an occluded track, assignment matrix)",
+        "tracking/mht/matrix.py",
+        "c_occ = -track_label_log_probs[:, OCCLUDED]",
+        "c_occ = -track_label_log_probs[:, DELETED]",
+        (*PAPER_LEGS, "tests/test_track_mht_probability.py"),
+    ),
+    Mutant(
+        "mht-listing-occluded-as-deleted",
+        "000 eq. 15 (p_occ of an occluded track, listed children)",
+        L,
+        "[-r[OCCLUDED] for r in lps],",
+        "[-r[DELETED] for r in lps],",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-agreement-absolute",
+        "000 Sec. 3.3 (S = sum <theta_i, theta_j>, signed)",
+        "tracking/people.py",
+        "total += float(ua @ ub)",
+        "total += abs(float(ua @ ub))",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-window-one-longer",
+        "000 Sec. 3.3 (S over the last L steps)",
+        "tracking/people.py",
+        "while hist.steps and hist.steps[0][0] <= self._step - p.window:",
+        "while hist.steps and hist.steps[0][0] < self._step - p.window:",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-validate-at-theta-a",
+        "000 Sec. 3.3 (validated when S > theta_a)",
+        "tracking/people.py",
+        "ok = self.agreement(a, b) > p.min_agreement",
+        "ok = self.agreement(a, b) >= p.min_agreement",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-deleted-after-l-plus-1",
+        "000 Sec. 3.3 (deleted after L steps apart)",
+        "tracking/people.py",
+        "if person.far_steps >= p.window or wide:",
+        "if person.far_steps > p.window or wide:",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-far-steps-not-consecutive",
+        "000 Sec. 3.3 (L consecutive steps apart)",
+        "tracking/people.py",
+        "person.far_steps = person.far_steps + 1 if d > p.max_leg_distance else 0",
+        "person.far_steps = person.far_steps + 1 if d > p.max_leg_distance else person.far_steps",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "people-weights-swapped",
+        "000 Sec. 3.3 (multivariate weighted mean of the legs)",
+        "tracking/people.py",
+        'np.einsum("kij,kj->ki", pb, sol[:, :, 0]) + np.einsum("kij,kj->ki", pa, sol[:, :, 1])',
+        'np.einsum("kij,kj->ki", pa, sol[:, :, 0]) + np.einsum("kij,kj->ki", pb, sol[:, :, 1])',
+        PAPER_LEGS,
     ),
 )
 

@@ -3486,6 +3486,47 @@ MUTANTS: tuple[Mutant, ...] = (
         'np.einsum("kij,kj->ki", pa, sol[:, :, 0]) + np.einsum("kij,kj->ki", pb, sol[:, :, 1])',
         PAPER_LEGS,
     ),
+    # 000 Sec. 2.3.3 (the hand-tuned baseline) and Table 6 (the five best features)
+    Mutant(
+        "heuristic-min-points-strict",
+        "000 Sec. 2.3.3 (fewer than four points are discarded)",
+        "detection/heuristic.py",
+        "(f[:, 0] >= p.min_points)",
+        "(f[:, 0] > p.min_points)",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "heuristic-one-jump",
+        "000 Sec. 2.3.3 (both jump distances over 30 cm)",
+        "detection/heuristic.py",
+        "            & (f[:, 4] > p.min_jump)\n",
+        "",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "heuristic-compactness-by-median",
+        "000 Sec. 2.3.3 (standard deviation, feature 2)",
+        "detection/heuristic.py",
+        "(f[:, 1] < p.max_std)",
+        "(f[:, 2] < p.max_std)",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "heuristic-motion-by-speed",
+        "000 Sec. 2.3.3 (a beam moved more than 2 cm)",
+        "detection/heuristic.py",
+        "(features.max_beam_motion > p.min_motion)",
+        "(np.abs(f[:, 13]) > p.min_motion)",
+        PAPER_ADABOOST,
+    ),
+    Mutant(
+        "best-features-smallest-alpha",
+        "000 Table 6 (the five stumps of largest weight)",
+        "detection/report.py",
+        "stumps = sorted(model.classifier.stumps, key=lambda s: -s.alpha)",
+        "stumps = sorted(model.classifier.stumps, key=lambda s: s.alpha)",
+        PAPER_ADABOOST,
+    ),
 )
 
 

@@ -1,5 +1,6 @@
 """AdaBoost of 000 Table 1 and the weak classifier of 000 eq. 1, against values computed by
-hand (exact fractions in the comments).
+hand (exact fractions in the comments); the five best features of Table 6 and the
+hand-tuned baseline of Sec. 2.3.3 it is compared with.
 
 Five examples of one feature, x = 1..5 with labels + + - + -: a = 3 positives, b = 2
 negatives. The values tell Table 1 from its near misses: equal initial weights 1/N give a
@@ -16,6 +17,10 @@ import numpy as np
 import pytest
 
 from laserpeople.detection.adaboost import AdaBoostLegClassifier, Stump
+from laserpeople.detection.features import SegmentFeatures
+from laserpeople.detection.heuristic import HeuristicLegClassifier
+from laserpeople.detection.model_file import LegModel
+from laserpeople.detection.report import best_features
 
 X = np.array([[1.0], [2.0], [3.0], [4.0], [5.0]])
 Y = np.array([1, 1, -1, 1, -1])
@@ -95,3 +100,45 @@ def test_polarity_minus_one_stump_is_learned_with_its_direction() -> None:
     assert (s.polarity, s.threshold) == (-1, pytest.approx(2.5))
     assert s.r == pytest.approx(1.0)
     np.testing.assert_array_equal(clf.predict(x), [-1, -1, 1, 1])
+
+
+def test_table_6_best_features_are_the_stumps_of_largest_alpha() -> None:
+    """Sec. 2.3.5: the five best features are those of the five weak classifiers of largest
+    weight, a feature counted once per stump (Table 6 lists 4 twice for the corridor).
+    Columns 0..12 are features 1..13."""
+    alphas = {(8, 1.0): 0.9, (3, 1.0): 0.7, (4, 1.0): 0.3, (1, 1.0): 0.5, (3, 2.0): 0.6}
+    stumps = [Stump(j, th, 1, a, 0.5) for (j, th), a in alphas.items()]
+    stumps.append(Stump(12, 1.0, 1, 0.1, 0.5))
+    model = LegModel(AdaBoostLegClassifier.from_stumps(stumps, 13), tuple(range(1, 14)), 0.1)
+    assert best_features(model, k=5) == [9, 4, 4, 2, 5]
+
+
+def _heuristic(**change: float) -> int:
+    """The baseline's decision on one segment that passes every rule of Sec. 2.3.3 with
+    the values ``change`` put in (``jump_prev``, ``jump_next``, ``width``, ``n``,
+    ``motion`` [m], ``std``, ``speed`` [m/s])."""
+    v = {"n": 5.0, "std": 0.05, "mad": 0.04, "jump_prev": 0.5, "jump_next": 0.5}
+    v.update({"width": 0.12, "motion": 0.05, "speed": 0.0})
+    v.update(change)
+    row = np.zeros(14)
+    row[[0, 1, 2, 3, 4, 5, 13]] = [
+        v[k] for k in ("n", "std", "mad", "jump_prev", "jump_next", "width", "speed")
+    ]
+    feats = SegmentFeatures(
+        row[None, :], np.array([v["motion"]]), np.zeros((1, 2)), np.zeros((1, 2))
+    )
+    return int(HeuristicLegClassifier().predict(feats)[0])
+
+
+def test_heuristic_baseline_of_section_2_3_3() -> None:
+    """Both jumps over 30 cm, width between 5 and 50 cm, at least four points (fewer than
+    four are discarded), some beam moved more than 2 cm, standard deviation (feature 2, not
+    3) below 0.5 m."""
+    assert _heuristic() == 1
+    assert _heuristic(n=4.0) == 1 and _heuristic(n=3.0) == -1
+    assert _heuristic(jump_prev=0.29) == -1 and _heuristic(jump_next=0.29) == -1
+    assert _heuristic(width=0.04) == -1 and _heuristic(width=0.51) == -1
+    assert _heuristic(width=0.06) == 1 and _heuristic(width=0.49) == 1
+    # the motion of a beam [m], not the mean speed (feature 14, m/s)
+    assert _heuristic(motion=0.01, speed=1.0) == -1 and _heuristic(motion=0.03) == 1
+    assert _heuristic(std=0.6, mad=0.1) == -1 and _heuristic(std=0.1, mad=0.6) == 1

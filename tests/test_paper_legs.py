@@ -336,3 +336,18 @@ def test_person_deleted_after_l_consecutive_steps_apart() -> None:
         tracks = fuser.update({0: _leg(0, v * t, v), 1: _leg(1, v * t + [0.0, gap], v)}, t)
         alive.append(any(tr.kind == "person" for tr in tracks))
     assert alive == [True, True, True, True, True, True, True, False]
+
+
+@pytest.mark.parametrize(("gap", "person"), [(0.7, True), (0.8, False)])
+def test_person_candidate_needs_legs_within_theta_d(gap: float, person: bool) -> None:
+    """Condition 2: legs closer than theta_d = 0.75 m form a candidate. Two legs walking one
+    behind the other (no spread across the walking direction) agree in orientation at
+    any distance; only theta_d tells 0.7 m from 0.8 m."""
+    fuser = PersonFuser(PersonParams(window=4, min_agreement=1.5, validate_still=False))
+    v = np.array([1.0, 0.0])
+    found = False
+    for k in range(10):
+        t = k * DT
+        tracks = fuser.update({0: _leg(0, v * t, v), 1: _leg(1, v * t + [gap, 0.0], v)}, t)
+        found = found or any(tr.kind == "person" for tr in tracks)
+    assert found is person

@@ -3600,6 +3600,32 @@ MUTANTS: tuple[Mutant, ...] = (
         "linearity = np.maximum(sxx * ca * ca - 2.0 * sxy * ca * sa + syy * sa * sa, 0.0)",
         PAPER_FEATURES,
     ),
+    # 000 Sec. 3.1-3.2 (the leg's Kalman filter and N(z) of eq. 3): the values the
+    # extension is given or returns are made in Python
+    Mutant(
+        "kf-init-velocity-std-as-variance",
+        "000 Sec. 3.1 (new tracks: v = 0 with variance sigma_v^2)",
+        K,
+        "covs[:, 2, 2] = covs[:, 3, 3] = init_velocity_std**2",
+        "covs[:, 2, 2] = covs[:, 3, 3] = init_velocity_std",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "kf-loglik-1d-normaliser",
+        "000 eq. 3 (N(z; z_hat, S) in 2D: 1 / (2 pi sqrt det S))",
+        K,
+        "LOG_2PI = float(np.log(2.0 * np.pi))",
+        "LOG_2PI = float(0.5 * np.log(2.0 * np.pi))",
+        PAPER_LEGS,
+    ),
+    Mutant(
+        "kf-loglik-full-log-det",
+        "000 eq. 3 (N(z; z_hat, S): -1/2 log det S)",
+        K,
+        "    det *= 0.5\n    partial -= det",
+        "    partial -= det",
+        PAPER_LEGS,
+    ),
 )
 
 

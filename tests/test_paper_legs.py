@@ -39,7 +39,9 @@ from laserpeople.tracking.point_model import KalmanPointModel, PointMeasurements
 
 STD = 0.03
 """Measurement standard deviation [m] of the detections here."""
-KP = KalmanParams()
+KP = KalmanParams(init_velocity_std=0.7, accel_psd=20.0)
+"""A motion model of other values than the defaults (1 m/s, 32 m^2/s^3), so that a
+standard deviation taken for a variance is seen."""
 FREE = (0.3, 0.63, 0.07)
 APPROVED = (0.2, 0.79, 0.01)
 LAMBDA_NEW, LAMBDA_FAL = 0.001, 0.003
@@ -49,6 +51,10 @@ UNPRUNED = MHTParams(min_ratio=0.0, k_best=1000, n_scan=20, existence_ratio=0.0)
 def _meas(points: Sequence[tuple[float, float]]) -> PointMeasurements:
     p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     return PointMeasurements(p, np.tile(np.eye(2) * STD**2, (len(p), 1, 1)))
+
+
+def _params(**kw: object) -> LegTrackerParams:
+    return LegTrackerParams(kalman=KP, **kw)  # type: ignore[arg-type]
 
 
 def _mht(params: LegTrackerParams) -> tuple[MHT[PointMeasurements], LegLabelModel]:
@@ -166,7 +172,7 @@ def _table10(params: LegTrackerParams) -> dict[str, tuple[float, float, float]]:
 def test_eq15_one_track_one_measurement_by_class(cls: str) -> None:
     """Children of {track} (1/4) and {} (3/4): detected p_det N, occluded or deleted with
     the measurement new or a false alarm; the approved class uses Table 10's A column."""
-    params = LegTrackerParams()
+    params = _params()
     got, info, z = _one_track_then_one_measurement(params, cls == "approved")
     fam, z0 = info["fam"], info["z0"]
     want = _enumerate([(0.25, {fam: (z0, cls)}), (0.75, {})], z, 0.1, _table10(params))
@@ -202,7 +208,7 @@ def test_eq15_two_tracks_one_approved_one_free_share_a_measurement() -> None:
     """Two legs 0.3 m apart, one of a validated person (approved), then one measurement
     between them that both gate: every labelling of both tracks (eq. 15 with the product
     of eqs. 9-10's two classes)."""
-    params = LegTrackerParams()
+    params = _params()
     mht, labels = _mht(params)
     a0, b0 = np.array([1.0, 0.0]), np.array([1.0, 0.3])
     mht.step(_meas([tuple(a0), tuple(b0)]), 0.0)
@@ -231,7 +237,7 @@ def test_eq15_two_tracks_one_approved_one_free_share_a_measurement() -> None:
 @pytest.mark.parametrize("fixed", ["free", "approved"])
 def test_nonadaptive_uses_one_class_for_every_track(fixed: str) -> None:
     """000 Sec. 3.4's non-adaptive comparison: one column for every track, approved or not."""
-    params = LegTrackerParams(adaptive=False, nonadaptive_class=fixed)
+    params = _params(adaptive=False, nonadaptive_class=fixed)
     got, info, z = _one_track_then_one_measurement(params, True)
     fam, z0 = info["fam"], info["z0"]
     want = _enumerate([(0.25, {fam: (z0, fixed)}), (0.75, {})], z, 0.1, _table10(params))

@@ -193,14 +193,31 @@ class TracksCsvWriter:
             self._out.pass_scan(name)
 
     def close(self) -> None:
-        """Close the file."""
+        """Close the file (one that no scan came to holds the header alone)."""
         self._out.close()
+
+    @property
+    def created(self) -> bool:
+        """Whether this writer made the file (there was none at its path)."""
+        return self._out.created
+
+    def abandon(self) -> bool:
+        """Close the file after a failed run; a file no scan came to is left as it was
+        (see :meth:`~laserpeople.io.scan_lines.ScanLineWriter.abandon`).
+
+        Returns:
+            Whether the file was left as it was.
+        """
+        return self._out.abandon()
 
     def __enter__(self) -> TracksCsvWriter:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: object, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.abandon()
 
 
 def _pose_cells(pose: Pose2D | None) -> tuple[str, str, str]:
@@ -508,6 +525,7 @@ def _read_tracks(
                 stacklevel=4,
             )
         current: list[Track] = []
+        rows_of: dict[tuple[str, int], int] = {}  # (kind, track id) -> line, in this scan
         key: tuple[int, float] | None = None
         last = -1
         scan_frame = frame
@@ -525,6 +543,7 @@ def _read_tracks(
                 if key is not None and current:
                     yield Tracks(key[1], key[0], tuple(current), scan_frame, pose)
                 current = []
+                rows_of = {}
                 key = (scan, stamp)
                 last = scan
                 scan_frame = parse_frame_cell(row.get(FRAME_COLUMN) or "", p, line) or frame
@@ -536,6 +555,16 @@ def _read_tracks(
                     path=p,
                     scan=scan,
                     hint="all rows of one scan must carry the same stamp",
+                )
+            first = rows_of.setdefault((track.kind, track.track_id), line)
+            if first != line:
+                raise RecordingError(
+                    f"lines {first} and {line}: {track.kind} track "
+                    f"{str(row.get('track_id', '')).strip()} has two rows in scan {scan}",
+                    path=p,
+                    scan=scan,
+                    hint="a track has one row per scan: delete one of them, or give the "
+                    "second track its own track_id",
                 )
             if kinds is None or track.kind in kinds:
                 current.append(track)

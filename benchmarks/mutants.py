@@ -3626,6 +3626,24 @@ MUTANTS: tuple[Mutant, ...] = (
         "    partial -= det",
         PAPER_LEGS,
     ),
+    # --- s35-harden ---
+    Mutant(
+        "build-output-over-recording",
+        "build(): no output is the recording it reads",
+        "pipeline/recording.py",
+        "        [recording],\n    )\n",
+        "        [],\n    )\n",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "scan-complex-ranges-taken",
+        "Scan: ranges of complex numbers are refused, not cut to their real part",
+        "scan.py",
+        'if array.dtype.kind not in "fiu":',
+        'if array.dtype.kind not in "fiuc":',
+        ("tests/test_hardening_round8.py",),
+    ),
+    # --- end s35-harden ---
 )
 
 

@@ -59,6 +59,12 @@ class LaserPeopleError(Exception):
             self.args = (self._compose(),)
         return self
 
+    def noted(self, note: str) -> LaserPeopleError:
+        """This error with ``note`` (what became of an output) after its message."""
+        self.detail = f"{self.detail}; {note}"
+        self.args = (self._compose(),)
+        return self
+
     def moved(self, old: str | Path, new: str | Path) -> LaserPeopleError:
         """This error naming ``new`` where it named ``old`` (an output written under a
         staging name beside ``new`` and moved into place once complete)."""

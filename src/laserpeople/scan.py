@@ -155,6 +155,57 @@ class Pose2D:
         return cls(x, y, theta)
 
 
+_FLOAT64 = np.dtype(np.float64)
+
+_SCALAR_FIELDS = ("stamp", "angle_min", "angle_increment", "range_min", "range_max")
+"""The fields of a :class:`Scan` that hold one number."""
+
+
+def _float_array(value: object, name: str) -> FloatArray:
+    """``value`` (a :class:`Scan`'s ``ranges`` or ``intensities``: an array or sequence of
+    real numbers) as a float64 array.
+
+    Raises:
+        TypeError: ``value`` is None, a string, or holds what is no real number (text,
+            complex numbers, None); names the field and what it takes.
+    """
+    expects = f"Scan: {name} must be an array of real numbers, one per beam"
+    if value is None or isinstance(value, str | bytes):
+        raise TypeError(f"{expects}, got {type(value).__name__} {value!r:.40}")
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged sequences
+        raise TypeError(f"{expects}: {exc}") from None
+    if array.dtype.kind not in "fiu":
+        if array.dtype.kind == "O":
+            try:
+                return np.asarray(array, dtype=np.float64)
+            except (TypeError, ValueError):
+                pass
+        raise TypeError(f"{expects}, got an array of {array.dtype} values")
+    return np.asarray(array, dtype=np.float64)
+
+
+def _check_field_types(scan: Scan) -> None:
+    """Name the field of ``scan`` that holds a value of the wrong type.
+
+    Raises:
+        TypeError: a number field holds no real number (text, None, an array), or ``pose``
+            is no :class:`Pose2D`; names the field, what it takes and what it got.
+    """
+    for name in _SCALAR_FIELDS:
+        value = getattr(scan, name)
+        if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+            raise TypeError(
+                f"Scan: {name} must be a real number, got {type(value).__name__} {value!r:.40}"
+            )
+    if scan.pose is not None and not isinstance(scan.pose, Pose2D):
+        raise TypeError(
+            f"Scan: pose must be a Pose2D or None, got {type(scan.pose).__name__} "
+            f"{scan.pose!r:.40} (Pose2D.from_array makes one of (x, y, theta))"
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class Scan:
     """One sweep of a 2D laser scanner, in the layout of ROS ``sensor_msgs/LaserScan``.
@@ -190,10 +241,42 @@ class Scan:
     labels: BeamLabels | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        ranges = np.asarray(self.ranges, dtype=np.float64)
+        ranges = self.ranges
+        if type(ranges) is not np.ndarray or ranges.dtype is not _FLOAT64:
+            ranges = _float_array(ranges, "ranges")
         if ranges.ndim != 1:
             self._fail(f"ranges must be one-dimensional, got shape {ranges.shape}")
         object.__setattr__(self, "ranges", ranges)
+        try:
+            self._check_header()
+        except (TypeError, ValueError, AttributeError) as exc:
+            # (a field of the wrong type: said naming it; the checks cost nothing when
+            # every field is right, which is why they are not made first)
+            _check_field_types(self)
+            raise exc from None
+        if self.intensities is not None:
+            inten: FloatArray | None = self.intensities
+            if type(inten) is not np.ndarray or inten.dtype is not _FLOAT64:
+                inten = _float_array(inten, "intensities")
+            assert inten is not None
+            if inten.size == 0:
+                inten = None
+            elif inten.shape != ranges.shape:
+                self._fail(
+                    f"{inten.size} intensities for {ranges.size} ranges",
+                    hint="intensities must be empty or have one value per beam",
+                )
+            object.__setattr__(self, "intensities", inten)
+        if self.labels is not None and len(self.labels) != ranges.size:
+            self._fail(f"{len(self.labels)} beam labels for {ranges.size} ranges")
+
+    def _check_header(self) -> None:
+        """Refuse a scan whose header (angles, stamp, range limits) or pose is damaged.
+
+        Raises:
+            ScanFormatError: names the field and the scan.
+            TypeError, ValueError, AttributeError: a field of the wrong type (raw).
+        """
         if not (math.isfinite(self.angle_increment) and self.angle_increment != 0.0):
             self._fail(
                 f"angle_increment must be finite and non-zero, got {self.angle_increment!r}",
@@ -218,19 +301,6 @@ class Scan:
                 f"{POSE_LIMIT:g} m or not finite",
                 hint="a transform or odometry record is corrupt",
             )
-        if self.intensities is not None:
-            inten: FloatArray | None = np.asarray(self.intensities, dtype=np.float64)
-            assert inten is not None
-            if inten.size == 0:
-                inten = None
-            elif inten.shape != ranges.shape:
-                self._fail(
-                    f"{inten.size} intensities for {ranges.size} ranges",
-                    hint="intensities must be empty or have one value per beam",
-                )
-            object.__setattr__(self, "intensities", inten)
-        if self.labels is not None and len(self.labels) != ranges.size:
-            self._fail(f"{len(self.labels)} beam labels for {ranges.size} ranges")
 
     def _fail(self, message: str, hint: str | None = None) -> None:
         raise ScanFormatError(message, path=self.source or None, scan=self.index, hint=hint)

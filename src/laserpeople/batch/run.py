@@ -64,6 +64,7 @@ class ClusterSpec:
         retries: Times a task is started again after its worker died (or it raised).
         memory_limit: Memory limit per local worker (Dask's syntax, ``"auto"``: the
             machine's memory shared equally).
+        connect_timeout: Seconds to wait for ``scheduler`` to answer before the run stops.
     """
 
     scheduler: str | None = None
@@ -72,6 +73,7 @@ class ClusterSpec:
     processes: bool = True
     retries: int = 2
     memory_limit: str = "auto"
+    connect_timeout: float = 20.0
 
     def __post_init__(self) -> None:
         if self.workers is not None and self.workers < 1:
@@ -99,7 +101,16 @@ def open_client(spec: ClusterSpec) -> Iterator[Any]:
     except ImportError:
         raise ConfigError("batch runs need Dask", hint="pip install 'laserpeople[batch]'") from None
     if spec.scheduler is not None:
-        with Client(spec.scheduler, timeout="20s") as client:
+        try:
+            client = Client(spec.scheduler, timeout=f"{spec.connect_timeout}s")
+        except (OSError, ValueError, TypeError) as exc:  # unreachable, or no address
+            raise ConfigError(
+                f"cannot reach the Dask scheduler {spec.scheduler!r}: {exc}",
+                hint="give the address it prints at its start (tcp://HOST:PORT; "
+                "`dask scheduler` starts one, `dask worker ADDRESS` its workers), or "
+                "drop --scheduler to run on this machine's cores",
+            ) from None
+        with client:
             yield client
         return
     config = {

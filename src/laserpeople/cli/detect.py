@@ -96,6 +96,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.features import FEATURE_NAMES
         from laserpeople.detection.report import Confusion, error_table
         from laserpeople.detection.training import beam_truth_labeller
+        from laserpeople.errors import LaserPeopleError
         from laserpeople.io.detections_csv import DetectionsCsvWriter
         from laserpeople.io.paths import check_output_format, check_outputs
         from laserpeople.pipeline import (
@@ -110,6 +111,7 @@ def register(app: typer.Typer) -> None:
             open_source,
             resolve_topics,
         )
+        from laserpeople.pipeline.sinks import left_as_it_was
 
         wanted = topics_from(topic, topics)
         ignored_sections(
@@ -148,7 +150,7 @@ def register(app: typer.Typer) -> None:
             frames = FrameChooser("sensor")(laser_frames(rec.scans(names)))
         sink = DetectionsCsvSink(output, per_laser=not fuse, stage=stage)
         if all_segments:
-            sink.close()
+            sink.abandon()  # (unused: the file is left to the writer of the segments)
             segments = DetectionsCsvWriter(
                 output,
                 segment_columns=tuple(f"f{i + 1}_{n}" for i, n in enumerate(FEATURE_NAMES)),
@@ -193,6 +195,11 @@ def register(app: typer.Typer) -> None:
         except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM: close the CSV with the scans done
             interrupted = stop_status(exc)
             pipe.close()
+        except BaseException as exc:
+            existed = all_segments and not segments.created
+            if all_segments and segments.abandon() and isinstance(exc, LaserPeopleError):
+                exc.noted(left_as_it_was("detections CSV", output, existed))
+            raise
         finally:
             if all_segments:
                 segments.close()

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass
-from typing import Any
+from os import PathLike
+from typing import Any, TypeVar
 
 from laserpeople.errors import EvaluationError
 from laserpeople.evaluation.clear_mot import ClearMot, ClearMotResult
@@ -142,6 +143,44 @@ class TrackingEvaluation:
         return self.clear_mot.frames().join(self.identity.frames()).join(self.schenk.frames())
 
 
+TRUTH_READERS = (
+    "read it first: read_truth_csv(path), or open_recording(path).truth() for a recording"
+)
+TRACKS_READERS = "read it first: read_tracks_file(path)"
+
+_Item = TypeVar("_Item")
+
+
+def _checked_items(given: object, name: str, kind: type[_Item], readers: str) -> Iterator[_Item]:
+    """The items of ``given`` (an argument of :func:`evaluate`), each checked to be a
+    ``kind`` as it is taken (the check costs a type test per frame).
+
+    Raises:
+        TypeError: ``given`` is a path or no iterable (at once), or an item is no ``kind``
+            (when it is reached); names the argument, what it takes and what to do.
+    """
+    expects = f"evaluate(): {name} must be an iterable of {kind.__name__}"
+    if isinstance(given, str | bytes | PathLike):
+        raise TypeError(f"{expects}, got the path {str(given)!r}: {readers}")
+    try:
+        items = iter(given)  # type: ignore[call-overload]
+    except TypeError:
+        raise TypeError(f"{expects}, got {type(given).__name__}: {readers}") from None
+
+    def checked() -> Iterator[_Item]:
+        for item in items:
+            if not isinstance(item, kind):
+                swapped = (
+                    " (are truth_frames and tracks swapped?)"
+                    if isinstance(item, TruthFrame | Tracks)
+                    else ""
+                )
+                raise TypeError(f"{expects}, got an item of type {type(item).__name__}{swapped}")
+            yield item
+
+    return checked()
+
+
 def evaluate(
     truth_frames: Iterable[TruthFrame],
     tracks: Iterable[Tracks],
@@ -167,7 +206,15 @@ def evaluate(
 
     Raises:
         EvaluationError: no truth frame at all, or scans out of order.
+        TypeError: an argument of the wrong type (a path instead of what is read from it,
+            the truth and the tracks swapped, parameters as a dict); names it.
     """
+    if params is not None and not isinstance(params, EvaluationParams):
+        raise TypeError(
+            f"evaluate(): params must be an EvaluationParams or None, got {type(params).__name__}",
+        )
+    truth_frames = _checked_items(truth_frames, "truth_frames", TruthFrame, TRUTH_READERS)
+    tracks = _checked_items(tracks, "tracks", Tracks, TRACKS_READERS)
     evaluation = TrackingEvaluation(params, keep_frames=keep_frames)
     counts = PairingCounts()
     evaluation.pairing = counts

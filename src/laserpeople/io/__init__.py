@@ -73,8 +73,14 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
     ``skip_bad_lines`` for CARMEN logs. Every reader takes ``on_error="stop"|"skip"``:
     what to do with a damaged scan in the middle of a recording (see
     :mod:`laserpeople.io.damage`); the ``.npz`` reader takes no other option.
+
+    Raises:
+        TypeError: ``path`` is no str or path (names what it got).
+        RecordingError: the recording cannot be opened (names the file and why).
     """
-    p = Path(path)
+    from laserpeople.io.paths import path_argument
+
+    p = path_argument(path, "path", "open_recording")
     if not p.exists():
         raise RecordingError(not_found(p), path=p, hint="check the path")
     suffix = p.suffix.lower()

@@ -141,14 +141,31 @@ class DetectionsCsvWriter:
         self._scan_rows(rows, scan.index, topic if topic is not None else scan.sensor)
 
     def close(self) -> None:
-        """Close the file."""
+        """Close the file (one that no scan came to holds the header alone)."""
         self._out.close()
+
+    @property
+    def created(self) -> bool:
+        """Whether this writer made the file (there was none at its path)."""
+        return self._out.created
+
+    def abandon(self) -> bool:
+        """Close the file after a failed run; a file no scan came to is left as it was
+        (see :meth:`~laserpeople.io.scan_lines.ScanLineWriter.abandon`).
+
+        Returns:
+            Whether the file was left as it was.
+        """
+        return self._out.abandon()
 
     def __enter__(self) -> DetectionsCsvWriter:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: object, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.abandon()
 
 
 def _value(key: str, value: str) -> float | int | str:

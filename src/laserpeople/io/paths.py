@@ -36,6 +36,37 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return False
 
 
+def path_argument(value: object, name: str, function: str) -> Path:
+    """``value`` as a path, for a function of the Python API that reads or writes a file.
+
+    Args:
+        value: What the caller passed.
+        name: The argument's name (``"path"``).
+        function: The function (``"open_recording"``), for the message.
+
+    Raises:
+        TypeError: ``value`` is no ``str`` or ``os.PathLike`` (a number, None, bytes, an
+            open file); names the function, the argument and what it takes.
+        ValueError: ``value`` is the empty string (it would be read as ``.``).
+    """
+    if isinstance(value, Path):
+        return value
+    if isinstance(value, str):
+        if not value:
+            raise ValueError(f"{function}(): {name} is empty: give the path of a file")
+        return Path(value)
+    if isinstance(value, os.PathLike):
+        named = os.fspath(value)
+        if isinstance(named, str):
+            return Path(named)
+    shown = repr(value)
+    shown = shown if len(shown) <= 60 else shown[:57] + "..."
+    raise TypeError(
+        f"{function}(): {name} must be a file path (str or pathlib.Path), "
+        f"got {type(value).__name__} {shown}"
+    )
+
+
 FORMATS = frozenset(
     {
         ".bag", ".mcap", ".db3", ".npz", ".log", ".clf",  # recordings

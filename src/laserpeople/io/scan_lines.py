@@ -3,9 +3,14 @@
 :class:`ScanLineWriter` writes the rows of one scan so that a process killed at any
 moment (SIGKILL, a power cut of the process) leaves every scan either complete or
 detectably torn, never silently short; a Ctrl-C, which stops it between two pages, cuts
-the scan it was writing back off. A single ``write()`` is not enough: Linux checks for a
-fatal signal between the pages it copies, so a kill can cut a scan larger than a
-page at a page boundary, which may fall just after a row. The writer therefore writes a
+the scan it was writing back off. An existing file is emptied only when the first scan
+is handed to the writer (or it is closed after a run that ended well): a run that fails
+before any scan (:meth:`ScanLineWriter.abandon`) leaves the file as it was (and removes
+one it made, which held the header alone).
+
+A single ``write()`` is not enough: Linux checks for a fatal signal between the pages it
+copies, so a kill can cut a scan larger than a page at a page boundary, which may fall
+just after a row. The writer therefore writes a
 scan page by page *from its end backwards* (``pwrite``): until the page holding the
 scan's first byte is written, the scan's start is a hole that reads as NUL bytes, and
 one page is copied whole or not at all. A failing write
@@ -20,10 +25,12 @@ CSV then drop the scan that line belongs to and say so with a :class:`TornScanWa
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import mmap
 import os
+import stat
 import warnings
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
@@ -47,7 +54,7 @@ class ScanLineWriter:
     no track or leg has no row but is in the file all the same).
 
     Args:
-        path: The file to write (created or truncated).
+        path: The file to write (created, or emptied when the first scan comes).
         header: Column names, written first.
         what: What the file holds, for error messages (``"tracks CSV"``).
 
@@ -66,12 +73,21 @@ class ScanLineWriter:
         self._end = 0  # bytes of complete rows in the file
         self._buf = io.StringIO()
         self._csv = csv.writer(self._buf, lineterminator="\n")
+        self._header: Sequence[str] | None = header  # None once written
+        self.created = False
+        """Whether this writer made the file (there was none at its path)."""
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            # opened without truncating: a file another run is writing is left to it
-            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT, 0o666)
+            # opened without truncating: a file another run is writing is left to it, and
+            # one of an earlier run stays as it is until the first scan comes
+            try:
+                fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+                self.created = True
+            except FileExistsError:
+                fd = os.open(self.path, os.O_WRONLY, 0o666)
             self._fh: IO[bytes] = open(fd, "wb", buffering=0)  # noqa: SIM115
             self._seekable = self._fh.seekable()  # False for a pipe or a terminal
+            self._regular = stat.S_ISREG(os.fstat(fd).st_mode)  # (not a device or a pipe)
         except OSError as exc:
             raise RecordingError(
                 f"cannot write the {what}: {why_unwritable(exc, self.path)}",
@@ -80,17 +96,39 @@ class ScanLineWriter:
             ) from exc
         try:
             claim(fd, self.path, what)
+            if self.created or not self._regular:  # (no earlier file to keep)
+                self._begin()
         except BaseException:
-            self._fh.close()
-            raise
-        try:
-            self.write_rows([header], count=False)
-        except RecordingError:
             self._fh.close()  # the caller never gets the writer to close it
             raise
 
+    def _begin(self) -> None:
+        """Empty the file and write the header, once, before the first scan.
+
+        Raises:
+            RecordingError: the file cannot be emptied or written; names it.
+        """
+        header, self._header = self._header, None
+        if header is None:
+            return
+        try:
+            if self._regular:
+                os.ftruncate(self._fh.fileno(), 0)
+        except OSError as exc:
+            raise RecordingError(
+                f"cannot write the {self.what}: {why_unwritable(exc, self.path)}",
+                path=self.path,
+                hint="choose a writable file path with -o",
+            ) from exc
+        self.write_rows([header], count=False)
+
     def pass_scan(self, scan: str) -> None:
-        """Count the scan named ``scan`` (``"scan 41 of /scan"``), which has no rows."""
+        """Count the scan named ``scan`` (``"scan 41 of /scan"``), which has no rows.
+
+        Raises:
+            RecordingError: the first scan, and the header cannot be written.
+        """
+        self._begin()
         self.scans += 1
         self.last = scan
 
@@ -104,6 +142,8 @@ class ScanLineWriter:
             RecordingError: The write failed (disk full, file system gone); the file holds
                 the scans handled before this one, and the message says so.
         """
+        if count:
+            self._begin()
         self._buf.seek(0)
         self._buf.truncate()
         self._csv.writerows(rows)
@@ -169,15 +209,48 @@ class ScanLineWriter:
         except OSError:
             return
 
+    @property
+    def begun(self) -> bool:
+        """Whether the file was emptied and its header written (a scan came, or it was
+        closed)."""
+        return self._header is None
+
     def close(self) -> None:
-        """Close the file."""
-        if not self._fh.closed:
+        """Close the file; one that no scan came to holds the header alone.
+
+        Raises:
+            RecordingError: the header cannot be written (the file is closed all the same).
+        """
+        if self._fh.closed:
+            return
+        try:
+            self._begin()
+        finally:
             self._fh.close()
+
+    def abandon(self) -> bool:
+        """Close the file after a run that failed: one that no scan came to is left as it
+        was before the writer opened it (a file the writer made is removed); one that scans
+        came to holds them, as after :meth:`close`.
+
+        Returns:
+            Whether the file was left as it was (or removed, when the writer made it).
+        """
+        if self._fh.closed:
+            return False
+        kept = not self.scans
+        self._header = None
+        self._fh.close()
+        if kept and self.created:
+            with contextlib.suppress(OSError):
+                self.path.unlink()
+        return kept
 
 
 def claim(fd: int, path: Path, what: str) -> None:
-    """Take the file ``fd`` (``path``) for this writer alone and empty it: two runs writing
-    one file at once would mix their rows into a file neither wrote. An exclusive lock
+    """Take the file ``fd`` (``path``) for this writer alone: two runs writing one file at
+    once would mix their rows into a file neither wrote (it is emptied when the first scan
+    comes, :meth:`ScanLineWriter._begin`). An exclusive lock
     (``flock``, released when the file is closed) on a regular file; pipes, terminals and
     devices are taken as they are.
 
@@ -185,8 +258,6 @@ def claim(fd: int, path: Path, what: str) -> None:
         RecordingError: another process holds the file; names it, before anything of it is
             changed.
     """
-    import stat
-
     if not stat.S_ISREG(os.fstat(fd).st_mode):
         return
     if not lock_for_one_writer(fd):
@@ -196,14 +267,6 @@ def claim(fd: int, path: Path, what: str) -> None:
             path=path,
             hint="give each run its own -o, or wait until the other has finished",
         )
-    try:
-        os.ftruncate(fd, 0)
-    except OSError as exc:
-        raise RecordingError(
-            f"cannot write the {what}: {why_unwritable(exc, path)}",
-            path=path,
-            hint="choose a writable file path with -o",
-        ) from exc
 
 
 def complete_lines(fh: IO[str], torn: list[str]) -> Iterator[str]:

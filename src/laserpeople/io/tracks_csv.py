@@ -41,6 +41,7 @@ import numpy as np
 
 from laserpeople.errors import LaserPeopleError, LaserPeopleWarning, RecordingError
 from laserpeople.io.csv_read import CsvRows, not_utf8
+from laserpeople.io.paths import path_argument
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
@@ -192,14 +193,31 @@ class TracksCsvWriter:
             self._out.pass_scan(name)
 
     def close(self) -> None:
-        """Close the file."""
+        """Close the file (one that no scan came to holds the header alone)."""
         self._out.close()
+
+    @property
+    def created(self) -> bool:
+        """Whether this writer made the file (there was none at its path)."""
+        return self._out.created
+
+    def abandon(self) -> bool:
+        """Close the file after a failed run; a file no scan came to is left as it was
+        (see :meth:`~laserpeople.io.scan_lines.ScanLineWriter.abandon`).
+
+        Returns:
+            Whether the file was left as it was.
+        """
+        return self._out.abandon()
 
     def __enter__(self) -> TracksCsvWriter:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: object, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.abandon()
 
 
 def _pose_cells(pose: Pose2D | None) -> tuple[str, str, str]:
@@ -419,6 +437,39 @@ def count_track_kinds(path: str | Path) -> dict[str, int]:
     return counts
 
 
+def check_read_arguments(
+    function: str, path: object, frame: object, kinds: object, ids: object
+) -> Path:
+    """The arguments of a tracks reader (:func:`iter_tracks_csv`,
+    :func:`~laserpeople.io.tracks_files.read_tracks_file`) checked before any file is read:
+    ``path`` as a :class:`~pathlib.Path`.
+
+    Raises:
+        TypeError: an argument of the wrong type; ValueError: a frame or kind that does not
+            exist. Both name the function, the argument and what it takes.
+    """
+    p = path_argument(path, "path", function)
+    if frame not in ("world", "sensor"):
+        raise ValueError(f"{function}(): frame must be 'world' or 'sensor', got {frame!r}")
+    if kinds is not None:
+        if isinstance(kinds, str) or not isinstance(kinds, tuple | list | set | frozenset):
+            raise TypeError(
+                f"{function}(): kinds must be a tuple of kinds such as ('person',), "
+                f"got {type(kinds).__name__} {kinds!r}"
+            )
+        unknown = [k for k in kinds if k not in TRACK_KINDS]
+        if unknown:
+            raise ValueError(
+                f"{function}(): unknown kind(s) {', '.join(map(repr, unknown))} in kinds; "
+                f"the kinds are {', '.join(TRACK_KINDS)}"
+            )
+    if ids is not None and not isinstance(ids, TrackIdNames):
+        raise TypeError(
+            f"{function}(): ids must be a TrackIdNames or None, got {type(ids).__name__}"
+        )
+    return p
+
+
 def iter_tracks_csv(
     path: str | Path,
     frame: CoordinateFrame = "world",
@@ -436,8 +487,19 @@ def iter_tracks_csv(
         RecordingError: the file is missing, a directory, not UTF-8 text or unreadable, lacks
             a column, has a bad row, or its scans go backwards or repeat (rows of one scan
             must be together, as ``laserpeople track`` writes them); the message names the
-            file and the line or scan.
+            file and the line or scan. Raised as the file is read.
+        TypeError, ValueError: an argument of the wrong type or value (at the call).
     """
+    p = check_read_arguments("iter_tracks_csv", path, frame, kinds, ids)
+    return _iter_tracks_csv(p, frame, kinds, ids)
+
+
+def _iter_tracks_csv(
+    path: Path,
+    frame: CoordinateFrame,
+    kinds: tuple[TrackKind, ...] | None,
+    ids: TrackIdNames | None,
+) -> Iterator[Tracks]:
     p = _existing_csv(path)
     try:
         yield from _read_tracks(p, frame, kinds, ids if ids is not None else TrackIdNames())
@@ -463,6 +525,7 @@ def _read_tracks(
                 stacklevel=4,
             )
         current: list[Track] = []
+        rows_of: dict[tuple[str, int], int] = {}  # (kind, track id) -> line, in this scan
         key: tuple[int, float] | None = None
         last = -1
         scan_frame = frame
@@ -480,6 +543,7 @@ def _read_tracks(
                 if key is not None and current:
                     yield Tracks(key[1], key[0], tuple(current), scan_frame, pose)
                 current = []
+                rows_of = {}
                 key = (scan, stamp)
                 last = scan
                 scan_frame = parse_frame_cell(row.get(FRAME_COLUMN) or "", p, line) or frame
@@ -491,6 +555,16 @@ def _read_tracks(
                     path=p,
                     scan=scan,
                     hint="all rows of one scan must carry the same stamp",
+                )
+            first = rows_of.setdefault((track.kind, track.track_id), line)
+            if first != line:
+                raise RecordingError(
+                    f"lines {first} and {line}: {track.kind} track "
+                    f"{str(row.get('track_id', '')).strip()} has two rows in scan {scan}",
+                    path=p,
+                    scan=scan,
+                    hint="a track has one row per scan: delete one of them, or give the "
+                    "second track its own track_id",
                 )
             if kinds is None or track.kind in kinds:
                 current.append(track)

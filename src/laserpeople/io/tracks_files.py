@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from laserpeople.io.tracks_csv import TrackIdNames, iter_tracks_csv
+from laserpeople.io.tracks_csv import TrackIdNames, check_read_arguments, iter_tracks_csv
 from laserpeople.scan import CoordinateFrame
 from laserpeople.tracks import TrackKind, Tracks
 
@@ -26,10 +26,13 @@ def read_tracks_file(
             theirs).
         kinds: Only these kinds (all when None).
         ids: Names of text track ids (CSV only; the other files hold numbers).
+
+    Raises:
+        TypeError, ValueError: an argument of the wrong type or value; names it.
     """
     from laserpeople.io import is_rosbag
 
-    p = Path(path)
+    p = check_read_arguments("read_tracks_file", path, frame, kinds, ids)
     if p.suffix.lower() == ".parquet":
         from laserpeople.batch.parquet import iter_tracks_parquet
 

@@ -28,6 +28,7 @@ import numpy as np
 
 from laserpeople.errors import LaserPeopleWarning, RecordingError
 from laserpeople.io.csv_read import CsvRows, not_utf8
+from laserpeople.io.paths import path_argument
 from laserpeople.io.tracks_csv import ID_LIMIT, STAMP_TOLERANCE, parse_frame_cell
 from laserpeople.scan import CoordinateFrame
 from laserpeople.truth import NONE_ID, TruthFrame
@@ -44,8 +45,9 @@ def read_truth_csv(path: str | Path) -> list[TruthFrame]:
         RecordingError: the file is missing, lacks a column, or a row is malformed (the
             message names the line); a person appears twice in one scan; the rows of one
             scan disagree on its stamp.
+        TypeError: ``path`` is no str or path.
     """
-    p = Path(path)
+    p = path_argument(path, "path", "read_truth_csv")
     if p.is_dir():
         raise RecordingError(
             "is a directory, not a ground-truth CSV", path=p, hint="give the CSV file itself"

@@ -8,6 +8,7 @@ from contextlib import suppress
 from dataclasses import dataclass, field
 
 from laserpeople.distinct_ids import DistinctIds
+from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
 from laserpeople.samples import Samples
@@ -162,6 +163,11 @@ class Pipeline:
                     sink.write(frame, tracks)
                 stats.frames += 1
                 yield Step(frame, tracks, seconds)
+        except GeneratorExit:  # the caller stopped taking frames: no failure
+            raise
+        except BaseException as exc:
+            self.close(failed=exc)
+            raise
         finally:
             self.close()
 
@@ -195,14 +201,28 @@ class Pipeline:
             if len(block) < self.lookahead:
                 return
 
-    def close(self) -> None:
+    def close(self, failed: BaseException | None = None) -> None:
         """Close the sinks (and the source, when it can be closed); once (a second call,
-        as after an interruption, does nothing)."""
+        as after an interruption, does nothing).
+
+        ``failed``: the error that stopped the run. Sinks with an ``abandon()`` method are
+        then abandoned instead (a CSV no scan came to stays as it was), and what they say
+        about it is added to the error's message (a :class:`LaserPeopleError`) or shown
+        as a note.
+        """
         if getattr(self, "_closed", False):
             return
         self._closed = True
         for sink in self.sinks:
-            sink.close()
+            abandon = getattr(sink, "abandon", None) if failed is not None else None
+            if not callable(abandon):
+                sink.close()
+                continue
+            said = abandon()
+            if said and isinstance(failed, LaserPeopleError):
+                failed.noted(said)
+            elif said:
+                failed.add_note(said)  # type: ignore[union-attr]
         close = getattr(self.source, "close", None)
         if callable(close):
             close()

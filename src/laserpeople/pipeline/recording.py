@@ -16,6 +16,7 @@ from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
 from laserpeople.io import RecordingSource, is_rosbag, open_recording
 from laserpeople.io.damage import check_on_error
+from laserpeople.io.paths import check_outputs, path_argument
 from laserpeople.io.topics import no_laser_topic
 from laserpeople.pipeline.background import (
     StaticWorldParams,
@@ -444,6 +445,12 @@ def build(
 
     for name, given in (("topics", topics), ("outputs", outputs), ("mounts", mounts)):
         refuse_one_for_many(name, given)
+    recording = path_argument(recording, "recording", "build")
+    # (a bag output named as the recording would replace it with the tracks written)
+    check_outputs(
+        {f"outputs[{i}]": o for i, o in enumerate(outputs) if isinstance(o, str | Path)},
+        [recording],
+    )
     if isinstance(tracker, str):
         tracker = registry.get(tracker).make(params)
     rec = open_source(recording, world_frame, mounts, on_error)

@@ -63,6 +63,26 @@ class TracksCsvSink:
             )
         self._writer.close()
 
+    def abandon(self) -> str | None:
+        """Close the file after a failed run: one that no scan came to is left as it was.
+
+        Returns:
+            What was left as it was, for the error message (None: scans were written).
+        """
+        if self._writer is None:
+            return left_as_it_was("tracks CSV", self.path, self.path.exists())
+        existed = not self._writer.created
+        if self._writer.abandon():
+            return left_as_it_was("tracks CSV", self.path, existed)
+        return None
+
+
+def left_as_it_was(what: str, path: Path, existed: bool) -> str:
+    """What a failed run that wrote no scan says about its output ``path``."""
+    if existed:
+        return f"the {what} {path} was left as it was (no scan was written)"
+    return f"no {what} was written (no scan was)"
+
 
 class DetectionsCsvSink:
     """Detections CSV with a ``topic`` column.
@@ -102,6 +122,17 @@ class DetectionsCsvSink:
         """Close the file."""
         self._writer.close()
 
+    def abandon(self) -> str | None:
+        """Close the file after a failed run: one that no scan came to is left as it was.
+
+        Returns:
+            What was left as it was, for the error message (None: scans were written).
+        """
+        existed = not self._writer.created
+        if self._writer.abandon():
+            return left_as_it_was("detections CSV", self.path, existed)
+        return None
+
 
 class TracksBagSink:
     """A ROS bag (``.bag``) or MCAP/db3 (ROS 2) with the frames' scans and the tracks as
@@ -134,4 +165,4 @@ class TracksBagSink:
             self._context.__exit__(None, None, None)
 
 
-__all__ = ["DetectionsCsvSink", "TracksBagSink", "TracksCsvSink"]
+__all__ = ["DetectionsCsvSink", "TracksBagSink", "TracksCsvSink", "left_as_it_was"]

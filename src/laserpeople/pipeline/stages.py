@@ -46,7 +46,10 @@ class Sink(Protocol):
         ...
 
     def close(self) -> None:
-        """Finish the output (also after an error)."""
+        """Finish the output (also after an error, unless the sink has an ``abandon()``
+        method: then that is called instead after an error, and what it returns, if not
+        None, is added to the error's message: e.g. that an older file was left as it
+        was)."""
         ...
 
 

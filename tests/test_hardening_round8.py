@@ -1,0 +1,298 @@
+"""What a demanding user meets, eighth round: the Python API given the wrong types or an
+output that is its input, a tracks CSV rewritten by a run that fails at once, duplicate
+rows of one track, foreign manifest lines, an unreachable scheduler."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from laserpeople.errors import ConfigError, RecordingError, ScanFormatError
+from laserpeople.scan import Pose2D, Scan
+
+
+@pytest.fixture(scope="module")
+def walk(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A short simulated recording with ground truth (.npz)."""
+    from laserpeople.sim.scenarios import run_scenario
+
+    path = tmp_path_factory.mktemp("walk") / "walk.npz"
+    run_scenario("figure-eight", seconds=1.0, seed=3).write(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def tracks_csv(walk: Path) -> Path:
+    """The tracks CSV of ``walk``."""
+    from laserpeople.pipeline import build
+
+    out = walk.with_name("tracks.csv")
+    build(walk, outputs=[out]).run()
+    return out
+
+
+def test_build_refuses_an_output_that_is_the_recording(walk: Path, tmp_path: Path) -> None:
+    """``build("run.mcap", outputs=["run.mcap"])`` replaced the recording with the tracks
+    bag written from it."""
+    from laserpeople.pipeline import build
+
+    bag = tmp_path / "run.mcap"
+    build(walk, outputs=[bag]).run()
+    before = bag.read_bytes()
+    with pytest.raises(ConfigError, match=r"outputs\[1\] .*run\.mcap would write over the input"):
+        build(bag, outputs=[tmp_path / "other.csv", str(bag)])
+    assert bag.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    ("call", "says"),
+    [
+        ("open_recording", r"open_recording\(\): path must be a file path .*got int 5"),
+        ("iter_tracks_csv", r"iter_tracks_csv\(\): path must be a file path .*got int 5"),
+        ("read_tracks_file", r"read_tracks_file\(\): path must be a file path .*got int 5"),
+        ("read_truth_csv", r"read_truth_csv\(\): path must be a file path .*got int 5"),
+        ("build", r"build\(\): recording must be a file path .*got int 5"),
+    ],
+)
+def test_a_path_of_the_wrong_type_is_named(call: str, says: str) -> None:
+    from laserpeople.io import open_recording
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+    from laserpeople.io.tracks_files import read_tracks_file
+    from laserpeople.io.truth_csv import read_truth_csv
+    from laserpeople.pipeline import build
+
+    function = {
+        "open_recording": open_recording,
+        "iter_tracks_csv": iter_tracks_csv,
+        "read_tracks_file": read_tracks_file,
+        "read_truth_csv": read_truth_csv,
+        "build": build,
+    }[call]
+    with pytest.raises(TypeError, match=says):
+        function(5)  # type: ignore[operator]
+
+
+def test_tracks_readers_name_a_wrong_frame_or_kinds_at_the_call(tracks_csv: Path) -> None:
+    """``kinds="person"`` was taken letter by letter (``"leg" in "person"``), a frame
+    ``"map"`` as world: both silently."""
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+    from laserpeople.io.tracks_files import read_tracks_file
+
+    with pytest.raises(TypeError, match=r"kinds must be a tuple of kinds .*got str 'person'"):
+        read_tracks_file(tracks_csv, kinds="person")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"unknown kind\(s\) 'people'"):
+        iter_tracks_csv(tracks_csv, kinds=("people",))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"frame must be 'world' or 'sensor', got 'map'"):
+        iter_tracks_csv(tracks_csv, frame="map")  # type: ignore[arg-type]
+    assert list(read_tracks_file(tracks_csv, kinds=("person",)))
+
+
+def test_evaluate_names_paths_swapped_arguments_and_dict_params(
+    walk: Path, tracks_csv: Path
+) -> None:
+    from laserpeople.evaluation.report import evaluate
+    from laserpeople.io import open_recording
+    from laserpeople.io.tracks_files import read_tracks_file
+
+    with open_recording(walk) as recording:  # type: ignore[attr-defined]
+        truth = list(recording.truth())
+    tracks = list(read_tracks_file(tracks_csv))
+    with pytest.raises(TypeError, match=r"truth_frames must be .*got the path .*read_truth_csv"):
+        evaluate(str(walk), tracks)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"tracks must be .*got the path .*read_tracks_file"):
+        evaluate(truth, tracks_csv)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"got an item of type \w+ \(are .* swapped\?\)"):
+        evaluate(tracks, truth)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"params must be an EvaluationParams or None, got dict"):
+        evaluate(truth, tracks, {"max_distance": 1.0})  # type: ignore[arg-type]
+    assert evaluate(truth, tracks).result().clear_mot.num_frames == len(truth)
+
+
+RANGES = np.linspace(1.0, 2.0, 5)
+
+
+@pytest.mark.parametrize(
+    ("fields", "error", "says"),
+    [
+        ({"ranges": None}, TypeError, r"ranges must be an array of real numbers.*NoneType"),
+        ({"ranges": ["a", "b"]}, TypeError, r"ranges must be an array .*<U1"),
+        ({"ranges": RANGES + 1j}, TypeError, r"ranges must be an array .*complex128"),
+        ({"ranges": np.ones((2, 3))}, ScanFormatError, r"ranges must be one-dimensional"),
+        ({"intensities": ["x"] * 5}, TypeError, r"intensities must be an array"),
+        ({"angle_min": "-1"}, TypeError, r"angle_min must be a real number, got str '-1'"),
+        ({"angle_min": np.zeros(2)}, TypeError, r"angle_min must be a real number, got ndarray"),
+        ({"stamp": None}, TypeError, r"stamp must be a real number, got NoneType"),
+        ({"range_max": None}, TypeError, r"range_max must be a real number, got NoneType"),
+        ({"range_min": "0"}, TypeError, r"range_min must be a real number, got str"),
+        ({"pose": (1.0, 2.0, 0.0)}, TypeError, r"pose must be a Pose2D or None, got tuple"),
+    ],
+)
+def test_a_scan_field_of_the_wrong_type_is_named(
+    fields: dict[str, object], error: type[Exception], says: str
+) -> None:
+    """Complex ranges lost their imaginary part with a warning; the others raised numpy's
+    or math's words without the field."""
+    given: dict[str, object] = {
+        "stamp": 1.0,
+        "angle_min": -1.0,
+        "angle_increment": 0.01,
+        "ranges": RANGES,
+        **fields,
+    }
+    with pytest.raises(error, match=says):
+        Scan(**given)  # type: ignore[arg-type]
+
+
+def test_scan_fields_of_other_numeric_types_are_still_taken() -> None:
+    scan = Scan(
+        np.float32(1.0),  # type: ignore[arg-type]
+        -1,
+        np.float64(0.01),  # type: ignore[arg-type]
+        [1, 2, 3],  # type: ignore[arg-type]
+        intensities=np.arange(3, dtype=np.int32),  # type: ignore[arg-type]
+        pose=Pose2D(1.0, 0.0, 0.0),
+    )
+    assert scan.ranges.dtype == np.float64 and scan.intensities is not None
+    assert scan.intensities.dtype == np.float64
+    np.testing.assert_allclose(scan.points("world")[0], [1.0 + np.cos(-1.0), np.sin(-1.0)])
+
+
+OLD_TRACKS = "scan,stamp,track_id,kind,x,y\n0,0.000000,1,person,1.0,2.0\n"
+BAD_FIRST_SCAN = "FLASER 3 1.0 nan\nFLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1.0 host 1.0\n"
+"""A CARMEN log whose first scan is damaged: the run stops before any scan."""
+
+
+@pytest.mark.parametrize(("command", "what"), [("track", "tracks"), ("detect", "detections")])
+def test_a_run_failing_before_any_scan_leaves_the_old_csv_and_says_so(
+    command: str, what: str, tmp_path: Path
+) -> None:
+    """The old CSV was emptied (to a header) when the writer opened it, before the
+    recording's first scan failed to read."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    log = tmp_path / "bad.log"
+    log.write_text(BAD_FIRST_SCAN)
+    old = tmp_path / "old.csv"
+    old.write_text(OLD_TRACKS)
+    run = CliRunner().invoke(app, [command, str(log), "-o", str(old)])
+    assert run.exit_code == 1 and isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert "line 1: FLASER" in text
+    assert f"the {what} CSV {old} was left as it was (no scan was written)" in text, text
+    assert old.read_text() == OLD_TRACKS
+    new = tmp_path / "new.csv"
+    run = CliRunner().invoke(app, [command, str(log), "-o", str(new)])
+    assert f"no {what} CSV was written (no scan was)" in str(run.exception)
+    assert not new.exists()
+
+
+def test_the_tracks_writer_empties_an_old_file_at_the_first_scan_or_a_good_close(
+    tmp_path: Path,
+) -> None:
+    from laserpeople.io.tracks_csv import TracksCsvWriter, iter_tracks_csv
+    from laserpeople.tracks import Tracks
+
+    old = tmp_path / "old.csv"
+    old.write_text(OLD_TRACKS)
+    with pytest.raises(RuntimeError), TracksCsvWriter(old):
+        assert old.read_text() == OLD_TRACKS  # opened, not yet emptied
+        raise RuntimeError("the run failed")
+    assert old.read_text() == OLD_TRACKS
+    TracksCsvWriter(old).close()  # a run of no scan that ended well: its own, empty CSV
+    assert old.read_text().splitlines() == [old.read_text().splitlines()[0]]
+    assert list(iter_tracks_csv(old)) == []
+    old.write_text(OLD_TRACKS)
+    with pytest.raises(RuntimeError), TracksCsvWriter(old) as out:
+        out.write(Tracks(0.5, 4, (), "world"))
+        raise RuntimeError("the run failed after a scan")
+    assert "person" not in old.read_text() and old.read_text().startswith("scan,stamp")
+
+
+def test_two_rows_of_one_track_in_one_scan_are_an_error_naming_the_lines(
+    tmp_path: Path,
+) -> None:
+    """The second row of person 3 in scan 1 made a second person 3 that evaluate scored
+    as a false positive (or matched in the first's place)."""
+    from laserpeople.errors import RecordingError
+    from laserpeople.io.tracks_csv import iter_tracks_csv
+
+    path = tmp_path / "dup.csv"
+    path.write_text(
+        "scan,stamp,track_id,kind,x,y\n"
+        "0,0.0,3,person,1.0,2.0\n"
+        "1,0.1,3,person,1.0,2.0\n"
+        "1,0.1,3,leg,1.1,2.0\n"
+        "1,0.1,4,person,3.0,2.0\n"
+        "1,0.1,3,person,1.2,2.1\n"
+    )
+    with pytest.raises(
+        RecordingError, match=r"scan 1: lines 3 and 6: person track 3 has two rows in scan 1"
+    ):
+        list(iter_tracks_csv(path, kinds=("leg",)))
+    path.write_text("scan,stamp,track_id,kind,x,y\n0,0.0,3,person,1,2\n1,0.1,3,person,1,2\n")
+    assert [len(t.tracks) for t in iter_tracks_csv(path)] == [1, 1]
+
+
+def _entry(name: str) -> str:
+    import json
+
+    row = {"name": name}
+    return json.dumps(
+        {"version": 1, "name": name, "input_hash": "h", "config_hash": "c", "rows": [row]}
+    )
+
+
+def test_foreign_manifest_lines_are_named_kept_and_a_cut_off_line_is_ended(
+    tmp_path: Path,
+) -> None:
+    """A note, a line of another tool or a JSON object without our keys in the middle of
+    manifest.jsonl was taken as a torn line (or as the recording "None") without a word,
+    and the rewrite at the end of the run dropped it."""
+    from laserpeople.batch.manifest import Manifest
+    from laserpeople.errors import LaserPeopleWarning
+
+    path = tmp_path / "manifest.jsonl"
+    path.write_text(
+        f'{_entry("a")}\n# rerun after the disk was changed\n{{"job": 7}}\n{_entry("b")}\n'
+        '{"version": 1, "name": "c", "inp'  # cut off by a kill: no warning
+    )
+    with pytest.warns(LaserPeopleWarning, match=r"manifest.jsonl: lines 2, 3 are no entry"):
+        manifest = Manifest(tmp_path)
+    assert set(manifest.entries) == {"a", "b"} and manifest.torn == 1
+    manifest.record("d", "h", "c", [])
+    manifest.record("e", "h", "c", [])
+    with pytest.warns(LaserPeopleWarning, match=r"lines 2, 3 are no entry"):
+        again = Manifest(tmp_path)  # the cut-off line stays one: "d" was not glued to it
+    assert set(again.entries) == {"a", "b", "d", "e"} and again.torn == 1
+    again.compact()
+    lines = path.read_text().splitlines()
+    assert lines[-2:] == ["# rerun after the disk was changed", '{"job": 7}'], lines
+    assert len(lines) == 6
+
+
+def test_an_unreachable_scheduler_is_a_clear_error(tmp_path: Path) -> None:
+    """Dask's traceback (an OSError after 20 s, or a ValueError for an address without
+    a port) came out of ``batch --scheduler``."""
+    pytest.importorskip("dask.distributed")
+    from typer.testing import CliRunner
+
+    from laserpeople.batch.run import ClusterSpec, open_client
+    from laserpeople.cli import app
+
+    with (
+        pytest.raises(ConfigError, match=r"cannot reach the Dask scheduler 'tcp://127.0.0.1:9'"),
+        open_client(ClusterSpec(scheduler="tcp://127.0.0.1:9", connect_timeout=0.5)),
+    ):
+        pass
+    recording = tmp_path / "r.npz"
+    recording.write_bytes(b"")
+    run = CliRunner().invoke(
+        app, ["batch", str(recording), "--out", str(tmp_path / "o"), "--scheduler", "nowhere"]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "cannot reach the Dask scheduler 'nowhere': missing port" in str(run.exception)
+    assert "drop --scheduler" in str(run.exception)

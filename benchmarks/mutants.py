@@ -2786,8 +2786,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "csv-taken-not-emptied",
         "tracks/detections CSV: a file taken over is emptied (opened without O_TRUNC)",
         "io/scan_lines.py",
-        "        os.ftruncate(fd, 0)\n",
-        "        pass\n",
+        "                os.ftruncate(self._fh.fileno(), 0)\n",
+        "                pass\n",
         ("tests/test_hardening_commands.py",),
     ),
     Mutant(

@@ -85,7 +85,8 @@ class LegReidParams:
     )
     min_width: float = param(
         0.1,
-        "real person-following recording (dev): 5 % of the followed person's whole, "
+        "measured (docs/trackers.md, the real followed-person recording): 5 % of the "
+        "followed person's whole, "
         "unoccluded segments lie below 0.113 m, the median at 0.147 m; narrower ones are a "
         "leg seen in part (0.08 kept them and no returning person was recognised)",
         "narrowest segment taken as one leg",
@@ -93,8 +94,8 @@ class LegReidParams:
     )
     max_width: float = param(
         0.25,
-        "real person-following recording: one leg's width 0.10-0.20 m; wider segments are "
-        "two legs together or a leg against a wall",
+        "assumption: one leg's width on the real person-following recording 0.11-0.20 m; "
+        "wider segments are two legs together or a leg against a wall",
         "widest segment taken as one leg",
         "m",
     )

@@ -3644,6 +3644,47 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_round8.py",),
     ),
     # --- end s35-harden ---
+    # --- s35-reid ---
+    Mutant(
+        "leg-reid-shared-segment",
+        "leg_reid: a segment near two person tracks is nobody's leg",
+        "identity/leg_width.py",
+        "whole = (count == 1) & (sizes >= p.min_points)",
+        "whole = (count >= 1) & (sizes >= p.min_points)",
+        ("tests/test_identity_leg_width.py",),
+    ),
+    Mutant(
+        "leg-reid-occluded-after-flipped",
+        "leg_reid: a leg whose next beam is nearer is cut (occluded)",
+        "identity/leg_width.py",
+        "out[:-1] |= adjacent & (rng[after + 1] < rng[after])",
+        "out[:-1] |= adjacent & (rng[after + 1] > rng[after])",
+        ("tests/test_identity_leg_width.py",),
+    ),
+    Mutant(
+        "leg-reid-never-rewrites",
+        "leg_reid: a new id given a dormant identity is reported with it",
+        "identity/leg_width.py",
+        "                s.output = d.identity\n",
+        "                s.output = tid\n",
+        ("tests/test_identity_leg_width.py",),
+    ),
+    Mutant(
+        "reidentify-ready-needs-both",
+        "reidentify: matched at min_samples widths OR decide_time",
+        "tracking/reidentify.py",
+        "return signature.count >= p.min_samples or stamp - since >= p.decide_time",
+        "return signature.count >= p.min_samples and stamp - since >= p.decide_time",
+        ("tests/test_identity_leg_width.py",),
+    ),
+    Mutant(
+        "leg-reid-stage-never-built",
+        "leg_reid: the pipeline puts the stage after a tracker that switches it on",
+        "pipeline/recording.py",
+        'if not getattr(getattr(tracker, "params", None), "leg_reid", False):',
+        "if True:",
+        ("tests/test_identity_leg_width.py",),
+    ),
 )
 
 

@@ -47,9 +47,9 @@ from laserpeople.evaluation.suite import (
     track_scene,
 )
 from laserpeople.pipeline.background import load_static_world
-from laserpeople.pipeline.recording import tracker_stages
+from laserpeople.pipeline.recording import leg_reid_stage, tracker_stages
+from laserpeople.pipeline.stages import Identifier
 from laserpeople.pipeline.static_people import uses_static_model
-from laserpeople.pipeline.static_tracks import StaticTrackFilter
 from laserpeople.sim.scenarios.randomised import HELD_BACK_SEEDS, TUNING_SEEDS
 from laserpeople.tracking import registry
 from laserpeople.tracking.registry import POINT_FIELDS
@@ -88,21 +88,26 @@ def suite_scenes(
 class Staged:
     """A tracker behind the stages that :func:`laserpeople.pipeline.build` gives it: the
     points' stages of a tracker of points (fusion, background, clustering; the suite fills
-    only scans and legs), the people's static world model, and the static-track filter of a
-    tracker without a static world of its own (``pipeline/static_tracks.py``)."""
+    only scans and legs), the people's static world model, and its identify stages: the
+    static-track filter of a tracker without a static world of its own
+    (``pipeline/static_tracks.py``) and the re-identification by leg widths of a tracker of
+    points (``identity/leg_width.py``)."""
 
-    def __init__(self, tracker: Any, stages: list[Any], hide: StaticTrackFilter | None) -> None:
+    def __init__(self, tracker: Any, stages: list[Any], identify: list[Identifier]) -> None:
         self.tracker = tracker
         self.stages = stages
-        self.hide = hide
+        self.identify = identify
         self.consumes = (frozenset(tracker.consumes) & {"legs"}) | {"scans"}
 
     def update(self, frame: Any) -> Any:
-        """Run the stages on ``frame``, track it, leave out the people on static places."""
+        """Run the stages on ``frame``, track it, run the identify stages (leave out the
+        people on static places, re-identify)."""
         for stage in self.stages:
             frame = stage(frame)
         tracks = self.tracker.update(frame)
-        return tracks if self.hide is None else self.hide.update(tracks, frame)
+        for stage in self.identify:
+            tracks = stage.update(tracks, frame)
+        return tracks
 
 
 def make_factory(name: str, config: Path | None, background: str = "auto") -> Any:
@@ -130,8 +135,9 @@ def make_factory(name: str, config: Path | None, background: str = "auto") -> An
             background=background,
             static_world=static,
         )
-        if stages or observe or hide is not None:
-            return Staged(tracker, [*stages, *observe], hide)
+        identify = [s for s in (hide, leg_reid_stage(tracker, static)) if s is not None]
+        if stages or observe or identify:
+            return Staged(tracker, [*stages, *observe], identify)
         return tracker
 
     return make

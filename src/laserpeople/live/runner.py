@@ -172,7 +172,7 @@ def tracker_pipelines(
 ) -> PipelineFactory:
     """A :data:`PipelineFactory` for a registered tracker: every call makes a new tracker
     with the stages :func:`laserpeople.pipeline.build` gives it for a recording."""
-    from laserpeople.pipeline.recording import tracker_stages
+    from laserpeople.pipeline.recording import leg_reid_stage, tracker_stages
     from laserpeople.tracking import registry
 
     entry = registry.get(tracker)
@@ -187,12 +187,13 @@ def tracker_pipelines(
             map_path=map_path,
             static_world=static_world,
         )
+        identify = [s for s in (hide, leg_reid_stage(made, static_world)) if s is not None]
         return Pipeline(
             frames,
             preprocess=preprocess,
             observe=observe,
             tracker=made,
-            identify=[hide] if hide is not None else [],
+            identify=identify,
             sinks=sinks,
         )
 

@@ -56,6 +56,7 @@ from laserpeople.pipeline.static_tracks import StaticTrackParams
 from laserpeople.scan import Pose2D
 
 if TYPE_CHECKING:
+    from laserpeople.identity.leg_width import LegReidParams
     from laserpeople.pipeline.prelearn import Prelearned
     from laserpeople.tracking.legs import LegTrackerParams
 
@@ -229,6 +230,14 @@ def _leg_tracker_defaults() -> LegTrackerParams:
     return LegTrackerParams()
 
 
+def _leg_reid_defaults() -> LegReidParams:
+    """The default parameters of re-identification by leg widths (imported at use: it
+    imports the tracking package)."""
+    from laserpeople.identity.leg_width import LegReidParams
+
+    return LegReidParams()
+
+
 @dataclass(frozen=True)
 class StaticWorldParams:
     """The parameters of every static world model, each read from its own ``--config``
@@ -238,7 +247,9 @@ class StaticWorldParams:
     ``[static_tracks]`` (which person tracks of trackers without a static world of their
     own are left out, :mod:`laserpeople.pipeline.static_tracks`), ``[leg_foreground]``
     (when ``auto`` keeps only points near legs, :mod:`laserpeople.pipeline.leg_foreground`)
-    and ``[leg_tracker]`` (the leg MHT that stage runs)."""
+    and ``[leg_tracker]`` (the leg MHT that stage runs); with them, ``[leg_reid]``, the
+    stage after a tracker of points that gives people who come back their old ids by their
+    leg widths (:mod:`laserpeople.identity.leg_width`)."""
 
     occupancy: OccupancyParams = field(default_factory=OccupancyParams)
     beam_histogram: BeamHistogramParams = field(default_factory=BeamHistogramParams)
@@ -249,24 +260,30 @@ class StaticWorldParams:
     leg_tracker: LegTrackerParams = field(default_factory=_leg_tracker_defaults)
     """The ``[leg_tracker]`` section: the leg MHT that ``[leg_foreground]`` runs to hold its
     people's legs uses it (see :func:`~.leg_foreground.stage_leg_tracker`)."""
+    leg_reid: LegReidParams = field(default_factory=_leg_reid_defaults)
+    """The ``[leg_reid]`` section (:func:`~.recording.leg_reid_stage`)."""
 
     @staticmethod
     def sections_for(consumes: frozenset[str]) -> list[type]:
         """The sections that a tracker reading ``consumes`` of a frame is given: all of
-        :meth:`sections` for a tracker of laser points; without ``[leg_foreground]`` and
-        its ``[leg_tracker]`` for a tracker of leg detections (only the points' foreground
-        keeps points near legs)."""
+        :meth:`sections` for a tracker of laser points; without ``[leg_foreground]``, its
+        ``[leg_tracker]`` and ``[leg_reid]`` for a tracker of leg detections (only the
+        points' foreground keeps points near legs; the leg MHT re-identifies people
+        itself)."""
+        from laserpeople.identity.leg_width import LegReidParams
         from laserpeople.tracking.legs import LegTrackerParams
         from laserpeople.tracking.registry import POINT_FIELDS
 
         every = StaticWorldParams.sections()
         if consumes & POINT_FIELDS:
             return every
-        return [c for c in every if c not in (LegForegroundParams, LegTrackerParams)]
+        points_only = (LegForegroundParams, LegTrackerParams, LegReidParams)
+        return [c for c in every if c not in points_only]
 
     @staticmethod
     def sections() -> list[type]:
         """The parameter classes (TOML sections) it reads."""
+        from laserpeople.identity.leg_width import LegReidParams
         from laserpeople.tracking.legs import LegTrackerParams
 
         return [
@@ -277,6 +294,7 @@ class StaticWorldParams:
             StaticTrackParams,
             LegForegroundParams,
             LegTrackerParams,
+            LegReidParams,
         ]
 
 
@@ -285,6 +303,7 @@ def load_static_world(path: str | Path | None, preset: str | None = None) -> Sta
     unknown keys, wrong types and non-finite values are a ConfigError naming the key;
     ``preset`` "paper" starts each section from the papers' values."""
     from laserpeople.config import load_config
+    from laserpeople.identity.leg_width import LegReidParams
     from laserpeople.tracking.legs import LegTrackerParams
 
     return StaticWorldParams(
@@ -295,6 +314,7 @@ def load_static_world(path: str | Path | None, preset: str | None = None) -> Sta
         static_tracks=load_config(StaticTrackParams, path, preset),
         leg_foreground=load_config(LegForegroundParams, path, preset),
         leg_tracker=load_config(LegTrackerParams, path, preset),
+        leg_reid=load_config(LegReidParams, path, preset),
     )
 
 

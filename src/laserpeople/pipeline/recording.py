@@ -54,6 +54,7 @@ from laserpeople.pipeline.static_people import (
 from laserpeople.pipeline.static_tracks import StaticTrackFilter
 
 if TYPE_CHECKING:
+    from laserpeople.identity.leg_width import LegWidthReidentifier
     from laserpeople.identity.reid import ReidParams
 
 ALL_TOPICS = "all"
@@ -319,6 +320,23 @@ def add_static_track_filter(
     return StaticTrackFilter(model, static_world.static_tracks) if hide else None
 
 
+def leg_reid_stage(
+    tracker: object, static_world: StaticWorldParams | None = None
+) -> LegWidthReidentifier | None:
+    """The identify stage that gives people who come back their old ids by their leg
+    widths (:class:`~laserpeople.identity.leg_width.LegWidthReidentifier`, ``[leg_reid]`` of
+    ``static_world``), for a tracker whose parameters switch it on (``leg_reid`` of
+    ``[csa]``, ``[feet_pf]``, ``[upper_body_pf]``); None for any other tracker (the leg MHT
+    re-identifies people itself) or when switched off. :func:`build`, the live runner and
+    the benchmarks take their stage from here."""
+    if not getattr(getattr(tracker, "params", None), "leg_reid", False):
+        return None
+    from laserpeople.identity.leg_width import LegWidthReidentifier
+
+    static_world = static_world if static_world is not None else StaticWorldParams()
+    return LegWidthReidentifier(static_world.leg_reid)
+
+
 def _add_before_background(preprocess: list[Stage], model: PeopleStaticModel) -> None:
     """Add the people's ``model`` to ``preprocess``: after a :class:`Fuse` (added when
     missing) and before the static world model that fills the trackers' foreground, so that
@@ -482,6 +500,9 @@ def build(
             map_path=map_path,
             static_world=static_world,
         )
+        leg_reid = leg_reid_stage(tracker, static_world)
+        if leg_reid is not None:
+            identifiers.insert(0, leg_reid)
         if hide_static is not None:
             identifiers.insert(0, hide_static)
         # one laser of a stated height (a fused frame's beams are no one scan's); the
@@ -540,6 +561,7 @@ __all__ = [
     "add_people_static_model",
     "add_static_track_filter",
     "build",
+    "leg_reid_stage",
     "observe_stages_for",
     "open_source",
     "output_sink",

@@ -1216,19 +1216,15 @@ class PersonTracker:
         """Match the new people whose signature is ready (``reid.min_samples`` widths, or
         ``reid.decide_time`` after confirmation) to the dormant identities; a matched person
         takes the identity's id, signature and tracked time from now on."""
-        r = self.params.reid
         self.reid.forget_old(stamp)
         ready = [
             q
             for q in self.persons.values()
-            if q.pending
-            and q.confirmed
-            and (q.signature.count >= r.min_samples or stamp - q.confirmed_at >= r.decide_time)
+            if q.pending and q.confirmed and self.reid.ready(q.signature, q.confirmed_at, stamp)
         ]
         if not ready:
             return
-        dormant = dict(self.reid.dormant)
-        given = self.reid.match(
+        given = self.reid.give_back(
             [
                 Candidate(q.person_id, q.mean[:2].copy(), stamp, q.signature, q.born_stamp)
                 for q in ready
@@ -1236,10 +1232,9 @@ class PersonTracker:
         )
         for q in ready:
             q.pending = False
-            ident = given.get(q.person_id)
-            if ident is not None:
-                d = dormant[ident]
-                q.public_id = ident
+            d = given.get(q.person_id)
+            if d is not None:
+                q.public_id = d.identity
                 q.signature = d.signature.merged(q.signature)
                 q.seen_before = d.seen_for
 

@@ -302,6 +302,12 @@ class Reidentifier:
         if self.params.enabled and identity.signature.count >= self.params.min_samples:
             self.dormant[identity.identity] = identity
 
+    def ready(self, signature: Signature, since: float, stamp: float) -> bool:
+        """Whether a new person first reported at ``since`` [s] is matched at ``stamp`` [s]:
+        its ``signature`` has ``min_samples`` widths, or ``decide_time`` has passed."""
+        p = self.params
+        return signature.count >= p.min_samples or stamp - since >= p.decide_time
+
     def forget_old(self, stamp: float) -> None:
         """Drop identities unseen for longer than ``max_dormant``."""
         limit = self.params.max_dormant
@@ -325,6 +331,12 @@ class Reidentifier:
                     continue
                 out[i, j] = d.prior_llr(p) + signature_llr(c.signature, d.signature, p)
         return out
+
+    def give_back(self, new: Sequence[Candidate]) -> dict[int, DormantIdentity]:
+        """:meth:`match` with the identities given back: key -> the dormant identity (its
+        id, signature and tracked time) that the new person continues."""
+        dormant = dict(self.dormant)
+        return {key: dormant[ident] for key, ident in self.match(new).items()}
 
     def match(self, new: Sequence[Candidate]) -> dict[int, int]:
         """Identities given back to the new people: key -> identity (the rest are

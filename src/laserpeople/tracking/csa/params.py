@@ -33,6 +33,7 @@ class CSAParams:
             "split_apart": False,
             "coast_people": False,
             "jump_back": False,
+            "leg_reid": False,
         }
     )
 
@@ -388,6 +389,14 @@ class CSAParams:
         "one of its estimates) that merges back into that cluster is taken for a fragment "
         "of the cluster's people (a leg seen apart), not another person: it is not added "
         "to the cluster's members",
+    )
+
+    leg_reid: bool = param(
+        True,
+        "measured (docs/trackers.md, the real followed-person recording): identity recall "
+        "of the followed person 0.67 -> 0.98; false in the paper preset (002 has none)",
+        "give people who come back after a loss their old id by their leg widths ([leg_reid], "
+        "identity/leg_width.py)",
     )
 
     def __post_init__(self) -> None:

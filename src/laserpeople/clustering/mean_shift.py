@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.clustering.compiled import extension
 from laserpeople.clustering.single_linkage import components
 from laserpeople.lazy_scipy import cKDTree
 
@@ -107,6 +108,37 @@ def mean_shift(
     """
     if not bandwidth > 0.0:
         raise ValueError(f"bandwidth must be positive, got {bandwidth}")
+    ext = extension()
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    n = len(pts)
+    if ext is not None and 0 < n <= DENSE_LIMIT:
+        radius = bandwidth / 2.0 if merge_radius is None else merge_radius
+        labels = np.empty(n, dtype=np.int64)
+        centres = np.empty((n, 2))
+        done = ext.mean_shift_dense(
+            pts, float(bandwidth), float(tol), int(max_iter), float(radius), labels, centres
+        )
+        if done is not NotImplemented:
+            c, it = done
+            return MeanShiftResult(labels, centres[:c], it)
+    return mean_shift_python(pts, bandwidth, merge_radius=merge_radius, tol=tol, max_iter=max_iter)
+
+
+def mean_shift_python(
+    points: NDArray[np.floating],
+    bandwidth: float,
+    *,
+    merge_radius: float | None = None,
+    tol: float = 1e-3,
+    max_iter: int = 50,
+) -> MeanShiftResult:
+    """:func:`mean_shift` in numpy (the KD-tree's pairs for the first step, the distinct
+    estimates' shifts by a dense mask or the KD-tree): the reference of the compiled
+    version, which shifts every distinct estimate over the dense kernel up to
+    :data:`DENSE_LIMIT` points (the same modes within rounding: the first step's sums
+    add the same points in another order)."""
+    if not bandwidth > 0.0:
+        raise ValueError(f"bandwidth must be positive, got {bandwidth}")
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     n = len(pts)
     if n == 0:
@@ -158,7 +190,27 @@ def mean_shift(
 def cluster_covariances(
     points: NDArray[np.floating], labels: NDArray[np.int64], n_clusters: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """Per cluster: mean (C, 2), covariance (C, 2, 2) [m^2] and size (C,), vectorised."""
+    """Per cluster: mean (C, 2), covariance (C, 2, 2) [m^2] (divided by the size) and size
+    (C,) of ``points`` (N, 2) [m] with ``labels`` (N,) in 0..C-1; an empty cluster has mean
+    and covariance 0. Compiled where built (the same sums in the same order as
+    :func:`cluster_covariances_python`, its reference)."""
+    ext = extension()
+    if ext is not None:
+        pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+        lab = np.ascontiguousarray(labels, dtype=np.int64)
+        if lab.shape == (pts.shape[0],):
+            mean = np.empty((n_clusters, 2))
+            cov = np.empty((n_clusters, 2, 2))
+            cnt = np.empty(n_clusters, dtype=np.int64)
+            if ext.cluster_stats(pts, lab, mean, cov, cnt) is not NotImplemented:
+                return mean, cov, cnt
+    return cluster_covariances_python(points, labels, n_clusters)
+
+
+def cluster_covariances_python(
+    points: NDArray[np.floating], labels: NDArray[np.int64], n_clusters: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """:func:`cluster_covariances` in numpy (bincount sums): the compiled one's reference."""
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     cnt = np.bincount(labels, minlength=n_clusters)
     safe = np.maximum(cnt, 1).astype(np.float64)
@@ -175,4 +227,10 @@ def cluster_covariances(
     return mean, cov, cnt.astype(np.int64)
 
 
-__all__ = ["MeanShiftResult", "cluster_covariances", "mean_shift"]
+__all__ = [
+    "MeanShiftResult",
+    "cluster_covariances",
+    "cluster_covariances_python",
+    "mean_shift",
+    "mean_shift_python",
+]

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.clustering.compiled import extension
 from laserpeople.config import param
 from laserpeople.lazy_scipy import cKDTree
 
@@ -85,7 +86,31 @@ def single_linkage(
 
     Raises:
         ValueError: ``distance`` is not a positive number.
+
+    The compiled version runs where it is built (:mod:`~laserpeople.clustering.compiled`;
+    a sweep along x over the points sorted by x, linked by union-find), else
+    :func:`single_linkage_python`: the same labels.
     """
+    if not distance > 0:
+        raise ValueError(f"single-linkage distance must be positive, got {distance}")
+    ext = extension()
+    if ext is None:
+        return single_linkage_python(points, distance, mask, min_points)
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    labels = np.empty(pts.shape[0], dtype=np.int64)
+    chosen = None if mask is None else np.ascontiguousarray(mask, dtype=bool)
+    ext.single_linkage_labels(pts, chosen, float(distance), int(min_points), labels)
+    return labels
+
+
+def single_linkage_python(
+    points: NDArray[np.floating],
+    distance: float,
+    mask: NDArray[np.bool_] | None = None,
+    min_points: int = 1,
+) -> NDArray[np.int64]:
+    """:func:`single_linkage` in numpy (the KD-tree's pairs, label propagation): the
+    reference of the compiled version."""
     if not distance > 0:
         raise ValueError(f"single-linkage distance must be positive, got {distance}")
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
@@ -115,4 +140,4 @@ def single_linkage(
     return labels
 
 
-__all__ = ["SingleLinkageParams", "components", "single_linkage"]
+__all__ = ["SingleLinkageParams", "components", "single_linkage", "single_linkage_python"]

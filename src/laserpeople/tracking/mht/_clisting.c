@@ -7,7 +7,9 @@
  * the free-space casting of a laser standing still, `still_cast_usual`, `still_cast_apply`,
  * the beam
  * histogram's foreground of a frame, `histogram_foreground`, and a scan's beams without
- * a valid return by kind, `beam_kinds`).
+ * a valid return by kind, `beam_kinds`; and the clustering of 2D points of the particle
+ * filters: single-linkage labels, `single_linkage_labels`, per-cluster statistics,
+ * `cluster_stats`, and flat-kernel mean shift over the dense kernel, `mean_shift_dense`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -2711,6 +2713,380 @@ done:
     return result;
 }
 
+/* ---- clustering of 2D points (clustering/compiled.py; references in single_linkage.py and
+ * mean_shift.py) ---- */
+
+/* Union-find root with path halving; parent indices, the smaller root wins a union, so a
+ * root is its component's smallest member. */
+static Py_ssize_t uf_find(Py_ssize_t *parent, Py_ssize_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+static void uf_union(Py_ssize_t *parent, Py_ssize_t a, Py_ssize_t b) {
+    a = uf_find(parent, a);
+    b = uf_find(parent, b);
+    if (a < b)
+        parent[b] = a;
+    else if (b < a)
+        parent[a] = b;
+}
+
+typedef struct {
+    double x;
+    Py_ssize_t i;
+} XKey;
+
+static int cmp_xkey(const void *pa, const void *pb) {
+    const XKey *a = pa, *b = pb;
+    if (a->x < b->x) return -1;
+    if (a->x > b->x) return 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+/* Links every pair of the m points xy (x0, y0, x1, ...) closer than `reach` (strictly when
+ * `strict`, else within) in `parent` (m,), by a sweep along the axis on which the points
+ * spread farther (the points sorted by that coordinate, each compared with the following
+ * ones until it differs by more than `reach`). */
+static int link_pairs(const double *xy, Py_ssize_t m, double reach, int strict,
+                      Py_ssize_t *parent) {
+    for (Py_ssize_t i = 0; i < m; i++) parent[i] = i;
+    if (m < 2) return 0;
+    XKey *keys = PyMem_Malloc((size_t)m * sizeof(XKey));
+    if (!keys) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    double lo[2] = {xy[0], xy[1]}, hi[2] = {xy[0], xy[1]};
+    for (Py_ssize_t i = 1; i < m; i++)
+        for (int k = 0; k < 2; k++) {
+            if (xy[2 * i + k] < lo[k]) lo[k] = xy[2 * i + k];
+            if (xy[2 * i + k] > hi[k]) hi[k] = xy[2 * i + k];
+        }
+    int ax = hi[1] - lo[1] > hi[0] - lo[0]; /* the sweep's axis; the other is `ot` */
+    int ot = 1 - ax;
+    for (Py_ssize_t i = 0; i < m; i++) {
+        keys[i].x = xy[2 * i + ax];
+        keys[i].i = i;
+    }
+    qsort(keys, (size_t)m, sizeof(XKey), cmp_xkey);
+    double r2 = reach * reach;
+    for (Py_ssize_t a = 0; a < m; a++) {
+        Py_ssize_t i = keys[a].i;
+        double si = xy[2 * i + ax], oi = xy[2 * i + ot];
+        for (Py_ssize_t b = a + 1; b < m; b++) {
+            double ds = keys[b].x - si;
+            if (ds > reach) break;
+            Py_ssize_t j = keys[b].i;
+            double dt = xy[2 * j + ot] - oi;
+            double d2 = ds * ds + dt * dt;
+            if (strict ? d2 < r2 : d2 <= r2) uf_union(parent, i, j);
+        }
+    }
+    PyMem_Free(keys);
+    return 0;
+}
+
+/* single_linkage.single_linkage_python's labels: points (N, 2) doubles, mask (N,) bools or
+ * None, distance, min_points, labels_out (N,) int64 written (-1: not clustered or in a
+ * cluster of fewer than min_points). Points closer than `distance` are linked; labels
+ * number the kept clusters by their first point. */
+static PyObject *single_linkage_labels(PyObject *self, PyObject *const *args,
+                                       Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError,
+                        "single_linkage_labels(points, mask, distance, min_points, labels_out)");
+        return NULL;
+    }
+    Buf b[3];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    Py_ssize_t *parent = NULL, *size = NULL, *idx = NULL;
+    double *sub = NULL;
+    double distance = PyFloat_AsDouble(args[2]);
+    long long min_points = PyLong_AsLongLong(args[3]);
+    if (PyErr_Occurred()) goto done;
+    if (take(args[4], &b[2], 1, 1, -1, "labels_out") < 0) goto done;
+    Py_ssize_t n = b[2].view.len / 8;
+    if (take(args[0], &b[0], 0, 0, 2 * n, "points") < 0) goto done;
+    if (args[1] != Py_None && take_bools(args[1], &b[1], n, "mask") < 0) goto done;
+    const double *pts = b[0].view.buf;
+    const char *mask = args[1] != Py_None ? b[1].view.buf : NULL;
+    long long *labels = b[2].view.buf;
+    size_t ni = (size_t)(n ? n : 1) * sizeof(Py_ssize_t);
+    parent = PyMem_Malloc(ni);
+    size = PyMem_Malloc(ni);
+    idx = PyMem_Malloc(ni);
+    sub = PyMem_Malloc((size_t)(n ? 2 * n : 1) * sizeof(double));
+    if (!parent || !size || !idx || !sub) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    /* the chosen points (mask and finite), in order */
+    Py_ssize_t m = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        labels[i] = -1;
+        double x = pts[2 * i], y = pts[2 * i + 1];
+        if ((mask && !mask[i]) || !isfinite(x) || !isfinite(y)) continue;
+        sub[2 * m] = x;
+        sub[2 * m + 1] = y;
+        idx[m++] = i;
+    }
+    if (link_pairs(sub, m, distance, 1, parent) < 0) goto done;
+    for (Py_ssize_t i = 0; i < m; i++) size[i] = 0;
+    for (Py_ssize_t i = 0; i < m; i++) size[uf_find(parent, i)]++;
+    /* a root is its component's first point: there its size becomes its label (the kept
+     * components numbered in order), read by the later members */
+    Py_ssize_t next = 0;
+    for (Py_ssize_t i = 0; i < m; i++) {
+        Py_ssize_t r = uf_find(parent, i);
+        if (r == i) size[i] = size[i] >= min_points ? next++ : -1;
+        labels[idx[i]] = size[r];
+    }
+    result = Py_NewRef(Py_None);
+done:
+    PyMem_Free(parent);
+    PyMem_Free(size);
+    PyMem_Free(idx);
+    PyMem_Free(sub);
+    release(b, 3);
+    return result;
+}
+
+/* mean_shift.cluster_covariances_python's sums: points (N, 2), labels (N,) int64 in 0..C-1,
+ * mean_out (C, 2), cov_out (C, 2, 2) and count_out (C,) int64 written: per cluster the mean,
+ * the covariance (divided by the size) and the size, each sum over the points in order from
+ * 0.0 as numpy's bincount adds them (an empty cluster: mean and covariance 0). NotImplemented
+ * (nothing written) for a label outside 0..C-1. */
+static PyObject *cluster_stats(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError,
+                        "cluster_stats(points, labels, mean_out, cov_out, count_out)");
+        return NULL;
+    }
+    Buf b[5];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    if (take(args[1], &b[1], 1, 0, -1, "labels") < 0 ||
+        take(args[4], &b[4], 1, 1, -1, "count_out") < 0)
+        goto done;
+    Py_ssize_t n = b[1].view.len / 8, c = b[4].view.len / 8;
+    if (take(args[0], &b[0], 0, 0, 2 * n, "points") < 0 ||
+        take(args[2], &b[2], 0, 1, 2 * c, "mean_out") < 0 ||
+        take(args[3], &b[3], 0, 1, 4 * c, "cov_out") < 0)
+        goto done;
+    const double *pts = b[0].view.buf;
+    const long long *lab = b[1].view.buf;
+    double *mean = b[2].view.buf, *cov = b[3].view.buf;
+    long long *cnt = b[4].view.buf;
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (lab[i] < 0 || lab[i] >= c) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    for (Py_ssize_t k = 0; k < c; k++) {
+        cnt[k] = 0;
+        mean[2 * k] = mean[2 * k + 1] = 0.0;
+        cov[4 * k] = cov[4 * k + 1] = cov[4 * k + 2] = cov[4 * k + 3] = 0.0;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        long long k = lab[i];
+        cnt[k]++;
+        mean[2 * k] += pts[2 * i];
+        mean[2 * k + 1] += pts[2 * i + 1];
+    }
+    for (Py_ssize_t k = 0; k < c; k++) {
+        double safe = cnt[k] > 0 ? (double)cnt[k] : 1.0;
+        mean[2 * k] /= safe;
+        mean[2 * k + 1] /= safe;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        long long k = lab[i];
+        double dx = pts[2 * i] - mean[2 * k], dy = pts[2 * i + 1] - mean[2 * k + 1];
+        cov[4 * k] += dx * dx;
+        cov[4 * k + 1] += dx * dy;
+        cov[4 * k + 3] += dy * dy;
+    }
+    for (Py_ssize_t k = 0; k < c; k++) {
+        double safe = cnt[k] > 0 ? (double)cnt[k] : 1.0;
+        cov[4 * k] /= safe;
+        cov[4 * k + 1] /= safe;
+        cov[4 * k + 2] = cov[4 * k + 1];
+        cov[4 * k + 3] /= safe;
+    }
+    result = Py_NewRef(Py_None);
+done:
+    release(b, 5);
+    return result;
+}
+
+/* The mean of the points of pts (N, 2) within `bw2` (squared) of (x, y), in *ox, *oy, summed
+ * in the points' order; (x, y) itself when none is. The dense kernel of mean_shift._shift. */
+static void flat_mean(const double *pts, Py_ssize_t n, double x, double y, double bw2,
+                      double *ox, double *oy) {
+    double sx = 0.0, sy = 0.0;
+    Py_ssize_t k = 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double dx = x - pts[2 * j], dy = y - pts[2 * j + 1];
+        if (dx * dx + dy * dy <= bw2) {
+            sx += pts[2 * j];
+            sy += pts[2 * j + 1];
+            k++;
+        }
+    }
+    if (k > 0) {
+        *ox = sx / (double)k;
+        *oy = sy / (double)k;
+    } else {
+        *ox = x;
+        *oy = y;
+    }
+}
+
+/* mean_shift.mean_shift_python with the dense kernel: points (N, 2) (N >= 1; NotImplemented
+ * when one is not finite),
+ * bandwidth, tol, max_iter, merge radius, labels_out (N,) int64 and centres_out (N, 2)
+ * written; returns (clusters C, iterations) (the first C rows of centres_out are the
+ * modes). Each estimate moves to the mean of the points within the bandwidth of it until
+ * it moves at most tol; estimates at one position are shifted once per iteration; the
+ * distinct final modes within the merge radius of each other, in a chain, are one cluster,
+ * numbered by first point. */
+static PyObject *mean_shift_dense(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError,
+                        "mean_shift_dense(points, bandwidth, tol, max_iter, radius, labels_out, "
+                        "centres_out)");
+        return NULL;
+    }
+    Buf b[3];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    double *modes = NULL, *reps = NULL, *news = NULL;
+    Py_ssize_t *members = NULL, *owner = NULL, *parent = NULL, *first = NULL;
+    double bandwidth = PyFloat_AsDouble(args[1]), tol = PyFloat_AsDouble(args[2]);
+    long long max_iter = PyLong_AsLongLong(args[3]);
+    double radius = PyFloat_AsDouble(args[4]);
+    if (PyErr_Occurred()) goto done;
+    if (take(args[5], &b[1], 1, 1, -1, "labels_out") < 0) goto done;
+    Py_ssize_t n = b[1].view.len / 8;
+    if (n < 1) {
+        PyErr_SetString(PyExc_ValueError, "mean_shift_dense: no points");
+        goto done;
+    }
+    if (take(args[0], &b[0], 0, 0, 2 * n, "points") < 0 ||
+        take(args[6], &b[2], 0, 1, 2 * n, "centres_out") < 0)
+        goto done;
+    const double *pts = b[0].view.buf;
+    long long *labels = b[1].view.buf;
+    double *centres = b[2].view.buf;
+    for (Py_ssize_t i = 0; i < 2 * n; i++)
+        if (!isfinite(pts[i])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    size_t nd = (size_t)n * 2 * sizeof(double), ni = (size_t)n * sizeof(Py_ssize_t);
+    modes = PyMem_Malloc(nd);
+    reps = PyMem_Malloc(nd);
+    news = PyMem_Malloc(nd);
+    members = PyMem_Malloc(ni);
+    owner = PyMem_Malloc(ni);
+    parent = PyMem_Malloc(ni);
+    first = PyMem_Malloc(ni);
+    if (!modes || !reps || !news || !members || !owner || !parent || !first) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    double bw2 = bandwidth * bandwidth;
+    /* the first step of every estimate, each at its own point */
+    Py_ssize_t m = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = pts[2 * i], y = pts[2 * i + 1];
+        flat_mean(pts, n, x, y, bw2, &modes[2 * i], &modes[2 * i + 1]);
+        if (hypot(modes[2 * i] - x, modes[2 * i + 1] - y) > tol) members[m++] = i;
+    }
+    long long it = 1;
+    while (m > 0 && it < max_iter) {
+        it++;
+        /* the distinct positions of the moving estimates, each shifted once */
+        Py_ssize_t u = 0;
+        for (Py_ssize_t a = 0; a < m; a++) {
+            double x = modes[2 * members[a]], y = modes[2 * members[a] + 1];
+            Py_ssize_t r = 0;
+            while (r < u && !(reps[2 * r] == x && reps[2 * r + 1] == y)) r++;
+            if (r == u) {
+                reps[2 * u] = x;
+                reps[2 * u + 1] = y;
+                flat_mean(pts, n, x, y, bw2, &news[2 * u], &news[2 * u + 1]);
+                u++;
+            }
+            owner[a] = r;
+        }
+        Py_ssize_t kept = 0;
+        for (Py_ssize_t a = 0; a < m; a++) {
+            Py_ssize_t i = members[a], r = owner[a];
+            modes[2 * i] = news[2 * r];
+            modes[2 * i + 1] = news[2 * r + 1];
+            if (hypot(news[2 * r] - reps[2 * r], news[2 * r + 1] - reps[2 * r + 1]) > tol)
+                members[kept++] = i;
+        }
+        m = kept;
+    }
+    /* clusters: the distinct modes (first[i]: the first estimate at i's mode) linked within
+     * the merge radius */
+    Py_ssize_t u = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = modes[2 * i], y = modes[2 * i + 1];
+        Py_ssize_t r = 0;
+        while (r < u && !(reps[2 * r] == x && reps[2 * r + 1] == y)) r++;
+        if (r == u) {
+            reps[2 * u] = x;
+            reps[2 * u + 1] = y;
+            u++;
+        }
+        owner[i] = r;
+    }
+    if (link_pairs(reps, u, radius, 0, parent) < 0) goto done;
+    /* numbered by first point: first[root] is the root's label once seen, -1 before */
+    for (Py_ssize_t r = 0; r < u; r++) first[r] = -1;
+    long long c = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        Py_ssize_t root = uf_find(parent, owner[i]);
+        if (first[root] < 0) first[root] = c++;
+        labels[i] = first[root];
+    }
+    for (long long k = 0; k < c; k++) {
+        centres[2 * k] = centres[2 * k + 1] = 0.0;
+        members[k] = 0;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        long long k = labels[i];
+        centres[2 * k] += modes[2 * i];
+        centres[2 * k + 1] += modes[2 * i + 1];
+        members[k]++;
+    }
+    for (long long k = 0; k < c; k++) {
+        centres[2 * k] /= (double)members[k];
+        centres[2 * k + 1] /= (double)members[k];
+    }
+    result = Py_BuildValue("(LL)", c, it);
+done:
+    PyMem_Free(modes);
+    PyMem_Free(reps);
+    PyMem_Free(news);
+    PyMem_Free(members);
+    PyMem_Free(owner);
+    PyMem_Free(parent);
+    PyMem_Free(first);
+    release(b, 3);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -2780,6 +3156,18 @@ static PyMethodDef methods[] = {
     {"detection_costs", (PyCFunction)(void (*)(void))detection_costs, METH_FASTCALL,
      "detection_costs(gated, loglik, lp, out): core._detection_costs of a scan written to "
      "out (T, M): -(lp[:, 0] + loglik) where gated, inf elsewhere."},
+    {"single_linkage_labels", (PyCFunction)(void (*)(void))single_linkage_labels,
+     METH_FASTCALL,
+     "single_linkage_labels(points, mask, distance, min_points, labels_out): "
+     "single_linkage.single_linkage_python's labels written to labels_out (None)."},
+    {"cluster_stats", (PyCFunction)(void (*)(void))cluster_stats, METH_FASTCALL,
+     "cluster_stats(points, labels, mean_out, cov_out, count_out): "
+     "mean_shift.cluster_covariances_python's means, covariances and sizes written (None), "
+     "or NotImplemented (nothing written) for a label outside 0..C-1."},
+    {"mean_shift_dense", (PyCFunction)(void (*)(void))mean_shift_dense, METH_FASTCALL,
+     "mean_shift_dense(points, bandwidth, tol, max_iter, radius, labels_out, centres_out): "
+     "mean_shift.mean_shift_python's labels and centres (the first C rows) written, "
+     "(C, iterations) returned, or NotImplemented (a point not finite)."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -201,3 +201,29 @@ def detection_costs(
     out: NDArray[np.float64],
     /,
 ) -> None: ...
+def single_linkage_labels(
+    points: NDArray[np.float64],
+    mask: NDArray[np.bool_] | None,
+    distance: float,
+    min_points: int,
+    labels_out: NDArray[np.int64],
+    /,
+) -> None: ...
+def cluster_stats(
+    points: NDArray[np.float64],
+    labels: NDArray[np.int64],
+    mean_out: NDArray[np.float64],
+    cov_out: NDArray[np.float64],
+    count_out: NDArray[np.int64],
+    /,
+) -> NotImplementedType | None: ...
+def mean_shift_dense(
+    points: NDArray[np.float64],
+    bandwidth: float,
+    tol: float,
+    max_iter: int,
+    radius: float,
+    labels_out: NDArray[np.int64],
+    centres_out: NDArray[np.float64],
+    /,
+) -> tuple[int, int] | NotImplementedType: ...

@@ -296,3 +296,85 @@ def test_an_unreachable_scheduler_is_a_clear_error(tmp_path: Path) -> None:
     assert isinstance(run.exception, ConfigError), run.output
     assert "cannot reach the Dask scheduler 'nowhere': missing port" in str(run.exception)
     assert "drop --scheduler" in str(run.exception)
+
+
+def _json_mcap(path: Path, profile: str = "") -> None:
+    """An MCAP of JSON messages (as Foxglove's own tools write), no ROS schema."""
+    import json
+    import struct
+
+    def text(value: str) -> bytes:
+        return struct.pack("<I", len(value)) + value.encode()
+
+    def record(op: int, body: bytes) -> bytes:
+        return struct.pack("<BQ", op, len(body)) + body
+
+    magic = b"\x89MCAP0\r\n"
+    data = magic + record(1, text(profile) + text("test"))
+    data += record(3, struct.pack("<H", 1) + text("Point") + text("jsonschema") + text("{}"))
+    data += record(4, struct.pack("<HH", 1, 1) + text("/points") + text("json") + bytes(4))
+    for i in range(3):
+        stamp = i * 10**8
+        body = struct.pack("<HIQQ", 1, i, stamp, stamp) + json.dumps({"x": i}).encode()
+        data += record(5, body)
+    data += record(0x0F, bytes(4)) + record(2, bytes(20)) + magic
+    path.write_bytes(data)
+
+
+@pytest.mark.parametrize("command", ["info", "track", "evaluate-truth", "evaluate-tracks"])
+def test_an_mcap_of_no_ros_messages_is_said_so(command: str, tmp_path: Path) -> None:
+    """rosbags' "Profile is not ros2." came out as a corrupt or truncated bag."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    mcap = tmp_path / "points.mcap"
+    _json_mcap(mcap)
+    args = {
+        "info": ["info", str(mcap)],
+        "track": ["track", str(mcap), "-o", str(tmp_path / "t.csv")],
+        "evaluate-truth": ["evaluate", str(tmp_path / "t.csv"), "--truth", str(mcap)],
+        "evaluate-tracks": ["evaluate", str(mcap), "--truth", str(tmp_path / "x.npz")],
+    }[command]
+    (tmp_path / "t.csv").write_text(OLD_TRACKS)
+    from laserpeople.sim.scenarios import run_scenario
+
+    run_scenario("figure-eight", seconds=0.5, seed=3).write(tmp_path / "x.npz")
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert f"{mcap}: an MCAP of no ROS messages (profile ''; schemas in jsonschema)" in text
+    assert "corrupt" not in text and "ros2 bag record" in text
+
+
+def test_evaluate_and_view_given_a_foxglove_export_are_told_what_to_give(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """The export of ``view -o x.mcap`` draws tracks as MarkerArrays: read as tracks it
+    failed with "'...MarkerArray' object has no attribute 'header'", as truth with a list
+    of its topics."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    export = tmp_path / "drawn.mcap"
+    run = CliRunner().invoke(
+        app, ["view", str(walk), "--tracks", str(tracks_csv), "-o", str(export)]
+    )
+    assert run.exit_code == 0, run.output
+    run = CliRunner().invoke(app, ["evaluate", str(export), "--truth", str(walk)])
+    text = str(run.exception)
+    assert "carries visualization_msgs/msg/MarkerArray, not people_msgs/msg/People" in text
+    assert "a Foxglove export of `laserpeople view -o FILE.mcap`" in text
+    assert "give the tracks CSV it was drawn from" in text
+    run = CliRunner().invoke(
+        app, ["view", str(walk), "--tracks", str(export), "-o", str(tmp_path / "v.png")]
+    )
+    assert "give the tracks CSV it was drawn from" in str(run.exception)
+    run = CliRunner().invoke(app, ["evaluate", str(tracks_csv), "--truth", str(export)])
+    text = str(run.exception)
+    assert "it is a Foxglove export of `laserpeople view -o FILE.mcap`" in text, text
+    assert "give the recording or the truth CSV it was drawn from" in text
+    run = CliRunner().invoke(app, ["info", str(export)])
+    assert "tracks drawn for Foxglove (laserpeople view): /laserpeople/legs" in run.output
+    assert "tracks of laserpeople track --bag" not in run.output

@@ -378,3 +378,34 @@ def test_evaluate_and_view_given_a_foxglove_export_are_told_what_to_give(
     run = CliRunner().invoke(app, ["info", str(export)])
     assert "tracks drawn for Foxglove (laserpeople view): /laserpeople/legs" in run.output
     assert "tracks of laserpeople track --bag" not in run.output
+
+
+MIR_BAG = "mir/rosbags/mir_data/legs-test-split-2022-11-21-15-51-02-topic-split.bag"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["track", "-o", "{out}.csv", "--output-frame", "world"],
+        ["track", "-o", "{out}.csv", "--topics", "all"],
+        ["view", "-o", "{out}.png", "--frame", "world"],
+    ],
+)
+def test_missing_laser_mounts_are_named_with_what_to_do(
+    args: list[str], shared_data: Path, tmp_path: Path
+) -> None:
+    """The MiR bag's /tf has odom -> base_footprint only: the error said "the scan has no
+    sensor pose" without which frames were not linked or that ``--mount mir100`` links
+    them (``info`` said it; the commands that need the poses did not)."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    bag = shared_data / MIR_BAG
+    given = [a.format(out=tmp_path / "out") for a in args]
+    run = CliRunner().invoke(app, [given[0], str(bag), *given[1:]])
+    assert isinstance(run.exception, RecordingError | ConfigError), run.output
+    text = str(run.exception)
+    assert "/tf links no laser frame " in text and "'front_laser_link'" in text, text
+    assert "to 'odom' (transforms in the recording: odom -> base_footprint)" in text
+    assert "try --mount mir100" in text

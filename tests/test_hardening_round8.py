@@ -409,3 +409,55 @@ def test_missing_laser_mounts_are_named_with_what_to_do(
     assert "/tf links no laser frame " in text and "'front_laser_link'" in text, text
     assert "to 'odom' (transforms in the recording: odom -> base_footprint)" in text
     assert "try --mount mir100" in text
+
+
+def test_train_refuses_to_write_over_a_file_of_its_neko_folder(
+    shared_data: Path, tmp_path: Path
+) -> None:
+    """``-o NEKO/leg_segment_labels.json`` replaced the labels it trained on (the folder
+    was an input, its files were not)."""
+    import shutil
+
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    neko = tmp_path / "neko"
+    shutil.copytree(shared_data / "neko7055", neko)
+    labels = (neko / "leg_segment_labels.json").read_bytes()
+    out = neko / "leg_segment_labels.json"
+    run = CliRunner().invoke(
+        app, ["train", "--neko", str(neko), "--neko-frames", "0-9", "-o", str(out)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert f"-o {out} would write over the input {out}" in str(run.exception)
+    assert out.read_bytes() == labels
+
+
+def test_evaluate_refuses_a_laser_topic_nothing_reads(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``--laser-topic`` pairs a bag's truth topic with a laser; given with a recording's
+    own truth (or for several tracks files) it was ignored without a word."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    run = CliRunner().invoke(
+        app, ["evaluate", str(tracks_csv), "--truth", str(walk), "--laser-topic", "/scan"]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--laser-topic applies to ground truth from a bag (--truth BAG[:TOPIC])" in str(
+        run.exception
+    )
+    other = tmp_path / "other.csv"
+    other.write_bytes(tracks_csv.read_bytes())
+    run = CliRunner().invoke(
+        app,
+        ["evaluate", str(tracks_csv), str(other), "--truth", str(walk), "--truth", str(walk),
+         "--laser-topic", "/scan"],
+    )  # fmt: skip
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--laser-topic applies to one TRACKS file" in str(run.exception)
+    run = CliRunner().invoke(app, ["evaluate", str(tracks_csv), "--truth", str(walk)])
+    assert run.exit_code == 0, run.output

@@ -461,3 +461,29 @@ def test_evaluate_refuses_a_laser_topic_nothing_reads(
     assert "--laser-topic applies to one TRACKS file" in str(run.exception)
     run = CliRunner().invoke(app, ["evaluate", str(tracks_csv), "--truth", str(walk)])
     assert run.exit_code == 0, run.output
+
+
+def test_a_ros2_bag_folder_without_its_storage_file_is_said_so(tmp_path: Path) -> None:
+    """rosbags' "Some database files are missing" came out as a corrupt or truncated bag
+    (with a hint for ROS 1 bags)."""
+    rosbag2 = pytest.importorskip("rosbags.rosbag2")
+    from rosbags.typesys import Stores, get_typestore
+
+    from laserpeople.io import open_recording
+
+    store = get_typestore(Stores.LATEST)
+    folder = tmp_path / "run"
+    text = store.types["std_msgs/msg/String"]
+    with rosbag2.Writer(folder, version=8) as writer:
+        conn = writer.add_connection("/chatter", text.__msgtype__, typestore=store)
+        writer.write(conn, 1, store.serialize_cdr(text(data="x"), text.__msgtype__))
+    (folder / "run.db3").unlink()
+    with pytest.raises(
+        RecordingError,
+        match=r"run: metadata.yaml names the storage file run.db3, not in the folder "
+        r"\(it holds no .db3 or .mcap file\) \(copy the whole bag folder",
+    ):
+        open_recording(folder)
+    (folder / "renamed.db3").write_bytes(b"")
+    with pytest.raises(RecordingError, match=r"\(it holds renamed.db3\).*or give .*renamed.db3"):
+        open_recording(folder)

@@ -286,6 +286,8 @@ def open_reader(
             hint="give a bag file (.bag, .mcap, .db3) or a ROS 2 bag folder (one with "
             "metadata.yaml)",
         )
+    if p.is_dir():
+        check_storage_files(p)
     # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
     # the caller registers types (they reach AnyReader's default typestore)
     ros1 = p.suffix == ".bag" and register is None
@@ -320,6 +322,45 @@ def open_reader(
             raise foreign from None
         raise RecordingError(f"cannot open bag: {describe(exc)}", path=p, hint=hint) from exc
     return reader
+
+
+def check_storage_files(folder: Path) -> None:
+    """Refuse a ROS 2 bag folder whose ``metadata.yaml`` names storage files that are not
+    in it (a copy of the folder without them, or renamed), before rosbags says "Some
+    database files are missing". A ``metadata.yaml`` that cannot be read is left to rosbags.
+
+    Raises:
+        RecordingError: names the missing files, the storage files the folder holds and what
+            to do.
+    """
+    from laserpeople.errors import RecordingError
+
+    try:
+        from ruamel.yaml import YAML
+
+        info = YAML(typ="safe").load((folder / "metadata.yaml").read_text(encoding="utf-8"))
+        names = [str(n) for n in info["rosbag2_bagfile_information"]["relative_file_paths"]]
+    except Exception:  # (no ruamel, or a file of another layout: rosbags reports it)
+        return
+    missing = [n for n in names if not (folder / n).is_file()]
+    if not missing:
+        return
+    held = sorted(
+        f.name for f in folder.iterdir() if f.suffix in (".db3", ".mcap") or ".db3." in f.name
+    )
+    count = "s" if len(missing) > 1 else ""
+    raise RecordingError(
+        f"metadata.yaml names the storage file{count} {', '.join(missing)}, not in the folder"
+        + (f" (it holds {', '.join(held)})" if held else " (it holds no .db3 or .mcap file)"),
+        path=folder,
+        hint="copy the whole bag folder, its storage files with metadata.yaml"
+        + (
+            f"; or give {folder / held[0]} itself (`ros2 bag reindex` writes a "
+            "metadata.yaml that names the files there)"
+            if held
+            else ""
+        ),
+    )
 
 
 MCAP_SCAN_BYTES = 1 << 20

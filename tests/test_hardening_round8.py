@@ -487,3 +487,54 @@ def test_a_ros2_bag_folder_without_its_storage_file_is_said_so(tmp_path: Path) -
     (folder / "renamed.db3").write_bytes(b"")
     with pytest.raises(RecordingError, match=r"\(it holds renamed.db3\).*or give .*renamed.db3"):
         open_recording(folder)
+
+
+def test_a_misspelt_name_in_another_trackers_section_is_named(walk: Path, tmp_path: Path) -> None:
+    """One ``--config`` serves every tracker; ``[csa] subcluster_distanse`` was only said
+    to be "read by another tracker" by ``track --tracker leg-mht``, and the typo went
+    unnoticed until the csa run."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    config = tmp_path / "shared.toml"
+    config.write_text("[leg_tracker]\nlambda_new = 0.002\n\n[csa]\nsubcluster_distanse = 0.5\n")
+    args = ["track", str(walk), "-o", str(tmp_path / "t.csv"), "--config", str(config)]
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, ConfigError), run.output
+    text = str(run.exception)
+    assert f"{config}: line 5: unknown parameter(s) subcluster_distanse in [csa]" in text, text
+    assert "did you mean 'subcluster_distance'?" in text
+    assert "a section another command or tracker reads" in text
+    config.write_text("[leg_tracker]\nlambda_new = 0.002\n\n[csa]\nsubcluster_distance = 0.5\n")
+    run = CliRunner().invoke(app, args)
+    assert run.exit_code == 0, run.output
+    assert "[csa] is read by another command or tracker" in run.output
+
+
+@pytest.mark.parametrize("pattern", ["leg_tracker.lambda_*", "[leg_tracker] lambda_new"])
+def test_fit_learn_takes_the_keys_with_the_trackers_section(pattern: str) -> None:
+    """The TOML fit writes names the keys under [leg_tracker]; ``--learn
+    leg_tracker.lambda_new`` matched no key."""
+    from laserpeople.fitting.estimates import Estimate
+    from laserpeople.fitting.flow import _select
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    learned = [Estimate("lambda_new", 0.01, "5 new", 9), Estimate("p_det_free", 0.8, "x", 9)]
+    chosen, left, params = _select([pattern], learned, [], LegTrackerParams())
+    assert [e.key for e in chosen] == ["lambda_new"]
+    assert left == (("p_det_free", "not chosen by --learn"),)
+    assert params.lambda_new == pytest.approx(0.01, rel=1e-12)
+
+
+def test_fit_learn_with_another_section_is_named() -> None:
+    from laserpeople.errors import LaserPeopleError
+    from laserpeople.fitting.estimates import Estimate
+    from laserpeople.fitting.flow import _select
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    learned = [Estimate("lambda_new", 0.01, "5 new", 9)]
+    with pytest.raises(
+        LaserPeopleError, match=r"names the section \[csa\], not the tracker's \[leg_tracker\]"
+    ):
+        _select(["[csa] lambda_new"], learned, [], LegTrackerParams())

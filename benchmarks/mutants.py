@@ -3643,6 +3643,30 @@ MUTANTS: tuple[Mutant, ...] = (
         'if array.dtype.kind not in "fiuc":',
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "tracks-csv-duplicate-rows-taken",
+        "tracks CSV: two rows of one track in one scan are an error naming the lines",
+        "io/tracks_csv.py",
+        "            if first != line:",
+        "            if first != line and False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "scan-lines-empty-at-open",
+        "tracks CSV: an old file is emptied at the first scan, not at the writer's opening",
+        "io/scan_lines.py",
+        "if self.created or not self._regular:",
+        "if True:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "manifest-foreign-lines-dropped",
+        "batch: foreign manifest lines are kept by the rewrite",
+        "batch/manifest.py",
+        'text += "".join(line + "\\n" for line in self.foreign)',
+        'text += ""',
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden ---
     # --- s35-reid ---
     Mutant(

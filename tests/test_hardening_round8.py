@@ -296,3 +296,245 @@ def test_an_unreachable_scheduler_is_a_clear_error(tmp_path: Path) -> None:
     assert isinstance(run.exception, ConfigError), run.output
     assert "cannot reach the Dask scheduler 'nowhere': missing port" in str(run.exception)
     assert "drop --scheduler" in str(run.exception)
+
+
+def _json_mcap(path: Path, profile: str = "") -> None:
+    """An MCAP of JSON messages (as Foxglove's own tools write), no ROS schema."""
+    import json
+    import struct
+
+    def text(value: str) -> bytes:
+        return struct.pack("<I", len(value)) + value.encode()
+
+    def record(op: int, body: bytes) -> bytes:
+        return struct.pack("<BQ", op, len(body)) + body
+
+    magic = b"\x89MCAP0\r\n"
+    data = magic + record(1, text(profile) + text("test"))
+    data += record(3, struct.pack("<H", 1) + text("Point") + text("jsonschema") + text("{}"))
+    data += record(4, struct.pack("<HH", 1, 1) + text("/points") + text("json") + bytes(4))
+    for i in range(3):
+        stamp = i * 10**8
+        body = struct.pack("<HIQQ", 1, i, stamp, stamp) + json.dumps({"x": i}).encode()
+        data += record(5, body)
+    data += record(0x0F, bytes(4)) + record(2, bytes(20)) + magic
+    path.write_bytes(data)
+
+
+@pytest.mark.parametrize("command", ["info", "track", "evaluate-truth", "evaluate-tracks"])
+def test_an_mcap_of_no_ros_messages_is_said_so(command: str, tmp_path: Path) -> None:
+    """rosbags' "Profile is not ros2." came out as a corrupt or truncated bag."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    mcap = tmp_path / "points.mcap"
+    _json_mcap(mcap)
+    args = {
+        "info": ["info", str(mcap)],
+        "track": ["track", str(mcap), "-o", str(tmp_path / "t.csv")],
+        "evaluate-truth": ["evaluate", str(tmp_path / "t.csv"), "--truth", str(mcap)],
+        "evaluate-tracks": ["evaluate", str(mcap), "--truth", str(tmp_path / "x.npz")],
+    }[command]
+    (tmp_path / "t.csv").write_text(OLD_TRACKS)
+    from laserpeople.sim.scenarios import run_scenario
+
+    run_scenario("figure-eight", seconds=0.5, seed=3).write(tmp_path / "x.npz")
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert f"{mcap}: an MCAP of no ROS messages (profile ''; schemas in jsonschema)" in text
+    assert "corrupt" not in text and "ros2 bag record" in text
+
+
+def test_evaluate_and_view_given_a_foxglove_export_are_told_what_to_give(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """The export of ``view -o x.mcap`` draws tracks as MarkerArrays: read as tracks it
+    failed with "'...MarkerArray' object has no attribute 'header'", as truth with a list
+    of its topics."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    export = tmp_path / "drawn.mcap"
+    run = CliRunner().invoke(
+        app, ["view", str(walk), "--tracks", str(tracks_csv), "-o", str(export)]
+    )
+    assert run.exit_code == 0, run.output
+    run = CliRunner().invoke(app, ["evaluate", str(export), "--truth", str(walk)])
+    text = str(run.exception)
+    assert "carries visualization_msgs/msg/MarkerArray, not people_msgs/msg/People" in text
+    assert "a Foxglove export of `laserpeople view -o FILE.mcap`" in text
+    assert "give the tracks CSV it was drawn from" in text
+    run = CliRunner().invoke(
+        app, ["view", str(walk), "--tracks", str(export), "-o", str(tmp_path / "v.png")]
+    )
+    assert "give the tracks CSV it was drawn from" in str(run.exception)
+    run = CliRunner().invoke(app, ["evaluate", str(tracks_csv), "--truth", str(export)])
+    text = str(run.exception)
+    assert "it is a Foxglove export of `laserpeople view -o FILE.mcap`" in text, text
+    assert "give the recording or the truth CSV it was drawn from" in text
+    run = CliRunner().invoke(app, ["info", str(export)])
+    assert "tracks drawn for Foxglove (laserpeople view): /laserpeople/legs" in run.output
+    assert "tracks of laserpeople track --bag" not in run.output
+
+
+MIR_BAG = "mir/rosbags/mir_data/legs-test-split-2022-11-21-15-51-02-topic-split.bag"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["track", "-o", "{out}.csv", "--output-frame", "world"],
+        ["track", "-o", "{out}.csv", "--topics", "all"],
+        ["view", "-o", "{out}.png", "--frame", "world"],
+    ],
+)
+def test_missing_laser_mounts_are_named_with_what_to_do(
+    args: list[str], shared_data: Path, tmp_path: Path
+) -> None:
+    """The MiR bag's /tf has odom -> base_footprint only: the error said "the scan has no
+    sensor pose" without which frames were not linked or that ``--mount mir100`` links
+    them (``info`` said it; the commands that need the poses did not)."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    bag = shared_data / MIR_BAG
+    given = [a.format(out=tmp_path / "out") for a in args]
+    run = CliRunner().invoke(app, [given[0], str(bag), *given[1:]])
+    assert isinstance(run.exception, RecordingError | ConfigError), run.output
+    text = str(run.exception)
+    assert "/tf links no laser frame " in text and "'front_laser_link'" in text, text
+    assert "to 'odom' (transforms in the recording: odom -> base_footprint)" in text
+    assert "try --mount mir100" in text
+
+
+def test_train_refuses_to_write_over_a_file_of_its_neko_folder(
+    shared_data: Path, tmp_path: Path
+) -> None:
+    """``-o NEKO/leg_segment_labels.json`` replaced the labels it trained on (the folder
+    was an input, its files were not)."""
+    import shutil
+
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    neko = tmp_path / "neko"
+    shutil.copytree(shared_data / "neko7055", neko)
+    labels = (neko / "leg_segment_labels.json").read_bytes()
+    out = neko / "leg_segment_labels.json"
+    run = CliRunner().invoke(
+        app, ["train", "--neko", str(neko), "--neko-frames", "0-9", "-o", str(out)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert f"-o {out} would write over the input {out}" in str(run.exception)
+    assert out.read_bytes() == labels
+
+
+def test_evaluate_refuses_a_laser_topic_nothing_reads(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``--laser-topic`` pairs a bag's truth topic with a laser; given with a recording's
+    own truth (or for several tracks files) it was ignored without a word."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    run = CliRunner().invoke(
+        app, ["evaluate", str(tracks_csv), "--truth", str(walk), "--laser-topic", "/scan"]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--laser-topic applies to ground truth from a bag (--truth BAG[:TOPIC])" in str(
+        run.exception
+    )
+    other = tmp_path / "other.csv"
+    other.write_bytes(tracks_csv.read_bytes())
+    run = CliRunner().invoke(
+        app,
+        ["evaluate", str(tracks_csv), str(other), "--truth", str(walk), "--truth", str(walk),
+         "--laser-topic", "/scan"],
+    )  # fmt: skip
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "--laser-topic applies to one TRACKS file" in str(run.exception)
+    run = CliRunner().invoke(app, ["evaluate", str(tracks_csv), "--truth", str(walk)])
+    assert run.exit_code == 0, run.output
+
+
+def test_a_ros2_bag_folder_without_its_storage_file_is_said_so(tmp_path: Path) -> None:
+    """rosbags' "Some database files are missing" came out as a corrupt or truncated bag
+    (with a hint for ROS 1 bags)."""
+    rosbag2 = pytest.importorskip("rosbags.rosbag2")
+    from rosbags.typesys import Stores, get_typestore
+
+    from laserpeople.io import open_recording
+
+    store = get_typestore(Stores.LATEST)
+    folder = tmp_path / "run"
+    text = store.types["std_msgs/msg/String"]
+    with rosbag2.Writer(folder, version=8) as writer:
+        conn = writer.add_connection("/chatter", text.__msgtype__, typestore=store)
+        writer.write(conn, 1, store.serialize_cdr(text(data="x"), text.__msgtype__))
+    (folder / "run.db3").unlink()
+    with pytest.raises(
+        RecordingError,
+        match=r"run: metadata.yaml names the storage file run.db3, not in the folder "
+        r"\(it holds no .db3 or .mcap file\) \(copy the whole bag folder",
+    ):
+        open_recording(folder)
+    (folder / "renamed.db3").write_bytes(b"")
+    with pytest.raises(RecordingError, match=r"\(it holds renamed.db3\).*or give .*renamed.db3"):
+        open_recording(folder)
+
+
+def test_a_misspelt_name_in_another_trackers_section_is_named(walk: Path, tmp_path: Path) -> None:
+    """One ``--config`` serves every tracker; ``[csa] subcluster_distanse`` was only said
+    to be "read by another tracker" by ``track --tracker leg-mht``, and the typo went
+    unnoticed until the csa run."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    config = tmp_path / "shared.toml"
+    config.write_text("[leg_tracker]\nlambda_new = 0.002\n\n[csa]\nsubcluster_distanse = 0.5\n")
+    args = ["track", str(walk), "-o", str(tmp_path / "t.csv"), "--config", str(config)]
+    run = CliRunner().invoke(app, args)
+    assert isinstance(run.exception, ConfigError), run.output
+    text = str(run.exception)
+    assert f"{config}: line 5: unknown parameter(s) subcluster_distanse in [csa]" in text, text
+    assert "did you mean 'subcluster_distance'?" in text
+    assert "a section another command or tracker reads" in text
+    config.write_text("[leg_tracker]\nlambda_new = 0.002\n\n[csa]\nsubcluster_distance = 0.5\n")
+    run = CliRunner().invoke(app, args)
+    assert run.exit_code == 0, run.output
+    assert "[csa] is read by another command or tracker" in run.output
+
+
+@pytest.mark.parametrize("pattern", ["leg_tracker.lambda_*", "[leg_tracker] lambda_new"])
+def test_fit_learn_takes_the_keys_with_the_trackers_section(pattern: str) -> None:
+    """The TOML fit writes names the keys under [leg_tracker]; ``--learn
+    leg_tracker.lambda_new`` matched no key."""
+    from laserpeople.fitting.estimates import Estimate
+    from laserpeople.fitting.flow import _select
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    learned = [Estimate("lambda_new", 0.01, "5 new", 9), Estimate("p_det_free", 0.8, "x", 9)]
+    chosen, left, params = _select([pattern], learned, [], LegTrackerParams())
+    assert [e.key for e in chosen] == ["lambda_new"]
+    assert left == (("p_det_free", "not chosen by --learn"),)
+    assert params.lambda_new == pytest.approx(0.01, rel=1e-12)
+
+
+def test_fit_learn_with_another_section_is_named() -> None:
+    from laserpeople.errors import LaserPeopleError
+    from laserpeople.fitting.estimates import Estimate
+    from laserpeople.fitting.flow import _select
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    learned = [Estimate("lambda_new", 0.01, "5 new", 9)]
+    with pytest.raises(
+        LaserPeopleError, match=r"names the section \[csa\], not the tracker's \[leg_tracker\]"
+    ):
+        _select(["[csa] lambda_new"], learned, [], LegTrackerParams())

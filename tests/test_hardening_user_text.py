@@ -495,7 +495,9 @@ def test_track_errors_mid_run_name_the_recording(tmp_path: Path) -> None:
     run = CliRunner().invoke(app, ["track", str(rec), "-o", str(out), "--output-frame", "world"])
     assert isinstance(run.exception, LaserPeopleError), run.output
     assert str(run.exception).startswith(f"{rec}: scan 0: cannot express tracks in the world")
-    assert out.read_text().startswith("scan,stamp,track_id")  # a valid CSV: the header
+    # no scan was written: no CSV is left (an older one would be left as it was)
+    assert "no tracks CSV was written (no scan was)" in str(run.exception)
+    assert not out.exists()
 
 
 def _ranges_scan(index: int, ranges: list[float]) -> Any:

@@ -73,16 +73,7 @@ def from_mapping(
     hints = get_type_hints(cls)
     section = within or f"[{section_name(cls)}] "
     table = section.strip().rstrip(".")  # "[leg_tracker]", "[leg_tracker] people"
-    unknown = sorted(set(values) - set(fields))
-    if unknown:
-        named = dotted_names(cls)
-        guesses = "".join(f"; {u}: {g}" for u in unknown if (g := did_you_mean(u, named)))
-        raise ConfigError(
-            f"{_at(where, f'{section}{unknown[0]}')}unknown parameter(s) {', '.join(unknown)} "
-            f"in {table}{guesses}",
-            path=where or None,
-            hint=f"known: {', '.join(sorted(fields))}",
-        )
+    _refuse_unknown([cls], values, where, section)
     kwargs: dict[str, Any] = {}
     for key, value in values.items():
         hint = hints[key]
@@ -108,6 +99,49 @@ def from_mapping(
         raise
     except LaserPeopleError as exc:  # a parameter class's own check (e.g. bin_width)
         raise ConfigError(f"{table}: {exc.detail}", path=where or None, hint=exc.hint) from exc
+
+
+def _refuse_unknown(
+    classes: Sequence[type], values: Mapping[str, Any], where: str, section: str
+) -> None:
+    """Refuse the keys of ``values`` (the table ``section`` of the file ``where``) that no
+    class of ``classes`` reads, naming them and the names meant.
+
+    Raises:
+        ConfigError: names the first key's line, every unknown key and the known ones.
+    """
+    fields = {f.name for cls in classes for f in dataclasses.fields(cls)}
+    unknown = sorted(set(values) - fields)
+    if not unknown:
+        return
+    named = [n for cls in classes for n in dotted_names(cls)]
+    guesses = "".join(f"; {u}: {g}" for u in unknown if (g := did_you_mean(u, named)))
+    table = section.strip().rstrip(".")
+    raise ConfigError(
+        f"{_at(where, f'{section}{unknown[0]}')}unknown parameter(s) {', '.join(unknown)} "
+        f"in {table}{guesses}",
+        path=where or None,
+        hint=f"known: {', '.join(sorted(fields))}",
+    )
+
+
+def check_names(classes: Sequence[type], values: Mapping[str, Any], where: str) -> None:
+    """Refuse the keys of a section (``values``) that none of ``classes`` (the parameter
+    classes that read it) reads, nested tables included, without checking the values: the
+    section of another command or tracker in a shared ``--config`` file.
+
+    Raises:
+        ConfigError: as :func:`from_mapping` names an unknown key.
+    """
+    section = f"[{section_name(classes[0])}] "
+    _refuse_unknown(classes, values, where, section)
+    if len(classes) > 1:
+        return
+    hints = get_type_hints(classes[0])
+    for key, value in values.items():
+        if dataclasses.is_dataclass(hints[key]) and isinstance(value, Mapping):
+            nested: type = hints[key]
+            _refuse_unknown([nested], value, where, f"{section}{key}.")
 
 
 def _has_defaults(cls: type) -> bool:
@@ -376,6 +410,20 @@ def check_sections(
             path=p,
             hint=f"this command reads {', '.join(f'[{k}]' for k in sorted(known))}",
         )
+    readers: dict[str, list[type]] = {}
+    for cls in others:
+        readers.setdefault(section_name(cls), []).append(cls)
+    for name in sorted(set(data) & elsewhere):  # (misspelt names there are errors too)
+        if isinstance(data[name], Mapping):
+            try:
+                check_names(readers[name], data[name], str(p))
+            except ConfigError as exc:
+                raise ConfigError(
+                    f"{exc.detail} (a section another command or tracker reads: its names "
+                    "are checked all the same)",
+                    path=p,
+                    hint=exc.hint,
+                ) from None
     return sorted(set(data) & elsewhere)
 
 

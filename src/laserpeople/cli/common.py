@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar, cast
 
 import typer
 
-from laserpeople.errors import ConfigError, NotBuiltError, RecordingError
+from laserpeople.errors import ConfigError, LaserPeopleError, NotBuiltError, RecordingError
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -439,6 +439,29 @@ def open_with_poses(
     from laserpeople.pipeline.recording import open_source
 
     return open_source(path, world_frame, mounts, on_error)
+
+
+def explain_missing_poses(
+    exc: LaserPeopleError, recording: object, topics: Sequence[str] | None = None
+) -> None:
+    """Add to ``exc``, an error for scans without a sensor pose (a
+    :class:`~laserpeople.errors.PoseUnavailableError`, or a fusion refused for want of
+    poses), why the recording's scans have none: the laser frames /tf does not link to the
+    world and what to do (:meth:`~laserpeople.io.rosbag.RosbagRecording.pose_problem`;
+    recordings other than bags are left as they are)."""
+    from laserpeople.errors import PoseUnavailableError
+
+    if not (isinstance(exc, PoseUnavailableError) or "no sensor poses" in exc.detail):
+        return
+    pose_problem = getattr(recording, "pose_problem", None)
+    if not callable(pose_problem):
+        return
+    try:
+        problem = pose_problem(topics)
+    except LaserPeopleError:
+        return
+    if problem:
+        exc.noted(problem)
 
 
 def report_damage(recording: object) -> None:

@@ -46,6 +46,29 @@ HELP = (
 )
 
 
+def _check_laser_topic(many: bool, truths: list[str]) -> None:
+    """Refuse ``--laser-topic`` where nothing reads it: it names the laser whose scans the
+    labels of a bag's truth topic are paired with, one TRACKS file at a time.
+
+    Raises:
+        ConfigError: several tracks files (or a batch folder), or a --truth of no bag.
+    """
+    from laserpeople.io.truth_bag import is_bag_path, split_truth_spec
+
+    if many:
+        raise ConfigError(
+            "--laser-topic applies to one TRACKS file with --truth BAG[:TOPIC]; the scores "
+            "of several tracks files or of a batch folder do not read it",
+            hint="drop --laser-topic, or score the tracks of one recording at a time",
+        )
+    if not any(is_bag_path(split_truth_spec(t)[0]) for t in truths):
+        raise ConfigError(
+            f"--laser-topic applies to ground truth from a bag (--truth BAG[:TOPIC]), not "
+            f"to --truth {', '.join(truths)}: its scans are numbered as they are",
+            hint="drop --laser-topic (a recording's own truth belongs to its scans)",
+        )
+
+
 def truth_frames(
     spec: str | Path,
     laser_topic: str | None = None,
@@ -213,7 +236,10 @@ def register(app: typer.Typer) -> None:
                 if sweep
                 else "give a tracks file and its --truth, or a batch --out folder",
             )
-        if len(tracks_args) > 1 or (folder / "summary.csv").is_file():
+        many = len(tracks_args) > 1 or (folder / "summary.csv").is_file()
+        if laser_topic is not None:
+            _check_laser_topic(many, [str(t) for t in truth_args or []])
+        if many:
             if followed_person is not None or per_frame is not None:
                 raise ConfigError(
                     "--followed-person and --per-frame score one recording",

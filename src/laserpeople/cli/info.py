@@ -195,7 +195,18 @@ def summarise(rec: RecordingSource, topics: list[str] | None) -> dict[str, Any]:
             for t in out["other_topics"]
             if t["msgtype"] in TRUTH_TYPES and t["topic"] not in ours
         ]
-        out["track_topics"] = [t["topic"] for t in out["other_topics"] if t["topic"] in ours]
+        from laserpeople.io.tracks_bag import PEOPLE_TYPE
+
+        out["track_topics"] = [
+            t["topic"]
+            for t in out["other_topics"]
+            if t["topic"] in ours and t["msgtype"] == PEOPLE_TYPE
+        ]
+        out["drawn_topics"] = [  # a Foxglove export of `view`: drawings, not tracks
+            t["topic"]
+            for t in out["other_topics"]
+            if t["topic"] in ours and t["msgtype"] != PEOPLE_TYPE
+        ]
         out["ground_truth"] = out["ground_truth"] or bool(out["truth_topics"])
     return out
 
@@ -246,6 +257,11 @@ def _print_table(report: dict[str, Any]) -> None:
         line(
             f"tracks of laserpeople track --bag: {', '.join(report['track_topics'])} "
             "(score them with laserpeople evaluate RECORDING --truth ...)"
+        )
+    if report.get("drawn_topics"):
+        line(
+            f"tracks drawn for Foxglove (laserpeople view): {', '.join(report['drawn_topics'])} "
+            "(drawings: evaluate and view read the tracks CSV they were drawn from)"
         )
     if report.get("pose_summary"):
         line(f"poses: {report['pose_summary']}")

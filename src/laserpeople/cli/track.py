@@ -22,6 +22,7 @@ from laserpeople.cli.common import (
     PresetOption,
     RestampOption,
     WorldFrameOption,
+    explain_missing_poses,
     ignored_sections,
     mount_specs,
     no_scan_read,
@@ -266,6 +267,7 @@ def run_tracking(
         for note in getattr(source.recording, "mount_notes", []):  # a mount left out may be
             warn(note)  # why: say so before the error
         exc.located(recording)  # (a scan without the pose -o needs names no file)
+        explain_missing_poses(exc, source.recording, list(source.topics))
         raise
     except Exception:
         for note in getattr(source.recording, "mount_notes", []):

@@ -267,6 +267,7 @@ def register(app: typer.Typer) -> None:
         if unlabelled not in ("negative", "drop"):
             raise ConfigError(f"--unlabelled must be negative or drop, got {unlabelled!r}")
         mode: Unlabelled = "negative" if unlabelled == "negative" else "drop"
+        from laserpeople.io.neko import NEKO_LABELS, NEKO_XY
         from laserpeople.io.paths import check_output_format, check_outputs
 
         check_outputs(
@@ -276,6 +277,8 @@ def register(app: typer.Typer) -> None:
                 *positives,
                 *negatives,
                 neko,
+                # (the folder's files: `-o NEKO/leg_segment_labels.json` would replace them)
+                *((neko / NEKO_XY, neko / NEKO_LABELS) if neko is not None else ()),
                 *test,
                 *test_positives,
                 *test_negatives,

@@ -13,6 +13,7 @@ from laserpeople.cli.common import (
     MountOption,
     OnErrorOption,
     WorldFrameOption,
+    explain_missing_poses,
     open_with_poses,
     progress,
     report_damage,
@@ -298,19 +299,23 @@ def _draw(
             warn(f"{name} may not belong to {recording.name}: {problem}")
         truth_input = given  # read once: its notes (names numbered) said once
     start, stop, every = scans
-    scene = Scene(
-        source,
-        tracks,
-        truth_input,
-        topic=drawn[0] if drawn else None,
-        other_topics=tuple(drawn[1:]),
-        frame=frame,  # type: ignore[arg-type]
-        tracks_frame=tracks_frame,  # type: ignore[arg-type]
-        truth_frame=truth_frame,  # type: ignore[arg-type]
-        start=start,
-        stop=stop,
-        every=every,
-    )
+    try:
+        scene = Scene(
+            source,
+            tracks,
+            truth_input,
+            topic=drawn[0] if drawn else None,
+            other_topics=tuple(drawn[1:]),
+            frame=frame,  # type: ignore[arg-type]
+            tracks_frame=tracks_frame,  # type: ignore[arg-type]
+            truth_frame=truth_frame,  # type: ignore[arg-type]
+            start=start,
+            stop=stop,
+            every=every,
+        )
+    except LaserPeopleError as exc:
+        explain_missing_poses(exc, source, drawn or None)
+        raise
 
     def bar(frames: Iterable[SceneFrame], total: int | None) -> Iterable[SceneFrame]:
         return progress(frames, total, "drawing")

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from laserpeople.config import load_config
+from laserpeople.config import load_config, section_name
 from laserpeople.fitting import data
 from laserpeople.fitting.estimates import Estimate, FitError
 from laserpeople.fitting.validate import ValidationRow
@@ -199,6 +199,26 @@ def learn(
     )
 
 
+def _in_section(pattern: str, section: str) -> str:
+    """``pattern`` of ``--learn`` without the tracker's section, as the written TOML names
+    the key (``leg_tracker.p_det_free`` or ``[leg_tracker] p_det_free``: ``p_det_free``).
+
+    Raises:
+        FitError: the pattern starts with another tracker's section (``[csa] ...``).
+    """
+    text = pattern.strip()
+    for prefix in (f"[{section}]", f"{section}."):
+        if text.startswith(prefix):
+            return text[len(prefix) :].strip().lstrip(".")
+    if text.startswith("["):
+        other = text[1:].split("]", 1)[0]
+        raise FitError(
+            f"--learn {pattern!r} names the section [{other}], not the tracker's [{section}]",
+            hint=f"give the keys as written under [{section}], e.g. --learn 'p_*'",
+        )
+    return text
+
+
 def _select(
     patterns: Sequence[str],
     estimates: Sequence[Estimate],
@@ -209,12 +229,14 @@ def _select(
     the base parameters with the chosen values.
 
     Raises:
-        FitError: no learned key matches.
+        FitError: no learned key matches, or a pattern names another section than the
+            tracker's.
     """
     from fnmatch import fnmatchcase
 
     from laserpeople.fitting.legs import with_learned
 
+    patterns = [_in_section(p, section_name(type(base))) for p in patterns]
     chosen = tuple(e for e in estimates if any(fnmatchcase(e.key, p) for p in patterns))
     if not chosen:
         raise FitError(

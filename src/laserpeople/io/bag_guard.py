@@ -27,7 +27,10 @@ import io
 import os
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import TYPE_CHECKING, Any, BinaryIO
+
+if TYPE_CHECKING:
+    from laserpeople.errors import RecordingError
 
 CHUNK_LIMIT = 256 * 2**20
 """Largest decompressed chunk [bytes] a bag may hold; larger ones are reported corrupt."""
@@ -283,6 +286,8 @@ def open_reader(
             hint="give a bag file (.bag, .mcap, .db3) or a ROS 2 bag folder (one with "
             "metadata.yaml)",
         )
+    if p.is_dir():
+        check_storage_files(p)
     # a ROS 1 bag (AnyReader's rule: a .bag file) read without the ROS 2 readers, unless
     # the caller registers types (they reach AnyReader's default typestore)
     ros1 = p.suffix == ".bag" and register is None
@@ -312,8 +317,103 @@ def open_reader(
         if reader is not None:
             with contextlib.suppress(Exception):
                 reader.close()
+        foreign = foreign_mcap(p)
+        if foreign is not None:
+            raise foreign from None
         raise RecordingError(f"cannot open bag: {describe(exc)}", path=p, hint=hint) from exc
     return reader
+
+
+def check_storage_files(folder: Path) -> None:
+    """Refuse a ROS 2 bag folder whose ``metadata.yaml`` names storage files that are not
+    in it (a copy of the folder without them, or renamed), before rosbags says "Some
+    database files are missing". A ``metadata.yaml`` that cannot be read is left to rosbags.
+
+    Raises:
+        RecordingError: names the missing files, the storage files the folder holds and what
+            to do.
+    """
+    from laserpeople.errors import RecordingError
+
+    try:
+        from ruamel.yaml import YAML
+
+        info = YAML(typ="safe").load((folder / "metadata.yaml").read_text(encoding="utf-8"))
+        names = [str(n) for n in info["rosbag2_bagfile_information"]["relative_file_paths"]]
+    except Exception:  # (no ruamel, or a file of another layout: rosbags reports it)
+        return
+    missing = [n for n in names if not (folder / n).is_file()]
+    if not missing:
+        return
+    held = sorted(
+        f.name for f in folder.iterdir() if f.suffix in (".db3", ".mcap") or ".db3." in f.name
+    )
+    count = "s" if len(missing) > 1 else ""
+    raise RecordingError(
+        f"metadata.yaml names the storage file{count} {', '.join(missing)}, not in the folder"
+        + (f" (it holds {', '.join(held)})" if held else " (it holds no .db3 or .mcap file)"),
+        path=folder,
+        hint="copy the whole bag folder, its storage files with metadata.yaml"
+        + (
+            f"; or give {folder / held[0]} itself (`ros2 bag reindex` writes a "
+            "metadata.yaml that names the files there)"
+            if held
+            else ""
+        ),
+    )
+
+
+MCAP_SCAN_BYTES = 1 << 20
+"""Bytes of an MCAP read for its schemas' encodings when it is no ROS 2 bag."""
+
+
+def foreign_mcap(path: Path) -> RecordingError | None:
+    """The error for an MCAP file that holds no ROS 2 messages (its header's profile is not
+    ``ros2``: e.g. Foxglove's JSON or Protobuf schemas, or ROS 1 messages), naming its
+    profile and its schemas' encodings; None for any other file (a folder, no MCAP, a
+    ``ros2`` profile, a header that cannot be read)."""
+    import struct
+
+    from laserpeople.errors import RecordingError
+
+    magic = BAG_MAGIC[1]
+    try:
+        if path.is_dir():
+            return None
+        with path.open("rb") as fh:
+            data = fh.read(MCAP_SCAN_BYTES)
+    except OSError:
+        return None
+    if not data.startswith(magic) or len(data) < len(magic) + 13 or data[len(magic)] != 0x01:
+        return None
+    at = len(magic) + 9
+    (n,) = struct.unpack_from("<I", data, at)
+    profile = data[at + 4 : at + 4 + n].decode("utf-8", "replace")
+    if profile == "ros2":
+        return None
+    encodings: list[str] = []  # of the schemas outside chunks (Schema records, op 0x03)
+    at = len(magic)
+    with contextlib.suppress(struct.error):  # (a record cut off: the encodings so far)
+        while at + 9 <= len(data):
+            op, length = struct.unpack_from("<BQ", data, at)
+            body = data[at + 9 : at + 9 + length]
+            if op == 0x03:
+                (n,) = struct.unpack_from("<I", body, 2)
+                (m,) = struct.unpack_from("<I", body, 6 + n)
+                encodings.append(body[10 + n : 10 + n + m].decode("utf-8", "replace"))
+            at += 9 + length
+    schemas = f"; schemas in {', '.join(sorted(set(encodings)))}" if encodings else ""
+    ros1 = profile == "ros1"
+    return RecordingError(
+        f"an MCAP of {'ROS 1 messages' if ros1 else 'no ROS messages'} (profile "
+        f"{profile!r}{schemas}), not a ROS 2 bag: laserpeople reads sensor_msgs/LaserScan "
+        "from ROS 1 .bag files and ROS 2 bags (MCAP of profile 'ros2', .db3) only",
+        path=path,
+        hint="record the scans as a ROS 1 .bag"
+        if ros1
+        else "record the scans with ROS (`ros2 bag record -s mcap /scan`), or give the "
+        "recording this file was made from",
+    )
 
 
 def bag_messages(

@@ -141,6 +141,11 @@ def _label_index(value: object) -> int:
     return int(value)
 
 
+NEKO_XY = "xy_data.txt"
+NEKO_LABELS = "leg_segment_labels.json"
+"""The two files of a neko7055 folder: the points and the leg segments' labels."""
+
+
 def read_neko(directory: str | Path, frame_period: float = 0.1) -> NekoData:
     """Scans and labels of a neko7055 directory."""
     d = Path(directory)
@@ -149,15 +154,15 @@ def read_neko(directory: str | Path, frame_period: float = 0.1) -> NekoData:
         raise RecordingError("neko7055 folder not found", path=d, hint=hint)
     if not d.is_dir():
         raise RecordingError("is a file, not a neko7055 folder", path=d, hint=hint)
-    missing = [n for n in ("xy_data.txt", "leg_segment_labels.json") if not (d / n).exists()]
+    missing = [n for n in (NEKO_XY, NEKO_LABELS) if not (d / n).exists()]
     if missing:
         raise RecordingError(
             f"no {' and no '.join(missing)} in this folder: not a neko7055 folder",
             path=d,
             hint=hint,
         )
-    scans = read_neko_scans(d / "xy_data.txt", frame_period)
-    labels, rule = read_neko_labels(d / "leg_segment_labels.json")
+    scans = read_neko_scans(d / NEKO_XY, frame_period)
+    labels, rule = read_neko_labels(d / NEKO_LABELS)
     return NekoData(scans, labels, rule)
 
 

@@ -235,6 +235,7 @@ class RosbagRecording:
         self.frame_changes: dict[str, FrameChange] = {}
         """Per laser topic whose ``header.frame_id`` changed within the last read: the
         first frame, the first scan in another frame and how many scans were in others."""
+        self._first_frames: dict[str, str] = {}  # laser topic -> its first scan's frame
         self.other_types: dict[str, dict[str, int]] = {}
         """Per laser topic of the last read that also carries other types of message: their
         counts by type (left out of the scans)."""
@@ -521,9 +522,13 @@ class RosbagRecording:
         return out
 
     def laser_frames(self, topics: Sequence[str] | None = None) -> dict[str, str]:
-        """``header.frame_id`` of the first message of each laser topic."""
+        """``header.frame_id`` of the first message of each laser topic (read once per
+        topic, then kept: known also after :meth:`close`)."""
         out: dict[str, str] = {}
         for name in self.resolve_topics(topics):
+            if name in self._first_frames:
+                out[name] = self._first_frames[name]
+                continue
             try:
                 for conn, _, raw in self._reader.messages(connections=self._connections[name]):
                     try:
@@ -548,6 +553,8 @@ class RosbagRecording:
                     path=self.path,
                     hint=_CORRUPT_HINT,
                 ) from exc
+            if name in out:
+                self._first_frames[name] = out[name]
         return out
 
     def pose_frame(self) -> str | None:
@@ -567,6 +574,36 @@ class RosbagRecording:
             world = tree.pick_world(self.laser_frames().values())
         self.world_frame = world
         return tree, world
+
+    def pose_problem(self, topics: Sequence[str] | None = None) -> str | None:
+        """Why the scans of ``topics`` (default: every laser topic) can have no pose, for
+        an error that needs them: no pose data at all, or the laser frames that /tf does
+        not link to the world frame, with the transforms the recording has and what to do
+        (``--mount mir100`` for a MiR robot's frames). None when every laser frame is
+        linked, or poses were not asked for.
+
+        Raises:
+            RecordingError: the bag cannot be read.
+        """
+        if not self.use_poses:
+            return None
+        tree, world = self._setup_poses()
+        if tree is None or not tree.frames():
+            return "the recording has no /tf, /tf_static or odometry to give sensor poses"
+        frames = sorted(set(self.laser_frames(topics).values()))
+        unlinked = [f for f in frames if world is None or tree.chain(world, f) is None]
+        if not unlinked:
+            return None
+        edges = ", ".join(f"{p} -> {c}" for p, c, _ in tree.edges())
+        target = (
+            repr(world)
+            if world
+            else "a world frame (" + ", ".join(self.pose_params.world_frames) + ")"
+        )
+        return (
+            f"/tf links no laser frame {', '.join(map(repr, unlinked))} to {target} "
+            f"(transforms in the recording: {edges}); {_mount_hint(tree)}"
+        )
 
     def pose_summary(self) -> str:
         """One line per reason why scans of the last :meth:`scans` run got no pose."""

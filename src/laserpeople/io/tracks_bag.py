@@ -39,6 +39,8 @@ from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
 PERSON_TYPE = "people_msgs/msg/Person"
 PEOPLE_TYPE = "people_msgs/msg/People"
+DRAWN_TYPE = "visualization_msgs/msg/MarkerArray"
+"""The type of the tracks' topics in a Foxglove export (:mod:`laserpeople.viz.mcap_export`)."""
 MARKERS_TYPE = "visualization_msgs/msg/MarkerArray"
 PERSON_MSG = """string name
 geometry_msgs/Point position
@@ -321,6 +323,20 @@ def iter_tracks_bag(
                 f"no tracks in the bag (none of the topics {', '.join(sorted(topics))})",
                 path=p,
                 hint="give a bag written by `laserpeople track --bag`",
+            )
+        drawn = [c for c in conns if c.msgtype != PEOPLE_TYPE]
+        if drawn:
+            raise RecordingError(
+                f"topic {drawn[0].topic} carries {drawn[0].msgtype}, not {PEOPLE_TYPE}: "
+                + (
+                    "this is a Foxglove export of `laserpeople view -o FILE.mcap`, drawings "
+                    "of the tracks that cannot be read back as tracks"
+                    if drawn[0].msgtype == DRAWN_TYPE
+                    else "these are no tracks of `laserpeople track --bag`"
+                ),
+                path=p,
+                hint="give the tracks CSV it was drawn from, or the bag of "
+                "`laserpeople track -o tracks.csv --bag tracks.mcap`",
             )
         current: list[Track] = []
         key: tuple[int, float, CoordinateFrame] | None = None

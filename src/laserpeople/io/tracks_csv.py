@@ -39,7 +39,11 @@ from typing import Any, get_args
 
 import numpy as np
 
-from laserpeople.errors import LaserPeopleError, LaserPeopleWarning, RecordingError
+from laserpeople.errors import (
+    LaserPeopleWarning,
+    PoseUnavailableError,
+    RecordingError,
+)
 from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.paths import path_argument
 from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
@@ -89,7 +93,7 @@ def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
         return tracks
     pose = tracks.sensor_pose
     if pose is None:
-        raise LaserPeopleError(
+        raise PoseUnavailableError(
             f"cannot express tracks in the {frame} frame: the scan has no sensor pose",
             scan=tracks.scan_index,
             hint="use --output-frame sensor, or a recording with /tf or odometry",

@@ -198,6 +198,10 @@ def _open(path: Path) -> Any:
     return open_reader(path, register=register_people_types, hint="give a readable .bag/.mcap/.db3")
 
 
+DRAWN_TRUTH = "/laserpeople/truth"
+"""The topic of the drawn ground truth in a Foxglove export (:mod:`laserpeople.viz.mcap_export`)."""
+
+
 def _pick_topic(
     path: Path, topics: dict[str, str], wanted: str | None, allowed: Sequence[str], what: str
 ) -> str:
@@ -216,6 +220,13 @@ def _pick_topic(
             f"no topic {wanted!r} in this bag", path=path, hint=f"topics here: {listing}"
         )
     found = [t for t, m in topics.items() if m in allowed]
+    if not found and topics.get(DRAWN_TRUTH) == "visualization_msgs/msg/MarkerArray":
+        raise TopicNotFoundError(
+            f"no {what} topic in this bag: it is a Foxglove export of "
+            f"`laserpeople view -o FILE.mcap`, whose {DRAWN_TRUTH} draws the truth",
+            path=path,
+            hint="give the recording or the truth CSV it was drawn from",
+        )
     if len(found) != 1:
         raise TopicNotFoundError(
             f"{'no' if not found else 'more than one'} {what} topic in this bag",

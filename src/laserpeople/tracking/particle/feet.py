@@ -79,6 +79,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift, single_linkage
+from laserpeople.clustering.trees import kdtree
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -718,9 +719,7 @@ class StepDetector:
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
         old_pts, old_labels, _ = prev
-        near = cKDTree(points).sparse_distance_matrix(
-            cKDTree(old_pts), reach, output_type="ndarray"
-        )
+        near = kdtree(points).sparse_distance_matrix(kdtree(old_pts), reach, output_type="ndarray")
         # distinct (new cluster, old cluster) pairs, by a 1-D unique of one integer key
         width = int(old_labels.max()) + 1
         key = np.unique(labels[near["i"]] * width + old_labels[near["j"]])
@@ -1156,7 +1155,7 @@ def blob_centres(
         labels = single_linkage(points, link_distance)
     n = int(labels.max()) + 1
     has_leg = np.bincount(labels, weights=legs.astype(np.float64), minlength=n) > 0
-    near = cKDTree(points).query_ball_point(anchors, reach)
+    near = kdtree(points).query_ball_point(anchors, reach)
     for f, idx in enumerate(near):
         objs = np.unique(labels[np.asarray(idx, dtype=np.int64)])
         if objs.size == 0 or has_leg[objs].any():
@@ -1208,8 +1207,8 @@ def _points_near(
     filters; the repelling term keeps them apart)."""
     if len(points) == 0 or len(centres) == 0:
         return np.empty(0, np.int64), np.empty(0, np.int64)
-    m = cKDTree(centres).sparse_distance_matrix(cKDTree(points), radius, output_type="coo_matrix")
-    return m.col.astype(np.int64), m.row.astype(np.int64)
+    m = cKDTree(centres).sparse_distance_matrix(kdtree(points), radius, output_type="ndarray")
+    return m["j"].astype(np.int64), m["i"].astype(np.int64)
 
 
 def beyond_surface(
@@ -1239,7 +1238,7 @@ def _supported(
     """(F,) True where a point lies within ``radius`` of either estimated foot (F, 2, 2)."""
     if len(points) == 0 or len(feet) == 0:
         return np.zeros(len(feet), dtype=bool)
-    d, _ = cKDTree(points).query(feet.reshape(-1, 2), k=1)
+    d, _ = kdtree(points).query(feet.reshape(-1, 2), k=1)
     return np.asarray((d.reshape(-1, 2) <= radius).any(axis=1), dtype=bool)
 
 

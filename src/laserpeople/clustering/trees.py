@@ -6,7 +6,8 @@ step detector's overlap), and building one costs more than looking it up.
 :func:`kdtree` returns a :class:`scipy.spatial.cKDTree` of a copy of the points, the same
 tree for the same points (the same float64 values, bit for bit, in the same order) while it
 is among the :data:`KEPT` last ones asked for in this thread (each thread keeps its own, so
-that trackers in threads do not share a cache).
+that trackers in threads do not share a cache). :func:`nearest` finds each point's nearest
+of a few others (the filters' feet or centres) without a tree.
 """
 
 from __future__ import annotations
@@ -18,10 +19,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from laserpeople.clustering.compiled import extension
 from laserpeople.lazy_scipy import cKDTree
 
 KEPT = 4
 """Trees kept per thread: this scan's point sets and the previous scan's."""
+
+NEAREST_PAIRS = 100_000
+"""Most query-reference pairs :func:`nearest` compares one by one (compiled); beyond, a
+KD-tree finds the nearest."""
 
 _local = threading.local()
 
@@ -46,9 +52,36 @@ def kdtree(points: NDArray[np.floating]) -> Any:
     return tree
 
 
+def nearest(
+    queries: NDArray[np.floating], refs: NDArray[np.floating]
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Each query's (N, 2) distance (N,) [m] to its nearest point of ``refs`` (M, 2), M >= 1,
+    and that point's index (N,): compiled where built, by comparing every pair (up to
+    :data:`NEAREST_PAIRS`; the first of equally near points), else :func:`nearest_python`.
+    The same distances (the square root of dx^2 + dy^2, as the KD-tree computes them)."""
+    ext = extension()
+    q = np.ascontiguousarray(queries, dtype=np.float64).reshape(-1, 2)
+    r = np.ascontiguousarray(refs, dtype=np.float64).reshape(-1, 2)
+    if ext is not None and len(r) > 0 and len(q) * len(r) <= NEAREST_PAIRS:
+        j = np.empty(len(q), dtype=np.int64)
+        d = np.empty(len(q))
+        if ext.nearest_points(q, r, j, d) is not NotImplemented:
+            return d, j
+    return nearest_python(q, r)
+
+
+def nearest_python(
+    queries: NDArray[np.floating], refs: NDArray[np.floating]
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """:func:`nearest` by a KD-tree of ``refs`` (:func:`kdtree`): the compiled one's
+    reference."""
+    d, j = kdtree(refs).query(queries, k=1)
+    return np.asarray(d, dtype=np.float64), np.asarray(j, dtype=np.int64)
+
+
 def clear() -> None:
     """Forget the trees this thread keeps."""
     getattr(_local, "trees", OrderedDict()).clear()
 
 
-__all__ = ["KEPT", "clear", "kdtree"]
+__all__ = ["KEPT", "NEAREST_PAIRS", "clear", "kdtree", "nearest", "nearest_python"]

@@ -79,7 +79,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift, single_linkage
-from laserpeople.clustering.trees import kdtree
+from laserpeople.clustering.links import cluster_links
+from laserpeople.clustering.trees import kdtree, nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -719,10 +720,9 @@ class StepDetector:
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
         old_pts, old_labels, _ = prev
-        near = kdtree(points).sparse_distance_matrix(kdtree(old_pts), reach, output_type="ndarray")
-        # distinct (new cluster, old cluster) pairs, by a 1-D unique of one integer key
+        # distinct (new cluster, old cluster) pairs, as one integer key each
         width = int(old_labels.max()) + 1
-        key = np.unique(labels[near["i"]] * width + old_labels[near["j"]])
+        key = cluster_links(points, labels, old_pts, old_labels, reach)
         links = np.column_stack([key // width, key % width])
         if len(links) == 0:
             return merges, splits
@@ -1238,7 +1238,7 @@ def _supported(
     """(F,) True where a point lies within ``radius`` of either estimated foot (F, 2, 2)."""
     if len(points) == 0 or len(feet) == 0:
         return np.zeros(len(feet), dtype=bool)
-    d, _ = kdtree(points).query(feet.reshape(-1, 2), k=1)
+    d, _ = nearest(feet.reshape(-1, 2), points)
     return np.asarray((d.reshape(-1, 2) <= radius).any(axis=1), dtype=bool)
 
 

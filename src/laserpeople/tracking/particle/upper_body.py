@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift
+from laserpeople.clustering.trees import nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -224,7 +225,7 @@ def voronoi_cells(
     (N, 2): the nearest centre, or -1 when it is farther than ``radius``."""
     if len(centres) == 0 or len(points) == 0:
         return np.full(len(points), -1, dtype=np.int64)
-    d, j = cKDTree(centres).query(points, k=1)
+    d, j = nearest(points, centres)
     return np.where(d <= radius, j, -1).astype(np.int64)
 
 
@@ -366,7 +367,7 @@ class UpperBodyTracker:
         if len(pts) == 0:
             return
         if len(bank):
-            d, _ = cKDTree(bank.mean([X, Y])).query(pts, k=1)
+            d, _ = nearest(pts, bank.mean([X, Y]))
             pts = pts[d > p.birth_exclusion]
         found = detect_bodies(pts, p)
         if len(found) == 0:

@@ -5,11 +5,12 @@ Each recording is run once through this version's pipeline as ``laserpeople trac
 it (reading, the static world model, on a moving laser the points near legs), and the
 frames the tracker got are kept; then a tracker of each version (the other one's
 ``src/laserpeople`` imported as ``laserpeople_ab``, ``bench_track_ab.load_other``), each
-made afresh per pass, updates on the same frames alternately, frame by frame (who goes first
-alternates), so both see the same load. Printed per recording and tracker: the median
-process CPU time of one update (ms) of each version, the mean over all frames, and their
-ratios (other / this); and whether the two versions reported the same tracks (ids the
-same, positions within 1e-9 m) in every frame.
+made afresh per pass, updates on the same frames alternately, frame by frame (who goes
+first follows the Thue-Morse sequence, and flips from pass to pass), so both see the same
+load. Printed per recording and tracker: the median process CPU time of one update (ms)
+of each version, the mean over all frames, and their ratios (other / this); and whether
+the two versions reported the same tracks (ids the same, positions within 1e-9 m) in
+every frame.
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_particle_ab.py --other OLD/src
         [--recordings demo followed sim] [--trackers feet-pf upper-body-pf] [--passes 3]
@@ -83,7 +84,9 @@ def run(frames: list[Any], tracker: str, passes: int) -> dict[str, Any]:
         trackers = {pkg: make(pkg, tracker) for pkg in order}
         for i, frame in enumerate(frames):
             out = {}
-            for pkg in order if i % 2 == 0 else order[::-1]:
+            # who goes first: the Thue-Morse sequence (the parity of the ones in i), so
+            # that every pair, 2nd, 4th, ... frame has each first once (docs/speed.md)
+            for pkg in order if bin(i).count("1") % 2 == 0 else order[::-1]:
                 t0 = clock()
                 out[pkg] = trackers[pkg].update(frame)
                 times[pkg].append(clock() - t0)

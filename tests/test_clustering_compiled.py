@@ -20,7 +20,7 @@ from laserpeople.clustering.mean_shift import (
     mean_shift_python,
 )
 from laserpeople.clustering.single_linkage import single_linkage, single_linkage_python
-from laserpeople.clustering.trees import nearest, nearest_python
+from laserpeople.clustering.trees import close_pairs, close_pairs_python, nearest, nearest_python
 
 MODE_TOL = 1e-12  # m: the first step's sums add the same points in another order
 STATS_TOL = 1e-15  # relative: the same sums in the same order, up to a last-bit difference
@@ -193,3 +193,23 @@ def test_nearest_by_hand() -> None:
     np.testing.assert_allclose(d, [1.0, 1.0], rtol=1e-15)
     d, j = nearest(np.array([[0.0, 0.0]]), np.array([[0.0, 1.0], [1.0, 0.0]]))
     assert j.tolist() == [0]
+
+
+def test_close_pairs_are_the_references() -> None:
+    """1000 random sets of up to 40 filters' positions: the same pairs (in any order)."""
+    rng = np.random.default_rng(355)
+    for _ in range(1000):
+        pts = rng.uniform(-3.0, 3.0, (int(rng.integers(0, 40)), 2))
+        radius = float(rng.uniform(0.05, 1.5))
+        if _near_threshold(pts, radius):
+            continue
+        got, want = close_pairs(pts, radius), close_pairs_python(pts, radius)
+        assert sorted(map(tuple, got.tolist())) == sorted(map(tuple, want.tolist()))
+
+
+def test_close_pairs_by_hand() -> None:
+    """Points exactly the radius apart are a pair; none of fewer than two points."""
+    pts = np.array([[0.0, 0.0], [0.5, 0.0], [2.0, 0.0], [0.0, 0.25]])
+    assert sorted(map(tuple, close_pairs(pts, 0.5).tolist())) == [(0, 1), (0, 3)]
+    assert close_pairs(pts[:1], 0.5).shape == (0, 2)
+    assert close_pairs(np.empty((0, 2)), 0.5).shape == (0, 2)

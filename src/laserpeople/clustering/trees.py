@@ -7,7 +7,8 @@ step detector's overlap), and building one costs more than looking it up.
 tree for the same points (the same float64 values, bit for bit, in the same order) while it
 is among the :data:`KEPT` last ones asked for in this thread (each thread keeps its own, so
 that trackers in threads do not share a cache). :func:`nearest` finds each point's nearest
-of a few others (the filters' feet or centres) without a tree.
+of a few others (the filters' feet or centres) and :func:`close_pairs` the pairs of a few
+points within a distance (two filters on one person) without a tree.
 """
 
 from __future__ import annotations
@@ -24,6 +25,10 @@ from laserpeople.lazy_scipy import cKDTree
 
 KEPT = 4
 """Trees kept per thread: this scan's point sets and the previous scan's."""
+
+CLOSE_POINTS = 200
+"""Most points :func:`close_pairs` compares pair by pair (compiled): the filters of a
+scan; beyond, a KD-tree finds the pairs."""
 
 NEAREST_PAIRS = 100_000
 """Most query-reference pairs :func:`nearest` compares one by one (compiled); beyond, a
@@ -79,9 +84,42 @@ def nearest_python(
     return np.asarray(d, dtype=np.float64), np.asarray(j, dtype=np.int64)
 
 
+def close_pairs(points: NDArray[np.floating], radius: float) -> NDArray[np.int64]:
+    """The pairs (K, 2) of indices i < j of ``points`` (N, 2) [m] within ``radius`` [m] of
+    each other, in no particular order: compiled where built, by comparing every pair (up
+    to :data:`CLOSE_POINTS` points), else :func:`close_pairs_python`: the same pairs."""
+    ext = extension()
+    pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    n = len(pts)
+    if ext is not None and n <= CLOSE_POINTS:
+        out = np.empty((max(n * (n - 1) // 2, 0), 2), dtype=np.int64)
+        k = ext.close_pairs(pts, float(radius), out)
+        if k is not NotImplemented:
+            return out[:k]
+    return close_pairs_python(pts, radius)
+
+
+def close_pairs_python(points: NDArray[np.floating], radius: float) -> NDArray[np.int64]:
+    """:func:`close_pairs` by a KD-tree's ``query_pairs``: the compiled one's reference."""
+    pairs = cKDTree(np.asarray(points, dtype=np.float64).reshape(-1, 2)).query_pairs(
+        radius, output_type="ndarray"
+    )
+    return np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+
+
 def clear() -> None:
     """Forget the trees this thread keeps."""
     getattr(_local, "trees", OrderedDict()).clear()
 
 
-__all__ = ["KEPT", "NEAREST_PAIRS", "clear", "kdtree", "nearest", "nearest_python"]
+__all__ = [
+    "CLOSE_POINTS",
+    "KEPT",
+    "NEAREST_PAIRS",
+    "clear",
+    "close_pairs",
+    "close_pairs_python",
+    "kdtree",
+    "nearest",
+    "nearest_python",
+]

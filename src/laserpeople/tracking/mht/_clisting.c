@@ -10,8 +10,8 @@
  * a valid return by kind, `beam_kinds`; and the clustering of 2D points of the particle
  * filters: single-linkage labels, `single_linkage_labels`, per-cluster statistics,
  * `cluster_stats`, flat-kernel mean shift over the dense kernel, `mean_shift_dense`, and the
- * links between the clusters of two scans, `cluster_links`, and each point's nearest of a
- * few others, `nearest_points`).
+ * links between the clusters of two scans, `cluster_links`, each point's nearest of a
+ * few others, `nearest_points`, and the close pairs of a few points, `close_pairs`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -3237,6 +3237,52 @@ done:
     return result;
 }
 
+/* The pairs of points within `radius` of each other (clustering/trees.py's
+ * close_pairs_python, a KD-tree's query_pairs): points (N, 2), out (N (N - 1) / 2, 2) int64
+ * gets the pairs (i, j), i < j, with dx^2 + dy^2 <= radius^2, in order of i then j; their
+ * number returned. NotImplemented (nothing written) for a point that is not finite. */
+static PyObject *close_pairs(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "close_pairs(points, radius, out)");
+        return NULL;
+    }
+    Buf b[2];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    double radius = PyFloat_AsDouble(args[1]);
+    if (PyErr_Occurred()) goto done;
+    if (take(args[0], &b[0], 0, 0, -1, "points") < 0) goto done;
+    Py_ssize_t n = b[0].view.len / 16;
+    if (b[0].view.len != 16 * n) {
+        PyErr_SetString(PyExc_ValueError, "close_pairs: points (N, 2) expected");
+        goto done;
+    }
+    if (take(args[2], &b[1], 1, 1, n * (n - 1), "out") < 0) goto done;
+    const double *p = b[0].view.buf;
+    long long *out = b[1].view.buf;
+    for (Py_ssize_t i = 0; i < 2 * n; i++)
+        if (!isfinite(p[i])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    double r2 = radius * radius;
+    Py_ssize_t k = 0;
+    for (Py_ssize_t i = 0; i < n; i++)
+        for (Py_ssize_t j = i + 1; j < n; j++) {
+            double dx = p[2 * i] - p[2 * j], dy = p[2 * i + 1] - p[2 * j + 1];
+            if (dx * dx + dy * dy <= r2) {
+                out[2 * k] = i;
+                out[2 * k + 1] = j;
+                k++;
+            }
+        }
+    result = PyLong_FromSsize_t(k);
+done:
+    release(b, 2);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -3326,6 +3372,9 @@ static PyMethodDef methods[] = {
      "nearest_points(queries, refs, index_out, dist_out): trees.nearest_python's indices "
      "and distances written (None), or NotImplemented (nothing written) for a value not "
      "finite."},
+    {"close_pairs", (PyCFunction)(void (*)(void))close_pairs, METH_FASTCALL,
+     "close_pairs(points, radius, out): trees.close_pairs_python's pairs written to out, "
+     "their number returned, or NotImplemented (nothing written) for a point not finite."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -244,3 +244,9 @@ def nearest_points(
     dist_out: NDArray[np.float64],
     /,
 ) -> NotImplementedType | None: ...
+def close_pairs(
+    points: NDArray[np.float64],
+    radius: float,
+    out: NDArray[np.int64],
+    /,
+) -> int | NotImplementedType: ...

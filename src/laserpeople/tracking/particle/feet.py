@@ -80,7 +80,7 @@ from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift, single_linkage
 from laserpeople.clustering.links import cluster_links
-from laserpeople.clustering.trees import kdtree, nearest
+from laserpeople.clustering.trees import close_pairs, kdtree, nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -941,10 +941,10 @@ class FeetTracker:
         pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
             est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
-            close = cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
+            close = close_pairs(est, p.merge_distance)
             pairs = [(int(a), int(b)) for a, b in close]
             flat = bank.mean([XL, YL, XR, YR]).reshape(-1, 2)
-            shared = cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray")
+            shared = close_pairs(flat, p.shared_foot)
             pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
         bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 

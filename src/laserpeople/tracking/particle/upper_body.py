@@ -35,11 +35,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift
-from laserpeople.clustering.trees import nearest
+from laserpeople.clustering.trees import close_pairs, nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.frames import shifted_foreground
 from laserpeople.tracking.particle.objects import (
@@ -358,7 +357,7 @@ class UpperBodyTracker:
         p, bank = self.params, self.bank
         pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
-            found = cKDTree(bank.mean([X, Y])).query_pairs(p.merge_distance, output_type="ndarray")
+            found = close_pairs(bank.mean([X, Y]), p.merge_distance)
             pairs = [(int(a), int(b)) for a, b in found]
         bank.cull(stamp, p.miss_time, pairs, by_quality=False)
 

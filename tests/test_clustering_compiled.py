@@ -1,7 +1,8 @@
-"""The clustering of 2D points compiled (``single_linkage_labels``, ``mean_shift_dense``
-and ``cluster_stats`` of the MHT's C extension) against the numpy references: the same
-labels, cluster modes within 1e-12 m, cluster means and covariances within 1e-15 (relative
-to the points' scale), on random scenes of feet-sized blobs."""
+"""The clustering of 2D points compiled (``single_linkage_labels``, ``mean_shift_dense``,
+``cluster_stats``, ``cluster_links`` and ``nearest_points`` of the MHT's C extension)
+against the numpy references: the same labels, links and nearest points, cluster modes
+within 1e-12 m, cluster means and covariances within 1e-15 (relative to the points'
+scale), nearest distances within 1e-15 relative, on random scenes of feet-sized blobs."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 from numpy.typing import NDArray
 
 from laserpeople.clustering import compiled
+from laserpeople.clustering.links import cluster_links, cluster_links_python
 from laserpeople.clustering.mean_shift import (
     DENSE_LIMIT,
     cluster_covariances,
@@ -18,6 +20,7 @@ from laserpeople.clustering.mean_shift import (
     mean_shift_python,
 )
 from laserpeople.clustering.single_linkage import single_linkage, single_linkage_python
+from laserpeople.clustering.trees import close_pairs, close_pairs_python, nearest, nearest_python
 
 MODE_TOL = 1e-12  # m: the first step's sums add the same points in another order
 STATS_TOL = 1e-15  # relative: the same sums in the same order, up to a last-bit difference
@@ -138,3 +141,75 @@ def test_cluster_statistics_refuse_labels_outside() -> None:
         cluster_covariances(pts, np.array([0, -1, 1]), 2)
     with pytest.raises(ValueError):
         cluster_covariances_python(pts, np.array([0, -1, 1]), 2)
+
+
+def test_cluster_links_are_the_references() -> None:
+    """1000 random pairs of scans (the second a moved copy of the first, or another
+    scene), each clustered by mean shift: the same links."""
+    rng = np.random.default_rng(353)
+    for _ in range(1000):
+        old = _blobs(rng, int(rng.integers(1, 200)))
+        new = (
+            old + rng.normal(0.0, 0.05, old.shape)
+            if rng.random() < 0.5
+            else _blobs(rng, int(rng.integers(1, 200)))
+        )
+        reach = float(rng.uniform(0.05, 0.6))
+        cross = np.sqrt(((new[:, None, :] - old[None, :, :]) ** 2).sum(axis=-1))
+        if (np.abs(cross - reach) < 1e-9).any():
+            continue
+        labels, old_labels = mean_shift(new, 0.2).labels, mean_shift(old, 0.2).labels
+        np.testing.assert_array_equal(
+            cluster_links(new, labels, old, old_labels, reach),
+            cluster_links_python(new, labels, old, old_labels, reach),
+        )
+
+
+def test_cluster_links_by_hand() -> None:
+    """Clusters 0 and 1 of the new points near old cluster 1, new cluster 2 near old 0;
+    points exactly the reach apart are linked."""
+    new = np.array([[0.0, 0.0], [0.3, 0.0], [5.0, 0.0]])
+    old = np.array([[5.0, 0.5], [0.15, 0.0]])
+    got = cluster_links(new, np.array([0, 1, 2]), old, np.array([0, 1]), 0.5)
+    assert got.tolist() == [0 * 2 + 1, 1 * 2 + 1, 2 * 2 + 0]
+
+
+def test_nearest_points_are_the_references() -> None:
+    """1000 random scenes of points and a few filters' centres: the same nearest centre,
+    its distance within 1e-15 relative."""
+    rng = np.random.default_rng(354)
+    for _ in range(1000):
+        pts = _blobs(rng, int(rng.integers(0, 300)))
+        centres = rng.uniform(-3.0, 3.0, (int(rng.integers(1, 20)), 2))
+        got, want = nearest(pts, centres), nearest_python(pts, centres)
+        np.testing.assert_array_equal(got[1], want[1])
+        np.testing.assert_allclose(got[0], want[0], rtol=1e-15, atol=0.0)
+
+
+def test_nearest_by_hand() -> None:
+    """The nearest of three centres and its distance; the first of two equally near."""
+    d, j = nearest(np.array([[0.0, 0.0], [3.0, 4.0]]), np.array([[1.0, 0.0], [3.0, 3.0]]))
+    assert j.tolist() == [0, 1]
+    np.testing.assert_allclose(d, [1.0, 1.0], rtol=1e-15)
+    d, j = nearest(np.array([[0.0, 0.0]]), np.array([[0.0, 1.0], [1.0, 0.0]]))
+    assert j.tolist() == [0]
+
+
+def test_close_pairs_are_the_references() -> None:
+    """1000 random sets of up to 40 filters' positions: the same pairs (in any order)."""
+    rng = np.random.default_rng(355)
+    for _ in range(1000):
+        pts = rng.uniform(-3.0, 3.0, (int(rng.integers(0, 40)), 2))
+        radius = float(rng.uniform(0.05, 1.5))
+        if _near_threshold(pts, radius):
+            continue
+        got, want = close_pairs(pts, radius), close_pairs_python(pts, radius)
+        assert sorted(map(tuple, got.tolist())) == sorted(map(tuple, want.tolist()))
+
+
+def test_close_pairs_by_hand() -> None:
+    """Points exactly the radius apart are a pair; none of fewer than two points."""
+    pts = np.array([[0.0, 0.0], [0.5, 0.0], [2.0, 0.0], [0.0, 0.25]])
+    assert sorted(map(tuple, close_pairs(pts, 0.5).tolist())) == [(0, 1), (0, 3)]
+    assert close_pairs(pts[:1], 0.5).shape == (0, 2)
+    assert close_pairs(np.empty((0, 2)), 0.5).shape == (0, 2)

@@ -9,7 +9,9 @@
  * histogram's foreground of a frame, `histogram_foreground`, and a scan's beams without
  * a valid return by kind, `beam_kinds`; and the clustering of 2D points of the particle
  * filters: single-linkage labels, `single_linkage_labels`, per-cluster statistics,
- * `cluster_stats`, and flat-kernel mean shift over the dense kernel, `mean_shift_dense`).
+ * `cluster_stats`, flat-kernel mean shift over the dense kernel, `mean_shift_dense`, and the
+ * links between the clusters of two scans, `cluster_links`, each point's nearest of a
+ * few others, `nearest_points`, and the close pairs of a few points, `close_pairs`).
  *
  * The same algorithm as listing.py's list_children (_Lister, _BudgetedLister): the same
  * choices in the same order, the same bounds summed in the same order of IEEE double
@@ -3087,6 +3089,200 @@ done:
     return result;
 }
 
+/* The links between the clusters of two point sets (feet.StepDetector.events;
+ * clustering/links.py's cluster_links_python): points (N, 2) with labels (N,) in 0..C-1,
+ * old (M, 2) with old_labels (M,) in 0..width-1, reach; out (C * width,) int64 gets the
+ * distinct keys label * width + old_label of every pair of points within reach, ascending;
+ * their number returned. The old points are sorted by x once; each point is compared with
+ * those within reach of its x. NotImplemented (nothing written) for a label out of range
+ * or a point that is not finite. */
+static PyObject *cluster_links(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError,
+                        "cluster_links(points, labels, old, old_labels, reach, width, out)");
+        return NULL;
+    }
+    Buf b[5];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    XKey *keys = NULL;
+    char *seen = NULL;
+    double reach = PyFloat_AsDouble(args[4]);
+    Py_ssize_t width = PyLong_AsSsize_t(args[5]);
+    if (PyErr_Occurred()) goto done;
+    if (take(args[1], &b[1], 1, 0, -1, "labels") < 0 ||
+        take(args[3], &b[3], 1, 0, -1, "old_labels") < 0 ||
+        take(args[6], &b[4], 1, 1, -1, "out") < 0)
+        goto done;
+    Py_ssize_t n = b[1].view.len / 8, m = b[3].view.len / 8, size = b[4].view.len / 8;
+    if (take(args[0], &b[0], 0, 0, 2 * n, "points") < 0 ||
+        take(args[2], &b[2], 0, 0, 2 * m, "old") < 0)
+        goto done;
+    if (width < 1 || size % width != 0) {
+        PyErr_SetString(PyExc_ValueError, "cluster_links: out must hold C * width keys");
+        goto done;
+    }
+    Py_ssize_t c = size / width;
+    const double *p = b[0].view.buf, *q = b[2].view.buf;
+    const long long *lab = b[1].view.buf, *old_lab = b[3].view.buf;
+    long long *out = b[4].view.buf;
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (lab[i] < 0 || lab[i] >= c || !isfinite(p[2 * i]) || !isfinite(p[2 * i + 1])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    for (Py_ssize_t j = 0; j < m; j++)
+        if (old_lab[j] < 0 || old_lab[j] >= width || !isfinite(q[2 * j]) ||
+            !isfinite(q[2 * j + 1])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    keys = PyMem_Malloc((size_t)(m ? m : 1) * sizeof(XKey));
+    seen = PyMem_Calloc((size_t)(size ? size : 1), 1);
+    if (!keys || !seen) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t j = 0; j < m; j++) {
+        keys[j].x = q[2 * j];
+        keys[j].i = j;
+    }
+    qsort(keys, (size_t)m, sizeof(XKey), cmp_xkey);
+    double r2 = reach * reach;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = p[2 * i], y = p[2 * i + 1];
+        /* the first old point with x >= x - reach */
+        Py_ssize_t lo = 0, hi = m;
+        while (lo < hi) {
+            Py_ssize_t mid = lo + (hi - lo) / 2;
+            if (keys[mid].x < x - reach)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        long long row = lab[i] * (long long)width;
+        for (Py_ssize_t a = lo; a < m && keys[a].x - x <= reach; a++) {
+            Py_ssize_t j = keys[a].i;
+            double dx = x - q[2 * j], dy = y - q[2 * j + 1];
+            if (dx * dx + dy * dy <= r2) seen[row + old_lab[j]] = 1;
+        }
+    }
+    Py_ssize_t k = 0;
+    for (Py_ssize_t key = 0; key < size; key++)
+        if (seen[key]) out[k++] = key;
+    result = PyLong_FromSsize_t(k);
+done:
+    PyMem_Free(keys);
+    PyMem_Free(seen);
+    release(b, 5);
+    return result;
+}
+
+/* Each query's nearest reference point (clustering/trees.py's nearest_python, a KD-tree's
+ * query with k=1): queries (N, 2), refs (M, 2) (M >= 1), index_out (N,) int64 and
+ * dist_out (N,) doubles written: the index of the nearest reference (the first of equally
+ * near ones) and its distance sqrt(dx^2 + dy^2) (m). NotImplemented (nothing written) for
+ * a value that is not finite. */
+static PyObject *nearest_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "nearest_points(queries, refs, index_out, dist_out)");
+        return NULL;
+    }
+    Buf b[4];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    if (take(args[2], &b[2], 1, 1, -1, "index_out") < 0) goto done;
+    Py_ssize_t n = b[2].view.len / 8;
+    if (take(args[0], &b[0], 0, 0, 2 * n, "queries") < 0 ||
+        take(args[3], &b[3], 0, 1, n, "dist_out") < 0 ||
+        take(args[1], &b[1], 0, 0, -1, "refs") < 0)
+        goto done;
+    Py_ssize_t m = b[1].view.len / 16;
+    if (m < 1 || b[1].view.len != 16 * m) {
+        PyErr_SetString(PyExc_ValueError, "nearest_points: refs (M, 2), M >= 1, expected");
+        goto done;
+    }
+    const double *q = b[0].view.buf, *r = b[1].view.buf;
+    long long *idx = b[2].view.buf;
+    double *dist = b[3].view.buf;
+    for (Py_ssize_t i = 0; i < 2 * n; i++)
+        if (!isfinite(q[i])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    for (Py_ssize_t j = 0; j < 2 * m; j++)
+        if (!isfinite(r[j])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double x = q[2 * i], y = q[2 * i + 1], best = INFINITY;
+        Py_ssize_t at = 0;
+        for (Py_ssize_t j = 0; j < m; j++) {
+            double dx = r[2 * j] - x, dy = r[2 * j + 1] - y;
+            double d2 = dx * dx + dy * dy;
+            if (d2 < best) {
+                best = d2;
+                at = j;
+            }
+        }
+        idx[i] = at;
+        dist[i] = sqrt(best);
+    }
+    result = Py_NewRef(Py_None);
+done:
+    release(b, 4);
+    return result;
+}
+
+/* The pairs of points within `radius` of each other (clustering/trees.py's
+ * close_pairs_python, a KD-tree's query_pairs): points (N, 2), out (N (N - 1) / 2, 2) int64
+ * gets the pairs (i, j), i < j, with dx^2 + dy^2 <= radius^2, in order of i then j; their
+ * number returned. NotImplemented (nothing written) for a point that is not finite. */
+static PyObject *close_pairs(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    (void)self;
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "close_pairs(points, radius, out)");
+        return NULL;
+    }
+    Buf b[2];
+    memset(b, 0, sizeof b);
+    PyObject *result = NULL;
+    double radius = PyFloat_AsDouble(args[1]);
+    if (PyErr_Occurred()) goto done;
+    if (take(args[0], &b[0], 0, 0, -1, "points") < 0) goto done;
+    Py_ssize_t n = b[0].view.len / 16;
+    if (b[0].view.len != 16 * n) {
+        PyErr_SetString(PyExc_ValueError, "close_pairs: points (N, 2) expected");
+        goto done;
+    }
+    if (take(args[2], &b[1], 1, 1, n * (n - 1), "out") < 0) goto done;
+    const double *p = b[0].view.buf;
+    long long *out = b[1].view.buf;
+    for (Py_ssize_t i = 0; i < 2 * n; i++)
+        if (!isfinite(p[i])) {
+            result = Py_NewRef(Py_NotImplemented);
+            goto done;
+        }
+    double r2 = radius * radius;
+    Py_ssize_t k = 0;
+    for (Py_ssize_t i = 0; i < n; i++)
+        for (Py_ssize_t j = i + 1; j < n; j++) {
+            double dx = p[2 * i] - p[2 * j], dy = p[2 * i + 1] - p[2 * j + 1];
+            if (dx * dx + dy * dy <= r2) {
+                out[2 * k] = i;
+                out[2 * k + 1] = j;
+                k++;
+            }
+        }
+    result = PyLong_FromSsize_t(k);
+done:
+    release(b, 2);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"list_children", (PyCFunction)(void (*)(void))list_children, METH_FASTCALL,
      "list_children(priors, rows, tm, c_occ, c_del, c_new, c_fal, k, max_gap, limit, "
@@ -3168,6 +3364,17 @@ static PyMethodDef methods[] = {
      "mean_shift_dense(points, bandwidth, tol, max_iter, radius, labels_out, centres_out): "
      "mean_shift.mean_shift_python's labels and centres (the first C rows) written, "
      "(C, iterations) returned, or NotImplemented (a point not finite)."},
+    {"cluster_links", (PyCFunction)(void (*)(void))cluster_links, METH_FASTCALL,
+     "cluster_links(points, labels, old, old_labels, reach, width, out): "
+     "links.cluster_links_python's keys written to out, their number returned, or "
+     "NotImplemented (nothing written) for a label out of range or a point not finite."},
+    {"nearest_points", (PyCFunction)(void (*)(void))nearest_points, METH_FASTCALL,
+     "nearest_points(queries, refs, index_out, dist_out): trees.nearest_python's indices "
+     "and distances written (None), or NotImplemented (nothing written) for a value not "
+     "finite."},
+    {"close_pairs", (PyCFunction)(void (*)(void))close_pairs, METH_FASTCALL,
+     "close_pairs(points, radius, out): trees.close_pairs_python's pairs written to out, "
+     "their number returned, or NotImplemented (nothing written) for a point not finite."},
     {"setup", setup, METH_VARARGS,
      "setup(LabelledAssignment, max_listed_measurements, (DETECTED, OCCLUDED, DELETED), "
      "(MATCHED, NEW, FALSE_ALARM), listing_limit, listing_budget)"},

@@ -227,3 +227,26 @@ def mean_shift_dense(
     centres_out: NDArray[np.float64],
     /,
 ) -> tuple[int, int] | NotImplementedType: ...
+def cluster_links(
+    points: NDArray[np.float64],
+    labels: NDArray[np.int64],
+    old: NDArray[np.float64],
+    old_labels: NDArray[np.int64],
+    reach: float,
+    width: int,
+    out: NDArray[np.int64],
+    /,
+) -> int | NotImplementedType: ...
+def nearest_points(
+    queries: NDArray[np.float64],
+    refs: NDArray[np.float64],
+    index_out: NDArray[np.int64],
+    dist_out: NDArray[np.float64],
+    /,
+) -> NotImplementedType | None: ...
+def close_pairs(
+    points: NDArray[np.float64],
+    radius: float,
+    out: NDArray[np.int64],
+    /,
+) -> int | NotImplementedType: ...

@@ -79,6 +79,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift, single_linkage
+from laserpeople.clustering.links import cluster_links
+from laserpeople.clustering.trees import close_pairs, kdtree, nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -727,12 +729,9 @@ class StepDetector:
         if prev is None or len(points) == 0 or len(prev[0]) == 0:
             return merges, splits
         old_pts, old_labels, _ = prev
-        near = cKDTree(points).sparse_distance_matrix(
-            cKDTree(old_pts), reach, output_type="ndarray"
-        )
-        # distinct (new cluster, old cluster) pairs, by a 1-D unique of one integer key
+        # distinct (new cluster, old cluster) pairs, as one integer key each
         width = int(old_labels.max()) + 1
-        key = np.unique(labels[near["i"]] * width + old_labels[near["j"]])
+        key = cluster_links(points, labels, old_pts, old_labels, reach)
         links = np.column_stack([key // width, key % width])
         if len(links) == 0:
             return merges, splits
@@ -951,10 +950,10 @@ class FeetTracker:
         pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
             est = np.einsum("fp,fpc->fc", bank.weights, self.midpoints())
-            close = cKDTree(est).query_pairs(p.merge_distance, output_type="ndarray")
+            close = close_pairs(est, p.merge_distance)
             pairs = [(int(a), int(b)) for a, b in close]
             flat = bank.mean([XL, YL, XR, YR]).reshape(-1, 2)
-            shared = cKDTree(flat).query_pairs(p.shared_foot, output_type="ndarray")
+            shared = close_pairs(flat, p.shared_foot)
             pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
         bank.cull(stamp, p.miss_time, pairs, by_quality=True)
 
@@ -1165,7 +1164,7 @@ def blob_centres(
         labels = single_linkage(points, link_distance)
     n = int(labels.max()) + 1
     has_leg = np.bincount(labels, weights=legs.astype(np.float64), minlength=n) > 0
-    near = cKDTree(points).query_ball_point(anchors, reach)
+    near = kdtree(points).query_ball_point(anchors, reach)
     for f, idx in enumerate(near):
         objs = np.unique(labels[np.asarray(idx, dtype=np.int64)])
         if objs.size == 0 or has_leg[objs].any():
@@ -1217,8 +1216,8 @@ def _points_near(
     filters; the repelling term keeps them apart)."""
     if len(points) == 0 or len(centres) == 0:
         return np.empty(0, np.int64), np.empty(0, np.int64)
-    m = cKDTree(centres).sparse_distance_matrix(cKDTree(points), radius, output_type="coo_matrix")
-    return m.col.astype(np.int64), m.row.astype(np.int64)
+    m = cKDTree(centres).sparse_distance_matrix(kdtree(points), radius, output_type="ndarray")
+    return m["j"].astype(np.int64), m["i"].astype(np.int64)
 
 
 def beyond_surface(
@@ -1248,7 +1247,7 @@ def _supported(
     """(F,) True where a point lies within ``radius`` of either estimated foot (F, 2, 2)."""
     if len(points) == 0 or len(feet) == 0:
         return np.zeros(len(feet), dtype=bool)
-    d, _ = cKDTree(points).query(feet.reshape(-1, 2), k=1)
+    d, _ = nearest(feet.reshape(-1, 2), points)
     return np.asarray((d.reshape(-1, 2) <= radius).any(axis=1), dtype=bool)
 
 

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, single_linkage
+from laserpeople.clustering.trees import nearest
 from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.objects import largest_eigenvalue, two_feet
 
@@ -36,7 +37,7 @@ def claimed_objects(
     n = int(labels.max()) + 1 if len(labels) else 0
     if n == 0 or len(feet) == 0:
         return np.zeros(n, dtype=bool)
-    d, _ = cKDTree(feet.reshape(-1, 2)).query(points, k=1)
+    d, _ = nearest(points, feet.reshape(-1, 2))
     near = np.bincount(labels, weights=(d <= distance).astype(np.float64), minlength=n)
     return np.asarray(near > 0, dtype=bool)
 

@@ -35,10 +35,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from laserpeople.clustering import cluster_covariances, mean_shift
+from laserpeople.clustering.trees import close_pairs, nearest
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
-from laserpeople.lazy_scipy import cKDTree
 from laserpeople.tracking.particle.bank import FilterBank
 from laserpeople.tracking.particle.frames import shifted_foreground
 from laserpeople.tracking.particle.objects import (
@@ -233,7 +233,7 @@ def voronoi_cells(
     (N, 2): the nearest centre, or -1 when it is farther than ``radius``."""
     if len(centres) == 0 or len(points) == 0:
         return np.full(len(points), -1, dtype=np.int64)
-    d, j = cKDTree(centres).query(points, k=1)
+    d, j = nearest(points, centres)
     return np.where(d <= radius, j, -1).astype(np.int64)
 
 
@@ -366,7 +366,7 @@ class UpperBodyTracker:
         p, bank = self.params, self.bank
         pairs: list[tuple[int, int]] = []
         if len(bank) > 1:
-            found = cKDTree(bank.mean([X, Y])).query_pairs(p.merge_distance, output_type="ndarray")
+            found = close_pairs(bank.mean([X, Y]), p.merge_distance)
             pairs = [(int(a), int(b)) for a, b in found]
         bank.cull(stamp, p.miss_time, pairs, by_quality=False)
 
@@ -375,7 +375,7 @@ class UpperBodyTracker:
         if len(pts) == 0:
             return
         if len(bank):
-            d, _ = cKDTree(bank.mean([X, Y])).query(pts, k=1)
+            d, _ = nearest(pts, bank.mean([X, Y]))
             pts = pts[d > p.birth_exclusion]
         found = detect_bodies(pts, p)
         if len(found) == 0:

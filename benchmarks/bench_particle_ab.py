@@ -13,11 +13,14 @@ the two versions reported the same tracks (ids the same, positions within 1e-9 m
 every frame.
 
     PYTHONPATH=src .venv/bin/python benchmarks/bench_particle_ab.py --other OLD/src
-        [--recordings demo followed sim] [--trackers feet-pf upper-body-pf] [--passes 3]
+        [--recordings demo followed sim people-5] [--trackers feet-pf upper-body-pf]
+        [--passes 3]
 
 ``demo`` is the leg_tracker demo bag, ``followed`` the followed-person dev recording
-(``/scan_base2``), ``sim`` the held-back scene ``feet-crossing`` seed 100 (simulated here);
-the real ones are read from ``--data`` (the shared data folder).
+(``/scan_base2``), ``sim`` the held-back scene ``feet-crossing`` seed 100 (simulated here),
+``people-5`` 004's scene of five people with 500 particles per filter, the frames made as
+``bench_particle.py`` makes them (not in the default list); the real ones are read from
+``--data`` (the shared data folder).
 """
 
 from __future__ import annotations
@@ -50,6 +53,20 @@ def frames_of(path: Path, topic: str | None, tracker: str) -> list[Any]:
 
     pipe = build(path, tracker=tracker, topics=[topic] if topic else None)
     return [step.frame for step in pipe]
+
+
+def schenk_frames(tracker: str, seed: int = 100) -> list[Any]:
+    """The frames of 004's scene "5 pers." (``people-5``) as ``bench_particle.py`` makes
+    them: the lasers at the tracker's height fused, the background learnt from the empty
+    scene subtracted."""
+    from laserpeople.background.beam_histogram import BeamHistogramBackground
+    from laserpeople.evaluation.schenk_scenes import lasers_of, simulate_scene
+    from laserpeople.tracking.particle.frames import fused_frames
+
+    rec, empty = simulate_scene("people-5", seed)
+    sensors = lasers_of(rec, "feet" if tracker == "feet-pf" else "torso")
+    bg = BeamHistogramBackground().learn_scans(s for s in empty.scans if s.sensor in sensors)
+    return list(fused_frames(rec.scans, sensors, bg))
 
 
 def make(package: str, tracker: str) -> Any:
@@ -114,7 +131,10 @@ def main() -> None:
             f"  tracks"
         )
         for name in args.recordings:
-            if name == "sim":
+            path: Path | None
+            if name == "people-5":
+                path, topic = None, None
+            elif name == "sim":
                 from laserpeople.sim import run_scenario
 
                 path = run_scenario("feet-crossing", seed=100).write(Path(tmp) / "sim.npz")
@@ -126,7 +146,7 @@ def main() -> None:
                     print(f"{name}: no recording at {path}: left out")
                     continue
             for tracker in args.trackers:
-                frames = frames_of(path, topic, tracker)
+                frames = schenk_frames(tracker) if path is None else frames_of(path, topic, tracker)
                 r = run(frames, tracker, args.passes)
                 t = r["times"]
                 med = {k: 1e3 * statistics.median(v) for k, v in t.items()}

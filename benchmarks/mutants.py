@@ -3727,6 +3727,24 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_groups_passing.py",),
     ),
     # --- s35-groups ---
+    # --- s35-speedpf ---
+    Mutant(
+        "single-linkage-compiled-mask-ignored",
+        "000 Sec. 4.1: the compiled single linkage clusters the points the mask leaves out",
+        "clustering/single_linkage.py",
+        "chosen = None if mask is None else np.ascontiguousarray(mask, dtype=bool)",
+        "chosen = None",
+        ("tests/test_clustering_compiled.py",),
+    ),
+    Mutant(
+        "kdtree-kept-by-shape",
+        "004 Sec. 2.1: a kept KD-tree answers for other points of the same number",
+        "clustering/trees.py",
+        "key = (pts.shape, pts.tobytes())",
+        'key = (pts.shape, b"")',
+        ("tests/test_clustering_trees.py",),
+    ),
+    # --- end s35-speedpf ---
 )
 
 

@@ -122,7 +122,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Particle filters, 5 people, 500 particles each",
         ("benchmarks/bench_particle.py",),
         2.0,
-        "feet 101–139 scans/s, upper body 245–381 scans/s (median, loaded machine)",
+        "feet 144–152 scans/s, upper body 594–606 scans/s (median over the frames with 5 "
+        "filters, two runs on a loaded machine); against another version side by side on "
+        "real recordings: benchmarks/bench_particle_ab.py (speed.md#the-particle-filters)",
         "schenk-tables.md",
     ),
     Benchmark(

@@ -1586,8 +1586,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "mean-shift-merge-radius",
         "004 Sec. 3 (modes within bandwidth / 2 are one cluster)",
         "clustering/mean_shift.py",
-        "radius = bandwidth / 2.0 if merge_radius is None else merge_radius",
-        "radius = bandwidth / 1.5 if merge_radius is None else merge_radius",
+        "return bandwidth / 2.0 if merge_radius is None else merge_radius",
+        "return bandwidth / 1.5 if merge_radius is None else merge_radius",
         MEAN_SHIFT,
     ),
     Mutant(

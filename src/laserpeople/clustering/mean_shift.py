@@ -112,7 +112,7 @@ def mean_shift(
     pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
     n = len(pts)
     if ext is not None and 0 < n <= DENSE_LIMIT:
-        radius = bandwidth / 2.0 if merge_radius is None else merge_radius
+        radius = merge_distance(bandwidth, merge_radius)
         labels = np.empty(n, dtype=np.int64)
         centres = np.empty((n, 2))
         done = ext.mean_shift_dense(
@@ -122,6 +122,12 @@ def mean_shift(
             c, it = done
             return MeanShiftResult(labels, centres[:c], it)
     return mean_shift_python(pts, bandwidth, merge_radius=merge_radius, tol=tol, max_iter=max_iter)
+
+
+def merge_distance(bandwidth: float, merge_radius: float | None) -> float:
+    """Modes closer than this [m] are one cluster: ``merge_radius``, or half the bandwidth
+    (004 Sec. 3)."""
+    return bandwidth / 2.0 if merge_radius is None else merge_radius
 
 
 def mean_shift_python(
@@ -172,7 +178,7 @@ def mean_shift_python(
         members, owner = members[moving], owner[moving]
         reps, inverse = _distinct(new[still])
         owner = inverse[np.cumsum(still)[owner] - 1]
-    radius = bandwidth / 2.0 if merge_radius is None else merge_radius
+    radius = merge_distance(bandwidth, merge_radius)
     distinct, where = _distinct(modes)
     comp = _components(distinct, radius)[where]
     # renumber by first occurrence so labels are stable

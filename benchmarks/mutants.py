@@ -3709,24 +3709,6 @@ MUTANTS: tuple[Mutant, ...] = (
         "if True:",
         ("tests/test_identity_leg_width.py",),
     ),
-    # --- s35-groups ---
-    Mutant(
-        "groups-passing-speed-x-only",
-        "extension of 000 Sec. 4.1: passing groups' velocities differ as vectors",
-        "tracking/groups/passing.py",
-        "cut[both] = np.hypot(dv[:, 0], dv[:, 1]) > pass_speed",
-        "cut[both] = np.abs(dv[:, 0]) > pass_speed",
-        ("tests/test_groups_passing.py",),
-    ),
-    Mutant(
-        "groups-passing-distance-not-squared",
-        "extension of 000 Sec. 4.1: a blob belongs to a group within pass_distance",
-        "tracking/groups/passing.py",
-        "closest < pass_distance * pass_distance",
-        "closest < pass_distance",
-        ("tests/test_groups_passing.py",),
-    ),
-    # --- s35-groups ---
     # --- s35-speedpf ---
     Mutant(
         "single-linkage-compiled-mask-ignored",

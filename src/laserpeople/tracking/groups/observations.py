@@ -51,7 +51,6 @@ from numpy.typing import NDArray
 
 from laserpeople.clustering import single_linkage
 from laserpeople.clustering.single_linkage import components
-from laserpeople.tracking.groups.passing import PassingRule
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -161,16 +160,13 @@ class GroupObservations:
         counting: SizeCounting | None = None,
         max_blob_size: float = 0.0,
         spacing: FloatArray | None = None,
-        passing: PassingRule | None = None,
     ) -> GroupObservations:
         """Cluster ``points`` (N, 2) [m] with single linkage at ``d_p`` [m] and count the
         people in each cluster from its blobs at ``d_hs`` [m] (``counting``, paper's blob
         count when None); ``members`` (N,) are their indices in the frame and ``spacing``
         (N,) the beam spacing at each point's range [m] (``"resolved"`` counting). With
         ``max_blob_size`` > 0 [m] the points of blobs wider than it are left out (the
-        clusters are then made again from the rest; the blobs are those of one linkage).
-        With a ``passing`` rule the links it cuts (people who pass each other,
-        :mod:`.passing`) join no cluster."""
+        clusters are then made again from the rest; the blobs are those of one linkage)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         idx = np.asarray(members, dtype=np.int64).reshape(-1)
         gap = None if spacing is None else np.asarray(spacing, dtype=np.float64).reshape(-1)
@@ -194,8 +190,6 @@ class GroupObservations:
         links = pairs[length < d_p]
         if pts.shape[0] == 0:
             return cls.empty()
-        if passing is not None and passing.active:
-            links = links[passing.keep(pts, fine, links)]
         labels = component_labels(pts.shape[0], links)
         return cls._from_labels(pts, idx, labels, fine, counting, spacing=gap)
 

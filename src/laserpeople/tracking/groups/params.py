@@ -50,7 +50,6 @@ class GroupTrackerParams:
             "merged_coast_time": 0.0,
             "velocity_window": 0.0,
             "shadow_occlusion": False,
-            "pass_distance": 0.0,
             "mht": MappingProxyType({"n_scan": N_SCAN}),  # 000's scan-back depth of eight
         }
     )
@@ -120,24 +119,6 @@ class GroupTrackerParams:
     )
     cluster_distance: float = param(
         1.3, "000 Sec. 4.6.1 (least clustering error)", "single-linkage distance d_P", "m"
-    )
-    pass_distance: float = param(
-        0.8,
-        "extension of 000 Sec. 4.1 (0: off, every link within d_P joins, as 000); chosen on "
-        "random-groups tuning seeds 0-9, held-back seeds and the real recordings in "
-        "docs/groups.md",
-        "people who pass each other are not a group: a blob within this of the predicted "
-        "contour of a group of the last best hypothesis belongs to it, and the links (within "
-        "d_P) between blobs of two groups whose velocities differ by more than pass_speed are "
-        "cut before the clustering (0: off)",
-        "m",
-    )
-    pass_speed: float = param(
-        0.3,
-        "chosen on random-groups tuning seeds 0-9 (docs/groups.md)",
-        "least difference of two groups' velocities (the velocities merges compare, "
-        "velocity_window) that cuts the links between them (pass_distance)",
-        "m/s",
     )
     blob_distance: float = param(
         0.3, "000 Sec. 4.6.3", "single-linkage distance d_hs of human-sized blobs", "m"
@@ -502,10 +483,6 @@ class GroupTrackerParams:
             raise ValueError("shadow_hits must be at least 1")
         if abs(self.p_c + self.p_s + self.p_g - 1.0) > 1e-6:
             raise ValueError("p_c + p_s + p_g must be 1")
-        if not (self.pass_distance >= 0.0 and math.isfinite(self.pass_distance)):
-            raise ValueError("pass_distance must be finite and not negative (0: off)")
-        if not (self.pass_speed >= 0.0 and math.isfinite(self.pass_speed)):
-            raise ValueError("pass_speed must be finite and not negative")
         if not 0.0 < self.blob_distance <= self.cluster_distance:
             raise ValueError("need 0 < blob_distance <= cluster_distance")
         if self.model_prior not in ("normalised", "choice", "literal"):

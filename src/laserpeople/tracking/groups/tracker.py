@@ -37,11 +37,10 @@ from laserpeople.tracking.groups.interaction import (
     GroupLabelModel,
 )
 from laserpeople.tracking.groups.labels import format_labels, sort_labels
-from laserpeople.tracking.groups.model import GroupModel, group_payload, trail_velocity
+from laserpeople.tracking.groups.model import GroupModel, group_payload
 from laserpeople.tracking.groups.observations import GroupObservations, SizeCounting
 from laserpeople.tracking.groups.occlusion import FrameShadows
 from laserpeople.tracking.groups.params import GroupTrackerParams
-from laserpeople.tracking.groups.passing import MovingGroup, PassingRule
 from laserpeople.tracking.mht.core import MHT, StepStats
 from laserpeople.tracking.mht.tracktree import TrackNode
 from laserpeople.tracks import Track, Tracks
@@ -191,7 +190,6 @@ class GroupMHTTracker:
         self._taken_over: set[int] = set()  # coasting families a new group replaced
         self.coasting = CoastedReports(p.coast_time, p.merged_coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
-        self._moving: list[MovingGroup] = []  # the last best hypothesis (pass_distance)
 
     @property
     def counting(self) -> SizeCounting:
@@ -267,20 +265,8 @@ class GroupMHTTracker:
             pts, idx = pts[finite], idx[finite]
         p = self.params
         spacing = beam_spacing(frame, idx) if p.size_count == "resolved" else None
-        passing = (
-            PassingRule(self._moving, frame.stamp, p.pass_distance, p.pass_speed)
-            if p.pass_distance > 0.0
-            else None
-        )
         obs = GroupObservations.from_points(
-            pts,
-            idx,
-            p.cluster_distance,
-            p.blob_distance,
-            self._counting,
-            p.max_blob_size,
-            spacing,
-            passing,
+            pts, idx, p.cluster_distance, p.blob_distance, self._counting, p.max_blob_size, spacing
         )
         self.wide_points_left_out += len(pts) - len(obs.points)
         return obs
@@ -312,8 +298,6 @@ class GroupMHTTracker:
         self.model.scan = obs
         self.last_stats = self.mht.step(obs, frame.stamp)
         best, probs = self.mht.best_nodes()
-        if self.params.pass_distance > 0.0:
-            self._moving = [self._moving_group(node, frame.stamp) for node in best]
         groups: list[GroupEstimate] = []
         tracks: list[Track] = []
         nodes = self._confirmed(best, frame.stamp)
@@ -361,20 +345,6 @@ class GroupMHTTracker:
         if self._scans % FORGET_EVERY == 0:
             self.forget_gone(frame.index)
         return Tracks(frame.stamp, frame.index, tuple(tracks), frame.frame, frame.sensor_pose)
-
-    def _moving_group(self, node: TrackNode, stamp: float) -> MovingGroup:
-        """A group of the best hypothesis as the passing rule sees it: its contour and
-        position at ``stamp`` [s], and the velocity merges compare (the trail's with
-        ``velocity_window``, else the Kalman filter's)."""
-        p = self.params
-        payload = group_payload(node)
-        velocity = np.asarray(node.mean[2:4], dtype=np.float64)
-        if p.velocity_window > 0.0:
-            got = trail_velocity(payload.trail, 0.5 * p.velocity_window, p.centroid_std)
-            if got is not None:
-                velocity = got[0]
-        position = np.asarray(node.mean[:2], dtype=np.float64)
-        return MovingGroup(payload.contour + position, position, velocity, stamp)
 
     def _among(self, frame: Frame, groups: list[GroupEstimate]) -> Callable[[Track], bool]:
         """Whether a coasted group is among the points of the groups reported in ``frame``

@@ -30,7 +30,7 @@ import numpy as np
 
 from laserpeople.errors import RecordingError
 from laserpeople.io.csv_read import CsvRows, not_utf8
-from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
+from laserpeople.io.scan_lines import ScanLineFile, ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import Scan
 from laserpeople.tracks import Detections
 
@@ -45,7 +45,7 @@ def _num(value: float) -> str:
     return "" if not math.isfinite(value) else repr(float(value))
 
 
-class DetectionsCsvWriter:
+class DetectionsCsvWriter(ScanLineFile):
     """Writes detections (or all classified segments) to a CSV file, flushing per scan.
 
     Args:
@@ -139,33 +139,6 @@ class DetectionsCsvWriter:
             row.extend(tail)
             rows.append(row)
         self._scan_rows(rows, scan.index, topic if topic is not None else scan.sensor)
-
-    def close(self) -> None:
-        """Close the file (one that no scan came to holds the header alone)."""
-        self._out.close()
-
-    @property
-    def created(self) -> bool:
-        """Whether this writer made the file (there was none at its path)."""
-        return self._out.created
-
-    def abandon(self) -> bool:
-        """Close the file after a failed run; a file no scan came to is left as it was
-        (see :meth:`~laserpeople.io.scan_lines.ScanLineWriter.abandon`).
-
-        Returns:
-            Whether the file was left as it was.
-        """
-        return self._out.abandon()
-
-    def __enter__(self) -> DetectionsCsvWriter:
-        return self
-
-    def __exit__(self, kind: object, *exc: object) -> None:
-        if kind is None:
-            self.close()
-        else:
-            self.abandon()
 
 
 def _value(key: str, value: str) -> float | int | str:

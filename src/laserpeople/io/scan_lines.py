@@ -34,7 +34,7 @@ import stat
 import warnings
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, Any, Self
 
 from laserpeople.errors import LaserPeopleWarning, RecordingError
 from laserpeople.io.paths import lock_for_one_writer, why_unwritable
@@ -245,6 +245,41 @@ class ScanLineWriter:
             with contextlib.suppress(OSError):
                 self.path.unlink()
         return kept
+
+
+class ScanLineFile:
+    """The lifetime of a writer that keeps its rows in a :class:`ScanLineWriter`
+    (``self._out``): closing, abandoning after a failed run, and use in a ``with``
+    block (closed on success, abandoned on an error)."""
+
+    _out: ScanLineWriter
+
+    def close(self) -> None:
+        """Close the file (one that no scan came to holds the header alone)."""
+        self._out.close()
+
+    @property
+    def created(self) -> bool:
+        """Whether this writer made the file (there was none at its path)."""
+        return self._out.created
+
+    def abandon(self) -> bool:
+        """Close the file after a failed run; a file no scan came to is left as it was
+        (see :meth:`ScanLineWriter.abandon`).
+
+        Returns:
+            Whether the file was left as it was.
+        """
+        return self._out.abandon()
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, kind: object, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.abandon()
 
 
 def claim(fd: int, path: Path, what: str) -> None:

@@ -46,7 +46,7 @@ from laserpeople.errors import (
 )
 from laserpeople.io.csv_read import CsvRows, not_utf8
 from laserpeople.io.paths import path_argument
-from laserpeople.io.scan_lines import ScanLineWriter, complete_lines, warn_torn
+from laserpeople.io.scan_lines import ScanLineFile, ScanLineWriter, complete_lines, warn_torn
 from laserpeople.scan import CoordinateFrame, Pose2D
 from laserpeople.tracks import TRACK_KINDS, Track, TrackKind, Tracks
 
@@ -125,7 +125,7 @@ def convert_tracks(tracks: Tracks, frame: CoordinateFrame) -> Tracks:
     return Tracks(tracks.stamp, tracks.scan_index, converted, frame, pose)
 
 
-class TracksCsvWriter:
+class TracksCsvWriter(ScanLineFile):
     """Write :class:`~laserpeople.tracks.Tracks` to CSV, flushing after every scan.
 
     Example:
@@ -195,33 +195,6 @@ class TracksCsvWriter:
             self.rows += len(rows)
         else:
             self._out.pass_scan(name)
-
-    def close(self) -> None:
-        """Close the file (one that no scan came to holds the header alone)."""
-        self._out.close()
-
-    @property
-    def created(self) -> bool:
-        """Whether this writer made the file (there was none at its path)."""
-        return self._out.created
-
-    def abandon(self) -> bool:
-        """Close the file after a failed run; a file no scan came to is left as it was
-        (see :meth:`~laserpeople.io.scan_lines.ScanLineWriter.abandon`).
-
-        Returns:
-            Whether the file was left as it was.
-        """
-        return self._out.abandon()
-
-    def __enter__(self) -> TracksCsvWriter:
-        return self
-
-    def __exit__(self, kind: object, *exc: object) -> None:
-        if kind is None:
-            self.close()
-        else:
-            self.abandon()
 
 
 def _pose_cells(pose: Pose2D | None) -> tuple[str, str, str]:

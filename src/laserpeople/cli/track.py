@@ -481,7 +481,7 @@ def register(app: typer.Typer) -> None:
 
         preset_values(ReidParams, preset)  # an unknown preset is an error before anything
         entry = registry.get(tracker)
-        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        note = preset_note(tracker, entry.params_cls, preset)
         if note:
             warn(note)
         static_sections = StaticWorldParams.sections()

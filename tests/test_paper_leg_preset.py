@@ -190,3 +190,21 @@ def test_people_policy_on_the_command_line_goes_over_the_preset() -> None:
     paper = load_config(LegTrackerParams, None, "paper")
     tracks = registry.with_people_policy(paper, "tracks", "leg-mht")
     assert tracks.people_policy == "tracks" and tracks.person.relink_time == 0.0
+
+
+def test_the_leg_foreground_stage_keeps_its_leg_mht_under_the_preset(tmp_path: Path) -> None:
+    """The MHT the leg foreground stage runs for trackers of points is no paper's tracker:
+    ``--preset paper`` leaves it as ``[leg_tracker]`` without the preset gives it, and
+    --print-config of such a tracker shows that."""
+    from laserpeople.pipeline.background import load_static_world
+
+    assert load_static_world(None, "paper").leg_tracker == LegTrackerParams()
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[leg_tracker.person]\nrelink_time = 2.0\n")
+    assert load_static_world(cfg, "paper").leg_tracker.person.relink_time == 2.0
+    assert load_static_world(cfg, "paper").leg_tracker.people_policy == "tracks"
+    shown = tomllib.loads(_printed(["--tracker", "feet-pf", "--preset", "paper"]))
+    assert shown["leg_tracker"]["people_policy"] == "tracks"
+    assert shown["leg_tracker"]["person"]["relink_time"] == 1.0
+    assert shown["leg_detector"]["centre_offset"] == 0.0  # the detector is 000's for all
+    assert shown["feet_pf"]["leg_reid"] is False  # the tracker's own section is its paper's

@@ -3744,6 +3744,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "",
         ("tests/test_paper_leg_preset.py",),
     ),
+    Mutant(
+        "leg-foreground-stage-takes-the-paper-leg-mht",
+        "--preset paper: the leg foreground stage keeps its own [leg_tracker]",
+        "pipeline/background.py",
+        "return None if cls is LegTrackerParams else preset",
+        "return preset",
+        ("tests/test_paper_leg_preset.py",),
+    ),
+    Mutant(
+        "config-infinite-either-sign",
+        "configuration: +inf only where the meaning says what inf does",
+        "config.py",
+        "(infinite and value > 0)",
+        "infinite",
+        ("tests/test_paper_leg_preset.py",),
+    ),
     # --- end s35-preset ---
 )
 

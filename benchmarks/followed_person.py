@@ -22,7 +22,7 @@ other tracks are not false positives. Printed:
   leaves the 86 deg view at scan 1842 and comes back at scan 2702, 86 s later).
 
     PYTHONPATH=src .venv/bin/python benchmarks/followed_person.py [--people-policy arras]
-        [--no-reid] [--background auto|histogram|occupancy|none] [--tracker csa]
+        [--preset paper] [--no-reid] [--background auto|histogram|occupancy|none] [--tracker csa]
         [--bag PATH] [--labels PATH] [--plot timeline.png] [--model MODEL.json]
 """
 
@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from laserpeople.config import load_config
-from laserpeople.detection.detector import AdaBoostLegDetector
+from laserpeople.detection.detector import AdaBoostLegDetector, LegDetectorParams
 from laserpeople.pipeline import build
 from laserpeople.pipeline.background import StaticWorldParams, load_static_world
 from laserpeople.pipeline.static_people import describe_people_model
@@ -191,20 +191,24 @@ def track_bag(
     model: str | None = None,
     tracker_name: str = "leg-mht",
     static_world: StaticWorldParams | None = None,
+    detector_params: LegDetectorParams | None = None,
 ) -> tuple[list[Tracks], float, str]:
     """Person/leg tracks of every scan of the bag's ``/scan_base2`` through the pipeline
     (as ``laserpeople track --tracker tracker_name`` runs it, static world model
     ``background``), the mean CPU time per scan [ms] (detection included) and the line
     naming the static world model (leg model: the shipped default, or the model file
     ``model``). ``params``: the tracker's parameters; ``static_world``: the static world
-    models' (None: defaults)."""
+    models' (None: defaults); ``detector_params``: the leg detector's (None: defaults)."""
     tracker = registry.get(tracker_name).make(params)
+    det = detector_params if detector_params is not None else LegDetectorParams()
     pipe = build(
         bag,
         tracker=tracker,
         topics=[TOPIC],
         detector=(
-            AdaBoostLegDetector.default() if model is None else AdaBoostLegDetector.from_file(model)
+            AdaBoostLegDetector.default(det)
+            if model is None
+            else AdaBoostLegDetector.from_file(model, det)
         ),
         background=background if getattr(params, "people_policy", "tracks") == "tracks" else "none",
         static_world=static_world,
@@ -230,7 +234,13 @@ def main() -> None:
     ap.add_argument(
         "--config",
         type=Path,
-        help="TOML whose [leg_tracker] section and static world models' sections are used",
+        help="TOML whose [leg_tracker], [leg_detector] and static world models' sections are used",
+    )
+    ap.add_argument(
+        "--preset",
+        default=None,
+        help="paper: every section starts from the papers' values (track --preset), "
+        "--config is read over them",
     )
     ap.add_argument(
         "--tracker",
@@ -239,25 +249,28 @@ def main() -> None:
         "other than --background and --model are the leg MHT's)",
     )
     args = ap.parse_args()
-    static = load_static_world(args.config)
+    static = load_static_world(args.config, args.preset)
+    detector = load_config(LegDetectorParams, args.config, args.preset)
     if args.tracker != "leg-mht":
         entry = registry.get(args.tracker)
-        other = load_config(entry.params_cls, args.config)
+        other = load_config(entry.params_cls, args.config, args.preset)
         tracks, ms, model = track_bag(
-            args.bag, other, args.background, args.model, args.tracker, static
+            args.bag, other, args.background, args.model, args.tracker, static, detector
         )
         kind = scored_kind(tracks)
         s = score_followed(tracks, read_labels(args.labels), kind=kind)
         print(f"tracker              {args.tracker} (its {kind} tracks scored)")
         _print_score(s, ms, model)
         return
-    params = load_config(LegTrackerParams, args.config)
+    params = load_config(LegTrackerParams, args.config, args.preset)
     if args.people_policy is not None:
         params = replace(params, people_policy=args.people_policy)
     if args.no_reid:
         people = params.people
         params = replace(params, people=replace(people, reid=replace(people.reid, enabled=False)))
-    tracks, ms, model = track_bag(args.bag, params, args.background, args.model, "leg-mht", static)
+    tracks, ms, model = track_bag(
+        args.bag, params, args.background, args.model, "leg-mht", static, detector
+    )
     s = score_followed(tracks, read_labels(args.labels))
     reid = params.people_policy == "tracks" and params.people.reid.enabled
     print(f"people_policy        {params.people_policy}{' + re-identification' * reid}")

@@ -3727,6 +3727,40 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_clustering_trees.py",),
     ),
     # --- end s35-speedpf ---
+    # --- s35-preset ---
+    Mutant(
+        "leg-paper-preset-keeps-relinking",
+        "000 Sec. 3.3: --preset paper gives a newly validated pair a new id (relink_time 0)",
+        "tracking/legs.py",
+        '                    "relink_time": 0.0,\n',
+        "",
+        ("tests/test_paper_leg_preset.py",),
+    ),
+    Mutant(
+        "leg-detector-paper-preset-keeps-offset",
+        "000 Sec. 2: --preset paper puts a leg at its segment's centre (centre_offset 0)",
+        "detection/detector.py",
+        '            "centre_offset": 0.0,\n',
+        "",
+        ("tests/test_paper_leg_preset.py",),
+    ),
+    Mutant(
+        "leg-foreground-stage-takes-the-paper-leg-mht",
+        "--preset paper: the leg foreground stage keeps its own [leg_tracker]",
+        "pipeline/background.py",
+        "return None if cls is LegTrackerParams else preset",
+        "return preset",
+        ("tests/test_paper_leg_preset.py",),
+    ),
+    Mutant(
+        "config-infinite-either-sign",
+        "configuration: +inf only where the meaning says what inf does",
+        "config.py",
+        "(infinite and value > 0)",
+        "infinite",
+        ("tests/test_paper_leg_preset.py",),
+    ),
+    # --- end s35-preset ---
 )
 
 

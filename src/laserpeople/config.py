@@ -89,7 +89,9 @@ def from_mapping(
             continue
         default = getattr(cls(), key) if _has_defaults(cls) else None
         name = f"{section}{key}"
-        kwargs[key] = _coerce(name, value, default, where)
+        # (a meaning that says what "inf:" does admits it; otherwise only an infinite default)
+        infinite = INFINITE_MARK in fields[key].metadata.get("doc", "")
+        kwargs[key] = _coerce(name, value, default, where, infinite=infinite)
         _check_range(key, name, kwargs[key], default, fields[key].metadata.get("unit", ""), where)
     try:
         return cls(**kwargs)
@@ -151,8 +153,9 @@ def _has_defaults(cls: type) -> bool:
     )
 
 
-def _coerce(name: str, value: Any, default: Any, where: str) -> Any:
-    """``value`` as the type of ``default``; ``name`` is the parameter as errors show it."""
+def _coerce(name: str, value: Any, default: Any, where: str, *, infinite: bool = False) -> Any:
+    """``value`` as the type of ``default``; ``name`` is the parameter as errors show it;
+    ``infinite``: +inf is a value of the parameter (:data:`INFINITE_MARK`)."""
     if isinstance(default, bool):
         ok = isinstance(value, bool)
     elif isinstance(default, int):
@@ -174,7 +177,7 @@ def _coerce(name: str, value: Any, default: Any, where: str) -> Any:
             f"{_toml_value(default)}",
             path=where or None,
         )
-    _check_number(name, value, default, where)
+    _check_number(name, value, default, where, infinite=infinite)
     return value
 
 
@@ -262,9 +265,17 @@ INT_LIMIT = 2**53
 """Largest magnitude of an integer parameter (beyond it no count or size makes sense)."""
 
 
-def _check_number(name: str, value: Any, default: Any, where: str) -> None:
-    """NaN is never a parameter value; infinity only where the default is infinite; integers
-    stay below :data:`INT_LIMIT` in magnitude. Elements of tuples are checked alike."""
+INFINITE_MARK = "inf:"
+"""A parameter whose meaning (its ``doc``) says what ``inf:`` does takes +inf from a file
+(``max_leg_separation``: "inf: 000's rule only"); others only where the default is."""
+
+
+def _check_number(
+    name: str, value: Any, default: Any, where: str, *, infinite: bool = False
+) -> None:
+    """NaN is never a parameter value; infinity only where the default is infinite, or +inf
+    where ``infinite`` (:data:`INFINITE_MARK`); integers stay below :data:`INT_LIMIT` in
+    magnitude. Elements of tuples are checked alike."""
     if isinstance(value, tuple):
         for i, v in enumerate(value):
             d = default[i] if isinstance(default, tuple) and i < len(default) else None
@@ -274,7 +285,9 @@ def _check_number(name: str, value: Any, default: Any, where: str) -> None:
     if isinstance(value, float):
         if math.isnan(value):
             problem = "is NaN"
-        elif math.isinf(value) and not (isinstance(default, float) and default == value):
+        elif math.isinf(value) and not (
+            (isinstance(default, float) and default == value) or (infinite and value > 0)
+        ):
             problem = "is infinite"
     elif isinstance(value, int) and not isinstance(value, bool) and abs(value) > INT_LIMIT:
         problem = f"is larger than {INT_LIMIT}"

@@ -304,7 +304,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.pipeline.unused_options import preset_note
         from laserpeople.tracking import registry
 
-        note = preset_note(tracker, registry.get(tracker).params_cls, preset, people_policy)
+        note = preset_note(tracker, registry.get(tracker).params_cls, preset)
         if note:
             warn(note)
         options = TrackOptions(

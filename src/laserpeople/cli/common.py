@@ -136,7 +136,8 @@ PeoplePolicyOption = Annotated[
     typer.Option(
         "--people-policy",
         help="leg-mht person layer: tracks (default; people as tracks of their own) "
-        "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs).",
+        "or arras (Arras et al. 2008 Sec. 3.3: people from validated leg pairs; "
+        "--preset paper's).",
     ),
 ]
 """The ``--people-policy`` option of the leg MHT."""

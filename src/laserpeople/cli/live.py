@@ -382,7 +382,7 @@ def register(app: typer.Typer) -> None:
         # (imported here: laserpeople.pipeline imports numpy, which `live --help` needs not)
         from laserpeople.pipeline.unused_options import preset_note
 
-        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        note = preset_note(tracker, entry.params_cls, preset)
         if note:
             warn(note)
         ignored_sections(

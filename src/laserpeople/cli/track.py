@@ -470,7 +470,7 @@ def register(app: typer.Typer) -> None:
         from laserpeople.detection.detector import LegDetectorParams
         from laserpeople.identity.reid import ReidParams
         from laserpeople.pipeline import GroupingParams, LegFusionParams
-        from laserpeople.pipeline.background import StaticWorldParams
+        from laserpeople.pipeline.background import StaticWorldParams, static_world_preset
         from laserpeople.pipeline.unused_options import (
             detector_options,
             preset_note,
@@ -481,7 +481,7 @@ def register(app: typer.Typer) -> None:
 
         preset_values(ReidParams, preset)  # an unknown preset is an error before anything
         entry = registry.get(tracker)
-        note = preset_note(tracker, entry.params_cls, preset, people_policy)
+        note = preset_note(tracker, entry.params_cls, preset)
         if note:
             warn(note)
         static_sections = StaticWorldParams.sections()
@@ -504,9 +504,15 @@ def register(app: typer.Typer) -> None:
             classes = [entry.params_cls, LegDetectorParams, GroupingParams, LegFusionParams]
             read = StaticWorldParams.sections_for(entry.consumes)
             every = dict.fromkeys([*classes, ReidParams, *read])  # [leg_tracker] may be in both
-            loaded: list[Any] = [load_config(cls, config, preset) for cls in every]
+            # (a static world section as the run reads it: [leg_tracker] of the leg
+            # foreground stage without the preset, of the leg MHT itself with it)
+            presets = {
+                cls: preset if cls in classes else static_world_preset(cls, preset)
+                for cls in every
+            }
+            loaded: list[Any] = [load_config(cls, config, presets[cls]) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed
-                print(to_toml(obj, origins(obj, config, preset)))
+                print(to_toml(obj, origins(obj, config, presets[type(obj)])))
             return
         if recording is None or output is None:
             raise ConfigError(

@@ -59,7 +59,12 @@ class LegDetectorParams:
     """Parameters shared by the segment-based leg detectors."""
 
     config_section = "leg_detector"
-    paper_preset = MappingProxyType({"sparse": {"enabled": False}})  # 000: 3+ points a leg
+    paper_preset = MappingProxyType(
+        {  # 000 Sec. 2: 3+ points a leg, the leg at its segment's centre
+            "sparse": MappingProxyType({"enabled": False}),
+            "centre_offset": 0.0,
+        }
+    )
 
     leg_position_std: float = param(
         0.1,
@@ -90,7 +95,8 @@ class LegDetectorParams:
     )
     centre_offset: float = param(
         0.045,
-        "our choice (000 uses the segment centre): the scanner sees the near half of a leg of "
+        "departure from 000 Sec. 2 (0: the segment centre; --preset paper), our choice: the "
+        "scanner sees the near half of a leg of "
         "radius ~0.07 m, whose points' centroid lies 2r/pi ~ 0.045 m before the leg's axis",
         "distance a leg's position is moved from its points' centroid away from the sensor",
         "m",

@@ -298,10 +298,24 @@ class StaticWorldParams:
         ]
 
 
+def static_world_preset(cls: type, preset: str | None) -> str | None:
+    """The preset the static world section ``cls`` is read with: ``preset``, except for
+    ``[leg_tracker]``, read without one. That section is here the MHT the leg foreground
+    stage runs for a tracker of points (:func:`~.leg_foreground.stage_leg_tracker`); no
+    paper has that stage, and the leg MHT's paper values (000's people from leg pairs)
+    are those of ``--tracker leg-mht``. Under them the stage holds only validated pairs'
+    legs: on the real person-following recording ``feet-pf --preset paper`` identity
+    recall 0.641 -> 0.443, ``upper-body-pf`` 0.566 -> 0.331 (docs/papers.md)."""
+    from laserpeople.tracking.legs import LegTrackerParams
+
+    return None if cls is LegTrackerParams else preset
+
+
 def load_static_world(path: str | Path | None, preset: str | None = None) -> StaticWorldParams:
     """The static world models' parameters from the TOML file ``path`` (None: defaults);
     unknown keys, wrong types and non-finite values are a ConfigError naming the key;
-    ``preset`` "paper" starts each section from the papers' values."""
+    ``preset`` "paper" starts each section from the papers' values
+    (:func:`static_world_preset`: not ``[leg_tracker]``)."""
     from laserpeople.config import load_config
     from laserpeople.identity.leg_width import LegReidParams
     from laserpeople.tracking.legs import LegTrackerParams
@@ -313,7 +327,9 @@ def load_static_world(path: str | Path | None, preset: str | None = None) -> Sta
         sensor_motion=load_config(SensorMotionParams, path, preset),
         static_tracks=load_config(StaticTrackParams, path, preset),
         leg_foreground=load_config(LegForegroundParams, path, preset),
-        leg_tracker=load_config(LegTrackerParams, path, preset),
+        leg_tracker=load_config(
+            LegTrackerParams, path, static_world_preset(LegTrackerParams, preset)
+        ),
         leg_reid=load_config(LegReidParams, path, preset),
     )
 
@@ -828,4 +844,5 @@ __all__ = [
     "pose_moved",
     "set_laser_height",
     "static_model_used",
+    "static_world_preset",
 ]

@@ -108,26 +108,16 @@ def fleet_warning(asked: list[str], names: list[str], judged: int, reason: str) 
     )
 
 
-def preset_note(
-    tracker: str, params_cls: type, preset: str | None, people_policy: str | None
-) -> str | None:
+def preset_note(tracker: str, params_cls: type, preset: str | None) -> str | None:
     """What to tell a user whose ``--preset`` sets nothing of the tracker's own section
-    (a tracker without ``paper_preset`` values: ``nn``, a baseline of no paper, and the leg
-    MHT, whose paper setting is ``--people-policy arras``); None when there is nothing to
-    say."""
+    (a tracker without ``paper_preset`` values: ``nn``, a baseline of no paper); None when
+    there is nothing to say."""
     if preset is None or getattr(params_cls, "paper_preset", None):
-        return None
-    if tracker == "leg-mht" and people_policy is None:
-        return (
-            f"--preset {preset} sets nothing of [{section_name(params_cls)}]: the leg MHT "
-            "keeps people policy tracks; Arras et al.'s people from validated leg pairs are "
-            "--people-policy arras"
-        )
-    if tracker == "leg-mht":
         return None
     return (
         f"--preset {preset} sets nothing of [{section_name(params_cls)}]: {tracker} follows no "
-        "paper (the preset sets the static world model's and re-identification's sections only)"
+        "paper (the preset sets the leg detector's, the static world model's and "
+        "re-identification's sections only)"
     )
 
 

@@ -97,7 +97,8 @@ class KalmanParams:
     )
     coast_velocity_time: float = param(
         0.35,
-        "extension of 000 (assumption): a leg's velocity does not persist while it is unseen "
+        "departure from 000 Sec. 3.1 (inf: constant velocity; the leg tracker's --preset "
+        "paper), an assumption: a leg's velocity does not persist while it is unseen "
         "(a foot in stance stands still; a real walker turns). From 0.1/0.15/0.2/0.25/0.35/"
         "0.5/0.7/1/2/inf (inf = 000's constant velocity) on the demo seeds 0-4: person MOTA "
         "0.67 (inf) -> 0.78-0.79 over 0.1-0.35; 0.35 best on the narrow-corridor scene",

@@ -91,7 +91,8 @@ class PersonParams:
 
     max_leg_separation: float = param(
         2.0,
-        "extension of 000 Sec. 3.3 (assumption): 000 keeps a person whose legs are apart "
+        "departure from 000 Sec. 3.3 (inf; --preset paper), an assumption: 000 keeps a "
+        "person whose legs are apart "
         "for L steps at any distance, at their weighted mean; on the real "
         "demo_stationary_simple_environment.bag two legs coasting apart while occluded made "
         "persons jump up to 4 m between scans. Hiding them: max jump 4.0 -> 1.6 m there, "
@@ -104,7 +105,8 @@ class PersonParams:
 
     relink_time: float = param(
         1.0,
-        "extension of 000 Sec. 3.3 (assumption): 000 gives every newly validated pair a new "
+        "departure from 000 Sec. 3.3 (0; --preset paper), an assumption: 000 gives every "
+        "newly validated pair a new "
         "id, so a walker whose leg track was lost for a moment returns as someone else. With "
         "1 s / 0.8 m, demo seeds 0-4: ID switches 24 -> 12, mean IDF1 .700 -> .794, MOTA "
         "+0.002..+0.007; entrance-hall seed 1: 36 -> 28 switches; real demo bag: 37 -> 33 ids. "
@@ -130,8 +132,8 @@ class PersonParams:
 
     validate_still: bool = param(
         True,
-        "extension of 000 Sec. 3.3 (the paper validates moving legs only; the orientation "
-        "agreement of standing legs is undefined)",
+        "departure from 000 Sec. 3.3 (false; --preset paper): the paper validates moving legs "
+        "only; the orientation agreement of standing legs is undefined",
         "also validate two close legs that have both stood still for still_time",
     )
     still_time: float = param(
@@ -149,18 +151,19 @@ class PersonParams:
     )
     max_spread: float = param(
         0.55,
-        "extension of 000 Sec. 3.3 (assumption): the feet of one walker are ~0.2 m apart "
+        "departure from 000 Sec. 3.3 (inf, or any value of at least theta_d; --preset paper), "
+        "an assumption: the feet of one walker are ~0.2 m apart "
         "across the walking direction, those of two people side by side ~0.5-0.6 m; chosen "
         "from 0.4/0.55/none on the simulated demo and figure-eight scenes, seeds 0-1",
         "a person whose legs are farther apart than this across their walking direction "
         "(plain distance when standing), on average over the window, is dissolved when "
         "another leg nearby would pair narrower with one of them; candidate pairs wider "
-        "than this are not formed, the narrowest pairs are formed first",
+        "than this are not formed, the narrowest pairs are formed first (inf: no limit)",
         "m",
     )
     dissolve_wide: bool = param(
         True,
-        "extension of 000 Sec. 3.3 (see max_spread)",
+        "departure from 000 Sec. 3.3 (false; --preset paper; see max_spread)",
         "dissolve persons whose legs are wider apart than max_spread (else only new pairs "
         "are checked)",
     )

@@ -134,6 +134,9 @@ def motp_parts(npz: Path, csv: Path) -> dict[str, float]:
                     out[f"{part}|shown"] += loss
                 if close:
                     out[f"{part}|close"] += loss
+    lost = sum(out[p] for p in PARTS)
+    if abs(out["matched"] + lost - out["D"]) > 1e-6 * max(1.0, out["D"]):
+        raise RuntimeError(f"{csv}: the parts ({lost}) and the matched sum do not add up to D")
     return out
 
 

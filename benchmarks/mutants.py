@@ -3727,6 +3727,19 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_clustering_trees.py",),
     ),
     # --- end s35-speedpf ---
+    # --- s35-harden2 ---
+    Mutant(
+        "sources-items-unchecked",
+        "laser_frames/FrameChooser: an item of the wrong type is named",
+        "pipeline/sources.py",
+        "            if not isinstance(item, kind):",
+        "            if False:",
+        (
+            "tests/test_hardening_round8.py::"
+            "test_sources_given_one_scan_or_the_wrong_items_name_what_they_take",
+        ),
+    ),
+    # --- end s35-harden2 ---
 )
 
 

@@ -538,3 +538,38 @@ def test_fit_learn_with_another_section_is_named() -> None:
         LaserPeopleError, match=r"names the section \[csa\], not the tracker's \[leg_tracker\]"
     ):
         _select(["[csa] lambda_new"], learned, [], LegTrackerParams())
+
+
+def _one_scan(stamp: float = 0.0, index: int = 0) -> Scan:
+    return Scan(stamp, -1.0, 0.01, np.ones(5), index=index)
+
+
+@pytest.mark.parametrize(
+    ("call", "says"),
+    [
+        ("laser_frames(scan)", r"laser_frames\(\): scans must be an iterable of Scan, got one "),
+        ("laser_frames('run.bag')", r"laser_frames\(\): .*the path 'run\.bag': read its scans"),
+        ("laser_frames(5)", r"laser_frames\(\): scans must be an iterable of Scan, got int 5"),
+        ("list(laser_frames([scan, 3]))", r"got an item of type int \(item 1\)"),
+        ("list(laser_frames([frame]))", r"type Frame \(item 0\): it takes scans, not frames"),
+        ("LaserGrouper(['a', 'b'])(scan)", r"LaserGrouper\(\): scans must be an iterable"),
+        ("list(FrameChooser()([scan]))", r"FrameChooser\(\): frames .*make frames of the scans"),
+        ("FrameChooser()(frame)", r"FrameChooser\(\): .*got one Frame: give a list of it"),
+    ],
+)
+def test_sources_given_one_scan_or_the_wrong_items_name_what_they_take(
+    call: str, says: str
+) -> None:
+    """``laser_frames(scan)`` raised ``'Scan' object is not iterable`` only when the
+    pipeline pulled its first frame; ``FrameChooser()(scans)`` that a Scan has no
+    attribute ``scans``."""
+    from laserpeople.pipeline import FrameChooser, LaserGrouper, laser_frames
+
+    scan = _one_scan()
+    frame = next(iter(laser_frames([scan])))
+    names = {"laser_frames": laser_frames, "LaserGrouper": LaserGrouper}
+    names |= {"FrameChooser": FrameChooser, "scan": scan, "frame": frame}
+    with pytest.raises(TypeError, match=says):
+        eval(call, names)
+    frames = list(FrameChooser()(laser_frames(iter([scan, _one_scan(0.1, 1)]))))
+    assert [f.index for f in frames] == [0, 1]

@@ -3739,6 +3739,22 @@ MUTANTS: tuple[Mutant, ...] = (
             "test_sources_given_one_scan_or_the_wrong_items_name_what_they_take",
         ),
     ),
+    Mutant(
+        "spelling-start-not-suggested",
+        "spelling: the start of a known name suggests it",
+        "spelling.py",
+        "elif len(leaf) >= PREFIX and last.startswith(leaf):",
+        "elif False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "spelling-starts-in-list-order",
+        "spelling: of the names a name starts, the shortest first",
+        "spelling.py",
+        "scored.append((1.0 + 0.1 * ratio, k))",
+        "scored.append((1.0, k))",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

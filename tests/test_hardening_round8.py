@@ -573,3 +573,42 @@ def test_sources_given_one_scan_or_the_wrong_items_name_what_they_take(
         eval(call, names)
     frames = list(FrameChooser()(laser_frames(iter([scan, _one_scan(0.1, 1)]))))
     assert [f.index for f in frames] == [0, 1]
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["simulate", "crossing"], "did you mean 'crossing-3', "),
+        (["simulate", "entr"], "did you mean 'entrance-hall' or 'entrance-hall-moving'?"),
+        (["simulate", "figure"], "did you mean 'figure-eight'?"),
+        (["track", "{walk}", "--tracker", "upper"], "did you mean 'upper-body-pf'?"),
+        (["track", "{walk}", "--preset", "pap"], "did you mean 'paper'?"),
+        (["track", "{walk}", "--topic", "/las"], "no topic '/las'; did you mean 'laser'?"),
+    ],
+)
+def test_the_start_of_a_known_name_is_suggested(
+    args: list[str], says: str, walk: Path, tmp_path: Path
+) -> None:
+    """``simulate crossing`` offered feet-crossing, crossing-3-swap and crossing-3-twice
+    (the first three of the list that start or end with it), not crossing-3; ``pap`` (a
+    start not ending at a ``-``) and a topic's start offered nothing."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    given = [a.format(walk=walk) for a in args] + ["-o", str(tmp_path / "out.npz")]
+    if given[0] == "track":
+        given[-1] = str(tmp_path / "out.csv")
+    run = CliRunner().invoke(app, given)
+    assert run.exit_code != 0
+    assert says in " ".join(f"{run.output} {run.exception}".split()), run.output
+
+
+def test_names_a_start_suggests_shortest_first_and_short_starts_suggest_nothing() -> None:
+    from laserpeople.spelling import closest
+
+    known = ["feet-crossing", "crossing-3-swap", "crossing-3-twice", "crossing-3"]
+    assert closest("crossing", known) == ["crossing-3", "feet-crossing", "crossing-3-swap"]
+    assert closest("Entr", ["office", "entrance-hall"]) == ["entrance-hall"]
+    assert closest("of", ["office"]) == []  # two letters start too many names
+    assert closest("/sca", ["/scan_front", "odom"], key=lambda n: n.lstrip("/")) == ["/scan_front"]

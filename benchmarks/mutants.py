@@ -3755,6 +3755,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "scored.append((1.0, k))",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "track-ctrl-c-closes-untouched-csv",
+        "track: Ctrl-C before the first scan leaves an old tracks CSV as it was",
+        "cli/track.py",
+        "        pipe.close(failed=exc)  # (as a failed run",
+        "        pipe.close()  # (as a failed run",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

@@ -612,3 +612,47 @@ def test_names_a_start_suggests_shortest_first_and_short_starts_suggest_nothing(
     assert closest("Entr", ["office", "entrance-hall"]) == ["entrance-hall"]
     assert closest("of", ["office"]) == []  # two letters start too many names
     assert closest("/sca", ["/scan_front", "odom"], key=lambda n: n.lstrip("/")) == ["/scan_front"]
+
+
+def _ctrl_c_at_once(items: object, total: object = None, description: str = "") -> object:
+    """A stand-in for the commands' ``progress``: Ctrl-C before the first scan."""
+    raise KeyboardInterrupt
+    yield  # (a generator, as progress is)
+
+
+@pytest.mark.parametrize(
+    ("command", "what", "extra"),
+    [
+        ("track", "tracks", []),
+        ("detect", "detections", []),
+        ("detect", "detections", ["--all-segments"]),
+    ],
+)
+def test_ctrl_c_before_the_first_scan_leaves_the_old_csv_and_says_so(
+    command: str,
+    what: str,
+    extra: list[str],
+    walk: Path,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The old CSV was emptied to a header, and the command said it "holds the tracks of
+    those scans" after 0 scans."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app, detect, track
+
+    monkeypatch.setattr(track if command == "track" else detect, "progress", _ctrl_c_at_once)
+    old = tmp_path / "old.csv"
+    old.write_text(OLD_TRACKS)
+    run = CliRunner().invoke(app, [command, str(walk), "-o", str(old), *extra])
+    said = " ".join(run.output.split())
+    assert run.exit_code == 130, run.output
+    assert "interrupted (Ctrl-C) before the first scan" in said, said
+    assert f"the {what} CSV {old} was left as it was (no scan was written)" in said, said
+    assert "holds" not in said
+    assert old.read_text() == OLD_TRACKS
+    new = tmp_path / "new.csv"
+    run = CliRunner().invoke(app, [command, str(walk), "-o", str(new), *extra])
+    assert run.exit_code == 130 and not new.exists()
+    assert f"no {what} CSV was written (no scan was)" in " ".join(run.output.split())

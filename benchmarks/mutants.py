@@ -3763,6 +3763,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "        pipe.close()  # (as a failed run",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "scan-float-index-taken",
+        "Scan: an index that is no integer is refused",
+        "scan.py",
+        "        if type(self.index) is not int:  # (one type test",
+        "        if False:  # (one type test",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

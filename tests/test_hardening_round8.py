@@ -656,3 +656,25 @@ def test_ctrl_c_before_the_first_scan_leaves_the_old_csv_and_says_so(
     run = CliRunner().invoke(app, [command, str(walk), "-o", str(new), *extra])
     assert run.exit_code == 130 and not new.exists()
     assert f"no {what} CSV was written (no scan was)" in " ".join(run.output.split())
+
+
+@pytest.mark.parametrize(
+    ("index", "says"),
+    [
+        (3.0, r"got float 3\.0 \(a scan of run\.bag\): give int\(3\.0\)"),
+        (3.5, r"index must be an integer, .*got float 3\.5 \(a scan of run\.bag\)$"),
+        (True, r"index must be an integer, .*got bool True"),
+        ("3", r"index must be an integer, .*got str '3'"),
+        (None, r"index must be an integer, .*got NoneType None"),
+    ],
+)
+def test_a_scan_index_that_is_no_integer_is_refused(index: object, says: str) -> None:
+    """``Scan(..., index=3.5)`` was taken: the tracks CSV's scan column then read 3.5 and
+    evaluate paired nothing with it."""
+    with pytest.raises(TypeError, match=says):
+        Scan(0.0, -1.0, 0.01, RANGES, index=index, source="run.bag")  # type: ignore[arg-type]
+
+
+def test_a_scan_index_of_numpys_integers_is_taken_as_an_int() -> None:
+    scan = Scan(0.0, -1.0, 0.01, RANGES, index=np.int64(7))  # type: ignore[arg-type]
+    assert type(scan.index) is int and scan.index == 7

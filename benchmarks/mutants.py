@@ -3771,6 +3771,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "        if False:  # (one type test",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "misspelt-world-frame-unnamed",
+        "bags: a world frame no transform names is said to be misspelt, not the mounts",
+        "io/rosbag.py",
+        "    if world is not None and frames and world not in frames:",
+        "    if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

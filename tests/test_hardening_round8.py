@@ -678,3 +678,43 @@ def test_a_scan_index_that_is_no_integer_is_refused(index: object, says: str) ->
 def test_a_scan_index_of_numpys_integers_is_taken_as_an_int() -> None:
     scan = Scan(0.0, -1.0, 0.01, RANGES, index=np.int64(7))  # type: ignore[arg-type]
     assert type(scan.index) is int and scan.index == 7
+
+
+DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
+
+
+def test_a_misspelt_world_frame_is_named_not_the_mounts(shared_data: Path, tmp_path: Path) -> None:
+    """``--world-frame odomm`` was answered with "the laser mounts are missing from /tf:
+    try --mount mir100"; on a bag without /tf at all with "give them with --mount"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    misspelt = "no transform of the recording names the world frame 'odomm': did you mean 'odom'?"
+    run = CliRunner().invoke(app, ["info", str(shared_data / MIR_BAG), "--world-frame", "odomm"])
+    said = " ".join(run.output.split())
+    assert run.exit_code == 0 and misspelt in said and "--mount" not in said, said
+    out = tmp_path / "t.csv"
+    args = ["--world-frame", "odomm", "--output-frame", "world", "-o", str(out)]
+    run = CliRunner().invoke(app, ["track", str(shared_data / MIR_BAG), *args])
+    assert isinstance(run.exception, RecordingError) and misspelt in str(run.exception)
+    run = CliRunner().invoke(app, ["info", str(shared_data / DEMO_BAG), "--world-frame", "map"])
+    said = " ".join(run.output.split())
+    assert "/scan: 1265 scans: no pose data (no /tf, /tf_static or odometry)" in said, said
+    assert "mounts are missing" not in said
+
+
+def test_a_world_frame_no_transform_names_is_said_misspelt(tmp_path: Path) -> None:
+    """The same on a bag of /tf map -> odom -> base_link -> front_laser (no shared data)."""
+    from laserpeople.io.rosbag import RosbagRecording
+    from test_io_rosbag_tf import GAPS, _write
+
+    bag = tmp_path / "tf.bag"
+    _write(bag)
+    with RosbagRecording(bag, world_frame="odomm", pose_params=GAPS) as rec:
+        assert all(s.pose is None for s in rec.scans())
+        summary, problem = rec.pose_summary(), rec.pose_problem()
+    said = "no transform of the recording names the world frame 'odomm': did you mean 'odom'?"
+    assert said in summary and problem is not None and said in problem
+    assert "(its frames: base_link, front_laser, map, odom; check --world-frame)" in summary
+    assert "mounts are missing" not in summary + problem

@@ -718,3 +718,16 @@ def test_a_world_frame_no_transform_names_is_said_misspelt(tmp_path: Path) -> No
     assert said in summary and problem is not None and said in problem
     assert "(its frames: base_link, front_laser, map, odom; check --world-frame)" in summary
     assert "mounts are missing" not in summary + problem
+
+
+def test_demo_takes_its_folder_with_o_as_the_other_commands(tmp_path: Path) -> None:
+    """``laserpeople demo -o out`` (every other command writes with -o) was "No such
+    option: -o"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = tmp_path / "out"
+    run = CliRunner().invoke(app, ["demo", "-o", str(out), "--seconds", "0.3", "--no-gif"])
+    assert run.exit_code == 0, run.output
+    assert (out / "demo.npz").is_file() and (out / "demo-tracks.csv").is_file()

@@ -731,3 +731,35 @@ def test_demo_takes_its_folder_with_o_as_the_other_commands(tmp_path: Path) -> N
     run = CliRunner().invoke(app, ["demo", "-o", str(out), "--seconds", "0.3", "--no-gif"])
     assert run.exit_code == 0, run.output
     assert (out / "demo.npz").is_file() and (out / "demo-tracks.csv").is_file()
+
+
+def test_view_with_stop_before_start_names_the_options(walk: Path, tmp_path: Path) -> None:
+    """It said "empty scan window: start 10 >= stop 5", without the options or what to
+    do."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = tmp_path / "v.png"
+    args = ["view", str(walk), "-o", str(out), "--start", "10", "--stop", "5"]
+    run = CliRunner().invoke(app, args)
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert "--start 10 --stop 5 draw no scan" in said and "give a --stop after" in said, said
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["track", "detect"])
+def test_a_recording_given_as_config_is_named(command: str, walk: Path, tmp_path: Path) -> None:
+    """``--config run.bag`` said "not UTF-8 text (byte 70 is not UTF-8)"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    bag = tmp_path / "run.bag"
+    bag.write_bytes(b"#ROSBAG V2.0\n\xe9\xff" + bytes(64))
+    run = CliRunner().invoke(
+        app, [command, str(walk), "-o", str(tmp_path / "t.csv"), "--config", str(bag)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "run.bag: a .bag file, not a TOML config file" in str(run.exception)
+    assert "--print-config" in str(run.exception)

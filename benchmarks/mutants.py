@@ -3779,6 +3779,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "    if False:",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "tracks-bag-emptied-before-first-scan",
+        "track --bag: a run stopped before its first scan leaves an older bag as it was",
+        "pipeline/sinks.py",
+        "        if self._writer.frames:\n            self.close()",
+        "        if True:\n            self.close()",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

@@ -763,3 +763,42 @@ def test_a_recording_given_as_config_is_named(command: str, walk: Path, tmp_path
     assert isinstance(run.exception, ConfigError), run.output
     assert "run.bag: a .bag file, not a TOML config file" in str(run.exception)
     assert "--print-config" in str(run.exception)
+
+
+@pytest.mark.parametrize("stop", ["ctrl-c", "damaged first scan"])
+def test_a_run_stopped_before_the_first_scan_leaves_an_old_tracks_bag(
+    stop: str, walk: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``track --bag out.mcap`` stopped before its first scan replaced an older bag with
+    an empty one (712 bytes), silently."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app, track
+
+    bag = tmp_path / "out.mcap"
+    run = CliRunner().invoke(
+        app, ["track", str(walk), "-o", str(tmp_path / "a.csv"), "--bag", str(bag)]
+    )
+    assert run.exit_code == 0, run.output
+    before = bag.read_bytes()
+    recording = walk
+    if stop == "ctrl-c":
+        monkeypatch.setattr(track, "progress", _ctrl_c_at_once)
+    else:
+        recording = tmp_path / "bad.log"
+        recording.write_text(BAD_FIRST_SCAN)
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(tmp_path / "a.csv"), "--bag", str(bag)]
+    )
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert f"the tracks bag {bag} was left as it was (no scan was written)" in said, said
+    assert bag.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    new = tmp_path / "new.mcap"
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(tmp_path / "b.csv"), "--bag", str(new)]
+    )
+    assert "no tracks bag was written (no scan was)" in " ".join(
+        f"{run.output} {run.exception}".split()
+    )
+    assert not new.exists()

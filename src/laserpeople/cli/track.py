@@ -567,10 +567,10 @@ def register(app: typer.Typer) -> None:
             from laserpeople.pipeline.sinks import left_as_it_was
 
             status = int(stats["interrupted"])
-            warn(
-                f"interrupted ({stop_name(status)}) before the first scan was tracked: "
-                + left_as_it_was("tracks CSV", output, output.exists())
-            )
+            kept = left_as_it_was("tracks CSV", output, output.exists())
+            if bag is not None:
+                kept += "; " + left_as_it_was("tracks bag", bag, bag.exists())
+            warn(f"interrupted ({stop_name(status)}) before the first scan was tracked: {kept}")
             raise typer.Exit(status)
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "

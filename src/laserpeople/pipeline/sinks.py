@@ -7,7 +7,7 @@ closes in :meth:`close`.
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
+from contextlib import AbstractContextManager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -168,6 +168,25 @@ class TracksBagSink:
         if not self._closed:
             self._closed = True
             self._context.__exit__(None, None, None)
+
+    def abandon(self) -> str | None:
+        """Close the bag after a failed run: one that no frame came to is discarded (an
+        older bag at its path is left as it was); one that frames came to is moved into
+        place with them, as after :meth:`close`.
+
+        Returns:
+            What was left as it was, for the error message (None: frames were written).
+        """
+        if self._closed:
+            return None
+        if self._writer.frames:
+            self.close()
+            return None
+        self._closed = True
+        discard = RuntimeError("run failed before its first frame")
+        with suppress(Exception):  # (the run's own error is the one to report)
+            self._context.__exit__(RuntimeError, discard, None)
+        return left_as_it_was("tracks bag", self.path, self.path.exists())
 
 
 __all__ = ["DetectionsCsvSink", "TracksBagSink", "TracksCsvSink", "left_as_it_was"]

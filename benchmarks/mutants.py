@@ -3787,6 +3787,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "        if True:\n            self.close()",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "evaluate-recording-as-tracks-unnamed",
+        "evaluate: a recording given as TRACKS is named (swapped arguments)",
+        "cli/evaluate.py",
+        "if given.suffix.lower() in _RECORDINGS_ONLY and not given.is_dir():",
+        "if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

@@ -802,3 +802,39 @@ def test_a_run_stopped_before_the_first_scan_leaves_an_old_tracks_bag(
         f"{run.output} {run.exception}".split()
     )
     assert not new.exists()
+
+
+def test_evaluate_given_the_recording_as_tracks_says_so(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``evaluate run.npz --truth tracks.csv`` said "not a text CSV: line 1 (byte 17) is
+    not UTF-8"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.errors import EvaluationError
+
+    run = CliRunner().invoke(app, ["evaluate", str(walk), "--truth", str(tracks_csv)])
+    assert isinstance(run.exception, EvaluationError), run.output
+    text = str(run.exception)
+    assert "is a recording (.npz), not tracks: are TRACKS and --truth swapped?" in text, text
+    assert f"laserpeople evaluate tracks.csv --truth {walk.name}" in text
+
+
+@pytest.mark.parametrize("name", ["tracks.csv", "tracks.txt"])
+def test_a_tracks_table_given_as_a_recording_says_what_it_is(
+    name: str, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``info tracks.txt`` asked "is this a CARMEN log?"; ``info tracks.csv`` listed the
+    recording formats without saying what a .csv is for."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    table = tmp_path / name
+    table.write_bytes(tracks_csv.read_bytes())
+    run = CliRunner().invoke(app, ["info", str(table)])
+    assert isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert "table" in text and "goes to `view --tracks` or `evaluate`" in text, text
+    assert "CARMEN log?" not in text

@@ -838,3 +838,14 @@ def test_a_tracks_table_given_as_a_recording_says_what_it_is(
     text = str(run.exception)
     assert "table" in text and "goes to `view --tracks` or `evaluate`" in text, text
     assert "CARMEN log?" not in text
+
+
+def test_a_misspelt_mount_child_gets_the_laser_frame_meant() -> None:
+    from laserpeople.io.poses import stray_mount_notes
+
+    mounts = {"laserr": ("base_link", Pose2D()), "front_laser_link": ("base", Pose2D())}
+    notes = stray_mount_notes(mounts, {"/scan": "laser"})
+    assert len(notes) == 2
+    assert "mount of 'laserr' not used: no laser's scans have that frame id and no " in notes[0]
+    assert "transform names it (did you mean 'laser'?) (CHILD is" in notes[0]
+    assert "did you mean" not in notes[1]

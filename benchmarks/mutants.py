@@ -3795,6 +3795,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "if False:",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "topics-string-read-letter-by-letter",
+        "recordings: scans(\"/scan\") is refused, not read as the topics '/', 's', ...",
+        "io/topics.py",
+        "    if isinstance(requested, str | bytes):",
+        "    if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "pipeline-of-scans-taken",
+        "Pipeline: scans given for frames are refused",
+        "pipeline/core.py",
+        "                if isinstance(frame, Scan):",
+        "                if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

@@ -849,3 +849,29 @@ def test_a_misspelt_mount_child_gets_the_laser_frame_meant() -> None:
     assert "mount of 'laserr' not used: no laser's scans have that frame id and no " in notes[0]
     assert "transform names it (did you mean 'laser'?) (CHILD is" in notes[0]
     assert "did you mean" not in notes[1]
+
+
+def test_one_topic_given_as_a_string_is_named(walk: Path) -> None:
+    """``rec.scans("/scan")`` was read letter by letter: "no topic '/'"."""
+    from laserpeople.io import open_recording
+
+    with open_recording(walk) as rec, pytest.raises(TypeError, match=r"give \['laser'\]$"):
+        next(rec.scans("laser"))  # type: ignore[arg-type]
+    log = walk.with_name("one.log")
+    log.write_text("FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1.0 host 1.0\n")
+    with open_recording(log) as rec:
+        with pytest.raises(TypeError, match=r"topics must be a list of laser names .*'FLASER'"):
+            next(rec.scans("FLASER"))  # type: ignore[arg-type]
+        assert len(list(rec.scans(["FLASER"]))) == 1
+
+
+@pytest.mark.parametrize("given", ["scans", "path", "scan"])
+def test_a_pipeline_of_scans_is_told_to_make_frames(given: str, walk: Path) -> None:
+    """``Pipeline(rec.scans())`` ran, each Scan taken for a frame, with no stage to notice."""
+    from laserpeople.io import open_recording
+    from laserpeople.pipeline import Pipeline
+
+    with open_recording(walk) as rec:
+        source = {"scans": rec.scans(), "path": str(walk), "scan": next(rec.scans())}[given]
+        with pytest.raises(TypeError, match=r"Pipeline\(\): source must be an iterable of Fr"):
+            list(Pipeline(source))  # type: ignore[arg-type]

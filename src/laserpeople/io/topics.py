@@ -35,7 +35,10 @@ def match_topics(
 
     Raises:
         TopicNotFoundError: A requested name matches no available name.
+        TypeError: ``requested`` is one name (a string), which would be taken letter by
+            letter; names what to give.
     """
+    check_names(requested, what)
     out: list[str] = []
     for name in requested:
         found = name if name in available else None
@@ -48,6 +51,20 @@ def match_topics(
         if found not in out:
             out.append(found)
     return out
+
+
+def check_names(requested: object, what: str = "topic") -> None:
+    """Refuse one name given where a list of names goes (``scans("/scan")``: its letters
+    would be taken for topics, the first ``'/'`` said not found).
+
+    Raises:
+        TypeError: ``requested`` is a string; names what to give.
+    """
+    if isinstance(requested, str | bytes):
+        raise TypeError(
+            f"topics must be a list of {what} names (None: all of them), got the string "
+            f"{requested!r}: give [{requested!r}]"
+        )
 
 
 def _guess(name: str, available: Sequence[str], key: Callable[[str], str]) -> str:

@@ -3811,6 +3811,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "                if False:",
         ("tests/test_hardening_round8.py",),
     ),
+    Mutant(
+        "spelling-swapped-letters-unseen",
+        "spelling: a name with two neighbouring letters swapped suggests the name meant",
+        "spelling.py",
+        "        elif _swapped(leaf, last):",
+        "        elif False:",
+        ("tests/test_hardening_round8.py",),
+    ),
     # --- end s35-harden2 ---
 )
 

@@ -875,3 +875,32 @@ def test_a_pipeline_of_scans_is_told_to_make_frames(given: str, walk: Path) -> N
         source = {"scans": rec.scans(), "path": str(walk), "scan": next(rec.scans())}[given]
         with pytest.raises(TypeError, match=r"Pipeline\(\): source must be an iterable of Fr"):
             list(Pipeline(source))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["simulate", "demo", "-s", "1", "-o", "{tmp}/d.nzp"], "'.nzp'; did you mean '.npz'?"),
+        (["view", "{walk}", "-o", "{tmp}/v.pgn"], "'.pgn'; did you mean '.png'?"),
+        (
+            ["track", "{walk}", "-o", "{tmp}/t.csv", "--bag", "{tmp}/t.mcpa"],
+            "'t.mcpa'; did you mean '.mcap'?",
+        ),
+    ],
+)
+def test_two_swapped_letters_are_suggested(
+    args: list[str], says: str, walk: Path, tmp_path: Path
+) -> None:
+    """``-o v.pgn`` listed the kinds without the one meant: difflib rates a swap of two
+    letters of a three-letter name 0.67, below the cutoff."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.spelling import closest
+
+    run = CliRunner().invoke(app, [a.format(walk=walk, tmp=tmp_path) for a in args])
+    assert run.exit_code != 0
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert says in said, said
+    assert closest("odmo", ["odom", "map"]) == ["odom"]
+    assert closest("abc", ["cab", "bca"]) == []  # not two neighbours swapped

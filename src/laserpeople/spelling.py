@@ -32,6 +32,19 @@ def _plain(name: str) -> str:
     return name.strip().lower().replace("_", "-")
 
 
+def _swapped(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with two neighbouring characters swapped."""
+    if len(a) != len(b) or a == b:
+        return False
+    differ = [i for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y]
+    return (
+        len(differ) == 2
+        and differ[1] == differ[0] + 1
+        and a[differ[0]] == b[differ[1]]
+        and (a[differ[1]] == b[differ[0]])
+    )
+
+
 def closest(
     name: str, known: Iterable[str], n: int = 3, key: Callable[[str], str] | None = None
 ) -> list[str]:
@@ -39,8 +52,9 @@ def closest(
     for case, ``_`` for ``-`` and the dotted prefix; then those it starts or ends (at a
     ``_``: ``p_det_free``, ``score_threshold``; ``crossing`` -> ``crossing-3`` before
     ``crossing-3-swap``); then those it starts with at least :data:`PREFIX` characters
-    (``entr`` -> ``entrance-hall``) and those at least :data:`CUTOFF` alike, as whole
-    names or by their last dotted part. Among the names it starts or ends, the shorter
+    (``entr`` -> ``entrance-hall``), those at least :data:`CUTOFF` alike, as whole
+    names or by their last dotted part, and those it spells with two neighbouring letters
+    swapped (``.pgn`` -> ``.png``). Among the names it starts or ends, the shorter
     come first (they add less to what was written). ``key``: the form in which names are
     compared (e.g. without a leading ``/``), applied to ``name`` and every known name."""
     if key is not None:
@@ -64,6 +78,8 @@ def closest(
             scored.append((max(ratio, CUTOFF), k))
         elif ratio >= CUTOFF:
             scored.append((ratio, k))
+        elif _swapped(leaf, last):  # pgn -> png, odmo -> odom (difflib rates them low)
+            scored.append((CUTOFF, k))
     scored.sort(key=lambda s: -s[0])
     return [k for _, k in scored[:n]]
 

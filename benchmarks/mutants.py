@@ -3761,6 +3761,99 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_paper_leg_preset.py",),
     ),
     # --- end s35-preset ---
+    # --- s35-harden2 ---
+    Mutant(
+        "sources-items-unchecked",
+        "laser_frames/FrameChooser: an item of the wrong type is named",
+        "pipeline/sources.py",
+        "            if not isinstance(item, kind):",
+        "            if False:",
+        (
+            "tests/test_hardening_round8.py::"
+            "test_sources_given_one_scan_or_the_wrong_items_name_what_they_take",
+        ),
+    ),
+    Mutant(
+        "spelling-start-not-suggested",
+        "spelling: the start of a known name suggests it",
+        "spelling.py",
+        "elif len(leaf) >= PREFIX and last.startswith(leaf):",
+        "elif False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "spelling-starts-in-list-order",
+        "spelling: of the names a name starts, the shortest first",
+        "spelling.py",
+        "scored.append((1.0 + 0.1 * ratio, k))",
+        "scored.append((1.0, k))",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "track-ctrl-c-closes-untouched-csv",
+        "track: Ctrl-C before the first scan leaves an old tracks CSV as it was",
+        "cli/track.py",
+        "        pipe.close(failed=exc)  # (as a failed run",
+        "        pipe.close()  # (as a failed run",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "scan-float-index-taken",
+        "Scan: an index that is no integer is refused",
+        "scan.py",
+        "        if type(self.index) is not int:  # (one type test",
+        "        if False:  # (one type test",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "misspelt-world-frame-unnamed",
+        "bags: a world frame no transform names is said to be misspelt, not the mounts",
+        "io/rosbag.py",
+        "    if world is not None and frames and world not in frames:",
+        "    if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "tracks-bag-emptied-before-first-scan",
+        "track --bag: a run stopped before its first scan leaves an older bag as it was",
+        "pipeline/sinks.py",
+        "        if self._writer.frames:\n            self.close()",
+        "        if True:\n            self.close()",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "evaluate-recording-as-tracks-unnamed",
+        "evaluate: a recording given as TRACKS is named (swapped arguments)",
+        "cli/evaluate.py",
+        "if given.suffix.lower() in _RECORDINGS_ONLY and not given.is_dir():",
+        "if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "topics-string-read-letter-by-letter",
+        "recordings: scans(\"/scan\") is refused, not read as the topics '/', 's', ...",
+        "io/topics.py",
+        "    if isinstance(requested, str | bytes):",
+        "    if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "pipeline-of-scans-taken",
+        "Pipeline: scans given for frames are refused",
+        "pipeline/core.py",
+        "                if isinstance(frame, Scan):",
+        "                if False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    Mutant(
+        "spelling-swapped-letters-unseen",
+        "spelling: a name with two neighbouring letters swapped suggests the name meant",
+        "spelling.py",
+        "        elif _swapped(leaf, last):",
+        "        elif False:",
+        ("tests/test_hardening_round8.py",),
+    ),
+    # --- end s35-harden2 ---
 )
 
 

@@ -119,8 +119,8 @@ def test_suggestions_by_leaf_start_and_end() -> None:
         ),
         (
             "p_det = 0.9\n",
-            "p_det outside any [section]; p_det: did you mean 'leg_tracker.p_det_approved' or "
-            "'leg_tracker.p_det_free'?",
+            "p_det outside any [section]; p_det: did you mean 'leg_tracker.p_det_free' or "
+            "'leg_tracker.p_det_approved'?",
         ),
         ("[leg_detector]\nzzz = 1\n", "unknown parameter(s) zzz in [leg_detector] ("),
     ],

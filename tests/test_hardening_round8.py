@@ -538,3 +538,369 @@ def test_fit_learn_with_another_section_is_named() -> None:
         LaserPeopleError, match=r"names the section \[csa\], not the tracker's \[leg_tracker\]"
     ):
         _select(["[csa] lambda_new"], learned, [], LegTrackerParams())
+
+
+def _one_scan(stamp: float = 0.0, index: int = 0) -> Scan:
+    return Scan(stamp, -1.0, 0.01, np.ones(5), index=index)
+
+
+@pytest.mark.parametrize(
+    ("call", "says"),
+    [
+        ("laser_frames(scan)", r"laser_frames\(\): scans must be an iterable of Scan, got one "),
+        ("laser_frames('run.bag')", r"laser_frames\(\): .*the path 'run\.bag': read its scans"),
+        ("laser_frames(5)", r"laser_frames\(\): scans must be an iterable of Scan, got int 5"),
+        ("list(laser_frames([scan, 3]))", r"got an item of type int \(item 1\)"),
+        ("list(laser_frames([frame]))", r"type Frame \(item 0\): it takes scans, not frames"),
+        ("LaserGrouper(['a', 'b'])(scan)", r"LaserGrouper\(\): scans must be an iterable"),
+        ("list(FrameChooser()([scan]))", r"FrameChooser\(\): frames .*make frames of the scans"),
+        ("FrameChooser()(frame)", r"FrameChooser\(\): .*got one Frame: give a list of it"),
+    ],
+)
+def test_sources_given_one_scan_or_the_wrong_items_name_what_they_take(
+    call: str, says: str
+) -> None:
+    """``laser_frames(scan)`` raised ``'Scan' object is not iterable`` only when the
+    pipeline pulled its first frame; ``FrameChooser()(scans)`` that a Scan has no
+    attribute ``scans``."""
+    from laserpeople.pipeline import FrameChooser, LaserGrouper, laser_frames
+
+    scan = _one_scan()
+    frame = next(iter(laser_frames([scan])))
+    names = {"laser_frames": laser_frames, "LaserGrouper": LaserGrouper}
+    names |= {"FrameChooser": FrameChooser, "scan": scan, "frame": frame}
+    with pytest.raises(TypeError, match=says):
+        eval(call, names)
+    frames = list(FrameChooser()(laser_frames(iter([scan, _one_scan(0.1, 1)]))))
+    assert [f.index for f in frames] == [0, 1]
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["simulate", "crossing"], "did you mean 'crossing-3', "),
+        (["simulate", "entr"], "did you mean 'entrance-hall' or 'entrance-hall-moving'?"),
+        (["simulate", "figure"], "did you mean 'figure-eight'?"),
+        (["track", "{walk}", "--tracker", "upper"], "did you mean 'upper-body-pf'?"),
+        (["track", "{walk}", "--preset", "pap"], "did you mean 'paper'?"),
+        (["track", "{walk}", "--topic", "/las"], "no topic '/las'; did you mean 'laser'?"),
+    ],
+)
+def test_the_start_of_a_known_name_is_suggested(
+    args: list[str], says: str, walk: Path, tmp_path: Path
+) -> None:
+    """``simulate crossing`` offered feet-crossing, crossing-3-swap and crossing-3-twice
+    (the first three of the list that start or end with it), not crossing-3; ``pap`` (a
+    start not ending at a ``-``) and a topic's start offered nothing."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    given = [a.format(walk=walk) for a in args] + ["-o", str(tmp_path / "out.npz")]
+    if given[0] == "track":
+        given[-1] = str(tmp_path / "out.csv")
+    run = CliRunner().invoke(app, given)
+    assert run.exit_code != 0
+    assert says in " ".join(f"{run.output} {run.exception}".split()), run.output
+
+
+def test_names_a_start_suggests_shortest_first_and_short_starts_suggest_nothing() -> None:
+    from laserpeople.spelling import closest
+
+    known = ["feet-crossing", "crossing-3-swap", "crossing-3-twice", "crossing-3"]
+    assert closest("crossing", known) == ["crossing-3", "feet-crossing", "crossing-3-swap"]
+    assert closest("Entr", ["office", "entrance-hall"]) == ["entrance-hall"]
+    assert closest("of", ["office"]) == []  # two letters start too many names
+    assert closest("/sca", ["/scan_front", "odom"], key=lambda n: n.lstrip("/")) == ["/scan_front"]
+
+
+def _ctrl_c_at_once(items: object, total: object = None, description: str = "") -> object:
+    """A stand-in for the commands' ``progress``: Ctrl-C before the first scan."""
+    raise KeyboardInterrupt
+    yield  # (a generator, as progress is)
+
+
+@pytest.mark.parametrize(
+    ("command", "what", "extra"),
+    [
+        ("track", "tracks", []),
+        ("detect", "detections", []),
+        ("detect", "detections", ["--all-segments"]),
+    ],
+)
+def test_ctrl_c_before_the_first_scan_leaves_the_old_csv_and_says_so(
+    command: str,
+    what: str,
+    extra: list[str],
+    walk: Path,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The old CSV was emptied to a header, and the command said it "holds the tracks of
+    those scans" after 0 scans."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app, detect, track
+
+    monkeypatch.setattr(track if command == "track" else detect, "progress", _ctrl_c_at_once)
+    old = tmp_path / "old.csv"
+    old.write_text(OLD_TRACKS)
+    run = CliRunner().invoke(app, [command, str(walk), "-o", str(old), *extra])
+    said = " ".join(run.output.split())
+    assert run.exit_code == 130, run.output
+    assert "interrupted (Ctrl-C) before the first scan" in said, said
+    assert f"the {what} CSV {old} was left as it was (no scan was written)" in said, said
+    assert "holds" not in said
+    assert old.read_text() == OLD_TRACKS
+    new = tmp_path / "new.csv"
+    run = CliRunner().invoke(app, [command, str(walk), "-o", str(new), *extra])
+    assert run.exit_code == 130 and not new.exists()
+    assert f"no {what} CSV was written (no scan was)" in " ".join(run.output.split())
+
+
+@pytest.mark.parametrize(
+    ("index", "says"),
+    [
+        (3.0, r"got float 3\.0 \(a scan of run\.bag\): give int\(3\.0\)"),
+        (3.5, r"index must be an integer, .*got float 3\.5 \(a scan of run\.bag\)$"),
+        (True, r"index must be an integer, .*got bool True"),
+        ("3", r"index must be an integer, .*got str '3'"),
+        (None, r"index must be an integer, .*got NoneType None"),
+    ],
+)
+def test_a_scan_index_that_is_no_integer_is_refused(index: object, says: str) -> None:
+    """``Scan(..., index=3.5)`` was taken: the tracks CSV's scan column then read 3.5 and
+    evaluate paired nothing with it."""
+    with pytest.raises(TypeError, match=says):
+        Scan(0.0, -1.0, 0.01, RANGES, index=index, source="run.bag")  # type: ignore[arg-type]
+
+
+def test_a_scan_index_of_numpys_integers_is_taken_as_an_int() -> None:
+    scan = Scan(0.0, -1.0, 0.01, RANGES, index=np.int64(7))  # type: ignore[arg-type]
+    assert type(scan.index) is int and scan.index == 7
+
+
+DEMO_BAG = "leg_tracker/rosbags/demos/demo_stationary_simple_environment.bag"
+
+
+def test_a_misspelt_world_frame_is_named_not_the_mounts(shared_data: Path, tmp_path: Path) -> None:
+    """``--world-frame odomm`` was answered with "the laser mounts are missing from /tf:
+    try --mount mir100"; on a bag without /tf at all with "give them with --mount"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    misspelt = "no transform of the recording names the world frame 'odomm': did you mean 'odom'?"
+    run = CliRunner().invoke(app, ["info", str(shared_data / MIR_BAG), "--world-frame", "odomm"])
+    said = " ".join(run.output.split())
+    assert run.exit_code == 0 and misspelt in said and "--mount" not in said, said
+    out = tmp_path / "t.csv"
+    args = ["--world-frame", "odomm", "--output-frame", "world", "-o", str(out)]
+    run = CliRunner().invoke(app, ["track", str(shared_data / MIR_BAG), *args])
+    assert isinstance(run.exception, RecordingError) and misspelt in str(run.exception)
+    run = CliRunner().invoke(app, ["info", str(shared_data / DEMO_BAG), "--world-frame", "map"])
+    said = " ".join(run.output.split())
+    assert "/scan: 1265 scans: no pose data (no /tf, /tf_static or odometry)" in said, said
+    assert "mounts are missing" not in said
+
+
+def test_a_world_frame_no_transform_names_is_said_misspelt(tmp_path: Path) -> None:
+    """The same on a bag of /tf map -> odom -> base_link -> front_laser (no shared data)."""
+    from laserpeople.io.rosbag import RosbagRecording
+    from test_io_rosbag_tf import GAPS, _write
+
+    bag = tmp_path / "tf.bag"
+    _write(bag)
+    with RosbagRecording(bag, world_frame="odomm", pose_params=GAPS) as rec:
+        assert all(s.pose is None for s in rec.scans())
+        summary, problem = rec.pose_summary(), rec.pose_problem()
+    said = "no transform of the recording names the world frame 'odomm': did you mean 'odom'?"
+    assert said in summary and problem is not None and said in problem
+    assert "(its frames: base_link, front_laser, map, odom; check --world-frame)" in summary
+    assert "mounts are missing" not in summary + problem
+
+
+def test_demo_takes_its_folder_with_o_as_the_other_commands(tmp_path: Path) -> None:
+    """``laserpeople demo -o out`` (every other command writes with -o) was "No such
+    option: -o"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = tmp_path / "out"
+    run = CliRunner().invoke(app, ["demo", "-o", str(out), "--seconds", "0.3", "--no-gif"])
+    assert run.exit_code == 0, run.output
+    assert (out / "demo.npz").is_file() and (out / "demo-tracks.csv").is_file()
+
+
+def test_view_with_stop_before_start_names_the_options(walk: Path, tmp_path: Path) -> None:
+    """It said "empty scan window: start 10 >= stop 5", without the options or what to
+    do."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    out = tmp_path / "v.png"
+    args = ["view", str(walk), "-o", str(out), "--start", "10", "--stop", "5"]
+    run = CliRunner().invoke(app, args)
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert "--start 10 --stop 5 draw no scan" in said and "give a --stop after" in said, said
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["track", "detect"])
+def test_a_recording_given_as_config_is_named(command: str, walk: Path, tmp_path: Path) -> None:
+    """``--config run.bag`` said "not UTF-8 text (byte 70 is not UTF-8)"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    bag = tmp_path / "run.bag"
+    bag.write_bytes(b"#ROSBAG V2.0\n\xe9\xff" + bytes(64))
+    run = CliRunner().invoke(
+        app, [command, str(walk), "-o", str(tmp_path / "t.csv"), "--config", str(bag)]
+    )
+    assert isinstance(run.exception, ConfigError), run.output
+    assert "run.bag: a .bag file, not a TOML config file" in str(run.exception)
+    assert "--print-config" in str(run.exception)
+
+
+@pytest.mark.parametrize("stop", ["ctrl-c", "damaged first scan"])
+def test_a_run_stopped_before_the_first_scan_leaves_an_old_tracks_bag(
+    stop: str, walk: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``track --bag out.mcap`` stopped before its first scan replaced an older bag with
+    an empty one (712 bytes), silently."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app, track
+
+    bag = tmp_path / "out.mcap"
+    run = CliRunner().invoke(
+        app, ["track", str(walk), "-o", str(tmp_path / "a.csv"), "--bag", str(bag)]
+    )
+    assert run.exit_code == 0, run.output
+    before = bag.read_bytes()
+    recording = walk
+    if stop == "ctrl-c":
+        monkeypatch.setattr(track, "progress", _ctrl_c_at_once)
+    else:
+        recording = tmp_path / "bad.log"
+        recording.write_text(BAD_FIRST_SCAN)
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(tmp_path / "a.csv"), "--bag", str(bag)]
+    )
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert f"the tracks bag {bag} was left as it was (no scan was written)" in said, said
+    assert bag.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    new = tmp_path / "new.mcap"
+    run = CliRunner().invoke(
+        app, ["track", str(recording), "-o", str(tmp_path / "b.csv"), "--bag", str(new)]
+    )
+    assert "no tracks bag was written (no scan was)" in " ".join(
+        f"{run.output} {run.exception}".split()
+    )
+    assert not new.exists()
+
+
+def test_evaluate_given_the_recording_as_tracks_says_so(
+    walk: Path, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``evaluate run.npz --truth tracks.csv`` said "not a text CSV: line 1 (byte 17) is
+    not UTF-8"."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.errors import EvaluationError
+
+    run = CliRunner().invoke(app, ["evaluate", str(walk), "--truth", str(tracks_csv)])
+    assert isinstance(run.exception, EvaluationError), run.output
+    text = str(run.exception)
+    assert "is a recording (.npz), not tracks: are TRACKS and --truth swapped?" in text, text
+    assert f"laserpeople evaluate tracks.csv --truth {walk.name}" in text
+
+
+@pytest.mark.parametrize("name", ["tracks.csv", "tracks.txt"])
+def test_a_tracks_table_given_as_a_recording_says_what_it_is(
+    name: str, tracks_csv: Path, tmp_path: Path
+) -> None:
+    """``info tracks.txt`` asked "is this a CARMEN log?"; ``info tracks.csv`` listed the
+    recording formats without saying what a .csv is for."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+
+    table = tmp_path / name
+    table.write_bytes(tracks_csv.read_bytes())
+    run = CliRunner().invoke(app, ["info", str(table)])
+    assert isinstance(run.exception, RecordingError), run.output
+    text = str(run.exception)
+    assert "table" in text and "goes to `view --tracks` or `evaluate`" in text, text
+    assert "CARMEN log?" not in text
+
+
+def test_a_misspelt_mount_child_gets_the_laser_frame_meant() -> None:
+    from laserpeople.io.poses import stray_mount_notes
+
+    mounts = {"laserr": ("base_link", Pose2D()), "front_laser_link": ("base", Pose2D())}
+    notes = stray_mount_notes(mounts, {"/scan": "laser"})
+    assert len(notes) == 2
+    assert "mount of 'laserr' not used: no laser's scans have that frame id and no " in notes[0]
+    assert "transform names it (did you mean 'laser'?) (CHILD is" in notes[0]
+    assert "did you mean" not in notes[1]
+
+
+def test_one_topic_given_as_a_string_is_named(walk: Path) -> None:
+    """``rec.scans("/scan")`` was read letter by letter: "no topic '/'"."""
+    from laserpeople.io import open_recording
+
+    with open_recording(walk) as rec, pytest.raises(TypeError, match=r"give \['laser'\]$"):
+        next(rec.scans("laser"))  # type: ignore[arg-type]
+    log = walk.with_name("one.log")
+    log.write_text("FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1.0 host 1.0\n")
+    with open_recording(log) as rec:
+        with pytest.raises(TypeError, match=r"topics must be a list of laser names .*'FLASER'"):
+            next(rec.scans("FLASER"))  # type: ignore[arg-type]
+        assert len(list(rec.scans(["FLASER"]))) == 1
+
+
+@pytest.mark.parametrize("given", ["scans", "path", "scan"])
+def test_a_pipeline_of_scans_is_told_to_make_frames(given: str, walk: Path) -> None:
+    """``Pipeline(rec.scans())`` ran, each Scan taken for a frame, with no stage to notice."""
+    from laserpeople.io import open_recording
+    from laserpeople.pipeline import Pipeline
+
+    with open_recording(walk) as rec:
+        source = {"scans": rec.scans(), "path": str(walk), "scan": next(rec.scans())}[given]
+        with pytest.raises(TypeError, match=r"Pipeline\(\): source must be an iterable of Fr"):
+            list(Pipeline(source))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["simulate", "demo", "-s", "1", "-o", "{tmp}/d.nzp"], "'.nzp'; did you mean '.npz'?"),
+        (["view", "{walk}", "-o", "{tmp}/v.pgn"], "'.pgn'; did you mean '.png'?"),
+        (
+            ["track", "{walk}", "-o", "{tmp}/t.csv", "--bag", "{tmp}/t.mcpa"],
+            "'t.mcpa'; did you mean '.mcap'?",
+        ),
+    ],
+)
+def test_two_swapped_letters_are_suggested(
+    args: list[str], says: str, walk: Path, tmp_path: Path
+) -> None:
+    """``-o v.pgn`` listed the kinds without the one meant: difflib rates a swap of two
+    letters of a three-letter name 0.67, below the cutoff."""
+    from typer.testing import CliRunner
+
+    from laserpeople.cli import app
+    from laserpeople.spelling import closest
+
+    run = CliRunner().invoke(app, [a.format(walk=walk, tmp=tmp_path) for a in args])
+    assert run.exit_code != 0
+    said = " ".join(f"{run.output} {run.exception}".split())
+    assert says in said, said
+    assert closest("odmo", ["odom", "map"]) == ["odom"]
+    assert closest("abc", ["cab", "bca"]) == []  # not two neighbours swapped

@@ -497,6 +497,13 @@ def read_toml(p: Path, what: str = "config file") -> dict[str, Any]:
     except IsADirectoryError as exc:
         raise ConfigError(f"is a directory, not a TOML {what}", path=p) from exc
     except UnicodeDecodeError as exc:
+        if p.suffix.lower() in _BINARY_FORMATS:  # a recording or picture given in its place
+            raise ConfigError(
+                f"a {p.suffix} file, not a TOML {what}",
+                path=p,
+                hint="give the TOML file of parameters (`laserpeople track --print-config` "
+                "shows them)",
+            ) from exc
         raise ConfigError(
             f"not UTF-8 text (byte {exc.start} is not UTF-8)",
             path=p,
@@ -508,6 +515,10 @@ def read_toml(p: Path, what: str = "config file") -> dict[str, Any]:
         raise ConfigError("nested too deeply to read", path=p) from exc
     except OSError as exc:
         raise ConfigError(f"cannot read the {what}: {exc.strerror or exc}", path=p) from exc
+
+
+_BINARY_FORMATS = frozenset({".bag", ".mcap", ".db3", ".npz", ".parquet", ".png", ".gif", ".mp4"})
+"""Extensions of files (recordings, tables, pictures) given where a TOML file goes."""
 
 
 SOURCE_LENGTH = 80

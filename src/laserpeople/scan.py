@@ -206,6 +206,31 @@ def _check_field_types(scan: Scan) -> None:
         )
 
 
+def _check_index(scan: Scan) -> None:
+    """Take an ``index`` of another integer type (``numpy.int64``) as an int; refuse one
+    that is no integer.
+
+    Raises:
+        TypeError: ``index`` is a float (even ``3.0``: it would be written ``3.0`` where
+            readers expect a scan number), a bool, text or None; names the field, what
+            it takes, what it got and the file, if any.
+    """
+    index = scan.index
+    if isinstance(index, int | np.integer) and not isinstance(index, bool | np.bool_):
+        object.__setattr__(scan, "index", int(index))
+        return
+    whose = f" (a scan of {scan.source})" if scan.source else ""
+    todo = (
+        f": give int({index!r})"
+        if isinstance(index, float | np.floating) and float(index).is_integer()
+        else ""
+    )
+    raise TypeError(
+        f"Scan: index must be an integer, the scan's 0-based place among its laser's scans; "
+        f"got {type(index).__name__} {index!r:.40}{whose}{todo}"
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class Scan:
     """One sweep of a 2D laser scanner, in the layout of ROS ``sensor_msgs/LaserScan``.
@@ -254,6 +279,8 @@ class Scan:
             # every field is right, which is why they are not made first)
             _check_field_types(self)
             raise exc from None
+        if type(self.index) is not int:  # (one type test: Scan is built for every scan read)
+            _check_index(self)
         if self.intensities is not None:
             inten: FloatArray | None = self.intensities
             if type(inten) is not np.ndarray or inten.dtype is not _FLOAT64:

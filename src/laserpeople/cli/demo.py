@@ -37,7 +37,13 @@ def register(app: typer.Typer) -> None:
             typer.Option("--seconds", help="Simulated duration [s] (default: the scenario's)."),
         ] = None,
         out_dir: Annotated[
-            Path, typer.Option("--out-dir", help="Where demo.gif, demo-tracks.csv and demo.npz go.")
+            Path,
+            typer.Option(
+                "--out-dir",
+                "-o",
+                help="Folder where demo.gif, demo-tracks.csv and demo.npz go (-o as in the "
+                "other commands).",
+            ),
         ] = Path("."),
         seed: Annotated[int, typer.Option("--seed", help="Random seed of the scene.")] = 0,
         no_gif: Annotated[bool, typer.Option("--no-gif", help="Skip the animation.")] = False,

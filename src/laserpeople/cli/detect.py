@@ -164,6 +164,7 @@ def register(app: typer.Typer) -> None:
         truth_ada: list[Confusion] = []
         truth_heur: list[Confusion] = []
         interrupted = 0  # the exit status of a stop by Ctrl-C or SIGTERM
+        left: str | None = None  # what an interrupt before the first scan left as it was
         try:
             for step in progress(pipe, total=total):
                 for scan, result in zip(step.frame.scans, stage.classifications, strict=True):
@@ -194,7 +195,12 @@ def register(app: typer.Typer) -> None:
                         truth_heur.append(Confusion.of(np.where(other.is_leg[ok], 1, -1), truth))
         except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM: close the CSV with the scans done
             interrupted = stop_status(exc)
-            pipe.close()
+            pipe.close(failed=exc)  # (as a failed run: a CSV no scan came to stays as it was)
+            left = sink.left if not all_segments else None
+            if all_segments:
+                existed = not segments.created
+                if segments.abandon():
+                    left = left_as_it_was("detections CSV", output, existed)
         except BaseException as exc:
             existed = all_segments and not segments.created
             if all_segments and segments.abandon() and isinstance(exc, LaserPeopleError):
@@ -210,6 +216,9 @@ def register(app: typer.Typer) -> None:
                 say(line)
             if stage.duplicates:
                 say(f"{stage.duplicates} detections dropped as another laser's view of a leg")
+        if left is not None:  # stopped before the first scan: the CSV was not written
+            warn(f"interrupted ({stop_name(interrupted)}) before the first scan: {left}")
+            raise typer.Exit(interrupted)
         say(
             f"{counts['scans']} scans, {counts['segments']} segments "
             f"({counts['small']} with fewer than 3 points not classified), "

@@ -46,6 +46,10 @@ HELP = (
 )
 
 
+_RECORDINGS_ONLY = frozenset({".npz", ".log", ".clf", ".carmen", ".gz"})
+"""Extensions of recordings that never hold tracks (given as TRACKS: swapped arguments)."""
+
+
 def _check_laser_topic(many: bool, truths: list[str]) -> None:
     """Refuse ``--laser-topic`` where nothing reads it: it names the laser whose scans the
     labels of a bag's truth topic are paired with, one TRACKS file at a time.
@@ -236,6 +240,16 @@ def register(app: typer.Typer) -> None:
                 if sweep
                 else "give a tracks file and its --truth, or a batch --out folder",
             )
+        for given in tracks_args:  # (a .bag or .mcap may hold tracks: `track --bag`)
+            if given.suffix.lower() in _RECORDINGS_ONLY and not given.is_dir():
+                swapped = any(str(t).lower().endswith(".csv") for t in truth_args or [])
+                raise EvaluationError(
+                    f"is a recording ({given.suffix}), not tracks"
+                    + (": are TRACKS and --truth swapped?" if swapped else ""),
+                    path=given,
+                    hint="TRACKS is what `laserpeople track -o` wrote, --truth the recording: "
+                    f"laserpeople evaluate tracks.csv --truth {given.name}",
+                )
         many = len(tracks_args) > 1 or (folder / "summary.csv").is_file()
         if laser_topic is not None:
             _check_laser_topic(many, [str(t) for t in truth_args or []])

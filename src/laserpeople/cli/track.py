@@ -262,7 +262,7 @@ def run_tracking(
             pass
     except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM: close the outputs, report what was done
         interrupted = stop_status(exc)
-        pipe.close()
+        pipe.close(failed=exc)  # (as a failed run: a CSV no scan came to stays as it was)
     except LaserPeopleError as exc:
         for note in getattr(source.recording, "mount_notes", []):  # a mount left out may be
             warn(note)  # why: say so before the error
@@ -300,7 +300,7 @@ def run_tracking(
     if static_cost:
         say(static_cost)
     written_frame: CoordinateFrame = csv_sink.written_frame or output_frame or "sensor"
-    if plot is not None or animate is not None:
+    if (plot is not None or animate is not None) and csv_sink.left is None:
         drawn = open_with_poses(recording, world_frame, mounts or [], on_error)
         try:
             draw_tracks(drawn, output, source.topics[0], written_frame, plot, animate)
@@ -328,6 +328,7 @@ def run_tracking(
     stats = pipe.stats
     return {
         "interrupted": float(interrupted),
+        "untouched": float(csv_sink.left is not None),
         "detector_used": float(detector_used(pipe.stages)),
         "static_model_used": float(static_model_used(pipe.stages)),
         "scans": float(stats.frames),
@@ -568,6 +569,15 @@ def register(app: typer.Typer) -> None:
         if unused:
             warn(unused)
         groups = int(stats["group_tracks"])
+        if stats["untouched"]:  # stopped before the first scan: the CSV was not written
+            from laserpeople.pipeline.sinks import left_as_it_was
+
+            status = int(stats["interrupted"])
+            kept = left_as_it_was("tracks CSV", output, output.exists())
+            if bag is not None:
+                kept += "; " + left_as_it_was("tracks bag", bag, bag.exists())
+            warn(f"interrupted ({stop_name(status)}) before the first scan was tracked: {kept}")
+            raise typer.Exit(status)
         say(
             f"{int(stats['scans'])} scans tracked: {int(stats['leg_tracks'])} leg tracks, "
             f"{int(stats['person_tracks'])} person tracks, "

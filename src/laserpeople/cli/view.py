@@ -182,6 +182,12 @@ def register(app: typer.Typer) -> None:
             raise LaserPeopleError(
                 f"--no-truth and --truth {truth} ask for opposites", hint="give one of them"
             )
+        if start is not None and stop is not None and stop <= start:
+            raise LaserPeopleError(
+                f"--start {start} --stop {stop} draw no scan (--stop is the scan index to stop "
+                "before)",
+                hint=f"give a --stop after --start, e.g. --start {start} --stop {start + 100}",
+            )
         truth_arg: str | None = None if no_truth else (truth or "auto")
         from laserpeople.io.paths import check_outputs
 

@@ -120,6 +120,13 @@ def open_recording(path: str | Path, **options: Any) -> RecordingSource:
         from laserpeople.io.carmen import CarmenRecording
 
         return CarmenRecording(p, **options)
+    if suffix in {".csv", ".parquet"}:
+        raise RecordingError(
+            f"a {suffix} table (tracks, detections or ground truth), not a recording",
+            path=p,
+            hint=f"give the recording it was made from; a {suffix} goes to `view --tracks` or "
+            "`evaluate` (TRACKS or --truth)",
+        )
     raise RecordingError(
         f"unknown recording format {suffix or '(no extension)'!r}",
         path=p,

@@ -316,10 +316,15 @@ class CarmenRecording:
                 hint="the file is corrupt or truncated; re-copy it (gunzip -t checks a .gz)",
             ) from exc
         if not self.counts:
+            table = any(key.startswith("scan,stamp,") for key in self.other_lines)
             raise RecordingError(
-                "no laser lines (FLASER, RLASER, RAWLASER1-4, ROBOTLASER1-2) in this file",
+                "no laser lines (FLASER, RLASER, RAWLASER1-4, ROBOTLASER1-2) in this file"
+                + (": it is a CSV table written by laserpeople (scan,stamp,...)" if table else ""),
                 path=self.path,
-                hint="is this a CARMEN log?",
+                hint="give the recording it was made from; the table goes to `view --tracks` "
+                "or `evaluate`"
+                if table
+                else "is this a CARMEN log?",
             )
         if odom_rows:
             arr = np.asarray(odom_rows, dtype=np.float64)

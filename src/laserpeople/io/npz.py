@@ -56,7 +56,9 @@ from numpy.typing import NDArray
 from laserpeople.errors import RecordingError, TopicNotFoundError
 from laserpeople.io.damage import DamagedRecords, OnError
 from laserpeople.io.paths import not_found, staging_name, why_unwritable
+from laserpeople.io.topics import check_names
 from laserpeople.scan import CoordinateFrame, Pose2D, Scan
+from laserpeople.spelling import did_you_mean
 from laserpeople.truth import BeamLabels, TruthFrame
 
 FORMAT = "laserpeople-recording"
@@ -343,12 +345,14 @@ class NpzRecording:
     def _sensor_ids(self, topics: Sequence[str] | None) -> set[int]:
         if not topics:
             return set(range(len(self.sensor_names)))
+        check_names(topics)
         ids = set()
         for t in topics:
             name = t.lstrip("/") if t not in self.sensor_names else t
             if name not in self.sensor_names:
+                guess = did_you_mean(t, self.sensor_names, key=lambda n: n.lstrip("/"))
                 raise TopicNotFoundError(
-                    f"no topic {t!r}",
+                    f"no topic {t!r}" + (f"; {guess}" if guess else ""),
                     path=self.path,
                     hint=f"topics here: {', '.join(self.sensor_names)}",
                 )

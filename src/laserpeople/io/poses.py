@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from laserpeople.config import param
 from laserpeople.scan import Pose2D, wrap_angle
+from laserpeople.spelling import did_you_mean
 
 FloatArray = NDArray[np.float64]
 
@@ -447,13 +448,18 @@ def stray_mount_notes(
     known = {normalise_frame(f) for f in (*lasers.values(), *frames)}
     known |= {normalise_frame(parent) for parent, _ in mounts.values()}
     have = ", ".join(f"{topic} {frame!r}" for topic, frame in lasers.items()) or "none"
-    return [
-        f"mount of {normalise_frame(child)!r} not used: no laser's scans have that frame id "
-        f"and no transform names it (CHILD is the header.frame_id of the laser's scans; "
-        f"the lasers' frames here: {have})"
-        for child in mounts
-        if normalise_frame(child) not in known
-    ]
+    laser_frames = sorted({normalise_frame(f) for f in lasers.values()})
+    notes = []
+    for child in mounts:
+        if normalise_frame(child) in known:
+            continue
+        guess = did_you_mean(normalise_frame(child), laser_frames)
+        notes.append(
+            f"mount of {normalise_frame(child)!r} not used: no laser's scans have that frame "
+            f"id and no transform names it{f' ({guess})' if guess else ''} (CHILD is the "
+            f"header.frame_id of the laser's scans; the lasers' frames here: {have})"
+        )
+    return notes
 
 
 def add_mounts(tree: TransformTree, mounts: Mapping[str, tuple[str, Pose2D]]) -> None:

@@ -51,6 +51,7 @@ from laserpeople.io.poses import (
 )
 from laserpeople.io.topics import match_topics
 from laserpeople.scan import Pose2D, Scan
+from laserpeople.spelling import did_you_mean
 from laserpeople.truth import TruthFrame
 
 LASERSCAN = "sensor_msgs/msg/LaserScan"
@@ -602,7 +603,7 @@ class RosbagRecording:
         )
         return (
             f"/tf links no laser frame {', '.join(map(repr, unlinked))} to {target} "
-            f"(transforms in the recording: {edges}); {_mount_hint(tree)}"
+            f"(transforms in the recording: {edges}); {_mount_hint(tree, world)}"
         )
 
     def pose_summary(self) -> str:
@@ -622,7 +623,7 @@ class RosbagRecording:
             lines.append(f"  transforms in the recording: {edges}")
         missing = {topic for (topic, reason), _ in self.pose_misses.items() if "chain" in reason}
         if missing:
-            lines.append("  " + _mount_hint(self._tree))
+            lines.append("  " + _mount_hint(self._tree, self.world_frame))
         return "\n".join(lines)
 
     def read_notes(self) -> list[str]:
@@ -794,7 +795,7 @@ class RosbagRecording:
     def _pose(
         self, tree: TransformTree, world: str | None, frame: str, stamp: float
     ) -> tuple[Pose2D | None, str]:
-        if world is None:
+        if world is None or not tree.frames():
             reason = (
                 "no pose data (no /tf, /tf_static or odometry)"
                 if not tree.frames()
@@ -840,10 +841,19 @@ FLOOR_FRAMES = ("base_footprint",)
 :meth:`RosbagRecording.laser_heights` stops summing a laser's z."""
 
 
-def _mount_hint(tree: TransformTree | None) -> str:
-    """What to do when laser frames are not linked to the world: name a known robot whose
-    mounts hang off a frame of the recording, else the general --mount form."""
+def _mount_hint(tree: TransformTree | None, world: str | None = None) -> str:
+    """What to do when laser frames are not linked to the world: a ``world`` frame that no
+    transform of the recording names is said to be misspelt (with the closest frames);
+    else name a known robot whose mounts hang off a frame of the recording, else the
+    general --mount form."""
     frames = set(tree.frames()) if tree is not None else set()
+    if world is not None and frames and world not in frames:
+        guess = did_you_mean(world, sorted(frames))
+        return (
+            f"no transform of the recording names the world frame {world!r}"
+            + (f": {guess}" if guess else "")
+            + f" (its frames: {', '.join(sorted(frames))}; check --world-frame)"
+        )
     for robot, mounts in KNOWN_MOUNTS.items():
         if any(parent in frames for parent, _ in mounts.values()):
             return f"the laser mounts are missing from /tf: try --mount {robot}"

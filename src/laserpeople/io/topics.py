@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from laserpeople.errors import TopicNotFoundError
+from laserpeople.spelling import did_you_mean
 
 
 def match_topics(
@@ -21,7 +22,8 @@ def match_topics(
     """The available name for each requested one, in request order without repeats.
 
     A requested name matches an available name that equals it, or else the first one that
-    is the same under ``key`` (for example without the leading ``/``).
+    is the same under ``key`` (for example without the leading ``/``). A name that matches
+    none is an error naming the closest names (a misspelling, the start of a name).
 
     Args:
         requested: Names as the user gave them.
@@ -33,17 +35,43 @@ def match_topics(
 
     Raises:
         TopicNotFoundError: A requested name matches no available name.
+        TypeError: ``requested`` is one name (a string), which would be taken letter by
+            letter; names what to give.
     """
+    check_names(requested, what)
     out: list[str] = []
     for name in requested:
         found = name if name in available else None
         if found is None:
             found = next((a for a in available if key(a) == key(name)), None)
         if found is None:
-            raise TopicNotFoundError(f"no {what} {name!r}", path=path, hint=hint)
+            raise TopicNotFoundError(
+                f"no {what} {name!r}{_guess(name, available, key)}", path=path, hint=hint
+            )
         if found not in out:
             out.append(found)
     return out
+
+
+def check_names(requested: object, what: str = "topic") -> None:
+    """Refuse one name given where a list of names goes (``scans("/scan")``: its letters
+    would be taken for topics, the first ``'/'`` said not found).
+
+    Raises:
+        TypeError: ``requested`` is a string; names what to give.
+    """
+    if isinstance(requested, str | bytes):
+        raise TypeError(
+            f"topics must be a list of {what} names (None: all of them), got the string "
+            f"{requested!r}: give [{requested!r}]"
+        )
+
+
+def _guess(name: str, available: Sequence[str], key: Callable[[str], str]) -> str:
+    """``; did you mean '/scan_front'?`` for the available names closest to ``name``
+    (compared under ``key``), or empty."""
+    guess = did_you_mean(name, available, key=key)
+    return f"; {guess}" if guess else ""
 
 
 def no_laser_topic(recording: object, path: str | Path) -> NoReturn:

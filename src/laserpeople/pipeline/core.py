@@ -6,13 +6,20 @@ import time
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import suppress
 from dataclasses import dataclass, field
+from os import PathLike
 
 from laserpeople.distinct_ids import DistinctIds
 from laserpeople.errors import LaserPeopleError
 from laserpeople.frame import Frame, FrameField, FrameTracker
 from laserpeople.pipeline.stages import Identifier, Sink, Stage, check_feeds
 from laserpeople.samples import Samples
+from laserpeople.scan import Scan
 from laserpeople.tracks import TrackKind, Tracks
+
+_MAKE_FRAMES = (
+    "make frames of a recording's scans first, "
+    "FrameChooser()(laser_frames(open_recording(path).scans())), or use build(path)"
+)
 
 
 @dataclass(frozen=True)
@@ -107,6 +114,15 @@ class Pipeline:
         source_fields: frozenset[FrameField] = frozenset({"scans"}),
         lookahead: int = 1,
     ) -> None:
+        if isinstance(source, Scan | Frame | str | PathLike):
+            got = (
+                f"one {type(source).__name__}"
+                if isinstance(source, Scan | Frame)
+                else f"the path {str(source)!r}"
+            )
+            raise TypeError(
+                f"Pipeline(): source must be an iterable of Frame, got {got}: {_MAKE_FRAMES}"
+            )
         self.source = source
         self.lookahead = max(1, int(lookahead))
         self.stages: tuple[Stage, ...] = (*preprocess, *observe)
@@ -137,6 +153,11 @@ class Pipeline:
         try:
             clock, stage_cpu = time.process_time, stats.stage_cpu
             for frame in self._frames():
+                if isinstance(frame, Scan):  # (an iterable of scans: not caught by a stage)
+                    raise TypeError(
+                        "Pipeline(): source must be an iterable of Frame, got an item of type "
+                        f"Scan: {_MAKE_FRAMES}"
+                    )
                 before = clock()
                 for i, stage in enumerate(self.stages):
                     frame = stage(frame)

@@ -404,7 +404,13 @@ def output_sink(path: str | Path) -> Sink:
         return TracksCsvSink(p)
     if suffix in (".bag", ".mcap", ".db3"):
         return TracksBagSink(p)
-    raise ConfigError(f"cannot write tracks to {p.name!r}", hint="use .csv, .bag, .mcap or .db3")
+    from laserpeople.spelling import did_you_mean
+
+    guess = did_you_mean(suffix, (".csv", ".bag", ".mcap", ".db3")) if suffix else ""
+    raise ConfigError(
+        f"cannot write tracks to {p.name!r}" + (f"; {guess}" if guess else ""),
+        hint="use .csv, .bag, .mcap or .db3",
+    )
 
 
 LOOKAHEAD = 16

@@ -7,7 +7,7 @@ closes in :meth:`close`.
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
+from contextlib import AbstractContextManager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +35,8 @@ class TracksCsvSink:
         self.contours = contours
         self._writer: TracksCsvWriter | None = None
         self.rows = 0
+        self.left: str | None = None
+        """After :meth:`abandon`: what was left as it was (None: scans were written)."""
 
     def write(self, frame: Frame, tracks: Tracks | None) -> None:
         """Append the frame's tracks."""
@@ -70,11 +72,12 @@ class TracksCsvSink:
             What was left as it was, for the error message (None: scans were written).
         """
         if self._writer is None:
-            return left_as_it_was("tracks CSV", self.path, self.path.exists())
-        existed = not self._writer.created
-        if self._writer.abandon():
-            return left_as_it_was("tracks CSV", self.path, existed)
-        return None
+            self.left = left_as_it_was("tracks CSV", self.path, self.path.exists())
+        else:
+            existed = not self._writer.created
+            if self._writer.abandon():
+                self.left = left_as_it_was("tracks CSV", self.path, existed)
+        return self.left
 
 
 def left_as_it_was(what: str, path: Path, existed: bool) -> str:
@@ -103,6 +106,8 @@ class DetectionsCsvSink:
         self._writer = DetectionsCsvWriter(self.path, topic="")
         self.scans = 0
         """Scans whose detections were written."""
+        self.left: str | None = None
+        """After :meth:`abandon`: what was left as it was (None: scans were written)."""
 
     @property
     def rows(self) -> int:
@@ -130,8 +135,8 @@ class DetectionsCsvSink:
         """
         existed = not self._writer.created
         if self._writer.abandon():
-            return left_as_it_was("detections CSV", self.path, existed)
-        return None
+            self.left = left_as_it_was("detections CSV", self.path, existed)
+        return self.left
 
 
 class TracksBagSink:
@@ -163,6 +168,25 @@ class TracksBagSink:
         if not self._closed:
             self._closed = True
             self._context.__exit__(None, None, None)
+
+    def abandon(self) -> str | None:
+        """Close the bag after a failed run: one that no frame came to is discarded (an
+        older bag at its path is left as it was); one that frames came to is moved into
+        place with them, as after :meth:`close`.
+
+        Returns:
+            What was left as it was, for the error message (None: frames were written).
+        """
+        if self._closed:
+            return None
+        if self._writer.frames:
+            self.close()
+            return None
+        self._closed = True
+        discard = RuntimeError("run failed before its first frame")
+        with suppress(Exception):  # (the run's own error is the one to report)
+            self._context.__exit__(RuntimeError, discard, None)
+        return left_as_it_was("tracks bag", self.path, self.path.exists())
 
 
 __all__ = ["DetectionsCsvSink", "TracksBagSink", "TracksCsvSink", "left_as_it_was"]

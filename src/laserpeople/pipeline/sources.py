@@ -25,7 +25,8 @@ import itertools
 from collections import Counter, deque
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from os import PathLike
+from typing import Literal, TypeVar
 
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
@@ -114,8 +115,61 @@ class GroupingStats:
         return "; ".join(parts)
 
 
+_Item = TypeVar("_Item", Scan, Frame)
+
+
+def _checked(
+    given: object, function: str, name: str, kind: type[_Item], hint: str
+) -> Iterator[_Item]:
+    """The items of ``given`` (the argument ``name`` of ``function``: an iterable of
+    ``kind``), each checked to be a ``kind`` as it is taken (a type test per item).
+
+    Raises:
+        TypeError: ``given`` is a lone scan or frame, a path or no iterable (at once), or
+            an item is no ``kind`` (when it is reached); names the function, the argument,
+            what it takes and, for a scan or frame in the wrong place, what to do
+            (``hint``).
+    """
+    expects = f"{function}(): {name} must be an iterable of {kind.__name__}"
+    if isinstance(given, Scan | Frame):
+        what = type(given).__name__
+        todo = f"give a list of it, [{what.lower()}]" if isinstance(given, kind) else hint
+        raise TypeError(f"{expects}, got one {what}: {todo}")
+    if isinstance(given, str | bytes | PathLike):
+        raise TypeError(
+            f"{expects}, got the path {str(given)!r}: read its scans first, "
+            "open_recording(path).scans()"
+        )
+    try:
+        items = iter(given)  # type: ignore[call-overload]
+    except TypeError:
+        raise TypeError(f"{expects}, got {type(given).__name__} {given!r:.40}") from None
+
+    def checked() -> Iterator[_Item]:
+        for number, item in enumerate(items):
+            if not isinstance(item, kind):
+                todo = f": {hint}" if isinstance(item, Scan | Frame) else ""
+                raise TypeError(
+                    f"{expects}, got an item of type {type(item).__name__} (item {number}){todo}"
+                )
+            yield item
+
+    return checked()
+
+
 def laser_frames(scans: Iterable[Scan], topic: str | None = None) -> Iterator[Frame]:
-    """One frame per scan of one laser (``index`` and ``stamp`` are the scan's)."""
+    """One frame per scan of one laser (``index`` and ``stamp`` are the scan's).
+
+    Raises:
+        TypeError: ``scans`` is one scan, a path or no iterable (at the call), or holds
+            what is no :class:`~laserpeople.scan.Scan` (when it is reached); names what it
+            takes.
+    """
+    checked = _checked(scans, "laser_frames", "scans", Scan, "it takes scans, not frames")
+    return _laser_frames(checked, topic)
+
+
+def _laser_frames(scans: Iterator[Scan], topic: str | None) -> Iterator[Frame]:
     for scan in scans:
         yield Frame(
             index=scan.index,
@@ -159,7 +213,17 @@ class LaserGrouper:
         return self.params.period_fraction * period
 
     def __call__(self, scans: Iterable[Scan]) -> Iterator[Frame]:
-        """Frames from ``scans`` (any lasers of :attr:`topics`, in time order)."""
+        """Frames from ``scans`` (any lasers of :attr:`topics`, in time order).
+
+        Raises:
+            TypeError: ``scans`` is one scan, a path or no iterable, or holds what is no
+                :class:`~laserpeople.scan.Scan`; names what it takes.
+        """
+        return self._frames(
+            _checked(scans, "LaserGrouper", "scans", Scan, "it takes scans, not frames")
+        )
+
+    def _frames(self, scans: Iterator[Scan]) -> Iterator[Frame]:
         ref_topic = self.topics[0]
         last_ref: float | None = None
         others = set(self.topics[1:])
@@ -301,8 +365,16 @@ class FrameChooser:
         self.stats = FrameStats(requested)
 
     def __call__(self, frames: Iterable[Frame]) -> Iterator[Frame]:
-        """``frames`` with ``frame`` and ``sensor_pose`` set (see the class notes)."""
-        it = iter(frames)
+        """``frames`` with ``frame`` and ``sensor_pose`` set (see the class notes).
+
+        Raises:
+            TypeError: ``frames`` is one frame, a path or no iterable, or holds what is no
+                :class:`~laserpeople.frame.Frame` (scans, say); names what it takes.
+        """
+        hint = "make frames of the scans first, FrameChooser()(laser_frames(scans))"
+        return self._placed(_checked(frames, "FrameChooser", "frames", Frame, hint))
+
+    def _placed(self, it: Iterator[Frame]) -> Iterator[Frame]:
         head = deque(itertools.islice(it, self.window))
         if not head:
             return

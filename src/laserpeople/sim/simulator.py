@@ -104,15 +104,22 @@ class SimResult:
         return _write_rosbag(p, self.scans)
 
 
+SIM_SUFFIXES = (".npz", ".mcap", ".bag", ".db3")
+"""Extensions of the recordings :meth:`SimResult.write` writes."""
+
+
 def check_recording_suffix(path: str | Path) -> Path:
     """``path`` if :meth:`SimResult.write` can write a recording there (``.npz``,
     ``.mcap``, ``.db3``, ``.bag``), else a :class:`LaserPeopleError` naming it: for a
     caller to check before it simulates."""
     p = Path(path)
     suffix = p.suffix.lower()
-    if suffix not in {".npz", ".mcap", ".bag", ".db3"}:
+    if suffix not in SIM_SUFFIXES:
+        from laserpeople.spelling import did_you_mean
+
         raise LaserPeopleError(
-            f"cannot write simulated recordings as {suffix or '(no extension)'!r}",
+            f"cannot write simulated recordings as {suffix or '(no extension)'!r}"
+            + (f"; {guess}" if (guess := did_you_mean(suffix, SIM_SUFFIXES)) else ""),
             path=p,
             hint="use .npz (scans and ground truth), or .mcap/.db3/.bag (scans only)",
         )

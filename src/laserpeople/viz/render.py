@@ -9,6 +9,7 @@ from pathlib import Path
 
 from laserpeople.errors import LaserPeopleError
 from laserpeople.io.paths import staging_name, why_unwritable
+from laserpeople.spelling import did_you_mean
 from laserpeople.viz.figure import Extent
 from laserpeople.viz.raster import RenderResult, animate, plot_overview, plot_scan
 from laserpeople.viz.scene import ProgressFn, Scene
@@ -77,7 +78,8 @@ def _render(
     suffix = p.suffix.lower()
     if suffix not in OUTPUT_KINDS:
         raise LaserPeopleError(
-            f"unknown output kind {suffix or '(no extension)'!r}",
+            f"unknown output kind {suffix or '(no extension)'!r}"
+            + (f"; {guess}" if (guess := did_you_mean(suffix, OUTPUT_KINDS)) else ""),
             path=p,
             hint=f"use one of {', '.join(OUTPUT_KINDS)}",
         )

@@ -508,8 +508,7 @@ def register(app: typer.Typer) -> None:
             # (a static world section as the run reads it: [leg_tracker] of the leg
             # foreground stage without the preset, of the leg MHT itself with it)
             presets = {
-                cls: preset if cls in classes else static_world_preset(cls, preset)
-                for cls in every
+                cls: preset if cls in classes else static_world_preset(cls, preset) for cls in every
             }
             loaded: list[Any] = [load_config(cls, config, presets[cls]) for cls in every]
             for obj in loaded:  # all read (and checked) before any is printed

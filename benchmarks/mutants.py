@@ -3854,6 +3854,32 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_hardening_round8.py",),
     ),
     # --- end s35-harden2 ---
+    # --- s36-avoid ---
+    Mutant(
+        "avoid-share-swapped",
+        "sim: the faster of two people steps aside the more",
+        "sim/avoidance.py",
+        "    share = ((speed[i] + 0.05) / (speed[i] + speed[j] + 0.1))[..., None]",
+        "    share = ((speed[j] + 0.05) / (speed[i] + speed[j] + 0.1))[..., None]",
+        ("tests/test_sim_avoidance.py",),
+    ),
+    Mutant(
+        "avoid-never-sideways",
+        "sim: people passing each other step sideways",
+        "sim/avoidance.py",
+        "    passing = np.clip(rel_speed / _PASSING, 0.0, 1.0)[..., None]",
+        "    passing = np.zeros_like(rel_speed)[..., None]",
+        ("tests/test_sim_avoidance.py",),
+    ),
+    Mutant(
+        "avoid-groups-as-strangers",
+        "sim: members of one group may stand closer than strangers",
+        "sim/avoidance.py",
+        "    least = np.where(same, group_distance, distance)",
+        "    least = np.where(same, distance, distance)",
+        ("tests/test_sim_avoidance.py",),
+    ),
+    # --- end s36-avoid ---
 )
 
 

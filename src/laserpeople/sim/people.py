@@ -168,11 +168,18 @@ class PlannedPerson:
         xy, heading, vel = self.track.at(times)
         legs = self.steps.positions(times)
         present = (times >= self.enter) & (times <= self.leave)
-        starts = np.array([g[0] for g in self.spec.groups])
-        ids = np.array([g[1] for g in self.spec.groups], dtype=np.int64)
-        k = np.searchsorted(starts, times, side="right") - 1
-        group = np.where(k >= 0, ids[np.clip(k, 0, None)], -1)
-        return PersonState(present, xy, heading, vel, legs, group)
+        return PersonState(present, xy, heading, vel, legs, group_at(self.spec.groups, times))
+
+
+def group_at(
+    groups: tuple[tuple[float, int], ...], times: NDArray[np.floating]
+) -> NDArray[np.int64]:
+    """The group id (-1 alone) at each of ``times`` (T,) [s] of a history of
+    ``(from_time, group_id)`` pairs (:attr:`PersonSpec.groups`)."""
+    starts = np.array([g[0] for g in groups])
+    ids = np.array([g[1] for g in groups], dtype=np.int64)
+    k = np.searchsorted(starts, times, side="right") - 1
+    return np.where(k >= 0, ids[np.clip(k, 0, None)], -1)
 
 
 def plan_person(spec: PersonSpec, t_end: float, gait: GaitParams | None = None) -> PlannedPerson:

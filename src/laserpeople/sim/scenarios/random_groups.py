@@ -18,6 +18,8 @@ in a circle, split, meet other parties and pass them. Per seed:
   on together as one party, or part again with the members *permuted*: who leaves with
   whom is drawn anew); or cross another party (both walk past each other through the
   same spot at the same time, 0.6 m between their nearest members).
+People of different groups step aside for each other
+(:attr:`RandomGroupsParams.pass_distance`, :func:`~laserpeople.sim.avoidance.keep_apart`).
 
 Ground truth as the ``entrance-hall`` scenes give it: every person's group over time
 (``PersonSpec.groups``; -1 walking alone), in the truth frames (``group_ids``) and the
@@ -39,8 +41,10 @@ import numpy as np
 
 from laserpeople.config import param
 from laserpeople.scan import Pose2D
+from laserpeople.sim.avoidance import keep_apart
 from laserpeople.sim.groups import (
     DEFAULT_SPACING,
+    PERSONAL_SPACE,
     circle_slots,
     gather_in_circle,
     line_offsets,
@@ -107,6 +111,13 @@ class RandomGroupsParams:
     speed_min: float = param(0.6, "assumed (strolling group)", "slowest walking speed", "m/s")
     speed_max: float = param(1.4, "assumed", "fastest walking speed", "m/s")
     robot_speed_max: float = param(0.5, "assumed (indoor robot)", "fastest robot speed", "m/s")
+    pass_distance: float = param(
+        0.6,
+        "assumed: strangers keep out of each other's intimate space (Hall, 000 Sec. 4.2)",
+        "people of different groups step aside to keep their centres this far apart; 0 "
+        "lets them walk through each other as the scenes before",
+        "m",
+    )
     truth_seen_within: float = param(
         2.0,
         "as the randomised family",
@@ -330,6 +341,14 @@ def random_parties(
         groups = tuple(plan.groups[k])
         person = random_person(rng, k, route, params=body, gait_params=gait, groups=groups)
         people.append(with_feet_apart(person))
+    if p.pass_distance > 0:
+        people = keep_apart(
+            people,
+            duration,
+            distance=p.pass_distance,
+            group_distance=PERSONAL_SPACE[0],
+            bounds=(0.3, 0.3, layout.w - 0.3, layout.h - 0.3),
+        )
     return people, plan.events, n_parties
 
 

@@ -241,8 +241,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.556, IDF1 0.498 (goal 0.5; moving lasers 0.439, still 0.672); ID "
-        "switches 26.9 per scene, 6.4 s per scene on static objects",
+        "person MOTA 0.563, IDF1 0.506 (goal 0.5; moving lasers 0.440, still 0.686); ID "
+        "switches 24.4 per scene, 6.1 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(

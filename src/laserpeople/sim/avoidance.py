@@ -16,9 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter1d
 
-from laserpeople.scan import wrap_angle
 from laserpeople.sim.gait import plan_footsteps
-from laserpeople.sim.motion import BodyTrack, sample_route
+from laserpeople.sim.motion import BodyTrack, facing, sample_route
 from laserpeople.sim.people import PersonSpec, group_at
 
 FloatArray = NDArray[np.float64]
@@ -51,14 +50,8 @@ def _shifted(track: BodyTrack, grid: FloatArray, shift: FloatArray) -> BodyTrack
     xy = track.xy + np.column_stack(
         [np.interp(times, grid, shift[:, 0]), np.interp(times, grid, shift[:, 1])]
     )
-    dt = float(times[1] - times[0])
-    vel = np.gradient(xy, dt, axis=0)
-    speed = np.hypot(vel[:, 0], vel[:, 1])
-    walking = np.clip((speed - 0.075) / 0.15, 0.0, 1.0)
-    motion = np.arctan2(vel[:, 1], vel[:, 0])
-    hx = walking * np.cos(motion) + (1.0 - walking) * np.cos(track.heading)
-    hy = walking * np.sin(motion) + (1.0 - walking) * np.sin(track.heading)
-    return BodyTrack(times, xy, wrap_angle(np.arctan2(hy, hx)), vel)
+    vel = np.gradient(xy, float(times[1] - times[0]), axis=0)
+    return BodyTrack(times, xy, facing(vel, track.heading), vel)
 
 
 def keep_apart(
@@ -98,6 +91,7 @@ def keep_apart(
     same = (group[i] == group[j]) & (group[i] >= 0)
     least = np.where(same, group_distance, distance)
     both = present[i] & present[j]
+    # the first's part of each sidestep; two people standing share it equally
     share = ((speed[i] + 0.05) / (speed[i] + speed[j] + 0.1))[..., None]
     rel_v = vel[i] - vel[j]
     lo, hi = np.array(bounds[:2]), np.array(bounds[2:])

@@ -168,6 +168,20 @@ class BodyTrack:
         return np.column_stack([x, y]), h, np.column_stack([vx, vy])
 
 
+def facing(
+    velocity: NDArray[np.floating], heading: NDArray[np.floating], walking_speed: float = 0.15
+) -> FloatArray:
+    """The direction a body faces (T,) [rad]: its direction of motion (``velocity`` (T, 2)
+    [m/s]) above ``walking_speed`` [m/s], ``heading`` (T,) [rad] when standing, blended in
+    between."""
+    speed = np.hypot(velocity[:, 0], velocity[:, 1])
+    motion = np.arctan2(velocity[:, 1], velocity[:, 0])
+    w = np.clip((speed - 0.5 * walking_speed) / walking_speed, 0.0, 1.0)
+    hx = w * np.cos(motion) + (1 - w) * np.cos(heading)
+    hy = w * np.sin(motion) + (1 - w) * np.sin(heading)
+    return np.asarray(np.arctan2(hy, hx), dtype=np.float64)
+
+
 def sample_route(
     route: Route,
     t_end: float,
@@ -194,18 +208,13 @@ def sample_route(
         y = gaussian_filter1d(y, sigma, mode="nearest")
     vx = np.gradient(x, dt)
     vy = np.gradient(y, dt)
-    speed = np.hypot(vx, vy)
     # explicit headings (standing, turning); keyframes while walking carry NaN
     kh = np.asarray(route.heading)
     known = ~np.isnan(kh)
     kh_known = np.unwrap(kh[known]) if known.any() else np.zeros(1)
     kt_known = kt[known] if known.any() else kt[:1]
     h_explicit = np.interp(times, kt_known, kh_known)
-    h_motion = np.arctan2(vy, vx)
-    w = np.clip((speed - 0.5 * walking_speed) / walking_speed, 0.0, 1.0)
-    hx = w * np.cos(h_motion) + (1 - w) * np.cos(h_explicit)
-    hy = w * np.sin(h_motion) + (1 - w) * np.sin(h_explicit)
-    heading = np.unwrap(np.arctan2(hy, hx))
+    heading = np.unwrap(facing(np.column_stack([vx, vy]), h_explicit, walking_speed))
     if sigma > 0:
         heading = gaussian_filter1d(heading, 0.4 * sigma, mode="nearest")
     return BodyTrack(times, np.column_stack([x, y]), wrap_angle(heading), np.column_stack([vx, vy]))

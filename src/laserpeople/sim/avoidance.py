@@ -24,6 +24,9 @@ FloatArray = NDArray[np.float64]
 
 _STEP = 0.05
 """Time step [s] on which encounters are resolved."""
+_REACH = 2.0
+"""Pairs of people never this much closer than the distance on their planned paths are left
+alone [m] (sidesteps are shorter)."""
 _PASSING = 0.2
 """Relative speed [m/s] above which two people pass each other sideways."""
 
@@ -88,6 +91,9 @@ def keep_apart(
     present = np.stack([grid >= tr.times[0] for tr in tracks])
     group = np.stack([group_at(p.groups, grid) for p in people])
     i, j = np.triu_indices(len(people), 1)
+    gap = np.hypot(*np.moveaxis(base[i] - base[j], -1, 0))
+    near = np.any((gap < distance + _REACH) & present[i] & present[j], axis=1)
+    i, j = i[near], j[near]
     same = (group[i] == group[j]) & (group[i] >= 0)
     least = np.where(same, group_distance, distance)
     both = present[i] & present[j]
@@ -95,19 +101,18 @@ def keep_apart(
     share = ((speed[i] + 0.05) / (speed[i] + speed[j] + 0.1))[..., None]
     rel_v = vel[i] - vel[j]
     lo, hi = np.array(bounds[:2]), np.array(bounds[2:])
-    first = (np.arange(len(people))[:, None] == i).astype(np.float64)
-    second = (np.arange(len(people))[:, None] == j).astype(np.float64)
+    members = [(i == k, j == k) for k in range(len(people))]
     shift = np.zeros_like(base)
     for _ in range(iterations):
         pos = np.clip(base + shift, lo, hi)
         d = pos[i] - pos[j]
         dist = np.hypot(d[..., 0], d[..., 1])
         need = np.where(both, np.clip(least - dist, 0.0, None), 0.0)
-        if float(need.max()) < tolerance:
+        if float(need.max(initial=0.0)) < tolerance:
             break
         step = need[..., None] * _directions(d, dist, rel_v)
-        push = (first @ (share * step).reshape(len(i), -1)).reshape(base.shape)
-        push -= (second @ ((1.0 - share) * step).reshape(len(i), -1)).reshape(base.shape)
+        mine, theirs = share * step, (1.0 - share) * step
+        push = np.stack([mine[k].sum(axis=0) - theirs[m].sum(axis=0) for k, m in members])
         shift += gaussian_filter1d(push, lead / _STEP, axis=1, mode="constant")
     shift = np.clip(base + shift, lo, hi) - base
     out = []

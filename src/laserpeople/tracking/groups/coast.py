@@ -32,12 +32,9 @@ from laserpeople.tracks import Track
 class CoastedReports:
     """The last report of every group id of the last ``seconds``, and the ones to coast."""
 
-    def __init__(
-        self, seconds: float, merged_seconds: float = 0.0, unseen_seconds: float = 0.0
-    ) -> None:
+    def __init__(self, seconds: float, merged_seconds: float = 0.0) -> None:
         self.seconds = seconds
         self.merged_seconds = merged_seconds
-        self.unseen_seconds = unseen_seconds
         self._last: dict[int, tuple[float, Track]] = {}  # id -> (time [s], its last report)
         self._first: dict[int, float] = {}  # id -> time [s] of its first report remembered
 
@@ -54,7 +51,7 @@ class CoastedReports:
     @property
     def memory(self) -> float:
         """How long a report is remembered [s]: the longer of the two times."""
-        return max(self.seconds, self.merged_seconds, self.unseen_seconds)
+        return max(self.seconds, self.merged_seconds)
 
     def coasted(
         self,
@@ -62,7 +59,6 @@ class CoastedReports:
         reported: set[int],
         gone: Callable[[Track], bool] | None = None,
         among: Callable[[Track], bool] | None = None,
-        outside: Callable[[Track], bool] | None = None,
     ) -> list[Track]:
         """The groups to report at ``stamp`` [s] at their predictions: last reported within
         ``seconds`` before it (within ``merged_seconds`` while ``among`` is true of the
@@ -83,10 +79,8 @@ class CoastedReports:
             moved = dataclasses.replace(
                 track, position=track.position + shift, contour=track.contour + shift, score=0.0
             )
-            away = age <= self.unseen_seconds and outside is not None and outside(moved)
-            if (not away and gone is not None and gone(moved)) or (
+            if (gone is not None and gone(moved)) or (
                 age > self.seconds
-                and not away
                 and (age > self.merged_seconds or among is None or not among(moved))
             ):
                 del self._last[track_id], self._first[track_id]

@@ -38,7 +38,6 @@ class ScanView:
         angle_increment: Angle between beams [rad] (may be negative).
         ranges: Range (N,) of each beam [m]; +inf where the beam gave no valid return.
         wraps: True when the beams cover the full circle (bearings wrap around).
-        range_max: Largest range the laser measures [m].
     """
 
     origin: FloatArray
@@ -47,7 +46,6 @@ class ScanView:
     angle_increment: float
     ranges: FloatArray
     wraps: bool
-    range_max: float = math.inf
 
     def hidden(self, points: FloatArray, margin: float) -> tuple[BoolArray, BoolArray]:
         """For points (K, 2) [m]: (covered, shadowed) (K,) each: whether a beam of this
@@ -61,12 +59,6 @@ class ScanView:
         more than ``margin`` [m] beyond it (nothing there)."""
         covered, ends, dist = self._beam_ends(points)
         return covered & (ends > dist + margin)
-
-    def out_of_view(self, points: FloatArray) -> BoolArray:
-        """For points (K, 2) [m]: (K,) whether no beam of this scan points at it or it lies
-        beyond ``range_max`` (the laser could not see it there)."""
-        covered, _, dist = self._beam_ends(points)
-        return ~covered | (dist > self.range_max)
 
     def _beam_ends(self, points: FloatArray) -> tuple[BoolArray, FloatArray, FloatArray]:
         """For points (K, 2) [m]: whether a beam points at each (K,), the range of that
@@ -117,7 +109,6 @@ class FrameShadows:
                     float(scan.angle_increment),
                     ranges,
                     span >= 2 * math.pi - 1e-9,
-                    float(scan.range_max),
                 )
             )
         return cls(tuple(views))
@@ -155,16 +146,6 @@ class FrameShadows:
         for view in self.views:
             past |= view.seen_past(points, margin)
         return bool(past.all())
-
-    def out_of_view(self, points: FloatArray) -> bool:
-        """True when every one of ``points`` (K, 2) [m] lies out of every scan's view
-        (outside its field of view or beyond its ``range_max``); False for no points."""
-        if not len(points):
-            return False
-        out = np.ones(len(points), dtype=bool)
-        for view in self.views:
-            out &= view.out_of_view(points)
-        return bool(out.all())
 
 
 __all__ = ["FrameShadows", "ScanView"]

@@ -449,15 +449,6 @@ class GroupTrackerParams:
         "does (0: coast_time for every vanished group)",
         "s",
     )
-    unseen_coast_time: float = param(
-        0.0,
-        "extension of 000 (experiment, s36-groups)",
-        "a vanished group whose predicted contour lies wholly out of the laser's view "
-        "(outside its field of view or beyond its range_max) is coasted for up to this "
-        "many seconds after its last report, the scan's no-return beams not ending it "
-        "(0: coast_time)",
-        "s",
-    )
     confirm_window: int = param(
         0,
         "chosen on the real recordings (3 of 4 or 5 scans: the same or more ids than 3 "
@@ -536,8 +527,6 @@ class GroupTrackerParams:
             raise ValueError("take_over_distance must be finite and not negative (0: never)")
         if not (self.coast_time >= 0.0 and math.isfinite(self.coast_time)):
             raise ValueError("coast_time must be finite and not negative (0: never)")
-        if not (self.unseen_coast_time >= 0.0 and math.isfinite(self.unseen_coast_time)):
-            raise ValueError("unseen_coast_time must be finite and not negative (0: coast_time)")
         if not (self.merged_coast_time >= 0.0 and math.isfinite(self.merged_coast_time)):
             raise ValueError("merged_coast_time must be finite and not negative (0: coast_time)")
         if self.confirm_window < 0:

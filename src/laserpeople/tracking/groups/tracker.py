@@ -188,7 +188,7 @@ class GroupMHTTracker:
         self.handover = IdHandover(p.id_memory if p.reuse_ids else 0.0, p.id_gate)
         """Vanished reported ids handed to the groups taking their place (``id_memory``)."""
         self._taken_over: set[int] = set()  # coasting families a new group replaced
-        self.coasting = CoastedReports(p.coast_time, p.merged_coast_time, p.unseen_coast_time)
+        self.coasting = CoastedReports(p.coast_time, p.merged_coast_time)
         """The last reports of vanished groups, reported at their predictions (``coast_time``)."""
 
     @property
@@ -338,7 +338,6 @@ class GroupMHTTracker:
                 set(ids) | hidden,
                 self._seen_gone(frame),
                 self._among(frame, groups),
-                self._out_of_view(frame),
             )
             self.coasting.record(frame.stamp, tracks)
             tracks += coasted
@@ -364,26 +363,6 @@ class GroupMHTTracker:
             return bool(d2.min() <= reach * reach)
 
         return among
-
-    def _out_of_view(self, frame: Frame) -> Callable[[Track], bool] | None:
-        """Whether a coasted group's predicted contour (its position, without a contour)
-        lies wholly out of ``frame``'s scans' views (outside their fields of view or beyond
-        their ``range_max``: ``unseen_coast_time``); None when the scans' poses are
-        unknown."""
-        if self.params.unseen_coast_time <= 0.0:
-            return None
-        shadows = self.label_model.shadows
-        if not self.params.shadow_occlusion:
-            shadows = FrameShadows.from_frame(frame)
-        if shadows is None:
-            return None
-        views = shadows
-
-        def outside(track: Track) -> bool:
-            points = track.contour if len(track.contour) else track.position[None, :]
-            return views.out_of_view(points)
-
-        return outside
 
     def _seen_gone(self, frame: Frame) -> Callable[[Track], bool] | None:
         """Whether ``frame``'s scans saw past every point of a coasted group's predicted

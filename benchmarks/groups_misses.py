@@ -14,7 +14,10 @@ What the tracker did with a missed group's points:
 - *over-split*: they are in two or more reported groups;
 - *unreported*: seen, but in no reported group (not confirmed yet, or hidden);
 - *unseen*: no point of it in this scan (occluded, out of view; the truth keeps a person
-  for 2 s after the scanner last hit them);
+  for 2 s after the scanner last hit them); also counted by where its people are: every
+  one outside the scan's field of view, every one outside it or beyond the scan's
+  ``range_max``, or else in view (hidden behind closer returns), and whether a reported
+  group lies within the gate of its centre;
 - *offset*: in one reported group of its own, more than 1 m from its centre.
 
 A *merged* miss is also counted by the reported group holding its points: made by a
@@ -50,6 +53,7 @@ from laserpeople.clustering import single_linkage
 from laserpeople.config import load_config
 from laserpeople.evaluation.groups import (
     GROUP_GATE,
+    LabelledFrame,
     frames_from_scans,
     group_truth,
     near_and_alike,
@@ -57,6 +61,7 @@ from laserpeople.evaluation.groups import (
 from laserpeople.pipeline.background import at_torso_height
 from laserpeople.sim.scenarios import build_scene, run_scenario
 from laserpeople.tracking.groups import GroupMHTTracker, GroupTrackerParams
+from laserpeople.tracking.groups.occlusion import FrameShadows
 from laserpeople.truth import TruthFrame
 
 WALKING = 0.3
@@ -88,6 +93,25 @@ def size_key(n_true: int, distance: float) -> tuple[str, str]:
     return size, f">= {RANGES[1]:g} m"
 
 
+def unseen_where(lf: LabelledFrame, people_xy: np.ndarray) -> str:
+    """Why the scan of ``lf`` shows none of the people at ``people_xy`` (P, 2) [m]:
+    ``outside the field of view`` (every one of them), ``beyond range_max`` (every one
+    outside the field of view or beyond the range), else ``in view (hidden)``."""
+    shadows = FrameShadows.from_frame(lf.frame)
+    if shadows is None:
+        return "in view (hidden)"
+    outside = np.ones(len(people_xy), dtype=bool)
+    away = np.ones(len(people_xy), dtype=bool)
+    for view, scan in zip(shadows.views, lf.frame.scans, strict=True):
+        covered, _ = view.hidden(people_xy, 0.0)
+        far = np.hypot(*(people_xy - view.origin).T) > scan.range_max
+        outside &= ~covered
+        away &= ~covered | far
+    if outside.all():
+        return "outside the field of view"
+    return "beyond range_max" if away.all() else "in view (hidden)"
+
+
 def walked(since: dict[int, float], people: np.ndarray, stamp: float) -> str:
     """How long the least-walked of ``people`` has walked: ``standing``, ``< 1 s`` or
     ``>= 1 s`` (``since``: person id -> stamp [s] their walk began; absent: standing), or
@@ -112,6 +136,7 @@ def main() -> None:
     wrong: Counter[tuple[str, str, str]] = Counter()  # size, range, "too few"/"too many"
     holders: Counter[tuple[str, bool]] = Counter()  # event that made it, reported < 1 s
     passing: Counter[tuple[bool, str, str]] = Counter()  # one cluster, walked, other walked
+    unseen: Counter[tuple[str, bool]] = Counter()  # where, a report within the gate
     n_truth = 0
     for seed in parse_seeds(args.seeds):
         sim = run_scenario("random-groups", seconds=args.seconds, seed=seed)
@@ -174,6 +199,11 @@ def main() -> None:
                 labels = labels[labels >= 0]
                 if not mine.any():
                     cause = "unseen"
+                    xy = frame.positions[np.isin(frame.person_ids, people)]
+                    near = bool(len(tracks)) and bool(
+                        np.hypot(*(tracks - xy.mean(axis=0)).T).min() <= GROUP_GATE
+                    )
+                    unseen[(unseen_where(lf, xy), near)] += 1
                 elif labels.size == 0:
                     cause = "unreported"
                 elif labels.size > 1:
@@ -225,6 +255,13 @@ def main() -> None:
         by_ctx[ctx.split(", ")[1]] += n
     print("\nby cause: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_cause.items()))
     print("by context: " + ", ".join(f"{c} {100 * n / n_truth:.1f} %" for c, n in by_ctx.items()))
+    print(
+        "unseen by where its people are: "
+        + ", ".join(
+            f"{where}{', a report within the gate' if near else ''} {100 * n / n_truth:.1f} %"
+            for (where, near), n in unseen.most_common()
+        )
+    )
     print("false positives: " + ", ".join(f"{c} {n}" for c, n in false.most_common()))
     print(
         "merged misses by the group holding them: "

@@ -20,8 +20,9 @@ the sum over scans of max(tracks, people). So, as shares of that denominator D::
 
 Each part is also split by whether the laser *shows* the person (a return within 0.15 m of
 a leg centre, as ``feet_ceiling.py``) and by whether another person is *close* (within
-0.45 m) now or was within the last 3 s (the parties of the scenes walk 0.75 m apart; the
-parties do not avoid each other, so people of different parties pass through each other).
+0.45 m) now or was within the last 3 s (the parties of the scenes walk 0.75 m apart and
+people of different parties step aside to 0.6 m, so *close* is rare; on scenes made with
+``pass_distance`` 0 people of different parties pass through each other).
 
     PYTHONPATH=src python benchmarks/feet_motp_parts.py [--seeds 0-19] [--keep DIR]
         [--config params.toml] [--jobs 2]

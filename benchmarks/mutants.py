@@ -3879,6 +3879,14 @@ MUTANTS: tuple[Mutant, ...] = (
         "    least = np.where(same, distance, distance)",
         ("tests/test_sim_avoidance.py",),
     ),
+    Mutant(
+        "random-groups-walk-through",
+        "sim: random-groups people step aside for each other",
+        "sim/scenarios/random_groups.py",
+        "    if p.pass_distance > 0:",
+        "    if False:",
+        ("tests/test_sim_random_groups.py",),
+    ),
     # --- end s36-avoid ---
 )
 

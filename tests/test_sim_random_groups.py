@@ -3,13 +3,17 @@ a group truth consistent with the per-beam labels."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
+from laserpeople.sim.people import plan_person
 from laserpeople.sim.scenarios import build_scene, describe_scenario, run_scenario
 from laserpeople.sim.scenarios.random_groups import (
     HELD_BACK_SEEDS,
     TUNING_SEEDS,
     RandomGroupsParams,
+    random_groups_scene,
 )
 
 
@@ -113,3 +117,24 @@ def test_parting_permutes_who_leaves_with_whom() -> None:
                 if len(came) > 1 and len(left) > 1 and came != left:
                     permuted += 1
     assert permuted >= 3
+
+
+def test_people_of_different_groups_step_aside_for_each_other() -> None:
+    # seed 6 (the tuning scene with the most passes): planned, two walkers of two parties
+    # come within 0.02 m; in the scene nobody comes within 0.3 m of a stranger
+    times = np.arange(0.0, 20.0, 1 / 15)
+
+    def closest(pass_distance: float) -> float:
+        params = replace(RandomGroupsParams(), pass_distance=pass_distance)
+        scene = random_groups_scene(np.random.default_rng([6, 0x5CE4E]), 20.0, params)
+        states = [plan_person(p, 20.0).state(times) for p in scene.people]
+        least = np.inf
+        for a, sa in enumerate(states):
+            for sb in states[a + 1 :]:
+                strangers = (sa.group != sb.group) | (sa.group < 0)
+                d = np.hypot(*(sa.xy - sb.xy).T)[sa.present & sb.present & strangers]
+                least = min(least, float(d.min(initial=np.inf)))
+        return least
+
+    assert closest(0.0) < 0.1
+    assert closest(0.6) > 0.3

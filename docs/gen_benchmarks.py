@@ -375,7 +375,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Mutation run over the equations of 000, 002 and 004, without the real recordings",
         ("benchmarks/mutants.py", "--jobs", "2"),
         30.0,
-        "449 of 449 mutants killed: near misses of the papers' equations, the "
+        "453 of 453 mutants killed: near misses of the papers' equations, the "
         "trackers' departures from them, the compiled paths, the readers' decoding, the "
         "scorers, the checks of the commands' input and the live run's frame choice and "
         "grouping",

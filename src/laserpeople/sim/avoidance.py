@@ -25,8 +25,8 @@ FloatArray = NDArray[np.float64]
 _STEP = 0.05
 """Time step [s] on which encounters are resolved."""
 _REACH = 2.0
-"""Pairs of people never this much closer than the distance on their planned paths are left
-alone [m] (sidesteps are shorter)."""
+"""Pairs whose planned paths never come within the distance plus this much [m] are left
+alone (sidesteps are shorter than this)."""
 _PASSING = 0.2
 """Relative speed [m/s] above which two people pass each other sideways."""
 

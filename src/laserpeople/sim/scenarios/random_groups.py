@@ -114,8 +114,8 @@ class RandomGroupsParams:
     pass_distance: float = param(
         0.6,
         "assumed: strangers keep out of each other's intimate space (Hall, 000 Sec. 4.2)",
-        "people of different groups step aside to keep their centres this far apart; 0 "
-        "lets them walk through each other as the scenes before",
+        "people of different groups step aside to keep their centres this far apart; 0: "
+        "nobody steps aside and people may walk through each other",
         "m",
     )
     truth_seen_within: float = param(

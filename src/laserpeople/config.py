@@ -349,9 +349,8 @@ def preset_values(cls: type, preset: str | None) -> dict[str, Any]:
     if preset is None:
         return {}
     if preset not in PRESETS:
-        guess = did_you_mean(preset, PRESETS)
         raise ConfigError(
-            f"unknown preset {preset!r}" + (f": {guess}" if guess else ""),
+            f"unknown preset {preset!r}{did_you_mean(preset, PRESETS, lead=': ')}",
             hint=f"use one of {', '.join(PRESETS)} (docs/papers.md)",
         )
     return dict(getattr(cls, "paper_preset", {}))

@@ -84,15 +84,18 @@ def closest(
     return [k for _, k in scored[:n]]
 
 
-def did_you_mean(name: str, known: Iterable[str], key: Callable[[str], str] | None = None) -> str:
+def did_you_mean(
+    name: str, known: Iterable[str], key: Callable[[str], str] | None = None, lead: str = ""
+) -> str:
     """``did you mean 'x'?`` (or ``'x' or 'y'``) for the names of ``known`` closest to
-    ``name`` (see :func:`closest`, also for ``key``); empty when none is close."""
+    ``name`` (see :func:`closest`, also for ``key``), after ``lead`` (``"; "`` to append it
+    to a message); empty when none is close."""
     names = closest(name, known, key=key)
     if not names:
         return ""
     quoted = [repr(k) for k in names]
     listed = quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
-    return f"did you mean {listed}?"
+    return f"{lead}did you mean {listed}?"
 
 
 __all__ = ["CUTOFF", "PREFIX", "closest", "did_you_mean"]

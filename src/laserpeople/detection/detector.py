@@ -399,8 +399,7 @@ def make_leg_detector(
         return HeuristicLegDetector(params=params)
     from laserpeople.spelling import did_you_mean
 
-    guess = did_you_mean(name, ("adaboost", "heuristic"))
     raise ConfigError(
-        f"unknown detector {name!r}" + (f": {guess}" if guess else ""),
+        f"unknown detector {name!r}{did_you_mean(name, ('adaboost', 'heuristic'), lead=': ')}",
         hint="choose adaboost or heuristic",
     )

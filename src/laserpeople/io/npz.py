@@ -350,9 +350,9 @@ class NpzRecording:
         for t in topics:
             name = t.lstrip("/") if t not in self.sensor_names else t
             if name not in self.sensor_names:
-                guess = did_you_mean(t, self.sensor_names, key=lambda n: n.lstrip("/"))
+                guess = did_you_mean(t, self.sensor_names, key=lambda n: n.lstrip("/"), lead="; ")
                 raise TopicNotFoundError(
-                    f"no topic {t!r}" + (f"; {guess}" if guess else ""),
+                    f"no topic {t!r}{guess}",
                     path=self.path,
                     hint=f"topics here: {', '.join(self.sensor_names)}",
                 )

@@ -848,10 +848,9 @@ def _mount_hint(tree: TransformTree | None, world: str | None = None) -> str:
     general --mount form."""
     frames = set(tree.frames()) if tree is not None else set()
     if world is not None and frames and world not in frames:
-        guess = did_you_mean(world, sorted(frames))
         return (
             f"no transform of the recording names the world frame {world!r}"
-            + (f": {guess}" if guess else "")
+            + did_you_mean(world, sorted(frames), lead=": ")
             + f" (its frames: {', '.join(sorted(frames))}; check --world-frame)"
         )
     for robot, mounts in KNOWN_MOUNTS.items():

@@ -45,9 +45,8 @@ def match_topics(
         if found is None:
             found = next((a for a in available if key(a) == key(name)), None)
         if found is None:
-            raise TopicNotFoundError(
-                f"no {what} {name!r}{_guess(name, available, key)}", path=path, hint=hint
-            )
+            guess = did_you_mean(name, available, key=key, lead="; ")
+            raise TopicNotFoundError(f"no {what} {name!r}{guess}", path=path, hint=hint)
         if found not in out:
             out.append(found)
     return out
@@ -65,13 +64,6 @@ def check_names(requested: object, what: str = "topic") -> None:
             f"topics must be a list of {what} names (None: all of them), got the string "
             f"{requested!r}: give [{requested!r}]"
         )
-
-
-def _guess(name: str, available: Sequence[str], key: Callable[[str], str]) -> str:
-    """``; did you mean '/scan_front'?`` for the available names closest to ``name``
-    (compared under ``key``), or empty."""
-    guess = did_you_mean(name, available, key=key)
-    return f"; {guess}" if guess else ""
 
 
 def no_laser_topic(recording: object, path: str | Path) -> NoReturn:

@@ -406,9 +406,9 @@ def output_sink(path: str | Path) -> Sink:
         return TracksBagSink(p)
     from laserpeople.spelling import did_you_mean
 
-    guess = did_you_mean(suffix, (".csv", ".bag", ".mcap", ".db3")) if suffix else ""
+    guess = did_you_mean(suffix, (".csv", ".bag", ".mcap", ".db3"), lead="; ") if suffix else ""
     raise ConfigError(
-        f"cannot write tracks to {p.name!r}" + (f"; {guess}" if guess else ""),
+        f"cannot write tracks to {p.name!r}{guess}",
         hint="use .csv, .bag, .mcap or .db3",
     )
 

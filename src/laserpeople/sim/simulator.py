@@ -119,7 +119,7 @@ def check_recording_suffix(path: str | Path) -> Path:
 
         raise LaserPeopleError(
             f"cannot write simulated recordings as {suffix or '(no extension)'!r}"
-            + (f"; {guess}" if (guess := did_you_mean(suffix, SIM_SUFFIXES)) else ""),
+            + did_you_mean(suffix, SIM_SUFFIXES, lead="; "),
             path=p,
             hint="use .npz (scans and ground truth), or .mcap/.db3/.bag (scans only)",
         )

@@ -195,9 +195,8 @@ def get(name: str) -> TrackerEntry:
         from laserpeople.spelling import did_you_mean
 
         known = sorted(TRACKERS)
-        guess = did_you_mean(name, known)
         raise ConfigError(
-            f"unknown tracker {name!r}" + (f"; {guess}" if guess else ""),
+            f"unknown tracker {name!r}{did_you_mean(name, known, lead='; ')}",
             hint=f"choose one of: {', '.join(known)}",
         ) from None
 

@@ -79,7 +79,7 @@ def _render(
     if suffix not in OUTPUT_KINDS:
         raise LaserPeopleError(
             f"unknown output kind {suffix or '(no extension)'!r}"
-            + (f"; {guess}" if (guess := did_you_mean(suffix, OUTPUT_KINDS)) else ""),
+            + did_you_mean(suffix, OUTPUT_KINDS, lead="; "),
             path=p,
             hint=f"use one of {', '.join(OUTPUT_KINDS)}",
         )

@@ -98,9 +98,8 @@ def get_scenario(name: str) -> ScenarioDef:
     except KeyError:
         from laserpeople.spelling import did_you_mean
 
-        guess = did_you_mean(name, REGISTRY)
         raise UnknownScenarioError(
-            f"unknown scenario {name!r}" + (f": {guess}" if guess else ""),
+            f"unknown scenario {name!r}{did_you_mean(name, REGISTRY, lead=': ')}",
             hint=f"known scenarios: {', '.join(REGISTRY)} (see `laserpeople scenarios`)",
         ) from None
 

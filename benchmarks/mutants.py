@@ -1684,8 +1684,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "feet-unclaimed-moved",
         "feet-pf births on unclaimed objects (only objects that moved claim_move)",
         "tracking/particle/unclaimed.py",
-        "ready = ok[(stamp - since >= p.claim_time) & moved]",
-        "ready = ok[stamp - since >= p.claim_time]",
+        "else ok[(stamp - since >= p.claim_time) & moved]",
+        "else ok[stamp - since >= p.claim_time]",
         ("tests/test_pf_feet_unclaimed.py",),
     ),
     Mutant(
@@ -3888,6 +3888,40 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_sim_random_groups.py",),
     ),
     # --- end s36-avoid ---
+    # --- s37-first-scan ---
+    Mutant(
+        "feet-first-scan-never",
+        "feet-pf: the objects of the first scan start filters at once",
+        "tracking/particle/unclaimed.py",
+        "        first = self._stamp is None",
+        "        first = False",
+        ("tests/test_pf_feet_unclaimed.py",),
+    ),
+    Mutant(
+        "feet-first-scan-always",
+        "feet-pf: only the objects of the first scan skip claim_time",
+        "tracking/particle/unclaimed.py",
+        "        first = self._stamp is None",
+        "        first = True",
+        ("tests/test_pf_feet_unclaimed.py",),
+    ),
+    Mutant(
+        "feet-merge-always-older-id",
+        "feet-pf: two old merging filters keep their own identities",
+        "tracking/particle/bank.py",
+        "                if own_identity_age <= 0.0 or young:",
+        "                if True:",
+        ("tests/test_pf_equations.py", "tests/test_pf_trackers.py"),
+    ),
+    Mutant(
+        "feet-merge-age-of-older",
+        "feet-pf: both merging filters must be keep_identity_age old",
+        "tracking/particle/bank.py",
+        "young = stamp - max(self.born[i], self.born[j]) < own_identity_age",
+        "young = stamp - min(self.born[i], self.born[j]) < own_identity_age",
+        ("tests/test_pf_equations.py",),
+    ),
+    # --- end s37-first-scan ---
 )
 
 

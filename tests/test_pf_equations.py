@@ -231,3 +231,28 @@ def test_bank_cull_removes_unsupported_and_the_worse_of_a_pair() -> None:
     young.add(np.zeros((1, 3, 2)), 1.0)
     young.cull(1.0, 5.0, [(0, 2)], by_quality=False)  # the younger (id 2) goes
     assert young.ids.tolist() == [0, 1]
+
+
+@pytest.mark.parametrize(
+    ("age", "born_late", "ids"),
+    [
+        (1.0, 0.5, [1, 3]),  # both 1 s old or more at 2 s: the survivor keeps id 3
+        (1.0, 1.5, [1, 0]),  # id 3 only 0.5 s old: a second filter on one person
+        (0.0, 0.5, [1, 0]),  # 0: always the older identity
+    ],
+)
+def test_bank_cull_keeps_own_identities_of_two_old_filters(
+    age: float, born_late: float, ids: list[int]
+) -> None:
+    """Filters 0 (born at 0 s) and 3 (born at ``born_late``) merge at 2 s, and 3 has the
+    better likelihood: it survives under its own identity when both are at least
+    ``own_identity_age`` old, else under the older identity 0."""
+    from laserpeople.tracking.particle.bank import FilterBank
+
+    bank = FilterBank(3, 2)
+    bank.add(np.zeros((3, 3, 2)), 0.0)  # ids 0, 1, 2
+    bank.add(np.ones((1, 3, 2)), born_late)  # id 3
+    bank.support(np.array([True, True, False, True]), 2.0)
+    bank.quality[:] = [-5.0, 0.0, 0.0, -1.0]
+    bank.cull(2.0, 0.2, [(0, 3)], by_quality=True, own_identity_age=age)
+    assert bank.ids.tolist() == ids

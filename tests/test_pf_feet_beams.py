@@ -117,10 +117,13 @@ def test_a_person_standing_beside_a_tracked_one_gets_a_filter(
     """Two people 0.75 m apart (a group's spacing in random-groups), one tracked: the other
     stands still for ``still_time`` and starts a filter only when ``birth_exclusion`` is
     below their distance (0.6 m, not 0.85 m). Without the split of a filter whose cell
-    holds two people (``split_distance``), which would start it at either exclusion."""
+    holds two people (``split_distance``), which would start it at either exclusion, and
+    without the births at the first scan (``first_scan_births``), which start it at once."""
     from test_pf_feet_cells import frame_of
 
-    params = FeetParams(particles=100, birth_exclusion=exclusion, split_distance=0.0)
+    params = FeetParams(
+        particles=100, birth_exclusion=exclusion, split_distance=0.0, first_scan_births=False
+    )
     tracker = FeetTracker(params)
     tracker.bank.add(np.stack([tracker._initial(np.array([[-0.1, 3.0], [0.1, 3.0]]))]), 0.0)
     pts = np.vstack([_standing(0.0), _standing(0.75)])

@@ -1,9 +1,12 @@
 """The feet tracker's births on objects no filter claims (``feet_pf.claim_distance``, a
 departure from 004): a person-sized object with no filter's foot within ``claim_distance``
 for ``claim_time`` starts a filter, so a walker beside a tracked person whose steps show
-no merge -> split of their own still gets one."""
+no merge -> split of their own still gets one; and the objects of the tracker's first scan
+start filters at once (``first_scan_births``)."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -40,8 +43,8 @@ def test_an_unclaimed_walker_is_reported_after_claim_time() -> None:
     """At 1.2 m/s (0.12 m per scan) the object stays the same from scan to scan and is
     reported from 0.5 s on, the first scan at which it has been unclaimed for claim_time
     (it has moved 0.6 m, more than claim_move)."""
-    det = UnclaimedDetector(FeetParams(claim_time=0.5, claim_distance=0.3))
-    counts = _walk(det, np.empty((0, 2, 2)), 1.2, 8)
+    p = FeetParams(claim_time=0.5, claim_distance=0.3, first_scan_births=False)
+    counts = _walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 1.2, 8)
     assert counts == [0, 0, 0, 0, 0, 1, 1, 1]
 
 
@@ -62,7 +65,7 @@ def test_an_object_that_jumps_farther_than_claim_speed_allows_is_new() -> None:
     """At 10 Hz the reach is claim_distance + claim_speed x 0.1 s = 0.5 m: a person-sized
     object 0.45 m per scan on is the same object (reported after claim_time), 0.6 m per
     scan a new one every scan (never reported)."""
-    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_speed=2.0)
+    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_speed=2.0, first_scan_births=False)
     assert sum(_walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 4.5, 10)) > 0
     assert sum(_walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 6.0, 10)) == 0
 
@@ -111,7 +114,30 @@ def test_an_unclaimed_object_that_does_not_walk_starts_nothing() -> None:
     """An unclaimed person-sized object that stays put (clutter the background has not
     learned, or a person the still detector is for) is never reported; moving at 0.4 m/s
     it is, once it has moved ``claim_move`` 0.25 m (from 0.7 s at 10 Hz)."""
-    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_move=0.25)
+    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_move=0.25, first_scan_births=False)
     assert sum(_walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 0.0, 20)) == 0
     counts = _walk(UnclaimedDetector(p), np.empty((0, 2, 2)), 0.4, 10)
     assert counts.index(1) == 7
+
+
+def test_the_objects_of_the_first_scan_start_filters_at_once() -> None:
+    """In the detector's first scan a standing person (no claim_time, no claim_move yet)
+    is reported at once, as two feet about their points' centre; a 1 m wall and a 2-point object
+    are not. A person first seen in the second scan waits for claim_time and claim_move,
+    and the first person, reported once, is not reported again while it stands. Without
+    ``first_scan_births`` nothing is reported."""
+    p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_move=0.25, blob_leg_points=3)
+    none = np.empty((0, 2, 2))
+    wall = np.column_stack([np.linspace(5.0, 6.0, 30), np.zeros(30)])
+    pair = np.array([[3.0, 3.0], [3.03, 3.0]])
+    first = np.vstack([_person(0.0, 2.0), wall, pair])
+    det = UnclaimedDetector(p)
+    found = det.detections(first, 0.0, none)
+    assert len(found) == 1
+    centre = _person(0.0, 2.0).mean(axis=0)  # (the legs' front arcs: y 1.94)
+    np.testing.assert_allclose(found[0].mean(axis=0), centre, atol=0.01)
+    assert np.hypot(*(found[0][0] - found[0][1])) > 0.1  # two feet, not one point
+    second = np.vstack([first, _person(2.0, 1.0)])
+    assert det.detections(second, 0.1, none) == []
+    off = UnclaimedDetector(replace(p, first_scan_births=False))
+    assert off.detections(first, 0.0, none) == []

@@ -99,19 +99,23 @@ class FilterBank:
         miss_time: float,
         pairs: Iterable[tuple[int, int]],
         by_quality: bool,
+        own_identity_age: float = 0.0,
     ) -> None:
         """Filter death (004 Sec. 2): remove every filter without support for longer than
         ``miss_time`` [s], and one of each pair of alive filters in ``pairs`` (two filters
-        on one person): the younger one, or with ``by_quality`` the one with the lower
+        close together): the younger one, or with ``by_quality`` the one with the lower
         smoothed likelihood, whose survivor then keeps the older identity
-        (:meth:`replace_by`)."""
+        (:meth:`replace_by`), unless both were born at least ``own_identity_age`` [s] ago
+        (> 0; two people who cross): then it keeps its own."""
         alive = stamp - self.last_seen <= miss_time
         for i, j in sorted({(min(a, b), max(a, b)) for a, b in pairs if a != b}):
             if not (alive[i] and alive[j]):
                 continue
             if by_quality:
                 loser, winner = (i, j) if self.quality[i] < self.quality[j] else (j, i)
-                self.replace_by(loser, winner)
+                young = stamp - max(self.born[i], self.born[j]) < own_identity_age
+                if own_identity_age <= 0.0 or young:
+                    self.replace_by(loser, winner)
             else:
                 older = (self.born[i], self.ids[i]) < (self.born[j], self.ids[j])
                 loser = j if older else i

@@ -56,6 +56,7 @@ class UnclaimedDetector:
     ``claim_move`` from where it was first seen (a walker: what stands is the still
     detector's, and clutter the background has not learned does not walk), it is
     reported, as the two halves of its points along its major axis (the two legs).
+    With ``first_scan_births`` the objects of the first scan are reported at once.
     """
 
     def __init__(self, params: FeetParams) -> None:
@@ -77,6 +78,7 @@ class UnclaimedDetector:
         has claimed for ``claim_time`` [s] by ``stamp`` and that moved ``claim_move``
         [m]."""
         p = self.params
+        first = self._stamp is None
         dt = 0.0 if self._stamp is None else stamp - self._stamp
         self._stamp = stamp
         if p.claim_distance <= 0.0 or len(points) == 0:
@@ -100,5 +102,5 @@ class UnclaimedDetector:
             origins[kept] = self._origins[j[kept]]
         self._centres, self._origins, self._since = centres, origins, since
         moved = np.hypot(*(centres - origins).T) >= p.claim_move
-        ready = ok[(stamp - since >= p.claim_time) & moved]
+        ready = ok if first and p.first_scan_births else ok[(stamp - since >= p.claim_time) & moved]
         return [two_feet(points[labels == k], mean[k], cov[k]) for k in ready]

@@ -254,8 +254,9 @@ class FeetParams:
     first_scan_births: bool = param(
         True,
         "departure from 004 (false here: the people in view when tracking starts wait for "
-        "a step, ``still_time`` or ``claim_time``); random-groups tuning seeds 0-19 at feet "
-        "height: MOTP 0.576 -> 0.594, still lasers 0.582 -> 0.613 (docs/schenk-tables.md)",
+        "a step, ``still_time`` or ``claim_time``); 004's Tables 1-3 on their held-back "
+        "seeds: MOTP 0.92, 0.95, 0.94 -> 0.94, 0.98, 0.97; random-groups at feet height, "
+        "three draws: tuning +0.008, held back unchanged (docs/schenk-tables.md)",
         "with ``claim_distance`` > 0, every object of the tracker's first scan that the "
         "unclaimed detector takes for a person (a leg's size or more, a person's at most) "
         "starts a filter at once: there is nothing yet to tell walkers from clutter by, "

@@ -246,7 +246,7 @@ def test_bank_cull_keeps_own_identities_of_two_old_filters(
 ) -> None:
     """Filters 0 (born at 0 s) and 3 (born at ``born_late``) merge at 2 s, and 3 has the
     better likelihood: it survives under its own identity when both are at least
-    ``own_identity_age`` old, else under the older identity 0."""
+    ``keep_identity_age`` old, else under the older identity 0."""
     from laserpeople.tracking.particle.bank import FilterBank
 
     bank = FilterBank(3, 2)
@@ -254,5 +254,5 @@ def test_bank_cull_keeps_own_identities_of_two_old_filters(
     bank.add(np.ones((1, 3, 2)), born_late)  # id 3
     bank.support(np.array([True, True, False, True]), 2.0)
     bank.quality[:] = [-5.0, 0.0, 0.0, -1.0]
-    bank.cull(2.0, 0.2, [(0, 3)], by_quality=True, own_identity_age=age)
+    bank.cull(2.0, 0.2, [(0, 3)], by_quality=True, keep_identity_age=age)
     assert bank.ids.tolist() == ids

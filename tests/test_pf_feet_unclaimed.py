@@ -122,8 +122,8 @@ def test_an_unclaimed_object_that_does_not_walk_starts_nothing() -> None:
 
 def test_the_objects_of_the_first_scan_start_filters_at_once() -> None:
     """In the detector's first scan a standing person (no claim_time, no claim_move yet)
-    is reported at once, as two feet about their points' centre; a 1 m wall and a 2-point object
-    are not. A person first seen in the second scan waits for claim_time and claim_move,
+    is reported at once, as two feet about their points' centre; a 1 m wall and a 2-point
+    object are not. A person first seen in the second scan waits for claim_time and claim_move,
     and the first person, reported once, is not reported again while it stands. Without
     ``first_scan_births`` nothing is reported."""
     p = FeetParams(claim_time=0.5, claim_distance=0.3, claim_move=0.25, blob_leg_points=3)

@@ -99,13 +99,13 @@ class FilterBank:
         miss_time: float,
         pairs: Iterable[tuple[int, int]],
         by_quality: bool,
-        own_identity_age: float = 0.0,
+        keep_identity_age: float = 0.0,
     ) -> None:
         """Filter death (004 Sec. 2): remove every filter without support for longer than
         ``miss_time`` [s], and one of each pair of alive filters in ``pairs`` (two filters
         close together): the younger one, or with ``by_quality`` the one with the lower
         smoothed likelihood, whose survivor then keeps the older identity
-        (:meth:`replace_by`), unless both were born at least ``own_identity_age`` [s] ago
+        (:meth:`replace_by`), unless both were born at least ``keep_identity_age`` [s] ago
         (> 0; two people who cross): then it keeps its own."""
         alive = stamp - self.last_seen <= miss_time
         for i, j in sorted({(min(a, b), max(a, b)) for a, b in pairs if a != b}):
@@ -113,8 +113,8 @@ class FilterBank:
                 continue
             if by_quality:
                 loser, winner = (i, j) if self.quality[i] < self.quality[j] else (j, i)
-                young = stamp - max(self.born[i], self.born[j]) < own_identity_age
-                if own_identity_age <= 0.0 or young:
+                young = stamp - max(self.born[i], self.born[j]) < keep_identity_age
+                if keep_identity_age <= 0.0 or young:
                     self.replace_by(loser, winner)
             else:
                 older = (self.born[i], self.ids[i]) < (self.born[j], self.ids[j])

@@ -986,7 +986,7 @@ class FeetTracker:
             flat = bank.mean([XL, YL, XR, YR]).reshape(-1, 2)
             shared = close_pairs(flat, p.shared_foot)
             pairs += [(int(a) // 2, int(b) // 2) for a, b in shared]
-        bank.cull(stamp, p.miss_time, pairs, by_quality=True, own_identity_age=p.keep_identity_age)
+        bank.cull(stamp, p.miss_time, pairs, by_quality=True, keep_identity_age=p.keep_identity_age)
 
     def _births(
         self,

@@ -244,3 +244,71 @@ def test_the_wall_beyond_is_kept_after_learning_and_in_a_saved_model(tmp_path: P
     person, wall = frames[0].scans[0], frames[-1].scans[0]
     assert np.flatnonzero(again.foreground_of(person)).tolist() == list(range(90, 96))
     assert not again.foreground_of(wall).any()
+
+
+def _driving_past_a_wall(frames: int = 60) -> list[Frame]:
+    """A laser facing +y drives along x at 0.5 m/s (10 Hz) past a straight wall at
+    y = 3 m, beams -60..60 deg, world frame: every frame sees the wall where it is."""
+    angles = np.radians(np.arange(-60.0, 60.5, 1.0))
+    ranges = 3.0 / np.cos(angles)
+    out = []
+    for k in range(frames):
+        pose = Pose2D(0.05 * k, 0.0, math.pi / 2)
+        scan = Scan(
+            0.1 * k,
+            angles[0],
+            math.radians(1.0),
+            ranges,
+            0.05,
+            30.0,
+            sensor="a",
+            pose=pose,
+            index=k,
+        )
+        out.append(Frame(k, scan.stamp, (scan,), "a", "world", sensor_pose=pose))
+    return out
+
+
+def test_a_moving_lasers_recording_seeds_the_occupancy_grid_with_what_stayed_put() -> None:
+    """The laser moves from frame 2: the pass finds no histogram and a second pass counts
+    the map; once the model switches to the occupancy grid the wall is static (for ever,
+    as a prior map's obstacles) from the first frame on, 0.5 m before it is not, and the
+    model says what seeded the grid. With ``--map`` or ``prelearn`` false no map is counted."""
+    frames = _driving_past_a_wall()
+    opened: list[int] = []
+
+    def open_frames() -> list[Frame]:
+        opened.append(1)
+        return frames
+
+    fuse, auto = Fuse(), AutoBackground()
+    learned = prelearn([fuse, auto], open_frames)
+    assert learned is not None and learned.laser_moved and learned.model is None
+    assert learned.grid_map is not None and learned.map_frames == len(frames)
+    assert len(opened) == 2
+    for frame in frames[:3]:
+        auto(fuse(frame))
+    assert auto.chosen == "occupancy" and auto.switched_at == 2
+    wall = np.array([[0.0, 3.0], [1.5, 3.0], [2.9, 3.0]])
+    assert np.isinf(auto.static_time(wall)).all()
+    assert (auto.static_time(wall - [0.0, 0.5]) == 0.0).all()
+    assert "seeded by what stayed put in the whole recording" in auto.describe()
+    assert f"or more of {len(frames)} frames and in 97 % of those" in auto.describe()
+
+    with_map = AutoBackground(map_path="site.yaml")
+    learned = prelearn([fuse, with_map], open_frames)
+    assert learned is not None and learned.grid_map is None and len(opened) == 3
+    off = replace(StaticWorldParams(), auto_background=AutoBackgroundParams(prelearn=False))
+    online = AutoBackground(static=off)
+    assert prelearn([fuse, online], open_frames) is None
+    for frame in frames[:3]:
+        online(fuse(frame))
+    assert online.chosen == "occupancy" and not np.isinf(online.static_time(wall)).any()
+    assert "seeded" not in online.describe()
+
+
+def test_the_map_rule_is_checked() -> None:
+    with pytest.raises(ValueError, match="map_min_hits"):
+        AutoBackgroundParams(map_min_hits=0)
+    with pytest.raises(ValueError, match="map_hit_share"):
+        AutoBackgroundParams(map_hit_share=0.0)

@@ -5,7 +5,8 @@ One protocol, two faces (DESIGN.md, "static world model"):
 - a per-beam range histogram for a static sensor (Schenk et al. 2011, Sec. 2), in
   ``background/beam_histogram.py``;
 - a decaying world-frame occupancy grid for a moving robot, optionally seeded from a ROS
-  map (``map.yaml`` + image), in ``background/occupancy.py``.
+  map (``map.yaml`` + image), in ``background/occupancy.py``, or from what stayed put in the
+  whole recording, counted in ``background/recording_map.py``.
 
 Both are preprocess stages of the pipeline: ``model(frame)`` returns the frame with
 ``foreground`` filled in, and both answer :meth:`StaticWorldModel.static_time` so that a

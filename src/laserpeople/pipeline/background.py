@@ -46,7 +46,7 @@ from numpy.typing import NDArray
 
 from laserpeople.background import StaticWorldModel
 from laserpeople.background.beam_histogram import BeamHistogramParams
-from laserpeople.background.occupancy import OccupancyParams
+from laserpeople.background.occupancy import OccupancyMap, OccupancyParams
 from laserpeople.config import param
 from laserpeople.errors import ConfigError
 from laserpeople.frame import Frame, FrameField
@@ -92,14 +92,33 @@ class AutoBackgroundParams:
         "once before tracking, and the per-beam histogram that gives trackers of points their "
         "foreground takes as static too the ranges frequent in the whole recording that lie "
         "beyond what its learning period finds static (the wall behind a person in view from "
-        "the start), so that such a person is foreground from the first scan; false: only "
-        "the first [beam_histogram] learn_seconds (004; a live run always is)",
+        "the start), so that such a person is foreground from the first scan; on one whose "
+        "lasers move (with poses, no --map) it is read again and the occupancy grid is "
+        "seeded with what stayed put in it (map_min_hits, map_hit_share); false: only "
+        "the first [beam_histogram] learn_seconds (004; a live run always is) and the grid "
+        "learns online",
     )
     prelearn_scans: int = param(
         3000,
         "assumed: 5 minutes at 10 Hz; the pass reads every scan, the histogram counts these",
         "the histogram of a longer recording is learned from this many of its frames, evenly "
-        "spread (every k-th; all of them when the reader does not know their number)",
+        "spread (every k-th; all of them when the reader does not know their number); so is "
+        "the map of a moving robot's recording",
+    )
+    map_min_hits: int = param(
+        5,
+        "measured: random-groups moving tuning seeds (docs/recording.md)",
+        "with prelearn on a recording whose lasers move (with poses, no --map): a cell of "
+        "the map of the whole recording that seeds the occupancy grid is static when this "
+        "many frames or more had a return in it",
+        "frames",
+    )
+    map_hit_share: float = param(
+        0.97,
+        "measured: random-groups moving tuning seeds, 0.5 / 0.8 / 0.9 / 0.97 (people who "
+        "stand for most of a short recording; docs/recording.md)",
+        "... and at least this share of the frames that saw the cell (a return in it, or a "
+        "beam through it) had a return in it",
     )
 
     paper_preset = MappingProxyType({"prelearn": False})  # the online learning of 004's model
@@ -107,6 +126,10 @@ class AutoBackgroundParams:
     def __post_init__(self) -> None:
         if self.prelearn_scans < 1:
             raise ValueError(f"prelearn_scans must be at least 1, got {self.prelearn_scans}")
+        if self.map_min_hits < 1:
+            raise ValueError(f"map_min_hits must be at least 1, got {self.map_min_hits}")
+        if not 0.0 < self.map_hit_share <= 1.0:
+            raise ValueError(f"map_hit_share must be in (0, 1], got {self.map_hit_share}")
 
 
 @dataclass(frozen=True)
@@ -500,7 +523,9 @@ class AutoBackground:
 
     def _model_foreground(self, frame: Frame) -> Frame:
         if self.chosen == "histogram" and self._moved(frame):
-            self.model = occupancy_model(self.map_path, self.static.occupancy)
+            learned = self.prelearned
+            prior = None if learned is None else learned.grid_map
+            self.model = occupancy_model(self.map_path, self.static.occupancy, prior)
             self.chosen = "occupancy"
             self.switched_at = frame.index
         if self.model is None:
@@ -566,7 +591,25 @@ class AutoBackground:
             )
         return (
             "static world model: occupancy grid (a laser moved at frame "
-            f"{self.switched_at}; the histogram ran before){_not_learned(self.model)}"
+            f"{self.switched_at}; the histogram ran before){self._grid_seed()}"
+            f"{_not_learned(self.model)}"
+        )
+
+    def _grid_seed(self) -> str:
+        """What seeded the occupancy grid, for :meth:`describe` (empty: nothing)."""
+        learned = self.prelearned
+        prior = None if learned is None else learned.grid_map
+        ours = prior is not None and getattr(self.model, "prior", None) is prior
+        if learned is None or prior is None or not ours:
+            return _seeded(self.model)
+        cells = int(np.count_nonzero(prior.occupied))
+        p = self.params
+        return (
+            f", seeded by what stayed put in the whole recording ({cells} cells of "
+            f"{prior.resolution:g} m with returns in {p.map_min_hits} or more of "
+            f"{learned.map_frames} frames and in {100 * p.map_hit_share:g} % of those that "
+            f"saw them, read before tracking in {learned.cpu:.2f} s CPU, [auto_background] "
+            "prelearn)"
         )
 
     def _learned_from(self) -> str:
@@ -649,13 +692,19 @@ def _as_stage(model: object) -> Stage:
     return model  # type: ignore[return-value]
 
 
-def occupancy_model(map_path: str | Path | None, params: OccupancyParams | None = None) -> Stage:
+def occupancy_model(
+    map_path: str | Path | None,
+    params: OccupancyParams | None = None,
+    prior: OccupancyMap | None = None,
+) -> Stage:
     """The occupancy grid, seeded from the map ``map_path`` when given (a ROS ``map.yaml``
-    or ``BAG:/topic``, :func:`~laserpeople.background.bag_map.load_map`)."""
+    or ``BAG:/topic``, :func:`~laserpeople.background.bag_map.load_map`), else from
+    ``prior`` (e.g. the map of the whole recording, :mod:`laserpeople.pipeline.prelearn`)."""
     from laserpeople.background.bag_map import load_map
     from laserpeople.background.occupancy import OccupancyGrid
 
-    prior = load_map(map_path) if map_path is not None else None
+    if map_path is not None:
+        prior = load_map(map_path)
     return _as_stage(OccupancyGrid(params, prior=prior))
 
 

@@ -3922,6 +3922,48 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_pf_equations.py",),
     ),
     # --- end s37-first-scan ---
+    # --- s38-recording-map ---
+    Mutant(
+        "map-share-of-hits-only",
+        "map of a moving robot's recording: the share counts the frames that saw a cell free",
+        "background/recording_map.py",
+        "(hits >= rule.hit_share * (hits + self._free))",
+        "(hits >= rule.hit_share * hits)",
+        ("tests/test_background_recording_map.py",),
+    ),
+    Mutant(
+        "map-min-hits-dropped",
+        "map of a moving robot's recording: a static cell needs min_hits returns",
+        "background/recording_map.py",
+        "(self._hits >= rule.min_hits)",
+        "(self._hits >= 1)",
+        ("tests/test_background_recording_map.py",),
+    ),
+    Mutant(
+        "map-hit-and-pass-free",
+        "map of a moving robot's recording: a cell hit and passed in one frame is hit",
+        "background/recording_map.py",
+        "        seen[both] -= 1",
+        "        seen[both] -= 0",
+        ("tests/test_background_recording_map.py",),
+    ),
+    Mutant(
+        "map-rows-not-flipped",
+        "map of a moving robot's recording: image rows run from the largest y down",
+        "background/recording_map.py",
+        "occupied = np.ascontiguousarray(static.T[::-1])",
+        "occupied = np.ascontiguousarray(static.T)",
+        ("tests/test_background_recording_map.py",),
+    ),
+    Mutant(
+        "map-not-seeded",
+        "map of a moving robot's recording seeds the occupancy grid",
+        "pipeline/background.py",
+        "            prior = None if learned is None else learned.grid_map\n            self.model",
+        "            prior = None\n            self.model",
+        ("tests/test_pipeline_prelearn.py",),
+    ),
+    # --- end s38-recording-map ---
 )
 
 

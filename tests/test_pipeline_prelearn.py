@@ -312,3 +312,30 @@ def test_the_map_rule_is_checked() -> None:
         AutoBackgroundParams(map_min_hits=0)
     with pytest.raises(ValueError, match="map_hit_share"):
         AutoBackgroundParams(map_hit_share=0.0)
+
+
+def test_a_map_pass_that_cannot_read_the_recording_whole_says_so() -> None:
+    """The second pass meets a damaged frame: no map, the occupancy grid learns online and
+    the model's line says why (tracking meets the damage again at its frame)."""
+    from laserpeople.errors import RecordingError
+
+    frames = _driving_past_a_wall()
+    passes: list[int] = []
+
+    def open_frames() -> Iterator[Frame]:
+        passes.append(1)
+        for frame in frames:
+            if len(passes) == 2 and frame.index == 30:
+                raise RecordingError("scan 30 is damaged", path="run.bag")
+            yield frame
+
+    fuse, auto = Fuse(), AutoBackground()
+    learned = prelearn([fuse, auto], open_frames)
+    assert learned is not None and learned.grid_map is None and len(passes) == 2
+    assert "could not be read whole" in learned.map_why_not
+    assert "scan 30 is damaged" in learned.map_why_not
+    for frame in frames[:3]:
+        auto(fuse(frame))
+    assert auto.chosen == "occupancy"
+    assert not np.isinf(auto.static_time(np.array([[1.5, 3.0]]))).any()
+    assert ", not seeded by the whole recording (the recording could not" in auto.describe()

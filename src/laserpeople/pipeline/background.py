@@ -600,6 +600,8 @@ class AutoBackground:
         learned = self.prelearned
         prior = None if learned is None else learned.grid_map
         ours = prior is not None and getattr(self.model, "prior", None) is prior
+        if learned is not None and learned.map_why_not:
+            return f", not seeded by the whole recording ({learned.map_why_not})"
         if learned is None or prior is None or not ours:
             return _seeded(self.model)
         cells = int(np.count_nonzero(prior.occupied))

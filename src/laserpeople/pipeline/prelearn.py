@@ -73,6 +73,8 @@ class Prelearned:
         grid_map: What stayed put in a moving robot's recording, the occupancy grid's prior
             map (None: not counted).
         map_frames: Frames the map was counted from.
+        map_why_not: Why a moving robot's recording was not mapped, for the user ("" when
+            ``grid_map`` is set or no map was wanted).
     """
 
     model: BeamHistogramBackground | None
@@ -83,6 +85,7 @@ class Prelearned:
     laser_moved: bool = False
     grid_map: OccupancyMap | None = None
     map_frames: int = 0
+    map_why_not: str = ""
 
 
 class _Pass:
@@ -229,10 +232,11 @@ def prelearn(
                 lambda f, n: count_recording_map(f, static, n),
             )
         except LaserPeopleError as exc:  # tracking meets a read error again at its frame
-            why = f"{learned.why_not}; no map: the recording could not be read whole ({exc})"
-            learned = replace(learned, why_not=why)
+            why = f"the recording could not be read whole ({exc})"
+            learned = replace(learned, map_why_not=why)
         else:
-            learned = replace(learned, grid_map=grid_map, map_frames=counted)
+            why = "" if grid_map is not None else "no frame had sensor poses"
+            learned = replace(learned, grid_map=grid_map, map_frames=counted, map_why_not=why)
     learned = replace(learned, cpu=time.process_time() - start)
     model.use_prelearned(learned)
     return learned

@@ -3963,6 +3963,22 @@ MUTANTS: tuple[Mutant, ...] = (
         "            prior = None\n            self.model",
         ("tests/test_pipeline_prelearn.py",),
     ),
+    Mutant(
+        "prior-dilated-rows-only",
+        "a prior map dilated once to the grid's reach: rows and columns",
+        "background/occupancy.py",
+        "            out[:, dc : dc + w] |= rows[:, radius : radius + w]",
+        "            out[:, dc : dc + w] |= rows[:, radius : radius + w] & False",
+        ("tests/test_background_occupancy.py",),
+    ),
+    Mutant(
+        "prior-dilated-origin-unrotated",
+        "a prior map dilated once: its padded corner moves back along the map's own axes",
+        "background/occupancy.py",
+        "origin = (x0 - shift * (c - s), y0 - shift * (s + c), yaw)",
+        "origin = (x0 - shift * (c + s), y0 - shift * (s + c), yaw)",
+        ("tests/test_background_occupancy.py",),
+    ),
     # --- end s38-recording-map ---
 )
 

@@ -92,7 +92,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         ("benchmarks/bench_prelearn.py", "--runs", "5"),
         0.5,
         "lobby (moving): 2.6 plain reads, the counting 1.2 ms per frame, 22 MB heap; demo "
-        "(still): 3.2 plain reads, 0.16 s for 1,265 frames",
+        "(still): 3.2 plain reads, 0.16 s for 1,265 frames; the grid asks the map dilated "
+        "once, 0.017 against 0.644 ms a frame for a window around every point "
+        "(benchmarks/bench_prior_lookup.py, speed.md#the-pass-over-the-whole-recording)",
         "recording.md",
         needs_data=True,
     ),

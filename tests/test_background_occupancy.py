@@ -547,3 +547,35 @@ def test_the_auto_models_grid_says_its_frames_not_learned() -> None:
     said = auto.describe()
     assert said.startswith("static world model: occupancy grid (a laser moved at frame 4")
     assert said.endswith("; 2 frames not learned (each laser at most every 0.05 s)"), said
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.4])
+def test_obstacles_within_a_radius_as_a_window_around_each_position(yaw: float) -> None:
+    """``contains_obstacle(p, r)`` (and the once-dilated map the grid asks) is True where
+    an obstacle pixel lies in the (2r + 1)^2 window of pixels around p's, counted here
+    pixel by pixel, also for positions off the image next to its edge."""
+    from laserpeople.background.occupancy import OccupancyMap
+
+    rng = np.random.default_rng(3)
+    occupied = rng.random((12, 9)) < 0.05
+    occupied[0, 0] = occupied[11, 8] = True  # obstacles on the corners
+    grid = OccupancyMap(occupied=occupied, resolution=0.1, origin=(1.0, -2.0, yaw))
+    c, s = np.cos(yaw), np.sin(yaw)
+    uv = rng.uniform(-0.5, 1.4, (400, 2))  # in the map's axes, beyond the image too
+    pos = np.array([1.0, -2.0]) + uv[:, :1] * [c, s] + uv[:, 1:] * [-s, c]
+    col = np.floor(uv[:, 0] / 0.1 + 1e-9).astype(int)
+    row = 11 - np.floor(uv[:, 1] / 0.1 + 1e-9).astype(int)
+    for radius in (0, 1, 3):
+        expect = []
+        for r0, c0 in zip(row, col, strict=True):
+            window = [
+                occupied[r, q]
+                for r in range(r0 - radius, r0 + radius + 1)
+                for q in range(c0 - radius, c0 + radius + 1)
+                if 0 <= r < 12 and 0 <= q < 9
+            ]
+            expect.append(any(window))
+        near = np.array(expect)
+        assert (grid.contains_obstacle(pos, radius) == near).mean() > 0.99
+        assert (grid.dilated(radius).contains_obstacle(pos) == near).mean() > 0.99
+        assert near.sum() > 20 * radius

@@ -240,13 +240,34 @@ class OccupancyMap:
         h, w = self.occupied.shape
         col = np.floor(u).astype(np.int64)
         row = h - 1 - np.floor(v).astype(np.int64)
+        grid = self if radius == 0 else self.dilated(radius)
+        if radius:
+            row, col = row + radius, col + radius
+            h, w = grid.occupied.shape
         hit = np.zeros(pos.shape[0], dtype=bool)
-        for dr in range(-radius, radius + 1):
-            for dc in range(-radius, radius + 1):
-                r, q = row + dr, col + dc
-                ok = (r >= 0) & (r < h) & (q >= 0) & (q < w)
-                hit[ok] |= self.occupied[r[ok], q[ok]]
+        ok = (row >= 0) & (row < h) & (col >= 0) & (col < w)
+        hit[ok] = grid.occupied[row[ok], col[ok]]
         return hit
+
+    def dilated(self, radius: int) -> OccupancyMap:
+        """The map whose obstacles are every pixel within ``radius`` pixels (a square of
+        2 radius + 1) of one of this map's, padded by ``radius`` pixels on each side so that
+        none is cut off: ``dilated(r).contains_obstacle(p)`` is ``contains_obstacle(p, r)``.
+        Asking the dilated map once per frame costs one lookup per position."""
+        if radius <= 0:
+            return self
+        h, w = self.occupied.shape
+        out = np.zeros((h + 2 * radius, w + 2 * radius), dtype=bool)
+        for dr in range(2 * radius + 1):  # a square's dilation: rows, then columns
+            out[dr : dr + h, radius : radius + w] |= self.occupied
+        rows = out.copy()
+        for dc in range(2 * radius + 1):
+            out[:, dc : dc + w] |= rows[:, radius : radius + w]
+        x0, y0, yaw = self.origin
+        shift = radius * self.resolution  # the lower-left corner moves back along u and v
+        c, s = math.cos(yaw), math.sin(yaw)
+        origin = (x0 - shift * (c - s), y0 - shift * (s + c), yaw)
+        return replace(self, occupied=out, origin=origin)
 
 
 def _parse_map_yaml(path: Path) -> dict[str, str]:
@@ -371,6 +392,13 @@ class OccupancyGrid:
     ) -> None:
         self.params = params if params is not None else OccupancyParams()
         self.prior = prior
+        # the prior's obstacles as far as the grid's neighbourhood reaches (up to
+        # neighbourhood + 1 cells), dilated once instead of looked up around every point
+        self._prior_near: OccupancyMap | None = None
+        if prior is not None:
+            p = self.params
+            reach = math.ceil((p.neighbourhood + 1) * p.resolution / prior.resolution - 1e-9)
+            self._prior_near = prior.dilated(reach)
         self.stamp = -math.inf
         self._origin = np.zeros(2, dtype=np.int64)  # cell index of array element [0, 0]
         self._evidence = np.zeros((0, 0))
@@ -414,36 +442,23 @@ class OccupancyGrid:
                 return
         lo = np.array([i0, j0], dtype=np.int64)
         hi = np.array([i1, j1], dtype=np.int64)
-        shape = np.array(self._evidence.shape, dtype=np.int64)
-        margin = 64
-        if shape.prod() == 0:
-            new_lo, new_hi = lo - margin, hi + margin
-        else:
-            new_lo = np.minimum(self._origin, lo - margin)
-            new_hi = np.maximum(self._origin + shape - 1, hi + margin)
-        size = new_hi - new_lo + 1
-        if int(size[0]) * int(size[1]) > GRID_CELL_LIMIT:
-            res = self.params.resolution
-            raise LaserPeopleError(
-                f"the occupancy grid would span {float(size[0]) * res:.6g} m x "
-                f"{float(size[1]) * res:.6g} m ({int(size[0]) * int(size[1]):,} cells, more "
-                f"than the {GRID_CELL_LIMIT:,} accepted)",
-                hint="the sensor poses jump far apart (a corrupt /tf or odometry record?); "
-                "check them with `laserpeople info`, or raise [occupancy] resolution",
-            )
+        new_lo, size = grown_extent(
+            self._origin,
+            self._evidence.shape,
+            lo,
+            hi,
+            self.params.resolution,
+            "the occupancy grid",
+            "raise [occupancy] resolution",
+        )
         self._still.settle(self._seen_free.reshape(-1))  # its flat indices are about to move
-        ev = np.zeros(tuple(size))
-        touched = np.full(tuple(size), -np.inf)
-        since = np.full(tuple(size), np.nan)
-        seen_free = np.full(tuple(size), -np.inf)
-        first = np.zeros(tuple(size), dtype=bool)
-        if shape.prod() > 0:
-            a = self._origin - new_lo
-            sl = (slice(a[0], a[0] + shape[0]), slice(a[1], a[1] + shape[1]))
-            ev[sl], touched[sl], since[sl] = self._evidence, self._touched, self._since
-            seen_free[sl], first[sl] = self._seen_free, self._first_sight
-        self._origin, self._evidence, self._touched, self._since = new_lo, ev, touched, since
-        self._seen_free, self._first_sight = seen_free, first
+        at = (self._origin, new_lo, size)
+        self._evidence = moved_into(self._evidence, *at, 0.0)
+        self._touched = moved_into(self._touched, *at, -np.inf)
+        self._since = moved_into(self._since, *at, np.nan)
+        self._seen_free = moved_into(self._seen_free, *at, -np.inf)
+        self._first_sight = moved_into(self._first_sight, *at, False)
+        self._origin = new_lo
 
     def _holds_disc(self, centre: FloatArray, radius: float) -> bool:
         """Whether the arrays hold every cell within ``radius`` [m] of ``centre`` (2,) [m],
@@ -936,10 +951,8 @@ class OccupancyGrid:
                 if ok.any():
                     t[ok] = self._cell_static(i[ok] * w + j[ok])
             out = np.maximum(t.reshape(pos.shape[0], -1).max(axis=1), 0.0)
-        if self.prior is not None and pos.shape[0]:
-            # as far as the grid's neighbourhood reaches: up to (neighbourhood + 1) cells
-            reach = math.ceil((p.neighbourhood + 1) * p.resolution / self.prior.resolution - 1e-9)
-            out[self.prior.contains_obstacle(pos, reach)] = np.inf
+        if self._prior_near is not None and pos.shape[0]:
+            out[self._prior_near.contains_obstacle(pos)] = np.inf
         return out
 
     def __call__(self, frame: Frame) -> Frame:
@@ -986,6 +999,56 @@ _UNLOADED = object()
 _static_few_compiled: object = _UNLOADED
 _grid_compiled: object = _UNLOADED
 _look_compiled: object = _UNLOADED
+
+
+GROW_MARGIN = 64
+"""Cells a grid's arrays grow by beyond what they must hold."""
+
+
+def grown_extent(
+    origin: IntArray,
+    shape: tuple[int, ...],
+    lo: IntArray,
+    hi: IntArray,
+    resolution: float,
+    what: str,
+    remedy: str,
+) -> tuple[IntArray, tuple[int, int]]:
+    """The first cell (2,) and the size of arrays that hold the cells of arrays of
+    ``shape`` starting at cell ``origin`` (none when empty) and the cells ``lo`` to ``hi``
+    (2,), with :data:`GROW_MARGIN` cells to spare.
+
+    Raises:
+        LaserPeopleError: more than :data:`GRID_CELL_LIMIT` cells (``what`` names the
+            grid, ``remedy`` what else to do).
+    """
+    held = np.array(shape, dtype=np.int64)
+    if held.prod() == 0:
+        new_lo, new_hi = lo - GROW_MARGIN, hi + GROW_MARGIN
+    else:
+        new_lo = np.minimum(origin, lo - GROW_MARGIN)
+        new_hi = np.maximum(origin + held - 1, hi + GROW_MARGIN)
+    rows, cols = (int(n) for n in new_hi - new_lo + 1)
+    if rows * cols > GRID_CELL_LIMIT:
+        raise LaserPeopleError(
+            f"{what} would span {rows * resolution:.6g} m x {cols * resolution:.6g} m "
+            f"({rows * cols:,} cells, more than the {GRID_CELL_LIMIT:,} accepted)",
+            hint="the sensor poses jump far apart (a corrupt /tf or odometry record?); "
+            f"check them with `laserpeople info`, or {remedy}",
+        )
+    return new_lo, (rows, cols)
+
+
+def moved_into(
+    old: NDArray[Any], origin: IntArray, new_lo: IntArray, size: tuple[int, int], fill: Any
+) -> NDArray[Any]:
+    """An array of ``size`` starting at cell ``new_lo``, ``fill`` where ``old`` (starting
+    at cell ``origin``) has no cell."""
+    new = np.full(size, fill, dtype=old.dtype)
+    if old.size:
+        a = origin - new_lo
+        new[a[0] : a[0] + old.shape[0], a[1] : a[1] + old.shape[1]] = old
+    return new
 
 
 def compiled_function(name: str) -> Any:

@@ -24,14 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from laserpeople.background.occupancy import GRID_CELL_LIMIT, OccupancyMap
-from laserpeople.errors import LaserPeopleError
+from laserpeople.background.occupancy import OccupancyMap, grown_extent, moved_into
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
-
-GROW_MARGIN = 64
-"""Cells added beyond what a frame needs when the arrays grow."""
 
 
 @dataclass(frozen=True)
@@ -75,28 +71,19 @@ class RecordingMapCounter:
         shape = np.array(self._hits.shape, dtype=np.int64)
         if shape.prod() and (lo >= self._origin).all() and (hi < self._origin + shape).all():
             return
-        if shape.prod():
-            new_lo = np.minimum(self._origin, lo - GROW_MARGIN)
-            new_hi = np.maximum(self._origin + shape - 1, hi + GROW_MARGIN)
-        else:
-            new_lo, new_hi = lo - GROW_MARGIN, hi + GROW_MARGIN
-        size = new_hi - new_lo + 1
-        if int(size[0]) * int(size[1]) > GRID_CELL_LIMIT:
-            res = self.rule.resolution
-            raise LaserPeopleError(
-                f"the map of the whole recording would span {float(size[0]) * res:.6g} m x "
-                f"{float(size[1]) * res:.6g} m (more than {GRID_CELL_LIMIT:,} cells)",
-                hint="the sensor poses jump far apart (a corrupt /tf or odometry record?); "
-                "check them with `laserpeople info`, or set [auto_background] prelearn = false",
-            )
-        a = self._origin - new_lo
-        sl = (slice(a[0], a[0] + shape[0]), slice(a[1], a[1] + shape[1]))
-        grown = []
-        for old in (self._hits, self._free, self._marked):
-            new = np.zeros(tuple(size), dtype=old.dtype)
-            new[sl] = old
-            grown.append(new)
-        self._hits, self._free, self._marked = grown
+        new_lo, size = grown_extent(
+            self._origin,
+            self._hits.shape,
+            lo,
+            hi,
+            self.rule.resolution,
+            "the map of the whole recording",
+            "set [auto_background] prelearn = false",
+        )
+        at = (self._origin, new_lo, size)
+        self._hits = moved_into(self._hits, *at, 0)
+        self._free = moved_into(self._free, *at, 0)
+        self._marked = moved_into(self._marked, *at, 0)
         self._origin = new_lo
 
     def add(self, origins: FloatArray, points: FloatArray) -> None:

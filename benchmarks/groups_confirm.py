@@ -17,7 +17,7 @@ candidate).
         [--candidates 1/1/1 3/3/1 ...] [--check] [--set NAME=VALUE ...]
     PYTHONPATH=src python benchmarks/groups_confirm.py --sim-seeds 0 1 [--seconds 60]
 
-With ``--sim-seeds`` the simulated entrance hall instead (``run_groups``, d_P 1.3 m, one run
+With ``--sim-seeds`` the simulated entrance hall instead (``run_groups``, the default d_P, one run
 per candidate and seed, pooled over the seeds): clustering error of the reported groups
 against memory-less clustering (the points of a group not reported are in no cluster:
 a true group with no reported point is *missed*, not an error), group size, split/merge

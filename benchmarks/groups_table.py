@@ -98,7 +98,8 @@ def main() -> None:
             f"{m[2]:.3f} |"
         )
     if args.quick:
-        _print_size(sweep.get(1.3) or next(iter(sweep.values())))
+        at = sweep.get(base.cluster_distance) or next(iter(sweep.values()))
+        _print_size(base.cluster_distance, at)
         return
     print("\nUnder-segmentation by cause (per true group; transition = the people are one true")
     print("group within 3 s, distinct = groups that are not, e.g. parties passing):\n")
@@ -116,8 +117,8 @@ def main() -> None:
         to = _pool([r.clustering for r in runs])[2]
         mo = _pool([r.memoryless for r in runs])[2]
         print(f"| {d:.1f} | {tt:.3f} | {td:.3f} | {mt:.3f} | {md:.3f} | {to:.3f} | {mo:.3f} |")
-    ref = sweep.get(1.3) or next(iter(sweep.values()))
-    _print_size(ref)
+    ref = sweep.get(base.cluster_distance) or next(iter(sweep.values()))
+    _print_size(base.cluster_distance, ref)
     counts = [r.size.count for r in paper_size]
     print(
         f"  000's counting (size_count blobs, d_hs 0.3 m, eps_n 0.1, size std 0.5): mean error "
@@ -141,14 +142,14 @@ def main() -> None:
         _plot(args.plot, sweep, g_ms, g_n, p_ms, p_n)
 
 
-def _print_size(ref: list[GroupRunResult]) -> None:
-    """The group-size line (000 Sec. 4.6.3) of the runs at the reference d_P, pooled."""
+def _print_size(d_p: float, ref: list[GroupRunResult]) -> None:
+    """The group-size line (000 Sec. 4.6.3) of the runs at the settings' d_P [m], pooled."""
     counts = [r.size.count for r in ref]
     mean_err = _wmean([r.size.mean_error for r in ref], counts)
     exact = _wmean([r.size.exact_share for r in ref], counts)
     within = _wmean([r.size.within_one_share for r in ref], counts)
     print(
-        f"\nGroup size at d_P = 1.3 m: mean error {mean_err:.2f} people, exact "
+        f"\nGroup size at d_P = {d_p:.1f} m: mean error {mean_err:.2f} people, exact "
         f"{100 * exact:.1f} %, within one {100 * within:.1f} %"
     )
 

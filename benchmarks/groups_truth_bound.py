@@ -48,6 +48,7 @@ from laserpeople.evaluation.groups import (
 )
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.sim.scenarios import run_scenario
+from laserpeople.tracking.groups import GroupTrackerParams
 from laserpeople.tracks import Track, Tracks
 from laserpeople.truth import TruthFrame
 
@@ -174,7 +175,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--seeds", default="0-19")
     ap.add_argument("--seconds", type=float, default=40.0)
-    ap.add_argument("--d-p", type=float, default=1.3, help="d_P [m] (the tracker's: 1.3)")
+    ap.add_argument(
+        "--d-p", type=float, default=GroupTrackerParams().cluster_distance, help="d_P [m]"
+    )
     ap.add_argument("--jobs", type=int, default=1)
     args = ap.parse_args()
     seeds = parse_seeds(args.seeds)

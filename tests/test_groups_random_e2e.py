@@ -10,6 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from laserpeople.config import load_config
 from laserpeople.evaluation.groups import (
     ALONE_ID,
     JOINED_ID,
@@ -22,6 +23,10 @@ from laserpeople.evaluation.groups import (
 from laserpeople.sim.scenarios import run_scenario
 from laserpeople.tracking.groups import GroupTrackerParams
 from laserpeople.truth import TruthFrame
+
+AT_000_D_P = GroupTrackerParams(cluster_distance=1.3)
+"""The figures measured below are at 000's d_P (1.3 m); the default's 1.0 m:
+:func:`test_groups_within_1_m_score_above_000s_d_p`."""
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +45,7 @@ def test_resolved_size_counting_end_to_end(scene) -> None:  # type: ignore[no-un
     # counts (stride_near = stride_far = 0). With it (the default) this scene, a torso
     # laser not told its height, counts 93.2 %, 0.0825 people off; told its height the
     # range is not used (no pairs at torso height).
-    base = replace(GroupTrackerParams(), stride_near=0.0, stride_far=0.0)
+    base = replace(AT_000_D_P, stride_near=0.0, stride_far=0.0)
     r = run_groups(scene.scans, base, truth=scene.truth)
     assert r.size.count > 400
     assert r.size.exact_share >= 0.93
@@ -72,18 +77,31 @@ def test_resolved_size_counting_end_to_end(scene) -> None:  # type: ignore[no-un
     assert 0.475 <= m.mota < 1.0
     assert r.proxemic_mot.mota >= 0.68
     assert m.id_switches <= 12
-    plain = run_groups(scene.scans, replace(GroupTrackerParams(), id_memory=0.0), truth=scene.truth)
+    plain = run_groups(scene.scans, replace(AT_000_D_P, id_memory=0.0), truth=scene.truth)
     assert plain.group_mot.mota < 0.475 and plain.proxemic_mot.mota < 0.68
     assert plain.group_mot.id_switches > 12
+
+
+def test_groups_within_1_m_score_above_000s_d_p(scene) -> None:  # type: ignore[no-untyped-def]
+    # measured on this scene: group MOTA 0.596 with 3 id switches at the default d_P of
+    # 1.0 m, 0.487 with 11 at 000's 1.3 m (two parties standing 0.75 m apart, and a walker
+    # passing at 0.6 m, joined for longer); 000's value stays reachable as the paper preset
+    default = GroupTrackerParams()
+    assert default.cluster_distance == 1.0
+    assert load_config(GroupTrackerParams, None, "paper").cluster_distance == 1.3
+    ours = run_groups(scene.scans, default, truth=scene.truth).group_mot
+    theirs = run_groups(scene.scans, AT_000_D_P, truth=scene.truth).group_mot
+    assert ours.mota >= 0.56 and ours.id_switches <= 6
+    assert theirs.mota < 0.52 and theirs.id_switches > 6
 
 
 def test_a_laser_told_at_torso_height_counts_bodies_not_leg_pairs(scene) -> None:  # type: ignore[no-untyped-def]
     # measured on this 1.19 m laser: told its height, 99.3 % exact and 0.014 people off
     # (the same groups: group MOTA 0.487 either way); not told, or with torso_pairs, 95.9 %
     # and 0.048 (the neighbours' torsos closer than a stride paired as one person's legs)
-    told = run_groups(scene.scans, GroupTrackerParams(), truth=scene.truth, laser_height=1.188)
+    told = run_groups(scene.scans, AT_000_D_P, truth=scene.truth, laser_height=1.188)
     assert told.size.exact_share >= 0.985 and told.size.mean_error <= 0.025
-    pairs = replace(GroupTrackerParams(), torso_pairs=True)
+    pairs = replace(AT_000_D_P, torso_pairs=True)
     kept = run_groups(scene.scans, pairs, truth=scene.truth, laser_height=1.188)
     assert kept.size.exact_share < 0.975 and kept.size.mean_error > 0.035
     assert told.group_mot.mota == kept.group_mot.mota

@@ -61,7 +61,7 @@ class _Static:
 def _track(episodes: int, static: bool) -> tuple[GroupMHTTracker, dict[str, int]]:
     """Track ``episodes`` episodes; the tracker and the largest size of each kept
     structure over the run."""
-    tracker = GroupMHTTracker(GroupTrackerParams(static_time=1.0))
+    tracker = GroupMHTTracker(GroupTrackerParams(static_time=1.0, cluster_distance=1.3))
     if static:
         tracker.use_static_model(_Static())  # type: ignore[arg-type]
     largest: dict[str, int] = {}

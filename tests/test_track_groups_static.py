@@ -19,9 +19,10 @@ from laserpeople.tracks import Tracks
 
 OBJECT = np.array([5.0, 0.0])
 DT = 0.1
-EVERY_SCAN = GroupTrackerParams(confirm_scans=1)
+EVERY_SCAN = GroupTrackerParams(confirm_scans=1, cluster_distance=1.3)
 """Every group reported from its first scan in the best hypothesis (000), so that the
-tests here see the static-place rule alone (confirmation: test_track_groups_confirm.py)."""
+tests here see the static-place rule alone (confirmation: test_track_groups_confirm.py);
+at 000's d_P (1.3 m), which the walkers' lanes are laid out for."""
 
 
 def _blob(centre: np.ndarray) -> np.ndarray:

@@ -148,7 +148,7 @@ def test_passing_parties_end_to_end_on_a_random_groups_scene() -> None:
     0), which would report a merged party through the pass with either velocity (with both
     at their defaults: trail 0.673, Kalman 0.733)."""
     scene = run_scenario("random-groups", seed=0, seconds=15.0)
-    base = GroupTrackerParams(coast_time=0.0, merged_coast_time=0.0)
+    base = GroupTrackerParams(coast_time=0.0, merged_coast_time=0.0, cluster_distance=1.3)
     r = run_groups(scene.scans, base, truth=scene.truth)
     assert r.group_mot.num_truth > 400
     assert r.group_mot.mota >= 0.70

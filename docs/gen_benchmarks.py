@@ -294,9 +294,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Group tracker, simulated entrance hall, held-out seeds 2–4 (Fig. 17 analogue)",
         ("benchmarks/groups_table.py", "--seeds", "2", "3", "4", "--plot", "docs/groups_fig17.png"),
         25.0,
-        "clustering error 0.223 against 0.238 memory-less at d_P = 1.3 m (paper 3.1 % "
-        "against 7.0 %); group size within 0.10 people, 90.8 % exact (91.0 % without the "
-        "range of counts, stride_near = stride_far = 0)",
+        "clustering error 0.201 against 0.210 memory-less at the default d_P = 1.0 m, 0.223 "
+        "against 0.238 at 000's 1.3 m (paper 3.1 % against 7.0 %); group size within 0.09 "
+        "people, 91.5 % exact (at 1.3 m 0.10, 90.8 %; 91.0 % without the range of counts, "
+        "stride_near = stride_far = 0)",
         "groups.md",
     ),
     Benchmark(
@@ -304,9 +305,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "Group tracker on the randomised group scenes, held-back seeds 100–119",
         ("benchmarks/groups_random.py", "--seeds", "100-119", "--seconds", "40"),
         20.0,
-        "group MOTA 0.754, proxemic 0.810 (goal 0.80; a perfect grouping by 000's definition "
-        "0.896); group size within 0.07 people, 93.4 % "
-        "exact, at feet height 91.6 %. On the scenes before people stepped aside: 0.759, "
+        "group MOTA 0.786, proxemic 0.817 (goal 0.80); group size within 0.06 people, "
+        "93.8 % exact, at feet height 92.1 %. At 000's d_P of 1.3 m: 0.754, 0.810 (a perfect "
+        "grouping by 000's definition 0.896); 93.4 %, 91.6 %. At 1.3 m on the scenes before "
+        "people stepped aside: 0.759, "
         "0.810 (a perfect grouping by 000's definition 0.897); 90.9 %, 88.9 % (without "
         "coasting among another group's points, merged_coast_time = 0: 0.755, 0.809; 89.6 %, "
         "87.0 % without the range of counts as well; 88.9 % with torso_pairs true too; "

@@ -3980,6 +3980,32 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_occupancy.py",),
     ),
     # --- end s38-recording-map ---
+    # --- s39-group-truth ---
+    Mutant(
+        "group-tracks-scored-against-people",
+        "evaluate with kind group scores the truth's groups, not its people",
+        "evaluation/report.py",
+        "        truth_frames = map(group_truth, truth_frames)\n",
+        "        truth_frames = iter(truth_frames)\n",
+        ("tests/test_evaluation_group_truth.py",),
+    ),
+    Mutant(
+        "group-truth-frame-dropped",
+        "the groups' truth keeps the coordinate frame of the people's",
+        "evaluation/group_truth.py",
+        "ids, pos, frame=frame.frame)",
+        "ids, pos)",
+        ("tests/test_evaluation_group_truth.py",),
+    ),
+    Mutant(
+        "group-truth-at-first-member",
+        "a true group is at the mean of its members' positions",
+        "evaluation/group_truth.py",
+        "frame.positions[np.isin(frame.person_ids, people)].mean(axis=0)",
+        "frame.positions[np.isin(frame.person_ids, people)][0]",
+        ("tests/test_evaluation_group_truth.py",),
+    ),
+    # --- end s39-group-truth ---
 )
 
 

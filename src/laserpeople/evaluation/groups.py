@@ -27,6 +27,7 @@ from laserpeople.evaluation.clustering import (
     GroupSizeErrorResult,
     beam_group_labels,
 )
+from laserpeople.evaluation.group_truth import ALONE_ID, group_truth
 from laserpeople.evaluation.params import EvaluationParams
 from laserpeople.frame import Frame
 from laserpeople.pipeline.background import at_torso_height
@@ -82,25 +83,6 @@ def frames_from_scans(scans: list[Scan]) -> Iterator[LabelledFrame]:
 GROUP_GATE = 1.0
 """CLEAR MOT gate of the group tracks [m]: a reported group matches a true group whose
 centre is at most this far from its position."""
-ALONE_ID = 1_000_000
-"""Truth id of a person walking alone, as a group of one: this plus the person id."""
-
-
-def group_truth(frame: TruthFrame) -> TruthFrame:
-    """The true groups of a truth frame as a truth frame whose "people" are the groups: ids
-    the simulator's group ids (a person alone: :data:`ALONE_ID` + person id), positions the
-    mean of the members' positions [m]."""
-    ids: list[int] = []
-    centres: list[FloatArray] = []
-    for g, people in frame.groups().items():
-        ids.append(g if g >= 0 else ALONE_ID - g - 1)
-        centres.append(frame.positions[np.isin(frame.person_ids, people)].mean(axis=0))
-    pos = np.asarray(centres, dtype=np.float64).reshape(-1, 2)
-    return TruthFrame.from_positions(
-        frame.stamp, frame.scan_index, np.asarray(ids, dtype=np.int64), pos
-    )
-
-
 PROXEMIC_SPEED = 0.5
 """Two people whose velocities differ by less than this are not told apart by motion
 [m/s] (:func:`proxemic_truth`): they stand together or walk side by side, where parties

@@ -11,6 +11,7 @@ from typing import Any, TypeVar
 from laserpeople.errors import EvaluationError
 from laserpeople.evaluation.clear_mot import ClearMot, ClearMotResult
 from laserpeople.evaluation.detail import FrameTable
+from laserpeople.evaluation.group_truth import group_truth
 from laserpeople.evaluation.identity import IdentityF1, IdentityResult
 from laserpeople.evaluation.pairing import PairingCounts, pair_by_scan
 from laserpeople.evaluation.params import EvaluationParams
@@ -191,6 +192,9 @@ def evaluate(
 ) -> TrackingEvaluation:
     """Score a tracker's output against ground truth, pairing them by scan index.
 
+    With ``params.kind`` "group" the truth's groups are scored (:func:`group_truth`: each
+    group at its members' mean, a person alone as a group of one), not its people.
+
     Only scans that have a truth frame are scored (a sparse annotation scores only its
     scans); a truth frame whose scan has no tracks counts all its people as missed.
 
@@ -214,6 +218,8 @@ def evaluate(
             f"evaluate(): params must be an EvaluationParams or None, got {type(params).__name__}",
         )
     truth_frames = _checked_items(truth_frames, "truth_frames", TruthFrame, TRUTH_READERS)
+    if params is not None and params.kind == "group":
+        truth_frames = map(group_truth, truth_frames)
     tracks = _checked_items(tracks, "tracks", Tracks, TRACKS_READERS)
     evaluation = TrackingEvaluation(params, keep_frames=keep_frames)
     counts = PairingCounts()

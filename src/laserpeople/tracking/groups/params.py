@@ -120,10 +120,10 @@ class GroupTrackerParams:
     )
     cluster_distance: float = param(
         1.0,
-        "000 Sec. 4.6.1 gives 1.3 (least clustering error on its data); 1.0 on random-groups "
-        "seeds 0-19 (group MOTA 0.85 m 0.708, 0.9 m 0.713, 1.0 m 0.709, 1.15 m 0.683, 1.3 m "
-        "0.650), the tuning hall (0.241 against 0.251) and the real recordings "
-        "(docs/groups.md 'Groups within 1 m')",
+        "departure from 000 (Sec. 4.6.1: 1.3, the least clustering error on its data); 1.0 "
+        "on random-groups seeds 0-19 (group MOTA 0.85 m 0.708, 0.9 m 0.713, 1.0 m 0.709, "
+        "1.15 m 0.683, 1.3 m 0.650), the tuning hall (0.241 against 0.251) and the real "
+        "recordings (docs/groups.md 'Groups within 1 m')",
         "single-linkage distance d_P",
         "m",
     )

@@ -3943,8 +3943,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "map-hit-and-pass-free",
         "map of a moving robot's recording: a cell hit and passed in one frame is hit",
         "background/recording_map.py",
-        "        seen[both] -= 1",
-        "        seen[both] -= 0",
+        "        seen[near_flat[marked[near_flat] == self.frames]] -= 1",
+        "        seen[near_flat[marked[near_flat] == self.frames]] -= 0",
         ("tests/test_background_recording_map.py",),
     ),
     Mutant(
@@ -3980,7 +3980,7 @@ MUTANTS: tuple[Mutant, ...] = (
         ("tests/test_background_occupancy.py",),
     ),
     # --- end s38-recording-map ---
-    # --- s39-group-truth ---
+    # --- s39-group-truth-and-map-reach ---
     Mutant(
         "group-tracks-scored-against-people",
         "evaluate with kind group scores the truth's groups, not its people",
@@ -4005,7 +4005,23 @@ MUTANTS: tuple[Mutant, ...] = (
         "frame.positions[np.isin(frame.person_ids, people)][0]",
         ("tests/test_evaluation_group_truth.py",),
     ),
-    # --- end s39-group-truth ---
+    Mutant(
+        "map-hit-reach-ignored",
+        "map of a moving robot's recording: beams near a return of their frame see nothing",
+        "background/recording_map.py",
+        "        self._reach = self.rule.reach_offsets()",
+        "        self._reach = np.zeros((1, 2), dtype=np.int64)",
+        ("tests/test_background_recording_map.py",),
+    ),
+    Mutant(
+        "map-hit-reach-square",
+        "map of a moving robot's recording: the reach is a disc of cells",
+        "background/recording_map.py",
+        "        keep = di * di + dj * dj <= k * k",
+        "        keep = np.abs(di) + np.abs(dj) >= 0",
+        ("tests/test_background_recording_map.py",),
+    ),
+    # --- end s39-group-truth-and-map-reach ---
 )
 
 

@@ -95,3 +95,40 @@ def test_the_map_lies_where_the_returns_are_from_any_origin() -> None:
     assert grid.contains_obstacle(wall).all()
     assert not grid.contains_obstacle(wall - [0.0, 0.1]).any()
     assert grid.occupied.shape[0] * grid.resolution > 3.0
+
+
+def _drifting_post(rule: RecordingMapRule) -> RecordingMapCounter:
+    """A post seen where the poses put it: at x = 1.03 m in the even frames, 1.07 m in the
+    odd ones (0.04 m of drift, the next cell); in each frame a beam to the wall passes the
+    middle of the cell where the other frames see it."""
+    counter = RecordingMapCounter(rule)
+    for k in range(FRAMES):
+        if k % 2 == 0:
+            post, through = (1.03, 1.52), (2.1218, 3.01)
+        else:
+            post, through = (1.07, 1.52), (2.0231, 3.01)
+        counter.add(*_frame([post, through]))
+    return counter
+
+
+def test_a_post_seen_a_few_centimetres_apart_is_static_within_the_hit_reach() -> None:
+    # each place is hit in 10 frames and passed by a beam in the other 10: share 0.5, not
+    # static; a beam within 0.2 m of a return of its own frame does not see the cell
+    places = [(1.03, 1.52), (1.07, 1.52)]
+    assert _static_at(_drifting_post(RecordingMapRule(hit_reach=0.0)), places) == [False, False]
+    assert _static_at(_drifting_post(RecordingMapRule(hit_reach=0.2)), places) == [True, True]
+
+
+def test_the_hit_reach_keeps_a_person_who_left_free() -> None:
+    """The person of :func:`_counted` at (0, 1.5) for frames 0-9: after they left no return
+    lies within 0.2 m of their place, so its cells are seen free, as with no reach."""
+    counter = _counted(RecordingMapRule(hit_reach=0.2))
+    assert _static_at(counter, [(0.01, 1.51), (0.01, 0.81)]) == [False, False]
+    assert _static_at(counter, [(1.01, 1.51), (0.5, WALL_Y)]) == [True, True]
+
+
+def test_reach_offsets_are_the_cells_within_the_reach() -> None:
+    assert RecordingMapRule(hit_reach=0.0).reach_offsets().tolist() == [[0, 0]]
+    got = {tuple(o) for o in RecordingMapRule(hit_reach=0.1).reach_offsets().tolist()}
+    # two cells of 0.05 m: the disc of radius 2 cells, 13 offsets (not the 5 x 5 square)
+    assert len(got) == 13 and (2, 0) in got and (1, 1) in got and (2, 1) not in got

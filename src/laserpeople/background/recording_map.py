@@ -6,8 +6,11 @@ foreground until it has seen them long enough. A recording on disk can be read w
 :class:`RecordingMapCounter` counts, per cell of a world-frame grid and over the frames it
 is given, the frames with a return in the cell (*hits*) and the frames whose beams passed
 through it to a return behind (*seen free*; up to ``free_range``, stopping ``free_margin``
-before the return). A cell is static when it was hit in at least ``min_hits`` frames and in
-at least ``hit_share`` of the frames that saw it, hit or free: a wall is never seen through;
+before the return; a cell within ``hit_reach`` of a return of the frame is not seen free in
+it: the same post or chair leg, seen from poses that drift by some centimetres, or between
+the beams that hit it, would otherwise be seen through). A cell is static when it was hit in
+at least ``min_hits`` frames and in at least ``hit_share`` of the frames that saw it, hit or
+free: a wall is never seen through;
 the places of a walker, or of a person who stood for a while and left, are. A person who
 stands on one spot for the whole recording is not told from furniture.
 
@@ -40,6 +43,8 @@ class RecordingMapRule:
         hit_share: Smallest share of hits among the frames that saw a static cell.
         free_range: Free space is cast along each beam up to this range [m].
         free_margin: The part of a beam this close before its return is not free [m].
+        hit_reach: A cell this close to a return of a frame is not seen free in that
+            frame [m] (0: only the cells with a return).
     """
 
     resolution: float = 0.05
@@ -47,6 +52,15 @@ class RecordingMapRule:
     hit_share: float = 0.97
     free_range: float = 10.0
     free_margin: float = 0.2
+    hit_reach: float = 0.2
+
+    def reach_offsets(self) -> IntArray:
+        """Cell offsets (K, 2) within ``hit_reach`` of a cell (by their centres)."""
+        k = int(self.hit_reach / self.resolution)
+        span = np.arange(-k, k + 1)
+        di, dj = np.meshgrid(span, span, indexing="ij")
+        keep = di * di + dj * dj <= k * k
+        return np.column_stack([di[keep], dj[keep]]).astype(np.int64)
 
 
 class RecordingMapCounter:
@@ -62,6 +76,7 @@ class RecordingMapCounter:
         """Frames counted."""
         step = self.rule.resolution
         self._steps = np.arange(0.5 * step, self.rule.free_range, step)
+        self._reach = self.rule.reach_offsets()
 
     def _cells(self, xy: FloatArray) -> IntArray:
         return np.floor(xy / self.rule.resolution).astype(np.int64)
@@ -102,12 +117,14 @@ class RecordingMapCounter:
         hit = self._cells(points)
         free = self._cells(free_xy)
         # the free samples lie on the segments from the origins to the returns
-        ends = self._cells(np.array([points.min(axis=0), points.max(axis=0)]))
+        reach = self._reach.max(axis=0)
+        ends = np.array([hit.min(axis=0) - reach, hit.max(axis=0) + reach])
         start = self._cells(np.array([origins.min(axis=0), origins.max(axis=0)]))
         self._grow(np.minimum(ends[0], start[0]), np.maximum(ends[1], start[1]))
         w = self._hits.shape[1]
         hit_flat = (hit[:, 0] - self._origin[0]) * w + (hit[:, 1] - self._origin[1])
         free_flat = (free[:, 0] - self._origin[0]) * w + (free[:, 1] - self._origin[1])
+        near_flat = (np.unique(hit_flat)[:, None] + self._reach @ np.array([w, 1])).ravel()
         # a[idx] += 1 adds once per distinct index: each cell counts once per frame
         hits, seen, marked = (
             self._hits.reshape(-1),
@@ -117,8 +134,8 @@ class RecordingMapCounter:
         hits[hit_flat] += 1
         seen[free_flat] += 1
         marked[free_flat] = self.frames
-        both = hit_flat[marked[hit_flat] == self.frames]  # hit and passed in one frame: hit
-        seen[both] -= 1
+        # passed in this frame within hit_reach of one of its returns: not seen free
+        seen[near_flat[marked[near_flat] == self.frames]] -= 1
 
     def _static(self) -> NDArray[np.bool_]:
         rule = self.rule

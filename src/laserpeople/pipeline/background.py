@@ -94,8 +94,9 @@ class AutoBackgroundParams:
         "beyond what its learning period finds static (the wall behind a person in view from "
         "the start), so that such a person is foreground from the first scan; on one whose "
         "lasers move (with poses, no --map) it is read again and the occupancy grid is "
-        "seeded with what stayed put in it (map_min_hits, map_hit_share); false: only "
-        "the first [beam_histogram] learn_seconds (004; a live run always is) and the grid "
+        "seeded with what stayed put in it (map_min_hits, map_hit_share, map_hit_reach); "
+        "false: only the first [beam_histogram] learn_seconds (004; a live run always is) "
+        "and the grid "
         "learns online",
     )
     prelearn_scans: int = param(
@@ -121,6 +122,16 @@ class AutoBackgroundParams:
         "beam through it) had a return in it",
     )
 
+    map_hit_reach: float = param(
+        0.2,
+        "measured: random-groups moving tuning seeds, 0 / 0.2 / 0.3 m, and the real lobby "
+        "recording (docs/recording.md)",
+        "... where a frame's beams passing within this distance of one of its returns do "
+        "not count as seeing the cell (poses that drift by centimetres between passes, thin "
+        "posts between the beams that hit them)",
+        "m",
+    )
+
     paper_preset = MappingProxyType({"prelearn": False})  # the online learning of 004's model
 
     def __post_init__(self) -> None:
@@ -130,6 +141,8 @@ class AutoBackgroundParams:
             raise ValueError(f"map_min_hits must be at least 1, got {self.map_min_hits}")
         if not 0.0 < self.map_hit_share <= 1.0:
             raise ValueError(f"map_hit_share must be in (0, 1], got {self.map_hit_share}")
+        if not (0.0 <= self.map_hit_reach <= 1.0):
+            raise ValueError(f"map_hit_reach must be in [0, 1] m, got {self.map_hit_reach}")
 
 
 @dataclass(frozen=True)
@@ -610,7 +623,8 @@ class AutoBackground:
             f", seeded by what stayed put in the whole recording ({cells} cells of "
             f"{prior.resolution:g} m with returns in {p.map_min_hits} or more of "
             f"{learned.map_frames} frames and in {100 * p.map_hit_share:g} % of those that "
-            f"saw them, read before tracking in {learned.cpu:.2f} s CPU, [auto_background] "
+            f"saw them farther than {p.map_hit_reach:g} m from their own returns, read before "
+            f"tracking in {learned.cpu:.2f} s CPU, [auto_background] "
             "prelearn)"
         )
 

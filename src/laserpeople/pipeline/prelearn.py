@@ -165,6 +165,7 @@ def count_recording_map(
     rule = RecordingMapRule(
         min_hits=auto.map_min_hits,
         hit_share=auto.map_hit_share,
+        hit_reach=auto.map_hit_reach,
         free_range=static.occupancy.free_range,
         free_margin=static.occupancy.free_margin,
     )

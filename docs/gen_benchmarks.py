@@ -91,8 +91,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "moving robot's map",
         ("benchmarks/bench_prelearn.py", "--runs", "5"),
         0.5,
-        "lobby (moving): 2.6 plain reads, the counting 1.2 ms per frame, 22 MB heap; demo "
-        "(still): 3.2 plain reads, 0.16 s for 1,265 frames; the grid asks the map dilated "
+        "lobby (moving): 2.3 plain reads, the counting 0.73 ms per frame, 23 MB heap; demo "
+        "(still): 3.2 plain reads, 0.09 s for 1,265 frames; the grid asks the map dilated "
         "once, 0.017 against 0.644 ms a frame for a window around every point "
         "(benchmarks/bench_prior_lookup.py, speed.md#the-pass-over-the-whole-recording)",
         "recording.md",
@@ -254,8 +254,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
             "100-119",
         ),
         20.0,
-        "person MOTA 0.593, IDF1 0.537 (goal 0.5; moving lasers 0.499, still 0.686); ID "
-        "switches 22.9 per scene, 3.9 s per scene on static objects",
+        "person MOTA 0.594, IDF1 0.523 (goal 0.5; moving lasers 0.502, still 0.686); ID "
+        "switches 24.6 per scene, 3.5 s per scene on static objects",
         "csa.md",
     ),
     Benchmark(
@@ -264,9 +264,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
         "100–119",
         ("benchmarks/feet_random.py", "--seeds", "100-119", "--jobs", "2"),
         1.0,
-        "adapted MOTP 0.479 (goal 0.80), MOTA 0.613, IDF1 0.646 (before the map of what a "
-        "moving robot drives past: 0.491, 0.599, 0.657; over three draws of the filters "
-        "0.486 either way); per scene as the page's table",
+        "adapted MOTP 0.465 (goal 0.80), MOTA 0.633, IDF1 0.642 (before the map's hit reach: "
+        "0.479, 0.613, 0.646; before the map of what a moving robot drives past: 0.491, "
+        "0.599, 0.657; over three draws of the filters 0.483, 0.487 and 0.486); per scene as "
+        "the page's table",
         "schenk-tables.md",
     ),
     Benchmark(

@@ -117,8 +117,8 @@ class RecordingMapCounter:
         hit = self._cells(points)
         free = self._cells(free_xy)
         # the free samples lie on the segments from the origins to the returns
-        reach = self._reach.max(axis=0)
-        ends = np.array([hit.min(axis=0) - reach, hit.max(axis=0) + reach])
+        pad = self._reach.max(axis=0)  # the cells within hit_reach of the returns too
+        ends = np.array([hit.min(axis=0) - pad, hit.max(axis=0) + pad])
         start = self._cells(np.array([origins.min(axis=0), origins.max(axis=0)]))
         self._grow(np.minimum(ends[0], start[0]), np.maximum(ends[1], start[1]))
         w = self._hits.shape[1]

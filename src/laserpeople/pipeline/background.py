@@ -96,8 +96,7 @@ class AutoBackgroundParams:
         "lasers move (with poses, no --map) it is read again and the occupancy grid is "
         "seeded with what stayed put in it (map_min_hits, map_hit_share, map_hit_reach); "
         "false: only the first [beam_histogram] learn_seconds (004; a live run always is) "
-        "and the grid "
-        "learns online",
+        "and the grid learns online",
     )
     prelearn_scans: int = param(
         3000,
@@ -121,7 +120,6 @@ class AutoBackgroundParams:
         "... and at least this share of the frames that saw the cell (a return in it, or a "
         "beam through it) had a return in it",
     )
-
     map_hit_reach: float = param(
         0.2,
         "measured: random-groups moving tuning seeds, 0 / 0.2 / 0.3 m, and the real lobby "

@@ -3959,8 +3959,8 @@ MUTANTS: tuple[Mutant, ...] = (
         "map-not-seeded",
         "map of a moving robot's recording seeds the occupancy grid",
         "pipeline/background.py",
-        "            prior = None if learned is None else learned.grid_map\n            self.model",
-        "            prior = None\n            self.model",
+        "occupancy_model(self.map_path, self.static.occupancy, self.recording_map)",
+        "occupancy_model(self.map_path, self.static.occupancy, None)",
         ("tests/test_pipeline_prelearn.py",),
     ),
     Mutant(

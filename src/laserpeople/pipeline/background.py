@@ -519,6 +519,11 @@ class AutoBackground:
         if learned.model is not None and self.chosen == "histogram":
             self._histogram.use_whole_recording(learned.model)
 
+    @property
+    def recording_map(self) -> OccupancyMap | None:
+        """The map of what stayed put in the whole recording (None: not counted)."""
+        return None if self.prelearned is None else self.prelearned.grid_map
+
     def prefetch(self, frames: Sequence[Frame]) -> None:
         """Detect the legs of ``frames`` (frames about to come, in order) at once once the
         foreground is narrowed to points near legs (from then on every frame is; the same
@@ -534,9 +539,7 @@ class AutoBackground:
 
     def _model_foreground(self, frame: Frame) -> Frame:
         if self.chosen == "histogram" and self._moved(frame):
-            learned = self.prelearned
-            prior = None if learned is None else learned.grid_map
-            self.model = occupancy_model(self.map_path, self.static.occupancy, prior)
+            self.model = occupancy_model(self.map_path, self.static.occupancy, self.recording_map)
             self.chosen = "occupancy"
             self.switched_at = frame.index
         if self.model is None:
@@ -608,8 +611,7 @@ class AutoBackground:
 
     def _grid_seed(self) -> str:
         """What seeded the occupancy grid, for :meth:`describe` (empty: nothing)."""
-        learned = self.prelearned
-        prior = None if learned is None else learned.grid_map
+        learned, prior = self.prelearned, self.recording_map
         ours = prior is not None and getattr(self.model, "prior", None) is prior
         if learned is not None and learned.map_why_not:
             return f", not seeded by the whole recording ({learned.map_why_not})"

@@ -149,7 +149,7 @@ def main() -> None:
         for lf in frames_from_scans(sim.scans):
             reported = tracker.update(lf.frame)
             for g in tracker.last_groups:
-                first_reported.setdefault(g.track_id, lf.frame.stamp)
+                first_reported.setdefault(g.family, lf.frame.stamp)
             frame = truth_of.get(lf.frame.index)
             if frame is None:
                 continue
@@ -212,7 +212,7 @@ def main() -> None:
                     cause = "merged"
                     holder = int(labels[0])
                     young = lf.frame.stamp - first_reported[holder] < 1.0
-                    event = next(g.event for g in tracker.last_groups if g.track_id == holder)
+                    event = next(g.event for g in tracker.last_groups if g.family == holder)
                     holders[(event or "neither", young)] += 1
                 else:
                     cause = "offset"
@@ -229,11 +229,12 @@ def main() -> None:
                         )
                     ] += 1
                 misses[(cause, ctx)] += 1
-            by_id = {g.track_id: g for g in tracker.last_groups}
-            for k, track in enumerate(reported.tracks):
+            # the first reports are ``last_groups`` in order; coasted vanished ones follow
+            shown = tracker.last_groups
+            for k in range(len(reported.tracks)):
                 if k in hit_t:
                     continue
-                g = by_id.get(track.track_id)
+                g = shown[k] if k < len(shown) else None
                 if g is None or g.members.size == 0:
                     false["coasting (no points this scan)"] += 1
                     continue

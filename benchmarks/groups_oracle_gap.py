@@ -132,7 +132,7 @@ class Scene:
         est = self.tracker.point_labels(len(points))
         # point labels are families; the first reports are the families' (coasted ones follow)
         groups = self.tracker.last_groups
-        holders = {g.track_id: (g, t) for g, t in zip(groups, reported.tracks, strict=False)}
+        holders = {g.family: (g, t) for g, t in zip(groups, reported.tracks, strict=False)}
         coasted = reported.tracks[len(groups) :]
         taken = set(hit_t.values())
         cluster = np.full(fg.size, -1, dtype=np.int64)

@@ -100,7 +100,7 @@ def track_frames(
     for k, frame in enumerate(frames):
         out = tracker.update(frame)
         for g, t in zip(tracker.last_groups, out, strict=True):
-            rows.append([k, g.track_id, float(t.size), *g.mean, *g.cov.ravel()])
+            rows.append([k, g.family, float(t.size), *g.mean, *g.cov.ravel()])
             labels.append(t.labels)
         points.append(tracker.point_labels(len(frame.points)))
         assert tracker.last_stats is not None

@@ -314,7 +314,7 @@ def run_groups(
         tg, tp = lf.true_group[fg], lf.true_person[fg]
         mixed_tracker += [(k, p) for p in _mixed_clusters(tg, tp, est[fg])]
         mixed_memoryless += [(k, p) for p in _mixed_clusters(tg, tp, ml)]
-        sizes = {g.track_id: g.size for g in tracker.last_groups if g.members.size}
+        sizes = {g.family: g.size for g in tracker.last_groups if g.members.size}
         size.accumulate(lf.true_person[fg], est[fg], sizes)
     ms = np.asarray(times) * 1e3
     window = round(TRANSITION_WINDOW / period) if period > 0 else 0

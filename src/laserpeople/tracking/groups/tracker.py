@@ -82,7 +82,10 @@ class GroupEstimate:
     """One reported group of the best hypothesis after a frame.
 
     Attributes:
-        track_id: The track's family (unique over the run; a split or merge starts new ones).
+        family: The track's family (unique over the run; a split or merge starts new ones).
+            Not always the id it is reported with: reported ids may be handed over or
+            reused (``reuse_ids``, ``id_memory``); the ``Tracks`` the update returns list
+            these groups first, in this order.
         labels: Its label set.
         mean: State (5,): x, y [m], vx, vy [m/s], n [people].
         cov: Covariance (5, 5).
@@ -92,7 +95,7 @@ class GroupEstimate:
         event: "split" or "merge" when a model made this track's family, else "".
     """
 
-    track_id: int
+    family: int
     labels: tuple[str, ...]
     mean: FloatArray
     cov: FloatArray
@@ -666,12 +669,12 @@ class GroupMHTTracker:
         self.event_counts[event.kind] = self.event_counts.get(event.kind, 0) + 1
 
     def point_labels(self, n_points: int) -> IntArray:
-        """Group (track id) of each of the last frame's ``n_points`` points, -1 outside
+        """Group (track family) of each of the last frame's ``n_points`` points, -1 outside
         every reported group observed this frame (for the clustering error, 000 Sec. 4.6.1;
         the points of a group not reported yet are in none)."""
         out = np.full(n_points, -1, dtype=np.int64)
         for g in self.last_groups:
-            out[g.members] = g.track_id
+            out[g.members] = g.family
         return out
 
     @property

@@ -470,6 +470,30 @@ def test_split_and_merge_labels_on_a_scripted_sequence(params: GroupTrackerParam
     assert staying and first[0].track_id not in staying
 
 
+def test_reports_list_the_best_hypothesis_groups_first_under_their_reported_ids() -> None:
+    """``last_groups`` are the update's first reports, in order (what the group benchmarks
+    and the point labels rely on); a rejoined group is reported under its old id while
+    its own family, the one ``point_labels`` gives its points, is new."""
+
+    def people_at(k: int) -> list[tuple[float, float, int]]:
+        y = 0.0 if k < 20 or k >= 70 else 0.12 * min(k - 20, 70 - k)
+        return [(3.0, 0.0, 0), (3.8, y, 0), (4.6, y, 0)]
+
+    tracker = GroupMHTTracker(GroupTrackerParams())
+    renamed = 0
+    for k in range(130):
+        pts = np.concatenate([legs((x, y)) for x, y, _ in people_at(k)])
+        out = tracker.update(_frame(pts, k, 0.1 * k))
+        groups = tracker.last_groups
+        assert len(out.tracks) >= len(groups)
+        for g, t in zip(groups, out.tracks, strict=False):
+            np.testing.assert_allclose(t.position, g.mean[:2], atol=1e-12)
+            labels = tracker.point_labels(len(pts))
+            assert set(labels[g.members].tolist()) <= {g.family}
+            renamed += t.track_id != g.family
+    assert renamed >= 50  # a split half under the group's id, then the rejoined group
+
+
 def test_without_reuse_ids_a_rejoined_group_gets_a_new_id() -> None:
     """``reuse_ids = false``: every track is reported with its own id, so the group of
     three that split and rejoined (the scripted sequence above) ends with a new id."""

@@ -130,7 +130,8 @@ class Scene:
         points = lf.frame.points
         assert points is not None
         est = self.tracker.point_labels(len(points))
-        # point labels are families; the first reports are the families' (coasted ones follow)
+        # point labels are families; the first reports are ``last_groups`` in order (coasted
+        # vanished ones follow)
         groups = self.tracker.last_groups
         holders = {g.family: (g, t) for g, t in zip(groups, reported.tracks, strict=False)}
         coasted = reported.tracks[len(groups) :]
